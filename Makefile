@@ -1,0 +1,33 @@
+# Glint top-level entry points. `make test` is what CI runs.
+BUILD_DIR ?= build
+JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+CMAKE_GENERATOR ?= Ninja
+
+# Debian bookworm packages Glint needs (see shared/DESIGN.md and third_party_notes/).
+DEB_PACKAGES := build-essential cmake ninja-build pkg-config \
+  libembree-dev libopenimageio-dev libopencv-core-dev openimageio-tools libopenexr-dev \
+  libtinyobjloader-dev libtbb-dev qt6-base-dev libgtest-dev libgmock-dev libbenchmark-dev \
+  nlohmann-json3-dev libcli11-dev libeigen3-dev xvfb xauth fonts-dejavu-core
+
+.PHONY: all deps build test clean demo bench
+
+all: build
+
+deps:
+	@./.ci/install-deps $(DEB_PACKAGES)
+
+$(BUILD_DIR)/build.ninja $(BUILD_DIR)/Makefile:
+	cmake -S . -B $(BUILD_DIR) -G "$(CMAKE_GENERATOR)" -DCMAKE_BUILD_TYPE=RelWithDebInfo
+
+build: deps
+	@test -f $(BUILD_DIR)/CMakeCache.txt || cmake -S . -B $(BUILD_DIR) -G "$(CMAKE_GENERATOR)" -DCMAKE_BUILD_TYPE=RelWithDebInfo
+	cmake --build $(BUILD_DIR) -j $(JOBS)
+
+test: build
+	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+bench: build
+	./tests/perf/run_all.sh $(BUILD_DIR)
+
+clean:
+	rm -rf $(BUILD_DIR) out

@@ -1,0 +1,100 @@
+// glint::FrameBuffers — the named layers a render produces and the denoiser consumes.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "glint/image/image.h"
+
+namespace glint {
+
+/// The layers of shared/DESIGN.md. Every layer but Color may be absent.
+enum class Layer : int {
+    Color,           ///< R,G,B: pixel mean of radiance
+    Variance,        ///< variance.R/G/B: variance of the mean
+    Albedo,          ///< albedo.R/G/B
+    AlbedoVariance,  ///< albedoVariance.R/G/B
+    Normal,          ///< normal.X/Y/Z: world-space shading normal
+    NormalVariance,  ///< normalVariance.X/Y/Z
+    Depth,           ///< depth.Z: camera-space z
+    DepthVariance,   ///< depthVariance.Z
+    Position,        ///< position.X/Y/Z: world space (optional)
+    SampleCount,     ///< sampleCount.Y
+};
+inline constexpr int kLayerCount = 10;
+
+/// Static description of a layer: its EXR layer name and channel suffixes.
+struct LayerInfo {
+    Layer layer;
+    std::string_view name;      ///< "" for the root colour layer, else e.g. "albedo"
+    int channels;               ///< 3 or 1
+    std::array<std::string_view, 3> suffixes;  ///< e.g. {"R","G","B"} or {"Z"}
+};
+
+/// Description of `layer`.
+const LayerInfo& layerInfo(Layer layer);
+/// Full EXR channel name of channel `c` of `layer`, e.g. "albedoVariance.G" or "R".
+std::string channelName(Layer layer, int c);
+/// The layer whose variance `layer` is (Variance→Color...), or nullopt.
+std::optional<Layer> varianceOf(Layer layer);
+/// The variance layer of `layer` (Color→Variance...), or nullopt.
+std::optional<Layer> varianceLayer(Layer layer);
+
+/// What the renderer records about a frame; stored as glint:* EXR attributes.
+struct FrameMetadata {
+    int spp = 0;                     ///< glint:spp
+    std::uint64_t seed = 0;          ///< glint:seed
+    std::string integrator;          ///< glint:integrator ("path", "mlt", or foreign)
+    std::string scene;               ///< glint:scene (path of the scene file)
+    std::string varianceOf = "mean"; ///< glint:varianceOf
+    std::string normalSpace = "world";  ///< glint:normalSpace
+    std::string depthKind = "cameraZ";  ///< glint:depth
+    std::int64_t nonFiniteSamples = 0;  ///< glint:nonFiniteSamples (discarded NaN/Inf samples)
+    std::string source = "glint";    ///< which naming convention the file used when read
+    /// Any other string attributes to carry through (key without the "glint:" prefix).
+    std::map<std::string, std::string> extra;
+};
+
+/// The layers of one frame, all of the same size, plus metadata.
+class FrameBuffers {
+public:
+    FrameBuffers() = default;
+    /// A frame of the given size holding only a zero colour layer.
+    FrameBuffers(int width, int height);
+
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+
+    bool has(Layer layer) const { return !m_layers[int(layer)].empty(); }
+    /// The layer; throws glint::Error(InvalidArgument) when absent.
+    Image& layer(Layer layer);
+    const Image& layer(Layer layer) const;
+    /// The layer or nullptr when absent.
+    const Image* find(Layer layer) const { return has(layer) ? &m_layers[int(layer)] : nullptr; }
+    Image* find(Layer layer) { return has(layer) ? &m_layers[int(layer)] : nullptr; }
+
+    Image& color() { return layer(Layer::Color); }
+    const Image& color() const { return layer(Layer::Color); }
+
+    /// Sets a layer; its size must match the frame and its channel count the layer's.
+    void set(Layer layer, Image image);
+    /// Removes a layer (Color cannot be removed).
+    void remove(Layer layer);
+    /// Adds a zero layer of the right shape if absent; returns it.
+    Image& ensure(Layer layer);
+
+    FrameMetadata& metadata() { return m_metadata; }
+    const FrameMetadata& metadata() const { return m_metadata; }
+
+private:
+    int m_width = 0;
+    int m_height = 0;
+    std::array<Image, kLayerCount> m_layers;
+    FrameMetadata m_metadata;
+};
+
+}  // namespace glint

@@ -1,0 +1,55 @@
+// Reading and writing images: layered OpenEXR (with other renderers' channel names), PNG, any
+// format OpenImageIO reads. Every writer writes a temporary file and renames it into place.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+
+#include "glint/image/frame_buffers.h"
+#include "glint/image/image.h"
+
+namespace glint {
+
+/// Reads a layered EXR into FrameBuffers. Glint's own channel names are read directly; the alias
+/// table maps Blender/Cycles, pbrt-v4 (per-sample Variance divided by spp) and Mitsuba names.
+/// Throws glint::Error(Io) for a missing/unreadable file, (Format) for a truncated file or one
+/// without R,G,B.
+FrameBuffers readExr(const std::filesystem::path& path);
+
+/// Writes one-part float32 EXR with the channel names and glint:* attributes of DESIGN.md.
+void writeExr(const FrameBuffers& frame, const std::filesystem::path& path);
+
+/// Reads any image OpenImageIO can read as float (all channels). If `linearize` and the file
+/// declares sRGB colour (8-bit PNG/JPEG...), values are converted to linear.
+Image readImage(const std::filesystem::path& path, bool linearize = true);
+
+/// Writes a plain float image (EXR when the extension is .exr, else 8-bit via OIIO).
+void writeImage(const Image& image, const std::filesystem::path& path);
+
+/// How a linear image is turned into display values.
+struct DisplayOptions {
+    float exposure = 0.0f;   ///< stops: values are multiplied by 2^exposure
+    bool srgb = true;        ///< sRGB-encode after clamping to [0, 1]
+    /// When >= 0, show this one channel in false colour (viridis-like ramp) over [lo, hi].
+    int falseColorChannel = -1;
+    float falseColorLo = 0.0f;
+    float falseColorHi = 1.0f;
+};
+
+/// Display values in [0, 1] (3 channels; a 1-channel image is shown as grey). NaN/Inf map to
+/// magenta so they are visible.
+Image toDisplay(const Image& linear, const DisplayOptions& options = {});
+
+/// sRGB transfer function (linear [0,1] → encoded) and its inverse.
+float srgbEncode(float linear);
+float srgbDecode(float encoded);
+
+/// Writes an 8-bit RGB PNG of toDisplay(linear, options).
+void writePng(const Image& linear, const std::filesystem::path& path,
+              const DisplayOptions& options = {});
+
+/// Runs `write(tmpPath)` then renames tmpPath onto `path`; removes tmpPath on failure.
+void writeAtomically(const std::filesystem::path& path,
+                     const std::function<void(const std::filesystem::path&)>& write);
+
+}  // namespace glint

@@ -1,0 +1,41 @@
+#include "glint/image/error.h"
+
+namespace glint {
+
+const char* errorKindName(ErrorKind kind) {
+    switch (kind) {
+        case ErrorKind::Io: return "io";
+        case ErrorKind::Format: return "format";
+        case ErrorKind::InvalidArgument: return "invalid-argument";
+        case ErrorKind::Numeric: return "numeric";
+        case ErrorKind::Cancelled: return "cancelled";
+        case ErrorKind::Internal: return "internal";
+    }
+    return "unknown";
+}
+
+namespace {
+std::string compose(const std::string& message, const std::string& file, const std::string& where) {
+    std::string text;
+    if (!file.empty()) text += file + ": ";
+    if (!where.empty()) text += where + ": ";
+    return text + message;
+}
+}  // namespace
+
+Error::Error(ErrorKind kind, std::string message, std::string file, std::string where)
+    : std::runtime_error(compose(message, file, where)),
+      m_kind(kind),
+      m_message(std::move(message)),
+      m_file(std::move(file)),
+      m_where(std::move(where)) {}
+
+namespace detail {
+void checkFailed(const char* expr, const char* file, int line, const std::string& msg) {
+    std::string text = std::string("check failed: ") + expr;
+    if (!msg.empty()) text += " (" + msg + ")";
+    throw Error(ErrorKind::Internal, text, file, "line " + std::to_string(line));
+}
+}  // namespace detail
+
+}  // namespace glint

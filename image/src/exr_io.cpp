@@ -1,0 +1,1 @@
+#include "glint/image/io.h"
