@@ -1,0 +1,44 @@
+#include "glint/denoise/registry.h"
+
+#include <memory>
+#include <string>
+
+#include "filters/factories.h"
+#include "glint/image/error.h"
+
+namespace glint::denoise {
+
+namespace {
+// Built once on first use, then immutable. A new filter adds one line here.
+std::vector<std::unique_ptr<Filter>> makeAll() {
+    std::vector<std::unique_ptr<Filter>> filters;
+    filters.push_back(makeGaussianFilter());
+    filters.push_back(makeBilateralFilter());
+    filters.push_back(makeBilateralMcFilter());
+    filters.push_back(makeCrossBilateralFilter());
+    filters.push_back(makeGuidedFilter());
+    filters.push_back(makeNlMeansFilter());
+    return filters;
+}
+}  // namespace
+
+const std::vector<const Filter*>& allFilters() {
+    static const std::vector<std::unique_ptr<Filter>> owned = makeAll();
+    static const std::vector<const Filter*> view = [] {
+        std::vector<const Filter*> v;
+        for (const auto& f : owned) v.push_back(f.get());
+        return v;
+    }();
+    return view;
+}
+
+const Filter& findFilter(std::string_view name) {
+    for (const Filter* f : allFilters())
+        if (f->name() == name) return *f;
+    std::string valid;
+    for (const Filter* f : allFilters()) valid += (valid.empty() ? "" : ", ") + std::string(f->name());
+    throw Error(ErrorKind::InvalidArgument,
+                "unknown filter '" + std::string(name) + "'; valid filters: " + valid);
+}
+
+}  // namespace glint::denoise
