@@ -9,15 +9,12 @@ DEB_PACKAGES := build-essential cmake ninja-build pkg-config \
   libtinyobjloader-dev libtbb-dev qt6-base-dev libgtest-dev libgmock-dev libbenchmark-dev \
   nlohmann-json3-dev libcli11-dev libeigen3-dev xvfb xauth fonts-dejavu-core
 
-.PHONY: all deps build test clean demo bench
+.PHONY: all deps build test clean demo bench bench-deps
 
 all: build
 
 deps:
 	@./.ci/install-deps $(DEB_PACKAGES)
-
-$(BUILD_DIR)/build.ninja $(BUILD_DIR)/Makefile:
-	cmake -S . -B $(BUILD_DIR) -G "$(CMAKE_GENERATOR)" -DCMAKE_BUILD_TYPE=RelWithDebInfo
 
 build: deps
 	@test -f $(BUILD_DIR)/CMakeCache.txt || cmake -S . -B $(BUILD_DIR) -G "$(CMAKE_GENERATOR)" -DCMAKE_BUILD_TYPE=RelWithDebInfo
@@ -26,7 +23,16 @@ build: deps
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 
-bench: build
+demo: build
+	./scripts/demo.sh $(BUILD_DIR)
+
+# Benchmark-only peers (Blender/Cycles, OpenCV, scikit-image): not needed to build or test.
+BENCH_PACKAGES := blender libopencv-dev libopencv-contrib-dev python3-skimage hyperfine
+
+bench-deps:
+	@./.ci/install-deps $(BENCH_PACKAGES)
+
+bench: build bench-deps
 	./tests/perf/run_all.sh $(BUILD_DIR)
 
 clean:
