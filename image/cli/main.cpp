@@ -1,1 +1,66 @@
-int main() { return 0; }
+// glint-image: inspect, compare and convert Glint's layered EXRs (shared/DESIGN.md).
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+
+#include "commands.h"
+#include "glint/image/error.h"
+
+int main(int argc, char** argv) {
+    CLI::App app{"Inspect, compare and convert Glint's layered EXR images.", "glint-image"};
+    app.require_subcommand(1);
+
+    glint::cli::InfoOptions info;
+    CLI::App* infoCmd = app.add_subcommand("info", "Size, layers, metadata and NaN/Inf counts");
+    infoCmd->add_option("FILE", info.file, "Image (layered EXR or any OpenImageIO format)")
+        ->required();
+    infoCmd->add_flag("--json", info.json, "Print one JSON object on stdout");
+
+    glint::cli::DiffOptions diff;
+    CLI::App* diffCmd = app.add_subcommand("diff", "Error metric of an image against a reference");
+    diffCmd->add_option("FILE", diff.file, "Image to evaluate")->required();
+    diffCmd->add_option("--reference", diff.reference, "Reference image")->required();
+    diffCmd->add_option("--metric", diff.metric, "ssim | psnr | mse | relmse")->required();
+    diffCmd->add_option("--crop", diff.crop, "Pixel rectangle x0,x1,y0,y1 (half-open)");
+    diffCmd->add_flag("--linear", diff.linear, "SSIM on linear values instead of display values");
+    diffCmd->add_option("--exposure", diff.exposure, "Exposure in stops for display values");
+    diffCmd->add_flag("--json", diff.json, "Print one JSON object on stdout");
+
+    glint::cli::ConvertOptions convert;
+    CLI::App* convertCmd = app.add_subcommand("convert", "Write an 8-bit sRGB PNG of a layer");
+    convertCmd->add_option("IN", convert.input, "Input image")->required();
+    convertCmd->add_option("OUT", convert.output, "Output .png")->required();
+    convertCmd->add_option("--exposure", convert.exposure, "Exposure in stops");
+    convertCmd->add_option("--layer", convert.layer,
+                           "Layer (color, albedo, normal, depth...) or one channel (albedo.G)");
+    convertCmd->add_option("--false-color", convert.falseColor,
+                           "Show one channel in false colour over lo,hi");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "glint-image: command line: %s\n", e.what());
+        return 2;
+    }
+
+    // The one catch boundary: bad input → exit 2, anything else → exit 1.
+    try {
+        if (*infoCmd) glint::cli::runInfo(info);
+        if (*diffCmd) glint::cli::runDiff(diff);
+        if (*convertCmd) glint::cli::runConvert(convert);
+    } catch (const glint::Error& e) {
+        std::fprintf(stderr, "glint-image: %s\n", e.what());
+        return e.kind() == glint::ErrorKind::Internal ? 1 : 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "glint-image: internal error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}

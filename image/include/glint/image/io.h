@@ -16,14 +16,24 @@ namespace glint {
 /// without R,G,B.
 FrameBuffers readExr(const std::filesystem::path& path);
 
+/// Lossless EXR compression. None is fastest (docs/image.md); Zip makes smooth layers smaller.
+enum class ExrCompression { None, Zip };
+
+/// Options of writeExr.
+struct ExrWriteOptions {
+    ExrCompression compression = ExrCompression::None;
+};
+
 /// Writes one-part float32 EXR with the channel names and glint:* attributes of DESIGN.md.
-void writeExr(const FrameBuffers& frame, const std::filesystem::path& path);
+void writeExr(const FrameBuffers& frame, const std::filesystem::path& path,
+              const ExrWriteOptions& options = {});
 
 /// Reads any image OpenImageIO can read as float (all channels). If `linearize` and the file
 /// declares sRGB colour (8-bit PNG/JPEG...), values are converted to linear.
 Image readImage(const std::filesystem::path& path, bool linearize = true);
 
-/// Writes a plain float image (EXR when the extension is .exr, else 8-bit via OIIO).
+/// Writes a plain float image: float EXR when the extension is .exr, else 8-bit through OIIO with
+/// colour channels sRGB-encoded and clamped (alpha, the 2nd of 2 or 4th of 4 channels, linear).
 void writeImage(const Image& image, const std::filesystem::path& path);
 
 /// How a linear image is turned into display values.

@@ -1,0 +1,278 @@
+#include "commands.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <vector>
+
+#include "glint/image/error.h"
+#include "glint/image/frame_buffers.h"
+#include "glint/image/io.h"
+#include "glint/image/metrics.h"
+
+namespace glint::cli {
+
+namespace {
+
+using nlohmann::json;
+
+std::string lowerExtension(const std::string& file) {
+    std::string ext = std::filesystem::path(file).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+/// A loaded image: layered EXR, or any other format read as a colour-only frame.
+struct Loaded {
+    FrameBuffers frame;
+    bool layered = false;  ///< false: not an EXR, metadata means nothing
+};
+
+Loaded load(const std::string& file) {
+    if (lowerExtension(file) == ".exr") return {readExr(file), true};
+    const Image image = readImage(file, true);
+    FrameBuffers frame(image.width(), image.height());
+    Image& color = frame.color();
+    // Grey for one or two channels (grey + alpha), the first three otherwise.
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x)
+            for (int c = 0; c < 3; ++c) color(x, y, c) = image(x, y, image.channels() >= 3 ? c : 0);
+    frame.metadata() = FrameMetadata{};
+    frame.metadata().source = "image";
+    return {std::move(frame), false};
+}
+
+/// User-facing name of a layer: "color" for the root layer, else its EXR layer name.
+std::string layerName(Layer layer) {
+    return layer == Layer::Color ? std::string("color") : std::string(layerInfo(layer).name);
+}
+
+/// Pixels with a NaN or ±Inf in some channel.
+std::size_t nonFinitePixels(const Image& im) {
+    std::size_t count = 0;
+    const float* p = im.data().data();
+    for (std::size_t i = 0; i < im.pixelCount(); ++i, p += im.channels())
+        count += std::any_of(p, p + im.channels(), [](float v) { return !std::isfinite(v); });
+    return count;
+}
+
+/// Splits "a,b,c" and parses each part as T; nullopt unless there are exactly `count` numbers.
+template <typename T>
+std::optional<std::vector<T>> parseList(const std::string& text, std::size_t count) {
+    std::vector<T> out;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        std::size_t end = text.find(',', start);
+        if (end == std::string::npos) end = text.size();
+        T value{};
+        const char* first = text.data() + start;
+        const char* last = text.data() + end;
+        auto [ptr, ec] = std::from_chars(first, last, value);
+        if (ec != std::errc() || ptr != last || first == last) return std::nullopt;
+        out.push_back(value);
+        start = end + 1;
+    }
+    if (out.size() != count) return std::nullopt;
+    return out;
+}
+
+/// The layer or single channel `name` of `frame` (empty name: colour).
+Image selectLayer(const FrameBuffers& frame, const std::string& name, const std::string& file) {
+    std::vector<std::string> present;
+    for (int l = 0; l < kLayerCount; ++l) {
+        const Layer layer = Layer(l);
+        if (!frame.has(layer)) continue;
+        present.push_back(layerName(layer));
+        if (name.empty() ? layer == Layer::Color
+                         : (name == layerName(layer) || (layer == Layer::Color && name == "rgb")))
+            return frame.layer(layer);
+        for (int c = 0; c < layerInfo(layer).channels; ++c)
+            if (name == channelName(layer, c)) return frame.layer(layer).channelsSlice(c, 1);
+    }
+    std::string list;
+    for (const std::string& p : present) list += (list.empty() ? "" : ", ") + p;
+    throw Error(ErrorKind::InvalidArgument,
+                "no layer or channel '" + name + "' (the file has " + list +
+                    "; a channel is named like albedo.G or R)",
+                file, "--layer");
+}
+
+std::string formatNumber(double v) {
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", v);
+    return text;
+}
+
+}  // namespace
+
+void runInfo(const InfoOptions& options) {
+    const Loaded loaded = load(options.file);
+    const FrameBuffers& frame = loaded.frame;
+    const FrameMetadata& md = frame.metadata();
+
+    json layers = json::array();
+    for (int l = 0; l < kLayerCount; ++l) {
+        const Layer layer = Layer(l);
+        if (!frame.has(layer)) continue;
+        json channels = json::array();
+        for (int c = 0; c < layerInfo(layer).channels; ++c)
+            channels.push_back(channelName(layer, c));
+        layers.push_back({{"name", layerName(layer)},
+                          {"channels", channels},
+                          {"nonFinitePixels", nonFinitePixels(frame.layer(layer))}});
+    }
+    json metadata = nullptr;
+    if (loaded.layered)
+        metadata = {{"spp", md.spp},
+                    {"seed", md.seed},
+                    {"integrator", md.integrator},
+                    {"scene", md.scene},
+                    {"varianceOf", md.varianceOf},
+                    {"normalSpace", md.normalSpace},
+                    {"depth", md.depthKind},
+                    {"nonFiniteSamples", md.nonFiniteSamples},
+                    {"extra", md.extra}};
+
+    if (options.json) {
+        const json out = {{"file", options.file},     {"width", frame.width()},
+                          {"height", frame.height()}, {"source", md.source},
+                          {"layers", layers},         {"metadata", metadata}};
+        std::cout << out.dump() << "\n";
+        return;
+    }
+    std::cout << options.file << ": " << frame.width() << "x" << frame.height() << ", "
+              << (loaded.layered ? md.source + " channel names" : std::string("not an EXR"))
+              << "\n";
+    std::cout << "layers (name, channels, pixels with NaN/Inf):\n";
+    for (const json& layer : layers) {
+        std::string channels;
+        for (const json& c : layer["channels"])
+            channels += (channels.empty() ? "" : ",") + c.get<std::string>();
+        std::printf("  %-16s %-44s %zu\n", layer["name"].get<std::string>().c_str(),
+                    channels.c_str(), layer["nonFinitePixels"].get<std::size_t>());
+    }
+    std::cout.flush();
+    if (!loaded.layered) return;
+    std::cout << "metadata:\n";
+    for (const auto& [key, value] : metadata.items()) {
+        if (key == "extra") continue;
+        std::cout << "  " << key << ": "
+                  << (value.is_string() ? value.get<std::string>() : value.dump()) << "\n";
+    }
+    for (const auto& [key, value] : md.extra) std::cout << "  " << key << ": " << value << "\n";
+}
+
+void runDiff(const DiffOptions& options) {
+    Metric metric;
+    try {
+        metric = parseMetric(options.metric);
+    } catch (const Error& e) {
+        throw Error(ErrorKind::InvalidArgument,
+                    "expected ssim, psnr, mse or relmse, got '" + options.metric + "'", "",
+                    "--metric");
+    }
+    MetricOptions metricOptions;
+    metricOptions.linear = options.linear;
+    metricOptions.exposure = options.exposure;
+    if (!std::isfinite(options.exposure))
+        throw Error(ErrorKind::InvalidArgument, "expected a finite number of stops", "",
+                    "--exposure");
+    std::optional<std::vector<int>> crop;
+    if (!options.crop.empty()) {
+        crop = parseList<int>(options.crop, 4);
+        if (!crop)
+            throw Error(ErrorKind::InvalidArgument,
+                        "expected four integers x0,x1,y0,y1, got '" + options.crop + "'", "",
+                        "--crop");
+    }
+
+    const FrameBuffers image = load(options.file).frame;
+    const FrameBuffers reference = load(options.reference).frame;
+    if (image.width() != reference.width() || image.height() != reference.height())
+        throw Error(ErrorKind::InvalidArgument,
+                    "size " + std::to_string(reference.width()) + "x" +
+                        std::to_string(reference.height()) + " differs from " + options.file +
+                        " (" + std::to_string(image.width()) + "x" +
+                        std::to_string(image.height()) + ")",
+                    options.reference, "size");
+    if (crop) {
+        const Rect rect{(*crop)[0], (*crop)[1], (*crop)[2], (*crop)[3]};
+        if (rect.empty() || intersect(rect, image.color().bounds()) != rect)
+            throw Error(ErrorKind::InvalidArgument,
+                        "crop x " + std::to_string(rect.x0) + ".." + std::to_string(rect.x1) +
+                            ", y " + std::to_string(rect.y0) + ".." + std::to_string(rect.y1) +
+                            " is empty or outside the " + std::to_string(image.width()) + "x" +
+                            std::to_string(image.height()) + " image",
+                        options.file, "--crop");
+        metricOptions.crop = rect;
+    }
+
+    const MetricResult result =
+        computeMetric(metric, image.color(), reference.color(), metricOptions);
+    // What the metric did with pixels holding NaN/Inf (see metrics.h).
+    const char* treatment = metric == Metric::Ssim ? "set to 0 before filtering" : "excluded";
+
+    if (options.json) {
+        json out = {{"file", options.file},
+                    {"reference", options.reference},
+                    {"metric", metricName(metric)},
+                    {"value", std::isfinite(result.value) ? json(result.value) : json(nullptr)},
+                    {"finite", bool(std::isfinite(result.value))},
+                    {"pixels", result.pixels},
+                    {"nonFinitePixels", result.nonFinitePixels},
+                    {"nonFiniteTreatment", metric == Metric::Ssim ? "zeroed" : "excluded"},
+                    {"crop", crop ? json(*crop) : json(nullptr)},
+                    {"linear", options.linear},
+                    {"exposure", options.exposure}};
+        std::cout << out.dump() << "\n";
+        return;
+    }
+    std::cout << metricName(metric) << " " << formatNumber(result.value) << "\n";
+    std::cout << "  " << result.pixels << " pixels" << (crop ? " in crop " + options.crop : "")
+              << "; " << result.nonFinitePixels << " non-finite pixels " << treatment << "\n";
+}
+
+void runConvert(const ConvertOptions& options) {
+    if (lowerExtension(options.output) != ".png")
+        throw Error(ErrorKind::InvalidArgument, "expected an output file ending in .png",
+                    options.output, "output");
+    DisplayOptions display;
+    display.exposure = options.exposure;
+    if (!std::isfinite(options.exposure))
+        throw Error(ErrorKind::InvalidArgument, "expected a finite number of stops", "",
+                    "--exposure");
+    if (!options.falseColor.empty()) {
+        const auto range = parseList<float>(options.falseColor, 2);
+        if (!range || !((*range)[1] > (*range)[0]))
+            throw Error(ErrorKind::InvalidArgument,
+                        "expected lo,hi with lo < hi, got '" + options.falseColor + "'", "",
+                        "--false-color");
+        display.falseColorChannel = 0;
+        display.falseColorLo = (*range)[0];
+        display.falseColorHi = (*range)[1];
+    }
+
+    const FrameBuffers frame = load(options.input).frame;
+    const Image image = selectLayer(frame, options.layer, options.input);
+    if (display.falseColorChannel >= 0 && image.channels() != 1)
+        throw Error(ErrorKind::InvalidArgument,
+                    "false colour shows one channel but '" +
+                        (options.layer.empty() ? std::string("color") : options.layer) + "' has " +
+                        std::to_string(image.channels()) +
+                        "; pick one with --layer (e.g. depth.Z, albedo.G, R)",
+                    options.input, "--false-color");
+    writePng(image, options.output, display);
+    std::cout << options.output << ": " << image.width() << "x" << image.height() << " from "
+              << options.input << " (" << (options.layer.empty() ? "color" : options.layer)
+              << ")\n";
+}
+
+}  // namespace glint::cli

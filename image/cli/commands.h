@@ -1,0 +1,42 @@
+// glint-image sub-commands. Each throws glint::Error on bad input; main() reports it.
+#pragma once
+
+#include <optional>
+#include <string>
+
+namespace glint::cli {
+
+/// Options of `glint-image info`.
+struct InfoOptions {
+    std::string file;
+    bool json = false;
+};
+
+/// Options of `glint-image diff`.
+struct DiffOptions {
+    std::string file;
+    std::string reference;
+    std::string metric;
+    std::string crop;  ///< "x0,x1,y0,y1" or empty
+    bool linear = false;
+    float exposure = 0.0f;
+    bool json = false;
+};
+
+/// Options of `glint-image convert`.
+struct ConvertOptions {
+    std::string input;
+    std::string output;
+    float exposure = 0.0f;
+    std::string layer;       ///< layer ("albedo") or channel ("albedo.G"); empty = colour
+    std::string falseColor;  ///< "lo,hi" or empty
+};
+
+/// Prints size, layers, metadata and non-finite counts of an image.
+void runInfo(const InfoOptions& options);
+/// Prints one metric of an image against a reference.
+void runDiff(const DiffOptions& options);
+/// Writes a layer or channel of an image as an 8-bit sRGB PNG.
+void runConvert(const ConvertOptions& options);
+
+}  // namespace glint::cli

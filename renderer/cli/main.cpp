@@ -1,0 +1,217 @@
+// glint-render: renders a scene.json to a layered EXR (shared/DESIGN.md, "Command lines").
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "glint/image/error.h"
+#include "glint/image/io.h"
+#include "glint/image/metrics.h"
+#include "glint/render/renderer.h"
+#include "glint/render/scene.h"
+#include "glint/render/settings.h"
+
+namespace {
+
+using glint::render::Settings;
+
+struct Options {
+    std::string scene, out, reference;
+    std::optional<int> spp, threads, maxDepth, rrDepth;
+    std::optional<std::uint64_t> seed;
+    std::optional<std::string> integrator, mis, strategy, sampler;
+    double timeLimit = 0.0;
+    bool json = false, position = false;
+};
+
+/// Draws "[#####.....]  45%  pass 3" on a terminal.
+void drawBar(double fraction, int pass) {
+    const int width = 40;
+    const int filled = int(fraction * width + 0.5);
+    std::string bar(std::size_t(filled), '#');
+    bar.append(std::size_t(width - filled), '.');
+    std::fprintf(stderr, "\r[%s] %3d%%  pass %d", bar.c_str(), int(fraction * 100.0 + 0.5),
+                 pass + 1);
+    std::fflush(stderr);
+}
+
+int run(const Options& opt) {
+    const bool tty = isatty(fileno(stderr)) != 0;
+    auto stage = [&](const std::string& line) {
+        if (!opt.json || !tty) std::fprintf(stderr, "glint-render: %s\n", line.c_str());
+    };
+    const auto t0 = std::chrono::steady_clock::now();
+    stage("loading " + opt.scene);
+    glint::render::Scene scene = glint::render::loadScene(opt.scene);
+    Settings settings = scene.settings();
+    if (opt.spp)
+        settings.spp = *opt.spp;
+    else if (opt.timeLimit > 0.0)
+        settings.spp = 0;
+    if (opt.seed) settings.seed = *opt.seed;
+    if (opt.threads) settings.threads = *opt.threads;
+    if (opt.maxDepth) settings.maxDepth = *opt.maxDepth;
+    if (opt.rrDepth) settings.rrDepth = *opt.rrDepth;
+    // Re-throw option errors with the option as the place.
+    auto option = [](const char* name, auto parse) {
+        try {
+            return parse();
+        } catch (const glint::Error& e) {
+            throw glint::Error(glint::ErrorKind::InvalidArgument, e.message(), "command line",
+                               name);
+        }
+    };
+    if (opt.integrator)
+        settings.integrator =
+            option("--integrator", [&] { return glint::render::parseIntegrator(*opt.integrator); });
+    if (opt.mis) settings.mis = option("--mis", [&] { return glint::render::parseMis(*opt.mis); });
+    if (opt.strategy)
+        settings.strategy =
+            option("--strategy", [&] { return glint::render::parseStrategy(*opt.strategy); });
+    if (opt.sampler)
+        settings.sampler =
+            option("--sampler", [&] { return glint::render::parseSampler(*opt.sampler); });
+    if (opt.strategy && settings.mis != glint::render::MisHeuristic::None)
+        throw glint::Error(glint::ErrorKind::InvalidArgument,
+                           "--strategy applies only with --mis none", "command line", "--strategy");
+    settings.timeLimit = opt.timeLimit;
+    settings.position = opt.position;
+    option("options", [&] {
+        glint::render::validate(settings);
+        return 0;
+    });
+    if (settings.integrator == glint::render::Integrator::Mlt)
+        throw glint::Error(glint::ErrorKind::InvalidArgument, "not implemented yet (issue 4)",
+                           "command line", "--integrator mlt");
+
+    std::optional<glint::Image> reference;
+    if (!opt.reference.empty()) {
+        stage("reading reference " + opt.reference);
+        glint::FrameBuffers ref = glint::readExr(opt.reference);
+        if (ref.width() != scene.width() || ref.height() != scene.height())
+            throw glint::Error(glint::ErrorKind::InvalidArgument,
+                               "reference is " + std::to_string(ref.width()) + "x" +
+                                   std::to_string(ref.height()) + ", the scene renders " +
+                                   std::to_string(scene.width()) + "x" +
+                                   std::to_string(scene.height()),
+                               opt.reference);
+        reference = ref.color();
+    }
+
+    stage("building BVH (" + std::to_string(scene.triangleCount()) + " triangles, " +
+          std::to_string(scene.areaLightCount()) + " emissive)");
+    glint::render::Renderer renderer(std::move(scene));
+    const double setupSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+    nlohmann::json passes = nlohmann::json::array();
+    glint::render::Callbacks callbacks;
+    if (tty && !opt.json) callbacks.progress = [](int pass, double f) { drawBar(f, pass); };
+    double lastRelMse = -1.0, lastSsim = -1.0;
+    if (reference || !tty) {
+        callbacks.passDone = [&](int pass, const glint::FrameBuffers& frame) {
+            std::string line = "pass " + std::to_string(pass + 1) + ": " +
+                               std::to_string(frame.metadata().spp) + " spp";
+            nlohmann::json entry = {{"pass", pass + 1}, {"spp", frame.metadata().spp}};
+            if (reference) {
+                lastRelMse = glint::relMse(frame.color(), *reference).value;
+                lastSsim = glint::ssim(frame.color(), *reference).value;
+                char buf[96];
+                std::snprintf(buf, sizeof buf, "  relMSE %.6g  SSIM %.4f", lastRelMse, lastSsim);
+                line += buf;
+                entry["relMse"] = lastRelMse;
+                entry["ssim"] = lastSsim;
+            }
+            passes.push_back(entry);
+            if (tty && !opt.json)
+                std::fprintf(stderr, "\r%-60s\n", line.c_str());
+            else if (!opt.json)
+                stage(line);
+        };
+    }
+
+    glint::FrameBuffers frame = renderer.render(settings, callbacks);
+    if (tty && !opt.json) std::fprintf(stderr, "\n");
+    const glint::render::RenderStats& stats = renderer.stats();
+    stage("writing " + opt.out);
+    glint::writeExr(frame, opt.out);
+
+    const double samplesPerSecond =
+        stats.seconds > 0.0 ? double(stats.samples) / stats.seconds : 0.0;
+    const double raysPerSecond = stats.seconds > 0.0 ? double(stats.rays) / stats.seconds : 0.0;
+    if (opt.json) {
+        nlohmann::json j = {{"scene", opt.scene},
+                            {"out", opt.out},
+                            {"width", frame.width()},
+                            {"height", frame.height()},
+                            {"spp", stats.completedSpp},
+                            {"seed", settings.seed},
+                            {"mis", glint::render::misName(settings.mis)},
+                            {"maxDepth", settings.maxDepth},
+                            {"threads", settings.threads},
+                            {"setupSeconds", setupSeconds},
+                            {"seconds", stats.seconds},
+                            {"samples", stats.samples},
+                            {"rays", stats.rays},
+                            {"samplesPerSecond", samplesPerSecond},
+                            {"raysPerSecond", raysPerSecond},
+                            {"nonFiniteSamples", stats.nonFiniteSamples},
+                            {"passes", passes}};
+        if (reference) j["relMse"] = lastRelMse, j["ssim"] = lastSsim;
+        std::cout << j.dump() << "\n";
+    } else {
+        std::printf("rendered %s: %dx%d, %d spp in %.3f s (setup %.3f s)\n", opt.scene.c_str(),
+                    frame.width(), frame.height(), stats.completedSpp, stats.seconds, setupSeconds);
+        std::printf("  %.3f M samples/s, %.3f M rays/s, %lld NaN/Inf samples discarded\n",
+                    samplesPerSecond * 1e-6, raysPerSecond * 1e-6,
+                    static_cast<long long>(stats.nonFiniteSamples));
+        if (reference) std::printf("  relMSE %.6g  SSIM %.4f\n", lastRelMse, lastSsim);
+        std::printf("  wrote %s\n", opt.out.c_str());
+    }
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"glint-render: render a scene.json into a layered EXR"};
+    Options opt;
+    app.add_option("scene", opt.scene, "scene.json")->required();
+    app.add_option("--spp", opt.spp, "samples per pixel (default: the scene's render.spp)");
+    app.add_option("--out", opt.out, "output EXR")->required();
+    app.add_option("--seed", opt.seed, "random seed");
+    app.add_option("--threads", opt.threads, "worker threads (0 = all)");
+    app.add_option("--integrator", opt.integrator, "path | mlt");
+    app.add_option("--mis", opt.mis, "power | balance | none");
+    app.add_option("--strategy", opt.strategy, "bsdf | light (with --mis none)");
+    app.add_option("--sampler", opt.sampler, "stratified | independent");
+    app.add_option("--max-depth", opt.maxDepth, "maximum bounces");
+    app.add_option("--rr-depth", opt.rrDepth, "Russian roulette starts after this many bounces");
+    app.add_option("--time-limit", opt.timeLimit, "seconds: render passes until time runs out");
+    app.add_option("--reference", opt.reference, "reference EXR: print relMSE and SSIM per pass");
+    app.add_flag("--position", opt.position, "also write the world-space position layer");
+    app.add_flag("--json", opt.json, "print one JSON object on stdout");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "glint-render: command line: %s\n", e.what());
+        return 2;
+    }
+    try {
+        return run(opt);
+    } catch (const glint::Error& e) {
+        std::fprintf(stderr, "glint-render: %s\n", e.what());
+        return e.kind() == glint::ErrorKind::Internal ? 1 : 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "glint-render: internal error: %s\n", e.what());
+        return 1;
+    }
+}

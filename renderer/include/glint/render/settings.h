@@ -1,0 +1,54 @@
+// glint::render::Settings — how one render runs (spp, seed, threads, integrator, MIS...).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace glint::render {
+
+/// Light-transport algorithm.
+enum class Integrator { Path, Mlt };
+/// How next-event estimation and BSDF sampling are combined (Veach 1997, ch. 9).
+enum class MisHeuristic { Power, Balance, None };
+/// The single strategy used when MisHeuristic::None is selected.
+enum class Strategy { Bsdf, Light };
+/// How pixel and lens samples are placed inside a pass.
+enum class SamplerKind { Stratified, Independent };
+
+/// Render settings. A scene's "render" block gives defaults (Scene::settings()); a caller
+/// copies them and overrides what it wants.
+struct Settings {
+    int spp = 16;            ///< samples per pixel (0 with timeLimit > 0: until time runs out)
+    std::uint64_t seed = 1;  ///< seed of every per-pixel random stream
+    int threads = 0;         ///< worker threads; 0 = all hardware threads
+    Integrator integrator = Integrator::Path;
+    MisHeuristic mis = MisHeuristic::Power;
+    Strategy strategy = Strategy::Bsdf;  ///< only with mis == None
+    SamplerKind sampler = SamplerKind::Stratified;
+    int maxDepth = 32;       ///< maximum number of bounces (1 = direct lighting only)
+    int rrDepth = 3;         ///< Russian roulette starts after this many bounces
+    double timeLimit = 0.0;  ///< seconds; > 0 renders passes until time runs out
+    int tileSize = 16;       ///< tile edge in pixels
+    bool position = false;   ///< also produce the optional world-space position layer
+};
+
+/// Parses "path" / "mlt"; throws glint::Error(InvalidArgument).
+Integrator parseIntegrator(const std::string& name);
+/// Parses "power" / "balance" / "none"; throws glint::Error(InvalidArgument).
+MisHeuristic parseMis(const std::string& name);
+/// Parses "bsdf" / "light"; throws glint::Error(InvalidArgument).
+Strategy parseStrategy(const std::string& name);
+/// Parses "stratified" / "independent"; throws glint::Error(InvalidArgument).
+SamplerKind parseSampler(const std::string& name);
+
+/// Name of an integrator ("path", "mlt").
+const char* integratorName(Integrator integrator);
+/// Name of a MIS heuristic ("power", "balance", "none").
+const char* misName(MisHeuristic mis);
+/// Name of a strategy ("bsdf", "light").
+const char* strategyName(Strategy strategy);
+
+/// Throws glint::Error(InvalidArgument) naming the first out-of-range field.
+void validate(const Settings& settings);
+
+}  // namespace glint::render

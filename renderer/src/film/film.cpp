@@ -1,0 +1,71 @@
+#include "film/film.h"
+
+#include <cmath>
+
+namespace glint::render {
+
+Film::Film(int width, int height)
+    : m_width(width), m_height(height), m_pixels(std::size_t(width) * std::size_t(height)) {}
+
+void Film::add(int x, int y, const FilmSample& s) {
+    const float v[kChannels] = {s.color.x,    s.color.y,    s.color.z,   s.albedo.x, s.albedo.y,
+                                s.albedo.z,   s.normal.x,   s.normal.y,  s.normal.z, s.depth,
+                                s.position.x, s.position.y, s.position.z};
+    Pixel& p = m_pixels[index(x, y)];
+    for (float value : v)
+        if (!std::isfinite(value)) {
+            ++p.nonFinite;
+            return;
+        }
+    // Welford's online update of mean and sum of squared deviations.
+    ++p.n;
+    const double inv = 1.0 / double(p.n);
+    for (int c = 0; c < kChannels; ++c) {
+        const double delta = double(v[c]) - p.mean[c];
+        p.mean[c] += delta * inv;
+        p.m2[c] += delta * (double(v[c]) - p.mean[c]);
+    }
+}
+
+std::int64_t Film::nonFiniteSamples() const {
+    std::int64_t total = 0;
+    for (const Pixel& p : m_pixels) total += p.nonFinite;
+    return total;
+}
+
+FrameBuffers Film::resolve(bool withPosition) const {
+    FrameBuffers frame(m_width, m_height);
+    struct Out {
+        Layer mean, variance;
+        int first, channels;
+    };
+    std::vector<Out> outs = {{Layer::Color, Layer::Variance, 0, 3},
+                             {Layer::Albedo, Layer::AlbedoVariance, 3, 3},
+                             {Layer::Normal, Layer::NormalVariance, 6, 3},
+                             {Layer::Depth, Layer::DepthVariance, 9, 1}};
+    for (const Out& o : outs) frame.ensure(o.mean), frame.ensure(o.variance);
+    if (withPosition) frame.ensure(Layer::Position);
+    Image& count = frame.ensure(Layer::SampleCount);
+    for (int y = 0; y < m_height; ++y)
+        for (int x = 0; x < m_width; ++x) {
+            const Pixel& p = m_pixels[index(x, y)];
+            count(x, y, 0) = float(p.n);
+            // Variance of the mean: unbiased sample variance / n.
+            const double varScale = p.n > 1 ? 1.0 / (double(p.n - 1) * double(p.n)) : 0.0;
+            for (const Out& o : outs) {
+                Image& mean = frame.layer(o.mean);
+                Image& var = frame.layer(o.variance);
+                for (int c = 0; c < o.channels; ++c) {
+                    mean(x, y, c) = float(p.mean[o.first + c]);
+                    var(x, y, c) = float(p.m2[o.first + c] * varScale);
+                }
+            }
+            if (withPosition) {
+                Image& pos = frame.layer(Layer::Position);
+                for (int c = 0; c < 3; ++c) pos(x, y, c) = float(p.mean[10 + c]);
+            }
+        }
+    return frame;
+}
+
+}  // namespace glint::render

@@ -1,0 +1,52 @@
+// Film: per-pixel running statistics in double (Welford 1962) of colour and features, box filter
+// (each sample belongs to the pixel it was taken in), NaN/Inf samples discarded and counted.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "glint/image/frame_buffers.h"
+#include "vecmath.h"
+
+namespace glint::render {
+
+/// What one camera sample contributes to its pixel.
+struct FilmSample {
+    Vec3 color;
+    Vec3 albedo;         ///< at the first non-specular hit (0 if none)
+    Vec3 normal;         ///< world shading normal there (0 if none)
+    float depth = 0.0f;  ///< camera-space z there (0 if none)
+    Vec3 position;       ///< world position there (0 if none)
+};
+
+/// Accumulates FilmSamples per pixel. A pixel must only be written by one thread at a time.
+class Film {
+  public:
+    Film(int width, int height);
+
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+    /// Adds a sample to pixel (x, y); a sample with any non-finite value is counted and dropped.
+    void add(int x, int y, const FilmSample& sample);
+    /// Samples accepted in pixel (x, y).
+    std::uint32_t count(int x, int y) const { return m_pixels[index(x, y)].n; }
+    /// Total discarded (non-finite) samples.
+    std::int64_t nonFiniteSamples() const;
+    /// Means, variances of the mean (sample variance / n; 0 below two samples), sample counts.
+    FrameBuffers resolve(bool withPosition) const;
+
+  private:
+    static constexpr int kChannels = 13;  // colour 3, albedo 3, normal 3, depth 1, position 3
+    struct Pixel {
+        std::uint32_t n = 0;
+        std::uint32_t nonFinite = 0;
+        double mean[kChannels] = {};
+        double m2[kChannels] = {};
+    };
+    std::size_t index(int x, int y) const { return std::size_t(y) * std::size_t(m_width) + x; }
+
+    int m_width, m_height;
+    std::vector<Pixel> m_pixels;
+};
+
+}  // namespace glint::render

@@ -1,0 +1,194 @@
+#include "integrators/path_integrator.h"
+
+#include <cmath>
+#include <limits>
+
+#include "materials/bsdf.h"
+
+namespace glint::render {
+
+namespace {
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+/// Surface data at a hit.
+struct Shading {
+    Vec3 p, ng, ns;
+    Vec2 uv;
+    const detail::Material* material;
+};
+
+Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo) {
+    Shading s;
+    const std::size_t t = hit.triangle;
+    const Vec3* v = &scene.positions[3 * t];
+    const float b0 = 1.0f - hit.u - hit.v;
+    s.p = v[0] * b0 + v[1] * hit.u + v[2] * hit.v;
+    s.ng = scene.faceNormals[t];
+    s.ns = s.ng;
+    if (!scene.normals.empty()) {
+        const Vec3* n = &scene.normals[3 * t];
+        const Vec3 ns = n[0] * b0 + n[1] * hit.u + n[2] * hit.v;
+        const float len = length(ns);
+        if (len > 0.0f) {
+            s.ns = ns / len;
+            // The geometric normal follows the shading normal's side (PBR 2.10.1).
+            if (dot(s.ng, s.ns) < 0.0f) s.ng = -s.ng;
+        }
+    }
+    s.uv = {};
+    if (!scene.uvs.empty()) {
+        const Vec2* uv = &scene.uvs[3 * t];
+        s.uv = {uv[0].x * b0 + uv[1].x * hit.u + uv[2].x * hit.v,
+                uv[0].y * b0 + uv[1].y * hit.u + uv[2].y * hit.v};
+    }
+    s.material = &scene.materials[scene.triangleMaterial[t]];
+    // Surfaces other than dielectrics are two-sided: face the normals towards the viewer.
+    if (s.material->type != detail::MaterialType::Dielectric && dot(wo, s.ng) < 0.0f) {
+        s.ng = -s.ng;
+        s.ns = -s.ns;
+    }
+    return s;
+}
+}  // namespace
+
+PathIntegrator::PathIntegrator(const detail::SceneData& scene, const EmbreeScene& embree,
+                               const LightSampler& lights, const Camera& camera,
+                               const Settings& settings)
+    : m_scene(scene),
+      m_embree(embree),
+      m_lights(lights),
+      m_camera(camera),
+      m_mis(settings.mis),
+      m_useLightSampling(!lights.empty() && (settings.mis != MisHeuristic::None ||
+                                             settings.strategy == Strategy::Light)),
+      m_useBsdfHits(settings.mis != MisHeuristic::None || settings.strategy == Strategy::Bsdf),
+      m_maxDepth(settings.maxDepth),
+      m_rrDepth(settings.rrDepth) {}
+
+float PathIntegrator::misWeight(float pdf, float other) const {
+    if (m_mis == MisHeuristic::None) return 1.0f;
+    if (!(pdf > 0.0f)) return 0.0f;
+    // Balance: p/(p+q); power (β = 2): p²/(p²+q²), as 1/(1+(q/p)^β) to avoid overflow
+    // (Veach 1997, eqs. 9.12 and 9.13).
+    const float r = other / pdf;
+    return m_mis == MisHeuristic::Balance ? 1.0f / (1.0f + r) : 1.0f / (1.0f + r * r);
+}
+
+void PathIntegrator::trace(const Ray& cameraRay, Rng& rng, FilmSample& out,
+                           std::uint64_t& rays) const {
+    out = FilmSample{};
+    Vec3 radiance{}, beta{1.0f, 1.0f, 1.0f};
+    Ray ray = cameraRay;
+    bool specularBounce = false, featuresDone = false;
+    float prevPdf = 0.0f;
+    Vec3 prevP{};
+    const Environment* env = m_lights.environment();
+
+    for (int depth = 0;; ++depth) {
+        Hit hit;
+        ++rays;
+        if (!m_embree.intersect(ray, kInfinity, hit, depth == 0)) {
+            // Escaped: environment radiance, MIS-weighted against environment sampling.
+            if (env) {
+                const Vec3 le = env->eval(ray.dir);
+                if (depth == 0 || specularBounce) {
+                    radiance += beta * le;
+                } else if (m_useBsdfHits) {
+                    const float lightPdf =
+                        m_useLightSampling ? m_lights.pdfEnvironment(ray.dir) : 0.0f;
+                    radiance += beta * le * misWeight(prevPdf, lightPdf);
+                }
+            }
+            break;
+        }
+        const Vec3 wo = -ray.dir;
+        const Shading sh = shade(m_scene, hit, wo);
+        const detail::Material& mat = *sh.material;
+
+        // Emission found by the camera ray, a specular bounce or BSDF sampling (MIS).
+        if (mat.emissive()) {
+            if (depth == 0 || specularBounce) {
+                radiance += beta * mat.emission;
+            } else if (m_useBsdfHits) {
+                const float lightPdf =
+                    m_useLightSampling ? m_lights.pdfArea(hit.triangle, prevP, sh.p, sh.ng) : 0.0f;
+                radiance += beta * mat.emission * misWeight(prevPdf, lightPdf);
+            }
+        }
+
+        const Vec3 albedo = (mat.texture >= 0 && !m_scene.uvs.empty())
+                                ? m_scene.textures[std::size_t(mat.texture)].lookup(sh.uv)
+                                : mat.albedo;
+        const Bsdf bsdf = Bsdf::fromMaterial(mat, albedo);
+        const bool specular = bsdf.isSpecular();
+        if (!featuresDone && !specular) {
+            out.albedo = albedo;
+            out.normal = sh.ns;
+            out.depth = m_camera.depth(sh.p);
+            out.position = sh.p;
+            featuresDone = true;
+        }
+        if (depth >= m_maxDepth) break;
+
+        Frame frame = Frame::fromNormal(sh.ns);
+        Vec3 woLocal = frame.toLocal(wo);
+        if (mat.type != detail::MaterialType::Dielectric && woLocal.z <= 0.0f) {
+            // Shading normal faces away from the viewer: fall back to the geometric normal.
+            frame = Frame::fromNormal(sh.ng);
+            woLocal = frame.toLocal(wo);
+        }
+
+        // Next-event estimation at non-specular vertices (Veach 1997, sec. 9.2).
+        if (!specular && m_useLightSampling) {
+            LightSample ls;
+            const float uSelect = rng.uniform();
+            const Vec2 uLight{rng.uniform(), rng.uniform()};
+            if (m_lights.sample(sh.p, uSelect, uLight, ls) && dot(ls.wi, sh.ng) > 0.0f) {
+                const Vec3 wiLocal = frame.toLocal(ls.wi);
+                const Vec3 f = bsdf.eval(woLocal, wiLocal) * std::abs(wiLocal.z);
+                if (!isBlack(f) && !isBlack(ls.radiance)) {
+                    const Vec3 origin = offsetRayOrigin(sh.p, sh.ng, ls.wi);
+                    float tMax = kInfinity;
+                    Vec3 dir = ls.wi;
+                    if (!ls.environment) {
+                        const Vec3 d = ls.point - origin;
+                        const float dist = length(d);
+                        dir = d / dist;
+                        tMax = dist - 1e-4f * (1.0f + maxAbsComponent(ls.point));
+                    }
+                    ++rays;
+                    if (tMax > 0.0f && !m_embree.occluded(origin, dir, tMax)) {
+                        const float w =
+                            m_useBsdfHits ? misWeight(ls.pdf, bsdf.pdf(woLocal, wiLocal)) : 1.0f;
+                        radiance += beta * f * ls.radiance * (w / ls.pdf);
+                    }
+                }
+            }
+        }
+
+        // Continue the path by sampling the BSDF.
+        BsdfSample bs;
+        const Vec2 uBsdf{rng.uniform(), rng.uniform()};
+        const float uc = rng.uniform();
+        if (!bsdf.sample(woLocal, uBsdf, uc, bs)) break;
+        const Vec3 wi = normalize(frame.toWorld(bs.wi));
+        if (mat.type != detail::MaterialType::Dielectric && dot(wi, sh.ng) <= 0.0f) break;
+        beta *= bs.weight;
+        if (isBlack(beta)) break;
+        specularBounce = bs.specular;
+        prevPdf = bs.pdf;
+        prevP = sh.p;
+        ray.origin = offsetRayOrigin(sh.p, sh.ng, wi);
+        ray.dir = wi;
+
+        // Russian roulette with survival probability from the throughput (PBR 14.5.1).
+        if (depth + 1 > m_rrDepth) {
+            const float survive = std::min(1.0f, maxComponent(beta));
+            if (rng.uniform() >= survive) break;
+            beta *= 1.0f / survive;
+        }
+    }
+    out.color = radiance;
+}
+
+}  // namespace glint::render

@@ -1,0 +1,60 @@
+// Light selection and sampling: every emissive triangle is an area light (two-sided, uniform by
+// area), chosen with the environment in proportion to power by a 1D distribution.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "lights/environment.h"
+#include "sampling/distribution.h"
+#include "scene/scene_data.h"
+#include "vecmath.h"
+
+namespace glint::render {
+
+/// A sampled light point as seen from a shading point.
+struct LightSample {
+    Vec3 wi;         ///< unit direction from the shading point to the light
+    float distance;  ///< to the light point (infinity for the environment)
+    Vec3 point;      ///< light point (area lights)
+    Vec3 normal;     ///< geometric normal of the light point (area lights)
+    Vec3 radiance;   ///< emitted radiance towards the shading point
+    float pdf;       ///< solid-angle pdf including the choice of light
+    bool environment;
+};
+
+/// All lights of a scene. Empty when the scene has neither emitters nor an environment.
+class LightSampler {
+  public:
+    explicit LightSampler(const detail::SceneData& scene);
+
+    bool empty() const { return m_lights.empty(); }
+    std::size_t areaLightCount() const { return m_areaCount; }
+    const Environment* environment() const { return m_environment ? &*m_environment : nullptr; }
+
+    /// Samples a light for shading point p: uSelect picks the light, u the point on it.
+    bool sample(const Vec3& p, float uSelect, Vec2 u, LightSample& out) const;
+    /// Solid-angle pdf that sample() from p produces the point `lightPoint` on `triangle`
+    /// with geometric normal `ng` (unit).
+    float pdfArea(std::uint32_t triangle, const Vec3& p, const Vec3& lightPoint,
+                  const Vec3& ng) const;
+    /// Solid-angle pdf that sample() produces environment direction `dir`.
+    float pdfEnvironment(const Vec3& dir) const;
+
+  private:
+    struct AreaLight {
+        std::uint32_t triangle;
+        float area;
+        Vec3 normal;
+        Vec3 emission;
+    };
+    const detail::SceneData* m_scene;
+    std::vector<AreaLight> m_lights;     // environment, if any, is the last entry
+    std::vector<int> m_lightOfTriangle;  // -1 when not emissive
+    std::optional<Environment> m_environment;
+    std::size_t m_areaCount = 0;
+    Distribution1D m_select;
+};
+
+}  // namespace glint::render

@@ -1,0 +1,69 @@
+#include "materials/bsdf.h"
+
+namespace glint::render {
+
+using detail::MaterialType;
+
+Bsdf Bsdf::fromMaterial(const detail::Material& material, const Vec3& albedo) {
+    Bsdf b;
+    b.type = material.type;
+    b.albedo = albedo;
+    b.ior = material.ior;
+    b.alpha = material.roughness * material.roughness;
+    b.hasEtaK = material.hasEtaK;
+    b.eta = material.eta;
+    b.k = material.k;
+    b.specular = material.specular;
+    return b;
+}
+
+bool Bsdf::isSpecular() const {
+    switch (type) {
+        case MaterialType::Diffuse:
+            return false;
+        case MaterialType::Mirror:
+        case MaterialType::Dielectric:
+            return true;
+        case MaterialType::Conductor:
+            return alpha < kMinGgxAlpha;
+    }
+    return false;
+}
+
+Vec3 Bsdf::eval(const Vec3& wo, const Vec3& wi) const {
+    switch (type) {
+        case MaterialType::Diffuse:
+            return diffuseEval(*this, wo, wi);
+        case MaterialType::Conductor:
+            return alpha < kMinGgxAlpha ? Vec3{} : conductorEval(*this, wo, wi);
+        default:
+            return {};
+    }
+}
+
+float Bsdf::pdf(const Vec3& wo, const Vec3& wi) const {
+    switch (type) {
+        case MaterialType::Diffuse:
+            return diffusePdf(*this, wo, wi);
+        case MaterialType::Conductor:
+            return alpha < kMinGgxAlpha ? 0.0f : conductorPdf(*this, wo, wi);
+        default:
+            return 0.0f;
+    }
+}
+
+bool Bsdf::sample(const Vec3& wo, Vec2 u, float uc, BsdfSample& out) const {
+    switch (type) {
+        case MaterialType::Diffuse:
+            return diffuseSample(*this, wo, u, out);
+        case MaterialType::Mirror:
+            return mirrorSample(*this, wo, out);
+        case MaterialType::Dielectric:
+            return dielectricSample(*this, wo, uc, out);
+        case MaterialType::Conductor:
+            return conductorSample(*this, wo, u, out);
+    }
+    return false;
+}
+
+}  // namespace glint::render

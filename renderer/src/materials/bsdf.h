@@ -1,0 +1,69 @@
+// BSDFs in the local shading frame (z = shading normal). Each material kind lives in its own
+// file (diffuse.cpp, mirror.cpp, dielectric.cpp, conductor.cpp); Bsdf dispatches by kind.
+#pragma once
+
+#include "scene/scene_data.h"
+#include "vecmath.h"
+
+namespace glint::render {
+
+/// Result of sampling a BSDF: incident direction, weight = f |cos θi| / pdf, and the pdf
+/// (solid angle; 0 for specular events, whose weight already includes the discrete choice).
+struct BsdfSample {
+    Vec3 wi;
+    Vec3 weight;
+    float pdf = 0.0f;
+    bool specular = false;
+};
+
+/// GGX alphas below this are treated as a perfect mirror.
+inline constexpr float kMinGgxAlpha = 1e-3f;
+
+/// A material evaluated at one shading point (texture already looked up).
+struct Bsdf {
+    detail::MaterialType type = detail::MaterialType::Diffuse;
+    Vec3 albedo{};       ///< reflectance / tint / transmittance tint
+    float ior = 1.5f;    ///< dielectric
+    float alpha = 0.0f;  ///< conductor GGX alpha
+    bool hasEtaK = false;
+    Vec3 eta{1.0f, 1.0f, 1.0f}, k{};
+    Vec3 specular{1.0f, 1.0f, 1.0f};
+
+    /// Builds the BSDF of `material` with (possibly textured) albedo.
+    static Bsdf fromMaterial(const detail::Material& material, const Vec3& albedo);
+
+    /// True when every event is a delta (mirror, smooth dielectric, conductor with tiny alpha).
+    bool isSpecular() const;
+    /// f(wo, wi) without the cosine; 0 for specular BSDFs.
+    Vec3 eval(const Vec3& wo, const Vec3& wi) const;
+    /// Solid-angle density of sample() producing wi; 0 for specular BSDFs.
+    float pdf(const Vec3& wo, const Vec3& wi) const;
+    /// Samples wi from u (2D) and uc (for discrete choices); false when no valid direction.
+    bool sample(const Vec3& wo, Vec2 u, float uc, BsdfSample& out) const;
+};
+
+// Per-material implementations (wo, wi in the local frame).
+Vec3 diffuseEval(const Bsdf& b, const Vec3& wo, const Vec3& wi);
+float diffusePdf(const Bsdf& b, const Vec3& wo, const Vec3& wi);
+bool diffuseSample(const Bsdf& b, const Vec3& wo, Vec2 u, BsdfSample& out);
+
+bool mirrorSample(const Bsdf& b, const Vec3& wo, BsdfSample& out);
+
+/// Unpolarised Fresnel reflectance of a dielectric interface; eta = ηt/ηi, cosI >= 0.
+float fresnelDielectric(float cosI, float eta);
+bool dielectricSample(const Bsdf& b, const Vec3& wo, float uc, BsdfSample& out);
+
+/// Conductor Fresnel reflectance (per channel eta, k; or Schlick from `specular`).
+Vec3 conductorFresnel(const Bsdf& b, float cosI);
+/// GGX normal distribution D(h) (Trowbridge & Reitz 1975; Walter et al. 2007, eq. 33).
+float ggxD(const Vec3& h, float alpha);
+/// Smith Λ for GGX (Heitz 2014, eq. 72).
+float ggxLambda(const Vec3& w, float alpha);
+/// Visible-normal sample of GGX seen from wo (Heitz 2018, "Sampling the GGX Distribution of
+/// Visible Normals").
+Vec3 ggxSampleVisibleNormal(const Vec3& wo, float alpha, Vec2 u);
+Vec3 conductorEval(const Bsdf& b, const Vec3& wo, const Vec3& wi);
+float conductorPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi);
+bool conductorSample(const Bsdf& b, const Vec3& wo, Vec2 u, BsdfSample& out);
+
+}  // namespace glint::render

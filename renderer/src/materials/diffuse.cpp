@@ -1,0 +1,29 @@
+// diffuse — Lambertian reflection: f = albedo / π, sampled with a cosine-weighted hemisphere.
+//   scene.json: {"type": "diffuse", "albedo": [r,g,b] | "texture": "file", "emission": [r,g,b]}
+#include "materials/bsdf.h"
+#include "sampling/warp.h"
+
+namespace glint::render {
+
+Vec3 diffuseEval(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
+    if (wo.z <= 0.0f || wi.z <= 0.0f) return {};
+    return b.albedo * kInvPi;
+}
+
+float diffusePdf(const Bsdf&, const Vec3& wo, const Vec3& wi) {
+    if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
+    return cosineHemispherePdf(wi.z);
+}
+
+bool diffuseSample(const Bsdf& b, const Vec3& wo, Vec2 u, BsdfSample& out) {
+    if (wo.z <= 0.0f) return false;
+    out.wi = sampleCosineHemisphere(u);
+    out.pdf = cosineHemispherePdf(out.wi.z);
+    if (!(out.pdf > 0.0f)) return false;
+    // f cosθ / pdf = (albedo/π) cosθ / (cosθ/π) = albedo.
+    out.weight = b.albedo;
+    out.specular = false;
+    return true;
+}
+
+}  // namespace glint::render

@@ -1,0 +1,42 @@
+// Checked access to scene.json values: every error names the file and the JSON path.
+#pragma once
+
+#include <filesystem>
+#include <initializer_list>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "vecmath.h"
+
+namespace glint::render::detail {
+
+/// Reads typed values out of a parsed JSON document, throwing glint::Error(Format) with
+/// file = the scene file and where = the JSON pointer of the offending value.
+class JsonReader {
+  public:
+    explicit JsonReader(std::filesystem::path file) : m_file(std::move(file)) {}
+
+    const std::filesystem::path& file() const { return m_file; }
+
+    /// Throws Error(Format) at `where`.
+    [[noreturn]] void fail(const std::string& where, const std::string& message) const;
+    /// The value must be an object whose keys are all in `allowed`.
+    void requireObject(const nlohmann::json& value, const std::string& where,
+                       std::initializer_list<const char*> allowed) const;
+    /// A finite number in [lo, hi].
+    float number(const nlohmann::json& value, const std::string& where, double lo, double hi) const;
+    /// An integer in [lo, hi].
+    long long integer(const nlohmann::json& value, const std::string& where, long long lo,
+                      long long hi) const;
+    /// A string.
+    std::string string(const nlohmann::json& value, const std::string& where) const;
+    /// An array of three finite numbers, each in [lo, hi].
+    Vec3 vec3(const nlohmann::json& value, const std::string& where, double lo = -1e30,
+              double hi = 1e30) const;
+
+  private:
+    std::filesystem::path m_file;
+};
+
+}  // namespace glint::render::detail

@@ -1,0 +1,92 @@
+// The private contents of a loaded Scene: camera, film, materials, textures, triangles,
+// environment. Shapes are flattened into one triangle soup in world space.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "glint/image/image.h"
+#include "glint/render/settings.h"
+#include "vecmath.h"
+
+namespace glint::render::detail {
+
+/// Kinds of material ("type" in scene.json).
+enum class MaterialType { Diffuse, Mirror, Dielectric, Conductor };
+
+/// One material. albedo is the diffuse reflectance, the mirror/conductor tint or the dielectric
+/// transmittance tint; `texture` (index into SceneData::textures) replaces it when >= 0.
+struct Material {
+    std::string name;
+    MaterialType type = MaterialType::Diffuse;
+    Vec3 albedo{0.8f, 0.8f, 0.8f};
+    int texture = -1;
+    Vec3 emission{};
+    float ior = 1.5f;        ///< dielectric index of refraction
+    float roughness = 0.0f;  ///< conductor: GGX alpha = roughness^2
+    bool hasEtaK = false;    ///< conductor: complex Fresnel with eta/k, else Schlick(specular)
+    Vec3 eta{1.0f, 1.0f, 1.0f};
+    Vec3 k{};
+    Vec3 specular{1.0f, 1.0f, 1.0f};
+
+    bool emissive() const { return !isBlack(emission); }
+};
+
+/// An RGB texture (linear values) looked up bilinearly with repeat wrapping.
+struct Texture {
+    std::filesystem::path path;
+    Image image;  ///< 3 channels, linear
+
+    /// Bilinear lookup; uv origin at the bottom-left of the image (OBJ convention).
+    Vec3 lookup(Vec2 uv) const;
+};
+
+/// The camera of scene.json (shutter and motion parse for issue 4 and are otherwise unused).
+struct CameraDesc {
+    Vec3 position{0.0f, 0.0f, 0.0f};
+    Vec3 lookAt{0.0f, 0.0f, -1.0f};
+    Vec3 up{0.0f, 1.0f, 0.0f};
+    float fovY = 45.0f;  ///< vertical field of view, degrees
+    float lensRadius = 0.0f;
+    float focusDistance = 1.0f;
+    float shutterOpen = 0.0f, shutterClose = 1.0f;
+    bool hasMotion = false;
+    Vec3 motionPosition{}, motionLookAt{};
+};
+
+/// The environment: none, a constant colour or a lat-long image (+y up, u = 0.5 looks down -z).
+struct EnvironmentDesc {
+    enum class Kind { None, Constant, Image };
+    Kind kind = Kind::None;
+    Vec3 color{};            ///< constant radiance (already multiplied by scale)
+    float scale = 1.0f;      ///< multiplies the image
+    float rotateDeg = 0.0f;  ///< rotation about +y
+    std::filesystem::path path;
+    Image image;  ///< 3 channels, linear
+};
+
+/// Everything a Scene holds.
+struct SceneData {
+    std::filesystem::path path;
+    int width = 0, height = 0;
+    Settings settings;
+    CameraDesc camera;
+    std::vector<Material> materials;
+    std::vector<Texture> textures;
+    /// Triangle t has vertices positions[3t..3t+2] (world space).
+    std::vector<Vec3> positions;
+    /// Per-vertex shading normals parallel to positions, or empty; a zero normal means none.
+    std::vector<Vec3> normals;
+    /// Per-vertex texture coordinates parallel to positions, or empty.
+    std::vector<Vec2> uvs;
+    std::vector<std::uint32_t> triangleMaterial;
+    /// Unit geometric normal per triangle, cross(p1 - p0, p2 - p0) (+z for degenerate ones).
+    std::vector<Vec3> faceNormals;
+    EnvironmentDesc environment;
+
+    std::size_t triangleCount() const { return triangleMaterial.size(); }
+};
+
+}  // namespace glint::render::detail

@@ -1,0 +1,509 @@
+// scene.json → SceneData: camera, film, materials (JSON overriding MTL by name), shapes from
+// OBJ/MTL through tinyobjloader with scale-rotate-translate transforms, environment, render block.
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <tiny_obj_loader.h>
+#include <nlohmann/json.hpp>
+
+#include "glint/image/error.h"
+#include "glint/image/io.h"
+#include "glint/render/scene.h"
+#include "scene/json_reader.h"
+#include "scene/scene_data.h"
+
+namespace glint::render {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+using detail::JsonReader;
+using detail::Material;
+using detail::MaterialType;
+using detail::SceneData;
+
+/// An affine map: linear part m (row-major 3×3) plus translation; normals use nm.
+struct Affine {
+    float m[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    float nm[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    Vec3 t{};
+
+    Vec3 point(const Vec3& p) const { return linear(m, p) + t; }
+    Vec3 normal(const Vec3& n) const { return linear(nm, n); }
+    static Vec3 linear(const float a[3][3], const Vec3& v) {
+        return {a[0][0] * v.x + a[0][1] * v.y + a[0][2] * v.z,
+                a[1][0] * v.x + a[1][1] * v.y + a[1][2] * v.z,
+                a[2][0] * v.x + a[2][1] * v.y + a[2][2] * v.z};
+    }
+};
+
+/// Loads the scene and remembers textures by path so each file is read once.
+class Loader {
+  public:
+    Loader(const fs::path& file, SceneData& scene) : m_reader(file), m_scene(scene) {
+        m_dir = file.parent_path();
+    }
+
+    void load(const json& root);
+
+  private:
+    void readCamera(const json& j, const std::string& where);
+    void readFilm(const json& j, const std::string& where);
+    void readRender(const json& j, const std::string& where);
+    Material readMaterial(const std::string& name, const json& j, const std::string& where);
+    void readEnvironment(const json& j, const std::string& where);
+    Affine readTransform(const json& j, const std::string& where);
+    void readShape(const json& j, const std::string& where);
+    int texture(const fs::path& path, const std::string& where);
+    int materialIndex(const std::string& name) const {
+        const auto it = m_materialIndex.find(name);
+        return it == m_materialIndex.end() ? -1 : it->second;
+    }
+    int addMaterial(Material material) {
+        m_materialIndex[material.name] = int(m_scene.materials.size());
+        m_scene.materials.push_back(std::move(material));
+        return int(m_scene.materials.size()) - 1;
+    }
+
+    JsonReader m_reader;
+    SceneData& m_scene;
+    fs::path m_dir;
+    std::map<std::string, json> m_jsonMaterials;
+    std::map<std::string, int> m_materialIndex;
+    std::map<fs::path, int> m_textureIndex;
+    bool m_hasNormals = false, m_hasUvs = false;
+};
+
+void Loader::load(const json& root) {
+    m_reader.requireObject(root, "",
+                           {"camera", "film", "materials", "shapes", "environment", "render"});
+    if (!root.contains("film")) m_reader.fail("/film", "missing required key 'film'");
+    readFilm(root["film"], "/film");
+    if (root.contains("camera")) readCamera(root["camera"], "/camera");
+    if (root.contains("render")) readRender(root["render"], "/render");
+    // JSON materials are parsed up front; they override MTL materials of the same name.
+    if (root.contains("materials")) {
+        const json& mats = root["materials"];
+        if (!mats.is_object()) m_reader.fail("/materials", "expected an object of materials");
+        for (const auto& item : mats.items()) {
+            const std::string where = "/materials/" + item.key();
+            addMaterial(readMaterial(item.key(), item.value(), where));
+        }
+    }
+    if (root.contains("shapes")) {
+        const json& shapes = root["shapes"];
+        if (!shapes.is_array()) m_reader.fail("/shapes", "expected an array of shapes");
+        for (std::size_t i = 0; i < shapes.size(); ++i)
+            readShape(shapes[i], "/shapes/" + std::to_string(i));
+    }
+    if (root.contains("environment")) readEnvironment(root["environment"], "/environment");
+    // Keep per-vertex arrays only when some shape provided them.
+    if (!m_hasNormals) m_scene.normals.clear();
+    if (!m_hasUvs) m_scene.uvs.clear();
+    m_scene.faceNormals.resize(m_scene.triangleCount());
+    for (std::size_t t = 0; t < m_scene.triangleCount(); ++t) {
+        const Vec3* v = &m_scene.positions[3 * t];
+        const Vec3 n = cross(v[1] - v[0], v[2] - v[0]);
+        const float len = length(n);
+        m_scene.faceNormals[t] = len > 0.0f ? n / len : Vec3{0.0f, 0.0f, 1.0f};
+    }
+    if (m_scene.triangleCount() == 0 &&
+        m_scene.environment.kind == detail::EnvironmentDesc::Kind::None)
+        m_reader.fail("/shapes", "the scene has neither geometry nor an environment");
+}
+
+void Loader::readFilm(const json& j, const std::string& where) {
+    m_reader.requireObject(j, where, {"width", "height"});
+    if (!j.contains("width")) m_reader.fail(where + "/width", "missing required key 'width'");
+    if (!j.contains("height")) m_reader.fail(where + "/height", "missing required key 'height'");
+    m_scene.width = int(m_reader.integer(j["width"], where + "/width", 1, 16384));
+    m_scene.height = int(m_reader.integer(j["height"], where + "/height", 1, 16384));
+}
+
+void Loader::readCamera(const json& j, const std::string& where) {
+    m_reader.requireObject(
+        j, where,
+        {"position", "lookAt", "up", "fovY", "lensRadius", "focusDistance", "shutter", "motion"});
+    detail::CameraDesc& cam = m_scene.camera;
+    if (j.contains("position")) cam.position = m_reader.vec3(j["position"], where + "/position");
+    if (j.contains("lookAt")) cam.lookAt = m_reader.vec3(j["lookAt"], where + "/lookAt");
+    if (j.contains("up")) cam.up = m_reader.vec3(j["up"], where + "/up");
+    if (j.contains("fovY")) cam.fovY = m_reader.number(j["fovY"], where + "/fovY", 1e-3, 179.0);
+    if (j.contains("lensRadius"))
+        cam.lensRadius = m_reader.number(j["lensRadius"], where + "/lensRadius", 0.0, 1e30);
+    if (j.contains("focusDistance"))
+        cam.focusDistance =
+            m_reader.number(j["focusDistance"], where + "/focusDistance", 1e-9, 1e30);
+    if (j.contains("shutter")) {
+        const json& s = j["shutter"];
+        if (!s.is_array() || s.size() != 2)
+            m_reader.fail(where + "/shutter", "expected [open, close]");
+        cam.shutterOpen = m_reader.number(s[0], where + "/shutter/0", -1e30, 1e30);
+        cam.shutterClose = m_reader.number(s[1], where + "/shutter/1", cam.shutterOpen, 1e30);
+    }
+    if (j.contains("motion")) {
+        const json& m = j["motion"];
+        m_reader.requireObject(m, where + "/motion", {"position", "lookAt"});
+        cam.hasMotion = true;
+        cam.motionPosition = m.contains("position")
+                                 ? m_reader.vec3(m["position"], where + "/motion/position")
+                                 : cam.position;
+        cam.motionLookAt = m.contains("lookAt")
+                               ? m_reader.vec3(m["lookAt"], where + "/motion/lookAt")
+                               : cam.lookAt;
+    }
+    if (length(cam.lookAt - cam.position) == 0.0f)
+        m_reader.fail(where + "/lookAt", "lookAt must differ from position");
+    if (length(cross(cam.lookAt - cam.position, cam.up)) == 0.0f)
+        m_reader.fail(where + "/up", "up must not be parallel to the viewing direction");
+}
+
+void Loader::readRender(const json& j, const std::string& where) {
+    m_reader.requireObject(
+        j, where,
+        {"spp", "maxDepth", "rrDepth", "integrator", "mis", "strategy", "sampler", "seed"});
+    Settings& s = m_scene.settings;
+    auto choice = [&](const char* key, auto parse, auto& out) {
+        if (!j.contains(key)) return;
+        const std::string value = m_reader.string(j[key], where + "/" + key);
+        try {
+            out = parse(value);
+        } catch (const Error& e) {
+            m_reader.fail(where + "/" + key, e.message());
+        }
+    };
+    if (j.contains("spp")) s.spp = int(m_reader.integer(j["spp"], where + "/spp", 1, 1 << 24));
+    if (j.contains("maxDepth"))
+        s.maxDepth = int(m_reader.integer(j["maxDepth"], where + "/maxDepth", 1, 1024));
+    if (j.contains("rrDepth"))
+        s.rrDepth = int(m_reader.integer(j["rrDepth"], where + "/rrDepth", 0, 1024));
+    if (j.contains("seed"))
+        s.seed = std::uint64_t(
+            m_reader.integer(j["seed"], where + "/seed", 0, std::numeric_limits<long long>::max()));
+    choice("integrator", parseIntegrator, s.integrator);
+    choice("mis", parseMis, s.mis);
+    choice("strategy", parseStrategy, s.strategy);
+    choice("sampler", parseSampler, s.sampler);
+}
+
+int Loader::texture(const fs::path& path, const std::string& where) {
+    const fs::path full = path.is_absolute() ? path : m_dir / path;
+    const auto it = m_textureIndex.find(full);
+    if (it != m_textureIndex.end()) return it->second;
+    if (!fs::exists(full))
+        throw Error(ErrorKind::Io, "texture file '" + full.string() + "' not found",
+                    m_reader.file().string(), where);
+    detail::Texture tex;
+    tex.path = full;
+    const Image raw = readImage(full, true);
+    tex.image = Image(raw.width(), raw.height(), 3);
+    for (int y = 0; y < raw.height(); ++y)
+        for (int x = 0; x < raw.width(); ++x)
+            for (int c = 0; c < 3; ++c) tex.image(x, y, c) = raw(x, y, raw.channels() >= 3 ? c : 0);
+    m_scene.textures.push_back(std::move(tex));
+    m_textureIndex[full] = int(m_scene.textures.size()) - 1;
+    return int(m_scene.textures.size()) - 1;
+}
+
+Material Loader::readMaterial(const std::string& name, const json& j, const std::string& where) {
+    m_reader.requireObject(
+        j, where,
+        {"type", "albedo", "texture", "emission", "ior", "roughness", "eta", "k", "specular"});
+    Material m;
+    m.name = name;
+    if (!j.contains("type")) m_reader.fail(where + "/type", "missing required key 'type'");
+    const std::string type = m_reader.string(j["type"], where + "/type");
+    if (type == "diffuse")
+        m.type = MaterialType::Diffuse;
+    else if (type == "mirror")
+        m.type = MaterialType::Mirror;
+    else if (type == "dielectric")
+        m.type = MaterialType::Dielectric;
+    else if (type == "conductor")
+        m.type = MaterialType::Conductor;
+    else
+        m_reader.fail(where + "/type", "unknown material type '" + type +
+                                           "' (expected diffuse, mirror, dielectric or conductor)");
+    if (m.type != MaterialType::Diffuse) m.albedo = {1.0f, 1.0f, 1.0f};
+    if (j.contains("albedo")) m.albedo = m_reader.vec3(j["albedo"], where + "/albedo", 0.0, 1.0);
+    if (j.contains("texture"))
+        m.texture = texture(m_reader.string(j["texture"], where + "/texture"), where + "/texture");
+    if (j.contains("emission"))
+        m.emission = m_reader.vec3(j["emission"], where + "/emission", 0.0, 1e30);
+    if (j.contains("ior")) m.ior = m_reader.number(j["ior"], where + "/ior", 1e-3, 100.0);
+    if (j.contains("roughness"))
+        m.roughness = m_reader.number(j["roughness"], where + "/roughness", 0.0, 1.0);
+    if (j.contains("eta") != j.contains("k"))
+        m_reader.fail(where, "conductor 'eta' and 'k' must be given together");
+    if (j.contains("eta")) {
+        m.hasEtaK = true;
+        m.eta = m_reader.vec3(j["eta"], where + "/eta", 1e-4, 100.0);
+        m.k = m_reader.vec3(j["k"], where + "/k", 0.0, 100.0);
+    }
+    if (j.contains("specular"))
+        m.specular = m_reader.vec3(j["specular"], where + "/specular", 0.0, 1.0);
+    return m;
+}
+
+void Loader::readEnvironment(const json& j, const std::string& where) {
+    m_reader.requireObject(j, where, {"image", "color", "scale", "rotate"});
+    detail::EnvironmentDesc& env = m_scene.environment;
+    if (j.contains("image") == j.contains("color"))
+        m_reader.fail(where, "expected exactly one of 'image' or 'color'");
+    if (j.contains("scale")) env.scale = m_reader.number(j["scale"], where + "/scale", 0.0, 1e30);
+    if (j.contains("rotate"))
+        env.rotateDeg = m_reader.number(j["rotate"], where + "/rotate", -1e6, 1e6);
+    if (j.contains("color")) {
+        env.kind = detail::EnvironmentDesc::Kind::Constant;
+        env.color = m_reader.vec3(j["color"], where + "/color", 0.0, 1e30) * env.scale;
+        if (isBlack(env.color)) env.kind = detail::EnvironmentDesc::Kind::None;
+        return;
+    }
+    const fs::path rel = m_reader.string(j["image"], where + "/image");
+    env.path = rel.is_absolute() ? rel : m_dir / rel;
+    if (!fs::exists(env.path))
+        throw Error(ErrorKind::Io, "environment image '" + env.path.string() + "' not found",
+                    m_reader.file().string(), where + "/image");
+    const Image raw = readImage(env.path, true);
+    if (raw.width() < 1 || raw.height() < 1)
+        m_reader.fail(where + "/image", "environment image is empty");
+    env.image = Image(raw.width(), raw.height(), 3);
+    for (int y = 0; y < raw.height(); ++y)
+        for (int x = 0; x < raw.width(); ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float v = raw(x, y, raw.channels() >= 3 ? c : 0) * env.scale;
+                if (!std::isfinite(v) || v < 0.0f)
+                    throw Error(ErrorKind::Format,
+                                "environment image has a negative or non-finite value at pixel (" +
+                                    std::to_string(x) + ", " + std::to_string(y) + ")",
+                                env.path.string(), where + "/image");
+                env.image(x, y, c) = v;
+            }
+    env.kind = detail::EnvironmentDesc::Kind::Image;
+}
+
+Affine Loader::readTransform(const json& j, const std::string& where) {
+    m_reader.requireObject(j, where, {"translate", "rotate", "scale"});
+    Vec3 scale{1.0f, 1.0f, 1.0f};
+    if (j.contains("scale")) {
+        if (j["scale"].is_number()) {
+            const float s = m_reader.number(j["scale"], where + "/scale", -1e30, 1e30);
+            scale = {s, s, s};
+        } else {
+            scale = m_reader.vec3(j["scale"], where + "/scale");
+        }
+        if (scale.x == 0.0f || scale.y == 0.0f || scale.z == 0.0f)
+            m_reader.fail(where + "/scale", "scale factors must be non-zero");
+    }
+    float r[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    if (j.contains("rotate")) {
+        const json& rot = j["rotate"];
+        if (!rot.is_array() || rot.size() != 2)
+            m_reader.fail(where + "/rotate", "expected [degrees, [x, y, z]]");
+        const float deg = m_reader.number(rot[0], where + "/rotate/0", -1e6, 1e6);
+        Vec3 axis = m_reader.vec3(rot[1], where + "/rotate/1");
+        if (length(axis) == 0.0f) m_reader.fail(where + "/rotate/1", "rotation axis is zero");
+        axis = normalize(axis);
+        // Rodrigues' rotation formula.
+        const float a = deg * kPi / 180.0f, c = std::cos(a), s = std::sin(a), t = 1.0f - c;
+        const float x = axis.x, y = axis.y, z = axis.z;
+        const float rr[3][3] = {{t * x * x + c, t * x * y - s * z, t * x * z + s * y},
+                                {t * x * y + s * z, t * y * y + c, t * y * z - s * x},
+                                {t * x * z - s * y, t * y * z + s * x, t * z * z + c}};
+        for (int i = 0; i < 3; ++i)
+            for (int k = 0; k < 3; ++k) r[i][k] = rr[i][k];
+    }
+    Affine a;
+    // M = R S; normals transform by (M^-1)^T = R S^-1.
+    for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) {
+            a.m[i][k] = r[i][k] * scale[k];
+            a.nm[i][k] = r[i][k] / scale[k];
+        }
+    if (j.contains("translate")) a.t = m_reader.vec3(j["translate"], where + "/translate");
+    return a;
+}
+
+Material materialFromMtl(const tinyobj::material_t& mtl) {
+    Material m;
+    m.name = mtl.name;
+    m.albedo = {mtl.diffuse[0], mtl.diffuse[1], mtl.diffuse[2]};
+    m.emission = {mtl.emission[0], mtl.emission[1], mtl.emission[2]};
+    const Vec3 ks{mtl.specular[0], mtl.specular[1], mtl.specular[2]};
+    if (mtl.ior > 1.0f && (mtl.illum == 4 || mtl.illum == 6 || mtl.illum == 7)) {
+        m.type = MaterialType::Dielectric;
+        m.ior = mtl.ior;
+        m.albedo = {1.0f, 1.0f, 1.0f};
+    } else if (isBlack(m.albedo) && !isBlack(ks) && mtl.diffuse_texname.empty()) {
+        m.type = MaterialType::Conductor;
+        m.specular = ks;
+        m.albedo = {1.0f, 1.0f, 1.0f};
+        m.roughness = std::sqrt(2.0f / (std::max(mtl.shininess, 0.0f) + 2.0f));
+    }
+    for (int c = 0; c < 3; ++c) {
+        m.albedo[c] = std::clamp(m.albedo[c], 0.0f, 1.0f);
+        m.specular[c] = std::clamp(m.specular[c], 0.0f, 1.0f);
+        m.emission[c] = std::max(m.emission[c], 0.0f);
+    }
+    return m;
+}
+
+void Loader::readShape(const json& j, const std::string& where) {
+    m_reader.requireObject(j, where, {"obj", "material", "transform", "motion"});
+    if (!j.contains("obj")) m_reader.fail(where + "/obj", "missing required key 'obj'");
+    const fs::path rel = m_reader.string(j["obj"], where + "/obj");
+    const fs::path objPath = rel.is_absolute() ? rel : m_dir / rel;
+    const Affine xf =
+        j.contains("transform") ? readTransform(j["transform"], where + "/transform") : Affine{};
+    if (j.contains("motion")) readTransform(j["motion"], where + "/motion");  // issue 4: parsed
+    int overrideMaterial = -1;
+    if (j.contains("material")) {
+        const std::string name = m_reader.string(j["material"], where + "/material");
+        overrideMaterial = materialIndex(name);
+        if (overrideMaterial < 0)
+            m_reader.fail(where + "/material",
+                          "material '" + name + "' is not defined in /materials");
+    }
+    if (!fs::exists(objPath))
+        throw Error(ErrorKind::Io, "OBJ file '" + objPath.string() + "' not found",
+                    m_reader.file().string(), where + "/obj");
+
+    tinyobj::ObjReaderConfig config;
+    config.triangulate = true;
+    config.vertex_color = false;
+    config.mtl_search_path = objPath.parent_path().string();
+    tinyobj::ObjReader obj;
+    if (!obj.ParseFromFile(objPath.string(), config) || !obj.Valid())
+        throw Error(ErrorKind::Format, "cannot parse OBJ: " + obj.Error(), objPath.string(),
+                    where + "/obj");
+    if (obj.Warning().find("not found") != std::string::npos)
+        throw Error(ErrorKind::Io, "OBJ references a missing file: " + obj.Warning(),
+                    objPath.string(), where + "/obj");
+
+    // Map the OBJ's materials to scene materials (JSON overrides MTL by name).
+    std::vector<int> objMaterial;
+    for (const tinyobj::material_t& mtl : obj.GetMaterials()) {
+        int index = materialIndex(mtl.name);
+        if (index < 0) {
+            Material m = materialFromMtl(mtl);
+            if (!mtl.diffuse_texname.empty())
+                m.texture = texture(objPath.parent_path() / mtl.diffuse_texname,
+                                    where + "/obj (map_Kd of " + mtl.name + ")");
+            index = addMaterial(std::move(m));
+        }
+        objMaterial.push_back(index);
+    }
+    int defaultMaterial = -1;
+
+    const tinyobj::attrib_t& attrib = obj.GetAttrib();
+    const std::size_t firstTriangle = m_scene.triangleCount();
+    bool anyNormals = false, anyUvs = false;
+    for (const tinyobj::shape_t& shape : obj.GetShapes()) {
+        const auto& mesh = shape.mesh;
+        std::size_t offset = 0;
+        for (std::size_t f = 0; f < mesh.num_face_vertices.size(); ++f) {
+            const int fv = mesh.num_face_vertices[f];
+            if (fv != 3) {
+                offset += std::size_t(fv);
+                continue;
+            }
+            int mat = overrideMaterial;
+            if (mat < 0) {
+                const int id = f < mesh.material_ids.size() ? mesh.material_ids[f] : -1;
+                if (id >= 0 && id < int(objMaterial.size())) {
+                    mat = objMaterial[id];
+                } else {
+                    if (defaultMaterial < 0) {
+                        defaultMaterial = materialIndex("default");
+                        if (defaultMaterial < 0) {
+                            Material m;
+                            m.name = "default";
+                            defaultMaterial = addMaterial(m);
+                        }
+                    }
+                    mat = defaultMaterial;
+                }
+            }
+            for (int v = 0; v < 3; ++v) {
+                const tinyobj::index_t idx = mesh.indices[offset + std::size_t(v)];
+                const float* p = &attrib.vertices[3 * std::size_t(idx.vertex_index)];
+                m_scene.positions.push_back(xf.point({p[0], p[1], p[2]}));
+                Vec3 n{};
+                if (idx.normal_index >= 0) {
+                    const float* q = &attrib.normals[3 * std::size_t(idx.normal_index)];
+                    n = xf.normal({q[0], q[1], q[2]});
+                    if (length(n) > 0.0f) n = normalize(n), anyNormals = true;
+                }
+                m_scene.normals.push_back(n);
+                Vec2 uv{};
+                if (idx.texcoord_index >= 0) {
+                    const float* t = &attrib.texcoords[2 * std::size_t(idx.texcoord_index)];
+                    uv = {t[0], t[1]};
+                    anyUvs = true;
+                }
+                m_scene.uvs.push_back(uv);
+            }
+            m_scene.triangleMaterial.push_back(std::uint32_t(mat));
+            offset += 3;
+        }
+    }
+    m_hasNormals = m_hasNormals || anyNormals;
+    m_hasUvs = m_hasUvs || anyUvs;
+
+    // A shape whose emissive faces have no area cannot emit: reject it clearly.
+    double emissiveArea = 0.0;
+    bool anyEmissive = false;
+    for (std::size_t t = firstTriangle; t < m_scene.triangleCount(); ++t) {
+        if (!m_scene.materials[m_scene.triangleMaterial[t]].emissive()) continue;
+        anyEmissive = true;
+        const Vec3& a = m_scene.positions[3 * t];
+        emissiveArea += 0.5 * double(length(cross(m_scene.positions[3 * t + 1] - a,
+                                                  m_scene.positions[3 * t + 2] - a)));
+    }
+    if (anyEmissive && !(emissiveArea > 0.0))
+        throw Error(ErrorKind::Format, "emissive faces have zero total area (zero-area light)",
+                    objPath.string(), where);
+}
+
+}  // namespace
+
+Scene parseScene(const std::string& jsonText, const fs::path& path) {
+    json root;
+    try {
+        root = json::parse(jsonText, nullptr, true, false);
+    } catch (const json::parse_error& e) {
+        // Turn the byte offset into a line and column.
+        const std::size_t byte = std::min<std::size_t>(e.byte, jsonText.size());
+        int line = 1, column = 1;
+        for (std::size_t i = 0; i + 1 < byte; ++i) {
+            if (jsonText[i] == '\n')
+                ++line, column = 1;
+            else
+                ++column;
+        }
+        std::string msg = e.what();
+        const auto colon = msg.find(": ", msg.find("parse error"));
+        if (colon != std::string::npos) msg = msg.substr(colon + 2);
+        throw Error(ErrorKind::Format, "malformed JSON: " + msg, path.string(),
+                    "line " + std::to_string(line) + ", column " + std::to_string(column));
+    }
+    auto data = std::make_unique<SceneData>();
+    data->path = path;
+    Loader loader(path, *data);
+    loader.load(root);
+    return Scene(std::move(data));
+}
+
+Scene loadScene(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(ErrorKind::Io, "cannot open scene file", path.string());
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parseScene(text.str(), path);
+}
+
+}  // namespace glint::render

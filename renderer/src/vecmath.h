@@ -1,0 +1,110 @@
+// Small vector math for the renderer: Vec2, Vec3 (float), orthonormal frames.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace glint::render {
+
+inline constexpr float kPi = std::numbers::pi_v<float>;
+inline constexpr float kInvPi = 1.0f / kPi;
+
+struct Vec2 {
+    float x = 0.0f, y = 0.0f;
+};
+
+struct Vec3 {
+    float x = 0.0f, y = 0.0f, z = 0.0f;
+
+    float operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
+    float& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
+    Vec3 operator-() const { return {-x, -y, -z}; }
+    Vec3& operator+=(const Vec3& b) {
+        x += b.x, y += b.y, z += b.z;
+        return *this;
+    }
+    Vec3& operator*=(const Vec3& b) {
+        x *= b.x, y *= b.y, z *= b.z;
+        return *this;
+    }
+    Vec3& operator*=(float s) {
+        x *= s, y *= s, z *= s;
+        return *this;
+    }
+};
+
+inline Vec3 operator+(const Vec3& a, const Vec3& b) {
+    return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+inline Vec3 operator-(const Vec3& a, const Vec3& b) {
+    return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+inline Vec3 operator*(const Vec3& a, const Vec3& b) {
+    return {a.x * b.x, a.y * b.y, a.z * b.z};
+}
+inline Vec3 operator*(const Vec3& a, float s) {
+    return {a.x * s, a.y * s, a.z * s};
+}
+inline Vec3 operator*(float s, const Vec3& a) {
+    return {a.x * s, a.y * s, a.z * s};
+}
+inline Vec3 operator/(const Vec3& a, float s) {
+    return a * (1.0f / s);
+}
+inline float dot(const Vec3& a, const Vec3& b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+inline Vec3 cross(const Vec3& a, const Vec3& b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline float length(const Vec3& a) {
+    return std::sqrt(dot(a, a));
+}
+inline Vec3 normalize(const Vec3& a) {
+    return a / length(a);
+}
+inline float maxComponent(const Vec3& a) {
+    return std::max(a.x, std::max(a.y, a.z));
+}
+inline float maxAbsComponent(const Vec3& a) {
+    return std::max(std::abs(a.x), std::max(std::abs(a.y), std::abs(a.z)));
+}
+inline bool isBlack(const Vec3& a) {
+    return a.x == 0.0f && a.y == 0.0f && a.z == 0.0f;
+}
+inline bool isFinite(const Vec3& a) {
+    return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
+}
+/// Rec. 709 luminance.
+inline float luminance(const Vec3& a) {
+    return 0.2126f * a.x + 0.7152f * a.y + 0.0722f * a.z;
+}
+inline Vec3 lerp(float t, const Vec3& a, const Vec3& b) {
+    return a * (1.0f - t) + b * t;
+}
+
+/// Orthonormal basis around a unit normal n (Duff et al. 2017, "Building an Orthonormal Basis,
+/// Revisited").
+struct Frame {
+    Vec3 s, t, n;
+
+    static Frame fromNormal(const Vec3& n) {
+        const float sign = std::copysign(1.0f, n.z);
+        const float a = -1.0f / (sign + n.z);
+        const float b = n.x * n.y * a;
+        return {{1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x},
+                {b, sign + n.y * n.y * a, -n.y},
+                n};
+    }
+    Vec3 toLocal(const Vec3& v) const { return {dot(v, s), dot(v, t), dot(v, n)}; }
+    Vec3 toWorld(const Vec3& v) const { return s * v.x + t * v.y + n * v.z; }
+};
+
+/// Offset of a ray origin off a surface at p along the geometric normal (towards `side`).
+inline Vec3 offsetRayOrigin(const Vec3& p, const Vec3& ng, const Vec3& side) {
+    const float eps = 1e-4f * (1.0f + maxAbsComponent(p));
+    return dot(ng, side) >= 0.0f ? p + ng * eps : p - ng * eps;
+}
+
+}  // namespace glint::render

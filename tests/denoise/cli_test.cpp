@@ -1,0 +1,150 @@
+// glint-denoise end to end: runs the binary built beside this test (build/bin/) on small EXRs.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "glint/denoise/filter.h"
+#include "glint/denoise/registry.h"
+#include "glint/image/io.h"
+#include "synthetic_frames.h"
+
+namespace glint::denoise {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+    int exitCode = -1;
+    std::string out;
+    std::string err;
+};
+
+class DenoiseCli : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        m_binary = fs::read_symlink("/proc/self/exe").parent_path() / "glint-denoise";
+        if (!fs::exists(m_binary)) GTEST_SKIP() << "glint-denoise not built next to the test";
+        m_dir = fs::temp_directory_path() /
+                ("glint_denoise_cli_" + std::to_string(::getpid()) + "_" +
+                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(m_dir);
+        // A noisy frame with every layer, its clean reference, and a colour-only frame.
+        writeExr(testing::syntheticFrame(40, 32, 0.1f), m_dir / "noisy.exr");
+        writeExr(testing::syntheticFrame(40, 32, 0.0f), m_dir / "ref.exr");
+        FrameBuffers bare(40, 32);
+        bare.color() = testing::syntheticFrame(40, 32, 0.1f).color();
+        writeExr(bare, m_dir / "bare.exr");
+    }
+    void TearDown() override {
+        if (!m_dir.empty()) fs::remove_all(m_dir);
+    }
+
+    RunResult run(const std::string& args) const {
+        const fs::path out = m_dir / "stdout.txt", err = m_dir / "stderr.txt";
+        const std::string cmd =
+            m_binary.string() + " " + args + " >" + out.string() + " 2>" + err.string();
+        const int status = std::system(cmd.c_str());
+        RunResult r;
+        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        r.out = slurp(out);
+        r.err = slurp(err);
+        return r;
+    }
+    static std::string slurp(const fs::path& p) {
+        std::ifstream in(p);
+        std::stringstream s;
+        s << in.rdbuf();
+        return s.str();
+    }
+    std::string path(const std::string& name) const { return (m_dir / name).string(); }
+
+    fs::path m_binary;
+    fs::path m_dir;
+};
+
+TEST_F(DenoiseCli, ListPrintsEveryFilterAndItsParameters) {
+    const RunResult r = run("list");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    for (const Filter* f : allFilters()) {
+        EXPECT_NE(r.out.find(std::string(f->name())), std::string::npos) << f->name();
+        for (const ParamSpec& s : f->params())
+            EXPECT_NE(r.out.find(s.name), std::string::npos) << f->name() << "." << s.name;
+    }
+    const RunResult j = run("list --json");
+    ASSERT_EQ(j.exitCode, 0);
+    EXPECT_EQ(nlohmann::json::parse(j.out).size(), allFilters().size());
+}
+
+TEST_F(DenoiseCli, ApplyWritesTheFilteredColourAndKeepsTheOtherLayers) {
+    const RunResult r =
+        run("apply " + path("noisy.exr") +
+            " --filter bilateral --param sigmaS=2 --param sigmaR=0.3 --out " + path("out.exr"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const FrameBuffers in = readExr(path("noisy.exr"));
+    const FrameBuffers out = readExr(path("out.exr"));
+    const Image expect =
+        applyFilter(findFilter("bilateral"), in, {{"sigmaS", 2.0}, {"sigmaR", 0.3}});
+    EXPECT_LT(testing::maxAbsDiff(out.color(), expect), 1e-6);
+    ASSERT_TRUE(out.has(Layer::Albedo));
+    EXPECT_EQ(testing::maxAbsDiff(out.layer(Layer::Albedo), in.layer(Layer::Albedo)), 0.0);
+    EXPECT_TRUE(out.has(Layer::DepthVariance));
+}
+
+TEST_F(DenoiseCli, ReferenceMetricsInJsonAndRoiKeepsTheRest) {
+    const RunResult r = run("apply " + path("noisy.exr") +
+                            " --filter gaussian --param sigma=1.5 --roi 4,30,2,28 --out " +
+                            path("out.exr") + " --reference " + path("ref.exr") + " --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["filter"], "gaussian");
+    EXPECT_GT(j["metrics"]["ssim"].get<double>(), j["metricsInput"]["ssim"].get<double>());
+    EXPECT_GT(j["metrics"]["psnr"].get<double>(), j["metricsInput"]["psnr"].get<double>());
+    const FrameBuffers in = readExr(path("noisy.exr"));
+    const FrameBuffers out = readExr(path("out.exr"));
+    EXPECT_EQ(out.color()(0, 0, 0), in.color()(0, 0, 0));      // outside the roi
+    EXPECT_NE(out.color()(10, 10, 0), in.color()(10, 10, 0));  // inside
+}
+
+TEST_F(DenoiseCli, BadInputExitsTwoWithAClearMessage) {
+    const std::string in = path("noisy.exr"), out = path("bad.exr");
+    struct Case {
+        std::string args, mention;
+    };
+    const Case cases[] = {
+        {"apply " + in + " --filter gausian --out " + out, "bilateral-mc"},
+        {"apply " + in + " --filter gaussian --param sigm=2 --out " + out, "sigma"},
+        {"apply " + in + " --filter gaussian --param sigma=-1 --out " + out, "range"},
+        {"apply " + in + " --filter gaussian --param sigma --out " + out, "name=number"},
+        {"apply " + in + " --filter gaussian --roi 0,50,0,5 --out " + out, "outside"},
+        {"apply " + path("nope.exr") + " --filter gaussian --out " + out, "nope.exr"},
+        {"apply " + in + " --filter gaussian --reference " + path("nope.exr") + " --out " + out,
+         "nope.exr"},
+        {"apply " + in + " --filter gaussian --prefilter --prefilter-param foo=1 --out " + out,
+         "varianceScale"},
+    };
+    for (const Case& c : cases) {
+        const RunResult r = run(c.args);
+        EXPECT_EQ(r.exitCode, 2) << c.args;
+        EXPECT_NE(r.err.find(c.mention), std::string::npos) << c.args << "\n" << r.err;
+        EXPECT_FALSE(fs::exists(out)) << c.args;
+    }
+    // A filter that needs feature layers names the missing ones and the file.
+    for (const Filter* f : allFilters()) {
+        if (f->requiredLayers().empty()) continue;
+        const RunResult r = run("apply " + path("bare.exr") + " --filter " +
+                                std::string(f->name()) + " --out " + out);
+        EXPECT_EQ(r.exitCode, 2) << f->name();
+        EXPECT_NE(r.err.find("missing"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("bare.exr"), std::string::npos) << r.err;
+    }
+}
+
+}  // namespace
+}  // namespace glint::denoise

@@ -1,0 +1,228 @@
+// glint-image end to end: runs the built binary (path from tests/image/cli.cmake) and checks exit
+// codes, the one-line error format and the --json output.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <OpenImageIO/imageio.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "glint/image/frame_buffers.h"
+#include "glint/image/io.h"
+
+using namespace glint;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CliRun {
+    int code = -1;
+    std::string out;
+    std::string err;
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+std::string quote(const std::string& s) {
+    return "'" + s + "'";
+}
+
+class CliTest : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        m_dir = fs::path(::testing::TempDir()) /
+                (std::string("glint_cli_") + info->name() + "_" + std::to_string(::getpid()));
+        fs::remove_all(m_dir);
+        fs::create_directories(m_dir);
+    }
+    void TearDown() override { fs::remove_all(m_dir); }
+    std::string path(const std::string& name) const { return (m_dir / name).string(); }
+
+    /// Runs glint-image with `args` (already shell-quoted where needed).
+    CliRun run(const std::string& args) const {
+        const std::string out = path("stdout.txt"), err = path("stderr.txt");
+        const std::string cmd =
+            quote(GLINT_IMAGE_CLI) + " " + args + " >" + quote(out) + " 2>" + quote(err);
+        const int status = std::system(cmd.c_str());
+        CliRun r;
+        r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        r.out = slurp(out);
+        r.err = slurp(err);
+        fs::remove(out);
+        fs::remove(err);
+        return r;
+    }
+
+    /// Expects exit code 2 and exactly one stderr line starting "glint-image: <prefix>".
+    void expectBadInput(const std::string& args, const std::string& prefix) const {
+        const CliRun r = run(args);
+        EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+        EXPECT_EQ(r.err.rfind("glint-image: " + prefix, 0), 0u) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_TRUE(r.out.empty()) << r.out;
+    }
+
+    /// A 16x12 frame of constant colour `value` with an albedo layer.
+    std::string writeFrame(const std::string& name, float value, int w = 16, int h = 12) const {
+        FrameBuffers frame(w, h);
+        frame.color().fill(value);
+        frame.ensure(Layer::Albedo).fill(0.5f);
+        Image& depth = frame.ensure(Layer::Depth);
+        for (int x = 0; x < w; ++x) depth(x, 0, 0) = float(x);
+        frame.metadata().spp = 4;
+        frame.metadata().integrator = "path";
+        writeExr(frame, path(name));
+        return path(name);
+    }
+
+    fs::path m_dir;
+};
+
+nlohmann::json parseOneObject(const std::string& text) {
+    // parse() rejects trailing content, so this also checks there is exactly one JSON value.
+    nlohmann::json j = nlohmann::json::parse(text);
+    EXPECT_TRUE(j.is_object());
+    return j;
+}
+
+}  // namespace
+
+TEST_F(CliTest, InfoJsonListsLayersMetadataAndNonFinite) {
+    FrameBuffers frame(5, 4);
+    frame.color().fill(0.2f);
+    frame.color()(1, 1, 0) = std::numeric_limits<float>::quiet_NaN();
+    frame.color()(1, 1, 2) = std::numeric_limits<float>::infinity();
+    frame.color()(3, 2, 1) = -std::numeric_limits<float>::infinity();
+    frame.ensure(Layer::Normal);
+    frame.metadata().spp = 32;
+    frame.metadata().seed = 7;
+    frame.metadata().extra["camera"] = "main";
+    writeExr(frame, path("a.exr"));
+
+    const CliRun r = run("info " + quote(path("a.exr")) + " --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(r.err.empty());
+    const nlohmann::json j = parseOneObject(r.out);
+    EXPECT_EQ(j["width"], 5);
+    EXPECT_EQ(j["height"], 4);
+    EXPECT_EQ(j["source"], "glint");
+    ASSERT_EQ(j["layers"].size(), 2u);
+    EXPECT_EQ(j["layers"][0]["name"], "color");
+    EXPECT_EQ(j["layers"][0]["nonFinitePixels"], 2);  // two pixels, three bad values
+    EXPECT_EQ(j["layers"][1]["name"], "normal");
+    EXPECT_EQ(j["layers"][1]["channels"][2], "normal.Z");
+    EXPECT_EQ(j["layers"][1]["nonFinitePixels"], 0);
+    EXPECT_EQ(j["metadata"]["spp"], 32);
+    EXPECT_EQ(j["metadata"]["seed"], 7);
+    EXPECT_EQ(j["metadata"]["extra"]["camera"], "main");
+
+    const CliRun text = run("info " + quote(path("a.exr")));
+    EXPECT_EQ(text.code, 0);
+    EXPECT_NE(text.out.find("5x4"), std::string::npos);
+    EXPECT_NE(text.out.find("normal.X,normal.Y,normal.Z"), std::string::npos);
+}
+
+TEST_F(CliTest, DiffPrintsMetricAndNonFiniteCount) {
+    const std::string ref = writeFrame("ref.exr", 0.5f);
+    FrameBuffers noisy(16, 12);
+    noisy.color().fill(0.6f);  // constant offset 0.1: MSE = 0.01
+    noisy.color()(0, 0, 1) = std::numeric_limits<float>::quiet_NaN();
+    writeExr(noisy, path("offset.exr"));
+
+    const CliRun r = run("diff " + quote(path("offset.exr")) + " --reference " + quote(ref) +
+                         " --metric mse --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json j = parseOneObject(r.out);
+    EXPECT_EQ(j["metric"], "mse");
+    EXPECT_NEAR(j["value"].get<double>(), 0.01, 1e-6);
+    EXPECT_EQ(j["nonFinitePixels"], 1);
+    EXPECT_EQ(j["pixels"], 192);
+    EXPECT_EQ(j["nonFiniteTreatment"], "excluded");
+    EXPECT_TRUE(j["crop"].is_null());
+
+    // A crop restricts the pixel count; identical images give PSNR +inf, reported as null.
+    const CliRun c = run("diff " + quote(ref) + " --reference " + quote(ref) +
+                         " --metric psnr --crop 2,6,1,4 --json");
+    ASSERT_EQ(c.code, 0) << c.err;
+    const nlohmann::json k = parseOneObject(c.out);
+    EXPECT_EQ(k["pixels"], 12);
+    EXPECT_TRUE(k["value"].is_null());
+    EXPECT_EQ(k["finite"], false);
+    EXPECT_EQ(k["crop"], nlohmann::json({2, 6, 1, 4}));
+
+    const CliRun s = run("diff " + quote(ref) + " --reference " + quote(ref) + " --metric ssim");
+    ASSERT_EQ(s.code, 0) << s.err;
+    EXPECT_EQ(s.out.rfind("ssim 1\n", 0), 0u) << s.out;
+    EXPECT_NE(s.out.find("0 non-finite pixels"), std::string::npos);
+}
+
+TEST_F(CliTest, BadInputExitsTwoWithOneLine) {
+    const std::string ref = writeFrame("ref.exr", 0.5f);
+    const std::string small = writeFrame("small.exr", 0.5f, 8, 8);
+    const std::string missing = path("missing.exr");
+    expectBadInput("info " + quote(missing), missing + ": open: ");
+    std::ofstream(path("text.exr")) << "not an image";
+    expectBadInput("info " + quote(path("text.exr")), path("text.exr") + ": open: ");
+
+    fs::copy_file(ref, path("cut.exr"));
+    fs::resize_file(path("cut.exr"), fs::file_size(ref) / 2);
+    expectBadInput("info " + quote(path("cut.exr")), path("cut.exr") + ": ");
+
+    writeImage(Image(4, 4, 1, 0.5f), path("grey.exr"));  // channel Y only
+    expectBadInput("info " + quote(path("grey.exr")), path("grey.exr") + ": channels: ");
+
+    const std::string diff = "diff " + quote(ref) + " --reference ";
+    expectBadInput(diff + quote(small) + " --metric mse", small + ": size: ");
+    expectBadInput(diff + quote(missing) + " --metric mse", missing + ": open: ");
+    expectBadInput(diff + quote(ref) + " --metric mse --crop 0,17,0,4", ref + ": --crop: ");
+    expectBadInput(diff + quote(ref) + " --metric mse --crop 5,5,0,4", ref + ": --crop: ");
+    expectBadInput(diff + quote(ref) + " --metric mse --crop 1,2,3", "--crop: ");
+    expectBadInput(diff + quote(ref) + " --metric nope", "--metric: ");
+    expectBadInput("diff " + quote(ref) + " --metric mse", "command line: ");
+    expectBadInput("frobnicate", "command line: ");
+
+    expectBadInput("convert " + quote(ref) + " " + quote(path("o.png")) + " --false-color 0,1",
+                   ref + ": --false-color: ");
+    expectBadInput("convert " + quote(ref) + " " + quote(path("o.png")) + " --layer position",
+                   ref + ": --layer: ");
+    expectBadInput("convert " + quote(ref) + " " + quote(path("o.jpg")), path("o.jpg") + ": ");
+    EXPECT_FALSE(fs::exists(path("o.png")));
+    EXPECT_FALSE(fs::exists(path("o.jpg")));
+}
+
+TEST_F(CliTest, ConvertWritesDisplayPng) {
+    const std::string in = writeFrame("in.exr", 0.25f);
+    const CliRun r = run("convert " + quote(in) + " " + quote(path("out.png")) + " --exposure 1");
+    ASSERT_EQ(r.code, 0) << r.err;
+    auto png = OIIO::ImageInput::open(path("out.png"));
+    ASSERT_TRUE(png);
+    std::vector<unsigned char> px(16 * 12 * 3);
+    ASSERT_TRUE(png->read_image(0, 0, 0, 3, OIIO::TypeUInt8, px.data()));
+    EXPECT_EQ(px[0], 188);  // 0.25 · 2 = 0.5 → sRGB 0.7354 → 188
+    png->close();
+
+    // One channel in false colour: depth ramps 0..15 along the first row.
+    const CliRun f = run("convert " + quote(in) + " " + quote(path("depth.png")) +
+                         " --layer depth.Z --false-color 0,15");
+    ASSERT_EQ(f.code, 0) << f.err;
+    const Image d = readImage(path("depth.png"), false);
+    ASSERT_EQ(d.channels(), 3);
+    EXPECT_LT(d(0, 0, 1), 0.1f);   // low end of the ramp: dark
+    EXPECT_GT(d(15, 0, 1), 0.8f);  // high end: bright yellow
+}

@@ -1,0 +1,168 @@
+// Benchmark of the gaussian, bilateral and bilateral-mc filters on a 1024 x 1024 RGB float image
+// (issue 5 speed goals), OpenCV 4.6 side by side when available, and the accuracy-versus-samples
+// curve of bilateral-mc (k N samples, k = 1..7, four pattern kinds; Banterle et al. 2012).
+// Prints a table and, last, one JSON object. Timings are the minimum wall time of --reps runs.
+//
+//   build/bin/bench_denoise_a [--threads 2] [--size 1024] [--reps 5]
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <string>
+
+#include "glint/denoise/filter.h"
+#include "glint/denoise/registry.h"
+
+#ifdef GLINT_BENCH_HAVE_OPENCV
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#endif
+
+namespace {
+
+using glint::FrameBuffers;
+using glint::Image;
+using glint::denoise::applyFilter;
+using glint::denoise::findFilter;
+using glint::denoise::ParamValues;
+
+// A rendering-like test image in [0, 1]: shaded background, discs and boxes with sharp edges,
+// a fine sinusoidal texture band, plus Gaussian noise of standard deviation 0.05 (fixed seed).
+FrameBuffers testImage(int size) {
+    FrameBuffers frame(size, size);
+    Image& c = frame.color();
+    std::mt19937 rng(12345);
+    std::normal_distribution<float> noise(0.0f, 0.05f);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const float u = float(x) / float(size), v = float(y) / float(size);
+            float rgb[3] = {0.2f + 0.3f * v, 0.25f + 0.2f * u, 0.3f};
+            const float d1 = std::hypot(u - 0.3f, v - 0.35f), d2 = std::hypot(u - 0.7f, v - 0.6f);
+            if (d1 < 0.18f) rgb[0] = 0.8f, rgb[1] = 0.3f - d1, rgb[2] = 0.2f;
+            if (d2 < 0.22f) rgb[0] = 0.1f, rgb[1] = 0.6f, rgb[2] = 0.7f + 0.5f * (u - 0.7f);
+            if (u > 0.1f && u < 0.45f && v > 0.65f && v < 0.9f) rgb[0] = rgb[1] = rgb[2] = 0.9f;
+            if (v > 0.05f && v < 0.15f)
+                for (float& ch : rgb) ch = 0.5f + 0.3f * std::sin(60.0f * u) * std::sin(40.0f * v);
+            for (int k = 0; k < 3; ++k) c(x, y, k) = rgb[k] + noise(rng);
+        }
+    return frame;
+}
+
+double secondsOf(const std::function<void()>& fn, int reps) {
+    double best = 1e30;
+    for (int r = 0; r < reps; ++r) {
+        const auto t0 = std::chrono::steady_clock::now();
+        fn();
+        best = std::min(
+            best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    return best;
+}
+
+double psnr(const Image& a, const Image& b) {
+    double s = 0.0;
+    for (std::size_t i = 0; i < a.data().size(); ++i) {
+        const double d = double(a.data()[i]) - double(b.data()[i]);
+        s += d * d;
+    }
+    const double mse = s / double(a.data().size());
+    return mse > 0.0 ? 10.0 * std::log10(1.0 / mse) : INFINITY;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int threads = 2, size = 1024, reps = 5;
+    for (int i = 1; i + 1 < argc; i += 2) {
+        if (!std::strcmp(argv[i], "--threads"))
+            threads = std::atoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--size"))
+            size = std::atoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--reps"))
+            reps = std::atoi(argv[i + 1]);
+        else {
+            std::fprintf(stderr, "usage: bench_denoise_a [--threads N] [--size N] [--reps N]\n");
+            return 2;
+        }
+    }
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    const FrameBuffers frame = testImage(size);
+    nlohmann::json report{{"threads", threads}, {"size", size}, {"reps", reps}};
+    std::printf("%dx%d RGB float, %d threads, min of %d runs\n", size, size, threads, reps);
+
+    auto timeFilter = [&](const std::string& key, const char* name, const ParamValues& p,
+                          Image& out) {
+        const auto& f = findFilter(name);
+        const double t = secondsOf([&] { out = applyFilter(f, frame, p); }, reps);
+        report["seconds"][key] = t;
+        std::printf("  %-34s %8.4f s\n", key.c_str(), t);
+        return t;
+    };
+    Image gauss, exact31, exact61, mc61;
+    timeFilter("gaussian sigma=3", "gaussian", {{"sigma", 3.0}}, gauss);
+    timeFilter("bilateral d=31 sS=5 sR=0.1", "bilateral",
+               {{"sigmaS", 5.0}, {"sigmaR", 0.1}, {"radius", 15}}, exact31);
+    const ParamValues d61{{"sigmaS", 10.0}, {"sigmaR", 0.1}, {"radius", 30}};
+    ParamValues mcParams = d61;
+    mcParams["samplesPerSide"] = 3;
+    timeFilter("bilateral-mc d=61 sS=10 k=3 poisson", "bilateral-mc", mcParams, mc61);
+    {
+        const int r = reps;
+        reps = 1;  // the exact d = 61 reference is slow: one run
+        timeFilter("bilateral d=61 sS=10 sR=0.1 (exact)", "bilateral", d61, exact61);
+        reps = r;
+    }
+    report["psnrMcVsExactD61"] = psnr(mc61, exact61);
+    std::printf("  PSNR bilateral-mc d=61 vs exact: %.2f dB\n", psnr(mc61, exact61));
+
+#ifdef GLINT_BENCH_HAVE_OPENCV
+    cv::setNumThreads(threads);
+    cv::Mat src(size, size, CV_32FC3, const_cast<float*>(frame.color().data().data()));
+    cv::Mat dst;
+    auto timeCv = [&](const std::string& key, const std::function<void()>& fn, int n) {
+        const double t = secondsOf(fn, n);
+        report["opencvSeconds"][key] = t;
+        std::printf("  OpenCV %-27s %8.4f s\n", key.c_str(), t);
+    };
+    timeCv(
+        "GaussianBlur sigma=3 19x19", [&] { cv::GaussianBlur(src, dst, cv::Size(19, 19), 3.0); },
+        reps);
+    timeCv(
+        "bilateralFilter d=31 sS=5", [&] { cv::bilateralFilter(src, dst, 31, 0.1, 5.0); }, reps);
+    timeCv(
+        "bilateralFilter d=61 sS=10", [&] { cv::bilateralFilter(src, dst, 61, 0.1, 10.0); }, 1);
+#else
+    std::printf("  (OpenCV not found at configure time: no side-by-side figures)\n");
+#endif
+
+    // Accuracy versus samples (Banterle et al. 2012, Fig. 4 style): PSNR against the exact
+    // d = 61 bilateral for k N samples, k = 1..7, N = 61.
+    const char* kinds[] = {"poisson", "regular", "random", "stratified"};
+    std::printf("\n  bilateral-mc d=61 PSNR (dB) vs exact, time (s)\n  k  samples");
+    for (const char* k : kinds) std::printf(" %17s", k);
+    std::printf("\n");
+    for (int k = 1; k <= 7; ++k) {
+        std::printf("  %d  %7d", k, k * 61);
+        for (int kind = 0; kind < 4; ++kind) {
+            ParamValues p = d61;
+            p["samplesPerSide"] = k;
+            p["pattern"] = kind;
+            Image out;
+            const double t =
+                secondsOf([&] { out = applyFilter(findFilter("bilateral-mc"), frame, p); }, 1);
+            const double q = psnr(out, exact61);
+            report["curve"][kinds[kind]].push_back({{"k", k}, {"psnr", q}, {"seconds", t}});
+            std::printf("    %6.2f  %6.3f", q, t);
+        }
+        std::printf("\n");
+    }
+    std::printf("%s\n", report.dump().c_str());
+    return 0;
+}

@@ -1,0 +1,144 @@
+// Renderer behaviour through the public API: thread-count determinism, cancellation, layers.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstring>
+
+#include "glint/image/error.h"
+#include "glint/render/renderer.h"
+#include "glint/render/scene.h"
+
+namespace glint::render {
+namespace {
+
+Scene cornell(int size) {
+    const std::string dir = GLINT_RENDER_TEST_DATA;
+    return parseScene(R"({
+      "camera": {"position": [278, 273, -800], "lookAt": [278, 273, 0], "fovY": 39.3},
+      "film": {"width": )" +
+                          std::to_string(size) + R"(, "height": )" + std::to_string(size) + R"(},
+      "shapes": [{"obj": "cornell_box.obj"}],
+      "render": {"spp": 8, "maxDepth": 8}
+    })",
+                      dir + "/cornell_inline.json");
+}
+
+bool sameLayer(const FrameBuffers& a, const FrameBuffers& b, Layer layer) {
+    const auto da = a.layer(layer).data(), db = b.layer(layer).data();
+    return da.size() == db.size() && std::memcmp(da.data(), db.data(), da.size_bytes()) == 0;
+}
+
+TEST(Renderer, BitIdenticalForAnyThreadCount) {
+    Renderer renderer(cornell(32));
+    Settings s = renderer.scene().settings();
+    s.position = true;
+    s.threads = 1;
+    const FrameBuffers one = renderer.render(s);
+    s.threads = 2;
+    s.tileSize = 8;  // a different tiling must not matter either
+    const FrameBuffers two = renderer.render(s);
+    for (int l = 0; l < kLayerCount; ++l) {
+        const Layer layer = Layer(l);
+        ASSERT_EQ(one.has(layer), two.has(layer)) << layerInfo(layer).name;
+        if (one.has(layer)) {
+            EXPECT_TRUE(sameLayer(one, two, layer)) << layerInfo(layer).name;
+        }
+    }
+    EXPECT_EQ(one.metadata().spp, 8);
+    // A different seed gives a different image.
+    s.seed = 99;
+    EXPECT_FALSE(sameLayer(one, renderer.render(s), Layer::Color));
+}
+
+TEST(Renderer, ProducesFeatureLayersAndCounts) {
+    Renderer renderer(cornell(16));
+    const FrameBuffers f = renderer.render(renderer.scene().settings());
+    for (Layer l :
+         {Layer::Color, Layer::Variance, Layer::Albedo, Layer::AlbedoVariance, Layer::Normal,
+          Layer::NormalVariance, Layer::Depth, Layer::DepthVariance, Layer::SampleCount})
+        EXPECT_TRUE(f.has(l)) << layerInfo(l).name;
+    EXPECT_FALSE(f.has(Layer::Position));
+    const Image& count = f.layer(Layer::SampleCount);
+    for (float v : count.data()) EXPECT_EQ(v, 8.0f);
+    // Centre pixel looks at the back wall: white albedo, normal towards the camera (-z), depth
+    // 800 + 559.2 (camera-space z of the wall).
+    EXPECT_NEAR(f.layer(Layer::Albedo)(8, 4, 0), 0.725f, 1e-4);
+    EXPECT_NEAR(f.layer(Layer::Normal)(8, 4, 2), -1.0f, 1e-4);
+    EXPECT_NEAR(f.layer(Layer::Depth)(8, 4, 0), 1359.2f, 1.0f);
+    EXPECT_GT(renderer.stats().rays, renderer.stats().samples);
+}
+
+TEST(Renderer, CancelReturnsConsistentPartialFrame) {
+    Renderer renderer(cornell(32));
+    Settings s = renderer.scene().settings();
+    s.threads = 2;
+    s.tileSize = 8;
+    std::atomic<int> tiles{0};
+    Callbacks cb;
+    cb.tileDone = [&](const Rect&) { ++tiles; };
+    // 16 tiles per pass, passes of 1, 1, 2, 4 spp: stop during the third pass.
+    cb.cancel = [&] { return tiles.load() >= 16 + 16 + 5; };
+    const FrameBuffers partial = renderer.render(s, cb);
+    EXPECT_TRUE(renderer.stats().cancelled);
+    EXPECT_EQ(partial.metadata().spp, 2);
+    EXPECT_EQ(partial.metadata().extra.at("cancelled"), "true");
+    // Every pixel has either the 2 spp of the complete passes or 4 (its tile finished pass 3),
+    // and its statistics equal an uncancelled render of that many samples.
+    s.spp = 2;
+    const FrameBuffers two = renderer.render(s);
+    s.spp = 4;
+    const FrameBuffers four = renderer.render(s);
+    const Image& count = partial.layer(Layer::SampleCount);
+    int withFour = 0;
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            const float n = count(x, y, 0);
+            ASSERT_TRUE(n == 2.0f || n == 4.0f) << n;
+            const FrameBuffers& ref = n == 2.0f ? two : four;
+            withFour += n == 4.0f;
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_EQ(partial.color()(x, y, c), ref.color()(x, y, c));
+                EXPECT_EQ(partial.layer(Layer::Variance)(x, y, c),
+                          ref.layer(Layer::Variance)(x, y, c));
+            }
+        }
+    EXPECT_GE(withFour, 5 * 64);
+    EXPECT_LT(withFour, 32 * 32);
+}
+
+TEST(Renderer, ProgressAndPassCallbacks) {
+    Renderer renderer(cornell(16));
+    Settings s = renderer.scene().settings();
+    double last = 0.0;
+    int passes = 0;
+    Callbacks cb;
+    cb.progress = [&](int, double f) {
+        EXPECT_GE(f, last - 1e-12);
+        last = f;
+    };
+    cb.passDone = [&](int pass, const FrameBuffers& frame) {
+        EXPECT_EQ(pass, passes++);
+        EXPECT_EQ(frame.width(), 16);
+    };
+    renderer.render(s, cb);
+    EXPECT_NEAR(last, 1.0, 1e-9);
+    EXPECT_EQ(passes, 4);  // 1 + 1 + 2 + 4 spp
+}
+
+TEST(Renderer, RejectsBadSettingsAndMlt) {
+    Renderer renderer(cornell(8));
+    Settings s = renderer.scene().settings();
+    s.spp = -1;
+    EXPECT_THROW(renderer.render(s), Error);
+    s.spp = 1;
+    s.integrator = Integrator::Mlt;
+    try {
+        renderer.render(s);
+        FAIL() << "mlt should not be implemented yet";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("issue 4"), std::string::npos);
+    }
+}
+
+}  // namespace
+}  // namespace glint::render

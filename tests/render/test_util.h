@@ -1,0 +1,148 @@
+// Helpers for renderer tests: temporary scene folders, tessellated meshes, chi-square test.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace glint::render::test {
+
+/// A fresh directory under the system temp folder, removed on destruction.
+class TempDir {
+  public:
+    explicit TempDir(const std::string& name) {
+        static int counter = 0;
+        m_path = std::filesystem::temp_directory_path() /
+                 ("glint_render_" + name + "_" + std::to_string(::getpid()) + "_" +
+                  std::to_string(counter++));
+        std::filesystem::remove_all(m_path);
+        std::filesystem::create_directories(m_path);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        std::filesystem::remove_all(m_path, ec);
+    }
+    const std::filesystem::path& path() const { return m_path; }
+    /// Writes a text file inside the directory and returns its path.
+    std::filesystem::path write(const std::string& name, const std::string& text) const {
+        const auto p = m_path / name;
+        std::ofstream(p) << text;
+        return p;
+    }
+
+  private:
+    std::filesystem::path m_path;
+};
+
+/// OBJ text of a flat-shaded UV sphere (no vertex normals) of radius r at the origin.
+inline std::string sphereObj(float r, int stacks = 16, int slices = 32) {
+    std::string s;
+    const double pi = 3.14159265358979323846;
+    s += "v 0 " + std::to_string(r) + " 0\n";
+    for (int i = 1; i < stacks; ++i) {
+        const double theta = pi * i / stacks;
+        for (int j = 0; j < slices; ++j) {
+            const double phi = 2 * pi * j / slices;
+            s += "v " + std::to_string(r * std::sin(theta) * std::cos(phi)) + " " +
+                 std::to_string(r * std::cos(theta)) + " " +
+                 std::to_string(r * std::sin(theta) * std::sin(phi)) + "\n";
+        }
+    }
+    s += "v 0 " + std::to_string(-r) + " 0\n";
+    const int bottom = 2 + (stacks - 1) * slices;
+    auto ring = [&](int i, int j) { return 2 + (i - 1) * slices + (j % slices); };
+    for (int j = 0; j < slices; ++j)
+        s += "f 1 " + std::to_string(ring(1, j + 1)) + " " + std::to_string(ring(1, j)) + "\n";
+    for (int i = 1; i < stacks - 1; ++i)
+        for (int j = 0; j < slices; ++j)
+            s += "f " + std::to_string(ring(i, j)) + " " + std::to_string(ring(i, j + 1)) + " " +
+                 std::to_string(ring(i + 1, j + 1)) + " " + std::to_string(ring(i + 1, j)) + "\n";
+    for (int j = 0; j < slices; ++j)
+        s += "f " + std::to_string(bottom) + " " + std::to_string(ring(stacks - 1, j)) + " " +
+             std::to_string(ring(stacks - 1, j + 1)) + "\n";
+    return s;
+}
+
+/// OBJ text of the unit quad [-1,1]² in the xz-plane (normal +y) with texture coordinates.
+inline std::string quadObj() {
+    return "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\n"
+           "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+           "f 1/1 4/4 3/3 2/2\n";
+}
+
+/// Regularised upper incomplete gamma Q(a, x) (series / continued fraction, Numerical Recipes
+/// sec. 6.2 formulas).
+inline double gammaQ(double a, double x) {
+    if (x <= 0.0) return 1.0;
+    const double lnPrefix = -x + a * std::log(x) - std::lgamma(a);
+    if (x < a + 1.0) {
+        double sum = 1.0 / a, term = sum;
+        for (int n = 1; n < 10000; ++n) {
+            term *= x / (a + n);
+            sum += term;
+            if (std::abs(term) < std::abs(sum) * 1e-15) break;
+        }
+        return 1.0 - sum * std::exp(lnPrefix);
+    }
+    // Modified Lentz continued fraction.
+    const double tiny = 1e-300;
+    double b = x + 1.0 - a, c = 1.0 / tiny, d = 1.0 / b, h = d;
+    for (int i = 1; i < 10000; ++i) {
+        const double an = -i * (i - a);
+        b += 2.0;
+        d = an * d + b;
+        if (std::abs(d) < tiny) d = tiny;
+        c = b + an / c;
+        if (std::abs(c) < tiny) c = tiny;
+        d = 1.0 / d;
+        const double delta = d * c;
+        h *= delta;
+        if (std::abs(delta - 1.0) < 1e-15) break;
+    }
+    return std::exp(lnPrefix) * h;
+}
+
+/// Pearson chi-square goodness of fit; cells with expected count < minExpected are pooled.
+struct Chi2 {
+    double statistic = 0.0;
+    int dof = 0;
+    double pValue = 1.0;
+};
+inline Chi2 chi2Test(const std::vector<double>& observed, const std::vector<double>& expected,
+                     double minExpected = 5.0) {
+    Chi2 r;
+    double pooledObs = 0.0, pooledExp = 0.0;
+    int cells = 0;
+    for (std::size_t i = 0; i < observed.size(); ++i) {
+        if (expected[i] < minExpected) {
+            pooledObs += observed[i];
+            pooledExp += expected[i];
+            continue;
+        }
+        const double d = observed[i] - expected[i];
+        r.statistic += d * d / expected[i];
+        ++cells;
+    }
+    if (pooledExp > 0.0 || pooledObs > 0.0) {
+        // A pooled cell with (near) zero expectation but observations is a certain failure.
+        const double e = std::max(pooledExp, 1e-12);
+        const double d = pooledObs - pooledExp;
+        r.statistic += d * d / e;
+        ++cells;
+    }
+    r.dof = std::max(cells - 1, 1);
+    r.pValue = gammaQ(0.5 * r.dof, 0.5 * r.statistic);
+    return r;
+}
+
+/// Šidák-corrected per-test significance for `tests` tests at family-wise level alpha.
+inline double sidak(double alpha, int tests) {
+    return 1.0 - std::pow(1.0 - alpha, 1.0 / tests);
+}
+
+}  // namespace glint::render::test
