@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "glint/image/error.h"
-#include "glint/image/io.h"
 #include "ssim.h"
 
 namespace glint {
@@ -142,19 +141,9 @@ Image pixelMap(const Image& image, const Image& reference, const Rect& rect,
     return map;
 }
 
-/// The SSIM input for `rect`: planar, non-finite values replaced by 0, and (unless linear)
-/// display values srgbEncode(clamp(v * 2^exposure, 0, 1)).
-struct SsimInput {
-    std::vector<float> image;
-    std::vector<float> reference;
-    int width = 0;
-    int height = 0;
-    int channels = 0;
-    std::size_t nonFinitePixels = 0;
-};
-
-SsimInput prepareSsim(const Image& image, const Image& reference, const MetricOptions& options,
-                      const char* metric) {
+/// Validates an SSIM request: shapes, crop, the 11x11 minimum, the exposure.
+detail::SsimRequest ssimRequest(const Image& image, const Image& reference,
+                                const MetricOptions& options, const char* metric) {
     const Rect rect = metricRect(image, reference, options, metric);
     if (rect.width() < detail::kSsimMinSize || rect.height() < detail::kSsimMinSize)
         throw Error(ErrorKind::InvalidArgument,
@@ -168,45 +157,13 @@ SsimInput prepareSsim(const Image& image, const Image& reference, const MetricOp
             ErrorKind::InvalidArgument,
             "exposure must be a finite number of stops, got " + std::to_string(options.exposure),
             {}, metric);
-    SsimInput in;
-    in.width = rect.width();
-    in.height = rect.height();
-    in.channels = image.channels();
-    const std::size_t plane = std::size_t(in.width) * std::size_t(in.height);
-    in.image.resize(plane * std::size_t(in.channels));
-    in.reference.resize(plane * std::size_t(in.channels));
-    const float scale = std::exp2(options.exposure);
-    const bool display = !options.linear;
-    auto toInput = [&](float v) {
-        if (!std::isfinite(v)) return 0.0f;
-        return display ? srgbEncode(std::clamp(v * scale, 0.0f, 1.0f)) : v;
-    };
-    std::vector<std::size_t> rowNonFinite(std::size_t(in.height), 0);
-    tbb::parallel_for(
-        tbb::blocked_range<int>(0, in.height, 16), [&](const tbb::blocked_range<int>& range) {
-            for (int y = range.begin(); y != range.end(); ++y) {
-                const float* a = image.row(y + rect.y0);
-                const float* b = reference.row(y + rect.y0);
-                std::size_t bad = 0;
-                for (int x = 0; x < in.width; ++x) {
-                    const float* pa = a + std::size_t(x + rect.x0) * in.channels;
-                    const float* pb = b + std::size_t(x + rect.x0) * in.channels;
-                    if (!pixelFinite(pa, pb, in.channels)) ++bad;
-                    const std::size_t i = std::size_t(y) * std::size_t(in.width) + std::size_t(x);
-                    for (int c = 0; c < in.channels; ++c) {
-                        in.image[std::size_t(c) * plane + i] = toInput(pa[c]);
-                        in.reference[std::size_t(c) * plane + i] = toInput(pb[c]);
-                    }
-                }
-                rowNonFinite[std::size_t(y)] = bad;
-            }
-        });
-    for (std::size_t bad : rowNonFinite) in.nonFinitePixels += bad;
-    return in;
-}
-
-detail::SsimPlanes planesOf(const SsimInput& in) {
-    return {in.image.data(), in.reference.data(), in.width, in.height, in.channels};
+    detail::SsimRequest request;
+    request.image = &image;
+    request.reference = &reference;
+    request.rect = rect;
+    request.display = !options.linear;
+    request.scale = std::exp2(options.exposure);
+    return request;
 }
 
 }  // namespace
@@ -257,11 +214,12 @@ MetricResult psnr(const Image& image, const Image& reference, const MetricOption
 }
 
 MetricResult ssim(const Image& image, const Image& reference, const MetricOptions& options) {
-    const SsimInput in = prepareSsim(image, reference, options, "ssim");
+    const detail::SsimRequest request = ssimRequest(image, reference, options, "ssim");
+    const detail::SsimOutcome outcome = detail::computeSsim(request, nullptr);
     MetricResult result;
-    result.value = detail::ssimPlanar(planesOf(in), nullptr);
-    result.nonFinitePixels = in.nonFinitePixels;
-    result.pixels = std::size_t(in.width) * std::size_t(in.height);
+    result.value = outcome.mean;
+    result.nonFinitePixels = outcome.nonFinitePixels;
+    result.pixels = std::size_t(request.rect.width()) * std::size_t(request.rect.height());
     return result;
 }
 
@@ -291,9 +249,8 @@ Image relErrorMap(const Image& image, const Image& reference, const MetricOption
 }
 
 Image ssimMap(const Image& image, const Image& reference, const MetricOptions& options) {
-    const SsimInput in = prepareSsim(image, reference, options, "ssim map");
     Image map;
-    detail::ssimPlanar(planesOf(in), &map);
+    detail::computeSsim(ssimRequest(image, reference, options, "ssim map"), &map);
     return map;
 }
 

@@ -1,5 +1,5 @@
 // Private to glint_image: the SSIM kernel behind glint::ssim and glint::ssimMap (metrics.cpp
-// prepares its input: crop, non-finite values, display transform).
+// validates the request: shapes, crop, minimum size, exposure).
 #pragma once
 
 #include <cstddef>
@@ -13,19 +13,25 @@ constexpr int kSsimRadius = 5;
 /// Smallest width and height SSIM accepts: the 11-pixel window.
 constexpr int kSsimMinSize = 2 * kSsimRadius + 1;
 
-/// Two images as `channels` planes of width × height floats each (plane c starts at
-/// c * width * height), values finite; width and height at least kSsimMinSize.
-struct SsimPlanes {
-    const float* image = nullptr;
-    const float* reference = nullptr;
-    int width = 0;
-    int height = 0;
-    int channels = 0;
+/// What to compare: `rect` of two images of the same shape (at least kSsimMinSize on each side,
+/// inside both). Non-finite values count as 0; when `display`, every value v is replaced by
+/// srgbEncode(clamp(v * scale, 0, 1)) first.
+struct SsimRequest {
+    const Image* image = nullptr;
+    const Image* reference = nullptr;
+    Rect rect;
+    bool display = true;
+    float scale = 1.0f;  ///< 2^exposure
 };
 
-/// Mean SSIM (Wang et al. 2004) over pixels at least kSsimRadius from every border, then over
-/// channels. When `map` is non-null it receives a width × height × 1 image of the per-pixel
-/// SSIM averaged over channels (border pixels included, computed with the mirrored extension).
-double ssimPlanar(const SsimPlanes& planes, Image* map);
+struct SsimOutcome {
+    double mean = 0.0;                ///< SSIM averaged as DESIGN.md says
+    std::size_t nonFinitePixels = 0;  ///< pixels of rect with a NaN/Inf in either image
+};
+
+/// Mean SSIM (Wang et al. 2004) over pixels at least kSsimRadius from every border of `rect`,
+/// then over channels. When `map` is non-null it receives a rect-sized 1-channel image of the
+/// per-pixel SSIM averaged over channels (border pixels included, from the mirrored extension).
+SsimOutcome computeSsim(const SsimRequest& request, Image* map);
 
 }  // namespace glint::detail

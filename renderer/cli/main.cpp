@@ -28,6 +28,10 @@ struct Options {
     std::optional<std::string> integrator, mis, strategy, sampler;
     double timeLimit = 0.0;
     bool json = false, position = false;
+    // Metropolis parameters (--integrator mlt).
+    std::optional<double> mltLarge, mltSmall, mltLens, mltLight;
+    std::optional<std::int64_t> mltBootstrap;
+    std::optional<int> mltChains, mltGroups, mltFeatureSpp;
 };
 
 /// Draws "[#####.....]  45%  pass 3" on a terminal.
@@ -82,13 +86,19 @@ int run(const Options& opt) {
                            "--strategy applies only with --mis none", "command line", "--strategy");
     settings.timeLimit = opt.timeLimit;
     settings.position = opt.position;
+    glint::render::MltSettings& mlt = settings.mlt;
+    if (opt.mltLarge) mlt.largeStep = *opt.mltLarge;
+    if (opt.mltSmall) mlt.smallStep = *opt.mltSmall;
+    if (opt.mltLens) mlt.lens = *opt.mltLens;
+    if (opt.mltLight) mlt.light = *opt.mltLight;
+    if (opt.mltBootstrap) mlt.bootstrap = *opt.mltBootstrap;
+    if (opt.mltChains) mlt.chains = *opt.mltChains;
+    if (opt.mltGroups) mlt.groups = *opt.mltGroups;
+    if (opt.mltFeatureSpp) mlt.featureSpp = *opt.mltFeatureSpp;
     option("options", [&] {
         glint::render::validate(settings);
         return 0;
     });
-    if (settings.integrator == glint::render::Integrator::Mlt)
-        throw glint::Error(glint::ErrorKind::InvalidArgument, "not implemented yet (issue 4)",
-                           "command line", "--integrator mlt");
 
     std::optional<glint::Image> reference;
     if (!opt.reference.empty()) {
@@ -164,6 +174,9 @@ int run(const Options& opt) {
                             {"nonFiniteSamples", stats.nonFiniteSamples},
                             {"passes", passes}};
         if (reference) j["relMse"] = lastRelMse, j["ssim"] = lastSsim;
+        // Metropolis statistics (b, acceptance per mutation kind, mutations/s...).
+        for (const auto& [key, value] : frame.metadata().extra)
+            if (key.rfind("mlt", 0) == 0) j["mlt"][key] = value;
         std::cout << j.dump() << "\n";
     } else {
         std::printf("rendered %s: %dx%d, %d spp in %.3f s (setup %.3f s)\n", opt.scene.c_str(),
@@ -172,6 +185,8 @@ int run(const Options& opt) {
                     samplesPerSecond * 1e-6, raysPerSecond * 1e-6,
                     static_cast<long long>(stats.nonFiniteSamples));
         if (reference) std::printf("  relMSE %.6g  SSIM %.4f\n", lastRelMse, lastSsim);
+        for (const auto& [key, value] : frame.metadata().extra)
+            if (key.rfind("mlt", 0) == 0) std::printf("  %s: %s\n", key.c_str(), value.c_str());
         std::printf("  wrote %s\n", opt.out.c_str());
     }
     return 0;
@@ -197,6 +212,14 @@ int main(int argc, char** argv) {
     app.add_option("--reference", opt.reference, "reference EXR: print relMSE and SSIM per pass");
     app.add_flag("--position", opt.position, "also write the world-space position layer");
     app.add_flag("--json", opt.json, "print one JSON object on stdout");
+    app.add_option("--mlt-large", opt.mltLarge, "mlt: weight of large steps");
+    app.add_option("--mlt-small", opt.mltSmall, "mlt: weight of small steps");
+    app.add_option("--mlt-lens", opt.mltLens, "mlt: weight of lens perturbations");
+    app.add_option("--mlt-light", opt.mltLight, "mlt: weight of light perturbations");
+    app.add_option("--mlt-bootstrap", opt.mltBootstrap, "mlt: bootstrap paths");
+    app.add_option("--mlt-chains", opt.mltChains, "mlt: Markov chains (multiple of groups)");
+    app.add_option("--mlt-groups", opt.mltGroups, "mlt: batches of chains for the variance");
+    app.add_option("--mlt-feature-spp", opt.mltFeatureSpp, "mlt: spp of the feature pass");
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

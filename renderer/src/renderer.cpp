@@ -18,6 +18,7 @@
 #include "film/film.h"
 #include "glint/image/error.h"
 #include "integrators/path_integrator.h"
+#include "integrators/mlt_integrator.h"
 #include "lights/light_sampler.h"
 #include "sampling/rng.h"
 #include "sampling/warp.h"
@@ -73,15 +74,33 @@ struct PassSampler {
         return {std::min((float(cx) + jitter.x) / float(nx), 0x1.fffffep-1f),
                 std::min((float(cy) + jitter.y) / float(ny), 0x1.fffffep-1f)};
     }
+
+    /// Stratified 1D value for sample `sample` of pixel `pixel` in dimension `dim`: one random
+    /// stratum of `count` per sample, drawn without repetition by its own permutation.
+    float value(std::uint64_t pixel, int sample, int dim, Rng& rng) const {
+        const float jitter = rng.uniform();
+        if (kind == SamplerKind::Independent || count == 1) return jitter;
+        const auto key = std::uint32_t(mix64(streamKey(seed, pixel, std::uint64_t(first)) +
+                                             std::uint64_t(dim) * 0x2545f491ULL));
+        const std::uint32_t stratum =
+            permuteIndex(std::uint32_t(sample - first), std::uint32_t(count), key);
+        return std::min((float(stratum) + jitter) / float(count), 0x1.fffffep-1f);
+    }
 };
 
 }  // namespace
 
 FrameBuffers Renderer::render(const Settings& settings, const Callbacks& callbacks) {
     validate(settings);
-    if (settings.integrator == Integrator::Mlt)
-        throw Error(ErrorKind::InvalidArgument,
-                    "integrator 'mlt' is not implemented yet (issue 4)");
+    if (settings.integrator == Integrator::Mlt) {
+        // Metropolis (docs/metropolis.md): features from a short path-traced pass, colour and
+        // its variance from the Metropolis chains.
+        validateMlt(settings.mlt);
+        FrameBuffers features = render(mltFeatureSettings(settings));
+        MltIntegrator mlt(m_scene.data(), m_impl->embree, m_impl->lights, m_impl->camera,
+                          settings);
+        return mlt.render(std::move(features), callbacks, m_stats);
+    }
     const detail::SceneData& data = m_scene.data();
     const int width = data.width, height = data.height;
     const Clock::time_point start = Clock::now();
@@ -91,6 +110,9 @@ FrameBuffers Renderer::render(const Settings& settings, const Callbacks& callbac
     const PathIntegrator integrator(data, m_impl->embree, m_impl->lights, m_impl->camera, settings);
     const Camera& camera = m_impl->camera;
     const bool thinLens = data.camera.lensRadius > 0.0f;
+    // Time is sampled only when something moves during a shutter of non-zero length, so a
+    // static scene draws exactly the random numbers it drew before motion blur existed.
+    const bool sampleTime = data.hasMotion() && data.camera.shutterClose > data.camera.shutterOpen;
 
     // Tiles in scanline order.
     const int ts = settings.tileSize;
@@ -149,8 +171,10 @@ FrameBuffers Renderer::render(const Settings& settings, const Callbacks& callbac
                                     const Vec2 jitter = sampler.point(pixel, s, 0, rng);
                                     const Vec2 lens = thinLens ? sampler.point(pixel, s, 1, rng)
                                                                : Vec2{0.5f, 0.5f};
-                                    const Ray ray = camera.generateRay(float(x) + jitter.x,
-                                                                       float(y) + jitter.y, lens);
+                                    const float time =
+                                        sampleTime ? sampler.value(pixel, s, 2, rng) : 0.0f;
+                                    const Ray ray = camera.generateRay(
+                                        float(x) + jitter.x, float(y) + jitter.y, lens, time);
                                     integrator.trace(ray, rng, fs, tileRays);
                                     film.add(x, y, fs);
                                 }
@@ -199,6 +223,12 @@ FrameBuffers Renderer::render(const Settings& settings, const Callbacks& callbac
     meta.extra["maxDepth"] = std::to_string(settings.maxDepth);
     meta.extra["rrDepth"] = std::to_string(settings.rrDepth);
     if (cancelled.load()) meta.extra["cancelled"] = "true";
+    if (data.hasMotion()) {
+        // Features are then time averages: their variance includes motion (docs/motion-blur.md).
+        meta.extra["shutter"] = std::to_string(data.camera.shutterOpen) + " " +
+                                std::to_string(data.camera.shutterClose);
+        meta.extra["motionBlur"] = "true";
+    }
 
     m_stats.seconds = elapsed();
     m_stats.samples = samples.load();

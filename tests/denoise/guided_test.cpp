@@ -79,12 +79,12 @@ TEST(Guided, KeepsTheGuideEdge) {
 
 TEST(Guided, RoiMatchesFullOutputExactly) {
     const Filter& f = findFilter("guided");
-    FrameBuffers frame = randomFrame(300, 90, false);
-    frame.set(Layer::Normal, randomFrame(300, 90, false, 9).color());
+    FrameBuffers frame = randomFrame(600, 90, false);
+    frame.set(Layer::Normal, randomFrame(600, 90, false, 9).color());
     for (int guide : {0, 2}) {
         const ParamValues p{{"radius", 5}, {"guide", guide}};
         const Image full = applyFilter(f, frame, p);
-        const Rect roi{67, 290, 70, 85};  // crosses the 256-column strip boundary
+        const Rect roi{67, 590, 70, 85};  // strips of 192 columns here, 192 in the full frame
         const Image part = applyFilter(f, frame, p, &roi);
         for (int y = 0; y < roi.height(); ++y)
             for (int x = 0; x < roi.width(); ++x)

@@ -122,10 +122,10 @@ struct Sigmas {
     float color2, albedo2, normal2, depth2;  // 2 sigma_f^2 of each feature
 };
 
-// Replaces the variance sum V in plane `plane` by 1 / (2 (2 sigma^2 + 2 V)), the pixel's half of
-// the symmetrised normalisation.
-void invertVariance(std::vector<float>& plane, float twoSigma2) {
-    for (float& v : plane) v = float(0.25 / (0.5 * double(twoSigma2) + double(v)));
+// Replaces the variance sum V at index i of `plane` by 1 / (2 (2 sigma^2 + 2 V)), the pixel's
+// half of the symmetrised normalisation.
+void invertVariance(std::vector<float>& plane, std::size_t i, float twoSigma2) {
+    plane[i] = float(0.25 / (0.5 * double(twoSigma2) + double(plane[i])));
 }
 
 Packed pack(const FrameBuffers& frame, const Rect& rect, const Sigmas& sig) {
@@ -152,12 +152,13 @@ Packed pack(const FrameBuffers& frame, const Rect& rect, const Sigmas& sig) {
             packFeature(pk, i, albedo, frame.find(Layer::AlbedoVariance), x, y, A0, 3, 1.0);
             packFeature(pk, i, normal, frame.find(Layer::NormalVariance), x, y, N0, 3, 1.0);
             packFeature(pk, i, depth, frame.find(Layer::DepthVariance), x, y, Z, 1, depthScale);
+            invertVariance(pk.planes[VC], i, sig.color2);
+            invertVariance(pk.planes[VA], i, sig.albedo2);
+            invertVariance(pk.planes[VN], i, sig.normal2);
+            invertVariance(pk.planes[VZ], i, sig.depth2);
         }
     });
-    invertVariance(pk.planes[VC], sig.color2);
-    invertVariance(pk.planes[VA], sig.albedo2);
-    invertVariance(pk.planes[VN], sig.normal2);
-    invertVariance(pk.planes[VZ], sig.depth2);
+    // Outside the image the normalisations stay 0: those pixels have weight 0 anyway.
     return pk;
 }
 

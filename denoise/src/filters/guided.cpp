@@ -303,8 +303,8 @@ void guidedStrip(const Image& color, const GuideSource& guide, const Layout& L, 
 
 GuidedFilter::GuidedFilter()
     : m_params{
-          {"radius", "radius (px)", 1, 64, 8, ParamScale::Linear, true, "Window radius in pixels."},
-          {"eps", "epsilon", 1e-8, 1e2, 1e-2, ParamScale::Log, false,
+          {"radius", "radius (px)", 1, 64, 5, ParamScale::Linear, true, "Window radius in pixels."},
+          {"eps", "epsilon", 1e-8, 1e2, 5e-2, ParamScale::Log, false,
            "Regulariser (guide units squared): larger smooths more."},
           {"guide", "guide (0 colour, 1 albedo, 2 normal, 3 depth)", 0, 3, 0, ParamScale::Linear,
            true, "Guide image: 0 colour luminance, 1 albedo, 2 normal, 3 depth."},
@@ -342,12 +342,14 @@ Image GuidedFilter::apply(const FrameBuffers& frame, const ParamValues& params,
     guide.channels = k;
     const Layout layout(k);
 
-    // Column strips on a global grid of kStrip columns, in parallel; each streams down the rows.
-    constexpr int kStrip = 256;
-    const int s0 = roi.x0 / kStrip, s1 = (roi.x1 + kStrip - 1) / kStrip;
+    // Column strips, in parallel; each streams down the rows. Every value depends only on its
+    // position (box_filter.h), never on the strip boundaries, so the strip width only balances
+    // the load (about four strips) against the horizontal overlap (at least 128 columns).
+    const int strip = std::clamp((roi.width() / 4 + 63) / 64 * 64, 128, 512);
+    const int strips = (roi.width() + strip - 1) / strip;
     Image out(roi.width(), roi.height(), 3);
-    tbb::parallel_for(s0, s1, [&](int s) {
-        const int sx0 = std::max(roi.x0, s * kStrip), sx1 = std::min(roi.x1, (s + 1) * kStrip);
+    tbb::parallel_for(0, strips, [&](int s) {
+        const int sx0 = roi.x0 + s * strip, sx1 = std::min(roi.x1, sx0 + strip);
         guidedStrip(frame.color(), guide, layout, eps, r, roi, sx0, sx1, out);
     });
     return out;

@@ -7,8 +7,9 @@
 // channels of the per-pixel distance
 //   d = ((u_p - u_q)^2 - alpha (var_p + min(var_p, var_q))) / (eps + k^2 (var_p + var_q)),
 // taken at p+n and q+n, with var the variance of the mean (layer "variance"), eps = 1e-10 and
-// k the strength. alpha = min(1, (k / 0.45)^2): Rousselle's full variance cancellation (alpha
-// = 1) for k >= 0.45, fading out for weaker strengths so that k -> 0 tends to the identity.
+// k the strength (Rousselle et al. use 0.45, the default). alpha = min(1, (k / 0.05)^2):
+// Rousselle's full variance cancellation (alpha = 1) for k >= 0.05, fading out below so that
+// k -> 0 tends to the identity.
 // Without a variance layer a uniform per-channel variance is estimated from the whole frame
 // (Immerkær 1996). D is computed for each search offset as a box filter of the per-pixel
 // distance image (running sums), so the cost does not grow with the patch size.
@@ -49,8 +50,9 @@ w(p,q) = exp(-max(0, D(p,q))) and D the mean over the (2f+1)^2 patch offsets n a
 channels of the per-pixel distance
   d = ((u_p - u_q)^2 - alpha (var_p + min(var_p, var_q))) / (eps + k^2 (var_p + var_q)),
 taken at p+n and q+n, with var the variance of the mean (layer "variance"), eps = 1e-10 and
-k the strength. alpha = min(1, (k / 0.45)^2): Rousselle's full variance cancellation (alpha
-= 1) for k >= 0.45, fading out for weaker strengths so that k -> 0 tends to the identity.
+k the strength (Rousselle et al. use 0.45, the default). alpha = min(1, (k / 0.05)^2):
+Rousselle's full variance cancellation (alpha = 1) for k >= 0.05, fading out below so that
+k -> 0 tends to the identity.
 Without a variance layer a uniform per-channel variance is estimated from the whole frame
 (Immerkær 1996). D is computed for each search offset as a box filter of the per-pixel
 distance image (running sums), so the cost does not grow with the patch size.
@@ -65,8 +67,8 @@ Parameters:
 
 constexpr float kEps = 1e-10f;
 constexpr float kUnknownVariance = 1e30f;
-constexpr float kReferenceStrength = 0.45f;  // Rousselle et al. 2012, Sec. 5
-constexpr int kTile = 64;                    // tiles on a global grid (reproducible ROI output)
+constexpr float kFullCancellation = 0.05f;  // alpha = 1 from this strength up
+constexpr int kTile = 64;                   // tiles on a global grid (reproducible ROI output)
 
 enum Plane : int { U0, U1, U2, V0, V1, V2, M, kPlanes };
 
@@ -291,7 +293,7 @@ Image NlMeansFilter::apply(const FrameBuffers& frame, const ParamValues& params,
     st.s = detail::paramInt(params, "searchRadius");
     const double k = detail::paramValue(params, "strength");
     st.k2 = float(k * k);
-    st.alpha = float(std::min(1.0, (k / kReferenceStrength) * (k / kReferenceStrength)));
+    st.alpha = float(std::min(1.0, (k / kFullCancellation) * (k / kFullCancellation)));
     const int patch = (2 * st.f + 1) * (2 * st.f + 1);
     st.cap = 30.0f * float(patch);
     st.invPatch = 1.0f / float(patch);

@@ -18,36 +18,85 @@ void throwDeviceError(RTCDevice device, const char* what) {
                                          std::to_string(int(code)) + ")");
 }
 
-/// Converts the flattened triangle soup into one Embree triangle mesh and commits the scene.
-RTCScene convertScene(RTCDevice device, const detail::SceneData& data) {
+/// Creates a triangle geometry with Embree-allocated buffers (Embree reads 16 bytes per float3
+/// vertex, so the buffers are allocated by Embree, padded): `steps` vertex buffers of
+/// 3 × triangles vertices each and a trivial index buffer.
+RTCGeometry newTriangleMesh(RTCDevice device, std::size_t triangles, int steps,
+                            std::vector<float*>& vertexBuffers) {
+    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    if (steps > 1) rtcSetGeometryTimeStepCount(geom, unsigned(steps));
+    vertexBuffers.clear();
+    for (int k = 0; k < steps; ++k)
+        vertexBuffers.push_back(static_cast<float*>(
+            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, unsigned(k), RTC_FORMAT_FLOAT3,
+                                    3 * sizeof(float), 3 * triangles)));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), triangles));
+    for (float* v : vertexBuffers)
+        if (!v) throwDeviceError(device, "buffer allocation");
+    if (!indices) throwDeviceError(device, "buffer allocation");
+    for (std::size_t i = 0; i < 3 * triangles; ++i) indices[i] = unsigned(i);
+    return geom;
+}
+
+void store(float* buffer, std::size_t vertex, const Vec3& p) {
+    buffer[3 * vertex + 0] = p.x;
+    buffer[3 * vertex + 1] = p.y;
+    buffer[3 * vertex + 2] = p.z;
+}
+
+void attach(RTCScene scene, RTCGeometry geom, unsigned id) {
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(scene, geom, id);
+    rtcReleaseGeometry(geom);
+}
+
+}  // namespace
+
+/// Converts the scene: static triangles into one static mesh (geometry 0); each moving shape
+/// into a motion-blur mesh (geometry 1 + i) whose time step k holds the shape posed by its
+/// transform at normalised time k / (steps - 1). Ends in rtcCommitScene.
+RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& data) {
     RTCScene scene = rtcNewScene(device);
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
     // Default (non-robust) traversal: RTC_SCENE_FLAG_ROBUST made cornell ~40 % slower and the
     // closed-sphere furnace test shows no leaks without it.
+    std::vector<float*> buffers;
     const std::size_t triangles = data.triangleCount();
-    if (triangles > 0) {
-        RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        // Embree reads 16 bytes per float3 vertex, so the buffer is allocated by Embree (padded).
-        auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-            geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * triangles));
-        auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-            geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), triangles));
-        if (!vertices || !indices) throwDeviceError(device, "buffer allocation");
-        for (std::size_t i = 0; i < 3 * triangles; ++i) {
-            vertices[3 * i + 0] = data.positions[i].x;
-            vertices[3 * i + 1] = data.positions[i].y;
-            vertices[3 * i + 2] = data.positions[i].z;
-            indices[i] = unsigned(i);
+    if (data.motions.empty()) {
+        // Static scene: one mesh of every triangle, primitive index = triangle index.
+        if (triangles > 0) {
+            RTCGeometry geom = newTriangleMesh(device, triangles, 1, buffers);
+            for (std::size_t i = 0; i < 3 * triangles; ++i) store(buffers[0], i, data.positions[i]);
+            attach(scene, geom, 0);
         }
-        rtcCommitGeometry(geom);
-        rtcAttachGeometry(scene, geom);
-        rtcReleaseGeometry(geom);
+        rtcCommitScene(scene);
+        return scene;
+    }
+    for (std::size_t t = 0; t < triangles; ++t)
+        if (data.triangleMotion[t] < 0) m_staticTriangles.push_back(std::uint32_t(t));
+    if (!m_staticTriangles.empty()) {
+        RTCGeometry geom = newTriangleMesh(device, m_staticTriangles.size(), 1, buffers);
+        for (std::size_t i = 0; i < m_staticTriangles.size(); ++i)
+            for (std::size_t v = 0; v < 3; ++v)
+                store(buffers[0], 3 * i + v, data.positions[3 * m_staticTriangles[i] + v]);
+        attach(scene, geom, 0);
+    }
+    for (std::size_t m = 0; m < data.motions.size(); ++m) {
+        const detail::ShapeMotion& motion = data.motions[m];
+        const int steps = int(motion.steps.size());
+        RTCGeometry geom = newTriangleMesh(device, motion.triangleCount, steps, buffers);
+        for (int k = 0; k < steps; ++k)
+            for (std::size_t i = 0; i < motion.objectPositions.size(); ++i)
+                store(buffers[std::size_t(k)], i,
+                      motion.steps[std::size_t(k)].point(motion.objectPositions[i]));
+        attach(scene, geom, unsigned(1 + m));
+        m_motionFirstTriangle.push_back(motion.firstTriangle);
+        m_timeSteps.push_back(steps);
     }
     rtcCommitScene(scene);
     return scene;
 }
-
-}  // namespace
 
 EmbreeScene::EmbreeScene(const detail::SceneData& scene) {
     m_device = rtcNewDevice("verbose=0");
@@ -70,7 +119,7 @@ bool EmbreeScene::intersect(const Ray& ray, float tMax, Hit& hit, bool coherent)
     rh.ray.dir_x = ray.dir.x, rh.ray.dir_y = ray.dir.y, rh.ray.dir_z = ray.dir.z;
     rh.ray.tnear = 0.0f;
     rh.ray.tfar = tMax;
-    rh.ray.time = 0.0f;
+    rh.ray.time = ray.time;
     rh.ray.mask = 0xffffffffu;
     rh.ray.id = 0;
     rh.ray.flags = 0;
@@ -79,13 +128,18 @@ bool EmbreeScene::intersect(const Ray& ray, float tMax, Hit& hit, bool coherent)
     rtcIntersect1(m_scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     hit.t = rh.ray.tfar;
-    hit.triangle = rh.hit.primID;
+    if (m_motionFirstTriangle.empty())
+        hit.triangle = rh.hit.primID;
+    else if (rh.hit.geomID == 0)
+        hit.triangle = m_staticTriangles[rh.hit.primID];
+    else
+        hit.triangle = m_motionFirstTriangle[rh.hit.geomID - 1] + rh.hit.primID;
     hit.u = rh.hit.u;
     hit.v = rh.hit.v;
     return true;
 }
 
-bool EmbreeScene::occluded(const Vec3& origin, const Vec3& dir, float tMax) const {
+bool EmbreeScene::occluded(const Vec3& origin, const Vec3& dir, float tMax, float time) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRay r;
@@ -93,7 +147,7 @@ bool EmbreeScene::occluded(const Vec3& origin, const Vec3& dir, float tMax) cons
     r.dir_x = dir.x, r.dir_y = dir.y, r.dir_z = dir.z;
     r.tnear = 0.0f;
     r.tfar = tMax;
-    r.time = 0.0f;
+    r.time = time;
     r.mask = 0xffffffffu;
     r.id = 0;
     r.flags = 0;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "scene/camera.h"
 #include "scene/scene_data.h"
@@ -20,7 +21,8 @@ struct Hit {
     float u = 0.0f, v = 0.0f;
 };
 
-/// Embree device + committed scene of one SceneData (one triangle mesh of all shapes).
+/// Embree device + committed scene of one SceneData: one static triangle mesh of every static
+/// shape and, only when shapes move, one motion-blur triangle mesh per moving shape.
 class EmbreeScene {
   public:
     /// Converts the scene (see convertScene in embree_scene.cpp). Throws glint::Error on failure.
@@ -29,14 +31,28 @@ class EmbreeScene {
     EmbreeScene(const EmbreeScene&) = delete;
     EmbreeScene& operator=(const EmbreeScene&) = delete;
 
-    /// Closest hit along the ray within (0, tMax); `coherent` hints primary rays.
+    /// Closest hit along the ray within (0, tMax) at the ray's shutter time; `coherent` hints
+    /// primary rays. hit.triangle is the scene's triangle index.
     bool intersect(const Ray& ray, float tMax, Hit& hit, bool coherent = false) const;
-    /// True when anything blocks the segment from origin along dir within (0, tMax).
-    bool occluded(const Vec3& origin, const Vec3& dir, float tMax) const;
+    /// True when anything blocks the segment from origin along dir within (0, tMax) at
+    /// normalised shutter time `time`.
+    bool occluded(const Vec3& origin, const Vec3& dir, float tMax, float time = 0.0f) const;
+
+    /// Number of motion-blur geometries built (0 for a scene without moving shapes).
+    int motionGeometryCount() const { return int(m_motionFirstTriangle.size()); }
+    /// Embree time steps of motion geometry i (< motionGeometryCount()).
+    int timeStepCount(int i) const { return m_timeSteps[std::size_t(i)]; }
 
   private:
+    RTCSceneTy* convertScene(RTCDeviceTy* device, const detail::SceneData& data);
+
     RTCDeviceTy* m_device = nullptr;
     RTCSceneTy* m_scene = nullptr;
+    // Geometry 0 holds the static triangles, geometry 1 + i moving shape i. With moving shapes,
+    // static primitive p is scene triangle m_staticTriangles[p]; without, the identity.
+    std::vector<std::uint32_t> m_staticTriangles;
+    std::vector<std::uint32_t> m_motionFirstTriangle;
+    std::vector<int> m_timeSteps;
 };
 
 }  // namespace glint::render

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "materials/bsdf.h"
+#include "sampling/primary_sample.h"
 
 namespace glint::render {
 
@@ -17,16 +18,19 @@ struct Shading {
     const detail::Material* material;
 };
 
-Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo) {
+Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, float time) {
     Shading s;
     const std::size_t t = hit.triangle;
-    const Vec3* v = &scene.positions[3 * t];
+    // The triangle as posed at the ray's shutter time (moving shapes; static ones as stored).
+    detail::PosedTriangle posed;
+    const detail::TriangleView tri = scene.triangleAt(t, time, posed);
+    const Vec3* v = tri.p;
     const float b0 = 1.0f - hit.u - hit.v;
     s.p = v[0] * b0 + v[1] * hit.u + v[2] * hit.v;
-    s.ng = scene.faceNormals[t];
+    s.ng = tri.ng;
     s.ns = s.ng;
-    if (!scene.normals.empty()) {
-        const Vec3* n = &scene.normals[3 * t];
+    if (tri.n) {
+        const Vec3* n = tri.n;
         const Vec3 ns = n[0] * b0 + n[1] * hit.u + n[2] * hit.v;
         const float len = length(ns);
         if (len > 0.0f) {
@@ -48,6 +52,16 @@ Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo) {
         s.ns = -s.ns;
     }
     return s;
+}
+
+/// A next-event-estimation number: from the sampler's light stream if it has one (the
+/// Metropolis sampler, so that light perturbations change only these), else its only stream.
+template <class Sampler>
+float lightUniform(Sampler& sampler) {
+    if constexpr (requires { sampler.uniformLight(); })
+        return sampler.uniformLight();
+    else
+        return sampler.uniform();
 }
 }  // namespace
 
@@ -74,7 +88,8 @@ float PathIntegrator::misWeight(float pdf, float other) const {
     return m_mis == MisHeuristic::Balance ? 1.0f / (1.0f + r) : 1.0f / (1.0f + r * r);
 }
 
-void PathIntegrator::trace(const Ray& cameraRay, Rng& rng, FilmSample& out,
+template <class Sampler>
+void PathIntegrator::trace(const Ray& cameraRay, Sampler& rng, FilmSample& out,
                            std::uint64_t& rays) const {
     out = FilmSample{};
     Vec3 radiance{}, beta{1.0f, 1.0f, 1.0f};
@@ -102,7 +117,7 @@ void PathIntegrator::trace(const Ray& cameraRay, Rng& rng, FilmSample& out,
             break;
         }
         const Vec3 wo = -ray.dir;
-        const Shading sh = shade(m_scene, hit, wo);
+        const Shading sh = shade(m_scene, hit, wo, ray.time);
         const detail::Material& mat = *sh.material;
 
         // Emission found by the camera ray, a specular bounce or BSDF sampling (MIS).
@@ -124,7 +139,7 @@ void PathIntegrator::trace(const Ray& cameraRay, Rng& rng, FilmSample& out,
         if (!featuresDone && !specular) {
             out.albedo = albedo;
             out.normal = sh.ns;
-            out.depth = m_camera.depth(sh.p);
+            out.depth = m_camera.depth(sh.p, ray.time);
             out.position = sh.p;
             featuresDone = true;
         }
@@ -141,8 +156,8 @@ void PathIntegrator::trace(const Ray& cameraRay, Rng& rng, FilmSample& out,
         // Next-event estimation at non-specular vertices (Veach 1997, sec. 9.2).
         if (!specular && m_useLightSampling) {
             LightSample ls;
-            const float uSelect = rng.uniform();
-            const Vec2 uLight{rng.uniform(), rng.uniform()};
+            const float uSelect = lightUniform(rng);
+            const Vec2 uLight{lightUniform(rng), lightUniform(rng)};
             if (m_lights.sample(sh.p, uSelect, uLight, ls) && dot(ls.wi, sh.ng) > 0.0f) {
                 const Vec3 wiLocal = frame.toLocal(ls.wi);
                 const Vec3 f = bsdf.eval(woLocal, wiLocal) * std::abs(wiLocal.z);
@@ -157,7 +172,7 @@ void PathIntegrator::trace(const Ray& cameraRay, Rng& rng, FilmSample& out,
                         tMax = dist - 1e-4f * (1.0f + maxAbsComponent(ls.point));
                     }
                     ++rays;
-                    if (tMax > 0.0f && !m_embree.occluded(origin, dir, tMax)) {
+                    if (tMax > 0.0f && !m_embree.occluded(origin, dir, tMax, ray.time)) {
                         const float w =
                             m_useBsdfHits ? misWeight(ls.pdf, bsdf.pdf(woLocal, wiLocal)) : 1.0f;
                         radiance += beta * f * ls.radiance * (w / ls.pdf);
@@ -190,5 +205,9 @@ void PathIntegrator::trace(const Ray& cameraRay, Rng& rng, FilmSample& out,
     }
     out.color = radiance;
 }
+
+template void PathIntegrator::trace<Rng>(const Ray&, Rng&, FilmSample&, std::uint64_t&) const;
+template void PathIntegrator::trace<PrimarySampleSampler>(const Ray&, PrimarySampleSampler&,
+                                                          FilmSample&, std::uint64_t&) const;
 
 }  // namespace glint::render

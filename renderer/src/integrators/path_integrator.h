@@ -21,7 +21,10 @@ class PathIntegrator {
                    const LightSampler& lights, const Camera& camera, const Settings& settings);
 
     /// Traces one camera ray; fills colour and first-non-specular-hit features; counts rays.
-    void trace(const Ray& cameraRay, Rng& rng, FilmSample& out, std::uint64_t& rays) const;
+    /// `Sampler` is Rng (path tracing) or PrimarySampleSampler (Metropolis): it provides
+    /// uniform(), and optionally uniformLight() for the numbers of next-event estimation.
+    template <class Sampler>
+    void trace(const Ray& cameraRay, Sampler& rng, FilmSample& out, std::uint64_t& rays) const;
 
   private:
     /// MIS weight of a strategy with density `pdf` against the other with `other`.

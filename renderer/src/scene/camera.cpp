@@ -8,28 +8,49 @@ namespace glint::render {
 
 Camera::Camera(const detail::CameraDesc& desc, int width, int height)
     : m_position(desc.position),
+      m_moving(desc.hasMotion),
+      m_upHint(desc.up),
+      m_lookAt(desc.lookAt),
+      m_endPosition(desc.motionPosition),
+      m_endLookAt(desc.motionLookAt),
       m_tanHalfY(std::tan(0.5f * desc.fovY * kPi / 180.0f)),
       m_aspect(float(width) / float(height)),
       m_lensRadius(desc.lensRadius),
       m_focusDistance(desc.focusDistance),
       m_invWidth(1.0f / float(width)),
       m_invHeight(1.0f / float(height)) {
-    // Right-handed view basis: right = forward × up, so +x of the image is to the viewer's right.
-    m_forward = normalize(desc.lookAt - desc.position);
-    m_right = normalize(cross(m_forward, desc.up));
-    m_up = cross(m_right, m_forward);
+    const Basis b = makeBasis(desc.position, desc.lookAt, desc.up);
+    m_forward = b.forward, m_right = b.right, m_up = b.up;
 }
 
-Ray Camera::generateRay(float px, float py, Vec2 lensU) const {
+Camera::Basis Camera::makeBasis(const Vec3& position, const Vec3& lookAt, const Vec3& up) {
+    // Right-handed view basis: right = forward × up, so +x of the image is to the viewer's right.
+    Basis b;
+    b.position = position;
+    b.forward = normalize(lookAt - position);
+    b.right = normalize(cross(b.forward, up));
+    b.up = cross(b.right, b.forward);
+    return b;
+}
+
+Camera::Basis Camera::basisAt(float time) const {
+    // Position and look-at point move linearly over the shutter; up stays fixed.
+    return makeBasis(lerp(time, m_position, m_endPosition), lerp(time, m_lookAt, m_endLookAt),
+                     m_upHint);
+}
+
+Ray Camera::generateRay(float px, float py, Vec2 lensU, float timeU) const {
+    Basis b{m_position, m_forward, m_right, m_up};
+    if (m_moving) b = basisAt(timeU);
     const float sx = (2.0f * px * m_invWidth - 1.0f) * m_tanHalfY * m_aspect;
     const float sy = (1.0f - 2.0f * py * m_invHeight) * m_tanHalfY;
-    const Vec3 d = m_forward + m_right * sx + m_up * sy;  // camera-space z of d is 1
-    if (m_lensRadius <= 0.0f) return {m_position, normalize(d)};
+    const Vec3 d = b.forward + b.right * sx + b.up * sy;  // camera-space z of d is 1
+    if (m_lensRadius <= 0.0f) return {b.position, normalize(d), timeU};
     // Thin lens: aim at the point where the pinhole ray meets the plane of focus (PBR 6.2.3).
-    const Vec3 focus = m_position + d * m_focusDistance;
+    const Vec3 focus = b.position + d * m_focusDistance;
     const Vec2 disk = sampleConcentricDisk(lensU);
-    const Vec3 origin = m_position + (m_right * disk.x + m_up * disk.y) * m_lensRadius;
-    return {origin, normalize(focus - origin)};
+    const Vec3 origin = b.position + (b.right * disk.x + b.up * disk.y) * m_lensRadius;
+    return {origin, normalize(focus - origin), timeU};
 }
 
 }  // namespace glint::render

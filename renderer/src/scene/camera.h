@@ -1,4 +1,5 @@
-// Pinhole and thin-lens camera: raster position + lens sample → world ray.
+// Pinhole and thin-lens camera, optionally moving over the shutter: raster position + lens
+// sample + time sample → world ray.
 #pragma once
 
 #include "scene/scene_data.h"
@@ -6,10 +7,11 @@
 
 namespace glint::render {
 
-/// A ray with origin and (unit) direction.
+/// A ray with origin, (unit) direction and normalised shutter time (0 = open, 1 = close).
 struct Ray {
     Vec3 origin;
     Vec3 dir;
+    float time = 0.0f;
 };
 
 /// The camera of a scene at film resolution width × height.
@@ -17,14 +19,32 @@ class Camera {
   public:
     Camera(const detail::CameraDesc& desc, int width, int height);
 
-    /// Ray through raster point (px, py) (pixels, y down) and lens sample u in [0,1)^2.
-    Ray generateRay(float px, float py, Vec2 lensU) const;
-    /// Camera-space depth (distance along the view axis) of a world point.
-    float depth(const Vec3& p) const { return dot(p - m_position, m_forward); }
+    /// The camera ray of one sample: raster point (px, py) (pixels, y down), lens sample
+    /// lensU in [0,1)^2 (ignored by a pinhole) and time sample timeU in [0,1) (the normalised
+    /// shutter time, ray.time = timeU). Deterministic in its arguments, so any sampler (the
+    /// stratified pass sampler, MLT's primary sample space) can drive it.
+    Ray generateRay(float px, float py, Vec2 lensU, float timeU = 0.0f) const;
+    /// Camera-space depth (distance along the view axis) of a world point at shutter time `time`.
+    float depth(const Vec3& p, float time = 0.0f) const {
+        if (!m_moving) return dot(p - m_position, m_forward);
+        const Basis b = basisAt(time);
+        return dot(p - b.position, b.forward);
+    }
+    /// Position at shutter open.
     const Vec3& position() const { return m_position; }
+    /// True when the camera moves during the shutter.
+    bool moving() const { return m_moving; }
 
   private:
+    struct Basis {
+        Vec3 position, forward, right, up;
+    };
+    static Basis makeBasis(const Vec3& position, const Vec3& lookAt, const Vec3& up);
+    Basis basisAt(float time) const;
+
     Vec3 m_position, m_forward, m_right, m_up;
+    bool m_moving = false;
+    Vec3 m_upHint, m_lookAt, m_endPosition, m_endLookAt;
     float m_tanHalfY = 0.0f, m_aspect = 1.0f;
     float m_lensRadius = 0.0f, m_focusDistance = 1.0f;
     float m_invWidth = 1.0f, m_invHeight = 1.0f;

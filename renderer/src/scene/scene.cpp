@@ -2,7 +2,36 @@
 
 #include "scene/scene_data.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace glint::render {
+
+namespace detail {
+
+TriangleView SceneData::poseMoving(std::size_t t, float time, PosedTriangle& scratch) const {
+    const ShapeMotion& motion = motions[std::size_t(triangleMotion[t])];
+    // Step k and fraction within it, as Embree interpolates between time steps.
+    const int segments = int(motion.steps.size()) - 1;
+    const float f = std::clamp(time, 0.0f, 1.0f) * float(segments);
+    const int k = std::min(int(f), segments - 1);
+    const float frac = f - float(k);
+    const Affine& a = motion.steps[std::size_t(k)];
+    const Affine& b = motion.steps[std::size_t(k) + 1];
+    const std::size_t local = 3 * (t - motion.firstTriangle);
+    for (int v = 0; v < 3; ++v) {
+        const Vec3& x = motion.objectPositions[local + std::size_t(v)];
+        scratch.p[v] = lerp(frac, a.point(x), b.point(x));
+        const Vec3& n = motion.objectNormals[local + std::size_t(v)];
+        scratch.n[v] = lerp(frac, a.normal(n), b.normal(n));
+    }
+    const Vec3 n = cross(scratch.p[1] - scratch.p[0], scratch.p[2] - scratch.p[0]);
+    const float len = length(n);
+    return {scratch.p, normals.empty() ? nullptr : scratch.n,
+            len > 0.0f ? n / len : Vec3{0.0f, 0.0f, 1.0f}};
+}
+
+}  // namespace detail
 
 Scene::Scene() : m_data(std::make_unique<detail::SceneData>()) {}
 Scene::Scene(std::unique_ptr<detail::SceneData> data) : m_data(std::move(data)) {}

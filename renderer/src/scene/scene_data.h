@@ -9,6 +9,7 @@
 
 #include "glint/image/image.h"
 #include "glint/render/settings.h"
+#include "scene/transform.h"
 #include "vecmath.h"
 
 namespace glint::render::detail {
@@ -43,7 +44,8 @@ struct Texture {
     Vec3 lookup(Vec2 uv) const;
 };
 
-/// The camera of scene.json (shutter and motion parse for issue 4 and are otherwise unused).
+/// The camera of scene.json. With motion, position and lookAt move linearly from their values
+/// at shutter open to motionPosition / motionLookAt at shutter close (up stays fixed).
 struct CameraDesc {
     Vec3 position{0.0f, 0.0f, 0.0f};
     Vec3 lookAt{0.0f, 0.0f, -1.0f};
@@ -67,6 +69,30 @@ struct EnvironmentDesc {
     Image image;  ///< 3 channels, linear
 };
 
+/// A shape that moves during the shutter. Its triangles [firstTriangle, firstTriangle + count)
+/// keep their shutter-open pose in SceneData::positions / normals; the pose at time step k
+/// (normalised time k / (steps.size() - 1)) is steps[k] applied to the object-space vertices.
+/// Between steps the vertices move linearly, exactly as Embree's motion-blur triangles do.
+struct ShapeMotion {
+    std::uint32_t firstTriangle = 0, triangleCount = 0;
+    std::vector<Affine> steps;          ///< at least 2
+    std::vector<Vec3> objectPositions;  ///< 3 per triangle, object space
+    std::vector<Vec3> objectNormals;    ///< 3 per triangle (zero = none), object space
+};
+
+/// Scratch storage for the pose of a moving triangle (see SceneData::triangleAt).
+struct PosedTriangle {
+    Vec3 p[3], n[3];
+};
+
+/// A triangle at one instant: vertices, per-vertex shading normals (nullptr when the scene has
+/// none; a zero normal means none) and the unit geometric normal.
+struct TriangleView {
+    const Vec3* p;
+    const Vec3* n;
+    Vec3 ng;
+};
+
 /// Everything a Scene holds.
 struct SceneData {
     std::filesystem::path path;
@@ -85,8 +111,25 @@ struct SceneData {
     /// Unit geometric normal per triangle, cross(p1 - p0, p2 - p0) (+z for degenerate ones).
     std::vector<Vec3> faceNormals;
     EnvironmentDesc environment;
+    /// Moving shapes (empty for a static scene).
+    std::vector<ShapeMotion> motions;
+    /// Per triangle: index into motions or -1; empty when no shape moves.
+    std::vector<std::int32_t> triangleMotion;
 
     std::size_t triangleCount() const { return triangleMaterial.size(); }
+    /// True when a shape or the camera moves during the shutter.
+    bool hasMotion() const { return !motions.empty() || camera.hasMotion; }
+
+    /// Triangle t at normalised shutter time `time` in [0, 1]. Static triangles return views of
+    /// the scene arrays; moving ones are posed into `scratch` (which the view then points to).
+    TriangleView triangleAt(std::size_t t, float time, PosedTriangle& scratch) const {
+        const Vec3* n = normals.empty() ? nullptr : &normals[3 * t];
+        if (triangleMotion.empty() || triangleMotion[t] < 0)
+            return {&positions[3 * t], n, faceNormals[t]};
+        return poseMoving(t, time, scratch);
+    }
+    /// The moving-triangle case of triangleAt.
+    TriangleView poseMoving(std::size_t t, float time, PosedTriangle& scratch) const;
 };
 
 }  // namespace glint::render::detail

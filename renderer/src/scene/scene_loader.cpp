@@ -13,6 +13,7 @@
 #include "glint/render/scene.h"
 #include "scene/json_reader.h"
 #include "scene/scene_data.h"
+#include "scene/transform.h"
 
 namespace glint::render {
 
@@ -21,25 +22,12 @@ using nlohmann::json;
 
 namespace {
 
+using detail::Affine;
 using detail::JsonReader;
 using detail::Material;
 using detail::MaterialType;
 using detail::SceneData;
-
-/// An affine map: linear part m (row-major 3×3) plus translation; normals use nm.
-struct Affine {
-    float m[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-    float nm[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-    Vec3 t{};
-
-    Vec3 point(const Vec3& p) const { return linear(m, p) + t; }
-    Vec3 normal(const Vec3& n) const { return linear(nm, n); }
-    static Vec3 linear(const float a[3][3], const Vec3& v) {
-        return {a[0][0] * v.x + a[0][1] * v.y + a[0][2] * v.z,
-                a[1][0] * v.x + a[1][1] * v.y + a[1][2] * v.z,
-                a[2][0] * v.x + a[2][1] * v.y + a[2][2] * v.z};
-    }
-};
+using detail::TransformDesc;
 
 /// Loads the scene and remembers textures by path so each file is read once.
 class Loader {
@@ -56,7 +44,10 @@ class Loader {
     void readRender(const json& j, const std::string& where);
     Material readMaterial(const std::string& name, const json& j, const std::string& where);
     void readEnvironment(const json& j, const std::string& where);
-    Affine readTransform(const json& j, const std::string& where);
+    TransformDesc readTransform(const json& j, const std::string& where, const TransformDesc& base);
+    void addMotion(const TransformDesc& start, const TransformDesc& end, std::size_t firstTriangle,
+                   const std::vector<Vec3>& objectPositions, const std::vector<Vec3>& objectNormals,
+                   const std::string& where);
     void readShape(const json& j, const std::string& where);
     int texture(const fs::path& path, const std::string& where);
     int materialIndex(const std::string& name) const {
@@ -101,6 +92,7 @@ void Loader::load(const json& root) {
             readShape(shapes[i], "/shapes/" + std::to_string(i));
     }
     if (root.contains("environment")) readEnvironment(root["environment"], "/environment");
+    if (!m_scene.motions.empty()) m_scene.triangleMotion.resize(m_scene.triangleCount(), -1);
     // Keep per-vertex arrays only when some shape provided them.
     if (!m_hasNormals) m_scene.normals.clear();
     if (!m_hasUvs) m_scene.uvs.clear();
@@ -143,18 +135,33 @@ void Loader::readCamera(const json& j, const std::string& where) {
         if (!s.is_array() || s.size() != 2)
             m_reader.fail(where + "/shutter", "expected [open, close]");
         cam.shutterOpen = m_reader.number(s[0], where + "/shutter/0", -1e30, 1e30);
-        cam.shutterClose = m_reader.number(s[1], where + "/shutter/1", cam.shutterOpen, 1e30);
+        cam.shutterClose = m_reader.number(s[1], where + "/shutter/1", -1e30, 1e30);
+        if (cam.shutterClose < cam.shutterOpen)
+            m_reader.fail(where + "/shutter", "shutter close (" + json(s[1]).dump() +
+                                                  ") must not be before shutter open (" +
+                                                  json(s[0]).dump() + ")");
     }
     if (j.contains("motion")) {
         const json& m = j["motion"];
         m_reader.requireObject(m, where + "/motion", {"position", "lookAt"});
-        cam.hasMotion = true;
         cam.motionPosition = m.contains("position")
                                  ? m_reader.vec3(m["position"], where + "/motion/position")
                                  : cam.position;
         cam.motionLookAt = m.contains("lookAt")
                                ? m_reader.vec3(m["lookAt"], where + "/motion/lookAt")
                                : cam.lookAt;
+        cam.hasMotion = length(cam.motionPosition - cam.position) > 0.0f ||
+                        length(cam.motionLookAt - cam.lookAt) > 0.0f;
+        // The view direction must stay defined (and not along up) over the whole shutter.
+        for (int i = 0; i <= 64 && cam.hasMotion; ++i) {
+            const float tau = float(i) / 64.0f;
+            const Vec3 d = lerp(tau, cam.lookAt, cam.motionLookAt) -
+                           lerp(tau, cam.position, cam.motionPosition);
+            if (length(d) == 0.0f || length(cross(normalize(d), cam.up)) < 1e-6f)
+                m_reader.fail(where + "/motion",
+                              "the camera's view direction degenerates (zero or parallel to up) "
+                              "during the shutter");
+        }
     }
     if (length(cam.lookAt - cam.position) == 0.0f)
         m_reader.fail(where + "/lookAt", "lookAt must differ from position");
@@ -286,46 +293,58 @@ void Loader::readEnvironment(const json& j, const std::string& where) {
     env.kind = detail::EnvironmentDesc::Kind::Image;
 }
 
-Affine Loader::readTransform(const json& j, const std::string& where) {
+TransformDesc Loader::readTransform(const json& j, const std::string& where,
+                                    const TransformDesc& base) {
     m_reader.requireObject(j, where, {"translate", "rotate", "scale"});
-    Vec3 scale{1.0f, 1.0f, 1.0f};
+    TransformDesc desc = base;
     if (j.contains("scale")) {
         if (j["scale"].is_number()) {
             const float s = m_reader.number(j["scale"], where + "/scale", -1e30, 1e30);
-            scale = {s, s, s};
+            desc.scale = {s, s, s};
         } else {
-            scale = m_reader.vec3(j["scale"], where + "/scale");
+            desc.scale = m_reader.vec3(j["scale"], where + "/scale");
         }
-        if (scale.x == 0.0f || scale.y == 0.0f || scale.z == 0.0f)
+        if (desc.scale.x == 0.0f || desc.scale.y == 0.0f || desc.scale.z == 0.0f)
             m_reader.fail(where + "/scale", "scale factors must be non-zero");
     }
-    float r[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     if (j.contains("rotate")) {
         const json& rot = j["rotate"];
         if (!rot.is_array() || rot.size() != 2)
             m_reader.fail(where + "/rotate", "expected [degrees, [x, y, z]]");
-        const float deg = m_reader.number(rot[0], where + "/rotate/0", -1e6, 1e6);
-        Vec3 axis = m_reader.vec3(rot[1], where + "/rotate/1");
+        desc.degrees = m_reader.number(rot[0], where + "/rotate/0", -1e6, 1e6);
+        const Vec3 axis = m_reader.vec3(rot[1], where + "/rotate/1");
         if (length(axis) == 0.0f) m_reader.fail(where + "/rotate/1", "rotation axis is zero");
-        axis = normalize(axis);
-        // Rodrigues' rotation formula.
-        const float a = deg * kPi / 180.0f, c = std::cos(a), s = std::sin(a), t = 1.0f - c;
-        const float x = axis.x, y = axis.y, z = axis.z;
-        const float rr[3][3] = {{t * x * x + c, t * x * y - s * z, t * x * z + s * y},
-                                {t * x * y + s * z, t * y * y + c, t * y * z - s * x},
-                                {t * x * z - s * y, t * y * z + s * x, t * z * z + c}};
-        for (int i = 0; i < 3; ++i)
-            for (int k = 0; k < 3; ++k) r[i][k] = rr[i][k];
+        desc.axis = normalize(axis);
     }
-    Affine a;
-    // M = R S; normals transform by (M^-1)^T = R S^-1.
-    for (int i = 0; i < 3; ++i)
-        for (int k = 0; k < 3; ++k) {
-            a.m[i][k] = r[i][k] * scale[k];
-            a.nm[i][k] = r[i][k] / scale[k];
-        }
-    if (j.contains("translate")) a.t = m_reader.vec3(j["translate"], where + "/translate");
-    return a;
+    if (j.contains("translate"))
+        desc.translate = m_reader.vec3(j["translate"], where + "/translate");
+    return desc;
+}
+
+void Loader::addMotion(const TransformDesc& start, const TransformDesc& end,
+                       std::size_t firstTriangle, const std::vector<Vec3>& objectPositions,
+                       const std::vector<Vec3>& objectNormals, const std::string& where) {
+    for (std::size_t t = firstTriangle; t < m_scene.triangleCount(); ++t)
+        if (m_scene.materials[m_scene.triangleMaterial[t]].emissive())
+            m_reader.fail(where, "a moving shape must not be emissive (area lights are static)");
+    const detail::TransformMotion motion(start, end);
+    detail::ShapeMotion shape;
+    shape.firstTriangle = std::uint32_t(firstTriangle);
+    shape.triangleCount = std::uint32_t(m_scene.triangleCount() - firstTriangle);
+    const int steps = motion.timeSteps();
+    for (int k = 0; k < steps; ++k) shape.steps.push_back(motion.at(float(k) / float(steps - 1)));
+    shape.objectPositions = objectPositions;
+    shape.objectNormals = objectNormals;
+    // The scene arrays hold the shutter-open pose (step 0), for code that ignores motion.
+    for (std::size_t i = 0; i < objectPositions.size(); ++i) {
+        m_scene.positions[3 * firstTriangle + i] = shape.steps[0].point(objectPositions[i]);
+        const Vec3 n = shape.steps[0].normal(objectNormals[i]);
+        m_scene.normals[3 * firstTriangle + i] = length(n) > 0.0f ? normalize(n) : Vec3{};
+    }
+    m_scene.triangleMotion.resize(m_scene.triangleCount(), -1);
+    for (std::size_t t = firstTriangle; t < m_scene.triangleCount(); ++t)
+        m_scene.triangleMotion[t] = std::int32_t(m_scene.motions.size());
+    m_scene.motions.push_back(std::move(shape));
 }
 
 Material materialFromMtl(const tinyobj::material_t& mtl) {
@@ -357,9 +376,25 @@ void Loader::readShape(const json& j, const std::string& where) {
     if (!j.contains("obj")) m_reader.fail(where + "/obj", "missing required key 'obj'");
     const fs::path rel = m_reader.string(j["obj"], where + "/obj");
     const fs::path objPath = rel.is_absolute() ? rel : m_dir / rel;
-    const Affine xf =
-        j.contains("transform") ? readTransform(j["transform"], where + "/transform") : Affine{};
-    if (j.contains("motion")) readTransform(j["motion"], where + "/motion");  // issue 4: parsed
+    const TransformDesc start = j.contains("transform")
+                                    ? readTransform(j["transform"], where + "/transform", {})
+                                    : TransformDesc{};
+    // "motion" is the transform at shutter close; keys it omits keep their "transform" value.
+    bool moving = false;
+    TransformDesc end = start;
+    if (j.contains("motion")) {
+        end = readTransform(j["motion"], where + "/motion", start);
+        for (int c = 0; c < 3; ++c)
+            if ((start.scale[c] > 0.0f) != (end.scale[c] > 0.0f))
+                m_reader.fail(
+                    where + "/motion/scale",
+                    "scale must keep its sign over the shutter (it would pass through 0)");
+        moving = length(end.translate - start.translate) > 0.0f ||
+                 length(end.scale - start.scale) > 0.0f || end.degrees != start.degrees ||
+                 (start.degrees != 0.0f && length(end.axis - start.axis) > 0.0f);
+    }
+    const Affine xf = detail::toAffine(start);
+    std::vector<Vec3> objectPositions, objectNormals;  // kept only for a moving shape
     int overrideMaterial = -1;
     if (j.contains("material")) {
         const std::string name = m_reader.string(j["material"], where + "/material");
@@ -437,7 +472,11 @@ void Loader::readShape(const json& j, const std::string& where) {
                     const float* q = &attrib.normals[3 * std::size_t(idx.normal_index)];
                     n = xf.normal({q[0], q[1], q[2]});
                     if (length(n) > 0.0f) n = normalize(n), anyNormals = true;
+                    if (moving) objectNormals.push_back({q[0], q[1], q[2]});
+                } else if (moving) {
+                    objectNormals.push_back({});
                 }
+                if (moving) objectPositions.push_back({p[0], p[1], p[2]});
                 m_scene.normals.push_back(n);
                 Vec2 uv{};
                 if (idx.texcoord_index >= 0) {
@@ -453,6 +492,8 @@ void Loader::readShape(const json& j, const std::string& where) {
     }
     m_hasNormals = m_hasNormals || anyNormals;
     m_hasUvs = m_hasUvs || anyUvs;
+    if (moving && m_scene.triangleCount() > firstTriangle)
+        addMotion(start, end, firstTriangle, objectPositions, objectNormals, where + "/motion");
 
     // A shape whose emissive faces have no area cannot emit: reject it clearly.
     double emissiveArea = 0.0;

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <string>
 
+#include "glint/render/mlt_settings.h"
+
 namespace glint::render {
 
 /// Light-transport algorithm.
@@ -30,6 +32,7 @@ struct Settings {
     double timeLimit = 0.0;  ///< seconds; > 0 renders passes until time runs out
     int tileSize = 16;       ///< tile edge in pixels
     bool position = false;   ///< also produce the optional world-space position layer
+    MltSettings mlt;         ///< Metropolis parameters (integrator == Mlt)
 };
 
 /// Parses "path" / "mlt"; throws glint::Error(InvalidArgument).

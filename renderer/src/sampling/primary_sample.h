@@ -1,0 +1,146 @@
+// The primary-sample-space state of one Metropolis chain (Kelemen et al. 2002): a path is the
+// point of the unit hypercube holding every random number the path integrator consumed. The
+// vector grows lazily, and every coordinate remembers when it was last brought up to date, so a
+// mutation costs only as much as the coordinates the new path actually reads.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+#include "sampling/rng.h"
+
+namespace glint::render {
+
+/// The mutation strategies of the Metropolis integrator.
+enum class MutationKind : int { Large = 0, Small = 1, Lens = 2, Light = 3 };
+inline constexpr int kMutationKinds = 4;
+
+/// Name of a mutation kind ("large", "small", "lens", "light").
+const char* mutationName(MutationKind kind);
+
+/// Reserved coordinates of the camera sample; the path and light streams follow, interleaved.
+inline constexpr int kFilmX = 0, kFilmY = 1, kLensU = 2, kLensV = 3, kTime = 4;
+inline constexpr int kCameraDims = 5;
+
+/// Perturbation sizes of Kelemen's exponential kernel, log-uniform magnitudes in [s1, s2].
+struct PerturbationSize {
+    float s1 = 1.0f / 1024.0f;
+    float s2 = 1.0f / 64.0f;
+};
+
+/// Sizes of every mutation kind, in the unit interval of each coordinate.
+struct MutationSizes {
+    PerturbationSize small;   ///< small step, every coordinate
+    PerturbationSize lensX;   ///< lens perturbation of film x (pixels / width)
+    PerturbationSize lensY;   ///< lens perturbation of film y (pixels / height)
+    PerturbationSize light;   ///< light perturbation of light-stream coordinates
+};
+
+/// One chain's primary sample vector with lazy large/small-step bookkeeping (the scheme of
+/// Kelemen et al. 2002, sec. 4, as pbrt-v3 sec. 16.4.3 describes it). Coordinate layout: the
+/// five camera coordinates (film x, y, lens u, v, time), then the path stream (BSDF and
+/// Russian-roulette numbers) at even and the light stream (next-event estimation: light choice
+/// and point on the light) at odd offsets, so a light perturbation can touch only the latter.
+class PrimarySampleSampler {
+  public:
+    /// A chain whose uniform numbers come from the stream `key`.
+    PrimarySampleSampler(std::uint64_t key, const MutationSizes& sizes);
+
+    /// Continues with the random stream `key` (after the initial state was reproduced).
+    void reseed(std::uint64_t key) { m_rng = Rng(key); }
+    /// The chain's generator, also used for mutation choice and acceptance.
+    Rng& rng() { return m_rng; }
+
+    /// Begins a proposal of the given kind; the coordinates read next are the proposed state.
+    void startIteration(MutationKind kind);
+    /// Keeps the proposed state.
+    void accept();
+    /// Restores the state before startIteration.
+    void reject();
+
+    /// Sets camera coordinate `dim` of the current large-step proposal to `value` instead of a
+    /// uniform number (stratified bootstrap film positions); call before the path reads it.
+    void setCamera(int dim, float value);
+    /// Camera coordinate `dim` (kFilmX ... kTime).
+    float camera(int dim) { return get(std::size_t(dim), Stream::Camera); }
+    /// Next path-stream number (BSDF sampling, Russian roulette).
+    float uniform() { return get(kCameraDims + 2 * std::size_t(m_pathIndex++), Stream::Path); }
+    /// Next light-stream number (next-event estimation).
+    float uniformLight() {
+        return get(kCameraDims + 2 * std::size_t(m_lightIndex++) + 1, Stream::Light);
+    }
+
+    /// Number of coordinates materialised so far (for tests).
+    std::size_t dimensions() const { return m_x.size(); }
+
+  private:
+    enum class Stream { Camera, Path, Light };
+    /// Counts of iterations per mutation kind (unsigned: differences stay right on wrap-around).
+    using Counts = std::array<std::uint32_t, kMutationKinds>;
+    struct Coordinate {
+        float value = 0.0f;
+        float backupValue = 0.0f;
+        std::int64_t largeIteration = INT64_MIN;  // large step it was last drawn in
+        std::int64_t backupLarge = INT64_MIN;
+        std::int64_t touched = -1;  // iteration it was last backed up in
+        Counts seen{};              // mutation counts it has caught up with
+        Counts backupSeen{};
+    };
+    /// Kelemen's kernel with precomputed constants.
+    struct Kernel {
+        float s2 = 0.0f, log2Ratio = 0.0f;  // dv = s2 · 2^(−log2(s2/s1) u)
+        double variance = 0.0;              // E[dv²], for the Gaussian catch-up
+    };
+
+    /// Coordinate `index` of the current proposal (fast path: already read in this iteration
+    /// or caught up from one pending small step; the rest in getSlow).
+    float get(std::size_t index, Stream stream) {
+        if (index < m_x.size()) {
+            Coordinate& c = m_x[index];
+            if (c.touched == m_iteration) return c.value;
+        }
+        return getSlow(index, stream);
+    }
+    float getSlow(std::size_t index, Stream stream);
+    /// 2^t for t in (−126, 0]: exponent bits plus a cubic for the fraction (relative error
+    /// ~1e-4). Only perturbation magnitudes use it: any symmetric kernel keeps the chain exact.
+    static float fastExp2Negative(float t) {
+        const float fl = std::floor(t);
+        const float f = t - fl;
+        const float p = 1.0f + f * (0.6960656f + f * (0.2244012f + f * 0.0794220f));
+        const std::uint32_t bits = std::uint32_t(int(fl) + 127) << 23;
+        float scale;
+        std::memcpy(&scale, &bits, sizeof scale);
+        return p * scale;
+    }
+    /// One kernel step applied to x in [0, 1), wrapped around.
+    float step(float x, const Kernel& k) {
+        const std::uint64_t bits = m_rng.nextU64();
+        const float u = float(bits >> 40) * 0x1p-24f;
+        const float dv = k.s2 * fastExp2Negative(-k.log2Ratio * u);
+        x += (bits & 1u) ? dv : -dv;
+        if (x < 0.0f) x += 1.0f;
+        if (x >= 1.0f) x -= 1.0f;
+        return x < 1.0f && x >= 0.0f ? x : 0.0f;
+    }
+    /// Catches up with nSmall small steps and nOther steps of kernel `other` (exactly for few
+    /// steps, else by the central-limit Gaussian of the same variance).
+    float catchUp(float x, std::uint32_t nSmall, std::uint32_t nOther, const Kernel* other);
+    static Kernel makeKernel(const PerturbationSize& size);
+
+    Rng m_rng;
+    Kernel m_small, m_lensX, m_lensY, m_light;
+    std::vector<Coordinate> m_x;
+    std::vector<std::uint32_t> m_touchedList;
+    std::int64_t m_iteration = -1;
+    MutationKind m_kind = MutationKind::Large;
+    Counts m_count{};               // iterations of each kind started so far
+    std::int64_t m_lastLarge = -1;  // iteration of the last accepted large step
+    Counts m_countAtLarge{};        // m_count when that large step was accepted
+    int m_pathIndex = 0, m_lightIndex = 0;
+};
+
+}  // namespace glint::render
