@@ -17,8 +17,8 @@
 #include "embree/embree_scene.h"
 #include "film/film.h"
 #include "glint/image/error.h"
-#include "integrators/path_integrator.h"
 #include "integrators/mlt_integrator.h"
+#include "integrators/path_integrator.h"
 #include "lights/light_sampler.h"
 #include "sampling/rng.h"
 #include "sampling/warp.h"
@@ -97,8 +97,7 @@ FrameBuffers Renderer::render(const Settings& settings, const Callbacks& callbac
         // its variance from the Metropolis chains.
         validateMlt(settings.mlt);
         FrameBuffers features = render(mltFeatureSettings(settings));
-        MltIntegrator mlt(m_scene.data(), m_impl->embree, m_impl->lights, m_impl->camera,
-                          settings);
+        MltIntegrator mlt(m_scene.data(), m_impl->embree, m_impl->lights, m_impl->camera, settings);
         return mlt.render(std::move(features), callbacks, m_stats);
     }
     const detail::SceneData& data = m_scene.data();

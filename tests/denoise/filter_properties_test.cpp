@@ -94,13 +94,14 @@ TEST_P(FilterProperties, FiniteInputGivesFiniteOutput) {
 
 TEST_P(FilterProperties, NonFiniteInputDoesNotSpreadBeyondMargin) {
     const Filter& f = filter();
-    const int w = 40, h = 36;
+    // The frame is sized from the margin so that a band of pixels lies beyond it.
+    const int margin = f.margin(resolveParams(f, {}));
+    const int w = 2 * margin + 14, h = 2 * margin + 12;
     const FrameBuffers clean = syntheticFrame(w, h, 0.05f);
     FrameBuffers dirty = clean;
-    const int nx = 9, ny = 8, ix = 30, iy = 27;
+    const int nx = 1, ny = 2, ix = w - 2, iy = h - 1;
     dirty.color()(nx, ny, 1) = std::numeric_limits<float>::quiet_NaN();
     dirty.color()(ix, iy, 0) = std::numeric_limits<float>::infinity();
-    const int margin = f.margin(resolveParams(f, {}));
     const Image a = applyFilter(f, clean, {});
     const Image b = applyFilter(f, dirty, {});
     EXPECT_TRUE(allFinite(b)) << "non-finite pixels must count as missing, not propagate";
@@ -115,7 +116,7 @@ TEST_P(FilterProperties, NonFiniteInputDoesNotSpreadBeyondMargin) {
                 ASSERT_NEAR(b(x, y, c), a(x, y, c), 1e-5 * (1.0 + std::fabs(a(x, y, c))))
                     << "pixel (" << x << "," << y << ") beyond margin " << margin;
         }
-    if (compared == 0) GTEST_SKIP() << "margin " << margin << " covers the whole test frame";
+    EXPECT_GT(compared, 0) << "margin " << margin << " covers the whole test frame";
 }
 
 TEST_P(FilterProperties, RoiEqualsSameRegionOfFullOutput) {

@@ -111,10 +111,11 @@ TEST(MotionBlur, FeatureVarianceShowsPartTimeCoverage) {
     for (Layer l : {Layer::AlbedoVariance, Layer::NormalVariance, Layer::DepthVariance}) {
         const Image& v = f.layer(l);
         const int c = l == Layer::NormalVariance ? 2 : 0;  // normal (0, 0, 1): its z varies
-        // Always-covered pixels vary only by float rounding of the hit point (depth ~1e-15);
-        // a coverage-0.5 pixel has variance of the mean 0.25 q² / 64 for a feature jumping by q
-        // (q = 1 for albedo and normal z, 10 for depth): at least 0.0039, or ~0.002 after a
-        // stratified pixel's luckiest split, so 1e-3 separates the cases.
+        // Always-covered pixels vary only by float rounding of the hit point (depth ~1e-15).
+        // A coverage-0.5 pixel with k hits of 64 samples has variance of the mean
+        // q² k (64 − k) / (63 · 64²) for a feature jumping by q (1 for albedo and normal z, 10 for
+        // depth): ≥ 0.0029 q² for 16 ≤ k ≤ 48 (stratified time keeps k near 32), so 1e-3
+        // separates the cases.
         for (int y = 0; y < kHeight; ++y) {
             EXPECT_LT(v(2, y, c), 1e-9f) << layerInfo(l).name;
             EXPECT_GT(v(19, y, c), 1e-3f) << layerInfo(l).name;

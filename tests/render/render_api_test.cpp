@@ -125,18 +125,20 @@ TEST(Renderer, ProgressAndPassCallbacks) {
     EXPECT_EQ(passes, 4);  // 1 + 1 + 2 + 4 spp
 }
 
-TEST(Renderer, RejectsBadSettingsAndMlt) {
+TEST(Renderer, RejectsBadSettings) {
     Renderer renderer(cornell(8));
     Settings s = renderer.scene().settings();
     s.spp = -1;
     EXPECT_THROW(renderer.render(s), Error);
+    // Bad Metropolis parameters (more in mlt_test.cpp).
     s.spp = 1;
     s.integrator = Integrator::Mlt;
+    s.mlt.chains = 17;  // not a multiple of the 16 groups
     try {
         renderer.render(s);
-        FAIL() << "mlt should not be implemented yet";
+        FAIL() << "chains must be a multiple of groups";
     } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("issue 4"), std::string::npos);
+        EXPECT_NE(std::string(e.what()).find("multiple of groups"), std::string::npos);
     }
 }
 

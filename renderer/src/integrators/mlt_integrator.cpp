@@ -128,8 +128,7 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
     m_mltStats = MltStats{};
     std::atomic<bool> cancelled{false};
     std::mutex callbackMutex;
-    const int threads =
-        m_settings.threads > 0 ? m_settings.threads : tbb::task_arena::automatic;
+    const int threads = m_settings.threads > 0 ? m_settings.threads : tbb::task_arena::automatic;
     tbb::task_arena arena(threads);
 
     MutationSizes sizes;
@@ -164,14 +163,14 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
     // where bright things (a visible light) are on screen.
     auto startBootstrapSample = [&](PrimarySampleSampler& sampler, std::int64_t i) {
         sampler.startIteration(MutationKind::Large);
-        const double s = (double(i) + double(sampler.rng().uniform())) / double(nBoot) *
-                         double(pixels);
+        const double s =
+            (double(i) + double(sampler.rng().uniform())) / double(nBoot) * double(pixels);
         const double pixel = std::min(std::floor(s), double(pixels) - 1.0);
         const auto pi = std::uint64_t(pixel);
         const double fx = (double(pi % std::uint64_t(width)) + (s - pixel)) / double(width);
         sampler.setCamera(kFilmX, std::min(float(fx), 0x1.fffffep-1f));
-        const double fy = (double(pi / std::uint64_t(width)) + sampler.camera(kFilmY)) /
-                          double(height);
+        const double fy =
+            (double(pi / std::uint64_t(width)) + sampler.camera(kFilmY)) / double(height);
         sampler.setCamera(kFilmY, std::min(float(fy), 0x1.fffffep-1f));
     };
     std::vector<float> bootF(std::size_t(nBoot), 0.0f);
@@ -192,21 +191,28 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
         });
     });
     std::vector<double> bootCdf(std::size_t(nBoot) + 1, 0.0);
-    double sumSq = 0.0;
     for (std::int64_t i = 0; i < nBoot; ++i) {
         bootCdf[std::size_t(i) + 1] = bootCdf[std::size_t(i)] + bootF[std::size_t(i)];
-        sumSq += double(bootF[std::size_t(i)]) * bootF[std::size_t(i)];
     }
     const double b = bootCdf.back() / double(nBoot);
     m_mltStats.b = b;
     m_mltStats.bootstrap = std::uint64_t(nBoot);
     if (b > 0.0 && nBoot > 1) {
-        const double var = (sumSq / double(nBoot) - b * b) * double(nBoot) / double(nBoot - 1);
-        m_mltStats.bRelStdErr = std::sqrt(std::max(0.0, var) / double(nBoot)) / b;
+        // Standard error of a stratified mean from differences of neighbouring strata:
+        // Var(b) ≈ Σ_k (f_2k − f_2k+1)² / N² (pairs of adjacent strata; slightly conservative).
+        double pairSum = 0.0;
+        for (std::int64_t i = 0; i + 1 < nBoot; i += 2) {
+            const double d = double(bootF[std::size_t(i)]) - bootF[std::size_t(i) + 1];
+            pairSum += d * d;
+        }
+        const double pairs = double(nBoot / 2);
+        m_mltStats.bRelStdErr =
+            std::sqrt(pairSum / pairs * (double(nBoot) / 2.0)) / double(nBoot) / b;
     }
     std::uint64_t rays = 0;
     std::int64_t nonFinite = 0;
-    for (std::size_t k = 0; k < bootRays.size(); ++k) rays += bootRays[k], nonFinite += bootNonFinite[k];
+    for (std::size_t k = 0; k < bootRays.size(); ++k)
+        rays += bootRays[k], nonFinite += bootNonFinite[k];
 
     // 2. Chains start from bootstrap samples drawn in proportion to f (resampling removes
     //    start-up bias), each reproduced exactly from the bootstrap sample's stream and then
@@ -223,7 +229,10 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
             std::size_t index = std::size_t(it - bootCdf.begin()) - 1;
             index = std::min(index, std::size_t(nBoot) - 1);
             chains.push_back({PrimarySampleSampler(streamKey(seed, kBootstrapSlot, index), sizes),
-                              std::int64_t(index), {}, {}, 0.0f});
+                              std::int64_t(index),
+                              {},
+                              {},
+                              0.0f});
         }
         arena.execute([&] {
             tbb::parallel_for(0, nGroups, [&](int g) {
@@ -254,7 +263,6 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
     double secondsPerSpp = 0.0;
     const float invB = b > 0.0 ? float(1.0 / b) : 0.0f;
     const double fullScale = double(pixels);
-    FrameBuffers result;
     std::vector<Image> snapshot;  // colour + variance of the last completed pass
 
     auto resolve = [&](FrameBuffers frame) {
@@ -263,22 +271,22 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
         color.fill(0.0f);
         variance.fill(0.0f);
         if (perChainDone > 0) {
-            // Pixel value of a group: (pixels / M_g) Σ splats (Kelemen et al. 2002, eq. 9 with
-            // the film's pixel filter as a box); the image is the mean of the group images and
-            // its variance of the mean the batch-means estimate Σ (I_g − Ī)² / (K (K − 1)).
+            // Pixel value of a group: (pixels / M_g) Σ splats (Kelemen et al. 2002, sec. 5, with
+            // a box pixel filter); the image is the mean of the group images and its variance
+            // of the mean the batch-means estimate Σ (I_g − Ī)² / (K (K − 1)).
             const double mg = double(perChainDone) * double(nChains / nGroups);
             const double scale = fullScale / mg;
             const double k = double(nGroups);
             for (std::size_t p = 0; p < pixels; ++p)
                 for (int c = 0; c < 3; ++c) {
                     double s = 0.0, s2 = 0.0;
-                    for (const Group& g : groups) {
-                        const double v = g.sum[3 * p + std::size_t(c)] * scale;
-                        s += v;
-                        s2 += v * v;
-                    }
+                    for (const Group& g : groups) s += g.sum[3 * p + std::size_t(c)] * scale;
                     const double mean = s / k;
-                    const double var = std::max(0.0, (s2 - k * mean * mean) / (k * (k - 1.0)));
+                    for (const Group& g : groups) {
+                        const double d = g.sum[3 * p + std::size_t(c)] * scale - mean;
+                        s2 += d * d;
+                    }
+                    const double var = s2 / (k * (k - 1.0));
                     const int x = int(p % std::size_t(width)), y = int(p / std::size_t(width));
                     color(x, y, c) = float(mean);
                     variance(x, y, c) = float(var);
@@ -338,7 +346,8 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
                                 const float large = kind == 0 ? 1.0f : 0.0f;
                                 if (fy > 0.0f) splat(ry, ly * ((a + large) / (fy * invB + pLarge)));
                                 if (a < 1.0f && ch.f > 0.0f)
-                                    splat(ch.raster, ch.radiance * ((1.0f - a) / (ch.f * invB + pLarge)));
+                                    splat(ch.raster,
+                                          ch.radiance * ((1.0f - a) / (ch.f * invB + pLarge)));
                                 ++group.proposed[std::size_t(kind)];
                                 // Metropolis–Hastings acceptance with a symmetric proposal.
                                 if (sampler.rng().uniform() < a) {
@@ -376,7 +385,9 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
     }
 
     // Result: the last completed pass (a cancelled pass is not included).
-    result = std::move(features);
+    // A black image (b = 0) needs no chains: it is exactly zero for the whole budget.
+    if (chains.empty() && !timed) done = spp;
+    FrameBuffers result = std::move(features);
     if (snapshot.empty()) {
         result.color().fill(0.0f);
         result.ensure(Layer::Variance).fill(0.0f);
@@ -401,8 +412,8 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
     meta.spp = done;
     meta.integrator = integratorName(Integrator::Mlt);
     meta.nonFiniteSamples += nonFinite;
-    meta.extra["mltVariance"] = "batch-means over " + std::to_string(nGroups) +
-                                " groups of " + std::to_string(nChains / nGroups) + " chains";
+    meta.extra["mltVariance"] = "batch-means over " + std::to_string(nGroups) + " groups of " +
+                                std::to_string(nChains / nGroups) + " chains";
     meta.extra["mltSampleCount"] = "feature pass";
     meta.extra["mltB"] = formatDouble(b);
     meta.extra["mltBRelStdErr"] = formatDouble(ms.bRelStdErr);
@@ -412,10 +423,9 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
     meta.extra["mltMutationsPerSecond"] =
         formatDouble(ms.mutationSeconds > 0.0 ? double(ms.mutations) / ms.mutationSeconds : 0.0);
     meta.extra["mltFeatureSpp"] = std::to_string(mlt.featureSpp);
-    meta.extra["mltProbabilities"] = formatDouble(weight[0] / weightSum) + " " +
-                                     formatDouble(weight[1] / weightSum) + " " +
-                                     formatDouble(weight[2] / weightSum) + " " +
-                                     formatDouble(weight[3] / weightSum);
+    meta.extra["mltProbabilities"] =
+        formatDouble(weight[0] / weightSum) + " " + formatDouble(weight[1] / weightSum) + " " +
+        formatDouble(weight[2] / weightSum) + " " + formatDouble(weight[3] / weightSum);
     for (int k = 0; k < kMutationKinds; ++k) {
         std::string name = mutationName(MutationKind(k));
         name[0] = char(std::toupper(static_cast<unsigned char>(name[0])));

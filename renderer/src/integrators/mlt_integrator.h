@@ -30,8 +30,8 @@ struct MltStats {
     std::array<std::uint64_t, kMutationKinds> accepted{};
     std::uint64_t mutations = 0;
     std::uint64_t bootstrap = 0;
-    double b = 0.0;             ///< mean luminance of the image (bootstrap estimate)
-    double bRelStdErr = 0.0;    ///< relative standard error of b
+    double b = 0.0;           ///< mean luminance of the image (bootstrap estimate)
+    double bRelStdErr = 0.0;  ///< relative standard error of b
     double mutationSeconds = 0.0;
 };
 
@@ -51,8 +51,8 @@ class MltIntegrator {
 
   private:
     /// Evaluates the path of the sampler's current proposal: contribution L, film point.
-    void evaluate(PrimarySampleSampler& sampler, Vec3& radiance, Vec2& raster,
-                  std::uint64_t& rays, std::int64_t& nonFinite) const;
+    void evaluate(PrimarySampleSampler& sampler, Vec3& radiance, Vec2& raster, std::uint64_t& rays,
+                  std::int64_t& nonFinite) const;
 
     const detail::SceneData& m_scene;
     const Camera& m_camera;

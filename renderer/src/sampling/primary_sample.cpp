@@ -6,10 +6,14 @@ namespace glint::render {
 
 const char* mutationName(MutationKind kind) {
     switch (kind) {
-        case MutationKind::Large: return "large";
-        case MutationKind::Small: return "small";
-        case MutationKind::Lens: return "lens";
-        case MutationKind::Light: return "light";
+        case MutationKind::Large:
+            return "large";
+        case MutationKind::Small:
+            return "small";
+        case MutationKind::Lens:
+            return "lens";
+        case MutationKind::Light:
+            return "light";
     }
     return "?";
 }
@@ -53,6 +57,12 @@ void PrimarySampleSampler::accept() {
 }
 
 void PrimarySampleSampler::reject() {
+    // The rejected step never happened: only accepted steps count as pending perturbations of
+    // coordinates the path did not read, exactly as if every coordinate had been perturbed and
+    // restored (an eager update). Counting rejected iterations too would make the step size
+    // grow while the chain is stuck, a history-dependent proposal that under-samples bright
+    // states.
+    --m_count[int(m_kind)];
     for (const std::uint32_t i : m_touchedList) {
         Coordinate& c = m_x[i];
         c.value = c.backupValue;
@@ -74,11 +84,7 @@ float PrimarySampleSampler::getSlow(std::size_t index, Stream stream) {
     if (c.touched == m_iteration) return c.value;
 
     // Back up the state before this proposal (possibly stale: a stale value is "any uniform").
-    c.touched = m_iteration;
-    c.backupValue = c.value;
-    c.backupLarge = c.largeIteration;
-    c.backupSeen = c.seen;
-    m_touchedList.push_back(std::uint32_t(index));
+    backup(c, index);
 
     // Large step, or a coordinate untouched since the last accepted large step replaced the
     // whole vector: a fresh uniform number (perturbing a uniform number keeps it uniform).
@@ -104,7 +110,7 @@ float PrimarySampleSampler::getSlow(std::size_t index, Stream stream) {
         nOther = m_count[kLens] - c.seen[kLens];
         other = index == std::size_t(kFilmX)   ? &m_lensX
                 : index == std::size_t(kFilmY) ? &m_lensY
-                                                : &m_small;
+                                               : &m_small;
     }
     c.value = catchUp(c.value, nSmall, nOther, other);
     c.seen = m_count;

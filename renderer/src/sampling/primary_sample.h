@@ -33,10 +33,10 @@ struct PerturbationSize {
 
 /// Sizes of every mutation kind, in the unit interval of each coordinate.
 struct MutationSizes {
-    PerturbationSize small;   ///< small step, every coordinate
-    PerturbationSize lensX;   ///< lens perturbation of film x (pixels / width)
-    PerturbationSize lensY;   ///< lens perturbation of film y (pixels / height)
-    PerturbationSize light;   ///< light perturbation of light-stream coordinates
+    PerturbationSize small;  ///< small step, every coordinate
+    PerturbationSize lensX;  ///< lens perturbation of film x (pixels / width)
+    PerturbationSize lensY;  ///< lens perturbation of film y (pixels / height)
+    PerturbationSize light;  ///< light perturbation of light-stream coordinates
 };
 
 /// One chain's primary sample vector with lazy large/small-step bookkeeping (the scheme of
@@ -95,14 +95,37 @@ class PrimarySampleSampler {
         double variance = 0.0;              // E[dv²], for the Gaussian catch-up
     };
 
-    /// Coordinate `index` of the current proposal (fast path: already read in this iteration
-    /// or caught up from one pending small step; the rest in getSlow).
+    /// Coordinate `index` of the current proposal. Inline fast path for the common case of a
+    /// path- or light-stream number read in the previous accepted state (at most one pending
+    /// step); everything else (growth, stale numbers, large steps, catch-up) in getSlow.
     float get(std::size_t index, Stream stream) {
         if (index < m_x.size()) {
             Coordinate& c = m_x[index];
             if (c.touched == m_iteration) return c.value;
+            if (stream != Stream::Camera && m_kind != MutationKind::Large &&
+                c.largeIteration >= m_lastLarge) {
+                constexpr int kSmall = int(MutationKind::Small), kLight = int(MutationKind::Light);
+                const std::uint32_t nSmall = m_count[kSmall] - c.seen[kSmall];
+                const std::uint32_t nLight =
+                    stream == Stream::Light ? m_count[kLight] - c.seen[kLight] : 0u;
+                if (nSmall + nLight <= 1) {
+                    backup(c, index);
+                    if (nSmall) c.value = step(c.value, m_small);
+                    if (nLight) c.value = step(c.value, m_light);
+                    c.seen = m_count;
+                    return c.value;
+                }
+            }
         }
         return getSlow(index, stream);
+    }
+    /// Records the coordinate's state before this proposal, for reject().
+    void backup(Coordinate& c, std::size_t index) {
+        c.touched = m_iteration;
+        c.backupValue = c.value;
+        c.backupLarge = c.largeIteration;
+        c.backupSeen = c.seen;
+        m_touchedList.push_back(std::uint32_t(index));
     }
     float getSlow(std::size_t index, Stream stream);
     /// 2^t for t in (−126, 0]: exponent bits plus a cubic for the fraction (relative error
@@ -137,7 +160,7 @@ class PrimarySampleSampler {
     std::vector<std::uint32_t> m_touchedList;
     std::int64_t m_iteration = -1;
     MutationKind m_kind = MutationKind::Large;
-    Counts m_count{};               // iterations of each kind started so far
+    Counts m_count{};               // accepted iterations of each kind (+ the current one)
     std::int64_t m_lastLarge = -1;  // iteration of the last accepted large step
     Counts m_countAtLarge{};        // m_count when that large step was accepted
     int m_pathIndex = 0, m_lightIndex = 0;

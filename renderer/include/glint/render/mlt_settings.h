@@ -21,7 +21,7 @@ struct MltSettings {
     double lightS1 = 1.0 / 256.0, lightS2 = 1.0 / 8.0;
     std::int64_t bootstrap = 100000;  ///< uniform paths that estimate b and seed the chains
     int chains = 512;                 ///< independent Markov chains
-    int groups = 16;  ///< batches of chains for the batch-means variance (divides chains)
+    int groups = 16;     ///< batches of chains for the batch-means variance (divides chains)
     int featureSpp = 4;  ///< spp of the path-traced pass that provides the feature layers
 };
 
