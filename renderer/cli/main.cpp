@@ -99,6 +99,11 @@ int run(const Options& opt) {
         glint::render::validate(settings);
         return 0;
     });
+    if (settings.integrator == glint::render::Integrator::Mlt)
+        option("--mlt-*", [&] {
+            glint::render::validateMlt(settings.mlt);
+            return 0;
+        });
 
     std::optional<glint::Image> reference;
     if (!opt.reference.empty()) {

@@ -18,9 +18,6 @@
 
 namespace glint::render {
 
-/// Throws glint::Error(InvalidArgument) naming the first out-of-range Metropolis parameter.
-void validateMlt(const MltSettings& mlt);
-
 /// The settings of the short path-traced pass that gives an MLT frame its feature layers.
 Settings mltFeatureSettings(const Settings& settings);
 

@@ -40,7 +40,8 @@ struct MutationSizes {
 };
 
 /// One chain's primary sample vector with lazy large/small-step bookkeeping (the scheme of
-/// Kelemen et al. 2002, sec. 4, as pbrt-v3 sec. 16.4.3 describes it). Coordinate layout: the
+/// Kelemen et al. 2002, sec. 4, as pbrt-v3 sec. 16.4.3 describes it, except that only accepted
+/// steps count as pending perturbations: see docs/metropolis.md). Coordinate layout: the
 /// five camera coordinates (film x, y, lens u, v, time), then the path stream (BSDF and
 /// Russian-roulette numbers) at even and the light stream (next-event estimation: light choice
 /// and point on the light) at odd offsets, so a light perturbation can touch only the latter.

@@ -25,4 +25,7 @@ struct MltSettings {
     int featureSpp = 4;  ///< spp of the path-traced pass that provides the feature layers
 };
 
+/// Throws glint::Error(InvalidArgument) naming the first out-of-range Metropolis parameter.
+void validateMlt(const MltSettings& mlt);
+
 }  // namespace glint::render
