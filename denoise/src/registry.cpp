@@ -36,7 +36,8 @@ const Filter& findFilter(std::string_view name) {
     for (const Filter* f : allFilters())
         if (f->name() == name) return *f;
     std::string valid;
-    for (const Filter* f : allFilters()) valid += (valid.empty() ? "" : ", ") + std::string(f->name());
+    for (const Filter* f : allFilters())
+        valid += (valid.empty() ? "" : ", ") + std::string(f->name());
     throw Error(ErrorKind::InvalidArgument,
                 "unknown filter '" + std::string(name) + "'; valid filters: " + valid);
 }

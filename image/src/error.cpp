@@ -4,12 +4,18 @@ namespace glint {
 
 const char* errorKindName(ErrorKind kind) {
     switch (kind) {
-        case ErrorKind::Io: return "io";
-        case ErrorKind::Format: return "format";
-        case ErrorKind::InvalidArgument: return "invalid-argument";
-        case ErrorKind::Numeric: return "numeric";
-        case ErrorKind::Cancelled: return "cancelled";
-        case ErrorKind::Internal: return "internal";
+        case ErrorKind::Io:
+            return "io";
+        case ErrorKind::Format:
+            return "format";
+        case ErrorKind::InvalidArgument:
+            return "invalid-argument";
+        case ErrorKind::Numeric:
+            return "numeric";
+        case ErrorKind::Cancelled:
+            return "cancelled";
+        case ErrorKind::Internal:
+            return "internal";
     }
     return "unknown";
 }

@@ -19,7 +19,9 @@ constexpr std::array<LayerInfo, kLayerCount> kLayers{{
 }};
 }  // namespace
 
-const LayerInfo& layerInfo(Layer layer) { return kLayers[int(layer)]; }
+const LayerInfo& layerInfo(Layer layer) {
+    return kLayers[int(layer)];
+}
 
 std::string channelName(Layer layer, int c) {
     const LayerInfo& info = layerInfo(layer);
@@ -30,21 +32,31 @@ std::string channelName(Layer layer, int c) {
 
 std::optional<Layer> varianceOf(Layer layer) {
     switch (layer) {
-        case Layer::Variance: return Layer::Color;
-        case Layer::AlbedoVariance: return Layer::Albedo;
-        case Layer::NormalVariance: return Layer::Normal;
-        case Layer::DepthVariance: return Layer::Depth;
-        default: return std::nullopt;
+        case Layer::Variance:
+            return Layer::Color;
+        case Layer::AlbedoVariance:
+            return Layer::Albedo;
+        case Layer::NormalVariance:
+            return Layer::Normal;
+        case Layer::DepthVariance:
+            return Layer::Depth;
+        default:
+            return std::nullopt;
     }
 }
 
 std::optional<Layer> varianceLayer(Layer layer) {
     switch (layer) {
-        case Layer::Color: return Layer::Variance;
-        case Layer::Albedo: return Layer::AlbedoVariance;
-        case Layer::Normal: return Layer::NormalVariance;
-        case Layer::Depth: return Layer::DepthVariance;
-        default: return std::nullopt;
+        case Layer::Color:
+            return Layer::Variance;
+        case Layer::Albedo:
+            return Layer::AlbedoVariance;
+        case Layer::Normal:
+            return Layer::NormalVariance;
+        case Layer::Depth:
+            return Layer::DepthVariance;
+        default:
+            return std::nullopt;
     }
 }
 
@@ -55,12 +67,15 @@ FrameBuffers::FrameBuffers(int width, int height) : m_width(width), m_height(hei
 Image& FrameBuffers::layer(Layer l) {
     if (!has(l))
         throw Error(ErrorKind::InvalidArgument,
-                    "frame has no '" + std::string(layerInfo(l).name.empty() ? "RGB" : layerInfo(l).name) +
+                    "frame has no '" +
+                        std::string(layerInfo(l).name.empty() ? "RGB" : layerInfo(l).name) +
                         "' layer");
     return m_layers[int(l)];
 }
 
-const Image& FrameBuffers::layer(Layer l) const { return const_cast<FrameBuffers*>(this)->layer(l); }
+const Image& FrameBuffers::layer(Layer l) const {
+    return const_cast<FrameBuffers*>(this)->layer(l);
+}
 
 void FrameBuffers::set(Layer l, Image image) {
     const LayerInfo& info = layerInfo(l);

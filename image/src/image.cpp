@@ -44,7 +44,9 @@ float Image::at(int x, int y, int c) const {
     return (*this)(x, y, c);
 }
 
-void Image::fill(float value) { std::fill(m_data.begin(), m_data.end(), value); }
+void Image::fill(float value) {
+    std::fill(m_data.begin(), m_data.end(), value);
+}
 
 Image Image::crop(const Rect& rect) const {
     if (rect.empty() || intersect(rect, bounds()) != rect)
@@ -74,8 +76,8 @@ Image Image::channelsSlice(int first, int count) const {
 }
 
 std::size_t Image::countNonFinite() const {
-    return std::size_t(std::count_if(m_data.begin(), m_data.end(),
-                                     [](float v) { return !std::isfinite(v); }));
+    return std::size_t(
+        std::count_if(m_data.begin(), m_data.end(), [](float v) { return !std::isfinite(v); }));
 }
 
 }  // namespace glint

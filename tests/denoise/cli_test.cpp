@@ -30,7 +30,8 @@ class DenoiseCli : public ::testing::Test {
   protected:
     void SetUp() override {
         m_binary = fs::read_symlink("/proc/self/exe").parent_path() / "glint-denoise";
-        ASSERT_TRUE(fs::exists(m_binary)) << "glint-denoise must be built next to the test: " << m_binary;
+        ASSERT_TRUE(fs::exists(m_binary))
+            << "glint-denoise must be built next to the test: " << m_binary;
         m_dir = fs::temp_directory_path() /
                 ("glint_denoise_cli_" + std::to_string(::getpid()) + "_" +
                  ::testing::UnitTest::GetInstance()->current_test_info()->name());

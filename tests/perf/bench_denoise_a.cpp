@@ -1,9 +1,13 @@
 // Benchmark of the gaussian, bilateral and bilateral-mc filters on a 1024 x 1024 RGB float image
 // (issue 5 speed goals), OpenCV 4.6 side by side when available, and the accuracy-versus-samples
 // curve of bilateral-mc (k N samples, k = 1..7, four pattern kinds; Banterle et al. 2012).
-// Prints a table and, last, one JSON object. Timings are the minimum wall time of --reps runs.
+// Prints a table and, last, one JSON object.
 //
-//   build/bin/bench_denoise_a [--threads 2] [--size 1024] [--reps 5]
+// The machine is shared, so each of the --reps rounds runs every Glint filter immediately followed
+// by its OpenCV peer (interleaved: both see the same load), and the table reports the median and
+// the minimum over the rounds, plus the median of the per-round ratio Glint / OpenCV.
+//
+//   build/bin/bench_denoise_a [--threads 2] [--size 1024] [--reps 5] [--curve 1]
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -16,6 +20,7 @@
 #include <nlohmann/json.hpp>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "glint/denoise/filter.h"
 #include "glint/denoise/registry.h"
@@ -55,16 +60,28 @@ FrameBuffers testImage(int size) {
     return frame;
 }
 
-double secondsOf(const std::function<void()>& fn, int reps) {
-    double best = 1e30;
-    for (int r = 0; r < reps; ++r) {
-        const auto t0 = std::chrono::steady_clock::now();
-        fn();
-        best = std::min(
-            best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    }
-    return best;
+// Wall time of one call of fn.
+double secondsOf(const std::function<void()>& fn) {
+    const auto t0 = std::chrono::steady_clock::now();
+    fn();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// One benchmarked case: a Glint filter and, when there is one, its OpenCV peer.
+struct Case {
+    std::string key;
+    std::function<void()> glint;
+    std::string peerKey;
+    std::function<void()> peer;  // empty: no peer
+    int rounds = 0;              // 0: --reps rounds
+    std::vector<double> glintSeconds, peerSeconds;
+};
 
 double psnr(const Image& a, const Image& b) {
     double s = 0.0;
@@ -79,68 +96,102 @@ double psnr(const Image& a, const Image& b) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    int threads = 2, size = 1024, reps = 5;
+    int threads = 2, size = 1024, reps = 5, curve = 1;
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--threads"))
             threads = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--size"))
             size = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--reps"))
-            reps = std::atoi(argv[i + 1]);
+            reps = std::max(1, std::atoi(argv[i + 1]));
+        else if (!std::strcmp(argv[i], "--curve"))
+            curve = std::atoi(argv[i + 1]);
         else {
-            std::fprintf(stderr, "usage: bench_denoise_a [--threads N] [--size N] [--reps N]\n");
+            std::fprintf(
+                stderr,
+                "usage: bench_denoise_a [--threads N] [--size N] [--reps N] [--curve 0|1]\n");
             return 2;
         }
     }
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
     const FrameBuffers frame = testImage(size);
     nlohmann::json report{{"threads", threads}, {"size", size}, {"reps", reps}};
-    std::printf("%dx%d RGB float, %d threads, min of %d runs\n", size, size, threads, reps);
+    std::printf("%dx%d RGB float, %d threads, %d interleaved rounds\n", size, size, threads, reps);
 
-    auto timeFilter = [&](const std::string& key, const char* name, const ParamValues& p,
-                          Image& out) {
-        const auto& f = findFilter(name);
-        const double t = secondsOf([&] { out = applyFilter(f, frame, p); }, reps);
-        report["seconds"][key] = t;
-        std::printf("  %-34s %8.4f s\n", key.c_str(), t);
-        return t;
-    };
-    Image gauss, exact31, exact61, mc61;
-    timeFilter("gaussian sigma=3", "gaussian", {{"sigma", 3.0}}, gauss);
-    timeFilter("bilateral d=31 sS=5 sR=0.1", "bilateral",
-               {{"sigmaS", 5.0}, {"sigmaR", 0.1}, {"radius", 15}}, exact31);
+    const ParamValues d31{{"sigmaS", 5.0}, {"sigmaR", 0.1}, {"radius", 15}};
     const ParamValues d61{{"sigmaS", 10.0}, {"sigmaR", 0.1}, {"radius", 30}};
     ParamValues mcParams = d61;
     mcParams["samplesPerSide"] = 3;
-    timeFilter("bilateral-mc d=61 sS=10 k=3 poisson", "bilateral-mc", mcParams, mc61);
-    {
-        const int r = reps;
-        reps = 1;  // the exact d = 61 reference is slow: one run
-        timeFilter("bilateral d=61 sS=10 sR=0.1 (exact)", "bilateral", d61, exact61);
-        reps = r;
-    }
-    report["psnrMcVsExactD61"] = psnr(mc61, exact61);
-    std::printf("  PSNR bilateral-mc d=61 vs exact: %.2f dB\n", psnr(mc61, exact61));
-
+    Image gauss, exact31, exact61, mc61;
+    auto run = [&](const char* name, const ParamValues& p, Image& out) {
+        return [&frame, name, p, &out] { out = applyFilter(findFilter(name), frame, p); };
+    };
+    std::vector<Case> cases;
+    cases.push_back(
+        {"gaussian sigma=3", run("gaussian", {{"sigma", 3.0}}, gauss), "", {}, 0, {}, {}});
+    cases.push_back(
+        {"bilateral d=31 sS=5 sR=0.1", run("bilateral", d31, exact31), "", {}, 0, {}, {}});
+    cases.push_back({"bilateral-mc d=61 sS=10 k=3 poisson",
+                     run("bilateral-mc", mcParams, mc61),
+                     "",
+                     {},
+                     0,
+                     {},
+                     {}});
+    // The exact d = 61 reference is slow: one round.
+    cases.push_back(
+        {"bilateral d=61 sS=10 sR=0.1 (exact)", run("bilateral", d61, exact61), "", {}, 1, {}, {}});
 #ifdef GLINT_BENCH_HAVE_OPENCV
     cv::setNumThreads(threads);
     cv::Mat src(size, size, CV_32FC3, const_cast<float*>(frame.color().data().data()));
     cv::Mat dst;
-    auto timeCv = [&](const std::string& key, const std::function<void()>& fn, int n) {
-        const double t = secondsOf(fn, n);
-        report["opencvSeconds"][key] = t;
-        std::printf("  OpenCV %-27s %8.4f s\n", key.c_str(), t);
-    };
-    timeCv(
-        "GaussianBlur sigma=3 19x19", [&] { cv::GaussianBlur(src, dst, cv::Size(19, 19), 3.0); },
-        reps);
-    timeCv(
-        "bilateralFilter d=31 sS=5", [&] { cv::bilateralFilter(src, dst, 31, 0.1, 5.0); }, reps);
-    timeCv(
-        "bilateralFilter d=61 sS=10", [&] { cv::bilateralFilter(src, dst, 61, 0.1, 10.0); }, 1);
+    cases[0].peerKey = "GaussianBlur sigma=3 19x19";
+    cases[0].peer = [&] { cv::GaussianBlur(src, dst, cv::Size(19, 19), 3.0); };
+    cases[1].peerKey = "bilateralFilter d=31 sS=5";
+    cases[1].peer = [&] { cv::bilateralFilter(src, dst, 31, 0.1, 5.0); };
+    cases[3].peerKey = "bilateralFilter d=61 sS=10";
+    cases[3].peer = [&] { cv::bilateralFilter(src, dst, 61, 0.1, 10.0); };
 #else
     std::printf("  (OpenCV not found at configure time: no side-by-side figures)\n");
 #endif
+    // Interleave: round r runs every case's Glint filter and then its peer.
+    for (int r = 0; r < reps; ++r)
+        for (Case& c : cases) {
+            if (c.rounds > 0 && r >= c.rounds) continue;
+            c.glintSeconds.push_back(secondsOf(c.glint));
+            if (c.peer) c.peerSeconds.push_back(secondsOf(c.peer));
+        }
+    std::printf("  %-36s %9s %9s | %-27s %9s %9s | %s\n", "case", "median s", "min s",
+                "OpenCV peer", "median s", "min s", "median Glint/OpenCV");
+    for (const Case& c : cases) {
+        const double gMed = median(c.glintSeconds);
+        const double gMin = *std::min_element(c.glintSeconds.begin(), c.glintSeconds.end());
+        report["seconds"][c.key] = gMed;
+        report["secondsMin"][c.key] = gMin;
+        report["secondsAll"][c.key] = c.glintSeconds;
+        std::printf("  %-36s %9.4f %9.4f |", c.key.c_str(), gMed, gMin);
+        if (c.peer) {
+            std::vector<double> ratio;
+            for (std::size_t i = 0; i < c.glintSeconds.size(); ++i)
+                ratio.push_back(c.glintSeconds[i] / c.peerSeconds[i]);
+            const double pMed = median(c.peerSeconds);
+            const double pMin = *std::min_element(c.peerSeconds.begin(), c.peerSeconds.end());
+            report["opencvSeconds"][c.peerKey] = pMed;
+            report["opencvSecondsMin"][c.peerKey] = pMin;
+            report["opencvSecondsAll"][c.peerKey] = c.peerSeconds;
+            report["ratioToOpencv"][c.key] = median(ratio);
+            std::printf(" %-27s %9.4f %9.4f | %.3f\n", c.peerKey.c_str(), pMed, pMin,
+                        median(ratio));
+        } else {
+            std::printf("\n");
+        }
+    }
+    report["psnrMcVsExactD61"] = psnr(mc61, exact61);
+    std::printf("  PSNR bilateral-mc d=61 vs exact: %.2f dB\n", psnr(mc61, exact61));
+    if (!curve) {
+        std::printf("%s\n", report.dump().c_str());
+        return 0;
+    }
 
     // Accuracy versus samples (Banterle et al. 2012, Fig. 4 style): PSNR against the exact
     // d = 61 bilateral for k N samples, k = 1..7, N = 61.
@@ -156,7 +207,7 @@ int main(int argc, char** argv) {
             p["pattern"] = kind;
             Image out;
             const double t =
-                secondsOf([&] { out = applyFilter(findFilter("bilateral-mc"), frame, p); }, 1);
+                secondsOf([&] { out = applyFilter(findFilter("bilateral-mc"), frame, p); });
             const double q = psnr(out, exact61);
             report["curve"][kinds[kind]].push_back({{"k", k}, {"psnr", q}, {"seconds", t}});
             std::printf("    %6.2f  %6.3f", q, t);

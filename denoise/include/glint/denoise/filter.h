@@ -25,7 +25,7 @@ struct ParamSpec {
     double defaultValue = 0.0;
     ParamScale scale = ParamScale::Linear;
     bool integer = false;
-    std::string help;   ///< one sentence
+    std::string help;  ///< one sentence
 };
 
 /// Parameter values by name. Missing names take their defaults (see resolveParams).
@@ -34,7 +34,7 @@ using ParamValues = std::map<std::string, double>;
 /// A denoising filter. Implementations are stateless and thread-safe: apply() may run
 /// concurrently on different inputs.
 class Filter {
-public:
+  public:
     virtual ~Filter() = default;
 
     /// Registry name, e.g. "bilateral-mc".

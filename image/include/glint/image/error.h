@@ -21,7 +21,7 @@ const char* errorKindName(ErrorKind kind);
 
 /// A typed error with an optional file and place (line, channel, pixel...) it refers to.
 class Error : public std::runtime_error {
-public:
+  public:
     /// `file` and `where` may be empty; what() reads "file: where: message".
     Error(ErrorKind kind, std::string message, std::string file = {}, std::string where = {});
 
@@ -30,7 +30,7 @@ public:
     const std::string& file() const { return m_file; }
     const std::string& where() const { return m_where; }
 
-private:
+  private:
     ErrorKind m_kind;
     std::string m_message;
     std::string m_file;
@@ -44,8 +44,8 @@ namespace detail {
 }  // namespace glint
 
 /// Always-on invariant check: throws glint::Error(Internal) naming the expression and place.
-#define GLINT_CHECK(cond, ...)                                                          \
-    do {                                                                                \
+#define GLINT_CHECK(cond, ...)                                                                \
+    do {                                                                                      \
         if (!(cond)) ::glint::detail::checkFailed(#cond, __FILE__, __LINE__, "" __VA_ARGS__); \
     } while (0)
 

@@ -30,8 +30,8 @@ inline constexpr int kLayerCount = 10;
 /// Static description of a layer: its EXR layer name and channel suffixes.
 struct LayerInfo {
     Layer layer;
-    std::string_view name;      ///< "" for the root colour layer, else e.g. "albedo"
-    int channels;               ///< 3 or 1
+    std::string_view name;                     ///< "" for the root colour layer, else e.g. "albedo"
+    int channels;                              ///< 3 or 1
     std::array<std::string_view, 3> suffixes;  ///< e.g. {"R","G","B"} or {"Z"}
 };
 
@@ -46,22 +46,22 @@ std::optional<Layer> varianceLayer(Layer layer);
 
 /// What the renderer records about a frame; stored as glint:* EXR attributes.
 struct FrameMetadata {
-    int spp = 0;                     ///< glint:spp
-    std::uint64_t seed = 0;          ///< glint:seed
-    std::string integrator;          ///< glint:integrator ("path", "mlt", or foreign)
-    std::string scene;               ///< glint:scene (path of the scene file)
-    std::string varianceOf = "mean"; ///< glint:varianceOf
+    int spp = 0;                        ///< glint:spp
+    std::uint64_t seed = 0;             ///< glint:seed
+    std::string integrator;             ///< glint:integrator ("path", "mlt", or foreign)
+    std::string scene;                  ///< glint:scene (path of the scene file)
+    std::string varianceOf = "mean";    ///< glint:varianceOf
     std::string normalSpace = "world";  ///< glint:normalSpace
     std::string depthKind = "cameraZ";  ///< glint:depth
     std::int64_t nonFiniteSamples = 0;  ///< glint:nonFiniteSamples (discarded NaN/Inf samples)
-    std::string source = "glint";    ///< which naming convention the file used when read
+    std::string source = "glint";       ///< which naming convention the file used when read
     /// Any other string attributes to carry through (key without the "glint:" prefix).
     std::map<std::string, std::string> extra;
 };
 
 /// The layers of one frame, all of the same size, plus metadata.
 class FrameBuffers {
-public:
+  public:
     FrameBuffers() = default;
     /// A frame of the given size holding only a zero colour layer.
     FrameBuffers(int width, int height);
@@ -90,7 +90,7 @@ public:
     FrameMetadata& metadata() { return m_metadata; }
     const FrameMetadata& metadata() const { return m_metadata; }
 
-private:
+  private:
     int m_width = 0;
     int m_height = 0;
     std::array<Image, kLayerCount> m_layers;

@@ -23,7 +23,7 @@ Rect intersect(const Rect& a, const Rect& b);
 
 /// Float image with interleaved channels. Cheap to move, deep-copied on copy.
 class Image {
-public:
+  public:
     Image() = default;
     /// Allocates width × height × channels floats set to `fill`. Throws on negative sizes.
     Image(int width, int height, int channels, float fill = 0.0f);
@@ -68,7 +68,7 @@ public:
                m_channels == other.m_channels;
     }
 
-private:
+  private:
     int m_width = 0;
     int m_height = 0;
     int m_channels = 0;

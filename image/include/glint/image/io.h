@@ -38,8 +38,8 @@ void writeImage(const Image& image, const std::filesystem::path& path);
 
 /// How a linear image is turned into display values.
 struct DisplayOptions {
-    float exposure = 0.0f;   ///< stops: values are multiplied by 2^exposure
-    bool srgb = true;        ///< sRGB-encode after clamping to [0, 1]
+    float exposure = 0.0f;  ///< stops: values are multiplied by 2^exposure
+    bool srgb = true;       ///< sRGB-encode after clamping to [0, 1]
     /// When >= 0, show this one channel in false colour (viridis-like ramp) over [lo, hi].
     int falseColorChannel = -1;
     float falseColorLo = 0.0f;

@@ -22,7 +22,8 @@ struct MetricOptions {
 struct MetricResult {
     double value = 0.0;
     /// Pixels in which the image or the reference had a NaN/Inf in some channel. They are left
-    /// out of MSE/relMSE/PSNR; for SSIM their channels are replaced by 0 before filtering.
+    /// out of MSE/relMSE/PSNR; for SSIM each non-finite value (only that channel) is replaced by
+    /// 0 before filtering.
     std::size_t nonFinitePixels = 0;
     std::size_t pixels = 0;  ///< pixels considered (crop area)
 };
