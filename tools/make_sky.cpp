@@ -27,8 +27,8 @@ struct SkyParams {
     int height = 128;
     double sunElevation = 35.0;  ///< degrees above the horizon
     double sunAzimuth = 60.0;    ///< degrees from -z towards +x (same as u = 0.5 + az / 360)
-    double sunRadius = 2.5;      ///< angular radius of the disc, degrees
-    double sunIrradiance = 6.0;  ///< irradiance of the disc on a surface facing it
+    double sunRadius = 5.0;      ///< angular radius of the disc, degrees
+    double sunIrradiance = 3.0;  ///< irradiance of the disc on a surface facing it
     int subsamples = 8;          ///< sub-samples per pixel per axis
 };
 

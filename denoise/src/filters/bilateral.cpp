@@ -3,12 +3,15 @@
 //   out(p) = sum_q w(p, q) c(q) / sum_q w(p, q),
 //   w(p, q) = exp(-|p - q|^2 / (2 sigmaS^2)) * exp(-|c(p) - c(q)|^2 / (2 sigmaR^2)),
 //
-// over every pixel q of the square (2r+1)^2 window around p (no subsampling); |c(p) - c(q)| is
-// the Euclidean RGB distance. The window is truncated at the image border. Range distances are
-// formed from differences scaled by 1/(sqrt(2) sigmaR) before squaring, so they neither overflow
-// nor underflow into a wrong weight for radiance 1e-30 … 1e30 and sigma 1e-6 … 1e6. Missing
-// (NaN/Inf) neighbours get zero weight; a missing centre drops the range term (spatial average
-// of its finite neighbours). Vectorised over 8 output pixels, TBB-parallel over rows.
+// over every pixel q of the square (2r+1)^2 window around p (no subsampling, and not OpenCV's
+// disc, so sigmaR -> inf gives gaussian exactly); |c(p) - c(q)| is the Euclidean RGB distance.
+// The window is truncated at the image border. Weights are 2^(s + k |c(p) - c(q)|^2) with the
+// log2(e) / (2 sigma^2) factors folded into s and k (bilateral_kernel.h has the numerics for
+// radiance 1e-30 … 1e30 and sigma 1e-6 … 1e6). Missing (NaN/Inf) neighbours get zero weight; a
+// missing centre drops the range term (spatial average of its finite neighbours). Since
+// w(p, q) = w(q, p), each pair's weight is computed once and added to both pixels, inside row
+// bands fixed in image coordinates (bilateral_symmetric.cpp), so the result is the same for any
+// thread count. Vectorised over 8 pixels along a row, TBB-parallel over bands.
 //
 // Parameters:
 //   sigmaS  spatial standard deviation (px), 1e-6 … 1e6 (log)
@@ -65,13 +68,8 @@ int BilateralFilter::margin(const ParamValues& params) const {
 Image BilateralFilter::apply(const FrameBuffers& frame, const ParamValues& params,
                              const Rect& roi) const {
     const int radius = margin(params);
-    const double sigmaS = detail::paramValue(params, "sigmaS");
-    // The full window, in row-major order, as the sampling pattern of the shared kernel.
-    detail::BilateralPattern pattern;
-    for (int dy = -radius; dy <= radius; ++dy)
-        for (int dx = -radius; dx <= radius; ++dx) pattern.offsets.push_back({dx, dy});
-    return detail::bilateralWindowed(frame.color(), roi, radius, sigmaS,
-                                     detail::paramValue(params, "sigmaR"), pattern);
+    return detail::bilateralExact(frame.color(), roi, radius, detail::paramValue(params, "sigmaS"),
+                                  detail::paramValue(params, "sigmaR"));
 }
 
 std::unique_ptr<Filter> makeBilateralFilter() {

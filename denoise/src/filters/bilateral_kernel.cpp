@@ -4,10 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
-
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#endif
+#include <cstring>
+#include <memory>
 
 #include "filters/filter_util.h"
 #include "glint/image/error.h"
@@ -16,14 +14,24 @@ namespace glint::denoise::detail {
 
 namespace {
 
-// A pattern ready for the inner loop: linear offsets into the planes and spatial weights,
-// padded with (0, weight 0) entries to a multiple of 8.
+// Eight samples of a padded pattern in one cache line: byte offsets into the interleaved
+// (r, g, b, valid) copy and spatial exponents (the inner loop of bilateral-mc).
+struct alignas(64) SampleGroup {
+    std::int32_t offset[8];
+    float s[8];
+};
+
+// A pattern ready for the inner loops: linear pixel offsets into a layout of the given stride
+// and base-2 spatial exponents, in row-major order; when padded, extended with (0, exponent
+// -1e30 = weight 0) entries to a multiple of 8 and also stored as SampleGroups.
 struct PreparedPattern {
     std::vector<std::ptrdiff_t> delta;
-    std::vector<std::int32_t> delta32;  // the same as 32-bit gather indices
-    std::vector<float> spatial;
-    int count = 0;  // padded length
+    std::vector<float> spatial;       // spatialExponent of each offset
+    std::vector<SampleGroup> groups;  // filled when padded
+    int count = 0;                    // (padded) length
 };
+
+constexpr float kZeroWeightExponent = -1e30f;
 
 PreparedPattern prepare(const BilateralPattern& pattern, int radius, double sigmaS, int stride,
                         bool pad) {
@@ -35,19 +43,24 @@ PreparedPattern prepare(const BilateralPattern& pattern, int radius, double sigm
     });
     for (const Offset& o : sorted) {
         GLINT_CHECK(std::abs(o.dx) <= radius && std::abs(o.dy) <= radius);
-        // Spatial Gaussian on scaled offsets: sigmaS = 1e-6 underflows to 0, never overflows.
-        const double tx = o.dx / sigmaS, ty = o.dy / sigmaS;
-        const float w = float(std::exp(-0.5 * (tx * tx + ty * ty)));
-        if (w == 0.0f) continue;  // contributes nothing
+        const float s = spatialExponent(o.dx, o.dy, sigmaS);
+        if (s < -127.0f) continue;  // weight exactly 0: contributes nothing
         out.delta.push_back(std::ptrdiff_t(o.dy) * stride + o.dx);
-        out.spatial.push_back(w);
+        out.spatial.push_back(s);
     }
     while (pad && out.delta.size() % 8 != 0) {
         out.delta.push_back(0);
-        out.spatial.push_back(0.0f);
+        out.spatial.push_back(kZeroWeightExponent);
     }
     out.count = int(out.delta.size());
-    for (std::ptrdiff_t d : out.delta) out.delta32.push_back(std::int32_t(d));
+    for (std::size_t g = 0; pad && g < out.delta.size(); g += 8) {
+        SampleGroup group;
+        for (std::size_t l = 0; l < 8; ++l) {
+            group.offset[l] = std::int32_t(out.delta[g + l] * std::ptrdiff_t(4 * sizeof(float)));
+            group.s[l] = out.spatial[g + l];
+        }
+        out.groups.push_back(group);
+    }
     return out;
 }
 
@@ -62,10 +75,11 @@ void writeNormalised(const VecF& nr, const VecF& ng, const VecF& nb, const VecF&
     }
 }
 
-// One output row of the shared-pattern filter, 8 output pixels at a time.
-GLINT_SIMD_CLONES
+// One output row of the one-sided full-window filter, 8 output pixels at a time (the fallback of
+// the exact filter for bands with missing pixels).
+GLINT_SIMD_CLONES_V4
 void windowedRow(const PlanarPlanes& planes, int y, int x0, int x1, const PreparedPattern& pat,
-                 float rangeScale, float* out) {
+                 float k, float* out) {
     const float* pr = planes.planes[0].data();
     const float* pg = planes.planes[1].data();
     const float* pb = planes.planes[2].data();
@@ -86,13 +100,13 @@ void windowedRow(const PlanarPlanes& planes, int y, int x0, int x1, const Prepar
             loadVec(qg, pg + qi);
             loadVec(qb, pb + qi);
             loadVec(qv, pv + qi);
-            // Range weight on differences scaled by 1/(sqrt(2) sigmaR) before squaring.
-            const VecF dr = (qr - cr) * rangeScale, dg = (qg - cg) * rangeScale,
-                       db = (qb - cb) * rangeScale;
-            VecF w = -(dr * dr + dg * dg + db * db);
-            expNegInPlace(w);
-            w = centreMissing ? (VecF{} + 1.0f) : w;
-            w *= qv * pat.spatial[std::size_t(j)];
+            // Tomasi & Manduchi 1998 weight in base 2; a missing centre drops the range term.
+            const VecF dr = qr - cr, dg = qg - cg, db = qb - cb;
+            const VecF s = VecF{} + pat.spatial[std::size_t(j)];
+            VecF w = (dr * dr + dg * dg + db * db) * k + s;
+            w = centreMissing ? s : w;
+            exp2InPlace(w);
+            w *= qv;
             nr += w * qr;
             ng += w * qg;
             nb += w * qb;
@@ -102,139 +116,170 @@ void windowedRow(const PlanarPlanes& planes, int y, int x0, int x1, const Prepar
     }
 }
 
-// Range and spatial weights of 8 samples against a centre, accumulated (Tomasi & Manduchi 1998):
-// w = spatial * valid * exp(-|(q - c) / (sqrt(2) sigmaR)|^2); a missing centre drops the range
-// term.
+// Weights of 8 samples against a centre, accumulated (Tomasi & Manduchi 1998):
+// w = valid * 2^(s + k |q - c|^2); a missing centre drops the range term.
+template <bool CentreMissing>
 [[gnu::always_inline]] inline void accumulateSamples(const VecF& qr, const VecF& qg, const VecF& qb,
-                                                     const VecF& qv, const VecF& ws, const VecF& cr,
-                                                     const VecF& cg, const VecF& cb,
-                                                     bool centreMissing, float rangeScale, VecF& nr,
-                                                     VecF& ng, VecF& nb, VecF& den) {
-    const VecF dr = (qr - cr) * rangeScale, dg = (qg - cg) * rangeScale,
-               db = (qb - cb) * rangeScale;
-    VecF w = -(dr * dr + dg * dg + db * db);
-    expNegInPlace(w);
-    if (centreMissing) w = VecF{} + 1.0f;
-    w *= qv * ws;
+                                                     const VecF& qv, const VecF& s, const VecF& cr,
+                                                     const VecF& cg, const VecF& cb, float k,
+                                                     VecF& nr, VecF& ng, VecF& nb, VecF& den) {
+    VecF w = s;
+    if constexpr (!CentreMissing) {
+        const VecF dr = qr - cr, dg = qg - cg, db = qb - cb;
+        w = (dr * dr + dg * dg + db * db) * k + s;
+    }
+    exp2InPlace(w);
+    w *= qv;
     nr += w * qr;
     ng += w * qg;
     nb += w * qb;
     den += w;
 }
 
-// Writes the lane sums num/den (0 where den is 0) of one pixel.
-[[gnu::always_inline]] inline void writePixel(const VecF& nr, const VecF& ng, const VecF& nb,
-                                              const VecF& den, float* o) {
-    float sr = 0.0f, sg = 0.0f, sb = 0.0f, sd = 0.0f;
-    for (int l = 0; l < 8; ++l) {
-        sr += nr[l];
-        sg += ng[l];
-        sb += nb[l];
-        sd += den[l];
+// Interleaved (r, g, b, valid) copy of the colour over a rectangle that may reach outside the
+// image; missing pixels (outside, or non-finite) are (0, 0, 0, 0). One 16-byte load per sample.
+struct InterleavedColor {
+    Rect rect;
+    int stride = 0;  // pixels per row
+    std::unique_ptr<float[]> data;
+
+    /// The (r, g, b, valid) of image pixel (x, y), which must lie in rect.
+    float* at(int x, int y) const {
+        return data.get() +
+               4 * (std::size_t(y - rect.y0) * std::size_t(stride) + std::size_t(x - rect.x0));
     }
-    const bool ok = sd > 0.0f;
-    o[0] = ok ? sr / sd : 0.0f;
-    o[1] = ok ? sg / sd : 0.0f;
-    o[2] = ok ? sb / sd : 0.0f;
+};
+
+// Builds the interleaved copy in one parallel pass (every value written once, no zero fill).
+InterleavedColor makeInterleaved(const Image& color, const Rect& rect) {
+    InterleavedColor c;
+    c.rect = rect;
+    c.stride = rect.width();
+    c.data.reset(new float[4 * std::size_t(rect.width()) * std::size_t(rect.height())]);
+    parallelRows(rect.y0, rect.y1, [&](int y) {
+        float* dst = c.at(rect.x0, y);
+        const bool rowInside = y >= 0 && y < color.height();
+        for (int x = rect.x0; x < rect.x1; ++x, dst += 4) {
+            const float* px = rowInside && x >= 0 && x < color.width()
+                                  ? color.row(y) + 3 * std::size_t(x)
+                                  : nullptr;
+            const bool ok = px && isFinitePixel(px, 3);
+            for (int ch = 0; ch < 3; ++ch) dst[ch] = ok ? px[ch] : 0.0f;
+            dst[3] = ok ? 1.0f : 0.0f;
+        }
+    });
+    return c;
 }
 
 // Arguments of one row of the per-pixel-pattern filter.
 struct SampledRow {
-    const PlanarPlanes* planes;
+    const InterleavedColor* color;
     int y, x0, x1;
     const std::vector<PreparedPattern>* pats;
     std::uint64_t seed;
-    float rangeScale;
+    float k;
     float* out;
-    const float* interleaved;  // (r, g, b, valid) per pixel, same indexing as the planes
 };
 
-// One output row of the per-pixel-pattern filter, 8 samples of one pixel at a time; portable
-// version (lane-by-lane loads).
-void sampledRowPortable(const SampledRow& a) {
-    const PlanarPlanes& planes = *a.planes;
-    const float* pr = planes.planes[0].data();
-    const float* pg = planes.planes[1].data();
-    const float* pb = planes.planes[2].data();
-    const float* pv = planes.valid.data();
-    const auto count = std::uint32_t(a.pats->size());
-    for (int x = a.x0; x < a.x1; ++x) {
-        const std::size_t ci = planes.index(x, a.y);
-        const VecF cr = VecF{} + pr[ci], cg = VecF{} + pg[ci], cb = VecF{} + pb[ci];
-        const bool centreMissing = pv[ci] == 0.0f;
-        // Banterle et al. 2012: each pixel uses one of the precomputed patterns at random.
-        const PreparedPattern& pat = (*a.pats)[patternIndex(x, a.y, a.seed, count)];
-        VecF nr{}, ng{}, nb{}, den{};
-        for (int j = 0; j < pat.count; j += 8) {
-            VecF qr, qg, qb, qv, ws;
-            for (int l = 0; l < 8; ++l) {
-                const std::size_t qi =
-                    std::size_t(std::ptrdiff_t(ci) + pat.delta[std::size_t(j + l)]);
-                qr[l] = pr[qi];
-                qg[l] = pg[qi];
-                qb[l] = pb[qi];
-                qv[l] = pv[qi];
-            }
-            loadVec(ws, pat.spatial.data() + j);
-            accumulateSamples(qr, qg, qb, qv, ws, cr, cg, cb, centreMissing, a.rangeScale, nr, ng,
-                              nb, den);
-        }
-        writePixel(nr, ng, nb, den, a.out + std::size_t(x - a.x0) * 3);
-    }
+typedef float Vec4F __attribute__((vector_size(16)));
+
+// Per-pixel state of the sampled kernel: the centre, the next group of its pattern, the sums.
+struct PixelSums {
+    const float* centre;  // (r, g, b, valid) in the interleaved copy
+    const SampleGroup* group;
+    VecF cr, cg, cb;
+    VecF nr{}, ng{}, nb{}, den{};
+};
+
+// One group of 8 samples of pixel `p` on the interleaved (r, g, b, valid) copy: 8 16-byte loads
+// (one cache line per sample instead of four) transposed into r, g, b, valid vectors with
+// in-lane unpacks and shuffles.
+template <bool CentreMissing>
+[[gnu::always_inline]] inline void sampleGroup(PixelSums& p, float k) {
+    const char* base = reinterpret_cast<const char*>(p.centre);
+    const std::int32_t* d = p.group->offset;
+    Vec4F s[8];
+    for (int i = 0; i < 8; ++i) std::memcpy(&s[i], base + d[i], sizeof(Vec4F));
+    // Rows hold two samples each: t0 = [s0 | s4], t1 = [s1 | s5], ...
+    const VecF t0 = __builtin_shufflevector(s[0], s[4], 0, 1, 2, 3, 4, 5, 6, 7);
+    const VecF t1 = __builtin_shufflevector(s[1], s[5], 0, 1, 2, 3, 4, 5, 6, 7);
+    const VecF t2 = __builtin_shufflevector(s[2], s[6], 0, 1, 2, 3, 4, 5, 6, 7);
+    const VecF t3 = __builtin_shufflevector(s[3], s[7], 0, 1, 2, 3, 4, 5, 6, 7);
+    // 4x4 transpose in each 128-bit half (unpacklo/hi, then shuffle).
+    const VecF u0 = __builtin_shufflevector(t0, t1, 0, 8, 1, 9, 4, 12, 5, 13);
+    const VecF u1 = __builtin_shufflevector(t0, t1, 2, 10, 3, 11, 6, 14, 7, 15);
+    const VecF u2 = __builtin_shufflevector(t2, t3, 0, 8, 1, 9, 4, 12, 5, 13);
+    const VecF u3 = __builtin_shufflevector(t2, t3, 2, 10, 3, 11, 6, 14, 7, 15);
+    const VecF qr = __builtin_shufflevector(u0, u2, 0, 1, 8, 9, 4, 5, 12, 13);
+    const VecF qg = __builtin_shufflevector(u0, u2, 2, 3, 10, 11, 6, 7, 14, 15);
+    const VecF qb = __builtin_shufflevector(u1, u3, 0, 1, 8, 9, 4, 5, 12, 13);
+    const VecF qv = __builtin_shufflevector(u1, u3, 2, 3, 10, 11, 6, 7, 14, 15);
+    VecF ws;
+    loadVec(ws, p.group->s);
+    accumulateSamples<CentreMissing>(qr, qg, qb, qv, ws, p.cr, p.cg, p.cb, k, p.nr, p.ng, p.nb,
+                                     p.den);
+    ++p.group;
 }
 
-#if defined(__x86_64__) && defined(__GNUC__)
-// The same on the interleaved (r, g, b, valid) copy with AVX2: 8 samples are 8 16-byte loads
-// transposed into r, g, b, valid vectors (one cache line per sample instead of four).
-__attribute__((target("avx2,fma"))) void sampledRowAvx2(const SampledRow& a) {
-    const PlanarPlanes& planes = *a.planes;
-    const float* rgbv = a.interleaved;
-    const auto count = std::uint32_t(a.pats->size());
-    for (int x = a.x0; x < a.x1; ++x) {
-        const std::size_t ci = planes.index(x, a.y);
-        const float* centre = rgbv + 4 * ci;
-        const VecF cr = VecF{} + centre[0], cg = VecF{} + centre[1], cb = VecF{} + centre[2];
-        const bool centreMissing = centre[3] == 0.0f;
-        // Banterle et al. 2012: each pixel uses one of the precomputed patterns at random.
-        const PreparedPattern& pat = (*a.pats)[patternIndex(x, a.y, a.seed, count)];
-        const std::int32_t* d = pat.delta32.data();
-        VecF nr{}, ng{}, nb{}, den{};
-        for (int j = 0; j < pat.count; j += 8, d += 8) {
-            // Rows hold two samples each: t0 = [s0 | s4], t1 = [s1 | s5], ...
-            const __m256 t0 = _mm256_insertf128_ps(
-                _mm256_castps128_ps256(_mm_loadu_ps(centre + 4 * std::ptrdiff_t(d[0]))),
-                _mm_loadu_ps(centre + 4 * std::ptrdiff_t(d[4])), 1);
-            const __m256 t1 = _mm256_insertf128_ps(
-                _mm256_castps128_ps256(_mm_loadu_ps(centre + 4 * std::ptrdiff_t(d[1]))),
-                _mm_loadu_ps(centre + 4 * std::ptrdiff_t(d[5])), 1);
-            const __m256 t2 = _mm256_insertf128_ps(
-                _mm256_castps128_ps256(_mm_loadu_ps(centre + 4 * std::ptrdiff_t(d[2]))),
-                _mm_loadu_ps(centre + 4 * std::ptrdiff_t(d[6])), 1);
-            const __m256 t3 = _mm256_insertf128_ps(
-                _mm256_castps128_ps256(_mm_loadu_ps(centre + 4 * std::ptrdiff_t(d[3]))),
-                _mm_loadu_ps(centre + 4 * std::ptrdiff_t(d[7])), 1);
-            // 4x4 transpose in each 128-bit half.
-            const __m256 u0 = _mm256_unpacklo_ps(t0, t1), u1 = _mm256_unpackhi_ps(t0, t1);
-            const __m256 u2 = _mm256_unpacklo_ps(t2, t3), u3 = _mm256_unpackhi_ps(t2, t3);
-            const VecF qr = VecF(_mm256_shuffle_ps(u0, u2, 0x44));
-            const VecF qg = VecF(_mm256_shuffle_ps(u0, u2, 0xEE));
-            const VecF qb = VecF(_mm256_shuffle_ps(u1, u3, 0x44));
-            const VecF qv = VecF(_mm256_shuffle_ps(u1, u3, 0xEE));
-            VecF ws;
-            loadVec(ws, pat.spatial.data() + j);
-            accumulateSamples(qr, qg, qb, qv, ws, cr, cg, cb, centreMissing, a.rangeScale, nr, ng,
-                              nb, den);
-        }
-        writePixel(nr, ng, nb, den, a.out + std::size_t(x - a.x0) * 3);
-    }
+// The remaining groups of one pixel.
+[[gnu::always_inline]] inline void sampleRest(PixelSums& p, const SampleGroup* end, float k) {
+    if (p.centre[3] == 0.0f)
+        while (p.group != end) sampleGroup<true>(p, k);
+    else
+        while (p.group != end) sampleGroup<false>(p, k);
 }
-#endif
 
+// h <- the pairwise lane sums of a and b in the order of the x86 hadd instruction.
+[[gnu::always_inline]] inline void pairSums(const VecF& a, const VecF& b, VecF& h) {
+    h = __builtin_shufflevector(a, b, 0, 2, 8, 10, 4, 6, 12, 14) +
+        __builtin_shufflevector(a, b, 1, 3, 9, 11, 5, 7, 13, 15);
+}
+
+// Writes num/den of one pixel (0 where the weight sum is 0).
+[[gnu::always_inline]] inline void writeSums(const PixelSums& p, float* o) {
+    // Lane sums of the four accumulators at once: h = (r, g, b, weight) in each 128-bit half.
+    VecF rg, bw, h;
+    pairSums(p.nr, p.ng, rg);
+    pairSums(p.nb, p.den, bw);
+    pairSums(rg, bw, h);
+    const float sums[4] = {h[0] + h[4], h[1] + h[5], h[2] + h[6], h[3] + h[7]};
+    const bool ok = sums[3] > 0.0f;
+    for (int c = 0; c < 3; ++c) o[c] = ok ? sums[c] / sums[3] : 0.0f;
+}
+
+// One output row of the per-pixel-pattern filter, two pixels at a time: their groups are
+// interleaved so that two independent dependency chains (loads -> exp2 -> sums) overlap.
+GLINT_SIMD_CLONES_V4
 void sampledRow(const SampledRow& a) {
-#if defined(__x86_64__) && defined(__GNUC__)
-    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return sampledRowAvx2(a);
-#endif
-    sampledRowPortable(a);
+    const auto count = std::uint32_t(a.pats->size());
+    auto start = [&](int x, const SampleGroup*& end) {
+        const float* centre = a.color->at(x, a.y);
+        // Banterle et al. 2012: each pixel uses one of the precomputed patterns at random.
+        const PreparedPattern& pat = (*a.pats)[patternIndex(x, a.y, a.seed, count)];
+        end = pat.groups.data() + pat.groups.size();
+        return PixelSums{centre, pat.groups.data(), VecF{} + centre[0], VecF{} + centre[1],
+                         VecF{} + centre[2]};
+    };
+    int x = a.x0;
+    for (; x + 1 < a.x1; x += 2) {
+        const SampleGroup *end0, *end1;
+        PixelSums p0 = start(x, end0), p1 = start(x + 1, end1);
+        if (p0.centre[3] != 0.0f && p1.centre[3] != 0.0f)
+            while (p0.group != end0 && p1.group != end1) {
+                sampleGroup<false>(p0, a.k);
+                sampleGroup<false>(p1, a.k);
+            }
+        sampleRest(p0, end0, a.k);
+        sampleRest(p1, end1, a.k);
+        writeSums(p0, a.out + std::size_t(x - a.x0) * 3);
+        writeSums(p1, a.out + std::size_t(x + 1 - a.x0) * 3);
+    }
+    if (x < a.x1) {
+        const SampleGroup* end0;
+        PixelSums p0 = start(x, end0);
+        sampleRest(p0, end0, a.k);
+        writeSums(p0, a.out + std::size_t(x - a.x0) * 3);
+    }
 }
 
 void checkInputs(const Image& color, const Rect& roi, int radius, double sigmaS, double sigmaR) {
@@ -244,39 +289,27 @@ void checkInputs(const Image& color, const Rect& roi, int radius, double sigmaS,
     GLINT_CHECK(sigmaS > 0.0 && sigmaR > 0.0 && std::isfinite(sigmaS) && std::isfinite(sigmaR));
 }
 
-// Planes over roi plus the window radius (outside the image: missing).
-PlanarPlanes planesFor(const Image& color, const Rect& roi, int radius) {
-    return makePlanar(color,
-                      Rect{roi.x0 - radius, roi.x1 + radius, roi.y0 - radius, roi.y1 + radius}, 3);
-}
-
-float rangeScaleOf(double sigmaR) {
-    return float(1.0 / (std::sqrt(2.0) * sigmaR));
-}
-
 }  // namespace
 
-std::uint32_t patternIndex(int x, int y, std::uint64_t seed, std::uint32_t count) {
-    // SplitMix64 finaliser of (seed, x, y).
-    std::uint64_t z =
-        seed * 0x9E3779B97F4A7C15ull + (std::uint64_t(std::uint32_t(y)) << 32) + std::uint32_t(x);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
-    return std::uint32_t(z % count);
+float spatialExponent(int dx, int dy, double sigmaS) {
+    const double tx = dx / sigmaS, ty = dy / sigmaS;
+    return float(std::max(-0.5 * std::log2(std::exp(1.0)) * (tx * tx + ty * ty), -1e30));
 }
 
-Image bilateralWindowed(const Image& color, const Rect& roi, int radius, double sigmaS,
-                        double sigmaR, const BilateralPattern& pattern) {
-    checkInputs(color, roi, radius, sigmaS, sigmaR);
-    const PlanarPlanes planes = planesFor(color, roi, radius);
-    const PreparedPattern pat = prepare(pattern, radius, sigmaS, planes.stride, false);
-    const float rangeScale = rangeScaleOf(sigmaR);
-    Image out(roi.width(), roi.height(), 3);
-    parallelRows(roi.y0, roi.y1, [&](int y) {
-        windowedRow(planes, y, roi.x0, roi.x1, pat, rangeScale, out.row(y - roi.y0));
-    });
-    return out;
+float rangeExponentScale(double sigmaR) {
+    const double inv = 1.0 / sigmaR;
+    return float(-0.5 * std::log2(std::exp(1.0)) * inv * inv);
+}
+
+void bilateralWindowRows(const PlanarPlanes& planes, const Rect& roi, int y0, int y1, int radius,
+                         double sigmaS, double sigmaR, Image& out) {
+    BilateralPattern window;
+    for (int dy = -radius; dy <= radius; ++dy)
+        for (int dx = -radius; dx <= radius; ++dx) window.offsets.push_back({dx, dy});
+    const PreparedPattern pat = prepare(window, radius, sigmaS, planes.stride, false);
+    const float k = rangeExponentScale(sigmaR);
+    for (int y = y0; y < y1; ++y)
+        windowedRow(planes, y, roi.x0, roi.x1, pat, k, out.row(y - roi.y0));
 }
 
 Image bilateralSampled(const Image& color, const Rect& roi, int radius, double sigmaS,
@@ -284,28 +317,16 @@ Image bilateralSampled(const Image& color, const Rect& roi, int radius, double s
                        std::uint64_t seed) {
     checkInputs(color, roi, radius, sigmaS, sigmaR);
     GLINT_CHECK(!patterns.empty());
-    const PlanarPlanes planes = planesFor(color, roi, radius);
+    const InterleavedColor interleaved = makeInterleaved(
+        color, Rect{roi.x0 - radius, roi.x1 + radius, roi.y0 - radius, roi.y1 + radius});
     std::vector<PreparedPattern> pats;
     pats.reserve(patterns.size());
     for (const BilateralPattern& p : patterns)
-        pats.push_back(prepare(p, radius, sigmaS, planes.stride, true));
-    const float rangeScale = rangeScaleOf(sigmaR);
-    // Interleaved (r, g, b, valid) copy for the AVX2 path.
-    std::vector<float> interleaved(planes.valid.size() * 4);
-    parallelRows(0, planes.rect.height(), [&](int row) {
-        for (std::size_t i = std::size_t(row) * std::size_t(planes.stride),
-                         end = i + std::size_t(planes.stride);
-             i < end; ++i) {
-            interleaved[4 * i + 0] = planes.planes[0][i];
-            interleaved[4 * i + 1] = planes.planes[1][i];
-            interleaved[4 * i + 2] = planes.planes[2][i];
-            interleaved[4 * i + 3] = planes.valid[i];
-        }
-    });
+        pats.push_back(prepare(p, radius, sigmaS, interleaved.stride, true));
+    const float k = rangeExponentScale(sigmaR);
     Image out(roi.width(), roi.height(), 3);
     parallelRows(roi.y0, roi.y1, [&](int y) {
-        sampledRow({&planes, y, roi.x0, roi.x1, &pats, seed, rangeScale, out.row(y - roi.y0),
-                    interleaved.data()});
+        sampledRow({&interleaved, y, roi.x0, roi.x1, &pats, seed, k, out.row(y - roi.y0)});
     });
     return out;
 }
