@@ -6,8 +6,9 @@ CMAKE_GENERATOR ?= Ninja
 # Debian bookworm packages Glint needs (see shared/DESIGN.md and third_party_notes/).
 DEB_PACKAGES := build-essential cmake ninja-build pkg-config \
   libembree-dev libopenimageio-dev libopencv-core-dev openimageio-tools libopenexr-dev \
-  libtinyobjloader-dev libtbb-dev qt6-base-dev libgtest-dev libgmock-dev libbenchmark-dev \
-  nlohmann-json3-dev libcli11-dev libeigen3-dev xvfb xauth fonts-dejavu-core
+  libtinyobjloader-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev \
+  nlohmann-json3-dev libcli11-dev
+# Qt6 (qt6-base-dev), Eigen and xvfb join this list with the studio (gui/), which needs them.
 
 .PHONY: all deps build test clean demo bench bench-deps
 

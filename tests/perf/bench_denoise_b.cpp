@@ -3,7 +3,7 @@
 // bilateralFilter, ximgproc::guidedFilter and fastNlMeansDenoisingColored run side by side
 // (2 threads) when the benchmark was built with OpenCV. Figures: docs/denoise-features.md.
 //
-//   build-denoise-b/bin/bench_denoise_b [--size=1024] [--benchmark_filter=...]
+//   build/bin/bench_denoise_b [--size=1024] [--benchmark_filter=...]
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 #include <tbb/global_control.h>

@@ -2,7 +2,7 @@
 // object. With --write-dir it also writes both images as raw float32 (row-major, channels
 // interleaved) so tests/perf/ssim_skimage.py can time scikit-image on exactly the same data.
 //
-//   build-metrics/bin/bench_ssim [--size 1024] [--repeat 20] [--write-dir DIR]
+//   build/bin/bench_ssim [--size 1024] [--repeat 20] [--write-dir DIR]
 #include <tbb/global_control.h>
 
 #include <algorithm>

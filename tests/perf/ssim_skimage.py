@@ -6,7 +6,7 @@ Benchmark mode (default): runs bench_ssim, which times glint::ssim on two determ
 structural_similarity on the same arrays (single-threaded, float64) and checks that the values
 agree. Prints one JSON object; exits 1 if the values disagree.
 
-    /usr/bin/python3 tests/perf/ssim_skimage.py build-metrics/bin/bench_ssim
+    /usr/bin/python3 tests/perf/ssim_skimage.py build/bin/bench_ssim
 
 Test-values mode: prints scikit-image's SSIM of the small deterministic images that
 tests/image/metrics_test.cpp builds with the same integer formulas (the values pasted there).
