@@ -3,16 +3,22 @@
 // static, in-focus objects are exact (zero variance) and must stay sharp.
 //
 // Each feature f with a variance-of-the-mean layer V is filtered with a joint bilateral whose
-// range term is normalised by the centre pixel's variance (as Rousselle, Manzi & Zwicker 2013
-// normalise feature distances by the centre's variance):
+// range term is normalised by the pixels' variances (as Rousselle, Manzi & Zwicker 2013
+// normalise feature distances by the variance):
 //   f'_p = sum_q w f_q / sum_q w,
 //   w(p,q) = exp(-|p-q|^2 / (2 sigmaSpatial^2))
-//          * exp(-(1/2C) sum_c (f_p,c - f_q,c)^2 / (varianceScale^2 2 V_p,c + delta_c)),
+//          * exp(-(1/2C) sum_c (f_p,c - f_q,c)^2
+//                         / (varianceScale^2 (V_p,c + min(V_p,c, V_q,c)) + delta_c)),
 // over the (2 radius + 1)^2 window (truncated at the border), delta_c = 1e-12 (1 + f_p,c^2).
-// A zero-variance pixel therefore only averages identical values (it is unchanged), a noisy
-// pixel averages the neighbours within a few of its standard deviations. The variance layer is
-// replaced by the variance of the weighted mean, sum w^2 V_q / (sum w)^2 (weights taken as
-// fixed). A feature without a variance layer is left unchanged (nothing tells where it is
+// If p and q have the same true value, E (f_p - f_q)^2 = V_p + V_q; the denominator is that
+// expectation with V_q capped at V_p (the variance cancellation of Rousselle, Knaus & Zwicker
+// 2012, eq. 4): a neighbour that is exact (V_q = 0, e.g. the static side of a motion-blurred
+// or antialiased edge) is judged against V_p alone, not 2 V_p, so it is not pulled in by
+// differences the centre's own noise does not explain, and a noisier neighbour does not
+// widen the test. A zero-variance pixel therefore only averages identical values (it is
+// unchanged), a noisy pixel averages the neighbours within a few of its standard deviations. The
+// variance layer is replaced by the variance of the weighted mean, sum w^2 V_q / (sum w)^2 (weights
+// taken as fixed). A feature without a variance layer is left unchanged (nothing tells where it is
 // noisy). Non-finite feature values get weight 0; a non-finite centre keeps only the spatial
 // term; a non-finite variance counts as very large.
 #include "glint/denoise/prefilter.h"
@@ -32,14 +38,16 @@ namespace {
 using detail::VecF;
 
 constexpr float kUnknownVariance = 1e30f;
+constexpr float kRangeCap = 1e30f;  // exp(-1e30) is 0 already
 
 // One feature layer as planes over the image plus a border of `pad` missing pixels on every
-// side (and 8 more columns on the right for the SIMD tail): values, variances, validity, and
-// the centre normalisation 1 / (2 C (varianceScale^2 2 V_p,c + delta_c)) per channel.
+// side (and 8 more columns on the right for the SIMD tail): values, variances, validity, the
+// scaled variances varianceScale^2 V_c and the centre terms delta_c per channel, and the
+// channel average 1 / (2 C) per pixel (0 for a missing centre: only the spatial term stays).
 struct FeaturePlanes {
     int pad = 0, stride = 0, channels = 0;
-    std::vector<std::vector<float>> value, variance, invDen;
-    std::vector<float> valid;
+    std::vector<std::vector<float>> value, variance, scaledVariance, delta;
+    std::vector<float> valid, centreFactor;
     std::size_t index(int x, int y) const {
         return std::size_t(y + pad) * std::size_t(stride) + std::size_t(x + pad);
     }
@@ -54,13 +62,17 @@ FeaturePlanes makePlanes(const Image& f, const Image& var, int pad, double k2) {
     const std::size_t ch = std::size_t(fp.channels);
     fp.value.assign(ch, std::vector<float>(size, 0.0f));
     fp.variance.assign(ch, std::vector<float>(size, 0.0f));
-    fp.invDen.assign(ch, std::vector<float>(size, 0.0f));
+    fp.scaledVariance.assign(ch, std::vector<float>(size, 0.0f));
+    fp.delta.assign(ch, std::vector<float>(size, 1.0f));
     fp.valid.assign(size, 0.0f);
+    fp.centreFactor.assign(size, 0.0f);
     detail::parallelRows(0, f.height(), [&](int y) {
         for (int x = 0; x < f.width(); ++x) {
             const std::size_t i = fp.index(x, y);
             const bool finite = detail::isFinitePixel(f.row(y) + std::size_t(x) * ch, int(ch));
             fp.valid[i] = finite ? 1.0f : 0.0f;
+            // A missing centre keeps only the spatial term (factor 0).
+            fp.centreFactor[i] = finite ? float(1.0 / (2.0 * double(ch))) : 0.0f;
             for (std::size_t c = 0; c < ch; ++c) {
                 const double v = f(x, y, int(c));
                 const double vv = var(x, y, int(c));
@@ -68,11 +80,8 @@ FeaturePlanes makePlanes(const Image& f, const Image& var, int pad, double k2) {
                                                     : double(kUnknownVariance);
                 fp.value[c][i] = finite ? float(v) : 0.0f;
                 fp.variance[c][i] = float(sv);
-                // A missing centre keeps only the spatial term (normalisation 0).
-                fp.invDen[c][i] =
-                    finite
-                        ? float(1.0 / (2.0 * double(ch) * (k2 * 2.0 * sv + 1e-12 * (1.0 + v * v))))
-                        : 0.0f;
+                fp.scaledVariance[c][i] = float(std::min(k2 * sv, double(kUnknownVariance)));
+                fp.delta[c][i] = finite ? float(1e-12 * (1.0 + v * v)) : 1.0f;
             }
         }
     });
@@ -86,10 +95,12 @@ template <int C>
 GLINT_SIMD_CLONES void filterBlock(const FeaturePlanes& fp, int x, int y, int r,
                                    const float* spatial, float* out) {
     const std::size_t ip = fp.index(x, y);
-    VecF centre[C], inv[C], sum[C], sumVar[C], wsum{};
+    VecF centre[C], centreVar[C], centreDelta[C], sum[C], sumVar[C], wsum{}, factor;
+    detail::loadVec(factor, &fp.centreFactor[ip]);
     for (int c = 0; c < C; ++c) {
         detail::loadVec(centre[c], &fp.value[std::size_t(c)][ip]);
-        detail::loadVec(inv[c], &fp.invDen[std::size_t(c)][ip]);
+        detail::loadVec(centreVar[c], &fp.scaledVariance[std::size_t(c)][ip]);
+        detail::loadVec(centreDelta[c], &fp.delta[std::size_t(c)][ip]);
         sum[c] = VecF{};
         sumVar[c] = VecF{};
     }
@@ -99,14 +110,20 @@ GLINT_SIMD_CLONES void filterBlock(const FeaturePlanes& fp, int x, int y, int r,
             const float sp = spatial[(dy + r) * d + dx + r];
             if (sp < 0.0f) continue;
             const std::size_t iq = fp.index(x + dx, y + dy);
-            VecF diff[C], e = VecF{} + sp;
+            VecF diff[C], range{};
             for (int c = 0; c < C; ++c) {
-                VecF q;
+                VecF q, vq;
                 detail::loadVec(q, &fp.value[std::size_t(c)][iq]);
+                detail::loadVec(vq, &fp.scaledVariance[std::size_t(c)][iq]);
                 diff[c] = q - centre[c];
-                e += diff[c] * diff[c] * inv[c];
+                // Expected squared difference of equal true values, V_q capped at V_p.
+                const VecF den =
+                    centreVar[c] + (vq < centreVar[c] ? vq : centreVar[c]) + centreDelta[c];
+                const VecF term = diff[c] * diff[c] / den;
+                // Clamped so that an overflow (inf) times a missing centre's 0 is not NaN.
+                range += term < kRangeCap ? term : kRangeCap;
             }
-            VecF w = -e, m;
+            VecF w = -(sp + factor * range), m;
             detail::expNegInPlace(w);
             detail::loadVec(m, &fp.valid[iq]);
             w *= m;

@@ -8,8 +8,8 @@ namespace glint::denoise {
 
 /// Parameters of the feature prefilter (documented in docs/denoise.md).
 struct PrefilterParams {
-    int radius = 5;             ///< half window in pixels
-    double sigmaSpatial = 2.5;  ///< spatial Gaussian sigma in pixels
+    int radius = 3;             ///< half window in pixels
+    double sigmaSpatial = 1.5;  ///< spatial Gaussian sigma in pixels
     /// Weight of a neighbour's difference relative to the two pixels' variances (how many
     /// standard deviations count as "different").
     double varianceScale = 1.0;
