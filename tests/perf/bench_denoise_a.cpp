@@ -108,7 +108,7 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[i], "--curve"))
             curve = std::atoi(argv[i + 1]);
         else if (!std::strcmp(argv[i], "--only"))
-            only = argv[i + 1], curve = 0;
+            only = argv[i + 1];
         else {
             std::fprintf(stderr,
                          "usage: bench_denoise_a [--threads N] [--size N] [--reps N] [--curve 0|1] "
@@ -116,6 +116,7 @@ int main(int argc, char** argv) {
             return 2;
         }
     }
+    if (!only.empty()) curve = 0;  // the curve needs the exact d = 61 reference
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
     const FrameBuffers frame = testImage(size);
     nlohmann::json report{{"threads", threads}, {"size", size}, {"reps", reps}};
