@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -180,8 +181,16 @@ int run(const Options& opt) {
                             {"passes", passes}};
         if (reference) j["relMse"] = lastRelMse, j["ssim"] = lastSsim;
         // Metropolis statistics (b, acceptance per mutation kind, mutations/s...).
-        for (const auto& [key, value] : frame.metadata().extra)
-            if (key.rfind("mlt", 0) == 0) j["mlt"][key] = value;
+        // Numbers go out as JSON numbers, descriptions as strings.
+        for (const auto& [key, value] : frame.metadata().extra) {
+            if (key.rfind("mlt", 0) != 0) continue;
+            char* end = nullptr;
+            const double number = std::strtod(value.c_str(), &end);
+            if (!value.empty() && end == value.c_str() + value.size())
+                j["mlt"][key] = number;
+            else
+                j["mlt"][key] = value;
+        }
         std::cout << j.dump() << "\n";
     } else {
         std::printf("rendered %s: %dx%d, %d spp in %.3f s (setup %.3f s)\n", opt.scene.c_str(),
