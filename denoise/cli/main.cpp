@@ -149,7 +149,10 @@ json metricsOf(const glint::Image& image, const glint::Image& reference,
                const std::optional<glint::Rect>& crop) {
     glint::MetricOptions o;
     o.crop = crop;
-    return {{"ssim", glint::ssim(image, reference, o).value},
+    // SSIM needs its 11x11 window: null for a smaller region (a small --roi is fine otherwise).
+    const glint::Rect region = crop.value_or(image.bounds());
+    const bool ssimFits = region.width() >= 11 && region.height() >= 11;
+    return {{"ssim", ssimFits ? json(glint::ssim(image, reference, o).value) : json(nullptr)},
             {"psnr", glint::psnr(image, reference, o).value},
             {"relmse", glint::relMse(image, reference, o).value}};
 }
@@ -213,7 +216,6 @@ void runApply(const ApplyOptions& opt) {
         std::copy_n(filtered.row(y - region.y0), std::size_t(region.width()) * 3,
                     out.color().row(y) + std::size_t(region.x0) * 3);
     out.metadata().extra["denoiseFilter"] = std::string(filter.name());
-    glint::writeExr(out, opt.output);
 
     json report{{"input", opt.input},
                 {"output", opt.output},
@@ -230,6 +232,8 @@ void runApply(const ApplyOptions& opt) {
         report["metricsInput"] = metricsOf(frame.color(), reference->color(), roi);
         report["metrics"] = metricsOf(out.color(), reference->color(), roi);
     }
+    // Written last, so that an error in the metrics leaves no output file behind.
+    glint::writeExr(out, opt.output);
     if (opt.json) {
         std::cout << report.dump() << "\n";
         return;
@@ -240,9 +244,15 @@ void runApply(const ApplyOptions& opt) {
     if (reference) {
         const json& a = report["metricsInput"];
         const json& b = report["metrics"];
-        std::printf("  vs %s%s:  SSIM %.4f -> %.4f   PSNR %.2f -> %.2f dB   relMSE %.5g -> %.5g\n",
-                    opt.reference.c_str(), roi ? " (roi)" : "", a["ssim"].get<double>(),
-                    b["ssim"].get<double>(), a["psnr"].get<double>(), b["psnr"].get<double>(),
+        auto ssimText = [](const json& v) {
+            if (v.is_null()) return std::string("n/a (region < 11x11)");
+            char text[32];
+            std::snprintf(text, sizeof text, "%.4f", v.get<double>());
+            return std::string(text);
+        };
+        std::printf("  vs %s%s:  SSIM %s -> %s   PSNR %.2f -> %.2f dB   relMSE %.5g -> %.5g\n",
+                    opt.reference.c_str(), roi ? " (roi)" : "", ssimText(a["ssim"]).c_str(),
+                    ssimText(b["ssim"]).c_str(), a["psnr"].get<double>(), b["psnr"].get<double>(),
                     a["relmse"].get<double>(), b["relmse"].get<double>());
     }
 }

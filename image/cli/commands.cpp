@@ -215,8 +215,14 @@ void runDiff(const DiffOptions& options) {
         metricOptions.crop = rect;
     }
 
-    const MetricResult result =
-        computeMetric(metric, image.color(), reference.color(), metricOptions);
+    MetricResult result;
+    try {
+        result = computeMetric(metric, image.color(), reference.color(), metricOptions);
+    } catch (const Error& e) {
+        // Name the image for errors about its content (too small for SSIM, all NaN...).
+        if (e.file().empty()) throw Error(e.kind(), e.message(), options.file, e.where());
+        throw;
+    }
     // What the metric did with pixels holding NaN/Inf (see metrics.h).
     const char* treatment = metric == Metric::Ssim ? "set to 0 before filtering" : "excluded";
 

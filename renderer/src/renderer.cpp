@@ -141,7 +141,8 @@ FrameBuffers Renderer::render(const Settings& settings, const Callbacks& callbac
         if (settings.spp > 0) count = std::min(count, settings.spp - done);
         if (timed && secondsPerSpp > 0.0) {
             const double remaining = deadline - elapsed();
-            count = std::clamp(int(remaining / secondsPerSpp), 1, count);
+            // Clamped in double: a fast pass on a tiny film gives ratios beyond INT_MAX.
+            count = int(std::clamp(remaining / secondsPerSpp, 1.0, double(count)));
         }
         const PassSampler sampler(settings.sampler, settings.seed, done, count);
         const double totalSpp = settings.spp > 0 ? double(settings.spp) : 0.0;

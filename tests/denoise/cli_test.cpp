@@ -113,6 +113,22 @@ TEST_F(DenoiseCli, ReferenceMetricsInJsonAndRoiKeepsTheRest) {
     EXPECT_NE(out.color()(10, 10, 0), in.color()(10, 10, 0));  // inside
 }
 
+TEST_F(DenoiseCli, ReferenceWithARegionSmallerThanTheSsimWindowStillWorks) {
+    // SSIM needs 11x11 pixels; a smaller --roi with --reference used to fail (exit 2) after
+    // OUT had already been written. Now SSIM is reported as null and the rest as usual.
+    for (const std::string json : {" --json", ""}) {
+        const RunResult r =
+            run("apply " + path("noisy.exr") + " --filter gaussian --roi 4,10,2,8 --out " +
+                path("small.exr") + " --reference " + path("ref.exr") + json);
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        EXPECT_TRUE(fs::exists(path("small.exr")));
+        if (json.empty()) continue;
+        const nlohmann::json j = nlohmann::json::parse(r.out);
+        EXPECT_TRUE(j["metrics"]["ssim"].is_null());
+        EXPECT_TRUE(j["metrics"]["psnr"].is_number());
+    }
+}
+
 TEST_F(DenoiseCli, BadInputExitsTwoWithAClearMessage) {
     const std::string in = path("noisy.exr"), out = path("bad.exr");
     struct Case {

@@ -107,3 +107,23 @@ TEST(Guided, MissingGuideLayerThrows) {
     EXPECT_THROW(applyFilter(f, frame, {{"guide", 4}}), Error);
     EXPECT_THROW(applyFilter(f, frame, {{"radius", 1.5}}), Error);
 }
+
+TEST(Guided, BrightSpikeDoesNotReachBeyondTheMargin) {
+    // A finite 1e20 pixel in a constant image: outside the filter's margin the output must stay
+    // exactly constant. Plain running box sums lost ~1e-16 * 1e20 when the spike left the window
+    // and corrupted every row up to the next restart (64 rows); compensated sums recover it.
+    const Filter& f = findFilter("guided");
+    for (float spike : {1e20f, 1e30f}) {
+        FrameBuffers frame(16, 80);
+        frame.color().fill(1.0f);
+        for (int c = 0; c < 3; ++c) frame.color()(3, 2, c) = spike;
+        const ParamValues params{{"radius", 5}, {"eps", 5e-2}, {"guide", 0}};
+        const int margin = f.margin(resolveParams(f, params));
+        const Image out = applyFilter(f, frame, params);
+        for (int y = 2 + margin + 1; y < 80; ++y)
+            for (int x = 0; x < 16; ++x)
+                for (int c = 0; c < 3; ++c)
+                    ASSERT_NEAR(out(x, y, c), 1.0f, 1e-6f)
+                        << "spike " << spike << " at " << x << "," << y;
+    }
+}

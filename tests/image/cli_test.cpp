@@ -194,6 +194,8 @@ TEST_F(CliTest, BadInputExitsTwoWithOneLine) {
     expectBadInput(diff + quote(ref) + " --metric mse --crop 5,5,0,4", ref + ": --crop: ");
     expectBadInput(diff + quote(ref) + " --metric mse --crop 1,2,3", "--crop: ");
     expectBadInput(diff + quote(ref) + " --metric nope", "--metric: ");
+    // Errors of the metric itself name the image too (SSIM needs an 11x11 window).
+    expectBadInput(diff + quote(ref) + " --metric ssim --crop 0,8,0,8", ref + ": ssim: ");
     expectBadInput("diff " + quote(ref) + " --metric mse", "command line: ");
     expectBadInput("frobnicate", "command line: ");
 

@@ -1,6 +1,9 @@
 // Textures: bilinear lookup with repeat wrapping, and sRGB 8-bit images linearised on load.
 #include <gtest/gtest.h>
 
+#include <limits>
+
+#include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
@@ -21,6 +24,42 @@ TEST(Texture, BilinearLookupWithRepeat) {
     EXPECT_NEAR(tex.lookup({0.5f, 0.5f}).x, 0.5f, 1e-6);
     EXPECT_NEAR(tex.lookup({0.0f, 0.5f}).x, 0.5f, 1e-6);
     EXPECT_NEAR(tex.lookup({1.25f, 0.5f}).x, 0.0f, 1e-6);
+}
+
+TEST(Texture, HugeOrNonFiniteUvStaysInsideTheImage) {
+    detail::Texture tex;
+    tex.image = Image(4, 1, 3);
+    for (int x = 0; x < 4; ++x)
+        for (int c = 0; c < 3; ++c) tex.image(x, 0, c) = float(x + 1);
+    // 1e30 is an integer in float, so repeat wrapping puts it at u = 0: the midpoint of the last
+    // and first texels, (4 + 1) / 2. NaN coordinates fall back to u = 0 instead of converting a
+    // NaN to an integer (undefined behaviour).
+    EXPECT_NEAR(tex.lookup({1e30f, 0.5f}).x, 2.5f, 1e-6);
+    EXPECT_NEAR(tex.lookup({-1e30f, 0.5f}).x, 2.5f, 1e-6);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_NEAR(tex.lookup({nan, nan}).x, 2.5f, 1e-6);
+}
+
+TEST(Texture, NonFiniteTexelIsRejectedNamingTheFile) {
+    test::TempDir dir("texture-nan");
+    Image img(4, 4, 3, 0.5f);
+    img(2, 1, 1) = std::numeric_limits<float>::quiet_NaN();
+    writeImage(img, dir.path() / "bad.exr");
+    dir.write("quad.obj", test::quadObj());
+    const auto scenePath = dir.write("scene.json", R"({
+      "film": {"width": 4, "height": 4},
+      "materials": {"floor": {"type": "diffuse", "texture": "bad.exr"}},
+      "shapes": [{"obj": "quad.obj", "material": "floor"}]
+    })");
+    try {
+        loadScene(scenePath);
+        ADD_FAILURE() << "a NaN texel was accepted";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::Format) << e.what();
+        EXPECT_NE(e.file().find("bad.exr"), std::string::npos) << e.what();
+        EXPECT_EQ(e.where(), "/materials/floor/texture") << e.what();
+        EXPECT_NE(e.message().find("(2, 1)"), std::string::npos) << e.what();
+    }
 }
 
 TEST(Texture, SrgbPngIsLinearisedIntoTheAlbedoLayer) {

@@ -22,7 +22,11 @@ inline int boxAnchorBelow(int i) {
 void boxSums1D(const double* in, int in0, std::ptrdiff_t inStride, double* out, int out0, int out1,
                std::ptrdiff_t outStride, int width, int r, int lim0, int lim1);
 
-/// acc[0, width) += v[0, width), or -= when `subtract`; width a multiple of 4.
-void accumulateRow(double* acc, const double* v, int width, bool subtract);
+/// acc[0, width) += v[0, width), or -= when `subtract`, with the rounding error of each addition
+/// added to comp (compensated running sums: the sum is acc + comp); width a multiple of 4.
+void accumulateRow(double* acc, double* comp, const double* v, int width, bool subtract);
+
+/// out[k] = acc[k] + comp[k] for k in [0, width): the value of a compensated running sum.
+void compensatedSum(const double* acc, const double* comp, int width, double* out);
 
 }  // namespace glint::denoise::detail

@@ -209,20 +209,23 @@ void windowCoefficients(const double* s, const Layout& L, double eps, double* e,
         if (!std::isfinite(e[L.oB + c])) e[L.oB + c] = pm[std::size_t(c)];
 }
 
-// Window sums at row j from a ring of rows (row i at ring + (i % rows) * width): a direct sum
-// at anchors, else the previous sums plus the entering and minus the leaving row. Matches
-// boxSums1D's order exactly, so every value depends only on its position.
-void verticalStep(double* acc, const double* ring, int rows, int width, int j, int r, int limit,
-                  bool restart) {
+// Window sums at row j from a ring of rows (row i at ring + (i % rows) * width) into sum: a
+// direct sum at anchors, else the previous sums plus the entering and minus the leaving row, kept
+// as compensated running sums (acc + comp, box_filter.h). Matches boxSums1D's order exactly, so
+// every value depends only on its position.
+void verticalStep(double* acc, double* comp, double* sum, const double* ring, int rows, int width,
+                  int j, int r, int limit, bool restart) {
     auto row = [&](int i) { return ring + std::size_t(i % rows) * std::size_t(width); };
     if (restart) {
         std::fill_n(acc, width, 0.0);
+        std::fill_n(comp, width, 0.0);
         for (int i = std::max(0, j - r); i < std::min(limit, j + r + 1); ++i)
-            detail::accumulateRow(acc, row(i), width, false);
-        return;
+            detail::accumulateRow(acc, comp, row(i), width, false);
+    } else {
+        if (j + r < limit) detail::accumulateRow(acc, comp, row(j + r), width, false);
+        if (j - r - 1 >= 0) detail::accumulateRow(acc, comp, row(j - r - 1), width, true);
     }
-    if (j + r < limit) detail::accumulateRow(acc, row(j + r), width, false);
-    if (j - r - 1 >= 0) detail::accumulateRow(acc, row(j - r - 1), width, true);
+    detail::compensatedSum(acc, comp, width, sum);
 }
 
 // The guided filter for output columns [sx0, sx1) of roi, streaming down the rows: stage-1
@@ -240,9 +243,11 @@ void guidedStrip(const Image& color, const GuideSource& guide, const Layout& L, 
     const int abFirst = std::max(0, A2 - r);         // first a, b row stage 2 reads
     const int A1 = detail::boxAnchorBelow(abFirst);  // first stage-1 row
     const int R = 2 * r + 2;                         // ring rows
-    std::vector<double> ring1(std::size_t(R) * wA * L.c1), acc1(std::size_t(wA) * L.c1);
+    std::vector<double> ring1(std::size_t(R) * wA * L.c1), acc1(std::size_t(wA) * L.c1),
+        comp1(acc1.size()), sum1(acc1.size());
     std::vector<double> inRow(std::size_t(wI) * L.c1), abRow(std::size_t(wA) * L.c2);
-    std::vector<double> ring2(std::size_t(R) * wO * L.c2), acc2(std::size_t(wO) * L.c2);
+    std::vector<double> ring2(std::size_t(R) * wO * L.c2), acc2(std::size_t(wO) * L.c2),
+        comp2(acc2.size()), sum2(acc2.size());
     std::vector<double> guideRing(std::size_t(R) * wO * k);
     std::array<double, 3> mu{}, g{};
     int h1Next = std::max(0, A1 - r);
@@ -258,10 +263,11 @@ void guidedStrip(const Image& color, const GuideSource& guide, const Layout& L, 
                                   L.c1, L.c1, r, 0, W);
             }
             // Stage-1 vertical sums at row j, then a and b of the windows of row j.
-            verticalStep(acc1.data(), ring1.data(), R, wA * L.c1, j, r, H, j % P == 0 || j == A1);
+            verticalStep(acc1.data(), comp1.data(), sum1.data(), ring1.data(), R, wA * L.c1, j, r,
+                         H, j % P == 0 || j == A1);
             if (j >= abFirst) {
                 for (int x = cA0; x < cA1; ++x) {
-                    windowCoefficients(acc1.data() + std::size_t(x - cA0) * L.c1, L, eps,
+                    windowCoefficients(sum1.data() + std::size_t(x - cA0) * L.c1, L, eps,
                                        abRow.data() + std::size_t(x - cA0) * L.c2, mu.data());
                     if (x < sx0 || x >= sx1) continue;
                     // The centre's guide, or its window's guide mean where the guide is missing.
@@ -278,11 +284,12 @@ void guidedStrip(const Image& color, const GuideSource& guide, const Layout& L, 
         // Stage 2 at row y = j - r: average a and b over the covering windows (eq. 8).
         const int y = j - r;
         if (y < A2 || y >= roi.y1) continue;
-        verticalStep(acc2.data(), ring2.data(), R, wO * L.c2, y, r, H, y % P == 0 || y == A2);
+        verticalStep(acc2.data(), comp2.data(), sum2.data(), ring2.data(), R, wO * L.c2, y, r, H,
+                     y % P == 0 || y == A2);
         if (y < roi.y0) continue;
         float* dst = out.row(y - roi.y0) + std::size_t(sx0 - roi.x0) * 3;
         for (int x = 0; x < wO; ++x) {
-            const double* s = acc2.data() + std::size_t(x) * L.c2;
+            const double* s = sum2.data() + std::size_t(x) * L.c2;
             const double* cg = guideRing.data() + (std::size_t(y % R) * wO + std::size_t(x)) * k;
             for (int c = 0; c < 3; ++c) {
                 double q = 0.0;

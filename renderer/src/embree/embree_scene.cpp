@@ -1,6 +1,7 @@
 // The only file that includes Embree: scene conversion (ending in rtcCommitScene) and queries.
 #include "embree/embree_scene.h"
 
+#include <algorithm>
 #include <limits>
 #include <string>
 
@@ -32,9 +33,12 @@ RTCGeometry newTriangleMesh(RTCDevice device, std::size_t triangles, int steps,
                                     3 * sizeof(float), 3 * triangles)));
     auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
         geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), triangles));
-    for (float* v : vertexBuffers)
-        if (!v) throwDeviceError(device, "buffer allocation");
-    if (!indices) throwDeviceError(device, "buffer allocation");
+    const bool allocated = indices && std::find(vertexBuffers.begin(), vertexBuffers.end(),
+                                                nullptr) == vertexBuffers.end();
+    if (!allocated) {
+        rtcReleaseGeometry(geom);
+        throwDeviceError(device, "buffer allocation");
+    }
     for (std::size_t i = 0; i < 3 * triangles; ++i) indices[i] = unsigned(i);
     return geom;
 }
@@ -57,7 +61,8 @@ void attach(RTCScene scene, RTCGeometry geom, unsigned id) {
 /// into a motion-blur mesh (geometry 1 + i) whose time step k holds the shape posed by its
 /// transform at normalised time k / (steps - 1). Ends in rtcCommitScene.
 RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& data) {
-    RTCScene scene = rtcNewScene(device);
+    // Held in m_scene at once so that the constructor releases it if the conversion throws.
+    RTCScene scene = m_scene = rtcNewScene(device);
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
     // Default (non-robust) traversal: RTC_SCENE_FLAG_ROBUST made cornell ~40 % slower and the
     // closed-sphere furnace test shows no leaks without it.
@@ -101,8 +106,16 @@ RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& da
 EmbreeScene::EmbreeScene(const detail::SceneData& scene) {
     m_device = rtcNewDevice("verbose=0");
     if (!m_device) throwDeviceError(nullptr, "device creation");
-    m_scene = convertScene(m_device, scene);
-    if (rtcGetDeviceError(m_device) != RTC_ERROR_NONE) throwDeviceError(m_device, "scene build");
+    // The destructor does not run when the constructor throws: release what exists here.
+    try {
+        m_scene = convertScene(m_device, scene);
+        if (rtcGetDeviceError(m_device) != RTC_ERROR_NONE)
+            throwDeviceError(m_device, "scene build");
+    } catch (...) {
+        if (m_scene) rtcReleaseScene(m_scene);
+        rtcReleaseDevice(m_device);
+        throw;
+    }
 }
 
 EmbreeScene::~EmbreeScene() {

@@ -302,7 +302,7 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
         int count = std::clamp(done, 1, 64);
         if (spp > 0) count = std::min(count, spp - done);
         if (timed && secondsPerSpp > 0.0)
-            count = std::clamp(int((deadline - elapsed()) / secondsPerSpp), 1, count);
+            count = int(std::clamp((deadline - elapsed()) / secondsPerSpp, 1.0, double(count)));
         const std::uint64_t perChain =
             (std::uint64_t(count) * pixels + std::uint64_t(nChains) - 1) / std::uint64_t(nChains);
         const double passStart = elapsed();

@@ -210,7 +210,16 @@ int Loader::texture(const fs::path& path, const std::string& where) {
     tex.image = Image(raw.width(), raw.height(), 3);
     for (int y = 0; y < raw.height(); ++y)
         for (int x = 0; x < raw.width(); ++x)
-            for (int c = 0; c < 3; ++c) tex.image(x, y, c) = raw(x, y, raw.channels() >= 3 ? c : 0);
+            for (int c = 0; c < 3; ++c) {
+                const float v = raw(x, y, raw.channels() >= 3 ? c : 0);
+                // A NaN/Inf/negative albedo would poison every path that hits the texel.
+                if (!std::isfinite(v) || v < 0.0f)
+                    throw Error(ErrorKind::Format,
+                                "texture has a negative or non-finite value at pixel (" +
+                                    std::to_string(x) + ", " + std::to_string(y) + ")",
+                                full.string(), where);
+                tex.image(x, y, c) = v;
+            }
     m_scene.textures.push_back(std::move(tex));
     m_textureIndex[full] = int(m_scene.textures.size()) - 1;
     return int(m_scene.textures.size()) - 1;

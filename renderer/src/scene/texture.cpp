@@ -7,8 +7,11 @@ namespace glint::render::detail {
 Vec3 Texture::lookup(Vec2 uv) const {
     const int w = image.width(), h = image.height();
     // Texel centres at half-integers; v flipped because image rows run top to bottom.
-    const float x = uv.x * float(w) - 0.5f;
-    const float y = (1.0f - uv.y) * float(h) - 0.5f;
+    // Repeat wrapping is applied to uv first, so huge or non-finite coordinates from a mesh never
+    // reach the float → integer conversions below (which would be undefined behaviour).
+    auto unit = [](float t) { return std::isfinite(t) ? t - std::floor(t) : 0.0f; };
+    const float x = unit(uv.x) * float(w) - 0.5f;
+    const float y = (1.0f - unit(uv.y)) * float(h) - 0.5f;
     const float fx = std::floor(x), fy = std::floor(y);
     const float tx = x - fx, ty = y - fy;
     auto wrap = [](long i, int n) { return int(((i % n) + n) % n); };
