@@ -59,9 +59,10 @@ glint::Rect parseRect(const std::string& text) {
     while (std::getline(in, item, ',')) {
         char* end = nullptr;
         const long n = std::strtol(item.c_str(), &end, 10);
-        if (item.empty() || *end != '\0')
+        if (item.empty() || *end != '\0' || n < 0 || n > 1 << 24)
             throw Error(ErrorKind::InvalidArgument,
-                        "'" + text + "' is not x0,x1,y0,y1 (four integers)", {}, "--roi");
+                        "'" + text + "' is not x0,x1,y0,y1 (four integers in [0, 2^24])", {},
+                        "--roi");
         v.push_back(int(n));
     }
     if (v.size() != 4)
@@ -229,8 +230,14 @@ void runApply(const ApplyOptions& opt) {
     if (roi) report["roi"] = {roi->x0, roi->x1, roi->y0, roi->y1};
     if (reference) {
         report["reference"] = opt.reference;
-        report["metricsInput"] = metricsOf(frame.color(), reference->color(), roi);
-        report["metrics"] = metricsOf(out.color(), reference->color(), roi);
+        // Metric errors (e.g. a reference that is NaN everywhere) name the files involved.
+        try {
+            report["metricsInput"] = metricsOf(frame.color(), reference->color(), roi);
+            report["metrics"] = metricsOf(out.color(), reference->color(), roi);
+        } catch (const Error& e) {
+            throw Error(e.kind(), e.message() + " (against reference " + opt.reference + ")",
+                        opt.input, "--reference");
+        }
     }
     // Written last, so that an error in the metrics leaves no output file behind.
     glint::writeExr(out, opt.output);

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -140,6 +141,7 @@ TEST_F(DenoiseCli, BadInputExitsTwoWithAClearMessage) {
         {"apply " + in + " --filter gaussian --param sigma=-1 --out " + out, "range"},
         {"apply " + in + " --filter gaussian --param sigma --out " + out, "name=number"},
         {"apply " + in + " --filter gaussian --roi 0,50,0,5 --out " + out, "outside"},
+        {"apply " + in + " --filter gaussian --roi 4294967301,6,0,5 --out " + out, "four integers"},
         {"apply " + path("nope.exr") + " --filter gaussian --out " + out, "nope.exr"},
         {"apply " + in + " --filter gaussian --reference " + path("nope.exr") + " --out " + out,
          "nope.exr"},
@@ -151,6 +153,18 @@ TEST_F(DenoiseCli, BadInputExitsTwoWithAClearMessage) {
         EXPECT_EQ(r.exitCode, 2) << c.args;
         EXPECT_NE(r.err.find(c.mention), std::string::npos) << c.args << "\n" << r.err;
         EXPECT_FALSE(fs::exists(out)) << c.args;
+    }
+    // A metric that cannot be computed (a reference that is NaN everywhere) names both files.
+    {
+        FrameBuffers nan = testing::syntheticFrame(40, 32, 0.0f);
+        nan.color().fill(std::numeric_limits<float>::quiet_NaN());
+        writeExr(nan, path("nan.exr"));
+        const RunResult r = run("apply " + in + " --filter gaussian --reference " +
+                                path("nan.exr") + " --out " + out);
+        EXPECT_EQ(r.exitCode, 2) << r.err;
+        EXPECT_NE(r.err.find("noisy.exr"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("nan.exr"), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(out));
     }
     // A filter that needs feature layers names the missing ones and the file.
     for (const Filter* f : allFilters()) {
