@@ -4,11 +4,11 @@
 // q_i = a_k^T I_i + b_k, with a_k = (Sigma_k + eps U)^-1 cov_k(I, p) and b_k = mean_k(p) - a_k^T
 // mean_k(I) (TPAMI 2013, eqs. 5-6 for one guide channel, 19-20 for three); the output averages
 // a and b over all windows covering the pixel (eq. 8). All window means are box sums in double
-// with running sums, so the cost does not depend on the radius. Windows are truncated at the
-// image border; missing (NaN/Inf) colour or guide pixels are left out of every mean, so a
-// constant image stays constant. A pixel whose guide is missing uses its window's guide mean.
-// (Co)variances below 1e-12 of their second moment are rounding noise and count as 0, so a
-// constant image of any radiance (1e-30 … 1e30) stays constant.
+// with block prefix and suffix sums (no subtraction), so the cost does not depend on the radius.
+// Windows are truncated at the image border; missing (NaN/Inf) colour or guide pixels are left out
+// of every mean, so a constant image stays constant. A pixel whose guide is missing uses its
+// window's guide mean. (Co)variances below 1e-12 of their second moment are rounding noise and
+// count as 0, so a constant image of any radiance (1e-30 … 1e30) stays constant.
 //
 // Parameters:
 //   radius  window radius r in pixels, 1 … 64 (outputs depend on the 2r pixels around the region).
@@ -43,11 +43,11 @@ In every (2r+1)^2 window w_k the output is a linear function of a guide image I:
 q_i = a_k^T I_i + b_k, with a_k = (Sigma_k + eps U)^-1 cov_k(I, p) and b_k = mean_k(p) - a_k^T
 mean_k(I) (TPAMI 2013, eqs. 5-6 for one guide channel, 19-20 for three); the output averages
 a and b over all windows covering the pixel (eq. 8). All window means are box sums in double
-with running sums, so the cost does not depend on the radius. Windows are truncated at the
-image border; missing (NaN/Inf) colour or guide pixels are left out of every mean, so a
-constant image stays constant. A pixel whose guide is missing uses its window's guide mean.
-(Co)variances below 1e-12 of their second moment are rounding noise and count as 0, so a
-constant image of any radiance (1e-30 … 1e30) stays constant.
+with block prefix and suffix sums (no subtraction), so the cost does not depend on the radius.
+Windows are truncated at the image border; missing (NaN/Inf) colour or guide pixels are left out
+of every mean, so a constant image stays constant. A pixel whose guide is missing uses its
+window's guide mean. (Co)variances below 1e-12 of their second moment are rounding noise and
+count as 0, so a constant image of any radiance (1e-30 … 1e30) stays constant.
 
 Parameters:
   radius  window radius r in pixels, 1 … 64 (outputs depend on the 2r pixels around the region).
@@ -209,45 +209,25 @@ void windowCoefficients(const double* s, const Layout& L, double eps, double* e,
         if (!std::isfinite(e[L.oB + c])) e[L.oB + c] = pm[std::size_t(c)];
 }
 
-// Window sums at row j from a ring of rows (row i at ring + (i % rows) * width) into sum: a
-// direct sum at anchors, else the previous sums plus the entering and minus the leaving row, kept
-// as compensated running sums (acc + comp, box_filter.h). Matches boxSums1D's order exactly, so
-// every value depends only on its position.
-void verticalStep(double* acc, double* comp, double* sum, const double* ring, int rows, int width,
-                  int j, int r, int limit, bool restart) {
-    auto row = [&](int i) { return ring + std::size_t(i % rows) * std::size_t(width); };
-    if (restart) {
-        std::fill_n(acc, width, 0.0);
-        std::fill_n(comp, width, 0.0);
-        for (int i = std::max(0, j - r); i < std::min(limit, j + r + 1); ++i)
-            detail::accumulateRow(acc, comp, row(i), width, false);
-    } else {
-        if (j + r < limit) detail::accumulateRow(acc, comp, row(j + r), width, false);
-        if (j - r - 1 >= 0) detail::accumulateRow(acc, comp, row(j - r - 1), width, true);
-    }
-    detail::compensatedSum(acc, comp, width, sum);
-}
-
 // The guided filter for output columns [sx0, sx1) of roi, streaming down the rows: stage-1
-// horizontal sums go to a ring of 2r+2 rows, vertical running sums give a and b one row at a
+// horizontal sums go to a ring of 2r+2 rows, vertical block sums give a and b one row at a
 // time, whose horizontal sums go to a second ring, whose vertical sums give the output r rows
 // later. Everything stays in cache whatever the image height.
 void guidedStrip(const Image& color, const GuideSource& guide, const Layout& L, double eps, int r,
                  const Rect& roi, int sx0, int sx1, Image& out) {
     const int W = color.width(), H = color.height(), k = L.k;
-    const int P = detail::kBoxAnchor;
-    const int cA0 = std::max(0, detail::boxAnchorBelow(sx0) - r), cA1 = std::min(W, sx1 + r);
-    const int cI0 = std::max(0, detail::boxAnchorBelow(cA0) - r), cI1 = std::min(W, cA1 + r);
+    const int cA0 = std::max(0, sx0 - r), cA1 = std::min(W, sx1 + r);
+    const int cI0 = std::max(0, cA0 - r), cI1 = std::min(W, cA1 + r);
     const int wA = cA1 - cA0, wI = cI1 - cI0, wO = sx1 - sx0;
-    const int A2 = detail::boxAnchorBelow(roi.y0);   // first stage-2 row
-    const int abFirst = std::max(0, A2 - r);         // first a, b row stage 2 reads
-    const int A1 = detail::boxAnchorBelow(abFirst);  // first stage-1 row
-    const int R = 2 * r + 2;                         // ring rows
-    std::vector<double> ring1(std::size_t(R) * wA * L.c1), acc1(std::size_t(wA) * L.c1),
-        comp1(acc1.size()), sum1(acc1.size());
+    const int A2 = roi.y0;               // first stage-2 row
+    const int A1 = std::max(0, A2 - r);  // first stage-1 row = first a, b row stage 2 reads
+    const int abFirst = A1;
+    const int R = 2 * r + 2;  // ring rows
+    std::vector<double> ring1(std::size_t(R) * wA * L.c1), pre1(std::size_t(wA) * L.c1),
+        sum1(pre1.size());
     std::vector<double> inRow(std::size_t(wI) * L.c1), abRow(std::size_t(wA) * L.c2);
-    std::vector<double> ring2(std::size_t(R) * wO * L.c2), acc2(std::size_t(wO) * L.c2),
-        comp2(acc2.size()), sum2(acc2.size());
+    std::vector<double> ring2(std::size_t(R) * wO * L.c2), pre2(std::size_t(wO) * L.c2),
+        sum2(pre2.size());
     std::vector<double> guideRing(std::size_t(R) * wO * k);
     std::array<double, 3> mu{}, g{};
     int h1Next = std::max(0, A1 - r);
@@ -263,8 +243,8 @@ void guidedStrip(const Image& color, const GuideSource& guide, const Layout& L, 
                                   L.c1, L.c1, r, 0, W);
             }
             // Stage-1 vertical sums at row j, then a and b of the windows of row j.
-            verticalStep(acc1.data(), comp1.data(), sum1.data(), ring1.data(), R, wA * L.c1, j, r,
-                         H, j % P == 0 || j == A1);
+            detail::verticalBoxStep(ring1.data(), R, wA * L.c1, pre1.data(), sum1.data(), j, r, H,
+                                    j == A1);
             if (j >= abFirst) {
                 for (int x = cA0; x < cA1; ++x) {
                     windowCoefficients(sum1.data() + std::size_t(x - cA0) * L.c1, L, eps,
@@ -284,8 +264,8 @@ void guidedStrip(const Image& color, const GuideSource& guide, const Layout& L, 
         // Stage 2 at row y = j - r: average a and b over the covering windows (eq. 8).
         const int y = j - r;
         if (y < A2 || y >= roi.y1) continue;
-        verticalStep(acc2.data(), comp2.data(), sum2.data(), ring2.data(), R, wO * L.c2, y, r, H,
-                     y % P == 0 || y == A2);
+        detail::verticalBoxStep(ring2.data(), R, wO * L.c2, pre2.data(), sum2.data(), y, r, H,
+                                y == A2);
         if (y < roi.y0) continue;
         float* dst = out.row(y - roi.y0) + std::size_t(sx0 - roi.x0) * 3;
         for (int x = 0; x < wO; ++x) {
