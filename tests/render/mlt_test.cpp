@@ -27,24 +27,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// Cornell at size × size: scenes/cornell/scene.json when present, else the test-data copy.
+/// The shipped scenes/cornell/scene.json at size × size.
 Scene cornell(int size) {
     const fs::path shipped = fs::path(GLINT_SOURCE_DIR) / "scenes/cornell/scene.json";
-    if (fs::exists(shipped)) {
-        std::ifstream in(shipped);
-        nlohmann::json j = nlohmann::json::parse(in);
-        j["film"] = {{"width", size}, {"height", size}};
-        return parseScene(j.dump(), shipped);
-    }
-    const std::string dir = GLINT_RENDER_TEST_DATA;
-    return parseScene(R"({
-      "camera": {"position": [278, 273, -800], "lookAt": [278, 273, 0], "fovY": 39.3},
-      "film": {"width": )" +
-                          std::to_string(size) + R"(, "height": )" + std::to_string(size) + R"(},
-      "shapes": [{"obj": "cornell_box.obj"}],
-      "render": {"spp": 8, "maxDepth": 8}
-    })",
-                      dir + "/cornell_mlt.json");
+    std::ifstream in(shipped);
+    nlohmann::json j = nlohmann::json::parse(in);
+    j["film"] = {{"width", size}, {"height", size}};
+    return parseScene(j.dump(), shipped);
 }
 
 double meanLuminance(const Image& img) {
