@@ -24,6 +24,17 @@ namespace glint {
 namespace {
 
 constexpr std::string_view kPrefix = "glint:";
+
+/// A corrupt header can claim any size: refuse one that could not be a render (more than
+/// 65536 pixels on a side or 2^28 pixels in all) before allocating anything for it.
+void checkPlausibleSize(int width, int height, const std::string& file) {
+    constexpr long long kMaxSide = 1 << 16, kMaxPixels = 1LL << 28;
+    if (width > kMaxSide || height > kMaxSide || (long long)width * height > kMaxPixels)
+        throw Error(ErrorKind::Format,
+                    "header claims " + std::to_string(width) + "x" + std::to_string(height) +
+                        " pixels; expected at most 65536 per side and 2^28 in all",
+                    file, "header");
+}
 /// glint:* keys with a FrameMetadata field of their own; other glint:* keys go to `extra`.
 constexpr std::array<std::string_view, 8> kKnownKeys{
     "spp", "seed", "integrator", "scene", "varianceOf", "normalSpace", "depth", "nonFiniteSamples"};
@@ -126,6 +137,7 @@ FrameBuffers readExr(const std::filesystem::path& path) {
         throw Error(ErrorKind::Format, "deep EXR files are not supported", file, "header");
     if (spec.width <= 0 || spec.height <= 0 || spec.depth != 1)
         throw Error(ErrorKind::Format, "expected a 2D image with pixels", file, "header");
+    checkPlausibleSize(spec.width, spec.height, file);
 
     bool hasGlintAttributes = false;
     for (const OIIO::ParamValue& p : spec.extra_attribs)
@@ -253,6 +265,7 @@ Image readImage(const std::filesystem::path& path, bool linearize) {
     const OIIO::ImageSpec spec = in->spec();
     if (spec.deep || spec.width <= 0 || spec.height <= 0 || spec.depth != 1 || spec.nchannels <= 0)
         throw Error(ErrorKind::Format, "expected a flat 2D image with pixels", file, "header");
+    checkPlausibleSize(spec.width, spec.height, file);
     Image image(spec.width, spec.height, spec.nchannels);
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeFloat, image.data().data()))
         throw Error(ErrorKind::Format,

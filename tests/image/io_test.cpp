@@ -6,10 +6,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
@@ -288,6 +290,23 @@ TEST_F(IoTest, BadInputNamesFileAndProblem) {
     fs::resize_file(path("header_only.exr"), 40);
     expectError([&] { readExr(path("header_only.exr")); }, ErrorKind::Format,
                 path("header_only.exr"), "");
+
+    // A corrupt header claiming a huge size is refused before anything is allocated: patch
+    // dataWindow's xmax/ymax (box2i: four little-endian int32 after "dataWindow\0box2i\0" and
+    // a 4-byte size) to 1e9 in a copy of a valid file.
+    {
+        std::ifstream in(path("whole.exr"), std::ios::binary);
+        std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        const std::string key("dataWindow\0box2i\0", 17);
+        const std::size_t at = bytes.find(key);
+        ASSERT_NE(at, std::string::npos);
+        const std::int32_t huge = 1000000000;
+        std::memcpy(&bytes[at + key.size() + 4 + 8], &huge, 4);
+        std::memcpy(&bytes[at + key.size() + 4 + 12], &huge, 4);
+        std::ofstream(path("huge.exr"), std::ios::binary) << bytes;
+        expectError([&] { readExr(path("huge.exr")); }, ErrorKind::Format, path("huge.exr"), "");
+        expectError([&] { readImage(path("huge.exr")); }, ErrorKind::Format, path("huge.exr"), "");
+    }
 
     // Missing colour channels.
     writeRawExr(path("nocolor.exr"), 2, 2, {"albedo.R", "albedo.G", "albedo.B"},
