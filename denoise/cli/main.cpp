@@ -242,7 +242,7 @@ void runApply(const ApplyOptions& opt) {
     // Written last, so that an error in the metrics leaves no output file behind.
     glint::writeExr(out, opt.output);
     if (opt.json) {
-        std::cout << report.dump() << "\n";
+        std::cout << report.dump(-1, ' ', false, json::error_handler_t::replace) << "\n";
         return;
     }
     std::printf("%s: %s %dx%d%s in %.3f s -> %s\n", filter.name().data(), opt.input.c_str(),

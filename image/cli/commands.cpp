@@ -145,7 +145,7 @@ void runInfo(const InfoOptions& options) {
         const json out = {{"file", options.file},     {"width", frame.width()},
                           {"height", frame.height()}, {"source", md.source},
                           {"layers", layers},         {"metadata", metadata}};
-        std::cout << out.dump() << "\n";
+        std::cout << out.dump(-1, ' ', false, json::error_handler_t::replace) << "\n";
         return;
     }
     std::cout << options.file << ": " << frame.width() << "x" << frame.height() << ", "
@@ -238,7 +238,7 @@ void runDiff(const DiffOptions& options) {
                     {"crop", crop ? json(*crop) : json(nullptr)},
                     {"linear", options.linear},
                     {"exposure", options.exposure}};
-        std::cout << out.dump() << "\n";
+        std::cout << out.dump(-1, ' ', false, json::error_handler_t::replace) << "\n";
         return;
     }
     std::cout << metricName(metric) << " " << formatNumber(result.value) << "\n";

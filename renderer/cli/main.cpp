@@ -191,7 +191,7 @@ int run(const Options& opt) {
             else
                 j["mlt"][key] = value;
         }
-        std::cout << j.dump() << "\n";
+        std::cout << j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
     } else {
         std::printf("rendered %s: %dx%d, %d spp in %.3f s (setup %.3f s)\n", opt.scene.c_str(),
                     frame.width(), frame.height(), stats.completedSpp, stats.seconds, setupSeconds);

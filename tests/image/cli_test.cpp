@@ -138,6 +138,18 @@ TEST_F(CliTest, InfoJsonListsLayersMetadataAndNonFinite) {
     EXPECT_NE(text.out.find("normal.X,normal.Y,normal.Z"), std::string::npos);
 }
 
+TEST_F(CliTest, InfoJsonSurvivesAttributesThatAreNotUtf8) {
+    // Other tools may write Latin-1 strings; JSON output replaces the invalid bytes (U+FFFD)
+    // instead of failing.
+    FrameBuffers frame(4, 4);
+    frame.metadata().extra["artist"] = "Ren\xe9";
+    writeExr(frame, path("latin1.exr"));
+    const CliRun r = run("info " + quote(path("latin1.exr")) + " --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json j = parseOneObject(r.out);
+    EXPECT_EQ(j["metadata"]["extra"]["artist"], "Ren\xef\xbf\xbd");
+}
+
 TEST_F(CliTest, DiffPrintsMetricAndNonFiniteCount) {
     const std::string ref = writeFrame("ref.exr", 0.5f);
     FrameBuffers noisy(16, 12);
