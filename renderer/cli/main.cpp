@@ -96,10 +96,18 @@ int run(const Options& opt) {
     if (opt.mltChains) mlt.chains = *opt.mltChains;
     if (opt.mltGroups) mlt.groups = *opt.mltGroups;
     if (opt.mltFeatureSpp) mlt.featureSpp = *opt.mltFeatureSpp;
-    option("options", [&] {
+    // Settings errors name the field; report the flag that sets it.
+    try {
         glint::render::validate(settings);
-        return 0;
-    });
+    } catch (const glint::Error& e) {
+        const std::string flag = e.where() == "spp"         ? "--spp"
+                                 : e.where() == "threads"   ? "--threads"
+                                 : e.where() == "maxDepth"  ? "--max-depth"
+                                 : e.where() == "rrDepth"   ? "--rr-depth"
+                                 : e.where() == "timeLimit" ? "--time-limit"
+                                                            : "options";
+        throw glint::Error(glint::ErrorKind::InvalidArgument, e.message(), "command line", flag);
+    }
     if (settings.integrator == glint::render::Integrator::Mlt)
         option("--mlt-*", [&] {
             glint::render::validateMlt(settings.mlt);

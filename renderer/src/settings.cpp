@@ -54,14 +54,18 @@ const char* strategyName(Strategy strategy) {
 }
 
 void validate(const Settings& s) {
-    auto bad = [](const std::string& what) { throw Error(ErrorKind::InvalidArgument, what); };
-    if (s.spp < 0) bad("spp must be positive, got " + std::to_string(s.spp));
-    if (s.spp == 0 && !(s.timeLimit > 0.0)) bad("spp must be positive (or 0 with a time limit)");
-    if (s.threads < 0) bad("threads must be >= 0, got " + std::to_string(s.threads));
-    if (s.maxDepth < 1) bad("maxDepth must be >= 1, got " + std::to_string(s.maxDepth));
-    if (s.rrDepth < 0) bad("rrDepth must be >= 0, got " + std::to_string(s.rrDepth));
-    if (!(s.timeLimit >= 0.0)) bad("timeLimit must be >= 0");
-    if (s.tileSize < 1 || s.tileSize > 4096) bad("tileSize must be in [1, 4096]");
+    // `where` names the field, so a command line can name its flag.
+    auto bad = [](const char* field, const std::string& what) {
+        throw Error(ErrorKind::InvalidArgument, what, {}, field);
+    };
+    if (s.spp < 0) bad("spp", "spp must be positive, got " + std::to_string(s.spp));
+    if (s.spp == 0 && !(s.timeLimit > 0.0))
+        bad("spp", "spp must be positive (or 0 with a time limit)");
+    if (s.threads < 0) bad("threads", "threads must be >= 0, got " + std::to_string(s.threads));
+    if (s.maxDepth < 1) bad("maxDepth", "maxDepth must be >= 1, got " + std::to_string(s.maxDepth));
+    if (s.rrDepth < 0) bad("rrDepth", "rrDepth must be >= 0, got " + std::to_string(s.rrDepth));
+    if (!(s.timeLimit >= 0.0)) bad("timeLimit", "timeLimit must be >= 0");
+    if (s.tileSize < 1 || s.tileSize > 4096) bad("tileSize", "tileSize must be in [1, 4096]");
 }
 
 }  // namespace glint::render

@@ -1,0 +1,144 @@
+// glint-render as a user runs it: the built binary (next to this test binary) on a tiny Cornell
+// box. Checks the summary and --json output, --reference metrics, determinism across --threads,
+// and that bad input exits 2 with a last stderr line naming the file or flag and writes nothing.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "glint/image/io.h"
+
+namespace glint::render {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+    int exitCode = -1;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+std::string lastLine(const std::string& text) {
+    std::string t = text;
+    while (!t.empty() && t.back() == '\n') t.pop_back();
+    const std::size_t nl = t.rfind('\n');
+    return nl == std::string::npos ? t : t.substr(nl + 1);
+}
+
+class RenderCli : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        m_binary = fs::read_symlink("/proc/self/exe").parent_path() / "glint-render";
+        ASSERT_TRUE(fs::exists(m_binary))
+            << "glint-render must be built next to the test: " << m_binary;
+        m_dir = fs::temp_directory_path() /
+                ("glint_render_cli_" + std::to_string(::getpid()) + "_" +
+                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(m_dir);
+        const std::string obj = std::string(GLINT_RENDER_TEST_DATA) + "/cornell_box.obj";
+        std::ofstream(m_dir / "scene.json") << R"({
+          "camera": {"position": [278, 273, -800], "lookAt": [278, 273, 0], "fovY": 39.3},
+          "film": {"width": 24, "height": 24},
+          "shapes": [{"obj": ")" << obj << R"("}],
+          "render": {"spp": 4, "maxDepth": 8}
+        })";
+    }
+    void TearDown() override {
+        if (!m_dir.empty()) fs::remove_all(m_dir);
+    }
+    std::string path(const std::string& name) const { return (m_dir / name).string(); }
+
+    RunResult run(const std::string& args) const {
+        const fs::path out = m_dir / "stdout.txt", err = m_dir / "stderr.txt";
+        const std::string cmd =
+            m_binary.string() + " " + args + " >" + out.string() + " 2>" + err.string();
+        const int status = std::system(cmd.c_str());
+        RunResult r;
+        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        r.out = slurp(out);
+        r.err = slurp(err);
+        return r;
+    }
+
+    fs::path m_binary, m_dir;
+};
+
+TEST_F(RenderCli, JsonSummaryAndLayeredOutput) {
+    const RunResult r =
+        run(path("scene.json") + " --spp 4 --seed 3 --out " + path("a.exr") + " --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);  // exactly one JSON value
+    EXPECT_GT(j["samplesPerSecond"].get<double>(), 0.0);
+    EXPECT_GT(j["raysPerSecond"].get<double>(), 0.0);
+    EXPECT_EQ(j["nonFiniteSamples"], 0);
+    EXPECT_EQ(j["samples"], 24 * 24 * 4);
+    const FrameBuffers frame = readExr(path("a.exr"));
+    EXPECT_EQ(frame.width(), 24);
+    EXPECT_EQ(frame.metadata().spp, 4);
+    EXPECT_EQ(frame.metadata().seed, 3u);
+    for (Layer l :
+         {Layer::Variance, Layer::Albedo, Layer::Normal, Layer::Depth, Layer::SampleCount})
+        EXPECT_TRUE(frame.has(l)) << channelName(l, 0);
+    EXPECT_EQ(frame.layer(Layer::SampleCount)(5, 7, 0), 4.0f);
+}
+
+TEST_F(RenderCli, ReferenceMetricsAndThreadIndependence) {
+    ASSERT_EQ(run(path("scene.json") + " --spp 4 --threads 1 --out " + path("t1.exr")).exitCode, 0);
+    const RunResult r = run(path("scene.json") + " --spp 4 --threads 2 --out " + path("t2.exr") +
+                            " --reference " + path("t1.exr") + " --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    // Same seed, any thread count: identical pixels, so relMSE 0 and SSIM 1 exactly.
+    EXPECT_EQ(j["relMse"].get<double>(), 0.0);
+    EXPECT_EQ(j["ssim"].get<double>(), 1.0);
+    const FrameBuffers a = readExr(path("t1.exr")), b = readExr(path("t2.exr"));
+    for (Layer l : {Layer::Color, Layer::Variance, Layer::Albedo, Layer::Normal, Layer::Depth}) {
+        const auto da = a.layer(l).data(), db = b.layer(l).data();
+        ASSERT_EQ(da.size(), db.size());
+        EXPECT_TRUE(std::equal(da.begin(), da.end(), db.begin())) << channelName(l, 0);
+    }
+}
+
+TEST_F(RenderCli, BadInputExitsTwoNamingTheProblemAndWritesNothing) {
+    std::ofstream(path("broken.json")) << "{\"film\": {\"width\": 8,}\n";
+    writeExr(FrameBuffers(8, 8), path("small.exr"));
+    const std::string scene = path("scene.json"), out = path("bad.exr");
+    struct Case {
+        std::string args, mention;
+    };
+    const Case cases[] = {
+        {path("nope.json") + " --spp 4 --out " + out, "nope.json"},
+        {path("broken.json") + " --spp 4 --out " + out, "line 1"},
+        {scene + " --spp -3 --out " + out, "--spp"},
+        {scene + " --spp 4 --threads -1 --out " + out, "--threads"},
+        {scene + " --spp 4 --max-depth 0 --out " + out, "--max-depth"},
+        {scene + " --spp 4 --mis bogus --out " + out, "--mis"},
+        {scene + " --spp 4 --reference " + path("small.exr") + " --out " + out, "small.exr"},
+    };
+    for (const Case& c : cases) {
+        const RunResult r = run(c.args);
+        EXPECT_EQ(r.exitCode, 2) << c.args << "\n" << r.err;
+        const std::string line = lastLine(r.err);
+        EXPECT_EQ(line.rfind("glint-render: ", 0), 0u) << line;
+        EXPECT_NE(line.find(c.mention), std::string::npos) << c.args << "\n" << line;
+        EXPECT_FALSE(fs::exists(out)) << c.args;
+    }
+}
+
+}  // namespace
+}  // namespace glint::render
