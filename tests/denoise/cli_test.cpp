@@ -1,16 +1,13 @@
 // glint-denoise end to end: runs the binary built beside this test (build/bin/) on small EXRs.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 
+#include "cli_fixture.h"
 #include "glint/denoise/filter.h"
 #include "glint/denoise/registry.h"
 #include "glint/image/io.h"
@@ -21,22 +18,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-    int exitCode = -1;
-    std::string out;
-    std::string err;
-};
+using glint::testing::RunResult;
 
-class DenoiseCli : public ::testing::Test {
+class DenoiseCli : public glint::testing::CliFixture {
   protected:
+    DenoiseCli() : CliFixture("glint-denoise") {}
     void SetUp() override {
-        m_binary = fs::read_symlink("/proc/self/exe").parent_path() / "glint-denoise";
-        ASSERT_TRUE(fs::exists(m_binary))
-            << "glint-denoise must be built next to the test: " << m_binary;
-        m_dir = fs::temp_directory_path() /
-                ("glint_denoise_cli_" + std::to_string(::getpid()) + "_" +
-                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(m_dir);
+        CliFixture::SetUp();
+        if (HasFatalFailure()) return;
         // A noisy frame with every layer, its clean reference, and a colour-only frame.
         writeExr(testing::syntheticFrame(40, 32, 0.1f), m_dir / "noisy.exr");
         writeExr(testing::syntheticFrame(40, 32, 0.0f), m_dir / "ref.exr");
@@ -44,31 +33,6 @@ class DenoiseCli : public ::testing::Test {
         bare.color() = testing::syntheticFrame(40, 32, 0.1f).color();
         writeExr(bare, m_dir / "bare.exr");
     }
-    void TearDown() override {
-        if (!m_dir.empty()) fs::remove_all(m_dir);
-    }
-
-    RunResult run(const std::string& args) const {
-        const fs::path out = m_dir / "stdout.txt", err = m_dir / "stderr.txt";
-        const std::string cmd =
-            m_binary.string() + " " + args + " >" + out.string() + " 2>" + err.string();
-        const int status = std::system(cmd.c_str());
-        RunResult r;
-        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        r.out = slurp(out);
-        r.err = slurp(err);
-        return r;
-    }
-    static std::string slurp(const fs::path& p) {
-        std::ifstream in(p);
-        std::stringstream s;
-        s << in.rdbuf();
-        return s.str();
-    }
-    std::string path(const std::string& name) const { return (m_dir / name).string(); }
-
-    fs::path m_binary;
-    fs::path m_dir;
 };
 
 TEST_F(DenoiseCli, ListPrintsEveryFilterAndItsParameters) {

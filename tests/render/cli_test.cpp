@@ -1,37 +1,22 @@
 // glint-render as a user runs it: the built binary (next to this test binary) on a tiny Cornell
 // box. Checks the summary and --json output, --reference metrics, determinism across --threads,
 // and that bad input exits 2 with a last stderr line naming the file or flag and writes nothing.
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cli_fixture.h"
 #include "glint/image/io.h"
 
 namespace glint::render {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct RunResult {
-    int exitCode = -1;
-    std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 std::string lastLine(const std::string& text) {
     std::string t = text;
@@ -40,16 +25,14 @@ std::string lastLine(const std::string& text) {
     return nl == std::string::npos ? t : t.substr(nl + 1);
 }
 
-class RenderCli : public ::testing::Test {
+using glint::testing::RunResult;
+
+class RenderCli : public glint::testing::CliFixture {
   protected:
+    RenderCli() : CliFixture("glint-render") {}
     void SetUp() override {
-        m_binary = fs::read_symlink("/proc/self/exe").parent_path() / "glint-render";
-        ASSERT_TRUE(fs::exists(m_binary))
-            << "glint-render must be built next to the test: " << m_binary;
-        m_dir = fs::temp_directory_path() /
-                ("glint_render_cli_" + std::to_string(::getpid()) + "_" +
-                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(m_dir);
+        CliFixture::SetUp();
+        if (HasFatalFailure()) return;
         const std::string obj = std::string(GLINT_RENDER_TEST_DATA) + "/cornell_box.obj";
         std::ofstream(m_dir / "scene.json") << R"({
           "camera": {"position": [278, 273, -800], "lookAt": [278, 273, 0], "fovY": 39.3},
@@ -58,24 +41,6 @@ class RenderCli : public ::testing::Test {
           "render": {"spp": 4, "maxDepth": 8}
         })";
     }
-    void TearDown() override {
-        if (!m_dir.empty()) fs::remove_all(m_dir);
-    }
-    std::string path(const std::string& name) const { return (m_dir / name).string(); }
-
-    RunResult run(const std::string& args) const {
-        const fs::path out = m_dir / "stdout.txt", err = m_dir / "stderr.txt";
-        const std::string cmd =
-            m_binary.string() + " " + args + " >" + out.string() + " 2>" + err.string();
-        const int status = std::system(cmd.c_str());
-        RunResult r;
-        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        r.out = slurp(out);
-        r.err = slurp(err);
-        return r;
-    }
-
-    fs::path m_binary, m_dir;
 };
 
 TEST_F(RenderCli, JsonSummaryAndLayeredOutput) {
