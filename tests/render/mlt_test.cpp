@@ -44,11 +44,6 @@ double meanLuminance(const Image& img) {
     return sum / double(img.pixelCount());
 }
 
-bool sameLayer(const FrameBuffers& a, const FrameBuffers& b, Layer layer) {
-    const auto da = a.layer(layer).data(), db = b.layer(layer).data();
-    return da.size() == db.size() && std::memcmp(da.data(), db.data(), da.size_bytes()) == 0;
-}
-
 MutationSizes defaultSizes() {
     MutationSizes s;
     s.small = {1.0f / 1024.0f, 1.0f / 64.0f};
@@ -281,17 +276,11 @@ TEST(Mlt, BitIdenticalForAnyThreadCount) {
     const FrameBuffers one = renderer.render(s);
     s.threads = 2;
     const FrameBuffers two = renderer.render(s);
-    for (int l = 0; l < kLayerCount; ++l) {
-        const Layer layer = Layer(l);
-        ASSERT_EQ(one.has(layer), two.has(layer)) << layerInfo(layer).name;
-        if (one.has(layer)) {
-            EXPECT_TRUE(sameLayer(one, two, layer)) << layerInfo(layer).name;
-        }
-    }
+    test::expectSameFrames(one, two);
     for (const char* k : {"mltB", "mltAcceptanceSmall", "mltAcceptanceLarge", "mltMutations"})
         EXPECT_EQ(one.metadata().extra.at(k), two.metadata().extra.at(k)) << k;
     s.seed = 5;
-    EXPECT_FALSE(sameLayer(one, renderer.render(s), Layer::Color));
+    EXPECT_FALSE(test::sameLayer(one, renderer.render(s), Layer::Color));
 }
 
 TEST(Mlt, CancelReturnsTheCompletedPasses) {
@@ -307,7 +296,7 @@ TEST(Mlt, CancelReturnsTheCompletedPasses) {
     EXPECT_TRUE(renderer.stats().cancelled);
     // The frame equals an uncancelled 2-mutations-per-pixel render.
     s.spp = 2;
-    EXPECT_TRUE(sameLayer(f, renderer.render(s), Layer::Color));
+    EXPECT_TRUE(test::sameLayer(f, renderer.render(s), Layer::Color));
 }
 
 TEST(Mlt, RejectsBadParameters) {

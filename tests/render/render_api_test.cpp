@@ -7,6 +7,7 @@
 #include "glint/image/error.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
+#include "test_util.h"
 
 namespace glint::render {
 namespace {
@@ -23,11 +24,6 @@ Scene cornell(int size) {
                       dir + "/cornell_inline.json");
 }
 
-bool sameLayer(const FrameBuffers& a, const FrameBuffers& b, Layer layer) {
-    const auto da = a.layer(layer).data(), db = b.layer(layer).data();
-    return da.size() == db.size() && std::memcmp(da.data(), db.data(), da.size_bytes()) == 0;
-}
-
 TEST(Renderer, BitIdenticalForAnyThreadCount) {
     Renderer renderer(cornell(32));
     Settings s = renderer.scene().settings();
@@ -37,17 +33,11 @@ TEST(Renderer, BitIdenticalForAnyThreadCount) {
     s.threads = 2;
     s.tileSize = 8;  // a different tiling must not matter either
     const FrameBuffers two = renderer.render(s);
-    for (int l = 0; l < kLayerCount; ++l) {
-        const Layer layer = Layer(l);
-        ASSERT_EQ(one.has(layer), two.has(layer)) << layerInfo(layer).name;
-        if (one.has(layer)) {
-            EXPECT_TRUE(sameLayer(one, two, layer)) << layerInfo(layer).name;
-        }
-    }
+    test::expectSameFrames(one, two);
     EXPECT_EQ(one.metadata().spp, 8);
     // A different seed gives a different image.
     s.seed = 99;
-    EXPECT_FALSE(sameLayer(one, renderer.render(s), Layer::Color));
+    EXPECT_FALSE(test::sameLayer(one, renderer.render(s), Layer::Color));
 }
 
 TEST(Renderer, ProducesFeatureLayersAndCounts) {

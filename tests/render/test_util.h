@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -10,7 +11,28 @@
 
 #include <unistd.h>
 
+#include <gtest/gtest.h>
+
+#include "glint/image/frame_buffers.h"
+
 namespace glint::render::test {
+
+/// True when `layer` of a and b holds the same bits.
+inline bool sameLayer(const FrameBuffers& a, const FrameBuffers& b, Layer layer) {
+    const auto da = a.layer(layer).data(), db = b.layer(layer).data();
+    return da.size() == db.size() && std::memcmp(da.data(), db.data(), da.size_bytes()) == 0;
+}
+
+/// Expects a and b to have the same layers, each bit-identical.
+inline void expectSameFrames(const FrameBuffers& a, const FrameBuffers& b) {
+    for (int l = 0; l < kLayerCount; ++l) {
+        const Layer layer = Layer(l);
+        ASSERT_EQ(a.has(layer), b.has(layer)) << layerInfo(layer).name;
+        if (a.has(layer)) {
+            EXPECT_TRUE(sameLayer(a, b, layer)) << layerInfo(layer).name;
+        }
+    }
+}
 
 /// A fresh directory under the system temp folder, removed on destruction.
 class TempDir {
