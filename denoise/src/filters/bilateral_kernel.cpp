@@ -103,14 +103,8 @@ void windowedRow(const PlanarPlanes& planes, int y, int x0, int x1, const Prepar
             // Tomasi & Manduchi 1998 weight in base 2; a missing centre drops the range term.
             const VecF dr = qr - cr, dg = qg - cg, db = qb - cb;
             const VecF s = VecF{} + pat.spatial[std::size_t(j)];
-            VecF w = (dr * dr + dg * dg + db * db) * k + s;
-            w = centreMissing ? s : w;
-            exp2InPlace(w);
-            w *= qv;
-            nr += w * qr;
-            ng += w * qg;
-            nb += w * qb;
-            den += w;
+            const VecF w = (dr * dr + dg * dg + db * db) * k + s;
+            addWeightedSamples(centreMissing ? s : w, qr, qg, qb, qv, nr, ng, nb, den);
         }
         writeNormalised(nr, ng, nb, den, std::min(8, x1 - x), out + std::size_t(x - x0) * 3);
     }
@@ -128,12 +122,7 @@ template <bool CentreMissing>
         const VecF dr = qr - cr, dg = qg - cg, db = qb - cb;
         w = (dr * dr + dg * dg + db * db) * k + s;
     }
-    exp2InPlace(w);
-    w *= qv;
-    nr += w * qr;
-    ng += w * qg;
-    nb += w * qb;
-    den += w;
+    addWeightedSamples(w, qr, qg, qb, qv, nr, ng, nb, den);
 }
 
 // Interleaved (r, g, b, valid) copy of the colour over a rectangle that may reach outside the

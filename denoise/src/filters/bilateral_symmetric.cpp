@@ -170,13 +170,8 @@ void centreRowPass(const ExactContext& ctx, SumRing& ring, int y) {
             loadVec(qb, p.c[2] + t.dx);
             loadVec(qv, p.c[3] + t.dx);
             const VecF dr = qr - pr, dg = qg - pg, db = qb - pb;
-            VecF w = (dr * dr + dg * dg + db * db) * ctx.k + t.s;
-            exp2InPlace(w);
-            w *= qv;
-            nr += w * qr;
-            ng += w * qg;
-            nb += w * qb;
-            den += w;
+            addWeightedSamples((dr * dr + dg * dg + db * db) * ctx.k + t.s, qr, qg, qb, qv, nr, ng,
+                               nb, den);
         }
         const SumQuad s = sumsAt(ring, x, y);
         const VecF* add[4] = {&nr, &ng, &nb, &den};

@@ -191,6 +191,19 @@ template <class V>
     x = p * scale;
 }
 
+/// The shared tail of the bilateral kernels: turns base-2 log-weights `w` of 8 samples into
+/// weights 2^w times their validity `qv` and adds the weighted colours and weights to the sums.
+[[gnu::always_inline]] inline void addWeightedSamples(VecF w, const VecF& qr, const VecF& qg,
+                                                      const VecF& qb, const VecF& qv, VecF& nr,
+                                                      VecF& ng, VecF& nb, VecF& den) {
+    exp2InPlace(w);
+    w *= qv;
+    nr += w * qr;
+    ng += w * qg;
+    nb += w * qb;
+    den += w;
+}
+
 }  // namespace glint::denoise::detail
 
 #if defined(GLINT_SIMD_BASELINE_ONLY)  // test builds: only the baseline code paths
