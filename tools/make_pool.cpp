@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "asset_io.h"
+#include "glint/image/random.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 
@@ -30,10 +31,8 @@ using Rgb = std::array<float, 3>;
 
 /// Hash of two integers to [0, 1) (SplitMix64 finaliser).
 float hash01(std::uint64_t a, std::uint64_t b) {
-    std::uint64_t z = a * 0x9e3779b97f4a7c15ULL + b * 0xc2b2ae3d27d4eb4fULL + 0x165667b19e3779f9ULL;
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    z ^= z >> 31;
+    const std::uint64_t z = glint::mix64(a * 0x9e3779b97f4a7c15ULL + b * 0xc2b2ae3d27d4eb4fULL +
+                                         0x165667b19e3779f9ULL);
     return float(z >> 40) * 0x1p-24f;
 }
 

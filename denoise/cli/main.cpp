@@ -1,6 +1,7 @@
-// glint-denoise: list the registered filters, or apply one to a layered EXR (shared/DESIGN.md).
+// glint-denoise: list the registered filters, or apply one to a layered EXR (docs/denoise.md).
 #include <CLI/CLI.hpp>
 
+#include "cli_boundary.h"
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +17,7 @@
 #include "glint/denoise/filter.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
+#include "glint/image/composite.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"
@@ -38,17 +40,40 @@ struct ApplyOptions {
     bool json = false;
 };
 
-// Parses "k=v" with a number v; `option` names the flag in the error.
-std::pair<std::string, double> parseKeyValue(const std::string& text, const std::string& option) {
+// Splits "name=value"; `option` names the flag in the error.
+std::pair<std::string, std::string> splitKeyValue(const std::string& text,
+                                                  const std::string& option) {
     const auto eq = text.find('=');
-    const std::string key = eq == std::string::npos ? "" : text.substr(0, eq);
-    const std::string value = eq == std::string::npos ? "" : text.substr(eq + 1);
-    char* end = nullptr;
-    const double v = value.empty() ? 0.0 : std::strtod(value.c_str(), &end);
-    if (key.empty() || value.empty() || end == nullptr || *end != '\0')
+    if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
         throw Error(ErrorKind::InvalidArgument,
-                    "'" + text + "' is not of the form name=number (e.g. sigma=2.5)", {}, option);
-    return {key, v};
+                    "'" + text + "' is not of the form name=value (e.g. sigma=2.5)", {}, option);
+    return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+// Parses every "name=value" against `specs` (a choice takes an option name or its index) and
+// resolves them; `owner` names the filter or the prefilter in errors.
+glint::denoise::ParamValues parseParams(const std::vector<std::string>& given,
+                                        const std::vector<glint::denoise::ParamSpec>& specs,
+                                        const std::string& owner, const std::string& option) {
+    glint::denoise::ParamValues values;
+    for (const std::string& text : given) {
+        const auto [key, value] = splitKeyValue(text, option);
+        const glint::denoise::ParamSpec* spec = glint::denoise::findParam(specs, key);
+        if (!spec) {
+            values[key] = 0.0;  // resolveParams names the valid parameters
+            continue;
+        }
+        try {
+            values[key] = glint::denoise::parseParamValue(*spec, value);
+        } catch (const Error& e) {
+            throw Error(e.kind(), e.message(), {}, option);
+        }
+    }
+    try {
+        return glint::denoise::resolveParams(specs, values, owner);
+    } catch (const Error& e) {
+        throw Error(e.kind(), e.message(), {}, option);
+    }
 }
 
 // Parses "x0,x1,y0,y1" (half-open pixel rectangle).
@@ -71,58 +96,67 @@ glint::Rect parseRect(const std::string& text) {
     return {v[0], v[1], v[2], v[3]};
 }
 
-glint::denoise::PrefilterParams parsePrefilterParams(const std::vector<std::string>& given) {
-    glint::denoise::PrefilterParams p;
-    for (const std::string& text : given) {
-        const auto [key, value] = parseKeyValue(text, "--prefilter-param");
-        if (key == "radius") {
-            if (value != std::floor(value) || std::fabs(value) > 1e6)
-                throw Error(ErrorKind::InvalidArgument, "radius must be an integer", {},
-                            "--prefilter-param");
-            p.radius = int(value);
-        } else if (key == "sigmaSpatial") {
-            p.sigmaSpatial = value;
-        } else if (key == "varianceScale") {
-            p.varianceScale = value;
-        } else {
-            throw Error(ErrorKind::InvalidArgument,
-                        "unknown prefilter parameter '" + key +
-                            "'; valid: radius, sigmaSpatial, varianceScale",
-                        {}, "--prefilter-param");
-        }
+// The parameter table of a filter or of the prefilter.
+json describe(const std::vector<glint::denoise::ParamSpec>& specs) {
+    json params = json::array();
+    for (const glint::denoise::ParamSpec& s : specs) {
+        json p{{"name", s.name},
+               {"label", s.label},
+               {"min", s.min},
+               {"max", s.max},
+               {"default", s.defaultValue},
+               {"scale", s.scale == glint::denoise::ParamScale::Log ? "log" : "linear"},
+               {"integer", s.integer},
+               {"help", s.help}};
+        if (s.isChoice()) p["choices"] = s.choices;
+        params.push_back(p);
     }
-    return p;
+    return params;
 }
 
-std::string layerName(glint::Layer layer) {
-    const std::string_view n = glint::layerInfo(layer).name;
-    return n.empty() ? "color" : std::string(n);
+// Prints one parameter table as text.
+void printParams(const json& params) {
+    for (const json& p : params) {
+        char line[512];
+        if (p.contains("choices")) {
+            std::string options;
+            for (const auto& c : p["choices"])
+                options += (options.empty() ? "" : "|") + c.get<std::string>();
+            std::snprintf(line, sizeof line, "    %-16s %-8s %s default %s  %s\n",
+                          p["name"].get<std::string>().c_str(), "choice", options.c_str(),
+                          p["choices"][std::size_t(p["default"].get<double>())]
+                              .get<std::string>()
+                              .c_str(),
+                          p["help"].get<std::string>().c_str());
+        } else {
+            std::snprintf(line, sizeof line, "    %-16s %-8s [%g, %g] default %g%s  %s\n",
+                          p["name"].get<std::string>().c_str(),
+                          p["scale"].get<std::string>().c_str(), p["min"].get<double>(),
+                          p["max"].get<double>(), p["default"].get<double>(),
+                          p["integer"].get<bool>() ? " (integer)" : "",
+                          p["help"].get<std::string>().c_str());
+        }
+        std::cout << line;
+    }
 }
 
-// `glint-denoise list`: every filter's description and parameter table.
+// `glint-denoise list`: every filter's description and parameter table, and the prefilter's.
 void runList(bool asJson) {
     json all = json::array();
     for (const glint::denoise::Filter* f : glint::denoise::allFilters()) {
         json entry{{"name", f->name()}, {"description", f->description()}};
         json layers = json::array();
-        for (glint::Layer l : f->requiredLayers()) layers.push_back(layerName(l));
+        for (glint::Layer l : f->requiredLayers(glint::denoise::resolveParams(*f, {})))
+            layers.push_back(glint::layerDisplayName(l));
         entry["requiredLayers"] = layers;
-        json params = json::array();
-        for (const glint::denoise::ParamSpec& s : f->params())
-            params.push_back(
-                {{"name", s.name},
-                 {"label", s.label},
-                 {"min", s.min},
-                 {"max", s.max},
-                 {"default", s.defaultValue},
-                 {"scale", s.scale == glint::denoise::ParamScale::Log ? "log" : "linear"},
-                 {"integer", s.integer},
-                 {"help", s.help}});
-        entry["params"] = params;
+        entry["params"] = describe(f->params());
         all.push_back(entry);
     }
+    const json prefilter{{"description",
+                          "Variance-aware smoothing of albedo, normal and depth (--prefilter)."},
+                         {"params", describe(glint::denoise::prefilterParams())}};
     if (asJson) {
-        std::cout << all.dump(2) << "\n";
+        std::cout << json{{"filters", all}, {"prefilter", prefilter}}.dump(2) << "\n";
         return;
     }
     for (const json& f : all) {
@@ -133,17 +167,12 @@ void runList(bool asJson) {
             for (const auto& l : f["requiredLayers"]) std::cout << " " << l.get<std::string>();
             std::cout << "\n";
         }
-        for (const json& p : f["params"]) {
-            char line[512];
-            std::snprintf(
-                line, sizeof line, "    %-16s %-8s [%g, %g] default %g%s  %s\n",
-                p["name"].get<std::string>().c_str(), p["scale"].get<std::string>().c_str(),
-                p["min"].get<double>(), p["max"].get<double>(), p["default"].get<double>(),
-                p["integer"].get<bool>() ? " (integer)" : "", p["help"].get<std::string>().c_str());
-            std::cout << line;
-        }
+        printParams(f["params"]);
         std::cout << "\n";
     }
+    std::cout << "prefilter (--prefilter, --prefilter-param)\n  "
+              << prefilter["description"].get<std::string>() << "\n";
+    printParams(prefilter["params"]);
 }
 
 json metricsOf(const glint::Image& image, const glint::Image& reference,
@@ -161,15 +190,13 @@ json metricsOf(const glint::Image& image, const glint::Image& reference,
 // `glint-denoise apply`: filter the colour of IN (optionally within a ROI) and write OUT.
 void runApply(const ApplyOptions& opt) {
     const glint::denoise::Filter& filter = glint::denoise::findFilter(opt.filter);
-    glint::denoise::ParamValues given;
-    for (const std::string& text : opt.params) {
-        const auto [key, value] = parseKeyValue(text, "--param");
-        given[key] = value;
-    }
     // Validate everything that does not need the image before reading it.
-    const glint::denoise::ParamValues params = glint::denoise::resolveParams(filter, given);
-    const glint::denoise::PrefilterParams prefilterParams =
-        parsePrefilterParams(opt.prefilterParams);
+    const glint::denoise::ParamValues params =
+        parseParams(opt.params, filter.params(), "filter '" + std::string(filter.name()) + "'",
+                    "--param");
+    const glint::denoise::ParamValues prefilterParams =
+        parseParams(opt.prefilterParams, glint::denoise::prefilterParams(), "feature prefilter",
+                    "--prefilter-param");
     if (!opt.prefilterParams.empty() && !opt.prefilter)
         throw Error(ErrorKind::InvalidArgument, "given without --prefilter", {},
                     "--prefilter-param");
@@ -202,7 +229,9 @@ void runApply(const ApplyOptions& opt) {
     const auto t1 = std::chrono::steady_clock::now();
     glint::Image filtered;
     try {
-        filtered = glint::denoise::applyFilter(filter, frame, params, roi ? &*roi : nullptr);
+        glint::denoise::FilterOptions options;
+        options.region = roi;
+        filtered = glint::denoise::applyFilter(filter, frame, params, options);
     } catch (const Error& e) {
         // Name the input file for errors about its content (missing layers...).
         if (e.file().empty()) throw Error(e.kind(), e.message(), opt.input, e.where());
@@ -213,9 +242,7 @@ void runApply(const ApplyOptions& opt) {
     // The output frame: every input layer, the colour replaced inside the region.
     glint::FrameBuffers out = frame;
     const glint::Rect region = roi.value_or(bounds);
-    for (int y = region.y0; y < region.y1; ++y)
-        std::copy_n(filtered.row(y - region.y0), std::size_t(region.width()) * 3,
-                    out.color().row(y) + std::size_t(region.x0) * 3);
+    glint::paste(out.color(), filtered, region.x0, region.y0);
     out.metadata().extra["denoiseFilter"] = std::string(filter.name());
 
     json report{{"input", opt.input},
@@ -292,27 +319,11 @@ int main(int argc, char** argv) {
                          "Reference EXR: print SSIM/PSNR/relMSE of input and output");
     applyCmd->add_flag("--json", apply.json, "Print one JSON object on stdout");
 
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::CallForAllHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "glint-denoise: command line: %s\n", e.what());
-        return 2;
-    }
-
-    // The one catch boundary: bad input -> exit 2, a broken invariant or anything else -> 1.
-    try {
+    if (const auto code = glint::cli::parseCommandLine(app, argc, argv, "glint-denoise"))
+        return *code;
+    return glint::cli::runGuarded("glint-denoise", [&] {
         if (*listCmd) runList(listJson);
         if (*applyCmd) runApply(apply);
-    } catch (const Error& e) {
-        std::fprintf(stderr, "glint-denoise: %s\n", e.what());
-        return e.kind() == ErrorKind::Internal ? 1 : 2;
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "glint-denoise: internal error: %s\n", e.what());
-        return 1;
-    }
-    return 0;
+        return 0;
+    });
 }

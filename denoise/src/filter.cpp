@@ -1,7 +1,11 @@
-// Parameter resolution and the checked entry point shared by every filter.
+// Parameter parsing and resolution, and the checked entry point shared by every filter.
 #include "glint/denoise/filter.h"
 
+#include <tbb/task_arena.h>
+
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include "glint/image/error.h"
@@ -10,50 +14,106 @@ namespace glint::denoise {
 
 namespace {
 
-// "name [min, max] (integer)" for every parameter, for error messages.
-std::string describeParams(const Filter& filter) {
+// "name [min, max] (integer)" or "name: a|b|c" for every parameter, for error messages.
+std::string describeParams(const std::vector<ParamSpec>& specs) {
     std::ostringstream out;
     bool first = true;
-    for (const ParamSpec& spec : filter.params()) {
-        out << (first ? "" : ", ") << spec.name << " [" << spec.min << ", " << spec.max << "]"
-            << (spec.integer ? " (integer)" : "");
+    for (const ParamSpec& spec : specs) {
+        out << (first ? "" : ", ") << spec.name;
+        if (spec.isChoice()) {
+            out << " (";
+            for (std::size_t i = 0; i < spec.choices.size(); ++i)
+                out << (i ? "|" : "") << spec.choices[i];
+            out << ")";
+        } else {
+            out << " [" << spec.min << ", " << spec.max << "]" << (spec.integer ? " (integer)" : "");
+        }
         first = false;
     }
     if (first) out << "(none)";
     return out.str();
 }
 
-std::string layerLabel(Layer layer) {
-    const std::string_view name = layerInfo(layer).name;
-    return name.empty() ? std::string("colour (R,G,B)") : std::string(name);
+std::string optionList(const ParamSpec& spec) {
+    std::string list;
+    for (const std::string& c : spec.choices) list += (list.empty() ? "" : ", ") + c;
+    return list;
 }
 
 }  // namespace
 
-ParamValues resolveParams(const Filter& filter, const ParamValues& given) {
-    const std::string where = "filter '" + std::string(filter.name()) + "'";
-    // Reject names the filter does not know.
-    for (const auto& [name, value] : given) {
-        bool known = false;
-        for (const ParamSpec& spec : filter.params()) known = known || spec.name == name;
-        if (!known)
-            throw Error(
-                ErrorKind::InvalidArgument,
-                "unknown parameter '" + name + "'; valid parameters: " + describeParams(filter), {},
-                where);
+ParamSpec ParamSpec::choice(std::string name, std::string label, std::vector<std::string> options,
+                            int defaultIndex, std::string help) {
+    GLINT_CHECK(!options.empty() && defaultIndex >= 0 && defaultIndex < int(options.size()));
+    ParamSpec spec;
+    spec.name = std::move(name);
+    spec.label = std::move(label);
+    spec.min = 0.0;
+    spec.max = double(options.size() - 1);
+    spec.defaultValue = double(defaultIndex);
+    spec.scale = ParamScale::Linear;
+    spec.integer = true;
+    spec.help = std::move(help);
+    spec.choices = std::move(options);
+    return spec;
+}
+
+const ParamSpec* findParam(const std::vector<ParamSpec>& specs, std::string_view name) {
+    for (const ParamSpec& spec : specs)
+        if (spec.name == name) return &spec;
+    return nullptr;
+}
+
+double parseParamValue(const ParamSpec& spec, const std::string& text) {
+    if (spec.isChoice())
+        for (std::size_t i = 0; i < spec.choices.size(); ++i)
+            if (spec.choices[i] == text) return double(i);
+    char* end = nullptr;
+    const double v = text.empty() ? 0.0 : std::strtod(text.c_str(), &end);
+    if (text.empty() || end == nullptr || *end != '\0') {
+        if (spec.isChoice())
+            throw Error(ErrorKind::InvalidArgument, "'" + text + "' is not an option of '" +
+                                                        spec.name + "' (expected one of " +
+                                                        optionList(spec) + ")");
+        throw Error(ErrorKind::InvalidArgument,
+                    "'" + text + "' is not a number (parameter '" + spec.name + "')");
     }
+    return v;
+}
+
+std::string formatParamValue(const ParamSpec& spec, double value) {
+    if (spec.isChoice() && value == std::floor(value) && value >= 0.0 &&
+        value < double(spec.choices.size()))
+        return spec.choices[std::size_t(value)];
+    char text[64];
+    std::snprintf(text, sizeof text, "%.9g", value);
+    return text;
+}
+
+ParamValues resolveParams(const std::vector<ParamSpec>& specs, const ParamValues& given,
+                          const std::string& where) {
+    // Reject names the owner does not know.
+    for (const auto& [name, value] : given)
+        if (!findParam(specs, name))
+            throw Error(ErrorKind::InvalidArgument,
+                        "unknown parameter '" + name + "'; valid parameters: " +
+                            describeParams(specs),
+                        {}, where);
     // Fill in defaults and check the values given.
     ParamValues resolved;
-    for (const ParamSpec& spec : filter.params()) {
+    for (const ParamSpec& spec : specs) {
         auto it = given.find(spec.name);
         const double value = it == given.end() ? spec.defaultValue : it->second;
         std::ostringstream range;
-        range << "[" << spec.min << ", " << spec.max << "]";
+        if (spec.isChoice())
+            range << "0 … " << spec.choices.size() - 1 << " (" << optionList(spec) << ")";
+        else
+            range << "[" << spec.min << ", " << spec.max << "]";
         if (std::isnan(value) || value < spec.min || value > spec.max)
             throw Error(ErrorKind::InvalidArgument,
                         "parameter '" + spec.name + "' = " + std::to_string(value) +
                             " is outside its range " + range.str() +
-                            "; valid parameters: " + describeParams(filter),
+                            "; valid parameters: " + describeParams(specs),
                         {}, where);
         if (spec.integer && value != std::floor(value))
             throw Error(ErrorKind::InvalidArgument,
@@ -65,31 +125,41 @@ ParamValues resolveParams(const Filter& filter, const ParamValues& given) {
     return resolved;
 }
 
+ParamValues resolveParams(const Filter& filter, const ParamValues& given) {
+    return resolveParams(filter.params(), given, "filter '" + std::string(filter.name()) + "'");
+}
+
 Image applyFilter(const Filter& filter, const FrameBuffers& frame, const ParamValues& params,
-                  const Rect* roi) {
+                  const FilterOptions& options) {
     const std::string where = "filter '" + std::string(filter.name()) + "'";
     if (!frame.has(Layer::Color) || frame.width() <= 0 || frame.height() <= 0)
         throw Error(ErrorKind::InvalidArgument, "the frame has no colour layer or is empty", {},
                     where);
+    if (options.threads < 0 || options.threads > 4096)
+        throw Error(ErrorKind::InvalidArgument,
+                    "threads = " + std::to_string(options.threads) + " must be in [0, 4096]", {},
+                    where);
+    const ParamValues resolved = resolveParams(filter, params);
     // Check the feature layers the filter needs, naming every missing one.
-    std::string missing;
-    for (Layer layer : filter.requiredLayers())
-        if (!frame.has(layer)) missing += (missing.empty() ? "" : ", ") + layerLabel(layer);
+    const std::vector<Layer> required = filter.requiredLayers(resolved);
+    std::string missing, needed;
+    for (Layer layer : required) {
+        const std::string name(layerDisplayName(layer));
+        needed += (needed.empty() ? "" : ", ") + name;
+        if (!frame.has(layer)) missing += (missing.empty() ? "" : ", ") + name;
+    }
     if (!missing.empty()) {
         std::string present;
         for (int l = 0; l < kLayerCount; ++l)
             if (frame.has(Layer(l)))
-                present += (present.empty() ? "" : ", ") + layerLabel(Layer(l));
-        std::string needed;
-        for (Layer layer : filter.requiredLayers())
-            needed += (needed.empty() ? "" : ", ") + layerLabel(layer);
+                present += (present.empty() ? "" : ", ") + std::string(layerDisplayName(Layer(l)));
         throw Error(ErrorKind::InvalidArgument,
                     "missing feature layer(s) " + missing + "; the filter needs " + needed +
-                        "; the frame has " + present,
+                        " with these parameters; the frame has " + present,
                     {}, where);
     }
     const Rect bounds{0, frame.width(), 0, frame.height()};
-    const Rect region = roi ? *roi : bounds;
+    const Rect region = options.region.value_or(bounds);
     if (region.empty() || intersect(region, bounds) != region)
         throw Error(ErrorKind::InvalidArgument,
                     "region of interest x [" + std::to_string(region.x0) + ", " +
@@ -98,7 +168,20 @@ Image applyFilter(const Filter& filter, const FrameBuffers& frame, const ParamVa
                         std::to_string(frame.width()) + "x" + std::to_string(frame.height()) +
                         " frame",
                     {}, where);
-    return filter.apply(frame, resolveParams(filter, params), region);
+    WorkContext work(options.progress);
+    work.expectWork(region.height());
+    auto run = [&] {
+        Image out = filter.apply(frame, resolved, region, work);
+        work.throwIfCancelled();
+        GLINT_CHECK(out.width() == region.width() && out.height() == region.height() &&
+                        out.channels() == 3,
+                    "a filter returned an image of the wrong size");
+        work.finish();
+        return out;
+    };
+    if (options.threads == 0) return run();
+    tbb::task_arena arena(options.threads);
+    return arena.execute(run);
 }
 
 }  // namespace glint::denoise

@@ -49,11 +49,6 @@ Loaded load(const std::string& file) {
     return {std::move(frame), false};
 }
 
-/// User-facing name of a layer: "color" for the root layer, else its EXR layer name.
-std::string layerName(Layer layer) {
-    return layer == Layer::Color ? std::string("color") : std::string(layerInfo(layer).name);
-}
-
 /// Pixels with a NaN or ±Inf in some channel.
 std::size_t nonFinitePixels(const Image& im) {
     std::size_t count = 0;
@@ -89,9 +84,8 @@ Image selectLayer(const FrameBuffers& frame, const std::string& name, const std:
     for (int l = 0; l < kLayerCount; ++l) {
         const Layer layer = Layer(l);
         if (!frame.has(layer)) continue;
-        present.push_back(layerName(layer));
-        if (name.empty() ? layer == Layer::Color
-                         : (name == layerName(layer) || (layer == Layer::Color && name == "rgb")))
+        present.push_back(std::string(layerDisplayName(layer)));
+        if (name.empty() ? layer == Layer::Color : findLayer(name) == layer)
             return frame.layer(layer);
         for (int c = 0; c < layerInfo(layer).channels; ++c)
             if (name == channelName(layer, c)) return frame.layer(layer).channelsSlice(c, 1);
@@ -125,7 +119,7 @@ void runInfo(const InfoOptions& options) {
         json channels = json::array();
         for (int c = 0; c < layerInfo(layer).channels; ++c)
             channels.push_back(channelName(layer, c));
-        layers.push_back({{"name", layerName(layer)},
+        layers.push_back({{"name", layerDisplayName(layer)},
                           {"channels", channels},
                           {"nonFinitePixels", nonFinitePixels(frame.layer(layer))}});
     }

@@ -1,11 +1,8 @@
-// glint-image: inspect, compare and convert Glint's layered EXRs (shared/DESIGN.md).
+// glint-image: inspect, compare and convert Glint's layered EXRs (docs/image.md).
 #include <CLI/CLI.hpp>
 
-#include <cstdio>
-#include <exception>
-
+#include "cli_boundary.h"
 #include "commands.h"
-#include "glint/image/error.h"
 
 int main(int argc, char** argv) {
     CLI::App app{"Inspect, compare and convert Glint's layered EXR images.", "glint-image"};
@@ -37,30 +34,11 @@ int main(int argc, char** argv) {
     convertCmd->add_option("--false-color", convert.falseColor,
                            "Show one channel in false colour over lo,hi");
 
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::CallForAllHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::CallForVersion& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "glint-image: command line: %s\n", e.what());
-        return 2;
-    }
-
-    // The one catch boundary: bad input → exit 2, anything else → exit 1.
-    try {
+    if (const auto code = glint::cli::parseCommandLine(app, argc, argv, "glint-image")) return *code;
+    return glint::cli::runGuarded("glint-image", [&] {
         if (*infoCmd) glint::cli::runInfo(info);
         if (*diffCmd) glint::cli::runDiff(diff);
         if (*convertCmd) glint::cli::runConvert(convert);
-    } catch (const glint::Error& e) {
-        std::fprintf(stderr, "glint-image: %s\n", e.what());
-        return e.kind() == glint::ErrorKind::Internal ? 1 : 2;
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "glint-image: internal error: %s\n", e.what());
-        return 1;
-    }
-    return 0;
+        return 0;
+    });
 }

@@ -179,7 +179,7 @@ ChannelPlan planChannels(const std::vector<std::string>& names, bool hasGlintAtt
         if (!done[l] && !partial[l].empty())
             throw Error(
                 ErrorKind::Format,
-                "incomplete layer '" + std::string(layerInfo(Layer(l)).name) + "': " + partial[l],
+                "incomplete layer '" + std::string(layerDisplayName(Layer(l))) + "': " + partial[l],
                 file, "channels");
     return plan;
 }

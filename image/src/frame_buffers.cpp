@@ -23,6 +23,17 @@ const LayerInfo& layerInfo(Layer layer) {
     return kLayers[int(layer)];
 }
 
+std::string_view layerDisplayName(Layer layer) {
+    return layer == Layer::Color ? std::string_view("color") : layerInfo(layer).name;
+}
+
+std::optional<Layer> findLayer(std::string_view name) {
+    if (name == "rgb") return Layer::Color;
+    for (int l = 0; l < kLayerCount; ++l)
+        if (layerDisplayName(Layer(l)) == name) return Layer(l);
+    return std::nullopt;
+}
+
 std::string channelName(Layer layer, int c) {
     const LayerInfo& info = layerInfo(layer);
     GLINT_CHECK(c >= 0 && c < info.channels);
@@ -67,9 +78,7 @@ FrameBuffers::FrameBuffers(int width, int height) : m_width(width), m_height(hei
 Image& FrameBuffers::layer(Layer l) {
     if (!has(l))
         throw Error(ErrorKind::InvalidArgument,
-                    "frame has no '" +
-                        std::string(layerInfo(l).name.empty() ? "RGB" : layerInfo(l).name) +
-                        "' layer");
+                    "frame has no '" + std::string(layerDisplayName(l)) + "' layer");
     return m_layers[int(l)];
 }
 
@@ -81,7 +90,7 @@ void FrameBuffers::set(Layer l, Image image) {
     const LayerInfo& info = layerInfo(l);
     if (image.width() != m_width || image.height() != m_height || image.channels() != info.channels)
         throw Error(ErrorKind::InvalidArgument,
-                    "layer '" + std::string(info.name.empty() ? "RGB" : info.name) + "' must be " +
+                    "layer '" + std::string(layerDisplayName(l)) + "' must be " +
                         std::to_string(m_width) + "x" + std::to_string(m_height) + "x" +
                         std::to_string(info.channels) + ", got " + std::to_string(image.width()) +
                         "x" + std::to_string(image.height()) + "x" +

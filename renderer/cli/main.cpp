@@ -1,4 +1,4 @@
-// glint-render: renders a scene.json to a layered EXR (shared/DESIGN.md, "Command lines").
+// glint-render: renders a scene.json to a layered EXR (docs/renderer.md).
 #include <unistd.h>
 
 #include <chrono>
@@ -9,6 +9,8 @@
 #include <string>
 
 #include <CLI/CLI.hpp>
+
+#include "cli_boundary.h"
 #include <nlohmann/json.hpp>
 
 #include "glint/image/error.h"
@@ -34,6 +36,26 @@ struct Options {
     std::optional<std::int64_t> mltBootstrap;
     std::optional<int> mltChains, mltGroups, mltFeatureSpp;
 };
+
+/// The Metropolis statistics as JSON numbers.
+nlohmann::json mltJson(const glint::render::MltStats& m) {
+    nlohmann::json j = {{"b", m.b},
+                        {"bRelStdErr", m.bRelStdErr},
+                        {"bootstrap", m.bootstrap},
+                        {"chains", m.chains},
+                        {"groups", m.groups},
+                        {"featureSpp", m.featureSpp},
+                        {"mutations", m.mutations},
+                        {"mutationSeconds", m.mutationSeconds},
+                        {"mutationsPerSecond", m.mutationsPerSecond()}};
+    for (int k = 0; k < 4; ++k) {
+        const std::string name = glint::render::mltMutationName(k);
+        j["acceptance"][name] = m.acceptance(k);
+        j["proposed"][name] = m.proposed[std::size_t(k)];
+        j["probability"][name] = m.probabilities[std::size_t(k)];
+    }
+    return j;
+}
 
 /// Draws "[#####.....]  45%  pass 3" on a terminal.
 void drawBar(double fraction, int pass) {
@@ -86,7 +108,7 @@ int run(const Options& opt) {
         throw glint::Error(glint::ErrorKind::InvalidArgument,
                            "--strategy applies only with --mis none", "command line", "--strategy");
     settings.timeLimit = opt.timeLimit;
-    settings.position = opt.position;
+    settings.positionLayer = opt.position;
     glint::render::MltSettings& mlt = settings.mlt;
     if (opt.mltLarge) mlt.largeStep = *opt.mltLarge;
     if (opt.mltSmall) mlt.smallStep = *opt.mltSmall;
@@ -160,9 +182,10 @@ int run(const Options& opt) {
         };
     }
 
-    glint::FrameBuffers frame = renderer.render(settings, callbacks);
+    glint::render::RenderResult result = renderer.render(settings, callbacks);
+    const glint::FrameBuffers& frame = result.frame;
+    const glint::render::RenderStats& stats = result.stats;
     if (tty && !opt.json) std::fprintf(stderr, "\n");
-    const glint::render::RenderStats& stats = renderer.stats();
     stage("writing " + opt.out);
     glint::writeExr(frame, opt.out);
 
@@ -188,17 +211,7 @@ int run(const Options& opt) {
                             {"nonFiniteSamples", stats.nonFiniteSamples},
                             {"passes", passes}};
         if (reference) j["relMse"] = lastRelMse, j["ssim"] = lastSsim;
-        // Metropolis statistics (b, acceptance per mutation kind, mutations/s...).
-        // Numbers go out as JSON numbers, descriptions as strings.
-        for (const auto& [key, value] : frame.metadata().extra) {
-            if (key.rfind("mlt", 0) != 0) continue;
-            char* end = nullptr;
-            const double number = std::strtod(value.c_str(), &end);
-            if (!value.empty() && end == value.c_str() + value.size())
-                j["mlt"][key] = number;
-            else
-                j["mlt"][key] = value;
-        }
+        if (stats.mlt) j["mlt"] = mltJson(*stats.mlt);
         std::cout << j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
     } else {
         std::printf("rendered %s: %dx%d, %d spp in %.3f s (setup %.3f s)\n", opt.scene.c_str(),
@@ -207,8 +220,18 @@ int run(const Options& opt) {
                     samplesPerSecond * 1e-6, raysPerSecond * 1e-6,
                     static_cast<long long>(stats.nonFiniteSamples));
         if (reference) std::printf("  relMSE %.6g  SSIM %.4f\n", lastRelMse, lastSsim);
-        for (const auto& [key, value] : frame.metadata().extra)
-            if (key.rfind("mlt", 0) == 0) std::printf("  %s: %s\n", key.c_str(), value.c_str());
+        if (stats.mlt) {
+            const glint::render::MltStats& m = *stats.mlt;
+            std::printf("  mlt: b %.6g (rel. std. error %.3g), %llu bootstrap paths, %d chains, "
+                        "%llu mutations at %.3f M/s\n",
+                        m.b, m.bRelStdErr, static_cast<unsigned long long>(m.bootstrap),
+                        m.chains, static_cast<unsigned long long>(m.mutations),
+                        m.mutationsPerSecond() * 1e-6);
+            std::printf("  mlt acceptance:");
+            for (int k = 0; k < 4; ++k)
+                std::printf(" %s %.3f", glint::render::mltMutationName(k), m.acceptance(k));
+            std::printf("\n");
+        }
         std::printf("  wrote %s\n", opt.out.c_str());
     }
     return 0;
@@ -242,21 +265,7 @@ int main(int argc, char** argv) {
     app.add_option("--mlt-chains", opt.mltChains, "mlt: Markov chains (multiple of groups)");
     app.add_option("--mlt-groups", opt.mltGroups, "mlt: batches of chains for the variance");
     app.add_option("--mlt-feature-spp", opt.mltFeatureSpp, "mlt: spp of the feature pass");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "glint-render: command line: %s\n", e.what());
-        return 2;
-    }
-    try {
-        return run(opt);
-    } catch (const glint::Error& e) {
-        std::fprintf(stderr, "glint-render: %s\n", e.what());
-        return e.kind() == glint::ErrorKind::Internal ? 1 : 2;
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "glint-render: internal error: %s\n", e.what());
-        return 1;
-    }
+    if (const auto code = glint::cli::parseCommandLine(app, argc, argv, "glint-render"))
+        return *code;
+    return glint::cli::runGuarded("glint-render", [&] { return run(opt); });
 }

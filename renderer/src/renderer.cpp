@@ -1,6 +1,7 @@
 // Renderer: owns the Embree scene, lights and camera; renders progressive passes over tiles
-// with TBB. Each pixel's samples are taken in sample-index order by one task, and every random
-// number comes from the (seed, pixel, sample) stream, so output does not depend on threads.
+// through the shared RenderLoop. Each pixel's samples are taken in sample-index order by one
+// task, and every random number comes from the (seed, pixel, sample) stream, so output does not
+// depend on threads.
 #include "glint/render/renderer.h"
 
 #include <algorithm>
@@ -19,6 +20,7 @@
 #include "glint/image/error.h"
 #include "integrators/mlt_integrator.h"
 #include "integrators/path_integrator.h"
+#include "integrators/render_loop.h"
 #include "lights/light_sampler.h"
 #include "sampling/rng.h"
 #include "sampling/warp.h"
@@ -31,10 +33,14 @@ using Clock = std::chrono::steady_clock;
 
 struct Renderer::Impl {
     explicit Impl(const detail::SceneData& scene)
-        : embree(scene), lights(scene), camera(scene.camera, scene.width, scene.height) {}
+        : embree(scene), lights(scene), camera(scene.camera, scene.width, scene.height),
+          lookRevision(scene.lookRevision) {}
     EmbreeScene embree;
     LightSampler lights;
     Camera camera;
+    std::uint64_t lookRevision;  // of the scene when `lights` was built
+    int accelerationBuilds = 1;
+    int lightBuilds = 1;
 };
 
 Renderer::Renderer(Scene scene) : m_scene(std::move(scene)) {
@@ -45,6 +51,14 @@ Renderer::Renderer(Scene scene) : m_scene(std::move(scene)) {
 Renderer::~Renderer() = default;
 Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+
+int Renderer::accelerationBuilds() const {
+    return m_impl->accelerationBuilds;
+}
+
+int Renderer::lightBuilds() const {
+    return m_impl->lightBuilds;
+}
 
 namespace {
 
@@ -88,131 +102,84 @@ struct PassSampler {
     }
 };
 
-}  // namespace
-
-FrameBuffers Renderer::render(const Settings& settings, const Callbacks& callbacks) {
-    validate(settings);
-    if (settings.integrator == Integrator::Mlt) {
-        // Metropolis (docs/metropolis.md): features from a short path-traced pass, colour and
-        // its variance from the Metropolis chains.
-        validateMlt(settings.mlt);
-        FrameBuffers features = render(mltFeatureSettings(settings));
-        MltIntegrator mlt(m_scene.data(), m_impl->embree, m_impl->lights, m_impl->camera, settings);
-        return mlt.render(std::move(features), callbacks, m_stats);
+/// The path tracer's work for the render loop: item i traces tile i's pixels for one pass,
+/// each pixel's samples in sample-index order, every random number from (seed, pixel, sample).
+class TilePasses final : public PassWork {
+  public:
+    TilePasses(const detail::SceneData& data, const PathIntegrator& integrator,
+               const Camera& camera, const Settings& settings, Film& film)
+        : m_data(data), m_integrator(integrator), m_camera(camera), m_settings(settings),
+          m_film(film) {
+        // Tiles in scanline order.
+        const int ts = settings.tileSize;
+        for (int y = 0; y < data.height; y += ts)
+            for (int x = 0; x < data.width; x += ts)
+                m_tiles.push_back({x, std::min(x + ts, data.width), y,
+                                   std::min(y + ts, data.height)});
+        m_thinLens = data.camera.lensRadius > 0.0f;
+        // Time is sampled only when something moves during a shutter of non-zero length, so a
+        // static scene draws exactly the random numbers it drew before motion blur existed.
+        m_sampleTime =
+            data.hasMotion() && data.camera.shutterClose > data.camera.shutterOpen;
     }
-    const detail::SceneData& data = m_scene.data();
-    const int width = data.width, height = data.height;
+
+    std::size_t items() const override { return m_tiles.size(); }
+    std::optional<Rect> itemRect(std::size_t item) const override { return m_tiles[item]; }
+
+    void run(const PassInfo& pass, std::size_t item, const RenderLoop&) override {
+        const PassSampler sampler(m_settings.sampler, m_settings.seed, pass.first, pass.count);
+        const Rect& tile = m_tiles[item];
+        std::uint64_t tileRays = 0;
+        FilmSample fs;
+        for (int y = tile.y0; y < tile.y1; ++y)
+            for (int x = tile.x0; x < tile.x1; ++x) {
+                const auto pixel = std::uint64_t(y) * std::uint64_t(m_data.width) + x;
+                for (int s = pass.first; s < pass.first + pass.count; ++s) {
+                    Rng rng(m_settings.seed, pixel, std::uint64_t(s));
+                    const Vec2 jitter = sampler.point(pixel, s, 0, rng);
+                    const Vec2 lens =
+                        m_thinLens ? sampler.point(pixel, s, 1, rng) : Vec2{0.5f, 0.5f};
+                    const float time = m_sampleTime ? sampler.value(pixel, s, 2, rng) : 0.0f;
+                    const Ray ray =
+                        m_camera.generateRay(float(x) + jitter.x, float(y) + jitter.y, lens, time);
+                    m_integrator.trace(ray, rng, fs, tileRays);
+                    m_film.add(x, y, fs);
+                }
+            }
+        m_rays += tileRays;
+    }
+
+    FrameBuffers snapshot() override { return m_film.resolve(m_settings.positionLayer); }
+
+    std::uint64_t rays() const { return m_rays.load(); }
+
+  private:
+    const detail::SceneData& m_data;
+    const PathIntegrator& m_integrator;
+    const Camera& m_camera;
+    const Settings& m_settings;
+    Film& m_film;
+    std::vector<Rect> m_tiles;
+    bool m_thinLens, m_sampleTime;
+    std::atomic<std::uint64_t> m_rays{0};
+};
+
+/// Path-traces `settings` through the render loop, reporting progress in [begin, end].
+RenderResult renderPath(const detail::SceneData& data, const EmbreeScene& embree,
+                        const LightSampler& lights, const Camera& camera,
+                        const Settings& settings, const Callbacks& callbacks,
+                        tbb::task_arena& arena, double begin, double end, bool reportPasses) {
     const Clock::time_point start = Clock::now();
-    m_stats = RenderStats{};
+    Film film(data.width, data.height);
+    const PathIntegrator integrator(data, embree, lights, camera, settings);
+    TilePasses work(data, integrator, camera, settings, film);
+    RenderLoop loop(settings.spp, settings.timeLimit, callbacks, arena, begin, end);
+    const LoopResult done = loop.run(work, reportPasses);
 
-    Film film(width, height);
-    const PathIntegrator integrator(data, m_impl->embree, m_impl->lights, m_impl->camera, settings);
-    const Camera& camera = m_impl->camera;
-    const bool thinLens = data.camera.lensRadius > 0.0f;
-    // Time is sampled only when something moves during a shutter of non-zero length, so a
-    // static scene draws exactly the random numbers it drew before motion blur existed.
-    const bool sampleTime = data.hasMotion() && data.camera.shutterClose > data.camera.shutterOpen;
-
-    // Tiles in scanline order.
-    const int ts = settings.tileSize;
-    std::vector<Rect> tiles;
-    for (int y = 0; y < height; y += ts)
-        for (int x = 0; x < width; x += ts)
-            tiles.push_back({x, std::min(x + ts, width), y, std::min(y + ts, height)});
-
-    std::mutex callbackMutex;
-    std::atomic<bool> cancelled{false};
-    std::atomic<std::uint64_t> rays{0}, samples{0};
-    const int threads = settings.threads > 0 ? settings.threads : tbb::task_arena::automatic;
-    tbb::task_arena arena(threads);
-
-    const bool timed = settings.timeLimit > 0.0;
-    const double deadline = settings.timeLimit;
-    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-
-    int done = 0, pass = 0;
-    double secondsPerSpp = 0.0;
-    while (!cancelled.load()) {
-        if (settings.spp > 0 && done >= settings.spp) break;
-        if (timed && elapsed() >= deadline) break;
-        // Pass sizes double (1, 1, 2, 4, ... up to 64 spp) for quick early feedback; under a time
-        // limit they are also cut to what the remaining time allows by the measured rate.
-        int count = std::clamp(done, 1, 64);
-        if (settings.spp > 0) count = std::min(count, settings.spp - done);
-        if (timed && secondsPerSpp > 0.0) {
-            const double remaining = deadline - elapsed();
-            // Clamped in double: a fast pass on a tiny film gives ratios beyond INT_MAX.
-            count = int(std::clamp(remaining / secondsPerSpp, 1.0, double(count)));
-        }
-        const PassSampler sampler(settings.sampler, settings.seed, done, count);
-        const double totalSpp = settings.spp > 0 ? double(settings.spp) : 0.0;
-        std::atomic<int> tilesDone{0};
-        const double passStart = elapsed();
-
-        arena.execute([&] {
-            tbb::parallel_for(
-                tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
-                [&](const tbb::blocked_range<std::size_t>& range) {
-                    for (std::size_t ti = range.begin(); ti != range.end(); ++ti) {
-                        if (cancelled.load()) return;
-                        if (callbacks.cancel) {
-                            const std::lock_guard<std::mutex> lock(callbackMutex);
-                            if (callbacks.cancel()) cancelled.store(true);
-                        }
-                        if (cancelled.load()) return;
-                        const Rect& tile = tiles[ti];
-                        std::uint64_t tileRays = 0;
-                        FilmSample fs;
-                        for (int y = tile.y0; y < tile.y1; ++y)
-                            for (int x = tile.x0; x < tile.x1; ++x) {
-                                const auto pixel = std::uint64_t(y) * std::uint64_t(width) + x;
-                                for (int s = done; s < done + count; ++s) {
-                                    Rng rng(settings.seed, pixel, std::uint64_t(s));
-                                    const Vec2 jitter = sampler.point(pixel, s, 0, rng);
-                                    const Vec2 lens = thinLens ? sampler.point(pixel, s, 1, rng)
-                                                               : Vec2{0.5f, 0.5f};
-                                    const float time =
-                                        sampleTime ? sampler.value(pixel, s, 2, rng) : 0.0f;
-                                    const Ray ray = camera.generateRay(
-                                        float(x) + jitter.x, float(y) + jitter.y, lens, time);
-                                    integrator.trace(ray, rng, fs, tileRays);
-                                    film.add(x, y, fs);
-                                }
-                            }
-                        rays += tileRays;
-                        samples += std::uint64_t(tile.width()) * tile.height() * count;
-                        const int finished = ++tilesDone;
-                        if (callbacks.tileDone || callbacks.progress) {
-                            const std::lock_guard<std::mutex> lock(callbackMutex);
-                            if (callbacks.tileDone) callbacks.tileDone(tile);
-                            if (callbacks.progress) {
-                                double fraction;
-                                const double passFraction = double(finished) / double(tiles.size());
-                                if (totalSpp > 0.0)
-                                    fraction = (double(done) + passFraction * count) / totalSpp;
-                                else
-                                    fraction = std::min(1.0, elapsed() / deadline);
-                                callbacks.progress(pass, fraction);
-                            }
-                        }
-                    }
-                },
-                tbb::simple_partitioner());
-        });
-        if (cancelled.load()) break;
-        secondsPerSpp = (elapsed() - passStart) / double(count);
-        done += count;
-        ++pass;
-        if (callbacks.passDone) {
-            FrameBuffers snapshot = film.resolve(settings.position);
-            snapshot.metadata().spp = done;
-            callbacks.passDone(pass - 1, snapshot);
-        }
-    }
-
-    FrameBuffers out = film.resolve(settings.position);
-    FrameMetadata& meta = out.metadata();
-    meta.spp = done;
+    RenderResult result;
+    result.frame = film.resolve(settings.positionLayer);
+    FrameMetadata& meta = result.frame.metadata();
+    meta.spp = done.completedSpp;
     meta.seed = settings.seed;
     meta.integrator = integratorName(settings.integrator);
     meta.scene = data.path.string();
@@ -222,7 +189,7 @@ FrameBuffers Renderer::render(const Settings& settings, const Callbacks& callbac
         meta.extra["strategy"] = strategyName(settings.strategy);
     meta.extra["maxDepth"] = std::to_string(settings.maxDepth);
     meta.extra["rrDepth"] = std::to_string(settings.rrDepth);
-    if (cancelled.load()) meta.extra["cancelled"] = "true";
+    if (done.cancelled) meta.extra["cancelled"] = "true";
     if (data.hasMotion()) {
         // Features are then time averages: their variance includes motion (docs/motion-blur.md).
         meta.extra["shutter"] = std::to_string(data.camera.shutterOpen) + " " +
@@ -230,14 +197,63 @@ FrameBuffers Renderer::render(const Settings& settings, const Callbacks& callbac
         meta.extra["motionBlur"] = "true";
     }
 
-    m_stats.seconds = elapsed();
-    m_stats.samples = samples.load();
-    m_stats.rays = rays.load();
-    m_stats.nonFiniteSamples = meta.nonFiniteSamples;
-    m_stats.passes = pass;
-    m_stats.completedSpp = done;
-    m_stats.cancelled = cancelled.load();
-    return out;
+    RenderStats& stats = result.stats;
+    stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    stats.samples = done.samples;
+    stats.rays = work.rays();
+    stats.nonFiniteSamples = meta.nonFiniteSamples;
+    stats.passes = done.passes;
+    stats.completedSpp = done.completedSpp;
+    stats.cancelled = done.cancelled;
+    return result;
+}
+
+}  // namespace
+
+RenderResult Renderer::render(const Settings& settings, const Callbacks& callbacks) {
+    validate(settings);
+    const detail::SceneData& data = m_scene.data();
+    // Look edits since the last render: rebuild the lights, keep the BVH.
+    if (data.lookRevision != m_impl->lookRevision) {
+        m_impl->lights = LightSampler(data);
+        m_impl->lookRevision = data.lookRevision;
+        ++m_impl->lightBuilds;
+    }
+    const int threads = settings.threads > 0 ? settings.threads : tbb::task_arena::automatic;
+    tbb::task_arena arena(threads);
+    if (settings.integrator == Integrator::Path)
+        return renderPath(data, m_impl->embree, m_impl->lights, m_impl->camera, settings,
+                          callbacks, arena, 0.0, 1.0, true);
+
+    // Metropolis (docs/metropolis.md): features from a short path-traced pass (the first part
+    // of the progress, cancellable like the rest), colour and its variance from the chains.
+    validateMlt(settings.mlt);
+    const Settings featureSettings = mltFeatureSettings(settings);
+    const double featureShare =
+        settings.spp > 0 ? double(featureSettings.spp) / double(featureSettings.spp + settings.spp)
+                         : 0.05;
+    RenderResult features =
+        renderPath(data, m_impl->embree, m_impl->lights, m_impl->camera, featureSettings,
+                   callbacks, arena, 0.0, featureShare, false);
+    MltIntegrator mlt(data, m_impl->embree, m_impl->lights, m_impl->camera, settings);
+    if (features.stats.cancelled) {
+        // Stopped during the feature pass: the features it has, no colour.
+        features.frame.color().fill(0.0f);
+        features.frame.ensure(Layer::Variance).fill(0.0f);
+        features.frame.metadata().spp = 0;
+        features.frame.metadata().integrator = integratorName(Integrator::Mlt);
+        features.stats.completedSpp = 0;
+        features.stats.passes = 0;
+        return features;
+    }
+    const double budget =
+        settings.timeLimit > 0.0 ? std::max(settings.timeLimit - features.stats.seconds, 1e-9)
+                                 : 0.0;
+    RenderResult result;
+    result.stats = features.stats;
+    result.frame = mlt.render(std::move(features.frame), callbacks, arena, budget, featureShare,
+                              result.stats);
+    return result;
 }
 
 RayThroughput Renderer::measureRayThroughput(std::uint64_t rayCount, int threads,

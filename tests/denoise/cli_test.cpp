@@ -9,6 +9,7 @@
 
 #include "cli_fixture.h"
 #include "glint/denoise/filter.h"
+#include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
 #include "glint/image/io.h"
 #include "synthetic_frames.h"
@@ -43,9 +44,32 @@ TEST_F(DenoiseCli, ListPrintsEveryFilterAndItsParameters) {
         for (const ParamSpec& s : f->params())
             EXPECT_NE(r.out.find(s.name), std::string::npos) << f->name() << "." << s.name;
     }
+    // The prefilter's parameters are listed too.
+    for (const ParamSpec& s : prefilterParams()) EXPECT_NE(r.out.find(s.name), std::string::npos);
     const RunResult j = run("list --json");
     ASSERT_EQ(j.exitCode, 0);
-    EXPECT_EQ(nlohmann::json::parse(j.out).size(), allFilters().size());
+    const nlohmann::json list = nlohmann::json::parse(j.out);
+    EXPECT_EQ(list["filters"].size(), allFilters().size());
+    EXPECT_EQ(list["prefilter"]["params"].size(), prefilterParams().size());
+    // A choice parameter lists its options.
+    bool sawChoice = false;
+    for (const auto& f : list["filters"])
+        for (const auto& p : f["params"])
+            if (p.contains("choices")) {
+                sawChoice = true;
+                EXPECT_GE(p["choices"].size(), 2u);
+            }
+    EXPECT_TRUE(sawChoice);
+}
+
+TEST_F(DenoiseCli, ChoiceParametersTakeTheirOptionNames) {
+    const RunResult r = run("apply " + path("noisy.exr") +
+                            " --filter guided --param guide=albedo --param radius=3 --out " +
+                            path("guided.exr"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const FrameBuffers in = readExr(path("noisy.exr"));
+    const Image expect = applyFilter(findFilter("guided"), in, {{"guide", 1}, {"radius", 3}});
+    EXPECT_LT(testing::maxAbsDiff(readExr(path("guided.exr")).color(), expect), 1e-6);
 }
 
 TEST_F(DenoiseCli, ApplyWritesTheFilteredColourAndKeepsTheOtherLayers) {
@@ -103,7 +127,9 @@ TEST_F(DenoiseCli, BadInputExitsTwoWithAClearMessage) {
         {"apply " + in + " --filter gausian --out " + out, "bilateral-mc"},
         {"apply " + in + " --filter gaussian --param sigm=2 --out " + out, "sigma"},
         {"apply " + in + " --filter gaussian --param sigma=-1 --out " + out, "range"},
-        {"apply " + in + " --filter gaussian --param sigma --out " + out, "name=number"},
+        {"apply " + in + " --filter gaussian --param sigma --out " + out, "name=value"},
+        {"apply " + in + " --filter guided --param guide=albedos --out " + out, "normal"},
+        {"apply " + in + " --filter gaussian --param sigma=abc --out " + out, "not a number"},
         {"apply " + in + " --filter gaussian --roi 0,50,0,5 --out " + out, "outside"},
         {"apply " + in + " --filter gaussian --roi 4294967301,6,0,5 --out " + out, "four integers"},
         {"apply " + path("nope.exr") + " --filter gaussian --out " + out, "nope.exr"},
@@ -132,7 +158,7 @@ TEST_F(DenoiseCli, BadInputExitsTwoWithAClearMessage) {
     }
     // A filter that needs feature layers names the missing ones and the file.
     for (const Filter* f : allFilters()) {
-        if (f->requiredLayers().empty()) continue;
+        if (f->requiredLayers(resolveParams(*f, {})).empty()) continue;
         const RunResult r = run("apply " + path("bare.exr") + " --filter " +
                                 std::string(f->name()) + " --out " + out);
         EXPECT_EQ(r.exitCode, 2) << f->name();

@@ -126,7 +126,7 @@ TEST_P(FilterProperties, RoiEqualsSameRegionOfFullOutput) {
     for (const Rect roi : {Rect{5, 17, 3, 14}, Rect{0, 37, 20, 29}, Rect{36, 37, 0, 1}}) {
         SCOPED_TRACE("roi x " + std::to_string(roi.x0) + ".." + std::to_string(roi.x1) + " y " +
                      std::to_string(roi.y0) + ".." + std::to_string(roi.y1));
-        const Image part = applyFilter(f, frame, {}, &roi);
+        const Image part = applyFilter(f, frame, {}, testing::inRegion(roi));
         EXPECT_TRUE(closeRelative(part, full.crop(roi), 1e-5));
     }
 }
@@ -234,13 +234,13 @@ TEST(FilterApi, ApplyFilterChecksRoiAndRequiredLayers) {
     const Filter& g = findFilter("gaussian");
     const FrameBuffers frame = syntheticFrame(8, 6);
     const Rect outside{4, 10, 0, 3};
-    EXPECT_THROW(applyFilter(g, frame, {}, &outside), Error);
+    EXPECT_THROW(applyFilter(g, frame, {}, testing::inRegion(outside)), Error);
     const Rect empty{3, 3, 0, 3};
-    EXPECT_THROW(applyFilter(g, frame, {}, &empty), Error);
+    EXPECT_THROW(applyFilter(g, frame, {}, testing::inRegion(empty)), Error);
     // Every filter that needs feature layers names the missing one.
     FrameBuffers bare(8, 6);
     for (const Filter* f : allFilters()) {
-        if (f->requiredLayers().empty()) {
+        if (f->requiredLayers(resolveParams(*f, {})).empty()) {
             EXPECT_NO_THROW(applyFilter(*f, bare, {})) << f->name();
             continue;
         }

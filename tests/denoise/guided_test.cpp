@@ -7,6 +7,7 @@
 #include "glint/denoise/filter.h"
 #include "glint/denoise/registry.h"
 #include "glint/image/error.h"
+#include "synthetic_frames.h"
 
 using namespace glint;
 using namespace glint::denoise;
@@ -85,7 +86,7 @@ TEST(Guided, RoiMatchesFullOutputExactly) {
         const ParamValues p{{"radius", 5}, {"guide", guide}};
         const Image full = applyFilter(f, frame, p);
         const Rect roi{67, 590, 70, 85};  // strips of 192 columns here, 192 in the full frame
-        const Image part = applyFilter(f, frame, p, &roi);
+        const Image part = applyFilter(f, frame, p, glint::denoise::testing::inRegion(roi));
         for (int y = 0; y < roi.height(); ++y)
             for (int x = 0; x < roi.width(); ++x)
                 for (int c = 0; c < 3; ++c)

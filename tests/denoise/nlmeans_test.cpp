@@ -7,6 +7,7 @@
 #include "glint/denoise/filter.h"
 #include "glint/denoise/registry.h"
 #include "glint/image/error.h"
+#include "synthetic_frames.h"
 
 namespace glint::denoise {
 std::array<double, 3> estimateNoiseVariance(const Image& image);
@@ -77,7 +78,7 @@ TEST(NlMeans, RoiMatchesFullOutputExactly) {
     const ParamValues p{{"patchRadius", 2}, {"searchRadius", 3}};
     const Image full = applyFilter(f, frame, p);
     const Rect roi{61, 149, 50, 77};
-    const Image part = applyFilter(f, frame, p, &roi);
+    const Image part = applyFilter(f, frame, p, glint::denoise::testing::inRegion(roi));
     for (int y = 0; y < roi.height(); ++y)
         for (int x = 0; x < roi.width(); ++x)
             for (int c = 0; c < 3; ++c)

@@ -109,13 +109,13 @@ TEST(Prefilter, NonFiniteFeaturesDoNotSpread) {
 
 TEST(Prefilter, AbsurdParamsThrow) {
     const FrameBuffers in = blurredScene();
-    EXPECT_THROW(prefilterFeatures(in, {.radius = -1}), Error);
-    EXPECT_THROW(prefilterFeatures(in, {.radius = 1000}), Error);
-    EXPECT_THROW(prefilterFeatures(in, {.sigmaSpatial = 0.0}), Error);
-    EXPECT_THROW(prefilterFeatures(in, {.varianceScale = std::numeric_limits<double>::quiet_NaN()}),
+    EXPECT_THROW(prefilterFeatures(in, {{"radius", -1}}), Error);
+    EXPECT_THROW(prefilterFeatures(in, {{"radius", 1000}}), Error);
+    EXPECT_THROW(prefilterFeatures(in, {{"sigmaSpatial", 0.0}}), Error);
+    EXPECT_THROW(prefilterFeatures(in, {{"varianceScale", std::numeric_limits<double>::quiet_NaN()}}),
                  Error);
     try {
-        prefilterFeatures(in, {.sigmaSpatial = -2.0});
+        prefilterFeatures(in, {{"sigmaSpatial", -2.0}});
     } catch (const Error& e) {
         EXPECT_EQ(e.kind(), ErrorKind::InvalidArgument);
         EXPECT_NE(std::string(e.what()).find("sigmaSpatial"), std::string::npos);

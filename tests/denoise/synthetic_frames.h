@@ -6,9 +6,17 @@
 #include <cstdint>
 #include <random>
 
+#include "glint/denoise/filter.h"
 #include "glint/image/frame_buffers.h"
 
 namespace glint::denoise::testing {
+
+/// applyFilter options that filter only `region`.
+inline FilterOptions inRegion(const Rect& region) {
+    FilterOptions options;
+    options.region = region;
+    return options;
+}
 
 /// A frame of w x h: colour = two regions split by a diagonal edge with a gradient and Gaussian
 /// noise of standard deviation `noise` (fixed seed), plus albedo, normal, depth and their

@@ -46,7 +46,7 @@ ModeResult renderMode(const std::string& name, render::MisHeuristic mis, render:
     settings.mis = mis;
     settings.strategy = strategy;
     render::Renderer renderer(std::move(scene));
-    const FrameBuffers frame = renderer.render(settings);
+    const FrameBuffers frame = renderer.render(settings).frame;
     ModeResult r;
     r.name = name;
     imageMean(frame, r.mean, r.meanSe);

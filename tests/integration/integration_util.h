@@ -21,7 +21,7 @@ inline FrameBuffers renderScene(const std::string& name, int spp, std::uint64_t 
     settings.seed = seed;
     settings.threads = 0;
     render::Renderer renderer(std::move(scene));
-    return renderer.render(settings);
+    return renderer.render(settings).frame;
 }
 
 /// Reads scenes/<name>/reference.exr.

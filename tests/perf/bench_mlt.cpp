@@ -107,7 +107,8 @@ int run(const Args& a) {
         Settings s = base;
         s.spp = a.spp;
         s.seed = a.seedGiven ? a.seed : 1;
-        glint::FrameBuffers frame = renderer.render(s);
+        glint::render::RenderResult result = renderer.render(s);
+        glint::FrameBuffers& frame = result.frame;
         // Keep only what a reference needs, so the file stays small enough to commit.
         for (glint::Layer l :
              {glint::Layer::Albedo, glint::Layer::AlbedoVariance, glint::Layer::Normal,
@@ -116,7 +117,7 @@ int run(const Args& a) {
             if (frame.has(l)) frame.remove(l);
         glint::writeExr(frame, a.out, {glint::ExrCompression::Zip});
         j["spp"] = a.spp;
-        j["seconds"] = renderer.stats().seconds;
+        j["seconds"] = result.stats.seconds;
         j["out"] = a.out;
         j["relMseShareOfReference"] = referenceShare(frame);
     } else if (a.mode == "equal-time") {
@@ -132,16 +133,24 @@ int run(const Args& a) {
                 s.integrator = integrator;
                 s.spp = 0;
                 s.timeLimit = sec;
-                const glint::FrameBuffers frame = renderer.render(s);
+                const glint::render::RenderResult result = renderer.render(s);
+                const glint::FrameBuffers& frame = result.frame;
                 const double rel = glint::relMse(frame.color(), ref.color()).value;
                 const std::string name = glint::render::integratorName(integrator);
                 row[name] = {{"relMse", rel},
                              {"relMseMinusReference", rel - share},
                              {"spp", frame.metadata().spp},
-                             {"secondsUsed", renderer.stats().seconds}};
-                if (integrator == Integrator::Mlt)
-                    for (const auto& [key, value] : frame.metadata().extra)
-                        if (key.rfind("mlt", 0) == 0) row[name][key] = value;
+                             {"secondsUsed", result.stats.seconds}};
+                if (result.stats.mlt) {
+                    const glint::render::MltStats& m = *result.stats.mlt;
+                    row[name]["b"] = m.b;
+                    row[name]["bRelStdErr"] = m.bRelStdErr;
+                    row[name]["mutations"] = m.mutations;
+                    row[name]["mutationsPerSecond"] = m.mutationsPerSecond();
+                    for (int k = 0; k < 4; ++k)
+                        row[name]["acceptance"][glint::render::mltMutationName(k)] =
+                            m.acceptance(k);
+                }
             }
             const double pt = row["path"]["relMseMinusReference"];
             const double mlt = row["mlt"]["relMseMinusReference"];
@@ -157,11 +166,10 @@ int run(const Args& a) {
         for (int r = 0; r < a.repeat; ++r) {
             Settings s = base;
             s.spp = spp;
-            renderer.render(s);
-            pt.push_back(double(renderer.stats().samples) / renderer.stats().seconds);
+            const glint::render::RenderStats path = renderer.render(s).stats;
+            pt.push_back(double(path.samples) / path.seconds);
             s.integrator = Integrator::Mlt;
-            const glint::FrameBuffers frame = renderer.render(s);
-            mlt.push_back(std::stod(frame.metadata().extra.at("mltMutationsPerSecond")));
+            mlt.push_back(renderer.render(s).stats.mlt.value().mutationsPerSecond());
         }
         j["spp"] = spp;
         j["pathSamplesPerSecondMedian"] = median(pt);

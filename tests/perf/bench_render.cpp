@@ -58,8 +58,7 @@ int main(int argc, char** argv) {
         std::vector<double> sps, rps;
         glint::render::RenderStats last;
         for (int r = 0; r < repeat; ++r) {
-            renderer.render(s);
-            last = renderer.stats();
+            last = renderer.render(s).stats;
             sps.push_back(double(last.samples) / last.seconds);
             rps.push_back(double(last.rays) / last.seconds);
         }

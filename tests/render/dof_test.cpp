@@ -80,7 +80,7 @@ EdgeRender renderEdge(double z, int spp) {
     })")));
     Settings s = renderer.scene().settings();
     s.spp = spp;
-    const FrameBuffers f = renderer.render(s);
+    const FrameBuffers f = renderer.render(s).frame;
     EdgeRender out;
     for (int x = 0; x < kWidth; ++x) {
         double sum = 0.0, var = 0.0;

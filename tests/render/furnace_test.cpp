@@ -50,20 +50,20 @@ TEST(WhiteFurnace, DiffuseSphereInConstantEnvironment) {
     })");
     Renderer renderer(loadScene(scenePath));
     Settings s = renderer.scene().settings();
-    const FrameBuffers power = renderer.render(s);
+    const FrameBuffers power = renderer.render(s).frame;
     expectFlat(power, 1.2f);
     EXPECT_EQ(power.metadata().nonFiniteSamples, 0);
     // BSDF sampling alone has zero variance here: every path scores exactly L.
     s.mis = MisHeuristic::None;
     s.strategy = Strategy::Bsdf;
-    const FrameBuffers bsdf = renderer.render(s);
+    const FrameBuffers bsdf = renderer.render(s).frame;
     for (float v : bsdf.color().data()) ASSERT_NEAR(v, 1.2f, 1e-5f);
     // Light sampling alone (uniform sphere directions, half of them below the surface) is
     // heavy-tailed at low spp: check only the image mean, 64 spp × 1024 px, per-sample σ ≈ 1.55,
     // so σ(image mean) ≈ 0.006 and 3 % is 5σ.
     s.strategy = Strategy::Light;
     s.spp = 64;
-    expectFlat(renderer.render(s), 1.2f, false, 0.03);
+    expectFlat(renderer.render(s).frame, 1.2f, false, 0.03);
 }
 
 TEST(WhiteFurnace, ClosedEmissiveSphereSeenFromInside) {
@@ -83,12 +83,12 @@ TEST(WhiteFurnace, ClosedEmissiveSphereSeenFromInside) {
     // Without Russian roulette (rrDepth = maxDepth; truncation bias 0.5^64) per-sample values
     // are light-tailed and the per-pixel 5σ test applies.
     Settings s = renderer.scene().settings();
-    expectFlat(renderer.render(s), 1.0f);
+    expectFlat(renderer.render(s).frame, 1.0f);
     // With Russian roulette after 3 bounces the estimator stays unbiased but heavy-tailed:
     // check the image mean (24² px × 64 spp) within 3 %.
     s.rrDepth = 3;
     s.spp = 64;
-    expectFlat(renderer.render(s), 1.0f, false, 0.03);
+    expectFlat(renderer.render(s).frame, 1.0f, false, 0.03);
 }
 
 }  // namespace

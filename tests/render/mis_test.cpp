@@ -95,7 +95,7 @@ TEST(Mis, EstimatorsAgreeAndMisWins) {
         Settings s = renderer.scene().settings();
         s.mis = m.mis;
         s.strategy = m.strategy;
-        estimates[m.name] = summarise(renderer.render(s));
+        estimates[m.name] = summarise(renderer.render(s).frame);
     }
     for (auto a = estimates.begin(); a != estimates.end(); ++a)
         for (auto b = std::next(a); b != estimates.end(); ++b)

@@ -19,7 +19,7 @@
 #include "glint/image/metrics.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
-#include "sampling/primary_sample.h"
+#include "sampling/mlt_sampler.h"
 #include "test_util.h"
 
 namespace glint::render {
@@ -56,7 +56,7 @@ MutationSizes defaultSizes() {
 // The sampler on its own.
 
 TEST(PrimarySample, MutationsTouchOnlyTheirCoordinates) {
-    PrimarySampleSampler s(42, defaultSizes());
+    MltSampler s(42, defaultSizes());
     auto read = [&](std::vector<float>& camera, std::vector<float>& path,
                     std::vector<float>& light) {
         camera.clear(), path.clear(), light.clear();
@@ -104,7 +104,7 @@ TEST(PrimarySample, MutationsTouchOnlyTheirCoordinates) {
 
 TEST(PrimarySample, SameKeyReproducesTheState) {
     // A chain restarts from a bootstrap sample by replaying its stream: same key, same numbers.
-    PrimarySampleSampler a(7, defaultSizes()), b(7, defaultSizes());
+    MltSampler a(7, defaultSizes()), b(7, defaultSizes());
     a.startIteration(MutationKind::Large);
     b.startIteration(MutationKind::Large);
     for (int i = 0; i < 20; ++i) EXPECT_EQ(a.uniform(), b.uniform());
@@ -125,7 +125,7 @@ TEST(PrimarySample, ChainSamplesTheTarget) {
     std::vector<double> hx(bins, 0.0), hl(bins, 0.0), hp(bins, 0.0);
     const float cdf[4] = {0.25f, 0.8f, 0.9f, 2.0f};  // large, small, lens, light
     for (int c = 0; c < chains; ++c) {
-        PrimarySampleSampler s(1000 + std::uint64_t(c), defaultSizes());
+        MltSampler s(1000 + std::uint64_t(c), defaultSizes());
         float fx = 0.0f, x0 = 0.0f, l = 0.0f, p = -1.0f;
         auto eval = [&](float& ox0, float& ol, float& op) {
             const float a = s.camera(kFilmX), b = s.camera(kFilmY), u = s.uniformLight();
@@ -207,10 +207,10 @@ TEST(Mlt, ConvergesToThePathTracerOnCornell) {
     Settings pt = renderer.scene().settings();
     pt.spp = 4096;
     pt.threads = 2;
-    const FrameBuffers ref = renderer.render(pt);
+    const FrameBuffers ref = renderer.render(pt).frame;
     Settings s = mltSettings(renderer, 512);
     s.mlt.bootstrap = 1 << 20;  // b sets the image mean: its relative standard error ≈ 0.3 %
-    const FrameBuffers mlt = renderer.render(s);
+    const FrameBuffers mlt = renderer.render(s).frame;
     std::cout << "b relative standard error " << mlt.metadata().extra.at("mltBRelStdErr") << "\n";
     EXPECT_EQ(mlt.metadata().integrator, "mlt");
     EXPECT_EQ(mlt.metadata().spp, 512);
@@ -245,11 +245,24 @@ TEST(Mlt, ConvergesToThePathTracerOnCornell) {
 TEST(Mlt, NoNanAfterALongRunAndStatisticsRecorded) {
     Renderer renderer(cornell(16));
     Settings s = mltSettings(renderer, 2048);
-    const FrameBuffers f = renderer.render(s);
+    const RenderResult result = renderer.render(s);
+    const FrameBuffers& f = result.frame;
     EXPECT_EQ(f.color().countNonFinite(), 0u);
     EXPECT_EQ(f.layer(Layer::Variance).countNonFinite(), 0u);
     EXPECT_EQ(f.metadata().nonFiniteSamples, 0);
-    EXPECT_EQ(renderer.stats().nonFiniteSamples, 0);
+    EXPECT_EQ(result.stats.nonFiniteSamples, 0);
+    // The statistics travel typed, and the file records the same numbers.
+    ASSERT_TRUE(result.stats.mlt.has_value());
+    const MltStats& mlt = *result.stats.mlt;
+    EXPECT_EQ(mlt.mutations, 2048ull * 256);
+    EXPECT_EQ(mlt.chains, 64);
+    EXPECT_EQ(mlt.groups, 16);
+    EXPECT_GT(mlt.b, 0.0);
+    EXPECT_EQ(std::to_string(mlt.mutations), f.metadata().extra.at("mltMutations"));
+    for (int k = 0; k < 4; ++k) {
+        EXPECT_GT(mlt.acceptance(k), 0.0) << mltMutationName(k);
+        EXPECT_LE(mlt.acceptance(k), 1.0) << mltMutationName(k);
+    }
     const auto& extra = f.metadata().extra;
     ASSERT_TRUE(extra.count("mltVariance"));
     EXPECT_EQ(extra.at("mltVariance"), "batch-means over 16 groups of 4 chains");
@@ -273,14 +286,14 @@ TEST(Mlt, BitIdenticalForAnyThreadCount) {
     Renderer renderer(cornell(16));
     Settings s = mltSettings(renderer, 32);
     s.threads = 1;
-    const FrameBuffers one = renderer.render(s);
+    const FrameBuffers one = renderer.render(s).frame;
     s.threads = 2;
-    const FrameBuffers two = renderer.render(s);
+    const FrameBuffers two = renderer.render(s).frame;
     test::expectSameFrames(one, two);
     for (const char* k : {"mltB", "mltAcceptanceSmall", "mltAcceptanceLarge", "mltMutations"})
         EXPECT_EQ(one.metadata().extra.at(k), two.metadata().extra.at(k)) << k;
     s.seed = 5;
-    EXPECT_FALSE(test::sameLayer(one, renderer.render(s), Layer::Color));
+    EXPECT_FALSE(test::sameLayer(one, renderer.render(s).frame, Layer::Color));
 }
 
 TEST(Mlt, CancelReturnsTheCompletedPasses) {
@@ -290,13 +303,14 @@ TEST(Mlt, CancelReturnsTheCompletedPasses) {
     Callbacks cb;
     cb.passDone = [&](int, const FrameBuffers&) { ++passes; };
     cb.cancel = [&] { return passes >= 2; };
-    const FrameBuffers f = renderer.render(s, cb);
+    const RenderResult result = renderer.render(s, cb);
+    const FrameBuffers& f = result.frame;
     EXPECT_EQ(f.metadata().spp, 2);
     EXPECT_EQ(f.metadata().extra.at("cancelled"), "true");
-    EXPECT_TRUE(renderer.stats().cancelled);
+    EXPECT_TRUE(result.stats.cancelled);
     // The frame equals an uncancelled 2-mutations-per-pixel render.
     s.spp = 2;
-    EXPECT_TRUE(test::sameLayer(f, renderer.render(s), Layer::Color));
+    EXPECT_TRUE(test::sameLayer(f, renderer.render(s).frame, Layer::Color));
 }
 
 TEST(Mlt, RejectsBadParameters) {
@@ -338,13 +352,13 @@ TEST(Mlt, BeatsThePathTracerOnDoorAtEqualSamples) {
     pt.spp = 20;
     pt.threads = 2;
     pt.seed = 2;  // the reference used seed 1: share no samples with it
-    const double ptRel = relMse(renderer.render(pt).color(), ref.color()).value;
+    const double ptRel = relMse(renderer.render(pt).frame.color(), ref.color()).value;
     Settings s = pt;
     s.integrator = Integrator::Mlt;
     s.spp = 16;
     s.mlt.bootstrap = 3 * pixels;
     s.mlt.featureSpp = 1;
-    const double mltRel = relMse(renderer.render(s).color(), ref.color()).value;
+    const double mltRel = relMse(renderer.render(s).frame.color(), ref.color()).value;
     std::cout << "door: PT relMSE " << ptRel << ", MLT relMSE " << mltRel << "\n";
     EXPECT_LT(mltRel, 0.6 * ptRel) << "MLT " << mltRel << " vs PT " << ptRel;
 }

@@ -95,7 +95,7 @@ void checkCoverage(const FrameBuffers& f) {
 TEST(MotionBlur, TranslatingQuadCoversAnalyticFraction) {
     test::TempDir dir("motion_quad");
     Renderer renderer(loadScene(writeMotionScene(dir, false)));
-    const FrameBuffers f = renderer.render(renderer.scene().settings());
+    const FrameBuffers f = renderer.render(renderer.scene().settings()).frame;
     checkCoverage(f);
     EXPECT_EQ(f.metadata().extra.at("motionBlur"), "true");
 }
@@ -105,7 +105,7 @@ TEST(MotionBlur, FeatureVarianceShowsPartTimeCoverage) {
     Renderer renderer(loadScene(writeMotionScene(dir, false)));
     Settings s = renderer.scene().settings();
     s.spp = 64;
-    const FrameBuffers f = renderer.render(s);
+    const FrameBuffers f = renderer.render(s).frame;
     // Pixel 2 is covered by the static quad all the time, pixel 19 by the moving quad part of
     // the time (expected coverage 0.5), pixel 30 never.
     for (Layer l : {Layer::AlbedoVariance, Layer::NormalVariance, Layer::DepthVariance}) {
@@ -132,7 +132,7 @@ TEST(MotionBlur, MovingCameraEqualsOppositeObjectMotion) {
     test::TempDir dir("motion_camera");
     Renderer renderer(loadScene(writeMotionScene(dir, true)));
     Settings s = renderer.scene().settings();
-    const FrameBuffers f = renderer.render(s);
+    const FrameBuffers f = renderer.render(s).frame;
     const Image& albedo = f.layer(Layer::Albedo);
     const Image& var = f.layer(Layer::AlbedoVariance);
     const double a = pixelOf(-10.0f), b = pixelOf(2.5f), delta = 0.4 * 25.0;

@@ -27,22 +27,23 @@ Scene cornell(int size) {
 TEST(Renderer, BitIdenticalForAnyThreadCount) {
     Renderer renderer(cornell(32));
     Settings s = renderer.scene().settings();
-    s.position = true;
+    s.positionLayer = true;
     s.threads = 1;
-    const FrameBuffers one = renderer.render(s);
+    const FrameBuffers one = renderer.render(s).frame;
     s.threads = 2;
     s.tileSize = 8;  // a different tiling must not matter either
-    const FrameBuffers two = renderer.render(s);
+    const FrameBuffers two = renderer.render(s).frame;
     test::expectSameFrames(one, two);
     EXPECT_EQ(one.metadata().spp, 8);
     // A different seed gives a different image.
     s.seed = 99;
-    EXPECT_FALSE(test::sameLayer(one, renderer.render(s), Layer::Color));
+    EXPECT_FALSE(test::sameLayer(one, renderer.render(s).frame, Layer::Color));
 }
 
 TEST(Renderer, ProducesFeatureLayersAndCounts) {
     Renderer renderer(cornell(16));
-    const FrameBuffers f = renderer.render(renderer.scene().settings());
+    const RenderResult result = renderer.render(renderer.scene().settings());
+    const FrameBuffers& f = result.frame;
     for (Layer l :
          {Layer::Color, Layer::Variance, Layer::Albedo, Layer::AlbedoVariance, Layer::Normal,
           Layer::NormalVariance, Layer::Depth, Layer::DepthVariance, Layer::SampleCount})
@@ -55,7 +56,9 @@ TEST(Renderer, ProducesFeatureLayersAndCounts) {
     EXPECT_NEAR(f.layer(Layer::Albedo)(8, 4, 0), 0.725f, 1e-4);
     EXPECT_NEAR(f.layer(Layer::Normal)(8, 4, 2), -1.0f, 1e-4);
     EXPECT_NEAR(f.layer(Layer::Depth)(8, 4, 0), 1359.2f, 1.0f);
-    EXPECT_GT(renderer.stats().rays, renderer.stats().samples);
+    EXPECT_GT(result.stats.rays, result.stats.samples);
+    EXPECT_EQ(result.stats.samples, 16u * 16u * 8u);
+    EXPECT_FALSE(result.stats.mlt.has_value());
 }
 
 TEST(Renderer, CancelReturnsConsistentPartialFrame) {
@@ -68,16 +71,17 @@ TEST(Renderer, CancelReturnsConsistentPartialFrame) {
     cb.tileDone = [&](const Rect&) { ++tiles; };
     // 16 tiles per pass, passes of 1, 1, 2, 4 spp: stop during the third pass.
     cb.cancel = [&] { return tiles.load() >= 16 + 16 + 5; };
-    const FrameBuffers partial = renderer.render(s, cb);
-    EXPECT_TRUE(renderer.stats().cancelled);
+    const RenderResult result = renderer.render(s, cb);
+    const FrameBuffers& partial = result.frame;
+    EXPECT_TRUE(result.stats.cancelled);
     EXPECT_EQ(partial.metadata().spp, 2);
     EXPECT_EQ(partial.metadata().extra.at("cancelled"), "true");
     // Every pixel has either the 2 spp of the complete passes or 4 (its tile finished pass 3),
     // and its statistics equal an uncancelled render of that many samples.
     s.spp = 2;
-    const FrameBuffers two = renderer.render(s);
+    const FrameBuffers two = renderer.render(s).frame;
     s.spp = 4;
-    const FrameBuffers four = renderer.render(s);
+    const FrameBuffers four = renderer.render(s).frame;
     const Image& count = partial.layer(Layer::SampleCount);
     int withFour = 0;
     for (int y = 0; y < 32; ++y)

@@ -77,7 +77,7 @@ TEST(Texture, SrgbPngIsLinearisedIntoTheAlbedoLayer) {
       "render": {"spp": 2, "maxDepth": 2}
     })");
     Renderer renderer(loadScene(scenePath));
-    const FrameBuffers f = renderer.render(renderer.scene().settings());
+    const FrameBuffers f = renderer.render(renderer.scene().settings()).frame;
     for (float v : f.layer(Layer::Albedo).data()) EXPECT_NEAR(v, 0.2158605f, 2e-3f);
 }
 

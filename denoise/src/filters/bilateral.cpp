@@ -66,10 +66,10 @@ int BilateralFilter::margin(const ParamValues& params) const {
 }
 
 Image BilateralFilter::apply(const FrameBuffers& frame, const ParamValues& params,
-                             const Rect& roi) const {
+                             const Rect& roi, WorkContext& work) const {
     const int radius = margin(params);
     return detail::bilateralExact(frame.color(), roi, radius, detail::paramValue(params, "sigmaS"),
-                                  detail::paramValue(params, "sigmaR"));
+                                  detail::paramValue(params, "sigmaR"), work);
 }
 
 std::unique_ptr<Filter> makeBilateralFilter() {

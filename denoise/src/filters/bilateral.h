@@ -23,8 +23,8 @@ class BilateralFilter final : public Filter {
     std::string_view description() const override;
     const std::vector<ParamSpec>& params() const override { return m_params; }
     int margin(const ParamValues& params) const override;
-    Image apply(const FrameBuffers& frame, const ParamValues& params,
-                const Rect& roi) const override;
+    Image apply(const FrameBuffers& frame, const ParamValues& params, const Rect& roi,
+                WorkContext& work) const override;
 
   private:
     std::vector<ParamSpec> m_params;

@@ -140,12 +140,12 @@ struct InterleavedColor {
 };
 
 // Builds the interleaved copy in one parallel pass (every value written once, no zero fill).
-InterleavedColor makeInterleaved(const Image& color, const Rect& rect) {
+InterleavedColor makeInterleaved(const Image& color, const Rect& rect, WorkContext& work) {
     InterleavedColor c;
     c.rect = rect;
     c.stride = rect.width();
     c.data.reset(new float[4 * std::size_t(rect.width()) * std::size_t(rect.height())]);
-    parallelRows(rect.y0, rect.y1, [&](int y) {
+    work.parallelFor(rect.y0, rect.y1, [&](int y) {
         float* dst = c.at(rect.x0, y);
         const bool rowInside = y >= 0 && y < color.height();
         for (int x = rect.x0; x < rect.x1; ++x, dst += 4) {
@@ -156,7 +156,7 @@ InterleavedColor makeInterleaved(const Image& color, const Rect& rect) {
             for (int ch = 0; ch < 3; ++ch) dst[ch] = ok ? px[ch] : 0.0f;
             dst[3] = ok ? 1.0f : 0.0f;
         }
-    });
+    }, 0);
     return c;
 }
 
@@ -303,18 +303,18 @@ void bilateralWindowRows(const PlanarPlanes& planes, const Rect& roi, int y0, in
 
 Image bilateralSampled(const Image& color, const Rect& roi, int radius, double sigmaS,
                        double sigmaR, const std::vector<BilateralPattern>& patterns,
-                       std::uint64_t seed) {
+                       std::uint64_t seed, WorkContext& work) {
     checkInputs(color, roi, radius, sigmaS, sigmaR);
     GLINT_CHECK(!patterns.empty());
     const InterleavedColor interleaved = makeInterleaved(
-        color, Rect{roi.x0 - radius, roi.x1 + radius, roi.y0 - radius, roi.y1 + radius});
+        color, Rect{roi.x0 - radius, roi.x1 + radius, roi.y0 - radius, roi.y1 + radius}, work);
     std::vector<PreparedPattern> pats;
     pats.reserve(patterns.size());
     for (const BilateralPattern& p : patterns)
         pats.push_back(prepare(p, radius, sigmaS, interleaved.stride, true));
     const float k = rangeExponentScale(sigmaR);
     Image out(roi.width(), roi.height(), 3);
-    parallelRows(roi.y0, roi.y1, [&](int y) {
+    work.parallelFor(roi.y0, roi.y1, [&](int y) {
         sampledRow({&interleaved, y, roi.x0, roi.x1, &pats, seed, k, out.row(y - roi.y0)});
     });
     return out;

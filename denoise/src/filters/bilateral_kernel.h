@@ -13,7 +13,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "glint/denoise/progress.h"
 #include "glint/image/image.h"
+#include "glint/image/random.h"
 
 namespace glint::denoise::detail {
 
@@ -41,7 +43,8 @@ float rangeExponentScale(double sigmaR);
 /// pair's weight once and adds it to both pixels (w(p, q) = w(q, p)) within bands of rows fixed in
 /// image coordinates, so the result does not depend on the thread count. Bands holding a missing
 /// pixel use the one-sided kernel (the non-finite policy needs the centre's validity).
-Image bilateralExact(const Image& color, const Rect& roi, int radius, double sigmaS, double sigmaR);
+Image bilateralExact(const Image& color, const Rect& roi, int radius, double sigmaS, double sigmaR,
+                     WorkContext& work);
 
 /// One-sided bilateral of rows [y0, y1) of `roi` into `out` (the rows of the roi-sized output):
 /// every pixel visits the whole window. The fallback of bilateralExact for bands with missing
@@ -53,16 +56,13 @@ void bilateralWindowRows(const PlanarPlanes& planes, const Rect& roi, int y0, in
 /// `patterns` must not be empty; its size need not be a power of two.
 Image bilateralSampled(const Image& color, const Rect& roi, int radius, double sigmaS,
                        double sigmaR, const std::vector<BilateralPattern>& patterns,
-                       std::uint64_t seed);
+                       std::uint64_t seed, WorkContext& work);
 
 /// Deterministic pseudo-random choice in [0, count) from the image position and the seed
 /// (SplitMix64 finaliser), so a region of interest gets the same choices as the full frame.
 inline std::uint32_t patternIndex(int x, int y, std::uint64_t seed, std::uint32_t count) {
-    std::uint64_t z =
-        seed * 0x9E3779B97F4A7C15ull + (std::uint64_t(std::uint32_t(y)) << 32) + std::uint32_t(x);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
+    const std::uint64_t z = mix64(seed * 0x9E3779B97F4A7C15ull +
+                                  (std::uint64_t(std::uint32_t(y)) << 32) + std::uint32_t(x));
     // z mod count; a mask when count is a power of two (the same value, no 64-bit division).
     return std::uint32_t((count & (count - 1)) == 0 ? z & (count - 1) : z % count);
 }

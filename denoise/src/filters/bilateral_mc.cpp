@@ -43,8 +43,9 @@ BilateralMcFilter::BilateralMcFilter() : m_params(bilateralParamSpecs()) {
     m_params.push_back({"samplesPerSide", "samples per kernel side (k)", 1, 256, 3,
                         ParamScale::Linear, true,
                         "Samples per pixel are k N for an N x N window (N = 2 radius + 1)."});
-    m_params.push_back({"pattern", "pattern kind", 0, 3, 0, ParamScale::Linear, true,
-                        "0 poisson (Bridson), 1 regular grid, 2 uniform random, 3 stratified."});
+    m_params.push_back(ParamSpec::choice(
+        "pattern", "pattern kind", {"poisson", "regular", "random", "stratified"}, 0,
+        "Window subset: Poisson disk (Bridson), regular grid, uniform random, stratified."));
     m_params.push_back({"seed", "seed", 0, 1e9, 1, ParamScale::Linear, true,
                         "Seed of the patterns and of the per-pixel pattern choice."});
 }
@@ -59,7 +60,7 @@ int BilateralMcFilter::margin(const ParamValues& params) const {
 }
 
 Image BilateralMcFilter::apply(const FrameBuffers& frame, const ParamValues& params,
-                               const Rect& roi) const {
+                               const Rect& roi, WorkContext& work) const {
     const int radius = margin(params);
     const int side = 2 * radius + 1;
     const auto kind = detail::PatternKind(detail::paramInt(params, "pattern"));
@@ -68,13 +69,16 @@ Image BilateralMcFilter::apply(const FrameBuffers& frame, const ParamValues& par
         1LL * detail::paramInt(params, "samplesPerSide") * side, 1LL * side * side));
     // Precompute the patterns (Banterle et al. 2012, Sec. 3), in parallel.
     std::vector<detail::BilateralPattern> patterns(kBilateralMcPatterns);
-    detail::parallelRows(0, kBilateralMcPatterns, [&](int i) {
-        patterns[std::size_t(i)] =
-            detail::makeWindowPattern(kind, radius, count, seed * 1000003ull + std::uint64_t(i));
-    });
+    work.parallelFor(
+        0, kBilateralMcPatterns,
+        [&](int i) {
+            patterns[std::size_t(i)] = detail::makeWindowPattern(
+                kind, radius, count, seed * 1000003ull + std::uint64_t(i));
+        },
+        0);
     return detail::bilateralSampled(frame.color(), roi, radius,
                                     detail::paramValue(params, "sigmaS"),
-                                    detail::paramValue(params, "sigmaR"), patterns, seed);
+                                    detail::paramValue(params, "sigmaR"), patterns, seed, work);
 }
 
 std::unique_ptr<Filter> makeBilateralMcFilter() {

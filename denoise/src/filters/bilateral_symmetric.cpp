@@ -226,7 +226,7 @@ void exactBand(const ExactContext& ctx, int b0, int b1, Image& out) {
 }  // namespace
 
 Image bilateralExact(const Image& color, const Rect& roi, int radius, double sigmaS,
-                     double sigmaR) {
+                     double sigmaR, WorkContext& work) {
     GLINT_CHECK(color.channels() == 3, "the bilateral filters need 3 colour channels");
     GLINT_CHECK(!roi.empty() && intersect(roi, color.bounds()) == roi);
     GLINT_CHECK(radius >= 0);
@@ -235,7 +235,7 @@ Image bilateralExact(const Image& color, const Rect& roi, int radius, double sig
     // Planes: q reaches radius beyond the p columns, which reach radius beyond the roi; the
     // 8-wide tail of the last p group stays inside the planes' padding.
     const PlanarPlanes planes =
-        makePlanar(color, Rect{roi.x0 - 2 * r, roi.x1 + 2 * r, roi.y0 - r, roi.y1 + r}, 3);
+        makePlanar(color, Rect{roi.x0 - 2 * r, roi.x1 + 2 * r, roi.y0 - r, roi.y1 + r}, 3, work);
     ExactContext ctx;
     ctx.planes = &planes;
     ctx.roi = roi;
@@ -253,14 +253,15 @@ Image bilateralExact(const Image& color, const Rect& roi, int radius, double sig
     Image out(roi.width(), roi.height(), 3);
     const int bandRows = std::max(kBandRows, 4 * r);
     const int firstBand = roi.y0 / bandRows, lastBand = (roi.y1 - 1) / bandRows;
-    parallelRows(firstBand, lastBand + 1, [&](int band) {
+    // A band of rows is the unit of work (and of cancellation).
+    work.parallelFor(firstBand, lastBand + 1, [&](int band) {
         const int b0 = std::max(band * bandRows, roi.y0);
         const int b1 = std::min((band + 1) * bandRows, roi.y1);
         if (bandIsComplete(ctx, b0, b1))
             exactBand(ctx, b0, b1, out);
         else
             bilateralWindowRows(planes, roi, b0, b1, r, sigmaS, sigmaR, out);
-    });
+    }, bandRows);
     return out;
 }
 

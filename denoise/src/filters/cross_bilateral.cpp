@@ -128,7 +128,7 @@ void invertVariance(std::vector<float>& plane, std::size_t i, float twoSigma2) {
     plane[i] = float(0.25 / (0.5 * double(twoSigma2) + double(plane[i])));
 }
 
-Packed pack(const FrameBuffers& frame, const Rect& rect, const Sigmas& sig) {
+Packed pack(const FrameBuffers& frame, const Rect& rect, const Sigmas& sig, WorkContext& work) {
     Packed pk;
     pk.rect = rect;
     pk.stride = rect.width() + 8;  // padding columns for the 8-wide tail
@@ -140,7 +140,7 @@ Packed pack(const FrameBuffers& frame, const Rect& rect, const Sigmas& sig) {
     const Image& depth = frame.layer(Layer::Depth);
     const double depthScale = meanAbs(depth);
     const Rect inside = intersect(rect, color.bounds());
-    detail::parallelRows(inside.y0, inside.y1, [&](int y) {
+    work.parallelFor(inside.y0, inside.y1, [&](int y) {
         for (int x = inside.x0; x < inside.x1; ++x) {
             const std::size_t i = pk.index(x, y);
             const float* c = color.row(y) + std::size_t(x) * 3;
@@ -157,7 +157,7 @@ Packed pack(const FrameBuffers& frame, const Rect& rect, const Sigmas& sig) {
             invertVariance(pk.planes[VN], i, sig.normal2);
             invertVariance(pk.planes[VZ], i, sig.depth2);
         }
-    });
+    }, 0);
     // Outside the image the normalisations stay 0: those pixels have weight 0 anyway.
     return pk;
 }
@@ -265,7 +265,7 @@ int CrossBilateralFilter::margin(const ParamValues& params) const {
 }
 
 Image CrossBilateralFilter::apply(const FrameBuffers& frame, const ParamValues& params,
-                                  const Rect& roi) const {
+                                  const Rect& roi, WorkContext& work) const {
     const double sigmaS = detail::paramValue(params, "sigmaS");
     const int r = margin(params);
     auto twoSq = [&](const char* name) {
@@ -287,11 +287,11 @@ Image CrossBilateralFilter::apply(const FrameBuffers& frame, const ParamValues& 
     spatial[std::size_t(r * d + r)] = 0.0f;  // the centre always counts
 
     // Pack the window region (roi plus r, plus 8 columns so the last block can read ahead).
-    const Packed pk = pack(frame, Rect{roi.x0 - r, roi.x1 + r + 8, roi.y0 - r, roi.y1 + r}, sig);
+    const Packed pk = pack(frame, Rect{roi.x0 - r, roi.x1 + r + 8, roi.y0 - r, roi.y1 + r}, sig, work);
 
     const int w = roi.width();
     Image out(w, roi.height(), 3);
-    detail::parallelRows(roi.y0, roi.y1, [&](int y) {
+    work.parallelFor(roi.y0, roi.y1, [&](int y) {
         float sum[32];
         float* dst = out.row(y - roi.y0);
         for (int x = roi.x0; x < roi.x1; x += 8) {

@@ -13,12 +13,12 @@ class CrossBilateralFilter final : public Filter {
     std::string_view name() const override { return "cross-bilateral"; }
     std::string_view description() const override;
     const std::vector<ParamSpec>& params() const override { return m_params; }
-    std::vector<Layer> requiredLayers() const override {
+    std::vector<Layer> requiredLayers(const ParamValues& /*params*/) const override {
         return {Layer::Albedo, Layer::Normal, Layer::Depth};
     }
     int margin(const ParamValues& params) const override;
-    Image apply(const FrameBuffers& frame, const ParamValues& params,
-                const Rect& roi) const override;
+    Image apply(const FrameBuffers& frame, const ParamValues& params, const Rect& roi,
+                WorkContext& work) const override;
 
   private:
     std::vector<ParamSpec> m_params;

@@ -117,7 +117,7 @@ void rescale(float* row, int x, const std::vector<float>& sums, int channels) {
 // Common case: no missing pixel within reach, so the normaliser of the 2D kernel truncated at the
 // border is the product of the two 1D ones; plain separable convolution on the channels.
 Image blurClean(const Image& image, const std::vector<float>& w, int radius, const Rect& roi,
-                int hy0, int hy1) {
+                int hy0, int hy1, WorkContext& work) {
     const int channels = image.channels();
     const int taps = int(w.size());
     const int outW = roi.width();
@@ -127,7 +127,7 @@ Image blurClean(const Image& image, const std::vector<float>& w, int radius, con
         truncatedSums(w, radius, roi.y0, roi.height(), image.height());
     // Horizontal pass over roi rows plus the vertical margin.
     std::unique_ptr<float[]> horizontal(new float[rowFloats * std::size_t(hy1 - hy0)]);
-    detail::parallelRows(hy0, hy1, [&](int y) {
+    work.parallelFor(hy0, hy1, [&](int y) {
         std::vector<float> padded(std::size_t(outW + 2 * radius) * channels, 0.0f);
         const int x0 = std::max(0, roi.x0 - radius), x1 = std::min(image.width(), roi.x1 + radius);
         std::copy_n(image.row(y) + std::size_t(x0) * channels, std::size_t(x1 - x0) * channels,
@@ -140,7 +140,7 @@ Image blurClean(const Image& image, const std::vector<float>& w, int radius, con
     });
     // Vertical pass straight into the output rows.
     Image out(outW, roi.height(), channels);
-    detail::parallelRows(roi.y0, roi.y1, [&](int y) {
+    work.parallelFor(roi.y0, roi.y1, [&](int y) {
         const int k0 = std::max(0, hy0 - (y - radius));
         const int k1 = std::min(taps, hy1 - (y - radius));
         float* dst = out.row(y - roi.y0);
@@ -155,7 +155,7 @@ Image blurClean(const Image& image, const std::vector<float>& w, int radius, con
 
 }  // namespace
 
-Image gaussianBlur(const Image& image, double sigma, const Rect& roi) {
+Image gaussianBlur(const Image& image, double sigma, const Rect& roi, WorkContext& work) {
     GLINT_CHECK(sigma > 0.0 && std::isfinite(sigma));
     GLINT_CHECK(!roi.empty() && intersect(roi, image.bounds()) == roi);
     const int channels = image.channels();
@@ -167,22 +167,26 @@ Image gaussianBlur(const Image& image, double sigma, const Rect& roi) {
     const int outW = roi.width();
     const std::size_t rowFloats = std::size_t(outW) * c1;
     const int hy0 = std::max(0, roi.y0 - radius), hy1 = std::min(image.height(), roi.y1 + radius);
+    work.expectWork((hy1 - hy0) + roi.height());
 
     // Take the fast path unless a missing pixel lies within reach.
     {
         const int x0 = std::max(0, roi.x0 - radius), x1 = std::min(image.width(), roi.x1 + radius);
         std::atomic<bool> clean{true};
-        detail::parallelRows(hy0, hy1, [&](int y) {
-            if (!allFinite(image.row(y) + std::size_t(x0) * channels,
-                           std::size_t(x1 - x0) * channels))
-                clean = false;
-        });
-        if (clean) return blurClean(image, w, radius, roi, hy0, hy1);
+        work.parallelFor(
+            hy0, hy1,
+            [&](int y) {
+                if (!allFinite(image.row(y) + std::size_t(x0) * channels,
+                               std::size_t(x1 - x0) * channels))
+                    clean = false;
+            },
+            0);
+        if (clean) return blurClean(image, w, radius, roi, hy0, hy1, work);
     }
 
     // Masked path. Horizontal pass over the rows the vertical pass reads (roi plus margin).
     std::vector<float> horizontal(rowFloats * std::size_t(hy1 - hy0));
-    detail::parallelRows(hy0, hy1, [&](int y) {
+    work.parallelFor(hy0, hy1, [&](int y) {
         // Padded row: columns roi.x0 - radius … roi.x1 + radius - 1, zero outside the image and
         // for missing pixels.
         std::vector<float> padded(std::size_t(outW + 2 * radius) * c1, 0.0f);
@@ -201,7 +205,7 @@ Image gaussianBlur(const Image& image, double sigma, const Rect& roi) {
 
     // Vertical pass, then divide by the accumulated weight of the finite pixels reached.
     Image out(outW, roi.height(), channels);
-    detail::parallelRows(roi.y0, roi.y1, [&](int y) {
+    work.parallelFor(roi.y0, roi.y1, [&](int y) {
         const int k0 = std::max(0, hy0 - (y - radius));     // first tap inside the image
         const int k1 = std::min(taps, hy1 - (y - radius));  // one past the last
         std::vector<float> acc(rowFloats);
@@ -231,8 +235,8 @@ int GaussianFilter::margin(const ParamValues& params) const {
 }
 
 Image GaussianFilter::apply(const FrameBuffers& frame, const ParamValues& params,
-                            const Rect& roi) const {
-    return gaussianBlur(frame.color(), detail::paramValue(params, "sigma"), roi);
+                            const Rect& roi, WorkContext& work) const {
+    return gaussianBlur(frame.color(), detail::paramValue(params, "sigma"), roi, work);
 }
 
 std::unique_ptr<Filter> makeGaussianFilter() {

@@ -14,8 +14,9 @@ inline constexpr int kGaussianMaxRadius = 4096;
 /// Gaussian blur of every channel of `image` inside `roi` (returns an image of roi's size).
 /// Separable: a horizontal pass over roi plus the vertical margin, then a vertical pass. The
 /// kernel is truncated at the image border and renormalised; a pixel with a non-finite channel
-/// is missing (zero weight), see filter_util.h. Usable by any filter or the prefilter.
-Image gaussianBlur(const Image& image, double sigma, const Rect& roi);
+/// is missing (zero weight), see filter_util.h. Usable by any filter or the prefilter. Work:
+/// the rows of both passes.
+Image gaussianBlur(const Image& image, double sigma, const Rect& roi, WorkContext& work);
 
 /// The registered "gaussian" filter.
 class GaussianFilter final : public Filter {
@@ -25,8 +26,8 @@ class GaussianFilter final : public Filter {
     std::string_view description() const override;
     const std::vector<ParamSpec>& params() const override { return m_params; }
     int margin(const ParamValues& params) const override;
-    Image apply(const FrameBuffers& frame, const ParamValues& params,
-                const Rect& roi) const override;
+    Image apply(const FrameBuffers& frame, const ParamValues& params, const Rect& roi,
+                WorkContext& work) const override;
 
   private:
     std::vector<ParamSpec> m_params;

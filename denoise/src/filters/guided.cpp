@@ -14,12 +14,10 @@
 //   radius  window radius r in pixels, 1 … 64 (outputs depend on the 2r pixels around the region).
 //   eps     regulariser in guide units squared, 1e-8 … 1e2 (log); eps -> 0 reproduces every
 //           component of the colour that is a linear function of the guide.
-//   guide   0 colour luminance (0.2126 R + 0.7152 G + 0.0722 B), 1 albedo (3 channels),
-//           2 normal (3 channels), 3 depth divided by the frame's mean |depth|. The albedo,
+//   guide   color: colour luminance (0.2126 R + 0.7152 G + 0.0722 B); albedo (3 channels);
+//           normal (3 channels); depth divided by the frame's mean |depth|. The albedo,
 //           normal or depth layer must exist when chosen.
 #include "filters/guided.h"
-
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
@@ -53,8 +51,8 @@ Parameters:
   radius  window radius r in pixels, 1 … 64 (outputs depend on the 2r pixels around the region).
   eps     regulariser in guide units squared, 1e-8 … 1e2 (log); eps -> 0 reproduces every
           component of the colour that is a linear function of the guide.
-  guide   0 colour luminance (0.2126 R + 0.7152 G + 0.0722 B), 1 albedo (3 channels),
-          2 normal (3 channels), 3 depth divided by the frame's mean |depth|. The albedo,
+  guide   color: colour luminance (0.2126 R + 0.7152 G + 0.0722 B); albedo (3 channels);
+          normal (3 channels); depth divided by the frame's mean |depth|. The albedo,
           normal or depth layer must exist when chosen.)";
 
 // Per-pixel guide of kind `kind` at (x, y); returns false when it is not finite.
@@ -214,7 +212,7 @@ void windowCoefficients(const double* s, const Layout& L, double eps, double* e,
 // time, whose horizontal sums go to a second ring, whose vertical sums give the output r rows
 // later. Everything stays in cache whatever the image height.
 void guidedStrip(const Image& color, const GuideSource& guide, const Layout& L, double eps, int r,
-                 const Rect& roi, int sx0, int sx1, Image& out) {
+                 const Rect& roi, int sx0, int sx1, Image& out, WorkContext& work) {
     const int W = color.width(), H = color.height(), k = L.k;
     const int cA0 = std::max(0, sx0 - r), cA1 = std::min(W, sx1 + r);
     const int cI0 = std::max(0, cA0 - r), cI1 = std::min(W, cA1 + r);
@@ -232,6 +230,7 @@ void guidedStrip(const Image& color, const GuideSource& guide, const Layout& L, 
     std::array<double, 3> mu{}, g{};
     int h1Next = std::max(0, A1 - r);
     for (int j = A1; j < roi.y1 + r; ++j) {
+        if (work.cancelled()) return;
         if (j < H) {
             // Stage-1 horizontal sums of the rows the vertical sums at j reach.
             for (; h1Next <= std::min(H - 1, j + r); ++h1Next) {
@@ -283,6 +282,7 @@ void guidedStrip(const Image& color, const GuideSource& guide, const Layout& L, 
                     std::isfinite(q) ? float(std::clamp(q, -kMax, kMax)) : 0.0f;
             }
         }
+        work.addWork(1);
     }
 }
 
@@ -293,12 +293,27 @@ GuidedFilter::GuidedFilter()
           {"radius", "radius (px)", 1, 64, 5, ParamScale::Linear, true, "Window radius in pixels."},
           {"eps", "epsilon", 1e-8, 1e2, 5e-2, ParamScale::Log, false,
            "Regulariser (guide units squared): larger smooths more."},
-          {"guide", "guide (0 colour, 1 albedo, 2 normal, 3 depth)", 0, 3, 0, ParamScale::Linear,
-           true, "Guide image: 0 colour luminance, 1 albedo, 2 normal, 3 depth."},
+          ParamSpec::choice("guide", "guide image", {"color", "albedo", "normal", "depth"}, 0,
+                            "Image that steers the filter: colour luminance, or the albedo, "
+                            "normal or depth layer."),
       } {}
 
 std::string_view GuidedFilter::description() const {
     return kDescription;
+}
+
+std::vector<Layer> GuidedFilter::requiredLayers(const ParamValues& params) const {
+    switch (GuideKind(detail::paramInt(params, "guide"))) {
+        case GuideKind::Albedo:
+            return {Layer::Albedo};
+        case GuideKind::Normal:
+            return {Layer::Normal};
+        case GuideKind::Depth:
+            return {Layer::Depth};
+        case GuideKind::ColorLuminance:
+            break;
+    }
+    return {};
 }
 
 int GuidedFilter::margin(const ParamValues& params) const {
@@ -306,24 +321,15 @@ int GuidedFilter::margin(const ParamValues& params) const {
 }
 
 Image GuidedFilter::apply(const FrameBuffers& frame, const ParamValues& params,
-                          const Rect& roi) const {
+                          const Rect& roi, WorkContext& work) const {
     const int r = detail::paramInt(params, "radius");
     const double eps = detail::paramValue(params, "eps");
     GuideSource guide;
     guide.kind = GuideKind(detail::paramInt(params, "guide"));
     guide.color = &frame.color();
-    const Layer guideLayer = guide.kind == GuideKind::Albedo   ? Layer::Albedo
-                             : guide.kind == GuideKind::Normal ? Layer::Normal
-                                                               : Layer::Depth;
-    if (guide.kind != GuideKind::ColorLuminance) {
-        if (!frame.has(guideLayer))
-            throw Error(ErrorKind::InvalidArgument,
-                        "guide " + std::to_string(int(guide.kind)) + " needs the '" +
-                            std::string(layerInfo(guideLayer).name) +
-                            "' layer, which the frame lacks; guide 0 (colour) always works",
-                        {}, "filter 'guided'");
-        guide.layer = &frame.layer(guideLayer);
-    }
+    // applyFilter has checked requiredLayers(): the guide layer is there.
+    const std::vector<Layer> guideLayer = requiredLayers(params);
+    if (!guideLayer.empty()) guide.layer = &frame.layer(guideLayer[0]);
     if (guide.kind == GuideKind::Depth) guide.depthScale = meanAbsDepth(*guide.layer);
     const int k = (guide.kind == GuideKind::Albedo || guide.kind == GuideKind::Normal) ? 3 : 1;
     guide.channels = k;
@@ -335,10 +341,15 @@ Image GuidedFilter::apply(const FrameBuffers& frame, const ParamValues& params,
     const int strip = std::clamp((roi.width() / 4 + 63) / 64 * 64, 128, 512);
     const int strips = (roi.width() + strip - 1) / strip;
     Image out(roi.width(), roi.height(), 3);
-    tbb::parallel_for(0, strips, [&](int s) {
-        const int sx0 = roi.x0 + s * strip, sx1 = std::min(roi.x1, sx0 + strip);
-        guidedStrip(frame.color(), guide, layout, eps, r, roi, sx0, sx1, out);
-    });
+    // Each strip counts its output rows; cancellation is checked on every row of every strip.
+    work.expectWork(std::int64_t(strips) * roi.height());
+    work.parallelFor(
+        0, strips,
+        [&](int s) {
+            const int sx0 = roi.x0 + s * strip, sx1 = std::min(roi.x1, sx0 + strip);
+            guidedStrip(frame.color(), guide, layout, eps, r, roi, sx0, sx1, out, work);
+        },
+        0);
     return out;
 }
 

@@ -23,8 +23,7 @@
 //   strength      k, 1e-4 … 10 (log); larger smooths more, k -> 0 is the identity
 #include "filters/nlmeans.h"
 
-#include <tbb/blocked_range2d.h>
-#include <tbb/parallel_for.h>
+#include <tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
 #include <cmath>
@@ -81,7 +80,7 @@ struct Packed {
     }
 };
 
-Packed pack(const FrameBuffers& frame, const Rect& rect) {
+Packed pack(const FrameBuffers& frame, const Rect& rect, WorkContext& work) {
     Packed pk;
     pk.rect = rect;
     pk.stride = rect.width();
@@ -92,7 +91,9 @@ Packed pack(const FrameBuffers& frame, const Rect& rect) {
     const std::array<double, 3> uniform =
         var ? std::array<double, 3>{} : estimateNoiseVariance(color);
     const Rect inside = intersect(rect, color.bounds());
-    detail::parallelRows(inside.y0, inside.y1, [&](int y) {
+    work.parallelFor(
+        inside.y0, inside.y1,
+        [&](int y) {
         for (int x = inside.x0; x < inside.x1; ++x) {
             const std::size_t i = pk.index(x, y);
             const float* c = color.row(y) + std::size_t(x) * 3;
@@ -106,7 +107,8 @@ Packed pack(const FrameBuffers& frame, const Rect& rect) {
             }
             pk.planes[M][i] = valid ? 1.0f : 0.0f;
         }
-    });
+        },
+        0);
     return pk;
 }
 
@@ -287,7 +289,7 @@ int NlMeansFilter::margin(const ParamValues& params) const {
 }
 
 Image NlMeansFilter::apply(const FrameBuffers& frame, const ParamValues& params,
-                           const Rect& roi) const {
+                           const Rect& roi, WorkContext& work) const {
     Settings st;
     st.f = detail::paramInt(params, "patchRadius");
     st.s = detail::paramInt(params, "searchRadius");
@@ -307,32 +309,31 @@ Image NlMeansFilter::apply(const FrameBuffers& frame, const ParamValues& params,
     const Rect cells{gx0 * kTile, std::min(gx1 * kTile, bounds.x1), gy0 * kTile,
                      std::min(gy1 * kTile, bounds.y1)};
     const Packed pk =
-        pack(frame, Rect{cells.x0 - m, cells.x1 + m + 16, cells.y0 - m, cells.y1 + m});
+        pack(frame, Rect{cells.x0 - m, cells.x1 + m + 16, cells.y0 - m, cells.y1 + m}, work);
 
     Image out(roi.width(), roi.height(), 3);
-    tbb::parallel_for(
-        tbb::blocked_range2d<int>(gy0, gy1, 1, gx0, gx1, 1),
-        [&](const tbb::blocked_range2d<int>& r) {
-            TileScratch sc;
-            for (int gy = r.rows().begin(); gy != r.rows().end(); ++gy)
-                for (int gx = r.cols().begin(); gx != r.cols().end(); ++gx) {
-                    const int tx0 = gx * kTile, ty0 = gy * kTile;
-                    const int tw = std::min(kTile, bounds.x1 - tx0),
-                              th = std::min(kTile, bounds.y1 - ty0);
-                    filterTile(pk, tx0, ty0, tw, th, st, sc);
-                    const std::size_t plane = std::size_t(kTile) * kTile;
-                    const Rect part = intersect(Rect{tx0, tx0 + tw, ty0, ty0 + th}, roi);
-                    for (int y = part.y0; y < part.y1; ++y)
-                        for (int x = part.x0; x < part.x1; ++x) {
-                            const std::size_t i =
-                                std::size_t(y - ty0) * kTile + std::size_t(x - tx0);
-                            const float wsum = sc.acc[3 * plane + i];
-                            for (int c = 0; c < 3; ++c)
-                                out(x - roi.x0, y - roi.y0, c) =
-                                    wsum > 0.0f ? sc.acc[std::size_t(c) * plane + i] / wsum : 0.0f;
-                        }
-                }
-        });
+    // One index per tile of the grid (a tile is the unit of work and of cancellation); each
+    // thread keeps its scratch buffers.
+    const int tilesX = gx1 - gx0, tiles = tilesX * (gy1 - gy0);
+    tbb::enumerable_thread_specific<TileScratch> scratch;
+    work.expectWork(tiles);
+    work.parallelFor(0, tiles, [&](int t) {
+        TileScratch& sc = scratch.local();
+        const int gx = gx0 + t % tilesX, gy = gy0 + t / tilesX;
+        const int tx0 = gx * kTile, ty0 = gy * kTile;
+        const int tw = std::min(kTile, bounds.x1 - tx0), th = std::min(kTile, bounds.y1 - ty0);
+        filterTile(pk, tx0, ty0, tw, th, st, sc);
+        const std::size_t plane = std::size_t(kTile) * kTile;
+        const Rect part = intersect(Rect{tx0, tx0 + tw, ty0, ty0 + th}, roi);
+        for (int y = part.y0; y < part.y1; ++y)
+            for (int x = part.x0; x < part.x1; ++x) {
+                const std::size_t i = std::size_t(y - ty0) * kTile + std::size_t(x - tx0);
+                const float wsum = sc.acc[3 * plane + i];
+                for (int c = 0; c < 3; ++c)
+                    out(x - roi.x0, y - roi.y0, c) =
+                        wsum > 0.0f ? sc.acc[std::size_t(c) * plane + i] / wsum : 0.0f;
+            }
+    });
     return out;
 }
 

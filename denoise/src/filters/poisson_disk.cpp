@@ -9,13 +9,6 @@
 
 namespace glint::denoise::detail {
 
-std::uint64_t SplitMix64::next() {
-    std::uint64_t z = (m_state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
 std::vector<Offset> bridsonPoissonDisk(int radius, double minDistance, SplitMix64& rng,
                                        int attempts) {
     GLINT_CHECK(radius >= 0 && minDistance > 0.0 && attempts > 0);
@@ -162,8 +155,8 @@ BilateralPattern makeWindowPattern(PatternKind kind, int radius, int count, std:
             for (int j = 0; j < g; ++j)
                 for (int i = 0; i < g; ++i)
                     pts.push_back(
-                        {int(std::floor(-radius - 0.5 + (i + rng.uniform()) * step + 0.5)),
-                         int(std::floor(-radius - 0.5 + (j + rng.uniform()) * step + 0.5))});
+                        {int(std::floor(-radius - 0.5 + (i + rng.uniformDouble()) * step + 0.5)),
+                         int(std::floor(-radius - 0.5 + (j + rng.uniformDouble()) * step + 0.5))});
             for (Offset& o : pts) {
                 o.dx = std::clamp(o.dx, -radius, radius);
                 o.dy = std::clamp(o.dy, -radius, radius);

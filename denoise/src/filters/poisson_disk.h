@@ -6,23 +6,11 @@
 #include <vector>
 
 #include "filters/bilateral_kernel.h"
+#include "glint/image/random.h"
 
 namespace glint::denoise::detail {
 
-/// Small deterministic generator (SplitMix64): the same sequence on every platform.
-class SplitMix64 {
-  public:
-    explicit SplitMix64(std::uint64_t seed) : m_state(seed) {}
-    /// Next 64 random bits.
-    std::uint64_t next();
-    /// Uniform double in [0, 1).
-    double uniform() { return double(next() >> 11) * 0x1.0p-53; }
-    /// Uniform integer in [0, n).
-    std::uint64_t below(std::uint64_t n) { return next() % n; }
-
-  private:
-    std::uint64_t m_state;
-};
+using glint::SplitMix64;  // the deterministic generator of glint/image/random.h
 
 /// Bridson 2007, "Fast Poisson disk sampling in arbitrary dimensions", on the integer lattice:
 /// offsets in [-radius, radius]^2, pairwise distance >= minDistance, grown from (0, 0) with

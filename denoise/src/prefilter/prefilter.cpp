@@ -53,7 +53,7 @@ struct FeaturePlanes {
     }
 };
 
-FeaturePlanes makePlanes(const Image& f, const Image& var, int pad, double k2) {
+FeaturePlanes makePlanes(const Image& f, const Image& var, int pad, double k2, WorkContext& work) {
     FeaturePlanes fp;
     fp.pad = pad;
     fp.stride = f.width() + 2 * pad + 8;
@@ -66,7 +66,9 @@ FeaturePlanes makePlanes(const Image& f, const Image& var, int pad, double k2) {
     fp.delta.assign(ch, std::vector<float>(size, 1.0f));
     fp.valid.assign(size, 0.0f);
     fp.centreFactor.assign(size, 0.0f);
-    detail::parallelRows(0, f.height(), [&](int y) {
+    work.parallelFor(
+        0, f.height(),
+        [&](int y) {
         for (int x = 0; x < f.width(); ++x) {
             const std::size_t i = fp.index(x, y);
             const bool finite = detail::isFinitePixel(f.row(y) + std::size_t(x) * ch, int(ch));
@@ -84,7 +86,8 @@ FeaturePlanes makePlanes(const Image& f, const Image& var, int pad, double k2) {
                 fp.delta[c][i] = finite ? float(1e-12 * (1.0 + v * v)) : 1.0f;
             }
         }
-    });
+        },
+        0);
     return fp;
 }
 
@@ -142,10 +145,16 @@ GLINT_SIMD_CLONES void filterBlock(const FeaturePlanes& fp, int x, int y, int r,
     detail::storeVec(out + 16 * C, wsum);
 }
 
+// The prefilter's parameters, resolved.
+struct Params {
+    int radius;
+    double sigmaSpatial, varianceScale;
+};
+
 // Filters one feature layer and its variance (same channel count) of the frame.
 template <int C>
-void filterFeature(const Image& f, const Image& var, const PrefilterParams& params, Image& outF,
-                   Image& outVar) {
+void filterFeature(const Image& f, const Image& var, const Params& params, Image& outF,
+                   Image& outVar, WorkContext& work) {
     const int r = params.radius;
     const double invTwoSigmaS2 = 1.0 / (2.0 * params.sigmaSpatial * params.sigmaSpatial);
     const int d = 2 * r + 1;
@@ -155,8 +164,9 @@ void filterFeature(const Image& f, const Image& var, const PrefilterParams& para
             const double e = double(dx * dx + dy * dy) * invTwoSigmaS2;
             spatial[std::size_t((dy + r) * d + dx + r)] = e > 87.0 ? -1.0f : float(e);
         }
-    const FeaturePlanes fp = makePlanes(f, var, r, params.varianceScale * params.varianceScale);
-    detail::parallelRows(0, f.height(), [&](int y) {
+    const FeaturePlanes fp =
+        makePlanes(f, var, r, params.varianceScale * params.varianceScale, work);
+    work.parallelFor(0, f.height(), [&](int y) {
         float out[16 * C + 8];
         for (int x = 0; x < f.width(); x += 8) {
             filterBlock<C>(fp, x, y, r, spatial.data(), out);
@@ -177,34 +187,45 @@ void filterFeature(const Image& f, const Image& var, const PrefilterParams& para
     });
 }
 
-void checkParam(bool ok, const std::string& what) {
-    if (!ok) throw Error(ErrorKind::InvalidArgument, what, {}, "feature prefilter");
-}
-
 }  // namespace
 
-FrameBuffers prefilterFeatures(const FrameBuffers& frame, const PrefilterParams& params) {
-    checkParam(params.radius >= 0 && params.radius <= 100,
-               "radius = " + std::to_string(params.radius) + " must be in [0, 100]");
-    checkParam(std::isfinite(params.sigmaSpatial) && params.sigmaSpatial >= 1e-3 &&
-                   params.sigmaSpatial <= 1e3,
-               "sigmaSpatial = " + std::to_string(params.sigmaSpatial) + " must be in [1e-3, 1e3]");
-    checkParam(
-        std::isfinite(params.varianceScale) && params.varianceScale >= 1e-3 &&
-            params.varianceScale <= 1e3,
-        "varianceScale = " + std::to_string(params.varianceScale) + " must be in [1e-3, 1e3]");
+const std::vector<ParamSpec>& prefilterParams() {
+    static const std::vector<ParamSpec> specs{
+        {"radius", "window radius (px)", 0, 100, 3, ParamScale::Linear, true,
+         "Half window in pixels."},
+        {"sigmaSpatial", "spatial sigma (px)", 1e-3, 1e3, 1.5, ParamScale::Log, false,
+         "Spatial Gaussian standard deviation in pixels."},
+        {"varianceScale", "variance scale", 1e-3, 1e3, 1.0, ParamScale::Log, false,
+         "How many standard deviations of a pixel's own noise count as the same value."},
+    };
+    return specs;
+}
+
+FrameBuffers prefilterFeatures(const FrameBuffers& frame, const ParamValues& given,
+                               const ProgressFn& progress) {
+    const ParamValues resolved = resolveParams(prefilterParams(), given, "feature prefilter");
+    const Params params{int(resolved.at("radius")), resolved.at("sigmaSpatial"),
+                        resolved.at("varianceScale")};
+    WorkContext work(progress);
+    std::int64_t rows = 0;
+    for (Layer layer : {Layer::Albedo, Layer::Normal, Layer::Depth}) {
+        const std::optional<Layer> varLayer = varianceLayer(layer);
+        if (frame.has(layer) && varLayer && frame.has(*varLayer)) rows += frame.height();
+    }
+    work.expectWork(rows);
     FrameBuffers out = frame;
     for (Layer layer : {Layer::Albedo, Layer::Normal, Layer::Depth}) {
         const std::optional<Layer> varLayer = varianceLayer(layer);
         if (!frame.has(layer) || !varLayer || !frame.has(*varLayer)) continue;
         Image f = frame.layer(layer), v = frame.layer(*varLayer);
         if (f.channels() == 3)
-            filterFeature<3>(frame.layer(layer), frame.layer(*varLayer), params, f, v);
+            filterFeature<3>(frame.layer(layer), frame.layer(*varLayer), params, f, v, work);
         else
-            filterFeature<1>(frame.layer(layer), frame.layer(*varLayer), params, f, v);
+            filterFeature<1>(frame.layer(layer), frame.layer(*varLayer), params, f, v, work);
         out.set(layer, std::move(f));
         out.set(*varLayer, std::move(v));
     }
+    work.finish();
     return out;
 }
 

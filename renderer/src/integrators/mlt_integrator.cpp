@@ -37,7 +37,7 @@ std::string formatDouble(double v) {
 
 /// One Markov chain: its primary sample vector and the current state's contribution.
 struct Chain {
-    PrimarySampleSampler sampler;
+    MltSampler sampler;
     std::int64_t bootstrapIndex;  // the bootstrap sample it started from
     Vec3 radiance;
     Vec2 raster;
@@ -98,7 +98,7 @@ MltIntegrator::MltIntegrator(const detail::SceneData& scene, const EmbreeScene& 
     validateMlt(settings.mlt);
 }
 
-void MltIntegrator::evaluate(PrimarySampleSampler& sampler, Vec3& radiance, Vec2& raster,
+void MltIntegrator::evaluate(MltSampler& sampler, Vec3& radiance, Vec2& raster,
                              std::uint64_t& rays, std::int64_t& nonFinite) const {
     // The reserved camera coordinates; lens and time are read only when they matter.
     raster = {sampler.camera(kFilmX) * float(m_scene.width),
@@ -118,18 +118,15 @@ void MltIntegrator::evaluate(PrimarySampleSampler& sampler, Vec3& radiance, Vec2
 }
 
 FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callbacks,
-                                   RenderStats& stats) {
+                                   tbb::task_arena& arena, double timeBudget,
+                                   double progressBegin, RenderStats& stats) {
     const MltSettings& mlt = m_settings.mlt;
     const int width = m_scene.width, height = m_scene.height;
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
     const std::uint64_t seed = m_settings.seed;
     const Clock::time_point start = Clock::now();
     auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-    m_mltStats = MltStats{};
-    std::atomic<bool> cancelled{false};
-    std::mutex callbackMutex;
-    const int threads = m_settings.threads > 0 ? m_settings.threads : tbb::task_arena::automatic;
-    tbb::task_arena arena(threads);
+    MltStats ms;
 
     MutationSizes sizes;
     sizes.small = {float(mlt.s1), float(mlt.s2)};
@@ -161,7 +158,7 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
     // film in scanline order (x jittered inside its pixel along the scan, y uniform). Each point
     // stays uniform over the film, but the estimate of b no longer carries the variance of
     // where bright things (a visible light) are on screen.
-    auto startBootstrapSample = [&](PrimarySampleSampler& sampler, std::int64_t i) {
+    auto startBootstrapSample = [&](MltSampler& sampler, std::int64_t i) {
         sampler.startIteration(MutationKind::Large);
         const double s =
             (double(i) + double(sampler.rng().uniform())) / double(nBoot) * double(pixels);
@@ -180,7 +177,7 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
         tbb::parallel_for(std::size_t(0), bootRays.size(), [&](std::size_t block) {
             const std::int64_t end = std::min<std::int64_t>(nBoot, std::int64_t(block + 1) * 1024);
             for (std::int64_t i = std::int64_t(block) * 1024; i < end; ++i) {
-                PrimarySampleSampler sampler(streamKey(seed, kBootstrapSlot, std::uint64_t(i)),
+                MltSampler sampler(streamKey(seed, kBootstrapSlot, std::uint64_t(i)),
                                              sizes);
                 startBootstrapSample(sampler, i);
                 Vec3 l;
@@ -195,8 +192,8 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
         bootCdf[std::size_t(i) + 1] = bootCdf[std::size_t(i)] + bootF[std::size_t(i)];
     }
     const double b = bootCdf.back() / double(nBoot);
-    m_mltStats.b = b;
-    m_mltStats.bootstrap = std::uint64_t(nBoot);
+    ms.b = b;
+    ms.bootstrap = std::uint64_t(nBoot);
     if (b > 0.0 && nBoot > 1) {
         // Standard error of a stratified mean from differences of neighbouring strata:
         // Var(b) ≈ Σ_k (f_2k − f_2k+1)² / N² (pairs of adjacent strata; slightly conservative).
@@ -206,7 +203,7 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
             pairSum += d * d;
         }
         const double pairs = double(nBoot / 2);
-        m_mltStats.bRelStdErr =
+        ms.bRelStdErr =
             std::sqrt(pairSum / pairs * (double(nBoot) / 2.0)) / double(nBoot) / b;
     }
     std::uint64_t rays = 0;
@@ -228,7 +225,7 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
             auto it = std::upper_bound(bootCdf.begin() + 1, bootCdf.end(), target);
             std::size_t index = std::size_t(it - bootCdf.begin()) - 1;
             index = std::min(index, std::size_t(nBoot) - 1);
-            chains.push_back({PrimarySampleSampler(streamKey(seed, kBootstrapSlot, index), sizes),
+            chains.push_back({MltSampler(streamKey(seed, kBootstrapSlot, index), sizes),
                               std::int64_t(index),
                               {},
                               {},
@@ -251,153 +248,166 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
     }
     for (Group& g : groups) g.sum.assign(pixels * 3, 0.0);
 
-    // 3. Passes: every chain advances by the same number of mutations (spp-equivalent pass
-    //    sizes 1, 1, 2, 4, ... 64 as in the path tracer); groups run in parallel, the chains of
-    //    a group one after another in index order, so every sum has a fixed order.
+    // 3. Passes (the shared RenderLoop): every chain advances by the same number of mutations
+    //    (spp-equivalent pass sizes 1, 1, 2, 4, ... 64 as in the path tracer); groups run in
+    //    parallel, the chains of a group one after another in index order, so every sum has a
+    //    fixed order.
     const double bootSeconds = elapsed();
-    const bool timed = m_settings.timeLimit > 0.0;
-    const double deadline = std::max(0.0, m_settings.timeLimit - stats.seconds);
+    const bool timed = timeBudget > 0.0;
     const int spp = m_settings.spp;
-    std::uint64_t perChainDone = 0;
-    int done = 0, pass = 0;
-    double secondsPerSpp = 0.0;
     const float invB = b > 0.0 ? float(1.0 / b) : 0.0f;
     const double fullScale = double(pixels);
-    std::vector<Image> snapshot;  // colour + variance of the last completed pass
 
-    auto resolve = [&](FrameBuffers frame) {
-        Image& color = frame.color();
-        Image& variance = frame.ensure(Layer::Variance);
-        color.fill(0.0f);
-        variance.fill(0.0f);
-        if (perChainDone > 0) {
-            // Pixel value of a group: (pixels / M_g) Σ splats (Kelemen et al. 2002, sec. 5, with
-            // a box pixel filter); the image is the mean of the group images and its variance
-            // of the mean the batch-means estimate Σ (I_g − Ī)² / (K (K − 1)).
-            const double mg = double(perChainDone) * double(nChains / nGroups);
-            const double scale = fullScale / mg;
-            const double k = double(nGroups);
+    // The work of one pass for the loop: item g advances the chains of group g.
+    class ChainPasses final : public PassWork {
+      public:
+        ChainPasses(MltIntegrator& self, std::vector<Chain>& chains, std::vector<Group>& groups,
+                    const FrameBuffers& features, const std::array<float, kMutationKinds>& cdf,
+                    float pLarge, float invB, double fullScale)
+            : m_self(self),
+              m_chains(chains),
+              m_groups(groups),
+              m_features(features),
+              m_cdf(cdf),
+              m_pLarge(pLarge),
+              m_invB(invB),
+              m_fullScale(fullScale) {}
+
+        std::size_t items() const override { return m_groups.size(); }
+
+        std::uint64_t perChain(const PassInfo& pass) const {
+            const std::uint64_t pixels =
+                std::uint64_t(m_self.m_scene.width) * std::uint64_t(m_self.m_scene.height);
+            const auto n = std::uint64_t(m_chains.size());
+            return (std::uint64_t(pass.count) * pixels + n - 1) / n;
+        }
+
+        void run(const PassInfo& pass, std::size_t g, const RenderLoop& loop) override {
+            const int width = m_self.m_scene.width, height = m_self.m_scene.height;
+            const int nChains = int(m_chains.size()), nGroups = int(m_groups.size());
+            const std::uint64_t steps = perChain(pass);
+            Group& group = m_groups[g];
+            for (int c = int(g); c < nChains; c += nGroups) {
+                if (loop.stopRequested()) return;
+                Chain& ch = m_chains[std::size_t(c)];
+                MltSampler& sampler = ch.sampler;
+                auto splat = [&](Vec2 raster, const Vec3& value) {
+                    const int x = std::min(int(raster.x), width - 1);
+                    const int y = std::min(int(raster.y), height - 1);
+                    double* px = &group.sum[3 * (std::size_t(y) * width + x)];
+                    px[0] += value.x, px[1] += value.y, px[2] += value.z;
+                };
+                for (std::uint64_t i = 0; i < steps; ++i) {
+                    // Choose and propose a mutation.
+                    const float uKind = sampler.rng().uniform();
+                    int kind = 0;
+                    while (uKind >= m_cdf[kind]) ++kind;
+                    sampler.startIteration(MutationKind(kind));
+                    Vec3 ly;
+                    Vec2 ry;
+                    m_self.evaluate(sampler, ly, ry, group.rays, group.nonFinite);
+                    const float fy = std::max(0.0f, luminance(ly));
+                    const float a = ch.f > 0.0f ? std::min(1.0f, fy / ch.f) : 1.0f;
+                    // Splat both states with their expected weights, combined with the large
+                    // step as an independent estimator (Kelemen et al. 2002, sec. 5: weights
+                    // (a + [large]) / (f(y)/b + p_large) for the proposal and
+                    // (1 − a) / (f(x)/b + p_large) for the current).
+                    const float large = kind == 0 ? 1.0f : 0.0f;
+                    if (fy > 0.0f) splat(ry, ly * ((a + large) / (fy * m_invB + m_pLarge)));
+                    if (a < 1.0f && ch.f > 0.0f)
+                        splat(ch.raster, ch.radiance * ((1.0f - a) / (ch.f * m_invB + m_pLarge)));
+                    ++group.proposed[std::size_t(kind)];
+                    // Metropolis–Hastings acceptance with a symmetric proposal.
+                    if (sampler.rng().uniform() < a) {
+                        sampler.accept();
+                        ++group.accepted[std::size_t(kind)];
+                        ch.radiance = ly;
+                        ch.raster = ry;
+                        ch.f = fy;
+                    } else {
+                        sampler.reject();
+                    }
+                }
+            }
+        }
+
+        void passCompleted(const PassInfo& pass) override {
+            m_perChainDone += perChain(pass);
+            m_snapshot = resolve();
+            m_snapshot.metadata().spp = pass.first + pass.count;
+        }
+
+        FrameBuffers snapshot() override { return m_snapshot; }
+
+        /// The frame of the completed passes; empty before the first.
+        const FrameBuffers& last() const { return m_snapshot; }
+        std::uint64_t perChainDone() const { return m_perChainDone; }
+
+      private:
+        // Pixel value of a group: (pixels / M_g) Σ splats (Kelemen et al. 2002, sec. 5, with a
+        // box pixel filter); the image is the mean of the group images and its variance of the
+        // mean the batch-means estimate Σ (I_g − Ī)² / (K (K − 1)).
+        FrameBuffers resolve() const {
+            FrameBuffers frame = m_features;
+            Image& color = frame.color();
+            Image& variance = frame.ensure(Layer::Variance);
+            const int width = frame.width();
+            const std::size_t pixels = std::size_t(width) * std::size_t(frame.height());
+            const double mg =
+                double(m_perChainDone) * double(m_chains.size() / m_groups.size());
+            const double scale = m_fullScale / mg;
+            const double k = double(m_groups.size());
             for (std::size_t p = 0; p < pixels; ++p)
                 for (int c = 0; c < 3; ++c) {
                     double s = 0.0, s2 = 0.0;
-                    for (const Group& g : groups) s += g.sum[3 * p + std::size_t(c)] * scale;
+                    for (const Group& g : m_groups) s += g.sum[3 * p + std::size_t(c)] * scale;
                     const double mean = s / k;
-                    for (const Group& g : groups) {
+                    for (const Group& g : m_groups) {
                         const double d = g.sum[3 * p + std::size_t(c)] * scale - mean;
                         s2 += d * d;
                     }
-                    const double var = s2 / (k * (k - 1.0));
                     const int x = int(p % std::size_t(width)), y = int(p / std::size_t(width));
                     color(x, y, c) = float(mean);
-                    variance(x, y, c) = float(var);
+                    variance(x, y, c) = float(s2 / (k * (k - 1.0)));
                 }
+            return frame;
         }
-        frame.metadata().spp = done;
-        return frame;
+
+        MltIntegrator& m_self;
+        std::vector<Chain>& m_chains;
+        std::vector<Group>& m_groups;
+        const FrameBuffers& m_features;
+        const std::array<float, kMutationKinds>& m_cdf;
+        float m_pLarge, m_invB;
+        double m_fullScale;
+        std::uint64_t m_perChainDone = 0;
+        FrameBuffers m_snapshot;
     };
 
-    while (!chains.empty() && !cancelled.load()) {
-        if (spp > 0 && done >= spp) break;
-        if (timed && elapsed() >= deadline) break;
-        int count = std::clamp(done, 1, 64);
-        if (spp > 0) count = std::min(count, spp - done);
-        if (timed && secondsPerSpp > 0.0)
-            count = int(std::clamp((deadline - elapsed()) / secondsPerSpp, 1.0, double(count)));
-        const std::uint64_t perChain =
-            (std::uint64_t(count) * pixels + std::uint64_t(nChains) - 1) / std::uint64_t(nChains);
-        const double passStart = elapsed();
-        std::atomic<int> groupsDone{0};
-
-        arena.execute([&] {
-            tbb::parallel_for(
-                tbb::blocked_range<int>(0, nGroups, 1),
-                [&](const tbb::blocked_range<int>& range) {
-                    for (int g = range.begin(); g != range.end(); ++g) {
-                        Group& group = groups[std::size_t(g)];
-                        for (int c = g; c < nChains; c += nGroups) {
-                            if (callbacks.cancel) {
-                                const std::lock_guard<std::mutex> lock(callbackMutex);
-                                if (callbacks.cancel()) cancelled.store(true);
-                            }
-                            if (cancelled.load()) return;
-                            Chain& ch = chains[std::size_t(c)];
-                            PrimarySampleSampler& sampler = ch.sampler;
-                            auto splat = [&](Vec2 raster, const Vec3& value) {
-                                const int x = std::min(int(raster.x), width - 1);
-                                const int y = std::min(int(raster.y), height - 1);
-                                double* px = &group.sum[3 * (std::size_t(y) * width + x)];
-                                px[0] += value.x, px[1] += value.y, px[2] += value.z;
-                            };
-                            for (std::uint64_t i = 0; i < perChain; ++i) {
-                                // Choose and propose a mutation.
-                                const float uKind = sampler.rng().uniform();
-                                int kind = 0;
-                                while (uKind >= cdf[kind]) ++kind;
-                                sampler.startIteration(MutationKind(kind));
-                                Vec3 ly;
-                                Vec2 ry;
-                                evaluate(sampler, ly, ry, group.rays, group.nonFinite);
-                                const float fy = std::max(0.0f, luminance(ly));
-                                const float a = ch.f > 0.0f ? std::min(1.0f, fy / ch.f) : 1.0f;
-                                // Splat both states with their expected weights, combined with
-                                // the large step as an independent estimator (Kelemen et al.
-                                // 2002, sec. 5: weights (a + [large]) / (f(y)/b + p_large) for
-                                // the proposal and (1 − a) / (f(x)/b + p_large) for the current).
-                                const float large = kind == 0 ? 1.0f : 0.0f;
-                                if (fy > 0.0f) splat(ry, ly * ((a + large) / (fy * invB + pLarge)));
-                                if (a < 1.0f && ch.f > 0.0f)
-                                    splat(ch.raster,
-                                          ch.radiance * ((1.0f - a) / (ch.f * invB + pLarge)));
-                                ++group.proposed[std::size_t(kind)];
-                                // Metropolis–Hastings acceptance with a symmetric proposal.
-                                if (sampler.rng().uniform() < a) {
-                                    sampler.accept();
-                                    ++group.accepted[std::size_t(kind)];
-                                    ch.radiance = ly;
-                                    ch.raster = ry;
-                                    ch.f = fy;
-                                } else {
-                                    sampler.reject();
-                                }
-                            }
-                        }
-                        const int finished = ++groupsDone;
-                        if (callbacks.progress) {
-                            const std::lock_guard<std::mutex> lock(callbackMutex);
-                            const double passFraction = double(finished) / double(nGroups);
-                            const double fraction =
-                                spp > 0 ? (double(done) + passFraction * count) / double(spp)
-                                        : std::min(1.0, elapsed() / std::max(deadline, 1e-9));
-                            callbacks.progress(pass, fraction);
-                        }
-                    }
-                },
-                tbb::simple_partitioner());
-        });
-        if (cancelled.load()) break;  // the partial pass is dropped: return the last snapshot
-        secondsPerSpp = (elapsed() - passStart) / double(count);
-        perChainDone += perChain;
-        done += count;
-        ++pass;
-        const FrameBuffers frame = resolve(features);
-        snapshot = {frame.color(), frame.layer(Layer::Variance)};
-        if (callbacks.passDone) callbacks.passDone(pass - 1, frame);
+    ChainPasses work(*this, chains, groups, features, cdf, pLarge, invB, fullScale);
+    LoopResult loopResult;
+    if (!chains.empty()) {
+        // The time left after the bootstrap; a spent budget still counts as timed.
+        const double budget = timed ? std::max(timeBudget - bootSeconds, 1e-9) : 0.0;
+        RenderLoop loop(spp, budget, callbacks, arena, progressBegin, 1.0);
+        loopResult = loop.run(work);
     }
+    int done = loopResult.completedSpp;
+    const bool cancelled = loopResult.cancelled;
 
     // Result: the last completed pass (a cancelled pass is not included).
     // A black image (b = 0) needs no chains: it is exactly zero for the whole budget.
     if (chains.empty() && !timed) done = spp;
     FrameBuffers result = std::move(features);
-    if (snapshot.empty()) {
+    if (work.perChainDone() == 0) {
         result.color().fill(0.0f);
         result.ensure(Layer::Variance).fill(0.0f);
     } else {
-        result.set(Layer::Color, std::move(snapshot[0]));
-        result.set(Layer::Variance, std::move(snapshot[1]));
+        result.set(Layer::Color, work.last().color());
+        result.set(Layer::Variance, work.last().layer(Layer::Variance));
     }
 
     // Statistics.
-    MltStats& ms = m_mltStats;
     for (const Group& g : groups) {
         for (int k = 0; k < kMutationKinds; ++k)
             ms.proposed[std::size_t(k)] += g.proposed[std::size_t(k)],
@@ -405,9 +415,15 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
         rays += g.rays;
         nonFinite += g.nonFinite;
     }
-    ms.mutations = perChainDone * std::uint64_t(chains.size());
+    ms.mutations = work.perChainDone() * std::uint64_t(chains.size());
     ms.mutationSeconds = elapsed() - bootSeconds;
+    for (int k = 0; k < kMutationKinds; ++k)
+        ms.probabilities[std::size_t(k)] = weight[std::size_t(k)] / weightSum;
+    ms.chains = nChains;
+    ms.groups = nGroups;
+    ms.featureSpp = mlt.featureSpp;
 
+    // The file records what the statistics say (strings in metadata are for files).
     FrameMetadata& meta = result.metadata();
     meta.spp = done;
     meta.integrator = integratorName(Integrator::Mlt);
@@ -420,28 +436,26 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
     meta.extra["mltBootstrap"] = std::to_string(nBoot);
     meta.extra["mltChains"] = std::to_string(nChains);
     meta.extra["mltMutations"] = std::to_string(ms.mutations);
-    meta.extra["mltMutationsPerSecond"] =
-        formatDouble(ms.mutationSeconds > 0.0 ? double(ms.mutations) / ms.mutationSeconds : 0.0);
+    meta.extra["mltMutationsPerSecond"] = formatDouble(ms.mutationsPerSecond());
     meta.extra["mltFeatureSpp"] = std::to_string(mlt.featureSpp);
     meta.extra["mltProbabilities"] =
-        formatDouble(weight[0] / weightSum) + " " + formatDouble(weight[1] / weightSum) + " " +
-        formatDouble(weight[2] / weightSum) + " " + formatDouble(weight[3] / weightSum);
+        formatDouble(ms.probabilities[0]) + " " + formatDouble(ms.probabilities[1]) + " " +
+        formatDouble(ms.probabilities[2]) + " " + formatDouble(ms.probabilities[3]);
     for (int k = 0; k < kMutationKinds; ++k) {
         std::string name = mutationName(MutationKind(k));
         name[0] = char(std::toupper(static_cast<unsigned char>(name[0])));
-        const auto p = ms.proposed[std::size_t(k)];
-        meta.extra["mltAcceptance" + name] =
-            formatDouble(p > 0 ? double(ms.accepted[std::size_t(k)]) / double(p) : 0.0);
+        meta.extra["mltAcceptance" + name] = formatDouble(ms.acceptance(k));
     }
-    if (cancelled.load()) meta.extra["cancelled"] = "true";
+    if (cancelled) meta.extra["cancelled"] = "true";
 
     stats.seconds += elapsed();
     stats.samples += ms.mutations + ms.bootstrap;
     stats.rays += rays;
     stats.nonFiniteSamples = meta.nonFiniteSamples;
-    stats.passes = pass;
+    stats.passes = loopResult.passes;
     stats.completedSpp = done;
-    stats.cancelled = stats.cancelled || cancelled.load();
+    stats.cancelled = stats.cancelled || cancelled;
+    stats.mlt = ms;
     return result;
 }
 

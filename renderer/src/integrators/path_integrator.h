@@ -21,7 +21,7 @@ class PathIntegrator {
                    const LightSampler& lights, const Camera& camera, const Settings& settings);
 
     /// Traces one camera ray; fills colour and first-non-specular-hit features; counts rays.
-    /// `Sampler` is Rng (path tracing) or PrimarySampleSampler (Metropolis): it provides
+    /// `Sampler` is Rng (path tracing) or MltSampler (Metropolis): it provides
     /// uniform(), and optionally uniformLight() for the numbers of next-event estimation.
     template <class Sampler>
     void trace(const Ray& cameraRay, Sampler& rng, FilmSample& out, std::uint64_t& rays) const;

@@ -4,14 +4,11 @@
 
 #include <cstdint>
 
+#include "glint/image/random.h"
+
 namespace glint::render {
 
-/// SplitMix64 finaliser (Steele, Lea & Flood 2014): a bijective 64-bit avalanche mix.
-inline std::uint64_t mix64(std::uint64_t z) {
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-}
+using glint::mix64;
 
 /// Stream key of (seed, pixel, sample): nested mixing so nearby triples decorrelate.
 inline std::uint64_t streamKey(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample) {
@@ -20,28 +17,25 @@ inline std::uint64_t streamKey(std::uint64_t seed, std::uint64_t pixel, std::uin
     return mix64(k ^ (sample * 0xaef17502108ef2d9ULL + 0x4f1bbcdcbfa53e0bULL));
 }
 
-/// A counter-based generator: value i of the stream is mix64(key + i * golden ratio), the
-/// SplitMix64 sequence started at the key.
+/// A counter-based generator: the SplitMix64 sequence (glint/image/random.h) started at the
+/// stream key, so value i of the stream is mix64(key + (i + 1) × golden ratio).
 class Rng {
   public:
-    explicit Rng(std::uint64_t key) : m_state(key) {}
+    explicit Rng(std::uint64_t key) : m_gen(key) {}
     Rng(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample)
-        : m_state(streamKey(seed, pixel, sample)) {}
+        : m_gen(streamKey(seed, pixel, sample)) {}
 
     /// Next 64 random bits.
-    std::uint64_t nextU64() {
-        m_state += 0x9e3779b97f4a7c15ULL;
-        return mix64(m_state);
-    }
+    std::uint64_t nextU64() { return m_gen.next(); }
     /// Next 32 random bits.
     std::uint32_t nextU32() { return std::uint32_t(nextU64() >> 32); }
     /// Uniform float in [0, 1) with 24 random bits.
-    float uniform() { return float(nextU64() >> 40) * 0x1p-24f; }
+    float uniform() { return m_gen.uniformFloat(); }
     /// Uniform double in [0, 1) with 53 random bits.
-    double uniformDouble() { return double(nextU64() >> 11) * 0x1p-53; }
+    double uniformDouble() { return m_gen.uniformDouble(); }
 
   private:
-    std::uint64_t m_state;
+    SplitMix64 m_gen;
 };
 
 /// A pseudo-random permutation of [0, n) evaluated at i (bijective hash on the enclosing power

@@ -2,6 +2,7 @@
 // environment. Shapes are flattened into one triangle soup in world space.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -31,8 +32,20 @@ struct Material {
     Vec3 eta{1.0f, 1.0f, 1.0f};
     Vec3 k{};
     Vec3 specular{1.0f, 1.0f, 1.0f};
+    /// The emission as a look panel shows it: colour × strength = emission (derived from the
+    /// emission at load: strength = its largest component; kept apart after look edits so that
+    /// a strength of 0 keeps the colour).
+    Vec3 emissionColor{1.0f, 1.0f, 1.0f};
+    float emissionStrength = 0.0f;
+    bool fromJson = false;  ///< defined in scene.json's /materials (else by an MTL file)
+    bool edited = false;    ///< changed through Scene::setLook since loading
 
     bool emissive() const { return !isBlack(emission); }
+    /// Sets emissionColor and emissionStrength from emission.
+    void deriveEmissionLook() {
+        emissionStrength = std::max(emission.x, std::max(emission.y, emission.z));
+        emissionColor = emissionStrength > 0.0f ? emission / emissionStrength : Vec3{1.0f, 1.0f, 1.0f};
+    }
 };
 
 /// An RGB texture (linear values) looked up bilinearly with repeat wrapping.
@@ -62,11 +75,14 @@ struct CameraDesc {
 struct EnvironmentDesc {
     enum class Kind { None, Constant, Image };
     Kind kind = Kind::None;
-    Vec3 color{};            ///< constant radiance (already multiplied by scale)
-    float scale = 1.0f;      ///< multiplies the image
+    Vec3 baseColor{};        ///< constant radiance as given (before scale)
+    Vec3 color{};            ///< constant radiance (baseColor multiplied by scale)
+    float scale = 1.0f;      ///< multiplies the colour or the image
     float rotateDeg = 0.0f;  ///< rotation about +y
     std::filesystem::path path;
-    Image image;  ///< 3 channels, linear
+    Image source;  ///< the image as read (3 channels, linear), before scale
+    Image image;   ///< source multiplied by scale
+    bool edited = false;  ///< changed through Scene::setLook since loading
 };
 
 /// A shape that moves during the shutter. Its triangles [firstTriangle, firstTriangle + count)
@@ -96,6 +112,8 @@ struct TriangleView {
 /// Everything a Scene holds.
 struct SceneData {
     std::filesystem::path path;
+    std::string sourceJson;         ///< the text the scene was parsed from (saveScene edits it)
+    std::uint64_t lookRevision = 0;  ///< counts look edits (Scene::setLook)
     int width = 0, height = 0;
     Settings settings;
     CameraDesc camera;

@@ -1,73 +1,45 @@
-// scene.json → SceneData: camera, film, materials (JSON overriding MTL by name), shapes from
-// OBJ/MTL through tinyobjloader with scale-rotate-translate transforms, environment, render block.
+// scene.json → SceneData, the JSON half of the loader (loader.h): camera, film, render block,
+// materials (JSON overriding MTL by name), environment, shapes with scale-rotate-translate
+// transforms and motion. OBJ/MTL import is in obj_import.cpp, images in image_import.cpp.
 #include <cmath>
 #include <fstream>
-#include <map>
 #include <sstream>
 
-#include <tiny_obj_loader.h>
 #include <nlohmann/json.hpp>
 
 #include "glint/image/error.h"
-#include "glint/image/io.h"
 #include "glint/render/scene.h"
-#include "scene/json_reader.h"
+#include "scene/loader.h"
 #include "scene/scene_data.h"
-#include "scene/transform.h"
 
 namespace glint::render {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-namespace {
+namespace detail {
 
-using detail::Affine;
-using detail::JsonReader;
-using detail::Material;
-using detail::MaterialType;
-using detail::SceneData;
-using detail::TransformDesc;
+Loader::Loader(const fs::path& file, SceneData& scene) : m_reader(file), m_scene(scene) {
+    m_dir = file.parent_path();
+}
 
-/// Loads the scene and remembers textures by path so each file is read once.
-class Loader {
-  public:
-    Loader(const fs::path& file, SceneData& scene) : m_reader(file), m_scene(scene) {
-        m_dir = file.parent_path();
-    }
+int Loader::addMaterial(Material material) {
+    m_materialIndex[material.name] = int(m_scene.materials.size());
+    m_scene.materials.push_back(std::move(material));
+    return int(m_scene.materials.size()) - 1;
+}
 
-    void load(const json& root);
-
-  private:
-    void readCamera(const json& j, const std::string& where);
-    void readFilm(const json& j, const std::string& where);
-    void readRender(const json& j, const std::string& where);
-    Material readMaterial(const std::string& name, const json& j, const std::string& where);
-    void readEnvironment(const json& j, const std::string& where);
-    TransformDesc readTransform(const json& j, const std::string& where, const TransformDesc& base);
-    void addMotion(const TransformDesc& start, const TransformDesc& end, std::size_t firstTriangle,
-                   const std::vector<Vec3>& objectPositions, const std::vector<Vec3>& objectNormals,
-                   const std::string& where);
-    void readShape(const json& j, const std::string& where);
-    int texture(const fs::path& path, const std::string& where);
-    int materialIndex(const std::string& name) const {
-        const auto it = m_materialIndex.find(name);
-        return it == m_materialIndex.end() ? -1 : it->second;
-    }
-    int addMaterial(Material material) {
-        m_materialIndex[material.name] = int(m_scene.materials.size());
-        m_scene.materials.push_back(std::move(material));
-        return int(m_scene.materials.size()) - 1;
-    }
-
-    JsonReader m_reader;
-    SceneData& m_scene;
-    fs::path m_dir;
-    std::map<std::string, json> m_jsonMaterials;
-    std::map<std::string, int> m_materialIndex;
-    std::map<fs::path, int> m_textureIndex;
-    bool m_hasNormals = false, m_hasUvs = false;
-};
+int Loader::loadTexture(const fs::path& path, const std::string& where) {
+    const fs::path full = path.is_absolute() ? path : m_dir / path;
+    const auto it = m_textureIndex.find(full);
+    if (it != m_textureIndex.end()) return it->second;
+    Texture tex;
+    tex.path = full;
+    tex.image = readLinearRgb(full, 1.0f, "texture", m_reader.file(), where);
+    m_scene.textures.push_back(std::move(tex));
+    m_textureIndex[full] = int(m_scene.textures.size()) - 1;
+    return int(m_scene.textures.size()) - 1;
+}
 
 void Loader::load(const json& root) {
     m_reader.requireObject(root, "",
@@ -82,7 +54,9 @@ void Loader::load(const json& root) {
         if (!mats.is_object()) m_reader.fail("/materials", "expected an object of materials");
         for (const auto& item : mats.items()) {
             const std::string where = "/materials/" + item.key();
-            addMaterial(readMaterial(item.key(), item.value(), where));
+            Material m = readMaterial(item.key(), item.value(), where);
+            m.fromJson = true;
+            addMaterial(std::move(m));
         }
     }
     if (root.contains("shapes")) {
@@ -93,6 +67,7 @@ void Loader::load(const json& root) {
     }
     if (root.contains("environment")) readEnvironment(root["environment"], "/environment");
     if (!m_scene.motions.empty()) m_scene.triangleMotion.resize(m_scene.triangleCount(), -1);
+    for (Material& m : m_scene.materials) m.deriveEmissionLook();
     // Keep per-vertex arrays only when some shape provided them.
     if (!m_hasNormals) m_scene.normals.clear();
     if (!m_hasUvs) m_scene.uvs.clear();
@@ -104,7 +79,7 @@ void Loader::load(const json& root) {
         m_scene.faceNormals[t] = len > 0.0f ? n / len : Vec3{0.0f, 0.0f, 1.0f};
     }
     if (m_scene.triangleCount() == 0 &&
-        m_scene.environment.kind == detail::EnvironmentDesc::Kind::None)
+        m_scene.environment.kind == EnvironmentDesc::Kind::None)
         m_reader.fail("/shapes", "the scene has neither geometry nor an environment");
 }
 
@@ -120,7 +95,7 @@ void Loader::readCamera(const json& j, const std::string& where) {
     m_reader.requireObject(
         j, where,
         {"position", "lookAt", "up", "fovY", "lensRadius", "focusDistance", "shutter", "motion"});
-    detail::CameraDesc& cam = m_scene.camera;
+    CameraDesc& cam = m_scene.camera;
     if (j.contains("position")) cam.position = m_reader.vec3(j["position"], where + "/position");
     if (j.contains("lookAt")) cam.lookAt = m_reader.vec3(j["lookAt"], where + "/lookAt");
     if (j.contains("up")) cam.up = m_reader.vec3(j["up"], where + "/up");
@@ -197,34 +172,6 @@ void Loader::readRender(const json& j, const std::string& where) {
     choice("sampler", parseSampler, s.sampler);
 }
 
-int Loader::texture(const fs::path& path, const std::string& where) {
-    const fs::path full = path.is_absolute() ? path : m_dir / path;
-    const auto it = m_textureIndex.find(full);
-    if (it != m_textureIndex.end()) return it->second;
-    if (!fs::exists(full))
-        throw Error(ErrorKind::Io, "texture file '" + full.string() + "' not found",
-                    m_reader.file().string(), where);
-    detail::Texture tex;
-    tex.path = full;
-    const Image raw = readImage(full, true);
-    tex.image = Image(raw.width(), raw.height(), 3);
-    for (int y = 0; y < raw.height(); ++y)
-        for (int x = 0; x < raw.width(); ++x)
-            for (int c = 0; c < 3; ++c) {
-                const float v = raw(x, y, raw.channels() >= 3 ? c : 0);
-                // A NaN/Inf/negative albedo would poison every path that hits the texel.
-                if (!std::isfinite(v) || v < 0.0f)
-                    throw Error(ErrorKind::Format,
-                                "texture has a negative or non-finite value at pixel (" +
-                                    std::to_string(x) + ", " + std::to_string(y) + ")",
-                                full.string(), where);
-                tex.image(x, y, c) = v;
-            }
-    m_scene.textures.push_back(std::move(tex));
-    m_textureIndex[full] = int(m_scene.textures.size()) - 1;
-    return int(m_scene.textures.size()) - 1;
-}
-
 Material Loader::readMaterial(const std::string& name, const json& j, const std::string& where) {
     m_reader.requireObject(
         j, where,
@@ -247,7 +194,8 @@ Material Loader::readMaterial(const std::string& name, const json& j, const std:
     if (m.type != MaterialType::Diffuse) m.albedo = {1.0f, 1.0f, 1.0f};
     if (j.contains("albedo")) m.albedo = m_reader.vec3(j["albedo"], where + "/albedo", 0.0, 1.0);
     if (j.contains("texture"))
-        m.texture = texture(m_reader.string(j["texture"], where + "/texture"), where + "/texture");
+        m.texture =
+            loadTexture(m_reader.string(j["texture"], where + "/texture"), where + "/texture");
     if (j.contains("emission"))
         m.emission = m_reader.vec3(j["emission"], where + "/emission", 0.0, 1e30);
     if (j.contains("ior")) m.ior = m_reader.number(j["ior"], where + "/ior", 1e-3, 100.0);
@@ -267,39 +215,26 @@ Material Loader::readMaterial(const std::string& name, const json& j, const std:
 
 void Loader::readEnvironment(const json& j, const std::string& where) {
     m_reader.requireObject(j, where, {"image", "color", "scale", "rotate"});
-    detail::EnvironmentDesc& env = m_scene.environment;
+    EnvironmentDesc& env = m_scene.environment;
     if (j.contains("image") == j.contains("color"))
         m_reader.fail(where, "expected exactly one of 'image' or 'color'");
     if (j.contains("scale")) env.scale = m_reader.number(j["scale"], where + "/scale", 0.0, 1e30);
     if (j.contains("rotate"))
         env.rotateDeg = m_reader.number(j["rotate"], where + "/rotate", -1e6, 1e6);
     if (j.contains("color")) {
-        env.kind = detail::EnvironmentDesc::Kind::Constant;
-        env.color = m_reader.vec3(j["color"], where + "/color", 0.0, 1e30) * env.scale;
-        if (isBlack(env.color)) env.kind = detail::EnvironmentDesc::Kind::None;
+        env.kind = EnvironmentDesc::Kind::Constant;
+        env.baseColor = m_reader.vec3(j["color"], where + "/color", 0.0, 1e30);
+        env.color = env.baseColor * env.scale;
+        // A black environment is no environment: nothing to sample.
+        if (isBlack(env.color)) env.kind = EnvironmentDesc::Kind::None;
         return;
     }
     const fs::path rel = m_reader.string(j["image"], where + "/image");
     env.path = rel.is_absolute() ? rel : m_dir / rel;
-    if (!fs::exists(env.path))
-        throw Error(ErrorKind::Io, "environment image '" + env.path.string() + "' not found",
-                    m_reader.file().string(), where + "/image");
-    const Image raw = readImage(env.path, true);
-    if (raw.width() < 1 || raw.height() < 1)
-        m_reader.fail(where + "/image", "environment image is empty");
-    env.image = Image(raw.width(), raw.height(), 3);
-    for (int y = 0; y < raw.height(); ++y)
-        for (int x = 0; x < raw.width(); ++x)
-            for (int c = 0; c < 3; ++c) {
-                const float v = raw(x, y, raw.channels() >= 3 ? c : 0) * env.scale;
-                if (!std::isfinite(v) || v < 0.0f)
-                    throw Error(ErrorKind::Format,
-                                "environment image has a negative or non-finite value at pixel (" +
-                                    std::to_string(x) + ", " + std::to_string(y) + ")",
-                                env.path.string(), where + "/image");
-                env.image(x, y, c) = v;
-            }
-    env.kind = detail::EnvironmentDesc::Kind::Image;
+    env.source = readLinearRgb(env.path, 1.0f, "environment image", m_reader.file(),
+                               where + "/image");
+    env.image = scaledRgb(env.source, env.scale, "environment image", env.path, where + "/image");
+    env.kind = EnvironmentDesc::Kind::Image;
 }
 
 TransformDesc Loader::readTransform(const json& j, const std::string& where,
@@ -336,8 +271,8 @@ void Loader::addMotion(const TransformDesc& start, const TransformDesc& end,
     for (std::size_t t = firstTriangle; t < m_scene.triangleCount(); ++t)
         if (m_scene.materials[m_scene.triangleMaterial[t]].emissive())
             m_reader.fail(where, "a moving shape must not be emissive (area lights are static)");
-    const detail::TransformMotion motion(start, end);
-    detail::ShapeMotion shape;
+    const TransformMotion motion(start, end);
+    ShapeMotion shape;
     shape.firstTriangle = std::uint32_t(firstTriangle);
     shape.triangleCount = std::uint32_t(m_scene.triangleCount() - firstTriangle);
     const int steps = motion.timeSteps();
@@ -354,30 +289,6 @@ void Loader::addMotion(const TransformDesc& start, const TransformDesc& end,
     for (std::size_t t = firstTriangle; t < m_scene.triangleCount(); ++t)
         m_scene.triangleMotion[t] = std::int32_t(m_scene.motions.size());
     m_scene.motions.push_back(std::move(shape));
-}
-
-Material materialFromMtl(const tinyobj::material_t& mtl) {
-    Material m;
-    m.name = mtl.name;
-    m.albedo = {mtl.diffuse[0], mtl.diffuse[1], mtl.diffuse[2]};
-    m.emission = {mtl.emission[0], mtl.emission[1], mtl.emission[2]};
-    const Vec3 ks{mtl.specular[0], mtl.specular[1], mtl.specular[2]};
-    if (mtl.ior > 1.0f && (mtl.illum == 4 || mtl.illum == 6 || mtl.illum == 7)) {
-        m.type = MaterialType::Dielectric;
-        m.ior = mtl.ior;
-        m.albedo = {1.0f, 1.0f, 1.0f};
-    } else if (isBlack(m.albedo) && !isBlack(ks) && mtl.diffuse_texname.empty()) {
-        m.type = MaterialType::Conductor;
-        m.specular = ks;
-        m.albedo = {1.0f, 1.0f, 1.0f};
-        m.roughness = std::sqrt(2.0f / (std::max(mtl.shininess, 0.0f) + 2.0f));
-    }
-    for (int c = 0; c < 3; ++c) {
-        m.albedo[c] = std::clamp(m.albedo[c], 0.0f, 1.0f);
-        m.specular[c] = std::clamp(m.specular[c], 0.0f, 1.0f);
-        m.emission[c] = std::max(m.emission[c], 0.0f);
-    }
-    return m;
 }
 
 void Loader::readShape(const json& j, const std::string& where) {
@@ -402,7 +313,7 @@ void Loader::readShape(const json& j, const std::string& where) {
                  length(end.scale - start.scale) > 0.0f || end.degrees != start.degrees ||
                  (start.degrees != 0.0f && length(end.axis - start.axis) > 0.0f);
     }
-    const Affine xf = detail::toAffine(start);
+    const Affine xf = toAffine(start);
     std::vector<Vec3> objectPositions, objectNormals;  // kept only for a moving shape
     int overrideMaterial = -1;
     if (j.contains("material")) {
@@ -412,114 +323,13 @@ void Loader::readShape(const json& j, const std::string& where) {
             m_reader.fail(where + "/material",
                           "material '" + name + "' is not defined in /materials");
     }
-    if (!fs::exists(objPath))
-        throw Error(ErrorKind::Io, "OBJ file '" + objPath.string() + "' not found",
-                    m_reader.file().string(), where + "/obj");
-
-    tinyobj::ObjReaderConfig config;
-    config.triangulate = true;
-    config.vertex_color = false;
-    config.mtl_search_path = objPath.parent_path().string();
-    tinyobj::ObjReader obj;
-    if (!obj.ParseFromFile(objPath.string(), config) || !obj.Valid())
-        throw Error(ErrorKind::Format, "cannot parse OBJ: " + obj.Error(), objPath.string(),
-                    where + "/obj");
-    if (obj.Warning().find("not found") != std::string::npos)
-        throw Error(ErrorKind::Io, "OBJ references a missing file: " + obj.Warning(),
-                    objPath.string(), where + "/obj");
-
-    // Map the OBJ's materials to scene materials (JSON overrides MTL by name).
-    std::vector<int> objMaterial;
-    for (const tinyobj::material_t& mtl : obj.GetMaterials()) {
-        int index = materialIndex(mtl.name);
-        if (index < 0) {
-            Material m = materialFromMtl(mtl);
-            if (!mtl.diffuse_texname.empty())
-                m.texture = texture(objPath.parent_path() / mtl.diffuse_texname,
-                                    where + "/obj (map_Kd of " + mtl.name + ")");
-            index = addMaterial(std::move(m));
-        }
-        objMaterial.push_back(index);
-    }
-    int defaultMaterial = -1;
-
-    const tinyobj::attrib_t& attrib = obj.GetAttrib();
     const std::size_t firstTriangle = m_scene.triangleCount();
-    bool anyNormals = false, anyUvs = false;
-    for (const tinyobj::shape_t& shape : obj.GetShapes()) {
-        const auto& mesh = shape.mesh;
-        std::size_t offset = 0;
-        for (std::size_t f = 0; f < mesh.num_face_vertices.size(); ++f) {
-            const int fv = mesh.num_face_vertices[f];
-            if (fv != 3) {
-                offset += std::size_t(fv);
-                continue;
-            }
-            int mat = overrideMaterial;
-            if (mat < 0) {
-                const int id = f < mesh.material_ids.size() ? mesh.material_ids[f] : -1;
-                if (id >= 0 && id < int(objMaterial.size())) {
-                    mat = objMaterial[id];
-                } else {
-                    if (defaultMaterial < 0) {
-                        defaultMaterial = materialIndex("default");
-                        if (defaultMaterial < 0) {
-                            Material m;
-                            m.name = "default";
-                            defaultMaterial = addMaterial(m);
-                        }
-                    }
-                    mat = defaultMaterial;
-                }
-            }
-            for (int v = 0; v < 3; ++v) {
-                const tinyobj::index_t idx = mesh.indices[offset + std::size_t(v)];
-                const float* p = &attrib.vertices[3 * std::size_t(idx.vertex_index)];
-                m_scene.positions.push_back(xf.point({p[0], p[1], p[2]}));
-                Vec3 n{};
-                if (idx.normal_index >= 0) {
-                    const float* q = &attrib.normals[3 * std::size_t(idx.normal_index)];
-                    n = xf.normal({q[0], q[1], q[2]});
-                    if (length(n) > 0.0f) n = normalize(n), anyNormals = true;
-                    if (moving) objectNormals.push_back({q[0], q[1], q[2]});
-                } else if (moving) {
-                    objectNormals.push_back({});
-                }
-                if (moving) objectPositions.push_back({p[0], p[1], p[2]});
-                m_scene.normals.push_back(n);
-                Vec2 uv{};
-                if (idx.texcoord_index >= 0) {
-                    const float* t = &attrib.texcoords[2 * std::size_t(idx.texcoord_index)];
-                    uv = {t[0], t[1]};
-                    anyUvs = true;
-                }
-                m_scene.uvs.push_back(uv);
-            }
-            m_scene.triangleMaterial.push_back(std::uint32_t(mat));
-            offset += 3;
-        }
-    }
-    m_hasNormals = m_hasNormals || anyNormals;
-    m_hasUvs = m_hasUvs || anyUvs;
+    importObj(objPath, xf, moving, overrideMaterial, where, objectPositions, objectNormals);
     if (moving && m_scene.triangleCount() > firstTriangle)
         addMotion(start, end, firstTriangle, objectPositions, objectNormals, where + "/motion");
-
-    // A shape whose emissive faces have no area cannot emit: reject it clearly.
-    double emissiveArea = 0.0;
-    bool anyEmissive = false;
-    for (std::size_t t = firstTriangle; t < m_scene.triangleCount(); ++t) {
-        if (!m_scene.materials[m_scene.triangleMaterial[t]].emissive()) continue;
-        anyEmissive = true;
-        const Vec3& a = m_scene.positions[3 * t];
-        emissiveArea += 0.5 * double(length(cross(m_scene.positions[3 * t + 1] - a,
-                                                  m_scene.positions[3 * t + 2] - a)));
-    }
-    if (anyEmissive && !(emissiveArea > 0.0))
-        throw Error(ErrorKind::Format, "emissive faces have zero total area (zero-area light)",
-                    objPath.string(), where);
 }
 
-}  // namespace
+}  // namespace detail
 
 Scene parseScene(const std::string& jsonText, const fs::path& path) {
     json root;
@@ -541,9 +351,10 @@ Scene parseScene(const std::string& jsonText, const fs::path& path) {
         throw Error(ErrorKind::Format, "malformed JSON: " + msg, path.string(),
                     "line " + std::to_string(line) + ", column " + std::to_string(column));
     }
-    auto data = std::make_unique<SceneData>();
+    auto data = std::make_unique<detail::SceneData>();
     data->path = path;
-    Loader loader(path, *data);
+    data->sourceJson = jsonText;
+    detail::Loader loader(path, *data);
     loader.load(root);
     return Scene(std::move(data));
 }

@@ -4,10 +4,12 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "glint/denoise/progress.h"
 #include "glint/image/frame_buffers.h"
 #include "glint/image/image.h"
 
@@ -16,7 +18,8 @@ namespace glint::denoise {
 /// How a parameter's range is explored by sliders and the filter bank.
 enum class ParamScale { Linear, Log };
 
-/// Description of one filter parameter.
+/// Description of one filter parameter: a real number, an integer, or a choice among named
+/// options (whose value is the option's index).
 struct ParamSpec {
     std::string name;   ///< key used on the command line and in sessions, e.g. "sigmaS"
     std::string label;  ///< human label, e.g. "spatial sigma (px)"
@@ -26,10 +29,47 @@ struct ParamSpec {
     ParamScale scale = ParamScale::Linear;
     bool integer = false;
     std::string help;  ///< one sentence
+    /// Option names of a choice parameter (value = index, min 0, max size − 1); empty otherwise.
+    std::vector<std::string> choices;
+
+    ParamSpec() = default;
+    /// A real (integer = false) or integer parameter.
+    ParamSpec(std::string name, std::string label, double min, double max, double defaultValue,
+              ParamScale scale, bool integer, std::string help)
+        : name(std::move(name)),
+          label(std::move(label)),
+          min(min),
+          max(max),
+          defaultValue(defaultValue),
+          scale(scale),
+          integer(integer),
+          help(std::move(help)) {}
+
+    bool isChoice() const { return !choices.empty(); }
+
+    /// A choice parameter among `options` (at least one), defaulting to option `defaultIndex`.
+    static ParamSpec choice(std::string name, std::string label, std::vector<std::string> options,
+                            int defaultIndex, std::string help);
 };
 
 /// Parameter values by name. Missing names take their defaults (see resolveParams).
 using ParamValues = std::map<std::string, double>;
+
+/// The spec called `name` in `specs`, or nullptr.
+const ParamSpec* findParam(const std::vector<ParamSpec>& specs, std::string_view name);
+
+/// Parses a value as a user types it: a number, or one of a choice parameter's option names (a
+/// choice also accepts its index). Throws glint::Error(InvalidArgument) naming the options.
+double parseParamValue(const ParamSpec& spec, const std::string& text);
+
+/// The text of a value: the option name of a choice, else the number ("%g").
+std::string formatParamValue(const ParamSpec& spec, double value);
+
+/// Fills in defaults and validates against `specs`: unknown names, values outside [min, max],
+/// non-integers for integer or choice parameters and NaN all throw glint::Error(InvalidArgument)
+/// listing the valid names and ranges; `where` names the owner ("filter 'gaussian'").
+ParamValues resolveParams(const std::vector<ParamSpec>& specs, const ParamValues& given,
+                          const std::string& where);
 
 /// A denoising filter. Implementations are stateless and thread-safe: apply() may run
 /// concurrently on different inputs.
@@ -39,30 +79,46 @@ class Filter {
 
     /// Registry name, e.g. "bilateral-mc".
     virtual std::string_view name() const = 0;
+    /// Changes whenever the filter's output for the same input and parameters changes, so that
+    /// cached results of an older version are never reused.
+    virtual std::string_view version() const { return "1"; }
     /// The short block that opens the filter's source file: what it does, its source paper.
     virtual std::string_view description() const = 0;
     /// Parameter descriptions, in display order.
     virtual const std::vector<ParamSpec>& params() const = 0;
-    /// Feature layers the filter cannot run without (besides Color).
-    virtual std::vector<Layer> requiredLayers() const { return {}; }
+    /// Feature layers the filter cannot run without (besides Color) for these resolved
+    /// parameters (a guide layer chosen by a parameter, for instance).
+    virtual std::vector<Layer> requiredLayers(const ParamValues& /*params*/) const { return {}; }
     /// How many pixels beyond a region the filter reads for these (resolved) parameters.
     virtual int margin(const ParamValues& params) const = 0;
 
     /// Filters the colour of `frame` and returns an image of roi's size (3 channels) holding the
     /// result for the pixels in `roi` (roi must lie inside the frame). Pixels outside roi are read
-    /// as inputs where the kernel reaches them. `params` must already be resolved.
-    virtual Image apply(const FrameBuffers& frame, const ParamValues& params,
-                        const Rect& roi) const = 0;
+    /// as inputs where the kernel reaches them. `params` must already be resolved. Parallel loops
+    /// run through `work`, which reports progress and throws Error(Cancelled) when stopped.
+    virtual Image apply(const FrameBuffers& frame, const ParamValues& params, const Rect& roi,
+                        WorkContext& work) const = 0;
 };
 
-/// Fills in defaults and validates: unknown names, values outside [min, max], non-integers for
-/// integer parameters and NaN all throw glint::Error(InvalidArgument) listing the valid names
-/// and ranges.
+/// Resolves the parameters of `filter` (resolveParams over its specs).
 ParamValues resolveParams(const Filter& filter, const ParamValues& given);
 
-/// Checks that `frame` has what `filter` needs (throws glint::Error(InvalidArgument) naming the
-/// missing layer), resolves the parameters and applies the filter to the whole frame or `roi`.
+/// Options of applyFilter.
+struct FilterOptions {
+    /// Filter only this region (it must lie inside the frame); the whole frame when empty.
+    std::optional<Rect> region;
+    /// Called with the fraction done (serialised, from worker threads); returning false stops
+    /// the filter within one row per thread, and applyFilter then throws Error(Cancelled).
+    ProgressFn progress;
+    /// Worker threads: 0 runs in the caller's thread pool (all cores, or the share of an
+    /// enclosing parallel job such as a filter bank); n > 0 runs on a private pool of n threads.
+    int threads = 0;
+};
+
+/// Checks that `frame` has what `filter` needs for these parameters (throws
+/// glint::Error(InvalidArgument) naming the missing layer), resolves the parameters and applies
+/// the filter to the whole frame or the region. Returns an image of the region's size.
 Image applyFilter(const Filter& filter, const FrameBuffers& frame, const ParamValues& params,
-                  const Rect* roi = nullptr);
+                  const FilterOptions& options = {});
 
 }  // namespace glint::denoise

@@ -2,22 +2,24 @@
 // field before the main filters use them, keeping the sharp edges of static objects.
 #pragma once
 
+#include <vector>
+
+#include "glint/denoise/filter.h"
+#include "glint/denoise/progress.h"
 #include "glint/image/frame_buffers.h"
 
 namespace glint::denoise {
 
-/// Parameters of the feature prefilter (documented in docs/denoise.md).
-struct PrefilterParams {
-    int radius = 3;             ///< half window in pixels
-    double sigmaSpatial = 1.5;  ///< spatial Gaussian sigma in pixels
-    /// Weight of a neighbour's difference relative to the two pixels' variances (how many
-    /// standard deviations count as "different").
-    double varianceScale = 1.0;
-};
+/// The prefilter's parameters (radius, sigmaSpatial, varianceScale), described like a filter's
+/// so that the CLI, the bank and the studio generate their controls from them (docs/denoise.md).
+const std::vector<ParamSpec>& prefilterParams();
 
 /// Returns a copy of `frame` whose Albedo, Normal and Depth layers (those present) are filtered
 /// with a variance-aware filter; the layers keep their names, and their variance layers are
-/// reduced accordingly. Throws glint::Error(InvalidArgument) for absurd parameters.
-FrameBuffers prefilterFeatures(const FrameBuffers& frame, const PrefilterParams& params = {});
+/// reduced accordingly. `params` are resolved against prefilterParams() (missing names take
+/// their defaults; unknown or out-of-range ones throw glint::Error(InvalidArgument)).
+/// `progress` may stop it (glint::Error(Cancelled)).
+FrameBuffers prefilterFeatures(const FrameBuffers& frame, const ParamValues& params = {},
+                               const ProgressFn& progress = {});
 
 }  // namespace glint::denoise

@@ -37,6 +37,11 @@ struct LayerInfo {
 
 /// Description of `layer`.
 const LayerInfo& layerInfo(Layer layer);
+/// The name users see and type: "color" for the root colour layer, else the EXR layer name
+/// ("albedo", "depthVariance", ...).
+std::string_view layerDisplayName(Layer layer);
+/// The layer whose display name is `name` ("rgb" also names colour), or nullopt.
+std::optional<Layer> findLayer(std::string_view name);
 /// Full EXR channel name of channel `c` of `layer`, e.g. "albedoVariance.G" or "R".
 std::string channelName(Layer layer, int c);
 /// The layer whose variance `layer` is (Variance→Color...), or nullopt.

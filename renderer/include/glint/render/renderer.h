@@ -1,7 +1,9 @@
 // glint::render::Renderer — renders a Scene progressively into glint::FrameBuffers.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <functional>
 #include <memory>
 
@@ -25,7 +27,37 @@ struct Callbacks {
     std::function<void(int pass, const FrameBuffers& frame)> passDone;
 };
 
-/// What the last render did (for summaries and benchmarks).
+/// What a Metropolis render did (Settings::integrator == Mlt), per mutation kind in the order
+/// large step, small step, lens perturbation, light perturbation (mltMutationName()).
+struct MltStats {
+    std::array<std::uint64_t, 4> proposed{};
+    std::array<std::uint64_t, 4> accepted{};
+    std::array<double, 4> probabilities{};  ///< normalised mutation weights used
+    std::uint64_t mutations = 0;            ///< mutations over all chains
+    std::uint64_t bootstrap = 0;            ///< uniform paths that estimated b
+    double b = 0.0;                         ///< mean luminance of the image (bootstrap estimate)
+    double bRelStdErr = 0.0;                ///< relative standard error of b
+    double mutationSeconds = 0.0;           ///< time spent in the chains
+    int chains = 0;
+    int groups = 0;      ///< batches of chains of the batch-means variance
+    int featureSpp = 0;  ///< spp of the path-traced feature pass
+
+    /// Accepted / proposed of mutation kind k (0 when none was proposed).
+    double acceptance(int k) const {
+        return proposed[std::size_t(k)] > 0
+                   ? double(accepted[std::size_t(k)]) / double(proposed[std::size_t(k)])
+                   : 0.0;
+    }
+    /// Mutations per second of chain time.
+    double mutationsPerSecond() const {
+        return mutationSeconds > 0.0 ? double(mutations) / mutationSeconds : 0.0;
+    }
+};
+
+/// Name of Metropolis mutation kind k: "large", "small", "lens", "light".
+const char* mltMutationName(int k);
+
+/// What a render did (for summaries and benchmarks).
 struct RenderStats {
     double seconds = 0.0;               ///< wall-clock time of render()
     std::uint64_t samples = 0;          ///< camera samples traced (including discarded ones)
@@ -34,6 +66,13 @@ struct RenderStats {
     int passes = 0;                     ///< passes completed
     int completedSpp = 0;               ///< samples per pixel of every completed pass
     bool cancelled = false;             ///< stopped by Callbacks::cancel
+    std::optional<MltStats> mlt;        ///< set by a Metropolis render
+};
+
+/// A rendered frame and what it took.
+struct RenderResult {
+    FrameBuffers frame;
+    RenderStats stats;
 };
 
 /// Throughput of the ray-tracing kernel alone (no shading), for benchmarks.
@@ -53,16 +92,24 @@ class Renderer {
     Renderer& operator=(Renderer&&) noexcept;
 
     /// Renders with `settings` in progressive passes. Output: colour mean, variance of the mean,
-    /// albedo/normal/depth (and position if asked) with their variances, sample count. A
-    /// cancelled render returns the tiles it finished, each pixel's statistics covering exactly
-    /// its sampleCount samples. Output is bit-identical for any thread count.
-    FrameBuffers render(const Settings& settings, const Callbacks& callbacks = {});
+    /// albedo/normal/depth (and position if asked) with their variances, sample count, and the
+    /// render's statistics. A cancelled render returns the tiles it finished, each pixel's
+    /// statistics covering exactly its sampleCount samples. Output is bit-identical for any
+    /// thread count. Look edits made through scene() since the last render are picked up here
+    /// (lights are rebuilt; the ray-tracing structures are kept).
+    RenderResult render(const Settings& settings, const Callbacks& callbacks = {});
 
-    /// Statistics of the last render().
-    const RenderStats& stats() const { return m_stats; }
-
-    /// The scene being rendered.
+    /// The scene being rendered; its look (materials, lights, environment) may be edited
+    /// between renders.
     const Scene& scene() const { return m_scene; }
+    Scene& scene() { return m_scene; }
+
+    /// How many times the ray-tracing structures (Embree BVH) were built: 1 for the life of the
+    /// renderer, since look edits never need a rebuild.
+    int accelerationBuilds() const;
+    /// How many times the light sampling structures were built (once, plus once per render
+    /// after a look edit).
+    int lightBuilds() const;
 
     /// Traces `rays` single rays (half camera rays, half uniformly random rays from the scene's
     /// bounding box centre) with the raw intersection kernel on `threads` threads (0 = all).
@@ -73,7 +120,6 @@ class Renderer {
     struct Impl;
     Scene m_scene;
     std::unique_ptr<Impl> m_impl;
-    RenderStats m_stats;
 };
 
 }  // namespace glint::render

@@ -2,10 +2,12 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
 
+#include "glint/render/look.h"
 #include "glint/render/settings.h"
 
 namespace glint::render {
@@ -38,6 +40,25 @@ class Scene {
     /// True when the scene has an environment (image or constant colour).
     bool hasEnvironment() const;
 
+    /// Every material (in file order: JSON materials, then those the OBJ files added) and the
+    /// environment, each with its editable properties and their current values. A material has
+    /// albedo (unless textured), emission colour and strength, and roughness (conductor) or ior
+    /// (dielectric); the environment has scale and rotate, and colour if constant.
+    std::vector<LookItem> look() const;
+
+    /// Sets one property of a look item (see look()). Throws glint::Error(InvalidArgument) naming
+    /// the scene file and the JSON place (e.g. /materials/light/emission/0) for an unknown item
+    /// or property, a value outside its range, or an edit the scene cannot take (emission on a
+    /// moving or zero-area shape). The next render picks the change up without rebuilding the
+    /// ray-tracing structures.
+    void setLook(const std::string& item, const std::string& property,
+                 const std::array<double, 3>& value);
+    /// Scalar form of setLook.
+    void setLook(const std::string& item, const std::string& property, double value);
+
+    /// Counts look edits; a renderer compares it to rebuild its lights.
+    std::uint64_t lookRevision() const;
+
     /// The private contents (for the renderer's own code).
     const detail::SceneData& data() const { return *m_data; }
 
@@ -52,5 +73,11 @@ Scene loadScene(const std::filesystem::path& path);
 /// Parses scene JSON text as if it were the file `path` (relative paths resolve against
 /// path's directory; `path` is used in error messages and need not exist).
 Scene parseScene(const std::string& jsonText, const std::filesystem::path& path);
+
+/// Writes the scene, with its look edits, as scene.json at `path` (atomically): the original
+/// file with the edited materials and environment updated (a material that came from an MTL
+/// file gets a full JSON definition) and relative paths rewritten for the new folder. Loading
+/// it gives the same image bit for bit. Throws glint::Error(Io) when it cannot be written.
+void saveScene(const Scene& scene, const std::filesystem::path& path);
 
 }  // namespace glint::render

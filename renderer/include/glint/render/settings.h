@@ -31,7 +31,7 @@ struct Settings {
     int rrDepth = 3;         ///< Russian roulette starts after this many bounces
     double timeLimit = 0.0;  ///< seconds; > 0 renders passes until time runs out
     int tileSize = 16;       ///< tile edge in pixels
-    bool position = false;   ///< also produce the optional world-space position layer
+    bool positionLayer = false;  ///< also produce the optional world-space position layer
     MltSettings mlt;         ///< Metropolis parameters (integrator == Mlt)
 };
 

@@ -45,10 +45,10 @@ struct MutationSizes {
 /// five camera coordinates (film x, y, lens u, v, time), then the path stream (BSDF and
 /// Russian-roulette numbers) at even and the light stream (next-event estimation: light choice
 /// and point on the light) at odd offsets, so a light perturbation can touch only the latter.
-class PrimarySampleSampler {
+class MltSampler {
   public:
     /// A chain whose uniform numbers come from the stream `key`.
-    PrimarySampleSampler(std::uint64_t key, const MutationSizes& sizes);
+    MltSampler(std::uint64_t key, const MutationSizes& sizes);
 
     /// Continues with the random stream `key` (after the initial state was reproduced).
     void reseed(std::uint64_t key) { m_rng = Rng(key); }

@@ -1,8 +1,14 @@
-#include "sampling/primary_sample.h"
+#include "sampling/mlt_sampler.h"
 
 #include <cmath>
 
+#include "glint/render/renderer.h"
+
 namespace glint::render {
+
+const char* mltMutationName(int k) {
+    return k >= 0 && k < kMutationKinds ? mutationName(MutationKind(k)) : "?";
+}
 
 const char* mutationName(MutationKind kind) {
     switch (kind) {
@@ -18,7 +24,7 @@ const char* mutationName(MutationKind kind) {
     return "?";
 }
 
-PrimarySampleSampler::Kernel PrimarySampleSampler::makeKernel(const PerturbationSize& size) {
+MltSampler::Kernel MltSampler::makeKernel(const PerturbationSize& size) {
     Kernel k;
     k.s2 = size.s2;
     const double ratio = double(size.s2) / double(size.s1);
@@ -30,7 +36,7 @@ PrimarySampleSampler::Kernel PrimarySampleSampler::makeKernel(const Perturbation
     return k;
 }
 
-PrimarySampleSampler::PrimarySampleSampler(std::uint64_t key, const MutationSizes& sizes)
+MltSampler::MltSampler(std::uint64_t key, const MutationSizes& sizes)
     : m_rng(key),
       m_small(makeKernel(sizes.small)),
       m_lensX(makeKernel(sizes.lensX)),
@@ -40,7 +46,7 @@ PrimarySampleSampler::PrimarySampleSampler(std::uint64_t key, const MutationSize
     m_touchedList.reserve(64);
 }
 
-void PrimarySampleSampler::startIteration(MutationKind kind) {
+void MltSampler::startIteration(MutationKind kind) {
     ++m_iteration;
     m_kind = kind;
     ++m_count[int(kind)];
@@ -48,7 +54,7 @@ void PrimarySampleSampler::startIteration(MutationKind kind) {
     m_pathIndex = m_lightIndex = 0;
 }
 
-void PrimarySampleSampler::accept() {
+void MltSampler::accept() {
     if (m_kind == MutationKind::Large) {
         // Every coordinate not read by this path is now stale: it will be drawn afresh.
         m_lastLarge = m_iteration;
@@ -56,7 +62,7 @@ void PrimarySampleSampler::accept() {
     }
 }
 
-void PrimarySampleSampler::reject() {
+void MltSampler::reject() {
     // The rejected step never happened: only accepted steps count as pending perturbations of
     // coordinates the path did not read, exactly as if every coordinate had been perturbed and
     // restored (an eager update). Counting rejected iterations too would make the step size
@@ -71,14 +77,14 @@ void PrimarySampleSampler::reject() {
     }
 }
 
-void PrimarySampleSampler::setCamera(int dim, float value) {
+void MltSampler::setCamera(int dim, float value) {
     const auto index = std::size_t(dim);
     if (index >= m_x.size()) m_x.resize(index + 1);
     get(index, Stream::Camera);  // backs up and materialises the coordinate for this iteration
     m_x[index].value = value;
 }
 
-float PrimarySampleSampler::getSlow(std::size_t index, Stream stream) {
+float MltSampler::getSlow(std::size_t index, Stream stream) {
     if (index >= m_x.size()) m_x.resize(index + 1);
     Coordinate& c = m_x[index];
     if (c.touched == m_iteration) return c.value;
@@ -117,7 +123,7 @@ float PrimarySampleSampler::getSlow(std::size_t index, Stream stream) {
     return c.value;
 }
 
-float PrimarySampleSampler::catchUp(float x, std::uint32_t nSmall, std::uint32_t nOther,
+float MltSampler::catchUp(float x, std::uint32_t nSmall, std::uint32_t nOther,
                                     const Kernel* other) {
     constexpr std::uint32_t kExactSteps = 8;
     if (nSmall + nOther <= kExactSteps) {

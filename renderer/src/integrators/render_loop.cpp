@@ -1,0 +1,102 @@
+#include "integrators/render_loop.h"
+
+#include <algorithm>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+
+namespace glint::render {
+
+using Clock = std::chrono::steady_clock;
+
+RenderLoop::RenderLoop(int spp, double timeBudget, const Callbacks& callbacks,
+                       tbb::task_arena& arena, double progressBegin, double progressEnd)
+    : m_spp(spp),
+      m_budget(timeBudget),
+      m_callbacks(callbacks),
+      m_arena(arena),
+      m_begin(progressBegin),
+      m_end(progressEnd),
+      m_start(Clock::now()) {}
+
+double RenderLoop::elapsed() const {
+    return std::chrono::duration<double>(Clock::now() - m_start).count();
+}
+
+bool RenderLoop::stopRequested() const {
+    if (m_cancelled.load()) return true;
+    if (m_callbacks.cancel) {
+        const std::lock_guard<std::mutex> lock(m_callbackMutex);
+        if (m_callbacks.cancel()) m_cancelled.store(true);
+    }
+    return m_cancelled.load();
+}
+
+LoopResult RenderLoop::run(PassWork& work, bool reportPasses) {
+    LoopResult result;
+    const bool timed = m_budget > 0.0;
+    const std::size_t items = work.items();
+    std::atomic<std::uint64_t> samples{0};
+    int done = 0, pass = 0;
+    double secondsPerSpp = 0.0;
+    while (!m_cancelled.load()) {
+        if (m_spp > 0 && done >= m_spp) break;
+        if (timed && elapsed() >= m_budget) break;
+        if (m_spp <= 0 && !timed) break;
+        // Pass sizes double (1, 1, 2, 4, ... up to 64 spp) for quick early feedback; under a time
+        // limit they are also cut to what the remaining time allows by the measured rate.
+        int count = std::clamp(done, 1, 64);
+        if (m_spp > 0) count = std::min(count, m_spp - done);
+        if (timed && secondsPerSpp > 0.0) {
+            // Clamped in double: a fast pass on a tiny film gives ratios beyond INT_MAX.
+            count = int(std::clamp((m_budget - elapsed()) / secondsPerSpp, 1.0, double(count)));
+        }
+        const PassInfo info{pass, done, count};
+        std::atomic<std::size_t> itemsDone{0};
+        const double passStart = elapsed();
+        m_arena.execute([&] {
+            tbb::parallel_for(
+                tbb::blocked_range<std::size_t>(0, items, 1),
+                [&](const tbb::blocked_range<std::size_t>& range) {
+                    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        if (stopRequested()) return;
+                        work.run(info, i, *this);
+                        const std::optional<Rect> rect = work.itemRect(i);
+                        if (rect) samples += std::uint64_t(rect->width()) * rect->height() * count;
+                        const std::size_t finished = ++itemsDone;
+                        if (!m_callbacks.tileDone && !m_callbacks.progress) continue;
+                        const std::lock_guard<std::mutex> lock(m_callbackMutex);
+                        if (m_callbacks.tileDone && rect) m_callbacks.tileDone(*rect);
+                        if (m_callbacks.progress) {
+                            double f;
+                            if (m_spp > 0)
+                                f = (double(done) + double(finished) / double(items) * count) /
+                                    double(m_spp);
+                            else
+                                f = std::min(1.0, elapsed() / m_budget);
+                            m_callbacks.progress(pass, m_begin + (m_end - m_begin) * f);
+                        }
+                    }
+                },
+                tbb::simple_partitioner());
+        });
+        if (m_cancelled.load()) break;
+        secondsPerSpp = (elapsed() - passStart) / double(count);
+        done += count;
+        ++pass;
+        work.passCompleted(info);
+        if (reportPasses && m_callbacks.passDone) {
+            FrameBuffers frame = work.snapshot();
+            frame.metadata().spp = done;
+            m_callbacks.passDone(pass - 1, frame);
+        }
+    }
+    result.passes = pass;
+    result.completedSpp = done;
+    result.cancelled = m_cancelled.load();
+    result.samples = samples.load();
+    return result;
+}
+
+}  // namespace glint::render

@@ -1,0 +1,83 @@
+// The one progressive render loop (pbrt-v4's ImageTileIntegrator::Render, Mitsuba's block loop):
+// pass sizes, the time limit, parallel work items, cancel polling, progress and per-pass
+// snapshots live here; an integrator supplies the work of one item of one pass.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstddef>
+#include <mutex>
+#include <optional>
+
+#include <tbb/task_arena.h>
+
+#include "glint/image/frame_buffers.h"
+#include "glint/render/renderer.h"
+#include "glint/render/settings.h"
+
+namespace glint::render {
+
+/// One pass: `count` samples per pixel following the `first` already done.
+struct PassInfo {
+    int index = 0;
+    int first = 0;
+    int count = 0;
+};
+
+class RenderLoop;
+
+/// What an integrator gives the loop.
+class PassWork {
+  public:
+    virtual ~PassWork() = default;
+    /// Work items of every pass (tiles, groups of Metropolis chains).
+    virtual std::size_t items() const = 0;
+    /// Runs one item of a pass. Long items may poll loop.stopRequested() and return early; the
+    /// loop then ends the render after this pass without counting it.
+    virtual void run(const PassInfo& pass, std::size_t item, const RenderLoop& loop) = 0;
+    /// The pixels an item covers, for Callbacks::tileDone (nullopt: it is not a tile).
+    virtual std::optional<Rect> itemRect(std::size_t /*item*/) const { return std::nullopt; }
+    /// After each completed pass (before any snapshot of it is taken).
+    virtual void passCompleted(const PassInfo& /*pass*/) {}
+    /// The frame of every completed pass so far (for Callbacks::passDone).
+    virtual FrameBuffers snapshot() = 0;
+};
+
+/// How one loop ended.
+struct LoopResult {
+    int passes = 0;
+    int completedSpp = 0;
+    bool cancelled = false;
+    /// Pixel samples of the tiles finished (itemRect area × pass spp), including those of a
+    /// cancelled pass.
+    std::uint64_t samples = 0;
+};
+
+/// Runs passes of sizes 1, 1, 2, 4 … 64 spp until `spp` is reached, the time budget runs out or
+/// the caller cancels. Progress of this loop maps to [progressBegin, progressEnd] of the render.
+class RenderLoop {
+  public:
+    RenderLoop(int spp, double timeBudget, const Callbacks& callbacks, tbb::task_arena& arena,
+               double progressBegin = 0.0, double progressEnd = 1.0);
+
+    /// Runs the passes. With `reportPasses`, Callbacks::passDone (when set) receives
+    /// work.snapshot() after each completed pass.
+    LoopResult run(PassWork& work, bool reportPasses = true);
+
+    /// Polls Callbacks::cancel (serialised); true once the render should stop.
+    bool stopRequested() const;
+
+  private:
+    double elapsed() const;
+
+    int m_spp;
+    double m_budget;
+    const Callbacks& m_callbacks;
+    tbb::task_arena& m_arena;
+    double m_begin, m_end;
+    mutable std::mutex m_callbackMutex;
+    mutable std::atomic<bool> m_cancelled{false};
+    std::chrono::steady_clock::time_point m_start;
+};
+
+}  // namespace glint::render

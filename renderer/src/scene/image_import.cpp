@@ -1,0 +1,46 @@
+// Textures and environment images: read through glint::readImage, linearised, checked.
+#include <cmath>
+
+#include "glint/image/error.h"
+#include "glint/image/io.h"
+#include "scene/loader.h"
+
+namespace glint::render::detail {
+
+Image scaledRgb(const Image& source, float scale, const std::string& what,
+                const std::filesystem::path& sceneFile, const std::string& where) {
+    if (source.width() < 1 || source.height() < 1)
+        throw Error(ErrorKind::Format, what + " is empty", sceneFile.string(), where);
+    Image out(source.width(), source.height(), 3);
+    for (int y = 0; y < source.height(); ++y)
+        for (int x = 0; x < source.width(); ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float v = source(x, y, source.channels() >= 3 ? c : 0) * scale;
+                // A NaN/Inf/negative value would poison every path that reaches it.
+                if (!std::isfinite(v) || v < 0.0f)
+                    throw Error(ErrorKind::Format,
+                                what + " has a negative or non-finite value at pixel (" +
+                                    std::to_string(x) + ", " + std::to_string(y) + ")" +
+                                    (scale != 1.0f ? " after scaling by " + std::to_string(scale)
+                                                   : std::string()),
+                                sceneFile.string(), where);
+                out(x, y, c) = v;
+            }
+    return out;
+}
+
+Image readLinearRgb(const std::filesystem::path& image, float scale, const std::string& what,
+                    const std::filesystem::path& sceneFile, const std::string& where) {
+    if (!std::filesystem::exists(image))
+        throw Error(ErrorKind::Io, what + " file '" + image.string() + "' not found",
+                    sceneFile.string(), where);
+    const Image raw = readImage(image, true);
+    try {
+        return scaledRgb(raw, scale, what, sceneFile, where);
+    } catch (const Error& e) {
+        // Name the image itself as the file.
+        throw Error(e.kind(), e.message(), image.string(), where);
+    }
+}
+
+}  // namespace glint::render::detail
