@@ -20,9 +20,9 @@
 #include <vector>
 
 #include "asset_io.h"
-#include "glint/image/random.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
+#include "glint/image/random.h"
 
 namespace {
 
@@ -31,8 +31,8 @@ using Rgb = std::array<float, 3>;
 
 /// Hash of two integers to [0, 1) (SplitMix64 finaliser).
 float hash01(std::uint64_t a, std::uint64_t b) {
-    const std::uint64_t z = glint::mix64(a * 0x9e3779b97f4a7c15ULL + b * 0xc2b2ae3d27d4eb4fULL +
-                                         0x165667b19e3779f9ULL);
+    const std::uint64_t z =
+        glint::mix64(a * 0x9e3779b97f4a7c15ULL + b * 0xc2b2ae3d27d4eb4fULL + 0x165667b19e3779f9ULL);
     return float(z >> 40) * 0x1p-24f;
 }
 

@@ -1,7 +1,6 @@
 // glint-denoise: list the registered filters, or apply one to a layered EXR (docs/denoise.md).
 #include <CLI/CLI.hpp>
 
-#include "cli_boundary.h"
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +12,7 @@
 #include <sstream>
 #include <string>
 #include <vector>
+#include "cli_boundary.h"
 
 #include "glint/denoise/filter.h"
 #include "glint/denoise/prefilter.h"
@@ -122,19 +122,17 @@ void printParams(const json& params) {
             std::string options;
             for (const auto& c : p["choices"])
                 options += (options.empty() ? "" : "|") + c.get<std::string>();
-            std::snprintf(line, sizeof line, "    %-16s %-8s %s default %s  %s\n",
-                          p["name"].get<std::string>().c_str(), "choice", options.c_str(),
-                          p["choices"][std::size_t(p["default"].get<double>())]
-                              .get<std::string>()
-                              .c_str(),
-                          p["help"].get<std::string>().c_str());
+            std::snprintf(
+                line, sizeof line, "    %-16s %-8s %s default %s  %s\n",
+                p["name"].get<std::string>().c_str(), "choice", options.c_str(),
+                p["choices"][std::size_t(p["default"].get<double>())].get<std::string>().c_str(),
+                p["help"].get<std::string>().c_str());
         } else {
-            std::snprintf(line, sizeof line, "    %-16s %-8s [%g, %g] default %g%s  %s\n",
-                          p["name"].get<std::string>().c_str(),
-                          p["scale"].get<std::string>().c_str(), p["min"].get<double>(),
-                          p["max"].get<double>(), p["default"].get<double>(),
-                          p["integer"].get<bool>() ? " (integer)" : "",
-                          p["help"].get<std::string>().c_str());
+            std::snprintf(
+                line, sizeof line, "    %-16s %-8s [%g, %g] default %g%s  %s\n",
+                p["name"].get<std::string>().c_str(), p["scale"].get<std::string>().c_str(),
+                p["min"].get<double>(), p["max"].get<double>(), p["default"].get<double>(),
+                p["integer"].get<bool>() ? " (integer)" : "", p["help"].get<std::string>().c_str());
         }
         std::cout << line;
     }
@@ -152,9 +150,9 @@ void runList(bool asJson) {
         entry["params"] = describe(f->params());
         all.push_back(entry);
     }
-    const json prefilter{{"description",
-                          "Variance-aware smoothing of albedo, normal and depth (--prefilter)."},
-                         {"params", describe(glint::denoise::prefilterParams())}};
+    const json prefilter{
+        {"description", "Variance-aware smoothing of albedo, normal and depth (--prefilter)."},
+        {"params", describe(glint::denoise::prefilterParams())}};
     if (asJson) {
         std::cout << json{{"filters", all}, {"prefilter", prefilter}}.dump(2) << "\n";
         return;
@@ -191,9 +189,8 @@ json metricsOf(const glint::Image& image, const glint::Image& reference,
 void runApply(const ApplyOptions& opt) {
     const glint::denoise::Filter& filter = glint::denoise::findFilter(opt.filter);
     // Validate everything that does not need the image before reading it.
-    const glint::denoise::ParamValues params =
-        parseParams(opt.params, filter.params(), "filter '" + std::string(filter.name()) + "'",
-                    "--param");
+    const glint::denoise::ParamValues params = parseParams(
+        opt.params, filter.params(), "filter '" + std::string(filter.name()) + "'", "--param");
     const glint::denoise::ParamValues prefilterParams =
         parseParams(opt.prefilterParams, glint::denoise::prefilterParams(), "feature prefilter",
                     "--prefilter-param");

@@ -26,7 +26,8 @@ std::string describeParams(const std::vector<ParamSpec>& specs) {
                 out << (i ? "|" : "") << spec.choices[i];
             out << ")";
         } else {
-            out << " [" << spec.min << ", " << spec.max << "]" << (spec.integer ? " (integer)" : "");
+            out << " [" << spec.min << ", " << spec.max << "]"
+                << (spec.integer ? " (integer)" : "");
         }
         first = false;
     }
@@ -95,10 +96,10 @@ ParamValues resolveParams(const std::vector<ParamSpec>& specs, const ParamValues
     // Reject names the owner does not know.
     for (const auto& [name, value] : given)
         if (!findParam(specs, name))
-            throw Error(ErrorKind::InvalidArgument,
-                        "unknown parameter '" + name + "'; valid parameters: " +
-                            describeParams(specs),
-                        {}, where);
+            throw Error(
+                ErrorKind::InvalidArgument,
+                "unknown parameter '" + name + "'; valid parameters: " + describeParams(specs), {},
+                where);
     // Fill in defaults and check the values given.
     ParamValues resolved;
     for (const ParamSpec& spec : specs) {
@@ -173,9 +174,9 @@ Image applyFilter(const Filter& filter, const FrameBuffers& frame, const ParamVa
     auto run = [&] {
         Image out = filter.apply(frame, resolved, region, work);
         work.throwIfCancelled();
-        GLINT_CHECK(out.width() == region.width() && out.height() == region.height() &&
-                        out.channels() == 3,
-                    "a filter returned an image of the wrong size");
+        GLINT_CHECK(
+            out.width() == region.width() && out.height() == region.height() && out.channels() == 3,
+            "a filter returned an image of the wrong size");
         work.finish();
         return out;
     };

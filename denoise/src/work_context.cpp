@@ -49,8 +49,7 @@ void WorkContext::addWork(std::int64_t units) {
     if (!s.progress || cancelled()) return;
     const std::int64_t expected = s.expected.load();
     // Never report 1 before finish(): the last loop may still be running.
-    const double fraction =
-        expected > 0 ? std::min(0.999, double(done) / double(expected)) : 0.0;
+    const double fraction = expected > 0 ? std::min(0.999, double(done) / double(expected)) : 0.0;
     // Report in steps of 1/256 at most; a busy callback is skipped, not waited for.
     std::unique_lock<std::mutex> lock(s.callbackMutex, std::try_to_lock);
     if (!lock.owns_lock() || fraction < s.lastReported + 1.0 / 256.0) return;
@@ -65,7 +64,8 @@ void WorkContext::parallelFor(int begin, int end, const std::function<void(int)>
     State& s = *m_state;
     // Without an announced total, each loop extends the expected work by its own size.
     if (s.expected.load() == 0 || s.expected.load() < s.done.load() + (end - begin) * unitsPerIndex)
-        s.expected.store(std::max(s.expected.load(), s.done.load() + (end - begin) * unitsPerIndex));
+        s.expected.store(
+            std::max(s.expected.load(), s.done.load() + (end - begin) * unitsPerIndex));
     tbb::parallel_for(tbb::blocked_range<int>(begin, end), [&](const tbb::blocked_range<int>& r) {
         for (int i = r.begin(); i != r.end(); ++i) {
             if (cancelled()) return;

@@ -15,8 +15,7 @@ namespace glint::cli {
 
 /// Parses the command line. Returns an exit code when the tool should stop now (help printed:
 /// 0; a parse error: "tool: command line: ..." and 2), or nullopt to go on.
-inline std::optional<int> parseCommandLine(CLI::App& app, int argc, char** argv,
-                                           const char* tool) {
+inline std::optional<int> parseCommandLine(CLI::App& app, int argc, char** argv, const char* tool) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

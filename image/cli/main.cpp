@@ -34,7 +34,8 @@ int main(int argc, char** argv) {
     convertCmd->add_option("--false-color", convert.falseColor,
                            "Show one channel in false colour over lo,hi");
 
-    if (const auto code = glint::cli::parseCommandLine(app, argc, argv, "glint-image")) return *code;
+    if (const auto code = glint::cli::parseCommandLine(app, argc, argv, "glint-image"))
+        return *code;
     return glint::cli::runGuarded("glint-image", [&] {
         if (*infoCmd) glint::cli::runInfo(info);
         if (*diffCmd) glint::cli::runDiff(diff);

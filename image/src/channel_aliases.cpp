@@ -24,7 +24,7 @@ std::vector<std::string> withSuffixes(const std::string& prefix, std::string_vie
     return out;
 }
 
-/// Glint's own names (DESIGN.md table), built from the layer descriptions.
+/// Glint's own names (the table of docs/image.md), built from the layer descriptions.
 std::vector<Candidate> glintCandidates() {
     std::vector<Candidate> out;
     for (int l = 0; l < kLayerCount; ++l) {

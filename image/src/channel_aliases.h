@@ -1,5 +1,6 @@
 // Private to image/: which EXR channels feed which FrameBuffers layer, for Glint's own names and
-// the alias tables of other renderers (shared/DESIGN.md, "Layered EXR: channel names").
+// the alias tables of other renderers (docs/image.md, "The layered EXR" and "Reading other
+// renderers' EXRs").
 #pragma once
 
 #include <string>

@@ -16,9 +16,8 @@ std::string shape(const Image& im) {
 
 void checkBlendShapes(const Image& a, const Image& b, const Image& weight, const char* what) {
     if (!a.sameShape(b))
-        throw Error(ErrorKind::InvalidArgument,
-                    std::string(what) + ": images differ in shape (" + shape(a) + " and " +
-                        shape(b) + ")");
+        throw Error(ErrorKind::InvalidArgument, std::string(what) + ": images differ in shape (" +
+                                                    shape(a) + " and " + shape(b) + ")");
     if (weight.width() != a.width() || weight.height() != a.height() ||
         (weight.channels() != 1 && weight.channels() != a.channels()))
         throw Error(ErrorKind::InvalidArgument,
@@ -56,17 +55,16 @@ void blendRows(Image& out, const Image& a, const Image& b, const Image& weight, 
 
 void paste(Image& dst, const Image& src, int x0, int y0) {
     if (src.channels() != dst.channels())
-        throw Error(ErrorKind::InvalidArgument, "paste: the image has " +
-                                                    std::to_string(src.channels()) +
-                                                    " channels, the target " +
-                                                    std::to_string(dst.channels()));
+        throw Error(ErrorKind::InvalidArgument,
+                    "paste: the image has " + std::to_string(src.channels()) +
+                        " channels, the target " + std::to_string(dst.channels()));
     const Rect where{x0, x0 + src.width(), y0, y0 + src.height()};
     if (intersect(where, dst.bounds()) != where)
         throw Error(ErrorKind::InvalidArgument,
-                    "paste: a " + std::to_string(src.width()) + "x" +
-                        std::to_string(src.height()) + " image at (" + std::to_string(x0) + ", " +
-                        std::to_string(y0) + ") does not fit in " + std::to_string(dst.width()) +
-                        "x" + std::to_string(dst.height()));
+                    "paste: a " + std::to_string(src.width()) + "x" + std::to_string(src.height()) +
+                        " image at (" + std::to_string(x0) + ", " + std::to_string(y0) +
+                        ") does not fit in " + std::to_string(dst.width()) + "x" +
+                        std::to_string(dst.height()));
     for (int y = 0; y < src.height(); ++y)
         std::copy_n(src.row(y), std::size_t(src.width()) * src.channels(),
                     dst.row(y0 + y) + std::size_t(x0) * dst.channels());

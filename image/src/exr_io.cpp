@@ -1,4 +1,4 @@
-// Layered EXR and plain image I/O through OpenImageIO (shared/DESIGN.md, "Layered EXR").
+// Layered EXR and plain image I/O through OpenImageIO (docs/image.md, "The layered EXR").
 #include <OpenImageIO/imageio.h>
 #include <OpenImageIO/strutil.h>
 #include <tbb/blocked_range.h>
@@ -213,7 +213,7 @@ void writeExr(const FrameBuffers& frame, const std::filesystem::path& path,
                         "metadata extra key '" + key + "' is empty or shadows a glint:* field",
                         file, "metadata");
 
-    // Channel list: every present layer in Layer order, with DESIGN.md names.
+    // Channel list: every present layer in Layer order, with the names of docs/image.md.
     std::vector<const Image*> layers;
     std::vector<std::string> names;
     for (int l = 0; l < kLayerCount; ++l) {

@@ -1,4 +1,4 @@
-// Error metrics against a reference (shared/DESIGN.md, "Metrics"; docs/metrics.md).
+// Error metrics against a reference (docs/metrics.md).
 #include "glint/image/metrics.h"
 
 #include <tbb/blocked_range.h>

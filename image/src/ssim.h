@@ -25,7 +25,7 @@ struct SsimRequest {
 };
 
 struct SsimOutcome {
-    double mean = 0.0;                ///< SSIM averaged as DESIGN.md says
+    double mean = 0.0;                ///< SSIM averaged as docs/metrics.md says
     std::size_t nonFinitePixels = 0;  ///< pixels of rect with a NaN/Inf in either image
 };
 

@@ -10,8 +10,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "cli_boundary.h"
 #include <nlohmann/json.hpp>
+#include "cli_boundary.h"
 
 #include "glint/image/error.h"
 #include "glint/image/io.h"
@@ -222,11 +222,11 @@ int run(const Options& opt) {
         if (reference) std::printf("  relMSE %.6g  SSIM %.4f\n", lastRelMse, lastSsim);
         if (stats.mlt) {
             const glint::render::MltStats& m = *stats.mlt;
-            std::printf("  mlt: b %.6g (rel. std. error %.3g), %llu bootstrap paths, %d chains, "
-                        "%llu mutations at %.3f M/s\n",
-                        m.b, m.bRelStdErr, static_cast<unsigned long long>(m.bootstrap),
-                        m.chains, static_cast<unsigned long long>(m.mutations),
-                        m.mutationsPerSecond() * 1e-6);
+            std::printf(
+                "  mlt: b %.6g (rel. std. error %.3g), %llu bootstrap paths, %d chains, "
+                "%llu mutations at %.3f M/s\n",
+                m.b, m.bRelStdErr, static_cast<unsigned long long>(m.bootstrap), m.chains,
+                static_cast<unsigned long long>(m.mutations), m.mutationsPerSecond() * 1e-6);
             std::printf("  mlt acceptance:");
             for (int k = 0; k < 4; ++k)
                 std::printf(" %s %.3f", glint::render::mltMutationName(k), m.acceptance(k));

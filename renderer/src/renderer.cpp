@@ -33,7 +33,9 @@ using Clock = std::chrono::steady_clock;
 
 struct Renderer::Impl {
     explicit Impl(const detail::SceneData& scene)
-        : embree(scene), lights(scene), camera(scene.camera, scene.width, scene.height),
+        : embree(scene),
+          lights(scene),
+          camera(scene.camera, scene.width, scene.height),
           lookRevision(scene.lookRevision) {}
     EmbreeScene embree;
     LightSampler lights;
@@ -108,19 +110,21 @@ class TilePasses final : public PassWork {
   public:
     TilePasses(const detail::SceneData& data, const PathIntegrator& integrator,
                const Camera& camera, const Settings& settings, Film& film)
-        : m_data(data), m_integrator(integrator), m_camera(camera), m_settings(settings),
+        : m_data(data),
+          m_integrator(integrator),
+          m_camera(camera),
+          m_settings(settings),
           m_film(film) {
         // Tiles in scanline order.
         const int ts = settings.tileSize;
         for (int y = 0; y < data.height; y += ts)
             for (int x = 0; x < data.width; x += ts)
-                m_tiles.push_back({x, std::min(x + ts, data.width), y,
-                                   std::min(y + ts, data.height)});
+                m_tiles.push_back(
+                    {x, std::min(x + ts, data.width), y, std::min(y + ts, data.height)});
         m_thinLens = data.camera.lensRadius > 0.0f;
         // Time is sampled only when something moves during a shutter of non-zero length, so a
         // static scene draws exactly the random numbers it drew before motion blur existed.
-        m_sampleTime =
-            data.hasMotion() && data.camera.shutterClose > data.camera.shutterOpen;
+        m_sampleTime = data.hasMotion() && data.camera.shutterClose > data.camera.shutterOpen;
     }
 
     std::size_t items() const override { return m_tiles.size(); }
@@ -166,9 +170,9 @@ class TilePasses final : public PassWork {
 
 /// Path-traces `settings` through the render loop, reporting progress in [begin, end].
 RenderResult renderPath(const detail::SceneData& data, const EmbreeScene& embree,
-                        const LightSampler& lights, const Camera& camera,
-                        const Settings& settings, const Callbacks& callbacks,
-                        tbb::task_arena& arena, double begin, double end, bool reportPasses) {
+                        const LightSampler& lights, const Camera& camera, const Settings& settings,
+                        const Callbacks& callbacks, tbb::task_arena& arena, double begin,
+                        double end, bool reportPasses) {
     const Clock::time_point start = Clock::now();
     Film film(data.width, data.height);
     const PathIntegrator integrator(data, embree, lights, camera, settings);
@@ -222,8 +226,8 @@ RenderResult Renderer::render(const Settings& settings, const Callbacks& callbac
     const int threads = settings.threads > 0 ? settings.threads : tbb::task_arena::automatic;
     tbb::task_arena arena(threads);
     if (settings.integrator == Integrator::Path)
-        return renderPath(data, m_impl->embree, m_impl->lights, m_impl->camera, settings,
-                          callbacks, arena, 0.0, 1.0, true);
+        return renderPath(data, m_impl->embree, m_impl->lights, m_impl->camera, settings, callbacks,
+                          arena, 0.0, 1.0, true);
 
     // Metropolis (docs/metropolis.md): features from a short path-traced pass (the first part
     // of the progress, cancellable like the rest), colour and its variance from the chains.
@@ -232,9 +236,8 @@ RenderResult Renderer::render(const Settings& settings, const Callbacks& callbac
     const double featureShare =
         settings.spp > 0 ? double(featureSettings.spp) / double(featureSettings.spp + settings.spp)
                          : 0.05;
-    RenderResult features =
-        renderPath(data, m_impl->embree, m_impl->lights, m_impl->camera, featureSettings,
-                   callbacks, arena, 0.0, featureShare, false);
+    RenderResult features = renderPath(data, m_impl->embree, m_impl->lights, m_impl->camera,
+                                       featureSettings, callbacks, arena, 0.0, featureShare, false);
     MltIntegrator mlt(data, m_impl->embree, m_impl->lights, m_impl->camera, settings);
     if (features.stats.cancelled) {
         // Stopped during the feature pass: the features it has, no colour.
@@ -246,13 +249,13 @@ RenderResult Renderer::render(const Settings& settings, const Callbacks& callbac
         features.stats.passes = 0;
         return features;
     }
-    const double budget =
-        settings.timeLimit > 0.0 ? std::max(settings.timeLimit - features.stats.seconds, 1e-9)
-                                 : 0.0;
+    const double budget = settings.timeLimit > 0.0
+                              ? std::max(settings.timeLimit - features.stats.seconds, 1e-9)
+                              : 0.0;
     RenderResult result;
     result.stats = features.stats;
-    result.frame = mlt.render(std::move(features.frame), callbacks, arena, budget, featureShare,
-                              result.stats);
+    result.frame =
+        mlt.render(std::move(features.frame), callbacks, arena, budget, featureShare, result.stats);
     return result;
 }
 

@@ -59,7 +59,8 @@ TEST(Bilateral, SymmetricPairsMatchBruteForceAcrossBands) {
     // output (different p columns change only the float summation order).
     const Rect roi{3, 30, 50, 140};
     EXPECT_LT(
-        testing::maxAbsDiff(applyFilter(findFilter("bilateral"), frame, p, testing::inRegion(roi)), out.crop(roi)),
+        testing::maxAbsDiff(applyFilter(findFilter("bilateral"), frame, p, testing::inRegion(roi)),
+                            out.crop(roi)),
         1e-6);
 }
 

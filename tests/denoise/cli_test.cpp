@@ -63,9 +63,9 @@ TEST_F(DenoiseCli, ListPrintsEveryFilterAndItsParameters) {
 }
 
 TEST_F(DenoiseCli, ChoiceParametersTakeTheirOptionNames) {
-    const RunResult r = run("apply " + path("noisy.exr") +
-                            " --filter guided --param guide=albedo --param radius=3 --out " +
-                            path("guided.exr"));
+    const RunResult r =
+        run("apply " + path("noisy.exr") +
+            " --filter guided --param guide=albedo --param radius=3 --out " + path("guided.exr"));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const FrameBuffers in = readExr(path("noisy.exr"));
     const Image expect = applyFilter(findFilter("guided"), in, {{"guide", 1}, {"radius", 3}});

@@ -89,7 +89,8 @@ TEST(CrossBilateral, ConstantStaysConstantAndRoiMatches) {
     frame.color() = noisy;
     const Image full = applyFilter(f, frame, {{"radius", 4}});
     const Rect roi{5, 21, 3, 9};
-    const Image part = applyFilter(f, frame, {{"radius", 4}}, glint::denoise::testing::inRegion(roi));
+    const Image part =
+        applyFilter(f, frame, {{"radius", 4}}, glint::denoise::testing::inRegion(roi));
     for (int y = 0; y < roi.height(); ++y)
         for (int x = 0; x < roi.width(); ++x)
             for (int c = 0; c < 3; ++c) EXPECT_EQ(part(x, y, c), full(x + 5, y + 3, c));

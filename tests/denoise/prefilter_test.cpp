@@ -112,8 +112,9 @@ TEST(Prefilter, AbsurdParamsThrow) {
     EXPECT_THROW(prefilterFeatures(in, {{"radius", -1}}), Error);
     EXPECT_THROW(prefilterFeatures(in, {{"radius", 1000}}), Error);
     EXPECT_THROW(prefilterFeatures(in, {{"sigmaSpatial", 0.0}}), Error);
-    EXPECT_THROW(prefilterFeatures(in, {{"varianceScale", std::numeric_limits<double>::quiet_NaN()}}),
-                 Error);
+    EXPECT_THROW(
+        prefilterFeatures(in, {{"varianceScale", std::numeric_limits<double>::quiet_NaN()}}),
+        Error);
     try {
         prefilterFeatures(in, {{"sigmaSpatial", -2.0}});
     } catch (const Error& e) {

@@ -172,8 +172,9 @@ TEST(PrefilterParams, AreParamSpecsWithDefaults) {
         EXPECT_NE(std::string(e.what()).find("varianceScale"), std::string::npos) << e.what();
     }
     // The prefilter stops too.
-    EXPECT_THROW(prefilterFeatures(testing::syntheticFrame(64, 64), {}, [](double) { return false; }),
-                 Error);
+    EXPECT_THROW(
+        prefilterFeatures(testing::syntheticFrame(64, 64), {}, [](double) { return false; }),
+        Error);
 }
 
 }  // namespace

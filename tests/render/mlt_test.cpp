@@ -365,3 +365,41 @@ TEST(Mlt, BeatsThePathTracerOnDoorAtEqualSamples) {
 
 }  // namespace
 }  // namespace glint::render
+
+namespace glint::render {
+namespace {
+
+// One render loop drives both integrators: the MLT feature pass reports progress and can be
+// cancelled like the chains (it could do neither before).
+TEST(MltLoop, FeaturePassReportsProgressAndCanBeCancelled) {
+    Renderer renderer(cornell(16));
+    Settings s = mltSettings(renderer, 8);
+    s.mlt.featureSpp = 4;
+    s.tileSize = 4;  // 16 tiles per pass: the cancel poll comes between tiles
+    std::vector<double> fractions;
+    int polls = 0;
+    Callbacks cb;
+    cb.progress = [&](int, double f) { fractions.push_back(f); };
+    cb.cancel = [&] { return ++polls > 3; };  // at the 4th tile of the first feature pass
+    const RenderResult stopped = renderer.render(s, cb);
+    EXPECT_TRUE(stopped.stats.cancelled);
+    EXPECT_EQ(stopped.frame.metadata().spp, 0);
+    EXPECT_FALSE(stopped.stats.mlt.has_value());
+    EXPECT_EQ(stopped.frame.color().countNonFinite(), 0u);
+    ASSERT_FALSE(fractions.empty());
+    // Feature-pass progress stays below the feature pass's share of the whole render.
+    for (double f : fractions) EXPECT_LE(f, 4.0 / 12.0 + 1e-12);
+
+    // Uncancelled: progress rises through both stages to 1.
+    fractions.clear();
+    cb.cancel = nullptr;
+    const RenderResult full = renderer.render(s, cb);
+    EXPECT_FALSE(full.stats.cancelled);
+    ASSERT_FALSE(fractions.empty());
+    for (std::size_t i = 1; i < fractions.size(); ++i) EXPECT_GE(fractions[i], fractions[i - 1]);
+    EXPECT_NEAR(fractions.back(), 1.0, 1e-9);
+    EXPECT_TRUE(full.stats.mlt.has_value());
+}
+
+}  // namespace
+}  // namespace glint::render

@@ -65,8 +65,8 @@ int BilateralFilter::margin(const ParamValues& params) const {
                            detail::paramInt(params, "radius"));
 }
 
-Image BilateralFilter::apply(const FrameBuffers& frame, const ParamValues& params,
-                             const Rect& roi, WorkContext& work) const {
+Image BilateralFilter::apply(const FrameBuffers& frame, const ParamValues& params, const Rect& roi,
+                             WorkContext& work) const {
     const int radius = margin(params);
     return detail::bilateralExact(frame.color(), roi, radius, detail::paramValue(params, "sigmaS"),
                                   detail::paramValue(params, "sigmaR"), work);

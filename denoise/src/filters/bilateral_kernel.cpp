@@ -145,18 +145,21 @@ InterleavedColor makeInterleaved(const Image& color, const Rect& rect, WorkConte
     c.rect = rect;
     c.stride = rect.width();
     c.data.reset(new float[4 * std::size_t(rect.width()) * std::size_t(rect.height())]);
-    work.parallelFor(rect.y0, rect.y1, [&](int y) {
-        float* dst = c.at(rect.x0, y);
-        const bool rowInside = y >= 0 && y < color.height();
-        for (int x = rect.x0; x < rect.x1; ++x, dst += 4) {
-            const float* px = rowInside && x >= 0 && x < color.width()
-                                  ? color.row(y) + 3 * std::size_t(x)
-                                  : nullptr;
-            const bool ok = px && isFinitePixel(px, 3);
-            for (int ch = 0; ch < 3; ++ch) dst[ch] = ok ? px[ch] : 0.0f;
-            dst[3] = ok ? 1.0f : 0.0f;
-        }
-    }, 0);
+    work.parallelFor(
+        rect.y0, rect.y1,
+        [&](int y) {
+            float* dst = c.at(rect.x0, y);
+            const bool rowInside = y >= 0 && y < color.height();
+            for (int x = rect.x0; x < rect.x1; ++x, dst += 4) {
+                const float* px = rowInside && x >= 0 && x < color.width()
+                                      ? color.row(y) + 3 * std::size_t(x)
+                                      : nullptr;
+                const bool ok = px && isFinitePixel(px, 3);
+                for (int ch = 0; ch < 3; ++ch) dst[ch] = ok ? px[ch] : 0.0f;
+                dst[3] = ok ? 1.0f : 0.0f;
+            }
+        },
+        0);
     return c;
 }
 

@@ -225,8 +225,8 @@ void exactBand(const ExactContext& ctx, int b0, int b1, Image& out) {
 
 }  // namespace
 
-Image bilateralExact(const Image& color, const Rect& roi, int radius, double sigmaS,
-                     double sigmaR, WorkContext& work) {
+Image bilateralExact(const Image& color, const Rect& roi, int radius, double sigmaS, double sigmaR,
+                     WorkContext& work) {
     GLINT_CHECK(color.channels() == 3, "the bilateral filters need 3 colour channels");
     GLINT_CHECK(!roi.empty() && intersect(roi, color.bounds()) == roi);
     GLINT_CHECK(radius >= 0);
@@ -254,14 +254,17 @@ Image bilateralExact(const Image& color, const Rect& roi, int radius, double sig
     const int bandRows = std::max(kBandRows, 4 * r);
     const int firstBand = roi.y0 / bandRows, lastBand = (roi.y1 - 1) / bandRows;
     // A band of rows is the unit of work (and of cancellation).
-    work.parallelFor(firstBand, lastBand + 1, [&](int band) {
-        const int b0 = std::max(band * bandRows, roi.y0);
-        const int b1 = std::min((band + 1) * bandRows, roi.y1);
-        if (bandIsComplete(ctx, b0, b1))
-            exactBand(ctx, b0, b1, out);
-        else
-            bilateralWindowRows(planes, roi, b0, b1, r, sigmaS, sigmaR, out);
-    }, bandRows);
+    work.parallelFor(
+        firstBand, lastBand + 1,
+        [&](int band) {
+            const int b0 = std::max(band * bandRows, roi.y0);
+            const int b1 = std::min((band + 1) * bandRows, roi.y1);
+            if (bandIsComplete(ctx, b0, b1))
+                exactBand(ctx, b0, b1, out);
+            else
+                bilateralWindowRows(planes, roi, b0, b1, r, sigmaS, sigmaR, out);
+        },
+        bandRows);
     return out;
 }
 

@@ -140,24 +140,27 @@ Packed pack(const FrameBuffers& frame, const Rect& rect, const Sigmas& sig, Work
     const Image& depth = frame.layer(Layer::Depth);
     const double depthScale = meanAbs(depth);
     const Rect inside = intersect(rect, color.bounds());
-    work.parallelFor(inside.y0, inside.y1, [&](int y) {
-        for (int x = inside.x0; x < inside.x1; ++x) {
-            const std::size_t i = pk.index(x, y);
-            const float* c = color.row(y) + std::size_t(x) * 3;
-            const bool valid = detail::isFinitePixel(c, 3);
-            for (int k = 0; k < 3; ++k) pk.planes[std::size_t(C0 + k)][i] = valid ? c[k] : 0.0f;
-            pk.planes[VC][i] =
-                valid ? varianceSum(frame.find(Layer::Variance), x, y, 3) : kUnknownVariance;
-            pk.planes[M][i] = valid ? 1.0f : 0.0f;
-            packFeature(pk, i, albedo, frame.find(Layer::AlbedoVariance), x, y, A0, 3, 1.0);
-            packFeature(pk, i, normal, frame.find(Layer::NormalVariance), x, y, N0, 3, 1.0);
-            packFeature(pk, i, depth, frame.find(Layer::DepthVariance), x, y, Z, 1, depthScale);
-            invertVariance(pk.planes[VC], i, sig.color2);
-            invertVariance(pk.planes[VA], i, sig.albedo2);
-            invertVariance(pk.planes[VN], i, sig.normal2);
-            invertVariance(pk.planes[VZ], i, sig.depth2);
-        }
-    }, 0);
+    work.parallelFor(
+        inside.y0, inside.y1,
+        [&](int y) {
+            for (int x = inside.x0; x < inside.x1; ++x) {
+                const std::size_t i = pk.index(x, y);
+                const float* c = color.row(y) + std::size_t(x) * 3;
+                const bool valid = detail::isFinitePixel(c, 3);
+                for (int k = 0; k < 3; ++k) pk.planes[std::size_t(C0 + k)][i] = valid ? c[k] : 0.0f;
+                pk.planes[VC][i] =
+                    valid ? varianceSum(frame.find(Layer::Variance), x, y, 3) : kUnknownVariance;
+                pk.planes[M][i] = valid ? 1.0f : 0.0f;
+                packFeature(pk, i, albedo, frame.find(Layer::AlbedoVariance), x, y, A0, 3, 1.0);
+                packFeature(pk, i, normal, frame.find(Layer::NormalVariance), x, y, N0, 3, 1.0);
+                packFeature(pk, i, depth, frame.find(Layer::DepthVariance), x, y, Z, 1, depthScale);
+                invertVariance(pk.planes[VC], i, sig.color2);
+                invertVariance(pk.planes[VA], i, sig.albedo2);
+                invertVariance(pk.planes[VN], i, sig.normal2);
+                invertVariance(pk.planes[VZ], i, sig.depth2);
+            }
+        },
+        0);
     // Outside the image the normalisations stay 0: those pixels have weight 0 anyway.
     return pk;
 }
@@ -287,7 +290,8 @@ Image CrossBilateralFilter::apply(const FrameBuffers& frame, const ParamValues& 
     spatial[std::size_t(r * d + r)] = 0.0f;  // the centre always counts
 
     // Pack the window region (roi plus r, plus 8 columns so the last block can read ahead).
-    const Packed pk = pack(frame, Rect{roi.x0 - r, roi.x1 + r + 8, roi.y0 - r, roi.y1 + r}, sig, work);
+    const Packed pk =
+        pack(frame, Rect{roi.x0 - r, roi.x1 + r + 8, roi.y0 - r, roi.y1 + r}, sig, work);
 
     const int w = roi.width();
     Image out(w, roi.height(), 3);

@@ -86,14 +86,14 @@ inline PlanarPlanes makePlanar(const Image& image, const Rect& rect, int channel
     work.parallelFor(
         y0, y1,
         [&](int y) {
-        const float* src = image.row(y);
-        for (int x = x0; x < x1; ++x) {
-            const float* px = src + std::size_t(x) * ic;
-            if (!isFinitePixel(px, channels)) continue;
-            const std::size_t i = p.index(x, y);
-            for (int c = 0; c < channels; ++c) p.planes[std::size_t(c)][i] = px[c];
-            p.valid[i] = 1.0f;
-        }
+            const float* src = image.row(y);
+            for (int x = x0; x < x1; ++x) {
+                const float* px = src + std::size_t(x) * ic;
+                if (!isFinitePixel(px, channels)) continue;
+                const std::size_t i = p.index(x, y);
+                for (int c = 0; c < channels; ++c) p.planes[std::size_t(c)][i] = px[c];
+                p.valid[i] = 1.0f;
+            }
         },
         0);  // copying counts as no work: the kernel's rows do
     return p;

@@ -234,8 +234,8 @@ int GaussianFilter::margin(const ParamValues& params) const {
     return gaussianRadius(detail::paramValue(params, "sigma"));
 }
 
-Image GaussianFilter::apply(const FrameBuffers& frame, const ParamValues& params,
-                            const Rect& roi, WorkContext& work) const {
+Image GaussianFilter::apply(const FrameBuffers& frame, const ParamValues& params, const Rect& roi,
+                            WorkContext& work) const {
     return gaussianBlur(frame.color(), detail::paramValue(params, "sigma"), roi, work);
 }
 

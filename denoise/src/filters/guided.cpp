@@ -320,8 +320,8 @@ int GuidedFilter::margin(const ParamValues& params) const {
     return 2 * detail::paramInt(params, "radius");
 }
 
-Image GuidedFilter::apply(const FrameBuffers& frame, const ParamValues& params,
-                          const Rect& roi, WorkContext& work) const {
+Image GuidedFilter::apply(const FrameBuffers& frame, const ParamValues& params, const Rect& roi,
+                          WorkContext& work) const {
     const int r = detail::paramInt(params, "radius");
     const double eps = detail::paramValue(params, "eps");
     GuideSource guide;

@@ -94,19 +94,19 @@ Packed pack(const FrameBuffers& frame, const Rect& rect, WorkContext& work) {
     work.parallelFor(
         inside.y0, inside.y1,
         [&](int y) {
-        for (int x = inside.x0; x < inside.x1; ++x) {
-            const std::size_t i = pk.index(x, y);
-            const float* c = color.row(y) + std::size_t(x) * 3;
-            const bool valid = detail::isFinitePixel(c, 3);
-            for (int k = 0; k < 3; ++k) {
-                pk.planes[std::size_t(U0 + k)][i] = valid ? c[k] : 0.0f;
-                double v = var ? double((*var)(x, y, k)) : uniform[std::size_t(k)];
-                v = std::isfinite(v) ? std::clamp(v, 0.0, double(kUnknownVariance))
-                                     : double(kUnknownVariance);
-                pk.planes[std::size_t(V0 + k)][i] = float(v);
+            for (int x = inside.x0; x < inside.x1; ++x) {
+                const std::size_t i = pk.index(x, y);
+                const float* c = color.row(y) + std::size_t(x) * 3;
+                const bool valid = detail::isFinitePixel(c, 3);
+                for (int k = 0; k < 3; ++k) {
+                    pk.planes[std::size_t(U0 + k)][i] = valid ? c[k] : 0.0f;
+                    double v = var ? double((*var)(x, y, k)) : uniform[std::size_t(k)];
+                    v = std::isfinite(v) ? std::clamp(v, 0.0, double(kUnknownVariance))
+                                         : double(kUnknownVariance);
+                    pk.planes[std::size_t(V0 + k)][i] = float(v);
+                }
+                pk.planes[M][i] = valid ? 1.0f : 0.0f;
             }
-            pk.planes[M][i] = valid ? 1.0f : 0.0f;
-        }
         },
         0);
     return pk;
@@ -288,8 +288,8 @@ int NlMeansFilter::margin(const ParamValues& params) const {
     return detail::paramInt(params, "patchRadius") + detail::paramInt(params, "searchRadius");
 }
 
-Image NlMeansFilter::apply(const FrameBuffers& frame, const ParamValues& params,
-                           const Rect& roi, WorkContext& work) const {
+Image NlMeansFilter::apply(const FrameBuffers& frame, const ParamValues& params, const Rect& roi,
+                           WorkContext& work) const {
     Settings st;
     st.f = detail::paramInt(params, "patchRadius");
     st.s = detail::paramInt(params, "searchRadius");

@@ -69,23 +69,24 @@ FeaturePlanes makePlanes(const Image& f, const Image& var, int pad, double k2, W
     work.parallelFor(
         0, f.height(),
         [&](int y) {
-        for (int x = 0; x < f.width(); ++x) {
-            const std::size_t i = fp.index(x, y);
-            const bool finite = detail::isFinitePixel(f.row(y) + std::size_t(x) * ch, int(ch));
-            fp.valid[i] = finite ? 1.0f : 0.0f;
-            // A missing centre keeps only the spatial term (factor 0).
-            fp.centreFactor[i] = finite ? float(1.0 / (2.0 * double(ch))) : 0.0f;
-            for (std::size_t c = 0; c < ch; ++c) {
-                const double v = f(x, y, int(c));
-                const double vv = var(x, y, int(c));
-                const double sv = std::isfinite(vv) ? std::clamp(vv, 0.0, double(kUnknownVariance))
-                                                    : double(kUnknownVariance);
-                fp.value[c][i] = finite ? float(v) : 0.0f;
-                fp.variance[c][i] = float(sv);
-                fp.scaledVariance[c][i] = float(std::min(k2 * sv, double(kUnknownVariance)));
-                fp.delta[c][i] = finite ? float(1e-12 * (1.0 + v * v)) : 1.0f;
+            for (int x = 0; x < f.width(); ++x) {
+                const std::size_t i = fp.index(x, y);
+                const bool finite = detail::isFinitePixel(f.row(y) + std::size_t(x) * ch, int(ch));
+                fp.valid[i] = finite ? 1.0f : 0.0f;
+                // A missing centre keeps only the spatial term (factor 0).
+                fp.centreFactor[i] = finite ? float(1.0 / (2.0 * double(ch))) : 0.0f;
+                for (std::size_t c = 0; c < ch; ++c) {
+                    const double v = f(x, y, int(c));
+                    const double vv = var(x, y, int(c));
+                    const double sv = std::isfinite(vv)
+                                          ? std::clamp(vv, 0.0, double(kUnknownVariance))
+                                          : double(kUnknownVariance);
+                    fp.value[c][i] = finite ? float(v) : 0.0f;
+                    fp.variance[c][i] = float(sv);
+                    fp.scaledVariance[c][i] = float(std::min(k2 * sv, double(kUnknownVariance)));
+                    fp.delta[c][i] = finite ? float(1e-12 * (1.0 + v * v)) : 1.0f;
+                }
             }
-        }
         },
         0);
     return fp;

@@ -98,8 +98,8 @@ MltIntegrator::MltIntegrator(const detail::SceneData& scene, const EmbreeScene& 
     validateMlt(settings.mlt);
 }
 
-void MltIntegrator::evaluate(MltSampler& sampler, Vec3& radiance, Vec2& raster,
-                             std::uint64_t& rays, std::int64_t& nonFinite) const {
+void MltIntegrator::evaluate(MltSampler& sampler, Vec3& radiance, Vec2& raster, std::uint64_t& rays,
+                             std::int64_t& nonFinite) const {
     // The reserved camera coordinates; lens and time are read only when they matter.
     raster = {sampler.camera(kFilmX) * float(m_scene.width),
               sampler.camera(kFilmY) * float(m_scene.height)};
@@ -118,8 +118,8 @@ void MltIntegrator::evaluate(MltSampler& sampler, Vec3& radiance, Vec2& raster,
 }
 
 FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callbacks,
-                                   tbb::task_arena& arena, double timeBudget,
-                                   double progressBegin, RenderStats& stats) {
+                                   tbb::task_arena& arena, double timeBudget, double progressBegin,
+                                   RenderStats& stats) {
     const MltSettings& mlt = m_settings.mlt;
     const int width = m_scene.width, height = m_scene.height;
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
@@ -177,8 +177,7 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
         tbb::parallel_for(std::size_t(0), bootRays.size(), [&](std::size_t block) {
             const std::int64_t end = std::min<std::int64_t>(nBoot, std::int64_t(block + 1) * 1024);
             for (std::int64_t i = std::int64_t(block) * 1024; i < end; ++i) {
-                MltSampler sampler(streamKey(seed, kBootstrapSlot, std::uint64_t(i)),
-                                             sizes);
+                MltSampler sampler(streamKey(seed, kBootstrapSlot, std::uint64_t(i)), sizes);
                 startBootstrapSample(sampler, i);
                 Vec3 l;
                 Vec2 r;
@@ -203,8 +202,7 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
             pairSum += d * d;
         }
         const double pairs = double(nBoot / 2);
-        ms.bRelStdErr =
-            std::sqrt(pairSum / pairs * (double(nBoot) / 2.0)) / double(nBoot) / b;
+        ms.bRelStdErr = std::sqrt(pairSum / pairs * (double(nBoot) / 2.0)) / double(nBoot) / b;
     }
     std::uint64_t rays = 0;
     std::int64_t nonFinite = 0;
@@ -353,8 +351,7 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
             Image& variance = frame.ensure(Layer::Variance);
             const int width = frame.width();
             const std::size_t pixels = std::size_t(width) * std::size_t(frame.height());
-            const double mg =
-                double(m_perChainDone) * double(m_chains.size() / m_groups.size());
+            const double mg = double(m_perChainDone) * double(m_chains.size() / m_groups.size());
             const double scale = m_fullScale / mg;
             const double k = double(m_groups.size());
             for (std::size_t p = 0; p < pixels; ++p)

@@ -207,7 +207,7 @@ void PathIntegrator::trace(const Ray& cameraRay, Sampler& rng, FilmSample& out,
 }
 
 template void PathIntegrator::trace<Rng>(const Ray&, Rng&, FilmSample&, std::uint64_t&) const;
-template void PathIntegrator::trace<MltSampler>(const Ray&, MltSampler&,
-                                                          FilmSample&, std::uint64_t&) const;
+template void PathIntegrator::trace<MltSampler>(const Ray&, MltSampler&, FilmSample&,
+                                                std::uint64_t&) const;
 
 }  // namespace glint::render

@@ -124,7 +124,7 @@ float MltSampler::getSlow(std::size_t index, Stream stream) {
 }
 
 float MltSampler::catchUp(float x, std::uint32_t nSmall, std::uint32_t nOther,
-                                    const Kernel* other) {
+                          const Kernel* other) {
     constexpr std::uint32_t kExactSteps = 8;
     if (nSmall + nOther <= kExactSteps) {
         // Kelemen et al. 2002, sec. 4: dv = s2 exp(−ln(s2/s1) u), added or subtracted with

@@ -36,8 +36,8 @@ class Loader {
     TransformDesc readTransform(const nlohmann::json& j, const std::string& where,
                                 const TransformDesc& base);
     void addMotion(const TransformDesc& start, const TransformDesc& end, std::size_t firstTriangle,
-                   const std::vector<Vec3>& objectPositions,
-                   const std::vector<Vec3>& objectNormals, const std::string& where);
+                   const std::vector<Vec3>& objectPositions, const std::vector<Vec3>& objectNormals,
+                   const std::string& where);
     void readShape(const nlohmann::json& j, const std::string& where);
 
     /// obj_import.cpp: appends the triangles of the OBJ file (transformed by `xf`), adding its

@@ -65,12 +65,11 @@ LookProperty scalar(const char* name, const char* label, double min, double max,
 std::vector<LookProperty> materialProperties(const Material& m) {
     std::vector<LookProperty> props;
     if (m.texture < 0)
-        props.push_back(color("albedo", m.type == MaterialType::Diffuse ? "base colour" : "tint",
-                              1.0, m.albedo,
-                              m.type == MaterialType::Diffuse
-                                  ? "Diffuse reflectance."
-                                  : "Colour that multiplies what the surface reflects or "
-                                    "transmits."));
+        props.push_back(color(
+            "albedo", m.type == MaterialType::Diffuse ? "base colour" : "tint", 1.0, m.albedo,
+            m.type == MaterialType::Diffuse ? "Diffuse reflectance."
+                                            : "Colour that multiplies what the surface reflects or "
+                                              "transmits."));
     props.push_back(color("emission", "emission colour", 1.0, m.emissionColor,
                           "Colour of the light the surface emits (times strength)."));
     props.push_back(scalar("strength", "emission strength", 0.0, 1e30, true, m.emissionStrength,
@@ -165,8 +164,7 @@ void setMaterial(SceneData& d, std::size_t index, const std::string& property,
     m = std::move(next);
 }
 
-void setEnvironment(SceneData& d, const std::string& property,
-                    const std::array<double, 3>& value) {
+void setEnvironment(SceneData& d, const std::string& property, const std::array<double, 3>& value) {
     EnvironmentDesc& env = d.environment;
     const std::string where = "/environment/" + property;
     if (property == "scale") {

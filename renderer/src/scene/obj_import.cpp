@@ -40,9 +40,9 @@ Material materialFromMtl(const tinyobj::material_t& mtl) {
 
 }  // namespace
 
-void Loader::importObj(const fs::path& objPath, const Affine& xf, bool moving,
-                       int overrideMaterial, const std::string& where,
-                       std::vector<Vec3>& objectPositions, std::vector<Vec3>& objectNormals) {
+void Loader::importObj(const fs::path& objPath, const Affine& xf, bool moving, int overrideMaterial,
+                       const std::string& where, std::vector<Vec3>& objectPositions,
+                       std::vector<Vec3>& objectNormals) {
     if (!fs::exists(objPath))
         throw Error(ErrorKind::Io, "OBJ file '" + objPath.string() + "' not found",
                     m_reader.file().string(), where + "/obj");
@@ -67,7 +67,7 @@ void Loader::importObj(const fs::path& objPath, const Affine& xf, bool moving,
             Material m = materialFromMtl(mtl);
             if (!mtl.diffuse_texname.empty())
                 m.texture = loadTexture(objPath.parent_path() / mtl.diffuse_texname,
-                                    where + "/obj (map_Kd of " + mtl.name + ")");
+                                        where + "/obj (map_Kd of " + mtl.name + ")");
             index = addMaterial(std::move(m));
         }
         objMaterial.push_back(index);

@@ -44,7 +44,8 @@ struct Material {
     /// Sets emissionColor and emissionStrength from emission.
     void deriveEmissionLook() {
         emissionStrength = std::max(emission.x, std::max(emission.y, emission.z));
-        emissionColor = emissionStrength > 0.0f ? emission / emissionStrength : Vec3{1.0f, 1.0f, 1.0f};
+        emissionColor =
+            emissionStrength > 0.0f ? emission / emissionStrength : Vec3{1.0f, 1.0f, 1.0f};
     }
 };
 
@@ -80,8 +81,8 @@ struct EnvironmentDesc {
     float scale = 1.0f;      ///< multiplies the colour or the image
     float rotateDeg = 0.0f;  ///< rotation about +y
     std::filesystem::path path;
-    Image source;  ///< the image as read (3 channels, linear), before scale
-    Image image;   ///< source multiplied by scale
+    Image source;         ///< the image as read (3 channels, linear), before scale
+    Image image;          ///< source multiplied by scale
     bool edited = false;  ///< changed through Scene::setLook since loading
 };
 
@@ -112,7 +113,7 @@ struct TriangleView {
 /// Everything a Scene holds.
 struct SceneData {
     std::filesystem::path path;
-    std::string sourceJson;         ///< the text the scene was parsed from (saveScene edits it)
+    std::string sourceJson;          ///< the text the scene was parsed from (saveScene edits it)
     std::uint64_t lookRevision = 0;  ///< counts look edits (Scene::setLook)
     int width = 0, height = 0;
     Settings settings;

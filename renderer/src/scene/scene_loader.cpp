@@ -78,8 +78,7 @@ void Loader::load(const json& root) {
         const float len = length(n);
         m_scene.faceNormals[t] = len > 0.0f ? n / len : Vec3{0.0f, 0.0f, 1.0f};
     }
-    if (m_scene.triangleCount() == 0 &&
-        m_scene.environment.kind == EnvironmentDesc::Kind::None)
+    if (m_scene.triangleCount() == 0 && m_scene.environment.kind == EnvironmentDesc::Kind::None)
         m_reader.fail("/shapes", "the scene has neither geometry nor an environment");
 }
 
@@ -231,8 +230,8 @@ void Loader::readEnvironment(const json& j, const std::string& where) {
     }
     const fs::path rel = m_reader.string(j["image"], where + "/image");
     env.path = rel.is_absolute() ? rel : m_dir / rel;
-    env.source = readLinearRgb(env.path, 1.0f, "environment image", m_reader.file(),
-                               where + "/image");
+    env.source =
+        readLinearRgb(env.path, 1.0f, "environment image", m_reader.file(), where + "/image");
     env.image = scaledRgb(env.source, env.scale, "environment image", env.path, where + "/image");
     env.kind = EnvironmentDesc::Kind::Image;
 }

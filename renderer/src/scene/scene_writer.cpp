@@ -1,7 +1,10 @@
 // saveScene: the scene's own JSON with its look edits written back, paths rebased to the new
-// folder. Numbers are written as the double of the float the renderer holds, which reads back
-// to the same float, so the saved scene renders bit for bit the same.
+// folder. Numbers are written as the shortest decimal that reads back to the float the renderer
+// holds, so the saved scene renders bit for bit the same.
+#include <charconv>
+#include <cstdlib>
 #include <fstream>
+#include <ostream>
 
 #include <nlohmann/json.hpp>
 
@@ -20,14 +23,72 @@ using detail::MaterialType;
 
 namespace {
 
-ordered_json toJson(const Vec3& v) {
-    return ordered_json::array({double(v.x), double(v.y), double(v.z)});
+// The shortest decimal that reads back to the same float (so 0.1f is written 0.1, not
+// 0.10000000149011612), as a double.
+double shortest(float value) {
+    char text[32];
+    const auto [end, ec] = std::to_chars(text, text + sizeof text, value);
+    if (ec == std::errc()) {
+        *end = '\0';
+        const double d = std::strtod(text, nullptr);
+        if (float(d) == value) return d;
+    }
+    return double(value);
 }
 
-// `file` as a path relative to `toDir` where one exists, else absolute.
+ordered_json toJson(float v) {
+    return shortest(v);
+}
+
+ordered_json toJson(const Vec3& v) {
+    return ordered_json::array({shortest(v.x), shortest(v.y), shortest(v.z)});
+}
+
+// JSON text with two-space indentation and arrays of numbers on one line.
+void writePretty(std::ostream& out, const ordered_json& j, int indent) {
+    const std::string pad(std::size_t(indent), ' ');
+    if (j.is_object() && !j.empty()) {
+        out << "{\n";
+        std::size_t i = 0;
+        for (const auto& item : j.items()) {
+            out << pad << "  " << ordered_json(item.key()).dump() << ": ";
+            writePretty(out, item.value(), indent + 2);
+            out << (++i < j.size() ? ",\n" : "\n");
+        }
+        out << pad << "}";
+        return;
+    }
+    if (j.is_array() && !j.empty()) {
+        bool flat = true;
+        for (const ordered_json& e : j) flat = flat && !e.is_structured();
+        if (flat) {
+            out << "[";
+            for (std::size_t i = 0; i < j.size(); ++i) out << (i ? ", " : "") << j[i].dump();
+            out << "]";
+            return;
+        }
+        out << "[\n";
+        for (std::size_t i = 0; i < j.size(); ++i) {
+            out << pad << "  ";
+            writePretty(out, j[i], indent + 2);
+            out << (i + 1 < j.size() ? ",\n" : "\n");
+        }
+        out << pad << "]";
+        return;
+    }
+    out << j.dump(-1, ' ', false, ordered_json::error_handler_t::replace);
+}
+
+// `file` as a path relative to `toDir` when the two share a folder below the root, else
+// absolute (a path that climbs to the root says nothing a reader can use).
 std::string relativeTo(const fs::path& file, const fs::path& toDir) {
     const fs::path absolute = fs::absolute(file).lexically_normal();
-    const fs::path relative = absolute.lexically_relative(fs::absolute(toDir).lexically_normal());
+    const fs::path dir = fs::absolute(toDir).lexically_normal();
+    auto a = absolute.begin(), d = dir.begin();
+    int shared = 0;
+    for (; a != absolute.end() && d != dir.end() && *a == *d; ++a, ++d) ++shared;
+    if (shared < 2) return absolute.string();  // only the root in common
+    const fs::path relative = absolute.lexically_relative(dir);
     return relative.empty() ? absolute.string() : relative.generic_string();
 }
 
@@ -58,9 +119,9 @@ ordered_json definition(const Material& m, const detail::SceneData& d, const fs:
     else
         j["albedo"] = toJson(m.albedo);
     j["emission"] = toJson(m.emission);
-    if (m.type == MaterialType::Dielectric) j["ior"] = double(m.ior);
+    if (m.type == MaterialType::Dielectric) j["ior"] = toJson(m.ior);
     if (m.type == MaterialType::Conductor) {
-        j["roughness"] = double(m.roughness);
+        j["roughness"] = toJson(m.roughness);
         if (m.hasEtaK) {
             j["eta"] = toJson(m.eta);
             j["k"] = toJson(m.k);
@@ -106,23 +167,23 @@ void saveScene(const Scene& scene, const fs::path& path) {
         ordered_json& j = materials[m.name];
         if (m.texture < 0) j["albedo"] = toJson(m.albedo);
         j["emission"] = toJson(m.emission);
-        if (m.type == MaterialType::Dielectric) j["ior"] = double(m.ior);
-        if (m.type == MaterialType::Conductor) j["roughness"] = double(m.roughness);
+        if (m.type == MaterialType::Dielectric) j["ior"] = toJson(m.ior);
+        if (m.type == MaterialType::Conductor) j["roughness"] = toJson(m.roughness);
     }
     const EnvironmentDesc& env = d.environment;
     if (env.edited) {
         ordered_json& j = root["environment"];
-        j["scale"] = double(env.scale);
-        j["rotate"] = double(env.rotateDeg);
+        j["scale"] = toJson(env.scale);
+        j["rotate"] = toJson(env.rotateDeg);
         if (env.kind == EnvironmentDesc::Kind::Constant) j["color"] = toJson(env.baseColor);
     }
 
     writeAtomically(path, [&](const fs::path& tmp) {
         std::ofstream out(tmp, std::ios::binary);
-        out << root.dump(2) << "\n";
+        writePretty(out, root, 0);
+        out << "\n";
         out.close();
-        if (!out)
-            throw Error(ErrorKind::Io, "cannot write the scene file", path.string());
+        if (!out) throw Error(ErrorKind::Io, "cannot write the scene file", path.string());
     });
 }
 

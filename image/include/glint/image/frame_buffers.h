@@ -12,7 +12,8 @@
 
 namespace glint {
 
-/// The layers of shared/DESIGN.md. Every layer but Color may be absent.
+/// The layers of a Glint frame (docs/image.md, "The layered EXR"). Every layer but Color may be
+/// absent.
 enum class Layer : int {
     Color,           ///< R,G,B: pixel mean of radiance
     Variance,        ///< variance.R/G/B: variance of the mean

@@ -24,7 +24,7 @@ struct ExrWriteOptions {
     ExrCompression compression = ExrCompression::None;
 };
 
-/// Writes one-part float32 EXR with the channel names and glint:* attributes of DESIGN.md.
+/// Writes one-part float32 EXR with the channel names and glint:* attributes of docs/image.md.
 void writeExr(const FrameBuffers& frame, const std::filesystem::path& path,
               const ExrWriteOptions& options = {});
 

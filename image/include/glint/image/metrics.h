@@ -1,4 +1,4 @@
-// Error metrics against a reference: MSE, relMSE, PSNR, SSIM (shared/DESIGN.md, "Metrics").
+// Error metrics against a reference: MSE, relMSE, PSNR, SSIM (docs/metrics.md).
 #pragma once
 
 #include <cstddef>
@@ -39,7 +39,7 @@ MetricResult mse(const Image& image, const Image& reference, const MetricOptions
 MetricResult relMse(const Image& image, const Image& reference, const MetricOptions& options = {});
 /// PSNR in dB for data range 1 (linear values): 10 log10(1 / MSE); +infinity when MSE is 0.
 MetricResult psnr(const Image& image, const Image& reference, const MetricOptions& options = {});
-/// SSIM of Wang et al. 2004 as DESIGN.md specifies (equal to scikit-image's with
+/// SSIM of Wang et al. 2004 as docs/metrics.md specifies (equal to scikit-image's with
 /// gaussian_weights=True, sigma=1.5, use_sample_covariance=False, data_range=1).
 MetricResult ssim(const Image& image, const Image& reference, const MetricOptions& options = {});
 /// Dispatch by metric kind.

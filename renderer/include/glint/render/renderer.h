@@ -3,9 +3,9 @@
 
 #include <array>
 #include <cstdint>
-#include <optional>
 #include <functional>
 #include <memory>
+#include <optional>
 
 #include "glint/image/frame_buffers.h"
 #include "glint/image/image.h"

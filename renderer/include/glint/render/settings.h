@@ -27,12 +27,12 @@ struct Settings {
     MisHeuristic mis = MisHeuristic::Power;
     Strategy strategy = Strategy::Bsdf;  ///< only with mis == None
     SamplerKind sampler = SamplerKind::Stratified;
-    int maxDepth = 32;       ///< maximum number of bounces (1 = direct lighting only)
-    int rrDepth = 3;         ///< Russian roulette starts after this many bounces
-    double timeLimit = 0.0;  ///< seconds; > 0 renders passes until time runs out
-    int tileSize = 16;       ///< tile edge in pixels
+    int maxDepth = 32;           ///< maximum number of bounces (1 = direct lighting only)
+    int rrDepth = 3;             ///< Russian roulette starts after this many bounces
+    double timeLimit = 0.0;      ///< seconds; > 0 renders passes until time runs out
+    int tileSize = 16;           ///< tile edge in pixels
     bool positionLayer = false;  ///< also produce the optional world-space position layer
-    MltSettings mlt;         ///< Metropolis parameters (integrator == Mlt)
+    MltSettings mlt;             ///< Metropolis parameters (integrator == Mlt)
 };
 
 /// Parses "path" / "mlt"; throws glint::Error(InvalidArgument).
