@@ -14,22 +14,9 @@ using detail::EnvironmentDesc;
 using detail::Material;
 using detail::MaterialType;
 using detail::SceneData;
+using detail::materialTypeName;
 
 namespace {
-
-const char* materialTypeName(MaterialType type) {
-    switch (type) {
-        case MaterialType::Diffuse:
-            return "diffuse";
-        case MaterialType::Mirror:
-            return "mirror";
-        case MaterialType::Dielectric:
-            return "dielectric";
-        case MaterialType::Conductor:
-            return "conductor";
-    }
-    return "?";
-}
 
 std::array<double, 3> toArray(const Vec3& v) {
     return {double(v.x), double(v.y), double(v.z)};

@@ -9,6 +9,20 @@ namespace glint::render {
 
 namespace detail {
 
+const char* materialTypeName(MaterialType type) {
+    switch (type) {
+        case MaterialType::Diffuse:
+            return "diffuse";
+        case MaterialType::Mirror:
+            return "mirror";
+        case MaterialType::Dielectric:
+            return "dielectric";
+        case MaterialType::Conductor:
+            return "conductor";
+    }
+    return "?";
+}
+
 TriangleView SceneData::poseMoving(std::size_t t, float time, PosedTriangle& scratch) const {
     const ShapeMotion& motion = motions[std::size_t(triangleMotion[t])];
     // Step k and fraction within it, as Embree interpolates between time steps.

@@ -18,6 +18,9 @@ namespace glint::render::detail {
 /// Kinds of material ("type" in scene.json).
 enum class MaterialType { Diffuse, Mirror, Dielectric, Conductor };
 
+/// The scene.json name of a material type ("diffuse", ...).
+const char* materialTypeName(MaterialType type);
+
 /// One material. albedo is the diffuse reflectance, the mirror/conductor tint or the dielectric
 /// transmittance tint; `texture` (index into SceneData::textures) replaces it when >= 0.
 struct Material {

@@ -100,20 +100,7 @@ std::string rebase(const fs::path& file, const fs::path& fromDir, const fs::path
 // The full JSON definition of a material that came from an MTL file.
 ordered_json definition(const Material& m, const detail::SceneData& d, const fs::path& toDir) {
     ordered_json j;
-    switch (m.type) {
-        case MaterialType::Diffuse:
-            j["type"] = "diffuse";
-            break;
-        case MaterialType::Mirror:
-            j["type"] = "mirror";
-            break;
-        case MaterialType::Dielectric:
-            j["type"] = "dielectric";
-            break;
-        case MaterialType::Conductor:
-            j["type"] = "conductor";
-            break;
-    }
+    j["type"] = detail::materialTypeName(m.type);
     if (m.texture >= 0)
         j["texture"] = relativeTo(d.textures[std::size_t(m.texture)].path, toDir);
     else
