@@ -56,6 +56,16 @@ ParamSpec ParamSpec::choice(std::string name, std::string label, std::vector<std
     spec.integer = true;
     spec.help = std::move(help);
     spec.choices = std::move(options);
+    spec.softMin = spec.min;
+    spec.softMax = spec.max;
+    return spec;
+}
+
+ParamSpec ParamSpec::soft(double lo, double hi) const {
+    GLINT_CHECK(lo <= hi && lo >= min && hi <= max, "soft range outside [min, max]");
+    ParamSpec spec = *this;
+    spec.softMin = lo;
+    spec.softMax = hi;
     return spec;
 }
 

@@ -45,12 +45,17 @@ int bilateralRadius(double sigmaS, int radiusParam) {
 
 std::vector<ParamSpec> bilateralParamSpecs() {
     return {
-        {"sigmaS", "spatial sigma (px)", 1e-6, 1e6, 3.0, ParamScale::Log, false,
-         "Standard deviation of the spatial Gaussian in pixels."},
-        {"sigmaR", "range sigma", 1e-6, 1e6, 0.1, ParamScale::Log, false,
-         "Standard deviation of the range Gaussian on the RGB distance (radiance units)."},
-        {"radius", "window radius (px)", 0, kBilateralMaxRadius, 0, ParamScale::Linear, true,
-         "Half width of the square window; 0 derives it from sigmaS as ceil(3 sigmaS)."},
+        ParamSpec{"sigmaS", "spatial sigma (px)", 1e-6, 1e6, 3.0, ParamScale::Log, false,
+                  "Standard deviation of the spatial Gaussian in pixels."}
+            .soft(0.5, 6.0),
+        ParamSpec{"sigmaR", "range sigma", 1e-6, 1e6, 0.1, ParamScale::Log, false,
+                  "Standard deviation of the range Gaussian on the RGB distance (radiance "
+                  "units)."}
+            .soft(0.01, 2.0),
+        ParamSpec{"radius", "window radius (px)", 0, kBilateralMaxRadius, 0, ParamScale::Linear,
+                  true, "Half width of the square window; 0 derives it from sigmaS as ceil(3 "
+                  "sigmaS)."}
+            .soft(0, 0),
     };
 }
 

@@ -40,14 +40,17 @@ constexpr std::string_view kDescription =
 }  // namespace
 
 BilateralMcFilter::BilateralMcFilter() : m_params(bilateralParamSpecs()) {
+    m_params[0] = m_params[0].soft(1.0, 12.0);  // sigmaS: the sampled window makes wide ones cheap
     m_params.push_back({"samplesPerSide", "samples per kernel side (k)", 1, 256, 3,
                         ParamScale::Linear, true,
                         "Samples per pixel are k N for an N x N window (N = 2 radius + 1)."});
+    m_params.back() = m_params.back().soft(1, 4);
     m_params.push_back(ParamSpec::choice(
         "pattern", "pattern kind", {"poisson", "regular", "random", "stratified"}, 0,
         "Window subset: Poisson disk (Bridson), regular grid, uniform random, stratified."));
-    m_params.push_back({"seed", "seed", 0, 1e9, 1, ParamScale::Linear, true,
-                        "Seed of the patterns and of the per-pixel pattern choice."});
+    m_params.push_back(ParamSpec{"seed", "seed", 0, 1e9, 1, ParamScale::Linear, true,
+                                 "Seed of the patterns and of the per-pixel pattern choice."}
+                           .soft(1, 1));
 }
 
 std::string_view BilateralMcFilter::description() const {

@@ -244,18 +244,24 @@ void filterBlock(const Packed& pk, int x, int y, int r, const float* spatial,
 
 CrossBilateralFilter::CrossBilateralFilter()
     : m_params{
-          {"sigmaS", "spatial sigma (px)", 1e-6, 1e6, 4.0, ParamScale::Log, false,
-           "Spatial standard deviation in pixels."},
-          {"radius", "window radius (px)", 0, kBilateralMaxRadius, 0, ParamScale::Linear, true,
-           "Window radius; 0 picks ceil(3 sigmaS)."},
-          {"sigmaColor", "colour sigma", 1e-6, 1e6, 0.5, ParamScale::Log, false,
-           "Colour range sigma (radiance units), widened by the colour variances."},
-          {"sigmaAlbedo", "albedo sigma", 1e-6, 1e6, 0.02, ParamScale::Log, false,
-           "Albedo range sigma, widened by the albedo variances."},
-          {"sigmaNormal", "normal sigma", 1e-6, 1e6, 0.05, ParamScale::Log, false,
-           "Normal range sigma, widened by the normal variances."},
-          {"sigmaDepth", "depth sigma (relative)", 1e-6, 1e6, 0.05, ParamScale::Log, false,
-           "Depth range sigma relative to the frame's mean depth."},
+          ParamSpec{"sigmaS", "spatial sigma (px)", 1e-6, 1e6, 4.0, ParamScale::Log, false,
+                    "Spatial standard deviation in pixels."}
+              .soft(0.5, 5.0),
+          ParamSpec{"radius", "window radius (px)", 0, kBilateralMaxRadius, 0,
+                    ParamScale::Linear, true, "Window radius; 0 picks ceil(3 sigmaS)."}
+              .soft(0, 0),
+          ParamSpec{"sigmaColor", "colour sigma", 1e-6, 1e6, 0.5, ParamScale::Log, false,
+                    "Colour range sigma (radiance units), widened by the colour variances."}
+              .soft(0.05, 5.0),
+          ParamSpec{"sigmaAlbedo", "albedo sigma", 1e-6, 1e6, 0.02, ParamScale::Log, false,
+                    "Albedo range sigma, widened by the albedo variances."}
+              .soft(0.005, 0.5),
+          ParamSpec{"sigmaNormal", "normal sigma", 1e-6, 1e6, 0.05, ParamScale::Log, false,
+                    "Normal range sigma, widened by the normal variances."}
+              .soft(0.01, 1.0),
+          ParamSpec{"sigmaDepth", "depth sigma (relative)", 1e-6, 1e6, 0.05, ParamScale::Log,
+                    false, "Depth range sigma relative to the frame's mean depth."}
+              .soft(0.005, 0.5),
       } {}
 
 std::string_view CrossBilateralFilter::description() const {

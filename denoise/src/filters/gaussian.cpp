@@ -223,8 +223,9 @@ Image gaussianBlur(const Image& image, double sigma, const Rect& roi, WorkContex
 }
 
 GaussianFilter::GaussianFilter()
-    : m_params{{"sigma", "sigma (px)", 1e-6, 1e6, 2.0, ParamScale::Log, false,
-                "Spatial standard deviation of the Gaussian in pixels."}} {}
+    : m_params{ParamSpec{"sigma", "sigma (px)", 1e-6, 1e6, 2.0, ParamScale::Log, false,
+                         "Spatial standard deviation of the Gaussian in pixels."}
+                   .soft(0.5, 8.0)} {}
 
 std::string_view GaussianFilter::description() const {
     return kDescription;

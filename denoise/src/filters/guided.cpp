@@ -290,9 +290,12 @@ void guidedStrip(const Image& color, const GuideSource& guide, const Layout& L, 
 
 GuidedFilter::GuidedFilter()
     : m_params{
-          {"radius", "radius (px)", 1, 64, 5, ParamScale::Linear, true, "Window radius in pixels."},
-          {"eps", "epsilon", 1e-8, 1e2, 5e-2, ParamScale::Log, false,
-           "Regulariser (guide units squared): larger smooths more."},
+          ParamSpec{"radius", "radius (px)", 1, 64, 5, ParamScale::Linear, true,
+                    "Window radius in pixels."}
+              .soft(1, 16),
+          ParamSpec{"eps", "epsilon", 1e-8, 1e2, 5e-2, ParamScale::Log, false,
+                    "Regulariser (guide units squared): larger smooths more."}
+              .soft(1e-4, 1.0),
           ParamSpec::choice("guide", "guide image", {"color", "albedo", "normal", "depth"}, 0,
                             "Image that steers the filter: colour luminance, or the albedo, "
                             "normal or depth layer."),

@@ -272,12 +272,15 @@ std::array<double, 3> estimateNoiseVariance(const Image& image) {
 
 NlMeansFilter::NlMeansFilter()
     : m_params{
-          {"patchRadius", "patch radius (px)", 0, 10, 3, ParamScale::Linear, true,
-           "Patch radius f: patches are (2f+1)^2 pixels."},
-          {"searchRadius", "search radius (px)", 1, 30, 10, ParamScale::Linear, true,
-           "Search radius s: the search window is (2s+1)^2 pixels."},
-          {"strength", "strength k", 1e-4, 10, 0.45, ParamScale::Log, false,
-           "Filter strength k: larger smooths more; k -> 0 is the identity."},
+          ParamSpec{"patchRadius", "patch radius (px)", 0, 10, 3, ParamScale::Linear, true,
+                    "Patch radius f: patches are (2f+1)^2 pixels."}
+              .soft(1, 3),
+          ParamSpec{"searchRadius", "search radius (px)", 1, 30, 10, ParamScale::Linear, true,
+                    "Search radius s: the search window is (2s+1)^2 pixels."}
+              .soft(3, 10),
+          ParamSpec{"strength", "strength k", 1e-4, 10, 0.45, ParamScale::Log, false,
+                    "Filter strength k: larger smooths more; k -> 0 is the identity."}
+              .soft(0.1, 2.0),
       } {}
 
 std::string_view NlMeansFilter::description() const {

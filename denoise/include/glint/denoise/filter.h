@@ -29,6 +29,10 @@ struct ParamSpec {
     ParamScale scale = ParamScale::Linear;
     bool integer = false;
     std::string help;  ///< one sentence
+    /// The useful part of [min, max] that sliders and the filter bank explore by default
+    /// (Blender's soft limits): [min, max] is what the filter accepts, [softMin, softMax] what
+    /// makes sense to try. softMin == softMax keeps the parameter at that value in a bank.
+    double softMin = 0.0, softMax = 1.0;
     /// Option names of a choice parameter (value = index, min 0, max size − 1); empty otherwise.
     std::vector<std::string> choices;
 
@@ -43,7 +47,12 @@ struct ParamSpec {
           defaultValue(defaultValue),
           scale(scale),
           integer(integer),
-          help(std::move(help)) {}
+          help(std::move(help)),
+          softMin(min),
+          softMax(max) {}
+
+    /// This spec with the soft range [lo, hi] (which must lie inside [min, max]).
+    ParamSpec soft(double lo, double hi) const;
 
     bool isChoice() const { return !choices.empty(); }
 

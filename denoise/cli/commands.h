@@ -1,0 +1,63 @@
+// glint-denoise's subcommands, one file per group: filter_commands.cpp (list, apply),
+// bank_commands.cpp (bank, oracle, navigate), session_commands.cpp (paint, composite), and the
+// helpers they share (cli_util.cpp). Private to the CLI.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "glint/denoise/filter.h"
+#include "glint/image/frame_buffers.h"
+#include "glint/image/image.h"
+
+namespace glint::denoise::cli {
+
+/// A registered subcommand and what runs it when it was given on the command line.
+struct Command {
+    CLI::App* app = nullptr;
+    std::function<void()> run;
+};
+
+std::vector<Command> addFilterCommands(CLI::App& app);
+std::vector<Command> addBankCommands(CLI::App& app);
+std::vector<Command> addSessionCommands(CLI::App& app);
+
+/// Splits "name=value"; `option` names the flag in the error.
+std::pair<std::string, std::string> splitKeyValue(const std::string& text,
+                                                  const std::string& option);
+
+/// Parses every "name=value" against `specs` (a choice takes an option name or its index) and
+/// resolves them; `owner` names the filter or the prefilter in errors, `option` the flag.
+ParamValues parseParams(const std::vector<std::string>& given, const std::vector<ParamSpec>& specs,
+                        const std::string& owner, const std::string& option);
+
+/// Parses "x0,x1,y0,y1" (half-open pixel rectangle); `option` names the flag in errors.
+Rect parseRect(const std::string& text, const std::string& option = "--roi");
+
+/// parseRect, then checks the rectangle is non-empty and inside a width × height frame read
+/// from `file`.
+Rect parseRegion(const std::string& text, int width, int height, const std::string& file,
+                 const std::string& option = "--roi");
+
+/// Reads a reference EXR of the given size (errors name the file).
+FrameBuffers readReference(const std::string& path, int width, int height);
+
+/// SSIM (null for a region smaller than its 11×11 window), PSNR and relMSE of `image` against
+/// `reference`, over `crop` when given.
+nlohmann::json metricsOf(const Image& image, const Image& reference,
+                         const std::optional<Rect>& crop);
+
+/// The parameter table of a filter or of the prefilter as JSON.
+nlohmann::json describe(const std::vector<ParamSpec>& specs);
+
+/// Prints one JSON object on stdout (invalid UTF-8 replaced).
+void printJson(const nlohmann::json& j);
+
+}  // namespace glint::denoise::cli

@@ -1,0 +1,117 @@
+// The filter bank: candidate results of every registered filter at Latin-hypercube samples of
+// its parameters (plus each filter's defaults), computed in parallel, optionally for a region
+// only, and cached on disk. Filters are black boxes here: only Filter/ParamSpec are used, so a
+// newly registered filter joins the bank without other changes (docs/navigation.md).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "glint/denoise/filter.h"
+#include "glint/denoise/progress.h"
+#include "glint/image/frame_buffers.h"
+#include "glint/image/image.h"
+
+namespace glint::denoise {
+
+/// Largest bank the options accept.
+inline constexpr int kMaxBankSize = 4096;
+
+/// One member of a bank: a filter with resolved parameters.
+struct BankMember {
+    std::string filter;      ///< registry name
+    ParamValues params;      ///< resolved
+    bool isDefault = false;  ///< the filter's default parameters (always a member)
+};
+
+/// How a bank is built.
+struct BankOptions {
+    int size = 64;           ///< Latin-hypercube members, 1 … kMaxBankSize (defaults come on top)
+    std::uint64_t seed = 1;  ///< of the Latin hypercube
+    std::vector<std::string> filters;  ///< restrict to these registry names (empty: all)
+    bool prefilter = false;            ///< build on prefiltered features (motion blur, DOF)
+    ParamValues prefilterParams;       ///< prefilter parameters (prefilterParams() specs)
+    /// Compute the members over this region only (each filter reads its margin around it);
+    /// the whole frame when empty. It must lie inside the frame.
+    std::optional<Rect> region;
+    /// Cache folder (one EXR per member and index.json); empty: no cache.
+    std::filesystem::path cacheDir;
+    /// Members done / total, serialised; returning false stops the build between members (and
+    /// inside the running ones): buildBank then throws Error(Cancelled).
+    ProgressFn progress;
+};
+
+/// Throws glint::Error(InvalidArgument) naming the first bad option (size, unknown filter...).
+void validate(const BankOptions& options);
+
+/// A Latin-hypercube design: n points in [0, 1)^dims with exactly one point in each stratum
+/// [i/n, (i+1)/n) of every dimension (McKay, Beckman & Conover 1979), jittered inside the
+/// strata; deterministic for a seed. points[i][d].
+std::vector<std::vector<double>> latinHypercube(int n, int dims, std::uint64_t seed);
+
+/// Maps u in [0, 1] onto a parameter's soft range by its scale (log or linear); integers and
+/// choices are rounded to the nearest allowed value (each of the n values gets 1/n of [0, 1]).
+double mapParam(const ParamSpec& spec, double u);
+
+/// The members of a bank over `filters`: first each filter's defaults, then `size` members from
+/// a Latin hypercube with one dimension for the filter (continuous in [1, M], rounded) and one
+/// per parameter of the filter with the most parameters (unused dimensions ignored).
+std::vector<BankMember> sampleBank(const std::vector<const Filter*>& filters, int size,
+                                   std::uint64_t seed);
+
+/// A computed bank: its members and their results over its region.
+class FilterBank {
+  public:
+    FilterBank() = default;
+    FilterBank(std::vector<BankMember> members, std::vector<Image> results, Rect region,
+               int frameWidth, int frameHeight, std::uint64_t inputHash);
+
+    const std::vector<BankMember>& members() const { return m_members; }
+    std::size_t size() const { return m_members.size(); }
+    /// Result of member i over region() (3 channels, region-sized).
+    const Image& result(std::size_t i) const { return m_results[i]; }
+    const std::vector<Image>& results() const { return m_results; }
+    /// The region the results cover (frame coordinates).
+    const Rect& region() const { return m_region; }
+    int frameWidth() const { return m_frameWidth; }
+    int frameHeight() const { return m_frameHeight; }
+    /// hashFrame() of the input the bank was computed from (after prefiltering: of the input).
+    std::uint64_t inputHash() const { return m_inputHash; }
+    /// Members read from the cache (the rest were computed) by the build that made this bank.
+    std::size_t cacheHits() const { return m_cacheHits; }
+    void setCacheHits(std::size_t hits) { m_cacheHits = hits; }
+
+  private:
+    std::vector<BankMember> m_members;
+    std::vector<Image> m_results;
+    Rect m_region;
+    int m_frameWidth = 0, m_frameHeight = 0;
+    std::uint64_t m_inputHash = 0;
+    std::size_t m_cacheHits = 0;
+};
+
+/// Builds the bank of `frame`: members in parallel (TBB), each result cached when a cache folder
+/// is given. A cache entry is reused only when the input hash, filter name, parameters, filter
+/// version, prefilter settings and region all match and its pixels pass their checksum; a
+/// damaged entry is recomputed. Throws glint::Error: InvalidArgument for bad options (or a
+/// frame lacking a layer every selected filter needs), Cancelled when progress says stop, Io
+/// when the cache cannot be written.
+FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options);
+
+/// Opens the bank cached in `dir` for `frame`: the options are read from the folder's index,
+/// intact entries are read and damaged or missing ones recomputed. Throws glint::Error(Format)
+/// naming the folder when it holds no bank or the bank of another image.
+FilterBank openBank(const FrameBuffers& frame, const std::filesystem::path& dir,
+                    const ProgressFn& progress = {});
+
+/// The options a cache folder was built with (its index.json). Throws glint::Error(Io/Format)
+/// naming the folder or file.
+BankOptions readBankOptions(const std::filesystem::path& dir);
+
+/// 64-bit hash of a frame's size and every layer's pixels: the cache key of an input.
+std::uint64_t hashFrame(const FrameBuffers& frame);
+
+}  // namespace glint::denoise

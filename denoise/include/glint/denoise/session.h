@@ -1,0 +1,142 @@
+// The painting and compositing session: an input render, an ordered list of filter layers each
+// with a weight map, and the composite built left to right,
+//   composite = composite·(1 − w) + filterOutput·w   (starting from the input colour),
+// where every filter reads the original input (filters never stack). Strokes, fills and
+// Poisson diffusion edit the weight maps; every edit is one undo step; sessions are saved as one
+// JSON file plus EXR side files (docs/navigation.md, "The session").
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "glint/denoise/filter.h"
+#include "glint/denoise/paint.h"
+#include "glint/denoise/progress.h"
+#include "glint/image/frame_buffers.h"
+#include "glint/image/image.h"
+#include "glint/image/io.h"
+
+namespace glint::denoise {
+
+/// The version of the session file this Glint writes (and the newest it reads).
+inline constexpr int kSessionFormat = 1;
+
+/// One layer: a filter with resolved parameters, its output over the whole frame, and where it
+/// shows.
+struct SessionLayer {
+    std::string filter;  ///< registry name
+    ParamValues params;  ///< resolved
+    Image output;        ///< the filter applied to the whole input (3 channels)
+    Image weights;       ///< 1 channel in [0, 1], frame-sized
+    Image painted;       ///< 1 channel, 1 where a stroke or fill set the weight (0 elsewhere)
+};
+
+/// Whether a stroke or fill adds weight (left button) or removes it (right button).
+enum class BrushMode { Add, Subtract };
+
+/// How the session treats its input.
+struct SessionOptions {
+    bool prefilter = false;       ///< filters read prefiltered features
+    ParamValues prefilterParams;  ///< of prefilterFeatures
+};
+
+class Session {
+  public:
+    /// A session over `input` (with a colour layer), no layers yet. Throws
+    /// glint::Error(InvalidArgument) for an empty frame or bad prefilter parameters.
+    explicit Session(FrameBuffers input, const SessionOptions& options = {});
+    ~Session();
+    Session(Session&&) noexcept;
+    Session& operator=(Session&&) noexcept;
+
+    /// The input as rendered.
+    const FrameBuffers& input() const;
+    /// The input as the filters see it (features prefiltered when the options say so).
+    const FrameBuffers& filterInput() const;
+    const SessionOptions& options() const;
+    int width() const;
+    int height() const;
+
+    std::size_t layerCount() const;
+    const SessionLayer& layer(std::size_t index) const;
+    /// The composite colour (3 channels, frame-sized).
+    const Image& composite() const;
+
+    /// Adds a layer on top with weight 0 everywhere. Runs the filter over the whole input
+    /// unless `output` (frame-sized, 3 channels: e.g. a bank member's whole-frame result) is
+    /// given. One undo step. Returns its index. Throws glint::Error for an unknown filter, bad
+    /// parameters or a missing layer (nothing changes then), Cancelled when progress says stop.
+    std::size_t addLayer(const std::string& filter, const ParamValues& params,
+                         std::optional<Image> output = std::nullopt,
+                         const ProgressFn& progress = {});
+    /// Removes a layer. One undo step.
+    void removeLayer(std::size_t index);
+    /// Replaces a layer's weights (1 channel, frame-sized, clamped to [0, 1]) and marks every
+    /// pixel painted (e.g. "apply everywhere", an automatic start). One undo step.
+    void setWeights(std::size_t index, const Image& weights);
+
+    /// Starts a stroke on a layer. Within a stroke the coverage is the maximum of the dabs'
+    /// brush weights, and each pixel's weight becomes clamp(weight before the stroke ± coverage,
+    /// 0, 1), so overlapping dabs do not pile up. Throws glint::Error(InvalidArgument) for a bad
+    /// layer index or brush, or when a stroke is already open.
+    void beginStroke(std::size_t layer, const Brush& brush, BrushMode mode);
+    /// A dab of the open stroke centred at (x, y) (pixel (i, j) covers [i, i+1) × [j, j+1)).
+    /// Updates only the weights and composite pixels inside the dab's rectangle; returns it.
+    Rect dab(double x, double y);
+    /// Ends the stroke: one undo step (nothing when no dab changed anything).
+    void endStroke();
+    /// True while a stroke is open.
+    bool inStroke() const;
+
+    /// Sets a layer's weights to 1 (Add) or 0 (Subtract) where `mask` (1 channel,
+    /// frame-sized, e.g. magicWand's result) is > 0, and marks them painted. One undo step.
+    /// Returns the bounding rectangle of the change.
+    Rect fill(std::size_t layer, const Image& mask, BrushMode mode);
+
+    /// Poisson-diffusion blending (diffuseWeights): for each of `layers`, its painted pixels
+    /// keep their weights, the pixels painted on the other listed layers are fixed at 0, and
+    /// every other pixel is solved for, one map per layer. One undo step. Throws
+    /// glint::Error(InvalidArgument) when a listed layer has no painted pixel.
+    void diffuse(const std::vector<std::size_t>& layers, const DiffusionOptions& options = {});
+
+    bool canUndo() const;
+    bool canRedo() const;
+    /// Undoes the last edit (layer added or removed, weights set, stroke, fill, diffusion).
+    void undo();
+    void redo();
+
+    /// Re-applies every layer's filter to a new render of the same scene (same size), keeping
+    /// the weights: the look changed, the painting stays. Throws glint::Error(InvalidArgument)
+    /// for another size (nothing changes then). Clears the undo history.
+    void reapply(FrameBuffers newInput, const ProgressFn& progress = {});
+
+    /// What the studio keeps with a session (saved and loaded, not interpreted here).
+    std::optional<Rect> region;                      ///< the region of interest
+    std::filesystem::path bankDir;                   ///< the bank cache folder, if any
+    std::map<std::string, std::string> viewState;  ///< free-form view settings
+
+    /// Saves NAME.glint-session.json (with "format") plus the side folder
+    /// NAME.glint-session/ holding input.exr and one weights EXR per layer, written
+    /// atomically (a failed save leaves the old session intact). Throws glint::Error(Io).
+    void save(const std::filesystem::path& path) const;
+    /// Loads a saved session, re-running the layers' filters. Throws glint::Error naming the
+    /// file: Format for malformed or truncated JSON (with line and column) or a format newer
+    /// than kSessionFormat, Io for a missing side file.
+    static Session load(const std::filesystem::path& path, const ProgressFn& progress = {});
+
+    /// Writes the input's layers with the colour replaced by the composite (layered EXR).
+    void exportExr(const std::filesystem::path& path) const;
+    /// Writes an 8-bit PNG of the composite.
+    void exportPng(const std::filesystem::path& path, const DisplayOptions& display = {}) const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
+}  // namespace glint::denoise
