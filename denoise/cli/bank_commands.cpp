@@ -1,11 +1,303 @@
 // glint-denoise bank | oracle | navigate: build a filter bank, measure what it can reach, walk
 // its navigation tree as a simulated user (docs/navigation.md).
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+
 #include "commands.h"
+#include "glint/denoise/bank.h"
+#include "glint/denoise/navigation.h"
+#include "glint/denoise/oracle.h"
+#include "glint/denoise/prefilter.h"
+#include "glint/denoise/registry.h"
+#include "glint/image/error.h"
+#include "glint/image/io.h"
+#include "glint/image/metrics.h"
 
 namespace glint::denoise::cli {
 
-std::vector<Command> addBankCommands(CLI::App&) {
-    return {};
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+std::vector<std::string> splitList(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream in(text);
+    std::string item;
+    while (std::getline(in, item, ','))
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+json memberJson(const FilterBank& bank, int m) {
+    if (m < 0) return nullptr;
+    const BankMember& b = bank.members()[std::size_t(m)];
+    return {{"index", m}, {"filter", b.filter}, {"params", b.params}, {"default", b.isDefault}};
+}
+
+std::string memberText(const FilterBank& bank, int m) {
+    const BankMember& b = bank.members()[std::size_t(m)];
+    std::string text = "#" + std::to_string(m) + " " + b.filter;
+    const Filter& f = findFilter(b.filter);
+    for (const auto& [k, v] : b.params)
+        if (const ParamSpec* spec = findParam(f.params(), k))
+            text += " " + k + "=" + formatParamValue(*spec, v);
+    return text;
+}
+
+// ---- bank ------------------------------------------------------------------------------------
+
+struct BankArgs {
+    std::string input, out, filters, roi;
+    int size = 64;
+    std::uint64_t seed = 1;
+    bool prefilter = false, json = false;
+    std::vector<std::string> prefilterParams;
+};
+
+void runBank(const BankArgs& a) {
+    BankOptions options;
+    options.size = a.size;
+    options.seed = a.seed;
+    options.filters = splitList(a.filters);
+    options.prefilter = a.prefilter;
+    options.prefilterParams =
+        parseParams(a.prefilterParams, prefilterParams(), "feature prefilter", "--prefilter-param");
+    if (!a.prefilterParams.empty() && !a.prefilter)
+        throw Error(ErrorKind::InvalidArgument, "given without --prefilter", {},
+                    "--prefilter-param");
+    validate(options);  // before reading anything or creating the folder
+    if (fs::exists(a.out) && !fs::is_directory(a.out))
+        throw Error(ErrorKind::InvalidArgument, "exists and is not a folder", a.out, "--out");
+    const FrameBuffers frame = readExr(a.input);
+    if (!a.roi.empty()) options.region = parseRegion(a.roi, frame.width(), frame.height(), a.input);
+    fs::create_directories(a.out);
+    options.cacheDir = a.out;
+    const bool tty = isatty(fileno(stderr)) != 0;
+    if (tty && !a.json)
+        options.progress = [](double f) {
+            std::fprintf(stderr, "\rglint-denoise: bank %3d%%", int(f * 100.0 + 0.5));
+            return true;
+        };
+    const auto t0 = Clock::now();
+    const FilterBank bank = buildBank(frame, options);
+    const double seconds = secondsSince(t0);
+    if (tty && !a.json) std::fprintf(stderr, "\n");
+    json members = json::array();
+    for (int m = 0; m < int(bank.size()); ++m) members.push_back(memberJson(bank, m));
+    const json report{{"input", a.input},
+                      {"bank", a.out},
+                      {"members", bank.size()},
+                      {"computed", bank.size() - bank.cacheHits()},
+                      {"cached", bank.cacheHits()},
+                      {"region", {bank.region().x0, bank.region().x1, bank.region().y0,
+                                  bank.region().y1}},
+                      {"seconds", seconds},
+                      {"list", members}};
+    if (a.json) {
+        printJson(report);
+        return;
+    }
+    std::printf("bank of %zu members over %dx%d in %.2f s (%zu computed, %zu from the cache) -> %s\n",
+                bank.size(), bank.region().width(), bank.region().height(), seconds,
+                bank.size() - bank.cacheHits(), bank.cacheHits(), a.out.c_str());
+}
+
+// ---- oracle ----------------------------------------------------------------------------------
+
+struct OracleArgs {
+    std::string input, reference, bank, choiceMap;
+    bool json = false;
+};
+
+void runOracle(const OracleArgs& a) {
+    if (!a.choiceMap.empty() && fs::path(a.choiceMap).extension() != ".png")
+        throw Error(ErrorKind::InvalidArgument, "the choice map is written as PNG (.png)",
+                    a.choiceMap, "--choice-map");
+    const FrameBuffers frame = readExr(a.input);
+    const FrameBuffers ref = readReference(a.reference, frame.width(), frame.height());
+    const auto t0 = Clock::now();
+    const FilterBank bank = openBank(frame, a.bank);
+    const OracleResult r = oracle(bank, frame.color(), ref.color());
+    const double seconds = secondsSince(t0);
+    if (!a.choiceMap.empty()) {
+        DisplayOptions d;
+        d.falseColorChannel = 0;
+        d.falseColorLo = 0.0f;
+        d.falseColorHi = float(bank.size() - 1);
+        writePng(r.choice, a.choiceMap, d);
+    }
+    json best3 = json::array();
+    for (int m : r.best3Members) best3.push_back(memberJson(bank, m));
+    const json report{{"input", a.input},       {"reference", a.reference},
+                      {"bank", a.bank},         {"members", bank.size()},
+                      {"noisy", r.noisy},       {"bestSingle", r.bestSingle},
+                      {"bestMember", memberJson(bank, r.bestMember)},
+                      {"best3", r.best3},       {"best3Members", best3},
+                      {"perPixel", r.perPixel}, {"seconds", seconds}};
+    if (a.json) {
+        printJson(report);
+        return;
+    }
+    std::printf("SSIM against %s over %dx%d (%zu members):\n", a.reference.c_str(),
+                bank.region().width(), bank.region().height(), bank.size());
+    std::printf("  noisy               %.4f\n", r.noisy);
+    std::printf("  best single         %.4f  %s\n", r.bestSingle,
+                memberText(bank, r.bestMember).c_str());
+    std::printf("  best 3, per pixel   %.4f\n", r.best3);
+    std::printf("  per-pixel optimal   %.4f\n", r.perPixel);
+    if (!a.choiceMap.empty()) std::printf("  choice map -> %s\n", a.choiceMap.c_str());
+}
+
+// ---- navigate --------------------------------------------------------------------------------
+
+struct NavigateArgs {
+    std::string input, reference, bank, roi, distance = "mse";
+    bool simulate = false, json = false;
+    int k = 4;
+    double p = 0.5;
+};
+
+void runNavigate(const NavigateArgs& a) {
+    if (!a.simulate)
+        throw Error(ErrorKind::InvalidArgument,
+                    "only the simulated user is scripted (--simulate); the studio navigates "
+                    "interactively",
+                    {}, "--simulate");
+    TreeOptions options;
+    options.k = a.k;
+    options.p = a.p;
+    if (a.distance == "ssim")
+        options.distance = ImageDistance::Ssim;
+    else if (a.distance != "mse")
+        throw Error(ErrorKind::InvalidArgument,
+                    "unknown distance '" + a.distance + "' (expected mse or ssim)", {},
+                    "--distance");
+    validate(options);
+    const FrameBuffers frame = readExr(a.input);
+    const FrameBuffers ref = readReference(a.reference, frame.width(), frame.height());
+    const FilterBank bank = openBank(frame, a.bank);
+    Rect region = bank.region();
+    if (!a.roi.empty()) {
+        region = parseRegion(a.roi, frame.width(), frame.height(), a.input);
+        if (intersect(region, bank.region()) != region)
+            throw Error(ErrorKind::InvalidArgument, "the region lies outside the bank's region",
+                        a.bank, "--roi");
+    }
+    if (region.width() < 11 || region.height() < 11)
+        throw Error(ErrorKind::InvalidArgument, "the region must be at least 11x11 pixels (SSIM)",
+                    a.input, "--roi");
+    const auto t0 = Clock::now();
+    const NavigationTree tree = NavigationTree::fromBank(bank, options, region);
+    const double treeSeconds = secondsSince(t0);
+    const Rect local{region.x0 - bank.region().x0, region.x1 - bank.region().x0,
+                     region.y0 - bank.region().y0, region.y1 - bank.region().y0};
+    std::vector<Image> crops;
+    for (const Image& im : bank.results()) crops.push_back(im.crop(local));
+    std::vector<const Image*> images;
+    for (const Image& im : crops) images.push_back(&im);
+    const Image refCrop = ref.color().crop(region);
+    const std::vector<SimulatedChoice> steps = simulateUser(tree, images, refCrop);
+    MetricOptions mo;
+    const double noisy = ssim(frame.color().crop(region), refCrop, mo).value;
+    double bestSingle = -1.0;
+    int bestMember = -1;
+    for (int m = 0; m < int(images.size()); ++m) {
+        const double s = ssim(*images[std::size_t(m)], refCrop, mo).value;
+        if (s > bestSingle) bestSingle = s, bestMember = m;
+    }
+    // The share of the best single member's gain reached after each choice.
+    auto share = [&](double s) {
+        return bestSingle > noisy ? (s - noisy) / (bestSingle - noisy) : 1.0;
+    };
+    json list = json::array();
+    for (std::size_t i = 0; i < steps.size(); ++i)
+        list.push_back({{"choice", i + 1},
+                        {"option", steps[i].option},
+                        {"member", memberJson(bank, steps[i].member)},
+                        {"ssim", steps[i].ssim},
+                        {"shareOfBestGain", share(steps[i].ssim)}});
+    int within = -1;
+    for (std::size_t i = 0; i < steps.size() && within < 0; ++i)
+        if (share(steps[i].ssim) >= 0.9) within = int(i) + 1;
+    const json report{{"input", a.input},
+                      {"bank", a.bank},
+                      {"region", {region.x0, region.x1, region.y0, region.y1}},
+                      {"nodes", tree.nodeCount()},
+                      {"treeSeconds", treeSeconds},
+                      {"noisy", noisy},
+                      {"bestSingle", bestSingle},
+                      {"bestMember", memberJson(bank, bestMember)},
+                      {"choices", list},
+                      {"choicesTo90PercentOfBestGain", within < 0 ? json(nullptr) : json(within)}};
+    if (a.json) {
+        printJson(report);
+        return;
+    }
+    std::printf("navigation tree: %zu nodes over %zu members in %.3f s\n", tree.nodeCount(),
+                tree.memberCount(), treeSeconds);
+    std::printf("SSIM: noisy %.4f, best single %.4f (%s)\n", noisy, bestSingle,
+                memberText(bank, bestMember).c_str());
+    for (std::size_t i = 0; i < steps.size(); ++i)
+        std::printf("  choice %zu: option %d -> %.4f (%3.0f%% of the best gain)  %s\n", i + 1,
+                    steps[i].option, steps[i].ssim, 100.0 * share(steps[i].ssim),
+                    memberText(bank, steps[i].member).c_str());
+    if (within > 0)
+        std::printf("90%% of the best single member's gain after %d choices\n", within);
+    else
+        std::printf("90%% of the best single member's gain not reached\n");
+}
+
+}  // namespace
+
+std::vector<Command> addBankCommands(CLI::App& app) {
+    auto bank = std::make_shared<BankArgs>();
+    CLI::App* bankCmd = app.add_subcommand("bank", "Build (or update) a filter bank's cache folder");
+    bankCmd->add_option("IN", bank->input, "Input layered EXR")->required();
+    bankCmd->add_option("--out", bank->out, "Bank folder (created; reused as a cache)")->required();
+    bankCmd->add_option("--size", bank->size, "Latin-hypercube members (1 … 4096; defaults on top)");
+    bankCmd->add_option("--seed", bank->seed, "Seed of the Latin hypercube");
+    bankCmd->add_option("--filters", bank->filters, "Only these filters, comma-separated");
+    bankCmd->add_flag("--prefilter", bank->prefilter, "Build on prefiltered features");
+    bankCmd->add_option("--prefilter-param", bank->prefilterParams, "Prefilter parameter k=v");
+    bankCmd->add_option("--roi", bank->roi, "Only this region x0,x1,y0,y1 (half-open)");
+    bankCmd->add_flag("--json", bank->json, "Print one JSON object on stdout");
+
+    auto orc = std::make_shared<OracleArgs>();
+    CLI::App* oracleCmd =
+        app.add_subcommand("oracle", "SSIM of noisy, best single, best 3 and per-pixel choices");
+    oracleCmd->add_option("IN", orc->input, "Input layered EXR")->required();
+    oracleCmd->add_option("--reference", orc->reference, "Reference EXR")->required();
+    oracleCmd->add_option("--bank", orc->bank, "Bank folder of IN")->required();
+    oracleCmd->add_option("--choice-map", orc->choiceMap, "Write the per-pixel choice as a PNG");
+    oracleCmd->add_flag("--json", orc->json, "Print one JSON object on stdout");
+
+    auto nav = std::make_shared<NavigateArgs>();
+    CLI::App* navCmd =
+        app.add_subcommand("navigate", "Walk the navigation tree as a simulated user");
+    navCmd->add_option("IN", nav->input, "Input layered EXR")->required();
+    navCmd->add_option("--bank", nav->bank, "Bank folder of IN")->required();
+    navCmd->add_option("--reference", nav->reference, "Reference EXR")->required();
+    navCmd->add_flag("--simulate", nav->simulate, "Pick the child closest to the reference");
+    navCmd->add_option("--roi", nav->roi, "Region x0,x1,y0,y1 (inside the bank's region)");
+    navCmd->add_option("--k", nav->k, "Children per node (>= 2)");
+    navCmd->add_option("--p", nav->p, "Fraction of a node each child keeps, in (0, 1)");
+    navCmd->add_option("--distance", nav->distance, "mse | ssim");
+    navCmd->add_flag("--json", nav->json, "Print one JSON object on stdout");
+
+    return {{bankCmd, [bank] { runBank(*bank); }},
+            {oracleCmd, [orc] { runOracle(*orc); }},
+            {navCmd, [nav] { runNavigate(*nav); }}};
 }
 
 }  // namespace glint::denoise::cli

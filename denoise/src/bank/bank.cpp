@@ -1,0 +1,179 @@
+// Building a bank: the usable filters, the Latin-hypercube members, their results computed in
+// parallel (TBB, the caller's pool shared with the filters' own loops) or read from the cache.
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <cstring>
+#include <mutex>
+
+#include "bank/bank_cache.h"
+#include "glint/denoise/bank.h"
+#include "glint/denoise/prefilter.h"
+#include "glint/denoise/registry.h"
+#include "glint/image/error.h"
+#include "glint/image/random.h"
+
+namespace glint::denoise {
+
+FilterBank::FilterBank(std::vector<BankMember> members, std::vector<Image> results, Rect region,
+                       int frameWidth, int frameHeight, std::uint64_t inputHash)
+    : m_members(std::move(members)),
+      m_results(std::move(results)),
+      m_region(region),
+      m_frameWidth(frameWidth),
+      m_frameHeight(frameHeight),
+      m_inputHash(inputHash) {
+    GLINT_CHECK(m_members.size() == m_results.size(), "one result per bank member");
+}
+
+void validate(const BankOptions& options) {
+    auto bad = [](const std::string& what, const char* option) {
+        throw Error(ErrorKind::InvalidArgument, what, {}, option);
+    };
+    if (options.size < 1 || options.size > kMaxBankSize)
+        bad("bank size " + std::to_string(options.size) + " must be in [1, " +
+                std::to_string(kMaxBankSize) + "]",
+            "--size");
+    for (const std::string& name : options.filters) {
+        try {
+            findFilter(name);
+        } catch (const Error& e) {
+            bad(e.message(), "--filters");
+        }
+    }
+    if (options.prefilter) resolveParams(prefilterParams(), options.prefilterParams, "feature prefilter");
+    if (options.region && options.region->empty())
+        bad("the region of interest is empty", "--roi");
+}
+
+std::uint64_t hashFrame(const FrameBuffers& frame) {
+    std::uint64_t h = hash64(std::uint64_t(frame.width()), std::uint64_t(frame.height()));
+    for (int l = 0; l < kLayerCount; ++l) {
+        const Image* layer = frame.find(Layer(l));
+        if (!layer) continue;
+        h = hash64(h, 0x6c61796572ULL + std::uint64_t(l));  // "layer" + index
+        const std::span<const float> data = layer->data();
+        const auto* bytes = reinterpret_cast<const unsigned char*>(data.data());
+        const std::size_t n = data.size_bytes();
+        std::size_t i = 0;
+        for (; i + 8 <= n; i += 8) {
+            std::uint64_t word;
+            std::memcpy(&word, bytes + i, 8);
+            h = mix64(h ^ word) + 0x9e3779b97f4a7c15ULL;
+        }
+        for (; i < n; ++i) h = mix64(h ^ bytes[i]);
+    }
+    return h;
+}
+
+namespace {
+
+// The filters of the options (all registered ones when none are named) that can run on this
+// frame with their default parameters.
+std::vector<const Filter*> usableFilters(const FrameBuffers& frame, const BankOptions& options) {
+    std::vector<const Filter*> chosen;
+    if (options.filters.empty())
+        chosen = allFilters();
+    else
+        for (const std::string& name : options.filters) chosen.push_back(&findFilter(name));
+    std::vector<const Filter*> usable;
+    std::string missing;
+    for (const Filter* f : chosen) {
+        bool ok = true;
+        for (Layer l : f->requiredLayers(resolveParams(*f, {}))) ok = ok && frame.has(l);
+        if (ok)
+            usable.push_back(f);
+        else
+            missing += (missing.empty() ? "" : ", ") + std::string(f->name());
+    }
+    if (usable.empty())
+        throw Error(ErrorKind::InvalidArgument,
+                    "no selected filter can run on this frame (" + missing +
+                        " need feature layers it lacks)",
+                    {}, "--filters");
+    return usable;
+}
+
+// Members whose parameters need a layer the frame lacks (a guide layer, say) are left out.
+bool canRun(const FrameBuffers& frame, const BankMember& member) {
+    const Filter& f = findFilter(member.filter);
+    for (Layer l : f.requiredLayers(member.params))
+        if (!frame.has(l)) return false;
+    return true;
+}
+
+}  // namespace
+
+FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options) {
+    validate(options);
+    const Rect bounds{0, frame.width(), 0, frame.height()};
+    const Rect region = options.region.value_or(bounds);
+    if (intersect(region, bounds) != region)
+        throw Error(ErrorKind::InvalidArgument,
+                    "region x [" + std::to_string(region.x0) + ", " + std::to_string(region.x1) +
+                        "), y [" + std::to_string(region.y0) + ", " + std::to_string(region.y1) +
+                        ") is outside the " + std::to_string(frame.width()) + "x" +
+                        std::to_string(frame.height()) + " frame",
+                    {}, "--roi");
+    const std::vector<const Filter*> filters = usableFilters(frame, options);
+    std::vector<BankMember> members;
+    for (BankMember& m : sampleBank(filters, options.size, options.seed))
+        if (canRun(frame, m)) members.push_back(std::move(m));
+
+    const std::uint64_t inputHash = hashFrame(frame);
+    detail::BankCache cache(options.cacheDir, inputHash, frame.width(), frame.height(), options);
+    std::vector<Image> results(members.size());
+    std::vector<std::uint64_t> keys(members.size());
+    std::vector<char> hit(members.size(), 0);
+    std::size_t hits = 0;
+    for (std::size_t i = 0; i < members.size(); ++i) {
+        keys[i] = cache.key(members[i], region);
+        if (cache.read(keys[i], region, results[i])) hit[i] = 1, ++hits;
+    }
+
+    // Progress: members done (hits count as done) / total.
+    std::mutex progressMutex;
+    std::atomic<bool> stop{false};
+    std::atomic<std::size_t> done{hits};
+    auto report = [&] {
+        if (!options.progress) return;
+        const std::lock_guard<std::mutex> lock(progressMutex);
+        if (!stop.load() && !options.progress(double(done.load()) / double(members.size())))
+            stop.store(true);
+    };
+    report();
+    if (stop.load()) throw Error(ErrorKind::Cancelled, "bank cancelled");
+
+    const bool needInput = hits < members.size();
+    const FrameBuffers input = needInput && options.prefilter
+                                   ? prefilterFeatures(frame, options.prefilterParams)
+                                   : FrameBuffers{};
+    const FrameBuffers& filterInput = options.prefilter ? input : frame;
+
+    // Members in parallel; each filter's own loops share the same threads (FilterOptions::threads
+    // = 0), and a stop reaches the running filters through their progress callbacks.
+    tbb::parallel_for(std::size_t(0), members.size(), [&](std::size_t i) {
+        if (hit[i] || stop.load()) return;
+        FilterOptions fo;
+        fo.region = region;
+        fo.progress = [&](double) { return !stop.load(); };
+        try {
+            results[i] = applyFilter(findFilter(members[i].filter), filterInput, members[i].params, fo);
+        } catch (const Error& e) {
+            if (e.kind() == ErrorKind::Cancelled) return;
+            throw;
+        }
+        cache.write(keys[i], members[i], region, results[i]);
+        ++done;
+        report();
+    });
+    if (stop.load()) throw Error(ErrorKind::Cancelled, "bank cancelled");
+    cache.writeIndex(members, keys, region);
+
+    FilterBank bank(std::move(members), std::move(results), region, frame.width(), frame.height(),
+                    inputHash);
+    bank.setCacheHits(hits);
+    return bank;
+}
+
+}  // namespace glint::denoise
