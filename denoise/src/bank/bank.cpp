@@ -125,11 +125,13 @@ FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options) {
     std::vector<Image> results(members.size());
     std::vector<std::uint64_t> keys(members.size());
     std::vector<char> hit(members.size(), 0);
+    for (std::size_t i = 0; i < members.size(); ++i) keys[i] = cache.key(members[i], region);
+    // Cached results are read in parallel (reopening a bank is mostly reading files).
+    tbb::parallel_for(std::size_t(0), members.size(), [&](std::size_t i) {
+        if (cache.read(keys[i], region, results[i])) hit[i] = 1;
+    });
     std::size_t hits = 0;
-    for (std::size_t i = 0; i < members.size(); ++i) {
-        keys[i] = cache.key(members[i], region);
-        if (cache.read(keys[i], region, results[i])) hit[i] = 1, ++hits;
-    }
+    for (char h : hit) hits += std::size_t(h);
 
     // Progress: members done (hits count as done) / total.
     std::mutex progressMutex;

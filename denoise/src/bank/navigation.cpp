@@ -38,28 +38,30 @@ void validate(const TreeOptions& o) {
 
 namespace {
 
-// Display values (exposure, clamp, sRGB) box-downsampled by an integer factor so that the
-// longer side is at most maxSide (but never below minSide per side).
+// Display values (exposure, clamp, sRGB) of the image box-downsampled (in linear values, which
+// keeps the sRGB work small) by an integer factor so that the longer side is at most maxSide
+// (but never below minSide per side).
 Image displaySmall(const Image& linear, float exposure, int maxSide, int minSide) {
+    const int longer = std::max(linear.width(), linear.height());
+    int f = maxSide > 0 ? (longer + maxSide - 1) / maxSide : 1;
+    while (f > 1 && std::min(linear.width(), linear.height()) / f < minSide) --f;
     DisplayOptions d;
     d.exposure = exposure;
-    const Image disp = toDisplay(linear, d);
-    const int longer = std::max(disp.width(), disp.height());
-    int f = maxSide > 0 ? (longer + maxSide - 1) / maxSide : 1;
-    while (f > 1 && std::min(disp.width(), disp.height()) / f < minSide) --f;
-    if (f <= 1) return disp;
-    const int w = disp.width() / f, h = disp.height() / f;
-    Image out(w, h, 3);
+    if (f <= 1) return toDisplay(linear, d);
+    const int w = linear.width() / f, h = linear.height() / f;
+    Image small(w, h, 3);
     const float inv = 1.0f / float(f * f);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             for (int c = 0; c < 3; ++c) {
                 float s = 0.0f;
-                for (int dy = 0; dy < f; ++dy)
-                    for (int dx = 0; dx < f; ++dx) s += disp(x * f + dx, y * f + dy, c);
-                out(x, y, c) = s * inv;
+                for (int dy = 0; dy < f; ++dy) {
+                    const float* row = linear.row(y * f + dy) + std::size_t(x * f) * 3 + c;
+                    for (int dx = 0; dx < f; ++dx) s += row[std::size_t(dx) * 3];
+                }
+                small(x, y, c) = s * inv;
             }
-    return out;
+    return toDisplay(small, d);
 }
 
 double meanSquared(const Image& a, const Image& b) {

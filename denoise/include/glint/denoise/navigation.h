@@ -27,8 +27,9 @@ struct TreeOptions {
     double p = 0.5;     ///< fraction of a node's members each child keeps, in (0, 1); k·p >= 1
     ImageDistance distance = ImageDistance::Mse;
     float exposure = 0.0f;  ///< stops, for the display values
-    /// Images are box-downsampled until their longer side is at most this (0: never), which
-    /// keeps building the tree for 64 members fast; SSIM uses at least 11 px per side.
+    /// Images are box-downsampled (linear values, then display) until their longer side is at
+    /// most this (0: never), which keeps building the tree for 64 members fast; SSIM keeps at
+    /// least 11 px per side.
     int maxSide = 128;
     int refinements = 4;     ///< k-medoids iterations after the k-means++ start
     std::uint64_t seed = 1;  ///< of k-means++
