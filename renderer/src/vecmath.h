@@ -101,9 +101,17 @@ struct Frame {
     Vec3 toWorld(const Vec3& v) const { return s * v.x + t * v.y + n * v.z; }
 };
 
+/// How far a ray starts off a surface at p: relative to the point's magnitude (the float error
+/// of a hit point grows with it) plus a small share of the scene's extent (the error of a hit
+/// far along a ray, even near the origin), so the same scene at any scale gives the same image:
+/// there is no absolute epsilon.
+inline float rayEpsilon(const Vec3& p, float sceneExtent) {
+    return 1e-4f * maxAbsComponent(p) + 1e-5f * sceneExtent;
+}
+
 /// Offset of a ray origin off a surface at p along the geometric normal (towards `side`).
-inline Vec3 offsetRayOrigin(const Vec3& p, const Vec3& ng, const Vec3& side) {
-    const float eps = 1e-4f * (1.0f + maxAbsComponent(p));
+inline Vec3 offsetRayOrigin(const Vec3& p, const Vec3& ng, const Vec3& side, float sceneExtent) {
+    const float eps = rayEpsilon(p, sceneExtent);
     return dot(ng, side) >= 0.0f ? p + ng * eps : p - ng * eps;
 }
 

@@ -162,14 +162,14 @@ void PathIntegrator::trace(const Ray& cameraRay, Sampler& rng, FilmSample& out,
                 const Vec3 wiLocal = frame.toLocal(ls.wi);
                 const Vec3 f = bsdf.eval(woLocal, wiLocal) * std::abs(wiLocal.z);
                 if (!isBlack(f) && !isBlack(ls.radiance)) {
-                    const Vec3 origin = offsetRayOrigin(sh.p, sh.ng, ls.wi);
+                    const Vec3 origin = offsetRayOrigin(sh.p, sh.ng, ls.wi, m_scene.extent);
                     float tMax = kInfinity;
                     Vec3 dir = ls.wi;
                     if (!ls.environment) {
                         const Vec3 d = ls.point - origin;
                         const float dist = length(d);
                         dir = d / dist;
-                        tMax = dist - 1e-4f * (1.0f + maxAbsComponent(ls.point));
+                        tMax = dist - rayEpsilon(ls.point, m_scene.extent);
                     }
                     ++rays;
                     if (tMax > 0.0f && !m_embree.occluded(origin, dir, tMax, ray.time)) {
@@ -193,7 +193,7 @@ void PathIntegrator::trace(const Ray& cameraRay, Sampler& rng, FilmSample& out,
         specularBounce = bs.specular;
         prevPdf = bs.pdf;
         prevP = sh.p;
-        ray.origin = offsetRayOrigin(sh.p, sh.ng, wi);
+        ray.origin = offsetRayOrigin(sh.p, sh.ng, wi, m_scene.extent);
         ray.dir = wi;
 
         // Russian roulette with survival probability from the throughput (PBR 14.5.1).

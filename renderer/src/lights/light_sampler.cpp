@@ -30,7 +30,7 @@ LightSampler::LightSampler(const detail::SceneData& scene) : m_scene(&scene) {
         m_environment.emplace(scene.environment);
         // Environment power ≈ π r² × mean radiance for the scene's bounding sphere (PBR 12.6).
         const float radius =
-            scene.positions.empty() ? 1.0f : std::max(0.5f * length(hi - lo), 1e-3f);
+            scene.positions.empty() ? 1.0f : std::max(0.5f * length(hi - lo), 1e-3f * scene.extent);
         m_lights.push_back({0, 0.0f, {}, {}});
         power.push_back(kPi * radius * radius * m_environment->meanLuminance());
     }

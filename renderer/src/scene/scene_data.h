@@ -132,6 +132,9 @@ struct SceneData {
     std::vector<std::uint32_t> triangleMaterial;
     /// Unit geometric normal per triangle, cross(p1 - p0, p2 - p0) (+z for degenerate ones).
     std::vector<Vec3> faceNormals;
+    /// The largest side of the bounding box of every vertex (every pose of moving shapes): the
+    /// scale that ray offsets follow (1 for a scene without geometry).
+    float extent = 1.0f;
     EnvironmentDesc environment;
     /// Moving shapes (empty for a static scene).
     std::vector<ShapeMotion> motions;

@@ -3,6 +3,7 @@
 // transforms and motion. OBJ/MTL import is in obj_import.cpp, images in image_import.cpp.
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -77,6 +78,21 @@ void Loader::load(const json& root) {
         const Vec3 n = cross(v[1] - v[0], v[2] - v[0]);
         const float len = length(n);
         m_scene.faceNormals[t] = len > 0.0f ? n / len : Vec3{0.0f, 0.0f, 1.0f};
+    }
+    // The scene's scale, for scale-free ray offsets (vecmath.h, rayEpsilon).
+    Vec3 lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
+            std::numeric_limits<float>::max()};
+    Vec3 hi = lo * -1.0f;
+    auto grow = [&](const Vec3& p) {
+        for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
+    };
+    for (const Vec3& p : m_scene.positions) grow(p);
+    for (const ShapeMotion& m : m_scene.motions)
+        for (const Affine& step : m.steps)
+            for (const Vec3& p : m.objectPositions) grow(step.point(p));
+    if (!m_scene.positions.empty()) {
+        const float extent = maxAbsComponent(hi - lo);
+        m_scene.extent = extent > 0.0f ? extent : std::max(maxAbsComponent(hi), 1e-30f);
     }
     if (m_scene.triangleCount() == 0 && m_scene.environment.kind == EnvironmentDesc::Kind::None)
         m_reader.fail("/shapes", "the scene has neither geometry nor an environment");
