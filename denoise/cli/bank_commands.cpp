@@ -95,22 +95,23 @@ void runBank(const BankArgs& a) {
     if (tty && !a.json) std::fprintf(stderr, "\n");
     json members = json::array();
     for (int m = 0; m < int(bank.size()); ++m) members.push_back(memberJson(bank, m));
-    const json report{{"input", a.input},
-                      {"bank", a.out},
-                      {"members", bank.size()},
-                      {"computed", bank.size() - bank.cacheHits()},
-                      {"cached", bank.cacheHits()},
-                      {"region", {bank.region().x0, bank.region().x1, bank.region().y0,
-                                  bank.region().y1}},
-                      {"seconds", seconds},
-                      {"list", members}};
+    const json report{
+        {"input", a.input},
+        {"bank", a.out},
+        {"members", bank.size()},
+        {"computed", bank.size() - bank.cacheHits()},
+        {"cached", bank.cacheHits()},
+        {"region", {bank.region().x0, bank.region().x1, bank.region().y0, bank.region().y1}},
+        {"seconds", seconds},
+        {"list", members}};
     if (a.json) {
         printJson(report);
         return;
     }
-    std::printf("bank of %zu members over %dx%d in %.2f s (%zu computed, %zu from the cache) -> %s\n",
-                bank.size(), bank.region().width(), bank.region().height(), seconds,
-                bank.size() - bank.cacheHits(), bank.cacheHits(), a.out.c_str());
+    std::printf(
+        "bank of %zu members over %dx%d in %.2f s (%zu computed, %zu from the cache) -> %s\n",
+        bank.size(), bank.region().width(), bank.region().height(), seconds,
+        bank.size() - bank.cacheHits(), bank.cacheHits(), a.out.c_str());
 }
 
 // ---- oracle ----------------------------------------------------------------------------------
@@ -139,12 +140,17 @@ void runOracle(const OracleArgs& a) {
     }
     json best3 = json::array();
     for (int m : r.best3Members) best3.push_back(memberJson(bank, m));
-    const json report{{"input", a.input},       {"reference", a.reference},
-                      {"bank", a.bank},         {"members", bank.size()},
-                      {"noisy", r.noisy},       {"bestSingle", r.bestSingle},
+    const json report{{"input", a.input},
+                      {"reference", a.reference},
+                      {"bank", a.bank},
+                      {"members", bank.size()},
+                      {"noisy", r.noisy},
+                      {"bestSingle", r.bestSingle},
                       {"bestMember", memberJson(bank, r.bestMember)},
-                      {"best3", r.best3},       {"best3Members", best3},
-                      {"perPixel", r.perPixel}, {"seconds", seconds}};
+                      {"best3", r.best3},
+                      {"best3Members", best3},
+                      {"perPixel", r.perPixel},
+                      {"seconds", seconds}};
     if (a.json) {
         printJson(report);
         return;
@@ -262,10 +268,12 @@ void runNavigate(const NavigateArgs& a) {
 
 std::vector<Command> addBankCommands(CLI::App& app) {
     auto bank = std::make_shared<BankArgs>();
-    CLI::App* bankCmd = app.add_subcommand("bank", "Build (or update) a filter bank's cache folder");
+    CLI::App* bankCmd =
+        app.add_subcommand("bank", "Build (or update) a filter bank's cache folder");
     bankCmd->add_option("IN", bank->input, "Input layered EXR")->required();
     bankCmd->add_option("--out", bank->out, "Bank folder (created; reused as a cache)")->required();
-    bankCmd->add_option("--size", bank->size, "Latin-hypercube members (1 … 4096; defaults on top)");
+    bankCmd->add_option("--size", bank->size,
+                        "Latin-hypercube members (1 … 4096; defaults on top)");
     bankCmd->add_option("--seed", bank->seed, "Seed of the Latin hypercube");
     bankCmd->add_option("--filters", bank->filters, "Only these filters, comma-separated");
     bankCmd->add_flag("--prefilter", bank->prefilter, "Build on prefiltered features");

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_boundary.h"
 #include "commands.h"
 #include "glint/denoise/filter.h"
 #include "glint/denoise/prefilter.h"
@@ -96,13 +97,14 @@ void runList(bool asJson) {
 
 // `glint-denoise apply`: filter the colour of IN (optionally within a ROI) and write OUT.
 void runApply(const ApplyOptions& opt) {
+    glint::cli::checkOutputPath(opt.output, {".exr"}, "--out");
+    glint::cli::removeTemporariesOnSignal({opt.output});
     const Filter& filter = findFilter(opt.filter);
     // Validate everything that does not need the image before reading it.
     const ParamValues params = parseParams(
         opt.params, filter.params(), "filter '" + std::string(filter.name()) + "'", "--param");
-    const ParamValues prefilterValues =
-        parseParams(opt.prefilterParams, denoise::prefilterParams(), "feature prefilter",
-                    "--prefilter-param");
+    const ParamValues prefilterValues = parseParams(opt.prefilterParams, denoise::prefilterParams(),
+                                                    "feature prefilter", "--prefilter-param");
     if (!opt.prefilterParams.empty() && !opt.prefilter)
         throw Error(ErrorKind::InvalidArgument, "given without --prefilter", {},
                     "--prefilter-param");

@@ -5,11 +5,21 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cctype>
+
+#include <csignal>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
+#include <initializer_list>
 #include <optional>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
 
 #include "glint/image/error.h"
+#include "glint/image/io.h"
 
 namespace glint::cli {
 
@@ -29,6 +39,62 @@ inline std::optional<int> parseCommandLine(CLI::App& app, int argc, char** argv,
         return 2;
     }
     return std::nullopt;
+}
+
+/// Checks before any work that `path` can be written as a file with one of `extensions` (e.g.
+/// ".exr"; compared without case): the extension, an existing folder, not a folder itself.
+/// Throws glint::Error(InvalidArgument) naming the flag and what is accepted.
+inline void checkOutputPath(const std::string& path, std::initializer_list<const char*> extensions,
+                            const char* flag) {
+    namespace fs = std::filesystem;
+    const fs::path p(path);
+    std::string ext = p.extension().string(), accepted;
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    bool ok = false;
+    for (const char* e : extensions) {
+        ok = ok || ext == e;
+        accepted += (accepted.empty() ? "" : ", ") + std::string(e);
+    }
+    if (!ok)
+        throw Error(ErrorKind::InvalidArgument,
+                    "cannot write '" + path + "': expected a file ending in " + accepted, {}, flag);
+    if (fs::is_directory(p))
+        throw Error(ErrorKind::InvalidArgument, "'" + path + "' is a folder, expected a file", {},
+                    flag);
+    const fs::path folder = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+    if (!fs::is_directory(folder))
+        throw Error(
+            ErrorKind::InvalidArgument,
+            "cannot write '" + path + "': the folder '" + folder.string() + "' does not exist", {},
+            flag);
+    if (::access(folder.c_str(), W_OK) != 0)
+        throw Error(
+            ErrorKind::InvalidArgument,
+            "cannot write '" + path + "': the folder '" + folder.string() + "' is not writable", {},
+            flag);
+}
+
+namespace detail {
+// The temporary files of this process's outputs, as C strings a signal handler may use.
+inline std::vector<std::string>& signalTemporaries() {
+    static std::vector<std::string> paths;
+    return paths;
+}
+extern "C" inline void removeTemporariesAndDie(int sig) {
+    for (const std::string& p : signalTemporaries()) ::unlink(p.c_str());
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+}
+}  // namespace detail
+
+/// On SIGINT or SIGTERM, removes the temporary files (glint::temporaryPathFor) of `outputs`,
+/// then dies of the signal as usual: an interrupted write leaves neither a partial output nor a
+/// hidden temporary file, and the old output stays intact. Call once, before the work starts.
+inline void removeTemporariesOnSignal(const std::vector<std::string>& outputs) {
+    for (const std::string& o : outputs)
+        if (!o.empty()) detail::signalTemporaries().push_back(temporaryPathFor(o).string());
+    std::signal(SIGINT, detail::removeTemporariesAndDie);
+    std::signal(SIGTERM, detail::removeTemporariesAndDie);
 }
 
 /// Runs `body` (which returns the exit code): a glint::Error prints "tool: file: place: message"

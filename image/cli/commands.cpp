@@ -1,5 +1,7 @@
 #include "commands.h"
 
+#include "cli_boundary.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -241,9 +243,8 @@ void runDiff(const DiffOptions& options) {
 }
 
 void runConvert(const ConvertOptions& options) {
-    if (lowerExtension(options.output) != ".png")
-        throw Error(ErrorKind::InvalidArgument, "expected an output file ending in .png",
-                    options.output, "output");
+    checkOutputPath(options.output, {".png"}, "OUT");
+    removeTemporariesOnSignal({options.output});
     DisplayOptions display;
     display.exposure = options.exposure;
     if (!std::isfinite(options.exposure))

@@ -53,8 +53,10 @@ float srgbDecode(float encoded) {
 
 Image toDisplay(const Image& linear, const DisplayOptions& options) {
     if (linear.empty()) throw Error(ErrorKind::InvalidArgument, "cannot display an empty image");
-    if (!std::isfinite(options.exposure))
-        throw Error(ErrorKind::InvalidArgument, "exposure must be a finite number of stops");
+    if (!(std::fabs(options.exposure) <= kMaxExposure))
+        throw Error(ErrorKind::InvalidArgument,
+                    "exposure must be a number of stops in [-64, 64], got " +
+                        std::to_string(options.exposure));
     const int n = linear.channels();
     const bool falseColor = options.falseColorChannel >= 0;
     if (falseColor) {

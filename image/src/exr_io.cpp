@@ -1,4 +1,6 @@
 // Layered EXR and plain image I/O through OpenImageIO (docs/image.md, "The layered EXR").
+#include <unistd.h>
+
 #include <OpenImageIO/imageio.h>
 #include <OpenImageIO/strutil.h>
 #include <tbb/blocked_range.h>
@@ -10,7 +12,6 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
-#include <random>
 #include <string_view>
 #include <system_error>
 
@@ -317,15 +318,15 @@ void writeImage(const Image& image, const std::filesystem::path& path) {
     });
 }
 
+std::filesystem::path temporaryPathFor(const std::filesystem::path& path) {
+    // A hidden sibling that keeps the extension (writers pick the format from it).
+    return path.parent_path() / ("." + path.stem().string() + ".tmp-" + std::to_string(::getpid()) +
+                                 path.extension().string());
+}
+
 void writeAtomically(const std::filesystem::path& path,
                      const std::function<void(const std::filesystem::path&)>& write) {
-    // A hidden sibling that keeps the extension (writers pick the format from it).
-    std::random_device random;
-    const std::uint64_t tag = (std::uint64_t(random()) << 32) ^ random();
-    char hex[17];
-    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(tag));
-    const std::filesystem::path tmp = path.parent_path() / ("." + path.stem().string() + ".tmp-" +
-                                                            hex + path.extension().string());
+    const std::filesystem::path tmp = temporaryPathFor(path);
 
     std::error_code ignored;
     try {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "glint/image/error.h"
+#include "glint/image/io.h"
 #include "ssim.h"
 
 namespace glint {
@@ -152,11 +153,11 @@ detail::SsimRequest ssimRequest(const Image& image, const Image& reference,
                         " pixels (its Gaussian window), got " + std::to_string(rect.width()) + "x" +
                         std::to_string(rect.height()) + (options.crop ? " (crop)" : ""),
                     {}, metric);
-    if (!options.linear && !std::isfinite(options.exposure))
-        throw Error(
-            ErrorKind::InvalidArgument,
-            "exposure must be a finite number of stops, got " + std::to_string(options.exposure),
-            {}, metric);
+    if (!options.linear && !(std::fabs(options.exposure) <= kMaxExposure))
+        throw Error(ErrorKind::InvalidArgument,
+                    "exposure must be a number of stops in [-64, 64], got " +
+                        std::to_string(options.exposure),
+                    {}, metric);
     detail::SsimRequest request;
     request.image = &image;
     request.reference = &reference;
@@ -210,6 +211,8 @@ MetricResult psnr(const Image& image, const Image& reference, const MetricOption
     // PSNR = 10 log10(L^2 / MSE) with data range L = 1; identical images give +infinity.
     result.value = result.value > 0.0 ? -10.0 * std::log10(result.value)
                                       : std::numeric_limits<double>::infinity();
+    if (std::isnan(result.value))
+        throw Error(ErrorKind::Numeric, "PSNR is not a number for these images", {}, "psnr");
     return result;
 }
 
@@ -220,6 +223,9 @@ MetricResult ssim(const Image& image, const Image& reference, const MetricOption
     result.value = outcome.mean;
     result.nonFinitePixels = outcome.nonFinitePixels;
     result.pixels = std::size_t(request.rect.width()) * std::size_t(request.rect.height());
+    // Never hand a NaN on as a number (a metric of NaN would read as a result).
+    if (std::isnan(result.value))
+        throw Error(ErrorKind::Numeric, "SSIM is not a number for these images", {}, "ssim");
     return result;
 }
 

@@ -30,6 +30,10 @@ OIIO::ImageInput::unique_ptr openImage(const std::filesystem::path& path) {
     if (std::filesystem::is_directory(status))
         throw Error(ErrorKind::Io, "is a directory, expected an image file", file, "open");
 
+    // libpng prints its own line for a damaged file: catch the damage first.
+    // A truncated JPEG decodes without an error: catch that too.
+    if (isPng(path)) checkPngStructure(path);
+    if (isJpeg(path)) checkJpegStructure(path);
     auto in = OIIO::ImageInput::open(file);
     if (!in) {
         // Consume the global error so OpenImageIO does not print it at exit.

@@ -24,6 +24,17 @@ void writeOiioStrips(const std::filesystem::path& tmp, const std::filesystem::pa
                      const OIIO::ImageSpec& spec, int stripRows,
                      const std::function<void(int y0, int y1, float* strip)>& fill);
 
+/// True when the file starts with the PNG signature.
+bool isPng(const std::filesystem::path& path);
+/// Walks a PNG's chunks (lengths, CRCs, IHDR first, IDAT present, IEND reached) and throws
+/// glint::Error(Format) naming the byte of the first damage (png_check.cpp).
+void checkPngStructure(const std::filesystem::path& path);
+
+/// True when the file starts with the JPEG start-of-image marker.
+bool isJpeg(const std::filesystem::path& path);
+/// Throws glint::Error(Format) for a JPEG without its end-of-image marker (truncated).
+void checkJpegStructure(const std::filesystem::path& path);
+
 /// Lower-case extension with the dot (".exr"), or "".
 std::string lowerExtension(const std::filesystem::path& path);
 

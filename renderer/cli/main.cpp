@@ -1,6 +1,7 @@
 // glint-render: renders a scene.json to a layered EXR (docs/renderer.md).
 #include <unistd.h>
 
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -27,7 +28,7 @@ using glint::render::Settings;
 struct Options {
     std::string scene, out, reference;
     std::optional<int> spp, threads, maxDepth, rrDepth;
-    std::optional<std::uint64_t> seed;
+    std::optional<std::string> seed;  // parsed strictly: "-1" must not wrap to 2^64 - 1
     std::optional<std::string> integrator, mis, strategy, sampler;
     double timeLimit = 0.0;
     bool json = false, position = false;
@@ -73,6 +74,9 @@ int run(const Options& opt) {
     auto stage = [&](const std::string& line) {
         if (!opt.json || !tty) std::fprintf(stderr, "glint-render: %s\n", line.c_str());
     };
+    // Everything that does not need the scene is checked before any work.
+    glint::cli::checkOutputPath(opt.out, {".exr"}, "--out");
+    glint::cli::removeTemporariesOnSignal({opt.out});
     const auto t0 = std::chrono::steady_clock::now();
     stage("loading " + opt.scene);
     glint::render::Scene scene = glint::render::loadScene(opt.scene);
@@ -81,7 +85,17 @@ int run(const Options& opt) {
         settings.spp = *opt.spp;
     else if (opt.timeLimit > 0.0)
         settings.spp = 0;
-    if (opt.seed) settings.seed = *opt.seed;
+    if (opt.seed) {
+        std::uint64_t seed = 0;
+        const std::string& text = *opt.seed;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), seed);
+        if (text.empty() || ec != std::errc() || end != text.data() + text.size() ||
+            seed > glint::render::kMaxSeed)
+            throw glint::Error(glint::ErrorKind::InvalidArgument,
+                               "'" + text + "' is not an integer in [0, 2^63 - 1]", "command line",
+                               "--seed");
+        settings.seed = seed;
+    }
     if (opt.threads) settings.threads = *opt.threads;
     if (opt.maxDepth) settings.maxDepth = *opt.maxDepth;
     if (opt.rrDepth) settings.rrDepth = *opt.rrDepth;
@@ -127,6 +141,7 @@ int run(const Options& opt) {
                                  : e.where() == "maxDepth"  ? "--max-depth"
                                  : e.where() == "rrDepth"   ? "--rr-depth"
                                  : e.where() == "timeLimit" ? "--time-limit"
+                                 : e.where() == "seed"      ? "--seed"
                                                             : "options";
         throw glint::Error(glint::ErrorKind::InvalidArgument, e.message(), "command line", flag);
     }
@@ -243,17 +258,20 @@ int main(int argc, char** argv) {
     CLI::App app{"glint-render: render a scene.json into a layered EXR"};
     Options opt;
     app.add_option("scene", opt.scene, "scene.json")->required();
-    app.add_option("--spp", opt.spp, "samples per pixel (default: the scene's render.spp)");
-    app.add_option("--out", opt.out, "output EXR")->required();
-    app.add_option("--seed", opt.seed, "random seed");
-    app.add_option("--threads", opt.threads, "worker threads (0 = all)");
+    app.add_option("--spp", opt.spp,
+                   "samples per pixel, 1 … 16777216 (default: the scene's render.spp)");
+    app.add_option("--out", opt.out, "output EXR (.exr, in an existing folder)")->required();
+    app.add_option("--seed", opt.seed, "random seed, 0 … 2^63 - 1");
+    app.add_option("--threads", opt.threads, "worker threads, 0 (all) … 1024");
     app.add_option("--integrator", opt.integrator, "path | mlt");
     app.add_option("--mis", opt.mis, "power | balance | none");
     app.add_option("--strategy", opt.strategy, "bsdf | light (with --mis none)");
     app.add_option("--sampler", opt.sampler, "stratified | independent");
-    app.add_option("--max-depth", opt.maxDepth, "maximum bounces");
-    app.add_option("--rr-depth", opt.rrDepth, "Russian roulette starts after this many bounces");
-    app.add_option("--time-limit", opt.timeLimit, "seconds: render passes until time runs out");
+    app.add_option("--max-depth", opt.maxDepth, "maximum bounces, 1 … 1024");
+    app.add_option("--rr-depth", opt.rrDepth,
+                   "Russian roulette starts after this many bounces, 0 … 1024");
+    app.add_option("--time-limit", opt.timeLimit,
+                   "seconds, 0 … 1e7: render passes until time runs out (at least 1 spp)");
     app.add_option("--reference", opt.reference, "reference EXR: print relMSE and SSIM per pass");
     app.add_flag("--position", opt.position, "also write the world-space position layer");
     app.add_flag("--json", opt.json, "print one JSON object on stdout");

@@ -58,14 +58,22 @@ void validate(const Settings& s) {
     auto bad = [](const char* field, const std::string& what) {
         throw Error(ErrorKind::InvalidArgument, what, {}, field);
     };
-    if (s.spp < 0) bad("spp", "spp must be positive, got " + std::to_string(s.spp));
-    if (s.spp == 0 && !(s.timeLimit > 0.0))
-        bad("spp", "spp must be positive (or 0 with a time limit)");
-    if (s.threads < 0) bad("threads", "threads must be >= 0, got " + std::to_string(s.threads));
-    if (s.maxDepth < 1) bad("maxDepth", "maxDepth must be >= 1, got " + std::to_string(s.maxDepth));
-    if (s.rrDepth < 0) bad("rrDepth", "rrDepth must be >= 0, got " + std::to_string(s.rrDepth));
-    if (!(s.timeLimit >= 0.0)) bad("timeLimit", "timeLimit must be >= 0");
-    if (s.tileSize < 1 || s.tileSize > 4096) bad("tileSize", "tileSize must be in [1, 4096]");
+    auto range = [&](const char* field, long long v, long long lo, long long hi) {
+        if (v < lo || v > hi)
+            bad(field, std::string(field) + " must be in [" + std::to_string(lo) + ", " +
+                           std::to_string(hi) + "], got " + std::to_string(v));
+    };
+    if (s.spp < 0 || s.spp > kMaxSpp || (s.spp == 0 && !(s.timeLimit > 0.0)))
+        bad("spp", "spp must be in [1, " + std::to_string(kMaxSpp) + "] (or 0 with a time limit)");
+    range("threads", s.threads, 0, kMaxThreads);
+    range("maxDepth", s.maxDepth, 1, kMaxDepth);
+    range("rrDepth", s.rrDepth, 0, kMaxDepth);
+    if (!(s.timeLimit >= 0.0 && s.timeLimit <= kMaxTimeLimit))
+        bad("timeLimit", "timeLimit must be a number of seconds in [0, 1e7], got " +
+                             std::to_string(s.timeLimit));
+    if (s.seed > kMaxSeed)
+        bad("seed", "seed must be in [0, 2^63 - 1], got " + std::to_string(s.seed));
+    range("tileSize", s.tileSize, 1, 4096);
 }
 
 }  // namespace glint::render

@@ -76,6 +76,28 @@ inline bool isBlack(const Vec3& a) {
 inline bool isFinite(const Vec3& a) {
     return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
 }
+/// cross(b − a, c − a) in double: neither tiny nor huge coordinates underflow or overflow.
+inline void triangleCross(const Vec3& a, const Vec3& b, const Vec3& c, double n[3]) {
+    const double ux = double(b.x) - a.x, uy = double(b.y) - a.y, uz = double(b.z) - a.z;
+    const double vx = double(c.x) - a.x, vy = double(c.y) - a.y, vz = double(c.z) - a.z;
+    n[0] = uy * vz - uz * vy;
+    n[1] = uz * vx - ux * vz;
+    n[2] = ux * vy - uy * vx;
+}
+/// Area of triangle (a, b, c).
+inline double triangleArea(const Vec3& a, const Vec3& b, const Vec3& c) {
+    double n[3];
+    triangleCross(a, b, c, n);
+    return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+/// Unit geometric normal of (a, b, c), cross(b − a, c − a) normalised; +z for a degenerate one.
+inline Vec3 triangleNormal(const Vec3& a, const Vec3& b, const Vec3& c) {
+    double n[3];
+    triangleCross(a, b, c, n);
+    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(len > 0.0) || !std::isfinite(len)) return {0.0f, 0.0f, 1.0f};
+    return {float(n[0] / len), float(n[1] / len), float(n[2] / len)};
+}
 /// Rec. 709 luminance.
 inline float luminance(const Vec3& a) {
     return 0.2126f * a.x + 0.7152f * a.y + 0.0722f * a.z;

@@ -63,7 +63,8 @@ TEST(MapParam, LinearLogIntegerAndChoice) {
     EXPECT_DOUBLE_EQ(mapParam(lin, 0.0), 10.0);
     EXPECT_DOUBLE_EQ(mapParam(lin, 0.5), 15.0);
     EXPECT_DOUBLE_EQ(mapParam(lin, 1.0), 20.0);
-    const ParamSpec lg = ParamSpec("b", "b", 1e-6, 1e6, 1, ParamScale::Log, false, "").soft(0.01, 100);
+    const ParamSpec lg =
+        ParamSpec("b", "b", 1e-6, 1e6, 1, ParamScale::Log, false, "").soft(0.01, 100);
     EXPECT_NEAR(mapParam(lg, 0.0), 0.01, 1e-12);
     EXPECT_NEAR(mapParam(lg, 0.5), 1.0, 1e-12);  // the geometric middle
     EXPECT_NEAR(mapParam(lg, 0.75), 10.0, 1e-9);

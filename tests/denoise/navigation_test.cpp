@@ -28,7 +28,8 @@ std::vector<Image> syntheticResults(int n, std::uint64_t seed = 3) {
         for (int y = 0; y < 20; ++y)
             for (int x = 0; x < 24; ++x)
                 for (int c = 0; c < 3; ++c)
-                    im(x, y, c) = level * (1.0f + tilt * float(x - 12) / 12.0f) * (c == 0 ? 1.0f : 0.8f);
+                    im(x, y, c) =
+                        level * (1.0f + tilt * float(x - 12) / 12.0f) * (c == 0 ? 1.0f : 0.8f);
         images.push_back(std::move(im));
     }
     return images;

@@ -76,8 +76,8 @@ int main(int argc, char** argv) {
     s.threads = threads;
     const glint::FrameBuffers frame = renderer.render(s).frame;
 
-    nlohmann::json out = {{"size", size},       {"spp", spp},   {"threads", threads},
-                          {"members", members}, {"reps", reps}};
+    nlohmann::json out = {
+        {"size", size}, {"spp", spp}, {"threads", threads}, {"members", members}, {"reps", reps}};
     glint::denoise::BankOptions options;
     options.size = members;
     options.seed = 1;
@@ -96,8 +96,7 @@ int main(int argc, char** argv) {
     fs::create_directories(dir);
     glint::denoise::BankOptions cached = options;
     cached.cacheDir = dir;
-    out["bankWithCacheWriteSeconds"] =
-        secondsOf([&] { glint::denoise::buildBank(frame, cached); });
+    out["bankWithCacheWriteSeconds"] = secondsOf([&] { glint::denoise::buildBank(frame, cached); });
     std::size_t hits = 0;
     out["bankReopenSeconds"] =
         secondsOf([&] { hits = glint::denoise::buildBank(frame, cached).cacheHits(); });
@@ -121,9 +120,8 @@ int main(int argc, char** argv) {
     std::vector<double> tree, regionTree;
     std::size_t nodes = 0;
     for (int r = 0; r < 5; ++r) {
-        tree.push_back(secondsOf([&] {
-            nodes = glint::denoise::NavigationTree::fromBank(bank, {}).nodeCount();
-        }));
+        tree.push_back(secondsOf(
+            [&] { nodes = glint::denoise::NavigationTree::fromBank(bank, {}).nodeCount(); }));
         regionTree.push_back(
             secondsOf([&] { glint::denoise::NavigationTree::fromBank(regionBank, {}); }));
     }

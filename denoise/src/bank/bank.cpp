@@ -41,9 +41,9 @@ void validate(const BankOptions& options) {
             bad(e.message(), "--filters");
         }
     }
-    if (options.prefilter) resolveParams(prefilterParams(), options.prefilterParams, "feature prefilter");
-    if (options.region && options.region->empty())
-        bad("the region of interest is empty", "--roi");
+    if (options.prefilter)
+        resolveParams(prefilterParams(), options.prefilterParams, "feature prefilter");
+    if (options.region && options.region->empty()) bad("the region of interest is empty", "--roi");
 }
 
 std::uint64_t hashFrame(const FrameBuffers& frame) {
@@ -160,7 +160,8 @@ FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options) {
         fo.region = region;
         fo.progress = [&](double) { return !stop.load(); };
         try {
-            results[i] = applyFilter(findFilter(members[i].filter), filterInput, members[i].params, fo);
+            results[i] =
+                applyFilter(findFilter(members[i].filter), filterInput, members[i].params, fo);
         } catch (const Error& e) {
             if (e.kind() == ErrorKind::Cancelled) return;
             throw;

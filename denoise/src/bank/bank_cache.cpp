@@ -117,8 +117,8 @@ std::uint64_t memberKey(std::uint64_t inputHash, const std::string& filter,
 }
 
 std::uint64_t BankCache::key(const BankMember& member, const Rect& region) const {
-    return memberKey(m_inputHash, member.filter, findFilter(member.filter).version(),
-                     member.params, m_prefilterKey, region);
+    return memberKey(m_inputHash, member.filter, findFilter(member.filter).version(), member.params,
+                     m_prefilterKey, region);
 }
 
 bool BankCache::read(std::uint64_t key, const Rect& region, Image& out) const {
@@ -177,13 +177,10 @@ void BankCache::writeIndex(const std::vector<BankMember>& members,
                  {"prefilter", m_options.prefilter},
                  {"prefilterParams", m_options.prefilterParams},
                  {"region", m_options.region ? regionJson(*m_options.region) : json(nullptr)}};
-    const json index{{"format", kIndexFormat},
-                     {"inputHash", toHex(m_inputHash)},
-                     {"width", m_width},
-                     {"height", m_height},
-                     {"region", regionJson(region)},
-                     {"options", options},
-                     {"members", list}};
+    const json index{
+        {"format", kIndexFormat}, {"inputHash", toHex(m_inputHash)}, {"width", m_width},
+        {"height", m_height},     {"region", regionJson(region)},    {"options", options},
+        {"members", list}};
     writeAtomically(m_dir / kIndexName, [&](const fs::path& tmp) {
         std::ofstream out(tmp);
         out << index.dump(1) << "\n";
@@ -204,12 +201,12 @@ void BankCache::writeIndex(const std::vector<BankMember>& members,
 }  // namespace detail
 
 BankOptions readBankOptions(const fs::path& dir) {
-    if (!fs::is_directory(dir))
-        throw Error(ErrorKind::Io, "bank folder not found", dir.string());
+    if (!fs::is_directory(dir)) throw Error(ErrorKind::Io, "bank folder not found", dir.string());
     const fs::path index = dir / detail::kIndexName;
     std::ifstream in(index);
     if (!in)
-        throw Error(ErrorKind::Io, "no index.json: not a bank folder (make one with glint-denoise bank)",
+        throw Error(ErrorKind::Io,
+                    "no index.json: not a bank folder (make one with glint-denoise bank)",
                     dir.string());
     json j;
     try {
@@ -257,7 +254,8 @@ FilterBank openBank(const FrameBuffers& frame, const fs::path& dir, const Progre
     if (stored != detail::toHex(hash))
         throw Error(ErrorKind::Format,
                     "the folder holds the bank of another image (input hash " + stored +
-                        ", this image " + detail::toHex(hash) + "); build one with glint-denoise bank",
+                        ", this image " + detail::toHex(hash) +
+                        "); build one with glint-denoise bank",
                     dir.string());
     options.progress = progress;
     return buildBank(frame, options);

@@ -23,8 +23,7 @@ void validate(const TreeOptions& o) {
         throw Error(ErrorKind::InvalidArgument, what, {}, option);
     };
     if (o.k < 2 || o.k > 64) bad("k = " + std::to_string(o.k) + " must be in [2, 64]", "--k");
-    if (!(o.p > 0.0 && o.p < 1.0))
-        bad("p = " + std::to_string(o.p) + " must be in (0, 1)", "--p");
+    if (!(o.p > 0.0 && o.p < 1.0)) bad("p = " + std::to_string(o.p) + " must be in (0, 1)", "--p");
     if (double(o.k) * o.p < 1.0)
         bad("k·p = " + std::to_string(double(o.k) * o.p) +
                 " must be >= 1 so that every member stays reachable",
@@ -79,7 +78,8 @@ double meanSquared(const Image& a, const Image& b) {
 NavigationTree::NavigationTree(const std::vector<const Image*>& images, const TreeOptions& options)
     : m_options(options) {
     validate(options);
-    if (images.empty()) throw Error(ErrorKind::InvalidArgument, "navigation needs at least one image");
+    if (images.empty())
+        throw Error(ErrorKind::InvalidArgument, "navigation needs at least one image");
     for (const Image* im : images)
         if (!im || !im->sameShape(*images[0]) || im->channels() != 3)
             throw Error(ErrorKind::InvalidArgument,
@@ -139,10 +139,10 @@ void NavigationTree::split(int index) {
     while (int(centres.size()) < k) {
         double total = 0.0;
         for (int i = 0; i < n; ++i) {
-            nearest[std::size_t(i)] =
-                std::min(nearest[std::size_t(i)], distance(members[std::size_t(i)], centres.back()));
-            const bool taken = std::find(centres.begin(), centres.end(),
-                                         members[std::size_t(i)]) != centres.end();
+            nearest[std::size_t(i)] = std::min(nearest[std::size_t(i)],
+                                               distance(members[std::size_t(i)], centres.back()));
+            const bool taken =
+                std::find(centres.begin(), centres.end(), members[std::size_t(i)]) != centres.end();
             if (!taken) total += nearest[std::size_t(i)];
         }
         int pick = -1;
@@ -170,7 +170,8 @@ void NavigationTree::split(int index) {
         for (int m : members) {
             int c = 0;
             for (int j = 1; j < k; ++j)
-                if (distance(m, centres[std::size_t(j)]) < distance(m, centres[std::size_t(c)])) c = j;
+                if (distance(m, centres[std::size_t(j)]) < distance(m, centres[std::size_t(c)]))
+                    c = j;
             clusters[std::size_t(c)].push_back(m);
         }
         bool changed = false;
@@ -254,8 +255,8 @@ NavigationTree NavigationTree::fromBank(const FilterBank& bank, const TreeOption
                                         const std::optional<Rect>& region) {
     const Rect r = region.value_or(bank.region());
     if (r.empty() || intersect(r, bank.region()) != r)
-        throw Error(ErrorKind::InvalidArgument,
-                    "the region is empty or outside the bank's region", {}, "--roi");
+        throw Error(ErrorKind::InvalidArgument, "the region is empty or outside the bank's region",
+                    {}, "--roi");
     std::vector<Image> crops;
     std::vector<const Image*> images;
     const Rect local{r.x0 - bank.region().x0, r.x1 - bank.region().x0, r.y0 - bank.region().y0,
@@ -284,12 +285,13 @@ std::vector<Navigator::Option> Navigator::options() const {
 }
 
 void Navigator::choose(int option) {
-    if (m_chosen) throw Error(ErrorKind::InvalidArgument, "a member is already chosen; go back first");
+    if (m_chosen)
+        throw Error(ErrorKind::InvalidArgument, "a member is already chosen; go back first");
     const std::vector<Option> opts = options();
     if (option < 0 || option >= int(opts.size()))
-        throw Error(ErrorKind::InvalidArgument,
-                    "option " + std::to_string(option) + " does not exist (there are " +
-                        std::to_string(opts.size()) + ")");
+        throw Error(ErrorKind::InvalidArgument, "option " + std::to_string(option) +
+                                                    " does not exist (there are " +
+                                                    std::to_string(opts.size()) + ")");
     const Option& o = opts[std::size_t(option)];
     if (o.node >= 0)
         m_path.push_back(o.node);
@@ -337,8 +339,8 @@ std::vector<SimulatedChoice> simulateUser(const NavigationTree& tree,
         for (int i = 1; i < int(opts.size()); ++i)
             if (ssimOf(opts[std::size_t(i)].member) > ssimOf(opts[std::size_t(best)].member))
                 best = i;
-        steps.push_back({best, opts[std::size_t(best)].member,
-                         ssimOf(opts[std::size_t(best)].member)});
+        steps.push_back(
+            {best, opts[std::size_t(best)].member, ssimOf(opts[std::size_t(best)].member)});
         nav.choose(best);
     }
     return steps;

@@ -68,13 +68,14 @@ OracleResult oracle(const FilterBank& bank, const Image& noisy, const Image& ref
         throw Error(ErrorKind::InvalidArgument, "the oracle needs a bank of at least 3 members");
     if (noisy.width() != bank.frameWidth() || noisy.height() != bank.frameHeight() ||
         !noisy.sameShape(reference) || noisy.channels() != 3)
-        throw Error(ErrorKind::InvalidArgument,
-                    "the input and the reference must be 3-channel images of the bank's frame size (" +
-                        std::to_string(bank.frameWidth()) + "x" +
-                        std::to_string(bank.frameHeight()) + ")");
+        throw Error(
+            ErrorKind::InvalidArgument,
+            "the input and the reference must be 3-channel images of the bank's frame size (" +
+                std::to_string(bank.frameWidth()) + "x" + std::to_string(bank.frameHeight()) + ")");
     const Rect& region = bank.region();
     if (region.width() < 11 || region.height() < 11)
-        throw Error(ErrorKind::InvalidArgument, "the oracle's SSIM needs a region of at least 11x11");
+        throw Error(ErrorKind::InvalidArgument,
+                    "the oracle's SSIM needs a region of at least 11x11");
     const Image ref = reference.crop(region);
     MetricOptions mo;
     mo.exposure = exposure;
@@ -114,8 +115,9 @@ OracleResult oracle(const FilterBank& bank, const Image& noisy, const Image& ref
     // Best three: exhaustive over triples of the 12 members with the smallest mean error.
     std::vector<int> order(n);
     std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(),
-                     [&](int a, int b) { return meanError[std::size_t(a)] < meanError[std::size_t(b)]; });
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+        return meanError[std::size_t(a)] < meanError[std::size_t(b)];
+    });
     order.resize(std::min<std::size_t>(n, 12));
     std::vector<std::array<int, 3>> triples;
     for (std::size_t a = 0; a < order.size(); ++a)

@@ -58,9 +58,9 @@ std::vector<BankMember> sampleBank(const std::vector<const Filter*>& filters, in
     if (filters.empty())
         throw Error(ErrorKind::InvalidArgument, "a bank needs at least one filter");
     if (size < 1 || size > kMaxBankSize)
-        throw Error(ErrorKind::InvalidArgument,
-                    "bank size " + std::to_string(size) + " must be in [1, " +
-                        std::to_string(kMaxBankSize) + "]");
+        throw Error(ErrorKind::InvalidArgument, "bank size " + std::to_string(size) +
+                                                    " must be in [1, " +
+                                                    std::to_string(kMaxBankSize) + "]");
     std::vector<BankMember> members;
     // The defaults of every filter are always members, so the bank never loses to them.
     for (const Filter* f : filters)

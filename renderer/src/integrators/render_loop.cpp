@@ -42,7 +42,8 @@ LoopResult RenderLoop::run(PassWork& work, bool reportPasses) {
     double secondsPerSpp = 0.0;
     while (!m_cancelled.load()) {
         if (m_spp > 0 && done >= m_spp) break;
-        if (timed && elapsed() >= m_budget) break;
+        // The first pass always completes: a tiny time limit still gives a 1-spp image.
+        if (timed && done > 0 && elapsed() >= m_budget) break;
         if (m_spp <= 0 && !timed) break;
         // Pass sizes double (1, 1, 2, 4, ... up to 64 spp) for quick early feedback; under a time
         // limit they are also cut to what the remaining time allows by the measured rate.

@@ -19,7 +19,7 @@ LightSampler::LightSampler(const detail::SceneData& scene) : m_scene(&scene) {
         if (!m.emissive()) continue;
         const Vec3& a = scene.positions[3 * t];
         const float area =
-            0.5f * length(cross(scene.positions[3 * t + 1] - a, scene.positions[3 * t + 2] - a));
+            float(triangleArea(a, scene.positions[3 * t + 1], scene.positions[3 * t + 2]));
         if (!(area > 0.0f)) continue;
         m_lightOfTriangle[t] = int(m_lights.size());
         m_lights.push_back({std::uint32_t(t), area, scene.faceNormals[t], m.emission});

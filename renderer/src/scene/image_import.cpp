@@ -17,9 +17,10 @@ Image scaledRgb(const Image& source, float scale, const std::string& what,
             for (int c = 0; c < 3; ++c) {
                 const float v = source(x, y, source.channels() >= 3 ? c : 0) * scale;
                 // A NaN/Inf/negative value would poison every path that reaches it.
-                if (!std::isfinite(v) || v < 0.0f)
+                if (!std::isfinite(v) || v < 0.0f || v > kMaxRadiance)
                     throw Error(ErrorKind::Format,
-                                what + " has a negative or non-finite value at pixel (" +
+                                what + " has a negative, non-finite or too large (above " +
+                                    std::to_string(kMaxRadiance) + ") value at pixel (" +
                                     std::to_string(x) + ", " + std::to_string(y) + ")" +
                                     (scale != 1.0f ? " after scaling by " + std::to_string(scale)
                                                    : std::string()),

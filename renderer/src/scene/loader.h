@@ -54,6 +54,8 @@ class Loader {
         return it == m_materialIndex.end() ? -1 : it->second;
     }
     int addMaterial(Material material);
+    /// An RGB radiance in [0, kMaxRadiance].
+    Vec3 radiance(const nlohmann::json& value, const std::string& where) const;
 
     JsonReader m_reader;
     SceneData& m_scene;

@@ -11,10 +11,11 @@
 namespace glint::render {
 
 using detail::EnvironmentDesc;
+using detail::kMaxRadiance;
 using detail::Material;
 using detail::MaterialType;
-using detail::SceneData;
 using detail::materialTypeName;
+using detail::SceneData;
 
 namespace {
 
@@ -59,7 +60,8 @@ std::vector<LookProperty> materialProperties(const Material& m) {
                                               "transmits."));
     props.push_back(color("emission", "emission colour", 1.0, m.emissionColor,
                           "Colour of the light the surface emits (times strength)."));
-    props.push_back(scalar("strength", "emission strength", 0.0, 1e30, true, m.emissionStrength,
+    props.push_back(scalar("strength", "emission strength", 0.0, kMaxRadiance, true,
+                           m.emissionStrength,
                            "Emitted radiance scale; 0 makes the surface no light."));
     if (m.type == MaterialType::Conductor)
         props.push_back(scalar("roughness", "roughness", 0.0, 1.0, false, m.roughness,
@@ -73,7 +75,7 @@ std::vector<LookProperty> materialProperties(const Material& m) {
 std::vector<LookProperty> environmentProperties(const EnvironmentDesc& env) {
     std::vector<LookProperty> props;
     if (env.kind == EnvironmentDesc::Kind::Constant)
-        props.push_back(color("color", "colour", 1e30, env.baseColor,
+        props.push_back(color("color", "colour", kMaxRadiance, env.baseColor,
                               "Radiance arriving from every direction (times scale)."));
     props.push_back(scalar("scale", "strength", 0.0, 1e30, true, env.scale,
                            "Multiplies the environment's radiance."));
@@ -112,7 +114,7 @@ void checkCanEmit(const SceneData& d, std::size_t material, const std::string& w
                         "a moving shape must not be emissive (area lights are static)",
                         d.path.string(), where);
         const Vec3& a = d.positions[3 * t];
-        area += 0.5 * double(length(cross(d.positions[3 * t + 1] - a, d.positions[3 * t + 2] - a)));
+        area += triangleArea(a, d.positions[3 * t + 1], d.positions[3 * t + 2]);
     }
     if (used && !(area > 0.0))
         throw Error(ErrorKind::InvalidArgument,
@@ -131,7 +133,7 @@ void setMaterial(SceneData& d, std::size_t index, const std::string& property,
         next.emissionColor = checkedColor(value, 0.0, 1.0, d.path, where);
         next.emission = next.emissionColor * next.emissionStrength;
     } else if (property == "strength") {
-        next.emissionStrength = checked(value[0], 0.0, 1e30, d.path, where);
+        next.emissionStrength = checked(value[0], 0.0, kMaxRadiance, d.path, where);
         next.emission = next.emissionColor * next.emissionStrength;
     } else if (property == "roughness" && m.type == MaterialType::Conductor) {
         next.roughness = checked(value[0], 0.0, 1.0, d.path, where);
@@ -159,12 +161,22 @@ void setEnvironment(SceneData& d, const std::string& property, const std::array<
         // Build the scaled copy first: an overflow leaves the environment as it was.
         if (env.kind == EnvironmentDesc::Kind::Image)
             env.image = detail::scaledRgb(env.source, scale, "environment image", d.path, where);
+        if (maxAbsComponent(env.baseColor * scale) > kMaxRadiance)
+            throw Error(
+                ErrorKind::InvalidArgument,
+                "colour × scale would exceed the largest radiance, " + std::to_string(kMaxRadiance),
+                d.path.string(), where);
         env.scale = scale;
         env.color = env.baseColor * scale;
     } else if (property == "rotate") {
         env.rotateDeg = checked(value[0], -1e6, 1e6, d.path, where);
     } else if (property == "color" && env.kind == EnvironmentDesc::Kind::Constant) {
-        env.baseColor = checkedColor(value, 0.0, 1e30, d.path, where);
+        env.baseColor = checkedColor(value, 0.0, kMaxRadiance, d.path, where);
+        if (maxAbsComponent(env.baseColor * env.scale) > kMaxRadiance)
+            throw Error(
+                ErrorKind::InvalidArgument,
+                "colour × scale would exceed the largest radiance, " + std::to_string(kMaxRadiance),
+                d.path.string(), where);
         env.color = env.baseColor * env.scale;
     } else {
         throw Error(ErrorKind::InvalidArgument,

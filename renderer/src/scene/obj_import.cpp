@@ -2,17 +2,37 @@
 // (JSON materials of the same name take precedence), map_Kd textures.
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include <tiny_obj_loader.h>
 
 #include "glint/image/error.h"
 #include "scene/loader.h"
+#include "scene/obj_scan.h"
 
 namespace glint::render::detail {
 
 namespace fs = std::filesystem;
 
 namespace {
+
+// MTL values must be finite and emission within the range the film can hold (kMaxRadiance).
+void checkMtl(const tinyobj::material_t& mtl, const fs::path& objPath) {
+    auto check = [&](const char* key, const float* v, int n, double hi) {
+        for (int c = 0; c < n; ++c)
+            if (!std::isfinite(v[c]) || v[c] > hi)
+                throw Error(ErrorKind::Format,
+                            std::string("material '") + mtl.name + "': " + key + " value " +
+                                std::to_string(v[c]) + " must be finite" +
+                                (hi < 1e37 ? " and at most " + std::to_string(hi) : ""),
+                            objPath.string(), "mtllib");
+    };
+    check("Kd", mtl.diffuse, 3, 3e38);
+    check("Ks", mtl.specular, 3, 3e38);
+    check("Ke", mtl.emission, 3, kMaxRadiance);
+    check("Ni", &mtl.ior, 1, 3e38);
+    check("Ns", &mtl.shininess, 1, 3e38);
+}
 
 Material materialFromMtl(const tinyobj::material_t& mtl) {
     Material m;
@@ -46,6 +66,11 @@ void Loader::importObj(const fs::path& objPath, const Affine& xf, bool moving, i
     if (!fs::exists(objPath))
         throw Error(ErrorKind::Io, "OBJ file '" + objPath.string() + "' not found",
                     m_reader.file().string(), where + "/obj");
+    if (!fs::is_regular_file(objPath))
+        throw Error(ErrorKind::Io, "'" + objPath.string() + "' is not a file",
+                    m_reader.file().string(), where + "/obj");
+    // Indices and numbers checked with their line first: tinyobjloader trusts them.
+    const ObjLines lines = scanObj(objPath);
 
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;
@@ -55,13 +80,17 @@ void Loader::importObj(const fs::path& objPath, const Affine& xf, bool moving, i
     if (!obj.ParseFromFile(objPath.string(), config) || !obj.Valid())
         throw Error(ErrorKind::Format, "cannot parse OBJ: " + obj.Error(), objPath.string(),
                     where + "/obj");
-    if (obj.Warning().find("not found") != std::string::npos)
-        throw Error(ErrorKind::Io, "OBJ references a missing file: " + obj.Warning(),
-                    objPath.string(), where + "/obj");
+    if (obj.Warning().find("not found") != std::string::npos) {
+        // One line: tinyobjloader's warning repeats itself for every material.
+        std::string first = obj.Warning().substr(0, obj.Warning().find('\n'));
+        throw Error(ErrorKind::Io, "OBJ references a missing file (" + first + ")",
+                    objPath.string(), "mtllib");
+    }
 
     // Map the OBJ's materials to scene materials (JSON overrides MTL by name).
     std::vector<int> objMaterial;
     for (const tinyobj::material_t& mtl : obj.GetMaterials()) {
+        checkMtl(mtl, objPath);
         int index = materialIndex(mtl.name);
         if (index < 0) {
             Material m = materialFromMtl(mtl);
@@ -75,6 +104,27 @@ void Loader::importObj(const fs::path& objPath, const Affine& xf, bool moving, i
     int defaultMaterial = -1;
 
     const tinyobj::attrib_t& attrib = obj.GetAttrib();
+    const std::size_t vertexCount = attrib.vertices.size() / 3;
+    const std::size_t normalCount = attrib.normals.size() / 3;
+    const std::size_t texcoordCount = attrib.texcoords.size() / 2;
+    if (vertexCount != lines.vertices.size() || normalCount != lines.normals.size() ||
+        texcoordCount != lines.texcoords.size())
+        throw Error(ErrorKind::Format, "the OBJ reader and the scan disagree on the statements",
+                    objPath.string());
+    // Every vertex after the shape's transform: finite and within kMaxCoordinate, so that areas,
+    // distances and the BVH stay finite.
+    std::vector<Vec3> world(vertexCount);
+    for (std::size_t i = 0; i < vertexCount; ++i) {
+        const float* p = &attrib.vertices[3 * i];
+        world[i] = xf.point({p[0], p[1], p[2]});
+        if (!isFinite(world[i]) || maxAbsComponent(world[i]) > kMaxCoordinate) {
+            std::ostringstream msg;
+            msg << "vertex (" << p[0] << ", " << p[1] << ", " << p[2] << ") lies beyond "
+                << kMaxCoordinate << " (the largest coordinate) after the transform of " << where;
+            throw Error(ErrorKind::Format, msg.str(), objPath.string(),
+                        "line " + std::to_string(lines.vertices[i]));
+        }
+    }
     const std::size_t firstTriangle = m_scene.triangleCount();
     bool anyNormals = false, anyUvs = false;
     for (const tinyobj::shape_t& shape : obj.GetShapes()) {
@@ -105,8 +155,14 @@ void Loader::importObj(const fs::path& objPath, const Affine& xf, bool moving, i
             }
             for (int v = 0; v < 3; ++v) {
                 const tinyobj::index_t idx = mesh.indices[offset + std::size_t(v)];
+                // scanObj checked every index; this guards the reader's own resolution.
+                if (idx.vertex_index < 0 || std::size_t(idx.vertex_index) >= vertexCount ||
+                    idx.normal_index >= int(normalCount) ||
+                    idx.texcoord_index >= int(texcoordCount))
+                    throw Error(ErrorKind::Format, "a face index is out of range",
+                                objPath.string());
                 const float* p = &attrib.vertices[3 * std::size_t(idx.vertex_index)];
-                m_scene.positions.push_back(xf.point({p[0], p[1], p[2]}));
+                m_scene.positions.push_back(world[std::size_t(idx.vertex_index)]);
                 Vec3 n{};
                 if (idx.normal_index >= 0) {
                     const float* q = &attrib.normals[3 * std::size_t(idx.normal_index)];
@@ -140,8 +196,7 @@ void Loader::importObj(const fs::path& objPath, const Affine& xf, bool moving, i
         if (!m_scene.materials[m_scene.triangleMaterial[t]].emissive()) continue;
         anyEmissive = true;
         const Vec3& a = m_scene.positions[3 * t];
-        emissiveArea += 0.5 * double(length(cross(m_scene.positions[3 * t + 1] - a,
-                                                  m_scene.positions[3 * t + 2] - a)));
+        emissiveArea += triangleArea(a, m_scene.positions[3 * t + 1], m_scene.positions[3 * t + 2]);
     }
     if (anyEmissive && !(emissiveArea > 0.0))
         throw Error(ErrorKind::Format, "emissive faces have zero total area (zero-area light)",

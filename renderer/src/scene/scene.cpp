@@ -39,10 +39,8 @@ TriangleView SceneData::poseMoving(std::size_t t, float time, PosedTriangle& scr
         const Vec3& n = motion.objectNormals[local + std::size_t(v)];
         scratch.n[v] = lerp(frac, a.normal(n), b.normal(n));
     }
-    const Vec3 n = cross(scratch.p[1] - scratch.p[0], scratch.p[2] - scratch.p[0]);
-    const float len = length(n);
     return {scratch.p, normals.empty() ? nullptr : scratch.n,
-            len > 0.0f ? n / len : Vec3{0.0f, 0.0f, 1.0f}};
+            triangleNormal(scratch.p[0], scratch.p[1], scratch.p[2])};
 }
 
 }  // namespace detail

@@ -18,6 +18,13 @@ namespace glint::render::detail {
 /// Kinds of material ("type" in scene.json).
 enum class MaterialType { Diffuse, Mirror, Dielectric, Conductor };
 
+/// The largest radiance a scene may emit (emission, environment colour × scale): its variance
+/// (up to about the square) must still fit a float EXR (3.4e38).
+inline constexpr double kMaxRadiance = 1e18;
+/// The largest world coordinate (after transforms): squared distances and the light sampling
+/// densities (distance² / area) stay within float range. The Cornell box at scale 1e6 is 5.6e8.
+inline constexpr float kMaxCoordinate = 1e9f;
+
 /// The scene.json name of a material type ("diffuse", ...).
 const char* materialTypeName(MaterialType type);
 

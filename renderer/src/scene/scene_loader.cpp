@@ -24,6 +24,19 @@ Loader::Loader(const fs::path& file, SceneData& scene) : m_reader(file), m_scene
     m_dir = file.parent_path();
 }
 
+Vec3 Loader::radiance(const json& value, const std::string& where) const {
+    try {
+        return m_reader.vec3(value, where, 0.0, kMaxRadiance);
+    } catch (const Error& e) {
+        // Say why the range ends where it does.
+        throw Error(e.kind(),
+                    e.message() +
+                        " (radiance is limited to 1e18 so that its variance, about its "
+                        "square, fits a float EXR)",
+                    e.file(), e.where());
+    }
+}
+
 int Loader::addMaterial(Material material) {
     m_materialIndex[material.name] = int(m_scene.materials.size());
     m_scene.materials.push_back(std::move(material));
@@ -75,9 +88,7 @@ void Loader::load(const json& root) {
     m_scene.faceNormals.resize(m_scene.triangleCount());
     for (std::size_t t = 0; t < m_scene.triangleCount(); ++t) {
         const Vec3* v = &m_scene.positions[3 * t];
-        const Vec3 n = cross(v[1] - v[0], v[2] - v[0]);
-        const float len = length(n);
-        m_scene.faceNormals[t] = len > 0.0f ? n / len : Vec3{0.0f, 0.0f, 1.0f};
+        m_scene.faceNormals[t] = triangleNormal(v[0], v[1], v[2]);
     }
     // The scene's scale, for scale-free ray offsets (vecmath.h, rayEpsilon).
     Vec3 lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
@@ -111,8 +122,11 @@ void Loader::readCamera(const json& j, const std::string& where) {
         j, where,
         {"position", "lookAt", "up", "fovY", "lensRadius", "focusDistance", "shutter", "motion"});
     CameraDesc& cam = m_scene.camera;
-    if (j.contains("position")) cam.position = m_reader.vec3(j["position"], where + "/position");
-    if (j.contains("lookAt")) cam.lookAt = m_reader.vec3(j["lookAt"], where + "/lookAt");
+    if (j.contains("position"))
+        cam.position =
+            m_reader.vec3(j["position"], where + "/position", -kMaxCoordinate, kMaxCoordinate);
+    if (j.contains("lookAt"))
+        cam.lookAt = m_reader.vec3(j["lookAt"], where + "/lookAt", -kMaxCoordinate, kMaxCoordinate);
     if (j.contains("up")) cam.up = m_reader.vec3(j["up"], where + "/up");
     if (j.contains("fovY")) cam.fovY = m_reader.number(j["fovY"], where + "/fovY", 1e-3, 179.0);
     if (j.contains("lensRadius"))
@@ -173,14 +187,14 @@ void Loader::readRender(const json& j, const std::string& where) {
             m_reader.fail(where + "/" + key, e.message());
         }
     };
-    if (j.contains("spp")) s.spp = int(m_reader.integer(j["spp"], where + "/spp", 1, 1 << 24));
+    if (j.contains("spp")) s.spp = int(m_reader.integer(j["spp"], where + "/spp", 1, kMaxSpp));
     if (j.contains("maxDepth"))
-        s.maxDepth = int(m_reader.integer(j["maxDepth"], where + "/maxDepth", 1, 1024));
+        s.maxDepth = int(m_reader.integer(j["maxDepth"], where + "/maxDepth", 1, kMaxDepth));
     if (j.contains("rrDepth"))
-        s.rrDepth = int(m_reader.integer(j["rrDepth"], where + "/rrDepth", 0, 1024));
+        s.rrDepth = int(m_reader.integer(j["rrDepth"], where + "/rrDepth", 0, kMaxDepth));
     if (j.contains("seed"))
-        s.seed = std::uint64_t(
-            m_reader.integer(j["seed"], where + "/seed", 0, std::numeric_limits<long long>::max()));
+        s.seed =
+            std::uint64_t(m_reader.integer(j["seed"], where + "/seed", 0, (long long)kMaxSeed));
     choice("integrator", parseIntegrator, s.integrator);
     choice("mis", parseMis, s.mis);
     choice("strategy", parseStrategy, s.strategy);
@@ -211,8 +225,7 @@ Material Loader::readMaterial(const std::string& name, const json& j, const std:
     if (j.contains("texture"))
         m.texture =
             loadTexture(m_reader.string(j["texture"], where + "/texture"), where + "/texture");
-    if (j.contains("emission"))
-        m.emission = m_reader.vec3(j["emission"], where + "/emission", 0.0, 1e30);
+    if (j.contains("emission")) m.emission = radiance(j["emission"], where + "/emission");
     if (j.contains("ior")) m.ior = m_reader.number(j["ior"], where + "/ior", 1e-3, 100.0);
     if (j.contains("roughness"))
         m.roughness = m_reader.number(j["roughness"], where + "/roughness", 0.0, 1.0);
@@ -238,8 +251,11 @@ void Loader::readEnvironment(const json& j, const std::string& where) {
         env.rotateDeg = m_reader.number(j["rotate"], where + "/rotate", -1e6, 1e6);
     if (j.contains("color")) {
         env.kind = EnvironmentDesc::Kind::Constant;
-        env.baseColor = m_reader.vec3(j["color"], where + "/color", 0.0, 1e30);
+        env.baseColor = radiance(j["color"], where + "/color");
         env.color = env.baseColor * env.scale;
+        if (maxAbsComponent(env.color) > kMaxRadiance)
+            m_reader.fail(where + "/scale", "colour × scale exceeds the largest radiance, " +
+                                                std::to_string(kMaxRadiance));
         // A black environment is no environment: nothing to sample.
         if (isBlack(env.color)) env.kind = EnvironmentDesc::Kind::None;
         return;
@@ -258,13 +274,15 @@ TransformDesc Loader::readTransform(const json& j, const std::string& where,
     TransformDesc desc = base;
     if (j.contains("scale")) {
         if (j["scale"].is_number()) {
-            const float s = m_reader.number(j["scale"], where + "/scale", -1e30, 1e30);
+            const float s = m_reader.number(j["scale"], where + "/scale", -1e15, 1e15);
             desc.scale = {s, s, s};
         } else {
-            desc.scale = m_reader.vec3(j["scale"], where + "/scale");
+            desc.scale = m_reader.vec3(j["scale"], where + "/scale", -1e15, 1e15);
         }
-        if (desc.scale.x == 0.0f || desc.scale.y == 0.0f || desc.scale.z == 0.0f)
-            m_reader.fail(where + "/scale", "scale factors must be non-zero");
+        for (int c = 0; c < 3; ++c)
+            if (!(std::fabs(desc.scale[c]) >= 1e-15f))
+                m_reader.fail(where + "/scale",
+                              "scale factors must be non-zero with a magnitude in [1e-15, 1e15]");
     }
     if (j.contains("rotate")) {
         const json& rot = j["rotate"];
@@ -276,7 +294,8 @@ TransformDesc Loader::readTransform(const json& j, const std::string& where,
         desc.axis = normalize(axis);
     }
     if (j.contains("translate"))
-        desc.translate = m_reader.vec3(j["translate"], where + "/translate");
+        desc.translate =
+            m_reader.vec3(j["translate"], where + "/translate", -kMaxCoordinate, kMaxCoordinate);
     return desc;
 }
 
@@ -292,6 +311,14 @@ void Loader::addMotion(const TransformDesc& start, const TransformDesc& end,
     shape.triangleCount = std::uint32_t(m_scene.triangleCount() - firstTriangle);
     const int steps = motion.timeSteps();
     for (int k = 0; k < steps; ++k) shape.steps.push_back(motion.at(float(k) / float(steps - 1)));
+    // Every pose must stay within the coordinate range, as the shutter-open one does.
+    for (const Affine& step : shape.steps)
+        for (const Vec3& p : objectPositions) {
+            const Vec3 q = step.point(p);
+            if (!isFinite(q) || maxAbsComponent(q) > kMaxCoordinate)
+                m_reader.fail(where, "a vertex leaves the coordinate range (±" +
+                                         std::to_string(kMaxCoordinate) + ") during the motion");
+        }
     shape.objectPositions = objectPositions;
     shape.objectNormals = objectNormals;
     // The scene arrays hold the shutter-open pose (step 0), for code that ignores motion.
@@ -350,9 +377,21 @@ Scene parseScene(const std::string& jsonText, const fs::path& path) {
     json root;
     try {
         root = json::parse(jsonText, nullptr, true, false);
-    } catch (const json::parse_error& e) {
-        // Turn the byte offset into a line and column.
-        const std::size_t byte = std::min<std::size_t>(e.byte, jsonText.size());
+    } catch (const json::exception& e) {
+        // Turn the byte offset into a line and column. A number the parser cannot hold
+        // (-1e400: out_of_range) has no offset; its text, quoted in the message, is found.
+        std::size_t byte = 0;
+        if (const auto* pe = dynamic_cast<const json::parse_error*>(&e)) {
+            byte = pe->byte;
+        } else {
+            const std::string what = e.what();
+            const auto q0 = what.find('\''), q1 = what.rfind('\'');
+            if (q0 != std::string::npos && q1 > q0) {
+                const auto at = jsonText.find(what.substr(q0 + 1, q1 - q0 - 1));
+                if (at != std::string::npos) byte = at + 1;
+            }
+        }
+        byte = std::min<std::size_t>(byte, jsonText.size());
         int line = 1, column = 1;
         for (std::size_t i = 0; i + 1 < byte; ++i) {
             if (jsonText[i] == '\n')
@@ -361,8 +400,12 @@ Scene parseScene(const std::string& jsonText, const fs::path& path) {
                 ++column;
         }
         std::string msg = e.what();
+        // Drop nlohmann's "[json.exception.x.n] parse error at line 1, column 2: " prefix.
+        const auto bracket = msg.find("] ");
+        if (bracket != std::string::npos) msg = msg.substr(bracket + 2);
         const auto colon = msg.find(": ", msg.find("parse error"));
-        if (colon != std::string::npos) msg = msg.substr(colon + 2);
+        if (msg.rfind("parse error", 0) == 0 && colon != std::string::npos)
+            msg = msg.substr(colon + 2);
         throw Error(ErrorKind::Format, "malformed JSON: " + msg, path.string(),
                     "line " + std::to_string(line) + ", column " + std::to_string(column));
     }
@@ -375,6 +418,8 @@ Scene parseScene(const std::string& jsonText, const fs::path& path) {
 }
 
 Scene loadScene(const fs::path& path) {
+    if (fs::is_directory(path))
+        throw Error(ErrorKind::Io, "is a folder, expected a scene.json file", path.string());
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(ErrorKind::Io, "cannot open scene file", path.string());
     std::ostringstream text;

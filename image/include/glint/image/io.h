@@ -36,6 +36,10 @@ Image readImage(const std::filesystem::path& path, bool linearize = true);
 /// colour channels sRGB-encoded and clamped (alpha, the 2nd of 2 or 4th of 4 channels, linear).
 void writeImage(const Image& image, const std::filesystem::path& path);
 
+/// The largest exposure, in stops either way, that display values and metrics accept: 2^64
+/// keeps every finite radiance finite after scaling.
+inline constexpr float kMaxExposure = 64.0f;
+
 /// How a linear image is turned into display values.
 struct DisplayOptions {
     float exposure = 0.0f;  ///< stops: values are multiplied by 2^exposure
@@ -59,7 +63,13 @@ void writePng(const Image& linear, const std::filesystem::path& path,
               const DisplayOptions& options = {});
 
 /// Runs `write(tmpPath)` then renames tmpPath onto `path`; removes tmpPath on failure.
+/// tmpPath is temporaryPathFor(path).
 void writeAtomically(const std::filesystem::path& path,
                      const std::function<void(const std::filesystem::path&)>& write);
+
+/// The temporary name writeAtomically uses for `path` in this process: a hidden sibling that
+/// keeps the extension, ".NAME.tmp-PID.EXT". Known in advance, so that a program interrupted by
+/// a signal can remove it (one writer per target and process at a time).
+std::filesystem::path temporaryPathFor(const std::filesystem::path& path);
 
 }  // namespace glint

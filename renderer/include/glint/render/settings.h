@@ -17,6 +17,14 @@ enum class Strategy { Bsdf, Light };
 /// How pixel and lens samples are placed inside a pass.
 enum class SamplerKind { Stratified, Independent };
 
+/// The limits of Settings, the same for scene.json's "render" block, the command line and the
+/// API (validate()).
+inline constexpr int kMaxSpp = 1 << 24;       ///< samples per pixel
+inline constexpr int kMaxDepth = 1024;        ///< bounces (maxDepth, rrDepth)
+inline constexpr int kMaxThreads = 1024;      ///< worker threads
+inline constexpr double kMaxTimeLimit = 1e7;  ///< seconds (about 4 months)
+inline constexpr std::uint64_t kMaxSeed = (std::uint64_t(1) << 63) - 1;
+
 /// Render settings. A scene's "render" block gives defaults (Scene::settings()); a caller
 /// copies them and overrides what it wants.
 struct Settings {
@@ -27,9 +35,11 @@ struct Settings {
     MisHeuristic mis = MisHeuristic::Power;
     Strategy strategy = Strategy::Bsdf;  ///< only with mis == None
     SamplerKind sampler = SamplerKind::Stratified;
-    int maxDepth = 32;           ///< maximum number of bounces (1 = direct lighting only)
-    int rrDepth = 3;             ///< Russian roulette starts after this many bounces
-    double timeLimit = 0.0;      ///< seconds; > 0 renders passes until time runs out
+    int maxDepth = 32;  ///< maximum number of bounces (1 = direct lighting only)
+    int rrDepth = 3;    ///< Russian roulette starts after this many bounces
+    /// Seconds; > 0 renders passes until time runs out (the first pass of 1 spp always
+    /// completes, so a tiny limit still gives an image).
+    double timeLimit = 0.0;
     int tileSize = 16;           ///< tile edge in pixels
     bool positionLayer = false;  ///< also produce the optional world-space position layer
     MltSettings mlt;             ///< Metropolis parameters (integrator == Mlt)
@@ -51,7 +61,8 @@ const char* misName(MisHeuristic mis);
 /// Name of a strategy ("bsdf", "light").
 const char* strategyName(Strategy strategy);
 
-/// Throws glint::Error(InvalidArgument) naming the first out-of-range field.
+/// Throws glint::Error(InvalidArgument) naming the first out-of-range field (`where` is the
+/// field's name) and its allowed range.
 void validate(const Settings& settings);
 
 }  // namespace glint::render

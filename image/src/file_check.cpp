@@ -1,0 +1,99 @@
+// Structural checks of PNG and JPEG files before their libraries see them: libpng prints its
+// own "libpng error:" line on stderr for a truncated or damaged file (OpenImageIO does not
+// silence it), and a truncated JPEG decodes to a partly grey image without any error. The
+// damage is found here and reported as one glint::Error.
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "glint/image/error.h"
+#include "oiio_helpers.h"
+
+namespace glint::detail {
+
+namespace {
+
+// CRC-32 (ISO 3309, the PNG chunk checksum), table-driven.
+std::uint32_t crc32(const unsigned char* data, std::size_t n, std::uint32_t crc = 0xffffffffu) {
+    static const std::array<std::uint32_t, 256> table = [] {
+        std::array<std::uint32_t, 256> t{};
+        for (std::uint32_t i = 0; i < 256; ++i) {
+            std::uint32_t c = i;
+            for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xedb88320u ^ (c >> 1) : c >> 1;
+            t[i] = c;
+        }
+        return t;
+    }();
+    for (std::size_t i = 0; i < n; ++i) crc = table[(crc ^ data[i]) & 0xffu] ^ (crc >> 8);
+    return crc;
+}
+
+std::uint32_t bigEndian(const unsigned char* p) {
+    return std::uint32_t(p[0]) << 24 | std::uint32_t(p[1]) << 16 | std::uint32_t(p[2]) << 8 |
+           std::uint32_t(p[3]);
+}
+
+}  // namespace
+
+bool isPng(const std::filesystem::path& path) {
+    static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    std::ifstream in(path, std::ios::binary);
+    unsigned char head[8] = {};
+    in.read(reinterpret_cast<char*>(head), 8);
+    return in.gcount() == 8 && std::equal(head, head + 8, signature);
+}
+
+void checkPngStructure(const std::filesystem::path& path) {
+    const std::string file = path.string();
+    std::ifstream in(path, std::ios::binary);
+    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
+                                     std::istreambuf_iterator<char>());
+    auto fail = [&](std::size_t at, const std::string& what) {
+        throw Error(ErrorKind::Format, "damaged PNG: " + what, file, "byte " + std::to_string(at));
+    };
+    std::size_t at = 8;
+    bool sawHeader = false, sawData = false;
+    while (true) {
+        if (at + 12 > bytes.size()) fail(at, "truncated (the file ends inside a chunk header)");
+        const std::uint32_t length = bigEndian(&bytes[at]);
+        const std::string type(reinterpret_cast<const char*>(&bytes[at + 4]), 4);
+        if (length > 0x7fffffffu || at + 12 + std::size_t(length) > bytes.size())
+            fail(at, "truncated (chunk '" + type + "' of " + std::to_string(length) +
+                         " bytes goes past the end of the file)");
+        const std::uint32_t stored = bigEndian(&bytes[at + 8 + length]);
+        if ((crc32(&bytes[at + 4], 4 + std::size_t(length)) ^ 0xffffffffu) != stored)
+            fail(at, "chunk '" + type + "' fails its CRC");
+        if (!sawHeader && type != "IHDR") fail(at, "the first chunk is not IHDR");
+        sawHeader = true;
+        sawData = sawData || type == "IDAT";
+        at += 12 + std::size_t(length);
+        if (type == "IEND") break;
+    }
+    if (!sawData) fail(at, "no image data (IDAT)");
+}
+
+bool isJpeg(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    unsigned char head[3] = {};
+    in.read(reinterpret_cast<char*>(head), 3);
+    return in.gcount() == 3 && head[0] == 0xff && head[1] == 0xd8 && head[2] == 0xff;
+}
+
+void checkJpegStructure(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    const std::streamoff size = in.tellg();
+    // The end-of-image marker closes the file (a few trailing bytes are tolerated).
+    const std::streamoff tail = std::min<std::streamoff>(size, 64);
+    std::vector<unsigned char> end(static_cast<std::size_t>(tail));
+    in.seekg(size - tail);
+    in.read(reinterpret_cast<char*>(end.data()), tail);
+    for (std::size_t i = 0; i + 1 < end.size(); ++i)
+        if (end[i] == 0xff && end[i + 1] == 0xd9) return;
+    throw Error(ErrorKind::Format, "truncated JPEG (no end-of-image marker)", path.string(),
+                "byte " + std::to_string(size));
+}
+
+}  // namespace glint::detail

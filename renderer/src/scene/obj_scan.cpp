@@ -1,0 +1,128 @@
+#include "scene/obj_scan.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "glint/image/error.h"
+
+namespace glint::render::detail {
+
+namespace {
+
+[[noreturn]] void fail(const std::filesystem::path& path, int line, const std::string& what) {
+    throw Error(ErrorKind::Format, what, path.string(), "line " + std::to_string(line));
+}
+
+std::string shorten(const std::string& s) {
+    return s.size() > 40 ? s.substr(0, 37) + "..." : s;
+}
+
+// Parses whitespace-separated finite numbers after the keyword; between lo and hi of them.
+void checkNumbers(std::istringstream& in, const std::filesystem::path& path, int line,
+                  const std::string& keyword, int lo, int hi) {
+    std::string token;
+    int count = 0;
+    while (in >> token) {
+        char* end = nullptr;
+        const double v = std::strtod(token.c_str(), &end);
+        if (end == token.c_str() || *end != '\0')
+            fail(path, line,
+                 "expected numbers after '" + keyword + "', got '" + shorten(token) + "'");
+        if (!std::isfinite(v) || std::fabs(v) > 3.0e38)
+            fail(
+                path, line,
+                "'" + keyword + "' has a non-finite or overflowing value '" + shorten(token) + "'");
+        ++count;
+    }
+    if (count < lo || count > hi)
+        fail(
+            path, line,
+            "'" + keyword + "' needs " +
+                (lo == hi ? std::to_string(lo) : std::to_string(lo) + " to " + std::to_string(hi)) +
+                " numbers, got " + std::to_string(count));
+}
+
+// Resolves one OBJ index (1-based, or negative relative to `count` statements so far) and
+// checks it against `total` statements in the file.
+void checkIndex(const std::string& text, long long count, long long total, const char* what,
+                const std::filesystem::path& path, int line) {
+    char* end = nullptr;
+    const long long i = std::strtoll(text.c_str(), &end, 10);
+    if (text.empty() || *end != '\0')
+        fail(path, line,
+             std::string("expected a ") + what + " index in a face, got '" + shorten(text) + "'");
+    const long long resolved = i < 0 ? count + i + 1 : i;
+    if (i == 0 || resolved < 1 || resolved > total)
+        fail(path, line,
+             "face " + std::string(what) + " index " + text + " is out of range (the file has " +
+                 std::to_string(total) + " " + what + " statement" + (total == 1 ? "" : "s") +
+                 (i < 0 ? ", " + std::to_string(count) + " before this line" : "") + ")");
+}
+
+}  // namespace
+
+ObjLines scanObj(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(ErrorKind::Io, "cannot read the OBJ file", path.string());
+    std::vector<std::string> lines;
+    for (std::string l; std::getline(in, l);) lines.push_back(std::move(l));
+    if (in.bad()) throw Error(ErrorKind::Io, "cannot read the OBJ file", path.string());
+
+    // First pass: every v / vn / vt, so positive face indices can be checked against totals.
+    ObjLines out;
+    for (std::size_t n = 0; n < lines.size(); ++n) {
+        std::istringstream ls(lines[n]);
+        std::string key;
+        if (!(ls >> key)) continue;
+        const int line = int(n) + 1;
+        if (key == "v") {
+            checkNumbers(ls, path, line, key, 3, 7);  // x y z [w] or x y z r g b
+            out.vertices.push_back(line);
+        } else if (key == "vn") {
+            checkNumbers(ls, path, line, key, 3, 3);
+            out.normals.push_back(line);
+        } else if (key == "vt") {
+            checkNumbers(ls, path, line, key, 1, 3);
+            out.texcoords.push_back(line);
+        }
+    }
+    // Second pass: faces.
+    long long v = 0, vn = 0, vt = 0;
+    const auto nv = (long long)out.vertices.size(), nn = (long long)out.normals.size(),
+               nt = (long long)out.texcoords.size();
+    for (std::size_t n = 0; n < lines.size(); ++n) {
+        std::istringstream ls(lines[n]);
+        std::string key;
+        if (!(ls >> key)) continue;
+        const int line = int(n) + 1;
+        if (key == "v")
+            ++v;
+        else if (key == "vn")
+            ++vn;
+        else if (key == "vt")
+            ++vt;
+        if (key != "f") continue;
+        std::string corner;
+        int corners = 0;
+        while (ls >> corner) {
+            // v, v/vt, v//vn or v/vt/vn
+            const std::size_t a = corner.find('/');
+            const std::size_t b = a == std::string::npos ? a : corner.find('/', a + 1);
+            checkIndex(corner.substr(0, a), v, nv, "vertex", path, line);
+            if (a != std::string::npos) {
+                const std::string t = corner.substr(a + 1, b == std::string::npos ? b : b - a - 1);
+                if (!t.empty()) checkIndex(t, vt, nt, "texture coordinate", path, line);
+                if (b != std::string::npos)
+                    checkIndex(corner.substr(b + 1), vn, nn, "normal", path, line);
+            }
+            ++corners;
+        }
+        if (corners < 3)
+            fail(path, line, "a face needs at least 3 corners, got " + std::to_string(corners));
+    }
+    return out;
+}
+
+}  // namespace glint::render::detail

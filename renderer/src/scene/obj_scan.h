@@ -1,0 +1,25 @@
+// A validating pre-pass over an OBJ file: tinyobjloader does not check what faces reference, nor
+// that numbers are numbers, and it does not say where it read them. The scan names the file and
+// line of the first problem and remembers the line of every vertex, normal and texture
+// coordinate so that later checks (after the shape's transform) can name it too.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace glint::render::detail {
+
+/// Lines (1-based) of the OBJ's `v`, `vn` and `vt` statements, in order.
+struct ObjLines {
+    std::vector<int> vertices, normals, texcoords;
+};
+
+/// Reads the OBJ at `path` and checks every statement Glint uses: `v`/`vn`/`vt` hold finite
+/// numbers (3, 3 and 1–3 of them; `v` may add 3 colour values); every face has at least 3
+/// corners, and each corner's vertex, texture and normal index (1-based, or negative: relative
+/// to the statements read so far) names an existing statement. Throws glint::Error(Format)
+/// naming the file and "line N", Io when it cannot be read.
+ObjLines scanObj(const std::filesystem::path& path);
+
+}  // namespace glint::render::detail
