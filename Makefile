@@ -10,7 +10,7 @@ DEB_PACKAGES := build-essential cmake ninja-build pkg-config \
   nlohmann-json3-dev libcli11-dev
 # Qt6 (qt6-base-dev), Eigen and xvfb join this list with the studio (gui/), which needs them.
 
-.PHONY: all deps build test clean demo bench bench-deps
+.PHONY: all deps build test clean demo bench bench-deps fuzz
 
 all: build
 
@@ -36,5 +36,15 @@ bench-deps:
 bench: build bench-deps
 	./tests/perf/run_all.sh $(BUILD_DIR)
 
+# Fuzzing (docs/reliability.md): clang + libFuzzer + ASan/UBSan in build-fuzz/, each target for
+# FUZZ_SECONDS (default 600, as each was run before its issue was resolved).
+FUZZ_SECONDS ?= 600
+fuzz: deps
+	@./.ci/install-deps clang libclang-rt-14-dev
+	@test -f build-fuzz/CMakeCache.txt || CC=clang CXX=clang++ cmake -S . -B build-fuzz -G "$(CMAKE_GENERATOR)" \
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGLINT_FUZZ=ON -DGLINT_BUILD_TESTS=OFF -DGLINT_BUILD_BENCHMARKS=OFF
+	cmake --build build-fuzz -j $(JOBS) --target fuzz_scene_json fuzz_obj fuzz_texture fuzz_exr
+	./tests/fuzz/run.sh build-fuzz $(FUZZ_SECONDS)
+
 clean:
-	rm -rf $(BUILD_DIR) out
+	rm -rf $(BUILD_DIR) build-fuzz out

@@ -77,7 +77,8 @@ void runBank(const BankArgs& a) {
         throw Error(ErrorKind::InvalidArgument, "given without --prefilter", {},
                     "--prefilter-param");
     validate(options);  // before reading anything or creating the folder
-    if (fs::exists(a.out) && !fs::is_directory(a.out))
+    std::error_code ec;
+    if (fs::exists(a.out, ec) && !fs::is_directory(a.out, ec))
         throw Error(ErrorKind::InvalidArgument, "exists and is not a folder", a.out, "--out");
     const FrameBuffers frame = readExr(a.input);
     if (!a.roi.empty()) options.region = parseRegion(a.roi, frame.width(), frame.height(), a.input);

@@ -59,7 +59,8 @@ Rect parseRect(const std::string& text, const std::string& option) {
         const long n = std::strtol(item.c_str(), &end, 10);
         if (item.empty() || *end != '\0' || n < 0 || n > 1 << 24)
             throw Error(ErrorKind::InvalidArgument,
-                        "'" + text + "' is not x0,x1,y0,y1 (four integers in [0, 2^24])", {}, option);
+                        "'" + text + "' is not x0,x1,y0,y1 (four integers in [0, 2^24])", {},
+                        option);
         v.push_back(int(n));
     }
     if (v.size() != 4)

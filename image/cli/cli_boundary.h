@@ -58,11 +58,12 @@ inline void checkOutputPath(const std::string& path, std::initializer_list<const
     if (!ok)
         throw Error(ErrorKind::InvalidArgument,
                     "cannot write '" + path + "': expected a file ending in " + accepted, {}, flag);
-    if (fs::is_directory(p))
+    std::error_code ec;
+    if (fs::is_directory(p, ec))
         throw Error(ErrorKind::InvalidArgument, "'" + path + "' is a folder, expected a file", {},
                     flag);
     const fs::path folder = p.parent_path().empty() ? fs::path(".") : p.parent_path();
-    if (!fs::is_directory(folder))
+    if (!fs::is_directory(folder, ec))
         throw Error(
             ErrorKind::InvalidArgument,
             "cannot write '" + path + "': the folder '" + folder.string() + "' does not exist", {},

@@ -201,7 +201,9 @@ void BankCache::writeIndex(const std::vector<BankMember>& members,
 }  // namespace detail
 
 BankOptions readBankOptions(const fs::path& dir) {
-    if (!fs::is_directory(dir)) throw Error(ErrorKind::Io, "bank folder not found", dir.string());
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec))
+        throw Error(ErrorKind::Io, "bank folder not found", dir.string());
     const fs::path index = dir / detail::kIndexName;
     std::ifstream in(index);
     if (!in)

@@ -32,8 +32,12 @@ Image scaledRgb(const Image& source, float scale, const std::string& what,
 
 Image readLinearRgb(const std::filesystem::path& image, float scale, const std::string& what,
                     const std::filesystem::path& sceneFile, const std::string& where) {
-    if (!std::filesystem::exists(image))
+    std::error_code ec;  // odd paths (too long...) are reported, not thrown
+    if (!std::filesystem::exists(image, ec))
         throw Error(ErrorKind::Io, what + " file '" + image.string() + "' not found",
+                    sceneFile.string(), where);
+    if (!std::filesystem::is_regular_file(image, ec))
+        throw Error(ErrorKind::Io, what + " '" + image.string() + "' is not a file",
                     sceneFile.string(), where);
     const Image raw = readImage(image, true);
     try {

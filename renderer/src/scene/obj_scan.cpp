@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "glint/image/error.h"
+#include "scene/scene_data.h"
 
 namespace glint::render::detail {
 
@@ -63,6 +64,33 @@ void checkIndex(const std::string& text, long long count, long long total, const
 
 }  // namespace
 
+void scanMtl(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(ErrorKind::Io, "cannot read the MTL file", path.string());
+    int line = 0;
+    for (std::string text; std::getline(in, text);) {
+        ++line;
+        std::istringstream ls(text);
+        std::string key;
+        if (!(ls >> key)) continue;
+        if (key == "Ka" || key == "Kd" || key == "Ks" || key == "Tf") {
+            checkNumbers(ls, path, line, key, 1, 3);
+        } else if (key == "Ke") {
+            std::istringstream again(text);
+            again >> key;
+            checkNumbers(ls, path, line, key, 1, 3);
+            for (double v; again >> v;)
+                if (v > kMaxRadiance)
+                    fail(path, line,
+                         "'Ke' " + std::to_string(v) +
+                             " is above the largest radiance, 1e18 (its variance "
+                             "must fit a float EXR)");
+        } else if (key == "Ns" || key == "Ni" || key == "d" || key == "Tr" || key == "illum") {
+            checkNumbers(ls, path, line, key, 1, 1);
+        }
+    }
+}
+
 ObjLines scanObj(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(ErrorKind::Io, "cannot read the OBJ file", path.string());
@@ -86,6 +114,17 @@ ObjLines scanObj(const std::filesystem::path& path) {
         } else if (key == "vt") {
             checkNumbers(ls, path, line, key, 1, 3);
             out.texcoords.push_back(line);
+        }
+    }
+    // Material libraries, where they exist (tinyobjloader reports missing ones).
+    for (std::size_t n = 0; n < lines.size(); ++n) {
+        std::istringstream ls(lines[n]);
+        std::string key, name;
+        if (!(ls >> key) || key != "mtllib") continue;
+        while (ls >> name) {
+            const std::filesystem::path mtl = path.parent_path() / name;
+            std::error_code ec;
+            if (std::filesystem::is_regular_file(mtl, ec)) scanMtl(mtl);
         }
     }
     // Second pass: faces.

@@ -22,4 +22,9 @@ struct ObjLines {
 /// naming the file and "line N", Io when it cannot be read.
 ObjLines scanObj(const std::filesystem::path& path);
 
+/// Checks the numeric statements of an MTL file (Ka/Kd/Ks/Ke/Tf: 3 finite numbers; Ns/Ni/d/Tr/
+/// illum: 1; Ke at most kMaxRadiance) and throws glint::Error(Format) naming its file and line.
+/// scanObj calls it for every `mtllib` file that exists (a missing one is reported later).
+void scanMtl(const std::filesystem::path& path);
+
 }  // namespace glint::render::detail

@@ -418,7 +418,8 @@ Scene parseScene(const std::string& jsonText, const fs::path& path) {
 }
 
 Scene loadScene(const fs::path& path) {
-    if (fs::is_directory(path))
+    std::error_code ec;
+    if (fs::is_directory(path, ec))
         throw Error(ErrorKind::Io, "is a folder, expected a scene.json file", path.string());
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(ErrorKind::Io, "cannot open scene file", path.string());
