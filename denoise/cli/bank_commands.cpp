@@ -8,6 +8,7 @@
 #include <memory>
 #include <sstream>
 
+#include "cli_boundary.h"
 #include "commands.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/navigation.h"
@@ -80,6 +81,12 @@ void runBank(const BankArgs& a) {
     std::error_code ec;
     if (fs::exists(a.out, ec) && !fs::is_directory(a.out, ec))
         throw Error(ErrorKind::InvalidArgument, "exists and is not a folder", a.out, "--out");
+    const fs::path parent = fs::path(a.out).parent_path().empty() ? fs::path(".")
+                                                                  : fs::path(a.out).parent_path();
+    if (!fs::is_directory(parent, ec))
+        throw Error(ErrorKind::InvalidArgument,
+                    "the folder '" + parent.string() + "' that would hold the bank does not exist",
+                    a.out, "--out");
     const FrameBuffers frame = readExr(a.input);
     if (!a.roi.empty()) options.region = parseRegion(a.roi, frame.width(), frame.height(), a.input);
     fs::create_directories(a.out);
@@ -123,9 +130,10 @@ struct OracleArgs {
 };
 
 void runOracle(const OracleArgs& a) {
-    if (!a.choiceMap.empty() && fs::path(a.choiceMap).extension() != ".png")
-        throw Error(ErrorKind::InvalidArgument, "the choice map is written as PNG (.png)",
-                    a.choiceMap, "--choice-map");
+    if (!a.choiceMap.empty()) {
+        glint::cli::checkOutputPath(a.choiceMap, {".png"}, "--choice-map");
+        glint::cli::removeTemporariesOnSignal({a.choiceMap});
+    }
     const FrameBuffers frame = readExr(a.input);
     const FrameBuffers ref = readReference(a.reference, frame.width(), frame.height());
     const auto t0 = Clock::now();

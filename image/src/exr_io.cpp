@@ -28,12 +28,30 @@ constexpr std::string_view kPrefix = "glint:";
 
 /// A corrupt header can claim any size: refuse one that could not be a render (more than
 /// 65536 pixels on a side or 2^28 pixels in all) before allocating anything for it.
-void checkPlausibleSize(int width, int height, const std::string& file) {
-    constexpr long long kMaxSide = 1 << 16, kMaxPixels = 1LL << 28;
+void checkPlausibleSize(int width, int height, int channels, const std::filesystem::path& path) {
+    const std::string file = path.string();
+    constexpr long long kMaxSide = 1 << 16, kMaxPixels = 1LL << 28, kMaxChannels = 1024;
     if (width > kMaxSide || height > kMaxSide || (long long)width * height > kMaxPixels)
         throw Error(ErrorKind::Format,
                     "header claims " + std::to_string(width) + "x" + std::to_string(height) +
                         " pixels; expected at most 65536 per side and 2^28 in all",
+                    file, "header");
+    if (channels > kMaxChannels)
+        throw Error(ErrorKind::Format,
+                    "header claims " + std::to_string(channels) + " channels; expected at most " +
+                        std::to_string(kMaxChannels),
+                    file, "header");
+    // No image format Glint reads compresses better than about 1000:1 (deflate's limit is
+    // 1032:1), so a file claiming far more pixels than it can hold is refused before gigabytes
+    // are allocated for it.
+    std::error_code ec;
+    const auto bytes = (long long)std::filesystem::file_size(path, ec);
+    const long long samples = (long long)width * height * channels;
+    if (!ec && samples / 2048 > bytes)
+        throw Error(ErrorKind::Format,
+                    "header claims " + std::to_string(width) + "x" + std::to_string(height) + "x" +
+                        std::to_string(channels) + " samples, more than a file of " +
+                        std::to_string(bytes) + " bytes can hold",
                     file, "header");
 }
 /// glint:* keys with a FrameMetadata field of their own; other glint:* keys go to `extra`.
@@ -138,7 +156,7 @@ FrameBuffers readExr(const std::filesystem::path& path) {
         throw Error(ErrorKind::Format, "deep EXR files are not supported", file, "header");
     if (spec.width <= 0 || spec.height <= 0 || spec.depth != 1)
         throw Error(ErrorKind::Format, "expected a 2D image with pixels", file, "header");
-    checkPlausibleSize(spec.width, spec.height, file);
+    checkPlausibleSize(spec.width, spec.height, spec.nchannels, path);
 
     bool hasGlintAttributes = false;
     for (const OIIO::ParamValue& p : spec.extra_attribs)
@@ -266,7 +284,7 @@ Image readImage(const std::filesystem::path& path, bool linearize) {
     const OIIO::ImageSpec spec = in->spec();
     if (spec.deep || spec.width <= 0 || spec.height <= 0 || spec.depth != 1 || spec.nchannels <= 0)
         throw Error(ErrorKind::Format, "expected a flat 2D image with pixels", file, "header");
-    checkPlausibleSize(spec.width, spec.height, file);
+    checkPlausibleSize(spec.width, spec.height, spec.nchannels, path);
     Image image(spec.width, spec.height, spec.nchannels);
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeFloat, image.data().data()))
         throw Error(ErrorKind::Format,

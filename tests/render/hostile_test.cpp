@@ -332,3 +332,32 @@ TEST_F(HostileCli, ASignalDuringTheWriteLeavesNoTemporaryFile) {
 
 }  // namespace
 }  // namespace glint::render
+
+namespace glint::render {
+namespace {
+
+// The largest radiance a scene may hold renders with a finite colour and a finite variance (its
+// variance, about the square, still fits a float); 1e30 was accepted before and gave an Inf
+// variance layer while the summary said 0 non-finite values.
+TEST(Hostile, TheLargestRadianceKeepsTheVarianceFinite) {
+    test::TempDir dir("radiance");
+    dir.write("quad.obj", test::quadObj());
+    const fs::path file = dir.write("scene.json", R"({
+      "camera": {"position": [0, 3, 0.01], "lookAt": [0, 0, 0]},
+      "film": {"width": 8, "height": 8},
+      "materials": {"lamp": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5],
+                              "emission": [1e18, 5e17, 1e17]}},
+      "shapes": [{"obj": "quad.obj", "material": "lamp"}],
+      "environment": {"color": [1e18, 1e18, 1e18]}})");
+    Renderer renderer(loadScene(file));
+    Settings s = renderer.scene().settings();
+    s.spp = 8;
+    const RenderResult r = renderer.render(s);
+    EXPECT_EQ(r.frame.color().countNonFinite(), 0u);
+    EXPECT_EQ(r.frame.layer(Layer::Variance).countNonFinite(), 0u);
+    EXPECT_EQ(r.stats.nonFiniteSamples, 0);
+    EXPECT_GT(r.frame.color()(4, 4, 0), 1e17f);
+}
+
+}  // namespace
+}  // namespace glint::render
