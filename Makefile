@@ -3,12 +3,12 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_GENERATOR ?= Ninja
 
-# Debian bookworm packages Glint needs (see shared/DESIGN.md and third_party_notes/).
+# Debian bookworm packages Glint needs (see docs/architecture.md and third_party_notes/).
 DEB_PACKAGES := build-essential cmake ninja-build pkg-config \
   libembree-dev libopenimageio-dev libopencv-core-dev openimageio-tools libopenexr-dev \
   libtinyobjloader-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev \
-  nlohmann-json3-dev libcli11-dev
-# Qt6 (qt6-base-dev), Eigen and xvfb join this list with the studio (gui/), which needs them.
+  nlohmann-json3-dev libcli11-dev libeigen3-dev
+# Qt6 (qt6-base-dev) and xvfb join this list with the studio (gui/), which needs them.
 
 .PHONY: all deps build test clean demo bench bench-deps fuzz
 

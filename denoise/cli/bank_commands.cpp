@@ -81,8 +81,8 @@ void runBank(const BankArgs& a) {
     std::error_code ec;
     if (fs::exists(a.out, ec) && !fs::is_directory(a.out, ec))
         throw Error(ErrorKind::InvalidArgument, "exists and is not a folder", a.out, "--out");
-    const fs::path parent = fs::path(a.out).parent_path().empty() ? fs::path(".")
-                                                                  : fs::path(a.out).parent_path();
+    const fs::path parent =
+        fs::path(a.out).parent_path().empty() ? fs::path(".") : fs::path(a.out).parent_path();
     if (!fs::is_directory(parent, ec))
         throw Error(ErrorKind::InvalidArgument,
                     "the folder '" + parent.string() + "' that would hold the bank does not exist",

@@ -82,7 +82,9 @@ inline std::vector<std::string>& signalTemporaries() {
     return paths;
 }
 extern "C" inline void removeTemporariesAndDie(int sig) {
-    for (const std::string& p : signalTemporaries()) ::unlink(p.c_str());
+    // unlink a file, rmdir an (emptied) folder: both are async-signal-safe.
+    for (const std::string& p : signalTemporaries())
+        if (::unlink(p.c_str()) != 0) ::rmdir(p.c_str());
     std::signal(sig, SIG_DFL);
     std::raise(sig);
 }
@@ -94,6 +96,14 @@ extern "C" inline void removeTemporariesAndDie(int sig) {
 inline void removeTemporariesOnSignal(const std::vector<std::string>& outputs) {
     for (const std::string& o : outputs)
         if (!o.empty()) detail::signalTemporaries().push_back(temporaryPathFor(o).string());
+    std::signal(SIGINT, detail::removeTemporariesAndDie);
+    std::signal(SIGTERM, detail::removeTemporariesAndDie);
+}
+
+/// The same for temporary files known by their own names (Session::temporaries).
+inline void removeOnSignal(const std::vector<std::string>& temporaries) {
+    for (const std::string& t : temporaries)
+        if (!t.empty()) detail::signalTemporaries().push_back(t);
     std::signal(SIGINT, detail::removeTemporariesAndDie);
     std::signal(SIGTERM, detail::removeTemporariesAndDie);
 }

@@ -23,8 +23,8 @@ enum class ImageDistance {
 
 /// Parameters of the tree.
 struct TreeOptions {
-    int k = 4;          ///< children per node, >= 2
-    double p = 0.5;     ///< fraction of a node's members each child keeps, in (0, 1); k·p >= 1
+    int k = 4;       ///< children per node, >= 2
+    double p = 0.5;  ///< fraction of a node's members each child keeps, in (0, 1); k·p >= 1
     ImageDistance distance = ImageDistance::Mse;
     float exposure = 0.0f;  ///< stops, for the display values
     /// Images are box-downsampled (linear values, then display) until their longer side is at

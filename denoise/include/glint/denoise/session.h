@@ -116,8 +116,8 @@ class Session {
     void reapply(FrameBuffers newInput, const ProgressFn& progress = {});
 
     /// What the studio keeps with a session (saved and loaded, not interpreted here).
-    std::optional<Rect> region;                      ///< the region of interest
-    std::filesystem::path bankDir;                   ///< the bank cache folder, if any
+    std::optional<Rect> region;                    ///< the region of interest
+    std::filesystem::path bankDir;                 ///< the bank cache folder, if any
     std::map<std::string, std::string> viewState;  ///< free-form view settings
 
     /// Saves NAME.glint-session.json (with "format") plus the side folder
@@ -133,6 +133,12 @@ class Session {
     void exportExr(const std::filesystem::path& path) const;
     /// Writes an 8-bit PNG of the composite.
     void exportPng(const std::filesystem::path& path, const DisplayOptions& display = {}) const;
+
+    /// Every temporary file or folder a save of a session with `layers` layers to `path`
+    /// creates, in the order to remove them (files first): a program interrupted by a signal
+    /// removes them (glint::temporaryPathFor names them in advance).
+    static std::vector<std::filesystem::path> temporaries(const std::filesystem::path& path,
+                                                          std::size_t layers);
 
   private:
     struct Impl;

@@ -1,0 +1,376 @@
+// The painting session: layers, the composite, strokes, fills, diffusion, undo and redo.
+#include <algorithm>
+#include <cmath>
+
+#include "composite/session_impl.h"
+#include "glint/denoise/prefilter.h"
+#include "glint/denoise/registry.h"
+#include "glint/image/composite.h"
+#include "glint/image/error.h"
+
+namespace glint::denoise {
+
+namespace {
+
+Rect unite(const Rect& a, const Rect& b) {
+    if (a.empty()) return b;
+    if (b.empty()) return a;
+    return {std::min(a.x0, b.x0), std::max(a.x1, b.x1), std::min(a.y0, b.y0), std::max(a.y1, b.y1)};
+}
+
+// Writes `crop` (of rect's size) into `image` at rect.
+void put(Image& image, const Image& crop, const Rect& rect) {
+    paste(image, crop, rect.x0, rect.y0);
+}
+
+}  // namespace
+
+Image runLayerFilter(const FrameBuffers& input, const std::string& filter,
+                     const ParamValues& params, const ProgressFn& progress) {
+    FilterOptions options;
+    options.progress = progress;
+    return applyFilter(findFilter(filter), input, params, options);
+}
+
+void Session::Impl::recomposite(const Rect& rect) {
+    const Rect r = intersect(rect, composite.bounds());
+    if (r.empty()) return;
+    paste(composite, input.color().crop(r), r.x0, r.y0);
+    for (const SessionLayer& layer : layers)
+        blendInPlace(composite, layer.output, layer.weights, r);
+}
+
+void Session::Impl::checkLayer(std::size_t index) const {
+    if (index >= layers.size())
+        throw Error(ErrorKind::InvalidArgument,
+                    "layer " + std::to_string(index) + " does not exist (the session has " +
+                        std::to_string(layers.size()) + ")",
+                    {}, "session");
+}
+
+void Session::Impl::checkNoStroke() const {
+    if (stroking)
+        throw Error(ErrorKind::InvalidArgument, "a stroke is open (endStroke first)", {},
+                    "session");
+}
+
+void Session::Impl::apply(const SessionEdit& edit, bool forward) {
+    switch (edit.kind) {
+        case SessionEdit::Kind::AddLayer:
+        case SessionEdit::Kind::RemoveLayer: {
+            const bool insert = (edit.kind == SessionEdit::Kind::AddLayer) == forward;
+            if (insert)
+                layers.insert(layers.begin() + std::ptrdiff_t(edit.index), edit.layer);
+            else
+                layers.erase(layers.begin() + std::ptrdiff_t(edit.index));
+            recomposite(composite.bounds());
+            return;
+        }
+        case SessionEdit::Kind::Weights:
+            for (const WeightsChange& c : edit.changes) {
+                SessionLayer& layer = layers[c.layer];
+                put(layer.weights, forward ? c.weightsAfter : c.weightsBefore, c.rect);
+                put(layer.painted, forward ? c.paintedAfter : c.paintedBefore, c.rect);
+                recomposite(c.rect);
+            }
+            return;
+    }
+}
+
+void Session::Impl::record(SessionEdit edit) {
+    undo.push_back(std::move(edit));
+    redo.clear();
+}
+
+Session::Session(FrameBuffers input, const SessionOptions& options)
+    : m_impl(std::make_unique<Impl>()) {
+    if (input.width() <= 0 || input.height() <= 0 || !input.has(Layer::Color))
+        throw Error(ErrorKind::InvalidArgument, "a session needs a frame with a colour layer", {},
+                    "session");
+    m_impl->options = options;
+    m_impl->options.prefilterParams =
+        resolveParams(prefilterParams(), options.prefilterParams, "feature prefilter");
+    if (options.prefilter) m_impl->prefiltered = prefilterFeatures(input, options.prefilterParams);
+    m_impl->composite = input.color();
+    m_impl->input = std::move(input);
+}
+
+Session::~Session() = default;
+Session::Session(Session&&) noexcept = default;
+Session& Session::operator=(Session&&) noexcept = default;
+
+const FrameBuffers& Session::input() const {
+    return m_impl->input;
+}
+const FrameBuffers& Session::filterInput() const {
+    return m_impl->filterInput();
+}
+const SessionOptions& Session::options() const {
+    return m_impl->options;
+}
+int Session::width() const {
+    return m_impl->input.width();
+}
+int Session::height() const {
+    return m_impl->input.height();
+}
+std::size_t Session::layerCount() const {
+    return m_impl->layers.size();
+}
+const SessionLayer& Session::layer(std::size_t index) const {
+    m_impl->checkLayer(index);
+    return m_impl->layers[index];
+}
+const Image& Session::composite() const {
+    return m_impl->composite;
+}
+
+std::size_t Session::addLayer(const std::string& filter, const ParamValues& params,
+                              std::optional<Image> output, const ProgressFn& progress) {
+    Impl& s = *m_impl;
+    s.checkNoStroke();
+    const Filter& f = findFilter(filter);
+    SessionLayer layer;
+    layer.filter = std::string(f.name());
+    layer.params = resolveParams(f, params);
+    if (output) {
+        if (output->width() != width() || output->height() != height() || output->channels() != 3)
+            throw Error(ErrorKind::InvalidArgument,
+                        "a layer's output must be " + std::to_string(width()) + "x" +
+                            std::to_string(height()) + "x3",
+                        {}, "session");
+        layer.output = std::move(*output);
+    } else {
+        layer.output = runLayerFilter(s.filterInput(), layer.filter, layer.params, progress);
+    }
+    layer.weights = Image(width(), height(), 1, 0.0f);
+    layer.painted = Image(width(), height(), 1, 0.0f);
+    SessionEdit edit;
+    edit.kind = SessionEdit::Kind::AddLayer;
+    edit.index = s.layers.size();
+    edit.layer = layer;
+    s.layers.push_back(std::move(layer));  // weight 0: the composite does not change
+    s.record(std::move(edit));
+    return s.layers.size() - 1;
+}
+
+void Session::removeLayer(std::size_t index) {
+    Impl& s = *m_impl;
+    s.checkNoStroke();
+    s.checkLayer(index);
+    SessionEdit edit;
+    edit.kind = SessionEdit::Kind::RemoveLayer;
+    edit.index = index;
+    edit.layer = s.layers[index];
+    s.apply(edit, true);
+    s.record(std::move(edit));
+}
+
+void Session::setWeights(std::size_t index, const Image& weights) {
+    Impl& s = *m_impl;
+    s.checkNoStroke();
+    s.checkLayer(index);
+    if (weights.width() != width() || weights.height() != height() || weights.channels() != 1)
+        throw Error(
+            ErrorKind::InvalidArgument,
+            "weights must be " + std::to_string(width()) + "x" + std::to_string(height()) + "x1",
+            {}, "session");
+    SessionLayer& layer = s.layers[index];
+    WeightsChange c{index,   layer.weights.bounds(),           layer.weights, layer.painted,
+                    weights, Image(width(), height(), 1, 1.0f)};
+    for (float& v : c.weightsAfter.data()) v = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
+    SessionEdit edit;
+    edit.changes.push_back(std::move(c));
+    s.apply(edit, true);
+    s.record(std::move(edit));
+}
+
+void Session::beginStroke(std::size_t layer, const Brush& brush, BrushMode mode) {
+    Impl& s = *m_impl;
+    if (s.stroking)
+        throw Error(ErrorKind::InvalidArgument, "a stroke is already open", {}, "session");
+    s.checkLayer(layer);
+    validate(brush);
+    s.stroking = true;
+    s.strokeLayer = layer;
+    s.brush = brush;
+    s.mode = mode;
+    s.strokeWeights = s.layers[layer].weights;
+    s.strokePainted = s.layers[layer].painted;
+    s.coverage = Image(width(), height(), 1, 0.0f);
+    s.strokeRect = {};
+}
+
+Rect Session::dab(double x, double y) {
+    Impl& s = *m_impl;
+    if (!s.stroking)
+        throw Error(ErrorKind::InvalidArgument, "no stroke is open (beginStroke first)", {},
+                    "session");
+    if (!std::isfinite(x) || !std::isfinite(y))
+        throw Error(ErrorKind::InvalidArgument, "a dab position must be finite", {}, "session");
+    const Rect r = dabRect(x, y, s.brush, width(), height());
+    if (r.empty()) return r;
+    SessionLayer& layer = s.layers[s.strokeLayer];
+    const float sign = s.mode == BrushMode::Add ? 1.0f : -1.0f;
+    for (int py = r.y0; py < r.y1; ++py)
+        for (int px = r.x0; px < r.x1; ++px) {
+            const double dx = px + 0.5 - x, dy = py + 0.5 - y;
+            const float wgt = brushWeight(std::sqrt(dx * dx + dy * dy), s.brush);
+            float& cov = s.coverage(px, py, 0);
+            if (wgt <= cov) continue;
+            cov = wgt;
+            // The stroke's coverage against the weight before the stroke: overlapping dabs of
+            // one stroke do not pile up.
+            layer.weights(px, py, 0) =
+                std::clamp(s.strokeWeights(px, py, 0) + sign * cov, 0.0f, 1.0f);
+            layer.painted(px, py, 0) = 1.0f;
+        }
+    s.strokeRect = unite(s.strokeRect, r);
+    s.recomposite(r);
+    return r;
+}
+
+void Session::endStroke() {
+    Impl& s = *m_impl;
+    if (!s.stroking) return;
+    s.stroking = false;
+    if (s.strokeRect.empty()) return;
+    const SessionLayer& layer = s.layers[s.strokeLayer];
+    WeightsChange c{s.strokeLayer,
+                    s.strokeRect,
+                    s.strokeWeights.crop(s.strokeRect),
+                    s.strokePainted.crop(s.strokeRect),
+                    layer.weights.crop(s.strokeRect),
+                    layer.painted.crop(s.strokeRect)};
+    SessionEdit edit;
+    edit.changes.push_back(std::move(c));
+    s.record(std::move(edit));
+    s.strokeWeights = Image();
+    s.strokePainted = Image();
+    s.coverage = Image();
+}
+
+bool Session::inStroke() const {
+    return m_impl->stroking;
+}
+
+Rect Session::fill(std::size_t index, const Image& mask, BrushMode mode) {
+    Impl& s = *m_impl;
+    s.checkNoStroke();
+    s.checkLayer(index);
+    if (mask.width() != width() || mask.height() != height() || mask.channels() != 1)
+        throw Error(ErrorKind::InvalidArgument, "the fill mask must match the frame (1 channel)",
+                    {}, "session");
+    Rect box;
+    for (int y = 0; y < height(); ++y)
+        for (int x = 0; x < width(); ++x)
+            if (mask(x, y, 0) > 0.0f) box = unite(box, Rect{x, x + 1, y, y + 1});
+    if (box.empty()) return box;
+    SessionLayer& layer = s.layers[index];
+    WeightsChange c{index, box, layer.weights.crop(box), layer.painted.crop(box), {}, {}};
+    c.weightsAfter = c.weightsBefore;
+    c.paintedAfter = c.paintedBefore;
+    for (int y = box.y0; y < box.y1; ++y)
+        for (int x = box.x0; x < box.x1; ++x)
+            if (mask(x, y, 0) > 0.0f) {
+                c.weightsAfter(x - box.x0, y - box.y0, 0) = mode == BrushMode::Add ? 1.0f : 0.0f;
+                c.paintedAfter(x - box.x0, y - box.y0, 0) = 1.0f;
+            }
+    SessionEdit edit;
+    edit.changes.push_back(std::move(c));
+    s.apply(edit, true);
+    s.record(std::move(edit));
+    return box;
+}
+
+void Session::diffuse(const std::vector<std::size_t>& indices, const DiffusionOptions& options) {
+    Impl& s = *m_impl;
+    s.checkNoStroke();
+    if (indices.empty())
+        throw Error(ErrorKind::InvalidArgument, "no layer to diffuse", {}, "session");
+    for (std::size_t i : indices) s.checkLayer(i);
+    // Every listed layer's painted pixels, and whose they are.
+    Image anyPainted(width(), height(), 1, 0.0f);
+    for (std::size_t i : indices) {
+        bool painted = false;
+        for (std::size_t p = 0; p < anyPainted.pixelCount(); ++p)
+            if (s.layers[i].painted.data()[p] > 0.0f) {
+                anyPainted.data()[p] = 1.0f;
+                painted = true;
+            }
+        if (!painted)
+            throw Error(ErrorKind::InvalidArgument,
+                        "layer " + std::to_string(i) + " has no painted pixel to diffuse from", {},
+                        "session");
+    }
+    // One map per layer: its own painted pixels keep their weights, the other listed layers'
+    // painted pixels are 0 for it; everything else is solved for. All maps are solved before
+    // anything changes.
+    SessionEdit edit;
+    for (std::size_t i : indices) {
+        const SessionLayer& layer = s.layers[i];
+        Image values(width(), height(), 1, 0.0f);
+        for (std::size_t p = 0; p < values.pixelCount(); ++p)
+            values.data()[p] = layer.painted.data()[p] > 0.0f ? layer.weights.data()[p] : 0.0f;
+        const Image solved = diffuseWeights(values, anyPainted, options);
+        edit.changes.push_back(
+            {i, layer.weights.bounds(), layer.weights, layer.painted, solved, layer.painted});
+    }
+    s.apply(edit, true);
+    s.record(std::move(edit));
+}
+
+bool Session::canUndo() const {
+    return !m_impl->undo.empty() && !m_impl->stroking;
+}
+bool Session::canRedo() const {
+    return !m_impl->redo.empty() && !m_impl->stroking;
+}
+
+void Session::undo() {
+    Impl& s = *m_impl;
+    if (!canUndo()) return;
+    SessionEdit edit = std::move(s.undo.back());
+    s.undo.pop_back();
+    s.apply(edit, false);
+    s.redo.push_back(std::move(edit));
+}
+
+void Session::redo() {
+    Impl& s = *m_impl;
+    if (!canRedo()) return;
+    SessionEdit edit = std::move(s.redo.back());
+    s.redo.pop_back();
+    s.apply(edit, true);
+    s.undo.push_back(std::move(edit));
+}
+
+void Session::reapply(FrameBuffers newInput, const ProgressFn& progress) {
+    Impl& s = *m_impl;
+    if (newInput.width() != width() || newInput.height() != height())
+        throw Error(ErrorKind::InvalidArgument,
+                    "the new render is " + std::to_string(newInput.width()) + "x" +
+                        std::to_string(newInput.height()) + ", the session " +
+                        std::to_string(width()) + "x" + std::to_string(height()),
+                    {}, "session");
+    if (s.stroking) endStroke();
+    // Everything is computed before anything changes.
+    std::optional<FrameBuffers> prefiltered;
+    if (s.options.prefilter) prefiltered = prefilterFeatures(newInput, s.options.prefilterParams);
+    const FrameBuffers& in = prefiltered ? *prefiltered : newInput;
+    std::vector<Image> outputs;
+    const std::size_t n = s.layers.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        ProgressFn part;
+        if (progress) part = [&, i](double f) { return progress((double(i) + f) / double(n)); };
+        outputs.push_back(runLayerFilter(in, s.layers[i].filter, s.layers[i].params, part));
+    }
+    s.input = std::move(newInput);
+    s.prefiltered = std::move(prefiltered);
+    for (std::size_t i = 0; i < n; ++i) s.layers[i].output = std::move(outputs[i]);
+    s.undo.clear();
+    s.redo.clear();
+    s.recomposite(s.composite.bounds());
+}
+
+}  // namespace glint::denoise

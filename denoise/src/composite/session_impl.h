@@ -1,0 +1,63 @@
+// The private state of a painting session, shared by paint_session.cpp (edits, undo) and
+// session_file.cpp (save, load, export).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "glint/denoise/session.h"
+
+namespace glint::denoise {
+
+/// Weights and painted masks of one layer over a rectangle, before and after an edit.
+struct WeightsChange {
+    std::size_t layer = 0;
+    Rect rect;
+    Image weightsBefore, paintedBefore, weightsAfter, paintedAfter;
+};
+
+/// One undo step.
+struct SessionEdit {
+    enum class Kind { AddLayer, RemoveLayer, Weights };
+    Kind kind = Kind::Weights;
+    std::size_t index = 0;               // AddLayer / RemoveLayer: the layer's position
+    SessionLayer layer;                  // AddLayer / RemoveLayer: the layer itself
+    std::vector<WeightsChange> changes;  // Weights
+};
+
+struct Session::Impl {
+    FrameBuffers input;
+    std::optional<FrameBuffers> prefiltered;  // the filters' input when options.prefilter
+    SessionOptions options;
+    std::vector<SessionLayer> layers;
+    Image composite;
+    std::vector<SessionEdit> undo, redo;
+
+    // The open stroke.
+    bool stroking = false;
+    std::size_t strokeLayer = 0;
+    Brush brush;
+    BrushMode mode = BrushMode::Add;
+    Image strokeWeights, strokePainted;  // the layer's maps when the stroke began
+    Image coverage;                      // max of the dabs' brush weights so far
+    Rect strokeRect;                     // union of the dabs' rectangles
+
+    const FrameBuffers& filterInput() const { return prefiltered ? *prefiltered : input; }
+    /// Rebuilds the composite over `rect` from the input colour through every layer.
+    void recomposite(const Rect& rect);
+    /// Applies one side of an edit (redo: after, undo: before).
+    void apply(const SessionEdit& edit, bool forward);
+    /// Records an edit (clears redo).
+    void record(SessionEdit edit);
+    /// Checks a layer index.
+    void checkLayer(std::size_t index) const;
+    /// Edits other than dabs wait for the open stroke to end.
+    void checkNoStroke() const;
+};
+
+/// The filter output of a layer over the whole input (errors name the filter).
+Image runLayerFilter(const FrameBuffers& input, const std::string& filter,
+                     const ParamValues& params, const ProgressFn& progress);
+
+}  // namespace glint::denoise

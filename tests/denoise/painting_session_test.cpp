@@ -1,0 +1,313 @@
+// The painting session: the composite, strokes, fills, diffusion, undo/redo, reapply, session
+// files (round trips, bad files, atomic saves) and exports.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "glint/denoise/registry.h"
+#include "glint/denoise/session.h"
+#include "glint/image/composite.h"
+#include "glint/image/error.h"
+#include "glint/image/io.h"
+#include "synthetic_frames.h"
+
+namespace glint::denoise {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool sameBits(const Image& a, const Image& b) {
+    return a.sameShape(b) &&
+           std::memcmp(a.data().data(), b.data().data(), a.data().size_bytes()) == 0;
+}
+
+// The composite built from scratch, layer by layer, over the whole frame.
+Image compositeFromScratch(const Session& s) {
+    Image c = s.input().color();
+    for (std::size_t i = 0; i < s.layerCount(); ++i)
+        c = blend(c, s.layer(i).output, s.layer(i).weights);
+    return c;
+}
+
+class SessionTest : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        m_dir = fs::temp_directory_path() /
+                ("glint_session_" + std::to_string(::getpid()) + "_" +
+                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(m_dir);
+        fs::create_directories(m_dir);
+    }
+    void TearDown() override { fs::remove_all(m_dir); }
+    fs::path m_dir;
+};
+
+TEST_F(SessionTest, CompositeIsTheFilterWhereWeightIsOneAndTheInputWhereZero) {
+    Session s(testing::syntheticFrame(48, 40));
+    EXPECT_TRUE(sameBits(s.composite(), s.input().color()));
+    const std::size_t g = s.addLayer("gaussian", {{"sigma", 2.0}});
+    EXPECT_TRUE(sameBits(s.layer(g).output,
+                         applyFilter(findFilter("gaussian"), s.input(), {{"sigma", 2.0}})));
+    Image w(48, 40, 1, 0.0f);
+    for (int y = 0; y < 40; ++y)
+        for (int x = 24; x < 48; ++x) w(x, y, 0) = 1.0f;
+    s.setWeights(g, w);
+    for (int y = 0; y < 40; ++y)
+        for (int x = 0; x < 48; ++x)
+            for (int c = 0; c < 3; ++c)
+                EXPECT_EQ(s.composite()(x, y, c),
+                          x < 24 ? s.input().color()(x, y, c) : s.layer(g).output(x, y, c));
+    // Layers apply left to right: a second layer at w = 1 wins over the first.
+    const std::size_t b = s.addLayer("bilateral", {});
+    s.setWeights(b, Image(48, 40, 1, 1.0f));
+    EXPECT_TRUE(sameBits(s.composite(), s.layer(b).output));
+    EXPECT_TRUE(sameBits(s.composite(), compositeFromScratch(s)));
+}
+
+TEST_F(SessionTest, ADabChangesOnlyItsRectangleAndAStrokeDoesNotPileUp) {
+    Session s(testing::syntheticFrame(64, 64));
+    const std::size_t g = s.addLayer("gaussian", {{"sigma", 3.0}});
+    const Image before = s.composite();
+    const Brush brush{16.0, 0.5};
+    s.beginStroke(g, brush, BrushMode::Add);
+    const Rect r = s.dab(20.0, 20.0);
+    EXPECT_FALSE(r.empty());
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            if (r.contains(x, y)) continue;
+            for (int c = 0; c < 3; ++c) EXPECT_EQ(s.composite()(x, y, c), before(x, y, c));
+            EXPECT_EQ(s.layer(g).weights(x, y, 0), 0.0f);
+        }
+    // The dab's weights are the brush profile: 1 at the centre, falling off to the edge.
+    EXPECT_EQ(s.layer(g).weights(19, 19, 0), 1.0f);
+    EXPECT_FLOAT_EQ(s.layer(g).weights(20 + 5, 19, 0), brushWeight(std::hypot(5.5, 0.5), brush));
+    // Dabbing the same spot again within the stroke changes nothing (coverage is a maximum);
+    // a shifted dab leaves each pixel at the larger of the two profiles, not their sum.
+    const Image once = s.layer(g).weights;
+    s.dab(20.0, 20.0);
+    EXPECT_TRUE(sameBits(s.layer(g).weights, once));
+    s.dab(22.0, 20.0);
+    for (int y = 10; y < 30; ++y)
+        for (int x = 10; x < 34; ++x) {
+            const float a = brushWeight(std::hypot(x + 0.5 - 20.0, y + 0.5 - 20.0), brush);
+            const float b = brushWeight(std::hypot(x + 0.5 - 22.0, y + 0.5 - 20.0), brush);
+            EXPECT_EQ(s.layer(g).weights(x, y, 0), std::max(a, b)) << x << "," << y;
+        }
+    s.endStroke();
+    EXPECT_TRUE(sameBits(s.composite(), compositeFromScratch(s)));
+}
+
+TEST_F(SessionTest, AddThenSubtractTheSameStrokeRoundTrips) {
+    Session s(testing::syntheticFrame(48, 48));
+    const std::size_t g = s.addLayer("gaussian", {});
+    const Image before = s.composite();
+    for (BrushMode mode : {BrushMode::Add, BrushMode::Subtract}) {
+        s.beginStroke(g, Brush{20.0, 0.3}, mode);
+        for (double x = 10; x < 40; x += 2) s.dab(x, 24.0);
+        s.endStroke();
+    }
+    for (float v : s.layer(g).weights.data()) EXPECT_EQ(v, 0.0f);
+    EXPECT_TRUE(sameBits(s.composite(), before));
+}
+
+TEST_F(SessionTest, UndoRedoOfEveryEditIsBitExact) {
+    Session s(testing::syntheticFrame(40, 32));
+    std::vector<Image> states{s.composite()};
+    auto snap = [&] { states.push_back(s.composite()); };
+    const std::size_t g = s.addLayer("gaussian", {{"sigma", 2.0}});
+    snap();
+    s.beginStroke(g, Brush{12.0, 0.5}, BrushMode::Add);
+    s.dab(10.0, 10.0);
+    s.dab(14.0, 12.0);
+    s.endStroke();
+    snap();
+    Image mask(40, 32, 1, 0.0f);
+    for (int y = 20; y < 30; ++y)
+        for (int x = 20; x < 38; ++x) mask(x, y, 0) = 1.0f;
+    s.fill(g, mask, BrushMode::Add);
+    snap();
+    const std::size_t b = s.addLayer("bilateral", {});
+    snap();
+    s.beginStroke(b, Brush{10.0, 0.0}, BrushMode::Add);
+    s.dab(30.0, 8.0);
+    s.endStroke();
+    snap();
+    s.diffuse({g, b});
+    snap();
+    s.setWeights(b, Image(40, 32, 1, 0.5f));
+    snap();
+    s.removeLayer(0);
+    snap();
+    const std::size_t steps = states.size() - 1;
+    for (std::size_t i = steps; i > 0; --i) {
+        ASSERT_TRUE(s.canUndo());
+        s.undo();
+        EXPECT_TRUE(sameBits(s.composite(), states[i - 1])) << "undo to state " << i - 1;
+    }
+    EXPECT_FALSE(s.canUndo());
+    for (std::size_t i = 1; i <= steps; ++i) {
+        ASSERT_TRUE(s.canRedo());
+        s.redo();
+        EXPECT_TRUE(sameBits(s.composite(), states[i])) << "redo to state " << i;
+    }
+    EXPECT_TRUE(sameBits(s.composite(), compositeFromScratch(s)));
+    // A new edit clears redo.
+    s.undo();
+    s.addLayer("gaussian", {});
+    EXPECT_FALSE(s.canRedo());
+}
+
+TEST_F(SessionTest, DiffusionFillsTheUnpaintedPixelsBetweenScribbles) {
+    Session s(testing::syntheticFrame(64, 32));
+    const std::size_t g = s.addLayer("gaussian", {});
+    s.beginStroke(g, Brush{6.0, 1.0}, BrushMode::Add);
+    for (int y = 0; y < 32; y += 2) s.dab(5.0, y + 0.5);  // a painted column at x ≈ 5
+    s.endStroke();
+    s.beginStroke(g, Brush{6.0, 1.0}, BrushMode::Subtract);
+    for (int y = 0; y < 32; y += 2) s.dab(58.0, y + 0.5);  // an erased column at x ≈ 58
+    s.endStroke();
+    s.diffuse({g});
+    // Between the two the weight falls from 1 to 0.
+    const Image& w = s.layer(g).weights;
+    EXPECT_EQ(w(5, 16, 0), 1.0f);
+    EXPECT_EQ(w(58, 16, 0), 0.0f);
+    EXPECT_GT(w(20, 16, 0), w(40, 16, 0));
+    EXPECT_GT(w(20, 16, 0), 0.0f);
+    EXPECT_LT(w(40, 16, 0), 1.0f);
+    Session empty(testing::syntheticFrame(16, 16));
+    const std::size_t e = empty.addLayer("gaussian", {});
+    EXPECT_THROW(empty.diffuse({e}), Error);
+}
+
+TEST_F(SessionTest, SaveAndLoadRoundTripBitExactly) {
+    SessionOptions options;
+    options.prefilter = true;
+    Session s(testing::syntheticFrame(40, 32), options);
+    const std::size_t g = s.addLayer("guided", {{"guide", 1}, {"radius", 3}});
+    s.beginStroke(g, Brush{14.0, 0.4}, BrushMode::Add);
+    s.dab(12.0, 12.0);
+    s.endStroke();
+    const std::size_t n = s.addLayer("nlmeans", {{"strength", 0.8}});
+    s.setWeights(n, Image(40, 32, 1, 0.25f));
+    s.region = Rect{2, 30, 4, 20};
+    s.bankDir = "/some/bank";
+    s.viewState["exposure"] = "0.5";
+    const fs::path file = m_dir / "look.glint-session.json";
+    s.save(file);
+    EXPECT_TRUE(fs::exists(m_dir / "look.glint-session" / "input.exr"));
+    const Session back = Session::load(file);
+    ASSERT_EQ(back.layerCount(), 2u);
+    for (std::size_t i = 0; i < 2; ++i) {
+        EXPECT_EQ(back.layer(i).filter, s.layer(i).filter);
+        EXPECT_EQ(back.layer(i).params, s.layer(i).params);
+        EXPECT_TRUE(sameBits(back.layer(i).weights, s.layer(i).weights));
+        EXPECT_TRUE(sameBits(back.layer(i).painted, s.layer(i).painted));
+        EXPECT_TRUE(sameBits(back.layer(i).output, s.layer(i).output));
+    }
+    EXPECT_TRUE(sameBits(back.composite(), s.composite()));
+    EXPECT_TRUE(back.options().prefilter);
+    EXPECT_EQ(back.region, s.region);
+    EXPECT_EQ(back.bankDir, s.bankDir);
+    EXPECT_EQ(back.viewState, s.viewState);
+    // Saving again over it replaces it cleanly (no temporaries left).
+    s.removeLayer(1);
+    s.save(file);
+    EXPECT_EQ(Session::load(file).layerCount(), 1u);
+    for (const auto& e : fs::directory_iterator(m_dir))
+        EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+}
+
+TEST_F(SessionTest, BadSessionFilesAreRefusedAndNothingIsOverwritten) {
+    Session s(testing::syntheticFrame(24, 20));
+    s.addLayer("gaussian", {});
+    const fs::path good = m_dir / "good.glint-session.json";
+    s.save(good);
+    std::ifstream in(good);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    auto expectRefused = [&](const std::string& name, const std::string& mention) {
+        try {
+            Session::load(m_dir / name);
+            ADD_FAILURE() << name << " loaded";
+        } catch (const Error& e) {
+            EXPECT_NE(e.kind(), ErrorKind::Internal);
+            EXPECT_EQ(fs::path(e.file()).filename(), name) << e.what();
+            EXPECT_NE(std::string(e.what()).find(mention), std::string::npos) << e.what();
+        }
+    };
+    // Truncated JSON: line and column.
+    std::ofstream(m_dir / "cut.glint-session.json") << text.substr(0, text.size() / 2);
+    fs::copy(m_dir / "good.glint-session", m_dir / "cut.glint-session");
+    expectRefused("cut.glint-session.json", "line");
+    // A newer format.
+    std::string newer = text;
+    newer.replace(newer.find("\"format\": 1"), 11, "\"format\": 99");
+    std::ofstream(m_dir / "new.glint-session.json") << newer;
+    fs::copy(m_dir / "good.glint-session", m_dir / "new.glint-session");
+    expectRefused("new.glint-session.json", "newer");
+    // A missing side file.
+    std::ofstream(m_dir / "lost.glint-session.json") << text;
+    fs::create_directories(m_dir / "lost.glint-session");
+    fs::copy(m_dir / "good.glint-session/input.exr", m_dir / "lost.glint-session/input.exr");
+    expectRefused("lost.glint-session.json", "layer-0.exr");
+    // Weights of another size.
+    std::ofstream(m_dir / "size.glint-session.json") << text;
+    fs::copy(m_dir / "good.glint-session", m_dir / "size.glint-session");
+    writeImage(Image(5, 5, 2), m_dir / "size.glint-session/layer-0.exr");
+    expectRefused("size.glint-session.json", "5x5x2");
+    // An unknown filter.
+    std::string unknown = text;
+    unknown.replace(unknown.find("\"gaussian\""), 10, "\"gausian\"");
+    std::ofstream(m_dir / "filter.glint-session.json") << unknown;
+    fs::copy(m_dir / "good.glint-session", m_dir / "filter.glint-session");
+    expectRefused("filter.glint-session.json", "/layers/0");
+    // A failed save (the folder is gone) leaves the good session as it was.
+    EXPECT_THROW(s.save(m_dir / "nowhere" / "x.glint-session.json"), Error);
+    EXPECT_EQ(Session::load(good).layerCount(), 1u);
+    EXPECT_THROW(s.save(m_dir / "notjson.txt"), Error);
+}
+
+TEST_F(SessionTest, ReapplyKeepsThePaintingOnANewRender) {
+    Session s(testing::syntheticFrame(40, 32, 0.05f, 1));
+    const std::size_t g = s.addLayer("gaussian", {{"sigma", 2.0}});
+    s.setWeights(g, Image(40, 32, 1, 0.75f));
+    const Image weights = s.layer(g).weights;
+    const FrameBuffers next = testing::syntheticFrame(40, 32, 0.05f, 2);
+    s.reapply(next);
+    EXPECT_TRUE(sameBits(s.input().color(), next.color()));
+    EXPECT_TRUE(sameBits(s.layer(g).weights, weights));
+    EXPECT_TRUE(
+        sameBits(s.layer(g).output, applyFilter(findFilter("gaussian"), next, {{"sigma", 2.0}})));
+    EXPECT_TRUE(sameBits(s.composite(), compositeFromScratch(s)));
+    EXPECT_THROW(s.reapply(testing::syntheticFrame(10, 10)), Error);
+    EXPECT_TRUE(sameBits(s.input().color(), next.color()));
+}
+
+TEST_F(SessionTest, ExportsTheCompositeAndRefusesBadEdits) {
+    Session s(testing::syntheticFrame(24, 20));
+    const std::size_t g = s.addLayer("gaussian", {});
+    s.setWeights(g, Image(24, 20, 1, 1.0f));
+    s.exportExr(m_dir / "out.exr");
+    s.exportPng(m_dir / "out.png");
+    const FrameBuffers out = readExr(m_dir / "out.exr");
+    EXPECT_TRUE(sameBits(out.color(), s.composite()));
+    EXPECT_TRUE(out.has(Layer::Albedo));
+    EXPECT_TRUE(fs::exists(m_dir / "out.png"));
+    EXPECT_THROW(s.addLayer("nope", {}), Error);
+    EXPECT_THROW(s.addLayer("gaussian", {{"sigma", -1.0}}), Error);
+    EXPECT_THROW(s.addLayer("gaussian", {}, Image(3, 3, 3)), Error);
+    EXPECT_THROW(s.beginStroke(7, Brush{}, BrushMode::Add), Error);
+    EXPECT_THROW(s.dab(1.0, 1.0), Error);  // no stroke open
+    s.beginStroke(g, Brush{}, BrushMode::Add);
+    EXPECT_THROW(s.beginStroke(g, Brush{}, BrushMode::Add), Error);
+    EXPECT_THROW(s.addLayer("gaussian", {}), Error);  // a stroke is open
+    s.endStroke();
+    EXPECT_EQ(s.layerCount(), 1u);
+}
+
+}  // namespace
+}  // namespace glint::denoise
