@@ -115,12 +115,15 @@ class TilePasses final : public PassWork {
           m_camera(camera),
           m_settings(settings),
           m_film(film) {
-        // Tiles in scanline order.
+        // Tiles in scanline order, on a grid fixed in film coordinates, clipped to the region.
         const int ts = settings.tileSize;
+        const Rect region = settings.region.value_or(Rect{0, data.width, 0, data.height});
         for (int y = 0; y < data.height; y += ts)
-            for (int x = 0; x < data.width; x += ts)
-                m_tiles.push_back(
-                    {x, std::min(x + ts, data.width), y, std::min(y + ts, data.height)});
+            for (int x = 0; x < data.width; x += ts) {
+                const Rect tile = intersect(
+                    {x, std::min(x + ts, data.width), y, std::min(y + ts, data.height)}, region);
+                if (!tile.empty()) m_tiles.push_back(tile);
+            }
         m_thinLens = data.camera.lensRadius > 0.0f;
         // Time is sampled only when something moves during a shutter of non-zero length, so a
         // static scene draws exactly the random numbers it drew before motion blur existed.
@@ -217,6 +220,12 @@ RenderResult renderPath(const detail::SceneData& data, const EmbreeScene& embree
 RenderResult Renderer::render(const Settings& settings, const Callbacks& callbacks) {
     validate(settings);
     const detail::SceneData& data = m_scene.data();
+    if (settings.region &&
+        intersect(*settings.region, Rect{0, data.width, 0, data.height}) != *settings.region)
+        throw Error(ErrorKind::InvalidArgument,
+                    "the render region lies outside the " + std::to_string(data.width) + "x" +
+                        std::to_string(data.height) + " film",
+                    {}, "region");
     // Look edits since the last render: rebuild the lights, keep the BVH.
     if (data.lookRevision != m_impl->lookRevision) {
         m_impl->lights = LightSampler(data);

@@ -138,3 +138,36 @@ TEST(Renderer, RejectsBadSettings) {
 
 }  // namespace
 }  // namespace glint::render
+
+namespace glint::render {
+namespace {
+
+// A render region samples only its pixels, and those exactly as a full render does (the same
+// per-pixel streams), so a studio can merge a region render into its frame.
+TEST(Renderer, ARegionRendersOnlyItsPixelsAndTheSameValues) {
+    Renderer renderer(cornell(24));
+    Settings s = renderer.scene().settings();
+    s.spp = 4;
+    const FrameBuffers full = renderer.render(s).frame;
+    s.region = Rect{5, 17, 3, 11};
+    const RenderResult part = renderer.render(s);
+    EXPECT_EQ(part.stats.samples, 12u * 8u * 4u);
+    for (int y = 0; y < 24; ++y)
+        for (int x = 0; x < 24; ++x) {
+            const bool inside = s.region->contains(x, y);
+            EXPECT_EQ(part.frame.layer(Layer::SampleCount)(x, y, 0), inside ? 4.0f : 0.0f);
+            if (!inside) continue;
+            for (int c = 0; c < 3; ++c)
+                EXPECT_EQ(part.frame.color()(x, y, c), full.color()(x, y, c));
+        }
+    s.region = Rect{20, 30, 0, 4};  // outside the film
+    EXPECT_THROW(renderer.render(s), Error);
+    s.region = Rect{2, 2, 0, 4};  // empty
+    EXPECT_THROW(renderer.render(s), Error);
+    s.region = Rect{0, 4, 0, 4};
+    s.integrator = Integrator::Mlt;
+    EXPECT_THROW(renderer.render(s), Error);
+}
+
+}  // namespace
+}  // namespace glint::render

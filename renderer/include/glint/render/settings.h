@@ -2,7 +2,10 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
+
+#include "glint/image/image.h"
 
 #include "glint/render/mlt_settings.h"
 
@@ -40,7 +43,10 @@ struct Settings {
     /// Seconds; > 0 renders passes until time runs out (the first pass of 1 spp always
     /// completes, so a tiny limit still gives an image).
     double timeLimit = 0.0;
-    int tileSize = 16;           ///< tile edge in pixels
+    int tileSize = 16;  ///< tile edge in pixels
+    /// Render only these pixels (path integrator): the rest of the frame has no samples. For a
+    /// studio's render region; the whole film when empty.
+    std::optional<Rect> region;
     bool positionLayer = false;  ///< also produce the optional world-space position layer
     MltSettings mlt;             ///< Metropolis parameters (integrator == Mlt)
 };
