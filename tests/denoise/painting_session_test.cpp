@@ -311,3 +311,35 @@ TEST_F(SessionTest, ExportsTheCompositeAndRefusesBadEdits) {
 
 }  // namespace
 }  // namespace glint::denoise
+
+namespace glint::denoise {
+namespace {
+
+// The split forms the studio uses (heavy work on a worker thread, the edit on the UI thread)
+// give exactly what the one-call forms give.
+TEST(SessionSplit, ComputedElsewhereEqualsInPlace) {
+    Session a(testing::syntheticFrame(40, 32, 0.05f, 1)),
+        b(testing::syntheticFrame(40, 32, 0.05f, 1));
+    for (Session* s : {&a, &b}) {
+        const std::size_t g = s->addLayer("gaussian", {{"sigma", 2.0}});
+        s->beginStroke(g, Brush{10.0, 0.5}, BrushMode::Add);
+        s->dab(8.0, 8.0);
+        s->endStroke();
+        s->beginStroke(g, Brush{10.0, 0.5}, BrushMode::Subtract);
+        s->dab(32.0, 24.0);
+        s->endStroke();
+    }
+    a.diffuse({0});
+    b.applyWeights({0}, b.diffusionMaps({0}));
+    EXPECT_TRUE(sameBits(a.layer(0).weights, b.layer(0).weights));
+    EXPECT_TRUE(sameBits(a.composite(), b.composite()));
+    const FrameBuffers next = testing::syntheticFrame(40, 32, 0.05f, 2);
+    a.reapply(next);
+    b.reapply(next, Session::computeOutputs(next, b.options(), b.layerSpecs()));
+    EXPECT_TRUE(sameBits(a.composite(), b.composite()));
+    EXPECT_THROW(b.reapply(next, std::vector<Image>{}), Error);
+    EXPECT_THROW(b.applyWeights({0}, {Image(3, 3, 1)}), Error);
+}
+
+}  // namespace
+}  // namespace glint::denoise

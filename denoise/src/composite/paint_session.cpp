@@ -283,9 +283,9 @@ Rect Session::fill(std::size_t index, const Image& mask, BrushMode mode) {
     return box;
 }
 
-void Session::diffuse(const std::vector<std::size_t>& indices, const DiffusionOptions& options) {
-    Impl& s = *m_impl;
-    s.checkNoStroke();
+std::vector<Image> Session::diffusionMaps(const std::vector<std::size_t>& indices,
+                                          const DiffusionOptions& options) const {
+    const Impl& s = *m_impl;
     if (indices.empty())
         throw Error(ErrorKind::InvalidArgument, "no layer to diffuse", {}, "session");
     for (std::size_t i : indices) s.checkLayer(i);
@@ -304,20 +304,45 @@ void Session::diffuse(const std::vector<std::size_t>& indices, const DiffusionOp
                         "session");
     }
     // One map per layer: its own painted pixels keep their weights, the other listed layers'
-    // painted pixels are 0 for it; everything else is solved for. All maps are solved before
-    // anything changes.
-    SessionEdit edit;
+    // painted pixels are 0 for it; everything else is solved for.
+    std::vector<Image> maps;
     for (std::size_t i : indices) {
         const SessionLayer& layer = s.layers[i];
         Image values(width(), height(), 1, 0.0f);
         for (std::size_t p = 0; p < values.pixelCount(); ++p)
             values.data()[p] = layer.painted.data()[p] > 0.0f ? layer.weights.data()[p] : 0.0f;
-        const Image solved = diffuseWeights(values, anyPainted, options);
-        edit.changes.push_back(
-            {i, layer.weights.bounds(), layer.weights, layer.painted, solved, layer.painted});
+        maps.push_back(diffuseWeights(values, anyPainted, options));
+    }
+    return maps;
+}
+
+void Session::applyWeights(const std::vector<std::size_t>& indices,
+                           const std::vector<Image>& maps) {
+    Impl& s = *m_impl;
+    s.checkNoStroke();
+    if (indices.size() != maps.size())
+        throw Error(ErrorKind::InvalidArgument, "one weight map per layer", {}, "session");
+    SessionEdit edit;
+    for (std::size_t k = 0; k < indices.size(); ++k) {
+        s.checkLayer(indices[k]);
+        const Image& map = maps[k];
+        if (map.width() != width() || map.height() != height() || map.channels() != 1)
+            throw Error(ErrorKind::InvalidArgument, "a weight map must match the frame (1 channel)",
+                        {}, "session");
+        const SessionLayer& layer = s.layers[indices[k]];
+        WeightsChange c{indices[k], layer.weights.bounds(), layer.weights, layer.painted,
+                        map,        layer.painted};
+        for (float& v : c.weightsAfter.data())
+            v = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
+        edit.changes.push_back(std::move(c));
     }
     s.apply(edit, true);
     s.record(std::move(edit));
+}
+
+void Session::diffuse(const std::vector<std::size_t>& indices, const DiffusionOptions& options) {
+    m_impl->checkNoStroke();
+    applyWeights(indices, diffusionMaps(indices, options));
 }
 
 bool Session::canUndo() const {
@@ -345,7 +370,36 @@ void Session::redo() {
     s.undo.push_back(std::move(edit));
 }
 
+std::vector<LayerSpec> Session::layerSpecs() const {
+    std::vector<LayerSpec> specs;
+    for (const SessionLayer& l : m_impl->layers) specs.push_back({l.filter, l.params});
+    return specs;
+}
+
+std::vector<Image> Session::computeOutputs(const FrameBuffers& input, const SessionOptions& options,
+                                           const std::vector<LayerSpec>& layers,
+                                           const ProgressFn& progress) {
+    std::optional<FrameBuffers> prefiltered;
+    if (options.prefilter) prefiltered = prefilterFeatures(input, options.prefilterParams);
+    const FrameBuffers& in = prefiltered ? *prefiltered : input;
+    std::vector<Image> outputs;
+    const std::size_t n = layers.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        ProgressFn part;
+        if (progress) part = [&, i](double f) { return progress((double(i) + f) / double(n)); };
+        outputs.push_back(runLayerFilter(in, layers[i].filter, layers[i].params, part));
+    }
+    return outputs;
+}
+
 void Session::reapply(FrameBuffers newInput, const ProgressFn& progress) {
+    if (newInput.width() != width() || newInput.height() != height())
+        reapply(std::move(newInput), std::vector<Image>{});  // throws, naming both sizes
+    std::vector<Image> outputs = computeOutputs(newInput, m_impl->options, layerSpecs(), progress);
+    reapply(std::move(newInput), std::move(outputs));
+}
+
+void Session::reapply(FrameBuffers newInput, std::vector<Image> outputs) {
     Impl& s = *m_impl;
     if (newInput.width() != width() || newInput.height() != height())
         throw Error(ErrorKind::InvalidArgument,
@@ -353,21 +407,21 @@ void Session::reapply(FrameBuffers newInput, const ProgressFn& progress) {
                         std::to_string(newInput.height()) + ", the session " +
                         std::to_string(width()) + "x" + std::to_string(height()),
                     {}, "session");
+    if (outputs.size() != s.layers.size())
+        throw Error(ErrorKind::InvalidArgument,
+                    "reapply needs one output per layer (" + std::to_string(s.layers.size()) +
+                        "), got " + std::to_string(outputs.size()),
+                    {}, "session");
+    for (const Image& o : outputs)
+        if (o.width() != width() || o.height() != height() || o.channels() != 3)
+            throw Error(ErrorKind::InvalidArgument, "a layer output must match the frame", {},
+                        "session");
     if (s.stroking) endStroke();
-    // Everything is computed before anything changes.
     std::optional<FrameBuffers> prefiltered;
     if (s.options.prefilter) prefiltered = prefilterFeatures(newInput, s.options.prefilterParams);
-    const FrameBuffers& in = prefiltered ? *prefiltered : newInput;
-    std::vector<Image> outputs;
-    const std::size_t n = s.layers.size();
-    for (std::size_t i = 0; i < n; ++i) {
-        ProgressFn part;
-        if (progress) part = [&, i](double f) { return progress((double(i) + f) / double(n)); };
-        outputs.push_back(runLayerFilter(in, s.layers[i].filter, s.layers[i].params, part));
-    }
     s.input = std::move(newInput);
     s.prefiltered = std::move(prefiltered);
-    for (std::size_t i = 0; i < n; ++i) s.layers[i].output = std::move(outputs[i]);
+    for (std::size_t i = 0; i < outputs.size(); ++i) s.layers[i].output = std::move(outputs[i]);
     s.undo.clear();
     s.redo.clear();
     s.recomposite(s.composite.bounds());

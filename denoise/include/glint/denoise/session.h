@@ -36,6 +36,12 @@ struct SessionLayer {
     Image painted;       ///< 1 channel, 1 where a stroke or fill set the weight (0 elsewhere)
 };
 
+/// What a layer is without its maps: enough to compute its output.
+struct LayerSpec {
+    std::string filter;
+    ParamValues params;
+};
+
 /// Whether a stroke or fill adds weight (left button) or removes it (right button).
 enum class BrushMode { Add, Subtract };
 
@@ -103,6 +109,13 @@ class Session {
     /// every other pixel is solved for, one map per layer. One undo step. Throws
     /// glint::Error(InvalidArgument) when a listed layer has no painted pixel.
     void diffuse(const std::vector<std::size_t>& layers, const DiffusionOptions& options = {});
+    /// The maps diffuse() would set, without changing anything (const: a program may compute
+    /// them on another thread while nothing edits the session).
+    std::vector<Image> diffusionMaps(const std::vector<std::size_t>& layers,
+                                     const DiffusionOptions& options = {}) const;
+    /// Sets the weights of `layers` to `maps` (clamped to [0, 1]), painted masks unchanged: one
+    /// undo step (how diffusion results computed elsewhere are applied).
+    void applyWeights(const std::vector<std::size_t>& layers, const std::vector<Image>& maps);
 
     bool canUndo() const;
     bool canRedo() const;
@@ -114,6 +127,18 @@ class Session {
     /// the weights: the look changed, the painting stays. Throws glint::Error(InvalidArgument)
     /// for another size (nothing changes then). Clears the undo history.
     void reapply(FrameBuffers newInput, const ProgressFn& progress = {});
+    /// The same with the layers' outputs on the new render computed elsewhere (computeOutputs,
+    /// e.g. on a worker thread): one per layer, frame-sized.
+    void reapply(FrameBuffers newInput, std::vector<Image> outputs);
+
+    /// The layers' filters and parameters, in order.
+    std::vector<LayerSpec> layerSpecs() const;
+    /// The outputs of `layers` on `input` (prefiltered as `options` say), as reapply needs them.
+    /// Touches no session: safe on a worker thread.
+    static std::vector<Image> computeOutputs(const FrameBuffers& input,
+                                             const SessionOptions& options,
+                                             const std::vector<LayerSpec>& layers,
+                                             const ProgressFn& progress = {});
 
     /// What the studio keeps with a session (saved and loaded, not interpreted here).
     std::optional<Rect> region;                    ///< the region of interest
