@@ -271,6 +271,23 @@ TEST_F(SessionTest, BadSessionFilesAreRefusedAndNothingIsOverwritten) {
     EXPECT_THROW(s.save(m_dir / "notjson.txt"), Error);
 }
 
+TEST_F(SessionTest, ReapplyKeepsTheHistoryWithOutputsOnTheNewRender) {
+    Session s(testing::syntheticFrame(40, 32, 0.05f, 1));
+    const std::size_t g = s.addLayer("gaussian", {{"sigma", 2.0}});
+    s.setWeights(g, Image(40, 32, 1, 1.0f));
+    const std::size_t b = s.addLayer("bilateral", {});
+    s.setWeights(b, Image(40, 32, 1, 0.5f));
+    s.removeLayer(b);  // history holds the bilateral layer
+    EXPECT_EQ(s.layerSpecs().size(), 2u);
+    const FrameBuffers next = testing::syntheticFrame(40, 32, 0.05f, 2);
+    s.reapply(next);
+    ASSERT_TRUE(s.canUndo());
+    s.undo();  // the bilateral layer comes back, computed on the new render
+    ASSERT_EQ(s.layerCount(), 2u);
+    EXPECT_TRUE(sameBits(s.layer(1).output, applyFilter(findFilter("bilateral"), next, {})));
+    EXPECT_TRUE(sameBits(s.composite(), compositeFromScratch(s)));
+}
+
 TEST_F(SessionTest, ReapplyKeepsThePaintingOnANewRender) {
     Session s(testing::syntheticFrame(40, 32, 0.05f, 1));
     const std::size_t g = s.addLayer("gaussian", {{"sigma", 2.0}});

@@ -370,9 +370,26 @@ void Session::redo() {
     s.undo.push_back(std::move(edit));
 }
 
+namespace {
+
+bool sameSpec(const LayerSpec& a, const SessionLayer& b) {
+    return a.filter == b.filter && a.params == b.params;
+}
+
+}  // namespace
+
 std::vector<LayerSpec> Session::layerSpecs() const {
+    const Impl& s = *m_impl;
     std::vector<LayerSpec> specs;
-    for (const SessionLayer& l : m_impl->layers) specs.push_back({l.filter, l.params});
+    auto add = [&](const SessionLayer& l) {
+        for (const LayerSpec& known : specs)
+            if (sameSpec(known, l)) return;
+        specs.push_back({l.filter, l.params});
+    };
+    for (const SessionLayer& l : s.layers) add(l);
+    for (const auto* history : {&s.undo, &s.redo})
+        for (const SessionEdit& e : *history)
+            if (e.kind != SessionEdit::Kind::Weights) add(e.layer);
     return specs;
 }
 
@@ -407,10 +424,11 @@ void Session::reapply(FrameBuffers newInput, std::vector<Image> outputs) {
                         std::to_string(newInput.height()) + ", the session " +
                         std::to_string(width()) + "x" + std::to_string(height()),
                     {}, "session");
-    if (outputs.size() != s.layers.size())
+    const std::vector<LayerSpec> specs = layerSpecs();
+    if (outputs.size() != specs.size())
         throw Error(ErrorKind::InvalidArgument,
-                    "reapply needs one output per layer (" + std::to_string(s.layers.size()) +
-                        "), got " + std::to_string(outputs.size()),
+                    "reapply needs one output per entry of layerSpecs() (" +
+                        std::to_string(specs.size()) + "), got " + std::to_string(outputs.size()),
                     {}, "session");
     for (const Image& o : outputs)
         if (o.width() != width() || o.height() != height() || o.channels() != 3)
@@ -421,9 +439,15 @@ void Session::reapply(FrameBuffers newInput, std::vector<Image> outputs) {
     if (s.options.prefilter) prefiltered = prefilterFeatures(newInput, s.options.prefilterParams);
     s.input = std::move(newInput);
     s.prefiltered = std::move(prefiltered);
-    for (std::size_t i = 0; i < outputs.size(); ++i) s.layers[i].output = std::move(outputs[i]);
-    s.undo.clear();
-    s.redo.clear();
+    // Current layers and the layers the history would bring back get the new outputs.
+    auto refresh = [&](SessionLayer& l) {
+        for (std::size_t k = 0; k < specs.size(); ++k)
+            if (sameSpec(specs[k], l)) l.output = outputs[k];
+    };
+    for (SessionLayer& l : s.layers) refresh(l);
+    for (auto* history : {&s.undo, &s.redo})
+        for (SessionEdit& e : *history)
+            if (e.kind != SessionEdit::Kind::Weights) refresh(e.layer);
     s.recomposite(s.composite.bounds());
 }
 

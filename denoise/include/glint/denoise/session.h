@@ -124,14 +124,16 @@ class Session {
     void redo();
 
     /// Re-applies every layer's filter to a new render of the same scene (same size), keeping
-    /// the weights: the look changed, the painting stays. Throws glint::Error(InvalidArgument)
-    /// for another size (nothing changes then). Clears the undo history.
+    /// the weights: the look changed, the painting stays. The undo history stays too: layers
+    /// that edits in it would bring back get their outputs on the new render as well. Throws
+    /// glint::Error(InvalidArgument) for another size (nothing changes then).
     void reapply(FrameBuffers newInput, const ProgressFn& progress = {});
-    /// The same with the layers' outputs on the new render computed elsewhere (computeOutputs,
-    /// e.g. on a worker thread): one per layer, frame-sized.
+    /// The same with the outputs computed elsewhere (computeOutputs, e.g. on a worker thread):
+    /// one per entry of layerSpecs(), frame-sized.
     void reapply(FrameBuffers newInput, std::vector<Image> outputs);
 
-    /// The layers' filters and parameters, in order.
+    /// Every distinct filter and parameter set the session's layers and its undo/redo history
+    /// hold (current layers first, in order): what reapply needs outputs for.
     std::vector<LayerSpec> layerSpecs() const;
     /// The outputs of `layers` on `input` (prefiltered as `options` say), as reapply needs them.
     /// Touches no session: safe on a worker thread.
