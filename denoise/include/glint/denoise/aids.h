@@ -1,5 +1,5 @@
 // Visual aids of the compositing session: where the bank disagrees, what a candidate would
-// change, and a depth layer made readable (docs/navigation.md, "Visual aids").
+// change, and a depth layer made readable (docs/painting.md, "Visual aids").
 #pragma once
 
 #include <optional>

@@ -1,5 +1,5 @@
 // Painting primitives of the compositing session: the soft brush, the multi-channel magic wand
-// and Poisson-diffusion blending of weight maps (docs/navigation.md, "Painting").
+// and Poisson-diffusion blending of weight maps (docs/painting.md).
 #pragma once
 
 #include <utility>

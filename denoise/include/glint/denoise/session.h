@@ -3,7 +3,7 @@
 //   composite = composite·(1 − w) + filterOutput·w   (starting from the input colour),
 // where every filter reads the original input (filters never stack). Strokes, fills and
 // Poisson diffusion edit the weight maps; every edit is one undo step; sessions are saved as one
-// JSON file plus EXR side files (docs/navigation.md, "The session").
+// JSON file plus EXR side files (docs/painting.md).
 #pragma once
 
 #include <cstddef>
