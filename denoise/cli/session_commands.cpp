@@ -72,12 +72,25 @@ class Script {
 json readScript(const std::string& file) {
     std::ifstream in(file);
     if (!in) throw Error(ErrorKind::Io, "cannot read the paint script", file);
-    std::stringstream text;
-    text << in.rdbuf();
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    const std::string text = buffer.str();
     try {
-        return json::parse(text.str());
-    } catch (const json::exception& e) {
-        throw Error(ErrorKind::Format, std::string("malformed JSON: ") + e.what(), file);
+        return json::parse(text);
+    } catch (const json::parse_error& e) {
+        // "line L, column C" of the byte nlohmann stopped at, and its message without the
+        // "[json.exception…] parse error at …: " preamble.
+        int line = 1, column = 1;
+        for (std::size_t i = 0; i + 1 < std::min<std::size_t>(e.byte, text.size() + 1); ++i)
+            if (text[i] == '\n')
+                ++line, column = 1;
+            else
+                ++column;
+        std::string what = e.what();
+        const std::size_t colon = what.find(": ", what.find("parse error"));
+        if (colon != std::string::npos) what = what.substr(colon + 2);
+        throw Error(ErrorKind::Format, "malformed JSON: " + what, file,
+                    "line " + std::to_string(line) + ", column " + std::to_string(column));
     }
 }
 

@@ -5,7 +5,11 @@
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 
+#include <tbb/global_control.h>
+
 #include <cmath>
+#include <cstring>
+#include <utility>
 #include <vector>
 
 #include "glint/denoise/paint.h"
@@ -97,6 +101,27 @@ TEST(MagicWand, StopsAtADepthEdgeAndNeverCrossesNaN) {
     EXPECT_THROW(magicWand(f, Image(3, 3, 1)), Error);
 }
 
+TEST(MagicWand, DoesNotLeakThroughADiagonalFeatureEdge) {
+    // A one-pixel diagonal line (x = y) of another albedo: a 4-connected fill from above it
+    // cannot step across, where an 8-connected one would slip between two line pixels.
+    const int n = 32;
+    FrameBuffers f = twoPlanes(n, n);
+    f.layer(Layer::Normal).fill(0.0f);
+    for (int i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) f.layer(Layer::Albedo)(i, i, c) = 0.1f;
+    Image seeds(n, n, 1, 0.0f);
+    seeds(n - 1, 0, 0) = 1.0f;
+    WandOptions o;
+    o.color = -1.0;  // albedo alone decides
+    const Image mask = magicWand(f, seeds, o);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) EXPECT_EQ(mask(x, y, 0), x > y ? 1.0f : 0.0f) << x << "," << y;
+    // With the albedo test off as well nothing bounds it.
+    o.albedo = -1.0;
+    const Image unbounded = magicWand(f, seeds, o);
+    for (float v : unbounded.data()) EXPECT_EQ(v, 1.0f);
+}
+
 // The discrete Laplace equation at a free pixel: deg·u − Σ neighbours.
 double laplaceResidual(const Image& u, int x, int y) {
     const int w = u.width(), h = u.height();
@@ -146,9 +171,11 @@ TEST(Diffusion, SatisfiesTheLaplaceEquationAndKeepsTheScribbles) {
 }
 
 TEST(Diffusion, AgreesWithEigensDirectSparseSolve) {
+    // Odd sides (vector tails, odd coarsening) and enough pixels for the parallel loops and
+    // four levels: 211×163 → 106×82 → 53×41 → 27×21 → 14×11.
+    const int w = 211, h = 163;
     Image values, fixed;
-    scribble(48, 36, values, fixed);
-    const int w = 48, h = 36;
+    scribble(w, h, values, fixed);
     // The same equations for Eigen: one unknown per free pixel.
     std::vector<int> index(std::size_t(w * h), -1);
     int n = 0;
@@ -187,6 +214,43 @@ TEST(Diffusion, AgreesWithEigensDirectSparseSolve) {
             worst = std::max(worst,
                              std::fabs(u.data()[std::size_t(p)] - direct[index[std::size_t(p)]]));
     EXPECT_LT(worst, 1e-6);  // float output of a 1e-9 relative residual
+}
+
+TEST(Diffusion, LinearBetweenTwoFixedColumnsWithZeroFluxBorders) {
+    // Left column 0, right column 1, free top and bottom borders (zero flux): the harmonic
+    // function is x / (w − 1), on a grid that coarsens (200×120) and on a single row.
+    for (const auto& [w, h] : {std::pair{200, 120}, std::pair{50, 1}}) {
+        Image values(w, h, 1, 0.0f), fixed(w, h, 1, 0.0f);
+        for (int y = 0; y < h; ++y) {
+            fixed(0, y, 0) = fixed(w - 1, y, 0) = 1.0f;
+            values(w - 1, y, 0) = 1.0f;
+        }
+        DiffusionOptions o;
+        o.tolerance = 1e-9;
+        const Image u = diffuseWeights(values, fixed, o);
+        double worst = 0.0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                worst = std::max(worst, std::fabs(u(x, y, 0) - double(x) / double(w - 1)));
+        EXPECT_LT(worst, 1e-6) << w << "x" << h;
+    }
+}
+
+TEST(Diffusion, SameResultForAnyThreadCount) {
+    // Rows are independent and sums are added in row order: no thread count changes a bit.
+    Image values, fixed;
+    scribble(256, 160, values, fixed);
+    Image one, many;
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+        one = diffuseWeights(values, fixed);
+    }
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 3);
+        many = diffuseWeights(values, fixed);
+    }
+    ASSERT_TRUE(one.sameShape(many));
+    EXPECT_EQ(std::memcmp(one.data().data(), many.data().data(), one.data().size_bytes()), 0);
 }
 
 TEST(Diffusion, EdgeCasesAndBadInput) {

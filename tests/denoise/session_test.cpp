@@ -8,6 +8,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
@@ -32,6 +34,41 @@ Image compositeFromScratch(const Session& s) {
     for (std::size_t i = 0; i < s.layerCount(); ++i)
         c = blend(c, s.layer(i).output, s.layer(i).weights);
     return c;
+}
+
+// Everything an edit can change: the layers (filter, parameters, output, weights, painted) and
+// the composite.
+struct SessionState {
+    std::vector<std::string> filters;
+    std::vector<ParamValues> params;
+    std::vector<Image> outputs, weights, painted;
+    Image composite;
+};
+
+SessionState stateOf(const Session& s) {
+    SessionState st;
+    for (std::size_t i = 0; i < s.layerCount(); ++i) {
+        st.filters.push_back(s.layer(i).filter);
+        st.params.push_back(s.layer(i).params);
+        st.outputs.push_back(s.layer(i).output);
+        st.weights.push_back(s.layer(i).weights);
+        st.painted.push_back(s.layer(i).painted);
+    }
+    st.composite = s.composite();
+    return st;
+}
+
+// Empty when equal bit for bit, else what differs.
+std::string differences(const SessionState& a, const SessionState& b) {
+    if (a.filters != b.filters) return "filters";
+    if (a.params != b.params) return "params";
+    for (std::size_t i = 0; i < a.filters.size(); ++i) {
+        if (!sameBits(a.outputs[i], b.outputs[i])) return "output of layer " + std::to_string(i);
+        if (!sameBits(a.weights[i], b.weights[i])) return "weights of layer " + std::to_string(i);
+        if (!sameBits(a.painted[i], b.painted[i])) return "painted of layer " + std::to_string(i);
+    }
+    if (!sameBits(a.composite, b.composite)) return "composite";
+    return {};
 }
 
 class SessionTest : public ::testing::Test {
@@ -117,8 +154,8 @@ TEST_F(SessionTest, AddThenSubtractTheSameStrokeRoundTrips) {
 
 TEST_F(SessionTest, UndoRedoOfEveryEditIsBitExact) {
     Session s(testing::syntheticFrame(40, 32));
-    std::vector<Image> states{s.composite()};
-    auto snap = [&] { states.push_back(s.composite()); };
+    std::vector<SessionState> states{stateOf(s)};
+    auto snap = [&] { states.push_back(stateOf(s)); };
     const std::size_t g = s.addLayer("gaussian", {{"sigma", 2.0}});
     snap();
     s.beginStroke(g, Brush{12.0, 0.5}, BrushMode::Add);
@@ -137,7 +174,15 @@ TEST_F(SessionTest, UndoRedoOfEveryEditIsBitExact) {
     s.dab(30.0, 8.0);
     s.endStroke();
     snap();
+    s.beginStroke(g, Brush{8.0, 0.5}, BrushMode::Subtract);
+    s.dab(12.0, 11.0);
+    s.endStroke();
+    snap();
+    s.fill(g, mask, BrushMode::Subtract);
+    snap();
     s.diffuse({g, b});
+    snap();
+    s.applyWeights({b}, {Image(40, 32, 1, 0.25f)});
     snap();
     s.setWeights(b, Image(40, 32, 1, 0.5f));
     snap();
@@ -147,17 +192,24 @@ TEST_F(SessionTest, UndoRedoOfEveryEditIsBitExact) {
     for (std::size_t i = steps; i > 0; --i) {
         ASSERT_TRUE(s.canUndo());
         s.undo();
-        EXPECT_TRUE(sameBits(s.composite(), states[i - 1])) << "undo to state " << i - 1;
+        EXPECT_EQ(differences(stateOf(s), states[i - 1]), "") << "undo to state " << i - 1;
     }
     EXPECT_FALSE(s.canUndo());
     for (std::size_t i = 1; i <= steps; ++i) {
         ASSERT_TRUE(s.canRedo());
         s.redo();
-        EXPECT_TRUE(sameBits(s.composite(), states[i])) << "redo to state " << i;
+        EXPECT_EQ(differences(stateOf(s), states[i]), "") << "redo to state " << i;
     }
+    EXPECT_FALSE(s.canRedo());
     EXPECT_TRUE(sameBits(s.composite(), compositeFromScratch(s)));
-    // A new edit clears redo.
+    // A stroke that changed nothing (every dab off the frame) is no undo step.
+    s.beginStroke(0, Brush{8.0, 0.5}, BrushMode::Add);
+    s.dab(-100.0, -100.0);
+    s.endStroke();
+    EXPECT_EQ(differences(stateOf(s), states.back()), "");
     s.undo();
+    EXPECT_EQ(differences(stateOf(s), states[steps - 1]), "");
+    // A new edit clears redo.
     s.addLayer("gaussian", {});
     EXPECT_FALSE(s.canRedo());
 }
@@ -179,6 +231,8 @@ TEST_F(SessionTest, DiffusionFillsTheUnpaintedPixelsBetweenScribbles) {
     EXPECT_GT(w(20, 16, 0), w(40, 16, 0));
     EXPECT_GT(w(20, 16, 0), 0.0f);
     EXPECT_LT(w(40, 16, 0), 1.0f);
+    EXPECT_THROW(s.diffuse({g, g}), Error);  // a layer listed twice
+    EXPECT_THROW(s.diffuse({}), Error);
     Session empty(testing::syntheticFrame(16, 16));
     const std::size_t e = empty.addLayer("gaussian", {});
     EXPECT_THROW(empty.diffuse({e}), Error);
@@ -271,6 +325,42 @@ TEST_F(SessionTest, BadSessionFilesAreRefusedAndNothingIsOverwritten) {
     EXPECT_THROW(s.save(m_dir / "notjson.txt"), Error);
 }
 
+TEST_F(SessionTest, ASaveIntoAFolderThatCannotBeWrittenLeavesTheOldSession) {
+    Session old(testing::syntheticFrame(24, 20));
+    old.addLayer("gaussian", {});
+    old.setWeights(0, Image(24, 20, 1, 0.25f));
+    const fs::path folder = m_dir / "locked";
+    fs::create_directories(folder);
+    const fs::path file = folder / "look.glint-session.json";
+    old.save(file);
+    Session next(testing::syntheticFrame(24, 20));
+    next.addLayer("bilateral", {});
+    next.addLayer("gaussian", {});
+    fs::permissions(folder, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read |
+                                fs::perms::group_exec | fs::perms::others_read |
+                                fs::perms::others_exec);
+    // Root writes anywhere, whatever the permissions: there a directory standing where the save
+    // writes its temporary JSON makes the write fail the same way (no fork: a forked child of a
+    // multithreaded process may deadlock).
+    const fs::path obstacle = temporaryPathFor(file);
+    if (::geteuid() == 0) fs::create_directories(obstacle / "x");
+    try {
+        next.save(file);
+        ADD_FAILURE() << "the save went through";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::Io) << e.what();
+    }
+    fs::remove_all(obstacle);
+    fs::permissions(folder, fs::perms::owner_all, fs::perm_options::add);
+    // The old session is whole, and no temporary is left.
+    const Session back = Session::load(file);
+    ASSERT_EQ(back.layerCount(), 1u);
+    EXPECT_TRUE(sameBits(back.layer(0).weights, old.layer(0).weights));
+    EXPECT_TRUE(sameBits(back.composite(), old.composite()));
+    for (const auto& e : fs::directory_iterator(folder))
+        EXPECT_TRUE(e.path() == file || e.path() == folder / "look.glint-session") << e.path();
+}
+
 TEST_F(SessionTest, ReapplyKeepsTheHistoryWithOutputsOnTheNewRender) {
     Session s(testing::syntheticFrame(40, 32, 0.05f, 1));
     const std::size_t g = s.addLayer("gaussian", {{"sigma", 2.0}});
@@ -300,8 +390,21 @@ TEST_F(SessionTest, ReapplyKeepsThePaintingOnANewRender) {
     EXPECT_TRUE(
         sameBits(s.layer(g).output, applyFilter(findFilter("gaussian"), next, {{"sigma", 2.0}})));
     EXPECT_TRUE(sameBits(s.composite(), compositeFromScratch(s)));
-    EXPECT_THROW(s.reapply(testing::syntheticFrame(10, 10)), Error);
+    // Another size is refused and changes nothing.
+    const SessionState before = stateOf(s);
+    try {
+        s.reapply(testing::syntheticFrame(10, 10));
+        ADD_FAILURE() << "a 10x10 render was accepted";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::InvalidArgument);
+        EXPECT_NE(std::string(e.what()).find("10x10"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("40x32"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(s.reapply(testing::syntheticFrame(40, 31), std::vector<Image>{Image(40, 31, 3)}),
+                 Error);
+    EXPECT_EQ(differences(stateOf(s), before), "");
     EXPECT_TRUE(sameBits(s.input().color(), next.color()));
+    EXPECT_TRUE(s.canUndo());
 }
 
 TEST_F(SessionTest, ExportsTheCompositeAndRefusesBadEdits) {

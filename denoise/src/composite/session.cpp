@@ -48,6 +48,17 @@ void Session::Impl::checkLayer(std::size_t index) const {
                     {}, "session");
 }
 
+void Session::Impl::checkDistinctLayers(const std::vector<std::size_t>& indices) const {
+    for (std::size_t k = 0; k < indices.size(); ++k) {
+        checkLayer(indices[k]);
+        for (std::size_t j = 0; j < k; ++j)
+            if (indices[j] == indices[k])
+                throw Error(ErrorKind::InvalidArgument,
+                            "layer " + std::to_string(indices[k]) + " is listed twice", {},
+                            "session");
+    }
+}
+
 void Session::Impl::checkNoStroke() const {
     if (stroking)
         throw Error(ErrorKind::InvalidArgument, "a stroke is open (endStroke first)", {},
@@ -288,7 +299,7 @@ std::vector<Image> Session::diffusionMaps(const std::vector<std::size_t>& indice
     const Impl& s = *m_impl;
     if (indices.empty())
         throw Error(ErrorKind::InvalidArgument, "no layer to diffuse", {}, "session");
-    for (std::size_t i : indices) s.checkLayer(i);
+    s.checkDistinctLayers(indices);
     // Every listed layer's painted pixels, and whose they are.
     Image anyPainted(width(), height(), 1, 0.0f);
     for (std::size_t i : indices) {
@@ -322,9 +333,9 @@ void Session::applyWeights(const std::vector<std::size_t>& indices,
     s.checkNoStroke();
     if (indices.size() != maps.size())
         throw Error(ErrorKind::InvalidArgument, "one weight map per layer", {}, "session");
+    s.checkDistinctLayers(indices);
     SessionEdit edit;
     for (std::size_t k = 0; k < indices.size(); ++k) {
-        s.checkLayer(indices[k]);
         const Image& map = maps[k];
         if (map.width() != width() || map.height() != height() || map.channels() != 1)
             throw Error(ErrorKind::InvalidArgument, "a weight map must match the frame (1 channel)",
@@ -393,12 +404,19 @@ std::vector<LayerSpec> Session::layerSpecs() const {
     return specs;
 }
 
-std::vector<Image> Session::computeOutputs(const FrameBuffers& input, const SessionOptions& options,
-                                           const std::vector<LayerSpec>& layers,
-                                           const ProgressFn& progress) {
-    std::optional<FrameBuffers> prefiltered;
-    if (options.prefilter) prefiltered = prefilterFeatures(input, options.prefilterParams);
-    const FrameBuffers& in = prefiltered ? *prefiltered : input;
+namespace {
+
+// The filters' input for a render: its features prefiltered when the options say so (nothing
+// otherwise: the filters read the render itself).
+std::optional<FrameBuffers> prefilteredFor(const FrameBuffers& input,
+                                           const SessionOptions& options) {
+    if (!options.prefilter) return std::nullopt;
+    return prefilterFeatures(input, options.prefilterParams);
+}
+
+// The outputs of `layers` on a filter input, progress shared out evenly.
+std::vector<Image> outputsOn(const FrameBuffers& in, const std::vector<LayerSpec>& layers,
+                             const ProgressFn& progress) {
     std::vector<Image> outputs;
     const std::size_t n = layers.size();
     for (std::size_t i = 0; i < n; ++i) {
@@ -409,21 +427,56 @@ std::vector<Image> Session::computeOutputs(const FrameBuffers& input, const Sess
     return outputs;
 }
 
+}  // namespace
+
+std::vector<Image> Session::computeOutputs(const FrameBuffers& input, const SessionOptions& options,
+                                           const std::vector<LayerSpec>& layers,
+                                           const ProgressFn& progress) {
+    const std::optional<FrameBuffers> prefiltered = prefilteredFor(input, options);
+    return outputsOn(prefiltered ? *prefiltered : input, layers, progress);
+}
+
+void Session::Impl::checkSameSize(const FrameBuffers& newInput) const {
+    if (newInput.width() != input.width() || newInput.height() != input.height())
+        throw Error(ErrorKind::InvalidArgument,
+                    "the new render is " + std::to_string(newInput.width()) + "x" +
+                        std::to_string(newInput.height()) + ", the session " +
+                        std::to_string(input.width()) + "x" + std::to_string(input.height()),
+                    {}, "session");
+}
+
+void Session::Impl::install(FrameBuffers newInput, std::optional<FrameBuffers> newPrefiltered,
+                            const std::vector<LayerSpec>& specs,
+                            const std::vector<Image>& outputs) {
+    input = std::move(newInput);
+    prefiltered = std::move(newPrefiltered);
+    // Current layers and the layers the history would bring back get the new outputs.
+    auto refresh = [&](SessionLayer& l) {
+        for (std::size_t k = 0; k < specs.size(); ++k)
+            if (sameSpec(specs[k], l)) l.output = outputs[k];
+    };
+    for (SessionLayer& l : layers) refresh(l);
+    for (auto* history : {&undo, &redo})
+        for (SessionEdit& e : *history)
+            if (e.kind != SessionEdit::Kind::Weights) refresh(e.layer);
+    recomposite(composite.bounds());
+}
+
 void Session::reapply(FrameBuffers newInput, const ProgressFn& progress) {
-    if (newInput.width() != width() || newInput.height() != height())
-        reapply(std::move(newInput), std::vector<Image>{});  // throws, naming both sizes
-    std::vector<Image> outputs = computeOutputs(newInput, m_impl->options, layerSpecs(), progress);
-    reapply(std::move(newInput), std::move(outputs));
+    Impl& s = *m_impl;
+    s.checkSameSize(newInput);
+    // Everything is computed before anything changes: an error or a stop leaves the session.
+    const std::vector<LayerSpec> specs = layerSpecs();
+    std::optional<FrameBuffers> prefiltered = prefilteredFor(newInput, s.options);
+    const std::vector<Image> outputs =
+        outputsOn(prefiltered ? *prefiltered : newInput, specs, progress);
+    if (s.stroking) endStroke();
+    s.install(std::move(newInput), std::move(prefiltered), specs, outputs);
 }
 
 void Session::reapply(FrameBuffers newInput, std::vector<Image> outputs) {
     Impl& s = *m_impl;
-    if (newInput.width() != width() || newInput.height() != height())
-        throw Error(ErrorKind::InvalidArgument,
-                    "the new render is " + std::to_string(newInput.width()) + "x" +
-                        std::to_string(newInput.height()) + ", the session " +
-                        std::to_string(width()) + "x" + std::to_string(height()),
-                    {}, "session");
+    s.checkSameSize(newInput);
     const std::vector<LayerSpec> specs = layerSpecs();
     if (outputs.size() != specs.size())
         throw Error(ErrorKind::InvalidArgument,
@@ -432,23 +485,13 @@ void Session::reapply(FrameBuffers newInput, std::vector<Image> outputs) {
                     {}, "session");
     for (const Image& o : outputs)
         if (o.width() != width() || o.height() != height() || o.channels() != 3)
-            throw Error(ErrorKind::InvalidArgument, "a layer output must match the frame", {},
-                        "session");
+            throw Error(ErrorKind::InvalidArgument,
+                        "a layer output must be " + std::to_string(width()) + "x" +
+                            std::to_string(height()) + "x3",
+                        {}, "session");
+    std::optional<FrameBuffers> prefiltered = prefilteredFor(newInput, s.options);
     if (s.stroking) endStroke();
-    std::optional<FrameBuffers> prefiltered;
-    if (s.options.prefilter) prefiltered = prefilterFeatures(newInput, s.options.prefilterParams);
-    s.input = std::move(newInput);
-    s.prefiltered = std::move(prefiltered);
-    // Current layers and the layers the history would bring back get the new outputs.
-    auto refresh = [&](SessionLayer& l) {
-        for (std::size_t k = 0; k < specs.size(); ++k)
-            if (sameSpec(specs[k], l)) l.output = outputs[k];
-    };
-    for (SessionLayer& l : s.layers) refresh(l);
-    for (auto* history : {&s.undo, &s.redo})
-        for (SessionEdit& e : *history)
-            if (e.kind != SessionEdit::Kind::Weights) refresh(e.layer);
-    s.recomposite(s.composite.bounds());
+    s.install(std::move(newInput), std::move(prefiltered), specs, outputs);
 }
 
 }  // namespace glint::denoise

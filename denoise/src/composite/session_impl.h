@@ -52,8 +52,16 @@ struct Session::Impl {
     void record(SessionEdit edit);
     /// Checks a layer index.
     void checkLayer(std::size_t index) const;
+    /// Checks that every index names a layer and none is listed twice.
+    void checkDistinctLayers(const std::vector<std::size_t>& indices) const;
     /// Edits other than dabs wait for the open stroke to end.
     void checkNoStroke() const;
+    /// Refuses a new render of another size (naming both sizes).
+    void checkSameSize(const FrameBuffers& newInput) const;
+    /// Makes `newInput` the session's render: `outputs[k]` (on it) becomes the output of every
+    /// layer, current or in the history, with the filter and parameters of `specs[k]`.
+    void install(FrameBuffers newInput, std::optional<FrameBuffers> newPrefiltered,
+                 const std::vector<LayerSpec>& specs, const std::vector<Image>& outputs);
 };
 
 /// The filter output of a layer over the whole input (errors name the filter).
