@@ -7,10 +7,12 @@ CMAKE_GENERATOR ?= Ninja
 DEB_PACKAGES := build-essential cmake ninja-build pkg-config \
   libembree-dev libopenimageio-dev libopencv-core-dev openimageio-tools libopenexr-dev \
   libtinyobjloader-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev \
-  nlohmann-json3-dev libcli11-dev libeigen3-dev
-# Qt6 (qt6-base-dev) and xvfb join this list with the studio (gui/), which needs them.
+  nlohmann-json3-dev libcli11-dev libeigen3-dev \
+  qt6-base-dev libgl-dev xvfb xauth fonts-dejavu-core
+# qt6-base-dev (with libgl-dev, which Qt6Gui's CMake config asks for) builds the studio (gui/);
+# xvfb, xauth and fonts-dejavu-core run its screenshot test in a real X server.
 
-.PHONY: all deps build test clean demo bench bench-deps fuzz
+.PHONY: all deps build test clean demo bench bench-deps fuzz studio
 
 all: build
 
@@ -27,6 +29,10 @@ test: build
 demo: build
 	./scripts/demo.sh $(BUILD_DIR)
 
+# The studio on scenes/cornell (docs/studio.md); it renders at once.
+studio: build
+	$(BUILD_DIR)/bin/glint-studio scenes/cornell/scene.json
+
 # Benchmark-only peers (Blender/Cycles, OpenCV, scikit-image): not needed to build or test.
 BENCH_PACKAGES := blender libopencv-dev libopencv-contrib-dev python3-skimage hyperfine
 
@@ -42,7 +48,7 @@ FUZZ_SECONDS ?= 600
 fuzz: deps
 	@./.ci/install-deps clang libclang-rt-14-dev
 	@test -f build-fuzz/CMakeCache.txt || CC=clang CXX=clang++ cmake -S . -B build-fuzz -G "$(CMAKE_GENERATOR)" \
-	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGLINT_FUZZ=ON -DGLINT_BUILD_TESTS=OFF -DGLINT_BUILD_BENCHMARKS=OFF
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGLINT_FUZZ=ON -DGLINT_BUILD_TESTS=OFF -DGLINT_BUILD_BENCHMARKS=OFF -DGLINT_BUILD_STUDIO=OFF
 	cmake --build build-fuzz -j $(JOBS) --target fuzz_scene_json fuzz_obj fuzz_texture fuzz_exr
 	./tests/fuzz/run.sh build-fuzz $(FUZZ_SECONDS)
 

@@ -1,0 +1,50 @@
+// Autosave and crash recovery: each running studio journals its edits into a folder of its own
+// under the autosave base (named by its process id); a clean exit removes the folder. At start,
+// a folder whose process is gone is a crash: the studio offers to restore it by replaying it.
+#pragma once
+
+#include <QObject>
+#include <QString>
+#include <QStringList>
+
+#include <memory>
+
+#include "model/document.h"
+#include "model/journal.h"
+#include "model/session_adapter.h"
+
+namespace glint::studio {
+
+class Autosave : public QObject {
+    Q_OBJECT
+  public:
+    /// Journals `session`'s edits under `base` (default: the user's application data folder).
+    Autosave(const QString& base, SessionAdapter* session, QObject* parent = nullptr);
+    ~Autosave() override;
+
+    /// The default base: $GLINT_STUDIO_AUTOSAVE, else <AppLocalData>/autosave.
+    static QString defaultBase();
+    /// Folders under `base` left by studios that did not exit cleanly, newest first.
+    static QStringList crashed(const QString& base);
+
+    /// Records that `path` is open (the first entry of a restorable journal).
+    void recordOpen(const QString& path);
+    /// Waits for pending writes (tests and screenshots).
+    void flush() { m_journal->flush(); }
+    Journal* journal() { return m_journal.get(); }
+    /// Removes this studio's journal (a clean exit).
+    void discard();
+
+    /// Replays the journal in `folder` into the document and session (the journal of this
+    /// studio records the replay, so a second crash is covered too), then removes `folder`.
+    /// Returns the number of edits restored; `complete` is false when the journal ended in an
+    /// unreadable entry (the edit being made at the crash). Throws glint::Error for an entry
+    /// that does not apply.
+    int restore(const QString& folder, Document* document, bool* complete = nullptr);
+
+  private:
+    SessionAdapter* m_session;
+    std::unique_ptr<Journal> m_journal;
+};
+
+}  // namespace glint::studio

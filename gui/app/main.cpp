@@ -1,0 +1,52 @@
+// glint-studio [SCENE.json | IMAGE.exr | SESSION.glint-session.json]
+#include <QApplication>
+#include <QCommandLineParser>
+#include <QTimer>
+
+#include <cstdio>
+#include <exception>
+
+#include "app/main_window.h"
+
+int main(int argc, char** argv) {
+    QApplication app(argc, argv);
+    QApplication::setOrganizationName(QStringLiteral("Glint"));
+    QApplication::setApplicationName(QStringLiteral("Glint Studio"));
+    QApplication::setApplicationVersion(QStringLiteral("0.1"));
+
+    QCommandLineParser parser;
+    parser.setApplicationDescription(QStringLiteral(
+        "Glint Studio: change the look, re-render at low spp, navigate or tune filters, paint them "
+        "on, compare with a reference (docs/studio.md)."));
+    parser.addHelpOption();
+    parser.addVersionOption();
+    parser.addPositionalArgument(
+        QStringLiteral("file"),
+        QStringLiteral("a scene.json, a layered EXR or a .glint-session.json"));
+    QCommandLineOption autosave(QStringLiteral("autosave-dir"),
+                                QStringLiteral("where edits are journalled (default: the user's "
+                                               "application data folder)"),
+                                QStringLiteral("DIR"));
+    QCommandLineOption noRestore(QStringLiteral("no-restore"),
+                                 QStringLiteral("do not offer to restore a crashed session"));
+    parser.addOption(autosave);
+    parser.addOption(noRestore);
+    parser.process(app);
+    if (parser.positionalArguments().size() > 1) {
+        std::fprintf(stderr, "glint-studio: expected at most one file, got %lld\n",
+                     static_cast<long long>(parser.positionalArguments().size()));
+        return 2;
+    }
+
+    glint::studio::StudioOptions options;
+    options.autosaveBase = parser.value(autosave);
+    options.offerRestore = !parser.isSet(noRestore);
+    glint::studio::MainWindow window(options);
+    window.show();
+    const QStringList files = parser.positionalArguments();
+    QTimer::singleShot(0, &window, [&window, &options, files] {
+        if (options.offerRestore) window.offerRestore();
+        if (!files.isEmpty()) window.openFile(files.first());
+    });
+    return app.exec();
+}

@@ -1,0 +1,535 @@
+#include "app/main_window.h"
+
+#include <QApplication>
+#include <QCloseEvent>
+#include <QDockWidget>
+#include <QDragEnterEvent>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QLabel>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QMimeData>
+#include <QProgressBar>
+#include <QPushButton>
+#include <QStatusBar>
+#include <QTabWidget>
+#include <QToolBar>
+
+#include "app/studio_settings.h"
+#include "glint/image/error.h"
+#include "views/compare_view.h"
+#include "views/features_view.h"
+#include "views/help_overlay.h"
+#include "views/look_panel.h"
+#include "views/navigate_view.h"
+#include "views/paint_view.h"
+#include "views/region_view.h"
+#include "views/render_bar.h"
+#include "views/tune_view.h"
+#include "views/viewer.h"
+
+namespace glint::studio {
+
+namespace {
+
+bool isSessionPath(const QString& path) {
+    return path.endsWith(QStringLiteral(".glint-session.json"), Qt::CaseInsensitive);
+}
+
+QDockWidget* dock(QMainWindow* window, const QString& title, const QString& name,
+                  QWidget* content) {
+    auto* d = new QDockWidget(title, window);
+    d->setObjectName(name);
+    d->setWidget(content);
+    d->setFeatures(QDockWidget::DockWidgetMovable | QDockWidget::DockWidgetFloatable);
+    return d;
+}
+
+}  // namespace
+
+MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
+    : QMainWindow(parent), m_options(options) {
+    setObjectName(QStringLiteral("GlintStudio"));
+    setAcceptDrops(true);
+    m_document = new Document(this);
+    m_session = new SessionAdapter(this);
+    m_region = new RegionOfInterest(this);
+    m_autosave = std::make_unique<Autosave>(
+        options.autosaveBase.isEmpty() ? Autosave::defaultBase() : options.autosaveBase, m_session);
+    m_actions = createActions(this);
+
+    m_viewer = new Viewer(m_document, m_session, this);
+    setCentralWidget(m_viewer);
+    const StudioContext context{m_document, m_session, m_region, m_viewer};
+    m_features = new FeaturesView(context);
+    m_regionView = new RegionView(context);
+    m_tune = new TuneView(context);
+    m_navigate = new NavigateView(context);
+    m_paint = new PaintView(context);
+    m_compare = new CompareView(context);
+    m_look = new LookPanel(m_document, m_session);
+    m_renderBar = new RenderBar(m_document, m_viewer->canvas());
+
+    m_filterTabs = new QTabWidget;
+    m_filterTabs->addTab(m_tune, tr("Tune"));
+    m_filterTabs->addTab(m_navigate, tr("Navigate"));
+    m_stages = new QTabWidget;
+    m_stages->addTab(m_features, tr("1 Features"));
+    m_stages->addTab(m_regionView, tr("2 Region"));
+    m_stages->addTab(m_filterTabs, tr("3 Filter"));
+    m_stages->addTab(m_paint, tr("4 Paint"));
+    m_stages->setMinimumWidth(330);
+
+    auto* bar = new QToolBar(tr("Render"), this);
+    bar->setObjectName(QStringLiteral("renderBar"));
+    bar->setMovable(false);
+    bar->addWidget(m_renderBar);
+    addToolBar(Qt::TopToolBarArea, bar);
+    m_look->setMinimumWidth(340);
+    addDockWidget(Qt::LeftDockWidgetArea, dock(this, tr("Look"), QStringLiteral("look"), m_look));
+    addDockWidget(Qt::RightDockWidgetArea,
+                  dock(this, tr("Workflow"), QStringLiteral("stages"), m_stages));
+    addDockWidget(Qt::RightDockWidgetArea,
+                  dock(this, tr("Compare"), QStringLiteral("compare"), m_compare));
+
+    m_readout = new QLabel(this);
+    m_readout->setTextInteractionFlags(Qt::TextSelectableByMouse);
+    m_busy = new QLabel(this);
+    m_busyProgress = new QProgressBar(this);
+    m_busyProgress->setRange(0, 1000);
+    m_busyProgress->setMaximumWidth(120);
+    m_busyProgress->setTextVisible(false);
+    m_busyProgress->hide();
+    statusBar()->addWidget(m_readout, 1);
+    statusBar()->addPermanentWidget(m_busy);
+    statusBar()->addPermanentWidget(m_busyProgress);
+
+    m_help = new HelpOverlay(this);
+    m_help->setActions(m_actions.all());
+    buildMenus();
+    connectModel();
+    resize(1400, 860);
+    restoreWindowState(*this);
+    updateTitle();
+    stageChanged();
+}
+
+MainWindow::~MainWindow() = default;
+
+void MainWindow::buildMenus() {
+    const StudioActions& a = m_actions;
+    QMenu* file = menuBar()->addMenu(tr("&File"));
+    file->addAction(a.open);
+    m_recentMenu = file->addMenu(tr("Open &Recent"));
+    file->addAction(a.openReference);
+    file->addSeparator();
+    file->addAction(a.saveSession);
+    file->addAction(a.saveSessionAs);
+    file->addAction(a.saveScene);
+    file->addAction(a.exportExr);
+    file->addAction(a.exportPng);
+    file->addSeparator();
+    file->addAction(a.newSession);
+    file->addSeparator();
+    file->addAction(a.quit);
+    QMenu* edit = menuBar()->addMenu(tr("&Edit"));
+    edit->addAction(a.undo);
+    edit->addAction(a.redo);
+    QMenu* render = menuBar()->addMenu(tr("&Render"));
+    render->addAction(a.render);
+    render->addAction(a.cancelRender);
+    QMenu* view = menuBar()->addMenu(tr("&View"));
+    for (QAction* x : {a.fit, a.oneToOne, a.flip, a.exposureUp, a.exposureDown}) view->addAction(x);
+    QMenu* work = menuBar()->addMenu(tr("&Workflow"));
+    for (QAction* s : a.stages) work->addAction(s);
+    work->addSeparator();
+    for (QAction* x : {a.lasso, a.wholeImage, a.same, a.back, a.brush, a.wand, a.brushSmaller,
+                       a.brushLarger, a.diffuse})
+        work->addAction(x);
+    QMenu* help = menuBar()->addMenu(tr("&Help"));
+    help->addAction(a.help);
+    rebuildRecent();
+
+    connect(a.open, &QAction::triggered, this, [this] {
+        const QString path = askPath(
+            tr("Open"), tr("Scenes, renders and sessions (*.json *.exr);;All files (*)"), false);
+        if (!path.isEmpty()) openFile(path);
+    });
+    connect(a.openReference, &QAction::triggered, this, [this] {
+        const QString path = askPath(tr("Open a reference"), tr("OpenEXR (*.exr)"), false);
+        if (!path.isEmpty()) m_document->openReference(path);
+    });
+    connect(a.saveSession, &QAction::triggered, this, [this] {
+        if (m_sessionPath.isEmpty())
+            m_actions.saveSessionAs->trigger();
+        else
+            saveSession(m_sessionPath);
+    });
+    connect(a.saveSessionAs, &QAction::triggered, this, [this] {
+        QString path =
+            askPath(tr("Save the session"), tr("Glint sessions (*.glint-session.json)"), true);
+        if (path.isEmpty()) return;
+        if (!isSessionPath(path)) path += QStringLiteral(".glint-session.json");
+        saveSession(path);
+    });
+    connect(a.saveScene, &QAction::triggered, this, [this] {
+        if (m_document->kind() != Document::Kind::Scene) {
+            showError(tr("Nothing to save"),
+                      tr("Only a scene opened from scene.json can be saved as JSON."));
+            return;
+        }
+        const QString path = askPath(tr("Save the scene"), tr("Scenes (*.json)"), true);
+        if (!path.isEmpty()) m_document->saveScene(path);
+    });
+    connect(a.exportExr, &QAction::triggered, this, [this] { exportResult(true); });
+    connect(a.exportPng, &QAction::triggered, this, [this] { exportResult(false); });
+    connect(a.newSession, &QAction::triggered, this, [this] {
+        if (!maybeSave()) return;
+        m_session->clear();
+        if (m_document->finishedFrame()) m_session->setInput(m_document->finishedFrame());
+    });
+    connect(a.quit, &QAction::triggered, this, &QWidget::close);
+    connect(a.undo, &QAction::triggered, m_session->undoStack(), &QUndoStack::undo);
+    connect(a.redo, &QAction::triggered, m_session->undoStack(), &QUndoStack::redo);
+    connect(m_session->undoStack(), &QUndoStack::canUndoChanged, a.undo, &QAction::setEnabled);
+    connect(m_session->undoStack(), &QUndoStack::canRedoChanged, a.redo, &QAction::setEnabled);
+    connect(m_session->undoStack(), &QUndoStack::undoTextChanged, this, [this](const QString& t) {
+        m_actions.undo->setText(t.isEmpty() ? tr("&Undo") : tr("&Undo %1").arg(t));
+    });
+    connect(m_session->undoStack(), &QUndoStack::redoTextChanged, this, [this](const QString& t) {
+        m_actions.redo->setText(t.isEmpty() ? tr("&Redo") : tr("&Redo %1").arg(t));
+    });
+    connect(m_session->undoStack(), &QUndoStack::cleanChanged, this, &MainWindow::updateTitle);
+    a.undo->setEnabled(false);
+    a.redo->setEnabled(false);
+    connect(m_session, &SessionAdapter::lockedChanged, this, [this](bool locked) {
+        // While diffusion reads the session nothing may change it.
+        m_actions.undo->setEnabled(!locked && m_session->undoStack()->canUndo());
+        m_actions.redo->setEnabled(!locked && m_session->undoStack()->canRedo());
+    });
+    connect(a.render, &QAction::triggered, m_renderBar->renderButton(), &QPushButton::click);
+    connect(a.cancelRender, &QAction::triggered, m_document, &Document::cancelRender);
+    connect(a.fit, &QAction::triggered, m_viewer->canvas(), &ImageCanvas::fit);
+    connect(a.oneToOne, &QAction::triggered, m_viewer->canvas(), &ImageCanvas::oneToOne);
+    connect(a.flip, &QAction::triggered, m_viewer, &Viewer::toggleFlip);
+    connect(a.exposureUp, &QAction::triggered, this,
+            [this] { m_viewer->setExposure(m_viewer->exposure() + 0.5); });
+    connect(a.exposureDown, &QAction::triggered, this,
+            [this] { m_viewer->setExposure(m_viewer->exposure() - 0.5); });
+    for (int i = 0; i < 4; ++i)
+        connect(a.stages[std::size_t(i)], &QAction::triggered, this, [this, i] { setStage(i); });
+    connect(a.lasso, &QAction::triggered, this, [this] { setStage(1); });
+    connect(a.wholeImage, &QAction::triggered, m_region, &RegionOfInterest::clear);
+    connect(a.brushSmaller, &QAction::triggered, this, [this] { m_paint->growBrush(0.8); });
+    connect(a.brushLarger, &QAction::triggered, this, [this] { m_paint->growBrush(1.25); });
+    connect(a.brush, &QAction::triggered, this, [this] {
+        setStage(3);
+        m_viewer->canvas()->setTool(ImageCanvas::Tool::Brush);
+    });
+    connect(a.wand, &QAction::triggered, this, [this] {
+        setStage(3);
+        m_viewer->canvas()->setTool(ImageCanvas::Tool::Wand);
+    });
+    connect(a.diffuse, &QAction::triggered, m_paint, &PaintView::diffuse);
+    connect(a.same, &QAction::triggered, this, [this] {
+        if (activeStage() == m_navigate) m_navigate->same();
+    });
+    connect(a.back, &QAction::triggered, this, [this] {
+        if (activeStage() == m_navigate) m_navigate->back();
+    });
+    connect(a.help, &QAction::triggered, m_help, &HelpOverlay::toggle);
+    for (QAction* x : m_actions.all()) addAction(x);
+}
+
+void MainWindow::connectModel() {
+    connect(m_document, &Document::opened, this, [this] {
+        addRecentFile(m_document->path());
+        rebuildRecent();
+        m_autosave->recordOpen(m_document->path());
+        if (!m_restoring) m_region->clear();  // a restored session brings its own region
+        updateTitle();
+    });
+    connect(m_document, &Document::frameChanged, this, [this](bool final) {
+        // A finished render goes to the session: its layers are re-applied to it.
+        if (final && !m_restoring && m_document->finishedFrame())
+            m_session->setInput(m_document->finishedFrame());
+    });
+    connect(m_document, &Document::failed, this, &MainWindow::showError);
+    connect(m_session, &SessionAdapter::failed, this, &MainWindow::showError);
+    connect(m_renderBar, &RenderBar::failed, this, &MainWindow::showError);
+    connect(m_look, &LookPanel::failed, this, &MainWindow::showError);
+    connect(m_renderBar, &RenderBar::regionToolToggled, this, [this](bool on) {
+        m_viewer->canvas()->setTool(on ? ImageCanvas::Tool::Rectangle : ImageCanvas::Tool::Pan);
+        if (!on) stageChanged();
+    });
+    for (StageView* s : std::initializer_list<StageView*>{m_features, m_regionView, m_tune,
+                                                          m_navigate, m_paint, m_compare}) {
+        connect(s, &StageView::failed, this, &MainWindow::showError);
+        connect(s, &StageView::status, this,
+                [this](const QString& m) { statusBar()->showMessage(m, 4000); });
+        connect(s, &StageView::layerChosen, this, [this] { setStage(3); });
+    }
+    connect(m_navigate, &NavigateView::tuneRequested, this,
+            [this](const std::string& filter, const denoise::ParamValues& params) {
+                m_tune->setFilter(filter);
+                m_tune->setValues(params);
+                setStage(2, false);
+            });
+    connect(m_compare, &CompareView::openReferenceRequested, m_actions.openReference,
+            &QAction::trigger);
+    connect(m_stages, &QTabWidget::currentChanged, this, &MainWindow::stageChanged);
+    connect(m_filterTabs, &QTabWidget::currentChanged, this, &MainWindow::stageChanged);
+    connect(m_region, &RegionOfInterest::changed, this,
+            [this] { m_viewer->canvas()->setRegion(QPolygonF(m_region->polygon())); });
+    connect(m_viewer, &Viewer::readoutChanged, m_readout, &QLabel::setText);
+    connect(m_session, &SessionAdapter::busyChanged, this, [this](bool busy) {
+        m_busy->setText(busy ? tr("working…") : QString());
+        if (!busy) m_busyProgress->hide();
+    });
+    connect(m_session, &SessionAdapter::progress, this, [this](const QString& what, double f) {
+        m_busy->setText(what);
+        m_busyProgress->setVisible(f < 1.0);
+        m_busyProgress->setValue(int(f * 1000.0));
+    });
+    connect(m_session, &SessionAdapter::loaded, this, [this](const QString& path) {
+        m_sessionPath = path;
+        m_session->undoStack()->setClean();
+        const denoise::Session& s = m_session->session();
+        applyViewState(s.viewState);
+        m_document->setFinishedFrame(m_session->input());
+        updateTitle();
+    });
+}
+
+void MainWindow::openFile(const QString& path) {
+    if (!QFileInfo::exists(path)) {
+        showError(tr("Cannot open %1").arg(QFileInfo(path).fileName()),
+                  tr("%1: no such file").arg(path));
+        return;
+    }
+    if (!maybeSave()) return;
+    addRecentFile(path);
+    rebuildRecent();
+    if (isSessionPath(path)) {
+        m_session->load(path);
+        return;
+    }
+    m_sessionPath.clear();
+    m_session->clear();
+    m_document->open(path);
+}
+
+bool MainWindow::saveSession(const QString& path) {
+    try {
+        m_session->save(path,
+                        m_region->wholeImage()
+                            ? std::nullopt
+                            : std::optional<Rect>(m_region->bounds(m_session->session().width(),
+                                                                   m_session->session().height())),
+                        viewState());
+        m_sessionPath = path;
+        m_session->undoStack()->setClean();
+        addRecentFile(path);
+        rebuildRecent();
+        statusBar()->showMessage(tr("Saved %1").arg(path), 4000);
+        updateTitle();
+        return true;
+    } catch (const Error& e) {
+        showError(tr("Cannot save the session"), QString::fromStdString(e.what()));
+        return false;
+    }
+}
+
+std::map<std::string, std::string> MainWindow::viewState() const {
+    std::map<std::string, std::string> state;
+    if (m_document->kind() == Document::Kind::Scene)
+        state["scene"] = QFileInfo(m_document->path()).absoluteFilePath().toStdString();
+    const render::Settings& s = m_document->settings();
+    state["spp"] = std::to_string(s.spp);
+    state["seed"] = std::to_string(s.seed);
+    state["integrator"] = render::integratorName(s.integrator);
+    state["mis"] = render::misName(s.mis);
+    state["lasso"] = m_region->toString().toStdString();
+    state["exposure"] = std::to_string(m_viewer->exposure());
+    state["stage"] = std::to_string(stage());
+    return state;
+}
+
+void MainWindow::applyViewState(const std::map<std::string, std::string>& state) {
+    auto get = [&](const char* key) {
+        auto it = state.find(key);
+        return it == state.end() ? QString() : QString::fromStdString(it->second);
+    };
+    m_region->fromString(get("lasso"));
+    bool ok = false;
+    const double exposure = get("exposure").toDouble(&ok);
+    if (ok) m_viewer->setExposure(exposure);
+    // The scene, opened without rendering: a look change renders and re-applies the layers.
+    const QString scene = get("scene");
+    if (!scene.isEmpty() && QFileInfo::exists(scene)) {
+        m_restoring = true;
+        auto once = std::make_shared<QMetaObject::Connection>();
+        *once = connect(m_document, &Document::opened, this, [this, once] {
+            disconnect(*once);
+            m_restoring = false;
+            m_document->setFinishedFrame(m_session->input());
+        });
+        m_document->open(scene, false);
+    }
+    const int s = get("stage").toInt(&ok);
+    if (ok) setStage(std::clamp(s, 0, 3));
+}
+
+void MainWindow::offerRestore(bool ask) {
+    const QString base =
+        m_options.autosaveBase.isEmpty() ? Autosave::defaultBase() : m_options.autosaveBase;
+    const QStringList crashed = Autosave::crashed(base);
+    if (crashed.isEmpty()) return;
+    if (ask && QMessageBox::question(this, tr("Restore your work?"),
+                                     tr("Glint Studio did not exit cleanly last time. Restore the "
+                                        "painting and look edits it autosaved?"),
+                                     QMessageBox::Yes | QMessageBox::No,
+                                     QMessageBox::Yes) != QMessageBox::Yes)
+        return;
+    m_restoring = true;
+    try {
+        bool complete = true;
+        const int n = m_autosave->restore(crashed.first(), m_document, &complete);
+        statusBar()->showMessage(
+            complete ? tr("Restored %1 edits.").arg(n)
+                     : tr("Restored %1 edits (the edit being made at the crash was lost).").arg(n),
+            8000);
+    } catch (const Error& e) {
+        showError(tr("Cannot restore the autosave"), QString::fromStdString(e.what()));
+    }
+    m_restoring = false;
+    updateTitle();
+}
+
+void MainWindow::exportResult(bool exr) {
+    if (!m_session->hasSession()) {
+        showError(tr("Nothing to export"), tr("Open a scene, an EXR or a session first."));
+        return;
+    }
+    const QString path = askPath(exr ? tr("Export EXR") : tr("Export PNG"),
+                                 exr ? tr("OpenEXR (*.exr)") : tr("PNG (*.png)"), true);
+    if (path.isEmpty()) return;
+    try {
+        const std::filesystem::path file(path.toStdString());
+        if (exr) {
+            m_session->session().exportExr(file);
+        } else {
+            DisplayOptions display;
+            display.exposure = float(m_viewer->exposure());
+            m_session->session().exportPng(file, display);
+        }
+        statusBar()->showMessage(tr("Wrote %1").arg(path), 4000);
+    } catch (const Error& e) {
+        showError(exr ? tr("Cannot export the EXR") : tr("Cannot export the PNG"),
+                  QString::fromStdString(e.what()));
+    }
+}
+
+QString MainWindow::askPath(const QString& title, const QString& filter, bool save) {
+    const QString dir =
+        m_document->path().isEmpty() ? QString() : QFileInfo(m_document->path()).path();
+    return save ? QFileDialog::getSaveFileName(this, title, dir, filter)
+                : QFileDialog::getOpenFileName(this, title, dir, filter);
+}
+
+void MainWindow::showError(const QString& title, const QString& message) {
+    m_lastError = title + QStringLiteral(": ") + message;
+    // Window-modal but not blocking: the studio keeps running (and tests keep driving it).
+    auto* box = new QMessageBox(QMessageBox::Warning, title, message, QMessageBox::Ok, this);
+    box->setObjectName(QStringLiteral("errorDialog"));
+    box->setAttribute(Qt::WA_DeleteOnClose);
+    box->setWindowModality(Qt::WindowModal);
+    box->open();
+    statusBar()->showMessage(title, 6000);
+    emit errorShown(title, message);
+}
+
+bool MainWindow::maybeSave() {
+    if (m_session->undoStack()->isClean() || !m_options.confirmDiscard) return true;
+    const auto answer = QMessageBox::question(
+        this, tr("Save the session?"), tr("The painting session has unsaved changes."),
+        QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Save);
+    if (answer == QMessageBox::Cancel) return false;
+    if (answer == QMessageBox::Save) {
+        m_actions.saveSession->trigger();
+        return m_session->undoStack()->isClean();
+    }
+    return true;
+}
+
+void MainWindow::updateTitle() {
+    QString name = m_sessionPath.isEmpty() ? QFileInfo(m_document->path()).fileName()
+                                           : QFileInfo(m_sessionPath).fileName();
+    if (name.isEmpty()) name = tr("no file");
+    setWindowTitle(
+        tr("%1%2 — Glint Studio")
+            .arg(name, m_session->undoStack()->isClean() ? QString() : QStringLiteral(" *")));
+}
+
+void MainWindow::rebuildRecent() {
+    m_recentMenu->clear();
+    for (const QString& f : recentFiles())
+        connect(m_recentMenu->addAction(f), &QAction::triggered, this, [this, f] { openFile(f); });
+    m_recentMenu->setEnabled(!m_recentMenu->isEmpty());
+}
+
+StageView* MainWindow::activeStage() const {
+    switch (m_stages->currentIndex()) {
+        case 0:
+            return m_features;
+        case 1:
+            return m_regionView;
+        case 2:
+            return m_filterTabs->currentIndex() == 0 ? static_cast<StageView*>(m_tune) : m_navigate;
+        case 3:
+            return m_paint;
+        default:
+            return nullptr;
+    }
+}
+
+void MainWindow::stageChanged() {
+    StageView* next = activeStage();
+    if (next == m_activeStage) return;
+    if (m_activeStage) m_activeStage->setActive(false);
+    m_activeStage = next;
+    if (m_activeStage) m_activeStage->setActive(true);
+}
+
+void MainWindow::setStage(int stage, bool navigate) {
+    if (stage == 2) m_filterTabs->setCurrentIndex(navigate ? 1 : 0);
+    m_stages->setCurrentIndex(stage);
+    stageChanged();
+}
+
+int MainWindow::stage() const {
+    return m_stages->currentIndex();
+}
+
+void MainWindow::closeEvent(QCloseEvent* event) {
+    if (!maybeSave()) {
+        event->ignore();
+        return;
+    }
+    saveWindowState(*this);
+    m_document->cancelRender();
+    m_autosave->discard();
+    event->accept();
+}
+
+void MainWindow::dragEnterEvent(QDragEnterEvent* event) {
+    if (event->mimeData()->hasUrls()) event->acceptProposedAction();
+}
+
+void MainWindow::dropEvent(QDropEvent* event) {
+    const QList<QUrl> urls = event->mimeData()->urls();
+    if (!urls.isEmpty() && urls.first().isLocalFile()) openFile(urls.first().toLocalFile());
+}
+
+}  // namespace glint::studio

@@ -1,0 +1,130 @@
+// The studio's main window: it owns the model (document, session, region, autosave), lays out
+// the views (viewer in the centre, look panel left, stages and comparison right, render bar on
+// top), wires the actions, and turns every failure into one clear dialog. The work is done by
+// the views and the model.
+#pragma once
+
+#include <QMainWindow>
+
+#include <memory>
+
+#include "app/actions.h"
+#include "app/autosave.h"
+#include "model/document.h"
+#include "model/region.h"
+#include "model/session_adapter.h"
+
+class QTabWidget;
+class QLabel;
+class QProgressBar;
+class QMenu;
+
+namespace glint::studio {
+
+class Viewer;
+class RenderBar;
+class LookPanel;
+class FeaturesView;
+class RegionView;
+class TuneView;
+class NavigateView;
+class PaintView;
+class CompareView;
+class HelpOverlay;
+class StageView;
+
+/// Options of a studio window (from the command line, or a test).
+struct StudioOptions {
+    QString autosaveBase;  ///< empty: Autosave::defaultBase()
+    bool offerRestore = true;
+    bool confirmDiscard = true;  ///< ask before unsaved painting is dropped (tests say no)
+};
+
+class MainWindow : public QMainWindow {
+    Q_OBJECT
+  public:
+    explicit MainWindow(const StudioOptions& options = {}, QWidget* parent = nullptr);
+    ~MainWindow() override;
+
+    /// Opens a scene.json, a layered EXR or a .glint-session.json.
+    void openFile(const QString& path);
+    /// Saves the session (with the region and view state) to `path`; false after an error
+    /// (shown in a dialog).
+    bool saveSession(const QString& path);
+    /// Offers to restore a crashed studio's journal (asks unless `ask` is false).
+    void offerRestore(bool ask = true);
+
+    // The parts, for tests and the screenshot tour.
+    Document* document() { return m_document; }
+    SessionAdapter* session() { return m_session; }
+    RegionOfInterest* region() { return m_region; }
+    Viewer* viewer() { return m_viewer; }
+    LookPanel* lookPanel() { return m_look; }
+    FeaturesView* featuresView() { return m_features; }
+    RegionView* regionView() { return m_regionView; }
+    TuneView* tuneView() { return m_tune; }
+    NavigateView* navigateView() { return m_navigate; }
+    PaintView* paintView() { return m_paint; }
+    CompareView* compareView() { return m_compare; }
+    RenderBar* renderBar() { return m_renderBar; }
+    Autosave* autosave() { return m_autosave.get(); }
+    const StudioActions& actions() const { return m_actions; }
+    /// Switches to stage 0–3 (features, region, filter, paint); `navigate` picks the navigation
+    /// tab of the filter stage.
+    void setStage(int stage, bool navigate = false);
+    int stage() const;
+    /// The last error shown (title and message), for tests.
+    QString lastError() const { return m_lastError; }
+
+  signals:
+    /// An error dialog was opened.
+    void errorShown(const QString& title, const QString& message);
+
+  protected:
+    void closeEvent(QCloseEvent* event) override;
+    void dragEnterEvent(QDragEnterEvent* event) override;
+    void dropEvent(QDropEvent* event) override;
+
+  private:
+    void buildMenus();
+    void connectModel();
+    void showError(const QString& title, const QString& message);
+    bool maybeSave();
+    void updateTitle();
+    void rebuildRecent();
+    void stageChanged();
+    StageView* activeStage() const;
+    std::map<std::string, std::string> viewState() const;
+    void applyViewState(const std::map<std::string, std::string>& state);
+    QString askPath(const QString& title, const QString& filter, bool save);
+    void exportResult(bool exr);
+
+    StudioOptions m_options;
+    Document* m_document;
+    SessionAdapter* m_session;
+    RegionOfInterest* m_region;
+    std::unique_ptr<Autosave> m_autosave;
+    StudioActions m_actions;
+    Viewer* m_viewer;
+    RenderBar* m_renderBar;
+    LookPanel* m_look;
+    FeaturesView* m_features;
+    RegionView* m_regionView;
+    TuneView* m_tune;
+    NavigateView* m_navigate;
+    PaintView* m_paint;
+    CompareView* m_compare;
+    HelpOverlay* m_help;
+    QTabWidget* m_stages;
+    QTabWidget* m_filterTabs;
+    QLabel* m_readout;
+    QLabel* m_busy;
+    QProgressBar* m_busyProgress;
+    QMenu* m_recentMenu;
+    QString m_sessionPath;
+    QString m_lastError;
+    StageView* m_activeStage = nullptr;
+    bool m_restoring = false;
+};
+
+}  // namespace glint::studio

@@ -1,0 +1,374 @@
+#include "model/document.h"
+
+#include <QFileInfo>
+
+#include <filesystem>
+
+#include "glint/image/error.h"
+#include "glint/image/io.h"
+#include "glint/image/metrics.h"
+#include "glint/render/scene.h"
+
+namespace glint::studio {
+
+namespace {
+
+std::filesystem::path toPath(const QString& path) {
+    return std::filesystem::path(path.toStdString());
+}
+
+bool isScenePath(const QString& path) {
+    return path.endsWith(QStringLiteral(".json"), Qt::CaseInsensitive);
+}
+
+// A scene with a renderer, loaded on a worker thread.
+struct Loaded {
+    std::shared_ptr<render::Renderer> renderer;
+    std::vector<render::LookItem> look;
+    render::Settings settings;
+};
+
+Loaded loadRenderer(const std::filesystem::path& path) {
+    render::Scene scene = render::loadScene(path);
+    Loaded out;
+    out.settings = scene.settings();
+    out.look = scene.look();
+    out.renderer = std::make_shared<render::Renderer>(std::move(scene));
+    return out;
+}
+
+}  // namespace
+
+FrameBuffers mergeRegion(const FrameBuffers& base, const FrameBuffers& part, const Rect& region) {
+    GLINT_CHECK(base.width() == part.width() && base.height() == part.height());
+    FrameBuffers out = base;
+    const Rect r = intersect(region, Rect{0, base.width(), 0, base.height()});
+    for (int l = 0; l < kLayerCount; ++l) {
+        const Layer layer = Layer(l);
+        const Image* src = part.find(layer);
+        if (!src) continue;
+        Image& dst = out.ensure(layer);
+        for (int y = r.y0; y < r.y1; ++y)
+            for (int x = r.x0; x < r.x1; ++x)
+                for (int c = 0; c < src->channels(); ++c) dst(x, y, c) = (*src)(x, y, c);
+    }
+    return out;
+}
+
+Document::Document(QObject* parent) : QObject(parent) {
+    connect(&m_job, &RenderJob::passDone, this, &Document::onPass);
+    connect(&m_job, &RenderJob::finished, this, &Document::onFinished);
+    connect(&m_job, &RenderJob::progress, this,
+            [this](std::uint64_t id, int pass, double fraction, double seconds) {
+                if (id == m_job.currentId())
+                    emit renderProgress(pass, fraction, m_frame ? m_frame->metadata().spp : 0,
+                                        seconds);
+            });
+    connect(&m_job, &RenderJob::failed, this, [this](std::uint64_t, const QString& message) {
+        emit failed(tr("Render failed"), message);
+    });
+    connect(&m_job, &RenderJob::busyChanged, this, &Document::renderingChanged);
+    // An editor saves a file in several writes: reload once it has settled.
+    m_reloadTimer.setSingleShot(true);
+    m_reloadTimer.setInterval(200);
+    connect(&m_reloadTimer, &QTimer::timeout, this, &Document::sceneFileChanged);
+    connect(&m_watcher, &QFileSystemWatcher::fileChanged, this, [this] { m_reloadTimer.start(); });
+}
+
+Document::~Document() = default;
+
+void Document::open(const QString& path, bool renderNow) {
+    m_loading = true;
+    const std::filesystem::path file = toPath(path);
+    if (isScenePath(path)) {
+        m_tasks.run<Loaded>(
+            QStringLiteral("open"),
+            [file](const TaskRunner::CancelFlag&) { return loadRenderer(file); },
+            [this, path, renderNow](Loaded loaded) {
+                m_loading = false;
+                if (!m_watcher.files().isEmpty()) m_watcher.removePaths(m_watcher.files());
+                m_kind = Kind::Scene;
+                m_path = path;
+                m_look = std::move(loaded.look);
+                // Keep what the user chose in the render bar when a scene replaces another.
+                m_settings = loaded.settings;
+                m_settings.threads = 0;
+                m_reference.reset();
+                m_curve.clear();
+                m_frame.reset();
+                m_finished.reset();
+                m_job.setRenderer(loaded.renderer);
+                m_watcher.addPath(path);
+                emit opened();
+                emit lookChanged();
+                emit referenceChanged();
+                if (renderNow) render();
+            },
+            [this, path](const QString& message) {
+                m_loading = false;
+                emit failed(tr("Cannot open %1").arg(QFileInfo(path).fileName()), message);
+            });
+        return;
+    }
+    m_tasks.run<FrameBuffers>(
+        QStringLiteral("open"), [file](const TaskRunner::CancelFlag&) { return readExr(file); },
+        [this, path](FrameBuffers frame) {
+            m_loading = false;
+            if (!m_watcher.files().isEmpty()) m_watcher.removePaths(m_watcher.files());
+            m_job.cancel();
+            m_job.setRenderer(nullptr);
+            m_kind = Kind::Exr;
+            m_path = path;
+            m_look.clear();
+            m_reference.reset();
+            m_curve.clear();
+            m_settings = render::Settings{};
+            m_settings.spp = frame.metadata().spp > 0 ? frame.metadata().spp : m_settings.spp;
+            auto shared = std::make_shared<const FrameBuffers>(std::move(frame));
+            m_frame = shared;
+            m_finished = shared;
+            emit opened();
+            emit lookChanged();
+            emit referenceChanged();
+            emit frameChanged(true);
+        },
+        [this, path](const QString& message) {
+            m_loading = false;
+            emit failed(tr("Cannot open %1").arg(QFileInfo(path).fileName()), message);
+        });
+}
+
+void Document::setSettings(const render::Settings& settings) {
+    render::validate(settings);
+    m_settings = settings;
+}
+
+void Document::render() {
+    if (m_kind != Kind::Scene) return;
+    m_mergeRegion.reset();
+    m_mergeBase.reset();
+    render::Settings s = m_settings;
+    s.region.reset();
+    startRender(s);
+}
+
+void Document::renderRegion(const std::optional<Rect>& region) {
+    if (m_kind != Kind::Scene) return;
+    if (!region || !m_finished || m_settings.integrator != render::Integrator::Path) {
+        render();
+        return;
+    }
+    m_mergeRegion = region;
+    m_mergeBase = m_finished;
+    render::Settings s = m_settings;
+    s.region = region;
+    startRender(s);
+}
+
+void Document::startRender(const render::Settings& settings) {
+    m_curve.clear();
+    emit curveChanged();
+    m_job.start(settings);
+}
+
+void Document::cancelRender() {
+    m_job.cancel();
+}
+
+void Document::setPaused(bool paused) {
+    m_job.setPaused(paused);
+}
+
+void Document::onPass(std::uint64_t id, FramePtr frame, int spp, double seconds) {
+    if (id != m_job.currentId()) return;
+    if (m_mergeRegion && m_mergeBase)
+        frame =
+            std::make_shared<const FrameBuffers>(mergeRegion(*m_mergeBase, *frame, *m_mergeRegion));
+    m_frame = frame;
+    emit frameChanged(false);
+    if (m_reference) addCurvePoint(frame, spp, seconds);
+}
+
+void Document::onFinished(std::uint64_t id, FramePtr frame, const render::RenderStats& stats) {
+    if (id != m_job.currentId()) return;
+    if (stats.passes == 0 && stats.cancelled) return;  // stopped before anything was rendered
+    if (m_mergeRegion && m_mergeBase)
+        frame =
+            std::make_shared<const FrameBuffers>(mergeRegion(*m_mergeBase, *frame, *m_mergeRegion));
+    m_stats = stats;
+    m_frame = frame;
+    m_finished = frame;
+    emit frameChanged(true);
+}
+
+void Document::setFinishedFrame(FramePtr frame) {
+    m_frame = frame;
+    m_finished = frame;
+    emit frameChanged(true);
+}
+
+void Document::addCurvePoint(FramePtr frame, int spp, double seconds) {
+    FramePtr reference = m_reference;
+    if (!reference || reference->width() != frame->width() ||
+        reference->height() != frame->height())
+        return;
+    // One task per pass (distinct keys): every point of the curve is kept.
+    m_tasks.run<double>(
+        QStringLiteral("curve-%1").arg(spp),
+        [frame, reference](const TaskRunner::CancelFlag&) {
+            return relMse(frame->color(), reference->color()).value;
+        },
+        [this, spp, seconds](double value) {
+            m_curve.push_back({seconds, spp, value});
+            std::sort(m_curve.begin(), m_curve.end(),
+                      [](const CurvePoint& a, const CurvePoint& b) { return a.spp < b.spp; });
+            emit curveChanged();
+        });
+}
+
+std::array<double, 3> Document::lookValue(const std::string& item,
+                                          const std::string& property) const {
+    for (const render::LookItem& i : m_look)
+        if (i.name == item)
+            for (const render::LookProperty& p : i.properties)
+                if (p.name == property) return p.value;
+    throw Error(ErrorKind::InvalidArgument, "no look property " + item + "/" + property);
+}
+
+void Document::setLook(const std::string& item, const std::string& property,
+                       const std::array<double, 3>& value, bool renderNow) {
+    render::LookProperty* target = nullptr;
+    for (render::LookItem& i : m_look)
+        if (i.name == item)
+            for (render::LookProperty& p : i.properties)
+                if (p.name == property) target = &p;
+    if (!target)
+        throw Error(ErrorKind::InvalidArgument, "no look property " + item + "/" + property);
+    const int n = target->type == render::PropertyType::Color ? 3 : 1;
+    for (int c = 0; c < n; ++c)
+        if (!(value[std::size_t(c)] >= target->min && value[std::size_t(c)] <= target->max))
+            throw Error(ErrorKind::InvalidArgument,
+                        target->label + " must lie in [" + std::to_string(target->min) + ", " +
+                            std::to_string(target->max) + "]",
+                        m_path.toStdString(), item + "/" + property);
+    target->value = value;
+    m_job.withScene(
+        [item, property, value](render::Scene& scene) { scene.setLook(item, property, value); },
+        [this](const QString& error) {
+            if (!error.isEmpty()) emit failed(tr("The scene refused the change"), error);
+        });
+    emit lookChanged();
+    if (renderNow) render();
+}
+
+void Document::saveScene(const QString& path) {
+    const std::filesystem::path file = toPath(path);
+    const bool same = QFileInfo(path) == QFileInfo(m_path);
+    // Our own write must not trigger a reload.
+    if (same) m_watcher.removePath(m_path);
+    m_job.withScene([file](render::Scene& scene) { render::saveScene(scene, file); },
+                    [this, path, same](const QString& error) {
+                        if (same) m_watcher.addPath(m_path);
+                        if (!error.isEmpty()) emit failed(tr("Cannot save %1").arg(path), error);
+                    });
+}
+
+void Document::sceneFileChanged() {
+    if (m_kind != Kind::Scene) return;
+    // Editors replace the file: watch the new one.
+    if (!m_watcher.files().contains(m_path) && QFileInfo::exists(m_path)) m_watcher.addPath(m_path);
+    const std::filesystem::path file = toPath(m_path);
+    m_tasks.run<Loaded>(
+        QStringLiteral("reload"),
+        [file](const TaskRunner::CancelFlag&) { return loadRenderer(file); },
+        [this](Loaded loaded) {
+            m_look = std::move(loaded.look);
+            m_job.setRenderer(loaded.renderer);
+            emit lookChanged();
+            render();
+        },
+        [this](const QString& message) {
+            emit failed(tr("The edited scene cannot be loaded"), message);
+        });
+}
+
+void Document::openReference(const QString& path) {
+    const std::filesystem::path file = toPath(path);
+    m_tasks.run<FrameBuffers>(
+        QStringLiteral("reference"),
+        [file](const TaskRunner::CancelFlag&) { return readExr(file); },
+        [this, path](FrameBuffers frame) {
+            if (m_finished &&
+                (frame.width() != m_finished->width() || frame.height() != m_finished->height())) {
+                emit failed(tr("Cannot use %1 as the reference").arg(QFileInfo(path).fileName()),
+                            tr("%1: the reference is %2x%3, the image %4x%5")
+                                .arg(path)
+                                .arg(frame.width())
+                                .arg(frame.height())
+                                .arg(m_finished->width())
+                                .arg(m_finished->height()));
+                return;
+            }
+            m_reference = std::make_shared<const FrameBuffers>(std::move(frame));
+            emit referenceChanged();
+        },
+        [this, path](const QString& message) {
+            emit failed(tr("Cannot open the reference %1").arg(QFileInfo(path).fileName()),
+                        message);
+        });
+}
+
+void Document::renderReference(int spp) {
+    if (m_kind != Kind::Scene) return;
+    render::Settings s = m_settings;
+    s.spp = spp;
+    s.region.reset();
+    s.timeLimit = 0.0;
+    render::validate(s);
+    const std::filesystem::path file = toPath(m_path);
+    std::vector<render::LookItem> look = m_look;
+    m_referenceJob = std::make_unique<RenderJob>();
+    connect(
+        m_referenceJob.get(), &RenderJob::progress, this,
+        [this](std::uint64_t, int, double fraction, double) { emit referenceProgress(fraction); });
+    connect(m_referenceJob.get(), &RenderJob::finished, this,
+            [this](std::uint64_t, FramePtr frame, const render::RenderStats& stats) {
+                if (stats.cancelled) return;
+                m_reference = frame;
+                emit referenceChanged();
+            });
+    connect(m_referenceJob.get(), &RenderJob::failed, this,
+            [this](std::uint64_t, const QString& m) {
+                emit failed(tr("The reference render failed"), m);
+            });
+    RenderJob* job = m_referenceJob.get();
+    // The reference has its own renderer: the scene is loaded again and given the current look.
+    m_tasks.run<Loaded>(
+        QStringLiteral("reference"),
+        [file, look](const TaskRunner::CancelFlag&) {
+            Loaded loaded = loadRenderer(file);
+            for (const render::LookItem& item : look)
+                for (const render::LookProperty& p : item.properties)
+                    loaded.renderer->scene().setLook(item.name, p.name, p.value);
+            return loaded;
+        },
+        [this, job, s](Loaded loaded) {
+            if (job != m_referenceJob.get()) return;
+            job->setRenderer(loaded.renderer);
+            job->start(s);
+            emit referenceChanged();
+        },
+        [this](const QString& message) {
+            emit failed(tr("The reference render failed"), message);
+        });
+}
+
+void Document::clearReference() {
+    m_referenceJob.reset();
+    m_reference.reset();
+    m_curve.clear();
+    emit referenceChanged();
+    emit curveChanged();
+}
+
+}  // namespace glint::studio

@@ -1,0 +1,134 @@
+// What the studio has open: a scene (rendered, its look editable) or a layered EXR, the render
+// settings, the latest frame, and an optional reference. Loading and rendering run on worker
+// threads; the document's signals arrive on the UI thread. No widgets here.
+#pragma once
+
+#include <QFileSystemWatcher>
+#include <QObject>
+#include <QString>
+#include <QTimer>
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "glint/image/frame_buffers.h"
+#include "glint/render/look.h"
+#include "glint/render/renderer.h"
+#include "glint/render/settings.h"
+#include "model/render_job.h"
+#include "model/task_runner.h"
+
+namespace glint::studio {
+
+/// One point of the convergence plot: a pass of the running render against the reference.
+struct CurvePoint {
+    double seconds = 0.0;
+    int spp = 0;
+    double relMse = 0.0;
+};
+
+class Document : public QObject {
+    Q_OBJECT
+  public:
+    enum class Kind { None, Scene, Exr };
+
+    explicit Document(QObject* parent = nullptr);
+    ~Document() override;
+
+    /// Opens a scene.json (renders at once) or a layered EXR, in the background. `render`
+    /// false opens a scene without rendering (a restored session brings its own frame).
+    void open(const QString& path, bool render = true);
+    Kind kind() const { return m_kind; }
+    QString path() const { return m_path; }
+    bool isOpen() const { return m_kind != Kind::None; }
+    bool loading() const { return m_loading; }
+
+    /// Render settings (spp, seed, integrator, MIS; region). Changing them does not render.
+    const render::Settings& settings() const { return m_settings; }
+    void setSettings(const render::Settings& settings);
+    /// Renders the scene with the settings (cancels a running render).
+    void render();
+    /// Renders only `region` and merges it into the current frame (nullopt: the whole frame).
+    void renderRegion(const std::optional<Rect>& region);
+    void cancelRender();
+    void setPaused(bool paused);
+    bool paused() const { return m_job.paused(); }
+    bool rendering() const { return m_job.busy(); }
+
+    /// The look of the scene as last edited (materials, lights, environment).
+    const std::vector<render::LookItem>& look() const { return m_look; }
+    /// The value of one look property (throws glint::Error for an unknown one).
+    std::array<double, 3> lookValue(const std::string& item, const std::string& property) const;
+    /// Edits one look property and re-renders (unless `render` is false). Throws
+    /// glint::Error(InvalidArgument) for a value outside the property's range (nothing changes).
+    void setLook(const std::string& item, const std::string& property,
+                 const std::array<double, 3>& value, bool render = true);
+    /// Writes the scene with its look edits as JSON (atomically).
+    void saveScene(const QString& path);
+
+    /// The latest frame (a pass of the running render, or the last finished one).
+    FramePtr frame() const { return m_frame; }
+    /// The last finished (or cancelled) render's frame: what the session filters.
+    FramePtr finishedFrame() const { return m_finished; }
+    /// Adopts a frame from elsewhere (a restored session's input) as the finished frame.
+    void setFinishedFrame(FramePtr frame);
+
+    /// The reference, if any (opened or rendered in the background).
+    FramePtr reference() const { return m_reference; }
+    void openReference(const QString& path);
+    /// Renders a reference at `spp` in the background with its own renderer.
+    void renderReference(int spp);
+    void clearReference();
+    bool referenceRendering() const { return m_referenceJob && m_referenceJob->busy(); }
+
+    /// relMSE of each pass of the current render against the reference.
+    const std::vector<CurvePoint>& curve() const { return m_curve; }
+
+    /// Statistics of the last finished render.
+    const render::RenderStats& lastStats() const { return m_stats; }
+
+  signals:
+    void opened();
+    /// A pass arrived (final = false) or the render finished (final = true).
+    void frameChanged(bool final);
+    void renderProgress(int pass, double fraction, int spp, double seconds);
+    void renderingChanged(bool rendering);
+    void lookChanged();
+    void referenceChanged();
+    void referenceProgress(double fraction);
+    void curveChanged();
+    /// Something failed: `title` says what was attempted, `message` names the file and place.
+    void failed(const QString& title, const QString& message);
+
+  private:
+    void startRender(const render::Settings& settings);
+    void onPass(std::uint64_t id, FramePtr frame, int spp, double seconds);
+    void onFinished(std::uint64_t id, FramePtr frame, const render::RenderStats& stats);
+    void sceneFileChanged();
+    void addCurvePoint(FramePtr frame, int spp, double seconds);
+
+    TaskRunner m_tasks;
+    RenderJob m_job;
+    std::unique_ptr<RenderJob> m_referenceJob;
+    QFileSystemWatcher m_watcher;
+    QTimer m_reloadTimer;
+
+    Kind m_kind = Kind::None;
+    QString m_path;
+    bool m_loading = false;
+    render::Settings m_settings;
+    std::vector<render::LookItem> m_look;
+    FramePtr m_frame;
+    FramePtr m_finished;
+    FramePtr m_reference;
+    std::optional<Rect> m_mergeRegion;  // the running render covers only this region
+    FramePtr m_mergeBase;               // and is merged into this frame
+    std::vector<CurvePoint> m_curve;
+    render::RenderStats m_stats;
+};
+
+/// Copies every layer of `part` inside `region` into a copy of `base` (same size).
+FrameBuffers mergeRegion(const FrameBuffers& base, const FrameBuffers& part, const Rect& region);
+
+}  // namespace glint::studio

@@ -1,0 +1,142 @@
+#include "model/journal.h"
+
+#include <QCoreApplication>
+#include <QDir>
+#include <QFile>
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QThread>
+
+#include <filesystem>
+
+#include "glint/image/error.h"
+#include "glint/image/io.h"
+
+namespace glint::studio {
+
+namespace {
+
+const QString kLines = QStringLiteral("journal.jsonl");
+
+std::filesystem::path pathOf(const QString& folder, const QString& name) {
+    return std::filesystem::path(QDir(folder).filePath(name).toStdString());
+}
+
+}  // namespace
+
+Journal::Journal(const QString& folder, QObject* parent) : QObject(parent), m_folder(folder) {
+    QDir(folder).removeRecursively();
+    QDir().mkpath(folder);
+}
+
+// The runner's destructor waits for the writes still running.
+Journal::~Journal() = default;
+
+void Journal::append(const JournalEntry& entry) {
+    QJsonObject op = entry.op;
+    // Side files first get their names; they are written in the background.
+    QJsonArray images;
+    for (const Image& image : entry.images) {
+        const QString name = QStringLiteral("image-%1.exr").arg(m_next++, 6, 10, QLatin1Char('0'));
+        images.append(name);
+        auto copy = std::make_shared<const Image>(image);
+        const std::filesystem::path file = pathOf(m_folder, name);
+        ++m_pendingWrites;
+        m_writes.run<bool>(
+            name,
+            [copy, file](const TaskRunner::CancelFlag&) {
+                writeImage(*copy, file);
+                return true;
+            },
+            [this](bool) { --m_pendingWrites; }, [this](const QString&) { --m_pendingWrites; });
+    }
+    if (!images.isEmpty()) op.insert(QStringLiteral("images"), images);
+    if (entry.frame) {
+        const QString name = QStringLiteral("render-%1.exr").arg(m_next++, 6, 10, QLatin1Char('0'));
+        op.insert(QStringLiteral("render"), name);
+        FramePtr frame = entry.frame;
+        const std::filesystem::path file = pathOf(m_folder, name);
+        // Only the latest render matters to the final state: an older "input" render goes.
+        const QString superseded =
+            op.value(QStringLiteral("op")).toString() == QStringLiteral("input") ? m_previousInput
+                                                                                 : QString();
+        m_previousInput =
+            op.value(QStringLiteral("op")).toString() == QStringLiteral("input") ? name : QString();
+        const QString folder = m_folder;
+        ++m_pendingWrites;
+        m_writes.run<bool>(
+            name,
+            [frame, file, superseded, folder](const TaskRunner::CancelFlag&) {
+                writeExr(*frame, file, {.compression = ExrCompression::Zip});
+                if (!superseded.isEmpty()) QFile::remove(QDir(folder).filePath(superseded));
+                return true;
+            },
+            [this](bool) { --m_pendingWrites; }, [this](const QString&) { --m_pendingWrites; });
+    }
+    QFile file(QDir(m_folder).filePath(kLines));
+    if (file.open(QIODevice::Append | QIODevice::WriteOnly)) {
+        file.write(QJsonDocument(op).toJson(QJsonDocument::Compact));
+        file.write("\n");
+        file.flush();
+    }
+}
+
+void Journal::flush() {
+    // The writes report back through queued calls: run them until none is pending.
+    while (m_pendingWrites > 0) {
+        QCoreApplication::processEvents(QEventLoop::AllEvents, 10);
+        QThread::msleep(1);
+    }
+}
+
+void Journal::discard() {
+    flush();
+    QDir(m_folder).removeRecursively();
+}
+
+std::vector<JournalEntry> Journal::read(const QString& folder, bool* complete) {
+    std::vector<JournalEntry> entries;
+    if (complete) *complete = true;
+    QFile file(QDir(folder).filePath(kLines));
+    if (!file.open(QIODevice::ReadOnly)) {
+        if (complete) *complete = false;
+        return entries;
+    }
+    const QList<QByteArray> lines = file.readAll().split('\n');
+    // Of the "input" renders only the latest on disk is kept (an older one is removed once the
+    // next is written, so a crash during that write leaves the older).
+    int lastInput = -1;
+    for (int i = 0; i < lines.size(); ++i) {
+        const QJsonObject op = QJsonDocument::fromJson(lines[i]).object();
+        if (op.value(QStringLiteral("op")).toString() == QStringLiteral("input") &&
+            QFile::exists(QDir(folder).filePath(op.value(QStringLiteral("render")).toString())))
+            lastInput = i;
+    }
+    for (int i = 0; i < lines.size(); ++i) {
+        if (lines[i].trimmed().isEmpty()) continue;
+        QJsonParseError error{};
+        const QJsonDocument doc = QJsonDocument::fromJson(lines[i], &error);
+        if (error.error != QJsonParseError::NoError || !doc.isObject()) {
+            if (complete) *complete = false;
+            break;
+        }
+        JournalEntry entry;
+        entry.op = doc.object();
+        try {
+            for (const QJsonValue& name : entry.op.value(QStringLiteral("images")).toArray())
+                entry.images.push_back(readImage(pathOf(folder, name.toString()), false));
+            const QString render = entry.op.value(QStringLiteral("render")).toString();
+            const bool input =
+                entry.op.value(QStringLiteral("op")).toString() == QStringLiteral("input");
+            if (!render.isEmpty() && (!input || i == lastInput))
+                entry.frame = std::make_shared<const FrameBuffers>(readExr(pathOf(folder, render)));
+        } catch (const Error&) {
+            if (complete) *complete = false;
+            break;
+        }
+        entries.push_back(std::move(entry));
+    }
+    return entries;
+}
+
+}  // namespace glint::studio

@@ -1,0 +1,601 @@
+#include "model/session_adapter.h"
+
+#include <QJsonArray>
+
+#include "glint/denoise/prefilter.h"
+#include "glint/denoise/registry.h"
+#include "glint/image/error.h"
+
+namespace glint::studio {
+
+namespace {
+
+QJsonObject toJson(const denoise::ParamValues& params) {
+    QJsonObject o;
+    for (const auto& [name, value] : params) o.insert(QString::fromStdString(name), value);
+    return o;
+}
+
+denoise::ParamValues paramsFromJson(const QJsonObject& o) {
+    denoise::ParamValues params;
+    for (auto it = o.begin(); it != o.end(); ++it)
+        params[it.key().toStdString()] = it.value().toDouble();
+    return params;
+}
+
+QJsonObject optionsToJson(const denoise::SessionOptions& options) {
+    QJsonObject o;
+    o.insert(QStringLiteral("prefilter"), options.prefilter);
+    o.insert(QStringLiteral("prefilterParams"), toJson(options.prefilterParams));
+    return o;
+}
+
+denoise::SessionOptions optionsFromJson(const QJsonObject& o) {
+    denoise::SessionOptions options;
+    options.prefilter = o.value(QStringLiteral("prefilter")).toBool();
+    options.prefilterParams = paramsFromJson(o.value(QStringLiteral("prefilterParams")).toObject());
+    return options;
+}
+
+const char* modeName(denoise::BrushMode mode) {
+    return mode == denoise::BrushMode::Add ? "add" : "subtract";
+}
+
+denoise::BrushMode modeFromJson(const QJsonValue& v) {
+    return v.toString() == QStringLiteral("subtract") ? denoise::BrushMode::Subtract
+                                                      : denoise::BrushMode::Add;
+}
+
+bool sameSpecs(const std::vector<denoise::LayerSpec>& a, const std::vector<denoise::LayerSpec>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i)
+        if (a[i].filter != b[i].filter || a[i].params != b[i].params) return false;
+    return true;
+}
+
+FramePtr filterInputFor(FramePtr frame, const denoise::SessionOptions& options,
+                        const denoise::ProgressFn& progress = {}) {
+    if (!options.prefilter) return frame;
+    return std::make_shared<const FrameBuffers>(
+        denoise::prefilterFeatures(*frame, options.prefilterParams, progress));
+}
+
+// A session with `carry` layers transferred (outputs given, weights set): how a new session
+// keeps the painting when the options change.
+denoise::Session buildSession(FramePtr frame, FramePtr filterInput,
+                              const denoise::SessionOptions& options,
+                              const std::vector<denoise::LayerSpec>& carry,
+                              const std::vector<Image>& carryWeights,
+                              const denoise::ProgressFn& progress) {
+    denoise::Session session(*frame, options);
+    for (std::size_t i = 0; i < carry.size(); ++i) {
+        const denoise::Filter& f = denoise::findFilter(carry[i].filter);
+        Image output =
+            denoise::applyFilter(f, *filterInput, carry[i].params,
+                                 {.region = std::nullopt, .progress = progress, .threads = 0});
+        session.addLayer(carry[i].filter, carry[i].params, std::move(output));
+        if (i < carryWeights.size()) session.setWeights(session.layerCount() - 1, carryWeights[i]);
+    }
+    return session;
+}
+
+}  // namespace
+
+SessionAdapter::SessionAdapter(QObject* parent) : QObject(parent) {
+    connect(&m_tasks, &TaskRunner::busyChanged, this, &SessionAdapter::busyChanged);
+}
+
+SessionAdapter::~SessionAdapter() {
+    // Commands point at this adapter: drop them first.
+    m_undo.clear();
+}
+
+void SessionAdapter::whenUnlocked(std::function<void()> fn) {
+    if (!m_locked)
+        fn();
+    else
+        m_afterUnlock.push_back(std::move(fn));
+}
+
+void SessionAdapter::unlock() {
+    m_locked = false;
+    emit lockedChanged(false);
+    std::vector<std::function<void()>> queued;
+    queued.swap(m_afterUnlock);
+    for (auto& fn : queued) fn();
+}
+
+void SessionAdapter::changedAll() {
+    ++m_revision;
+    if (m_session) emit compositeChanged(Rect{0, m_session->width(), 0, m_session->height()});
+    emit layersChanged();
+}
+
+denoise::ProgressFn SessionAdapter::progressFor(const QString& what,
+                                                const TaskRunner::CancelFlag& cancel) {
+    // Called on a worker thread: progress is posted to the UI thread, at most every 1 %.
+    auto last = std::make_shared<std::atomic<int>>(-1);
+    return [this, what, cancel, last](double fraction) {
+        const int percent = int(fraction * 100.0);
+        if (percent != last->exchange(percent))
+            QMetaObject::invokeMethod(
+                &m_tasks, [this, what, fraction] { emit progress(what, fraction); },
+                Qt::QueuedConnection);
+        return !cancel->load();
+    };
+}
+
+void SessionAdapter::setInput(FramePtr frame) {
+    if (!frame) return;
+    if (!m_session || m_session->layerCount() == 0) {
+        startSession(frame, {}, {});
+        return;
+    }
+    if (frame->width() != m_session->width() || frame->height() != m_session->height()) {
+        // Never drop the painting silently: the user saves it or starts a new session.
+        emit failed(tr("The render changed size"),
+                    tr("The new render is %1x%2, the painted session %3x%4. The session is kept; "
+                       "save it, or choose File > New Session to paint on the new render.")
+                        .arg(frame->width())
+                        .arg(frame->height())
+                        .arg(m_session->width())
+                        .arg(m_session->height()));
+        return;
+    }
+    if (m_session->inStroke()) {
+        m_pendingInput = frame;  // installed when the stroke ends
+        return;
+    }
+    m_pendingInput = frame;
+    reapplyInBackground();
+}
+
+void SessionAdapter::startSession(FramePtr frame, std::vector<denoise::LayerSpec> carry,
+                                  std::vector<Image> carryWeights) {
+    ++m_generation;
+    const denoise::SessionOptions options = m_options;
+    JournalEntry entry;
+    entry.op = {{QStringLiteral("op"), QStringLiteral("start")},
+                {QStringLiteral("options"), optionsToJson(options)}};
+    QJsonArray layers;
+    for (const auto& spec : carry)
+        layers.append(QJsonObject{{QStringLiteral("filter"), QString::fromStdString(spec.filter)},
+                                  {QStringLiteral("params"), toJson(spec.params)}});
+    entry.op.insert(QStringLiteral("layers"), layers);
+    entry.images = carryWeights;
+    entry.frame = frame;
+    struct Started {
+        std::shared_ptr<denoise::Session> session;
+        FramePtr filterInput;
+    };
+    m_tasks.run<Started>(
+        QStringLiteral("session"),
+        [this, frame, options, carry, carryWeights](const TaskRunner::CancelFlag& cancel) {
+            const denoise::ProgressFn progress = progressFor(tr("Preparing the session"), cancel);
+            // The session copies the render (about 100 MB at 1024², features included): here,
+            // not on the UI thread.
+            FramePtr in = filterInputFor(frame, options, progress);
+            return Started{std::make_shared<denoise::Session>(
+                               buildSession(frame, in, options, carry, carryWeights, progress)),
+                           in};
+        },
+        [this, frame, entry](Started started) {
+            m_undo.clear();
+            m_session = std::make_unique<denoise::Session>(std::move(*started.session));
+            m_input = frame;
+            m_filterInput = started.filterInput;
+            emit journal(entry);
+            emit sessionReset();
+            emit inputChanged();
+            changedAll();
+        },
+        [this](const QString& message) { emit failed(tr("Cannot start the session"), message); });
+}
+
+void SessionAdapter::reapplyInBackground() {
+    FramePtr frame = m_pendingInput;
+    m_pendingInput.reset();
+    if (!frame || !m_session) return;
+    const std::vector<denoise::LayerSpec> specs = m_session->layerSpecs();
+    const denoise::SessionOptions options = m_options;
+    struct Outputs {
+        FramePtr filterInput;
+        std::vector<Image> outputs;
+    };
+    m_tasks.run<Outputs>(
+        QStringLiteral("reapply"),
+        [this, frame, specs, options](const TaskRunner::CancelFlag& cancel) {
+            const denoise::ProgressFn progress = progressFor(tr("Re-applying the layers"), cancel);
+            FramePtr in = filterInputFor(frame, options);
+            std::vector<Image> outputs;
+            for (const denoise::LayerSpec& spec : specs)
+                outputs.push_back(denoise::applyFilter(
+                    denoise::findFilter(spec.filter), *in, spec.params,
+                    {.region = std::nullopt, .progress = progress, .threads = 0}));
+            return Outputs{in, std::move(outputs)};
+        },
+        [this, frame, specs](Outputs out) {
+            auto shared = std::make_shared<Outputs>(std::move(out));
+            whenUnlocked([this, frame, specs, shared] {
+                installReapply(frame, shared->filterInput, std::move(shared->outputs), specs);
+            });
+        },
+        [this](const QString& message) {
+            emit failed(tr("Cannot re-apply the layers to the new render"), message);
+        });
+}
+
+void SessionAdapter::installReapply(FramePtr frame, FramePtr filterInput,
+                                    std::vector<Image> outputs,
+                                    const std::vector<denoise::LayerSpec>& specs) {
+    if (!m_session) return;
+    if (m_session->inStroke() || !sameSpecs(specs, m_session->layerSpecs())) {
+        // The layers changed meanwhile (or a stroke is open): compute again.
+        m_pendingInput = frame;
+        if (!m_session->inStroke()) reapplyInBackground();
+        return;
+    }
+    ++m_generation;
+    m_session->reapply(*frame, std::move(outputs));
+    m_input = frame;
+    m_filterInput = filterInput;
+    JournalEntry entry;
+    entry.op = {{QStringLiteral("op"), QStringLiteral("input")}};
+    entry.frame = frame;
+    emit journal(entry);
+    emit inputChanged();
+    changedAll();
+}
+
+void SessionAdapter::setOptions(const denoise::SessionOptions& options) {
+    m_options = options;
+    if (!m_session) return;
+    std::vector<denoise::LayerSpec> carry;
+    std::vector<Image> weights;
+    for (std::size_t i = 0; i < m_session->layerCount(); ++i) {
+        const denoise::SessionLayer& l = m_session->layer(i);
+        carry.push_back({l.filter, l.params});
+        weights.push_back(l.weights);
+    }
+    startSession(m_input, std::move(carry), std::move(weights));
+}
+
+void SessionAdapter::pushEdit(const QString& text, int steps) {
+    ++m_revision;
+    m_undo.push(new SessionCommand(this, text, steps));
+}
+
+void SessionAdapter::doAddLayer(const std::string& filter, const denoise::ParamValues& params,
+                                Image output, const std::optional<Image>& fillMask) {
+    const std::size_t index = m_session->addLayer(filter, params, std::move(output));
+    int steps = 1;
+    Rect changed{};
+    if (fillMask) {
+        changed = m_session->fill(index, *fillMask, denoise::BrushMode::Add);
+        ++steps;
+    }
+    JournalEntry entry;
+    entry.op = {{QStringLiteral("op"), QStringLiteral("addLayer")},
+                {QStringLiteral("filter"), QString::fromStdString(filter)},
+                {QStringLiteral("params"), toJson(m_session->layer(index).params)},
+                {QStringLiteral("fill"), bool(fillMask)}};
+    if (fillMask) entry.images.push_back(*fillMask);
+    emit journal(entry);
+    pushEdit(tr("Add %1").arg(QString::fromStdString(filter)), steps);
+    emit layersChanged();
+    if (!changed.empty()) emit compositeChanged(changed);
+}
+
+void SessionAdapter::addLayer(const std::string& filter, const denoise::ParamValues& params,
+                              std::optional<Image> fillMask) {
+    if (!m_session) return;
+    const denoise::Filter* f = &denoise::findFilter(filter);
+    const denoise::ParamValues resolved = denoise::resolveParams(*f, params);
+    FramePtr in = m_filterInput;
+    const std::uint64_t generation = m_generation;
+    m_tasks.run<Image>(
+        QStringLiteral("add-%1").arg(m_revision),
+        [this, f, resolved, in](const TaskRunner::CancelFlag& cancel) {
+            return denoise::applyFilter(*f, *in, resolved,
+                                        {.region = std::nullopt,
+                                         .progress = progressFor(tr("Adding a layer"), cancel),
+                                         .threads = 0});
+        },
+        [this, filter, resolved, fillMask, generation](Image output) {
+            auto shared = std::make_shared<Image>(std::move(output));
+            whenUnlocked([this, filter, resolved, fillMask, generation, shared] {
+                if (!m_session) return;
+                if (generation != m_generation) {
+                    // A new render arrived meanwhile: the output must be of the new one.
+                    addLayer(filter, resolved, fillMask);
+                    return;
+                }
+                try {
+                    doAddLayer(filter, resolved, std::move(*shared), fillMask);
+                } catch (const Error& e) {
+                    emit failed(tr("Cannot add the layer"), QString::fromStdString(e.what()));
+                }
+            });
+        },
+        [this](const QString& message) { emit failed(tr("Cannot add the layer"), message); });
+}
+
+void SessionAdapter::removeLayer(std::size_t index) {
+    if (!m_session || m_locked) return;
+    m_session->removeLayer(index);
+    emit journal({{{QStringLiteral("op"), QStringLiteral("removeLayer")},
+                   {QStringLiteral("index"), qint64(index)}},
+                  {},
+                  nullptr});
+    pushEdit(tr("Remove layer %1").arg(index + 1));
+    changedAll();
+}
+
+void SessionAdapter::setWeights(std::size_t index, const Image& weights) {
+    if (!m_session || m_locked) return;
+    m_session->setWeights(index, weights);
+    emit journal({{{QStringLiteral("op"), QStringLiteral("weights")},
+                   {QStringLiteral("index"), qint64(index)}},
+                  {weights},
+                  nullptr});
+    pushEdit(tr("Set the weights of layer %1").arg(index + 1));
+    changedAll();
+}
+
+void SessionAdapter::fill(std::size_t index, const Image& mask, denoise::BrushMode mode) {
+    if (!m_session || m_locked) return;
+    const Rect changed = m_session->fill(index, mask, mode);
+    emit journal({{{QStringLiteral("op"), QStringLiteral("fill")},
+                   {QStringLiteral("index"), qint64(index)},
+                   {QStringLiteral("mode"), modeName(mode)}},
+                  {mask},
+                  nullptr});
+    pushEdit(tr("Fill layer %1").arg(index + 1));
+    emit weightsChanged();
+    if (!changed.empty()) emit compositeChanged(changed);
+}
+
+void SessionAdapter::diffuse(const std::vector<std::size_t>& layers) {
+    if (!m_session || m_locked || m_session->inStroke()) return;
+    // The session is read on the worker: it is locked (nothing edits it) until the maps are back.
+    const denoise::Session* session = m_session.get();
+    m_locked = true;
+    emit lockedChanged(true);
+    emit progress(tr("Diffusing the weights"), 0.0);
+    m_tasks.run<std::vector<Image>>(
+        QStringLiteral("diffuse"),
+        [session, layers](const TaskRunner::CancelFlag&) { return session->diffusionMaps(layers); },
+        [this, session, layers](std::vector<Image> maps) {
+            unlock();
+            emit progress(tr("Diffusing the weights"), 1.0);
+            if (m_session.get() != session) return;
+            m_session->applyWeights(layers, maps);
+            JournalEntry entry;
+            QJsonArray indices;
+            for (std::size_t i : layers) indices.append(qint64(i));
+            entry.op = {{QStringLiteral("op"), QStringLiteral("apply")},
+                        {QStringLiteral("layers"), indices}};
+            entry.images = std::move(maps);
+            emit journal(entry);
+            pushEdit(tr("Diffuse the weights"));
+            changedAll();
+        },
+        [this](const QString& message) {
+            unlock();
+            emit failed(tr("Poisson diffusion failed"), message);
+        });
+}
+
+void SessionAdapter::beginStroke(std::size_t layer, const denoise::Brush& brush,
+                                 denoise::BrushMode mode) {
+    if (!m_session || m_locked || m_session->inStroke()) return;
+    m_session->beginStroke(layer, brush, mode);
+    m_strokeBefore = m_session->layer(layer).weights;
+    m_strokeDabs.clear();
+    m_strokeOp = {{QStringLiteral("op"), QStringLiteral("stroke")},
+                  {QStringLiteral("layer"), qint64(layer)},
+                  {QStringLiteral("size"), brush.size},
+                  {QStringLiteral("softness"), brush.softness},
+                  {QStringLiteral("mode"), modeName(mode)}};
+}
+
+Rect SessionAdapter::dab(double x, double y) {
+    if (!m_session || !m_session->inStroke()) return {};
+    const Rect r = m_session->dab(x, y);
+    m_strokeDabs.push_back(x);
+    m_strokeDabs.push_back(y);
+    if (!r.empty()) {
+        ++m_revision;
+        emit compositeChanged(r);
+    }
+    return r;
+}
+
+void SessionAdapter::endStroke() {
+    if (!m_session || !m_session->inStroke()) return;
+    const std::size_t layer = std::size_t(m_strokeOp.value(QStringLiteral("layer")).toInteger());
+    m_session->endStroke();
+    // The session records nothing for a stroke that changed nothing: neither do we.
+    const Image& after = m_session->layer(layer).weights;
+    const bool changed =
+        !std::equal(after.data().begin(), after.data().end(), m_strokeBefore.data().begin());
+    m_strokeBefore = Image();
+    if (changed) {
+        QJsonArray dabs;
+        for (double v : m_strokeDabs) dabs.append(v);
+        m_strokeOp.insert(QStringLiteral("dabs"), dabs);
+        emit journal({m_strokeOp, {}, nullptr});
+        pushEdit(tr("Stroke on layer %1").arg(layer + 1));
+        emit weightsChanged();
+    }
+    if (m_pendingInput) reapplyInBackground();
+}
+
+void SessionAdapter::save(const QString& path, const std::optional<Rect>& region,
+                          const std::map<std::string, std::string>& viewState) {
+    if (!m_session) throw Error(ErrorKind::InvalidArgument, "there is no session to save");
+    m_session->region = region;
+    m_session->viewState = viewState;
+    m_session->save(std::filesystem::path(path.toStdString()));
+}
+
+void SessionAdapter::load(const QString& path) {
+    const std::filesystem::path file(path.toStdString());
+    struct Loaded {
+        std::shared_ptr<denoise::Session> session;
+        FramePtr input, filterInput;
+    };
+    m_tasks.run<Loaded>(
+        QStringLiteral("session"),
+        [this, file](const TaskRunner::CancelFlag& cancel) {
+            auto session = std::make_shared<denoise::Session>(
+                denoise::Session::load(file, progressFor(tr("Loading the session"), cancel)));
+            // Shared copies of the render for the views, made here rather than on the UI thread.
+            FramePtr input = std::make_shared<const FrameBuffers>(session->input());
+            FramePtr filterInput =
+                session->options().prefilter
+                    ? std::make_shared<const FrameBuffers>(session->filterInput())
+                    : input;
+            return Loaded{session, input, filterInput};
+        },
+        [this, path](Loaded result) {
+            install(std::move(*result.session), result.input, result.filterInput);
+            emit loaded(path);
+        },
+        [this, path](const QString& message) {
+            emit failed(tr("Cannot open the session %1").arg(path), message);
+        });
+}
+
+void SessionAdapter::install(denoise::Session session, FramePtr input, FramePtr filterInput) {
+    ++m_generation;
+    m_undo.clear();
+    m_options = session.options();
+    m_input = input ? input : std::make_shared<const FrameBuffers>(session.input());
+    m_filterInput = filterInput ? filterInput
+                    : m_options.prefilter
+                        ? std::make_shared<const FrameBuffers>(session.filterInput())
+                        : m_input;
+    m_session = std::make_unique<denoise::Session>(std::move(session));
+    // The journal starts again from this session: its input and its layers with their weights.
+    JournalEntry entry;
+    entry.op = {{QStringLiteral("op"), QStringLiteral("start")},
+                {QStringLiteral("options"), optionsToJson(m_options)}};
+    QJsonArray layers;
+    for (std::size_t i = 0; i < m_session->layerCount(); ++i) {
+        const denoise::SessionLayer& l = m_session->layer(i);
+        layers.append(QJsonObject{{QStringLiteral("filter"), QString::fromStdString(l.filter)},
+                                  {QStringLiteral("params"), toJson(l.params)}});
+        entry.images.push_back(l.weights);
+    }
+    entry.op.insert(QStringLiteral("layers"), layers);
+    entry.frame = m_input;
+    emit journal(entry);
+    emit sessionReset();
+    emit inputChanged();
+    changedAll();
+}
+
+void SessionAdapter::clear() {
+    m_tasks.cancel(QStringLiteral("reapply"));
+    m_undo.clear();
+    m_session.reset();
+    m_input.reset();
+    m_filterInput.reset();
+    m_pendingInput.reset();
+    ++m_generation;
+    emit sessionReset();
+    emit layersChanged();
+}
+
+void SessionAdapter::replay(const JournalEntry& entry) {
+    const QString op = entry.op.value(QStringLiteral("op")).toString();
+    auto index = [&](const char* key) {
+        return std::size_t(entry.op.value(QLatin1String(key)).toInteger());
+    };
+    auto image = [&](std::size_t i) -> const Image& {
+        if (i >= entry.images.size())
+            throw Error(ErrorKind::Format, "the journal entry lacks its image", {},
+                        op.toStdString());
+        return entry.images[i];
+    };
+    if (op == QStringLiteral("start")) {
+        if (!entry.frame) throw Error(ErrorKind::Format, "the journal's start lacks its render");
+        m_options = optionsFromJson(entry.op.value(QStringLiteral("options")).toObject());
+        std::vector<denoise::LayerSpec> carry;
+        for (const QJsonValue& v : entry.op.value(QStringLiteral("layers")).toArray()) {
+            const QJsonObject l = v.toObject();
+            carry.push_back({l.value(QStringLiteral("filter")).toString().toStdString(),
+                             paramsFromJson(l.value(QStringLiteral("params")).toObject())});
+        }
+        FramePtr in = filterInputFor(entry.frame, m_options);
+        install(buildSession(entry.frame, in, m_options, carry, entry.images, {}), entry.frame, in);
+        return;
+    }
+    if (!m_session)
+        throw Error(ErrorKind::Format, "the journal edits a session before starting one");
+    if (op == QStringLiteral("input")) {
+        if (!entry.frame) throw Error(ErrorKind::Format, "the journal's input lacks its render");
+        FramePtr in = filterInputFor(entry.frame, m_options);
+        const std::vector<denoise::LayerSpec> specs = m_session->layerSpecs();
+        std::vector<Image> outputs;
+        for (const auto& spec : specs)
+            outputs.push_back(
+                denoise::applyFilter(denoise::findFilter(spec.filter), *in, spec.params));
+        installReapply(entry.frame, in, std::move(outputs), specs);
+    } else if (op == QStringLiteral("addLayer")) {
+        const std::string filter =
+            entry.op.value(QStringLiteral("filter")).toString().toStdString();
+        const denoise::ParamValues params =
+            paramsFromJson(entry.op.value(QStringLiteral("params")).toObject());
+        Image output = denoise::applyFilter(denoise::findFilter(filter), *m_filterInput, params);
+        std::optional<Image> mask;
+        if (entry.op.value(QStringLiteral("fill")).toBool()) mask = image(0);
+        doAddLayer(filter, params, std::move(output), mask);
+    } else if (op == QStringLiteral("removeLayer")) {
+        removeLayer(index("index"));
+    } else if (op == QStringLiteral("weights")) {
+        setWeights(index("index"), image(0));
+    } else if (op == QStringLiteral("fill")) {
+        fill(index("index"), image(0), modeFromJson(entry.op.value(QStringLiteral("mode"))));
+    } else if (op == QStringLiteral("stroke")) {
+        const denoise::Brush brush{entry.op.value(QStringLiteral("size")).toDouble(),
+                                   entry.op.value(QStringLiteral("softness")).toDouble()};
+        beginStroke(index("layer"), brush, modeFromJson(entry.op.value(QStringLiteral("mode"))));
+        const QJsonArray dabs = entry.op.value(QStringLiteral("dabs")).toArray();
+        for (qsizetype i = 0; i + 1 < dabs.size(); i += 2)
+            dab(dabs[i].toDouble(), dabs[i + 1].toDouble());
+        endStroke();
+    } else if (op == QStringLiteral("apply")) {
+        std::vector<std::size_t> layers;
+        for (const QJsonValue& v : entry.op.value(QStringLiteral("layers")).toArray())
+            layers.push_back(std::size_t(v.toInteger()));
+        m_session->applyWeights(layers, entry.images);
+        emit journal(entry);
+        pushEdit(tr("Diffuse the weights"));
+        changedAll();
+    } else {
+        throw Error(ErrorKind::Format, "unknown journal operation \"" + op.toStdString() + "\"");
+    }
+}
+
+SessionCommand::SessionCommand(SessionAdapter* adapter, const QString& text, int steps)
+    : QUndoCommand(text), m_adapter(adapter), m_steps(steps) {}
+
+void SessionCommand::undo() {
+    for (int i = 0; i < m_steps; ++i) m_adapter->m_session->undo();
+    m_adapter->record({{{QStringLiteral("op"), QStringLiteral("undo")}}, {}, nullptr});
+    m_adapter->changedAll();
+}
+
+void SessionCommand::redo() {
+    if (m_first) {
+        m_first = false;  // the session did it already
+        return;
+    }
+    for (int i = 0; i < m_steps; ++i) m_adapter->m_session->redo();
+    m_adapter->record({{{QStringLiteral("op"), QStringLiteral("redo")}}, {}, nullptr});
+    m_adapter->changedAll();
+}
+
+}  // namespace glint::studio

@@ -1,0 +1,163 @@
+// The studio's painting session: a glint::denoise::Session driven from the UI thread, with the
+// slow parts (filter outputs over the whole frame, re-applying the layers to a new render,
+// Poisson diffusion, loading) on worker threads, every edit one QUndoStack step, and every
+// edit reported to the autosave journal. No widgets here.
+#pragma once
+
+#include <QJsonObject>
+#include <QObject>
+#include <QString>
+#include <QUndoStack>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "glint/denoise/paint.h"
+#include "glint/denoise/session.h"
+#include "model/render_job.h"
+#include "model/task_runner.h"
+
+namespace glint::studio {
+
+/// One edit as the journal records it: the operation and, for fills and weight maps, images.
+struct JournalEntry {
+    QJsonObject op;
+    std::vector<Image> images;  ///< masks or weight maps the op refers to, in order
+    FramePtr frame;             ///< a new input render ("input" and "start" ops)
+};
+
+class SessionAdapter : public QObject {
+    Q_OBJECT
+  public:
+    explicit SessionAdapter(QObject* parent = nullptr);
+    ~SessionAdapter() override;
+
+    QUndoStack* undoStack() { return &m_undo; }
+    bool hasSession() const { return m_session != nullptr; }
+    /// The session (hasSession() must hold).
+    const denoise::Session& session() const { return *m_session; }
+    /// The render the session filters (shared with the document).
+    FramePtr input() const { return m_input; }
+    /// The filters' input: the render with its features prefiltered when the options say so.
+    FramePtr filterInput() const { return m_filterInput; }
+    const denoise::SessionOptions& options() const { return m_options; }
+    /// True while a background step (re-applying, adding a layer, diffusing, loading) runs.
+    bool busy() const { return m_tasks.pending() > 0; }
+    /// True while a worker reads the session (diffusion): edits wait, painting is refused.
+    bool locked() const { return m_locked; }
+    /// A layer's composite position changes counted since the session started: views cache by it.
+    std::uint64_t revision() const { return m_revision; }
+
+    /// A new render: starts a session on it, or re-applies the layers to it in the background
+    /// (the painting stays; a render of another size starts a new session).
+    void setInput(FramePtr frame);
+    /// Turns feature prefiltering on or off for the filters (the layers are carried over, the
+    /// undo history starts again).
+    void setOptions(const denoise::SessionOptions& options);
+
+    /// Adds a layer of `filter` (its output over the whole frame is computed in the background)
+    /// and, when `fillMask` is given, sets its weight to 1 there: one undo step.
+    void addLayer(const std::string& filter, const denoise::ParamValues& params,
+                  std::optional<Image> fillMask = std::nullopt);
+    void removeLayer(std::size_t index);
+    void setWeights(std::size_t index, const Image& weights);
+    void fill(std::size_t index, const Image& mask, denoise::BrushMode mode);
+    /// Poisson-diffusion blending of `layers` (in the background; painting waits meanwhile).
+    void diffuse(const std::vector<std::size_t>& layers);
+
+    /// A stroke: dabs update the composite at once (on the UI thread); the end is one undo step.
+    void beginStroke(std::size_t layer, const denoise::Brush& brush, denoise::BrushMode mode);
+    Rect dab(double x, double y);
+    void endStroke();
+    bool inStroke() const { return m_session && m_session->inStroke(); }
+
+    /// Saves the session file (the region and view state come from the caller).
+    void save(const QString& path, const std::optional<Rect>& region,
+              const std::map<std::string, std::string>& viewState);
+    /// Loads a session file in the background; `loaded` is emitted when it is in place.
+    void load(const QString& path);
+    /// Replaces everything by `session` (an empty undo history); `input` and `filterInput` are
+    /// shared copies of its render (made here when not given).
+    void install(denoise::Session session, FramePtr input = nullptr,
+                 FramePtr filterInput = nullptr);
+    /// Applies one journal entry of a session edit synchronously (restoring an autosave):
+    /// "start", "input", "addLayer", "removeLayer", "weights", "fill", "stroke", "apply".
+    /// Throws glint::Error for an entry that does not fit the session.
+    void replay(const JournalEntry& entry);
+    /// Reports an edit made outside the session (a look edit, undo, redo) to the journal.
+    void record(JournalEntry entry) { emit journal(entry); }
+    /// Drops the session.
+    void clear();
+
+  signals:
+    /// A new session (or none): views re-read everything.
+    void sessionReset();
+    /// The session filters a new render (a new session, or layers re-applied).
+    void inputChanged();
+    /// Part of the composite changed (the whole frame after a reapply or an undo).
+    void compositeChanged(const glint::Rect& rect);
+    /// Layers were added or removed, or anything may have changed (undo, redo, a new render).
+    void layersChanged();
+    /// Only weights changed (a stroke, a fill).
+    void weightsChanged();
+    void busyChanged(bool busy);
+    void lockedChanged(bool locked);
+    void progress(const QString& what, double fraction);
+    void failed(const QString& title, const QString& message);
+    /// A session file finished loading (its view state may be read now).
+    void loaded(const QString& path);
+    /// An edit happened (for the autosave journal).
+    void journal(const glint::studio::JournalEntry& entry);
+
+  private:
+    friend class SessionCommand;
+    void startSession(FramePtr frame, std::vector<denoise::LayerSpec> carry,
+                      std::vector<Image> carryWeights);
+    void reapplyInBackground();
+    void installReapply(FramePtr frame, FramePtr filterInput, std::vector<Image> outputs,
+                        const std::vector<denoise::LayerSpec>& specs);
+    void pushEdit(const QString& text, int steps = 1);
+    void doAddLayer(const std::string& filter, const denoise::ParamValues& params, Image output,
+                    const std::optional<Image>& fillMask);
+    void whenUnlocked(std::function<void()> fn);
+    void unlock();
+    void changedAll();
+    denoise::ProgressFn progressFor(const QString& what, const TaskRunner::CancelFlag& cancel);
+
+    TaskRunner m_tasks;
+    QUndoStack m_undo;
+    std::unique_ptr<denoise::Session> m_session;
+    denoise::SessionOptions m_options;
+    FramePtr m_input;
+    FramePtr m_filterInput;
+    FramePtr m_pendingInput;         // a render waiting for the open stroke to end
+    std::uint64_t m_generation = 0;  // counts inputs: outputs computed on an older one are stale
+    std::uint64_t m_revision = 0;
+    bool m_locked = false;
+    std::vector<std::function<void()>> m_afterUnlock;
+    // The open stroke, for the journal and to tell whether it changed anything.
+    QJsonObject m_strokeOp;
+    std::vector<double> m_strokeDabs;
+    Image m_strokeBefore;
+};
+
+/// One edit of the session on the undo stack: the session already did it when it is pushed;
+/// undo and redo call the session's own.
+class SessionCommand : public QUndoCommand {
+  public:
+    /// `steps` session edits make this one step (a layer added and filled, for instance).
+    SessionCommand(SessionAdapter* adapter, const QString& text, int steps = 1);
+    void undo() override;
+    void redo() override;
+
+  private:
+    SessionAdapter* m_adapter;
+    int m_steps;
+    bool m_first = true;
+};
+
+}  // namespace glint::studio

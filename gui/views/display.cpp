@@ -1,0 +1,101 @@
+#include "views/display.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "glint/image/io.h"
+
+namespace glint::studio {
+
+namespace {
+
+constexpr int kLutSize = 4096;
+
+// sRGB encoding of [0, 1] sampled finely enough that neighbouring 8-bit codes never merge.
+const std::array<std::uint8_t, kLutSize + 1>& srgbLut() {
+    static const auto lut = [] {
+        std::array<std::uint8_t, kLutSize + 1> t{};
+        for (int i = 0; i <= kLutSize; ++i)
+            t[std::size_t(i)] = std::uint8_t(std::lround(255.0f * srgbEncode(float(i) / kLutSize)));
+        return t;
+    }();
+    return lut;
+}
+
+inline std::uint8_t encode(float v, DisplayMode mode) {
+    if (!(v > 0.0f)) return 0;  // also NaN
+    if (v >= 1.0f) return 255;
+    if (mode == DisplayMode::Linear) return std::uint8_t(std::lround(v * 255.0f));
+    return srgbLut()[std::size_t(v * kLutSize + 0.5f)];
+}
+
+}  // namespace
+
+QRgb falseColor(float t) {
+    // Control points of a viridis-like ramp (dark blue, blue, teal, green, yellow).
+    static constexpr std::array<std::array<float, 3>, 5> kStops{{{0.267f, 0.005f, 0.329f},
+                                                                 {0.229f, 0.322f, 0.546f},
+                                                                 {0.128f, 0.567f, 0.551f},
+                                                                 {0.369f, 0.789f, 0.383f},
+                                                                 {0.993f, 0.906f, 0.144f}}};
+    if (!(t > 0.0f)) t = 0.0f;
+    t = std::min(t, 1.0f);
+    const float x = t * float(kStops.size() - 1);
+    const int i = std::min(int(x), int(kStops.size()) - 2);
+    const float f = x - float(i);
+    auto channel = [&](int c) {
+        const float v = kStops[std::size_t(i)][std::size_t(c)] * (1.0f - f) +
+                        kStops[std::size_t(i + 1)][std::size_t(c)] * f;
+        return int(std::lround(v * 255.0f));
+    };
+    return qRgb(channel(0), channel(1), channel(2));
+}
+
+void convertRect(QImage& target, const Image& image, const DisplaySettings& display,
+                 const Rect& rect) {
+    const Rect r = intersect(rect, image.bounds());
+    const float scale = std::exp2(display.exposure);
+    const int channels = image.channels();
+    for (int y = r.y0; y < r.y1; ++y) {
+        const float* src = image.row(y);
+        auto* dst = reinterpret_cast<QRgb*>(target.scanLine(y));
+        for (int x = r.x0; x < r.x1; ++x) {
+            const float* p = src + std::size_t(x) * channels;
+            float v[3];
+            for (int c = 0; c < 3; ++c)
+                v[c] = p[channels == 1 ? 0 : std::min(c, channels - 1)] * scale + display.offset;
+            if (display.mode == DisplayMode::FalseColor) {
+                // Luminance (Rec. 709) of the exposed values.
+                const float lum =
+                    channels == 1 ? v[0] : 0.2126f * v[0] + 0.7152f * v[1] + 0.0722f * v[2];
+                dst[x] = falseColor(lum);
+            } else {
+                dst[x] = qRgb(encode(v[0], display.mode), encode(v[1], display.mode),
+                              encode(v[2], display.mode));
+            }
+        }
+    }
+}
+
+QImage toQImage(const Image& image, const DisplaySettings& display) {
+    QImage out(image.width(), image.height(), QImage::Format_ARGB32);
+    if (image.empty()) return out;
+    convertRect(out, image, display, image.bounds());
+    return out;
+}
+
+QImage maskOverlay(const Image& mask, const QColor& color) {
+    QImage out(mask.width(), mask.height(), QImage::Format_ARGB32_Premultiplied);
+    for (int y = 0; y < mask.height(); ++y) {
+        auto* dst = reinterpret_cast<QRgb*>(out.scanLine(y));
+        for (int x = 0; x < mask.width(); ++x) {
+            const float m = std::clamp(mask(x, y, 0), 0.0f, 1.0f);
+            const int a = int(std::lround(m * float(color.alpha())));
+            dst[x] = qPremultiply(qRgba(color.red(), color.green(), color.blue(), a));
+        }
+    }
+    return out;
+}
+
+}  // namespace glint::studio

@@ -1,0 +1,33 @@
+// Turning linear images into screen pixels: exposure and offset, then sRGB, linear or false
+// colour (tev's display pipeline). Conversions run on any part of an image so that a dab only
+// converts the pixels it touched.
+#pragma once
+
+#include <QColor>
+#include <QImage>
+
+#include "glint/image/image.h"
+
+namespace glint::studio {
+
+/// How values reach the screen.
+enum class DisplayMode { Srgb, Linear, FalseColor };
+
+struct DisplaySettings {
+    float exposure = 0.0f;  ///< stops: values are multiplied by 2^exposure
+    float offset = 0.0f;    ///< added after the exposure
+    DisplayMode mode = DisplayMode::Srgb;
+    bool operator==(const DisplaySettings&) const = default;
+};
+
+/// Converts `image` (1 or 3 channels) to an ARGB32 image of its size.
+QImage toQImage(const Image& image, const DisplaySettings& display);
+/// Converts the pixels of `rect` of `image` into `target` (of the image's size).
+void convertRect(QImage& target, const Image& image, const DisplaySettings& display,
+                 const Rect& rect);
+/// A 1-channel mask as a translucent overlay in `color` (alpha = mask · color.alpha).
+QImage maskOverlay(const Image& mask, const QColor& color);
+/// The false-colour map at t in [0, 1] (a perceptually ordered ramp, dark blue to yellow).
+QRgb falseColor(float t);
+
+}  // namespace glint::studio

@@ -1,0 +1,139 @@
+// The image canvas: draws a converted image with QPainter (zoom to the cursor, pan, fit, 1:1),
+// an optional second image for A/B flip and wipe, the region of interest, a preview inside it,
+// translucent overlays and the brush. Mouse input becomes image-space signals for the stage
+// that owns the current tool. It knows nothing of sessions or renders.
+#pragma once
+
+#include <QImage>
+#include <QPainterPath>
+#include <QPointF>
+#include <QPolygonF>
+#include <QWidget>
+
+#include <optional>
+
+#include "glint/image/image.h"
+#include "views/display.h"
+
+namespace glint::studio {
+
+class ImageCanvas : public QWidget {
+    Q_OBJECT
+  public:
+    /// What a left drag does.
+    enum class Tool { Pan, Lasso, Rectangle, Brush, Wand };
+
+    explicit ImageCanvas(QWidget* parent = nullptr);
+
+    /// Shows `image` (linear) with the display settings.
+    void setImage(const Image& image);
+    /// Re-converts only `rect` of `image` (same size as shown): a dab's worth of pixels.
+    void updateImage(const Image& image, const Rect& rect);
+    bool hasImage() const { return !m_image.isNull(); }
+    QSize imageSize() const { return m_image.size(); }
+    /// The displayed image (for screenshots and tests).
+    const QImage& shownImage() const { return m_image; }
+
+    /// The B image of A/B comparisons (nothing: no comparison). Copied.
+    void setCompareImage(const Image* image);
+    /// Shows B instead of A (the flip key).
+    void setFlipped(bool flipped);
+    bool flipped() const { return m_flipped; }
+    /// A wipe at this fraction of the image width (A left of it, B right); nothing: off.
+    void setWipe(std::optional<double> fraction);
+
+    void setDisplay(const DisplaySettings& display);
+    const DisplaySettings& display() const { return m_display; }
+
+    void setTool(Tool tool);
+    Tool tool() const { return m_tool; }
+
+    /// The region of interest as a polygon in image pixels (empty: the whole image).
+    void setRegion(const QPolygonF& polygon);
+    /// A preview (linear, 3 channels) shown over `rect`, clipped to the region polygon.
+    void setPreview(const Image& preview, const Rect& rect);
+    void clearPreview();
+    /// A translucent overlay over the whole image (change map, filter variance...).
+    void setOverlay(const QImage& overlay);
+    void clearOverlay();
+
+    /// Brush outline and, when given, what the brush would paint (linear, frame-sized): shown
+    /// inside the brush under the cursor. Copied.
+    void setBrush(double size, double softness);
+    void setBrushSource(const Image* source);
+    /// The same with the conversion done elsewhere (`converted` with display()).
+    void setBrushSource(Image source, QImage converted);
+    double brushSize() const { return m_brushSize; }
+
+    /// View transform.
+    void fit();
+    void oneToOne();
+    void zoomBy(double factor, const QPointF& anchor);
+    double zoom() const { return m_zoom; }
+    /// Image position (pixels, continuous) under widget point `p`.
+    QPointF toImage(const QPointF& p) const;
+    QPointF toWidget(const QPointF& imagePoint) const;
+
+  signals:
+    /// The pixel under the cursor (x or y < 0 when outside the image).
+    void hovered(int x, int y);
+    void lassoDrawn(const QPolygonF& polygon);
+    void rectangleDrawn(const QRect& rect);
+    void strokeBegan(const QPointF& at, bool subtract);
+    void strokeMoved(const QPointF& at);
+    void strokeEnded();
+    void wandClicked(const QPoint& pixel, bool subtract);
+    /// Shift+drag with the brush tool resized it.
+    void brushResized(double size);
+    /// A frame was painted on screen (instrumentation of the speed test).
+    void painted();
+
+  protected:
+    void paintEvent(QPaintEvent* event) override;
+    void resizeEvent(QResizeEvent* event) override;
+    void wheelEvent(QWheelEvent* event) override;
+    void mousePressEvent(QMouseEvent* event) override;
+    void mouseMoveEvent(QMouseEvent* event) override;
+    void mouseReleaseEvent(QMouseEvent* event) override;
+    void leaveEvent(QEvent* event) override;
+
+  private:
+    void drawImage(QPainter& p, const QImage& image, const QRectF& clip);
+    void updateImageRect(const Rect& rect);
+    QRectF imageRectInWidget() const;
+
+    QImage m_image;
+    QImage m_compare;
+    QImage m_preview;
+    Rect m_previewRect{};
+    QImage m_overlay;
+    QImage m_brushSource;
+    Image m_lastImage;      // the linear image shown, for re-conversion when the display changes
+    Image m_compareSource;  // copies, for re-conversion when the display changes
+    Image m_brushSourceImage;
+    DisplaySettings m_display;
+    bool m_flipped = false;
+    std::optional<double> m_wipe;
+    Tool m_tool = Tool::Pan;
+    QPolygonF m_region;
+    QPainterPath m_regionPath;
+    double m_brushSize = 48.0;
+    double m_brushSoftness = 0.5;
+
+    double m_zoom = 1.0;
+    QPointF m_offset;  // widget position of image pixel (0, 0)
+    bool m_fitted = true;
+
+    // Interaction state.
+    bool m_panning = false;
+    bool m_stroking = false;
+    bool m_resizingBrush = false;
+    QPointF m_pressWidget;
+    QPointF m_pressOffset;
+    double m_pressBrushSize = 0.0;
+    QPolygonF m_drawing;              // lasso or rectangle being drawn (image coordinates)
+    QPointF m_anchor;                 // where the rectangle started
+    std::optional<QPointF> m_cursor;  // widget position of the cursor
+};
+
+}  // namespace glint::studio

@@ -1,0 +1,188 @@
+#include "views/look_panel.h"
+
+#include <QColorDialog>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QGroupBox>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QPushButton>
+#include <QScrollArea>
+#include <QVBoxLayout>
+
+#include <algorithm>
+#include <cmath>
+
+#include "glint/image/error.h"
+#include "glint/image/io.h"
+#include "model/look_command.h"
+#include "views/param_controls.h"
+
+namespace glint::studio {
+
+namespace {
+
+// The swatch colour of a linear RGB value (clamped, sRGB-encoded).
+QColor swatchColor(const std::array<double, 3>& v, double max) {
+    auto c = [&](double x) {
+        const double scaled = max > 1.0 ? x / max : x;  // emission: show the hue
+        return int(std::lround(255.0 * srgbEncode(float(std::clamp(scaled, 0.0, 1.0)))));
+    };
+    return QColor(c(v[0]), c(v[1]), c(v[2]));
+}
+
+void paintSwatch(QPushButton* button, const QColor& color) {
+    button->setStyleSheet(
+        QStringLiteral("background-color: %1; border: 1px solid #222;").arg(color.name()));
+}
+
+std::string keyOf(const render::LookItem& item, const render::LookProperty& p) {
+    return item.name + "/" + p.name;
+}
+
+}  // namespace
+
+LookPanel::LookPanel(Document* document, SessionAdapter* session, QWidget* parent)
+    : QWidget(parent), m_document(document), m_session(session) {
+    m_scroll = new QScrollArea(this);
+    m_scroll->setWidgetResizable(true);
+    auto* layout = new QVBoxLayout(this);
+    layout->setContentsMargins(0, 0, 0, 0);
+    layout->addWidget(m_scroll);
+    connect(m_document, &Document::lookChanged, this, [this] {
+        // Rebuild when the items changed (another scene), else only refresh the values.
+        std::vector<std::string> keys;
+        for (const auto& item : m_document->look())
+            for (const auto& p : item.properties) keys.push_back(keyOf(item, p));
+        if (keys != m_builtFor)
+            rebuild();
+        else
+            refreshValues();
+    });
+    rebuild();
+}
+
+void LookPanel::edit(const std::string& item, const std::string& property,
+                     const std::array<double, 3>& value) {
+    try {
+        const std::array<double, 3> before = m_document->lookValue(item, property);
+        if (before == value) return;
+        // Validate before pushing: a refused value must not become an undo step.
+        auto* command = new LookCommand(m_document, m_session, item, property, before, value);
+        m_session->undoStack()->push(command);
+    } catch (const Error& e) {
+        emit failed(tr("The scene refused the change"), QString::fromStdString(e.what()));
+        refreshValues();
+    }
+}
+
+void LookPanel::rebuild() {
+    m_builtFor.clear();
+    m_content = new QWidget;
+    auto* layout = new QVBoxLayout(m_content);
+    if (m_document->look().empty()) {
+        auto* label = new QLabel(m_document->kind() == Document::Kind::Exr
+                                     ? tr("An EXR has no look to edit: open a scene.json to "
+                                          "change materials and lights.")
+                                     : tr("Open a scene to edit its materials and lights."));
+        label->setWordWrap(true);
+        layout->addWidget(label);
+    }
+    for (const render::LookItem& item : m_document->look()) {
+        const QString title = QStringLiteral("%1%2 (%3)")
+                                  .arg(QString::fromStdString(item.name),
+                                       item.light ? QStringLiteral(" ✶") : QString(),
+                                       QString::fromStdString(item.type));
+        auto* box = new QGroupBox(title, m_content);
+        auto* form = new QFormLayout(box);
+        for (const render::LookProperty& p : item.properties) {
+            QWidget* control = p.type == render::PropertyType::Color ? colorControl(item, p)
+                                                                     : scalarControl(item, p);
+            control->setObjectName(QString::fromStdString(keyOf(item, p)));
+            control->setToolTip(QString::fromStdString(p.help));
+            auto* label = new QLabel(QString::fromStdString(p.label), box);
+            label->setToolTip(QString::fromStdString(p.help));
+            form->addRow(label, control);
+            m_builtFor.push_back(keyOf(item, p));
+        }
+        layout->addWidget(box);
+    }
+    layout->addStretch(1);
+    m_scroll->setWidget(m_content);
+}
+
+QWidget* LookPanel::colorControl(const render::LookItem& item, const render::LookProperty& p) {
+    auto* w = new QWidget;
+    auto* row = new QHBoxLayout(w);
+    row->setContentsMargins(0, 0, 0, 0);
+    auto* swatch = new QPushButton(w);
+    swatch->setObjectName(QStringLiteral("swatch"));
+    swatch->setFixedSize(28, 20);
+    paintSwatch(swatch, swatchColor(p.value, p.max));
+    row->addWidget(swatch);
+    std::array<QDoubleSpinBox*, 3> spins{};
+    for (int c = 0; c < 3; ++c) {
+        auto* spin = new QDoubleSpinBox(w);
+        spin->setRange(p.min, p.max);
+        spin->setDecimals(3);
+        spin->setSingleStep(p.max > 1.0 ? 0.5 : 0.05);
+        spin->setKeyboardTracking(false);
+        spin->setValue(p.value[std::size_t(c)]);
+        spin->setObjectName(QStringLiteral("c%1").arg(c));
+        spin->setButtonSymbols(QAbstractSpinBox::NoButtons);
+        spin->setMaximumWidth(64);
+        spins[std::size_t(c)] = spin;
+        row->addWidget(spin);
+    }
+    const std::string name = item.name, property = p.name;
+    for (QDoubleSpinBox* spin : spins)
+        connect(spin, &QDoubleSpinBox::valueChanged, this, [this, spins, name, property] {
+            edit(name, property, {spins[0]->value(), spins[1]->value(), spins[2]->value()});
+        });
+    const double max = p.max;
+    connect(swatch, &QPushButton::clicked, this, [this, spins, name, property, max] {
+        // Colours up to 1 are picked directly; brighter ones (emission) keep their scale.
+        const std::array<double, 3> v{spins[0]->value(), spins[1]->value(), spins[2]->value()};
+        const double scale = max > 1.0 ? std::max({v[0], v[1], v[2], 1e-6}) : 1.0;
+        const QColor picked = QColorDialog::getColor(
+            swatchColor({v[0] / scale, v[1] / scale, v[2] / scale}, 1.0), this);
+        if (!picked.isValid()) return;
+        auto lin = [&](int c) { return double(srgbDecode(float(c) / 255.0f)) * scale; };
+        edit(name, property, {lin(picked.red()), lin(picked.green()), lin(picked.blue())});
+    });
+    return w;
+}
+
+QWidget* LookPanel::scalarControl(const render::LookItem& item, const render::LookProperty& p) {
+    auto* control = new ScalarControl(p.min, p.max, p.logScale && p.min <= 0.0 ? 1e-3 : p.min,
+                                      p.max, p.logScale, false);
+    control->setValue(p.value[0]);
+    const std::string name = item.name, property = p.name;
+    connect(control, &ScalarControl::editingFinished, this, [this, name, property](double v) {
+        edit(name, property, {v, 0.0, 0.0});
+    });
+    return control;
+}
+
+void LookPanel::refreshValues() {
+    if (!m_content) return;
+    for (const render::LookItem& item : m_document->look())
+        for (const render::LookProperty& p : item.properties) {
+            QWidget* w = m_content->findChild<QWidget*>(QString::fromStdString(keyOf(item, p)));
+            if (!w) continue;
+            if (auto* scalar = qobject_cast<ScalarControl*>(w)) {
+                scalar->setValue(p.value[0]);
+                continue;
+            }
+            for (int c = 0; c < 3; ++c)
+                if (auto* spin = w->findChild<QDoubleSpinBox*>(QStringLiteral("c%1").arg(c))) {
+                    spin->blockSignals(true);
+                    spin->setValue(p.value[std::size_t(c)]);
+                    spin->blockSignals(false);
+                }
+            if (auto* swatch = w->findChild<QPushButton*>(QStringLiteral("swatch")))
+                paintSwatch(swatch, swatchColor(p.value, p.max));
+        }
+}
+
+}  // namespace glint::studio

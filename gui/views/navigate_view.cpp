@@ -1,0 +1,320 @@
+#include "views/navigate_view.h"
+
+#include <QCheckBox>
+#include <QEvent>
+#include <QGridLayout>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QProgressBar>
+#include <QPushButton>
+#include <QSpinBox>
+#include <QToolButton>
+#include <QVBoxLayout>
+
+#include "glint/denoise/aids.h"
+#include "glint/denoise/filter.h"
+#include "glint/denoise/registry.h"
+#include "views/param_controls.h"
+
+namespace glint::studio {
+
+namespace {
+constexpr int kThumb = 132;
+}
+
+NavigateView::NavigateView(const StudioContext& context, QWidget* parent)
+    : StageView(context, parent) {
+    m_size = new QSpinBox(this);
+    m_size->setRange(4, denoise::kMaxBankSize);
+    m_size->setValue(64);
+    m_size->setPrefix(tr("bank "));
+    m_size->setToolTip(
+        tr("Latin-hypercube members of the bank (each filter's defaults come on top)"));
+    m_build = new QPushButton(tr("Build bank"), this);
+    m_build->setToolTip(tr("Filter the region with every member of the bank (in the background)"));
+    m_progress = new QProgressBar(this);
+    m_progress->setRange(0, 1000);
+    m_progress->setTextVisible(false);
+    m_state = new QLabel(this);
+    m_state->setWordWrap(true);
+    m_grid = new QGridLayout;
+    for (int i = 0; i < 4; ++i) {
+        auto* b = new QToolButton(this);
+        b->setIconSize(QSize(kThumb, kThumb));
+        b->setToolButtonStyle(Qt::ToolButtonTextUnderIcon);
+        b->setAutoRaise(true);
+        b->setObjectName(QStringLiteral("option%1").arg(i));
+        b->installEventFilter(this);
+        connect(b, &QToolButton::clicked, this, [this, i] { chooseOption(i); });
+        m_grid->addWidget(b, i / 2, i % 2);
+        m_options.push_back(b);
+    }
+    m_same = new QPushButton(tr("They look the same"), this);
+    m_same->setToolTip(tr("Pick any member below this level (S)"));
+    m_back = new QPushButton(tr("Back"), this);
+    m_back->setToolTip(tr("Up one level (Backspace)"));
+    m_restart = new QPushButton(tr("Restart"), this);
+    m_restart->setToolTip(tr("Back to the top of the tree"));
+    m_chosen = new QLabel(this);
+    m_chosen->setWordWrap(true);
+    m_paint = new QPushButton(tr("Paint with it"), this);
+    m_apply = new QPushButton(tr("Apply to region"), this);
+    m_tune = new QPushButton(tr("Fine-tune"), this);
+    m_tune->setToolTip(tr("Open the chosen filter in the tuning view with these parameters"));
+    m_variance = new QCheckBox(tr("Show filter variance"), this);
+    m_variance->setToolTip(
+        tr("Where the bank's results disagree most (bright): where the choice of "
+           "filter matters"));
+
+    auto* top = new QHBoxLayout;
+    top->addWidget(m_size);
+    top->addWidget(m_build);
+    auto* nav = new QHBoxLayout;
+    nav->addWidget(m_same);
+    nav->addWidget(m_back);
+    nav->addWidget(m_restart);
+    auto* use = new QHBoxLayout;
+    use->addWidget(m_paint);
+    use->addWidget(m_apply);
+    use->addWidget(m_tune);
+    auto* layout = new QVBoxLayout(this);
+    layout->addLayout(top);
+    layout->addWidget(m_progress);
+    layout->addWidget(m_state);
+    layout->addLayout(m_grid);
+    layout->addLayout(nav);
+    layout->addWidget(m_chosen);
+    layout->addLayout(use);
+    layout->addWidget(m_variance);
+    layout->addStretch(1);
+
+    connect(m_build, &QPushButton::clicked, this, &NavigateView::build);
+    connect(m_same, &QPushButton::clicked, this, &NavigateView::same);
+    connect(m_back, &QPushButton::clicked, this, &NavigateView::back);
+    connect(m_restart, &QPushButton::clicked, this, &NavigateView::restart);
+    connect(m_paint, &QPushButton::clicked, this, [this] { choose(false); });
+    connect(m_apply, &QPushButton::clicked, this, [this] { choose(true); });
+    connect(m_tune, &QPushButton::clicked, this, [this] {
+        if (auto m = chosen()) emit tuneRequested(m->filter, m->params);
+    });
+    connect(m_variance, &QCheckBox::toggled, this, &NavigateView::updateOverlay);
+    showOptions();
+}
+
+void NavigateView::activate() {
+    m_context.viewer->canvas()->setTool(ImageCanvas::Tool::Pan);
+    FramePtr in = m_context.session->input();
+    // A bank of another render or region is stale: build again.
+    if (in &&
+        (in != m_builtFor || m_context.region->bounds(in->width(), in->height()) != m_builtRect))
+        build();
+    updateOverlay();
+}
+
+void NavigateView::deactivate() {
+    m_context.viewer->canvas()->clearPreview();
+    m_context.viewer->canvas()->clearOverlay();
+}
+
+void NavigateView::build() {
+    FramePtr in = m_context.session->input();
+    if (!in) return;
+    const Rect rect = m_context.region->bounds(in->width(), in->height());
+    denoise::BankOptions options;
+    options.size = m_size->value();
+    options.region = rect;
+    options.prefilter = m_context.session->options().prefilter;
+    options.prefilterParams = m_context.session->options().prefilterParams;
+    denoise::TreeOptions tree;
+    tree.exposure = float(m_context.viewer->exposure());
+    m_navigator.reset();
+    m_bank.reset();
+    m_tree.reset();
+    m_builtFor = in;
+    m_builtRect = rect;
+    showOptions();
+    m_progress->setValue(0);
+    m_state->setText(tr("Building a bank of %1 filters over %2×%3 pixels…")
+                         .arg(options.size)
+                         .arg(rect.width())
+                         .arg(rect.height()));
+    struct Built {
+        std::shared_ptr<const denoise::FilterBank> bank;
+        std::shared_ptr<const denoise::NavigationTree> tree;
+    };
+    m_tasks.run<Built>(
+        QStringLiteral("bank"),
+        [this, in, options, tree](const TaskRunner::CancelFlag& cancel) mutable {
+            options.progress = [this, cancel](double f) {
+                QMetaObject::invokeMethod(
+                    &m_tasks, [this, f] { m_progress->setValue(int(f * 900.0)); },
+                    Qt::QueuedConnection);
+                return !cancel->load();
+            };
+            auto bank =
+                std::make_shared<const denoise::FilterBank>(denoise::buildBank(*in, options));
+            auto t = std::make_shared<const denoise::NavigationTree>(
+                denoise::NavigationTree::fromBank(*bank, tree));
+            return Built{bank, t};
+        },
+        [this](Built built) {
+            m_bank = built.bank;
+            m_tree = built.tree;
+            m_navigator = std::make_unique<denoise::Navigator>(*m_tree);
+            m_progress->setValue(1000);
+            m_state->setText(
+                tr("%1 filter results; pick the one you like best.").arg(m_bank->size()));
+            showOptions();
+            updateOverlay();
+            emit bankReady();
+        },
+        [this](const QString& message) {
+            m_state->setText(message);
+            emit failed(tr("Cannot build the bank"), message);
+        });
+}
+
+void NavigateView::setBankSize(int size) {
+    m_size->setValue(size);
+}
+
+int NavigateView::optionCount() const {
+    return int(m_shownMembers.size());
+}
+
+int NavigateView::depth() const {
+    return m_navigator ? m_navigator->choices() : 0;
+}
+
+std::optional<denoise::BankMember> NavigateView::chosen() const {
+    if (!m_navigator || !m_navigator->chosen()) return std::nullopt;
+    return m_bank->members()[std::size_t(*m_navigator->chosen())];
+}
+
+QString NavigateView::memberText(int member) const {
+    const denoise::BankMember& m = m_bank->members()[std::size_t(member)];
+    return describeFilter(m.filter, m.params);
+}
+
+void NavigateView::showOptions() {
+    m_shownMembers.clear();
+    const bool done = m_navigator && m_navigator->chosen();
+    std::vector<denoise::Navigator::Option> options;
+    if (m_navigator && !done) options = m_navigator->options();
+    const DisplaySettings display = m_context.viewer->canvas()->display();
+    for (std::size_t i = 0; i < m_options.size(); ++i) {
+        QToolButton* b = m_options[i];
+        if (i < options.size()) {
+            const int member = options[i].member;
+            m_shownMembers.push_back(member);
+            const QImage image = toQImage(m_bank->result(std::size_t(member)), display);
+            b->setIcon(QIcon(QPixmap::fromImage(
+                image.scaled(kThumb, kThumb, Qt::KeepAspectRatio, Qt::SmoothTransformation))));
+            const bool leaf = options[i].node < 0;
+            b->setText(leaf ? QString::fromStdString(m_bank->members()[std::size_t(member)].filter)
+                            : tr("%1 alike").arg(m_tree->node(options[i].node).members.size()));
+            b->setToolTip(memberText(member));
+            b->setEnabled(true);
+            b->setVisible(true);
+        } else {
+            b->setIcon(QIcon());
+            b->setText(QString());
+            b->setEnabled(false);
+            b->setVisible(i < 4 && !done);
+        }
+    }
+    m_same->setEnabled(m_navigator && !done);
+    m_back->setEnabled(m_navigator && m_navigator->choices() > 0);
+    m_restart->setEnabled(m_navigator && m_navigator->choices() > 0);
+    m_paint->setEnabled(done);
+    m_apply->setEnabled(done);
+    m_tune->setEnabled(done);
+    if (done) {
+        m_chosen->setText(tr("Chosen: %1").arg(memberText(*m_navigator->chosen())));
+        showMember(*m_navigator->chosen());
+    } else {
+        m_chosen->setText(m_navigator ? tr("Level %1: hover a preview to see it on the image, "
+                                           "click the best.")
+                                            .arg(m_navigator->choices() + 1)
+                                      : QString());
+        m_context.viewer->canvas()->clearPreview();
+    }
+}
+
+void NavigateView::showMember(int member) {
+    if (!m_bank || !m_active) return;
+    m_context.viewer->canvas()->setPreview(m_bank->result(std::size_t(member)), m_bank->region());
+}
+
+void NavigateView::chooseOption(int i) {
+    if (!m_navigator || i < 0 || i >= optionCount()) return;
+    m_navigator->choose(i);
+    showOptions();
+}
+
+void NavigateView::hoverOption(int i) {
+    if (i >= 0 && i < optionCount()) showMember(m_shownMembers[std::size_t(i)]);
+}
+
+void NavigateView::same() {
+    if (!m_navigator) return;
+    m_navigator->same();
+    showOptions();
+}
+
+void NavigateView::back() {
+    if (!m_navigator) return;
+    m_navigator->back();
+    showOptions();
+}
+
+void NavigateView::restart() {
+    if (!m_navigator) return;
+    m_navigator->restart();
+    showOptions();
+}
+
+void NavigateView::choose(bool fillRegion) {
+    const std::optional<denoise::BankMember> m = chosen();
+    if (!m) return;
+    try {
+        addChosenLayer(m_context, m->filter, m->params, fillRegion);
+        emit layerChosen();
+    } catch (const Error& e) {
+        emit failed(tr("Cannot add the layer"), QString::fromStdString(e.what()));
+    }
+}
+
+bool NavigateView::eventFilter(QObject* watched, QEvent* event) {
+    for (std::size_t i = 0; i < m_options.size(); ++i) {
+        if (watched != m_options[i]) continue;
+        if (event->type() == QEvent::Enter) hoverOption(int(i));
+        if (event->type() == QEvent::Leave) {
+            if (m_navigator && m_navigator->chosen())
+                showMember(*m_navigator->chosen());
+            else
+                m_context.viewer->canvas()->clearPreview();
+        }
+    }
+    return StageView::eventFilter(watched, event);
+}
+
+void NavigateView::updateOverlay() {
+    ImageCanvas* canvas = m_context.viewer->canvas();
+    FramePtr in = m_context.session->input();
+    if (!m_active || !m_variance->isChecked() || !m_bank || !in) {
+        canvas->clearOverlay();
+        return;
+    }
+    // The variance of the bank's results, placed over the region in a frame-sized overlay.
+    std::vector<const Image*> results;
+    for (const Image& r : m_bank->results()) results.push_back(&r);
+    const Image variance = denoise::filterVarianceMap(results);
+    Image full(in->width(), in->height(), 1, 0.0f);
+    const Rect r = m_bank->region();
+    for (int y = r.y0; y < r.y1; ++y)
+        for (int x = r.x0; x < r.x1; ++x) full(x, y, 0) = variance(x - r.x0, y - r.y0, 0);
+    canvas->setOverlay(maskOverlay(full, QColor(255, 60, 200, 200)));
+}
+
+}  // namespace glint::studio

@@ -1,0 +1,349 @@
+#include "views/paint_view.h"
+
+#include <QButtonGroup>
+#include <QCheckBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QListWidget>
+#include <QPushButton>
+#include <QSlider>
+#include <QToolButton>
+#include <QVBoxLayout>
+
+#include <cmath>
+
+#include "glint/denoise/aids.h"
+#include "glint/denoise/registry.h"
+#include "views/param_controls.h"
+
+namespace glint::studio {
+
+namespace {
+
+QString layerText(const denoise::SessionLayer& layer, std::size_t index) {
+    return QStringLiteral("%1. %2").arg(index + 1).arg(describeFilter(layer.filter, layer.params));
+}
+
+}  // namespace
+
+PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(context, parent) {
+    m_layers = new QListWidget(this);
+    m_layers->setToolTip(tr("The filters chosen so far: select one to paint with it"));
+    m_layers->setMaximumHeight(140);
+    auto* remove = new QPushButton(tr("Remove"), this);
+    remove->setToolTip(tr("Remove the selected layer"));
+    auto* everywhere = new QPushButton(tr("Everywhere"), this);
+    everywhere->setToolTip(tr("Weight 1 everywhere for the selected layer"));
+    auto* clear = new QPushButton(tr("Clear"), this);
+    clear->setToolTip(tr("Weight 0 everywhere for the selected layer"));
+    m_brushTool = new QToolButton(this);
+    m_brushTool->setText(tr("Brush"));
+    m_brushTool->setCheckable(true);
+    m_brushTool->setChecked(true);
+    m_brushTool->setToolTip(tr("Left button paints the layer in, right button paints it out (B)"));
+    m_wandTool = new QToolButton(this);
+    m_wandTool->setText(tr("Magic wand"));
+    m_wandTool->setCheckable(true);
+    m_wandTool->setToolTip(
+        tr("Click: fill the connected area of similar features (left adds, "
+           "right removes) (M)"));
+    auto* tools = new QButtonGroup(this);
+    tools->addButton(m_brushTool);
+    tools->addButton(m_wandTool);
+    auto* diffuseButton = new QPushButton(tr("Diffuse"), this);
+    diffuseButton->setToolTip(
+        tr("Poisson diffusion: spread the painted weights smoothly over the "
+           "unpainted pixels (D)"));
+    m_size = new QDoubleSpinBox(this);
+    m_size->setRange(1.0, 2048.0);
+    m_size->setValue(48.0);
+    m_size->setSuffix(tr(" px"));
+    m_size->setToolTip(tr("Brush diameter ([ and ], or shift+drag on the image)"));
+    m_softness = new QSlider(Qt::Horizontal, this);
+    m_softness->setRange(0, 100);
+    m_softness->setValue(50);
+    m_softness->setToolTip(tr("Inner radius / outer radius: 1 is a hard brush"));
+    m_wandColor = new QDoubleSpinBox(this);
+    m_wandColor->setRange(-1.0, 10.0);
+    m_wandColor->setSingleStep(0.05);
+    m_wandColor->setValue(denoise::WandOptions{}.color);
+    m_wandColor->setToolTip(tr("Colour tolerance of the wand, relative (−1: colour not used)"));
+    m_changeMap = new QCheckBox(tr("Show change map"), this);
+    m_changeMap->setToolTip(tr("Where the selected filter would change the current composite"));
+    m_side = new QLabel(this);
+    m_side->setMinimumHeight(160);
+    m_side->setAlignment(Qt::AlignCenter);
+    m_side->setToolTip(tr("The selected filter applied everywhere"));
+    m_state = new QLabel(this);
+    m_state->setWordWrap(true);
+
+    auto* layerButtons = new QHBoxLayout;
+    layerButtons->addWidget(remove);
+    layerButtons->addWidget(everywhere);
+    layerButtons->addWidget(clear);
+    auto* toolRow = new QHBoxLayout;
+    toolRow->addWidget(m_brushTool);
+    toolRow->addWidget(m_wandTool);
+    toolRow->addWidget(diffuseButton);
+    toolRow->addStretch(1);
+    auto* form = new QFormLayout;
+    form->addRow(tr("Size"), m_size);
+    form->addRow(tr("Softness"), m_softness);
+    form->addRow(tr("Wand colour"), m_wandColor);
+    auto* layout = new QVBoxLayout(this);
+    layout->addWidget(new QLabel(tr("Layers (palette)"), this));
+    layout->addWidget(m_layers);
+    layout->addLayout(layerButtons);
+    layout->addLayout(toolRow);
+    layout->addLayout(form);
+    layout->addWidget(m_changeMap);
+    layout->addWidget(m_side, 1);
+    layout->addWidget(m_state);
+
+    ImageCanvas* canvas = m_context.viewer->canvas();
+    SessionAdapter* session = m_context.session;
+    connect(m_layers, &QListWidget::currentRowChanged, this, &PaintView::layerSelected);
+    connect(remove, &QPushButton::clicked, this, [this, session] {
+        if (currentLayer() >= 0) session->removeLayer(std::size_t(currentLayer()));
+    });
+    connect(everywhere, &QPushButton::clicked, this, [this, session] {
+        if (currentLayer() < 0) return;
+        session->setWeights(
+            std::size_t(currentLayer()),
+            Image(session->session().width(), session->session().height(), 1, 1.0f));
+    });
+    connect(clear, &QPushButton::clicked, this, [this, session] {
+        if (currentLayer() < 0) return;
+        session->setWeights(
+            std::size_t(currentLayer()),
+            Image(session->session().width(), session->session().height(), 1, 0.0f));
+    });
+    connect(m_brushTool, &QToolButton::toggled, this, [this, canvas](bool on) {
+        if (on && m_active) canvas->setTool(ImageCanvas::Tool::Brush);
+    });
+    connect(m_wandTool, &QToolButton::toggled, this, [this, canvas](bool on) {
+        if (on && m_active) canvas->setTool(ImageCanvas::Tool::Wand);
+    });
+    connect(diffuseButton, &QPushButton::clicked, this, &PaintView::diffuse);
+    connect(m_size, &QDoubleSpinBox::valueChanged, this,
+            [this, canvas](double v) { canvas->setBrush(v, m_softness->value() / 100.0); });
+    connect(m_softness, &QSlider::valueChanged, this,
+            [this, canvas](int v) { canvas->setBrush(m_size->value(), v / 100.0); });
+    connect(canvas, &ImageCanvas::brushResized, this, [this](double size) {
+        m_size->blockSignals(true);
+        m_size->setValue(size);
+        m_size->blockSignals(false);
+    });
+    connect(m_changeMap, &QCheckBox::toggled, this, &PaintView::updateOverlay);
+
+    // Strokes: a dab where the button went down, then dabs a quarter brush apart along the drag.
+    connect(
+        canvas, &ImageCanvas::strokeBegan, this, [this, session](const QPointF& at, bool subtract) {
+            if (!m_active || currentLayer() < 0 || session->locked()) return;
+            session->beginStroke(std::size_t(currentLayer()), brush(),
+                                 subtract ? denoise::BrushMode::Subtract : denoise::BrushMode::Add);
+            m_stroking = session->inStroke();
+            if (!m_stroking) return;
+            session->dab(at.x(), at.y());
+            m_lastDab = at;
+        });
+    connect(canvas, &ImageCanvas::strokeMoved, this, &PaintView::strokeTo);
+    connect(canvas, &ImageCanvas::strokeEnded, this, [this, session] {
+        if (!m_stroking) return;
+        m_stroking = false;
+        m_lastDab.reset();
+        session->endStroke();
+    });
+    connect(canvas, &ImageCanvas::wandClicked, this, &PaintView::wand);
+
+    connect(session, &SessionAdapter::layersChanged, this, &PaintView::rebuildLayers);
+    connect(session, &SessionAdapter::weightsChanged, this, &PaintView::updateOverlay);
+    connect(session, &SessionAdapter::sessionReset, this, &PaintView::rebuildLayers);
+    connect(session, &SessionAdapter::inputChanged, this, &PaintView::layerSelected);
+    connect(m_context.viewer, &Viewer::channelChanged, this, &PaintView::layerSelected);
+    connect(session, &SessionAdapter::compositeChanged, this, [this](const Rect&) {
+        if (m_changeMap->isChecked() && !m_stroking) updateOverlay();
+    });
+    connect(session, &SessionAdapter::lockedChanged, this, [this](bool locked) {
+        m_state->setText(locked ? tr("Diffusing… painting waits.") : QString());
+    });
+}
+
+int PaintView::currentLayer() const {
+    if (!m_context.session->hasSession()) return -1;
+    const int row = m_layers->currentRow();
+    return row >= 0 && std::size_t(row) < m_context.session->session().layerCount() ? row : -1;
+}
+
+void PaintView::setCurrentLayer(int index) {
+    m_layers->setCurrentRow(index);
+}
+
+denoise::Brush PaintView::brush() const {
+    return denoise::Brush{m_size->value(), m_softness->value() / 100.0};
+}
+
+void PaintView::setBrushSize(double size) {
+    m_size->setValue(size);
+}
+
+void PaintView::growBrush(double factor) {
+    m_size->setValue(m_size->value() * factor);
+}
+
+void PaintView::rebuildLayers() {
+    const int previous = m_layers->currentRow();
+    const Image* previousOutput =
+        currentLayer() >= 0
+            ? &m_context.session->session().layer(std::size_t(currentLayer())).output
+            : nullptr;
+    const float* previousData = previousOutput ? previousOutput->data().data() : nullptr;
+    const int before = m_layers->count();
+    m_layers->blockSignals(true);
+    m_layers->clear();
+    if (m_context.session->hasSession()) {
+        const denoise::Session& s = m_context.session->session();
+        for (std::size_t i = 0; i < s.layerCount(); ++i)
+            m_layers->addItem(layerText(s.layer(i), i));
+    }
+    // A new layer becomes the one to paint with.
+    int row = m_layers->count() > before ? m_layers->count() - 1 : previous;
+    row = std::min(row, m_layers->count() - 1);
+    m_layers->setCurrentRow(row);
+    m_layers->blockSignals(false);
+    // Converting a megapixel output for the brush and the side preview takes tens of ms: only
+    // when the layer under the brush is another one.
+    const int now = currentLayer();
+    const float* nowData =
+        now >= 0 ? m_context.session->session().layer(std::size_t(now)).output.data().data()
+                 : nullptr;
+    if (row != previous || nowData != previousData)
+        layerSelected();
+    else
+        updateOverlay();
+}
+
+void PaintView::layerSelected() {
+    const int layer = currentLayer();
+    ImageCanvas* canvas = m_context.viewer->canvas();
+    updateOverlay();
+    if (layer < 0) {
+        m_tasks.cancel(QStringLiteral("convert"));
+        if (m_active) canvas->setBrushSource(nullptr);
+        updateSidePreview();
+        return;
+    }
+    // The layer's output converted for the brush and the side preview on a worker: a megapixel
+    // takes tens of milliseconds.
+    struct Converted {
+        Image output;
+        QImage full, side;
+    };
+    auto output = std::make_shared<const Image>(
+        m_context.session->session().layer(std::size_t(layer)).output);
+    const DisplaySettings display = canvas->display();
+    const int side = std::max(160, m_side->width() - 8);
+    const bool underBrush = m_context.viewer->channel() == Viewer::Channel::Result;
+    m_tasks.run<Converted>(
+        QStringLiteral("convert"),
+        [output, display, side](const TaskRunner::CancelFlag&) {
+            Converted c{*output, toQImage(*output, display), {}};
+            c.side = c.full.scaled(side, side, Qt::KeepAspectRatio, Qt::SmoothTransformation);
+            return c;
+        },
+        [this, underBrush](Converted c) {
+            // What the brush would paint shows under it when the canvas shows the result.
+            if (m_active && underBrush)
+                m_context.viewer->canvas()->setBrushSource(std::move(c.output), std::move(c.full));
+            else if (m_active)
+                m_context.viewer->canvas()->setBrushSource(nullptr);
+            m_side->setText(QString());
+            m_side->setPixmap(QPixmap::fromImage(c.side));
+        });
+}
+
+void PaintView::updateSidePreview() {
+    if (currentLayer() >= 0) return;  // layerSelected converts it
+    m_side->setPixmap(QPixmap());
+    m_side->setText(tr("Choose a filter in stage 3 to paint with it."));
+}
+
+void PaintView::updateOverlay() {
+    ImageCanvas* canvas = m_context.viewer->canvas();
+    const int layer = currentLayer();
+    if (!m_active || !m_changeMap->isChecked() || layer < 0) {
+        canvas->clearOverlay();
+        return;
+    }
+    const denoise::Session& s = m_context.session->session();
+    // The square root lifts the small changes a bright edge would otherwise hide (the map is
+    // divided by its largest value).
+    Image change = denoise::changeMap(s.layer(std::size_t(layer)).output, s.composite());
+    for (float& v : change.data()) v = std::sqrt(v);
+    canvas->setOverlay(maskOverlay(change, QColor(255, 80, 40, 200)));
+}
+
+void PaintView::strokeTo(const QPointF& at) {
+    if (!m_stroking || !m_lastDab) return;
+    // Dabs a quarter of the brush apart (at least one pixel), so a fast drag leaves no gaps.
+    const double spacing = std::max(1.0, 0.25 * m_size->value());
+    const QPointF d = at - *m_lastDab;
+    const double length = std::hypot(d.x(), d.y());
+    if (length < spacing) return;
+    const int steps = int(length / spacing);
+    for (int k = 1; k <= steps; ++k) {
+        const QPointF p = *m_lastDab + d * (double(k) * spacing / length);
+        m_context.session->dab(p.x(), p.y());
+    }
+    m_lastDab = *m_lastDab + d * (double(steps) * spacing / length);
+}
+
+void PaintView::wand(const QPoint& pixel, bool subtract) {
+    const int layer = currentLayer();
+    FramePtr in = m_context.session->filterInput();
+    if (!m_active || layer < 0 || !in || m_context.session->locked()) return;
+    Image seeds(in->width(), in->height(), 1, 0.0f);
+    seeds(pixel.x(), pixel.y(), 0) = 1.0f;
+    denoise::WandOptions options;
+    options.color = m_wandColor->value();
+    const Image mask = denoise::magicWand(*in, seeds, options);
+    m_context.session->fill(std::size_t(layer), mask,
+                            subtract ? denoise::BrushMode::Subtract : denoise::BrushMode::Add);
+}
+
+void PaintView::diffuse() {
+    if (!m_context.session->hasSession()) return;
+    const denoise::Session& s = m_context.session->session();
+    std::vector<std::size_t> layers;
+    for (std::size_t i = 0; i < s.layerCount(); ++i) {
+        bool painted = false;
+        for (float v : s.layer(i).painted.data())
+            if (v > 0.0f) {
+                painted = true;
+                break;
+            }
+        if (painted) layers.push_back(i);
+    }
+    if (layers.empty()) {
+        m_state->setText(tr("Paint a few strokes first: diffusion spreads them."));
+        return;
+    }
+    m_context.session->diffuse(layers);
+}
+
+void PaintView::activate() {
+    ImageCanvas* canvas = m_context.viewer->canvas();
+    canvas->setTool(m_wandTool->isChecked() ? ImageCanvas::Tool::Wand : ImageCanvas::Tool::Brush);
+    canvas->setBrush(m_size->value(), m_softness->value() / 100.0);
+    layerSelected();
+}
+
+void PaintView::deactivate() {
+    ImageCanvas* canvas = m_context.viewer->canvas();
+    canvas->setBrushSource(nullptr);
+    canvas->clearOverlay();
+}
+
+}  // namespace glint::studio

@@ -1,0 +1,63 @@
+// Stage 4, painting: the palette of layers chosen so far, a soft brush (size and softness; [ and ]
+// or shift+drag resize it; left button adds, right removes) with what it would paint shown under
+// it, the magic wand and Poisson-diffusion blending as tools, the change map as an overlay and a
+// large side preview of the selected filter applied everywhere.
+#pragma once
+
+#include <optional>
+
+#include "glint/denoise/paint.h"
+#include "model/task_runner.h"
+#include "views/stage_view.h"
+
+class QListWidget;
+class QLabel;
+class QSlider;
+class QDoubleSpinBox;
+class QCheckBox;
+class QToolButton;
+
+namespace glint::studio {
+
+class PaintView : public StageView {
+    Q_OBJECT
+  public:
+    PaintView(const StudioContext& context, QWidget* parent = nullptr);
+
+    /// The layer strokes paint on (-1: none).
+    int currentLayer() const;
+    void setCurrentLayer(int index);
+    denoise::Brush brush() const;
+    void setBrushSize(double size);
+    /// [ and ]: the brush shrinks or grows by a quarter.
+    void growBrush(double factor);
+    /// Diffuses the weights of every layer that has painted pixels.
+    void diffuse();
+
+  protected:
+    void activate() override;
+    void deactivate() override;
+
+  private:
+    void rebuildLayers();
+    void layerSelected();
+    void updateSidePreview();
+    void updateOverlay();
+    void strokeTo(const QPointF& at);
+    void wand(const QPoint& pixel, bool subtract);
+
+    TaskRunner m_tasks;
+    QListWidget* m_layers;
+    QToolButton* m_brushTool;
+    QToolButton* m_wandTool;
+    QDoubleSpinBox* m_size;
+    QSlider* m_softness;
+    QDoubleSpinBox* m_wandColor;
+    QCheckBox* m_changeMap;
+    QLabel* m_side;
+    QLabel* m_state;
+    std::optional<QPointF> m_lastDab;
+    bool m_stroking = false;
+};
+
+}  // namespace glint::studio

@@ -1,0 +1,55 @@
+// The render bar: spp, seed, integrator and MIS; Render, Pause/Resume, Cancel; the render-region
+// tool; a progress bar with passes, samples and time.
+#pragma once
+
+#include <QWidget>
+
+#include "model/document.h"
+#include "views/image_canvas.h"
+
+class QSpinBox;
+class QComboBox;
+class QPushButton;
+class QProgressBar;
+class QLabel;
+class QToolButton;
+
+namespace glint::studio {
+
+class RenderBar : public QWidget {
+    Q_OBJECT
+  public:
+    RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent = nullptr);
+
+    /// Reads the settings from the controls into the document (throws glint::Error).
+    void applySettings();
+    QPushButton* renderButton() { return m_render; }
+    QPushButton* cancelButton() { return m_cancel; }
+    QPushButton* pauseButton() { return m_pause; }
+    QToolButton* regionButton() { return m_regionTool; }
+
+  signals:
+    /// The user asked for the render-region tool (true) or left it.
+    void regionToolToggled(bool on);
+    void failed(const QString& title, const QString& message);
+
+  private:
+    void syncFromDocument();
+    void updateState();
+
+    Document* m_document;
+    ImageCanvas* m_canvas;
+    QSpinBox* m_spp;
+    QSpinBox* m_seed;
+    QComboBox* m_integrator;
+    QComboBox* m_mis;
+    QPushButton* m_render;
+    QPushButton* m_pause;
+    QPushButton* m_cancel;
+    QToolButton* m_regionTool;
+    QToolButton* m_clearRegion;
+    QProgressBar* m_progress;
+    QLabel* m_info;
+};
+
+}  // namespace glint::studio

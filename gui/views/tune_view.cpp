@@ -1,0 +1,138 @@
+#include "views/tune_view.h"
+
+#include <QCheckBox>
+#include <QComboBox>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QPushButton>
+#include <QVBoxLayout>
+
+#include "glint/denoise/registry.h"
+
+namespace glint::studio {
+
+TuneView::TuneView(const StudioContext& context, QWidget* parent) : StageView(context, parent) {
+    m_filter = new QComboBox(this);
+    for (const denoise::Filter* f : denoise::allFilters())
+        m_filter->addItem(QString::fromUtf8(f->name().data(), qsizetype(f->name().size())));
+    m_filter->setToolTip(tr("The filter to tune"));
+    m_description = new QLabel(this);
+    m_description->setWordWrap(true);
+    m_controls = new ParamControls(this);
+    m_preview = new QCheckBox(tr("Preview in the region"), this);
+    m_preview->setChecked(true);
+    m_state = new QLabel(this);
+    m_state->setWordWrap(true);
+    auto* paint = new QPushButton(tr("Paint with it"), this);
+    paint->setToolTip(tr("Add the filter as a layer with weight 0 and go to the paint stage"));
+    auto* apply = new QPushButton(tr("Apply to region"), this);
+    apply->setToolTip(tr("Add the filter as a layer with weight 1 inside the region"));
+    auto* buttons = new QHBoxLayout;
+    buttons->addWidget(paint);
+    buttons->addWidget(apply);
+    auto* layout = new QVBoxLayout(this);
+    layout->addWidget(m_filter);
+    layout->addWidget(m_description);
+    layout->addWidget(m_controls);
+    layout->addWidget(m_preview);
+    layout->addLayout(buttons);
+    layout->addWidget(m_state);
+    layout->addStretch(1);
+
+    m_debounce.setSingleShot(true);
+    m_debounce.setInterval(30);
+    connect(&m_debounce, &QTimer::timeout, this, &TuneView::computePreview);
+    connect(m_filter, &QComboBox::currentIndexChanged, this, &TuneView::filterChanged);
+    connect(m_controls, &ParamControls::valuesChanged, this, [this](const denoise::ParamValues& v) {
+        m_memory[filter()] = v;
+        schedulePreview();
+    });
+    connect(m_preview, &QCheckBox::toggled, this, [this](bool on) {
+        if (on)
+            schedulePreview();
+        else
+            m_context.viewer->canvas()->clearPreview();
+    });
+    connect(paint, &QPushButton::clicked, this, [this] { choose(false); });
+    connect(apply, &QPushButton::clicked, this, [this] { choose(true); });
+    connect(m_context.region, &RegionOfInterest::changed, this, &TuneView::schedulePreview);
+    connect(m_context.session, &SessionAdapter::inputChanged, this, &TuneView::schedulePreview);
+    filterChanged();
+}
+
+std::string TuneView::filter() const {
+    return m_filter->currentText().toStdString();
+}
+
+void TuneView::setFilter(const std::string& name) {
+    m_filter->setCurrentText(QString::fromStdString(name));
+}
+
+void TuneView::setValues(const denoise::ParamValues& values) {
+    denoise::ParamValues merged = m_controls->values();
+    for (const auto& [k, v] : values) merged[k] = v;
+    m_memory[filter()] = merged;
+    const denoise::Filter& f = denoise::findFilter(filter());
+    m_controls->setSpecs(f.params(), merged);
+    schedulePreview();
+}
+
+void TuneView::filterChanged() {
+    const denoise::Filter& f = denoise::findFilter(filter());
+    m_description->setText(
+        QString::fromUtf8(f.description().data(), qsizetype(f.description().size())));
+    m_controls->setSpecs(f.params(), m_memory[filter()]);
+    schedulePreview();
+}
+
+void TuneView::choose(bool fillRegion) {
+    try {
+        addChosenLayer(m_context, filter(), m_controls->values(), fillRegion);
+        emit status(tr("Adding %1 as a layer…").arg(QString::fromStdString(filter())));
+        emit layerChosen();
+    } catch (const Error& e) {
+        emit failed(tr("Cannot add the layer"), QString::fromStdString(e.what()));
+    }
+}
+
+void TuneView::activate() {
+    m_context.viewer->canvas()->setTool(ImageCanvas::Tool::Pan);
+    schedulePreview();
+}
+
+void TuneView::deactivate() {
+    m_tasks.cancel(QStringLiteral("preview"));
+    m_context.viewer->canvas()->clearPreview();
+}
+
+void TuneView::schedulePreview() {
+    m_previewReady = false;
+    if (m_active && m_preview->isChecked()) m_debounce.start();
+}
+
+void TuneView::computePreview() {
+    FramePtr in = m_context.session->filterInput();
+    if (!in || !m_active) return;
+    const Rect rect = m_context.region->bounds(in->width(), in->height());
+    const denoise::Filter* f = &denoise::findFilter(filter());
+    const denoise::ParamValues values = m_controls->values();
+    m_state->setText(tr("Previewing…"));
+    m_tasks.run<Image>(
+        QStringLiteral("preview"),
+        [in, f, values, rect](const TaskRunner::CancelFlag& cancel) {
+            denoise::FilterOptions o;
+            o.region = rect;
+            o.progress = [cancel](double) { return !cancel->load(); };
+            return denoise::applyFilter(*f, *in, values, o);
+        },
+        [this, rect](Image preview) {
+            if (!m_active) return;
+            m_context.viewer->canvas()->setPreview(preview, rect);
+            m_state->clear();
+            m_previewReady = true;
+            emit previewShown();
+        },
+        [this](const QString& message) { m_state->setText(message); });
+}
+
+}  // namespace glint::studio

@@ -1,0 +1,93 @@
+// The viewer: the image canvas with tev's viewing controls — channel, exposure, offset,
+// sRGB/linear/false colour, fit and 1:1, A/B flip and wipe against the reference, error images —
+// and the pixel read-out of every layer under the cursor.
+#pragma once
+
+#include <QWidget>
+
+#include <optional>
+
+#include "glint/image/image.h"
+#include "model/document.h"
+#include "model/session_adapter.h"
+#include "views/image_canvas.h"
+
+class QComboBox;
+class QDoubleSpinBox;
+class QSlider;
+class QToolButton;
+class QCheckBox;
+
+namespace glint::studio {
+
+class Viewer : public QWidget {
+    Q_OBJECT
+  public:
+    /// What the canvas shows.
+    enum class Channel {
+        Result,  ///< the composite (the render while it refines, or without a session)
+        Render,  ///< the render's colour, unfiltered
+        Albedo,
+        Normal,
+        Depth,  ///< histogram-equalised
+        ColorVariance,
+        AlbedoVariance,
+        NormalVariance,
+        DepthVariance,
+        SampleCount,
+        Reference,
+        ErrorAbsolute,  ///< |result − reference|
+        ErrorSquared,   ///< (result − reference)²
+        ErrorRelative   ///< |result − reference| / (reference + 0.01)
+    };
+
+    Viewer(Document* document, SessionAdapter* session, QWidget* parent = nullptr);
+
+    ImageCanvas* canvas() { return m_canvas; }
+    Channel channel() const { return m_channel; }
+    void setChannel(Channel channel);
+    /// The image the Result channel shows now (composite, or the render).
+    const Image* resultImage() const;
+    /// Redraws from the model.
+    void refresh();
+    /// Shows the reference instead of the result while `on` (the A/B flip key).
+    void setFlipped(bool on);
+    void toggleFlip();
+    void setWipe(bool on);
+    void setExposure(double stops);
+    double exposure() const;
+    void setDisplayMode(DisplayMode mode);
+    /// The read-out of the pixel under the cursor (empty outside the image).
+    QString readout() const { return m_readout; }
+
+  signals:
+    void readoutChanged(const QString& text);
+    void channelChanged(glint::studio::Viewer::Channel channel);
+
+  private:
+    void onCompositeChanged(const Rect& rect);
+    void updateReadout(int x, int y);
+    void applyDisplay();
+    bool showingComposite() const;
+    void updateCompare();
+
+    Document* m_document;
+    SessionAdapter* m_session;
+    ImageCanvas* m_canvas;
+    QComboBox* m_channelBox;
+    QDoubleSpinBox* m_exposure;
+    QDoubleSpinBox* m_offset;
+    QComboBox* m_mode;
+    QToolButton* m_flip;
+    QCheckBox* m_wipeBox;
+    QSlider* m_wipe;
+    Channel m_channel = Channel::Result;
+    Image m_shown;  // the linear image on the canvas when it is not the composite itself
+    QString m_readout;
+    int m_hoverX = -1, m_hoverY = -1;
+};
+
+/// The name of a viewer channel, for menus.
+QString channelName(Viewer::Channel channel);
+
+}  // namespace glint::studio

@@ -1,0 +1,180 @@
+// The screenshot tour: scenes/cornell through every stage of the workflow, one PNG of the whole
+// window per stage, written to the folder given (build/screenshots/ under ctest; docs/images/
+// holds reduced copies). Fails when a screenshot cannot be written or shows a blank canvas.
+//   studio_screenshots OUT_DIR [--docs DOCS_DIR]
+// With --docs, reduced copies (720 px wide, 8-bit palette) of the screenshots docs/studio.md shows
+// are written to DOCS_DIR as studio-NAME.png.
+#include <QApplication>
+#include <QCheckBox>
+#include <QDir>
+#include <QImage>
+#include <QPixmap>
+#include <QStandardPaths>
+#include <QTemporaryDir>
+#include <QTest>
+
+#include <cstdio>
+#include <cstring>
+
+#include "studio_fixture.h"
+#include "views/compare_view.h"
+#include "views/image_canvas.h"
+#include "views/look_panel.h"
+#include "views/navigate_view.h"
+#include "views/paint_view.h"
+#include "views/tune_view.h"
+#include "views/viewer.h"
+
+using namespace glint;
+using namespace glint::studio;
+using namespace glint::studio::testing;
+
+namespace {
+
+int g_failures = 0;
+QString g_docs;  // where reduced copies go (empty: none)
+
+// The screenshots docs/studio.md shows.
+const QStringList kDocumented = {QStringLiteral("01-open"),   QStringLiteral("02-look"),
+                                 QStringLiteral("04-region"), QStringLiteral("06-navigate"),
+                                 QStringLiteral("07-paint"),  QStringLiteral("09-compare"),
+                                 QStringLiteral("11-help")};
+
+// The spread of grey levels inside the canvas: 0 for a blank canvas.
+double canvasSpread(MainWindow& w) {
+    const QImage image = w.viewer()->canvas()->grab().toImage();
+    double lo = 255, hi = 0;
+    for (int y = 0; y < image.height(); y += 4)
+        for (int x = 0; x < image.width(); x += 4) {
+            const double g = qGray(image.pixel(x, y));
+            lo = std::min(lo, g);
+            hi = std::max(hi, g);
+        }
+    return hi - lo;
+}
+
+void shoot(MainWindow& w, const QString& folder, const QString& name) {
+    for (int i = 0; i < 20; ++i) {
+        QCoreApplication::processEvents();
+        QTest::qWait(10);
+    }
+    const QString path = QDir(folder).filePath(name + QStringLiteral(".png"));
+    const QImage shot = w.grab().toImage();
+    const bool saved = shot.save(path);
+    if (!g_docs.isEmpty() && kDocumented.contains(name)) {
+        const QImage small = shot.scaledToWidth(720, Qt::SmoothTransformation)
+                                 .convertToFormat(QImage::Format_Indexed8, Qt::DiffuseDither);
+        if (!small.save(QDir(g_docs).filePath(QStringLiteral("studio-%1.png").arg(name))))
+            ++g_failures;
+    }
+    const double spread = canvasSpread(w);
+    std::printf("%s %s (canvas spread %.0f)\n", saved ? "wrote" : "FAILED to write",
+                qPrintable(path), spread);
+    if (!saved || spread < 20.0) ++g_failures;
+}
+
+void drag(ImageCanvas* canvas, const QVector<QPointF>& path) {
+    auto at = [&](const QPointF& p) { return canvas->toWidget(p).toPoint(); };
+    QTest::mousePress(canvas, Qt::LeftButton, {}, at(path.first()));
+    for (qsizetype i = 1; i < path.size(); ++i) QTest::mouseMove(canvas, at(path[i]), 2);
+    QTest::mouseRelease(canvas, Qt::LeftButton, {}, at(path.last()));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    QApplication app(argc, argv);
+    QApplication::setOrganizationName(QStringLiteral("GlintTests"));
+    QStandardPaths::setTestModeEnabled(true);
+    if (argc != 2 && !(argc == 4 && std::strcmp(argv[2], "--docs") == 0)) {
+        std::fprintf(stderr, "usage: studio_screenshots OUT_DIR [--docs DOCS_DIR]\n");
+        return 2;
+    }
+    if (argc == 4) g_docs = QString::fromLocal8Bit(argv[3]);
+    const QString out = QString::fromLocal8Bit(argv[1]);
+    QDir().mkpath(out);
+    QTemporaryDir tmp;
+    auto w = makeWindow(tmp.filePath(QStringLiteral("autosave")));
+    w->resize(1500, 900);
+    const QString scene = QDir(sourceDir()).filePath(QStringLiteral("scenes/cornell/scene.json"));
+
+    // 1. Open: the render refines and lands.
+    w->openFile(scene);
+    if (!waitIdle(*w)) return 3;
+    shoot(*w, out, QStringLiteral("01-open"));
+
+    // 2. Look: a wall turns blue; the image renders again.
+    std::string wall;
+    for (const auto& item : w->document()->look())
+        for (const auto& p : item.properties)
+            if (p.name == "albedo" && !item.light && wall.empty()) wall = item.name;
+    const FramePtr before = w->document()->finishedFrame();
+    w->lookPanel()->edit(wall, "albedo", {0.15, 0.3, 0.8});
+    waitFor([&] { return w->document()->finishedFrame() != before; });
+    waitIdle(*w);
+    shoot(*w, out, QStringLiteral("02-look"));
+
+    // 3. Features: the normals.
+    w->setStage(0);
+    w->viewer()->setChannel(Viewer::Channel::Normal);
+    shoot(*w, out, QStringLiteral("03-features"));
+
+    // 4. Region: a lasso around the back wall and the boxes.
+    w->setStage(1);
+    drag(w->viewer()->canvas(),
+         {{40, 40}, {210, 36}, {222, 150}, {180, 210}, {60, 214}, {34, 120}});
+    shoot(*w, out, QStringLiteral("04-region"));
+
+    // 5. Tune: a bilateral filter previewed inside the region.
+    w->setStage(2);
+    w->tuneView()->setFilter("bilateral");
+    waitFor([&] { return w->tuneView()->previewReady(); });
+    shoot(*w, out, QStringLiteral("05-tune"));
+
+    // 6. Navigate: the bank's four previews, one hovered.
+    w->navigateView()->setBankSize(24);
+    w->setStage(2, true);
+    waitFor([&] { return w->navigateView()->ready(); }, 120000);
+    w->navigateView()->hoverOption(1);
+    shoot(*w, out, QStringLiteral("06-navigate"));
+
+    // 7. Paint: the chosen filter painted on with strokes, the change map shown.
+    w->navigateView()->chooseOption(0);
+    w->navigateView()->same();
+    w->navigateView()->choose(false);
+    waitFor(
+        [&] { return w->session()->hasSession() && w->session()->session().layerCount() == 1; });
+    w->paintView()->setBrushSize(40.0);
+    drag(w->viewer()->canvas(), {{60, 80}, {120, 90}, {190, 80}});
+    drag(w->viewer()->canvas(), {{70, 150}, {130, 170}, {190, 150}});
+    QTest::mouseMove(w->viewer()->canvas(),
+                     w->viewer()->canvas()->toWidget(QPointF(128, 120)).toPoint());
+    shoot(*w, out, QStringLiteral("07-paint"));
+    if (auto* change = w->paintView()->findChild<QCheckBox*>()) change->setChecked(true);
+    shoot(*w, out, QStringLiteral("08-change-map"));
+    if (auto* change = w->paintView()->findChild<QCheckBox*>()) change->setChecked(false);
+
+    // 8. Compare: a 256-spp reference rendered in the background, a wipe, the metrics and plot.
+    w->document()->renderReference(256);
+    waitFor([&] { return w->document()->reference() != nullptr; }, 120000);
+    w->document()->render();  // a render against the reference draws the convergence plot
+    waitIdle(*w);
+    w->viewer()->setWipe(true);
+    waitFor([&] { return w->compareView()->measurement().haveReference; });
+    shoot(*w, out, QStringLiteral("09-compare"));
+    w->viewer()->setWipe(false);
+    w->viewer()->setChannel(Viewer::Channel::ErrorRelative);
+    w->viewer()->setDisplayMode(DisplayMode::FalseColor);
+    shoot(*w, out, QStringLiteral("10-error"));
+    w->viewer()->setDisplayMode(DisplayMode::Srgb);
+    w->viewer()->setChannel(Viewer::Channel::Result);
+
+    // 9. The shortcut sheet.
+    QTest::keyClick(w.get(), Qt::Key_F1);
+    shoot(*w, out, QStringLiteral("11-help"));
+    QTest::keyClick(w.get(), Qt::Key_F1);
+
+    w->close();
+    std::printf("%d screenshot(s) failed\n", g_failures);
+    return g_failures == 0 ? 0 : 1;
+}

@@ -1,0 +1,196 @@
+// The studio's speed, instrumented (docs/studio.md, "Speed"): time from opening scenes/cornell
+// to the first image on screen; from a look change to the denoised new image on screen (16 spp,
+// one layer applied everywhere); from a brush dab to the screen at 1024×1024; and the longest
+// time the UI thread was busy in each phase (a 2 ms timer that fires late tells). Prints a table
+// and one JSON object.
+//   QT_QPA_PLATFORM=offscreen build/bin/bench_studio [--repeats N]
+#include <QApplication>
+#include <QElapsedTimer>
+#include <QStandardPaths>
+#include <QTemporaryDir>
+#include <QTest>
+#include <QTimer>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <vector>
+
+#include "../gui/studio_fixture.h"
+#include "glint/image/io.h"
+#include "glint/render/renderer.h"
+#include "glint/render/scene.h"
+#include "views/image_canvas.h"
+#include "views/look_panel.h"
+#include "views/paint_view.h"
+#include "views/tune_view.h"
+#include "views/viewer.h"
+
+using namespace glint;
+using namespace glint::studio;
+using namespace glint::studio::testing;
+
+namespace {
+
+// The longest gap between the ticks of a 2 ms timer on the UI thread, minus the period: how long
+// the UI thread was busy without returning to its event loop.
+class StallMonitor : public QObject {
+  public:
+    StallMonitor() {
+        m_timer.setInterval(2);
+        m_timer.setTimerType(Qt::PreciseTimer);
+        connect(&m_timer, &QTimer::timeout, this, [this] {
+            const double now = double(m_clock.nsecsElapsed()) * 1e-6;
+            if (m_last >= 0.0) m_worst = std::max(m_worst, now - m_last - 2.0);
+            m_last = now;
+        });
+    }
+    void start() {
+        m_worst = 0.0;
+        m_last = -1.0;
+        m_clock.start();
+        m_timer.start();
+    }
+    double stop() {
+        m_timer.stop();
+        return std::max(0.0, m_worst);
+    }
+
+  private:
+    QTimer m_timer;
+    QElapsedTimer m_clock;
+    double m_last = -1.0, m_worst = 0.0;
+};
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+double maximum(const std::vector<double>& v) {
+    return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
+}
+
+// Milliseconds until `done()` holds and the canvas has painted since.
+double untilPainted(MainWindow& w, const QElapsedTimer& t, const std::function<bool()>& done) {
+    bool painted = false;
+    auto c =
+        QObject::connect(w.viewer()->canvas(), &ImageCanvas::painted, [&] { painted = done(); });
+    waitFor([&] { return painted; }, 60000);
+    QObject::disconnect(c);
+    return double(t.nsecsElapsed()) * 1e-6;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    QApplication app(argc, argv);
+    QApplication::setOrganizationName(QStringLiteral("GlintBench"));
+    QStandardPaths::setTestModeEnabled(true);
+    int repeats = 7;
+    for (int i = 1; i + 1 < argc; ++i)
+        if (std::strcmp(argv[i], "--repeats") == 0) repeats = std::max(1, std::atoi(argv[i + 1]));
+    QTemporaryDir tmp;
+    StallMonitor monitor;
+    const QString cornell = QDir(sourceDir()).filePath(QStringLiteral("scenes/cornell/scene.json"));
+
+    // 1. Open scenes/cornell: the first pass on screen, then the 16-spp render and its session.
+    auto w = makeWindow(tmp.filePath(QStringLiteral("autosave")));
+    w->resize(1400, 900);
+    QTest::qWait(200);
+    monitor.start();
+    QElapsedTimer t;
+    t.start();
+    w->openFile(cornell);
+    const double firstImage =
+        untilPainted(*w, t, [&] { return w->viewer()->canvas()->hasImage(); });
+    waitIdle(*w);
+    const double fullRender = double(t.nsecsElapsed()) * 1e-6;
+    const double openStall = monitor.stop();
+
+    // 2. Look changes with one layer (bilateral, weight 1 everywhere) to re-apply each time.
+    w->setStage(2);
+    w->tuneView()->setFilter("bilateral");
+    w->tuneView()->choose(true);
+    waitFor([&] { return w->session()->session().layerCount() == 1; });
+    waitIdle(*w);
+    std::string wall;
+    for (const auto& item : w->document()->look())
+        for (const auto& p : item.properties)
+            if (p.name == "albedo" && !item.light && wall.empty()) wall = item.name;
+    std::vector<double> lookTimes;
+    monitor.start();
+    for (int r = 0; r < repeats; ++r) {
+        const FramePtr before = w->document()->finishedFrame();
+        t.restart();
+        w->lookPanel()->edit(wall, "albedo", {0.2 + 0.1 * (r % 7), 0.5, 0.4});
+        lookTimes.push_back(untilPainted(*w, t, [&] {
+            FramePtr now = w->document()->finishedFrame();
+            return now != before && w->session()->input() == now && !w->session()->busy();
+        }));
+    }
+    const double lookStall = monitor.stop();
+
+    // 3. Dabs on a 1024×1024 render with one layer, brush 64 px, the image fitted to the window.
+    const QString big = tmp.filePath(QStringLiteral("big.exr"));
+    {
+        const QString scene = writeCornell(tmp.filePath(QStringLiteral("big")), 1024, 1024, 1);
+        render::Renderer renderer(render::loadScene(scene.toStdString()));
+        render::Settings s = renderer.scene().settings();
+        s.spp = 1;
+        writeExr(renderer.render(s).frame, big.toStdString());
+    }
+    monitor.start();
+    w->openFile(big);
+    waitIdle(*w);
+    w->setStage(2);
+    w->tuneView()->setFilter("gaussian");
+    w->tuneView()->choose(false);
+    waitFor([&] { return w->session()->session().layerCount() == 1; });
+    waitIdle(*w);
+    const double bigStall = monitor.stop();
+    w->setStage(3);
+    w->paintView()->setBrushSize(64.0);
+    ImageCanvas* canvas = w->viewer()->canvas();
+    QTest::qWait(100);
+    std::vector<double> dabTimes;
+    monitor.start();
+    for (int stroke = 0; stroke < 4; ++stroke) {
+        const double y = 200.0 + 200.0 * stroke;
+        QTest::mousePress(canvas, Qt::LeftButton, {}, canvas->toWidget(QPointF(100, y)).toPoint());
+        for (int k = 1; k <= 50; ++k) {
+            // Each move is 16 px: one dab of the 64-px brush.
+            const QPoint at = canvas->toWidget(QPointF(100 + 16.0 * k, y)).toPoint();
+            t.restart();
+            QTest::mouseMove(canvas, at, 0);
+            dabTimes.push_back(untilPainted(*w, t, [] { return true; }));
+        }
+        QTest::mouseRelease(canvas, Qt::LeftButton, {},
+                            canvas->toWidget(QPointF(900, y)).toPoint());
+    }
+    const double dabStall = monitor.stop();
+
+    std::printf("Glint Studio, %s platform, 2 threads of this machine\n",
+                qPrintable(QGuiApplication::platformName()));
+    std::printf("%-58s %10s %10s\n", "what", "median", "max");
+    std::printf("%-58s %8.0f ms %8s\n", "open scenes/cornell -> first image on screen", firstImage,
+                "");
+    std::printf("%-58s %8.0f ms %8s\n", "open scenes/cornell -> 16-spp render and session ready",
+                fullRender, "");
+    std::printf("%-58s %8.0f ms %7.0f ms\n", "look change -> denoised new image on screen (16 spp)",
+                median(lookTimes), maximum(lookTimes));
+    std::printf("%-58s %8.1f ms %7.1f ms\n", "brush dab -> screen, 1024x1024, brush 64 px",
+                median(dabTimes), maximum(dabTimes));
+    std::printf("%-58s %8.0f ms / %.0f ms / %.0f ms / %.0f ms\n",
+                "longest UI-thread stall: open / look / 1024^2 open+layer / paint", openStall,
+                lookStall, bigStall, dabStall);
+    std::printf(
+        "{\"firstImageMs\": %.1f, \"renderReadyMs\": %.1f, \"lookMedianMs\": %.1f, \"lookMaxMs\": "
+        "%.1f, "
+        "\"dabMedianMs\": %.2f, \"dabMaxMs\": %.2f, \"stallOpenMs\": %.1f, \"stallLookMs\": %.1f, "
+        "\"stallBigOpenMs\": %.1f, \"stallPaintMs\": %.1f}\n",
+        firstImage, fullRender, median(lookTimes), maximum(lookTimes), median(dabTimes),
+        maximum(dabTimes), openStall, lookStall, bigStall, dabStall);
+    w->close();
+    return 0;
+}
