@@ -15,6 +15,8 @@
 
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
+#include "glint/image/io.h"
+#include "glint/render/scene.h"
 #include "studio_fixture.h"
 #include "views/help_overlay.h"
 #include "views/image_canvas.h"
@@ -336,6 +338,60 @@ class StudioTest : public QObject {
         // Still alive: a good scene opens after all that.
         w->openFile(m_scene);
         QVERIFY(waitIdle(*w));
+    }
+
+    void editingTheSceneFileOnDiskRendersAgain() {
+        const QString folder = m_dir.filePath(QStringLiteral("watched"));
+        const QString scene = writeCornell(folder, 64, 48, 4);
+        auto w = makeWindow(m_dir.filePath(QStringLiteral("autosave4")));
+        w->openFile(scene);
+        QVERIFY(waitIdle(*w));
+        const FramePtr before = w->document()->finishedFrame();
+        // A text editor makes the light stronger.
+        QFile f(scene);
+        QVERIFY(f.open(QIODevice::ReadOnly));
+        QByteArray json = f.readAll();
+        f.close();
+        json.replace("[17, 12, 4]", "[34, 24, 8]");
+        QVERIFY(f.open(QIODevice::WriteOnly | QIODevice::Truncate));
+        f.write(json);
+        f.close();
+        QVERIFY(waitFor([&] { return w->document()->finishedFrame() != before; }));
+        QVERIFY(waitIdle(*w));
+        QVERIFY(sum(w->document()->finishedFrame()->color()) > 1.5 * sum(before->color()));
+    }
+
+    void exportsTheResultAndSavesTheScene() {
+        auto w = openScene();
+        QVERIFY(w);
+        QVERIFY(addGaussian(*w, true));
+        const std::filesystem::path exr =
+            m_dir.filePath(QStringLiteral("out/result.exr")).toStdString();
+        const std::filesystem::path png =
+            m_dir.filePath(QStringLiteral("out/result.png")).toStdString();
+        std::filesystem::create_directories(exr.parent_path());
+        w->session()->session().exportExr(exr);
+        w->session()->session().exportPng(png);
+        const FrameBuffers back = readExr(exr);
+        QVERIFY(sameBits(back.color(), w->session()->session().composite()));
+        QVERIFY(back.has(Layer::Albedo));
+        QCOMPARE(readImage(png).width(), 64);
+        // The look edit is written back as JSON and loads again with the new value.
+        const std::string material = firstAlbedoMaterial(*w->document());
+        w->lookPanel()->edit(material, "albedo", {0.25, 0.5, 0.75});
+        const QString saved = m_dir.filePath(QStringLiteral("out/scene.json"));
+        w->document()->saveScene(saved);
+        QVERIFY(waitFor([&] { return QFileInfo::exists(saved); }));
+        QVERIFY(waitIdle(*w));
+        const render::Scene reloaded = render::loadScene(saved.toStdString());
+        bool found = false;
+        for (const auto& item : reloaded.look())
+            for (const auto& p : item.properties)
+                if (item.name == material && p.name == "albedo") {
+                    found = true;
+                    QCOMPARE(p.value[2], 0.75);
+                }
+        QVERIFY(found);
     }
 
     void aRenderRegionRendersOnlyItsPixels() {
