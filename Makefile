@@ -12,7 +12,7 @@ DEB_PACKAGES := build-essential cmake ninja-build pkg-config \
 # qt6-base-dev (with libgl-dev, which Qt6Gui's CMake config asks for) builds the studio (gui/);
 # xvfb, xauth and fonts-dejavu-core run its screenshot test in a real X server.
 
-.PHONY: all deps build test clean demo bench bench-deps fuzz studio
+.PHONY: all deps build test clean demo bench bench-deps fuzz studio test-sanitize
 
 all: build
 
@@ -42,6 +42,18 @@ bench-deps:
 bench: build bench-deps
 	./tests/perf/run_all.sh $(BUILD_DIR)
 
+# The unit tests under AddressSanitizer + UndefinedBehaviorSanitizer in build-sanitize/
+# (docs/numerics.md, "Sanitizers"); sanitizer options and the reason for each live in
+# tests/sanitize.env, the one leak suppression (libdbus, not Glint) and its reason in
+# tests/lsan.supp.
+SANITIZE_DIR ?= build-sanitize
+test-sanitize: deps
+	@test -f $(SANITIZE_DIR)/CMakeCache.txt || cmake -S . -B $(SANITIZE_DIR) -G "$(CMAKE_GENERATOR)" \
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGLINT_SANITIZE=ON -DGLINT_BUILD_BENCHMARKS=OFF
+	cmake --build $(SANITIZE_DIR) -j $(JOBS)
+	set -a && . tests/sanitize.env && LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp && \
+	  cd $(SANITIZE_DIR) && ctest --output-on-failure -j $(JOBS)
+
 # Fuzzing (docs/reliability.md): clang + libFuzzer + ASan/UBSan in build-fuzz/, each target for
 # FUZZ_SECONDS (default 600, as each was run before its issue was resolved).
 FUZZ_SECONDS ?= 600
@@ -53,4 +65,4 @@ fuzz: deps
 	./tests/fuzz/run.sh build-fuzz $(FUZZ_SECONDS)
 
 clean:
-	rm -rf $(BUILD_DIR) build-fuzz out
+	rm -rf $(BUILD_DIR) build-fuzz $(SANITIZE_DIR) out

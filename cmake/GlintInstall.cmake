@@ -3,6 +3,13 @@
 # package config finds their private dependencies (TBB, OpenImageIO, Embree, tinyobjloader).
 include(CMakePackageConfigHelpers)
 
+# Libraries built with sanitizers (make test-sanitize) need the sanitizer runtimes in whatever
+# links them: the installed targets carry the link option.
+if(GLINT_SANITIZE)
+  foreach(lib glint_image glint_render glint_denoise)
+    target_link_options(${lib} INTERFACE -fsanitize=address,undefined)
+  endforeach()
+endif()
 install(TARGETS glint_image glint_render glint_denoise
         EXPORT GlintTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}

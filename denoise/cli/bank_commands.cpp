@@ -17,6 +17,7 @@
 #include "glint/denoise/registry.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
+#include "glint/image/memory.h"
 #include "glint/image/metrics.h"
 
 namespace glint::denoise::cli {
@@ -59,7 +60,7 @@ std::string memberText(const FilterBank& bank, int m) {
 // ---- bank ------------------------------------------------------------------------------------
 
 struct BankArgs {
-    std::string input, out, filters, roi;
+    std::string input, out, filters, roi, memoryLimit;
     int size = 64;
     std::uint64_t seed = 1;
     bool prefilter = false, json = false;
@@ -72,6 +73,8 @@ void runBank(const BankArgs& a) {
     options.seed = a.seed;
     options.filters = splitList(a.filters);
     options.prefilter = a.prefilter;
+    if (!a.memoryLimit.empty())
+        options.memoryLimit = parseMemorySize(a.memoryLimit, "--memory-limit");
     options.prefilterParams =
         parseParams(a.prefilterParams, prefilterParams(), "feature prefilter", "--prefilter-param");
     if (!a.prefilterParams.empty() && !a.prefilter)
@@ -288,6 +291,9 @@ std::vector<Command> addBankCommands(CLI::App& app) {
     bankCmd->add_flag("--prefilter", bank->prefilter, "Build on prefiltered features");
     bankCmd->add_option("--prefilter-param", bank->prefilterParams, "Prefilter parameter k=v");
     bankCmd->add_option("--roi", bank->roi, "Only this region x0,x1,y0,y1 (half-open)");
+    bankCmd->add_option("--memory-limit", bank->memoryLimit,
+                        "Refuse a bank needing more memory than this (e.g. 2G; default: what is "
+                        "available)");
     bankCmd->add_flag("--json", bank->json, "Print one JSON object on stdout");
 
     auto orc = std::make_shared<OracleArgs>();

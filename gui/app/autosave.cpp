@@ -8,6 +8,7 @@
 #include <QJsonArray>
 #include <QStandardPaths>
 #include <QTimer>
+#include <memory>
 
 #include <signal.h>
 #include <unistd.h>
@@ -90,11 +91,14 @@ int Autosave::restore(const QString& folder, Document* document, bool* complete)
                 return std::array<double, 3>{a.at(0).toDouble(), a.at(1).toDouble(),
                                              a.at(2).toDouble()};
             };
-            m_session->undoStack()->push(
-                new LookCommand(document, m_session,
-                                entry.op.value(QStringLiteral("item")).toString().toStdString(),
-                                entry.op.value(QStringLiteral("property")).toString().toStdString(),
-                                array("before"), array("after"), false));
+            // A refused value throws from push() before the stack owns the command.
+            auto command = std::make_unique<LookCommand>(
+                document, m_session,
+                entry.op.value(QStringLiteral("item")).toString().toStdString(),
+                entry.op.value(QStringLiteral("property")).toString().toStdString(),
+                array("before"), array("after"), false);
+            m_session->undoStack()->push(command.get());
+            command.release();
         } else if (op == QStringLiteral("undo")) {
             m_session->undoStack()->undo();
         } else if (op == QStringLiteral("redo")) {

@@ -86,7 +86,9 @@ SessionAdapter::SessionAdapter(QObject* parent) : QObject(parent) {
 }
 
 SessionAdapter::~SessionAdapter() {
-    // Commands point at this adapter: drop them first.
+    // Commands point at this adapter: drop them first, silently: the window listening to the
+    // stack's signals may be half destroyed already (UBSan caught a call into it).
+    m_undo.blockSignals(true);
     m_undo.clear();
 }
 

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "glint/image/error.h"
 #include "glint/image/io.h"
@@ -67,9 +68,12 @@ void LookPanel::edit(const std::string& item, const std::string& property,
     try {
         const std::array<double, 3> before = m_document->lookValue(item, property);
         if (before == value) return;
-        // Validate before pushing: a refused value must not become an undo step.
-        auto* command = new LookCommand(m_document, m_session, item, property, before, value);
-        m_session->undoStack()->push(command);
+        // push() runs the command's redo first, which throws for a refused value before the
+        // stack changes: the command is then ours to delete (LeakSanitizer caught it leaking).
+        auto command =
+            std::make_unique<LookCommand>(m_document, m_session, item, property, before, value);
+        m_session->undoStack()->push(command.get());
+        command.release();
     } catch (const Error& e) {
         emit failed(tr("The scene refused the change"), QString::fromStdString(e.what()));
         refreshValues();

@@ -12,6 +12,7 @@
 #include <exception>
 #include <filesystem>
 #include <initializer_list>
+#include <new>
 #include <optional>
 #include <string>
 #include <vector>
@@ -118,6 +119,10 @@ int runGuarded(const char* tool, Body&& body) {
     } catch (const Error& e) {
         std::fprintf(stderr, "%s: %s\n", tool, e.what());
         return e.kind() == ErrorKind::Internal ? 1 : 2;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "%s: out of memory: the work needs more memory than is available\n",
+                     tool);
+        return 2;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "%s: internal error: %s\n", tool, e.what());
         return 1;

@@ -14,6 +14,8 @@ const char* errorKindName(ErrorKind kind) {
             return "numeric";
         case ErrorKind::Cancelled:
             return "cancelled";
+        case ErrorKind::OutOfMemory:
+            return "out-of-memory";
         case ErrorKind::Internal:
             return "internal";
     }

@@ -16,6 +16,7 @@
 
 #include "glint/image/error.h"
 #include "glint/image/io.h"
+#include "glint/image/memory.h"
 #include "glint/image/metrics.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
@@ -26,7 +27,7 @@ namespace {
 using glint::render::Settings;
 
 struct Options {
-    std::string scene, out, reference;
+    std::string scene, out, reference, memoryLimit;
     std::optional<int> spp, threads, maxDepth, rrDepth;
     std::optional<std::string> seed;  // parsed strictly: "-1" must not wrap to 2^64 - 1
     std::optional<std::string> integrator, mis, strategy, sampler;
@@ -123,6 +124,8 @@ int run(const Options& opt) {
                            "--strategy applies only with --mis none", "command line", "--strategy");
     settings.timeLimit = opt.timeLimit;
     settings.positionLayer = opt.position;
+    if (!opt.memoryLimit.empty())
+        settings.memoryLimit = glint::parseMemorySize(opt.memoryLimit, "--memory-limit");
     glint::render::MltSettings& mlt = settings.mlt;
     if (opt.mltLarge) mlt.largeStep = *opt.mltLarge;
     if (opt.mltSmall) mlt.smallStep = *opt.mltSmall;
@@ -274,6 +277,9 @@ int main(int argc, char** argv) {
                    "seconds, 0 … 1e7: render passes until time runs out (at least 1 spp)");
     app.add_option("--reference", opt.reference, "reference EXR: print relMSE and SSIM per pass");
     app.add_flag("--position", opt.position, "also write the world-space position layer");
+    app.add_option("--memory-limit", opt.memoryLimit,
+                   "refuse a render needing more memory than this (e.g. 2G; default: what is "
+                   "available)");
     app.add_flag("--json", opt.json, "print one JSON object on stdout");
     app.add_option("--mlt-large", opt.mltLarge, "mlt: weight of large steps");
     app.add_option("--mlt-small", opt.mltSmall, "mlt: weight of small steps");

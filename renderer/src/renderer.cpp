@@ -18,6 +18,7 @@
 #include "embree/embree_scene.h"
 #include "film/film.h"
 #include "glint/image/error.h"
+#include "glint/image/memory.h"
 #include "integrators/mlt_integrator.h"
 #include "integrators/path_integrator.h"
 #include "integrators/render_loop.h"
@@ -217,6 +218,24 @@ RenderResult renderPath(const detail::SceneData& data, const EmbreeScene& embree
 
 }  // namespace
 
+std::uint64_t Renderer::estimateMemory(const Settings& settings) const {
+    const detail::SceneData& data = m_scene.data();
+    const std::uint64_t pixels = std::uint64_t(data.width) * std::uint64_t(data.height);
+    // A resolved frame: every layer but the optional position, 4-byte floats.
+    std::uint64_t frameChannels = 0;
+    for (int l = 0; l < kLayerCount; ++l)
+        if (Layer(l) != Layer::Position || settings.positionLayer)
+            frameChannels += std::uint64_t(layerInfo(Layer(l)).channels);
+    const std::uint64_t frame = frameChannels * sizeof(float);
+    // The film, the frame it resolves to, and the copy a pass observer may be handed.
+    std::uint64_t perPixel = Film::bytesPerPixel() + 2 * frame;
+    if (settings.integrator == Integrator::Mlt) {
+        // The feature frame kept beside the colour, and each group's splats (3 doubles).
+        perPixel += frame + std::uint64_t(std::max(settings.mlt.groups, 1)) * 3 * sizeof(double);
+    }
+    return saturatingMul(pixels, perPixel);
+}
+
 RenderResult Renderer::render(const Settings& settings, const Callbacks& callbacks) {
     validate(settings);
     const detail::SceneData& data = m_scene.data();
@@ -226,6 +245,11 @@ RenderResult Renderer::render(const Settings& settings, const Callbacks& callbac
                     "the render region lies outside the " + std::to_string(data.width) + "x" +
                         std::to_string(data.height) + " film",
                     {}, "region");
+    // Refuse a frame the machine cannot hold before allocating any of it.
+    checkMemory(estimateMemory(settings), settings.memoryLimit,
+                "a " + std::to_string(data.width) + "x" + std::to_string(data.height) + " " +
+                    integratorName(settings.integrator) + " render",
+                data.path.string(), "/film");
     // Look edits since the last render: rebuild the lights, keep the BVH.
     if (data.lookRevision != m_impl->lookRevision) {
         m_impl->lights = LightSampler(data);

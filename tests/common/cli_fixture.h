@@ -51,10 +51,13 @@ class CliFixture : public ::testing::Test {
     }
 
     /// Runs `binary args` through the shell (args are not quoted: keep paths free of spaces).
-    RunResult run(const std::string& args) const {
+    RunResult run(const std::string& args) const { return run({}, args); }
+
+    /// The same with environment assignments (e.g. "GLINT_MEMORY_LIMIT=1M") before the binary.
+    RunResult run(const std::string& env, const std::string& args) const {
         const std::filesystem::path out = m_dir / "stdout.txt", err = m_dir / "stderr.txt";
-        const std::string cmd =
-            m_binary.string() + " " + args + " >" + out.string() + " 2>" + err.string();
+        const std::string cmd = (env.empty() ? "" : env + " ") + m_binary.string() + " " + args +
+                                " >" + out.string() + " 2>" + err.string();
         const int status = std::system(cmd.c_str());
         RunResult r;
         r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

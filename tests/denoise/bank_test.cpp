@@ -299,5 +299,32 @@ TEST(Bank, ProgressCountsMembersAndCanStopTheBuild) {
     }
 }
 
+TEST(Bank, ABankBiggerThanTheBudgetIsRefusedBeforeAnyMemberIsComputed) {
+    // 4096 members (plus defaults) over 256×256: 4096 × 768 KiB ≈ 3 GiB of results, refused
+    // under a 1 GiB budget without computing a member (progress is never asked).
+    const FrameBuffers frame = testing::syntheticFrame(256, 256);
+    BankOptions o;
+    o.size = kMaxBankSize;
+    o.memoryLimit = std::uint64_t(1) << 30;
+    const std::uint64_t estimate = estimateMemory(frame, o);
+    EXPECT_GT(estimate, std::uint64_t(kMaxBankSize) * 256 * 256 * 12);
+    EXPECT_LT(estimate,
+              std::uint64_t(kMaxBankSize + 64) * 256 * 256 * 12 + (std::uint64_t(1) << 30));
+    bool progressed = false;
+    o.progress = [&](double) { return progressed = true; };
+    try {
+        buildBank(frame, o);
+        ADD_FAILURE() << "a 3 GiB bank fit in 1 GiB";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::OutOfMemory);
+        EXPECT_NE(e.message().find("members over 256x256"), std::string::npos) << e.what();
+        EXPECT_NE(e.message().find("memory limit"), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(progressed);
+    // A region bank needs only the region's results.
+    o.region = Rect{0, 16, 0, 16};
+    EXPECT_LT(estimateMemory(frame, o), estimate / 16);
+}
+
 }  // namespace
 }  // namespace glint::denoise

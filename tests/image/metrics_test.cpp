@@ -409,6 +409,28 @@ TEST(Metrics, BadInput) {
     expectError([&] { ssim(a, a, badExposure); }, ErrorKind::InvalidArgument, {"exposure"});
 }
 
+TEST(Metrics, TinyImagesAndTheEndsOfTheFloatRange) {
+    // 1×1 and 1×N: the pixel metrics work, SSIM asks for its 11×11 window.
+    for (auto [w, h] : {std::pair{1, 1}, std::pair{1, 40}, std::pair{40, 1}}) {
+        const Image a(w, h, 3, 0.5f), b(w, h, 3, 0.6f);
+        EXPECT_NEAR(mse(a, b).value, 0.01, 1e-7);
+        EXPECT_TRUE(std::isfinite(psnr(a, b).value));
+        EXPECT_TRUE(std::isfinite(relMse(a, b).value));
+        EXPECT_THROW(ssim(a, b), Error);
+    }
+    // Accumulated in double: 1e30 values (squares 1e60, past float) and 1e-30 values (squares
+    // below the smallest float) give the exact relative error: 1 % off is relMSE
+    // 1e-4 / (1 + 0.01 / r²), r the reference (pbrt's 0.01 guards dark pixels).
+    for (float scale : {1e-30f, 1.0f, 1e30f}) {
+        const Image ref(32, 32, 3, 1.0f * scale), img(32, 32, 3, 1.01f * scale);
+        const double r = relMse(img, ref).value;
+        const double reference = double(1.0f * scale);
+        EXPECT_NEAR(r, 1e-4 / (1.0 + 0.01 / (reference * reference)), 1e-8 + 1e-4 * r) << scale;
+        EXPECT_TRUE(std::isfinite(mse(img, ref).value)) << scale;
+        EXPECT_NEAR(ssim(img, img).value, 1.0, 1e-12) << scale;
+    }
+}
+
 TEST(Metrics, Names) {
     for (Metric metric : {Metric::Mse, Metric::RelMse, Metric::Psnr, Metric::Ssim})
         EXPECT_EQ(parseMetric(metricName(metric)), metric);

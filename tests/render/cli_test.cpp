@@ -100,5 +100,26 @@ TEST_F(RenderCli, BadInputExitsTwoNamingTheProblemAndWritesNothing) {
     }
 }
 
+TEST_F(RenderCli, ARenderOverTheMemoryLimitIsRefusedAndWritesNothing) {
+    // 24×24 needs about 220 KiB (384 bytes a pixel); a 100 KiB budget refuses it, from the
+    // option or from GLINT_MEMORY_LIMIT, before rendering.
+    RunResult r = run(path("scene.json") + " --memory-limit 100K --out " + path("m.exr"));
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(lastLine(r.err).find("/film: a 24x24 path render needs 216 KiB but only 100 KiB is "
+                                   "allowed (memory limit)"),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(path("m.exr")));
+    r = run("GLINT_MEMORY_LIMIT=100K", path("scene.json") + " --out " + path("m.exr"));
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(lastLine(r.err).find("is available on this machine"), std::string::npos) << r.err;
+    r = run(path("scene.json") + " --memory-limit lots --out " + path("m.exr"));
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(lastLine(r.err).find("--memory-limit: 'lots' is not a memory size"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(run(path("scene.json") + " --memory-limit 1M --out " + path("m.exr")).exitCode, 0);
+}
+
 }  // namespace
 }  // namespace glint::render

@@ -91,5 +91,36 @@ TEST(WhiteFurnace, ClosedEmissiveSphereSeenFromInside) {
     expectFlat(renderer.render(s).frame, 1.0f, false, 0.03);
 }
 
+TEST(WhiteFurnace, ClosedAlbedoOneEnclosureReturnsTheEmissionOncePerBounce) {
+    // Inside a closed enclosure of albedo exactly 1 emitting Le everywhere, nothing is absorbed:
+    // a path of at most D bounces collects Le at every vertex, L_D = (D + 1) Le (the infinite
+    // sum diverges, which is why maxDepth bounds it). BSDF sampling alone scores exactly that on
+    // every sample; MIS adds light samples but no bias.
+    test::TempDir dir("closed1");
+    dir.write("sphere.obj", test::sphereObj(2.0f, 12, 24));
+    const auto scenePath = dir.write("scene.json", R"({
+      "camera": {"position": [0.3, -0.2, 0.1], "lookAt": [1, 0, 0], "fovY": 70},
+      "film": {"width": 16, "height": 16},
+      "materials": {"glow": {"type": "diffuse", "albedo": [1, 1, 1], "emission": [0.5, 0.5, 0.5]}},
+      "shapes": [{"obj": "sphere.obj", "material": "glow"}]})");
+    Renderer renderer(loadScene(scenePath));
+    for (int depth : {1, 4, 16}) {
+        SCOPED_TRACE("maxDepth " + std::to_string(depth));
+        Settings s = renderer.scene().settings();
+        s.maxDepth = depth;
+        s.rrDepth = depth;  // no Russian roulette: the truncated sum is exact
+        s.spp = 16;
+        s.mis = MisHeuristic::None;
+        s.strategy = Strategy::Bsdf;
+        const float expected = 0.5f * float(depth + 1);
+        const FrameBuffers bsdf = renderer.render(s).frame;
+        for (float v : bsdf.color().data()) ASSERT_NEAR(v, expected, 1e-5f * expected);
+        // Power-heuristic MIS: light-tailed here, so the per-pixel 5σ test applies.
+        s.mis = MisHeuristic::Power;
+        s.spp = 64;
+        expectFlat(renderer.render(s).frame, expected);
+    }
+}
+
 }  // namespace
 }  // namespace glint::render

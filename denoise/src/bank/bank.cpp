@@ -1,6 +1,7 @@
 // Building a bank: the usable filters, the Latin-hypercube members, their results computed in
 // parallel (TBB, the caller's pool shared with the filters' own loops) or read from the cache.
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <atomic>
 #include <cstring>
@@ -11,6 +12,7 @@
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
 #include "glint/image/error.h"
+#include "glint/image/memory.h"
 #include "glint/image/random.h"
 
 namespace glint::denoise {
@@ -102,10 +104,8 @@ bool canRun(const FrameBuffers& frame, const BankMember& member) {
     return true;
 }
 
-}  // namespace
-
-FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options) {
-    validate(options);
+/// The region a bank covers, checked against the frame.
+Rect bankRegion(const FrameBuffers& frame, const BankOptions& options) {
     const Rect bounds{0, frame.width(), 0, frame.height()};
     const Rect region = options.region.value_or(bounds);
     if (intersect(region, bounds) != region)
@@ -115,10 +115,55 @@ FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options) {
                         ") is outside the " + std::to_string(frame.width()) + "x" +
                         std::to_string(frame.height()) + " frame",
                     {}, "--roi");
-    const std::vector<const Filter*> filters = usableFilters(frame, options);
+    return region;
+}
+
+/// The members of the bank that can run on `frame`.
+std::vector<BankMember> runnableMembers(const FrameBuffers& frame, const BankOptions& options) {
     std::vector<BankMember> members;
-    for (BankMember& m : sampleBank(filters, options.size, options.seed))
+    for (BankMember& m : sampleBank(usableFilters(frame, options), options.size, options.seed))
         if (canRun(frame, m)) members.push_back(std::move(m));
+    return members;
+}
+
+/// Bytes of a bank of `members` results over `region` of `frame` (estimateMemory).
+std::uint64_t bankBytes(const FrameBuffers& frame, const BankOptions& options, const Rect& region,
+                        std::size_t members) {
+    const std::uint64_t rgb = 3 * sizeof(float);
+    const std::uint64_t regionPixels =
+        std::uint64_t(region.width()) * std::uint64_t(region.height());
+    const std::uint64_t framePixels = std::uint64_t(frame.width()) * std::uint64_t(frame.height());
+    std::uint64_t bytes = saturatingMul(saturatingMul(members, regionPixels), rgb);
+    if (options.prefilter) {
+        std::uint64_t channels = 0;
+        for (int l = 0; l < kLayerCount; ++l)
+            if (frame.has(Layer(l))) channels += std::uint64_t(layerInfo(Layer(l)).channels);
+        bytes = saturatingAdd(bytes, saturatingMul(framePixels, channels * sizeof(float)));
+    }
+    // A running filter holds about four frame-sized RGB images (input, output, scratch).
+    const std::uint64_t running = std::max<std::uint64_t>(
+        1, std::min<std::uint64_t>(members, tbb::this_task_arena::max_concurrency()));
+    return saturatingAdd(bytes, saturatingMul(running, saturatingMul(framePixels, 4 * rgb)));
+}
+
+}  // namespace
+
+std::uint64_t estimateMemory(const FrameBuffers& frame, const BankOptions& options) {
+    validate(options);
+    const Rect region = bankRegion(frame, options);
+    return bankBytes(frame, options, region, runnableMembers(frame, options).size());
+}
+
+FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options) {
+    validate(options);
+    const Rect region = bankRegion(frame, options);
+    std::vector<BankMember> members = runnableMembers(frame, options);
+    // Refuse a bank the machine cannot hold before computing or allocating any member.
+    checkMemory(bankBytes(frame, options, region, members.size()), options.memoryLimit,
+                "a bank of " + std::to_string(members.size()) + " members over " +
+                    std::to_string(region.width()) + "x" + std::to_string(region.height()) +
+                    " pixels",
+                options.cacheDir.string(), "bank");
 
     const std::uint64_t inputHash = hashFrame(frame);
     detail::BankCache cache(options.cacheDir, inputHash, frame.width(), frame.height(), options);

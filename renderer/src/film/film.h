@@ -35,6 +35,9 @@ class Film {
     /// Means, variances of the mean (sample variance / n; 0 below two samples), sample counts.
     FrameBuffers resolve(bool withPosition) const;
 
+    /// Bytes of running statistics per pixel.
+    static constexpr std::uint64_t bytesPerPixel() { return sizeof(Pixel); }
+
   private:
     static constexpr int kChannels = 13;  // colour 3, albedo 3, normal 3, depth 1, position 3
     struct Pixel {

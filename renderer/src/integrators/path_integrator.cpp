@@ -200,7 +200,9 @@ void PathIntegrator::trace(const Ray& cameraRay, Sampler& rng, FilmSample& out,
         if (depth + 1 > m_rrDepth) {
             const float survive = std::min(1.0f, maxComponent(beta));
             if (rng.uniform() >= survive) break;
-            beta *= 1.0f / survive;
+            // Divide (not multiply by 1/survive): a denormal survival probability would make
+            // the reciprocal Inf and the throughput NaN.
+            beta = beta / survive;
         }
     }
     out.color = radiance;

@@ -42,6 +42,9 @@ struct BankOptions {
     /// Members done / total, serialised; returning false stops the build between members (and
     /// inside the running ones): buildBank then throws Error(Cancelled).
     ProgressFn progress;
+    /// Bytes the build may allocate (estimateMemory); a bank needing more is refused with
+    /// Error(OutOfMemory) before any member is computed. 0: what the machine has available.
+    std::uint64_t memoryLimit = 0;
 };
 
 /// Throws glint::Error(InvalidArgument) naming the first bad option (size, unknown filter...).
@@ -93,12 +96,17 @@ class FilterBank {
     std::size_t m_cacheHits = 0;
 };
 
+/// Bytes buildBank(frame, options) allocates at most besides `frame`: one region-sized RGB float
+/// result per member, a prefiltered copy of the frame when asked, and the working images of the
+/// members running at once (one per hardware thread).
+std::uint64_t estimateMemory(const FrameBuffers& frame, const BankOptions& options);
+
 /// Builds the bank of `frame`: members in parallel (TBB), each result cached when a cache folder
 /// is given. A cache entry is reused only when the input hash, filter name, parameters, filter
 /// version, prefilter settings and region all match and its pixels pass their checksum; a
 /// damaged entry is recomputed. Throws glint::Error: InvalidArgument for bad options (or a
-/// frame lacking a layer every selected filter needs), Cancelled when progress says stop, Io
-/// when the cache cannot be written.
+/// frame lacking a layer every selected filter needs), OutOfMemory when estimateMemory exceeds
+/// the limit, Cancelled when progress says stop, Io when the cache cannot be written.
 FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options);
 
 /// Opens the bank cached in `dir` for `frame`: the options are read from the folder's index,

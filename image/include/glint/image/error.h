@@ -13,6 +13,7 @@ enum class ErrorKind {
     InvalidArgument,  ///< a parameter or option is out of range or unknown
     Numeric,          ///< NaN/Inf or another numerical failure that cannot be handled
     Cancelled,        ///< the caller cancelled a long operation
+    OutOfMemory,      ///< the work needs more memory than the machine or the caller allows
     Internal,         ///< a broken invariant (GLINT_CHECK)
 };
 

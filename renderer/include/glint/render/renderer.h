@@ -99,6 +99,12 @@ class Renderer {
     /// (lights are rebuilt; the ray-tracing structures are kept).
     RenderResult render(const Settings& settings, const Callbacks& callbacks = {});
 
+    /// Bytes render(settings) allocates at most besides the scene and its BVH (already built):
+    /// the film's running statistics, the resolved frame, a snapshot for Callbacks::passDone,
+    /// and Metropolis' per-group splat buffers. render() refuses with Error(OutOfMemory) when
+    /// this exceeds Settings::memoryLimit (or the memory available), before allocating.
+    std::uint64_t estimateMemory(const Settings& settings) const;
+
     /// The scene being rendered; its look (materials, lights, environment) may be edited
     /// between renders.
     const Scene& scene() const { return m_scene; }

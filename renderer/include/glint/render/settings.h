@@ -48,6 +48,10 @@ struct Settings {
     /// studio's render region; the whole film when empty.
     std::optional<Rect> region;
     bool positionLayer = false;  ///< also produce the optional world-space position layer
+    /// Bytes render() may allocate for its film and frames (Renderer::estimateMemory); a render
+    /// needing more is refused with Error(OutOfMemory) before anything is allocated. 0: what
+    /// the machine has available (glint::availableMemory()).
+    std::uint64_t memoryLimit = 0;
     MltSettings mlt;             ///< Metropolis parameters (integrator == Mlt)
 };
 

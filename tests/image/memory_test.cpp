@@ -1,0 +1,78 @@
+// Memory budgets (glint/image/memory.h): sizes parse strictly, the machine's available memory is
+// read and lowered by GLINT_MEMORY_LIMIT, and checkMemory refuses with one clear error.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+#include "glint/image/error.h"
+#include "glint/image/memory.h"
+
+namespace glint {
+namespace {
+
+TEST(Memory, SizesParseInBinaryUnits) {
+    EXPECT_EQ(parseMemorySize("123", "x"), 123u);
+    EXPECT_EQ(parseMemorySize("512M", "x"), 512ull << 20);
+    EXPECT_EQ(parseMemorySize("1.5G", "x"), 3ull << 29);
+    EXPECT_EQ(parseMemorySize("2GiB", "x"), 2ull << 30);
+    EXPECT_EQ(parseMemorySize("64KB", "x"), 64ull << 10);
+    EXPECT_EQ(parseMemorySize("1T", "x"), 1ull << 40);
+    for (const char* bad : {"", "G", "-1G", "1X", "1e300", "nan", "12 M", "1GG"}) {
+        try {
+            parseMemorySize(bad, "--memory-limit");
+            ADD_FAILURE() << "accepted '" << bad << "'";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), ErrorKind::InvalidArgument);
+            EXPECT_EQ(e.where(), "--memory-limit");
+        }
+    }
+}
+
+TEST(Memory, BytesFormatWithThreeSignificantDigits) {
+    EXPECT_EQ(formatBytes(12), "12 B");
+    EXPECT_EQ(formatBytes(1ull << 30), "1.00 GiB");
+    EXPECT_EQ(formatBytes(24ull << 30), "24.0 GiB");
+    EXPECT_EQ(formatBytes(640ull << 10), "640 KiB");
+}
+
+TEST(Memory, AvailableMemoryIsAtMostTheMachineAndFollowsTheEnvironmentLimit) {
+    // MemTotal bounds MemAvailable (and a cgroup only lowers it).
+    std::ifstream meminfo("/proc/meminfo");
+    std::string key;
+    std::uint64_t totalKib = 0;
+    while (meminfo >> key)
+        if (key == "MemTotal:" && (meminfo >> totalKib)) break;
+    ASSERT_GT(totalKib, 0u);
+    const std::uint64_t available = availableMemory();
+    EXPECT_GT(available, 0u);
+    EXPECT_LE(available, totalKib * 1024);
+    ASSERT_EQ(setenv("GLINT_MEMORY_LIMIT", "3M", 1), 0);
+    EXPECT_EQ(availableMemory(), 3ull << 20);
+    ASSERT_EQ(setenv("GLINT_MEMORY_LIMIT", "lots", 1), 0);
+    EXPECT_THROW(availableMemory(), Error);
+    unsetenv("GLINT_MEMORY_LIMIT");
+    EXPECT_LE(availableMemory(), totalKib * 1024);
+}
+
+TEST(Memory, CheckRefusesWithWhatItNeedsAndWhatThereIs) {
+    EXPECT_NO_THROW(checkMemory(1000, 1000, "a thing"));
+    try {
+        checkMemory(3ull << 30, 1ull << 30, "a 8192x8192 path render", "scene.json", "/film");
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::OutOfMemory);
+        EXPECT_EQ(std::string(e.what()),
+                  "scene.json: /film: a 8192x8192 path render needs 3.00 GiB but only 1.00 GiB is "
+                  "allowed (memory limit); nothing was allocated");
+    }
+    // The default budget is the machine's: no machine has 2^64 - 1 bytes.
+    EXPECT_THROW(checkMemory(UINT64_MAX - 1, 0, "everything"), Error);
+    EXPECT_EQ(saturatingMul(1ull << 40, 1ull << 40), UINT64_MAX);
+    EXPECT_EQ(saturatingAdd(UINT64_MAX - 1, 5), UINT64_MAX);
+    EXPECT_EQ(errorKindName(ErrorKind::OutOfMemory), std::string("out-of-memory"));
+}
+
+}  // namespace
+}  // namespace glint
