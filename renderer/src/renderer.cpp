@@ -24,6 +24,7 @@
 #include "integrators/render_loop.h"
 #include "lights/light_sampler.h"
 #include "sampling/rng.h"
+#include "sampling/sobol.h"
 #include "sampling/warp.h"
 #include "scene/camera.h"
 #include "scene/scene_data.h"
@@ -142,6 +143,20 @@ class TilePasses final : public PassWork {
         for (int y = tile.y0; y < tile.y1; ++y)
             for (int x = tile.x0; x < tile.x1; ++x) {
                 const auto pixel = std::uint64_t(y) * std::uint64_t(m_data.width) + x;
+                if (m_settings.sampler == SamplerKind::Sobol) {
+                    // Every dimension from its own scrambled Sobol sequence (sampling/sobol.h).
+                    for (int s = pass.first; s < pass.first + pass.count; ++s) {
+                        SobolSampler sobol(m_settings.seed, pixel, std::uint32_t(s));
+                        const Vec2 jitter = sobol.camera2D(0);
+                        const Vec2 lens = m_thinLens ? sobol.camera2D(1) : Vec2{0.5f, 0.5f};
+                        const float time = m_sampleTime ? sobol.camera1D(2) : 0.0f;
+                        const Ray ray = m_camera.generateRay(float(x) + jitter.x,
+                                                             float(y) + jitter.y, lens, time);
+                        m_integrator.trace(ray, sobol, fs, tileRays);
+                        m_film.add(x, y, fs);
+                    }
+                    continue;
+                }
                 for (int s = pass.first; s < pass.first + pass.count; ++s) {
                     Rng rng(m_settings.seed, pixel, std::uint64_t(s));
                     const Vec2 jitter = sampler.point(pixel, s, 0, rng);
@@ -193,6 +208,7 @@ RenderResult renderPath(const detail::SceneData& data, const EmbreeScene& embree
     meta.scene = data.path.string();
     meta.nonFiniteSamples = film.nonFiniteSamples();
     meta.extra["mis"] = misName(settings.mis);
+    meta.extra["sampler"] = samplerName(settings.sampler);
     if (settings.mis == MisHeuristic::None)
         meta.extra["strategy"] = strategyName(settings.strategy);
     meta.extra["maxDepth"] = std::to_string(settings.maxDepth);

@@ -29,8 +29,21 @@ Strategy parseStrategy(const std::string& name) {
 SamplerKind parseSampler(const std::string& name) {
     if (name == "stratified") return SamplerKind::Stratified;
     if (name == "independent") return SamplerKind::Independent;
+    if (name == "sobol") return SamplerKind::Sobol;
     throw Error(ErrorKind::InvalidArgument,
-                "unknown sampler '" + name + "' (expected stratified or independent)");
+                "unknown sampler '" + name + "' (expected stratified, independent or sobol)");
+}
+
+const char* samplerName(SamplerKind sampler) {
+    switch (sampler) {
+        case SamplerKind::Stratified:
+            return "stratified";
+        case SamplerKind::Independent:
+            return "independent";
+        case SamplerKind::Sobol:
+            return "sobol";
+    }
+    return "?";
 }
 
 const char* integratorName(Integrator integrator) {

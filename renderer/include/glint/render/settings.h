@@ -17,8 +17,12 @@ enum class Integrator { Path, Mlt };
 enum class MisHeuristic { Power, Balance, None };
 /// The single strategy used when MisHeuristic::None is selected.
 enum class Strategy { Bsdf, Light };
-/// How pixel and lens samples are placed inside a pass.
-enum class SamplerKind { Stratified, Independent };
+/// Where a camera sample's random numbers come from (docs/renderer.md, "Sampling").
+enum class SamplerKind {
+    Stratified,   ///< pixel, lens and time stratified per pass; the rest independent
+    Independent,  ///< every number independent
+    Sobol         ///< Owen-scrambled Sobol over every path dimension (Burley 2020)
+};
 
 /// The limits of Settings, the same for scene.json's "render" block, the command line and the
 /// API (validate()).
@@ -37,7 +41,7 @@ struct Settings {
     Integrator integrator = Integrator::Path;
     MisHeuristic mis = MisHeuristic::Power;
     Strategy strategy = Strategy::Bsdf;  ///< only with mis == None
-    SamplerKind sampler = SamplerKind::Stratified;
+    SamplerKind sampler = SamplerKind::Sobol;
     int maxDepth = 32;  ///< maximum number of bounces (1 = direct lighting only)
     int rrDepth = 3;    ///< Russian roulette starts after this many bounces
     /// Seconds; > 0 renders passes until time runs out (the first pass of 1 spp always
@@ -52,7 +56,7 @@ struct Settings {
     /// needing more is refused with Error(OutOfMemory) before anything is allocated. 0: what
     /// the machine has available (glint::availableMemory()).
     std::uint64_t memoryLimit = 0;
-    MltSettings mlt;             ///< Metropolis parameters (integrator == Mlt)
+    MltSettings mlt;  ///< Metropolis parameters (integrator == Mlt)
 };
 
 /// Parses "path" / "mlt"; throws glint::Error(InvalidArgument).
@@ -61,8 +65,10 @@ Integrator parseIntegrator(const std::string& name);
 MisHeuristic parseMis(const std::string& name);
 /// Parses "bsdf" / "light"; throws glint::Error(InvalidArgument).
 Strategy parseStrategy(const std::string& name);
-/// Parses "stratified" / "independent"; throws glint::Error(InvalidArgument).
+/// Parses "stratified" / "independent" / "sobol"; throws glint::Error(InvalidArgument).
 SamplerKind parseSampler(const std::string& name);
+/// Name of a sampler ("stratified", "independent", "sobol").
+const char* samplerName(SamplerKind sampler);
 
 /// Name of an integrator ("path", "mlt").
 const char* integratorName(Integrator integrator);

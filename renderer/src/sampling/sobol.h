@@ -1,0 +1,173 @@
+// Owen-scrambled Sobol sampling over every path dimension (Burley 2020, "Practical Hash-based
+// Owen Scrambling"): each dimension pair of a pixel takes the first two Sobol dimensions — a
+// (0,2)-sequence — at a shuffled sample index, nested-uniform scrambled by hashes of (seed,
+// pixel, dimension). Shuffling the index per pair decorrelates the pairs ("padding"); scrambling
+// per pixel decorrelates the pixels. A sample's numbers depend only on (seed, pixel, sample
+// index, dimension), so passes of any size add up to the same estimate, and the first 2^m
+// samples of every pair are a (0,m,2)-net (docs/renderer.md, "Sampling").
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "glint/image/random.h"
+#include "vecmath.h"
+
+namespace glint::render {
+
+/// The bits of x in reverse order.
+constexpr std::uint32_t reverseBits(std::uint32_t x) {
+    // Bytes swapped in one instruction, then the bits inside each byte.
+    x = __builtin_bswap32(x);
+    x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+    return ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+}
+
+/// The first Sobol dimension: the van der Corput radical inverse in base 2, as 32 bits.
+inline std::uint32_t sobol0(std::uint32_t index) {
+    return reverseBits(index);
+}
+
+namespace detail {
+/// The generator matrix of the second Sobol dimension (primitive polynomial x + 1, all direction
+/// numbers m_k = 1): columns v_1 = 2^31, v_k = v_{k-1} xor (v_{k-1} >> 1) (Bratley and Fox 1988),
+/// applied a byte of the index at a time: table[b][x] is the xor of the columns of the set bits
+/// of byte value x in byte b. With `reversed`, the table of reverseBits(sobol1(i)) (every
+/// column bit-reversed), the form the scramble of sobol2D takes.
+constexpr std::array<std::array<std::uint32_t, 256>, 4> sobol1Tables(bool reversed) {
+    std::array<std::uint32_t, 32> column{};
+    column[0] = 1u << 31;
+    for (int k = 1; k < 32; ++k) column[k] = column[k - 1] ^ (column[k - 1] >> 1);
+    std::array<std::array<std::uint32_t, 256>, 4> table{};
+    for (int b = 0; b < 4; ++b)
+        for (int x = 0; x < 256; ++x)
+            for (int bit = 0; bit < 8; ++bit)
+                if (x & (1 << bit)) {
+                    const int j = 8 * b + bit;
+                    table[b][x] ^= reversed ? reverseBits(column[j]) : column[j];
+                }
+    return table;
+}
+inline constexpr auto kSobol1 = sobol1Tables(false);
+inline constexpr auto kSobol1Reversed = sobol1Tables(true);
+
+/// xor of table[b][byte b of x] over the four bytes.
+inline std::uint32_t byTable(const std::array<std::array<std::uint32_t, 256>, 4>& t,
+                             std::uint32_t x) {
+    return t[0][x & 0xffu] ^ t[1][(x >> 8) & 0xffu] ^ t[2][(x >> 16) & 0xffu] ^ t[3][x >> 24];
+}
+}  // namespace detail
+
+/// The second Sobol dimension; with sobol0 a (0,2)-sequence in base 2. A shuffled index uses all
+/// 32 bits, so the matrix is applied by table, four lookups.
+inline std::uint32_t sobol1(std::uint32_t index) {
+    return detail::byTable(detail::kSobol1, index);
+}
+
+/// Laine and Karras' hash-based Owen permutation of bit-reversed values, with Burley's (2020,
+/// sec. 3) constants: each output bit flips by a hash of the bits below it, which in reversed
+/// order are the bits above it, i.e. a nested uniform scramble.
+inline std::uint32_t laineKarrasPermutation(std::uint32_t x, std::uint32_t seed) {
+    x ^= x * 0x3d20adeau;
+    x += seed;
+    x *= (seed >> 16) | 1u;
+    x ^= x * 0x05526c56u;
+    x ^= x * 0x53a22864u;
+    return x;
+}
+
+/// Nested uniform (Owen) scramble of a 32-bit fixed-point value in [0, 1).
+inline std::uint32_t nestedUniformScramble(std::uint32_t x, std::uint32_t seed) {
+    return reverseBits(laineKarrasPermutation(reverseBits(x), seed));
+}
+
+/// A 32-bit fixed-point value as a float in [0, 1) (top 24 bits, exact).
+inline float fixedToFloat(std::uint32_t x) {
+    return float(x >> 8) * 0x1p-24f;
+}
+
+/// A 32-bit integer hash (Wellons' lowbias32): full avalanche at the cost of two multiplies.
+inline std::uint32_t hash32(std::uint32_t x) {
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+/// Point `index` of Owen-scrambled Sobol dimensions (0, 1) for the scramble seed `seed`: the
+/// index is shuffled by a nested uniform scramble (which maps each aligned block of 2^m indices
+/// onto an aligned block, so prefixes of 2^m points stay (0,m,2)-nets), then each coordinate is
+/// scrambled with its own seed.
+///
+/// Written with the reversals cancelled: the scramble of sobol0(i) = rev(i) is
+/// rev(LK(i, t)), and rev(sobol1(i)) comes from a table of i's bytes, so a pair costs four bit
+/// reversals instead of nine.
+inline Vec2 sobol2D(std::uint32_t index, std::uint64_t seed) {
+    const auto s = std::uint32_t(seed), t = std::uint32_t(seed >> 32);
+    const std::uint32_t u = t * 0x2c1b3c6du + 0x297a2d39u;  // the y scramble: another odd map of t
+    const std::uint32_t shuffled = nestedUniformScramble(index, s);
+    const std::uint32_t reversedY = detail::byTable(detail::kSobol1Reversed, shuffled);
+    return {fixedToFloat(reverseBits(laineKarrasPermutation(shuffled, t))),
+            fixedToFloat(reverseBits(laineKarrasPermutation(reversedY, u)))};
+}
+
+/// The 1D form: the first Sobol dimension, shuffled and scrambled.
+inline float sobol1D(std::uint32_t index, std::uint64_t seed) {
+    const std::uint32_t shuffled = nestedUniformScramble(index, std::uint32_t(seed));
+    return fixedToFloat(reverseBits(laineKarrasPermutation(shuffled, std::uint32_t(seed >> 32))));
+}
+
+/// Dimensions of the camera sample: film position (pair 0), lens (pair 1), time (2).
+inline constexpr int kSobolCameraDims = 3;
+/// Dimensions reserved per bounce, whether used or not, so that what one bounce draws never
+/// shifts the next: light choice, point on the light (pair), BSDF direction (pair), BSDF
+/// component, Russian roulette.
+enum class BounceDim : int { LightSelect, LightPoint, BsdfDirection, BsdfComponent, Roulette };
+inline constexpr int kSobolDimsPerBounce = 5;
+
+/// The sampler of one camera sample: sample `index` of pixel `pixel`, every dimension its own
+/// scrambled Sobol sequence. Provides the interface PathIntegrator::trace reads (sample1D/2D
+/// by bounce and slot); `uniform()` serves anything else from a hashed stream.
+class SobolSampler {
+  public:
+    SobolSampler(std::uint64_t seed, std::uint64_t pixel, std::uint32_t index)
+        : m_key(hash64(hash64(seed, 0x50b01ULL), pixel)), m_index(index) {}
+
+    /// Camera dimension `dim` (0 film, 1 lens as pairs; 2 time).
+    Vec2 camera2D(int dim) const { return sobol2D(m_index, dimensionSeed(dim)); }
+    float camera1D(int dim) const { return sobol1D(m_index, dimensionSeed(dim)); }
+
+    /// Slot `slot` of bounce `depth` (BounceDim).
+    float bounce1D(int depth, BounceDim slot) const {
+        return sobol1D(m_index, dimensionSeed(bounceDim(depth, slot)));
+    }
+    Vec2 bounce2D(int depth, BounceDim slot) const {
+        return sobol2D(m_index, dimensionSeed(bounceDim(depth, slot)));
+    }
+
+    /// A number outside the reserved dimensions (hashed, independent per call).
+    float uniform() {
+        const std::uint64_t h = hash64(m_key ^ 0xa5a5a5a5ULL, m_index + (m_extra++ << 32));
+        return fixedToFloat(std::uint32_t(h >> 32));
+    }
+
+  private:
+    static int bounceDim(int depth, BounceDim slot) {
+        return kSobolCameraDims + depth * kSobolDimsPerBounce + int(slot);
+    }
+    /// Two 32-bit scramble seeds of dimension `dim` from the pixel's key (sobol2D/1D split them).
+    std::uint64_t dimensionSeed(int dim) const {
+        const std::uint32_t s = hash32(std::uint32_t(m_key) + std::uint32_t(dim) * 0x9e3779b9u);
+        const std::uint32_t t = (std::uint32_t(m_key >> 32) ^ s) * 0x9e3779b1u;
+        return (std::uint64_t(t) << 32) | s;
+    }
+
+    std::uint64_t m_key;
+    std::uint32_t m_index;
+    std::uint64_t m_extra = 0;
+};
+
+}  // namespace glint::render

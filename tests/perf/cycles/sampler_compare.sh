@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Error per sample and per second against Blender's Cycles (issue: accuracy per sample):
+# scenes/cornell at 256², 64 spp, depth 8, 2 threads, relMSE of each render against the
+# committed 4096-spp reference, samples/s as each renderer reports it, all in one run; then
+# Glint's samplers on glossy and envmap at 64 spp against their references.
+#   tests/perf/cycles/sampler_compare.sh [BUILD_DIR] [SPP] [REPEATS]
+# Needs Debian's `blender` (make bench-deps). Exit code 2 when it is missing.
+set -euo pipefail
+cd "$(dirname "$0")/../../.."
+BUILD_DIR=${1:-build}
+SPP=${2:-64}
+REPEATS=${3:-3}
+GLINT="$BUILD_DIR/bin/glint-render"
+IMAGE="$BUILD_DIR/bin/glint-image"
+OUT=${TMPDIR:-/tmp}/glint-sampler-compare.$$
+mkdir -p "$OUT"
+trap 'rm -rf "$OUT"' EXIT
+command -v blender >/dev/null || { echo "sampler_compare.sh: blender not found (make bench-deps)" >&2; exit 2; }
+
+relmse() { "$IMAGE" diff "$1" --reference "$2" --metric relmse --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["value"])'; }
+
+echo "scene renderer sampler spp samples_per_s relMSE relMSE_over_rate"
+for ((i = 1; i <= REPEATS; ++i)); do
+  line=$(blender -b -P tests/perf/cycles/cornell_cycles.py -- --spp "$SPP" --threads 2 --max-depth 8 \
+    --out "$OUT/cycles.exr" 2>/dev/null | grep '^{"renderer": "cycles"')
+  rate=$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["samplesPerSecond"])' "$line")
+  err=$(relmse "$OUT/cycles.exr" scenes/cornell/reference.exr)
+  python3 -c "import sys; r,e=float(sys.argv[1]),float(sys.argv[2]); print(f'cornell cycles pmj $SPP {r/1e6:.3f}M {e:.5f} {e/r*1e6:.5f}')" "$rate" "$err"
+  for sampler in stratified sobol; do
+    rate=$("$GLINT" scenes/cornell/scene.json --spp "$SPP" --max-depth 8 --threads 2 --sampler $sampler \
+      --seed "$i" --out "$OUT/glint.exr" --json 2>/dev/null | python3 -c 'import json,sys; print(json.load(sys.stdin)["samplesPerSecond"])')
+    err=$(relmse "$OUT/glint.exr" scenes/cornell/reference.exr)
+    python3 -c "import sys; r,e=float(sys.argv[1]),float(sys.argv[2]); print(f'cornell glint $sampler $SPP {r/1e6:.3f}M {e:.5f} {e/r*1e6:.5f}')" "$rate" "$err"
+  done
+done
+for scene in glossy envmap; do
+  for sampler in stratified sobol; do
+    rate=$("$GLINT" scenes/$scene/scene.json --spp "$SPP" --threads 2 --sampler $sampler \
+      --out "$OUT/glint.exr" --json 2>/dev/null | python3 -c 'import json,sys; print(json.load(sys.stdin)["samplesPerSecond"])')
+    err=$(relmse "$OUT/glint.exr" scenes/$scene/reference.exr)
+    python3 -c "import sys; r,e=float(sys.argv[1]),float(sys.argv[2]); print(f'$scene glint $sampler $SPP {r/1e6:.3f}M {e:.5f} {e/r*1e6:.5f}')" "$rate" "$err"
+  done
+done
