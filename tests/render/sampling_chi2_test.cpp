@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "lights/environment.h"
+#include "lights/spherical_triangle.h"
 #include "materials/bsdf.h"
 #include "sampling/rng.h"
 #include "test_util.h"
@@ -17,7 +18,7 @@
 namespace glint::render {
 namespace {
 
-constexpr int kChi2Tests = 12;  // number of chi-square tests in this file
+constexpr int kChi2Tests = 14;  // number of chi-square tests in this file
 const double kAlpha = test::sidak(0.01, kChi2Tests);
 
 constexpr int kThetaBins = 20, kPhiBins = 40, kSamples = 400000;
@@ -225,6 +226,53 @@ TEST(EnvironmentChi2, ImageSamplingMatchesPdf) {
         // The pdf jumps at texel edges: integrate on a finer sub-grid.
         [&](const Vec3& w) { return env.pdf(w); }, 50, 64);
     EXPECT_GT(r.pValue, kAlpha) << "chi2 " << r.statistic << " dof " << r.dof;
+}
+
+/// Chi-square of solid-angle sampling of the spherical triangle (a, b, c): uniform inside.
+void checkSphericalTriangle(const DVec3& a0, const DVec3& b0, const DVec3& c0, std::uint64_t seed) {
+    const DVec3 a = normalizeOrZero(a0), b = normalizeOrZero(b0), c = normalizeOrZero(c0);
+    const double omega = sphericalTriangleSolidAngle(a, b, c);
+    // Inside: on the side of each edge's great circle that holds the opposite vertex.
+    auto inside = [&](const DVec3& w) {
+        auto side = [&](const DVec3& p, const DVec3& q, const DVec3& r) {
+            const DVec3 n = cross(p, q);
+            return (dot(w, n) > 0.0) == (dot(r, n) > 0.0);
+        };
+        return side(a, b, c) && side(b, c, a) && side(c, a, b);
+    };
+    const test::Chi2 r = runChi2(
+        [&](Rng& rng, Vec3& w) {
+            DVec3 d;
+            if (!sampleSphericalTriangle(a, b, c, omega, {rng.uniform(), rng.uniform()}, d))
+                return false;
+            w = {float(d.x), float(d.y), float(d.z)};
+            return true;
+        },
+        [&](const Vec3& w) { return inside(toDouble(w)) ? float(1.0 / omega) : 0.0f; }, seed, 48);
+    EXPECT_GT(r.pValue, kAlpha) << "chi2 " << r.statistic << " dof " << r.dof << " Ω " << omega;
+}
+
+TEST(SphericalTriangleChi2, LargeTriangleIsUniformInSolidAngle) {
+    checkSphericalTriangle({1.0, 0.2, 0.3}, {-0.3, 1.0, 0.1}, {0.1, -0.2, 1.0}, 11);
+}
+
+TEST(SphericalTriangleChi2, ObtuseTriangleBeyondAHemisphereIsUniform) {
+    // A triangle wider than a hemisphere (Ω > 2π would be the plane): Ω ≈ 4.4 sr.
+    checkSphericalTriangle({1.0, 0.0, -0.2}, {-0.5, 0.87, -0.2}, {-0.5, -0.87, -0.2}, 12);
+}
+
+TEST(SphericalTriangle, SolidAnglesOfKnownTriangles) {
+    // An octant is an eighth of the sphere.
+    EXPECT_NEAR(sphericalTriangleSolidAngle(DVec3{1, 0, 0}, DVec3{0, 1, 0}, DVec3{0, 0, 1}),
+                M_PI / 2.0, 1e-12);
+    // A small far triangle: area × cos θ / r².
+    const Vec3 p{0.0f, 0.0f, 0.0f};
+    const double omega = triangleSolidAngle(p, {0, 0, 100}, {1, 0, 100}, {0, 1, 100});
+    EXPECT_NEAR(omega, 0.5 / 1e4, 0.5 / 1e4 * 1e-3);
+    // Degenerate triangles have no solid angle and cannot be sampled.
+    DVec3 w;
+    EXPECT_FALSE(sampleSphericalTriangle(DVec3{1, 0, 0}, DVec3{1, 0, 0}, DVec3{0, 1, 0}, 0.0,
+                                         Vec2{0.5f, 0.5f}, w));
 }
 
 TEST(Environment, ConventionUHalfLooksDownMinusZ) {

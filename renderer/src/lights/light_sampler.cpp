@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "lights/spherical_triangle.h"
 #include "sampling/warp.h"
 
 namespace glint::render {
@@ -37,6 +38,24 @@ LightSampler::LightSampler(const detail::SceneData& scene) : m_scene(&scene) {
     if (!m_lights.empty()) m_select = Distribution1D(power);
 }
 
+namespace {
+/// Whether a triangle of solid angle `omega` is sampled by solid angle (else by area).
+bool bySolidAngle(float omega) {
+    return omega >= float(kMinSphericalSolidAngle) && omega <= float(kMaxSphericalSolidAngle);
+}
+
+/// Whether a triangle is worth sampling by solid angle from p: when area / (distance to its
+/// centroid)², about its solid angle, is at least 0.1 sr. Farther, 1/r² and cos θ hardly vary
+/// over the triangle, area sampling is nearly as good and costs no trigonometry: on the Cornell
+/// box this keeps almost all the error reduction of sampling every light by solid angle for
+/// little of its cost (docs/renderer.md, "Lights").
+bool worthSolidAngle(const Vec3& p, const Vec3* v, float area) {
+    constexpr float kWorthIt = 0.1f;
+    const Vec3 d = (v[0] + v[1] + v[2]) * (1.0f / 3.0f) - p;
+    return area >= kWorthIt * dot(d, d);
+}
+}  // namespace
+
 bool LightSampler::sample(const Vec3& p, float uSelect, Vec2 u, LightSample& out) const {
     if (m_lights.empty()) return false;
     float selectPdf = 0.0f;
@@ -54,9 +73,31 @@ bool LightSampler::sample(const Vec3& p, float uSelect, Vec2 u, LightSample& out
     }
     const AreaLight& light = m_lights[std::size_t(index)];
     const Vec3* v = &m_scene->positions[3 * std::size_t(light.triangle)];
-    const Vec2 b = sampleUniformTriangle(u);
-    out.point = v[0] * (1.0f - b.x - b.y) + v[1] * b.x + v[2] * b.y;
     out.normal = light.normal;
+    out.radiance = light.emission;
+    out.environment = false;
+    // A light that fills a good part of the view is sampled by solid angle (Arvo 1995): no
+    // 1/r² or cos θ in the weight, the variance near a large light drops.
+    if (worthSolidAngle(p, v, light.area)) {
+        const Vec3 a = normalizeOrZero(v[0] - p), b = normalizeOrZero(v[1] - p),
+                   c = normalizeOrZero(v[2] - p);
+        const float omega = sphericalTriangleSolidAngle(a, b, c);
+        if (bySolidAngle(omega)) {
+            Vec3 w;
+            if (!sampleSphericalTriangle(a, b, c, omega, u, w)) return false;
+            // Where the direction meets the light's plane.
+            const float cosW = dot(w, light.normal);
+            const float distance = dot(v[0] - p, light.normal) / cosW;
+            if (!(distance > 0.0f) || !std::isfinite(distance)) return false;
+            out.wi = w;
+            out.distance = distance;
+            out.point = p + w * distance;
+            out.pdf = selectPdf / omega;
+            return true;
+        }
+    }
+    const Vec2 bary = sampleUniformTriangle(u);
+    out.point = v[0] * (1.0f - bary.x - bary.y) + v[1] * bary.x + v[2] * bary.y;
     const Vec3 d = out.point - p;
     const float dist2 = dot(d, d);
     if (!(dist2 > 0.0f)) return false;
@@ -66,8 +107,6 @@ bool LightSampler::sample(const Vec3& p, float uSelect, Vec2 u, LightSample& out
     if (cosLight <= 0.0f) return false;
     // Area → solid angle: pdf_ω = pdf_A r² / |cos θ_l| (Veach 1997, eq. 8.10).
     out.pdf = selectPdf * dist2 / (light.area * cosLight);
-    out.radiance = light.emission;
-    out.environment = false;
     return true;
 }
 
@@ -75,6 +114,13 @@ float LightSampler::pdfArea(std::uint32_t triangle, const Vec3& p, const Vec3& l
                             const Vec3& ng) const {
     const int index = m_lightOfTriangle[triangle];
     if (index < 0) return 0.0f;
+    // The same choice of measure as sample() makes from p.
+    const Vec3* v = &m_scene->positions[3 * std::size_t(triangle)];
+    if (worthSolidAngle(p, v, m_lights[std::size_t(index)].area)) {
+        const float omega = sphericalTriangleSolidAngle(
+            normalizeOrZero(v[0] - p), normalizeOrZero(v[1] - p), normalizeOrZero(v[2] - p));
+        if (bySolidAngle(omega)) return m_select.discretePdf(index) / omega;
+    }
     const Vec3 d = lightPoint - p;
     const float dist2 = dot(d, d);
     const float cosLight = std::abs(dot(ng, d)) / std::sqrt(dist2);

@@ -1,5 +1,6 @@
-// Light selection and sampling: every emissive triangle is an area light (two-sided, uniform by
-// area), chosen with the environment in proportion to power by a 1D distribution.
+// Light selection and sampling: every emissive triangle is an area light (two-sided), chosen with
+// the environment in proportion to power by a 1D distribution, and sampled by the solid angle it
+// subtends where that is large enough (spherical_triangle.h), else uniformly by area.
 #pragma once
 
 #include <memory>

@@ -105,19 +105,30 @@ inline std::uint32_t hash32(std::uint32_t x) {
 /// Written with the reversals cancelled: the scramble of sobol0(i) = rev(i) is
 /// rev(LK(i, t)), and rev(sobol1(i)) comes from a table of i's bytes, so a pair costs four bit
 /// reversals instead of nine.
-inline Vec2 sobol2D(std::uint32_t index, std::uint64_t seed) {
+/// `reversedIndex` is reverseBits(index), the same for every dimension of a sample.
+inline Vec2 sobol2DReversed(std::uint32_t reversedIndex, std::uint64_t seed) {
     const auto s = std::uint32_t(seed), t = std::uint32_t(seed >> 32);
     const std::uint32_t u = t * 0x2c1b3c6du + 0x297a2d39u;  // the y scramble: another odd map of t
-    const std::uint32_t shuffled = nestedUniformScramble(index, s);
+    const std::uint32_t shuffled = reverseBits(laineKarrasPermutation(reversedIndex, s));
     const std::uint32_t reversedY = detail::byTable(detail::kSobol1Reversed, shuffled);
     return {fixedToFloat(reverseBits(laineKarrasPermutation(shuffled, t))),
             fixedToFloat(reverseBits(laineKarrasPermutation(reversedY, u)))};
 }
 
 /// The 1D form: the first Sobol dimension, shuffled and scrambled.
-inline float sobol1D(std::uint32_t index, std::uint64_t seed) {
-    const std::uint32_t shuffled = nestedUniformScramble(index, std::uint32_t(seed));
+inline float sobol1DReversed(std::uint32_t reversedIndex, std::uint64_t seed) {
+    const std::uint32_t shuffled =
+        reverseBits(laineKarrasPermutation(reversedIndex, std::uint32_t(seed)));
     return fixedToFloat(reverseBits(laineKarrasPermutation(shuffled, std::uint32_t(seed >> 32))));
+}
+
+/// Point `index` of the scrambled pair for `seed` (sobol2DReversed of its reversed index).
+inline Vec2 sobol2D(std::uint32_t index, std::uint64_t seed) {
+    return sobol2DReversed(reverseBits(index), seed);
+}
+/// Value `index` of the scrambled 1D sequence for `seed`.
+inline float sobol1D(std::uint32_t index, std::uint64_t seed) {
+    return sobol1DReversed(reverseBits(index), seed);
 }
 
 /// Dimensions of the camera sample: film position (pair 0), lens (pair 1), time (2).
@@ -134,23 +145,23 @@ inline constexpr int kSobolDimsPerBounce = 5;
 class SobolSampler {
   public:
     SobolSampler(std::uint64_t seed, std::uint64_t pixel, std::uint32_t index)
-        : m_key(hash64(hash64(seed, 0x50b01ULL), pixel)), m_index(index) {}
+        : m_key(hash64(hash64(seed, 0x50b01ULL), pixel)), m_reversedIndex(reverseBits(index)) {}
 
     /// Camera dimension `dim` (0 film, 1 lens as pairs; 2 time).
-    Vec2 camera2D(int dim) const { return sobol2D(m_index, dimensionSeed(dim)); }
-    float camera1D(int dim) const { return sobol1D(m_index, dimensionSeed(dim)); }
+    Vec2 camera2D(int dim) const { return sobol2DReversed(m_reversedIndex, dimensionSeed(dim)); }
+    float camera1D(int dim) const { return sobol1DReversed(m_reversedIndex, dimensionSeed(dim)); }
 
     /// Slot `slot` of bounce `depth` (BounceDim).
     float bounce1D(int depth, BounceDim slot) const {
-        return sobol1D(m_index, dimensionSeed(bounceDim(depth, slot)));
+        return sobol1DReversed(m_reversedIndex, dimensionSeed(bounceDim(depth, slot)));
     }
     Vec2 bounce2D(int depth, BounceDim slot) const {
-        return sobol2D(m_index, dimensionSeed(bounceDim(depth, slot)));
+        return sobol2DReversed(m_reversedIndex, dimensionSeed(bounceDim(depth, slot)));
     }
 
     /// A number outside the reserved dimensions (hashed, independent per call).
     float uniform() {
-        const std::uint64_t h = hash64(m_key ^ 0xa5a5a5a5ULL, m_index + (m_extra++ << 32));
+        const std::uint64_t h = hash64(m_key ^ 0xa5a5a5a5ULL, m_reversedIndex + (m_extra++ << 32));
         return fixedToFloat(std::uint32_t(h >> 32));
     }
 
@@ -166,7 +177,7 @@ class SobolSampler {
     }
 
     std::uint64_t m_key;
-    std::uint32_t m_index;
+    std::uint32_t m_reversedIndex;
     std::uint64_t m_extra = 0;
 };
 
