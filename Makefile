@@ -12,7 +12,7 @@ DEB_PACKAGES := build-essential cmake ninja-build pkg-config \
 # qt6-base-dev (with libgl-dev, which Qt6Gui's CMake config asks for) builds the studio (gui/);
 # xvfb, xauth and fonts-dejavu-core run its screenshot test in a real X server.
 
-.PHONY: all deps build test clean demo bench bench-deps fuzz studio test-sanitize
+.PHONY: all deps build test clean demo bench bench-deps fuzz studio test-sanitize report
 
 all: build
 
@@ -41,6 +41,12 @@ bench-deps:
 
 bench: build bench-deps
 	./tests/perf/run_all.sh $(BUILD_DIR)
+
+# The speed-versus-accuracy report (docs/tradeoffs.md): CSVs and PNG plots into docs/tradeoffs/,
+# about 10 minutes on 2 cores; Cycles (blender) for the peer curve, matplotlib for the plots.
+report: build
+	@./.ci/install-deps blender python3-matplotlib
+	./tests/perf/report/run.sh $(BUILD_DIR)
 
 # The unit tests under AddressSanitizer + UndefinedBehaviorSanitizer in build-sanitize/
 # (docs/numerics.md, "Sanitizers"); sanitizer options and the reason for each live in
