@@ -77,11 +77,6 @@ inline std::uint32_t laineKarrasPermutation(std::uint32_t x, std::uint32_t seed)
     return x;
 }
 
-/// Nested uniform (Owen) scramble of a 32-bit fixed-point value in [0, 1).
-inline std::uint32_t nestedUniformScramble(std::uint32_t x, std::uint32_t seed) {
-    return reverseBits(laineKarrasPermutation(reverseBits(x), seed));
-}
-
 /// A 32-bit fixed-point value as a float in [0, 1) (top 24 bits, exact).
 inline float fixedToFloat(std::uint32_t x) {
     return float(x >> 8) * 0x1p-24f;
@@ -141,7 +136,8 @@ inline constexpr int kSobolDimsPerBounce = 5;
 
 /// The sampler of one camera sample: sample `index` of pixel `pixel`, every dimension its own
 /// scrambled Sobol sequence. Provides the interface PathIntegrator::trace reads (sample1D/2D
-/// by bounce and slot); `uniform()` serves anything else from a hashed stream.
+/// by bounce and slot); it has no free-running stream, so every number a path draws must have
+/// its slot.
 class SobolSampler {
   public:
     SobolSampler(std::uint64_t seed, std::uint64_t pixel, std::uint32_t index)
@@ -159,12 +155,6 @@ class SobolSampler {
         return sobol2DReversed(m_reversedIndex, dimensionSeed(bounceDim(depth, slot)));
     }
 
-    /// A number outside the reserved dimensions (hashed, independent per call).
-    float uniform() {
-        const std::uint64_t h = hash64(m_key ^ 0xa5a5a5a5ULL, m_reversedIndex + (m_extra++ << 32));
-        return fixedToFloat(std::uint32_t(h >> 32));
-    }
-
   private:
     static int bounceDim(int depth, BounceDim slot) {
         return kSobolCameraDims + depth * kSobolDimsPerBounce + int(slot);
@@ -178,7 +168,6 @@ class SobolSampler {
 
     std::uint64_t m_key;
     std::uint32_t m_reversedIndex;
-    std::uint64_t m_extra = 0;
 };
 
 }  // namespace glint::render
