@@ -43,7 +43,7 @@ bench: build bench-deps
 	./tests/perf/run_all.sh $(BUILD_DIR)
 
 # The speed-versus-accuracy report (docs/tradeoffs.md): CSVs and PNG plots into docs/tradeoffs/,
-# about 10 minutes on 2 cores; Cycles (blender) for the peer curve, matplotlib for the plots.
+# about 4 minutes on 2 cores; Cycles (blender) for the peer curve, matplotlib for the plots.
 report: build
 	@./.ci/install-deps blender python3-matplotlib
 	./tests/perf/report/run.sh $(BUILD_DIR)

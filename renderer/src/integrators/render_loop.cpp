@@ -65,9 +65,11 @@ LoopResult RenderLoop::run(PassWork& work, bool reportPasses) {
                         work.run(info, i, *this);
                         const std::optional<Rect> rect = work.itemRect(i);
                         if (rect) samples += std::uint64_t(rect->width()) * rect->height() * count;
-                        const std::size_t finished = ++itemsDone;
                         if (!m_callbacks.tileDone && !m_callbacks.progress) continue;
+                        // Counted under the callback lock, so that reported progress never
+                        // goes backwards when two tiles finish at once.
                         const std::lock_guard<std::mutex> lock(m_callbackMutex);
+                        const std::size_t finished = ++itemsDone;
                         if (m_callbacks.tileDone && rect) m_callbacks.tileDone(*rect);
                         if (m_callbacks.progress) {
                             double f;

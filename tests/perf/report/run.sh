@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # make report: every part of docs/tradeoffs.md — CSVs from glint-report (and Blender's Cycles for
-# the peer comparison), then the PNG plots — into docs/tradeoffs/. About 10 minutes on 2 cores.
+# the peer comparison), then the PNG plots — into docs/tradeoffs/. About 3-4 minutes on a quiet
+# 2-core machine (docs/tradeoffs.md has the measured time); each part's line can be run alone.
 #   tests/perf/report/run.sh [BUILD_DIR]
 set -euo pipefail
 cd "$(dirname "$0")/../../.."
@@ -17,8 +18,9 @@ for s in cornell glossy door pool dof; do
   "$R" convergence "scenes/$s" --scale 2 --max-spp 1024 --out "$OUT/convergence_$s.csv"
 done
 
+echo "   (${SECONDS} s)"
 echo "== 2. against Cycles at equal time (cornell, full resolution)"
-"$R" convergence scenes/cornell --scale 1 --max-spp 256 --methods power,mlt --out "$OUT/peer_glint.csv"
+"$R" convergence scenes/cornell --scale 1 --max-spp 512 --methods power,mlt --out "$OUT/peer_glint.csv"
 echo "spp,seconds,relmse" > "$TMP/peer_cycles.csv"
 if command -v blender >/dev/null; then
   for spp in 1 2 4 8 16 32 64 128 256; do
@@ -34,15 +36,19 @@ else
 fi
 mv "$TMP/peer_cycles.csv" "$OUT/peer_cycles.csv"
 
+echo "   (${SECONDS} s)"
 echo "== 3 and 4. denoising and the render + denoise frontier (cornell, 1 ... 1024 spp)"
-"$R" denoise scenes/cornell --max-spp 1024 --out "$OUT/denoise.csv"
+"$R" denoise scenes/cornell --max-spp 1024 --bank 16 --out "$OUT/denoise.csv"
 
+echo "   (${SECONDS} s)"
 echo "== 5. bilateral-mc against the exact bilateral (cornell, 64 spp, half resolution)"
 "$R" bilateral-mc scenes/cornell --scale 2 --spp 64 --out "$OUT/bilateral_mc.csv"
 
+echo "   (${SECONDS} s)"
 echo "== 6. threads and peak memory"
 "$R" threads scenes/cornell --out "$OUT/threads.csv"
 
+echo "   (${SECONDS} s)"
 echo "== plots"
 /usr/bin/python3 tests/perf/report/plot_tradeoffs.py "$OUT"
 echo "report: done in ${SECONDS} s; CSVs and PNGs in $OUT/"
