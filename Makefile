@@ -12,7 +12,7 @@ DEB_PACKAGES := build-essential cmake ninja-build pkg-config \
 # qt6-base-dev (with libgl-dev, which Qt6Gui's CMake config asks for) builds the studio (gui/);
 # xvfb, xauth and fonts-dejavu-core run its screenshot test in a real X server.
 
-.PHONY: all deps build test clean demo bench bench-deps fuzz studio test-sanitize report
+.PHONY: all deps build test clean demo bench bench-deps fuzz studio test-sanitize report test-slurm
 
 all: build
 
@@ -47,6 +47,15 @@ bench: build bench-deps
 report: build
 	@./.ci/install-deps blender python3-matplotlib
 	./tests/perf/report/run.sh $(BUILD_DIR)
+
+# A real one-node Slurm cluster on 127.0.0.1 (docs/distributed.md): slurmctld, slurmd and munged
+# started from a temporary folder and stopped again; a 4-shard render of scenes/cornell (one shard
+# failing once and requeued alone) and a 2-part bank through scripts/slurm/glint-farm, checked
+# against single-machine runs. About 25 s on 2 cores after the build; needs root (the daemons run
+# as root). Not part of `make test`; .ci/run runs it after `make test`.
+test-slurm: build
+	@./.ci/install-deps slurm-wlm munge
+	./tests/slurm/cluster_test.sh $(BUILD_DIR)
 
 # The unit tests under AddressSanitizer + UndefinedBehaviorSanitizer in build-sanitize/
 # (docs/numerics.md, "Sanitizers"); sanitizer options and the reason for each live in

@@ -1,7 +1,9 @@
-// glint-denoise bank | oracle | navigate: build a filter bank, measure what it can reach, walk
-// its navigation tree as a simulated user (docs/navigation.md).
+// glint-denoise bank | oracle | navigate: build a filter bank, measure what it can reach (the
+// oracle's auto column is in auto_commands.cpp), walk its navigation tree as a simulated user
+// (docs/navigation.md).
 #include <unistd.h>
 
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -28,25 +30,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
-double secondsSince(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-std::vector<std::string> splitList(const std::string& text) {
-    std::vector<std::string> out;
-    std::stringstream in(text);
-    std::string item;
-    while (std::getline(in, item, ','))
-        if (!item.empty()) out.push_back(item);
-    return out;
-}
-
-json memberJson(const FilterBank& bank, int m) {
-    if (m < 0) return nullptr;
-    const BankMember& b = bank.members()[std::size_t(m)];
-    return {{"index", m}, {"filter", b.filter}, {"params", b.params}, {"default", b.isDefault}};
-}
-
 std::string memberText(const FilterBank& bank, int m) {
     const BankMember& b = bank.members()[std::size_t(m)];
     std::string text = "#" + std::to_string(m) + " " + b.filter;
@@ -60,7 +43,7 @@ std::string memberText(const FilterBank& bank, int m) {
 // ---- bank ------------------------------------------------------------------------------------
 
 struct BankArgs {
-    std::string input, out, filters, roi, memoryLimit;
+    std::string input, out, filters, roi, memoryLimit, members;
     int size = 64;
     std::uint64_t seed = 1;
     bool prefilter = false, json = false;
@@ -80,6 +63,24 @@ void runBank(const BankArgs& a) {
     if (!a.prefilterParams.empty() && !a.prefilter)
         throw Error(ErrorKind::InvalidArgument, "given without --prefilter", {},
                     "--prefilter-param");
+    if (!a.members.empty()) {
+        // "a:b", both non-negative integers (b past the end of the bank is clamped).
+        const std::size_t colon = a.members.find(':');
+        int first = -1, end = -1;
+        const char* text = a.members.c_str();
+        const auto [p1, e1] =
+            std::from_chars(text, text + (colon == std::string::npos ? 0 : colon), first);
+        const auto [p2, e2] = colon == std::string::npos
+                                  ? std::from_chars(text, text, end)
+                                  : std::from_chars(text + colon + 1, text + a.members.size(), end);
+        if (colon == std::string::npos || e1 != std::errc() || e2 != std::errc() ||
+            p1 != text + colon || p2 != text + a.members.size())
+            throw Error(ErrorKind::InvalidArgument,
+                        "'" + a.members + "' is not a member range a:b (e.g. 0:32)", {},
+                        "--members");
+        options.members = std::pair{first, end};
+        options.cacheDir = a.out;  // validate() wants the shared folder
+    }
     validate(options);  // before reading anything or creating the folder
     std::error_code ec;
     if (fs::exists(a.out, ec) && !fs::is_directory(a.out, ec))
@@ -106,7 +107,7 @@ void runBank(const BankArgs& a) {
     if (tty && !a.json) std::fprintf(stderr, "\n");
     json members = json::array();
     for (int m = 0; m < int(bank.size()); ++m) members.push_back(memberJson(bank, m));
-    const json report{
+    json report{
         {"input", a.input},
         {"bank", a.out},
         {"members", bank.size()},
@@ -115,6 +116,11 @@ void runBank(const BankArgs& a) {
         {"region", {bank.region().x0, bank.region().x1, bank.region().y0, bank.region().y1}},
         {"seconds", seconds},
         {"list", members}};
+    if (!a.members.empty()) {
+        report["firstMember"] = bank.firstMember();
+        report["bankMembers"] = bank.bankMembers();
+        report["indexWritten"] = bank.indexWritten();
+    }
     if (a.json) {
         printJson(report);
         return;
@@ -123,6 +129,11 @@ void runBank(const BankArgs& a) {
         "bank of %zu members over %dx%d in %.2f s (%zu computed, %zu from the cache) -> %s\n",
         bank.size(), bank.region().width(), bank.region().height(), seconds,
         bank.size() - bank.cacheHits(), bank.cacheHits(), a.out.c_str());
+    if (!a.members.empty())
+        std::printf("  members %zu..%zu of %zu; %s\n", bank.firstMember(),
+                    bank.firstMember() + bank.size(), bank.bankMembers(),
+                    bank.indexWritten() ? "every part present: index.json written"
+                                        : "index.json waits for the other parts");
 }
 
 // ---- oracle ----------------------------------------------------------------------------------
@@ -143,6 +154,7 @@ void runOracle(const OracleArgs& a) {
     const FilterBank bank = openBank(frame, a.bank);
     const OracleResult r = oracle(bank, frame.color(), ref.color());
     const double seconds = secondsSince(t0);
+    const json autoColumn = autoOracleColumn(bank, frame, ref.color(), a.bank);
     if (!a.choiceMap.empty()) {
         DisplayOptions d;
         d.falseColorChannel = 0;
@@ -162,6 +174,7 @@ void runOracle(const OracleArgs& a) {
                       {"best3", r.best3},
                       {"best3Members", best3},
                       {"perPixel", r.perPixel},
+                      {"auto", autoColumn},
                       {"seconds", seconds}};
     if (a.json) {
         printJson(report);
@@ -174,6 +187,11 @@ void runOracle(const OracleArgs& a) {
                 memberText(bank, r.bestMember).c_str());
     std::printf("  best 3, per pixel   %.4f\n", r.best3);
     std::printf("  per-pixel optimal   %.4f\n", r.perPixel);
+    if (autoColumn["ssim"].is_null())
+        std::printf("  auto (SURE)         n/a (%s)\n",
+                    autoColumn["note"].get<std::string>().c_str());
+    else
+        std::printf("  auto (SURE)         %.4f\n", autoColumn["ssim"].get<double>());
     if (!a.choiceMap.empty()) std::printf("  choice map -> %s\n", a.choiceMap.c_str());
 }
 
@@ -294,6 +312,9 @@ std::vector<Command> addBankCommands(CLI::App& app) {
     bankCmd->add_option("--memory-limit", bank->memoryLimit,
                         "Refuse a bank needing more memory than this (e.g. 2G; default: what is "
                         "available)");
+    bankCmd->add_option("--members", bank->members,
+                        "Compute only members a:b (0-based, b excluded) into the shared folder; "
+                        "the part that completes the bank writes index.json");
     bankCmd->add_flag("--json", bank->json, "Print one JSON object on stdout");
 
     auto orc = std::make_shared<OracleArgs>();

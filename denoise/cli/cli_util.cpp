@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "commands.h"
+#include "glint/denoise/bank.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"
@@ -13,6 +14,25 @@
 namespace glint::denoise::cli {
 
 using nlohmann::json;
+
+double secondsSince(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+std::vector<std::string> splitList(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream in(text);
+    std::string item;
+    while (std::getline(in, item, ','))
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+json memberJson(const FilterBank& bank, int m) {
+    if (m < 0) return nullptr;
+    const BankMember& b = bank.members()[std::size_t(m)];
+    return {{"index", m}, {"filter", b.filter}, {"params", b.params}, {"default", b.isDefault}};
+}
 
 // Splits "name=value"; `option` names the flag in the error.
 std::pair<std::string, std::string> splitKeyValue(const std::string& text,

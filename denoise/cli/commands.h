@@ -1,10 +1,11 @@
 // glint-denoise's subcommands, one file per group: filter_commands.cpp (list, apply),
-// bank_commands.cpp (bank, oracle, navigate), session_commands.cpp (paint, composite), and the
-// helpers they share (cli_util.cpp). Private to the CLI.
+// bank_commands.cpp (bank, oracle, navigate), session_commands.cpp (paint, composite),
+// auto_commands.cpp (auto), and the helpers they share (cli_util.cpp). Private to the CLI.
 #pragma once
 
 #include <CLI/CLI.hpp>
 
+#include <chrono>
 #include <functional>
 #include <optional>
 #include <string>
@@ -17,6 +18,10 @@
 #include "glint/image/frame_buffers.h"
 #include "glint/image/image.h"
 
+namespace glint::denoise {
+class FilterBank;
+}  // namespace glint::denoise
+
 namespace glint::denoise::cli {
 
 /// A registered subcommand and what runs it when it was given on the command line.
@@ -28,6 +33,14 @@ struct Command {
 std::vector<Command> addFilterCommands(CLI::App& app);
 std::vector<Command> addBankCommands(CLI::App& app);
 std::vector<Command> addSessionCommands(CLI::App& app);
+std::vector<Command> addAutoCommands(CLI::App& app);
+
+/// Seconds since `t` (steady clock).
+double secondsSince(std::chrono::steady_clock::time_point t);
+/// Splits a comma-separated list, dropping empty items.
+std::vector<std::string> splitList(const std::string& text);
+/// Member `m` of `bank` as JSON (index, filter, params, default); null for m < 0.
+nlohmann::json memberJson(const FilterBank& bank, int m);
 
 /// Splits "name=value"; `option` names the flag in the error.
 std::pair<std::string, std::string> splitKeyValue(const std::string& text,
@@ -53,6 +66,12 @@ FrameBuffers readReference(const std::string& path, int width, int height);
 /// `reference`, over `crop` when given.
 nlohmann::json metricsOf(const Image& image, const Image& reference,
                          const std::optional<Rect>& crop);
+
+/// The oracle's "auto" column (auto_commands.cpp): SSIM of the SURE auto composite of `bank`
+/// against `reference` over the bank's region, or a null SSIM and a note when `frame` cannot
+/// use SURE (no variance layer).
+nlohmann::json autoOracleColumn(const FilterBank& bank, const FrameBuffers& frame,
+                                const Image& reference, const std::string& bankDir);
 
 /// The parameter table of a filter or of the prefilter as JSON.
 nlohmann::json describe(const std::vector<ParamSpec>& specs);

@@ -11,7 +11,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     std::vector<glint::denoise::cli::Command> commands;
     for (auto add : {glint::denoise::cli::addFilterCommands, glint::denoise::cli::addBankCommands,
-                     glint::denoise::cli::addSessionCommands})
+                     glint::denoise::cli::addSessionCommands, glint::denoise::cli::addAutoCommands})
         for (glint::denoise::cli::Command& c : add(app)) commands.push_back(std::move(c));
     if (const auto code = glint::cli::parseCommandLine(app, argc, argv, "glint-denoise"))
         return *code;

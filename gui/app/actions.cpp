@@ -26,8 +26,8 @@ QList<QAction*> StudioActions::all() const {
                          redo,      render,        cancelRender, fit,           oneToOne,
                          flip,      exposureUp,    exposureDown};
     for (QAction* s : stages) list << s;
-    list << lasso << wholeImage << brushSmaller << brushLarger << brush << wand << diffuse << same
-         << back << help;
+    list << lasso << wholeImage << brushSmaller << brushLarger << brush << wand << diffuse
+         << autoStart << same << back << help;
     return list;
 }
 
@@ -92,6 +92,10 @@ StudioActions createActions(QObject* o) {
                   QObject::tr("Fill connected areas of similar features"));
     a.diffuse = make(o, QObject::tr("&Diffuse"), QKeySequence(Qt::Key_D),
                      QObject::tr("Poisson-diffuse the painted weights"));
+    a.autoStart =
+        make(o, QObject::tr("&Auto Start"), QKeySequence(QObject::tr("Ctrl+Shift+A")),
+             QObject::tr("Start painting from a per-pixel choice among a filter bank, made by "
+                         "SURE from the render's variance (no reference)"));
     a.same = make(o, QObject::tr("They Look the &Same"), QKeySequence(Qt::Key_S),
                   QObject::tr("Navigation: pick any member below this level"));
     a.back = make(o, QObject::tr("Navigate &Back"), QKeySequence(Qt::Key_Backspace),

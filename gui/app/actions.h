@@ -35,6 +35,7 @@ struct StudioActions {
     QAction* brush;
     QAction* wand;
     QAction* diffuse;
+    QAction* autoStart;
     QAction* same;
     QAction* back;
     QAction* help;

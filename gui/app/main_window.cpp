@@ -145,7 +145,7 @@ void MainWindow::buildMenus() {
     for (QAction* s : a.stages) work->addAction(s);
     work->addSeparator();
     for (QAction* x : {a.lasso, a.wholeImage, a.same, a.back, a.brush, a.wand, a.brushSmaller,
-                       a.brushLarger, a.diffuse})
+                       a.brushLarger, a.diffuse, a.autoStart})
         work->addAction(x);
     QMenu* help = menuBar()->addMenu(tr("&Help"));
     help->addAction(a.help);
@@ -232,6 +232,10 @@ void MainWindow::buildMenus() {
         m_viewer->canvas()->setTool(ImageCanvas::Tool::Wand);
     });
     connect(a.diffuse, &QAction::triggered, m_paint, &PaintView::diffuse);
+    connect(a.autoStart, &QAction::triggered, this, [this] {
+        setStage(3);
+        m_session->autoStart();
+    });
     connect(a.same, &QAction::triggered, this, [this] {
         if (activeStage() == m_navigate) m_navigate->same();
     });

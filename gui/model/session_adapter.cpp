@@ -2,8 +2,10 @@
 
 #include <QJsonArray>
 
+#include "glint/denoise/bank.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
+#include "glint/denoise/sure.h"
 #include "glint/image/error.h"
 
 namespace glint::studio {
@@ -386,6 +388,65 @@ void SessionAdapter::diffuse(const std::vector<std::size_t>& layers) {
             unlock();
             emit failed(tr("Poisson diffusion failed"), message);
         });
+}
+
+void SessionAdapter::autoStart(int bankSize) {
+    if (!m_session || m_locked) return;
+    struct AutoStart {
+        std::shared_ptr<denoise::FilterBank> bank;
+        std::shared_ptr<denoise::AutoResult> result;
+    };
+    FramePtr in = m_input;
+    const denoise::SessionOptions options = m_options;
+    const std::uint64_t generation = m_generation;
+    m_tasks.run<AutoStart>(
+        QStringLiteral("auto-start"),
+        [this, in, options, bankSize](const TaskRunner::CancelFlag& cancel) {
+            // The bank reads the features as the session's filters do.
+            denoise::BankOptions bo;
+            bo.size = bankSize;
+            bo.prefilter = options.prefilter;
+            bo.prefilterParams = options.prefilterParams;
+            bo.progress = progressFor(tr("Auto start: building the bank"), cancel);
+            auto bank = std::make_shared<denoise::FilterBank>(denoise::buildBank(*in, bo));
+            denoise::AutoOptions ao;
+            ao.prefilter = options.prefilter;
+            ao.prefilterParams = options.prefilterParams;
+            ao.progress = progressFor(tr("Auto start: estimating the errors (SURE)"), cancel);
+            auto result =
+                std::make_shared<denoise::AutoResult>(denoise::autoComposite(*bank, *in, ao));
+            return AutoStart{bank, result};
+        },
+        [this, generation](AutoStart done) {
+            whenUnlocked([this, generation, done] {
+                if (!m_session || generation != m_generation) return;  // a new render came
+                const std::size_t first = m_session->layerCount();
+                std::size_t edits = 0;
+                try {
+                    edits = denoise::startFromAuto(*m_session, *done.bank, *done.result);
+                } catch (const Error& e) {
+                    emit failed(tr("Auto start failed"), QString::fromStdString(e.what()));
+                    return;
+                }
+                // The journal replays it as plain layer and weight edits.
+                for (std::size_t i = first; i < m_session->layerCount(); ++i) {
+                    const denoise::SessionLayer& layer = m_session->layer(i);
+                    emit journal({{{QStringLiteral("op"), QStringLiteral("addLayer")},
+                                   {QStringLiteral("filter"), QString::fromStdString(layer.filter)},
+                                   {QStringLiteral("params"), toJson(layer.params)},
+                                   {QStringLiteral("fill"), false}},
+                                  {},
+                                  nullptr});
+                    emit journal({{{QStringLiteral("op"), QStringLiteral("weights")},
+                                   {QStringLiteral("index"), qint64(i)}},
+                                  {layer.weights},
+                                  nullptr});
+                }
+                if (edits > 0) pushEdit(tr("Auto start"), int(edits));
+                changedAll();
+            });
+        },
+        [this](const QString& message) { emit failed(tr("Auto start failed"), message); });
 }
 
 void SessionAdapter::beginStroke(std::size_t layer, const denoise::Brush& brush,

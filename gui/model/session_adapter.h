@@ -68,6 +68,10 @@ class SessionAdapter : public QObject {
     void fill(std::size_t index, const Image& mask, denoise::BrushMode mode);
     /// Poisson-diffusion blending of `layers` (in the background; painting waits meanwhile).
     void diffuse(const std::vector<std::size_t>& layers);
+    /// "Auto start": in the background, a bank of `bankSize` members over the input and the
+    /// per-pixel choice among them by SURE (glint/denoise/sure.h); then the chosen members are
+    /// added as layers with their weights, one undo step ("Auto start").
+    void autoStart(int bankSize = 64);
 
     /// A stroke: dabs update the composite at once (on the UI thread); the end is one undo step.
     void beginStroke(std::size_t layer, const denoise::Brush& brush, denoise::BrushMode mode);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -17,12 +18,17 @@
 #include "glint/image/frame_buffers.h"
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"
+#include "glint/image/shard.h"
 
 namespace glint::cli {
 
 namespace {
 
 using nlohmann::json;
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 std::string lowerExtension(const std::string& file) {
     std::string ext = std::filesystem::path(file).extension().string();
@@ -274,6 +280,43 @@ void runConvert(const ConvertOptions& options) {
     std::cout << options.output << ": " << image.width() << "x" << image.height() << " from "
               << options.input << " (" << (options.layer.empty() ? "color" : options.layer)
               << ")\n";
+}
+
+void runMerge(const MergeOptions& options) {
+    checkOutputPath(options.output, {".exr"}, "--out");
+    removeTemporariesOnSignal({options.output});
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<ShardFrame> shards;
+    for (const std::string& file : options.shards) {
+        if (std::filesystem::absolute(file) == std::filesystem::absolute(options.output))
+            throw Error(ErrorKind::InvalidArgument, "--out would overwrite the shard " + file,
+                        "command line", "--out");
+        shards.push_back({file, readExr(file)});
+    }
+    const double readSeconds = secondsSince(start);
+    const FrameBuffers merged = mergeShards(std::move(shards));
+    const double mergeSeconds = secondsSince(start) - readSeconds;
+    writeExr(merged, options.output);
+    const double seconds = secondsSince(start);
+    if (options.json) {
+        const json j = {{"out", options.output},
+                        {"shards", options.shards.size()},
+                        {"width", merged.width()},
+                        {"height", merged.height()},
+                        {"spp", merged.metadata().spp},
+                        {"cancelled", merged.metadata().extra.count("cancelled") > 0},
+                        {"readSeconds", readSeconds},
+                        {"mergeSeconds", mergeSeconds},
+                        {"writeSeconds", seconds - readSeconds - mergeSeconds},
+                        {"seconds", seconds}};
+        std::cout << j.dump() << "\n";
+    } else {
+        std::printf(
+            "merged %zu shards into %s: %dx%d, %d spp (read %.3f s, merge %.3f s, total "
+            "%.3f s)\n",
+            options.shards.size(), options.output.c_str(), merged.width(), merged.height(),
+            merged.metadata().spp, readSeconds, mergeSeconds, seconds);
+    }
 }
 
 }  // namespace glint::cli

@@ -3,6 +3,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace glint::cli {
 
@@ -32,11 +33,20 @@ struct ConvertOptions {
     std::string falseColor;  ///< "lo,hi" or empty
 };
 
+/// Options of `glint-image merge`.
+struct MergeOptions {
+    std::vector<std::string> shards;
+    std::string output;
+    bool json = false;
+};
+
 /// Prints size, layers, metadata and non-finite counts of an image.
 void runInfo(const InfoOptions& options);
 /// Prints one metric of an image against a reference.
 void runDiff(const DiffOptions& options);
 /// Writes a layer or channel of an image as an 8-bit sRGB PNG.
 void runConvert(const ConvertOptions& options);
+/// Merges the shards of a sharded render (glint-render --shard i/N) into the whole frame.
+void runMerge(const MergeOptions& options);
 
 }  // namespace glint::cli

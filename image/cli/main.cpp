@@ -34,12 +34,21 @@ int main(int argc, char** argv) {
     convertCmd->add_option("--false-color", convert.falseColor,
                            "Show one channel in false colour over lo,hi");
 
+    glint::cli::MergeOptions merge;
+    CLI::App* mergeCmd = app.add_subcommand(
+        "merge", "Merge the shards of a render (glint-render --shard i/N) into the whole frame");
+    mergeCmd->add_option("SHARD", merge.shards, "Every shard EXR of the render, in any order")
+        ->required();
+    mergeCmd->add_option("--out", merge.output, "Merged EXR (.exr)")->required();
+    mergeCmd->add_flag("--json", merge.json, "Print one JSON object on stdout");
+
     if (const auto code = glint::cli::parseCommandLine(app, argc, argv, "glint-image"))
         return *code;
     return glint::cli::runGuarded("glint-image", [&] {
         if (*infoCmd) glint::cli::runInfo(info);
         if (*diffCmd) glint::cli::runDiff(diff);
         if (*convertCmd) glint::cli::runConvert(convert);
+        if (*mergeCmd) glint::cli::runMerge(merge);
         return 0;
     });
 }

@@ -18,6 +18,7 @@
 #include "glint/image/io.h"
 #include "glint/image/memory.h"
 #include "glint/image/metrics.h"
+#include "glint/image/shard.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 #include "glint/render/settings.h"
@@ -30,7 +31,7 @@ struct Options {
     std::string scene, out, reference, memoryLimit;
     std::optional<int> spp, threads, maxDepth, rrDepth;
     std::optional<std::string> seed;  // parsed strictly: "-1" must not wrap to 2^64 - 1
-    std::optional<std::string> integrator, mis, strategy, sampler;
+    std::optional<std::string> integrator, mis, strategy, sampler, shard;
     double timeLimit = 0.0;
     bool json = false, position = false;
     // Metropolis parameters (--integrator mlt).
@@ -124,6 +125,10 @@ int run(const Options& opt) {
                            "--strategy applies only with --mis none", "command line", "--strategy");
     settings.timeLimit = opt.timeLimit;
     settings.positionLayer = opt.position;
+    if (opt.shard) {
+        const auto [index, count] = glint::parseShardSpec(*opt.shard, "--shard");
+        settings.shard = glint::render::Shard{index, count};
+    }
     if (!opt.memoryLimit.empty())
         settings.memoryLimit = glint::parseMemorySize(opt.memoryLimit, "--memory-limit");
     glint::render::MltSettings& mlt = settings.mlt;
@@ -145,6 +150,7 @@ int run(const Options& opt) {
                                  : e.where() == "rrDepth"   ? "--rr-depth"
                                  : e.where() == "timeLimit" ? "--time-limit"
                                  : e.where() == "seed"      ? "--seed"
+                                 : e.where() == "shard"     ? "--shard"
                                                             : "options";
         throw glint::Error(glint::ErrorKind::InvalidArgument, e.message(), "command line", flag);
     }
@@ -229,11 +235,27 @@ int run(const Options& opt) {
                             {"nonFiniteSamples", stats.nonFiniteSamples},
                             {"passes", passes}};
         if (reference) j["relMse"] = lastRelMse, j["ssim"] = lastSsim;
+        if (settings.shard) {
+            const auto [begin, end] =
+                glint::shardSampleRange(settings.spp, settings.shard->index, settings.shard->count);
+            j["shard"] = {{"index", settings.shard->index},
+                          {"count", settings.shard->count},
+                          {"totalSpp", settings.spp},
+                          {"samples", {begin, end}},
+                          {"cancelled", stats.cancelled}};
+        }
         if (stats.mlt) j["mlt"] = mltJson(*stats.mlt);
         std::cout << j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
     } else {
         std::printf("rendered %s: %dx%d, %d spp in %.3f s (setup %.3f s)\n", opt.scene.c_str(),
                     frame.width(), frame.height(), stats.completedSpp, stats.seconds, setupSeconds);
+        if (settings.shard) {
+            const auto [begin, end] =
+                glint::shardSampleRange(settings.spp, settings.shard->index, settings.shard->count);
+            std::printf("  shard %d/%d: samples [%d, %d) of %d spp per pixel%s\n",
+                        settings.shard->index, settings.shard->count, begin, end, settings.spp,
+                        stats.cancelled ? " (cancelled: sampleCount says what it holds)" : "");
+        }
         std::printf("  %.3f M samples/s, %.3f M rays/s, %lld NaN/Inf samples discarded\n",
                     samplesPerSecond * 1e-6, raysPerSecond * 1e-6,
                     static_cast<long long>(stats.nonFiniteSamples));
@@ -275,6 +297,9 @@ int main(int argc, char** argv) {
                    "Russian roulette starts after this many bounces, 0 … 1024");
     app.add_option("--time-limit", opt.timeLimit,
                    "seconds, 0 … 1e7: render passes until time runs out (at least 1 spp)");
+    app.add_option("--shard", opt.shard,
+                   "i/N: render only shard i (0-based) of N of the per-pixel samples, for "
+                   "glint-image merge (docs/distributed.md)");
     app.add_option("--reference", opt.reference, "reference EXR: print relMSE and SSIM per pass");
     app.add_flag("--position", opt.position, "also write the world-space position layer");
     app.add_option("--memory-limit", opt.memoryLimit,

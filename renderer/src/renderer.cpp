@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <mutex>
+#include <tuple>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -19,6 +20,7 @@
 #include "film/film.h"
 #include "glint/image/error.h"
 #include "glint/image/memory.h"
+#include "glint/image/shard.h"
 #include "integrators/mlt_integrator.h"
 #include "integrators/path_integrator.h"
 #include "integrators/render_loop.h"
@@ -28,6 +30,7 @@
 #include "sampling/warp.h"
 #include "scene/camera.h"
 #include "scene/scene_data.h"
+#include "scene/scene_hash.h"
 
 namespace glint::render {
 
@@ -145,7 +148,7 @@ class TilePasses final : public PassWork {
                 const auto pixel = std::uint64_t(y) * std::uint64_t(m_data.width) + x;
                 if (m_settings.sampler == SamplerKind::Sobol) {
                     // Every dimension from its own scrambled Sobol sequence (sampling/sobol.h).
-                    for (int s = pass.first; s < pass.first + pass.count; ++s) {
+                    for (int s = pass.begin; s < pass.end; ++s) {
                         SobolSampler sobol(m_settings.seed, pixel, std::uint32_t(s));
                         const Vec2 jitter = sobol.camera2D(0);
                         const Vec2 lens = m_thinLens ? sobol.camera2D(1) : Vec2{0.5f, 0.5f};
@@ -157,7 +160,7 @@ class TilePasses final : public PassWork {
                     }
                     continue;
                 }
-                for (int s = pass.first; s < pass.first + pass.count; ++s) {
+                for (int s = pass.begin; s < pass.end; ++s) {
                     Rng rng(m_settings.seed, pixel, std::uint64_t(s));
                     const Vec2 jitter = sampler.point(pixel, s, 0, rng);
                     const Vec2 lens =
@@ -197,6 +200,15 @@ RenderResult renderPath(const detail::SceneData& data, const EmbreeScene& embree
     const PathIntegrator integrator(data, embree, lights, camera, settings);
     TilePasses work(data, integrator, camera, settings, film);
     RenderLoop loop(settings.spp, settings.timeLimit, callbacks, arena, begin, end);
+    // A shard takes its range of every pixel's samples; the passes stay those of the whole
+    // render, so a stratified pass stratifies over the same block (docs/distributed.md).
+    std::optional<ShardInfo> shard;
+    if (settings.shard) {
+        shard = ShardInfo{settings.shard->index, settings.shard->count, settings.spp, 0, 0, 0};
+        std::tie(shard->sampleBegin, shard->sampleEnd) =
+            shardSampleRange(settings.spp, shard->index, shard->count);
+        loop.restrictSamples(shard->sampleBegin, shard->sampleEnd);
+    }
     const LoopResult done = loop.run(work, reportPasses);
 
     RenderResult result;
@@ -214,6 +226,10 @@ RenderResult renderPath(const detail::SceneData& data, const EmbreeScene& embree
     meta.extra["maxDepth"] = std::to_string(settings.maxDepth);
     meta.extra["rrDepth"] = std::to_string(settings.rrDepth);
     if (done.cancelled) meta.extra["cancelled"] = "true";
+    if (shard) {
+        shard->sceneHash = sceneContentHash(data);
+        setShardInfo(meta, *shard);
+    }
     if (data.hasMotion()) {
         // Features are then time averages: their variance includes motion (docs/motion-blur.md).
         meta.extra["shutter"] = std::to_string(data.camera.shutterOpen) + " " +

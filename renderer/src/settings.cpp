@@ -1,5 +1,7 @@
 #include "glint/render/settings.h"
 
+#include <algorithm>
+
 #include "glint/image/error.h"
 
 namespace glint::render {
@@ -90,6 +92,20 @@ void validate(const Settings& s) {
     if (s.region && s.region->empty()) bad("region", "the render region is empty");
     if (s.region && s.integrator == Integrator::Mlt)
         bad("region", "a render region works with the path integrator only");
+    if (s.shard) {
+        if (s.shard->count < 1 || s.shard->count > std::max(s.spp, 1))
+            bad("shard", "the number of shards must be in [1, spp = " + std::to_string(s.spp) +
+                             "], got " + std::to_string(s.shard->count));
+        if (s.shard->index < 0 || s.shard->index >= s.shard->count)
+            bad("shard", "shard index must be in [0, " + std::to_string(s.shard->count - 1) +
+                             "], got " + std::to_string(s.shard->index));
+        if (s.timeLimit > 0.0)
+            bad("shard", "a shard needs a fixed spp (no time limit): shards split the samples");
+        if (s.integrator != Integrator::Path)
+            bad("shard",
+                "sharding works with the path integrator only (Metropolis chains are "
+                "not indexed by sample)");
+    }
 }
 
 }  // namespace glint::render

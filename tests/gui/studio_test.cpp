@@ -242,6 +242,30 @@ class StudioTest : public QObject {
         QCOMPARE(s.layer(0).weights(32, 24, 0), 1.0f);    // painted pixels keep their weight
     }
 
+    void autoStartAddsTheSureChoiceAsLayersInOneUndoStep() {
+        auto w = openScene();
+        QVERIFY(w);
+        const denoise::Session& s = w->session()->session();
+        QCOMPARE(s.layerCount(), std::size_t(0));
+        const Image noisy = s.composite();
+        w->actions().autoStart->trigger();
+        QVERIFY(waitFor([&] { return s.layerCount() > 0 && !w->session()->busy(); }, 60000));
+        QCOMPARE(w->session()->undoStack()->count(), 1);  // one step for every layer
+        // The layers' weights cover every pixel: nothing of the noisy input shows through.
+        QVERIFY(!sameBits(s.composite(), noisy));
+        for (int y = 0; y < 48; y += 5)
+            for (int x = 0; x < 64; x += 5) {
+                double rest = 1.0;
+                for (std::size_t i = s.layerCount(); i-- > 0;)
+                    rest *= 1.0 - s.layer(i).weights(x, y, 0);
+                QVERIFY2(rest < 1e-6, "the input shows through the auto start");
+            }
+        w->session()->undoStack()->undo();
+        QCOMPARE(s.layerCount(), std::size_t(0));
+        QVERIFY(sameBits(s.composite(), noisy));
+        QVERIFY(w->lastError().isEmpty());
+    }
+
     void aSavedSessionReopensBitForBit() {
         auto w = openScene();
         QVERIFY(w);

@@ -14,6 +14,7 @@ run "$bin/bench_render"
 run "$bin/bench_mlt" throughput tests/render/data/cornell.json --spp 32 --repeat 5 --threads 2
 run "$bin/bench_denoise_a" --threads 2 --size 1024 --reps 5
 run "$bin/bench_denoise_b"
+run "$bin/bench_auto" --reps 3
 if [ -x tests/perf/cycles/run_compare.sh ]; then
   run tests/perf/cycles/run_compare.sh "$build"
 fi

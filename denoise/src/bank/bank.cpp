@@ -46,6 +46,15 @@ void validate(const BankOptions& options) {
     if (options.prefilter)
         resolveParams(prefilterParams(), options.prefilterParams, "feature prefilter");
     if (options.region && options.region->empty()) bad("the region of interest is empty", "--roi");
+    if (options.members) {
+        const auto [first, end] = *options.members;
+        if (first < 0 || end < first)
+            bad("member range " + std::to_string(first) + ":" + std::to_string(end) +
+                    " must be a:b with 0 <= a <= b",
+                "--members");
+        if (options.cacheDir.empty())
+            bad("a range of members needs the bank folder its parts share", "--members");
+    }
 }
 
 std::uint64_t hashFrame(const FrameBuffers& frame) {
@@ -158,8 +167,15 @@ FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options) {
     validate(options);
     const Rect region = bankRegion(frame, options);
     std::vector<BankMember> members = runnableMembers(frame, options);
+    // The members this build computes: all, or a range of them (a bank built in parts).
+    std::size_t first = 0, end = members.size();
+    if (options.members) {
+        first = std::min(std::size_t(options.members->first), members.size());
+        end = std::min(std::size_t(options.members->second), members.size());
+    }
+    const std::size_t count = end - first;
     // Refuse a bank the machine cannot hold before computing or allocating any member.
-    checkMemory(bankBytes(frame, options, region, members.size()), options.memoryLimit,
+    checkMemory(bankBytes(frame, options, region, count), options.memoryLimit,
                 "a bank of " + std::to_string(members.size()) + " members over " +
                     std::to_string(region.width()) + "x" + std::to_string(region.height()) +
                     " pixels",
@@ -172,7 +188,7 @@ FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options) {
     std::vector<char> hit(members.size(), 0);
     for (std::size_t i = 0; i < members.size(); ++i) keys[i] = cache.key(members[i], region);
     // Cached results are read in parallel (reopening a bank is mostly reading files).
-    tbb::parallel_for(std::size_t(0), members.size(), [&](std::size_t i) {
+    tbb::parallel_for(first, end, [&](std::size_t i) {
         if (cache.read(keys[i], region, results[i])) hit[i] = 1;
     });
     std::size_t hits = 0;
@@ -185,13 +201,13 @@ FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options) {
     auto report = [&] {
         if (!options.progress) return;
         const std::lock_guard<std::mutex> lock(progressMutex);
-        if (!stop.load() && !options.progress(double(done.load()) / double(members.size())))
+        if (!stop.load() && !options.progress(count ? double(done.load()) / double(count) : 1.0))
             stop.store(true);
     };
     report();
     if (stop.load()) throw Error(ErrorKind::Cancelled, "bank cancelled");
 
-    const bool needInput = hits < members.size();
+    const bool needInput = hits < count;
     const FrameBuffers input = needInput && options.prefilter
                                    ? prefilterFeatures(frame, options.prefilterParams)
                                    : FrameBuffers{};
@@ -199,7 +215,7 @@ FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options) {
 
     // Members in parallel; each filter's own loops share the same threads (FilterOptions::threads
     // = 0), and a stop reaches the running filters through their progress callbacks.
-    tbb::parallel_for(std::size_t(0), members.size(), [&](std::size_t i) {
+    tbb::parallel_for(first, end, [&](std::size_t i) {
         if (hit[i] || stop.load()) return;
         FilterOptions fo;
         fo.region = region;
@@ -216,11 +232,26 @@ FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options) {
         report();
     });
     if (stop.load()) throw Error(ErrorKind::Cancelled, "bank cancelled");
-    cache.writeIndex(members, keys, region);
+    if (!options.members) {
+        cache.writeIndex(members, keys, region);
+        FilterBank bank(std::move(members), std::move(results), region, frame.width(),
+                        frame.height(), inputHash);
+        bank.setCacheHits(hits);
+        return bank;
+    }
 
-    FilterBank bank(std::move(members), std::move(results), region, frame.width(), frame.height(),
+    // A part of the bank: record it, and complete index.json when every part is there.
+    cache.writePartialIndex(members, keys, first, end, region);
+    const bool complete = cache.mergePartialIndices(members, keys, region);
+    const std::size_t total = members.size();
+    std::vector<BankMember> part(std::make_move_iterator(members.begin() + std::ptrdiff_t(first)),
+                                 std::make_move_iterator(members.begin() + std::ptrdiff_t(end)));
+    std::vector<Image> partResults(std::make_move_iterator(results.begin() + std::ptrdiff_t(first)),
+                                   std::make_move_iterator(results.begin() + std::ptrdiff_t(end)));
+    FilterBank bank(std::move(part), std::move(partResults), region, frame.width(), frame.height(),
                     inputHash);
     bank.setCacheHits(hits);
+    bank.setMemberRange(first, total, complete);
     return bank;
 }
 

@@ -25,6 +25,7 @@ namespace {
 
 constexpr int kIndexFormat = 1;
 constexpr const char* kIndexName = "index.json";
+constexpr const char* kPartialPrefix = "index.members-";
 
 std::uint64_t hashString(std::uint64_t h, const std::string& s) {
     for (unsigned char c : s) h = mix64(h ^ c) + 0x9e3779b97f4a7c15ULL;
@@ -157,6 +158,87 @@ void BankCache::write(std::uint64_t key, const BankMember& member, const Rect& r
     m_entries[key] = {file, hashImage(result)};
 }
 
+json BankCache::optionsJson() const {
+    return {{"size", m_options.size},
+            {"seed", m_options.seed},
+            {"filters", m_options.filters},
+            {"prefilter", m_options.prefilter},
+            {"prefilterParams", m_options.prefilterParams},
+            {"region", m_options.region ? regionJson(*m_options.region) : json(nullptr)}};
+}
+
+void BankCache::writePartialIndex(const std::vector<BankMember>& members,
+                                  const std::vector<std::uint64_t>& keys, std::size_t first,
+                                  std::size_t end, const Rect& region) {
+    if (m_dir.empty()) return;
+    json list = json::array();
+    {
+        const std::lock_guard<std::mutex> lock(m_mutex);
+        for (std::size_t i = first; i < end; ++i) {
+            const Entry& e = m_entries.at(keys[i]);
+            list.push_back({{"filter", members[i].filter},
+                            {"key", toHex(keys[i])},
+                            {"file", e.file},
+                            {"checksum", toHex(e.checksum)}});
+        }
+    }
+    const json partial{{"format", kIndexFormat},
+                       {"inputHash", toHex(m_inputHash)},
+                       {"region", regionJson(region)},
+                       {"options", optionsJson()},
+                       {"first", first},
+                       {"end", end},
+                       {"members", list}};
+    const fs::path path = m_dir / (std::string(kPartialPrefix) + std::to_string(first) + "-" +
+                                   std::to_string(end) + ".json");
+    writeAtomically(path, [&](const fs::path& tmp) {
+        std::ofstream out(tmp);
+        out << partial.dump(1) << "\n";
+        out.close();
+        if (!out) throw Error(ErrorKind::Io, "cannot write the partial bank index", tmp.string());
+    });
+}
+
+bool BankCache::mergePartialIndices(const std::vector<BankMember>& members,
+                                    const std::vector<std::uint64_t>& keys, const Rect& region) {
+    if (m_dir.empty()) return false;
+    // Entries of every partial index of this very bank (same input, options and region); a
+    // partial index of another bank, or one being replaced, is passed over.
+    std::map<std::uint64_t, Entry> found;
+    std::vector<fs::path> partials;
+    std::error_code ec;
+    for (const fs::directory_entry& entry : fs::directory_iterator(m_dir, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (name.rfind(kPartialPrefix, 0) != 0 || entry.path().extension() != ".json") continue;
+        std::ifstream in(entry.path());
+        try {
+            const json j = json::parse(in);
+            if (j.at("format").get<int>() != kIndexFormat ||
+                fromHex(j.at("inputHash").get<std::string>()) != m_inputHash ||
+                j.at("options") != optionsJson() || j.at("region") != regionJson(region))
+                continue;
+            for (const json& m : j.at("members"))
+                found[fromHex(m.at("key").get<std::string>())] = {
+                    m.at("file").get<std::string>(), fromHex(m.at("checksum").get<std::string>())};
+            partials.push_back(entry.path());
+        } catch (const std::exception&) {
+            continue;
+        }
+    }
+    // Every member's result must be there, as a file.
+    for (std::uint64_t key : keys) {
+        const auto it = found.find(key);
+        if (it == found.end() || !fs::exists(m_dir / it->second.file, ec)) return false;
+    }
+    {
+        const std::lock_guard<std::mutex> lock(m_mutex);
+        for (const auto& [key, entry] : found) m_entries[key] = entry;
+    }
+    writeIndex(members, keys, region);
+    for (const fs::path& p : partials) fs::remove(p, ec);
+    return true;
+}
+
 void BankCache::writeIndex(const std::vector<BankMember>& members,
                            const std::vector<std::uint64_t>& keys, const Rect& region) {
     if (m_dir.empty()) return;
@@ -171,12 +253,7 @@ void BankCache::writeIndex(const std::vector<BankMember>& members,
                         {"file", e.file},
                         {"checksum", toHex(e.checksum)}});
     }
-    json options{{"size", m_options.size},
-                 {"seed", m_options.seed},
-                 {"filters", m_options.filters},
-                 {"prefilter", m_options.prefilter},
-                 {"prefilterParams", m_options.prefilterParams},
-                 {"region", m_options.region ? regionJson(*m_options.region) : json(nullptr)}};
+    const json options = optionsJson();
     const json index{
         {"format", kIndexFormat}, {"inputHash", toHex(m_inputHash)}, {"width", m_width},
         {"height", m_height},     {"region", regionJson(region)},    {"options", options},

@@ -10,6 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "glint/denoise/bank.h"
 
 namespace glint::denoise::detail {
@@ -34,7 +36,21 @@ class BankCache {
     void writeIndex(const std::vector<BankMember>& members, const std::vector<std::uint64_t>& keys,
                     const Rect& region);
 
+    /// Records members [first, end) (computed or read by this build) in the partial index
+    /// index.members-FIRST-END.json (atomically), for a bank built in parts.
+    void writePartialIndex(const std::vector<BankMember>& members,
+                           const std::vector<std::uint64_t>& keys, std::size_t first,
+                           std::size_t end, const Rect& region);
+    /// Reads every partial index of this input and options in the folder; when together they
+    /// hold every member, writes index.json (writeIndex), removes the partial indices and
+    /// returns true.
+    bool mergePartialIndices(const std::vector<BankMember>& members,
+                             const std::vector<std::uint64_t>& keys, const Rect& region);
+
   private:
+    /// The options block of index.json (without the member range).
+    nlohmann::json optionsJson() const;
+
     struct Entry {
         std::string file;
         std::uint64_t checksum = 0;

@@ -240,6 +240,29 @@ Image GaussianFilter::apply(const FrameBuffers& frame, const ParamValues& params
     return gaussianBlur(frame.color(), detail::paramValue(params, "sigma"), roi, work);
 }
 
+std::optional<Image> GaussianFilter::divergence(const FrameBuffers& frame,
+                                                const ParamValues& params, const Rect& roi) const {
+    // The output is linear in the input: out(p) = Σ_q wx wy in(q) / (Σ wx · Σ wy) with the kernel
+    // truncated at the border, so ∂out(p)/∂in(p) is the normalised centre weight, the same
+    // weights and radius as gaussianBlur.
+    const double sigma = detail::paramValue(params, "sigma");
+    const int radius = std::min(gaussianRadius(sigma), std::max(frame.width(), frame.height()));
+    const std::vector<float> w = gaussianWeights(sigma, radius);
+    const std::vector<float> colSums = truncatedSums(w, radius, roi.x0, roi.width(), frame.width());
+    const std::vector<float> rowSums =
+        truncatedSums(w, radius, roi.y0, roi.height(), frame.height());
+    const double centre = w[std::size_t(radius)];
+    Image div(roi.width(), roi.height(), 3);
+    for (int y = 0; y < roi.height(); ++y)
+        for (int x = 0; x < roi.width(); ++x) {
+            const float d =
+                float(centre * centre /
+                      (double(colSums[std::size_t(x)]) * double(rowSums[std::size_t(y)])));
+            for (int c = 0; c < 3; ++c) div(x, y, c) = d;
+        }
+    return div;
+}
+
 std::unique_ptr<Filter> makeGaussianFilter() {
     return std::make_unique<GaussianFilter>();
 }

@@ -28,6 +28,9 @@ class GaussianFilter final : public Filter {
     int margin(const ParamValues& params) const override;
     Image apply(const FrameBuffers& frame, const ParamValues& params, const Rect& roi,
                 WorkContext& work) const override;
+    /// The centre weight of the kernel truncated at the border, w(0)² / (Σ_x w · Σ_y w).
+    std::optional<Image> divergence(const FrameBuffers& frame, const ParamValues& params,
+                                    const Rect& roi) const override;
 
   private:
     std::vector<ParamSpec> m_params;

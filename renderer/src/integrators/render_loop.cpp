@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "glint/image/error.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
@@ -18,7 +20,15 @@ RenderLoop::RenderLoop(int spp, double timeBudget, const Callbacks& callbacks,
       m_arena(arena),
       m_begin(progressBegin),
       m_end(progressEnd),
+      m_sampleEnd(spp),
       m_start(Clock::now()) {}
+
+void RenderLoop::restrictSamples(int begin, int end) {
+    GLINT_CHECK(m_spp > 0 && m_budget <= 0.0 && 0 <= begin && begin < end && end <= m_spp,
+                "a sample range needs a fixed spp and a non-empty range inside it");
+    m_sampleBegin = begin;
+    m_sampleEnd = end;
+}
 
 double RenderLoop::elapsed() const {
     return std::chrono::duration<double>(Clock::now() - m_start).count();
@@ -38,10 +48,13 @@ LoopResult RenderLoop::run(PassWork& work, bool reportPasses) {
     const bool timed = m_budget > 0.0;
     const std::size_t items = work.items();
     std::atomic<std::uint64_t> samples{0};
-    int done = 0, pass = 0;
+    // `done` walks the whole render's sample sequence; `taken` counts the samples of it this
+    // loop renders (all of them unless restrictSamples() chose a shard).
+    int done = 0, taken = 0, pass = 0;
+    const int share = m_spp > 0 ? m_sampleEnd - m_sampleBegin : 0;
     double secondsPerSpp = 0.0;
     while (!m_cancelled.load()) {
-        if (m_spp > 0 && done >= m_spp) break;
+        if (m_spp > 0 && done >= m_sampleEnd) break;
         // The first pass always completes: a tiny time limit still gives a 1-spp image.
         if (timed && done > 0 && elapsed() >= m_budget) break;
         if (m_spp <= 0 && !timed) break;
@@ -53,7 +66,15 @@ LoopResult RenderLoop::run(PassWork& work, bool reportPasses) {
             // Clamped in double: a fast pass on a tiny film gives ratios beyond INT_MAX.
             count = int(std::clamp((m_budget - elapsed()) / secondsPerSpp, 1.0, double(count)));
         }
-        const PassInfo info{pass, done, count};
+        // A shard renders its part of this pass; a pass wholly outside it is skipped.
+        const int begin = std::max(done, m_sampleBegin);
+        const int end = std::min(done + count, m_sampleEnd > 0 ? m_sampleEnd : done + count);
+        if (begin >= end) {
+            done += count;
+            continue;
+        }
+        const int rendered = end - begin;
+        const PassInfo info{pass, done, count, begin, end};
         std::atomic<std::size_t> itemsDone{0};
         const double passStart = elapsed();
         m_arena.execute([&] {
@@ -64,7 +85,8 @@ LoopResult RenderLoop::run(PassWork& work, bool reportPasses) {
                         if (stopRequested()) return;
                         work.run(info, i, *this);
                         const std::optional<Rect> rect = work.itemRect(i);
-                        if (rect) samples += std::uint64_t(rect->width()) * rect->height() * count;
+                        if (rect)
+                            samples += std::uint64_t(rect->width()) * rect->height() * rendered;
                         if (!m_callbacks.tileDone && !m_callbacks.progress) continue;
                         // Counted under the callback lock, so that reported progress never
                         // goes backwards when two tiles finish at once.
@@ -74,8 +96,8 @@ LoopResult RenderLoop::run(PassWork& work, bool reportPasses) {
                         if (m_callbacks.progress) {
                             double f;
                             if (m_spp > 0)
-                                f = (double(done) + double(finished) / double(items) * count) /
-                                    double(m_spp);
+                                f = (double(taken) + double(finished) / double(items) * rendered) /
+                                    double(share);
                             else
                                 f = std::min(1.0, elapsed() / m_budget);
                             m_callbacks.progress(pass, m_begin + (m_end - m_begin) * f);
@@ -85,18 +107,19 @@ LoopResult RenderLoop::run(PassWork& work, bool reportPasses) {
                 tbb::simple_partitioner());
         });
         if (m_cancelled.load()) break;
-        secondsPerSpp = (elapsed() - passStart) / double(count);
+        secondsPerSpp = (elapsed() - passStart) / double(rendered);
         done += count;
+        taken += rendered;
         ++pass;
         work.passCompleted(info);
         if (reportPasses && m_callbacks.passDone) {
             FrameBuffers frame = work.snapshot();
-            frame.metadata().spp = done;
+            frame.metadata().spp = taken;
             m_callbacks.passDone(pass - 1, frame);
         }
     }
     result.passes = pass;
-    result.completedSpp = done;
+    result.completedSpp = taken;
     result.cancelled = m_cancelled.load();
     result.samples = samples.load();
     return result;

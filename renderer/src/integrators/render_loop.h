@@ -17,11 +17,15 @@
 
 namespace glint::render {
 
-/// One pass: `count` samples per pixel following the `first` already done.
+/// One pass: `count` samples per pixel following the `first` already done (the block of the
+/// whole render's sample sequence a stratified sampler stratifies over), of which a shard takes
+/// samples [begin, end) (all of them unless RenderLoop::restrictSamples was called).
 struct PassInfo {
     int index = 0;
     int first = 0;
     int count = 0;
+    int begin = 0;
+    int end = 0;
 };
 
 class RenderLoop;
@@ -64,6 +68,11 @@ class RenderLoop {
     /// work.snapshot() after each completed pass.
     LoopResult run(PassWork& work, bool reportPasses = true);
 
+    /// Renders only per-pixel samples [begin, end) of the spp (a shard, Settings::shard): the
+    /// passes keep the sizes and boundaries of the whole render, and each takes its share of
+    /// the range. Needs a fixed spp (no time budget).
+    void restrictSamples(int begin, int end);
+
     /// Polls Callbacks::cancel (serialised); true once the render should stop.
     bool stopRequested() const;
 
@@ -75,6 +84,7 @@ class RenderLoop {
     const Callbacks& m_callbacks;
     tbb::task_arena& m_arena;
     double m_begin, m_end;
+    int m_sampleBegin = 0, m_sampleEnd = 0;  // the samples taken (a shard), or all of them
     mutable std::mutex m_callbackMutex;
     mutable std::atomic<bool> m_cancelled{false};
     std::chrono::steady_clock::time_point m_start;

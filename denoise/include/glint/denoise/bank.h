@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "glint/denoise/filter.h"
@@ -45,6 +46,11 @@ struct BankOptions {
     /// Bytes the build may allocate (estimateMemory); a bank needing more is refused with
     /// Error(OutOfMemory) before any member is computed. 0: what the machine has available.
     std::uint64_t memoryLimit = 0;
+    /// Compute only members [first, second) of the bank's member list (clamped to its length;
+    /// an empty range computes nothing), for a bank split over machines sharing cacheDir
+    /// (docs/distributed.md). Each such build records its members in a partial index; the one
+    /// that finds every member present writes index.json, the same as one machine's build.
+    std::optional<std::pair<int, int>> members;
 };
 
 /// Throws glint::Error(InvalidArgument) naming the first bad option (size, unknown filter...).
@@ -86,6 +92,14 @@ class FilterBank {
     /// Members read from the cache (the rest were computed) by the build that made this bank.
     std::size_t cacheHits() const { return m_cacheHits; }
     void setCacheHits(std::size_t hits) { m_cacheHits = hits; }
+    /// For a build of BankOptions::members: the index of the first member held here in the whole
+    /// bank, the whole bank's member count, and whether this build completed index.json.
+    std::size_t firstMember() const { return m_firstMember; }
+    std::size_t bankMembers() const { return m_bankMembers ? m_bankMembers : m_members.size(); }
+    bool indexWritten() const { return m_indexWritten; }
+    void setMemberRange(std::size_t first, std::size_t bankMembers, bool indexWritten) {
+        m_firstMember = first, m_bankMembers = bankMembers, m_indexWritten = indexWritten;
+    }
 
   private:
     std::vector<BankMember> m_members;
@@ -94,6 +108,8 @@ class FilterBank {
     int m_frameWidth = 0, m_frameHeight = 0;
     std::uint64_t m_inputHash = 0;
     std::size_t m_cacheHits = 0;
+    std::size_t m_firstMember = 0, m_bankMembers = 0;
+    bool m_indexWritten = true;
 };
 
 /// Bytes buildBank(frame, options) allocates at most besides `frame`: one region-sized RGB float

@@ -107,6 +107,15 @@ class Filter {
     /// run through `work`, which reports progress and throws Error(Cancelled) when stopped.
     virtual Image apply(const FrameBuffers& frame, const ParamValues& params, const Rect& roi,
                         WorkContext& work) const = 0;
+
+    /// The divergence of apply() when the filter can give it cheaply: per pixel of `roi` and
+    /// channel c, ∂out(p, c)/∂in(p, c) for a frame without missing pixels (roi-sized, 3
+    /// channels). The default returns nothing: SURE then estimates it by Monte Carlo (sure.h).
+    virtual std::optional<Image> divergence(const FrameBuffers& /*frame*/,
+                                            const ParamValues& /*params*/,
+                                            const Rect& /*roi*/) const {
+        return std::nullopt;
+    }
 };
 
 /// Resolves the parameters of `filter` (resolveParams over its specs).

@@ -32,6 +32,15 @@ inline constexpr int kMaxThreads = 1024;      ///< worker threads
 inline constexpr double kMaxTimeLimit = 1e7;  ///< seconds (about 4 months)
 inline constexpr std::uint64_t kMaxSeed = (std::uint64_t(1) << 63) - 1;
 
+/// One shard of a render split over machines (docs/distributed.md): shard `index` of `count`
+/// takes per-pixel samples [⌊index·spp/count⌋, ⌊(index+1)·spp/count⌋) of the spp of the whole
+/// render, the very samples the whole render takes there, so that glint::mergeShards of all
+/// `count` shards gives the whole render.
+struct Shard {
+    int index = 0;
+    int count = 1;
+};
+
 /// Render settings. A scene's "render" block gives defaults (Scene::settings()); a caller
 /// copies them and overrides what it wants.
 struct Settings {
@@ -57,6 +66,9 @@ struct Settings {
     /// the machine has available (glint::availableMemory()).
     std::uint64_t memoryLimit = 0;
     MltSettings mlt;  ///< Metropolis parameters (integrator == Mlt)
+    /// Render only this shard of the spp samples per pixel (path integrator, no time limit);
+    /// the frame then records glint::ShardInfo. The whole render when empty.
+    std::optional<Shard> shard;
 };
 
 /// Parses "path" / "mlt"; throws glint::Error(InvalidArgument).

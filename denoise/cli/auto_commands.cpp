@@ -1,0 +1,237 @@
+// glint-denoise auto: the automatic local baseline — every bank member's per-pixel error
+// estimated by SURE from the render's variance (no reference), a per-pixel choice among them,
+// written as a layered EXR (docs/navigation.md, "Automatic start by SURE"). Also the oracle's
+// "auto" column (autoOracleColumn).
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+
+#include "cli_boundary.h"
+#include "commands.h"
+#include "glint/denoise/bank.h"
+#include "glint/denoise/registry.h"
+#include "glint/denoise/sure.h"
+#include "glint/image/composite.h"
+#include "glint/image/error.h"
+#include "glint/image/io.h"
+#include "glint/image/metrics.h"
+
+namespace glint::denoise::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+// Errors about the input's content (a missing variance layer, NaN) name the input file.
+[[noreturn]] void rethrowNaming(const Error& e, const std::string& file) {
+    if (e.file().empty()) throw Error(e.kind(), e.message(), file, e.where());
+    throw e;
+}
+
+struct AutoArgs {
+    std::string input, bank, out, reference, choiceMap, filters, space = "display";
+    int size = 64, window = 4;
+    std::uint64_t bankSeed = 1, seed = 1;
+    double temperature = 0.0, epsilon = 0.01, confidence = 3.0;
+    float exposure = 0.0f;
+    bool prefilter = false, json = false;
+};
+
+void runAuto(const AutoArgs& a) {
+    // Everything that needs no image is checked first; nothing is written before the end.
+    glint::cli::checkOutputPath(a.out, {".exr"}, "--out");
+    if (!a.choiceMap.empty()) glint::cli::checkOutputPath(a.choiceMap, {".png"}, "--choice-map");
+    glint::cli::removeTemporariesOnSignal({a.out, a.choiceMap});
+    AutoOptions options;
+    options.window = a.window;
+    options.temperature = a.temperature;
+    options.confidence = a.confidence;
+    options.sure.epsilon = a.epsilon;
+    options.sure.seed = a.seed;
+    options.exposure = a.exposure;
+    if (a.space == "linear")
+        options.space = SureSpace::Linear;
+    else if (a.space != "display")
+        throw Error(ErrorKind::InvalidArgument,
+                    "unknown error space '" + a.space + "' (expected display or linear)", {},
+                    "--space");
+    validate(options);
+    BankOptions bankOptions;
+    bankOptions.size = a.size;
+    bankOptions.seed = a.bankSeed;
+    bankOptions.filters = splitList(a.filters);
+    bankOptions.prefilter = a.prefilter;
+    if (a.bank.empty()) {
+        validate(bankOptions);
+    } else {
+        std::error_code ec;
+        if (!fs::is_directory(a.bank, ec))
+            throw Error(ErrorKind::Io,
+                        "no bank folder here; build one with `glint-denoise bank IN --out DIR`",
+                        a.bank, "--bank");
+        bankOptions = readBankOptions(a.bank);
+    }
+    options.prefilter = bankOptions.prefilter;
+    options.prefilterParams = bankOptions.prefilterParams;
+
+    const FrameBuffers frame = readExr(a.input);
+    // SURE needs the variance layer and finite values: say so before building anything.
+    try {
+        checkSureInput(frame, a.input);
+    } catch (const Error& e) {
+        rethrowNaming(e, a.input);
+    }
+    std::optional<FrameBuffers> reference;
+    if (!a.reference.empty()) reference = readReference(a.reference, frame.width(), frame.height());
+
+    const bool tty = isatty(fileno(stderr)) != 0 && !a.json;
+    auto progressLine = [tty](const char* what) -> ProgressFn {
+        if (!tty) return {};
+        return [what](double f) {
+            std::fprintf(stderr, "\rglint-denoise: %s %3d%%", what, int(f * 100.0 + 0.5));
+            return true;
+        };
+    };
+    const auto t0 = Clock::now();
+    FilterBank bank;
+    if (a.bank.empty()) {
+        bankOptions.progress = progressLine("bank");
+        bank = buildBank(frame, bankOptions);
+    } else {
+        bank = openBank(frame, a.bank, progressLine("bank"));
+    }
+    if (tty) std::fprintf(stderr, "\n");
+    const double bankSeconds = secondsSince(t0);
+    const auto t1 = Clock::now();
+    options.progress = progressLine("SURE");
+    AutoResult result;
+    try {
+        result = autoComposite(bank, frame, options);
+    } catch (const Error& e) {
+        rethrowNaming(e, a.input);
+    }
+    if (tty) std::fprintf(stderr, "\n");
+    const double sureSeconds = secondsSince(t1);
+
+    // The output: every input layer, the colour replaced by the composite over the bank's region.
+    FrameBuffers out = frame;
+    paste(out.color(), result.composite, bank.region().x0, bank.region().y0);
+    out.metadata().extra["denoiseFilter"] = std::string("auto");
+
+    int analytic = 0;
+    for (bool b : result.analytic) analytic += b ? 1 : 0;
+    json report{
+        {"input", a.input},
+        {"output", a.out},
+        {"bank", a.bank.empty() ? json(nullptr) : json(a.bank)},
+        {"members", bank.size()},
+        {"membersUsed", result.layers.size()},
+        {"analyticDivergence", analytic},
+        {"region", {bank.region().x0, bank.region().x1, bank.region().y0, bank.region().y1}},
+        {"space", a.space},
+        {"window", a.window},
+        {"temperature", a.temperature},
+        {"epsilon", a.epsilon},
+        {"seed", a.seed},
+        {"bestMember", memberJson(bank, result.bestMember)},
+        {"bestMemberEstimatedMse", result.estimatedMse[std::size_t(result.bestMember)]},
+        {"bankSeconds", bankSeconds},
+        {"sureSeconds", sureSeconds}};
+    if (reference) {
+        report["reference"] = a.reference;
+        const std::optional<Rect> crop = bank.region();
+        report["metricsInput"] = metricsOf(frame.color(), reference->color(), crop);
+        report["metrics"] = metricsOf(out.color(), reference->color(), crop);
+        FrameBuffers single = frame;
+        paste(single.color(), bank.result(std::size_t(result.bestMember)), bank.region().x0,
+              bank.region().y0);
+        report["metricsBestMember"] = metricsOf(single.color(), reference->color(), crop);
+    }
+    // Written last, so that an error before leaves no output file behind.
+    if (!a.choiceMap.empty()) {
+        DisplayOptions d;
+        d.falseColorChannel = 0;
+        d.falseColorLo = 0.0f;
+        d.falseColorHi = float(std::max<std::size_t>(bank.size(), 2) - 1);
+        writePng(result.choice, a.choiceMap, d);
+    }
+    writeExr(out, a.out);
+    if (a.json) {
+        printJson(report);
+        return;
+    }
+    std::printf("auto: %zu of %zu members used over %dx%d (bank %.2f s, SURE %.2f s) -> %s\n",
+                result.layers.size(), bank.size(), bank.region().width(), bank.region().height(),
+                bankSeconds, sureSeconds, a.out.c_str());
+    const BankMember& best = bank.members()[std::size_t(result.bestMember)];
+    std::printf("  smallest estimated error as a single member: #%d %s\n", result.bestMember,
+                best.filter.c_str());
+    if (reference) {
+        auto ssimOf = [](const json& m) {
+            return m["ssim"].is_null() ? -1.0 : m["ssim"].get<double>();
+        };
+        std::printf("  SSIM against %s: noisy %.4f, that member %.4f, auto %.4f\n",
+                    a.reference.c_str(), ssimOf(report["metricsInput"]),
+                    ssimOf(report["metricsBestMember"]), ssimOf(report["metrics"]));
+    }
+}
+
+}  // namespace
+
+json autoOracleColumn(const FilterBank& bank, const FrameBuffers& frame, const Image& reference,
+                      const std::string& bankDir) {
+    try {
+        checkSureInput(frame);
+    } catch (const Error& e) {
+        return {{"ssim", nullptr}, {"note", e.where() + ": " + e.message()}};
+    }
+    AutoOptions options;
+    const BankOptions bankOptions = readBankOptions(bankDir);
+    options.prefilter = bankOptions.prefilter;
+    options.prefilterParams = bankOptions.prefilterParams;
+    const auto t0 = Clock::now();
+    const AutoResult r = autoComposite(bank, frame, options);
+    const double seconds = secondsSince(t0);
+    MetricOptions mo;
+    return {{"ssim", ssim(r.composite, reference.crop(bank.region()), mo).value},
+            {"membersUsed", r.layers.size()},
+            {"bestMember", memberJson(bank, r.bestMember)},
+            {"seconds", seconds}};
+}
+
+std::vector<Command> addAutoCommands(CLI::App& app) {
+    auto a = std::make_shared<AutoArgs>();
+    CLI::App* cmd = app.add_subcommand(
+        "auto", "Per-pixel filter choice by SURE over a bank (no reference needed)");
+    cmd->add_option("IN", a->input, "Input layered EXR with the variance layer")->required();
+    cmd->add_option("--out", a->out, "Output layered EXR (the colour is the auto composite)")
+        ->required();
+    cmd->add_option("--bank", a->bank,
+                    "Bank folder of IN (glint-denoise bank); without it a bank is built in "
+                    "memory");
+    cmd->add_option("--reference", a->reference, "Reference EXR: print SSIM/PSNR/relMSE");
+    cmd->add_option("--size", a->size, "Without --bank: Latin-hypercube members (1 … 4096)");
+    cmd->add_option("--bank-seed", a->bankSeed, "Without --bank: seed of the Latin hypercube");
+    cmd->add_option("--filters", a->filters, "Without --bank: only these filters, comma-separated");
+    cmd->add_flag("--prefilter", a->prefilter, "Without --bank: build on prefiltered features");
+    cmd->add_option("--window", a->window, "Radius of the SURE maps' box smoothing (0 … 64)");
+    cmd->add_option("--temperature", a->temperature,
+                    "0: hard per-pixel choice; > 0: soft weights (in units of the noise variance)");
+    cmd->add_option("--confidence", a->confidence,
+                    "Standard errors by which a local choice must beat the baseline (>= 0)");
+    cmd->add_option("--epsilon", a->epsilon, "Perturbation relative to the pixel's sigma");
+    cmd->add_option("--seed", a->seed, "Seed of the random +-1 perturbation");
+    cmd->add_option("--space", a->space, "display (default) | linear: the error SURE estimates");
+    cmd->add_option("--exposure", a->exposure, "Exposure of the display transform (stops)");
+    cmd->add_option("--choice-map", a->choiceMap, "Write the chosen member per pixel as a PNG");
+    cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
+    return {{cmd, [a] { runAuto(*a); }}};
+}
+
+}  // namespace glint::denoise::cli

@@ -1,0 +1,152 @@
+// The automatic local baseline: Stein's unbiased risk estimate (SURE) of every bank member's
+// error at every pixel, from the render's variance of the mean and without a reference, then a
+// per-pixel choice (or soft weights) among the members — the "auto" composite a painting session
+// can start from (docs/navigation.md, "Automatic start by SURE").
+//
+// Per pixel and channel, with y the noisy colour, σ² its variance of the mean and f the filter,
+//   SURE = (f(y) − y)² − σ² + 2σ²·∂f/∂y                      (Stein 1981; summed over RGB)
+// and the divergence of a black-box filter is estimated by Monte-Carlo SURE (Ramani, Blu & Unser
+// 2008, eq. 8): one more application to y + ε·b, b a random ±1 field,
+//   ∂f_p/∂y_p ≈ b_p (f(y + εb)_p − f(y)_p) / ε_p.
+// A filter may give its divergence itself (Filter::divergence); the Gaussian does.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "glint/denoise/filter.h"
+#include "glint/denoise/progress.h"
+#include "glint/image/frame_buffers.h"
+#include "glint/image/image.h"
+
+namespace glint::denoise {
+
+class FilterBank;
+class Session;
+
+/// Which error SURE estimates.
+enum class SureSpace {
+    Linear,   ///< squared error of the radiance
+    Display,  ///< to first order, of display values: each channel's term is weighted by the
+              ///< squared slope of the display transform (exposure, clamp, sRGB) at a
+              ///< member-independent estimate of the clean value (the mean of the bank)
+};
+
+/// How the divergence is estimated and the data perturbed.
+struct SureOptions {
+    /// Perturbation size relative to the pixel's own noise: ε = epsilon · σ per pixel and channel
+    /// (Ramani et al. suggest ε of about σ/100; docs/navigation.md measures it), never below 1e-4
+    /// of |y| (or 1e-7) so that float rounding cannot swallow it.
+    double epsilon = 0.01;
+    std::uint64_t seed = 1;          ///< of the ±1 field b (hashed per pixel and channel)
+    bool analyticDivergence = true;  ///< use Filter::divergence when the filter provides it
+};
+
+/// Throws glint::Error naming `file` and the place unless `frame` can be used for SURE: it needs
+/// the variance layer (variance.R/G/B, the variance of the mean) and finite colour and finite,
+/// non-negative variance at every pixel. Format for a missing layer, Numeric for bad values.
+void checkSureInput(const FrameBuffers& frame, const std::string& file = {});
+
+/// The ±1 field b: value (x, y, c) from hash(seed, pixel, channel), so any region or thread
+/// count gets the same numbers. 3 channels, width × height.
+Image rademacherField(int width, int height, std::uint64_t seed);
+
+/// `frame` with its colour perturbed to y + ε·b (ε from the variance, see SureOptions). Other
+/// layers are unchanged (feature-guided filters see the same guides). `delta`, when given,
+/// receives the perturbation actually applied (after float rounding): (y + εb) − y.
+FrameBuffers perturbColor(const FrameBuffers& frame, const SureOptions& options,
+                          Image* delta = nullptr);
+
+/// Per pixel and channel over `region`: (perturbedOutput − output) / delta (Ramani et al.'s
+/// estimate with b/ε = 1/delta). `output` and `perturbedOutput` are region-sized, `delta`
+/// frame-sized.
+Image monteCarloDivergence(const Image& output, const Image& perturbedOutput, const Image& delta,
+                           const Rect& region);
+
+/// Per-pixel SURE over `region` summed over the channels (1 channel, region-sized):
+/// Σ_c weight_c ((f − y)² − σ² + 2σ² div). `noisy` and `variance` are frame-sized; `output`,
+/// `divergence` and `weight` (3 channels, optional: 1 everywhere) region-sized.
+Image sureMap(const Image& noisy, const Image& variance, const Image& output,
+              const Image& divergence, const Rect& region, const Image* weight = nullptr);
+
+/// One filter's SURE: its output, its divergence (the filter's own or Monte Carlo) and the
+/// per-pixel SURE map, over `region` (the whole frame when empty).
+struct SureEstimate {
+    Image output;           ///< 3 channels, region-sized
+    Image divergence;       ///< 3 channels, region-sized
+    Image sure;             ///< 1 channel, region-sized, summed over RGB
+    bool analytic = false;  ///< the filter gave its divergence
+};
+
+/// Applies `filter` (resolved `params`) to `frame` and to its perturbed copy and returns the
+/// SURE estimate. Throws like checkSureInput, and like applyFilter.
+SureEstimate estimateSure(const Filter& filter, const FrameBuffers& frame,
+                          const ParamValues& params, const SureOptions& options = {},
+                          const std::optional<Rect>& region = std::nullopt,
+                          const ProgressFn& progress = {});
+
+/// Box average of a 1-channel image over (2·radius + 1)² pixels, truncated at the border.
+Image boxSmooth(const Image& image, int radius);
+
+/// How the auto composite is chosen.
+struct AutoOptions {
+    SureOptions sure;
+    SureSpace space = SureSpace::Display;
+    float exposure = 0.0f;  ///< of the display transform (SureSpace::Display)
+    /// The SURE maps are box-averaged over (2·window + 1)² pixels before the choice: a
+    /// per-pixel variance from a few samples is itself noisy.
+    int window = 4;
+    /// A pixel leaves the baseline (the member with the smallest SURE over the whole region)
+    /// only for a member whose smoothed SURE is lower by at least `confidence` standard errors
+    /// of the local mean (estimated from the spread of the SURE difference in the window): the
+    /// per-pixel choice among many members must not follow the noise of their estimates.
+    double confidence = 3.0;
+    /// 0: a hard per-pixel choice (the smallest score). > 0: soft weights
+    /// exp(−(score − min score) / (temperature · σ²)), σ² the pixel's smoothed variance summed
+    /// over RGB (so the temperature is in units of the noise), weights below 1e-3 of the
+    /// largest dropped.
+    double temperature = 0.0;
+    /// The bank was built on prefiltered features: the perturbed input is prefiltered alike.
+    bool prefilter = false;
+    ParamValues prefilterParams;
+    /// Members done / total; returning false stops: autoComposite throws Error(Cancelled).
+    ProgressFn progress;
+};
+
+/// Throws glint::Error(InvalidArgument) naming the first bad option.
+void validate(const AutoOptions& options);
+
+/// One member used by the auto composite and its weight there.
+struct AutoLayer {
+    int member = -1;
+    Image weights;  ///< 1 channel, region-sized, in [0, 1]; the layers' weights sum to 1
+};
+
+/// The auto composite of a bank.
+struct AutoResult {
+    Image composite;  ///< 3 channels, region-sized: Σ weights · member result
+    Image choice;     ///< 1 channel: per pixel, the member with the largest weight (as float)
+    std::vector<AutoLayer> layers;     ///< members with any weight, by total weight, largest first
+    std::vector<double> estimatedMse;  ///< per member: mean SURE per channel over the region
+    int bestMember = -1;               ///< the smallest estimatedMse (auto's single choice)
+    std::vector<bool> analytic;        ///< per member: the filter gave its divergence
+};
+
+/// Computes every member's SURE map (members in parallel in the caller's TBB pool; one extra
+/// application of each member to the perturbed input), smooths them and builds the composite.
+/// `frame` is the input the bank was built from (checked by hash). Deterministic for a seed,
+/// whatever the thread count. Throws glint::Error like checkSureInput, InvalidArgument for a
+/// bank of another frame or bad options, Cancelled when progress says stop.
+AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
+                         const AutoOptions& options = {});
+
+/// Starts a painting session from the auto composite: one layer per AutoLayer (largest first,
+/// output taken from the bank) with the weights that make the session's left-to-right blend
+/// equal Σ weights · result (up to float rounding). The bank must cover the whole frame and be
+/// of the session's filter input. Returns how many session edits were made (two per layer:
+/// added, weights set). Throws glint::Error(InvalidArgument) otherwise (nothing changes then).
+std::size_t startFromAuto(Session& session, const FilterBank& bank, const AutoResult& result);
+
+}  // namespace glint::denoise

@@ -1,0 +1,487 @@
+// Per-pixel SURE of the bank's members and the auto composite (sure.h, docs/navigation.md,
+// "Automatic start by SURE").
+#include "glint/denoise/sure.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <numeric>
+
+#include "glint/denoise/bank.h"
+#include "glint/denoise/prefilter.h"
+#include "glint/denoise/registry.h"
+#include "glint/denoise/session.h"
+#include "glint/image/error.h"
+#include "glint/image/io.h"
+#include "glint/image/random.h"
+
+namespace glint::denoise {
+
+namespace {
+
+std::string pixelText(int x, int y) {
+    return "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
+}
+
+// ε of one value: epsilon · σ, but never below 1e-4 of |y| (or 1e-7), so that float rounding
+// cannot swallow the perturbation (where σ is 0 the SURE term needs no divergence anyway).
+float perturbationSize(float y, float variance, double epsilon) {
+    const double floor = 1e-4 * std::max(std::fabs(double(y)), 1e-3);
+    return float(std::max(epsilon * std::sqrt(double(variance)), floor));
+}
+
+// Slope of the display transform (exposure, clamp to [0, 1], sRGB) at linear value v; 0 where
+// the value is clamped.
+double displaySlope(double v, float exposure) {
+    const double scale = std::exp2(double(exposure));
+    const double x = v * scale;
+    if (x <= 0.0 || x >= 1.0) return 0.0;
+    // Derivative of the sRGB encoding (IEC 61966-2-1).
+    const double d = x <= 0.0031308 ? 12.92 : 1.055 / 2.4 * std::pow(x, 1.0 / 2.4 - 1.0);
+    return d * scale;
+}
+
+// Per-pixel weights of SureSpace::Display: the squared display slope at the mean of the bank's
+// results, floored at 1e-4 of the largest so saturated pixels still order the members.
+Image displayWeights(const FilterBank& bank, float exposure) {
+    const Rect& r = bank.region();
+    Image weights(r.width(), r.height(), 3);
+    const std::size_t n = bank.size();
+    tbb::parallel_for(0, r.height(), [&](int y) {
+        for (int x = 0; x < r.width(); ++x)
+            for (int c = 0; c < 3; ++c) {
+                double mean = 0.0;
+                for (std::size_t m = 0; m < n; ++m) mean += double(bank.result(m)(x, y, c));
+                mean /= double(n);
+                const double s = displaySlope(mean, exposure);
+                weights(x, y, c) = float(s * s);
+            }
+    });
+    float largest = 0.0f;
+    for (float v : weights.data()) largest = std::max(largest, v);
+    const float floor = std::max(largest * 1e-4f, std::numeric_limits<float>::min());
+    for (float& v : weights.data()) v = std::max(v, floor);
+    return weights;
+}
+
+// The divergence of one member over `region`: the filter's own when it gives one (and the
+// options allow), else Monte Carlo from one application to the perturbed input.
+Image memberDivergence(const Filter& filter, const ParamValues& params, const Image& output,
+                       const FrameBuffers& filterInput, const FrameBuffers& perturbed,
+                       const Image& delta, const Rect& region, const SureOptions& options,
+                       const ProgressFn& progress, bool& analytic) {
+    std::optional<Image> div;
+    if (options.analyticDivergence) div = filter.divergence(filterInput, params, region);
+    analytic = bool(div);
+    if (div) return std::move(*div);
+    FilterOptions fo;
+    fo.region = region;
+    fo.progress = progress;
+    const Image perturbedOutput = applyFilter(filter, perturbed, params, fo);
+    return monteCarloDivergence(output, perturbedOutput, delta, region);
+}
+
+}  // namespace
+
+void checkSureInput(const FrameBuffers& frame, const std::string& file) {
+    if (!frame.has(Layer::Variance))
+        throw Error(ErrorKind::Format,
+                    "has no variance layer ('variance.R', 'variance.G', 'variance.B': the variance "
+                    "of the mean of each pixel); SURE needs it to estimate a filter's error "
+                    "without a reference",
+                    file, "layer 'variance'");
+    const Image& color = frame.color();
+    const Image& variance = frame.layer(Layer::Variance);
+    // Report the first bad value in scan order (the row loop is serial on purpose: a clear,
+    // reproducible message matters more than speed here, and it is one pass).
+    for (int y = 0; y < frame.height(); ++y)
+        for (int x = 0; x < frame.width(); ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float v = color(x, y, c);
+                if (!std::isfinite(v))
+                    throw Error(ErrorKind::Numeric,
+                                std::string(std::isnan(v) ? "NaN" : "Inf") +
+                                    " in the colour; SURE needs finite values",
+                                file,
+                                pixelText(x, y) + ", channel " + channelName(Layer::Color, c));
+                const float s = variance(x, y, c);
+                if (!std::isfinite(s) || s < 0.0f)
+                    throw Error(ErrorKind::Numeric,
+                                std::string(std::isnan(s)   ? "NaN"
+                                            : std::isinf(s) ? "Inf"
+                                                            : "negative value") +
+                                    " in the variance; SURE needs a finite variance >= 0",
+                                file,
+                                pixelText(x, y) + ", channel " + channelName(Layer::Variance, c));
+            }
+}
+
+Image rademacherField(int width, int height, std::uint64_t seed) {
+    Image b(width, height, 3);
+    tbb::parallel_for(0, height, [&](int y) {
+        for (int x = 0; x < width; ++x) {
+            const std::uint64_t pixel = std::uint64_t(y) * std::uint64_t(width) + std::uint64_t(x);
+            const std::uint64_t bits = hash64(seed, pixel);
+            for (int c = 0; c < 3; ++c) b(x, y, c) = (bits >> (17 * c + 5)) & 1u ? 1.0f : -1.0f;
+        }
+    });
+    return b;
+}
+
+FrameBuffers perturbColor(const FrameBuffers& frame, const SureOptions& options, Image* delta) {
+    GLINT_CHECK(frame.has(Layer::Variance));
+    FrameBuffers out = frame;
+    const Image b = rademacherField(frame.width(), frame.height(), options.seed);
+    const Image& y0 = frame.color();
+    const Image& variance = frame.layer(Layer::Variance);
+    Image& y1 = out.color();
+    if (delta) *delta = Image(frame.width(), frame.height(), 3);
+    tbb::parallel_for(0, frame.height(), [&](int y) {
+        for (int x = 0; x < frame.width(); ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float v = y0(x, y, c);
+                const float eps = perturbationSize(v, variance(x, y, c), options.epsilon);
+                y1(x, y, c) = v + eps * b(x, y, c);
+                // The perturbation as applied, after rounding: exact (Sterbenz) and never 0,
+                // since eps is at least 1e-4 |v|.
+                if (delta) (*delta)(x, y, c) = y1(x, y, c) - v;
+            }
+    });
+    return out;
+}
+
+Image monteCarloDivergence(const Image& output, const Image& perturbedOutput, const Image& delta,
+                           const Rect& region) {
+    GLINT_CHECK(output.sameShape(perturbedOutput) && output.width() == region.width() &&
+                output.height() == region.height());
+    Image div(region.width(), region.height(), 3);
+    tbb::parallel_for(0, region.height(), [&](int y) {
+        for (int x = 0; x < region.width(); ++x)
+            for (int c = 0; c < 3; ++c) {
+                // Ramani, Blu & Unser 2008, eq. 8, per pixel: b_p (f(y+εb) − f(y))_p / ε_p.
+                const double d = delta(x + region.x0, y + region.y0, c);
+                div(x, y, c) =
+                    float((double(perturbedOutput(x, y, c)) - double(output(x, y, c))) / d);
+            }
+    });
+    return div;
+}
+
+Image sureMap(const Image& noisy, const Image& variance, const Image& output,
+              const Image& divergence, const Rect& region, const Image* weight) {
+    GLINT_CHECK(output.width() == region.width() && output.height() == region.height() &&
+                output.sameShape(divergence));
+    Image sure(region.width(), region.height(), 1);
+    tbb::parallel_for(0, region.height(), [&](int y) {
+        for (int x = 0; x < region.width(); ++x) {
+            double s = 0.0;
+            for (int c = 0; c < 3; ++c) {
+                // Stein 1981: E‖f(y) − x‖² = E[‖f(y) − y‖² − σ² + 2σ² ∂f/∂y] per pixel.
+                const double yv = noisy(x + region.x0, y + region.y0, c);
+                const double v = variance(x + region.x0, y + region.y0, c);
+                const double d = double(output(x, y, c)) - yv;
+                const double term = d * d - v + 2.0 * v * double(divergence(x, y, c));
+                s += weight ? double((*weight)(x, y, c)) * term : term;
+            }
+            sure(x, y, 0) = float(s);
+        }
+    });
+    return sure;
+}
+
+SureEstimate estimateSure(const Filter& filter, const FrameBuffers& frame,
+                          const ParamValues& params, const SureOptions& options,
+                          const std::optional<Rect>& region, const ProgressFn& progress) {
+    checkSureInput(frame);
+    const Rect r = region.value_or(Rect{0, frame.width(), 0, frame.height()});
+    const ParamValues resolved = resolveParams(filter, params);
+    FilterOptions fo;
+    fo.region = r;
+    fo.progress = progress;
+    SureEstimate e;
+    e.output = applyFilter(filter, frame, resolved, fo);
+    Image delta;
+    const FrameBuffers perturbed = perturbColor(frame, options, &delta);
+    e.divergence = memberDivergence(filter, resolved, e.output, frame, perturbed, delta, r, options,
+                                    progress, e.analytic);
+    e.sure = sureMap(frame.color(), frame.layer(Layer::Variance), e.output, e.divergence, r);
+    return e;
+}
+
+Image boxSmooth(const Image& image, int radius) {
+    GLINT_CHECK(image.channels() == 1 && radius >= 0);
+    const int w = image.width(), h = image.height();
+    if (radius == 0 || image.empty()) return image;
+    // Horizontal then vertical running sums in double; each output value is computed from the
+    // same terms in the same order whatever the thread count.
+    std::vector<double> horizontal(std::size_t(w) * std::size_t(h));
+    tbb::parallel_for(0, h, [&](int y) {
+        std::vector<double> prefix(std::size_t(w) + 1, 0.0);
+        for (int x = 0; x < w; ++x)
+            prefix[std::size_t(x) + 1] = prefix[std::size_t(x)] + image(x, y, 0);
+        for (int x = 0; x < w; ++x) {
+            const int x0 = std::max(0, x - radius), x1 = std::min(w, x + radius + 1);
+            horizontal[std::size_t(y) * w + x] =
+                (prefix[std::size_t(x1)] - prefix[std::size_t(x0)]) / double(x1 - x0);
+        }
+    });
+    Image out(w, h, 1);
+    tbb::parallel_for(0, h, [&](int y) {
+        const int y0 = std::max(0, y - radius), y1 = std::min(h, y + radius + 1);
+        for (int x = 0; x < w; ++x) {
+            double s = 0.0;
+            for (int yy = y0; yy < y1; ++yy) s += horizontal[std::size_t(yy) * w + x];
+            out(x, y, 0) = float(s / double(y1 - y0));
+        }
+    });
+    return out;
+}
+
+void validate(const AutoOptions& options) {
+    if (!(options.sure.epsilon > 0.0) || !std::isfinite(options.sure.epsilon) ||
+        options.sure.epsilon > 1.0)
+        throw Error(ErrorKind::InvalidArgument,
+                    "epsilon " + std::to_string(options.sure.epsilon) +
+                        " is outside (0, 1] (the perturbation relative to the pixel's sigma)",
+                    {}, "--epsilon");
+    if (options.window < 0 || options.window > 64)
+        throw Error(ErrorKind::InvalidArgument,
+                    "window " + std::to_string(options.window) +
+                        " is outside 0 … 64 (the SURE maps' smoothing radius in pixels)",
+                    {}, "--window");
+    if (!(options.temperature >= 0.0) || !std::isfinite(options.temperature))
+        throw Error(ErrorKind::InvalidArgument,
+                    "temperature " + std::to_string(options.temperature) +
+                        " must be >= 0 (0: hard per-pixel choice)",
+                    {}, "--temperature");
+    if (!(options.confidence >= 0.0) || !std::isfinite(options.confidence))
+        throw Error(ErrorKind::InvalidArgument,
+                    "confidence " + std::to_string(options.confidence) +
+                        " must be >= 0 (standard errors a local choice must win by)",
+                    {}, "--confidence");
+    if (!std::isfinite(options.exposure))
+        throw Error(ErrorKind::InvalidArgument, "exposure must be finite", {}, "--exposure");
+}
+
+AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
+                         const AutoOptions& options) {
+    validate(options);
+    if (bank.size() == 0) throw Error(ErrorKind::InvalidArgument, "the bank has no members");
+    if (frame.width() != bank.frameWidth() || frame.height() != bank.frameHeight() ||
+        hashFrame(frame) != bank.inputHash())
+        throw Error(ErrorKind::InvalidArgument,
+                    "the bank was computed from another image than the one given");
+    checkSureInput(frame);
+    const Rect& region = bank.region();
+    const std::size_t n = bank.size();
+    const std::size_t pixels = std::size_t(region.width()) * std::size_t(region.height());
+
+    // The input the filters see (prefiltered like the bank's), and its perturbed copy.
+    const FrameBuffers prefiltered =
+        options.prefilter ? prefilterFeatures(frame, options.prefilterParams) : FrameBuffers{};
+    const FrameBuffers& filterInput = options.prefilter ? prefiltered : frame;
+    Image delta;
+    const FrameBuffers perturbed = perturbColor(filterInput, options.sure, &delta);
+    const Image weight =
+        options.space == SureSpace::Display ? displayWeights(bank, options.exposure) : Image{};
+    const Image* weightPtr = options.space == SureSpace::Display ? &weight : nullptr;
+
+    // Step 1: every member's SURE map (members in parallel, like the bank).
+    std::vector<Image> smoothed(n);
+    std::vector<double> estimatedMse(n, 0.0);
+    std::vector<char> analytic(n, 0);
+    std::mutex progressMutex;
+    std::atomic<bool> stop{false};
+    std::atomic<std::size_t> done{0};
+    auto report = [&] {
+        if (!options.progress) return;
+        const std::lock_guard<std::mutex> lock(progressMutex);
+        if (!stop.load() && !options.progress(double(done.load()) / double(n))) stop.store(true);
+    };
+    report();
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t m) {
+        if (stop.load()) return;
+        const BankMember& member = bank.members()[m];
+        bool isAnalytic = false;
+        Image raw;
+        try {
+            const Image div = memberDivergence(
+                findFilter(member.filter), member.params, bank.result(m), filterInput, perturbed,
+                delta, region, options.sure, [&](double) { return !stop.load(); }, isAnalytic);
+            raw = sureMap(frame.color(), frame.layer(Layer::Variance), bank.result(m), div, region,
+                          weightPtr);
+        } catch (const Error& e) {
+            if (e.kind() == ErrorKind::Cancelled) return;
+            throw;
+        }
+        analytic[m] = isAnalytic ? 1 : 0;
+        // Mean per channel, rows summed in order.
+        double total = 0.0;
+        for (int y = 0; y < region.height(); ++y) {
+            double row = 0.0;
+            for (int x = 0; x < region.width(); ++x) row += raw(x, y, 0);
+            total += row;
+        }
+        estimatedMse[m] = total / double(pixels) / 3.0;
+        smoothed[m] = std::move(raw);
+        ++done;
+        report();
+    });
+    if (stop.load()) throw Error(ErrorKind::Cancelled, "auto composite cancelled");
+
+    // Step 2: the score of each member per pixel. The baseline is the member with the smallest
+    // SURE over the region; another member scores the smoothed SURE difference to it plus
+    // `confidence` standard errors of that local mean (from the difference's spread in the
+    // window), so a pixel leaves the baseline only where SURE says, with that confidence, that
+    // another member is better there. With confidence 0 it is the plain smoothed SURE.
+    const std::size_t baseline = std::size_t(
+        std::min_element(estimatedMse.begin(), estimatedMse.end()) - estimatedMse.begin());
+    {
+        const Image& base = smoothed[baseline];
+        const double count = double((2 * options.window + 1) * (2 * options.window + 1));
+        std::vector<Image> scores(n);
+        tbb::parallel_for(std::size_t(0), n, [&](std::size_t m) {
+            Image d(region.width(), region.height(), 1), d2(region.width(), region.height(), 1);
+            for (std::size_t p = 0; p < pixels; ++p) {
+                const double v = double(smoothed[m].data()[p]) - double(base.data()[p]);
+                d.data()[p] = float(v);
+                d2.data()[p] = float(v * v);
+            }
+            Image mean = boxSmooth(d, options.window);
+            if (options.confidence > 0.0 && m != baseline) {
+                const Image meanSq = boxSmooth(d2, options.window);
+                for (std::size_t p = 0; p < pixels; ++p) {
+                    const double mu = mean.data()[p];
+                    const double var = std::max(0.0, double(meanSq.data()[p]) - mu * mu);
+                    mean.data()[p] = float(mu + options.confidence * std::sqrt(var / count));
+                }
+            }
+            scores[m] = std::move(mean);
+        });
+        smoothed = std::move(scores);
+    }
+
+    // The smoothed noise level per pixel (the temperature's unit).
+    Image noiseLevel;
+    if (options.temperature > 0.0) {
+        Image v(region.width(), region.height(), 1);
+        const Image& variance = frame.layer(Layer::Variance);
+        for (int y = 0; y < region.height(); ++y)
+            for (int x = 0; x < region.width(); ++x) {
+                double s = 0.0;
+                for (int c = 0; c < 3; ++c)
+                    s += double(variance(x + region.x0, y + region.y0, c)) *
+                         (weightPtr ? double(weight(x, y, c)) : 1.0);
+                v(x, y, 0) = float(s);
+            }
+        noiseLevel = boxSmooth(v, options.window);
+    }
+
+    // Step 3: per-pixel weights over the members, in member order (deterministic).
+    std::vector<float> pixelWeights(pixels * n, 0.0f);
+    tbb::parallel_for(0, region.height(), [&](int y) {
+        std::vector<double> s(n);
+        for (int x = 0; x < region.width(); ++x) {
+            const std::size_t p = std::size_t(y) * region.width() + x;
+            std::size_t best = baseline;
+            for (std::size_t m = 0; m < n; ++m) {
+                s[m] = smoothed[m](x, y, 0);
+                if (s[m] < s[best]) best = m;
+            }
+            float* w = pixelWeights.data() + p * n;
+            const double unit =
+                options.temperature > 0.0 ? options.temperature * double(noiseLevel(x, y, 0)) : 0.0;
+            if (!(unit > 0.0)) {
+                w[best] = 1.0f;
+                continue;
+            }
+            double sum = 0.0;
+            for (std::size_t m = 0; m < n; ++m) {
+                const double e = std::exp(-(s[m] - s[best]) / unit);
+                w[m] = e < 1e-3 ? 0.0f : float(e);
+                sum += w[m];
+            }
+            for (std::size_t m = 0; m < n; ++m) w[m] = float(w[m] / sum);
+        }
+    });
+
+    // Step 4: the layers (members with any weight, largest total first) and the composite.
+    std::vector<double> totals(n, 0.0);
+    for (std::size_t p = 0; p < pixels; ++p)
+        for (std::size_t m = 0; m < n; ++m) totals[m] += pixelWeights[p * n + m];
+    std::vector<int> order;
+    for (std::size_t m = 0; m < n; ++m)
+        if (totals[m] > 0.0) order.push_back(int(m));
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return totals[std::size_t(a)] > totals[std::size_t(b)]; });
+    AutoResult result;
+    result.estimatedMse = estimatedMse;
+    result.bestMember =
+        int(std::min_element(estimatedMse.begin(), estimatedMse.end()) - estimatedMse.begin());
+    for (char a : analytic) result.analytic.push_back(a != 0);
+    for (int m : order) {
+        AutoLayer layer{m, Image(region.width(), region.height(), 1)};
+        for (std::size_t p = 0; p < pixels; ++p)
+            layer.weights.data()[p] = pixelWeights[p * n + std::size_t(m)];
+        result.layers.push_back(std::move(layer));
+    }
+    result.composite = Image(region.width(), region.height(), 3);
+    result.choice = Image(region.width(), region.height(), 1);
+    tbb::parallel_for(0, region.height(), [&](int y) {
+        for (int x = 0; x < region.width(); ++x) {
+            const std::size_t p = std::size_t(y) * region.width() + x;
+            const float* w = pixelWeights.data() + p * n;
+            double c[3] = {0.0, 0.0, 0.0};
+            std::size_t top = 0;
+            for (std::size_t m = 0; m < n; ++m) {
+                if (w[m] > w[top]) top = m;
+                if (w[m] == 0.0f) continue;
+                for (int k = 0; k < 3; ++k) c[k] += double(w[m]) * double(bank.result(m)(x, y, k));
+            }
+            for (int k = 0; k < 3; ++k) result.composite(x, y, k) = float(c[k]);
+            result.choice(x, y, 0) = float(top);
+        }
+    });
+    return result;
+}
+
+std::size_t startFromAuto(Session& session, const FilterBank& bank, const AutoResult& result) {
+    const Rect whole{0, session.width(), 0, session.height()};
+    if (bank.region() != whole || bank.frameWidth() != session.width() ||
+        bank.frameHeight() != session.height())
+        throw Error(ErrorKind::InvalidArgument, "an automatic start needs a bank over the whole " +
+                                                    std::to_string(session.width()) + "x" +
+                                                    std::to_string(session.height()) + " frame");
+    if (bank.inputHash() != hashFrame(session.input()))
+        throw Error(ErrorKind::InvalidArgument,
+                    "the bank was computed from another image than the session's input");
+    for (const AutoLayer& l : result.layers)
+        if (l.member < 0 || std::size_t(l.member) >= bank.size() ||
+            l.weights.width() != whole.width() || l.weights.height() != whole.height())
+            throw Error(ErrorKind::InvalidArgument, "the auto result is not of this bank");
+    // Sequential blending: with S_k the sum of the first k layers' weights, layer k shows with
+    // a_k = w_k / S_k, so that composite_k = Σ_{j≤k} w_j f_j / S_k and the last one Σ w f.
+    const std::size_t pixels = std::size_t(whole.width()) * std::size_t(whole.height());
+    std::vector<double> cumulative(pixels, 0.0);
+    std::size_t edits = 0;
+    for (const AutoLayer& l : result.layers) {
+        Image a(whole.width(), whole.height(), 1);
+        for (std::size_t p = 0; p < pixels; ++p) {
+            const double w = l.weights.data()[p];
+            cumulative[p] += w;
+            a.data()[p] = cumulative[p] > 0.0 ? float(std::min(1.0, w / cumulative[p])) : 0.0f;
+        }
+        const BankMember& member = bank.members()[std::size_t(l.member)];
+        const std::size_t index =
+            session.addLayer(member.filter, member.params, bank.result(std::size_t(l.member)));
+        session.setWeights(index, a);
+        edits += 2;
+    }
+    return edits;
+}
+
+}  // namespace glint::denoise

@@ -1,0 +1,87 @@
+#include "scene/scene_hash.h"
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "glint/image/random.h"
+
+namespace glint::render {
+
+namespace {
+
+/// Folds bytes into a 64-bit state eight at a time with glint::hash64.
+class Hasher {
+  public:
+    void bytes(const void* data, std::size_t size) {
+        const auto* p = static_cast<const unsigned char*>(data);
+        m_state = hash64(m_state, size);
+        for (std::size_t i = 0; i < size; i += 8) {
+            std::uint64_t word = 0;
+            std::memcpy(&word, p + i, std::min<std::size_t>(8, size - i));
+            m_state = hash64(m_state, word);
+        }
+    }
+    /// A value of a type without padding (floats, integers, float vectors).
+    template <typename T>
+    void value(const T& v) {
+        static_assert(std::has_unique_object_representations_v<T> || std::is_floating_point_v<T> ||
+                      std::is_same_v<T, Vec3> || std::is_same_v<T, Vec2>);
+        bytes(&v, sizeof v);
+    }
+    template <typename T>
+    void vector(const std::vector<T>& v) {
+        bytes(v.data(), v.size() * sizeof(T));
+    }
+    void string(const std::string& s) { bytes(s.data(), s.size()); }
+    void image(const Image& im) {
+        value(im.width()), value(im.height()), value(im.channels());
+        bytes(im.data().data(), im.data().size_bytes());
+    }
+    std::uint64_t state() const { return m_state; }
+
+  private:
+    std::uint64_t m_state = 0x61c8864680b583ebULL;
+};
+
+}  // namespace
+
+std::uint64_t sceneContentHash(const detail::SceneData& d) {
+    static_assert(sizeof(Vec3) == 3 * sizeof(float) && sizeof(Vec2) == 2 * sizeof(float));
+    Hasher h;
+    h.value(d.width), h.value(d.height);
+    // Camera.
+    const detail::CameraDesc& c = d.camera;
+    for (const Vec3& v : {c.position, c.lookAt, c.up, c.motionPosition, c.motionLookAt}) h.value(v);
+    for (float f : {c.fovY, c.lensRadius, c.focusDistance, c.shutterOpen, c.shutterClose})
+        h.value(f);
+    h.value(int(c.hasMotion));
+    // Materials (as edited) and textures.
+    for (const detail::Material& m : d.materials) {
+        h.string(m.name);
+        h.value(int(m.type)), h.value(m.texture), h.value(int(m.hasEtaK));
+        for (const Vec3& v : {m.albedo, m.emission, m.eta, m.k, m.specular}) h.value(v);
+        h.value(m.ior), h.value(m.roughness);
+    }
+    for (const detail::Texture& t : d.textures) h.image(t.image);
+    // Geometry.
+    h.vector(d.positions), h.vector(d.normals), h.vector(d.uvs);
+    h.vector(d.triangleMaterial), h.vector(d.triangleMotion);
+    for (const detail::ShapeMotion& m : d.motions) {
+        h.value(m.firstTriangle), h.value(m.triangleCount);
+        for (const detail::Affine& a : m.steps) {
+            h.bytes(a.m, sizeof a.m), h.bytes(a.nm, sizeof a.nm);
+            h.value(a.t);
+        }
+        h.vector(m.objectPositions), h.vector(m.objectNormals);
+    }
+    // Environment.
+    const detail::EnvironmentDesc& e = d.environment;
+    h.value(int(e.kind)), h.value(e.color), h.value(e.scale), h.value(e.rotateDeg);
+    h.image(e.image);
+    return h.state();
+}
+
+}  // namespace glint::render

@@ -1,0 +1,121 @@
+// glint-denoise auto end to end, and the oracle's auto column: good and bad input.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli_fixture.h"
+#include "glint/image/io.h"
+#include "synthetic_frames.h"
+
+namespace glint::denoise {
+namespace {
+
+namespace fs = std::filesystem;
+using glint::testing::RunResult;
+
+class AutoCli : public glint::testing::CliFixture {
+  protected:
+    AutoCli() : CliFixture("glint-denoise") {}
+    void SetUp() override {
+        CliFixture::SetUp();
+        if (HasFatalFailure()) return;
+        writeExr(testing::syntheticFrame(48, 40, 0.1f), m_dir / "noisy.exr");
+        writeExr(testing::syntheticFrame(48, 40, 0.0f), m_dir / "ref.exr");
+        FrameBuffers bare = testing::syntheticFrame(48, 40, 0.1f);
+        bare.remove(Layer::Variance);
+        writeExr(bare, m_dir / "novariance.exr");
+        FrameBuffers nan = testing::syntheticFrame(48, 40, 0.1f);
+        nan.color()(7, 4, 2) = std::nanf("");
+        writeExr(nan, m_dir / "nan.exr");
+    }
+};
+
+TEST_F(AutoCli, AutoWithAndWithoutABankFolderAndTheOracleColumn) {
+    RunResult r =
+        run("auto " + path("noisy.exr") + " --out " + path("auto.exr") + " --size 10" +
+            " --reference " + path("ref.exr") + " --choice-map " + path("c.png") + " --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["members"], 16);
+    EXPECT_GE(j["membersUsed"].get<int>(), 1);
+    EXPECT_GE(j["analyticDivergence"].get<int>(), 1);  // the gaussians
+    EXPECT_GT(j["metrics"]["ssim"].get<double>(), j["metricsInput"]["ssim"].get<double>());
+    EXPECT_TRUE(fs::exists(path("auto.exr")));
+    EXPECT_TRUE(fs::exists(path("c.png")));
+    // The output keeps the input's layers.
+    const FrameBuffers out = readExr(path("auto.exr"));
+    EXPECT_TRUE(out.has(Layer::Variance));
+    EXPECT_TRUE(out.has(Layer::Albedo));
+
+    // From a bank folder: the same bank, the same composite, bit for bit.
+    r = run("bank " + path("noisy.exr") + " --out " + path("bank") + " --size 10");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    r = run("auto " + path("noisy.exr") + " --bank " + path("bank") + " --out " +
+            path("auto2.exr"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("members used"), std::string::npos) << r.out;
+    EXPECT_EQ(
+        testing::maxAbsDiff(readExr(path("auto.exr")).color(), readExr(path("auto2.exr")).color()),
+        0.0);
+
+    r = run("oracle " + path("noisy.exr") + " --reference " + path("ref.exr") + " --bank " +
+            path("bank") + " --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    j = nlohmann::json::parse(r.out);
+    ASSERT_TRUE(j["auto"]["ssim"].is_number()) << r.out;
+    EXPECT_GT(j["auto"]["ssim"].get<double>(), j["noisy"].get<double>());
+    r = run("oracle " + path("noisy.exr") + " --reference " + path("ref.exr") + " --bank " +
+            path("bank"));
+    EXPECT_NE(r.out.find("auto (SURE)"), std::string::npos) << r.out;
+}
+
+TEST_F(AutoCli, OracleOfAnInputWithoutVarianceLeavesTheAutoColumnEmpty) {
+    RunResult r = run("bank " + path("novariance.exr") + " --out " + path("bank") + " --size 4");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    r = run("oracle " + path("novariance.exr") + " --reference " + path("ref.exr") + " --bank " +
+            path("bank") + " --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_TRUE(j["auto"]["ssim"].is_null());
+    EXPECT_NE(j["auto"]["note"].get<std::string>().find("variance"), std::string::npos);
+}
+
+TEST_F(AutoCli, BadInputExitsTwoWithOneClearLineAndWritesNothing) {
+    struct Case {
+        std::string args;
+        std::vector<std::string> mentions;
+    };
+    const std::string out = " --out " + path("out.exr");
+    const Case cases[] = {
+        {"auto " + path("novariance.exr") + out,
+         {"novariance.exr", "layer 'variance'", "variance.R", "SURE"}},
+        {"auto " + path("nan.exr") + out, {"nan.exr", "pixel (7, 4), channel B", "NaN"}},
+        {"auto " + path("noisy.exr") + " --out " + path("out.png"), {"--out", ".exr"}},
+        {"auto " + path("noisy.exr") + out + " --window -1", {"--window"}},
+        {"auto " + path("noisy.exr") + out + " --temperature -2", {"--temperature"}},
+        {"auto " + path("noisy.exr") + out + " --epsilon 0", {"--epsilon"}},
+        {"auto " + path("noisy.exr") + out + " --space gamma", {"--space", "display or linear"}},
+        {"auto " + path("noisy.exr") + out + " --bank " + path("nobank"), {"nobank", "--bank"}},
+        {"auto " + path("noisy.exr") + out + " --size 0", {"--size"}},
+        {"auto " + path("nope.exr") + out, {"nope.exr"}},
+        {"auto " + path("noisy.exr") + out + " --reference " + path("nope.exr"), {"nope.exr"}},
+        {"auto " + path("noisy.exr") + out + " --choice-map " + path("c.jpg"), {"--choice-map"}},
+    };
+    for (const Case& c : cases) {
+        const RunResult r = run(c.args);
+        EXPECT_EQ(r.exitCode, 2) << c.args << "\n" << r.err;
+        for (const std::string& m : c.mentions)
+            EXPECT_NE(r.err.find(m), std::string::npos) << c.args << "\n" << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_FALSE(fs::exists(path("out.exr"))) << c.args;
+        EXPECT_FALSE(fs::exists(path("out.png"))) << c.args;
+        // No temporary file either.
+        for (const auto& e : fs::directory_iterator(m_dir))
+            EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+    }
+}
+
+}  // namespace
+}  // namespace glint::denoise

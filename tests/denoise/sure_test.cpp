@@ -1,0 +1,400 @@
+// Per-pixel SURE, Monte-Carlo divergence and the auto composite (sure.h) on synthetic images with
+// Gaussian noise of known per-pixel variance.
+#include "glint/denoise/sure.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
+
+#include <cmath>
+#include <random>
+
+#include "glint/denoise/bank.h"
+#include "glint/denoise/registry.h"
+#include "glint/denoise/session.h"
+#include "glint/image/error.h"
+#include "synthetic_frames.h"
+
+namespace glint::denoise {
+namespace {
+
+// A clean image: smooth shading with a sharp disc and, for x >= w/2 when `texture`, a fine
+// checkerboard (where only a tiny blur is right).
+Image cleanImage(int w, int h, bool texture) {
+    Image x(w, h, 3);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+            const double dx = i - 0.3 * w, dy = j - 0.5 * h;
+            const bool disc = dx * dx + dy * dy < 0.04 * w * w;
+            double v =
+                0.3 + 0.2 * std::sin(6.0 * i / w) * std::cos(4.0 * j / h) + (disc ? 0.3 : 0.0);
+            if (texture && i >= w / 2) v += ((i / 2 + j / 2) % 2 ? 0.25 : -0.25);
+            x(i, j, 0) = float(v);
+            x(i, j, 1) = float(0.8 * v + 0.05);
+            x(i, j, 2) = float(0.6 * v + 0.1);
+        }
+    return x;
+}
+
+// A frame y = x + n with n ~ N(0, σ²(p)), σ varying smoothly over the image from sigmaLo to
+// sigmaHi (known, written as the variance layer). Fixed seed.
+FrameBuffers noisyFrame(const Image& clean, double sigmaLo, double sigmaHi, std::uint32_t seed) {
+    const int w = clean.width(), h = clean.height();
+    FrameBuffers f(w, h);
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> n01(0.0, 1.0);
+    Image& y = f.color();
+    Image& var = f.ensure(Layer::Variance);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+            const double sigma = sigmaLo + (sigmaHi - sigmaLo) * double(j) / double(h - 1);
+            for (int c = 0; c < 3; ++c) {
+                y(i, j, c) = float(clean(i, j, c) + sigma * n01(rng));
+                var(i, j, c) = float(sigma * sigma);
+            }
+        }
+    return f;
+}
+
+double meanOf(const Image& im) {
+    double s = 0.0;
+    for (float v : im.data()) s += v;
+    return s / double(im.data().size());
+}
+
+double mse(const Image& a, const Image& b) {
+    double s = 0.0;
+    for (std::size_t i = 0; i < a.data().size(); ++i) {
+        const double d = double(a.data()[i]) - double(b.data()[i]);
+        s += d * d;
+    }
+    return s / double(a.data().size());
+}
+
+// Per-channel mean of a SURE map (summed over RGB).
+double sureMse(const Image& sure) {
+    return meanOf(sure) / 3.0;
+}
+
+// Per-channel mean of (f − y)² − σ²: SURE without its divergence term.
+double naiveMse(const FrameBuffers& f, const Image& out) {
+    double s = 0.0;
+    const Image& var = f.layer(Layer::Variance);
+    for (std::size_t i = 0; i < out.data().size(); ++i) {
+        const double d = double(out.data()[i]) - double(f.color().data()[i]);
+        s += d * d - double(var.data()[i]);
+    }
+    return s / double(out.data().size());
+}
+
+// Tolerance of the SURE tests. On N values with noise variance σ̄² (mean over the image), SURE's
+// error (f − y)² − σ² − (f − x)² + ... has a standard deviation of about σ̄² sqrt(2 / N) plus the
+// Monte-Carlo divergence's; for N = 3·128·128 that is 0.0064 σ̄². We allow 0.04 σ̄² (> 5 standard
+// deviations), while leaving out the divergence term is off by 2 σ̄² · mean centre weight
+// (≈ 0.14 σ̄² for σ = 1.5), so a wrong divergence fails.
+constexpr double kSureTolerance = 0.04;
+
+TEST(Sure, MonteCarloEstimateOfAGaussiansMseMatchesTheTrueMse) {
+    const Image clean = cleanImage(128, 128, false);
+    const FrameBuffers f = noisyFrame(clean, 0.03, 0.1, 11);
+    const double meanVar = meanOf(f.layer(Layer::Variance));
+    const Filter& gaussian = findFilter("gaussian");
+    for (double sigma : {0.8, 1.5, 3.0}) {
+        SureOptions o;
+        o.analyticDivergence = false;
+        const SureEstimate e = estimateSure(gaussian, f, {{"sigma", sigma}}, o);
+        EXPECT_FALSE(e.analytic);
+        const double truth = mse(e.output, clean);
+        const double estimate = sureMse(e.sure);
+        EXPECT_NEAR(estimate, truth, kSureTolerance * meanVar)
+            << "sigma " << sigma << ": SURE " << estimate << ", true MSE " << truth;
+        // Without the divergence the estimate is off by far more than the tolerance (2 σ̄² times
+        // the centre weight 1/(2π sigma²): 0.50 σ̄² at sigma 0.8, 0.14 σ̄² at 1.5).
+        if (sigma < 2.0) {
+            EXPECT_GT(std::fabs(naiveMse(f, e.output) - truth), 2.0 * kSureTolerance * meanVar);
+        }
+    }
+}
+
+TEST(Sure, MonteCarloEstimateOfNonlinearFiltersMseMatchesTheTrueMse) {
+    const Image clean = cleanImage(128, 128, true);
+    const FrameBuffers f = noisyFrame(clean, 0.03, 0.1, 12);
+    const double meanVar = meanOf(f.layer(Layer::Variance));
+    struct Case {
+        const char* filter;
+        ParamValues params;
+    };
+    const Case cases[] = {{"bilateral", {{"sigmaS", 2.0}, {"sigmaR", 0.15}}},
+                          {"nlmeans", {{"strength", 0.6}}}};
+    for (const Case& c : cases)
+        for (double epsilon : {0.003, 0.01, 0.1}) {
+            SureOptions o;
+            o.epsilon = epsilon;
+            const SureEstimate e = estimateSure(findFilter(c.filter), f, c.params, o);
+            const double truth = mse(e.output, clean);
+            EXPECT_NEAR(sureMse(e.sure), truth, kSureTolerance * meanVar)
+                << c.filter << " epsilon " << epsilon << ": SURE " << sureMse(e.sure)
+                << ", true MSE " << truth;
+        }
+}
+
+TEST(Sure, AnalyticDivergenceOfTheGaussianMatchesMonteCarlo) {
+    const Image clean = cleanImage(96, 96, false);
+    const FrameBuffers f = noisyFrame(clean, 0.05, 0.05, 13);
+    const Filter& gaussian = findFilter("gaussian");
+    const ParamValues p{{"sigma", 1.5}};
+    SureOptions analytic, mc;
+    mc.analyticDivergence = false;
+    const SureEstimate a = estimateSure(gaussian, f, p, analytic);
+    const SureEstimate m = estimateSure(gaussian, f, p, mc);
+    ASSERT_TRUE(a.analytic);
+    ASSERT_FALSE(m.analytic);
+    // The analytic divergence is the normalised centre weight: 1/(2π σ²) inside (up to the
+    // truncation at 3σ), larger where the kernel is cut by the border.
+    EXPECT_NEAR(a.divergence(48, 48, 0), 1.0 / (2.0 * M_PI * 1.5 * 1.5), 0.003);
+    // In the corner both 1D kernels are cut in half: about (1 / 0.63)² = 2.5 times larger.
+    EXPECT_GT(a.divergence(0, 0, 0), 2.0f * a.divergence(48, 48, 0));
+    // Averages of the per-pixel Monte-Carlo estimate over a block. Its per-value standard
+    // deviation is about sqrt(Σ_{q≠p} w_q²) ≈ 1/(sqrt(4π) σ) = 0.19; we allow 5 standard
+    // deviations of the block mean (values taken as independent).
+    auto blockMeans = [](const Image& d, int x0, int x1, int y0, int y1) {
+        double s = 0.0;
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x)
+                for (int c = 0; c < 3; ++c) s += d(x, y, c);
+        return s / double((x1 - x0) * (y1 - y0) * 3);
+    };
+    struct Block {
+        int x0, x1, y0, y1;
+    };
+    for (const Block& b : {Block{10, 86, 10, 86}, Block{0, 6, 0, 6}, Block{90, 96, 40, 60}}) {
+        const double n = double((b.x1 - b.x0) * (b.y1 - b.y0) * 3);
+        const double tol = 5.0 * 0.19 / std::sqrt(n);
+        EXPECT_NEAR(blockMeans(m.divergence, b.x0, b.x1, b.y0, b.y1),
+                    blockMeans(a.divergence, b.x0, b.x1, b.y0, b.y1), tol)
+            << "block " << b.x0 << ".." << b.x1 << " x " << b.y0 << ".." << b.y1;
+    }
+    // Both SURE estimates agree with the true MSE.
+    const double meanVar = 0.05 * 0.05;
+    EXPECT_NEAR(sureMse(a.sure), mse(a.output, clean), kSureTolerance * meanVar);
+    EXPECT_NEAR(sureMse(m.sure), sureMse(a.sure), kSureTolerance * meanVar);
+}
+
+// A bank of `params` gaussians (and optionally a bilateral) over `f`.
+FilterBank gaussianBank(const FrameBuffers& f, const std::vector<double>& sigmas,
+                        bool withBilateral = false) {
+    std::vector<BankMember> members;
+    std::vector<Image> results;
+    for (double s : sigmas) members.push_back({"gaussian", {{"sigma", s}}, false});
+    if (withBilateral)
+        members.push_back({"bilateral", resolveParams(findFilter("bilateral"), {}), true});
+    for (BankMember& m : members) {
+        m.params = resolveParams(findFilter(m.filter), m.params);
+        results.push_back(applyFilter(findFilter(m.filter), f, m.params));
+    }
+    return FilterBank(std::move(members), std::move(results), Rect{0, f.width(), 0, f.height()},
+                      f.width(), f.height(), hashFrame(f));
+}
+
+TEST(Sure, SelectionPicksTheMemberWithTheSmallestTrueErrorWhereUnambiguous) {
+    // Left: smooth (a wide blur is best); right: a fine checkerboard (a tiny blur is best).
+    const Image clean = cleanImage(128, 96, true);
+    const FrameBuffers f = noisyFrame(clean, 0.06, 0.06, 14);
+    const FilterBank bank = gaussianBank(f, {0.4, 1.0, 3.0});
+    // The plain smoothed-SURE argmin (no confidence margin) is what this test checks.
+    AutoOptions o;
+    o.space = SureSpace::Linear;
+    o.window = 3;
+    o.confidence = 0.0;
+    const AutoResult r = autoComposite(bank, f, o);
+    // With the default margin it still beats every single member (checked below too).
+    AutoOptions cautious = o;
+    cautious.confidence = AutoOptions{}.confidence;
+    const AutoResult rc = autoComposite(bank, f, cautious);
+
+    // True per-pixel error of each member, smoothed like the SURE maps.
+    std::vector<Image> truth;
+    for (std::size_t m = 0; m < bank.size(); ++m) {
+        Image e(128, 96, 1);
+        for (int y = 0; y < 96; ++y)
+            for (int x = 0; x < 128; ++x) {
+                double s = 0.0;
+                for (int c = 0; c < 3; ++c) {
+                    const double d = bank.result(m)(x, y, c) - clean(x, y, c);
+                    s += d * d;
+                }
+                e(x, y, 0) = float(s);
+            }
+        truth.push_back(boxSmooth(e, 3));
+    }
+    // Where the best member's true error is less than half the runner-up's, auto must agree.
+    int unambiguous = 0, agree = 0;
+    for (int y = 0; y < 96; ++y)
+        for (int x = 0; x < 128; ++x) {
+            std::vector<float> e{truth[0](x, y, 0), truth[1](x, y, 0), truth[2](x, y, 0)};
+            const int best = int(std::min_element(e.begin(), e.end()) - e.begin());
+            std::vector<float> sorted = e;
+            std::sort(sorted.begin(), sorted.end());
+            if (sorted[0] * 2.0f > sorted[1]) continue;
+            ++unambiguous;
+            agree += int(r.choice(x, y, 0)) == best;
+        }
+    ASSERT_GT(unambiguous, 128 * 96 / 3);
+    EXPECT_GT(double(agree) / unambiguous, 0.95) << agree << " of " << unambiguous;
+    // The composite beats every single member, and the single choice is the true best.
+    double bestSingle = 1e30;
+    int bestMember = -1;
+    for (std::size_t m = 0; m < bank.size(); ++m)
+        if (mse(bank.result(m), clean) < bestSingle)
+            bestSingle = mse(bank.result(m), clean), bestMember = int(m);
+    EXPECT_LT(mse(r.composite, clean), bestSingle);
+    EXPECT_LT(mse(rc.composite, clean), bestSingle);
+    EXPECT_EQ(r.bestMember, bestMember);
+    // Hard choice: layers are indicator maps that sum to 1.
+    Image sum(128, 96, 1);
+    for (const AutoLayer& l : r.layers)
+        for (std::size_t p = 0; p < sum.data().size(); ++p) sum.data()[p] += l.weights.data()[p];
+    for (float v : sum.data()) ASSERT_EQ(v, 1.0f);
+}
+
+TEST(Sure, SoftWeightsSumToOneAndTheCompositeIsTheirBlend) {
+    const Image clean = cleanImage(64, 48, true);
+    const FrameBuffers f = noisyFrame(clean, 0.04, 0.08, 15);
+    const FilterBank bank = gaussianBank(f, {0.4, 1.0, 3.0});
+    AutoOptions o;
+    o.temperature = 0.5;
+    const AutoResult r = autoComposite(bank, f, o);
+    ASSERT_GE(r.layers.size(), 2u);
+    for (int y = 0; y < 48; y += 7)
+        for (int x = 0; x < 64; x += 5) {
+            double w = 0.0, c = 0.0;
+            for (const AutoLayer& l : r.layers) {
+                w += l.weights(x, y, 0);
+                c += l.weights(x, y, 0) * bank.result(std::size_t(l.member))(x, y, 0);
+            }
+            EXPECT_NEAR(w, 1.0, 1e-5);
+            EXPECT_NEAR(c, r.composite(x, y, 0), 1e-5);
+        }
+}
+
+TEST(Sure, SameResultForAnyThreadCount) {
+    const FrameBuffers f = testing::syntheticFrame(64, 48, 0.08f);
+    const FilterBank bank = gaussianBank(f, {0.7, 2.0}, true);
+    AutoOptions o;
+    o.temperature = 0.3;
+    AutoResult one, two;
+    {
+        tbb::task_arena arena(1);
+        arena.execute([&] { one = autoComposite(bank, f, o); });
+    }
+    {
+        tbb::task_arena arena(2);
+        arena.execute([&] { two = autoComposite(bank, f, o); });
+    }
+    ASSERT_EQ(one.composite.data().size(), two.composite.data().size());
+    for (std::size_t i = 0; i < one.composite.data().size(); ++i)
+        ASSERT_EQ(one.composite.data()[i], two.composite.data()[i]) << i;
+    EXPECT_EQ(one.estimatedMse, two.estimatedMse);
+    // A different seed perturbs differently (the bilateral's Monte-Carlo estimate moves).
+    o.sure.seed = 2;
+    const AutoResult other = autoComposite(bank, f, o);
+    EXPECT_NE(other.estimatedMse.back(), one.estimatedMse.back());
+}
+
+TEST(Sure, MissingVarianceLayerIsRefusedNamingTheLayer) {
+    FrameBuffers f = testing::syntheticFrame(24, 20, 0.05f);
+    f.remove(Layer::Variance);
+    try {
+        checkSureInput(f, "noisy.exr");
+        FAIL() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::Format);
+        EXPECT_EQ(e.file(), "noisy.exr");
+        EXPECT_NE(std::string(e.what()).find("variance.R"), std::string::npos) << e.what();
+        EXPECT_NE(e.where().find("variance"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(estimateSure(findFilter("gaussian"), f, {}), Error);
+}
+
+TEST(Sure, NanOrInfInColourOrVarianceIsRefusedNamingThePixel) {
+    struct Case {
+        Layer layer;
+        int c;
+        float value;
+        std::string where, what;
+    };
+    const Case cases[] = {
+        {Layer::Color, 1, std::nanf(""), "pixel (5, 3), channel G", "NaN"},
+        {Layer::Color, 0, INFINITY, "pixel (5, 3), channel R", "Inf"},
+        {Layer::Variance, 2, std::nanf(""), "pixel (5, 3), channel variance.B", "NaN"},
+        {Layer::Variance, 0, -1.0f, "pixel (5, 3), channel variance.R", "negative"},
+    };
+    for (const Case& c : cases) {
+        FrameBuffers f = testing::syntheticFrame(24, 20, 0.05f);
+        f.layer(c.layer)(5, 3, c.c) = c.value;
+        try {
+            checkSureInput(f, "in.exr");
+            FAIL() << "no error for " << c.where;
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), ErrorKind::Numeric);
+            EXPECT_EQ(e.where(), c.where);
+            EXPECT_NE(e.message().find(c.what), std::string::npos) << e.what();
+        }
+    }
+}
+
+TEST(Sure, BadOptionsAndAnotherImagesBankAreRefused) {
+    const FrameBuffers f = testing::syntheticFrame(32, 24, 0.05f);
+    const FilterBank bank = gaussianBank(f, {1.0});
+    AutoOptions o;
+    o.window = -1;
+    EXPECT_THROW(autoComposite(bank, f, o), Error);
+    o = {};
+    o.temperature = -1.0;
+    EXPECT_THROW(autoComposite(bank, f, o), Error);
+    o = {};
+    o.sure.epsilon = 0.0;
+    EXPECT_THROW(autoComposite(bank, f, o), Error);
+    const FrameBuffers other = testing::syntheticFrame(32, 24, 0.05f, 99);
+    EXPECT_THROW(autoComposite(bank, other, {}), Error);
+}
+
+TEST(Sure, ProgressCanStopIt) {
+    const FrameBuffers f = testing::syntheticFrame(32, 24, 0.05f);
+    const FilterBank bank = gaussianBank(f, {0.7, 1.0, 2.0}, true);
+    AutoOptions o;
+    o.progress = [](double) { return false; };
+    try {
+        autoComposite(bank, f, o);
+        FAIL() << "not cancelled";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::Cancelled);
+    }
+}
+
+TEST(Sure, SessionStartsFromTheAutoComposite) {
+    const Image clean = cleanImage(48, 40, true);
+    const FrameBuffers f = noisyFrame(clean, 0.04, 0.08, 16);
+    const FilterBank bank = gaussianBank(f, {0.4, 1.0, 3.0}, true);
+    AutoOptions o;
+    o.temperature = 0.3;
+    const AutoResult r = autoComposite(bank, f, o);
+    Session session(f);
+    const std::size_t edits = startFromAuto(session, bank, r);
+    EXPECT_EQ(edits, 2 * r.layers.size());
+    ASSERT_EQ(session.layerCount(), r.layers.size());
+    EXPECT_EQ(session.layer(0).filter, bank.members()[std::size_t(r.layers[0].member)].filter);
+    EXPECT_LT(testing::maxAbsDiff(session.composite(), r.composite), 1e-5);
+    // Every edit can be undone: back to the noisy input.
+    for (std::size_t i = 0; i < edits; ++i) session.undo();
+    EXPECT_EQ(session.layerCount(), 0u);
+    EXPECT_EQ(testing::maxAbsDiff(session.composite(), f.color()), 0.0);
+    // A bank of another image is refused and nothing changes.
+    const FrameBuffers other = noisyFrame(clean, 0.04, 0.08, 17);
+    Session s2(other);
+    EXPECT_THROW(startFromAuto(s2, bank, r), Error);
+    EXPECT_EQ(s2.layerCount(), 0u);
+}
+
+}  // namespace
+}  // namespace glint::denoise

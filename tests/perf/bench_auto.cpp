@@ -1,0 +1,99 @@
+// bench_auto: the speed figure of the SURE auto start (docs/navigation.md). Renders
+// scenes/cornell at SIZE×SIZE (default 1024) with SPP samples (default 4), then times on THREADS
+// threads (default 2), REPS times each (best kept; the machine may be shared): the bank of
+// MEMBERS Latin-hypercube members (plus the defaults, no cache), and autoComposite over it (one
+// more application of every member to the perturbed input, SURE maps, choice). Prints one JSON
+// object with both times and their ratio (target: auto ≤ 2× the bank).
+//   bench_auto [--size 1024] [--spp 4] [--threads 2] [--members 64] [--reps 3]
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "glint/denoise/bank.h"
+#include "glint/denoise/sure.h"
+#include "glint/render/renderer.h"
+#include "glint/render/scene.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsOf(const std::function<void()>& fn) {
+    const auto t0 = Clock::now();
+    fn();
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    namespace fs = std::filesystem;
+    int size = 1024, spp = 4, threads = 2, members = 64, reps = 3;
+    for (int i = 1; i + 1 < argc; i += 2) {
+        const std::string a = argv[i];
+        const int v = std::stoi(argv[i + 1]);
+        if (a == "--size")
+            size = v;
+        else if (a == "--spp")
+            spp = v;
+        else if (a == "--threads")
+            threads = v;
+        else if (a == "--members")
+            members = v;
+        else if (a == "--reps")
+            reps = std::max(1, v);
+        else {
+            std::fprintf(stderr, "bench_auto: unknown option %s\n", a.c_str());
+            return 2;
+        }
+    }
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+
+    // The input: cornell at size², a low spp (the render is not timed).
+    const fs::path root = GLINT_SOURCE_DIR;
+    std::ifstream in(root / "scenes/cornell/scene.json");
+    nlohmann::json scene = nlohmann::json::parse(in);
+    scene["film"] = {{"width", size}, {"height", size}};
+    glint::render::Renderer renderer(
+        glint::render::parseScene(scene.dump(), root / "scenes/cornell/scene.json"));
+    glint::render::Settings s = renderer.scene().settings();
+    s.spp = spp;
+    s.threads = threads;
+    const glint::FrameBuffers frame = renderer.render(s).frame;
+
+    glint::denoise::BankOptions options;
+    options.size = members;
+    options.seed = 1;
+    double bankSeconds = 1e30, autoSeconds = 1e30;
+    std::size_t bankSize = 0, used = 0;
+    for (int r = 0; r < reps; ++r) {
+        glint::denoise::FilterBank bank;
+        bankSeconds = std::min(
+            bankSeconds, secondsOf([&] { bank = glint::denoise::buildBank(frame, options); }));
+        bankSize = bank.size();
+        glint::denoise::AutoResult result;
+        autoSeconds = std::min(
+            autoSeconds, secondsOf([&] { result = glint::denoise::autoComposite(bank, frame); }));
+        used = result.layers.size();
+    }
+    const nlohmann::json out = {{"size", size},
+                                {"spp", spp},
+                                {"threads", threads},
+                                {"members", bankSize},
+                                {"reps", reps},
+                                {"bankSecondsBest", bankSeconds},
+                                {"autoSecondsBest", autoSeconds},
+                                {"autoOverBank", autoSeconds / bankSeconds},
+                                {"membersUsed", used}};
+    std::cout << out.dump(2) << "\n";
+    return 0;
+}
