@@ -285,37 +285,39 @@ void runConvert(const ConvertOptions& options) {
 void runMerge(const MergeOptions& options) {
     checkOutputPath(options.output, {".exr"}, "--out");
     removeTemporariesOnSignal({options.output});
-    const auto start = std::chrono::steady_clock::now();
-    std::vector<ShardFrame> shards;
-    for (const std::string& file : options.shards) {
+    for (const std::string& file : options.shards)
         if (std::filesystem::absolute(file) == std::filesystem::absolute(options.output))
             throw Error(ErrorKind::InvalidArgument, "--out would overwrite the shard " + file,
                         "command line", "--out");
-        shards.push_back({file, readExr(file)});
-    }
-    const double readSeconds = secondsSince(start);
-    const FrameBuffers merged = mergeShards(std::move(shards));
-    const double mergeSeconds = secondsSince(start) - readSeconds;
+    // Headers first (the whole set is checked), then one input at a time.
+    const auto start = std::chrono::steady_clock::now();
+    const FrameBuffers merged =
+        mergeShardFiles(options.shards, options.partial ? MergeKind::Partial : MergeKind::Whole);
+    const double mergeSeconds = secondsSince(start);
     writeExr(merged, options.output);
     const double seconds = secondsSince(start);
+    const auto range = shardInfo(merged.metadata(), options.output);
+    const std::string held =
+        range ? merged.metadata().extra.at("shard") : std::string("whole render");
     if (options.json) {
-        const json j = {{"out", options.output},
-                        {"shards", options.shards.size()},
-                        {"width", merged.width()},
-                        {"height", merged.height()},
-                        {"spp", merged.metadata().spp},
-                        {"cancelled", merged.metadata().extra.count("cancelled") > 0},
-                        {"readSeconds", readSeconds},
-                        {"mergeSeconds", mergeSeconds},
-                        {"writeSeconds", seconds - readSeconds - mergeSeconds},
-                        {"seconds", seconds}};
+        json j = {{"out", options.output},
+                  {"shards", options.shards.size()},
+                  {"width", merged.width()},
+                  {"height", merged.height()},
+                  {"spp", merged.metadata().spp},
+                  {"cancelled", merged.metadata().extra.count("cancelled") > 0},
+                  {"partial", bool(range)},
+                  {"mergeSeconds", mergeSeconds},
+                  {"writeSeconds", seconds - mergeSeconds},
+                  {"seconds", seconds}};
+        if (range) j["range"] = {range->index, range->last(), range->count};
         std::cout << j.dump() << "\n";
     } else {
         std::printf(
-            "merged %zu shards into %s: %dx%d, %d spp (read %.3f s, merge %.3f s, total "
+            "merged %zu files into %s (%s): %dx%d, %d spp (read and merge %.3f s, total "
             "%.3f s)\n",
-            options.shards.size(), options.output.c_str(), merged.width(), merged.height(),
-            merged.metadata().spp, readSeconds, mergeSeconds, seconds);
+            options.shards.size(), options.output.c_str(), held.c_str(), merged.width(),
+            merged.height(), merged.metadata().spp, mergeSeconds, seconds);
     }
 }
 

@@ -35,8 +35,9 @@ struct ConvertOptions {
 
 /// Options of `glint-image merge`.
 struct MergeOptions {
-    std::vector<std::string> shards;
+    std::vector<std::string> shards;  ///< shards and partial merges
     std::string output;
+    bool partial = false;  ///< write a partial merge of a contiguous range (re-mergeable)
     bool json = false;
 };
 
@@ -46,7 +47,8 @@ void runInfo(const InfoOptions& options);
 void runDiff(const DiffOptions& options);
 /// Writes a layer or channel of an image as an 8-bit sRGB PNG.
 void runConvert(const ConvertOptions& options);
-/// Merges the shards of a sharded render (glint-render --shard i/N) into the whole frame.
+/// Merges the shards of a sharded render (glint-render --shard i/N) into the whole frame, or a
+/// contiguous range of them into a partial merge (--partial) that a later merge accepts.
 void runMerge(const MergeOptions& options);
 
 }  // namespace glint::cli

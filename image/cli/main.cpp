@@ -37,8 +37,14 @@ int main(int argc, char** argv) {
     glint::cli::MergeOptions merge;
     CLI::App* mergeCmd = app.add_subcommand(
         "merge", "Merge the shards of a render (glint-render --shard i/N) into the whole frame");
-    mergeCmd->add_option("SHARD", merge.shards, "Every shard EXR of the render, in any order")
+    mergeCmd
+        ->add_option("SHARD", merge.shards,
+                     "Shard EXRs and partial merges that together hold every shard of the "
+                     "render once, in any order")
         ->required();
+    mergeCmd->add_flag("--partial", merge.partial,
+                       "Merge a contiguous range of shards a..b into a file recording "
+                       "glint:shard \"a-b/N\", which a later merge accepts like a shard");
     mergeCmd->add_option("--out", merge.output, "Merged EXR (.exr)")->required();
     mergeCmd->add_flag("--json", merge.json, "Print one JSON object on stdout");
 

@@ -5,11 +5,17 @@
 #include <charconv>
 #include <cstdio>
 #include <map>
+#include <optional>
+#include <string_view>
+#include <tuple>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "channel_aliases.h"
 #include "glint/image/error.h"
+#include "glint/image/io.h"
+#include "oiio_helpers.h"
 
 namespace glint {
 
@@ -20,6 +26,8 @@ constexpr const char* kShardKey = "shard";
 constexpr const char* kSamplesKey = "shardSamples";
 constexpr const char* kTotalSppKey = "shardTotalSpp";
 constexpr const char* kSceneHashKey = "sceneHash";
+constexpr const char* kCancelledKey = "cancelled";
+constexpr const char* kMergedKey = "mergedShards";
 
 /// Parses the whole of `text` as an integer; nullopt when it is not one.
 template <typename T>
@@ -41,30 +49,52 @@ std::optional<std::pair<int, int>> parsePair(const std::string& text, char sep) 
 }
 
 std::string shardName(const ShardInfo& s) {
-    return std::to_string(s.index) + "/" + std::to_string(s.count);
+    const std::string n = "/" + std::to_string(s.count);
+    if (s.last() == s.index) return std::to_string(s.index) + n;
+    return std::to_string(s.index) + "-" + std::to_string(s.last()) + n;
 }
 
-/// The metadata two shards of one render share: everything but what differs per shard.
-std::map<std::string, std::string> renderIdentity(const FrameBuffers& frame) {
-    const FrameMetadata& md = frame.metadata();
-    std::map<std::string, std::string> id(md.extra.begin(), md.extra.end());
-    for (const char* key : {kShardKey, kSamplesKey, "cancelled"}) id.erase(key);
+/// "shard i/N" or "shards a-b/N", for messages.
+std::string shardsName(const ShardInfo& s) {
+    return (s.last() == s.index ? "shard " : "shards ") + shardName(s);
+}
+
+/// "i/N" or, for a range of shards, "a-b/N".
+std::string rangeName(int first, int last, int count) {
+    ShardInfo s;
+    s.index = first;
+    s.lastIndex = last;
+    s.count = count;
+    return shardName(s);
+}
+
+using Identity = std::map<std::string, std::string>;
+
+/// The metadata two shards of one render share: everything but what differs per shard (its
+/// place, its own spp, whether it was cancelled, how many shards a partial merge holds).
+/// `layers` lists the layers present.
+Identity renderIdentity(const FrameMetadata& md, int width, int height, const std::string& layers) {
+    Identity id(md.extra.begin(), md.extra.end());
+    for (const char* key : {kShardKey, kSamplesKey, kCancelledKey, kMergedKey}) id.erase(key);
     if (const auto shard = md.extra.find(kShardKey); shard != md.extra.end())
         id["N"] = shard->second.substr(shard->second.find('/') + 1);
     id["seed"] = std::to_string(md.seed);
     id["integrator"] = md.integrator;
-    id["size"] = std::to_string(frame.width()) + "x" + std::to_string(frame.height());
-    std::string layers;
-    for (int l = 0; l < kLayerCount; ++l)
-        if (frame.has(Layer(l))) layers += std::string(layerDisplayName(Layer(l))) + " ";
+    id["size"] = std::to_string(width) + "x" + std::to_string(height);
     id["layers"] = layers;
     return id;
 }
 
+std::string layerList(const FrameBuffers& frame) {
+    std::string layers;
+    for (int l = 0; l < kLayerCount; ++l)
+        if (frame.has(Layer(l))) layers += std::string(layerDisplayName(Layer(l))) + " ";
+    return layers;
+}
+
 /// First difference between two identities, as "key a vs b" (empty when equal).
-std::string firstDifference(const std::map<std::string, std::string>& a,
-                            const std::map<std::string, std::string>& b) {
-    auto show = [](const std::map<std::string, std::string>& m, const std::string& key) {
+std::string firstDifference(const Identity& a, const Identity& b) {
+    auto show = [](const Identity& m, const std::string& key) {
         const auto it = m.find(key);
         return it == m.end() ? std::string("(none)") : "'" + it->second + "'";
     };
@@ -76,19 +106,283 @@ std::string firstDifference(const std::map<std::string, std::string>& a,
     return {};
 }
 
-/// Running (count, mean, M2) of one channel (Chan, Golub and LeVeque 1979).
-struct Moments {
-    double n = 0.0, mean = 0.0, m2 = 0.0;
+/// What the merge checks of one input before folding its pixels.
+struct Piece {
+    std::string file;
+    ShardInfo info;
+    Identity identity;
+    bool counted = false;  ///< has a sampleCount layer
+};
 
-    /// Adds a group of `nb` samples with mean `meanB` and sum of squared deviations `m2B`.
-    void add(double nb, double meanB, double m2B) {
-        if (nb <= 0.0) return;
-        const double total = n + nb;
-        const double delta = meanB - mean;
-        // Chan et al. 1979, eq. 2.1: M2 = M2_A + M2_B + delta^2 n_A n_B / n.
-        mean += delta * (nb / total);
-        m2 += m2B + delta * delta * (n * nb / total);
-        n = total;
+Piece pieceOf(const std::string& file, const FrameMetadata& md, int width, int height,
+              const std::string& layers, bool counted) {
+    const auto info = shardInfo(md, file);
+    if (!info)
+        throw Error(ErrorKind::InvalidArgument,
+                    "not a shard (no glint:shard attribute; render it with glint-render "
+                    "--shard i/N)",
+                    file);
+    return {file, *info, renderIdentity(md, width, height, layers), counted};
+}
+
+Piece pieceOf(const std::string& file, const FrameBuffers& frame) {
+    return pieceOf(file, frame.metadata(), frame.width(), frame.height(), layerList(frame),
+                   frame.has(Layer::SampleCount));
+}
+
+/// The Piece of an EXR from its header alone (no pixels read): the same glint:* attributes and
+/// layers readExr gives (mergeShardFiles checks both agree once it reads the pixels).
+Piece readPieceHeader(const std::string& file) {
+    auto in = detail::openImage(file);
+    if (std::string(in->format_name()) != "openexr")
+        throw Error(ErrorKind::Format,
+                    "expected an OpenEXR file, got a " + std::string(in->format_name()) + " file",
+                    file, "open");
+    const OIIO::ImageSpec& spec = in->spec();
+    FrameMetadata md;
+    bool glint = false;
+    for (const OIIO::ParamValue& p : spec.extra_attribs) {
+        const std::string name = p.name().string();
+        if (name.rfind("glint:", 0) != 0) continue;
+        glint = true;
+        const std::string key = name.substr(6), value = p.get_string(1 << 20);
+        if (key == "integrator") {
+            md.integrator = value;
+        } else if (key == "seed") {
+            const auto seed = p.type() == OIIO::TypeInt ? std::optional(std::uint64_t(p.get_int()))
+                                                        : parseWhole<std::uint64_t>(value);
+            if (!seed)
+                throw Error(ErrorKind::Format, "expected an integer, got '" + value + "'", file,
+                            "attribute glint:seed");
+            md.seed = *seed;
+        } else if (key != "spp" && key != "scene" && key != "varianceOf" && key != "normalSpace" &&
+                   key != "depth" && key != "nonFiniteSamples") {
+            md.extra[key] = value;
+        }
+    }
+    const detail::ChannelPlan plan =
+        detail::planChannels({spec.channelnames.begin(), spec.channelnames.end()}, glint, file);
+    std::vector<bool> present(kLayerCount, false);
+    for (const detail::LayerSource& src : plan.layers) present[int(src.layer)] = true;
+    std::string layers;
+    for (int l = 0; l < kLayerCount; ++l)
+        if (present[l]) layers += std::string(layerDisplayName(Layer(l))) + " ";
+    return pieceOf(file, md, spec.width, spec.height, layers, present[int(Layer::SampleCount)]);
+}
+
+/// Up to `limit` items of `items` joined by ", ", then "and K more".
+std::string joinShort(const std::vector<std::string>& items, std::size_t limit = 8) {
+    std::string out;
+    for (std::size_t i = 0; i < items.size() && i < limit; ++i) out += (i ? ", " : "") + items[i];
+    if (items.size() > limit) out += ", and " + std::to_string(items.size() - limit) + " more";
+    return out;
+}
+
+/// Checks that `pieces` are of one render and tile shards 0 … N−1 (Whole) or a contiguous range
+/// (Partial) exactly once; returns their order by first shard. Throws naming the files.
+std::vector<std::size_t> checkSet(const std::vector<Piece>& pieces, MergeKind kind) {
+    if (pieces.empty())
+        throw Error(ErrorKind::InvalidArgument, "no shards to merge", "command line", "SHARD.exr");
+    std::vector<std::size_t> order(pieces.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return pieces[a].info.index < pieces[b].info.index;
+    });
+
+    // Refuse a foreign shard: one of another render (scene, seed, N, spp, settings, size).
+    const Piece& first = pieces[order[0]];
+    for (std::size_t k : order) {
+        const std::string diff = firstDifference(first.identity, pieces[k].identity);
+        if (!diff.empty())
+            throw Error(ErrorKind::InvalidArgument,
+                        "shard " + shardName(pieces[k].info) + " is foreign to shard " +
+                            shardName(first.info) + " of " + first.file + ": " + diff,
+                        pieces[k].file);
+    }
+    // Refuse overlaps: a shard held by two inputs.
+    std::size_t reach = order[0];  // the input reaching furthest so far
+    for (std::size_t j = 1; j < order.size(); ++j) {
+        const Piece& p = pieces[order[j]];
+        const Piece& q = pieces[reach];
+        if (p.info.index <= q.info.last()) {
+            if (p.info.last() == p.info.index && q.info.last() == q.info.index)
+                throw Error(
+                    ErrorKind::InvalidArgument,
+                    "shard " + shardName(p.info) + " is given twice: " + q.file + " and " + p.file,
+                    p.file);
+            throw Error(ErrorKind::InvalidArgument,
+                        shardsName(p.info) + " overlaps " + shardsName(q.info) + " of " + q.file +
+                            " (shard " + std::to_string(p.info.index) + " is held twice)",
+                        p.file);
+        }
+        if (p.info.last() > q.info.last()) reach = order[j];
+    }
+    // Refuse gaps: at the ends for a whole merge, between the inputs for both kinds.
+    const int count = first.info.count;
+    std::vector<std::string> missing, given;
+    int next = kind == MergeKind::Whole ? 0 : first.info.index;
+    for (std::size_t k : order) {
+        const Piece& p = pieces[k];
+        if (p.info.index > next) missing.push_back(rangeName(next, p.info.index - 1, count));
+        given.push_back(p.file + " (" + shardName(p.info) + ")");
+        next = p.info.last() + 1;
+    }
+    if (kind == MergeKind::Whole && next < count)
+        missing.push_back(rangeName(next, count - 1, count));
+    if (!missing.empty())
+        throw Error(ErrorKind::InvalidArgument,
+                    std::string(kind == MergeKind::Whole
+                                    ? "incomplete shard set: missing "
+                                    : "the shards of a partial merge must be a contiguous "
+                                      "range: missing ") +
+                        joinShort(missing) + "; given " + joinShort(given),
+                    "command line", "SHARD.exr");
+    if (!first.counted)
+        throw Error(ErrorKind::InvalidArgument, "a shard must have a sampleCount layer", first.file,
+                    "sampleCount");
+    return order;
+}
+
+/// Chan, Golub and LeVeque 1979, eq. 2.1: adds a group of `nb` samples with mean `meanB` and
+/// sum of squared deviations `m2B` to a group of `n` samples with `mean` and `m2` (the caller
+/// then sets n += nb, once for all channels of the pixel):
+/// M2 = M2_A + M2_B + delta^2 n_A n_B / n.
+inline void addGroup(double n, double nb, double meanB, double m2B, double& mean, double& m2) {
+    const double total = n + nb;
+    const double delta = meanB - mean;
+    mean += delta * (nb / total);
+    m2 += m2B + delta * delta * (n * nb / total);
+}
+
+/// The running merge: per pixel its sample count, per channel of each layer the running mean
+/// and (for layers with a variance of the mean) M2, all in double. Inputs are added one at a
+/// time, in shard order.
+class Accumulator {
+  public:
+    explicit Accumulator(const FrameBuffers& first)
+        : m_width(first.width()), m_height(first.height()) {
+        const std::size_t pixels = std::size_t(m_width) * m_height;
+        for (int l = 0; l < kLayerCount; ++l)
+            if (first.has(Layer(l))) m_layers.push_back(Layer(l));
+        // Each layer with its variance of the mean (M2 = V · n · (n − 1)); position has none.
+        for (Layer layer : m_layers) {
+            if (layer == Layer::SampleCount || varianceOf(layer)) continue;
+            Target t;
+            t.mean = layer;
+            if (const auto var = varianceLayer(layer); var && first.has(*var)) t.variance = var;
+            t.channels = layerInfo(layer).channels;
+            t.means.assign(pixels * t.channels, 0.0);
+            if (t.variance) t.m2.assign(pixels * t.channels, 0.0);
+            m_targets.push_back(std::move(t));
+        }
+        m_n.assign(pixels, 0.0);
+        m_total.assign(pixels, 0.0);
+    }
+
+    /// Folds one input (of the size and layers of the first) into the running merge.
+    void add(const FrameBuffers& f) {
+        const Image& counts = f.layer(Layer::SampleCount);
+        tbb::parallel_for(
+            tbb::blocked_range<int>(0, m_height), [&](const tbb::blocked_range<int>& rows) {
+                for (int y = rows.begin(); y != rows.end(); ++y)
+                    for (int x = 0; x < m_width; ++x) {
+                        const std::size_t p = std::size_t(y) * m_width + x;
+                        const double nb = counts(x, y, 0);
+                        m_total[p] += nb;
+                        if (nb <= 0.0) continue;
+                        const double n = m_n[p];
+                        for (Target& t : m_targets) {
+                            const Image& mean = f.layer(t.mean);
+                            const Image* variance = t.variance ? &f.layer(*t.variance) : nullptr;
+                            for (int c = 0; c < t.channels; ++c) {
+                                const std::size_t i = p * t.channels + c;
+                                const double var = variance ? (*variance)(x, y, c) : 0.0;
+                                double ignored = 0.0;
+                                addGroup(n, nb, mean(x, y, c), var * nb * std::max(nb - 1.0, 0.0),
+                                         t.means[i], t.variance ? t.m2[i] : ignored);
+                            }
+                        }
+                        m_n[p] = n + nb;
+                    }
+            });
+    }
+
+    /// The merged frame: means, V = M2/(n(n−1)) and sampleCount = n, with `metadata`.
+    FrameBuffers finish(const FrameMetadata& metadata) const {
+        FrameBuffers out(m_width, m_height);
+        for (Layer layer : m_layers) out.ensure(layer);
+        out.metadata() = metadata;
+        tbb::parallel_for(tbb::blocked_range<int>(0, m_height),
+                          [&](const tbb::blocked_range<int>& rows) {
+                              for (int y = rows.begin(); y != rows.end(); ++y)
+                                  for (int x = 0; x < m_width; ++x) finishPixel(out, x, y);
+                          });
+        return out;
+    }
+
+  private:
+    struct Target {
+        Layer mean;
+        std::optional<Layer> variance;
+        int channels = 0;
+        std::vector<double> means, m2;
+    };
+
+    void finishPixel(FrameBuffers& out, int x, int y) const {
+        const std::size_t p = std::size_t(y) * m_width + x;
+        const double n = m_n[p];
+        out.layer(Layer::SampleCount)(x, y, 0) = float(m_total[p]);
+        for (const Target& t : m_targets)
+            for (int c = 0; c < t.channels; ++c) {
+                const std::size_t i = p * t.channels + c;
+                out.layer(t.mean)(x, y, c) = float(t.means[i]);
+                if (t.variance)
+                    out.layer (*t.variance)(x, y, c) =
+                        n > 1.0 ? float(t.m2[i] / (n * (n - 1.0))) : 0.0f;
+            }
+    }
+
+    int m_width, m_height;
+    std::vector<Layer> m_layers;
+    std::vector<Target> m_targets;
+    std::vector<double> m_n;      ///< samples folded (inputs with a positive count)
+    std::vector<double> m_total;  ///< sum of the sampleCounts
+};
+
+/// The metadata of a merge: that of the first input in shard order, the sums of the inputs'
+/// spp and non-finite samples, and the range held (Partial) or no shard attributes (Whole).
+struct MergedMetadata {
+    FrameMetadata md;
+    bool started = false;
+
+    void add(const FrameMetadata& input) {
+        if (!started) {
+            md = input;
+            md.spp = 0;
+            md.nonFiniteSamples = 0;
+            for (const char* key : {kShardKey, kSamplesKey, kTotalSppKey, kCancelledKey})
+                md.extra.erase(key);
+            started = true;
+        }
+        md.spp += input.spp;
+        md.nonFiniteSamples += input.nonFiniteSamples;
+        if (input.extra.count(kCancelledKey)) md.extra[kCancelledKey] = "true";
+    }
+
+    FrameMetadata finish(const std::vector<Piece>& pieces, const std::vector<std::size_t>& order,
+                         MergeKind kind) const {
+        FrameMetadata out = md;
+        const ShardInfo& first = pieces[order.front()].info;
+        const int last = pieces[order.back()].info.last();
+        out.extra[kMergedKey] = std::to_string(last - first.index + 1);
+        if (kind == MergeKind::Partial) {
+            ShardInfo range = first;
+            range.lastIndex = last;
+            range.sampleBegin = shardSampleRange(first.totalSpp, first.index, first.count).first;
+            range.sampleEnd = shardSampleRange(first.totalSpp, last, first.count).second;
+            setShardInfo(out, range);
+        }
+        return out;
     }
 };
 
@@ -133,144 +427,84 @@ std::optional<ShardInfo> shardInfo(const FrameMetadata& metadata, const std::str
                      std::string("attribute glint:") + key);
     };
     ShardInfo info;
-    const auto spec = parsePair(shard->second, '/');
-    if (!spec || spec->second < 1 || spec->first < 0 || spec->first >= spec->second)
-        throw bad(kShardKey, "i/N with 0 <= i < N");
-    info.index = spec->first;
-    info.count = spec->second;
+    // "i/N", or "a-b/N" for a partial merge of shards a … b.
+    const std::string& text = shard->second;
+    const auto spec = parsePair(text, '/');
+    const std::size_t dash = text.find('-');
+    const bool ranged = dash != std::string::npos && dash < text.find('/');
+    int first = spec ? spec->first : -1, last = first, count = spec ? spec->second : 0;
+    if (ranged) {
+        const auto a = parseWhole<int>(std::string_view(text).substr(0, dash));
+        const auto slashAt = text.find('/');
+        const auto b = parseWhole<int>(std::string_view(text).substr(dash + 1, slashAt - dash - 1));
+        count = parseWhole<int>(std::string_view(text).substr(slashAt + 1)).value_or(0);
+        first = a.value_or(-1);
+        last = b.value_or(-1);
+    }
+    if (count < 1 || first < 0 || last < first || last >= count)
+        throw bad(kShardKey, "i/N with 0 <= i < N, or a-b/N with 0 <= a <= b < N");
+    info.index = first;
+    info.count = count;
+    if (last != first) info.lastIndex = last;
     const auto total = parseWhole<int>(get(kTotalSppKey));
     if (!total || *total < info.count) throw bad(kTotalSppKey, "an spp of at least N");
     info.totalSpp = *total;
-    const auto range = parsePair(get(kSamplesKey), ' ');
-    if (!range || *range != shardSampleRange(info.totalSpp, info.index, info.count))
+    const auto samples = parsePair(get(kSamplesKey), ' ');
+    const std::pair<int, int> expected{
+        shardSampleRange(info.totalSpp, info.index, info.count).first,
+        shardSampleRange(info.totalSpp, info.last(), info.count).second};
+    if (!samples || *samples != expected)
         throw bad(kSamplesKey, "the sample range of shard " + shardName(info) + " of " +
                                    std::to_string(info.totalSpp) + " spp");
-    info.sampleBegin = range->first;
-    info.sampleEnd = range->second;
+    info.sampleBegin = samples->first;
+    info.sampleEnd = samples->second;
     const auto hash = parseWhole<std::uint64_t>(get(kSceneHashKey), 16);
     if (!hash || get(kSceneHashKey).size() != 16) throw bad(kSceneHashKey, "16 hex digits");
     info.sceneHash = *hash;
     return info;
 }
 
-FrameBuffers mergeShards(std::vector<ShardFrame> shards) {
-    if (shards.empty())
-        throw Error(ErrorKind::InvalidArgument, "no shards to merge", "command line", "SHARD.exr");
-
-    // Identify every shard, then order them by index: the merge is then the same for any
-    // order of the arguments.
-    std::vector<ShardInfo> infos;
-    for (const ShardFrame& s : shards) {
-        const auto info = shardInfo(s.frame.metadata(), s.file);
-        if (!info)
-            throw Error(ErrorKind::InvalidArgument,
-                        "not a shard (no glint:shard attribute; render it with glint-render "
-                        "--shard i/N)",
-                        s.file);
-        infos.push_back(*info);
-    }
-    std::vector<std::size_t> order(shards.size());
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(),
-                     [&](std::size_t a, std::size_t b) { return infos[a].index < infos[b].index; });
-
-    // Refuse a foreign shard: one of another render (scene, seed, N, spp, settings, size).
-    const ShardFrame& first = shards[order[0]];
-    const auto identity = renderIdentity(first.frame);
+FrameBuffers mergeShards(std::vector<ShardFrame> shards, MergeKind kind) {
+    std::vector<Piece> pieces;
+    for (const ShardFrame& s : shards) pieces.push_back(pieceOf(s.file, s.frame));
+    const std::vector<std::size_t> order = checkSet(pieces, kind);
+    Accumulator sum(shards[order[0]].frame);
+    MergedMetadata md;
     for (std::size_t k : order) {
-        const std::string diff = firstDifference(identity, renderIdentity(shards[k].frame));
-        if (!diff.empty())
-            throw Error(ErrorKind::InvalidArgument,
-                        "shard " + shardName(infos[k]) + " is foreign to shard " +
-                            shardName(infos[order[0]]) + " of " + first.file + ": " + diff,
-                        shards[k].file);
+        sum.add(shards[k].frame);
+        md.add(shards[k].frame.metadata());
     }
-    // Refuse duplicates and gaps.
-    const int count = infos[order[0]].count;
-    for (std::size_t j = 1; j < order.size(); ++j)
-        if (infos[order[j]].index == infos[order[j - 1]].index)
-            throw Error(ErrorKind::InvalidArgument,
-                        "shard " + shardName(infos[order[j]]) + " is given twice: " +
-                            shards[order[j - 1]].file + " and " + shards[order[j]].file,
-                        shards[order[j]].file);
-    if (int(order.size()) != count) {
-        std::string missing, have;
-        std::size_t j = 0;
-        for (int i = 0; i < count; ++i) {
-            if (j < order.size() && infos[order[j]].index == i) {
-                have += (have.empty() ? "" : ", ") + shards[order[j]].file + " (" +
-                        shardName(infos[order[j]]) + ")";
-                ++j;
-            } else {
-                missing +=
-                    (missing.empty() ? "" : ", ") + std::to_string(i) + "/" + std::to_string(count);
-            }
-        }
-        throw Error(ErrorKind::InvalidArgument,
-                    "incomplete shard set: missing " + missing + "; given " + have, "command line",
-                    "SHARD.exr");
-    }
+    return sum.finish(md.finish(pieces, order, kind));
+}
 
-    // The merged frame: the layers of the shards, their metadata without the shard's own.
-    const int width = first.frame.width(), height = first.frame.height();
-    FrameBuffers out(width, height);
-    for (int l = 0; l < kLayerCount; ++l)
-        if (first.frame.has(Layer(l))) out.ensure(Layer(l));
-    FrameMetadata md = first.frame.metadata();
-    for (const char* key : {kShardKey, kSamplesKey, kTotalSppKey, "cancelled"}) md.extra.erase(key);
-    md.extra["mergedShards"] = std::to_string(count);
-    md.spp = 0;
-    md.nonFiniteSamples = 0;
-    for (const ShardFrame& s : shards) {
-        md.spp += s.frame.metadata().spp;
-        md.nonFiniteSamples += s.frame.metadata().nonFiniteSamples;
-        if (s.frame.metadata().extra.count("cancelled")) md.extra["cancelled"] = "true";
-    }
-    out.metadata() = md;
+FrameBuffers mergeShardFiles(const std::vector<std::string>& files, MergeKind kind,
+                             const std::function<bool(int, int)>& progress) {
+    // Check the whole set from the headers before reading any pixels.
+    std::vector<Piece> pieces;
+    for (const std::string& file : files) pieces.push_back(readPieceHeader(file));
+    const std::vector<std::size_t> order = checkSet(pieces, kind);
 
-    // Each layer with its variance of the mean (M2 = var · n · (n − 1)); position has none.
-    struct Pair {
-        Layer mean;
-        std::optional<Layer> variance;
-    };
-    std::vector<Pair> pairs;
-    for (int l = 0; l < kLayerCount; ++l) {
-        const Layer layer = Layer(l);
-        if (layer == Layer::SampleCount || varianceOf(layer) || !out.has(layer)) continue;
-        const auto var = varianceLayer(layer);
-        pairs.push_back({layer, var && out.has(*var) ? var : std::nullopt});
+    // Fold the inputs one at a time, in shard order.
+    std::optional<Accumulator> sum;
+    MergedMetadata md;
+    int done = 0;
+    for (std::size_t k : order) {
+        const FrameBuffers frame = readExr(files[k]);
+        const Piece read = pieceOf(files[k], frame);
+        const std::string diff = firstDifference(pieces[k].identity, read.identity);
+        if (!diff.empty() || shardName(read.info) != shardName(pieces[k].info))
+            throw Error(ErrorKind::Format,
+                        "the file changed while merging (header read before: shard " +
+                            shardName(pieces[k].info) + "; now: shard " + shardName(read.info) +
+                            (diff.empty() ? "" : ", " + diff) + ")",
+                        files[k]);
+        if (!sum) sum.emplace(frame);
+        sum->add(frame);
+        md.add(frame.metadata());
+        if (progress && !progress(++done, int(order.size())))
+            throw Error(ErrorKind::Cancelled, "merge cancelled", files[k]);
     }
-    const bool counted = out.has(Layer::SampleCount);
-    if (!counted)
-        throw Error(ErrorKind::InvalidArgument, "a shard must have a sampleCount layer", first.file,
-                    "sampleCount");
-
-    tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
-        for (int y = rows.begin(); y != rows.end(); ++y)
-            for (int x = 0; x < width; ++x) {
-                double total = 0.0;
-                for (std::size_t k : order)
-                    total += shards[k].frame.layer(Layer::SampleCount)(x, y, 0);
-                out.layer(Layer::SampleCount)(x, y, 0) = float(total);
-                for (const Pair& p : pairs) {
-                    const int channels = layerInfo(p.mean).channels;
-                    for (int c = 0; c < channels; ++c) {
-                        Moments m;
-                        for (std::size_t k : order) {
-                            const FrameBuffers& f = shards[k].frame;
-                            const double n = f.layer(Layer::SampleCount)(x, y, 0);
-                            const double var = p.variance ? f.layer(*p.variance)(x, y, c) : 0.0;
-                            m.add(n, f.layer(p.mean)(x, y, c), var * n * std::max(n - 1.0, 0.0));
-                        }
-                        out.layer(p.mean)(x, y, c) = float(m.mean);
-                        if (p.variance)
-                            out.layer (*p.variance)(x, y, c) =
-                                m.n > 1.0 ? float(m.m2 / (m.n * (m.n - 1.0))) : 0.0f;
-                    }
-                }
-            }
-    });
-    return out;
+    return sum->finish(md.finish(pieces, order, kind));
 }
 
 }  // namespace glint

@@ -1,12 +1,14 @@
 // Sharded renders (docs/distributed.md): shards of a render merged by glint::mergeShards equal
 // the whole render within the stated float tolerance, for 1 to 8 shards and every sampler; the
 // merge does not depend on the order of the shards; missing, duplicated and foreign shards are
-// refused naming them; a shard of a cancelled render merges by its sample counts.
+// refused naming them; a shard of a cancelled render merges by its sample counts; partial merges
+// of shard ranges merge again (a tree) within the stated tolerance of the flat merge.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <numeric>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -211,6 +213,150 @@ TEST(Shard, MergeRefusesMissingDuplicateAndForeignShards) {
     e = mergeError(plain);
     EXPECT_NE(e.find("whole.exr"), std::string::npos) << e;
     EXPECT_NE(e.find("not a shard"), std::string::npos) << e;
+}
+
+/// Shards `first` … `last` of `shards` as a partial merge, named like glint-farm's files.
+ShardFrame partial(const std::vector<ShardFrame>& shards, int first, int last) {
+    std::vector<ShardFrame> range(shards.begin() + first, shards.begin() + last + 1);
+    return {"part-" + std::to_string(first) + "-" + std::to_string(last) + ".exr",
+            mergeShards(range, MergeKind::Partial)};
+}
+
+TEST(Shard, TreeMergeEqualsTheFlatMergeWithinTolerance) {
+    // Tolerance (docs/distributed.md, "Tree merge"): a partial merge stores float32 means and
+    // variances, so a tree differs from the flat merge by rounding only: counts exact, each
+    // mean within 4·2^-24·M (M the largest |shard mean| of the pixel and channel), each
+    // variance of the mean within 16·2^-24·V + 8·2^-24·M·√V (V the flat merge's).
+    constexpr double eps = 0x1p-24;
+    Renderer renderer(tinyCornell());
+    const Settings settings = baseSettings(16);
+    const std::vector<ShardFrame> shards = renderShards(renderer, settings, 8);
+    const FrameBuffers flat = mergeShards(shards);
+
+    // A partial merge records its range, samples and shard count, and is itself a shard range.
+    const ShardFrame p03 = partial(shards, 0, 3);
+    const auto info = shardInfo(p03.frame.metadata(), p03.file);
+    ASSERT_TRUE(info);
+    EXPECT_EQ(p03.frame.metadata().extra.at("shard"), "0-3/8");
+    EXPECT_EQ(info->index, 0);
+    EXPECT_EQ(info->last(), 3);
+    EXPECT_EQ(info->sampleBegin, 0);
+    EXPECT_EQ(info->sampleEnd, 8);
+    EXPECT_EQ(p03.frame.metadata().spp, 8);
+    EXPECT_EQ(p03.frame.metadata().extra.at("mergedShards"), "4");
+
+    const std::vector<std::vector<ShardFrame>> trees = {
+        {partial(shards, 0, 3), partial(shards, 4, 7)},
+        {partial(shards, 5, 7), shards[4], partial(shards, 0, 2), shards[3]},  // mixed, unordered
+        {partial(shards, 0, 7)},
+        // Three levels: (0-1, 2-3) → 0-3, then with 4-7.
+        {{"part-0-3.exr",
+          mergeShards({partial(shards, 0, 1), partial(shards, 2, 3)}, MergeKind::Partial)},
+         partial(shards, 4, 7)},
+    };
+    std::size_t values = 0, identical = 0;
+    for (std::size_t t = 0; t < trees.size(); ++t) {
+        SCOPED_TRACE("tree " + std::to_string(t));
+        const FrameBuffers tree = mergeShards(trees[t]);
+        EXPECT_FALSE(shardInfo(tree.metadata(), "tree"));
+        EXPECT_EQ(tree.metadata().spp, 16);
+        EXPECT_EQ(tree.metadata().extra.at("mergedShards"), "8");
+        EXPECT_TRUE(test::sameLayer(tree, flat, Layer::SampleCount));
+        for (Layer mean : {Layer::Color, Layer::Albedo, Layer::Normal, Layer::Depth}) {
+            const Layer var = *varianceLayer(mean);
+            int failures = 0;
+            for (int y = 0; y < flat.height(); ++y)
+                for (int x = 0; x < flat.width(); ++x)
+                    for (int c = 0; c < layerInfo(mean).channels; ++c) {
+                        double m = 0.0;
+                        for (const ShardFrame& s : shards)
+                            m = std::max(m, std::abs(double(s.frame.layer(mean)(x, y, c))));
+                        const double mf = flat.layer(mean)(x, y, c), mt = tree.layer(mean)(x, y, c);
+                        const double vf = flat.layer(var)(x, y, c), vt = tree.layer(var)(x, y, c);
+                        const bool ok =
+                            std::abs(mt - mf) <= 4.0 * eps * m &&
+                            std::abs(vt - vf) <= 16.0 * eps * vf + 8.0 * eps * m * std::sqrt(vf);
+                        if (!ok && ++failures <= 3)
+                            ADD_FAILURE() << layerInfo(mean).name << " pixel " << x << "," << y
+                                          << " channel " << c << ": mean " << mt << " vs " << mf
+                                          << ", variance " << vt << " vs " << vf;
+                        values += 2;
+                        identical += (mt == mf) + (vt == vf);
+                    }
+        }
+    }
+    std::printf("tree merges: %zu of %zu means and variances bit-identical to the flat merge\n",
+                identical, values);
+    EXPECT_GT(identical, values / 2);
+}
+
+/// The message of the Error mergeShards(kind) throws, or "" when it does not throw.
+std::string mergeError(const std::vector<ShardFrame>& shards, MergeKind kind) {
+    try {
+        mergeShards(shards, kind);
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::InvalidArgument);
+        return e.file() + ": " + e.what();
+    }
+    return {};
+}
+
+TEST(Shard, TreeMergeRefusesGapsAndOverlapsNamingTheFiles) {
+    Renderer renderer(tinyCornell());
+    const std::vector<ShardFrame> shards = renderShards(renderer, baseSettings(8), 8);
+    const ShardFrame p03 = partial(shards, 0, 3), p37 = partial(shards, 3, 7),
+                     p47 = partial(shards, 4, 7), p02 = partial(shards, 0, 2);
+
+    std::string e = mergeError({p03, p37}, MergeKind::Whole);  // overlap at shard 3
+    EXPECT_NE(e.find("part-3-7.exr"), std::string::npos) << e;
+    EXPECT_NE(e.find("part-0-3.exr"), std::string::npos) << e;
+    EXPECT_NE(e.find("overlap"), std::string::npos) << e;
+    e = mergeError({p47, shards[5], p03}, MergeKind::Whole);  // a shard inside a range
+    EXPECT_NE(e.find("shard5.exr"), std::string::npos) << e;
+    EXPECT_NE(e.find("part-4-7.exr"), std::string::npos) << e;
+    e = mergeError({p02, p47}, MergeKind::Whole);  // gap: shard 3
+    EXPECT_NE(e.find("missing 3/8; given part-0-2.exr (0-2/8), part-4-7.exr (4-7/8)"),
+              std::string::npos)
+        << e;
+    e = mergeError({p03}, MergeKind::Whole);  // the tail missing
+    EXPECT_NE(e.find("missing 4-7/8"), std::string::npos) << e;
+    e = mergeError({shards[0], shards[2]}, MergeKind::Partial);  // not contiguous
+    EXPECT_NE(e.find("contiguous range: missing 1/8"), std::string::npos) << e;
+    e = mergeError({p02, shards[2]}, MergeKind::Partial);
+    EXPECT_NE(e.find("overlap"), std::string::npos) << e;
+    EXPECT_NE(e.find("shard2.exr"), std::string::npos) << e;
+
+    // A partial merge of another render is foreign like a shard of it.
+    Settings other = baseSettings(8, SamplerKind::Sobol, 8);
+    const ShardFrame q47 = partial(renderShards(renderer, other, 8), 4, 7);
+    e = mergeError({p03, q47}, MergeKind::Whole);
+    EXPECT_NE(e.find("foreign"), std::string::npos) << e;
+    EXPECT_NE(e.find("seed"), std::string::npos) << e;
+    EXPECT_EQ(mergeError({p03, shards[4], partial(shards, 5, 7)}, MergeKind::Whole), "");
+}
+
+TEST(Shard, RangeAttributesRoundTripAndMalformedOnesAreRefused) {
+    FrameMetadata md;
+    ShardInfo info{2, 16, 64, 0, 0, 0xabcdefull};
+    info.lastIndex = 9;
+    std::tie(info.sampleBegin, std::ignore) = shardSampleRange(64, 2, 16);
+    info.sampleEnd = shardSampleRange(64, 9, 16).second;
+    setShardInfo(md, info);
+    EXPECT_EQ(md.extra.at("shard"), "2-9/16");
+    EXPECT_EQ(md.extra.at("shardSamples"), "8 40");
+    const auto back = shardInfo(md, "x.exr");
+    ASSERT_TRUE(back);
+    EXPECT_EQ(back->index, 2);
+    EXPECT_EQ(back->last(), 9);
+    EXPECT_EQ(back->count, 16);
+    for (const std::string bad : {"9-2/16", "2-16/16", "-2/16", "2-/16", "2-9", "a-9/16"}) {
+        FrameMetadata m = md;
+        m.extra["shard"] = bad;
+        EXPECT_THROW(shardInfo(m, "x.exr"), Error) << bad;
+    }
+    FrameMetadata wrongSamples = md;
+    wrongSamples.extra["shardSamples"] = "8 12";  // those of shards 2-2, not 2-9
+    EXPECT_THROW(shardInfo(wrongSamples, "x.exr"), Error);
 }
 
 TEST(Shard, SameSceneHashesTheSameWherever) {

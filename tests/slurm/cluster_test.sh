@@ -2,7 +2,8 @@
 # make test-slurm: a real one-node Slurm cluster on the loopback address (Debian's slurm-wlm and
 # munge; configuration, state, logs and sockets in a temporary folder; every daemon started here
 # and stopped on exit), on which scripts/slurm/glint-farm renders scenes/cornell in 4 shards
-# (shard 2 made to fail once, so that Slurm requeues it alone) and builds a bank in 2 parts. The
+# (shard 2 made to fail once, so that Slurm requeues it alone), merges them again as a tree
+# (--merge-fan-in 2) and builds a bank in 2 parts. The
 # merged frame must equal a single-machine render of the same seed and spp, and the bank folder
 # a single-machine bank: the same index.json, byte for byte, and members with the same pixels
 # (docs/distributed.md).
@@ -128,6 +129,29 @@ for i in 0 1 3; do
 done
 echo "cluster_test: shard 2 failed once and was rerun alone ($(attempts 2) attempts; shards 0, 1, 3 ran once)"
 
+# 1b. The same render merged as a tree (--merge-fan-in 2: partial merges of shards 0-1 and 2-3,
+# then their merge). The shard files are there, so the render tasks exit at once.
+t4=$(date +%s.%N)
+"$root/scripts/slurm/glint-farm" render "$scene" --spp 16 --seed 9 --shards 4 --merge-fan-in 2 \
+  --out "$W/tree.exr" --work "$W/shards" --partition glint --time 5 --cpus-per-task 1 --wait
+t5=$(date +%s.%N)
+for g in 0 1; do
+  "$bin/glint-image" info --json "$W/shards/part-$g-of-2.exr" | python3 -c '
+import json, sys
+shard = json.load(sys.stdin)["metadata"]["extra"]["shard"]
+assert shard == sys.argv[1], f"part {sys.argv[2]} holds {shard}, expected {sys.argv[1]}"' \
+    "$((2 * g))-$((2 * g + 1))/4" "$g"
+done
+tree_mse=$("$bin/glint-image" diff "$W/tree.exr" --reference "$W/full.exr" --metric mse --json |
+  python3 -c 'import json,sys; print(json.load(sys.stdin)["value"])')
+python3 - "$tree_mse" <<'PY'
+import sys
+mse = float(sys.argv[1])
+# Tree and flat merge differ by float rounding only (docs/distributed.md, "Tree merge").
+assert mse < 1e-12, f"tree merge differs from the flat merge: mse {mse}"
+print(f"cluster_test: tree merge (fan-in 2: parts 0-1/4, 2-3/4) = flat merge (mse {mse:.3g} < 1e-12)")
+PY
+
 # 2. A bank in 2 parts into one folder, against one machine's bank.
 t2=$(date +%s.%N)
 "$root/scripts/slurm/glint-farm" bank "$W/single.exr" --size 8 --seed 4 --parts 2 \
@@ -149,4 +173,4 @@ done
 [ -z "$(ls "$W/bank" | grep '^index.members-' || true)" ] || { echo "cluster_test: partial indices left" >&2; exit 1; }
 echo "cluster_test: 2-part bank = single-machine bank (index.json identical, $members member files with identical pixels)"
 end=$(date +%s.%N)
-python3 -c "print(f'cluster_test: passed in {$end - $start:.1f} s (cluster start {$up - $start:.1f} s, render jobs {$t1 - $t0:.1f} s, bank jobs {$t3 - $t2:.1f} s)')"
+python3 -c "print(f'cluster_test: passed in {$end - $start:.1f} s (cluster start {$up - $start:.1f} s, render jobs {$t1 - $t0:.1f} s, tree merge jobs {$t5 - $t4:.1f} s, bank jobs {$t3 - $t2:.1f} s)')"

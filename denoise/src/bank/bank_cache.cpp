@@ -204,7 +204,14 @@ bool BankCache::mergePartialIndices(const std::vector<BankMember>& members,
     if (m_dir.empty()) return false;
     // Entries of every partial index of this very bank (same input, options and region); a
     // partial index of another bank, or one being replaced, is passed over.
+    // Seeded with what this cache already holds: the members of an index.json written by an
+    // earlier completion (so that a part run after it, even an empty one, completes again
+    // instead of leaving its partial index behind) and the members this part computed.
     std::map<std::uint64_t, Entry> found;
+    {
+        const std::lock_guard<std::mutex> lock(m_mutex);
+        for (const auto& [key, entry] : m_entries) found[key] = entry;
+    }
     std::vector<fs::path> partials;
     std::error_code ec;
     for (const fs::directory_entry& entry : fs::directory_iterator(m_dir, ec)) {
