@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
-# The auto-start quality table of docs/navigation.md ("Automatic start by SURE"): for cornell,
-# pool, dof and glossy at 4, 16 and 64 spp (seed 1), a 64-member bank (seed 1) and the oracle
-# measures with the SURE auto composite (default options), SSIM on display values against the
-# committed references. Same machinery as scripts/navigation_quality.sh.
+# The auto-start quality table of docs/navigation.md ("Automatic start by SURE" and "Error
+# estimates from two halves"): for cornell, pool, dof and glossy at 4, 16 and 64 spp (seed 1),
+# a render with half buffers, a 64-member bank (seed 1) and the oracle with the auto composite
+# (its default estimator: cross-validation on the halves), plus auto with SURE on the same
+# render; then the same scene rendered without half buffers (noisy, best single and auto by
+# SURE: the cost of splitting the samples, and the SURE table). SSIM on display values against the committed references. Same
+# machinery as scripts/navigation_quality.sh.
 #   scripts/auto_quality.sh [build] [scenes...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,23 +15,36 @@ scenes=${*:-cornell pool dof glossy}
 bin=$build/bin
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-echo "| scene | spp | noisy | best single (with the reference) | auto (SURE, without it) | best 3 | per-pixel | auto's share of the way from best single to per-pixel | members used | auto s |"
-echo "|---|---|---|---|---|---|---|---|---|---|"
+echo "| scene | spp | noisy | best single (with the reference) | auto, halves | auto, SURE | best 3 | per-pixel | halves' share of the way from best single to per-pixel | members used | auto s | without half buffers: noisy, best single, auto (SURE) |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 for scene in $scenes; do
   for spp in 4 16 64; do
-    "$bin/glint-render" "scenes/$scene/scene.json" --spp "$spp" --seed 1 --out "$work/$scene.exr" >/dev/null 2>&1
-    "$bin/glint-denoise" bank "$work/$scene.exr" --out "$work/bank_$scene" --size 64 --seed 1 >/dev/null
-    oracle=$("$bin/glint-denoise" oracle "$work/$scene.exr" --reference "scenes/$scene/reference.exr" \
-             --bank "$work/bank_$scene" --json)
-    python3 - "$scene" "$spp" "$oracle" <<'PY'
+    for kind in plain halves; do
+      flags=""
+      [ "$kind" = halves ] && flags="--half-buffers"
+      "$bin/glint-render" "scenes/$scene/scene.json" --spp "$spp" --seed 1 $flags \
+        --out "$work/$kind.exr" >/dev/null 2>&1
+      "$bin/glint-denoise" bank "$work/$kind.exr" --out "$work/bank_$kind" --size 64 --seed 1 >/dev/null
+      "$bin/glint-denoise" oracle "$work/$kind.exr" --reference "scenes/$scene/reference.exr" \
+        --bank "$work/bank_$kind" --json >"$work/oracle_$kind.json"
+    done
+    "$bin/glint-denoise" auto "$work/halves.exr" --bank "$work/bank_halves" --estimator sure \
+      --reference "scenes/$scene/reference.exr" --out "$work/sure.exr" --json >"$work/sure.json"
+    python3 - "$scene" "$spp" "$work" <<'PY'
 import json, sys
-scene, spp, o = sys.argv[1], sys.argv[2], json.loads(sys.argv[3])
+scene, spp, work = sys.argv[1], sys.argv[2], sys.argv[3]
+o = json.load(open(work + "/oracle_halves.json"))
+p = json.load(open(work + "/oracle_plain.json"))
+s = json.load(open(work + "/sure.json"))
 a = o["auto"]
+assert a["estimator"] == "halves", a
 share = (a["ssim"] - o["bestSingle"]) / (o["perPixel"] - o["bestSingle"]) if o["perPixel"] > o["bestSingle"] else 0.0
-print("| %s | %s | %.4f | %.4f (%s) | %.4f | %.4f | %.4f | %+.0f %% | %d | %.2f |" % (
-    scene, spp, o["noisy"], o["bestSingle"], o["bestMember"]["filter"], a["ssim"], o["best3"],
-    o["perPixel"], 100 * share, a["membersUsed"], a["seconds"]))
+assert p["auto"]["estimator"] == "sure", p["auto"]
+print("| %s | %s | %.4f | %.4f (%s) | %.4f | %.4f | %.4f | %.4f | %+.0f %% | %d | %.2f | %.4f, %.4f, %.4f |" % (
+    scene, spp, o["noisy"], o["bestSingle"], o["bestMember"]["filter"], a["ssim"],
+    s["metrics"]["ssim"], o["best3"], o["perPixel"], 100 * share, a["membersUsed"], a["seconds"],
+    p["noisy"], p["bestSingle"], p["auto"]["ssim"]))
 PY
-    rm -rf "$work/bank_$scene"
+    rm -rf "$work"/bank_*
   done
 done

@@ -35,12 +35,15 @@ using Clock = std::chrono::steady_clock;
 }
 
 struct AutoArgs {
-    std::string input, bank, out, reference, choiceMap, filters, space = "display";
-    int size = 64, window = 4;
+    std::string input, bank, out, reference, choiceMap, filters, space = "display",
+                                                                 estimator = "auto";
+    int size = 64;
+    std::optional<int> window;
     std::uint64_t bankSeed = 1, seed = 1;
-    double temperature = 0.0, epsilon = 0.01, confidence = 3.0;
+    double temperature = 0.0, epsilon = 0.01;
+    std::optional<double> confidence;
     float exposure = 0.0f;
-    bool prefilter = false, json = false;
+    bool prefilter = false, json = false, oneSided = false;
 };
 
 void runAuto(const AutoArgs& a) {
@@ -55,12 +58,21 @@ void runAuto(const AutoArgs& a) {
     options.sure.epsilon = a.epsilon;
     options.sure.seed = a.seed;
     options.exposure = a.exposure;
+    options.symmetric = !a.oneSided;
+    try {
+        options.estimator = parseAutoEstimator(a.estimator);
+    } catch (const Error& e) {
+        throw Error(ErrorKind::InvalidArgument, e.message(), "command line", "--estimator");
+    }
     if (a.space == "linear")
         options.space = SureSpace::Linear;
+    else if (a.space == "display-exact")
+        options.space = SureSpace::DisplayExact;
     else if (a.space != "display")
-        throw Error(ErrorKind::InvalidArgument,
-                    "unknown error space '" + a.space + "' (expected display or linear)", {},
-                    "--space");
+        throw Error(
+            ErrorKind::InvalidArgument,
+            "unknown error space '" + a.space + "' (expected display, linear or display-exact)", {},
+            "--space");
     validate(options);
     BankOptions bankOptions;
     bankOptions.size = a.size;
@@ -81,9 +93,16 @@ void runAuto(const AutoArgs& a) {
     options.prefilterParams = bankOptions.prefilterParams;
 
     const FrameBuffers frame = readExr(a.input);
-    // SURE needs the variance layer and finite values: say so before building anything.
+    // SURE needs the variance layer, the halves every half layer, both finite values: say so
+    // before building anything.
     try {
-        checkSureInput(frame, a.input);
+        checkAutoInput(frame, options.estimator, a.input);
+        if (options.space == SureSpace::DisplayExact &&
+            resolveEstimator(options.estimator, frame) != AutoEstimator::Halves)
+            throw Error(ErrorKind::InvalidArgument,
+                        "the exact display space needs the halves estimator (a render with "
+                        "--half-buffers)",
+                        "command line", "--space");
     } catch (const Error& e) {
         rethrowNaming(e, a.input);
     }
@@ -135,7 +154,10 @@ void runAuto(const AutoArgs& a) {
         {"analyticDivergence", analytic},
         {"region", {bank.region().x0, bank.region().x1, bank.region().y0, bank.region().y1}},
         {"space", a.space},
-        {"window", a.window},
+        {"estimator", autoEstimatorName(result.estimator)},
+        {"symmetric", options.symmetric},
+        {"window", options.window.value_or(autoDefaults(result.estimator).window)},
+        {"confidence", options.confidence.value_or(autoDefaults(result.estimator).confidence)},
         {"temperature", a.temperature},
         {"epsilon", a.epsilon},
         {"seed", a.seed},
@@ -166,9 +188,11 @@ void runAuto(const AutoArgs& a) {
         printJson(report);
         return;
     }
-    std::printf("auto: %zu of %zu members used over %dx%d (bank %.2f s, SURE %.2f s) -> %s\n",
-                result.layers.size(), bank.size(), bank.region().width(), bank.region().height(),
-                bankSeconds, sureSeconds, a.out.c_str());
+    std::printf(
+        "auto: %zu of %zu members used over %dx%d, errors by %s (bank %.2f s, %.2f s) -> %s\n",
+        result.layers.size(), bank.size(), bank.region().width(), bank.region().height(),
+        result.estimator == AutoEstimator::Halves ? "cross-validation on the halves" : "SURE",
+        bankSeconds, sureSeconds, a.out.c_str());
     const BankMember& best = bank.members()[std::size_t(result.bestMember)];
     std::printf("  smallest estimated error as a single member: #%d %s\n", result.bestMember,
                 best.filter.c_str());
@@ -187,7 +211,7 @@ void runAuto(const AutoArgs& a) {
 json autoOracleColumn(const FilterBank& bank, const FrameBuffers& frame, const Image& reference,
                       const std::string& bankDir) {
     try {
-        checkSureInput(frame);
+        checkAutoInput(frame, AutoEstimator::Auto);
     } catch (const Error& e) {
         return {{"ssim", nullptr}, {"note", e.where() + ": " + e.message()}};
     }
@@ -201,6 +225,7 @@ json autoOracleColumn(const FilterBank& bank, const FrameBuffers& frame, const I
     MetricOptions mo;
     return {{"ssim", ssim(r.composite, reference.crop(bank.region()), mo).value},
             {"membersUsed", r.layers.size()},
+            {"estimator", autoEstimatorName(r.estimator)},
             {"bestMember", memberJson(bank, r.bestMember)},
             {"seconds", seconds}};
 }
@@ -209,7 +234,9 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
     auto a = std::make_shared<AutoArgs>();
     CLI::App* cmd = app.add_subcommand(
         "auto", "Per-pixel filter choice by SURE over a bank (no reference needed)");
-    cmd->add_option("IN", a->input, "Input layered EXR with the variance layer")->required();
+    cmd->add_option("IN", a->input,
+                    "Input layered EXR with the variance layer (SURE) or half buffers")
+        ->required();
     cmd->add_option("--out", a->out, "Output layered EXR (the colour is the auto composite)")
         ->required();
     cmd->add_option("--bank", a->bank,
@@ -220,15 +247,26 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
     cmd->add_option("--bank-seed", a->bankSeed, "Without --bank: seed of the Latin hypercube");
     cmd->add_option("--filters", a->filters, "Without --bank: only these filters, comma-separated");
     cmd->add_flag("--prefilter", a->prefilter, "Without --bank: build on prefiltered features");
-    cmd->add_option("--window", a->window, "Radius of the SURE maps' box smoothing (0 … 64)");
+    cmd->add_option(
+        "--window", a->window,
+        "Radius of the error maps' box smoothing (0 … 64; default 4 for SURE, 8 for the "
+        "halves)");
     cmd->add_option("--temperature", a->temperature,
                     "0: hard per-pixel choice; > 0: soft weights (in units of the noise variance)");
-    cmd->add_option("--confidence", a->confidence,
-                    "Standard errors by which a local choice must beat the baseline (>= 0)");
+    cmd->add_option(
+        "--confidence", a->confidence,
+        "Standard errors by which a local choice must beat the baseline (>= 0; default 3 "
+        "for SURE, 1 for the halves)");
     cmd->add_option("--epsilon", a->epsilon, "Perturbation relative to the pixel's sigma");
     cmd->add_option("--seed", a->seed, "Seed of the random +-1 perturbation");
-    cmd->add_option("--space", a->space, "display (default) | linear: the error SURE estimates");
+    cmd->add_option(
+        "--space", a->space,
+        "display (default) | linear | display-exact (halves only): the error estimated");
     cmd->add_option("--exposure", a->exposure, "Exposure of the display transform (stops)");
+    cmd->add_option("--estimator", a->estimator,
+                    "auto (default: halves when IN has half buffers, else sure) | sure | halves");
+    cmd->add_flag("--one-sided", a->oneSided,
+                  "Halves: filter only half A (half the time, noisier estimates)");
     cmd->add_option("--choice-map", a->choiceMap, "Write the chosen member per pixel as a PNG");
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
     return {{cmd, [a] { runAuto(*a); }}};

@@ -52,6 +52,11 @@ FrameBuffers mergeRegion(const FrameBuffers& base, const FrameBuffers& part, con
             for (int x = r.x0; x < r.x1; ++x)
                 for (int c = 0; c < src->channels(); ++c) dst(x, y, c) = (*src)(x, y, c);
     }
+    // Half buffers must cover the whole frame consistently: when only one of the two renders
+    // has them, the merged frame has none (its halves would not add up to its colour).
+    if (base.has(Layer::HalfColor) != part.has(Layer::HalfColor))
+        for (int l = 0; l < kLayerCount; ++l)
+            if (isHalfLayer(Layer(l))) out.remove(Layer(l));
     return out;
 }
 

@@ -1,5 +1,5 @@
-// The render bar: spp, seed, integrator and MIS; Render, Pause/Resume, Cancel; the render-region
-// tool; a progress bar with passes, samples and time.
+// The render bar: spp, seed, integrator, MIS and half buffers; Render, Pause/Resume, Cancel; the
+// render-region tool; a progress bar with passes, samples and time.
 #pragma once
 
 #include <QWidget>
@@ -8,6 +8,7 @@
 #include "views/image_canvas.h"
 
 class QSpinBox;
+class QCheckBox;
 class QComboBox;
 class QPushButton;
 class QProgressBar;
@@ -27,6 +28,7 @@ class RenderBar : public QWidget {
     QPushButton* cancelButton() { return m_cancel; }
     QPushButton* pauseButton() { return m_pause; }
     QToolButton* regionButton() { return m_regionTool; }
+    QCheckBox* halvesBox() { return m_halves; }
 
   signals:
     /// The user asked for the render-region tool (true) or left it.
@@ -43,6 +45,7 @@ class RenderBar : public QWidget {
     QSpinBox* m_seed;
     QComboBox* m_integrator;
     QComboBox* m_mis;
+    QCheckBox* m_halves;
     QPushButton* m_render;
     QPushButton* m_pause;
     QPushButton* m_cancel;

@@ -1,5 +1,9 @@
 #include "glint/image/frame_buffers.h"
 
+#include <algorithm>
+#include <cstdio>
+#include <string>
+
 #include "glint/image/error.h"
 
 namespace glint {
@@ -16,6 +20,15 @@ constexpr std::array<LayerInfo, kLayerCount> kLayers{{
     {Layer::DepthVariance, "depthVariance", 1, {"Z", "", ""}},
     {Layer::Position, "position", 3, {"X", "Y", "Z"}},
     {Layer::SampleCount, "sampleCount", 1, {"Y", "", ""}},
+    {Layer::HalfColor, "halfColor", 3, {"R", "G", "B"}},
+    {Layer::HalfVariance, "halfVariance", 3, {"R", "G", "B"}},
+    {Layer::HalfAlbedo, "halfAlbedo", 3, {"R", "G", "B"}},
+    {Layer::HalfAlbedoVariance, "halfAlbedoVariance", 3, {"R", "G", "B"}},
+    {Layer::HalfNormal, "halfNormal", 3, {"X", "Y", "Z"}},
+    {Layer::HalfNormalVariance, "halfNormalVariance", 3, {"X", "Y", "Z"}},
+    {Layer::HalfDepth, "halfDepth", 1, {"Z", "", ""}},
+    {Layer::HalfDepthVariance, "halfDepthVariance", 1, {"Z", "", ""}},
+    {Layer::HalfSampleCount, "halfSampleCount", 1, {"Y", "", ""}},
 }};
 }  // namespace
 
@@ -51,6 +64,14 @@ std::optional<Layer> varianceOf(Layer layer) {
             return Layer::Normal;
         case Layer::DepthVariance:
             return Layer::Depth;
+        case Layer::HalfVariance:
+            return Layer::HalfColor;
+        case Layer::HalfAlbedoVariance:
+            return Layer::HalfAlbedo;
+        case Layer::HalfNormalVariance:
+            return Layer::HalfNormal;
+        case Layer::HalfDepthVariance:
+            return Layer::HalfDepth;
         default:
             return std::nullopt;
     }
@@ -66,6 +87,14 @@ std::optional<Layer> varianceLayer(Layer layer) {
             return Layer::NormalVariance;
         case Layer::Depth:
             return Layer::DepthVariance;
+        case Layer::HalfColor:
+            return Layer::HalfVariance;
+        case Layer::HalfAlbedo:
+            return Layer::HalfAlbedoVariance;
+        case Layer::HalfNormal:
+            return Layer::HalfNormalVariance;
+        case Layer::HalfDepth:
+            return Layer::HalfDepthVariance;
         default:
             return std::nullopt;
     }
@@ -106,6 +135,91 @@ void FrameBuffers::remove(Layer l) {
 Image& FrameBuffers::ensure(Layer l) {
     if (!has(l)) m_layers[int(l)] = Image(m_width, m_height, layerInfo(l).channels);
     return m_layers[int(l)];
+}
+
+std::optional<Layer> halfLayer(Layer layer) {
+    if (layer == Layer::Position || isHalfLayer(layer)) return std::nullopt;
+    const int offset = int(layer) < int(Layer::Position) ? int(layer) : int(layer) - 1;
+    return Layer(int(Layer::HalfColor) + offset);
+}
+
+namespace {
+std::string shortNumber(float v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", double(v));
+    return text;
+}
+}  // namespace
+
+std::pair<FrameBuffers, FrameBuffers> splitHalves(const FrameBuffers& frame,
+                                                  const std::string& file) {
+    for (int l = 0; l < kLayerCount; ++l) {
+        const std::optional<Layer> half = halfLayer(Layer(l));
+        if (half && frame.has(Layer(l)) && !frame.has(*half))
+            throw Error(ErrorKind::Format,
+                        "has no " + std::string(layerDisplayName(*half)) +
+                            " layer: the two halves need every half layer (render with "
+                            "glint-render --half-buffers)",
+                        file, "layer '" + std::string(layerDisplayName(*half)) + "'");
+    }
+    if (!frame.has(Layer::SampleCount))
+        throw Error(ErrorKind::Format, "has no sampleCount layer: the halves need the counts", file,
+                    "layer 'sampleCount'");
+    const int w = frame.width(), h = frame.height();
+    FrameBuffers a(w, h), b(w, h);
+    for (int l = 0; l < kLayerCount; ++l) {
+        const Layer layer = Layer(l);
+        if (isHalfLayer(layer) || !frame.has(layer)) continue;
+        const std::optional<Layer> half = halfLayer(layer);
+        a.set(layer, frame.layer(layer));
+        b.set(layer, half ? frame.layer(*half) : frame.layer(layer));
+    }
+    const Image& n = frame.layer(Layer::SampleCount);
+    const Image& nbImage = frame.layer(Layer::HalfSampleCount);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (!(nbImage(x, y, 0) >= 0.0f && nbImage(x, y, 0) <= n(x, y, 0)))
+                throw Error(ErrorKind::InvalidArgument,
+                            "halfSampleCount " + shortNumber(nbImage(x, y, 0)) +
+                                " is not in [0, sampleCount = " + shortNumber(n(x, y, 0)) + "]",
+                            file, "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")");
+    // A = whole − B, per mean layer with its variance of the mean.
+    for (Layer mean : {Layer::Color, Layer::Albedo, Layer::Normal, Layer::Depth}) {
+        if (!frame.has(mean)) continue;
+        const Layer halfMean = *halfLayer(mean);
+        const std::optional<Layer> var = varianceLayer(mean);
+        const bool withVariance = frame.has(*var);
+        const Image& m = frame.layer(mean);
+        const Image& mb = frame.layer(halfMean);
+        Image& ma = a.layer(mean);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const double nt = n(x, y, 0), nb = nbImage(x, y, 0), na = nt - nb;
+                for (int c = 0; c < m.channels(); ++c) {
+                    const double meanA =
+                        na > 0.0 ? (nt * double(m(x, y, c)) - nb * double(mb(x, y, c))) / na : 0.0;
+                    ma(x, y, c) = float(meanA);
+                    if (!withVariance) continue;
+                    const double m2 = double(frame.layer(*var)(x, y, c)) * nt * (nt - 1.0);
+                    const double m2b = double(frame.layer(*halfLayer(*var))(x, y, c)) * nb *
+                                       std::max(nb - 1.0, 0.0);
+                    const double delta = double(mb(x, y, c)) - meanA;
+                    const double m2a =
+                        nt > 0.0 ? std::max(0.0, m2 - m2b - delta * delta * na * nb / nt) : 0.0;
+                    a.layer (*var)(x, y, c) = na > 1.0 ? float(m2a / (na * (na - 1.0))) : 0.0f;
+                }
+            }
+    }
+    Image& countA = a.layer(Layer::SampleCount);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) countA(x, y, 0) = n(x, y, 0) - nbImage(x, y, 0);
+    a.metadata() = frame.metadata();
+    b.metadata() = frame.metadata();
+    a.metadata().spp = frame.metadata().spp - frame.metadata().spp / 2;
+    b.metadata().spp = frame.metadata().spp / 2;
+    a.metadata().extra.erase("halfBuffers");
+    b.metadata().extra.erase("halfBuffers");
+    return {std::move(a), std::move(b)};
 }
 
 }  // namespace glint

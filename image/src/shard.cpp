@@ -265,10 +265,14 @@ class Accumulator {
         for (int l = 0; l < kLayerCount; ++l)
             if (first.has(Layer(l))) m_layers.push_back(Layer(l));
         // Each layer with its variance of the mean (M2 = V · n · (n − 1)); position has none.
+        // Half-buffer layers weigh by the half's own count.
+        m_halves = first.has(Layer::HalfSampleCount);
         for (Layer layer : m_layers) {
-            if (layer == Layer::SampleCount || varianceOf(layer)) continue;
+            if (layer == Layer::SampleCount || layer == Layer::HalfSampleCount || varianceOf(layer))
+                continue;
             Target t;
             t.mean = layer;
+            t.half = isHalfLayer(layer);
             if (const auto var = varianceLayer(layer); var && first.has(*var)) t.variance = var;
             t.channels = layerInfo(layer).channels;
             t.means.assign(pixels * t.channels, 0.0);
@@ -277,34 +281,56 @@ class Accumulator {
         }
         m_n.assign(pixels, 0.0);
         m_total.assign(pixels, 0.0);
+        if (m_halves) m_nHalf.assign(pixels, 0.0), m_totalHalf.assign(pixels, 0.0);
     }
 
     /// Folds one input (of the size and layers of the first) into the running merge.
     void add(const FrameBuffers& f) {
         const Image& counts = f.layer(Layer::SampleCount);
-        tbb::parallel_for(
-            tbb::blocked_range<int>(0, m_height), [&](const tbb::blocked_range<int>& rows) {
-                for (int y = rows.begin(); y != rows.end(); ++y)
-                    for (int x = 0; x < m_width; ++x) {
-                        const std::size_t p = std::size_t(y) * m_width + x;
-                        const double nb = counts(x, y, 0);
-                        m_total[p] += nb;
-                        if (nb <= 0.0) continue;
-                        const double n = m_n[p];
-                        for (Target& t : m_targets) {
-                            const Image& mean = f.layer(t.mean);
-                            const Image* variance = t.variance ? &f.layer(*t.variance) : nullptr;
-                            for (int c = 0; c < t.channels; ++c) {
-                                const std::size_t i = p * t.channels + c;
-                                const double var = variance ? (*variance)(x, y, c) : 0.0;
-                                double ignored = 0.0;
-                                addGroup(n, nb, mean(x, y, c), var * nb * std::max(nb - 1.0, 0.0),
-                                         t.means[i], t.variance ? t.m2[i] : ignored);
-                            }
-                        }
-                        m_n[p] = n + nb;
-                    }
-            });
+        const Image* halfCounts = m_halves ? &f.layer(Layer::HalfSampleCount) : nullptr;
+        tbb::parallel_for(tbb::blocked_range<int>(0, m_height),
+                          [&](const tbb::blocked_range<int>& rows) {
+                              for (int y = rows.begin(); y != rows.end(); ++y)
+                                  for (int x = 0; x < m_width; ++x)
+                                      addCounted(f, counts, halfCounts, x, y);
+                          });
+    }
+
+    /// Folds pixel (x, y) of `f` into the whole and, with half buffers, into half B.
+    void addCounted(const FrameBuffers& f, const Image& counts, const Image* halfCounts, int x,
+                    int y) {
+        const std::size_t p = std::size_t(y) * m_width + x;
+        if (halfCounts) {
+            const double nbHalf = (*halfCounts)(x, y, 0);
+            m_totalHalf[p] += nbHalf;
+            if (nbHalf > 0.0) {
+                addPixel(f, x, y, p, true, m_nHalf[p], nbHalf);
+                m_nHalf[p] += nbHalf;
+            }
+        }
+        const double nb = counts(x, y, 0);
+        m_total[p] += nb;
+        if (nb <= 0.0) return;
+        addPixel(f, x, y, p, false, m_n[p], nb);
+        m_n[p] += nb;
+    }
+
+    /// Folds pixel (x, y) of `f` (`nb` samples) into the targets of the whole (half = false) or
+    /// of half B (half = true), which hold `n` samples so far.
+    void addPixel(const FrameBuffers& f, int x, int y, std::size_t p, bool half, double n,
+                  double nb) {
+        for (Target& t : m_targets) {
+            if (t.half != half) continue;
+            const Image& mean = f.layer(t.mean);
+            const Image* variance = t.variance ? &f.layer(*t.variance) : nullptr;
+            for (int c = 0; c < t.channels; ++c) {
+                const std::size_t i = p * t.channels + c;
+                const double var = variance ? (*variance)(x, y, c) : 0.0;
+                double ignored = 0.0;
+                addGroup(n, nb, mean(x, y, c), var * nb * std::max(nb - 1.0, 0.0), t.means[i],
+                         t.variance ? t.m2[i] : ignored);
+            }
+        }
     }
 
     /// The merged frame: means, V = M2/(n(n−1)) and sampleCount = n, with `metadata`.
@@ -323,6 +349,7 @@ class Accumulator {
   private:
     struct Target {
         Layer mean;
+        bool half = false;  ///< a half-buffer layer (weighs by halfSampleCount)
         std::optional<Layer> variance;
         int channels = 0;
         std::vector<double> means, m2;
@@ -330,9 +357,10 @@ class Accumulator {
 
     void finishPixel(FrameBuffers& out, int x, int y) const {
         const std::size_t p = std::size_t(y) * m_width + x;
-        const double n = m_n[p];
         out.layer(Layer::SampleCount)(x, y, 0) = float(m_total[p]);
-        for (const Target& t : m_targets)
+        if (m_halves) out.layer(Layer::HalfSampleCount)(x, y, 0) = float(m_totalHalf[p]);
+        for (const Target& t : m_targets) {
+            const double n = t.half ? m_nHalf[p] : m_n[p];
             for (int c = 0; c < t.channels; ++c) {
                 const std::size_t i = p * t.channels + c;
                 out.layer(t.mean)(x, y, c) = float(t.means[i]);
@@ -340,13 +368,16 @@ class Accumulator {
                     out.layer (*t.variance)(x, y, c) =
                         n > 1.0 ? float(t.m2[i] / (n * (n - 1.0))) : 0.0f;
             }
+        }
     }
 
     int m_width, m_height;
     std::vector<Layer> m_layers;
     std::vector<Target> m_targets;
-    std::vector<double> m_n;      ///< samples folded (inputs with a positive count)
-    std::vector<double> m_total;  ///< sum of the sampleCounts
+    std::vector<double> m_n;                   ///< samples folded (inputs with a positive count)
+    std::vector<double> m_total;               ///< sum of the sampleCounts
+    bool m_halves = false;                     ///< the inputs have half buffers
+    std::vector<double> m_nHalf, m_totalHalf;  ///< the same for half B (halfSampleCount)
 };
 
 /// The metadata of a merge: that of the first input in shard order, the sums of the inputs'

@@ -33,7 +33,7 @@ struct Options {
     std::optional<std::string> seed;  // parsed strictly: "-1" must not wrap to 2^64 - 1
     std::optional<std::string> integrator, mis, strategy, sampler, shard;
     double timeLimit = 0.0;
-    bool json = false, position = false;
+    bool json = false, position = false, halfBuffers = false;
     // Metropolis parameters (--integrator mlt).
     std::optional<double> mltLarge, mltSmall, mltLens, mltLight;
     std::optional<std::int64_t> mltBootstrap;
@@ -125,6 +125,7 @@ int run(const Options& opt) {
                            "--strategy applies only with --mis none", "command line", "--strategy");
     settings.timeLimit = opt.timeLimit;
     settings.positionLayer = opt.position;
+    if (opt.halfBuffers) settings.halfBuffers = true;
     if (opt.shard) {
         const auto [index, count] = glint::parseShardSpec(*opt.shard, "--shard");
         settings.shard = glint::render::Shard{index, count};
@@ -144,14 +145,15 @@ int run(const Options& opt) {
     try {
         glint::render::validate(settings);
     } catch (const glint::Error& e) {
-        const std::string flag = e.where() == "spp"         ? "--spp"
-                                 : e.where() == "threads"   ? "--threads"
-                                 : e.where() == "maxDepth"  ? "--max-depth"
-                                 : e.where() == "rrDepth"   ? "--rr-depth"
-                                 : e.where() == "timeLimit" ? "--time-limit"
-                                 : e.where() == "seed"      ? "--seed"
-                                 : e.where() == "shard"     ? "--shard"
-                                                            : "options";
+        const std::string flag = e.where() == "spp"           ? "--spp"
+                                 : e.where() == "threads"     ? "--threads"
+                                 : e.where() == "maxDepth"    ? "--max-depth"
+                                 : e.where() == "rrDepth"     ? "--rr-depth"
+                                 : e.where() == "timeLimit"   ? "--time-limit"
+                                 : e.where() == "seed"        ? "--seed"
+                                 : e.where() == "shard"       ? "--shard"
+                                 : e.where() == "halfBuffers" ? "--half-buffers"
+                                                              : "options";
         throw glint::Error(glint::ErrorKind::InvalidArgument, e.message(), "command line", flag);
     }
     if (settings.integrator == glint::render::Integrator::Mlt)
@@ -302,6 +304,9 @@ int main(int argc, char** argv) {
                    "glint-image merge (docs/distributed.md)");
     app.add_option("--reference", opt.reference, "reference EXR: print relMSE and SSIM per pass");
     app.add_flag("--position", opt.position, "also write the world-space position layer");
+    app.add_flag("--half-buffers", opt.halfBuffers,
+                 "split the samples into two independent halves and also write the halfBuffer "
+                 "layer (the odd half's mean), for an unbiased variance estimate (SURE auto)");
     app.add_option("--memory-limit", opt.memoryLimit,
                    "refuse a render needing more memory than this (e.g. 2G; default: what is "
                    "available)");

@@ -133,6 +133,9 @@ class TilePasses final : public PassWork {
         // Time is sampled only when something moves during a shutter of non-zero length, so a
         // static scene draws exactly the random numbers it drew before motion blur existed.
         m_sampleTime = data.hasMotion() && data.camera.shutterClose > data.camera.shutterOpen;
+        // The two halves' scramble seeds: independent of each other and of the whole render's.
+        for (int h = 0; h < 2; ++h)
+            m_halfSeed[h] = hash64(hash64(settings.seed, 0x4a1fb0ffULL), std::uint64_t(h));
     }
 
     std::size_t items() const override { return m_tiles.size(); }
@@ -147,16 +150,21 @@ class TilePasses final : public PassWork {
             for (int x = tile.x0; x < tile.x1; ++x) {
                 const auto pixel = std::uint64_t(y) * std::uint64_t(m_data.width) + x;
                 if (m_settings.sampler == SamplerKind::Sobol) {
-                    // Every dimension from its own scrambled Sobol sequence (sampling/sobol.h).
+                    // Every dimension from its own scrambled Sobol sequence (sampling/sobol.h);
+                    // with half buffers, sample s is sample s/2 of half s mod 2's own scramble.
                     for (int s = pass.begin; s < pass.end; ++s) {
-                        SobolSampler sobol(m_settings.seed, pixel, std::uint32_t(s));
+                        const bool odd = (s & 1) != 0;
+                        SobolSampler sobol =
+                            m_settings.halfBuffers
+                                ? SobolSampler(m_halfSeed[odd], pixel, std::uint32_t(s >> 1))
+                                : SobolSampler(m_settings.seed, pixel, std::uint32_t(s));
                         const Vec2 jitter = sobol.camera2D(0);
                         const Vec2 lens = m_thinLens ? sobol.camera2D(1) : Vec2{0.5f, 0.5f};
                         const float time = m_sampleTime ? sobol.camera1D(2) : 0.0f;
                         const Ray ray = m_camera.generateRay(float(x) + jitter.x,
                                                              float(y) + jitter.y, lens, time);
                         m_integrator.trace(ray, sobol, fs, tileRays);
-                        m_film.add(x, y, fs);
+                        m_film.add(x, y, fs, odd);
                     }
                     continue;
                 }
@@ -169,7 +177,7 @@ class TilePasses final : public PassWork {
                     const Ray ray =
                         m_camera.generateRay(float(x) + jitter.x, float(y) + jitter.y, lens, time);
                     m_integrator.trace(ray, rng, fs, tileRays);
-                    m_film.add(x, y, fs);
+                    m_film.add(x, y, fs, (s & 1) != 0);
                 }
             }
         m_rays += tileRays;
@@ -187,6 +195,7 @@ class TilePasses final : public PassWork {
     Film& m_film;
     std::vector<Rect> m_tiles;
     bool m_thinLens, m_sampleTime;
+    std::uint64_t m_halfSeed[2];
     std::atomic<std::uint64_t> m_rays{0};
 };
 
@@ -196,7 +205,7 @@ RenderResult renderPath(const detail::SceneData& data, const EmbreeScene& embree
                         const Callbacks& callbacks, tbb::task_arena& arena, double begin,
                         double end, bool reportPasses) {
     const Clock::time_point start = Clock::now();
-    Film film(data.width, data.height);
+    Film film(data.width, data.height, settings.halfBuffers);
     const PathIntegrator integrator(data, embree, lights, camera, settings);
     TilePasses work(data, integrator, camera, settings, film);
     RenderLoop loop(settings.spp, settings.timeLimit, callbacks, arena, begin, end);
@@ -225,6 +234,7 @@ RenderResult renderPath(const detail::SceneData& data, const EmbreeScene& embree
         meta.extra["strategy"] = strategyName(settings.strategy);
     meta.extra["maxDepth"] = std::to_string(settings.maxDepth);
     meta.extra["rrDepth"] = std::to_string(settings.rrDepth);
+    if (settings.halfBuffers) meta.extra["halfBuffers"] = "true";
     if (done.cancelled) meta.extra["cancelled"] = "true";
     if (shard) {
         shard->sceneHash = sceneContentHash(data);
@@ -253,14 +263,15 @@ RenderResult renderPath(const detail::SceneData& data, const EmbreeScene& embree
 std::uint64_t Renderer::estimateMemory(const Settings& settings) const {
     const detail::SceneData& data = m_scene.data();
     const std::uint64_t pixels = std::uint64_t(data.width) * std::uint64_t(data.height);
-    // A resolved frame: every layer but the optional position, 4-byte floats.
+    // A resolved frame: every layer but the optional position and half buffer, 4-byte floats.
     std::uint64_t frameChannels = 0;
     for (int l = 0; l < kLayerCount; ++l)
-        if (Layer(l) != Layer::Position || settings.positionLayer)
+        if ((Layer(l) != Layer::Position || settings.positionLayer) &&
+            (!isHalfLayer(Layer(l)) || settings.halfBuffers))
             frameChannels += std::uint64_t(layerInfo(Layer(l)).channels);
     const std::uint64_t frame = frameChannels * sizeof(float);
     // The film, the frame it resolves to, and the copy a pass observer may be handed.
-    std::uint64_t perPixel = Film::bytesPerPixel() + 2 * frame;
+    std::uint64_t perPixel = Film::bytesPerPixel(settings.halfBuffers) + 2 * frame;
     if (settings.integrator == Integrator::Mlt) {
         // The feature frame kept beside the colour, and each group's splats (3 doubles).
         perPixel += frame + std::uint64_t(std::max(settings.mlt.groups, 1)) * 3 * sizeof(double);

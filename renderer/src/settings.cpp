@@ -92,6 +92,14 @@ void validate(const Settings& s) {
     if (s.region && s.region->empty()) bad("region", "the render region is empty");
     if (s.region && s.integrator == Integrator::Mlt)
         bad("region", "a render region works with the path integrator only");
+    if (s.halfBuffers && s.integrator != Integrator::Path)
+        bad("halfBuffers",
+            "half buffers work with the path integrator only (Metropolis samples are not "
+            "independent)");
+    if (s.halfBuffers && s.sampler == SamplerKind::Stratified)
+        bad("halfBuffers",
+            "half buffers need the sobol or independent sampler (a stratified pass's strata span "
+            "both halves, so the halves would not be independent)");
     if (s.shard) {
         if (s.shard->count < 1 || s.shard->count > std::max(s.spp, 1))
             bad("shard", "the number of shards must be in [1, spp = " + std::to_string(s.spp) +

@@ -29,8 +29,39 @@ class AutoCli : public glint::testing::CliFixture {
         FrameBuffers nan = testing::syntheticFrame(48, 40, 0.1f);
         nan.color()(7, 4, 2) = std::nanf("");
         writeExr(nan, m_dir / "nan.exr");
+        // Half buffers: half B another noisy draw, one sample per half.
+        FrameBuffers halves = testing::syntheticFrame(48, 40, 0.1f);
+        halves.set(Layer::HalfColor, testing::syntheticFrame(48, 40, 0.1f, 2).color());
+        for (Layer l : {Layer::Albedo, Layer::Normal, Layer::Depth, Layer::AlbedoVariance,
+                        Layer::NormalVariance, Layer::DepthVariance})
+            if (halves.has(l)) halves.set(*halfLayer(l), halves.layer(l));
+        halves.ensure(Layer::HalfVariance);
+        for (float& v : halves.ensure(Layer::SampleCount).data()) v = 2.0f;
+        for (float& v : halves.ensure(Layer::HalfSampleCount).data()) v = 1.0f;
+        writeExr(halves, m_dir / "halves.exr");
     }
 };
+
+TEST_F(AutoCli, HalfBuffersSelectTheHalvesEstimatorAndItsDefaults) {
+    RunResult r =
+        run("auto " + path("halves.exr") + " --out " + path("auto.exr") + " --size 6 --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["estimator"], "halves");
+    EXPECT_EQ(j["symmetric"], true);
+    EXPECT_EQ(j["window"], 8);
+    EXPECT_EQ(j["confidence"], 1.0);
+    r = run("auto " + path("halves.exr") + " --out " + path("auto.exr") +
+            " --size 6 --json --estimator sure --one-sided");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["estimator"], "sure");
+    EXPECT_EQ(j["window"], 4);
+    EXPECT_EQ(j["confidence"], 3.0);
+    r = run("auto " + path("halves.exr") + " --out " + path("auto.exr") + " --size 6");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("cross-validation on the halves"), std::string::npos) << r.out;
+}
 
 TEST_F(AutoCli, AutoWithAndWithoutABankFolderAndTheOracleColumn) {
     RunResult r =
@@ -92,11 +123,18 @@ TEST_F(AutoCli, BadInputExitsTwoWithOneClearLineAndWritesNothing) {
         {"auto " + path("novariance.exr") + out,
          {"novariance.exr", "layer 'variance'", "variance.R", "SURE"}},
         {"auto " + path("nan.exr") + out, {"nan.exr", "pixel (7, 4), channel B", "NaN"}},
+        {"auto " + path("noisy.exr") + out + " --estimator halves",
+         {"noisy.exr", "layer 'halfColor'", "--half-buffers"}},
+        {"auto " + path("noisy.exr") + out + " --estimator stein",
+         {"--estimator", "auto, sure or halves"}},
         {"auto " + path("noisy.exr") + " --out " + path("out.png"), {"--out", ".exr"}},
         {"auto " + path("noisy.exr") + out + " --window -1", {"--window"}},
         {"auto " + path("noisy.exr") + out + " --temperature -2", {"--temperature"}},
         {"auto " + path("noisy.exr") + out + " --epsilon 0", {"--epsilon"}},
-        {"auto " + path("noisy.exr") + out + " --space gamma", {"--space", "display or linear"}},
+        {"auto " + path("noisy.exr") + out + " --space gamma",
+         {"--space", "display, linear or display-exact"}},
+        {"auto " + path("noisy.exr") + out + " --space display-exact",
+         {"--space", "halves estimator"}},
         {"auto " + path("noisy.exr") + out + " --bank " + path("nobank"), {"nobank", "--bank"}},
         {"auto " + path("noisy.exr") + out + " --size 0", {"--size"}},
         {"auto " + path("nope.exr") + out, {"nope.exr"}},

@@ -212,33 +212,9 @@ TEST(Sure, SelectionPicksTheMemberWithTheSmallestTrueErrorWhereUnambiguous) {
     cautious.confidence = AutoOptions{}.confidence;
     const AutoResult rc = autoComposite(bank, f, cautious);
 
-    // True per-pixel error of each member, smoothed like the SURE maps.
-    std::vector<Image> truth;
-    for (std::size_t m = 0; m < bank.size(); ++m) {
-        Image e(128, 96, 1);
-        for (int y = 0; y < 96; ++y)
-            for (int x = 0; x < 128; ++x) {
-                double s = 0.0;
-                for (int c = 0; c < 3; ++c) {
-                    const double d = bank.result(m)(x, y, c) - clean(x, y, c);
-                    s += d * d;
-                }
-                e(x, y, 0) = float(s);
-            }
-        truth.push_back(boxSmooth(e, 3));
-    }
-    // Where the best member's true error is less than half the runner-up's, auto must agree.
-    int unambiguous = 0, agree = 0;
-    for (int y = 0; y < 96; ++y)
-        for (int x = 0; x < 128; ++x) {
-            std::vector<float> e{truth[0](x, y, 0), truth[1](x, y, 0), truth[2](x, y, 0)};
-            const int best = int(std::min_element(e.begin(), e.end()) - e.begin());
-            std::vector<float> sorted = e;
-            std::sort(sorted.begin(), sorted.end());
-            if (sorted[0] * 2.0f > sorted[1]) continue;
-            ++unambiguous;
-            agree += int(r.choice(x, y, 0)) == best;
-        }
+    // Where the best member's true error (smoothed like the SURE maps) is less than half the
+    // runner-up's, auto must agree.
+    const auto [unambiguous, agree] = testing::agreementWhereUnambiguous(bank, clean, r.choice, 3);
     ASSERT_GT(unambiguous, 128 * 96 / 3);
     EXPECT_GT(double(agree) / unambiguous, 0.95) << agree << " of " << unambiguous;
     // The composite beats every single member, and the single choice is the true best.

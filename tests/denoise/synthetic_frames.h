@@ -2,11 +2,16 @@
 // a piecewise-smooth noisy colour with every feature layer and its variance.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <utility>
+#include <vector>
 
+#include "glint/denoise/bank.h"
 #include "glint/denoise/filter.h"
+#include "glint/denoise/sure.h"
 #include "glint/image/frame_buffers.h"
 
 namespace glint::denoise::testing {
@@ -94,6 +99,41 @@ inline double rmsDiff(const Image& a, const Image& b) {
         s += d * d;
     }
     return std::sqrt(s / double(std::max<std::size_t>(da.size(), 1)));
+}
+
+/// Where one member of `bank` has a true error (against `clean`, box-smoothed over `window`)
+/// below half the runner-up's, how often the per-pixel `choice` (an AutoResult::choice) picks
+/// it: {pixels where the best is unambiguous, pixels where the choice agrees}.
+inline std::pair<int, int> agreementWhereUnambiguous(const FilterBank& bank, const Image& clean,
+                                                     const Image& choice, int window) {
+    const int w = clean.width(), h = clean.height();
+    std::vector<Image> truth;
+    for (std::size_t m = 0; m < bank.size(); ++m) {
+        Image e(w, h, 1);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double s = 0.0;
+                for (int c = 0; c < 3; ++c) {
+                    const double d = bank.result(m)(x, y, c) - clean(x, y, c);
+                    s += d * d;
+                }
+                e(x, y, 0) = float(s);
+            }
+        truth.push_back(boxSmooth(e, window));
+    }
+    int unambiguous = 0, agree = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            std::vector<float> e;
+            for (const Image& t : truth) e.push_back(t(x, y, 0));
+            const int best = int(std::min_element(e.begin(), e.end()) - e.begin());
+            std::vector<float> sorted = e;
+            std::sort(sorted.begin(), sorted.end());
+            if (sorted.size() > 1 && sorted[0] * 2.0f > sorted[1]) continue;
+            ++unambiguous;
+            agree += int(choice(x, y, 0)) == best;
+        }
+    return {unambiguous, agree};
 }
 
 }  // namespace glint::denoise::testing

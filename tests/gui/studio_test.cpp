@@ -2,6 +2,8 @@
 // look, lasso, navigate, paint with the mouse, undo, save and reopen, survive a crash, refuse
 // bad files. Renders are deterministic (fixed seed), so results are compared bit for bit.
 #include <QApplication>
+#include <QCheckBox>
+#include <QComboBox>
 #include <QMessageBox>
 #include <QProcess>
 #include <QPushButton>
@@ -15,8 +17,10 @@
 
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
+#include "glint/denoise/sure.h"
 #include "glint/image/io.h"
 #include "glint/render/scene.h"
+#include "model/document.h"
 #include "studio_fixture.h"
 #include "views/help_overlay.h"
 #include "views/image_canvas.h"
@@ -264,6 +268,46 @@ class StudioTest : public QObject {
         QCOMPARE(s.layerCount(), std::size_t(0));
         QVERIFY(sameBits(s.composite(), noisy));
         QVERIFY(w->lastError().isEmpty());
+    }
+
+    void aRegionMergeKeepsHalfBuffersOnlyWhenBothRendersHaveThem() {
+        FrameBuffers base(8, 6), part(8, 6);
+        base.ensure(Layer::HalfColor);
+        part.ensure(Layer::HalfColor);
+        QVERIFY(mergeRegion(base, part, Rect{0, 4, 0, 3}).has(Layer::HalfColor));
+        part.remove(Layer::HalfColor);
+        QVERIFY(!mergeRegion(base, part, Rect{0, 4, 0, 3}).has(Layer::HalfColor));
+        QVERIFY(!mergeRegion(part, base, Rect{0, 4, 0, 3}).has(Layer::HalfColor));
+    }
+
+    void theHalvesBoxRendersHalfBuffersThatAutoStartUses() {
+        auto w = openScene();
+        QVERIFY(w);
+        QVERIFY(!w->document()->finishedFrame()->has(Layer::HalfColor));
+        QCheckBox* halves = w->renderBar()->halvesBox();
+        QVERIFY(halves->isEnabled());
+        halves->setChecked(true);
+        w->renderBar()->renderButton()->click();
+        QVERIFY(waitFor([&] {
+            const FramePtr f = w->document()->finishedFrame();
+            return !w->document()->rendering() && f && f->has(Layer::HalfColor);
+        }));
+        const FramePtr frame = w->document()->finishedFrame();
+        QVERIFY(frame->has(Layer::HalfSampleCount));
+        QCOMPARE(frame->layer(Layer::HalfSampleCount)(10, 10, 0), 8.0f);  // 16 spp, odd half
+        QCOMPARE(denoise::resolveEstimator(denoise::AutoEstimator::Auto, *frame),
+                 denoise::AutoEstimator::Halves);
+        const denoise::Session& s = w->session()->session();
+        w->actions().autoStart->trigger();
+        QVERIFY(waitFor([&] { return s.layerCount() > 0 && !w->session()->busy(); }, 60000));
+        QVERIFY(w->lastError().isEmpty());
+        // Metropolis has no half buffers: the box is disabled with it.
+        auto* integrator = w->renderBar()->findChild<QComboBox*>();
+        QVERIFY(integrator);
+        integrator->setCurrentIndex(integrator->findData(int(render::Integrator::Mlt)));
+        QVERIFY(!halves->isEnabled());
+        w->renderBar()->applySettings();
+        QVERIFY(!w->document()->settings().halfBuffers);
     }
 
     void aSavedSessionReopensBitForBit() {

@@ -1,10 +1,12 @@
-// bench_auto: the speed figure of the SURE auto start (docs/navigation.md). Renders
-// scenes/cornell at SIZE×SIZE (default 1024) with SPP samples (default 4), then times on THREADS
-// threads (default 2), REPS times each (best kept; the machine may be shared): the bank of
-// MEMBERS Latin-hypercube members (plus the defaults, no cache), and autoComposite over it (one
-// more application of every member to the perturbed input, SURE maps, choice). Prints one JSON
+// bench_auto: the speed figure of the auto start (docs/navigation.md). Renders scenes/cornell at
+// SIZE×SIZE (default 1024) with SPP samples (default 4; with half buffers for the halves
+// estimator), then times on THREADS threads (default 2), REPS times each (best kept; the machine
+// may be shared): the bank of MEMBERS Latin-hypercube members (plus the defaults, no cache), and
+// autoComposite over it — SURE: one more application of every member to the perturbed input;
+// halves: one (--one-sided 1) or two applications to the halves — maps, choice. Prints one JSON
 // object with both times and their ratio (target: auto ≤ 2× the bank).
-//   bench_auto [--size 1024] [--spp 4] [--threads 2] [--members 64] [--reps 3]
+//   bench_auto [--estimator sure|halves] [--one-sided 0|1] [--size 1024] [--spp 4]
+//              [--threads 2] [--members 64] [--reps 3]
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -37,11 +39,22 @@ double secondsOf(const std::function<void()>& fn) {
 
 int main(int argc, char** argv) {
     namespace fs = std::filesystem;
-    int size = 1024, spp = 4, threads = 2, members = 64, reps = 3;
+    int size = 1024, spp = 4, threads = 2, members = 64, reps = 3, oneSided = 0;
+    std::string estimator = "sure";
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string a = argv[i];
+        if (a == "--estimator") {
+            estimator = argv[i + 1];
+            if (estimator != "sure" && estimator != "halves") {
+                std::fprintf(stderr, "bench_auto: --estimator is sure or halves\n");
+                return 2;
+            }
+            continue;
+        }
         const int v = std::stoi(argv[i + 1]);
-        if (a == "--size")
+        if (a == "--one-sided")
+            oneSided = v;
+        else if (a == "--size")
             size = v;
         else if (a == "--spp")
             spp = v;
@@ -68,6 +81,7 @@ int main(int argc, char** argv) {
     glint::render::Settings s = renderer.scene().settings();
     s.spp = spp;
     s.threads = threads;
+    s.halfBuffers = estimator == "halves";
     const glint::FrameBuffers frame = renderer.render(s).frame;
 
     glint::denoise::BankOptions options;
@@ -81,8 +95,13 @@ int main(int argc, char** argv) {
             bankSeconds, secondsOf([&] { bank = glint::denoise::buildBank(frame, options); }));
         bankSize = bank.size();
         glint::denoise::AutoResult result;
-        autoSeconds = std::min(
-            autoSeconds, secondsOf([&] { result = glint::denoise::autoComposite(bank, frame); }));
+        glint::denoise::AutoOptions ao;
+        ao.estimator = estimator == "halves" ? glint::denoise::AutoEstimator::Halves
+                                             : glint::denoise::AutoEstimator::Sure;
+        ao.symmetric = oneSided == 0;
+        autoSeconds =
+            std::min(autoSeconds,
+                     secondsOf([&] { result = glint::denoise::autoComposite(bank, frame, ao); }));
         used = result.layers.size();
     }
     const nlohmann::json out = {{"size", size},
@@ -90,6 +109,8 @@ int main(int argc, char** argv) {
                                 {"threads", threads},
                                 {"members", bankSize},
                                 {"reps", reps},
+                                {"estimator", estimator},
+                                {"symmetric", oneSided == 0},
                                 {"bankSecondsBest", bankSeconds},
                                 {"autoSecondsBest", autoSeconds},
                                 {"autoOverBank", autoSeconds / bankSeconds},

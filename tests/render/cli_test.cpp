@@ -60,6 +60,18 @@ TEST_F(RenderCli, JsonSummaryAndLayeredOutput) {
          {Layer::Variance, Layer::Albedo, Layer::Normal, Layer::Depth, Layer::SampleCount})
         EXPECT_TRUE(frame.has(l)) << channelName(l, 0);
     EXPECT_EQ(frame.layer(Layer::SampleCount)(5, 7, 0), 4.0f);
+    EXPECT_FALSE(frame.has(Layer::HalfColor));
+    // --half-buffers: the half layers round-trip through the EXR.
+    const RunResult h = run(path("scene.json") + " --spp 4 --half-buffers --out " + path("h.exr"));
+    ASSERT_EQ(h.exitCode, 0) << h.err;
+    const FrameBuffers halves = readExr(path("h.exr"));
+    for (int l = 0; l < kLayerCount; ++l) {
+        if (isHalfLayer(Layer(l))) {
+            EXPECT_TRUE(halves.has(Layer(l))) << layerDisplayName(Layer(l));
+        }
+    }
+    EXPECT_EQ(halves.layer(Layer::HalfSampleCount)(5, 7, 0), 2.0f);
+    EXPECT_EQ(halves.metadata().extra.at("halfBuffers"), "true");
 }
 
 TEST_F(RenderCli, ReferenceMetricsAndThreadIndependence) {
@@ -88,6 +100,8 @@ TEST_F(RenderCli, BadInputExitsTwoNamingTheProblemAndWritesNothing) {
         {scene + " --spp 4 --threads -1 --out " + out, "--threads"},
         {scene + " --spp 4 --max-depth 0 --out " + out, "--max-depth"},
         {scene + " --spp 4 --mis bogus --out " + out, "--mis"},
+        {scene + " --spp 4 --half-buffers --sampler stratified --out " + out, "--half-buffers"},
+        {scene + " --spp 4 --half-buffers --integrator mlt --out " + out, "--half-buffers"},
         {scene + " --spp 4 --reference " + path("small.exr") + " --out " + out, "small.exr"},
     };
     for (const Case& c : cases) {

@@ -45,6 +45,26 @@ double displaySlope(double v, float exposure) {
     return d * scale;
 }
 
+// The display transform (exposure, clamp to [0, 1], sRGB) of linear value v, from a table of
+// 4096 intervals with linear interpolation (within 2e-5 of the exact curve, plenty to rank
+// filters, and a table lookup instead of a pow per value).
+double displayValue(double v, double scale) {
+    static const std::vector<double> table = [] {
+        std::vector<double> t(4097);
+        for (std::size_t i = 0; i < t.size(); ++i) {
+            const double x = double(i) / 4096.0;
+            t[i] = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+        }
+        return t;
+    }();
+    const double x = v * scale;
+    if (!(x > 0.0)) return 0.0;
+    if (x >= 1.0) return 1.0;
+    const double f = x * 4096.0;
+    const auto i = std::size_t(f);
+    return table[i] + (f - double(i)) * (table[i + 1] - table[i]);
+}
+
 // Per-pixel weights of SureSpace::Display: the squared display slope at the mean of the bank's
 // results, floored at 1e-4 of the largest so saturated pixels still order the members.
 Image displayWeights(const FilterBank& bank, float exposure) {
@@ -248,9 +268,9 @@ void validate(const AutoOptions& options) {
                     "epsilon " + std::to_string(options.sure.epsilon) +
                         " is outside (0, 1] (the perturbation relative to the pixel's sigma)",
                     {}, "--epsilon");
-    if (options.window < 0 || options.window > 64)
+    if (options.window && (*options.window < 0 || *options.window > 64))
         throw Error(ErrorKind::InvalidArgument,
-                    "window " + std::to_string(options.window) +
+                    "window " + std::to_string(*options.window) +
                         " is outside 0 … 64 (the SURE maps' smoothing radius in pixels)",
                     {}, "--window");
     if (!(options.temperature >= 0.0) || !std::isfinite(options.temperature))
@@ -258,13 +278,102 @@ void validate(const AutoOptions& options) {
                     "temperature " + std::to_string(options.temperature) +
                         " must be >= 0 (0: hard per-pixel choice)",
                     {}, "--temperature");
-    if (!(options.confidence >= 0.0) || !std::isfinite(options.confidence))
+    if (options.confidence &&
+        (!(*options.confidence >= 0.0) || !std::isfinite(*options.confidence)))
         throw Error(ErrorKind::InvalidArgument,
-                    "confidence " + std::to_string(options.confidence) +
+                    "confidence " + std::to_string(*options.confidence) +
                         " must be >= 0 (standard errors a local choice must win by)",
                     {}, "--confidence");
     if (!std::isfinite(options.exposure))
         throw Error(ErrorKind::InvalidArgument, "exposure must be finite", {}, "--exposure");
+}
+
+AutoEstimator parseAutoEstimator(const std::string& name) {
+    if (name == "auto") return AutoEstimator::Auto;
+    if (name == "sure") return AutoEstimator::Sure;
+    if (name == "halves") return AutoEstimator::Halves;
+    throw Error(ErrorKind::InvalidArgument,
+                "unknown error estimator '" + name + "' (expected auto, sure or halves)");
+}
+
+const char* autoEstimatorName(AutoEstimator estimator) {
+    switch (estimator) {
+        case AutoEstimator::Auto:
+            return "auto";
+        case AutoEstimator::Sure:
+            return "sure";
+        case AutoEstimator::Halves:
+            return "halves";
+    }
+    return "?";
+}
+
+AutoDefaults autoDefaults(AutoEstimator estimator) {
+    if (estimator == AutoEstimator::Halves) return {8, 1.0};
+    return {4, 3.0};
+}
+
+AutoEstimator resolveEstimator(AutoEstimator estimator, const FrameBuffers& frame) {
+    if (estimator != AutoEstimator::Auto) return estimator;
+    return frame.has(Layer::HalfColor) ? AutoEstimator::Halves : AutoEstimator::Sure;
+}
+
+void checkAutoInput(const FrameBuffers& frame, AutoEstimator estimator, const std::string& file) {
+    if (resolveEstimator(estimator, frame) == AutoEstimator::Sure) {
+        checkSureInput(frame, file);
+        return;
+    }
+    if (!frame.has(Layer::HalfColor))
+        throw Error(ErrorKind::Format,
+                    "has no halfColor layer: the halves estimator needs a render with half "
+                    "buffers (glint-render --half-buffers)",
+                    file, "layer 'halfColor'");
+    splitHalves(frame, file);  // every half layer present, counts consistent
+    for (Layer layer : {Layer::Color, Layer::HalfColor}) {
+        const Image& image = frame.layer(layer);
+        for (int y = 0; y < frame.height(); ++y)
+            for (int x = 0; x < frame.width(); ++x)
+                for (int c = 0; c < 3; ++c)
+                    if (!std::isfinite(image(x, y, c)))
+                        throw Error(ErrorKind::Numeric,
+                                    std::string(std::isnan(image(x, y, c)) ? "NaN" : "Inf") +
+                                        " in the " + std::string(layerDisplayName(layer)) +
+                                        "; the error estimate needs finite values",
+                                    file, pixelText(x, y) + ", channel " + channelName(layer, c));
+    }
+}
+
+Image crossValidationMap(const Image& halfA, const Image& halfB, const Image& outputA,
+                         const Image* outputB, const Rect& region, const Image* weight,
+                         std::optional<float> displayExposure) {
+    GLINT_CHECK(outputA.width() == region.width() && outputA.height() == region.height() &&
+                halfA.sameShape(halfB) && (!outputB || outputB->sameShape(outputA)) &&
+                !(weight && displayExposure));
+    const double scale = displayExposure ? std::exp2(double(*displayExposure)) : 1.0;
+    auto value = [&](float v) {
+        return displayExposure ? displayValue(double(v), scale) : double(v);
+    };
+    Image map(region.width(), region.height(), 1);
+    tbb::parallel_for(0, region.height(), [&](int y) {
+        for (int x = 0; x < region.width(); ++x) {
+            double s = 0.0;
+            for (int c = 0; c < 3; ++c) {
+                const double a = value(halfA(x + region.x0, y + region.y0, c));
+                const double b = value(halfB(x + region.x0, y + region.y0, c));
+                const double ea = value(outputA(x, y, c)) - b;
+                double term;
+                if (outputB) {
+                    const double eb = value((*outputB)(x, y, c)) - a;
+                    term = 0.5 * (ea * ea + eb * eb - (a - b) * (a - b));
+                } else {
+                    term = ea * ea - 0.5 * (a - b) * (a - b);
+                }
+                s += weight ? double((*weight)(x, y, c)) * term : term;
+            }
+            map(x, y, 0) = float(s);
+        }
+    });
+    return map;
 }
 
 AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
@@ -275,17 +384,35 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
         hashFrame(frame) != bank.inputHash())
         throw Error(ErrorKind::InvalidArgument,
                     "the bank was computed from another image than the one given");
-    checkSureInput(frame);
+    const AutoEstimator estimator = resolveEstimator(options.estimator, frame);
+    const bool halves = estimator == AutoEstimator::Halves;
+    if (options.space == SureSpace::DisplayExact && !halves)
+        throw Error(ErrorKind::InvalidArgument,
+                    "the exact display space needs the halves estimator (SURE needs a "
+                    "differentiable error: use display or linear)",
+                    {}, "--space");
+    const int window = options.window.value_or(autoDefaults(estimator).window);
+    const double confidence = options.confidence.value_or(autoDefaults(estimator).confidence);
+    checkAutoInput(frame, estimator);
     const Rect& region = bank.region();
     const std::size_t n = bank.size();
     const std::size_t pixels = std::size_t(region.width()) * std::size_t(region.height());
 
-    // The input the filters see (prefiltered like the bank's), and its perturbed copy.
-    const FrameBuffers prefiltered =
-        options.prefilter ? prefilterFeatures(frame, options.prefilterParams) : FrameBuffers{};
-    const FrameBuffers& filterInput = options.prefilter ? prefiltered : frame;
+    // SURE: the input the filters see (prefiltered like the bank's) and its perturbed copy.
+    // Halves: the two halves, each prefiltered like the bank's input.
+    auto prepare = [&](const FrameBuffers& f) {
+        return options.prefilter ? prefilterFeatures(f, options.prefilterParams) : f;
+    };
+    FrameBuffers filterInput, perturbed, halfA, halfB;
     Image delta;
-    const FrameBuffers perturbed = perturbColor(filterInput, options.sure, &delta);
+    if (halves) {
+        auto split = splitHalves(frame);
+        halfA = prepare(split.first);
+        halfB = prepare(split.second);
+    } else {
+        filterInput = prepare(frame);
+        perturbed = perturbColor(filterInput, options.sure, &delta);
+    }
     const Image weight =
         options.space == SureSpace::Display ? displayWeights(bank, options.exposure) : Image{};
     const Image* weightPtr = options.space == SureSpace::Display ? &weight : nullptr;
@@ -309,11 +436,26 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
         bool isAnalytic = false;
         Image raw;
         try {
-            const Image div = memberDivergence(
-                findFilter(member.filter), member.params, bank.result(m), filterInput, perturbed,
-                delta, region, options.sure, [&](double) { return !stop.load(); }, isAnalytic);
-            raw = sureMap(frame.color(), frame.layer(Layer::Variance), bank.result(m), div, region,
-                          weightPtr);
+            const ProgressFn going = [&](double) { return !stop.load(); };
+            if (halves) {
+                FilterOptions fo;
+                fo.region = region;
+                fo.progress = going;
+                const Filter& filter = findFilter(member.filter);
+                const Image outA = applyFilter(filter, halfA, member.params, fo);
+                const Image outB =
+                    options.symmetric ? applyFilter(filter, halfB, member.params, fo) : Image{};
+                const bool exact = options.space == SureSpace::DisplayExact;
+                raw = crossValidationMap(
+                    halfA.color(), halfB.color(), outA, options.symmetric ? &outB : nullptr, region,
+                    weightPtr, exact ? std::optional<float>(options.exposure) : std::nullopt);
+            } else {
+                const Image div = memberDivergence(findFilter(member.filter), member.params,
+                                                   bank.result(m), filterInput, perturbed, delta,
+                                                   region, options.sure, going, isAnalytic);
+                raw = sureMap(frame.color(), frame.layer(Layer::Variance), bank.result(m), div,
+                              region, weightPtr);
+            }
         } catch (const Error& e) {
             if (e.kind() == ErrorKind::Cancelled) return;
             throw;
@@ -342,7 +484,7 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
         std::min_element(estimatedMse.begin(), estimatedMse.end()) - estimatedMse.begin());
     {
         const Image& base = smoothed[baseline];
-        const double count = double((2 * options.window + 1) * (2 * options.window + 1));
+        const double count = double((2 * window + 1) * (2 * window + 1));
         std::vector<Image> scores(n);
         tbb::parallel_for(std::size_t(0), n, [&](std::size_t m) {
             Image d(region.width(), region.height(), 1), d2(region.width(), region.height(), 1);
@@ -351,13 +493,13 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                 d.data()[p] = float(v);
                 d2.data()[p] = float(v * v);
             }
-            Image mean = boxSmooth(d, options.window);
-            if (options.confidence > 0.0 && m != baseline) {
-                const Image meanSq = boxSmooth(d2, options.window);
+            Image mean = boxSmooth(d, window);
+            if (confidence > 0.0 && m != baseline) {
+                const Image meanSq = boxSmooth(d2, window);
                 for (std::size_t p = 0; p < pixels; ++p) {
                     const double mu = mean.data()[p];
                     const double var = std::max(0.0, double(meanSq.data()[p]) - mu * mu);
-                    mean.data()[p] = float(mu + options.confidence * std::sqrt(var / count));
+                    mean.data()[p] = float(mu + confidence * std::sqrt(var / count));
                 }
             }
             scores[m] = std::move(mean);
@@ -369,16 +511,25 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
     Image noiseLevel;
     if (options.temperature > 0.0) {
         Image v(region.width(), region.height(), 1);
-        const Image& variance = frame.layer(Layer::Variance);
         for (int y = 0; y < region.height(); ++y)
             for (int x = 0; x < region.width(); ++x) {
                 double s = 0.0;
-                for (int c = 0; c < 3; ++c)
-                    s += double(variance(x + region.x0, y + region.y0, c)) *
-                         (weightPtr ? double(weight(x, y, c)) : 1.0);
+                for (int c = 0; c < 3; ++c) {
+                    const int fx = x + region.x0, fy = y + region.y0;
+                    // Halves: (A − B)²/4, the variance of the mean of equal halves.
+                    double var;
+                    if (halves) {
+                        const double d =
+                            double(halfA.color()(fx, fy, c)) - halfB.color()(fx, fy, c);
+                        var = 0.25 * d * d;
+                    } else {
+                        var = frame.layer(Layer::Variance)(fx, fy, c);
+                    }
+                    s += var * (weightPtr ? double(weight(x, y, c)) : 1.0);
+                }
                 v(x, y, 0) = float(s);
             }
-        noiseLevel = boxSmooth(v, options.window);
+        noiseLevel = boxSmooth(v, window);
     }
 
     // Step 3: per-pixel weights over the members, in member order (deterministic).
@@ -423,6 +574,7 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
     result.bestMember =
         int(std::min_element(estimatedMse.begin(), estimatedMse.end()) - estimatedMse.begin());
     for (char a : analytic) result.analytic.push_back(a != 0);
+    result.estimator = estimator;
     for (int m : order) {
         AutoLayer layer{m, Image(region.width(), region.height(), 1)};
         for (std::size_t p = 0; p < pixels; ++p)

@@ -22,21 +22,27 @@ struct FilmSample {
 /// Accumulates FilmSamples per pixel. A pixel must only be written by one thread at a time.
 class Film {
   public:
-    Film(int width, int height);
+    /// With `halfBuffers`, also the statistics of each pixel's second half of samples alone
+    /// (the half-buffer layers; add() says which samples belong to it).
+    Film(int width, int height, bool halfBuffers = false);
 
     int width() const { return m_width; }
     int height() const { return m_height; }
     /// Adds a sample to pixel (x, y); a sample with any non-finite value is counted and dropped.
-    void add(int x, int y, const FilmSample& sample);
+    /// `secondHalf`: the sample also goes into half B's statistics (with half buffers).
+    void add(int x, int y, const FilmSample& sample, bool secondHalf = false);
     /// Samples accepted in pixel (x, y).
     std::uint32_t count(int x, int y) const { return m_pixels[index(x, y)].n; }
     /// Total discarded (non-finite) samples.
     std::int64_t nonFiniteSamples() const;
-    /// Means, variances of the mean (sample variance / n; 0 below two samples), sample counts.
+    /// Means, variances of the mean (sample variance / n; 0 below two samples), sample counts,
+    /// and the same for half B in the half-buffer layers when the film has them.
     FrameBuffers resolve(bool withPosition) const;
 
     /// Bytes of running statistics per pixel.
-    static constexpr std::uint64_t bytesPerPixel() { return sizeof(Pixel); }
+    static constexpr std::uint64_t bytesPerPixel(bool halfBuffers = false) {
+        return sizeof(Pixel) * (halfBuffers ? 2 : 1);
+    }
 
   private:
     static constexpr int kChannels = 13;  // colour 3, albedo 3, normal 3, depth 1, position 3
@@ -50,6 +56,7 @@ class Film {
 
     int m_width, m_height;
     std::vector<Pixel> m_pixels;
+    std::vector<Pixel> m_half;  ///< half B's statistics; empty without half buffers
 };
 
 }  // namespace glint::render

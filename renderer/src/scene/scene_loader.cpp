@@ -174,9 +174,9 @@ void Loader::readCamera(const json& j, const std::string& where) {
 }
 
 void Loader::readRender(const json& j, const std::string& where) {
-    m_reader.requireObject(
-        j, where,
-        {"spp", "maxDepth", "rrDepth", "integrator", "mis", "strategy", "sampler", "seed"});
+    m_reader.requireObject(j, where,
+                           {"spp", "maxDepth", "rrDepth", "integrator", "mis", "strategy",
+                            "sampler", "seed", "halfBuffers"});
     Settings& s = m_scene.settings;
     auto choice = [&](const char* key, auto parse, auto& out) {
         if (!j.contains(key)) return;
@@ -199,6 +199,11 @@ void Loader::readRender(const json& j, const std::string& where) {
     choice("mis", parseMis, s.mis);
     choice("strategy", parseStrategy, s.strategy);
     choice("sampler", parseSampler, s.sampler);
+    if (j.contains("halfBuffers")) {
+        if (!j["halfBuffers"].is_boolean())
+            m_reader.fail(where + "/halfBuffers", "expected true or false");
+        s.halfBuffers = j["halfBuffers"].get<bool>();
+    }
 }
 
 Material Loader::readMaterial(const std::string& name, const json& j, const std::string& where) {

@@ -9,6 +9,11 @@
 // 2008, eq. 8): one more application to y + ε·b, b a random ±1 field,
 //   ∂f_p/∂y_p ≈ b_p (f(y + εb)_p − f(y)_p) / ε_p.
 // A filter may give its divergence itself (Filter::divergence); the Gaussian does.
+//
+// A render with half buffers allows a second estimator without SURE's assumptions (Gaussian
+// noise of known variance, guides independent of the colour): cross-validation on the two
+// independent halves A and B of the samples, E(f(A) − B)² = MSE f(A) + Var B
+// (crossValidationMap; docs/navigation.md, "Error estimates from two halves").
 #pragma once
 
 #include <cstdint>
@@ -28,10 +33,13 @@ class Session;
 
 /// Which error SURE estimates.
 enum class SureSpace {
-    Linear,   ///< squared error of the radiance
-    Display,  ///< to first order, of display values: each channel's term is weighted by the
-              ///< squared slope of the display transform (exposure, clamp, sRGB) at a
-              ///< member-independent estimate of the clean value (the mean of the bank)
+    Linear,        ///< squared error of the radiance
+    Display,       ///< to first order, of display values: each channel's term is weighted by the
+                   ///< squared slope of the display transform (exposure, clamp, sRGB) at a
+                   ///< member-independent estimate of the clean value (the mean of the bank)
+    DisplayExact,  ///< halves only: the display transform applied to the values themselves
+                   ///< (crossValidationMap's displayExposure; measured in docs/navigation.md,
+                   ///< not the default)
 };
 
 /// How the divergence is estimated and the data perturbed.
@@ -90,19 +98,71 @@ SureEstimate estimateSure(const Filter& filter, const FrameBuffers& frame,
 /// Box average of a 1-channel image over (2·radius + 1)² pixels, truncated at the border.
 Image boxSmooth(const Image& image, int radius);
 
+/// How the auto composite estimates each member's error per pixel.
+enum class AutoEstimator {
+    Auto,    ///< Halves when the frame has half buffers, else Sure
+    Sure,    ///< Stein's unbiased risk estimate from the variance layer (above)
+    Halves,  ///< cross-validation on the render's two independent halves (crossValidationMap)
+};
+
+/// Parses "auto" / "sure" / "halves"; throws glint::Error(InvalidArgument).
+AutoEstimator parseAutoEstimator(const std::string& name);
+/// "auto", "sure" or "halves".
+const char* autoEstimatorName(AutoEstimator estimator);
+/// The estimator Auto stands for with `frame` (the others as given).
+AutoEstimator resolveEstimator(AutoEstimator estimator, const FrameBuffers& frame);
+
+/// Throws glint::Error naming `file` and the place unless the auto composite can use `frame`
+/// with `estimator`: checkSureInput for SURE; for the halves, every half-buffer layer
+/// (glint::splitHalves) and finite colour and half colour.
+void checkAutoInput(const FrameBuffers& frame, AutoEstimator estimator,
+                    const std::string& file = {});
+
+/// Per-pixel cross-validation error over `region`, summed over the channels (1 channel,
+/// region-sized), from two independent halves A and B of the samples (frame-sized colours)
+/// and a filter's outputs on each (region-sized; `outputB` may be null):
+///   symmetric:  Σ_c weight_c [(f(A) − B)² + (f(B) − A)² − (A − B)²] / 2,
+///   one-sided:  Σ_c weight_c [(f(A) − B)² − (A − B)² / 2].
+/// As B is independent of A and of f(A), E(f(A) − B)² = MSE f(A) + Var B; the symmetric form is
+/// an unbiased estimate of the filter's mean squared error on a half, the one-sided one of
+/// MSE f(A) + (Var B − Var A)/2 (the same for equal halves). No noise model, no variance layer
+/// and no divergence: it holds for the heavy-tailed, guide-correlated noise of a render.
+/// With `displayExposure`, every value (halves and outputs) is first mapped by the display
+/// transform (exposure, clamp, sRGB) and `weight` must be null: the estimate is then of the
+/// display error up to a term that is the product of the filter's and B's display biases
+/// (E[D(f(A)) − D(x)]·E[D(x) − D(B)], independent factors), small where either is.
+Image crossValidationMap(const Image& halfA, const Image& halfB, const Image& outputA,
+                         const Image* outputB, const Rect& region, const Image* weight = nullptr,
+                         std::optional<float> displayExposure = std::nullopt);
+
+/// The smoothing window and confidence an estimator uses unless told otherwise, measured on
+/// the quality table of docs/navigation.md: SURE 4 and 3, the halves 8 and 1 (their maps are
+/// unbiased but noisier per pixel, and a wider window with a lower bar wins on every scene).
+struct AutoDefaults {
+    int window;
+    double confidence;
+};
+AutoDefaults autoDefaults(AutoEstimator estimator);
+
 /// How the auto composite is chosen.
 struct AutoOptions {
+    /// The error estimate per member and pixel.
+    AutoEstimator estimator = AutoEstimator::Auto;
+    /// Halves: filter both halves (two applications per member) rather than only A (one).
+    bool symmetric = true;
     SureOptions sure;
     SureSpace space = SureSpace::Display;
     float exposure = 0.0f;  ///< of the display transform (SureSpace::Display)
-    /// The SURE maps are box-averaged over (2·window + 1)² pixels before the choice: a
-    /// per-pixel variance from a few samples is itself noisy.
-    int window = 4;
-    /// A pixel leaves the baseline (the member with the smallest SURE over the whole region)
-    /// only for a member whose smoothed SURE is lower by at least `confidence` standard errors
-    /// of the local mean (estimated from the spread of the SURE difference in the window): the
-    /// per-pixel choice among many members must not follow the noise of their estimates.
-    double confidence = 3.0;
+    /// The error maps are box-averaged over (2·window + 1)² pixels before the choice: a
+    /// per-pixel estimate from a few samples is itself noisy. Unset: the estimator's default
+    /// (autoDefaults).
+    std::optional<int> window;
+    /// A pixel leaves the baseline (the member with the smallest estimate over the whole
+    /// region) only for a member whose smoothed estimate is lower by at least `confidence`
+    /// standard errors of the local mean (estimated from the spread of the difference in the
+    /// window): the per-pixel choice among many members must not follow the noise of their
+    /// estimates. Unset: the estimator's default (autoDefaults).
+    std::optional<double> confidence;
     /// 0: a hard per-pixel choice (the smallest score). > 0: soft weights
     /// exp(−(score − min score) / (temperature · σ²)), σ² the pixel's smoothed variance summed
     /// over RGB (so the temperature is in units of the noise), weights below 1e-3 of the
@@ -132,10 +192,13 @@ struct AutoResult {
     std::vector<double> estimatedMse;  ///< per member: mean SURE per channel over the region
     int bestMember = -1;               ///< the smallest estimatedMse (auto's single choice)
     std::vector<bool> analytic;        ///< per member: the filter gave its divergence
+    AutoEstimator estimator = AutoEstimator::Sure;  ///< the estimator used (never Auto)
 };
 
-/// Computes every member's SURE map (members in parallel in the caller's TBB pool; one extra
-/// application of each member to the perturbed input), smooths them and builds the composite.
+/// Computes every member's error map — SURE (one extra application of each member to the
+/// perturbed input) or cross-validation on the halves (one or two applications to the halves)
+/// — with members in parallel in the caller's TBB pool, smooths them and builds the composite.
+/// With the halves, estimatedMse is a member's error on a half of the samples.
 /// `frame` is the input the bank was built from (checked by hash). Deterministic for a seed,
 /// whatever the thread count. Throws glint::Error like checkSureInput, InvalidArgument for a
 /// bank of another frame or bad options, Cancelled when progress says stop.

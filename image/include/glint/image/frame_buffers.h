@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include "glint/image/image.h"
 
@@ -25,8 +26,19 @@ enum class Layer : int {
     DepthVariance,   ///< depthVariance.Z
     Position,        ///< position.X/Y/Z: world space (optional)
     SampleCount,     ///< sampleCount.Y
+    // Half buffers (glint-render --half-buffers; optional): the same statistics over the
+    // pixel's odd-indexed samples only, half B of two independent halves.
+    HalfColor,           ///< halfColor.R/G/B
+    HalfVariance,        ///< halfVariance.R/G/B
+    HalfAlbedo,          ///< halfAlbedo.R/G/B
+    HalfAlbedoVariance,  ///< halfAlbedoVariance.R/G/B
+    HalfNormal,          ///< halfNormal.X/Y/Z
+    HalfNormalVariance,  ///< halfNormalVariance.X/Y/Z
+    HalfDepth,           ///< halfDepth.Z
+    HalfDepthVariance,   ///< halfDepthVariance.Z
+    HalfSampleCount,     ///< halfSampleCount.Y
 };
-inline constexpr int kLayerCount = 10;
+inline constexpr int kLayerCount = 19;
 
 /// Static description of a layer: its EXR layer name and channel suffixes.
 struct LayerInfo {
@@ -49,6 +61,14 @@ std::string channelName(Layer layer, int c);
 std::optional<Layer> varianceOf(Layer layer);
 /// The variance layer of `layer` (Color→Variance...), or nullopt.
 std::optional<Layer> varianceLayer(Layer layer);
+
+/// The half-buffer layer holding half B's statistics of `layer` (Color→HalfColor,
+/// Variance→HalfVariance … SampleCount→HalfSampleCount), or nullopt (position has none).
+std::optional<Layer> halfLayer(Layer layer);
+/// True for the half-buffer layers (HalfColor … HalfSampleCount).
+inline bool isHalfLayer(Layer layer) {
+    return layer >= Layer::HalfColor;
+}
 
 /// What the renderer records about a frame; stored as glint:* EXR attributes.
 struct FrameMetadata {
@@ -102,5 +122,16 @@ class FrameBuffers {
     std::array<Image, kLayerCount> m_layers;
     FrameMetadata m_metadata;
 };
+
+/// The two halves of a frame rendered with half buffers (docs/image.md, "Half buffers"), as
+/// frames of their own without half layers: B from the half layers, A from the whole minus B
+/// — per pixel and channel n_A = n − n_B, mean_A = (n·mean − n_B·mean_B)/n_A and, by Chan et
+/// al.'s pairwise formula, M2_A = M2 − M2_B − (mean_B − mean_A)²·n_A·n_B/n, so A's variance
+/// of the mean is that of its own samples (clamped at 0 against rounding). Layers without a
+/// half (position) are copied to both; metadata too, with spp ⌈spp/2⌉ and ⌊spp/2⌋. Throws
+/// Error(Format) naming `file` and the first missing half layer, Error(InvalidArgument) when
+/// a half holds more samples than the pixel.
+std::pair<FrameBuffers, FrameBuffers> splitHalves(const FrameBuffers& frame,
+                                                  const std::string& file = {});
 
 }  // namespace glint

@@ -61,6 +61,13 @@ struct Settings {
     /// studio's render region; the whole film when empty.
     std::optional<Rect> region;
     bool positionLayer = false;  ///< also produce the optional world-space position layer
+    /// Split every pixel's samples into two independent halves (even and odd sample indices;
+    /// the Sobol sampler scrambles each half on its own) and also produce the half-buffer
+    /// layers, the statistics of the odd half alone (glint::splitHalves gives both halves).
+    /// Two halves estimate a filter's error without a reference by cross-validation
+    /// (docs/renderer.md, "Half buffers"). Path integrator with the sobol or independent
+    /// sampler. The cost: two sequences of n/2 samples are worth less than one of n.
+    bool halfBuffers = false;
     /// Bytes render() may allocate for its film and frames (Renderer::estimateMemory); a render
     /// needing more is refused with Error(OutOfMemory) before anything is allocated. 0: what
     /// the machine has available (glint::availableMemory()).

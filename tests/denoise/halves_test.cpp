@@ -1,0 +1,260 @@
+// The auto composite's second error estimator: cross-validation on two independent halves of
+// the samples (sure.h, crossValidationMap; docs/navigation.md, "Error estimates from two
+// halves"), on synthetic frames whose clean image is known.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "glint/denoise/bank.h"
+#include "glint/denoise/registry.h"
+#include "glint/denoise/sure.h"
+#include "glint/image/error.h"
+#include "synthetic_frames.h"
+
+#include <tbb/task_arena.h>
+
+namespace glint::denoise {
+namespace {
+
+// Smooth shading with a sharp disc and, for x >= w/2, a fine checkerboard (where only a tiny
+// blur is right).
+Image cleanImage(int w, int h) {
+    Image x(w, h, 3);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+            const double dx = i - 0.3 * w, dy = j - 0.5 * h;
+            double v = 0.3 + 0.2 * std::sin(6.0 * i / w) * std::cos(4.0 * j / h) +
+                       (dx * dx + dy * dy < 0.04 * w * w ? 0.3 : 0.0);
+            if (i >= w / 2) v += ((i / 2 + j / 2) % 2 ? 0.25 : -0.25);
+            for (int c = 0; c < 3; ++c) x(i, j, c) = float(v * (1.0 - 0.2 * c));
+        }
+    return x;
+}
+
+// The noise of one half: Gaussian, or skewed like radiance (an exponential with the same
+// standard deviation, shifted to mean 0: rare large positive values).
+enum class Noise { Gaussian, Skewed };
+
+// A frame with half buffers made of two independent halves of one "sample" each:
+// A = x + n_A, B = x + n_B, colour (A + B)/2, halfColor B, sampleCount 2, halfSampleCount 1, and
+// the variance layers those samples give. `halfA`/`halfB` receive the halves' colours.
+FrameBuffers halvesFrame(const Image& clean, double sigma, Noise noise, std::uint32_t seed,
+                         Image* halfA = nullptr, Image* halfB = nullptr) {
+    const int w = clean.width(), h = clean.height();
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> gauss(0.0, sigma);
+    std::exponential_distribution<double> expo(1.0 / sigma);
+    auto draw = [&] { return noise == Noise::Gaussian ? gauss(rng) : expo(rng) - sigma; };
+    FrameBuffers f(w, h);
+    Image a(w, h, 3), b(w, h, 3);
+    for (std::size_t i = 0; i < a.data().size(); ++i) {
+        a.data()[i] = float(clean.data()[i] + draw());
+        b.data()[i] = float(clean.data()[i] + draw());
+    }
+    Image& color = f.color();
+    Image& variance = f.ensure(Layer::Variance);
+    for (std::size_t i = 0; i < a.data().size(); ++i) {
+        color.data()[i] = float(0.5 * (double(a.data()[i]) + b.data()[i]));
+        const double d = double(a.data()[i]) - b.data()[i];
+        variance.data()[i] = float(0.25 * d * d);  // sample variance / n with n = 2
+    }
+    f.set(Layer::HalfColor, b);
+    f.ensure(Layer::HalfVariance);  // one sample: 0
+    for (float& v : f.ensure(Layer::SampleCount).data()) v = 2.0f;
+    for (float& v : f.ensure(Layer::HalfSampleCount).data()) v = 1.0f;
+    if (halfA) *halfA = a;
+    if (halfB) *halfB = b;
+    return f;
+}
+
+double mse(const Image& a, const Image& b) {
+    double s = 0.0;
+    for (std::size_t i = 0; i < a.data().size(); ++i) {
+        const double d = double(a.data()[i]) - double(b.data()[i]);
+        s += d * d;
+    }
+    return s / double(a.data().size());
+}
+
+// Checks that the mean of the cross-validation map estimates the filter's mean squared error on
+// a half, with a tolerance of 5 standard errors computed from the per-value differences
+// between the estimate and the truth (the test calibrates itself to the noise it draws).
+void expectUnbiased(const Filter& filter, const ParamValues& params, Noise noise, bool symmetric) {
+    const Image clean = cleanImage(128, 96);
+    Image a, b;
+    const FrameBuffers f = halvesFrame(clean, 0.08, noise, 21, &a, &b);
+    const auto [frameA, frameB] = splitHalves(f);
+    const Rect r{0, 128, 0, 96};
+    const Image outA = applyFilter(filter, frameA, params);
+    const Image outB = applyFilter(filter, frameB, params);
+    const Image map = crossValidationMap(a, b, outA, symmetric ? &outB : nullptr, r);
+    // Per value: the estimate's term minus the true term.
+    std::vector<double> diff;
+    for (int y = 0; y < 96; ++y)
+        for (int x = 0; x < 128; ++x) {
+            double truth = 0.0;
+            for (int c = 0; c < 3; ++c) {
+                const double ea = double(outA(x, y, c)) - clean(x, y, c);
+                const double eb = double(outB(x, y, c)) - clean(x, y, c);
+                truth += symmetric ? 0.5 * (ea * ea + eb * eb) : ea * ea;
+            }
+            diff.push_back(double(map(x, y, 0)) - truth);
+        }
+    double mean = 0.0, sq = 0.0;
+    for (double d : diff) mean += d;
+    mean /= double(diff.size());
+    for (double d : diff) sq += (d - mean) * (d - mean);
+    const double standardError = std::sqrt(sq / double(diff.size() - 1) / double(diff.size()));
+    const double trueMse =
+        symmetric ? 0.5 * (mse(outA, clean) + mse(outB, clean)) : mse(outA, clean);
+    std::printf(
+        "%s, %s noise, %s: estimated MSE %.6f, true %.6f, standard error %.6f\n",
+        std::string(filter.name()).c_str(), noise == Noise::Gaussian ? "Gaussian" : "skewed",
+        symmetric ? "symmetric" : "one-sided", trueMse + mean / 3.0, trueMse, standardError / 3.0);
+    EXPECT_LT(std::abs(mean), 5.0 * standardError) << "bias " << mean / 3.0;
+    // And the estimate is informative: its error is small against the MSE itself.
+    EXPECT_LT(std::abs(mean / 3.0), 0.1 * trueMse);
+}
+
+TEST(Halves, CrossValidationEstimatesAGaussiansErrorWithoutBias) {
+    const Filter& gaussian = findFilter("gaussian");
+    const ParamValues params = resolveParams(gaussian, {{"sigma", 1.5}});
+    expectUnbiased(gaussian, params, Noise::Gaussian, true);
+    expectUnbiased(gaussian, params, Noise::Gaussian, false);
+}
+
+TEST(Halves, CrossValidationNeedsNoGaussianNoiseNorALinearFilter) {
+    // Skewed noise and a nonlinear filter: outside Stein's lemma, still unbiased.
+    const Filter& nlmeans = findFilter("nlmeans");
+    expectUnbiased(nlmeans, resolveParams(nlmeans, {}), Noise::Skewed, true);
+    const Filter& bilateral = findFilter("bilateral");
+    expectUnbiased(bilateral, resolveParams(bilateral, {}), Noise::Skewed, true);
+}
+
+TEST(Halves, DisplayExactComparesDisplayValues) {
+    // One pixel, one channel used: A = 0.2, B = 0.5, f(A) = 0.3, f(B) = 4 (clamped to 1).
+    Image a(1, 1, 3, 0.2f), b(1, 1, 3, 0.5f), fa(1, 1, 3, 0.3f), fb(1, 1, 3, 4.0f);
+    auto srgb = [](double x) {
+        x = std::clamp(x, 0.0, 1.0);
+        return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+    };
+    const Rect r{0, 1, 0, 1};
+    const double da = srgb(0.2), db = srgb(0.5), dfa = srgb(0.3), dfb = 1.0;
+    const double expected =
+        3.0 * 0.5 * ((dfa - db) * (dfa - db) + (dfb - da) * (dfb - da) - (da - db) * (da - db));
+    EXPECT_NEAR(crossValidationMap(a, b, fa, &fb, r, nullptr, 0.0f)(0, 0, 0), expected, 1e-4);
+    // Exposure +1 doubles the linear values before the transform.
+    const double da2 = srgb(0.4), db2 = srgb(1.0), dfa2 = srgb(0.6);
+    const double expected2 = 3.0 * ((dfa2 - db2) * (dfa2 - db2) - 0.5 * (da2 - db2) * (da2 - db2));
+    EXPECT_NEAR(crossValidationMap(a, b, fa, nullptr, r, nullptr, 1.0f)(0, 0, 0), expected2, 1e-4);
+    // Linear: the plain values.
+    const double linear = 3.0 * 0.5 * (0.2 * 0.2 + 3.8 * 3.8 - 0.3 * 0.3);
+    EXPECT_NEAR(crossValidationMap(a, b, fa, &fb, r)(0, 0, 0), linear, 1e-5);
+}
+
+FilterBank gaussianBank(const FrameBuffers& f, const std::vector<double>& sigmas) {
+    std::vector<BankMember> members;
+    std::vector<Image> results;
+    for (double s : sigmas) {
+        members.push_back(
+            {"gaussian", resolveParams(findFilter("gaussian"), {{"sigma", s}}), false});
+        results.push_back(applyFilter(findFilter("gaussian"), f, members.back().params));
+    }
+    return FilterBank(std::move(members), std::move(results), Rect{0, f.width(), 0, f.height()},
+                      f.width(), f.height(), hashFrame(f));
+}
+
+TEST(Halves, SelectionPicksTheMemberWithTheSmallestTrueErrorWhereUnambiguous) {
+    const Image clean = cleanImage(128, 96);
+    const FrameBuffers f = halvesFrame(clean, 0.08, Noise::Skewed, 5);
+    const FilterBank bank = gaussianBank(f, {0.4, 1.0, 3.0});
+    AutoOptions o;
+    o.space = SureSpace::Linear;
+    o.window = 3;
+    o.confidence = 0.0;
+    const AutoResult r = autoComposite(bank, f, o);
+    EXPECT_EQ(r.estimator, AutoEstimator::Halves);  // Auto: the frame has half buffers
+    const AutoResult withDefaults = autoComposite(bank, f, AutoOptions{});
+    const auto [unambiguous, agree] = testing::agreementWhereUnambiguous(bank, clean, r.choice, 3);
+    ASSERT_GT(unambiguous, 128 * 96 / 3);
+    // The estimate is of the error on a half (twice the noise variance), so the choice may
+    // differ near the boundary between members: 90 %.
+    EXPECT_GT(double(agree) / unambiguous, 0.9) << agree << " of " << unambiguous;
+    double bestSingle = 1e30;
+    for (std::size_t m = 0; m < bank.size(); ++m)
+        bestSingle = std::min(bestSingle, mse(bank.result(m), clean));
+    EXPECT_LT(mse(r.composite, clean), bestSingle);
+    EXPECT_LT(mse(withDefaults.composite, clean), bestSingle);
+}
+
+TEST(Halves, AutoUsesSureWithoutHalfBuffersAndRefusesHalvesNamingTheLayer) {
+    const FrameBuffers plain = testing::syntheticFrame(24, 20, 0.05f);
+    EXPECT_EQ(resolveEstimator(AutoEstimator::Auto, plain), AutoEstimator::Sure);
+    const FilterBank bank = gaussianBank(plain, {1.0, 2.0});
+    EXPECT_EQ(autoComposite(bank, plain).estimator, AutoEstimator::Sure);
+    AutoOptions o;
+    o.estimator = AutoEstimator::Halves;
+    try {
+        checkAutoInput(plain, AutoEstimator::Halves, "plain.exr");
+        FAIL() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::Format);
+        EXPECT_EQ(e.file(), "plain.exr");
+        EXPECT_EQ(e.where(), "layer 'halfColor'");
+        EXPECT_NE(e.message().find("--half-buffers"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(autoComposite(bank, plain, o), Error);
+    EXPECT_EQ(parseAutoEstimator("halves"), AutoEstimator::Halves);
+    EXPECT_THROW(parseAutoEstimator("stein"), Error);
+}
+
+TEST(Halves, NanInTheHalfColourOrAMissingHalfLayerIsRefused) {
+    const Image clean = cleanImage(24, 20);
+    FrameBuffers f = halvesFrame(clean, 0.05, Noise::Gaussian, 3);
+    f.layer(Layer::HalfColor)(5, 3, 2) = std::nanf("");
+    try {
+        checkAutoInput(f, AutoEstimator::Auto, "in.exr");
+        FAIL() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::Numeric);
+        EXPECT_EQ(e.where(), "pixel (5, 3), channel halfColor.B");
+    }
+    FrameBuffers g = halvesFrame(clean, 0.05, Noise::Gaussian, 3);
+    g.remove(Layer::HalfSampleCount);
+    try {
+        checkAutoInput(g, AutoEstimator::Halves, "in.exr");
+        FAIL() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::Format);
+        EXPECT_EQ(e.where(), "layer 'halfSampleCount'");
+    }
+}
+
+TEST(Halves, SameResultForAnyThreadCountAndOneSidedDiffers) {
+    const Image clean = cleanImage(64, 48);
+    const FrameBuffers f = halvesFrame(clean, 0.08, Noise::Skewed, 9);
+    const FilterBank bank = gaussianBank(f, {0.5, 1.0, 2.0, 4.0});
+    AutoResult one, two;
+    {
+        tbb::task_arena arena(1);
+        arena.execute([&] { one = autoComposite(bank, f); });
+    }
+    {
+        tbb::task_arena arena(2);
+        arena.execute([&] { two = autoComposite(bank, f); });
+    }
+    ASSERT_EQ(one.composite.data().size(), two.composite.data().size());
+    for (std::size_t i = 0; i < one.composite.data().size(); ++i)
+        ASSERT_EQ(one.composite.data()[i], two.composite.data()[i]);
+    EXPECT_EQ(one.estimatedMse, two.estimatedMse);
+    AutoOptions o;
+    o.symmetric = false;
+    EXPECT_NE(autoComposite(bank, f, o).estimatedMse, one.estimatedMse);
+}
+
+}  // namespace
+}  // namespace glint::denoise
