@@ -65,19 +65,23 @@ double displayValue(double v, double scale) {
     return table[i] + (f - double(i)) * (table[i + 1] - table[i]);
 }
 
-// Per-pixel weights of SureSpace::Display: the squared display slope at the mean of the bank's
-// results, floored at 1e-4 of the largest so saturated pixels still order the members.
+// Per-pixel weights of SureSpace::Display: the squared display slope at the median of the
+// bank's results (a member-independent estimate of the clean value; the median rather than the
+// mean, which the members that barely filter pull into the clamp at a firefly or a highlight,
+// where the slope is 0 — docs/navigation.md measures both), floored at 1e-4 of the largest so
+// saturated pixels still order the members.
 Image displayWeights(const FilterBank& bank, float exposure) {
     const Rect& r = bank.region();
     Image weights(r.width(), r.height(), 3);
     const std::size_t n = bank.size();
     tbb::parallel_for(0, r.height(), [&](int y) {
+        std::vector<float> values(n);
         for (int x = 0; x < r.width(); ++x)
             for (int c = 0; c < 3; ++c) {
-                double mean = 0.0;
-                for (std::size_t m = 0; m < n; ++m) mean += double(bank.result(m)(x, y, c));
-                mean /= double(n);
-                const double s = displaySlope(mean, exposure);
+                for (std::size_t m = 0; m < n; ++m) values[m] = bank.result(m)(x, y, c);
+                std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(n / 2),
+                                 values.end());
+                const double s = displaySlope(double(values[n / 2]), exposure);
                 weights(x, y, c) = float(s * s);
             }
     });

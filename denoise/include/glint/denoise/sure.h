@@ -36,7 +36,7 @@ enum class SureSpace {
     Linear,        ///< squared error of the radiance
     Display,       ///< to first order, of display values: each channel's term is weighted by the
                    ///< squared slope of the display transform (exposure, clamp, sRGB) at a
-                   ///< member-independent estimate of the clean value (the mean of the bank)
+                   ///< member-independent estimate of the clean value (the median of the bank)
     DisplayExact,  ///< halves only: the display transform applied to the values themselves
                    ///< (crossValidationMap's displayExposure; measured in docs/navigation.md,
                    ///< not the default)
