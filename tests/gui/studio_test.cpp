@@ -297,9 +297,17 @@ class StudioTest : public QObject {
         QCOMPARE(frame->layer(Layer::HalfSampleCount)(10, 10, 0), 8.0f);  // 16 spp, odd half
         QCOMPARE(denoise::resolveEstimator(denoise::AutoEstimator::Auto, *frame),
                  denoise::AutoEstimator::Halves);
-        const denoise::Session& s = w->session()->session();
+        // The session takes the new render in the background: wait until it has, so that
+        // Auto Start works on the half-buffer input (and the session is not replaced under it).
+        QVERIFY(waitFor([&] {
+            const FramePtr input = w->session()->input();
+            return !w->session()->busy() && input && input->has(Layer::HalfColor);
+        }));
         w->actions().autoStart->trigger();
-        QVERIFY(waitFor([&] { return s.layerCount() > 0 && !w->session()->busy(); }, 60000));
+        QVERIFY(waitFor(
+            [&] { return w->session()->session().layerCount() > 0 && !w->session()->busy(); },
+            60000));
+        QVERIFY(w->session()->input()->has(Layer::HalfColor));
         QVERIFY(w->lastError().isEmpty());
         // Metropolis has no half buffers: the box is disabled with it.
         auto* integrator = w->renderBar()->findChild<QComboBox*>();
