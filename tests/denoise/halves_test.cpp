@@ -13,6 +13,7 @@
 #include "glint/denoise/registry.h"
 #include "glint/denoise/sure.h"
 #include "glint/image/error.h"
+#include "glint/image/metrics.h"
 #include "synthetic_frames.h"
 
 #include <tbb/task_arena.h>
@@ -71,15 +72,6 @@ FrameBuffers halvesFrame(const Image& clean, double sigma, Noise noise, std::uin
     return f;
 }
 
-double mse(const Image& a, const Image& b) {
-    double s = 0.0;
-    for (std::size_t i = 0; i < a.data().size(); ++i) {
-        const double d = double(a.data()[i]) - double(b.data()[i]);
-        s += d * d;
-    }
-    return s / double(a.data().size());
-}
-
 // Checks that the mean of the cross-validation map estimates the filter's mean squared error on
 // a half, with a tolerance of 5 standard errors computed from the per-value differences
 // between the estimate and the truth (the test calibrates itself to the noise it draws).
@@ -110,7 +102,8 @@ void expectUnbiased(const Filter& filter, const ParamValues& params, Noise noise
     for (double d : diff) sq += (d - mean) * (d - mean);
     const double standardError = std::sqrt(sq / double(diff.size() - 1) / double(diff.size()));
     const double trueMse =
-        symmetric ? 0.5 * (mse(outA, clean) + mse(outB, clean)) : mse(outA, clean);
+        symmetric ? 0.5 * (glint::mse(outA, clean).value + glint::mse(outB, clean).value)
+                  : glint::mse(outA, clean).value;
     std::printf(
         "%s, %s noise, %s: estimated MSE %.6f, true %.6f, standard error %.6f\n",
         std::string(filter.name()).c_str(), noise == Noise::Gaussian ? "Gaussian" : "skewed",
@@ -186,9 +179,9 @@ TEST(Halves, SelectionPicksTheMemberWithTheSmallestTrueErrorWhereUnambiguous) {
     EXPECT_GT(double(agree) / unambiguous, 0.9) << agree << " of " << unambiguous;
     double bestSingle = 1e30;
     for (std::size_t m = 0; m < bank.size(); ++m)
-        bestSingle = std::min(bestSingle, mse(bank.result(m), clean));
-    EXPECT_LT(mse(r.composite, clean), bestSingle);
-    EXPECT_LT(mse(withDefaults.composite, clean), bestSingle);
+        bestSingle = std::min(bestSingle, glint::mse(bank.result(m), clean).value);
+    EXPECT_LT(glint::mse(r.composite, clean).value, bestSingle);
+    EXPECT_LT(glint::mse(withDefaults.composite, clean).value, bestSingle);
 }
 
 TEST(Halves, AutoUsesSureWithoutHalfBuffersAndRefusesHalvesNamingTheLayer) {

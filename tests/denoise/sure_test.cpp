@@ -13,6 +13,7 @@
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
 #include "glint/image/error.h"
+#include "glint/image/metrics.h"
 #include "synthetic_frames.h"
 
 namespace glint::denoise {
@@ -62,15 +63,6 @@ double meanOf(const Image& im) {
     return s / double(im.data().size());
 }
 
-double mse(const Image& a, const Image& b) {
-    double s = 0.0;
-    for (std::size_t i = 0; i < a.data().size(); ++i) {
-        const double d = double(a.data()[i]) - double(b.data()[i]);
-        s += d * d;
-    }
-    return s / double(a.data().size());
-}
-
 // Per-channel mean of a SURE map (summed over RGB).
 double sureMse(const Image& sure) {
     return meanOf(sure) / 3.0;
@@ -104,7 +96,7 @@ TEST(Sure, MonteCarloEstimateOfAGaussiansMseMatchesTheTrueMse) {
         o.analyticDivergence = false;
         const SureEstimate e = estimateSure(gaussian, f, {{"sigma", sigma}}, o);
         EXPECT_FALSE(e.analytic);
-        const double truth = mse(e.output, clean);
+        const double truth = glint::mse(e.output, clean).value;
         const double estimate = sureMse(e.sure);
         EXPECT_NEAR(estimate, truth, kSureTolerance * meanVar)
             << "sigma " << sigma << ": SURE " << estimate << ", true MSE " << truth;
@@ -131,7 +123,7 @@ TEST(Sure, MonteCarloEstimateOfNonlinearFiltersMseMatchesTheTrueMse) {
             SureOptions o;
             o.epsilon = epsilon;
             const SureEstimate e = estimateSure(findFilter(c.filter), f, c.params, o);
-            const double truth = mse(e.output, clean);
+            const double truth = glint::mse(e.output, clean).value;
             EXPECT_NEAR(sureMse(e.sure), truth, kSureTolerance * meanVar)
                 << c.filter << " epsilon " << epsilon << ": SURE " << sureMse(e.sure)
                 << ", true MSE " << truth;
@@ -176,7 +168,7 @@ TEST(Sure, AnalyticDivergenceOfTheGaussianMatchesMonteCarlo) {
     }
     // Both SURE estimates agree with the true MSE.
     const double meanVar = 0.05 * 0.05;
-    EXPECT_NEAR(sureMse(a.sure), mse(a.output, clean), kSureTolerance * meanVar);
+    EXPECT_NEAR(sureMse(a.sure), glint::mse(a.output, clean).value, kSureTolerance * meanVar);
     EXPECT_NEAR(sureMse(m.sure), sureMse(a.sure), kSureTolerance * meanVar);
 }
 
@@ -221,10 +213,10 @@ TEST(Sure, SelectionPicksTheMemberWithTheSmallestTrueErrorWhereUnambiguous) {
     double bestSingle = 1e30;
     int bestMember = -1;
     for (std::size_t m = 0; m < bank.size(); ++m)
-        if (mse(bank.result(m), clean) < bestSingle)
-            bestSingle = mse(bank.result(m), clean), bestMember = int(m);
-    EXPECT_LT(mse(r.composite, clean), bestSingle);
-    EXPECT_LT(mse(rc.composite, clean), bestSingle);
+        if (glint::mse(bank.result(m), clean).value < bestSingle)
+            bestSingle = glint::mse(bank.result(m), clean).value, bestMember = int(m);
+    EXPECT_LT(glint::mse(r.composite, clean).value, bestSingle);
+    EXPECT_LT(glint::mse(rc.composite, clean).value, bestSingle);
     EXPECT_EQ(r.bestMember, bestMember);
     // Hard choice: layers are indicator maps that sum to 1.
     Image sum(128, 96, 1);
