@@ -142,45 +142,10 @@ class TilePasses final : public PassWork {
     std::optional<Rect> itemRect(std::size_t item) const override { return m_tiles[item]; }
 
     void run(const PassInfo& pass, std::size_t item, const RenderLoop&) override {
-        const PassSampler sampler(m_settings.sampler, m_settings.seed, pass.first, pass.count);
-        const Rect& tile = m_tiles[item];
-        std::uint64_t tileRays = 0;
-        FilmSample fs;
-        for (int y = tile.y0; y < tile.y1; ++y)
-            for (int x = tile.x0; x < tile.x1; ++x) {
-                const auto pixel = std::uint64_t(y) * std::uint64_t(m_data.width) + x;
-                if (m_settings.sampler == SamplerKind::Sobol) {
-                    // Every dimension from its own scrambled Sobol sequence (sampling/sobol.h);
-                    // with half buffers, sample s is sample s/2 of half s mod 2's own scramble.
-                    for (int s = pass.begin; s < pass.end; ++s) {
-                        const bool odd = (s & 1) != 0;
-                        SobolSampler sobol =
-                            m_settings.halfBuffers
-                                ? SobolSampler(m_halfSeed[odd], pixel, std::uint32_t(s >> 1))
-                                : SobolSampler(m_settings.seed, pixel, std::uint32_t(s));
-                        const Vec2 jitter = sobol.camera2D(0);
-                        const Vec2 lens = m_thinLens ? sobol.camera2D(1) : Vec2{0.5f, 0.5f};
-                        const float time = m_sampleTime ? sobol.camera1D(2) : 0.0f;
-                        const Ray ray = m_camera.generateRay(float(x) + jitter.x,
-                                                             float(y) + jitter.y, lens, time);
-                        m_integrator.trace(ray, sobol, fs, tileRays);
-                        m_film.add(x, y, fs, odd);
-                    }
-                    continue;
-                }
-                for (int s = pass.begin; s < pass.end; ++s) {
-                    Rng rng(m_settings.seed, pixel, std::uint64_t(s));
-                    const Vec2 jitter = sampler.point(pixel, s, 0, rng);
-                    const Vec2 lens =
-                        m_thinLens ? sampler.point(pixel, s, 1, rng) : Vec2{0.5f, 0.5f};
-                    const float time = m_sampleTime ? sampler.value(pixel, s, 2, rng) : 0.0f;
-                    const Ray ray =
-                        m_camera.generateRay(float(x) + jitter.x, float(y) + jitter.y, lens, time);
-                    m_integrator.trace(ray, rng, fs, tileRays);
-                    m_film.add(x, y, fs, (s & 1) != 0);
-                }
-            }
-        m_rays += tileRays;
+        if (m_settings.sampler == SamplerKind::Sobol)
+            runBatches<SobolSampler>(pass, m_tiles[item]);
+        else
+            runBatches<Rng>(pass, m_tiles[item]);
     }
 
     FrameBuffers snapshot() override { return m_film.resolve(m_settings.positionLayer); }
@@ -188,6 +153,72 @@ class TilePasses final : public PassWork {
     std::uint64_t rays() const { return m_rays.load(); }
 
   private:
+    /// Paths traced together (PathIntegrator::traceMany): enough for full packets at the
+    /// deeper bounces, few enough that their states stay in the core's cache.
+    static constexpr std::size_t kBatch = 512;
+
+    /// The sampler of sample `s` of pixel (x, y) and its camera ray.
+    Ray cameraSample(const PassSampler&, int x, int y, int s,
+                     std::vector<SobolSampler>& samplers) const {
+        const auto pixel = std::uint64_t(y) * std::uint64_t(m_data.width) + x;
+        // Every dimension from its own scrambled Sobol sequence (sampling/sobol.h); with half
+        // buffers, sample s is sample s/2 of half s mod 2's own scramble.
+        const SobolSampler& sobol = samplers.emplace_back(
+            m_settings.halfBuffers
+                ? SobolSampler(m_halfSeed[s & 1], pixel, std::uint32_t(s >> 1))
+                : SobolSampler(m_settings.seed, pixel, std::uint32_t(s)));
+        const Vec2 jitter = sobol.camera2D(0);
+        const Vec2 lens = m_thinLens ? sobol.camera2D(1) : Vec2{0.5f, 0.5f};
+        const float time = m_sampleTime ? sobol.camera1D(2) : 0.0f;
+        return m_camera.generateRay(float(x) + jitter.x, float(y) + jitter.y, lens, time);
+    }
+    Ray cameraSample(const PassSampler& sampler, int x, int y, int s,
+                     std::vector<Rng>& samplers) const {
+        const auto pixel = std::uint64_t(y) * std::uint64_t(m_data.width) + x;
+        Rng& rng = samplers.emplace_back(m_settings.seed, pixel, std::uint64_t(s));
+        const Vec2 jitter = sampler.point(pixel, s, 0, rng);
+        const Vec2 lens = m_thinLens ? sampler.point(pixel, s, 1, rng) : Vec2{0.5f, 0.5f};
+        const float time = m_sampleTime ? sampler.value(pixel, s, 2, rng) : 0.0f;
+        return m_camera.generateRay(float(x) + jitter.x, float(y) + jitter.y, lens, time);
+    }
+
+    /// The tile's pixels for one pass, each pixel's samples in sample-index order, traced in
+    /// batches of kBatch paths and added to the film in that same order.
+    template <class Sampler>
+    void runBatches(const PassInfo& pass, const Rect& tile) {
+        const PassSampler sampler(m_settings.sampler, m_settings.seed, pass.first, pass.count);
+        std::uint64_t tileRays = 0;
+        struct Target {
+            int x, y;
+            bool odd;
+        };
+        std::vector<Sampler> samplers;
+        std::vector<Ray> cameraRays;
+        std::vector<Target> targets;
+        std::vector<FilmSample> results(kBatch);
+        samplers.reserve(kBatch);
+        cameraRays.reserve(kBatch);
+        targets.reserve(kBatch);
+        auto flush = [&] {
+            m_integrator.traceMany(cameraRays.size(), cameraRays.data(), samplers.data(),
+                                   results.data(), tileRays);
+            for (std::size_t i = 0; i < targets.size(); ++i)
+                m_film.add(targets[i].x, targets[i].y, results[i], targets[i].odd);
+            samplers.clear();
+            cameraRays.clear();
+            targets.clear();
+        };
+        for (int y = tile.y0; y < tile.y1; ++y)
+            for (int x = tile.x0; x < tile.x1; ++x)
+                for (int s = pass.begin; s < pass.end; ++s) {
+                    cameraRays.push_back(cameraSample(sampler, x, y, s, samplers));
+                    targets.push_back({x, y, (s & 1) != 0});
+                    if (targets.size() == kBatch) flush();
+                }
+        if (!targets.empty()) flush();
+        m_rays += tileRays;
+    }
+
     const detail::SceneData& m_data;
     const PathIntegrator& m_integrator;
     const Camera& m_camera;

@@ -64,6 +64,12 @@ inline float length(const Vec3& a) {
 inline Vec3 normalize(const Vec3& a) {
     return a / length(a);
 }
+/// A vector already unit up to a few float roundings (a unit vector carried through an
+/// orthonormal frame), made unit again without a square root or a division: one Newton step of
+/// 1/√(a·a) from 1, a (3 − a·a) / 2, whose error is the square of the input's.
+inline Vec3 renormalize(const Vec3& a) {
+    return a * (0.5f * (3.0f - dot(a, a)));
+}
 inline float maxComponent(const Vec3& a) {
     return std::max(a.x, std::max(a.y, a.z));
 }

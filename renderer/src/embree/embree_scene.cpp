@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include <embree3/rtcore.h>
 
@@ -111,6 +112,15 @@ EmbreeScene::EmbreeScene(const detail::SceneData& scene) {
         m_scene = convertScene(m_device, scene);
         if (rtcGetDeviceError(m_device) != RTC_ERROR_NONE)
             throwDeviceError(m_device, "scene build");
+        // The widest packet the device traces natively.
+        for (const auto& [property, width] :
+             {std::pair{RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED, 16},
+              std::pair{RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED, 8},
+              std::pair{RTC_DEVICE_PROPERTY_NATIVE_RAY4_SUPPORTED, 4}})
+            if (rtcGetDeviceProperty(m_device, property) != 0) {
+                m_packetWidth = width;
+                break;
+            }
     } catch (...) {
         if (m_scene) rtcReleaseScene(m_scene);
         rtcReleaseDevice(m_device);
@@ -141,12 +151,7 @@ bool EmbreeScene::intersect(const Ray& ray, float tMax, Hit& hit, bool coherent)
     rtcIntersect1(m_scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     hit.t = rh.ray.tfar;
-    if (m_motionFirstTriangle.empty())
-        hit.triangle = rh.hit.primID;
-    else if (rh.hit.geomID == 0)
-        hit.triangle = m_staticTriangles[rh.hit.primID];
-    else
-        hit.triangle = m_motionFirstTriangle[rh.hit.geomID - 1] + rh.hit.primID;
+    hit.triangle = triangleOf(rh.hit.geomID, rh.hit.primID);
     hit.u = rh.hit.u;
     hit.v = rh.hit.v;
     return true;
@@ -167,6 +172,138 @@ bool EmbreeScene::occluded(const Vec3& origin, const Vec3& dir, float tMax, floa
     rtcOccluded1(m_scene, &context, &r);
     // Embree sets tfar to -inf when the ray is blocked.
     return r.tfar < 0.0f;
+}
+
+namespace {
+
+/// Ray and hit packets of each native width, and the functions that trace them.
+template <int N>
+struct Packet;
+template <>
+struct Packet<16> {
+    using RayHit = RTCRayHit16;
+    using Ray = RTCRay16;
+    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+        rtcIntersect16(valid, s, c, r);
+    }
+    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) {
+        rtcOccluded16(valid, s, c, r);
+    }
+};
+template <>
+struct Packet<8> {
+    using RayHit = RTCRayHit8;
+    using Ray = RTCRay8;
+    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+        rtcIntersect8(valid, s, c, r);
+    }
+    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) {
+        rtcOccluded8(valid, s, c, r);
+    }
+};
+template <>
+struct Packet<4> {
+    using RayHit = RTCRayHit4;
+    using Ray = RTCRay4;
+    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+        rtcIntersect4(valid, s, c, r);
+    }
+    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) {
+        rtcOccluded4(valid, s, c, r);
+    }
+};
+
+/// Lane k of an SoA packet ray.
+template <class R>
+void setLane(R& r, int k, const Vec3& origin, const Vec3& dir, float tMax, float time) {
+    r.org_x[k] = origin.x, r.org_y[k] = origin.y, r.org_z[k] = origin.z;
+    r.dir_x[k] = dir.x, r.dir_y[k] = dir.y, r.dir_z[k] = dir.z;
+    r.tnear[k] = 0.0f;
+    r.tfar[k] = tMax;
+    r.time[k] = time;
+    r.mask[k] = 0xffffffffu;
+    r.id[k] = 0;
+    r.flags[k] = 0;
+}
+
+}  // namespace
+
+template <int N>
+void EmbreeScene::intersectPackets(std::size_t count, const Ray* const* rays, Hit* hits,
+                                   bool* found, bool coherent) const {
+    using P = Packet<N>;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    if (coherent) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    for (std::size_t first = 0; first < count; first += N) {
+        const int lanes = int(std::min<std::size_t>(N, count - first));
+        alignas(64) int valid[N];
+        alignas(64) typename P::RayHit rh;
+        for (int k = 0; k < N; ++k) {
+            valid[k] = k < lanes ? -1 : 0;
+            const Ray& ray = *rays[first + std::size_t(k < lanes ? k : 0)];
+            setLane(rh.ray, k, ray.origin, ray.dir, std::numeric_limits<float>::infinity(),
+                    ray.time);
+            rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+        }
+        P::intersect(valid, m_scene, &context, &rh);
+        for (int k = 0; k < lanes; ++k) {
+            const std::size_t i = first + std::size_t(k);
+            found[i] = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+            if (!found[i]) continue;
+            hits[i].t = rh.ray.tfar[k];
+            hits[i].triangle = triangleOf(rh.hit.geomID[k], rh.hit.primID[k]);
+            hits[i].u = rh.hit.u[k];
+            hits[i].v = rh.hit.v[k];
+        }
+    }
+}
+
+template <int N>
+void EmbreeScene::occludedPackets(std::size_t count, const ShadowRay* const* rays,
+                                  bool* blocked) const {
+    using P = Packet<N>;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    for (std::size_t first = 0; first < count; first += N) {
+        const int lanes = int(std::min<std::size_t>(N, count - first));
+        alignas(64) int valid[N];
+        alignas(64) typename P::Ray r;
+        for (int k = 0; k < N; ++k) {
+            valid[k] = k < lanes ? -1 : 0;
+            const ShadowRay& s = *rays[first + std::size_t(k < lanes ? k : 0)];
+            setLane(r, k, s.origin, s.dir, s.tMax, s.time);
+        }
+        P::occluded(valid, m_scene, &context, &r);
+        // Embree sets tfar to -inf where the segment is blocked.
+        for (int k = 0; k < lanes; ++k) blocked[first + std::size_t(k)] = r.tfar[k] < 0.0f;
+    }
+}
+
+void EmbreeScene::intersectMany(std::size_t count, const Ray* const* rays, Hit* hits,
+                                bool* found, bool coherent) const {
+    switch (m_packetWidth) {
+        case 16: return intersectPackets<16>(count, rays, hits, found, coherent);
+        case 8: return intersectPackets<8>(count, rays, hits, found, coherent);
+        case 4: return intersectPackets<4>(count, rays, hits, found, coherent);
+        default:
+            for (std::size_t i = 0; i < count; ++i)
+                found[i] = intersect(*rays[i], std::numeric_limits<float>::infinity(), hits[i],
+                                     coherent);
+    }
+}
+
+void EmbreeScene::occludedMany(std::size_t count, const ShadowRay* const* rays,
+                               bool* blocked) const {
+    switch (m_packetWidth) {
+        case 16: return occludedPackets<16>(count, rays, blocked);
+        case 8: return occludedPackets<8>(count, rays, blocked);
+        case 4: return occludedPackets<4>(count, rays, blocked);
+        default:
+            for (std::size_t i = 0; i < count; ++i)
+                blocked[i] = occluded(rays[i]->origin, rays[i]->dir, rays[i]->tMax, rays[i]->time);
+    }
 }
 
 }  // namespace glint::render

@@ -21,6 +21,12 @@ struct Hit {
     float u = 0.0f, v = 0.0f;
 };
 
+/// A segment for an occlusion query: from origin along dir within (0, tMax) at shutter time.
+struct ShadowRay {
+    Vec3 origin, dir;
+    float tMax = 0.0f, time = 0.0f;
+};
+
 /// Embree device + committed scene of one SceneData: one static triangle mesh of every static
 /// shape and, only when shapes move, one motion-blur triangle mesh per moving shape.
 class EmbreeScene {
@@ -38,6 +44,15 @@ class EmbreeScene {
     /// normalised shutter time `time`.
     bool occluded(const Vec3& origin, const Vec3& dir, float tMax, float time = 0.0f) const;
 
+    /// intersect() of `count` rays (tMax ∞) at once, in packets of the device's native width
+    /// (16, 8 or 4 lanes; one at a time without packet support): found[i] says whether
+    /// *rays[i] hit, and hits[i] is its hit. Packets pay Embree's per-query overhead once per
+    /// packet and keep its traversal code hot (docs/renderer.md, "Wavefront").
+    void intersectMany(std::size_t count, const Ray* const* rays, Hit* hits, bool* found,
+                       bool coherent) const;
+    /// occluded() of `count` segments at once, as intersectMany.
+    void occludedMany(std::size_t count, const ShadowRay* const* rays, bool* blocked) const;
+
     /// Number of motion-blur geometries built (0 for a scene without moving shapes).
     int motionGeometryCount() const { return int(m_motionFirstTriangle.size()); }
     /// Embree time steps of motion geometry i (< motionGeometryCount()).
@@ -45,9 +60,21 @@ class EmbreeScene {
 
   private:
     RTCSceneTy* convertScene(RTCDeviceTy* device, const detail::SceneData& data);
+    template <int N>
+    void intersectPackets(std::size_t count, const Ray* const* rays, Hit* hits, bool* found,
+                          bool coherent) const;
+    template <int N>
+    void occludedPackets(std::size_t count, const ShadowRay* const* rays, bool* blocked) const;
+    /// The scene triangle of Embree's (geometry, primitive).
+    std::uint32_t triangleOf(unsigned geomID, unsigned primID) const {
+        if (m_motionFirstTriangle.empty()) return primID;
+        if (geomID == 0) return m_staticTriangles[primID];
+        return m_motionFirstTriangle[geomID - 1] + primID;
+    }
 
     RTCDeviceTy* m_device = nullptr;
     RTCSceneTy* m_scene = nullptr;
+    int m_packetWidth = 1;  // 16, 8, 4 or 1 (no packet support)
     // Geometry 0 holds the static triangles, geometry 1 + i moving shape i. With moving shapes,
     // static primitive p is scene triangle m_staticTriangles[p]; without, the identity.
     std::vector<std::uint32_t> m_staticTriangles;

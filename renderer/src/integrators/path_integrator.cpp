@@ -1,7 +1,10 @@
 #include "integrators/path_integrator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <type_traits>
 
 #include "materials/bsdf.h"
 #include "sampling/mlt_sampler.h"
@@ -111,126 +114,256 @@ float PathIntegrator::misWeight(float pdf, float other) const {
 }
 
 template <class Sampler>
-void PathIntegrator::trace(const Ray& cameraRay, Sampler& rng, FilmSample& out,
-                           std::uint64_t& rays) const {
-    out = FilmSample{};
-    Vec3 radiance{}, beta{1.0f, 1.0f, 1.0f};
-    Ray ray = cameraRay;
-    bool specularBounce = false, featuresDone = false;
-    float prevPdf = 0.0f;
-    Vec3 prevP{};
-    const Environment* env = m_lights.environment();
-
-    for (int depth = 0;; ++depth) {
-        Hit hit;
-        ++rays;
-        if (!m_embree.intersect(ray, kInfinity, hit, depth == 0)) {
-            // Escaped: environment radiance, MIS-weighted against environment sampling.
-            if (env) {
-                const Vec3 le = env->eval(ray.dir);
-                if (depth == 0 || specularBounce) {
-                    radiance += beta * le;
-                } else if (m_useBsdfHits) {
-                    const float lightPdf =
-                        m_useLightSampling ? m_lights.pdfEnvironment(ray.dir) : 0.0f;
-                    radiance += beta * le * misWeight(prevPdf, lightPdf);
-                }
-            }
-            break;
-        }
-        const Vec3 wo = -ray.dir;
-        const Shading sh = shade(m_scene, hit, wo, ray.time);
-        const detail::Material& mat = *sh.material;
-
-        // Emission found by the camera ray, a specular bounce or BSDF sampling (MIS).
-        if (mat.emissive()) {
-            if (depth == 0 || specularBounce) {
-                radiance += beta * mat.emission;
+void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& rng,
+                             std::uint64_t& rays) const {
+    p.shadowPending = false;
+    p.alive = false;
+    const Ray& ray = p.ray;
+    const int depth = p.depth;
+    if (!found) {
+        // Escaped: environment radiance, MIS-weighted against environment sampling.
+        if (const Environment* env = m_lights.environment()) {
+            const Vec3 le = env->eval(ray.dir);
+            if (depth == 0 || p.specularBounce) {
+                p.radiance += p.beta * le;
             } else if (m_useBsdfHits) {
                 const float lightPdf =
-                    m_useLightSampling ? m_lights.pdfArea(hit.triangle, prevP, sh.p, sh.ng) : 0.0f;
-                radiance += beta * mat.emission * misWeight(prevPdf, lightPdf);
+                    m_useLightSampling ? m_lights.pdfEnvironment(ray.dir) : 0.0f;
+                p.radiance += p.beta * le * misWeight(p.prevPdf, lightPdf);
             }
         }
+        return;
+    }
+    const Vec3 wo = -ray.dir;
+    const Shading sh = shade(m_scene, hit, wo, ray.time);
+    const detail::Material& mat = *sh.material;
 
-        const Vec3 albedo = (mat.texture >= 0 && !m_scene.uvs.empty())
-                                ? m_scene.textures[std::size_t(mat.texture)].lookup(sh.uv)
-                                : mat.albedo;
-        const Bsdf bsdf = Bsdf::fromMaterial(mat, albedo);
-        const bool specular = bsdf.isSpecular();
-        if (!featuresDone && !specular) {
-            out.albedo = albedo;
-            out.normal = sh.ns;
-            out.depth = m_camera.depth(sh.p, ray.time);
-            out.position = sh.p;
-            featuresDone = true;
+    // Emission found by the camera ray, a specular bounce or BSDF sampling (MIS).
+    if (mat.emissive()) {
+        if (depth == 0 || p.specularBounce) {
+            p.radiance += p.beta * mat.emission;
+        } else if (m_useBsdfHits) {
+            const float lightPdf =
+                m_useLightSampling ? m_lights.pdfArea(hit.triangle, p.prevP, sh.p, sh.ng) : 0.0f;
+            p.radiance += p.beta * mat.emission * misWeight(p.prevPdf, lightPdf);
         }
-        if (depth >= m_maxDepth) break;
+    }
 
-        Frame frame = Frame::fromNormal(sh.ns);
-        Vec3 woLocal = frame.toLocal(wo);
-        if (mat.type != detail::MaterialType::Dielectric && woLocal.z <= 0.0f) {
-            // Shading normal faces away from the viewer: fall back to the geometric normal.
-            frame = Frame::fromNormal(sh.ng);
-            woLocal = frame.toLocal(wo);
-        }
+    const Vec3 albedo = (mat.texture >= 0 && !m_scene.uvs.empty())
+                            ? m_scene.textures[std::size_t(mat.texture)].lookup(sh.uv)
+                            : mat.albedo;
+    const Bsdf bsdf = Bsdf::fromMaterial(mat, albedo);
+    const bool specular = bsdf.isSpecular();
+    if (!p.featuresDone && !specular) {
+        p.out.albedo = albedo;
+        p.out.normal = sh.ns;
+        p.out.depth = m_camera.depth(sh.p, ray.time);
+        p.out.position = sh.p;
+        p.featuresDone = true;
+    }
+    if (depth >= m_maxDepth) return;
 
-        // Next-event estimation at non-specular vertices (Veach 1997, sec. 9.2).
-        if (!specular && m_useLightSampling) {
-            LightSample ls;
-            const float uSelect = sample1D(rng, depth, BounceDim::LightSelect);
-            const Vec2 uLight = sample2D(rng, depth, BounceDim::LightPoint);
-            if (m_lights.sample(sh.p, uSelect, uLight, ls) && dot(ls.wi, sh.ng) > 0.0f) {
-                const Vec3 wiLocal = frame.toLocal(ls.wi);
-                const Vec3 f = bsdf.eval(woLocal, wiLocal) * std::abs(wiLocal.z);
-                if (!isBlack(f) && !isBlack(ls.radiance)) {
-                    const Vec3 origin = offsetRayOrigin(sh.p, sh.ng, ls.wi, m_scene.extent);
-                    float tMax = kInfinity;
-                    Vec3 dir = ls.wi;
-                    if (!ls.environment) {
-                        const Vec3 d = ls.point - origin;
-                        const float dist = length(d);
-                        dir = d / dist;
-                        tMax = dist - rayEpsilon(ls.point, m_scene.extent);
-                    }
-                    ++rays;
-                    if (tMax > 0.0f && !m_embree.occluded(origin, dir, tMax, ray.time)) {
-                        const float w =
-                            m_useBsdfHits ? misWeight(ls.pdf, bsdf.pdf(woLocal, wiLocal)) : 1.0f;
-                        radiance += beta * f * ls.radiance * (w / ls.pdf);
-                    }
+    Frame frame = Frame::fromNormal(sh.ns);
+    Vec3 woLocal = frame.toLocal(wo);
+    if (mat.type != detail::MaterialType::Dielectric && woLocal.z <= 0.0f) {
+        // Shading normal faces away from the viewer: fall back to the geometric normal.
+        frame = Frame::fromNormal(sh.ng);
+        woLocal = frame.toLocal(wo);
+    }
+
+    // Next-event estimation at non-specular vertices (Veach 1997, sec. 9.2): the contribution
+    // is weighed now, with this bounce's throughput, and counts once its shadow ray is clear.
+    if (!specular && m_useLightSampling) {
+        LightSample ls;
+        const float uSelect = sample1D(rng, depth, BounceDim::LightSelect);
+        const Vec2 uLight = sample2D(rng, depth, BounceDim::LightPoint);
+        if (m_lights.sample(sh.p, uSelect, uLight, ls) && dot(ls.wi, sh.ng) > 0.0f) {
+            const Vec3 wiLocal = frame.toLocal(ls.wi);
+            const Vec3 f = bsdf.eval(woLocal, wiLocal) * std::abs(wiLocal.z);
+            if (!isBlack(f) && !isBlack(ls.radiance)) {
+                const Vec3 origin = offsetRayOrigin(sh.p, sh.ng, ls.wi, m_scene.extent);
+                float tMax = kInfinity;
+                Vec3 dir = ls.wi;
+                if (!ls.environment) {
+                    const Vec3 d = ls.point - origin;
+                    const float dist = length(d);
+                    dir = d / dist;
+                    tMax = dist - rayEpsilon(ls.point, m_scene.extent);
+                }
+                ++rays;
+                if (tMax > 0.0f) {
+                    const float w =
+                        m_useBsdfHits ? misWeight(ls.pdf, bsdf.pdf(woLocal, wiLocal)) : 1.0f;
+                    p.shadowContribution = p.beta * f * ls.radiance * (w / ls.pdf);
+                    p.shadow = ShadowRay{origin, dir, tMax, ray.time};
+                    p.shadowPending = true;
                 }
             }
         }
+    }
 
-        // Continue the path by sampling the BSDF.
-        BsdfSample bs;
-        const Vec2 uBsdf = sample2D(rng, depth, BounceDim::BsdfDirection);
-        const float uc = sample1D(rng, depth, BounceDim::BsdfComponent);
-        if (!bsdf.sample(woLocal, uBsdf, uc, bs)) break;
-        const Vec3 wi = normalize(frame.toWorld(bs.wi));
-        if (mat.type != detail::MaterialType::Dielectric && dot(wi, sh.ng) <= 0.0f) break;
-        beta *= bs.weight;
-        if (isBlack(beta)) break;
-        specularBounce = bs.specular;
-        prevPdf = bs.pdf;
-        prevP = sh.p;
-        ray.origin = offsetRayOrigin(sh.p, sh.ng, wi, m_scene.extent);
-        ray.dir = wi;
+    // Continue the path by sampling the BSDF.
+    // A sampler with slots skips the numbers this BSDF does not read (the others never
+    // shift); a stream sampler draws both, so that its later numbers stay where they were.
+    BsdfSample bs;
+    constexpr bool slotted = requires { rng.bounce1D(depth, BounceDim::BsdfComponent); };
+    Vec2 uBsdf{};
+    float uc = 0.0f;
+    if (!slotted || bsdf.readsDirectionPair())
+        uBsdf = sample2D(rng, depth, BounceDim::BsdfDirection);
+    if (!slotted || bsdf.readsComponentNumber())
+        uc = sample1D(rng, depth, BounceDim::BsdfComponent);
+    if (!bsdf.sample(woLocal, uBsdf, uc, bs)) return;
+    // bs.wi is unit and the frame orthonormal: only rounding is left to correct.
+    const Vec3 wi = renormalize(frame.toWorld(bs.wi));
+    if (mat.type != detail::MaterialType::Dielectric && dot(wi, sh.ng) <= 0.0f) return;
+    p.beta *= bs.weight;
+    if (isBlack(p.beta)) return;
 
-        // Russian roulette (PBR 14.5.1) with survival probability √(max throughput channel), as
-        // Cycles does: paths end later than with the throughput itself, which on the Cornell
-        // box lowers the relMSE at 64 spp by 19 % for 4 % fewer samples per second
-        // (docs/renderer.md, "Where the error per sample came from").
-        if (depth + 1 > m_rrDepth) {
-            const float survive = std::min(1.0f, std::sqrt(maxComponent(beta)));
-            if (sample1D(rng, depth, BounceDim::Roulette) >= survive) break;
-            // Divide (not multiply by 1/survive): a denormal survival probability would make
-            // the reciprocal Inf and the throughput NaN.
-            beta = beta / survive;
+    // Russian roulette (PBR 14.5.1) with survival probability √(max throughput channel), as
+    // Cycles does: paths end later than with the throughput itself, which on the Cornell
+    // box lowers the relMSE at 64 spp by 19 % for 4 % fewer samples per second
+    // (docs/renderer.md, "Where the error per sample came from").
+    if (depth + 1 > m_rrDepth) {
+        const float survive = std::min(1.0f, std::sqrt(maxComponent(p.beta)));
+        if (sample1D(rng, depth, BounceDim::Roulette) >= survive) return;
+        // Divide (not multiply by 1/survive): a denormal survival probability would make
+        // the reciprocal Inf and the throughput NaN.
+        p.beta = p.beta / survive;
+    }
+    p.specularBounce = bs.specular;
+    p.prevPdf = bs.pdf;
+    p.prevP = sh.p;
+    p.ray.origin = offsetRayOrigin(sh.p, sh.ng, wi, m_scene.extent);
+    p.ray.dir = wi;
+    p.depth = depth + 1;
+    p.alive = true;
+}
+
+unsigned PathIntegrator::numbersNeeded(const PathState& p, const Hit& hit) const {
+    using detail::MaterialType;
+    if (p.depth >= m_maxDepth) return 0;
+    auto bit = [](BounceDim slot) { return SobolSampler::slotBit(slot); };
+    unsigned slots = 0;
+    switch (m_scene.materials[m_scene.triangleMaterial[hit.triangle]].type) {
+        case MaterialType::Diffuse:
+        case MaterialType::Conductor:
+            slots = bit(BounceDim::BsdfDirection);
+            if (m_useLightSampling) slots |= bit(BounceDim::LightSelect) | bit(BounceDim::LightPoint);
+            break;
+        case MaterialType::Dielectric:
+            slots = bit(BounceDim::BsdfComponent);
+            break;
+        case MaterialType::Mirror:
+            break;
+    }
+    if (p.depth + 1 > m_rrDepth) slots |= bit(BounceDim::Roulette);
+    return slots;
+}
+
+template <class Sampler>
+void PathIntegrator::trace(const Ray& cameraRay, Sampler& rng, FilmSample& out,
+                           std::uint64_t& rays) const {
+    PathState p;
+    p.ray = cameraRay;
+    while (p.alive) {
+        Hit hit;
+        ++rays;
+        const bool found = m_embree.intersect(p.ray, kInfinity, hit, p.depth == 0);
+        advance(p, found, hit, rng, rays);
+        if (p.shadowPending &&
+            !m_embree.occluded(p.shadow.origin, p.shadow.dir, p.shadow.tMax, p.shadow.time))
+            p.radiance += p.shadowContribution;
+    }
+    out = p.out;
+    out.color = p.radiance;
+}
+
+namespace {
+/// traceMany's working arrays, kept per thread so that batches do not allocate.
+struct BatchScratch {
+    std::vector<PathState> paths;
+    std::vector<std::size_t> live, shadowed;
+    std::vector<const Ray*> queries;
+    std::vector<const ShadowRay*> shadowQueries;
+    std::vector<Hit> hits;
+    std::unique_ptr<bool[]> found, blocked;
+    std::vector<SobolSampler*> prefetchSamplers;
+    std::vector<int> prefetchDepths;
+    std::vector<unsigned> prefetchSlots;
+    std::size_t capacity = 0;
+
+    void reset(std::size_t count) {
+        paths.assign(count, PathState{});
+        live.resize(count);
+        queries.resize(count);
+        hits.resize(count);
+        shadowed.clear();
+        shadowQueries.clear();
+        if (count > capacity) {
+            found.reset(new bool[count]);
+            blocked.reset(new bool[count]);
+            capacity = count;
         }
     }
-    out.color = radiance;
+};
+}  // namespace
+
+template <class Sampler>
+void PathIntegrator::traceMany(std::size_t count, const Ray* cameraRays, Sampler* samplers,
+                               FilmSample* out, std::uint64_t& rays) const {
+    thread_local BatchScratch scratch;
+    BatchScratch& b = scratch;
+    b.reset(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        b.paths[i].ray = cameraRays[i];
+        b.live[i] = i;
+    }
+    for (bool first = true; !b.live.empty(); first = false) {
+        // Every live path's ray (camera rays first, as a coherent query), then every shadow
+        // ray its bounce left pending.
+        const std::size_t n = b.live.size();
+        for (std::size_t k = 0; k < n; ++k) b.queries[k] = &b.paths[b.live[k]].ray;
+        rays += n;
+        m_embree.intersectMany(n, b.queries.data(), b.hits.data(), b.found.get(), first);
+        b.shadowed.clear();
+        b.shadowQueries.clear();
+        if constexpr (std::is_same_v<Sampler, SobolSampler>) {
+            // This bounce's numbers of every path that hit something, computed together.
+            b.prefetchSamplers.clear();
+            b.prefetchDepths.clear();
+            b.prefetchSlots.clear();
+            for (std::size_t k = 0; k < n; ++k) {
+                if (!b.found[k]) continue;
+                const PathState& p = b.paths[b.live[k]];
+                b.prefetchSamplers.push_back(&samplers[b.live[k]]);
+                b.prefetchDepths.push_back(p.depth);
+                b.prefetchSlots.push_back(numbersNeeded(p, b.hits[k]));
+            }
+            SobolSampler::prefetchMany(b.prefetchSamplers.size(), b.prefetchSamplers.data(),
+                                       b.prefetchDepths.data(), b.prefetchSlots.data());
+        }
+        for (std::size_t k = 0; k < n; ++k) {
+            PathState& p = b.paths[b.live[k]];
+            advance(p, b.found[k], b.hits[k], samplers[b.live[k]], rays);
+            if (p.shadowPending) {
+                b.shadowed.push_back(b.live[k]);
+                b.shadowQueries.push_back(&p.shadow);
+            }
+        }
+        m_embree.occludedMany(b.shadowQueries.size(), b.shadowQueries.data(), b.blocked.get());
+        for (std::size_t k = 0; k < b.shadowed.size(); ++k) {
+            PathState& p = b.paths[b.shadowed[k]];
+            if (!b.blocked[k]) p.radiance += p.shadowContribution;
+        }
+        b.live.erase(std::remove_if(b.live.begin(), b.live.end(),
+                                    [&](std::size_t i) { return !b.paths[i].alive; }),
+                     b.live.end());
+    }
+    for (std::size_t i = 0; i < count; ++i) {
+        out[i] = b.paths[i].out;
+        out[i].color = b.paths[i].radiance;
+    }
 }
 
 template void PathIntegrator::trace<Rng>(const Ray&, Rng&, FilmSample&, std::uint64_t&) const;
@@ -238,5 +371,9 @@ template void PathIntegrator::trace<SobolSampler>(const Ray&, SobolSampler&, Fil
                                                   std::uint64_t&) const;
 template void PathIntegrator::trace<MltSampler>(const Ray&, MltSampler&, FilmSample&,
                                                 std::uint64_t&) const;
+template void PathIntegrator::traceMany<Rng>(std::size_t, const Ray*, Rng*, FilmSample*,
+                                             std::uint64_t&) const;
+template void PathIntegrator::traceMany<SobolSampler>(std::size_t, const Ray*, SobolSampler*,
+                                                      FilmSample*, std::uint64_t&) const;
 
 }  // namespace glint::render

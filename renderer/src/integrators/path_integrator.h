@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "embree/embree_scene.h"
 #include "film/film.h"
@@ -13,6 +14,24 @@
 #include "scene/scene_data.h"
 
 namespace glint::render {
+
+/// One path between two ray queries: what trace() keeps in its locals, so that many paths can
+/// take turns (traceMany) and share packet queries.
+struct PathState {
+    Ray ray;  ///< the ray to intersect next
+    Vec3 radiance, beta{1.0f, 1.0f, 1.0f};
+    Vec3 prevP;  ///< the vertex `ray` leaves from
+    float prevPdf = 0.0f;
+    int depth = 0;
+    bool specularBounce = false, featuresDone = false;
+    bool alive = true;
+    /// Next-event estimation of this bounce, waiting for its shadow ray: `shadowContribution`
+    /// counts when nothing blocks `shadow`.
+    bool shadowPending = false;
+    ShadowRay shadow;
+    Vec3 shadowContribution;
+    FilmSample out;
+};
 
 /// Estimates radiance along camera rays. Stateless apart from references; thread-safe.
 class PathIntegrator {
@@ -26,7 +45,27 @@ class PathIntegrator {
     template <class Sampler>
     void trace(const Ray& cameraRay, Sampler& rng, FilmSample& out, std::uint64_t& rays) const;
 
+    /// trace() of many camera rays at once: each bounce intersects every live path's ray, and
+    /// then occlusion-tests every pending shadow ray, as packets (EmbreeScene::intersectMany).
+    /// Path i draws from samplers[i] in the same order as trace(), so out[i] is what trace()
+    /// gives for it, up to Embree's packet and single-ray kernels rounding differently.
+    template <class Sampler>
+    void traceMany(std::size_t count, const Ray* cameraRays, Sampler* samplers, FilmSample* out,
+                   std::uint64_t& rays) const;
+
   private:
+    /// Consumes the intersection of p.ray (`found` and `hit`) at bounce p.depth: emission,
+    /// features, next-event estimation (leaving its shadow ray pending) and the next ray, or
+    /// the end of the path (p.alive false).
+    template <class Sampler>
+    void advance(PathState& p, bool found, const Hit& hit, Sampler& rng,
+                 std::uint64_t& rays) const;
+
+    /// The bounce numbers (SobolSampler::slotBit mask) p's next advance() will read at `hit`,
+    /// as far as the material tells: a prefetch that may compute one or two numbers the path
+    /// then does not use (a conductor too smooth for next-event estimation, a path that ends).
+    unsigned numbersNeeded(const PathState& p, const Hit& hit) const;
+
     /// MIS weight of a strategy with density `pdf` against the other with `other`.
     float misWeight(float pdf, float other) const;
 

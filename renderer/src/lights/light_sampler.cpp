@@ -23,7 +23,9 @@ LightSampler::LightSampler(const detail::SceneData& scene) : m_scene(&scene) {
             float(triangleArea(a, scene.positions[3 * t + 1], scene.positions[3 * t + 2]));
         if (!(area > 0.0f)) continue;
         m_lightOfTriangle[t] = int(m_lights.size());
-        m_lights.push_back({std::uint32_t(t), area, scene.faceNormals[t], m.emission});
+        const Vec3 centroid =
+            (a + scene.positions[3 * t + 1] + scene.positions[3 * t + 2]) * (1.0f / 3.0f);
+        m_lights.push_back({std::uint32_t(t), area, scene.faceNormals[t], m.emission, centroid});
         power.push_back(2.0f * kPi * area * luminance(m.emission));
     }
     m_areaCount = m_lights.size();
@@ -32,7 +34,7 @@ LightSampler::LightSampler(const detail::SceneData& scene) : m_scene(&scene) {
         // Environment power ≈ π r² × mean radiance for the scene's bounding sphere (PBR 12.6).
         const float radius =
             scene.positions.empty() ? 1.0f : std::max(0.5f * length(hi - lo), 1e-3f * scene.extent);
-        m_lights.push_back({0, 0.0f, {}, {}});
+        m_lights.push_back({0, 0.0f, {}, {}, {}});
         power.push_back(kPi * radius * radius * m_environment->meanLuminance());
     }
     if (!m_lights.empty()) m_select = Distribution1D(power);
@@ -49,9 +51,9 @@ bool bySolidAngle(float omega) {
 /// over the triangle, area sampling is nearly as good and costs no trigonometry: on the Cornell
 /// box this keeps almost all the error reduction of sampling every light by solid angle for
 /// little of its cost (docs/renderer.md, "Lights").
-bool worthSolidAngle(const Vec3& p, const Vec3* v, float area) {
+bool worthSolidAngle(const Vec3& p, const Vec3& centroid, float area) {
     constexpr float kWorthIt = 0.1f;
-    const Vec3 d = (v[0] + v[1] + v[2]) * (1.0f / 3.0f) - p;
+    const Vec3 d = centroid - p;
     return area >= kWorthIt * dot(d, d);
 }
 }  // namespace
@@ -78,7 +80,7 @@ bool LightSampler::sample(const Vec3& p, float uSelect, Vec2 u, LightSample& out
     out.environment = false;
     // A light that fills a good part of the view is sampled by solid angle (Arvo 1995): no
     // 1/r² or cos θ in the weight, the variance near a large light drops.
-    if (worthSolidAngle(p, v, light.area)) {
+    if (worthSolidAngle(p, light.centroid, light.area)) {
         const Vec3 a = normalizeOrZero(v[0] - p), b = normalizeOrZero(v[1] - p),
                    c = normalizeOrZero(v[2] - p);
         const float omega = sphericalTriangleSolidAngle(a, b, c);
@@ -116,7 +118,8 @@ float LightSampler::pdfArea(std::uint32_t triangle, const Vec3& p, const Vec3& l
     if (index < 0) return 0.0f;
     // The same choice of measure as sample() makes from p.
     const Vec3* v = &m_scene->positions[3 * std::size_t(triangle)];
-    if (worthSolidAngle(p, v, m_lights[std::size_t(index)].area)) {
+    const AreaLight& light = m_lights[std::size_t(index)];
+    if (worthSolidAngle(p, light.centroid, light.area)) {
         const float omega = sphericalTriangleSolidAngle(
             normalizeOrZero(v[0] - p), normalizeOrZero(v[1] - p), normalizeOrZero(v[2] - p));
         if (bySolidAngle(omega)) return m_select.discretePdf(index) / omega;
@@ -125,7 +128,7 @@ float LightSampler::pdfArea(std::uint32_t triangle, const Vec3& p, const Vec3& l
     const float dist2 = dot(d, d);
     const float cosLight = std::abs(dot(ng, d)) / std::sqrt(dist2);
     if (cosLight <= 0.0f) return 0.0f;
-    return m_select.discretePdf(index) * dist2 / (m_lights[std::size_t(index)].area * cosLight);
+    return m_select.discretePdf(index) * dist2 / (light.area * cosLight);
 }
 
 float LightSampler::pdfEnvironment(const Vec3& dir) const {

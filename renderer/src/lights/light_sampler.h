@@ -49,6 +49,7 @@ class LightSampler {
         float area;
         Vec3 normal;
         Vec3 emission;
+        Vec3 centroid;  ///< of the triangle (worthSolidAngle)
     };
     const detail::SceneData* m_scene;
     std::vector<AreaLight> m_lights;     // environment, if any, is the last entry

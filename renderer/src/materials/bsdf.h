@@ -34,6 +34,13 @@ struct Bsdf {
 
     /// True when every event is a delta (mirror, smooth dielectric, conductor with tiny alpha).
     bool isSpecular() const;
+    /// Which of sample()'s numbers it reads: the direction pair `u` (diffuse, conductor) and the
+    /// component number `uc` (dielectric: reflect or refract). A sampler with a fixed slot per
+    /// number need not draw the others.
+    bool readsDirectionPair() const {
+        return type == detail::MaterialType::Diffuse || type == detail::MaterialType::Conductor;
+    }
+    bool readsComponentNumber() const { return type == detail::MaterialType::Dielectric; }
     /// f(wo, wi) without the cosine; 0 for specular BSDFs.
     Vec3 eval(const Vec3& wo, const Vec3& wi) const;
     /// Solid-angle density of sample() producing wi; 0 for specular BSDFs.

@@ -30,8 +30,15 @@ Distribution1D::Distribution1D(std::span<const float> values)
 namespace {
 // Last index i with cdf[i] <= u, clamped to [0, n-1].
 int findBin(const std::vector<double>& cdf, double u) {
-    const auto it = std::upper_bound(cdf.begin(), cdf.end(), u);
-    const int i = int(it - cdf.begin()) - 1;
+    // A few bins (the lights of most scenes) are found faster by a scan than by bisection.
+    constexpr std::size_t kScanBelow = 9;
+    int i;
+    if (cdf.size() < kScanBelow) {
+        i = 0;
+        while (std::size_t(i) + 1 < cdf.size() && cdf[std::size_t(i) + 1] <= u) ++i;
+    } else {
+        i = int(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()) - 1;
+    }
     return std::clamp(i, 0, int(cdf.size()) - 2);
 }
 }  // namespace

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 
 #include "glint/image/random.h"
@@ -147,27 +148,70 @@ class SobolSampler {
     Vec2 camera2D(int dim) const { return sobol2DReversed(m_reversedIndex, dimensionSeed(dim)); }
     float camera1D(int dim) const { return sobol1DReversed(m_reversedIndex, dimensionSeed(dim)); }
 
-    /// Slot `slot` of bounce `depth` (BounceDim).
+    /// Slot `slot` of bounce `depth` (BounceDim): computed now, or taken from prefetch().
     float bounce1D(int depth, BounceDim slot) const {
+        if (depth == m_prefetchedDepth && (m_prefetched & slotBit(slot)))
+            return m_numbers[kOffset[int(slot)]];
         return sobol1DReversed(m_reversedIndex, dimensionSeed(bounceDim(depth, slot)));
     }
     Vec2 bounce2D(int depth, BounceDim slot) const {
+        if (depth == m_prefetchedDepth && (m_prefetched & slotBit(slot)))
+            return {m_numbers[kOffset[int(slot)]], m_numbers[kOffset[int(slot)] + 1]};
         return sobol2DReversed(m_reversedIndex, dimensionSeed(bounceDim(depth, slot)));
+    }
+
+    /// The bit of `slot` in prefetch()'s mask.
+    static constexpr unsigned slotBit(BounceDim slot) { return 1u << int(slot); }
+    /// Two 32-bit scramble seeds of dimension `dim` from a pixel's key (sobol2D/1D split them).
+    static std::uint64_t dimensionSeedOf(std::uint64_t key, int dim) {
+        const std::uint32_t s = hash32(std::uint32_t(key) + std::uint32_t(dim) * 0x9e3779b9u);
+        const std::uint32_t t = (std::uint32_t(key >> 32) ^ s) * 0x9e3779b1u;
+        return (std::uint64_t(t) << 32) | s;
+    }
+
+    /// prefetch() of many samplers at once: samplers[i] for bounce depths[i] and the slots in
+    /// slots[i]. The same numbers, computed slot by slot across the samplers in loops the
+    /// compiler vectorises, with an AVX2 clone chosen at load time where the CPU has it
+    /// (sobol_batch.cpp).
+    static void prefetchMany(std::size_t n, SobolSampler* const* samplers, const int* depths,
+                             const unsigned* slots);
+
+    /// Computes the numbers of bounce `depth` for the slots in `slots` (slotBit()s) ahead of
+    /// their use. The same numbers bounce1D/2D would compute: only when they are computed
+    /// changes. A batch of paths prefetches one after another, so that the out-of-order core
+    /// overlaps the long dependency chains of the scrambling across paths
+    /// (PathIntegrator::traceMany).
+    void prefetch(int depth, unsigned slots) {
+        m_prefetchedDepth = depth;
+        m_prefetched = slots;
+        for (int slot = 0; slot < kSobolDimsPerBounce; ++slot) {
+            if (!(slots & slotBit(BounceDim(slot)))) continue;
+            const std::uint64_t seed = dimensionSeed(bounceDim(depth, BounceDim(slot)));
+            float* to = &m_numbers[kOffset[slot]];
+            if (kOffset[slot + 1] - kOffset[slot] == 2) {
+                const Vec2 u = sobol2DReversed(m_reversedIndex, seed);
+                to[0] = u.x;
+                to[1] = u.y;
+            } else {
+                to[0] = sobol1DReversed(m_reversedIndex, seed);
+            }
+        }
     }
 
   private:
     static int bounceDim(int depth, BounceDim slot) {
         return kSobolCameraDims + depth * kSobolDimsPerBounce + int(slot);
     }
-    /// Two 32-bit scramble seeds of dimension `dim` from the pixel's key (sobol2D/1D split them).
-    std::uint64_t dimensionSeed(int dim) const {
-        const std::uint32_t s = hash32(std::uint32_t(m_key) + std::uint32_t(dim) * 0x9e3779b9u);
-        const std::uint32_t t = (std::uint32_t(m_key >> 32) ^ s) * 0x9e3779b1u;
-        return (std::uint64_t(t) << 32) | s;
-    }
+    std::uint64_t dimensionSeed(int dim) const { return dimensionSeedOf(m_key, dim); }
+
+    /// Where each slot's numbers start in m_numbers (pairs take two).
+    static constexpr int kOffset[kSobolDimsPerBounce + 1] = {0, 1, 3, 5, 6, 7};
 
     std::uint64_t m_key;
     std::uint32_t m_reversedIndex;
+    int m_prefetchedDepth = -1;
+    unsigned m_prefetched = 0;
+    float m_numbers[7] = {};
 };
 
 }  // namespace glint::render

@@ -7,19 +7,32 @@
 
 namespace glint::render {
 
+/// (cos x, sin x) for |x| ≤ π/4 by their Taylor polynomials to x¹⁰ and x⁹: the truncation
+/// error is below 2e-9, under float rounding, and there is no range reduction to pay for
+/// (a library sincosf was 3-4 % of a Cornell render in cosine sampling alone).
+inline Vec2 cosSinQuarterPi(float x) {
+    const float x2 = x * x;
+    const float c =
+        1.0f +
+        x2 * (-1.0f / 2 + x2 * (1.0f / 24 + x2 * (-1.0f / 720 + x2 * (1.0f / 40320 +
+                                                                       x2 * (-1.0f / 3628800)))));
+    const float s =
+        x * (1.0f + x2 * (-1.0f / 6 + x2 * (1.0f / 120 + x2 * (-1.0f / 5040 + x2 * (1.0f / 362880)))));
+    return {c, s};
+}
+
 /// Concentric square→disk map (Shirley & Chiu 1997).
 inline Vec2 sampleConcentricDisk(Vec2 u) {
     const float ox = 2.0f * u.x - 1.0f, oy = 2.0f * u.y - 1.0f;
     if (ox == 0.0f && oy == 0.0f) return {0.0f, 0.0f};
-    float r, theta;
     if (std::abs(ox) > std::abs(oy)) {
-        r = ox;
-        theta = 0.25f * kPi * (oy / ox);
-    } else {
-        r = oy;
-        theta = 0.5f * kPi - 0.25f * kPi * (ox / oy);
+        // θ = π/4 · oy/ox.
+        const Vec2 cs = cosSinQuarterPi(0.25f * kPi * (oy / ox));
+        return {ox * cs.x, ox * cs.y};
     }
-    return {r * std::cos(theta), r * std::sin(theta)};
+    // θ = π/2 − φ with φ = π/4 · ox/oy: cos θ = sin φ, sin θ = cos φ.
+    const Vec2 cs = cosSinQuarterPi(0.25f * kPi * (ox / oy));
+    return {oy * cs.y, oy * cs.x};
 }
 
 /// Cosine-weighted direction on the +z hemisphere (Malley's method); pdf cosθ/π.
