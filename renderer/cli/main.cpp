@@ -293,7 +293,7 @@ int main(int argc, char** argv) {
     app.add_option("--integrator", opt.integrator, "path | mlt");
     app.add_option("--mis", opt.mis, "power | balance | none");
     app.add_option("--strategy", opt.strategy, "bsdf | light (with --mis none)");
-    app.add_option("--sampler", opt.sampler, "stratified | independent | sobol");
+    app.add_option("--sampler", opt.sampler, "stratified | independent | sobol | zsobol");
     app.add_option("--max-depth", opt.maxDepth, "maximum bounces, 1 … 1024");
     app.add_option("--rr-depth", opt.rrDepth,
                    "Russian roulette starts after this many bounces, 0 … 1024");

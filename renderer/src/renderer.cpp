@@ -136,6 +136,11 @@ class TilePasses final : public PassWork {
         // The two halves' scramble seeds: independent of each other and of the whole render's.
         for (int h = 0; h < 2; ++h)
             m_halfSeed[h] = hash64(hash64(settings.seed, 0x4a1fb0ffULL), std::uint64_t(h));
+        // ZSobol's index layout: the film's larger side and a pixel's samples (a half's, with
+        // half buffers) in bits.
+        m_log2Res = ceilLog2(std::uint32_t(std::max(data.width, data.height)));
+        const int perPixel = settings.halfBuffers ? (settings.spp + 1) / 2 : settings.spp;
+        m_log2Spp = ceilLog2(std::uint32_t(std::max(perPixel, 1)));
     }
 
     std::size_t items() const override { return m_tiles.size(); }
@@ -144,6 +149,8 @@ class TilePasses final : public PassWork {
     void run(const PassInfo& pass, std::size_t item, const RenderLoop&) override {
         if (m_settings.sampler == SamplerKind::Sobol)
             runBatches<SobolSampler>(pass, m_tiles[item]);
+        else if (m_settings.sampler == SamplerKind::ZSobol)
+            runBatches<ZSobolSampler>(pass, m_tiles[item]);
         else
             runBatches<Rng>(pass, m_tiles[item]);
     }
@@ -164,12 +171,22 @@ class TilePasses final : public PassWork {
         // Every dimension from its own scrambled Sobol sequence (sampling/sobol.h); with half
         // buffers, sample s is sample s/2 of half s mod 2's own scramble.
         const SobolSampler& sobol = samplers.emplace_back(
-            m_settings.halfBuffers
-                ? SobolSampler(m_halfSeed[s & 1], pixel, std::uint32_t(s >> 1))
-                : SobolSampler(m_settings.seed, pixel, std::uint32_t(s)));
+            m_settings.halfBuffers ? SobolSampler(m_halfSeed[s & 1], pixel, std::uint32_t(s >> 1))
+                                   : SobolSampler(m_settings.seed, pixel, std::uint32_t(s)));
         const Vec2 jitter = sobol.camera2D(0);
         const Vec2 lens = m_thinLens ? sobol.camera2D(1) : Vec2{0.5f, 0.5f};
         const float time = m_sampleTime ? sobol.camera1D(2) : 0.0f;
+        return m_camera.generateRay(float(x) + jitter.x, float(y) + jitter.y, lens, time);
+    }
+    Ray cameraSample(const PassSampler&, int x, int y, int s,
+                     std::vector<ZSobolSampler>& samplers) const {
+        // With half buffers, sample s is sample s/2 of half s mod 2's own scramble.
+        const ZSobolSampler& z = samplers.emplace_back(
+            m_settings.halfBuffers ? m_halfSeed[s & 1] : m_settings.seed, x, y,
+            std::uint32_t(m_settings.halfBuffers ? s >> 1 : s), m_log2Res, m_log2Spp);
+        const Vec2 jitter = z.camera2D(0);
+        const Vec2 lens = m_thinLens ? z.camera2D(1) : Vec2{0.5f, 0.5f};
+        const float time = m_sampleTime ? z.camera1D(2) : 0.0f;
         return m_camera.generateRay(float(x) + jitter.x, float(y) + jitter.y, lens, time);
     }
     Ray cameraSample(const PassSampler& sampler, int x, int y, int s,
@@ -227,6 +244,7 @@ class TilePasses final : public PassWork {
     std::vector<Rect> m_tiles;
     bool m_thinLens, m_sampleTime;
     std::uint64_t m_halfSeed[2];
+    int m_log2Res = 0, m_log2Spp = 0;
     std::atomic<std::uint64_t> m_rays{0};
 };
 
@@ -319,6 +337,18 @@ RenderResult Renderer::render(const Settings& settings, const Callbacks& callbac
                     "the render region lies outside the " + std::to_string(data.width) + "x" +
                         std::to_string(data.height) + " film",
                     {}, "region");
+    if (settings.sampler == SamplerKind::ZSobol) {
+        const int perPixel = settings.halfBuffers ? (settings.spp + 1) / 2 : settings.spp;
+        const int bits = 2 * ceilLog2(std::uint32_t(std::max(data.width, data.height))) +
+                         ceilLog2(std::uint32_t(std::max(perPixel, 1)));
+        if (bits > 32)
+            throw Error(ErrorKind::InvalidArgument,
+                        "the zsobol sampler indexes a " + std::to_string(data.width) + "x" +
+                            std::to_string(data.height) + " film at " +
+                            std::to_string(settings.spp) + " spp with " + std::to_string(bits) +
+                            " bits, more than its 32 (use the sobol sampler)",
+                        {}, "sampler");
+    }
     // Refuse a frame the machine cannot hold before allocating any of it.
     checkMemory(estimateMemory(settings), settings.memoryLimit,
                 "a " + std::to_string(data.width) + "x" + std::to_string(data.height) + " " +

@@ -32,8 +32,10 @@ SamplerKind parseSampler(const std::string& name) {
     if (name == "stratified") return SamplerKind::Stratified;
     if (name == "independent") return SamplerKind::Independent;
     if (name == "sobol") return SamplerKind::Sobol;
-    throw Error(ErrorKind::InvalidArgument,
-                "unknown sampler '" + name + "' (expected stratified, independent or sobol)");
+    if (name == "zsobol") return SamplerKind::ZSobol;
+    throw Error(
+        ErrorKind::InvalidArgument,
+        "unknown sampler '" + name + "' (expected stratified, independent, sobol or zsobol)");
 }
 
 const char* samplerName(SamplerKind sampler) {
@@ -44,6 +46,8 @@ const char* samplerName(SamplerKind sampler) {
             return "independent";
         case SamplerKind::Sobol:
             return "sobol";
+        case SamplerKind::ZSobol:
+            return "zsobol";
     }
     return "?";
 }
@@ -100,6 +104,10 @@ void validate(const Settings& s) {
         bad("halfBuffers",
             "half buffers need the sobol or independent sampler (a stratified pass's strata span "
             "both halves, so the halves would not be independent)");
+    if (s.sampler == SamplerKind::ZSobol && s.timeLimit > 0.0)
+        bad("sampler",
+            "the zsobol sampler needs a fixed spp (no time limit): it lays each pixel's samples "
+            "out as a block of 2^ceil(log2 spp) indices");
     if (s.shard) {
         if (s.shard->count < 1 || s.shard->count > std::max(s.spp, 1))
             bad("shard", "the number of shards must be in [1, spp = " + std::to_string(s.spp) +

@@ -65,7 +65,8 @@ TEST(Wavefront, PacketQueriesAgreeWithSingleRays) {
       "materials": {"white": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}},
       "shapes": [{"obj": "sphere.obj", "material": "white",
                   "motion": {"translate": [1, 0.2, 0], "rotate": [90, [0, 0, 1]]}},
-                 {"obj": "ground.obj", "material": "white"}]})").string();
+                 {"obj": "ground.obj", "material": "white"}]})")
+                                   .string();
     for (const std::string& path : {scenePath("cornell").string(), moving}) {
         SCOPED_TRACE(path);
         const Scene scene = loadScene(path);
@@ -80,7 +81,8 @@ TEST(Wavefront, PacketQueriesAgreeWithSingleRays) {
         int disagree = 0, hitCount = 0;
         for (std::size_t i = 0; i < rays.size(); ++i) {
             Hit single;
-            const bool f = embree.intersect(rays[i], std::numeric_limits<float>::infinity(), single);
+            const bool f =
+                embree.intersect(rays[i], std::numeric_limits<float>::infinity(), single);
             hitCount += f;
             if (f != found[i] || (f && single.triangle != hits[i].triangle)) {
                 ++disagree;
@@ -143,8 +145,8 @@ TEST(Wavefront, TraceManyGivesWhatTraceGives) {
             sobol.emplace_back(5, pixel, std::uint32_t(i % 64));
             streams.emplace_back(5, pixel, std::uint64_t(i % 64));
             const Vec2 jitter = sobol.back().camera2D(0);
-            cameraRays.push_back(camera.generateRay(float(x) + jitter.x, float(y) + jitter.y,
-                                                    {0.5f, 0.5f}));
+            cameraRays.push_back(
+                camera.generateRay(float(x) + jitter.x, float(y) + jitter.y, {0.5f, 0.5f}));
         }
         sobolOne = sobol;
         streamsOne = streams;
@@ -153,14 +155,13 @@ TEST(Wavefront, TraceManyGivesWhatTraceGives) {
             SCOPED_TRACE(sampler);
             std::vector<FilmSample> batch(std::size_t(count), FilmSample{});
             std::uint64_t raysMany = 0, raysOne = 0;
-            integrator.traceMany(std::size_t(count), cameraRays.data(), many.data(),
-                                 batch.data(), raysMany);
+            integrator.traceMany(std::size_t(count), cameraRays.data(), many.data(), batch.data(),
+                                 raysMany);
             int differ = 0;
             double sumMany = 0.0, sumOne = 0.0;
             for (int i = 0; i < count; ++i) {
                 FilmSample single;
-                integrator.trace(cameraRays[std::size_t(i)], one[std::size_t(i)], single,
-                                 raysOne);
+                integrator.trace(cameraRays[std::size_t(i)], one[std::size_t(i)], single, raysOne);
                 const FilmSample& b = batch[std::size_t(i)];
                 const bool same = b.color.x == single.color.x && b.color.y == single.color.y &&
                                   b.color.z == single.color.z && b.albedo.x == single.albedo.x &&

@@ -281,25 +281,31 @@ void EmbreeScene::occludedPackets(std::size_t count, const ShadowRay* const* ray
     }
 }
 
-void EmbreeScene::intersectMany(std::size_t count, const Ray* const* rays, Hit* hits,
-                                bool* found, bool coherent) const {
+void EmbreeScene::intersectMany(std::size_t count, const Ray* const* rays, Hit* hits, bool* found,
+                                bool coherent) const {
     switch (m_packetWidth) {
-        case 16: return intersectPackets<16>(count, rays, hits, found, coherent);
-        case 8: return intersectPackets<8>(count, rays, hits, found, coherent);
-        case 4: return intersectPackets<4>(count, rays, hits, found, coherent);
+        case 16:
+            return intersectPackets<16>(count, rays, hits, found, coherent);
+        case 8:
+            return intersectPackets<8>(count, rays, hits, found, coherent);
+        case 4:
+            return intersectPackets<4>(count, rays, hits, found, coherent);
         default:
             for (std::size_t i = 0; i < count; ++i)
-                found[i] = intersect(*rays[i], std::numeric_limits<float>::infinity(), hits[i],
-                                     coherent);
+                found[i] =
+                    intersect(*rays[i], std::numeric_limits<float>::infinity(), hits[i], coherent);
     }
 }
 
 void EmbreeScene::occludedMany(std::size_t count, const ShadowRay* const* rays,
                                bool* blocked) const {
     switch (m_packetWidth) {
-        case 16: return occludedPackets<16>(count, rays, blocked);
-        case 8: return occludedPackets<8>(count, rays, blocked);
-        case 4: return occludedPackets<4>(count, rays, blocked);
+        case 16:
+            return occludedPackets<16>(count, rays, blocked);
+        case 8:
+            return occludedPackets<8>(count, rays, blocked);
+        case 4:
+            return occludedPackets<4>(count, rays, blocked);
         default:
             for (std::size_t i = 0; i < count; ++i)
                 blocked[i] = occluded(rays[i]->origin, rays[i]->dir, rays[i]->tMax, rays[i]->time);

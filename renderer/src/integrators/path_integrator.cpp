@@ -127,8 +127,7 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
             if (depth == 0 || p.specularBounce) {
                 p.radiance += p.beta * le;
             } else if (m_useBsdfHits) {
-                const float lightPdf =
-                    m_useLightSampling ? m_lights.pdfEnvironment(ray.dir) : 0.0f;
+                const float lightPdf = m_useLightSampling ? m_lights.pdfEnvironment(ray.dir) : 0.0f;
                 p.radiance += p.beta * le * misWeight(p.prevPdf, lightPdf);
             }
         }
@@ -206,7 +205,9 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
     // A sampler with slots skips the numbers this BSDF does not read (the others never
     // shift); a stream sampler draws both, so that its later numbers stay where they were.
     BsdfSample bs;
-    constexpr bool slotted = requires { rng.bounce1D(depth, BounceDim::BsdfComponent); };
+    constexpr bool slotted = requires {
+        rng.bounce1D(depth, BounceDim::BsdfComponent);
+    };
     Vec2 uBsdf{};
     float uc = 0.0f;
     if (!slotted || bsdf.readsDirectionPair())
@@ -249,7 +250,8 @@ unsigned PathIntegrator::numbersNeeded(const PathState& p, const Hit& hit) const
         case MaterialType::Diffuse:
         case MaterialType::Conductor:
             slots = bit(BounceDim::BsdfDirection);
-            if (m_useLightSampling) slots |= bit(BounceDim::LightSelect) | bit(BounceDim::LightPoint);
+            if (m_useLightSampling)
+                slots |= bit(BounceDim::LightSelect) | bit(BounceDim::LightPoint);
             break;
         case MaterialType::Dielectric:
             slots = bit(BounceDim::BsdfComponent);
@@ -375,5 +377,9 @@ template void PathIntegrator::traceMany<Rng>(std::size_t, const Ray*, Rng*, Film
                                              std::uint64_t&) const;
 template void PathIntegrator::traceMany<SobolSampler>(std::size_t, const Ray*, SobolSampler*,
                                                       FilmSample*, std::uint64_t&) const;
+template void PathIntegrator::traceMany<ZSobolSampler>(std::size_t, const Ray*, ZSobolSampler*,
+                                                       FilmSample*, std::uint64_t&) const;
+template void PathIntegrator::trace<ZSobolSampler>(const Ray&, ZSobolSampler&, FilmSample&,
+                                                   std::uint64_t&) const;
 
 }  // namespace glint::render

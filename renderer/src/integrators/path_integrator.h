@@ -58,8 +58,7 @@ class PathIntegrator {
     /// features, next-event estimation (leaving its shadow ray pending) and the next ray, or
     /// the end of the path (p.alive false).
     template <class Sampler>
-    void advance(PathState& p, bool found, const Hit& hit, Sampler& rng,
-                 std::uint64_t& rays) const;
+    void advance(PathState& p, bool found, const Hit& hit, Sampler& rng, std::uint64_t& rays) const;
 
     /// The bounce numbers (SobolSampler::slotBit mask) p's next advance() will read at `hit`,
     /// as far as the material tells: a prefetch that may compute one or two numbers the path

@@ -13,9 +13,9 @@ namespace {
 
 /// Lane i: sobol2DReversed(reversedIndex[i], dimensionSeedOf(key[i], dim[i])).
 [[gnu::target_clones("avx2", "default")]] void sobol2DLanes(std::size_t n,
-                                                             const std::uint32_t* reversedIndex,
-                                                             const std::uint64_t* key,
-                                                             const int* dim, float* x, float* y) {
+                                                            const std::uint32_t* reversedIndex,
+                                                            const std::uint64_t* key,
+                                                            const int* dim, float* x, float* y) {
     for (std::size_t i = 0; i < n; ++i) {
         const std::uint64_t seed = SobolSampler::dimensionSeedOf(key[i], dim[i]);
         const auto s = std::uint32_t(seed), t = std::uint32_t(seed >> 32);
@@ -29,15 +29,15 @@ namespace {
 
 /// Lane i: sobol1DReversed(reversedIndex[i], dimensionSeedOf(key[i], dim[i])).
 [[gnu::target_clones("avx2", "default")]] void sobol1DLanes(std::size_t n,
-                                                             const std::uint32_t* reversedIndex,
-                                                             const std::uint64_t* key,
-                                                             const int* dim, float* x) {
+                                                            const std::uint32_t* reversedIndex,
+                                                            const std::uint64_t* key,
+                                                            const int* dim, float* x) {
     for (std::size_t i = 0; i < n; ++i) {
         const std::uint64_t seed = SobolSampler::dimensionSeedOf(key[i], dim[i]);
         const std::uint32_t shuffled =
             reverseBits(laineKarrasPermutation(reversedIndex[i], std::uint32_t(seed)));
-        x[i] = fixedToFloat(
-            reverseBits(laineKarrasPermutation(shuffled, std::uint32_t(seed >> 32))));
+        x[i] =
+            fixedToFloat(reverseBits(laineKarrasPermutation(shuffled, std::uint32_t(seed >> 32))));
     }
 }
 

@@ -26,7 +26,7 @@ for ((i = 1; i <= REPEATS; ++i)); do
   rate=$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["samplesPerSecond"])' "$line")
   err=$(relmse "$OUT/cycles.exr" scenes/cornell/reference.exr)
   python3 -c "import sys; r,e=float(sys.argv[1]),float(sys.argv[2]); print(f'cornell cycles pmj $SPP {r/1e6:.3f}M {e:.5f} {e/r*1e6:.5f}')" "$rate" "$err"
-  for sampler in stratified sobol; do
+  for sampler in stratified sobol zsobol; do
     rate=$("$GLINT" scenes/cornell/scene.json --spp "$SPP" --max-depth 8 --threads 2 --sampler $sampler \
       --seed "$i" --out "$OUT/glint.exr" --json 2>/dev/null | python3 -c 'import json,sys; print(json.load(sys.stdin)["samplesPerSecond"])')
     err=$(relmse "$OUT/glint.exr" scenes/cornell/reference.exr)
@@ -55,7 +55,7 @@ for scene in glossy envmap; do
     rate=$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["samplesPerSecond"])' "$line")
     err=$(relmse "$OUT/cycles.exr" "$ref")
     python3 -c "import sys; r,e=float(sys.argv[1]),float(sys.argv[2]); print(f'$scene cycles pmj $SPP {r/1e6:.3f}M {e:.5f} {e/r*1e6:.5f}')" "$rate" "$err"
-    for sampler in stratified sobol; do
+    for sampler in stratified sobol zsobol; do
       rate=$("$GLINT" scenes/$scene/scene.json --spp "$SPP" --threads 2 --sampler $sampler \
         --seed "$i" --out "$OUT/glint.exr" --json 2>/dev/null | python3 -c 'import json,sys; print(json.load(sys.stdin)["samplesPerSecond"])')
       err=$(relmse "$OUT/glint.exr" scenes/$scene/reference.exr)

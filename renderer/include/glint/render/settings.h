@@ -21,7 +21,8 @@ enum class Strategy { Bsdf, Light };
 enum class SamplerKind {
     Stratified,   ///< pixel, lens and time stratified per pass; the rest independent
     Independent,  ///< every number independent
-    Sobol         ///< Owen-scrambled Sobol over every path dimension (Burley 2020)
+    Sobol,        ///< Owen-scrambled Sobol over every path dimension (Burley 2020)
+    ZSobol        ///< one Sobol sequence across the film in Morton order (Ahmed and Wonka 2020)
 };
 
 /// The limits of Settings, the same for scene.json's "render" block, the command line and the
@@ -84,9 +85,10 @@ Integrator parseIntegrator(const std::string& name);
 MisHeuristic parseMis(const std::string& name);
 /// Parses "bsdf" / "light"; throws glint::Error(InvalidArgument).
 Strategy parseStrategy(const std::string& name);
-/// Parses "stratified" / "independent" / "sobol"; throws glint::Error(InvalidArgument).
+/// Parses "stratified" / "independent" / "sobol" / "zsobol"; throws
+/// glint::Error(InvalidArgument).
 SamplerKind parseSampler(const std::string& name);
-/// Name of a sampler ("stratified", "independent", "sobol").
+/// Name of a sampler ("stratified", "independent", "sobol", "zsobol").
 const char* samplerName(SamplerKind sampler);
 
 /// Name of an integrator ("path", "mlt").
