@@ -183,34 +183,19 @@ template <>
 struct Packet<16> {
     using RayHit = RTCRayHit16;
     using Ray = RTCRay16;
-    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
-        rtcIntersect16(valid, s, c, r);
-    }
-    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) {
-        rtcOccluded16(valid, s, c, r);
-    }
+    static constexpr auto intersect = &rtcIntersect16, occluded = &rtcOccluded16;
 };
 template <>
 struct Packet<8> {
     using RayHit = RTCRayHit8;
     using Ray = RTCRay8;
-    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
-        rtcIntersect8(valid, s, c, r);
-    }
-    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) {
-        rtcOccluded8(valid, s, c, r);
-    }
+    static constexpr auto intersect = &rtcIntersect8, occluded = &rtcOccluded8;
 };
 template <>
 struct Packet<4> {
     using RayHit = RTCRayHit4;
     using Ray = RTCRay4;
-    static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
-        rtcIntersect4(valid, s, c, r);
-    }
-    static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) {
-        rtcOccluded4(valid, s, c, r);
-    }
+    static constexpr auto intersect = &rtcIntersect4, occluded = &rtcOccluded4;
 };
 
 /// Lane k of an SoA packet ray.
