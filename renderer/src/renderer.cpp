@@ -8,8 +8,10 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <mutex>
 #include <tuple>
+#include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -397,7 +399,7 @@ RenderResult Renderer::render(const Settings& settings, const Callbacks& callbac
 }
 
 RayThroughput Renderer::measureRayThroughput(std::uint64_t rayCount, int threads,
-                                             std::uint64_t seed) const {
+                                             std::uint64_t seed, bool packets) const {
     const detail::SceneData& data = m_scene.data();
     Vec3 lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
     for (const Vec3& p : data.positions)
@@ -412,9 +414,10 @@ RayThroughput Renderer::measureRayThroughput(std::uint64_t rayCount, int threads
         tbb::parallel_for(std::uint64_t(0), chunks, [&](std::uint64_t c) {
             std::uint64_t localHits = 0;
             const std::uint64_t end = std::min(rayCount, (c + 1) * chunk);
+            std::vector<Ray> batch;
             for (std::uint64_t i = c * chunk; i < end; ++i) {
                 Rng rng(seed, c, i);
-                Ray ray;
+                Ray& ray = batch.emplace_back();
                 if (i % 2 == 0) {
                     // Camera ray through a random film point.
                     ray = m_impl->camera.generateRay(rng.uniform() * float(data.width),
@@ -427,9 +430,19 @@ RayThroughput Renderer::measureRayThroughput(std::uint64_t rayCount, int threads
                                   lo.z + (hi.z - lo.z) * rng.uniform()};
                     ray.dir = sampleUniformSphere({rng.uniform(), rng.uniform()});
                 }
+                if (packets) continue;
                 Hit hit;
                 if (m_impl->embree.intersect(ray, std::numeric_limits<float>::infinity(), hit))
                     ++localHits;
+            }
+            if (packets) {
+                std::vector<const Ray*> pointers;
+                for (const Ray& r : batch) pointers.push_back(&r);
+                std::vector<Hit> found(batch.size());
+                std::unique_ptr<bool[]> hit(new bool[batch.size()]);
+                m_impl->embree.intersectMany(batch.size(), pointers.data(), found.data(), hit.get(),
+                                             false);
+                for (std::size_t k = 0; k < batch.size(); ++k) localHits += hit[k];
             }
             hits += localHits;
         });

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "embree/embree_scene.h"
+#include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 #include "integrators/path_integrator.h"
 #include "lights/light_sampler.h"
@@ -116,6 +117,18 @@ TEST(Wavefront, PacketQueriesAgreeWithSingleRays) {
         EXPECT_LT(blockedCount, int(segments.size()) - 500);
         EXPECT_LE(disagree, int(segments.size()) / 500);
     }
+}
+
+/// The raw-throughput benchmark's packet mode traces the same rays: the same count and, up to
+/// the edge cases above, the same hits.
+TEST(Wavefront, RawThroughputTracesTheSameRaysInPackets) {
+    const Renderer renderer(loadScene(scenePath("cornell")));
+    const RayThroughput single = renderer.measureRayThroughput(20000, 2, 4);
+    const RayThroughput packets = renderer.measureRayThroughput(20000, 2, 4, true);
+    EXPECT_EQ(single.rays, 20000u);
+    EXPECT_EQ(packets.rays, 20000u);
+    EXPECT_GT(single.hits, 10000u);
+    EXPECT_NEAR(double(packets.hits), double(single.hits), 0.002 * double(single.hits));
 }
 
 /// traceMany against trace, path by path, for the Sobol sampler (with its batch prefetch) and a

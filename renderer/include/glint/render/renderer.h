@@ -117,10 +117,12 @@ class Renderer {
     /// after a look edit).
     int lightBuilds() const;
 
-    /// Traces `rays` single rays (half camera rays, half uniformly random rays from the scene's
-    /// bounding box centre) with the raw intersection kernel on `threads` threads (0 = all).
-    RayThroughput measureRayThroughput(std::uint64_t rays, int threads,
-                                       std::uint64_t seed = 1) const;
+    /// Traces `rays` rays (half camera rays, half rays with uniform origins in the scene's
+    /// bounding box and uniform directions) with the raw intersection kernel on `threads`
+    /// threads (0 = all): one query a ray, or with `packets` the renderer's packet queries
+    /// (the device's native width) over chunks of 4096 rays.
+    RayThroughput measureRayThroughput(std::uint64_t rays, int threads, std::uint64_t seed = 1,
+                                       bool packets = false) const;
 
   private:
     struct Impl;
