@@ -148,7 +148,7 @@ class SobolSampler {
     Vec2 camera2D(int dim) const { return sobol2DReversed(m_reversedIndex, dimensionSeed(dim)); }
     float camera1D(int dim) const { return sobol1DReversed(m_reversedIndex, dimensionSeed(dim)); }
 
-    /// Slot `slot` of bounce `depth` (BounceDim): computed now, or taken from prefetch().
+    /// Slot `slot` of bounce `depth` (BounceDim): computed now, or taken from prefetchMany().
     float bounce1D(int depth, BounceDim slot) const {
         if (depth == m_prefetchedDepth && (m_prefetched & slotBit(slot)))
             return m_numbers[kOffset[int(slot)]];
@@ -160,7 +160,7 @@ class SobolSampler {
         return sobol2DReversed(m_reversedIndex, dimensionSeed(bounceDim(depth, slot)));
     }
 
-    /// The bit of `slot` in prefetch()'s mask.
+    /// The bit of `slot` in prefetchMany()'s masks.
     static constexpr unsigned slotBit(BounceDim slot) { return 1u << int(slot); }
     /// Two 32-bit scramble seeds of dimension `dim` from a pixel's key (sobol2D/1D split them).
     static std::uint64_t dimensionSeedOf(std::uint64_t key, int dim) {
@@ -169,34 +169,14 @@ class SobolSampler {
         return (std::uint64_t(t) << 32) | s;
     }
 
-    /// prefetch() of many samplers at once: samplers[i] for bounce depths[i] and the slots in
-    /// slots[i]. The same numbers, computed slot by slot across the samplers in loops the
-    /// compiler vectorises, with an AVX2 clone chosen at load time where the CPU has it
-    /// (sobol_batch.cpp).
+    /// Computes the numbers of bounce depths[i] for the slots in slots[i] (slotBit()s) of
+    /// samplers[i] ahead of their use: the same numbers bounce1D/2D would compute, slot by slot
+    /// across the samplers in loops the compiler vectorises, with an AVX2 clone chosen at load
+    /// time where the CPU has it (sobol_batch.cpp). The scrambles are long chains of dependent
+    /// multiplies: one path at a time they stall the core, across a batch they fill vector
+    /// lanes (PathIntegrator::traceMany).
     static void prefetchMany(std::size_t n, SobolSampler* const* samplers, const int* depths,
                              const unsigned* slots);
-
-    /// Computes the numbers of bounce `depth` for the slots in `slots` (slotBit()s) ahead of
-    /// their use. The same numbers bounce1D/2D would compute: only when they are computed
-    /// changes. A batch of paths prefetches one after another, so that the out-of-order core
-    /// overlaps the long dependency chains of the scrambling across paths
-    /// (PathIntegrator::traceMany).
-    void prefetch(int depth, unsigned slots) {
-        m_prefetchedDepth = depth;
-        m_prefetched = slots;
-        for (int slot = 0; slot < kSobolDimsPerBounce; ++slot) {
-            if (!(slots & slotBit(BounceDim(slot)))) continue;
-            const std::uint64_t seed = dimensionSeed(bounceDim(depth, BounceDim(slot)));
-            float* to = &m_numbers[kOffset[slot]];
-            if (kOffset[slot + 1] - kOffset[slot] == 2) {
-                const Vec2 u = sobol2DReversed(m_reversedIndex, seed);
-                to[0] = u.x;
-                to[1] = u.y;
-            } else {
-                to[0] = sobol1DReversed(m_reversedIndex, seed);
-            }
-        }
-    }
 
   private:
     static int bounceDim(int depth, BounceDim slot) {
