@@ -1,8 +1,8 @@
 // SobolSampler::prefetchMany: the scrambled Sobol numbers of a batch of paths, slot by slot, in
 // structure-of-arrays loops. Built with -O3 (renderer/CMakeLists.txt) so that GCC vectorises
 // them, and cloned for AVX2 (whose 32-bit vector multiply the hash scrambles need; SSE2 has
-// none), chosen at load time: on the Cornell box the numbers cost about a third of their
-// scalar time. Every lane computes exactly what sobol1DReversed / sobol2DReversed compute.
+// none), chosen at load time. Every lane computes exactly what sobol1DReversed /
+// sobol2DReversed compute (tests/render/wavefront_test.cpp).
 #include <vector>
 
 #include "sampling/sobol.h"
