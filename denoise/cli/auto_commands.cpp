@@ -40,7 +40,8 @@ struct AutoArgs {
     int size = 64;
     std::optional<int> window;
     std::uint64_t bankSeed = 1, seed = 1;
-    double temperature = 0.0, epsilon = 0.01;
+    std::optional<double> temperature;
+    double epsilon = 0.01;
     std::optional<double> confidence;
     float exposure = 0.0f;
     bool prefilter = false, json = false, oneSided = false;
@@ -158,7 +159,8 @@ void runAuto(const AutoArgs& a) {
         {"symmetric", options.symmetric},
         {"window", options.window.value_or(autoDefaults(result.estimator).window)},
         {"confidence", options.confidence.value_or(autoDefaults(result.estimator).confidence)},
-        {"temperature", a.temperature},
+        {"temperature",
+         options.temperature.value_or(autoDefaults(result.estimator).temperature)},
         {"epsilon", a.epsilon},
         {"seed", a.seed},
         {"bestMember", memberJson(bank, result.bestMember)},
@@ -252,7 +254,8 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
         "Radius of the error maps' box smoothing (0 … 64; default 4 for SURE, 8 for the "
         "halves)");
     cmd->add_option("--temperature", a->temperature,
-                    "0: hard per-pixel choice; > 0: soft weights (in units of the noise variance)");
+                    "0: hard per-pixel choice; > 0: soft weights (in units of the noise variance; "
+                    "default 0 for SURE, 0.06 for the halves)");
     cmd->add_option(
         "--confidence", a->confidence,
         "Standard errors by which a local choice must beat the baseline (>= 0; default 3 "

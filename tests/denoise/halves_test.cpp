@@ -169,6 +169,7 @@ TEST(Halves, SelectionPicksTheMemberWithTheSmallestTrueErrorWhereUnambiguous) {
     o.space = SureSpace::Linear;
     o.window = 3;
     o.confidence = 0.0;
+    o.temperature = 0.0;
     const AutoResult r = autoComposite(bank, f, o);
     EXPECT_EQ(r.estimator, AutoEstimator::Halves);  // Auto: the frame has half buffers
     const AutoResult withDefaults = autoComposite(bank, f, AutoOptions{});

@@ -277,9 +277,10 @@ void validate(const AutoOptions& options) {
                     "window " + std::to_string(*options.window) +
                         " is outside 0 … 64 (the SURE maps' smoothing radius in pixels)",
                     {}, "--window");
-    if (!(options.temperature >= 0.0) || !std::isfinite(options.temperature))
+    if (options.temperature &&
+        (!(*options.temperature >= 0.0) || !std::isfinite(*options.temperature)))
         throw Error(ErrorKind::InvalidArgument,
-                    "temperature " + std::to_string(options.temperature) +
+                    "temperature " + std::to_string(*options.temperature) +
                         " must be >= 0 (0: hard per-pixel choice)",
                     {}, "--temperature");
     if (options.confidence &&
@@ -313,8 +314,8 @@ const char* autoEstimatorName(AutoEstimator estimator) {
 }
 
 AutoDefaults autoDefaults(AutoEstimator estimator) {
-    if (estimator == AutoEstimator::Halves) return {8, 1.0};
-    return {4, 3.0};
+    if (estimator == AutoEstimator::Halves) return {8, 1.0, 0.06};
+    return {4, 3.0, 0.0};
 }
 
 AutoEstimator resolveEstimator(AutoEstimator estimator, const FrameBuffers& frame) {
@@ -397,6 +398,7 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                     {}, "--space");
     const int window = options.window.value_or(autoDefaults(estimator).window);
     const double confidence = options.confidence.value_or(autoDefaults(estimator).confidence);
+    const double temperature = options.temperature.value_or(autoDefaults(estimator).temperature);
     checkAutoInput(frame, estimator);
     const Rect& region = bank.region();
     const std::size_t n = bank.size();
@@ -513,7 +515,7 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
 
     // The smoothed noise level per pixel (the temperature's unit).
     Image noiseLevel;
-    if (options.temperature > 0.0) {
+    if (temperature > 0.0) {
         Image v(region.width(), region.height(), 1);
         for (int y = 0; y < region.height(); ++y)
             for (int x = 0; x < region.width(); ++x) {
@@ -549,7 +551,7 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
             }
             float* w = pixelWeights.data() + p * n;
             const double unit =
-                options.temperature > 0.0 ? options.temperature * double(noiseLevel(x, y, 0)) : 0.0;
+                temperature > 0.0 ? temperature * double(noiseLevel(x, y, 0)) : 0.0;
             if (!(unit > 0.0)) {
                 w[best] = 1.0f;
                 continue;

@@ -135,12 +135,15 @@ Image crossValidationMap(const Image& halfA, const Image& halfB, const Image& ou
                          const Image* outputB, const Rect& region, const Image* weight = nullptr,
                          std::optional<float> displayExposure = std::nullopt);
 
-/// The smoothing window and confidence an estimator uses unless told otherwise, measured on
-/// the quality table of docs/navigation.md: SURE 4 and 3, the halves 8 and 1 (their maps are
-/// unbiased but noisier per pixel, and a wider window with a lower bar wins on every scene).
+/// The smoothing window, confidence and temperature an estimator uses unless told otherwise,
+/// measured on the quality table of docs/navigation.md: SURE 4, 3 and 0 (a hard choice), the
+/// halves 8, 1 and 0.06 (their maps are unbiased but noisier per pixel: a wider window with a
+/// lower bar wins on every scene, and slightly soft weights blend members whose estimates are
+/// within the noise of each other instead of picking one by that noise).
 struct AutoDefaults {
     int window;
     double confidence;
+    double temperature;
 };
 AutoDefaults autoDefaults(AutoEstimator estimator);
 
@@ -166,8 +169,8 @@ struct AutoOptions {
     /// 0: a hard per-pixel choice (the smallest score). > 0: soft weights
     /// exp(−(score − min score) / (temperature · σ²)), σ² the pixel's smoothed variance summed
     /// over RGB (so the temperature is in units of the noise), weights below 1e-3 of the
-    /// largest dropped.
-    double temperature = 0.0;
+    /// largest dropped. Unset: the estimator's default (autoDefaults).
+    std::optional<double> temperature;
     /// The bank was built on prefiltered features: the perturbed input is prefiltered alike.
     bool prefilter = false;
     ParamValues prefilterParams;
