@@ -550,8 +550,7 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                 if (s[m] < s[best]) best = m;
             }
             float* w = pixelWeights.data() + p * n;
-            const double unit =
-                temperature > 0.0 ? temperature * double(noiseLevel(x, y, 0)) : 0.0;
+            const double unit = temperature > 0.0 ? temperature * double(noiseLevel(x, y, 0)) : 0.0;
             if (!(unit > 0.0)) {
                 w[best] = 1.0f;
                 continue;
