@@ -11,6 +11,7 @@
 #include <memory>
 #include <mutex>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -70,6 +71,14 @@ int Renderer::lightBuilds() const {
 }
 
 namespace {
+
+/// ZSobol's index layout (log2Res, log2Spp): the film's larger side and a pixel's samples (a
+/// half's, with half buffers) in bits.
+std::pair<int, int> zsobolLayout(const detail::SceneData& data, const Settings& settings) {
+    const int perPixel = settings.halfBuffers ? (settings.spp + 1) / 2 : settings.spp;
+    return {ceilLog2(std::uint32_t(std::max(data.width, data.height))),
+            ceilLog2(std::uint32_t(std::max(perPixel, 1)))};
+}
 
 /// Pixel-sample placement of one pass: `count` samples starting at `first`, stratified over a
 /// jittered grid (one random cell of a ceil(√n) × ⌈n/⌈√n⌉⌉ grid per sample, cells drawn without
@@ -138,11 +147,7 @@ class TilePasses final : public PassWork {
         // The two halves' scramble seeds: independent of each other and of the whole render's.
         for (int h = 0; h < 2; ++h)
             m_halfSeed[h] = hash64(hash64(settings.seed, 0x4a1fb0ffULL), std::uint64_t(h));
-        // ZSobol's index layout: the film's larger side and a pixel's samples (a half's, with
-        // half buffers) in bits.
-        m_log2Res = ceilLog2(std::uint32_t(std::max(data.width, data.height)));
-        const int perPixel = settings.halfBuffers ? (settings.spp + 1) / 2 : settings.spp;
-        m_log2Spp = ceilLog2(std::uint32_t(std::max(perPixel, 1)));
+        std::tie(m_log2Res, m_log2Spp) = zsobolLayout(data, settings);
     }
 
     std::size_t items() const override { return m_tiles.size(); }
@@ -175,20 +180,23 @@ class TilePasses final : public PassWork {
         const SobolSampler& sobol = samplers.emplace_back(
             m_settings.halfBuffers ? SobolSampler(m_halfSeed[s & 1], pixel, std::uint32_t(s >> 1))
                                    : SobolSampler(m_settings.seed, pixel, std::uint32_t(s)));
-        const Vec2 jitter = sobol.camera2D(0);
-        const Vec2 lens = m_thinLens ? sobol.camera2D(1) : Vec2{0.5f, 0.5f};
-        const float time = m_sampleTime ? sobol.camera1D(2) : 0.0f;
-        return m_camera.generateRay(float(x) + jitter.x, float(y) + jitter.y, lens, time);
+        return slottedCameraRay(sobol, x, y);
     }
     Ray cameraSample(const PassSampler&, int x, int y, int s,
                      std::vector<ZSobolSampler>& samplers) const {
         // With half buffers, sample s is sample s/2 of half s mod 2's own scramble.
-        const ZSobolSampler& z = samplers.emplace_back(
-            m_settings.halfBuffers ? m_halfSeed[s & 1] : m_settings.seed, x, y,
-            std::uint32_t(m_settings.halfBuffers ? s >> 1 : s), m_log2Res, m_log2Spp);
-        const Vec2 jitter = z.camera2D(0);
-        const Vec2 lens = m_thinLens ? z.camera2D(1) : Vec2{0.5f, 0.5f};
-        const float time = m_sampleTime ? z.camera1D(2) : 0.0f;
+        return slottedCameraRay(
+            samplers.emplace_back(m_settings.halfBuffers ? m_halfSeed[s & 1] : m_settings.seed, x,
+                                  y, std::uint32_t(m_settings.halfBuffers ? s >> 1 : s), m_log2Res,
+                                  m_log2Spp),
+            x, y);
+    }
+    /// The camera ray of pixel (x, y) from a sampler's camera slots (film, lens, time).
+    template <class Slotted>
+    Ray slottedCameraRay(const Slotted& sampler, int x, int y) const {
+        const Vec2 jitter = sampler.camera2D(0);
+        const Vec2 lens = m_thinLens ? sampler.camera2D(1) : Vec2{0.5f, 0.5f};
+        const float time = m_sampleTime ? sampler.camera1D(2) : 0.0f;
         return m_camera.generateRay(float(x) + jitter.x, float(y) + jitter.y, lens, time);
     }
     Ray cameraSample(const PassSampler& sampler, int x, int y, int s,
@@ -340,9 +348,8 @@ RenderResult Renderer::render(const Settings& settings, const Callbacks& callbac
                         std::to_string(data.height) + " film",
                     {}, "region");
     if (settings.sampler == SamplerKind::ZSobol) {
-        const int perPixel = settings.halfBuffers ? (settings.spp + 1) / 2 : settings.spp;
-        const int bits = 2 * ceilLog2(std::uint32_t(std::max(data.width, data.height))) +
-                         ceilLog2(std::uint32_t(std::max(perPixel, 1)));
+        const auto [log2Res, log2Spp] = zsobolLayout(data, settings);
+        const int bits = 2 * log2Res + log2Spp;
         if (bits > 32)
             throw Error(ErrorKind::InvalidArgument,
                         "the zsobol sampler indexes a " + std::to_string(data.width) + "x" +
