@@ -65,15 +65,11 @@ void runAuto(const AutoArgs& a) {
     } catch (const Error& e) {
         throw Error(ErrorKind::InvalidArgument, e.message(), "command line", "--estimator");
     }
-    if (a.space == "linear")
-        options.space = SureSpace::Linear;
-    else if (a.space == "display-exact")
-        options.space = SureSpace::DisplayExact;
-    else if (a.space != "display")
-        throw Error(
-            ErrorKind::InvalidArgument,
-            "unknown error space '" + a.space + "' (expected display, linear or display-exact)", {},
-            "--space");
+    try {
+        options.space = parseSureSpace(a.space);
+    } catch (const Error& e) {
+        throw Error(ErrorKind::InvalidArgument, e.message(), "command line", "--space");
+    }
     validate(options);
     BankOptions bankOptions;
     bankOptions.size = a.size;
@@ -263,7 +259,8 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
     cmd->add_option("--seed", a->seed, "Seed of the random +-1 perturbation");
     cmd->add_option(
         "--space", a->space,
-        "display (default) | linear | display-exact (halves only): the error estimated");
+        "display (default) | display-tangent | display-exact (halves only) | linear: the "
+        "error estimated");
     cmd->add_option("--exposure", a->exposure, "Exposure of the display transform (stops)");
     cmd->add_option("--estimator", a->estimator,
                     "auto (default: halves when IN has half buffers, else sure) | sure | halves");

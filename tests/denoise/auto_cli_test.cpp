@@ -132,7 +132,7 @@ TEST_F(AutoCli, BadInputExitsTwoWithOneClearLineAndWritesNothing) {
         {"auto " + path("noisy.exr") + out + " --temperature -2", {"--temperature"}},
         {"auto " + path("noisy.exr") + out + " --epsilon 0", {"--epsilon"}},
         {"auto " + path("noisy.exr") + out + " --space gamma",
-         {"--space", "display, linear or display-exact"}},
+         {"--space", "display, display-tangent, display-exact or linear"}},
         {"auto " + path("noisy.exr") + out + " --space display-exact",
          {"--space", "halves estimator"}},
         {"auto " + path("noisy.exr") + out + " --bank " + path("nobank"), {"nobank", "--bank"}},

@@ -149,6 +149,97 @@ TEST(Halves, DisplayExactComparesDisplayValues) {
     EXPECT_NEAR(crossValidationMap(a, b, fa, &fb, r)(0, 0, 0), linear, 1e-5);
 }
 
+double srgbOf(double x) {
+    x = std::clamp(x, 0.0, 1.0);
+    return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+}
+
+TEST(Halves, SecantWeighsEachOutputBetweenItAndTheCentre) {
+    // One pixel: A = 0.2, B = 0.5, f(A) = 0.3, f(B) = 4 (clamped), centre m = 0.6.
+    Image a(1, 1, 3, 0.2f), b(1, 1, 3, 0.5f), fa(1, 1, 3, 0.3f), fb(1, 1, 3, 4.0f);
+    const Image m(1, 1, 3, 0.6f);
+    const Rect r{0, 1, 0, 1};
+    const double sa = (srgbOf(0.3) - srgbOf(0.6)) / (0.3 - 0.6);
+    const double sb = (1.0 - srgbOf(0.6)) / (4.0 - 0.6);
+    const double noise = 0.5 * 0.3 * 0.3;
+    const double expected =
+        3.0 * 0.5 * (sa * sa * (0.2 * 0.2 - noise) + sb * sb * (3.8 * 3.8 - noise));
+    EXPECT_NEAR(secantCrossValidationMap(a, b, fa, &fb, r, m)(0, 0, 0), expected, 1e-4);
+    EXPECT_NEAR(secantCrossValidationMap(a, b, fa, nullptr, r, m)(0, 0, 0),
+                3.0 * sa * sa * (0.2 * 0.2 - noise), 1e-4);
+    // An output equal to the centre: the slope there (sRGB at 0.6).
+    const double slope = 1.055 / 2.4 * std::pow(0.6, 1.0 / 2.4 - 1.0);
+    EXPECT_NEAR(secantCrossValidationMap(a, b, m, nullptr, r, m)(0, 0, 0),
+                3.0 * slope * slope * (0.6 - 0.5) * (0.6 - 0.5) - 3.0 * slope * slope * noise,
+                1e-4);
+    // Output and centre both above the clamp: they display alike, weight 0.
+    const Image two(1, 1, 3, 2.0f), three(1, 1, 3, 3.0f);
+    EXPECT_EQ(secantCrossValidationMap(a, b, two, nullptr, r, three)(0, 0, 0), 0.0f);
+    // Exposure +1 doubles the linear values before the transform.
+    const double sa2 = (srgbOf(0.6) - srgbOf(1.2)) / (0.3 - 0.6);
+    EXPECT_NEAR(secantCrossValidationMap(a, b, fa, nullptr, r, m, 1.0f)(0, 0, 0),
+                3.0 * sa2 * sa2 * (0.2 * 0.2 - noise), 1e-4);
+}
+
+TEST(Halves, SecantEstimatesTheDisplayErrorOfABlurredHighlight) {
+    // A highlight above the display's clamp (1.6) on a mid background (0.3) with Gaussian
+    // noise; a Gaussian of sigma 2 blurs the highlight's rim below 1. With the clean image as the
+    // centre, the secant map's mean estimates the true display MSE of f(A) and f(B) within 5
+    // standard errors (computed from the per-value differences, as in expectUnbiased) and 10 %;
+    // the slope at the centre (0 inside the highlight, steep outside) misses it by far more.
+    const int w = 128, h = 96;
+    Image clean(w, h, 3);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const double dx = x - 64.0, dy = y - 48.0;
+            for (int c = 0; c < 3; ++c)
+                clean(x, y, c) = dx * dx + dy * dy < 20.0 * 20.0 ? 1.6f : 0.3f;
+        }
+    Image a, b;
+    const FrameBuffers f = halvesFrame(clean, 0.05, Noise::Gaussian, 33, &a, &b);
+    const auto [frameA, frameB] = splitHalves(f);
+    const Filter& gaussian = findFilter("gaussian");
+    const ParamValues params = resolveParams(gaussian, {{"sigma", 2.0}});
+    const Image outA = applyFilter(gaussian, frameA, params);
+    const Image outB = applyFilter(gaussian, frameB, params);
+    const Rect r{0, w, 0, h};
+    const Image secant = secantCrossValidationMap(a, b, outA, &outB, r, clean);
+    Image slope2(w, h, 3);
+    for (std::size_t i = 0; i < clean.data().size(); ++i) {
+        const double v = clean.data()[i];
+        const double s = v >= 1.0 ? 0.0 : 1.055 / 2.4 * std::pow(v, 1.0 / 2.4 - 1.0);
+        slope2.data()[i] = float(s * s);
+    }
+    const Image tangent = crossValidationMap(a, b, outA, &outB, r, &slope2);
+    std::vector<double> diff;
+    double truth = 0.0, tangentMean = 0.0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double t = 0.0;
+            for (int c = 0; c < 3; ++c) {
+                const double dx = srgbOf(clean(x, y, c));
+                const double ea = srgbOf(outA(x, y, c)) - dx, eb = srgbOf(outB(x, y, c)) - dx;
+                t += 0.5 * (ea * ea + eb * eb);
+            }
+            truth += t;
+            tangentMean += tangent(x, y, 0);
+            diff.push_back(double(secant(x, y, 0)) - t);
+        }
+    const double n = double(diff.size());
+    truth /= n;
+    tangentMean /= n;
+    double mean = 0.0, sq = 0.0;
+    for (double d : diff) mean += d;
+    mean /= n;
+    for (double d : diff) sq += (d - mean) * (d - mean);
+    const double standardError = std::sqrt(sq / (n - 1.0) / n);
+    std::printf("display MSE %.6f: secant %.6f (standard error %.6f), tangent %.6f\n", truth,
+                truth + mean, standardError, tangentMean);
+    EXPECT_LT(std::abs(mean), 5.0 * standardError);
+    EXPECT_LT(std::abs(mean), 0.1 * truth);
+    EXPECT_GT(std::abs(tangentMean - truth), 0.3 * truth);
+}
+
 FilterBank gaussianBank(const FrameBuffers& f, const std::vector<double>& sigmas) {
     std::vector<BankMember> members;
     std::vector<Image> results;
@@ -248,6 +339,22 @@ TEST(Halves, SameResultForAnyThreadCountAndOneSidedDiffers) {
     AutoOptions o;
     o.symmetric = false;
     EXPECT_NE(autoComposite(bank, f, o).estimatedMse, one.estimatedMse);
+}
+
+TEST(Halves, TheSecantIsTheDefaultDisplaySpaceAndTheTangentCanBeAskedFor) {
+    const Image clean = cleanImage(64, 48);
+    const FrameBuffers f = halvesFrame(clean, 0.08, Noise::Skewed, 9);
+    const FilterBank bank = gaussianBank(f, {0.5, 1.0, 2.0, 4.0});
+    AutoOptions secant, tangent;
+    secant.space = SureSpace::Display;
+    tangent.space = SureSpace::DisplayTangent;
+    const AutoResult byDefault = autoComposite(bank, f);
+    EXPECT_EQ(autoComposite(bank, f, secant).estimatedMse, byDefault.estimatedMse);
+    EXPECT_NE(autoComposite(bank, f, tangent).estimatedMse, byDefault.estimatedMse);
+    for (SureSpace space : {SureSpace::Display, SureSpace::DisplayTangent, SureSpace::DisplayExact,
+                            SureSpace::Linear})
+        EXPECT_EQ(parseSureSpace(sureSpaceName(space)), space);
+    EXPECT_THROW(parseSureSpace("gamma"), Error);
 }
 
 }  // namespace

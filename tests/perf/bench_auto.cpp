@@ -5,8 +5,9 @@
 // autoComposite over it — SURE: one more application of every member to the perturbed input;
 // halves: one (--one-sided 1) or two applications to the halves — maps, choice. Prints one JSON
 // object with both times and their ratio (target: auto ≤ 2× the bank).
-//   bench_auto [--estimator sure|halves] [--one-sided 0|1] [--size 1024] [--spp 4]
-//              [--threads 2] [--members 64] [--reps 3]
+//   bench_auto [--estimator sure|halves] [--one-sided 0|1] [--space display|display-tangent|
+//              display-exact|linear] [--size 1024] [--spp 4] [--threads 2] [--members 64]
+//              [--reps 3]
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -41,12 +42,22 @@ int main(int argc, char** argv) {
     namespace fs = std::filesystem;
     int size = 1024, spp = 4, threads = 2, members = 64, reps = 3, oneSided = 0;
     std::string estimator = "sure";
+    glint::denoise::SureSpace space = glint::denoise::SureSpace::Display;
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string a = argv[i];
         if (a == "--estimator") {
             estimator = argv[i + 1];
             if (estimator != "sure" && estimator != "halves") {
                 std::fprintf(stderr, "bench_auto: --estimator is sure or halves\n");
+                return 2;
+            }
+            continue;
+        }
+        if (a == "--space") {
+            try {
+                space = glint::denoise::parseSureSpace(argv[i + 1]);
+            } catch (const std::exception& e) {
+                std::fprintf(stderr, "bench_auto: --space: %s\n", e.what());
                 return 2;
             }
             continue;
@@ -99,6 +110,7 @@ int main(int argc, char** argv) {
         ao.estimator = estimator == "halves" ? glint::denoise::AutoEstimator::Halves
                                              : glint::denoise::AutoEstimator::Sure;
         ao.symmetric = oneSided == 0;
+        ao.space = space;
         autoSeconds =
             std::min(autoSeconds,
                      secondsOf([&] { result = glint::denoise::autoComposite(bank, frame, ao); }));
@@ -111,6 +123,7 @@ int main(int argc, char** argv) {
                                 {"reps", reps},
                                 {"estimator", estimator},
                                 {"symmetric", oneSided == 0},
+                                {"space", glint::denoise::sureSpaceName(space)},
                                 {"bankSecondsBest", bankSeconds},
                                 {"autoSecondsBest", autoSeconds},
                                 {"autoOverBank", autoSeconds / bankSeconds},

@@ -45,34 +45,44 @@ double displaySlope(double v, float exposure) {
     return d * scale;
 }
 
-// The display transform (exposure, clamp to [0, 1], sRGB) of linear value v, from a table of
+// The display transform (exposure, clamp to [0, 1], sRGB) of linear values, from a table of
 // 4096 intervals with linear interpolation (within 2e-5 of the exact curve, plenty to rank
 // filters, and a table lookup instead of a pow per value).
-double displayValue(double v, double scale) {
-    static const std::vector<double> table = [] {
-        std::vector<double> t(4097);
-        for (std::size_t i = 0; i < t.size(); ++i) {
-            const double x = double(i) / 4096.0;
-            t[i] = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
-        }
-        return t;
-    }();
-    const double x = v * scale;
-    if (!(x > 0.0)) return 0.0;
-    if (x >= 1.0) return 1.0;
-    const double f = x * 4096.0;
-    const auto i = std::size_t(f);
-    return table[i] + (f - double(i)) * (table[i + 1] - table[i]);
-}
+class DisplayCurve {
+  public:
+    explicit DisplayCurve(double scale) : m_table(table().data()), m_scale(scale) {}
+    double operator()(double v) const {
+        const double x = v * m_scale;
+        if (!(x > 0.0)) return 0.0;
+        if (x >= 1.0) return 1.0;
+        const double f = x * 4096.0;
+        const auto i = std::size_t(f);
+        return m_table[i] + (f - double(i)) * (m_table[i + 1] - m_table[i]);
+    }
 
-// Per-pixel weights of SureSpace::Display: the squared display slope at the median of the
-// bank's results (a member-independent estimate of the clean value; the median rather than the
-// mean, which the members that barely filter pull into the clamp at a firefly or a highlight,
-// where the slope is 0 — docs/navigation.md measures both), floored at 1e-4 of the largest so
-// saturated pixels still order the members.
-Image displayWeights(const FilterBank& bank, float exposure) {
+  private:
+    static const std::vector<double>& table() {
+        static const std::vector<double> t = [] {
+            std::vector<double> values(4097);
+            for (std::size_t i = 0; i < values.size(); ++i) {
+                const double x = double(i) / 4096.0;
+                values[i] = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+            }
+            return values;
+        }();
+        return t;
+    }
+    const double* m_table;
+    double m_scale;
+};
+
+// The median of the bank's results per pixel and channel (region-sized): a member-independent
+// estimate of the clean value, the centre of the display linearisation. The median rather than
+// the mean, which the members that barely filter pull into the clamp at a firefly or a
+// highlight (docs/navigation.md measures both).
+Image bankMedian(const FilterBank& bank) {
     const Rect& r = bank.region();
-    Image weights(r.width(), r.height(), 3);
+    Image median(r.width(), r.height(), 3);
     const std::size_t n = bank.size();
     tbb::parallel_for(0, r.height(), [&](int y) {
         std::vector<float> values(n);
@@ -81,15 +91,37 @@ Image displayWeights(const FilterBank& bank, float exposure) {
                 for (std::size_t m = 0; m < n; ++m) values[m] = bank.result(m)(x, y, c);
                 std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(n / 2),
                                  values.end());
-                const double s = displaySlope(double(values[n / 2]), exposure);
-                weights(x, y, c) = float(s * s);
+                median(x, y, c) = values[n / 2];
             }
     });
+    return median;
+}
+
+// Per-pixel weights of SureSpace::DisplayTangent (and of Display for SURE): the squared display
+// slope at the bank's median, floored at 1e-4 of the largest so saturated pixels still order
+// the members.
+Image tangentWeights(const Image& median, float exposure) {
+    Image weights(median.width(), median.height(), 3);
+    for (std::size_t i = 0; i < median.data().size(); ++i) {
+        const double s = displaySlope(double(median.data()[i]), exposure);
+        weights.data()[i] = float(s * s);
+    }
     float largest = 0.0f;
     for (float v : weights.data()) largest = std::max(largest, v);
     const float floor = std::max(largest * 1e-4f, std::numeric_limits<float>::min());
     for (float& v : weights.data()) v = std::max(v, floor);
     return weights;
+}
+
+// Squared secant slope of the display transform between linear values f and m (the squared
+// slope at m where they nearly agree); `displayM` is D(m).
+inline double secantWeight(double f, double m, double displayM, const DisplayCurve& display,
+                           float exposure) {
+    const double d = f - m;
+    const double s = std::fabs(d) <= 1e-6 * std::max(1.0, std::fabs(m))
+                         ? displaySlope(m, exposure)
+                         : (display(f) - displayM) / d;
+    return s * s;
 }
 
 // The divergence of one member over `region`: the filter's own when it gives one (and the
@@ -293,6 +325,30 @@ void validate(const AutoOptions& options) {
         throw Error(ErrorKind::InvalidArgument, "exposure must be finite", {}, "--exposure");
 }
 
+SureSpace parseSureSpace(const std::string& name) {
+    if (name == "display") return SureSpace::Display;
+    if (name == "display-tangent") return SureSpace::DisplayTangent;
+    if (name == "display-exact") return SureSpace::DisplayExact;
+    if (name == "linear") return SureSpace::Linear;
+    throw Error(ErrorKind::InvalidArgument,
+                "unknown error space '" + name +
+                    "' (expected display, display-tangent, display-exact or linear)");
+}
+
+const char* sureSpaceName(SureSpace space) {
+    switch (space) {
+        case SureSpace::Display:
+            return "display";
+        case SureSpace::DisplayTangent:
+            return "display-tangent";
+        case SureSpace::DisplayExact:
+            return "display-exact";
+        case SureSpace::Linear:
+            return "linear";
+    }
+    return "display";
+}
+
 AutoEstimator parseAutoEstimator(const std::string& name) {
     if (name == "auto") return AutoEstimator::Auto;
     if (name == "sure") return AutoEstimator::Sure;
@@ -354,10 +410,8 @@ Image crossValidationMap(const Image& halfA, const Image& halfB, const Image& ou
     GLINT_CHECK(outputA.width() == region.width() && outputA.height() == region.height() &&
                 halfA.sameShape(halfB) && (!outputB || outputB->sameShape(outputA)) &&
                 !(weight && displayExposure));
-    const double scale = displayExposure ? std::exp2(double(*displayExposure)) : 1.0;
-    auto value = [&](float v) {
-        return displayExposure ? displayValue(double(v), scale) : double(v);
-    };
+    const DisplayCurve display(displayExposure ? std::exp2(double(*displayExposure)) : 1.0);
+    auto value = [&](float v) { return displayExposure ? display(double(v)) : double(v); };
     Image map(region.width(), region.height(), 1);
     tbb::parallel_for(0, region.height(), [&](int y) {
         for (int x = 0; x < region.width(); ++x) {
@@ -374,6 +428,41 @@ Image crossValidationMap(const Image& halfA, const Image& halfB, const Image& ou
                     term = ea * ea - 0.5 * (a - b) * (a - b);
                 }
                 s += weight ? double((*weight)(x, y, c)) * term : term;
+            }
+            map(x, y, 0) = float(s);
+        }
+    });
+    return map;
+}
+
+Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Image& outputA,
+                               const Image* outputB, const Rect& region, const Image& centre,
+                               float exposure) {
+    GLINT_CHECK(outputA.width() == region.width() && outputA.height() == region.height() &&
+                halfA.sameShape(halfB) && (!outputB || outputB->sameShape(outputA)) &&
+                centre.sameShape(outputA));
+    const DisplayCurve display(std::exp2(double(exposure)));
+    Image map(region.width(), region.height(), 1);
+    tbb::parallel_for(0, region.height(), [&](int y) {
+        for (int x = 0; x < region.width(); ++x) {
+            double s = 0.0;
+            for (int c = 0; c < 3; ++c) {
+                const double a = halfA(x + region.x0, y + region.y0, c);
+                const double b = halfB(x + region.x0, y + region.y0, c);
+                const double m = centre(x, y, c);
+                const double displayM = display(m);
+                const double halfNoise = 0.5 * (a - b) * (a - b);
+                const double fa = outputA(x, y, c);
+                const double termA = secantWeight(fa, m, displayM, display, exposure) *
+                                     ((fa - b) * (fa - b) - halfNoise);
+                if (outputB) {
+                    const double fb = (*outputB)(x, y, c);
+                    const double termB = secantWeight(fb, m, displayM, display, exposure) *
+                                         ((fb - a) * (fb - a) - halfNoise);
+                    s += 0.5 * (termA + termB);
+                } else {
+                    s += termA;
+                }
             }
             map(x, y, 0) = float(s);
         }
@@ -419,9 +508,15 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
         filterInput = prepare(frame);
         perturbed = perturbColor(filterInput, options.sure, &delta);
     }
-    const Image weight =
-        options.space == SureSpace::Display ? displayWeights(bank, options.exposure) : Image{};
-    const Image* weightPtr = options.space == SureSpace::Display ? &weight : nullptr;
+    // The display spaces linearise around the bank's median: SURE and DisplayTangent by the
+    // slope there (weight), the halves' Display by the secant to each output (secant).
+    const bool secant = halves && options.space == SureSpace::Display;
+    const bool tangent = options.space == SureSpace::DisplayTangent ||
+                         (!halves && options.space == SureSpace::Display);
+    const Image median = secant || tangent ? bankMedian(bank) : Image{};
+    // The tangent weights also scale the temperature's noise unit in both display spaces.
+    const Image weight = secant || tangent ? tangentWeights(median, options.exposure) : Image{};
+    const Image* weightPtr = tangent ? &weight : nullptr;
 
     // Step 1: every member's SURE map (members in parallel, like the bank).
     std::vector<Image> smoothed(n);
@@ -452,9 +547,12 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                 const Image outB =
                     options.symmetric ? applyFilter(filter, halfB, member.params, fo) : Image{};
                 const bool exact = options.space == SureSpace::DisplayExact;
-                raw = crossValidationMap(
-                    halfA.color(), halfB.color(), outA, options.symmetric ? &outB : nullptr, region,
-                    weightPtr, exact ? std::optional<float>(options.exposure) : std::nullopt);
+                const Image* outBPtr = options.symmetric ? &outB : nullptr;
+                raw = secant ? secantCrossValidationMap(halfA.color(), halfB.color(), outA, outBPtr,
+                                                        region, median, options.exposure)
+                             : crossValidationMap(
+                                   halfA.color(), halfB.color(), outA, outBPtr, region, weightPtr,
+                                   exact ? std::optional<float>(options.exposure) : std::nullopt);
             } else {
                 const Image div = memberDivergence(findFilter(member.filter), member.params,
                                                    bank.result(m), filterInput, perturbed, delta,
@@ -531,7 +629,7 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                     } else {
                         var = frame.layer(Layer::Variance)(fx, fy, c);
                     }
-                    s += var * (weightPtr ? double(weight(x, y, c)) : 1.0);
+                    s += var * (weight.empty() ? 1.0 : double(weight(x, y, c)));
                 }
                 v(x, y, 0) = float(s);
             }

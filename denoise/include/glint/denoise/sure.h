@@ -33,14 +33,27 @@ class Session;
 
 /// Which error SURE estimates.
 enum class SureSpace {
-    Linear,        ///< squared error of the radiance
-    Display,       ///< to first order, of display values: each channel's term is weighted by the
-                   ///< squared slope of the display transform (exposure, clamp, sRGB) at a
-                   ///< member-independent estimate of the clean value (the median of the bank)
-    DisplayExact,  ///< halves only: the display transform applied to the values themselves
-                   ///< (crossValidationMap's displayExposure; measured in docs/navigation.md,
-                   ///< not the default)
+    Linear,  ///< squared error of the radiance
+    /// To first order, of display values (exposure, clamp, sRGB), around a member-independent
+    /// estimate m of the clean value (the median of the bank's results). SURE weighs each
+    /// channel's term by the squared slope of the display transform at m (DisplayTangent; Stein's
+    /// lemma needs a weight that does not depend on the filter). The halves weigh each output f's
+    /// term by the squared secant slope between f and m, (D(f) − D(m)) / (f − m)
+    /// (secantCrossValidationMap): it sees a highlight blurred from above the clamp to below it,
+    /// which the tangent at a clamped m (slope 0) does not.
+    Display,
+    DisplayTangent,  ///< the slope at m for both estimators (the halves' default before the
+                     ///< secant; docs/navigation.md, step 7)
+    DisplayExact,    ///< halves only: the display transform applied to the values themselves
+                     ///< (crossValidationMap's displayExposure; measured in docs/navigation.md,
+                     ///< not the default)
 };
+
+/// Parses "display" / "display-tangent" / "display-exact" / "linear"; throws
+/// glint::Error(InvalidArgument) naming the expected names.
+SureSpace parseSureSpace(const std::string& name);
+/// The name parseSureSpace reads.
+const char* sureSpaceName(SureSpace space);
 
 /// How the divergence is estimated and the data perturbed.
 struct SureOptions {
@@ -135,6 +148,21 @@ Image crossValidationMap(const Image& halfA, const Image& halfB, const Image& ou
                          const Image* outputB, const Rect& region, const Image* weight = nullptr,
                          std::optional<float> displayExposure = std::nullopt);
 
+/// The halves' display-space error map (SureSpace::Display): as crossValidationMap, but each
+/// side's term is weighted by the squared secant slope s² of the display transform D (exposure,
+/// clamp, sRGB) between that output and `centre` (region-sized, 3 channels: a member-independent
+/// estimate of the clean value, the median of the bank), s = (D(f) − D(m)) / (f − m) (the slope
+/// at m where f ≈ m; 0 where both are clamped, as their display values agree there):
+///   symmetric:  Σ_c ½ [s_A² ((f(A) − B)² − ½(A − B)²) + s_B² ((f(B) − A)² − ½(A − B)²)],
+///   one-sided:  Σ_c s_A² ((f(A) − B)² − ½(A − B)²).
+/// s_A depends on B only through the median of many filtered results, so the first term
+/// estimates s_A² · MSE f(A) nearly without bias; and the linearisation is first-order in
+/// x − m only, where the tangent's is in f − m too, which is large exactly where a filter
+/// blurs a highlight or a firefly.
+Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Image& outputA,
+                               const Image* outputB, const Rect& region, const Image& centre,
+                               float exposure = 0.0f);
+
 /// The smoothing window, confidence and temperature an estimator uses unless told otherwise,
 /// measured on the quality table of docs/navigation.md: SURE 4, 3 and 0 (a hard choice), the
 /// halves 8, 1 and 0.06 (their maps are unbiased but noisier per pixel: a wider window with a
@@ -155,7 +183,7 @@ struct AutoOptions {
     bool symmetric = true;
     SureOptions sure;
     SureSpace space = SureSpace::Display;
-    float exposure = 0.0f;  ///< of the display transform (SureSpace::Display)
+    float exposure = 0.0f;  ///< of the display transform (the display spaces)
     /// The error maps are box-averaged over (2·window + 1)² pixels before the choice: a
     /// per-pixel estimate from a few samples is itself noisy. Unset: the estimator's default
     /// (autoDefaults).
