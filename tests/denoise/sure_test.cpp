@@ -364,5 +364,41 @@ TEST(Sure, SessionStartsFromTheAutoComposite) {
     EXPECT_EQ(s2.layerCount(), 0u);
 }
 
+TEST(Sure, BoxSmoothIsTheMeanOverTheWindowTruncatedAtTheBorder) {
+    // 300 columns: two blocks of the vertical running sums; values spanning 8 orders of
+    // magnitude (a firefly among small errors) must leave no residue after they leave the window.
+    const int w = 300, h = 40;
+    Image image(w, h, 1);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.0f, 1e-3f);
+    for (float& v : image.data()) v = u(rng);
+    image(150, 5, 0) = 1e5f;
+    for (int radius : {0, 1, 3, 8}) {
+        Image one, two;
+        {
+            tbb::task_arena arena(1);
+            arena.execute([&] { one = boxSmooth(image, radius); });
+        }
+        {
+            tbb::task_arena arena(2);
+            arena.execute([&] { two = boxSmooth(image, radius); });
+        }
+        ASSERT_TRUE(one.sameShape(image));
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double s = 0.0;
+                int count = 0;
+                for (int yy = std::max(0, y - radius); yy <= std::min(h - 1, y + radius); ++yy)
+                    for (int xx = std::max(0, x - radius); xx <= std::min(w - 1, x + radius);
+                         ++xx, ++count)
+                        s += image(xx, yy, 0);
+                const double expected = s / count;
+                ASSERT_NEAR(one(x, y, 0), expected, 1e-6 * std::abs(expected) + 1e-9)
+                    << "radius " << radius << " at " << x << "," << y;
+                ASSERT_EQ(one(x, y, 0), two(x, y, 0));
+            }
+    }
+}
+
 }  // namespace
 }  // namespace glint::denoise

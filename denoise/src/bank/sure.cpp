@@ -84,15 +84,24 @@ Image bankMedian(const FilterBank& bank) {
     const Rect& r = bank.region();
     Image median(r.width(), r.height(), 3);
     const std::size_t n = bank.size();
+    // Per row, in chunks of 64 pixels: each member's chunk is copied once (one stream at a
+    // time, not one value from each of n images per pixel), then the median of each value.
+    constexpr int kChunk = 64;
     tbb::parallel_for(0, r.height(), [&](int y) {
-        std::vector<float> values(n);
-        for (int x = 0; x < r.width(); ++x)
-            for (int c = 0; c < 3; ++c) {
-                for (std::size_t m = 0; m < n; ++m) values[m] = bank.result(m)(x, y, c);
+        std::vector<float> chunk(n * kChunk * 3), values(n);
+        for (int x0 = 0; x0 < r.width(); x0 += kChunk) {
+            const int count = std::min(kChunk, r.width() - x0);
+            for (std::size_t m = 0; m < n; ++m) {
+                const float* row = bank.result(m).row(y) + std::size_t(x0) * 3;
+                std::copy(row, row + count * 3, chunk.begin() + std::ptrdiff_t(m * kChunk * 3));
+            }
+            for (int i = 0; i < count * 3; ++i) {
+                for (std::size_t m = 0; m < n; ++m) values[m] = chunk[m * kChunk * 3 + i];
                 std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(n / 2),
                                  values.end());
-                median(x, y, c) = values[n / 2];
+                median.data()[(std::size_t(y) * r.width() + x0) * 3 + i] = values[n / 2];
             }
+        }
     });
     return median;
 }
@@ -272,8 +281,9 @@ Image boxSmooth(const Image& image, int radius) {
     GLINT_CHECK(image.channels() == 1 && radius >= 0);
     const int w = image.width(), h = image.height();
     if (radius == 0 || image.empty()) return image;
-    // Horizontal then vertical running sums in double; each output value is computed from the
-    // same terms in the same order whatever the thread count.
+    // Horizontal prefix differences, then vertical running sums, in double. Each column's sum
+    // is updated in row order within a fixed block of columns, so every output value is
+    // computed from the same terms in the same order whatever the thread count.
     std::vector<double> horizontal(std::size_t(w) * std::size_t(h));
     tbb::parallel_for(0, h, [&](int y) {
         std::vector<double> prefix(std::size_t(w) + 1, 0.0);
@@ -286,12 +296,21 @@ Image boxSmooth(const Image& image, int radius) {
         }
     });
     Image out(w, h, 1);
-    tbb::parallel_for(0, h, [&](int y) {
-        const int y0 = std::max(0, y - radius), y1 = std::min(h, y + radius + 1);
-        for (int x = 0; x < w; ++x) {
-            double s = 0.0;
-            for (int yy = y0; yy < y1; ++yy) s += horizontal[std::size_t(yy) * w + x];
-            out(x, y, 0) = float(s / double(y1 - y0));
+    constexpr int kBlock = 256;
+    tbb::parallel_for(0, (w + kBlock - 1) / kBlock, [&](int block) {
+        const int bx0 = block * kBlock, bx1 = std::min(w, bx0 + kBlock);
+        std::vector<double> sum(std::size_t(bx1 - bx0), 0.0);
+        auto row = [&](int y) { return horizontal.data() + std::size_t(y) * w; };
+        for (int y = 0; y < std::min(h, radius); ++y)
+            for (int x = bx0; x < bx1; ++x) sum[std::size_t(x - bx0)] += row(y)[x];
+        for (int y = 0; y < h; ++y) {
+            const int entering = y + radius, leaving = y - radius - 1;
+            if (entering < h)
+                for (int x = bx0; x < bx1; ++x) sum[std::size_t(x - bx0)] += row(entering)[x];
+            if (leaving >= 0)
+                for (int x = bx0; x < bx1; ++x) sum[std::size_t(x - bx0)] -= row(leaving)[x];
+            const double count = double(std::min(h, y + radius + 1) - std::max(0, y - radius));
+            for (int x = bx0; x < bx1; ++x) out(x, y, 0) = float(sum[std::size_t(x - bx0)] / count);
         }
     });
     return out;
@@ -636,71 +655,92 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
         noiseLevel = boxSmooth(v, window);
     }
 
-    // Step 3: per-pixel weights over the members, in member order (deterministic).
-    std::vector<float> pixelWeights(pixels * n, 0.0f);
+    // Step 3: per-pixel weights over the members, in member order (deterministic), one plane
+    // per member. Rows go in chunks of 64 pixels so that each member's scores are read and its
+    // weights written as one run, not one value from each of n images per pixel.
+    const int width = region.width();
+    std::vector<Image> planes(n);
+    for (Image& plane : planes) plane = Image(width, region.height(), 1);
+    constexpr int kChunk = 64;
     tbb::parallel_for(0, region.height(), [&](int y) {
-        std::vector<double> s(n);
-        for (int x = 0; x < region.width(); ++x) {
-            const std::size_t p = std::size_t(y) * region.width() + x;
-            std::size_t best = baseline;
+        std::vector<double> s(n * kChunk);
+        std::vector<float> w(n * kChunk);
+        for (int x0 = 0; x0 < width; x0 += kChunk) {
+            const int count = std::min(kChunk, width - x0);
             for (std::size_t m = 0; m < n; ++m) {
-                s[m] = smoothed[m](x, y, 0);
-                if (s[m] < s[best]) best = m;
+                const float* row = smoothed[m].row(y) + x0;
+                for (int k = 0; k < count; ++k) s[m * kChunk + std::size_t(k)] = row[k];
             }
-            float* w = pixelWeights.data() + p * n;
-            const double unit = temperature > 0.0 ? temperature * double(noiseLevel(x, y, 0)) : 0.0;
-            if (!(unit > 0.0)) {
-                w[best] = 1.0f;
-                continue;
+            std::fill(w.begin(), w.end(), 0.0f);
+            for (int k = 0; k < count; ++k) {
+                const auto at = [&](std::size_t m) { return m * kChunk + std::size_t(k); };
+                std::size_t best = baseline;
+                for (std::size_t m = 0; m < n; ++m)
+                    if (s[at(m)] < s[at(best)]) best = m;
+                const double unit =
+                    temperature > 0.0 ? temperature * double(noiseLevel(x0 + k, y, 0)) : 0.0;
+                if (!(unit > 0.0)) {
+                    w[at(best)] = 1.0f;
+                    continue;
+                }
+                double sum = 0.0;
+                for (std::size_t m = 0; m < n; ++m) {
+                    const double e = std::exp(-(s[at(m)] - s[at(best)]) / unit);
+                    w[at(m)] = e < 1e-3 ? 0.0f : float(e);
+                    sum += w[at(m)];
+                }
+                for (std::size_t m = 0; m < n; ++m) w[at(m)] = float(w[at(m)] / sum);
             }
-            double sum = 0.0;
-            for (std::size_t m = 0; m < n; ++m) {
-                const double e = std::exp(-(s[m] - s[best]) / unit);
-                w[m] = e < 1e-3 ? 0.0f : float(e);
-                sum += w[m];
-            }
-            for (std::size_t m = 0; m < n; ++m) w[m] = float(w[m] / sum);
+            for (std::size_t m = 0; m < n; ++m)
+                std::copy(w.begin() + std::ptrdiff_t(m * kChunk),
+                          w.begin() + std::ptrdiff_t(m * kChunk + std::size_t(count)),
+                          planes[m].row(y) + x0);
         }
     });
 
-    // Step 4: the layers (members with any weight, largest total first) and the composite.
+    // Step 4: the composite (member order, as the weights), the layers (members with any
+    // weight, largest total first).
     std::vector<double> totals(n, 0.0);
-    for (std::size_t p = 0; p < pixels; ++p)
-        for (std::size_t m = 0; m < n; ++m) totals[m] += pixelWeights[p * n + m];
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t m) {
+        double total = 0.0;
+        for (float v : planes[m].data()) total += v;
+        totals[m] = total;
+    });
+    AutoResult result;
+    result.composite = Image(width, region.height(), 3);
+    result.choice = Image(width, region.height(), 1);
+    tbb::parallel_for(0, region.height(), [&](int y) {
+        std::vector<double> c(std::size_t(width) * 3, 0.0);
+        std::vector<float> topWeight(std::size_t(width), 0.0f);
+        std::vector<int> top(std::size_t(width), 0);
+        for (std::size_t m = 0; m < n; ++m) {
+            if (totals[m] == 0.0) continue;  // weight 0 everywhere: adds nothing, never the top
+            const float* w = planes[m].row(y);
+            const float* value = bank.result(m).row(y);
+            for (int x = 0; x < width; ++x) {
+                if (w[x] > topWeight[std::size_t(x)])
+                    topWeight[std::size_t(x)] = w[x], top[std::size_t(x)] = int(m);
+                if (w[x] == 0.0f) continue;
+                for (int k = 0; k < 3; ++k)
+                    c[std::size_t(x) * 3 + std::size_t(k)] +=
+                        double(w[x]) * double(value[std::size_t(x) * 3 + std::size_t(k)]);
+            }
+        }
+        float* out = result.composite.row(y);
+        for (std::size_t i = 0; i < c.size(); ++i) out[i] = float(c[i]);
+        for (int x = 0; x < width; ++x) result.choice(x, y, 0) = float(top[std::size_t(x)]);
+    });
     std::vector<int> order;
     for (std::size_t m = 0; m < n; ++m)
         if (totals[m] > 0.0) order.push_back(int(m));
     std::stable_sort(order.begin(), order.end(),
                      [&](int a, int b) { return totals[std::size_t(a)] > totals[std::size_t(b)]; });
-    AutoResult result;
     result.estimatedMse = estimatedMse;
     result.bestMember =
         int(std::min_element(estimatedMse.begin(), estimatedMse.end()) - estimatedMse.begin());
     for (char a : analytic) result.analytic.push_back(a != 0);
     result.estimator = estimator;
-    for (int m : order) {
-        AutoLayer layer{m, Image(region.width(), region.height(), 1)};
-        for (std::size_t p = 0; p < pixels; ++p)
-            layer.weights.data()[p] = pixelWeights[p * n + std::size_t(m)];
-        result.layers.push_back(std::move(layer));
-    }
-    result.composite = Image(region.width(), region.height(), 3);
-    result.choice = Image(region.width(), region.height(), 1);
-    tbb::parallel_for(0, region.height(), [&](int y) {
-        for (int x = 0; x < region.width(); ++x) {
-            const std::size_t p = std::size_t(y) * region.width() + x;
-            const float* w = pixelWeights.data() + p * n;
-            double c[3] = {0.0, 0.0, 0.0};
-            std::size_t top = 0;
-            for (std::size_t m = 0; m < n; ++m) {
-                if (w[m] > w[top]) top = m;
-                if (w[m] == 0.0f) continue;
-                for (int k = 0; k < 3; ++k) c[k] += double(w[m]) * double(bank.result(m)(x, y, k));
-            }
-            for (int k = 0; k < 3; ++k) result.composite(x, y, k) = float(c[k]);
-            result.choice(x, y, 0) = float(top);
-        }
-    });
+    for (int m : order) result.layers.push_back({m, std::move(planes[std::size_t(m)])});
     return result;
 }
 
