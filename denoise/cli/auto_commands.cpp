@@ -37,7 +37,7 @@ using Clock = std::chrono::steady_clock;
 struct AutoArgs {
     std::string input, bank, out, reference, choiceMap, filters, space = "display",
                                                                  estimator = "auto";
-    int size = 64;
+    int size = 64, shortlist = 16;
     std::optional<int> window;
     std::uint64_t bankSeed = 1, seed = 1;
     std::optional<double> temperature;
@@ -60,6 +60,7 @@ void runAuto(const AutoArgs& a) {
     options.sure.seed = a.seed;
     options.exposure = a.exposure;
     options.symmetric = !a.oneSided;
+    options.shortlist = a.shortlist;
     try {
         options.estimator = parseAutoEstimator(a.estimator);
     } catch (const Error& e) {
@@ -153,6 +154,7 @@ void runAuto(const AutoArgs& a) {
         {"space", a.space},
         {"estimator", autoEstimatorName(result.estimator)},
         {"symmetric", options.symmetric},
+        {"shortlist", options.shortlist},
         {"window", options.window.value_or(autoDefaults(result.estimator).window)},
         {"confidence", options.confidence.value_or(autoDefaults(result.estimator).confidence)},
         {"temperature", options.temperature.value_or(autoDefaults(result.estimator).temperature)},
@@ -266,6 +268,9 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
                     "auto (default: halves when IN has half buffers, else sure) | sure | halves");
     cmd->add_flag("--one-sided", a->oneSided,
                   "Halves: filter only half A (half the time, noisier estimates)");
+    cmd->add_option("--shortlist", a->shortlist,
+                    "Halves: filter only the K members with the most weight after a one-sided "
+                    "first choice on both halves, and choose among them (default 16; 0: all)");
     cmd->add_option("--choice-map", a->choiceMap, "Write the chosen member per pixel as a PNG");
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
     return {{cmd, [a] { runAuto(*a); }}};

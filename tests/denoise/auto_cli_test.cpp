@@ -131,6 +131,7 @@ TEST_F(AutoCli, BadInputExitsTwoWithOneClearLineAndWritesNothing) {
         {"auto " + path("noisy.exr") + out + " --window -1", {"--window"}},
         {"auto " + path("noisy.exr") + out + " --temperature -2", {"--temperature"}},
         {"auto " + path("noisy.exr") + out + " --epsilon 0", {"--epsilon"}},
+        {"auto " + path("noisy.exr") + out + " --shortlist -1", {"--shortlist", "0 … 4096"}},
         {"auto " + path("noisy.exr") + out + " --space gamma",
          {"--space", "display, display-tangent, display-exact or linear"}},
         {"auto " + path("noisy.exr") + out + " --space display-exact",

@@ -5,9 +5,9 @@
 // autoComposite over it — SURE: one more application of every member to the perturbed input;
 // halves: one (--one-sided 1) or two applications to the halves — maps, choice. Prints one JSON
 // object with both times and their ratio (target: auto ≤ 2× the bank).
-//   bench_auto [--estimator sure|halves] [--one-sided 0|1] [--space display|display-tangent|
-//              display-exact|linear] [--size 1024] [--spp 4] [--threads 2] [--members 64]
-//              [--reps 3]
+//   bench_auto [--estimator sure|halves] [--one-sided 0|1] [--shortlist 16 (0: all)]
+//              [--space display|display-tangent|display-exact|linear] [--size 1024] [--spp 4]
+//              [--threads 2] [--members 64] [--reps 3]
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -40,7 +40,7 @@ double secondsOf(const std::function<void()>& fn) {
 
 int main(int argc, char** argv) {
     namespace fs = std::filesystem;
-    int size = 1024, spp = 4, threads = 2, members = 64, reps = 3, oneSided = 0;
+    int size = 1024, spp = 4, threads = 2, members = 64, reps = 3, oneSided = 0, shortlist = 16;
     std::string estimator = "sure";
     glint::denoise::SureSpace space = glint::denoise::SureSpace::Display;
     for (int i = 1; i + 1 < argc; i += 2) {
@@ -65,6 +65,8 @@ int main(int argc, char** argv) {
         const int v = std::stoi(argv[i + 1]);
         if (a == "--one-sided")
             oneSided = v;
+        else if (a == "--shortlist")
+            shortlist = v;
         else if (a == "--size")
             size = v;
         else if (a == "--spp")
@@ -111,6 +113,7 @@ int main(int argc, char** argv) {
                                              : glint::denoise::AutoEstimator::Sure;
         ao.symmetric = oneSided == 0;
         ao.space = space;
+        ao.shortlist = shortlist;
         autoSeconds =
             std::min(autoSeconds,
                      secondsOf([&] { result = glint::denoise::autoComposite(bank, frame, ao); }));
@@ -124,6 +127,7 @@ int main(int argc, char** argv) {
                                 {"estimator", estimator},
                                 {"symmetric", oneSided == 0},
                                 {"space", glint::denoise::sureSpaceName(space)},
+                                {"shortlist", shortlist},
                                 {"bankSecondsBest", bankSeconds},
                                 {"autoSecondsBest", autoSeconds},
                                 {"autoOverBank", autoSeconds / bankSeconds},

@@ -10,6 +10,7 @@
 #include <limits>
 #include <mutex>
 #include <numeric>
+#include <tuple>
 
 #include "glint/denoise/bank.h"
 #include "glint/denoise/prefilter.h"
@@ -148,6 +149,17 @@ Image memberDivergence(const Filter& filter, const ParamValues& params, const Im
     fo.progress = progress;
     const Image perturbedOutput = applyFilter(filter, perturbed, params, fo);
     return monteCarloDivergence(output, perturbedOutput, delta, region);
+}
+
+// The mean of a 1-channel map summed over RGB, per channel: rows summed in order.
+double meanPerChannel(const Image& map) {
+    double total = 0.0;
+    for (int y = 0; y < map.height(); ++y) {
+        double row = 0.0;
+        for (int x = 0; x < map.width(); ++x) row += map(x, y, 0);
+        total += row;
+    }
+    return total / double(map.pixelCount()) / 3.0;
 }
 
 }  // namespace
@@ -340,6 +352,11 @@ void validate(const AutoOptions& options) {
                     "confidence " + std::to_string(*options.confidence) +
                         " must be >= 0 (standard errors a local choice must win by)",
                     {}, "--confidence");
+    if (options.shortlist < 0 || options.shortlist > 4096)
+        throw Error(ErrorKind::InvalidArgument,
+                    "shortlist " + std::to_string(options.shortlist) +
+                        " is outside 0 … 4096 (members filtered on both halves; 0: all)",
+                    {}, "--shortlist");
     if (!std::isfinite(options.exposure))
         throw Error(ErrorKind::InvalidArgument, "exposure must be finite", {}, "--exposure");
 }
@@ -521,8 +538,8 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
     Image delta;
     if (halves) {
         auto split = splitHalves(frame);
-        halfA = prepare(split.first);
-        halfB = prepare(split.second);
+        halfA = options.prefilter ? prepare(split.first) : std::move(split.first);
+        halfB = options.prefilter ? prepare(split.second) : std::move(split.second);
     } else {
         filterInput = prepare(frame);
         perturbed = perturbColor(filterInput, options.sure, &delta);
@@ -537,8 +554,15 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
     const Image weight = secant || tangent ? tangentWeights(median, options.exposure) : Image{};
     const Image* weightPtr = tangent ? &weight : nullptr;
 
+    // Halves with a shortlist: every member on A first (one-sided maps), both halves only for
+    // the shortlisted members (below).
+    const bool shortlisted =
+        halves && options.symmetric && options.shortlist > 0 && std::size_t(options.shortlist) < n;
+    const bool bothHalves = options.symmetric && !shortlisted;
+    const std::size_t work = shortlisted ? n + std::size_t(options.shortlist) : n;
+
     // Step 1: every member's SURE map (members in parallel, like the bank).
-    std::vector<Image> smoothed(n);
+    std::vector<Image> raws(n);
     std::vector<double> estimatedMse(n, 0.0);
     std::vector<char> analytic(n, 0);
     std::mutex progressMutex;
@@ -547,7 +571,7 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
     auto report = [&] {
         if (!options.progress) return;
         const std::lock_guard<std::mutex> lock(progressMutex);
-        if (!stop.load() && !options.progress(double(done.load()) / double(n))) stop.store(true);
+        if (!stop.load() && !options.progress(double(done.load()) / double(work))) stop.store(true);
     };
     report();
     tbb::parallel_for(std::size_t(0), n, [&](std::size_t m) {
@@ -564,9 +588,9 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                 const Filter& filter = findFilter(member.filter);
                 const Image outA = applyFilter(filter, halfA, member.params, fo);
                 const Image outB =
-                    options.symmetric ? applyFilter(filter, halfB, member.params, fo) : Image{};
+                    bothHalves ? applyFilter(filter, halfB, member.params, fo) : Image{};
                 const bool exact = options.space == SureSpace::DisplayExact;
-                const Image* outBPtr = options.symmetric ? &outB : nullptr;
+                const Image* outBPtr = bothHalves ? &outB : nullptr;
                 raw = secant ? secantCrossValidationMap(halfA.color(), halfB.color(), outA, outBPtr,
                                                         region, median, options.exposure)
                              : crossValidationMap(
@@ -584,51 +608,12 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
             throw;
         }
         analytic[m] = isAnalytic ? 1 : 0;
-        // Mean per channel, rows summed in order.
-        double total = 0.0;
-        for (int y = 0; y < region.height(); ++y) {
-            double row = 0.0;
-            for (int x = 0; x < region.width(); ++x) row += raw(x, y, 0);
-            total += row;
-        }
-        estimatedMse[m] = total / double(pixels) / 3.0;
-        smoothed[m] = std::move(raw);
+        estimatedMse[m] = meanPerChannel(raw);
+        raws[m] = std::move(raw);
         ++done;
         report();
     });
     if (stop.load()) throw Error(ErrorKind::Cancelled, "auto composite cancelled");
-
-    // Step 2: the score of each member per pixel. The baseline is the member with the smallest
-    // SURE over the region; another member scores the smoothed SURE difference to it plus
-    // `confidence` standard errors of that local mean (from the difference's spread in the
-    // window), so a pixel leaves the baseline only where SURE says, with that confidence, that
-    // another member is better there. With confidence 0 it is the plain smoothed SURE.
-    const std::size_t baseline = std::size_t(
-        std::min_element(estimatedMse.begin(), estimatedMse.end()) - estimatedMse.begin());
-    {
-        const Image& base = smoothed[baseline];
-        const double count = double((2 * window + 1) * (2 * window + 1));
-        std::vector<Image> scores(n);
-        tbb::parallel_for(std::size_t(0), n, [&](std::size_t m) {
-            Image d(region.width(), region.height(), 1), d2(region.width(), region.height(), 1);
-            for (std::size_t p = 0; p < pixels; ++p) {
-                const double v = double(smoothed[m].data()[p]) - double(base.data()[p]);
-                d.data()[p] = float(v);
-                d2.data()[p] = float(v * v);
-            }
-            Image mean = boxSmooth(d, window);
-            if (confidence > 0.0 && m != baseline) {
-                const Image meanSq = boxSmooth(d2, window);
-                for (std::size_t p = 0; p < pixels; ++p) {
-                    const double mu = mean.data()[p];
-                    const double var = std::max(0.0, double(meanSq.data()[p]) - mu * mu);
-                    mean.data()[p] = float(mu + confidence * std::sqrt(var / count));
-                }
-            }
-            scores[m] = std::move(mean);
-        });
-        smoothed = std::move(scores);
-    }
 
     // The smoothed noise level per pixel (the temperature's unit).
     Image noiseLevel;
@@ -655,57 +640,161 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
         noiseLevel = boxSmooth(v, window);
     }
 
-    // Step 3: per-pixel weights over the members, in member order (deterministic), one plane
-    // per member. Rows go in chunks of 64 pixels so that each member's scores are read and its
-    // weights written as one run, not one value from each of n images per pixel.
+    // Steps 2 and 3, over `candidates` (member indices, ascending): one weight plane per member
+    // (empty for the others).
     const int width = region.width();
-    std::vector<Image> planes(n);
-    for (Image& plane : planes) plane = Image(width, region.height(), 1);
-    constexpr int kChunk = 64;
-    tbb::parallel_for(0, region.height(), [&](int y) {
-        std::vector<double> s(n * kChunk);
-        std::vector<float> w(n * kChunk);
-        for (int x0 = 0; x0 < width; x0 += kChunk) {
-            const int count = std::min(kChunk, width - x0);
-            for (std::size_t m = 0; m < n; ++m) {
-                const float* row = smoothed[m].row(y) + x0;
-                for (int k = 0; k < count; ++k) s[m * kChunk + std::size_t(k)] = row[k];
+    auto choose = [&](const std::vector<std::size_t>& candidates) {
+        const std::size_t c = candidates.size();
+        // Step 2: the score of each candidate per pixel. The baseline is the candidate with the
+        // smallest estimate over the region; another scores the smoothed difference to it plus
+        // `confidence` standard errors of that local mean (from the difference's spread in the
+        // window), so a pixel leaves the baseline only where the estimate says, with that
+        // confidence, that another member is better there. With confidence 0 it is the plain
+        // smoothed estimate.
+        std::size_t baseline = 0;  // position in candidates
+        for (std::size_t j = 0; j < c; ++j)
+            if (estimatedMse[candidates[j]] < estimatedMse[candidates[baseline]]) baseline = j;
+        const Image& base = raws[candidates[baseline]];
+        const double count = double((2 * window + 1) * (2 * window + 1));
+        std::vector<Image> scores(c);
+        tbb::parallel_for(std::size_t(0), c, [&](std::size_t j) {
+            const Image& raw = raws[candidates[j]];
+            Image d(region.width(), region.height(), 1), d2(region.width(), region.height(), 1);
+            for (std::size_t p = 0; p < pixels; ++p) {
+                const double v = double(raw.data()[p]) - double(base.data()[p]);
+                d.data()[p] = float(v);
+                d2.data()[p] = float(v * v);
             }
-            std::fill(w.begin(), w.end(), 0.0f);
-            for (int k = 0; k < count; ++k) {
-                const auto at = [&](std::size_t m) { return m * kChunk + std::size_t(k); };
-                std::size_t best = baseline;
-                for (std::size_t m = 0; m < n; ++m)
-                    if (s[at(m)] < s[at(best)]) best = m;
-                const double unit =
-                    temperature > 0.0 ? temperature * double(noiseLevel(x0 + k, y, 0)) : 0.0;
-                if (!(unit > 0.0)) {
-                    w[at(best)] = 1.0f;
-                    continue;
+            Image mean = boxSmooth(d, window);
+            if (confidence > 0.0 && j != baseline) {
+                const Image meanSq = boxSmooth(d2, window);
+                for (std::size_t p = 0; p < pixels; ++p) {
+                    const double mu = mean.data()[p];
+                    const double var = std::max(0.0, double(meanSq.data()[p]) - mu * mu);
+                    mean.data()[p] = float(mu + confidence * std::sqrt(var / count));
                 }
-                double sum = 0.0;
-                for (std::size_t m = 0; m < n; ++m) {
-                    const double e = std::exp(-(s[at(m)] - s[at(best)]) / unit);
-                    w[at(m)] = e < 1e-3 ? 0.0f : float(e);
-                    sum += w[at(m)];
-                }
-                for (std::size_t m = 0; m < n; ++m) w[at(m)] = float(w[at(m)] / sum);
             }
-            for (std::size_t m = 0; m < n; ++m)
-                std::copy(w.begin() + std::ptrdiff_t(m * kChunk),
-                          w.begin() + std::ptrdiff_t(m * kChunk + std::size_t(count)),
-                          planes[m].row(y) + x0);
-        }
-    });
+            scores[j] = std::move(mean);
+        });
+
+        // Step 3: per-pixel weights over the candidates, in member order (deterministic). Rows
+        // go in chunks of 64 pixels so that each candidate's scores are read and its weights
+        // written as one run, not one value from each of c images per pixel.
+        std::vector<Image> planes(n);
+        for (std::size_t m : candidates) planes[m] = Image(width, region.height(), 1);
+        std::vector<std::vector<int>> rowWins(std::size_t(region.height()));
+        constexpr int kChunk = 64;
+        tbb::parallel_for(0, region.height(), [&](int y) {
+            std::vector<double> s(c * kChunk);
+            std::vector<float> w(c * kChunk);
+            std::vector<int>& wins = rowWins[std::size_t(y)];
+            wins.assign(c, 0);
+            for (int x0 = 0; x0 < width; x0 += kChunk) {
+                const int pixelsHere = std::min(kChunk, width - x0);
+                for (std::size_t j = 0; j < c; ++j) {
+                    const float* row = scores[j].row(y) + x0;
+                    for (int k = 0; k < pixelsHere; ++k) s[j * kChunk + std::size_t(k)] = row[k];
+                }
+                std::fill(w.begin(), w.end(), 0.0f);
+                for (int k = 0; k < pixelsHere; ++k) {
+                    const auto at = [&](std::size_t j) { return j * kChunk + std::size_t(k); };
+                    std::size_t best = baseline;
+                    for (std::size_t j = 0; j < c; ++j)
+                        if (s[at(j)] < s[at(best)]) best = j;
+                    ++wins[best];
+                    const double unit =
+                        temperature > 0.0 ? temperature * double(noiseLevel(x0 + k, y, 0)) : 0.0;
+                    if (!(unit > 0.0)) {
+                        w[at(best)] = 1.0f;
+                        continue;
+                    }
+                    double sum = 0.0;
+                    for (std::size_t j = 0; j < c; ++j) {
+                        const double e = std::exp(-(s[at(j)] - s[at(best)]) / unit);
+                        w[at(j)] = e < 1e-3 ? 0.0f : float(e);
+                        sum += w[at(j)];
+                    }
+                    for (std::size_t j = 0; j < c; ++j) w[at(j)] = float(w[at(j)] / sum);
+                }
+                for (std::size_t j = 0; j < c; ++j)
+                    std::copy(w.begin() + std::ptrdiff_t(j * kChunk),
+                              w.begin() + std::ptrdiff_t(j * kChunk + std::size_t(pixelsHere)),
+                              planes[candidates[j]].row(y) + x0);
+            }
+        });
+        // Pixels won: where a candidate has the smallest score (the largest weight).
+        std::vector<long> won(n, 0);
+        for (const auto& row : rowWins)
+            for (std::size_t j = 0; j < c; ++j) won[candidates[j]] += row[j];
+        return std::make_pair(std::move(planes), std::move(won));
+    };
+    auto totalsOf = [&](const std::vector<Image>& planes) {
+        std::vector<double> totals(n, 0.0);
+        tbb::parallel_for(std::size_t(0), n, [&](std::size_t m) {
+            double total = 0.0;
+            for (float v : planes[m].data()) total += v;
+            totals[m] = total;
+        });
+        return totals;
+    };
+
+    std::vector<std::size_t> candidates(n);
+    std::iota(candidates.begin(), candidates.end(), std::size_t(0));
+    std::vector<Image> planes;
+    std::vector<long> wins;
+    std::tie(planes, wins) = choose(candidates);
+    std::vector<double> totals = totalsOf(planes);
+    if (shortlisted) {
+        // The shortlist: the members that carry the largest weight at the most pixels in the
+        // one-sided choice (then by total weight, then member order; by pixels won rather than
+        // by total weight, so that a member that wins one region outright is not outranked by
+        // members with a little weight everywhere), filtered on B too. Their maps become the
+        // symmetric form, the average of the A-side and B-side terms, and the final choice is
+        // among them.
+        std::vector<std::size_t> order = candidates;
+        std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+            return wins[a] != wins[b] ? wins[a] > wins[b] : totals[a] > totals[b];
+        });
+        order.resize(std::size_t(options.shortlist));
+        std::sort(order.begin(), order.end());
+        planes.clear();
+        tbb::parallel_for(std::size_t(0), order.size(), [&](std::size_t j) {
+            if (stop.load()) return;
+            const std::size_t m = order[j];
+            const BankMember& member = bank.members()[m];
+            Image rawB;
+            try {
+                FilterOptions fo;
+                fo.region = region;
+                fo.progress = [&](double) { return !stop.load(); };
+                const Image outB = applyFilter(findFilter(member.filter), halfB, member.params, fo);
+                // B's term: the one-sided form with the halves' roles swapped.
+                rawB = secant ? secantCrossValidationMap(halfB.color(), halfA.color(), outB,
+                                                         nullptr, region, median, options.exposure)
+                              : crossValidationMap(halfB.color(), halfA.color(), outB, nullptr,
+                                                   region, weightPtr,
+                                                   options.space == SureSpace::DisplayExact
+                                                       ? std::optional<float>(options.exposure)
+                                                       : std::nullopt);
+            } catch (const Error& e) {
+                if (e.kind() == ErrorKind::Cancelled) return;
+                throw;
+            }
+            Image& raw = raws[m];
+            for (std::size_t p = 0; p < pixels; ++p)
+                raw.data()[p] = float(0.5 * (double(raw.data()[p]) + double(rawB.data()[p])));
+            estimatedMse[m] = meanPerChannel(raw);
+            ++done;
+            report();
+        });
+        if (stop.load()) throw Error(ErrorKind::Cancelled, "auto composite cancelled");
+        candidates = std::move(order);
+        std::tie(planes, wins) = choose(candidates);
+        totals = totalsOf(planes);
+    }
 
     // Step 4: the composite (member order, as the weights), the layers (members with any
     // weight, largest total first).
-    std::vector<double> totals(n, 0.0);
-    tbb::parallel_for(std::size_t(0), n, [&](std::size_t m) {
-        double total = 0.0;
-        for (float v : planes[m].data()) total += v;
-        totals[m] = total;
-    });
     AutoResult result;
     result.composite = Image(width, region.height(), 3);
     result.choice = Image(width, region.height(), 1);
@@ -736,8 +825,10 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
     std::stable_sort(order.begin(), order.end(),
                      [&](int a, int b) { return totals[std::size_t(a)] > totals[std::size_t(b)]; });
     result.estimatedMse = estimatedMse;
-    result.bestMember =
-        int(std::min_element(estimatedMse.begin(), estimatedMse.end()) - estimatedMse.begin());
+    std::size_t best = candidates.front();
+    for (std::size_t m : candidates)
+        if (estimatedMse[m] < estimatedMse[best]) best = m;
+    result.bestMember = int(best);
     for (char a : analytic) result.analytic.push_back(a != 0);
     result.estimator = estimator;
     for (int m : order) result.layers.push_back({m, std::move(planes[std::size_t(m)])});

@@ -181,6 +181,13 @@ struct AutoOptions {
     AutoEstimator estimator = AutoEstimator::Auto;
     /// Halves: filter both halves (two applications per member) rather than only A (one).
     bool symmetric = true;
+    /// Halves, symmetric: how many members are filtered on both halves. Every member is
+    /// filtered on A and chosen among by its one-sided estimate first; then the `shortlist`
+    /// members that carry the largest weight at the most pixels in that first choice are
+    /// filtered on B too, and the final choice is among them, by their symmetric estimate
+    /// (docs/navigation.md, step 8). 0, or at least the bank's size: every member on both
+    /// halves, the choice among all.
+    int shortlist = 16;
     SureOptions sure;
     SureSpace space = SureSpace::Display;
     float exposure = 0.0f;  ///< of the display transform (the display spaces)
@@ -219,16 +226,20 @@ struct AutoLayer {
 struct AutoResult {
     Image composite;  ///< 3 channels, region-sized: Σ weights · member result
     Image choice;     ///< 1 channel: per pixel, the member with the largest weight (as float)
-    std::vector<AutoLayer> layers;     ///< members with any weight, by total weight, largest first
-    std::vector<double> estimatedMse;  ///< per member: mean SURE per channel over the region
-    int bestMember = -1;               ///< the smallest estimatedMse (auto's single choice)
-    std::vector<bool> analytic;        ///< per member: the filter gave its divergence
+    std::vector<AutoLayer> layers;  ///< members with any weight, by total weight, largest first
+    /// Per member: the mean estimate per channel over the region (with a shortlist: the
+    /// symmetric estimate for its members, the one-sided one for the others).
+    std::vector<double> estimatedMse;
+    int bestMember = -1;         ///< the smallest estimatedMse among the members chosen from (the
+                                 ///< shortlist, when there is one): auto's single choice
+    std::vector<bool> analytic;  ///< per member: the filter gave its divergence
     AutoEstimator estimator = AutoEstimator::Sure;  ///< the estimator used (never Auto)
 };
 
 /// Computes every member's error map — SURE (one extra application of each member to the
-/// perturbed input) or cross-validation on the halves (one or two applications to the halves)
-/// — with members in parallel in the caller's TBB pool, smooths them and builds the composite.
+/// perturbed input) or cross-validation on the halves (one application to A, and one to B for
+/// the shortlist or every member) — with members in parallel in the caller's TBB pool, smooths
+/// them and builds the composite.
 /// With the halves, estimatedMse is a member's error on a half of the samples.
 /// `frame` is the input the bank was built from (checked by hash). Deterministic for a seed,
 /// whatever the thread count. Throws glint::Error like checkSureInput, InvalidArgument for a
