@@ -412,7 +412,7 @@ void SessionAdapter::autoStart(int bankSize) {
             denoise::AutoOptions ao;
             ao.prefilter = options.prefilter;
             ao.prefilterParams = options.prefilterParams;
-            ao.progress = progressFor(tr("Auto start: estimating the errors (SURE)"), cancel);
+            ao.progress = progressFor(tr("Auto start: estimating each member's error"), cancel);
             auto result =
                 std::make_shared<denoise::AutoResult>(denoise::autoComposite(*bank, *in, ao));
             return AutoStart{bank, result};
