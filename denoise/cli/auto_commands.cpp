@@ -38,7 +38,7 @@ struct AutoArgs {
     std::string input, bank, out, reference, choiceMap, filters, space = "display",
                                                                  estimator = "auto";
     int size = 64, shortlist = 16;
-    std::optional<int> window;
+    std::optional<int> window, finer;
     std::uint64_t bankSeed = 1, seed = 1;
     std::optional<double> temperature;
     double epsilon = 0.01;
@@ -56,6 +56,7 @@ void runAuto(const AutoArgs& a) {
     options.window = a.window;
     options.temperature = a.temperature;
     options.confidence = a.confidence;
+    options.finer = a.finer;
     options.sure.epsilon = a.epsilon;
     options.sure.seed = a.seed;
     options.exposure = a.exposure;
@@ -158,6 +159,7 @@ void runAuto(const AutoArgs& a) {
         {"window", options.window.value_or(autoDefaults(result.estimator).window)},
         {"confidence", options.confidence.value_or(autoDefaults(result.estimator).confidence)},
         {"temperature", options.temperature.value_or(autoDefaults(result.estimator).temperature)},
+        {"finer", options.finer.value_or(autoDefaults(result.estimator).finer)},
         {"epsilon", a.epsilon},
         {"seed", a.seed},
         {"bestMember", memberJson(bank, result.bestMember)},
@@ -257,6 +259,9 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
         "--confidence", a->confidence,
         "Standard errors by which a local choice must beat the baseline (>= 0; default 3 "
         "for SURE, 1 for the halves)");
+    cmd->add_option("--finer", a->finer,
+                    "Times the window is halved for the final choice, which keeps the lowest "
+                    "score (0 … 6; default 0 for SURE, 1 for the halves)");
     cmd->add_option("--epsilon", a->epsilon, "Perturbation relative to the pixel's sigma");
     cmd->add_option("--seed", a->seed, "Seed of the random +-1 perturbation");
     cmd->add_option(

@@ -51,6 +51,7 @@ TEST_F(AutoCli, HalfBuffersSelectTheHalvesEstimatorAndItsDefaults) {
     EXPECT_EQ(j["symmetric"], true);
     EXPECT_EQ(j["window"], 8);
     EXPECT_EQ(j["confidence"], 1.0);
+    EXPECT_EQ(j["finer"], 1);
     r = run("auto " + path("halves.exr") + " --out " + path("auto.exr") +
             " --size 6 --json --estimator sure --one-sided");
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -58,6 +59,7 @@ TEST_F(AutoCli, HalfBuffersSelectTheHalvesEstimatorAndItsDefaults) {
     EXPECT_EQ(j["estimator"], "sure");
     EXPECT_EQ(j["window"], 4);
     EXPECT_EQ(j["confidence"], 3.0);
+    EXPECT_EQ(j["finer"], 0);
     r = run("auto " + path("halves.exr") + " --out " + path("auto.exr") + " --size 6");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("cross-validation on the halves"), std::string::npos) << r.out;
@@ -132,6 +134,7 @@ TEST_F(AutoCli, BadInputExitsTwoWithOneClearLineAndWritesNothing) {
         {"auto " + path("noisy.exr") + out + " --temperature -2", {"--temperature"}},
         {"auto " + path("noisy.exr") + out + " --epsilon 0", {"--epsilon"}},
         {"auto " + path("noisy.exr") + out + " --shortlist -1", {"--shortlist", "0 … 4096"}},
+        {"auto " + path("noisy.exr") + out + " --finer 9", {"--finer", "0 … 6"}},
         {"auto " + path("noisy.exr") + out + " --space gamma",
          {"--space", "display, display-tangent, display-exact or linear"}},
         {"auto " + path("noisy.exr") + out + " --space display-exact",

@@ -162,6 +162,31 @@ double meanPerChannel(const Image& map) {
     return total / double(map.pixelCount()) / 3.0;
 }
 
+// NaN or Inf in the colour or the half colour: glint::Error naming the first in scan order.
+void checkHalvesFinite(const FrameBuffers& frame, const std::string& file) {
+    for (Layer layer : {Layer::Color, Layer::HalfColor}) {
+        const Image& image = frame.layer(layer);
+        // Rows in parallel to find whether any value is bad; then, only if one is, the serial
+        // scan that names the first in scan order.
+        std::atomic<bool> bad{false};
+        tbb::parallel_for(0, frame.height(), [&](int y) {
+            const float* row = image.row(y);
+            for (int i = 0; i < frame.width() * 3; ++i)
+                if (!std::isfinite(row[i])) bad.store(true);
+        });
+        if (!bad.load()) continue;
+        for (int y = 0; y < frame.height(); ++y)
+            for (int x = 0; x < frame.width(); ++x)
+                for (int c = 0; c < 3; ++c)
+                    if (!std::isfinite(image(x, y, c)))
+                        throw Error(ErrorKind::Numeric,
+                                    std::string(std::isnan(image(x, y, c)) ? "NaN" : "Inf") +
+                                        " in the " + std::string(layerDisplayName(layer)) +
+                                        "; the error estimate needs finite values",
+                                    file, pixelText(x, y) + ", channel " + channelName(layer, c));
+    }
+}
+
 }  // namespace
 
 void checkSureInput(const FrameBuffers& frame, const std::string& file) {
@@ -173,8 +198,16 @@ void checkSureInput(const FrameBuffers& frame, const std::string& file) {
                     file, "layer 'variance'");
     const Image& color = frame.color();
     const Image& variance = frame.layer(Layer::Variance);
-    // Report the first bad value in scan order (the row loop is serial on purpose: a clear,
-    // reproducible message matters more than speed here, and it is one pass).
+    // Rows in parallel to find whether any value is bad; then, only if one is, the serial scan
+    // that reports the first in scan order (a clear, reproducible message).
+    std::atomic<bool> bad{false};
+    tbb::parallel_for(0, frame.height(), [&](int y) {
+        const float* c = color.row(y);
+        const float* s = variance.row(y);
+        for (int i = 0; i < frame.width() * 3; ++i)
+            if (!std::isfinite(c[i]) || !std::isfinite(s[i]) || s[i] < 0.0f) bad.store(true);
+    });
+    if (!bad.load()) return;
     for (int y = 0; y < frame.height(); ++y)
         for (int x = 0; x < frame.width(); ++x)
             for (int c = 0; c < 3; ++c) {
@@ -352,6 +385,12 @@ void validate(const AutoOptions& options) {
                     "confidence " + std::to_string(*options.confidence) +
                         " must be >= 0 (standard errors a local choice must win by)",
                     {}, "--confidence");
+    if (options.finer && (*options.finer < 0 || *options.finer > 6))
+        throw Error(ErrorKind::InvalidArgument,
+                    "finer " + std::to_string(*options.finer) +
+                        " is outside 0 … 6 (how many times the window is halved for the final "
+                        "choice)",
+                    {}, "--finer");
     if (options.shortlist < 0 || options.shortlist > 4096)
         throw Error(ErrorKind::InvalidArgument,
                     "shortlist " + std::to_string(options.shortlist) +
@@ -406,8 +445,8 @@ const char* autoEstimatorName(AutoEstimator estimator) {
 }
 
 AutoDefaults autoDefaults(AutoEstimator estimator) {
-    if (estimator == AutoEstimator::Halves) return {8, 1.0, 0.06};
-    return {4, 3.0, 0.0};
+    if (estimator == AutoEstimator::Halves) return {8, 1.0, 0.06, 1};
+    return {4, 3.0, 0.0, 0};
 }
 
 AutoEstimator resolveEstimator(AutoEstimator estimator, const FrameBuffers& frame) {
@@ -426,18 +465,7 @@ void checkAutoInput(const FrameBuffers& frame, AutoEstimator estimator, const st
                     "buffers (glint-render --half-buffers)",
                     file, "layer 'halfColor'");
     splitHalves(frame, file);  // every half layer present, counts consistent
-    for (Layer layer : {Layer::Color, Layer::HalfColor}) {
-        const Image& image = frame.layer(layer);
-        for (int y = 0; y < frame.height(); ++y)
-            for (int x = 0; x < frame.width(); ++x)
-                for (int c = 0; c < 3; ++c)
-                    if (!std::isfinite(image(x, y, c)))
-                        throw Error(ErrorKind::Numeric,
-                                    std::string(std::isnan(image(x, y, c)) ? "NaN" : "Inf") +
-                                        " in the " + std::string(layerDisplayName(layer)) +
-                                        "; the error estimate needs finite values",
-                                    file, pixelText(x, y) + ", channel " + channelName(layer, c));
-    }
+    checkHalvesFinite(frame, file);
 }
 
 Image crossValidationMap(const Image& halfA, const Image& halfB, const Image& outputA,
@@ -473,36 +501,52 @@ Image crossValidationMap(const Image& halfA, const Image& halfB, const Image& ou
 
 Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Image& outputA,
                                const Image* outputB, const Rect& region, const Image& centre,
-                               float exposure) {
+                               float exposure, SecantForm form, double* unbiasedMean) {
     GLINT_CHECK(outputA.width() == region.width() && outputA.height() == region.height() &&
                 halfA.sameShape(halfB) && (!outputB || outputB->sameShape(outputA)) &&
                 centre.sameShape(outputA));
     const DisplayCurve display(std::exp2(double(exposure)));
+    const bool centred = form == SecantForm::Centred;
     Image map(region.width(), region.height(), 1);
+    // Per row, the sum of the unbiased terms (added up in row order below: deterministic).
+    std::vector<double> rowSums(std::size_t(region.height()), 0.0);
     tbb::parallel_for(0, region.height(), [&](int y) {
+        double rowSum = 0.0;
         for (int x = 0; x < region.width(); ++x) {
-            double s = 0.0;
+            double s = 0.0, unbiased = 0.0;
             for (int c = 0; c < 3; ++c) {
                 const double a = halfA(x + region.x0, y + region.y0, c);
                 const double b = halfB(x + region.x0, y + region.y0, c);
                 const double m = centre(x, y, c);
                 const double displayM = display(m);
                 const double halfNoise = 0.5 * (a - b) * (a - b);
-                const double fa = outputA(x, y, c);
-                const double termA = secantWeight(fa, m, displayM, display, exposure) *
-                                     ((fa - b) * (fa - b) - halfNoise);
+                // One side: output f against the other half h.
+                auto side = [&](double f, double h, double& unbiasedTerm) {
+                    const double w = secantWeight(f, m, displayM, display, exposure);
+                    unbiasedTerm = w * ((f - h) * (f - h) - halfNoise);
+                    return centred ? w * (f - m) * (f + m - 2.0 * h) : unbiasedTerm;
+                };
+                double ua = 0.0, ub = 0.0;
+                const double termA = side(outputA(x, y, c), b, ua);
                 if (outputB) {
-                    const double fb = (*outputB)(x, y, c);
-                    const double termB = secantWeight(fb, m, displayM, display, exposure) *
-                                         ((fb - a) * (fb - a) - halfNoise);
+                    const double termB = side((*outputB)(x, y, c), a, ub);
                     s += 0.5 * (termA + termB);
+                    unbiased += 0.5 * (ua + ub);
                 } else {
                     s += termA;
+                    unbiased += ua;
                 }
             }
             map(x, y, 0) = float(s);
+            rowSum += unbiased;
         }
+        rowSums[std::size_t(y)] = rowSum;
     });
+    if (unbiasedMean) {
+        double total = 0.0;
+        for (double v : rowSums) total += v;
+        *unbiasedMean = total / double(map.pixelCount()) / 3.0;
+    }
     return map;
 }
 
@@ -524,7 +568,12 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
     const int window = options.window.value_or(autoDefaults(estimator).window);
     const double confidence = options.confidence.value_or(autoDefaults(estimator).confidence);
     const double temperature = options.temperature.value_or(autoDefaults(estimator).temperature);
-    checkAutoInput(frame, estimator);
+    const int finer = options.finer.value_or(autoDefaults(estimator).finer);
+    // Validation as checkAutoInput's, without a second split (the halves' below checks them).
+    if (!halves || !frame.has(Layer::HalfColor))
+        checkAutoInput(frame, estimator);
+    else
+        checkHalvesFinite(frame, {});
     const Rect& region = bank.region();
     const std::size_t n = bank.size();
     const std::size_t pixels = std::size_t(region.width()) * std::size_t(region.height());
@@ -564,6 +613,8 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
     // Step 1: every member's SURE map (members in parallel, like the bank).
     std::vector<Image> raws(n);
     std::vector<double> estimatedMse(n, 0.0);
+    // The mean of each member's map: estimatedMse, except for the secant's centred maps.
+    std::vector<double> mapMean(n, 0.0);
     std::vector<char> analytic(n, 0);
     std::mutex progressMutex;
     std::atomic<bool> stop{false};
@@ -579,6 +630,7 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
         const BankMember& member = bank.members()[m];
         bool isAnalytic = false;
         Image raw;
+        std::optional<double> unbiased;  // the secant's unbiased mean (its map is centred)
         try {
             const ProgressFn going = [&](double) { return !stop.load(); };
             if (halves) {
@@ -591,11 +643,14 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                     bothHalves ? applyFilter(filter, halfB, member.params, fo) : Image{};
                 const bool exact = options.space == SureSpace::DisplayExact;
                 const Image* outBPtr = bothHalves ? &outB : nullptr;
+                double mean = 0.0;
                 raw = secant ? secantCrossValidationMap(halfA.color(), halfB.color(), outA, outBPtr,
-                                                        region, median, options.exposure)
+                                                        region, median, options.exposure,
+                                                        SecantForm::Centred, &mean)
                              : crossValidationMap(
                                    halfA.color(), halfB.color(), outA, outBPtr, region, weightPtr,
                                    exact ? std::optional<float>(options.exposure) : std::nullopt);
+                if (secant) unbiased = mean;
             } else {
                 const Image div = memberDivergence(findFilter(member.filter), member.params,
                                                    bank.result(m), filterInput, perturbed, delta,
@@ -608,7 +663,8 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
             throw;
         }
         analytic[m] = isAnalytic ? 1 : 0;
-        estimatedMse[m] = meanPerChannel(raw);
+        mapMean[m] = meanPerChannel(raw);
+        estimatedMse[m] = unbiased.value_or(mapMean[m]);
         raws[m] = std::move(raw);
         ++done;
         report();
@@ -640,22 +696,32 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
         noiseLevel = boxSmooth(v, window);
     }
 
-    // Steps 2 and 3, over `candidates` (member indices, ascending): one weight plane per member
-    // (empty for the others).
+    // Steps 2 and 3, over `candidates` (member indices, ascending): per member, the pixels where
+    // it has the largest weight, its total weight and, for the final choice, its weight plane
+    // (0 and empty for the others).
     const int width = region.width();
-    auto choose = [&](const std::vector<std::size_t>& candidates) {
+    struct Choice {
+        std::vector<Image> planes;
+        std::vector<long> wins;
+        std::vector<double> totals;
+    };
+    auto choose = [&](const std::vector<std::size_t>& candidates, bool final) {
         const std::size_t c = candidates.size();
         // Step 2: the score of each candidate per pixel. The baseline is the candidate with the
-        // smallest estimate over the region; another scores the smoothed difference to it plus
+        // smallest map mean over the region; another scores the smoothed difference to it plus
         // `confidence` standard errors of that local mean (from the difference's spread in the
         // window), so a pixel leaves the baseline only where the estimate says, with that
         // confidence, that another member is better there. With confidence 0 it is the plain
-        // smoothed estimate.
+        // smoothed estimate. In the final choice, with `finer` > 0, the same is done in the
+        // window halved `finer` times too, and the score is the lowest of them: a member that
+        // is better by that margin in a smaller window wins there (docs/navigation.md, step 9).
         std::size_t baseline = 0;  // position in candidates
         for (std::size_t j = 0; j < c; ++j)
-            if (estimatedMse[candidates[j]] < estimatedMse[candidates[baseline]]) baseline = j;
+            if (mapMean[candidates[j]] < mapMean[candidates[baseline]]) baseline = j;
         const Image& base = raws[candidates[baseline]];
-        const double count = double((2 * window + 1) * (2 * window + 1));
+        std::vector<int> radii{window};
+        if (final)
+            for (int k = 0; k < finer && radii.back() > 1; ++k) radii.push_back(radii.back() / 2);
         std::vector<Image> scores(c);
         tbb::parallel_for(std::size_t(0), c, [&](std::size_t j) {
             const Image& raw = raws[candidates[j]];
@@ -665,30 +731,48 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                 d.data()[p] = float(v);
                 d2.data()[p] = float(v * v);
             }
-            Image mean = boxSmooth(d, window);
-            if (confidence > 0.0 && j != baseline) {
-                const Image meanSq = boxSmooth(d2, window);
-                for (std::size_t p = 0; p < pixels; ++p) {
-                    const double mu = mean.data()[p];
-                    const double var = std::max(0.0, double(meanSq.data()[p]) - mu * mu);
-                    mean.data()[p] = float(mu + confidence * std::sqrt(var / count));
+            Image score;
+            for (int radius : radii) {
+                Image mean = boxSmooth(d, radius);
+                if (confidence > 0.0 && j != baseline) {
+                    const Image meanSq = boxSmooth(d2, radius);
+                    const double count = double((2 * radius + 1) * (2 * radius + 1));
+                    for (std::size_t p = 0; p < pixels; ++p) {
+                        const double mu = mean.data()[p];
+                        const double var = std::max(0.0, double(meanSq.data()[p]) - mu * mu);
+                        mean.data()[p] = float(mu + confidence * std::sqrt(var / count));
+                    }
+                }
+                if (score.empty()) {
+                    score = std::move(mean);
+                } else {
+                    for (std::size_t p = 0; p < pixels; ++p)
+                        score.data()[p] = std::min(score.data()[p], mean.data()[p]);
                 }
             }
-            scores[j] = std::move(mean);
+            scores[j] = std::move(score);
         });
 
         // Step 3: per-pixel weights over the candidates, in member order (deterministic). Rows
         // go in chunks of 64 pixels so that each candidate's scores are read and its weights
-        // written as one run, not one value from each of c images per pixel.
-        std::vector<Image> planes(n);
-        for (std::size_t m : candidates) planes[m] = Image(width, region.height(), 1);
+        // written as one run, not one value from each of c images per pixel. Only the final
+        // choice keeps the weight planes; the first of a shortlist needs only each candidate's
+        // pixels won and total weight (per row, then the rows in order).
+        Choice out;
+        if (final) {
+            out.planes.resize(n);
+            for (std::size_t m : candidates) out.planes[m] = Image(width, region.height(), 1);
+        }
         std::vector<std::vector<int>> rowWins(std::size_t(region.height()));
+        std::vector<std::vector<double>> rowTotals(std::size_t(region.height()));
         constexpr int kChunk = 64;
         tbb::parallel_for(0, region.height(), [&](int y) {
             std::vector<double> s(c * kChunk);
             std::vector<float> w(c * kChunk);
             std::vector<int>& wins = rowWins[std::size_t(y)];
+            std::vector<double>& rowTotal = rowTotals[std::size_t(y)];
             wins.assign(c, 0);
+            rowTotal.assign(c, 0.0);
             for (int x0 = 0; x0 < width; x0 += kChunk) {
                 const int pixelsHere = std::min(kChunk, width - x0);
                 for (std::size_t j = 0; j < c; ++j) {
@@ -710,40 +794,36 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                     }
                     double sum = 0.0;
                     for (std::size_t j = 0; j < c; ++j) {
-                        const double e = std::exp(-(s[at(j)] - s[at(best)]) / unit);
+                        // exp(−6.91) < 1e-3: no exp for the many candidates that get weight 0.
+                        const double x = (s[at(j)] - s[at(best)]) / unit;
+                        const double e = x > 6.91 ? 0.0 : std::exp(-x);
                         w[at(j)] = e < 1e-3 ? 0.0f : float(e);
                         sum += w[at(j)];
                     }
                     for (std::size_t j = 0; j < c; ++j) w[at(j)] = float(w[at(j)] / sum);
                 }
-                for (std::size_t j = 0; j < c; ++j)
-                    std::copy(w.begin() + std::ptrdiff_t(j * kChunk),
-                              w.begin() + std::ptrdiff_t(j * kChunk + std::size_t(pixelsHere)),
-                              planes[candidates[j]].row(y) + x0);
+                for (std::size_t j = 0; j < c; ++j) {
+                    const float* run = w.data() + j * kChunk;
+                    for (int k = 0; k < pixelsHere; ++k) rowTotal[j] += run[k];
+                    if (final)
+                        std::copy(run, run + pixelsHere, out.planes[candidates[j]].row(y) + x0);
+                }
             }
         });
         // Pixels won: where a candidate has the smallest score (the largest weight).
-        std::vector<long> won(n, 0);
-        for (const auto& row : rowWins)
-            for (std::size_t j = 0; j < c; ++j) won[candidates[j]] += row[j];
-        return std::make_pair(std::move(planes), std::move(won));
-    };
-    auto totalsOf = [&](const std::vector<Image>& planes) {
-        std::vector<double> totals(n, 0.0);
-        tbb::parallel_for(std::size_t(0), n, [&](std::size_t m) {
-            double total = 0.0;
-            for (float v : planes[m].data()) total += v;
-            totals[m] = total;
-        });
-        return totals;
+        out.wins.assign(n, 0);
+        out.totals.assign(n, 0.0);
+        for (std::size_t y = 0; y < rowWins.size(); ++y)
+            for (std::size_t j = 0; j < c; ++j) {
+                out.wins[candidates[j]] += rowWins[y][j];
+                out.totals[candidates[j]] += rowTotals[y][j];
+            }
+        return out;
     };
 
     std::vector<std::size_t> candidates(n);
     std::iota(candidates.begin(), candidates.end(), std::size_t(0));
-    std::vector<Image> planes;
-    std::vector<long> wins;
-    std::tie(planes, wins) = choose(candidates);
-    std::vector<double> totals = totalsOf(planes);
+    Choice chosen = choose(candidates, !shortlisted);
     if (shortlisted) {
         // The shortlist: the members that carry the largest weight at the most pixels in the
         // one-sided choice (then by total weight, then member order; by pixels won rather than
@@ -753,16 +833,18 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
         // among them.
         std::vector<std::size_t> order = candidates;
         std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+            const auto& wins = chosen.wins;
+            const auto& totals = chosen.totals;
             return wins[a] != wins[b] ? wins[a] > wins[b] : totals[a] > totals[b];
         });
         order.resize(std::size_t(options.shortlist));
         std::sort(order.begin(), order.end());
-        planes.clear();
         tbb::parallel_for(std::size_t(0), order.size(), [&](std::size_t j) {
             if (stop.load()) return;
             const std::size_t m = order[j];
             const BankMember& member = bank.members()[m];
             Image rawB;
+            double meanB = 0.0;
             try {
                 FilterOptions fo;
                 fo.region = region;
@@ -770,7 +852,8 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                 const Image outB = applyFilter(findFilter(member.filter), halfB, member.params, fo);
                 // B's term: the one-sided form with the halves' roles swapped.
                 rawB = secant ? secantCrossValidationMap(halfB.color(), halfA.color(), outB,
-                                                         nullptr, region, median, options.exposure)
+                                                         nullptr, region, median, options.exposure,
+                                                         SecantForm::Centred, &meanB)
                               : crossValidationMap(halfB.color(), halfA.color(), outB, nullptr,
                                                    region, weightPtr,
                                                    options.space == SureSpace::DisplayExact
@@ -783,16 +866,19 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
             Image& raw = raws[m];
             for (std::size_t p = 0; p < pixels; ++p)
                 raw.data()[p] = float(0.5 * (double(raw.data()[p]) + double(rawB.data()[p])));
-            estimatedMse[m] = meanPerChannel(raw);
+            // The secant's: the mean of its unbiased form on both sides (A's from step 1).
+            mapMean[m] = meanPerChannel(raw);
+            estimatedMse[m] = secant ? 0.5 * (estimatedMse[m] + meanB) : mapMean[m];
             ++done;
             report();
         });
         if (stop.load()) throw Error(ErrorKind::Cancelled, "auto composite cancelled");
         candidates = std::move(order);
-        std::tie(planes, wins) = choose(candidates);
-        totals = totalsOf(planes);
+        chosen = choose(candidates, true);
     }
 
+    const std::vector<double>& totals = chosen.totals;
+    std::vector<Image>& planes = chosen.planes;
     // Step 4: the composite (member order, as the weights), the layers (members with any
     // weight, largest total first).
     AutoResult result;

@@ -159,19 +159,33 @@ Image crossValidationMap(const Image& halfA, const Image& halfB, const Image& ou
 /// estimates s_A² · MSE f(A) nearly without bias; and the linearisation is first-order in
 /// x − m only, where the tangent's is in f − m too, which is large exactly where a filter
 /// blurs a highlight or a firefly.
+///
+/// SecantForm::Centred writes each side's term as s² (f − m)(f + m − 2B) = s² [(f − B)² −
+/// (m − B)²] instead (A and B swapped for f(B)): its expectation is s² [MSE f − (m − x)²],
+/// the member's error less the centre's own, weighed alike, so it ranks the members as the
+/// unbiased form does up to the spread of s² between them. But its noise, −2 s² (f − m)(B − x),
+/// vanishes as f nears m, where the unbiased form's holds s² [(B − x)² − Var B] for every
+/// member: with s² differing between two members, a firefly in B does not cancel out of their
+/// difference (docs/navigation.md, step 9). `unbiasedMean`, when given, receives the unbiased
+/// form's mean per pixel and channel over the region (as if `form` were Unbiased), which is
+/// what the centred map's mean is not: an estimate of the member's display MSE.
+enum class SecantForm { Unbiased, Centred };
 Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Image& outputA,
                                const Image* outputB, const Rect& region, const Image& centre,
-                               float exposure = 0.0f);
+                               float exposure = 0.0f, SecantForm form = SecantForm::Unbiased,
+                               double* unbiasedMean = nullptr);
 
 /// The smoothing window, confidence and temperature an estimator uses unless told otherwise,
-/// measured on the quality table of docs/navigation.md: SURE 4, 3 and 0 (a hard choice), the
-/// halves 8, 1 and 0.06 (their maps are unbiased but noisier per pixel: a wider window with a
-/// lower bar wins on every scene, and slightly soft weights blend members whose estimates are
-/// within the noise of each other instead of picking one by that noise).
+/// measured on the quality table of docs/navigation.md: SURE 4, 3, 0 (a hard choice) and no
+/// finer window, the halves 8, 1, 0.06 and 1 (their maps are noisier per pixel: a wider window
+/// with a lower bar wins on every scene, slightly soft weights blend members whose estimates
+/// are within the noise of each other instead of picking one by that noise, and the window
+/// halved once decides where its evidence is clear).
 struct AutoDefaults {
     int window;
     double confidence;
     double temperature;
+    int finer;
 };
 AutoDefaults autoDefaults(AutoEstimator estimator);
 
@@ -201,6 +215,11 @@ struct AutoOptions {
     /// window): the per-pixel choice among many members must not follow the noise of their
     /// estimates. Unset: the estimator's default (autoDefaults).
     std::optional<double> confidence;
+    /// The final choice also looks through the window halved this many times (radius window/2,
+    /// window/4 …, at least 1), with the same confidence, and scores each member by the lowest
+    /// of them: a small window decides where its estimate is clear enough, the full window
+    /// elsewhere. 0: the full window only. Unset: the estimator's default (autoDefaults).
+    std::optional<int> finer;
     /// 0: a hard per-pixel choice (the smallest score). > 0: soft weights
     /// exp(−(score − min score) / (temperature · σ²)), σ² the pixel's smoothed variance summed
     /// over RGB (so the temperature is in units of the noise), weights below 1e-3 of the
