@@ -140,6 +140,7 @@ void runBank(const BankArgs& a) {
 
 struct OracleArgs {
     std::string input, reference, bank, choiceMap;
+    std::vector<std::string> expected;
     bool json = false;
 };
 
@@ -155,6 +156,32 @@ void runOracle(const OracleArgs& a) {
     const OracleResult r = oracle(bank, frame.color(), ref.color());
     const double seconds = secondsSince(t0);
     const json autoColumn = autoOracleColumn(bank, frame, ref.color(), a.bank);
+    // The expected-error oracle over IN and the other renders (each must match IN's size).
+    json expected;
+    if (!a.expected.empty()) {
+        std::vector<FrameBuffers> others;
+        for (const std::string& path : a.expected) {
+            others.push_back(readExr(path));
+            if (others.back().width() != frame.width() || others.back().height() != frame.height())
+                throw Error(ErrorKind::InvalidArgument,
+                            "is " + std::to_string(others.back().width()) + "x" +
+                                std::to_string(others.back().height()) + ", the input " +
+                                std::to_string(frame.width()) + "x" +
+                                std::to_string(frame.height()) +
+                                " (--expected takes other renders of the same scene)",
+                            path);
+        }
+        const BankOptions bankOptions = readBankOptions(a.bank);
+        ExpectedOracleOptions eo;
+        eo.prefilter = bankOptions.prefilter;
+        eo.prefilterParams = bankOptions.prefilterParams;
+        const ExpectedOracleResult e = expectedErrorOracle(bank, others, ref.color(), eo);
+        json share = json::array();
+        for (double v : e.ssim)
+            share.push_back(
+                r.perPixel > r.bestSingle ? (v - r.bestSingle) / (r.perPixel - r.bestSingle) : 0.0);
+        expected = {{"renders", e.renders}, {"radii", e.radii}, {"ssim", e.ssim}, {"share", share}};
+    }
     if (!a.choiceMap.empty()) {
         DisplayOptions d;
         d.falseColorChannel = 0;
@@ -164,18 +191,19 @@ void runOracle(const OracleArgs& a) {
     }
     json best3 = json::array();
     for (int m : r.best3Members) best3.push_back(memberJson(bank, m));
-    const json report{{"input", a.input},
-                      {"reference", a.reference},
-                      {"bank", a.bank},
-                      {"members", bank.size()},
-                      {"noisy", r.noisy},
-                      {"bestSingle", r.bestSingle},
-                      {"bestMember", memberJson(bank, r.bestMember)},
-                      {"best3", r.best3},
-                      {"best3Members", best3},
-                      {"perPixel", r.perPixel},
-                      {"auto", autoColumn},
-                      {"seconds", seconds}};
+    json report{{"input", a.input},
+                {"reference", a.reference},
+                {"bank", a.bank},
+                {"members", bank.size()},
+                {"noisy", r.noisy},
+                {"bestSingle", r.bestSingle},
+                {"bestMember", memberJson(bank, r.bestMember)},
+                {"best3", r.best3},
+                {"best3Members", best3},
+                {"perPixel", r.perPixel},
+                {"auto", autoColumn},
+                {"seconds", seconds}};
+    if (!expected.is_null()) report["expected"] = expected;
     if (a.json) {
         printJson(report);
         return;
@@ -188,10 +216,17 @@ void runOracle(const OracleArgs& a) {
     std::printf("  best 3, per pixel   %.4f\n", r.best3);
     std::printf("  per-pixel optimal   %.4f\n", r.perPixel);
     if (autoColumn["ssim"].is_null())
-        std::printf("  auto (SURE)         n/a (%s)\n",
+        std::printf("  auto                n/a (%s)\n",
                     autoColumn["note"].get<std::string>().c_str());
     else
-        std::printf("  auto (SURE)         %.4f\n", autoColumn["ssim"].get<double>());
+        std::printf("  auto (%s)%*s%.4f\n", autoColumn["estimator"].get<std::string>().c_str(),
+                    int(13 - autoColumn["estimator"].get<std::string>().size()), "",
+                    autoColumn["ssim"].get<double>());
+    if (!expected.is_null())
+        for (std::size_t i = 0; i < expected["radii"].size(); ++i)
+            std::printf("  expected error, r %-2d %.4f  (%+.0f %% of the way; %d renders)\n",
+                        expected["radii"][i].get<int>(), expected["ssim"][i].get<double>(),
+                        100.0 * expected["share"][i].get<double>(), expected["renders"].get<int>());
     if (!a.choiceMap.empty()) std::printf("  choice map -> %s\n", a.choiceMap.c_str());
 }
 
@@ -324,6 +359,12 @@ std::vector<Command> addBankCommands(CLI::App& app) {
     oracleCmd->add_option("--reference", orc->reference, "Reference EXR")->required();
     oracleCmd->add_option("--bank", orc->bank, "Bank folder of IN")->required();
     oracleCmd->add_option("--choice-map", orc->choiceMap, "Write the per-pixel choice as a PNG");
+    oracleCmd
+        ->add_option("--expected", orc->expected,
+                     "Other renders of the same scene (another seed, same settings), comma-"
+                     "separated: also choose per pixel by each member's error averaged over "
+                     "IN and them, at radii 0, 2, 4 and 8")
+        ->delimiter(',');
     oracleCmd->add_flag("--json", orc->json, "Print one JSON object on stdout");
 
     auto nav = std::make_shared<NavigateArgs>();

@@ -101,7 +101,29 @@ TEST_F(AutoCli, AutoWithAndWithoutABankFolderAndTheOracleColumn) {
     EXPECT_GT(j["auto"]["ssim"].get<double>(), j["noisy"].get<double>());
     r = run("oracle " + path("noisy.exr") + " --reference " + path("ref.exr") + " --bank " +
             path("bank"));
-    EXPECT_NE(r.out.find("auto (SURE)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("auto (sure)"), std::string::npos) << r.out;
+
+    // The expected-error oracle: with IN itself as the other render, the expected error is the
+    // realised one, so at radius 0 it is the per-pixel oracle.
+    r = run("oracle " + path("noisy.exr") + " --reference " + path("ref.exr") + " --bank " +
+            path("bank") + " --json --expected " + path("noisy.exr"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["expected"]["renders"], 2);
+    EXPECT_EQ(j["expected"]["radii"], nlohmann::json::parse("[0, 2, 4, 8]"));
+    EXPECT_NEAR(j["expected"]["ssim"][0].get<double>(), j["perPixel"].get<double>(), 1e-12);
+    EXPECT_NEAR(j["expected"]["share"][0].get<double>(), 1.0, 1e-9);
+    // Another render of another size is refused naming it.
+    writeExr(testing::syntheticFrame(40, 40, 0.1f, 3), m_dir / "small.exr");
+    r = run("oracle " + path("noisy.exr") + " --reference " + path("ref.exr") + " --bank " +
+            path("bank") + " --expected " + path("noisy.exr") + "," + path("small.exr"));
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    EXPECT_NE(r.err.find("small.exr"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("40x40"), std::string::npos) << r.err;
+    r = run("oracle " + path("noisy.exr") + " --reference " + path("ref.exr") + " --bank " +
+            path("bank") + " --expected " + path("gone.exr"));
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    EXPECT_NE(r.err.find("gone.exr"), std::string::npos) << r.err;
 }
 
 TEST_F(AutoCli, OracleOfAnInputWithoutVarianceLeavesTheAutoColumnEmpty) {
