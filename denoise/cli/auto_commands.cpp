@@ -38,7 +38,8 @@ struct AutoArgs {
     std::string input, bank, out, reference, choiceMap, filters, space = "display",
                                                                  estimator = "auto";
     int size = 64, shortlist = 16;
-    std::optional<int> window, finer;
+    std::optional<int> window, finer, feather;
+    double featherGate = 0.2;
     std::uint64_t bankSeed = 1, seed = 1;
     std::optional<double> temperature;
     double epsilon = 0.01;
@@ -57,6 +58,8 @@ void runAuto(const AutoArgs& a) {
     options.temperature = a.temperature;
     options.confidence = a.confidence;
     options.finer = a.finer;
+    options.feather = a.feather;
+    options.featherGate = a.featherGate;
     options.sure.epsilon = a.epsilon;
     options.sure.seed = a.seed;
     options.exposure = a.exposure;
@@ -160,6 +163,8 @@ void runAuto(const AutoArgs& a) {
         {"confidence", options.confidence.value_or(autoDefaults(result.estimator).confidence)},
         {"temperature", options.temperature.value_or(autoDefaults(result.estimator).temperature)},
         {"finer", options.finer.value_or(autoDefaults(result.estimator).finer)},
+        {"feather", options.feather.value_or(autoDefaults(result.estimator).feather)},
+        {"featherGate", options.featherGate},
         {"epsilon", a.epsilon},
         {"seed", a.seed},
         {"bestMember", memberJson(bank, result.bestMember)},
@@ -262,6 +267,12 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
     cmd->add_option("--finer", a->finer,
                     "Times the window is halved for the final choice, which keeps the lowest "
                     "score (0 … 6; default 0 for SURE, 1 for the halves)");
+    cmd->add_option("--feather", a->feather,
+                    "Radius over which each member's weights are smoothed before the composite "
+                    "(0 … 32; 0: off; default 4)");
+    cmd->add_option("--feather-gate", a->featherGate,
+                    "No feathered weight where a member's display value is farther than this from "
+                    "the unfeathered composite's (> 0; default 0.2)");
     cmd->add_option("--epsilon", a->epsilon, "Perturbation relative to the pixel's sigma");
     cmd->add_option("--seed", a->seed, "Seed of the random +-1 perturbation");
     cmd->add_option(

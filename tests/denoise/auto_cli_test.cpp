@@ -52,6 +52,8 @@ TEST_F(AutoCli, HalfBuffersSelectTheHalvesEstimatorAndItsDefaults) {
     EXPECT_EQ(j["window"], 8);
     EXPECT_EQ(j["confidence"], 1.0);
     EXPECT_EQ(j["finer"], 1);
+    EXPECT_EQ(j["feather"], 4);
+    EXPECT_EQ(j["featherGate"], 0.2);
     r = run("auto " + path("halves.exr") + " --out " + path("auto.exr") +
             " --size 6 --json --estimator sure --one-sided");
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -60,6 +62,7 @@ TEST_F(AutoCli, HalfBuffersSelectTheHalvesEstimatorAndItsDefaults) {
     EXPECT_EQ(j["window"], 4);
     EXPECT_EQ(j["confidence"], 3.0);
     EXPECT_EQ(j["finer"], 0);
+    EXPECT_EQ(j["feather"], 4);
     r = run("auto " + path("halves.exr") + " --out " + path("auto.exr") + " --size 6");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("cross-validation on the halves"), std::string::npos) << r.out;
@@ -157,6 +160,8 @@ TEST_F(AutoCli, BadInputExitsTwoWithOneClearLineAndWritesNothing) {
         {"auto " + path("noisy.exr") + out + " --epsilon 0", {"--epsilon"}},
         {"auto " + path("noisy.exr") + out + " --shortlist -1", {"--shortlist", "0 … 4096"}},
         {"auto " + path("noisy.exr") + out + " --finer 9", {"--finer", "0 … 6"}},
+        {"auto " + path("noisy.exr") + out + " --feather 33", {"--feather", "0 … 32"}},
+        {"auto " + path("noisy.exr") + out + " --feather-gate 0", {"--feather-gate", "> 0"}},
         {"auto " + path("noisy.exr") + out + " --space gamma",
          {"--space", "display, display-tangent, display-exact or linear"}},
         {"auto " + path("noisy.exr") + out + " --space display-exact",

@@ -193,15 +193,19 @@ TEST(Sure, SelectionPicksTheMemberWithTheSmallestTrueErrorWhereUnambiguous) {
     const Image clean = cleanImage(128, 96, true);
     const FrameBuffers f = noisyFrame(clean, 0.06, 0.06, 14);
     const FilterBank bank = gaussianBank(f, {0.4, 1.0, 3.0});
-    // The plain smoothed-SURE argmin (no confidence margin) is what this test checks.
+    // The plain smoothed-SURE argmin (no confidence margin, no feathering) is what this test
+    // checks.
     AutoOptions o;
     o.space = SureSpace::Linear;
     o.window = 3;
     o.confidence = 0.0;
+    o.feather = 0;
     const AutoResult r = autoComposite(bank, f, o);
-    // With the default margin it still beats every single member (checked below too).
+    // With the default margin and feathering it still beats every single member (checked below
+    // too).
     AutoOptions cautious = o;
     cautious.confidence = AutoOptions{}.confidence;
+    cautious.feather = AutoOptions{}.feather;
     const AutoResult rc = autoComposite(bank, f, cautious);
 
     // Where the best member's true error (smoothed like the SURE maps) is less than half the
@@ -223,6 +227,12 @@ TEST(Sure, SelectionPicksTheMemberWithTheSmallestTrueErrorWhereUnambiguous) {
     for (const AutoLayer& l : r.layers)
         for (std::size_t p = 0; p < sum.data().size(); ++p) sum.data()[p] += l.weights.data()[p];
     for (float v : sum.data()) ASSERT_EQ(v, 1.0f);
+    // Feathered: they still sum to 1 (up to float rounding).
+    Image feathered(128, 96, 1);
+    for (const AutoLayer& l : rc.layers)
+        for (std::size_t p = 0; p < sum.data().size(); ++p)
+            feathered.data()[p] += l.weights.data()[p];
+    for (float v : feathered.data()) ASSERT_NEAR(v, 1.0f, 1e-5f);
 }
 
 TEST(Sure, SoftWeightsSumToOneAndTheCompositeIsTheirBlend) {

@@ -7,7 +7,7 @@
 // object with both times and their ratio (target: auto ≤ 2× the bank).
 //   bench_auto [--estimator sure|halves] [--one-sided 0|1] [--shortlist 16 (0: all)]
 //              [--space display|display-tangent|display-exact|linear] [--size 1024] [--spp 4]
-//              [--threads 2] [--members 64] [--reps 3]
+//              [--threads 2] [--members 64] [--reps 3] [--feather R (default: the estimator's)]
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -40,7 +40,8 @@ double secondsOf(const std::function<void()>& fn) {
 
 int main(int argc, char** argv) {
     namespace fs = std::filesystem;
-    int size = 1024, spp = 4, threads = 2, members = 64, reps = 3, oneSided = 0, shortlist = 16;
+    int size = 1024, spp = 4, threads = 2, members = 64, reps = 3, oneSided = 0, shortlist = 16,
+        feather = -1;
     std::string estimator = "sure";
     glint::denoise::SureSpace space = glint::denoise::SureSpace::Display;
     for (int i = 1; i + 1 < argc; i += 2) {
@@ -77,6 +78,8 @@ int main(int argc, char** argv) {
             members = v;
         else if (a == "--reps")
             reps = std::max(1, v);
+        else if (a == "--feather")
+            feather = v;
         else {
             std::fprintf(stderr, "bench_auto: unknown option %s\n", a.c_str());
             return 2;
@@ -114,24 +117,31 @@ int main(int argc, char** argv) {
         ao.symmetric = oneSided == 0;
         ao.space = space;
         ao.shortlist = shortlist;
+        if (feather >= 0) ao.feather = feather;
         autoSeconds =
             std::min(autoSeconds,
                      secondsOf([&] { result = glint::denoise::autoComposite(bank, frame, ao); }));
         used = result.layers.size();
     }
-    const nlohmann::json out = {{"size", size},
-                                {"spp", spp},
-                                {"threads", threads},
-                                {"members", bankSize},
-                                {"reps", reps},
-                                {"estimator", estimator},
-                                {"symmetric", oneSided == 0},
-                                {"space", glint::denoise::sureSpaceName(space)},
-                                {"shortlist", shortlist},
-                                {"bankSecondsBest", bankSeconds},
-                                {"autoSecondsBest", autoSeconds},
-                                {"autoOverBank", autoSeconds / bankSeconds},
-                                {"membersUsed", used}};
+    const nlohmann::json out = {
+        {"size", size},
+        {"spp", spp},
+        {"threads", threads},
+        {"members", bankSize},
+        {"reps", reps},
+        {"estimator", estimator},
+        {"symmetric", oneSided == 0},
+        {"space", glint::denoise::sureSpaceName(space)},
+        {"shortlist", shortlist},
+        {"feather", feather >= 0 ? feather
+                                 : glint::denoise::autoDefaults(
+                                       estimator == "halves" ? glint::denoise::AutoEstimator::Halves
+                                                             : glint::denoise::AutoEstimator::Sure)
+                                       .feather},
+        {"bankSecondsBest", bankSeconds},
+        {"autoSecondsBest", autoSeconds},
+        {"autoOverBank", autoSeconds / bankSeconds},
+        {"membersUsed", used}};
     std::cout << out.dump(2) << "\n";
     return 0;
 }

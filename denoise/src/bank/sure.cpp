@@ -12,6 +12,7 @@
 #include <numeric>
 #include <tuple>
 
+#include "../filters/simd.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
@@ -77,34 +78,32 @@ class DisplayCurve {
     double m_scale;
 };
 
-// The median of the bank's results per pixel and channel (region-sized): a member-independent
-// estimate of the clean value, the centre of the display linearisation. The median rather than
-// the mean, which the members that barely filter pull into the clamp at a firefly or a
-// highlight (docs/navigation.md measures both).
-Image bankMedian(const FilterBank& bank) {
-    const Rect& r = bank.region();
-    Image median(r.width(), r.height(), 3);
-    const std::size_t n = bank.size();
-    // Per row, in chunks of 64 pixels: each member's chunk is copied once (one stream at a
-    // time, not one value from each of n images per pixel), then the median of each value.
-    constexpr int kChunk = 64;
-    tbb::parallel_for(0, r.height(), [&](int y) {
-        std::vector<float> chunk(n * kChunk * 3), values(n);
-        for (int x0 = 0; x0 < r.width(); x0 += kChunk) {
-            const int count = std::min(kChunk, r.width() - x0);
-            for (std::size_t m = 0; m < n; ++m) {
-                const float* row = bank.result(m).row(y) + std::size_t(x0) * 3;
-                std::copy(row, row + count * 3, chunk.begin() + std::ptrdiff_t(m * kChunk * 3));
+// Sorts `n` columns of 8 floats (column i at v + 8 i) lane-wise, ascending: Batcher's
+// merge-exchange network for any n (Knuth, TAOCP vol. 3, 5.2.2, Algorithm M; about
+// n log²n / 4 comparators), 8 values per comparator. Branch-free in the values, where a
+// selection per value mispredicts about half its comparisons.
+GLINT_SIMD_CLONES
+void sortLanes(float* v, std::size_t n) {
+    if (n < 2) return;
+    std::size_t top = 1;  // 2^(t−1), t = ⌈log2 n⌉
+    while (top * 2 < n) top *= 2;
+    for (std::size_t p = top; p > 0; p >>= 1) {
+        std::size_t q = top, r = 0, d = p;
+        for (;;) {
+            for (std::size_t i = 0; i + d < n; ++i) {
+                if ((i & p) != r) continue;
+                detail::VecF a, b;
+                detail::loadVec(a, v + 8 * i);
+                detail::loadVec(b, v + 8 * (i + d));
+                detail::storeVec(v + 8 * i, a < b ? a : b);
+                detail::storeVec(v + 8 * (i + d), a < b ? b : a);
             }
-            for (int i = 0; i < count * 3; ++i) {
-                for (std::size_t m = 0; m < n; ++m) values[m] = chunk[m * kChunk * 3 + i];
-                std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(n / 2),
-                                 values.end());
-                median.data()[(std::size_t(y) * r.width() + x0) * 3 + i] = values[n / 2];
-            }
+            if (q == p) break;
+            d = q - p;
+            q >>= 1;
+            r = p;
         }
-    });
-    return median;
+    }
 }
 
 // Per-pixel weights of SureSpace::DisplayTangent (and of Display for SURE): the squared display
@@ -188,6 +187,30 @@ void checkHalvesFinite(const FrameBuffers& frame, const std::string& file) {
 }
 
 }  // namespace
+
+Image bankMedian(const FilterBank& bank) {
+    if (bank.size() == 0) throw Error(ErrorKind::InvalidArgument, "the bank has no members");
+    const Rect& r = bank.region();
+    Image median(r.width(), r.height(), 3);
+    const std::size_t n = bank.size();
+    // Per row, 8 values (pixels × channels) at a time: each member's 8 side by side, sorted
+    // lane-wise; the median is the (n/2)-th smallest (as std::nth_element would give it).
+    const std::size_t rowValues = std::size_t(r.width()) * 3;
+    tbb::parallel_for(0, r.height(), [&](int y) {
+        std::vector<float> v(n * 8);
+        for (std::size_t x0 = 0; x0 < rowValues; x0 += 8) {
+            const std::size_t count = std::min<std::size_t>(8, rowValues - x0);
+            for (std::size_t m = 0; m < n; ++m) {
+                const float* row = bank.result(m).row(y) + x0;
+                std::copy(row, row + count, v.begin() + std::ptrdiff_t(8 * m));
+            }
+            sortLanes(v.data(), n);
+            std::copy(v.begin() + std::ptrdiff_t(8 * (n / 2)),
+                      v.begin() + std::ptrdiff_t(8 * (n / 2) + count), median.row(y) + x0);
+        }
+    });
+    return median;
+}
 
 void checkSureInput(const FrameBuffers& frame, const std::string& file) {
     if (!frame.has(Layer::Variance))
@@ -391,6 +414,16 @@ void validate(const AutoOptions& options) {
                         " is outside 0 … 6 (how many times the window is halved for the final "
                         "choice)",
                     {}, "--finer");
+    if (options.feather && (*options.feather < 0 || *options.feather > 32))
+        throw Error(ErrorKind::InvalidArgument,
+                    "feather " + std::to_string(*options.feather) +
+                        " is outside 0 … 32 (the weight planes' smoothing radius in pixels)",
+                    {}, "--feather");
+    if (!(options.featherGate > 0.0) || !std::isfinite(options.featherGate))
+        throw Error(ErrorKind::InvalidArgument,
+                    "feather gate " + std::to_string(options.featherGate) +
+                        " must be > 0 (a display-value difference; 1 is the whole range)",
+                    {}, "--feather-gate");
     if (options.shortlist < 0 || options.shortlist > 4096)
         throw Error(ErrorKind::InvalidArgument,
                     "shortlist " + std::to_string(options.shortlist) +
@@ -445,8 +478,8 @@ const char* autoEstimatorName(AutoEstimator estimator) {
 }
 
 AutoDefaults autoDefaults(AutoEstimator estimator) {
-    if (estimator == AutoEstimator::Halves) return {8, 1.0, 0.06, 1};
-    return {4, 3.0, 0.0, 0};
+    if (estimator == AutoEstimator::Halves) return {8, 1.0, 0.06, 1, 4};
+    return {4, 3.0, 0.0, 0, 4};
 }
 
 AutoEstimator resolveEstimator(AutoEstimator estimator, const FrameBuffers& frame) {
@@ -499,26 +532,54 @@ Image crossValidationMap(const Image& halfA, const Image& halfB, const Image& ou
     return map;
 }
 
-Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Image& outputA,
-                               const Image* outputB, const Rect& region, const Image& centre,
-                               float exposure, SecantForm form, double* unbiasedMean) {
+namespace {
+
+// D(m) of the centre, per pixel and channel in row order (computed once for all members; in
+// double, as the maps use it).
+std::vector<double> displayOf(const Image& centre, float exposure) {
+    const DisplayCurve display(std::exp2(double(exposure)));
+    const std::size_t rowValues = std::size_t(centre.width()) * 3;
+    std::vector<double> out(rowValues * std::size_t(centre.height()));
+    tbb::parallel_for(0, centre.height(), [&](int y) {
+        const float* in = centre.row(y);
+        double* o = out.data() + std::size_t(y) * rowValues;
+        for (std::size_t i = 0; i < rowValues; ++i) o[i] = display(double(in[i]));
+    });
+    return out;
+}
+
+// secantCrossValidationMap with D(centre) given (`displayCentre`, from displayOf): the auto
+// composite computes it once for the 86 maps it makes.
+Image secantMap(const Image& halfA, const Image& halfB, const Image& outputA, const Image* outputB,
+                const Rect& region, const Image& centre, const std::vector<double>& displayCentre,
+                float exposure, SecantForm form, double* unbiasedMean) {
     GLINT_CHECK(outputA.width() == region.width() && outputA.height() == region.height() &&
                 halfA.sameShape(halfB) && (!outputB || outputB->sameShape(outputA)) &&
-                centre.sameShape(outputA));
+                centre.sameShape(outputA) && displayCentre.size() == centre.data().size() &&
+                halfA.channels() == 3 && outputA.channels() == 3 && centre.channels() == 3);
     const DisplayCurve display(std::exp2(double(exposure)));
     const bool centred = form == SecantForm::Centred;
     Image map(region.width(), region.height(), 1);
     // Per row, the sum of the unbiased terms (added up in row order below: deterministic).
     std::vector<double> rowSums(std::size_t(region.height()), 0.0);
     tbb::parallel_for(0, region.height(), [&](int y) {
+        const float* rowA = halfA.row(y + region.y0) + std::size_t(region.x0) * 3;
+        const float* rowB = halfB.row(y + region.y0) + std::size_t(region.x0) * 3;
+        const float* rowFA = outputA.row(y);
+        const float* rowFB = outputB ? outputB->row(y) : nullptr;
+        const float* rowM = centre.row(y);
+        const double* rowDM =
+            displayCentre.data() + std::size_t(y) * std::size_t(region.width()) * 3;
+        float* out = map.row(y);
         double rowSum = 0.0;
         for (int x = 0; x < region.width(); ++x) {
             double s = 0.0, unbiased = 0.0;
-            for (int c = 0; c < 3; ++c) {
-                const double a = halfA(x + region.x0, y + region.y0, c);
-                const double b = halfB(x + region.x0, y + region.y0, c);
-                const double m = centre(x, y, c);
-                const double displayM = display(m);
+            for (std::size_t c = 0; c < 3; ++c) {
+                const std::size_t i = std::size_t(x) * 3 + c;
+                const double a = rowA[i];
+                const double b = rowB[i];
+                const double m = rowM[i];
+                const double displayM = rowDM[i];
                 const double halfNoise = 0.5 * (a - b) * (a - b);
                 // One side: output f against the other half h.
                 auto side = [&](double f, double h, double& unbiasedTerm) {
@@ -527,9 +588,9 @@ Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Ima
                     return centred ? w * (f - m) * (f + m - 2.0 * h) : unbiasedTerm;
                 };
                 double ua = 0.0, ub = 0.0;
-                const double termA = side(outputA(x, y, c), b, ua);
-                if (outputB) {
-                    const double termB = side((*outputB)(x, y, c), a, ub);
+                const double termA = side(rowFA[i], b, ua);
+                if (rowFB) {
+                    const double termB = side(rowFB[i], a, ub);
                     s += 0.5 * (termA + termB);
                     unbiased += 0.5 * (ua + ub);
                 } else {
@@ -537,7 +598,7 @@ Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Ima
                     unbiased += ua;
                 }
             }
-            map(x, y, 0) = float(s);
+            out[x] = float(s);
             rowSum += unbiased;
         }
         rowSums[std::size_t(y)] = rowSum;
@@ -549,6 +610,93 @@ Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Ima
     }
     return map;
 }
+
+}  // namespace
+
+Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Image& outputA,
+                               const Image* outputB, const Rect& region, const Image& centre,
+                               float exposure, SecantForm form, double* unbiasedMean) {
+    GLINT_CHECK(centre.sameShape(outputA));
+    return secantMap(halfA, halfB, outputA, outputB, region, centre, displayOf(centre, exposure),
+                     exposure, form, unbiasedMean);
+}
+
+namespace {
+
+// Feathering of the final weight planes (AutoOptions::feather): each member's plane (the
+// non-empty ones, those of the final candidates) box-averaged over `radius`, zero where the
+// member's display value is more than `gate` from the unfeathered composite's in a channel,
+// then renormalised per pixel; a pixel where every feathered weight is 0 takes the member with
+// the largest unfeathered weight alone.
+void featherWeights(std::vector<Image>& planes, const FilterBank& bank, int radius, double gate,
+                    float exposure) {
+    std::vector<std::size_t> used;
+    for (std::size_t m = 0; m < planes.size(); ++m)
+        if (!planes[m].empty()) used.push_back(m);
+    if (used.empty()) return;
+    const int width = planes[used.front()].width(), height = planes[used.front()].height();
+    const DisplayCurve display(std::exp2(double(exposure)));
+    // The unfeathered composite in display values (members in order, as step 4 adds them).
+    Image composite(width, height, 3);
+    tbb::parallel_for(0, height, [&](int y) {
+        std::vector<double> sum(std::size_t(width) * 3, 0.0);
+        for (std::size_t m : used) {
+            const float* w = planes[m].row(y);
+            const float* value = bank.result(m).row(y);
+            for (int x = 0; x < width; ++x) {
+                if (w[x] == 0.0f) continue;
+                for (std::size_t k = 0; k < 3; ++k)
+                    sum[std::size_t(x) * 3 + k] +=
+                        double(w[x]) * double(value[std::size_t(x) * 3 + k]);
+            }
+        }
+        float* out = composite.row(y);
+        for (std::size_t i = 0; i < sum.size(); ++i) out[i] = float(display(sum[i]));
+    });
+    // Each plane feathered and gated (members in parallel).
+    std::vector<Image> feathered(used.size());
+    tbb::parallel_for(std::size_t(0), used.size(), [&](std::size_t j) {
+        const std::size_t m = used[j];
+        Image f = boxSmooth(planes[m], radius);
+        for (int y = 0; y < height; ++y) {
+            float* w = f.row(y);
+            const float* value = bank.result(m).row(y);
+            const float* target = composite.row(y);
+            for (int x = 0; x < width; ++x) {
+                if (w[x] == 0.0f) continue;
+                for (std::size_t k = 0; k < 3; ++k) {
+                    const std::size_t i = std::size_t(x) * 3 + k;
+                    if (std::fabs(display(double(value[i])) - double(target[i])) > gate) {
+                        w[x] = 0.0f;
+                        break;
+                    }
+                }
+            }
+        }
+        feathered[j] = std::move(f);
+    });
+    // Renormalised per pixel (the members in order).
+    tbb::parallel_for(0, height, [&](int y) {
+        for (int x = 0; x < width; ++x) {
+            double sum = 0.0;
+            for (const Image& f : feathered) sum += f(x, y, 0);
+            if (!(sum > 0.0)) {
+                // Every member is gated: the members blended here differ by more than the gate
+                // from their blend, so the one with the largest weight is taken alone.
+                std::size_t top = 0;
+                for (std::size_t j = 1; j < used.size(); ++j)
+                    if (planes[used[j]](x, y, 0) > planes[used[top]](x, y, 0)) top = j;
+                for (std::size_t j = 0; j < used.size(); ++j)
+                    planes[used[j]](x, y, 0) = j == top ? 1.0f : 0.0f;
+                continue;
+            }
+            for (std::size_t j = 0; j < used.size(); ++j)
+                planes[used[j]](x, y, 0) = float(double(feathered[j](x, y, 0)) / sum);
+        }
+    });
+}
+
+}  // namespace
 
 AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                          const AutoOptions& options) {
@@ -569,6 +717,7 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
     const double confidence = options.confidence.value_or(autoDefaults(estimator).confidence);
     const double temperature = options.temperature.value_or(autoDefaults(estimator).temperature);
     const int finer = options.finer.value_or(autoDefaults(estimator).finer);
+    const int feather = options.feather.value_or(autoDefaults(estimator).feather);
     // Validation as checkAutoInput's, without a second split (the halves' below checks them).
     if (!halves || !frame.has(Layer::HalfColor))
         checkAutoInput(frame, estimator);
@@ -599,6 +748,8 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
     const bool tangent = options.space == SureSpace::DisplayTangent ||
                          (!halves && options.space == SureSpace::Display);
     const Image median = secant || tangent ? bankMedian(bank) : Image{};
+    const std::vector<double> displayMedian =
+        secant ? displayOf(median, options.exposure) : std::vector<double>{};
     // The tangent weights also scale the temperature's noise unit in both display spaces.
     const Image weight = secant || tangent ? tangentWeights(median, options.exposure) : Image{};
     const Image* weightPtr = tangent ? &weight : nullptr;
@@ -644,12 +795,12 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                 const bool exact = options.space == SureSpace::DisplayExact;
                 const Image* outBPtr = bothHalves ? &outB : nullptr;
                 double mean = 0.0;
-                raw = secant ? secantCrossValidationMap(halfA.color(), halfB.color(), outA, outBPtr,
-                                                        region, median, options.exposure,
-                                                        SecantForm::Centred, &mean)
-                             : crossValidationMap(
-                                   halfA.color(), halfB.color(), outA, outBPtr, region, weightPtr,
-                                   exact ? std::optional<float>(options.exposure) : std::nullopt);
+                raw = secant
+                          ? secantMap(halfA.color(), halfB.color(), outA, outBPtr, region, median,
+                                      displayMedian, options.exposure, SecantForm::Centred, &mean)
+                          : crossValidationMap(
+                                halfA.color(), halfB.color(), outA, outBPtr, region, weightPtr,
+                                exact ? std::optional<float>(options.exposure) : std::nullopt);
                 if (secant) unbiased = mean;
             } else {
                 const Image div = memberDivergence(findFilter(member.filter), member.params,
@@ -851,14 +1002,14 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                 fo.progress = [&](double) { return !stop.load(); };
                 const Image outB = applyFilter(findFilter(member.filter), halfB, member.params, fo);
                 // B's term: the one-sided form with the halves' roles swapped.
-                rawB = secant ? secantCrossValidationMap(halfB.color(), halfA.color(), outB,
-                                                         nullptr, region, median, options.exposure,
-                                                         SecantForm::Centred, &meanB)
-                              : crossValidationMap(halfB.color(), halfA.color(), outB, nullptr,
-                                                   region, weightPtr,
-                                                   options.space == SureSpace::DisplayExact
-                                                       ? std::optional<float>(options.exposure)
-                                                       : std::nullopt);
+                rawB = secant
+                           ? secantMap(halfB.color(), halfA.color(), outB, nullptr, region, median,
+                                       displayMedian, options.exposure, SecantForm::Centred, &meanB)
+                           : crossValidationMap(halfB.color(), halfA.color(), outB, nullptr, region,
+                                                weightPtr,
+                                                options.space == SureSpace::DisplayExact
+                                                    ? std::optional<float>(options.exposure)
+                                                    : std::nullopt);
             } catch (const Error& e) {
                 if (e.kind() == ErrorKind::Cancelled) return;
                 throw;
@@ -877,8 +1028,12 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
         chosen = choose(candidates, true);
     }
 
-    const std::vector<double>& totals = chosen.totals;
     std::vector<Image>& planes = chosen.planes;
+    if (feather > 0) featherWeights(planes, bank, feather, options.featherGate, options.exposure);
+    // Each member's total weight (after feathering), rows summed in order.
+    std::vector<double> totals(n, 0.0);
+    for (std::size_t m = 0; m < n; ++m)
+        if (!planes[m].empty()) totals[m] = meanPerChannel(planes[m]);
     // Step 4: the composite (member order, as the weights), the layers (members with any
     // weight, largest total first).
     AutoResult result;

@@ -175,17 +175,27 @@ Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Ima
                                float exposure = 0.0f, SecantForm form = SecantForm::Unbiased,
                                double* unbiasedMean = nullptr);
 
-/// The smoothing window, confidence and temperature an estimator uses unless told otherwise,
-/// measured on the quality table of docs/navigation.md: SURE 4, 3, 0 (a hard choice) and no
-/// finer window, the halves 8, 1, 0.06 and 1 (their maps are noisier per pixel: a wider window
-/// with a lower bar wins on every scene, slightly soft weights blend members whose estimates
-/// are within the noise of each other instead of picking one by that noise, and the window
-/// halved once decides where its evidence is clear).
+/// The median of the bank's results per pixel and channel (3 channels, region-sized): a
+/// member-independent estimate of the clean value, the centre of the display linearisation
+/// (SureSpace::Display and DisplayTangent). The median rather than the mean, which the members
+/// that barely filter pull into the clamp at a firefly or a highlight (docs/navigation.md
+/// measures both). The (n/2)-th smallest of the n values (the upper median for even n), found
+/// by a sorting network 8 values at a time. Throws glint::Error(InvalidArgument) for a bank
+/// without members.
+Image bankMedian(const FilterBank& bank);
+
+/// The smoothing window, confidence, temperature, finer window and feathering an estimator
+/// uses unless told otherwise, measured on the quality table of docs/navigation.md: SURE 4, 3,
+/// 0 (a hard choice), no finer window and feather 4; the halves 8, 1, 0.06, 1 and 4 (their
+/// maps are noisier per pixel: a wider window with a lower bar wins on every scene, slightly
+/// soft weights blend members whose estimates are within the noise of each other instead of
+/// picking one by that noise, and the window halved once decides where its evidence is clear).
 struct AutoDefaults {
     int window;
     double confidence;
     double temperature;
     int finer;
+    int feather;
 };
 AutoDefaults autoDefaults(AutoEstimator estimator);
 
@@ -225,6 +235,16 @@ struct AutoOptions {
     /// over RGB (so the temperature is in units of the noise), weights below 1e-3 of the
     /// largest dropped. Unset: the estimator's default (autoDefaults).
     std::optional<double> temperature;
+    /// Feathering: each member's weight plane is box-averaged over (2·feather + 1)² pixels
+    /// before the composite, so that the choice changes from member to member over a few
+    /// pixels instead of from one pixel to the next — except where the member's display value
+    /// (exposure, clamp, sRGB) differs from the unfeathered composite's by more than
+    /// `featherGate` in some channel: there it gets no weight from its neighbours (a blur
+    /// chosen around a small light must not spread into the light). Then the weights are
+    /// renormalised (a pixel where all are gated takes its largest-weight member alone). 0: off.
+    /// Unset: the estimator's default (autoDefaults). docs/navigation.md, step 10.
+    std::optional<int> feather;
+    double featherGate = 0.2;
     /// The bank was built on prefiltered features: the perturbed input is prefiltered alike.
     bool prefilter = false;
     ParamValues prefilterParams;
