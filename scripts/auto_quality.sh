@@ -8,13 +8,7 @@
 # machinery as scripts/navigation_quality.sh.
 #   scripts/auto_quality.sh [build] [scenes...]
 set -euo pipefail
-cd "$(dirname "$0")/.."
-build=${1:-build}
-shift || true
-scenes=${*:-cornell pool dof glossy}
-bin=$build/bin
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/lib/cells.sh"
 echo "| scene | spp | noisy | best single (with the reference) | auto, halves | auto, SURE | best 3 | per-pixel | halves' share of the way from best single to per-pixel | members used | auto s | without half buffers: noisy, best single, auto (SURE) |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 for scene in $scenes; do

@@ -7,13 +7,7 @@
 # member to the per-pixel oracle per cell and the average (about 3 minutes on 2 cores).
 #   scripts/expected_oracle.sh [build] [scenes...]
 set -euo pipefail
-cd "$(dirname "$0")/.."
-build=${1:-build}
-shift || true
-scenes=${*:-cornell pool dof glossy}
-bin=$build/bin
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/lib/cells.sh"
 echo "| scene | spp | best single | per-pixel | expected error, radius 0 / 2 / 4 / 8 (share of the way) |"
 echo "|---|---|---|---|---|"
 for scene in $scenes; do
