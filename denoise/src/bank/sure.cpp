@@ -1030,7 +1030,8 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
 
     std::vector<Image>& planes = chosen.planes;
     if (feather > 0) featherWeights(planes, bank, feather, options.featherGate, options.exposure);
-    // Each member's total weight (after feathering), rows summed in order.
+    // Each member's weight summed over the region (after feathering; rows in order, scaled by
+    // 1 / (3 · pixels), which keeps the order and which are 0).
     std::vector<double> totals(n, 0.0);
     for (std::size_t m = 0; m < n; ++m)
         if (!planes[m].empty()) totals[m] = meanPerChannel(planes[m]);
