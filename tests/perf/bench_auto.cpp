@@ -103,6 +103,10 @@ int main(int argc, char** argv) {
     glint::denoise::BankOptions options;
     options.size = members;
     options.seed = 1;
+    const glint::denoise::AutoEstimator autoEstimator = estimator == "halves"
+                                                            ? glint::denoise::AutoEstimator::Halves
+                                                            : glint::denoise::AutoEstimator::Sure;
+    if (feather < 0) feather = glint::denoise::autoDefaults(autoEstimator).feather;
     double bankSeconds = 1e30, autoSeconds = 1e30;
     std::size_t bankSize = 0, used = 0;
     for (int r = 0; r < reps; ++r) {
@@ -112,36 +116,30 @@ int main(int argc, char** argv) {
         bankSize = bank.size();
         glint::denoise::AutoResult result;
         glint::denoise::AutoOptions ao;
-        ao.estimator = estimator == "halves" ? glint::denoise::AutoEstimator::Halves
-                                             : glint::denoise::AutoEstimator::Sure;
+        ao.estimator = autoEstimator;
         ao.symmetric = oneSided == 0;
         ao.space = space;
         ao.shortlist = shortlist;
-        if (feather >= 0) ao.feather = feather;
+        ao.feather = feather;
         autoSeconds =
             std::min(autoSeconds,
                      secondsOf([&] { result = glint::denoise::autoComposite(bank, frame, ao); }));
         used = result.layers.size();
     }
-    const nlohmann::json out = {
-        {"size", size},
-        {"spp", spp},
-        {"threads", threads},
-        {"members", bankSize},
-        {"reps", reps},
-        {"estimator", estimator},
-        {"symmetric", oneSided == 0},
-        {"space", glint::denoise::sureSpaceName(space)},
-        {"shortlist", shortlist},
-        {"feather", feather >= 0 ? feather
-                                 : glint::denoise::autoDefaults(
-                                       estimator == "halves" ? glint::denoise::AutoEstimator::Halves
-                                                             : glint::denoise::AutoEstimator::Sure)
-                                       .feather},
-        {"bankSecondsBest", bankSeconds},
-        {"autoSecondsBest", autoSeconds},
-        {"autoOverBank", autoSeconds / bankSeconds},
-        {"membersUsed", used}};
+    const nlohmann::json out = {{"size", size},
+                                {"spp", spp},
+                                {"threads", threads},
+                                {"members", bankSize},
+                                {"reps", reps},
+                                {"estimator", estimator},
+                                {"symmetric", oneSided == 0},
+                                {"space", glint::denoise::sureSpaceName(space)},
+                                {"shortlist", shortlist},
+                                {"feather", feather},
+                                {"bankSecondsBest", bankSeconds},
+                                {"autoSecondsBest", autoSeconds},
+                                {"autoOverBank", autoSeconds / bankSeconds},
+                                {"membersUsed", used}};
     std::cout << out.dump(2) << "\n";
     return 0;
 }

@@ -186,6 +186,57 @@ void checkHalvesFinite(const FrameBuffers& frame, const std::string& file) {
     }
 }
 
+// Box averages over (2·radius + 1)² pixels, truncated at the border, of `planes` values per
+// pixel of a width × height grid: value(x, y, k) gives the terms (doubles of floats), and
+// emit(x, y, means) receives each pixel's `planes` averages. Horizontal prefix differences,
+// then vertical running sums, in double; each column's sum is updated in row order within a
+// fixed block of columns, so every average is computed from the same terms in the same order
+// whatever the thread count. radius ≥ 1.
+template <class Value, class Emit>
+void boxAverages(int w, int h, int radius, std::size_t planes, Value value, Emit emit) {
+    std::vector<double> horizontal(std::size_t(w) * std::size_t(h) * planes);
+    tbb::parallel_for(0, h, [&](int y) {
+        std::vector<double> prefix((std::size_t(w) + 1) * planes, 0.0);
+        for (int x = 0; x < w; ++x)
+            for (std::size_t k = 0; k < planes; ++k)
+                prefix[(std::size_t(x) + 1) * planes + k] =
+                    prefix[std::size_t(x) * planes + k] + value(x, y, k);
+        double* out = horizontal.data() + std::size_t(y) * std::size_t(w) * planes;
+        for (int x = 0; x < w; ++x) {
+            const auto x0 = std::size_t(std::max(0, x - radius)),
+                       x1 = std::size_t(std::min(w, x + radius + 1));
+            for (std::size_t k = 0; k < planes; ++k)
+                out[std::size_t(x) * planes + k] =
+                    (prefix[x1 * planes + k] - prefix[x0 * planes + k]) / double(x1 - x0);
+        }
+    });
+    constexpr int kBlock = 256;
+    tbb::parallel_for(0, (w + kBlock - 1) / kBlock, [&](int block) {
+        const int bx0 = block * kBlock, bx1 = std::min(w, bx0 + kBlock);
+        const std::size_t span = std::size_t(bx1 - bx0) * planes;
+        std::vector<double> sum(span, 0.0), means(planes);
+        auto row = [&](int y) {
+            return horizontal.data() +
+                   (std::size_t(y) * std::size_t(w) + std::size_t(bx0)) * planes;
+        };
+        for (int y = 0; y < std::min(h, radius); ++y)
+            for (std::size_t i = 0; i < span; ++i) sum[i] += row(y)[i];
+        for (int y = 0; y < h; ++y) {
+            const int entering = y + radius, leaving = y - radius - 1;
+            if (entering < h)
+                for (std::size_t i = 0; i < span; ++i) sum[i] += row(entering)[i];
+            if (leaving >= 0)
+                for (std::size_t i = 0; i < span; ++i) sum[i] -= row(leaving)[i];
+            const double rows = double(std::min(h, y + radius + 1) - std::max(0, y - radius));
+            for (int x = bx0; x < bx1; ++x) {
+                for (std::size_t k = 0; k < planes; ++k)
+                    means[k] = sum[std::size_t(x - bx0) * planes + k] / rows;
+                emit(x, y, means.data());
+            }
+        }
+    });
+}
+
 }  // namespace
 
 Image bankMedian(const FilterBank& bank) {
@@ -347,40 +398,12 @@ SureEstimate estimateSure(const Filter& filter, const FrameBuffers& frame,
 
 Image boxSmooth(const Image& image, int radius) {
     GLINT_CHECK(image.channels() == 1 && radius >= 0);
-    const int w = image.width(), h = image.height();
     if (radius == 0 || image.empty()) return image;
-    // Horizontal prefix differences, then vertical running sums, in double. Each column's sum
-    // is updated in row order within a fixed block of columns, so every output value is
-    // computed from the same terms in the same order whatever the thread count.
-    std::vector<double> horizontal(std::size_t(w) * std::size_t(h));
-    tbb::parallel_for(0, h, [&](int y) {
-        std::vector<double> prefix(std::size_t(w) + 1, 0.0);
-        for (int x = 0; x < w; ++x)
-            prefix[std::size_t(x) + 1] = prefix[std::size_t(x)] + image(x, y, 0);
-        for (int x = 0; x < w; ++x) {
-            const int x0 = std::max(0, x - radius), x1 = std::min(w, x + radius + 1);
-            horizontal[std::size_t(y) * w + x] =
-                (prefix[std::size_t(x1)] - prefix[std::size_t(x0)]) / double(x1 - x0);
-        }
-    });
-    Image out(w, h, 1);
-    constexpr int kBlock = 256;
-    tbb::parallel_for(0, (w + kBlock - 1) / kBlock, [&](int block) {
-        const int bx0 = block * kBlock, bx1 = std::min(w, bx0 + kBlock);
-        std::vector<double> sum(std::size_t(bx1 - bx0), 0.0);
-        auto row = [&](int y) { return horizontal.data() + std::size_t(y) * w; };
-        for (int y = 0; y < std::min(h, radius); ++y)
-            for (int x = bx0; x < bx1; ++x) sum[std::size_t(x - bx0)] += row(y)[x];
-        for (int y = 0; y < h; ++y) {
-            const int entering = y + radius, leaving = y - radius - 1;
-            if (entering < h)
-                for (int x = bx0; x < bx1; ++x) sum[std::size_t(x - bx0)] += row(entering)[x];
-            if (leaving >= 0)
-                for (int x = bx0; x < bx1; ++x) sum[std::size_t(x - bx0)] -= row(leaving)[x];
-            const double count = double(std::min(h, y + radius + 1) - std::max(0, y - radius));
-            for (int x = bx0; x < bx1; ++x) out(x, y, 0) = float(sum[std::size_t(x - bx0)] / count);
-        }
-    });
+    Image out(image.width(), image.height(), 1);
+    boxAverages(
+        image.width(), image.height(), radius, 1,
+        [&](int x, int y, std::size_t) { return double(image(x, y, 0)); },
+        [&](int x, int y, const double* mean) { out(x, y, 0) = float(mean[0]); });
     return out;
 }
 
@@ -623,6 +646,59 @@ Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Ima
 
 namespace {
 
+// Step 2's score of one candidate at one radius, in one pass over its map and the baseline's:
+// the box average (truncated at the border) of d = raw − base, each d rounded to float, plus,
+// with `confidence` > 0, that many standard errors of it from the box average of d² over the
+// full window's count. The sums are boxSmooth's, term for term and in its order, so the score is
+// the same as smoothing stored d and d² maps, without storing them (nor the two averages).
+Image windowScore(const Image& raw, const Image& base, int radius, double confidence) {
+    const int w = raw.width(), h = raw.height();
+    const std::size_t planes = confidence > 0.0 ? 2 : 1;
+    Image score(w, h, 1);
+    const double count = double((2 * radius + 1) * (2 * radius + 1));
+    auto scoreOf = [&](float mean, float meanSq) {
+        const double mu = mean;
+        const double var = std::max(0.0, double(meanSq) - mu * mu);
+        return float(mu + confidence * std::sqrt(var / count));
+    };
+    if (radius == 0) {  // boxSmooth returns the map itself
+        for (std::size_t p = 0; p < score.data().size(); ++p) {
+            const double v = double(raw.data()[p]) - double(base.data()[p]);
+            score.data()[p] = planes == 1 ? float(v) : scoreOf(float(v), float(v * v));
+        }
+        return score;
+    }
+    boxAverages(
+        w, h, radius, planes,
+        [&](int x, int y, std::size_t k) {
+            const double v = double(raw(x, y, 0)) - double(base(x, y, 0));
+            return double(k == 0 ? float(v) : float(v * v));
+        },
+        [&](int x, int y, const double* means) {
+            score(x, y, 0) =
+                planes == 1 ? float(means[0]) : scoreOf(float(means[0]), float(means[1]));
+        });
+    return score;
+}
+
+// One row of the blend Σ weight · result over the members that have a weight plane, in member
+// order, in double (3 values per pixel into `sum`, width × 3): the composite, and the
+// unfeathered composite feathering gates against.
+void blendRow(const std::vector<Image>& planes, const FilterBank& bank, int y,
+              std::vector<double>& sum) {
+    std::fill(sum.begin(), sum.end(), 0.0);
+    for (std::size_t m = 0; m < planes.size(); ++m) {
+        if (planes[m].empty()) continue;
+        const float* w = planes[m].row(y);
+        const float* value = bank.result(m).row(y);
+        for (int x = 0; x < planes[m].width(); ++x) {
+            if (w[x] == 0.0f) continue;
+            for (std::size_t k = 0; k < 3; ++k)
+                sum[std::size_t(x) * 3 + k] += double(w[x]) * double(value[std::size_t(x) * 3 + k]);
+        }
+    }
+}
+
 // Feathering of the final weight planes (AutoOptions::feather): each member's plane (the
 // non-empty ones, those of the final candidates) box-averaged over `radius`, zero where the
 // member's display value is more than `gate` from the unfeathered composite's in a channel,
@@ -636,20 +712,11 @@ void featherWeights(std::vector<Image>& planes, const FilterBank& bank, int radi
     if (used.empty()) return;
     const int width = planes[used.front()].width(), height = planes[used.front()].height();
     const DisplayCurve display(std::exp2(double(exposure)));
-    // The unfeathered composite in display values (members in order, as step 4 adds them).
+    // The unfeathered composite in display values (blended as step 4 blends the final one).
     Image composite(width, height, 3);
     tbb::parallel_for(0, height, [&](int y) {
-        std::vector<double> sum(std::size_t(width) * 3, 0.0);
-        for (std::size_t m : used) {
-            const float* w = planes[m].row(y);
-            const float* value = bank.result(m).row(y);
-            for (int x = 0; x < width; ++x) {
-                if (w[x] == 0.0f) continue;
-                for (std::size_t k = 0; k < 3; ++k)
-                    sum[std::size_t(x) * 3 + k] +=
-                        double(w[x]) * double(value[std::size_t(x) * 3 + k]);
-            }
-        }
+        std::vector<double> sum(std::size_t(width) * 3);
+        blendRow(planes, bank, y, sum);
         float* out = composite.row(y);
         for (std::size_t i = 0; i < sum.size(); ++i) out[i] = float(display(sum[i]));
     });
@@ -876,24 +943,9 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
         std::vector<Image> scores(c);
         tbb::parallel_for(std::size_t(0), c, [&](std::size_t j) {
             const Image& raw = raws[candidates[j]];
-            Image d(region.width(), region.height(), 1), d2(region.width(), region.height(), 1);
-            for (std::size_t p = 0; p < pixels; ++p) {
-                const double v = double(raw.data()[p]) - double(base.data()[p]);
-                d.data()[p] = float(v);
-                d2.data()[p] = float(v * v);
-            }
             Image score;
             for (int radius : radii) {
-                Image mean = boxSmooth(d, radius);
-                if (confidence > 0.0 && j != baseline) {
-                    const Image meanSq = boxSmooth(d2, radius);
-                    const double count = double((2 * radius + 1) * (2 * radius + 1));
-                    for (std::size_t p = 0; p < pixels; ++p) {
-                        const double mu = mean.data()[p];
-                        const double var = std::max(0.0, double(meanSq.data()[p]) - mu * mu);
-                        mean.data()[p] = float(mu + confidence * std::sqrt(var / count));
-                    }
-                }
+                Image mean = windowScore(raw, base, radius, j != baseline ? confidence : 0.0);
                 if (score.empty()) {
                     score = std::move(mean);
                 } else {
@@ -1041,21 +1093,16 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
     result.composite = Image(width, region.height(), 3);
     result.choice = Image(width, region.height(), 1);
     tbb::parallel_for(0, region.height(), [&](int y) {
-        std::vector<double> c(std::size_t(width) * 3, 0.0);
+        std::vector<double> c(std::size_t(width) * 3);
+        blendRow(planes, bank, y, c);
         std::vector<float> topWeight(std::size_t(width), 0.0f);
         std::vector<int> top(std::size_t(width), 0);
         for (std::size_t m = 0; m < n; ++m) {
-            if (totals[m] == 0.0) continue;  // weight 0 everywhere: adds nothing, never the top
+            if (totals[m] == 0.0) continue;  // weight 0 everywhere: never the top
             const float* w = planes[m].row(y);
-            const float* value = bank.result(m).row(y);
-            for (int x = 0; x < width; ++x) {
+            for (int x = 0; x < width; ++x)
                 if (w[x] > topWeight[std::size_t(x)])
                     topWeight[std::size_t(x)] = w[x], top[std::size_t(x)] = int(m);
-                if (w[x] == 0.0f) continue;
-                for (int k = 0; k < 3; ++k)
-                    c[std::size_t(x) * 3 + std::size_t(k)] +=
-                        double(w[x]) * double(value[std::size_t(x) * 3 + std::size_t(k)]);
-            }
         }
         float* out = result.composite.row(y);
         for (std::size_t i = 0; i < c.size(); ++i) out[i] = float(c[i]);
