@@ -9,6 +9,7 @@
 #include <cmath>
 #include <random>
 
+#include "bank/sure_detail.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
@@ -407,6 +408,64 @@ TEST(Sure, BoxSmoothIsTheMeanOverTheWindowTruncatedAtTheBorder) {
                     << "radius " << radius << " at " << x << "," << y;
                 ASSERT_EQ(one(x, y, 0), two(x, y, 0));
             }
+    }
+}
+
+TEST(Sure, WindowScoreIsTheBoxSmoothedDifferencePlusItsStandardError) {
+    // Step 2's one-pass score against what it replaced, boxSmooth of stored d = raw − base and
+    // d² maps (value for value: the same sums in the same order), and against brute-force
+    // window sums in double: within 1e-5 relative for the mean, and for the standard error
+    // within what float rounding of d² and of the averages (a few 1e-8 of the mean of d²) leaves
+    // after the cancellation in mean of d² − mean² and the square root. Two column blocks (300
+    // wide), a firefly among small differences, both signs.
+    const int w = 300, h = 37;
+    Image raw(w, h, 1), base(w, h, 1);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1e-3f, 2e-3f);
+    for (float& v : raw.data()) v = u(rng);
+    for (float& v : base.data()) v = u(rng);
+    raw(150, 5, 0) = 3e3f;
+    base(20, 30, 0) = -7.5f;
+    Image d(w, h, 1), d2(w, h, 1);
+    for (std::size_t p = 0; p < d.data().size(); ++p) {
+        const double v = double(raw.data()[p]) - double(base.data()[p]);
+        d.data()[p] = float(v);
+        d2.data()[p] = float(v * v);
+    }
+    for (int radius : {0, 1, 3, 8}) {
+        const Image mean = boxSmooth(d, radius), meanSq = boxSmooth(d2, radius);
+        const double count = double((2 * radius + 1) * (2 * radius + 1));
+        for (double confidence : {0.0, 1.5}) {
+            const Image score = detail::windowScore(raw, base, radius, confidence);
+            ASSERT_TRUE(score.sameShape(d));
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    const double mu = mean(x, y, 0);
+                    const double var = std::max(0.0, double(meanSq(x, y, 0)) - mu * mu);
+                    const float stored = confidence > 0.0
+                                             ? float(mu + confidence * std::sqrt(var / count))
+                                             : float(mu);
+                    ASSERT_EQ(score(x, y, 0), stored) << "radius " << radius << " confidence "
+                                                      << confidence << " at " << x << "," << y;
+                    double s = 0.0, s2 = 0.0;
+                    int n = 0;
+                    for (int yy = std::max(0, y - radius); yy <= std::min(h - 1, y + radius); ++yy)
+                        for (int xx = std::max(0, x - radius); xx <= std::min(w - 1, x + radius);
+                             ++xx, ++n) {
+                            const double v = double(raw(xx, yy, 0)) - double(base(xx, yy, 0));
+                            s += v;
+                            s2 += v * v;
+                        }
+                    const double m = s / n;
+                    const double expected =
+                        m + confidence * std::sqrt(std::max(0.0, s2 / n - m * m) / count);
+                    const double rounding = confidence * std::sqrt(4e-7 * (s2 / n) / count);
+                    ASSERT_NEAR(score(x, y, 0), expected,
+                                1e-5 * std::abs(expected) + rounding + 1e-9)
+                        << "radius " << radius << " confidence " << confidence << " at " << x << ","
+                        << y;
+                }
+        }
     }
 }
 

@@ -20,6 +20,7 @@
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/image/random.h"
+#include "sure_detail.h"
 
 namespace glint::denoise {
 
@@ -644,14 +645,10 @@ Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Ima
                      exposure, form, unbiasedMean);
 }
 
-namespace {
-
-// Step 2's score of one candidate at one radius, in one pass over its map and the baseline's:
-// the box average (truncated at the border) of d = raw − base, each d rounded to float, plus,
-// with `confidence` > 0, that many standard errors of it from the box average of d² over the
-// full window's count. The sums are boxSmooth's, term for term and in its order, so the score is
-// the same as smoothing stored d and d² maps, without storing them (nor the two averages).
-Image windowScore(const Image& raw, const Image& base, int radius, double confidence) {
+// Step 2's score in one pass over the candidate's map and the baseline's (sure_detail.h). The
+// sums are boxSmooth's, term for term and in its order, so the score is the same as smoothing
+// stored d and d² maps, without storing them (nor the two averages).
+Image detail::windowScore(const Image& raw, const Image& base, int radius, double confidence) {
     const int w = raw.width(), h = raw.height();
     const std::size_t planes = confidence > 0.0 ? 2 : 1;
     Image score(w, h, 1);
@@ -680,6 +677,8 @@ Image windowScore(const Image& raw, const Image& base, int radius, double confid
         });
     return score;
 }
+
+namespace {
 
 // One row of the blend Σ weight · result over the members that have a weight plane, in member
 // order, in double (3 values per pixel into `sum`, width × 3): the composite, and the
@@ -945,7 +944,8 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
             const Image& raw = raws[candidates[j]];
             Image score;
             for (int radius : radii) {
-                Image mean = windowScore(raw, base, radius, j != baseline ? confidence : 0.0);
+                Image mean =
+                    detail::windowScore(raw, base, radius, j != baseline ? confidence : 0.0);
                 if (score.empty()) {
                     score = std::move(mean);
                 } else {
