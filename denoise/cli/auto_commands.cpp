@@ -37,8 +37,9 @@ using Clock = std::chrono::steady_clock;
 struct AutoArgs {
     std::string input, bank, out, reference, choiceMap, filters, space = "display",
                                                                  estimator = "auto";
-    int size = 64, shortlist = 16;
-    std::optional<int> window, finer, feather;
+    int size = 64, shortlist = 16, stackWindow = 12;
+    double stackRidge = 1.0;
+    std::optional<int> window, finer, feather, stack;
     double featherGate = 0.2;
     std::uint64_t bankSeed = 1, seed = 1;
     std::optional<double> temperature;
@@ -65,6 +66,9 @@ void runAuto(const AutoArgs& a) {
     options.exposure = a.exposure;
     options.symmetric = !a.oneSided;
     options.shortlist = a.shortlist;
+    options.stack = a.stack;
+    options.stackWindow = a.stackWindow;
+    options.stackRidge = a.stackRidge;
     try {
         options.estimator = parseAutoEstimator(a.estimator);
     } catch (const Error& e) {
@@ -165,6 +169,9 @@ void runAuto(const AutoArgs& a) {
         {"finer", options.finer.value_or(autoDefaults(result.estimator).finer)},
         {"feather", options.feather.value_or(autoDefaults(result.estimator).feather)},
         {"featherGate", options.featherGate},
+        {"stack", result.stacked},
+        {"stackWindow", options.stackWindow},
+        {"stackRidge", options.stackRidge},
         {"epsilon", a.epsilon},
         {"seed", a.seed},
         {"bestMember", memberJson(bank, result.bestMember)},
@@ -287,6 +294,14 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
     cmd->add_option("--shortlist", a->shortlist,
                     "Halves: filter only the K members with the most weight after a one-sided "
                     "first choice on both halves, and choose among them (default 16; 0: all)");
+    cmd->add_option("--stack", a->stack,
+                    "Halves: correct the composite per pixel by a local ridge regression of each "
+                    "half on the K members of most weight on the other half (0 … 16; 0: off; "
+                    "default 8 for the halves, 0 one-sided or for SURE)");
+    cmd->add_option("--stack-window", a->stackWindow,
+                    "Radius of the stacking's window in pixels (1 … 64; default 12)");
+    cmd->add_option("--stack-ridge", a->stackRidge,
+                    "The stacking's ridge in units of the halves' noise (>= 0; default 1)");
     cmd->add_option("--choice-map", a->choiceMap, "Write the chosen member per pixel as a PNG");
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
     return {{cmd, [a] { runAuto(*a); }}};

@@ -410,6 +410,8 @@ void SessionAdapter::autoStart(int bankSize) {
             bo.progress = progressFor(tr("Auto start: building the bank"), cancel);
             auto bank = std::make_shared<denoise::FilterBank>(denoise::buildBank(*in, bo));
             denoise::AutoOptions ao;
+            // A session is a blend of member layers; the stacking's correction is not one.
+            ao.stack = 0;
             ao.prefilter = options.prefilter;
             ao.prefilterParams = options.prefilterParams;
             ao.progress = progressFor(tr("Auto start: estimating each member's error"), cancel);

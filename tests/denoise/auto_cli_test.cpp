@@ -54,6 +54,11 @@ TEST_F(AutoCli, HalfBuffersSelectTheHalvesEstimatorAndItsDefaults) {
     EXPECT_EQ(j["finer"], 1);
     EXPECT_EQ(j["feather"], 4);
     EXPECT_EQ(j["featherGate"], 0.2);
+    // Stacking: up to 8 members (those with weight), over radius 12, ridge 1.
+    EXPECT_GE(j["stack"].get<int>(), 1);
+    EXPECT_LE(j["stack"].get<int>(), 8);
+    EXPECT_EQ(j["stackWindow"], 12);
+    EXPECT_EQ(j["stackRidge"], 1.0);
     r = run("auto " + path("halves.exr") + " --out " + path("auto.exr") +
             " --size 6 --json --estimator sure --one-sided");
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -63,6 +68,7 @@ TEST_F(AutoCli, HalfBuffersSelectTheHalvesEstimatorAndItsDefaults) {
     EXPECT_EQ(j["confidence"], 3.0);
     EXPECT_EQ(j["finer"], 0);
     EXPECT_EQ(j["feather"], 4);
+    EXPECT_EQ(j["stack"], 0);
     r = run("auto " + path("halves.exr") + " --out " + path("auto.exr") + " --size 6");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("cross-validation on the halves"), std::string::npos) << r.out;
@@ -162,6 +168,11 @@ TEST_F(AutoCli, BadInputExitsTwoWithOneClearLineAndWritesNothing) {
         {"auto " + path("noisy.exr") + out + " --finer 9", {"--finer", "0 … 6"}},
         {"auto " + path("noisy.exr") + out + " --feather 33", {"--feather", "0 … 32"}},
         {"auto " + path("noisy.exr") + out + " --feather-gate 0", {"--feather-gate", "> 0"}},
+        {"auto " + path("noisy.exr") + out + " --stack 17", {"--stack", "0 … 16"}},
+        {"auto " + path("noisy.exr") + out + " --stack 2", {"--stack", "halves estimator"}},
+        {"auto " + path("halves.exr") + out + " --stack 2 --one-sided", {"--stack", "one-sided"}},
+        {"auto " + path("noisy.exr") + out + " --stack-window 0", {"--stack-window", "1 … 64"}},
+        {"auto " + path("noisy.exr") + out + " --stack-ridge -1", {"--stack-ridge", ">= 0"}},
         {"auto " + path("noisy.exr") + out + " --space gamma",
          {"--space", "display, display-tangent, display-exact or linear"}},
         {"auto " + path("noisy.exr") + out + " --space display-exact",

@@ -7,10 +7,13 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
+#include "bank/sure_detail.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
+#include "glint/denoise/session.h"
 #include "glint/denoise/sure.h"
 #include "glint/image/error.h"
 #include "glint/image/metrics.h"
@@ -595,6 +598,7 @@ TEST(Halves, FeatheringBoxAveragesTheWeightsWhereNothingIsGated) {
     plain.feather = 0;
     feathered.feather = 3;
     feathered.featherGate = 10.0;
+    plain.stack = feathered.stack = 0;  // the composite is then the blend of the weights
     const AutoResult a = autoComposite(bank, f, plain), b = autoComposite(bank, f, feathered);
     ASSERT_GE(a.layers.size(), 2u);
     long blended = 0, blendedBefore = 0;
@@ -674,6 +678,186 @@ TEST(Halves, TheFeatherGateKeepsALightFromTheBlurChosenAroundIt) {
         e0, eg, eu);
     EXPECT_LE(eg, 1.1 * e0);
     EXPECT_LT(eg, 0.5 * eu);
+}
+
+// The stacking's inputs for one configuration: clean x (cleanImage + ½); halves A = x + n_A, B = x
+// + n_B (Gaussian, sigma); the composite c = x + u (u a smooth error); one member whose result is
+// x + k·u on all the samples and on each half (plus that half's noise, a tenth of it, as a
+// filter leaves), and the composite's own results on the halves likewise.
+struct StackCase {
+    Image clean, composite, blendA, blendB, full, onA, onB, halfA, halfB;
+};
+
+StackCase stackCase(int w, int h, double k, double sigma, std::uint32_t seed) {
+    StackCase s;
+    s.clean = cleanImage(w, h);
+    for (float& v : s.clean.data()) v += 0.5f;  // positive, so that the clamp at 0 stays out
+    for (Image* i :
+         {&s.composite, &s.blendA, &s.blendB, &s.full, &s.onA, &s.onB, &s.halfA, &s.halfB})
+        *i = Image(w, h, 3);
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> gauss(0.0, sigma);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const double v = s.clean(x, y, c);
+                const double u = 0.08 * std::sin(0.2 * x + 0.1 * c) * std::cos(0.15 * y);
+                const double na = gauss(rng), nb = gauss(rng);
+                s.halfA(x, y, c) = float(v + na);
+                s.halfB(x, y, c) = float(v + nb);
+                s.composite(x, y, c) = float(v + u);
+                s.blendA(x, y, c) = float(v + u + 0.1 * na);
+                s.blendB(x, y, c) = float(v + u + 0.1 * nb);
+                s.full(x, y, c) = float(v + k * u);
+                s.onA(x, y, c) = float(v + k * u + 0.1 * na);
+                s.onB(x, y, c) = float(v + k * u + 0.1 * nb);
+            }
+    return s;
+}
+
+Image stackOf(const StackCase& s, int radius, double ridge) {
+    return detail::stackComposite(s.composite, s.blendA, s.blendB, {{&s.full, &s.onA, &s.onB}},
+                                  s.halfA, s.halfB, Image{}, radius, ridge);
+}
+
+TEST(Halves, StackingFindsTheCombinationBetweenOrBeyondTheMembers) {
+    // A member at x − u: the best is half-way (a = ½); at x + 2u: beyond the composite, away
+    // from the member (a = −1). Either way the window's ridge regression of each half on the
+    // other finds it, shrunk by the floor to a/(1 + kStackFloor) at most and a little more by
+    // the noise's ridge (σ² = 4·10⁻⁴ per value against u² ≈ 1.6·10⁻³): the squared error
+    // falls to (1 − 1/1.3)² ≈ 5 % at best; measured 6.3 % (member at x − u) and 9.1 % (at
+    // x + 2u, which differs from the composite by u only, so the noise weighs more); asserted:
+    // below 15 %.
+    for (double k : {-1.0, 2.0}) {
+        const StackCase s = stackCase(80, 60, k, 0.02, 21);
+        const double before = glint::mse(s.composite, s.clean).value;
+        const double after = glint::mse(stackOf(s, 8, 1.0), s.clean).value;
+        std::printf("member at x + %gu: squared error %.3g, the composite's %.3g (%.1f %%)\n", k,
+                    after, before, 100.0 * after / before);
+        EXPECT_LT(after, 0.15 * before)
+            << "member at x + " << k << "u: " << after << " against " << before;
+        // An overwhelming ridge keeps the composite.
+        const Image kept = stackOf(s, 8, 1e9);
+        for (std::size_t i = 0; i < kept.data().size(); ++i)
+            ASSERT_NEAR(kept.data()[i], s.composite.data()[i], 1e-5);
+    }
+}
+
+TEST(Halves, StackingIsTheWindowsRidgeSolutionAcrossTilesAndThreads) {
+    // One member: a = r / (G + ridge·v + kStackFloor·G) with the window sums computed here by
+    // brute force (double; truncated at the border). 150 rows: two tiles of rows (128 each).
+    const int w = 23, h = 150, radius = 5;
+    const double ridge = 0.7;
+    const StackCase s = stackCase(w, h, -1.0, 0.1, 5);
+    Image one, two;
+    {
+        tbb::task_arena arena(1);
+        arena.execute([&] { one = stackOf(s, radius, ridge); });
+    }
+    {
+        tbb::task_arena arena(2);
+        arena.execute([&] { two = stackOf(s, radius, ridge); });
+    }
+    for (std::size_t i = 0; i < one.data().size(); ++i) ASSERT_EQ(one.data()[i], two.data()[i]);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double g = 0.0, r = 0.0, v = 0.0;
+            int n = 0;
+            for (int yy = std::max(0, y - radius); yy <= std::min(h - 1, y + radius); ++yy)
+                for (int xx = std::max(0, x - radius); xx <= std::min(w - 1, x + radius); ++xx, ++n)
+                    for (int c = 0; c < 3; ++c) {
+                        const double da = double(s.onA(xx, yy, c)) - s.blendA(xx, yy, c);
+                        const double db = double(s.onB(xx, yy, c)) - s.blendB(xx, yy, c);
+                        const double a = s.halfA(xx, yy, c), b = s.halfB(xx, yy, c);
+                        g += da * da + db * db;
+                        r += da * (b - s.blendA(xx, yy, c)) + db * (a - s.blendB(xx, yy, c));
+                        v += 0.5 * (a - b) * (a - b);
+                    }
+            g /= n, r /= n, v /= n;
+            const double a = r / (g + ridge * v + detail::kStackFloor * g);
+            for (int c = 0; c < 3; ++c) {
+                const double base = s.composite(x, y, c);
+                const double expected = std::max(0.0, base + a * (s.full(x, y, c) - base));
+                ASSERT_NEAR(one(x, y, c), expected, 1e-5 * std::abs(expected) + 1e-7)
+                    << "at " << x << "," << y << " channel " << c;
+            }
+        }
+}
+
+TEST(Halves, StackingNeedsBothHalvesAndASessionCannotStartFromIt) {
+    const Image clean = cleanImage(64, 48);
+    const FrameBuffers f = halvesFrame(clean, 0.08, Noise::Gaussian, 17);
+    const FilterBank bank = gaussianBank(f, {0.5, 1.0, 2.0, 4.0});
+    AutoOptions o;
+    o.stack = 3;
+    o.stackWindow = 6;
+    AutoOptions off;
+    off.stack = 0;
+    const AutoResult plain = autoComposite(bank, f, off);
+    AutoResult one, two;
+    {
+        tbb::task_arena arena(1);
+        arena.execute([&] { one = autoComposite(bank, f, o); });
+    }
+    {
+        tbb::task_arena arena(2);
+        arena.execute([&] { two = autoComposite(bank, f, o); });
+    }
+    EXPECT_EQ(plain.stacked, 0);
+    EXPECT_EQ(one.stacked, 3);
+    // The halves stack 8 members unless told otherwise (one-sided and SURE: none).
+    EXPECT_EQ(autoDefaults(AutoEstimator::Halves).stack, 8);
+    EXPECT_EQ(autoDefaults(AutoEstimator::Sure).stack, 0);
+    AutoOptions oneSided;
+    oneSided.symmetric = false;
+    EXPECT_EQ(autoComposite(bank, f, oneSided).stacked, 0);
+    EXPECT_EQ(autoComposite(bank, f).stacked, 4);  // all four members have weight
+    for (std::size_t i = 0; i < one.composite.data().size(); ++i) {
+        ASSERT_EQ(one.composite.data()[i], two.composite.data()[i]);
+        ASSERT_TRUE(std::isfinite(one.composite.data()[i]) && one.composite.data()[i] >= 0.0f);
+    }
+    // The blend it corrected is the plain one: same layers, a different composite.
+    ASSERT_EQ(one.layers.size(), plain.layers.size());
+    for (std::size_t l = 0; l < one.layers.size(); ++l) {
+        EXPECT_EQ(one.layers[l].member, plain.layers[l].member);
+        const auto& a = one.layers[l].weights.data();
+        const auto& b = plain.layers[l].weights.data();
+        EXPECT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end()));
+    }
+    EXPECT_FALSE(std::equal(one.composite.data().begin(), one.composite.data().end(),
+                            plain.composite.data().begin(), plain.composite.data().end()));
+    // Not a blend of the members: a session refuses to start from it, and stays empty.
+    Session session(f);
+    EXPECT_THROW(startFromAuto(session, bank, one), Error);
+    EXPECT_EQ(session.layerCount(), 0u);
+    // SURE (no half buffers) and one-sided halves are refused, naming --stack.
+    const FrameBuffers plainFrame = testing::syntheticFrame(24, 20, 0.05f);
+    const FilterBank plainBank = gaussianBank(plainFrame, {1.0, 2.0});
+    AutoOptions sided = o;
+    sided.symmetric = false;
+    for (const auto& [frame, b, opts] :
+         {std::tuple{&plainFrame, &plainBank, o}, std::tuple{&f, &bank, sided}}) {
+        try {
+            autoComposite(*b, *frame, opts);
+            FAIL() << "no error";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), ErrorKind::InvalidArgument);
+            EXPECT_EQ(e.where(), "--stack") << e.what();
+        }
+    }
+    // Absurd values are refused, naming the option.
+    AutoOptions bad;
+    bad.stack = 17;
+    EXPECT_THROW(validate(bad), Error);
+    bad = {};
+    bad.stackWindow = 0;
+    EXPECT_THROW(validate(bad), Error);
+    bad = {};
+    bad.stackRidge = std::nan("");
+    EXPECT_THROW(validate(bad), Error);
+    bad = {};
+    bad.stackRidge = -1.0;
+    EXPECT_THROW(validate(bad), Error);
 }
 
 }  // namespace

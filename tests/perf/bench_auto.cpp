@@ -8,6 +8,7 @@
 //   bench_auto [--estimator sure|halves] [--one-sided 0|1] [--shortlist 16 (0: all)]
 //              [--space display|display-tangent|display-exact|linear] [--size 1024] [--spp 4]
 //              [--threads 2] [--members 64] [--reps 3] [--feather R (default: the estimator's)]
+//              [--stack K (default: the estimator's; 0: off)]
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -41,7 +42,7 @@ double secondsOf(const std::function<void()>& fn) {
 int main(int argc, char** argv) {
     namespace fs = std::filesystem;
     int size = 1024, spp = 4, threads = 2, members = 64, reps = 3, oneSided = 0, shortlist = 16,
-        feather = -1;
+        feather = -1, stack = -1;
     std::string estimator = "sure";
     glint::denoise::SureSpace space = glint::denoise::SureSpace::Display;
     for (int i = 1; i + 1 < argc; i += 2) {
@@ -80,6 +81,8 @@ int main(int argc, char** argv) {
             reps = std::max(1, v);
         else if (a == "--feather")
             feather = v;
+        else if (a == "--stack")
+            stack = v;
         else {
             std::fprintf(stderr, "bench_auto: unknown option %s\n", a.c_str());
             return 2;
@@ -109,6 +112,7 @@ int main(int argc, char** argv) {
     if (feather < 0) feather = glint::denoise::autoDefaults(autoEstimator).feather;
     double bankSeconds = 1e30, autoSeconds = 1e30;
     std::size_t bankSize = 0, used = 0;
+    int stacked = 0;
     for (int r = 0; r < reps; ++r) {
         glint::denoise::FilterBank bank;
         bankSeconds = std::min(
@@ -121,10 +125,12 @@ int main(int argc, char** argv) {
         ao.space = space;
         ao.shortlist = shortlist;
         ao.feather = feather;
+        if (stack >= 0) ao.stack = stack;
         autoSeconds =
             std::min(autoSeconds,
                      secondsOf([&] { result = glint::denoise::autoComposite(bank, frame, ao); }));
         used = result.layers.size();
+        stacked = result.stacked;
     }
     const nlohmann::json out = {{"size", size},
                                 {"spp", spp},
@@ -136,6 +142,7 @@ int main(int argc, char** argv) {
                                 {"space", glint::denoise::sureSpaceName(space)},
                                 {"shortlist", shortlist},
                                 {"feather", feather},
+                                {"stack", stacked},
                                 {"bankSecondsBest", bankSeconds},
                                 {"autoSecondsBest", autoSeconds},
                                 {"autoOverBank", autoSeconds / bankSeconds},

@@ -13,6 +13,7 @@
 #include <tuple>
 
 #include "../filters/simd.h"
+#include "box_averages.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
@@ -187,57 +188,6 @@ void checkHalvesFinite(const FrameBuffers& frame, const std::string& file) {
     }
 }
 
-// Box averages over (2·radius + 1)² pixels, truncated at the border, of `planes` values per
-// pixel of a width × height grid: value(x, y, k) gives the terms (doubles of floats), and
-// emit(x, y, means) receives each pixel's `planes` averages. Horizontal prefix differences,
-// then vertical running sums, in double; each column's sum is updated in row order within a
-// fixed block of columns, so every average is computed from the same terms in the same order
-// whatever the thread count. radius ≥ 1.
-template <class Value, class Emit>
-void boxAverages(int w, int h, int radius, std::size_t planes, Value value, Emit emit) {
-    std::vector<double> horizontal(std::size_t(w) * std::size_t(h) * planes);
-    tbb::parallel_for(0, h, [&](int y) {
-        std::vector<double> prefix((std::size_t(w) + 1) * planes, 0.0);
-        for (int x = 0; x < w; ++x)
-            for (std::size_t k = 0; k < planes; ++k)
-                prefix[(std::size_t(x) + 1) * planes + k] =
-                    prefix[std::size_t(x) * planes + k] + value(x, y, k);
-        double* out = horizontal.data() + std::size_t(y) * std::size_t(w) * planes;
-        for (int x = 0; x < w; ++x) {
-            const auto x0 = std::size_t(std::max(0, x - radius)),
-                       x1 = std::size_t(std::min(w, x + radius + 1));
-            for (std::size_t k = 0; k < planes; ++k)
-                out[std::size_t(x) * planes + k] =
-                    (prefix[x1 * planes + k] - prefix[x0 * planes + k]) / double(x1 - x0);
-        }
-    });
-    constexpr int kBlock = 256;
-    tbb::parallel_for(0, (w + kBlock - 1) / kBlock, [&](int block) {
-        const int bx0 = block * kBlock, bx1 = std::min(w, bx0 + kBlock);
-        const std::size_t span = std::size_t(bx1 - bx0) * planes;
-        std::vector<double> sum(span, 0.0), means(planes);
-        auto row = [&](int y) {
-            return horizontal.data() +
-                   (std::size_t(y) * std::size_t(w) + std::size_t(bx0)) * planes;
-        };
-        for (int y = 0; y < std::min(h, radius); ++y)
-            for (std::size_t i = 0; i < span; ++i) sum[i] += row(y)[i];
-        for (int y = 0; y < h; ++y) {
-            const int entering = y + radius, leaving = y - radius - 1;
-            if (entering < h)
-                for (std::size_t i = 0; i < span; ++i) sum[i] += row(entering)[i];
-            if (leaving >= 0)
-                for (std::size_t i = 0; i < span; ++i) sum[i] -= row(leaving)[i];
-            const double rows = double(std::min(h, y + radius + 1) - std::max(0, y - radius));
-            for (int x = bx0; x < bx1; ++x) {
-                for (std::size_t k = 0; k < planes; ++k)
-                    means[k] = sum[std::size_t(x - bx0) * planes + k] / rows;
-                emit(x, y, means.data());
-            }
-        }
-    });
-}
-
 }  // namespace
 
 Image bankMedian(const FilterBank& bank) {
@@ -401,7 +351,7 @@ Image boxSmooth(const Image& image, int radius) {
     GLINT_CHECK(image.channels() == 1 && radius >= 0);
     if (radius == 0 || image.empty()) return image;
     Image out(image.width(), image.height(), 1);
-    boxAverages(
+    detail::boxAverages(
         image.width(), image.height(), radius, 1,
         [&](int x, int y, std::size_t) { return double(image(x, y, 0)); },
         [&](int x, int y, const double* mean) { out(x, y, 0) = float(mean[0]); });
@@ -453,6 +403,21 @@ void validate(const AutoOptions& options) {
                     "shortlist " + std::to_string(options.shortlist) +
                         " is outside 0 … 4096 (members filtered on both halves; 0: all)",
                     {}, "--shortlist");
+    if (options.stack && (*options.stack < 0 || *options.stack > int(detail::kMaxStack)))
+        throw Error(ErrorKind::InvalidArgument,
+                    "stack " + std::to_string(*options.stack) + " is outside 0 … " +
+                        std::to_string(detail::kMaxStack) + " (members in the stacking; 0: off)",
+                    {}, "--stack");
+    if (options.stackWindow < 1 || options.stackWindow > 64)
+        throw Error(ErrorKind::InvalidArgument,
+                    "stack window " + std::to_string(options.stackWindow) +
+                        " is outside 1 … 64 (the stacking's window radius in pixels)",
+                    {}, "--stack-window");
+    if (!(options.stackRidge >= 0.0) || !std::isfinite(options.stackRidge))
+        throw Error(ErrorKind::InvalidArgument,
+                    "stack ridge " + std::to_string(options.stackRidge) +
+                        " must be >= 0 (in units of the halves' noise)",
+                    {}, "--stack-ridge");
     if (!std::isfinite(options.exposure))
         throw Error(ErrorKind::InvalidArgument, "exposure must be finite", {}, "--exposure");
 }
@@ -502,8 +467,8 @@ const char* autoEstimatorName(AutoEstimator estimator) {
 }
 
 AutoDefaults autoDefaults(AutoEstimator estimator) {
-    if (estimator == AutoEstimator::Halves) return {8, 1.0, 0.06, 1, 4};
-    return {4, 3.0, 0.0, 0, 4};
+    if (estimator == AutoEstimator::Halves) return {8, 1.0, 0.06, 1, 4, 8};
+    return {4, 3.0, 0.0, 0, 4, 0};
 }
 
 AutoEstimator resolveEstimator(AutoEstimator estimator, const FrameBuffers& frame) {
@@ -665,7 +630,7 @@ Image detail::windowScore(const Image& raw, const Image& base, int radius, doubl
         }
         return score;
     }
-    boxAverages(
+    detail::boxAverages(
         w, h, radius, planes,
         [&](int x, int y, std::size_t k) {
             const double v = double(raw(x, y, 0)) - double(base(x, y, 0));
@@ -680,16 +645,24 @@ Image detail::windowScore(const Image& raw, const Image& base, int radius, doubl
 
 namespace {
 
+// Each member's result in the bank, for blendRow.
+std::vector<const Image*> bankResults(const FilterBank& bank) {
+    std::vector<const Image*> out(bank.size());
+    for (std::size_t m = 0; m < bank.size(); ++m) out[m] = &bank.result(m);
+    return out;
+}
+
 // One row of the blend Σ weight · result over the members that have a weight plane, in member
-// order, in double (3 values per pixel into `sum`, width × 3): the composite, and the
-// unfeathered composite feathering gates against.
-void blendRow(const std::vector<Image>& planes, const FilterBank& bank, int y,
+// order, in double (3 values per pixel into `sum`, width × 3), `results` per member: the
+// composite, the unfeathered composite feathering gates against, and the blends on the halves
+// that the stacking corrects.
+void blendRow(const std::vector<Image>& planes, const std::vector<const Image*>& results, int y,
               std::vector<double>& sum) {
     std::fill(sum.begin(), sum.end(), 0.0);
     for (std::size_t m = 0; m < planes.size(); ++m) {
         if (planes[m].empty()) continue;
         const float* w = planes[m].row(y);
-        const float* value = bank.result(m).row(y);
+        const float* value = results[m]->row(y);
         for (int x = 0; x < planes[m].width(); ++x) {
             if (w[x] == 0.0f) continue;
             for (std::size_t k = 0; k < 3; ++k)
@@ -713,9 +686,10 @@ void featherWeights(std::vector<Image>& planes, const FilterBank& bank, int radi
     const DisplayCurve display(std::exp2(double(exposure)));
     // The unfeathered composite in display values (blended as step 4 blends the final one).
     Image composite(width, height, 3);
+    const std::vector<const Image*> results = bankResults(bank);
     tbb::parallel_for(0, height, [&](int y) {
         std::vector<double> sum(std::size_t(width) * 3);
-        blendRow(planes, bank, y, sum);
+        blendRow(planes, results, y, sum);
         float* out = composite.row(y);
         for (std::size_t i = 0; i < sum.size(); ++i) out[i] = float(display(sum[i]));
     });
@@ -779,6 +753,14 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                     "the exact display space needs the halves estimator (SURE needs a "
                     "differentiable error: use display or linear)",
                     {}, "--space");
+    if (options.stack.value_or(0) > 0 && !halves)
+        throw Error(ErrorKind::InvalidArgument,
+                    "stacking fits each half on the other: it needs the halves estimator (an "
+                    "input rendered with --half-buffers)",
+                    {}, "--stack");
+    if (options.stack.value_or(0) > 0 && !options.symmetric)
+        throw Error(ErrorKind::InvalidArgument, "stacking fits both halves: it cannot be one-sided",
+                    {}, "--stack");
     const int window = options.window.value_or(autoDefaults(estimator).window);
     const double confidence = options.confidence.value_or(autoDefaults(estimator).confidence);
     const double temperature = options.temperature.value_or(autoDefaults(estimator).temperature);
@@ -827,6 +809,12 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
     const bool bothHalves = options.symmetric && !shortlisted;
     const std::size_t work = shortlisted ? n + std::size_t(options.shortlist) : n;
 
+    // Stacking keeps each member's results on the halves (those not shortlisted are dropped
+    // once the shortlist is known).
+    const int stack = options.stack.value_or(options.symmetric ? autoDefaults(estimator).stack : 0);
+    const bool stacking = stack > 0;
+    std::vector<Image> onA(stacking ? n : 0), onB(stacking ? n : 0);
+
     // Step 1: every member's SURE map (members in parallel, like the bank).
     std::vector<Image> raws(n);
     std::vector<double> estimatedMse(n, 0.0);
@@ -855,9 +843,8 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                 fo.region = region;
                 fo.progress = going;
                 const Filter& filter = findFilter(member.filter);
-                const Image outA = applyFilter(filter, halfA, member.params, fo);
-                const Image outB =
-                    bothHalves ? applyFilter(filter, halfB, member.params, fo) : Image{};
+                Image outA = applyFilter(filter, halfA, member.params, fo);
+                Image outB = bothHalves ? applyFilter(filter, halfB, member.params, fo) : Image{};
                 const bool exact = options.space == SureSpace::DisplayExact;
                 const Image* outBPtr = bothHalves ? &outB : nullptr;
                 double mean = 0.0;
@@ -868,6 +855,10 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                                 halfA.color(), halfB.color(), outA, outBPtr, region, weightPtr,
                                 exact ? std::optional<float>(options.exposure) : std::nullopt);
                 if (secant) unbiased = mean;
+                if (stacking) {
+                    onA[m] = std::move(outA);
+                    if (bothHalves) onB[m] = std::move(outB);
+                }
             } else {
                 const Image div = memberDivergence(findFilter(member.filter), member.params,
                                                    bank.result(m), filterInput, perturbed, delta,
@@ -1042,6 +1033,9 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
         });
         order.resize(std::size_t(options.shortlist));
         std::sort(order.begin(), order.end());
+        if (stacking)
+            for (std::size_t m = 0; m < n; ++m)
+                if (!std::binary_search(order.begin(), order.end(), m)) onA[m] = Image{};
         tbb::parallel_for(std::size_t(0), order.size(), [&](std::size_t j) {
             if (stop.load()) return;
             const std::size_t m = order[j];
@@ -1052,7 +1046,7 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                 FilterOptions fo;
                 fo.region = region;
                 fo.progress = [&](double) { return !stop.load(); };
-                const Image outB = applyFilter(findFilter(member.filter), halfB, member.params, fo);
+                Image outB = applyFilter(findFilter(member.filter), halfB, member.params, fo);
                 // B's term: the one-sided form with the halves' roles swapped.
                 rawB = secant
                            ? secantMap(halfB.color(), halfA.color(), outB, nullptr, region, median,
@@ -1062,6 +1056,7 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                                                 options.space == SureSpace::DisplayExact
                                                     ? std::optional<float>(options.exposure)
                                                     : std::nullopt);
+                if (stacking) onB[m] = std::move(outB);
             } catch (const Error& e) {
                 if (e.kind() == ErrorKind::Cancelled) return;
                 throw;
@@ -1092,9 +1087,10 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
     AutoResult result;
     result.composite = Image(width, region.height(), 3);
     result.choice = Image(width, region.height(), 1);
+    const std::vector<const Image*> results = bankResults(bank);
     tbb::parallel_for(0, region.height(), [&](int y) {
         std::vector<double> c(std::size_t(width) * 3);
-        blendRow(planes, bank, y, c);
+        blendRow(planes, results, y, c);
         std::vector<float> topWeight(std::size_t(width), 0.0f);
         std::vector<int> top(std::size_t(width), 0);
         for (std::size_t m = 0; m < n; ++m) {
@@ -1120,6 +1116,33 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
     result.bestMember = int(best);
     for (char a : analytic) result.analytic.push_back(a != 0);
     result.estimator = estimator;
+    if (stacking) {
+        // Step 5: the stacking (docs/navigation.md, step 11), around the blend on each half.
+        Image blendA(width, region.height(), 3), blendB(width, region.height(), 3);
+        std::vector<const Image*> resultsA(n, nullptr), resultsB(n, nullptr);
+        for (std::size_t m = 0; m < n; ++m)
+            if (!planes[m].empty()) resultsA[m] = &onA[m], resultsB[m] = &onB[m];
+        tbb::parallel_for(0, region.height(), [&](int y) {
+            std::vector<double> a(std::size_t(width) * 3), b(std::size_t(width) * 3);
+            blendRow(planes, resultsA, y, a);
+            blendRow(planes, resultsB, y, b);
+            std::copy(a.begin(), a.end(), blendA.row(y));
+            std::copy(b.begin(), b.end(), blendB.row(y));
+        });
+        std::vector<detail::StackMember> stacked;
+        for (int m : order) {
+            if (stacked.size() == std::size_t(stack)) break;
+            const std::size_t i = std::size_t(m);
+            stacked.push_back({&bank.result(i), &onA[i], &onB[i]});
+        }
+        const Image weightAtC = options.space == SureSpace::Linear
+                                    ? Image{}
+                                    : tangentWeights(result.composite, options.exposure);
+        result.composite = detail::stackComposite(
+            result.composite, blendA, blendB, stacked, halfA.color().crop(region),
+            halfB.color().crop(region), weightAtC, options.stackWindow, options.stackRidge);
+        result.stacked = int(stacked.size());
+    }
     for (int m : order) result.layers.push_back({m, std::move(planes[std::size_t(m)])});
     return result;
 }
@@ -1134,6 +1157,10 @@ std::size_t startFromAuto(Session& session, const FilterBank& bank, const AutoRe
     if (bank.inputHash() != hashFrame(session.input()))
         throw Error(ErrorKind::InvalidArgument,
                     "the bank was computed from another image than the session's input");
+    if (result.stacked > 0)
+        throw Error(ErrorKind::InvalidArgument,
+                    "a stacked auto composite is not a blend of the members' results, so a "
+                    "session cannot start from it: start from auto without --stack");
     for (const AutoLayer& l : result.layers)
         if (l.member < 0 || std::size_t(l.member) >= bank.size() ||
             l.weights.width() != whole.width() || l.weights.height() != whole.height())

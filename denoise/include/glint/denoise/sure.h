@@ -196,6 +196,7 @@ struct AutoDefaults {
     double temperature;
     int finer;
     int feather;
+    int stack;  ///< with both halves (AutoOptions::symmetric); one-sided: 0
 };
 AutoDefaults autoDefaults(AutoEstimator estimator);
 
@@ -245,6 +246,19 @@ struct AutoOptions {
     /// Unset: the estimator's default (autoDefaults). docs/navigation.md, step 10.
     std::optional<int> feather;
     double featherGate = 0.2;
+    /// Stacking (halves, both sides; docs/navigation.md, step 11): the `stack` members with the
+    /// largest total weight (at most 16) correct the composite c per pixel to
+    /// c + Σ a_i (f_i − c), the a_i fitted over (2·stackWindow + 1)² pixels by a ridge
+    /// regression of each half on the members' results on the other half (weighted by the
+    /// squared display slope at c), the ridge `stackRidge` times the halves' noise there. The
+    /// a_i may be negative or sum past 1, so the result is no longer a blend of the members: a
+    /// session cannot start from it (startFromAuto; ask for 0). 0: off. Unset: the estimator's
+    /// default (autoDefaults: 8 for the halves, 0 one-sided and for SURE, which cannot stack).
+    /// Keeps every member's result on half A until the shortlist is chosen: as much memory
+    /// again as the bank's results.
+    std::optional<int> stack;
+    int stackWindow = 12;
+    double stackRidge = 1.0;
     /// The bank was built on prefiltered features: the perturbed input is prefiltered alike.
     bool prefilter = false;
     ParamValues prefilterParams;
@@ -263,7 +277,7 @@ struct AutoLayer {
 
 /// The auto composite of a bank.
 struct AutoResult {
-    Image composite;  ///< 3 channels, region-sized: Σ weights · member result
+    Image composite;  ///< 3 channels, region-sized: Σ weights · member result (unless stacked)
     Image choice;     ///< 1 channel: per pixel, the member with the largest weight (as float)
     std::vector<AutoLayer> layers;  ///< members with any weight, by total weight, largest first
     /// Per member: the mean estimate per channel over the region (with a shortlist: the
@@ -273,6 +287,9 @@ struct AutoResult {
                                  ///< shortlist, when there is one): auto's single choice
     std::vector<bool> analytic;  ///< per member: the filter gave its divergence
     AutoEstimator estimator = AutoEstimator::Sure;  ///< the estimator used (never Auto)
+    /// The members the stacking fitted (AutoOptions::stack): > 0, the composite is the stacked
+    /// one and `layers` and `choice` are the blend it corrected; 0, the composite is the blend.
+    int stacked = 0;
 };
 
 /// Computes every member's error map — SURE (one extra application of each member to the
@@ -289,8 +306,9 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
 /// Starts a painting session from the auto composite: one layer per AutoLayer (largest first,
 /// output taken from the bank) with the weights that make the session's left-to-right blend
 /// equal Σ weights · result (up to float rounding). The bank must cover the whole frame and be
-/// of the session's filter input. Returns how many session edits were made (two per layer:
-/// added, weights set). Throws glint::Error(InvalidArgument) otherwise (nothing changes then).
+/// of the session's filter input, and the result not stacked (AutoOptions::stack). Returns how many
+/// session edits were made (two per layer: added, weights set). Throws
+/// glint::Error(InvalidArgument) otherwise (nothing changes then).
 std::size_t startFromAuto(Session& session, const FilterBank& bank, const AutoResult& result);
 
 }  // namespace glint::denoise

@@ -1,0 +1,69 @@
+// Box averages of several planes at once (sure.cpp's window scores and smoothing, the stacking
+// of stack.cpp): one pass of prefix sums and running sums in double, deterministic whatever the
+// thread count.
+#pragma once
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+namespace glint::denoise::detail {
+
+// Box averages over (2·radius + 1)² pixels, truncated at the border, of `planes` values per
+// pixel of a width × height grid: value(x, y, k) gives the terms (doubles of floats), and
+// emit(x, y, means) receives each pixel's `planes` averages. Horizontal prefix differences,
+// then vertical running sums, in double; each column's sum is updated in row order within a
+// fixed block of columns, so every average is computed from the same terms in the same order
+// whatever the thread count. radius ≥ 1. `scratch`, if given, holds the horizontal pass (so that
+// repeated calls reuse its memory).
+template <class Value, class Emit>
+void boxAverages(int w, int h, int radius, std::size_t planes, Value value, Emit emit,
+                 std::vector<double>* scratch = nullptr) {
+    std::vector<double> own;
+    std::vector<double>& horizontal = scratch ? *scratch : own;
+    horizontal.resize(std::size_t(w) * std::size_t(h) * planes);
+    tbb::parallel_for(0, h, [&](int y) {
+        std::vector<double> prefix((std::size_t(w) + 1) * planes, 0.0);
+        for (int x = 0; x < w; ++x)
+            for (std::size_t k = 0; k < planes; ++k)
+                prefix[(std::size_t(x) + 1) * planes + k] =
+                    prefix[std::size_t(x) * planes + k] + value(x, y, k);
+        double* out = horizontal.data() + std::size_t(y) * std::size_t(w) * planes;
+        for (int x = 0; x < w; ++x) {
+            const auto x0 = std::size_t(std::max(0, x - radius)),
+                       x1 = std::size_t(std::min(w, x + radius + 1));
+            for (std::size_t k = 0; k < planes; ++k)
+                out[std::size_t(x) * planes + k] =
+                    (prefix[x1 * planes + k] - prefix[x0 * planes + k]) / double(x1 - x0);
+        }
+    });
+    constexpr int kBlock = 256;
+    tbb::parallel_for(0, (w + kBlock - 1) / kBlock, [&](int block) {
+        const int bx0 = block * kBlock, bx1 = std::min(w, bx0 + kBlock);
+        const std::size_t span = std::size_t(bx1 - bx0) * planes;
+        std::vector<double> sum(span, 0.0), means(planes);
+        auto row = [&](int y) {
+            return horizontal.data() +
+                   (std::size_t(y) * std::size_t(w) + std::size_t(bx0)) * planes;
+        };
+        for (int y = 0; y < std::min(h, radius); ++y)
+            for (std::size_t i = 0; i < span; ++i) sum[i] += row(y)[i];
+        for (int y = 0; y < h; ++y) {
+            const int entering = y + radius, leaving = y - radius - 1;
+            if (entering < h)
+                for (std::size_t i = 0; i < span; ++i) sum[i] += row(entering)[i];
+            if (leaving >= 0)
+                for (std::size_t i = 0; i < span; ++i) sum[i] -= row(leaving)[i];
+            const double rows = double(std::min(h, y + radius + 1) - std::max(0, y - radius));
+            for (int x = bx0; x < bx1; ++x) {
+                for (std::size_t k = 0; k < planes; ++k)
+                    means[k] = sum[std::size_t(x - bx0) * planes + k] / rows;
+                emit(x, y, means.data());
+            }
+        }
+    });
+}
+
+}  // namespace glint::denoise::detail

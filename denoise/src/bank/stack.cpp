@@ -1,0 +1,147 @@
+// The auto composite's stacking (sure_detail.h, docs/navigation.md step 11): a local ridge
+// regression of each half on the chosen members' results on the other half, around the blend.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "box_averages.h"
+#include "glint/image/error.h"
+#include "sure_detail.h"
+
+namespace glint::denoise::detail {
+
+namespace {
+
+// Solves (G + ridge·I) a = r for a symmetric k × k G (row-major, overwritten: its lower
+// triangle becomes the Cholesky factor) into `a`; false when a pivot is not positive and finite.
+bool solveRidge(double* g, const double* r, std::size_t k, double ridge, double* a) {
+    for (std::size_t i = 0; i < k; ++i) g[i * k + i] += ridge;
+    for (std::size_t i = 0; i < k; ++i)
+        for (std::size_t j = 0; j <= i; ++j) {
+            double v = g[i * k + j];
+            for (std::size_t m = 0; m < j; ++m) v -= g[i * k + m] * g[j * k + m];
+            if (i == j) {
+                if (!(v > 0.0) || !std::isfinite(v)) return false;
+                g[i * k + i] = std::sqrt(v);
+            } else {
+                g[i * k + j] = v / g[j * k + j];
+            }
+        }
+    double z[kMaxStack];
+    for (std::size_t i = 0; i < k; ++i) {
+        double v = r[i];
+        for (std::size_t m = 0; m < i; ++m) v -= g[i * k + m] * z[m];
+        z[i] = v / g[i * k + i];
+    }
+    for (std::size_t i = k; i-- > 0;) {
+        double v = z[i];
+        for (std::size_t m = i + 1; m < k; ++m) v -= g[m * k + i] * a[m];
+        a[i] = v / g[i * k + i];
+    }
+    return true;
+}
+
+}  // namespace
+
+Image stackComposite(const Image& composite, const Image& blendA, const Image& blendB,
+                     const std::vector<StackMember>& members, const Image& halfA,
+                     const Image& halfB, const Image& weight, int radius, double ridge) {
+    const int w = composite.width(), h = composite.height();
+    const std::size_t k = members.size();
+    GLINT_CHECK(composite.channels() == 3 && blendA.sameShape(composite) &&
+                blendB.sameShape(composite) && halfA.sameShape(composite) &&
+                halfB.sameShape(composite) && (weight.empty() || weight.sameShape(composite)) &&
+                radius >= 1 && k > 0 && k <= kMaxStack);
+    for (const StackMember& m : members)
+        GLINT_CHECK(m.full && m.onA && m.onB && m.full->sameShape(composite) &&
+                    m.onA->sameShape(composite) && m.onB->sameShape(composite));
+    Image out = composite;
+    // The window sums: G's upper triangle (pairs), r, and the noise v.
+    const std::size_t pairs = k * (k + 1) / 2, planes = pairs + k + 1;
+    std::vector<std::pair<std::size_t, std::size_t>> pairOf;
+    for (std::size_t i = 0; i < k; ++i)
+        for (std::size_t j = i; j < k; ++j) pairOf.emplace_back(i, j);
+    // Rows in tiles (each with `radius` rows of context on either side), so that the terms and
+    // the sums of a 1024-wide frame with 8 members take about 110 MB, not ten times that.
+    constexpr int kTileRows = 128;
+    // Per pixel of a tile: the planes' terms (G's upper triangle, r, v), each a sum over both
+    // sides and the channels, computed from ω, the members' deviations from the blend on each
+    // half and each half's deviation from the blend on the other.
+    std::vector<double> terms, horizontal;  // reused by every tile
+    for (int t0 = 0; t0 < h; t0 += kTileRows) {
+        const int t1 = std::min(h, t0 + kTileRows);
+        const int y0 = std::max(0, t0 - radius), y1 = std::min(h, t1 + radius);
+        const int rows = y1 - y0;
+        terms.resize(std::size_t(rows) * std::size_t(w) * planes);
+        tbb::parallel_for(0, rows, [&](int yy) {
+            const int y = y0 + yy;
+            double wd[kMaxStack][6], d[kMaxStack + 1][6];  // ω·deviation and deviation
+            for (int x = 0; x < w; ++x) {
+                double noise = 0.0;
+                for (std::size_t c = 0; c < 3; ++c) {
+                    const int ch = int(c);
+                    const double om = weight.empty() ? 1.0 : double(weight(x, y, ch));
+                    const double a = halfA(x, y, ch), b = halfB(x, y, ch);
+                    const double ca = blendA(x, y, ch), cb = blendB(x, y, ch);
+                    for (std::size_t i = 0; i < k; ++i) {
+                        d[i][c] = double((*members[i].onA)(x, y, ch)) - ca;
+                        d[i][c + 3] = double((*members[i].onB)(x, y, ch)) - cb;
+                        wd[i][c] = om * d[i][c];
+                        wd[i][c + 3] = om * d[i][c + 3];
+                    }
+                    d[k][c] = b - ca;
+                    d[k][c + 3] = a - cb;
+                    noise += 0.5 * om * (a - b) * (a - b);
+                }
+                double* t =
+                    terms.data() + (std::size_t(yy) * std::size_t(w) + std::size_t(x)) * planes;
+                std::size_t p = 0;
+                for (std::size_t i = 0; i < k; ++i)
+                    for (std::size_t j = i; j < k; ++j, ++p) {
+                        double s = 0.0;
+                        for (std::size_t c = 0; c < 6; ++c) s += wd[i][c] * d[j][c];
+                        t[p] = s;
+                    }
+                for (std::size_t i = 0; i < k; ++i, ++p) {
+                    double s = 0.0;
+                    for (std::size_t c = 0; c < 6; ++c) s += wd[i][c] * d[k][c];
+                    t[p] = s;
+                }
+                t[p] = noise;
+            }
+        });
+        boxAverages(
+            w, rows, radius, planes,
+            [&](int x, int yy, std::size_t p) {
+                return terms[(std::size_t(yy) * std::size_t(w) + std::size_t(x)) * planes + p];
+            },
+            [&](int x, int yy, const double* means) {
+                const int y = y0 + yy;
+                if (y < t0 || y >= t1) return;  // context rows: another tile's
+                double g[kMaxStack * kMaxStack], a[kMaxStack];
+                double trace = 0.0;
+                for (std::size_t p = 0; p < pairs; ++p) {
+                    const auto [i, j] = pairOf[p];
+                    g[i * k + j] = g[j * k + i] = means[p];
+                    if (i == j) trace += means[p];
+                }
+                const double lambda =
+                    ridge * std::max(0.0, means[planes - 1]) + kStackFloor * trace / double(k);
+                if (!(lambda > 0.0) || !solveRidge(g, means + pairs, k, lambda, a)) return;
+                float value[3];
+                for (int c = 0; c < 3; ++c) {
+                    const double base = composite(x, y, c);
+                    double v = base;
+                    for (std::size_t i = 0; i < k; ++i)
+                        v += a[i] * (double((*members[i].full)(x, y, c)) - base);
+                    if (!std::isfinite(v)) return;
+                    value[c] = float(std::max(0.0, v));
+                }
+                for (int c = 0; c < 3; ++c) out(x, y, c) = value[c];
+            },
+            &horizontal);
+    }
+    return out;
+}
+
+}  // namespace glint::denoise::detail
