@@ -784,6 +784,30 @@ TEST(Halves, StackingIsTheWindowsRidgeSolutionAcrossTilesAndThreads) {
         }
 }
 
+TEST(Halves, StackingKeepsTheCompositeWhereNothingDiffersAndClampsAtZero) {
+    // Halves without noise and members equal to the blend on them: the window's system is zero,
+    // so every pixel keeps the composite, bit for bit, though the member's result on all the
+    // samples differs from it.
+    StackCase flat = stackCase(40, 30, 2.0, 0.0, 3);
+    flat.onA = flat.blendA;
+    flat.onB = flat.blendB;
+    for (float& v : flat.full.data()) v += 1.0f;
+    const Image kept = stackOf(flat, 4, 1.0);
+    for (std::size_t i = 0; i < kept.data().size(); ++i)
+        ASSERT_EQ(kept.data()[i], flat.composite.data()[i]);
+    // The member at x + 2u gets a negative coefficient (about −0.7, from the halves); 3 more on
+    // all the samples pushes c + a (f − c) below 0 wherever a < −0.3: clamped at 0, never below.
+    StackCase beyond = stackCase(40, 30, 2.0, 0.02, 3);
+    for (float& v : beyond.full.data()) v += 3.0f;
+    const Image clamped = stackOf(beyond, 4, 1.0);
+    long zeros = 0;
+    for (float v : clamped.data()) {
+        ASSERT_GE(v, 0.0f);
+        zeros += v == 0.0f;
+    }
+    EXPECT_GT(zeros, long(clamped.data().size() / 2)) << zeros;
+}
+
 TEST(Halves, StackingNeedsBothHalvesAndASessionCannotStartFromIt) {
     const Image clean = cleanImage(64, 48);
     const FrameBuffers f = halvesFrame(clean, 0.08, Noise::Gaussian, 17);
