@@ -37,8 +37,9 @@ using Clock = std::chrono::steady_clock;
 struct AutoArgs {
     std::string input, bank, out, reference, choiceMap, filters, space = "display",
                                                                  estimator = "auto";
-    int size = 64, shortlist = 16, stackWindow = 12;
-    double stackRidge = 1.0;
+    int size = 64, shortlist = 16, stackWindow = AutoOptions{}.stackWindow,
+        stackSmooth = AutoOptions{}.stackSmooth;
+    double stackRidge = AutoOptions{}.stackRidge, stackFloor = AutoOptions{}.stackFloor;
     std::optional<int> window, finer, feather, stack;
     double featherGate = 0.2;
     std::uint64_t bankSeed = 1, seed = 1;
@@ -69,6 +70,8 @@ void runAuto(const AutoArgs& a) {
     options.stack = a.stack;
     options.stackWindow = a.stackWindow;
     options.stackRidge = a.stackRidge;
+    options.stackSmooth = a.stackSmooth;
+    options.stackFloor = a.stackFloor;
     try {
         options.estimator = parseAutoEstimator(a.estimator);
     } catch (const Error& e) {
@@ -172,6 +175,8 @@ void runAuto(const AutoArgs& a) {
         {"stack", result.stacked},
         {"stackWindow", options.stackWindow},
         {"stackRidge", options.stackRidge},
+        {"stackFloor", options.stackFloor},
+        {"stackSmooth", options.stackSmooth},
         {"epsilon", a.epsilon},
         {"seed", a.seed},
         {"bestMember", memberJson(bank, result.bestMember)},
@@ -299,9 +304,15 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
                     "half on the K members of most weight on the other half (0 … 16; 0: off; "
                     "default 8 for the halves, 0 one-sided or for SURE)");
     cmd->add_option("--stack-window", a->stackWindow,
-                    "Radius of the stacking's window in pixels (1 … 64; default 12)");
+                    "Radius of the stacking's window in pixels (1 … 64; default 6)");
     cmd->add_option("--stack-ridge", a->stackRidge,
-                    "The stacking's ridge in units of the halves' noise (>= 0; default 1)");
+                    "The stacking's ridge in units of the halves' noise (>= 0; default 0.5)");
+    cmd->add_option("--stack-floor", a->stackFloor,
+                    "The stacking's ridge floor in units of the members' mean squared difference "
+                    "from the composite (0 … 100; default 0.1)");
+    cmd->add_option("--stack-smooth", a->stackSmooth,
+                    "Radius over which each pixel averages the coefficients fitted around it "
+                    "(0 … 64; 0: its own; default 8)");
     cmd->add_option("--choice-map", a->choiceMap, "Write the chosen member per pixel as a PNG");
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
     return {{cmd, [a] { runAuto(*a); }}};

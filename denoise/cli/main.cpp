@@ -4,8 +4,11 @@
 
 #include "cli_boundary.h"
 #include "commands.h"
+#include "glint/image/memory.h"
 
 int main(int argc, char** argv) {
+    // The filters allocate and free frame-sized buffers by the hundred (glint/image/memory.h).
+    glint::retainFreedMemory();
     CLI::App app{"Denoise layered EXRs: filters, filter banks, navigation, painting.",
                  "glint-denoise"};
     app.require_subcommand(1);

@@ -1,9 +1,14 @@
 #include "glint/image/memory.h"
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "glint/image/error.h"
@@ -52,6 +57,18 @@ std::uint64_t cgroupHeadroom() {
 }
 
 }  // namespace
+
+bool retainFreedMemory() {
+#if defined(__GLIBC__)
+    // 32 MiB is the largest threshold glibc accepts on 64-bit. Setting both also turns off its
+    // sliding threshold, which rises to the size of each freed mapping and trims at twice that.
+    const bool mmap = mallopt(M_MMAP_THRESHOLD, 32 << 20) == 1;
+    const bool trim = mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max()) == 1;
+    return mmap && trim;
+#else
+    return false;
+#endif
+}
 
 std::uint64_t parseMemorySize(const std::string& text, const std::string& where) {
     const auto bad = [&] {

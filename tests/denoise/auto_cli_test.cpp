@@ -52,13 +52,16 @@ TEST_F(AutoCli, HalfBuffersSelectTheHalvesEstimatorAndItsDefaults) {
     EXPECT_EQ(j["window"], 8);
     EXPECT_EQ(j["confidence"], 1.0);
     EXPECT_EQ(j["finer"], 1);
-    EXPECT_EQ(j["feather"], 4);
+    EXPECT_EQ(j["feather"], 5);
     EXPECT_EQ(j["featherGate"], 0.2);
-    // Stacking: up to 8 members (those with weight), over radius 12, ridge 1.
+    // Stacking: up to 8 members (those with weight), over radius 6, ridge 0.5, floor 0.1,
+    // coefficients averaged over radius 8.
     EXPECT_GE(j["stack"].get<int>(), 1);
     EXPECT_LE(j["stack"].get<int>(), 8);
-    EXPECT_EQ(j["stackWindow"], 12);
-    EXPECT_EQ(j["stackRidge"], 1.0);
+    EXPECT_EQ(j["stackWindow"], 6);
+    EXPECT_EQ(j["stackRidge"], 0.5);
+    EXPECT_EQ(j["stackFloor"], 0.1);
+    EXPECT_EQ(j["stackSmooth"], 8);
     r = run("auto " + path("halves.exr") + " --out " + path("auto.exr") +
             " --size 6 --json --estimator sure --one-sided");
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -173,6 +176,8 @@ TEST_F(AutoCli, BadInputExitsTwoWithOneClearLineAndWritesNothing) {
         {"auto " + path("halves.exr") + out + " --stack 2 --one-sided", {"--stack", "one-sided"}},
         {"auto " + path("noisy.exr") + out + " --stack-window 0", {"--stack-window", "1 … 64"}},
         {"auto " + path("noisy.exr") + out + " --stack-ridge -1", {"--stack-ridge", ">= 0"}},
+        {"auto " + path("noisy.exr") + out + " --stack-smooth 65", {"--stack-smooth", "0 … 64"}},
+        {"auto " + path("noisy.exr") + out + " --stack-floor -0.1", {"--stack-floor", "0 … 100"}},
         {"auto " + path("noisy.exr") + out + " --space gamma",
          {"--space", "display, display-tangent, display-exact or linear"}},
         {"auto " + path("noisy.exr") + out + " --space display-exact",

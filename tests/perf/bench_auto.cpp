@@ -9,6 +9,7 @@
 //              [--space display|display-tangent|display-exact|linear] [--size 1024] [--spp 4]
 //              [--threads 2] [--members 64] [--reps 3] [--feather R (default: the estimator's)]
 //              [--stack K (default: the estimator's; 0: off)]
+//              [--retain-freed 1|0 (glint::retainFreedMemory, as glint-denoise; default 1)]
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -24,6 +25,7 @@
 
 #include "glint/denoise/bank.h"
 #include "glint/denoise/sure.h"
+#include "glint/image/memory.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 
@@ -42,7 +44,7 @@ double secondsOf(const std::function<void()>& fn) {
 int main(int argc, char** argv) {
     namespace fs = std::filesystem;
     int size = 1024, spp = 4, threads = 2, members = 64, reps = 3, oneSided = 0, shortlist = 16,
-        feather = -1, stack = -1;
+        feather = -1, stack = -1, retainFreed = 1;
     std::string estimator = "sure";
     glint::denoise::SureSpace space = glint::denoise::SureSpace::Display;
     for (int i = 1; i + 1 < argc; i += 2) {
@@ -83,11 +85,14 @@ int main(int argc, char** argv) {
             feather = v;
         else if (a == "--stack")
             stack = v;
+        else if (a == "--retain-freed")
+            retainFreed = v;
         else {
             std::fprintf(stderr, "bench_auto: unknown option %s\n", a.c_str());
             return 2;
         }
     }
+    const bool retained = retainFreed != 0 && glint::retainFreedMemory();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
 
     // The input: cornell at size², a low spp (the render is not timed).
@@ -143,6 +148,7 @@ int main(int argc, char** argv) {
                                 {"shortlist", shortlist},
                                 {"feather", feather},
                                 {"stack", stacked},
+                                {"retainFreed", retained},
                                 {"bankSecondsBest", bankSeconds},
                                 {"autoSecondsBest", autoSeconds},
                                 {"autoOverBank", autoSeconds / bankSeconds},

@@ -31,12 +31,15 @@ void boxAverages(int w, int h, int radius, std::size_t planes, Value value, Emit
                 prefix[(std::size_t(x) + 1) * planes + k] =
                     prefix[std::size_t(x) * planes + k] + value(x, y, k);
         double* out = horizontal.data() + std::size_t(y) * std::size_t(w) * planes;
+        const double inner = 1.0 / double(2 * radius + 1);
         for (int x = 0; x < w; ++x) {
             const auto x0 = std::size_t(std::max(0, x - radius)),
                        x1 = std::size_t(std::min(w, x + radius + 1));
+            const double scale =
+                x1 - x0 == std::size_t(2 * radius + 1) ? inner : 1.0 / double(x1 - x0);
             for (std::size_t k = 0; k < planes; ++k)
                 out[std::size_t(x) * planes + k] =
-                    (prefix[x1 * planes + k] - prefix[x0 * planes + k]) / double(x1 - x0);
+                    (prefix[x1 * planes + k] - prefix[x0 * planes + k]) * scale;
         }
     });
     constexpr int kBlock = 256;
@@ -56,10 +59,11 @@ void boxAverages(int w, int h, int radius, std::size_t planes, Value value, Emit
                 for (std::size_t i = 0; i < span; ++i) sum[i] += row(entering)[i];
             if (leaving >= 0)
                 for (std::size_t i = 0; i < span; ++i) sum[i] -= row(leaving)[i];
-            const double rows = double(std::min(h, y + radius + 1) - std::max(0, y - radius));
+            const double scale =
+                1.0 / double(std::min(h, y + radius + 1) - std::max(0, y - radius));
             for (int x = bx0; x < bx1; ++x) {
                 for (std::size_t k = 0; k < planes; ++k)
-                    means[k] = sum[std::size_t(x - bx0) * planes + k] / rows;
+                    means[k] = sum[std::size_t(x - bx0) * planes + k] * scale;
                 emit(x, y, means.data());
             }
         }

@@ -1,5 +1,6 @@
-// The auto composite's stacking (sure_detail.h, docs/navigation.md step 11): a local ridge
-// regression of each half on the chosen members' results on the other half, around the blend.
+// The auto composite's stacking (sure_detail.h, docs/navigation.md steps 11 and 12): a local
+// ridge regression of each half on the chosen members' results on the other half, around the
+// blend, its coefficients averaged over the windows that cover each pixel.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -45,17 +46,33 @@ bool solveRidge(double* g, const double* r, std::size_t k, double ridge, double*
 
 Image stackComposite(const Image& composite, const Image& blendA, const Image& blendB,
                      const std::vector<StackMember>& members, const Image& halfA,
-                     const Image& halfB, const Image& weight, int radius, double ridge) {
+                     const Image& halfB, const Image& weight, int radius, double ridge,
+                     double floor, int smooth) {
     const int w = composite.width(), h = composite.height();
     const std::size_t k = members.size();
     GLINT_CHECK(composite.channels() == 3 && blendA.sameShape(composite) &&
                 blendB.sameShape(composite) && halfA.sameShape(composite) &&
                 halfB.sameShape(composite) && (weight.empty() || weight.sameShape(composite)) &&
-                radius >= 1 && k > 0 && k <= kMaxStack);
+                radius >= 1 && floor >= 0.0 && smooth >= 0 && k > 0 && k <= kMaxStack);
     for (const StackMember& m : members)
         GLINT_CHECK(m.full && m.onA && m.onB && m.full->sameShape(composite) &&
                     m.onA->sameShape(composite) && m.onB->sameShape(composite));
     Image out = composite;
+    // c + Σ a_i (f_i − c) at one pixel, clamped at 0; the composite where it is not finite.
+    const auto correct = [&](int x, int y, const double* a) {
+        float value[3];
+        for (int c = 0; c < 3; ++c) {
+            const double base = composite(x, y, c);
+            double v = base;
+            for (std::size_t i = 0; i < k; ++i)
+                v += a[i] * (double((*members[i].full)(x, y, c)) - base);
+            if (!std::isfinite(v)) return;
+            value[c] = float(std::max(0.0, v));
+        }
+        for (int c = 0; c < 3; ++c) out(x, y, c) = value[c];
+    };
+    // With `smooth`, each pixel's coefficients (0 where its system failed), averaged below.
+    std::vector<float> coefficients(smooth > 0 ? std::size_t(w) * std::size_t(h) * k : 0, 0.0f);
     // The window sums: G's upper triangle (pairs), r, and the noise v.
     const std::size_t pairs = k * (k + 1) / 2, planes = pairs + k + 1;
     std::vector<std::pair<std::size_t, std::size_t>> pairOf;
@@ -126,20 +143,28 @@ Image stackComposite(const Image& composite, const Image& blendA, const Image& b
                     if (i == j) trace += means[p];
                 }
                 const double lambda =
-                    ridge * std::max(0.0, means[planes - 1]) + kStackFloor * trace / double(k);
+                    ridge * std::max(0.0, means[planes - 1]) + floor * trace / double(k);
                 if (!(lambda > 0.0) || !solveRidge(g, means + pairs, k, lambda, a)) return;
-                float value[3];
-                for (int c = 0; c < 3; ++c) {
-                    const double base = composite(x, y, c);
-                    double v = base;
-                    for (std::size_t i = 0; i < k; ++i)
-                        v += a[i] * (double((*members[i].full)(x, y, c)) - base);
-                    if (!std::isfinite(v)) return;
-                    value[c] = float(std::max(0.0, v));
+                if (smooth == 0) {
+                    correct(x, y, a);
+                    return;
                 }
-                for (int c = 0; c < 3; ++c) out(x, y, c) = value[c];
+                float* to =
+                    coefficients.data() + (std::size_t(y) * std::size_t(w) + std::size_t(x)) * k;
+                for (std::size_t i = 0; i < k; ++i) to[i] = float(a[i]);
             },
             &horizontal);
+    }
+    if (smooth > 0) {
+        // Every window's model applied to each pixel it covers, averaged (the guided filter's
+        // aggregation): the same as applying the coefficients box-averaged over the window.
+        boxAverages(
+            w, h, smooth, k,
+            [&](int x, int y, std::size_t i) {
+                return double(
+                    coefficients[(std::size_t(y) * std::size_t(w) + std::size_t(x)) * k + i]);
+            },
+            correct, &horizontal);
     }
     return out;
 }

@@ -413,6 +413,18 @@ void validate(const AutoOptions& options) {
                     "stack window " + std::to_string(options.stackWindow) +
                         " is outside 1 … 64 (the stacking's window radius in pixels)",
                     {}, "--stack-window");
+    if (!(options.stackFloor >= 0.0) || !(options.stackFloor <= 100.0))
+        throw Error(ErrorKind::InvalidArgument,
+                    "stack floor " + std::to_string(options.stackFloor) +
+                        " is outside 0 … 100 (the stacking's ridge floor, in units of the "
+                        "members' mean squared difference from the composite)",
+                    {}, "--stack-floor");
+    if (options.stackSmooth < 0 || options.stackSmooth > 64)
+        throw Error(ErrorKind::InvalidArgument,
+                    "stack smooth " + std::to_string(options.stackSmooth) +
+                        " is outside 0 … 64 (the radius over which the stacking's coefficients "
+                        "are averaged; 0: off)",
+                    {}, "--stack-smooth");
     if (!(options.stackRidge >= 0.0) || !std::isfinite(options.stackRidge))
         throw Error(ErrorKind::InvalidArgument,
                     "stack ridge " + std::to_string(options.stackRidge) +
@@ -467,7 +479,7 @@ const char* autoEstimatorName(AutoEstimator estimator) {
 }
 
 AutoDefaults autoDefaults(AutoEstimator estimator) {
-    if (estimator == AutoEstimator::Halves) return {8, 1.0, 0.06, 1, 4, 8};
+    if (estimator == AutoEstimator::Halves) return {8, 1.0, 0.06, 1, 5, 8};
     return {4, 3.0, 0.0, 0, 4, 0};
 }
 
@@ -1117,7 +1129,8 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
     for (char a : analytic) result.analytic.push_back(a != 0);
     result.estimator = estimator;
     if (stacking) {
-        // Step 5: the stacking (docs/navigation.md, step 11), around the blend on each half.
+        // Step 5: the stacking (docs/navigation.md, steps 11 and 12), around the blend on each
+        // half.
         Image blendA(width, region.height(), 3), blendB(width, region.height(), 3);
         std::vector<const Image*> resultsA(n, nullptr), resultsB(n, nullptr);
         for (std::size_t m = 0; m < n; ++m)
@@ -1140,7 +1153,8 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                                     : tangentWeights(result.composite, options.exposure);
         result.composite = detail::stackComposite(
             result.composite, blendA, blendB, stacked, halfA.color().crop(region),
-            halfB.color().crop(region), weightAtC, options.stackWindow, options.stackRidge);
+            halfB.color().crop(region), weightAtC, options.stackWindow, options.stackRidge,
+            options.stackFloor, options.stackSmooth);
         result.stacked = int(stacked.size());
     }
     for (int m : order) result.layers.push_back({m, std::move(planes[std::size_t(m)])});

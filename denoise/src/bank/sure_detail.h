@@ -27,23 +27,24 @@ struct StackMember {
 /// The most members the stacking fits (AutoOptions::stack).
 constexpr std::size_t kMaxStack = 16;
 
-/// The floor of the stacking's ridge: this fraction of the mean diagonal of the window's
-/// normal matrix, so that members that differ from the composite by much less than the noise
-/// keep a bounded coefficient (docs/navigation.md, step 11).
-constexpr double kStackFloor = 0.3;
-
 /// Step 5 of the auto composite (AutoOptions::stack; docs/navigation.md, step 11): per pixel,
 /// composite + Σ_i a_i (full_i − composite), clamped at 0. The a_i minimise, over the
 /// (2·radius + 1)² window (truncated at the border) and both sides,
 ///   Σ ω [ (blendA + Σ a_i (onA_i − blendA) − B)² + (blendB + Σ a_i (onB_i − blendB) − A)² ]
-///   + (ridge · v + kStackFloor · tr(G) / K) Σ a_i²,
+///   + (ridge · v + floor · tr(G) / K) Σ a_i²,
 /// with A, B the halves' colour (region-sized), blendA / blendB the composite's weights applied
 /// to the members' results on each half, ω `weight` per value (3 channels, region-sized; empty:
 /// 1), G the window's normal matrix and v the window's mean of ½ Σ ω (A − B)² (the noise of
-/// the targets). A pixel whose system is zero or not positive definite keeps the composite.
+/// the targets); the floor bounds the coefficients of members that differ from the composite by
+/// much less than the noise. With `smooth` = 0, a pixel whose system is zero or not positive
+/// definite keeps the composite. With `smooth` > 0 (step 12), the coefficients applied at a pixel
+/// are the box average over (2·smooth + 1)² pixels (truncated at the border) of those fitted around
+/// each pixel, a failed system counting as all 0: each window's model applied to every pixel it
+/// covers, averaged. A pixel whose corrected value is not finite keeps the composite.
 /// Deterministic whatever the thread count.
 Image stackComposite(const Image& composite, const Image& blendA, const Image& blendB,
                      const std::vector<StackMember>& members, const Image& halfA,
-                     const Image& halfB, const Image& weight, int radius, double ridge);
+                     const Image& halfB, const Image& weight, int radius, double ridge,
+                     double floor, int smooth);
 
 }  // namespace glint::denoise::detail

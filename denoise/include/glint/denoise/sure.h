@@ -246,19 +246,24 @@ struct AutoOptions {
     /// Unset: the estimator's default (autoDefaults). docs/navigation.md, step 10.
     std::optional<int> feather;
     double featherGate = 0.2;
-    /// Stacking (halves, both sides; docs/navigation.md, step 11): the `stack` members with the
-    /// largest total weight (at most 16) correct the composite c per pixel to
-    /// c + Σ a_i (f_i − c), the a_i fitted over (2·stackWindow + 1)² pixels by a ridge
+    /// Stacking (halves, both sides; docs/navigation.md, steps 11 and 12): the `stack` members
+    /// with the largest total weight (at most 16) correct the composite c per pixel to
+    /// c + Σ a_i (f_i − c). The a_i are fitted over (2·stackWindow + 1)² pixels by a ridge
     /// regression of each half on the members' results on the other half (weighted by the
-    /// squared display slope at c), the ridge `stackRidge` times the halves' noise there. The
-    /// a_i may be negative or sum past 1, so the result is no longer a blend of the members: a
-    /// session cannot start from it (startFromAuto; ask for 0). 0: off. Unset: the estimator's
-    /// default (autoDefaults: 8 for the halves, 0 one-sided and for SURE, which cannot stack).
-    /// Keeps every member's result on half A until the shortlist is chosen: as much memory
-    /// again as the bank's results.
+    /// squared display slope at c); the ridge is `stackRidge` times the halves' noise there
+    /// plus `stackFloor` times the members' mean squared difference from c. With `stackSmooth`
+    /// > 0 each pixel applies the a_i averaged over the (2·stackSmooth + 1)² pixels around it:
+    /// every window's fit applied to every pixel it covers, averaged, as the guided filter does
+    /// (0: each pixel's own fit). The a_i may be negative or sum past 1, so the result is no
+    /// longer a blend of the members: a session cannot start from it (startFromAuto; ask for
+    /// 0). 0: off. Unset: the estimator's default (autoDefaults: 8 for the halves, 0 one-sided
+    /// and for SURE, which cannot stack). Keeps every member's result on half A until the
+    /// shortlist is chosen: as much memory again as the bank's results.
     std::optional<int> stack;
-    int stackWindow = 12;
-    double stackRidge = 1.0;
+    int stackWindow = 6;
+    double stackRidge = 0.5;
+    double stackFloor = 0.1;
+    int stackSmooth = 8;
     /// The bank was built on prefiltered features: the perturbed input is prefiltered alike.
     bool prefilter = false;
     ParamValues prefilterParams;

@@ -25,6 +25,16 @@ std::string formatBytes(std::uint64_t bytes);
 void checkMemory(std::uint64_t bytes, std::uint64_t limit, const std::string& what,
                  const std::string& file = {}, const std::string& where = {});
 
+/// Keeps memory the process frees for its own reuse instead of returning it to the kernel: with
+/// glibc, blocks up to 32 MiB come from the heap (not a fresh mapping each) and the heaps are not
+/// trimmed below 2 GiB of free space. The filters and the auto composite allocate and free
+/// frame-sized buffers by the hundred; without this, each comes back as fresh zeroed pages, and
+/// the kernel's page clearing took about a tenth of `glint-denoise auto` (docs/navigation.md,
+/// "Speed of the halves"). A process-wide setting for command-line tools and benchmarks (not a
+/// long-running application, whose memory after a large job would stay at its peak); does
+/// nothing on other C libraries. Returns whether the setting took.
+bool retainFreedMemory();
+
 /// a * b, or 2^64 - 1 when the product does not fit (for memory estimates).
 constexpr std::uint64_t saturatingMul(std::uint64_t a, std::uint64_t b) {
     return (a != 0 && b > UINT64_MAX / a) ? UINT64_MAX : a * b;
