@@ -28,8 +28,8 @@ void checkMemory(std::uint64_t bytes, std::uint64_t limit, const std::string& wh
 /// Keeps memory the process frees for its own reuse instead of returning it to the kernel: with
 /// glibc, blocks up to 32 MiB come from the heap (not a fresh mapping each) and the heaps are not
 /// trimmed below 2 GiB of free space. The filters and the auto composite allocate and free
-/// frame-sized buffers by the hundred; without this, each comes back as fresh zeroed pages, and
-/// the kernel's page clearing took about a tenth of `glint-denoise auto` (docs/navigation.md,
+/// frame-sized buffers by the hundred; without this, each comes back as fresh zeroed pages
+/// (the kernel's page clearing took about a tenth of a `bench_auto` run; docs/navigation.md,
 /// "Speed of the halves"). A process-wide setting for command-line tools and benchmarks (not a
 /// long-running application, whose memory after a large job would stay at its peak); does
 /// nothing on other C libraries. Returns whether the setting took.
