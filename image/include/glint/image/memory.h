@@ -32,7 +32,8 @@ void checkMemory(std::uint64_t bytes, std::uint64_t limit, const std::string& wh
 /// (the kernel's page clearing took about a tenth of a `bench_auto` run; docs/navigation.md,
 /// "Speed of the halves"). A process-wide setting for command-line tools and benchmarks (not a
 /// long-running application, whose memory after a large job would stay at its peak); does
-/// nothing on other C libraries. Returns whether the setting took.
+/// nothing on other C libraries or under an allocator that replaces glibc's (AddressSanitizer's).
+/// Returns whether the setting took.
 bool retainFreedMemory();
 
 /// a * b, or 2^64 - 1 when the product does not fit (for memory estimates).
