@@ -4,6 +4,7 @@
 // and reopened from a cache folder), a bank over a 256×256 region, and the navigation tree over
 // the 64 (+ defaults) members, whole frame and region. Prints one JSON object.
 //   bench_bank [--size 1024] [--spp 4] [--threads 2] [--members 64] [--reps 1]
+//              [--retain-freed 1|0 (glint::retainFreedMemory, as glint-denoise; default 1)]
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -21,6 +22,7 @@
 
 #include "glint/denoise/bank.h"
 #include "glint/denoise/navigation.h"
+#include "glint/image/memory.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 
@@ -43,7 +45,7 @@ double median(std::vector<double> v) {
 
 int main(int argc, char** argv) {
     namespace fs = std::filesystem;
-    int size = 1024, spp = 4, threads = 2, members = 64, reps = 1;
+    int size = 1024, spp = 4, threads = 2, members = 64, reps = 1, retainFreed = 1;
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string a = argv[i];
         const int v = std::stoi(argv[i + 1]);
@@ -57,11 +59,14 @@ int main(int argc, char** argv) {
             members = v;
         else if (a == "--reps")
             reps = std::max(1, v);
+        else if (a == "--retain-freed")
+            retainFreed = v;
         else {
             std::fprintf(stderr, "bench_bank: unknown option %s\n", a.c_str());
             return 2;
         }
     }
+    const bool retained = retainFreed != 0 && glint::retainFreedMemory();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
 
     // The input: cornell at size², a low spp (the render is not timed).
@@ -76,8 +81,8 @@ int main(int argc, char** argv) {
     s.threads = threads;
     const glint::FrameBuffers frame = renderer.render(s).frame;
 
-    nlohmann::json out = {
-        {"size", size}, {"spp", spp}, {"threads", threads}, {"members", members}, {"reps", reps}};
+    nlohmann::json out = {{"size", size},       {"spp", spp},   {"threads", threads},
+                          {"members", members}, {"reps", reps}, {"retainFreed", retained}};
     glint::denoise::BankOptions options;
     options.size = members;
     options.seed = 1;
