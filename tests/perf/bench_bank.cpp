@@ -46,6 +46,10 @@ double median(std::vector<double> v) {
 int main(int argc, char** argv) {
     namespace fs = std::filesystem;
     int size = 1024, spp = 4, threads = 2, members = 64, reps = 1, retainFreed = 1;
+    if (argc % 2 == 0) {  // options come in pairs: a lone last one has no value
+        std::fprintf(stderr, "bench_bank: option %s needs a value\n", argv[argc - 1]);
+        return 2;
+    }
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string a = argv[i];
         const int v = std::stoi(argv[i + 1]);
