@@ -37,8 +37,10 @@ using Clock = std::chrono::steady_clock;
 struct AutoArgs {
     std::string input, bank, out, reference, choiceMap, filters, space = "display",
                                                                  estimator = "auto";
+    std::string stackFeatures;  ///< empty: the features the input has
     int size = 64, shortlist = 16, stackWindow = AutoOptions{}.stackWindow,
-        stackSmooth = AutoOptions{}.stackSmooth;
+        stackSmooth = AutoOptions{}.stackSmooth,
+        stackFeatureWindow = AutoOptions{}.stackFeatureWindow;
     double stackRidge = AutoOptions{}.stackRidge, stackFloor = AutoOptions{}.stackFloor;
     std::optional<int> window, finer, feather, stack;
     double featherGate = 0.2;
@@ -72,6 +74,21 @@ void runAuto(const AutoArgs& a) {
     options.stackRidge = a.stackRidge;
     options.stackSmooth = a.stackSmooth;
     options.stackFloor = a.stackFloor;
+    options.stackFeatureWindow = a.stackFeatureWindow;
+    // Unset: the features the input has; a list: exactly those (each must be there).
+    if (!a.stackFeatures.empty()) options.stackAlbedo = options.stackNormal = false;
+    if (!a.stackFeatures.empty() && a.stackFeatures != "none")
+        for (const std::string& name : splitList(a.stackFeatures)) {
+            if (name == "albedo")
+                options.stackAlbedo = true;
+            else if (name == "normal")
+                options.stackNormal = true;
+            else
+                throw Error(ErrorKind::InvalidArgument,
+                            "unknown stacking feature '" + name +
+                                "' (expected a comma-separated list of albedo, normal; or none)",
+                            "command line", "--stack-features");
+        }
     try {
         options.estimator = parseAutoEstimator(a.estimator);
     } catch (const Error& e) {
@@ -177,6 +194,8 @@ void runAuto(const AutoArgs& a) {
         {"stackRidge", options.stackRidge},
         {"stackFloor", options.stackFloor},
         {"stackSmooth", options.stackSmooth},
+        {"stackFeatures", result.stackFeatures},
+        {"stackFeatureWindow", options.stackFeatureWindow},
         {"epsilon", a.epsilon},
         {"seed", a.seed},
         {"bestMember", memberJson(bank, result.bestMember)},
@@ -302,7 +321,7 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
     cmd->add_option("--stack", a->stack,
                     "Halves: correct the composite per pixel by a local ridge regression of each "
                     "half on the K members of most weight on the other half (0 … 16; 0: off; "
-                    "default 8 for the halves, 0 one-sided or for SURE)");
+                    "default 6 for the halves, 0 one-sided or for SURE)");
     cmd->add_option("--stack-window", a->stackWindow,
                     "Radius of the stacking's window in pixels (1 … 64; default 6)");
     cmd->add_option("--stack-ridge", a->stackRidge,
@@ -313,6 +332,12 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
     cmd->add_option("--stack-smooth", a->stackSmooth,
                     "Radius over which each pixel averages the coefficients fitted around it "
                     "(0 … 64; 0: its own; default 8)");
+    cmd->add_option("--stack-features", a->stackFeatures,
+                    "The features whose local deviations the stacking also fits, "
+                    "comma-separated: albedo, normal; none: the members only (default: those "
+                    "the input has)");
+    cmd->add_option("--stack-feature-window", a->stackFeatureWindow,
+                    "Radius of the features' local average in the stacking (1 … 64; default 3)");
     cmd->add_option("--choice-map", a->choiceMap, "Write the chosen member per pixel as a PNG");
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
     return {{cmd, [a] { runAuto(*a); }}};

@@ -39,6 +39,9 @@ class AutoCli : public glint::testing::CliFixture {
         for (float& v : halves.ensure(Layer::SampleCount).data()) v = 2.0f;
         for (float& v : halves.ensure(Layer::HalfSampleCount).data()) v = 1.0f;
         writeExr(halves, m_dir / "halves.exr");
+        halves.remove(Layer::Albedo);
+        halves.remove(Layer::HalfAlbedo);
+        writeExr(halves, m_dir / "noalbedo.exr");
     }
 };
 
@@ -54,14 +57,28 @@ TEST_F(AutoCli, HalfBuffersSelectTheHalvesEstimatorAndItsDefaults) {
     EXPECT_EQ(j["finer"], 1);
     EXPECT_EQ(j["feather"], 5);
     EXPECT_EQ(j["featherGate"], 0.2);
-    // Stacking: up to 8 members (those with weight), over radius 6, ridge 0.5, floor 0.1,
+    // Stacking: up to 6 members (those with weight), over radius 6, ridge 0.5, floor 0.1,
     // coefficients averaged over radius 8.
     EXPECT_GE(j["stack"].get<int>(), 1);
-    EXPECT_LE(j["stack"].get<int>(), 8);
+    EXPECT_LE(j["stack"].get<int>(), 6);
     EXPECT_EQ(j["stackWindow"], 6);
     EXPECT_EQ(j["stackRidge"], 0.5);
     EXPECT_EQ(j["stackFloor"], 0.1);
     EXPECT_EQ(j["stackSmooth"], 8);
+    // And the features the input has: the albedo's regressor and the normal's three.
+    EXPECT_EQ(j["stackFeatures"], 4);
+    EXPECT_EQ(j["stackFeatureWindow"], 3);
+    for (const auto& [list, count] :
+         {std::pair{"none", 0}, std::pair{"normal", 3}, std::pair{"albedo", 1}}) {
+        r = run("auto " + path("halves.exr") + " --out " + path("auto.exr") +
+                " --size 6 --json --stack-features " + list);
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        EXPECT_EQ(nlohmann::json::parse(r.out)["stackFeatures"], count) << list;
+    }
+    // A file without an albedo stacks on the normal alone unless the albedo is asked for.
+    r = run("auto " + path("noalbedo.exr") + " --out " + path("auto.exr") + " --size 6 --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["stackFeatures"], 3);
     r = run("auto " + path("halves.exr") + " --out " + path("auto.exr") +
             " --size 6 --json --estimator sure --one-sided");
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -178,6 +195,12 @@ TEST_F(AutoCli, BadInputExitsTwoWithOneClearLineAndWritesNothing) {
         {"auto " + path("noisy.exr") + out + " --stack-ridge -1", {"--stack-ridge", ">= 0"}},
         {"auto " + path("noisy.exr") + out + " --stack-smooth 65", {"--stack-smooth", "0 … 64"}},
         {"auto " + path("noisy.exr") + out + " --stack-floor -0.1", {"--stack-floor", "0 … 100"}},
+        {"auto " + path("noisy.exr") + out + " --stack-features depth",
+         {"--stack-features", "albedo, normal"}},
+        {"auto " + path("noisy.exr") + out + " --stack-feature-window 0",
+         {"--stack-feature-window", "1 … 64"}},
+        {"auto " + path("noalbedo.exr") + out + " --stack-features albedo,normal",
+         {"noalbedo.exr", "layer 'albedo'", "--stack-features"}},
         {"auto " + path("noisy.exr") + out + " --space gamma",
          {"--space", "display, display-tangent, display-exact or linear"}},
         {"auto " + path("noisy.exr") + out + " --space display-exact",

@@ -9,6 +9,7 @@
 //              [--space display|display-tangent|display-exact|linear] [--size 1024] [--spp 4]
 //              [--threads 2] [--members 64] [--reps 3] [--feather R (default: the estimator's)]
 //              [--stack K (default: the estimator's; 0: off)]
+//              [--stack-features 1|0 (the stacking's albedo and normal regressors; default 1)]
 //              [--retain-freed 1|0 (glint::retainFreedMemory, as glint-denoise; default 1)]
 #include <tbb/global_control.h>
 
@@ -19,6 +20,7 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -44,9 +46,13 @@ double secondsOf(const std::function<void()>& fn) {
 int main(int argc, char** argv) {
     namespace fs = std::filesystem;
     int size = 1024, spp = 4, threads = 2, members = 64, reps = 3, oneSided = 0, shortlist = 16,
-        feather = -1, stack = -1, retainFreed = 1;
+        feather = -1, stack = -1, retainFreed = 1, stackFeatures = 1;
     std::string estimator = "sure";
     glint::denoise::SureSpace space = glint::denoise::SureSpace::Display;
+    if (argc % 2 == 0) {  // options come in pairs: a lone last one has no value
+        std::fprintf(stderr, "bench_auto: option %s needs a value\n", argv[argc - 1]);
+        return 2;
+    }
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string a = argv[i];
         if (a == "--estimator") {
@@ -66,7 +72,16 @@ int main(int argc, char** argv) {
             }
             continue;
         }
-        const int v = std::stoi(argv[i + 1]);
+        int v = 0;
+        try {
+            std::size_t used = 0;
+            v = std::stoi(argv[i + 1], &used);
+            if (argv[i + 1][used] != '\0') throw std::invalid_argument("trailing characters");
+        } catch (const std::exception&) {
+            std::fprintf(stderr, "bench_auto: %s needs an integer, not '%s'\n", a.c_str(),
+                         argv[i + 1]);
+            return 2;
+        }
         if (a == "--one-sided")
             oneSided = v;
         else if (a == "--shortlist")
@@ -85,6 +100,8 @@ int main(int argc, char** argv) {
             feather = v;
         else if (a == "--stack")
             stack = v;
+        else if (a == "--stack-features")
+            stackFeatures = v;
         else if (a == "--retain-freed")
             retainFreed = v;
         else {
@@ -117,7 +134,7 @@ int main(int argc, char** argv) {
     if (feather < 0) feather = glint::denoise::autoDefaults(autoEstimator).feather;
     double bankSeconds = 1e30, autoSeconds = 1e30;
     std::size_t bankSize = 0, used = 0;
-    int stacked = 0;
+    int stacked = 0, features = 0;
     for (int r = 0; r < reps; ++r) {
         glint::denoise::FilterBank bank;
         bankSeconds = std::min(
@@ -131,11 +148,13 @@ int main(int argc, char** argv) {
         ao.shortlist = shortlist;
         ao.feather = feather;
         if (stack >= 0) ao.stack = stack;
+        ao.stackAlbedo = ao.stackNormal = stackFeatures != 0;
         autoSeconds =
             std::min(autoSeconds,
                      secondsOf([&] { result = glint::denoise::autoComposite(bank, frame, ao); }));
         used = result.layers.size();
         stacked = result.stacked;
+        features = result.stackFeatures;
     }
     const nlohmann::json out = {{"size", size},
                                 {"spp", spp},
@@ -148,6 +167,7 @@ int main(int argc, char** argv) {
                                 {"shortlist", shortlist},
                                 {"feather", feather},
                                 {"stack", stacked},
+                                {"stackFeatures", features},
                                 {"retainFreed", retained},
                                 {"bankSecondsBest", bankSeconds},
                                 {"autoSecondsBest", autoSeconds},

@@ -3,6 +3,7 @@
 // thread count.
 #pragma once
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -12,34 +13,35 @@
 namespace glint::denoise::detail {
 
 // Box averages over (2·radius + 1)² pixels, truncated at the border, of `planes` values per
-// pixel of a width × height grid: value(x, y, k) gives the terms (doubles of floats), and
-// emit(x, y, means) receives each pixel's `planes` averages. Horizontal prefix differences,
-// then vertical running sums, in double; each column's sum is updated in row order within a
-// fixed block of columns, so every average is computed from the same terms in the same order
-// whatever the thread count. radius ≥ 1. `scratch`, if given, holds the horizontal pass (so that
-// repeated calls reuse its memory).
-template <class Value, class Emit>
-void boxAverages(int w, int h, int radius, std::size_t planes, Value value, Emit emit,
-                 std::vector<double>* scratch = nullptr) {
+// pixel of a width × height grid: fillRow(y, terms) writes row y's terms (doubles of floats),
+// pixel x's `planes` values at terms[x·planes …], and emit(x, y, means) receives each pixel's
+// `planes` averages. Horizontal prefix differences, then vertical running sums, in double; each
+// column's sum is updated in row order within a fixed block of columns, so every average is
+// computed from the same terms in the same order whatever the thread count. radius ≥ 1.
+// `scratch`, if given, holds the horizontal pass (so that repeated calls reuse its memory).
+template <class FillRow, class Emit>
+void boxAveragesOfRows(int w, int h, int radius, std::size_t planes, FillRow fillRow, Emit emit,
+                       std::vector<double>* scratch = nullptr) {
     std::vector<double> own;
     std::vector<double>& horizontal = scratch ? *scratch : own;
     horizontal.resize(std::size_t(w) * std::size_t(h) * planes);
-    tbb::parallel_for(0, h, [&](int y) {
-        std::vector<double> prefix((std::size_t(w) + 1) * planes, 0.0);
-        for (int x = 0; x < w; ++x)
-            for (std::size_t k = 0; k < planes; ++k)
-                prefix[(std::size_t(x) + 1) * planes + k] =
-                    prefix[std::size_t(x) * planes + k] + value(x, y, k);
-        double* out = horizontal.data() + std::size_t(y) * std::size_t(w) * planes;
-        const double inner = 1.0 / double(2 * radius + 1);
-        for (int x = 0; x < w; ++x) {
-            const auto x0 = std::size_t(std::max(0, x - radius)),
-                       x1 = std::size_t(std::min(w, x + radius + 1));
-            const double scale =
-                x1 - x0 == std::size_t(2 * radius + 1) ? inner : 1.0 / double(x1 - x0);
-            for (std::size_t k = 0; k < planes; ++k)
-                out[std::size_t(x) * planes + k] =
-                    (prefix[x1 * planes + k] - prefix[x0 * planes + k]) * scale;
+    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+        std::vector<double> prefix((std::size_t(w) + 1) * planes);  // one per range, not per row
+        for (int y = rows.begin(); y < rows.end(); ++y) {
+            std::fill(prefix.begin(), prefix.begin() + std::ptrdiff_t(planes), 0.0);
+            fillRow(y, prefix.data() + planes);
+            for (std::size_t i = planes; i < prefix.size(); ++i) prefix[i] += prefix[i - planes];
+            double* out = horizontal.data() + std::size_t(y) * std::size_t(w) * planes;
+            const double inner = 1.0 / double(2 * radius + 1);
+            for (int x = 0; x < w; ++x) {
+                const auto x0 = std::size_t(std::max(0, x - radius)),
+                           x1 = std::size_t(std::min(w, x + radius + 1));
+                const double scale =
+                    x1 - x0 == std::size_t(2 * radius + 1) ? inner : 1.0 / double(x1 - x0);
+                for (std::size_t k = 0; k < planes; ++k)
+                    out[std::size_t(x) * planes + k] =
+                        (prefix[x1 * planes + k] - prefix[x0 * planes + k]) * scale;
+            }
         }
     });
     constexpr int kBlock = 256;
@@ -68,6 +70,20 @@ void boxAverages(int w, int h, int radius, std::size_t planes, Value value, Emit
             }
         }
     });
+}
+
+// The same with value(x, y, k) giving each term (the window scores, smoothing and features).
+template <class Value, class Emit>
+void boxAverages(int w, int h, int radius, std::size_t planes, Value value, Emit emit,
+                 std::vector<double>* scratch = nullptr) {
+    boxAveragesOfRows(
+        w, h, radius, planes,
+        [&](int y, double* terms) {
+            for (int x = 0; x < w; ++x)
+                for (std::size_t k = 0; k < planes; ++k)
+                    terms[std::size_t(x) * planes + k] = value(x, y, k);
+        },
+        emit, scratch);
 }
 
 }  // namespace glint::denoise::detail

@@ -1,6 +1,7 @@
-// The auto composite's stacking (sure_detail.h, docs/navigation.md steps 11 and 12): a local
-// ridge regression of each half on the chosen members' results on the other half, around the
-// blend, its coefficients averaged over the windows that cover each pixel.
+// The auto composite's stacking (sure_detail.h, docs/navigation.md steps 11 to 13): a local
+// ridge regression of each half on the chosen members' results on the other half and on the
+// features' local deviations, around the blend, its coefficients averaged over the windows that
+// cover each pixel.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -28,7 +29,7 @@ bool solveRidge(double* g, const double* r, std::size_t k, double ridge, double*
                 g[i * k + j] = v / g[j * k + j];
             }
         }
-    double z[kMaxStack];
+    double z[kMaxStackRegressors];
     for (std::size_t i = 0; i < k; ++i) {
         double v = r[i];
         for (std::size_t m = 0; m < i; ++m) v -= g[i * k + m] * z[m];
@@ -44,6 +45,50 @@ bool solveRidge(double* g, const double* r, std::size_t k, double ridge, double*
 
 }  // namespace
 
+std::vector<Image> featureRegressors(const Image& base, const Image* albedo, const Image* normal,
+                                     int radius) {
+    const int w = base.width(), h = base.height();
+    GLINT_CHECK(base.channels() == 3 && radius >= 1);
+    GLINT_CHECK(!albedo || (albedo->sameShape(base)));
+    GLINT_CHECK(!normal || (normal->sameShape(base)));
+    // The features' planes: the albedo's three channels, then the normal's three axes.
+    std::vector<const Image*> sources;
+    if (albedo) sources.push_back(albedo);
+    if (normal) sources.push_back(normal);
+    const std::size_t planes = 3 * sources.size();
+    const std::size_t count = (albedo ? 1 : 0) + (normal ? 3 : 0);
+    std::vector<Image> out(count, base);
+    if (count == 0) return out;
+    boxAverages(
+        w, h, radius, planes,
+        [&](int x, int y, std::size_t p) {
+            const double v = (*sources[p / 3])(x, y, int(p % 3));
+            return std::isfinite(v) ? v : 0.0;  // a NaN must not spread through the sums
+        },
+        [&](int x, int y, const double* means) {
+            std::size_t plane = 0, index = 0;
+            if (albedo) {
+                for (int c = 0; c < 3; ++c, ++plane) {
+                    const double mean = means[plane];
+                    double delta =
+                        (double((*albedo)(x, y, c)) - mean) / (std::abs(mean) + kStackAlbedoFloor);
+                    if (!std::isfinite(delta)) delta = 0.0;
+                    out[index](x, y, c) = float(double(base(x, y, c)) * (1.0 + delta));
+                }
+                ++index;
+            }
+            if (normal) {
+                for (int axis = 0; axis < 3; ++axis, ++plane, ++index) {
+                    double delta = double((*normal)(x, y, axis)) - means[plane];
+                    if (!std::isfinite(delta)) delta = 0.0;
+                    for (int c = 0; c < 3; ++c)
+                        out[index](x, y, c) = float(double(base(x, y, c)) * (1.0 + delta));
+                }
+            }
+        });
+    return out;
+}
+
 Image stackComposite(const Image& composite, const Image& blendA, const Image& blendB,
                      const std::vector<StackMember>& members, const Image& halfA,
                      const Image& halfB, const Image& weight, int radius, double ridge,
@@ -53,7 +98,7 @@ Image stackComposite(const Image& composite, const Image& blendA, const Image& b
     GLINT_CHECK(composite.channels() == 3 && blendA.sameShape(composite) &&
                 blendB.sameShape(composite) && halfA.sameShape(composite) &&
                 halfB.sameShape(composite) && (weight.empty() || weight.sameShape(composite)) &&
-                radius >= 1 && floor >= 0.0 && smooth >= 0 && k > 0 && k <= kMaxStack);
+                radius >= 1 && floor >= 0.0 && smooth >= 0 && k > 0 && k <= kMaxStackRegressors);
     for (const StackMember& m : members)
         GLINT_CHECK(m.full && m.onA && m.onB && m.full->sameShape(composite) &&
                     m.onA->sameShape(composite) && m.onB->sameShape(composite));
@@ -78,64 +123,63 @@ Image stackComposite(const Image& composite, const Image& blendA, const Image& b
     std::vector<std::pair<std::size_t, std::size_t>> pairOf;
     for (std::size_t i = 0; i < k; ++i)
         for (std::size_t j = i; j < k; ++j) pairOf.emplace_back(i, j);
-    // Rows in tiles (each with `radius` rows of context on either side), so that the terms and
-    // the sums of a 1024-wide frame with 8 members take about 110 MB, not ten times that.
+    // Rows in tiles (each with `radius` rows of context on either side), so that the sums of a
+    // 1024-wide frame with 10 regressors take about 75 MB, not ten times that.
     constexpr int kTileRows = 128;
-    // Per pixel of a tile: the planes' terms (G's upper triangle, r, v), each a sum over both
-    // sides and the channels, computed from ω, the members' deviations from the blend on each
-    // half and each half's deviation from the blend on the other.
-    std::vector<double> terms, horizontal;  // reused by every tile
+    // Per pixel: the planes' terms (G's upper triangle, r, v), each a sum over both sides and
+    // the channels, computed from ω, the members' deviations from the blend on each half and
+    // each half's deviation from the blend on the other; written row by row into the box sums.
+    const auto fillTerms = [&](int y, double* terms) {
+        const float *fa[kMaxStackRegressors], *fb[kMaxStackRegressors];
+        for (std::size_t i = 0; i < k; ++i)
+            fa[i] = members[i].onA->row(y), fb[i] = members[i].onB->row(y);
+        const float *ha = halfA.row(y), *hb = halfB.row(y), *ba = blendA.row(y),
+                    *bb = blendB.row(y), *om = weight.empty() ? nullptr : weight.row(y);
+        double wd[kMaxStackRegressors][6], d[kMaxStackRegressors + 1][6];  // ω·deviation
+        for (int x = 0; x < w; ++x) {
+            const std::size_t at = std::size_t(x) * 3;
+            double noise = 0.0;
+            for (std::size_t c = 0; c < 3; ++c) {
+                const double o = om ? double(om[at + c]) : 1.0;
+                const double a = ha[at + c], b = hb[at + c];
+                const double ca = ba[at + c], cb = bb[at + c];
+                for (std::size_t i = 0; i < k; ++i) {
+                    d[i][c] = double(fa[i][at + c]) - ca;
+                    d[i][c + 3] = double(fb[i][at + c]) - cb;
+                    wd[i][c] = o * d[i][c];
+                    wd[i][c + 3] = o * d[i][c + 3];
+                }
+                d[k][c] = b - ca;
+                d[k][c + 3] = a - cb;
+                noise += 0.5 * o * (a - b) * (a - b);
+            }
+            double* t = terms + std::size_t(x) * planes;
+            std::size_t p = 0;
+            for (std::size_t i = 0; i < k; ++i)
+                for (std::size_t j = i; j < k; ++j, ++p) {
+                    double s = 0.0;
+                    for (std::size_t c = 0; c < 6; ++c) s += wd[i][c] * d[j][c];
+                    t[p] = s;
+                }
+            for (std::size_t i = 0; i < k; ++i, ++p) {
+                double s = 0.0;
+                for (std::size_t c = 0; c < 6; ++c) s += wd[i][c] * d[k][c];
+                t[p] = s;
+            }
+            t[p] = noise;
+        }
+    };
+    std::vector<double> horizontal;  // reused by every tile
     for (int t0 = 0; t0 < h; t0 += kTileRows) {
         const int t1 = std::min(h, t0 + kTileRows);
         const int y0 = std::max(0, t0 - radius), y1 = std::min(h, t1 + radius);
         const int rows = y1 - y0;
-        terms.resize(std::size_t(rows) * std::size_t(w) * planes);
-        tbb::parallel_for(0, rows, [&](int yy) {
-            const int y = y0 + yy;
-            double wd[kMaxStack][6], d[kMaxStack + 1][6];  // ω·deviation and deviation
-            for (int x = 0; x < w; ++x) {
-                double noise = 0.0;
-                for (std::size_t c = 0; c < 3; ++c) {
-                    const int ch = int(c);
-                    const double om = weight.empty() ? 1.0 : double(weight(x, y, ch));
-                    const double a = halfA(x, y, ch), b = halfB(x, y, ch);
-                    const double ca = blendA(x, y, ch), cb = blendB(x, y, ch);
-                    for (std::size_t i = 0; i < k; ++i) {
-                        d[i][c] = double((*members[i].onA)(x, y, ch)) - ca;
-                        d[i][c + 3] = double((*members[i].onB)(x, y, ch)) - cb;
-                        wd[i][c] = om * d[i][c];
-                        wd[i][c + 3] = om * d[i][c + 3];
-                    }
-                    d[k][c] = b - ca;
-                    d[k][c + 3] = a - cb;
-                    noise += 0.5 * om * (a - b) * (a - b);
-                }
-                double* t =
-                    terms.data() + (std::size_t(yy) * std::size_t(w) + std::size_t(x)) * planes;
-                std::size_t p = 0;
-                for (std::size_t i = 0; i < k; ++i)
-                    for (std::size_t j = i; j < k; ++j, ++p) {
-                        double s = 0.0;
-                        for (std::size_t c = 0; c < 6; ++c) s += wd[i][c] * d[j][c];
-                        t[p] = s;
-                    }
-                for (std::size_t i = 0; i < k; ++i, ++p) {
-                    double s = 0.0;
-                    for (std::size_t c = 0; c < 6; ++c) s += wd[i][c] * d[k][c];
-                    t[p] = s;
-                }
-                t[p] = noise;
-            }
-        });
-        boxAverages(
-            w, rows, radius, planes,
-            [&](int x, int yy, std::size_t p) {
-                return terms[(std::size_t(yy) * std::size_t(w) + std::size_t(x)) * planes + p];
-            },
+        boxAveragesOfRows(
+            w, rows, radius, planes, [&](int yy, double* terms) { fillTerms(y0 + yy, terms); },
             [&](int x, int yy, const double* means) {
                 const int y = y0 + yy;
                 if (y < t0 || y >= t1) return;  // context rows: another tile's
-                double g[kMaxStack * kMaxStack], a[kMaxStack];
+                double g[kMaxStackRegressors * kMaxStackRegressors], a[kMaxStackRegressors];
                 double trace = 0.0;
                 for (std::size_t p = 0; p < pairs; ++p) {
                     const auto [i, j] = pairOf[p];

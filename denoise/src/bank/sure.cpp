@@ -430,6 +430,11 @@ void validate(const AutoOptions& options) {
                     "stack ridge " + std::to_string(options.stackRidge) +
                         " must be >= 0 (in units of the halves' noise)",
                     {}, "--stack-ridge");
+    if (options.stackFeatureWindow < 1 || options.stackFeatureWindow > 64)
+        throw Error(ErrorKind::InvalidArgument,
+                    "stack feature window " + std::to_string(options.stackFeatureWindow) +
+                        " is outside 1 … 64 (the radius of the features' local average)",
+                    {}, "--stack-feature-window");
     if (!std::isfinite(options.exposure))
         throw Error(ErrorKind::InvalidArgument, "exposure must be finite", {}, "--exposure");
 }
@@ -479,7 +484,7 @@ const char* autoEstimatorName(AutoEstimator estimator) {
 }
 
 AutoDefaults autoDefaults(AutoEstimator estimator) {
-    if (estimator == AutoEstimator::Halves) return {8, 1.0, 0.06, 1, 5, 8};
+    if (estimator == AutoEstimator::Halves) return {8, 1.0, 0.06, 1, 5, 6};
     return {4, 3.0, 0.0, 0, 4, 0};
 }
 
@@ -773,6 +778,27 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
     if (options.stack.value_or(0) > 0 && !options.symmetric)
         throw Error(ErrorKind::InvalidArgument, "stacking fits both halves: it cannot be one-sided",
                     {}, "--stack");
+    // The stacking's features (step 13): those asked for must be in the input, with their
+    // halves; unset, those it has.
+    const auto hasFeature = [&](Layer layer) {
+        return frame.has(layer) && frame.has(*halfLayer(layer));
+    };
+    const bool stackAlbedo = options.stackAlbedo.value_or(hasFeature(Layer::Albedo));
+    const bool stackNormal = options.stackNormal.value_or(hasFeature(Layer::Normal));
+    if (halves && options.symmetric && options.stack.value_or(autoDefaults(estimator).stack) > 0) {
+        const std::pair<bool, Layer> features[] = {{stackAlbedo, Layer::Albedo},
+                                                   {stackNormal, Layer::Normal}};
+        for (const auto& [wanted, layer] : features) {
+            if (!wanted) continue;
+            for (Layer l : {layer, *halfLayer(layer)})
+                if (!frame.has(l))
+                    throw Error(ErrorKind::Format,
+                                "has no " + std::string(layerDisplayName(l)) +
+                                    " layer: the stacking's feature regressors need it "
+                                    "(--stack-features names the ones to use; none: off)",
+                                {}, "layer '" + std::string(layerDisplayName(l)) + "'");
+        }
+    }
     const int window = options.window.value_or(autoDefaults(estimator).window);
     const double confidence = options.confidence.value_or(autoDefaults(estimator).confidence);
     const double temperature = options.temperature.value_or(autoDefaults(estimator).temperature);
@@ -1148,6 +1174,27 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
             const std::size_t i = std::size_t(m);
             stacked.push_back({&bank.result(i), &onA[i], &onB[i]});
         }
+        // The features' regressors (step 13), from the whole frame's features around the
+        // composite and from each half's around its blend.
+        std::vector<Image> features[3];
+        if (stackAlbedo || stackNormal) {
+            // As the filters saw them: prefiltered when the bank was.
+            const FrameBuffers prefiltered = options.prefilter ? prepare(frame) : FrameBuffers{};
+            const FrameBuffers* sources[3] = {options.prefilter ? &prefiltered : &frame, &halfA,
+                                              &halfB};
+            const Image* bases[3] = {&result.composite, &blendA, &blendB};
+            for (int side = 0; side < 3; ++side) {
+                const Image albedo =
+                    stackAlbedo ? sources[side]->layer(Layer::Albedo).crop(region) : Image{};
+                const Image normal =
+                    stackNormal ? sources[side]->layer(Layer::Normal).crop(region) : Image{};
+                features[side] = detail::featureRegressors(
+                    *bases[side], stackAlbedo ? &albedo : nullptr, stackNormal ? &normal : nullptr,
+                    options.stackFeatureWindow);
+            }
+            for (std::size_t q = 0; q < features[0].size(); ++q)
+                stacked.push_back({&features[0][q], &features[1][q], &features[2][q]});
+        }
         const Image weightAtC = options.space == SureSpace::Linear
                                     ? Image{}
                                     : tangentWeights(result.composite, options.exposure);
@@ -1155,7 +1202,8 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
             result.composite, blendA, blendB, stacked, halfA.color().crop(region),
             halfB.color().crop(region), weightAtC, options.stackWindow, options.stackRidge,
             options.stackFloor, options.stackSmooth);
-        result.stacked = int(stacked.size());
+        result.stacked = int(stacked.size() - features[0].size());
+        result.stackFeatures = int(features[0].size());
     }
     for (int m : order) result.layers.push_back({m, std::move(planes[std::size_t(m)])});
     return result;

@@ -17,7 +17,8 @@ namespace glint::denoise::detail {
 Image windowScore(const Image& raw, const Image& base, int radius, double confidence);
 
 /// One member of the stacking (AutoOptions::stack): its results on all the samples, on half A
-/// and on half B (region-sized, 3 channels).
+/// and on half B (region-sized, 3 channels). A feature regressor (featureRegressors) is one
+/// too: its three images from the whole frame's features and each half's.
 struct StackMember {
     const Image* full = nullptr;
     const Image* onA = nullptr;
@@ -26,9 +27,30 @@ struct StackMember {
 
 /// The most members the stacking fits (AutoOptions::stack).
 constexpr std::size_t kMaxStack = 16;
+/// The most feature regressors (AutoOptions::stackFeatures: the albedo's one and the normal's
+/// three), and so the most regressors stackComposite takes.
+constexpr std::size_t kMaxStackFeatures = 4;
+constexpr std::size_t kMaxStackRegressors = kMaxStack + kMaxStackFeatures;
+
+/// The added albedo's floor in the relative albedo deviation (featureRegressors).
+constexpr double kStackAlbedoFloor = 0.02;
+
+/// Step 13's feature regressors (docs/navigation.md): for each feature channel g, the image
+/// base · (1 + δ), whose deviation from `base` is base · δ, with δ g's deviation from its box
+/// average over (2·radius + 1)² pixels (truncated at the border) — relative for the albedo,
+/// (a_c − ā_c) / (|ā_c| + kStackAlbedoFloor) in colour channel c, one regressor; absolute for
+/// each of the normal's three axes, (n_k − n̄_k) in every colour channel, three regressors. A
+/// colour that is albedo times shading moves by c · Δa / a at an albedo edge and with the
+/// normal as the shading does; the fit finds by how much. `albedo` and `normal` (3 channels,
+/// base-sized) may be null: that feature adds nothing. A non-finite feature value counts as 0
+/// in the averages, and a non-finite δ as 0. The order:
+/// the albedo's, then the normal's x, y, z. Deterministic whatever the thread count.
+std::vector<Image> featureRegressors(const Image& base, const Image* albedo, const Image* normal,
+                                     int radius);
 
 /// Step 5 of the auto composite (AutoOptions::stack; docs/navigation.md, step 11): per pixel,
-/// composite + Σ_i a_i (full_i − composite), clamped at 0. The a_i minimise, over the
+/// composite + Σ_i a_i (full_i − composite), clamped at 0, over at most kMaxStackRegressors
+/// members (the chosen members, then any feature regressors). The a_i minimise, over the
 /// (2·radius + 1)² window (truncated at the border) and both sides,
 ///   Σ ω [ (blendA + Σ a_i (onA_i − blendA) − B)² + (blendB + Σ a_i (onB_i − blendB) − A)² ]
 ///   + (ridge · v + floor · tr(G) / K) Σ a_i²,

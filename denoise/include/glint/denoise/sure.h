@@ -184,12 +184,13 @@ Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Ima
 /// without members.
 Image bankMedian(const FilterBank& bank);
 
-/// The smoothing window, confidence, temperature, finer window and feathering an estimator
-/// uses unless told otherwise, measured on the quality table of docs/navigation.md: SURE 4, 3,
-/// 0 (a hard choice), no finer window and feather 4; the halves 8, 1, 0.06, 1 and 4 (their
-/// maps are noisier per pixel: a wider window with a lower bar wins on every scene, slightly
-/// soft weights blend members whose estimates are within the noise of each other instead of
-/// picking one by that noise, and the window halved once decides where its evidence is clear).
+/// The smoothing window, confidence, temperature, finer window, feathering and stacking an
+/// estimator uses unless told otherwise, measured on the quality table of docs/navigation.md:
+/// SURE 4, 3, 0 (a hard choice), no finer window, feather 4 and no stacking; the halves 8, 1,
+/// 0.06, 1, 5 and 6 members (their maps are noisier per pixel: a wider window with a lower bar
+/// wins on every scene, slightly soft weights blend members whose estimates are within the
+/// noise of each other instead of picking one by that noise, and the window halved once
+/// decides where its evidence is clear).
 struct AutoDefaults {
     int window;
     double confidence;
@@ -246,17 +247,18 @@ struct AutoOptions {
     /// Unset: the estimator's default (autoDefaults). docs/navigation.md, step 10.
     std::optional<int> feather;
     double featherGate = 0.2;
-    /// Stacking (halves, both sides; docs/navigation.md, steps 11 and 12): the `stack` members
+    /// Stacking (halves, both sides; docs/navigation.md, steps 11 to 13): the `stack` members
     /// with the largest total weight (at most 16) correct the composite c per pixel to
     /// c + Σ a_i (f_i − c). The a_i are fitted over (2·stackWindow + 1)² pixels by a ridge
     /// regression of each half on the members' results on the other half (weighted by the
     /// squared display slope at c); the ridge is `stackRidge` times the halves' noise there
-    /// plus `stackFloor` times the members' mean squared difference from c. With `stackSmooth`
+    /// plus `stackFloor` times the regressors' mean squared difference from c (the members' and
+    /// the features', below). With `stackSmooth`
     /// > 0 each pixel applies the a_i averaged over the (2·stackSmooth + 1)² pixels around it:
     /// every window's fit applied to every pixel it covers, averaged, as the guided filter does
     /// (0: each pixel's own fit). The a_i may be negative or sum past 1, so the result is no
     /// longer a blend of the members: a session cannot start from it (startFromAuto; ask for
-    /// 0). 0: off. Unset: the estimator's default (autoDefaults: 8 for the halves, 0 one-sided
+    /// 0). 0: off. Unset: the estimator's default (autoDefaults: 6 for the halves, 0 one-sided
     /// and for SURE, which cannot stack). Keeps every member's result on half A until the
     /// shortlist is chosen: as much memory again as the bank's results.
     std::optional<int> stack;
@@ -264,6 +266,17 @@ struct AutoOptions {
     double stackRidge = 0.5;
     double stackFloor = 0.1;
     int stackSmooth = 8;
+    /// The stacking's feature regressors (docs/navigation.md, step 13): besides the members,
+    /// the fit takes each feature's local deviation from its box average over
+    /// (2·stackFeatureWindow + 1)² pixels, times c — the albedo's relative deviation in each
+    /// colour channel (one regressor) and each axis of the normal (three) — from the whole
+    /// frame's features for c and from each half's for the blend on that half. Where the blend
+    /// smooths over an albedo or shading edge the features mark, the fit puts the edge back.
+    /// Unset: each feature the input has (with its half layer); true: the feature must be
+    /// there (autoComposite throws Error(Format) naming the layer otherwise); false: off.
+    std::optional<bool> stackAlbedo;
+    std::optional<bool> stackNormal;
+    int stackFeatureWindow = 3;
     /// The bank was built on prefiltered features: the perturbed input is prefiltered alike.
     bool prefilter = false;
     ParamValues prefilterParams;
@@ -295,6 +308,9 @@ struct AutoResult {
     /// The members the stacking fitted (AutoOptions::stack): > 0, the composite is the stacked
     /// one and `layers` and `choice` are the blend it corrected; 0, the composite is the blend.
     int stacked = 0;
+    /// The feature regressors the stacking fitted besides them (AutoOptions::stackAlbedo and
+    /// stackNormal: 1 for the albedo, 3 for the normal).
+    int stackFeatures = 0;
 };
 
 /// Computes every member's error map — SURE (one extra application of each member to the
