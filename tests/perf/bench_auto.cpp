@@ -20,11 +20,11 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
-#include <stdexcept>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "bench_options.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/sure.h"
 #include "glint/image/memory.h"
@@ -49,66 +49,50 @@ int main(int argc, char** argv) {
         feather = -1, stack = -1, retainFreed = 1, stackFeatures = 1;
     std::string estimator = "sure";
     glint::denoise::SureSpace space = glint::denoise::SureSpace::Display;
-    if (argc % 2 == 0) {  // options come in pairs: a lone last one has no value
-        std::fprintf(stderr, "bench_auto: option %s needs a value\n", argv[argc - 1]);
-        return 2;
-    }
-    for (int i = 1; i + 1 < argc; i += 2) {
-        const std::string a = argv[i];
-        if (a == "--estimator") {
-            estimator = argv[i + 1];
-            if (estimator != "sure" && estimator != "halves") {
-                std::fprintf(stderr, "bench_auto: --estimator is sure or halves\n");
-                return 2;
+    const int parsed = glint::bench::parseOptions(
+        "bench_auto", argc, argv, [&](const std::string& a, const std::string& text) {
+            if (a == "--estimator") {
+                estimator = text;
+                if (estimator != "sure" && estimator != "halves")
+                    throw glint::bench::OptionError("--estimator is sure or halves");
+                return true;
             }
-            continue;
-        }
-        if (a == "--space") {
-            try {
-                space = glint::denoise::parseSureSpace(argv[i + 1]);
-            } catch (const std::exception& e) {
-                std::fprintf(stderr, "bench_auto: --space: %s\n", e.what());
-                return 2;
+            if (a == "--space") {
+                try {
+                    space = glint::denoise::parseSureSpace(text);
+                } catch (const std::exception& e) {
+                    throw glint::bench::OptionError("--space: " + std::string(e.what()));
+                }
+                return true;
             }
-            continue;
-        }
-        int v = 0;
-        try {
-            std::size_t used = 0;
-            v = std::stoi(argv[i + 1], &used);
-            if (argv[i + 1][used] != '\0') throw std::invalid_argument("trailing characters");
-        } catch (const std::exception&) {
-            std::fprintf(stderr, "bench_auto: %s needs an integer, not '%s'\n", a.c_str(),
-                         argv[i + 1]);
-            return 2;
-        }
-        if (a == "--one-sided")
-            oneSided = v;
-        else if (a == "--shortlist")
-            shortlist = v;
-        else if (a == "--size")
-            size = v;
-        else if (a == "--spp")
-            spp = v;
-        else if (a == "--threads")
-            threads = v;
-        else if (a == "--members")
-            members = v;
-        else if (a == "--reps")
-            reps = std::max(1, v);
-        else if (a == "--feather")
-            feather = v;
-        else if (a == "--stack")
-            stack = v;
-        else if (a == "--stack-features")
-            stackFeatures = v;
-        else if (a == "--retain-freed")
-            retainFreed = v;
-        else {
-            std::fprintf(stderr, "bench_auto: unknown option %s\n", a.c_str());
-            return 2;
-        }
-    }
+            const int v = glint::bench::intOption(a, text);
+            if (a == "--one-sided")
+                oneSided = v;
+            else if (a == "--shortlist")
+                shortlist = v;
+            else if (a == "--size")
+                size = v;
+            else if (a == "--spp")
+                spp = v;
+            else if (a == "--threads")
+                threads = v;
+            else if (a == "--members")
+                members = v;
+            else if (a == "--reps")
+                reps = std::max(1, v);
+            else if (a == "--feather")
+                feather = v;
+            else if (a == "--stack")
+                stack = v;
+            else if (a == "--stack-features")
+                stackFeatures = v;
+            else if (a == "--retain-freed")
+                retainFreed = v;
+            else
+                return false;
+            return true;
+        });
+    if (parsed != 0) return parsed;
     const bool retained = retainFreed != 0 && glint::retainFreedMemory();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
 

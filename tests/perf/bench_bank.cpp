@@ -20,6 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench_options.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/navigation.h"
 #include "glint/image/memory.h"
@@ -46,30 +47,26 @@ double median(std::vector<double> v) {
 int main(int argc, char** argv) {
     namespace fs = std::filesystem;
     int size = 1024, spp = 4, threads = 2, members = 64, reps = 1, retainFreed = 1;
-    if (argc % 2 == 0) {  // options come in pairs: a lone last one has no value
-        std::fprintf(stderr, "bench_bank: option %s needs a value\n", argv[argc - 1]);
-        return 2;
-    }
-    for (int i = 1; i + 1 < argc; i += 2) {
-        const std::string a = argv[i];
-        const int v = std::stoi(argv[i + 1]);
-        if (a == "--size")
-            size = v;
-        else if (a == "--spp")
-            spp = v;
-        else if (a == "--threads")
-            threads = v;
-        else if (a == "--members")
-            members = v;
-        else if (a == "--reps")
-            reps = std::max(1, v);
-        else if (a == "--retain-freed")
-            retainFreed = v;
-        else {
-            std::fprintf(stderr, "bench_bank: unknown option %s\n", a.c_str());
-            return 2;
-        }
-    }
+    const int parsed = glint::bench::parseOptions(
+        "bench_bank", argc, argv, [&](const std::string& a, const std::string& text) {
+            const int v = glint::bench::intOption(a, text);
+            if (a == "--size")
+                size = v;
+            else if (a == "--spp")
+                spp = v;
+            else if (a == "--threads")
+                threads = v;
+            else if (a == "--members")
+                members = v;
+            else if (a == "--reps")
+                reps = std::max(1, v);
+            else if (a == "--retain-freed")
+                retainFreed = v;
+            else
+                return false;
+            return true;
+        });
+    if (parsed != 0) return parsed;
     const bool retained = retainFreed != 0 && glint::retainFreedMemory();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
 

@@ -15,13 +15,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "bench_options.h"
 #include "glint/denoise/filter.h"
 #include "glint/denoise/registry.h"
 
@@ -98,23 +98,27 @@ double psnr(const Image& a, const Image& b) {
 int main(int argc, char** argv) {
     int threads = 2, size = 1024, reps = 5, curve = 1;
     std::string only;  // run only the cases whose name contains this (and no curve)
-    for (int i = 1; i + 1 < argc; i += 2) {
-        if (!std::strcmp(argv[i], "--threads"))
-            threads = std::atoi(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--size"))
-            size = std::atoi(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--reps"))
-            reps = std::max(1, std::atoi(argv[i + 1]));
-        else if (!std::strcmp(argv[i], "--curve"))
-            curve = std::atoi(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--only"))
-            only = argv[i + 1];
-        else {
-            std::fprintf(stderr,
-                         "usage: bench_denoise_a [--threads N] [--size N] [--reps N] [--curve 0|1] "
-                         "[--only TEXT]\n");
-            return 2;
-        }
+    const int parsed = glint::bench::parseOptions(
+        "bench_denoise_a", argc, argv, [&](const std::string& a, const std::string& text) {
+            if (a == "--only")
+                only = text;
+            else if (a == "--threads")
+                threads = glint::bench::intOption(a, text);
+            else if (a == "--size")
+                size = glint::bench::intOption(a, text);
+            else if (a == "--reps")
+                reps = std::max(1, glint::bench::intOption(a, text));
+            else if (a == "--curve")
+                curve = glint::bench::intOption(a, text);
+            else
+                return false;
+            return true;
+        });
+    if (parsed != 0) {
+        std::fprintf(stderr,
+                     "usage: bench_denoise_a [--threads N] [--size N] [--reps N] [--curve 0|1] "
+                     "[--only TEXT]\n");
+        return parsed;
     }
     if (!only.empty()) curve = 0;  // the curve needs the exact d = 61 reference
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
