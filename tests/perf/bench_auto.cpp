@@ -45,8 +45,9 @@ double secondsOf(const std::function<void()>& fn) {
 
 int main(int argc, char** argv) {
     namespace fs = std::filesystem;
-    int size = 1024, spp = 4, threads = 2, members = 64, reps = 3, oneSided = 0, shortlist = 16,
-        feather = -1, stack = -1, retainFreed = 1, stackFeatures = 1;
+    glint::bench::RenderBankOptions o;
+    o.reps = 3;
+    int oneSided = 0, shortlist = 16, feather = -1, stack = -1, stackFeatures = 1;
     std::string estimator = "sure";
     glint::denoise::SureSpace space = glint::denoise::SureSpace::Display;
     const int parsed = glint::bench::parseOptions(
@@ -70,29 +71,19 @@ int main(int argc, char** argv) {
                 oneSided = v;
             else if (a == "--shortlist")
                 shortlist = v;
-            else if (a == "--size")
-                size = v;
-            else if (a == "--spp")
-                spp = v;
-            else if (a == "--threads")
-                threads = v;
-            else if (a == "--members")
-                members = v;
-            else if (a == "--reps")
-                reps = std::max(1, v);
             else if (a == "--feather")
                 feather = v;
             else if (a == "--stack")
                 stack = v;
             else if (a == "--stack-features")
                 stackFeatures = v;
-            else if (a == "--retain-freed")
-                retainFreed = v;
             else
-                return false;
+                return o.take(a, v);
             return true;
         });
     if (parsed != 0) return parsed;
+    const int size = o.size, spp = o.spp, threads = o.threads, members = o.members, reps = o.reps,
+              retainFreed = o.retainFreed;
     const bool retained = retainFreed != 0 && glint::retainFreedMemory();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
 

@@ -46,27 +46,14 @@ double median(std::vector<double> v) {
 
 int main(int argc, char** argv) {
     namespace fs = std::filesystem;
-    int size = 1024, spp = 4, threads = 2, members = 64, reps = 1, retainFreed = 1;
+    glint::bench::RenderBankOptions o;
     const int parsed = glint::bench::parseOptions(
         "bench_bank", argc, argv, [&](const std::string& a, const std::string& text) {
-            const int v = glint::bench::intOption(a, text);
-            if (a == "--size")
-                size = v;
-            else if (a == "--spp")
-                spp = v;
-            else if (a == "--threads")
-                threads = v;
-            else if (a == "--members")
-                members = v;
-            else if (a == "--reps")
-                reps = std::max(1, v);
-            else if (a == "--retain-freed")
-                retainFreed = v;
-            else
-                return false;
-            return true;
+            return o.take(a, glint::bench::intOption(a, text));
         });
     if (parsed != 0) return parsed;
+    const int size = o.size, spp = o.spp, threads = o.threads, members = o.members, reps = o.reps,
+              retainFreed = o.retainFreed;
     const bool retained = retainFreed != 0 && glint::retainFreedMemory();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
 

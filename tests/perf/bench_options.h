@@ -31,6 +31,30 @@ inline int intOption(const std::string& name, const std::string& text) {
     return value;
 }
 
+/// The options bench_bank and bench_auto share: the cornell render they time on (--size, --spp),
+/// the threads, the bank's --members, the --reps (at least 1) and --retain-freed.
+struct RenderBankOptions {
+    int size = 1024, spp = 4, threads = 2, members = 64, reps = 1, retainFreed = 1;
+    /// Sets the option `name` names to `value`; false for any other name.
+    bool take(const std::string& name, int value) {
+        if (name == "--size")
+            size = value;
+        else if (name == "--spp")
+            spp = value;
+        else if (name == "--threads")
+            threads = value;
+        else if (name == "--members")
+            members = value;
+        else if (name == "--reps")
+            reps = value < 1 ? 1 : value;
+        else if (name == "--retain-freed")
+            retainFreed = value;
+        else
+            return false;
+        return true;
+    }
+};
+
 /// Calls handle(name, value) for each "--name value" pair of argv[1 …]; `handle` returns false
 /// for a name it does not know, and may throw OptionError for a bad value. Returns 0, or 2
 /// after printing "program: …" on stderr for a lone last option, an unknown one or a bad value.
