@@ -38,19 +38,33 @@ std::uint32_t bigEndian(const unsigned char* p) {
 
 }  // namespace
 
-bool isPng(const std::filesystem::path& path) {
-    static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+namespace {
+/// The whole file, or its first `limit` bytes.
+std::vector<unsigned char> readBytes(const std::filesystem::path& path,
+                                     std::size_t limit = std::size_t(-1)) {
     std::ifstream in(path, std::ios::binary);
-    unsigned char head[8] = {};
-    in.read(reinterpret_cast<char*>(head), 8);
-    return in.gcount() == 8 && std::equal(head, head + 8, signature);
+    std::vector<unsigned char> bytes;
+    if (limit != std::size_t(-1)) {
+        bytes.resize(limit);
+        in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(limit));
+        bytes.resize(std::size_t(std::max<std::streamsize>(in.gcount(), 0)));
+        return bytes;
+    }
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    return bytes;
+}
+}  // namespace
+
+bool isPng(std::span<const unsigned char> bytes) {
+    static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    return bytes.size() >= 8 && std::equal(bytes.begin(), bytes.begin() + 8, signature);
 }
 
-void checkPngStructure(const std::filesystem::path& path) {
-    const std::string file = path.string();
-    std::ifstream in(path, std::ios::binary);
-    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
-                                     std::istreambuf_iterator<char>());
+bool isPng(const std::filesystem::path& path) {
+    return isPng(readBytes(path, 8));
+}
+
+void checkPngStructure(std::span<const unsigned char> bytes, const std::string& file) {
     auto fail = [&](std::size_t at, const std::string& what) {
         throw Error(ErrorKind::Format, "damaged PNG: " + what, file, "byte " + std::to_string(at));
     };
@@ -75,17 +89,30 @@ void checkPngStructure(const std::filesystem::path& path) {
     if (!sawData) fail(at, "no image data (IDAT)");
 }
 
+void checkPngStructure(const std::filesystem::path& path) {
+    checkPngStructure(readBytes(path), path.string());
+}
+
+bool isJpeg(std::span<const unsigned char> bytes) {
+    return bytes.size() >= 3 && bytes[0] == 0xff && bytes[1] == 0xd8 && bytes[2] == 0xff;
+}
+
 bool isJpeg(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    unsigned char head[3] = {};
-    in.read(reinterpret_cast<char*>(head), 3);
-    return in.gcount() == 3 && head[0] == 0xff && head[1] == 0xd8 && head[2] == 0xff;
+    return isJpeg(readBytes(path, 3));
+}
+
+void checkJpegStructure(std::span<const unsigned char> bytes, const std::string& file) {
+    // The end-of-image marker closes the file (a few trailing bytes are tolerated).
+    const std::size_t tail = std::min<std::size_t>(bytes.size(), 64);
+    for (std::size_t i = bytes.size() - tail; i + 1 < bytes.size(); ++i)
+        if (bytes[i] == 0xff && bytes[i + 1] == 0xd9) return;
+    throw Error(ErrorKind::Format, "truncated JPEG (no end-of-image marker)", file,
+                "byte " + std::to_string(bytes.size()));
 }
 
 void checkJpegStructure(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary | std::ios::ate);
     const std::streamoff size = in.tellg();
-    // The end-of-image marker closes the file (a few trailing bytes are tolerated).
     const std::streamoff tail = std::min<std::streamoff>(size, 64);
     std::vector<unsigned char> end(static_cast<std::size_t>(tail));
     in.seekg(size - tail);

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <span>
 #include <string>
 
 namespace glint::detail {
@@ -24,16 +25,22 @@ void writeOiioStrips(const std::filesystem::path& tmp, const std::filesystem::pa
                      const OIIO::ImageSpec& spec, int stripRows,
                      const std::function<void(int y0, int y1, float* strip)>& fill);
 
-/// True when the file starts with the PNG signature.
+/// True when the file (or the bytes) starts with the PNG signature.
 bool isPng(const std::filesystem::path& path);
+bool isPng(std::span<const unsigned char> bytes);
 /// Walks a PNG's chunks (lengths, CRCs, IHDR first, IDAT present, IEND reached) and throws
 /// glint::Error(Format) naming the byte of the first damage (png_check.cpp).
 void checkPngStructure(const std::filesystem::path& path);
+/// The same for an image held in memory; errors name `file`.
+void checkPngStructure(std::span<const unsigned char> bytes, const std::string& file);
 
-/// True when the file starts with the JPEG start-of-image marker.
+/// True when the file (or the bytes) starts with the JPEG start-of-image marker.
 bool isJpeg(const std::filesystem::path& path);
+bool isJpeg(std::span<const unsigned char> bytes);
 /// Throws glint::Error(Format) for a JPEG without its end-of-image marker (truncated).
 void checkJpegStructure(const std::filesystem::path& path);
+/// The same for an image held in memory; errors name `file`.
+void checkJpegStructure(std::span<const unsigned char> bytes, const std::string& file);
 
 /// Lower-case extension with the dot (".exr"), or "".
 std::string lowerExtension(const std::filesystem::path& path);

@@ -409,9 +409,14 @@ RayThroughput Renderer::measureRayThroughput(std::uint64_t rayCount, int threads
                                              std::uint64_t seed, bool packets) const {
     const detail::SceneData& data = m_scene.data();
     Vec3 lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
-    for (const Vec3& p : data.positions)
-        for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
-    if (data.positions.empty()) lo = hi = Vec3{};
+    bool any = false;
+    for (const detail::Instance& inst : data.instances)
+        for (const Vec3& q : data.meshes[inst.mesh].positions) {
+            const Vec3 p = inst.identity ? q : inst.transform.point(q);
+            for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
+            any = true;
+        }
+    if (!any) lo = hi = Vec3{};
     const std::uint64_t chunk = 4096;
     const std::uint64_t chunks = (rayCount + chunk - 1) / chunk;
     std::atomic<std::uint64_t> hits{0};

@@ -34,6 +34,11 @@ struct Vec3 {
     }
 };
 
+/// A tangent with its bitangent sign (glTF's TANGENT: xyz, w = ±1).
+struct Vec4 {
+    float x = 0.0f, y = 0.0f, z = 0.0f, w = 0.0f;
+};
+
 inline Vec3 operator+(const Vec3& a, const Vec3& b) {
     return {a.x + b.x, a.y + b.y, a.z + b.z};
 }

@@ -38,7 +38,7 @@ TEST(LightSampler, ThePdfOfASampleIsThePdfOfItsPoint) {
             if (!lights.sample(p, rng.uniform(), {rng.uniform(), rng.uniform()}, s)) continue;
             ++ok;
             EXPECT_NEAR(s.point.y, 1.0f, 1e-4f);
-            const float pdf = lights.pdfArea(0, p, s.point, s.normal);
+            const float pdf = lights.pdfArea({0, 0}, p, s.point, s.normal);
             ASSERT_NEAR(s.pdf, pdf, 1e-3f * pdf) << "p.y " << p.y << " Ω " << omega;
             const Vec3 d = s.point - p;
             EXPECT_NEAR(length(d), s.distance, 1e-4f * s.distance);

@@ -161,7 +161,7 @@ TEST(MotionBlur, StaticSceneBuildsNoMotionGeometry) {
                          "motion": {"translate": [1, 0, 0]})")}) {
         const Scene scene = loadScene(dir.write("scene.json", oneShape(extra)));
         EXPECT_FALSE(scene.data().hasMotion()) << extra;
-        EXPECT_TRUE(scene.data().triangleMotion.empty()) << extra;
+        EXPECT_TRUE(scene.data().motions.empty()) << extra;
         const EmbreeScene embree(scene.data());
         EXPECT_EQ(embree.motionGeometryCount(), 0) << extra;
     }
@@ -201,8 +201,8 @@ TEST(MotionBlur, ShadingPoseMatchesEmbreeGeometry) {
         Hit hit;
         if (!embree.intersect(ray, 1e30f, hit)) continue;
         ++hits;
-        detail::PosedTriangle posed;
-        const detail::TriangleView tri = data.triangleAt(hit.triangle, ray.time, posed);
+        const detail::TriangleView tri =
+            data.triangle(hit.surface.instance, hit.surface.prim, ray.time);
         const Vec3 p = tri.p[0] * (1.0f - hit.u - hit.v) + tri.p[1] * hit.u + tri.p[2] * hit.v;
         const Vec3 onRay = ray.origin + ray.dir * hit.t;
         ASSERT_LT(length(p - onRay), 1e-4f) << "time " << ray.time;

@@ -38,8 +38,10 @@ std::filesystem::path scenePath(const std::string& name) {
 /// shutter time.
 std::vector<Ray> randomRays(const detail::SceneData& data, int count, std::uint64_t seed) {
     Vec3 lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
-    for (const Vec3& p : data.positions)
-        for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
+    for (const detail::Mesh& mesh : data.meshes)
+        for (const Vec3& p : mesh.positions)
+            for (int c = 0; c < 3; ++c)
+                lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
     Rng rng(seed);
     std::vector<Ray> rays(static_cast<std::size_t>(count));
     for (Ray& r : rays) {
@@ -85,7 +87,8 @@ TEST(Wavefront, PacketQueriesAgreeWithSingleRays) {
             const bool f =
                 embree.intersect(rays[i], std::numeric_limits<float>::infinity(), single);
             hitCount += f;
-            if (f != found[i] || (f && single.triangle != hits[i].triangle)) {
+            if (f != found[i] || (f && (single.surface.instance != hits[i].surface.instance ||
+                       single.surface.prim != hits[i].surface.prim))) {
                 ++disagree;
                 continue;
             }

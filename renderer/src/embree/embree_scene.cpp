@@ -20,27 +20,43 @@ void throwDeviceError(RTCDevice device, const char* what) {
                                          std::to_string(int(code)) + ")");
 }
 
-/// Creates a triangle geometry with Embree-allocated buffers (Embree reads 16 bytes per float3
-/// vertex, so the buffers are allocated by Embree, padded): `steps` vertex buffers of
-/// 3 × triangles vertices each and a trivial index buffer.
-RTCGeometry newTriangleMesh(RTCDevice device, std::size_t triangles, int steps,
-                            std::vector<float*>& vertexBuffers) {
+/// Meshes above this many triangles are built at Embree's medium quality: the high-quality
+/// build (spatial splits) pays for itself on small scenes rendered many times, but on a
+/// multi-million-triangle asset it takes seconds and more memory than the mesh.
+constexpr std::size_t kHighQualityBuildLimit = 1u << 20;
+
+/// A triangle geometry whose index buffer is the mesh's own and whose `steps` vertex buffers
+/// are filled by `fill(step, buffer)` (Embree-allocated: Embree reads 16 bytes per float3, so
+/// its buffers are padded) — or, with one step and a mesh whose storage is padded, the mesh's
+/// own positions.
+template <class Fill>
+RTCGeometry newTriangleMesh(RTCDevice device, const detail::Mesh& mesh, int steps, Fill fill,
+                            bool shareVertices) {
     RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     if (steps > 1) rtcSetGeometryTimeStepCount(geom, unsigned(steps));
-    vertexBuffers.clear();
-    for (int k = 0; k < steps; ++k)
-        vertexBuffers.push_back(static_cast<float*>(
-            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, unsigned(k), RTC_FORMAT_FLOAT3,
-                                    3 * sizeof(float), 3 * triangles)));
-    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-        geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), triangles));
-    const bool allocated = indices && std::find(vertexBuffers.begin(), vertexBuffers.end(),
-                                                nullptr) == vertexBuffers.end();
+    const std::size_t vertices = mesh.vertexCount(), triangles = mesh.triangleCount();
+    bool allocated = true;
+    if (shareVertices) {
+        rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                   mesh.positions.data(), 0, sizeof(Vec3), vertices);
+    } else {
+        for (int k = 0; k < steps; ++k) {
+            auto* buffer = static_cast<float*>(
+                rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, unsigned(k),
+                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float), vertices));
+            if (!buffer) {
+                allocated = false;
+                break;
+            }
+            fill(k, buffer);
+        }
+    }
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                               mesh.indices.data(), 0, 3 * sizeof(std::uint32_t), triangles);
     if (!allocated) {
         rtcReleaseGeometry(geom);
         throwDeviceError(device, "buffer allocation");
     }
-    for (std::size_t i = 0; i < 3 * triangles; ++i) indices[i] = unsigned(i);
     return geom;
 }
 
@@ -48,6 +64,19 @@ void store(float* buffer, std::size_t vertex, const Vec3& p) {
     buffer[3 * vertex + 0] = p.x;
     buffer[3 * vertex + 1] = p.y;
     buffer[3 * vertex + 2] = p.z;
+}
+
+/// A mesh's positions as they are (object or world space).
+RTCGeometry newStaticMesh(RTCDevice device, const detail::Mesh& mesh) {
+    // Embree reads 16 bytes for the last float3: share the mesh's storage only when its
+    // allocation reaches that far (SceneData::finish pads it), else copy.
+    const bool padded = mesh.positions.capacity() > mesh.positions.size();
+    return newTriangleMesh(
+        device, mesh, 1,
+        [&](int, float* buffer) {
+            for (std::size_t i = 0; i < mesh.vertexCount(); ++i) store(buffer, i, mesh.positions[i]);
+        },
+        padded);
 }
 
 void attach(RTCScene scene, RTCGeometry geom, unsigned id) {
@@ -58,47 +87,69 @@ void attach(RTCScene scene, RTCGeometry geom, unsigned id) {
 
 }  // namespace
 
-/// Converts the scene: static triangles into one static mesh (geometry 0); each moving shape
-/// into a motion-blur mesh (geometry 1 + i) whose time step k holds the shape posed by its
-/// transform at normalised time k / (steps - 1). Ends in rtcCommitScene.
+detail::SurfaceId EmbreeScene::surfaceOf(unsigned instID, unsigned geomID, unsigned primID) {
+    // Shared meshes are one geometry of their own scene: the top-level instance names it.
+    return {instID != RTC_INVALID_GEOMETRY_ID ? instID : geomID, primID};
+}
+
+/// Converts the scene: geometry i of the top-level scene is instance i — its mesh in world
+/// space, an Embree instance of the shared mesh's own scene (built once per mesh), or a
+/// motion-blur mesh whose time step k holds the mesh posed at normalised time k / (steps - 1).
+/// Ends in rtcCommitScene.
 RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& data) {
     // Held in m_scene at once so that the constructor releases it if the conversion throws.
     RTCScene scene = m_scene = rtcNewScene(device);
-    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    const RTCBuildQuality quality = data.triangleCount() > kHighQualityBuildLimit
+                                        ? RTC_BUILD_QUALITY_MEDIUM
+                                        : RTC_BUILD_QUALITY_HIGH;
+    rtcSetSceneBuildQuality(scene, quality);
     // Default (non-robust) traversal: RTC_SCENE_FLAG_ROBUST made cornell ~40 % slower and the
     // closed-sphere furnace test shows no leaks without it.
-    std::vector<float*> buffers;
-    const std::size_t triangles = data.triangleCount();
-    if (data.motions.empty()) {
-        // Static scene: one mesh of every triangle, primitive index = triangle index.
-        if (triangles > 0) {
-            RTCGeometry geom = newTriangleMesh(device, triangles, 1, buffers);
-            for (std::size_t i = 0; i < 3 * triangles; ++i) store(buffers[0], i, data.positions[i]);
-            attach(scene, geom, 0);
+    std::vector<int> meshScene(data.meshes.size(), -1);
+    for (std::size_t i = 0; i < data.instances.size(); ++i) {
+        const detail::Instance& inst = data.instances[i];
+        const detail::Mesh& mesh = data.meshes[inst.mesh];
+        if (mesh.triangleCount() == 0) continue;
+        if (inst.motion >= 0) {
+            const detail::InstanceMotion& motion = data.motions[std::size_t(inst.motion)];
+            const int steps = int(motion.steps.size());
+            RTCGeometry geom = newTriangleMesh(
+                device, mesh, steps,
+                [&](int k, float* buffer) {
+                    const detail::Affine& pose = motion.steps[std::size_t(k)];
+                    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
+                        store(buffer, v, pose.point(mesh.positions[v]));
+                },
+                false);
+            attach(scene, geom, unsigned(i));
+            m_timeSteps.push_back(steps);
+            continue;
         }
-        rtcCommitScene(scene);
-        return scene;
-    }
-    for (std::size_t t = 0; t < triangles; ++t)
-        if (data.triangleMotion[t] < 0) m_staticTriangles.push_back(std::uint32_t(t));
-    if (!m_staticTriangles.empty()) {
-        RTCGeometry geom = newTriangleMesh(device, m_staticTriangles.size(), 1, buffers);
-        for (std::size_t i = 0; i < m_staticTriangles.size(); ++i)
-            for (std::size_t v = 0; v < 3; ++v)
-                store(buffers[0], 3 * i + v, data.positions[3 * m_staticTriangles[i] + v]);
-        attach(scene, geom, 0);
-    }
-    for (std::size_t m = 0; m < data.motions.size(); ++m) {
-        const detail::ShapeMotion& motion = data.motions[m];
-        const int steps = int(motion.steps.size());
-        RTCGeometry geom = newTriangleMesh(device, motion.triangleCount, steps, buffers);
-        for (int k = 0; k < steps; ++k)
-            for (std::size_t i = 0; i < motion.objectPositions.size(); ++i)
-                store(buffers[std::size_t(k)], i,
-                      motion.steps[std::size_t(k)].point(motion.objectPositions[i]));
-        attach(scene, geom, unsigned(1 + m));
-        m_motionFirstTriangle.push_back(motion.firstTriangle);
-        m_timeSteps.push_back(steps);
+        if (inst.identity) {
+            attach(scene, newStaticMesh(device, mesh), unsigned(i));
+            continue;
+        }
+        // An instance of a mesh in object space: the mesh's scene is built once.
+        int& child = meshScene[inst.mesh];
+        if (child < 0) {
+            RTCScene meshScene = rtcNewScene(device);
+            m_meshScenes.push_back(meshScene);
+            rtcSetSceneBuildQuality(meshScene, mesh.triangleCount() > kHighQualityBuildLimit
+                                                   ? RTC_BUILD_QUALITY_MEDIUM
+                                                   : RTC_BUILD_QUALITY_HIGH);
+            attach(meshScene, newStaticMesh(device, mesh), 0);
+            rtcCommitScene(meshScene);
+            child = int(m_meshScenes.size()) - 1;
+        }
+        RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(geom, m_meshScenes[std::size_t(child)]);
+        float xfm[12];
+        for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 3; ++c) xfm[4 * r + c] = inst.transform.m[r][c];
+            xfm[4 * r + 3] = inst.transform.t[r];
+        }
+        rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xfm);
+        attach(scene, geom, unsigned(i));
     }
     rtcCommitScene(scene);
     return scene;
@@ -123,6 +174,7 @@ EmbreeScene::EmbreeScene(const detail::SceneData& scene) {
             }
     } catch (...) {
         if (m_scene) rtcReleaseScene(m_scene);
+        for (RTCScene s : m_meshScenes) rtcReleaseScene(s);
         rtcReleaseDevice(m_device);
         throw;
     }
@@ -130,6 +182,7 @@ EmbreeScene::EmbreeScene(const detail::SceneData& scene) {
 
 EmbreeScene::~EmbreeScene() {
     if (m_scene) rtcReleaseScene(m_scene);
+    for (RTCScene s : m_meshScenes) rtcReleaseScene(s);
     if (m_device) rtcReleaseDevice(m_device);
 }
 
@@ -151,7 +204,7 @@ bool EmbreeScene::intersect(const Ray& ray, float tMax, Hit& hit, bool coherent)
     rtcIntersect1(m_scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     hit.t = rh.ray.tfar;
-    hit.triangle = triangleOf(rh.hit.geomID, rh.hit.primID);
+    hit.surface = surfaceOf(rh.hit.instID[0], rh.hit.geomID, rh.hit.primID);
     hit.u = rh.hit.u;
     hit.v = rh.hit.v;
     return true;
@@ -238,7 +291,7 @@ void EmbreeScene::intersectPackets(std::size_t count, const Ray* const* rays, Hi
             found[i] = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
             if (!found[i]) continue;
             hits[i].t = rh.ray.tfar[k];
-            hits[i].triangle = triangleOf(rh.hit.geomID[k], rh.hit.primID[k]);
+            hits[i].surface = surfaceOf(rh.hit.instID[0][k], rh.hit.geomID[k], rh.hit.primID[k]);
             hits[i].u = rh.hit.u[k];
             hits[i].v = rh.hit.v[k];
         }

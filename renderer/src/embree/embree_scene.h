@@ -14,10 +14,11 @@ struct RTCSceneTy;
 
 namespace glint::render {
 
-/// The closest hit of a ray: distance, triangle and barycentrics (p = (1-u-v) p0 + u p1 + v p2).
+/// The closest hit of a ray: distance, the instance and its mesh's triangle, and barycentrics
+/// (p = (1-u-v) p0 + u p1 + v p2).
 struct Hit {
     float t = 0.0f;
-    std::uint32_t triangle = 0;
+    detail::SurfaceId surface;
     float u = 0.0f, v = 0.0f;
 };
 
@@ -27,8 +28,10 @@ struct ShadowRay {
     float tMax = 0.0f, time = 0.0f;
 };
 
-/// Embree device + committed scene of one SceneData: one static triangle mesh of every static
-/// shape and, only when shapes move, one motion-blur triangle mesh per moving shape.
+/// Embree device + committed scene of one SceneData. Geometry i of the top-level scene is
+/// instance i: a triangle mesh in world space (a mesh only it uses), an Embree instance of the
+/// mesh's own scene (a mesh several instances share, which is built once), or a motion-blur
+/// triangle mesh (a moving instance).
 class EmbreeScene {
   public:
     /// Converts the scene (see convertScene in embree_scene.cpp). Throws glint::Error on failure.
@@ -38,11 +41,14 @@ class EmbreeScene {
     EmbreeScene& operator=(const EmbreeScene&) = delete;
 
     /// Closest hit along the ray within (0, tMax) at the ray's shutter time; `coherent` hints
-    /// primary rays. hit.triangle is the scene's triangle index.
+    /// primary rays. hit.surface names the instance and its triangle.
     bool intersect(const Ray& ray, float tMax, Hit& hit, bool coherent = false) const;
     /// True when anything blocks the segment from origin along dir within (0, tMax) at
     /// normalised shutter time `time`.
     bool occluded(const Vec3& origin, const Vec3& dir, float tMax, float time = 0.0f) const;
+
+    /// Number of meshes built once and shared by several instances.
+    int sharedMeshCount() const { return int(m_meshScenes.size()); }
 
     /// intersect() of `count` rays (tMax ∞) at once, in packets of the device's native width
     /// (16, 8 or 4 lanes; one at a time without packet support): found[i] says whether
@@ -54,7 +60,7 @@ class EmbreeScene {
     void occludedMany(std::size_t count, const ShadowRay* const* rays, bool* blocked) const;
 
     /// Number of motion-blur geometries built (0 for a scene without moving shapes).
-    int motionGeometryCount() const { return int(m_motionFirstTriangle.size()); }
+    int motionGeometryCount() const { return int(m_timeSteps.size()); }
     /// Embree time steps of motion geometry i (< motionGeometryCount()).
     int timeStepCount(int i) const { return m_timeSteps[std::size_t(i)]; }
 
@@ -65,21 +71,14 @@ class EmbreeScene {
                           bool coherent) const;
     template <int N>
     void occludedPackets(std::size_t count, const ShadowRay* const* rays, bool* blocked) const;
-    /// The scene triangle of Embree's (geometry, primitive).
-    std::uint32_t triangleOf(unsigned geomID, unsigned primID) const {
-        if (m_motionFirstTriangle.empty()) return primID;
-        if (geomID == 0) return m_staticTriangles[primID];
-        return m_motionFirstTriangle[geomID - 1] + primID;
-    }
+    /// The instance and triangle of Embree's hit (top-level instance, geometry, primitive).
+    static detail::SurfaceId surfaceOf(unsigned instID, unsigned geomID, unsigned primID);
 
     RTCDeviceTy* m_device = nullptr;
     RTCSceneTy* m_scene = nullptr;
     int m_packetWidth = 1;  // 16, 8, 4 or 1 (no packet support)
-    // Geometry 0 holds the static triangles, geometry 1 + i moving shape i. With moving shapes,
-    // static primitive p is scene triangle m_staticTriangles[p]; without, the identity.
-    std::vector<std::uint32_t> m_staticTriangles;
-    std::vector<std::uint32_t> m_motionFirstTriangle;
-    std::vector<int> m_timeSteps;
+    std::vector<RTCSceneTy*> m_meshScenes;  // the scene of each shared mesh
+    std::vector<int> m_timeSteps;           // of each motion-blur geometry, in instance order
 };
 
 }  // namespace glint::render

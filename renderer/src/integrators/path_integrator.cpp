@@ -19,23 +19,21 @@ constexpr float kInfinity = std::numeric_limits<float>::infinity();
 struct Shading {
     Vec3 p, ng, ns;
     Vec2 uv;
+    bool hasUv = false;  ///< the mesh has texture coordinates
     const detail::Material* material;
 };
 
 Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, float time) {
     Shading s;
-    const std::size_t t = hit.triangle;
-    // The triangle as posed at the ray's shutter time (moving shapes; static ones as stored).
-    detail::PosedTriangle posed;
-    const detail::TriangleView tri = scene.triangleAt(t, time, posed);
-    const Vec3* v = tri.p;
+    const detail::SurfaceId id = hit.surface;
+    // The triangle in world space at the ray's shutter time (moving instances are posed).
+    const detail::TriangleView tri = scene.triangle(id.instance, id.prim, time);
     const float b0 = 1.0f - hit.u - hit.v;
-    s.p = v[0] * b0 + v[1] * hit.u + v[2] * hit.v;
+    s.p = tri.p[0] * b0 + tri.p[1] * hit.u + tri.p[2] * hit.v;
     s.ng = tri.ng;
     s.ns = s.ng;
-    if (tri.n) {
-        const Vec3* n = tri.n;
-        const Vec3 ns = n[0] * b0 + n[1] * hit.u + n[2] * hit.v;
+    if (tri.hasNormals) {
+        const Vec3 ns = tri.n[0] * b0 + tri.n[1] * hit.u + tri.n[2] * hit.v;
         const float len = length(ns);
         if (len > 0.0f) {
             s.ns = ns / len;
@@ -43,13 +41,16 @@ Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, fl
             if (dot(s.ng, s.ns) < 0.0f) s.ng = -s.ng;
         }
     }
+    const detail::Mesh& mesh = scene.meshes[scene.instances[id.instance].mesh];
     s.uv = {};
-    if (!scene.uvs.empty()) {
-        const Vec2* uv = &scene.uvs[3 * t];
-        s.uv = {uv[0].x * b0 + uv[1].x * hit.u + uv[2].x * hit.v,
-                uv[0].y * b0 + uv[1].y * hit.u + uv[2].y * hit.v};
+    s.hasUv = !mesh.uvs.empty();
+    if (s.hasUv) {
+        const std::uint32_t* idx = &mesh.indices[3 * std::size_t(id.prim)];
+        const Vec2 &uv0 = mesh.uvs[idx[0]], &uv1 = mesh.uvs[idx[1]], &uv2 = mesh.uvs[idx[2]];
+        s.uv = {uv0.x * b0 + uv1.x * hit.u + uv2.x * hit.v,
+                uv0.y * b0 + uv1.y * hit.u + uv2.y * hit.v};
     }
-    s.material = &scene.materials[scene.triangleMaterial[t]];
+    s.material = &scene.materials[scene.materialOf(id)];
     // Surfaces other than dielectrics are two-sided: face the normals towards the viewer.
     if (s.material->type != detail::MaterialType::Dielectric && dot(wo, s.ng) < 0.0f) {
         s.ng = -s.ng;
@@ -143,14 +144,17 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
             p.radiance += p.beta * mat.emission;
         } else if (m_useBsdfHits) {
             const float lightPdf =
-                m_useLightSampling ? m_lights.pdfArea(hit.triangle, p.prevP, sh.p, sh.ng) : 0.0f;
+                m_useLightSampling ? m_lights.pdfArea(hit.surface, p.prevP, sh.p, sh.ng) : 0.0f;
             p.radiance += p.beta * mat.emission * misWeight(p.prevPdf, lightPdf);
         }
     }
 
-    const Vec3 albedo = (mat.texture >= 0 && !m_scene.uvs.empty())
-                            ? m_scene.textures[std::size_t(mat.texture)].lookup(sh.uv)
-                            : mat.albedo;
+    Vec3 albedo = mat.albedo;
+    if (mat.texture >= 0 && sh.hasUv) {
+        const Vec4 t = m_scene.textures[std::size_t(mat.texture)].lookup(
+            mat.textureTransform.apply(sh.uv));
+        albedo = mat.textureTimesFactor ? albedo * Vec3{t.x, t.y, t.z} : Vec3{t.x, t.y, t.z};
+    }
     const Bsdf bsdf = Bsdf::fromMaterial(mat, albedo);
     const bool specular = bsdf.isSpecular();
     if (!p.featuresDone && !specular) {
@@ -246,9 +250,10 @@ unsigned PathIntegrator::numbersNeeded(const PathState& p, const Hit& hit) const
     if (p.depth >= m_maxDepth) return 0;
     auto bit = [](BounceDim slot) { return SobolSampler::slotBit(slot); };
     unsigned slots = 0;
-    switch (m_scene.materials[m_scene.triangleMaterial[hit.triangle]].type) {
+    switch (m_scene.materials[m_scene.materialOf(hit.surface)].type) {
         case MaterialType::Diffuse:
         case MaterialType::Conductor:
+        case MaterialType::MetallicRoughness:
             slots = bit(BounceDim::BsdfDirection);
             if (m_useLightSampling)
                 slots |= bit(BounceDim::LightSelect) | bit(BounceDim::LightPoint);

@@ -8,33 +8,48 @@
 
 namespace glint::render {
 
-LightSampler::LightSampler(const detail::SceneData& scene) : m_scene(&scene) {
+LightSampler::LightSampler(const detail::SceneData& scene) {
     std::vector<float> power;
-    m_lightOfTriangle.assign(scene.triangleCount(), -1);
     Vec3 lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
-    for (const Vec3& p : scene.positions)
-        for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
-    // Area lights: power = π × area × luminance(Le) per side, two sides.
-    for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
-        const detail::Material& m = scene.materials[scene.triangleMaterial[t]];
-        if (!m.emissive()) continue;
-        const Vec3& a = scene.positions[3 * t];
-        const float area =
-            float(triangleArea(a, scene.positions[3 * t + 1], scene.positions[3 * t + 2]));
-        if (!(area > 0.0f)) continue;
-        m_lightOfTriangle[t] = int(m_lights.size());
-        const Vec3 centroid =
-            (a + scene.positions[3 * t + 1] + scene.positions[3 * t + 2]) * (1.0f / 3.0f);
-        m_lights.push_back({std::uint32_t(t), area, scene.faceNormals[t], m.emission, centroid});
-        power.push_back(2.0f * kPi * area * luminance(m.emission));
+    bool anyVertex = false;
+    m_firstOfInstance.assign(scene.instances.size(), -1);
+    for (std::uint32_t i = 0; i < scene.instances.size(); ++i) {
+        const detail::Instance& inst = scene.instances[i];
+        const detail::Mesh& mesh = scene.meshes[inst.mesh];
+        // Bounds of the shutter-open pose (as the environment's power estimate always used).
+        for (const Vec3& q : mesh.positions) {
+            const Vec3 p = inst.identity ? q : inst.transform.point(q);
+            for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
+            anyVertex = true;
+        }
+        // Area lights: power = π × area × luminance(Le) per side, two sides. Moving instances
+        // never emit (the loader refuses it).
+        if (inst.motion >= 0) continue;
+        const std::size_t first = m_lightOfTriangle.size();
+        bool emits = false;
+        for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+            const detail::Material& m = scene.materials[scene.materialOf(i, t)];
+            if (!m.emissive()) continue;
+            const detail::TriangleView tri = scene.triangle(i, t);
+            const float area = float(triangleArea(tri.p[0], tri.p[1], tri.p[2]));
+            if (!(area > 0.0f)) continue;
+            if (!emits) m_lightOfTriangle.resize(first + mesh.triangleCount(), -1);
+            emits = true;
+            m_lightOfTriangle[first + t] = int(m_lights.size());
+            const Vec3 centroid = (tri.p[0] + tri.p[1] + tri.p[2]) * (1.0f / 3.0f);
+            m_lights.push_back(
+                {{tri.p[0], tri.p[1], tri.p[2]}, area, tri.ng, m.emission, centroid});
+            power.push_back(2.0f * kPi * area * luminance(m.emission));
+        }
+        if (emits) m_firstOfInstance[i] = std::int64_t(first);
     }
     m_areaCount = m_lights.size();
     if (scene.environment.kind != detail::EnvironmentDesc::Kind::None) {
         m_environment.emplace(scene.environment);
         // Environment power ≈ π r² × mean radiance for the scene's bounding sphere (PBR 12.6).
         const float radius =
-            scene.positions.empty() ? 1.0f : std::max(0.5f * length(hi - lo), 1e-3f * scene.extent);
-        m_lights.push_back({0, 0.0f, {}, {}, {}});
+            !anyVertex ? 1.0f : std::max(0.5f * length(hi - lo), 1e-3f * scene.extent);
+        m_lights.push_back({{}, 0.0f, {}, {}, {}});
         power.push_back(kPi * radius * radius * m_environment->meanLuminance());
     }
     if (!m_lights.empty()) m_select = Distribution1D(power);
@@ -74,7 +89,7 @@ bool LightSampler::sample(const Vec3& p, float uSelect, Vec2 u, LightSample& out
         return true;
     }
     const AreaLight& light = m_lights[std::size_t(index)];
-    const Vec3* v = &m_scene->positions[3 * std::size_t(light.triangle)];
+    const Vec3* v = light.v;
     out.normal = light.normal;
     out.radiance = light.emission;
     out.environment = false;
@@ -112,13 +127,13 @@ bool LightSampler::sample(const Vec3& p, float uSelect, Vec2 u, LightSample& out
     return true;
 }
 
-float LightSampler::pdfArea(std::uint32_t triangle, const Vec3& p, const Vec3& lightPoint,
+float LightSampler::pdfArea(detail::SurfaceId surface, const Vec3& p, const Vec3& lightPoint,
                             const Vec3& ng) const {
-    const int index = m_lightOfTriangle[triangle];
+    const int index = lightOf(surface);
     if (index < 0) return 0.0f;
     // The same choice of measure as sample() makes from p.
-    const Vec3* v = &m_scene->positions[3 * std::size_t(triangle)];
     const AreaLight& light = m_lights[std::size_t(index)];
+    const Vec3* v = light.v;
     if (worthSolidAngle(p, light.centroid, light.area)) {
         const float omega = sphericalTriangleSolidAngle(
             normalizeOrZero(v[0] - p), normalizeOrZero(v[1] - p), normalizeOrZero(v[2] - p));

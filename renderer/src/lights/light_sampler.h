@@ -36,24 +36,31 @@ class LightSampler {
 
     /// Samples a light for shading point p: uSelect picks the light, u the point on it.
     bool sample(const Vec3& p, float uSelect, Vec2 u, LightSample& out) const;
-    /// Solid-angle pdf that sample() from p produces the point `lightPoint` on `triangle`
-    /// with geometric normal `ng` (unit).
-    float pdfArea(std::uint32_t triangle, const Vec3& p, const Vec3& lightPoint,
+    /// Solid-angle pdf that sample() from p produces the point `lightPoint` on the triangle
+    /// `surface` with geometric normal `ng` (unit).
+    float pdfArea(detail::SurfaceId surface, const Vec3& p, const Vec3& lightPoint,
                   const Vec3& ng) const;
     /// Solid-angle pdf that sample() produces environment direction `dir`.
     float pdfEnvironment(const Vec3& dir) const;
 
   private:
     struct AreaLight {
-        std::uint32_t triangle;
+        Vec3 v[3];  ///< world-space vertices
         float area;
         Vec3 normal;
         Vec3 emission;
         Vec3 centroid;  ///< of the triangle (worthSolidAngle)
     };
-    const detail::SceneData* m_scene;
-    std::vector<AreaLight> m_lights;     // environment, if any, is the last entry
-    std::vector<int> m_lightOfTriangle;  // -1 when not emissive
+    /// The light of triangle `prim` of `instance`, or -1 when it does not emit.
+    int lightOf(detail::SurfaceId s) const {
+        const std::int64_t first = m_firstOfInstance[s.instance];
+        return first < 0 ? -1 : m_lightOfTriangle[std::size_t(first) + s.prim];
+    }
+    std::vector<AreaLight> m_lights;  // environment, if any, is the last entry
+    /// Per instance with an emissive triangle, where its triangles start in m_lightOfTriangle
+    /// (-1 for the others); there, per triangle, its light or -1.
+    std::vector<std::int64_t> m_firstOfInstance;
+    std::vector<int> m_lightOfTriangle;
     std::optional<Environment> m_environment;
     std::size_t m_areaCount = 0;
     Distribution1D m_select;

@@ -20,6 +20,7 @@ Bsdf Bsdf::fromMaterial(const detail::Material& material, const Vec3& albedo) {
 bool Bsdf::isSpecular() const {
     switch (type) {
         case MaterialType::Diffuse:
+        case MaterialType::MetallicRoughness:
             return false;
         case MaterialType::Mirror:
         case MaterialType::Dielectric:
@@ -33,6 +34,7 @@ bool Bsdf::isSpecular() const {
 Vec3 Bsdf::eval(const Vec3& wo, const Vec3& wi) const {
     switch (type) {
         case MaterialType::Diffuse:
+        case MaterialType::MetallicRoughness:
             return diffuseEval(*this, wo, wi);
         case MaterialType::Conductor:
             return alpha < kMinGgxAlpha ? Vec3{} : conductorEval(*this, wo, wi);
@@ -44,6 +46,7 @@ Vec3 Bsdf::eval(const Vec3& wo, const Vec3& wi) const {
 float Bsdf::pdf(const Vec3& wo, const Vec3& wi) const {
     switch (type) {
         case MaterialType::Diffuse:
+        case MaterialType::MetallicRoughness:
             return diffusePdf(*this, wo, wi);
         case MaterialType::Conductor:
             return alpha < kMinGgxAlpha ? 0.0f : conductorPdf(*this, wo, wi);
@@ -55,6 +58,7 @@ float Bsdf::pdf(const Vec3& wo, const Vec3& wi) const {
 bool Bsdf::sample(const Vec3& wo, Vec2 u, float uc, BsdfSample& out) const {
     switch (type) {
         case MaterialType::Diffuse:
+        case MaterialType::MetallicRoughness:
             return diffuseSample(*this, wo, u, out);
         case MaterialType::Mirror:
             return mirrorSample(*this, wo, out);

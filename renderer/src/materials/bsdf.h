@@ -38,7 +38,8 @@ struct Bsdf {
     /// component number `uc` (dielectric: reflect or refract). A sampler with a fixed slot per
     /// number need not draw the others.
     bool readsDirectionPair() const {
-        return type == detail::MaterialType::Diffuse || type == detail::MaterialType::Conductor;
+        return type == detail::MaterialType::Diffuse || type == detail::MaterialType::Conductor ||
+               type == detail::MaterialType::MetallicRoughness;
     }
     bool readsComponentNumber() const { return type == detail::MaterialType::Dielectric; }
     /// f(wo, wi) without the cosine; 0 for specular BSDFs.

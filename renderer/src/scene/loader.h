@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <map>
+#include <tuple>
 #include <string>
 #include <vector>
 
@@ -35,20 +36,21 @@ class Loader {
     void readEnvironment(const nlohmann::json& j, const std::string& where);
     TransformDesc readTransform(const nlohmann::json& j, const std::string& where,
                                 const TransformDesc& base);
-    void addMotion(const TransformDesc& start, const TransformDesc& end, std::size_t firstTriangle,
-                   const std::vector<Vec3>& objectPositions, const std::vector<Vec3>& objectNormals,
-                   const std::string& where);
     void readShape(const nlohmann::json& j, const std::string& where);
 
-    /// obj_import.cpp: appends the triangles of the OBJ file (transformed by `xf`), adding its
-    /// MTL materials unless JSON overrides them (or `overrideMaterial` >= 0 replaces them all).
-    /// For a moving shape, fills the object-space positions and normals.
-    void importObj(const std::filesystem::path& objPath, const Affine& xf, bool moving,
-                   int overrideMaterial, const std::string& where,
-                   std::vector<Vec3>& objectPositions, std::vector<Vec3>& objectNormals);
+    /// obj_import.cpp: adds the OBJ file as one mesh in its object space and returns its index,
+    /// adding its MTL materials unless JSON overrides them by name. Every vertex must stay within
+    /// the coordinate range in each of `poses` (the shape's transform, or every time step of
+    /// its motion). With `overrideMaterial` >= 0 the caller's instance replaces every material
+    /// (the mesh's own are then 0).
+    std::uint32_t importObj(const std::filesystem::path& objPath, const std::vector<Affine>& poses,
+                            int overrideMaterial, const std::string& where);
 
-    /// Loads (or finds) the texture at `path` (relative to the scene folder); returns its index.
+    /// Loads (or finds) the colour texture at `path` (relative to the scene folder), repeating;
+    /// returns its index.
     int loadTexture(const std::filesystem::path& path, const std::string& where);
+    /// Loads (or finds) a texture from a file or embedded bytes; returns its index.
+    int loadTexture(const Texture& source, const std::string& where);
     int materialIndex(const std::string& name) const {
         const auto it = m_materialIndex.find(name);
         return it == m_materialIndex.end() ? -1 : it->second;
@@ -61,9 +63,12 @@ class Loader {
     SceneData& m_scene;
     std::filesystem::path m_dir;
     std::map<std::string, int> m_materialIndex;
-    std::map<std::filesystem::path, int> m_textureIndex;
-    bool m_hasNormals = false, m_hasUvs = false;
+    std::map<std::tuple<std::filesystem::path, int, int, int>, int> m_textureIndex;
 };
+
+/// The largest side of the bounding box of every vertex of every instance in every pose
+/// (SceneData::extent).
+void computeExtent(SceneData& scene);
 
 /// image_import.cpp: reads an image file as linear RGB (grey replicated) multiplied by `scale`.
 /// Every value must be finite and >= 0: otherwise glint::Error(Format) names the image, the
@@ -71,6 +76,11 @@ class Loader {
 /// "environment image").
 Image readLinearRgb(const std::filesystem::path& image, float scale, const std::string& what,
                     const std::filesystem::path& sceneFile, const std::string& where);
+
+/// image_import.cpp: an image as RGBA (grey replicated, alpha 1 where there is none), every value
+/// finite and in [0, kMaxRadiance]; errors name `file` (the texture) and `where`.
+Image textureRgba(const Image& raw, const std::string& what, const std::filesystem::path& file,
+                  const std::string& where);
 
 /// image_import.cpp: `source` × `scale` with the same checks as readLinearRgb (for look edits).
 Image scaledRgb(const Image& source, float scale, const std::string& what,

@@ -106,15 +106,18 @@ Vec3 checkedColor(const std::array<double, 3>& v, double lo, double hi,
 void checkCanEmit(const SceneData& d, std::size_t material, const std::string& where) {
     double area = 0.0;
     bool used = false;
-    for (std::size_t t = 0; t < d.triangleCount(); ++t) {
-        if (d.triangleMaterial[t] != material) continue;
-        used = true;
-        if (!d.triangleMotion.empty() && d.triangleMotion[t] >= 0)
-            throw Error(ErrorKind::InvalidArgument,
-                        "a moving shape must not be emissive (area lights are static)",
-                        d.path.string(), where);
-        const Vec3& a = d.positions[3 * t];
-        area += triangleArea(a, d.positions[3 * t + 1], d.positions[3 * t + 2]);
+    for (std::uint32_t i = 0; i < d.instances.size(); ++i) {
+        const std::size_t n = d.meshes[d.instances[i].mesh].triangleCount();
+        for (std::uint32_t t = 0; t < n; ++t) {
+            if (d.materialOf(i, t) != material) continue;
+            used = true;
+            if (d.instances[i].motion >= 0)
+                throw Error(ErrorKind::InvalidArgument,
+                            "a moving shape must not be emissive (area lights are static)",
+                            d.path.string(), where);
+            const detail::TriangleView tri = d.triangle(i, t);
+            area += triangleArea(tri.p[0], tri.p[1], tri.p[2]);
+        }
     }
     if (used && !(area > 0.0))
         throw Error(ErrorKind::InvalidArgument,

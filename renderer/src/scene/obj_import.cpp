@@ -1,6 +1,7 @@
 // OBJ/MTL import through tinyobjloader: triangles, per-vertex normals and uvs, MTL materials
 // (JSON materials of the same name take precedence), map_Kd textures.
 #include <algorithm>
+#include <unordered_map>
 #include <cmath>
 #include <sstream>
 
@@ -15,6 +16,20 @@ namespace glint::render::detail {
 namespace fs = std::filesystem;
 
 namespace {
+
+/// An OBJ face corner: its position, normal and texture coordinate indices (-1: none).
+struct Corner {
+    int v, n, t;
+    bool operator==(const Corner&) const = default;
+};
+struct CornerHash {
+    std::size_t operator()(const Corner& c) const {
+        std::uint64_t h = std::uint64_t(std::uint32_t(c.v)) * 0x9e3779b97f4a7c15ULL;
+        h ^= (std::uint64_t(std::uint32_t(c.n)) + 0x632be59bd9b4e019ULL + (h << 6) + (h >> 2));
+        h ^= (std::uint64_t(std::uint32_t(c.t)) + 0x8cb92ba72f3d8dd7ULL + (h << 6) + (h >> 2));
+        return std::size_t(h);
+    }
+};
 
 Material materialFromMtl(const tinyobj::material_t& mtl) {
     Material m;
@@ -42,9 +57,8 @@ Material materialFromMtl(const tinyobj::material_t& mtl) {
 
 }  // namespace
 
-void Loader::importObj(const fs::path& objPath, const Affine& xf, bool moving, int overrideMaterial,
-                       const std::string& where, std::vector<Vec3>& objectPositions,
-                       std::vector<Vec3>& objectNormals) {
+std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affine>& poses,
+                                int overrideMaterial, const std::string& where) {
     std::error_code ec;  // odd paths (too long...) are reported, not thrown as filesystem errors
     if (!fs::exists(objPath, ec))
         throw Error(ErrorKind::Io, "OBJ file '" + objPath.string() + "' not found",
@@ -93,96 +107,106 @@ void Loader::importObj(const fs::path& objPath, const Affine& xf, bool moving, i
         texcoordCount != lines.texcoords.size())
         throw Error(ErrorKind::Format, "the OBJ reader and the scan disagree on the statements",
                     objPath.string());
-    // Every vertex after the shape's transform: finite and within kMaxCoordinate, so that areas,
+    // Every vertex in every pose of the shape: finite and within kMaxCoordinate, so that areas,
     // distances and the BVH stay finite.
-    std::vector<Vec3> world(vertexCount);
     for (std::size_t i = 0; i < vertexCount; ++i) {
         const float* p = &attrib.vertices[3 * i];
-        world[i] = xf.point({p[0], p[1], p[2]});
-        if (!isFinite(world[i]) || maxAbsComponent(world[i]) > kMaxCoordinate) {
+        for (const Affine& pose : poses) {
+            const Vec3 w = pose.point({p[0], p[1], p[2]});
+            if (isFinite(w) && maxAbsComponent(w) <= kMaxCoordinate) continue;
             std::ostringstream msg;
             msg << "vertex (" << p[0] << ", " << p[1] << ", " << p[2] << ") lies beyond "
                 << kMaxCoordinate << " (the largest coordinate) after the transform of " << where;
+            if (poses.size() > 1) msg << " during its motion";
             throw Error(ErrorKind::Format, msg.str(), objPath.string(),
                         "line " + std::to_string(lines.vertices[i]));
         }
     }
-    const std::size_t firstTriangle = m_scene.triangleCount();
+
+    // One mesh vertex per distinct (position, normal, texture coordinate) triple of the faces.
+    Mesh mesh;
+    mesh.name = objPath.filename().string();
+    std::unordered_map<Corner, std::uint32_t, CornerHash> corners;
     bool anyNormals = false, anyUvs = false;
+    auto addCorner = [&](const tinyobj::index_t& idx) -> std::uint32_t {
+        // scanObj checked every index; this guards the reader's own resolution.
+        if (idx.vertex_index < 0 || std::size_t(idx.vertex_index) >= vertexCount ||
+            idx.normal_index >= int(normalCount) || idx.texcoord_index >= int(texcoordCount))
+            throw Error(ErrorKind::Format, "a face index is out of range", objPath.string());
+        const auto [it, inserted] =
+            corners.try_emplace(Corner{idx.vertex_index, idx.normal_index, idx.texcoord_index},
+                                std::uint32_t(mesh.positions.size()));
+        if (!inserted) return it->second;
+        const float* p = &attrib.vertices[3 * std::size_t(idx.vertex_index)];
+        mesh.positions.push_back({p[0], p[1], p[2]});
+        Vec3 n{};
+        if (idx.normal_index >= 0) {
+            const float* q = &attrib.normals[3 * std::size_t(idx.normal_index)];
+            n = {q[0], q[1], q[2]};
+            anyNormals = anyNormals || length(n) > 0.0f;
+        }
+        mesh.normals.push_back(n);
+        Vec2 uv{};
+        if (idx.texcoord_index >= 0) {
+            const float* t = &attrib.texcoords[2 * std::size_t(idx.texcoord_index)];
+            uv = {t[0], t[1]};
+            anyUvs = true;
+        }
+        mesh.uvs.push_back(uv);
+        return it->second;
+    };
     for (const tinyobj::shape_t& shape : obj.GetShapes()) {
-        const auto& mesh = shape.mesh;
+        const auto& faces = shape.mesh;
         std::size_t offset = 0;
-        for (std::size_t f = 0; f < mesh.num_face_vertices.size(); ++f) {
-            const int fv = mesh.num_face_vertices[f];
+        for (std::size_t f = 0; f < faces.num_face_vertices.size(); ++f) {
+            const int fv = faces.num_face_vertices[f];
             if (fv != 3) {
                 offset += std::size_t(fv);
                 continue;
             }
-            int mat = overrideMaterial;
-            if (mat < 0) {
-                const int id = f < mesh.material_ids.size() ? mesh.material_ids[f] : -1;
-                if (id >= 0 && id < int(objMaterial.size())) {
-                    mat = objMaterial[id];
-                } else {
+            int mat = -1;
+            const int id = f < faces.material_ids.size() ? faces.material_ids[f] : -1;
+            if (id >= 0 && id < int(objMaterial.size())) {
+                mat = objMaterial[id];
+            } else if (overrideMaterial < 0) {
+                if (defaultMaterial < 0) {
+                    defaultMaterial = materialIndex("default");
                     if (defaultMaterial < 0) {
-                        defaultMaterial = materialIndex("default");
-                        if (defaultMaterial < 0) {
-                            Material m;
-                            m.name = "default";
-                            defaultMaterial = addMaterial(m);
-                        }
+                        Material m;
+                        m.name = "default";
+                        defaultMaterial = addMaterial(m);
                     }
-                    mat = defaultMaterial;
                 }
+                mat = defaultMaterial;
             }
-            for (int v = 0; v < 3; ++v) {
-                const tinyobj::index_t idx = mesh.indices[offset + std::size_t(v)];
-                // scanObj checked every index; this guards the reader's own resolution.
-                if (idx.vertex_index < 0 || std::size_t(idx.vertex_index) >= vertexCount ||
-                    idx.normal_index >= int(normalCount) ||
-                    idx.texcoord_index >= int(texcoordCount))
-                    throw Error(ErrorKind::Format, "a face index is out of range",
-                                objPath.string());
-                const float* p = &attrib.vertices[3 * std::size_t(idx.vertex_index)];
-                m_scene.positions.push_back(world[std::size_t(idx.vertex_index)]);
-                Vec3 n{};
-                if (idx.normal_index >= 0) {
-                    const float* q = &attrib.normals[3 * std::size_t(idx.normal_index)];
-                    n = xf.normal({q[0], q[1], q[2]});
-                    if (length(n) > 0.0f) n = normalize(n), anyNormals = true;
-                    if (moving) objectNormals.push_back({q[0], q[1], q[2]});
-                } else if (moving) {
-                    objectNormals.push_back({});
-                }
-                if (moving) objectPositions.push_back({p[0], p[1], p[2]});
-                m_scene.normals.push_back(n);
-                Vec2 uv{};
-                if (idx.texcoord_index >= 0) {
-                    const float* t = &attrib.texcoords[2 * std::size_t(idx.texcoord_index)];
-                    uv = {t[0], t[1]};
-                    anyUvs = true;
-                }
-                m_scene.uvs.push_back(uv);
-            }
-            m_scene.triangleMaterial.push_back(std::uint32_t(mat));
+            for (int v = 0; v < 3; ++v)
+                mesh.indices.push_back(addCorner(faces.indices[offset + std::size_t(v)]));
+            mesh.materials.push_back(std::uint32_t(std::max(mat, 0)));
             offset += 3;
         }
     }
-    m_hasNormals = m_hasNormals || anyNormals;
-    m_hasUvs = m_hasUvs || anyUvs;
+    if (!anyNormals) mesh.normals.clear();
+    if (!anyUvs) mesh.uvs.clear();
+    if (overrideMaterial >= 0) std::fill(mesh.materials.begin(), mesh.materials.end(), 0u);
 
     // A shape whose emissive faces have no area cannot emit: reject it clearly.
     double emissiveArea = 0.0;
     bool anyEmissive = false;
-    for (std::size_t t = firstTriangle; t < m_scene.triangleCount(); ++t) {
-        if (!m_scene.materials[m_scene.triangleMaterial[t]].emissive()) continue;
+    const Affine& pose = poses.front();
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const int material = overrideMaterial >= 0 ? overrideMaterial : int(mesh.materials[t]);
+        if (!m_scene.materials[std::size_t(material)].emissive()) continue;
         anyEmissive = true;
-        const Vec3& a = m_scene.positions[3 * t];
-        emissiveArea += triangleArea(a, m_scene.positions[3 * t + 1], m_scene.positions[3 * t + 2]);
+        const std::uint32_t* idx = &mesh.indices[3 * t];
+        emissiveArea += triangleArea(pose.point(mesh.positions[idx[0]]),
+                                     pose.point(mesh.positions[idx[1]]),
+                                     pose.point(mesh.positions[idx[2]]));
     }
     if (anyEmissive && !(emissiveArea > 0.0))
         throw Error(ErrorKind::Format, "emissive faces have zero total area (zero-area light)",
                     objPath.string(), where);
+    m_scene.meshes.push_back(std::move(mesh));
+    return std::uint32_t(m_scene.meshes.size() - 1);
 }
 
 }  // namespace glint::render::detail

@@ -19,28 +19,106 @@ const char* materialTypeName(MaterialType type) {
             return "dielectric";
         case MaterialType::Conductor:
             return "conductor";
+        case MaterialType::MetallicRoughness:
+            return "metallicRoughness";
     }
     return "?";
 }
 
-TriangleView SceneData::poseMoving(std::size_t t, float time, PosedTriangle& scratch) const {
-    const ShapeMotion& motion = motions[std::size_t(triangleMotion[t])];
-    // Step k and fraction within it, as Embree interpolates between time steps.
-    const int segments = int(motion.steps.size()) - 1;
-    const float f = std::clamp(time, 0.0f, 1.0f) * float(segments);
-    const int k = std::min(int(f), segments - 1);
-    const float frac = f - float(k);
-    const Affine& a = motion.steps[std::size_t(k)];
-    const Affine& b = motion.steps[std::size_t(k) + 1];
-    const std::size_t local = 3 * (t - motion.firstTriangle);
-    for (int v = 0; v < 3; ++v) {
-        const Vec3& x = motion.objectPositions[local + std::size_t(v)];
-        scratch.p[v] = lerp(frac, a.point(x), b.point(x));
-        const Vec3& n = motion.objectNormals[local + std::size_t(v)];
-        scratch.n[v] = lerp(frac, a.normal(n), b.normal(n));
+std::size_t Mesh::bytes() const {
+    return positions.size() * sizeof(Vec3) + normals.size() * sizeof(Vec3) +
+           tangents.size() * sizeof(Vec4) + uvs.size() * sizeof(Vec2) +
+           indices.size() * sizeof(std::uint32_t) + materials.size() * sizeof(std::uint32_t);
+}
+
+std::size_t SceneData::triangleCount() const {
+    std::size_t count = 0;
+    for (const Instance& inst : instances) count += meshes[inst.mesh].triangleCount();
+    return count;
+}
+
+TriangleView SceneData::triangle(std::uint32_t instance, std::uint32_t prim, float time) const {
+    const Instance& inst = instances[instance];
+    const Mesh& mesh = meshes[inst.mesh];
+    const std::uint32_t* idx = &mesh.indices[3 * std::size_t(prim)];
+    TriangleView tri;
+    tri.hasNormals = !mesh.normals.empty();
+    if (inst.motion >= 0) {
+        // Step k and fraction within it, as Embree interpolates between time steps.
+        const InstanceMotion& motion = motions[std::size_t(inst.motion)];
+        const int segments = int(motion.steps.size()) - 1;
+        const float f = std::clamp(time, 0.0f, 1.0f) * float(segments);
+        const int k = std::min(int(f), segments - 1);
+        const float frac = f - float(k);
+        const Affine& a = motion.steps[std::size_t(k)];
+        const Affine& b = motion.steps[std::size_t(k) + 1];
+        for (int v = 0; v < 3; ++v) {
+            const Vec3& x = mesh.positions[idx[v]];
+            tri.p[v] = lerp(frac, a.point(x), b.point(x));
+            if (tri.hasNormals) {
+                const Vec3& n = mesh.normals[idx[v]];
+                tri.n[v] = lerp(frac, a.normal(n), b.normal(n));
+            }
+        }
+    } else if (inst.identity) {
+        for (int v = 0; v < 3; ++v) {
+            tri.p[v] = mesh.positions[idx[v]];
+            if (tri.hasNormals) tri.n[v] = mesh.normals[idx[v]];
+        }
+    } else {
+        for (int v = 0; v < 3; ++v) {
+            tri.p[v] = inst.transform.point(mesh.positions[idx[v]]);
+            if (tri.hasNormals) {
+                const Vec3 n = inst.transform.normal(mesh.normals[idx[v]]);
+                tri.n[v] = length(n) > 0.0f ? normalize(n) : Vec3{};
+            }
+        }
     }
-    return {scratch.p, normals.empty() ? nullptr : scratch.n,
-            triangleNormal(scratch.p[0], scratch.p[1], scratch.p[2])};
+    tri.ng = triangleNormal(tri.p[0], tri.p[1], tri.p[2]);
+    return tri;
+}
+
+void SceneData::finishMeshes() {
+    std::vector<int> uses(meshes.size(), 0);
+    std::vector<bool> moving(meshes.size(), false);
+    for (const Instance& inst : instances) {
+        ++uses[inst.mesh];
+        if (inst.motion >= 0) moving[inst.mesh] = true;
+    }
+    std::vector<bool> baked(meshes.size(), false);
+    for (Instance& inst : instances) {
+        if (inst.identity || inst.motion >= 0 || uses[inst.mesh] != 1 || moving[inst.mesh])
+            continue;
+        baked[inst.mesh] = true;
+        Mesh& mesh = meshes[inst.mesh];
+        const Affine& xf = inst.transform;
+        for (Vec3& p : mesh.positions) p = xf.point(p);
+        for (Vec3& n : mesh.normals) {
+            const Vec3 w = xf.normal(n);
+            n = length(w) > 0.0f ? normalize(w) : Vec3{};
+        }
+        for (Vec4& t : mesh.tangents) {
+            const Vec3 w = xf.vector({t.x, t.y, t.z});
+            const float len = length(w);
+            const Vec3 u = len > 0.0f ? w / len : Vec3{};
+            t = {u.x, u.y, u.z, t.w};
+        }
+        inst.transform = Affine{};
+        inst.identity = true;
+    }
+    // Meshes only identity instances use are in world space as they are: their normals are made
+    // unit here, as baking makes those it transforms. Shared and moving meshes keep the file's
+    // normals; triangle() maps and normalises them.
+    std::vector<bool> worldOnly(meshes.size(), true);
+    for (const Instance& inst : instances)
+        if (!inst.identity || inst.motion >= 0) worldOnly[inst.mesh] = false;
+    for (std::size_t m = 0; m < meshes.size(); ++m) {
+        Mesh& mesh = meshes[m];
+        if (worldOnly[m] && !baked[m])
+            for (Vec3& n : mesh.normals) n = length(n) > 0.0f ? normalize(n) : Vec3{};
+        if (mesh.positions.capacity() == mesh.positions.size())
+            mesh.positions.reserve(mesh.positions.size() + 1);
+    }
 }
 
 }  // namespace detail
@@ -69,8 +147,12 @@ std::size_t Scene::triangleCount() const {
 
 std::size_t Scene::areaLightCount() const {
     std::size_t count = 0;
-    for (std::size_t t = 0; t < m_data->triangleCount(); ++t)
-        if (m_data->materials[m_data->triangleMaterial[t]].emissive()) ++count;
+    const detail::SceneData& d = *m_data;
+    for (std::uint32_t i = 0; i < d.instances.size(); ++i) {
+        const std::size_t n = d.meshes[d.instances[i].mesh].triangleCount();
+        for (std::uint32_t t = 0; t < n; ++t)
+            if (d.materials[d.materialOf(i, t)].emissive()) ++count;
+    }
     return count;
 }
 

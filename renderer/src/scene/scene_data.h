@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,7 +17,36 @@
 namespace glint::render::detail {
 
 /// Kinds of material ("type" in scene.json).
-enum class MaterialType { Diffuse, Mirror, Dielectric, Conductor };
+enum class MaterialType { Diffuse, Mirror, Dielectric, Conductor, MetallicRoughness };
+
+/// How a material lets light through its surface where it is not opaque (glTF alphaMode).
+enum class AlphaMode { Opaque, Mask, Blend };
+
+/// An affine map of texture coordinates, uv' = m · (u, v, 1): glTF's KHR_texture_transform
+/// (offset, rotation, scale) composed with the flip between glTF's top-left and Glint's
+/// bottom-left texture origin.
+struct UvTransform {
+    float m[2][3] = {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
+    bool identity = true;
+
+    Vec2 apply(Vec2 uv) const {
+        if (identity) return uv;
+        return {m[0][0] * uv.x + m[0][1] * uv.y + m[0][2], m[1][0] * uv.x + m[1][1] * uv.y + m[1][2]};
+    }
+    /// Maps a difference of texture coordinates (a footprint's axis).
+    Vec2 applyLinear(Vec2 d) const {
+        if (identity) return d;
+        return {m[0][0] * d.x + m[0][1] * d.y, m[1][0] * d.x + m[1][1] * d.y};
+    }
+};
+
+/// A texture a material reads, and how its texture coordinates are transformed.
+struct TextureSlot {
+    int texture = -1;  ///< index into SceneData::textures; -1: none
+    UvTransform transform;
+
+    bool present() const { return texture >= 0; }
+};
 
 /// The largest radiance a scene may emit (emission, environment colour × scale): its variance
 /// (up to about the square) must still fit a float EXR (3.4e38).
@@ -33,11 +63,14 @@ const char* materialTypeName(MaterialType type);
 struct Material {
     std::string name;
     MaterialType type = MaterialType::Diffuse;
-    Vec3 albedo{0.8f, 0.8f, 0.8f};
-    int texture = -1;
+    Vec3 albedo{0.8f, 0.8f, 0.8f};  ///< metallicRoughness: the base colour factor
+    int texture = -1;               ///< base colour texture (multiplies albedo for glTF assets)
+    UvTransform textureTransform;   ///< of `texture`
     Vec3 emission{};
     float ior = 1.5f;        ///< dielectric index of refraction
     float roughness = 0.0f;  ///< conductor: GGX alpha = roughness^2
+    float metallic = 1.0f;       ///< metallicRoughness: 0 dielectric base, 1 metal
+    float transmission = 0.0f;   ///< metallicRoughness: KHR_materials_transmission factor
     bool hasEtaK = false;    ///< conductor: complex Fresnel with eta/k, else Schlick(specular)
     Vec3 eta{1.0f, 1.0f, 1.0f};
     Vec3 k{};
@@ -47,6 +80,18 @@ struct Material {
     /// a strength of 0 keeps the colour).
     Vec3 emissionColor{1.0f, 1.0f, 1.0f};
     float emissionStrength = 0.0f;
+    /// metallicRoughness textures (glTF): roughness in G and metallic in B multiply the
+    /// factors; a tangent-space normal map scaled in xy by normalScale; emission multiplies
+    /// `emission`.
+    TextureSlot roughnessMetallicMap, normalMap, emissionMap;
+    float normalScale = 1.0f;
+    /// Where the surface is not there: alpha = opacity × base colour texture alpha; Mask cuts
+    /// out alpha < alphaCutoff, Blend lets light through with probability 1 − alpha.
+    AlphaMode alphaMode = AlphaMode::Opaque;
+    float opacity = 1.0f;
+    float alphaCutoff = 0.5f;
+    /// A texture's factor multiplies it (glTF) rather than being replaced by it (OBJ, JSON).
+    bool textureTimesFactor = false;
     bool fromJson = false;  ///< defined in scene.json's /materials (else by an MTL file)
     bool edited = false;    ///< changed through Scene::setLook since loading
 
@@ -59,13 +104,46 @@ struct Material {
     }
 };
 
-/// An RGB texture (linear values) looked up bilinearly with repeat wrapping.
+/// What a texture's values are: colour (decoded from sRGB when the file is sRGB-encoded, as
+/// 8-bit PNG and JPEG are) or data (normals, roughness and metallic: used as stored).
+enum class TextureUse { Color, Data };
+
+/// How texture coordinates outside [0, 1] wrap (glTF sampler wrapS/wrapT).
+enum class TextureWrap { Repeat, Clamp, Mirror };
+
+/// An RGBA texture looked up bilinearly.
 struct Texture {
-    std::filesystem::path path;
-    Image image;  ///< 3 channels, linear
+    std::filesystem::path path;  ///< the file, or for an embedded image "ASSET#images[i]"
+    /// An embedded image's encoded bytes (glTF bufferView or data URI); null for a file.
+    std::shared_ptr<const std::vector<unsigned char>> bytes;
+    TextureUse use = TextureUse::Color;
+    TextureWrap wrapS = TextureWrap::Repeat, wrapT = TextureWrap::Repeat;
+    Image image;  ///< 4 channels (RGBA; alpha 1 where the file has none), linear
 
     /// Bilinear lookup; uv origin at the bottom-left of the image (OBJ convention).
-    Vec3 lookup(Vec2 uv) const;
+    Vec4 lookup(Vec2 uv) const;
+};
+
+/// A punctual light of a glTF asset (KHR_lights_punctual): a delta light, reached only by
+/// next-event estimation. Intensities are radiometric: glTF's candela and lux divided by
+/// 683 lm/W, as Blender's importer converts them.
+struct PunctualLight {
+    enum class Kind { Point, Spot, Directional };
+    Kind kind = Kind::Point;
+    std::string name;
+    Vec3 position;           ///< world space (point, spot)
+    Vec3 direction;          ///< unit, where the light shines (spot, directional)
+    Vec3 intensity;          ///< W/sr (point, spot) or W/m² (directional), per channel
+    float cosInner = 1.0f;   ///< spot: full intensity inside this cone
+    float cosOuter = 0.0f;   ///< spot: none outside this cone
+};
+
+/// A camera an asset brings (glTF perspective cameras), in world space.
+struct AssetCamera {
+    std::string name;
+    Vec3 position, lookAt, up;
+    float fovY = 45.0f;          ///< degrees
+    float aspectRatio = 0.0f;    ///< width / height, 0 when the asset leaves it open
 };
 
 /// The camera of scene.json. With motion, position and lookAt move linearly from their values
@@ -96,28 +174,56 @@ struct EnvironmentDesc {
     bool edited = false;  ///< changed through Scene::setLook since loading
 };
 
-/// A shape that moves during the shutter. Its triangles [firstTriangle, firstTriangle + count)
-/// keep their shutter-open pose in SceneData::positions / normals; the pose at time step k
-/// (normalised time k / (steps.size() - 1)) is steps[k] applied to the object-space vertices.
-/// Between steps the vertices move linearly, exactly as Embree's motion-blur triangles do.
-struct ShapeMotion {
-    std::uint32_t firstTriangle = 0, triangleCount = 0;
-    std::vector<Affine> steps;          ///< at least 2
-    std::vector<Vec3> objectPositions;  ///< 3 per triangle, object space
-    std::vector<Vec3> objectNormals;    ///< 3 per triangle (zero = none), object space
+/// A triangle mesh, indexed: triangle t has corners indices[3t..3t+2]. Loaders build meshes in
+/// their object space; SceneData::finishMeshes then moves a mesh that only one static
+/// instance uses into world space (its instance's transform becomes the identity), so that only
+/// shared or moving meshes are transformed at render time.
+struct Mesh {
+    std::string name;               ///< for messages: the OBJ file, or the glTF mesh
+    std::vector<Vec3> positions;    ///< per vertex
+    std::vector<Vec3> normals;      ///< per vertex, or empty; a zero normal means none
+    std::vector<Vec4> tangents;     ///< per vertex, or empty: xyz unit tangent, w = ±1 handedness
+    std::vector<Vec2> uvs;          ///< per vertex, or empty
+    std::vector<std::uint32_t> indices;    ///< 3 per triangle
+    std::vector<std::uint32_t> materials;  ///< per triangle: index into SceneData::materials
+
+    std::size_t triangleCount() const { return indices.size() / 3; }
+    std::size_t vertexCount() const { return positions.size(); }
+    /// Bytes of the arrays above (for memory figures).
+    std::size_t bytes() const;
 };
 
-/// Scratch storage for the pose of a moving triangle (see SceneData::triangleAt).
-struct PosedTriangle {
-    Vec3 p[3], n[3];
+/// One placement of a mesh in the world. A static instance maps object to world space by
+/// `transform`; a moving one (motion >= 0) follows SceneData::motions[motion] over the shutter
+/// (its `transform` is the shutter-open pose).
+struct Instance {
+    std::uint32_t mesh = 0;
+    Affine transform;
+    bool identity = true;       ///< transform is the identity (mesh in world space)
+    std::int32_t motion = -1;   ///< index into SceneData::motions, or -1 (static)
+    std::int32_t material = -1; ///< replaces every triangle's material when >= 0
+    std::string name;           ///< for messages: the JSON place or glTF node
 };
 
-/// A triangle at one instant: vertices, per-vertex shading normals (nullptr when the scene has
-/// none; a zero normal means none) and the unit geometric normal.
+/// The motion of a moving instance: the pose at time step k (normalised time k / (steps - 1)) is
+/// steps[k]; between steps the vertices move linearly, exactly as Embree's motion-blur triangles
+/// do.
+struct InstanceMotion {
+    std::vector<Affine> steps;  ///< at least 2
+};
+
+/// A triangle at one instant in world space: vertices, per-vertex shading normals (valid when
+/// hasNormals; a zero normal means none) and the unit geometric normal.
 struct TriangleView {
-    const Vec3* p;
-    const Vec3* n;
+    Vec3 p[3];
+    Vec3 n[3];
     Vec3 ng;
+    bool hasNormals = false;
+};
+
+/// Where a ray hit: an instance and one of its mesh's triangles.
+struct SurfaceId {
+    std::uint32_t instance = 0, prim = 0;
 };
 
 /// Everything a Scene holds.
@@ -130,38 +236,44 @@ struct SceneData {
     CameraDesc camera;
     std::vector<Material> materials;
     std::vector<Texture> textures;
-    /// Triangle t has vertices positions[3t..3t+2] (world space).
-    std::vector<Vec3> positions;
-    /// Per-vertex shading normals parallel to positions, or empty; a zero normal means none.
-    std::vector<Vec3> normals;
-    /// Per-vertex texture coordinates parallel to positions, or empty.
-    std::vector<Vec2> uvs;
-    std::vector<std::uint32_t> triangleMaterial;
-    /// Unit geometric normal per triangle, cross(p1 - p0, p2 - p0) (+z for degenerate ones).
-    std::vector<Vec3> faceNormals;
+    std::vector<Mesh> meshes;
+    std::vector<Instance> instances;
+    std::vector<InstanceMotion> motions;
     /// The largest side of the bounding box of every vertex (every pose of moving shapes): the
     /// scale that ray offsets follow (1 for a scene without geometry).
     float extent = 1.0f;
     EnvironmentDesc environment;
-    /// Moving shapes (empty for a static scene).
-    std::vector<ShapeMotion> motions;
-    /// Per triangle: index into motions or -1; empty when no shape moves.
-    std::vector<std::int32_t> triangleMotion;
+    std::vector<PunctualLight> punctualLights;
+    std::vector<AssetCamera> assetCameras;
+    /// What the loader ignored and the user should know (an unread glTF extension...), one line
+    /// each.
+    std::vector<std::string> warnings;
 
-    std::size_t triangleCount() const { return triangleMaterial.size(); }
+    /// Triangles over every instance (an instanced mesh counts once per instance).
+    std::size_t triangleCount() const;
     /// True when a shape or the camera moves during the shutter.
     bool hasMotion() const { return !motions.empty() || camera.hasMotion; }
 
-    /// Triangle t at normalised shutter time `time` in [0, 1]. Static triangles return views of
-    /// the scene arrays; moving ones are posed into `scratch` (which the view then points to).
-    TriangleView triangleAt(std::size_t t, float time, PosedTriangle& scratch) const {
-        const Vec3* n = normals.empty() ? nullptr : &normals[3 * t];
-        if (triangleMotion.empty() || triangleMotion[t] < 0)
-            return {&positions[3 * t], n, faceNormals[t]};
-        return poseMoving(t, time, scratch);
+    /// The material index of a triangle of an instance.
+    std::uint32_t materialOf(std::uint32_t instance, std::uint32_t prim) const {
+        const Instance& inst = instances[instance];
+        return inst.material >= 0 ? std::uint32_t(inst.material)
+                                  : meshes[inst.mesh].materials[prim];
     }
-    /// The moving-triangle case of triangleAt.
-    TriangleView poseMoving(std::size_t t, float time, PosedTriangle& scratch) const;
+    std::uint32_t materialOf(SurfaceId s) const { return materialOf(s.instance, s.prim); }
+
+    /// Triangle `prim` of `instance` in world space at normalised shutter time `time` in [0, 1].
+    TriangleView triangle(std::uint32_t instance, std::uint32_t prim, float time) const;
+    /// The same at shutter open, for static instances (lights, bounds).
+    TriangleView triangle(std::uint32_t instance, std::uint32_t prim) const {
+        return triangle(instance, prim, 0.0f);
+    }
+
+    /// Ends loading: moves every mesh used by exactly one static instance into world space (the
+    /// instance's transform becomes the identity; meshes used by several instances or by moving
+    /// ones stay in object space), and pads each mesh's position storage by one vertex so that
+    /// Embree can read it in place (it reads 16 bytes per float3).
+    void finishMeshes();
 };
 
 }  // namespace glint::render::detail

@@ -67,16 +67,21 @@ std::uint64_t sceneContentHash(const detail::SceneData& d) {
     }
     for (const detail::Texture& t : d.textures) h.image(t.image);
     // Geometry.
-    h.vector(d.positions), h.vector(d.normals), h.vector(d.uvs);
-    h.vector(d.triangleMaterial), h.vector(d.triangleMotion);
-    for (const detail::ShapeMotion& m : d.motions) {
-        h.value(m.firstTriangle), h.value(m.triangleCount);
-        for (const detail::Affine& a : m.steps) {
-            h.bytes(a.m, sizeof a.m), h.bytes(a.nm, sizeof a.nm);
-            h.value(a.t);
-        }
-        h.vector(m.objectPositions), h.vector(m.objectNormals);
+    for (const detail::Mesh& m : d.meshes) {
+        h.vector(m.positions), h.vector(m.normals), h.vector(m.uvs);
+        for (const Vec4& t : m.tangents) h.bytes(&t, sizeof t);
+        h.vector(m.indices), h.vector(m.materials);
     }
+    auto affine = [&](const detail::Affine& a) {
+        h.bytes(a.m, sizeof a.m), h.bytes(a.nm, sizeof a.nm);
+        h.value(a.t);
+    };
+    for (const detail::Instance& i : d.instances) {
+        h.value(i.mesh), h.value(i.motion), h.value(i.material), h.value(int(i.identity));
+        affine(i.transform);
+    }
+    for (const detail::InstanceMotion& m : d.motions)
+        for (const detail::Affine& a : m.steps) affine(a);
     // Environment.
     const detail::EnvironmentDesc& e = d.environment;
     h.value(int(e.kind)), h.value(e.color), h.value(e.scale), h.value(e.rotateDeg);

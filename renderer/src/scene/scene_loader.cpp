@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "glint/image/error.h"
+#include "glint/image/io.h"
 #include "glint/render/scene.h"
 #include "scene/loader.h"
 #include "scene/scene_data.h"
@@ -44,14 +45,37 @@ int Loader::addMaterial(Material material) {
 }
 
 int Loader::loadTexture(const fs::path& path, const std::string& where) {
-    const fs::path full = path.is_absolute() ? path : m_dir / path;
-    const auto it = m_textureIndex.find(full);
+    Texture source;
+    source.path = path.is_absolute() ? path : m_dir / path;
+    return loadTexture(source, where);
+}
+
+int Loader::loadTexture(const Texture& source, const std::string& where) {
+    const auto key = std::tuple{source.path, int(source.use), int(source.wrapS), int(source.wrapT)};
+    const auto it = m_textureIndex.find(key);
     if (it != m_textureIndex.end()) return it->second;
-    Texture tex;
-    tex.path = full;
-    tex.image = readLinearRgb(full, 1.0f, "texture", m_reader.file(), where);
+    Texture tex = source;
+    const bool linearize = source.use == TextureUse::Color;
+    if (source.bytes) {
+        try {
+            tex.image = textureRgba(readImage(*source.bytes, source.path.string(), linearize),
+                                    "texture", source.path, where);
+        } catch (const Error& e) {
+            throw Error(e.kind(), e.message(), source.path.string(),
+                        where + (e.where().empty() ? "" : " (" + e.where() + ")"));
+        }
+    } else {
+        std::error_code ec;  // odd paths (too long...) are reported, not thrown
+        if (!fs::exists(source.path, ec))
+            throw Error(ErrorKind::Io, "texture file '" + source.path.string() + "' not found",
+                        m_reader.file().string(), where);
+        if (!fs::is_regular_file(source.path, ec))
+            throw Error(ErrorKind::Io, "texture '" + source.path.string() + "' is not a file",
+                        m_reader.file().string(), where);
+        tex.image = textureRgba(readImage(source.path, linearize), "texture", source.path, where);
+    }
     m_scene.textures.push_back(std::move(tex));
-    m_textureIndex[full] = int(m_scene.textures.size()) - 1;
+    m_textureIndex[key] = int(m_scene.textures.size()) - 1;
     return int(m_scene.textures.size()) - 1;
 }
 
@@ -80,31 +104,9 @@ void Loader::load(const json& root) {
             readShape(shapes[i], "/shapes/" + std::to_string(i));
     }
     if (root.contains("environment")) readEnvironment(root["environment"], "/environment");
-    if (!m_scene.motions.empty()) m_scene.triangleMotion.resize(m_scene.triangleCount(), -1);
     for (Material& m : m_scene.materials) m.deriveEmissionLook();
-    // Keep per-vertex arrays only when some shape provided them.
-    if (!m_hasNormals) m_scene.normals.clear();
-    if (!m_hasUvs) m_scene.uvs.clear();
-    m_scene.faceNormals.resize(m_scene.triangleCount());
-    for (std::size_t t = 0; t < m_scene.triangleCount(); ++t) {
-        const Vec3* v = &m_scene.positions[3 * t];
-        m_scene.faceNormals[t] = triangleNormal(v[0], v[1], v[2]);
-    }
-    // The scene's scale, for scale-free ray offsets (vecmath.h, rayEpsilon).
-    Vec3 lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
-            std::numeric_limits<float>::max()};
-    Vec3 hi = lo * -1.0f;
-    auto grow = [&](const Vec3& p) {
-        for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
-    };
-    for (const Vec3& p : m_scene.positions) grow(p);
-    for (const ShapeMotion& m : m_scene.motions)
-        for (const Affine& step : m.steps)
-            for (const Vec3& p : m.objectPositions) grow(step.point(p));
-    if (!m_scene.positions.empty()) {
-        const float extent = maxAbsComponent(hi - lo);
-        m_scene.extent = extent > 0.0f ? extent : std::max(maxAbsComponent(hi), 1e-30f);
-    }
+    m_scene.finishMeshes();
+    computeExtent(m_scene);
     if (m_scene.triangleCount() == 0 && m_scene.environment.kind == EnvironmentDesc::Kind::None)
         m_reader.fail("/shapes", "the scene has neither geometry nor an environment");
 }
@@ -304,40 +306,6 @@ TransformDesc Loader::readTransform(const json& j, const std::string& where,
     return desc;
 }
 
-void Loader::addMotion(const TransformDesc& start, const TransformDesc& end,
-                       std::size_t firstTriangle, const std::vector<Vec3>& objectPositions,
-                       const std::vector<Vec3>& objectNormals, const std::string& where) {
-    for (std::size_t t = firstTriangle; t < m_scene.triangleCount(); ++t)
-        if (m_scene.materials[m_scene.triangleMaterial[t]].emissive())
-            m_reader.fail(where, "a moving shape must not be emissive (area lights are static)");
-    const TransformMotion motion(start, end);
-    ShapeMotion shape;
-    shape.firstTriangle = std::uint32_t(firstTriangle);
-    shape.triangleCount = std::uint32_t(m_scene.triangleCount() - firstTriangle);
-    const int steps = motion.timeSteps();
-    for (int k = 0; k < steps; ++k) shape.steps.push_back(motion.at(float(k) / float(steps - 1)));
-    // Every pose must stay within the coordinate range, as the shutter-open one does.
-    for (const Affine& step : shape.steps)
-        for (const Vec3& p : objectPositions) {
-            const Vec3 q = step.point(p);
-            if (!isFinite(q) || maxAbsComponent(q) > kMaxCoordinate)
-                m_reader.fail(where, "a vertex leaves the coordinate range (±" +
-                                         std::to_string(kMaxCoordinate) + ") during the motion");
-        }
-    shape.objectPositions = objectPositions;
-    shape.objectNormals = objectNormals;
-    // The scene arrays hold the shutter-open pose (step 0), for code that ignores motion.
-    for (std::size_t i = 0; i < objectPositions.size(); ++i) {
-        m_scene.positions[3 * firstTriangle + i] = shape.steps[0].point(objectPositions[i]);
-        const Vec3 n = shape.steps[0].normal(objectNormals[i]);
-        m_scene.normals[3 * firstTriangle + i] = length(n) > 0.0f ? normalize(n) : Vec3{};
-    }
-    m_scene.triangleMotion.resize(m_scene.triangleCount(), -1);
-    for (std::size_t t = firstTriangle; t < m_scene.triangleCount(); ++t)
-        m_scene.triangleMotion[t] = std::int32_t(m_scene.motions.size());
-    m_scene.motions.push_back(std::move(shape));
-}
-
 void Loader::readShape(const json& j, const std::string& where) {
     m_reader.requireObject(j, where, {"obj", "material", "transform", "motion"});
     if (!j.contains("obj")) m_reader.fail(where + "/obj", "missing required key 'obj'");
@@ -360,8 +328,6 @@ void Loader::readShape(const json& j, const std::string& where) {
                  length(end.scale - start.scale) > 0.0f || end.degrees != start.degrees ||
                  (start.degrees != 0.0f && length(end.axis - start.axis) > 0.0f);
     }
-    const Affine xf = toAffine(start);
-    std::vector<Vec3> objectPositions, objectNormals;  // kept only for a moving shape
     int overrideMaterial = -1;
     if (j.contains("material")) {
         const std::string name = m_reader.string(j["material"], where + "/material");
@@ -370,10 +336,62 @@ void Loader::readShape(const json& j, const std::string& where) {
             m_reader.fail(where + "/material",
                           "material '" + name + "' is not defined in /materials");
     }
-    const std::size_t firstTriangle = m_scene.triangleCount();
-    importObj(objPath, xf, moving, overrideMaterial, where, objectPositions, objectNormals);
-    if (moving && m_scene.triangleCount() > firstTriangle)
-        addMotion(start, end, firstTriangle, objectPositions, objectNormals, where + "/motion");
+    Instance instance;
+    instance.transform = toAffine(start);
+    instance.identity = isIdentity(instance.transform);
+    instance.material = overrideMaterial;
+    instance.name = where;
+    std::vector<Affine> poses{instance.transform};
+    if (moving) {
+        const TransformMotion motion(start, end);
+        const int steps = motion.timeSteps();
+        poses.clear();
+        for (int k = 0; k < steps; ++k) poses.push_back(motion.at(float(k) / float(steps - 1)));
+    }
+    instance.mesh = importObj(objPath, poses, overrideMaterial, where);
+    const Mesh& mesh = m_scene.meshes[instance.mesh];
+    if (mesh.triangleCount() == 0) return;
+    if (moving) {
+        for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+            const int m = overrideMaterial >= 0 ? overrideMaterial : int(mesh.materials[t]);
+            if (m_scene.materials[std::size_t(m)].emissive())
+                m_reader.fail(where + "/motion",
+                              "a moving shape must not be emissive (area lights are static)");
+        }
+        instance.motion = std::int32_t(m_scene.motions.size());
+        instance.transform = poses.front();
+        instance.identity = false;
+        m_scene.motions.push_back({std::move(poses)});
+    }
+    m_scene.instances.push_back(std::move(instance));
+}
+
+void computeExtent(SceneData& scene) {
+    // The scene's scale, for scale-free ray offsets (vecmath.h, rayEpsilon): the bounding box
+    // of every vertex in every pose.
+    Vec3 lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
+            std::numeric_limits<float>::max()};
+    Vec3 hi = lo * -1.0f;
+    auto grow = [&](const Vec3& p) {
+        for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
+    };
+    bool any = false;
+    for (const Instance& inst : scene.instances) {
+        const Mesh& mesh = scene.meshes[inst.mesh];
+        any = any || !mesh.positions.empty();
+        if (inst.motion >= 0) {
+            for (const Affine& step : scene.motions[std::size_t(inst.motion)].steps)
+                for (const Vec3& p : mesh.positions) grow(step.point(p));
+        } else if (inst.identity) {
+            for (const Vec3& p : mesh.positions) grow(p);
+        } else {
+            for (const Vec3& p : mesh.positions) grow(inst.transform.point(p));
+        }
+    }
+    if (any) {
+        const float extent = maxAbsComponent(hi - lo);
+        scene.extent = extent > 0.0f ? extent : std::max(maxAbsComponent(hi), 1e-30f);
+    }
 }
 
 }  // namespace detail

@@ -4,23 +4,61 @@
 
 namespace glint::render::detail {
 
-Vec3 Texture::lookup(Vec2 uv) const {
+namespace {
+/// A texel index along an axis of n texels under `wrap` (i may be any integer).
+int wrapIndex(long i, int n, TextureWrap wrap) {
+    switch (wrap) {
+        case TextureWrap::Clamp:
+            return int(std::clamp<long>(i, 0, n - 1));
+        case TextureWrap::Mirror: {
+            const long period = 2L * n;
+            long k = ((i % period) + period) % period;
+            return int(k < n ? k : period - 1 - k);
+        }
+        case TextureWrap::Repeat:
+            break;
+    }
+    return int(((i % n) + n) % n);
+}
+
+/// The coordinate in [0, 1) (repeat, mirror: one period of two) or [0, 1] (clamp) that wrapping
+/// maps t to; non-finite coordinates become 0. Wrapping the coordinate before it becomes a
+/// texel index keeps huge or non-finite uvs from a mesh out of the float → integer conversion
+/// (which would be undefined behaviour).
+float wrapCoordinate(float t, TextureWrap wrap) {
+    if (!std::isfinite(t)) return 0.0f;
+    switch (wrap) {
+        case TextureWrap::Clamp:
+            return std::clamp(t, -1.0f, 2.0f);
+        case TextureWrap::Mirror:
+            return t - 2.0f * std::floor(0.5f * t);
+        case TextureWrap::Repeat:
+            break;
+    }
+    return t - std::floor(t);
+}
+}  // namespace
+
+Vec4 Texture::lookup(Vec2 uv) const {
     const int w = image.width(), h = image.height();
     // Texel centres at half-integers; v flipped because image rows run top to bottom.
-    // Repeat wrapping is applied to uv first, so huge or non-finite coordinates from a mesh never
-    // reach the float → integer conversions below (which would be undefined behaviour).
-    auto unit = [](float t) { return std::isfinite(t) ? t - std::floor(t) : 0.0f; };
-    const float x = unit(uv.x) * float(w) - 0.5f;
-    const float y = (1.0f - unit(uv.y)) * float(h) - 0.5f;
+    const float x = wrapCoordinate(uv.x, wrapS) * float(w) - 0.5f;
+    const float y = (1.0f - wrapCoordinate(uv.y, wrapT)) * float(h) - 0.5f;
     const float fx = std::floor(x), fy = std::floor(y);
     const float tx = x - fx, ty = y - fy;
-    auto wrap = [](long i, int n) { return int(((i % n) + n) % n); };
-    const int x0 = wrap(long(fx), w), x1 = wrap(long(fx) + 1, w);
-    const int y0 = wrap(long(fy), h), y1 = wrap(long(fy) + 1, h);
+    const int x0 = wrapIndex(long(fx), w, wrapS), x1 = wrapIndex(long(fx) + 1, w, wrapS);
+    const int y0 = wrapIndex(long(fy), h, wrapT), y1 = wrapIndex(long(fy) + 1, h, wrapT);
+    const int n = image.channels();
     auto texel = [&](int xi, int yi) {
-        return Vec3{image(xi, yi, 0), image(xi, yi, 1), image(xi, yi, 2)};
+        const float* p = image.row(yi) + std::size_t(xi) * std::size_t(n);
+        return n >= 4 ? Vec4{p[0], p[1], p[2], p[3]} : Vec4{p[0], p[1], p[2], 1.0f};
     };
-    return lerp(ty, lerp(tx, texel(x0, y0), texel(x1, y0)), lerp(tx, texel(x0, y1), texel(x1, y1)));
+    // a (1 − t) + b t, as lerp() computes it.
+    auto mix = [](float t, const Vec4& a, const Vec4& b) {
+        const float s = 1.0f - t;
+        return Vec4{a.x * s + b.x * t, a.y * s + b.y * t, a.z * s + b.z * t, a.w * s + b.w * t};
+    };
+    return mix(ty, mix(tx, texel(x0, y0), texel(x1, y0)), mix(tx, texel(x0, y1), texel(x1, y1)));
 }
 
 }  // namespace glint::render::detail

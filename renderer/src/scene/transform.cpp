@@ -25,6 +25,56 @@ Affine composeAffine(const Vec3& scale, const Quat& q, const Vec3& translate) {
     return a;
 }
 
+bool affineFromMatrix(const double rows[3][4], Affine& out) {
+    const auto& a = rows;
+    // Cofactors of M: (M^-1)^T = cof(M) / det(M).
+    const double c[3][3] = {{a[1][1] * a[2][2] - a[1][2] * a[2][1], a[1][2] * a[2][0] - a[1][0] * a[2][2],
+                             a[1][0] * a[2][1] - a[1][1] * a[2][0]},
+                            {a[0][2] * a[2][1] - a[0][1] * a[2][2], a[0][0] * a[2][2] - a[0][2] * a[2][0],
+                             a[0][1] * a[2][0] - a[0][0] * a[2][1]},
+                            {a[0][1] * a[1][2] - a[0][2] * a[1][1], a[0][2] * a[1][0] - a[0][0] * a[1][2],
+                             a[0][0] * a[1][1] - a[0][1] * a[1][0]}};
+    const double det = a[0][0] * c[0][0] + a[0][1] * c[0][1] + a[0][2] * c[0][2];
+    if (!(det != 0.0) || !std::isfinite(det)) return false;
+    for (int i = 0; i < 3; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            out.m[i][k] = float(a[i][k]);
+            out.nm[i][k] = float(c[i][k] / det);
+        }
+        out.t[i] = float(a[i][3]);
+    }
+    return true;
+}
+
+Affine compose(const Affine& a, const Affine& b) {
+    Affine r;
+    for (int i = 0; i < 3; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            double m = 0.0, n = 0.0;
+            for (int j = 0; j < 3; ++j) {
+                m += double(a.m[i][j]) * double(b.m[j][k]);
+                n += double(a.nm[i][j]) * double(b.nm[j][k]);
+            }
+            r.m[i][k] = float(m);
+            r.nm[i][k] = float(n);
+        }
+        double t = a.t[i];
+        for (int j = 0; j < 3; ++j) t += double(a.m[i][j]) * double(b.t[j]);
+        r.t[i] = float(t);
+    }
+    return r;
+}
+
+bool isIdentity(const Affine& a) {
+    for (int i = 0; i < 3; ++i) {
+        if (a.t[i] != 0.0f) return false;
+        for (int k = 0; k < 3; ++k)
+            if (a.m[i][k] != (i == k ? 1.0f : 0.0f) || a.nm[i][k] != (i == k ? 1.0f : 0.0f))
+                return false;
+    }
+    return true;
+}
+
 Affine toAffine(const TransformDesc& desc) {
     return composeAffine(desc.scale, quatFromAxisAngle(desc.axis, desc.degrees), desc.translate);
 }

@@ -19,6 +19,8 @@ struct Affine {
     Vec3 point(const Vec3& p) const { return linear(m, p) + t; }
     /// Maps a normal (not normalised).
     Vec3 normal(const Vec3& n) const { return linear(nm, n); }
+    /// Maps a direction (a tangent; not normalised).
+    Vec3 vector(const Vec3& v) const { return linear(m, v); }
     /// Applies a row-major 3×3 matrix.
     static Vec3 linear(const float a[3][3], const Vec3& v) {
         return {a[0][0] * v.x + a[0][1] * v.y + a[0][2] * v.z,
@@ -26,6 +28,16 @@ struct Affine {
                 a[2][0] * v.x + a[2][1] * v.y + a[2][2] * v.z};
     }
 };
+
+/// The affine map of a row-major 3×4 matrix [M | t]; the normal matrix is (M^-1)^T, computed in
+/// double. Returns false when M is singular (determinant 0 or not finite).
+bool affineFromMatrix(const double rows[3][4], Affine& out);
+
+/// a ∘ b: first b, then a (normal matrices compose the same way).
+Affine compose(const Affine& a, const Affine& b);
+
+/// True when `a` is exactly the identity.
+bool isIdentity(const Affine& a);
 
 /// A unit quaternion (w, x, y, z) for rotation interpolation.
 struct Quat {

@@ -4,6 +4,8 @@
 
 #include <filesystem>
 #include <functional>
+#include <span>
+#include <string>
 
 #include "glint/image/frame_buffers.h"
 #include "glint/image/image.h"
@@ -31,6 +33,11 @@ void writeExr(const FrameBuffers& frame, const std::filesystem::path& path,
 /// Reads any image OpenImageIO can read as float (all channels). If `linearize` and the file
 /// declares sRGB colour (8-bit PNG/JPEG...), values are converted to linear.
 Image readImage(const std::filesystem::path& path, bool linearize = true);
+
+/// readImage of an encoded PNG or JPEG held in memory (a glTF asset's embedded image); errors
+/// name `name`.
+Image readImage(std::span<const unsigned char> bytes, const std::string& name,
+                bool linearize = true);
 
 /// Writes a plain float image: float EXR when the extension is .exr, else 8-bit through OIIO with
 /// colour channels sRGB-encoded and clamped (alpha, the 2nd of 2 or 4th of 4 channels, linear).
