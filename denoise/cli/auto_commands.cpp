@@ -38,13 +38,15 @@ struct AutoArgs {
     std::string input, bank, out, reference, choiceMap, filters, space = "display",
                                                                  estimator = "auto";
     std::string stackFeatures;  ///< empty: the features the input has
-    int size = 64, shortlist = 16, stackWindow = AutoOptions{}.stackWindow,
-        stackSmooth = AutoOptions{}.stackSmooth,
-        stackFeatureWindow = AutoOptions{}.stackFeatureWindow;
+    // Integers are parsed strictly from their text (parseInteger, parseUnsigned); "": not given.
+    std::string size = "64", shortlist = "16",
+                stackWindow = std::to_string(AutoOptions{}.stackWindow),
+                stackSmooth = std::to_string(AutoOptions{}.stackSmooth),
+                stackFeatureWindow = std::to_string(AutoOptions{}.stackFeatureWindow);
     double stackRidge = AutoOptions{}.stackRidge, stackFloor = AutoOptions{}.stackFloor;
-    std::optional<int> window, finer, feather, stack;
+    std::string window, finer, feather, stack;
     double featherGate = 0.2;
-    std::uint64_t bankSeed = 1, seed = 1;
+    std::string bankSeed = "1", seed = "1";
     std::optional<double> temperature;
     double epsilon = 0.01;
     std::optional<double> confidence;
@@ -52,29 +54,40 @@ struct AutoArgs {
     bool prefilter = false, json = false, oneSided = false;
 };
 
+// Refuses before any work outputs that would replace one of the command's inputs.
+void checkOutputsAreNoInputs(const AutoArgs& a) {
+    for (const auto& [output, flag] :
+         {std::pair{a.out, "--out"}, std::pair{a.choiceMap, "--choice-map"}})
+        glint::cli::checkOutputIsNoInput(output, flag,
+                                         {{a.input, "IN"}, {a.reference, "--reference"}});
+    checkOutputIsNoBankFile(a.out, "--out", a.bank);
+    checkOutputIsNoBankFile(a.choiceMap, "--choice-map", a.bank);
+}
+
 void runAuto(const AutoArgs& a) {
     // Everything that needs no image is checked first; nothing is written before the end.
     glint::cli::checkOutputPath(a.out, {".exr"}, "--out");
     if (!a.choiceMap.empty()) glint::cli::checkOutputPath(a.choiceMap, {".png"}, "--choice-map");
+    checkOutputsAreNoInputs(a);
     glint::cli::removeTemporariesOnSignal({a.out, a.choiceMap});
     AutoOptions options;
-    options.window = a.window;
+    options.window = parseOptionalInteger(a.window, "--window");
     options.temperature = a.temperature;
     options.confidence = a.confidence;
-    options.finer = a.finer;
-    options.feather = a.feather;
+    options.finer = parseOptionalInteger(a.finer, "--finer");
+    options.feather = parseOptionalInteger(a.feather, "--feather");
     options.featherGate = a.featherGate;
     options.sure.epsilon = a.epsilon;
-    options.sure.seed = a.seed;
+    options.sure.seed = glint::cli::parseUnsigned(a.seed, glint::cli::kMaxSeed, "--seed");
     options.exposure = a.exposure;
     options.symmetric = !a.oneSided;
-    options.shortlist = a.shortlist;
-    options.stack = a.stack;
-    options.stackWindow = a.stackWindow;
+    options.shortlist = parseInteger(a.shortlist, "--shortlist");
+    options.stack = parseOptionalInteger(a.stack, "--stack");
+    options.stackWindow = parseInteger(a.stackWindow, "--stack-window");
     options.stackRidge = a.stackRidge;
-    options.stackSmooth = a.stackSmooth;
+    options.stackSmooth = parseInteger(a.stackSmooth, "--stack-smooth");
     options.stackFloor = a.stackFloor;
-    options.stackFeatureWindow = a.stackFeatureWindow;
+    options.stackFeatureWindow = parseInteger(a.stackFeatureWindow, "--stack-feature-window");
     // Unset: the features the input has; a list: exactly those (each must be there).
     if (!a.stackFeatures.empty()) options.stackAlbedo = options.stackNormal = false;
     if (!a.stackFeatures.empty() && a.stackFeatures != "none")
@@ -101,8 +114,8 @@ void runAuto(const AutoArgs& a) {
     }
     validate(options);
     BankOptions bankOptions;
-    bankOptions.size = a.size;
-    bankOptions.seed = a.bankSeed;
+    bankOptions.size = parseInteger(a.size, "--size");
+    bankOptions.seed = glint::cli::parseUnsigned(a.bankSeed, glint::cli::kMaxSeed, "--bank-seed");
     bankOptions.filters = splitList(a.filters);
     bankOptions.prefilter = a.prefilter;
     if (a.bank.empty()) {
@@ -197,7 +210,7 @@ void runAuto(const AutoArgs& a) {
         {"stackFeatures", result.stackFeatures},
         {"stackFeatureWindow", options.stackFeatureWindow},
         {"epsilon", a.epsilon},
-        {"seed", a.seed},
+        {"seed", options.sure.seed},
         {"bestMember", memberJson(bank, result.bestMember)},
         {"bestMemberEstimatedMse", result.estimatedMse[std::size_t(result.bestMember)]},
         {"bankSeconds", bankSeconds},
@@ -281,7 +294,8 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
                     "memory");
     cmd->add_option("--reference", a->reference, "Reference EXR: print SSIM/PSNR/relMSE");
     cmd->add_option("--size", a->size, "Without --bank: Latin-hypercube members (1 … 4096)");
-    cmd->add_option("--bank-seed", a->bankSeed, "Without --bank: seed of the Latin hypercube");
+    cmd->add_option("--bank-seed", a->bankSeed,
+                    "Without --bank: seed of the Latin hypercube (0 … 2^63 - 1)");
     cmd->add_option("--filters", a->filters, "Without --bank: only these filters, comma-separated");
     cmd->add_flag("--prefilter", a->prefilter, "Without --bank: build on prefiltered features");
     cmd->add_option(
@@ -305,12 +319,13 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
                     "No feathered weight where a member's display value is farther than this from "
                     "the unfeathered composite's (> 0; default 0.2)");
     cmd->add_option("--epsilon", a->epsilon, "Perturbation relative to the pixel's sigma");
-    cmd->add_option("--seed", a->seed, "Seed of the random +-1 perturbation");
+    cmd->add_option("--seed", a->seed, "Seed of the random +-1 perturbation (0 … 2^63 - 1)");
     cmd->add_option(
         "--space", a->space,
         "display (default) | display-tangent | display-exact (halves only) | linear: the "
         "error estimated");
-    cmd->add_option("--exposure", a->exposure, "Exposure of the display transform (stops)");
+    cmd->add_option("--exposure", a->exposure,
+                    "Exposure of the display transform (stops, -64 … 64)");
     cmd->add_option("--estimator", a->estimator,
                     "auto (default: halves when IN has half buffers, else sure) | sure | halves");
     cmd->add_flag("--one-sided", a->oneSided,

@@ -44,16 +44,40 @@ std::string memberText(const FilterBank& bank, int m) {
 
 struct BankArgs {
     std::string input, out, filters, roi, memoryLimit, members;
-    int size = 64;
-    std::uint64_t seed = 1;
+    std::string size = "64", seed = "1";  // parsed strictly (parseInteger, parseUnsigned)
     bool prefilter = false, json = false;
     std::vector<std::string> prefilterParams;
 };
 
+// Checks before any work that the bank folder `out` can be created or written: not a file, in an
+// existing folder, writable.
+void checkBankFolder(const std::string& out) {
+    std::error_code ec;
+    if (fs::exists(out, ec) && !fs::is_directory(out, ec))
+        throw Error(ErrorKind::InvalidArgument, "exists and is not a folder", out, "--out");
+    const fs::path parent =
+        fs::path(out).parent_path().empty() ? fs::path(".") : fs::path(out).parent_path();
+    if (!fs::is_directory(parent, ec))
+        throw Error(ErrorKind::InvalidArgument,
+                    "the folder '" + parent.string() + "' that would hold the bank does not exist",
+                    out, "--out");
+    // access() also reports a read-only file system (EROFS), even to root.
+    if (fs::is_directory(out, ec) && ::access(out.c_str(), W_OK | X_OK) != 0)
+        throw Error(ErrorKind::InvalidArgument,
+                    "the bank folder is not writable (a bank build writes its members and "
+                    "index.json there)",
+                    out, "--out");
+    if (!fs::exists(out, ec) && ::access(parent.c_str(), W_OK | X_OK) != 0)
+        throw Error(
+            ErrorKind::InvalidArgument,
+            "cannot create the bank folder: the folder '" + parent.string() + "' is not writable",
+            out, "--out");
+}
+
 void runBank(const BankArgs& a) {
     BankOptions options;
-    options.size = a.size;
-    options.seed = a.seed;
+    options.size = parseInteger(a.size, "--size");
+    options.seed = glint::cli::parseUnsigned(a.seed, glint::cli::kMaxSeed, "--seed");
     options.filters = splitList(a.filters);
     options.prefilter = a.prefilter;
     if (!a.memoryLimit.empty())
@@ -82,18 +106,15 @@ void runBank(const BankArgs& a) {
         options.cacheDir = a.out;  // validate() wants the shared folder
     }
     validate(options);  // before reading anything or creating the folder
-    std::error_code ec;
-    if (fs::exists(a.out, ec) && !fs::is_directory(a.out, ec))
-        throw Error(ErrorKind::InvalidArgument, "exists and is not a folder", a.out, "--out");
-    const fs::path parent =
-        fs::path(a.out).parent_path().empty() ? fs::path(".") : fs::path(a.out).parent_path();
-    if (!fs::is_directory(parent, ec))
-        throw Error(ErrorKind::InvalidArgument,
-                    "the folder '" + parent.string() + "' that would hold the bank does not exist",
-                    a.out, "--out");
+    glint::cli::checkOutputIsNoInput(a.out, "--out", {{a.input, "IN"}});
+    checkBankFolder(a.out);
     const FrameBuffers frame = readExr(a.input);
     if (!a.roi.empty()) options.region = parseRegion(a.roi, frame.width(), frame.height(), a.input);
-    fs::create_directories(a.out);
+    std::error_code ec;
+    fs::create_directories(a.out, ec);
+    if (ec)
+        throw Error(ErrorKind::Io, "cannot create the bank folder (" + ec.message() + ")", a.out,
+                    "--out");
     options.cacheDir = a.out;
     const bool tty = isatty(fileno(stderr)) != 0;
     if (tty && !a.json)
@@ -147,13 +168,25 @@ struct OracleArgs {
 void runOracle(const OracleArgs& a) {
     if (!a.choiceMap.empty()) {
         glint::cli::checkOutputPath(a.choiceMap, {".png"}, "--choice-map");
+        glint::cli::checkOutputIsNoInput(a.choiceMap, "--choice-map",
+                                         {{a.input, "IN"}, {a.reference, "--reference"}});
+        for (const std::string& other : a.expected)
+            glint::cli::checkOutputIsNoInput(a.choiceMap, "--choice-map", {{other, "--expected"}});
+        checkOutputIsNoBankFile(a.choiceMap, "--choice-map", a.bank);
         glint::cli::removeTemporariesOnSignal({a.choiceMap});
     }
     const FrameBuffers frame = readExr(a.input);
     const FrameBuffers ref = readReference(a.reference, frame.width(), frame.height());
     const auto t0 = Clock::now();
     const FilterBank bank = openBank(frame, a.bank);
-    const OracleResult r = oracle(bank, frame.color(), ref.color());
+    OracleResult r;
+    try {
+        r = oracle(bank, frame.color(), ref.color());
+    } catch (const Error& e) {
+        // About the bank (too few members, too small a region): name its folder.
+        if (e.file().empty()) throw Error(e.kind(), e.message(), a.bank, "--bank");
+        throw;
+    }
     const double seconds = secondsSince(t0);
     const json autoColumn = autoOracleColumn(bank, frame, ref.color(), a.bank);
     // The expected-error oracle over IN and the other renders (each must match IN's size).
@@ -235,7 +268,7 @@ void runOracle(const OracleArgs& a) {
 struct NavigateArgs {
     std::string input, reference, bank, roi, distance = "mse";
     bool simulate = false, json = false;
-    int k = 4;
+    std::string k = "4";  // parsed strictly (parseInteger)
     double p = 0.5;
 };
 
@@ -246,7 +279,7 @@ void runNavigate(const NavigateArgs& a) {
                     "interactively",
                     {}, "--simulate");
     TreeOptions options;
-    options.k = a.k;
+    options.k = parseInteger(a.k, "--k");
     options.p = a.p;
     if (a.distance == "ssim")
         options.distance = ImageDistance::Ssim;
@@ -265,9 +298,20 @@ void runNavigate(const NavigateArgs& a) {
             throw Error(ErrorKind::InvalidArgument, "the region lies outside the bank's region",
                         a.bank, "--roi");
     }
-    if (region.width() < 11 || region.height() < 11)
-        throw Error(ErrorKind::InvalidArgument, "the region must be at least 11x11 pixels (SSIM)",
-                    a.input, "--roi");
+    // SSIM needs its 11x11 window: say whose region is too small, the --roi or the bank's.
+    if (region.width() < 11 || region.height() < 11) {
+        const std::string size =
+            std::to_string(region.width()) + "x" + std::to_string(region.height());
+        if (!a.roi.empty())
+            throw Error(ErrorKind::InvalidArgument,
+                        "the region is " + size + "; navigation needs at least 11x11 pixels (SSIM)",
+                        a.input, "--roi");
+        throw Error(ErrorKind::InvalidArgument,
+                    "the bank covers " + size +
+                        " pixels; navigation needs at least 11x11 (SSIM): build the bank over a "
+                        "larger region",
+                    a.bank, "--bank");
+    }
     const auto t0 = Clock::now();
     const NavigationTree tree = NavigationTree::fromBank(bank, options, region);
     const double treeSeconds = secondsSince(t0);
@@ -339,7 +383,7 @@ std::vector<Command> addBankCommands(CLI::App& app) {
     bankCmd->add_option("--out", bank->out, "Bank folder (created; reused as a cache)")->required();
     bankCmd->add_option("--size", bank->size,
                         "Latin-hypercube members (1 … 4096; defaults on top)");
-    bankCmd->add_option("--seed", bank->seed, "Seed of the Latin hypercube");
+    bankCmd->add_option("--seed", bank->seed, "Seed of the Latin hypercube (0 … 2^63 - 1)");
     bankCmd->add_option("--filters", bank->filters, "Only these filters, comma-separated");
     bankCmd->add_flag("--prefilter", bank->prefilter, "Build on prefiltered features");
     bankCmd->add_option("--prefilter-param", bank->prefilterParams, "Prefilter parameter k=v");
@@ -375,7 +419,7 @@ std::vector<Command> addBankCommands(CLI::App& app) {
     navCmd->add_option("--reference", nav->reference, "Reference EXR")->required();
     navCmd->add_flag("--simulate", nav->simulate, "Pick the child closest to the reference");
     navCmd->add_option("--roi", nav->roi, "Region x0,x1,y0,y1 (inside the bank's region)");
-    navCmd->add_option("--k", nav->k, "Children per node (>= 2)");
+    navCmd->add_option("--k", nav->k, "Children per node (2 … 64)");
     navCmd->add_option("--p", nav->p, "Fraction of a node each child keeps, in (0, 1)");
     navCmd->add_option("--distance", nav->distance, "mse | ssim");
     navCmd->add_flag("--json", nav->json, "Print one JSON object on stdout");

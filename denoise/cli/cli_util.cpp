@@ -1,10 +1,13 @@
 // Helpers shared by glint-denoise's subcommands (commands.h).
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
+#include "cli_boundary.h"
 #include "commands.h"
 #include "glint/denoise/bank.h"
 #include "glint/image/error.h"
@@ -69,6 +72,50 @@ ParamValues parseParams(const std::vector<std::string>& given, const std::vector
     }
 }
 
+int parseInteger(const std::string& text, const char* flag) {
+    int value = 0;
+    const char* end = text.data() + text.size();
+    const auto [stop, ec] = std::from_chars(text.data(), end, value);
+    if (ec == std::errc::result_out_of_range)
+        throw Error(ErrorKind::InvalidArgument,
+                    "'" + text + "' is far outside the accepted range (see --help)", {}, flag);
+    if (text.empty() || ec != std::errc() || stop != end)
+        throw Error(ErrorKind::InvalidArgument, "expected a decimal integer, got '" + text + "'",
+                    {}, flag);
+    return value;
+}
+
+std::optional<int> parseOptionalInteger(const std::string& text, const char* flag) {
+    if (text.empty()) return std::nullopt;
+    return parseInteger(text, flag);
+}
+
+void checkOutsideSessionFolder(const std::string& output, const char* outputFlag,
+                               const std::string& session, const char* sessionFlag) {
+    namespace fs = std::filesystem;
+    if (output.empty() || session.empty()) return;
+    const fs::path sessionPath(session);
+    const fs::path side = sessionPath.parent_path() / sessionPath.stem();
+    const fs::path outFolder =
+        fs::path(output).parent_path().empty() ? fs::path(".") : fs::path(output).parent_path();
+    std::error_code ec;
+    if (fs::equivalent(outFolder, side, ec) && !ec)
+        throw Error(ErrorKind::InvalidArgument,
+                    "'" + output + "' lies in the side folder of the session given by " +
+                        sessionFlag + " ('" + side.string() +
+                        "'); writing there would replace the session's own files",
+                    {}, outputFlag);
+}
+
+void checkOutputIsNoBankFile(const std::string& output, const char* outputFlag,
+                             const std::string& bankDir) {
+    namespace fs = std::filesystem;
+    if (output.empty() || bankDir.empty()) return;
+    std::error_code ec;
+    for (const fs::directory_entry& entry : fs::directory_iterator(bankDir, ec))
+        glint::cli::checkOutputIsNoInput(output, outputFlag, {{entry.path().string(), "--bank"}});
+}
+
 // Parses "x0,x1,y0,y1" (half-open pixel rectangle).
 Rect parseRect(const std::string& text, const std::string& option) {
     std::vector<int> v;
@@ -89,14 +136,32 @@ Rect parseRect(const std::string& text, const std::string& option) {
     return {v[0], v[1], v[2], v[3]};
 }
 
+std::string regionProblem(const Rect& r, int width, int height) {
+    auto bound = [](const char* name, int v) {
+        return std::string(name) + " = " + std::to_string(v);
+    };
+    const std::string size = std::to_string(width) + "x" + std::to_string(height);
+    if (r.x1 <= r.x0)
+        return bound("x1", r.x1) + " is not greater than " + bound("x0", r.x0) +
+               ": the region is empty (x0,x1,y0,y1, half-open)";
+    if (r.y1 <= r.y0)
+        return bound("y1", r.y1) + " is not greater than " + bound("y0", r.y0) +
+               ": the region is empty (x0,x1,y0,y1, half-open)";
+    if (r.x1 > width)
+        return bound("x1", r.x1) + " is past the width " + std::to_string(width) +
+               ": the region lies outside the " + size + " image";
+    if (r.y1 > height)
+        return bound("y1", r.y1) + " is past the height " + std::to_string(height) +
+               ": the region lies outside the " + size + " image";
+    return "";
+}
+
 Rect parseRegion(const std::string& text, int width, int height, const std::string& file,
                  const std::string& option) {
     const Rect roi = parseRect(text, option);
-    if (roi.empty() || intersect(roi, Rect{0, width, 0, height}) != roi)
-        throw Error(ErrorKind::InvalidArgument,
-                    "'" + text + "' is empty or outside the " + std::to_string(width) + "x" +
-                        std::to_string(height) + " image (x0,x1,y0,y1, half-open)",
-                    file, option);
+    const std::string problem = regionProblem(roi, width, height);
+    if (!problem.empty())
+        throw Error(ErrorKind::InvalidArgument, "'" + text + "': " + problem, file, option);
     return roi;
 }
 

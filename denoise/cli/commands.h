@@ -51,8 +51,30 @@ std::pair<std::string, std::string> splitKeyValue(const std::string& text,
 ParamValues parseParams(const std::vector<std::string>& given, const std::vector<ParamSpec>& specs,
                         const std::string& owner, const std::string& option);
 
+/// Parses a whole decimal integer (an optional '-', then digits: no '+', spaces, hexadecimal or
+/// exponent, no overflow); `flag` names the option in the error. Ranges are checked by the
+/// options' validate().
+int parseInteger(const std::string& text, const char* flag);
+/// parseInteger for an option that may be left out: nullopt for "".
+std::optional<int> parseOptionalInteger(const std::string& text, const char* flag);
+
+/// Refuses before any work an output (a file) inside the side folder of the session file
+/// `session` (NAME.glint-session.json → NAME.glint-session/): writing there would replace the
+/// session's input or weights, or be removed by the session's next save.
+void checkOutsideSessionFolder(const std::string& output, const char* outputFlag,
+                               const std::string& session, const char* sessionFlag);
+
+/// Refuses before any work an output that is one of the files of the bank folder `bankDir` (its
+/// index or a member), compared by file identity.
+void checkOutputIsNoBankFile(const std::string& output, const char* outputFlag,
+                             const std::string& bankDir);
+
 /// Parses "x0,x1,y0,y1" (half-open pixel rectangle); `option` names the flag in errors.
 Rect parseRect(const std::string& text, const std::string& option = "--roi");
+
+/// What is wrong with `r` as a region of a width × height image ("" when nothing): which bound
+/// makes it empty or which lies past the image.
+std::string regionProblem(const Rect& r, int width, int height);
 
 /// parseRect, then checks the rectangle is non-empty and inside a width × height frame read
 /// from `file`.

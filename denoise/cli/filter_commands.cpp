@@ -98,6 +98,8 @@ void runList(bool asJson) {
 // `glint-denoise apply`: filter the colour of IN (optionally within a ROI) and write OUT.
 void runApply(const ApplyOptions& opt) {
     glint::cli::checkOutputPath(opt.output, {".exr"}, "--out");
+    glint::cli::checkOutputIsNoInput(opt.output, "--out",
+                                     {{opt.input, "IN"}, {opt.reference, "--reference"}});
     glint::cli::removeTemporariesOnSignal({opt.output});
     const Filter& filter = findFilter(opt.filter);
     // Validate everything that does not need the image before reading it.

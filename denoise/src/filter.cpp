@@ -89,6 +89,10 @@ double parseParamValue(const ParamSpec& spec, const std::string& text) {
         throw Error(ErrorKind::InvalidArgument,
                     "'" + text + "' is not a number (parameter '" + spec.name + "')");
     }
+    // strtod reads "nan", "inf" and overflows (1e400) to infinity: none is a parameter value.
+    if (!std::isfinite(v))
+        throw Error(ErrorKind::InvalidArgument,
+                    "'" + text + "' is not a finite number (parameter '" + spec.name + "')");
     return v;
 }
 
@@ -123,8 +127,9 @@ ParamValues resolveParams(const std::vector<ParamSpec>& specs, const ParamValues
         if (std::isnan(value) || value < spec.min || value > spec.max)
             throw Error(ErrorKind::InvalidArgument,
                         "parameter '" + spec.name + "' = " + std::to_string(value) +
-                            " is outside its range " + range.str() +
-                            "; valid parameters: " + describeParams(specs),
+                            (std::isnan(value) ? " is not a number in its range "
+                                               : " is outside its range ") +
+                            range.str() + "; valid parameters: " + describeParams(specs),
                         {}, where);
         if (spec.integer && value != std::floor(value))
             throw Error(ErrorKind::InvalidArgument,

@@ -18,8 +18,8 @@ int main(int argc, char** argv) {
     parser.setApplicationDescription(QStringLiteral(
         "Glint Studio: change the look, re-render at low spp, navigate or tune filters, paint them "
         "on, compare with a reference (docs/studio.md)."));
-    parser.addHelpOption();
-    parser.addVersionOption();
+    const QCommandLineOption help = parser.addHelpOption();
+    const QCommandLineOption version = parser.addVersionOption();
     parser.addPositionalArgument(
         QStringLiteral("file"),
         QStringLiteral("a scene.json, a layered EXR or a .glint-session.json"));
@@ -31,7 +31,15 @@ int main(int argc, char** argv) {
                                  QStringLiteral("do not offer to restore a crashed session"));
     parser.addOption(autosave);
     parser.addOption(noRestore);
-    parser.process(app);
+    // Not QCommandLineParser::process, which exits 1 on a bad option: a bad command line exits 2,
+    // as every Glint tool does.
+    if (!parser.parse(QApplication::arguments())) {
+        std::fprintf(stderr, "glint-studio: command line: %s (try --help)\n",
+                     qPrintable(parser.errorText()));
+        return 2;
+    }
+    if (parser.isSet(help)) parser.showHelp(0);
+    if (parser.isSet(version)) parser.showVersion();
     if (parser.positionalArguments().size() > 1) {
         std::fprintf(stderr, "glint-studio: expected at most one file, got %lld\n",
                      static_cast<long long>(parser.positionalArguments().size()));

@@ -6,6 +6,9 @@
 #include <CLI/CLI.hpp>
 
 #include <cctype>
+#include <charconv>
+#include <cstdint>
+#include <system_error>
 
 #include <csignal>
 #include <cstdio>
@@ -36,7 +39,7 @@ inline std::optional<int> parseCommandLine(CLI::App& app, int argc, char** argv,
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "%s: command line: %s\n", tool, e.what());
+        std::fprintf(stderr, "%s: command line: %s\n", tool, oneLine(e.what()).c_str());
         return 2;
     }
     return std::nullopt;
@@ -74,6 +77,49 @@ inline void checkOutputPath(const std::string& path, std::initializer_list<const
             ErrorKind::InvalidArgument,
             "cannot write '" + path + "': the folder '" + folder.string() + "' is not writable", {},
             flag);
+}
+
+/// Parses `text` as a whole unsigned decimal integer in [0, max] (no sign, no spaces, no
+/// overflow: "-1" is not 2^64 - 1 and a 20-digit number is not saturated). Throws
+/// glint::Error(InvalidArgument) naming `flag` and the range.
+inline std::uint64_t parseUnsigned(const std::string& text, std::uint64_t max, const char* flag) {
+    std::uint64_t value = 0;
+    const char* end = text.data() + text.size();
+    const auto [stop, ec] = std::from_chars(text.data(), end, value);
+    if (text.empty() || ec != std::errc() || stop != end || value > max)
+        throw Error(ErrorKind::InvalidArgument,
+                    "expected an integer in [0, " + std::to_string(max) + "], got '" + text + "'",
+                    {}, flag);
+    return value;
+}
+
+/// The largest seed any Glint tool takes (2^63 - 1, as glint-render's settings).
+inline constexpr std::uint64_t kMaxSeed = (std::uint64_t(1) << 63) - 1;
+
+/// An input of a command: the path given and the flag (or argument) that gave it.
+struct NamedInput {
+    std::string path;
+    std::string flag;
+};
+
+/// Refuses before any work an output that is one of the command's inputs, compared by file
+/// identity (device and inode), not by spelling: "./a.exr", a symlink and a hard link to an input
+/// are that input. Writing there would replace the input (a reference, the noisy render) with the
+/// result. Throws glint::Error(InvalidArgument) naming both flags.
+inline void checkOutputIsNoInput(const std::string& output, const char* outputFlag,
+                                 const std::vector<NamedInput>& inputs) {
+    namespace fs = std::filesystem;
+    if (output.empty()) return;
+    std::error_code ec;
+    if (!fs::exists(output, ec)) return;  // an input exists, so a missing output is none of them
+    for (const NamedInput& in : inputs) {
+        if (in.path.empty()) continue;
+        if (fs::equivalent(output, in.path, ec) && !ec)
+            throw Error(ErrorKind::InvalidArgument,
+                        "'" + output + "' is the same file as the input given by " + in.flag +
+                            " ('" + in.path + "'); writing it would destroy that input",
+                        {}, outputFlag);
+    }
 }
 
 namespace detail {
@@ -124,7 +170,7 @@ int runGuarded(const char* tool, Body&& body) {
                      tool);
         return 2;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "%s: internal error: %s\n", tool, e.what());
+        std::fprintf(stderr, "%s: internal error: %s\n", tool, oneLine(e.what()).c_str());
         return 1;
     }
 }

@@ -86,6 +86,26 @@ std::optional<std::vector<T>> parseList(const std::string& text, std::size_t cou
     return out;
 }
 
+/// Parses --false-color "lo,hi" and says exactly what is wrong with a range it cannot show: not
+/// two numbers, not finite, lo >= hi, two values float cannot tell apart, or a width beyond
+/// float's range.
+std::pair<float, float> parseFalseColorRange(const std::string& text) {
+    auto bad = [&](const std::string& what) {
+        return Error(ErrorKind::InvalidArgument, what + ", got '" + text + "'", "",
+                     "--false-color");
+    };
+    const auto range = parseList<double>(text, 2);
+    if (!range) throw bad("expected lo,hi (two numbers)");
+    const double lo = (*range)[0], hi = (*range)[1];
+    if (!std::isfinite(lo) || !std::isfinite(hi)) throw bad("expected two finite numbers");
+    if (!(lo < hi)) throw bad("expected lo < hi");
+    const float flo = float(lo), fhi = float(hi);
+    if (!std::isfinite(flo) || !std::isfinite(fhi) || !std::isfinite(fhi - flo))
+        throw bad("the range must fit a float: |lo|, |hi| and hi - lo at most 3.4e38");
+    if (!(flo < fhi)) throw bad("lo and hi are the same number in float precision");
+    return {flo, fhi};
+}
+
 /// The layer or single channel `name` of `frame` (empty name: colour).
 Image selectLayer(const FrameBuffers& frame, const std::string& name, const std::string& file) {
     std::vector<std::string> present;
@@ -257,14 +277,10 @@ void runConvert(const ConvertOptions& options) {
         throw Error(ErrorKind::InvalidArgument, "expected a finite number of stops", "",
                     "--exposure");
     if (!options.falseColor.empty()) {
-        const auto range = parseList<float>(options.falseColor, 2);
-        if (!range || !((*range)[1] > (*range)[0]))
-            throw Error(ErrorKind::InvalidArgument,
-                        "expected lo,hi with lo < hi, got '" + options.falseColor + "'", "",
-                        "--false-color");
+        const auto [lo, hi] = parseFalseColorRange(options.falseColor);
         display.falseColorChannel = 0;
-        display.falseColorLo = (*range)[0];
-        display.falseColorHi = (*range)[1];
+        display.falseColorLo = lo;
+        display.falseColorHi = hi;
     }
 
     const FrameBuffers frame = load(options.input).frame;
@@ -285,10 +301,9 @@ void runConvert(const ConvertOptions& options) {
 void runMerge(const MergeOptions& options) {
     checkOutputPath(options.output, {".exr"}, "--out");
     removeTemporariesOnSignal({options.output});
-    for (const std::string& file : options.shards)
-        if (std::filesystem::absolute(file) == std::filesystem::absolute(options.output))
-            throw Error(ErrorKind::InvalidArgument, "--out would overwrite the shard " + file,
-                        "command line", "--out");
+    std::vector<NamedInput> inputs;
+    for (const std::string& file : options.shards) inputs.push_back({file, "SHARD.exr"});
+    checkOutputIsNoInput(options.output, "--out", inputs);
     // Headers first (the whole set is checked), then one input at a time.
     const auto start = std::chrono::steady_clock::now();
     const FrameBuffers merged =

@@ -64,9 +64,14 @@ Image toDisplay(const Image& linear, const DisplayOptions& options) {
             throw Error(ErrorKind::InvalidArgument,
                         "false-colour channel " + std::to_string(options.falseColorChannel) +
                             " outside an image with " + std::to_string(n) + " channels");
-        if (!(options.falseColorHi > options.falseColorLo) ||
-            !std::isfinite(options.falseColorHi - options.falseColorLo))
-            throw Error(ErrorKind::InvalidArgument, "false-colour range needs finite lo < hi");
+        if (!(options.falseColorHi > options.falseColorLo))
+            throw Error(ErrorKind::InvalidArgument, "false-colour range needs lo < hi, got lo " +
+                                                        std::to_string(options.falseColorLo) +
+                                                        ", hi " +
+                                                        std::to_string(options.falseColorHi));
+        if (!std::isfinite(options.falseColorHi - options.falseColorLo))
+            throw Error(ErrorKind::InvalidArgument,
+                        "false-colour range hi - lo overflows float (at most 3.4e38)");
     }
 
     const float scale = std::exp2(options.exposure);

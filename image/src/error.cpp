@@ -22,12 +22,35 @@ const char* errorKindName(ErrorKind kind) {
     return "unknown";
 }
 
+std::string oneLine(const std::string& text) {
+    std::string out;
+    out.reserve(text.size());
+    for (const char ch : text) {
+        const auto c = static_cast<unsigned char>(ch);
+        if (c >= 0x20 && c != 0x7f) {
+            out += ch;
+        } else if (c == '\n') {
+            out += "\\n";
+        } else if (c == '\r') {
+            out += "\\r";
+        } else if (c == '\t') {
+            out += "\\t";
+        } else {
+            static const char hex[] = "0123456789abcdef";
+            out += "\\x";
+            out += hex[c >> 4];
+            out += hex[c & 15];
+        }
+    }
+    return out;
+}
+
 namespace {
 std::string compose(const std::string& message, const std::string& file, const std::string& where) {
     std::string text;
     if (!file.empty()) text += file + ": ";
     if (!where.empty()) text += where + ": ";
-    return text + message;
+    return oneLine(text + message);
 }
 }  // namespace
 

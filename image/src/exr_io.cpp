@@ -16,6 +16,7 @@
 #include <system_error>
 
 #include "channel_aliases.h"
+#include "exr_layout.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "oiio_helpers.h"
@@ -151,22 +152,21 @@ FrameBuffers readExr(const std::filesystem::path& path) {
     if (format != "openexr")
         throw Error(ErrorKind::Format, "expected an OpenEXR file, got a " + format + " file", file,
                     "open");
-    const OIIO::ImageSpec spec = in->spec();
-    if (spec.deep)
-        throw Error(ErrorKind::Format, "deep EXR files are not supported", file, "header");
+    const detail::ExrLayout layout = detail::readExrLayout(*in, file);
+    const OIIO::ImageSpec& spec = layout.spec;
     if (spec.width <= 0 || spec.height <= 0 || spec.depth != 1)
         throw Error(ErrorKind::Format, "expected a 2D image with pixels", file, "header");
-    checkPlausibleSize(spec.width, spec.height, spec.nchannels, path);
+    checkPlausibleSize(spec.width, spec.height, layout.channels(), path);
 
     bool hasGlintAttributes = false;
     for (const OIIO::ParamValue& p : spec.extra_attribs)
         hasGlintAttributes |= p.name().string().rfind(kPrefix, 0) == 0;
-    const detail::ChannelPlan plan = detail::planChannels(
-        {spec.channelnames.begin(), spec.channelnames.end()}, hasGlintAttributes, file);
+    const detail::ChannelPlan plan =
+        detail::planChannels(layout.channelNames, hasGlintAttributes, file);
     FrameMetadata metadata = readMetadata(spec, plan, file);
 
     // Destination layers, with where each of their channels lies in the file.
-    const int w = spec.width, h = spec.height, n = spec.nchannels;
+    const int w = spec.width, h = spec.height, n = layout.channels();
     FrameBuffers frame(w, h);
     struct Target {
         float* data;
@@ -192,16 +192,11 @@ FrameBuffers readExr(const std::filesystem::path& path) {
 
     // Read strips of all channels as float32 (bit-exact for float files) and scatter them into
     // the layers, pixel by pixel so that every buffer is walked once in order.
-    constexpr int kStripRows = 32;
-    std::vector<float> strip(std::size_t(kStripRows) * w * n);
-    for (int y0 = 0; y0 < h; y0 += kStripRows) {
-        const int y1 = std::min(h, y0 + kStripRows);
-        if (!in->read_scanlines(0, 0, spec.y + y0, spec.y + y1, spec.z, 0, n, OIIO::TypeFloat,
-                                strip.data()))
-            throw Error(
-                ErrorKind::Format,
-                "truncated or corrupt pixel data (" + detail::firstLine(in->geterror()) + ")", file,
-                "rows " + std::to_string(y0) + "-" + std::to_string(y1 - 1));
+    const int stripRows = layout.stripRows();
+    std::vector<float> strip(std::size_t(std::min(stripRows, h)) * w * n);
+    for (int y0 = 0; y0 < h; y0 += stripRows) {
+        const int y1 = std::min(h, y0 + stripRows);
+        detail::readExrRows(*in, layout, y0, y1, strip.data(), file);
         tbb::parallel_for(tbb::blocked_range<int>(y0, y1), [&](const tbb::blocked_range<int>& r) {
             for (int y = r.begin(); y != r.end(); ++y) {
                 const float* src = strip.data() + std::size_t(y - y0) * w * n;

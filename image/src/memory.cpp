@@ -104,6 +104,13 @@ std::uint64_t parseMemorySize(const std::string& text, const std::string& where)
         throw bad();
     const double bytes = v * scale;
     if (bytes >= 0x1p64) throw bad();
+    // No work fits in nothing, and 0 would read as "no limit given" (the default budget).
+    if (bytes < 1.0)
+        throw Error(ErrorKind::InvalidArgument,
+                    "'" + text +
+                        "' is no memory at all; expected a size of at least 1 byte (omit "
+                        "the option for the default, what the machine has available)",
+                    {}, where);
     return std::uint64_t(bytes);
 }
 

@@ -29,6 +29,10 @@ OIIO::ImageInput::unique_ptr openImage(const std::filesystem::path& path) {
         throw Error(ErrorKind::Io, "file does not exist", file, "open");
     if (std::filesystem::is_directory(status))
         throw Error(ErrorKind::Io, "is a directory, expected an image file", file, "open");
+    if (!std::filesystem::is_regular_file(status))
+        throw Error(ErrorKind::Io,
+                    "is not a regular file (a device or a pipe), expected an image file", file,
+                    "open");
 
     // libpng prints its own line for a damaged file: catch the damage first.
     // A truncated JPEG decodes without an error: catch that too.

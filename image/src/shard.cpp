@@ -2,7 +2,9 @@
 #include "glint/image/shard.h"
 
 #include <algorithm>
+#include <atomic>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <optional>
@@ -13,6 +15,7 @@
 #include <tbb/parallel_for.h>
 
 #include "channel_aliases.h"
+#include "exr_layout.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "oiio_helpers.h"
@@ -138,7 +141,8 @@ Piece readPieceHeader(const std::string& file) {
         throw Error(ErrorKind::Format,
                     "expected an OpenEXR file, got a " + std::string(in->format_name()) + " file",
                     file, "open");
-    const OIIO::ImageSpec& spec = in->spec();
+    const detail::ExrLayout layout = detail::readExrLayout(*in, file);
+    const OIIO::ImageSpec& spec = layout.spec;
     FrameMetadata md;
     bool glint = false;
     for (const OIIO::ParamValue& p : spec.extra_attribs) {
@@ -160,8 +164,7 @@ Piece readPieceHeader(const std::string& file) {
             md.extra[key] = value;
         }
     }
-    const detail::ChannelPlan plan =
-        detail::planChannels({spec.channelnames.begin(), spec.channelnames.end()}, glint, file);
+    const detail::ChannelPlan plan = detail::planChannels(layout.channelNames, glint, file);
     std::vector<bool> present(kLayerCount, false);
     for (const detail::LayerSource& src : plan.layers) present[int(src.layer)] = true;
     std::string layers;
@@ -241,6 +244,68 @@ std::vector<std::size_t> checkSet(const std::vector<Piece>& pieces, MergeKind ki
         throw Error(ErrorKind::InvalidArgument, "a shard must have a sampleCount layer", first.file,
                     "sampleCount");
     return order;
+}
+
+/// Refuses a pixel no render writes before it enters a merge, where it would spread into the
+/// merged means and variances without a word: a sample count that is not a whole number in
+/// [0, the samples the shard holds], a half count above its pixel's count, a non-finite value,
+/// a negative variance. Names the file, the layer and the first such pixel in row order.
+void checkShardPixels(const FrameBuffers& f, const Piece& piece) {
+    const float maxCount = float(piece.info.sampleEnd - piece.info.sampleBegin);
+    const Image& counts = f.layer(Layer::SampleCount);
+    /// The largest value channel values of `layer` at (x, y) may take (+inf: no bound).
+    auto countBound = [&](Layer layer, int x, int y) {
+        return layer == Layer::SampleCount ? maxCount : counts(x, y, 0);
+    };
+    auto ok = [&](Layer layer, float v, int x, int y) {
+        if (!std::isfinite(v)) return false;
+        if (layer == Layer::SampleCount || layer == Layer::HalfSampleCount)
+            return v >= 0.0f && v == std::floor(v) && v <= countBound(layer, x, y);
+        return v >= 0.0f || !varianceOf(layer);
+    };
+    // The first bad pixel by row: rows are checked in parallel, the lowest bad row wins.
+    const int width = f.width(), height = f.height();
+    auto rowOk = [&](int y) {
+        for (int l = 0; l < kLayerCount; ++l)
+            if (const Image* im = f.find(Layer(l)))
+                for (int x = 0; x < width; ++x)
+                    for (int c = 0; c < im->channels(); ++c)
+                        if (!ok(Layer(l), (*im)(x, y, c), x, y)) return false;
+        return true;
+    };
+    std::atomic<int> firstBad{height};
+    tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& r) {
+        for (int y = r.begin(); y != r.end() && y < firstBad.load(); ++y) {
+            if (rowOk(y)) continue;
+            int seen = firstBad.load();
+            while (y < seen && !firstBad.compare_exchange_weak(seen, y)) {
+            }
+            return;
+        }
+    });
+    const int y = firstBad.load();
+    for (int x = 0; y < height && x < width; ++x)
+        for (int l = 0; l < kLayerCount; ++l) {
+            const Image* im = f.find(Layer(l));
+            for (int c = 0; im && c < im->channels(); ++c) {
+                const float v = (*im)(x, y, c);
+                if (ok(Layer(l), v, x, y)) continue;
+                const bool count =
+                    Layer(l) == Layer::SampleCount || Layer(l) == Layer::HalfSampleCount;
+                char value[32];
+                std::snprintf(value, sizeof value, "%g", double(v));
+                throw Error(ErrorKind::Format,
+                            "corrupt shard pixel: " + std::string(value) +
+                                (count ? "; expected a whole sample count in [0, " +
+                                             std::to_string(int(countBound(Layer(l), x, y))) + "]"
+                                 : !std::isfinite(v) ? "; expected a finite value"
+                                                     : "; expected a variance >= 0") +
+                                " (nothing was merged)",
+                            piece.file,
+                            "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") " +
+                                channelName(Layer(l), c));
+            }
+        }
 }
 
 /// Chan, Golub and LeVeque 1979, eq. 2.1: adds a group of `nb` samples with mean `meanB` and
@@ -499,6 +564,7 @@ FrameBuffers mergeShards(std::vector<ShardFrame> shards, MergeKind kind) {
     std::vector<Piece> pieces;
     for (const ShardFrame& s : shards) pieces.push_back(pieceOf(s.file, s.frame));
     const std::vector<std::size_t> order = checkSet(pieces, kind);
+    for (std::size_t k : order) checkShardPixels(shards[k].frame, pieces[k]);
     Accumulator sum(shards[order[0]].frame);
     MergedMetadata md;
     for (std::size_t k : order) {
@@ -529,6 +595,7 @@ FrameBuffers mergeShardFiles(const std::vector<std::string>& files, MergeKind ki
                             shardName(pieces[k].info) + "; now: shard " + shardName(read.info) +
                             (diff.empty() ? "" : ", " + diff) + ")",
                         files[k]);
+        checkShardPixels(frame, read);
         if (!sum) sum.emplace(frame);
         sum->add(frame);
         md.add(frame.metadata());

@@ -74,14 +74,21 @@ void drawBar(double fraction, int pass) {
 int run(const Options& opt) {
     const bool tty = isatty(fileno(stderr)) != 0;
     auto stage = [&](const std::string& line) {
-        if (!opt.json || !tty) std::fprintf(stderr, "glint-render: %s\n", line.c_str());
+        if (!opt.json || !tty)
+            std::fprintf(stderr, "glint-render: %s\n", glint::oneLine(line).c_str());
     };
     // Everything that does not need the scene is checked before any work.
     glint::cli::checkOutputPath(opt.out, {".exr"}, "--out");
+    glint::cli::checkOutputIsNoInput(opt.out, "--out", {{opt.reference, "--reference"}});
     glint::cli::removeTemporariesOnSignal({opt.out});
     const auto t0 = std::chrono::steady_clock::now();
     stage("loading " + opt.scene);
     glint::render::Scene scene = glint::render::loadScene(opt.scene);
+    // The scene's images are inputs too (an environment EXR).
+    std::vector<glint::cli::NamedInput> images;
+    for (const auto& image : scene.imageFiles())
+        images.push_back({image.string(), "the scene (" + opt.scene + ")"});
+    glint::cli::checkOutputIsNoInput(opt.out, "--out", images);
     Settings settings = scene.settings();
     if (opt.spp)
         settings.spp = *opt.spp;
@@ -214,6 +221,16 @@ int run(const Options& opt) {
     if (tty && !opt.json) std::fprintf(stderr, "\n");
     stage("writing " + opt.out);
     glint::writeExr(frame, opt.out);
+    // A variance below float's range is written as 0: say so, it is no estimate of the noise.
+    const auto underflow = frame.metadata().extra.find(glint::kVarianceUnderflowKey);
+    const long long underflowPixels =
+        underflow == frame.metadata().extra.end() ? 0 : std::stoll(underflow->second);
+    if (underflowPixels > 0)
+        std::fprintf(stderr,
+                     "glint-render: warning: the variance of %lld pixels is below float's range "
+                     "(radiance about 1e-19 or less) and is written as 0; variance-based denoising "
+                     "will see no noise there (scale the emission up)\n",
+                     underflowPixels);
 
     const double samplesPerSecond =
         stats.seconds > 0.0 ? double(stats.samples) / stats.seconds : 0.0;
@@ -235,6 +252,7 @@ int run(const Options& opt) {
                             {"samplesPerSecond", samplesPerSecond},
                             {"raysPerSecond", raysPerSecond},
                             {"nonFiniteSamples", stats.nonFiniteSamples},
+                            {"varianceUnderflowPixels", underflowPixels},
                             {"passes", passes}};
         if (reference) j["relMse"] = lastRelMse, j["ssim"] = lastSsim;
         if (settings.shard) {

@@ -109,14 +109,15 @@ void validate(const Settings& s) {
             "the zsobol sampler needs a fixed spp (no time limit): it lays each pixel's samples "
             "out as a block of 2^ceil(log2 spp) indices");
     if (s.shard) {
+        // The time limit first: with it spp is open (0), and the spp bound would mislead.
+        if (s.timeLimit > 0.0)
+            bad("shard", "a shard needs a fixed spp (no time limit): shards split the samples");
         if (s.shard->count < 1 || s.shard->count > std::max(s.spp, 1))
             bad("shard", "the number of shards must be in [1, spp = " + std::to_string(s.spp) +
                              "], got " + std::to_string(s.shard->count));
         if (s.shard->index < 0 || s.shard->index >= s.shard->count)
             bad("shard", "shard index must be in [0, " + std::to_string(s.shard->count - 1) +
                              "], got " + std::to_string(s.shard->index));
-        if (s.timeLimit > 0.0)
-            bad("shard", "a shard needs a fixed spp (no time limit): shards split the samples");
         if (s.integrator != Integrator::Path)
             bad("shard",
                 "sharding works with the path integrator only (Metropolis chains are "

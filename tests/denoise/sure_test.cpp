@@ -295,6 +295,23 @@ TEST(Sure, MissingVarianceLayerIsRefusedNamingTheLayer) {
     EXPECT_THROW(estimateSure(findFilter("gaussian"), f, {}), Error);
 }
 
+TEST(Sure, AVarianceLayerTheRendererSaysUnderflowedIsRefused) {
+    // glint-render marks a frame whose variance fell below float's range (written as 0): SURE,
+    // which would read those pixels as noise-free, refuses it and says why.
+    FrameBuffers f = testing::syntheticFrame(24, 20, 0.05f);
+    ASSERT_NO_THROW(checkSureInput(f, "dim.exr"));
+    f.metadata().extra[kVarianceUnderflowKey] = "480";
+    try {
+        checkSureInput(f, "dim.exr");
+        FAIL() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::Numeric);
+        EXPECT_EQ(e.file(), "dim.exr");
+        EXPECT_EQ(e.where(), "attribute glint:varianceUnderflow");
+        EXPECT_NE(e.message().find("480 pixels"), std::string::npos) << e.what();
+    }
+}
+
 TEST(Sure, NanOrInfInColourOrVarianceIsRefusedNamingThePixel) {
     struct Case {
         Layer layer;

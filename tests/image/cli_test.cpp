@@ -216,6 +216,21 @@ TEST_F(CliTest, BadInputExitsTwoWithOneLine) {
     expectBadInput("convert " + quote(ref) + " " + quote(path("o.png")) + " --layer position",
                    ref + ": --layer: ");
     expectBadInput("convert " + quote(ref) + " " + quote(path("o.jpg")), "OUT: cannot write");
+    // A false-colour range is refused for the reason that holds (not "lo < hi" when lo < hi).
+    const std::string convert = "convert " + quote(ref) + " " + quote(path("o.png"));
+    const std::pair<const char*, const char*> ranges[] = {
+        {"1,0", "--false-color: expected lo < hi"},
+        {"1,x", "--false-color: expected lo,hi (two numbers)"},
+        {"0,inf", "--false-color: expected two finite numbers"},
+        {"-3e38,3e38", "--false-color: the range must fit a float"},
+        {"1e40,1e41", "--false-color: the range must fit a float"},
+        {"1,1.00000001", "--false-color: lo and hi are the same number in float precision"},
+    };
+    for (const auto& [range, message] : ranges)
+        expectBadInput(convert + " --layer depth --false-color " + range, message);
+    // Tiny but distinct in float: shown.
+    EXPECT_EQ(run(convert + " --layer depth --false-color 1e-30,2e-30").code, 0);
+    fs::remove(path("o.png"));
     EXPECT_FALSE(fs::exists(path("o.png")));
     EXPECT_FALSE(fs::exists(path("o.jpg")));
 }

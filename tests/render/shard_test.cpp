@@ -215,6 +215,44 @@ TEST(Shard, MergeRefusesMissingDuplicateAndForeignShards) {
     EXPECT_NE(e.find("not a shard"), std::string::npos) << e;
 }
 
+TEST(Shard, MergeRefusesAShardPixelNoRenderWrites) {
+    // Every pixel entering a merge is checked: a count that is negative, fractional, non-finite
+    // or above the shard's samples, a half count above its pixel's count, a non-finite mean, a
+    // negative or non-finite variance. The error names the file, the pixel and the channel.
+    Settings settings = baseSettings(8);
+    settings.halfBuffers = true;
+    Renderer renderer(tinyCornell());
+    const std::vector<ShardFrame> shards = renderShards(renderer, settings, 2);
+    ASSERT_NO_THROW(mergeShards(shards));
+    const float nan = std::nanf(""), inf = INFINITY;
+    struct Case {
+        Layer layer;
+        int channel;
+        float value;
+        const char* channelName;
+    };
+    for (const Case& c : {Case{Layer::SampleCount, 0, -3.0f, "sampleCount.Y"},
+                          Case{Layer::SampleCount, 0, 2.5f, "sampleCount.Y"},
+                          Case{Layer::SampleCount, 0, nan, "sampleCount.Y"},
+                          Case{Layer::SampleCount, 0, 1e30f, "sampleCount.Y"},
+                          Case{Layer::SampleCount, 0, 5.0f, "sampleCount.Y"},  // shard holds 4
+                          Case{Layer::HalfSampleCount, 0, 5.0f, "halfSampleCount.Y"},
+                          Case{Layer::Color, 1, inf, "G"}, Case{Layer::Albedo, 2, nan, "albedo.B"},
+                          Case{Layer::Variance, 0, -1e-6f, "variance.R"},
+                          Case{Layer::HalfDepthVariance, 0, inf, "halfDepthVariance.Z"}}) {
+        std::vector<ShardFrame> bad = shards;
+        bad[1].frame.layer(c.layer)(7, 5, c.channel) = c.value;
+        try {
+            mergeShards(bad);
+            ADD_FAILURE() << c.channelName << " = " << c.value << " was merged";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), ErrorKind::Format) << e.what();
+            EXPECT_EQ(e.file(), "shard1.exr") << e.what();
+            EXPECT_EQ(e.where(), std::string("pixel (7, 5) ") + c.channelName) << e.what();
+        }
+    }
+}
+
 /// Shards `first` … `last` of `shards` as a partial merge, named like glint-farm's files.
 ShardFrame partial(const std::vector<ShardFrame>& shards, int first, int last) {
     std::vector<ShardFrame> range(shards.begin() + first, shards.begin() + last + 1);

@@ -164,7 +164,14 @@ std::uint64_t estimateMemory(const FrameBuffers& frame, const BankOptions& optio
 }
 
 FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options) {
+    return detail::buildBank(frame, options, detail::CacheMode::ReadWrite);
+}
+
+FilterBank detail::buildBank(const FrameBuffers& frame, const BankOptions& options,
+                             CacheMode mode) {
     validate(options);
+    const bool writes = mode == CacheMode::ReadWrite;
+    GLINT_CHECK(writes || !options.members, "a bank built in parts writes its part");
     const Rect region = bankRegion(frame, options);
     std::vector<BankMember> members = runnableMembers(frame, options);
     // The members this build computes: all, or a range of them (a bank built in parts).
@@ -183,6 +190,7 @@ FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options) {
 
     const std::uint64_t inputHash = hashFrame(frame);
     detail::BankCache cache(options.cacheDir, inputHash, frame.width(), frame.height(), options);
+    if (writes) cache.removeStaleTemporaries();  // of an interrupted build
     std::vector<Image> results(members.size());
     std::vector<std::uint64_t> keys(members.size());
     std::vector<char> hit(members.size(), 0);
@@ -227,13 +235,13 @@ FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options) {
             if (e.kind() == ErrorKind::Cancelled) return;
             throw;
         }
-        cache.write(keys[i], members[i], region, results[i]);
+        if (writes) cache.write(keys[i], members[i], region, results[i]);
         ++done;
         report();
     });
     if (stop.load()) throw Error(ErrorKind::Cancelled, "bank cancelled");
     if (!options.members) {
-        cache.writeIndex(members, keys, region);
+        if (writes) cache.writeIndex(members, keys, region);
         FilterBank bank(std::move(members), std::move(results), region, frame.width(),
                         frame.height(), inputHash);
         bank.setCacheHits(hits);

@@ -1,6 +1,11 @@
 #include "bank/bank_cache.h"
 
+#include <signal.h>
+
 #include <bit>
+#include <cerrno>
+#include <charconv>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -13,6 +18,7 @@
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/image/random.h"
+#include "json_reader.h"
 
 namespace glint::denoise {
 
@@ -47,7 +53,83 @@ json regionJson(const Rect& r) {
     return json::array({r.x0, r.x1, r.y0, r.y1});
 }
 
+// True when `text` is all decimal digits (and not empty).
+bool allDigits(std::string_view text) {
+    return !text.empty() && text.find_first_not_of("0123456789") == std::string_view::npos;
+}
+
+// True when no process `pid` runs on this machine.
+bool processEnded(long pid) {
+    return ::kill(pid_t(pid), 0) != 0 && errno == ESRCH;
+}
+
+// The member entries ({key, file, checksum}) of an index or a partial index, checked.
+std::map<std::uint64_t, std::pair<std::string, std::uint64_t>> readEntries(const JsonReader& r,
+                                                                           const json& index) {
+    std::map<std::uint64_t, std::pair<std::string, std::uint64_t>> entries;
+    const json& members = r.array(r.at(index, "members", ""), "/members");
+    for (std::size_t i = 0; i < members.size(); ++i) {
+        const std::string where = "/members/" + std::to_string(i);
+        const json& m = members[i];
+        try {
+            const std::string file = r.string(r.at(m, "file", where), where + "/file");
+            // A member file lies in the folder: a name with a path in it is not one.
+            if (file.find('/') != std::string::npos || file.empty() || file[0] == '.')
+                r.fail(where + "/file", "expected a file name in the bank folder");
+            entries[fromHex(r.string(r.at(m, "key", where), where + "/key"))] = {
+                file, fromHex(r.string(r.at(m, "checksum", where), where + "/checksum"))};
+        } catch (const Error& e) {
+            if (e.file() == r.file()) throw;
+            r.fail(where, e.message());
+        }
+    }
+    return entries;
+}
+
+// "format" (at most kIndexFormat) and "inputHash" of an index or a partial index.
+std::uint64_t readInputHash(const JsonReader& r, const json& index) {
+    const std::int64_t format = r.integer(r.at(index, "format", ""), "/format", 1, INT32_MAX);
+    if (format > kIndexFormat)
+        r.fail("/format", "index format " + std::to_string(format) +
+                              " is newer than this Glint reads (" + std::to_string(kIndexFormat) +
+                              ")");
+    try {
+        return fromHex(r.string(r.at(index, "inputHash", ""), "/inputHash"));
+    } catch (const Error& e) {
+        if (e.file() == r.file()) throw;
+        r.fail("/inputHash", e.message());
+    }
+}
+
 }  // namespace
+
+long bankTemporaryOwner(const std::string& name) {
+    // "." STEM ".tmp-" PID EXT, with STEM and EXT those of a file a build writes.
+    const std::size_t tmp = name.rfind(".tmp-");
+    if (name.size() < 2 || name[0] != '.' || tmp == std::string::npos) return 0;
+    const std::string stem = name.substr(1, tmp - 1);
+    const std::string rest = name.substr(tmp + 5);
+    const std::size_t dot = rest.find('.');
+    if (dot == std::string::npos) return 0;
+    const std::string pid = rest.substr(0, dot), ext = rest.substr(dot);
+    const bool member = stem.size() == 18 && stem.rfind("m-", 0) == 0 &&
+                        stem.find_first_not_of("0123456789abcdef", 2) == std::string::npos &&
+                        ext == ".exr";
+    bool partial = false;
+    if (stem.rfind(kPartialPrefix, 0) == 0) {
+        const std::string range = stem.substr(std::strlen(kPartialPrefix));
+        const std::size_t dash = range.find('-');
+        partial = dash != std::string::npos && allDigits(range.substr(0, dash)) &&
+                  allDigits(range.substr(dash + 1));
+    }
+    const bool index = (stem == "index" || partial) && ext == ".json";
+    long owner = 0;
+    const auto [end, ec] = std::from_chars(pid.data(), pid.data() + pid.size(), owner);
+    if (!(member || index) || !allDigits(pid) || ec != std::errc() ||
+        end != pid.data() + pid.size() || owner <= 0)
+        return 0;
+    return owner;
+}
 
 std::string toHex(std::uint64_t value) {
     char text[17];
@@ -93,13 +175,13 @@ BankCache::BankCache(fs::path dir, std::uint64_t inputHash, int width, int heigh
     std::ifstream in(index);
     if (!in) return;
     try {
-        const json j = json::parse(in);
-        if (j.at("format").get<int>() > kIndexFormat) return;
-        if (fromHex(j.at("inputHash").get<std::string>()) != m_inputHash) return;
-        for (const json& m : j.at("members"))
-            m_entries[fromHex(m.at("key").get<std::string>())] = {
-                m.at("file").get<std::string>(), fromHex(m.at("checksum").get<std::string>())};
-    } catch (const std::exception&) {
+        const std::string text{std::istreambuf_iterator<char>(in), {}};
+        const JsonReader r(index.string());
+        const json j = parseJsonText(text, r.file());
+        if (readInputHash(r, j) != m_inputHash) return;
+        for (const auto& [key, entry] : readEntries(r, j))
+            m_entries[key] = {entry.first, entry.second};
+    } catch (const Error&) {
         m_entries.clear();  // a damaged index is ignored: everything is recomputed
     }
 }
@@ -219,16 +301,15 @@ bool BankCache::mergePartialIndices(const std::vector<BankMember>& members,
         if (name.rfind(kPartialPrefix, 0) != 0 || entry.path().extension() != ".json") continue;
         std::ifstream in(entry.path());
         try {
-            const json j = json::parse(in);
-            if (j.at("format").get<int>() != kIndexFormat ||
-                fromHex(j.at("inputHash").get<std::string>()) != m_inputHash ||
-                j.at("options") != optionsJson() || j.at("region") != regionJson(region))
+            const std::string text{std::istreambuf_iterator<char>(in), {}};
+            const JsonReader r(entry.path().string());
+            const json j = parseJsonText(text, r.file());
+            if (readInputHash(r, j) != m_inputHash || r.at(j, "options", "") != optionsJson() ||
+                r.at(j, "region", "") != regionJson(region))
                 continue;
-            for (const json& m : j.at("members"))
-                found[fromHex(m.at("key").get<std::string>())] = {
-                    m.at("file").get<std::string>(), fromHex(m.at("checksum").get<std::string>())};
+            for (const auto& [key, e] : readEntries(r, j)) found[key] = {e.first, e.second};
             partials.push_back(entry.path());
-        } catch (const std::exception&) {
+        } catch (const Error&) {
             continue;
         }
     }
@@ -280,6 +361,21 @@ void BankCache::writeIndex(const std::vector<BankMember>& members,
         if (name.rfind("m-", 0) == 0 && entry.path().extension() == ".exr" && !keep.count(name))
             fs::remove(entry.path(), ec);
     }
+    removeStaleTemporaries();
+}
+
+void BankCache::removeStaleTemporaries() const {
+    if (m_dir.empty()) return;
+    const auto now = fs::file_time_type::clock::now();
+    std::error_code ec;
+    for (const fs::directory_entry& entry : fs::directory_iterator(m_dir, ec)) {
+        const long owner = bankTemporaryOwner(entry.path().filename().string());
+        if (owner == 0 || !processEnded(owner)) continue;
+        const auto written = entry.last_write_time(ec);
+        if (ec || std::chrono::duration<double>(now - written).count() < kStaleTemporarySeconds)
+            continue;
+        fs::remove(entry.path(), ec);
+    }
 }
 
 }  // namespace detail
@@ -289,44 +385,44 @@ BankOptions readBankOptions(const fs::path& dir) {
     if (!fs::is_directory(dir, ec))
         throw Error(ErrorKind::Io, "bank folder not found", dir.string());
     const fs::path index = dir / detail::kIndexName;
-    std::ifstream in(index);
-    if (!in)
+    if (!fs::exists(index, ec))
         throw Error(ErrorKind::Io,
                     "no index.json: not a bank folder (make one with glint-denoise bank)",
                     dir.string());
-    json j;
-    try {
-        j = json::parse(in);
-    } catch (const json::parse_error& e) {
-        throw Error(ErrorKind::Format, std::string("malformed JSON: ") + e.what(), index.string());
+    const detail::JsonReader r(index.string());
+    const json j = detail::parseJsonText(detail::readJsonText(index, "bank index"), r.file());
+    detail::readInputHash(r, j);
+    const json& o = r.at(j, "options", "");
+    BankOptions options;
+    options.size = int(r.integer(r.at(o, "size", "/options"), "/options/size", 1, kMaxBankSize));
+    options.seed =
+        r.unsignedInteger(r.at(o, "seed", "/options"), "/options/seed", std::uint64_t(INT64_MAX));
+    const json& filters = r.array(r.at(o, "filters", "/options"), "/options/filters");
+    for (std::size_t i = 0; i < filters.size(); ++i)
+        options.filters.push_back(r.string(filters[i], "/options/filters/" + std::to_string(i)));
+    options.prefilter = r.boolean(r.at(o, "prefilter", "/options"), "/options/prefilter");
+    const json& params = r.at(o, "prefilterParams", "/options");
+    if (!params.is_object()) r.fail("/options/prefilterParams", "expected an object");
+    for (const auto& item : params.items())
+        options.prefilterParams[item.key()] =
+            r.number(item.value(), "/options/prefilterParams/" + item.key(), -1e30, 1e30);
+    const json& region = r.at(o, "region", "/options");
+    if (!region.is_null()) {
+        r.array(region, "/options/region", 4);
+        int v[4];
+        for (int i = 0; i < 4; ++i)
+            v[i] = int(r.integer(region[std::size_t(i)], "/options/region/" + std::to_string(i), 0,
+                                 1 << 24));
+        options.region = Rect{v[0], v[1], v[2], v[3]};
     }
+    // The options must be ones a build accepts (filters registered, region not empty...).
     try {
-        if (j.at("format").get<int>() > detail::kIndexFormat)
-            throw Error(ErrorKind::Format,
-                        "index format " + std::to_string(j.at("format").get<int>()) +
-                            " is newer than this Glint reads (" +
-                            std::to_string(detail::kIndexFormat) + ")",
-                        index.string());
-        const json& o = j.at("options");
-        BankOptions options;
-        options.size = o.at("size").get<int>();
-        options.seed = o.at("seed").get<std::uint64_t>();
-        options.filters = o.at("filters").get<std::vector<std::string>>();
-        options.prefilter = o.at("prefilter").get<bool>();
-        options.prefilterParams = o.at("prefilterParams").get<ParamValues>();
-        if (!o.at("region").is_null()) {
-            const auto r = o.at("region").get<std::vector<int>>();
-            if (r.size() != 4) throw Error(ErrorKind::Format, "region must have 4 numbers");
-            options.region = Rect{r[0], r[1], r[2], r[3]};
-        }
-        options.cacheDir = dir;
-        return options;
+        validate(options);
     } catch (const Error& e) {
-        throw Error(ErrorKind::Format, e.message(), index.string());
-    } catch (const json::exception& e) {
-        throw Error(ErrorKind::Format, std::string("unexpected index content: ") + e.what(),
-                    index.string());
+        r.fail("/options", e.message());
     }
+    options.cacheDir = dir;
+    return options;
 }
 
 FilterBank openBank(const FrameBuffers& frame, const fs::path& dir, const ProgressFn& progress) {
@@ -344,7 +440,8 @@ FilterBank openBank(const FrameBuffers& frame, const fs::path& dir, const Progre
                         "); build one with glint-denoise bank",
                     dir.string());
     options.progress = progress;
-    return buildBank(frame, options);
+    // Opening reads: nothing in the folder is written (it may be on a read-only mount).
+    return detail::buildBank(frame, options, detail::CacheMode::ReadOnly);
 }
 
 }  // namespace glint::denoise

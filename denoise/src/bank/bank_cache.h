@@ -47,6 +47,12 @@ class BankCache {
     bool mergePartialIndices(const std::vector<BankMember>& members,
                              const std::vector<std::uint64_t>& keys, const Rect& region);
 
+    /// Removes the stale temporary files of an interrupted build from the folder: Glint's own
+    /// temporary names of its members and indices (bankTemporaryOwner) whose process no longer
+    /// runs on this machine and which have not changed for kStaleTemporarySeconds (a part
+    /// built on another machine sharing the folder may be writing one). Other files stay.
+    void removeStaleTemporaries() const;
+
   private:
     /// The options block of index.json (without the member range).
     nlohmann::json optionsJson() const;
@@ -63,6 +69,24 @@ class BankCache {
     mutable std::mutex m_mutex;
     std::map<std::uint64_t, Entry> m_entries;  // from the existing index, plus new writes
 };
+
+/// How a build uses its cache folder.
+enum class CacheMode {
+    ReadWrite,  ///< buildBank: computed members, the index, stale temporaries are written/removed
+    ReadOnly,   ///< openBank: intact entries are read, the rest computed in memory; no writes
+};
+
+/// buildBank with the cache folder used as `mode` says.
+FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options, CacheMode mode);
+
+/// Seconds a temporary file of a finished process must have been left unchanged before a build
+/// removes it.
+inline constexpr double kStaleTemporarySeconds = 60.0;
+
+/// The process id in a temporary name writeAtomically gives a file of a bank folder
+/// (temporaryPathFor: ".m-KEY.tmp-PID.exr", ".index.tmp-PID.json",
+/// ".index.members-A-B.tmp-PID.json"); 0 for any other name.
+long bankTemporaryOwner(const std::string& fileName);
 
 /// The cache key of a member's result from everything that determines it.
 std::uint64_t memberKey(std::uint64_t inputHash, const std::string& filter,

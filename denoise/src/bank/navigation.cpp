@@ -23,7 +23,8 @@ void validate(const TreeOptions& o) {
         throw Error(ErrorKind::InvalidArgument, what, {}, option);
     };
     if (o.k < 2 || o.k > 64) bad("k = " + std::to_string(o.k) + " must be in [2, 64]", "--k");
-    if (!(o.p > 0.0 && o.p < 1.0)) bad("p = " + std::to_string(o.p) + " must be in (0, 1)", "--p");
+    if (!(o.p > 0.0 && o.p < 1.0))
+        bad("p = " + std::to_string(o.p) + " is not a number in (0, 1)", "--p");
     if (double(o.k) * o.p < 1.0)
         bad("k·p = " + std::to_string(double(o.k) * o.p) +
                 " must be >= 1 so that every member stays reachable",

@@ -78,7 +78,9 @@ OracleResult oracle(const FilterBank& bank, const Image& noisy, const Image& ref
     const Rect& region = bank.region();
     if (region.width() < 11 || region.height() < 11)
         throw Error(ErrorKind::InvalidArgument,
-                    "the oracle's SSIM needs a region of at least 11x11");
+                    "the bank covers " + std::to_string(region.width()) + "x" +
+                        std::to_string(region.height()) +
+                        " pixels; the oracle's SSIM needs at least 11x11");
     const Image ref = reference.crop(region);
     MetricOptions mo;
     mo.exposure = exposure;

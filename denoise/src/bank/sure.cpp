@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <mutex>
 #include <numeric>
@@ -221,6 +222,16 @@ void checkSureInput(const FrameBuffers& frame, const std::string& file) {
                     "of the mean of each pixel); SURE needs it to estimate a filter's error "
                     "without a reference",
                     file, "layer 'variance'");
+    // The renderer counts the pixels whose variance fell below float's range and was written
+    // as 0: SURE would take them for noise-free.
+    if (const auto under = frame.metadata().extra.find(kVarianceUnderflowKey);
+        under != frame.metadata().extra.end())
+        throw Error(ErrorKind::Numeric,
+                    "the variance of " + under->second +
+                        " pixels is below float's range and was written as 0 (radiance about "
+                        "1e-19 or less), so SURE would see no noise there; render with brighter "
+                        "emission, or with --half-buffers for the halves estimator",
+                    file, "attribute glint:" + std::string(kVarianceUnderflowKey));
     const Image& color = frame.color();
     const Image& variance = frame.layer(Layer::Variance);
     // Rows in parallel to find whether any value is bad; then, only if one is, the serial scan
@@ -363,7 +374,8 @@ void validate(const AutoOptions& options) {
         options.sure.epsilon > 1.0)
         throw Error(ErrorKind::InvalidArgument,
                     "epsilon " + std::to_string(options.sure.epsilon) +
-                        " is outside (0, 1] (the perturbation relative to the pixel's sigma)",
+                        " is not a number in (0, 1] (the perturbation relative to the pixel's "
+                        "sigma)",
                     {}, "--epsilon");
     if (options.window && (*options.window < 0 || *options.window > 64))
         throw Error(ErrorKind::InvalidArgument,
@@ -374,13 +386,13 @@ void validate(const AutoOptions& options) {
         (!(*options.temperature >= 0.0) || !std::isfinite(*options.temperature)))
         throw Error(ErrorKind::InvalidArgument,
                     "temperature " + std::to_string(*options.temperature) +
-                        " must be >= 0 (0: hard per-pixel choice)",
+                        " is not a finite number >= 0 (0: hard per-pixel choice)",
                     {}, "--temperature");
     if (options.confidence &&
         (!(*options.confidence >= 0.0) || !std::isfinite(*options.confidence)))
         throw Error(ErrorKind::InvalidArgument,
                     "confidence " + std::to_string(*options.confidence) +
-                        " must be >= 0 (standard errors a local choice must win by)",
+                        " is not a finite number >= 0 (standard errors a local choice must win by)",
                     {}, "--confidence");
     if (options.finer && (*options.finer < 0 || *options.finer > 6))
         throw Error(ErrorKind::InvalidArgument,
@@ -396,7 +408,8 @@ void validate(const AutoOptions& options) {
     if (!(options.featherGate > 0.0) || !std::isfinite(options.featherGate))
         throw Error(ErrorKind::InvalidArgument,
                     "feather gate " + std::to_string(options.featherGate) +
-                        " must be > 0 (a display-value difference; 1 is the whole range)",
+                        " is not a finite number > 0 (a display-value difference; 1 is the whole "
+                        "range)",
                     {}, "--feather-gate");
     if (options.shortlist < 0 || options.shortlist > 4096)
         throw Error(ErrorKind::InvalidArgument,
@@ -416,7 +429,7 @@ void validate(const AutoOptions& options) {
     if (!(options.stackFloor >= 0.0) || !(options.stackFloor <= 100.0))
         throw Error(ErrorKind::InvalidArgument,
                     "stack floor " + std::to_string(options.stackFloor) +
-                        " is outside 0 … 100 (the stacking's ridge floor, in units of the "
+                        " is not a number in 0 … 100 (the stacking's ridge floor, in units of the "
                         "members' mean squared difference from the composite)",
                     {}, "--stack-floor");
     if (options.stackSmooth < 0 || options.stackSmooth > 64)
@@ -428,15 +441,21 @@ void validate(const AutoOptions& options) {
     if (!(options.stackRidge >= 0.0) || !std::isfinite(options.stackRidge))
         throw Error(ErrorKind::InvalidArgument,
                     "stack ridge " + std::to_string(options.stackRidge) +
-                        " must be >= 0 (in units of the halves' noise)",
+                        " is not a finite number >= 0 (in units of the halves' noise)",
                     {}, "--stack-ridge");
     if (options.stackFeatureWindow < 1 || options.stackFeatureWindow > 64)
         throw Error(ErrorKind::InvalidArgument,
                     "stack feature window " + std::to_string(options.stackFeatureWindow) +
                         " is outside 1 … 64 (the radius of the features' local average)",
                     {}, "--stack-feature-window");
-    if (!std::isfinite(options.exposure))
-        throw Error(ErrorKind::InvalidArgument, "exposure must be finite", {}, "--exposure");
+    // 2^64 keeps every finite radiance finite on the display (as glint-image's --exposure).
+    if (!(std::fabs(options.exposure) <= kMaxExposure)) {
+        char got[32];
+        std::snprintf(got, sizeof got, "%g", double(options.exposure));
+        throw Error(ErrorKind::InvalidArgument,
+                    std::string("exposure must be a number of stops in [-64, 64], got ") + got, {},
+                    "--exposure");
+    }
 }
 
 SureSpace parseSureSpace(const std::string& name) {

@@ -3,8 +3,9 @@
 // written atomically; exports of the composite.
 #include <unistd.h>
 
+#include <cstdint>
 #include <fstream>
-#include <sstream>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -13,6 +14,7 @@
 #include "glint/denoise/registry.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
+#include "json_reader.h"
 
 namespace glint::denoise {
 
@@ -31,18 +33,6 @@ fs::path sideFolder(const fs::path& path) {
 
 std::string layerFile(std::size_t i) {
     return "layer-" + std::to_string(i) + ".exr";
-}
-
-// Line and column of a byte offset.
-std::string place(const std::string& text, std::size_t byte) {
-    int line = 1, column = 1;
-    for (std::size_t i = 0; i + 1 < std::min(byte, text.size() + 1); ++i) {
-        if (text[i] == '\n')
-            ++line, column = 1;
-        else
-            ++column;
-    }
-    return "line " + std::to_string(line) + ", column " + std::to_string(column);
 }
 
 void removeQuietly(const fs::path& p) {
@@ -130,81 +120,111 @@ void Session::save(const fs::path& path) const {
     }
 }
 
+namespace {
+
+/// The largest width or height a session holds (as the images Glint reads).
+constexpr std::int64_t kMaxSide = 1 << 24;
+
+// A numeric parameter block ({"name": number}); the names are checked by resolveParams.
+ParamValues readParams(const detail::JsonReader& r, const json& value, const std::string& where) {
+    if (!value.is_object()) r.fail(where, "expected an object of parameters");
+    ParamValues params;
+    for (const auto& item : value.items())
+        params[item.key()] = r.number(item.value(), where + "/" + item.key(), -1e30, 1e30);
+    return params;
+}
+
+// The region of interest, null or [x0, x1, y0, y1] inside the width × height image.
+std::optional<Rect> readRegion(const detail::JsonReader& r, const json& value, int width,
+                               int height) {
+    if (value.is_null()) return std::nullopt;
+    r.array(value, "/region", 4);
+    std::int64_t v[4];
+    for (int i = 0; i < 4; ++i)
+        v[i] = r.integer(value[std::size_t(i)], "/region/" + std::to_string(i), 0, kMaxSide);
+    const Rect region{int(v[0]), int(v[1]), int(v[2]), int(v[3])};
+    if (region.empty() || intersect(region, Rect{0, width, 0, height}) != region)
+        r.fail("/region", "the region [" + std::to_string(v[0]) + ", " + std::to_string(v[1]) +
+                              ", " + std::to_string(v[2]) + ", " + std::to_string(v[3]) +
+                              "] (x0, x1, y0, y1, half-open) is empty or not inside the " +
+                              std::to_string(width) + "x" + std::to_string(height) + " image");
+    return region;
+}
+
+}  // namespace
+
 Session Session::load(const fs::path& path, const ProgressFn& progress) {
     const std::string file = path.string();
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) throw Error(ErrorKind::Io, "session file not found", file);
+    const std::string text = detail::readJsonText(path, "session file");
     const fs::path folder = sideFolder(path);
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    const std::string text = buffer.str();
-    json doc;
-    try {
-        doc = json::parse(text);
-    } catch (const json::parse_error& e) {
-        std::string msg = e.what();
-        const auto colon = msg.find(": ", msg.find("parse error"));
-        if (colon != std::string::npos) msg = msg.substr(colon + 2);
-        throw Error(ErrorKind::Format, "malformed or truncated session: " + msg, file,
-                    place(text, e.byte));
-    } catch (const json::exception& e) {
-        throw Error(ErrorKind::Format, std::string("malformed session: ") + e.what(), file);
+    const json doc = detail::parseJsonText(text, file);
+    const detail::JsonReader r(file);
+    r.requireObject(doc, "",
+                    {"format", "width", "height", "input", "prefilter", "prefilterParams", "bank",
+                     "region", "view", "layers"});
+    const std::int64_t format = r.integer(r.at(doc, "format", ""), "/format", 1, INT32_MAX);
+    if (format > kSessionFormat)
+        r.fail("/format", "session format " + std::to_string(format) +
+                              " is newer than this Glint reads (" + std::to_string(kSessionFormat) +
+                              "); update Glint");
+    const int width = int(r.integer(r.at(doc, "width", ""), "/width", 1, kMaxSide));
+    const int height = int(r.integer(r.at(doc, "height", ""), "/height", 1, kMaxSide));
+    const std::string inputName = r.string(r.at(doc, "input", ""), "/input");
+    SessionOptions options;
+    options.prefilter = r.boolean(r.at(doc, "prefilter", ""), "/prefilter");
+    options.prefilterParams = readParams(r, r.at(doc, "prefilterParams", ""), "/prefilterParams");
+    const json& bank = r.at(doc, "bank", "");
+    const std::string bankDir = bank.is_null() ? std::string() : r.string(bank, "/bank");
+    const std::optional<Rect> region = readRegion(r, r.at(doc, "region", ""), width, height);
+    const json& view = r.at(doc, "view", "");
+    if (!view.is_object()) r.fail("/view", "expected an object of view settings");
+    std::map<std::string, std::string> viewState;
+    for (const auto& item : view.items())
+        viewState[item.key()] = r.string(item.value(), "/view/" + item.key());
+    const json& layers = r.array(r.at(doc, "layers", ""), "/layers");
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+        const std::string where = "/layers/" + std::to_string(i);
+        r.requireObject(layers[i], where, {"filter", "version", "params", "weights"});
+        for (const char* key : {"filter", "version", "weights"})
+            r.string(r.at(layers[i], key, where), where + "/" + key);
+        readParams(r, r.at(layers[i], "params", where), where + "/params");
     }
-    std::string where = "/";
+
+    std::string where = "/input";
     try {
-        where = "/format";
-        const int format = doc.at("format").get<int>();
-        if (format > kSessionFormat)
-            throw Error(ErrorKind::Format,
-                        "session format " + std::to_string(format) +
-                            " is newer than this Glint reads (" + std::to_string(kSessionFormat) +
-                            "); update Glint",
-                        file, where);
-        if (format < 1) throw Error(ErrorKind::Format, "session format must be >= 1", file, where);
-        where = "/input";
-        const fs::path inputFile = folder / doc.at("input").get<std::string>();
+        const fs::path inputFile = folder / inputName;
+        std::error_code ec;
         if (!fs::is_regular_file(inputFile, ec))
             throw Error(ErrorKind::Io, "side file '" + inputFile.string() + "' not found", file,
                         where);
         FrameBuffers input = readExr(inputFile);
         where = "/width";
-        if (input.width() != doc.at("width").get<int>() ||
-            input.height() != doc.at("height").get<int>())
+        if (input.width() != width || input.height() != height)
             throw Error(ErrorKind::Format,
                         "the input is " + std::to_string(input.width()) + "x" +
-                            std::to_string(input.height()) + ", the session says otherwise",
+                            std::to_string(input.height()) + ", the session says " +
+                            std::to_string(width) + "x" + std::to_string(height),
                         file, where);
-        SessionOptions options;
-        where = "/prefilter";
-        options.prefilter = doc.at("prefilter").get<bool>();
         where = "/prefilterParams";
-        options.prefilterParams = doc.at("prefilterParams").get<ParamValues>();
         Session session(std::move(input), options);
         Impl& s = *session.m_impl;
-        where = "/bank";
-        if (!doc.at("bank").is_null()) session.bankDir = doc.at("bank").get<std::string>();
-        where = "/region";
-        if (!doc.at("region").is_null()) {
-            const auto r = doc.at("region").get<std::vector<int>>();
-            if (r.size() != 4) throw Error(ErrorKind::Format, "expected [x0, x1, y0, y1]");
-            session.region = Rect{r[0], r[1], r[2], r[3]};
-        }
-        where = "/view";
-        for (const auto& item : doc.at("view").items())
-            session.viewState[item.key()] = item.value().get<std::string>();
-        const json& layers = doc.at("layers");
+        session.bankDir = bankDir;
+        session.region = region;
+        session.viewState = viewState;
         for (std::size_t i = 0; i < layers.size(); ++i) {
             where = "/layers/" + std::to_string(i);
             const json& l = layers[i];
             SessionLayer layer;
-            layer.filter = l.at("filter").get<std::string>();
+            layer.filter = l["filter"].get<std::string>();
+            where += "/filter";
             const Filter& f = findFilter(layer.filter);
-            layer.params = resolveParams(f, l.at("params").get<ParamValues>());
-            const fs::path mapsFile = folder / l.at("weights").get<std::string>();
+            where = "/layers/" + std::to_string(i) + "/params";
+            layer.params = resolveParams(f, readParams(r, l["params"], where));
+            where = "/layers/" + std::to_string(i) + "/weights";
+            const fs::path mapsFile = folder / l["weights"].get<std::string>();
             if (!fs::is_regular_file(mapsFile, ec))
                 throw Error(ErrorKind::Io, "side file '" + mapsFile.string() + "' not found", file,
-                            where + "/weights");
+                            where);
             const Image maps = readImage(mapsFile, false);
             if (maps.width() != session.width() || maps.height() != session.height() ||
                 maps.channels() != 2)
@@ -214,14 +234,14 @@ Session Session::load(const fs::path& path, const ProgressFn& progress) {
                                 "x" + std::to_string(maps.channels()) + ", expected " +
                                 std::to_string(session.width()) + "x" +
                                 std::to_string(session.height()) + "x2",
-                            file, where + "/weights");
+                            file, where);
             layer.weights = maps.channelsSlice(0, 1);
             layer.painted = maps.channelsSlice(1, 1);
             for (float& v : layer.weights.data())
                 if (!(v >= 0.0f && v <= 1.0f))
                     throw Error(ErrorKind::Format,
                                 "weights outside [0, 1] in '" + mapsFile.string() + "'", file,
-                                where + "/weights");
+                                where);
             // Filters are deterministic: the output is recomputed, bit for bit what was saved.
             ProgressFn part;
             if (progress)
@@ -240,8 +260,6 @@ Session Session::load(const fs::path& path, const ProgressFn& progress) {
         // session and the place in it.
         const std::string inner = e.file().empty() ? "" : e.file() + ": ";
         throw Error(e.kind(), inner + e.message(), file, where);
-    } catch (const json::exception& e) {
-        throw Error(ErrorKind::Format, std::string("unexpected content: ") + e.what(), file, where);
     }
 }
 

@@ -1,5 +1,6 @@
 #include "film/film.h"
 
+#include <cfloat>
 #include <cmath>
 
 namespace glint::render {
@@ -62,7 +63,12 @@ FrameBuffers Film::resolve(bool withPosition) const {
     if (withPosition) frame.ensure(Layer::Position);
     frame.ensure(Layer::SampleCount);
     if (halves) frame.ensure(Layer::HalfSampleCount);
+    // Pixels whose variance of the mean, held in double here, is below float's normal range
+    // (1.2e-38) in some channel: the float layer holds it as 0 or a denormal (radiance about
+    // 1e-19 or less).
+    std::int64_t underflow = 0;
     auto write = [&](const Pixel& p, int x, int y, bool half) {
+        bool under = false;
         auto to = [&](Layer l) -> Image& { return frame.layer(half ? *halfLayer(l) : l); };
         to(Layer::SampleCount)(x, y, 0) = float(p.n);
         // Variance of the mean: unbiased sample variance / n.
@@ -72,9 +78,12 @@ FrameBuffers Film::resolve(bool withPosition) const {
             Image& var = to(o.variance);
             for (int c = 0; c < o.channels; ++c) {
                 mean(x, y, c) = float(p.mean[o.first + c]);
-                var(x, y, c) = float(p.m2[o.first + c] * varScale);
+                const double v = p.m2[o.first + c] * varScale;
+                var(x, y, c) = float(v);
+                under = under || (v > 0.0 && v < double(FLT_MIN));
             }
         }
+        if (under && !half) ++underflow;
     };
     for (int y = 0; y < m_height; ++y)
         for (int x = 0; x < m_width; ++x) {
@@ -86,6 +95,7 @@ FrameBuffers Film::resolve(bool withPosition) const {
                 for (int c = 0; c < 3; ++c) pos(x, y, c) = float(p.mean[10 + c]);
             }
         }
+    if (underflow > 0) frame.metadata().extra[kVarianceUnderflowKey] = std::to_string(underflow);
     return frame;
 }
 

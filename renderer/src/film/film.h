@@ -36,7 +36,9 @@ class Film {
     /// Total discarded (non-finite) samples.
     std::int64_t nonFiniteSamples() const;
     /// Means, variances of the mean (sample variance / n; 0 below two samples), sample counts,
-    /// and the same for half B in the half-buffer layers when the film has them.
+    /// and the same for half B in the half-buffer layers when the film has them. When some
+    /// pixel's variance is below float's normal range, the metadata's
+    /// extra[kVarianceUnderflowKey] counts those pixels.
     FrameBuffers resolve(bool withPosition) const;
 
     /// Bytes of running statistics per pixel.

@@ -1,5 +1,6 @@
 #include "scene/json_reader.h"
 
+#include <climits>
 #include <cmath>
 #include <sstream>
 
@@ -49,10 +50,17 @@ float JsonReader::number(const nlohmann::json& value, const std::string& where, 
 long long JsonReader::integer(const nlohmann::json& value, const std::string& where, long long lo,
                               long long hi) const {
     if (!value.is_number_integer()) fail(where, "expected an integer, got " + describe(value));
-    const long long v = value.get<long long>();
-    if (v < lo || v > hi) {
+    // An unsigned value beyond long long (e.g. 2^64 - 1) is reported as written, not wrapped.
+    const bool huge = value.is_number_unsigned() &&
+                      value.get<unsigned long long>() > (unsigned long long)LLONG_MAX;
+    const long long v = huge ? LLONG_MAX : value.get<long long>();
+    if (huge || v < lo || v > hi) {
         std::ostringstream msg;
-        msg << "expected an integer in [" << lo << ", " << hi << "], got " << v;
+        msg << "expected an integer in [" << lo << ", " << hi << "], got ";
+        if (huge)
+            msg << value.get<unsigned long long>();
+        else
+            msg << v;
         fail(where, msg.str());
     }
     return v;

@@ -124,7 +124,11 @@ ObjLines scanObj(const std::filesystem::path& path) {
         while (ls >> name) {
             const std::filesystem::path mtl = path.parent_path() / name;
             std::error_code ec;
-            if (std::filesystem::is_regular_file(mtl, ec)) scanMtl(mtl);
+            if (std::filesystem::is_regular_file(mtl, ec))
+                scanMtl(mtl);
+            else if (std::filesystem::exists(mtl, ec))  // a folder, a device, a pipe...
+                fail(path, int(n) + 1,
+                     "mtllib '" + shorten(name) + "' is not a regular file (expected an MTL file)");
         }
     }
     // Second pass: faces.
@@ -152,6 +156,11 @@ ObjLines scanObj(const std::filesystem::path& path) {
             checkIndex(corner.substr(0, a), v, nv, "vertex", path, line);
             if (a != std::string::npos) {
                 const std::string t = corner.substr(a + 1, b == std::string::npos ? b : b - a - 1);
+                // "v/" names no texture coordinate and no normal: not one of the four forms.
+                if (t.empty() && b == std::string::npos)
+                    fail(path, line,
+                         "malformed face corner '" + shorten(corner) +
+                             "': expected v, v/vt, v//vn or v/vt/vn");
                 if (!t.empty()) checkIndex(t, vt, nt, "texture coordinate", path, line);
                 if (b != std::string::npos)
                     checkIndex(corner.substr(b + 1), vn, nn, "normal", path, line);

@@ -160,4 +160,12 @@ bool Scene::hasEnvironment() const {
     return m_data->environment.kind != detail::EnvironmentDesc::Kind::None;
 }
 
+std::vector<std::filesystem::path> Scene::imageFiles() const {
+    std::vector<std::filesystem::path> files;
+    for (const detail::Texture& t : m_data->textures) files.push_back(t.path);
+    if (m_data->environment.kind == detail::EnvironmentDesc::Kind::Image)
+        files.push_back(m_data->environment.path);
+    return files;
+}
+
 }  // namespace glint::render

@@ -31,7 +31,8 @@ struct UvTransform {
 
     Vec2 apply(Vec2 uv) const {
         if (identity) return uv;
-        return {m[0][0] * uv.x + m[0][1] * uv.y + m[0][2], m[1][0] * uv.x + m[1][1] * uv.y + m[1][2]};
+        return {m[0][0] * uv.x + m[0][1] * uv.y + m[0][2],
+                m[1][0] * uv.x + m[1][1] * uv.y + m[1][2]};
     }
     /// Maps a difference of texture coordinates (a footprint's axis).
     Vec2 applyLinear(Vec2 d) const {
@@ -54,6 +55,9 @@ inline constexpr double kMaxRadiance = 1e18;
 /// The largest world coordinate (after transforms): squared distances and the light sampling
 /// densities (distance² / area) stay within float range. The Cornell box at scale 1e6 is 5.6e8.
 inline constexpr float kMaxCoordinate = 1e9f;
+/// The smallest camera-to-lookAt distance: the camera normalises the view direction in float,
+/// and the square of a shorter one leaves float's normal range (1.2e-38).
+inline constexpr double kMinViewDistance = 1e-18;
 
 /// The scene.json name of a material type ("diffuse", ...).
 const char* materialTypeName(MaterialType type);
@@ -67,11 +71,11 @@ struct Material {
     int texture = -1;               ///< base colour texture (multiplies albedo for glTF assets)
     UvTransform textureTransform;   ///< of `texture`
     Vec3 emission{};
-    float ior = 1.5f;        ///< dielectric index of refraction
-    float roughness = 0.0f;  ///< conductor: GGX alpha = roughness^2
-    float metallic = 1.0f;       ///< metallicRoughness: 0 dielectric base, 1 metal
-    float transmission = 0.0f;   ///< metallicRoughness: KHR_materials_transmission factor
-    bool hasEtaK = false;    ///< conductor: complex Fresnel with eta/k, else Schlick(specular)
+    float ior = 1.5f;           ///< dielectric index of refraction
+    float roughness = 0.0f;     ///< conductor: GGX alpha = roughness^2
+    float metallic = 1.0f;      ///< metallicRoughness: 0 dielectric base, 1 metal
+    float transmission = 0.0f;  ///< metallicRoughness: KHR_materials_transmission factor
+    bool hasEtaK = false;       ///< conductor: complex Fresnel with eta/k, else Schlick(specular)
     Vec3 eta{1.0f, 1.0f, 1.0f};
     Vec3 k{};
     Vec3 specular{1.0f, 1.0f, 1.0f};
@@ -131,19 +135,19 @@ struct PunctualLight {
     enum class Kind { Point, Spot, Directional };
     Kind kind = Kind::Point;
     std::string name;
-    Vec3 position;           ///< world space (point, spot)
-    Vec3 direction;          ///< unit, where the light shines (spot, directional)
-    Vec3 intensity;          ///< W/sr (point, spot) or W/m² (directional), per channel
-    float cosInner = 1.0f;   ///< spot: full intensity inside this cone
-    float cosOuter = 0.0f;   ///< spot: none outside this cone
+    Vec3 position;          ///< world space (point, spot)
+    Vec3 direction;         ///< unit, where the light shines (spot, directional)
+    Vec3 intensity;         ///< W/sr (point, spot) or W/m² (directional), per channel
+    float cosInner = 1.0f;  ///< spot: full intensity inside this cone
+    float cosOuter = 0.0f;  ///< spot: none outside this cone
 };
 
 /// A camera an asset brings (glTF perspective cameras), in world space.
 struct AssetCamera {
     std::string name;
     Vec3 position, lookAt, up;
-    float fovY = 45.0f;          ///< degrees
-    float aspectRatio = 0.0f;    ///< width / height, 0 when the asset leaves it open
+    float fovY = 45.0f;        ///< degrees
+    float aspectRatio = 0.0f;  ///< width / height, 0 when the asset leaves it open
 };
 
 /// The camera of scene.json. With motion, position and lookAt move linearly from their values
@@ -179,11 +183,11 @@ struct EnvironmentDesc {
 /// instance uses into world space (its instance's transform becomes the identity), so that only
 /// shared or moving meshes are transformed at render time.
 struct Mesh {
-    std::string name;               ///< for messages: the OBJ file, or the glTF mesh
-    std::vector<Vec3> positions;    ///< per vertex
-    std::vector<Vec3> normals;      ///< per vertex, or empty; a zero normal means none
-    std::vector<Vec4> tangents;     ///< per vertex, or empty: xyz unit tangent, w = ±1 handedness
-    std::vector<Vec2> uvs;          ///< per vertex, or empty
+    std::string name;             ///< for messages: the OBJ file, or the glTF mesh
+    std::vector<Vec3> positions;  ///< per vertex
+    std::vector<Vec3> normals;    ///< per vertex, or empty; a zero normal means none
+    std::vector<Vec4> tangents;   ///< per vertex, or empty: xyz unit tangent, w = ±1 handedness
+    std::vector<Vec2> uvs;        ///< per vertex, or empty
     std::vector<std::uint32_t> indices;    ///< 3 per triangle
     std::vector<std::uint32_t> materials;  ///< per triangle: index into SceneData::materials
 
@@ -199,10 +203,10 @@ struct Mesh {
 struct Instance {
     std::uint32_t mesh = 0;
     Affine transform;
-    bool identity = true;       ///< transform is the identity (mesh in world space)
-    std::int32_t motion = -1;   ///< index into SceneData::motions, or -1 (static)
-    std::int32_t material = -1; ///< replaces every triangle's material when >= 0
-    std::string name;           ///< for messages: the JSON place or glTF node
+    bool identity = true;        ///< transform is the identity (mesh in world space)
+    std::int32_t motion = -1;    ///< index into SceneData::motions, or -1 (static)
+    std::int32_t material = -1;  ///< replaces every triangle's material when >= 0
+    std::string name;            ///< for messages: the JSON place or glTF node
 };
 
 /// The motion of a moving instance: the pose at time step k (normalised time k / (steps - 1)) is

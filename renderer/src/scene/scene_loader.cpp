@@ -169,9 +169,22 @@ void Loader::readCamera(const json& j, const std::string& where) {
                               "during the shutter");
         }
     }
-    if (length(cam.lookAt - cam.position) == 0.0f)
-        m_reader.fail(where + "/lookAt", "lookAt must differ from position");
-    if (length(cross(cam.lookAt - cam.position, cam.up)) == 0.0f)
+    // In double: a float length of a tiny difference underflows to 0 although the points differ.
+    auto lengthOf = [](const Vec3& v) {
+        return std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z);
+    };
+    const Vec3 view = cam.lookAt - cam.position;
+    const double distance = lengthOf(view);
+    if (distance == 0.0) m_reader.fail(where + "/lookAt", "lookAt must differ from position");
+    // The camera normalises the view direction in float, whose squares end near 1e-38.
+    if (distance < kMinViewDistance) {
+        std::ostringstream msg;
+        msg << "lookAt is " << distance << " from position, too close to give a view direction "
+            << "in float; expected a distance of at least " << kMinViewDistance;
+        m_reader.fail(where + "/lookAt", msg.str());
+    }
+    const Vec3 dir{float(view.x / distance), float(view.y / distance), float(view.z / distance)};
+    if (lengthOf(cross(dir, cam.up)) < 1e-6 * lengthOf(cam.up))
         m_reader.fail(where + "/up", "up must not be parallel to the viewing direction");
 }
 
@@ -444,6 +457,14 @@ Scene loadScene(const fs::path& path) {
     std::error_code ec;
     if (fs::is_directory(path, ec))
         throw Error(ErrorKind::Io, "is a folder, expected a scene.json file", path.string());
+    if (!fs::exists(path, ec))
+        throw Error(ErrorKind::Io, "file does not exist, expected a scene.json file",
+                    path.string());
+    // A device or a pipe (/dev/zero) would be read without end.
+    if (!fs::is_regular_file(path, ec))
+        throw Error(ErrorKind::Io,
+                    "is not a regular file (a device or a pipe), expected a scene.json file",
+                    path.string());
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(ErrorKind::Io, "cannot open scene file", path.string());
     std::ostringstream text;

@@ -20,10 +20,15 @@ enum class ErrorKind {
 /// Name of an error kind ("io", "format", ...).
 const char* errorKindName(ErrorKind kind);
 
+/// `text` on one line: control characters (a newline in a file name...) written as escapes
+/// ("\n", "\x1b"), so that a message is always one line of a log.
+std::string oneLine(const std::string& text);
+
 /// A typed error with an optional file and place (line, channel, pixel...) it refers to.
 class Error : public std::runtime_error {
   public:
-    /// `file` and `where` may be empty; what() reads "file: where: message".
+    /// `file` and `where` may be empty; what() reads "file: where: message" on one line (control
+    /// characters, e.g. a newline in a file name, are written as escapes: "\n", "\x1b").
     Error(ErrorKind kind, std::string message, std::string file = {}, std::string where = {});
 
     ErrorKind kind() const { return m_kind; }

@@ -70,6 +70,11 @@ inline bool isHalfLayer(Layer layer) {
     return layer >= Layer::HalfColor;
 }
 
+/// FrameMetadata::extra key: the number of pixels whose variance of the mean lies below float's
+/// normal range (1.2e-38) and so is held as 0 or a denormal (a scene of radiance about 1e-19 or
+/// less). Absent when there are none. Variance-based estimators must not trust such a frame.
+inline constexpr const char* kVarianceUnderflowKey = "varianceUnderflow";
+
 /// What the renderer records about a frame; stored as glint:* EXR attributes.
 struct FrameMetadata {
     int spp = 0;                        ///< glint:spp

@@ -14,7 +14,8 @@ namespace glint {
 std::uint64_t availableMemory();
 
 /// Parses a memory size: "123", "512M", "1.5G", "2T" (binary units; K, M, G, T, optionally
-/// followed by "iB" or "B"). Throws glint::Error(InvalidArgument) naming `where` otherwise.
+/// followed by "iB" or "B"), at least 1 byte. Throws glint::Error(InvalidArgument) naming
+/// `where` otherwise.
 std::uint64_t parseMemorySize(const std::string& text, const std::string& where);
 
 /// "1.50 GiB", "640 KiB", "12 B".

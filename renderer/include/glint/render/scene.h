@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "glint/render/look.h"
 #include "glint/render/settings.h"
@@ -39,6 +40,9 @@ class Scene {
     std::size_t areaLightCount() const;
     /// True when the scene has an environment (image or constant colour).
     bool hasEnvironment() const;
+    /// Every image file the scene reads (textures and the environment image), so that a tool
+    /// can refuse to write over one of them.
+    std::vector<std::filesystem::path> imageFiles() const;
 
     /// Every material (in file order: JSON materials, then those the OBJ files added) and the
     /// environment, each with its editable properties and their current values. A material has

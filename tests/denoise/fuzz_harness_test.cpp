@@ -1,0 +1,67 @@
+// The denoise fuzz harnesses (tests/fuzz/denoise_fuzz_targets.h), built here with the project's
+// compiler, run on their seeds: each seed is a valid input that reaches past the reader (a
+// rejected seed would leave the fuzzer at the parser), and the harnesses end cleanly on it.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <vector>
+
+#include "denoise_fuzz_targets.h"
+
+namespace glint::fuzz {
+namespace {
+
+std::vector<std::vector<std::uint8_t>> seeds(const char* target) {
+    const fs::path dir = fs::path(GLINT_SOURCE_DIR) / "tests/fuzz/seeds" / target;
+    std::vector<std::vector<std::uint8_t>> out;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+        std::ifstream in(entry.path(), std::ios::binary);
+        out.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    EXPECT_FALSE(out.empty()) << "no seeds in " << dir;
+    return out;
+}
+
+std::string text(const std::vector<std::uint8_t>& bytes) {
+    return {bytes.begin(), bytes.end()};
+}
+
+TEST(DenoiseFuzzSeeds, PaintScriptsApplyToTheSmallRender) {
+    for (const auto& seed : seeds("paint_script")) {
+        const denoise::PaintScript script = denoise::PaintScript::parse(text(seed), "seed.json");
+        denoise::Session session(smallRender());
+        script.apply(session);
+        EXPECT_EQ(session.layerCount(), script.layers().size());
+        runPaintScript(seed.data(), seed.size());
+    }
+}
+
+TEST(DenoiseFuzzSeeds, SessionFilesLoadTheirLayers) {
+    for (const auto& seed : seeds("session")) {
+        runSessionFile(seed.data(), seed.size());  // writes the workspace's session file
+        EXPECT_EQ(denoise::Session::load(workspace() / "fuzz.glint-session.json").layerCount(), 2u);
+    }
+}
+
+TEST(DenoiseFuzzSeeds, BankIndexesOpenFromTheCache) {
+    for (const auto& seed : seeds("bank_index")) {
+        runBankIndex(seed.data(), seed.size());
+        const denoise::FilterBank bank = denoise::openBank(smallRender(), workspace() / "bank");
+        EXPECT_EQ(bank.cacheHits(), bank.size());
+    }
+}
+
+TEST(DenoiseFuzzSeeds, ShardSetsMerge) {
+    for (const auto& seed : seeds("shard_merge")) {
+        runShardMerge(seed.data(), seed.size());
+        if (text(seed).find(kShardSeparator) == std::string::npos) continue;  // one shard: refused
+        const FrameBuffers merged = mergeShardFiles(
+            {(workspace() / "shard-0.exr").string(), (workspace() / "shard-1.exr").string()});
+        EXPECT_EQ(merged.width(), smallRender().width());
+    }
+}
+
+}  // namespace
+}  // namespace glint::fuzz
