@@ -33,8 +33,10 @@ demo: build
 studio: build
 	$(BUILD_DIR)/bin/glint-studio scenes/cornell/scene.json
 
-# Benchmark-only peers (Blender/Cycles, OpenCV, scikit-image): not needed to build or test.
-BENCH_PACKAGES := blender libopencv-dev libopencv-contrib-dev python3-skimage hyperfine
+# Benchmark-only peers (Blender/Cycles, OpenCV, scikit-image; OpenImageIO's Python module for the
+# glTF comparison with Cycles): not needed to build or test.
+BENCH_PACKAGES := blender libopencv-dev libopencv-contrib-dev python3-skimage hyperfine python3-openimageio \
+  python3-numpy
 
 bench-deps:
 	@./.ci/install-deps $(BENCH_PACKAGES)

@@ -153,7 +153,9 @@ void MainWindow::buildMenus() {
 
     connect(a.open, &QAction::triggered, this, [this] {
         const QString path = askPath(
-            tr("Open"), tr("Scenes, renders and sessions (*.json *.exr);;All files (*)"), false);
+            tr("Open"),
+            tr("Scenes, assets, renders and sessions (*.json *.glb *.gltf *.exr);;All files (*)"),
+            false);
         if (!path.isEmpty()) openFile(path);
     });
     connect(a.openReference, &QAction::triggered, this, [this] {

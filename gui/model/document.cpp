@@ -18,7 +18,10 @@ std::filesystem::path toPath(const QString& path) {
 }
 
 bool isScenePath(const QString& path) {
-    return path.endsWith(QStringLiteral(".json"), Qt::CaseInsensitive);
+    // A scene.json, or a bare glTF asset that loadScene frames with a camera and a sky.
+    for (const char* ext : {".json", ".glb", ".gltf"})
+        if (path.endsWith(QLatin1String(ext), Qt::CaseInsensitive)) return true;
+    return false;
 }
 
 // A scene with a renderer, loaded on a worker thread.

@@ -1,4 +1,5 @@
-// glint-render: renders a scene.json to a layered EXR (docs/renderer.md).
+// glint-render: renders a scene.json or a bare glTF asset to a layered EXR (docs/renderer.md,
+// docs/assets.md).
 #include <unistd.h>
 
 #include <charconv>
@@ -29,6 +30,7 @@ using glint::render::Settings;
 
 struct Options {
     std::string scene, out, reference, memoryLimit;
+    std::optional<std::string> camera;  // a glTF asset's camera, by name
     std::optional<int> spp, threads, maxDepth, rrDepth;
     std::optional<std::string> seed;  // parsed strictly: "-1" must not wrap to 2^64 - 1
     std::optional<std::string> integrator, mis, strategy, sampler, shard;
@@ -84,6 +86,14 @@ int run(const Options& opt) {
     const auto t0 = std::chrono::steady_clock::now();
     stage("loading " + opt.scene);
     glint::render::Scene scene = glint::render::loadScene(opt.scene);
+    for (const std::string& warning : scene.warnings()) stage("warning: " + warning);
+    if (opt.camera) {
+        try {
+            scene.useAssetCamera(*opt.camera);
+        } catch (const glint::Error& e) {
+            throw glint::Error(e.kind(), e.message(), "command line", "--camera");
+        }
+    }
     // The scene's images are inputs too (an environment EXR).
     std::vector<glint::cli::NamedInput> images;
     for (const auto& image : scene.imageFiles())
@@ -302,7 +312,12 @@ int run(const Options& opt) {
 int main(int argc, char** argv) {
     CLI::App app{"glint-render: render a scene.json into a layered EXR"};
     Options opt;
-    app.add_option("scene", opt.scene, "scene.json")->required();
+    app.add_option("scene", opt.scene,
+                   "scene.json, or a glTF asset (.glb, .gltf) rendered with its own camera or a "
+                   "framing one")
+        ->required();
+    app.add_option("--camera", opt.camera,
+                   "render through the glTF camera of this name (a node's or camera's name)");
     app.add_option("--spp", opt.spp,
                    "samples per pixel, 1 … 16777216 (default: the scene's render.spp)");
     app.add_option("--out", opt.out, "output EXR (.exr, in an existing folder)")->required();

@@ -88,7 +88,7 @@ TEST(Wavefront, PacketQueriesAgreeWithSingleRays) {
                 embree.intersect(rays[i], std::numeric_limits<float>::infinity(), single);
             hitCount += f;
             if (f != found[i] || (f && (single.surface.instance != hits[i].surface.instance ||
-                       single.surface.prim != hits[i].surface.prim))) {
+                                        single.surface.prim != hits[i].surface.prim))) {
                 ++disagree;
                 continue;
             }

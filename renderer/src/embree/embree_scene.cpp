@@ -3,11 +3,13 @@
 
 #include <algorithm>
 #include <limits>
+#include <memory>
 #include <string>
 #include <utility>
 
 #include <embree3/rtcore.h>
 
+#include "embree/alpha_filter.h"
 #include "glint/image/error.h"
 
 namespace glint::render {
@@ -74,7 +76,8 @@ RTCGeometry newStaticMesh(RTCDevice device, const detail::Mesh& mesh) {
     return newTriangleMesh(
         device, mesh, 1,
         [&](int, float* buffer) {
-            for (std::size_t i = 0; i < mesh.vertexCount(); ++i) store(buffer, i, mesh.positions[i]);
+            for (std::size_t i = 0; i < mesh.vertexCount(); ++i)
+                store(buffer, i, mesh.positions[i]);
         },
         padded);
 }
@@ -106,6 +109,17 @@ RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& da
     // Default (non-robust) traversal: RTC_SCENE_FLAG_ROBUST made cornell ~40 % slower and the
     // closed-sphere furnace test shows no leaks without it.
     std::vector<int> meshScene(data.meshes.size(), -1);
+    // Cut-outs and see-through surfaces: a filter on every geometry that may hold one (a
+    // shared mesh's when any of its instances may).
+    std::vector<bool> instanceAlpha(data.instances.size()), meshAlpha(data.meshes.size());
+    for (std::uint32_t i = 0; i < data.instances.size(); ++i) {
+        instanceAlpha[i] = needsAlphaTest(data, i);
+        if (instanceAlpha[i]) meshAlpha[data.instances[i].mesh] = true;
+    }
+    auto alphaTest = [&](RTCGeometry geom, std::uint32_t instance, bool shared) {
+        m_alphaTests.push_back(std::make_unique<AlphaTest>(AlphaTest{&data, instance, shared}));
+        attachAlphaFilter(geom, m_alphaTests.back().get());
+    };
     for (std::size_t i = 0; i < data.instances.size(); ++i) {
         const detail::Instance& inst = data.instances[i];
         const detail::Mesh& mesh = data.meshes[inst.mesh];
@@ -121,12 +135,15 @@ RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& da
                         store(buffer, v, pose.point(mesh.positions[v]));
                 },
                 false);
+            if (instanceAlpha[i]) alphaTest(geom, std::uint32_t(i), false);
             attach(scene, geom, unsigned(i));
             m_timeSteps.push_back(steps);
             continue;
         }
         if (inst.identity) {
-            attach(scene, newStaticMesh(device, mesh), unsigned(i));
+            RTCGeometry geom = newStaticMesh(device, mesh);
+            if (instanceAlpha[i]) alphaTest(geom, std::uint32_t(i), false);
+            attach(scene, geom, unsigned(i));
             continue;
         }
         // An instance of a mesh in object space: the mesh's scene is built once.
@@ -137,7 +154,9 @@ RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& da
             rtcSetSceneBuildQuality(meshScene, mesh.triangleCount() > kHighQualityBuildLimit
                                                    ? RTC_BUILD_QUALITY_MEDIUM
                                                    : RTC_BUILD_QUALITY_HIGH);
-            attach(meshScene, newStaticMesh(device, mesh), 0);
+            RTCGeometry geom = newStaticMesh(device, mesh);
+            if (meshAlpha[inst.mesh]) alphaTest(geom, 0, true);
+            attach(meshScene, geom, 0);
             rtcCommitScene(meshScene);
             child = int(m_meshScenes.size()) - 1;
         }

@@ -3,8 +3,10 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
+#include "embree/alpha_filter.h"
 #include "scene/camera.h"
 #include "scene/scene_data.h"
 #include "vecmath.h"
@@ -76,9 +78,10 @@ class EmbreeScene {
 
     RTCDeviceTy* m_device = nullptr;
     RTCSceneTy* m_scene = nullptr;
-    int m_packetWidth = 1;  // 16, 8, 4 or 1 (no packet support)
+    int m_packetWidth = 1;                  // 16, 8, 4 or 1 (no packet support)
     std::vector<RTCSceneTy*> m_meshScenes;  // the scene of each shared mesh
     std::vector<int> m_timeSteps;           // of each motion-blur geometry, in instance order
+    std::vector<std::unique_ptr<AlphaTest>> m_alphaTests;  // the filters' data (alpha_filter.h)
 };
 
 }  // namespace glint::render

@@ -6,6 +6,7 @@
 #include <memory>
 #include <type_traits>
 
+#include "integrators/surface_inputs.h"
 #include "materials/bsdf.h"
 #include "sampling/mlt_sampler.h"
 #include "sampling/sobol.h"
@@ -18,8 +19,7 @@ constexpr float kInfinity = std::numeric_limits<float>::infinity();
 /// Surface data at a hit.
 struct Shading {
     Vec3 p, ng, ns;
-    Vec2 uv;
-    bool hasUv = false;  ///< the mesh has texture coordinates
+    SurfacePoint at;  ///< where on the mesh, with its texture coordinates
     const detail::Material* material;
 };
 
@@ -42,13 +42,15 @@ Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, fl
         }
     }
     const detail::Mesh& mesh = scene.meshes[scene.instances[id.instance].mesh];
-    s.uv = {};
-    s.hasUv = !mesh.uvs.empty();
-    if (s.hasUv) {
+    s.at.id = id;
+    s.at.b1 = hit.u;
+    s.at.b2 = hit.v;
+    s.at.hasUv = !mesh.uvs.empty();
+    if (s.at.hasUv) {
         const std::uint32_t* idx = &mesh.indices[3 * std::size_t(id.prim)];
         const Vec2 &uv0 = mesh.uvs[idx[0]], &uv1 = mesh.uvs[idx[1]], &uv2 = mesh.uvs[idx[2]];
-        s.uv = {uv0.x * b0 + uv1.x * hit.u + uv2.x * hit.v,
-                uv0.y * b0 + uv1.y * hit.u + uv2.y * hit.v};
+        s.at.uv = {uv0.x * b0 + uv1.x * hit.u + uv2.x * hit.v,
+                   uv0.y * b0 + uv1.y * hit.u + uv2.y * hit.v};
     }
     s.material = &scene.materials[scene.materialOf(id)];
     // Surfaces other than dielectrics are two-sided: face the normals towards the viewer.
@@ -56,6 +58,7 @@ Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, fl
         s.ng = -s.ng;
         s.ns = -s.ns;
     }
+    s.ns = applyNormalMap(scene, *s.material, s.at, s.ns);
     return s;
 }
 
@@ -149,13 +152,12 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
         }
     }
 
-    Vec3 albedo = mat.albedo;
-    if (mat.texture >= 0 && sh.hasUv) {
-        const Vec4 t = m_scene.textures[std::size_t(mat.texture)].lookup(
-            mat.textureTransform.apply(sh.uv));
-        albedo = mat.textureTimesFactor ? albedo * Vec3{t.x, t.y, t.z} : Vec3{t.x, t.y, t.z};
-    }
-    const Bsdf bsdf = Bsdf::fromMaterial(mat, albedo);
+    const SurfaceInputs inputs = evaluateInputs(m_scene, mat, sh.at);
+    const Vec3& albedo = inputs.albedo;
+    const Bsdf bsdf = mat.type == detail::MaterialType::MetallicRoughness
+                          ? Bsdf::metallicRoughness(albedo, inputs.metallic, inputs.roughness,
+                                                    mat.ior, mat.transmission)
+                          : Bsdf::fromMaterial(mat, albedo);
     const bool specular = bsdf.isSpecular();
     if (!p.featuresDone && !specular) {
         p.out.albedo = albedo;
@@ -187,7 +189,7 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
                 const Vec3 origin = offsetRayOrigin(sh.p, sh.ng, ls.wi, m_scene.extent);
                 float tMax = kInfinity;
                 Vec3 dir = ls.wi;
-                if (!ls.environment) {
+                if (std::isfinite(ls.distance)) {  // not the environment nor a directional light
                     const Vec3 d = ls.point - origin;
                     const float dist = length(d);
                     dir = d / dist;
@@ -195,8 +197,10 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
                 }
                 ++rays;
                 if (tMax > 0.0f) {
-                    const float w =
-                        m_useBsdfHits ? misWeight(ls.pdf, bsdf.pdf(woLocal, wiLocal)) : 1.0f;
+                    // A delta light has no BSDF-sampling strategy to weigh against.
+                    const float w = m_useBsdfHits && !ls.delta
+                                        ? misWeight(ls.pdf, bsdf.pdf(woLocal, wiLocal))
+                                        : 1.0f;
                     p.shadowContribution = p.beta * f * ls.radiance * (w / ls.pdf);
                     p.shadow = ShadowRay{origin, dir, tMax, ray.time};
                     p.shadowPending = true;

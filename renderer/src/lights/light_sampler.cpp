@@ -1,5 +1,6 @@
 #include "lights/light_sampler.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -19,7 +20,8 @@ LightSampler::LightSampler(const detail::SceneData& scene) {
         // Bounds of the shutter-open pose (as the environment's power estimate always used).
         for (const Vec3& q : mesh.positions) {
             const Vec3 p = inst.identity ? q : inst.transform.point(q);
-            for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
+            for (int c = 0; c < 3; ++c)
+                lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
             anyVertex = true;
         }
         // Area lights: power = π × area × luminance(Le) per side, two sides. Moving instances
@@ -44,15 +46,35 @@ LightSampler::LightSampler(const detail::SceneData& scene) {
         if (emits) m_firstOfInstance[i] = std::int64_t(first);
     }
     m_areaCount = m_lights.size();
+    // Lights at infinity light the scene's bounding sphere: power ≈ π r² × radiance (or
+    // irradiance) for its radius r (PBR 12.6).
+    const float radius = !anyVertex ? 1.0f : std::max(0.5f * length(hi - lo), 1e-3f * scene.extent);
+    for (const detail::PunctualLight& light : scene.punctualLights) {
+        const float intensity = luminance(light.intensity);
+        float lightPower = 0.0f;
+        switch (light.kind) {
+            case detail::PunctualLight::Kind::Point:
+                lightPower = 4.0f * kPi * intensity;
+                break;
+            case detail::PunctualLight::Kind::Spot:
+                // The cone out to halfway through the falloff: 2π (1 − cos θ).
+                lightPower =
+                    2.0f * kPi * (1.0f - 0.5f * (light.cosInner + light.cosOuter)) * intensity;
+                break;
+            case detail::PunctualLight::Kind::Directional:
+                lightPower = kPi * radius * radius * intensity;
+                break;
+        }
+        if (!(lightPower > 0.0f)) continue;  // a black light is never chosen
+        m_punctual.push_back(light);
+        power.push_back(lightPower);
+    }
     if (scene.environment.kind != detail::EnvironmentDesc::Kind::None) {
         m_environment.emplace(scene.environment);
-        // Environment power ≈ π r² × mean radiance for the scene's bounding sphere (PBR 12.6).
-        const float radius =
-            !anyVertex ? 1.0f : std::max(0.5f * length(hi - lo), 1e-3f * scene.extent);
-        m_lights.push_back({{}, 0.0f, {}, {}, {}});
         power.push_back(kPi * radius * radius * m_environment->meanLuminance());
     }
-    if (!m_lights.empty()) m_select = Distribution1D(power);
+    m_lightCount = power.size();
+    if (m_lightCount > 0) m_select = Distribution1D(power);
 }
 
 namespace {
@@ -74,10 +96,13 @@ bool worthSolidAngle(const Vec3& p, const Vec3& centroid, float area) {
 }  // namespace
 
 bool LightSampler::sample(const Vec3& p, float uSelect, Vec2 u, LightSample& out) const {
-    if (m_lights.empty()) return false;
+    if (m_lightCount == 0) return false;
     float selectPdf = 0.0f;
     const int index = m_select.sampleDiscrete(uSelect, &selectPdf);
     if (!(selectPdf > 0.0f)) return false;
+    out.delta = false;
+    if (std::size_t(index) >= m_areaCount && std::size_t(index) - m_areaCount < m_punctual.size())
+        return samplePunctual(m_punctual[std::size_t(index) - m_areaCount], p, selectPdf, out);
     if (std::size_t(index) >= m_areaCount) {
         // Environment: direction from its own importance sampling.
         float pdf = 0.0f;
@@ -127,6 +152,40 @@ bool LightSampler::sample(const Vec3& p, float uSelect, Vec2 u, LightSample& out
     return true;
 }
 
+bool LightSampler::samplePunctual(const detail::PunctualLight& light, const Vec3& p,
+                                  float selectPdf, LightSample& out) const {
+    using Kind = detail::PunctualLight::Kind;
+    out.delta = true;
+    out.environment = false;
+    out.pdf = selectPdf;
+    out.normal = {};
+    if (light.kind == Kind::Directional) {
+        // Irradiance from one direction: the light shines along `direction`.
+        out.wi = -light.direction;
+        out.distance = std::numeric_limits<float>::infinity();
+        out.point = {};
+        out.radiance = light.intensity;
+        return true;
+    }
+    const Vec3 d = light.position - p;
+    const float dist2 = dot(d, d);
+    if (!(dist2 > 0.0f)) return false;
+    out.distance = std::sqrt(dist2);
+    out.wi = d / out.distance;
+    out.point = light.position;
+    // Intensity falls off as 1/r² (glTF gives no range attenuation that Glint models).
+    out.radiance = light.intensity / dist2;
+    if (light.kind == Kind::Spot) {
+        // glTF's smooth cone: full inside the inner angle, none outside the outer, the square
+        // of a linear ramp in cos θ between.
+        const float cosTheta = dot(-out.wi, light.direction);
+        const float width = std::max(light.cosInner - light.cosOuter, 1e-3f);
+        const float t = std::clamp((cosTheta - light.cosOuter) / width, 0.0f, 1.0f);
+        out.radiance = out.radiance * (t * t);
+    }
+    return true;
+}
+
 float LightSampler::pdfArea(detail::SurfaceId surface, const Vec3& p, const Vec3& lightPoint,
                             const Vec3& ng) const {
     const int index = lightOf(surface);
@@ -148,7 +207,7 @@ float LightSampler::pdfArea(detail::SurfaceId surface, const Vec3& p, const Vec3
 
 float LightSampler::pdfEnvironment(const Vec3& dir) const {
     if (!m_environment) return 0.0f;
-    return m_select.discretePdf(int(m_lights.size()) - 1) * m_environment->pdf(dir);
+    return m_select.discretePdf(int(m_lightCount) - 1) * m_environment->pdf(dir);
 }
 
 }  // namespace glint::render

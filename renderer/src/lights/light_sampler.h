@@ -1,6 +1,8 @@
 // Light selection and sampling: every emissive triangle is an area light (two-sided), chosen with
-// the environment in proportion to power by a 1D distribution, and sampled by the solid angle it
-// subtends where that is large enough (spherical_triangle.h), else uniformly by area.
+// the punctual lights and the environment in proportion to power by a 1D distribution, and
+// sampled by the solid angle it subtends where that is large enough (spherical_triangle.h), else
+// uniformly by area. Punctual lights (point, spot, directional: glTF's KHR_lights_punctual) are
+// delta lights: reached only by next-event estimation, never by a BSDF sample.
 #pragma once
 
 #include <memory>
@@ -20,9 +22,12 @@ struct LightSample {
     float distance;  ///< to the light point (infinity for the environment)
     Vec3 point;      ///< light point (area lights)
     Vec3 normal;     ///< geometric normal of the light point (area lights)
-    Vec3 radiance;   ///< emitted radiance towards the shading point
-    float pdf;       ///< solid-angle pdf including the choice of light
+    Vec3 radiance;   ///< emitted radiance towards the shading point; for a delta light the
+                     ///< irradiance it gives at unit cosine (intensity / distance², or lux)
+    float pdf;       ///< solid-angle pdf including the choice of light; for a delta light the
+                     ///< probability of choosing it
     bool environment;
+    bool delta = false;  ///< a punctual light: no BSDF sample can reach it, so MIS weight 1
 };
 
 /// All lights of a scene. Empty when the scene has neither emitters nor an environment.
@@ -30,7 +35,8 @@ class LightSampler {
   public:
     explicit LightSampler(const detail::SceneData& scene);
 
-    bool empty() const { return m_lights.empty(); }
+    bool empty() const { return m_lightCount == 0; }
+    std::size_t punctualLightCount() const { return m_punctual.size(); }
     std::size_t areaLightCount() const { return m_areaCount; }
     const Environment* environment() const { return m_environment ? &*m_environment : nullptr; }
 
@@ -56,7 +62,15 @@ class LightSampler {
         const std::int64_t first = m_firstOfInstance[s.instance];
         return first < 0 ? -1 : m_lightOfTriangle[std::size_t(first) + s.prim];
     }
-    std::vector<AreaLight> m_lights;  // environment, if any, is the last entry
+    /// Samples punctual light `light` from p (the choice's probability `selectPdf`).
+    bool samplePunctual(const detail::PunctualLight& light, const Vec3& p, float selectPdf,
+                        LightSample& out) const;
+
+    // The distribution's entries: area lights [0, m_areaCount), then the punctual lights, then
+    // the environment, if any, last (m_lightCount entries in all).
+    std::vector<AreaLight> m_lights;
+    std::vector<detail::PunctualLight> m_punctual;
+    std::size_t m_lightCount = 0;
     /// Per instance with an emissive triangle, where its triangles start in m_lightOfTriangle
     /// (-1 for the others); there, per triangle, its light or -1.
     std::vector<std::int64_t> m_firstOfInstance;

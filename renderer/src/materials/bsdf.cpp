@@ -5,6 +5,9 @@ namespace glint::render {
 using detail::MaterialType;
 
 Bsdf Bsdf::fromMaterial(const detail::Material& material, const Vec3& albedo) {
+    if (material.type == MaterialType::MetallicRoughness)
+        return metallicRoughness(albedo, material.metallic, material.roughness, material.ior,
+                                 material.transmission);
     Bsdf b;
     b.type = material.type;
     b.albedo = albedo;
@@ -34,8 +37,9 @@ bool Bsdf::isSpecular() const {
 Vec3 Bsdf::eval(const Vec3& wo, const Vec3& wi) const {
     switch (type) {
         case MaterialType::Diffuse:
-        case MaterialType::MetallicRoughness:
             return diffuseEval(*this, wo, wi);
+        case MaterialType::MetallicRoughness:
+            return metallicRoughnessEval(*this, wo, wi);
         case MaterialType::Conductor:
             return alpha < kMinGgxAlpha ? Vec3{} : conductorEval(*this, wo, wi);
         default:
@@ -46,8 +50,9 @@ Vec3 Bsdf::eval(const Vec3& wo, const Vec3& wi) const {
 float Bsdf::pdf(const Vec3& wo, const Vec3& wi) const {
     switch (type) {
         case MaterialType::Diffuse:
-        case MaterialType::MetallicRoughness:
             return diffusePdf(*this, wo, wi);
+        case MaterialType::MetallicRoughness:
+            return metallicRoughnessPdf(*this, wo, wi);
         case MaterialType::Conductor:
             return alpha < kMinGgxAlpha ? 0.0f : conductorPdf(*this, wo, wi);
         default:
@@ -58,8 +63,9 @@ float Bsdf::pdf(const Vec3& wo, const Vec3& wi) const {
 bool Bsdf::sample(const Vec3& wo, Vec2 u, float uc, BsdfSample& out) const {
     switch (type) {
         case MaterialType::Diffuse:
-        case MaterialType::MetallicRoughness:
             return diffuseSample(*this, wo, u, out);
+        case MaterialType::MetallicRoughness:
+            return metallicRoughnessSample(*this, wo, u, out);
         case MaterialType::Mirror:
             return mirrorSample(*this, wo, out);
         case MaterialType::Dielectric:

@@ -1,5 +1,6 @@
 // BSDFs in the local shading frame (z = shading normal). Each material kind lives in its own
-// file (diffuse.cpp, mirror.cpp, dielectric.cpp, conductor.cpp); Bsdf dispatches by kind.
+// file (diffuse.cpp, mirror.cpp, dielectric.cpp, conductor.cpp, metallic_roughness.cpp); Bsdf
+// dispatches by kind.
 #pragma once
 
 #include "scene/scene_data.h"
@@ -16,21 +17,31 @@ struct BsdfSample {
     bool specular = false;
 };
 
-/// GGX alphas below this are treated as a perfect mirror.
+/// GGX alphas below this are treated as a perfect mirror (conductor); the metallic-roughness
+/// material clamps its alpha up to it instead, so that its lobe stays a sampled GGX.
 inline constexpr float kMinGgxAlpha = 1e-3f;
 
 /// A material evaluated at one shading point (texture already looked up).
 struct Bsdf {
     detail::MaterialType type = detail::MaterialType::Diffuse;
-    Vec3 albedo{};       ///< reflectance / tint / transmittance tint
-    float ior = 1.5f;    ///< dielectric
-    float alpha = 0.0f;  ///< conductor GGX alpha
+    Vec3 albedo{};              ///< reflectance / tint / transmittance tint
+    float ior = 1.5f;           ///< dielectric; metallicRoughness: f0 = ((ior − 1) / (ior + 1))²
+    float alpha = 0.0f;         ///< conductor, metallicRoughness: GGX alpha
+    float metallic = 0.0f;      ///< metallicRoughness: 0 dielectric base, 1 metal
+    float transmission = 0.0f;  ///< metallicRoughness: KHR_materials_transmission (not read yet)
     bool hasEtaK = false;
     Vec3 eta{1.0f, 1.0f, 1.0f}, k{};
     Vec3 specular{1.0f, 1.0f, 1.0f};
 
-    /// Builds the BSDF of `material` with (possibly textured) albedo.
+    /// Builds the BSDF of `material` with (possibly textured) albedo. A metallicRoughness
+    /// material takes its factors from `material`; use metallicRoughness() for textured ones.
     static Bsdf fromMaterial(const detail::Material& material, const Vec3& albedo);
+    /// Builds the glTF metallic-roughness BSDF from per-hit values: the base colour (factor ×
+    /// texture), metallic and perceptual roughness (factors × the texture's B and G), the IOR
+    /// (KHR_materials_ior) and the transmission factor. metallic and roughness are clamped to
+    /// [0, 1]; alpha = max(roughness², kMinGgxAlpha).
+    static Bsdf metallicRoughness(const Vec3& baseColor, float metallic, float roughness,
+                                  float ior = 1.5f, float transmission = 0.0f);
 
     /// True when every event is a delta (mirror, smooth dielectric, conductor with tiny alpha).
     bool isSpecular() const;
@@ -73,5 +84,13 @@ Vec3 ggxSampleVisibleNormal(const Vec3& wo, float alpha, Vec2 u);
 Vec3 conductorEval(const Bsdf& b, const Vec3& wo, const Vec3& wi);
 float conductorPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi);
 bool conductorSample(const Bsdf& b, const Vec3& wo, Vec2 u, BsdfSample& out);
+
+/// Schlick's f0 of a dielectric of index `ior` seen from air: ((ior − 1) / (ior + 1))².
+float schlickF0(float ior);
+/// Probability that metallicRoughnessSample picks the GGX lobe (else the Lambert lobe) at wo.
+float metallicRoughnessSpecularProbability(const Bsdf& b, const Vec3& wo);
+Vec3 metallicRoughnessEval(const Bsdf& b, const Vec3& wo, const Vec3& wi);
+float metallicRoughnessPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi);
+bool metallicRoughnessSample(const Bsdf& b, const Vec3& wo, Vec2 u, BsdfSample& out);
 
 }  // namespace glint::render

@@ -39,8 +39,10 @@ Vec3 conductorFresnel(const Bsdf& b, float cosI) {
 
 float ggxD(const Vec3& h, float alpha) {
     if (h.z <= 0.0f) return 0.0f;
+    // D = α² / (π (α² cos²θ + sin²θ)²), with sin²θ from x and y: 1 − cos²θ would cancel
+    // catastrophically near the peak of a narrow lobe (α = 1e-3 puts it at sin²θ ~ 1e-6).
     const float a2 = alpha * alpha;
-    const float d = h.z * h.z * (a2 - 1.0f) + 1.0f;
+    const float d = a2 * h.z * h.z + (h.x * h.x + h.y * h.y);
     return a2 / (kPi * d * d);
 }
 

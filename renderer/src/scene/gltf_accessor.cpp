@@ -139,19 +139,22 @@ GltfAccessors::Layout GltfAccessors::layout(int index, int type,
     const tinygltf::Accessor& a = m_model.accessors[std::size_t(index)];
     const std::string place = accessorPlace(index);
     if (a.type != type)
-        fail(place, std::string("is ") + typeName(a.type) + ", but " + use + " needs " +
-                        typeName(type));
+        fail(place,
+             std::string("is ") + typeName(a.type) + ", but " + use + " needs " + typeName(type));
     bool allowed = false;
     for (int t : componentTypes) allowed = allowed || a.componentType == t;
     if (!allowed) {
         std::string list;
-        for (int t : componentTypes) list += (list.empty() ? "" : " or ") + std::string(componentName(t));
+        for (int t : componentTypes)
+            list += (list.empty() ? "" : " or ") + std::string(componentName(t));
         fail(place, std::string("holds ") + componentName(a.componentType) + " components, but " +
                         use + " needs " + list);
     }
-    const std::size_t elementSize = componentSize(a.componentType) * std::size_t(componentCount(type));
+    const std::size_t elementSize =
+        componentSize(a.componentType) * std::size_t(componentCount(type));
     // An accessor can claim any count: no more elements than 2^31 (a mesh Glint can index).
-    if (a.count > (std::size_t(1) << 31)) fail(place, "claims " + std::to_string(a.count) + " elements");
+    if (a.count > (std::size_t(1) << 31))
+        fail(place, "claims " + std::to_string(a.count) + " elements");
     Layout out;
     out.componentType = a.componentType;
     out.normalized = a.normalized;
@@ -159,8 +162,8 @@ GltfAccessors::Layout GltfAccessors::layout(int index, int type,
     out.stride = elementSize;
     if (a.bufferView >= 0) {
         if (std::size_t(a.bufferView) >= m_model.bufferViews.size())
-            fail(place, "names bufferView " + std::to_string(a.bufferView) + ", but the asset has " +
-                            std::to_string(m_model.bufferViews.size()));
+            fail(place, "names bufferView " + std::to_string(a.bufferView) +
+                            ", but the asset has " + std::to_string(m_model.bufferViews.size()));
         const tinygltf::BufferView& view = m_model.bufferViews[std::size_t(a.bufferView)];
         const std::string viewPlace = "bufferViews[" + std::to_string(a.bufferView) + "]";
         if (view.buffer < 0 || std::size_t(view.buffer) >= m_model.buffers.size())
@@ -181,8 +184,7 @@ GltfAccessors::Layout GltfAccessors::layout(int index, int type,
             out.stride = view.byteStride;
         }
         // The last element must end inside the view.
-        const std::size_t span =
-            a.count == 0 ? 0 : (a.count - 1) * out.stride + elementSize;
+        const std::size_t span = a.count == 0 ? 0 : (a.count - 1) * out.stride + elementSize;
         if (a.byteOffset > view.byteLength || span > view.byteLength - a.byteOffset)
             fail(place, std::to_string(a.count) + " elements from byte " +
                             std::to_string(a.byteOffset) + " go past the end of its bufferView (" +
@@ -199,8 +201,8 @@ GltfAccessors::Layout GltfAccessors::layout(int index, int type,
             std::memcpy(&sparseCopy[i * elementSize], out.data + i * out.stride, elementSize);
     const int n = a.sparse.count;
     if (n < 1 || std::size_t(n) > a.count)
-        fail(sparsePlace, "count " + std::to_string(n) + " is not in [1, " +
-                              std::to_string(a.count) + "]");
+        fail(sparsePlace,
+             "count " + std::to_string(n) + " is not in [1, " + std::to_string(a.count) + "]");
     auto span = [&](int viewIndex, std::size_t offset, std::size_t bytes,
                     const std::string& what) -> const unsigned char* {
         if (viewIndex < 0 || std::size_t(viewIndex) >= m_model.bufferViews.size())
@@ -222,9 +224,9 @@ GltfAccessors::Layout GltfAccessors::layout(int index, int type,
     if (indexSize == 0 || indexType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
         indexType == TINYGLTF_COMPONENT_TYPE_BYTE || indexType == TINYGLTF_COMPONENT_TYPE_SHORT)
         fail(sparsePlace + ".indices", "needs unsigned byte, short or int indices");
-    const unsigned char* indices = span(a.sparse.indices.bufferView,
-                                        std::size_t(std::max(a.sparse.indices.byteOffset, 0)),
-                                        std::size_t(n) * indexSize, "indices");
+    const unsigned char* indices =
+        span(a.sparse.indices.bufferView, std::size_t(std::max(a.sparse.indices.byteOffset, 0)),
+             std::size_t(n) * indexSize, "indices");
     const unsigned char* values =
         span(a.sparse.values.bufferView, std::size_t(std::max(a.sparse.values.byteOffset, 0)),
              std::size_t(n) * elementSize, "values");
@@ -298,20 +300,19 @@ std::vector<Vec2> GltfAccessors::vec2(int index, const std::string& use) const {
 std::vector<std::uint32_t> GltfAccessors::indices(int index, const std::string& use,
                                                   std::size_t vertices) const {
     std::vector<unsigned char> copy;
-    const Layout l = layout(index, TINYGLTF_TYPE_SCALAR,
-                            {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
-                             TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
-                             TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT},
-                            use, copy);
+    const Layout l =
+        layout(index, TINYGLTF_TYPE_SCALAR,
+               {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT},
+               use, copy);
     std::vector<std::uint32_t> out(l.count, 0);
     if (!l.data) return out;
     for (std::size_t i = 0; i < l.count; ++i) {
         const std::uint32_t v = readIndex(l.data + i * l.stride, l.componentType);
         if (v >= vertices)
-            fail(accessorPlace(index), "index " + std::to_string(v) + " (element " +
-                                           std::to_string(i) + " of " + use +
-                                           ") is past the vertex count, " +
-                                           std::to_string(vertices));
+            fail(accessorPlace(index),
+                 "index " + std::to_string(v) + " (element " + std::to_string(i) + " of " + use +
+                     ") is past the vertex count, " + std::to_string(vertices));
         out[i] = v;
     }
     return out;

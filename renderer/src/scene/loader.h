@@ -1,13 +1,14 @@
-// scene.json → SceneData. One loader, three files by concern: scene_loader.cpp reads the JSON
-// (camera, film, render block, materials, environment, shapes and their transforms),
-// obj_import.cpp imports OBJ/MTL geometry through tinyobjloader, image_import.cpp reads textures
-// and environment images.
+// scene.json → SceneData. One loader, files by concern: scene_loader.cpp reads the JSON
+// (camera, film, render block, materials, environment, shapes and their transforms) and builds
+// the scene around a bare asset, obj_import.cpp imports OBJ/MTL geometry through tinyobjloader,
+// gltf_import.cpp and gltf_material.cpp import glTF 2.0 assets through tinygltf,
+// image_import.cpp reads textures and environment images.
 #pragma once
 
 #include <filesystem>
 #include <map>
-#include <tuple>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -19,6 +20,14 @@
 
 namespace glint::render::detail {
 
+/// What a scene.json shape asks of the glTF asset it places.
+struct GltfOverrides {
+    int material = -1;  ///< "material": replaces every material of the asset (scene index)
+    /// "materials": a glTF material name → the scene material that replaces it.
+    std::map<std::string, int> byName;
+    std::string byNamePlace;  ///< the JSON place of "materials" (for a name the asset lacks)
+};
+
 /// Loads one scene file into a SceneData; textures are read once per path.
 class Loader {
   public:
@@ -26,6 +35,11 @@ class Loader {
 
     /// Reads the whole document.
     void load(const nlohmann::json& root);
+    /// Builds a scene around the glTF asset `file` (a bare asset: loadScene("model.glb")): film
+    /// 640 pixels wide, the asset's first camera or one framing its bounding sphere, a constant
+    /// environment of radiance 1 when the asset has no light. Records an equivalent scene.json
+    /// as the scene's source.
+    void loadAsset(const std::filesystem::path& file);
 
   private:
     void readCamera(const nlohmann::json& j, const std::string& where);
@@ -46,6 +60,16 @@ class Loader {
     std::uint32_t importObj(const std::filesystem::path& objPath, const std::vector<Affine>& poses,
                             int overrideMaterial, const std::string& where);
 
+    /// gltf_import.cpp: adds the glTF asset's default scene (its node hierarchy) as meshes placed
+    /// by instances, each glTF mesh one Glint mesh however many nodes use it; its materials
+    /// (unless overridden), cameras (SceneData::assetCameras) and KHR_lights_punctual lights.
+    /// `poses` is the shape's transform (or every time step of its motion); every vertex must
+    /// stay within the coordinate range in each. Errors name the asset and the glTF place.
+    void importGltf(const std::filesystem::path& path, const std::vector<Affine>& poses,
+                    const GltfOverrides& overrides, const std::string& where);
+    /// Sets the camera from SceneData::assetCameras[index] (film unchanged).
+    void useAssetCamera(std::size_t index);
+
     /// Loads (or finds) the colour texture at `path` (relative to the scene folder), repeating;
     /// returns its index.
     int loadTexture(const std::filesystem::path& path, const std::string& where);
@@ -59,12 +83,19 @@ class Loader {
     /// An RGB radiance in [0, kMaxRadiance].
     Vec3 radiance(const nlohmann::json& value, const std::string& where) const;
 
+    friend class GltfImport;
+
     JsonReader m_reader;
     SceneData& m_scene;
     std::filesystem::path m_dir;
     std::map<std::string, int> m_materialIndex;
     std::map<std::tuple<std::filesystem::path, int, int, int>, int> m_textureIndex;
+    bool m_hasCamera = false;  ///< the document has a "camera" block
 };
+
+/// The bounding box of every vertex of every instance at shutter open; false when the scene
+/// has no vertex.
+bool worldBounds(const SceneData& scene, Vec3& lo, Vec3& hi);
 
 /// The largest side of the bounding box of every vertex of every instance in every pose
 /// (SceneData::extent).

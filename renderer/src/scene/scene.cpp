@@ -1,5 +1,6 @@
 #include "glint/render/scene.h"
 
+#include "glint/image/error.h"
 #include "scene/scene_data.h"
 
 #include <algorithm>
@@ -160,9 +161,37 @@ bool Scene::hasEnvironment() const {
     return m_data->environment.kind != detail::EnvironmentDesc::Kind::None;
 }
 
+const std::vector<std::string>& Scene::warnings() const {
+    return m_data->warnings;
+}
+
+std::vector<std::string> Scene::assetCameraNames() const {
+    std::vector<std::string> names;
+    for (const detail::AssetCamera& c : m_data->assetCameras) names.push_back(c.name);
+    return names;
+}
+
+void Scene::useAssetCamera(const std::string& name) {
+    for (const detail::AssetCamera& a : m_data->assetCameras) {
+        if (a.name != name) continue;
+        m_data->camera = detail::cameraOf(a);
+        return;
+    }
+    std::string names;
+    for (const detail::AssetCamera& a : m_data->assetCameras)
+        names += (names.empty() ? "" : ", ") + a.name;
+    throw Error(
+        ErrorKind::InvalidArgument,
+        "no glTF camera named '" + name + "' (" +
+            (names.empty() ? "the scene's assets bring no camera" : "the cameras are: " + names) +
+            ")",
+        m_data->path.string());
+}
+
 std::vector<std::filesystem::path> Scene::imageFiles() const {
     std::vector<std::filesystem::path> files;
-    for (const detail::Texture& t : m_data->textures) files.push_back(t.path);
+    for (const detail::Texture& t : m_data->textures)
+        if (!t.bytes) files.push_back(t.path);  // embedded images are no files
     if (m_data->environment.kind == detail::EnvironmentDesc::Kind::Image)
         files.push_back(m_data->environment.path);
     return files;

@@ -164,6 +164,16 @@ struct CameraDesc {
     Vec3 motionPosition{}, motionLookAt{};
 };
 
+/// The camera an asset brings, as scene.json would give it (pinhole, static).
+inline CameraDesc cameraOf(const AssetCamera& a) {
+    CameraDesc cam;
+    cam.position = a.position;
+    cam.lookAt = a.lookAt;
+    cam.up = a.up;
+    cam.fovY = a.fovY;
+    return cam;
+}
+
 /// The environment: none, a constant colour or a lat-long image (+y up, u = 0.5 looks down -z).
 struct EnvironmentDesc {
     enum class Kind { None, Constant, Image };

@@ -64,6 +64,19 @@ std::uint64_t sceneContentHash(const detail::SceneData& d) {
         h.value(int(m.type)), h.value(m.texture), h.value(int(m.hasEtaK));
         for (const Vec3& v : {m.albedo, m.emission, m.eta, m.k, m.specular}) h.value(v);
         h.value(m.ior), h.value(m.roughness);
+        // Metallic-roughness (glTF) properties.
+        h.value(m.metallic), h.value(m.transmission), h.value(m.normalScale), h.value(m.opacity);
+        h.value(m.alphaCutoff), h.value(int(m.alphaMode)), h.value(int(m.textureTimesFactor));
+        for (const detail::TextureSlot* slot :
+             {&m.roughnessMetallicMap, &m.normalMap, &m.emissionMap}) {
+            h.value(slot->texture);
+            h.bytes(slot->transform.m, sizeof slot->transform.m);
+        }
+        h.bytes(m.textureTransform.m, sizeof m.textureTransform.m);
+    }
+    for (const detail::PunctualLight& l : d.punctualLights) {
+        h.value(int(l.kind)), h.value(l.position), h.value(l.direction), h.value(l.intensity);
+        h.value(l.cosInner), h.value(l.cosOuter);
     }
     for (const detail::Texture& t : d.textures) h.image(t.image);
     // Geometry.

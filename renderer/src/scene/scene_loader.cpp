@@ -1,6 +1,9 @@
 // scene.json → SceneData, the JSON half of the loader (loader.h): camera, film, render block,
-// materials (JSON overriding MTL by name), environment, shapes with scale-rotate-translate
-// transforms and motion. OBJ/MTL import is in obj_import.cpp, images in image_import.cpp.
+// materials (JSON overriding MTL and glTF materials by name), environment, shapes (OBJ or glTF)
+// with scale-rotate-translate transforms and motion, and the scene built around a bare glTF
+// asset. OBJ/MTL import is in obj_import.cpp, glTF in gltf_import.cpp, images in
+// image_import.cpp.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -84,7 +87,8 @@ void Loader::load(const json& root) {
                            {"camera", "film", "materials", "shapes", "environment", "render"});
     if (!root.contains("film")) m_reader.fail("/film", "missing required key 'film'");
     readFilm(root["film"], "/film");
-    if (root.contains("camera")) readCamera(root["camera"], "/camera");
+    m_hasCamera = root.contains("camera");
+    if (m_hasCamera) readCamera(root["camera"], "/camera");
     if (root.contains("render")) readRender(root["render"], "/render");
     // JSON materials are parsed up front; they override MTL materials of the same name.
     if (root.contains("materials")) {
@@ -104,6 +108,8 @@ void Loader::load(const json& root) {
             readShape(shapes[i], "/shapes/" + std::to_string(i));
     }
     if (root.contains("environment")) readEnvironment(root["environment"], "/environment");
+    // Without a camera block, the first camera a glTF asset brings.
+    if (!m_hasCamera && !m_scene.assetCameras.empty()) useAssetCamera(0);
     for (Material& m : m_scene.materials) m.deriveEmissionLook();
     m_scene.finishMeshes();
     computeExtent(m_scene);
@@ -320,10 +326,20 @@ TransformDesc Loader::readTransform(const json& j, const std::string& where,
 }
 
 void Loader::readShape(const json& j, const std::string& where) {
-    m_reader.requireObject(j, where, {"obj", "material", "transform", "motion"});
-    if (!j.contains("obj")) m_reader.fail(where + "/obj", "missing required key 'obj'");
-    const fs::path rel = m_reader.string(j["obj"], where + "/obj");
-    const fs::path objPath = rel.is_absolute() ? rel : m_dir / rel;
+    m_reader.requireObject(j, where,
+                           {"obj", "gltf", "material", "materials", "transform", "motion"});
+    if (j.contains("obj") == j.contains("gltf"))
+        m_reader.fail(where,
+                      "expected exactly one of 'obj' (a Wavefront OBJ file) or 'gltf' (a "
+                      "glTF 2.0 .gltf or .glb asset)");
+    const bool gltf = j.contains("gltf");
+    const std::string key = gltf ? "gltf" : "obj";
+    const fs::path rel = m_reader.string(j[key], where + "/" + key);
+    const fs::path filePath = rel.is_absolute() ? rel : m_dir / rel;
+    if (!gltf && j.contains("materials"))
+        m_reader.fail(where + "/materials",
+                      "'materials' renames a glTF asset's materials; an OBJ shape takes "
+                      "'material', and JSON materials override MTL materials by name");
     const TransformDesc start = j.contains("transform")
                                     ? readTransform(j["transform"], where + "/transform", {})
                                     : TransformDesc{};
@@ -341,27 +357,44 @@ void Loader::readShape(const json& j, const std::string& where) {
                  length(end.scale - start.scale) > 0.0f || end.degrees != start.degrees ||
                  (start.degrees != 0.0f && length(end.axis - start.axis) > 0.0f);
     }
+    auto jsonMaterial = [&](const json& value, const std::string& place) {
+        const std::string name = m_reader.string(value, place);
+        const int index = materialIndex(name);
+        if (index < 0) m_reader.fail(place, "material '" + name + "' is not defined in /materials");
+        return index;
+    };
     int overrideMaterial = -1;
-    if (j.contains("material")) {
-        const std::string name = m_reader.string(j["material"], where + "/material");
-        overrideMaterial = materialIndex(name);
-        if (overrideMaterial < 0)
-            m_reader.fail(where + "/material",
-                          "material '" + name + "' is not defined in /materials");
-    }
-    Instance instance;
-    instance.transform = toAffine(start);
-    instance.identity = isIdentity(instance.transform);
-    instance.material = overrideMaterial;
-    instance.name = where;
-    std::vector<Affine> poses{instance.transform};
+    if (j.contains("material")) overrideMaterial = jsonMaterial(j["material"], where + "/material");
+    std::vector<Affine> poses{toAffine(start)};
     if (moving) {
         const TransformMotion motion(start, end);
         const int steps = motion.timeSteps();
         poses.clear();
         for (int k = 0; k < steps; ++k) poses.push_back(motion.at(float(k) / float(steps - 1)));
     }
-    instance.mesh = importObj(objPath, poses, overrideMaterial, where);
+    if (gltf) {
+        GltfOverrides overrides;
+        overrides.material = overrideMaterial;
+        overrides.byNamePlace = where + "/materials";
+        if (j.contains("materials")) {
+            const json& map = j["materials"];
+            if (!map.is_object())
+                m_reader.fail(where + "/materials",
+                              "expected an object mapping glTF material names to JSON materials");
+            for (const auto& item : map.items())
+                overrides.byName[item.key()] =
+                    jsonMaterial(item.value(), where + "/materials/" + item.key());
+        }
+        importGltf(filePath, poses, overrides, where);
+        return;
+    }
+
+    Instance instance;
+    instance.transform = poses.front();
+    instance.identity = isIdentity(instance.transform);
+    instance.material = overrideMaterial;
+    instance.name = where;
+    instance.mesh = importObj(filePath, poses, overrideMaterial, where);
     const Mesh& mesh = m_scene.meshes[instance.mesh];
     if (mesh.triangleCount() == 0) return;
     if (moving) {
@@ -372,11 +405,81 @@ void Loader::readShape(const json& j, const std::string& where) {
                               "a moving shape must not be emissive (area lights are static)");
         }
         instance.motion = std::int32_t(m_scene.motions.size());
-        instance.transform = poses.front();
         instance.identity = false;
         m_scene.motions.push_back({std::move(poses)});
     }
     m_scene.instances.push_back(std::move(instance));
+}
+
+void Loader::useAssetCamera(std::size_t index) {
+    m_scene.camera = cameraOf(m_scene.assetCameras.at(index));
+}
+
+bool worldBounds(const SceneData& scene, Vec3& lo, Vec3& hi) {
+    lo = Vec3{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
+              std::numeric_limits<float>::max()};
+    hi = lo * -1.0f;
+    bool any = false;
+    for (const Instance& inst : scene.instances)
+        for (const Vec3& q : scene.meshes[inst.mesh].positions) {
+            const Vec3 p = inst.identity ? q : inst.transform.point(q);
+            for (int c = 0; c < 3; ++c)
+                lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
+            any = true;
+        }
+    return any;
+}
+
+void Loader::loadAsset(const fs::path& file) {
+    // The scene a newcomer's first command gets: the asset, its camera or one that frames it,
+    // and light to see it by.
+    json doc;
+    doc["shapes"] = json::array({json{{"gltf", file.filename().string()}}});
+    readShape(doc["shapes"][0], "/shapes/0");
+    m_scene.width = 640;
+    m_scene.height = 480;
+    if (!m_scene.assetCameras.empty()) {
+        useAssetCamera(0);
+        const float aspect = m_scene.assetCameras.front().aspectRatio;
+        if (aspect > 0.0f) m_scene.height = std::clamp(int(std::lround(640.0f / aspect)), 1, 16384);
+    } else {
+        // A camera on +z of the bounding sphere's centre, looking down −z, at the distance at
+        // which the sphere fits the narrower field of view.
+        Vec3 lo, hi;
+        worldBounds(m_scene, lo, hi);
+        const Vec3 centre = (lo + hi) * 0.5f;
+        const float radius =
+            std::max(0.5f * length(hi - lo), 1e-6f * std::max(1.0f, maxAbsComponent(centre)));
+        const float fovY = 40.0f;
+        const float halfY = 0.5f * fovY * kPi / 180.0f;
+        const float halfX =
+            std::atan(std::tan(halfY) * float(m_scene.width) / float(m_scene.height));
+        const float distance = radius / std::sin(std::min(halfX, halfY));
+        m_scene.camera = CameraDesc{};
+        m_scene.camera.position = centre + Vec3{0.0f, 0.0f, distance};
+        m_scene.camera.lookAt = centre;
+        m_scene.camera.fovY = fovY;
+    }
+    bool lit = !m_scene.punctualLights.empty();
+    for (const Material& m : m_scene.materials) lit = lit || m.emissive();
+    if (!lit) {
+        m_scene.environment.kind = EnvironmentDesc::Kind::Constant;
+        m_scene.environment.baseColor = m_scene.environment.color = {1.0f, 1.0f, 1.0f};
+    }
+    for (Material& m : m_scene.materials) m.deriveEmissionLook();
+    m_scene.finishMeshes();
+    computeExtent(m_scene);
+
+    // The equivalent scene.json, so that the scene can be saved and reloaded as it is.
+    auto array = [](const Vec3& v) { return json::array({v.x, v.y, v.z}); };
+    const CameraDesc& cam = m_scene.camera;
+    doc["film"] = {{"width", m_scene.width}, {"height", m_scene.height}};
+    doc["camera"] = {{"position", array(cam.position)},
+                     {"lookAt", array(cam.lookAt)},
+                     {"up", array(cam.up)},
+                     {"fovY", cam.fovY}};
+    if (!lit) doc["environment"] = {{"color", json::array({1, 1, 1})}};
+    m_scene.sourceJson = doc.dump(2);
 }
 
 void computeExtent(SceneData& scene) {
@@ -453,8 +556,27 @@ Scene parseScene(const std::string& jsonText, const fs::path& path) {
     return Scene(std::move(data));
 }
 
+namespace {
+
+/// True when `path` names a glTF asset (.gltf or .glb, any case).
+bool isGltfAsset(const fs::path& path) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return ext == ".gltf" || ext == ".glb";
+}
+
+}  // namespace
+
 Scene loadScene(const fs::path& path) {
     std::error_code ec;
+    if (isGltfAsset(path) && fs::is_regular_file(path, ec)) {
+        auto data = std::make_unique<detail::SceneData>();
+        data->path = path;
+        detail::Loader loader(path, *data);
+        loader.loadAsset(path);
+        return Scene(std::move(data));
+    }
     if (fs::is_directory(path, ec))
         throw Error(ErrorKind::Io, "is a folder, expected a scene.json file", path.string());
     if (!fs::exists(path, ec))

@@ -136,7 +136,8 @@ void saveScene(const Scene& scene, const fs::path& path) {
     };
     if (root.contains("shapes"))
         for (ordered_json& shape : root["shapes"])
-            if (shape.contains("obj")) rebaseString(shape["obj"]);
+            for (const char* key : {"obj", "gltf"})
+                if (shape.contains(key)) rebaseString(shape[key]);
     if (root.contains("environment") && root["environment"].contains("image"))
         rebaseString(root["environment"]["image"]);
     if (root.contains("materials"))

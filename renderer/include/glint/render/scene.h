@@ -44,6 +44,16 @@ class Scene {
     /// can refuse to write over one of them.
     std::vector<std::filesystem::path> imageFiles() const;
 
+    /// What loading ignored and the user should know (an unread glTF extension, a skipped
+    /// orthographic camera...), one line each.
+    const std::vector<std::string>& warnings() const;
+    /// Names of the cameras the scene's glTF assets bring (the node's name, else the camera's,
+    /// else `cameras[i]`), in the order the assets' scenes list them.
+    std::vector<std::string> assetCameraNames() const;
+    /// Renders through the glTF camera `name` (see assetCameraNames); the film stays as it is.
+    /// Throws glint::Error(InvalidArgument) listing the names when there is none of that name.
+    void useAssetCamera(const std::string& name);
+
     /// Every material (in file order: JSON materials, then those the OBJ files added) and the
     /// environment, each with its editable properties and their current values. A material has
     /// albedo (unless textured), emission colour and strength, and roughness (conductor) or ior

@@ -1,0 +1,33 @@
+// Cut-outs and stochastic transparency (glTF alphaMode MASK and BLEND) through Embree's filter
+// functions: a hit where the surface is not there is rejected before the traversal accepts it,
+// for closest hits and shadow rays alike.
+#pragma once
+
+#include <cstdint>
+
+#include "scene/scene_data.h"
+
+struct RTCGeometryTy;
+
+namespace glint::render {
+
+/// What a filter needs to find the material of a hit on one Embree geometry.
+struct AlphaTest {
+    const detail::SceneData* scene = nullptr;
+    std::uint32_t instance = 0;  ///< the instance the geometry is (unused when shared)
+    bool shared = false;         ///< a mesh of its own scene: the hit's instance ID names it
+};
+
+/// The surface's presence at barycentrics (b1, b2) of triangle `prim` of `instance`: the
+/// material's opacity times its base-colour texture's alpha; 1 for an opaque material.
+float surfaceAlpha(const detail::SceneData& scene, std::uint32_t instance, std::uint32_t prim,
+                   float b1, float b2);
+
+/// True when some triangle of `instance` may be cut out or see-through (its material's
+/// alphaMode is not Opaque): only such geometries get a filter.
+bool needsAlphaTest(const detail::SceneData& scene, std::uint32_t instance);
+
+/// Installs the filter on `geometry` (before it is committed); `test` must outlive it.
+void attachAlphaFilter(RTCGeometryTy* geometry, const AlphaTest* test);
+
+}  // namespace glint::render

@@ -1,0 +1,37 @@
+// What a material's textures give at one hit, before its BSDF is built: the base colour, the
+// metallic-roughness material's metallic and roughness (factors times their texture), and the
+// shading normal bent by a tangent-space normal map (glTF's conventions: docs/assets.md).
+#pragma once
+
+#include "scene/scene_data.h"
+#include "vecmath.h"
+
+namespace glint::render {
+
+/// A hit's place on its mesh: the instance and triangle, barycentrics (p = (1−b1−b2) p0 + b1 p1
+/// + b2 p2) and the interpolated texture coordinates (when the mesh has them).
+struct SurfacePoint {
+    detail::SurfaceId id;
+    float b1 = 0.0f, b2 = 0.0f;
+    Vec2 uv;
+    bool hasUv = false;
+};
+
+/// The textured inputs of `material` at `at`.
+struct SurfaceInputs {
+    Vec3 albedo;             ///< base colour: the factor, replaced or multiplied by the texture
+    float metallic = 0.0f;   ///< metallic-roughness material only
+    float roughness = 0.0f;  ///< metallic-roughness material only (perceptual, α = roughness²)
+};
+
+SurfaceInputs evaluateInputs(const detail::SceneData& scene, const detail::Material& material,
+                             const SurfacePoint& at);
+
+/// The shading normal `ns` (unit, world space, on the viewer's side) bent by the material's
+/// normal map: n = normalize(T x + B y + N z) with (x, y, z) = (2 rgb − 1) × (s, s, 1), T and
+/// B the mesh's tangent frame at the hit in world space (glTF: B = w · N × T) made orthogonal to
+/// N. Returns ns unchanged without a normal map, texture coordinates or tangents.
+Vec3 applyNormalMap(const detail::SceneData& scene, const detail::Material& material,
+                    const SurfacePoint& at, const Vec3& ns);
+
+}  // namespace glint::render

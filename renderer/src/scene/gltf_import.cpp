@@ -1,0 +1,697 @@
+// glTF 2.0 import through tinygltf: the file (.gltf with its buffers, or .glb, whose header and
+// chunks are checked before tinygltf sees them), the extensions it requires, the default scene's
+// node hierarchy (TRS or matrix transforms), triangle meshes shared between the nodes that use
+// them, perspective cameras and KHR_lights_punctual lights. Materials and textures are in
+// gltf_material.cpp.
+#include "scene/gltf_import.h"
+
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <regex>
+#include <sstream>
+
+#include "glint/image/error.h"
+#include "scene/tangent_frames.h"
+
+namespace glint::render::detail {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr std::uint32_t kGlbMagic = 0x46546C67;   // "glTF"
+constexpr std::uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
+constexpr std::uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
+
+std::uint32_t le32(const unsigned char* p) {
+    return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 |
+           std::uint32_t(p[3]) << 24;
+}
+
+[[noreturn]] void failFile(const fs::path& file, const std::string& place, const std::string& what,
+                           ErrorKind kind = ErrorKind::Format) {
+    throw Error(kind, what, file.string(), place);
+}
+
+/// Checks a binary glTF's header and chunk structure (glTF 2.0 spec, "Binary glTF Layout"), so
+/// that a truncated or damaged file is named with its byte rather than by tinygltf's text.
+void checkGlb(const std::vector<unsigned char>& b, const fs::path& file) {
+    if (b.size() < 12)
+        failFile(file, "header",
+                 "truncated binary glTF: " + std::to_string(b.size()) +
+                     " bytes, fewer than the 12-byte header");
+    if (le32(&b[0]) != kGlbMagic)
+        failFile(file, "byte 0", "wrong magic: not a binary glTF (expected the bytes 'glTF')");
+    if (const std::uint32_t version = le32(&b[4]); version != 2)
+        failFile(file, "header",
+                 "binary glTF version " + std::to_string(version) + "; Glint reads version 2");
+    const std::uint64_t length = le32(&b[8]);
+    if (length != b.size())
+        failFile(
+            file, "header",
+            (length > b.size() ? "truncated binary glTF: the header says " : "the header says ") +
+                std::to_string(length) + " bytes, the file has " + std::to_string(b.size()));
+    std::uint64_t offset = 12;
+    for (int chunk = 0; offset < length; ++chunk) {
+        const std::string place =
+            "chunk " + std::to_string(chunk) + " (byte " + std::to_string(offset) + ")";
+        if (length - offset < 8) failFile(file, place, "truncated chunk header");
+        const std::uint64_t size = le32(&b[offset]);
+        const std::uint32_t type = le32(&b[offset + 4]);
+        if (size > length - offset - 8)
+            failFile(file, place,
+                     "a chunk of " + std::to_string(size) +
+                         " bytes goes past the end of the file (truncated)");
+        if (chunk == 0 && type != kChunkJson)
+            failFile(file, place, "the first chunk must be the JSON chunk");
+        if (chunk == 1 && type != kChunkBin)
+            failFile(file, place, "the second chunk must be the BIN chunk");
+        offset += 8 + size;
+    }
+    if (offset == 12) failFile(file, "header", "the file has no JSON chunk");
+}
+
+/// tinygltf's image callback: keeps a data URI's encoded bytes for Glint's own reader. Images in
+/// files and bufferViews are read later from where they are, with their bounds checked.
+bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                      const unsigned char* bytes, int size, void*) {
+    if (image->bufferView < 0 && image->uri.empty() && bytes && size > 0)
+        image->image.assign(bytes, bytes + size);
+    return true;
+}
+
+// File access for tinygltf: no search of the current folder (tinygltf tries "./name" after the
+// asset's folder), no devices or pipes.
+bool fileExists(const std::string& path, void*) {
+    if (path.rfind("./", 0) == 0) return false;
+    std::error_code ec;
+    return fs::is_regular_file(path, ec);
+}
+std::string expandFilePath(const std::string& path, void*) {
+    return path;
+}
+bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                   void*) {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) {
+        if (err) *err += "not a regular file: " + path + "\n";
+        return false;
+    }
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        if (err) *err += "cannot open " + path + "\n";
+        return false;
+    }
+    out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    return true;
+}
+bool writeWholeFile(std::string*, const std::string&, const std::vector<unsigned char>&, void*) {
+    return false;
+}
+
+/// The glTF place a tinygltf message names ("buffer[0]" → "buffers[0]"), or "".
+std::string placeOf(const std::string& message) {
+    static const std::regex item(R"(\b([a-zA-Z]+)\[(\d+)\])");
+    std::smatch m;
+    if (!std::regex_search(message, m, item)) return {};
+    std::string name = m[1];
+    if (name.back() != 's') name += 's';
+    return name + "[" + m[2].str() + "]";
+}
+
+/// Throws the first line of tinygltf's error text as one Error with the glTF place it names,
+/// rephrased where tinygltf's words are not a user's (JSON parser exceptions, whole data URIs).
+[[noreturn]] void readerFailed(const fs::path& file, const std::string& err) {
+    std::string first = err.substr(0, err.find('\n'));
+    while (!first.empty() && (first.back() == '.' || first.back() == ' ')) first.pop_back();
+    std::smatch m;
+    static const std::regex json(R"(parse error at line (\d+), column (\d+): (.*))");
+    static const std::regex missing(R"(^File not found : (.*))");
+    static const std::regex size(
+        R"(^File size mismatch : (.*), requestedBytes (\d+), but got (\d+))");
+    if (std::regex_search(first, m, json))
+        failFile(file, "line " + m[1].str() + ", column " + m[2].str(),
+                 "malformed JSON: " + m[3].str());
+    if (std::regex_search(first, m, missing))
+        failFile(file, "buffers", "buffer file '" + m[1].str() + "' not found", ErrorKind::Io);
+    if (std::regex_search(first, m, size))
+        failFile(file, "buffers",
+                 "buffer file '" + m[1].str() + "' has " + m[3].str() +
+                     " bytes, its byteLength says " + m[2].str());
+    if (first.rfind("Failed to decode 'uri'", 0) == 0)
+        failFile(file, "buffers", "a buffer's data URI is not base64 of its byteLength bytes");
+    if (first.empty()) first = "unreadable glTF";
+    if (first.size() > 200) first = first.substr(0, 200) + "...";
+    failFile(file, placeOf(first), "cannot read the glTF: " + first);
+}
+
+/// A row-major 3×4 affine matrix in double, for composing the node hierarchy.
+struct Matrix34 {
+    double r[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
+};
+
+Matrix34 operator*(const Matrix34& a, const Matrix34& b) {
+    Matrix34 c;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 4; ++j) {
+            double s = j == 3 ? a.r[i][3] : 0.0;
+            for (int k = 0; k < 3; ++k) s += a.r[i][k] * b.r[k][j];
+            c.r[i][j] = s;
+        }
+    return c;
+}
+
+/// A node's local transform: its matrix (column-major, must be affine) or T · R · S.
+Matrix34 localTransform(const tinygltf::Node& n, const std::string& place,
+                        const GltfAccessors& acc) {
+    Matrix34 out;
+    auto finite = [&](const std::vector<double>& v, const char* key) {
+        for (double x : v)
+            if (!std::isfinite(x)) acc.fail(place + "." + key, "holds a non-finite number");
+    };
+    if (!n.matrix.empty()) {
+        if (n.matrix.size() != 16)
+            acc.fail(place + ".matrix",
+                     "has " + std::to_string(n.matrix.size()) + " numbers, expected 16");
+        finite(n.matrix, "matrix");
+        for (int row = 0; row < 3; ++row)
+            for (int col = 0; col < 4; ++col)
+                out.r[row][col] = n.matrix[std::size_t(col * 4 + row)];
+        if (std::abs(n.matrix[3]) > 1e-6 || std::abs(n.matrix[7]) > 1e-6 ||
+            std::abs(n.matrix[11]) > 1e-6 || std::abs(n.matrix[15] - 1.0) > 1e-6)
+            acc.fail(place + ".matrix", "is not affine (its last row is not 0 0 0 1)");
+        return out;
+    }
+    auto sized = [&](const std::vector<double>& v, std::size_t n3, const char* key) {
+        if (!v.empty() && v.size() != n3)
+            acc.fail(place + "." + key, "has " + std::to_string(v.size()) + " numbers, expected " +
+                                            std::to_string(n3));
+        finite(v, key);
+    };
+    sized(n.translation, 3, "translation");
+    sized(n.rotation, 4, "rotation");
+    sized(n.scale, 3, "scale");
+    double q[4] = {0, 0, 0, 1};  // x, y, z, w
+    if (!n.rotation.empty()) {
+        const double len = std::sqrt(n.rotation[0] * n.rotation[0] + n.rotation[1] * n.rotation[1] +
+                                     n.rotation[2] * n.rotation[2] + n.rotation[3] * n.rotation[3]);
+        if (!(len > 0.0)) acc.fail(place + ".rotation", "is the zero quaternion");
+        for (int i = 0; i < 4; ++i) q[i] = n.rotation[std::size_t(i)] / len;
+    }
+    const double x = q[0], y = q[1], z = q[2], w = q[3];
+    // The rotation matrix of a unit quaternion (Shoemake 1985).
+    const double rot[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)},
+                              {2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)},
+                              {2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)}};
+    const double s[3] = {n.scale.empty() ? 1.0 : n.scale[0], n.scale.empty() ? 1.0 : n.scale[1],
+                         n.scale.empty() ? 1.0 : n.scale[2]};
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) out.r[i][j] = rot[i][j] * s[j];
+        out.r[i][3] = n.translation.empty() ? 0.0 : n.translation[std::size_t(i)];
+    }
+    return out;
+}
+
+/// The extension object `name` of an extension map, or null.
+const tinygltf::Value* extension(const tinygltf::ExtensionMap& map, const char* name) {
+    const auto it = map.find(name);
+    return it == map.end() || !it->second.IsObject() ? nullptr : &it->second;
+}
+
+}  // namespace
+
+std::string decodeUri(const std::string& uri) {
+    std::string out;
+    for (std::size_t i = 0; i < uri.size(); ++i) {
+        if (uri[i] == '%' && i + 2 < uri.size() &&
+            std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+            std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+            out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+            i += 2;
+        } else {
+            out += uri[i];
+        }
+    }
+    return out;
+}
+
+GltfImport::GltfImport(Loader& loader, const tinygltf::Model& model, fs::path file,
+                       const GltfOverrides& overrides, std::string where)
+    : m_loader(loader),
+      m_scene(loader.m_scene),
+      m_model(model),
+      m_file(std::move(file)),
+      m_overrides(overrides),
+      m_where(std::move(where)),
+      m_accessors(model, m_file),
+      m_meshes(model.meshes.size(), -1),
+      m_materials(model.materials.size(), -1) {}
+
+void GltfImport::warn(const std::string& text) {
+    const std::string line = m_file.filename().string() + ": " + text;
+    if (std::find(m_scene.warnings.begin(), m_scene.warnings.end(), line) == m_scene.warnings.end())
+        m_scene.warnings.push_back(line);
+}
+
+void GltfImport::fail(const std::string& place, const std::string& what) const {
+    m_accessors.fail(place, what);
+}
+
+std::string GltfImport::nodeName(int node) const {
+    const std::string& name = m_model.nodes[std::size_t(node)].name;
+    return name.empty() ? "nodes[" + std::to_string(node) + "]" : name;
+}
+
+void GltfImport::checkExtensions() {
+    auto read = [](const std::string& name) {
+        for (const char* e : kReadGltfExtensions)
+            if (name == e) return true;
+        return false;
+    };
+    std::string list;
+    for (const char* e : kReadGltfExtensions) list += (list.empty() ? "" : ", ") + std::string(e);
+    for (std::size_t i = 0; i < m_model.extensionsRequired.size(); ++i)
+        if (!read(m_model.extensionsRequired[i]))
+            fail("extensionsRequired[" + std::to_string(i) + "]",
+                 "the asset requires extension " + m_model.extensionsRequired[i] +
+                     ", which Glint does not read (it reads " + list + ")");
+    for (const std::string& name : m_model.extensionsUsed)
+        if (!read(name))
+            warn("extension " + name + " is not read by Glint; the asset may look different");
+}
+
+void GltfImport::importScene(const std::vector<Affine>& poses) {
+    checkExtensions();
+    // The shape's "materials" must name materials the asset has: a misspelt name would
+    // otherwise be ignored without a word.
+    for (const tinygltf::Material& m : m_model.materials) m_usedMaterialNames.insert(m.name);
+    for (const auto& [name, index] : m_overrides.byName)
+        if (!m_usedMaterialNames.count(name)) {
+            std::string names;
+            for (const std::string& n : m_usedMaterialNames)
+                if (!n.empty()) names += (names.empty() ? "" : ", ") + n;
+            m_loader.m_reader.fail(m_overrides.byNamePlace + "/" + name,
+                                   m_file.filename().string() + " has no material '" + name +
+                                       "' (it has: " + (names.empty() ? "none named" : names) +
+                                       ")");
+        }
+    if (!m_model.animations.empty())
+        warn("animations are ignored (the nodes' rest pose is rendered)");
+    // The default scene, else the first, else every root node.
+    std::vector<int> roots;
+    std::string scenePlace = "nodes";
+    const int sceneIndex = m_model.defaultScene >= 0 ? m_model.defaultScene
+                           : m_model.scenes.empty()  ? -1
+                                                     : 0;
+    if (sceneIndex >= int(m_model.scenes.size()))
+        fail("scene", "names scenes[" + std::to_string(sceneIndex) + "], but the asset has " +
+                          std::to_string(m_model.scenes.size()));
+    if (sceneIndex >= 0) {
+        roots = m_model.scenes[std::size_t(sceneIndex)].nodes;
+        scenePlace = "scenes[" + std::to_string(sceneIndex) + "]";
+    } else {
+        std::vector<bool> child(m_model.nodes.size(), false);
+        for (const tinygltf::Node& n : m_model.nodes)
+            for (int c : n.children)
+                if (c >= 0 && std::size_t(c) < child.size()) child[std::size_t(c)] = true;
+        for (std::size_t i = 0; i < child.size(); ++i)
+            if (!child[i]) roots.push_back(int(i));
+    }
+
+    // Walk the hierarchy depth first; a node reached twice (a cycle, or two parents) is invalid.
+    std::vector<bool> visited(m_model.nodes.size(), false);
+    struct Item {
+        int node;
+        Matrix34 parent;
+        std::string place;
+    };
+    std::vector<Item> stack;
+    for (std::size_t i = roots.size(); i-- > 0;)
+        stack.push_back({roots[i], Matrix34{}, scenePlace + ".nodes[" + std::to_string(i) + "]"});
+    const std::size_t trianglesBefore = m_scene.triangleCount();
+    while (!stack.empty()) {
+        const Item item = std::move(stack.back());
+        stack.pop_back();
+        if (item.node < 0 || std::size_t(item.node) >= m_model.nodes.size())
+            fail(item.place, "names nodes[" + std::to_string(item.node) + "], but the asset has " +
+                                 std::to_string(m_model.nodes.size()));
+        const std::string place = "nodes[" + std::to_string(item.node) + "]";
+        if (visited[std::size_t(item.node)])
+            fail(place, "is reached twice from the scene (a cycle, or a node with two parents)");
+        visited[std::size_t(item.node)] = true;
+        const tinygltf::Node& node = m_model.nodes[std::size_t(item.node)];
+        const Matrix34 world = item.parent * localTransform(node, place, m_accessors);
+        for (std::size_t c = node.children.size(); c-- > 0;)
+            stack.push_back(
+                {node.children[c], world, place + ".children[" + std::to_string(c) + "]"});
+
+        Affine nodeAffine;
+        if (!affineFromMatrix(world.r, nodeAffine)) {
+            if (node.mesh >= 0 || node.camera >= 0 || !node.extensions.empty())
+                warn(place + " (" + nodeName(item.node) +
+                     ") has a singular transform (a zero scale): what it holds is not rendered");
+            continue;
+        }
+        if (node.skin >= 0) warn("skins are ignored (skinned meshes are rendered unposed)");
+        if (node.mesh >= 0) {
+            if (std::size_t(node.mesh) >= m_model.meshes.size())
+                fail(place + ".mesh", "names meshes[" + std::to_string(node.mesh) +
+                                          "], but the asset has " +
+                                          std::to_string(m_model.meshes.size()));
+            const int glintMesh = mesh(node.mesh);
+            if (glintMesh >= 0) {
+                std::vector<Affine> placed;
+                for (const Affine& pose : poses) placed.push_back(compose(pose, nodeAffine));
+                placeMesh(item.node, glintMesh, placed);
+            }
+        }
+        const Affine atOpen = compose(poses.front(), nodeAffine);
+        if (node.camera >= 0) addCamera(item.node, atOpen);
+        if (extension(node.extensions, "KHR_lights_punctual")) addLight(item.node, atOpen);
+    }
+    if (m_scene.triangleCount() == trianglesBefore)
+        fail(m_model.meshes.empty() ? "meshes" : scenePlace,
+             m_model.meshes.empty() ? "the asset has no mesh"
+                                    : "no node of the scene places a triangle mesh");
+}
+
+int GltfImport::mesh(int index) {
+    int& cached = m_meshes[std::size_t(index)];
+    if (cached != -1) return cached;
+    const tinygltf::Mesh& gm = m_model.meshes[std::size_t(index)];
+    const std::string meshPlace = "meshes[" + std::to_string(index) + "]";
+    Mesh mesh;
+    mesh.name = m_file.filename().string() + ": " + (gm.name.empty() ? meshPlace : gm.name);
+    bool anyNormals = false, anyUvs = false, anyTangents = false;
+    if (!gm.weights.empty()) warn("morph targets are ignored (the base shape is rendered)");
+    for (std::size_t p = 0; p < gm.primitives.size(); ++p) {
+        const tinygltf::Primitive& prim = gm.primitives[p];
+        const std::string place = meshPlace + ".primitives[" + std::to_string(p) + "]";
+        const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+        if (mode != TINYGLTF_MODE_TRIANGLES) {
+            warn("primitives of mode " + std::to_string(mode) +
+                 " (points, lines, strips or fans) are skipped; Glint reads mode 4 (triangles), "
+                 "first at " +
+                 place);
+            continue;
+        }
+        auto attribute = [&](const char* name) {
+            const auto it = prim.attributes.find(name);
+            return it == prim.attributes.end() ? -1 : it->second;
+        };
+        if (!prim.targets.empty()) warn("morph targets are ignored (the base shape is rendered)");
+        const int position = attribute("POSITION");
+        if (position < 0) fail(place + ".attributes", "has no POSITION");
+        const std::vector<Vec3> positions =
+            m_accessors.vec3(position, place + ".attributes.POSITION", true);
+        const std::size_t base = mesh.positions.size();
+        if (positions.size() > std::numeric_limits<std::uint32_t>::max() - base - 1)
+            fail(place, "has more vertices than Glint can index in one mesh (2^32)");
+        auto sameCount = [&](std::size_t n, const char* name) {
+            if (n != positions.size())
+                fail(place + ".attributes." + name, "has " + std::to_string(n) +
+                                                        " elements, POSITION has " +
+                                                        std::to_string(positions.size()));
+        };
+        std::vector<Vec3> normals;
+        if (const int a = attribute("NORMAL"); a >= 0) {
+            normals = m_accessors.vec3(a, place + ".attributes.NORMAL", true);
+            sameCount(normals.size(), "NORMAL");
+        }
+        std::vector<Vec2> uvs;
+        if (const int a = attribute("TEXCOORD_0"); a >= 0) {
+            uvs = m_accessors.vec2(a, place + ".attributes.TEXCOORD_0");
+            sameCount(uvs.size(), "TEXCOORD_0");
+        }
+        std::vector<Vec4> tangents;
+        if (const int a = attribute("TANGENT"); a >= 0 && !normals.empty()) {
+            tangents = m_accessors.vec4(a, place + ".attributes.TANGENT");
+            sameCount(tangents.size(), "TANGENT");
+        }
+        std::vector<std::uint32_t> indices;
+        if (prim.indices >= 0) {
+            indices = m_accessors.indices(prim.indices, place + ".indices", positions.size());
+            if (indices.size() % 3 != 0)
+                fail(place + ".indices", "has " + std::to_string(indices.size()) +
+                                             " indices, not a multiple of 3 (triangles)");
+        } else {
+            if (positions.size() % 3 != 0)
+                fail(place, "has " + std::to_string(positions.size()) +
+                                " vertices and no indices: not a multiple of 3 (triangles)");
+            indices.resize(positions.size());
+            for (std::size_t i = 0; i < indices.size(); ++i) indices[i] = std::uint32_t(i);
+        }
+        const int materialIndex = material(prim.material);
+
+        // Append the primitive; every per-vertex array stays as long as positions (zero where a
+        // primitive lacks it) until the end.
+        const std::size_t firstTriangle = mesh.triangleCount();
+        for (std::size_t v = 0; v < positions.size(); ++v) {
+            mesh.positions.push_back(positions[v]);
+            mesh.normals.push_back(normals.empty() ? Vec3{} : normals[v]);
+            // glTF's texture origin is the top-left, Glint's the bottom-left: v' = 1 − v.
+            mesh.uvs.push_back(uvs.empty() ? Vec2{} : Vec2{uvs[v].x, 1.0f - uvs[v].y});
+            Vec4 t{};
+            if (!tangents.empty()) {
+                t = tangents[v];
+                t.w = t.w < 0.0f ? -1.0f : 1.0f;
+            }
+            mesh.tangents.push_back(t);
+        }
+        for (std::uint32_t i : indices) mesh.indices.push_back(std::uint32_t(base) + i);
+        mesh.materials.resize(mesh.triangleCount(), std::uint32_t(std::max(materialIndex, 0)));
+        anyNormals = anyNormals || !normals.empty();
+        anyUvs = anyUvs || !uvs.empty();
+        anyTangents = anyTangents || !tangents.empty();
+
+        // Tangents for a normal map, generated (MikkTSpace convention) when the asset has none.
+        const int used = m_overrides.material >= 0 ? m_overrides.material : materialIndex;
+        if (m_scene.materials[std::size_t(used)].normalMap.present() && tangents.empty()) {
+            if (normals.empty() || uvs.empty()) {
+                warn(place + " has a normal-mapped material but no " +
+                     (normals.empty() ? "NORMAL" : "TEXCOORD_0") +
+                     ": its normal map is not applied");
+            } else {
+                generateTangents(mesh, firstTriangle, mesh.triangleCount());
+                anyTangents = true;
+            }
+        }
+    }
+    if (mesh.triangleCount() == 0) return cached = -2;
+    if (!anyNormals) mesh.normals.clear();
+    if (!anyUvs) mesh.uvs.clear();
+    if (!anyTangents) mesh.tangents.clear();
+    m_scene.meshes.push_back(std::move(mesh));
+    return cached = int(m_scene.meshes.size() - 1);
+}
+
+void GltfImport::placeMesh(int node, int glintMesh, const std::vector<Affine>& poses) {
+    const Mesh& mesh = m_scene.meshes[std::size_t(glintMesh)];
+    // Every vertex in every pose within the coordinate range: the mesh's bounding box corners
+    // first (|affine| is convex, so the box's extremes are at its corners), vertex by vertex
+    // only when a corner is out, to name the vertex.
+    Vec3 lo = mesh.positions.front(), hi = lo;
+    for (const Vec3& p : mesh.positions)
+        for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
+    for (const Affine& pose : poses) {
+        bool inside = true;
+        for (int k = 0; k < 8 && inside; ++k) {
+            const Vec3 corner{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
+            const Vec3 w = pose.point(corner);
+            inside = isFinite(w) && maxAbsComponent(w) <= kMaxCoordinate;
+        }
+        if (inside) continue;
+        for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+            const Vec3 w = pose.point(mesh.positions[v]);
+            if (isFinite(w) && maxAbsComponent(w) <= kMaxCoordinate) continue;
+            const Vec3& p = mesh.positions[v];
+            std::ostringstream msg;
+            msg << "vertex " << v << " (" << p.x << ", " << p.y << ", " << p.z << ") of "
+                << mesh.name << " lies beyond " << kMaxCoordinate
+                << " (the largest coordinate) after the node's transform and that of " << m_where;
+            if (poses.size() > 1) msg << " during its motion";
+            fail("nodes[" + std::to_string(node) + "]", msg.str());
+        }
+    }
+
+    Instance instance;
+    instance.mesh = std::uint32_t(glintMesh);
+    instance.transform = poses.front();
+    instance.identity = isIdentity(instance.transform);
+    instance.material = m_overrides.material;
+    instance.name = m_where + " " + m_file.filename().string() + " " + nodeName(node);
+    // Emissive triangles are area lights: static, with some area.
+    double emissiveArea = 0.0;
+    bool anyEmissive = false;
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const int m = m_overrides.material >= 0 ? m_overrides.material : int(mesh.materials[t]);
+        if (!m_scene.materials[std::size_t(m)].emissive()) continue;
+        anyEmissive = true;
+        const std::uint32_t* idx = &mesh.indices[3 * t];
+        emissiveArea += triangleArea(instance.transform.point(mesh.positions[idx[0]]),
+                                     instance.transform.point(mesh.positions[idx[1]]),
+                                     instance.transform.point(mesh.positions[idx[2]]));
+    }
+    const std::string place = "nodes[" + std::to_string(node) + "]";
+    if (anyEmissive && poses.size() > 1)
+        m_loader.m_reader.fail(m_where + "/motion",
+                               "a moving shape must not be emissive (area lights are static): " +
+                                   place + " of " + m_file.filename().string() + " emits");
+    if (anyEmissive && !(emissiveArea > 0.0))
+        fail(place, "its emissive triangles have zero total area (zero-area light)");
+    if (poses.size() > 1) {
+        instance.motion = std::int32_t(m_scene.motions.size());
+        instance.identity = false;
+        m_scene.motions.push_back({poses});
+    }
+    m_scene.instances.push_back(std::move(instance));
+    ++m_instances;
+}
+
+void GltfImport::addCamera(int node, const Affine& world) {
+    const int index = m_model.nodes[std::size_t(node)].camera;
+    const std::string place = "cameras[" + std::to_string(index) + "]";
+    if (std::size_t(index) >= m_model.cameras.size())
+        fail("nodes[" + std::to_string(node) + "].camera",
+             "names " + place + ", but the asset has " + std::to_string(m_model.cameras.size()));
+    const tinygltf::Camera& cam = m_model.cameras[std::size_t(index)];
+    if (cam.type != "perspective") {
+        warn(place + " is " + (cam.type.empty() ? "untyped" : cam.type) +
+             "; Glint reads perspective cameras only: skipped");
+        return;
+    }
+    const double yfov = cam.perspective.yfov;
+    if (!(yfov > 0.0 && yfov < kPi))
+        fail(place + ".perspective.yfov",
+             "is " + std::to_string(yfov) + ", expected (0, pi) radians");
+    const double aspect = cam.perspective.aspectRatio;
+    if (!(aspect >= 0.0 && aspect <= 1e4))
+        fail(place + ".perspective.aspectRatio",
+             "is " + std::to_string(aspect) + ", expected (0, 1e4]");
+    AssetCamera c;
+    const std::string& nodeLabel = m_model.nodes[std::size_t(node)].name;
+    c.name = !nodeLabel.empty() ? nodeLabel : !cam.name.empty() ? cam.name : place;
+    c.position = world.point({0.0f, 0.0f, 0.0f});
+    const Vec3 forward = world.vector({0.0f, 0.0f, -1.0f});
+    const Vec3 up = world.vector({0.0f, 1.0f, 0.0f});
+    if (!isFinite(c.position) || maxAbsComponent(c.position) > kMaxCoordinate ||
+        !(length(forward) > 0.0f) || !(length(cross(normalize(forward), up)) > 1e-6f * length(up)))
+        fail("nodes[" + std::to_string(node) + "]",
+             "places " + place + " out of range or with a degenerate orientation");
+    // The look-at point at a distance that float keeps apart from the position.
+    const float distance = std::max(1.0f, maxAbsComponent(c.position));
+    c.lookAt = c.position + normalize(forward) * distance;
+    c.up = normalize(up);
+    c.fovY = float(yfov * 180.0 / kPi);
+    c.aspectRatio = float(aspect);
+    m_scene.assetCameras.push_back(std::move(c));
+}
+
+void GltfImport::addLight(int node, const Affine& world) {
+    const tinygltf::Value& ext =
+        *extension(m_model.nodes[std::size_t(node)].extensions, "KHR_lights_punctual");
+    const std::string nodePlace =
+        "nodes[" + std::to_string(node) + "].extensions.KHR_lights_punctual";
+    if (!ext.Has("light") || !ext.Get("light").IsNumber()) fail(nodePlace, "has no light index");
+    const int index = ext.Get("light").GetNumberAsInt();
+    const std::string place =
+        "extensions.KHR_lights_punctual.lights[" + std::to_string(index) + "]";
+    if (index < 0 || std::size_t(index) >= m_model.lights.size())
+        fail(nodePlace + ".light", "names " + place + ", but the asset has " +
+                                       std::to_string(m_model.lights.size()) + " lights");
+    const tinygltf::Light& gl = m_model.lights[std::size_t(index)];
+    PunctualLight light;
+    light.name = gl.name.empty() ? nodeName(node) : gl.name;
+    if (gl.type == "point")
+        light.kind = PunctualLight::Kind::Point;
+    else if (gl.type == "spot")
+        light.kind = PunctualLight::Kind::Spot;
+    else if (gl.type == "directional")
+        light.kind = PunctualLight::Kind::Directional;
+    else
+        fail(place + ".type", "is '" + gl.type + "', expected point, spot or directional");
+    Vec3 color{1.0f, 1.0f, 1.0f};
+    if (!gl.color.empty()) {
+        if (gl.color.size() != 3) fail(place + ".color", "expected 3 numbers");
+        for (int c = 0; c < 3; ++c) {
+            const double v = gl.color[std::size_t(c)];
+            if (!(v >= 0.0 && v <= 1.0)) fail(place + ".color", "expected numbers in [0, 1]");
+            color[c] = float(v);
+        }
+    }
+    // Photometric (candela, lux) to radiometric (W/sr, W/m²) as Blender's importer does.
+    const double intensity = gl.intensity / kLumensPerWatt;
+    if (!(gl.intensity >= 0.0) || !(intensity <= kMaxRadiance))
+        fail(place + ".intensity", "is " + std::to_string(gl.intensity) + ", expected [0, " +
+                                       std::to_string(kMaxRadiance * kLumensPerWatt) + "]");
+    light.intensity = color * float(intensity);
+    if (gl.range > 0.0) warn("the range of punctual lights is ignored (they fall off with 1/d²)");
+    if (light.kind == PunctualLight::Kind::Spot) {
+        const double inner = gl.spot.innerConeAngle, outer = gl.spot.outerConeAngle;
+        if (!(inner >= 0.0 && inner < outer && outer <= kPi / 2 + 1e-6))
+            fail(place + ".spot", "expected 0 <= innerConeAngle < outerConeAngle <= pi/2");
+        light.cosInner = float(std::cos(inner));
+        light.cosOuter = float(std::cos(outer));
+    }
+    light.position = world.point({0.0f, 0.0f, 0.0f});
+    const Vec3 dir = world.vector({0.0f, 0.0f, -1.0f});
+    if (!isFinite(light.position) || maxAbsComponent(light.position) > kMaxCoordinate ||
+        !(length(dir) > 0.0f) || !isFinite(dir))
+        fail("nodes[" + std::to_string(node) + "]",
+             "places " + place + " out of range or with a degenerate direction");
+    light.direction = normalize(dir);
+    m_scene.punctualLights.push_back(std::move(light));
+}
+
+void Loader::importGltf(const fs::path& path, const std::vector<Affine>& poses,
+                        const GltfOverrides& overrides, const std::string& where) {
+    std::error_code ec;  // odd paths (too long...) are reported, not thrown
+    if (!fs::exists(path, ec))
+        throw Error(ErrorKind::Io, "glTF file '" + path.string() + "' not found",
+                    m_reader.file().string(), where + "/gltf");
+    if (!fs::is_regular_file(path, ec))
+        throw Error(ErrorKind::Io, "'" + path.string() + "' is not a file",
+                    m_reader.file().string(), where + "/gltf");
+    std::vector<unsigned char> bytes;
+    {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) failFile(path, "", "cannot open the glTF file", ErrorKind::Io);
+        bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    if (bytes.size() >= std::numeric_limits<unsigned int>::max())
+        failFile(path, "", "the file is 4 GB or larger (tinygltf reads up to 4 GB)");
+    std::string extension = path.extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    const bool binary = bytes.size() >= 4 && le32(bytes.data()) == kGlbMagic;
+    if (binary || extension == ".glb") checkGlb(bytes, path);
+
+    tinygltf::TinyGLTF reader;
+    reader.SetImageLoader(&keepEncodedImage, nullptr);
+    reader.SetFsCallbacks({&fileExists, &expandFilePath, &readWholeFile, &writeWholeFile, nullptr});
+    tinygltf::Model model;
+    std::string err, warnings;
+    const std::string baseDir = fs::absolute(path, ec).parent_path().string();
+    bool ok = false;
+    try {
+        ok = binary ? reader.LoadBinaryFromMemory(&model, &err, &warnings, bytes.data(),
+                                                  unsigned(bytes.size()), baseDir)
+                    : reader.LoadASCIIFromString(&model, &err, &warnings,
+                                                 reinterpret_cast<const char*>(bytes.data()),
+                                                 unsigned(bytes.size()), baseDir);
+    } catch (const std::exception& e) {
+        err = e.what();
+    }
+    std::vector<unsigned char>().swap(bytes);  // tinygltf holds its own copy of the buffers
+    if (!ok) readerFailed(path, err);
+    if (model.asset.version.rfind("2.", 0) != 0)
+        failFile(path, "asset.version", "is '" + model.asset.version + "'; Glint reads glTF 2.x");
+    GltfImport(*this, model, path, overrides, where).importScene(poses);
+}
+
+}  // namespace glint::render::detail

@@ -1,0 +1,86 @@
+// One glTF 2.0 asset being imported into a scene (Loader::importGltf): the parsed tinygltf model,
+// the asset's file, the shape's overrides, and what has been converted so far (meshes,
+// materials, textures), so that everything the asset shares stays shared. gltf_import.cpp reads
+// the file, the node hierarchy, meshes, cameras and lights; gltf_material.cpp the materials and
+// textures.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "scene/gltf_accessor.h"
+#include "scene/loader.h"
+#include "scene/scene_data.h"
+
+namespace tinygltf {
+class Model;
+class Value;
+}  // namespace tinygltf
+
+namespace glint::render::detail {
+
+/// The glTF extensions Glint reads (docs/assets.md); any other in extensionsRequired is an
+/// error, in extensionsUsed a warning.
+inline constexpr const char* kReadGltfExtensions[] = {
+    "KHR_texture_transform", "KHR_lights_punctual", "KHR_materials_emissive_strength",
+    "KHR_materials_ior", "KHR_materials_transmission"};
+
+/// Candela (lumen per steradian) and lux per W/sr and W/m²: the luminous efficacy Blender's
+/// glTF importer converts punctual lights with.
+inline constexpr double kLumensPerWatt = 683.0;
+
+/// Converts one parsed asset into scene meshes, materials, textures, cameras and lights.
+class GltfImport {
+  public:
+    GltfImport(Loader& loader, const tinygltf::Model& model, std::filesystem::path file,
+               const GltfOverrides& overrides, std::string where);
+
+    /// Places the default scene's nodes (or every root node) with each pose of `poses`.
+    void importScene(const std::vector<Affine>& poses);
+
+  private:
+    // gltf_import.cpp
+    int mesh(int index);
+    void placeMesh(int node, int glintMesh, const std::vector<Affine>& poses);
+    void addCamera(int node, const Affine& world);
+    void addLight(int node, const Affine& world);
+    void checkExtensions();
+
+    // gltf_material.cpp
+    /// The scene material of materials[index] (-1: the glTF default material).
+    int material(int index);
+    Material convertMaterial(int index);
+    /// A texture slot from a textureInfo (index, texCoord, extensions) at `place`.
+    TextureSlot textureSlot(int index, int texCoord,
+                            const std::map<std::string, tinygltf::Value>& ext, TextureUse use,
+                            const std::string& place);
+    int texture(int index, TextureUse use, const std::string& place);
+
+    /// Adds "FILE: text" to SceneData::warnings once.
+    void warn(const std::string& text);
+    [[noreturn]] void fail(const std::string& place, const std::string& what) const;
+    std::string nodeName(int node) const;
+
+    Loader& m_loader;
+    SceneData& m_scene;
+    const tinygltf::Model& m_model;
+    std::filesystem::path m_file;
+    GltfOverrides m_overrides;
+    std::string m_where;
+    GltfAccessors m_accessors;
+    std::vector<int> m_meshes;     ///< glTF mesh → scene mesh (-1: not yet, -2: none)
+    std::vector<int> m_materials;  ///< glTF material → scene material (-1: not yet)
+    int m_defaultMaterial = -1;
+    std::map<std::pair<int, int>, int> m_textures;  ///< (glTF texture, use) → scene texture
+    std::set<std::string> m_usedMaterialNames;      ///< glTF material names (for the overrides)
+    std::size_t m_instances = 0;
+};
+
+/// "%41" → "A": a glTF uri's percent escapes decoded.
+std::string decodeUri(const std::string& uri);
+
+}  // namespace glint::render::detail

@@ -1,0 +1,114 @@
+# Renders a glTF asset (.glb/.gltf) with Blender's Cycles as glint-render renders the bare asset
+# (docs/assets.md): the asset's first camera (or Blender's framing of the whole asset when it
+# has none), a uniform white world of radiance 1 when the asset has no lights (else black), a
+# box pixel filter, linear output. For the
+# side-by-side of tests/perf/cycles/gltf_compare.sh.
+#
+#   blender -b -P tests/perf/cycles/gltf_cycles.py -- model.glb --width 640 --height 427 \
+#       --spp 256 --threads 2 --out /tmp/cycles.exr
+#
+# Debian's Blender 3.4 glTF importer still uses numpy.bool, which Debian's numpy 1.24 removed:
+# it is set back to bool before the importer runs. Prints one JSON line starting with
+# {"renderer": "cycles" on stdout.
+import argparse
+import json
+import sys
+import time
+
+import numpy
+
+if not hasattr(numpy, "bool"):
+    numpy.bool = bool  # Blender 3.4's glTF importer predates numpy 1.24
+
+import bpy
+
+
+def parse_args():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    p = argparse.ArgumentParser(prog="gltf_cycles.py")
+    p.add_argument("asset")
+    p.add_argument("--width", type=int, required=True)
+    p.add_argument("--height", type=int, required=True)
+    p.add_argument("--spp", type=int, default=256)
+    p.add_argument("--threads", type=int, default=2)
+    p.add_argument("--max-depth", type=int, default=8)
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--out", required=True)
+    p.add_argument("--single-scatter", action="store_true",
+                   help="Principled BSDFs with single-scattering GGX (Cycles' default is "
+                        "multiple scattering, which the glTF BRDF does not model)")
+    return p.parse_args(argv)
+
+
+def main():
+    args = parse_args()
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    bpy.ops.import_scene.gltf(filepath=args.asset)
+    scene = bpy.context.scene
+    cameras = [o for o in scene.objects if o.type == "CAMERA"]
+    if cameras:
+        scene.camera = cameras[0]
+    else:
+        data = bpy.data.cameras.new("frame")
+        cam = bpy.data.objects.new("frame", data)
+        scene.collection.objects.link(cam)
+        scene.camera = cam
+        bpy.ops.object.select_all(action="SELECT")
+        bpy.ops.view3d.camera_to_view_selected()
+
+    if args.single_scatter:
+        for material in bpy.data.materials:
+            for node in (material.node_tree.nodes if material.use_nodes else []):
+                if node.type == "BSDF_PRINCIPLED":
+                    node.distribution = "GGX"
+
+    # A white world of radiance 1 when the asset brings no light (as glint-render's bare
+    # asset), else black.
+    lit = any(o.type == "LIGHT" for o in scene.objects)
+    world = bpy.data.worlds.new("sky")
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (1, 1, 1, 1)
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0 if lit else 1.0
+    scene.world = world
+
+    scene.render.engine = "CYCLES"
+    scene.render.resolution_x = args.width
+    scene.render.resolution_y = args.height
+    scene.render.resolution_percentage = 100
+    scene.render.threads_mode = "FIXED"
+    scene.render.threads = args.threads
+    scene.render.film_transparent = False
+    scene.view_settings.view_transform = "Standard"  # linear values, no Filmic curve
+    scene.view_settings.look = "None"
+    scene.view_settings.exposure = 0.0
+    scene.view_settings.gamma = 1.0
+    cycles = scene.cycles
+    cycles.device = "CPU"
+    cycles.samples = args.spp
+    cycles.use_adaptive_sampling = False
+    cycles.use_denoising = False
+    cycles.seed = args.seed
+    cycles.max_bounces = args.max_depth
+    cycles.diffuse_bounces = args.max_depth
+    cycles.glossy_bounces = args.max_depth
+    cycles.transmission_bounces = args.max_depth
+    cycles.transparent_max_bounces = args.max_depth
+    cycles.sample_clamp_direct = 0.0
+    cycles.sample_clamp_indirect = 0.0
+    cycles.blur_glossy = 0.0
+    cycles.caustics_reflective = True
+    cycles.caustics_refractive = True
+    cycles.filter_width = 0.01  # a box over the pixel, as Glint's film
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_depth = "32"
+    scene.render.image_settings.color_mode = "RGB"
+    scene.render.filepath = args.out
+
+    start = time.perf_counter()
+    bpy.ops.render.render(write_still=True)
+    seconds = time.perf_counter() - start
+    print(json.dumps({"renderer": "cycles", "asset": args.asset, "spp": args.spp,
+                      "seconds": seconds, "out": args.out}), flush=True)
+
+
+main()

@@ -1,0 +1,127 @@
+// What a material's textures give at a hit (integrators/surface_inputs.cpp): the base colour
+// factor times or replaced by its texture, glTF's roughness (G) and metallic (B) channels times
+// their factors, and a tangent-space normal map bending the shading normal in the mesh's
+// tangent frame (handedness, scale, instance transforms), checked against hand-computed normals.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "integrators/surface_inputs.h"
+#include "scene/scene_data.h"
+#include "scene/transform.h"
+
+namespace glint::render {
+namespace {
+
+/// One triangle in the xy plane (normal +z, tangent +x with handedness `w`), one instance with
+/// `transform`, one material whose normal map is the single texel `rgb`.
+detail::SceneData oneTriangle(Vec3 rgb, float w = 1.0f, detail::Affine transform = {}) {
+    detail::SceneData d;
+    detail::Mesh mesh;
+    mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    mesh.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+    mesh.tangents = {{1, 0, 0, w}, {1, 0, 0, w}, {1, 0, 0, w}};
+    mesh.uvs = {{0, 0}, {1, 0}, {0, 1}};
+    mesh.indices = {0, 1, 2};
+    mesh.materials = {0};
+    d.meshes.push_back(mesh);
+    detail::Instance inst;
+    inst.transform = transform;
+    inst.identity = false;
+    d.instances.push_back(inst);
+    detail::Texture t;
+    t.use = detail::TextureUse::Data;
+    t.image = Image(1, 1, 4, 1.0f);
+    for (int c = 0; c < 3; ++c) t.image(0, 0, c) = rgb[c];
+    d.textures.push_back(t);
+    detail::Material m;
+    m.type = detail::MaterialType::MetallicRoughness;
+    m.normalMap.texture = 0;
+    d.materials.push_back(m);
+    return d;
+}
+
+SurfacePoint centre() {
+    SurfacePoint at;
+    at.b1 = at.b2 = 1.0f / 3.0f;
+    at.uv = {1.0f / 3.0f, 1.0f / 3.0f};
+    at.hasUv = true;
+    return at;
+}
+
+void expectNear(const Vec3& a, const Vec3& b, float tol = 1e-5f) {
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], tol) << "component " << c;
+}
+
+/// The texel encoding unit tangent-space normal n: (n + 1) / 2.
+Vec3 encode(const Vec3& n) {
+    return (n + Vec3{1, 1, 1}) * 0.5f;
+}
+
+}  // namespace
+
+TEST(SurfaceInputs, AFlatNormalMapKeepsTheShadingNormal) {
+    const detail::SceneData d = oneTriangle({0.5f, 0.5f, 1.0f});
+    expectNear(applyNormalMap(d, d.materials[0], centre(), {0, 0, 1}), {0, 0, 1});
+}
+
+TEST(SurfaceInputs, ANormalMapBendsAlongTheTangentFrame) {
+    const float s = std::sin(0.5f), c = std::cos(0.5f);
+    // Tilted towards +u (the tangent, +x) and towards +v (the bitangent, +y for w = +1).
+    detail::SceneData d = oneTriangle(encode({s, 0, c}));
+    expectNear(applyNormalMap(d, d.materials[0], centre(), {0, 0, 1}), {s, 0, c}, 2e-3f);
+    d = oneTriangle(encode({0, s, c}));
+    expectNear(applyNormalMap(d, d.materials[0], centre(), {0, 0, 1}), {0, s, c}, 2e-3f);
+    // Handedness −1 (a mirrored texture): the bitangent is −y.
+    d = oneTriangle(encode({0, s, c}), -1.0f);
+    expectNear(applyNormalMap(d, d.materials[0], centre(), {0, 0, 1}), {0, -s, c}, 2e-3f);
+    // normalScale scales the xy tilt before normalising.
+    d = oneTriangle(encode({s, 0, c}));
+    d.materials[0].normalScale = 0.0f;
+    expectNear(applyNormalMap(d, d.materials[0], centre(), {0, 0, 1}), {0, 0, 1}, 2e-3f);
+}
+
+TEST(SurfaceInputs, TheTangentFrameFollowsTheInstanceTransform) {
+    // The instance turns the triangle 90° about z: its tangent +x becomes +y in the world.
+    const float s = std::sin(0.5f), c = std::cos(0.5f);
+    detail::TransformDesc turn;
+    turn.axis = {0, 0, 1};
+    turn.degrees = 90.0f;
+    const detail::SceneData d = oneTriangle(encode({s, 0, c}), 1.0f, detail::toAffine(turn));
+    expectNear(applyNormalMap(d, d.materials[0], centre(), {0, 0, 1}), {0, s, c}, 2e-3f);
+}
+
+TEST(SurfaceInputs, TexturesMultiplyOrReplaceTheirFactors) {
+    detail::SceneData d = oneTriangle({0.5f, 0.5f, 1.0f});
+    detail::Material& m = d.materials[0];
+    detail::Texture colour;
+    colour.image = Image(1, 1, 4, 0.5f);
+    d.textures.push_back(colour);
+    detail::Texture mr;
+    mr.use = detail::TextureUse::Data;
+    mr.image = Image(1, 1, 4, 0.0f);
+    mr.image(0, 0, 1) = 0.25f;  // roughness
+    mr.image(0, 0, 2) = 0.5f;   // metallic
+    d.textures.push_back(mr);
+    m.albedo = {0.8f, 0.4f, 0.2f};
+    m.texture = 1;
+    m.roughness = 0.8f;
+    m.metallic = 0.6f;
+    m.roughnessMetallicMap.texture = 2;
+    m.textureTimesFactor = true;  // glTF
+    SurfaceInputs in = evaluateInputs(d, m, centre());
+    expectNear(in.albedo, {0.4f, 0.2f, 0.1f});
+    EXPECT_NEAR(in.roughness, 0.2f, 1e-6f);
+    EXPECT_NEAR(in.metallic, 0.3f, 1e-6f);
+    m.textureTimesFactor = false;  // OBJ and JSON: the texture replaces the colour
+    in = evaluateInputs(d, m, centre());
+    expectNear(in.albedo, {0.5f, 0.5f, 0.5f});
+    // Without texture coordinates, the factors alone.
+    SurfacePoint bare = centre();
+    bare.hasUv = false;
+    in = evaluateInputs(d, m, bare);
+    expectNear(in.albedo, m.albedo);
+    EXPECT_EQ(in.roughness, 0.8f);
+}
+
+}  // namespace glint::render
