@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -118,6 +119,24 @@ inline void runTexture(const std::uint8_t* data, std::size_t size) {
         writeFile(file, data + 1, size - 1);
         const Image im = readImage(file, true);
         (void)im;
+    });
+}
+
+/// A glTF asset — a .glb when it starts with the binary magic "glTF", else .gltf text (whose
+/// buffers and images may be data URIs) — loaded by a fixed scene that places it, then as a
+/// bare asset, and rendered when small.
+inline void runGltf(const std::uint8_t* data, std::size_t size) {
+    expectCleanError("gltf", [&] {
+        const bool binary = size >= 4 && std::memcmp(data, "glTF", 4) == 0;
+        const std::string name = binary ? "fuzz.glb" : "fuzz.gltf";
+        writeFile(workspace() / name, data, size);
+        const std::string scene = R"({"camera": {"position": [0, 1, 4], "lookAt": [0, 0, 0]},
+            "film": {"width": 8, "height": 8}, "shapes": [{"gltf": ")" +
+                                  name + R"("}],
+            "environment": {"color": [0.5, 0.5, 0.5]}})";
+        renderIfSmall(render::parseScene(scene, workspace() / "gltfscene.json"));
+        const render::Scene bare = render::loadScene(workspace() / name);
+        (void)bare;
     });
 }
 

@@ -8,7 +8,7 @@ build=${1:?build folder}
 seconds=${2:-600}
 shift 2 || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(scene_json obj texture exr paint_script session bank_index shard_merge)
+[ ${#targets[@]} -gt 0 ] || targets=(scene_json obj texture exr gltf paint_script session bank_index shard_merge)
 mkdir -p "$build/fuzz-crashes"
 for t in "${targets[@]}"; do
   corpus="$build/fuzz-corpus/$t"
@@ -19,6 +19,7 @@ for t in "${targets[@]}"; do
                 for f in scenes/*/scene.json; do cp -n "$f" "$corpus/$(basename "$(dirname "$f")").json"; done ;;
     obj) for f in tests/render/data/cornell_box.obj scenes/textured/quad.obj scenes/door/door.obj; do
            cp -n "$f" "$corpus/$(basename "$f")"; done ;;
+    gltf) for f in scenes/assets/*.glb scenes/assets/*/*.glb; do cp -n "$f" "$corpus/$(basename "$f")"; done ;;
     texture) for f in scenes/*/*.png; do
                # First byte 0 picks ".png" in the harness.
                printf '\000' | cat - "$f" > "$corpus/$(basename "$(dirname "$f")")-$(basename "$f")"; done ;;
@@ -26,6 +27,6 @@ for t in "${targets[@]}"; do
   echo "== fuzz_$t for $seconds s"
   "$build/bin/fuzz_$t" "$corpus" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=4096 \
       -max_len=65536 -print_final_stats=1 -artifact_prefix="$build/fuzz-crashes/$t-" 2>&1 |
-      grep -a -E "^#|Done|stat::|ERROR|SUMMARY|^(scene_json|obj|texture|exr):" | tail -12 || true
+      grep -a -E "^#|Done|stat::|ERROR|SUMMARY|^(scene_json|obj|texture|exr|gltf):" | tail -12 || true
 done
 echo "crashes (if any): $(ls "$build/fuzz-crashes" | wc -l) file(s) in $build/fuzz-crashes"

@@ -105,6 +105,22 @@ class StudioTest : public QObject {
         QVERIFY(w->lastError().isEmpty());
     }
 
+    void opensABareGltfAssetAndRendersItWithItsCamera() {
+        // The fuzz seed's triangle (tests/fuzz/seeds/gltf): a .gltf opens as a scene does, with
+        // the asset's camera (aspect 1: a square film) and its metallic-roughness material in
+        // the Look panel.
+        auto w = makeWindow(m_dir.filePath(QStringLiteral("autosave-gltf")));
+        w->openFile(QStringLiteral(GLINT_SOURCE_DIR "/tests/fuzz/seeds/gltf/triangle.gltf"));
+        QVERIFY(waitIdle(*w));
+        QVERIFY2(w->lastError().isEmpty(), qPrintable(w->lastError()));
+        const FramePtr frame = w->document()->finishedFrame();
+        QVERIFY(frame);
+        QCOMPARE(frame->width(), 640);
+        QCOMPARE(frame->height(), 640);
+        QVERIFY(sum(frame->color()) > 0.0);
+        QVERIFY(!w->document()->look().empty());
+    }
+
     void aLookChangeRendersAgainAndReappliesTheLayers() {
         auto w = openScene();
         QVERIFY(w);

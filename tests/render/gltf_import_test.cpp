@@ -332,7 +332,11 @@ TEST(GltfImport, MaterialFactorsExtensionsAndTheDefaultMaterial) {
     dir.write("m.gltf", b.gltf());
     const Scene s = loadScene(dir.write("scene.json", sceneJson("m.gltf")));
     const detail::SceneData& d = dataOf(s);
-    EXPECT_TRUE(s.warnings().empty()) << s.warnings().front();
+    // The one warning: transmission is stored but not rendered yet.
+    ASSERT_EQ(s.warnings().size(), 1u);
+    EXPECT_NE(s.warnings()[0].find("KHR_materials_transmission is not rendered yet"),
+              std::string::npos)
+        << s.warnings()[0];
     const detail::Material& m = d.materials[d.meshes[0].materials[0]];
     EXPECT_EQ(m.name, "paint");
     EXPECT_EQ(m.type, detail::MaterialType::MetallicRoughness);

@@ -5,10 +5,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
+#include <vector>
 
+#include "glint/render/renderer.h"
+#include "glint/render/scene.h"
 #include "integrators/surface_inputs.h"
 #include "scene/scene_data.h"
 #include "scene/transform.h"
+#include "test_util.h"
 
 namespace glint::render {
 namespace {
@@ -122,6 +127,74 @@ TEST(SurfaceInputs, TexturesMultiplyOrReplaceTheirFactors) {
     in = evaluateInputs(d, m, bare);
     expectNear(in.albedo, m.albedo);
     EXPECT_EQ(in.roughness, 0.8f);
+}
+
+}  // namespace glint::render
+
+namespace glint::render {
+namespace {
+
+/// A lamp quad (1 above a white floor, facing down) whose material's emission is `emission`,
+/// times the texture `texel` values (2 × 1, clamped) when given; the camera looks at the floor.
+Scene lampOverFloor(const test::TempDir& dir, float emission, std::vector<float> texels = {}) {
+    dir.write("lamp.obj",
+              "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+              "f 1/1 3/3 2/2\nf 1/1 4/4 3/3\n");
+    dir.write("floor.obj", "v -4 0 -4\nv 4 0 -4\nv 4 0 4\nv -4 0 4\nf 1 3 2\nf 1 4 3\n");
+    const Scene parsed = parseScene(
+        R"({"camera": {"position": [0, 0.5, 3], "lookAt": [0, 0, 0]},
+            "film": {"width": 24, "height": 16},
+            "materials": {"lamp": {"type": "diffuse", "albedo": [0, 0, 0],
+                                   "emission": [)" +
+            std::to_string(emission) + ", " + std::to_string(emission) + ", " +
+            std::to_string(emission) + R"(]},
+                          "floor": {"type": "diffuse", "albedo": [0.8, 0.8, 0.8]}},
+            "shapes": [{"obj": "lamp.obj", "material": "lamp"},
+                       {"obj": "floor.obj", "material": "floor"}]})",
+        dir.path() / "scene.json");
+    auto data = std::make_unique<detail::SceneData>(parsed.data());
+    if (!texels.empty()) {
+        detail::Texture t;
+        t.wrapS = t.wrapT = detail::TextureWrap::Clamp;
+        t.image = Image(2, 1, 4, 1.0f);
+        for (int x = 0; x < 2; ++x)
+            for (int c = 0; c < 3; ++c) t.image(x, 0, c) = texels[std::size_t(x)];
+        data->textures.push_back(t);
+        for (detail::Material& m : data->materials)
+            if (m.name == "lamp") m.emissionMap.texture = int(data->textures.size()) - 1;
+    }
+    return Scene(std::move(data));
+}
+
+Image renderColour(Scene scene) {
+    Renderer renderer(std::move(scene));
+    Settings s = renderer.scene().settings();
+    s.spp = 8;
+    s.threads = 2;
+    return renderer.render(s).frame.color();
+}
+
+}  // namespace
+
+TEST(SurfaceInputs, AnEmissionTextureLightsAsItsColourDoesForHitsAndLightSamples) {
+    // Emission 1 through a texture of 0.5 everywhere is emission 0.5: the same bits, through
+    // BSDF hits (the lamp seen in a bounce) and light samples (the floor's next-event
+    // estimate) alike.
+    test::TempDir dir("emission");
+    const Image textured = renderColour(lampOverFloor(dir, 1.0f, {0.5f, 0.5f}));
+    const Image plain = renderColour(lampOverFloor(dir, 0.5f));
+    for (std::size_t i = 0; i < plain.data().size(); ++i)
+        ASSERT_EQ(textured.data()[i], plain.data()[i]) << i;
+    // Dark where u < 0.5 (x < 0), lit where u > 0.5: the floor under the lamp's lit half is
+    // brighter than under its dark half, and the picture is not mirror-symmetric any more.
+    const Image half = renderColour(lampOverFloor(dir, 1.0f, {0.0f, 1.0f}));
+    double left = 0.0, right = 0.0;
+    for (int y = 0; y < half.height(); ++y)
+        for (int x = 0; x < half.width() / 2; ++x) {
+            left += half(x, y, 0);
+            right += half(half.width() - 1 - x, y, 0);
+        }
+    EXPECT_GT(right, 1.5 * left);
 }
 
 }  // namespace glint::render

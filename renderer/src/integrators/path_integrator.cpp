@@ -143,12 +143,13 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
 
     // Emission found by the camera ray, a specular bounce or BSDF sampling (MIS).
     if (mat.emissive()) {
+        const Vec3 le = emissionAt(m_scene, mat, sh.at);
         if (depth == 0 || p.specularBounce) {
-            p.radiance += p.beta * mat.emission;
+            p.radiance += p.beta * le;
         } else if (m_useBsdfHits) {
             const float lightPdf =
                 m_useLightSampling ? m_lights.pdfArea(hit.surface, p.prevP, sh.p, sh.ng) : 0.0f;
-            p.radiance += p.beta * mat.emission * misWeight(p.prevPdf, lightPdf);
+            p.radiance += p.beta * le * misWeight(p.prevPdf, lightPdf);
         }
     }
 

@@ -38,6 +38,13 @@ SurfaceInputs evaluateInputs(const detail::SceneData& scene, const detail::Mater
     return in;
 }
 
+Vec3 emissionAt(const detail::SceneData& scene, const detail::Material& material,
+                const SurfacePoint& at) {
+    if (!material.emissionMap.present() || !at.hasUv) return material.emission;
+    const Vec4 t = lookup(scene, material.emissionMap, at);
+    return material.emission * Vec3{t.x, t.y, t.z};
+}
+
 Vec3 applyNormalMap(const detail::SceneData& scene, const detail::Material& material,
                     const SurfacePoint& at, const Vec3& ns) {
     if (!material.normalMap.present() || !at.hasUv) return ns;

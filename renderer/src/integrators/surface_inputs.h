@@ -27,6 +27,11 @@ struct SurfaceInputs {
 SurfaceInputs evaluateInputs(const detail::SceneData& scene, const detail::Material& material,
                              const SurfacePoint& at);
 
+/// The material's emitted radiance at `at`: its emission times its emission texture's colour
+/// (glTF's emissiveTexture) where it has one and the mesh has texture coordinates.
+Vec3 emissionAt(const detail::SceneData& scene, const detail::Material& material,
+                const SurfacePoint& at);
+
 /// The shading normal `ns` (unit, world space, on the viewer's side) bent by the material's
 /// normal map: n = normalize(T x + B y + N z) with (x, y, z) = (2 rgb − 1) × (s, s, 1), T and
 /// B the mesh's tangent frame at the hit in world space (glTF: B = w · N × T) made orthogonal to

@@ -9,7 +9,22 @@
 
 namespace glint::render {
 
-LightSampler::LightSampler(const detail::SceneData& scene) {
+namespace {
+/// The mean colour of a texture (its lights are chosen by the power of the mean).
+Vec3 meanColour(const Image& image) {
+    double sum[3] = {0, 0, 0};
+    const int n = image.channels();
+    const float* data = image.data().data();
+    for (std::size_t i = 0; i < image.pixelCount(); ++i)
+        for (int c = 0; c < 3; ++c)
+            sum[c] += data[i * std::size_t(n) + std::size_t(std::min(c, n - 1))];
+    const double count = std::max<double>(1.0, double(image.pixelCount()));
+    return {float(sum[0] / count), float(sum[1] / count), float(sum[2] / count)};
+}
+}  // namespace
+
+LightSampler::LightSampler(const detail::SceneData& scene) : m_scene(&scene) {
+    std::vector<Vec3> textureMeans(scene.textures.size(), Vec3{-1.0f, 0.0f, 0.0f});
     std::vector<float> power;
     Vec3 lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
     bool anyVertex = false;
@@ -39,9 +54,18 @@ LightSampler::LightSampler(const detail::SceneData& scene) {
             emits = true;
             m_lightOfTriangle[first + t] = int(m_lights.size());
             const Vec3 centroid = (tri.p[0] + tri.p[1] + tri.p[2]) * (1.0f / 3.0f);
-            m_lights.push_back(
-                {{tri.p[0], tri.p[1], tri.p[2]}, area, tri.ng, m.emission, centroid});
-            power.push_back(2.0f * kPi * area * luminance(m.emission));
+            AreaLight light{{tri.p[0], tri.p[1], tri.p[2]}, area, tri.ng, m.emission, centroid};
+            Vec3 mean = m.emission;
+            if (m.emissionMap.present() && !mesh.uvs.empty()) {
+                light.instance = i;
+                light.prim = t;
+                Vec3& texMean = textureMeans[std::size_t(m.emissionMap.texture)];
+                if (texMean.x < 0.0f)
+                    texMean = meanColour(scene.textures[std::size_t(m.emissionMap.texture)].image);
+                mean = m.emission * texMean;
+            }
+            m_lights.push_back(light);
+            power.push_back(2.0f * kPi * area * luminance(mean));
         }
         if (emits) m_firstOfInstance[i] = std::int64_t(first);
     }
@@ -116,7 +140,6 @@ bool LightSampler::sample(const Vec3& p, float uSelect, Vec2 u, LightSample& out
     const AreaLight& light = m_lights[std::size_t(index)];
     const Vec3* v = light.v;
     out.normal = light.normal;
-    out.radiance = light.emission;
     out.environment = false;
     // A light that fills a good part of the view is sampled by solid angle (Arvo 1995): no
     // 1/r² or cos θ in the weight, the variance near a large light drops.
@@ -135,6 +158,7 @@ bool LightSampler::sample(const Vec3& p, float uSelect, Vec2 u, LightSample& out
             out.distance = distance;
             out.point = p + w * distance;
             out.pdf = selectPdf / omega;
+            out.radiance = emittedAt(light, out.point);
             return true;
         }
     }
@@ -149,7 +173,36 @@ bool LightSampler::sample(const Vec3& p, float uSelect, Vec2 u, LightSample& out
     if (cosLight <= 0.0f) return false;
     // Area → solid angle: pdf_ω = pdf_A r² / |cos θ_l| (Veach 1997, eq. 8.10).
     out.pdf = selectPdf * dist2 / (light.area * cosLight);
+    out.radiance = emittedAt(light, out.point);
     return true;
+}
+
+Vec3 LightSampler::emittedAt(const AreaLight& light, const Vec3& point) const {
+    if (light.instance < 0) return light.emission;
+    // Barycentrics of the point (in double: the triangle may be tiny or far from the origin),
+    // then its texture coordinates on the mesh.
+    auto d3 = [](const Vec3& a, const Vec3& b) {
+        return double(a.x) * b.x + double(a.y) * b.y + double(a.z) * b.z;
+    };
+    const Vec3 e1 = light.v[1] - light.v[0], e2 = light.v[2] - light.v[0], d = point - light.v[0];
+    const double d00 = d3(e1, e1), d01 = d3(e1, e2), d11 = d3(e2, e2), d20 = d3(d, e1),
+                 d21 = d3(d, e2);
+    const double denom = d00 * d11 - d01 * d01;
+    if (!(denom > 0.0)) return light.emission;
+    const float b1 = float(std::clamp((d11 * d20 - d01 * d21) / denom, 0.0, 1.0));
+    const float b2 = float(std::clamp((d00 * d21 - d01 * d20) / denom, 0.0, 1.0 - b1));
+    const detail::SceneData& scene = *m_scene;
+    const detail::Instance& inst = scene.instances[std::size_t(light.instance)];
+    const detail::Mesh& mesh = scene.meshes[inst.mesh];
+    const detail::Material& m =
+        scene.materials[scene.materialOf(std::uint32_t(light.instance), light.prim)];
+    const std::uint32_t* idx = &mesh.indices[3 * std::size_t(light.prim)];
+    const float b0 = 1.0f - b1 - b2;
+    const Vec2 &a = mesh.uvs[idx[0]], &b = mesh.uvs[idx[1]], &c = mesh.uvs[idx[2]];
+    const Vec2 uv{a.x * b0 + b.x * b1 + c.x * b2, a.y * b0 + b.y * b1 + c.y * b2};
+    const Vec4 t = scene.textures[std::size_t(m.emissionMap.texture)].lookup(
+        m.emissionMap.transform.apply(uv));
+    return light.emission * Vec3{t.x, t.y, t.z};
 }
 
 bool LightSampler::samplePunctual(const detail::PunctualLight& light, const Vec3& p,

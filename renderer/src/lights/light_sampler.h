@@ -56,7 +56,14 @@ class LightSampler {
         Vec3 normal;
         Vec3 emission;
         Vec3 centroid;  ///< of the triangle (worthSolidAngle)
+        /// The triangle, when its material's emission is textured (else instance < 0).
+        std::int64_t instance = -1;
+        std::uint32_t prim = 0;
     };
+    /// The radiance light `light` emits at `point`: its emission times its texture there.
+    Vec3 emittedAt(const AreaLight& light, const Vec3& point) const;
+
+    const detail::SceneData* m_scene = nullptr;
     /// The light of triangle `prim` of `instance`, or -1 when it does not emit.
     int lightOf(detail::SurfaceId s) const {
         const std::int64_t first = m_firstOfInstance[s.instance];

@@ -8,12 +8,14 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <limits>
-#include <regex>
+#include <optional>
 #include <sstream>
+#include <string>
 
 #include "glint/image/error.h"
 #include "scene/tangent_frames.h"
@@ -116,12 +118,28 @@ bool writeWholeFile(std::string*, const std::string&, const std::vector<unsigned
 
 /// The glTF place a tinygltf message names ("buffer[0]" → "buffers[0]"), or "".
 std::string placeOf(const std::string& message) {
-    static const std::regex item(R"(\b([a-zA-Z]+)\[(\d+)\])");
-    std::smatch m;
-    if (!std::regex_search(message, m, item)) return {};
-    std::string name = m[1];
-    if (name.back() != 's') name += 's';
-    return name + "[" + m[2].str() + "]";
+    for (std::size_t open = message.find('['); open != std::string::npos;
+         open = message.find('[', open + 1)) {
+        std::size_t start = open;
+        while (start > 0 && std::isalpha(static_cast<unsigned char>(message[start - 1]))) --start;
+        std::size_t close = open + 1;
+        while (close < message.size() && std::isdigit(static_cast<unsigned char>(message[close])))
+            ++close;
+        if (start == open || close == open + 1 || close >= message.size() || message[close] != ']')
+            continue;
+        std::string name = message.substr(start, open - start);
+        if (name.back() != 's') name += 's';
+        return name + message.substr(open, close - open + 1);
+    }
+    return {};
+}
+
+/// The text after `prefix` in `text` when `text` holds it (from its start when `anchored`).
+std::optional<std::string> after(const std::string& text, const std::string& prefix,
+                                 bool anchored) {
+    const std::size_t at = text.find(prefix);
+    if (at == std::string::npos || (anchored && at != 0)) return std::nullopt;
+    return text.substr(at + prefix.size());
 }
 
 /// Throws the first line of tinygltf's error text as one Error with the glTF place it names,
@@ -129,20 +147,27 @@ std::string placeOf(const std::string& message) {
 [[noreturn]] void readerFailed(const fs::path& file, const std::string& err) {
     std::string first = err.substr(0, err.find('\n'));
     while (!first.empty() && (first.back() == '.' || first.back() == ' ')) first.pop_back();
-    std::smatch m;
-    static const std::regex json(R"(parse error at line (\d+), column (\d+): (.*))");
-    static const std::regex missing(R"(^File not found : (.*))");
-    static const std::regex size(
-        R"(^File size mismatch : (.*), requestedBytes (\d+), but got (\d+))");
-    if (std::regex_search(first, m, json))
-        failFile(file, "line " + m[1].str() + ", column " + m[2].str(),
-                 "malformed JSON: " + m[3].str());
-    if (std::regex_search(first, m, missing))
-        failFile(file, "buffers", "buffer file '" + m[1].str() + "' not found", ErrorKind::Io);
-    if (std::regex_search(first, m, size))
-        failFile(file, "buffers",
-                 "buffer file '" + m[1].str() + "' has " + m[3].str() +
-                     " bytes, its byteLength says " + m[2].str());
+    // "parse error at line L, column C: what" (nlohmann-json's exception text).
+    if (const auto rest = after(first, "parse error at line ", false)) {
+        const std::size_t comma = rest->find(", column "), colon = rest->find(": ");
+        if (comma != std::string::npos && colon != std::string::npos && comma < colon)
+            failFile(file,
+                     "line " + rest->substr(0, comma) + ", column " +
+                         rest->substr(comma + 9, colon - comma - 9),
+                     "malformed JSON: " + rest->substr(colon + 2));
+    }
+    if (const auto name = after(first, "File not found : ", true))
+        failFile(file, "buffers", "buffer file '" + *name + "' not found", ErrorKind::Io);
+    // "File size mismatch : NAME, requestedBytes N, but got M".
+    if (const auto rest = after(first, "File size mismatch : ", true)) {
+        const std::size_t requested = rest->find(", requestedBytes "),
+                          got = rest->find(", but got ");
+        if (requested != std::string::npos && got != std::string::npos && requested < got)
+            failFile(file, "buffers",
+                     "buffer file '" + rest->substr(0, requested) + "' has " +
+                         rest->substr(got + 10) + " bytes, its byteLength says " +
+                         rest->substr(requested + 17, got - requested - 17));
+    }
     if (first.rfind("Failed to decode 'uri'", 0) == 0)
         failFile(file, "buffers", "a buffer's data URI is not base64 of its byteLength bytes");
     if (first.empty()) first = "unreadable glTF";

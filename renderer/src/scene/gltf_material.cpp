@@ -1,7 +1,8 @@
 // glTF materials → Glint metallic-roughness materials, and their textures: base colour (colour),
 // metallic-roughness and normal (data), emissive (colour) with KHR_texture_transform, samplers'
 // wrap modes, images from files, bufferViews or data URIs. KHR_materials_emissive_strength,
-// KHR_materials_ior and KHR_materials_transmission (the factor) are read; occlusion is not.
+// KHR_materials_ior and KHR_materials_transmission (the factor, stored; not rendered yet) are
+// read; occlusion is not.
 #include <tiny_gltf.h>
 
 #include <cmath>
@@ -183,8 +184,12 @@ Material GltfImport::convertMaterial(int index) {
                 number(e->Get("transmissionFactor").GetNumberAsDouble(),
                        "extensions.KHR_materials_transmission.transmissionFactor", 0.0, 1.0);
         }
-        if (e->Has("transmissionTexture"))
-            warn(place + ": transmissionTexture is ignored (the transmission factor is used)");
+        // The BSDF has no transmission lobe yet (docs/renderer.md, "Not done yet"): say so
+        // rather than render glass as an opaque surface without a word.
+        if (m.transmission > 0.0f)
+            warn(place +
+                 ": KHR_materials_transmission is not rendered yet; the material is "
+                 "opaque");
     }
 
     // Alpha (spec 3.9.4).

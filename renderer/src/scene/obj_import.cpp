@@ -1,15 +1,16 @@
 // OBJ/MTL import through tinyobjloader: triangles, per-vertex normals and uvs, MTL materials
 // (JSON materials of the same name take precedence), map_Kd textures.
 #include <algorithm>
-#include <unordered_map>
 #include <cmath>
 #include <sstream>
+#include <unordered_map>
 
 #include <tiny_obj_loader.h>
 
 #include "glint/image/error.h"
 #include "scene/loader.h"
 #include "scene/obj_scan.h"
+#include "scene/polygon_triangulation.h"
 
 namespace glint::render::detail {
 
@@ -70,7 +71,9 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     const ObjLines lines = scanObj(objPath);
 
     tinyobj::ObjReaderConfig config;
-    config.triangulate = true;
+    // Faces come whole: tinyobjloader's triangulation splits a concave face wrongly, and
+    // differently where it sits; polygon_triangulation.cpp clips ears in the face's plane.
+    config.triangulate = false;
     config.vertex_color = false;
     config.mtl_search_path = objPath.parent_path().string();
     tinyobj::ObjReader obj;
@@ -158,11 +161,23 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     for (const tinyobj::shape_t& shape : obj.GetShapes()) {
         const auto& faces = shape.mesh;
         std::size_t offset = 0;
+        std::vector<Vec3> polygon;
+        std::vector<std::uint32_t> triangles;
         for (std::size_t f = 0; f < faces.num_face_vertices.size(); ++f) {
-            const int fv = faces.num_face_vertices[f];
-            if (fv != 3) {
-                offset += std::size_t(fv);
-                continue;
+            const std::size_t fv = faces.num_face_vertices[f];
+            // The face's triangles as corner numbers (scanObj refused faces of under 3 corners).
+            triangles.clear();
+            if (fv == 3) {
+                triangles = {0, 1, 2};
+            } else {
+                polygon.clear();
+                for (std::size_t k = 0; k < fv; ++k) {
+                    const int v = faces.indices[offset + k].vertex_index;
+                    const float* p = &attrib.vertices[3 * std::size_t(std::max(v, 0))];
+                    polygon.push_back({p[0], p[1], p[2]});
+                }
+                // A face of at most kMaxObjFaceCorners stays far within the clipper's budget.
+                GLINT_CHECK(triangulatePolygon(polygon, triangles));
             }
             int mat = -1;
             const int id = f < faces.material_ids.size() ? faces.material_ids[f] : -1;
@@ -179,10 +194,13 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
                 }
                 mat = defaultMaterial;
             }
-            for (int v = 0; v < 3; ++v)
-                mesh.indices.push_back(addCorner(faces.indices[offset + std::size_t(v)]));
-            mesh.materials.push_back(std::uint32_t(std::max(mat, 0)));
-            offset += 3;
+            for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+                for (int v = 0; v < 3; ++v)
+                    mesh.indices.push_back(
+                        addCorner(faces.indices[offset + triangles[t + std::size_t(v)]]));
+                mesh.materials.push_back(std::uint32_t(std::max(mat, 0)));
+            }
+            offset += fv;
         }
     }
     if (!anyNormals) mesh.normals.clear();
@@ -198,9 +216,9 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
         if (!m_scene.materials[std::size_t(material)].emissive()) continue;
         anyEmissive = true;
         const std::uint32_t* idx = &mesh.indices[3 * t];
-        emissiveArea += triangleArea(pose.point(mesh.positions[idx[0]]),
-                                     pose.point(mesh.positions[idx[1]]),
-                                     pose.point(mesh.positions[idx[2]]));
+        emissiveArea +=
+            triangleArea(pose.point(mesh.positions[idx[0]]), pose.point(mesh.positions[idx[1]]),
+                         pose.point(mesh.positions[idx[2]]));
     }
     if (anyEmissive && !(emissiveArea > 0.0))
         throw Error(ErrorKind::Format, "emissive faces have zero total area (zero-area light)",

@@ -169,6 +169,11 @@ ObjLines scanObj(const std::filesystem::path& path) {
         }
         if (corners < 3)
             fail(path, line, "a face needs at least 3 corners, got " + std::to_string(corners));
+        if (std::size_t(corners) > kMaxObjFaceCorners)
+            fail(path, line,
+                 "a face has " + std::to_string(corners) + " corners; at most " +
+                     std::to_string(kMaxObjFaceCorners) +
+                     " are read (split it into faces of fewer corners)");
     }
     return out;
 }

@@ -4,6 +4,7 @@
 // coordinate so that later checks (after the shape's transform) can name it too.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -11,15 +12,18 @@
 namespace glint::render::detail {
 
 /// Lines (1-based) of the OBJ's `v`, `vn` and `vt` statements, in order.
+/// The most corners an OBJ face may have: tinyobjloader counts a face's corners in a byte.
+inline constexpr std::size_t kMaxObjFaceCorners = 255;
+
 struct ObjLines {
     std::vector<int> vertices, normals, texcoords;
 };
 
 /// Reads the OBJ at `path` and checks every statement Glint uses: `v`/`vn`/`vt` hold finite
 /// numbers (3, 3 and 1–3 of them; `v` may add 3 colour values); every face has at least 3
-/// corners, and each corner's vertex, texture and normal index (1-based, or negative: relative
-/// to the statements read so far) names an existing statement. Throws glint::Error(Format)
-/// naming the file and "line N", Io when it cannot be read.
+/// corners (and at most kMaxObjFaceCorners), and each corner's vertex, texture and normal index
+/// (1-based, or negative: relative to the statements read so far) names an existing statement.
+/// Throws glint::Error(Format) naming the file and "line N", Io when it cannot be read.
 ObjLines scanObj(const std::filesystem::path& path);
 
 /// Checks the numeric statements of an MTL file (Ka/Kd/Ks/Ke/Tf: 3 finite numbers; Ns/Ni/d/Tr/

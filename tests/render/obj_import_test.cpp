@@ -1,0 +1,274 @@
+// OBJ faces of more than three corners (issue 32, item 5): read by tinyobjloader without its own
+// triangulation and triangulated by ear clipping in the face's plane (polygon_triangulation.cpp),
+// correct for concave faces and the same wherever a face sits; a face above tinyobjloader's
+// corner limit is refused with its line.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "glint/image/error.h"
+#include "glint/image/io.h"
+#include "glint/render/scene.h"
+#include "scene/obj_scan.h"
+#include "scene/polygon_triangulation.h"
+#include "scene/scene_data.h"
+#include "test_util.h"
+
+namespace glint::render {
+namespace {
+
+namespace fs = std::filesystem;
+using detail::kMaxObjFaceCorners;
+using detail::Material;
+using detail::MaterialType;
+using detail::SceneData;
+using detail::triangulatePolygon;
+
+struct P2 {
+    double x, y;
+};
+
+double signedArea(const std::vector<P2>& poly) {
+    double a = 0.0;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+        const P2& p = poly[i];
+        const P2& q = poly[(i + 1) % poly.size()];
+        a += p.x * q.y - q.x * p.y;
+    }
+    return 0.5 * a;
+}
+
+double triangleSignedArea(const P2& a, const P2& b, const P2& c) {
+    return 0.5 * ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
+}
+
+// Even-odd crossing test.
+bool insidePolygon(const std::vector<P2>& poly, const P2& p) {
+    bool inside = false;
+    for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+        const P2& a = poly[i];
+        const P2& b = poly[j];
+        if ((a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x)
+            inside = !inside;
+    }
+    return inside;
+}
+
+// Expects `triangles` (corner indices of `poly`) to tile the polygon: n − 2 of them, each wound
+// as the polygon, each centroid inside it (unless the triangle is flat), their areas summing to
+// its area.
+void expectTiles(const std::vector<P2>& poly, const std::vector<std::uint32_t>& triangles,
+                 const std::string& what) {
+    ASSERT_EQ(triangles.size(), 3 * (poly.size() - 2)) << what;
+    const double area = signedArea(poly);
+    double sum = 0.0;
+    for (std::size_t t = 0; t < triangles.size(); t += 3) {
+        const P2& a = poly[triangles[t]];
+        const P2& b = poly[triangles[t + 1]];
+        const P2& c = poly[triangles[t + 2]];
+        const double ta = triangleSignedArea(a, b, c);
+        EXPECT_GE(ta * area, 0.0) << what << ": triangle " << t / 3 << " is wound backwards";
+        sum += ta;
+        // A triangle of three collinear corners (the comb's gap bottoms, made a hair convex by
+        // float rounding on the tilted plane) covers nothing: its centroid lies on the boundary.
+        if (std::fabs(ta) <= 1e-12 * std::fabs(area)) continue;
+        const P2 centroid{(a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0};
+        EXPECT_TRUE(insidePolygon(poly, centroid))
+            << what << ": triangle " << t / 3 << " (corners " << triangles[t] << ", "
+            << triangles[t + 1] << ", " << triangles[t + 2] << ") lies outside the polygon";
+    }
+    EXPECT_NEAR(sum, area, 1e-9 * std::fabs(area)) << what;
+}
+
+std::vector<P2> lShape() {
+    return {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+}
+// A concave quad whose shorter diagonal (the one tinyobjloader split along) lies outside it.
+std::vector<P2> arrowhead() {
+    return {{0, 0}, {10, 1}, {8, 0}, {10, -1}};
+}
+std::vector<P2> uShape() {
+    return {{0, 0}, {3, 0}, {3, 3}, {2, 3}, {2, 1}, {1, 1}, {1, 3}, {0, 3}};
+}
+// A five-pointed star: every inner corner is reflex.
+std::vector<P2> star(int points = 5, double inner = 0.4) {
+    std::vector<P2> s;
+    for (int i = 0; i < 2 * points; ++i) {
+        const double r = i % 2 ? inner : 1.0, phi = M_PI * i / points + 0.1;
+        s.push_back({r * std::cos(phi), r * std::sin(phi)});
+    }
+    return s;
+}
+// A comb of `teeth` teeth (4 corners each, half of them reflex; past 80 corners the ear clipper
+// hashes its corners on a z-order curve): teeth over x in [2i, 2i + 1] up to y = 5, gaps down to
+// y = 1.
+std::vector<P2> comb(int teeth) {
+    std::vector<P2> c{{0, 0}, {double(2 * teeth - 1), 0}};
+    for (int i = teeth - 1; i >= 0; --i) {
+        c.push_back({2.0 * i + 1.0, 5.0});
+        c.push_back({2.0 * i, 5.0});
+        if (i > 0) {
+            c.push_back({2.0 * i, 1.0});
+            c.push_back({2.0 * i - 1.0, 1.0});
+        }
+    }
+    return c;
+}
+// A circle whose corners alternate between two radii (every second corner reflex).
+std::vector<P2> zigzagCircle(int n, double inner) {
+    std::vector<P2> z;
+    for (int i = 0; i < n; ++i) {
+        const double r = i % 2 ? inner : 1.0, phi = 2.0 * M_PI * i / n;
+        z.push_back({r * std::cos(phi), r * std::sin(phi)});
+    }
+    return z;
+}
+
+// The polygon on a tilted plane through `origin`: p = origin + x·e1 + y·e2 (e1, e2 orthonormal,
+// so areas are kept).
+std::vector<Vec3> embed(const std::vector<P2>& poly, const Vec3& origin) {
+    const Vec3 e1 = normalize(Vec3{1.0f, 2.0f, 2.0f});
+    const Vec3 e2 = normalize(cross(e1, Vec3{0.0f, 0.0f, 1.0f}));
+    std::vector<Vec3> out;
+    for (const P2& p : poly) out.push_back(origin + float(p.x) * e1 + float(p.y) * e2);
+    return out;
+}
+
+TEST(PolygonTriangulation, ConcavePolygonsAreTiledWhereverTheySit) {
+    const std::vector<std::pair<std::string, std::vector<P2>>> shapes{
+        {"L", lShape()},  {"arrowhead", arrowhead()}, {"U", uShape()},
+        {"star", star()}, {"comb", comb(40)},         {"zigzag circle", zigzagCircle(1000, 0.9)}};
+    for (const auto& [name, shape] : shapes) {
+        for (const bool reversed : {false, true}) {
+            std::vector<P2> poly = shape;
+            if (reversed) std::reverse(poly.begin(), poly.end());
+            const std::string what = name + (reversed ? " (clockwise)" : "");
+            // In the xy plane at the origin, and on a tilted plane far from it.
+            std::vector<Vec3> flat;
+            for (const P2& p : poly) flat.push_back({float(p.x), float(p.y), 0.0f});
+            std::vector<std::uint32_t> atOrigin, far;
+            triangulatePolygon(flat, atOrigin);
+            expectTiles(poly, atOrigin, what + " at the origin");
+            triangulatePolygon(embed(poly, {1.0e4f, -2.0e4f, 3.0e4f}), far);
+            expectTiles(poly, far, what + " far from the origin");
+        }
+    }
+}
+
+TEST(PolygonTriangulation, ZeroAreaPolygonsGetAFan) {
+    const std::vector<Vec3> line{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}};
+    std::vector<std::uint32_t> triangles;
+    triangulatePolygon(line, triangles);
+    EXPECT_EQ(triangles, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3}));
+}
+
+const char* kScene = R"({"film": {"width": 8, "height": 8}, "shapes": [{"obj": "mesh.obj"}],
+    "environment": {"color": [1, 1, 1]}})";
+
+// A polygon placed in 3D: p = origin + x·e1 + y·e2, computed in double.
+struct Placement {
+    std::string name;
+    std::array<double, 3> origin, e1, e2;
+    std::array<double, 3> at(const P2& p) const {
+        return {origin[0] + p.x * e1[0] + p.y * e2[0], origin[1] + p.x * e1[1] + p.y * e2[1],
+                origin[2] + p.x * e1[2] + p.y * e2[2]};
+    }
+};
+
+std::vector<Placement> placements() {
+    const double s = 1.0 / 3.0, t = 1.0 / std::sqrt(5.0);
+    const std::array<double, 3> e1{s, 2 * s, 2 * s}, e2{2 * t, -t, 0.0};  // orthonormal, tilted
+    return {{"at the origin", {0, 0, 0}, {1, 0, 0}, {0, 1, 0}},
+            {"far from the origin", {1000, -2000, 3000}, {1, 0, 0}, {0, 1, 0}},
+            {"tilted, far from the origin", {1000, -2000, 3000}, e1, e2}};
+}
+
+std::string objOfPolygon(const std::vector<P2>& poly, const Placement& place = placements()[0]) {
+    std::ostringstream s;
+    s.precision(17);
+    for (const P2& p : poly) {
+        const auto q = place.at(p);
+        s << "v " << q[0] << ' ' << q[1] << ' ' << q[2] << '\n';
+    }
+    s << "f";
+    for (std::size_t i = 0; i < poly.size(); ++i) s << ' ' << i + 1;
+    s << '\n';
+    return s.str();
+}
+
+// The loaded mesh's triangles, as corner indices of `poly` (found by position).
+std::vector<std::uint32_t> loadedTriangles(const SceneData& data, const std::vector<P2>& poly,
+                                           const Placement& place) {
+    const auto& mesh = data.meshes.at(0);
+    std::map<std::array<float, 3>, std::uint32_t> corner;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+        const auto q = place.at(poly[i]);
+        corner[{float(q[0]), float(q[1]), float(q[2])}] = std::uint32_t(i);
+    }
+    std::vector<std::uint32_t> out;
+    for (const std::uint32_t v : mesh.indices) {
+        const Vec3& p = mesh.positions[v];
+        out.push_back(corner.at({p.x, p.y, p.z}));
+    }
+    return out;
+}
+
+// Before issue 32 tinyobjloader's triangulation was right at the origin but not far from it:
+// the L on a tilted plane at (1000, −2000, 3000) became 1 triangle, the U in the xy plane there
+// triangles of total area 9 (the U's is 7), the comb 551 (its area is 239); the arrowhead, a
+// concave quad, was split along its shorter diagonal, which lies outside it, everywhere.
+TEST(ObjImport, ConcaveFacesAreTriangulatedInsideThePolygonWhereverItSits) {
+    for (const auto& [name, poly] :
+         std::vector<std::pair<std::string, std::vector<P2>>>{{"L", lShape()},
+                                                              {"arrowhead", arrowhead()},
+                                                              {"U", uShape()},
+                                                              {"star", star()},
+                                                              {"comb", comb(40)}}) {
+        for (const Placement& place : placements()) {
+            test::TempDir dir("obj_concave");
+            dir.write("mesh.obj", objOfPolygon(poly, place));
+            dir.write("scene.json", kScene);
+            const Scene scene = loadScene(dir.path() / "scene.json");
+            expectTiles(poly, loadedTriangles(scene.data(), poly, place), name + " " + place.name);
+        }
+    }
+}
+
+// tinyobjloader counts a face's corners in a byte: a face of more is refused with its line
+// (docs/scene-format.md, "Polygons") rather than read with a wrapped count.
+TEST(ObjImport, AFaceAboveTinyobjloadersCornerLimitIsRefusedWithItsLine) {
+    const std::vector<P2> within = zigzagCircle(int(kMaxObjFaceCorners), 0.9);
+    test::TempDir dir("obj_limit");
+    dir.write("mesh.obj", objOfPolygon(within));
+    dir.write("scene.json", kScene);
+    const Scene scene = loadScene(dir.path() / "scene.json");
+    expectTiles(within, loadedTriangles(scene.data(), within, placements()[0]), "255 corners");
+    const std::vector<P2> above = zigzagCircle(int(kMaxObjFaceCorners) + 1, 0.9);
+    dir.write("mesh.obj", "# one corner too many\n" + objOfPolygon(above));
+    try {
+        loadScene(dir.path() / "scene.json");
+        FAIL() << "a face above the limit was accepted";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::Format);
+        EXPECT_EQ(fs::path(e.file()), dir.path() / "mesh.obj");
+        EXPECT_EQ(e.where(), "line " + std::to_string(above.size() + 2));
+        EXPECT_NE(e.message().find("at most 255"), std::string::npos) << e.message();
+    }
+}
+
+}  // namespace
+}  // namespace glint::render
