@@ -1,7 +1,8 @@
-// OBJ faces of more than three corners (issue 32, item 5): read by tinyobjloader without its own
-// triangulation and triangulated by ear clipping in the face's plane (polygon_triangulation.cpp),
-// correct for concave faces and the same wherever a face sits; a face above tinyobjloader's
-// corner limit is refused with its line.
+// OBJ/MTL read by tinyobjloader, with what Glint corrects (issue 32, item 5): faces of more than
+// three corners ear-clipped in their plane (polygon_triangulation.cpp), correct for concave
+// faces and the same wherever a face sits, a face above tinyobjloader's corner limit refused
+// with its line; map_Kd relative to the MTL file; one-value MTL colours grey; MTL values in the
+// ranges of the JSON keys they become; files that are not OBJ text refused by their first bytes.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -268,6 +269,163 @@ TEST(ObjImport, AFaceAboveTinyobjloadersCornerLimitIsRefusedWithItsLine) {
         EXPECT_EQ(e.where(), "line " + std::to_string(above.size() + 2));
         EXPECT_NE(e.message().find("at most 255"), std::string::npos) << e.message();
     }
+}
+
+// Writes a 2×2 PNG of one colour.
+void writePng(const fs::path& path, float r, float g, float b) {
+    Image im(2, 2, 3);
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 2; ++x) im(x, y, 0) = r, im(x, y, 1) = g, im(x, y, 2) = b;
+    writeImage(im, path);
+}
+
+// Changes the working folder for one test (to load a scene by a relative path, as a user does).
+class WorkingFolder {
+  public:
+    explicit WorkingFolder(const fs::path& dir) : m_old(fs::current_path()) {
+        fs::current_path(dir);
+    }
+    ~WorkingFolder() { fs::current_path(m_old); }
+
+  private:
+    fs::path m_old;
+};
+
+// Before issue 32 map_Kd was resolved against the OBJ's folder and then the scene's folder
+// again: the decoy beside the scene was used, and a scene loaded by a relative path with its
+// OBJ in a subfolder was refused.
+TEST(ObjImport, MapKdIsRelativeToTheMtlFilesFolder) {
+    test::TempDir dir("obj_map_kd");
+    fs::create_directories(dir.path() / "meshes" / "materials");
+    dir.write("meshes/mesh.obj", "mtllib materials/m.mtl\nusemtl red\n" + test::quadObj());
+    dir.write("meshes/materials/m.mtl", "newmtl red\nKd 1 1 1\nmap_Kd tex.png\n");
+    writePng(dir.path() / "meshes" / "materials" / "tex.png", 1.0f, 0.0f, 0.0f);
+    writePng(dir.path() / "meshes" / "tex.png", 0.0f, 1.0f, 0.0f);  // decoys
+    writePng(dir.path() / "tex.png", 0.0f, 0.0f, 1.0f);
+    dir.write("scene.json", R"({"film": {"width": 8, "height": 8},
+        "shapes": [{"obj": "meshes/mesh.obj"}], "environment": {"color": [1, 1, 1]}})");
+    for (const bool relative : {false, true}) {
+        std::optional<WorkingFolder> cwd;
+        if (relative) cwd.emplace(dir.path().parent_path());
+        const fs::path scenePath =
+            relative ? dir.path().filename() / "scene.json" : dir.path() / "scene.json";
+        const Scene scene = loadScene(scenePath);
+        const SceneData& data = scene.data();
+        ASSERT_EQ(data.materials.size(), 1u);
+        const int tex = data.materials[0].texture;
+        ASSERT_GE(tex, 0);
+        EXPECT_TRUE(fs::equivalent(data.textures[std::size_t(tex)].path,
+                                   dir.path() / "meshes" / "materials" / "tex.png"))
+            << data.textures[std::size_t(tex)].path;
+        const Image& im = data.textures[std::size_t(tex)].image;
+        EXPECT_FLOAT_EQ(im(0, 0, 0), 1.0f);
+        EXPECT_FLOAT_EQ(im(0, 0, 1), 0.0f);
+        EXPECT_FLOAT_EQ(im(0, 0, 2), 0.0f);
+    }
+    // A texture missing beside the MTL is refused naming it, not looked for elsewhere.
+    fs::remove(dir.path() / "meshes" / "materials" / "tex.png");
+    try {
+        loadScene(dir.path() / "scene.json");
+        FAIL() << "a map_Kd missing beside its MTL was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("materials/tex.png"), std::string::npos) << e.what();
+    }
+}
+
+// Loads a quad whose material is `mtl` (MTL text defining material "m").
+Material loadMtlMaterial(const std::string& mtl) {
+    test::TempDir dir("obj_mtl");
+    dir.write("mesh.obj", "mtllib m.mtl\nusemtl m\n" + test::quadObj());
+    dir.write("m.mtl", mtl);
+    dir.write("scene.json", kScene);
+    const Scene scene = loadScene(dir.path() / "scene.json");
+    return scene.data().materials.at(0);
+}
+
+void expectVec(const Vec3& v, float x, float y, float z) {
+    EXPECT_FLOAT_EQ(v.x, x);
+    EXPECT_FLOAT_EQ(v.y, y);
+    EXPECT_FLOAT_EQ(v.z, z);
+}
+
+// Before issue 32 one value set only the red channel.
+TEST(ObjImport, SingleValueMtlColoursAreGrey) {
+    const Material m = loadMtlMaterial("newmtl m\nKd 0.5\nKe 10\n");
+    EXPECT_EQ(m.type, MaterialType::Diffuse);
+    expectVec(m.albedo, 0.5f, 0.5f, 0.5f);
+    expectVec(m.emission, 10.0f, 10.0f, 10.0f);
+    const Material metal = loadMtlMaterial("newmtl m\nKd 0\nKs 0.7\nNs 98\n");
+    EXPECT_EQ(metal.type, MaterialType::Conductor);
+    expectVec(metal.specular, 0.7f, 0.7f, 0.7f);
+    EXPECT_FLOAT_EQ(metal.roughness, std::sqrt(2.0f / 100.0f));
+    const Material three = loadMtlMaterial("newmtl m\nKd 0.1 0.2 0.3\n");
+    expectVec(three.albedo, 0.1f, 0.2f, 0.3f);
+}
+
+// Before issue 32 these were clamped without a word, while JSON refuses the same values.
+TEST(ObjImport, OutOfRangeMtlValuesAreRefusedWithTheirLine) {
+    const std::vector<std::pair<std::string, std::string>> cases{
+        {"Kd 1.5 0.5 0.5", "1.5"},  {"Kd -0.1", "-0.1"},
+        {"Ks 0.5 2 0.5", "'Ks' 2"}, {"Ke 1 -1 1", "-1"},
+        {"Ke 1e19", "1e+19"},       {"Ns -5", "Ns"},
+        {"Kd 0.5 0.5", "got 2"},    {"Kd spectral x.rfl", "spectral"}};
+    for (const auto& [statement, mention] : cases) {
+        test::TempDir dir("obj_mtl_range");
+        dir.write("mesh.obj", "mtllib m.mtl\nusemtl m\n" + test::quadObj());
+        dir.write("m.mtl", "# a material\nnewmtl m\n" + statement + "\n");
+        dir.write("scene.json", kScene);
+        try {
+            loadScene(dir.path() / "scene.json");
+            ADD_FAILURE() << "'" << statement << "' was accepted";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), ErrorKind::Format) << statement;
+            EXPECT_EQ(fs::path(e.file()), dir.path() / "m.mtl") << statement;
+            EXPECT_EQ(e.where(), "line 3") << statement;
+            EXPECT_NE(e.message().find(mention), std::string::npos) << e.message();
+        }
+    }
+    // The ends of each range are accepted.
+    const Material m = loadMtlMaterial("newmtl m\nKd 0 1 0\nKs 1\nKe 0\nNs 0\n");
+    expectVec(m.albedo, 0.0f, 1.0f, 0.0f);
+}
+
+// Before issue 32 random bytes and zeros loaded as an empty mesh (glint-render: exit 0). The
+// files here are a few KB: a file of 2 GB is refused the same way, from its first 64 KiB, which
+// is all that is read of it before deciding.
+TEST(ObjImport, FilesThatAreNotObjTextAreRefusedByTheirFirstBytes) {
+    std::mt19937 rng(32);
+    std::string random(4096, '\0');
+    for (char& c : random) c = char(rng() & 0xff);
+    struct Case {
+        std::string name, text, where, mention;
+    };
+    const std::vector<Case> cases{
+        {"random bytes", random, "line ", "not OBJ text: byte "},
+        {"zeros", std::string(4096, '\0'), "line 1", "not OBJ text: byte 0 is 0x00"},
+        {"text that is not a mesh", "hello world\nthis is not a mesh\n", "faces", "no faces"},
+        {"an OBJ of points only", "# only points\nv 0 0 0\nv 1 0 0\n", "faces", "no faces"},
+        {"an empty file", "", "faces", "no faces"},
+    };
+    for (const Case& c : cases) {
+        test::TempDir dir("obj_binary");
+        std::ofstream(dir.path() / "mesh.obj", std::ios::binary) << c.text;
+        dir.write("scene.json", kScene);
+        try {
+            loadScene(dir.path() / "scene.json");
+            ADD_FAILURE() << c.name << " was accepted";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), ErrorKind::Format) << c.name;
+            EXPECT_EQ(fs::path(e.file()), dir.path() / "mesh.obj") << c.name;
+            EXPECT_EQ(e.where().rfind(c.where, 0), 0u) << c.name << ": " << e.where();
+            EXPECT_NE(e.message().find(c.mention), std::string::npos)
+                << c.name << ": " << e.message();
+        }
+    }
+    // CRLF line ends are text.
+    test::TempDir dir("obj_crlf");
+    dir.write("mesh.obj", "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 3\r\n");
+    dir.write("scene.json", kScene);
+    EXPECT_EQ(loadScene(dir.path() / "scene.json").data().meshes.at(0).triangleCount(), 1u);
 }
 
 }  // namespace

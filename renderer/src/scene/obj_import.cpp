@@ -89,13 +89,25 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
 
     // Map the OBJ's materials to scene materials (JSON overrides MTL by name).
     std::vector<int> objMaterial;
-    for (const tinyobj::material_t& mtl : obj.GetMaterials()) {
+    for (tinyobj::material_t mtl : obj.GetMaterials()) {
         int index = materialIndex(mtl.name);
         if (index < 0) {
+            // Where the scan saw tinyobjloader part from the MTL specification: one value is
+            // a grey (it sets red only), and paths are relative to the MTL file's folder.
+            const auto info = lines.materials.find(mtl.name);
+            fs::path mtlFolder = objPath.parent_path();
+            if (info != lines.materials.end()) {
+                if (info->second.greyKd) mtl.diffuse[1] = mtl.diffuse[2] = mtl.diffuse[0];
+                if (info->second.greyKs) mtl.specular[1] = mtl.specular[2] = mtl.specular[0];
+                if (info->second.greyKe) mtl.emission[1] = mtl.emission[2] = mtl.emission[0];
+                mtlFolder = info->second.file.parent_path();
+            }
             Material m = materialFromMtl(mtl);
-            if (!mtl.diffuse_texname.empty())
-                m.texture = loadTexture(objPath.parent_path() / mtl.diffuse_texname,
-                                        where + "/obj (map_Kd of " + mtl.name + ")");
+            if (!mtl.diffuse_texname.empty()) {
+                // Absolute, so that loadTexture does not put the scene's folder before it again.
+                const fs::path texture = fs::absolute(mtlFolder / mtl.diffuse_texname, ec);
+                m.texture = loadTexture(texture, where + "/obj (map_Kd of " + mtl.name + ")");
+            }
             index = addMaterial(std::move(m));
         }
         objMaterial.push_back(index);

@@ -64,34 +64,87 @@ void checkIndex(const std::string& text, long long count, long long total, const
 
 }  // namespace
 
-void scanMtl(const std::filesystem::path& path) {
+namespace {
+
+/// Refuses a file that is not text before reading it whole (a 2 GB file of zeros is decided by
+/// its first bytes): a NUL or another control character than tab, CR, LF, FF or VT in the first
+/// 64 KiB names its byte and line.
+void checkText(const std::filesystem::path& path, const char* kind) {
+    std::ifstream in(path, std::ios::binary);
+    std::vector<char> head(1 << 16);
+    in.read(head.data(), std::streamsize(head.size()));
+    const std::size_t n = std::size_t(std::max<std::streamsize>(in.gcount(), 0));
+    int line = 1;
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto c = static_cast<unsigned char>(head[i]);
+        if (c == '\n') ++line;
+        if (c < 0x20 && c != '\t' && c != '\r' && c != '\n' && c != '\f' && c != '\v')
+            throw Error(ErrorKind::Format,
+                        std::string("not ") + kind + " text: byte " + std::to_string(i) + " is 0x" +
+                            "0123456789abcdef"[c >> 4] + "0123456789abcdef"[c & 15],
+                        path.string(), "line " + std::to_string(line));
+    }
+}
+
+}  // namespace
+
+void scanMtl(const std::filesystem::path& path, std::map<std::string, MtlMaterialInfo>& materials) {
+    checkText(path, "MTL");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(ErrorKind::Io, "cannot read the MTL file", path.string());
     int line = 0;
+    MtlMaterialInfo* current = nullptr;  // the material being defined, when its first definition
+    MtlMaterialInfo ignored;
     for (std::string text; std::getline(in, text);) {
         ++line;
         std::istringstream ls(text);
         std::string key;
         if (!(ls >> key)) continue;
-        if (key == "Ka" || key == "Kd" || key == "Ks" || key == "Tf") {
-            checkNumbers(ls, path, line, key, 1, 3);
-        } else if (key == "Ke") {
+        if (key == "newmtl") {
+            std::string name;
+            std::getline(ls >> std::ws, name);
+            while (!name.empty() && (name.back() == '\r' || name.back() == ' ')) name.pop_back();
+            const auto [it, added] = materials.try_emplace(name, MtlMaterialInfo{path});
+            current = added ? &it->second : &ignored;
+            continue;
+        }
+        if (key == "Ka" || key == "Kd" || key == "Ks" || key == "Ke" || key == "Tf") {
             std::istringstream again(text);
             again >> key;
             checkNumbers(ls, path, line, key, 1, 3);
-            for (double v; again >> v;)
-                if (v > kMaxRadiance)
-                    fail(path, line,
-                         "'Ke' " + std::to_string(v) +
-                             " is above the largest radiance, 1e18 (its variance "
-                             "must fit a float EXR)");
+            std::vector<double> values;
+            for (double v; again >> v;) values.push_back(v);
+            if (values.size() == 2)
+                fail(path, line, "'" + key + "' needs 1 value (grey) or 3 (r g b), got 2");
+            // The ranges of the JSON keys these become (albedo, specular, emission).
+            const double hi = key == "Ke" ? kMaxRadiance : key == "Kd" || key == "Ks" ? 1.0 : 1e30;
+            for (const double v : values)
+                if (v < 0.0 || v > hi) {
+                    std::ostringstream msg;
+                    msg << "'" << key << "' " << v << " is outside [0, " << hi << "]"
+                        << (key == "Ke" ? " (radiance is limited to 1e18 so that its variance "
+                                          "fits a float EXR)"
+                                        : " (a reflectance)");
+                    fail(path, line, msg.str());
+                }
+            MtlMaterialInfo& m = current ? *current : ignored;
+            if (key == "Kd") m.greyKd = values.size() == 1;
+            if (key == "Ks") m.greyKs = values.size() == 1;
+            if (key == "Ke") m.greyKe = values.size() == 1;
         } else if (key == "Ns" || key == "Ni" || key == "d" || key == "Tr" || key == "illum") {
+            std::istringstream again(text);
+            again >> key;
             checkNumbers(ls, path, line, key, 1, 1);
+            double v = 0.0;
+            again >> v;
+            if (key == "Ns" && v < 0.0)
+                fail(path, line, "'Ns' " + std::to_string(v) + " is negative; expected >= 0");
         }
     }
 }
 
 ObjLines scanObj(const std::filesystem::path& path) {
+    checkText(path, "OBJ");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(ErrorKind::Io, "cannot read the OBJ file", path.string());
     std::vector<std::string> lines;
@@ -125,14 +178,14 @@ ObjLines scanObj(const std::filesystem::path& path) {
             const std::filesystem::path mtl = path.parent_path() / name;
             std::error_code ec;
             if (std::filesystem::is_regular_file(mtl, ec))
-                scanMtl(mtl);
+                scanMtl(mtl, out.materials);
             else if (std::filesystem::exists(mtl, ec))  // a folder, a device, a pipe...
                 fail(path, int(n) + 1,
                      "mtllib '" + shorten(name) + "' is not a regular file (expected an MTL file)");
         }
     }
     // Second pass: faces.
-    long long v = 0, vn = 0, vt = 0;
+    long long v = 0, vn = 0, vt = 0, faces = 0;
     const auto nv = (long long)out.vertices.size(), nn = (long long)out.normals.size(),
                nt = (long long)out.texcoords.size();
     for (std::size_t n = 0; n < lines.size(); ++n) {
@@ -174,7 +227,14 @@ ObjLines scanObj(const std::filesystem::path& path) {
                  "a face has " + std::to_string(corners) + " corners; at most " +
                      std::to_string(kMaxObjFaceCorners) +
                      " are read (split it into faces of fewer corners)");
+        ++faces;
     }
+    // Text without a face is no mesh (HTML, a log, an OBJ of points or lines only).
+    if (faces == 0)
+        throw Error(ErrorKind::Format,
+                    "no faces ('f' statements): not an OBJ mesh (" + std::to_string(lines.size()) +
+                        " lines read)",
+                    path.string(), "faces");
     return out;
 }
 

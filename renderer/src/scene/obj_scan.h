@@ -6,17 +6,28 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
 namespace glint::render::detail {
 
-/// Lines (1-based) of the OBJ's `v`, `vn` and `vt` statements, in order.
 /// The most corners an OBJ face may have: tinyobjloader counts a face's corners in a byte.
 inline constexpr std::size_t kMaxObjFaceCorners = 255;
 
+/// What the scan saw of one MTL material that tinyobjloader reads differently from the MTL
+/// specification: where it is defined (its texture paths are relative to that file), and which
+/// colours were given as one value (the specification's grey; tinyobjloader sets red only).
+struct MtlMaterialInfo {
+    std::filesystem::path file;
+    bool greyKd = false, greyKs = false, greyKe = false;
+};
+
+/// Lines (1-based) of the OBJ's `v`, `vn` and `vt` statements, in order, and what the scan saw
+/// of its MTL materials (the first definition of a name, as tinyobjloader keeps).
 struct ObjLines {
     std::vector<int> vertices, normals, texcoords;
+    std::map<std::string, MtlMaterialInfo> materials;
 };
 
 /// Reads the OBJ at `path` and checks every statement Glint uses: `v`/`vn`/`vt` hold finite
@@ -26,9 +37,11 @@ struct ObjLines {
 /// Throws glint::Error(Format) naming the file and "line N", Io when it cannot be read.
 ObjLines scanObj(const std::filesystem::path& path);
 
-/// Checks the numeric statements of an MTL file (Ka/Kd/Ks/Ke/Tf: 3 finite numbers; Ns/Ni/d/Tr/
-/// illum: 1; Ke at most kMaxRadiance) and throws glint::Error(Format) naming its file and line.
-/// scanObj calls it for every `mtllib` file that exists (a missing one is reported later).
-void scanMtl(const std::filesystem::path& path);
+/// Checks the numeric statements of an MTL file (Ka/Kd/Ks/Ke/Tf: 1 or 3 finite numbers; Ns/Ni/
+/// d/Tr/illum: 1) with the ranges of the JSON keys they become (Kd and Ks in [0, 1], Ke in
+/// [0, kMaxRadiance], Ns ≥ 0), and throws glint::Error(Format) naming its file and line; adds
+/// its materials to `materials` (names already there are kept). scanObj calls it for every
+/// `mtllib` file (a missing one is reported later).
+void scanMtl(const std::filesystem::path& path, std::map<std::string, MtlMaterialInfo>& materials);
 
 }  // namespace glint::render::detail
