@@ -255,19 +255,23 @@ template <>
 struct Packet<16> {
     using RayHit = RTCRayHit16;
     using Ray = RTCRay16;
-    static constexpr auto intersect = &rtcIntersect16, occluded = &rtcOccluded16;
+    // One declaration each: the two have different types (clang refuses one `auto` for both).
+    static constexpr auto intersect = &rtcIntersect16;
+    static constexpr auto occluded = &rtcOccluded16;
 };
 template <>
 struct Packet<8> {
     using RayHit = RTCRayHit8;
     using Ray = RTCRay8;
-    static constexpr auto intersect = &rtcIntersect8, occluded = &rtcOccluded8;
+    static constexpr auto intersect = &rtcIntersect8;
+    static constexpr auto occluded = &rtcOccluded8;
 };
 template <>
 struct Packet<4> {
     using RayHit = RTCRayHit4;
     using Ray = RTCRay4;
-    static constexpr auto intersect = &rtcIntersect4, occluded = &rtcOccluded4;
+    static constexpr auto intersect = &rtcIntersect4;
+    static constexpr auto occluded = &rtcOccluded4;
 };
 
 /// Lane k of an SoA packet ray.
