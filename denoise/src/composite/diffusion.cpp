@@ -182,8 +182,8 @@ GLINT_SIMD_CLONES void smoothRow(float* e, const float* up, const float* down, c
             detail::loadVec(d, down + x);
             detail::loadVec(rhs, r + x);
             detail::loadVec(scale, inv + x);
-            const VecF left = __builtin_shuffle(prev, c, VecI{7, 8, 9, 10, 11, 12, 13, 14});
-            const VecF right = __builtin_shuffle(c, next, VecI{1, 2, 3, 4, 5, 6, 7, 8});
+            const VecF left = __builtin_shufflevector(prev, c, 7, 8, 9, 10, 11, 12, 13, 14);
+            const VecF right = __builtin_shufflevector(c, next, 1, 2, 3, 4, 5, 6, 7, 8);
             const VecF updated = ((rhs + u) + (d + left) + right) * scale;
             detail::storeVec(e + x, mine ? updated : c);
             // The old values: the lanes a neighbour is read from are of the other colour,
@@ -271,14 +271,13 @@ void restrictResidual(const Level& L, Level& C) {
 // e += the coarse correction over a row, injected into the free children.
 GLINT_SIMD_CLONES void prolongateRow(float* e, const float* diag, const float* ce, int w) {
     using detail::VecF;
-    using detail::VecI;
     int x = 0;
     for (; x + 8 <= w; x += 8) {
         VecF c{}, fine, dg;
         std::memcpy(&c, ce + x / 2, 4 * sizeof(float));
         detail::loadVec(fine, e + x);
         detail::loadVec(dg, diag + x);
-        const VecF twice = __builtin_shuffle(c, VecI{0, 0, 1, 1, 2, 2, 3, 3});
+        const VecF twice = __builtin_shufflevector(c, c, 0, 0, 1, 1, 2, 2, 3, 3);
         detail::storeVec(e + x, dg > 0.0f ? fine + twice : fine);
     }
     for (; x < w; ++x)
