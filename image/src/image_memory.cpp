@@ -25,10 +25,10 @@ Image readImage(std::span<const unsigned char> bytes, const std::string& name, b
     OIIO::Filesystem::IOMemReader proxy(bytes.data(), bytes.size());
     auto in = OIIO::ImageInput::open(std::string("embedded") + extension, nullptr, &proxy);
     if (!in)
-        throw Error(ErrorKind::Format,
-                    "not an image OpenImageIO can read (" + detail::firstLine(OIIO::geterror()) +
-                        ")",
-                    name, "open");
+        throw Error(
+            ErrorKind::Format,
+            "not an image OpenImageIO can read (" + detail::firstLine(OIIO::geterror()) + ")", name,
+            "open");
     const OIIO::ImageSpec spec = in->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.depth != 1 || spec.nchannels <= 0 ||
         spec.nchannels > 4)

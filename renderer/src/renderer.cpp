@@ -413,7 +413,8 @@ RayThroughput Renderer::measureRayThroughput(std::uint64_t rayCount, int threads
     for (const detail::Instance& inst : data.instances)
         for (const Vec3& q : data.meshes[inst.mesh].positions) {
             const Vec3 p = inst.identity ? q : inst.transform.point(q);
-            for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
+            for (int c = 0; c < 3; ++c)
+                lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
             any = true;
         }
     if (!any) lo = hi = Vec3{};

@@ -52,7 +52,8 @@ void generateTangents(Mesh& mesh, std::size_t firstTriangle, std::size_t lastTri
     for (std::size_t f = firstTriangle; f < lastTriangle; ++f) {
         const float sign = directions[f - firstTriangle].sign;
         if (sign == 0.0f) continue;
-        for (int k = 0; k < 3; ++k) seen[mesh.indices[3 * f + std::size_t(k)]] |= sign > 0.0f ? 1 : 2;
+        for (int k = 0; k < 3; ++k)
+            seen[mesh.indices[3 * f + std::size_t(k)]] |= sign > 0.0f ? 1 : 2;
     }
     std::unordered_map<std::uint32_t, std::uint32_t> mirrored;
     for (std::size_t f = firstTriangle; f < lastTriangle; ++f) {
@@ -82,8 +83,8 @@ void generateTangents(Mesh& mesh, std::size_t firstTriangle, std::size_t lastTri
         if (d.sign == 0.0f) continue;
         for (int k = 0; k < 3; ++k) {
             const Vec3& p = mesh.positions[idx[k]];
-            const float w = cornerAngle(p, mesh.positions[idx[(k + 1) % 3]],
-                                        mesh.positions[idx[(k + 2) % 3]]);
+            const float w =
+                cornerAngle(p, mesh.positions[idx[(k + 1) % 3]], mesh.positions[idx[(k + 2) % 3]]);
             sumT[idx[k]] += d.t * w;
             sumB[idx[k]] += d.b * w;
         }

@@ -28,12 +28,13 @@ Affine composeAffine(const Vec3& scale, const Quat& q, const Vec3& translate) {
 bool affineFromMatrix(const double rows[3][4], Affine& out) {
     const auto& a = rows;
     // Cofactors of M: (M^-1)^T = cof(M) / det(M).
-    const double c[3][3] = {{a[1][1] * a[2][2] - a[1][2] * a[2][1], a[1][2] * a[2][0] - a[1][0] * a[2][2],
-                             a[1][0] * a[2][1] - a[1][1] * a[2][0]},
-                            {a[0][2] * a[2][1] - a[0][1] * a[2][2], a[0][0] * a[2][2] - a[0][2] * a[2][0],
-                             a[0][1] * a[2][0] - a[0][0] * a[2][1]},
-                            {a[0][1] * a[1][2] - a[0][2] * a[1][1], a[0][2] * a[1][0] - a[0][0] * a[1][2],
-                             a[0][0] * a[1][1] - a[0][1] * a[1][0]}};
+    const double c[3][3] = {
+        {a[1][1] * a[2][2] - a[1][2] * a[2][1], a[1][2] * a[2][0] - a[1][0] * a[2][2],
+         a[1][0] * a[2][1] - a[1][1] * a[2][0]},
+        {a[0][2] * a[2][1] - a[0][1] * a[2][2], a[0][0] * a[2][2] - a[0][2] * a[2][0],
+         a[0][1] * a[2][0] - a[0][0] * a[2][1]},
+        {a[0][1] * a[1][2] - a[0][2] * a[1][1], a[0][2] * a[1][0] - a[0][0] * a[1][2],
+         a[0][0] * a[1][1] - a[0][1] * a[1][0]}};
     const double det = a[0][0] * c[0][0] + a[0][1] * c[0][1] + a[0][2] * c[0][2];
     if (!(det != 0.0) || !std::isfinite(det)) return false;
     for (int i = 0; i < 3; ++i) {
