@@ -1,8 +1,8 @@
 // glTF 2.0 import (renderer/src/scene/gltf_import.cpp, gltf_material.cpp) on small assets written
 // by the test: .gltf files with base64 data-URI buffers and .glb files built byte by byte. Node
 // hierarchies (TRS and matrix), shared meshes, indexed and non-indexed primitives,
-// KHR_texture_transform, cameras, punctual lights, material factors, overrides by name, the bare
-// asset, and bad input through loadScene and through glint-render.
+// KHR_texture_transform, cameras, punctual lights, material factors, overrides by name and the
+// bare asset. Bad input is in gltf_hostile_test.cpp.
 
 #include <array>
 #include <cmath>
@@ -21,6 +21,7 @@
 #include "glint/image/io.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
+#include "gltf_builder.h"
 #include "scene/scene_data.h"
 #include "test_util.h"
 
@@ -29,129 +30,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-std::string base64(const std::vector<unsigned char>& bytes) {
-    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    for (std::size_t i = 0; i < bytes.size(); i += 3) {
-        const std::uint32_t n = std::uint32_t(bytes[i]) << 16 |
-                                (i + 1 < bytes.size() ? std::uint32_t(bytes[i + 1]) << 8 : 0u) |
-                                (i + 2 < bytes.size() ? std::uint32_t(bytes[i + 2]) : 0u);
-        out += table[(n >> 18) & 63];
-        out += table[(n >> 12) & 63];
-        out += i + 1 < bytes.size() ? table[(n >> 6) & 63] : '=';
-        out += i + 2 < bytes.size() ? table[n & 63] : '=';
-    }
-    return out;
-}
-
-/// Builds a glTF document and its one binary buffer.
-class GltfBuilder {
-  public:
-    json doc = {{"asset", {{"version", "2.0"}}}};
-    std::vector<unsigned char> bin;
-
-    /// A bufferView over `bytes` appended to the buffer (4-byte aligned).
-    int view(const void* data, std::size_t bytes) {
-        while (bin.size() % 4) bin.push_back(0);
-        const std::size_t offset = bin.size();
-        const auto* p = static_cast<const unsigned char*>(data);
-        bin.insert(bin.end(), p, p + bytes);
-        doc["bufferViews"].push_back(
-            {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", bytes}});
-        return int(doc["bufferViews"].size()) - 1;
-    }
-    int accessor(int view, int componentType, const char* type, std::size_t count) {
-        doc["accessors"].push_back({{"bufferView", view},
-                                    {"componentType", componentType},
-                                    {"type", type},
-                                    {"count", count}});
-        return int(doc["accessors"].size()) - 1;
-    }
-    int floats(const std::vector<float>& v, const char* type, int components) {
-        return accessor(view(v.data(), v.size() * 4), 5126, type,
-                        v.size() / std::size_t(components));
-    }
-    int u16(const std::vector<std::uint16_t>& v) {
-        return accessor(view(v.data(), v.size() * 2), 5123, "SCALAR", v.size());
-    }
-    /// A unit quad in z = 0 facing +z (two triangles), with normals and glTF uvs (top-left
-    /// origin); indexed or not. Returns the mesh index.
-    int quad(int material = -1, bool indexed = true, const std::string& name = "quad") {
-        std::vector<float> p = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
-        std::vector<float> n = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
-        std::vector<float> uv = {0, 1, 1, 1, 1, 0, 0, 0};
-        const std::vector<int> order = {0, 1, 2, 0, 2, 3};
-        if (!indexed) {
-            std::vector<float> p2, n2, uv2;
-            for (int i : order) {
-                for (int c = 0; c < 3; ++c) p2.push_back(p[std::size_t(3 * i + c)]);
-                for (int c = 0; c < 3; ++c) n2.push_back(n[std::size_t(3 * i + c)]);
-                for (int c = 0; c < 2; ++c) uv2.push_back(uv[std::size_t(2 * i + c)]);
-            }
-            p = p2, n = n2, uv = uv2;
-        }
-        json prim = {{"attributes",
-                      {{"POSITION", floats(p, "VEC3", 3)},
-                       {"NORMAL", floats(n, "VEC3", 3)},
-                       {"TEXCOORD_0", floats(uv, "VEC2", 2)}}}};
-        if (indexed) prim["indices"] = u16({0, 1, 2, 0, 2, 3});
-        if (material >= 0) prim["material"] = material;
-        doc["meshes"].push_back({{"name", name}, {"primitives", json::array({prim})}});
-        return int(doc["meshes"].size()) - 1;
-    }
-    int node(json n) {
-        doc["nodes"].push_back(std::move(n));
-        return int(doc["nodes"].size()) - 1;
-    }
-    /// The scene of the given root nodes.
-    void scene(const std::vector<int>& roots) {
-        doc["scenes"] = json::array({{{"nodes", roots}}});
-        doc["scene"] = 0;
-    }
-
-    /// The .gltf text with the buffer as a base64 data URI.
-    std::string gltf() const {
-        json d = doc;
-        d["buffers"] =
-            json::array({{{"byteLength", bin.size()},
-                          {"uri", "data:application/octet-stream;base64," + base64(bin)}}});
-        return d.dump();
-    }
-    /// The .glb bytes (JSON chunk, then BIN chunk).
-    std::vector<unsigned char> glb() const {
-        json d = doc;
-        d["buffers"] = json::array({{{"byteLength", bin.size()}}});
-        std::string text = d.dump();
-        while (text.size() % 4) text += ' ';
-        std::vector<unsigned char> data = bin;
-        while (data.size() % 4) data.push_back(0);
-        std::vector<unsigned char> out;
-        auto u32 = [&](std::uint32_t v) {
-            for (int i = 0; i < 4; ++i) out.push_back((unsigned char)(v >> (8 * i)));
-        };
-        u32(0x46546C67), u32(2), u32(std::uint32_t(12 + 8 + text.size() + 8 + data.size()));
-        u32(std::uint32_t(text.size())), u32(0x4E4F534A);
-        out.insert(out.end(), text.begin(), text.end());
-        u32(std::uint32_t(data.size())), u32(0x004E4942);
-        out.insert(out.end(), data.begin(), data.end());
-        return out;
-    }
-};
-
-fs::path writeBytes(const fs::path& path, const std::vector<unsigned char>& bytes) {
-    std::ofstream(path, std::ios::binary)
-        .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    return path;
-}
-
-/// A scene.json placing `asset` (no camera block unless given).
-std::string sceneJson(const std::string& asset, const std::string& extra = "",
-                      const std::string& shapeExtra = "") {
-    return R"({"film": {"width": 8, "height": 6}, "environment": {"color": [1, 1, 1]},
-               "shapes": [{"gltf": ")" +
-           asset + "\"" + shapeExtra + "}]" + extra + "}";
-}
+using namespace test_gltf;
 
 const detail::SceneData& dataOf(const Scene& s) {
     return s.data();
@@ -595,149 +474,6 @@ TEST(GltfImport, TheKhronosDuckFromElsewhereRendersWithItsCameraAndTexture) {
     EXPECT_GT(g / 400, 0.2);
     EXPECT_LT(b, 0.3 * r) << "yellow";
     EXPECT_EQ(c(5, 5, 0), 1.0f);
-}
-
-// ---------------------------------------------------------------------------------------------
-// Bad input: one glint::Error naming the asset and the glTF place, on one line.
-
-struct BadAsset {
-    std::string name;   ///< file name (its extension chooses .gltf text or .glb bytes)
-    std::string place;  ///< expected in Error::where()
-    std::vector<unsigned char> bytes;
-};
-
-std::vector<unsigned char> text(const std::string& s) {
-    return {s.begin(), s.end()};
-}
-
-std::vector<BadAsset> badAssets() {
-    std::vector<BadAsset> cases;
-    auto good = [] {
-        GltfBuilder b;
-        b.scene({b.node({{"mesh", b.quad()}})});
-        return b;
-    };
-    {
-        std::vector<unsigned char> glb = good().glb();
-        glb.resize(glb.size() / 2);
-        cases.push_back({"truncated.glb", "header", glb});
-    }
-    {
-        std::vector<unsigned char> glb = good().glb();
-        glb[3] = 'X';
-        cases.push_back({"magic.glb", "byte 0", glb});
-    }
-    {
-        GltfBuilder b = good();
-        b.doc["accessors"][0]["count"] = 1000;  // POSITION past its bufferView
-        cases.push_back({"accessor.gltf", "accessors[0]", text(b.gltf())});
-    }
-    {
-        GltfBuilder b = good();
-        b.doc["bufferViews"][0]["byteLength"] = 100000;  // past the end of the buffer
-        cases.push_back({"buffer.glb", "bufferViews[0]", b.glb()});
-    }
-    {
-        GltfBuilder b;
-        const int p = b.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3", 3);
-        const int i = b.u16({0, 1, 7});
-        b.doc["meshes"] =
-            json::array({{{"primitives", {{{"attributes", {{"POSITION", p}}}, {"indices", i}}}}}});
-        b.scene({b.node({{"mesh", 0}})});
-        cases.push_back({"index.gltf", "accessors[1]", text(b.gltf())});
-    }
-    {
-        GltfBuilder b;
-        const float nan = std::numeric_limits<float>::quiet_NaN();
-        const int p = b.floats({0, 0, 0, 1, nan, 0, 0, 1, 0}, "VEC3", 3);
-        b.doc["meshes"] = json::array({{{"primitives", {{{"attributes", {{"POSITION", p}}}}}}}});
-        b.scene({b.node({{"mesh", 0}})});
-        cases.push_back({"nan.glb", "accessors[0]", b.glb()});
-    }
-    {
-        GltfBuilder b;
-        b.doc["images"] = json::array({{{"uri", "missing.png"}}});
-        b.doc["textures"] = json::array({{{"source", 0}}});
-        b.doc["materials"] =
-            json::array({{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}});
-        b.scene({b.node({{"mesh", b.quad(0)}})});
-        cases.push_back({"image.gltf", "images[0]", text(b.gltf())});
-    }
-    {
-        GltfBuilder b = good();
-        b.doc["extensionsUsed"] = {"KHR_draco_mesh_compression"};
-        b.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
-        cases.push_back({"required.gltf", "extensionsRequired[0]", text(b.gltf())});
-    }
-    {
-        GltfBuilder b;
-        b.scene({b.node({{"name", "empty"}})});
-        cases.push_back({"nomesh.gltf", "meshes", text(b.doc.dump())});
-    }
-    {
-        GltfBuilder b = good();
-        b.doc["meshes"][0]["primitives"][0]["attributes"].erase("POSITION");
-        cases.push_back({"noposition.gltf", "meshes[0].primitives[0].attributes", text(b.gltf())});
-    }
-    cases.push_back({"garbage.gltf", "", text("{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [")});
-    return cases;
-}
-
-TEST(GltfHostile, EveryBadAssetIsOneErrorNamingTheFileAndPlace) {
-    test::TempDir dir("gltf_hostile");
-    for (const BadAsset& c : badAssets()) {
-        const fs::path asset = writeBytes(dir.path() / c.name, c.bytes);
-        for (const bool bare : {true, false}) {
-            const fs::path scene = bare ? asset : dir.write("scene.json", sceneJson(c.name));
-            try {
-                loadScene(scene);
-                ADD_FAILURE() << c.name << " was accepted";
-            } catch (const Error& e) {
-                EXPECT_NE(e.kind(), ErrorKind::Internal) << e.what();
-                EXPECT_EQ(e.file(), asset.string()) << c.name << ": " << e.what();
-                if (!c.place.empty()) {
-                    EXPECT_EQ(e.where(), c.place) << c.name << ": " << e.what();
-                }
-                EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
-            }
-        }
-    }
-}
-
-class GltfCli : public glint::testing::CliFixture {
-  protected:
-    GltfCli() : CliFixture("glint-render") {}
-};
-
-std::string lastLine(std::string t) {
-    while (!t.empty() && t.back() == '\n') t.pop_back();
-    const std::size_t nl = t.rfind('\n');
-    return nl == std::string::npos ? t : t.substr(nl + 1);
-}
-
-TEST_F(GltfCli, ABareAssetRendersAndBadAssetsExitTwoWithOneLine) {
-    GltfBuilder b;
-    b.scene({b.node({{"mesh", b.quad()}})});
-    writeBytes(m_dir / "model.glb", b.glb());
-    const auto ok = run(path("model.glb") + " --spp 1 --out " + path("x.exr"));
-    ASSERT_EQ(ok.exitCode, 0) << ok.err;
-    EXPECT_EQ(readExr(path("x.exr")).width(), 640);
-    const auto badCamera = run(path("model.glb") + " --spp 1 --camera nope --out " + path("y.exr"));
-    EXPECT_EQ(badCamera.exitCode, 2);
-    EXPECT_NE(lastLine(badCamera.err).find("--camera"), std::string::npos) << badCamera.err;
-
-    for (const BadAsset& c : badAssets()) {
-        writeBytes(m_dir / c.name, c.bytes);
-        const auto r = run(path(c.name) + " --spp 1 --out " + path("bad.exr"));
-        EXPECT_EQ(r.exitCode, 2) << c.name << ": " << r.err;
-        const std::string line = lastLine(r.err);
-        EXPECT_NE(line.find(c.name), std::string::npos) << line;
-        EXPECT_NE(line.find(c.place), std::string::npos) << line;
-        for (std::size_t at = 0;
-             (at = r.err.find('\n', at)) != std::string::npos && at + 1 < r.err.size(); ++at)
-            EXPECT_EQ(r.err.compare(at + 1, 13, "glint-render:"), 0) << "foreign text: " << r.err;
-        EXPECT_FALSE(fs::exists(path("bad.exr")));
-    }
 }
 
 }  // namespace

@@ -1,8 +1,7 @@
-// glTF 2.0 import through tinygltf: the file (.gltf with its buffers, or .glb, whose header and
-// chunks are checked before tinygltf sees them), the extensions it requires, the default scene's
-// node hierarchy (TRS or matrix transforms), triangle meshes shared between the nodes that use
-// them, perspective cameras and KHR_lights_punctual lights. Materials and textures are in
-// gltf_material.cpp.
+// glTF 2.0 import through tinygltf: the extensions an asset requires, the default scene's node
+// hierarchy (TRS or matrix transforms), triangle meshes shared between the nodes that use them,
+// perspective cameras and KHR_lights_punctual lights. The file is read by gltf_file.cpp,
+// materials and textures are converted by gltf_material.cpp.
 #include "scene/gltf_import.h"
 
 #include <tiny_gltf.h>
@@ -18,6 +17,7 @@
 #include <string>
 
 #include "glint/image/error.h"
+#include "scene/gltf_file.h"
 #include "scene/tangent_frames.h"
 
 namespace glint::render::detail {
@@ -26,153 +26,23 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr std::uint32_t kGlbMagic = 0x46546C67;   // "glTF"
-constexpr std::uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
-constexpr std::uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
-
-std::uint32_t le32(const unsigned char* p) {
-    return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 |
-           std::uint32_t(p[3]) << 24;
-}
-
-[[noreturn]] void failFile(const fs::path& file, const std::string& place, const std::string& what,
-                           ErrorKind kind = ErrorKind::Format) {
-    throw Error(kind, what, file.string(), place);
-}
-
-/// Checks a binary glTF's header and chunk structure (glTF 2.0 spec, "Binary glTF Layout"), so
-/// that a truncated or damaged file is named with its byte rather than by tinygltf's text.
-void checkGlb(const std::vector<unsigned char>& b, const fs::path& file) {
-    if (b.size() < 12)
-        failFile(file, "header",
-                 "truncated binary glTF: " + std::to_string(b.size()) +
-                     " bytes, fewer than the 12-byte header");
-    if (le32(&b[0]) != kGlbMagic)
-        failFile(file, "byte 0", "wrong magic: not a binary glTF (expected the bytes 'glTF')");
-    if (const std::uint32_t version = le32(&b[4]); version != 2)
-        failFile(file, "header",
-                 "binary glTF version " + std::to_string(version) + "; Glint reads version 2");
-    const std::uint64_t length = le32(&b[8]);
-    if (length != b.size())
-        failFile(
-            file, "header",
-            (length > b.size() ? "truncated binary glTF: the header says " : "the header says ") +
-                std::to_string(length) + " bytes, the file has " + std::to_string(b.size()));
-    std::uint64_t offset = 12;
-    for (int chunk = 0; offset < length; ++chunk) {
-        const std::string place =
-            "chunk " + std::to_string(chunk) + " (byte " + std::to_string(offset) + ")";
-        if (length - offset < 8) failFile(file, place, "truncated chunk header");
-        const std::uint64_t size = le32(&b[offset]);
-        const std::uint32_t type = le32(&b[offset + 4]);
-        if (size > length - offset - 8)
-            failFile(file, place,
-                     "a chunk of " + std::to_string(size) +
-                         " bytes goes past the end of the file (truncated)");
-        if (chunk == 0 && type != kChunkJson)
-            failFile(file, place, "the first chunk must be the JSON chunk");
-        if (chunk == 1 && type != kChunkBin)
-            failFile(file, place, "the second chunk must be the BIN chunk");
-        offset += 8 + size;
+/// Appends one primitive's per-vertex array `add` (empty: the primitive lacks it) to the mesh's
+/// `to`, whose first `base` vertices are the earlier primitives'. An array the earlier
+/// primitives lacked starts with `base` zeros; one this primitive lacks gets `count` zeros
+/// when earlier primitives had it. An empty `to` takes `add` over without a copy.
+template <typename T>
+void appendAttribute(std::vector<T>& to, std::vector<T>&& add, std::size_t base,
+                     std::size_t count) {
+    if (add.empty()) {
+        if (!to.empty()) to.resize(base + count);
+        return;
     }
-    if (offset == 12) failFile(file, "header", "the file has no JSON chunk");
-}
-
-/// tinygltf's image callback: keeps a data URI's encoded bytes for Glint's own reader. Images in
-/// files and bufferViews are read later from where they are, with their bounds checked.
-bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
-                      const unsigned char* bytes, int size, void*) {
-    if (image->bufferView < 0 && image->uri.empty() && bytes && size > 0)
-        image->image.assign(bytes, bytes + size);
-    return true;
-}
-
-// File access for tinygltf: no search of the current folder (tinygltf tries "./name" after the
-// asset's folder), no devices or pipes.
-bool fileExists(const std::string& path, void*) {
-    if (path.rfind("./", 0) == 0) return false;
-    std::error_code ec;
-    return fs::is_regular_file(path, ec);
-}
-std::string expandFilePath(const std::string& path, void*) {
-    return path;
-}
-bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
-                   void*) {
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) {
-        if (err) *err += "not a regular file: " + path + "\n";
-        return false;
+    if (base == 0 && to.empty()) {
+        to = std::move(add);
+        return;
     }
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        if (err) *err += "cannot open " + path + "\n";
-        return false;
-    }
-    out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    return true;
-}
-bool writeWholeFile(std::string*, const std::string&, const std::vector<unsigned char>&, void*) {
-    return false;
-}
-
-/// The glTF place a tinygltf message names ("buffer[0]" → "buffers[0]"), or "".
-std::string placeOf(const std::string& message) {
-    for (std::size_t open = message.find('['); open != std::string::npos;
-         open = message.find('[', open + 1)) {
-        std::size_t start = open;
-        while (start > 0 && std::isalpha(static_cast<unsigned char>(message[start - 1]))) --start;
-        std::size_t close = open + 1;
-        while (close < message.size() && std::isdigit(static_cast<unsigned char>(message[close])))
-            ++close;
-        if (start == open || close == open + 1 || close >= message.size() || message[close] != ']')
-            continue;
-        std::string name = message.substr(start, open - start);
-        if (name.back() != 's') name += 's';
-        return name + message.substr(open, close - open + 1);
-    }
-    return {};
-}
-
-/// The text after `prefix` in `text` when `text` holds it (from its start when `anchored`).
-std::optional<std::string> after(const std::string& text, const std::string& prefix,
-                                 bool anchored) {
-    const std::size_t at = text.find(prefix);
-    if (at == std::string::npos || (anchored && at != 0)) return std::nullopt;
-    return text.substr(at + prefix.size());
-}
-
-/// Throws the first line of tinygltf's error text as one Error with the glTF place it names,
-/// rephrased where tinygltf's words are not a user's (JSON parser exceptions, whole data URIs).
-[[noreturn]] void readerFailed(const fs::path& file, const std::string& err) {
-    std::string first = err.substr(0, err.find('\n'));
-    while (!first.empty() && (first.back() == '.' || first.back() == ' ')) first.pop_back();
-    // "parse error at line L, column C: what" (nlohmann-json's exception text).
-    if (const auto rest = after(first, "parse error at line ", false)) {
-        const std::size_t comma = rest->find(", column "), colon = rest->find(": ");
-        if (comma != std::string::npos && colon != std::string::npos && comma < colon)
-            failFile(file,
-                     "line " + rest->substr(0, comma) + ", column " +
-                         rest->substr(comma + 9, colon - comma - 9),
-                     "malformed JSON: " + rest->substr(colon + 2));
-    }
-    if (const auto name = after(first, "File not found : ", true))
-        failFile(file, "buffers", "buffer file '" + *name + "' not found", ErrorKind::Io);
-    // "File size mismatch : NAME, requestedBytes N, but got M".
-    if (const auto rest = after(first, "File size mismatch : ", true)) {
-        const std::size_t requested = rest->find(", requestedBytes "),
-                          got = rest->find(", but got ");
-        if (requested != std::string::npos && got != std::string::npos && requested < got)
-            failFile(file, "buffers",
-                     "buffer file '" + rest->substr(0, requested) + "' has " +
-                         rest->substr(got + 10) + " bytes, its byteLength says " +
-                         rest->substr(requested + 17, got - requested - 17));
-    }
-    if (first.rfind("Failed to decode 'uri'", 0) == 0)
-        failFile(file, "buffers", "a buffer's data URI is not base64 of its byteLength bytes");
-    if (first.empty()) first = "unreadable glTF";
-    if (first.size() > 200) first = first.substr(0, 200) + "...";
-    failFile(file, placeOf(first), "cannot read the glTF: " + first);
+    to.resize(base);
+    to.insert(to.end(), add.begin(), add.end());
 }
 
 /// A row-major 3×4 affine matrix in double, for composing the node hierarchy.
@@ -412,7 +282,6 @@ int GltfImport::mesh(int index) {
     const std::string meshPlace = "meshes[" + std::to_string(index) + "]";
     Mesh mesh;
     mesh.name = m_file.filename().string() + ": " + (gm.name.empty() ? meshPlace : gm.name);
-    bool anyNormals = false, anyUvs = false, anyTangents = false;
     if (!gm.weights.empty()) warn("morph targets are ignored (the base shape is rendered)");
     for (std::size_t p = 0; p < gm.primitives.size(); ++p) {
         const tinygltf::Primitive& prim = gm.primitives[p];
@@ -432,7 +301,7 @@ int GltfImport::mesh(int index) {
         if (!prim.targets.empty()) warn("morph targets are ignored (the base shape is rendered)");
         const int position = attribute("POSITION");
         if (position < 0) fail(place + ".attributes", "has no POSITION");
-        const std::vector<Vec3> positions =
+        std::vector<Vec3> positions =
             m_accessors.vec3(position, place + ".attributes.POSITION", true);
         const std::size_t base = mesh.positions.size();
         if (positions.size() > std::numeric_limits<std::uint32_t>::max() - base - 1)
@@ -472,45 +341,38 @@ int GltfImport::mesh(int index) {
             for (std::size_t i = 0; i < indices.size(); ++i) indices[i] = std::uint32_t(i);
         }
         const int materialIndex = material(prim.material);
+        const bool hasNormals = !normals.empty(), hasUvs = !uvs.empty(),
+                   hasTangents = !tangents.empty();
 
-        // Append the primitive; every per-vertex array stays as long as positions (zero where a
-        // primitive lacks it) until the end.
+        // Append the primitive. An optional per-vertex array (normals, uvs, tangents) exists only
+        // once a primitive has it: it is then as long as positions, zero where a primitive
+        // lacks it. The accessors' arrays are moved in where the mesh has none yet.
         const std::size_t firstTriangle = mesh.triangleCount();
-        for (std::size_t v = 0; v < positions.size(); ++v) {
-            mesh.positions.push_back(positions[v]);
-            mesh.normals.push_back(normals.empty() ? Vec3{} : normals[v]);
-            // glTF's texture origin is the top-left, Glint's the bottom-left: v' = 1 − v.
-            mesh.uvs.push_back(uvs.empty() ? Vec2{} : Vec2{uvs[v].x, 1.0f - uvs[v].y});
-            Vec4 t{};
-            if (!tangents.empty()) {
-                t = tangents[v];
-                t.w = t.w < 0.0f ? -1.0f : 1.0f;
-            }
-            mesh.tangents.push_back(t);
+        // glTF's texture origin is the top-left, Glint's the bottom-left: v' = 1 − v.
+        for (Vec2& uv : uvs) uv.y = 1.0f - uv.y;
+        for (Vec4& t : tangents) t.w = t.w < 0.0f ? -1.0f : 1.0f;
+        appendAttribute(mesh.normals, std::move(normals), base, positions.size());
+        appendAttribute(mesh.uvs, std::move(uvs), base, positions.size());
+        appendAttribute(mesh.tangents, std::move(tangents), base, positions.size());
+        appendAttribute(mesh.positions, std::move(positions), base, 0);
+        if (base == 0 && mesh.indices.empty()) {
+            mesh.indices = std::move(indices);
+        } else {
+            mesh.indices.reserve(mesh.indices.size() + indices.size());
+            for (std::uint32_t i : indices) mesh.indices.push_back(std::uint32_t(base) + i);
         }
-        for (std::uint32_t i : indices) mesh.indices.push_back(std::uint32_t(base) + i);
         mesh.materials.resize(mesh.triangleCount(), std::uint32_t(std::max(materialIndex, 0)));
-        anyNormals = anyNormals || !normals.empty();
-        anyUvs = anyUvs || !uvs.empty();
-        anyTangents = anyTangents || !tangents.empty();
-
         // Tangents for a normal map, generated (MikkTSpace convention) when the asset has none.
         const int used = m_overrides.material >= 0 ? m_overrides.material : materialIndex;
-        if (m_scene.materials[std::size_t(used)].normalMap.present() && tangents.empty()) {
-            if (normals.empty() || uvs.empty()) {
+        if (m_scene.materials[std::size_t(used)].normalMap.present() && !hasTangents) {
+            if (!hasNormals || !hasUvs)
                 warn(place + " has a normal-mapped material but no " +
-                     (normals.empty() ? "NORMAL" : "TEXCOORD_0") +
-                     ": its normal map is not applied");
-            } else {
+                     (hasNormals ? "TEXCOORD_0" : "NORMAL") + ": its normal map is not applied");
+            else
                 generateTangents(mesh, firstTriangle, mesh.triangleCount());
-                anyTangents = true;
-            }
         }
     }
     if (mesh.triangleCount() == 0) return cached = -2;
-    if (!anyNormals) mesh.normals.clear();
-    if (!anyUvs) mesh.uvs.clear();
-    if (!anyTangents) mesh.tangents.clear();
     m_scene.meshes.push_back(std::move(mesh));
     return cached = int(m_scene.meshes.size() - 1);
 }
@@ -682,40 +544,8 @@ void Loader::importGltf(const fs::path& path, const std::vector<Affine>& poses,
     if (!fs::is_regular_file(path, ec))
         throw Error(ErrorKind::Io, "'" + path.string() + "' is not a file",
                     m_reader.file().string(), where + "/gltf");
-    std::vector<unsigned char> bytes;
-    {
-        std::ifstream in(path, std::ios::binary);
-        if (!in) failFile(path, "", "cannot open the glTF file", ErrorKind::Io);
-        bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    }
-    if (bytes.size() >= std::numeric_limits<unsigned int>::max())
-        failFile(path, "", "the file is 4 GB or larger (tinygltf reads up to 4 GB)");
-    std::string extension = path.extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
-    const bool binary = bytes.size() >= 4 && le32(bytes.data()) == kGlbMagic;
-    if (binary || extension == ".glb") checkGlb(bytes, path);
-
-    tinygltf::TinyGLTF reader;
-    reader.SetImageLoader(&keepEncodedImage, nullptr);
-    reader.SetFsCallbacks({&fileExists, &expandFilePath, &readWholeFile, &writeWholeFile, nullptr});
     tinygltf::Model model;
-    std::string err, warnings;
-    const std::string baseDir = fs::absolute(path, ec).parent_path().string();
-    bool ok = false;
-    try {
-        ok = binary ? reader.LoadBinaryFromMemory(&model, &err, &warnings, bytes.data(),
-                                                  unsigned(bytes.size()), baseDir)
-                    : reader.LoadASCIIFromString(&model, &err, &warnings,
-                                                 reinterpret_cast<const char*>(bytes.data()),
-                                                 unsigned(bytes.size()), baseDir);
-    } catch (const std::exception& e) {
-        err = e.what();
-    }
-    std::vector<unsigned char>().swap(bytes);  // tinygltf holds its own copy of the buffers
-    if (!ok) readerFailed(path, err);
-    if (model.asset.version.rfind("2.", 0) != 0)
-        failFile(path, "asset.version", "is '" + model.asset.version + "'; Glint reads glTF 2.x");
+    readGltfFile(path, model);
     GltfImport(*this, model, path, overrides, where).importScene(poses);
 }
 

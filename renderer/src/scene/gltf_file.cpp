@@ -1,0 +1,301 @@
+// Reading a glTF file (gltf_file.h): the binary container's layout, tinygltf's file access and
+// its error text turned into Glint's errors.
+#include "scene/gltf_file.h"
+
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdint>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "glint/image/error.h"
+
+namespace glint::render::detail {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr std::uint32_t kGlbMagic = 0x46546C67;   // "glTF"
+constexpr std::uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
+constexpr std::uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
+
+std::uint32_t le32(const unsigned char* p) {
+    return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 |
+           std::uint32_t(p[3]) << 24;
+}
+
+[[noreturn]] void failFile(const fs::path& file, const std::string& place, const std::string& what,
+                           ErrorKind kind = ErrorKind::Format) {
+    throw Error(kind, what, file.string(), place);
+}
+
+/// Reads `count` bytes of `path` from `offset` into `out` in one read; false when the file
+/// cannot be opened or is shorter.
+bool readBytes(const fs::path& path, std::uint64_t offset, std::uint64_t count,
+               std::vector<unsigned char>& out) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return false;
+    out.resize(std::size_t(count));
+    in.seekg(std::streamoff(offset));
+    return bool(in.read(reinterpret_cast<char*>(out.data()), std::streamsize(count)));
+}
+
+/// A .glb's BIN chunk, handed to tinygltf as the file its buffer 0 names (kBinChunkUri), so
+/// that tinygltf's buffer takes the bytes over instead of copying them.
+struct BinChunk {
+    std::string path;  ///< the uri as tinygltf asks for it (joined to the asset's folder)
+    std::vector<unsigned char> data;
+    bool taken = false;
+    bool serves(const std::string& asked) const { return !taken && asked == path; }
+};
+
+/// The name buffer 0 of a .glb is given for tinygltf to ask for its BIN chunk by.
+constexpr const char* kBinChunkUri = "glint-glb-bin-chunk";
+
+/// Where a .glb's chunks are: the JSON chunk and, when there is one, the BIN chunk.
+struct GlbLayout {
+    std::uint64_t jsonOffset = 0, jsonSize = 0;
+    std::uint64_t binOffset = 0, binSize = 0;
+    bool hasBin = false;
+};
+
+/// Checks a binary glTF's header and chunk structure (glTF 2.0 spec, "Binary glTF Layout") from
+/// the file, so that a truncated or damaged file is named with its byte rather than by
+/// tinygltf's text.
+GlbLayout glbLayout(const fs::path& file, std::uint64_t fileSize) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) failFile(file, "", "cannot open the glTF file", ErrorKind::Io);
+    auto read8 = [&](std::uint64_t offset, unsigned char* out) {
+        in.seekg(std::streamoff(offset));
+        return bool(in.read(reinterpret_cast<char*>(out), 8));
+    };
+    if (fileSize < 12)
+        failFile(file, "header",
+                 "truncated binary glTF: " + std::to_string(fileSize) +
+                     " bytes, fewer than the 12-byte header");
+    unsigned char h[12];
+    if (!in.read(reinterpret_cast<char*>(h), 12))
+        failFile(file, "header", "cannot read the header", ErrorKind::Io);
+    if (le32(&h[0]) != kGlbMagic)
+        failFile(file, "byte 0", "wrong magic: not a binary glTF (expected the bytes 'glTF')");
+    if (const std::uint32_t version = le32(&h[4]); version != 2)
+        failFile(file, "header",
+                 "binary glTF version " + std::to_string(version) + "; Glint reads version 2");
+    const std::uint64_t length = le32(&h[8]);
+    if (length != fileSize)
+        failFile(
+            file, "header",
+            (length > fileSize ? "truncated binary glTF: the header says " : "the header says ") +
+                std::to_string(length) + " bytes, the file has " + std::to_string(fileSize));
+    GlbLayout layout;
+    std::uint64_t offset = 12;
+    for (int chunk = 0; offset < length; ++chunk) {
+        const std::string place =
+            "chunk " + std::to_string(chunk) + " (byte " + std::to_string(offset) + ")";
+        unsigned char c[8];
+        if (length - offset < 8 || !read8(offset, c))
+            failFile(file, place, "truncated chunk header");
+        const std::uint64_t size = le32(&c[0]);
+        const std::uint32_t type = le32(&c[4]);
+        if (size > length - offset - 8)
+            failFile(file, place,
+                     "a chunk of " + std::to_string(size) +
+                         " bytes goes past the end of the file (truncated)");
+        if (chunk == 0 && type != kChunkJson)
+            failFile(file, place, "the first chunk must be the JSON chunk");
+        if (chunk == 1 && type != kChunkBin)
+            failFile(file, place, "the second chunk must be the BIN chunk");
+        if (chunk == 0) layout.jsonOffset = offset + 8, layout.jsonSize = size;
+        if (chunk == 1) layout.binOffset = offset + 8, layout.binSize = size, layout.hasBin = true;
+        offset += 8 + size;
+    }
+    if (offset == 12) failFile(file, "header", "the file has no JSON chunk");
+    return layout;
+}
+
+/// tinygltf's image callback: keeps a data URI's encoded bytes for Glint's own reader. Images in
+/// files and bufferViews are read later from where they are, with their bounds checked.
+bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                      const unsigned char* bytes, int size, void*) {
+    if (image->bufferView < 0 && image->uri.empty() && bytes && size > 0)
+        image->image.assign(bytes, bytes + size);
+    return true;
+}
+
+// File access for tinygltf: no search of the current folder (tinygltf tries "./name" after the
+// asset's folder), no devices or pipes.
+bool fileExists(const std::string& path, void* userData) {
+    if (auto* bin = static_cast<BinChunk*>(userData); bin && bin->serves(path)) return true;
+    if (path.rfind("./", 0) == 0) return false;
+    std::error_code ec;
+    return fs::is_regular_file(path, ec);
+}
+std::string expandFilePath(const std::string& path, void*) {
+    return path;
+}
+bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                   void* userData) {
+    if (auto* bin = static_cast<BinChunk*>(userData); bin && bin->serves(path)) {
+        out->swap(bin->data);  // the chunk moves into tinygltf's buffer: no copy
+        bin->taken = true;
+        return true;
+    }
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) {
+        if (err) *err += "not a regular file: " + path + "\n";
+        return false;
+    }
+    if (!readBytes(path, 0, fs::file_size(path, ec), *out)) {
+        if (err) *err += "cannot read " + path + "\n";
+        return false;
+    }
+    return true;
+}
+bool writeWholeFile(std::string*, const std::string&, const std::vector<unsigned char>&, void*) {
+    return false;
+}
+
+/// The glTF place a tinygltf message names ("buffer[0]" → "buffers[0]"), or "".
+std::string placeOf(const std::string& message) {
+    for (std::size_t open = message.find('['); open != std::string::npos;
+         open = message.find('[', open + 1)) {
+        std::size_t start = open;
+        while (start > 0 && std::isalpha(static_cast<unsigned char>(message[start - 1]))) --start;
+        std::size_t close = open + 1;
+        while (close < message.size() && std::isdigit(static_cast<unsigned char>(message[close])))
+            ++close;
+        if (start == open || close == open + 1 || close >= message.size() || message[close] != ']')
+            continue;
+        std::string name = message.substr(start, open - start);
+        if (name.back() != 's') name += 's';
+        return name + message.substr(open, close - open + 1);
+    }
+    return {};
+}
+
+/// The text after `prefix` in `text` when `text` holds it (from its start when `anchored`).
+std::optional<std::string> after(const std::string& text, const std::string& prefix,
+                                 bool anchored) {
+    const std::size_t at = text.find(prefix);
+    if (at == std::string::npos || (anchored && at != 0)) return std::nullopt;
+    return text.substr(at + prefix.size());
+}
+
+/// Throws the first line of tinygltf's error text as one Error with the glTF place it names,
+/// rephrased where tinygltf's words are not a user's (JSON parser exceptions, whole data URIs).
+[[noreturn]] void readerFailed(const fs::path& file, const std::string& err) {
+    std::string first = err.substr(0, err.find('\n'));
+    while (!first.empty() && (first.back() == '.' || first.back() == ' ')) first.pop_back();
+    // "parse error at line L, column C: what" (nlohmann-json's exception text).
+    if (const auto rest = after(first, "parse error at line ", false)) {
+        const std::size_t comma = rest->find(", column "), colon = rest->find(": ");
+        if (comma != std::string::npos && colon != std::string::npos && comma < colon)
+            failFile(file,
+                     "line " + rest->substr(0, comma) + ", column " +
+                         rest->substr(comma + 9, colon - comma - 9),
+                     "malformed JSON: " + rest->substr(colon + 2));
+    }
+    if (const auto name = after(first, "File not found : ", true))
+        failFile(file, "buffers", "buffer file '" + *name + "' not found", ErrorKind::Io);
+    // "File size mismatch : NAME, requestedBytes N, but got M".
+    if (const auto rest = after(first, "File size mismatch : ", true)) {
+        const std::size_t requested = rest->find(", requestedBytes "),
+                          got = rest->find(", but got ");
+        if (requested != std::string::npos && got != std::string::npos && requested < got)
+            failFile(file, "buffers",
+                     "buffer file '" + rest->substr(0, requested) + "' has " +
+                         rest->substr(got + 10) + " bytes, its byteLength says " +
+                         rest->substr(requested + 17, got - requested - 17));
+    }
+    if (first.rfind("Failed to decode 'uri'", 0) == 0)
+        failFile(file, "buffers", "a buffer's data URI is not base64 of its byteLength bytes");
+    if (first.empty()) first = "unreadable glTF";
+    if (first.size() > 200) first = first.substr(0, 200) + "...";
+    failFile(file, placeOf(first), "cannot read the glTF: " + first);
+}
+
+}  // namespace
+
+void readGltfFile(const fs::path& path, tinygltf::Model& model) {
+    std::error_code ec;  // odd paths (too long...) are reported, not thrown
+    const std::uint64_t size = fs::file_size(path, ec);
+    if (ec) failFile(path, "", "cannot read the glTF file: " + ec.message(), ErrorKind::Io);
+    if (size >= std::numeric_limits<unsigned int>::max())
+        failFile(path, "", "the file is 4 GB or larger (tinygltf reads up to 4 GB)");
+    std::string extension = path.extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    std::vector<unsigned char> bytes;
+    if (!readBytes(path, 0, std::min<std::uint64_t>(size, 4), bytes))
+        failFile(path, "", "cannot open the glTF file", ErrorKind::Io);
+    const bool binary = bytes.size() >= 4 && le32(bytes.data()) == kGlbMagic;
+
+    tinygltf::TinyGLTF reader;
+    reader.SetImageLoader(&keepEncodedImage, nullptr);
+    BinChunk bin;
+    reader.SetFsCallbacks({&fileExists, &expandFilePath, &readWholeFile, &writeWholeFile, &bin});
+    std::string err, warnings;
+    const std::string baseDir = fs::absolute(path, ec).parent_path().string();
+    std::string json;  // the text tinygltf reads as a .gltf
+    if (binary || extension == ".glb") {
+        const GlbLayout layout = glbLayout(path, size);
+        // A .glb whose buffer 0 is its BIN chunk is read as a .gltf whose buffer 0 names the
+        // chunk (kBinChunkUri), which readWholeFile then hands over without a copy. Any other
+        // .glb (no BIN chunk, an odd buffer 0, JSON that does not parse) is read as it is, so
+        // that its error is tinygltf's.
+        if (!readBytes(path, layout.jsonOffset, layout.jsonSize, bytes))
+            failFile(path, "", "cannot read the JSON chunk", ErrorKind::Io);
+        nlohmann::json doc = nlohmann::json::parse(bytes.begin(), bytes.end(), nullptr, false);
+        const nlohmann::json* buffer0 = nullptr;
+        if (!doc.is_discarded() && doc.is_object() && doc.contains("buffers") &&
+            doc["buffers"].is_array() && !doc["buffers"].empty() && doc["buffers"][0].is_object())
+            buffer0 = &doc["buffers"][0];
+        if (layout.hasBin && buffer0 && !buffer0->contains("uri") &&
+            buffer0->contains("byteLength") && (*buffer0)["byteLength"].is_number_unsigned() &&
+            (*buffer0)["byteLength"].get<std::uint64_t>() > 0) {
+            const std::uint64_t byteLength = (*buffer0)["byteLength"].get<std::uint64_t>();
+            if (byteLength > layout.binSize)
+                failFile(path, "buffers[0].byteLength",
+                         "is " + std::to_string(byteLength) + " bytes, more than the " +
+                             std::to_string(layout.binSize) + " bytes of the BIN chunk");
+            if (!readBytes(path, layout.binOffset, byteLength, bin.data))
+                failFile(path, "", "cannot read the BIN chunk", ErrorKind::Io);
+            doc["buffers"][0]["uri"] = kBinChunkUri;
+            bin.path = baseDir.empty() || baseDir.back() == '/' ? baseDir + kBinChunkUri
+                                                                : baseDir + "/" + kBinChunkUri;
+            json = doc.dump();
+        } else if (!readBytes(path, 0, size, bytes)) {
+            failFile(path, "", "cannot open the glTF file", ErrorKind::Io);
+        }
+    } else if (!readBytes(path, 0, size, bytes)) {
+        failFile(path, "", "cannot open the glTF file", ErrorKind::Io);
+    }
+    bool ok = false;
+    try {
+        if (!json.empty())
+            ok = reader.LoadASCIIFromString(&model, &err, &warnings, json.data(),
+                                            unsigned(json.size()), baseDir);
+        else if (binary || extension == ".glb")
+            ok = reader.LoadBinaryFromMemory(&model, &err, &warnings, bytes.data(),
+                                             unsigned(bytes.size()), baseDir);
+        else
+            ok = reader.LoadASCIIFromString(&model, &err, &warnings,
+                                            reinterpret_cast<const char*>(bytes.data()),
+                                            unsigned(bytes.size()), baseDir);
+    } catch (const std::exception& e) {
+        err = e.what();
+    }
+    if (!ok) readerFailed(path, err);
+    if (model.asset.version.rfind("2.", 0) != 0)
+        failFile(path, "asset.version", "is '" + model.asset.version + "'; Glint reads glTF 2.x");
+}
+
+}  // namespace glint::render::detail

@@ -1,0 +1,6 @@
+# Asset benchmark: set-up time and peak memory of a large generated glTF asset (docs/assets.md).
+if(TARGET glint_render)
+  add_executable(bench_asset_load ${CMAKE_CURRENT_LIST_DIR}/bench_asset_load.cpp)
+  target_link_libraries(bench_asset_load PRIVATE glint_render TBB::tbb nlohmann_json::nlohmann_json)
+  glint_warnings(bench_asset_load)
+endif()

@@ -1,0 +1,193 @@
+// bench_asset_load: how long a large glTF asset takes to set up and how much memory it needs.
+//   bench_asset_load write FILE.glb [--triangles N]   a wavy grid of about N triangles
+//                                                      (positions, normals, 32-bit indices)
+//   bench_asset_load load FILE.glb [--threads T]      load it and build its BVH; prints JSON
+// Run `load` in a fresh process (as docs/assets.md does) so that the peak resident size is the
+// asset's alone. "meshBytes" is the asset's vertex and index data (its BIN chunk); "loadPeakRss"
+// the peak after loading (before the BVH), "peakRss" the peak once the BVH is built.
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+
+#include "bench_options.h"
+#include "glint/image/error.h"
+#include "glint/render/renderer.h"
+#include "glint/render/scene.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds(Clock::time_point from) {
+    return std::chrono::duration<double>(Clock::now() - from).count();
+}
+
+/// Peak resident size of this process so far, bytes.
+double peakRssBytes() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return double(usage.ru_maxrss) * 1024.0;
+}
+
+void append32(std::string& out, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) out.push_back(char((v >> (8 * i)) & 0xffu));
+}
+
+/// Writes a .glb of one mesh: an nx × ny grid of quads (two triangles each) over [-1, 1]²,
+/// gently waved so that its BVH is not that of a flat plane.
+void writeGrid(const std::string& file, long long triangles) {
+    const int ny = std::max(1, int(std::sqrt(double(triangles) / 4.0)));
+    const int nx = std::max(1, int(triangles / (2LL * ny)));
+    const std::size_t vertices = std::size_t(nx + 1) * std::size_t(ny + 1);
+    std::vector<float> positions, normals;
+    positions.reserve(3 * vertices);
+    normals.reserve(3 * vertices);
+    for (int j = 0; j <= ny; ++j)
+        for (int i = 0; i <= nx; ++i) {
+            const float x = -1.0f + 2.0f * float(i) / float(nx);
+            const float z = -1.0f + 2.0f * float(j) / float(ny);
+            positions.insert(positions.end(),
+                             {x, 0.05f * std::sin(8.0f * x) * std::cos(8.0f * z), z});
+            normals.insert(normals.end(), {0.0f, 1.0f, 0.0f});
+        }
+    std::vector<std::uint32_t> indices;
+    indices.reserve(std::size_t(6) * std::size_t(nx) * std::size_t(ny));
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+            const std::uint32_t a = std::uint32_t(j * (nx + 1) + i), b = a + 1,
+                                c = a + std::uint32_t(nx + 1), d = c + 1;
+            indices.insert(indices.end(), {a, c, b, b, c, d});
+        }
+    const std::size_t pBytes = positions.size() * 4, iBytes = indices.size() * 4;
+    const std::size_t binBytes = 2 * pBytes + iBytes;
+    const nlohmann::json doc = {
+        {"asset", {{"version", "2.0"}, {"generator", "glint bench_asset_load"}}},
+        {"scene", 0},
+        {"scenes", {{{"nodes", {0}}}}},
+        {"nodes", {{{"mesh", 0}}}},
+        {"meshes",
+         {{{"primitives", {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}, {"indices", 2}}}}}}},
+        {"buffers", {{{"byteLength", binBytes}}}},
+        {"bufferViews",
+         {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", pBytes}},
+          {{"buffer", 0}, {"byteOffset", pBytes}, {"byteLength", pBytes}},
+          {{"buffer", 0}, {"byteOffset", 2 * pBytes}, {"byteLength", iBytes}}}},
+        {"accessors",
+         {{{"bufferView", 0},
+           {"componentType", 5126},
+           {"count", vertices},
+           {"type", "VEC3"},
+           {"min", {-1.0, -0.05, -1.0}},
+           {"max", {1.0, 0.05, 1.0}}},
+          {{"bufferView", 1}, {"componentType", 5126}, {"count", vertices}, {"type", "VEC3"}},
+          {{"bufferView", 2},
+           {"componentType", 5125},
+           {"count", indices.size()},
+           {"type", "SCALAR"}}}}};
+    std::string json = doc.dump();
+    json.append((4 - json.size() % 4) % 4, ' ');
+    std::string header;
+    append32(header, 0x46546C67u);  // "glTF"
+    append32(header, 2);
+    append32(header, std::uint32_t(12 + 8 + json.size() + 8 + binBytes));
+    append32(header, std::uint32_t(json.size()));
+    append32(header, 0x4E4F534Au);  // "JSON"
+    header += json;
+    append32(header, std::uint32_t(binBytes));
+    append32(header, 0x004E4942u);  // "BIN"
+    std::ofstream out(file, std::ios::binary);
+    out.write(header.data(), std::streamsize(header.size()));
+    out.write(reinterpret_cast<const char*>(positions.data()), std::streamsize(pBytes));
+    out.write(reinterpret_cast<const char*>(normals.data()), std::streamsize(pBytes));
+    out.write(reinterpret_cast<const char*>(indices.data()), std::streamsize(iBytes));
+    if (!out) throw std::runtime_error("cannot write " + file);
+    std::printf("%s: %lld triangles, %zu vertices, %.1f MB of mesh data\n", file.c_str(),
+                2LL * nx * ny, vertices, double(binBytes) / 1e6);
+}
+
+/// The BIN chunk's length of a .glb (its mesh data), read from the chunk header.
+double binChunkBytes(const std::string& file) {
+    std::ifstream in(file, std::ios::binary);
+    unsigned char head[20];
+    if (!in.read(reinterpret_cast<char*>(head), 20)) return 0.0;
+    std::uint32_t jsonLength = 0, binLength = 0;
+    std::memcpy(&jsonLength, head + 12, 4);
+    in.seekg(20 + std::streamoff(jsonLength));
+    if (!in.read(reinterpret_cast<char*>(&binLength), 4)) return 0.0;
+    return double(binLength);
+}
+
+/// Loads `file` and builds its BVH on `threads` worker threads; prints one JSON line.
+int load(const std::string& file, int threads) {
+    tbb::global_control workers(tbb::global_control::max_allowed_parallelism,
+                                std::size_t(std::max(1, threads)));
+    const auto start = Clock::now();
+    glint::render::Scene scene = glint::render::loadScene(file);
+    const double loadSeconds = seconds(start);
+    const double loadPeak = peakRssBytes();
+    const auto bvhStart = Clock::now();
+    glint::render::Renderer renderer(std::move(scene));
+    const double bvhSeconds = seconds(bvhStart);
+    const double mesh = binChunkBytes(file);
+    const nlohmann::json out = {{"file", file},
+                                {"triangles", renderer.scene().triangleCount()},
+                                {"meshBytes", mesh},
+                                {"loadSeconds", loadSeconds},
+                                {"bvhSeconds", bvhSeconds},
+                                {"setupSeconds", loadSeconds + bvhSeconds},
+                                {"loadPeakRss", loadPeak},
+                                {"peakRss", peakRssBytes()},
+                                {"loadPeakOverMesh", mesh > 0 ? loadPeak / mesh : 0.0},
+                                {"peakOverMesh", mesh > 0 ? peakRssBytes() / mesh : 0.0}};
+    std::printf("%s\n", out.dump().c_str());
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 3) {
+        std::fprintf(stderr, "usage: bench_asset_load write|load FILE.glb [--triangles N]\n");
+        return 2;
+    }
+    const std::string mode = argv[1], file = argv[2];
+    long long triangles = 4'000'000;
+    int threads = 2;
+    const int status = glint::bench::parseOptions(
+        "bench_asset_load", argc - 2, argv + 2,
+        [&](const std::string& name, const std::string& value) {
+            if (name == "--triangles")
+                triangles = glint::bench::intOption(name, value);
+            else if (name == "--threads")
+                threads = glint::bench::intOption(name, value);
+            else
+                return false;
+            return true;
+        });
+    if (status != 0) return status;
+    try {
+        if (mode == "write") {
+            writeGrid(file, triangles);
+            return 0;
+        }
+        if (mode == "load") return load(file, threads);
+        std::fprintf(stderr, "bench_asset_load: mode '%s' is neither write nor load\n",
+                     mode.c_str());
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "bench_asset_load: %s\n", e.what());
+        return 1;
+    }
+}
