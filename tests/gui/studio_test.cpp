@@ -119,6 +119,16 @@ class StudioTest : public QObject {
         QCOMPARE(frame->height(), 640);
         QVERIFY(sum(frame->color()) > 0.0);
         QVERIFY(!w->document()->look().empty());
+        // Its factors are in the Look panel, as a JSON material's are, and editing one renders
+        // again with it.
+        for (const char* key : {"m/albedo", "m/metallic", "m/roughness", "m/ior"})
+            QVERIFY2(w->lookPanel()->findChild<QWidget*>(QString::fromLatin1(key)), key);
+        QCOMPARE(w->document()->lookValue("m", "metallic")[0], 0.5);
+        w->lookPanel()->edit("m", "metallic", {1.0, 0.0, 0.0});
+        QVERIFY(waitFor([&] { return w->document()->finishedFrame() != frame; }));
+        QVERIFY(waitIdle(*w));
+        QCOMPARE(w->document()->lookValue("m", "metallic")[0], 1.0);
+        QVERIFY(!sameBits(w->document()->finishedFrame()->color(), frame->color()));
     }
 
     void aLookChangeRendersAgainAndReappliesTheLayers() {

@@ -227,5 +227,87 @@ TEST(Look, SaveRefusesAnUnwritablePathAndLeavesNothingBehind) {
     EXPECT_FALSE(fs::exists(dir.path() / "missing"));
 }
 
+// The Khronos duck (textured, metallic 0, roughness 1) placed by a scene.json in `dir`, 24×24.
+fs::path duckScene(const test::TempDir& dir, const nlohmann::json& shapeExtra = {}) {
+    nlohmann::json shape = {{"gltf", (kScenes / "assets/duck/Duck.glb").string()}};
+    for (const auto& item : shapeExtra.items()) shape[item.key()] = item.value();
+    const nlohmann::json j = {{"film", {{"width", 24}, {"height", 24}}},
+                              {"environment", {{"color", {1, 1, 1}}}},
+                              {"shapes", {shape}}};
+    return dir.write("duck.json", j.dump(2));
+}
+
+TEST(Look, AGltfMaterialsFactorsEditSaveAsTheShapesEditsAndKeepTheTextures) {
+    test::TempDir dir("look_gltf");
+    Renderer renderer(loadScene(duckScene(dir)));
+    const std::vector<LookItem> items = renderer.scene().look();
+    const LookItem* duck = findItem(items, "blinn3-fx");
+    ASSERT_NE(duck, nullptr);
+    EXPECT_EQ(duck->type, "metallicRoughness");
+    for (const char* name : {"albedo", "metallic", "roughness", "ior", "emission", "strength"})
+        EXPECT_NE(findProperty(*duck, name), nullptr) << name;
+    EXPECT_EQ(findProperty(*duck, "albedo")->label, "base colour factor");  // textured
+    EXPECT_EQ(findProperty(*duck, "metallic")->value[0], 0.0);
+    EXPECT_EQ(findProperty(*duck, "roughness")->value[0], 1.0);
+
+    const FrameBuffers before = renderer.render(small(renderer)).frame;
+    renderer.scene().setLook("blinn3-fx", "metallic", 1.0);
+    renderer.scene().setLook("blinn3-fx", "roughness", 0.25);
+    renderer.scene().setLook("blinn3-fx", "albedo", {0.5, 0.6, 0.7});
+    const FrameBuffers after = renderer.render(small(renderer)).frame;
+    EXPECT_EQ(renderer.accelerationBuilds(), 1);
+    EXPECT_FALSE(test::sameLayer(before, after, Layer::Color));
+
+    const fs::path saved = dir.path() / "edited.json";
+    saveScene(renderer.scene(), saved);
+    nlohmann::json j;
+    std::ifstream(saved) >> j;
+    ASSERT_FALSE(j.contains("materials")) << j.dump();  // not a JSON material: no texture lost
+    const nlohmann::json& edit = j["shapes"][0]["edits"]["blinn3-fx"];
+    EXPECT_EQ(edit["metallic"], 1.0);
+    EXPECT_EQ(edit["roughness"], 0.25);
+    EXPECT_NEAR(edit["albedo"][2].get<double>(), 0.7, 1e-6);
+    Renderer reloaded(loadScene(saved));
+    test::expectSameFrames(after, reloaded.render(small(reloaded)).frame);
+    const std::vector<LookItem> reloadedItems = reloaded.scene().look();
+    const LookItem* again = findItem(reloadedItems, "blinn3-fx");
+    ASSERT_NE(again, nullptr);
+    EXPECT_EQ(findProperty(*again, "albedo")->label, "base colour factor");  // still textured
+    EXPECT_EQ(findProperty(*again, "metallic")->value[0], 1.0);
+}
+
+TEST(Look, ABareAssetsEditsSaveAsAScenePlacingIt) {
+    test::TempDir dir("look_bare");
+    Renderer renderer(loadScene(kScenes / "assets/duck/Duck.glb"));
+    renderer.scene().setLook("blinn3-fx", "roughness", 0.3);
+    Settings s = small(renderer, 1);
+    const FrameBuffers edited = renderer.render(s).frame;
+    const fs::path saved = dir.path() / "duck.json";
+    saveScene(renderer.scene(), saved);
+    Renderer reloaded(loadScene(saved));
+    test::expectSameFrames(edited, reloaded.render(s).frame);
+}
+
+TEST(Look, BadGltfEditsAreRefusedNamingThePlace) {
+    test::TempDir dir("look_gltf_bad");
+    const std::vector<std::pair<nlohmann::json, std::string>> cases = {
+        {{{"edits", {{"nope", {{"metallic", 1}}}}}}, "/shapes/0/edits/nope"},
+        {{{"edits", {{"blinn3-fx", {{"metallic", 2}}}}}}, "/shapes/0/edits/blinn3-fx/metallic"},
+        {{{"edits", {{"blinn3-fx", {{"shininess", 2}}}}}}, "/shapes/0/edits/blinn3-fx/shininess"},
+        {{{"edits", {{"blinn3-fx", {{"ior", 0.5}}}}}}, "/shapes/0/edits/blinn3-fx/ior"},
+        {{{"edits", 3}}, "/shapes/0/edits"}};
+    for (const auto& [extra, place] : cases) {
+        try {
+            loadScene(duckScene(dir, extra));
+            ADD_FAILURE() << extra.dump() << " was accepted";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.where(), place) << e.what();
+        }
+    }
+    Scene scene = loadScene(duckScene(dir));
+    EXPECT_THROW(scene.setLook("blinn3-fx", "metallic", 1.5), Error);
+    EXPECT_THROW(scene.setLook("blinn3-fx", "ior", 0.9), Error);
+}
+
 }  // namespace
 }  // namespace glint::render

@@ -195,6 +195,17 @@ void GltfImport::importScene(const std::vector<Affine>& poses) {
                                        "' (it has: " + (names.empty() ? "none named" : names) +
                                        ")");
         }
+    // "edits" likewise, by the names editName gives.
+    std::set<std::string> editable{editName(-1)};
+    for (std::size_t i = 0; i < m_model.materials.size(); ++i) editable.insert(editName(int(i)));
+    for (const auto& [name, edit] : m_overrides.edits)
+        if (!editable.count(name)) {
+            std::string names;
+            for (const std::string& n : editable) names += (names.empty() ? "" : ", ") + n;
+            m_loader.m_reader.fail(m_overrides.editsPlace + "/" + name,
+                                   m_file.filename().string() + " has no material '" + name +
+                                       "' to edit (it has: " + names + ")");
+        }
     if (!m_model.animations.empty())
         warn("animations are ignored (the nodes' rest pose is rendered)");
     // The default scene, else the first, else every root node.

@@ -64,6 +64,9 @@ class GltfImport {
     void warn(const std::string& text);
     [[noreturn]] void fail(const std::string& place, const std::string& what) const;
     std::string nodeName(int node) const;
+    /// The name a shape's "edits" address materials[index] by: its name, else
+    /// "materials[index]"; "glTF default" for the default material (index -1).
+    std::string editName(int index) const;
 
     Loader& m_loader;
     SceneData& m_scene;

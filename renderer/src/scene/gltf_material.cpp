@@ -79,6 +79,10 @@ int GltfImport::material(int index) {
         m.roughness = 1.0f;
         m.textureTimesFactor = true;
     }
+    m.gltfName = editName(index);
+    m.gltfShape = m_overrides.shape;
+    if (const auto it = m_overrides.edits.find(m.gltfName); it != m_overrides.edits.end())
+        m_loader.applyGltfEdits(m, it->second, m_overrides.editsPlace + "/" + it->first);
     // Names stay unique: two assets may both have a "Material.001".
     if (m_loader.materialIndex(m.name) >= 0) {
         const std::string base = m.name + " (" + m_file.filename().string() + ")";
@@ -87,6 +91,12 @@ int GltfImport::material(int index) {
             m.name = base + " " + std::to_string(k);
     }
     return cached = m_loader.addMaterial(std::move(m));
+}
+
+std::string GltfImport::editName(int index) const {
+    if (index < 0) return "glTF default";
+    const std::string& name = m_model.materials[std::size_t(index)].name;
+    return name.empty() ? "materials[" + std::to_string(index) + "]" : name;
 }
 
 Material GltfImport::convertMaterial(int index) {

@@ -26,6 +26,11 @@ struct GltfOverrides {
     /// "materials": a glTF material name → the scene material that replaces it.
     std::map<std::string, int> byName;
     std::string byNamePlace;  ///< the JSON place of "materials" (for a name the asset lacks)
+    /// "edits": a glTF material name → its look edits (albedo, metallic, roughness, ior,
+    /// emission), as saveScene writes them; applied over the asset's values.
+    std::map<std::string, nlohmann::json> edits;
+    std::string editsPlace;  ///< the JSON place of "edits"
+    int shape = -1;          ///< index of the shape in /shapes (-1: a bare asset)
 };
 
 /// Loads one scene file into a SceneData; textures are read once per path.
@@ -50,7 +55,11 @@ class Loader {
     void readEnvironment(const nlohmann::json& j, const std::string& where);
     TransformDesc readTransform(const nlohmann::json& j, const std::string& where,
                                 const TransformDesc& base);
-    void readShape(const nlohmann::json& j, const std::string& where);
+    /// Reads the shape /shapes/shapeIndex at JSON place `where`.
+    void readShape(const nlohmann::json& j, const std::string& where, int shapeIndex);
+    /// Applies a glTF material's saved look edits (a shape's "edits" entry at `where`) over
+    /// the values the asset gives, with the ranges the look panel and JSON materials use.
+    void applyGltfEdits(Material& m, const nlohmann::json& edits, const std::string& where);
 
     /// obj_import.cpp: adds the OBJ file as one mesh in its object space and returns its index,
     /// adding its MTL materials unless JSON overrides them by name. Every vertex must stay within

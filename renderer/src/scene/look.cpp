@@ -52,7 +52,21 @@ LookProperty scalar(const char* name, const char* label, double min, double max,
 
 std::vector<LookProperty> materialProperties(const Material& m) {
     std::vector<LookProperty> props;
-    if (m.texture < 0)
+    if (m.type == MaterialType::MetallicRoughness) {
+        // glTF factors: each multiplies its texture where the material has one.
+        props.push_back(color("albedo", m.texture >= 0 ? "base colour factor" : "base colour", 1.0,
+                              m.albedo,
+                              "Base colour: the diffuse colour of a dielectric, the reflectance "
+                              "of a metal (multiplies the base colour texture)."));
+        props.push_back(scalar("metallic", "metallic", 0.0, 1.0, false, m.metallic,
+                               "0 is a dielectric base under a specular coat, 1 a metal "
+                               "(multiplies the metallic-roughness texture's B)."));
+        props.push_back(scalar("roughness", "roughness", 0.0, 1.0, false, m.roughness,
+                               "Perceptual roughness (GGX alpha = roughness²; multiplies the "
+                               "metallic-roughness texture's G)."));
+        props.push_back(scalar("ior", "index of refraction", 1.0, 10.0, false, m.ior,
+                               "The dielectric base's index (its specular f0; 1.5 by default)."));
+    } else if (m.texture < 0)
         props.push_back(color(
             "albedo", m.type == MaterialType::Diffuse ? "base colour" : "tint", 1.0, m.albedo,
             m.type == MaterialType::Diffuse ? "Diffuse reflectance."
@@ -130,8 +144,15 @@ void setMaterial(SceneData& d, std::size_t index, const std::string& property,
     Material& m = d.materials[index];
     const std::string where = "/materials/" + m.name + "/" + property;
     Material next = m;
-    if (property == "albedo" && m.texture < 0) {
+    const bool gltf = m.type == MaterialType::MetallicRoughness;
+    if (property == "albedo" && (m.texture < 0 || gltf)) {
         next.albedo = checkedColor(value, 0.0, 1.0, d.path, where);
+    } else if (property == "metallic" && gltf) {
+        next.metallic = checked(value[0], 0.0, 1.0, d.path, where);
+    } else if (property == "roughness" && gltf) {
+        next.roughness = checked(value[0], 0.0, 1.0, d.path, where);
+    } else if (property == "ior" && gltf) {
+        next.ior = checked(value[0], 1.0, 10.0, d.path, where);
     } else if (property == "emission") {
         next.emissionColor = checkedColor(value, 0.0, 1.0, d.path, where);
         next.emission = next.emissionColor * next.emissionStrength;

@@ -97,7 +97,11 @@ struct Material {
     /// A texture's factor multiplies it (glTF) rather than being replaced by it (OBJ, JSON).
     bool textureTimesFactor = false;
     bool fromJson = false;  ///< defined in scene.json's /materials (else by an MTL file)
-    bool edited = false;    ///< changed through Scene::setLook since loading
+    /// A glTF asset's material: its name in the asset and the index of the scene.json shape
+    /// that placed the asset (-1: none), where saveScene writes its look edits ("edits").
+    std::string gltfName;
+    int gltfShape = -1;
+    bool edited = false;  ///< changed through Scene::setLook since loading
 
     bool emissive() const { return !isBlack(emission); }
     /// Sets emissionColor and emissionStrength from emission.

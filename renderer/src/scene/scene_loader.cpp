@@ -105,7 +105,7 @@ void Loader::load(const json& root) {
         const json& shapes = root["shapes"];
         if (!shapes.is_array()) m_reader.fail("/shapes", "expected an array of shapes");
         for (std::size_t i = 0; i < shapes.size(); ++i)
-            readShape(shapes[i], "/shapes/" + std::to_string(i));
+            readShape(shapes[i], "/shapes/" + std::to_string(i), int(i));
     }
     if (root.contains("environment")) readEnvironment(root["environment"], "/environment");
     // Without a camera block, the first camera a glTF asset brings.
@@ -267,6 +267,17 @@ Material Loader::readMaterial(const std::string& name, const json& j, const std:
     return m;
 }
 
+void Loader::applyGltfEdits(Material& m, const json& j, const std::string& where) {
+    m_reader.requireObject(j, where, {"albedo", "metallic", "roughness", "ior", "emission"});
+    if (j.contains("albedo")) m.albedo = m_reader.vec3(j["albedo"], where + "/albedo", 0.0, 1.0);
+    if (j.contains("metallic"))
+        m.metallic = m_reader.number(j["metallic"], where + "/metallic", 0.0, 1.0);
+    if (j.contains("roughness"))
+        m.roughness = m_reader.number(j["roughness"], where + "/roughness", 0.0, 1.0);
+    if (j.contains("ior")) m.ior = m_reader.number(j["ior"], where + "/ior", 1.0, 10.0);
+    if (j.contains("emission")) m.emission = radiance(j["emission"], where + "/emission");
+}
+
 void Loader::readEnvironment(const json& j, const std::string& where) {
     m_reader.requireObject(j, where, {"image", "color", "scale", "rotate"});
     EnvironmentDesc& env = m_scene.environment;
@@ -325,9 +336,9 @@ TransformDesc Loader::readTransform(const json& j, const std::string& where,
     return desc;
 }
 
-void Loader::readShape(const json& j, const std::string& where) {
-    m_reader.requireObject(j, where,
-                           {"obj", "gltf", "material", "materials", "transform", "motion"});
+void Loader::readShape(const json& j, const std::string& where, int shapeIndex) {
+    m_reader.requireObject(
+        j, where, {"obj", "gltf", "material", "materials", "edits", "transform", "motion"});
     if (j.contains("obj") == j.contains("gltf"))
         m_reader.fail(where,
                       "expected exactly one of 'obj' (a Wavefront OBJ file) or 'gltf' (a "
@@ -340,6 +351,10 @@ void Loader::readShape(const json& j, const std::string& where) {
         m_reader.fail(where + "/materials",
                       "'materials' renames a glTF asset's materials; an OBJ shape takes "
                       "'material', and JSON materials override MTL materials by name");
+    if (!gltf && j.contains("edits"))
+        m_reader.fail(where + "/edits",
+                      "'edits' changes a glTF asset's material factors; an OBJ shape's materials "
+                      "are edited as JSON materials of the same name");
     const TransformDesc start = j.contains("transform")
                                     ? readTransform(j["transform"], where + "/transform", {})
                                     : TransformDesc{};
@@ -376,6 +391,14 @@ void Loader::readShape(const json& j, const std::string& where) {
         GltfOverrides overrides;
         overrides.material = overrideMaterial;
         overrides.byNamePlace = where + "/materials";
+        overrides.editsPlace = where + "/edits";
+        overrides.shape = shapeIndex;
+        if (j.contains("edits")) {
+            if (!j["edits"].is_object())
+                m_reader.fail(where + "/edits",
+                              "expected an object mapping glTF material names to their edits");
+            for (const auto& item : j["edits"].items()) overrides.edits[item.key()] = item.value();
+        }
         if (j.contains("materials")) {
             const json& map = j["materials"];
             if (!map.is_object())
@@ -435,7 +458,7 @@ void Loader::loadAsset(const fs::path& file) {
     // and light to see it by.
     json doc;
     doc["shapes"] = json::array({json{{"gltf", file.filename().string()}}});
-    readShape(doc["shapes"][0], "/shapes/0");
+    readShape(doc["shapes"][0], "/shapes/0", 0);
     m_scene.width = 640;
     m_scene.height = 480;
     if (!m_scene.assetCameras.empty()) {

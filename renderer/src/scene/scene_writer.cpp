@@ -147,6 +147,17 @@ void saveScene(const Scene& scene, const fs::path& path) {
     // Edited materials: JSON ones get their editable keys updated, MTL ones a full definition.
     for (const Material& m : d.materials) {
         if (!m.edited) continue;
+        if (m.gltfShape >= 0 && !m.fromJson) {
+            // A glTF asset's material: its factors go to the placing shape's "edits"; the
+            // asset's textures stay as the asset has them.
+            ordered_json& j = root["shapes"][std::size_t(m.gltfShape)]["edits"][m.gltfName];
+            j["albedo"] = toJson(m.albedo);
+            j["metallic"] = toJson(m.metallic);
+            j["roughness"] = toJson(m.roughness);
+            j["ior"] = toJson(m.ior);
+            j["emission"] = toJson(m.emission);
+            continue;
+        }
         ordered_json& materials = root["materials"];
         if (!m.fromJson) {
             materials[m.name] = definition(m, d, toDir);
