@@ -4,7 +4,7 @@
 # 1), Cycles renders the same file imported by Blender's glTF importer at the same size, samples
 # and depth; then, over the pixels the asset covers (Glint's depth > 0), the per-region means (a
 # 4 × 4 grid over its bounding box, luminance) and the relMSE between the two are printed, and
-# the two pictures are written as PNGs into OUT_DIR when given.
+# the two pictures are written as PNGs (and the two renders as EXRs) into OUT_DIR when given.
 #   tests/perf/cycles/gltf_compare.sh [BUILD_DIR] ASSET.glb [SPP] [OUT_DIR]
 #   CYCLES_OPTIONS=--single-scatter tests/perf/cycles/gltf_compare.sh ...   (Cycles' GGX without
 #                                       multiple scattering, as the glTF BRDF)
@@ -35,7 +35,7 @@ blender -b -P tests/perf/cycles/gltf_cycles.py -- "$ASSET" --width "$WIDTH" --he
   grep '^{"renderer": "cycles"' >/dev/null
 
 "$PY" - "$OUT/glint.exr" "$OUT/cycles.exr" "$KEEP" <<'PY'
-import os, sys
+import os, shutil, sys
 import numpy as np
 import OpenImageIO as oiio
 
@@ -77,6 +77,9 @@ print(f"asset: Glint {g:.4f}, Cycles {c:.4f} ({100 * (g - c) / c:+.2f} %); "
       f"largest region difference {worst:.2f} %; relMSE {rel:.4g}")
 if sys.argv[3]:
     os.makedirs(sys.argv[3], exist_ok=True)
+    for name in ("glint", "cycles"):  # the renders too, for gltf_split_by_normal.py
+        shutil.copyfile(sys.argv[{"glint": 1, "cycles": 2}[name]],
+                        os.path.join(sys.argv[3], f"{name}.exr"))
     for name, img in (("glint", glint), ("cycles", cycles)):
         srgb = np.where(img <= 0.0031308, 12.92 * img, 1.055 * np.power(np.clip(img, 0, None), 1 / 2.4) - 0.055)
         out = oiio.ImageBuf(oiio.ImageSpec(w, h, 3, oiio.UINT8))
