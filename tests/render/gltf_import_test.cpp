@@ -417,6 +417,23 @@ TEST(GltfImport, ABareAssetGetsAFramingCameraNeutralLightAndRenders) {
     EXPECT_LT(centre, colour(5, 5, 0) + colour(5, 5, 1) + colour(5, 5, 2));
 }
 
+TEST(GltfImport, ABareAssetWithEmissiveDetailsButNoLampsStillGetsTheEnvironment) {
+    // Real assets (the Damaged Helmet) glow in places without lamps: they were rendered black
+    // but for the glow. Only punctual lights stand for the asset's own lighting.
+    test::TempDir dir("gltf_bare_emissive");
+    GltfBuilder b;
+    b.doc["materials"] = json::array({{{"emissiveFactor", {1, 0.5, 0}}}});
+    b.scene({b.node({{"mesh", b.quad(0)}})});
+    EXPECT_TRUE(loadScene(writeBytes(dir.path() / "glow.glb", b.glb())).hasEnvironment());
+    b.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+    b.doc["extensions"] = {
+        {"KHR_lights_punctual", {{"lights", {{{"type", "point"}, {"intensity", 10}}}}}}};
+    b.doc["nodes"].push_back(
+        {{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}, {"translation", {0, 0, 2}}});
+    b.doc["scenes"][0]["nodes"].push_back(1);
+    EXPECT_FALSE(loadScene(writeBytes(dir.path() / "lamp.glb", b.glb())).hasEnvironment());
+}
+
 TEST(GltfImport, ABlenderExportLoadsAsBlenderBuiltIt) {
     // scenes/assets/blender_scene.glb: written by Blender 3.4's glTF exporter
     // (scenes/assets/blender_export.py).

@@ -483,8 +483,9 @@ void Loader::loadAsset(const fs::path& file) {
         m_scene.camera.lookAt = centre;
         m_scene.camera.fovY = fovY;
     }
-    bool lit = !m_scene.punctualLights.empty();
-    for (const Material& m : m_scene.materials) lit = lit || m.emissive();
+    // Light to see it by unless it brings lamps: emissive materials alone are mostly details (a
+    // helmet's visor lights, a screen), not what lights the asset.
+    const bool lit = !m_scene.punctualLights.empty();
     if (!lit) {
         m_scene.environment.kind = EnvironmentDesc::Kind::Constant;
         m_scene.environment.baseColor = m_scene.environment.color = {1.0f, 1.0f, 1.0f};

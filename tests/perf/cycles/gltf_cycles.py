@@ -1,6 +1,6 @@
 # Renders a glTF asset (.glb/.gltf) with Blender's Cycles as glint-render renders the bare asset
-# (docs/assets.md): the asset's first camera (or Blender's framing of the whole asset when it
-# has none), a uniform white world of radiance 1 when the asset has no lights (else black), a
+# (docs/assets.md): the asset's first camera (or glint-render's framing camera when it has
+# none), a uniform white world of radiance 1 when the asset has no lights (else black), a
 # box pixel filter, linear output. For the
 # side-by-side of tests/perf/cycles/gltf_compare.sh.
 #
@@ -40,6 +40,31 @@ def parse_args():
     return p.parse_args(argv)
 
 
+def framing_camera(scene, width, height):
+    """glint-render's camera for an asset without one (docs/assets.md): on glTF's +z (Blender's
+    -y) of the centre of the vertices' bounding box, looking back at it, fovY 40 degrees, at the
+    distance at which the sphere of half the box's diagonal fits the narrower field of view."""
+    import math
+    from mathutils import Vector
+    points = [o.matrix_world @ v.co for o in scene.objects if o.type == "MESH"
+              for v in o.data.vertices]
+    lo = Vector([min(p[i] for p in points) for i in range(3)])
+    hi = Vector([max(p[i] for p in points) for i in range(3)])
+    centre, radius = (lo + hi) / 2, max((hi - lo).length / 2, 1e-6)
+    half_y = math.radians(40.0) / 2
+    half_x = math.atan(math.tan(half_y) * width / height)
+    distance = radius / math.sin(min(half_x, half_y))
+    data = bpy.data.cameras.new("frame")
+    data.sensor_fit = "VERTICAL"
+    data.angle_y = math.radians(40.0)
+    data.clip_start, data.clip_end = distance * 1e-3, distance * 10 + radius * 10
+    cam = bpy.data.objects.new("frame", data)
+    cam.location = centre + Vector((0.0, -distance, 0.0))
+    cam.rotation_euler = (math.pi / 2, 0.0, 0.0)  # looks down +y (glTF's -z), z up
+    scene.collection.objects.link(cam)
+    return cam
+
+
 def main():
     args = parse_args()
     bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -49,12 +74,7 @@ def main():
     if cameras:
         scene.camera = cameras[0]
     else:
-        data = bpy.data.cameras.new("frame")
-        cam = bpy.data.objects.new("frame", data)
-        scene.collection.objects.link(cam)
-        scene.camera = cam
-        bpy.ops.object.select_all(action="SELECT")
-        bpy.ops.view3d.camera_to_view_selected()
+        scene.camera = framing_camera(scene, args.width, args.height)
 
     if args.single_scatter:
         for material in bpy.data.materials:
