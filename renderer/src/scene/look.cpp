@@ -66,9 +66,12 @@ std::vector<LookProperty> materialProperties(const Material& m) {
     if (m.type == MaterialType::Conductor)
         props.push_back(scalar("roughness", "roughness", 0.0, 1.0, false, m.roughness,
                                "GGX roughness (alpha = roughness²); 0 is a perfect mirror."));
-    if (m.type == MaterialType::Dielectric)
+    if (m.type == MaterialType::Dielectric) {
         props.push_back(scalar("ior", "index of refraction", 1e-3, 100.0, false, m.ior,
                                "Index of refraction inside the surface (glass about 1.5)."));
+        props.push_back(scalar("roughness", "roughness", 0.0, 1.0, false, m.roughness,
+                               "GGX roughness (alpha = roughness²); 0 is smooth glass."));
+    }
     return props;
 }
 
@@ -138,7 +141,8 @@ void setMaterial(SceneData& d, std::size_t index, const std::string& property,
     } else if (property == "strength") {
         next.emissionStrength = checked(value[0], 0.0, kMaxRadiance, d.path, where);
         next.emission = next.emissionColor * next.emissionStrength;
-    } else if (property == "roughness" && m.type == MaterialType::Conductor) {
+    } else if (property == "roughness" &&
+               (m.type == MaterialType::Conductor || m.type == MaterialType::Dielectric)) {
         next.roughness = checked(value[0], 0.0, 1.0, d.path, where);
     } else if (property == "ior" && m.type == MaterialType::Dielectric) {
         next.ior = checked(value[0], 1e-3, 100.0, d.path, where);

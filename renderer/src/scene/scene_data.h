@@ -72,7 +72,7 @@ struct Material {
     UvTransform textureTransform;   ///< of `texture`
     Vec3 emission{};
     float ior = 1.5f;           ///< dielectric index of refraction
-    float roughness = 0.0f;     ///< conductor: GGX alpha = roughness^2
+    float roughness = 0.0f;     ///< conductor, dielectric: GGX alpha = roughness^2
     float metallic = 1.0f;      ///< metallicRoughness: 0 dielectric base, 1 metal
     float transmission = 0.0f;  ///< metallicRoughness: KHR_materials_transmission factor
     bool hasEtaK = false;       ///< conductor: complex Fresnel with eta/k, else Schlick(specular)
