@@ -16,10 +16,11 @@ namespace glint::render {
 namespace {
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
-/// True when light passes the material's surface (glass): its normals keep pointing outside,
-/// so that which side wo lies on tells inside from outside.
+/// True when light passes the material's surface (glass; glTF transmission): its normals keep
+/// pointing outside, so that which side wo lies on tells inside from outside.
 bool transmits(const detail::Material& m) {
-    return m.type == detail::MaterialType::Dielectric;
+    return m.type == detail::MaterialType::Dielectric ||
+           (m.type == detail::MaterialType::MetallicRoughness && m.transmission > 0.0f);
 }
 
 /// A dielectric whose roughness makes it a sampled GGX BSDF rather than the smooth delta one
@@ -170,7 +171,7 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
     const Vec3& albedo = inputs.albedo;
     const Bsdf bsdf = mat.type == detail::MaterialType::MetallicRoughness
                           ? Bsdf::metallicRoughness(albedo, inputs.metallic, inputs.roughness,
-                                                    mat.ior, mat.transmission)
+                                                    mat.ior, inputs.transmission)
                           : Bsdf::fromMaterial(mat, albedo);
     const bool specular = bsdf.isSpecular();
     // A transmitting material keeps its normals outside; where its BSDF is opaque (a texel of

@@ -29,7 +29,7 @@ struct Bsdf {
     float ior = 1.5f;           ///< dielectric; metallicRoughness: f0 = ((ior − 1) / (ior + 1))²
     float alpha = 0.0f;         ///< conductor, dielectric, metallicRoughness: GGX alpha
     float metallic = 0.0f;      ///< metallicRoughness: 0 dielectric base, 1 metal
-    float transmission = 0.0f;  ///< metallicRoughness: KHR_materials_transmission (not read yet)
+    float transmission = 0.0f;  ///< metallicRoughness: KHR_materials_transmission
     bool hasEtaK = false;
     Vec3 eta{1.0f, 1.0f, 1.0f}, k{};
     Vec3 specular{1.0f, 1.0f, 1.0f};
@@ -46,9 +46,12 @@ struct Bsdf {
 
     /// True when every event is a delta (mirror, smooth dielectric, conductor with tiny alpha).
     bool isSpecular() const;
-    /// True when light passes the surface (dielectric): wo and wi may lie on either side,
-    /// wo.z < 0 meaning wo is inside.
-    bool transmits() const { return type == detail::MaterialType::Dielectric; }
+    /// True when light passes the surface (dielectric, metallicRoughness with transmission):
+    /// wo and wi may lie on either side, wo.z < 0 meaning wo is inside.
+    bool transmits() const {
+        return type == detail::MaterialType::Dielectric ||
+               (type == detail::MaterialType::MetallicRoughness && transmission > 0.0f);
+    }
     /// Which of sample()'s numbers it reads: the direction pair `u` (diffuse, conductor,
     /// metallicRoughness, rough dielectric: the microfacet) and the component number `uc`
     /// (dielectric: reflect or refract). A sampler with a fixed slot per number need not draw
@@ -114,7 +117,8 @@ bool conductorSample(const Bsdf& b, const Vec3& wo, Vec2 u, BsdfSample& out);
 
 /// Schlick's f0 of a dielectric of index `ior` seen from air: ((ior − 1) / (ior + 1))².
 float schlickF0(float ior);
-/// Probability that metallicRoughnessSample picks the GGX lobe (else the Lambert lobe) at wo.
+/// Probability that metallicRoughnessSample picks GGX reflection at wo (else, split by the
+/// transmission factor, GGX refraction or the Lambert lobe).
 float metallicRoughnessSpecularProbability(const Bsdf& b, const Vec3& wo);
 Vec3 metallicRoughnessEval(const Bsdf& b, const Vec3& wo, const Vec3& wi);
 float metallicRoughnessPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi);

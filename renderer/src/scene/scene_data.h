@@ -86,8 +86,8 @@ struct Material {
     float emissionStrength = 0.0f;
     /// metallicRoughness textures (glTF): roughness in G and metallic in B multiply the
     /// factors; a tangent-space normal map scaled in xy by normalScale; emission multiplies
-    /// `emission`.
-    TextureSlot roughnessMetallicMap, normalMap, emissionMap;
+    /// `emission`; transmission in R multiplies `transmission`.
+    TextureSlot roughnessMetallicMap, normalMap, emissionMap, transmissionMap;
     float normalScale = 1.0f;
     /// Where the surface is not there: alpha = opacity × base colour texture alpha; Mask cuts
     /// out alpha < alphaCutoff, Blend lets light through with probability 1 − alpha.
