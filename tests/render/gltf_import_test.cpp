@@ -22,6 +22,7 @@
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 #include "gltf_builder.h"
+#include "integrators/surface_inputs.h"
 #include "scene/scene_data.h"
 #include "test_util.h"
 
@@ -211,11 +212,8 @@ TEST(GltfImport, MaterialFactorsExtensionsAndTheDefaultMaterial) {
     dir.write("m.gltf", b.gltf());
     const Scene s = loadScene(dir.write("scene.json", sceneJson("m.gltf")));
     const detail::SceneData& d = dataOf(s);
-    // The one warning: transmission is stored but not rendered yet.
-    ASSERT_EQ(s.warnings().size(), 1u);
-    EXPECT_NE(s.warnings()[0].find("KHR_materials_transmission is not rendered yet"),
-              std::string::npos)
-        << s.warnings()[0];
+    // Transmission is rendered now: no warning.
+    EXPECT_TRUE(s.warnings().empty()) << s.warnings()[0];
     const detail::Material& m = d.materials[d.meshes[0].materials[0]];
     EXPECT_EQ(m.name, "paint");
     EXPECT_EQ(m.type, detail::MaterialType::MetallicRoughness);
@@ -364,6 +362,50 @@ TEST(GltfImport, TangentsAreGeneratedForNormalMappedMaterialsOnly) {
     expectNear({t.x, t.y, t.z}, {1, 0, 0});
     EXPECT_FLOAT_EQ(t.w, 1.0f);
     EXPECT_TRUE(d.meshes[1].tangents.empty()) << "no normal map, no tangents";
+}
+
+TEST(GltfImport, TransmissionTextureMultipliesTheFactorByItsRedChannel) {
+    test::TempDir dir("gltf_transmission");
+    smallPng(dir.path());
+    GltfBuilder b;
+    b.doc["images"] = json::array({{{"uri", "tex.png"}}});
+    b.doc["textures"] = json::array({{{"source", 0}}});
+    b.doc["materials"] = json::array(
+        {{{"name", "glass"},
+          {"pbrMetallicRoughness", {{"metallicFactor", 0.0}, {"roughnessFactor", 0.2}}},
+          {"extensions",
+           {{"KHR_materials_transmission",
+             {{"transmissionFactor", 0.8}, {"transmissionTexture", {{"index", 0}}}}}}}}});
+    b.doc["extensionsUsed"] = {"KHR_materials_transmission"};
+    b.scene({b.node({{"mesh", b.quad(0)}})});
+    dir.write("g.gltf", b.gltf());
+    const Scene s = loadScene(dir.write("scene.json", sceneJson("g.gltf")));
+    EXPECT_TRUE(s.warnings().empty()) << s.warnings()[0];
+    const detail::SceneData& d = dataOf(s);
+    const detail::Material& m = d.materials[d.meshes[0].materials[0]];
+    EXPECT_FLOAT_EQ(m.transmission, 0.8f);
+    ASSERT_TRUE(m.transmissionMap.present());
+    // Data, not colour: the texel's R is used as stored.
+    EXPECT_EQ(d.textures[std::size_t(m.transmissionMap.texture)].use, detail::TextureUse::Data);
+    // At the top-left (red) texel R = 1 keeps the factor; at the top-right (green) one R = 0.
+    SurfacePoint at;
+    at.id = {0, 0};
+    at.hasUv = true;
+    at.uv = {0.25f, 0.75f};
+    EXPECT_NEAR(evaluateInputs(d, m, at).transmission, 0.8f, 1e-6f);
+    at.uv = {0.75f, 0.75f};
+    EXPECT_NEAR(evaluateInputs(d, m, at).transmission, 0.0f, 1e-6f);
+    // A malformed texture reference is an error, with its place.
+    b.doc["materials"][0]["extensions"]["KHR_materials_transmission"]["transmissionTexture"] = {
+        {"index", 0.5}};
+    dir.write("g.gltf", b.gltf());
+    try {
+        loadScene(dir.write("scene.json", sceneJson("g.gltf")));
+        ADD_FAILURE() << "a fractional texture index was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("transmissionTexture.index"), std::string::npos)
+            << e.what();
+    }
 }
 
 TEST(GltfImport, UnreadExtensionsWarnOnce) {

@@ -147,6 +147,31 @@ TEST(Look, EnvironmentScaleAndRotationEditAndSave) {
     test::expectSameFrames(after, reloaded.render(s).frame);
 }
 
+TEST(Look, GlassRoughnessEditsRendersAndSaves) {
+    // A dielectric's roughness is editable: the glass turns rough (a different image, no BVH
+    // rebuild), the saved scene holds it and renders the same.
+    test::TempDir dir("look_glass");
+    Renderer renderer(loadScene(kScenes / "envmap" / "scene.json"));
+    const std::vector<LookItem> items = renderer.scene().look();
+    const LookItem* glass = findItem(items, "glass");
+    ASSERT_NE(glass, nullptr);
+    ASSERT_NE(findProperty(*glass, "roughness"), nullptr);
+    EXPECT_EQ(findProperty(*glass, "roughness")->value[0], 0.0);
+    Settings s = small(renderer, 2);
+    const FrameBuffers before = renderer.render(s).frame;
+    renderer.scene().setLook("glass", "roughness", 0.4);
+    const FrameBuffers after = renderer.render(s).frame;
+    EXPECT_FALSE(test::sameLayer(before, after, Layer::Color));
+    EXPECT_EQ(renderer.accelerationBuilds(), 1);
+    const fs::path saved = dir.path() / "rough_glass.json";
+    saveScene(renderer.scene(), saved);
+    std::ifstream in(saved);
+    const nlohmann::json j = nlohmann::json::parse(in);
+    EXPECT_NEAR(j["materials"]["glass"]["roughness"].get<double>(), 0.4, 1e-6);
+    Renderer reloaded(loadScene(saved));
+    test::expectSameFrames(after, reloaded.render(s).frame);
+}
+
 TEST(Look, ZeroStrengthKeepsTheColourAndTheLightGoesOut) {
     test::TempDir dir("look_zero");
     Renderer renderer(loadScene(cornellCopy(dir)));
@@ -244,7 +269,8 @@ TEST(Look, AGltfMaterialsFactorsEditSaveAsTheShapesEditsAndKeepTheTextures) {
     const LookItem* duck = findItem(items, "blinn3-fx");
     ASSERT_NE(duck, nullptr);
     EXPECT_EQ(duck->type, "metallicRoughness");
-    for (const char* name : {"albedo", "metallic", "roughness", "ior", "emission", "strength"})
+    for (const char* name :
+         {"albedo", "metallic", "roughness", "ior", "transmission", "emission", "strength"})
         EXPECT_NE(findProperty(*duck, name), nullptr) << name;
     EXPECT_EQ(findProperty(*duck, "albedo")->label, "base colour factor");  // textured
     EXPECT_EQ(findProperty(*duck, "metallic")->value[0], 0.0);
@@ -254,6 +280,7 @@ TEST(Look, AGltfMaterialsFactorsEditSaveAsTheShapesEditsAndKeepTheTextures) {
     renderer.scene().setLook("blinn3-fx", "metallic", 1.0);
     renderer.scene().setLook("blinn3-fx", "roughness", 0.25);
     renderer.scene().setLook("blinn3-fx", "albedo", {0.5, 0.6, 0.7});
+    renderer.scene().setLook("blinn3-fx", "transmission", 0.5);
     const FrameBuffers after = renderer.render(small(renderer)).frame;
     EXPECT_EQ(renderer.accelerationBuilds(), 1);
     EXPECT_FALSE(test::sameLayer(before, after, Layer::Color));
@@ -266,6 +293,7 @@ TEST(Look, AGltfMaterialsFactorsEditSaveAsTheShapesEditsAndKeepTheTextures) {
     const nlohmann::json& edit = j["shapes"][0]["edits"]["blinn3-fx"];
     EXPECT_EQ(edit["metallic"], 1.0);
     EXPECT_EQ(edit["roughness"], 0.25);
+    EXPECT_EQ(edit["transmission"], 0.5);
     EXPECT_NEAR(edit["albedo"][2].get<double>(), 0.7, 1e-6);
     Renderer reloaded(loadScene(saved));
     test::expectSameFrames(after, reloaded.render(small(reloaded)).frame);

@@ -2,7 +2,8 @@
 // against its own pdf (the Mitsuba approach): directions are binned on a (cos θ, φ) grid of
 // equal-solid-angle cells and compared with the pdf integrated numerically over each cell.
 // Fixed seeds; each test rejects at the Šidák-corrected level for a family-wise α = 0.01 over
-// all kChi2Tests tests below. Delta BSDFs (mirror, smooth dielectric) are tested by their exact
+// all kChi2Tests tests below (rough glass and transmitting metallic-roughness sample both
+// hemispheres). Delta BSDFs (mirror, smooth dielectric) are tested by their exact
 // directions and a two-cell chi-square of the Fresnel reflect/refract choice.
 #include <gtest/gtest.h>
 
@@ -18,7 +19,7 @@
 namespace glint::render {
 namespace {
 
-constexpr int kChi2Tests = 50;  // number of chi-square tests in this file
+constexpr int kChi2Tests = 76;  // number of chi-square tests in this file
 const double kAlpha = test::sidak(0.01, kChi2Tests);
 
 constexpr int kThetaBins = 20, kPhiBins = 40, kSamples = 400000;
@@ -150,6 +151,52 @@ TEST(BsdfChi2, MetallicRoughnessHalfMetal) {
 
 TEST(BsdfChi2, MetallicRoughnessMetal) {
     checkMetallicRoughness(1.0f, 300);
+}
+
+/// Rough glass over roughness ∈ {0.3, 0.6, 1} and wo from outside (20°, 70°) and inside (30°;
+/// 60°, past the critical angle) at ior 1.5, and a diamond-like ior 2.4: 14 chi-square tests.
+/// Samples land on both hemispheres; the missing-mass cell holds reflections below the surface
+/// and refractions above it. The pdf jumps where wo·h or wi·h changes sign: even broad lobes
+/// need the 48² sub-grid (at 12², roughness 1 at 70° fails on the midpoint rule's error).
+TEST(BsdfChi2, RoughDielectric) {
+    detail::Material m;
+    m.type = detail::MaterialType::Dielectric;
+    std::uint64_t seed = 400;
+    m.ior = 1.5f;
+    for (const float roughness : {0.3f, 0.6f, 1.0f}) {
+        m.roughness = roughness;
+        const Bsdf bsdf = Bsdf::fromMaterial(m, {0.9f, 0.8f, 0.7f});
+        for (const Vec3& wo :
+             {direction(20, 40), direction(70, 40), -direction(30, 40), -direction(60, 40)}) {
+            SCOPED_TRACE("roughness " + std::to_string(roughness) + " wo.z " +
+                         std::to_string(wo.z));
+            checkBsdf(bsdf, wo, seed++, 48);
+        }
+    }
+    m.ior = 2.4f;
+    m.roughness = 0.5f;
+    const Bsdf diamond = Bsdf::fromMaterial(m, {1.0f, 1.0f, 1.0f});
+    for (const Vec3& wo : {direction(45, 100), -direction(20, 100)}) {
+        SCOPED_TRACE("ior 2.4 wo.z " + std::to_string(wo.z));
+        checkBsdf(diamond, wo, seed++, 48);
+    }
+}
+
+/// The metallic-roughness material with transmission (GGX reflection, GGX refraction and
+/// Lambert) over roughness ∈ {0.3, 0.7}, transmission ∈ {0.5, 1} and wo from outside (30°, 80°)
+/// and inside (40°): 12 chi-square tests.
+TEST(BsdfChi2, MetallicRoughnessTransmission) {
+    std::uint64_t seed = 500;
+    for (const float roughness : {0.3f, 0.7f})
+        for (const float transmission : {0.5f, 1.0f}) {
+            const Bsdf bsdf =
+                Bsdf::metallicRoughness({0.8f, 0.5f, 0.2f}, 0.2f, roughness, 1.5f, transmission);
+            for (const Vec3& wo : {direction(30, 40), direction(80, 40), -direction(40, 40)}) {
+                SCOPED_TRACE("roughness " + std::to_string(roughness) + " transmission " +
+                             std::to_string(transmission) + " wo.z " + std::to_string(wo.z));
+                checkBsdf(bsdf, wo, seed++, roughness < 0.5f ? 48 : 12);
+            }
+        }
 }
 
 TEST(BsdfSampling, ConductorWhiteFurnaceBound) {

@@ -16,6 +16,20 @@ namespace glint::render {
 namespace {
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
+/// True when light passes the material's surface (glass; glTF transmission): its normals keep
+/// pointing outside, so that which side wo lies on tells inside from outside.
+bool transmits(const detail::Material& m) {
+    return m.type == detail::MaterialType::Dielectric ||
+           (m.type == detail::MaterialType::MetallicRoughness && m.transmission > 0.0f);
+}
+
+/// A dielectric whose roughness makes it a sampled GGX BSDF rather than the smooth delta one
+/// (as Bsdf::isSpecular decides it from the material's factors).
+bool roughDielectric(const detail::Material& m) {
+    return m.type == detail::MaterialType::Dielectric &&
+           m.roughness * m.roughness >= kMinGgxAlpha && m.ior != 1.0f;
+}
+
 /// Surface data at a hit.
 struct Shading {
     Vec3 p, ng, ns;
@@ -53,8 +67,8 @@ Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, fl
                    uv0.y * b0 + uv1.y * hit.u + uv2.y * hit.v};
     }
     s.material = &scene.materials[scene.materialOf(id)];
-    // Surfaces other than dielectrics are two-sided: face the normals towards the viewer.
-    if (s.material->type != detail::MaterialType::Dielectric && dot(wo, s.ng) < 0.0f) {
+    // Surfaces that do not transmit are two-sided: face the normals towards the viewer.
+    if (!transmits(*s.material) && dot(wo, s.ng) < 0.0f) {
         s.ng = -s.ng;
         s.ns = -s.ns;
     }
@@ -157,33 +171,43 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
     const Vec3& albedo = inputs.albedo;
     const Bsdf bsdf = mat.type == detail::MaterialType::MetallicRoughness
                           ? Bsdf::metallicRoughness(albedo, inputs.metallic, inputs.roughness,
-                                                    mat.ior, mat.transmission)
+                                                    mat.ior, inputs.transmission)
                           : Bsdf::fromMaterial(mat, albedo);
     const bool specular = bsdf.isSpecular();
+    // A transmitting material keeps its normals outside; where its BSDF is opaque (a texel of
+    // zero transmission) the surface is two-sided as any other: face it to the viewer.
+    const bool passes = bsdf.transmits();
+    Vec3 ng = sh.ng, ns = sh.ns;
+    if (!passes && dot(wo, ng) < 0.0f) {
+        ng = -ng;
+        ns = -ns;
+    }
     if (!p.featuresDone && !specular) {
         p.out.albedo = albedo;
-        p.out.normal = sh.ns;
+        // The normal on the viewer's side, for glass seen from inside too.
+        p.out.normal = passes && dot(wo, ns) < 0.0f ? -ns : ns;
         p.out.depth = m_camera.depth(sh.p, ray.time);
         p.out.position = sh.p;
         p.featuresDone = true;
     }
     if (depth >= m_maxDepth) return;
 
-    Frame frame = Frame::fromNormal(sh.ns);
+    Frame frame = Frame::fromNormal(ns);
     Vec3 woLocal = frame.toLocal(wo);
-    if (mat.type != detail::MaterialType::Dielectric && woLocal.z <= 0.0f) {
+    if (!passes && woLocal.z <= 0.0f) {
         // Shading normal faces away from the viewer: fall back to the geometric normal.
-        frame = Frame::fromNormal(sh.ng);
+        frame = Frame::fromNormal(ng);
         woLocal = frame.toLocal(wo);
     }
 
     // Next-event estimation at non-specular vertices (Veach 1997, sec. 9.2): the contribution
     // is weighed now, with this bounce's throughput, and counts once its shadow ray is clear.
+    // A transmitting surface also takes light from behind it (wi.z < 0 in the local frame).
     if (!specular && m_useLightSampling) {
         LightSample ls;
         const float uSelect = sample1D(rng, depth, BounceDim::LightSelect);
         const Vec2 uLight = sample2D(rng, depth, BounceDim::LightPoint);
-        if (m_lights.sample(sh.p, uSelect, uLight, ls) && dot(ls.wi, sh.ng) > 0.0f) {
+        if (m_lights.sample(sh.p, uSelect, uLight, ls) && (passes || dot(ls.wi, ng) > 0.0f)) {
             const Vec3 wiLocal = frame.toLocal(ls.wi);
             const Vec3 f = bsdf.eval(woLocal, wiLocal) * std::abs(wiLocal.z);
             if (!isBlack(f) && !isBlack(ls.radiance)) {
@@ -226,7 +250,7 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
     if (!bsdf.sample(woLocal, uBsdf, uc, bs)) return;
     // bs.wi is unit and the frame orthonormal: only rounding is left to correct.
     const Vec3 wi = renormalize(frame.toWorld(bs.wi));
-    if (mat.type != detail::MaterialType::Dielectric && dot(wi, sh.ng) <= 0.0f) return;
+    if (!passes && dot(wi, ng) <= 0.0f) return;
     p.beta *= bs.weight;
     if (isBlack(p.beta)) return;
 
@@ -255,7 +279,8 @@ unsigned PathIntegrator::numbersNeeded(const PathState& p, const Hit& hit) const
     if (p.depth >= m_maxDepth) return 0;
     auto bit = [](BounceDim slot) { return SobolSampler::slotBit(slot); };
     unsigned slots = 0;
-    switch (m_scene.materials[m_scene.materialOf(hit.surface)].type) {
+    const detail::Material& mat = m_scene.materials[m_scene.materialOf(hit.surface)];
+    switch (mat.type) {
         case MaterialType::Diffuse:
         case MaterialType::Conductor:
         case MaterialType::MetallicRoughness:
@@ -265,6 +290,12 @@ unsigned PathIntegrator::numbersNeeded(const PathState& p, const Hit& hit) const
             break;
         case MaterialType::Dielectric:
             slots = bit(BounceDim::BsdfComponent);
+            // Rough glass: a microfacet from the direction pair, and next-event estimation.
+            if (roughDielectric(mat)) {
+                slots |= bit(BounceDim::BsdfDirection);
+                if (m_useLightSampling)
+                    slots |= bit(BounceDim::LightSelect) | bit(BounceDim::LightPoint);
+            }
             break;
         case MaterialType::Mirror:
             break;

@@ -21,6 +21,7 @@ SurfaceInputs evaluateInputs(const detail::SceneData& scene, const detail::Mater
     in.albedo = material.albedo;
     in.metallic = material.metallic;
     in.roughness = material.roughness;
+    in.transmission = material.transmission;
     if (!at.hasUv) return in;
     if (material.texture >= 0) {
         const Vec4 t = scene.textures[std::size_t(material.texture)].lookup(
@@ -34,6 +35,12 @@ SurfaceInputs evaluateInputs(const detail::SceneData& scene, const detail::Mater
         const Vec4 t = lookup(scene, material.roughnessMetallicMap, at);
         in.roughness = std::clamp(in.roughness * t.y, 0.0f, 1.0f);
         in.metallic = std::clamp(in.metallic * t.z, 0.0f, 1.0f);
+    }
+    if (material.type == detail::MaterialType::MetallicRoughness &&
+        material.transmissionMap.present()) {
+        // KHR_materials_transmission: the texture's R multiplies the factor.
+        const Vec4 t = lookup(scene, material.transmissionMap, at);
+        in.transmission = std::clamp(in.transmission * t.x, 0.0f, 1.0f);
     }
     return in;
 }

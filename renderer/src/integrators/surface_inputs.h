@@ -1,6 +1,7 @@
 // What a material's textures give at one hit, before its BSDF is built: the base colour, the
-// metallic-roughness material's metallic and roughness (factors times their texture), and the
-// shading normal bent by a tangent-space normal map (glTF's conventions: docs/assets.md).
+// metallic-roughness material's metallic, roughness and transmission (factors times their
+// texture), and the shading normal bent by a tangent-space normal map (glTF's conventions:
+// docs/assets.md).
 #pragma once
 
 #include "scene/scene_data.h"
@@ -19,9 +20,10 @@ struct SurfacePoint {
 
 /// The textured inputs of `material` at `at`.
 struct SurfaceInputs {
-    Vec3 albedo;             ///< base colour: the factor, replaced or multiplied by the texture
-    float metallic = 0.0f;   ///< metallic-roughness material only
-    float roughness = 0.0f;  ///< metallic-roughness material only (perceptual, α = roughness²)
+    Vec3 albedo;                ///< base colour: the factor, replaced or multiplied by the texture
+    float metallic = 0.0f;      ///< metallic-roughness material only
+    float roughness = 0.0f;     ///< metallic-roughness material only (perceptual, α = roughness²)
+    float transmission = 0.0f;  ///< metallic-roughness material only (KHR_materials_transmission)
 };
 
 SurfaceInputs evaluateInputs(const detail::SceneData& scene, const detail::Material& material,

@@ -26,8 +26,9 @@ bool Bsdf::isSpecular() const {
         case MaterialType::MetallicRoughness:
             return false;
         case MaterialType::Mirror:
-        case MaterialType::Dielectric:
             return true;
+        case MaterialType::Dielectric:
+            return roughDielectricIsSmooth(*this);
         case MaterialType::Conductor:
             return alpha < kMinGgxAlpha;
     }
@@ -42,6 +43,8 @@ Vec3 Bsdf::eval(const Vec3& wo, const Vec3& wi) const {
             return metallicRoughnessEval(*this, wo, wi);
         case MaterialType::Conductor:
             return alpha < kMinGgxAlpha ? Vec3{} : conductorEval(*this, wo, wi);
+        case MaterialType::Dielectric:
+            return roughDielectricIsSmooth(*this) ? Vec3{} : roughDielectricEval(*this, wo, wi);
         default:
             return {};
     }
@@ -55,6 +58,8 @@ float Bsdf::pdf(const Vec3& wo, const Vec3& wi) const {
             return metallicRoughnessPdf(*this, wo, wi);
         case MaterialType::Conductor:
             return alpha < kMinGgxAlpha ? 0.0f : conductorPdf(*this, wo, wi);
+        case MaterialType::Dielectric:
+            return roughDielectricIsSmooth(*this) ? 0.0f : roughDielectricPdf(*this, wo, wi);
         default:
             return 0.0f;
     }
@@ -69,7 +74,7 @@ bool Bsdf::sample(const Vec3& wo, Vec2 u, float uc, BsdfSample& out) const {
         case MaterialType::Mirror:
             return mirrorSample(*this, wo, out);
         case MaterialType::Dielectric:
-            return dielectricSample(*this, wo, uc, out);
+            return roughDielectricSample(*this, wo, u, uc, out);
         case MaterialType::Conductor:
             return conductorSample(*this, wo, u, out);
     }

@@ -1,6 +1,6 @@
 // BSDFs in the local shading frame (z = shading normal). Each material kind lives in its own
-// file (diffuse.cpp, mirror.cpp, dielectric.cpp, conductor.cpp, metallic_roughness.cpp); Bsdf
-// dispatches by kind.
+// file (diffuse.cpp, mirror.cpp, dielectric.cpp, rough_dielectric.cpp, conductor.cpp,
+// metallic_roughness.cpp); Bsdf dispatches by kind.
 #pragma once
 
 #include "scene/scene_data.h"
@@ -17,7 +17,8 @@ struct BsdfSample {
     bool specular = false;
 };
 
-/// GGX alphas below this are treated as a perfect mirror (conductor); the metallic-roughness
+/// GGX alphas below this are treated as a perfect mirror (conductor) or smooth glass
+/// (dielectric); the metallic-roughness
 /// material clamps its alpha up to it instead, so that its lobe stays a sampled GGX.
 inline constexpr float kMinGgxAlpha = 1e-3f;
 
@@ -26,9 +27,9 @@ struct Bsdf {
     detail::MaterialType type = detail::MaterialType::Diffuse;
     Vec3 albedo{};              ///< reflectance / tint / transmittance tint
     float ior = 1.5f;           ///< dielectric; metallicRoughness: f0 = ((ior − 1) / (ior + 1))²
-    float alpha = 0.0f;         ///< conductor, metallicRoughness: GGX alpha
+    float alpha = 0.0f;         ///< conductor, dielectric, metallicRoughness: GGX alpha
     float metallic = 0.0f;      ///< metallicRoughness: 0 dielectric base, 1 metal
-    float transmission = 0.0f;  ///< metallicRoughness: KHR_materials_transmission (not read yet)
+    float transmission = 0.0f;  ///< metallicRoughness: KHR_materials_transmission
     bool hasEtaK = false;
     Vec3 eta{1.0f, 1.0f, 1.0f}, k{};
     Vec3 specular{1.0f, 1.0f, 1.0f};
@@ -45,12 +46,20 @@ struct Bsdf {
 
     /// True when every event is a delta (mirror, smooth dielectric, conductor with tiny alpha).
     bool isSpecular() const;
-    /// Which of sample()'s numbers it reads: the direction pair `u` (diffuse, conductor) and the
-    /// component number `uc` (dielectric: reflect or refract). A sampler with a fixed slot per
-    /// number need not draw the others.
+    /// True when light passes the surface (dielectric, metallicRoughness with transmission):
+    /// wo and wi may lie on either side, wo.z < 0 meaning wo is inside.
+    bool transmits() const {
+        return type == detail::MaterialType::Dielectric ||
+               (type == detail::MaterialType::MetallicRoughness && transmission > 0.0f);
+    }
+    /// Which of sample()'s numbers it reads: the direction pair `u` (diffuse, conductor,
+    /// metallicRoughness, rough dielectric: the microfacet) and the component number `uc`
+    /// (dielectric: reflect or refract). A sampler with a fixed slot per number need not draw
+    /// the others.
     bool readsDirectionPair() const {
         return type == detail::MaterialType::Diffuse || type == detail::MaterialType::Conductor ||
-               type == detail::MaterialType::MetallicRoughness;
+               type == detail::MaterialType::MetallicRoughness ||
+               (type == detail::MaterialType::Dielectric && !isSpecular());
     }
     bool readsComponentNumber() const { return type == detail::MaterialType::Dielectric; }
     /// f(wo, wi) without the cosine; 0 for specular BSDFs.
@@ -72,6 +81,27 @@ bool mirrorSample(const Bsdf& b, const Vec3& wo, BsdfSample& out);
 float fresnelDielectric(float cosI, float eta);
 bool dielectricSample(const Bsdf& b, const Vec3& wo, float uc, BsdfSample& out);
 
+/// Refracts wo (wo·h > 0) through the microfacet h into a medium of relative index eta
+/// (= η of wi's side / η of wo's side); false on total internal reflection.
+bool refractThrough(const Vec3& wo, const Vec3& h, float eta, Vec3& wi);
+/// GGX terms of a refraction pair wo.z > 0 > wi.z, eta = η below / η above.
+struct GgxRefraction {
+    Vec3 h;          ///< the refraction half vector, h.z > 0
+    float woh, wih;  ///< wo·h > 0 > wi·h
+    float d;         ///< D(h)
+    float btdf;      ///< the radiance BTDF without (1 − F) and tint (Walter et al. 2007, eq. 21)
+    float pdfVisible;  ///< visible-normal density of h times |∂ωh/∂ωi|
+};
+/// Fills `out` for a pair that refracts through some microfacet; false when none does.
+bool ggxRefraction(const Vec3& wo, const Vec3& wi, float alpha, float eta, GgxRefraction& out);
+/// A dielectric with alpha < kMinGgxAlpha (or ior 1) is the smooth one, a delta BSDF.
+bool roughDielectricIsSmooth(const Bsdf& b);
+Vec3 roughDielectricEval(const Bsdf& b, const Vec3& wo, const Vec3& wi);
+float roughDielectricPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi);
+/// GGX reflection or refraction (chosen by uc against the microfacet's Fresnel); the smooth
+/// dielectric's dielectricSample when roughDielectricIsSmooth.
+bool roughDielectricSample(const Bsdf& b, const Vec3& wo, Vec2 u, float uc, BsdfSample& out);
+
 /// Conductor Fresnel reflectance (per channel eta, k; or Schlick from `specular`).
 Vec3 conductorFresnel(const Bsdf& b, float cosI);
 /// GGX normal distribution D(h) (Trowbridge & Reitz 1975; Walter et al. 2007, eq. 33).
@@ -87,7 +117,8 @@ bool conductorSample(const Bsdf& b, const Vec3& wo, Vec2 u, BsdfSample& out);
 
 /// Schlick's f0 of a dielectric of index `ior` seen from air: ((ior − 1) / (ior + 1))².
 float schlickF0(float ior);
-/// Probability that metallicRoughnessSample picks the GGX lobe (else the Lambert lobe) at wo.
+/// Probability that metallicRoughnessSample picks GGX reflection at wo (else, split by the
+/// transmission factor, GGX refraction or the Lambert lobe).
 float metallicRoughnessSpecularProbability(const Bsdf& b, const Vec3& wo);
 Vec3 metallicRoughnessEval(const Bsdf& b, const Vec3& wo, const Vec3& wi);
 float metallicRoughnessPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi);

@@ -1,5 +1,7 @@
 // dielectric — smooth glass: Fresnel-weighted choice between specular reflection and refraction.
 //   scene.json: {"type": "dielectric", "ior": 1.5, "albedo": [r,g,b] (transmission tint)}
+// A "roughness" whose alpha reaches kMinGgxAlpha makes it rough glass (rough_dielectric.cpp),
+// of which this is the smooth limit.
 // The geometric normal points outside: wo.z > 0 means the ray arrives from outside.
 #include <cmath>
 

@@ -1,8 +1,8 @@
 // glTF materials → Glint metallic-roughness materials, and their textures: base colour (colour),
 // metallic-roughness and normal (data), emissive (colour) with KHR_texture_transform, samplers'
 // wrap modes, images from files, bufferViews or data URIs. KHR_materials_emissive_strength,
-// KHR_materials_ior and KHR_materials_transmission (the factor, stored; not rendered yet) are
-// read; occlusion is not.
+// KHR_materials_ior and KHR_materials_transmission (factor and texture; rendered as a solid
+// refracting surface, materials/metallic_roughness.cpp) are read; occlusion is not.
 #include <tiny_gltf.h>
 
 #include <cmath>
@@ -194,12 +194,27 @@ Material GltfImport::convertMaterial(int index) {
                 number(e->Get("transmissionFactor").GetNumberAsDouble(),
                        "extensions.KHR_materials_transmission.transmissionFactor", 0.0, 1.0);
         }
-        // The BSDF has no transmission lobe yet (docs/renderer.md, "Not done yet"): say so
-        // rather than render glass as an opaque surface without a word.
-        if (m.transmission > 0.0f)
-            warn(place +
-                 ": KHR_materials_transmission is not rendered yet; the material is "
-                 "opaque");
+        // The texture's R channel multiplies the factor (data, not colour).
+        if (e->Has("transmissionTexture")) {
+            const std::string tp = place + ".extensions.KHR_materials_transmission";
+            const tinygltf::Value& t = e->Get("transmissionTexture");
+            auto integer = [&](const char* key, int fallback) {
+                if (!t.Has(key)) return fallback;
+                const tinygltf::Value& v = t.Get(key);
+                if (!v.IsNumber() || v.GetNumberAsDouble() != double(v.GetNumberAsInt()))
+                    fail(tp + ".transmissionTexture." + key, "expected an integer");
+                return v.GetNumberAsInt();
+            };
+            if (!t.IsObject() || !t.Has("index"))
+                fail(tp + ".transmissionTexture", "expected an object with an index");
+            const int index = integer("index", -1), texCoord = integer("texCoord", 0);
+            tinygltf::ExtensionMap ext;
+            if (t.Has("extensions") && t.Get("extensions").IsObject())
+                for (const std::string& key : t.Get("extensions").Keys())
+                    ext[key] = t.Get("extensions").Get(key);
+            m.transmissionMap =
+                textureSlot(index, texCoord, ext, TextureUse::Data, tp + ".transmissionTexture");
+        }
     }
 
     // Alpha (spec 3.9.4).

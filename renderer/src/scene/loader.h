@@ -27,7 +27,7 @@ struct GltfOverrides {
     std::map<std::string, int> byName;
     std::string byNamePlace;  ///< the JSON place of "materials" (for a name the asset lacks)
     /// "edits": a glTF material name → its look edits (albedo, metallic, roughness, ior,
-    /// emission), as saveScene writes them; applied over the asset's values.
+    /// transmission, emission), as saveScene writes them; applied over the asset's values.
     std::map<std::string, nlohmann::json> edits;
     std::string editsPlace;  ///< the JSON place of "edits"
     int shape = -1;          ///< index of the shape in /shapes (-1: a bare asset)

@@ -66,6 +66,9 @@ std::vector<LookProperty> materialProperties(const Material& m) {
                                "metallic-roughness texture's G)."));
         props.push_back(scalar("ior", "index of refraction", 1.0, 10.0, false, m.ior,
                                "The dielectric base's index (its specular f0; 1.5 by default)."));
+        props.push_back(scalar("transmission", "transmission", 0.0, 1.0, false, m.transmission,
+                               "How much of the dielectric base refracts (rough glass) instead of "
+                               "scattering diffusely (KHR_materials_transmission)."));
     } else if (m.texture < 0)
         props.push_back(color(
             "albedo", m.type == MaterialType::Diffuse ? "base colour" : "tint", 1.0, m.albedo,
@@ -80,9 +83,12 @@ std::vector<LookProperty> materialProperties(const Material& m) {
     if (m.type == MaterialType::Conductor)
         props.push_back(scalar("roughness", "roughness", 0.0, 1.0, false, m.roughness,
                                "GGX roughness (alpha = roughness²); 0 is a perfect mirror."));
-    if (m.type == MaterialType::Dielectric)
+    if (m.type == MaterialType::Dielectric) {
         props.push_back(scalar("ior", "index of refraction", 1e-3, 100.0, false, m.ior,
                                "Index of refraction inside the surface (glass about 1.5)."));
+        props.push_back(scalar("roughness", "roughness", 0.0, 1.0, false, m.roughness,
+                               "GGX roughness (alpha = roughness²); 0 is smooth glass."));
+    }
     return props;
 }
 
@@ -153,13 +159,16 @@ void setMaterial(SceneData& d, std::size_t index, const std::string& property,
         next.roughness = checked(value[0], 0.0, 1.0, d.path, where);
     } else if (property == "ior" && gltf) {
         next.ior = checked(value[0], 1.0, 10.0, d.path, where);
+    } else if (property == "transmission" && gltf) {
+        next.transmission = checked(value[0], 0.0, 1.0, d.path, where);
     } else if (property == "emission") {
         next.emissionColor = checkedColor(value, 0.0, 1.0, d.path, where);
         next.emission = next.emissionColor * next.emissionStrength;
     } else if (property == "strength") {
         next.emissionStrength = checked(value[0], 0.0, kMaxRadiance, d.path, where);
         next.emission = next.emissionColor * next.emissionStrength;
-    } else if (property == "roughness" && m.type == MaterialType::Conductor) {
+    } else if (property == "roughness" &&
+               (m.type == MaterialType::Conductor || m.type == MaterialType::Dielectric)) {
         next.roughness = checked(value[0], 0.0, 1.0, d.path, where);
     } else if (property == "ior" && m.type == MaterialType::Dielectric) {
         next.ior = checked(value[0], 1e-3, 100.0, d.path, where);

@@ -72,7 +72,7 @@ struct Material {
     UvTransform textureTransform;   ///< of `texture`
     Vec3 emission{};
     float ior = 1.5f;           ///< dielectric index of refraction
-    float roughness = 0.0f;     ///< conductor: GGX alpha = roughness^2
+    float roughness = 0.0f;     ///< conductor, dielectric: GGX alpha = roughness^2
     float metallic = 1.0f;      ///< metallicRoughness: 0 dielectric base, 1 metal
     float transmission = 0.0f;  ///< metallicRoughness: KHR_materials_transmission factor
     bool hasEtaK = false;       ///< conductor: complex Fresnel with eta/k, else Schlick(specular)
@@ -86,8 +86,8 @@ struct Material {
     float emissionStrength = 0.0f;
     /// metallicRoughness textures (glTF): roughness in G and metallic in B multiply the
     /// factors; a tangent-space normal map scaled in xy by normalScale; emission multiplies
-    /// `emission`.
-    TextureSlot roughnessMetallicMap, normalMap, emissionMap;
+    /// `emission`; transmission in R multiplies `transmission`.
+    TextureSlot roughnessMetallicMap, normalMap, emissionMap, transmissionMap;
     float normalScale = 1.0f;
     /// Where the surface is not there: alpha = opacity × base colour texture alpha; Mask cuts
     /// out alpha < alphaCutoff, Blend lets light through with probability 1 − alpha.

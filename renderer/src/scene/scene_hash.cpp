@@ -72,6 +72,11 @@ std::uint64_t sceneContentHash(const detail::SceneData& d) {
             h.value(slot->texture);
             h.bytes(slot->transform.m, sizeof slot->transform.m);
         }
+        // Hashed only when present, so that the hashes of scenes without one stay as they were.
+        if (m.transmissionMap.present()) {
+            h.value(m.transmissionMap.texture);
+            h.bytes(m.transmissionMap.transform.m, sizeof m.transmissionMap.transform.m);
+        }
         h.bytes(m.textureTransform.m, sizeof m.textureTransform.m);
     }
     for (const detail::PunctualLight& l : d.punctualLights) {

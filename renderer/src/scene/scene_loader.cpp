@@ -268,13 +268,16 @@ Material Loader::readMaterial(const std::string& name, const json& j, const std:
 }
 
 void Loader::applyGltfEdits(Material& m, const json& j, const std::string& where) {
-    m_reader.requireObject(j, where, {"albedo", "metallic", "roughness", "ior", "emission"});
+    m_reader.requireObject(j, where,
+                           {"albedo", "metallic", "roughness", "ior", "transmission", "emission"});
     if (j.contains("albedo")) m.albedo = m_reader.vec3(j["albedo"], where + "/albedo", 0.0, 1.0);
     if (j.contains("metallic"))
         m.metallic = m_reader.number(j["metallic"], where + "/metallic", 0.0, 1.0);
     if (j.contains("roughness"))
         m.roughness = m_reader.number(j["roughness"], where + "/roughness", 0.0, 1.0);
     if (j.contains("ior")) m.ior = m_reader.number(j["ior"], where + "/ior", 1.0, 10.0);
+    if (j.contains("transmission"))
+        m.transmission = m_reader.number(j["transmission"], where + "/transmission", 0.0, 1.0);
     if (j.contains("emission")) m.emission = radiance(j["emission"], where + "/emission");
 }
 

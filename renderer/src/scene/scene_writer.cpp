@@ -106,7 +106,11 @@ ordered_json definition(const Material& m, const detail::SceneData& d, const fs:
     else
         j["albedo"] = toJson(m.albedo);
     j["emission"] = toJson(m.emission);
-    if (m.type == MaterialType::Dielectric) j["ior"] = toJson(m.ior);
+    if (m.type == MaterialType::Dielectric) {
+        j["ior"] = toJson(m.ior);
+        // Smooth glass keeps the definition it had before dielectrics took a roughness.
+        if (m.roughness > 0.0f) j["roughness"] = toJson(m.roughness);
+    }
     if (m.type == MaterialType::Conductor) {
         j["roughness"] = toJson(m.roughness);
         if (m.hasEtaK) {
@@ -155,6 +159,7 @@ void saveScene(const Scene& scene, const fs::path& path) {
             j["metallic"] = toJson(m.metallic);
             j["roughness"] = toJson(m.roughness);
             j["ior"] = toJson(m.ior);
+            j["transmission"] = toJson(m.transmission);
             j["emission"] = toJson(m.emission);
             continue;
         }
@@ -167,7 +172,9 @@ void saveScene(const Scene& scene, const fs::path& path) {
         if (m.texture < 0) j["albedo"] = toJson(m.albedo);
         j["emission"] = toJson(m.emission);
         if (m.type == MaterialType::Dielectric) j["ior"] = toJson(m.ior);
-        if (m.type == MaterialType::Conductor) j["roughness"] = toJson(m.roughness);
+        if (m.type == MaterialType::Conductor ||
+            (m.type == MaterialType::Dielectric && (m.roughness > 0.0f || j.contains("roughness"))))
+            j["roughness"] = toJson(m.roughness);
     }
     const EnvironmentDesc& env = d.environment;
     if (env.edited) {

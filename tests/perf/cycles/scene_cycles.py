@@ -13,7 +13,8 @@
 #                         exact conductor Fresnel at 0 degrees from eta/k); Cycles' metallic
 #                         Fresnel is its own Schlick-like blend towards white, so gold at grazing
 #                         angles differs slightly from Glint's exact complex-IOR Fresnel
-#   dielectric         -> Glass BSDF, sharp, same IOR (Glint tints transmission only; white here)
+#   dielectric         -> Glass BSDF, same IOR, sharp or GGX with the same roughness (Glint tints
+#                         transmission only; white here)
 #   environment image  -> world Environment Texture, same lat-long orientation (u = 0.5 is -z,
 #                         checked against Glint's reference), strength = `scale`
 # Smooth-shaded meshes (OBJs with vertex normals) are shaded smooth in Blender (normals
@@ -124,7 +125,11 @@ def make_material(name, m):
         surface.inputs["Roughness"].default_value = m.get("roughness", 0.0)
     elif kind == "dielectric":
         surface = nt.nodes.new("ShaderNodeBsdfGlass")
-        surface.distribution = "SHARP"
+        # Cycles squares Roughness as Glint does (alpha = r^2); below Glint's alpha 1e-3 both
+        # are sharp.
+        rough = m.get("roughness", 0.0)
+        surface.distribution = "GGX" if rough * rough >= 1e-3 else "SHARP"
+        surface.inputs["Roughness"].default_value = rough
         surface.inputs["IOR"].default_value = m.get("ior", 1.5)
     elif kind == "mirror":
         surface = nt.nodes.new("ShaderNodeBsdfGlossy")

@@ -57,7 +57,7 @@ class Scene {
     /// Every material (in file order: JSON materials, then those the OBJ files added) and the
     /// environment, each with its editable properties and their current values. A material has
     /// albedo (unless textured), emission colour and strength, and roughness (conductor) or ior
-    /// (dielectric); the environment has scale and rotate, and colour if constant.
+    /// and roughness (dielectric); the environment has scale and rotate, and colour if constant.
     std::vector<LookItem> look() const;
 
     /// Sets one property of a look item (see look()). Throws glint::Error(InvalidArgument) naming
