@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 
 #include "scene/scene_data.h"
@@ -39,7 +40,14 @@ float wrapCoordinate(float t, TextureWrap wrap) {
 }
 }  // namespace
 
-Vec4 Texture::lookup(Vec2 uv) const {
+Vec4 Texture::lookup(Vec2 uv, const TexFootprint& footprint) const {
+    if (store) {
+        // OIIO's t runs down from the top; Glint's v up from the bottom. The coordinates are
+        // wrapped first so that huge ones stay clear of OIIO's float → integer texel indices.
+        const float s = wrapCoordinate(uv.x, wrapS), t = 1.0f - wrapCoordinate(uv.y, wrapT);
+        const TexFootprint st{{footprint.dx.x, -footprint.dx.y}, {footprint.dy.x, -footprint.dy.y}};
+        return store->lookup(file, s, t, st, wrapS, wrapT, decodeSrgb);
+    }
     const int w = image.width(), h = image.height();
     // Texel centres at half-integers; v flipped because image rows run top to bottom.
     const float x = wrapCoordinate(uv.x, wrapS) * float(w) - 0.5f;
@@ -59,6 +67,22 @@ Vec4 Texture::lookup(Vec2 uv) const {
         return Vec4{a.x * s + b.x * t, a.y * s + b.y * t, a.z * s + b.z * t, a.w * s + b.w * t};
     };
     return mix(ty, mix(tx, texel(x0, y0), texel(x1, y0)), mix(tx, texel(x0, y1), texel(x1, y1)));
+}
+
+Vec3 Texture::meanColour() const {
+    if (store) {
+        // A footprint of the whole texture: OIIO filters its coarsest MIP level.
+        const Vec4 m = lookup({0.5f, 0.5f}, {{1.0f, 0.0f}, {0.0f, 1.0f}});
+        return {m.x, m.y, m.z};
+    }
+    double sum[3] = {0.0, 0.0, 0.0};
+    const int n = image.channels();
+    const float* data = image.data().data();
+    for (std::size_t i = 0; i < image.pixelCount(); ++i)
+        for (int c = 0; c < 3; ++c)
+            sum[c] += data[i * std::size_t(n) + std::size_t(std::min(c, n - 1))];
+    const double count = std::max<double>(1.0, double(image.pixelCount()));
+    return {float(sum[0] / count), float(sum[1] / count), float(sum[2] / count)};
 }
 
 }  // namespace glint::render::detail
