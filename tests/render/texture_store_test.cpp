@@ -175,6 +175,21 @@ TEST(TextureStore, SrgbIsDecodedAfterFiltering) {
                 1e-4);
 }
 
+TEST(TextureStore, FarTexturesAreFilteredOverThePixelFootprint) {
+    // A checkerboard of single texels, 512 of them across a 16-pixel film: one sample a pixel
+    // without filtering would see 0 or 1; filtered over the pixel's footprint it is grey.
+    test::TempDir dir("tex_far");
+    writeCheckerTexture(dir.path() / "checker.exr", 512, 1);
+    Renderer renderer(loadScene(quadScene(dir, "checker.exr", 16)));
+    Settings s = renderer.scene().settings();
+    s.spp = 1;
+    s.threads = 2;
+    const FrameBuffers frame = renderer.render(s).frame;
+    const Image& albedo = frame.layer(Layer::Albedo);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) EXPECT_NEAR(albedo(x, y, 0), 0.5f, 0.1f) << x << ", " << y;
+}
+
 TEST(TextureStore, ACacheSmallerThanTheTexturesRendersTheSame) {
     // 1024² RGB float: 12 MB at the finest level, 16 MB with its MIP levels; a 1 MB cache evicts
     // tiles all the time. Lookups do not depend on what the cache holds, nor on the threads.
