@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 
 #include <OpenImageIO/imagebuf.h>
@@ -195,12 +196,15 @@ TEST(TextureStore, ACacheSmallerThanTheTexturesRendersTheSame) {
     // tiles all the time. Lookups do not depend on what the cache holds, nor on the threads.
     test::TempDir dir("tex_cache");
     writeCheckerTexture(dir.path() / "big.exr", 1024, 3);
-    const fs::path scene = quadScene(dir, "big.exr", 64);
+    // 256 pixels across 1024 texels: camera hits read MIP levels 1 and 2 (3.8 MB) through the
+    // cache; bounces read the coarse level in memory.
+    const fs::path scene = quadScene(dir, "big.exr", 256);
     // Each render loads the scene afresh: a store of its own, filled from empty.
     auto render = [&](int threads, int cacheMb, std::uint64_t& cacheBytes) {
         Renderer renderer(loadScene(scene));
         Settings s = renderer.scene().settings();
         s.threads = threads;
+        s.spp = 4;
         s.textureCacheMb = cacheMb;
         FrameBuffers frame = renderer.render(s).frame;
         cacheBytes = renderer.scene().data().textureStore->cacheBytesUsed();
@@ -214,21 +218,40 @@ TEST(TextureStore, ACacheSmallerThanTheTexturesRendersTheSame) {
     EXPECT_LT(smallBytes * 2, largeBytes) << smallBytes << " vs " << largeBytes;
 }
 
-TEST(TextureStore, ADamagedTileFailsTheRenderNamingTheFile) {
+TEST(TextureStore, ADamagedTextureFailsNamingTheFile) {
     test::TempDir dir("tex_damaged");
     writeCheckerTexture(dir.path() / "full.exr", 512, 4);
+    const auto size = fs::file_size(dir.path() / "full.exr");
+    auto expectFailure = [&](const std::string& name, bool atLoad) {
+        try {
+            // A texel a pixel: camera hits read the finest level.
+            Renderer renderer(loadScene(quadScene(dir, name, 512)));
+            EXPECT_FALSE(atLoad) << name << ": loaded";
+            Settings s = renderer.scene().settings();
+            s.spp = 1;
+            renderer.render(s);
+            ADD_FAILURE() << name << ": rendered";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), ErrorKind::Io) << e.what();
+            EXPECT_NE(e.file().find(name), std::string::npos) << e.what();
+            EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+        }
+    };
+    // Cut in half: the header is whole, but the small MIP levels at the end of the file, read
+    // for the coarse level at load, are gone.
     fs::copy_file(dir.path() / "full.exr", dir.path() / "cut.exr");
-    fs::resize_file(dir.path() / "cut.exr", fs::file_size(dir.path() / "full.exr") / 2);
-    // The header is whole, so the scene loads; the tiles past the cut fail when read.
-    Renderer renderer(loadScene(quadScene(dir, "cut.exr", 32)));
-    try {
-        renderer.render(renderer.scene().settings());
-        ADD_FAILURE() << "a truncated texture rendered";
-    } catch (const Error& e) {
-        EXPECT_EQ(e.kind(), ErrorKind::Io) << e.what();
-        EXPECT_NE(e.file().find("cut.exr"), std::string::npos) << e.what();
-        EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    fs::resize_file(dir.path() / "cut.exr", size / 2);
+    expectFailure("cut.exr", true);
+    // Garbage over part of the finest level: the file loads, and the tiles fail when the
+    // render reads them (the lookup gives 0; render() throws once the render ends).
+    fs::copy_file(dir.path() / "full.exr", dir.path() / "garbled.exr");
+    {
+        std::fstream f(dir.path() / "garbled.exr", std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(std::streamoff(size / 10));
+        const std::string junk(size / 3, '\xa5');
+        f.write(junk.data(), std::streamsize(junk.size()));
     }
+    expectFailure("garbled.exr", false);
 }
 
 TEST(TextureStore, AnAbsurdCacheSizeIsRefused) {

@@ -24,7 +24,7 @@ struct Shading {
 };
 
 Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, float time,
-              const Camera& camera, float footprintScale) {
+              const Camera& camera, bool seenSharply) {
     Shading s;
     const detail::SurfaceId id = hit.surface;
     // The triangle in world space at the ray's shutter time (moving instances are posed).
@@ -54,13 +54,16 @@ Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, fl
                    uv0.y * b0 + uv1.y * hit.u + uv2.y * hit.v};
     }
     s.material = &scene.materials[scene.materialOf(id)];
-    if (s.at.hasUv && usesTextures(*s.material)) {
+    if (s.at.hasUv && !seenSharply) {
+        // After a diffuse or glossy bounce: a widened footprint, the coarse level in memory.
+        s.at.footprint = detail::kCoarseFootprint;
+    } else if (s.at.hasUv && usesTextures(*s.material)) {
         // The texture footprint: a pixel's step as seen from the camera (docs/assets.md).
         Vec3 dpdx, dpdy;
         camera.footprintAxes(s.p, tri.ng, time, dpdx, dpdy);
         const std::uint32_t* idx = &mesh.indices[3 * std::size_t(id.prim)];
-        s.at.footprint = uvFootprint(tri, mesh.uvs[idx[0]], mesh.uvs[idx[1]], mesh.uvs[idx[2]],
-                                     dpdx * footprintScale, dpdy * footprintScale);
+        s.at.footprint =
+            uvFootprint(tri, mesh.uvs[idx[0]], mesh.uvs[idx[1]], mesh.uvs[idx[2]], dpdx, dpdy);
     }
     // Surfaces other than dielectrics are two-sided: face the normals towards the viewer.
     if (s.material->type != detail::MaterialType::Dielectric && dot(wo, s.ng) < 0.0f) {
@@ -115,11 +118,7 @@ PathIntegrator::PathIntegrator(const detail::SceneData& scene, const EmbreeScene
                                              settings.strategy == Strategy::Light)),
       m_useBsdfHits(settings.mis != MisHeuristic::None || settings.strategy == Strategy::Bsdf),
       m_maxDepth(settings.maxDepth),
-      m_rrDepth(settings.rrDepth),
-      // pbrt-v4's scale of the camera's footprint: many samples a pixel filter the texture
-      // already, so each needs less of a footprint (at least an eighth of a pixel).
-      m_footprintScale(settings.spp > 0 ? std::max(0.125f, 1.0f / std::sqrt(float(settings.spp)))
-                                        : 0.125f) {}
+      m_rrDepth(settings.rrDepth) {}
 
 float PathIntegrator::misWeight(float pdf, float other) const {
     if (m_mis == MisHeuristic::None) return 1.0f;
@@ -151,7 +150,7 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
         return;
     }
     const Vec3 wo = -ray.dir;
-    const Shading sh = shade(m_scene, hit, wo, ray.time, m_camera, m_footprintScale);
+    const Shading sh = shade(m_scene, hit, wo, ray.time, m_camera, depth == 0 || p.specularBounce);
     const detail::Material& mat = *sh.material;
 
     // Emission found by the camera ray, a specular bounce or BSDF sampling (MIS).

@@ -76,7 +76,6 @@ class PathIntegrator {
     bool m_useLightSampling;  // NEE at non-specular vertices
     bool m_useBsdfHits;       // emitters found by BSDF sampling count (after non-specular)
     int m_maxDepth, m_rrDepth;
-    float m_footprintScale;  // texture footprint per pixel step: 1/√spp, at least 1/8
 };
 
 }  // namespace glint::render

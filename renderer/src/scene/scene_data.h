@@ -113,6 +113,14 @@ struct Material {
 /// 8-bit PNG and JPEG are) or data (normals, roughness and metallic: used as stored).
 enum class TextureUse { Color, Data };
 
+/// The side of a file texture's in-memory prefiltered level (Texture::coarse).
+inline constexpr int kCoarseTextureSize = 64;
+
+/// The footprint of hits after a diffuse or glossy bounce: a texel of the coarse level, so that
+/// they read Texture::coarse (a widened footprint; docs/assets.md, "Textures").
+inline constexpr TexFootprint kCoarseFootprint{{1.0f / kCoarseTextureSize, 0.0f},
+                                               {0.0f, 1.0f / kCoarseTextureSize}};
+
 /// An RGBA texture: a file read through the scene's TextureStore (tiled, MIP-mapped, cached,
 /// filtered by the lookup's footprint), or an image held in memory (embedded glTF images,
 /// textures made by code) looked up bilinearly.
@@ -131,10 +139,17 @@ struct Texture {
     /// hash of its bytes (computed once at load).
     std::uint64_t contentHash = 0;
 
+    /// A file texture prefiltered to at most kCoarseTextureSize² texels (RGBA, linear), held in
+    /// memory: footprints of a texel of it or more are looked up here, bilinearly, without a
+    /// TextureSystem call (diffuse bounces, far surfaces). Empty: every lookup goes to the store.
+    Image coarse;
+
     /// The value at `uv` (origin at the bottom-left of the image, the OBJ convention) filtered
     /// over `footprint` (the change of uv per ray step in x and y; zero: bilinear). An image in
     /// memory is always looked up bilinearly.
     Vec4 lookup(Vec2 uv, const TexFootprint& footprint = {}) const;
+    /// Fills `coarse` from the store (a file texture).
+    void makeCoarse();
     /// The mean colour over the whole texture (light power estimates).
     Vec3 meanColour() const;
 };

@@ -79,6 +79,10 @@ int Loader::loadTexture(const Texture& source, const std::string& where) {
         tex.store = m_scene.textureStore;
         tex.decodeSrgb = linearize && m_scene.textureStore->info(tex.file).srgb;
         tex.contentHash = m_scene.textureStore->contentHash(tex.file);
+        // Reading the coarse level reads the file's small MIP levels: a file damaged there
+        // fails now.
+        tex.makeCoarse();
+        m_scene.textureStore->throwIfFailed();
     }
     m_scene.textures.push_back(std::move(tex));
     m_textureIndex[key] = int(m_scene.textures.size()) - 1;

@@ -147,6 +147,9 @@ Vec4 TextureStore::lookup(int file, float s, float t, const TexFootprint& footpr
     // footprint this is the bilinear lookup of the finest level.
     opt.interpmode = OIIO::TextureOpt::InterpBilinear;
     opt.fill = 1.0f;  // alpha where the file has none
+    // OIIO's anisotropic filter with at most 8 samples along the footprint's long axis (its
+    // default 32 costs 1.5-2x more at grazing angles for little visible difference).
+    opt.anisotropic = 8;
     // Ask for what the file has (at most RGBA) and spread it out below.
     const int n = std::min(f.info.channels, 4);
     float v[4] = {0.0f, 0.0f, 0.0f, 1.0f};
@@ -197,12 +200,6 @@ std::uint64_t TextureStore::cacheBytesUsed() const {
     long long used = 0;
     m_impl->ts->getattribute("stat:cache_memory_used", OIIO::TypeDesc::INT64, &used);
     return std::uint64_t(std::max(0LL, used));
-}
-
-std::uint64_t TextureStore::cacheBytesPeak() const {
-    long long peak = 0;
-    m_impl->ts->getattribute("stat:cache_peak_memory", OIIO::TypeDesc::INT64, &peak);
-    return std::uint64_t(std::max(0LL, peak));
 }
 
 }  // namespace glint::render::detail

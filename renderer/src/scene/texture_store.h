@@ -79,8 +79,6 @@ class TextureStore {
     void throwIfFailed() const;
     /// Bytes of tiles the cache holds now.
     std::uint64_t cacheBytesUsed() const;
-    /// Peak bytes the cache held since it was made.
-    std::uint64_t cacheBytesPeak() const;
 
   private:
     struct Impl;
