@@ -11,6 +11,7 @@ run() { echo; echo "== $*"; "$@"; }
 run "$bin/bench_exr_io" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 run /usr/bin/python3 tests/perf/ssim_skimage.py "$bin/bench_ssim" --repeat 20
 run "$bin/bench_render"
+run "$bin/bench_texture"
 run "$bin/bench_mlt" throughput tests/render/data/cornell.json --spp 32 --repeat 5 --threads 2
 run "$bin/bench_denoise_a" --threads 2 --size 1024 --reps 5
 run "$bin/bench_denoise_b"
