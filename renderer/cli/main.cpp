@@ -31,7 +31,7 @@ using glint::render::Settings;
 struct Options {
     std::string scene, out, reference, memoryLimit;
     std::optional<std::string> camera;  // a glTF asset's camera, by name
-    std::optional<int> spp, threads, maxDepth, rrDepth;
+    std::optional<int> spp, threads, maxDepth, rrDepth, textureCacheMb;
     std::optional<std::string> seed;  // parsed strictly: "-1" must not wrap to 2^64 - 1
     std::optional<std::string> integrator, mis, strategy, sampler, shard;
     double timeLimit = 0.0;
@@ -118,6 +118,7 @@ int run(const Options& opt) {
     if (opt.threads) settings.threads = *opt.threads;
     if (opt.maxDepth) settings.maxDepth = *opt.maxDepth;
     if (opt.rrDepth) settings.rrDepth = *opt.rrDepth;
+    if (opt.textureCacheMb) settings.textureCacheMb = *opt.textureCacheMb;
     // Re-throw option errors with the option as the place.
     auto option = [](const char* name, auto parse) {
         try {
@@ -343,6 +344,9 @@ int main(int argc, char** argv) {
     app.add_option("--memory-limit", opt.memoryLimit,
                    "refuse a render needing more memory than this (e.g. 2G; default: what is "
                    "available)");
+    app.add_option("--texture-cache-mb", opt.textureCacheMb,
+                   "texture tile cache in MB, 1 … 1048576 (default: the scene's "
+                   "render.textureCacheMb, else 1024)");
     app.add_flag("--json", opt.json, "print one JSON object on stdout");
     app.add_option("--mlt-large", opt.mltLarge, "mlt: weight of large steps");
     app.add_option("--mlt-small", opt.mltSmall, "mlt: weight of small steps");

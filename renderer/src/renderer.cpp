@@ -369,11 +369,22 @@ RenderResult Renderer::render(const Settings& settings, const Callbacks& callbac
         m_impl->lookRevision = data.lookRevision;
         ++m_impl->lightBuilds;
     }
+    // Texture tiles: the cache this render may fill; a tile that fails to read mid-render
+    // (lookups cannot throw inside Embree's callbacks) is reported once the render ends.
+    const std::shared_ptr<detail::TextureStore>& textures = data.textureStore;
+    if (textures) {
+        textures->setCacheMb(settings.textureCacheMb);
+        textures->clearFailure();
+    }
+    auto checked = [&textures](RenderResult result) {
+        if (textures) textures->throwIfFailed();
+        return result;
+    };
     const int threads = settings.threads > 0 ? settings.threads : tbb::task_arena::automatic;
     tbb::task_arena arena(threads);
     if (settings.integrator == Integrator::Path)
-        return renderPath(data, m_impl->embree, m_impl->lights, m_impl->camera, settings, callbacks,
-                          arena, 0.0, 1.0, true);
+        return checked(renderPath(data, m_impl->embree, m_impl->lights, m_impl->camera, settings,
+                                  callbacks, arena, 0.0, 1.0, true));
 
     // Metropolis (docs/metropolis.md): features from a short path-traced pass (the first part
     // of the progress, cancellable like the rest), colour and its variance from the chains.
@@ -393,7 +404,7 @@ RenderResult Renderer::render(const Settings& settings, const Callbacks& callbac
         features.frame.metadata().integrator = integratorName(Integrator::Mlt);
         features.stats.completedSpp = 0;
         features.stats.passes = 0;
-        return features;
+        return checked(std::move(features));
     }
     const double budget = settings.timeLimit > 0.0
                               ? std::max(settings.timeLimit - features.stats.seconds, 1e-9)
@@ -402,7 +413,7 @@ RenderResult Renderer::render(const Settings& settings, const Callbacks& callbac
     result.stats = features.stats;
     result.frame =
         mlt.render(std::move(features.frame), callbacks, arena, budget, featureShare, result.stats);
-    return result;
+    return checked(std::move(result));
 }
 
 RayThroughput Renderer::measureRayThroughput(std::uint64_t rayCount, int threads,

@@ -93,6 +93,7 @@ void validate(const Settings& s) {
     if (s.seed > kMaxSeed)
         bad("seed", "seed must be in [0, 2^63 - 1], got " + std::to_string(s.seed));
     range("tileSize", s.tileSize, 1, 4096);
+    range("textureCacheMb", s.textureCacheMb, 1, kMaxTextureCacheMb);
     if (s.region && s.region->empty()) bad("region", "the render region is empty");
     if (s.region && s.integrator == Integrator::Mlt)
         bad("region", "a render region works with the path integrator only");

@@ -13,6 +13,7 @@ run /usr/bin/python3 tests/perf/ssim_skimage.py "$bin/bench_ssim" --repeat 20
 run "$bin/bench_render"
 run "$bin/bench_asset_load" write /tmp/glint-bench-asset.glb --triangles 4000000
 run "$bin/bench_asset_load" load /tmp/glint-bench-asset.glb --threads 2
+run "$bin/bench_texture"
 run "$bin/bench_mlt" throughput tests/render/data/cornell.json --spp 32 --repeat 5 --threads 2
 run "$bin/bench_denoise_a" --threads 2 --size 1024 --reps 5
 run "$bin/bench_denoise_b"

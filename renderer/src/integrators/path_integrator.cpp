@@ -37,7 +37,8 @@ struct Shading {
     const detail::Material* material;
 };
 
-Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, float time) {
+Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, float time,
+              const Camera& camera, bool seenSharply) {
     Shading s;
     const detail::SurfaceId id = hit.surface;
     // The triangle in world space at the ray's shutter time (moving instances are posed).
@@ -67,6 +68,17 @@ Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, fl
                    uv0.y * b0 + uv1.y * hit.u + uv2.y * hit.v};
     }
     s.material = &scene.materials[scene.materialOf(id)];
+    if (s.at.hasUv && !seenSharply) {
+        // After a diffuse or glossy bounce: a widened footprint, the coarse level in memory.
+        s.at.footprint = detail::kCoarseFootprint;
+    } else if (s.at.hasUv && usesTextures(*s.material)) {
+        // The texture footprint: a pixel's step as seen from the camera (docs/assets.md).
+        Vec3 dpdx, dpdy;
+        camera.footprintAxes(s.p, tri.ng, time, dpdx, dpdy);
+        const std::uint32_t* idx = &mesh.indices[3 * std::size_t(id.prim)];
+        s.at.footprint =
+            uvFootprint(tri, mesh.uvs[idx[0]], mesh.uvs[idx[1]], mesh.uvs[idx[2]], dpdx, dpdy);
+    }
     // Surfaces that do not transmit are two-sided: face the normals towards the viewer.
     if (!transmits(*s.material) && dot(wo, s.ng) < 0.0f) {
         s.ng = -s.ng;
@@ -152,7 +164,7 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
         return;
     }
     const Vec3 wo = -ray.dir;
-    const Shading sh = shade(m_scene, hit, wo, ray.time);
+    const Shading sh = shade(m_scene, hit, wo, ray.time, m_camera, depth == 0 || p.specularBounce);
     const detail::Material& mat = *sh.material;
 
     // Emission found by the camera ray, a specular bounce or BSDF sampling (MIS).

@@ -7,13 +7,44 @@ namespace glint::render {
 
 namespace {
 
-/// Texture slot `slot` looked up at the hit (its uv transform applied).
+/// Texture `texture` looked up at the hit through `transform` (applied to the uv and to the
+/// footprint's axes).
+Vec4 lookup(const detail::SceneData& scene, int texture, const detail::UvTransform& transform,
+            const SurfacePoint& at) {
+    const detail::TexFootprint fp{transform.applyLinear(at.footprint.dx),
+                                  transform.applyLinear(at.footprint.dy)};
+    return scene.textures[std::size_t(texture)].lookup(transform.apply(at.uv), fp);
+}
+
 Vec4 lookup(const detail::SceneData& scene, const detail::TextureSlot& slot,
             const SurfacePoint& at) {
-    return scene.textures[std::size_t(slot.texture)].lookup(slot.transform.apply(at.uv));
+    return lookup(scene, slot.texture, slot.transform, at);
 }
 
 }  // namespace
+
+bool usesTextures(const detail::Material& material) {
+    return material.texture >= 0 || material.roughnessMetallicMap.present() ||
+           material.normalMap.present() || material.emissionMap.present();
+}
+
+detail::TexFootprint uvFootprint(const detail::TriangleView& tri, const Vec2& uv0, const Vec2& uv1,
+                                 const Vec2& uv2, const Vec3& dpdx, const Vec3& dpdy) {
+    // Least squares: the (db1, db2) with db1 e1 + db2 e2 nearest to the step, from the normal
+    // equations [e1·e1 e1·e2; e1·e2 e2·e2] (db1, db2) = (e1·dp, e2·dp).
+    const Vec3 e1 = tri.p[1] - tri.p[0], e2 = tri.p[2] - tri.p[0];
+    const float a00 = dot(e1, e1), a01 = dot(e1, e2), a11 = dot(e2, e2);
+    const float det = a00 * a11 - a01 * a01;
+    if (!(det > 0.0f) || !std::isfinite(det)) return {};
+    const Vec2 du1{uv1.x - uv0.x, uv1.y - uv0.y}, du2{uv2.x - uv0.x, uv2.y - uv0.y};
+    auto map = [&](const Vec3& dp) -> Vec2 {
+        const float b0 = dot(e1, dp), b1 = dot(e2, dp);
+        const float db1 = (a11 * b0 - a01 * b1) / det, db2 = (a00 * b1 - a01 * b0) / det;
+        const Vec2 d{du1.x * db1 + du2.x * db2, du1.y * db1 + du2.y * db2};
+        return std::isfinite(d.x) && std::isfinite(d.y) ? d : Vec2{};
+    };
+    return {map(dpdx), map(dpdy)};
+}
 
 SurfaceInputs evaluateInputs(const detail::SceneData& scene, const detail::Material& material,
                              const SurfacePoint& at) {
@@ -24,8 +55,7 @@ SurfaceInputs evaluateInputs(const detail::SceneData& scene, const detail::Mater
     in.transmission = material.transmission;
     if (!at.hasUv) return in;
     if (material.texture >= 0) {
-        const Vec4 t = scene.textures[std::size_t(material.texture)].lookup(
-            material.textureTransform.apply(at.uv));
+        const Vec4 t = lookup(scene, material.texture, material.textureTransform, at);
         const Vec3 rgb{t.x, t.y, t.z};
         in.albedo = material.textureTimesFactor ? in.albedo * rgb : rgb;
     }

@@ -16,7 +16,19 @@ struct SurfacePoint {
     float b1 = 0.0f, b2 = 0.0f;
     Vec2 uv;
     bool hasUv = false;
+    /// The change of uv for a step of one pixel in x and y (zero: texture lookups are bilinear).
+    detail::TexFootprint footprint;
 };
+
+/// True when `material` reads a texture (so that a hit needs its footprint).
+bool usesTextures(const detail::Material& material);
+
+/// The uv footprint (SurfacePoint::footprint) of surface steps dpdx and dpdy (world space) on
+/// triangle `tri` (world space) whose corners have texture coordinates uv0, uv1, uv2: each step
+/// written in the triangle's edges by least squares (as pbrt-v4's
+/// SurfaceInteraction::ComputeDifferentials, with the edges for dp/du, dp/dv), then mapped to uv.
+detail::TexFootprint uvFootprint(const detail::TriangleView& tri, const Vec2& uv0, const Vec2& uv1,
+                                 const Vec2& uv2, const Vec3& dpdx, const Vec3& dpdy);
 
 /// The textured inputs of `material` at `at`.
 struct SurfaceInputs {

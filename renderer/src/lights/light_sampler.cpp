@@ -9,20 +9,6 @@
 
 namespace glint::render {
 
-namespace {
-/// The mean colour of a texture (its lights are chosen by the power of the mean).
-Vec3 meanColour(const Image& image) {
-    double sum[3] = {0, 0, 0};
-    const int n = image.channels();
-    const float* data = image.data().data();
-    for (std::size_t i = 0; i < image.pixelCount(); ++i)
-        for (int c = 0; c < 3; ++c)
-            sum[c] += data[i * std::size_t(n) + std::size_t(std::min(c, n - 1))];
-    const double count = std::max<double>(1.0, double(image.pixelCount()));
-    return {float(sum[0] / count), float(sum[1] / count), float(sum[2] / count)};
-}
-}  // namespace
-
 LightSampler::LightSampler(const detail::SceneData& scene) : m_scene(&scene) {
     std::vector<Vec3> textureMeans(scene.textures.size(), Vec3{-1.0f, 0.0f, 0.0f});
     std::vector<float> power;
@@ -61,7 +47,7 @@ LightSampler::LightSampler(const detail::SceneData& scene) : m_scene(&scene) {
                 light.prim = t;
                 Vec3& texMean = textureMeans[std::size_t(m.emissionMap.texture)];
                 if (texMean.x < 0.0f)
-                    texMean = meanColour(scene.textures[std::size_t(m.emissionMap.texture)].image);
+                    texMean = scene.textures[std::size_t(m.emissionMap.texture)].meanColour();
                 mean = m.emission * texMean;
             }
             m_lights.push_back(light);

@@ -53,4 +53,34 @@ Ray Camera::generateRay(float px, float py, Vec2 lensU, float timeU) const {
     return {origin, normalize(focus - origin), timeU};
 }
 
+void Camera::footprintAxes(const Vec3& p, const Vec3& n, float time, Vec3& dpdx, Vec3& dpdy) const {
+    dpdx = dpdy = {};
+    Basis b{m_position, m_forward, m_right, m_up};
+    if (m_moving) b = basisAt(time);
+    const Vec3 w = p - b.position;
+    const float dist = length(w);
+    if (!(dist > 0.0f) || !std::isfinite(dist)) return;
+    const Vec3 d = w / dist;
+    // Two unit axes across the line of sight, as near the image's right and up as it allows.
+    Vec3 ax = b.right - d * dot(d, b.right);
+    if (!(length(ax) > 1e-4f)) ax = b.up - d * dot(d, b.up);
+    ax = normalize(ax);
+    const Vec3 ay = cross(ax, d);
+    // One pixel's angle at the image centre (the smallest of the film).
+    const float spread = 2.0f * m_tanHalfY * m_invHeight;
+    // Where the ray one pixel over meets the plane through p: o + dir t with n · (o + dir t − p)
+    // = 0, so t = n · w / n · dir (PBR 10.1.1). A plane seen edge-on (or the ray missing it)
+    // gives the longest axis OIIO's filter takes anyway.
+    const float nw = dot(n, w);
+    auto offset = [&](const Vec3& axis) {
+        const Vec3 dir = d + axis * spread;
+        const float t = nw / dot(n, dir);
+        const Vec3 o = dir * t - w;
+        if (!(t > 0.0f) || !std::isfinite(length(o))) return axis * (dist * spread * 1e3f);
+        return o;
+    };
+    dpdx = offset(ax);
+    dpdy = offset(ay);
+}
+
 }  // namespace glint::render

@@ -30,6 +30,12 @@ class Camera {
         const Basis b = basisAt(time);
         return dot(p - b.position, b.forward);
     }
+    /// How a surface point `p` (plane normal `n`) moves for a step of one pixel in x and in y, as
+    /// if seen straight from the camera with the angular spread of the image centre's pixels
+    /// (pbrt-v4's Camera::Approximate_dp_dxy, without its spp scale): the footprint of texture
+    /// filtering, for camera rays and, as an approximation, for the hits of later bounces. A
+    /// grazing plane gives long axes; a point at the camera gives zero ones.
+    void footprintAxes(const Vec3& p, const Vec3& n, float time, Vec3& dpdx, Vec3& dpdy) const;
     /// Position at shutter open.
     const Vec3& position() const { return m_position; }
     /// True when the camera moves during the shutter.

@@ -33,7 +33,8 @@ struct GltfOverrides {
     int shape = -1;          ///< index of the shape in /shapes (-1: a bare asset)
 };
 
-/// Loads one scene file into a SceneData; textures are read once per path.
+/// Loads one scene file into a SceneData; textures are opened once per path (files through the
+/// scene's TextureStore, embedded images decoded into memory).
 class Loader {
   public:
     Loader(const std::filesystem::path& file, SceneData& scene);
@@ -84,6 +85,10 @@ class Loader {
     int loadTexture(const std::filesystem::path& path, const std::string& where);
     /// Loads (or finds) a texture from a file or embedded bytes; returns its index.
     int loadTexture(const Texture& source, const std::string& where);
+    /// Opens a texture file in the scene's TextureStore (made on first need), checking it as
+    /// loadTexture promises; returns its index there.
+    int openTextureFile(const std::filesystem::path& path, bool linearize,
+                        const std::string& where);
     int materialIndex(const std::string& name) const {
         const auto it = m_materialIndex.find(name);
         return it == m_materialIndex.end() ? -1 : it->second;

@@ -11,6 +11,7 @@
 
 #include "glint/image/image.h"
 #include "glint/render/settings.h"
+#include "scene/texture_store.h"
 #include "scene/transform.h"
 #include "vecmath.h"
 
@@ -116,20 +117,45 @@ struct Material {
 /// 8-bit PNG and JPEG are) or data (normals, roughness and metallic: used as stored).
 enum class TextureUse { Color, Data };
 
-/// How texture coordinates outside [0, 1] wrap (glTF sampler wrapS/wrapT).
-enum class TextureWrap { Repeat, Clamp, Mirror };
+/// The side of a file texture's in-memory prefiltered level (Texture::coarse).
+inline constexpr int kCoarseTextureSize = 64;
 
-/// An RGBA texture looked up bilinearly.
+/// The footprint of hits after a diffuse or glossy bounce: a texel of the coarse level, so that
+/// they read Texture::coarse (a widened footprint; docs/assets.md, "Textures").
+inline constexpr TexFootprint kCoarseFootprint{{1.0f / kCoarseTextureSize, 0.0f},
+                                               {0.0f, 1.0f / kCoarseTextureSize}};
+
+/// An RGBA texture: a file read through the scene's TextureStore (tiled, MIP-mapped, cached,
+/// filtered by the lookup's footprint), or an image held in memory (embedded glTF images,
+/// textures made by code) looked up bilinearly.
 struct Texture {
     std::filesystem::path path;  ///< the file, or for an embedded image "ASSET#images[i]"
     /// An embedded image's encoded bytes (glTF bufferView or data URI); null for a file.
     std::shared_ptr<const std::vector<unsigned char>> bytes;
     TextureUse use = TextureUse::Color;
     TextureWrap wrapS = TextureWrap::Repeat, wrapT = TextureWrap::Repeat;
-    Image image;  ///< 4 channels (RGBA; alpha 1 where the file has none), linear
+    Image image;  ///< in memory: 4 channels (RGBA; alpha 1 where the file has none), linear
+    /// A file: the store that reads it and its index there (store null: `image` is the texture).
+    std::shared_ptr<const TextureStore> store;
+    int file = -1;
+    bool decodeSrgb = false;  ///< a colour texture stored sRGB-encoded: decoded after filtering
+    /// The file's content hash for sceneContentHash: OIIO's fingerprint if it has one, else a
+    /// hash of its bytes (computed once at load).
+    std::uint64_t contentHash = 0;
 
-    /// Bilinear lookup; uv origin at the bottom-left of the image (OBJ convention).
-    Vec4 lookup(Vec2 uv) const;
+    /// A file texture prefiltered to at most kCoarseTextureSize² texels (RGBA, linear), held in
+    /// memory: footprints of a texel of it or more are looked up here, bilinearly, without a
+    /// TextureSystem call (diffuse bounces, far surfaces). Empty: every lookup goes to the store.
+    Image coarse;
+
+    /// The value at `uv` (origin at the bottom-left of the image, the OBJ convention) filtered
+    /// over `footprint` (the change of uv per ray step in x and y; zero: bilinear). An image in
+    /// memory is always looked up bilinearly.
+    Vec4 lookup(Vec2 uv, const TexFootprint& footprint = {}) const;
+    /// Fills `coarse` from the store (a file texture).
+    void makeCoarse();
+    /// The mean colour over the whole texture (light power estimates).
+    Vec3 meanColour() const;
 };
 
 /// A punctual light of a glTF asset (KHR_lights_punctual): a delta light, reached only by
@@ -254,6 +280,8 @@ struct SceneData {
     CameraDesc camera;
     std::vector<Material> materials;
     std::vector<Texture> textures;
+    /// Reads the texture files (null until the loader opens the first one).
+    std::shared_ptr<TextureStore> textureStore;
     std::vector<Mesh> meshes;
     std::vector<Instance> instances;
     std::vector<InstanceMotion> motions;

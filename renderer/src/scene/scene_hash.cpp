@@ -83,7 +83,14 @@ std::uint64_t sceneContentHash(const detail::SceneData& d) {
         h.value(int(l.kind)), h.value(l.position), h.value(l.direction), h.value(l.intensity);
         h.value(l.cosInner), h.value(l.cosOuter);
     }
-    for (const detail::Texture& t : d.textures) h.image(t.image);
+    // A texture file by its content hash (taken once at load), an image in memory by its texels.
+    for (const detail::Texture& t : d.textures) {
+        h.value(int(t.use)), h.value(int(t.wrapS)), h.value(int(t.wrapT));
+        if (t.store)
+            h.value(t.contentHash);
+        else
+            h.image(t.image);
+    }
     // Geometry.
     for (const detail::Mesh& m : d.meshes) {
         h.vector(m.positions), h.vector(m.normals), h.vector(m.uvs);

@@ -75,11 +75,42 @@ int Loader::loadTexture(const Texture& source, const std::string& where) {
         if (!fs::is_regular_file(source.path, ec))
             throw Error(ErrorKind::Io, "texture '" + source.path.string() + "' is not a file",
                         m_reader.file().string(), where);
-        tex.image = textureRgba(readImage(source.path, linearize), "texture", source.path, where);
+        const int file = openTextureFile(source.path, linearize, where);
+        if (!m_scene.textureStore->info(file).tiled) {
+            // An untiled file (PNG, JPEG, scanline EXR) has no random access: it is read
+            // whole, decoded to linear and looked up in memory, exactly and fast, as an
+            // embedded image is (docs/assets.md, "Textures").
+            tex.image =
+                textureRgba(readImage(source.path, linearize), "texture", source.path, where);
+        } else {
+            tex.file = file;
+            tex.store = m_scene.textureStore;
+            tex.decodeSrgb = linearize && m_scene.textureStore->info(tex.file).srgb;
+            tex.contentHash = m_scene.textureStore->contentHash(tex.file);
+            // Reading the coarse level reads the file's small MIP levels: a file damaged there
+            // fails now.
+            tex.makeCoarse();
+            m_scene.textureStore->throwIfFailed();
+        }
     }
     m_scene.textures.push_back(std::move(tex));
     m_textureIndex[key] = int(m_scene.textures.size()) - 1;
     return int(m_scene.textures.size()) - 1;
+}
+
+int Loader::openTextureFile(const fs::path& path, bool linearize, const std::string& where) {
+    if (!m_scene.textureStore) m_scene.textureStore = std::make_shared<TextureStore>();
+    TextureStore& store = *m_scene.textureStore;
+    int file = -1;
+    try {
+        file = store.open(path, m_reader.file(), where);
+    } catch (const Error&) {
+        // glint::readImage says what is wrong with the file as every other image reader of
+        // Glint does; OIIO's own reason when it reads what the TextureSystem could not.
+        (void)readImage(path, linearize);
+        throw;
+    }
+    return file;
 }
 
 void Loader::load(const json& root) {
@@ -197,7 +228,7 @@ void Loader::readCamera(const json& j, const std::string& where) {
 void Loader::readRender(const json& j, const std::string& where) {
     m_reader.requireObject(j, where,
                            {"spp", "maxDepth", "rrDepth", "integrator", "mis", "strategy",
-                            "sampler", "seed", "halfBuffers"});
+                            "sampler", "seed", "halfBuffers", "textureCacheMb"});
     Settings& s = m_scene.settings;
     auto choice = [&](const char* key, auto parse, auto& out) {
         if (!j.contains(key)) return;
@@ -213,6 +244,9 @@ void Loader::readRender(const json& j, const std::string& where) {
         s.maxDepth = int(m_reader.integer(j["maxDepth"], where + "/maxDepth", 1, kMaxDepth));
     if (j.contains("rrDepth"))
         s.rrDepth = int(m_reader.integer(j["rrDepth"], where + "/rrDepth", 0, kMaxDepth));
+    if (j.contains("textureCacheMb"))
+        s.textureCacheMb = int(m_reader.integer(j["textureCacheMb"], where + "/textureCacheMb", 1,
+                                                kMaxTextureCacheMb));
     if (j.contains("seed"))
         s.seed =
             std::uint64_t(m_reader.integer(j["seed"], where + "/seed", 0, (long long)kMaxSeed));

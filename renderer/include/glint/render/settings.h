@@ -32,6 +32,7 @@ inline constexpr int kMaxDepth = 1024;        ///< bounces (maxDepth, rrDepth)
 inline constexpr int kMaxThreads = 1024;      ///< worker threads
 inline constexpr double kMaxTimeLimit = 1e7;  ///< seconds (about 4 months)
 inline constexpr std::uint64_t kMaxSeed = (std::uint64_t(1) << 63) - 1;
+inline constexpr int kMaxTextureCacheMb = 1 << 20;  ///< texture tile cache, MB (1 TiB)
 
 /// One shard of a render split over machines (docs/distributed.md): shard `index` of `count`
 /// takes per-pixel samples [⌊index·spp/count⌋, ⌊(index+1)·spp/count⌋) of the spp of the whole
@@ -73,6 +74,9 @@ struct Settings {
     /// needing more is refused with Error(OutOfMemory) before anything is allocated. 0: what
     /// the machine has available (glint::availableMemory()).
     std::uint64_t memoryLimit = 0;
+    /// Megabytes of texture tiles the scene's texture cache holds (docs/assets.md, "Textures");
+    /// textures larger than it render the same, reading tiles again as they are needed.
+    int textureCacheMb = 1024;
     MltSettings mlt;  ///< Metropolis parameters (integrator == Mlt)
     /// Render only this shard of the spp samples per pixel (path integrator, no time limit);
     /// the frame then records glint::ShardInfo. The whole render when empty.

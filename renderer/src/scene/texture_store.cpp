@@ -1,0 +1,205 @@
+#include "scene/texture_store.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+#include <OpenImageIO/imageio.h>
+#include <OpenImageIO/texture.h>
+
+#include "glint/image/error.h"
+#include "glint/image/io.h"
+#include "glint/image/random.h"
+#include "scene/scene_data.h"
+
+namespace glint::render::detail {
+
+namespace {
+
+/// The first line of an OIIO message (its errors may span several).
+std::string firstLine(const std::string& message) {
+    const std::string line = message.substr(0, message.find('\n'));
+    return line.empty() ? std::string("unknown error") : line;
+}
+
+OIIO::TextureOpt::Wrap oiioWrap(TextureWrap wrap) {
+    switch (wrap) {
+        case TextureWrap::Clamp:
+            return OIIO::TextureOpt::WrapClamp;
+        case TextureWrap::Mirror:
+            return OIIO::TextureOpt::WrapMirror;
+        case TextureWrap::Repeat:
+            break;
+    }
+    return OIIO::TextureOpt::WrapPeriodic;
+}
+
+/// A filtered value as the renderer may use it: non-finite 0, the rest in [0, kMaxRadiance].
+float sane(float v) {
+    return std::isfinite(v) ? std::clamp(v, 0.0f, float(kMaxRadiance)) : 0.0f;
+}
+
+/// A footprint axis as OIIO takes it: finite and not absurdly large (a grazing hit can give a
+/// huge or infinite one; beyond a few periods the filter is the texture's mean anyway).
+float saneDerivative(float d) {
+    return std::isfinite(d) ? std::clamp(d, -16.0f, 16.0f) : 0.0f;
+}
+
+}  // namespace
+
+struct TextureStore::Impl {
+    OIIO::TextureSystem* ts = nullptr;
+};
+
+TextureStore::TextureStore(int cacheMb) : m_impl(std::make_unique<Impl>()) {
+    // A private TextureSystem with a private ImageCache (shared = false): no other scene's
+    // tiles in it, and destroying it frees them.
+    m_impl->ts = OIIO::TextureSystem::create(false);
+    OIIO::TextureSystem& ts = *m_impl->ts;
+    // Untiled files (PNG, JPEG, scanline EXR) are cached in 64² tiles and get MIP levels made
+    // on first need, so that they too are filtered by footprint.
+    ts.attribute("autotile", 64);
+    ts.attribute("automip", 1);
+    // Only the calling renderer reports errors; OIIO's own log lines would repeat them.
+    ts.attribute("max_errors_per_file", 1);
+    setCacheMb(cacheMb);
+}
+
+TextureStore::~TextureStore() {
+    if (m_impl && m_impl->ts) OIIO::TextureSystem::destroy(m_impl->ts, true);
+}
+
+void TextureStore::setCacheMb(int megabytes) {
+    m_cacheMb = megabytes;
+    m_impl->ts->attribute("max_memory_MB", float(megabytes));
+}
+
+int TextureStore::open(const std::filesystem::path& file, const std::filesystem::path& sceneFile,
+                       const std::string& where) {
+    for (std::size_t i = 0; i < m_files.size(); ++i)
+        if (m_files[i].path == file) return int(i);
+    OIIO::TextureSystem& ts = *m_impl->ts;
+    OIIO::TextureSystem::Perthread* thread = ts.get_perthread_info();
+    OIIO::TextureSystem::TextureHandle* handle =
+        ts.get_texture_handle(OIIO::ustring(file.string()), thread);
+    const OIIO::ImageSpec* spec = handle ? ts.imagespec(handle, thread) : nullptr;
+    if (!spec || !ts.good(handle)) {
+        const std::string reason = firstLine(ts.geterror());
+        throw Error(ErrorKind::Format, "texture '" + file.string() + "' cannot be read: " + reason,
+                    sceneFile.string(), where);
+    }
+    if (spec->width < 1 || spec->height < 1 || spec->nchannels < 1 || spec->depth != 1 ||
+        spec->deep)
+        throw Error(ErrorKind::Format,
+                    "texture '" + file.string() + "' is not a flat 2D image with pixels",
+                    sceneFile.string(), where);
+    File f;
+    f.path = file;
+    f.handle = handle;
+    f.info.width = spec->width;
+    f.info.height = spec->height;
+    f.info.channels = spec->nchannels;
+    // The file's own layout, from its header (the TextureSystem shows its cache's tiles and MIP
+    // levels for every file).
+    if (auto in = OIIO::ImageInput::open(file.string())) {
+        f.info.tiled = in->spec().tile_width > 0;
+        f.info.mipmapped = in->seek_subimage(0, 1);
+    }
+    f.info.srgb = OIIO::Strutil::iequals(spec->get_string_attribute("oiio:ColorSpace"), "sRGB");
+    f.info.fingerprint = spec->get_string_attribute("oiio:SHA-1");
+    m_files.push_back(std::move(f));
+    return int(m_files.size()) - 1;
+}
+
+std::uint64_t TextureStore::contentHash(int file) const {
+    const File& f = m_files[std::size_t(file)];
+    std::uint64_t h = 0x7f4a7c15cbf29ce4ULL;
+    auto fold = [&h](const char* data, std::size_t size) {
+        h = hash64(h, size);
+        for (std::size_t i = 0; i < size; i += 8) {
+            std::uint64_t word = 0;
+            std::memcpy(&word, data + i, std::min<std::size_t>(8, size - i));
+            h = hash64(h, word);
+        }
+    };
+    if (!f.info.fingerprint.empty()) {
+        fold(f.info.fingerprint.data(), f.info.fingerprint.size());
+        return h;
+    }
+    std::ifstream in(f.path, std::ios::binary);
+    std::vector<char> buffer(std::size_t(1) << 20);
+    while (in) {
+        in.read(buffer.data(), std::streamsize(buffer.size()));
+        if (in.gcount() > 0) fold(buffer.data(), std::size_t(in.gcount()));
+    }
+    return h;
+}
+
+Vec4 TextureStore::lookup(int file, float s, float t, const TexFootprint& footprint,
+                          TextureWrap wrapS, TextureWrap wrapT, bool decodeSrgb) const {
+    const File& f = m_files[std::size_t(file)];
+    OIIO::TextureSystem& ts = *m_impl->ts;
+    OIIO::TextureOpt opt;
+    opt.swrap = oiioWrap(wrapS);
+    opt.twrap = oiioWrap(wrapT);
+    // Bilinear taps (not OIIO's default bicubic, which needs 16 texels a level): with a zero
+    // footprint this is the bilinear lookup of the finest level.
+    opt.interpmode = OIIO::TextureOpt::InterpBilinear;
+    opt.fill = 1.0f;  // alpha where the file has none
+    // OIIO's anisotropic filter with at most 8 samples along the footprint's long axis (its
+    // default 32 costs 1.5-2x more at grazing angles for little visible difference).
+    opt.anisotropic = 8;
+    // Ask for what the file has (at most RGBA) and spread it out below.
+    const int n = std::min(f.info.channels, 4);
+    float v[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    const bool ok = ts.texture(static_cast<OIIO::TextureSystem::TextureHandle*>(f.handle),
+                               ts.get_perthread_info(), opt, s, t, saneDerivative(footprint.dx.x),
+                               saneDerivative(footprint.dx.y), saneDerivative(footprint.dy.x),
+                               saneDerivative(footprint.dy.y), n, v);
+    if (!ok) {
+        recordFailure(file);
+        return {0.0f, 0.0f, 0.0f, 1.0f};
+    }
+    // Grey, grey + alpha, RGB or RGBA → RGBA (alpha 1 where there is none).
+    Vec4 out;
+    if (n <= 2)
+        out = {v[0], v[0], v[0], n == 2 ? v[1] : 1.0f};
+    else
+        out = {v[0], v[1], v[2], n == 4 ? v[3] : 1.0f};
+    out = {sane(out.x), sane(out.y), sane(out.z), sane(out.w)};
+    // Decoded after filtering, as Cycles does for 8-bit sRGB images.
+    if (decodeSrgb) out = {srgbDecode(out.x), srgbDecode(out.y), srgbDecode(out.z), out.w};
+    return out;
+}
+
+void TextureStore::recordFailure(int file) const {
+    const std::string reason = firstLine(m_impl->ts->geterror());
+    const std::lock_guard<std::mutex> lock(m_failureMutex);
+    if (m_failed.exchange(true)) return;  // the first failure is the one reported
+    m_failure = reason;
+    m_failedFile = file;
+}
+
+void TextureStore::clearFailure() const {
+    const std::lock_guard<std::mutex> lock(m_failureMutex);
+    m_failed = false;
+    m_failure.clear();
+    m_failedFile = -1;
+}
+
+void TextureStore::throwIfFailed() const {
+    if (!m_failed) return;
+    const std::lock_guard<std::mutex> lock(m_failureMutex);
+    throw Error(ErrorKind::Io,
+                "texture could not be read while rendering (damaged or truncated?): " + m_failure,
+                m_files[std::size_t(m_failedFile)].path.string(), "pixels");
+}
+
+std::uint64_t TextureStore::cacheBytesUsed() const {
+    long long used = 0;
+    m_impl->ts->getattribute("stat:cache_memory_used", OIIO::TypeDesc::INT64, &used);
+    return std::uint64_t(std::max(0LL, used));
+}
+
+}  // namespace glint::render::detail

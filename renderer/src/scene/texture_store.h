@@ -1,0 +1,101 @@
+// The texture files of one scene, read through OpenImageIO's TextureSystem: tiled and
+// MIP-mapped files (.tx, tiled EXR) as they are, tile by tile on demand; untiled ones (PNG, JPEG,
+// scanline EXR) with MIP levels made on first need. A cache of a set size holds the tiles in
+// use, so textures larger than it still render. Lookups are filtered over a footprint in texture
+// space (OIIO's anisotropic MIP filter); a zero footprint gives a bilinear lookup of the finest
+// level. Each Scene owns its own store (not OIIO's shared TextureSystem), so scenes do not share
+// or evict each other's tiles.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "vecmath.h"
+
+namespace glint::render::detail {
+
+/// How texture coordinates outside [0, 1] wrap (glTF sampler wrapS/wrapT).
+enum class TextureWrap { Repeat, Clamp, Mirror };
+
+/// A lookup's footprint: the change of the texture coordinates (s, t) for one step of the ray
+/// in x and in y (a pixel, scaled). Zero axes: no filtering beyond bilinear.
+struct TexFootprint {
+    Vec2 dx, dy;
+};
+
+/// What a texture file holds, from its header.
+struct TextureFileInfo {
+    int width = 0, height = 0, channels = 0;
+    bool tiled = false;       ///< stored in tiles (read tile by tile), else in scanlines
+    bool mipmapped = false;   ///< has MIP levels of its own
+    bool srgb = false;        ///< colour values stored sRGB-encoded (8-bit PNG, JPEG)
+    std::string fingerprint;  ///< OIIO's SHA-1 of the pixels (maketx writes it), or empty
+};
+
+/// One scene's texture files and their tile cache (a TextureSystem of its own).
+class TextureStore {
+  public:
+    /// The default tile cache size in MB (Settings::textureCacheMb).
+    static constexpr int kDefaultCacheMb = 1024;
+
+    explicit TextureStore(int cacheMb = kDefaultCacheMb);
+    ~TextureStore();
+    TextureStore(const TextureStore&) = delete;
+    TextureStore& operator=(const TextureStore&) = delete;
+
+    /// Sets the tile cache size in MB (tiles beyond it are evicted; lookups give the same values
+    /// whatever the size).
+    void setCacheMb(int megabytes);
+    int cacheMb() const { return m_cacheMb; }
+
+    /// Opens `file` (reading its header only) and returns its index for lookup(); the same file
+    /// twice gives the same index. Throws glint::Error(Format) with OIIO's reason when the file
+    /// is not an image OIIO reads; `sceneFile` and `where` name the place that asked for it.
+    int open(const std::filesystem::path& file, const std::filesystem::path& sceneFile,
+             const std::string& where);
+    /// A hash of the file's content for sceneContentHash: of its fingerprint when it has one,
+    /// else of its bytes (read in pieces, so a large texture costs time, not memory).
+    std::uint64_t contentHash(int file) const;
+    const TextureFileInfo& info(int file) const { return m_files[std::size_t(file)].info; }
+    const std::filesystem::path& path(int file) const { return m_files[std::size_t(file)].path; }
+
+    /// The RGBA value of `file` at (s, t) (origin at the image's top-left, texel centres at
+    /// half-integers / size, as OIIO has them) filtered over `footprint`, wrapped by `wrapS` /
+    /// `wrapT`: grey replicated, alpha 1 where the file has none, non-finite values 0 and the rest
+    /// clamped to [0, kMaxRadiance]. `decodeSrgb` decodes the colour channels from sRGB after
+    /// filtering. A file that fails to read gives 0 and is recorded (failure()).
+    Vec4 lookup(int file, float s, float t, const TexFootprint& footprint, TextureWrap wrapS,
+                TextureWrap wrapT, bool decodeSrgb) const;
+
+    /// Forgets a recorded read failure (before a render).
+    void clearFailure() const;
+    /// Throws glint::Error(Io) naming the file and OIIO's reason when a lookup since the last
+    /// clearFailure() could not read its texture (a damaged or truncated tile).
+    void throwIfFailed() const;
+    /// Bytes of tiles the cache holds now.
+    std::uint64_t cacheBytesUsed() const;
+
+  private:
+    struct Impl;
+    struct File {
+        std::filesystem::path path;
+        TextureFileInfo info;
+        void* handle = nullptr;  ///< OIIO::TextureSystem::TextureHandle
+    };
+    void recordFailure(int file) const;
+
+    std::unique_ptr<Impl> m_impl;
+    std::vector<File> m_files;
+    int m_cacheMb = kDefaultCacheMb;
+    mutable std::atomic<bool> m_failed{false};
+    mutable std::mutex m_failureMutex;
+    mutable std::string m_failure;
+    mutable int m_failedFile = -1;
+};
+
+}  // namespace glint::render::detail

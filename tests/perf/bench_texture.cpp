@@ -1,0 +1,195 @@
+// bench_texture: the cost of large textures read through the TextureSystem (issue 32, item 3).
+// Writes four 2048² tiled, MIP-mapped half-float EXR textures (make_texture, as maketx would)
+// and a 2 × 2 grid of UV spheres into a temporary folder, then renders the asset textured and
+// untextured (albedo 0.5 instead) with a texture cache of a quarter of the textures' size.
+// Prints one JSON object: both times (median of --repeat), their ratio, the textures' bytes,
+// the cache size and the process's peak resident memory during the textured renders.
+//   bench_texture [--size 512] [--spp 16] [--threads 2] [--repeat 3] [--texture 2048]
+//                 [--cache-mb MB (default: a quarter of the textures' size in memory)]
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+#include <nlohmann/json.hpp>
+
+#include "bench_options.h"
+#include "glint/image/error.h"
+#include "glint/render/renderer.h"
+#include "glint/render/scene.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// OBJ text of a UV sphere of radius 1 with normals and texture coordinates (u around, v up).
+std::string sphereObj(int stacks, int slices) {
+    std::string s;
+    char line[160];
+    const double pi = 3.14159265358979323846;
+    for (int i = 0; i <= stacks; ++i)
+        for (int j = 0; j <= slices; ++j) {
+            const double theta = pi * i / stacks, phi = 2.0 * pi * j / slices;
+            const double x = std::sin(theta) * std::cos(phi), y = std::cos(theta),
+                         z = std::sin(theta) * std::sin(phi);
+            std::snprintf(line, sizeof line, "v %.6f %.6f %.6f\nvn %.6f %.6f %.6f\nvt %.6f %.6f\n",
+                          x, y, z, x, y, z, double(j) / slices, 1.0 - double(i) / stacks);
+            s += line;
+        }
+    auto at = [&](int i, int j) { return i * (slices + 1) + j + 1; };
+    for (int i = 0; i < stacks; ++i)
+        for (int j = 0; j < slices; ++j) {
+            const int a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+            std::snprintf(line, sizeof line, "f %d/%d/%d %d/%d/%d %d/%d/%d %d/%d/%d\n", a, a, a, b,
+                          b, b, c, c, c, d, d, d);
+            s += line;
+        }
+    return s;
+}
+
+/// Writes texture `index`: 64-texel squares of 0.2 and 0.8 with uniform noise of ±0.1 on top,
+/// as a tiled (64²), MIP-mapped half-float EXR.
+void writeTexture(const fs::path& file, int size, int index) {
+    OIIO::ImageBuf image(OIIO::ImageSpec(size, size, 3, OIIO::TypeDesc::FLOAT));
+    const float light[3] = {0.8f, 0.7f - 0.1f * float(index), 0.6f}, dark[3] = {0.2f, 0.2f, 0.25f};
+    OIIO::ImageBufAlgo::checker(image, 64, 64, 1, light, dark);
+    OIIO::ImageBufAlgo::noise(image, "uniform", -0.1f, 0.1f, false, index + 1);
+    OIIO::ImageSpec config;
+    config.tile_width = config.tile_height = 64;
+    config.set_format(OIIO::TypeDesc::HALF);
+    if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, image, file.string(),
+                                          config))
+        throw glint::Error(glint::ErrorKind::Io, "make_texture failed: " + OIIO::geterror(),
+                           file.string());
+}
+
+/// The scene: four spheres in a 2 × 2 grid, sphere k textured by tK.exr (or grey), a white sky.
+std::string sceneJson(bool textured, int size, int spp) {
+    nlohmann::json materials = nlohmann::json::object();
+    nlohmann::json shapes = nlohmann::json::array();
+    const double centres[4][2] = {{-1.05, 2.1}, {1.05, 2.1}, {-1.05, 0.0}, {1.05, 0.0}};
+    for (int k = 0; k < 4; ++k) {
+        const std::string name = "m" + std::to_string(k);
+        materials[name] =
+            textured
+                ? nlohmann::json{{"type", "diffuse"}, {"texture", "t" + std::to_string(k) + ".exr"}}
+                : nlohmann::json{{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}};
+        shapes.push_back({{"obj", "sphere.obj"},
+                          {"material", name},
+                          {"transform", {{"translate", {centres[k][0], centres[k][1], 0.0}}}}});
+    }
+    const nlohmann::json j = {
+        {"camera", {{"position", {0, 1.05, 6.5}}, {"lookAt", {0, 1.05, 0}}, {"fovY", 40}}},
+        {"film", {{"width", size}, {"height", size}}},
+        {"materials", materials},
+        {"shapes", shapes},
+        {"environment", {{"color", {1, 1, 1}}}},
+        {"render", {{"spp", spp}, {"maxDepth", 8}}}};
+    return j.dump(2);
+}
+
+/// A /proc/self/status figure in bytes ("VmHWM", "VmRSS").
+std::uint64_t procStatusBytes(const std::string& key) {
+    std::ifstream in("/proc/self/status");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind(key + ":", 0) == 0) return std::stoull(line.substr(key.size() + 1)) * 1024;
+    return 0;
+}
+
+/// Resets the peak resident size (VmHWM) to the current one (Linux 4.0+).
+void resetPeakRss() {
+    std::ofstream("/proc/self/clear_refs") << "5";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int size = 512, spp = 16, threads = 2, repeat = 3, textureSize = 2048, cacheOption = 0;
+    if (const int code = glint::bench::parseOptions(
+            "bench_texture", argc, argv, [&](const std::string& name, const std::string& value) {
+                const int v = glint::bench::intOption(name, value);
+                if (name == "--size")
+                    size = v;
+                else if (name == "--spp")
+                    spp = v;
+                else if (name == "--threads")
+                    threads = v;
+                else if (name == "--repeat")
+                    repeat = std::max(1, v);
+                else if (name == "--texture")
+                    textureSize = v;
+                else if (name == "--cache-mb")
+                    cacheOption = v;
+                else
+                    return false;
+                return true;
+            }))
+        return code;
+    const fs::path dir =
+        fs::temp_directory_path() / ("glint_bench_texture_" + std::to_string(::getpid()));
+    try {
+        fs::create_directories(dir);
+        std::ofstream(dir / "sphere.obj") << sphereObj(64, 128);
+        std::uint64_t textureBytes = 0;
+        for (int k = 0; k < 4; ++k) {
+            const fs::path file = dir / ("t" + std::to_string(k) + ".exr");
+            writeTexture(file, textureSize, k);
+            textureBytes += fs::file_size(file);
+        }
+        // A quarter of the textures' size in memory (half floats, RGB, with MIP levels: the
+        // files are zip-compressed, so their size on disk is less).
+        const std::uint64_t memoryBytes = std::uint64_t(4) * std::uint64_t(textureSize) *
+                                          std::uint64_t(textureSize) * 3 * 2 * 4 / 3;
+        const int cacheMb =
+            cacheOption > 0 ? cacheOption : std::max(1, int(memoryBytes / 4 / (1 << 20)));
+        std::ofstream(dir / "textured.json") << sceneJson(true, size, spp);
+        std::ofstream(dir / "plain.json") << sceneJson(false, size, spp);
+
+        auto time = [&](const fs::path& scene, std::uint64_t& peakRss) {
+            resetPeakRss();
+            glint::render::Renderer renderer(glint::render::loadScene(scene));
+            glint::render::Settings s = renderer.scene().settings();
+            s.threads = threads;
+            s.textureCacheMb = cacheMb;
+            std::vector<double> seconds;
+            for (int r = 0; r < repeat; ++r) seconds.push_back(renderer.render(s).stats.seconds);
+            std::sort(seconds.begin(), seconds.end());
+            peakRss = procStatusBytes("VmHWM");
+            return seconds[seconds.size() / 2];
+        };
+        std::uint64_t plainRss = 0, texturedRss = 0;
+        const double plain = time(dir / "plain.json", plainRss);
+        const double textured = time(dir / "textured.json", texturedRss);
+        const nlohmann::json j = {{"width", size},
+                                  {"height", size},
+                                  {"spp", spp},
+                                  {"threads", threads},
+                                  {"repeat", repeat},
+                                  {"textures", 4},
+                                  {"textureSize", textureSize},
+                                  {"textureFileBytes", textureBytes},
+                                  {"textureMemoryBytes", memoryBytes},
+                                  {"textureCacheMb", cacheMb},
+                                  {"secondsUntextured", plain},
+                                  {"secondsTextured", textured},
+                                  {"ratio", textured / plain},
+                                  {"peakRssUntexturedMb", double(plainRss) / (1 << 20)},
+                                  {"peakRssTexturedMb", double(texturedRss) / (1 << 20)}};
+        std::cout << j.dump(2) << "\n";
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "bench_texture: %s\n", e.what());
+        fs::remove_all(dir);
+        return 2;
+    }
+    fs::remove_all(dir);
+    return 0;
+}
