@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "glint/image/error.h"
+#include "glint/image/io.h"
 
 namespace glint::detail {
 
@@ -21,6 +22,23 @@ std::string lowerExtension(const std::filesystem::path& path) {
     return ext;
 }
 
+}  // namespace glint::detail
+
+namespace glint {
+
+void checkImageFile(const std::filesystem::path& path) {
+    // libpng prints its own line for a damaged file: catch the damage first.
+    // A truncated JPEG decodes without an error: catch that too.
+    // OpenEXR allocates what a header attribute claims before it finds the file short.
+    if (detail::isPng(path)) detail::checkPngStructure(path);
+    if (detail::isJpeg(path)) detail::checkJpegStructure(path);
+    if (detail::isExr(path)) detail::checkExrHeaders(path);
+}
+
+}  // namespace glint
+
+namespace glint::detail {
+
 OIIO::ImageInput::unique_ptr openImage(const std::filesystem::path& path) {
     const std::string file = path.string();
     std::error_code ec;
@@ -34,10 +52,7 @@ OIIO::ImageInput::unique_ptr openImage(const std::filesystem::path& path) {
                     "is not a regular file (a device or a pipe), expected an image file", file,
                     "open");
 
-    // libpng prints its own line for a damaged file: catch the damage first.
-    // A truncated JPEG decodes without an error: catch that too.
-    if (isPng(path)) checkPngStructure(path);
-    if (isJpeg(path)) checkJpegStructure(path);
+    checkImageFile(path);
     auto in = OIIO::ImageInput::open(file);
     if (!in) {
         // Consume the global error so OpenImageIO does not print it at exit.

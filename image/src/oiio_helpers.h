@@ -42,6 +42,12 @@ void checkJpegStructure(const std::filesystem::path& path);
 /// The same for an image held in memory; errors name `file`.
 void checkJpegStructure(std::span<const unsigned char> bytes, const std::string& file);
 
+/// True when the file starts with the OpenEXR magic number.
+bool isExr(const std::filesystem::path& path);
+/// Walks an OpenEXR file's headers (every part's) and throws glint::Error(Format) naming the
+/// attribute and byte of one whose size runs past the end of the file (exr_check.cpp).
+void checkExrHeaders(const std::filesystem::path& path);
+
 /// Lower-case extension with the dot (".exr"), or "".
 std::string lowerExtension(const std::filesystem::path& path);
 

@@ -74,6 +74,31 @@ TEST_F(ImageHostile, TruncatedJpegIsRefusedNotDecodedGrey) {
                       "truncated JPEG");
 }
 
+TEST_F(ImageHostile, AnExrHeaderAttributeLongerThanTheFileIsRefusedBeforeOpenExrAllocatesIt) {
+    // fuzz_shard_merge's find: 1905 bytes whose string attribute 'capDate' claims 2 GB. OpenEXR
+    // 3.1 allocated the 2 GB (seconds, and past libFuzzer's memory limit) before finding the
+    // file short; the header walk refuses it naming the attribute.
+    const fs::path file = fs::path(GLINT_SOURCE_DIR) /
+                          "tests/data/fuzz-regressions/exr/header-attribute-claims-2gb.exr";
+    expectFormatError(file, "'capDate' (string)");
+    try {
+        readExr(file);
+        ADD_FAILURE() << "read";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.where(), "header") << e.what();
+        EXPECT_NE(std::string(e.what()).find("claims 2009202707 bytes"), std::string::npos)
+            << e.what();
+    }
+    // A good EXR, single- and multi-part, passes the walk.
+    Image im(4, 3, 3);
+    writeImage(im, m_dir / "good.exr");
+    EXPECT_NO_THROW(checkImageFile(m_dir / "good.exr"));
+    EXPECT_NO_THROW(readImage(m_dir / "good.exr"));
+    // Cut inside its header: a truncated header, not a read past the end.
+    const std::vector<char> exr = bytes(m_dir / "good.exr");
+    expectFormatError(write("cut.exr", {exr.begin(), exr.begin() + 40}), "header");
+}
+
 TEST_F(ImageHostile, ExposureBeyondSixtyFourStopsIsRefusedNotNaN) {
     const Image a(16, 16, 3, 0.0f), b(16, 16, 3, 0.5f);
     MetricOptions o;

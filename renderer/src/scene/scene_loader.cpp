@@ -101,6 +101,7 @@ int Loader::loadTexture(const Texture& source, const std::string& where) {
 int Loader::openTextureFile(const fs::path& path, bool linearize, const std::string& where) {
     if (!m_scene.textureStore) m_scene.textureStore = std::make_shared<TextureStore>();
     TextureStore& store = *m_scene.textureStore;
+    checkImageFile(path);  // before OpenImageIO allocates what a damaged header claims
     int file = -1;
     try {
         file = store.open(path, m_reader.file(), where);

@@ -33,6 +33,11 @@ void writeExr(const FrameBuffers& frame, const std::filesystem::path& path,
 /// Reads any image OpenImageIO can read as float (all channels). If `linearize` and the file
 /// declares sRGB colour (8-bit PNG/JPEG...), values are converted to linear.
 Image readImage(const std::filesystem::path& path, bool linearize = true);
+/// Checks an image file's structure before a reader allocates for it or prints its own
+/// messages: PNG chunks, a JPEG's end marker, the sizes an OpenEXR header's attributes claim.
+/// Every reader of Glint calls it; a caller that opens files through OpenImageIO itself (the
+/// renderer's texture store) calls it first. Throws glint::Error(Format) naming the byte.
+void checkImageFile(const std::filesystem::path& path);
 
 /// readImage of an encoded PNG or JPEG held in memory (a glTF asset's embedded image); errors
 /// name `name`.
