@@ -46,6 +46,21 @@ float saneDerivative(float d) {
     return std::isfinite(d) ? std::clamp(d, -16.0f, 16.0f) : 0.0f;
 }
 
+/// TextureSystems no store uses, for the next store to take. OIIO 2.4's TextureSystem::destroy
+/// deletes its object through a type of the wrong size (AddressSanitizer's
+/// new-delete-type-mismatch, inside libOpenImageIO), so a store gives its TextureSystem back
+/// here, emptied, instead of destroying it: a process holds as many as it ever had scenes with
+/// tiled textures alive at once. Held through a pointer that is never freed, so that they stay
+/// reachable (not leaks) to the end.
+struct TextureSystemPool {
+    std::mutex mutex;
+    std::vector<OIIO::TextureSystem*> idle;
+};
+TextureSystemPool& pool() {
+    static auto* const instance = new TextureSystemPool;
+    return *instance;
+}
+
 }  // namespace
 
 struct TextureStore::Impl {
@@ -54,8 +69,16 @@ struct TextureStore::Impl {
 
 TextureStore::TextureStore(int cacheMb) : m_impl(std::make_unique<Impl>()) {
     // A private TextureSystem with a private ImageCache (shared = false): no other scene's
-    // tiles in it, and destroying it frees them.
-    m_impl->ts = OIIO::TextureSystem::create(false);
+    // tiles in it. One an earlier store gave back (emptied) is taken first.
+    {
+        TextureSystemPool& idle = pool();
+        const std::lock_guard lock(idle.mutex);
+        if (!idle.idle.empty()) {
+            m_impl->ts = idle.idle.back();
+            idle.idle.pop_back();
+        }
+    }
+    if (!m_impl->ts) m_impl->ts = OIIO::TextureSystem::create(false);
     OIIO::TextureSystem& ts = *m_impl->ts;
     // Untiled files (PNG, JPEG, scanline EXR) are cached in 64² tiles and get MIP levels made
     // on first need, so that they too are filtered by footprint.
@@ -67,7 +90,12 @@ TextureStore::TextureStore(int cacheMb) : m_impl(std::make_unique<Impl>()) {
 }
 
 TextureStore::~TextureStore() {
-    if (m_impl && m_impl->ts) OIIO::TextureSystem::destroy(m_impl->ts, true);
+    if (!m_impl || !m_impl->ts) return;
+    // Its tiles and open files go now; the object goes back to the pool (see pool()).
+    m_impl->ts->invalidate_all(true);
+    TextureSystemPool& idle = pool();
+    const std::lock_guard lock(idle.mutex);
+    idle.idle.push_back(m_impl->ts);
 }
 
 void TextureStore::setCacheMb(int megabytes) {
