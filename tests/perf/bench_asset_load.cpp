@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
+#include <nlohmann/json.hpp>
 
 #include "bench_options.h"
 #include "glint/image/error.h"
@@ -165,17 +165,17 @@ int main(int argc, char** argv) {
     const std::string mode = argv[1], file = argv[2];
     long long triangles = 4'000'000;
     int threads = 2;
-    const int status = glint::bench::parseOptions(
-        "bench_asset_load", argc - 2, argv + 2,
-        [&](const std::string& name, const std::string& value) {
-            if (name == "--triangles")
-                triangles = glint::bench::intOption(name, value);
-            else if (name == "--threads")
-                threads = glint::bench::intOption(name, value);
-            else
-                return false;
-            return true;
-        });
+    const int status =
+        glint::bench::parseOptions("bench_asset_load", argc - 2, argv + 2,
+                                   [&](const std::string& name, const std::string& value) {
+                                       if (name == "--triangles")
+                                           triangles = glint::bench::intOption(name, value);
+                                       else if (name == "--threads")
+                                           threads = glint::bench::intOption(name, value);
+                                       else
+                                           return false;
+                                       return true;
+                                   });
     if (status != 0) return status;
     try {
         if (mode == "write") {

@@ -1,11 +1,19 @@
-// Textures and environment images: read through glint::readImage, linearised, checked.
+// Textures and environment images: read through glint::readImage, linearised, checked; the
+// loader's texture table (Loader::loadTexture): untiled files and embedded images held in
+// memory, tiled files opened in the scene's TextureStore.
 #include <cmath>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <tuple>
 
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "scene/loader.h"
 
 namespace glint::render::detail {
+
+namespace fs = std::filesystem;
 
 Image scaledRgb(const Image& source, float scale, const std::string& what,
                 const std::filesystem::path& sceneFile, const std::string& where) {
@@ -72,6 +80,73 @@ Image textureRgba(const Image& raw, const std::string& what, const std::filesyst
             }
         }
     return out;
+}
+
+int Loader::loadTexture(const fs::path& path, const std::string& where) {
+    Texture source;
+    source.path = path.is_absolute() ? path : m_dir / path;
+    return loadTexture(source, where);
+}
+
+int Loader::loadTexture(const Texture& source, const std::string& where) {
+    const auto key = std::tuple{source.path, int(source.use), int(source.wrapS), int(source.wrapT)};
+    const auto it = m_textureIndex.find(key);
+    if (it != m_textureIndex.end()) return it->second;
+    Texture tex = source;
+    const bool linearize = source.use == TextureUse::Color;
+    if (source.bytes) {
+        try {
+            tex.image = textureRgba(readImage(*source.bytes, source.path.string(), linearize),
+                                    "texture", source.path, where);
+        } catch (const Error& e) {
+            throw Error(e.kind(), e.message(), source.path.string(),
+                        where + (e.where().empty() ? "" : " (" + e.where() + ")"));
+        }
+    } else {
+        std::error_code ec;  // odd paths (too long...) are reported, not thrown
+        if (!fs::exists(source.path, ec))
+            throw Error(ErrorKind::Io, "texture file '" + source.path.string() + "' not found",
+                        m_reader.file().string(), where);
+        if (!fs::is_regular_file(source.path, ec))
+            throw Error(ErrorKind::Io, "texture '" + source.path.string() + "' is not a file",
+                        m_reader.file().string(), where);
+        const int file = openTextureFile(source.path, linearize, where);
+        if (!m_scene.textureStore->info(file).tiled) {
+            // An untiled file (PNG, JPEG, scanline EXR) has no random access: it is read
+            // whole, decoded to linear and looked up in memory, exactly and fast, as an
+            // embedded image is (docs/assets.md, "Textures").
+            tex.image =
+                textureRgba(readImage(source.path, linearize), "texture", source.path, where);
+        } else {
+            tex.file = file;
+            tex.store = m_scene.textureStore;
+            tex.decodeSrgb = linearize && m_scene.textureStore->info(tex.file).srgb;
+            tex.contentHash = m_scene.textureStore->contentHash(tex.file);
+            // Reading the coarse level reads the file's small MIP levels: a file damaged there
+            // fails now.
+            tex.makeCoarse();
+            m_scene.textureStore->throwIfFailed();
+        }
+    }
+    m_scene.textures.push_back(std::move(tex));
+    m_textureIndex[key] = int(m_scene.textures.size()) - 1;
+    return int(m_scene.textures.size()) - 1;
+}
+
+int Loader::openTextureFile(const fs::path& path, bool linearize, const std::string& where) {
+    if (!m_scene.textureStore) m_scene.textureStore = std::make_shared<TextureStore>();
+    TextureStore& store = *m_scene.textureStore;
+    checkImageFile(path);  // before OpenImageIO allocates what a damaged header claims
+    int file = -1;
+    try {
+        file = store.open(path, m_reader.file(), where);
+    } catch (const Error&) {
+        // glint::readImage says what is wrong with the file as every other image reader of
+        // Glint does; OIIO's own reason when it reads what the TextureSystem could not.
+        (void)readImage(path, linearize);
+        throw;
+    }
+    return file;
 }
 
 }  // namespace glint::render::detail
