@@ -8,9 +8,6 @@
 #include <fstream>
 #include <memory>
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/render/renderer.h"
@@ -19,6 +16,7 @@
 #include "scene/scene_data.h"
 #include "scene/texture_store.h"
 #include "test_util.h"
+#include "tiled_texture.h"
 
 namespace glint::render {
 namespace {
@@ -27,21 +25,8 @@ namespace fs = std::filesystem;
 using detail::TextureStore;
 using detail::TextureWrap;
 
-/// Writes a `size`² checkerboard of `square`-texel squares (1 and 0, RGB float) as a tiled,
-/// MIP-mapped EXR (64² tiles, box-filtered levels), as maketx would.
-void writeCheckerTexture(const fs::path& file, int size, int square) {
-    OIIO::ImageBuf checker(OIIO::ImageSpec(size, size, 3, OIIO::TypeDesc::FLOAT));
-    const float white[3] = {1.0f, 1.0f, 1.0f}, black[3] = {0.0f, 0.0f, 0.0f};
-    OIIO::ImageBufAlgo::checker(checker, square, square, 1, white, black);
-    OIIO::ImageSpec config;
-    config.tile_width = config.tile_height = 64;
-    config.attribute("maketx:filtername", "box");
-    ASSERT_TRUE(OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, checker,
-                                                 file.string(), config))
-        << OIIO::geterror();
-}
-
-/// A texture of `store` file `file` as the loader makes one.
+/// A texture of `store` file `file` as the loader makes one, without resident levels (every
+/// lookup through the TextureSystem).
 detail::Texture fileTexture(const std::shared_ptr<TextureStore>& store, int file,
                             TextureWrap wrap = TextureWrap::Repeat, bool srgb = false) {
     detail::Texture t;
@@ -65,10 +50,13 @@ std::pair<double, double> rowStatistics(const detail::Texture& t, float width, i
     return {mean, sum2 / count - mean * mean};
 }
 
-/// The scene of a quad (the unit square [-1, 1]² of the xz-plane, uv over the whole texture)
-/// seen from above filling a film of `pixels`², textured by `texture`.
-fs::path quadScene(const test::TempDir& dir, const std::string& texture, int pixels) {
-    dir.write("quad.obj", test::quadObj());
+/// The scene of a quad (the unit square [-1, 1]² of the xz-plane, uv over [0, uvSpan]² of the
+/// texture) seen from above filling a film of `pixels`², textured by `texture`.
+fs::path quadScene(const test::TempDir& dir, const std::string& texture, int pixels,
+                   float uvSpan = 1.0f) {
+    const std::string span = std::to_string(uvSpan);
+    dir.write("quad.obj", "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nvt 0 0\nvt " + span + " 0\nvt " +
+                              span + " " + span + "\nvt 0 " + span + "\nf 1/1 4/4 3/3 2/2\n");
     return dir.write("scene.json", R"({
       "camera": {"position": [0, 3, 0.001], "lookAt": [0, 0, 0], "fovY": 30},
       "film": {"width": )" + std::to_string(pixels) +
@@ -83,7 +71,7 @@ fs::path quadScene(const test::TempDir& dir, const std::string& texture, int pix
 
 TEST(TextureStore, ReadsATiledMipmappedExrAsItIs) {
     test::TempDir dir("tex_tiled");
-    writeCheckerTexture(dir.path() / "checker.exr", 256, 1);
+    test::writeCheckerTexture(dir.path() / "checker.exr", 256, 1);
     auto store = std::make_shared<TextureStore>();
     const int file = store->open(dir.path() / "checker.exr", "scene.json", "/materials/m");
     EXPECT_EQ(store->open(dir.path() / "checker.exr", "scene.json", "/materials/m"), file);
@@ -128,7 +116,7 @@ TEST(TextureStore, WrapModesRepeatClampAndMirror) {
 
 TEST(TextureStore, AWiderFootprintBlursACheckerboardTowardsItsMean) {
     test::TempDir dir("tex_blur");
-    writeCheckerTexture(dir.path() / "checker.exr", 512, 8);
+    test::writeCheckerTexture(dir.path() / "checker.exr", 512, 8);
     auto store = std::make_shared<TextureStore>();
     const detail::Texture t =
         fileTexture(store, store->open(dir.path() / "checker.exr", "scene.json", "/m"));
@@ -180,7 +168,7 @@ TEST(TextureStore, FarTexturesAreFilteredOverThePixelFootprint) {
     // A checkerboard of single texels, 512 of them across a 16-pixel film: one sample a pixel
     // without filtering would see 0 or 1; filtered over the pixel's footprint it is grey.
     test::TempDir dir("tex_far");
-    writeCheckerTexture(dir.path() / "checker.exr", 512, 1);
+    test::writeCheckerTexture(dir.path() / "checker.exr", 512, 1);
     Renderer renderer(loadScene(quadScene(dir, "checker.exr", 16)));
     Settings s = renderer.scene().settings();
     s.spp = 1;
@@ -195,10 +183,10 @@ TEST(TextureStore, ACacheSmallerThanTheTexturesRendersTheSame) {
     // 1024² RGB float: 12 MB at the finest level, 16 MB with its MIP levels; a 1 MB cache evicts
     // tiles all the time. Lookups do not depend on what the cache holds, nor on the threads.
     test::TempDir dir("tex_cache");
-    writeCheckerTexture(dir.path() / "big.exr", 1024, 3);
-    // 256 pixels across 1024 texels: camera hits read MIP levels 1 and 2 (3.8 MB) through the
-    // cache; bounces read the coarse level in memory.
-    const fs::path scene = quadScene(dir, "big.exr", 256);
+    test::writeCheckerTexture(dir.path() / "big.exr", 1024, 3);
+    // 256 pixels across a quarter of 1024 texels: camera hits read the finest level (not
+    // resident) through the cache; bounces read the resident levels.
+    const fs::path scene = quadScene(dir, "big.exr", 256, 0.25f);
     // Each render loads the scene afresh: a store of its own, filled from empty.
     auto render = [&](int threads, int cacheMb, std::uint64_t& cacheBytes) {
         Renderer renderer(loadScene(scene));
@@ -220,12 +208,14 @@ TEST(TextureStore, ACacheSmallerThanTheTexturesRendersTheSame) {
 
 TEST(TextureStore, ADamagedTextureFailsNamingTheFile) {
     test::TempDir dir("tex_damaged");
-    writeCheckerTexture(dir.path() / "full.exr", 512, 4);
+    // 1024²: the finest level is not resident (kResidentTextureSize is 512).
+    test::writeCheckerTexture(dir.path() / "full.exr", 1024, 4);
     const auto size = fs::file_size(dir.path() / "full.exr");
     auto expectFailure = [&](const std::string& name, bool atLoad) {
         try {
-            // A texel a pixel: camera hits read the finest level.
-            Renderer renderer(loadScene(quadScene(dir, name, 512)));
+            // A texel a pixel (256 pixels over a quarter of 1024 texels): camera hits read the
+            // finest level.
+            Renderer renderer(loadScene(quadScene(dir, name, 256, 0.25f)));
             EXPECT_FALSE(atLoad) << name << ": loaded";
             Settings s = renderer.scene().settings();
             s.spp = 1;
@@ -238,17 +228,18 @@ TEST(TextureStore, ADamagedTextureFailsNamingTheFile) {
         }
     };
     // Cut in half: the header is whole, but the small MIP levels at the end of the file, read
-    // for the coarse level at load, are gone.
+    // at load for the resident levels, are gone.
     fs::copy_file(dir.path() / "full.exr", dir.path() / "cut.exr");
     fs::resize_file(dir.path() / "cut.exr", size / 2);
     expectFailure("cut.exr", true);
-    // Garbage over part of the finest level: the file loads, and the tiles fail when the
-    // render reads them (the lookup gives 0; render() throws once the render ends).
+    // Garbage over most of the finest level (the first three quarters of the file's tiles),
+    // the resident levels after it intact: the file loads, and the tiles fail when the render
+    // reads them (the lookup gives 0; render() throws once the render ends).
     fs::copy_file(dir.path() / "full.exr", dir.path() / "garbled.exr");
     {
         std::fstream f(dir.path() / "garbled.exr", std::ios::in | std::ios::out | std::ios::binary);
         f.seekp(std::streamoff(size / 10));
-        const std::string junk(size / 3, '\xa5');
+        const std::string junk(size * 6 / 10, '\xa5');
         f.write(junk.data(), std::streamsize(junk.size()));
     }
     expectFailure("garbled.exr", false);

@@ -69,7 +69,7 @@ Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, fl
     }
     s.material = &scene.materials[scene.materialOf(id)];
     if (s.at.hasUv && !seenSharply) {
-        // After a diffuse or glossy bounce: a widened footprint, the coarse level in memory.
+        // After a diffuse or glossy bounce: a widened footprint, the resident levels in memory.
         s.at.footprint = detail::kCoarseFootprint;
     } else if (s.at.hasUv && usesTextures(*s.material)) {
         // The texture footprint: a pixel's step as seen from the camera (docs/assets.md).

@@ -122,9 +122,9 @@ int Loader::loadTexture(const Texture& source, const std::string& where) {
             tex.store = m_scene.textureStore;
             tex.decodeSrgb = linearize && m_scene.textureStore->info(tex.file).srgb;
             tex.contentHash = m_scene.textureStore->contentHash(tex.file);
-            // Reading the coarse level reads the file's small MIP levels: a file damaged there
-            // fails now.
-            tex.makeCoarse();
+            // Reading the resident levels reads the file's small MIP levels: a file damaged
+            // there fails now.
+            tex.readResident();
             m_scene.textureStore->throwIfFailed();
         }
     }

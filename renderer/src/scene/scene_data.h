@@ -11,6 +11,7 @@
 
 #include "glint/image/image.h"
 #include "glint/render/settings.h"
+#include "scene/texture_levels.h"
 #include "scene/texture_store.h"
 #include "scene/transform.h"
 #include "vecmath.h"
@@ -117,11 +118,12 @@ struct Material {
 /// 8-bit PNG and JPEG are) or data (normals, roughness and metallic: used as stored).
 enum class TextureUse { Color, Data };
 
-/// The side of a file texture's in-memory prefiltered level (Texture::coarse).
+/// The side of the MIP level that hits after a diffuse or glossy bounce read (kCoarseFootprint).
 inline constexpr int kCoarseTextureSize = 64;
 
-/// The footprint of hits after a diffuse or glossy bounce: a texel of the coarse level, so that
-/// they read Texture::coarse (a widened footprint; docs/assets.md, "Textures").
+/// The footprint of hits after a diffuse or glossy bounce: a texel of a 64² level, so that they
+/// read the texture's resident levels, not the tile cache (a widened footprint; docs/assets.md,
+/// "Textures").
 inline constexpr TexFootprint kCoarseFootprint{{1.0f / kCoarseTextureSize, 0.0f},
                                                {0.0f, 1.0f / kCoarseTextureSize}};
 
@@ -143,17 +145,18 @@ struct Texture {
     /// hash of its bytes (computed once at load).
     std::uint64_t contentHash = 0;
 
-    /// A file texture prefiltered to at most kCoarseTextureSize² texels (RGBA, linear), held in
-    /// memory: footprints of a texel of it or more are looked up here, bilinearly, without a
-    /// TextureSystem call (diffuse bounces, far surfaces). Empty: every lookup goes to the store.
-    Image coarse;
+    /// A file texture's MIP levels of at most kResidentTextureSize texels a side, held in
+    /// memory: footprints of a texel of them or more are filtered there, without a
+    /// TextureSystem call (far surfaces, bounces). Empty: every lookup goes to the store.
+    ResidentLevels resident;
 
     /// The value at `uv` (origin at the bottom-left of the image, the OBJ convention) filtered
     /// over `footprint` (the change of uv per ray step in x and y; zero: bilinear). An image in
     /// memory is always looked up bilinearly.
     Vec4 lookup(Vec2 uv, const TexFootprint& footprint = {}) const;
-    /// Fills `coarse` from the store (a file texture).
-    void makeCoarse();
+    /// Fills `resident` from the store (a file texture) and counts it against the store's cache
+    /// size. A file that cannot be read there is recorded in the store (throwIfFailed()).
+    void readResident();
     /// The mean colour over the whole texture (light power estimates).
     Vec3 meanColour() const;
 };

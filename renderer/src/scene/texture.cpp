@@ -2,42 +2,11 @@
 #include <cmath>
 
 #include "scene/scene_data.h"
+#include "scene/texture_wrap.h"
 
 namespace glint::render::detail {
 
 namespace {
-/// A texel index along an axis of n texels under `wrap` (i may be any integer).
-int wrapIndex(long i, int n, TextureWrap wrap) {
-    switch (wrap) {
-        case TextureWrap::Clamp:
-            return int(std::clamp<long>(i, 0, n - 1));
-        case TextureWrap::Mirror: {
-            const long period = 2L * n;
-            long k = ((i % period) + period) % period;
-            return int(k < n ? k : period - 1 - k);
-        }
-        case TextureWrap::Repeat:
-            break;
-    }
-    return int(((i % n) + n) % n);
-}
-
-/// The coordinate in [0, 1) (repeat, mirror: one period of two) or [0, 1] (clamp) that wrapping
-/// maps t to; non-finite coordinates become 0. Wrapping the coordinate before it becomes a
-/// texel index keeps huge or non-finite uvs from a mesh out of the float → integer conversion
-/// (which would be undefined behaviour).
-float wrapCoordinate(float t, TextureWrap wrap) {
-    if (!std::isfinite(t)) return 0.0f;
-    switch (wrap) {
-        case TextureWrap::Clamp:
-            return std::clamp(t, -1.0f, 2.0f);
-        case TextureWrap::Mirror:
-            return t - 2.0f * std::floor(0.5f * t);
-        case TextureWrap::Repeat:
-            break;
-    }
-    return t - std::floor(t);
-}
 
 /// Bilinear lookup of `image` (3 or 4 channels; alpha 1 where it has none); uv origin at the
 /// bottom-left.
@@ -78,43 +47,27 @@ Vec3 meanOf(const Image& image) {
 
 Vec4 Texture::lookup(Vec2 uv, const TexFootprint& footprint) const {
     if (!store) return bilinear(image, uv, wrapS, wrapT);
-    // A footprint of a coarse texel or more: the prefiltered level in memory.
-    const float reach = std::max(std::max(std::abs(footprint.dx.x), std::abs(footprint.dx.y)),
-                                 std::max(std::abs(footprint.dy.x), std::abs(footprint.dy.y)));
-    if (!coarse.empty() && reach * float(std::max(coarse.width(), coarse.height())) >= 1.0f)
-        return bilinear(coarse, uv, wrapS, wrapT);
     // OIIO's t runs down from the top; Glint's v up from the bottom. The coordinates are
-    // wrapped first so that huge ones stay clear of OIIO's float → integer texel indices.
+    // wrapped first so that huge ones stay clear of float → integer texel indices.
     const float s = wrapCoordinate(uv.x, wrapS), t = 1.0f - wrapCoordinate(uv.y, wrapT);
     const TexFootprint st{{footprint.dx.x, -footprint.dx.y}, {footprint.dy.x, -footprint.dy.y}};
+    if (resident.covers(st))
+        return usableTextureValue(resident.lookup(s, t, st, wrapS, wrapT), decodeSrgb);
     return store->lookup(file, s, t, st, wrapS, wrapT, decodeSrgb);
 }
 
-void Texture::makeCoarse() {
-    const TextureFileInfo& info = store->info(file);
-    const int w = std::min(info.width, kCoarseTextureSize);
-    const int h = std::min(info.height, kCoarseTextureSize);
-    // Each coarse texel is the texture filtered over its square (OIIO picks the MIP level); a
-    // texture no larger than the level keeps its own texels.
-    const bool whole = w == info.width && h == info.height;
-    const TexFootprint square =
-        whole ? TexFootprint{} : TexFootprint{{1.0f / float(w), 0.0f}, {0.0f, 1.0f / float(h)}};
-    Image level(w, h, 4);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const Vec4 v =
-                store->lookup(file, (float(x) + 0.5f) / float(w), (float(y) + 0.5f) / float(h),
-                              square, wrapS, wrapT, decodeSrgb);
-            level(x, y, 0) = v.x, level(x, y, 1) = v.y, level(x, y, 2) = v.z, level(x, y, 3) = v.w;
-        }
-    coarse = std::move(level);
+void Texture::readResident() {
+    resident = ResidentLevels::read(*store, file);
+    // The store's tile cache makes room for them.
+    std::const_pointer_cast<TextureStore>(store)->addResidentBytes(resident.bytes());
 }
 
 Vec3 Texture::meanColour() const {
     if (!store) return meanOf(image);
-    if (!coarse.empty()) return meanOf(coarse);
-    // A footprint of the whole texture: OIIO filters its coarsest MIP level.
-    const Vec4 m = lookup({0.5f, 0.5f}, {{1.0f, 0.0f}, {0.0f, 1.0f}});
+    // The coarsest level's mean, or a footprint of the whole texture (OIIO filters its
+    // coarsest MIP level).
+    const Vec4 m = !resident.empty() ? usableTextureValue(resident.mean(), decodeSrgb)
+                                     : lookup({0.5f, 0.5f}, {{1.0f, 0.0f}, {0.0f, 1.0f}});
     return {m.x, m.y, m.z};
 }
 

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <fstream>
 
+#include <OpenImageIO/imagecache.h>
 #include <OpenImageIO/imageio.h>
 #include <OpenImageIO/texture.h>
 
@@ -100,7 +101,59 @@ TextureStore::~TextureStore() {
 
 void TextureStore::setCacheMb(int megabytes) {
     m_cacheMb = megabytes;
-    m_impl->ts->attribute("max_memory_MB", float(megabytes));
+    m_impl->ts->attribute("max_memory_MB", tileCacheMb());
+}
+
+float TextureStore::tileCacheMb() const {
+    const float resident = float(double(m_residentBytes) / double(1 << 20));
+    return std::max(float(m_cacheMb) - resident, 0.25f * float(m_cacheMb));
+}
+
+void TextureStore::addResidentBytes(std::size_t bytes) {
+    m_residentBytes += bytes;
+    setCacheMb(m_cacheMb);
+}
+
+std::vector<std::pair<int, int>> TextureStore::levelSizes(int file) const {
+    const OIIO::ustring name(m_files[std::size_t(file)].path.string());
+    OIIO::ImageCache& cache = *m_impl->ts->imagecache();
+    std::vector<std::pair<int, int>> sizes;
+    while (const OIIO::ImageSpec* spec = cache.imagespec(name, 0, int(sizes.size())))
+        sizes.emplace_back(spec->width, spec->height);
+    (void)cache.geterror();  // asking one level past the last is not a failure
+    return sizes;
+}
+
+bool TextureStore::readLevel(int file, int level, std::vector<float>& rgba) const {
+    const File& f = m_files[std::size_t(file)];
+    OIIO::TextureSystem& ts = *m_impl->ts;
+    const OIIO::ImageSpec* spec =
+        ts.imagecache()->imagespec(OIIO::ustring(f.path.string()), 0, level);
+    if (!spec) {
+        recordFailure(file);
+        return false;
+    }
+    const int n = std::min(f.info.channels, 4);
+    const std::size_t texels = std::size_t(spec->width) * std::size_t(spec->height);
+    std::vector<float> stored(texels * std::size_t(n));
+    OIIO::TextureOpt opt;
+    if (!ts.get_texels(static_cast<OIIO::TextureSystem::TextureHandle*>(f.handle),
+                       ts.get_perthread_info(), opt, level, spec->x, spec->x + spec->width, spec->y,
+                       spec->y + spec->height, 0, 1, 0, n, OIIO::TypeDesc::FLOAT, stored.data())) {
+        recordFailure(file);
+        return false;
+    }
+    // Grey, grey + alpha, RGB or RGBA → RGBA (alpha 1 where there is none).
+    rgba.resize(texels * 4);
+    for (std::size_t i = 0; i < texels; ++i) {
+        const float* v = stored.data() + i * std::size_t(n);
+        float* out = rgba.data() + i * 4;
+        if (n <= 2)
+            out[0] = out[1] = out[2] = v[0], out[3] = n == 2 ? v[1] : 1.0f;
+        else
+            out[0] = v[0], out[1] = v[1], out[2] = v[2], out[3] = n == 4 ? v[3] : 1.0f;
+    }
+    return true;
 }
 
 int TextureStore::open(const std::filesystem::path& file, const std::filesystem::path& sceneFile,
@@ -190,12 +243,13 @@ Vec4 TextureStore::lookup(int file, float s, float t, const TexFootprint& footpr
         return {0.0f, 0.0f, 0.0f, 1.0f};
     }
     // Grey, grey + alpha, RGB or RGBA → RGBA (alpha 1 where there is none).
-    Vec4 out;
-    if (n <= 2)
-        out = {v[0], v[0], v[0], n == 2 ? v[1] : 1.0f};
-    else
-        out = {v[0], v[1], v[2], n == 4 ? v[3] : 1.0f};
-    out = {sane(out.x), sane(out.y), sane(out.z), sane(out.w)};
+    const Vec4 out = n <= 2 ? Vec4{v[0], v[0], v[0], n == 2 ? v[1] : 1.0f}
+                            : Vec4{v[0], v[1], v[2], n == 4 ? v[3] : 1.0f};
+    return usableTextureValue(out, decodeSrgb);
+}
+
+Vec4 usableTextureValue(Vec4 v, bool decodeSrgb) {
+    Vec4 out{sane(v.x), sane(v.y), sane(v.z), sane(v.w)};
     // Decoded after filtering, as Cycles does for 8-bit sRGB images.
     if (decodeSrgb) out = {srgbDecode(out.x), srgbDecode(out.y), srgbDecode(out.z), out.w};
     return out;

@@ -13,6 +13,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "vecmath.h"
@@ -36,6 +37,11 @@ struct TextureFileInfo {
     bool srgb = false;        ///< colour values stored sRGB-encoded (8-bit PNG, JPEG)
     std::string fingerprint;  ///< OIIO's SHA-1 of the pixels (maketx writes it), or empty
 };
+
+/// A filtered texture value as the renderer uses it: non-finite values 0, the rest clamped to
+/// [0, kMaxRadiance]; the colour channels decoded from sRGB when `decodeSrgb` (after filtering,
+/// as Cycles does for 8-bit sRGB images).
+Vec4 usableTextureValue(Vec4 v, bool decodeSrgb);
 
 /// One scene's texture files and their tile cache (a TextureSystem of its own).
 class TextureStore {
@@ -72,6 +78,19 @@ class TextureStore {
     Vec4 lookup(int file, float s, float t, const TexFootprint& footprint, TextureWrap wrapS,
                 TextureWrap wrapT, bool decodeSrgb) const;
 
+    /// The sizes (width, height) of the file's MIP levels, finest first: the file's own, or for a
+    /// file without them those the TextureSystem makes.
+    std::vector<std::pair<int, int>> levelSizes(int file) const;
+    /// Reads MIP level `level` of `file` whole into `rgba` (RGBA floats, rows from the top; grey
+    /// replicated, alpha 1 where the file has none). False, and the failure recorded, when the
+    /// file cannot be read there.
+    bool readLevel(int file, int level, std::vector<float>& rgba) const;
+    /// Counts `bytes` of texels held in memory outside the tile cache (ResidentLevels) against
+    /// the cache size: the tile cache gets what is left of it, and never less than a quarter.
+    void addResidentBytes(std::size_t bytes);
+    /// The tile cache's size in MB: cacheMb() less the resident bytes, at least a quarter of it.
+    float tileCacheMb() const;
+
     /// Forgets a recorded read failure (before a render).
     void clearFailure() const;
     /// Throws glint::Error(Io) naming the file and OIIO's reason when a lookup since the last
@@ -92,6 +111,7 @@ class TextureStore {
     std::unique_ptr<Impl> m_impl;
     std::vector<File> m_files;
     int m_cacheMb = kDefaultCacheMb;
+    std::size_t m_residentBytes = 0;
     mutable std::atomic<bool> m_failed{false};
     mutable std::mutex m_failureMutex;
     mutable std::string m_failure;
