@@ -1,11 +1,10 @@
 #!/usr/bin/env bash
-# The auto-start quality table of docs/navigation.md ("Automatic start by SURE" and "Error
-# estimates from two halves"): for cornell, pool, dof and glossy at 4, 16 and 64 spp (seed 1),
-# a render with half buffers, a 64-member bank (seed 1) and the oracle with the auto composite
-# (its default estimator: cross-validation on the halves), plus auto with SURE on the same
-# render; then the same scene rendered without half buffers (noisy, best single and auto by
-# SURE: the cost of splitting the samples, and the SURE table). SSIM on display values against the committed references. Same
-# machinery as scripts/navigation_quality.sh.
+# The auto-start quality table of docs/auto.md ("Quality"): for cornell, pool, dof and glossy at 4,
+# 16 and 64 spp (seed 1), a render with half buffers, a 64-member bank (seed 1) and the oracle with
+# the auto composite (its default estimator: cross-validation on the halves), plus auto with SURE on
+# the same render; then the same scene rendered without half buffers (noisy, best single and auto by
+# SURE: the cost of splitting the samples, and the SURE table). SSIM on display values against the
+# committed references. Same machinery as scripts/navigation_quality.sh.
 #   scripts/auto_quality.sh [build] [scenes...]
 set -euo pipefail
 source "$(dirname "$0")/lib/cells.sh"

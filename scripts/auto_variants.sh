@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# The option tables of docs/navigation.md, "Error estimates from two halves" (step 10): for
-# cornell, pool, dof and glossy at 4, 16 and 64 spp, the render with half buffers (seed 1) and
-# its 64-member bank (seed 1), as in scripts/auto_quality.sh; then `glint-denoise auto` once per
-# option set given after `--` (an empty string: the defaults). Prints one row per option set:
-# SSIM per cell, how many cells are at least the best single member, and the average share of
-# the way from the best single member to the per-pixel oracle (about 2 minutes on 2 cores, plus
-# 15 s per option set). SEED=N renders with seed N instead of 1 (the bank keeps seed 1): the
-# same table on other renders, to check defaults chosen on seed 1 (docs/navigation.md, step 12).
+# The option tables of docs/research/auto-notebook.md and the other renders' shares in docs/auto.md
+# ("Quality"): for cornell, pool, dof and glossy at 4, 16 and 64 spp, the render with half buffers
+# (seed 1) and its 64-member bank (seed 1), as in scripts/auto_quality.sh; then `glint-denoise auto`
+# once per option set given after `--` (an empty string: the defaults). Prints one row per option
+# set: SSIM per cell, how many cells are at least the best single member, and the average share of
+# the way from the best single member to the per-pixel oracle (about 2 minutes on 2 cores, plus 15 s
+# per option set). SEED=N renders with seed N instead of 1 (the bank keeps seed 1): the same table
+# on other renders, to check defaults chosen on seed 1.
 #   scripts/auto_variants.sh [build] [scenes...] -- "" "--feather 0" "--feather 6 --feather-gate 10"
 #   SEED=2 scripts/auto_variants.sh build -- "" "--stack-smooth 0"
 set -euo pipefail

@@ -1,7 +1,7 @@
 // glint-denoise auto: the automatic local baseline — every bank member's per-pixel error
-// estimated by SURE from the render's variance (no reference), a per-pixel choice among them,
-// written as a layered EXR (docs/navigation.md, "Automatic start by SURE"). Also the oracle's
-// "auto" column (autoOracleColumn).
+// estimated by SURE from the render's variance or by cross-validation on its halves (no
+// reference), a per-pixel choice among them, written as a layered EXR (docs/auto.md). Also the
+// oracle's "auto" column (autoOracleColumn).
 #include <unistd.h>
 
 #include <chrono>

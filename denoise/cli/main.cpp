@@ -1,5 +1,6 @@
-// glint-denoise: list and apply filters, build and explore filter banks, paint and composite
-// (docs/denoise.md, docs/navigation.md). Each group of subcommands has its own file.
+// glint-denoise: list and apply filters, build and explore filter banks, choose among them
+// automatically, paint and composite (docs/denoise.md, docs/navigation.md, docs/auto.md). Each
+// group of subcommands has its own file.
 #include <CLI/CLI.hpp>
 
 #include "cli_boundary.h"

@@ -1,6 +1,6 @@
 // The auto composite's second error estimator: cross-validation on two independent halves of
-// the samples (sure.h, crossValidationMap; docs/navigation.md, "Error estimates from two
-// halves"), on synthetic frames whose clean image is known.
+// the samples (sure.h, crossValidationMap; docs/auto.md, "Error estimation by cross-validation
+// on the halves"), on synthetic frames whose clean image is known.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -624,7 +624,7 @@ TEST(Halves, FeatheringBoxAveragesTheWeightsWhereNothingIsGated) {
                         l.weights(x, y, 0) * bank.result(std::size_t(l.member))(x, y, c);
     for (std::size_t i = 0; i < blend.data().size(); ++i)
         ASSERT_NEAR(blend.data()[i], b.composite.data()[i], 1e-5f);
-    // The halves feather by 5 pixels unless told otherwise (step 12), SURE by 4.
+    // The halves feather by 5 pixels unless told otherwise (docs/auto.md, "Tuning"), SURE by 4.
     EXPECT_EQ(autoDefaults(AutoEstimator::Halves).feather, 5);
     EXPECT_EQ(autoDefaults(AutoEstimator::Sure).feather, 4);
     for (int bad : {-1, 33}) {
@@ -837,7 +837,7 @@ TEST(Halves, SmoothingTheStackingsCoefficientsLowersTheErrorOfSmallWindows) {
     // (smoothed), the composite's 11.5·10⁻³; asserted: smoothed below half the own fits'.
     // With the noise's ridge as well (0.5, the default) the own fits are shrunk toward 0
     // instead, and smoothing gains less (printed, not asserted): it pays most where the ridge
-    // is light (docs/navigation.md, step 12).
+    // is light (docs/auto.md, "Stacking").
     const StackCase s = stackCase(96, 80, -1.0, 0.3, 13, 0.1);
     const double before = glint::mse(s.composite, s.clean).value;
     const double own = glint::mse(stackOf(s, 1, 0.0, 0), s.clean).value;
@@ -897,7 +897,8 @@ TEST(Halves, StackingNeedsBothHalvesAndASessionCannotStartFromIt) {
     }
     EXPECT_EQ(plain.stacked, 0);
     EXPECT_EQ(one.stacked, 3);
-    // The halves stack 6 members unless told otherwise (one-sided and SURE: none; step 13).
+    // The halves stack 6 members unless told otherwise (one-sided and SURE: none; docs/auto.md,
+    // "Tuning").
     EXPECT_EQ(autoDefaults(AutoEstimator::Halves).stack, 6);
     EXPECT_EQ(autoDefaults(AutoEstimator::Sure).stack, 0);
     AutoOptions oneSided;
@@ -962,7 +963,7 @@ TEST(Halves, StackingNeedsBothHalvesAndASessionCannotStartFromIt) {
     }
 }
 
-// Step 13's feature regressors (docs/navigation.md).
+// The stacking's feature regressors (docs/auto.md, "Stacking").
 TEST(Halves, FeatureRegressorsAreTheBaseTimesTheFeaturesLocalDeviation) {
     // Every value against the formula with the window's mean computed here by brute force
     // (truncated at the border): the albedo's relative deviation per colour channel, each

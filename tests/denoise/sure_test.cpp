@@ -429,12 +429,12 @@ TEST(Sure, BoxSmoothIsTheMeanOverTheWindowTruncatedAtTheBorder) {
 }
 
 TEST(Sure, WindowScoreIsTheBoxSmoothedDifferencePlusItsStandardError) {
-    // Step 2's one-pass score against what it replaced, boxSmooth of stored d = raw − base and
-    // d² maps (value for value: the same sums in the same order), and against brute-force
-    // window sums in double: within 1e-5 relative for the mean, and for the standard error
-    // within what float rounding of d² and of the averages (a few 1e-8 of the mean of d²) leaves
-    // after the cancellation in mean of d² − mean² and the square root. Two column blocks (300
-    // wide), a firefly among small differences, both signs.
+    // The one-pass score of autoComposite's step 2 against what it replaced, boxSmooth of stored
+    // d = raw − base and d² maps (value for value: the same sums in the same order), and against
+    // brute-force window sums in double: within 1e-5 relative for the mean, and for the standard
+    // error within what float rounding of d² and of the averages (a few 1e-8 of the mean of d²)
+    // leaves after the cancellation in mean of d² − mean² and the square root. Two column blocks
+    // (300 wide), a firefly among small differences, both signs.
     const int w = 300, h = 37;
     Image raw(w, h, 1), base(w, h, 1);
     std::mt19937 rng(11);

@@ -1,4 +1,4 @@
-// The auto composite's stacking (sure_detail.h, docs/navigation.md steps 11 to 13): a local
+// The auto composite's stacking (sure_detail.h; docs/auto.md, "Stacking"): a local
 // ridge regression of each half on the chosen members' results on the other half and on the
 // features' local deviations, around the blend, its coefficients averaged over the windows that
 // cover each pixel.

@@ -1,5 +1,5 @@
-// Per-pixel SURE of the bank's members and the auto composite (sure.h, docs/navigation.md,
-// "Automatic start by SURE").
+// Per-pixel error estimates of the bank's members (SURE, cross-validation on the halves) and the
+// auto composite (sure.h; docs/auto.md, whose stages are the step comments of autoComposite).
 #include "glint/denoise/sure.h"
 
 #include <tbb/parallel_for.h>
@@ -646,9 +646,9 @@ Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Ima
                      exposure, form, unbiasedMean);
 }
 
-// Step 2's score in one pass over the candidate's map and the baseline's (sure_detail.h). The
-// sums are boxSmooth's, term for term and in its order, so the score is the same as smoothing
-// stored d and d² maps, without storing them (nor the two averages).
+// The score of autoComposite's step 2 in one pass over the candidate's map and the baseline's
+// (sure_detail.h). The sums are boxSmooth's, term for term and in its order, so the score is the
+// same as smoothing stored d and d² maps, without storing them (nor the two averages).
 Image detail::windowScore(const Image& raw, const Image& base, int radius, double confidence) {
     const int w = raw.width(), h = raw.height();
     const std::size_t planes = confidence > 0.0 ? 2 : 1;
@@ -797,8 +797,8 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
     if (options.stack.value_or(0) > 0 && !options.symmetric)
         throw Error(ErrorKind::InvalidArgument, "stacking fits both halves: it cannot be one-sided",
                     {}, "--stack");
-    // The stacking's features (step 13): those asked for must be in the input, with their
-    // halves; unset, those it has.
+    // The stacking's features (docs/auto.md, "Stacking"): those asked for must be in the input,
+    // with their halves; unset, those it has.
     const auto hasFeature = [&](Layer layer) {
         return frame.has(layer) && frame.has(*halfLayer(layer));
     };
@@ -979,7 +979,8 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
         // confidence, that another member is better there. With confidence 0 it is the plain
         // smoothed estimate. In the final choice, with `finer` > 0, the same is done in the
         // window halved `finer` times too, and the score is the lowest of them: a member that
-        // is better by that margin in a smaller window wins there (docs/navigation.md, step 9).
+        // is better by that margin in a smaller window wins there (docs/auto.md, "Per-pixel
+        // choice").
         std::size_t baseline = 0;  // position in candidates
         for (std::size_t j = 0; j < c; ++j)
             if (mapMean[candidates[j]] < mapMean[candidates[baseline]]) baseline = j;
@@ -1174,8 +1175,7 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
     for (char a : analytic) result.analytic.push_back(a != 0);
     result.estimator = estimator;
     if (stacking) {
-        // Step 5: the stacking (docs/navigation.md, steps 11 and 12), around the blend on each
-        // half.
+        // Step 5: the stacking (docs/auto.md, "Stacking"), around the blend on each half.
         Image blendA(width, region.height(), 3), blendB(width, region.height(), 3);
         std::vector<const Image*> resultsA(n, nullptr), resultsB(n, nullptr);
         for (std::size_t m = 0; m < n; ++m)
@@ -1193,8 +1193,8 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
             const std::size_t i = std::size_t(m);
             stacked.push_back({&bank.result(i), &onA[i], &onB[i]});
         }
-        // The features' regressors (step 13), from the whole frame's features around the
-        // composite and from each half's around its blend.
+        // The features' regressors (docs/auto.md, "Stacking"), from the whole frame's features
+        // around the composite and from each half's around its blend.
         std::vector<Image> features[3];
         if (stackAlbedo || stackNormal) {
             // As the filters saw them: prefiltered when the bank was.

@@ -8,8 +8,8 @@
 
 namespace glint::denoise::detail {
 
-/// Step 2's score of one candidate at one radius (docs/navigation.md, "Automatic start by
-/// SURE"): the box average over (2·radius + 1)² pixels, truncated at the border, of
+/// The score of one candidate at one radius (autoComposite's step 2; docs/auto.md, "Per-pixel
+/// choice"): the box average over (2·radius + 1)² pixels, truncated at the border, of
 /// d = raw − base, each d rounded to float, plus `confidence` standard errors of that mean,
 /// sqrt(max(0, mean of d² − mean²) / (2·radius + 1)²) (the full window's count). `raw` and
 /// `base` are 1-channel maps of one size; the result is too. The same, value for value, as
@@ -35,9 +35,9 @@ constexpr std::size_t kMaxStackRegressors = kMaxStack + kMaxStackFeatures;
 /// The added albedo's floor in the relative albedo deviation (featureRegressors).
 constexpr double kStackAlbedoFloor = 0.02;
 
-/// Step 13's feature regressors (docs/navigation.md): for each feature channel g, the image
-/// base · (1 + δ), whose deviation from `base` is base · δ, with δ g's deviation from its box
-/// average over (2·radius + 1)² pixels (truncated at the border) — relative for the albedo,
+/// The stacking's feature regressors (docs/auto.md, "Stacking"): for each feature channel g, the
+/// image base · (1 + δ), whose deviation from `base` is base · δ, with δ g's deviation from its
+/// box average over (2·radius + 1)² pixels (truncated at the border) — relative for the albedo,
 /// (a_c − ā_c) / (|ā_c| + kStackAlbedoFloor) in colour channel c, one regressor; absolute for
 /// each of the normal's three axes, (n_k − n̄_k) in every colour channel, three regressors. A
 /// colour that is albedo times shading moves by c · Δa / a at an albedo edge and with the
@@ -48,7 +48,7 @@ constexpr double kStackAlbedoFloor = 0.02;
 std::vector<Image> featureRegressors(const Image& base, const Image* albedo, const Image* normal,
                                      int radius);
 
-/// Step 5 of the auto composite (AutoOptions::stack; docs/navigation.md, step 11): per pixel,
+/// Step 5 of the auto composite (AutoOptions::stack; docs/auto.md, "Stacking"): per pixel,
 /// composite + Σ_i a_i (full_i − composite), clamped at 0, over at most kMaxStackRegressors
 /// members (the chosen members, then any feature regressors). The a_i minimise, over the
 /// (2·radius + 1)² window (truncated at the border) and both sides,
@@ -59,8 +59,8 @@ std::vector<Image> featureRegressors(const Image& base, const Image* albedo, con
 /// 1), G the window's normal matrix and v the window's mean of ½ Σ ω (A − B)² (the noise of
 /// the targets); the floor bounds the coefficients of members that differ from the composite by
 /// much less than the noise. With `smooth` = 0, a pixel whose system is zero or not positive
-/// definite keeps the composite. With `smooth` > 0 (step 12), the coefficients applied at a pixel
-/// are the box average over (2·smooth + 1)² pixels (truncated at the border) of those fitted around
+/// definite keeps the composite. With `smooth` > 0, the coefficients applied at a pixel are the
+/// box average over (2·smooth + 1)² pixels (truncated at the border) of those fitted around
 /// each pixel, a failed system counting as all 0: each window's model applied to every pixel it
 /// covers, averaged. A pixel whose corrected value is not finite keeps the composite.
 /// Deterministic whatever the thread count.

@@ -46,8 +46,8 @@ OracleResult oracle(const FilterBank& bank, const Image& noisy, const Image& ref
 /// error this render happened to have, luck no estimate can know of; this choice by the error
 /// a member makes on average is what an exact estimate of each member's error could reach, and
 /// its SSIM at the auto composite's window is what that choice can reach there
-/// (docs/navigation.md, step 9). `others` must be frame-sized; memory: one float per member and
-/// pixel.
+/// (docs/auto.md, "What limits the share"). `others` must be frame-sized; memory: one float per
+/// member and pixel.
 struct ExpectedOracleOptions {
     std::vector<int> radii{0, 2, 4, 8};  ///< each 0 … 64
     float exposure = 0.0f;

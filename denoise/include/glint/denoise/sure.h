@@ -1,7 +1,7 @@
 // The automatic local baseline: Stein's unbiased risk estimate (SURE) of every bank member's
 // error at every pixel, from the render's variance of the mean and without a reference, then a
 // per-pixel choice (or soft weights) among the members — the "auto" composite a painting session
-// can start from (docs/navigation.md, "Automatic start by SURE").
+// can start from (docs/auto.md, "Error estimation by SURE").
 //
 // Per pixel and channel, with y the noisy colour, σ² its variance of the mean and f the filter,
 //   SURE = (f(y) − y)² − σ² + 2σ²·∂f/∂y                      (Stein 1981; summed over RGB)
@@ -13,7 +13,7 @@
 // A render with half buffers allows a second estimator without SURE's assumptions (Gaussian
 // noise of known variance, guides independent of the colour): cross-validation on the two
 // independent halves A and B of the samples, E(f(A) − B)² = MSE f(A) + Var B
-// (crossValidationMap; docs/navigation.md, "Error estimates from two halves").
+// (crossValidationMap; docs/auto.md, "Error estimation by cross-validation on the halves").
 #pragma once
 
 #include <cstdint>
@@ -43,10 +43,11 @@ enum class SureSpace {
     /// which the tangent at a clamped m (slope 0) does not.
     Display,
     DisplayTangent,  ///< the slope at m for both estimators (the halves' default before the
-                     ///< secant; docs/navigation.md, step 7)
+                     ///< secant; docs/auto.md, "The display transform and the bank's
+                     ///< median")
     DisplayExact,    ///< halves only: the display transform applied to the values themselves
-                     ///< (crossValidationMap's displayExposure; measured in docs/navigation.md,
-                     ///< not the default)
+                     ///< (crossValidationMap's displayExposure; not the default:
+                     ///< docs/research/auto-notebook.md measures it)
 };
 
 /// Parses "display" / "display-tangent" / "display-exact" / "linear"; throws
@@ -58,8 +59,8 @@ const char* sureSpaceName(SureSpace space);
 /// How the divergence is estimated and the data perturbed.
 struct SureOptions {
     /// Perturbation size relative to the pixel's own noise: ε = epsilon · σ per pixel and channel
-    /// (Ramani et al. suggest ε of about σ/100; docs/navigation.md measures it), never below 1e-4
-    /// of |y| (or 1e-7) so that float rounding cannot swallow it.
+    /// (Ramani et al. suggest ε of about σ/100; docs/auto.md, "Error estimation by SURE",
+    /// measures it), never below 1e-4 of |y| (or 1e-7) so that float rounding cannot swallow it.
     double epsilon = 0.01;
     std::uint64_t seed = 1;          ///< of the ±1 field b (hashed per pixel and channel)
     bool analyticDivergence = true;  ///< use Filter::divergence when the filter provides it
@@ -166,9 +167,10 @@ Image crossValidationMap(const Image& halfA, const Image& halfB, const Image& ou
 /// unbiased form does up to the spread of s² between them. But its noise, −2 s² (f − m)(B − x),
 /// vanishes as f nears m, where the unbiased form's holds s² [(B − x)² − Var B] for every
 /// member: with s² differing between two members, a firefly in B does not cancel out of their
-/// difference (docs/navigation.md, step 9). `unbiasedMean`, when given, receives the unbiased
-/// form's mean per pixel and channel over the region (as if `form` were Unbiased), which is
-/// what the centred map's mean is not: an estimate of the member's display MSE.
+/// difference (docs/auto.md, "Error estimation by cross-validation on the halves").
+/// `unbiasedMean`, when given, receives the unbiased form's mean per pixel and channel over the
+/// region (as if `form` were Unbiased), which is what the centred map's mean is not: an estimate
+/// of the member's display MSE.
 enum class SecantForm { Unbiased, Centred };
 Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Image& outputA,
                                const Image* outputB, const Rect& region, const Image& centre,
@@ -178,14 +180,15 @@ Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Ima
 /// The median of the bank's results per pixel and channel (3 channels, region-sized): a
 /// member-independent estimate of the clean value, the centre of the display linearisation
 /// (SureSpace::Display and DisplayTangent). The median rather than the mean, which the members
-/// that barely filter pull into the clamp at a firefly or a highlight (docs/navigation.md
-/// measures both). The (n/2)-th smallest of the n values (the upper median for even n), found
-/// by a sorting network 8 values at a time. Throws glint::Error(InvalidArgument) for a bank
-/// without members.
+/// that barely filter pull into the clamp at a firefly or a highlight
+/// (docs/research/auto-notebook.md measures both). The (n/2)-th smallest of the n values (the
+/// upper median for even n), found by a sorting network 8 values at a time. Throws
+/// glint::Error(InvalidArgument) for a bank without members.
 Image bankMedian(const FilterBank& bank);
 
 /// The smoothing window, confidence, temperature, finer window, feathering and stacking an
-/// estimator uses unless told otherwise, measured on the quality table of docs/navigation.md:
+/// estimator uses unless told otherwise, measured on the quality table of docs/auto.md (and
+/// chosen in docs/research/auto-notebook.md):
 /// SURE 4, 3, 0 (a hard choice), no finer window, feather 4 and no stacking; the halves 8, 1,
 /// 0.06, 1, 5 and 6 members (their maps are noisier per pixel: a wider window with a lower bar
 /// wins on every scene, slightly soft weights blend members whose estimates are within the
@@ -211,7 +214,7 @@ struct AutoOptions {
     /// filtered on A and chosen among by its one-sided estimate first; then the `shortlist`
     /// members that carry the largest weight at the most pixels in that first choice are
     /// filtered on B too, and the final choice is among them, by their symmetric estimate
-    /// (docs/navigation.md, step 8). 0, or at least the bank's size: every member on both
+    /// (docs/auto.md, "Shortlist"). 0, or at least the bank's size: every member on both
     /// halves, the choice among all.
     int shortlist = 16;
     SureOptions sure;
@@ -244,10 +247,10 @@ struct AutoOptions {
     /// `featherGate` in some channel: there it gets no weight from its neighbours (a blur
     /// chosen around a small light must not spread into the light). Then the weights are
     /// renormalised (a pixel where all are gated takes its largest-weight member alone). 0: off.
-    /// Unset: the estimator's default (autoDefaults). docs/navigation.md, step 10.
+    /// Unset: the estimator's default (autoDefaults). docs/auto.md, "Feathering".
     std::optional<int> feather;
     double featherGate = 0.2;
-    /// Stacking (halves, both sides; docs/navigation.md, steps 11 to 13): the `stack` members
+    /// Stacking (halves, both sides; docs/auto.md, "Stacking"): the `stack` members
     /// with the largest total weight (at most 16) correct the composite c per pixel to
     /// c + Σ a_i (f_i − c). The a_i are fitted over (2·stackWindow + 1)² pixels by a ridge
     /// regression of each half on the members' results on the other half (weighted by the
@@ -266,7 +269,7 @@ struct AutoOptions {
     double stackRidge = 0.5;
     double stackFloor = 0.1;
     int stackSmooth = 8;
-    /// The stacking's feature regressors (docs/navigation.md, step 13): besides the members,
+    /// The stacking's feature regressors (docs/auto.md, "Stacking"): besides the members,
     /// the fit takes each feature's local deviation from its box average over
     /// (2·stackFeatureWindow + 1)² pixels, times c — the albedo's relative deviation in each
     /// colour channel (one regressor) and each axis of the normal (three) — from the whole

@@ -30,10 +30,11 @@ void checkMemory(std::uint64_t bytes, std::uint64_t limit, const std::string& wh
 /// glibc, blocks up to 32 MiB come from the heap (not a fresh mapping each) and the heaps are not
 /// trimmed below 2 GiB of free space. The filters and the auto composite allocate and free
 /// frame-sized buffers by the hundred; without this, each comes back as fresh zeroed pages
-/// (the kernel's page clearing took about a tenth of a `bench_auto` run; docs/navigation.md,
-/// "Speed of the halves"). A process-wide setting for command-line tools and benchmarks (not a
-/// long-running application, whose memory after a large job would stay at its peak); does
-/// nothing on other C libraries or under an allocator that replaces glibc's (AddressSanitizer's).
+/// (the kernel's page clearing took about a tenth of a `bench_auto` run;
+/// docs/research/auto-notebook.md, "Speed of the halves"). A process-wide setting for
+/// command-line tools and benchmarks (not a long-running application, whose memory after a large
+/// job would stay at its peak); does nothing on other C libraries or under an allocator that
+/// replaces glibc's (AddressSanitizer's).
 /// Returns whether the setting took.
 bool retainFreedMemory();
 
