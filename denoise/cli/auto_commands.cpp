@@ -314,7 +314,7 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
                     "score (0 … 6; default 0 for SURE, 1 for the halves)");
     cmd->add_option("--feather", a->feather,
                     "Radius over which each member's weights are smoothed before the composite "
-                    "(0 … 32; 0: off; default 4)");
+                    "(0 … 32; 0: off; default 4 for SURE, 5 for the halves)");
     cmd->add_option("--feather-gate", a->featherGate,
                     "No feathered weight where a member's display value is farther than this from "
                     "the unfeathered composite's (> 0; default 0.2)");
