@@ -38,6 +38,12 @@ void writeGradientTexture(const fs::path& file, int width, int height) {
     test::writeTiledTexture(image, file);
 }
 
+/// The resident levels of texture file `file`, read through a store of their own.
+ResidentLevels residentOf(const fs::path& file) {
+    TextureStore store;
+    return ResidentLevels::read(store, store.open(file, "", ""));
+}
+
 /// An isotropic footprint `texels` texels of a `size`-texel level wide.
 TexFootprint isotropic(float texels, int size) {
     const float w = texels / float(size);
@@ -100,9 +106,7 @@ TEST(ResidentLevels, AgreesWithTheTextureSystemWhereItCovers) {
 TEST(ResidentLevels, CoversFootprintsOfATexelOfTheFinestResidentLevelOrMore) {
     test::TempDir dir("levels_cover");
     writeGradientTexture(dir.path() / "ramp.exr", 2048, 2048);
-    TextureStore store;
-    const ResidentLevels resident =
-        ResidentLevels::read(store, store.open(dir.path() / "ramp.exr", "", ""));
+    const ResidentLevels resident = residentOf(dir.path() / "ramp.exr");
     EXPECT_FALSE(resident.covers({}));  // zero: bilinear at the finest level, in the store
     EXPECT_FALSE(resident.covers(isotropic(0.9f, kResidentTextureSize)));
     EXPECT_TRUE(resident.covers(isotropic(1.0f, kResidentTextureSize)));
@@ -118,9 +122,7 @@ TEST(ResidentLevels, CoversFootprintsOfATexelOfTheFinestResidentLevelOrMore) {
 TEST(ResidentLevels, FilterACheckerToGreyAndWrapAtTheEdges) {
     test::TempDir dir("levels_checker");
     test::writeCheckerTexture(dir.path() / "checker.exr", 1024, 1);
-    TextureStore store;
-    const ResidentLevels resident =
-        ResidentLevels::read(store, store.open(dir.path() / "checker.exr", "", ""));
+    const ResidentLevels resident = residentOf(dir.path() / "checker.exr");
     // Single-texel squares: every level from 512² down is 0.5 (box-filtered).
     for (float texels : {1.0f, 3.0f, 100.0f})
         for (TextureWrap wrap : {TextureWrap::Repeat, TextureWrap::Clamp, TextureWrap::Mirror})
@@ -136,9 +138,7 @@ TEST(ResidentLevels, PickTheLevelTheFootprintSpans) {
     // 8-texel squares at 1024²: 4 texels at the resident 512², half a texel at 64² (grey).
     test::TempDir dir("levels_pick");
     test::writeCheckerTexture(dir.path() / "checker.exr", 1024, 8);
-    TextureStore store;
-    const ResidentLevels resident =
-        ResidentLevels::read(store, store.open(dir.path() / "checker.exr", "", ""));
+    const ResidentLevels resident = residentOf(dir.path() / "checker.exr");
     for (int k = 0; k < 16; ++k) {
         // The centre of square (k, 3): white when k + 3 is even.
         const float s = (8.0f * float(k) + 4.0f) / 1024.0f, t = 28.0f / 1024.0f;
