@@ -1,12 +1,14 @@
-// A file texture's resident MIP levels (ResidentLevels): which levels are held, lookups that
-// agree with the TextureSystem's where they cover the footprint, the cover threshold, the
-// memory they take from the tile cache, and renders that read no tiles when all is resident.
+// Glint's filter over a tiled texture's MIP levels (TextureLevels): which levels are held in
+// memory, lookups that agree with OpenImageIO's filter, texels read through the cache's tiles,
+// the level a footprint picks, wrap modes, the memory taken from the tile cache, and renders
+// that read no tile when all they need is resident.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 #include <memory>
 
+#include "glint/image/io.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 #include "scene/scene_data.h"
@@ -20,8 +22,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using detail::kResidentTextureSize;
-using detail::ResidentLevels;
 using detail::TexFootprint;
+using detail::TextureLevels;
 using detail::TextureStore;
 using detail::TextureWrap;
 
@@ -38,11 +40,17 @@ void writeGradientTexture(const fs::path& file, int width, int height) {
     test::writeTiledTexture(image, file);
 }
 
-/// The resident levels of texture file `file`, read through a store of their own.
-ResidentLevels residentOf(const fs::path& file) {
+/// A store holding texture file `file` (index 0) and the file's levels.
+struct Opened {
     TextureStore store;
-    return ResidentLevels::read(store, store.open(file, "", ""));
-}
+    TextureLevels levels;
+    explicit Opened(const fs::path& file)
+        : levels(TextureLevels::read(store, store.open(file, "", ""))) {}
+    Vec4 lookup(float s, float t, const TexFootprint& fp, TextureWrap wrapS = TextureWrap::Repeat,
+                TextureWrap wrapT = TextureWrap::Repeat) const {
+        return levels.lookup(store, 0, s, t, fp, wrapS, wrapT);
+    }
+};
 
 /// An isotropic footprint `texels` texels of a `size`-texel level wide.
 TexFootprint isotropic(float texels, int size) {
@@ -50,79 +58,107 @@ TexFootprint isotropic(float texels, int size) {
     return {{w, 0.0f}, {0.0f, w}};
 }
 
-TEST(ResidentLevels, HoldsTheLevelsOfAtMostTheResidentSize) {
+TEST(TextureLevels, HoldTheLevelsOfAtMostTheResidentSizeInMemory) {
     test::TempDir dir("levels_held");
     writeGradientTexture(dir.path() / "big.exr", 1024, 1024);
     writeGradientTexture(dir.path() / "odd.exr", 300, 200);
-    TextureStore store;
-    const ResidentLevels big =
-        ResidentLevels::read(store, store.open(dir.path() / "big.exr", "", ""));
-    // 512², 256², ..., 1²: 8 bytes a texel (half RGBA).
+    const Opened big(dir.path() / "big.exr");
+    // 512², 256², ..., 1²: 8 bytes a texel (half RGBA); 1024² stays in the tiles.
     std::size_t expected = 0;
     for (int s = kResidentTextureSize; s >= 1; s /= 2) expected += std::size_t(s) * s * 8;
-    EXPECT_EQ(big.bytes(), expected);
+    EXPECT_EQ(big.levels.residentBytes(), expected);
     // A file no larger than the resident size is held whole, its own size first.
-    const ResidentLevels odd =
-        ResidentLevels::read(store, store.open(dir.path() / "odd.exr", "", ""));
-    EXPECT_GE(odd.bytes(), std::size_t(300) * 200 * 8);
-    EXPECT_LT(odd.bytes(), std::size_t(300) * 200 * 8 * 4 / 3 + 64);
+    const Opened odd(dir.path() / "odd.exr");
+    EXPECT_GE(odd.levels.residentBytes(), std::size_t(300) * 200 * 8);
+    EXPECT_LT(odd.levels.residentBytes(), std::size_t(300) * 200 * 8 * 4 / 3 + 64);
     // The mean of a linear ramp is its value at the centre.
-    const Vec4 m = big.mean();
+    const Vec4 m = big.levels.mean();
     EXPECT_NEAR(m.x, 0.5f, 2e-3f);
     EXPECT_NEAR(m.y, 0.5f, 2e-3f);
-    EXPECT_NEAR(m.w, 1.0f, 0.0f);
+    EXPECT_EQ(m.w, 1.0f);
 }
 
-TEST(ResidentLevels, AgreesWithTheTextureSystemWhereItCovers) {
-    // On a linear ramp both filters give the value at the footprint's centre: they differ by
-    // half-float rounding (3 significant digits) and OIIO's own, not by a level or a texel.
+TEST(TextureLevels, AgreeWithOpenImageIosFilter) {
+    // On a linear ramp any filter symmetric about its centre gives the value there, so Glint's
+    // and OIIO's differ only by rounding (half floats in memory: 3 significant digits) wherever
+    // the footprint falls: below a texel, in the tiles, in the resident levels, anisotropic.
     test::TempDir dir("levels_agree");
     writeGradientTexture(dir.path() / "ramp.exr", 2048, 1024);
-    auto store = std::make_shared<TextureStore>();
-    const int file = store->open(dir.path() / "ramp.exr", "", "");
-    const ResidentLevels resident = ResidentLevels::read(*store, file);
+    const Opened ramp(dir.path() / "ramp.exr");
     const TexFootprint footprints[] = {
-        isotropic(1.0f, 512),
-        isotropic(2.5f, 512),
-        isotropic(40.0f, 512),
-        {{4.0f / 512, 1.0f / 512}, {-0.25f / 512, 1.0f / 512}},  // anisotropic, 4:1
-        {{0.0f, 30.0f / 512}, {1.0f / 512, 0.0f}},               // 30:1, widened
+        {},                                                          // bilinear at the finest level
+        isotropic(0.4f, 2048),                                       // smaller than a texel
+        isotropic(1.5f, 2048),                                       // the tiles: 2048² and 1024²
+        isotropic(1.0f, 512),                                        // the finest resident level
+        isotropic(2.5f, 512),                                        // between two resident levels
+        isotropic(40.0f, 512),                                       // coarse
+        {{4.0f / 2048, 1.0f / 2048}, {-0.25f / 2048, 1.0f / 2048}},  // 4:1, in the tiles
+        {{0.0f, 30.0f / 512}, {1.0f / 512, 0.0f}},                   // 30:1, widened
     };
-    for (const TexFootprint& fp : footprints) {
-        ASSERT_TRUE(resident.covers(fp));
+    for (const TexFootprint& fp : footprints)
         for (float s : {0.3f, 0.5f, 0.61f})
             for (float t : {0.35f, 0.5f, 0.7f}) {
-                const Vec4 ours = resident.lookup(s, t, fp, TextureWrap::Clamp, TextureWrap::Clamp);
+                const Vec4 ours = ramp.lookup(s, t, fp, TextureWrap::Clamp, TextureWrap::Clamp);
                 const Vec4 oiio =
-                    store->lookup(file, s, t, fp, TextureWrap::Clamp, TextureWrap::Clamp, false);
+                    ramp.store.lookup(0, s, t, fp, TextureWrap::Clamp, TextureWrap::Clamp, false);
                 EXPECT_NEAR(ours.x, oiio.x, 4e-3f) << s << ", " << t << " fp " << fp.dx.x;
                 EXPECT_NEAR(ours.y, oiio.y, 4e-3f) << s << ", " << t << " fp " << fp.dx.x;
                 EXPECT_NEAR(ours.z, oiio.z, 4e-3f) << s << ", " << t << " fp " << fp.dx.x;
                 EXPECT_NEAR(ours.x, s, 4e-3f);
             }
-    }
+    // Off a ramp the two agree where both are bilinear: at the finest level (float texels read
+    // from the tiles), to float rounding.
+    test::writeCheckerTexture(dir.path() / "checker.exr", 1024, 3);
+    const Opened checker(dir.path() / "checker.exr");
+    for (float s : {0.1f, 0.2345f, 0.777f})
+        for (float t : {0.01f, 0.5f, 0.9999f}) {
+            const Vec4 ours = checker.lookup(s, t, {});
+            const Vec4 oiio =
+                checker.store.lookup(0, s, t, {}, TextureWrap::Repeat, TextureWrap::Repeat, false);
+            EXPECT_NEAR(ours.x, oiio.x, 1e-5f) << s << ", " << t;
+        }
 }
 
-TEST(ResidentLevels, CoversFootprintsOfATexelOfTheFinestResidentLevelOrMore) {
+TEST(TextureLevels, ReadTheTexelsOfAnUntiledFileThroughTheCachesTiles) {
+    // A scanline EXR, 300 × 200: the cache cuts it into 64² tiles of its own.
+    test::TempDir dir("levels_untiled");
+    Image image(300, 200, 3);
+    for (int y = 0; y < 200; ++y)
+        for (int x = 0; x < 300; ++x)
+            for (int c = 0; c < 3; ++c) image(x, y, c) = float(x + 1000 * y + 7 * c);
+    writeImage(image, dir.path() / "scan.exr");
+    const Opened scan(dir.path() / "scan.exr");
+    for (int x : {0, 63, 64, 130, 299})
+        for (int y : {0, 1, 64, 127, 199}) {
+            Vec4 q[4];
+            ASSERT_TRUE(scan.store.texelQuad(0, 0, x, x, y, y, q));
+            EXPECT_EQ(q[0].x, float(x + 1000 * y)) << x << ", " << y;
+            EXPECT_EQ(q[0].z, float(x + 1000 * y + 14)) << x << ", " << y;
+            EXPECT_EQ(q[0].w, 1.0f);
+        }
+}
+
+TEST(TextureLevels, AFootprintOfATexelOfTheFinestResidentLevelReadsOnlyResidentOnes) {
     test::TempDir dir("levels_cover");
     writeGradientTexture(dir.path() / "ramp.exr", 2048, 2048);
-    const ResidentLevels resident = residentOf(dir.path() / "ramp.exr");
-    EXPECT_FALSE(resident.covers({}));  // zero: bilinear at the finest level, in the store
-    EXPECT_FALSE(resident.covers(isotropic(0.9f, kResidentTextureSize)));
-    EXPECT_TRUE(resident.covers(isotropic(1.0f, kResidentTextureSize)));
+    const Opened ramp(dir.path() / "ramp.exr");
+    const TextureLevels& levels = ramp.levels;
+    EXPECT_FALSE(levels.resident({}));  // zero: bilinear at the finest level, in the tiles
+    EXPECT_FALSE(levels.resident(isotropic(0.9f, kResidentTextureSize)));
+    EXPECT_TRUE(levels.resident(isotropic(1.0f, kResidentTextureSize)));
     // Long and thin: 8 taps as wide as an eighth of the length.
-    EXPECT_FALSE(resident.covers({{7.0f / kResidentTextureSize, 0.0f}, {0.0f, 1e-6f}}));
-    EXPECT_TRUE(resident.covers({{9.0f / kResidentTextureSize, 0.0f}, {0.0f, 1e-6f}}));
+    EXPECT_FALSE(levels.resident({{7.0f / kResidentTextureSize, 0.0f}, {0.0f, 1e-6f}}));
+    EXPECT_TRUE(levels.resident({{9.0f / kResidentTextureSize, 0.0f}, {0.0f, 1e-6f}}));
     // Non-finite axes count as zero.
-    EXPECT_FALSE(resident.covers({{NAN, 0.0f}, {0.0f, INFINITY}}));
-    EXPECT_TRUE(ResidentLevels{}.empty());
-    EXPECT_FALSE(ResidentLevels{}.covers(isotropic(64.0f, 1)));
+    EXPECT_FALSE(levels.resident({{NAN, 0.0f}, {0.0f, INFINITY}}));
+    EXPECT_TRUE(TextureLevels{}.empty());
+    EXPECT_FALSE(TextureLevels{}.resident(isotropic(64.0f, 1)));
 }
 
-TEST(ResidentLevels, FilterACheckerToGreyAndWrapAtTheEdges) {
+TEST(TextureLevels, FilterACheckerToGreyAndWrapAtTheEdges) {
     test::TempDir dir("levels_checker");
     test::writeCheckerTexture(dir.path() / "checker.exr", 1024, 1);
-    const ResidentLevels resident = residentOf(dir.path() / "checker.exr");
+    const Opened resident(dir.path() / "checker.exr");
     // Single-texel squares: every level from 512² down is 0.5 (box-filtered).
     for (float texels : {1.0f, 3.0f, 100.0f})
         for (TextureWrap wrap : {TextureWrap::Repeat, TextureWrap::Clamp, TextureWrap::Mirror})
@@ -134,20 +170,17 @@ TEST(ResidentLevels, FilterACheckerToGreyAndWrapAtTheEdges) {
             }
 }
 
-TEST(ResidentLevels, PickTheLevelTheFootprintSpans) {
+TEST(TextureLevels, PickTheLevelTheFootprintSpans) {
     // 8-texel squares at 1024²: 4 texels at the resident 512², half a texel at 64² (grey).
     test::TempDir dir("levels_pick");
     test::writeCheckerTexture(dir.path() / "checker.exr", 1024, 8);
-    const ResidentLevels resident = residentOf(dir.path() / "checker.exr");
+    const Opened resident(dir.path() / "checker.exr");
     for (int k = 0; k < 16; ++k) {
         // The centre of square (k, 3): white when k + 3 is even.
         const float s = (8.0f * float(k) + 4.0f) / 1024.0f, t = 28.0f / 1024.0f;
         const float expected = (k + 3) % 2 == 0 ? 1.0f : 0.0f;
         const auto at = [&](float texels) {
-            return resident
-                .lookup(s, t, isotropic(texels, kResidentTextureSize), TextureWrap::Repeat,
-                        TextureWrap::Repeat)
-                .x;
+            return resident.lookup(s, t, isotropic(texels, kResidentTextureSize)).x;
         };
         EXPECT_NEAR(at(1.0f), expected, 1e-3f) << k;  // the 512² level, at a texel centre
         EXPECT_NEAR(at(2.0f), expected, 0.3f) << k;   // 256²: squares of two texels
@@ -155,7 +188,7 @@ TEST(ResidentLevels, PickTheLevelTheFootprintSpans) {
     }
 }
 
-TEST(ResidentLevels, CountAgainstTheCacheSize) {
+TEST(TextureLevels, CountAgainstTheCacheSize) {
     TextureStore store(8);
     EXPECT_FLOAT_EQ(store.tileCacheMb(), 8.0f);
     store.addResidentBytes(std::size_t(3) << 20);
@@ -166,7 +199,7 @@ TEST(ResidentLevels, CountAgainstTheCacheSize) {
     EXPECT_FLOAT_EQ(store.tileCacheMb(), 87.0f);
 }
 
-TEST(ResidentLevels, ARenderOfAResidentTextureReadsNoTiles) {
+TEST(TextureLevels, ARenderOfAResidentTextureReadsNoTiles) {
     // 512² over a 256² film: every camera hit spans two texels, every bounce more; all of it is
     // resident, read at load, and the render adds no tile to the cache.
     test::TempDir dir("levels_render");
@@ -182,7 +215,7 @@ TEST(ResidentLevels, ARenderOfAResidentTextureReadsNoTiles) {
     })");
     Renderer renderer(loadScene(scene));
     const detail::TextureStore& textures = *renderer.scene().data().textureStore;
-    ASSERT_FALSE(renderer.scene().data().textures.front().resident.empty());
+    ASSERT_FALSE(renderer.scene().data().textures.front().levels.empty());
     const std::uint64_t loaded = textures.cacheBytesUsed();
     Settings s = renderer.scene().settings();
     s.threads = 2;

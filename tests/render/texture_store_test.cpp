@@ -25,8 +25,7 @@ namespace fs = std::filesystem;
 using detail::TextureStore;
 using detail::TextureWrap;
 
-/// A texture of `store` file `file` as the loader makes one, without resident levels (every
-/// lookup through the TextureSystem).
+/// A texture of `store` file `file` as the loader makes one.
 detail::Texture fileTexture(const std::shared_ptr<TextureStore>& store, int file,
                             TextureWrap wrap = TextureWrap::Repeat, bool srgb = false) {
     detail::Texture t;
@@ -34,6 +33,7 @@ detail::Texture fileTexture(const std::shared_ptr<TextureStore>& store, int file
     t.file = file;
     t.wrapS = t.wrapT = wrap;
     t.decodeSrgb = srgb;
+    t.readLevels();
     return t;
 }
 

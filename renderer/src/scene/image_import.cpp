@@ -124,7 +124,7 @@ int Loader::loadTexture(const Texture& source, const std::string& where) {
             tex.contentHash = m_scene.textureStore->contentHash(tex.file);
             // Reading the resident levels reads the file's small MIP levels: a file damaged
             // there fails now.
-            tex.readResident();
+            tex.readLevels();
             m_scene.textureStore->throwIfFailed();
         }
     }

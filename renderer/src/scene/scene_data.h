@@ -127,9 +127,9 @@ inline constexpr int kCoarseTextureSize = 64;
 inline constexpr TexFootprint kCoarseFootprint{{1.0f / kCoarseTextureSize, 0.0f},
                                                {0.0f, 1.0f / kCoarseTextureSize}};
 
-/// An RGBA texture: a file read through the scene's TextureStore (tiled, MIP-mapped, cached,
-/// filtered by the lookup's footprint), or an image held in memory (embedded glTF images,
-/// textures made by code) looked up bilinearly.
+/// An RGBA texture: a file read through the scene's TextureStore (tiled, MIP-mapped, cached)
+/// and filtered by the lookup's footprint (TextureLevels), or an image held in memory (embedded
+/// glTF images, textures made by code) looked up bilinearly.
 struct Texture {
     std::filesystem::path path;  ///< the file, or for an embedded image "ASSET#images[i]"
     /// An embedded image's encoded bytes (glTF bufferView or data URI); null for a file.
@@ -145,18 +145,18 @@ struct Texture {
     /// hash of its bytes (computed once at load).
     std::uint64_t contentHash = 0;
 
-    /// A file texture's MIP levels of at most kResidentTextureSize texels a side, held in
-    /// memory: footprints of a texel of them or more are filtered there, without a
-    /// TextureSystem call (far surfaces, bounces). Empty: every lookup goes to the store.
-    ResidentLevels resident;
+    /// A file texture's MIP levels, filtered by Glint: those of at most kResidentTextureSize
+    /// texels a side held in memory, finer ones read from the store's tile cache.
+    TextureLevels levels;
 
     /// The value at `uv` (origin at the bottom-left of the image, the OBJ convention) filtered
     /// over `footprint` (the change of uv per ray step in x and y; zero: bilinear). An image in
     /// memory is always looked up bilinearly.
     Vec4 lookup(Vec2 uv, const TexFootprint& footprint = {}) const;
-    /// Fills `resident` from the store (a file texture) and counts it against the store's cache
-    /// size. A file that cannot be read there is recorded in the store (throwIfFailed()).
-    void readResident();
+    /// Fills `levels` from the store (a file texture) and counts their resident texels against
+    /// the store's cache size. A file that cannot be read there is recorded in the store
+    /// (throwIfFailed()).
+    void readLevels();
     /// The mean colour over the whole texture (light power estimates).
     Vec3 meanColour() const;
 };

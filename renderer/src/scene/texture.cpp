@@ -51,23 +51,18 @@ Vec4 Texture::lookup(Vec2 uv, const TexFootprint& footprint) const {
     // wrapped first so that huge ones stay clear of float → integer texel indices.
     const float s = wrapCoordinate(uv.x, wrapS), t = 1.0f - wrapCoordinate(uv.y, wrapT);
     const TexFootprint st{{footprint.dx.x, -footprint.dx.y}, {footprint.dy.x, -footprint.dy.y}};
-    if (resident.covers(st))
-        return usableTextureValue(resident.lookup(s, t, st, wrapS, wrapT), decodeSrgb);
-    return store->lookup(file, s, t, st, wrapS, wrapT, decodeSrgb);
+    return usableTextureValue(levels.lookup(*store, file, s, t, st, wrapS, wrapT), decodeSrgb);
 }
 
-void Texture::readResident() {
-    resident = ResidentLevels::read(*store, file);
-    // The store's tile cache makes room for them.
-    std::const_pointer_cast<TextureStore>(store)->addResidentBytes(resident.bytes());
+void Texture::readLevels() {
+    levels = TextureLevels::read(*store, file);
+    // The store's tile cache makes room for the resident levels.
+    std::const_pointer_cast<TextureStore>(store)->addResidentBytes(levels.residentBytes());
 }
 
 Vec3 Texture::meanColour() const {
     if (!store) return meanOf(image);
-    // The coarsest level's mean, or a footprint of the whole texture (OIIO filters its
-    // coarsest MIP level).
-    const Vec4 m = !resident.empty() ? usableTextureValue(resident.mean(), decodeSrgb)
-                                     : lookup({0.5f, 0.5f}, {{1.0f, 0.0f}, {0.0f, 1.0f}});
+    const Vec4 m = usableTextureValue(levels.mean(), decodeSrgb);
     return {m.x, m.y, m.z};
 }
 

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Imath/half.h>
+
+#include "scene/half_float.h"
 #include "scene/texture_wrap.h"
 
 namespace glint::render::detail {
@@ -30,7 +33,8 @@ struct FilterPlan {
 /// times longer than wide is widened to an eighth of its length (so the taps still cover it).
 FilterPlan plan(const TexFootprint& footprint) {
     const Vec2 dx = saneAxis(footprint.dx), dy = saneAxis(footprint.dy);
-    const float lx = std::hypot(dx.x, dx.y), ly = std::hypot(dy.x, dy.y);
+    const float lx = std::sqrt(dx.x * dx.x + dx.y * dx.y),
+                ly = std::sqrt(dy.x * dy.x + dy.y * dy.y);
     const float longer = std::max(lx, ly), shorter = std::min(lx, ly);
     FilterPlan p;
     p.major = lx >= ly ? dx : dy;
@@ -44,68 +48,103 @@ FilterPlan plan(const TexFootprint& footprint) {
 
 }  // namespace
 
-ResidentLevels ResidentLevels::read(const TextureStore& store, int file) {
-    ResidentLevels resident;
+TextureLevels TextureLevels::read(const TextureStore& store, int file) {
+    TextureLevels levels;
     const std::vector<std::pair<int, int>> sizes = store.levelSizes(file);
     std::vector<float> rgba;
+    levels.m_firstResident = int(sizes.size());
     for (std::size_t m = 0; m < sizes.size(); ++m) {
-        const auto [w, h] = sizes[m];
-        if (std::max(w, h) > kResidentTextureSize) continue;
-        if (!store.readLevel(file, int(m), rgba)) return {};
         Level level;
-        level.width = w;
-        level.height = h;
-        // Half floats: non-finite values 0 (as the store gives them), the rest within half's range.
-        level.texels.resize(rgba.size());
-        for (std::size_t i = 0; i < rgba.size(); ++i)
-            level.texels[i] = Imath::half(
-                std::isfinite(rgba[i]) ? std::clamp(rgba[i], -kHalfMax, kHalfMax) : 0.0f);
-        resident.m_levels.push_back(std::move(level));
+        level.width = sizes[m].first;
+        level.height = sizes[m].second;
+        if (std::max(level.width, level.height) <= kResidentTextureSize) {
+            if (!store.readLevel(file, int(m), rgba)) return {};
+            levels.m_firstResident = std::min(levels.m_firstResident, int(m));
+            // Half floats: non-finite values 0 (as the store gives them), the rest within
+            // half's range.
+            level.texels.resize(rgba.size());
+            for (std::size_t i = 0; i < rgba.size(); ++i)
+                level.texels[i] =
+                    Imath::half(std::isfinite(rgba[i]) ? std::clamp(rgba[i], -kHalfMax, kHalfMax)
+                                                       : 0.0f)
+                        .bits();
+        }
+        levels.m_levels.push_back(std::move(level));
     }
-    return resident;
+    return levels;
 }
 
-std::size_t ResidentLevels::bytes() const {
+std::size_t TextureLevels::residentBytes() const {
     std::size_t n = 0;
-    for (const Level& level : m_levels) n += level.texels.size() * sizeof(Imath::half);
+    for (const Level& level : m_levels) n += level.texels.size() * sizeof(std::uint16_t);
     return n;
 }
 
-bool ResidentLevels::covers(const TexFootprint& footprint) const {
-    if (m_levels.empty()) return false;
-    const Level& finest = m_levels.front();
+bool TextureLevels::resident(const TexFootprint& footprint) const {
+    if (m_firstResident >= int(m_levels.size())) return false;
+    const Level& finest = m_levels[std::size_t(m_firstResident)];
     return plan(footprint).width * float(std::max(finest.width, finest.height)) >= 1.0f;
 }
 
-Vec4 ResidentLevels::bilinear(const Level& level, float s, float t, TextureWrap wrapS,
-                              TextureWrap wrapT) const {
+Vec4 TextureLevels::bilinear(const TextureStore& store, int file, int index, float s, float t,
+                             TextureWrap wrapS, TextureWrap wrapT) const {
+    const Level& level = m_levels[std::size_t(index)];
     const int w = level.width, h = level.height;
     // Texel centres at half-integers.
     const float x = wrapCoordinate(s, wrapS) * float(w) - 0.5f;
     const float y = wrapCoordinate(t, wrapT) * float(h) - 0.5f;
     const float fx = std::floor(x), fy = std::floor(y);
     const float tx = x - fx, ty = y - fy;
-    const int x0 = wrapIndex(long(fx), w, wrapS), x1 = wrapIndex(long(fx) + 1, w, wrapS);
-    const int y0 = wrapIndex(long(fy), h, wrapT), y1 = wrapIndex(long(fy) + 1, h, wrapT);
-    const Imath::half* texels = level.texels.data();
-    auto texel = [&](int xi, int yi) {
-        const Imath::half* p = texels + (std::size_t(yi) * std::size_t(w) + std::size_t(xi)) * 4;
-        return Vec4{float(p[0]), float(p[1]), float(p[2]), float(p[3])};
-    };
+    // Inside the level (most lookups) the indices need no wrapping, which divides.
+    int x0 = int(fx), x1 = x0 + 1, y0 = int(fy), y1 = y0 + 1;
+    if (x0 < 0 || x1 >= w)
+        x0 = wrapIndex(long(fx), w, wrapS), x1 = wrapIndex(long(fx) + 1, w, wrapS);
+    if (y0 < 0 || y1 >= h)
+        y0 = wrapIndex(long(fy), h, wrapT), y1 = wrapIndex(long(fy) + 1, h, wrapT);
     auto mix = [](float u, const Vec4& a, const Vec4& b) {
         const float v = 1.0f - u;
         return Vec4{a.x * v + b.x * u, a.y * v + b.y * u, a.z * v + b.z * u, a.w * v + b.w * u};
     };
-    return mix(ty, mix(tx, texel(x0, y0), texel(x1, y0)), mix(tx, texel(x0, y1), texel(x1, y1)));
+    Vec4 q[4];
+    if (level.texels.empty()) {
+        store.texelQuad(file, index, x0, x1, y0, y1, q);
+        return mix(ty, mix(tx, q[0], q[1]), mix(tx, q[2], q[3]));
+    }
+    const std::uint16_t* rows[2] = {level.texels.data() + std::size_t(y0) * std::size_t(w) * 4,
+                                    level.texels.data() + std::size_t(y1) * std::size_t(w) * 4};
+    const std::size_t cols[2] = {std::size_t(x0) * 4, std::size_t(x1) * 4};
+#if defined(__SSE2__)
+    // The same a (1 - t) + b t, four channels at once.
+    const __m128 sx = _mm_set1_ps(tx), rx = _mm_set1_ps(1.0f - tx);
+    const __m128 top = _mm_add_ps(_mm_mul_ps(halfToFloat4(rows[0] + cols[0]), rx),
+                                  _mm_mul_ps(halfToFloat4(rows[0] + cols[1]), sx));
+    const __m128 bottom = _mm_add_ps(_mm_mul_ps(halfToFloat4(rows[1] + cols[0]), rx),
+                                     _mm_mul_ps(halfToFloat4(rows[1] + cols[1]), sx));
+    alignas(16) float v[4];
+    _mm_store_ps(v, _mm_add_ps(_mm_mul_ps(top, _mm_set1_ps(1.0f - ty)),
+                               _mm_mul_ps(bottom, _mm_set1_ps(ty))));
+    return {v[0], v[1], v[2], v[3]};
+#else
+    for (int k = 0; k < 4; ++k) {
+        const std::uint16_t* p = rows[k / 2] + cols[k % 2];
+        q[k] = {halfToFloat(p[0]), halfToFloat(p[1]), halfToFloat(p[2]), halfToFloat(p[3])};
+    }
+    return mix(ty, mix(tx, q[0], q[1]), mix(tx, q[2], q[3]));
+#endif
 }
 
-Vec4 ResidentLevels::lookup(float s, float t, const TexFootprint& footprint, TextureWrap wrapS,
-                            TextureWrap wrapT) const {
+Vec4 TextureLevels::lookup(const TextureStore& store, int file, float s, float t,
+                           const TexFootprint& footprint, TextureWrap wrapS,
+                           TextureWrap wrapT) const {
+    if (m_levels.empty()) return {0.0f, 0.0f, 0.0f, 1.0f};
     const FilterPlan p = plan(footprint);
     const Level& finest = m_levels.front();
-    // The level whose texel is as wide as the filter, between two levels when it falls there.
+    // The level whose texel is as wide as the filter, between two levels when it falls there;
+    // a filter narrower than a texel of the finest level: the finest, bilinearly.
     const float lod =
-        std::max(0.0f, std::log2(p.width * float(std::max(finest.width, finest.height))));
+        p.width > 0.0f
+            ? std::max(0.0f, std::log2(p.width * float(std::max(finest.width, finest.height))))
+            : 0.0f;
     const int last = int(m_levels.size()) - 1;
     const int fine = std::min(int(lod), last), coarse = std::min(fine + 1, last);
     const float blend = fine == coarse ? 0.0f : std::min(lod - float(fine), 1.0f);
@@ -113,9 +152,9 @@ Vec4 ResidentLevels::lookup(float s, float t, const TexFootprint& footprint, Tex
     for (int k = 0; k < p.taps; ++k) {
         const float offset = (float(k) + 0.5f) / float(p.taps) - 0.5f;
         const float ks = s + offset * p.major.x, kt = t + offset * p.major.y;
-        Vec4 v = bilinear(m_levels[std::size_t(fine)], ks, kt, wrapS, wrapT);
+        Vec4 v = bilinear(store, file, fine, ks, kt, wrapS, wrapT);
         if (blend > 0.0f) {
-            const Vec4 c = bilinear(m_levels[std::size_t(coarse)], ks, kt, wrapS, wrapT);
+            const Vec4 c = bilinear(store, file, coarse, ks, kt, wrapS, wrapT);
             const float keep = 1.0f - blend;
             v = {v.x * keep + c.x * blend, v.y * keep + c.y * blend, v.z * keep + c.z * blend,
                  v.w * keep + c.w * blend};
@@ -126,13 +165,14 @@ Vec4 ResidentLevels::lookup(float s, float t, const TexFootprint& footprint, Tex
     return {sum.x * inv, sum.y * inv, sum.z * inv, sum.w * inv};
 }
 
-Vec4 ResidentLevels::mean() const {
-    if (m_levels.empty()) return {};
+Vec4 TextureLevels::mean() const {
+    if (m_levels.empty() || m_levels.back().texels.empty()) return {};
     const Level& coarsest = m_levels.back();
     double sum[4] = {0.0, 0.0, 0.0, 0.0};
     const std::size_t texels = coarsest.texels.size() / 4;
     for (std::size_t i = 0; i < texels; ++i)
-        for (int c = 0; c < 4; ++c) sum[c] += double(coarsest.texels[i * 4 + std::size_t(c)]);
+        for (int c = 0; c < 4; ++c)
+            sum[c] += double(halfToFloat(coarsest.texels[i * 4 + std::size_t(c)]));
     const double n = std::max<double>(1.0, double(texels));
     return {float(sum[0] / n), float(sum[1] / n), float(sum[2] / n), float(sum[3] / n)};
 }

@@ -1,14 +1,14 @@
-// A file texture's coarse MIP levels held in memory: the file's own levels of at most
-// kResidentTextureSize texels a side, as half floats (RGBA). A lookup whose footprint spans a
-// texel of them or more (far surfaces, the view of a large texture on a small film, every hit
-// after a diffuse or glossy bounce) is filtered here, without a TextureSystem call; finer ones
-// go to the TextureStore's tile cache (docs/assets.md, "Textures").
+// Glint's filter over a tiled texture's MIP levels. The levels of at most kResidentTextureSize
+// texels a side are read once into memory (half-float RGBA); finer ones are read texel by texel
+// from the TextureStore's tile cache (OpenImageIO's ImageCache). A lookup is filtered over its
+// footprint: trilinear between the two levels the filter width falls between, at up to 8 taps
+// along the footprint's long axis, as OIIO's anisotropic filter does, at a third of its cost
+// (docs/assets.md, "Textures").
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
-
-#include <Imath/half.h>
 
 #include "scene/texture_store.h"
 #include "vecmath.h"
@@ -19,38 +19,39 @@ namespace glint::render::detail {
 /// with its coarser levels is 2.8 MB.
 inline constexpr int kResidentTextureSize = 512;
 
-/// The resident MIP levels of one texture file, finest first.
-class ResidentLevels {
+/// One texture file's MIP levels: the sizes of all, the texels of the resident ones.
+class TextureLevels {
   public:
-    /// Reads from `store` the MIP levels of `file` of at most kResidentTextureSize texels a side
-    /// (every level of a smaller file). Empty when the store cannot read them (the failure is
-    /// recorded in the store: throwIfFailed()).
-    static ResidentLevels read(const TextureStore& store, int file);
+    /// The levels of `file` in `store`, reading the resident ones. Empty when the store cannot
+    /// read them (the failure is recorded in the store: throwIfFailed()).
+    static TextureLevels read(const TextureStore& store, int file);
 
     bool empty() const { return m_levels.empty(); }
-    /// Bytes of texels held.
-    std::size_t bytes() const;
+    /// Bytes of texels held in memory.
+    std::size_t residentBytes() const;
 
-    /// True when a lookup over `footprint` (in OIIO's s, t) is filtered here: its filter width
-    /// spans a texel of the finest resident level or more. A zero footprint never is.
-    bool covers(const TexFootprint& footprint) const;
+    /// True when a lookup over `footprint` reads only resident levels (no tile): its filter
+    /// width spans a texel of the finest resident level or more.
+    bool resident(const TexFootprint& footprint) const;
     /// The value at (s, t) (OIIO's orientation: t runs down from the top) filtered over
-    /// `footprint`: trilinear between the two levels the filter width falls between, at up to
-    /// 8 taps along the footprint's long axis (as OIIO's anisotropic filter). Values as the
-    /// file stores them (not decoded from sRGB, not clamped).
-    Vec4 lookup(float s, float t, const TexFootprint& footprint, TextureWrap wrapS,
-                TextureWrap wrapT) const;
+    /// `footprint` (zero: bilinear at the finest level), with texels of the levels not resident
+    /// read from `store` (file `file`, the one read()). Values as the file stores them (not
+    /// decoded from sRGB, not clamped); 0 where a tile cannot be read (recorded in the store).
+    Vec4 lookup(const TextureStore& store, int file, float s, float t,
+                const TexFootprint& footprint, TextureWrap wrapS, TextureWrap wrapT) const;
     /// The mean over the whole texture: the coarsest level's mean.
     Vec4 mean() const;
 
   private:
     struct Level {
         int width = 0, height = 0;
-        std::vector<Imath::half> texels;  ///< RGBA, rows from the top
+        std::vector<std::uint16_t> texels;  ///< half RGBA, rows from the top; empty: in tiles
     };
-    Vec4 bilinear(const Level& level, float s, float t, TextureWrap wrapS, TextureWrap wrapT) const;
+    Vec4 bilinear(const TextureStore& store, int file, int level, float s, float t,
+                  TextureWrap wrapS, TextureWrap wrapT) const;
 
-    std::vector<Level> m_levels;
+    std::vector<Level> m_levels;  ///< finest first
+    int m_firstResident = 0;      ///< the finest level held in memory
 };
 
 }  // namespace glint::render::detail

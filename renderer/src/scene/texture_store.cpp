@@ -12,6 +12,7 @@
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/image/random.h"
+#include "scene/half_float.h"
 #include "scene/scene_data.h"
 
 namespace glint::render::detail {
@@ -115,13 +116,81 @@ void TextureStore::addResidentBytes(std::size_t bytes) {
 }
 
 std::vector<std::pair<int, int>> TextureStore::levelSizes(int file) const {
-    const OIIO::ustring name(m_files[std::size_t(file)].path.string());
-    OIIO::ImageCache& cache = *m_impl->ts->imagecache();
     std::vector<std::pair<int, int>> sizes;
-    while (const OIIO::ImageSpec* spec = cache.imagespec(name, 0, int(sizes.size())))
-        sizes.emplace_back(spec->width, spec->height);
-    (void)cache.geterror();  // asking one level past the last is not a failure
+    for (const LevelTiles& level : m_files[std::size_t(file)].levels)
+        sizes.emplace_back(level.width, level.height);
     return sizes;
+}
+
+namespace {
+
+/// Channel `c` of texel `i` of tile pixels of `format` as a float (OIIO's normalisation of
+/// integer formats: 0 … 1).
+float tileValue(const void* pixels, OIIO::TypeDesc format, std::size_t i) {
+    switch (format.basetype) {
+        case OIIO::TypeDesc::HALF:
+            return halfToFloat(static_cast<const std::uint16_t*>(pixels)[i]);
+        case OIIO::TypeDesc::FLOAT:
+            return static_cast<const float*>(pixels)[i];
+        case OIIO::TypeDesc::UINT8:
+            return float(static_cast<const std::uint8_t*>(pixels)[i]) * (1.0f / 255.0f);
+        case OIIO::TypeDesc::UINT16:
+            return float(static_cast<const std::uint16_t*>(pixels)[i]) * (1.0f / 65535.0f);
+        default: {
+            float v = 0.0f;
+            const char* bytes = static_cast<const char*>(pixels) + i * format.size();
+            OIIO::convert_pixel_values(format, bytes, OIIO::TypeDesc::FLOAT, &v, 1);
+            return v;
+        }
+    }
+}
+
+}  // namespace
+
+bool TextureStore::texelQuad(int file, int level, int x0, int x1, int y0, int y1,
+                             Vec4 out[4]) const {
+    const File& f = m_files[std::size_t(file)];
+    const LevelTiles& tiles = f.levels[std::size_t(level)];
+    OIIO::ImageCache& cache = *m_impl->ts->imagecache();
+    OIIO::ImageCache::Perthread* thread = cache.get_perthread_info();
+    auto* handle = static_cast<OIIO::ImageCache::ImageHandle*>(f.imageHandle);
+    const int channels = f.info.channels, n = std::min(channels, 4);
+    const int xs[4] = {x0, x1, x0, x1}, ys[4] = {y0, y0, y1, y1};
+    // The four texels mostly share a tile: it is fetched once.
+    OIIO::ImageCache::Tile* tile = nullptr;
+    const void* pixels = nullptr;
+    OIIO::TypeDesc format;
+    int tileX = 0, tileY = 0;
+    bool ok = true;
+    for (int k = 0; k < 4; ++k) {
+        const int x = tiles.x + xs[k], y = tiles.y + ys[k];
+        const int tx = tiles.x + (xs[k] / tiles.tileWidth) * tiles.tileWidth;
+        const int ty = tiles.y + (ys[k] / tiles.tileHeight) * tiles.tileHeight;
+        if (!tile || tx != tileX || ty != tileY) {
+            if (tile) cache.release_tile(tile);
+            tile = cache.get_tile(handle, thread, 0, level, x, y, 0);
+            if (!tile) {
+                ok = false;
+                break;
+            }
+            pixels = cache.tile_pixels(tile, format);
+            tileX = tx, tileY = ty;
+        }
+        const std::size_t at =
+            (std::size_t(y - ty) * std::size_t(tiles.tileWidth) + std::size_t(x - tx)) *
+            std::size_t(channels);
+        float v[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+        for (int c = 0; c < n; ++c) v[c] = tileValue(pixels, format, at + std::size_t(c));
+        // Grey, grey + alpha, RGB or RGBA → RGBA (alpha 1 where there is none).
+        out[k] = n <= 2 ? Vec4{v[0], v[0], v[0], n == 2 ? v[1] : 1.0f}
+                        : Vec4{v[0], v[1], v[2], n == 4 ? v[3] : 1.0f};
+    }
+    if (tile) cache.release_tile(tile);
+    if (!ok) {
+        for (int k = 0; k < 4; ++k) out[k] = {};
+        recordFailure(file);
+    }
+    return ok;
 }
 
 bool TextureStore::readLevel(int file, int level, std::vector<float>& rgba) const {
@@ -188,6 +257,21 @@ int TextureStore::open(const std::filesystem::path& file, const std::filesystem:
         f.info.mipmapped = in->seek_subimage(0, 1);
     }
     f.info.srgb = OIIO::Strutil::iequals(spec->get_string_attribute("oiio:ColorSpace"), "sRGB");
+    // Where each MIP level's texels lie in the cache's tiles, for texelQuad().
+    OIIO::ImageCache& cache = *ts.imagecache();
+    const OIIO::ustring name(file.string());
+    f.imageHandle = cache.get_image_handle(name);
+    while (const OIIO::ImageSpec* level = cache.imagespec(name, 0, int(f.levels.size()))) {
+        LevelTiles tiles;
+        tiles.x = level->x;
+        tiles.y = level->y;
+        tiles.width = level->width;
+        tiles.height = level->height;
+        tiles.tileWidth = level->tile_width > 0 ? level->tile_width : level->width;
+        tiles.tileHeight = level->tile_height > 0 ? level->tile_height : level->height;
+        f.levels.push_back(tiles);
+    }
+    (void)cache.geterror();  // asking one level past the last is not a failure
     f.info.fingerprint = spec->get_string_attribute("oiio:SHA-1");
     m_files.push_back(std::move(f));
     return int(m_files.size()) - 1;

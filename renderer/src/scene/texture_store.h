@@ -1,10 +1,10 @@
 // The texture files of one scene, read through OpenImageIO's TextureSystem: tiled and
 // MIP-mapped files (.tx, tiled EXR) as they are, tile by tile on demand; untiled ones (PNG, JPEG,
 // scanline EXR) with MIP levels made on first need. A cache of a set size holds the tiles in
-// use, so textures larger than it still render. Lookups are filtered over a footprint in texture
-// space (OIIO's anisotropic MIP filter); a zero footprint gives a bilinear lookup of the finest
-// level. Each Scene owns its own store (not OIIO's shared TextureSystem), so scenes do not share
-// or evict each other's tiles.
+// use, so textures larger than it still render. The store gives a file's MIP levels whole and
+// texels of them from the tiles, which TextureLevels filters; OIIO's own filter (lookup()) is
+// the reference it is tested against. Each Scene owns its own store (not OIIO's shared
+// TextureSystem), so scenes do not share or evict each other's tiles.
 #pragma once
 
 #include <atomic>
@@ -70,8 +70,10 @@ class TextureStore {
     const TextureFileInfo& info(int file) const { return m_files[std::size_t(file)].info; }
     const std::filesystem::path& path(int file) const { return m_files[std::size_t(file)].path; }
 
-    /// The RGBA value of `file` at (s, t) (origin at the image's top-left, texel centres at
-    /// half-integers / size, as OIIO has them) filtered over `footprint`, wrapped by `wrapS` /
+    /// OIIO's own filter (the TextureSystem's anisotropic MIP filter), the reference Glint's
+    /// (TextureLevels) is tested against: the RGBA value of `file` at (s, t) (origin at the
+    /// image's top-left, texel centres at half-integers / size, as OIIO has them) filtered over
+    /// `footprint`, wrapped by `wrapS` /
     /// `wrapT`: grey replicated, alpha 1 where the file has none, non-finite values 0 and the rest
     /// clamped to [0, kMaxRadiance]. `decodeSrgb` decodes the colour channels from sRGB after
     /// filtering. A file that fails to read gives 0 and is recorded (failure()).
@@ -81,11 +83,16 @@ class TextureStore {
     /// The sizes (width, height) of the file's MIP levels, finest first: the file's own, or for a
     /// file without them those the TextureSystem makes.
     std::vector<std::pair<int, int>> levelSizes(int file) const;
+    /// The texels (x0, y0), (x1, y0), (x0, y1) and (x1, y1) of MIP level `level` of `file`
+    /// (indices within the level), read from the tile cache into `out` as the file stores them:
+    /// grey replicated, alpha 1 where the file has none. False, the texels 0 and the failure
+    /// recorded, when a tile cannot be read.
+    bool texelQuad(int file, int level, int x0, int x1, int y0, int y1, Vec4 out[4]) const;
     /// Reads MIP level `level` of `file` whole into `rgba` (RGBA floats, rows from the top; grey
     /// replicated, alpha 1 where the file has none). False, and the failure recorded, when the
     /// file cannot be read there.
     bool readLevel(int file, int level, std::vector<float>& rgba) const;
-    /// Counts `bytes` of texels held in memory outside the tile cache (ResidentLevels) against
+    /// Counts `bytes` of texels held in memory outside the tile cache (TextureLevels) against
     /// the cache size: the tile cache gets what is left of it, and never less than a quarter.
     void addResidentBytes(std::size_t bytes);
     /// The tile cache's size in MB: cacheMb() less the resident bytes, at least a quarter of it.
@@ -101,10 +108,18 @@ class TextureStore {
 
   private:
     struct Impl;
+    /// Where a MIP level's texels lie in its tiles.
+    struct LevelTiles {
+        int x = 0, y = 0;                   ///< the level's pixel origin (data window)
+        int width = 0, height = 0;          ///< the level's size
+        int tileWidth = 1, tileHeight = 1;  ///< the cache's tile size for the level
+    };
     struct File {
         std::filesystem::path path;
         TextureFileInfo info;
-        void* handle = nullptr;  ///< OIIO::TextureSystem::TextureHandle
+        void* handle = nullptr;       ///< OIIO::TextureSystem::TextureHandle
+        void* imageHandle = nullptr;  ///< OIIO::ImageCache::ImageHandle
+        std::vector<LevelTiles> levels;
     };
     void recordFailure(int file) const;
 
