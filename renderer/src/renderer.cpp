@@ -28,6 +28,7 @@
 #include "integrators/path_integrator.h"
 #include "integrators/render_loop.h"
 #include "lights/light_sampler.h"
+#include "renderer_detail.h"
 #include "sampling/rng.h"
 #include "sampling/sobol.h"
 #include "sampling/warp.h"
@@ -62,13 +63,22 @@ Renderer::~Renderer() = default;
 Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
-int Renderer::accelerationBuilds() const {
-    return m_impl->accelerationBuilds;
+namespace detail {
+
+/// The renderer's private state, for the hooks of renderer_detail.h.
+struct RendererAccess {
+    static const Renderer::Impl& impl(const Renderer& renderer) { return *renderer.m_impl; }
+};
+
+int accelerationBuilds(const Renderer& renderer) {
+    return RendererAccess::impl(renderer).accelerationBuilds;
 }
 
-int Renderer::lightBuilds() const {
-    return m_impl->lightBuilds;
+int lightBuilds(const Renderer& renderer) {
+    return RendererAccess::impl(renderer).lightBuilds;
 }
+
+}  // namespace detail
 
 namespace {
 
@@ -416,12 +426,13 @@ RenderResult Renderer::render(const Settings& settings, const Callbacks& callbac
     return checked(std::move(result));
 }
 
-RayThroughput Renderer::measureRayThroughput(std::uint64_t rayCount, int threads,
-                                             std::uint64_t seed, bool packets) const {
-    const detail::SceneData& data = m_scene.data();
+detail::RayThroughput detail::measureRayThroughput(const Renderer& renderer, std::uint64_t rayCount,
+                                                   int threads, std::uint64_t seed, bool packets) {
+    const auto& impl = RendererAccess::impl(renderer);
+    const SceneData& data = renderer.scene().data();
     Vec3 lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
     bool any = false;
-    for (const detail::Instance& inst : data.instances)
+    for (const Instance& inst : data.instances)
         for (const Vec3& q : data.meshes[inst.mesh].positions) {
             const Vec3 p = inst.identity ? q : inst.transform.point(q);
             for (int c = 0; c < 3; ++c)
@@ -444,9 +455,8 @@ RayThroughput Renderer::measureRayThroughput(std::uint64_t rayCount, int threads
                 Ray& ray = batch.emplace_back();
                 if (i % 2 == 0) {
                     // Camera ray through a random film point.
-                    ray = m_impl->camera.generateRay(rng.uniform() * float(data.width),
-                                                     rng.uniform() * float(data.height),
-                                                     {0.5f, 0.5f});
+                    ray = impl.camera.generateRay(rng.uniform() * float(data.width),
+                                                  rng.uniform() * float(data.height), {0.5f, 0.5f});
                 } else {
                     // Random ray: uniform origin in the bounding box, uniform direction.
                     ray.origin = {lo.x + (hi.x - lo.x) * rng.uniform(),
@@ -456,7 +466,7 @@ RayThroughput Renderer::measureRayThroughput(std::uint64_t rayCount, int threads
                 }
                 if (packets) continue;
                 Hit hit;
-                if (m_impl->embree.intersect(ray, std::numeric_limits<float>::infinity(), hit))
+                if (impl.embree.intersect(ray, std::numeric_limits<float>::infinity(), hit))
                     ++localHits;
             }
             if (packets) {
@@ -464,8 +474,8 @@ RayThroughput Renderer::measureRayThroughput(std::uint64_t rayCount, int threads
                 for (const Ray& r : batch) pointers.push_back(&r);
                 std::vector<Hit> found(batch.size());
                 std::unique_ptr<bool[]> hit(new bool[batch.size()]);
-                m_impl->embree.intersectMany(batch.size(), pointers.data(), found.data(), hit.get(),
-                                             false);
+                impl.embree.intersectMany(batch.size(), pointers.data(), found.data(), hit.get(),
+                                          false);
                 for (std::size_t k = 0; k < batch.size(); ++k) localHits += hit[k];
             }
             hits += localHits;

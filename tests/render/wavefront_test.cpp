@@ -19,6 +19,7 @@
 #include "glint/render/scene.h"
 #include "integrators/path_integrator.h"
 #include "lights/light_sampler.h"
+#include "renderer_detail.h"
 #include "sampling/distribution.h"
 #include "sampling/rng.h"
 #include "sampling/sobol.h"
@@ -126,8 +127,8 @@ TEST(Wavefront, PacketQueriesAgreeWithSingleRays) {
 /// the edge cases above, the same hits.
 TEST(Wavefront, RawThroughputTracesTheSameRaysInPackets) {
     const Renderer renderer(loadScene(scenePath("cornell")));
-    const RayThroughput single = renderer.measureRayThroughput(20000, 2, 4);
-    const RayThroughput packets = renderer.measureRayThroughput(20000, 2, 4, true);
+    const detail::RayThroughput single = detail::measureRayThroughput(renderer, 20000, 2, 4);
+    const detail::RayThroughput packets = detail::measureRayThroughput(renderer, 20000, 2, 4, true);
     EXPECT_EQ(single.rays, 20000u);
     EXPECT_EQ(packets.rays, 20000u);
     EXPECT_GT(single.hits, 10000u);
