@@ -10,6 +10,7 @@
 #include <memory>
 #include <sstream>
 
+#include "bank/oracle_detail.h"
 #include "cli_boundary.h"
 #include "commands.h"
 #include "glint/denoise/bank.h"
@@ -205,10 +206,11 @@ void runOracle(const OracleArgs& a) {
                             path);
         }
         const BankOptions bankOptions = readBankOptions(a.bank);
-        ExpectedOracleOptions eo;
+        detail::ExpectedOracleOptions eo;
         eo.prefilter = bankOptions.prefilter;
         eo.prefilterParams = bankOptions.prefilterParams;
-        const ExpectedOracleResult e = expectedErrorOracle(bank, others, ref.color(), eo);
+        const detail::ExpectedOracleResult e =
+            detail::expectedErrorOracle(bank, others, ref.color(), eo);
         json share = json::array();
         for (double v : e.ssim)
             share.push_back(

@@ -15,6 +15,7 @@
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"
+#include "oracle_detail.h"
 
 namespace glint::denoise {
 
@@ -151,6 +152,8 @@ OracleResult oracle(const FilterBank& bank, const Image& noisy, const Image& ref
     return result;
 }
 
+namespace detail {
+
 ExpectedOracleResult expectedErrorOracle(const FilterBank& bank,
                                          const std::vector<FrameBuffers>& others,
                                          const Image& reference,
@@ -230,5 +233,7 @@ ExpectedOracleResult expectedErrorOracle(const FilterBank& bank,
     }
     return result;
 }
+
+}  // namespace detail
 
 }  // namespace glint::denoise
