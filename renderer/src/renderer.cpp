@@ -33,6 +33,7 @@
 #include "sampling/sobol.h"
 #include "sampling/warp.h"
 #include "scene/camera.h"
+#include "scene/scene_access.h"
 #include "scene/scene_data.h"
 #include "scene/scene_hash.h"
 
@@ -56,7 +57,7 @@ struct Renderer::Impl {
 
 Renderer::Renderer(Scene scene) : m_scene(std::move(scene)) {
     GLINT_CHECK(m_scene.width() > 0 && m_scene.height() > 0, "scene has no film");
-    m_impl = std::make_unique<Impl>(m_scene.data());
+    m_impl = std::make_unique<Impl>(detail::sceneData(m_scene));
 }
 
 Renderer::~Renderer() = default;
@@ -330,7 +331,7 @@ RenderResult renderPath(const detail::SceneData& data, const EmbreeScene& embree
 }  // namespace
 
 std::uint64_t Renderer::estimateMemory(const Settings& settings) const {
-    const detail::SceneData& data = m_scene.data();
+    const detail::SceneData& data = detail::sceneData(m_scene);
     const std::uint64_t pixels = std::uint64_t(data.width) * std::uint64_t(data.height);
     // A resolved frame: every layer but the optional position and half buffer, 4-byte floats.
     std::uint64_t frameChannels = 0;
@@ -350,7 +351,7 @@ std::uint64_t Renderer::estimateMemory(const Settings& settings) const {
 
 RenderResult Renderer::render(const Settings& settings, const Callbacks& callbacks) {
     validate(settings);
-    const detail::SceneData& data = m_scene.data();
+    const detail::SceneData& data = detail::sceneData(m_scene);
     if (settings.region &&
         intersect(*settings.region, Rect{0, data.width, 0, data.height}) != *settings.region)
         throw Error(ErrorKind::InvalidArgument,
@@ -429,7 +430,7 @@ RenderResult Renderer::render(const Settings& settings, const Callbacks& callbac
 detail::RayThroughput detail::measureRayThroughput(const Renderer& renderer, std::uint64_t rayCount,
                                                    int threads, std::uint64_t seed, bool packets) {
     const auto& impl = RendererAccess::impl(renderer);
-    const SceneData& data = renderer.scene().data();
+    const SceneData& data = sceneData(renderer.scene());
     Vec3 lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
     bool any = false;
     for (const Instance& inst : data.instances)

@@ -25,6 +25,7 @@
 #include "sampling/sobol.h"
 #include "sampling/warp.h"
 #include "scene/camera.h"
+#include "scene/scene_access.h"
 #include "scene/scene_data.h"
 #include "test_util.h"
 
@@ -74,7 +75,7 @@ TEST(Wavefront, PacketQueriesAgreeWithSingleRays) {
     for (const std::string& path : {scenePath("cornell").string(), moving}) {
         SCOPED_TRACE(path);
         const Scene scene = loadScene(path);
-        const detail::SceneData& data = scene.data();
+        const detail::SceneData& data = detail::sceneData(scene);
         const EmbreeScene embree(data);
         const std::vector<Ray> rays = randomRays(data, 4001, 11);
         std::vector<const Ray*> pointers;
@@ -144,7 +145,7 @@ TEST(Wavefront, TraceManyGivesWhatTraceGives) {
     for (const char* name : {"cornell", "glossy", "envmap"}) {
         SCOPED_TRACE(name);
         const Scene scene = loadScene(scenePath(name));
-        const detail::SceneData& data = scene.data();
+        const detail::SceneData& data = detail::sceneData(scene);
         const EmbreeScene embree(data);
         const LightSampler lights(data);
         const Camera camera(data.camera, data.width, data.height);
