@@ -17,6 +17,7 @@
 #include "glint/denoise/oracle.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
+#include "glint/denoise/research/expected_oracle.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/image/memory.h"
@@ -205,10 +206,11 @@ void runOracle(const OracleArgs& a) {
                             path);
         }
         const BankOptions bankOptions = readBankOptions(a.bank);
-        ExpectedOracleOptions eo;
+        research::ExpectedOracleOptions eo;
         eo.prefilter = bankOptions.prefilter;
         eo.prefilterParams = bankOptions.prefilterParams;
-        const ExpectedOracleResult e = expectedErrorOracle(bank, others, ref.color(), eo);
+        const research::ExpectedOracleResult e =
+            research::expectedErrorOracle(bank, others, ref.color(), eo);
         json share = json::array();
         for (double v : e.ssim)
             share.push_back(

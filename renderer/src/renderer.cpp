@@ -28,10 +28,12 @@
 #include "integrators/path_integrator.h"
 #include "integrators/render_loop.h"
 #include "lights/light_sampler.h"
+#include "renderer_detail.h"
 #include "sampling/rng.h"
 #include "sampling/sobol.h"
 #include "sampling/warp.h"
 #include "scene/camera.h"
+#include "scene/scene_access.h"
 #include "scene/scene_data.h"
 #include "scene/scene_hash.h"
 
@@ -55,20 +57,29 @@ struct Renderer::Impl {
 
 Renderer::Renderer(Scene scene) : m_scene(std::move(scene)) {
     GLINT_CHECK(m_scene.width() > 0 && m_scene.height() > 0, "scene has no film");
-    m_impl = std::make_unique<Impl>(m_scene.data());
+    m_impl = std::make_unique<Impl>(detail::sceneData(m_scene));
 }
 
 Renderer::~Renderer() = default;
 Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
-int Renderer::accelerationBuilds() const {
-    return m_impl->accelerationBuilds;
+namespace detail {
+
+/// The renderer's private state, for the hooks of renderer_detail.h.
+struct RendererAccess {
+    static const Renderer::Impl& impl(const Renderer& renderer) { return *renderer.m_impl; }
+};
+
+int accelerationBuilds(const Renderer& renderer) {
+    return RendererAccess::impl(renderer).accelerationBuilds;
 }
 
-int Renderer::lightBuilds() const {
-    return m_impl->lightBuilds;
+int lightBuilds(const Renderer& renderer) {
+    return RendererAccess::impl(renderer).lightBuilds;
 }
+
+}  // namespace detail
 
 namespace {
 
@@ -320,7 +331,7 @@ RenderResult renderPath(const detail::SceneData& data, const EmbreeScene& embree
 }  // namespace
 
 std::uint64_t Renderer::estimateMemory(const Settings& settings) const {
-    const detail::SceneData& data = m_scene.data();
+    const detail::SceneData& data = detail::sceneData(m_scene);
     const std::uint64_t pixels = std::uint64_t(data.width) * std::uint64_t(data.height);
     // A resolved frame: every layer but the optional position and half buffer, 4-byte floats.
     std::uint64_t frameChannels = 0;
@@ -340,7 +351,7 @@ std::uint64_t Renderer::estimateMemory(const Settings& settings) const {
 
 RenderResult Renderer::render(const Settings& settings, const Callbacks& callbacks) {
     validate(settings);
-    const detail::SceneData& data = m_scene.data();
+    const detail::SceneData& data = detail::sceneData(m_scene);
     if (settings.region &&
         intersect(*settings.region, Rect{0, data.width, 0, data.height}) != *settings.region)
         throw Error(ErrorKind::InvalidArgument,
@@ -416,12 +427,13 @@ RenderResult Renderer::render(const Settings& settings, const Callbacks& callbac
     return checked(std::move(result));
 }
 
-RayThroughput Renderer::measureRayThroughput(std::uint64_t rayCount, int threads,
-                                             std::uint64_t seed, bool packets) const {
-    const detail::SceneData& data = m_scene.data();
+detail::RayThroughput detail::measureRayThroughput(const Renderer& renderer, std::uint64_t rayCount,
+                                                   int threads, std::uint64_t seed, bool packets) {
+    const auto& impl = RendererAccess::impl(renderer);
+    const SceneData& data = sceneData(renderer.scene());
     Vec3 lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
     bool any = false;
-    for (const detail::Instance& inst : data.instances)
+    for (const Instance& inst : data.instances)
         for (const Vec3& q : data.meshes[inst.mesh].positions) {
             const Vec3 p = inst.identity ? q : inst.transform.point(q);
             for (int c = 0; c < 3; ++c)
@@ -444,9 +456,8 @@ RayThroughput Renderer::measureRayThroughput(std::uint64_t rayCount, int threads
                 Ray& ray = batch.emplace_back();
                 if (i % 2 == 0) {
                     // Camera ray through a random film point.
-                    ray = m_impl->camera.generateRay(rng.uniform() * float(data.width),
-                                                     rng.uniform() * float(data.height),
-                                                     {0.5f, 0.5f});
+                    ray = impl.camera.generateRay(rng.uniform() * float(data.width),
+                                                  rng.uniform() * float(data.height), {0.5f, 0.5f});
                 } else {
                     // Random ray: uniform origin in the bounding box, uniform direction.
                     ray.origin = {lo.x + (hi.x - lo.x) * rng.uniform(),
@@ -456,7 +467,7 @@ RayThroughput Renderer::measureRayThroughput(std::uint64_t rayCount, int threads
                 }
                 if (packets) continue;
                 Hit hit;
-                if (m_impl->embree.intersect(ray, std::numeric_limits<float>::infinity(), hit))
+                if (impl.embree.intersect(ray, std::numeric_limits<float>::infinity(), hit))
                     ++localHits;
             }
             if (packets) {
@@ -464,8 +475,8 @@ RayThroughput Renderer::measureRayThroughput(std::uint64_t rayCount, int threads
                 for (const Ray& r : batch) pointers.push_back(&r);
                 std::vector<Hit> found(batch.size());
                 std::unique_ptr<bool[]> hit(new bool[batch.size()]);
-                m_impl->embree.intersectMany(batch.size(), pointers.data(), found.data(), hit.get(),
-                                             false);
+                impl.embree.intersectMany(batch.size(), pointers.data(), found.data(), hit.get(),
+                                          false);
                 for (std::size_t k = 0; k < batch.size(); ++k) localHits += hit[k];
             }
             hits += localHits;

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "bank/bank_cache.h"
+#include "bank/bank_detail.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
 #include "glint/image/error.h"
@@ -41,7 +42,7 @@ class TempFolder {
 
 TEST(LatinHypercube, ExactlyOnePointPerStratumInEveryDimension) {
     for (int n : {1, 7, 64, 100}) {
-        const auto points = latinHypercube(n, 5, 42);
+        const auto points = detail::latinHypercube(n, 5, 42);
         ASSERT_EQ(points.size(), std::size_t(n));
         for (int d = 0; d < 5; ++d) {
             std::vector<int> count(std::size_t(n), 0);
@@ -53,39 +54,39 @@ TEST(LatinHypercube, ExactlyOnePointPerStratumInEveryDimension) {
             for (int c : count) EXPECT_EQ(c, 1) << "n " << n << " dim " << d;
         }
     }
-    EXPECT_EQ(latinHypercube(16, 3, 1), latinHypercube(16, 3, 1));
-    EXPECT_NE(latinHypercube(16, 3, 1), latinHypercube(16, 3, 2));
+    EXPECT_EQ(detail::latinHypercube(16, 3, 1), detail::latinHypercube(16, 3, 1));
+    EXPECT_NE(detail::latinHypercube(16, 3, 1), detail::latinHypercube(16, 3, 2));
 }
 
 TEST(MapParam, LinearLogIntegerAndChoice) {
     ParamSpec lin("a", "a", 0, 100, 1, ParamScale::Linear, false, "");
     lin = lin.soft(10, 20);
-    EXPECT_DOUBLE_EQ(mapParam(lin, 0.0), 10.0);
-    EXPECT_DOUBLE_EQ(mapParam(lin, 0.5), 15.0);
-    EXPECT_DOUBLE_EQ(mapParam(lin, 1.0), 20.0);
+    EXPECT_DOUBLE_EQ(detail::mapParam(lin, 0.0), 10.0);
+    EXPECT_DOUBLE_EQ(detail::mapParam(lin, 0.5), 15.0);
+    EXPECT_DOUBLE_EQ(detail::mapParam(lin, 1.0), 20.0);
     const ParamSpec lg =
         ParamSpec("b", "b", 1e-6, 1e6, 1, ParamScale::Log, false, "").soft(0.01, 100);
-    EXPECT_NEAR(mapParam(lg, 0.0), 0.01, 1e-12);
-    EXPECT_NEAR(mapParam(lg, 0.5), 1.0, 1e-12);  // the geometric middle
-    EXPECT_NEAR(mapParam(lg, 0.75), 10.0, 1e-9);
+    EXPECT_NEAR(detail::mapParam(lg, 0.0), 0.01, 1e-12);
+    EXPECT_NEAR(detail::mapParam(lg, 0.5), 1.0, 1e-12);  // the geometric middle
+    EXPECT_NEAR(detail::mapParam(lg, 0.75), 10.0, 1e-9);
     // Integers: each of the n values gets 1/n of [0, 1].
     const ParamSpec in = ParamSpec("c", "c", 0, 10, 3, ParamScale::Linear, true, "").soft(1, 4);
     std::vector<int> hits(5, 0);
-    for (int i = 0; i < 400; ++i) ++hits[std::size_t(mapParam(in, (i + 0.5) / 400.0))];
+    for (int i = 0; i < 400; ++i) ++hits[std::size_t(detail::mapParam(in, (i + 0.5) / 400.0))];
     EXPECT_EQ(hits[0], 0);
     for (int v = 1; v <= 4; ++v) EXPECT_EQ(hits[std::size_t(v)], 100) << v;
     const ParamSpec ch = ParamSpec::choice("d", "d", {"x", "y", "z"}, 0, "");
-    EXPECT_EQ(mapParam(ch, 0.1), 0.0);
-    EXPECT_EQ(mapParam(ch, 0.5), 1.0);
-    EXPECT_EQ(mapParam(ch, 0.99), 2.0);
+    EXPECT_EQ(detail::mapParam(ch, 0.1), 0.0);
+    EXPECT_EQ(detail::mapParam(ch, 0.5), 1.0);
+    EXPECT_EQ(detail::mapParam(ch, 0.99), 2.0);
     // A collapsed soft range keeps the value.
     const ParamSpec fixed = ParamSpec("e", "e", 0, 100, 0, ParamScale::Linear, true, "").soft(0, 0);
-    EXPECT_EQ(mapParam(fixed, 0.7), 0.0);
+    EXPECT_EQ(detail::mapParam(fixed, 0.7), 0.0);
 }
 
 TEST(SampleBank, DefaultsFirstThenValidMembersOfEveryFilter) {
     const auto& filters = allFilters();
-    const std::vector<BankMember> members = sampleBank(filters, 60, 3);
+    const std::vector<BankMember> members = detail::sampleBank(filters, 60, 3);
     ASSERT_EQ(members.size(), filters.size() + 60);
     std::set<std::string> seen;
     for (std::size_t i = 0; i < members.size(); ++i) {

@@ -10,6 +10,7 @@
 #include "glint/denoise/bank.h"
 #include "glint/denoise/navigation.h"
 #include "glint/denoise/oracle.h"
+#include "glint/denoise/research/expected_oracle.h"
 #include "glint/image/error.h"
 #include "glint/image/random.h"
 #include "synthetic_frames.h"
@@ -211,14 +212,14 @@ TEST(Oracle, TheExpectedErrorOfOneRenderIsThePerPixelOracle) {
     o.size = 8;
     const FilterBank bank = buildBank(noisy, o);
     const OracleResult r = oracle(bank, noisy.color(), clean.color());
-    ExpectedOracleResult one, two;
+    research::ExpectedOracleResult one, two;
     {
         tbb::task_arena arena(1);
-        arena.execute([&] { one = expectedErrorOracle(bank, {noisy}, clean.color()); });
+        arena.execute([&] { one = research::expectedErrorOracle(bank, {noisy}, clean.color()); });
     }
     {
         tbb::task_arena arena(2);
-        arena.execute([&] { two = expectedErrorOracle(bank, {noisy}, clean.color()); });
+        arena.execute([&] { two = research::expectedErrorOracle(bank, {noisy}, clean.color()); });
     }
     ASSERT_EQ(one.ssim.size(), 4u);
     EXPECT_EQ(one.renders, 2);
@@ -227,21 +228,22 @@ TEST(Oracle, TheExpectedErrorOfOneRenderIsThePerPixelOracle) {
         ASSERT_EQ(one.choice.data()[p], r.choice.data()[p]) << p;
     EXPECT_EQ(one.ssim, two.ssim);
     // Another render: a different choice, still a per-pixel choice among the members.
-    const ExpectedOracleResult other =
-        expectedErrorOracle(bank, {testing::syntheticFrame(48, 40, 0.1f, 11)}, clean.color());
+    const research::ExpectedOracleResult other = research::expectedErrorOracle(
+        bank, {testing::syntheticFrame(48, 40, 0.1f, 11)}, clean.color());
     EXPECT_NE(other.ssim[0], one.ssim[0]);
     EXPECT_GT(other.ssim[0], r.noisy);
-    EXPECT_THROW(expectedErrorOracle(bank, {}, clean.color()), Error);
+    EXPECT_THROW(research::expectedErrorOracle(bank, {}, clean.color()), Error);
     try {
-        expectedErrorOracle(bank, {noisy, testing::syntheticFrame(40, 40, 0.1f)}, clean.color());
+        research::expectedErrorOracle(bank, {noisy, testing::syntheticFrame(40, 40, 0.1f)},
+                                      clean.color());
         FAIL() << "no error";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("other render 2 is 40x40"), std::string::npos)
             << e.what();
     }
-    ExpectedOracleOptions bad;
+    research::ExpectedOracleOptions bad;
     bad.radii = {65};
-    EXPECT_THROW(expectedErrorOracle(bank, {noisy}, clean.color(), bad), Error);
+    EXPECT_THROW(research::expectedErrorOracle(bank, {noisy}, clean.color(), bad), Error);
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "glint/image/error.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
+#include "renderer_detail.h"
 
 int main(int argc, char** argv) {
     namespace fs = std::filesystem;
@@ -68,9 +69,11 @@ int main(int argc, char** argv) {
         };
         std::vector<double> raw, rawPackets;
         for (int r = 0; r < repeat; ++r) {
-            const auto t = renderer.measureRayThroughput(std::uint64_t(rays), threads, 1 + r);
+            const auto t = glint::render::detail::measureRayThroughput(
+                renderer, std::uint64_t(rays), threads, 1 + r);
             raw.push_back(double(t.rays) / t.seconds);
-            const auto p = renderer.measureRayThroughput(std::uint64_t(rays), threads, 1 + r, true);
+            const auto p = glint::render::detail::measureRayThroughput(
+                renderer, std::uint64_t(rays), threads, 1 + r, true);
             rawPackets.push_back(double(p.rays) / p.seconds);
         }
         const nlohmann::json j = {

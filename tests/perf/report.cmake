@@ -1,8 +1,10 @@
 # The speed-versus-accuracy report (docs/tradeoffs.md): glint-report computes the numbers with
-# Glint's public API; tests/perf/report/run.sh (make report) runs it and plots the CSVs.
+# Glint's public API and the bank's sampling helpers (denoise/src/bank/bank_detail.h);
+# tests/perf/report/run.sh (make report) runs it and plots the CSVs.
 add_executable(glint-report ${CMAKE_CURRENT_LIST_DIR}/report/report.cpp)
 target_link_libraries(glint-report PRIVATE glint_render glint_denoise glint_image
                                            nlohmann_json::nlohmann_json TBB::tbb)
+target_include_directories(glint-report PRIVATE ${CMAKE_SOURCE_DIR}/denoise/src)
 glint_warnings(glint-report)
 # A few-second smoke test of the report program (part 5 on a 32x32 render): columns, row count,
 # finite values; no blender or matplotlib needed.

@@ -8,6 +8,7 @@
 
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
+#include "scene/scene_access.h"
 #include "scene/scene_data.h"
 #include "test_util.h"
 
@@ -32,7 +33,7 @@ Scene quadScene(const test::TempDir& dir, Edit edit) {
             "shapes": [{"obj": "quad.obj", "material": "black"}],
             "environment": {"color": [1, 1, 1]}})",
         dir.path() / "scene.json");
-    auto data = std::make_unique<detail::SceneData>(parsed.data());
+    auto data = std::make_unique<detail::SceneData>(detail::sceneData(parsed));
     edit(*data, data->materials[0]);
     return Scene(std::move(data));
 }
@@ -133,7 +134,7 @@ TEST(Alpha, ShadowRaysPassWhereTheSurfaceIsNotThere) {
                 "shapes": [{"obj": "quad.obj", "material": "black"},
                            {"obj": "floor.obj", "material": "white"}]})",
             dir.path() / "scene.json");
-        auto data = std::make_unique<detail::SceneData>(parsed.data());
+        auto data = std::make_unique<detail::SceneData>(detail::sceneData(parsed));
         data->materials[0].alphaMode = mode;
         data->materials[0].opacity = 0.0f;
         detail::PunctualLight sun;

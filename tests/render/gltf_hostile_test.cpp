@@ -16,6 +16,7 @@
 #include "glint/image/io.h"
 #include "glint/render/scene.h"
 #include "gltf_builder.h"
+#include "scene/scene_access.h"
 #include "scene/scene_data.h"
 #include "test_util.h"
 
@@ -132,7 +133,7 @@ TEST(GltfFile, AGlbReadsAsTheSameAssetAsAGltfWithItsBufferInAFile) {
     d["buffers"] = json::array({{{"byteLength", b.bin.size()}, {"uri", "asset.bin"}}});
     const Scene fromFiles = loadScene(dir.write("asset.gltf", d.dump()));
     const Scene fromGlb = loadScene(writeBytes(dir.path() / "asset.glb", b.glb()));
-    const auto &a = fromFiles.data().meshes, &g = fromGlb.data().meshes;
+    const auto &a = detail::sceneData(fromFiles).meshes, &g = detail::sceneData(fromGlb).meshes;
     ASSERT_EQ(a.size(), 1u);
     ASSERT_EQ(g.size(), 1u);
     EXPECT_EQ(g[0].indices, a[0].indices);

@@ -23,6 +23,7 @@
 #include "glint/render/scene.h"
 #include "gltf_builder.h"
 #include "integrators/surface_inputs.h"
+#include "scene/scene_access.h"
 #include "scene/scene_data.h"
 #include "test_util.h"
 
@@ -34,7 +35,7 @@ using nlohmann::json;
 using namespace test_gltf;
 
 const detail::SceneData& dataOf(const Scene& s) {
-    return s.data();
+    return detail::sceneData(s);
 }
 
 /// World-space corner v of triangle prim of instance i.

@@ -9,6 +9,7 @@
 #include "lights/light_sampler.h"
 #include "lights/spherical_triangle.h"
 #include "sampling/rng.h"
+#include "scene/scene_access.h"
 #include "test_util.h"
 
 namespace glint::render {
@@ -26,7 +27,7 @@ Scene lampScene(const test::TempDir& dir) {
 TEST(LightSampler, ThePdfOfASampleIsThePdfOfItsPoint) {
     test::TempDir dir("lights");
     const Scene scene = lampScene(dir);
-    const LightSampler lights(scene.data());
+    const LightSampler lights(detail::sceneData(scene));
     // Close (Ω ≈ 1.5 sr: solid angle), far (Ω ≈ 2e-4 sr: area) and grazing points.
     for (const Vec3 p :
          {Vec3{0.1f, 0.0f, 0.0f}, Vec3{0.0f, -140.0f, 0.0f}, Vec3{3.0f, 0.9f, 0.0f}}) {
@@ -54,7 +55,7 @@ TEST(LightSampler, SolidAngleAndAreaSamplingEstimateTheSameIrradiance) {
     // errors (a 6e-5 chance of failing by accident).
     test::TempDir dir("irradiance");
     const Scene scene = lampScene(dir);
-    const LightSampler lights(scene.data());
+    const LightSampler lights(detail::sceneData(scene));
     const Vec3 p{0.0f, 0.7f, 0.0f};
     const Vec3 up{0.0f, 1.0f, 0.0f};
     auto stats = [](double sum, double sum2, int n) {

@@ -12,6 +12,7 @@
 #include "glint/image/error.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
+#include "renderer_detail.h"
 #include "test_util.h"
 
 namespace glint::render {
@@ -107,14 +108,14 @@ TEST(Look, EditRerendersWithoutRebuildAndSavedSceneMatchesBitForBit) {
     renderer.scene().setLook("red", "albedo", {0.1, 0.2, 0.7});
     renderer.scene().setLook("light", "strength", 34.0);
     const FrameBuffers after = renderer.render(small(renderer)).frame;
-    EXPECT_EQ(renderer.accelerationBuilds(), 1);
-    EXPECT_EQ(renderer.lightBuilds(), 2);
+    EXPECT_EQ(detail::accelerationBuilds(renderer), 1);
+    EXPECT_EQ(detail::lightBuilds(renderer), 2);
     EXPECT_FALSE(test::sameLayer(before, after, Layer::Color));
     // Twice the light: twice the image (the same random numbers, so exactly up to rounding).
     EXPECT_GT(meanColor(after), 1.5 * meanColor(before));
     // A render with no edit since does not rebuild the lights either.
     renderer.render(small(renderer));
-    EXPECT_EQ(renderer.lightBuilds(), 2);
+    EXPECT_EQ(detail::lightBuilds(renderer), 2);
 
     const fs::path saved = dir.path() / "sub" / "edited.json";
     fs::create_directories(saved.parent_path());
@@ -139,7 +140,7 @@ TEST(Look, EnvironmentScaleAndRotationEditAndSave) {
     const FrameBuffers after = renderer.render(s).frame;
     EXPECT_FALSE(test::sameLayer(before, after, Layer::Color));
     EXPECT_LT(meanColor(after), 0.75 * meanColor(before));
-    EXPECT_EQ(renderer.accelerationBuilds(), 1);
+    EXPECT_EQ(detail::accelerationBuilds(renderer), 1);
     // Saved in another folder: the OBJ and sky paths are rebased and still found.
     const fs::path saved = dir.path() / "envmap_edit.json";
     saveScene(renderer.scene(), saved);
@@ -162,7 +163,7 @@ TEST(Look, GlassRoughnessEditsRendersAndSaves) {
     renderer.scene().setLook("glass", "roughness", 0.4);
     const FrameBuffers after = renderer.render(s).frame;
     EXPECT_FALSE(test::sameLayer(before, after, Layer::Color));
-    EXPECT_EQ(renderer.accelerationBuilds(), 1);
+    EXPECT_EQ(detail::accelerationBuilds(renderer), 1);
     const fs::path saved = dir.path() / "rough_glass.json";
     saveScene(renderer.scene(), saved);
     std::ifstream in(saved);
@@ -282,7 +283,7 @@ TEST(Look, AGltfMaterialsFactorsEditSaveAsTheShapesEditsAndKeepTheTextures) {
     renderer.scene().setLook("blinn3-fx", "albedo", {0.5, 0.6, 0.7});
     renderer.scene().setLook("blinn3-fx", "transmission", 0.5);
     const FrameBuffers after = renderer.render(small(renderer)).frame;
-    EXPECT_EQ(renderer.accelerationBuilds(), 1);
+    EXPECT_EQ(detail::accelerationBuilds(renderer), 1);
     EXPECT_FALSE(test::sameLayer(before, after, Layer::Color));
 
     const fs::path saved = dir.path() / "edited.json";

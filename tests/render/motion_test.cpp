@@ -12,6 +12,7 @@
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 #include "sampling/rng.h"
+#include "scene/scene_access.h"
 #include "scene/scene_data.h"
 #include "test_util.h"
 
@@ -160,21 +161,21 @@ TEST(MotionBlur, StaticSceneBuildsNoMotionGeometry) {
           std::string(R"(, "transform": {"translate": [1, 0, 0]},
                          "motion": {"translate": [1, 0, 0]})")}) {
         const Scene scene = loadScene(dir.write("scene.json", oneShape(extra)));
-        EXPECT_FALSE(scene.data().hasMotion()) << extra;
-        EXPECT_TRUE(scene.data().motions.empty()) << extra;
-        const EmbreeScene embree(scene.data());
+        EXPECT_FALSE(detail::sceneData(scene).hasMotion()) << extra;
+        EXPECT_TRUE(detail::sceneData(scene).motions.empty()) << extra;
+        const EmbreeScene embree(detail::sceneData(scene));
         EXPECT_EQ(embree.motionGeometryCount(), 0) << extra;
     }
     // A moving one builds one motion geometry: 2 steps for translation, one per 5° of rotation.
     const Scene moving = loadScene(
         dir.write("scene.json",
                   oneShape(R"(, "motion": {"translate": [1, 0, 0], "rotate": [90, [0, 0, 1]]})")));
-    const EmbreeScene embree(moving.data());
+    const EmbreeScene embree(detail::sceneData(moving));
     ASSERT_EQ(embree.motionGeometryCount(), 1);
     EXPECT_EQ(embree.timeStepCount(0), 1 + 90 / 5);
     const Scene sliding =
         loadScene(dir.write("scene.json", oneShape(R"(, "motion": {"translate": [1, 0, 0]})")));
-    EXPECT_EQ(EmbreeScene(sliding.data()).timeStepCount(0), 2);
+    EXPECT_EQ(EmbreeScene(detail::sceneData(sliding)).timeStepCount(0), 2);
 }
 
 TEST(MotionBlur, ShadingPoseMatchesEmbreeGeometry) {
@@ -187,7 +188,7 @@ TEST(MotionBlur, ShadingPoseMatchesEmbreeGeometry) {
         dir.write("scene.json",
                   oneShape(R"(, "transform": {"translate": [-1, 0, 0], "rotate": [20, [0, 0, 1]]},
                     "motion": {"translate": [1, 0.2, 0], "rotate": [420, [0, 0, 1]], "scale": 0.7})")));
-    const detail::SceneData& data = scene.data();
+    const detail::SceneData& data = detail::sceneData(scene);
     const EmbreeScene embree(data);
     ASSERT_EQ(embree.motionGeometryCount(), 1);
     EXPECT_EQ(embree.timeStepCount(0), 1 + 80);  // 400° / 5°

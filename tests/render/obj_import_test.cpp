@@ -26,6 +26,7 @@
 #include "glint/render/scene.h"
 #include "scene/obj_scan.h"
 #include "scene/polygon_triangulation.h"
+#include "scene/scene_access.h"
 #include "scene/scene_data.h"
 #include "test_util.h"
 
@@ -244,7 +245,8 @@ TEST(ObjImport, ConcaveFacesAreTriangulatedInsideThePolygonWhereverItSits) {
             dir.write("mesh.obj", objOfPolygon(poly, place));
             dir.write("scene.json", kScene);
             const Scene scene = loadScene(dir.path() / "scene.json");
-            expectTiles(poly, loadedTriangles(scene.data(), poly, place), name + " " + place.name);
+            expectTiles(poly, loadedTriangles(detail::sceneData(scene), poly, place),
+                        name + " " + place.name);
         }
     }
 }
@@ -257,7 +259,8 @@ TEST(ObjImport, AFaceAboveTinyobjloadersCornerLimitIsRefusedWithItsLine) {
     dir.write("mesh.obj", objOfPolygon(within));
     dir.write("scene.json", kScene);
     const Scene scene = loadScene(dir.path() / "scene.json");
-    expectTiles(within, loadedTriangles(scene.data(), within, placements()[0]), "255 corners");
+    expectTiles(within, loadedTriangles(detail::sceneData(scene), within, placements()[0]),
+                "255 corners");
     const std::vector<P2> above = zigzagCircle(int(kMaxObjFaceCorners) + 1, 0.9);
     dir.write("mesh.obj", "# one corner too many\n" + objOfPolygon(above));
     try {
@@ -310,7 +313,7 @@ TEST(ObjImport, MapKdIsRelativeToTheMtlFilesFolder) {
         const fs::path scenePath =
             relative ? dir.path().filename() / "scene.json" : dir.path() / "scene.json";
         const Scene scene = loadScene(scenePath);
-        const SceneData& data = scene.data();
+        const SceneData& data = detail::sceneData(scene);
         ASSERT_EQ(data.materials.size(), 1u);
         const int tex = data.materials[0].texture;
         ASSERT_GE(tex, 0);
@@ -340,7 +343,7 @@ Material loadMtlMaterial(const std::string& mtl) {
     dir.write("m.mtl", mtl);
     dir.write("scene.json", kScene);
     const Scene scene = loadScene(dir.path() / "scene.json");
-    return scene.data().materials.at(0);
+    return detail::sceneData(scene).materials.at(0);
 }
 
 void expectVec(const Vec3& v, float x, float y, float z) {
@@ -426,7 +429,8 @@ TEST(ObjImport, FilesThatAreNotObjTextAreRefusedByTheirFirstBytes) {
     test::TempDir dir("obj_crlf");
     dir.write("mesh.obj", "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 3\r\n");
     dir.write("scene.json", kScene);
-    EXPECT_EQ(loadScene(dir.path() / "scene.json").data().meshes.at(0).triangleCount(), 1u);
+    EXPECT_EQ(detail::sceneData(loadScene(dir.path() / "scene.json")).meshes.at(0).triangleCount(),
+              1u);
 }
 
 }  // namespace

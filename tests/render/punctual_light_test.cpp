@@ -10,6 +10,7 @@
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 #include "lights/light_sampler.h"
+#include "scene/scene_access.h"
 #include "scene/scene_data.h"
 #include "test_util.h"
 
@@ -29,7 +30,7 @@ Scene litFloor(const test::TempDir& dir, const PunctualLight& light, int size = 
             "materials": {"floor": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}},
             "shapes": [{"obj": "floor.obj", "material": "floor"}]})",
         dir.path() / "scene.json");
-    auto data = std::make_unique<detail::SceneData>(parsed.data());
+    auto data = std::make_unique<detail::SceneData>(detail::sceneData(parsed));
     data->punctualLights.push_back(light);
     return Scene(std::move(data));
 }
@@ -124,7 +125,7 @@ TEST(PunctualLight, LightsAreChosenByPowerWithTheAreaLightsAndTheEnvironment) {
       "materials": {"lamp": {"type": "diffuse", "albedo": [0, 0, 0], "emission": [1, 1, 1]}},
       "shapes": [{"obj": "lamp.obj", "material": "lamp"}]})",
                                     dir.path() / "scene.json");
-    detail::SceneData data = parsed.data();
+    detail::SceneData data = detail::sceneData(parsed);
     data.punctualLights.push_back(point({0, 3, 0}, 1.0f));  // 4π vs 2π · 2 · 1: even odds
     const LightSampler lights(data);
     EXPECT_EQ(lights.punctualLightCount(), 1u);

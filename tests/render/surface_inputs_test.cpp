@@ -11,6 +11,7 @@
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 #include "integrators/surface_inputs.h"
+#include "scene/scene_access.h"
 #include "scene/scene_data.h"
 #include "scene/transform.h"
 #include "test_util.h"
@@ -152,7 +153,7 @@ Scene lampOverFloor(const test::TempDir& dir, float emission, std::vector<float>
             "shapes": [{"obj": "lamp.obj", "material": "lamp"},
                        {"obj": "floor.obj", "material": "floor"}]})",
         dir.path() / "scene.json");
-    auto data = std::make_unique<detail::SceneData>(parsed.data());
+    auto data = std::make_unique<detail::SceneData>(detail::sceneData(parsed));
     if (!texels.empty()) {
         detail::Texture t;
         t.wrapS = t.wrapT = detail::TextureWrap::Clamp;

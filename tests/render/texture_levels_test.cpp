@@ -11,6 +11,7 @@
 #include "glint/image/io.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
+#include "scene/scene_access.h"
 #include "scene/scene_data.h"
 #include "scene/texture_levels.h"
 #include "scene/texture_store.h"
@@ -214,8 +215,8 @@ TEST(TextureLevels, ARenderOfAResidentTextureReadsNoTiles) {
       "render": {"spp": 2, "maxDepth": 3}
     })");
     Renderer renderer(loadScene(scene));
-    const detail::TextureStore& textures = *renderer.scene().data().textureStore;
-    ASSERT_FALSE(renderer.scene().data().textures.front().levels.empty());
+    const detail::TextureStore& textures = *detail::sceneData(renderer.scene()).textureStore;
+    ASSERT_FALSE(detail::sceneData(renderer.scene()).textures.front().levels.empty());
     const std::uint64_t loaded = textures.cacheBytesUsed();
     Settings s = renderer.scene().settings();
     s.threads = 2;

@@ -13,6 +13,7 @@
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 #include "glint/render/settings.h"
+#include "scene/scene_access.h"
 #include "scene/scene_data.h"
 #include "scene/texture_store.h"
 #include "test_util.h"
@@ -195,7 +196,7 @@ TEST(TextureStore, ACacheSmallerThanTheTexturesRendersTheSame) {
         s.spp = 4;
         s.textureCacheMb = cacheMb;
         FrameBuffers frame = renderer.render(s).frame;
-        cacheBytes = renderer.scene().data().textureStore->cacheBytesUsed();
+        cacheBytes = detail::sceneData(renderer.scene()).textureStore->cacheBytesUsed();
         return frame;
     };
     std::uint64_t smallBytes = 0, largeBytes = 0;

@@ -19,11 +19,13 @@
 #include "glint/render/scene.h"
 #include "integrators/path_integrator.h"
 #include "lights/light_sampler.h"
+#include "renderer_detail.h"
 #include "sampling/distribution.h"
 #include "sampling/rng.h"
 #include "sampling/sobol.h"
 #include "sampling/warp.h"
 #include "scene/camera.h"
+#include "scene/scene_access.h"
 #include "scene/scene_data.h"
 #include "test_util.h"
 
@@ -73,7 +75,7 @@ TEST(Wavefront, PacketQueriesAgreeWithSingleRays) {
     for (const std::string& path : {scenePath("cornell").string(), moving}) {
         SCOPED_TRACE(path);
         const Scene scene = loadScene(path);
-        const detail::SceneData& data = scene.data();
+        const detail::SceneData& data = detail::sceneData(scene);
         const EmbreeScene embree(data);
         const std::vector<Ray> rays = randomRays(data, 4001, 11);
         std::vector<const Ray*> pointers;
@@ -126,8 +128,8 @@ TEST(Wavefront, PacketQueriesAgreeWithSingleRays) {
 /// the edge cases above, the same hits.
 TEST(Wavefront, RawThroughputTracesTheSameRaysInPackets) {
     const Renderer renderer(loadScene(scenePath("cornell")));
-    const RayThroughput single = renderer.measureRayThroughput(20000, 2, 4);
-    const RayThroughput packets = renderer.measureRayThroughput(20000, 2, 4, true);
+    const detail::RayThroughput single = detail::measureRayThroughput(renderer, 20000, 2, 4);
+    const detail::RayThroughput packets = detail::measureRayThroughput(renderer, 20000, 2, 4, true);
     EXPECT_EQ(single.rays, 20000u);
     EXPECT_EQ(packets.rays, 20000u);
     EXPECT_GT(single.hits, 10000u);
@@ -143,7 +145,7 @@ TEST(Wavefront, TraceManyGivesWhatTraceGives) {
     for (const char* name : {"cornell", "glossy", "envmap"}) {
         SCOPED_TRACE(name);
         const Scene scene = loadScene(scenePath(name));
-        const detail::SceneData& data = scene.data();
+        const detail::SceneData& data = detail::sceneData(scene);
         const EmbreeScene embree(data);
         const LightSampler lights(data);
         const Camera camera(data.camera, data.width, data.height);

@@ -8,6 +8,7 @@
 #include <mutex>
 
 #include "bank/bank_cache.h"
+#include "bank/bank_detail.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
@@ -130,7 +131,8 @@ Rect bankRegion(const FrameBuffers& frame, const BankOptions& options) {
 /// The members of the bank that can run on `frame`.
 std::vector<BankMember> runnableMembers(const FrameBuffers& frame, const BankOptions& options) {
     std::vector<BankMember> members;
-    for (BankMember& m : sampleBank(usableFilters(frame, options), options.size, options.seed))
+    for (BankMember& m :
+         detail::sampleBank(usableFilters(frame, options), options.size, options.seed))
         if (canRun(frame, m)) members.push_back(std::move(m));
     return members;
 }
@@ -244,7 +246,7 @@ FilterBank detail::buildBank(const FrameBuffers& frame, const BankOptions& optio
         if (writes) cache.writeIndex(members, keys, region);
         FilterBank bank(std::move(members), std::move(results), region, frame.width(),
                         frame.height(), inputHash);
-        bank.setCacheHits(hits);
+        detail::BankAccess::setCacheHits(bank, hits);
         return bank;
     }
 
@@ -258,8 +260,8 @@ FilterBank detail::buildBank(const FrameBuffers& frame, const BankOptions& optio
                                    std::make_move_iterator(results.begin() + std::ptrdiff_t(end)));
     FilterBank bank(std::move(part), std::move(partResults), region, frame.width(), frame.height(),
                     inputHash);
-    bank.setCacheHits(hits);
-    bank.setMemberRange(first, total, complete);
+    detail::BankAccess::setCacheHits(bank, hits);
+    detail::BankAccess::setMemberRange(bank, first, total, complete);
     return bank;
 }
 

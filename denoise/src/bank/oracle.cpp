@@ -11,6 +11,7 @@
 #include "glint/denoise/bank.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
+#include "glint/denoise/research/expected_oracle.h"
 #include "glint/denoise/sure.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
@@ -151,6 +152,8 @@ OracleResult oracle(const FilterBank& bank, const Image& noisy, const Image& ref
     return result;
 }
 
+namespace research {
+
 ExpectedOracleResult expectedErrorOracle(const FilterBank& bank,
                                          const std::vector<FrameBuffers>& others,
                                          const Image& reference,
@@ -230,5 +233,7 @@ ExpectedOracleResult expectedErrorOracle(const FilterBank& bank,
     }
     return result;
 }
+
+}  // namespace research
 
 }  // namespace glint::denoise

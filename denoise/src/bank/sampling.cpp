@@ -4,12 +4,13 @@
 #include <cmath>
 #include <numeric>
 
+#include "bank/bank_detail.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
 #include "glint/image/error.h"
 #include "glint/image/random.h"
 
-namespace glint::denoise {
+namespace glint::denoise::detail {
 
 std::vector<std::vector<double>> latinHypercube(int n, int dims, std::uint64_t seed) {
     if (n < 1 || dims < 0)
@@ -82,4 +83,4 @@ std::vector<BankMember> sampleBank(const std::vector<const Filter*>& filters, in
     return members;
 }
 
-}  // namespace glint::denoise
+}  // namespace glint::denoise::detail

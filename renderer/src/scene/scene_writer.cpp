@@ -11,6 +11,7 @@
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/render/scene.h"
+#include "scene/scene_access.h"
 #include "scene/scene_data.h"
 
 namespace glint::render {
@@ -126,7 +127,7 @@ ordered_json definition(const Material& m, const detail::SceneData& d, const fs:
 }  // namespace
 
 void saveScene(const Scene& scene, const fs::path& path) {
-    const detail::SceneData& d = scene.data();
+    const detail::SceneData& d = detail::sceneData(scene);
     if (d.sourceJson.empty())
         throw Error(ErrorKind::InvalidArgument, "the scene was not read from JSON: nothing to save",
                     path.string());

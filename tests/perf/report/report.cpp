@@ -27,6 +27,7 @@
 #include <tbb/task_arena.h>
 #include <nlohmann/json.hpp>
 
+#include "bank/bank_detail.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
@@ -210,7 +211,7 @@ std::vector<std::pair<std::string, denoise::ParamValues>> filterSettings(const d
         denoise::ParamValues p;
         for (const denoise::ParamSpec& spec : f.params())
             if (spec.choices.empty() && spec.name != "seed")
-                p[spec.name] = denoise::mapParam(spec, u);
+                p[spec.name] = denoise::detail::mapParam(spec, u);
         out.push_back({u < 0.5 ? "soft25" : "soft75", p});
     }
     return out;
@@ -249,7 +250,7 @@ void denoiseReport(const Args& a) {
         for (auto& [name, params] : filterSettings(*f)) candidates.emplace_back(f, name, params);
     if (bankSize > 0) {
         const std::vector<denoise::BankMember> members =
-            denoise::sampleBank(denoise::allFilters(), bankSize, 1);
+            denoise::detail::sampleBank(denoise::allFilters(), bankSize, 1);
         int i = 0;
         for (const denoise::BankMember& m : members)
             if (!m.isDefault)

@@ -18,6 +18,10 @@
 
 namespace glint::denoise {
 
+namespace detail {
+struct BankAccess;
+}
+
 /// Largest bank the options accept.
 inline constexpr int kMaxBankSize = 4096;
 
@@ -56,21 +60,6 @@ struct BankOptions {
 /// Throws glint::Error(InvalidArgument) naming the first bad option (size, unknown filter...).
 void validate(const BankOptions& options);
 
-/// A Latin-hypercube design: n points in [0, 1)^dims with exactly one point in each stratum
-/// [i/n, (i+1)/n) of every dimension (McKay, Beckman & Conover 1979), jittered inside the
-/// strata; deterministic for a seed. points[i][d].
-std::vector<std::vector<double>> latinHypercube(int n, int dims, std::uint64_t seed);
-
-/// Maps u in [0, 1] onto a parameter's soft range by its scale (log or linear); integers and
-/// choices are rounded to the nearest allowed value (each of the n values gets 1/n of [0, 1]).
-double mapParam(const ParamSpec& spec, double u);
-
-/// The members of a bank over `filters`: first each filter's defaults, then `size` members from
-/// a Latin hypercube with one dimension for the filter (continuous in [1, M], rounded) and one
-/// per parameter of the filter with the most parameters (unused dimensions ignored).
-std::vector<BankMember> sampleBank(const std::vector<const Filter*>& filters, int size,
-                                   std::uint64_t seed);
-
 /// A computed bank: its members and their results over its region.
 class FilterBank {
   public:
@@ -91,17 +80,16 @@ class FilterBank {
     std::uint64_t inputHash() const { return m_inputHash; }
     /// Members read from the cache (the rest were computed) by the build that made this bank.
     std::size_t cacheHits() const { return m_cacheHits; }
-    void setCacheHits(std::size_t hits) { m_cacheHits = hits; }
     /// For a build of BankOptions::members: the index of the first member held here in the whole
     /// bank, the whole bank's member count, and whether this build completed index.json.
     std::size_t firstMember() const { return m_firstMember; }
     std::size_t bankMembers() const { return m_bankMembers ? m_bankMembers : m_members.size(); }
     bool indexWritten() const { return m_indexWritten; }
-    void setMemberRange(std::size_t first, std::size_t bankMembers, bool indexWritten) {
-        m_firstMember = first, m_bankMembers = bankMembers, m_indexWritten = indexWritten;
-    }
 
   private:
+    // The build records its cache hits and member range (src/bank/bank_detail.h).
+    friend struct detail::BankAccess;
+
     std::vector<BankMember> m_members;
     std::vector<Image> m_results;
     Rect m_region;

@@ -14,6 +14,10 @@
 
 namespace glint::render {
 
+namespace detail {
+struct RendererAccess;
+}
+
 /// Observers of a running render. Every callback may be empty. Calls are serialised (never two
 /// at once) but may come from worker threads.
 struct Callbacks {
@@ -75,13 +79,6 @@ struct RenderResult {
     RenderStats stats;
 };
 
-/// Throughput of the ray-tracing kernel alone (no shading), for benchmarks.
-struct RayThroughput {
-    std::uint64_t rays = 0;
-    double seconds = 0.0;
-    std::uint64_t hits = 0;
-};
-
 /// Owns the acceleration structure of one scene; render() may be called repeatedly.
 class Renderer {
   public:
@@ -110,21 +107,9 @@ class Renderer {
     const Scene& scene() const { return m_scene; }
     Scene& scene() { return m_scene; }
 
-    /// How many times the ray-tracing structures (Embree BVH) were built: 1 for the life of the
-    /// renderer, since look edits never need a rebuild.
-    int accelerationBuilds() const;
-    /// How many times the light sampling structures were built (once, plus once per render
-    /// after a look edit).
-    int lightBuilds() const;
-
-    /// Traces `rays` rays (half camera rays, half rays with uniform origins in the scene's
-    /// bounding box and uniform directions) with the raw intersection kernel on `threads`
-    /// threads (0 = all): one query a ray, or with `packets` the renderer's packet queries
-    /// (the device's native width) over chunks of 4096 rays.
-    RayThroughput measureRayThroughput(std::uint64_t rays, int threads, std::uint64_t seed = 1,
-                                       bool packets = false) const;
-
   private:
+    // Test and benchmark hooks (renderer/src/renderer_detail.h) read the private state.
+    friend struct detail::RendererAccess;
     struct Impl;
     Scene m_scene;
     std::unique_ptr<Impl> m_impl;

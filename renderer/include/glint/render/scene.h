@@ -15,7 +15,8 @@ namespace glint::render {
 
 namespace detail {
 struct SceneData;
-}
+struct SceneAccess;
+}  // namespace detail
 
 /// A scene ready to be rendered. Move-only; the contents are private to the renderer.
 class Scene {
@@ -73,10 +74,9 @@ class Scene {
     /// Counts look edits; a renderer compares it to rebuild its lights.
     std::uint64_t lookRevision() const;
 
-    /// The private contents (for the renderer's own code).
-    const detail::SceneData& data() const { return *m_data; }
-
   private:
+    // The renderer's own code reads the contents (renderer/src/scene/scene_access.h).
+    friend struct detail::SceneAccess;
     std::unique_ptr<detail::SceneData> m_data;
 };
 
