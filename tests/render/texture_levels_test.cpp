@@ -150,6 +150,12 @@ TEST(TextureLevels, AFootprintOfATexelOfTheFinestResidentLevelReadsOnlyResidentO
     // Long and thin: 8 taps as wide as an eighth of the length.
     EXPECT_FALSE(levels.resident({{7.0f / kResidentTextureSize, 0.0f}, {0.0f, 1e-6f}}));
     EXPECT_TRUE(levels.resident({{9.0f / kResidentTextureSize, 0.0f}, {0.0f, 1e-6f}}));
+    // A needle: its ratio is beyond any int (8 taps, widened to an eighth of its length).
+    EXPECT_TRUE(levels.resident({{1.0f, 0.0f}, {0.0f, 1e-30f}}));
+    EXPECT_NEAR(ramp.lookup(0.4f, 0.5f, {{0.5f, 0.0f}, {0.0f, 1e-30f}}, TextureWrap::Clamp,
+                            TextureWrap::Clamp)
+                    .y,
+                0.5f, 4e-3f);
     // Non-finite axes count as zero.
     EXPECT_FALSE(levels.resident({{NAN, 0.0f}, {0.0f, INFINITY}}));
     EXPECT_TRUE(TextureLevels{}.empty());

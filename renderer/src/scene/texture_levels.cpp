@@ -41,7 +41,8 @@ FilterPlan plan(const TexFootprint& footprint) {
     if (!(longer > 0.0f)) return p;
     constexpr int kMaxTaps = 8;
     const float ratio = shorter > 0.0f ? longer / shorter : float(kMaxTaps);
-    p.taps = std::clamp(int(std::ceil(ratio)), 1, kMaxTaps);
+    // Clamped as a float first: a needle-thin footprint's ratio is beyond any int.
+    p.taps = std::max(1, int(std::ceil(std::min(ratio, float(kMaxTaps)))));
     p.width = std::max(shorter, longer / float(kMaxTaps));
     return p;
 }
