@@ -1,7 +1,6 @@
-// Renderer: owns the Embree scene, lights and camera; renders progressive passes over tiles
-// through the shared RenderLoop. Each pixel's samples are taken in sample-index order by one
-// task, and every random number comes from the (seed, pixel, sample) stream, so output does not
-// depend on threads.
+// Renderer: owns the Embree scene, lights and camera, and orchestrates a render: checks the
+// settings, then runs the integrators' passes (integrators/path_passes.h, mlt_passes.h) through
+// the shared RenderLoop and records the frame's metadata and statistics.
 #include "glint/render/renderer.h"
 
 #include <algorithm>
@@ -26,6 +25,7 @@
 #include "glint/image/shard.h"
 #include "integrators/mlt_integrator.h"
 #include "integrators/path_integrator.h"
+#include "integrators/path_passes.h"
 #include "integrators/render_loop.h"
 #include "lights/light_sampler.h"
 #include "renderer_detail.h"
@@ -83,192 +83,6 @@ int lightBuilds(const Renderer& renderer) {
 
 namespace {
 
-/// ZSobol's index layout (log2Res, log2Spp): the film's larger side and a pixel's samples (a
-/// half's, with half buffers) in bits.
-std::pair<int, int> zsobolLayout(const detail::SceneData& data, const Settings& settings) {
-    const int perPixel = settings.halfBuffers ? (settings.spp + 1) / 2 : settings.spp;
-    return {ceilLog2(std::uint32_t(std::max(data.width, data.height))),
-            ceilLog2(std::uint32_t(std::max(perPixel, 1)))};
-}
-
-/// Pixel-sample placement of one pass: `count` samples starting at `first`, stratified over a
-/// jittered grid (one random cell of a ceil(√n) × ⌈n/⌈√n⌉⌉ grid per sample, cells drawn without
-/// repetition by a per-pixel permutation) or independent.
-struct PassSampler {
-    SamplerKind kind;
-    std::uint64_t seed;
-    int first, count, nx, ny;
-
-    PassSampler(SamplerKind k, std::uint64_t s, int firstSample, int n)
-        : kind(k), seed(s), first(firstSample), count(n) {
-        nx = int(std::ceil(std::sqrt(double(n))));
-        ny = (n + nx - 1) / nx;
-    }
-
-    /// Stratified 2D point for sample `sample` of pixel `pixel` in dimension pair `dim`.
-    Vec2 point(std::uint64_t pixel, int sample, int dim, Rng& rng) const {
-        const Vec2 jitter{rng.uniform(), rng.uniform()};
-        if (kind == SamplerKind::Independent || count == 1) return jitter;
-        const auto key = std::uint32_t(mix64(streamKey(seed, pixel, std::uint64_t(first)) +
-                                             std::uint64_t(dim) * 0x2545f491ULL));
-        const std::uint32_t cell =
-            permuteIndex(std::uint32_t(sample - first), std::uint32_t(nx * ny), key);
-        const int cx = int(cell % std::uint32_t(nx)), cy = int(cell / std::uint32_t(nx));
-        return {std::min((float(cx) + jitter.x) / float(nx), 0x1.fffffep-1f),
-                std::min((float(cy) + jitter.y) / float(ny), 0x1.fffffep-1f)};
-    }
-
-    /// Stratified 1D value for sample `sample` of pixel `pixel` in dimension `dim`: one random
-    /// stratum of `count` per sample, drawn without repetition by its own permutation.
-    float value(std::uint64_t pixel, int sample, int dim, Rng& rng) const {
-        const float jitter = rng.uniform();
-        if (kind == SamplerKind::Independent || count == 1) return jitter;
-        const auto key = std::uint32_t(mix64(streamKey(seed, pixel, std::uint64_t(first)) +
-                                             std::uint64_t(dim) * 0x2545f491ULL));
-        const std::uint32_t stratum =
-            permuteIndex(std::uint32_t(sample - first), std::uint32_t(count), key);
-        return std::min((float(stratum) + jitter) / float(count), 0x1.fffffep-1f);
-    }
-};
-
-/// The path tracer's work for the render loop: item i traces tile i's pixels for one pass,
-/// each pixel's samples in sample-index order, every random number from (seed, pixel, sample).
-class TilePasses final : public PassWork {
-  public:
-    TilePasses(const detail::SceneData& data, const PathIntegrator& integrator,
-               const Camera& camera, const Settings& settings, Film& film)
-        : m_data(data),
-          m_integrator(integrator),
-          m_camera(camera),
-          m_settings(settings),
-          m_film(film) {
-        // Tiles in scanline order, on a grid fixed in film coordinates, clipped to the region.
-        const int ts = settings.tileSize;
-        const Rect region = settings.region.value_or(Rect{0, data.width, 0, data.height});
-        for (int y = 0; y < data.height; y += ts)
-            for (int x = 0; x < data.width; x += ts) {
-                const Rect tile = intersect(
-                    {x, std::min(x + ts, data.width), y, std::min(y + ts, data.height)}, region);
-                if (!tile.empty()) m_tiles.push_back(tile);
-            }
-        m_thinLens = data.camera.lensRadius > 0.0f;
-        // Time is sampled only when something moves during a shutter of non-zero length, so a
-        // static scene draws exactly the random numbers it drew before motion blur existed.
-        m_sampleTime = data.hasMotion() && data.camera.shutterClose > data.camera.shutterOpen;
-        // The two halves' scramble seeds: independent of each other and of the whole render's.
-        for (int h = 0; h < 2; ++h)
-            m_halfSeed[h] = hash64(hash64(settings.seed, 0x4a1fb0ffULL), std::uint64_t(h));
-        std::tie(m_log2Res, m_log2Spp) = zsobolLayout(data, settings);
-    }
-
-    std::size_t items() const override { return m_tiles.size(); }
-    std::optional<Rect> itemRect(std::size_t item) const override { return m_tiles[item]; }
-
-    void run(const PassInfo& pass, std::size_t item, const RenderLoop&) override {
-        if (m_settings.sampler == SamplerKind::Sobol)
-            runBatches<SobolSampler>(pass, m_tiles[item]);
-        else if (m_settings.sampler == SamplerKind::ZSobol)
-            runBatches<ZSobolSampler>(pass, m_tiles[item]);
-        else
-            runBatches<Rng>(pass, m_tiles[item]);
-    }
-
-    FrameBuffers snapshot() override { return m_film.resolve(m_settings.positionLayer); }
-
-    std::uint64_t rays() const { return m_rays.load(); }
-
-  private:
-    /// Paths traced together (PathIntegrator::traceMany): enough for full packets at the
-    /// deeper bounces, few enough that their states stay in the core's cache.
-    static constexpr std::size_t kBatch = 512;
-
-    /// The sampler of sample `s` of pixel (x, y) and its camera ray.
-    Ray cameraSample(const PassSampler&, int x, int y, int s,
-                     std::vector<SobolSampler>& samplers) const {
-        const auto pixel = std::uint64_t(y) * std::uint64_t(m_data.width) + x;
-        // Every dimension from its own scrambled Sobol sequence (sampling/sobol.h); with half
-        // buffers, sample s is sample s/2 of half s mod 2's own scramble.
-        const SobolSampler& sobol = samplers.emplace_back(
-            m_settings.halfBuffers ? SobolSampler(m_halfSeed[s & 1], pixel, std::uint32_t(s >> 1))
-                                   : SobolSampler(m_settings.seed, pixel, std::uint32_t(s)));
-        return slottedCameraRay(sobol, x, y);
-    }
-    Ray cameraSample(const PassSampler&, int x, int y, int s,
-                     std::vector<ZSobolSampler>& samplers) const {
-        // With half buffers, sample s is sample s/2 of half s mod 2's own scramble.
-        return slottedCameraRay(
-            samplers.emplace_back(m_settings.halfBuffers ? m_halfSeed[s & 1] : m_settings.seed, x,
-                                  y, std::uint32_t(m_settings.halfBuffers ? s >> 1 : s), m_log2Res,
-                                  m_log2Spp),
-            x, y);
-    }
-    /// The camera ray of pixel (x, y) from a sampler's camera slots (film, lens, time).
-    template <class Slotted>
-    Ray slottedCameraRay(const Slotted& sampler, int x, int y) const {
-        const Vec2 jitter = sampler.camera2D(0);
-        const Vec2 lens = m_thinLens ? sampler.camera2D(1) : Vec2{0.5f, 0.5f};
-        const float time = m_sampleTime ? sampler.camera1D(2) : 0.0f;
-        return m_camera.generateRay(float(x) + jitter.x, float(y) + jitter.y, lens, time);
-    }
-    Ray cameraSample(const PassSampler& sampler, int x, int y, int s,
-                     std::vector<Rng>& samplers) const {
-        const auto pixel = std::uint64_t(y) * std::uint64_t(m_data.width) + x;
-        Rng& rng = samplers.emplace_back(m_settings.seed, pixel, std::uint64_t(s));
-        const Vec2 jitter = sampler.point(pixel, s, 0, rng);
-        const Vec2 lens = m_thinLens ? sampler.point(pixel, s, 1, rng) : Vec2{0.5f, 0.5f};
-        const float time = m_sampleTime ? sampler.value(pixel, s, 2, rng) : 0.0f;
-        return m_camera.generateRay(float(x) + jitter.x, float(y) + jitter.y, lens, time);
-    }
-
-    /// The tile's pixels for one pass, each pixel's samples in sample-index order, traced in
-    /// batches of kBatch paths and added to the film in that same order.
-    template <class Sampler>
-    void runBatches(const PassInfo& pass, const Rect& tile) {
-        const PassSampler sampler(m_settings.sampler, m_settings.seed, pass.first, pass.count);
-        std::uint64_t tileRays = 0;
-        struct Target {
-            int x, y;
-            bool odd;
-        };
-        std::vector<Sampler> samplers;
-        std::vector<Ray> cameraRays;
-        std::vector<Target> targets;
-        std::vector<FilmSample> results(kBatch);
-        samplers.reserve(kBatch);
-        cameraRays.reserve(kBatch);
-        targets.reserve(kBatch);
-        auto flush = [&] {
-            m_integrator.traceMany(cameraRays.size(), cameraRays.data(), samplers.data(),
-                                   results.data(), tileRays);
-            for (std::size_t i = 0; i < targets.size(); ++i)
-                m_film.add(targets[i].x, targets[i].y, results[i], targets[i].odd);
-            samplers.clear();
-            cameraRays.clear();
-            targets.clear();
-        };
-        for (int y = tile.y0; y < tile.y1; ++y)
-            for (int x = tile.x0; x < tile.x1; ++x)
-                for (int s = pass.begin; s < pass.end; ++s) {
-                    cameraRays.push_back(cameraSample(sampler, x, y, s, samplers));
-                    targets.push_back({x, y, (s & 1) != 0});
-                    if (targets.size() == kBatch) flush();
-                }
-        if (!targets.empty()) flush();
-        m_rays += tileRays;
-    }
-
-    const detail::SceneData& m_data;
-    const PathIntegrator& m_integrator;
-    const Camera& m_camera;
-    const Settings& m_settings;
-    Film& m_film;
-    std::vector<Rect> m_tiles;
-    bool m_thinLens, m_sampleTime;
-    std::uint64_t m_halfSeed[2];
-    int m_log2Res = 0, m_log2Spp = 0;
-    std::atomic<std::uint64_t> m_rays{0};
-};
-
 /// Path-traces `settings` through the render loop, reporting progress in [begin, end].
 RenderResult renderPath(const detail::SceneData& data, const EmbreeScene& embree,
                         const LightSampler& lights, const Camera& camera, const Settings& settings,
@@ -277,7 +91,7 @@ RenderResult renderPath(const detail::SceneData& data, const EmbreeScene& embree
     const Clock::time_point start = Clock::now();
     Film film(data.width, data.height, settings.halfBuffers);
     const PathIntegrator integrator(data, embree, lights, camera, settings);
-    TilePasses work(data, integrator, camera, settings, film);
+    PathPasses work(data, integrator, camera, settings, film);
     RenderLoop loop(settings.spp, settings.timeLimit, callbacks, arena, begin, end);
     // A shard takes its range of every pixel's samples; the passes stay those of the whole
     // render, so a stratified pass stratifies over the same block (docs/distributed.md).

@@ -3,6 +3,7 @@
 // determinism, and MLT beating the path tracer on Veach's door scene at equal samples.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -399,6 +400,66 @@ TEST(MltLoop, FeaturePassReportsProgressAndCanBeCancelled) {
     for (std::size_t i = 1; i < fractions.size(); ++i) EXPECT_GE(fractions[i], fractions[i - 1]);
     EXPECT_NEAR(fractions.back(), 1.0, 1e-9);
     EXPECT_TRUE(full.stats.mlt.has_value());
+}
+
+// The bootstrap is the loop's first pass (a preparatory one): it reports progress as its blocks
+// of 1024 paths finish and stops between blocks when cancelled (before, it did neither).
+// Cornell 16×16 with 2^18 bootstrap paths (256 blocks, 1024 paths a pixel), 1 feature spp and
+// 2 mutations a pixel: the features take [0, 1/3] of the progress, the bootstrap the next
+// 1024/1026 of the rest.
+TEST(MltLoop, BootstrapReportsProgress) {
+    Renderer renderer(cornell(16));
+    Settings s = mltSettings(renderer, 2);
+    s.mlt.bootstrap = 1 << 18;
+    const double featureEnd = 1.0 / 3.0;
+    const double bootEnd = featureEnd + (1.0 - featureEnd) * 1024.0 / 1026.0;
+    std::vector<double> fractions;
+    int passes = 0, duringBootstrap = 0;
+    Callbacks cb;
+    cb.progress = [&](int, double f) {
+        fractions.push_back(f);
+        if (passes == 0 && f > featureEnd + 1e-12 && f <= bootEnd + 1e-12) ++duringBootstrap;
+    };
+    cb.passDone = [&](int, const FrameBuffers&) { ++passes; };
+    const RenderResult result = renderer.render(s, cb);
+    EXPECT_FALSE(result.stats.cancelled);
+    ASSERT_TRUE(result.stats.mlt.has_value());
+    EXPECT_EQ(result.stats.mlt->bootstrap, std::uint64_t(1) << 18);
+    EXPECT_EQ(passes, 2);
+    // One report per bootstrap block before any chain ran (the chains report above bootEnd)...
+    EXPECT_GE(duringBootstrap, 256);
+    // ...the last block's at the bootstrap's end of the progress, which never goes back.
+    EXPECT_NE(std::find_if(fractions.begin(), fractions.end(),
+                           [&](double f) { return std::abs(f - bootEnd) < 1e-9; }),
+              fractions.end());
+    for (std::size_t i = 1; i < fractions.size(); ++i) EXPECT_GE(fractions[i], fractions[i - 1]);
+    EXPECT_NEAR(fractions.back(), 1.0, 1e-9);
+}
+
+TEST(MltLoop, CancelDuringTheBootstrapStopsIt) {
+    Renderer renderer(cornell(16));
+    Settings s = mltSettings(renderer, 2);
+    s.mlt.bootstrap = 1 << 18;
+    const double featureEnd = 1.0 / 3.0;
+    bool inBootstrap = false;
+    Callbacks cb;
+    // Cancel at the first poll after a bootstrap block reported.
+    cb.progress = [&](int, double f) { inBootstrap = inBootstrap || f > featureEnd + 1e-12; };
+    cb.cancel = [&] { return inBootstrap; };
+    const RenderResult result = renderer.render(s, cb);
+    EXPECT_TRUE(result.stats.cancelled);
+    EXPECT_EQ(result.stats.passes, 0);
+    EXPECT_EQ(result.frame.metadata().spp, 0);
+    EXPECT_EQ(result.frame.metadata().extra.at("cancelled"), "true");
+    ASSERT_TRUE(result.stats.mlt.has_value());
+    // Stopped within the blocks in flight (two threads): a few of the 256, not all of them.
+    EXPECT_GE(result.stats.mlt->bootstrap, 1024u);
+    EXPECT_LE(result.stats.mlt->bootstrap, 8u * 1024u);
+    EXPECT_EQ(result.stats.mlt->mutations, 0u);
+    // No chain ran: the colour is black, the features are the feature pass's.
+    EXPECT_EQ(meanLuminance(result.frame.color()), 0.0);
+    EXPECT_EQ(result.frame.color().countNonFinite(), 0u);
+    EXPECT_TRUE(result.frame.has(Layer::Albedo));
 }
 
 }  // namespace

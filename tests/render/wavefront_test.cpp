@@ -23,6 +23,7 @@
 #include "sampling/distribution.h"
 #include "sampling/rng.h"
 #include "sampling/sobol.h"
+#include "sampling/stratified_sampler.h"
 #include "sampling/warp.h"
 #include "scene/camera.h"
 #include "scene/scene_access.h"
@@ -156,12 +157,13 @@ TEST(Wavefront, TraceManyGivesWhatTraceGives) {
         const int count = 3001;
         std::vector<Ray> cameraRays;
         std::vector<SobolSampler> sobol, sobolOne;
-        std::vector<Rng> streams, streamsOne;
+        const StratifiedPattern independent(SamplerKind::Independent, 5, 0, 1);
+        std::vector<StratifiedSampler> streams, streamsOne;
         for (int i = 0; i < count; ++i) {
             const int x = (i * 37) % data.width, y = (i * 11) % data.height;
             const auto pixel = std::uint64_t(y) * std::uint64_t(data.width) + std::uint64_t(x);
             sobol.emplace_back(5, pixel, std::uint32_t(i % 64));
-            streams.emplace_back(5, pixel, std::uint64_t(i % 64));
+            streams.emplace_back(independent, 5, pixel, i % 64);
             const Vec2 jitter = sobol.back().camera2D(0);
             cameraRays.push_back(
                 camera.generateRay(float(x) + jitter.x, float(y) + jitter.y, {0.5f, 0.5f}));

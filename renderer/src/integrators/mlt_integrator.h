@@ -1,6 +1,8 @@
 // Primary-sample-space Metropolis light transport (Kelemen et al. 2002) over the path
 // integrator: bootstrap normalisation, many independent chains in parallel, four mutation
-// kinds, expected-value splatting, batch-means variance (docs/metropolis.md).
+// kinds, expected-value splatting, batch-means variance (docs/metropolis.md). The bootstrap and
+// the chains' passes are integrators/mlt_passes.h; this class sets them up and records what
+// they did.
 #pragma once
 
 #include <array>
@@ -31,18 +33,20 @@ class MltIntegrator {
                   const LightSampler& lights, const Camera& camera, const Settings& settings);
 
     /// Replaces the colour and variance layers of `features` (a path-traced frame) by the
-    /// Metropolis estimate, running its passes through the shared RenderLoop in `arena` within
-    /// `timeBudget` seconds (0: no limit) and reporting progress from `progressBegin` to 1.
+    /// Metropolis estimate, running the bootstrap and then the chains' passes through the
+    /// shared RenderLoop in `arena` within `timeBudget` seconds (0: no limit) and reporting
+    /// progress from `progressBegin` to 1.
     /// Records the statistics in `stats` (which holds the feature pass's figures on entry and
     /// is extended, stats.mlt set) and, as text, in the frame's metadata.
     FrameBuffers render(FrameBuffers features, const Callbacks& callbacks, tbb::task_arena& arena,
                         double timeBudget, double progressBegin, RenderStats& stats);
 
-  private:
-    /// Evaluates the path of the sampler's current proposal: contribution L, film point.
+    /// Evaluates the path of the sampler's current proposal: contribution L (zero for a
+    /// non-finite one, counted in `nonFinite`), film point; counts rays. Thread-safe.
     void evaluate(MltSampler& sampler, Vec3& radiance, Vec2& raster, std::uint64_t& rays,
                   std::int64_t& nonFinite) const;
 
+  private:
     const detail::SceneData& m_scene;
     const Camera& m_camera;
     const LightSampler& m_lights;

@@ -4,12 +4,12 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <type_traits>
 
 #include "integrators/surface_inputs.h"
 #include "materials/bsdf.h"
 #include "sampling/mlt_sampler.h"
 #include "sampling/sobol.h"
+#include "sampling/stratified_sampler.h"
 
 namespace glint::render {
 
@@ -88,36 +88,6 @@ Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, fl
     return s;
 }
 
-/// True for the numbers of next-event estimation (light choice and point on the light).
-constexpr bool isLightSlot(BounceDim slot) {
-    return slot == BounceDim::LightSelect || slot == BounceDim::LightPoint;
-}
-
-/// One number of bounce `depth` for `slot`: from the sampler's own dimension of that slot if it
-/// has one (Sobol: fixed dimensions per bounce), from its light stream for next-event numbers
-/// if it has one (the Metropolis sampler, so that light perturbations change only these), else
-/// the next number of its only stream. Streams are read in the same order as before samplers
-/// had slots, so the stratified and independent samplers give the same bits.
-template <class Sampler>
-float sample1D(Sampler& sampler, int depth, BounceDim slot) {
-    if constexpr (requires { sampler.bounce1D(depth, slot); })
-        return sampler.bounce1D(depth, slot);
-    else if constexpr (requires { sampler.uniformLight(); })
-        return isLightSlot(slot) ? sampler.uniformLight() : sampler.uniform();
-    else
-        return sampler.uniform();
-}
-
-/// A pair of numbers of bounce `depth` for `slot` (as sample1D; a Sobol pair is a 2-D point).
-template <class Sampler>
-Vec2 sample2D(Sampler& sampler, int depth, BounceDim slot) {
-    if constexpr (requires { sampler.bounce2D(depth, slot); }) {
-        return sampler.bounce2D(depth, slot);
-    } else {
-        const float u = sample1D(sampler, depth, slot);
-        return {u, sample1D(sampler, depth, slot)};
-    }
-}
 }  // namespace
 
 PathIntegrator::PathIntegrator(const detail::SceneData& scene, const EmbreeScene& embree,
@@ -143,7 +113,7 @@ float PathIntegrator::misWeight(float pdf, float other) const {
     return m_mis == MisHeuristic::Balance ? 1.0f / (1.0f + r) : 1.0f / (1.0f + r * r);
 }
 
-template <class Sampler>
+template <PathSampler Sampler>
 void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& rng,
                              std::uint64_t& rays) const {
     p.shadowPending = false;
@@ -217,8 +187,8 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
     // A transmitting surface also takes light from behind it (wi.z < 0 in the local frame).
     if (!specular && m_useLightSampling) {
         LightSample ls;
-        const float uSelect = sample1D(rng, depth, BounceDim::LightSelect);
-        const Vec2 uLight = sample2D(rng, depth, BounceDim::LightPoint);
+        const float uSelect = rng.bounce1D(depth, BounceDim::LightSelect);
+        const Vec2 uLight = rng.bounce2D(depth, BounceDim::LightPoint);
         if (m_lights.sample(sh.p, uSelect, uLight, ls) && (passes || dot(ls.wi, ng) > 0.0f)) {
             const Vec3 wiLocal = frame.toLocal(ls.wi);
             const Vec3 f = bsdf.eval(woLocal, wiLocal) * std::abs(wiLocal.z);
@@ -247,18 +217,15 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
     }
 
     // Continue the path by sampling the BSDF.
-    // A sampler with slots skips the numbers this BSDF does not read (the others never
-    // shift); a stream sampler draws both, so that its later numbers stay where they were.
+    // A slotted sampler skips the numbers this BSDF does not read (the others never shift); a
+    // stream sampler draws both, so that its later numbers stay where they were.
     BsdfSample bs;
-    constexpr bool slotted = requires {
-        rng.bounce1D(depth, BounceDim::BsdfComponent);
-    };
+    constexpr bool slotted = Sampler::kSlotted;
     Vec2 uBsdf{};
     float uc = 0.0f;
     if (!slotted || bsdf.readsDirectionPair())
-        uBsdf = sample2D(rng, depth, BounceDim::BsdfDirection);
-    if (!slotted || bsdf.readsComponentNumber())
-        uc = sample1D(rng, depth, BounceDim::BsdfComponent);
+        uBsdf = rng.bounce2D(depth, BounceDim::BsdfDirection);
+    if (!slotted || bsdf.readsComponentNumber()) uc = rng.bounce1D(depth, BounceDim::BsdfComponent);
     if (!bsdf.sample(woLocal, uBsdf, uc, bs)) return;
     // bs.wi is unit and the frame orthonormal: only rounding is left to correct.
     const Vec3 wi = renormalize(frame.toWorld(bs.wi));
@@ -272,7 +239,7 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
     // (docs/renderer.md, "Where the error per sample came from").
     if (depth + 1 > m_rrDepth) {
         const float survive = std::min(1.0f, std::sqrt(maxComponent(p.beta)));
-        if (sample1D(rng, depth, BounceDim::Roulette) >= survive) return;
+        if (rng.bounce1D(depth, BounceDim::Roulette) >= survive) return;
         // Divide (not multiply by 1/survive): a denormal survival probability would make
         // the reciprocal Inf and the throughput NaN.
         p.beta = p.beta / survive;
@@ -289,7 +256,7 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
 unsigned PathIntegrator::numbersNeeded(const PathState& p, const Hit& hit) const {
     using detail::MaterialType;
     if (p.depth >= m_maxDepth) return 0;
-    auto bit = [](BounceDim slot) { return SobolSampler::slotBit(slot); };
+    auto bit = [](BounceDim slot) { return slotBit(slot); };
     unsigned slots = 0;
     const detail::Material& mat = m_scene.materials[m_scene.materialOf(hit.surface)];
     switch (mat.type) {
@@ -316,7 +283,7 @@ unsigned PathIntegrator::numbersNeeded(const PathState& p, const Hit& hit) const
     return slots;
 }
 
-template <class Sampler>
+template <PathSampler Sampler>
 void PathIntegrator::trace(const Ray& cameraRay, Sampler& rng, FilmSample& out,
                            std::uint64_t& rays) const {
     PathState p;
@@ -335,7 +302,9 @@ void PathIntegrator::trace(const Ray& cameraRay, Sampler& rng, FilmSample& out,
 }
 
 namespace {
-/// traceMany's working arrays, kept per thread so that batches do not allocate.
+/// traceMany's working arrays, kept per thread (and sampler type) so that batches do not
+/// allocate.
+template <PathSampler Sampler>
 struct BatchScratch {
     std::vector<PathState> paths;
     std::vector<std::size_t> live, shadowed;
@@ -343,7 +312,7 @@ struct BatchScratch {
     std::vector<const ShadowRay*> shadowQueries;
     std::vector<Hit> hits;
     std::unique_ptr<bool[]> found, blocked;
-    std::vector<SobolSampler*> prefetchSamplers;
+    std::vector<Sampler*> prefetchSamplers;
     std::vector<int> prefetchDepths;
     std::vector<unsigned> prefetchSlots;
     std::size_t capacity = 0;
@@ -364,11 +333,11 @@ struct BatchScratch {
 };
 }  // namespace
 
-template <class Sampler>
+template <PathSampler Sampler>
 void PathIntegrator::traceMany(std::size_t count, const Ray* cameraRays, Sampler* samplers,
                                FilmSample* out, std::uint64_t& rays) const {
-    thread_local BatchScratch scratch;
-    BatchScratch& b = scratch;
+    thread_local BatchScratch<Sampler> scratch;
+    BatchScratch<Sampler>& b = scratch;
     b.reset(count);
     for (std::size_t i = 0; i < count; ++i) {
         b.paths[i].ray = cameraRays[i];
@@ -383,7 +352,7 @@ void PathIntegrator::traceMany(std::size_t count, const Ray* cameraRays, Sampler
         m_embree.intersectMany(n, b.queries.data(), b.hits.data(), b.found.get(), first);
         b.shadowed.clear();
         b.shadowQueries.clear();
-        if constexpr (std::is_same_v<Sampler, SobolSampler>) {
+        if constexpr (PrefetchingSampler<Sampler>) {
             // This bounce's numbers of every path that hit something, computed together.
             b.prefetchSamplers.clear();
             b.prefetchDepths.clear();
@@ -395,8 +364,8 @@ void PathIntegrator::traceMany(std::size_t count, const Ray* cameraRays, Sampler
                 b.prefetchDepths.push_back(p.depth);
                 b.prefetchSlots.push_back(numbersNeeded(p, b.hits[k]));
             }
-            SobolSampler::prefetchMany(b.prefetchSamplers.size(), b.prefetchSamplers.data(),
-                                       b.prefetchDepths.data(), b.prefetchSlots.data());
+            Sampler::prefetchMany(b.prefetchSamplers.size(), b.prefetchSamplers.data(),
+                                  b.prefetchDepths.data(), b.prefetchSlots.data());
         }
         for (std::size_t k = 0; k < n; ++k) {
             PathState& p = b.paths[b.live[k]];
@@ -421,18 +390,20 @@ void PathIntegrator::traceMany(std::size_t count, const Ray* cameraRays, Sampler
     }
 }
 
-template void PathIntegrator::trace<Rng>(const Ray&, Rng&, FilmSample&, std::uint64_t&) const;
+template void PathIntegrator::trace<StratifiedSampler>(const Ray&, StratifiedSampler&, FilmSample&,
+                                                       std::uint64_t&) const;
 template void PathIntegrator::trace<SobolSampler>(const Ray&, SobolSampler&, FilmSample&,
                                                   std::uint64_t&) const;
+template void PathIntegrator::trace<ZSobolSampler>(const Ray&, ZSobolSampler&, FilmSample&,
+                                                   std::uint64_t&) const;
 template void PathIntegrator::trace<MltSampler>(const Ray&, MltSampler&, FilmSample&,
                                                 std::uint64_t&) const;
-template void PathIntegrator::traceMany<Rng>(std::size_t, const Ray*, Rng*, FilmSample*,
-                                             std::uint64_t&) const;
+template void PathIntegrator::traceMany<StratifiedSampler>(std::size_t, const Ray*,
+                                                           StratifiedSampler*, FilmSample*,
+                                                           std::uint64_t&) const;
 template void PathIntegrator::traceMany<SobolSampler>(std::size_t, const Ray*, SobolSampler*,
                                                       FilmSample*, std::uint64_t&) const;
 template void PathIntegrator::traceMany<ZSobolSampler>(std::size_t, const Ray*, ZSobolSampler*,
                                                        FilmSample*, std::uint64_t&) const;
-template void PathIntegrator::trace<ZSobolSampler>(const Ray&, ZSobolSampler&, FilmSample&,
-                                                   std::uint64_t&) const;
 
 }  // namespace glint::render

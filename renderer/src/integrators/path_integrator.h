@@ -9,7 +9,7 @@
 #include "film/film.h"
 #include "glint/render/settings.h"
 #include "lights/light_sampler.h"
-#include "sampling/rng.h"
+#include "sampling/sampler.h"
 #include "scene/camera.h"
 #include "scene/scene_data.h"
 
@@ -40,16 +40,16 @@ class PathIntegrator {
                    const LightSampler& lights, const Camera& camera, const Settings& settings);
 
     /// Traces one camera ray; fills colour and first-non-specular-hit features; counts rays.
-    /// `Sampler` is Rng (path tracing) or MltSampler (Metropolis): it provides
-    /// uniform(), and optionally uniformLight() for the numbers of next-event estimation.
-    template <class Sampler>
+    /// The path reads its numbers from `rng` by bounce and slot (sampling/sampler.h).
+    template <PathSampler Sampler>
     void trace(const Ray& cameraRay, Sampler& rng, FilmSample& out, std::uint64_t& rays) const;
 
     /// trace() of many camera rays at once: each bounce intersects every live path's ray, and
     /// then occlusion-tests every pending shadow ray, as packets (EmbreeScene::intersectMany).
     /// Path i draws from samplers[i] in the same order as trace(), so out[i] is what trace()
-    /// gives for it, up to Embree's packet and single-ray kernels rounding differently.
-    template <class Sampler>
+    /// gives for it, up to Embree's packet and single-ray kernels rounding differently. A
+    /// PrefetchingSampler computes each bounce's numbers of all paths together.
+    template <PathSampler Sampler>
     void traceMany(std::size_t count, const Ray* cameraRays, Sampler* samplers, FilmSample* out,
                    std::uint64_t& rays) const;
 
@@ -57,10 +57,10 @@ class PathIntegrator {
     /// Consumes the intersection of p.ray (`found` and `hit`) at bounce p.depth: emission,
     /// features, next-event estimation (leaving its shadow ray pending) and the next ray, or
     /// the end of the path (p.alive false).
-    template <class Sampler>
+    template <PathSampler Sampler>
     void advance(PathState& p, bool found, const Hit& hit, Sampler& rng, std::uint64_t& rays) const;
 
-    /// The bounce numbers (SobolSampler::slotBit mask) p's next advance() will read at `hit`,
+    /// The bounce numbers (slotBit() mask) p's next advance() will read at `hit`,
     /// as far as the material tells: a prefetch that may compute one or two numbers the path
     /// then does not use (a conductor too smooth for next-event estimation, a path that ends).
     unsigned numbersNeeded(const PathState& p, const Hit& hit) const;

@@ -43,6 +43,30 @@ bool RenderLoop::stopRequested() const {
     return m_cancelled.load();
 }
 
+template <class RunItem, class Fraction>
+void RenderLoop::runItems(std::size_t items, int pass, const RunItem& runItem,
+                          const Fraction& fraction) {
+    std::atomic<std::size_t> itemsDone{0};
+    m_arena.execute([&] {
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, items, 1),
+            [&](const tbb::blocked_range<std::size_t>& range) {
+                for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                    if (stopRequested()) return;
+                    const std::optional<Rect> rect = runItem(i);
+                    if (!m_callbacks.tileDone && !m_callbacks.progress) continue;
+                    // Counted under the callback lock, so that reported progress never goes
+                    // backwards when two items finish at once.
+                    const std::lock_guard<std::mutex> lock(m_callbackMutex);
+                    const std::size_t finished = ++itemsDone;
+                    if (m_callbacks.tileDone && rect) m_callbacks.tileDone(*rect);
+                    if (m_callbacks.progress) m_callbacks.progress(pass, fraction(finished));
+                }
+            },
+            tbb::simple_partitioner());
+    });
+}
+
 LoopResult RenderLoop::run(PassWork& work, bool reportPasses) {
     LoopResult result;
     const bool timed = m_budget > 0.0;
@@ -52,6 +76,31 @@ LoopResult RenderLoop::run(PassWork& work, bool reportPasses) {
     // loop renders (all of them unless restrictSamples() chose a shard).
     int done = 0, taken = 0, pass = 0;
     const int share = m_spp > 0 ? m_sampleEnd - m_sampleBegin : 0;
+    // Progress after `units` samples per pixel, the preparatory pass's setupSpp() included.
+    const double setupSpp = work.setupSpp();
+    auto progressAfter = [&](double units) {
+        const double f =
+            m_spp > 0 ? units / (setupSpp + double(share)) : std::min(1.0, elapsed() / m_budget);
+        return m_begin + (m_end - m_begin) * f;
+    };
+
+    // The preparatory pass, then the work's verdict on whether passes follow.
+    if (const std::size_t setupItems = work.setupItems(); setupItems > 0) {
+        runItems(
+            setupItems, 0,
+            [&](std::size_t i) {
+                work.runSetup(i, *this);
+                return std::optional<Rect>();
+            },
+            [&](std::size_t finished) {
+                return progressAfter(double(finished) / double(setupItems) * setupSpp);
+            });
+        if (m_cancelled.load() || !work.setupCompleted()) {
+            result.cancelled = m_cancelled.load();
+            return result;
+        }
+    }
+
     double secondsPerSpp = 0.0;
     while (!m_cancelled.load()) {
         if (m_spp > 0 && done >= m_sampleEnd) break;
@@ -75,37 +124,19 @@ LoopResult RenderLoop::run(PassWork& work, bool reportPasses) {
         }
         const int rendered = end - begin;
         const PassInfo info{pass, done, count, begin, end};
-        std::atomic<std::size_t> itemsDone{0};
         const double passStart = elapsed();
-        m_arena.execute([&] {
-            tbb::parallel_for(
-                tbb::blocked_range<std::size_t>(0, items, 1),
-                [&](const tbb::blocked_range<std::size_t>& range) {
-                    for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                        if (stopRequested()) return;
-                        work.run(info, i, *this);
-                        const std::optional<Rect> rect = work.itemRect(i);
-                        if (rect)
-                            samples += std::uint64_t(rect->width()) * rect->height() * rendered;
-                        if (!m_callbacks.tileDone && !m_callbacks.progress) continue;
-                        // Counted under the callback lock, so that reported progress never
-                        // goes backwards when two tiles finish at once.
-                        const std::lock_guard<std::mutex> lock(m_callbackMutex);
-                        const std::size_t finished = ++itemsDone;
-                        if (m_callbacks.tileDone && rect) m_callbacks.tileDone(*rect);
-                        if (m_callbacks.progress) {
-                            double f;
-                            if (m_spp > 0)
-                                f = (double(taken) + double(finished) / double(items) * rendered) /
-                                    double(share);
-                            else
-                                f = std::min(1.0, elapsed() / m_budget);
-                            m_callbacks.progress(pass, m_begin + (m_end - m_begin) * f);
-                        }
-                    }
-                },
-                tbb::simple_partitioner());
-        });
+        runItems(
+            items, pass,
+            [&](std::size_t i) {
+                work.run(info, i, *this);
+                const std::optional<Rect> rect = work.itemRect(i);
+                if (rect) samples += std::uint64_t(rect->width()) * rect->height() * rendered;
+                return rect;
+            },
+            [&](std::size_t finished) {
+                return progressAfter(setupSpp + double(taken) +
+                                     double(finished) / double(items) * rendered);
+            });
         if (m_cancelled.load()) break;
         secondsPerSpp = (elapsed() - passStart) / double(rendered);
         done += count;

@@ -34,6 +34,16 @@ class RenderLoop;
 class PassWork {
   public:
     virtual ~PassWork() = default;
+    /// Work items of a preparatory pass the loop runs before the first pass (Metropolis's
+    /// bootstrap), polling cancel and reporting progress as in any pass; 0: none.
+    virtual std::size_t setupItems() const { return 0; }
+    /// The preparatory pass's cost in samples per pixel: its share of the progress of a
+    /// render of fixed spp is setupSpp() / (setupSpp() + spp).
+    virtual double setupSpp() const { return 0.0; }
+    /// Runs one item of the preparatory pass.
+    virtual void runSetup(std::size_t /*item*/, const RenderLoop& /*loop*/) {}
+    /// After the preparatory pass completed; false when no pass is needed (the loop ends).
+    virtual bool setupCompleted() { return true; }
     /// Work items of every pass (tiles, groups of Metropolis chains).
     virtual std::size_t items() const = 0;
     /// Runs one item of a pass. Long items may poll loop.stopRequested() and return early; the
@@ -57,8 +67,9 @@ struct LoopResult {
     std::uint64_t samples = 0;
 };
 
-/// Runs passes of sizes 1, 1, 2, 4 … 64 spp until `spp` is reached, the time budget runs out or
-/// the caller cancels. Progress of this loop maps to [progressBegin, progressEnd] of the render.
+/// Runs the work's preparatory pass, if any, then passes of sizes 1, 1, 2, 4 … 64 spp until
+/// `spp` is reached, the time budget runs out or the caller cancels. Progress of this loop maps
+/// to [progressBegin, progressEnd] of the render.
 class RenderLoop {
   public:
     RenderLoop(int spp, double timeBudget, const Callbacks& callbacks, tbb::task_arena& arena,
@@ -78,6 +89,11 @@ class RenderLoop {
 
   private:
     double elapsed() const;
+    /// Runs items [0, items) in parallel through runItem(i) (which returns the item's tile,
+    /// if any), polling cancel before each and then reporting the tile and
+    /// progress(pass, fraction(items finished)) under the callback lock.
+    template <class RunItem, class Fraction>
+    void runItems(std::size_t items, int pass, const RunItem& runItem, const Fraction& fraction);
 
     int m_spp;
     double m_budget;

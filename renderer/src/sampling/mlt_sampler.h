@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "sampling/rng.h"
+#include "sampling/sampler.h"
 
 namespace glint::render {
 
@@ -47,6 +48,9 @@ struct MutationSizes {
 /// and point on the light) at odd offsets, so a light perturbation can touch only the latter.
 class MltSampler {
   public:
+    /// A stream sampler (sampling/sampler.h): the path reads every number it might need.
+    static constexpr bool kSlotted = false;
+
     /// A chain whose uniform numbers come from the stream `key`.
     MltSampler(std::uint64_t key, const MutationSizes& sizes);
 
@@ -72,6 +76,16 @@ class MltSampler {
     /// Next light-stream number (next-event estimation).
     float uniformLight() {
         return get(kCameraDims + 2 * std::size_t(m_lightIndex++) + 1, Stream::Light);
+    }
+
+    /// PathSampler: next-event numbers from the light stream (so that light perturbations
+    /// change only these), every other number from the path stream; a pair is two numbers.
+    float bounce1D(int /*depth*/, BounceDim slot) {
+        return isLightSlot(slot) ? uniformLight() : uniform();
+    }
+    Vec2 bounce2D(int depth, BounceDim slot) {
+        const float u = bounce1D(depth, slot);
+        return {u, bounce1D(depth, slot)};
     }
 
     /// Number of coordinates materialised so far (for tests).
@@ -166,5 +180,7 @@ class MltSampler {
     Counts m_countAtLarge{};        // m_count when that large step was accepted
     int m_pathIndex = 0, m_lightIndex = 0;
 };
+
+static_assert(PathSampler<MltSampler>);
 
 }  // namespace glint::render

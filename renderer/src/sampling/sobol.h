@@ -12,6 +12,7 @@
 #include <cstdint>
 
 #include "glint/image/random.h"
+#include "sampling/sampler.h"
 #include "vecmath.h"
 
 namespace glint::render {
@@ -129,18 +130,17 @@ inline float sobol1D(std::uint32_t index, std::uint64_t seed) {
 
 /// Dimensions of the camera sample: film position (pair 0), lens (pair 1), time (2).
 inline constexpr int kSobolCameraDims = 3;
-/// Dimensions reserved per bounce, whether used or not, so that what one bounce draws never
-/// shifts the next: light choice, point on the light (pair), BSDF direction (pair), BSDF
-/// component, Russian roulette.
-enum class BounceDim : int { LightSelect, LightPoint, BsdfDirection, BsdfComponent, Roulette };
+/// Dimensions reserved per bounce (one per BounceDim, a pair's two in one), whether used or
+/// not, so that what one bounce draws never shifts the next.
 inline constexpr int kSobolDimsPerBounce = 5;
 
 /// The sampler of one camera sample: sample `index` of pixel `pixel`, every dimension its own
-/// scrambled Sobol sequence. Provides the interface PathIntegrator::trace reads (sample1D/2D
-/// by bounce and slot); it has no free-running stream, so every number a path draws must have
-/// its slot.
+/// scrambled Sobol sequence. A PrefetchingSampler (sampling/sampler.h); it has no free-running
+/// stream, so every number a path draws must have its slot.
 class SobolSampler {
   public:
+    static constexpr bool kSlotted = true;
+
     SobolSampler(std::uint64_t seed, std::uint64_t pixel, std::uint32_t index)
         : m_key(hash64(hash64(seed, 0x50b01ULL), pixel)), m_reversedIndex(reverseBits(index)) {}
 
@@ -161,7 +161,7 @@ class SobolSampler {
     }
 
     /// The bit of `slot` in prefetchMany()'s masks.
-    static constexpr unsigned slotBit(BounceDim slot) { return 1u << int(slot); }
+    static constexpr unsigned slotBit(BounceDim slot) { return render::slotBit(slot); }
     /// Two 32-bit scramble seeds of dimension `dim` from a pixel's key (sobol2D/1D split them).
     static std::uint64_t dimensionSeedOf(std::uint64_t key, int dim) {
         const std::uint32_t s = hash32(std::uint32_t(key) + std::uint32_t(dim) * 0x9e3779b9u);
@@ -218,9 +218,11 @@ inline std::uint32_t spreadBits(std::uint32_t x) {
 /// pixel's block maps onto an aligned block (its 2^m samples stay a (0, m, 2)-net), dimensions
 /// are decorrelated, and neighbouring pixels take neighbouring blocks in a shuffled Morton order
 /// (their errors come out as blue noise). Costs a hash per digit and dimension: about 11 on a
-/// 256² film at 64 spp. The same interface as SobolSampler, without prefetching.
+/// 256² film at 64 spp. A PixelSampler as SobolSampler is, without prefetching.
 class ZSobolSampler {
   public:
+    static constexpr bool kSlotted = true;
+
     /// Sample `index` of pixel (x, y) for a film whose larger side is at most 2^log2Res and at
     /// most 2^log2Spp samples a pixel; 2 log2Res + log2Spp ≤ 32 (Renderer checks).
     ZSobolSampler(std::uint64_t seed, int x, int y, std::uint32_t index, int log2Res, int log2Spp)
@@ -281,5 +283,8 @@ class ZSobolSampler {
     int m_bits;              // 2 log2Res + log2Spp: the bits of the index
     std::uint32_t m_morton;  // Morton(x, y) · 2^log2Spp + index
 };
+
+static_assert(PrefetchingSampler<SobolSampler> && PixelSampler<SobolSampler>);
+static_assert(PixelSampler<ZSobolSampler> && !PrefetchingSampler<ZSobolSampler>);
 
 }  // namespace glint::render

@@ -21,7 +21,9 @@ struct RendererAccess;
 /// Observers of a running render. Every callback may be empty. Calls are serialised (never two
 /// at once) but may come from worker threads.
 struct Callbacks {
-    /// After each tile: pass index (0-based) and the fraction of the whole render done so far.
+    /// After each work item (a tile; a group of Metropolis chains; a block of Metropolis's
+    /// bootstrap, which precedes pass 0 and reports as it): pass index (0-based) and the
+    /// fraction of the whole render done so far.
     std::function<void(int pass, double fraction)> progress;
     /// A tile finished its share of the current pass.
     std::function<void(const Rect& tile)> tileDone;
