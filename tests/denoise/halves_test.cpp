@@ -10,7 +10,7 @@
 #include <tuple>
 #include <vector>
 
-#include "bank/sure_detail.h"
+#include "auto/stacking.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"

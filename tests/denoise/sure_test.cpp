@@ -9,7 +9,7 @@
 #include <cmath>
 #include <random>
 
-#include "bank/sure_detail.h"
+#include "auto/choice.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
@@ -429,7 +429,7 @@ TEST(Sure, BoxSmoothIsTheMeanOverTheWindowTruncatedAtTheBorder) {
 }
 
 TEST(Sure, WindowScoreIsTheBoxSmoothedDifferencePlusItsStandardError) {
-    // The one-pass score of autoComposite's step 2 against what it replaced, boxSmooth of stored
+    // The one-pass score of the per-pixel choice against what it replaced, boxSmooth of stored
     // d = raw − base and d² maps (value for value: the same sums in the same order), and against
     // brute-force window sums in double: within 1e-5 relative for the mean, and for the standard
     // error within what float rounding of d² and of the averages (a few 1e-8 of the mean of d²)
