@@ -11,6 +11,9 @@
 #include <tuple>
 #include <vector>
 
+#include "auto/choice.h"
+#include "auto/halves_estimator.h"
+#include "auto/median.h"
 #include "auto/stacking.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
@@ -39,7 +42,7 @@ void expectUnbiased(const Filter& filter, const ParamValues& params, Noise noise
     const Rect r{0, 128, 0, 96};
     const Image outA = applyFilter(filter, frameA, params);
     const Image outB = applyFilter(filter, frameB, params);
-    const Image map = crossValidationMap(a, b, outA, symmetric ? &outB : nullptr, r);
+    const Image map = detail::crossValidationMap(a, b, outA, symmetric ? &outB : nullptr, r);
     // Per value: the estimate's term minus the true term.
     std::vector<double> diff;
     for (int y = 0; y < 96; ++y)
@@ -95,14 +98,16 @@ TEST(HalvesEstimator, DisplayExactComparesDisplayValues) {
     const double da = srgb(0.2), db = srgb(0.5), dfa = srgb(0.3), dfb = 1.0;
     const double expected =
         3.0 * 0.5 * ((dfa - db) * (dfa - db) + (dfb - da) * (dfb - da) - (da - db) * (da - db));
-    EXPECT_NEAR(crossValidationMap(a, b, fa, &fb, r, nullptr, 0.0f)(0, 0, 0), expected, 1e-4);
+    EXPECT_NEAR(detail::crossValidationMap(a, b, fa, &fb, r, nullptr, 0.0f)(0, 0, 0), expected,
+                1e-4);
     // Exposure +1 doubles the linear values before the transform.
     const double da2 = srgb(0.4), db2 = srgb(1.0), dfa2 = srgb(0.6);
     const double expected2 = 3.0 * ((dfa2 - db2) * (dfa2 - db2) - 0.5 * (da2 - db2) * (da2 - db2));
-    EXPECT_NEAR(crossValidationMap(a, b, fa, nullptr, r, nullptr, 1.0f)(0, 0, 0), expected2, 1e-4);
+    EXPECT_NEAR(detail::crossValidationMap(a, b, fa, nullptr, r, nullptr, 1.0f)(0, 0, 0), expected2,
+                1e-4);
     // Linear: the plain values.
     const double linear = 3.0 * 0.5 * (0.2 * 0.2 + 3.8 * 3.8 - 0.3 * 0.3);
-    EXPECT_NEAR(crossValidationMap(a, b, fa, &fb, r)(0, 0, 0), linear, 1e-5);
+    EXPECT_NEAR(detail::crossValidationMap(a, b, fa, &fb, r)(0, 0, 0), linear, 1e-5);
 }
 
 TEST(HalvesEstimator, SecantWeighsEachOutputBetweenItAndTheCentre) {
@@ -115,20 +120,20 @@ TEST(HalvesEstimator, SecantWeighsEachOutputBetweenItAndTheCentre) {
     const double noise = 0.5 * 0.3 * 0.3;
     const double expected =
         3.0 * 0.5 * (sa * sa * (0.2 * 0.2 - noise) + sb * sb * (3.8 * 3.8 - noise));
-    EXPECT_NEAR(secantCrossValidationMap(a, b, fa, &fb, r, m)(0, 0, 0), expected, 1e-4);
-    EXPECT_NEAR(secantCrossValidationMap(a, b, fa, nullptr, r, m)(0, 0, 0),
+    EXPECT_NEAR(detail::secantCrossValidationMap(a, b, fa, &fb, r, m)(0, 0, 0), expected, 1e-4);
+    EXPECT_NEAR(detail::secantCrossValidationMap(a, b, fa, nullptr, r, m)(0, 0, 0),
                 3.0 * sa * sa * (0.2 * 0.2 - noise), 1e-4);
     // An output equal to the centre: the slope there (sRGB at 0.6).
     const double slope = 1.055 / 2.4 * std::pow(0.6, 1.0 / 2.4 - 1.0);
-    EXPECT_NEAR(secantCrossValidationMap(a, b, m, nullptr, r, m)(0, 0, 0),
+    EXPECT_NEAR(detail::secantCrossValidationMap(a, b, m, nullptr, r, m)(0, 0, 0),
                 3.0 * slope * slope * (0.6 - 0.5) * (0.6 - 0.5) - 3.0 * slope * slope * noise,
                 1e-4);
     // Output and centre both above the clamp: they display alike, weight 0.
     const Image two(1, 1, 3, 2.0f), three(1, 1, 3, 3.0f);
-    EXPECT_EQ(secantCrossValidationMap(a, b, two, nullptr, r, three)(0, 0, 0), 0.0f);
+    EXPECT_EQ(detail::secantCrossValidationMap(a, b, two, nullptr, r, three)(0, 0, 0), 0.0f);
     // Exposure +1 doubles the linear values before the transform.
     const double sa2 = (srgbOf(0.6) - srgbOf(1.2)) / (0.3 - 0.6);
-    EXPECT_NEAR(secantCrossValidationMap(a, b, fa, nullptr, r, m, 1.0f)(0, 0, 0),
+    EXPECT_NEAR(detail::secantCrossValidationMap(a, b, fa, nullptr, r, m, 1.0f)(0, 0, 0),
                 3.0 * sa2 * sa2 * (0.2 * 0.2 - noise), 1e-4);
 }
 
@@ -173,14 +178,14 @@ TEST(HalvesEstimator, SecantEstimatesTheDisplayErrorOfABlurredHighlight) {
     const Image &clean = hl.clean, &a = hl.a, &b = hl.b, &outA = hl.outA, &outB = hl.outB;
     const int w = hl.w, h = hl.h;
     const Rect r{0, w, 0, h};
-    const Image secant = secantCrossValidationMap(a, b, outA, &outB, r, clean);
+    const Image secant = detail::secantCrossValidationMap(a, b, outA, &outB, r, clean);
     Image slope2(w, h, 3);
     for (std::size_t i = 0; i < clean.data().size(); ++i) {
         const double v = clean.data()[i];
         const double s = v >= 1.0 ? 0.0 : 1.055 / 2.4 * std::pow(v, 1.0 / 2.4 - 1.0);
         slope2.data()[i] = float(s * s);
     }
-    const Image tangent = crossValidationMap(a, b, outA, &outB, r, &slope2);
+    const Image tangent = detail::crossValidationMap(a, b, outA, &outB, r, &slope2);
     std::vector<double> diff;
     double truth = 0.0, tangentMean = 0.0;
     for (int y = 0; y < h; ++y)
@@ -219,20 +224,21 @@ TEST(HalvesEstimator, TheCentredSecantFormIsTheUnbiasedOneLessTheCentresOwnTerm)
     const double unbiased =
         3.0 * 0.5 * (sa * sa * (0.2 * 0.2 - noise) + sb * sb * (3.8 * 3.8 - noise));
     double mean = -1.0;
-    EXPECT_NEAR(
-        secantCrossValidationMap(a, b, fa, &fb, r, m, 0.0f, SecantForm::Centred, &mean)(0, 0, 0),
-        centred, 1e-4);
+    EXPECT_NEAR(detail::secantCrossValidationMap(a, b, fa, &fb, r, m, 0.0f,
+                                                 detail::SecantForm::Centred, &mean)(0, 0, 0),
+                centred, 1e-4);
     // The mean per pixel and channel of the unbiased form, whatever the form asked for.
     EXPECT_NEAR(mean, unbiased / 3.0, 1e-5);
-    EXPECT_NEAR(
-        secantCrossValidationMap(a, b, fa, &fb, r, m, 0.0f, SecantForm::Unbiased, &mean)(0, 0, 0),
-        unbiased, 1e-4);
+    EXPECT_NEAR(detail::secantCrossValidationMap(a, b, fa, &fb, r, m, 0.0f,
+                                                 detail::SecantForm::Unbiased, &mean)(0, 0, 0),
+                unbiased, 1e-4);
     EXPECT_NEAR(mean, unbiased / 3.0, 1e-5);
-    EXPECT_NEAR(
-        secantCrossValidationMap(a, b, fa, nullptr, r, m, 0.0f, SecantForm::Centred)(0, 0, 0),
-        3.0 * sa * sa * (0.3 - 0.6) * (0.3 + 0.6 - 1.0), 1e-4);
+    EXPECT_NEAR(detail::secantCrossValidationMap(a, b, fa, nullptr, r, m, 0.0f,
+                                                 detail::SecantForm::Centred)(0, 0, 0),
+                3.0 * sa * sa * (0.3 - 0.6) * (0.3 + 0.6 - 1.0), 1e-4);
     // An output at the centre: 0, however noisy the other half.
-    EXPECT_EQ(secantCrossValidationMap(a, b, m, nullptr, r, m, 0.0f, SecantForm::Centred)(0, 0, 0),
+    EXPECT_EQ(detail::secantCrossValidationMap(a, b, m, nullptr, r, m, 0.0f,
+                                               detail::SecantForm::Centred)(0, 0, 0),
               0.0f);
 }
 
@@ -250,9 +256,9 @@ TEST(HalvesEstimator, TheCentredSecantFormEstimatesTheSameErrorWithFarLessNoise)
     const int w = hl.w, h = hl.h;
     const Rect r{0, w, 0, h};
     double unbiasedMean = 0.0;
-    const Image centred = secantCrossValidationMap(a, b, outA, &outB, r, clean, 0.0f,
-                                                   SecantForm::Centred, &unbiasedMean);
-    const Image unbiased = secantCrossValidationMap(a, b, outA, &outB, r, clean);
+    const Image centred = detail::secantCrossValidationMap(
+        a, b, outA, &outB, r, clean, 0.0f, detail::SecantForm::Centred, &unbiasedMean);
+    const Image unbiased = detail::secantCrossValidationMap(a, b, outA, &outB, r, clean);
     std::vector<double> dc, du;
     double truth = 0.0, unbiasedMapMean = 0.0;
     for (int y = 0; y < h; ++y)
@@ -352,7 +358,7 @@ TEST(BankMedian, TheBankMedianIsTheMiddleValueOfEveryPixelAndChannel) {
         std::vector<double> sigmas;
         for (int i = 0; i < n; ++i) sigmas.push_back(0.3 + 0.05 * i);
         const FilterBank bank = gaussianBank(f, sigmas);
-        const Image median = bankMedian(bank);
+        const Image median = detail::bankMedian(bank);
         ASSERT_EQ(median.width(), 37);
         ASSERT_EQ(median.channels(), 3);
         for (std::size_t i = 0; i < median.data().size(); ++i) {
@@ -363,7 +369,7 @@ TEST(BankMedian, TheBankMedianIsTheMiddleValueOfEveryPixelAndChannel) {
             ASSERT_EQ(median.data()[i], values[std::size_t(n / 2)]) << n << " members, value " << i;
         }
     }
-    EXPECT_THROW(bankMedian(gaussianBank(f, {})), Error);
+    EXPECT_THROW(detail::bankMedian(gaussianBank(f, {})), Error);
 }
 
 }  // namespace

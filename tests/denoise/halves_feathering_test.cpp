@@ -8,6 +8,7 @@
 #include <tuple>
 #include <vector>
 
+#include "auto/choice.h"
 #include "auto/stacking.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
@@ -41,7 +42,7 @@ TEST(AutoFeathering, FeatheringBoxAveragesTheWeightsWhereNothingIsGated) {
     ASSERT_GE(a.layers.size(), 2u);
     long blended = 0, blendedBefore = 0;
     for (std::size_t m = 0; m < bank.size(); ++m) {
-        const Image expected = boxSmooth(planeOf(a, int(m)), 3);
+        const Image expected = detail::boxSmooth(planeOf(a, int(m)), 3);
         const Image got = planeOf(b, int(m));
         for (std::size_t p = 0; p < got.data().size(); ++p) {
             ASSERT_NEAR(got.data()[p], expected.data()[p], 1e-5f) << "member " << m << " " << p;

@@ -13,10 +13,6 @@
 
 namespace glint::denoise {
 
-Image boxSmooth(const Image& image, int radius) {
-    return detail::boxSmooth(image, radius, nullptr);
-}
-
 namespace detail {
 
 Image boxSmooth(const Image& image, int radius, WorkContext* work) {

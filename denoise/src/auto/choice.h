@@ -25,8 +25,9 @@ struct AutoSettings;
 /// same, value for value, as boxSmooth of stored d and d² maps.
 Image windowScore(const Image& raw, const Image& base, int radius, double confidence);
 
-/// boxSmooth (sure.h) with its passes run through `work` when given (one unit per row each).
-Image boxSmooth(const Image& image, int radius, WorkContext* work);
+/// Box average of a 1-channel image over (2·radius + 1)² pixels, truncated at the border. `work`,
+/// if given, runs its passes (one unit per row each).
+Image boxSmooth(const Image& image, int radius, WorkContext* work = nullptr);
 
 /// The temperature's unit per pixel of `region` (1 channel, region-sized): Σ_c of the
 /// estimator's noise variance, times `weight` (3 channels, region-sized; empty: 1), box-averaged

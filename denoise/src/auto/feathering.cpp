@@ -36,7 +36,7 @@ void featherWeights(std::vector<Image>& planes, const FilterBank& bank, int radi
         [&](int index) {
             const auto j = std::size_t(index);
             const std::size_t m = used[j];
-            Image f = boxSmooth(planes[m], radius, nullptr);
+            Image f = boxSmooth(planes[m], radius);
             for (int y = 0; y < height; ++y) {
                 float* w = f.row(y);
                 const float* value = bank.result(m).row(y);

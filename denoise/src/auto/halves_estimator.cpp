@@ -1,5 +1,5 @@
-// Cross-validation of a member's error on the two halves of the samples (sure.h,
-// halves_estimator.h; docs/auto.md, "Error estimation by cross-validation on the halves").
+// Cross-validation of a member's error on the two halves of the samples (halves_estimator.h;
+// docs/auto.md, "Error estimation by cross-validation on the halves").
 #include "halves_estimator.h"
 
 #include <atomic>
@@ -11,7 +11,7 @@
 #include "glint/denoise/registry.h"
 #include "glint/image/error.h"
 
-namespace glint::denoise {
+namespace glint::denoise::detail {
 
 Image crossValidationMap(const Image& halfA, const Image& halfB, const Image& outputA,
                          const Image* outputB, const Rect& region, const Image* weight,
@@ -49,11 +49,9 @@ Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Ima
                                const Image* outputB, const Rect& region, const Image& centre,
                                float exposure, SecantForm form, double* unbiasedMean) {
     GLINT_CHECK(centre.sameShape(outputA));
-    return detail::secantMap(halfA, halfB, outputA, outputB, region, centre,
-                             detail::displayOf(centre, exposure), exposure, form, unbiasedMean);
+    return secantMap(halfA, halfB, outputA, outputB, region, centre, displayOf(centre, exposure),
+                     exposure, form, unbiasedMean);
 }
-
-namespace detail {
 
 void checkHalvesFinite(const FrameBuffers& frame, const std::string& file) {
     for (Layer layer : {Layer::Color, Layer::HalfColor}) {
@@ -220,6 +218,4 @@ double HalvesEstimator::noiseVariance(int x, int y, int c) const {
     return 0.25 * d * d;
 }
 
-}  // namespace detail
-
-}  // namespace glint::denoise
+}  // namespace glint::denoise::detail

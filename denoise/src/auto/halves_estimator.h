@@ -1,9 +1,10 @@
 // The halves estimator of the automatic selection (docs/auto.md, "Error estimation by
 // cross-validation on the halves"): each member filtered on one half of the samples and compared
-// with the other. The maps themselves (crossValidationMap, secantCrossValidationMap) are in
-// sure.h.
+// with the other. The maps (crossValidationMap, secantCrossValidationMap) and the estimator over
+// a bank.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,51 @@
 #include "glint/denoise/sure.h"
 
 namespace glint::denoise::detail {
+
+/// Per-pixel cross-validation error over `region`, summed over the channels (1 channel,
+/// region-sized), from two independent halves A and B of the samples (frame-sized colours)
+/// and a filter's outputs on each (region-sized; `outputB` may be null):
+///   symmetric:  Σ_c weight_c [(f(A) − B)² + (f(B) − A)² − (A − B)²] / 2,
+///   one-sided:  Σ_c weight_c [(f(A) − B)² − (A − B)² / 2].
+/// As B is independent of A and of f(A), E(f(A) − B)² = MSE f(A) + Var B; the symmetric form is
+/// an unbiased estimate of the filter's mean squared error on a half, the one-sided one of
+/// MSE f(A) + (Var B − Var A)/2 (the same for equal halves). No noise model, no variance layer
+/// and no divergence: it holds for the heavy-tailed, guide-correlated noise of a render.
+/// With `displayExposure`, every value (halves and outputs) is first mapped by the display
+/// transform (exposure, clamp, sRGB) and `weight` must be null: the estimate is then of the
+/// display error up to a term that is the product of the filter's and B's display biases
+/// (E[D(f(A)) − D(x)]·E[D(x) − D(B)], independent factors), small where either is.
+Image crossValidationMap(const Image& halfA, const Image& halfB, const Image& outputA,
+                         const Image* outputB, const Rect& region, const Image* weight = nullptr,
+                         std::optional<float> displayExposure = std::nullopt);
+
+/// The halves' display-space error map (SureSpace::Display): as crossValidationMap, but each
+/// side's term is weighted by the squared secant slope s² of the display transform D (exposure,
+/// clamp, sRGB) between that output and `centre` (region-sized, 3 channels: a member-independent
+/// estimate of the clean value, the median of the bank), s = (D(f) − D(m)) / (f − m) (the slope
+/// at m where f ≈ m; 0 where both are clamped, as their display values agree there):
+///   symmetric:  Σ_c ½ [s_A² ((f(A) − B)² − ½(A − B)²) + s_B² ((f(B) − A)² − ½(A − B)²)],
+///   one-sided:  Σ_c s_A² ((f(A) − B)² − ½(A − B)²).
+/// s_A depends on B only through the median of many filtered results, so the first term
+/// estimates s_A² · MSE f(A) nearly without bias; and the linearisation is first-order in
+/// x − m only, where the tangent's is in f − m too, which is large exactly where a filter
+/// blurs a highlight or a firefly.
+///
+/// SecantForm::Centred writes each side's term as s² (f − m)(f + m − 2B) = s² [(f − B)² −
+/// (m − B)²] instead (A and B swapped for f(B)): its expectation is s² [MSE f − (m − x)²],
+/// the member's error less the centre's own, weighed alike, so it ranks the members as the
+/// unbiased form does up to the spread of s² between them. But its noise, −2 s² (f − m)(B − x),
+/// vanishes as f nears m, where the unbiased form's holds s² [(B − x)² − Var B] for every
+/// member: with s² differing between two members, a firefly in B does not cancel out of their
+/// difference (docs/auto.md, "Error estimation by cross-validation on the halves").
+/// `unbiasedMean`, when given, receives the unbiased form's mean per pixel and channel over the
+/// region (as if `form` were Unbiased), which is what the centred map's mean is not: an estimate
+/// of the member's display MSE.
+enum class SecantForm { Unbiased, Centred };
+Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Image& outputA,
+                               const Image* outputB, const Rect& region, const Image& centre,
+                               float exposure = 0.0f, SecantForm form = SecantForm::Unbiased,
+                               double* unbiasedMean = nullptr);
 
 /// NaN or Inf in the colour or the half colour: glint::Error(Numeric) naming `file` and the first
 /// in scan order.

@@ -7,7 +7,6 @@
 #include "../filters/simd.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/progress.h"
-#include "glint/denoise/sure.h"
 #include "glint/image/error.h"
 
 namespace glint::denoise {
@@ -70,11 +69,11 @@ Image bankMedian(const FilterBank& bank, WorkContext& work) {
     return median;
 }
 
-}  // namespace detail
-
 Image bankMedian(const FilterBank& bank) {
     WorkContext work;
-    return detail::bankMedian(bank, work);
+    return bankMedian(bank, work);
 }
+
+}  // namespace detail
 
 }  // namespace glint::denoise

@@ -11,6 +11,7 @@
 #include "glint/image/io.h"
 #include "halves_estimator.h"
 #include "stacking.h"
+#include "sure_estimator.h"
 
 namespace glint::denoise {
 
@@ -159,7 +160,7 @@ AutoEstimator resolveEstimator(AutoEstimator estimator, const FrameBuffers& fram
 
 void checkAutoInput(const FrameBuffers& frame, AutoEstimator estimator, const std::string& file) {
     if (resolveEstimator(estimator, frame) == AutoEstimator::Sure) {
-        checkSureInput(frame, file);
+        detail::checkSureInput(frame, file);
         return;
     }
     if (!frame.has(Layer::HalfColor))

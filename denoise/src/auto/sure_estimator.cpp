@@ -1,4 +1,4 @@
-// Stein's unbiased risk estimate of a member's error per pixel (sure.h, sure_estimator.h;
+// Stein's unbiased risk estimate of a member's error per pixel (sure_estimator.h;
 // docs/auto.md, "Error estimation by SURE").
 #include "sure_estimator.h"
 
@@ -12,7 +12,7 @@
 #include "glint/image/error.h"
 #include "glint/image/random.h"
 
-namespace glint::denoise {
+namespace glint::denoise::detail {
 
 namespace {
 
@@ -77,22 +77,20 @@ void checkSureInput(const FrameBuffers& frame, const std::string& file) {
             for (int c = 0; c < 3; ++c) {
                 const float v = color(x, y, c);
                 if (!std::isfinite(v))
-                    throw Error(
-                        ErrorKind::Numeric,
-                        std::string(std::isnan(v) ? "NaN" : "Inf") +
-                            " in the colour; SURE needs finite values",
-                        file,
-                        detail::pixelText(x, y) + ", channel " + channelName(Layer::Color, c));
+                    throw Error(ErrorKind::Numeric,
+                                std::string(std::isnan(v) ? "NaN" : "Inf") +
+                                    " in the colour; SURE needs finite values",
+                                file,
+                                pixelText(x, y) + ", channel " + channelName(Layer::Color, c));
                 const float s = variance(x, y, c);
                 if (!std::isfinite(s) || s < 0.0f)
-                    throw Error(
-                        ErrorKind::Numeric,
-                        std::string(std::isnan(s)   ? "NaN"
-                                    : std::isinf(s) ? "Inf"
-                                                    : "negative value") +
-                            " in the variance; SURE needs a finite variance >= 0",
-                        file,
-                        detail::pixelText(x, y) + ", channel " + channelName(Layer::Variance, c));
+                    throw Error(ErrorKind::Numeric,
+                                std::string(std::isnan(s)   ? "NaN"
+                                            : std::isinf(s) ? "Inf"
+                                                            : "negative value") +
+                                    " in the variance; SURE needs a finite variance >= 0",
+                                file,
+                                pixelText(x, y) + ", channel " + channelName(Layer::Variance, c));
             }
 }
 
@@ -192,8 +190,6 @@ SureEstimate estimateSure(const Filter& filter, const FrameBuffers& frame,
     return e;
 }
 
-namespace detail {
-
 SureEstimator::SureEstimator(const FilterBank& bank, const FrameBuffers& frame,
                              const AutoOptions& options, const Image* weight)
     : m_bank(bank), m_frame(frame), m_options(options.sure), m_weight(weight) {
@@ -217,6 +213,4 @@ double SureEstimator::noiseVariance(int x, int y, int c) const {
     return m_frame.layer(Layer::Variance)(x, y, c);
 }
 
-}  // namespace detail
-
-}  // namespace glint::denoise
+}  // namespace glint::denoise::detail
