@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "glint/image/display_curve.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "oiio_helpers.h"
@@ -43,6 +44,18 @@ float srgbEncode(float linear) {
     // IEC 61966-2-1 transfer function.
     if (linear <= 0.0031308f) return 12.92f * linear;
     return 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
+}
+
+const double* displayCurveTable() {
+    static const std::vector<double> table = [] {
+        std::vector<double> values(4097);
+        for (std::size_t i = 0; i < values.size(); ++i) {
+            const double x = double(i) / 4096.0;
+            values[i] = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+        }
+        return values;
+    }();
+    return table.data();
 }
 
 float srgbDecode(float encoded) {

@@ -9,7 +9,8 @@
 #include <cmath>
 #include <random>
 
-#include "bank/sure_detail.h"
+#include "auto/choice.h"
+#include "auto/sure_estimator.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
@@ -95,7 +96,7 @@ TEST(Sure, MonteCarloEstimateOfAGaussiansMseMatchesTheTrueMse) {
     for (double sigma : {0.8, 1.5, 3.0}) {
         SureOptions o;
         o.analyticDivergence = false;
-        const SureEstimate e = estimateSure(gaussian, f, {{"sigma", sigma}}, o);
+        const detail::SureEstimate e = detail::estimateSure(gaussian, f, {{"sigma", sigma}}, o);
         EXPECT_FALSE(e.analytic);
         const double truth = glint::mse(e.output, clean).value;
         const double estimate = sureMse(e.sure);
@@ -123,7 +124,8 @@ TEST(Sure, MonteCarloEstimateOfNonlinearFiltersMseMatchesTheTrueMse) {
         for (double epsilon : {0.003, 0.01, 0.1}) {
             SureOptions o;
             o.epsilon = epsilon;
-            const SureEstimate e = estimateSure(findFilter(c.filter), f, c.params, o);
+            const detail::SureEstimate e =
+                detail::estimateSure(findFilter(c.filter), f, c.params, o);
             const double truth = glint::mse(e.output, clean).value;
             EXPECT_NEAR(sureMse(e.sure), truth, kSureTolerance * meanVar)
                 << c.filter << " epsilon " << epsilon << ": SURE " << sureMse(e.sure)
@@ -138,8 +140,8 @@ TEST(Sure, AnalyticDivergenceOfTheGaussianMatchesMonteCarlo) {
     const ParamValues p{{"sigma", 1.5}};
     SureOptions analytic, mc;
     mc.analyticDivergence = false;
-    const SureEstimate a = estimateSure(gaussian, f, p, analytic);
-    const SureEstimate m = estimateSure(gaussian, f, p, mc);
+    const detail::SureEstimate a = detail::estimateSure(gaussian, f, p, analytic);
+    const detail::SureEstimate m = detail::estimateSure(gaussian, f, p, mc);
     ASSERT_TRUE(a.analytic);
     ASSERT_FALSE(m.analytic);
     // The analytic divergence is the normalised centre weight: 1/(2π σ²) inside (up to the
@@ -284,7 +286,7 @@ TEST(Sure, MissingVarianceLayerIsRefusedNamingTheLayer) {
     FrameBuffers f = testing::syntheticFrame(24, 20, 0.05f);
     f.remove(Layer::Variance);
     try {
-        checkSureInput(f, "noisy.exr");
+        detail::checkSureInput(f, "noisy.exr");
         FAIL() << "no error";
     } catch (const Error& e) {
         EXPECT_EQ(e.kind(), ErrorKind::Format);
@@ -292,17 +294,17 @@ TEST(Sure, MissingVarianceLayerIsRefusedNamingTheLayer) {
         EXPECT_NE(std::string(e.what()).find("variance.R"), std::string::npos) << e.what();
         EXPECT_NE(e.where().find("variance"), std::string::npos) << e.what();
     }
-    EXPECT_THROW(estimateSure(findFilter("gaussian"), f, {}), Error);
+    EXPECT_THROW(detail::estimateSure(findFilter("gaussian"), f, {}), Error);
 }
 
 TEST(Sure, AVarianceLayerTheRendererSaysUnderflowedIsRefused) {
     // glint-render marks a frame whose variance fell below float's range (written as 0): SURE,
     // which would read those pixels as noise-free, refuses it and says why.
     FrameBuffers f = testing::syntheticFrame(24, 20, 0.05f);
-    ASSERT_NO_THROW(checkSureInput(f, "dim.exr"));
+    ASSERT_NO_THROW(detail::checkSureInput(f, "dim.exr"));
     f.metadata().extra[kVarianceUnderflowKey] = "480";
     try {
-        checkSureInput(f, "dim.exr");
+        detail::checkSureInput(f, "dim.exr");
         FAIL() << "no error";
     } catch (const Error& e) {
         EXPECT_EQ(e.kind(), ErrorKind::Numeric);
@@ -329,7 +331,7 @@ TEST(Sure, NanOrInfInColourOrVarianceIsRefusedNamingThePixel) {
         FrameBuffers f = testing::syntheticFrame(24, 20, 0.05f);
         f.layer(c.layer)(5, 3, c.c) = c.value;
         try {
-            checkSureInput(f, "in.exr");
+            detail::checkSureInput(f, "in.exr");
             FAIL() << "no error for " << c.where;
         } catch (const Error& e) {
             EXPECT_EQ(e.kind(), ErrorKind::Numeric);
@@ -405,11 +407,11 @@ TEST(Sure, BoxSmoothIsTheMeanOverTheWindowTruncatedAtTheBorder) {
         Image one, two;
         {
             tbb::task_arena arena(1);
-            arena.execute([&] { one = boxSmooth(image, radius); });
+            arena.execute([&] { one = detail::boxSmooth(image, radius); });
         }
         {
             tbb::task_arena arena(2);
-            arena.execute([&] { two = boxSmooth(image, radius); });
+            arena.execute([&] { two = detail::boxSmooth(image, radius); });
         }
         ASSERT_TRUE(one.sameShape(image));
         for (int y = 0; y < h; ++y)
@@ -429,7 +431,7 @@ TEST(Sure, BoxSmoothIsTheMeanOverTheWindowTruncatedAtTheBorder) {
 }
 
 TEST(Sure, WindowScoreIsTheBoxSmoothedDifferencePlusItsStandardError) {
-    // The one-pass score of autoComposite's step 2 against what it replaced, boxSmooth of stored
+    // The one-pass score of the per-pixel choice against what it replaced, boxSmooth of stored
     // d = raw − base and d² maps (value for value: the same sums in the same order), and against
     // brute-force window sums in double: within 1e-5 relative for the mean, and for the standard
     // error within what float rounding of d² and of the averages (a few 1e-8 of the mean of d²)
@@ -450,7 +452,7 @@ TEST(Sure, WindowScoreIsTheBoxSmoothedDifferencePlusItsStandardError) {
         d2.data()[p] = float(v * v);
     }
     for (int radius : {0, 1, 3, 8}) {
-        const Image mean = boxSmooth(d, radius), meanSq = boxSmooth(d2, radius);
+        const Image mean = detail::boxSmooth(d, radius), meanSq = detail::boxSmooth(d2, radius);
         const double count = double((2 * radius + 1) * (2 * radius + 1));
         for (double confidence : {0.0, 1.5}) {
             const Image score = detail::windowScore(raw, base, radius, confidence);

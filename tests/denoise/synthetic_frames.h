@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "auto/choice.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/filter.h"
 #include "glint/denoise/sure.h"
@@ -119,7 +120,7 @@ inline std::pair<int, int> agreementWhereUnambiguous(const FilterBank& bank, con
                 }
                 e(x, y, 0) = float(s);
             }
-        truth.push_back(boxSmooth(e, window));
+        truth.push_back(detail::boxSmooth(e, window));
     }
     int unambiguous = 0, agree = 0;
     for (int y = 0; y < h; ++y)

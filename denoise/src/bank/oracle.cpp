@@ -8,6 +8,7 @@
 #include <limits>
 #include <numeric>
 
+#include "../auto/choice.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
@@ -218,8 +219,9 @@ ExpectedOracleResult expectedErrorOracle(const FilterBank& bank,
     std::vector<int> pick(pixels, 0);
     for (int radius : options.radii) {
         std::vector<Image> smoothed(n);
-        tbb::parallel_for(std::size_t(0), n,
-                          [&](std::size_t m) { smoothed[m] = boxSmooth(expected[m], radius); });
+        tbb::parallel_for(std::size_t(0), n, [&](std::size_t m) {
+            smoothed[m] = detail::boxSmooth(expected[m], radius);
+        });
         for (std::size_t p = 0; p < pixels; ++p) {
             float best = std::numeric_limits<float>::infinity();
             for (std::size_t m = 0; m < n; ++m)

@@ -13,7 +13,7 @@
 // A render with half buffers allows a second estimator without SURE's assumptions (Gaussian
 // noise of known variance, guides independent of the colour): cross-validation on the two
 // independent halves A and B of the samples, E(f(A) − B)² = MSE f(A) + Var B
-// (crossValidationMap; docs/auto.md, "Error estimation by cross-validation on the halves").
+// (docs/auto.md, "Error estimation by cross-validation on the halves").
 #pragma once
 
 #include <cstdint>
@@ -39,14 +39,15 @@ enum class SureSpace {
     /// channel's term by the squared slope of the display transform at m (DisplayTangent; Stein's
     /// lemma needs a weight that does not depend on the filter). The halves weigh each output f's
     /// term by the squared secant slope between f and m, (D(f) − D(m)) / (f − m)
-    /// (secantCrossValidationMap): it sees a highlight blurred from above the clamp to below it,
-    /// which the tangent at a clamped m (slope 0) does not.
+    /// (docs/auto.md, "Error estimation by cross-validation on the halves"): it sees a highlight
+    /// blurred from above the clamp to below it, which the tangent at a clamped m (slope 0) does
+    /// not.
     Display,
     DisplayTangent,  ///< the slope at m for both estimators (the halves' default before the
                      ///< secant; docs/auto.md, "The display transform and the bank's
                      ///< median")
     DisplayExact,    ///< halves only: the display transform applied to the values themselves
-                     ///< (crossValidationMap's displayExposure; not the default:
+                     ///< (not the default:
                      ///< docs/research/auto-notebook.md measures it)
 };
 
@@ -66,57 +67,11 @@ struct SureOptions {
     bool analyticDivergence = true;  ///< use Filter::divergence when the filter provides it
 };
 
-/// Throws glint::Error naming `file` and the place unless `frame` can be used for SURE: it needs
-/// the variance layer (variance.R/G/B, the variance of the mean) and finite colour and finite,
-/// non-negative variance at every pixel. Format for a missing layer, Numeric for bad values.
-void checkSureInput(const FrameBuffers& frame, const std::string& file = {});
-
-/// The ±1 field b: value (x, y, c) from hash(seed, pixel, channel), so any region or thread
-/// count gets the same numbers. 3 channels, width × height.
-Image rademacherField(int width, int height, std::uint64_t seed);
-
-/// `frame` with its colour perturbed to y + ε·b (ε from the variance, see SureOptions). Other
-/// layers are unchanged (feature-guided filters see the same guides). `delta`, when given,
-/// receives the perturbation actually applied (after float rounding): (y + εb) − y.
-FrameBuffers perturbColor(const FrameBuffers& frame, const SureOptions& options,
-                          Image* delta = nullptr);
-
-/// Per pixel and channel over `region`: (perturbedOutput − output) / delta (Ramani et al.'s
-/// estimate with b/ε = 1/delta). `output` and `perturbedOutput` are region-sized, `delta`
-/// frame-sized.
-Image monteCarloDivergence(const Image& output, const Image& perturbedOutput, const Image& delta,
-                           const Rect& region);
-
-/// Per-pixel SURE over `region` summed over the channels (1 channel, region-sized):
-/// Σ_c weight_c ((f − y)² − σ² + 2σ² div). `noisy` and `variance` are frame-sized; `output`,
-/// `divergence` and `weight` (3 channels, optional: 1 everywhere) region-sized.
-Image sureMap(const Image& noisy, const Image& variance, const Image& output,
-              const Image& divergence, const Rect& region, const Image* weight = nullptr);
-
-/// One filter's SURE: its output, its divergence (the filter's own or Monte Carlo) and the
-/// per-pixel SURE map, over `region` (the whole frame when empty).
-struct SureEstimate {
-    Image output;           ///< 3 channels, region-sized
-    Image divergence;       ///< 3 channels, region-sized
-    Image sure;             ///< 1 channel, region-sized, summed over RGB
-    bool analytic = false;  ///< the filter gave its divergence
-};
-
-/// Applies `filter` (resolved `params`) to `frame` and to its perturbed copy and returns the
-/// SURE estimate. Throws like checkSureInput, and like applyFilter.
-SureEstimate estimateSure(const Filter& filter, const FrameBuffers& frame,
-                          const ParamValues& params, const SureOptions& options = {},
-                          const std::optional<Rect>& region = std::nullopt,
-                          const ProgressFn& progress = {});
-
-/// Box average of a 1-channel image over (2·radius + 1)² pixels, truncated at the border.
-Image boxSmooth(const Image& image, int radius);
-
 /// How the auto composite estimates each member's error per pixel.
 enum class AutoEstimator {
     Auto,    ///< Halves when the frame has half buffers, else Sure
     Sure,    ///< Stein's unbiased risk estimate from the variance layer (above)
-    Halves,  ///< cross-validation on the render's two independent halves (crossValidationMap)
+    Halves,  ///< cross-validation on the render's two independent halves
 };
 
 /// Parses "auto" / "sure" / "halves"; throws glint::Error(InvalidArgument).
@@ -127,64 +82,12 @@ const char* autoEstimatorName(AutoEstimator estimator);
 AutoEstimator resolveEstimator(AutoEstimator estimator, const FrameBuffers& frame);
 
 /// Throws glint::Error naming `file` and the place unless the auto composite can use `frame`
-/// with `estimator`: checkSureInput for SURE; for the halves, every half-buffer layer
+/// with `estimator`: for SURE, the variance layer (variance.R/G/B, the variance of the mean) and
+/// finite colour and finite, non-negative variance at every pixel (Format for a missing layer,
+/// Numeric for bad values); for the halves, every half-buffer layer
 /// (glint::splitHalves) and finite colour and half colour.
 void checkAutoInput(const FrameBuffers& frame, AutoEstimator estimator,
                     const std::string& file = {});
-
-/// Per-pixel cross-validation error over `region`, summed over the channels (1 channel,
-/// region-sized), from two independent halves A and B of the samples (frame-sized colours)
-/// and a filter's outputs on each (region-sized; `outputB` may be null):
-///   symmetric:  Σ_c weight_c [(f(A) − B)² + (f(B) − A)² − (A − B)²] / 2,
-///   one-sided:  Σ_c weight_c [(f(A) − B)² − (A − B)² / 2].
-/// As B is independent of A and of f(A), E(f(A) − B)² = MSE f(A) + Var B; the symmetric form is
-/// an unbiased estimate of the filter's mean squared error on a half, the one-sided one of
-/// MSE f(A) + (Var B − Var A)/2 (the same for equal halves). No noise model, no variance layer
-/// and no divergence: it holds for the heavy-tailed, guide-correlated noise of a render.
-/// With `displayExposure`, every value (halves and outputs) is first mapped by the display
-/// transform (exposure, clamp, sRGB) and `weight` must be null: the estimate is then of the
-/// display error up to a term that is the product of the filter's and B's display biases
-/// (E[D(f(A)) − D(x)]·E[D(x) − D(B)], independent factors), small where either is.
-Image crossValidationMap(const Image& halfA, const Image& halfB, const Image& outputA,
-                         const Image* outputB, const Rect& region, const Image* weight = nullptr,
-                         std::optional<float> displayExposure = std::nullopt);
-
-/// The halves' display-space error map (SureSpace::Display): as crossValidationMap, but each
-/// side's term is weighted by the squared secant slope s² of the display transform D (exposure,
-/// clamp, sRGB) between that output and `centre` (region-sized, 3 channels: a member-independent
-/// estimate of the clean value, the median of the bank), s = (D(f) − D(m)) / (f − m) (the slope
-/// at m where f ≈ m; 0 where both are clamped, as their display values agree there):
-///   symmetric:  Σ_c ½ [s_A² ((f(A) − B)² − ½(A − B)²) + s_B² ((f(B) − A)² − ½(A − B)²)],
-///   one-sided:  Σ_c s_A² ((f(A) − B)² − ½(A − B)²).
-/// s_A depends on B only through the median of many filtered results, so the first term
-/// estimates s_A² · MSE f(A) nearly without bias; and the linearisation is first-order in
-/// x − m only, where the tangent's is in f − m too, which is large exactly where a filter
-/// blurs a highlight or a firefly.
-///
-/// SecantForm::Centred writes each side's term as s² (f − m)(f + m − 2B) = s² [(f − B)² −
-/// (m − B)²] instead (A and B swapped for f(B)): its expectation is s² [MSE f − (m − x)²],
-/// the member's error less the centre's own, weighed alike, so it ranks the members as the
-/// unbiased form does up to the spread of s² between them. But its noise, −2 s² (f − m)(B − x),
-/// vanishes as f nears m, where the unbiased form's holds s² [(B − x)² − Var B] for every
-/// member: with s² differing between two members, a firefly in B does not cancel out of their
-/// difference (docs/auto.md, "Error estimation by cross-validation on the halves").
-/// `unbiasedMean`, when given, receives the unbiased form's mean per pixel and channel over the
-/// region (as if `form` were Unbiased), which is what the centred map's mean is not: an estimate
-/// of the member's display MSE.
-enum class SecantForm { Unbiased, Centred };
-Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Image& outputA,
-                               const Image* outputB, const Rect& region, const Image& centre,
-                               float exposure = 0.0f, SecantForm form = SecantForm::Unbiased,
-                               double* unbiasedMean = nullptr);
-
-/// The median of the bank's results per pixel and channel (3 channels, region-sized): a
-/// member-independent estimate of the clean value, the centre of the display linearisation
-/// (SureSpace::Display and DisplayTangent). The median rather than the mean, which the members
-/// that barely filter pull into the clamp at a firefly or a highlight
-/// (docs/research/auto-notebook.md measures both). The (n/2)-th smallest of the n values (the
-/// upper median for even n), found by a sorting network 8 values at a time. Throws
-/// glint::Error(InvalidArgument) for a bank without members.
-Image bankMedian(const FilterBank& bank);
 
 /// The smoothing window, confidence, temperature, finer window, feathering and stacking an
 /// estimator uses unless told otherwise, measured on the quality table of docs/auto.md (and
@@ -283,7 +186,8 @@ struct AutoOptions {
     /// The bank was built on prefiltered features: the perturbed input is prefiltered alike.
     bool prefilter = false;
     ParamValues prefilterParams;
-    /// Members done / total; returning false stops: autoComposite throws Error(Cancelled).
+    /// The fraction of the work done, through every stage (docs/auto.md, "Stages"); returning
+    /// false stops: autoComposite throws Error(Cancelled).
     ProgressFn progress;
 };
 
@@ -322,7 +226,7 @@ struct AutoResult {
 /// them and builds the composite.
 /// With the halves, estimatedMse is a member's error on a half of the samples.
 /// `frame` is the input the bank was built from (checked by hash). Deterministic for a seed,
-/// whatever the thread count. Throws glint::Error like checkSureInput, InvalidArgument for a
+/// whatever the thread count. Throws glint::Error like checkAutoInput, InvalidArgument for a
 /// bank of another frame or bad options, Cancelled when progress says stop.
 AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                          const AutoOptions& options = {});

@@ -20,7 +20,7 @@ namespace glint::denoise::research {
 /// bank's own results and over `others`, independent renders of the same scene with the same
 /// settings (another seed), each filtered by every member over the bank's region (prefiltered
 /// like the bank's input when `prefilter`); for each radius r in `radii` the averages are
-/// box-averaged over (2r + 1)² pixels (0: the oracle's 3×3 alone, boxSmooth in sure.h) and each
+/// box-averaged over (2r + 1)² pixels (0: the oracle's 3×3 alone) and each
 /// pixel takes the result of the member with the smallest. The per-pixel oracle picks by the
 /// error this render happened to have, luck no estimate can know of; this choice by the error
 /// a member makes on average is what an exact estimate of each member's error could reach, and

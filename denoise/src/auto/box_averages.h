@@ -1,6 +1,6 @@
-// Box averages of several planes at once (sure.cpp's window scores and smoothing, the stacking
-// of stack.cpp): one pass of prefix sums and running sums in double, deterministic whatever the
-// thread count.
+// Box averages of several planes at once (the automatic selection's window scores, smoothing and
+// feathering, and the stacking's regression): one pass of prefix sums and running sums in double,
+// deterministic whatever the thread count.
 #pragma once
 
 #include <tbb/blocked_range.h>
@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cstddef>
 #include <vector>
+
+#include "glint/denoise/progress.h"
 
 namespace glint::denoise::detail {
 
@@ -19,13 +21,17 @@ namespace glint::denoise::detail {
 // column's sum is updated in row order within a fixed block of columns, so every average is
 // computed from the same terms in the same order whatever the thread count. radius ≥ 1.
 // `scratch`, if given, holds the horizontal pass (so that repeated calls reuse its memory).
+// `work`, if given, counts each row of each pass as one unit (2·h in all) and stops both passes
+// once cancelled (then throws Error(Cancelled)).
 template <class FillRow, class Emit>
 void boxAveragesOfRows(int w, int h, int radius, std::size_t planes, FillRow fillRow, Emit emit,
-                       std::vector<double>* scratch = nullptr) {
+                       std::vector<double>* scratch = nullptr, WorkContext* work = nullptr) {
     std::vector<double> own;
     std::vector<double>& horizontal = scratch ? *scratch : own;
     horizontal.resize(std::size_t(w) * std::size_t(h) * planes);
+    if (work) work->throwIfCancelled();
     tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+        if (work && work->cancelled()) return;
         std::vector<double> prefix((std::size_t(w) + 1) * planes);  // one per range, not per row
         for (int y = rows.begin(); y < rows.end(); ++y) {
             std::fill(prefix.begin(), prefix.begin() + std::ptrdiff_t(planes), 0.0);
@@ -43,9 +49,12 @@ void boxAveragesOfRows(int w, int h, int radius, std::size_t planes, FillRow fil
                         (prefix[x1 * planes + k] - prefix[x0 * planes + k]) * scale;
             }
         }
+        if (work) work->addWork(rows.size());
     });
+    if (work) work->throwIfCancelled();
     constexpr int kBlock = 256;
     tbb::parallel_for(0, (w + kBlock - 1) / kBlock, [&](int block) {
+        if (work && work->cancelled()) return;
         const int bx0 = block * kBlock, bx1 = std::min(w, bx0 + kBlock);
         const std::size_t span = std::size_t(bx1 - bx0) * planes;
         std::vector<double> sum(span, 0.0), means(planes);
@@ -70,12 +79,16 @@ void boxAveragesOfRows(int w, int h, int radius, std::size_t planes, FillRow fil
             }
         }
     });
+    if (work) {
+        work->addWork(h);
+        work->throwIfCancelled();
+    }
 }
 
 // The same with value(x, y, k) giving each term (the window scores, smoothing and features).
 template <class Value, class Emit>
 void boxAverages(int w, int h, int radius, std::size_t planes, Value value, Emit emit,
-                 std::vector<double>* scratch = nullptr) {
+                 std::vector<double>* scratch = nullptr, WorkContext* work = nullptr) {
     boxAveragesOfRows(
         w, h, radius, planes,
         [&](int y, double* terms) {
@@ -83,7 +96,7 @@ void boxAverages(int w, int h, int radius, std::size_t planes, Value value, Emit
                 for (std::size_t k = 0; k < planes; ++k)
                     terms[std::size_t(x) * planes + k] = value(x, y, k);
         },
-        emit, scratch);
+        emit, scratch, work);
 }
 
 }  // namespace glint::denoise::detail

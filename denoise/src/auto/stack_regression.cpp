@@ -1,4 +1,4 @@
-// The auto composite's stacking (sure_detail.h; docs/auto.md, "Stacking"): a local
+// The auto composite's stacking regression (stacking.h; docs/auto.md, "Stacking"): a local
 // ridge regression of each half on the chosen members' results on the other half and on the
 // features' local deviations, around the blend, its coefficients averaged over the windows that
 // cover each pixel.
@@ -8,7 +8,7 @@
 
 #include "box_averages.h"
 #include "glint/image/error.h"
-#include "sure_detail.h"
+#include "stacking.h"
 
 namespace glint::denoise::detail {
 
@@ -46,7 +46,7 @@ bool solveRidge(double* g, const double* r, std::size_t k, double ridge, double*
 }  // namespace
 
 std::vector<Image> featureRegressors(const Image& base, const Image* albedo, const Image* normal,
-                                     int radius) {
+                                     int radius, WorkContext* work) {
     const int w = base.width(), h = base.height();
     GLINT_CHECK(base.channels() == 3 && radius >= 1);
     GLINT_CHECK(!albedo || (albedo->sameShape(base)));
@@ -85,14 +85,15 @@ std::vector<Image> featureRegressors(const Image& base, const Image* albedo, con
                         out[index](x, y, c) = float(double(base(x, y, c)) * (1.0 + delta));
                 }
             }
-        });
+        },
+        nullptr, work);
     return out;
 }
 
 Image stackComposite(const Image& composite, const Image& blendA, const Image& blendB,
                      const std::vector<StackMember>& members, const Image& halfA,
                      const Image& halfB, const Image& weight, int radius, double ridge,
-                     double floor, int smooth) {
+                     double floor, int smooth, WorkContext* work) {
     const int w = composite.width(), h = composite.height();
     const std::size_t k = members.size();
     GLINT_CHECK(composite.channels() == 3 && blendA.sameShape(composite) &&
@@ -197,7 +198,7 @@ Image stackComposite(const Image& composite, const Image& blendA, const Image& b
                     coefficients.data() + (std::size_t(y) * std::size_t(w) + std::size_t(x)) * k;
                 for (std::size_t i = 0; i < k; ++i) to[i] = float(a[i]);
             },
-            &horizontal);
+            &horizontal, work);
     }
     if (smooth > 0) {
         // Every window's model applied to each pixel it covers, averaged (the guided filter's
@@ -208,7 +209,7 @@ Image stackComposite(const Image& composite, const Image& blendA, const Image& b
                 return double(
                     coefficients[(std::size_t(y) * std::size_t(w) + std::size_t(x)) * k + i]);
             },
-            correct, &horizontal);
+            correct, &horizontal, work);
     }
     return out;
 }

@@ -1,20 +1,25 @@
-// Internals of the auto composite (sure.cpp) that the tests check directly.
+// The stacking of the automatic selection (docs/auto.md, "Stacking"): the blend corrected per
+// pixel by a local ridge regression, fitted on the halves, on the members of most weight and on
+// the features' local deviations. The set-up (stacking.cpp) and the regression
+// (stack_regression.cpp).
 #pragma once
 
 #include <cstddef>
 #include <vector>
 
+#include "glint/image/frame_buffers.h"
 #include "glint/image/image.h"
+
+namespace glint::denoise {
+class FilterBank;
+class WorkContext;
+struct AutoOptions;
+}  // namespace glint::denoise
 
 namespace glint::denoise::detail {
 
-/// The score of one candidate at one radius (autoComposite's step 2; docs/auto.md, "Per-pixel
-/// choice"): the box average over (2·radius + 1)² pixels, truncated at the border, of
-/// d = raw − base, each d rounded to float, plus `confidence` standard errors of that mean,
-/// sqrt(max(0, mean of d² − mean²) / (2·radius + 1)²) (the full window's count). `raw` and
-/// `base` are 1-channel maps of one size; the result is too. The same, value for value, as
-/// boxSmooth of stored d and d² maps.
-Image windowScore(const Image& raw, const Image& base, int radius, double confidence);
+class HalvesEstimator;
+struct AutoSettings;
 
 /// One member of the stacking (AutoOptions::stack): its results on all the samples, on half A
 /// and on half B (region-sized, 3 channels). A feature regressor (featureRegressors) is one
@@ -45,10 +50,11 @@ constexpr double kStackAlbedoFloor = 0.02;
 /// base-sized) may be null: that feature adds nothing. A non-finite feature value counts as 0
 /// in the averages, and a non-finite δ as 0. The order:
 /// the albedo's, then the normal's x, y, z. Deterministic whatever the thread count.
+/// `work`, if given, runs the box averages (2 units per row).
 std::vector<Image> featureRegressors(const Image& base, const Image* albedo, const Image* normal,
-                                     int radius);
+                                     int radius, WorkContext* work = nullptr);
 
-/// Step 5 of the auto composite (AutoOptions::stack; docs/auto.md, "Stacking"): per pixel,
+/// The stacking's regression (AutoOptions::stack; docs/auto.md, "Stacking"): per pixel,
 /// composite + Σ_i a_i (full_i − composite), clamped at 0, over at most kMaxStackRegressors
 /// members (the chosen members, then any feature regressors). The a_i minimise, over the
 /// (2·radius + 1)² window (truncated at the border) and both sides,
@@ -63,10 +69,27 @@ std::vector<Image> featureRegressors(const Image& base, const Image* albedo, con
 /// box average over (2·smooth + 1)² pixels (truncated at the border) of those fitted around
 /// each pixel, a failed system counting as all 0: each window's model applied to every pixel it
 /// covers, averaged. A pixel whose corrected value is not finite keeps the composite.
-/// Deterministic whatever the thread count.
+/// Deterministic whatever the thread count. `work`, if given, runs the box averages (2 units
+/// per row of each tile with its context rows, and 2 per row for the smoothing).
 Image stackComposite(const Image& composite, const Image& blendA, const Image& blendB,
                      const std::vector<StackMember>& members, const Image& halfA,
                      const Image& halfB, const Image& weight, int radius, double ridge,
-                     double floor, int smooth);
+                     double floor, int smooth, WorkContext* work = nullptr);
+
+/// The stacked composite and what it fitted.
+struct Stacked {
+    Image composite;
+    int members = 0;   ///< AutoResult::stacked
+    int features = 0;  ///< AutoResult::stackFeatures
+};
+
+/// The stacking stage: `composite`, the blend of the bank's results under `planes`, corrected by
+/// the `stack` members first in `order` (largest total weight first) and the features
+/// settings.stackAlbedo / stackNormal ask for, fitted on `halves`' results (kept for the
+/// stacking). Rows through `work`.
+Stacked stack(const Image& composite, const std::vector<Image>& planes,
+              const std::vector<int>& order, const FilterBank& bank, const FrameBuffers& frame,
+              const HalvesEstimator& halves, const AutoOptions& options,
+              const AutoSettings& settings, WorkContext& work);
 
 }  // namespace glint::denoise::detail

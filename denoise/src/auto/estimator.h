@@ -1,0 +1,60 @@
+// The error estimators of the automatic selection (docs/auto.md, "Error estimation by SURE" and
+// "… by cross-validation on the halves") behind one interface, and the stage that runs one over
+// every member of the bank.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "glint/denoise/progress.h"
+#include "glint/image/image.h"
+
+namespace glint::denoise::detail {
+
+/// "pixel (x, y)", the place an input error names.
+std::string pixelText(int x, int y);
+
+/// The mean of a 1-channel map summed over RGB, per channel: rows summed in order.
+double meanPerChannel(const Image& map);
+
+/// One member's estimate: its per-pixel error map over the bank's region (1 channel, summed over
+/// RGB) and what the pipeline reports besides.
+struct MemberEstimate {
+    Image map;
+    /// The mean of the unbiased form where the map is not it (the secant's centred map).
+    std::optional<double> unbiasedMean;
+    bool analytic = false;  ///< SURE: the filter gave its divergence
+};
+
+/// A per-pixel error estimate of the bank's members, made without a reference.
+class ErrorEstimator {
+  public:
+    virtual ~ErrorEstimator() = default;
+    /// Member `member`'s error map. `going` is the running filters' progress: it returns false
+    /// once the operation is cancelled (the filter then throws Error(Cancelled)).
+    virtual MemberEstimate estimate(std::size_t member, const ProgressFn& going) = 0;
+    /// The variance of the mean of the input at frame pixel (x, y), channel c: the unit of the
+    /// soft weights' temperature.
+    virtual double noiseVariance(int x, int y, int c) const = 0;
+};
+
+/// Every member's estimate (the error estimation stage's result), by member.
+struct Estimates {
+    std::vector<Image> maps;
+    /// The mean of each map per pixel and channel: the choice's baseline is the smallest.
+    std::vector<double> mapMean;
+    /// The estimate of each member's mean squared error (mapMean but for the secant's centred
+    /// maps, whose unbiased mean it is).
+    std::vector<double> estimatedMse;
+    std::vector<char> analytic;
+};
+
+/// The error estimation stage: `estimator` over members 0 … n − 1, in parallel through `work`,
+/// each member counting `unitsPerMember` work units. Throws Error(Cancelled) once cancelled.
+Estimates estimateMembers(ErrorEstimator& estimator, std::size_t n, WorkContext& work,
+                          std::int64_t unitsPerMember);
+
+}  // namespace glint::denoise::detail

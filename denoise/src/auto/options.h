@@ -1,0 +1,40 @@
+// The automatic selection's options resolved for one bank and frame: validated, the estimator
+// chosen and the estimator's defaults filled in (docs/auto.md, "Command line").
+#pragma once
+
+#include <cstddef>
+
+#include "glint/denoise/sure.h"
+
+namespace glint::denoise::detail {
+
+/// What autoComposite runs, from AutoOptions and the input.
+struct AutoSettings {
+    AutoEstimator estimator = AutoEstimator::Sure;  ///< never Auto
+    bool halves = false;                            ///< estimator == Halves
+    int window = 0;
+    double confidence = 0.0;
+    double temperature = 0.0;
+    int finer = 0;
+    int feather = 0;
+    /// The display linearisation around the bank's median: the halves' Display by the secant to
+    /// each output, SURE's Display and DisplayTangent by the slope there.
+    bool secant = false;
+    bool tangent = false;
+    /// Halves, both sides, 0 < shortlist < the bank's size: every member on A first, both halves
+    /// only for the shortlist.
+    bool shortlisted = false;
+    /// Every member is filtered on both halves (symmetric without a shortlist).
+    bool bothHalves = false;
+    int stack = 0;  ///< members in the stacking (0: off)
+    bool stackAlbedo = false;
+    bool stackNormal = false;
+};
+
+/// Checks `options` (validate), that `bank` was built from `frame` and that the options and the
+/// input fit each other (checkAutoInput, the stacking's features), and resolves them. Throws
+/// glint::Error as autoComposite documents.
+AutoSettings resolveSettings(const FilterBank& bank, const FrameBuffers& frame,
+                             const AutoOptions& options);
+
+}  // namespace glint::denoise::detail
