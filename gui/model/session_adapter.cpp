@@ -1,52 +1,15 @@
 #include "model/session_adapter.h"
 
-#include <QJsonArray>
-
 #include "glint/denoise/bank.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/sure.h"
 #include "glint/image/error.h"
+#include "model/journal_codec.h"
 
 namespace glint::studio {
 
 namespace {
-
-QJsonObject toJson(const denoise::ParamValues& params) {
-    QJsonObject o;
-    for (const auto& [name, value] : params) o.insert(QString::fromStdString(name), value);
-    return o;
-}
-
-denoise::ParamValues paramsFromJson(const QJsonObject& o) {
-    denoise::ParamValues params;
-    for (auto it = o.begin(); it != o.end(); ++it)
-        params[it.key().toStdString()] = it.value().toDouble();
-    return params;
-}
-
-QJsonObject optionsToJson(const denoise::SessionOptions& options) {
-    QJsonObject o;
-    o.insert(QStringLiteral("prefilter"), options.prefilter);
-    o.insert(QStringLiteral("prefilterParams"), toJson(options.prefilterParams));
-    return o;
-}
-
-denoise::SessionOptions optionsFromJson(const QJsonObject& o) {
-    denoise::SessionOptions options;
-    options.prefilter = o.value(QStringLiteral("prefilter")).toBool();
-    options.prefilterParams = paramsFromJson(o.value(QStringLiteral("prefilterParams")).toObject());
-    return options;
-}
-
-const char* modeName(denoise::BrushMode mode) {
-    return mode == denoise::BrushMode::Add ? "add" : "subtract";
-}
-
-denoise::BrushMode modeFromJson(const QJsonValue& v) {
-    return v.toString() == QStringLiteral("subtract") ? denoise::BrushMode::Subtract
-                                                      : denoise::BrushMode::Add;
-}
 
 bool sameSpecs(const std::vector<denoise::LayerSpec>& a, const std::vector<denoise::LayerSpec>& b) {
     if (a.size() != b.size()) return false;
@@ -159,13 +122,7 @@ void SessionAdapter::startSession(FramePtr frame, std::vector<denoise::LayerSpec
     ++m_generation;
     const denoise::SessionOptions options = m_options;
     JournalEntry entry;
-    entry.op = {{QStringLiteral("op"), QStringLiteral("start")},
-                {QStringLiteral("options"), optionsToJson(options)}};
-    QJsonArray layers;
-    for (const auto& spec : carry)
-        layers.append(QJsonObject{{QStringLiteral("filter"), QString::fromStdString(spec.filter)},
-                                  {QStringLiteral("params"), toJson(spec.params)}});
-    entry.op.insert(QStringLiteral("layers"), layers);
+    entry.op = journal_codec::encode(journal_codec::Start{options, carry});
     entry.images = carryWeights;
     entry.frame = frame;
     struct Started {
@@ -244,7 +201,7 @@ void SessionAdapter::installReapply(FramePtr frame, FramePtr filterInput,
     m_input = frame;
     m_filterInput = filterInput;
     JournalEntry entry;
-    entry.op = {{QStringLiteral("op"), QStringLiteral("input")}};
+    entry.op = journal_codec::encode(journal_codec::Input{});
     entry.frame = frame;
     emit journal(entry);
     emit inputChanged();
@@ -279,10 +236,8 @@ void SessionAdapter::doAddLayer(const std::string& filter, const denoise::ParamV
         ++steps;
     }
     JournalEntry entry;
-    entry.op = {{QStringLiteral("op"), QStringLiteral("addLayer")},
-                {QStringLiteral("filter"), QString::fromStdString(filter)},
-                {QStringLiteral("params"), toJson(m_session->layer(index).params)},
-                {QStringLiteral("fill"), bool(fillMask)}};
+    entry.op = journal_codec::encode(
+        journal_codec::AddLayer{filter, m_session->layer(index).params, bool(fillMask)});
     if (fillMask) entry.images.push_back(*fillMask);
     emit journal(entry);
     pushEdit(tr("Add %1").arg(QString::fromStdString(filter)), steps);
@@ -327,10 +282,7 @@ void SessionAdapter::addLayer(const std::string& filter, const denoise::ParamVal
 void SessionAdapter::removeLayer(std::size_t index) {
     if (!m_session || m_locked) return;
     m_session->removeLayer(index);
-    emit journal({{{QStringLiteral("op"), QStringLiteral("removeLayer")},
-                   {QStringLiteral("index"), qint64(index)}},
-                  {},
-                  nullptr});
+    emit journal({journal_codec::encode(journal_codec::RemoveLayer{index}), {}, nullptr});
     pushEdit(tr("Remove layer %1").arg(index + 1));
     changedAll();
 }
@@ -338,10 +290,7 @@ void SessionAdapter::removeLayer(std::size_t index) {
 void SessionAdapter::setWeights(std::size_t index, const Image& weights) {
     if (!m_session || m_locked) return;
     m_session->setWeights(index, weights);
-    emit journal({{{QStringLiteral("op"), QStringLiteral("weights")},
-                   {QStringLiteral("index"), qint64(index)}},
-                  {weights},
-                  nullptr});
+    emit journal({journal_codec::encode(journal_codec::Weights{index}), {weights}, nullptr});
     pushEdit(tr("Set the weights of layer %1").arg(index + 1));
     changedAll();
 }
@@ -349,11 +298,7 @@ void SessionAdapter::setWeights(std::size_t index, const Image& weights) {
 void SessionAdapter::fill(std::size_t index, const Image& mask, denoise::BrushMode mode) {
     if (!m_session || m_locked) return;
     const Rect changed = m_session->fill(index, mask, mode);
-    emit journal({{{QStringLiteral("op"), QStringLiteral("fill")},
-                   {QStringLiteral("index"), qint64(index)},
-                   {QStringLiteral("mode"), modeName(mode)}},
-                  {mask},
-                  nullptr});
+    emit journal({journal_codec::encode(journal_codec::Fill{index, mode}), {mask}, nullptr});
     pushEdit(tr("Fill layer %1").arg(index + 1));
     emit weightsChanged();
     if (!changed.empty()) emit compositeChanged(changed);
@@ -375,10 +320,7 @@ void SessionAdapter::diffuse(const std::vector<std::size_t>& layers) {
             if (m_session.get() != session) return;
             m_session->applyWeights(layers, maps);
             JournalEntry entry;
-            QJsonArray indices;
-            for (std::size_t i : layers) indices.append(qint64(i));
-            entry.op = {{QStringLiteral("op"), QStringLiteral("apply")},
-                        {QStringLiteral("layers"), indices}};
+            entry.op = journal_codec::encode(journal_codec::Apply{layers});
             entry.images = std::move(maps);
             emit journal(entry);
             pushEdit(tr("Diffuse the weights"));
@@ -433,14 +375,11 @@ void SessionAdapter::autoStart(int bankSize) {
                 // The journal replays it as plain layer and weight edits.
                 for (std::size_t i = first; i < m_session->layerCount(); ++i) {
                     const denoise::SessionLayer& layer = m_session->layer(i);
-                    emit journal({{{QStringLiteral("op"), QStringLiteral("addLayer")},
-                                   {QStringLiteral("filter"), QString::fromStdString(layer.filter)},
-                                   {QStringLiteral("params"), toJson(layer.params)},
-                                   {QStringLiteral("fill"), false}},
+                    emit journal({journal_codec::encode(
+                                      journal_codec::AddLayer{layer.filter, layer.params, false}),
                                   {},
                                   nullptr});
-                    emit journal({{{QStringLiteral("op"), QStringLiteral("weights")},
-                                   {QStringLiteral("index"), qint64(i)}},
+                    emit journal({journal_codec::encode(journal_codec::Weights{i}),
                                   {layer.weights},
                                   nullptr});
                 }
@@ -456,19 +395,14 @@ void SessionAdapter::beginStroke(std::size_t layer, const denoise::Brush& brush,
     if (!m_session || m_locked || m_session->inStroke()) return;
     m_session->beginStroke(layer, brush, mode);
     m_strokeBefore = m_session->layer(layer).weights;
-    m_strokeDabs.clear();
-    m_strokeOp = {{QStringLiteral("op"), QStringLiteral("stroke")},
-                  {QStringLiteral("layer"), qint64(layer)},
-                  {QStringLiteral("size"), brush.size},
-                  {QStringLiteral("softness"), brush.softness},
-                  {QStringLiteral("mode"), modeName(mode)}};
+    m_stroke = {layer, brush, mode, {}};
 }
 
 Rect SessionAdapter::dab(double x, double y) {
     if (!m_session || !m_session->inStroke()) return {};
     const Rect r = m_session->dab(x, y);
-    m_strokeDabs.push_back(x);
-    m_strokeDabs.push_back(y);
+    m_stroke.dabs.push_back(x);
+    m_stroke.dabs.push_back(y);
     if (!r.empty()) {
         ++m_revision;
         emit compositeChanged(r);
@@ -478,7 +412,7 @@ Rect SessionAdapter::dab(double x, double y) {
 
 void SessionAdapter::endStroke() {
     if (!m_session || !m_session->inStroke()) return;
-    const std::size_t layer = std::size_t(m_strokeOp.value(QStringLiteral("layer")).toInteger());
+    const std::size_t layer = m_stroke.layer;
     m_session->endStroke();
     // The session records nothing for a stroke that changed nothing: neither do we.
     const Image& after = m_session->layer(layer).weights;
@@ -486,10 +420,7 @@ void SessionAdapter::endStroke() {
         !std::equal(after.data().begin(), after.data().end(), m_strokeBefore.data().begin());
     m_strokeBefore = Image();
     if (changed) {
-        QJsonArray dabs;
-        for (double v : m_strokeDabs) dabs.append(v);
-        m_strokeOp.insert(QStringLiteral("dabs"), dabs);
-        emit journal({m_strokeOp, {}, nullptr});
+        emit journal({journal_codec::encode(m_stroke), {}, nullptr});
         pushEdit(tr("Stroke on layer %1").arg(layer + 1));
         emit weightsChanged();
     }
@@ -544,16 +475,9 @@ void SessionAdapter::install(denoise::Session session, FramePtr input, FramePtr 
     m_session = std::make_unique<denoise::Session>(std::move(session));
     // The journal starts again from this session: its input and its layers with their weights.
     JournalEntry entry;
-    entry.op = {{QStringLiteral("op"), QStringLiteral("start")},
-                {QStringLiteral("options"), optionsToJson(m_options)}};
-    QJsonArray layers;
-    for (std::size_t i = 0; i < m_session->layerCount(); ++i) {
-        const denoise::SessionLayer& l = m_session->layer(i);
-        layers.append(QJsonObject{{QStringLiteral("filter"), QString::fromStdString(l.filter)},
-                                  {QStringLiteral("params"), toJson(l.params)}});
-        entry.images.push_back(l.weights);
-    }
-    entry.op.insert(QStringLiteral("layers"), layers);
+    entry.op = journal_codec::encode(journal_codec::Start{m_options, m_session->layerSpecs()});
+    for (std::size_t i = 0; i < m_session->layerCount(); ++i)
+        entry.images.push_back(m_session->layer(i).weights);
     entry.frame = m_input;
     emit journal(entry);
     emit sessionReset();
@@ -574,32 +498,24 @@ void SessionAdapter::clear() {
 }
 
 void SessionAdapter::replay(const JournalEntry& entry) {
-    const QString op = entry.op.value(QStringLiteral("op")).toString();
-    auto index = [&](const char* key) {
-        return std::size_t(entry.op.value(QLatin1String(key)).toInteger());
-    };
+    const journal_codec::Op op = journal_codec::decode(entry.op);
+    const std::string name = entry.op.value(QStringLiteral("op")).toString().toStdString();
     auto image = [&](std::size_t i) -> const Image& {
         if (i >= entry.images.size())
-            throw Error(ErrorKind::Format, "the journal entry lacks its image", {},
-                        op.toStdString());
+            throw Error(ErrorKind::Format, "the journal entry lacks its image", {}, name);
         return entry.images[i];
     };
-    if (op == QStringLiteral("start")) {
+    if (const auto* start = std::get_if<journal_codec::Start>(&op)) {
         if (!entry.frame) throw Error(ErrorKind::Format, "the journal's start lacks its render");
-        m_options = optionsFromJson(entry.op.value(QStringLiteral("options")).toObject());
-        std::vector<denoise::LayerSpec> carry;
-        for (const QJsonValue& v : entry.op.value(QStringLiteral("layers")).toArray()) {
-            const QJsonObject l = v.toObject();
-            carry.push_back({l.value(QStringLiteral("filter")).toString().toStdString(),
-                             paramsFromJson(l.value(QStringLiteral("params")).toObject())});
-        }
+        m_options = start->options;
         FramePtr in = filterInputFor(entry.frame, m_options);
-        install(buildSession(entry.frame, in, m_options, carry, entry.images, {}), entry.frame, in);
+        install(buildSession(entry.frame, in, m_options, start->layers, entry.images, {}),
+                entry.frame, in);
         return;
     }
     if (!m_session)
         throw Error(ErrorKind::Format, "the journal edits a session before starting one");
-    if (op == QStringLiteral("input")) {
+    if (std::holds_alternative<journal_codec::Input>(op)) {
         if (!entry.frame) throw Error(ErrorKind::Format, "the journal's input lacks its render");
         FramePtr in = filterInputFor(entry.frame, m_options);
         const std::vector<denoise::LayerSpec> specs = m_session->layerSpecs();
@@ -608,39 +524,31 @@ void SessionAdapter::replay(const JournalEntry& entry) {
             outputs.push_back(
                 denoise::applyFilter(denoise::findFilter(spec.filter), *in, spec.params));
         installReapply(entry.frame, in, std::move(outputs), specs);
-    } else if (op == QStringLiteral("addLayer")) {
-        const std::string filter =
-            entry.op.value(QStringLiteral("filter")).toString().toStdString();
-        const denoise::ParamValues params =
-            paramsFromJson(entry.op.value(QStringLiteral("params")).toObject());
-        Image output = denoise::applyFilter(denoise::findFilter(filter), *m_filterInput, params);
+    } else if (const auto* add = std::get_if<journal_codec::AddLayer>(&op)) {
+        Image output =
+            denoise::applyFilter(denoise::findFilter(add->filter), *m_filterInput, add->params);
         std::optional<Image> mask;
-        if (entry.op.value(QStringLiteral("fill")).toBool()) mask = image(0);
-        doAddLayer(filter, params, std::move(output), mask);
-    } else if (op == QStringLiteral("removeLayer")) {
-        removeLayer(index("index"));
-    } else if (op == QStringLiteral("weights")) {
-        setWeights(index("index"), image(0));
-    } else if (op == QStringLiteral("fill")) {
-        fill(index("index"), image(0), modeFromJson(entry.op.value(QStringLiteral("mode"))));
-    } else if (op == QStringLiteral("stroke")) {
-        const denoise::Brush brush{entry.op.value(QStringLiteral("size")).toDouble(),
-                                   entry.op.value(QStringLiteral("softness")).toDouble()};
-        beginStroke(index("layer"), brush, modeFromJson(entry.op.value(QStringLiteral("mode"))));
-        const QJsonArray dabs = entry.op.value(QStringLiteral("dabs")).toArray();
-        for (qsizetype i = 0; i + 1 < dabs.size(); i += 2)
-            dab(dabs[i].toDouble(), dabs[i + 1].toDouble());
+        if (add->fill) mask = image(0);
+        doAddLayer(add->filter, add->params, std::move(output), mask);
+    } else if (const auto* remove = std::get_if<journal_codec::RemoveLayer>(&op)) {
+        removeLayer(remove->index);
+    } else if (const auto* weights = std::get_if<journal_codec::Weights>(&op)) {
+        setWeights(weights->index, image(0));
+    } else if (const auto* f = std::get_if<journal_codec::Fill>(&op)) {
+        fill(f->index, image(0), f->mode);
+    } else if (const auto* stroke = std::get_if<journal_codec::Stroke>(&op)) {
+        beginStroke(stroke->layer, stroke->brush, stroke->mode);
+        for (std::size_t i = 0; i + 1 < stroke->dabs.size(); i += 2)
+            dab(stroke->dabs[i], stroke->dabs[i + 1]);
         endStroke();
-    } else if (op == QStringLiteral("apply")) {
-        std::vector<std::size_t> layers;
-        for (const QJsonValue& v : entry.op.value(QStringLiteral("layers")).toArray())
-            layers.push_back(std::size_t(v.toInteger()));
-        m_session->applyWeights(layers, entry.images);
+    } else if (const auto* apply = std::get_if<journal_codec::Apply>(&op)) {
+        m_session->applyWeights(apply->layers, entry.images);
         emit journal(entry);
         pushEdit(tr("Diffuse the weights"));
         changedAll();
     } else {
-        throw Error(ErrorKind::Format, "unknown journal operation \"" + op.toStdString() + "\"");
+        // Undo and redo are the document's (its undo stack replays them).
+        throw Error(ErrorKind::Format, "unknown journal operation \"" + name + "\"");
     }
 }
 
@@ -649,7 +557,7 @@ SessionCommand::SessionCommand(SessionAdapter* adapter, const QString& text, int
 
 void SessionCommand::undo() {
     for (int i = 0; i < m_steps; ++i) m_adapter->m_session->undo();
-    m_adapter->record({{{QStringLiteral("op"), QStringLiteral("undo")}}, {}, nullptr});
+    m_adapter->record({journal_codec::encode(journal_codec::Undo{}), {}, nullptr});
     m_adapter->changedAll();
 }
 
@@ -659,7 +567,7 @@ void SessionCommand::redo() {
         return;
     }
     for (int i = 0; i < m_steps; ++i) m_adapter->m_session->redo();
-    m_adapter->record({{{QStringLiteral("op"), QStringLiteral("redo")}}, {}, nullptr});
+    m_adapter->record({journal_codec::encode(journal_codec::Redo{}), {}, nullptr});
     m_adapter->changedAll();
 }
 

@@ -18,6 +18,7 @@
 
 #include "glint/denoise/paint.h"
 #include "glint/denoise/session.h"
+#include "model/journal_codec.h"
 #include "model/render_job.h"
 #include "model/task_runner.h"
 
@@ -144,8 +145,7 @@ class SessionAdapter : public QObject {
     bool m_locked = false;
     std::vector<std::function<void()>> m_afterUnlock;
     // The open stroke, for the journal and to tell whether it changed anything.
-    QJsonObject m_strokeOp;
-    std::vector<double> m_strokeDabs;
+    journal_codec::Stroke m_stroke;  ///< the stroke being made, recorded when it ends
     Image m_strokeBefore;
 };
 

@@ -1,0 +1,157 @@
+#include "model/journal_codec.h"
+
+#include <QJsonArray>
+#include <QString>
+
+#include "glint/image/error.h"
+
+namespace glint::studio::journal_codec {
+
+namespace {
+
+QJsonObject paramsToJson(const denoise::ParamValues& params) {
+    QJsonObject o;
+    for (const auto& [name, value] : params) o.insert(QString::fromStdString(name), value);
+    return o;
+}
+
+denoise::ParamValues paramsFromJson(const QJsonValue& v) {
+    const QJsonObject o = v.toObject();
+    denoise::ParamValues params;
+    for (auto it = o.begin(); it != o.end(); ++it)
+        params[it.key().toStdString()] = it.value().toDouble();
+    return params;
+}
+
+QString modeName(denoise::BrushMode mode) {
+    return mode == denoise::BrushMode::Add ? QStringLiteral("add") : QStringLiteral("subtract");
+}
+
+denoise::BrushMode modeFromJson(const QJsonValue& v) {
+    return v.toString() == QStringLiteral("subtract") ? denoise::BrushMode::Subtract
+                                                      : denoise::BrushMode::Add;
+}
+
+QJsonObject layerToJson(const denoise::LayerSpec& spec) {
+    return {{QStringLiteral("filter"), QString::fromStdString(spec.filter)},
+            {QStringLiteral("params"), paramsToJson(spec.params)}};
+}
+
+QJsonArray indicesToJson(const std::vector<std::size_t>& indices) {
+    QJsonArray a;
+    for (std::size_t i : indices) a.append(qint64(i));
+    return a;
+}
+
+std::size_t index(const QJsonObject& o, const char* key) {
+    return std::size_t(o.value(QLatin1String(key)).toInteger());
+}
+
+/// The JSON of one operation, by type.
+struct Encoder {
+    QJsonObject operator()(const Start& s) const {
+        QJsonArray layers;
+        for (const auto& spec : s.layers) layers.append(layerToJson(spec));
+        return {{QStringLiteral("op"), QStringLiteral("start")},
+                {QStringLiteral("options"),
+                 QJsonObject{
+                     {QStringLiteral("prefilter"), s.options.prefilter},
+                     {QStringLiteral("prefilterParams"), paramsToJson(s.options.prefilterParams)}}},
+                {QStringLiteral("layers"), layers}};
+    }
+    QJsonObject operator()(const Input&) const {
+        return {{QStringLiteral("op"), QStringLiteral("input")}};
+    }
+    QJsonObject operator()(const AddLayer& a) const {
+        return {{QStringLiteral("op"), QStringLiteral("addLayer")},
+                {QStringLiteral("filter"), QString::fromStdString(a.filter)},
+                {QStringLiteral("params"), paramsToJson(a.params)},
+                {QStringLiteral("fill"), a.fill}};
+    }
+    QJsonObject operator()(const RemoveLayer& r) const {
+        return {{QStringLiteral("op"), QStringLiteral("removeLayer")},
+                {QStringLiteral("index"), qint64(r.index)}};
+    }
+    QJsonObject operator()(const Weights& w) const {
+        return {{QStringLiteral("op"), QStringLiteral("weights")},
+                {QStringLiteral("index"), qint64(w.index)}};
+    }
+    QJsonObject operator()(const Fill& f) const {
+        return {{QStringLiteral("op"), QStringLiteral("fill")},
+                {QStringLiteral("index"), qint64(f.index)},
+                {QStringLiteral("mode"), modeName(f.mode)}};
+    }
+    QJsonObject operator()(const Stroke& s) const {
+        QJsonArray dabs;
+        for (double v : s.dabs) dabs.append(v);
+        return {{QStringLiteral("op"), QStringLiteral("stroke")},
+                {QStringLiteral("layer"), qint64(s.layer)},
+                {QStringLiteral("size"), s.brush.size},
+                {QStringLiteral("softness"), s.brush.softness},
+                {QStringLiteral("mode"), modeName(s.mode)},
+                {QStringLiteral("dabs"), dabs}};
+    }
+    QJsonObject operator()(const Apply& a) const {
+        return {{QStringLiteral("op"), QStringLiteral("apply")},
+                {QStringLiteral("layers"), indicesToJson(a.layers)}};
+    }
+    QJsonObject operator()(const Undo&) const {
+        return {{QStringLiteral("op"), QStringLiteral("undo")}};
+    }
+    QJsonObject operator()(const Redo&) const {
+        return {{QStringLiteral("op"), QStringLiteral("redo")}};
+    }
+};
+
+}  // namespace
+
+QJsonObject encode(const Op& op) {
+    return std::visit(Encoder{}, op);
+}
+
+Op decode(const QJsonObject& json) {
+    const QString op = json.value(QStringLiteral("op")).toString();
+    if (op == QStringLiteral("start")) {
+        Start s;
+        const QJsonObject options = json.value(QStringLiteral("options")).toObject();
+        s.options.prefilter = options.value(QStringLiteral("prefilter")).toBool();
+        s.options.prefilterParams =
+            paramsFromJson(options.value(QStringLiteral("prefilterParams")));
+        for (const QJsonValue& v : json.value(QStringLiteral("layers")).toArray()) {
+            const QJsonObject l = v.toObject();
+            s.layers.push_back({l.value(QStringLiteral("filter")).toString().toStdString(),
+                                paramsFromJson(l.value(QStringLiteral("params")))});
+        }
+        return s;
+    }
+    if (op == QStringLiteral("input")) return Input{};
+    if (op == QStringLiteral("addLayer"))
+        return AddLayer{json.value(QStringLiteral("filter")).toString().toStdString(),
+                        paramsFromJson(json.value(QStringLiteral("params"))),
+                        json.value(QStringLiteral("fill")).toBool()};
+    if (op == QStringLiteral("removeLayer")) return RemoveLayer{index(json, "index")};
+    if (op == QStringLiteral("weights")) return Weights{index(json, "index")};
+    if (op == QStringLiteral("fill"))
+        return Fill{index(json, "index"), modeFromJson(json.value(QStringLiteral("mode")))};
+    if (op == QStringLiteral("stroke")) {
+        Stroke s;
+        s.layer = index(json, "layer");
+        s.brush = {json.value(QStringLiteral("size")).toDouble(),
+                   json.value(QStringLiteral("softness")).toDouble()};
+        s.mode = modeFromJson(json.value(QStringLiteral("mode")));
+        for (const QJsonValue& v : json.value(QStringLiteral("dabs")).toArray())
+            s.dabs.push_back(v.toDouble());
+        return s;
+    }
+    if (op == QStringLiteral("apply")) {
+        Apply a;
+        for (const QJsonValue& v : json.value(QStringLiteral("layers")).toArray())
+            a.layers.push_back(std::size_t(v.toInteger()));
+        return a;
+    }
+    if (op == QStringLiteral("undo")) return Undo{};
+    if (op == QStringLiteral("redo")) return Redo{};
+    throw Error(ErrorKind::Format, "unknown journal operation \"" + op.toStdString() + "\"");
+}
+
+}  // namespace glint::studio::journal_codec

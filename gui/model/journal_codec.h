@@ -1,0 +1,67 @@
+// The journal's JSON (docs/studio.md, "Autosave"): each session operation as the JSON object one
+// journal line holds, and back. SessionAdapter records and replays typed operations; only this
+// file knows their keys.
+#pragma once
+
+#include <QJsonObject>
+
+#include <cstddef>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "glint/denoise/paint.h"
+#include "glint/denoise/session.h"
+
+namespace glint::studio::journal_codec {
+
+/// A session started on a render (the entry's frame), with `layers` carried over (their weights
+/// are the entry's images).
+struct Start {
+    denoise::SessionOptions options;
+    std::vector<denoise::LayerSpec> layers;
+};
+/// A new render as the session's input (the entry's frame).
+struct Input {};
+/// A layer added; `fill`: filled with the entry's first image as its mask.
+struct AddLayer {
+    std::string filter;
+    denoise::ParamValues params;
+    bool fill = false;
+};
+struct RemoveLayer {
+    std::size_t index = 0;
+};
+/// Layer `index`'s weights set to the entry's first image.
+struct Weights {
+    std::size_t index = 0;
+};
+/// Layer `index` filled through the entry's first image as a mask.
+struct Fill {
+    std::size_t index = 0;
+    denoise::BrushMode mode = denoise::BrushMode::Add;
+};
+/// A brush stroke: its dabs' centres as x, y pairs.
+struct Stroke {
+    std::size_t layer = 0;
+    denoise::Brush brush;
+    denoise::BrushMode mode = denoise::BrushMode::Add;
+    std::vector<double> dabs;
+};
+/// The weights of `layers` set to the entry's images, in order (a Poisson diffusion's result).
+struct Apply {
+    std::vector<std::size_t> layers;
+};
+struct Undo {};
+struct Redo {};
+
+using Op =
+    std::variant<Start, Input, AddLayer, RemoveLayer, Weights, Fill, Stroke, Apply, Undo, Redo>;
+
+/// The JSON of `op`.
+QJsonObject encode(const Op& op);
+/// The operation a journal line's JSON holds. Throws glint::Error(Format) naming an unknown
+/// operation.
+Op decode(const QJsonObject& json);
+
+}  // namespace glint::studio::journal_codec
