@@ -4,7 +4,6 @@
 #include <QApplication>
 #include <QCheckBox>
 #include <QComboBox>
-#include <QJsonDocument>
 #include <QMessageBox>
 #include <QProcess>
 #include <QPushButton>
@@ -22,7 +21,6 @@
 #include "glint/image/io.h"
 #include "glint/render/scene.h"
 #include "model/document.h"
-#include "model/journal_codec.h"
 #include "studio_fixture.h"
 #include "views/help_overlay.h"
 #include "views/image_canvas.h"
@@ -90,47 +88,6 @@ class StudioTest : public QObject {
     void initTestCase() {
         QVERIFY(m_dir.isValid());
         m_scene = writeCornell(m_dir.filePath(QStringLiteral("scene")), 64, 48, 4);
-    }
-
-    void theJournalCodecRoundTripsEveryOperation() {
-        namespace jc = journal_codec;
-        denoise::SessionOptions options;
-        options.prefilter = true;
-        options.prefilterParams = {{"sigma", 1.5}};
-        const std::vector<jc::Op> ops = {
-            jc::Start{options, {{"gaussian", {{"sigma", 2.0}}}, {"bilateral", {}}}},
-            jc::Input{},
-            jc::AddLayer{"nlm", {{"radius", 3.0}, {"h", 0.25}}, true},
-            jc::RemoveLayer{4},
-            jc::Weights{1},
-            jc::Fill{2, denoise::BrushMode::Subtract},
-            jc::Stroke{3, {17.5, 0.25}, denoise::BrushMode::Add, {1.0, 2.5, 40.0, 41.0}},
-            jc::Apply{{0, 2, 5}},
-            jc::Undo{},
-            jc::Redo{}};
-        for (const jc::Op& op : ops) {
-            const QJsonObject json = jc::encode(op);
-            // Through the journal's text and back: the same operation, the same JSON.
-            const QJsonObject read = QJsonDocument::fromJson(QJsonDocument(json).toJson()).object();
-            const jc::Op back = jc::decode(read);
-            QCOMPARE(back.index(), op.index());
-            QCOMPARE(jc::encode(back), json);
-        }
-        const auto stroke = std::get<jc::Stroke>(jc::decode(jc::encode(ops[6])));
-        QCOMPARE(stroke.brush.size, 17.5);
-        QCOMPARE(stroke.dabs.size(), std::size_t(4));
-        QCOMPARE(std::get<jc::Start>(jc::decode(jc::encode(ops[0]))).options.prefilterParams,
-                 options.prefilterParams);
-        QCOMPARE(std::get<jc::Fill>(jc::decode(jc::encode(ops[5]))).mode,
-                 denoise::BrushMode::Subtract);
-        // An operation it does not know is named.
-        bool refused = false;
-        try {
-            jc::decode({{QStringLiteral("op"), QStringLiteral("teleport")}});
-        } catch (const Error& e) {
-            refused = QString::fromStdString(e.what()).contains(QStringLiteral("teleport"));
-        }
-        QVERIFY(refused);
     }
 
     void opensASceneAndRendersAtOnce() {
