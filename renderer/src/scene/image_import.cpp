@@ -125,6 +125,8 @@ int Loader::loadTexture(const Texture& source, const std::string& where) {
             // Reading the resident levels reads the file's small MIP levels: a file damaged
             // there fails now.
             tex.readLevels();
+            // The store's tile cache makes room for the resident levels.
+            m_scene.textureStore->addResidentBytes(tex.levels.residentBytes());
             m_scene.textureStore->throwIfFailed();
         }
     }

@@ -153,9 +153,8 @@ struct Texture {
     /// over `footprint` (the change of uv per ray step in x and y; zero: bilinear). An image in
     /// memory is always looked up bilinearly.
     Vec4 lookup(Vec2 uv, const TexFootprint& footprint = {}) const;
-    /// Fills `levels` from the store (a file texture) and counts their resident texels against
-    /// the store's cache size. A file that cannot be read there is recorded in the store
-    /// (throwIfFailed()).
+    /// Fills `levels` from the store (a file texture). A file that cannot be read there is
+    /// recorded in the store (throwIfFailed()).
     void readLevels();
     /// The mean colour over the whole texture (light power estimates).
     Vec3 meanColour() const;

@@ -56,8 +56,6 @@ Vec4 Texture::lookup(Vec2 uv, const TexFootprint& footprint) const {
 
 void Texture::readLevels() {
     levels = TextureLevels::read(*store, file);
-    // The store's tile cache makes room for the resident levels.
-    std::const_pointer_cast<TextureStore>(store)->addResidentBytes(levels.residentBytes());
 }
 
 Vec3 Texture::meanColour() const {

@@ -196,19 +196,14 @@ bool TextureStore::texelQuad(int file, int level, int x0, int x1, int y0, int y1
 bool TextureStore::readLevel(int file, int level, std::vector<float>& rgba) const {
     const File& f = m_files[std::size_t(file)];
     OIIO::TextureSystem& ts = *m_impl->ts;
-    const OIIO::ImageSpec* spec =
-        ts.imagecache()->imagespec(OIIO::ustring(f.path.string()), 0, level);
-    if (!spec) {
-        recordFailure(file);
-        return false;
-    }
+    const LevelTiles& spec = f.levels[std::size_t(level)];
     const int n = std::min(f.info.channels, 4);
-    const std::size_t texels = std::size_t(spec->width) * std::size_t(spec->height);
+    const std::size_t texels = std::size_t(spec.width) * std::size_t(spec.height);
     std::vector<float> stored(texels * std::size_t(n));
     OIIO::TextureOpt opt;
     if (!ts.get_texels(static_cast<OIIO::TextureSystem::TextureHandle*>(f.handle),
-                       ts.get_perthread_info(), opt, level, spec->x, spec->x + spec->width, spec->y,
-                       spec->y + spec->height, 0, 1, 0, n, OIIO::TypeDesc::FLOAT, stored.data())) {
+                       ts.get_perthread_info(), opt, level, spec.x, spec.x + spec.width, spec.y,
+                       spec.y + spec.height, 0, 1, 0, n, OIIO::TypeDesc::FLOAT, stored.data())) {
         recordFailure(file);
         return false;
     }
