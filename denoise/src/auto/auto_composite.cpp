@@ -31,9 +31,8 @@ constexpr std::int64_t kFilterPasses = 4;
 
 // The units the stages below count, for the progress fraction (about: a stage that counts more
 // makes the fraction wait at 0.999 until finish()).
-std::int64_t expectedWork(const detail::AutoSettings& s, const AutoOptions& options, std::size_t n,
-                          std::int64_t h) {
-    const auto shortlist = std::int64_t(s.shortlisted ? options.shortlist : 0);
+std::int64_t expectedWork(const detail::AutoSettings& s, std::size_t n, std::int64_t h) {
+    const auto shortlist = std::int64_t(s.shortlisted ? s.shortlist : 0);
     const auto members = std::int64_t(n);
     std::int64_t passes = (members + shortlist) * kFilterPasses;
     if (s.secant || s.tangent) passes += s.secant ? 2 : 1;  // median, D(median)
@@ -47,7 +46,7 @@ std::int64_t expectedWork(const detail::AutoSettings& s, const AutoOptions& opti
 }
 
 // The pipeline, with its work counted by `work`.
-AutoResult runStages(const FilterBank& bank, const FrameBuffers& frame, const AutoOptions& options,
+AutoResult runStages(const FilterBank& bank, const FrameBuffers& frame,
                      const detail::AutoSettings& s, WorkContext& work) {
     const Rect& region = bank.region();
     const std::size_t n = bank.size();
@@ -58,9 +57,9 @@ AutoResult runStages(const FilterBank& bank, const FrameBuffers& frame, const Au
     // weights also scale the temperature's noise unit in both display spaces.
     const Image median = s.secant || s.tangent ? detail::bankMedian(bank, work) : Image{};
     const std::vector<double> displayMedian =
-        s.secant ? detail::displayOf(median, options.exposure, &work) : std::vector<double>{};
+        s.secant ? detail::displayOf(median, s.exposure, &work) : std::vector<double>{};
     const Image weight =
-        s.secant || s.tangent ? detail::tangentWeights(median, options.exposure) : Image{};
+        s.secant || s.tangent ? detail::tangentWeights(median, s.exposure) : Image{};
     const Image* weightPtr = s.tangent ? &weight : nullptr;
 
     // Error estimation: SURE from the variance layer, or cross-validation on the halves (which
@@ -69,12 +68,12 @@ AutoResult runStages(const FilterBank& bank, const FrameBuffers& frame, const Au
     std::unique_ptr<detail::ErrorEstimator> estimator;
     detail::HalvesEstimator* halves = nullptr;
     if (s.halves) {
-        auto h = std::make_unique<detail::HalvesEstimator>(
-            bank, frame, options, s.bothHalves, stacking, &median, &displayMedian, weightPtr);
+        auto h = std::make_unique<detail::HalvesEstimator>(bank, frame, s, s.bothHalves, stacking,
+                                                           &median, &displayMedian, weightPtr);
         halves = h.get();
         estimator = std::move(h);
     } else {
-        estimator = std::make_unique<detail::SureEstimator>(bank, frame, options, weightPtr);
+        estimator = std::make_unique<detail::SureEstimator>(bank, frame, s, weightPtr);
     }
     detail::Estimates estimates = detail::estimateMembers(*estimator, n, work, memberUnits);
 
@@ -87,7 +86,7 @@ AutoResult runStages(const FilterBank& bank, const FrameBuffers& frame, const Au
     std::iota(candidates.begin(), candidates.end(), std::size_t(0));
     detail::Choice chosen = detail::choose(estimates, candidates, !s.shortlisted, s, noise, work);
     if (s.shortlisted) {
-        candidates = detail::shortlistOf(chosen, std::size_t(options.shortlist));
+        candidates = detail::shortlistOf(chosen, std::size_t(s.shortlist));
         detail::filterShortlistOnB(*halves, candidates, stacking, estimates, work, memberUnits);
         chosen = detail::choose(estimates, candidates, true, s, noise, work);
     }
@@ -95,8 +94,7 @@ AutoResult runStages(const FilterBank& bank, const FrameBuffers& frame, const Au
     // Feathering.
     std::vector<Image>& planes = chosen.planes;
     if (s.feather > 0)
-        detail::featherWeights(planes, bank, s.feather, options.featherGate, options.exposure,
-                               work);
+        detail::featherWeights(planes, bank, s.feather, s.featherGate, s.exposure, work);
 
     // Blend.
     detail::Blend blend = detail::blend(planes, bank, work);
@@ -113,8 +111,8 @@ AutoResult runStages(const FilterBank& bank, const FrameBuffers& frame, const Au
 
     // Stacking.
     if (stacking) {
-        detail::Stacked stacked = detail::stack(result.composite, planes, blend.order, bank, frame,
-                                                *halves, options, s, work);
+        detail::Stacked stacked =
+            detail::stack(result.composite, planes, blend.order, bank, frame, *halves, s, work);
         result.composite = std::move(stacked.composite);
         result.stacked = stacked.members;
         result.stackFeatures = stacked.features;
@@ -129,10 +127,10 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                          const AutoOptions& options) {
     const detail::AutoSettings settings = detail::resolveSettings(bank, frame, options);
     WorkContext work(options.progress);
-    work.expectWork(expectedWork(settings, options, bank.size(), bank.region().height()));
+    work.expectWork(expectedWork(settings, bank.size(), bank.region().height()));
     try {
         work.addWork(0);  // the first report, at 0: a callback can stop before any work
-        AutoResult result = runStages(bank, frame, options, settings, work);
+        AutoResult result = runStages(bank, frame, settings, work);
         work.throwIfCancelled();
         work.finish();
         return result;

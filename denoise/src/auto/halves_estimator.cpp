@@ -141,14 +141,14 @@ Image secantMap(const Image& halfA, const Image& halfB, const Image& outputA, co
 }
 
 HalvesEstimator::HalvesEstimator(const FilterBank& bank, const FrameBuffers& frame,
-                                 const AutoOptions& options, bool bothHalves, bool keepResults,
+                                 const AutoSettings& settings, bool bothHalves, bool keepResults,
                                  const Image* median, const std::vector<double>* displayMedian,
                                  const Image* weight)
     : m_bank(bank),
-      m_options(options),
+      m_settings(settings),
       m_bothHalves(bothHalves),
       m_keepResults(keepResults),
-      m_secant(options.space == SureSpace::Display),
+      m_secant(settings.space == SureSpace::Display),
       m_median(median),
       m_displayMedian(displayMedian),
       m_weight(weight),
@@ -157,10 +157,10 @@ HalvesEstimator::HalvesEstimator(const FilterBank& bank, const FrameBuffers& fra
     GLINT_CHECK(!m_secant || (median && displayMedian));
     // The two halves, each prefiltered like the bank's input.
     auto split = splitHalves(frame);
-    m_halfA = options.prefilter ? prefilterFeatures(split.first, options.prefilterParams)
-                                : std::move(split.first);
-    m_halfB = options.prefilter ? prefilterFeatures(split.second, options.prefilterParams)
-                                : std::move(split.second);
+    m_halfA = settings.prefilter ? prefilterFeatures(split.first, settings.prefilterParams)
+                                 : std::move(split.first);
+    m_halfB = settings.prefilter ? prefilterFeatures(split.second, settings.prefilterParams)
+                                 : std::move(split.second);
 }
 
 Image HalvesEstimator::map(const FrameBuffers& on, const FrameBuffers& other, const Image& output,
@@ -169,13 +169,13 @@ Image HalvesEstimator::map(const FrameBuffers& on, const FrameBuffers& other, co
     if (m_secant) {
         double mean = 0.0;
         Image out = secantMap(on.color(), other.color(), output, outputOther, region, *m_median,
-                              *m_displayMedian, m_options.exposure, SecantForm::Centred, &mean);
+                              *m_displayMedian, m_settings.exposure, SecantForm::Centred, &mean);
         unbiasedMean = mean;
         return out;
     }
-    const bool exact = m_options.space == SureSpace::DisplayExact;
+    const bool exact = m_settings.space == SureSpace::DisplayExact;
     return crossValidationMap(on.color(), other.color(), output, outputOther, region, m_weight,
-                              exact ? std::optional<float>(m_options.exposure) : std::nullopt);
+                              exact ? std::optional<float>(m_settings.exposure) : std::nullopt);
 }
 
 MemberEstimate HalvesEstimator::estimate(std::size_t m, const ProgressFn& going) {

@@ -10,6 +10,7 @@
 
 #include "estimator.h"
 #include "glint/denoise/sure.h"
+#include "options.h"
 
 namespace glint::denoise::detail {
 
@@ -69,17 +70,17 @@ Image secantMap(const Image& halfA, const Image& halfB, const Image& outputA, co
                 float exposure, SecantForm form, double* unbiasedMean);
 
 /// Cross-validation of every member of `bank` (built from `frame`) on the frame's two halves,
-/// over the bank's region, in the error space of options.space: the secant's centred form around
+/// over the bank's region, in the error space of settings.space: the secant's centred form around
 /// `median` (Display), the plain form weighted by `weight` (DisplayTangent; null for Linear) or
 /// on display values (DisplayExact).
 class HalvesEstimator final : public ErrorEstimator {
   public:
     /// Splits `frame` into its halves, each prefiltered as the bank's input was
-    /// (options.prefilter). `bothHalves`: estimate() filters B too (the symmetric form);
+    /// (settings.prefilter). `bothHalves`: estimate() filters B too (the symmetric form);
     /// `keepResults`: the members' results on the halves are kept for the stacking. `median`
     /// and `displayMedian` are needed for SureSpace::Display only. Everything given must outlive
     /// the estimator.
-    HalvesEstimator(const FilterBank& bank, const FrameBuffers& frame, const AutoOptions& options,
+    HalvesEstimator(const FilterBank& bank, const FrameBuffers& frame, const AutoSettings& settings,
                     bool bothHalves, bool keepResults, const Image* median,
                     const std::vector<double>* displayMedian, const Image* weight);
     MemberEstimate estimate(std::size_t member, const ProgressFn& going) override;
@@ -102,7 +103,7 @@ class HalvesEstimator final : public ErrorEstimator {
               const Image* outputOther, std::optional<double>& unbiasedMean) const;
 
     const FilterBank& m_bank;
-    const AutoOptions& m_options;
+    const AutoSettings& m_settings;
     bool m_bothHalves, m_keepResults, m_secant;
     const Image* m_median;
     const std::vector<double>* m_displayMedian;

@@ -239,6 +239,18 @@ AutoSettings resolveSettings(const FilterBank& bank, const FrameBuffers& frame,
         halves && options.symmetric && options.shortlist > 0 && std::size_t(options.shortlist) < n;
     s.bothHalves = options.symmetric && !s.shortlisted;
     s.stack = options.stack.value_or(options.symmetric ? defaults.stack : 0);
+    s.space = options.space;
+    s.exposure = options.exposure;
+    s.shortlist = options.shortlist;
+    s.featherGate = options.featherGate;
+    s.sure = options.sure;
+    s.stackWindow = options.stackWindow;
+    s.stackRidge = options.stackRidge;
+    s.stackFloor = options.stackFloor;
+    s.stackSmooth = options.stackSmooth;
+    s.stackFeatureWindow = options.stackFeatureWindow;
+    s.prefilter = options.prefilter;
+    s.prefilterParams = options.prefilterParams;
     return s;
 }
 

@@ -29,6 +29,20 @@ struct AutoSettings {
     int stack = 0;  ///< members in the stacking (0: off)
     bool stackAlbedo = false;
     bool stackNormal = false;
+
+    // The rest, as given (AutoOptions).
+    SureSpace space = SureSpace::Display;
+    float exposure = 0.0f;
+    int shortlist = 0;
+    double featherGate = 0.0;
+    SureOptions sure;
+    int stackWindow = 0;
+    double stackRidge = 0.0;
+    double stackFloor = 0.0;
+    int stackSmooth = 0;
+    int stackFeatureWindow = 0;
+    bool prefilter = false;
+    ParamValues prefilterParams;
 };
 
 /// Checks `options` (validate), that `bank` was built from `frame` and that the options and the

@@ -15,8 +15,7 @@ namespace glint::denoise::detail {
 
 Stacked stack(const Image& composite, const std::vector<Image>& planes,
               const std::vector<int>& order, const FilterBank& bank, const FrameBuffers& frame,
-              const HalvesEstimator& halves, const AutoOptions& options,
-              const AutoSettings& settings, WorkContext& work) {
+              const HalvesEstimator& halves, const AutoSettings& settings, WorkContext& work) {
     const Rect& region = bank.region();
     const int width = region.width();
     const std::size_t n = planes.size();
@@ -44,9 +43,10 @@ Stacked stack(const Image& composite, const std::vector<Image>& planes,
     std::vector<Image> features[3];
     if (settings.stackAlbedo || settings.stackNormal) {
         // As the filters saw them: prefiltered when the bank was.
-        const FrameBuffers prefiltered =
-            options.prefilter ? prefilterFeatures(frame, options.prefilterParams) : FrameBuffers{};
-        const FrameBuffers* sources[3] = {options.prefilter ? &prefiltered : &frame,
+        const FrameBuffers prefiltered = settings.prefilter
+                                             ? prefilterFeatures(frame, settings.prefilterParams)
+                                             : FrameBuffers{};
+        const FrameBuffers* sources[3] = {settings.prefilter ? &prefiltered : &frame,
                                           &halves.halfA(), &halves.halfB()};
         const Image* bases[3] = {&composite, &blendA, &blendB};
         for (int side = 0; side < 3; ++side) {
@@ -56,19 +56,20 @@ Stacked stack(const Image& composite, const std::vector<Image>& planes,
                 settings.stackNormal ? sources[side]->layer(Layer::Normal).crop(region) : Image{};
             features[side] = featureRegressors(
                 *bases[side], settings.stackAlbedo ? &albedo : nullptr,
-                settings.stackNormal ? &normal : nullptr, options.stackFeatureWindow, &work);
+                settings.stackNormal ? &normal : nullptr, settings.stackFeatureWindow, &work);
         }
         for (std::size_t q = 0; q < features[0].size(); ++q)
             stacked.push_back({&features[0][q], &features[1][q], &features[2][q]});
     }
     // The regression, weighted by the display slope at the composite.
-    const Image weightAtC =
-        options.space == SureSpace::Linear ? Image{} : tangentWeights(composite, options.exposure);
+    const Image weightAtC = settings.space == SureSpace::Linear
+                                ? Image{}
+                                : tangentWeights(composite, settings.exposure);
     Stacked out;
     out.composite =
         stackComposite(composite, blendA, blendB, stacked, halves.halfA().color().crop(region),
-                       halves.halfB().color().crop(region), weightAtC, options.stackWindow,
-                       options.stackRidge, options.stackFloor, options.stackSmooth, &work);
+                       halves.halfB().color().crop(region), weightAtC, settings.stackWindow,
+                       settings.stackRidge, settings.stackFloor, settings.stackSmooth, &work);
     out.members = int(stacked.size() - features[0].size());
     out.features = int(features[0].size());
     return out;

@@ -13,7 +13,6 @@
 namespace glint::denoise {
 class FilterBank;
 class WorkContext;
-struct AutoOptions;
 }  // namespace glint::denoise
 
 namespace glint::denoise::detail {
@@ -89,7 +88,6 @@ struct Stacked {
 /// stacking). Rows through `work`.
 Stacked stack(const Image& composite, const std::vector<Image>& planes,
               const std::vector<int>& order, const FilterBank& bank, const FrameBuffers& frame,
-              const HalvesEstimator& halves, const AutoOptions& options,
-              const AutoSettings& settings, WorkContext& work);
+              const HalvesEstimator& halves, const AutoSettings& settings, WorkContext& work);
 
 }  // namespace glint::denoise::detail

@@ -191,10 +191,10 @@ SureEstimate estimateSure(const Filter& filter, const FrameBuffers& frame,
 }
 
 SureEstimator::SureEstimator(const FilterBank& bank, const FrameBuffers& frame,
-                             const AutoOptions& options, const Image* weight)
-    : m_bank(bank), m_frame(frame), m_options(options.sure), m_weight(weight) {
+                             const AutoSettings& settings, const Image* weight)
+    : m_bank(bank), m_frame(frame), m_options(settings.sure), m_weight(weight) {
     // The input the filters see (prefiltered like the bank's) and its perturbed copy.
-    m_filterInput = options.prefilter ? prefilterFeatures(frame, options.prefilterParams) : frame;
+    m_filterInput = settings.prefilter ? prefilterFeatures(frame, settings.prefilterParams) : frame;
     m_perturbed = perturbColor(m_filterInput, m_options, &m_delta);
 }
 

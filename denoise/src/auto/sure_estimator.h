@@ -11,6 +11,7 @@
 
 #include "estimator.h"
 #include "glint/denoise/sure.h"
+#include "options.h"
 
 namespace glint::denoise::detail {
 
@@ -61,9 +62,9 @@ SureEstimate estimateSure(const Filter& filter, const FrameBuffers& frame,
 /// value by `weight` (the tangent weights; null: 1).
 class SureEstimator final : public ErrorEstimator {
   public:
-    /// Prepares the input the members see (prefiltered as the bank's, options.prefilter) and its
+    /// Prepares the input the members see (prefiltered as the bank's, settings.prefilter) and its
     /// perturbed copy. `bank`, `frame` and `weight` must outlive the estimator.
-    SureEstimator(const FilterBank& bank, const FrameBuffers& frame, const AutoOptions& options,
+    SureEstimator(const FilterBank& bank, const FrameBuffers& frame, const AutoSettings& settings,
                   const Image* weight);
     MemberEstimate estimate(std::size_t member, const ProgressFn& going) override;
     double noiseVariance(int x, int y, int c) const override;
