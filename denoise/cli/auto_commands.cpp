@@ -7,14 +7,15 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <sstream>
 
 #include "cli_boundary.h"
 #include "commands.h"
+#include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
-#include "glint/denoise/sure.h"
 #include "glint/image/composite.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
@@ -35,24 +36,58 @@ using Clock = std::chrono::steady_clock;
 }
 
 struct AutoArgs {
-    std::string input, bank, out, reference, choiceMap, filters, space = "display",
-                                                                 estimator = "auto";
-    std::string stackFeatures;  ///< empty: the features the input has
-    // Integers are parsed strictly from their text (parseInteger, parseUnsigned); "": not given.
-    std::string size = "64", shortlist = "16",
-                stackWindow = std::to_string(AutoOptions{}.stackWindow),
-                stackSmooth = std::to_string(AutoOptions{}.stackSmooth),
-                stackFeatureWindow = std::to_string(AutoOptions{}.stackFeatureWindow);
-    double stackRidge = AutoOptions{}.stackRidge, stackFloor = AutoOptions{}.stackFloor;
-    std::string window, finer, feather, stack;
-    double featherGate = 0.2;
-    std::string bankSeed = "1", seed = "1";
-    std::optional<double> temperature;
-    double epsilon = 0.01;
-    std::optional<double> confidence;
+    std::string input, bank, out, reference, choiceMap, filters, estimator = "auto";
+    // Integers are parsed strictly from their text (parseInteger, parseUnsigned).
+    std::string size = "64", bankSeed = "1", seed = "1";
     float exposure = 0.0f;
-    bool prefilter = false, json = false, oneSided = false;
+    bool prefilter = false, json = false, tuningTable = false;
+    /// The tuning flags given (autoTuningSpecs), by parameter name: their text, or "1" for a
+    /// flag without a value.
+    std::map<std::string, std::string> tuning;
 };
+
+// The tuning map from the flags given: each value parsed as its spec reads it, errors naming
+// the flag (the range is checked by validate).
+ParamValues parseTuning(const AutoArgs& a) {
+    ParamValues tuning;
+    for (const auto& [name, text] : a.tuning) {
+        const ParamSpec& spec = *findParam(autoTuningSpecs(), name);
+        try {
+            tuning[name] = parseParamValue(spec, text);
+        } catch (const Error& e) {
+            throw Error(ErrorKind::InvalidArgument, e.message(), "command line",
+                        autoTuningFlag(name));
+        }
+    }
+    return tuning;
+}
+
+// A flag without a value: an integer parameter over 0 … 1 that defaults to 0.
+bool isSwitch(const ParamSpec& spec) {
+    return spec.integer && spec.min == 0.0 && spec.max == 1.0 && spec.defaultValue == 0.0;
+}
+
+// The tuning table of docs/auto.md, generated from the specs (`--tuning-table`).
+void printTuningTable() {
+    const ParamValues halves = autoTuningDefaults(AutoEstimator::Halves);
+    const ParamValues sure = autoTuningDefaults(AutoEstimator::Sure);
+    std::printf("| flag | `tuning` name | range | default: halves | default: SURE | meaning |\n");
+    std::printf("|---|---|---|---|---|---|\n");
+    for (const ParamSpec& spec : autoTuningSpecs()) {
+        std::string range;
+        if (spec.isChoice()) {
+            for (const std::string& c : spec.choices) range += (range.empty() ? "" : ", ") + c;
+        } else if (isSwitch(spec)) {
+            range = "(a switch)";
+        } else {
+            range = formatParamValue(spec, spec.min) + " … " + formatParamValue(spec, spec.max);
+        }
+        const std::string h = formatParamValue(spec, halves.at(spec.name));
+        const std::string s = formatParamValue(spec, sure.at(spec.name));
+        std::printf("| `%s` | `%s` | %s | %s | %s | %s |\n", autoTuningFlag(spec.name).c_str(),
+                    spec.name.c_str(), range.c_str(), h.c_str(), s.c_str(), spec.help.c_str());
+    }
+}
 
 // Refuses before any work outputs that would replace one of the command's inputs.
 void checkOutputsAreNoInputs(const AutoArgs& a) {
@@ -65,52 +100,26 @@ void checkOutputsAreNoInputs(const AutoArgs& a) {
 }
 
 void runAuto(const AutoArgs& a) {
+    if (a.tuningTable) {
+        printTuningTable();
+        return;
+    }
+    if (a.input.empty() || a.out.empty())
+        throw Error(ErrorKind::InvalidArgument, "IN and --out are required", "command line",
+                    a.input.empty() ? "IN" : "--out");
     // Everything that needs no image is checked first; nothing is written before the end.
     glint::cli::checkOutputPath(a.out, {".exr"}, "--out");
     if (!a.choiceMap.empty()) glint::cli::checkOutputPath(a.choiceMap, {".png"}, "--choice-map");
     checkOutputsAreNoInputs(a);
     glint::cli::removeTemporariesOnSignal({a.out, a.choiceMap});
     AutoOptions options;
-    options.window = parseOptionalInteger(a.window, "--window");
-    options.temperature = a.temperature;
-    options.confidence = a.confidence;
-    options.finer = parseOptionalInteger(a.finer, "--finer");
-    options.feather = parseOptionalInteger(a.feather, "--feather");
-    options.featherGate = a.featherGate;
-    options.sure.epsilon = a.epsilon;
-    options.sure.seed = glint::cli::parseUnsigned(a.seed, glint::cli::kMaxSeed, "--seed");
+    options.tuning = parseTuning(a);
+    options.seed = glint::cli::parseUnsigned(a.seed, glint::cli::kMaxSeed, "--seed");
     options.exposure = a.exposure;
-    options.symmetric = !a.oneSided;
-    options.shortlist = parseInteger(a.shortlist, "--shortlist");
-    options.stack = parseOptionalInteger(a.stack, "--stack");
-    options.stackWindow = parseInteger(a.stackWindow, "--stack-window");
-    options.stackRidge = a.stackRidge;
-    options.stackSmooth = parseInteger(a.stackSmooth, "--stack-smooth");
-    options.stackFloor = a.stackFloor;
-    options.stackFeatureWindow = parseInteger(a.stackFeatureWindow, "--stack-feature-window");
-    // Unset: the features the input has; a list: exactly those (each must be there).
-    if (!a.stackFeatures.empty()) options.stackAlbedo = options.stackNormal = false;
-    if (!a.stackFeatures.empty() && a.stackFeatures != "none")
-        for (const std::string& name : splitList(a.stackFeatures)) {
-            if (name == "albedo")
-                options.stackAlbedo = true;
-            else if (name == "normal")
-                options.stackNormal = true;
-            else
-                throw Error(ErrorKind::InvalidArgument,
-                            "unknown stacking feature '" + name +
-                                "' (expected a comma-separated list of albedo, normal; or none)",
-                            "command line", "--stack-features");
-        }
     try {
         options.estimator = parseAutoEstimator(a.estimator);
     } catch (const Error& e) {
         throw Error(ErrorKind::InvalidArgument, e.message(), "command line", "--estimator");
-    }
-    try {
-        options.space = parseSureSpace(a.space);
-    } catch (const Error& e) {
-        throw Error(ErrorKind::InvalidArgument, e.message(), "command line", "--space");
     }
     validate(options);
     BankOptions bankOptions;
@@ -136,7 +145,9 @@ void runAuto(const AutoArgs& a) {
     // before building anything.
     try {
         checkAutoInput(frame, options.estimator, a.input);
-        if (options.space == SureSpace::DisplayExact &&
+        const ParamSpec& space = *findParam(autoTuningSpecs(), "space");
+        if (options.tuning.count("space") &&
+            space.choices[std::size_t(options.tuning.at("space"))] == "display-exact" &&
             resolveEstimator(options.estimator, frame) != AutoEstimator::Halves)
             throw Error(ErrorKind::InvalidArgument,
                         "the exact display space needs the halves estimator (a render with "
@@ -167,7 +178,7 @@ void runAuto(const AutoArgs& a) {
     if (tty) std::fprintf(stderr, "\n");
     const double bankSeconds = secondsSince(t0);
     const auto t1 = Clock::now();
-    options.progress = progressLine("SURE");
+    options.progress = progressLine("auto");
     AutoResult result;
     try {
         result = autoComposite(bank, frame, options);
@@ -192,29 +203,25 @@ void runAuto(const AutoArgs& a) {
         {"membersUsed", result.layers.size()},
         {"analyticDivergence", analytic},
         {"region", {bank.region().x0, bank.region().x1, bank.region().y0, bank.region().y1}},
-        {"space", a.space},
         {"estimator", autoEstimatorName(result.estimator)},
-        {"symmetric", options.symmetric},
-        {"shortlist", options.shortlist},
-        {"window", options.window.value_or(autoDefaults(result.estimator).window)},
-        {"confidence", options.confidence.value_or(autoDefaults(result.estimator).confidence)},
-        {"temperature", options.temperature.value_or(autoDefaults(result.estimator).temperature)},
-        {"finer", options.finer.value_or(autoDefaults(result.estimator).finer)},
-        {"feather", options.feather.value_or(autoDefaults(result.estimator).feather)},
-        {"featherGate", options.featherGate},
-        {"stack", result.stacked},
-        {"stackWindow", options.stackWindow},
-        {"stackRidge", options.stackRidge},
-        {"stackFloor", options.stackFloor},
-        {"stackSmooth", options.stackSmooth},
+        {"seed", options.seed},
         {"stackFeatures", result.stackFeatures},
-        {"stackFeatureWindow", options.stackFeatureWindow},
-        {"epsilon", a.epsilon},
-        {"seed", options.sure.seed},
         {"bestMember", memberJson(bank, result.bestMember)},
         {"bestMemberEstimatedMse", result.estimatedMse[std::size_t(result.bestMember)]},
         {"bankSeconds", bankSeconds},
         {"sureSeconds", sureSeconds}};
+    // Every tuning parameter as used (choices by their option name).
+    const ParamValues tuning = resolveAutoTuning(options, result.estimator);
+    for (const ParamSpec& spec : autoTuningSpecs()) {
+        const double v = tuning.at(spec.name);
+        if (spec.isChoice())
+            report[spec.name] = formatParamValue(spec, v);
+        else if (spec.integer)
+            report[spec.name] = std::int64_t(v);
+        else
+            report[spec.name] = v;
+    }
+    report["stack"] = result.stacked;
     if (reference) {
         report["reference"] = a.reference;
         const std::optional<Rect> crop = bank.region();
@@ -283,12 +290,12 @@ json autoOracleColumn(const FilterBank& bank, const FrameBuffers& frame, const I
 std::vector<Command> addAutoCommands(CLI::App& app) {
     auto a = std::make_shared<AutoArgs>();
     CLI::App* cmd = app.add_subcommand(
-        "auto", "Per-pixel filter choice by SURE over a bank (no reference needed)");
+        "auto",
+        "Per-pixel filter choice over a bank by each member's estimated error (SURE or the "
+        "halves; no reference needed)");
     cmd->add_option("IN", a->input,
-                    "Input layered EXR with the variance layer (SURE) or half buffers")
-        ->required();
-    cmd->add_option("--out", a->out, "Output layered EXR (the colour is the auto composite)")
-        ->required();
+                    "Input layered EXR with the variance layer (SURE) or half buffers");
+    cmd->add_option("--out", a->out, "Output layered EXR (the colour is the auto composite)");
     cmd->add_option("--bank", a->bank,
                     "Bank folder of IN (glint-denoise bank); without it a bank is built in "
                     "memory");
@@ -298,61 +305,39 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
                     "Without --bank: seed of the Latin hypercube (0 … 2^63 - 1)");
     cmd->add_option("--filters", a->filters, "Without --bank: only these filters, comma-separated");
     cmd->add_flag("--prefilter", a->prefilter, "Without --bank: build on prefiltered features");
-    cmd->add_option(
-        "--window", a->window,
-        "Radius of the error maps' box smoothing (0 … 64; default 4 for SURE, 8 for the "
-        "halves)");
-    cmd->add_option("--temperature", a->temperature,
-                    "0: hard per-pixel choice; > 0: soft weights (in units of the noise variance; "
-                    "default 0 for SURE, 0.06 for the halves)");
-    cmd->add_option(
-        "--confidence", a->confidence,
-        "Standard errors by which a local choice must beat the baseline (>= 0; default 3 "
-        "for SURE, 1 for the halves)");
-    cmd->add_option("--finer", a->finer,
-                    "Times the window is halved for the final choice, which keeps the lowest "
-                    "score (0 … 6; default 0 for SURE, 1 for the halves)");
-    cmd->add_option("--feather", a->feather,
-                    "Radius over which each member's weights are smoothed before the composite "
-                    "(0 … 32; 0: off; default 4 for SURE, 5 for the halves)");
-    cmd->add_option("--feather-gate", a->featherGate,
-                    "No feathered weight where a member's display value is farther than this from "
-                    "the unfeathered composite's (> 0; default 0.2)");
-    cmd->add_option("--epsilon", a->epsilon, "Perturbation relative to the pixel's sigma");
-    cmd->add_option("--seed", a->seed, "Seed of the random +-1 perturbation (0 … 2^63 - 1)");
-    cmd->add_option(
-        "--space", a->space,
-        "display (default) | display-tangent | display-exact (halves only) | linear: the "
-        "error estimated");
+    cmd->add_option("--seed", a->seed, "Seed of SURE's random +-1 perturbation (0 … 2^63 - 1)");
     cmd->add_option("--exposure", a->exposure,
                     "Exposure of the display transform (stops, -64 … 64)");
     cmd->add_option("--estimator", a->estimator,
                     "auto (default: halves when IN has half buffers, else sure) | sure | halves");
-    cmd->add_flag("--one-sided", a->oneSided,
-                  "Halves: filter only half A (half the time, noisier estimates)");
-    cmd->add_option("--shortlist", a->shortlist,
-                    "Halves: filter only the K members with the most weight after a one-sided "
-                    "first choice on both halves, and choose among them (default 16; 0: all)");
-    cmd->add_option("--stack", a->stack,
-                    "Halves: correct the composite per pixel by a local ridge regression of each "
-                    "half on the K members of most weight on the other half (0 … 16; 0: off; "
-                    "default 6 for the halves, 0 one-sided or for SURE)");
-    cmd->add_option("--stack-window", a->stackWindow,
-                    "Radius of the stacking's window in pixels (1 … 64; default 6)");
-    cmd->add_option("--stack-ridge", a->stackRidge,
-                    "The stacking's ridge in units of the halves' noise (>= 0; default 0.5)");
-    cmd->add_option("--stack-floor", a->stackFloor,
-                    "The stacking's ridge floor in units of the members' mean squared difference "
-                    "from the composite (0 … 100; default 0.1)");
-    cmd->add_option("--stack-smooth", a->stackSmooth,
-                    "Radius over which each pixel averages the coefficients fitted around it "
-                    "(0 … 64; 0: its own; default 8)");
-    cmd->add_option("--stack-features", a->stackFeatures,
-                    "The features whose local deviations the stacking also fits, "
-                    "comma-separated: albedo, normal; none: the members only (default: those "
-                    "the input has)");
-    cmd->add_option("--stack-feature-window", a->stackFeatureWindow,
-                    "Radius of the features' local average in the stacking (1 … 64; default 3)");
+    // The tuning map's flags, from its specs (docs/auto.md, "Tuning").
+    const ParamValues sure = autoTuningDefaults(AutoEstimator::Sure);
+    for (const ParamSpec& spec : autoTuningSpecs()) {
+        const std::string flag = autoTuningFlag(spec.name);
+        std::string help = spec.help;
+        if (isSwitch(spec)) {
+            cmd->add_flag_callback(
+                flag, [a, name = spec.name] { a->tuning[name] = "1"; }, help);
+            continue;
+        }
+        const double s = sure.at(spec.name);
+        help += " (";
+        if (spec.isChoice()) {
+            for (std::size_t i = 0; i < spec.choices.size(); ++i)
+                help += (i ? " | " : "") + spec.choices[i];
+            help += "; ";
+        } else {
+            help +=
+                formatParamValue(spec, spec.min) + " … " + formatParamValue(spec, spec.max) + "; ";
+        }
+        help += "default " + formatParamValue(spec, spec.defaultValue);
+        if (s != spec.defaultValue) help += ", with SURE " + formatParamValue(spec, s);
+        help += ")";
+        cmd->add_option_function<std::string>(
+            flag, [a, name = spec.name](const std::string& text) { a->tuning[name] = text; }, help);
+    }
+    cmd->add_flag("--tuning-table", a->tuningTable,
+                  "Print the tuning parameters as the Markdown table of docs/auto.md and exit");
     cmd->add_option("--choice-map", a->choiceMap, "Write the chosen member per pixel as a PNG");
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
     return {{cmd, [a] { runAuto(*a); }}};

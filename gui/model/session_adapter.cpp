@@ -3,7 +3,7 @@
 #include "glint/denoise/bank.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
-#include "glint/denoise/sure.h"
+#include "glint/denoise/auto.h"
 #include "glint/image/error.h"
 #include "model/journal_codec.h"
 
@@ -353,7 +353,7 @@ void SessionAdapter::autoStart(int bankSize) {
             auto bank = std::make_shared<denoise::FilterBank>(denoise::buildBank(*in, bo));
             denoise::AutoOptions ao;
             // A session is a blend of member layers; the stacking's correction is not one.
-            ao.stack = 0;
+            ao.allowStacking = false;
             ao.prefilter = options.prefilter;
             ao.prefilterParams = options.prefilterParams;
             ao.progress = progressFor(tr("Auto start: estimating each member's error"), cancel);

@@ -70,7 +70,7 @@ class SessionAdapter : public QObject {
     /// Poisson-diffusion blending of `layers` (in the background; painting waits meanwhile).
     void diffuse(const std::vector<std::size_t>& layers);
     /// "Auto start": in the background, a bank of `bankSize` members over the input and the
-    /// per-pixel choice among them by SURE (glint/denoise/sure.h); then the chosen members are
+    /// per-pixel choice among them by SURE (glint/denoise/auto.h); then the chosen members are
     /// added as layers with their weights, one undo step ("Auto start").
     void autoStart(int bankSize = 64);
 

@@ -14,9 +14,9 @@
 #include "auto/feathering.h"
 #include "auto/options.h"
 #include "auto/stacking.h"
+#include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/progress.h"
-#include "glint/denoise/sure.h"
 #include "glint/image/error.h"
 #include "halves_frames.h"
 
@@ -39,8 +39,8 @@ Case everyStage() {
     FilterBank bank = gaussianBank(f, {0.5, 1.0, 2.0, 4.0});
     AutoOptions o;
     o.estimator = AutoEstimator::Halves;
-    o.feather = 3;
-    o.stack = 2;
+    o.tuning["feather"] = 3;
+    o.tuning["stack"] = 2;
     return {std::move(f), std::move(bank), o};
 }
 

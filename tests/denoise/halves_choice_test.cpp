@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "auto/stacking.h"
+#include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
-#include "glint/denoise/sure.h"
 #include "glint/image/error.h"
 #include "glint/image/metrics.h"
 #include "halves_frames.h"
@@ -31,10 +31,10 @@ TEST(AutoChoice, SelectionPicksTheMemberWithTheSmallestTrueErrorWhereUnambiguous
     const FrameBuffers f = halvesFrame(clean, 0.08, Noise::Skewed, 5);
     const FilterBank bank = gaussianBank(f, {0.4, 1.0, 3.0});
     AutoOptions o;
-    o.space = SureSpace::Linear;
-    o.window = 3;
-    o.confidence = 0.0;
-    o.temperature = 0.0;
+    o.tuning["space"] = 3;  // linear
+    o.tuning["window"] = 3;
+    o.tuning["confidence"] = 0.0;
+    o.tuning["temperature"] = 0.0;
     const AutoResult r = autoComposite(bank, f, o);
     EXPECT_EQ(r.estimator, AutoEstimator::Halves);  // Auto: the frame has half buffers
     const AutoResult withDefaults = autoComposite(bank, f, AutoOptions{});
@@ -68,7 +68,7 @@ TEST(AutoChoice, SameResultForAnyThreadCountAndOneSidedDiffers) {
         ASSERT_EQ(one.composite.data()[i], two.composite.data()[i]);
     EXPECT_EQ(one.estimatedMse, two.estimatedMse);
     AutoOptions o;
-    o.symmetric = false;
+    o.tuning["oneSided"] = 1;
     EXPECT_NE(autoComposite(bank, f, o).estimatedMse, one.estimatedMse);
 }
 
@@ -88,8 +88,8 @@ TEST(AutoChoice, AFinerWindowKeepsASmallFeatureTheFullWindowSmoothsOver) {
     const FrameBuffers f = halvesFrame(clean, 0.08, Noise::Gaussian, 17);
     const FilterBank bank = gaussianBank(f, {0.3, 3.0});
     AutoOptions full, finer;
-    full.finer = 0;
-    finer.finer = 2;
+    full.tuning["finer"] = 0;
+    finer.tuning["finer"] = 2;
     const AutoResult a = autoComposite(bank, f, full), b = autoComposite(bank, f, finer);
     auto patchError = [&](const Image& image) {
         double s = 0.0;
@@ -107,11 +107,11 @@ TEST(AutoChoice, AFinerWindowKeepsASmallFeatureTheFullWindowSmoothsOver) {
     EXPECT_LT(patchError(b.composite), 0.5 * patchError(a.composite));
     EXPECT_LE(glint::mse(b.composite, clean).value, glint::mse(a.composite, clean).value);
     // The halves' default halves the window once; SURE's does not.
-    EXPECT_EQ(autoDefaults(AutoEstimator::Halves).finer, 1);
-    EXPECT_EQ(autoDefaults(AutoEstimator::Sure).finer, 0);
+    EXPECT_EQ(autoTuningDefaults(AutoEstimator::Halves).at("finer"), 1);
+    EXPECT_EQ(autoTuningDefaults(AutoEstimator::Sure).at("finer"), 0);
     for (int bad : {-1, 7}) {
         AutoOptions o;
-        o.finer = bad;
+        o.tuning["finer"] = bad;
         EXPECT_THROW(autoComposite(bank, f, o), Error) << bad;
     }
 }

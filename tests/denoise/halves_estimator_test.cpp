@@ -15,10 +15,10 @@
 #include "auto/halves_estimator.h"
 #include "auto/median.h"
 #include "auto/stacking.h"
+#include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
-#include "glint/denoise/sure.h"
 #include "glint/image/error.h"
 #include "glint/image/metrics.h"
 #include "halves_frames.h"
@@ -338,15 +338,19 @@ TEST(HalvesEstimator, TheSecantIsTheDefaultDisplaySpaceAndTheTangentCanBeAskedFo
     const FrameBuffers f = halvesFrame(clean, 0.08, Noise::Skewed, 9);
     const FilterBank bank = gaussianBank(f, {0.5, 1.0, 2.0, 4.0});
     AutoOptions secant, tangent;
-    secant.space = SureSpace::Display;
-    tangent.space = SureSpace::DisplayTangent;
+    secant.tuning["space"] = 0;   // display
+    tangent.tuning["space"] = 1;  // display-tangent
     const AutoResult byDefault = autoComposite(bank, f);
     EXPECT_EQ(autoComposite(bank, f, secant).estimatedMse, byDefault.estimatedMse);
     EXPECT_NE(autoComposite(bank, f, tangent).estimatedMse, byDefault.estimatedMse);
-    for (SureSpace space : {SureSpace::Display, SureSpace::DisplayTangent, SureSpace::DisplayExact,
-                            SureSpace::Linear})
-        EXPECT_EQ(parseSureSpace(sureSpaceName(space)), space);
-    EXPECT_THROW(parseSureSpace("gamma"), Error);
+    // The tuning names the spaces in the order of detail::SureSpace.
+    const ParamSpec& space = *findParam(autoTuningSpecs(), "space");
+    for (auto [name, value] : {std::pair{"display", detail::SureSpace::Display},
+                               std::pair{"display-tangent", detail::SureSpace::DisplayTangent},
+                               std::pair{"display-exact", detail::SureSpace::DisplayExact},
+                               std::pair{"linear", detail::SureSpace::Linear}})
+        EXPECT_EQ(parseParamValue(space, name), double(value)) << name;
+    EXPECT_THROW(parseParamValue(space, "gamma"), Error);
 }
 
 TEST(BankMedian, TheBankMedianIsTheMiddleValueOfEveryPixelAndChannel) {

@@ -10,10 +10,10 @@
 
 #include "auto/choice.h"
 #include "auto/stacking.h"
+#include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
-#include "glint/denoise/sure.h"
 #include "glint/image/error.h"
 #include "glint/image/metrics.h"
 #include "halves_frames.h"
@@ -34,10 +34,11 @@ TEST(AutoFeathering, FeatheringBoxAveragesTheWeightsWhereNothingIsGated) {
     const FrameBuffers f = halvesFrame(clean, 0.08, Noise::Gaussian, 21);
     const FilterBank bank = gaussianBank(f, {0.4, 1.0, 3.0});
     AutoOptions plain, feathered;
-    plain.feather = 0;
-    feathered.feather = 3;
-    feathered.featherGate = 10.0;
-    plain.stack = feathered.stack = 0;  // the composite is then the blend of the weights
+    plain.tuning["feather"] = 0;
+    feathered.tuning["feather"] = 3;
+    feathered.tuning["featherGate"] = 10.0;
+    plain.tuning["stack"] = feathered.tuning["stack"] =
+        0;  // the composite is then the blend of the weights
     const AutoResult a = autoComposite(bank, f, plain), b = autoComposite(bank, f, feathered);
     ASSERT_GE(a.layers.size(), 2u);
     long blended = 0, blendedBefore = 0;
@@ -64,16 +65,16 @@ TEST(AutoFeathering, FeatheringBoxAveragesTheWeightsWhereNothingIsGated) {
     for (std::size_t i = 0; i < blend.data().size(); ++i)
         ASSERT_NEAR(blend.data()[i], b.composite.data()[i], 1e-5f);
     // The halves feather by 5 pixels unless told otherwise (docs/auto.md, "Tuning"), SURE by 4.
-    EXPECT_EQ(autoDefaults(AutoEstimator::Halves).feather, 5);
-    EXPECT_EQ(autoDefaults(AutoEstimator::Sure).feather, 4);
+    EXPECT_EQ(autoTuningDefaults(AutoEstimator::Halves).at("feather"), 5);
+    EXPECT_EQ(autoTuningDefaults(AutoEstimator::Sure).at("feather"), 4);
     for (int bad : {-1, 33}) {
         AutoOptions o;
-        o.feather = bad;
+        o.tuning["feather"] = bad;
         EXPECT_THROW(autoComposite(bank, f, o), Error) << bad;
     }
     for (double bad : {0.0, -1.0, std::nan(""), HUGE_VAL}) {
         AutoOptions o;
-        o.featherGate = bad;
+        o.tuning["featherGate"] = bad;
         EXPECT_THROW(autoComposite(bank, f, o), Error) << bad;
     }
 }
@@ -95,11 +96,12 @@ TEST(AutoFeathering, TheFeatherGateKeepsALightFromTheBlurChosenAroundIt) {
     const FrameBuffers f = halvesFrame(clean, 0.03, Noise::Gaussian, 23);
     const FilterBank bank = gaussianBank(f, {0.3, 3.0});
     AutoOptions plain, gated, ungated;
-    plain.stack = gated.stack = ungated.stack = 0;  // the feathering alone
-    plain.feather = 0;
-    gated.feather = 8;
-    ungated.feather = 8;
-    ungated.featherGate = 10.0;
+    plain.tuning["stack"] = gated.tuning["stack"] = ungated.tuning["stack"] =
+        0;  // the feathering alone
+    plain.tuning["feather"] = 0;
+    gated.tuning["feather"] = 8;
+    ungated.tuning["feather"] = 8;
+    ungated.tuning["featherGate"] = 10.0;
     auto nearError = [&](const AutoResult& r) {
         double s = 0.0;
         for (int y = 36 - 8; y <= 36 + 8; ++y)

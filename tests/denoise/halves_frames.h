@@ -11,7 +11,7 @@
 
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
-#include "glint/denoise/sure.h"
+#include "glint/denoise/auto.h"
 #include "glint/image/frame_buffers.h"
 #include "glint/image/image.h"
 

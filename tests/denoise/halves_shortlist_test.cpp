@@ -9,10 +9,10 @@
 #include <vector>
 
 #include "auto/stacking.h"
+#include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
-#include "glint/denoise/sure.h"
 #include "glint/image/error.h"
 #include "glint/image/metrics.h"
 #include "halves_frames.h"
@@ -30,9 +30,9 @@ TEST(AutoShortlist, AShortlistFiltersOnlyItsMembersOnBothHalvesAndChoosesAmongTh
     const FrameBuffers f = halvesFrame(clean, 0.08, Noise::Skewed, 13);
     const FilterBank bank = gaussianBank(f, {0.3, 0.6, 1.0, 1.5, 2.5, 4.0});
     AutoOptions all, oneSided, two;
-    all.shortlist = 0;
-    oneSided.symmetric = false;
-    two.shortlist = 2;
+    all.tuning["shortlist"] = 0;
+    oneSided.tuning["oneSided"] = 1;
+    two.tuning["shortlist"] = 2;
     const AutoResult full = autoComposite(bank, f, all);
     const AutoResult first = autoComposite(bank, f, oneSided);
     AutoResult one, twoThreads;
@@ -66,10 +66,10 @@ TEST(AutoShortlist, AShortlistFiltersOnlyItsMembersOnBothHalvesAndChoosesAmongTh
     for (std::size_t i = 0; i < one.composite.data().size(); ++i)
         ASSERT_EQ(one.composite.data()[i], twoThreads.composite.data()[i]);
     AutoOptions everyone;
-    everyone.shortlist = int(bank.size());
+    everyone.tuning["shortlist"] = int(bank.size());
     EXPECT_EQ(autoComposite(bank, f, everyone).estimatedMse, full.estimatedMse);
     AutoOptions bad;
-    bad.shortlist = -1;
+    bad.tuning["shortlist"] = -1;
     EXPECT_THROW(autoComposite(bank, f, bad), Error);
 }
 

@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "auto/stacking.h"
+#include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
-#include "glint/denoise/sure.h"
 #include "glint/image/error.h"
 #include "glint/image/metrics.h"
 #include "halves_frames.h"
@@ -61,7 +61,7 @@ StackCase stackCase(int w, int h, double k, double sigma, std::uint32_t seed, do
     return s;
 }
 
-const double kFloor = AutoOptions{}.stackFloor;
+const double kFloor = autoTuningDefaults(AutoEstimator::Halves).at("stackFloor");
 
 Image stackOf(const StackCase& s, int radius, double ridge, int smooth = 0, double floor = kFloor) {
     return detail::stackComposite(s.composite, s.blendA, s.blendB, {{&s.full, &s.onA, &s.onB}},
@@ -225,10 +225,10 @@ TEST(AutoStacking, StackingNeedsBothHalvesAndASessionCannotStartFromIt) {
     const FrameBuffers f = halvesFrame(clean, 0.08, Noise::Gaussian, 17);
     const FilterBank bank = gaussianBank(f, {0.5, 1.0, 2.0, 4.0});
     AutoOptions o;
-    o.stack = 3;
-    o.stackWindow = 6;
+    o.tuning["stack"] = 3;
+    o.tuning["stackWindow"] = 6;
     AutoOptions off;
-    off.stack = 0;
+    off.tuning["stack"] = 0;
     const AutoResult plain = autoComposite(bank, f, off);
     AutoResult one, two;
     {
@@ -243,10 +243,10 @@ TEST(AutoStacking, StackingNeedsBothHalvesAndASessionCannotStartFromIt) {
     EXPECT_EQ(one.stacked, 3);
     // The halves stack 6 members unless told otherwise (one-sided and SURE: none; docs/auto.md,
     // "Tuning").
-    EXPECT_EQ(autoDefaults(AutoEstimator::Halves).stack, 6);
-    EXPECT_EQ(autoDefaults(AutoEstimator::Sure).stack, 0);
+    EXPECT_EQ(autoTuningDefaults(AutoEstimator::Halves).at("stack"), 6);
+    EXPECT_EQ(autoTuningDefaults(AutoEstimator::Sure).at("stack"), 0);
     AutoOptions oneSided;
-    oneSided.symmetric = false;
+    oneSided.tuning["oneSided"] = 1;
     EXPECT_EQ(autoComposite(bank, f, oneSided).stacked, 0);
     EXPECT_EQ(autoComposite(bank, f).stacked, 4);  // all four members have weight
     for (std::size_t i = 0; i < one.composite.data().size(); ++i) {
@@ -271,7 +271,7 @@ TEST(AutoStacking, StackingNeedsBothHalvesAndASessionCannotStartFromIt) {
     const FrameBuffers plainFrame = testing::syntheticFrame(24, 20, 0.05f);
     const FilterBank plainBank = gaussianBank(plainFrame, {1.0, 2.0});
     AutoOptions sided = o;
-    sided.symmetric = false;
+    sided.tuning["oneSided"] = 1;
     for (const auto& [frame, b, opts] :
          {std::tuple{&plainFrame, &plainBank, o}, std::tuple{&f, &bank, sided}}) {
         try {
@@ -284,20 +284,20 @@ TEST(AutoStacking, StackingNeedsBothHalvesAndASessionCannotStartFromIt) {
     }
     // Absurd values are refused, naming the option.
     AutoOptions bad;
-    bad.stack = 17;
+    bad.tuning["stack"] = 17;
     EXPECT_THROW(validate(bad), Error);
     bad = {};
-    bad.stackWindow = 0;
+    bad.tuning["stackWindow"] = 0;
     EXPECT_THROW(validate(bad), Error);
     bad = {};
-    bad.stackRidge = std::nan("");
+    bad.tuning["stackRidge"] = std::nan("");
     EXPECT_THROW(validate(bad), Error);
     bad = {};
-    bad.stackRidge = -1.0;
+    bad.tuning["stackRidge"] = -1.0;
     EXPECT_THROW(validate(bad), Error);
     for (int smooth : {-1, 65}) {
         bad = {};
-        bad.stackSmooth = smooth;
+        bad.tuning["stackSmooth"] = smooth;
         try {
             validate(bad);
             ADD_FAILURE() << "stack smooth " << smooth << " accepted";
@@ -398,20 +398,22 @@ TEST(AutoStacking, StackingOnTheAlbedoPutsBackTheEdgesTheBlendSmoothsOver) {
                 blendB = boxBlurred(halfB, 2);
     const Image memberFull = boxBlurred(full, 4), memberA = boxBlurred(halfA, 4),
                 memberB = boxBlurred(halfB, 4);
-    const AutoOptions o;
+    const ParamValues o = autoTuningDefaults(AutoEstimator::Halves);
+    const int window = int(o.at("stackWindow")), smooth = int(o.at("stackSmooth")),
+              featureWindow = int(o.at("stackFeatureWindow"));
     std::vector<detail::StackMember> members{{&memberFull, &memberA, &memberB}};
     const auto stackWith = [&](const std::vector<detail::StackMember>& m) {
-        return detail::stackComposite(composite, blendA, blendB, m, halfA, halfB, Image{},
-                                      o.stackWindow, o.stackRidge, o.stackFloor, o.stackSmooth);
+        return detail::stackComposite(composite, blendA, blendB, m, halfA, halfB, Image{}, window,
+                                      o.at("stackRidge"), o.at("stackFloor"), smooth);
     };
     const double blended = glint::mse(composite, clean).value;
     const double membersOnly = glint::mse(stackWith(members), clean).value;
     const std::vector<Image> onFull =
-        detail::featureRegressors(composite, &albedo, nullptr, o.stackFeatureWindow);
+        detail::featureRegressors(composite, &albedo, nullptr, featureWindow);
     const std::vector<Image> onA =
-        detail::featureRegressors(blendA, &albedo, nullptr, o.stackFeatureWindow);
+        detail::featureRegressors(blendA, &albedo, nullptr, featureWindow);
     const std::vector<Image> onB =
-        detail::featureRegressors(blendB, &albedo, nullptr, o.stackFeatureWindow);
+        detail::featureRegressors(blendB, &albedo, nullptr, featureWindow);
     members.push_back({&onFull[0], &onA[0], &onB[0]});
     const double withAlbedo = glint::mse(stackWith(members), clean).value;
     std::printf("squared error: blend %.3g, stacked on the members %.3g, and on the albedo %.3g\n",
@@ -459,16 +461,16 @@ TEST(AutoStacking, TheStackingTakesTheFeaturesTheInputHasAndNamesOneAskedForThat
         ASSERT_EQ(one.composite.data()[i], two.composite.data()[i]);
     EXPECT_EQ(autoComposite(bareBank, bare).stackFeatures, 0);
     AutoOptions o;
-    o.stackNormal = false;
+    o.tuning["stackNormal"] = 2;  // off
     EXPECT_EQ(autoComposite(bank, f, o).stackFeatures, 1);
-    o.stackAlbedo = false;
+    o.tuning["stackAlbedo"] = 2;  // off
     const AutoResult none = autoComposite(bank, f, o);
     EXPECT_EQ(none.stackFeatures, 0);
     EXPECT_FALSE(std::equal(none.composite.data().begin(), none.composite.data().end(),
                             one.composite.data().begin(), one.composite.data().end()));
     // Without the stacking, no features either.
     AutoOptions off;
-    off.stack = 0;
+    off.tuning["stack"] = 0;
     EXPECT_EQ(autoComposite(bank, f, off).stackFeatures, 0);
     // Asked for but missing: the layer is named.
     for (Layer missing : {Layer::Albedo, Layer::HalfNormal}) {
@@ -477,7 +479,7 @@ TEST(AutoStacking, TheStackingTakesTheFeaturesTheInputHasAndNamesOneAskedForThat
         if (missing == Layer::Albedo) g.remove(Layer::HalfAlbedo);
         const FilterBank gBank = gaussianBank(g, {1.0, 2.0});
         AutoOptions asked;
-        asked.stackAlbedo = asked.stackNormal = true;
+        asked.tuning["stackAlbedo"] = asked.tuning["stackNormal"] = 1;  // on
         try {
             autoComposite(gBank, g, asked);
             ADD_FAILURE() << "no error without " << layerDisplayName(missing);
@@ -490,7 +492,7 @@ TEST(AutoStacking, TheStackingTakesTheFeaturesTheInputHasAndNamesOneAskedForThat
     // Absurd windows are refused, naming the option.
     for (int window : {0, 65}) {
         AutoOptions bad;
-        bad.stackFeatureWindow = window;
+        bad.tuning["stackFeatureWindow"] = window;
         try {
             validate(bad);
             ADD_FAILURE() << "stack feature window " << window << " accepted";

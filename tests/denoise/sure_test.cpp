@@ -1,6 +1,6 @@
 // Per-pixel SURE, Monte-Carlo divergence and the auto composite (sure.h) on synthetic images with
 // Gaussian noise of known per-pixel variance.
-#include "glint/denoise/sure.h"
+#include "glint/denoise/auto.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -94,7 +94,7 @@ TEST(Sure, MonteCarloEstimateOfAGaussiansMseMatchesTheTrueMse) {
     const double meanVar = meanOf(f.layer(Layer::Variance));
     const Filter& gaussian = findFilter("gaussian");
     for (double sigma : {0.8, 1.5, 3.0}) {
-        SureOptions o;
+        detail::SureOptions o;
         o.analyticDivergence = false;
         const detail::SureEstimate e = detail::estimateSure(gaussian, f, {{"sigma", sigma}}, o);
         EXPECT_FALSE(e.analytic);
@@ -122,7 +122,7 @@ TEST(Sure, MonteCarloEstimateOfNonlinearFiltersMseMatchesTheTrueMse) {
                           {"nlmeans", {{"strength", 0.6}}}};
     for (const Case& c : cases)
         for (double epsilon : {0.003, 0.01, 0.1}) {
-            SureOptions o;
+            detail::SureOptions o;
             o.epsilon = epsilon;
             const detail::SureEstimate e =
                 detail::estimateSure(findFilter(c.filter), f, c.params, o);
@@ -138,7 +138,7 @@ TEST(Sure, AnalyticDivergenceOfTheGaussianMatchesMonteCarlo) {
     const FrameBuffers f = noisyFrame(clean, 0.05, 0.05, 13);
     const Filter& gaussian = findFilter("gaussian");
     const ParamValues p{{"sigma", 1.5}};
-    SureOptions analytic, mc;
+    detail::SureOptions analytic, mc;
     mc.analyticDivergence = false;
     const detail::SureEstimate a = detail::estimateSure(gaussian, f, p, analytic);
     const detail::SureEstimate m = detail::estimateSure(gaussian, f, p, mc);
@@ -199,16 +199,16 @@ TEST(Sure, SelectionPicksTheMemberWithTheSmallestTrueErrorWhereUnambiguous) {
     // The plain smoothed-SURE argmin (no confidence margin, no feathering) is what this test
     // checks.
     AutoOptions o;
-    o.space = SureSpace::Linear;
-    o.window = 3;
-    o.confidence = 0.0;
-    o.feather = 0;
+    o.tuning["space"] = 3;  // linear
+    o.tuning["window"] = 3;
+    o.tuning["confidence"] = 0.0;
+    o.tuning["feather"] = 0;
     const AutoResult r = autoComposite(bank, f, o);
     // With the default margin and feathering it still beats every single member (checked below
     // too).
     AutoOptions cautious = o;
-    cautious.confidence = AutoOptions{}.confidence;
-    cautious.feather = AutoOptions{}.feather;
+    cautious.tuning.erase("confidence");  // the estimator's defaults
+    cautious.tuning.erase("feather");
     const AutoResult rc = autoComposite(bank, f, cautious);
 
     // Where the best member's true error (smoothed like the SURE maps) is less than half the
@@ -243,7 +243,7 @@ TEST(Sure, SoftWeightsSumToOneAndTheCompositeIsTheirBlend) {
     const FrameBuffers f = noisyFrame(clean, 0.04, 0.08, 15);
     const FilterBank bank = gaussianBank(f, {0.4, 1.0, 3.0});
     AutoOptions o;
-    o.temperature = 0.5;
+    o.tuning["temperature"] = 0.5;
     const AutoResult r = autoComposite(bank, f, o);
     ASSERT_GE(r.layers.size(), 2u);
     for (int y = 0; y < 48; y += 7)
@@ -262,7 +262,7 @@ TEST(Sure, SameResultForAnyThreadCount) {
     const FrameBuffers f = testing::syntheticFrame(64, 48, 0.08f);
     const FilterBank bank = gaussianBank(f, {0.7, 2.0}, true);
     AutoOptions o;
-    o.temperature = 0.3;
+    o.tuning["temperature"] = 0.3;
     AutoResult one, two;
     {
         tbb::task_arena arena(1);
@@ -277,7 +277,7 @@ TEST(Sure, SameResultForAnyThreadCount) {
         ASSERT_EQ(one.composite.data()[i], two.composite.data()[i]) << i;
     EXPECT_EQ(one.estimatedMse, two.estimatedMse);
     // A different seed perturbs differently (the bilateral's Monte-Carlo estimate moves).
-    o.sure.seed = 2;
+    o.seed = 2;
     const AutoResult other = autoComposite(bank, f, o);
     EXPECT_NE(other.estimatedMse.back(), one.estimatedMse.back());
 }
@@ -345,13 +345,13 @@ TEST(Sure, BadOptionsAndAnotherImagesBankAreRefused) {
     const FrameBuffers f = testing::syntheticFrame(32, 24, 0.05f);
     const FilterBank bank = gaussianBank(f, {1.0});
     AutoOptions o;
-    o.window = -1;
+    o.tuning["window"] = -1;
     EXPECT_THROW(autoComposite(bank, f, o), Error);
     o = {};
-    o.temperature = -1.0;
+    o.tuning["temperature"] = -1.0;
     EXPECT_THROW(autoComposite(bank, f, o), Error);
     o = {};
-    o.sure.epsilon = 0.0;
+    o.tuning["epsilon"] = 0.0;
     EXPECT_THROW(autoComposite(bank, f, o), Error);
     const FrameBuffers other = testing::syntheticFrame(32, 24, 0.05f, 99);
     EXPECT_THROW(autoComposite(bank, other, {}), Error);
@@ -375,7 +375,7 @@ TEST(Sure, SessionStartsFromTheAutoComposite) {
     const FrameBuffers f = noisyFrame(clean, 0.04, 0.08, 16);
     const FilterBank bank = gaussianBank(f, {0.4, 1.0, 3.0}, true);
     AutoOptions o;
-    o.temperature = 0.3;
+    o.tuning["temperature"] = 0.3;
     const AutoResult r = autoComposite(bank, f, o);
     Session session(f);
     const std::size_t edits = startFromAuto(session, bank, r);

@@ -12,7 +12,7 @@
 #include "auto/choice.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/filter.h"
-#include "glint/denoise/sure.h"
+#include "glint/denoise/auto.h"
 #include "glint/image/frame_buffers.h"
 
 namespace glint::denoise::testing {

@@ -17,7 +17,7 @@
 
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
-#include "glint/denoise/sure.h"
+#include "glint/denoise/auto.h"
 #include "glint/image/io.h"
 #include "glint/render/scene.h"
 #include "model/document.h"

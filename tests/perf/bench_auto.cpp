@@ -25,8 +25,8 @@
 #include <nlohmann/json.hpp>
 
 #include "bench_options.h"
+#include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
-#include "glint/denoise/sure.h"
 #include "glint/image/memory.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
     o.reps = 3;
     int oneSided = 0, shortlist = 16, feather = -1, stack = -1, stackFeatures = 1;
     std::string estimator = "sure";
-    glint::denoise::SureSpace space = glint::denoise::SureSpace::Display;
+    std::string space = "display";
     const int parsed = glint::bench::parseOptions(
         "bench_auto", argc, argv, [&](const std::string& a, const std::string& text) {
             if (a == "--estimator") {
@@ -60,7 +60,10 @@ int main(int argc, char** argv) {
             }
             if (a == "--space") {
                 try {
-                    space = glint::denoise::parseSureSpace(text);
+                    glint::denoise::parseParamValue(
+                        *glint::denoise::findParam(glint::denoise::autoTuningSpecs(), "space"),
+                        text);
+                    space = text;
                 } catch (const std::exception& e) {
                     throw glint::bench::OptionError("--space: " + std::string(e.what()));
                 }
@@ -106,7 +109,7 @@ int main(int argc, char** argv) {
     const glint::denoise::AutoEstimator autoEstimator = estimator == "halves"
                                                             ? glint::denoise::AutoEstimator::Halves
                                                             : glint::denoise::AutoEstimator::Sure;
-    if (feather < 0) feather = glint::denoise::autoDefaults(autoEstimator).feather;
+    if (feather < 0) feather = int(glint::denoise::autoTuningDefaults(autoEstimator).at("feather"));
     double bankSeconds = 1e30, autoSeconds = 1e30;
     std::size_t bankSize = 0, used = 0;
     int stacked = 0, features = 0;
@@ -118,12 +121,16 @@ int main(int argc, char** argv) {
         glint::denoise::AutoResult result;
         glint::denoise::AutoOptions ao;
         ao.estimator = autoEstimator;
-        ao.symmetric = oneSided == 0;
-        ao.space = space;
-        ao.shortlist = shortlist;
-        ao.feather = feather;
-        if (stack >= 0) ao.stack = stack;
-        ao.stackAlbedo = ao.stackNormal = stackFeatures != 0;
+        const auto& specs = glint::denoise::autoTuningSpecs();
+        ao.tuning = {{"oneSided", oneSided != 0 ? 1 : 0},
+                     {"space", glint::denoise::parseParamValue(
+                                   *glint::denoise::findParam(specs, "space"), space)},
+                     {"shortlist", shortlist},
+                     {"feather", feather},
+                     // on (1) or off (2)
+                     {"stackAlbedo", stackFeatures != 0 ? 1 : 2},
+                     {"stackNormal", stackFeatures != 0 ? 1 : 2}};
+        if (stack >= 0) ao.tuning["stack"] = stack;
         autoSeconds =
             std::min(autoSeconds,
                      secondsOf([&] { result = glint::denoise::autoComposite(bank, frame, ao); }));
@@ -138,7 +145,7 @@ int main(int argc, char** argv) {
                                 {"reps", reps},
                                 {"estimator", estimator},
                                 {"symmetric", oneSided == 0},
-                                {"space", glint::denoise::sureSpaceName(space)},
+                                {"space", space},
                                 {"shortlist", shortlist},
                                 {"feather", feather},
                                 {"stack", stacked},

@@ -6,8 +6,8 @@
 
 #include "box_averages.h"
 #include "estimator.h"
+#include "glint/denoise/auto.h"
 #include "glint/denoise/progress.h"
-#include "glint/denoise/sure.h"
 #include "glint/image/error.h"
 #include "options.h"
 

@@ -16,84 +16,7 @@
 namespace glint::denoise {
 
 void validate(const AutoOptions& options) {
-    if (!(options.sure.epsilon > 0.0) || !std::isfinite(options.sure.epsilon) ||
-        options.sure.epsilon > 1.0)
-        throw Error(ErrorKind::InvalidArgument,
-                    "epsilon " + std::to_string(options.sure.epsilon) +
-                        " is not a number in (0, 1] (the perturbation relative to the pixel's "
-                        "sigma)",
-                    {}, "--epsilon");
-    if (options.window && (*options.window < 0 || *options.window > 64))
-        throw Error(ErrorKind::InvalidArgument,
-                    "window " + std::to_string(*options.window) +
-                        " is outside 0 … 64 (the SURE maps' smoothing radius in pixels)",
-                    {}, "--window");
-    if (options.temperature &&
-        (!(*options.temperature >= 0.0) || !std::isfinite(*options.temperature)))
-        throw Error(ErrorKind::InvalidArgument,
-                    "temperature " + std::to_string(*options.temperature) +
-                        " is not a finite number >= 0 (0: hard per-pixel choice)",
-                    {}, "--temperature");
-    if (options.confidence &&
-        (!(*options.confidence >= 0.0) || !std::isfinite(*options.confidence)))
-        throw Error(ErrorKind::InvalidArgument,
-                    "confidence " + std::to_string(*options.confidence) +
-                        " is not a finite number >= 0 (standard errors a local choice must win by)",
-                    {}, "--confidence");
-    if (options.finer && (*options.finer < 0 || *options.finer > 6))
-        throw Error(ErrorKind::InvalidArgument,
-                    "finer " + std::to_string(*options.finer) +
-                        " is outside 0 … 6 (how many times the window is halved for the final "
-                        "choice)",
-                    {}, "--finer");
-    if (options.feather && (*options.feather < 0 || *options.feather > 32))
-        throw Error(ErrorKind::InvalidArgument,
-                    "feather " + std::to_string(*options.feather) +
-                        " is outside 0 … 32 (the weight planes' smoothing radius in pixels)",
-                    {}, "--feather");
-    if (!(options.featherGate > 0.0) || !std::isfinite(options.featherGate))
-        throw Error(ErrorKind::InvalidArgument,
-                    "feather gate " + std::to_string(options.featherGate) +
-                        " is not a finite number > 0 (a display-value difference; 1 is the whole "
-                        "range)",
-                    {}, "--feather-gate");
-    if (options.shortlist < 0 || options.shortlist > 4096)
-        throw Error(ErrorKind::InvalidArgument,
-                    "shortlist " + std::to_string(options.shortlist) +
-                        " is outside 0 … 4096 (members filtered on both halves; 0: all)",
-                    {}, "--shortlist");
-    if (options.stack && (*options.stack < 0 || *options.stack > int(detail::kMaxStack)))
-        throw Error(ErrorKind::InvalidArgument,
-                    "stack " + std::to_string(*options.stack) + " is outside 0 … " +
-                        std::to_string(detail::kMaxStack) + " (members in the stacking; 0: off)",
-                    {}, "--stack");
-    if (options.stackWindow < 1 || options.stackWindow > 64)
-        throw Error(ErrorKind::InvalidArgument,
-                    "stack window " + std::to_string(options.stackWindow) +
-                        " is outside 1 … 64 (the stacking's window radius in pixels)",
-                    {}, "--stack-window");
-    if (!(options.stackFloor >= 0.0) || !(options.stackFloor <= 100.0))
-        throw Error(ErrorKind::InvalidArgument,
-                    "stack floor " + std::to_string(options.stackFloor) +
-                        " is not a number in 0 … 100 (the stacking's ridge floor, in units of the "
-                        "members' mean squared difference from the composite)",
-                    {}, "--stack-floor");
-    if (options.stackSmooth < 0 || options.stackSmooth > 64)
-        throw Error(ErrorKind::InvalidArgument,
-                    "stack smooth " + std::to_string(options.stackSmooth) +
-                        " is outside 0 … 64 (the radius over which the stacking's coefficients "
-                        "are averaged; 0: off)",
-                    {}, "--stack-smooth");
-    if (!(options.stackRidge >= 0.0) || !std::isfinite(options.stackRidge))
-        throw Error(ErrorKind::InvalidArgument,
-                    "stack ridge " + std::to_string(options.stackRidge) +
-                        " is not a finite number >= 0 (in units of the halves' noise)",
-                    {}, "--stack-ridge");
-    if (options.stackFeatureWindow < 1 || options.stackFeatureWindow > 64)
-        throw Error(ErrorKind::InvalidArgument,
-                    "stack feature window " + std::to_string(options.stackFeatureWindow) +
-                        " is outside 1 … 64 (the radius of the features' local average)",
-                    {}, "--stack-feature-window");
+    (void)resolveAutoTuning(options, AutoEstimator::Halves);
     // 2^64 keeps every finite radiance finite on the display (as glint-image's --exposure).
     if (!(std::fabs(options.exposure) <= kMaxExposure)) {
         char got[32];
@@ -102,30 +25,6 @@ void validate(const AutoOptions& options) {
                     std::string("exposure must be a number of stops in [-64, 64], got ") + got, {},
                     "--exposure");
     }
-}
-
-SureSpace parseSureSpace(const std::string& name) {
-    if (name == "display") return SureSpace::Display;
-    if (name == "display-tangent") return SureSpace::DisplayTangent;
-    if (name == "display-exact") return SureSpace::DisplayExact;
-    if (name == "linear") return SureSpace::Linear;
-    throw Error(ErrorKind::InvalidArgument,
-                "unknown error space '" + name +
-                    "' (expected display, display-tangent, display-exact or linear)");
-}
-
-const char* sureSpaceName(SureSpace space) {
-    switch (space) {
-        case SureSpace::Display:
-            return "display";
-        case SureSpace::DisplayTangent:
-            return "display-tangent";
-        case SureSpace::DisplayExact:
-            return "display-exact";
-        case SureSpace::Linear:
-            return "linear";
-    }
-    return "display";
 }
 
 AutoEstimator parseAutoEstimator(const std::string& name) {
@@ -146,11 +45,6 @@ const char* autoEstimatorName(AutoEstimator estimator) {
             return "halves";
     }
     return "?";
-}
-
-AutoDefaults autoDefaults(AutoEstimator estimator) {
-    if (estimator == AutoEstimator::Halves) return {8, 1.0, 0.06, 1, 5, 6};
-    return {4, 3.0, 0.0, 0, 4, 0};
 }
 
 AutoEstimator resolveEstimator(AutoEstimator estimator, const FrameBuffers& frame) {
@@ -185,29 +79,37 @@ AutoSettings resolveSettings(const FilterBank& bank, const FrameBuffers& frame,
     AutoSettings s;
     s.estimator = resolveEstimator(options.estimator, frame);
     s.halves = s.estimator == AutoEstimator::Halves;
-    const AutoDefaults defaults = autoDefaults(s.estimator);
     const bool halves = s.halves;
-    if (options.space == SureSpace::DisplayExact && !halves)
+    ParamValues t = resolveAutoTuning(options, s.estimator);
+    const auto given = [&](const char* name) { return options.tuning.count(name) != 0; };
+    const bool symmetric = t["oneSided"] == 0.0;
+    s.space = SureSpace(int(t["space"]));
+    if (s.space == SureSpace::DisplayExact && !halves)
         throw Error(ErrorKind::InvalidArgument,
                     "the exact display space needs the halves estimator (SURE needs a "
                     "differentiable error: use display or linear)",
                     {}, "--space");
-    if (options.stack.value_or(0) > 0 && !halves)
+    if (given("stack") && t["stack"] > 0.0 && !halves)
         throw Error(ErrorKind::InvalidArgument,
                     "stacking fits each half on the other: it needs the halves estimator (an "
                     "input rendered with --half-buffers)",
                     {}, "--stack");
-    if (options.stack.value_or(0) > 0 && !options.symmetric)
+    if (given("stack") && t["stack"] > 0.0 && !symmetric)
         throw Error(ErrorKind::InvalidArgument, "stacking fits both halves: it cannot be one-sided",
                     {}, "--stack");
-    // The stacking's features (docs/auto.md, "Stacking"): those asked for must be in the input,
-    // with their halves; unset, those it has.
+    // The stacking's features (docs/auto.md, "Stacking"): those asked for (on) must be in the
+    // input, with their halves; auto, those it has.
     const auto hasFeature = [&](Layer layer) {
         return frame.has(layer) && frame.has(*halfLayer(layer));
     };
-    s.stackAlbedo = options.stackAlbedo.value_or(hasFeature(Layer::Albedo));
-    s.stackNormal = options.stackNormal.value_or(hasFeature(Layer::Normal));
-    if (halves && options.symmetric && options.stack.value_or(defaults.stack) > 0) {
+    const auto feature = [&](const char* name, Layer layer) {
+        const int choice = int(t[name]);  // auto, on, off
+        return choice == 0 ? hasFeature(layer) : choice == 1;
+    };
+    s.stackAlbedo = feature("stackAlbedo", Layer::Albedo);
+    s.stackNormal = feature("stackNormal", Layer::Normal);
+    s.stack = halves && symmetric ? int(t["stack"]) : 0;
+    if (s.stack > 0) {
         const std::pair<bool, Layer> features[] = {{s.stackAlbedo, Layer::Albedo},
                                                    {s.stackNormal, Layer::Normal}};
         for (const auto& [wanted, layer] : features) {
@@ -217,38 +119,36 @@ AutoSettings resolveSettings(const FilterBank& bank, const FrameBuffers& frame,
                     throw Error(ErrorKind::Format,
                                 "has no " + std::string(layerDisplayName(l)) +
                                     " layer: the stacking's feature regressors need it "
-                                    "(--stack-features names the ones to use; none: off)",
+                                    "(--stack-albedo and --stack-normal: auto or off)",
                                 {}, "layer '" + std::string(layerDisplayName(l)) + "'");
         }
     }
-    s.window = options.window.value_or(defaults.window);
-    s.confidence = options.confidence.value_or(defaults.confidence);
-    s.temperature = options.temperature.value_or(defaults.temperature);
-    s.finer = options.finer.value_or(defaults.finer);
-    s.feather = options.feather.value_or(defaults.feather);
+    s.window = int(t["window"]);
+    s.confidence = t["confidence"];
+    s.temperature = t["temperature"];
+    s.finer = int(t["finer"]);
+    s.feather = int(t["feather"]);
     // Validation as checkAutoInput's, without a second split (the halves' estimator checks them).
     if (!halves || !frame.has(Layer::HalfColor))
         checkAutoInput(frame, s.estimator);
     else
         checkHalvesFinite(frame, {});
-    s.secant = halves && options.space == SureSpace::Display;
-    s.tangent = options.space == SureSpace::DisplayTangent ||
-                (!halves && options.space == SureSpace::Display);
+    s.secant = halves && s.space == SureSpace::Display;
+    s.tangent = s.space == SureSpace::DisplayTangent || (!halves && s.space == SureSpace::Display);
     const std::size_t n = bank.size();
-    s.shortlisted =
-        halves && options.symmetric && options.shortlist > 0 && std::size_t(options.shortlist) < n;
-    s.bothHalves = options.symmetric && !s.shortlisted;
-    s.stack = options.stack.value_or(options.symmetric ? defaults.stack : 0);
-    s.space = options.space;
+    s.shortlist = int(t["shortlist"]);
+    s.shortlisted = halves && symmetric && s.shortlist > 0 && std::size_t(s.shortlist) < n;
+    s.bothHalves = symmetric && !s.shortlisted;
     s.exposure = options.exposure;
-    s.shortlist = options.shortlist;
-    s.featherGate = options.featherGate;
-    s.sure = options.sure;
-    s.stackWindow = options.stackWindow;
-    s.stackRidge = options.stackRidge;
-    s.stackFloor = options.stackFloor;
-    s.stackSmooth = options.stackSmooth;
-    s.stackFeatureWindow = options.stackFeatureWindow;
+    s.featherGate = t["featherGate"];
+    s.sure.epsilon = t["epsilon"];
+    s.sure.seed = options.seed;
+    s.sure.analyticDivergence = t["numericDivergence"] == 0.0;
+    s.stackWindow = int(t["stackWindow"]);
+    s.stackRidge = t["stackRidge"];
+    s.stackFloor = t["stackFloor"];
+    s.stackSmooth = int(t["stackSmooth"]);
+    s.stackFeatureWindow = int(t["stackFeatureWindow"]);
     s.prefilter = options.prefilter;
     s.prefilterParams = options.prefilterParams;
     return s;

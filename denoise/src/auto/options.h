@@ -3,12 +3,38 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
-#include "glint/denoise/sure.h"
+#include "glint/denoise/auto.h"
 
 namespace glint::denoise::detail {
 
-/// What autoComposite runs, from AutoOptions and the input.
+/// Which error the estimators estimate (the tuning's "space", in its choices' order).
+enum class SureSpace {
+    /// To first order, of display values (exposure, clamp, sRGB), around a member-independent
+    /// estimate m of the clean value (the median of the bank's results). SURE weighs each
+    /// channel's term by the squared slope of the display transform at m (Stein's lemma needs a
+    /// weight that does not depend on the filter). The halves weigh each output f's term by the
+    /// squared secant slope between f and m, (D(f) − D(m)) / (f − m): it sees a highlight blurred
+    /// from above the clamp to below it, which the tangent at a clamped m (slope 0) does not
+    /// (docs/auto.md, "The display transform and the bank's median").
+    Display,
+    DisplayTangent,  ///< the slope at m for both estimators
+    DisplayExact,    ///< halves only: the display transform applied to the values themselves
+    Linear,          ///< squared error of the radiance
+};
+
+/// How SURE's divergence is estimated and the data perturbed.
+struct SureOptions {
+    /// Perturbation size relative to the pixel's own noise: ε = epsilon · σ per pixel and channel
+    /// (Ramani et al. suggest ε of about σ/100; docs/auto.md, "Error estimation by SURE"),
+    /// never below 1e-4 of |y| (or 1e-7) so that float rounding cannot swallow it.
+    double epsilon = 0.01;
+    std::uint64_t seed = 1;          ///< of the ±1 field b (hashed per pixel and channel)
+    bool analyticDivergence = true;  ///< use Filter::divergence when the filter provides it
+};
+
+/// What autoComposite runs, from AutoOptions (its tuning resolved) and the input.
 struct AutoSettings {
     AutoEstimator estimator = AutoEstimator::Sure;  ///< never Auto
     bool halves = false;                            ///< estimator == Halves
@@ -30,7 +56,7 @@ struct AutoSettings {
     bool stackAlbedo = false;
     bool stackNormal = false;
 
-    // The rest, as given (AutoOptions).
+    // The rest of the tuning, and the options as given.
     SureSpace space = SureSpace::Display;
     float exposure = 0.0f;
     int shortlist = 0;

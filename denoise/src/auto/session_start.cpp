@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <vector>
 
+#include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/session.h"
-#include "glint/denoise/sure.h"
 #include "glint/image/error.h"
 
 namespace glint::denoise {

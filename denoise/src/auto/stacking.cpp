@@ -4,10 +4,10 @@
 
 #include "blend.h"
 #include "display_weights.h"
+#include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/progress.h"
-#include "glint/denoise/sure.h"
 #include "halves_estimator.h"
 #include "options.h"
 

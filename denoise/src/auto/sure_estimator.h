@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "estimator.h"
-#include "glint/denoise/sure.h"
+#include "glint/denoise/auto.h"
 #include "options.h"
 
 namespace glint::denoise::detail {

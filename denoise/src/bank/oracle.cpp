@@ -13,7 +13,7 @@
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/research/expected_oracle.h"
-#include "glint/denoise/sure.h"
+#include "glint/denoise/auto.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"
