@@ -52,6 +52,12 @@ ParamValues parseTuning(const AutoArgs& a) {
     ParamValues tuning;
     for (const auto& [name, text] : a.tuning) {
         const ParamSpec& spec = *findParam(autoTuningSpecs(), name);
+        // Integers strictly, as every integer flag ("0x4", "4.0" and "4 " are refused).
+        if (spec.integer && !spec.isChoice()) {
+            const std::string flag = autoTuningFlag(name);
+            tuning[name] = parseInteger(text, flag.c_str());
+            continue;
+        }
         try {
             tuning[name] = parseParamValue(spec, text);
         } catch (const Error& e) {
