@@ -1,6 +1,5 @@
 #include "views/paint_view.h"
 
-#include <QButtonGroup>
 #include <QCheckBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
@@ -49,9 +48,8 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
     m_wandTool->setToolTip(
         tr("Click: fill the connected area of similar features (left adds, "
            "right removes) (M)"));
-    auto* tools = new QButtonGroup(this);
-    tools->addButton(m_brushTool);
-    tools->addButton(m_wandTool);
+    addToolButton(m_brushTool, ImageCanvas::Tool::Brush);
+    addToolButton(m_wandTool, ImageCanvas::Tool::Wand);
     auto* diffuseButton = new QPushButton(tr("Diffuse"), this);
     diffuseButton->setToolTip(
         tr("Poisson diffusion: spread the painted weights smoothly over the "
@@ -119,12 +117,6 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
         session->setWeights(
             std::size_t(currentLayer()),
             Image(session->session().width(), session->session().height(), 1, 0.0f));
-    });
-    connect(m_brushTool, &QToolButton::toggled, this, [this, canvas](bool on) {
-        if (on && m_active) canvas->setTool(ImageCanvas::Tool::Brush);
-    });
-    connect(m_wandTool, &QToolButton::toggled, this, [this, canvas](bool on) {
-        if (on && m_active) canvas->setTool(ImageCanvas::Tool::Wand);
     });
     connect(diffuseButton, &QPushButton::clicked, this, &PaintView::diffuse);
     connect(m_size, &QDoubleSpinBox::valueChanged, this,
@@ -335,7 +327,7 @@ void PaintView::diffuse() {
 
 void PaintView::activate() {
     ImageCanvas* canvas = m_context.viewer->canvas();
-    canvas->setTool(m_wandTool->isChecked() ? ImageCanvas::Tool::Wand : ImageCanvas::Tool::Brush);
+    applyTool();
     canvas->setBrush(m_size->value(), m_softness->value() / 100.0);
     layerSelected();
 }

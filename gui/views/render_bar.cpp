@@ -49,7 +49,9 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
     m_regionTool = new QToolButton(this);
     m_regionTool->setText(tr("Region"));
     m_regionTool->setCheckable(true);
-    m_regionTool->setToolTip(tr("Drag a rectangle on the image: only that part is re-rendered"));
+    m_regionTool->setToolTip(
+        tr("Drag one rectangle on the image: only that part is re-rendered (the tool then "
+           "disarms)"));
     m_clearRegion = new QToolButton(this);
     m_clearRegion->setText(tr("Full frame"));
     m_clearRegion->setToolTip(tr("Render the whole frame again"));
@@ -91,8 +93,10 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
             emit failed(tr("Cannot render"), QString::fromStdString(e.what()));
         }
     });
-    connect(m_canvas, &ImageCanvas::rectangleDrawn, this, [this](const QRect& r) {
+    connect(m_canvas, &ImageCanvas::renderRegionDrawn, this, [this](const QRect& r) {
         if (!m_regionTool->isChecked()) return;
+        // One rectangle per arming: the next drag is the stage's again.
+        disarmRegionTool();
         try {
             applySettings();
             m_document->renderRegion(Rect{r.left(), r.right() + 1, r.top(), r.bottom() + 1});
@@ -119,6 +123,10 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
                                 .arg(s.cancelled ? tr(" (cancelled)") : QString()));
     });
     updateState();
+}
+
+void RenderBar::disarmRegionTool() {
+    if (m_regionTool->isChecked()) m_regionTool->setChecked(false);
 }
 
 void RenderBar::syncFromDocument() {
