@@ -16,6 +16,7 @@
 #include <QTabWidget>
 #include <QToolBar>
 
+#include "app/canvas_keys.h"
 #include "app/studio_settings.h"
 #include "glint/image/error.h"
 #include "views/compare_view.h"
@@ -108,11 +109,13 @@ MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
     m_help = new HelpOverlay(this);
     m_help->setActions(m_actions.all());
     buildMenus();
+    new CanvasKeys(this, m_viewer->canvas(), m_actions.all());
     connectModel();
     resize(1400, 860);
     restoreWindowState(*this);
     updateTitle();
     stageChanged();
+    m_viewer->canvas()->setFocus();
 }
 
 MainWindow::~MainWindow() = default;
@@ -221,17 +224,20 @@ void MainWindow::buildMenus() {
             [this] { m_viewer->setExposure(m_viewer->exposure() - 0.5); });
     for (int i = 0; i < 4; ++i)
         connect(a.stages[std::size_t(i)], &QAction::triggered, this, [this, i] { setStage(i); });
-    connect(a.lasso, &QAction::triggered, this, [this] { setStage(1); });
+    connect(a.lasso, &QAction::triggered, this, [this] {
+        setStage(1);
+        m_regionView->selectTool(ImageCanvas::Tool::Lasso);
+    });
     connect(a.wholeImage, &QAction::triggered, m_region, &RegionOfInterest::clear);
     connect(a.brushSmaller, &QAction::triggered, this, [this] { m_paint->growBrush(0.8); });
     connect(a.brushLarger, &QAction::triggered, this, [this] { m_paint->growBrush(1.25); });
     connect(a.brush, &QAction::triggered, this, [this] {
         setStage(3);
-        m_viewer->canvas()->setTool(ImageCanvas::Tool::Brush);
+        m_paint->selectTool(ImageCanvas::Tool::Brush);
     });
     connect(a.wand, &QAction::triggered, this, [this] {
         setStage(3);
-        m_viewer->canvas()->setTool(ImageCanvas::Tool::Wand);
+        m_paint->selectTool(ImageCanvas::Tool::Wand);
     });
     connect(a.diffuse, &QAction::triggered, m_paint, &PaintView::diffuse);
     connect(a.autoStart, &QAction::triggered, this, [this] {
@@ -266,8 +272,13 @@ void MainWindow::connectModel() {
     connect(m_renderBar, &RenderBar::failed, this, &MainWindow::showError);
     connect(m_look, &LookPanel::failed, this, &MainWindow::showError);
     connect(m_renderBar, &RenderBar::regionToolToggled, this, [this](bool on) {
-        m_viewer->canvas()->setTool(on ? ImageCanvas::Tool::Rectangle : ImageCanvas::Tool::Pan);
-        if (!on) stageChanged();
+        // Armed: one rectangle to render. Disarmed: the stage's own tool again.
+        if (on)
+            m_viewer->canvas()->setTool(ImageCanvas::Tool::RenderRegion);
+        else if (m_activeStage)
+            m_activeStage->applyTool();
+        else
+            m_viewer->canvas()->setTool(ImageCanvas::Tool::Pan);
     });
     for (StageView* s : std::initializer_list<StageView*>{m_features, m_regionView, m_tune,
                                                           m_navigate, m_paint, m_compare}) {
@@ -503,6 +514,7 @@ StageView* MainWindow::activeStage() const {
 void MainWindow::stageChanged() {
     StageView* next = activeStage();
     if (next == m_activeStage) return;
+    m_renderBar->disarmRegionTool();  // a stage change leaves the one-shot render-region tool
     if (m_activeStage) m_activeStage->setActive(false);
     m_activeStage = next;
     if (m_activeStage) m_activeStage->setActive(true);
