@@ -17,6 +17,7 @@
 #include <QToolBar>
 
 #include "app/canvas_keys.h"
+#include "app/panel_layout.h"
 #include "app/studio_settings.h"
 #include "glint/image/error.h"
 #include "views/compare_view.h"
@@ -36,15 +37,6 @@ namespace {
 
 bool isSessionPath(const QString& path) {
     return path.endsWith(QStringLiteral(".glint-session.json"), Qt::CaseInsensitive);
-}
-
-QDockWidget* dock(QMainWindow* window, const QString& title, const QString& name,
-                  QWidget* content) {
-    auto* d = new QDockWidget(title, window);
-    d->setObjectName(name);
-    d->setWidget(content);
-    d->setFeatures(QDockWidget::DockWidgetMovable | QDockWidget::DockWidgetFloatable);
-    return d;
 }
 
 }  // namespace
@@ -72,27 +64,30 @@ MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
     m_look = new LookPanel(m_document, m_session);
     m_renderBar = new RenderBar(m_document, m_viewer->canvas());
 
+    // Each panel scrolls in its dock: no stage makes the window taller than a 768-px screen.
     m_filterTabs = new QTabWidget;
-    m_filterTabs->addTab(m_tune, tr("Tune"));
-    m_filterTabs->addTab(m_navigate, tr("Navigate"));
+    m_filterTabs->addTab(new VerticalScrollArea(m_tune), tr("Tune"));
+    m_filterTabs->addTab(new VerticalScrollArea(m_navigate), tr("Navigate"));
     m_stages = new QTabWidget;
-    m_stages->addTab(m_features, tr("1 Features"));
-    m_stages->addTab(m_regionView, tr("2 Region"));
+    m_stages->addTab(new VerticalScrollArea(m_features), tr("1 Features"));
+    m_stages->addTab(new VerticalScrollArea(m_regionView), tr("2 Region"));
     m_stages->addTab(m_filterTabs, tr("3 Filter"));
-    m_stages->addTab(m_paint, tr("4 Paint"));
-    m_stages->setMinimumWidth(330);
+    m_stages->addTab(new VerticalScrollArea(m_paint), tr("4 Paint"));
 
     auto* bar = new QToolBar(tr("Render"), this);
     bar->setObjectName(QStringLiteral("renderBar"));
     bar->setMovable(false);
     bar->addWidget(m_renderBar);
     addToolBar(Qt::TopToolBarArea, bar);
-    m_look->setMinimumWidth(340);
-    addDockWidget(Qt::LeftDockWidgetArea, dock(this, tr("Look"), QStringLiteral("look"), m_look));
+    m_look->setMinimumWidth(300);
+    // The workflow has the right column to itself (Navigate's previews need its height); the
+    // comparison sits under the look on the left.
+    addDockWidget(Qt::LeftDockWidgetArea,
+                  makeDock(this, tr("Look"), QStringLiteral("look"), m_look));
+    addDockWidget(Qt::LeftDockWidgetArea, makeDock(this, tr("Compare"), QStringLiteral("compare"),
+                                                   new VerticalScrollArea(m_compare)));
     addDockWidget(Qt::RightDockWidgetArea,
-                  dock(this, tr("Workflow"), QStringLiteral("stages"), m_stages));
-    addDockWidget(Qt::RightDockWidgetArea,
-                  dock(this, tr("Compare"), QStringLiteral("compare"), m_compare));
+                  makeDock(this, tr("Workflow"), QStringLiteral("stages"), m_stages));
 
     m_readout = new QLabel(this);
     m_readout->setTextInteractionFlags(Qt::TextSelectableByMouse);

@@ -69,6 +69,7 @@ void ImageCanvas::setDisplay(const DisplaySettings& display) {
     if (!m_compareSource.empty()) m_compare = toQImage(m_compareSource, m_display);
     if (!m_brushSourceImage.empty()) m_brushSource = toQImage(m_brushSourceImage, m_display);
     update();
+    emit displayChanged();
 }
 
 void ImageCanvas::setTool(Tool tool) {

@@ -83,6 +83,8 @@ class ImageCanvas : public QWidget {
     void rectangleDrawn(const QRect& rect);
     /// A rectangle drawn with the RenderRegion tool.
     void renderRegionDrawn(const QRect& rect);
+    /// setDisplay changed how values reach the screen.
+    void displayChanged();
     /// setTool changed the tool.
     void toolChanged(glint::studio::ImageCanvas::Tool tool);
     void strokeBegan(const QPointF& at, bool subtract);

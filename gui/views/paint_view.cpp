@@ -72,6 +72,8 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
     m_changeMap->setToolTip(tr("Where the selected filter would change the current composite"));
     m_side = new QLabel(this);
     m_side->setMinimumHeight(160);
+    // The preview is scaled to the label: its pixmap must not widen the panel.
+    m_side->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Ignored);
     m_side->setAlignment(Qt::AlignCenter);
     m_side->setToolTip(tr("The selected filter applied everywhere"));
     m_state = new QLabel(this);
@@ -155,6 +157,10 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
     connect(session, &SessionAdapter::sessionReset, this, &PaintView::rebuildLayers);
     connect(session, &SessionAdapter::inputChanged, this, &PaintView::layerSelected);
     connect(m_context.viewer, &Viewer::channelChanged, this, &PaintView::layerSelected);
+    // The side preview and the brush show the layer as the canvas does (exposure, mode).
+    connect(canvas, &ImageCanvas::displayChanged, this, [this] {
+        if (m_active) layerSelected();
+    });
     connect(session, &SessionAdapter::compositeChanged, this, [this](const Rect&) {
         if (m_changeMap->isChecked() && !m_stroking) updateOverlay();
     });

@@ -59,8 +59,9 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
     m_progress->setRange(0, 1000);
     m_progress->setTextVisible(false);
     m_progress->setMaximumWidth(180);
+    m_progress->setMinimumWidth(60);
     m_info = new QLabel(this);
-    m_info->setMinimumWidth(200);
+    m_info->setMinimumWidth(120);
 
     auto* layout = new QHBoxLayout(this);
     layout->setContentsMargins(4, 2, 4, 2);
@@ -105,7 +106,10 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
         }
     });
     connect(m_document, &Document::opened, this, &RenderBar::syncFromDocument);
-    connect(m_document, &Document::renderingChanged, this, &RenderBar::updateState);
+    connect(m_document, &Document::renderingChanged, this, [this](bool on) {
+        if (on) m_rendered = true;
+        updateState();
+    });
     connect(m_document, &Document::renderProgress, this,
             [this](int pass, double fraction, int spp, double seconds) {
                 m_progress->setValue(int(fraction * 1000.0));
@@ -114,13 +118,20 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
             });
     connect(m_document, &Document::frameChanged, this, [this](bool final) {
         if (!final) return;
+        if (!m_rendered || m_document->kind() != Document::Kind::Scene) {
+            // A frame from a file, a session or a restore: no render of ours to report.
+            m_progress->setValue(0);
+            m_info->clear();
+            return;
+        }
+        m_rendered = false;
         const render::RenderStats& s = m_document->lastStats();
-        m_progress->setValue(1000);
-        if (m_document->kind() == Document::Kind::Scene)
-            m_info->setText(tr("%1 spp in %2 s%3")
-                                .arg(s.completedSpp)
-                                .arg(s.seconds, 0, 'f', 2)
-                                .arg(s.cancelled ? tr(" (cancelled)") : QString()));
+        // A cancelled render keeps the bar where it stopped.
+        if (!s.cancelled) m_progress->setValue(1000);
+        m_info->setText(tr("%1 spp in %2 s%3")
+                            .arg(s.completedSpp)
+                            .arg(s.seconds, 0, 'f', 2)
+                            .arg(s.cancelled ? tr(" (cancelled)") : QString()));
     });
     updateState();
 }
@@ -130,6 +141,10 @@ void RenderBar::disarmRegionTool() {
 }
 
 void RenderBar::syncFromDocument() {
+    // What the bar said of the previous document's render does not describe this one.
+    m_progress->setValue(0);
+    m_info->clear();
+    m_rendered = false;
     // A scene's own seed, integrator and MIS; the spp stays what the user chose (low).
     const render::Settings& s = m_document->settings();
     m_seed->setValue(int(std::min<std::uint64_t>(s.seed, std::uint64_t(m_seed->maximum()))));

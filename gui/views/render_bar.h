@@ -55,6 +55,7 @@ class RenderBar : public QWidget {
     QToolButton* m_clearRegion;
     QProgressBar* m_progress;
     QLabel* m_info;
+    bool m_rendered = false;  // a render ran since the last final frame
 };
 
 }  // namespace glint::studio

@@ -14,6 +14,7 @@
 #include <QStatusBar>
 #include <QTemporaryDir>
 #include <QTest>
+#include <QToolBar>
 #include <QToolButton>
 
 #include "glint/denoise/session.h"
@@ -63,6 +64,20 @@ T* childWithText(QWidget* parent, const QString& text) {
     return nullptr;
 }
 
+// The minimum sizes of the window's parts, for a failure message.
+QString parts(MainWindow& w) {
+    QStringList list;
+    auto add = [&](const QString& name, const QWidget* part) {
+        if (!part) return;
+        const QSize m = part->minimumSizeHint().expandedTo(part->minimumSize());
+        list << QStringLiteral("%1 %2×%3").arg(name).arg(m.width()).arg(m.height());
+    };
+    add(QStringLiteral("central"), w.centralWidget());
+    for (const QDockWidget* d : w.findChildren<QDockWidget*>()) add(d->objectName(), d);
+    for (const QWidget* t : w.findChildren<QToolBar*>()) add(t->objectName(), t);
+    return list.join(QStringLiteral(", "));
+}
+
 double paintedSum(const MainWindow& w) {
     double s = 0.0;
     const denoise::Session& session = const_cast<MainWindow&>(w).session()->session();
@@ -103,11 +118,12 @@ class StudioFitTest : public QObject {
             settle();
             const QSize least = w->minimumSizeHint().expandedTo(w->minimumSize());
             QVERIFY2(least.width() <= kMaxWidth && least.height() <= kMaxHeight,
-                     qPrintable(QStringLiteral("stage %1%2: minimum %3×%4")
+                     qPrintable(QStringLiteral("stage %1%2: minimum %3×%4 (%5)")
                                     .arg(stage + 1)
                                     .arg(navigate ? QStringLiteral(" (navigate)") : QString())
                                     .arg(least.width())
-                                    .arg(least.height())));
+                                    .arg(least.height())
+                                    .arg(parts(*w))));
         }
     }
 
@@ -118,7 +134,9 @@ class StudioFitTest : public QObject {
         w->setStage(2, true);
         QVERIFY(waitFor([&] { return w->navigateView()->ready(); }));
         settle();
-        QCOMPARE(w->size(), QSize(1366, 768));
+        QVERIFY2(w->size() == QSize(1366, 768),
+                 qPrintable(
+                     QStringLiteral("%1×%2 (%3)").arg(w->width()).arg(w->height()).arg(parts(*w))));
         const QRect window = w->rect();
         QStatusBar* status = w->statusBar();
         QVERIFY(status->isVisible());
