@@ -79,13 +79,14 @@ MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
     bar->setMovable(false);
     bar->addWidget(m_renderBar);
     addToolBar(Qt::TopToolBarArea, bar);
-    m_look->setMinimumWidth(300);
+    m_look->setMinimumWidth(340);
     // The workflow has the right column to itself (Navigate's previews need its height); the
-    // comparison sits under the look on the left.
-    addDockWidget(Qt::LeftDockWidgetArea,
-                  makeDock(this, tr("Look"), QStringLiteral("look"), m_look));
-    addDockWidget(Qt::LeftDockWidgetArea, makeDock(this, tr("Compare"), QStringLiteral("compare"),
-                                                   new VerticalScrollArea(m_compare)));
+    // comparison sits under the look on the left, which keeps the larger share.
+    QDockWidget* look = makeDock(this, tr("Look"), QStringLiteral("look"), m_look);
+    QDockWidget* compare =
+        makeDock(this, tr("Compare"), QStringLiteral("compare"), new VerticalScrollArea(m_compare));
+    addDockWidget(Qt::LeftDockWidgetArea, look);
+    addDockWidget(Qt::LeftDockWidgetArea, compare);
     addDockWidget(Qt::RightDockWidgetArea,
                   makeDock(this, tr("Workflow"), QStringLiteral("stages"), m_stages));
 

@@ -5,11 +5,14 @@
 #include <QScrollBar>
 #include <QStyle>
 
+#include <algorithm>
+
 namespace glint::studio {
 
 namespace {
-constexpr int kMinPanelHeight = 120;  // a few rows of any panel stay visible
-}
+constexpr int kMinPanelHeight = 120;   // a few rows of any panel stay visible
+constexpr int kPreferredHeight = 360;  // what a panel asks for when it could use more
+}  // namespace
 
 VerticalScrollArea::VerticalScrollArea(QWidget* panel, QWidget* parent) : QScrollArea(parent) {
     setWidgetResizable(true);
@@ -29,7 +32,9 @@ QSize VerticalScrollArea::minimumSizeHint() const {
 QSize VerticalScrollArea::sizeHint() const {
     const int bar = style()->pixelMetric(QStyle::PM_ScrollBarExtent, nullptr, this);
     const QSize panel = widget() ? widget()->sizeHint() : QSize();
-    return {panel.width() + bar + 2 * frameWidth(), panel.height() + 2 * frameWidth()};
+    // Not taller than a share of a laptop screen: a dock below or above keeps room.
+    return {panel.width() + bar + 2 * frameWidth(),
+            std::min(panel.height(), kPreferredHeight) + 2 * frameWidth()};
 }
 
 QDockWidget* makeDock(QMainWindow* window, const QString& title, const QString& name,

@@ -62,6 +62,7 @@ LookPanel::LookPanel(Document* document, SessionAdapter* session, QWidget* paren
     : QWidget(parent), m_document(document), m_session(session) {
     m_scroll = new QScrollArea(this);
     m_scroll->setWidgetResizable(true);
+    m_scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
     auto* layout = new QVBoxLayout(this);
     layout->setContentsMargins(0, 0, 0, 0);
     layout->addWidget(m_scroll);
@@ -149,7 +150,7 @@ QWidget* LookPanel::colorControl(const render::LookItem& item, const render::Loo
         spin->setValue(p.value[std::size_t(c)]);
         spin->setObjectName(QStringLiteral("c%1").arg(c));
         spin->setButtonSymbols(QAbstractSpinBox::NoButtons);
-        spin->setMaximumWidth(64);
+        spin->setMaximumWidth(58);
         spins[std::size_t(c)] = spin;
         row->addWidget(spin);
     }

@@ -117,6 +117,8 @@ class StudioFitTest : public QObject {
             if (navigate) QVERIFY(waitFor([&] { return w->navigateView()->ready(); }));
             settle();
             const QSize least = w->minimumSizeHint().expandedTo(w->minimumSize());
+            qInfo("stage %d%s: minimum %d×%d (%s)", stage + 1, navigate ? " (navigate)" : "",
+                  least.width(), least.height(), qPrintable(parts(*w)));
             QVERIFY2(least.width() <= kMaxWidth && least.height() <= kMaxHeight,
                      qPrintable(QStringLiteral("stage %1%2: minimum %3×%4 (%5)")
                                     .arg(stage + 1)
