@@ -52,6 +52,8 @@ void paintSwatch(QPushButton* button, const QColor& color) {
         QStringLiteral("background-color: %1; border: 1px solid #222;").arg(color.name()));
 }
 
+constexpr double kAnyValue = 1e9;
+
 std::string keyOf(const render::LookItem& item, const render::LookProperty& p) {
     return item.name + "/" + p.name;
 }
@@ -143,7 +145,10 @@ QWidget* LookPanel::colorControl(const render::LookItem& item, const render::Loo
     std::array<QDoubleSpinBox*, 3> spins{};
     for (int c = 0; c < 3; ++c) {
         auto* spin = new QDoubleSpinBox(w);
-        spin->setRange(p.min, p.max);
+        // Any number can be typed: one outside the property's range is refused by the scene
+        // with a message (a spin box clamped to the range refused it without a word).
+        spin->setRange(-kAnyValue, std::max(p.max, kAnyValue));
+        spin->setToolTip(tr("%1 to %2").arg(p.min).arg(p.max));
         spin->setDecimals(3);
         spin->setSingleStep(p.max > 1.0 ? 0.5 : 0.05);
         spin->setKeyboardTracking(false);
