@@ -1,11 +1,15 @@
 // The studio on a 1366×768 laptop, its tools and its keys: the window's minimum size in every
 // stage, what shows at that size, the one-shot render-region tool, one source of truth for the
-// canvas tool, single-key shortcuts wherever the focus is (but a field being typed in), and the
-// look panel's sliders and swatches.
+// canvas tool, single-key shortcuts wherever the focus is (but a field being typed in), the look
+// panel's sliders, swatches and refusals, the render bar's figures and the paint stage's side
+// preview.
 #include <QApplication>
 #include <QComboBox>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
+#include <QElapsedTimer>
+#include <QLabel>
+#include <QProgressBar>
 #include <QPushButton>
 #include <QScrollArea>
 #include <QSlider>
@@ -313,6 +317,84 @@ class StudioFitTest : public QObject {
         const QColor shown(style.mid(at, 7));
         QVERIFY2(shown.lightness() > 60, qPrintable(style));  // the scene's grey-blue sky
         QVERIFY(shown.blue() > shown.red());
+    }
+
+    void anOutOfRangeColourIsRefusedWithAMessage() {
+        auto w = openScene();
+        QVERIFY(w);
+        QDoubleSpinBox* red = nullptr;
+        for (QWidget* c : w->lookPanel()->findChildren<QWidget*>())
+            if (c->objectName().endsWith(QStringLiteral("/albedo")))
+                red = c->findChild<QDoubleSpinBox*>(QStringLiteral("c0"));
+        QVERIFY(red);
+        const double before = red->value();
+        const int steps = w->session()->undoStack()->count();
+        red->setValue(1.5);  // as if typed: the albedo's range is 0 to 1
+        QVERIFY2(w->lastError().contains(QStringLiteral("albedo")), qPrintable(w->lastError()));
+        QCOMPARE(w->session()->undoStack()->count(), steps);
+        QCOMPARE(red->value(), before);
+    }
+
+    void theRenderBarDescribesTheFrameShown() {
+        auto w = openScene();
+        QVERIFY(w);
+        auto* info = w->renderBar()->findChild<QLabel*>();
+        auto* progress = w->renderBar()->findChild<QProgressBar*>();
+        QVERIFY(info && progress);
+        QVERIFY(info->text().contains(QStringLiteral("16 spp")));
+        // An EXR has no render of ours: the scene's figures go.
+        const QString exr = m_dir.filePath(QStringLiteral("shown.exr"));
+        w->session()->session().exportExr(exr.toStdString());
+        w->openFile(exr);
+        QVERIFY(waitFor([&] { return w->document()->kind() == Document::Kind::Exr; }));
+        QVERIFY(waitIdle(*w));
+        QCOMPARE(info->text(), QString());
+        QCOMPARE(progress->value(), 0);
+    }
+
+    void pausedTimeIsNotRenderTimeAndACancelledBarStaysPut() {
+        auto w = openScene();
+        QVERIFY(w);
+        render::Settings s = w->document()->settings();
+        s.spp = 1 << 14;
+        w->document()->setSettings(s);
+        const FramePtr before = w->document()->finishedFrame();
+        QElapsedTimer wall;
+        wall.start();
+        w->document()->render();
+        QVERIFY(waitFor([&] { return w->document()->frame() != before; }));
+        w->renderBar()->pauseButton()->click();
+        QTest::qWait(1500);
+        w->renderBar()->pauseButton()->click();
+        w->renderBar()->cancelButton()->click();
+        QVERIFY(waitFor([&] { return !w->document()->rendering(); }, 30000));
+        const double elapsed = wall.elapsed() / 1000.0;
+        QVERIFY(w->document()->lastStats().cancelled);
+        QVERIFY2(w->document()->lastStats().seconds < elapsed - 1.0,
+                 qPrintable(QStringLiteral("%1 s of %2 s")
+                                .arg(w->document()->lastStats().seconds)
+                                .arg(elapsed)));
+        QVERIFY(w->renderBar()->findChild<QProgressBar*>()->value() < 1000);
+    }
+
+    void theSidePreviewFollowsTheDisplay() {
+        auto w = openScene();
+        QVERIFY(w);
+        w->setStage(2);
+        w->tuneView()->setFilter("gaussian");
+        w->tuneView()->choose(false);
+        QVERIFY(waitFor([&] { return w->session()->session().layerCount() == 1; }));
+        QVERIFY(waitIdle(*w));
+        w->setStage(3);
+        QLabel* side = nullptr;
+        for (QLabel* l : w->paintView()->findChildren<QLabel*>())
+            if (l->toolTip().contains(QStringLiteral("applied everywhere"))) side = l;
+        QVERIFY(side);
+        auto shown = [&] { return side->pixmap().toImage(); };
+        QVERIFY(waitFor([&] { return !shown().isNull(); }));
+        const QImage before = shown();
+        w->viewer()->setExposure(3.0);
+        QVERIFY(waitFor([&] { return shown() != before; }));
     }
 };
 
