@@ -23,6 +23,7 @@
 
 #include "glint/denoise/session.h"
 #include "studio_fixture.h"
+#include "views/compare_view.h"
 #include "views/image_canvas.h"
 #include "views/look_panel.h"
 #include "views/navigate_view.h"
@@ -395,6 +396,23 @@ class StudioFitTest : public QObject {
         const QImage before = shown();
         w->viewer()->setExposure(3.0);
         QVERIFY(waitFor([&] { return shown() != before; }));
+    }
+
+    void aReferenceOfAnotherLookIsFlagged() {
+        auto w = openScene();
+        QVERIFY(w);
+        w->document()->renderReference(16);
+        QVERIFY(waitFor([&] { return w->document()->reference() != nullptr; }, 60000));
+        QVERIFY(w->compareView()->lookWarning().isEmpty());
+        std::string wall;
+        for (const auto& item : w->document()->look())
+            for (const auto& p : item.properties)
+                if (p.name == "albedo" && !item.light && wall.empty()) wall = item.name;
+        w->lookPanel()->edit(wall, "albedo", {0.2, 0.3, 0.7});
+        QVERIFY(w->compareView()->lookWarning().contains(QStringLiteral("another look")));
+        QVERIFY(w->statusBar()->currentMessage().contains(QStringLiteral("another look")));
+        w->session()->undoStack()->undo();  // back to the reference's look
+        QVERIFY(w->compareView()->lookWarning().isEmpty());
     }
 };
 
