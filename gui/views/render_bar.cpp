@@ -107,7 +107,10 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
     });
     connect(m_document, &Document::opened, this, &RenderBar::syncFromDocument);
     connect(m_document, &Document::renderingChanged, this, [this](bool on) {
-        if (on) m_rendered = true;
+        if (on) {
+            m_rendered = true;
+            m_progress->setValue(0);  // a new render starts from nothing
+        }
         updateState();
     });
     connect(m_document, &Document::renderProgress, this,

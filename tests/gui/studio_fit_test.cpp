@@ -375,7 +375,8 @@ class StudioFitTest : public QObject {
                  qPrintable(QStringLiteral("%1 s of %2 s")
                                 .arg(w->document()->lastStats().seconds)
                                 .arg(elapsed)));
-        QVERIFY(w->renderBar()->findChild<QProgressBar*>()->value() < 1000);
+        QVERIFY2(w->renderBar()->findChild<QProgressBar*>()->value() < 1000,
+                 qPrintable(w->renderBar()->findChild<QLabel*>()->text()));
     }
 
     void theSidePreviewFollowsTheDisplay() {
