@@ -117,6 +117,9 @@ void LookPanel::rebuild() {
                                        QString::fromStdString(item.type));
         auto* box = new QGroupBox(title, m_content);
         auto* form = new QFormLayout(box);
+        // A label and its control share a row while they fit the dock, else the control goes
+        // below its label: the panel never needs a horizontal scroll bar.
+        form->setRowWrapPolicy(QFormLayout::WrapLongRows);
         for (const render::LookProperty& p : item.properties) {
             QWidget* control = p.type == render::PropertyType::Color ? colorControl(item, p)
                                                                      : scalarControl(item, p);
