@@ -76,6 +76,8 @@ void CanvasKeys::adopt(QWidget* widget) {
 }
 
 bool CanvasKeys::eventFilter(QObject* watched, QEvent* event) {
+    // Every event of the application passes here: only two kinds are of interest.
+    if (event->type() != QEvent::Polish && event->type() != QEvent::ShortcutOverride) return false;
     auto* widget = qobject_cast<QWidget*>(watched);
     if (!widget || !m_window || widget->window() != m_window) return false;
     if (event->type() == QEvent::Polish) {
