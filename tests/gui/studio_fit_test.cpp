@@ -8,6 +8,7 @@
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QElapsedTimer>
+#include <QFileInfo>
 #include <QLabel>
 #include <QProgressBar>
 #include <QPushButton>
@@ -342,6 +343,19 @@ class StudioFitTest : public QObject {
         auto* info = w->renderBar()->findChild<QLabel*>();
         auto* progress = w->renderBar()->findChild<QProgressBar*>();
         QVERIFY(info && progress);
+        QVERIFY(info->text().contains(QStringLiteral("16 spp")));
+        // Nor has a session: it opens its scene without rendering.
+        const QString session = m_dir.filePath(QStringLiteral("bar/shown.glint-session.json"));
+        QDir().mkpath(QFileInfo(session).path());
+        QVERIFY(w->saveSession(session));
+        bool loaded = false;
+        connect(w->session(), &SessionAdapter::loaded, this, [&] { loaded = true; });
+        w->openFile(session);
+        QVERIFY(waitFor([&] { return loaded && !w->session()->busy(); }));
+        settle();
+        QCOMPARE(info->text(), QString());
+        w->document()->render();
+        QVERIFY(waitIdle(*w));
         QVERIFY(info->text().contains(QStringLiteral("16 spp")));
         // An EXR has no render of ours: the scene's figures go.
         const QString exr = m_dir.filePath(QStringLiteral("shown.exr"));
