@@ -16,6 +16,8 @@
 #include <QTabWidget>
 #include <QToolBar>
 
+#include "app/canvas_keys.h"
+#include "app/panel_layout.h"
 #include "app/studio_settings.h"
 #include "glint/image/error.h"
 #include "views/compare_view.h"
@@ -35,15 +37,6 @@ namespace {
 
 bool isSessionPath(const QString& path) {
     return path.endsWith(QStringLiteral(".glint-session.json"), Qt::CaseInsensitive);
-}
-
-QDockWidget* dock(QMainWindow* window, const QString& title, const QString& name,
-                  QWidget* content) {
-    auto* d = new QDockWidget(title, window);
-    d->setObjectName(name);
-    d->setWidget(content);
-    d->setFeatures(QDockWidget::DockWidgetMovable | QDockWidget::DockWidgetFloatable);
-    return d;
 }
 
 }  // namespace
@@ -71,15 +64,15 @@ MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
     m_look = new LookPanel(m_document, m_session);
     m_renderBar = new RenderBar(m_document, m_viewer->canvas());
 
+    // Each panel scrolls in its dock: no stage makes the window taller than a 768-px screen.
     m_filterTabs = new QTabWidget;
-    m_filterTabs->addTab(m_tune, tr("Tune"));
-    m_filterTabs->addTab(m_navigate, tr("Navigate"));
+    m_filterTabs->addTab(new VerticalScrollArea(m_tune), tr("Tune"));
+    m_filterTabs->addTab(new VerticalScrollArea(m_navigate), tr("Navigate"));
     m_stages = new QTabWidget;
-    m_stages->addTab(m_features, tr("1 Features"));
-    m_stages->addTab(m_regionView, tr("2 Region"));
+    m_stages->addTab(new VerticalScrollArea(m_features), tr("1 Features"));
+    m_stages->addTab(new VerticalScrollArea(m_regionView), tr("2 Region"));
     m_stages->addTab(m_filterTabs, tr("3 Filter"));
-    m_stages->addTab(m_paint, tr("4 Paint"));
-    m_stages->setMinimumWidth(330);
+    m_stages->addTab(new VerticalScrollArea(m_paint), tr("4 Paint"));
 
     auto* bar = new QToolBar(tr("Render"), this);
     bar->setObjectName(QStringLiteral("renderBar"));
@@ -87,11 +80,15 @@ MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
     bar->addWidget(m_renderBar);
     addToolBar(Qt::TopToolBarArea, bar);
     m_look->setMinimumWidth(340);
-    addDockWidget(Qt::LeftDockWidgetArea, dock(this, tr("Look"), QStringLiteral("look"), m_look));
+    // The workflow has the right column to itself (Navigate's previews need its height); the
+    // comparison sits under the look on the left, which keeps the larger share.
+    QDockWidget* look = makeDock(this, tr("Look"), QStringLiteral("look"), m_look);
+    QDockWidget* compare =
+        makeDock(this, tr("Compare"), QStringLiteral("compare"), new VerticalScrollArea(m_compare));
+    addDockWidget(Qt::LeftDockWidgetArea, look);
+    addDockWidget(Qt::LeftDockWidgetArea, compare);
     addDockWidget(Qt::RightDockWidgetArea,
-                  dock(this, tr("Workflow"), QStringLiteral("stages"), m_stages));
-    addDockWidget(Qt::RightDockWidgetArea,
-                  dock(this, tr("Compare"), QStringLiteral("compare"), m_compare));
+                  makeDock(this, tr("Workflow"), QStringLiteral("stages"), m_stages));
 
     m_readout = new QLabel(this);
     m_readout->setTextInteractionFlags(Qt::TextSelectableByMouse);
@@ -108,11 +105,13 @@ MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
     m_help = new HelpOverlay(this);
     m_help->setActions(m_actions.all());
     buildMenus();
+    new CanvasKeys(this, m_viewer->canvas(), m_actions.all());
     connectModel();
     resize(1400, 860);
     restoreWindowState(*this);
     updateTitle();
     stageChanged();
+    m_viewer->canvas()->setFocus();
 }
 
 MainWindow::~MainWindow() = default;
@@ -221,17 +220,20 @@ void MainWindow::buildMenus() {
             [this] { m_viewer->setExposure(m_viewer->exposure() - 0.5); });
     for (int i = 0; i < 4; ++i)
         connect(a.stages[std::size_t(i)], &QAction::triggered, this, [this, i] { setStage(i); });
-    connect(a.lasso, &QAction::triggered, this, [this] { setStage(1); });
+    connect(a.lasso, &QAction::triggered, this, [this] {
+        setStage(1);
+        m_regionView->selectTool(ImageCanvas::Tool::Lasso);
+    });
     connect(a.wholeImage, &QAction::triggered, m_region, &RegionOfInterest::clear);
     connect(a.brushSmaller, &QAction::triggered, this, [this] { m_paint->growBrush(0.8); });
     connect(a.brushLarger, &QAction::triggered, this, [this] { m_paint->growBrush(1.25); });
     connect(a.brush, &QAction::triggered, this, [this] {
         setStage(3);
-        m_viewer->canvas()->setTool(ImageCanvas::Tool::Brush);
+        m_paint->selectTool(ImageCanvas::Tool::Brush);
     });
     connect(a.wand, &QAction::triggered, this, [this] {
         setStage(3);
-        m_viewer->canvas()->setTool(ImageCanvas::Tool::Wand);
+        m_paint->selectTool(ImageCanvas::Tool::Wand);
     });
     connect(a.diffuse, &QAction::triggered, m_paint, &PaintView::diffuse);
     connect(a.autoStart, &QAction::triggered, this, [this] {
@@ -266,8 +268,13 @@ void MainWindow::connectModel() {
     connect(m_renderBar, &RenderBar::failed, this, &MainWindow::showError);
     connect(m_look, &LookPanel::failed, this, &MainWindow::showError);
     connect(m_renderBar, &RenderBar::regionToolToggled, this, [this](bool on) {
-        m_viewer->canvas()->setTool(on ? ImageCanvas::Tool::Rectangle : ImageCanvas::Tool::Pan);
-        if (!on) stageChanged();
+        // Armed: one rectangle to render. Disarmed: the stage's own tool again.
+        if (on)
+            m_viewer->canvas()->setTool(ImageCanvas::Tool::RenderRegion);
+        else if (m_activeStage)
+            m_activeStage->applyTool();
+        else
+            m_viewer->canvas()->setTool(ImageCanvas::Tool::Pan);
     });
     for (StageView* s : std::initializer_list<StageView*>{m_features, m_regionView, m_tune,
                                                           m_navigate, m_paint, m_compare}) {
@@ -503,6 +510,7 @@ StageView* MainWindow::activeStage() const {
 void MainWindow::stageChanged() {
     StageView* next = activeStage();
     if (next == m_activeStage) return;
+    m_renderBar->disarmRegionTool();  // a stage change leaves the one-shot render-region tool
     if (m_activeStage) m_activeStage->setActive(false);
     m_activeStage = next;
     if (m_activeStage) m_activeStage->setActive(true);

@@ -26,16 +26,21 @@ void addRecentFile(const QString& path) {
     QSettings().setValue(kRecent, files);
 }
 
+namespace {
+// Version 2: Compare moved under Look (the window fits 1366×768); older layouts are not restored.
+constexpr int kStateVersion = 2;
+}  // namespace
+
 void saveWindowState(const QMainWindow& window) {
     QSettings s;
     s.setValue(QStringLiteral("window/geometry"), window.saveGeometry());
-    s.setValue(QStringLiteral("window/state"), window.saveState());
+    s.setValue(QStringLiteral("window/state"), window.saveState(kStateVersion));
 }
 
 void restoreWindowState(QMainWindow& window) {
     QSettings s;
     window.restoreGeometry(s.value(QStringLiteral("window/geometry")).toByteArray());
-    window.restoreState(s.value(QStringLiteral("window/state")).toByteArray());
+    window.restoreState(s.value(QStringLiteral("window/state")).toByteArray(), kStateVersion);
 }
 
 }  // namespace glint::studio

@@ -318,6 +318,7 @@ void Document::openReference(const QString& path) {
                 return;
             }
             m_reference = std::make_shared<const FrameBuffers>(std::move(frame));
+            m_referenceLook.reset();
             emit referenceChanged();
         },
         [this, path](const QString& message) {
@@ -340,9 +341,10 @@ void Document::renderReference(int spp) {
         m_referenceJob.get(), &RenderJob::progress, this,
         [this](std::uint64_t, int, double fraction, double) { emit referenceProgress(fraction); });
     connect(m_referenceJob.get(), &RenderJob::finished, this,
-            [this](std::uint64_t, FramePtr frame, const render::RenderStats& stats) {
+            [this, look](std::uint64_t, FramePtr frame, const render::RenderStats& stats) {
                 if (stats.cancelled) return;
                 m_reference = frame;
+                m_referenceLook = look;
                 emit referenceChanged();
             });
     connect(m_referenceJob.get(), &RenderJob::failed, this,
@@ -371,9 +373,23 @@ void Document::renderReference(int spp) {
         });
 }
 
+bool Document::referenceLookDiffers() const {
+    if (!m_reference || !m_referenceLook) return false;
+    if (m_referenceLook->size() != m_look.size()) return true;
+    for (std::size_t i = 0; i < m_look.size(); ++i) {
+        const auto& a = (*m_referenceLook)[i].properties;
+        const auto& b = m_look[i].properties;
+        if (a.size() != b.size()) return true;
+        for (std::size_t k = 0; k < a.size(); ++k)
+            if (a[k].name != b[k].name || a[k].value != b[k].value) return true;
+    }
+    return false;
+}
+
 void Document::clearReference() {
     m_referenceJob.reset();
     m_reference.reset();
+    m_referenceLook.reset();
     m_curve.clear();
     emit referenceChanged();
     emit curveChanged();

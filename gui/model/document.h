@@ -80,6 +80,9 @@ class Document : public QObject {
     /// Renders a reference at `spp` in the background with its own renderer.
     void renderReference(int spp);
     void clearReference();
+    /// The reference was rendered with another look than the current one (false for an opened
+    /// EXR, whose look is not known).
+    bool referenceLookDiffers() const;
     bool referenceRendering() const { return m_referenceJob && m_referenceJob->busy(); }
 
     /// relMSE of each pass of the current render against the reference.
@@ -122,6 +125,7 @@ class Document : public QObject {
     FramePtr m_frame;
     FramePtr m_finished;
     FramePtr m_reference;
+    std::optional<std::vector<render::LookItem>> m_referenceLook;  // of a rendered reference
     std::optional<Rect> m_mergeRegion;  // the running render covers only this region
     FramePtr m_mergeBase;               // and is merged into this frame
     std::vector<CurvePoint> m_curve;

@@ -66,6 +66,9 @@ void RenderJob::cancel() {
 void RenderJob::setPaused(bool paused) {
     {
         std::lock_guard lock(m_mutex);
+        const auto now = std::chrono::steady_clock::now();
+        if (paused && !m_paused) m_pausedSince = now;
+        if (!paused && m_paused) m_pausedTotal += now - m_pausedSince;
         m_paused = paused;
     }
     m_wake.notify_all();
@@ -128,7 +131,18 @@ void RenderJob::runOne(const Request& request, std::shared_ptr<render::Renderer>
     }
     using Clock = std::chrono::steady_clock;
     const Clock::time_point t0 = Clock::now();
-    auto seconds = [t0] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+    {
+        std::lock_guard lock(m_mutex);
+        m_pausedTotal = {};
+    }
+    // Render time: the wall time since the start less the time spent paused.
+    auto seconds = [this, t0] {
+        std::lock_guard lock(m_mutex);
+        const Clock::time_point now = Clock::now();
+        const Clock::duration paused =
+            m_pausedTotal + (m_paused ? now - m_pausedSince : Clock::duration{});
+        return std::chrono::duration<double>(now - t0 - paused).count();
+    };
     Clock::time_point lastProgress = t0;
 
     render::Callbacks callbacks;
@@ -153,6 +167,7 @@ void RenderJob::runOne(const Request& request, std::shared_ptr<render::Renderer>
     };
     try {
         render::RenderResult result = renderer->render(request.settings, callbacks);
+        result.stats.seconds = seconds();  // the renderer's wall time counts pauses
         auto frame = std::make_shared<const FrameBuffers>(std::move(result.frame));
         deliver([this, id, frame, stats = result.stats, finishedBusy] {
             emit finished(id, frame, stats);

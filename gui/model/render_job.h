@@ -7,6 +7,7 @@
 #include <QObject>
 #include <QString>
 
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -79,6 +80,10 @@ class RenderJob : public QObject {
     std::shared_ptr<render::Renderer> m_renderer;
     bool m_cancel = false;
     bool m_paused = false;
+    // Time the running render spent paused (not render time): the total of finished pauses and
+    // when the current one began.
+    std::chrono::steady_clock::duration m_pausedTotal{};
+    std::chrono::steady_clock::time_point m_pausedSince{};
     bool m_quit = false;
     std::uint64_t m_nextId = 1;
     std::uint64_t m_currentId = 0;  // UI thread only

@@ -46,6 +46,13 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
     m_table->setToolTip(
         tr("Of the result (the composite) against the reference; the region's "
            "figures cover its bounding box"));
+    m_lookWarning =
+        new QLabel(tr("The reference was rendered with another look: its metrics compare different "
+                      "scenes. Render it again."),
+                   this);
+    m_lookWarning->setWordWrap(true);
+    m_lookWarning->setStyleSheet(QStringLiteral("color: #d04020;"));
+    m_lookWarning->hide();
     m_stats = new QLabel(this);
     m_stats->setWordWrap(true);
     m_stats->setTextInteractionFlags(Qt::TextSelectableByMouse);
@@ -71,6 +78,7 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
     layout->addLayout(row1);
     layout->addLayout(row2);
     layout->addWidget(m_progress);
+    layout->addWidget(m_lookWarning);
     layout->addWidget(m_error);
     layout->addWidget(m_table);
     layout->addWidget(m_stats);
@@ -96,8 +104,10 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
             [this](double f) { m_progress->setValue(int(f * 1000.0)); });
     connect(m_context.document, &Document::referenceChanged, this, [this] {
         if (m_context.document->reference()) m_progress->setValue(1000);
+        updateLookWarning();
         schedule();
     });
+    connect(m_context.document, &Document::lookChanged, this, &CompareView::updateLookWarning);
     connect(m_context.document, &Document::curveChanged, this,
             [this] { m_plot->setPoints(m_context.document->curve()); });
     connect(m_context.document, &Document::frameChanged, this, &CompareView::schedule);
@@ -107,6 +117,17 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
     m_debounce.setInterval(150);
     connect(&m_debounce, &QTimer::timeout, this, &CompareView::measure);
     show();
+}
+
+QString CompareView::lookWarning() const {
+    return m_lookWarning->isHidden() ? QString() : m_lookWarning->text();
+}
+
+void CompareView::updateLookWarning() {
+    const bool differs = m_context.document->referenceLookDiffers();
+    m_lookWarning->setVisible(differs);
+    if (differs && !m_warnedLook) emit status(m_lookWarning->text());
+    m_warnedLook = differs;
 }
 
 void CompareView::schedule() {

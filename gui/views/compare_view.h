@@ -30,6 +30,8 @@ class CompareView : public StageView {
   public:
     CompareView(const StudioContext& context, QWidget* parent = nullptr);
     const Measurement& measurement() const { return m_measurement; }
+    /// The warning that the reference's look is not the current one (empty: none).
+    QString lookWarning() const;
 
   signals:
     void measured();
@@ -40,6 +42,7 @@ class CompareView : public StageView {
     void schedule();
     void measure();
     void show();
+    void updateLookWarning();
 
     TaskRunner m_tasks;
     QTimer m_debounce;
@@ -47,6 +50,8 @@ class CompareView : public StageView {
     QProgressBar* m_progress;
     QTableWidget* m_table;
     QLabel* m_stats;
+    QLabel* m_lookWarning;
+    bool m_warnedLook = false;
     QComboBox* m_error;
     ConvergencePlot* m_plot;
     Measurement m_measurement;

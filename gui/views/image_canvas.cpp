@@ -11,7 +11,9 @@ namespace glint::studio {
 
 ImageCanvas::ImageCanvas(QWidget* parent) : QWidget(parent) {
     setMouseTracking(true);
-    setFocusPolicy(Qt::StrongFocus);
+    // Tab gives focus; a click gives it in mousePressEvent, which can then tell a click that only
+    // focuses the canvas from one that paints.
+    setFocusPolicy(Qt::TabFocus);
     setMinimumSize(200, 150);
     setAttribute(Qt::WA_OpaquePaintEvent);
 }
@@ -67,15 +69,18 @@ void ImageCanvas::setDisplay(const DisplaySettings& display) {
     if (!m_compareSource.empty()) m_compare = toQImage(m_compareSource, m_display);
     if (!m_brushSourceImage.empty()) m_brushSource = toQImage(m_brushSourceImage, m_display);
     update();
+    emit displayChanged();
 }
 
 void ImageCanvas::setTool(Tool tool) {
+    const bool changed = tool != m_tool;
     m_tool = tool;
     m_drawing.clear();
     setCursor(tool == Tool::Pan     ? Qt::OpenHandCursor
               : tool == Tool::Brush ? Qt::BlankCursor
                                     : Qt::CrossCursor);
     update();
+    if (changed) emit toolChanged(tool);
 }
 
 void ImageCanvas::setRegion(const QPolygonF& polygon) {
@@ -235,7 +240,8 @@ void ImageCanvas::paintEvent(QPaintEvent* event) {
         p.setRenderHint(QPainter::Antialiasing, false);
     };
     if (!m_region.isEmpty()) outline(m_region, true);
-    if (!m_drawing.isEmpty()) outline(m_drawing, m_tool == Tool::Rectangle);
+    if (!m_drawing.isEmpty())
+        outline(m_drawing, m_tool == Tool::Rectangle || m_tool == Tool::RenderRegion);
     // The brush: what it would paint inside, and its inner and outer radii.
     if (m_tool == Tool::Brush && m_cursor) {
         const double r = m_brushSize / 2.0 * m_zoom;
@@ -271,6 +277,15 @@ void ImageCanvas::wheelEvent(QWheelEvent* event) {
 }
 
 void ImageCanvas::mousePressEvent(QMouseEvent* event) {
+    // A click into a canvas without focus focuses it; with the brush or the wand it does not
+    // also paint (the user clicked to get the keys back).
+    if (!hasFocus() && window()->isActiveWindow()) {
+        setFocus(Qt::MouseFocusReason);
+        if (m_tool == Tool::Brush || m_tool == Tool::Wand) {
+            m_focusClick = true;
+            return;
+        }
+    }
     const QPointF at = toImage(event->position());
     m_pressWidget = event->position();
     m_pressOffset = m_offset;
@@ -324,7 +339,7 @@ void ImageCanvas::mouseMoveEvent(QMouseEvent* event) {
     }
     if (m_stroking) emit strokeMoved(at);
     if (!m_drawing.isEmpty() && (event->buttons() & Qt::LeftButton)) {
-        if (m_tool == Tool::Rectangle) {
+        if (m_tool == Tool::Rectangle || m_tool == Tool::RenderRegion) {
             m_drawing = QPolygonF(QRectF(m_anchor, at).normalized());
         } else {
             m_drawing << at;
@@ -341,6 +356,10 @@ void ImageCanvas::mouseMoveEvent(QMouseEvent* event) {
 }
 
 void ImageCanvas::mouseReleaseEvent(QMouseEvent* event) {
+    if (m_focusClick) {
+        m_focusClick = false;
+        return;
+    }
     if (m_panning) {
         m_panning = false;
         setCursor(m_tool == Tool::Pan ? Qt::OpenHandCursor : Qt::CrossCursor);
@@ -361,13 +380,17 @@ void ImageCanvas::mouseReleaseEvent(QMouseEvent* event) {
     update();
     const QRectF bounds = drawn.boundingRect();
     if (bounds.width() < 2.0 || bounds.height() < 2.0) return;  // a click, not a region
-    if (m_tool == Tool::Rectangle) {
+    if (m_tool == Tool::Rectangle || m_tool == Tool::RenderRegion) {
         const QRect r = QRectF(std::floor(bounds.left()), std::floor(bounds.top()),
                                std::ceil(bounds.right()) - std::floor(bounds.left()),
                                std::ceil(bounds.bottom()) - std::floor(bounds.top()))
                             .toRect()
                             .intersected(QRect(0, 0, m_image.width(), m_image.height()));
-        if (!r.isEmpty()) emit rectangleDrawn(r);
+        if (r.isEmpty()) return;
+        if (m_tool == Tool::RenderRegion)
+            emit renderRegionDrawn(r);
+        else
+            emit rectangleDrawn(r);
     } else if (m_tool == Tool::Lasso && drawn.size() >= 3) {
         emit lassoDrawn(drawn);
     }

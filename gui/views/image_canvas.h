@@ -20,8 +20,9 @@ namespace glint::studio {
 class ImageCanvas : public QWidget {
     Q_OBJECT
   public:
-    /// What a left drag does.
-    enum class Tool { Pan, Lasso, Rectangle, Brush, Wand };
+    /// What a left drag does. RenderRegion draws a rectangle like Rectangle but reports it as
+    /// renderRegionDrawn (the render bar's one-shot tool), never as a region of interest.
+    enum class Tool { Pan, Lasso, Rectangle, Brush, Wand, RenderRegion };
 
     explicit ImageCanvas(QWidget* parent = nullptr);
 
@@ -45,6 +46,7 @@ class ImageCanvas : public QWidget {
     void setDisplay(const DisplaySettings& display);
     const DisplaySettings& display() const { return m_display; }
 
+    /// The one place the active tool is set; emits toolChanged so panels show it.
     void setTool(Tool tool);
     Tool tool() const { return m_tool; }
 
@@ -79,6 +81,12 @@ class ImageCanvas : public QWidget {
     void hovered(int x, int y);
     void lassoDrawn(const QPolygonF& polygon);
     void rectangleDrawn(const QRect& rect);
+    /// A rectangle drawn with the RenderRegion tool.
+    void renderRegionDrawn(const QRect& rect);
+    /// setDisplay changed how values reach the screen.
+    void displayChanged();
+    /// setTool changed the tool.
+    void toolChanged(glint::studio::ImageCanvas::Tool tool);
     void strokeBegan(const QPointF& at, bool subtract);
     void strokeMoved(const QPointF& at);
     void strokeEnded();
@@ -128,6 +136,7 @@ class ImageCanvas : public QWidget {
     bool m_panning = false;
     bool m_stroking = false;
     bool m_resizingBrush = false;
+    bool m_focusClick = false;  // the press only gave the canvas focus: it does not paint
     QPointF m_pressWidget;
     QPointF m_pressOffset;
     double m_pressBrushSize = 0.0;

@@ -23,19 +23,36 @@ namespace glint::studio {
 
 namespace {
 
-// The swatch colour of a linear RGB value (clamped, sRGB-encoded).
-QColor swatchColor(const std::array<double, 3>& v, double max) {
+// The swatch colour of a linear RGB value, sRGB-encoded. A value brighter than 1 (a light's
+// radiance) is divided by its largest component: the swatch shows its hue, not white. Dividing
+// by the property's range instead turned every environment colour black (the range is 1e18).
+QColor swatchColor(const std::array<double, 3>& v) {
+    const double peak = std::max({v[0], v[1], v[2]});
+    const double scale = peak > 1.0 ? 1.0 / peak : 1.0;
     auto c = [&](double x) {
-        const double scaled = max > 1.0 ? x / max : x;  // emission: show the hue
-        return int(std::lround(255.0 * srgbEncode(float(std::clamp(scaled, 0.0, 1.0)))));
+        return int(std::lround(255.0 * srgbEncode(float(std::clamp(x * scale, 0.0, 1.0)))));
     };
     return QColor(c(v[0]), c(v[1]), c(v[2]));
+}
+
+// The slider's range for a scalar: bounded even when the property's range is not (a strength can
+// reach 1e18, a rotation ±1e6), so a short drag stays a small change; the spin box beside it
+// takes any value of the full range.
+std::pair<double, double> sliderRange(const render::LookProperty& p) {
+    if (p.logScale) {
+        const double lo = p.min <= 0.0 ? 1e-3 : p.min;
+        return {lo, std::max(lo, std::min(p.max, std::max(1000.0, 10.0 * p.value[0])))};
+    }
+    if (p.max - p.min > 1e4) return {std::max(p.min, -360.0), std::min(p.max, 360.0)};
+    return {p.min, p.max};
 }
 
 void paintSwatch(QPushButton* button, const QColor& color) {
     button->setStyleSheet(
         QStringLiteral("background-color: %1; border: 1px solid #222;").arg(color.name()));
 }
+
+constexpr double kAnyValue = 1e9;
 
 std::string keyOf(const render::LookItem& item, const render::LookProperty& p) {
     return item.name + "/" + p.name;
@@ -47,6 +64,7 @@ LookPanel::LookPanel(Document* document, SessionAdapter* session, QWidget* paren
     : QWidget(parent), m_document(document), m_session(session) {
     m_scroll = new QScrollArea(this);
     m_scroll->setWidgetResizable(true);
+    m_scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
     auto* layout = new QVBoxLayout(this);
     layout->setContentsMargins(0, 0, 0, 0);
     layout->addWidget(m_scroll);
@@ -99,6 +117,9 @@ void LookPanel::rebuild() {
                                        QString::fromStdString(item.type));
         auto* box = new QGroupBox(title, m_content);
         auto* form = new QFormLayout(box);
+        // A label and its control share a row while they fit the dock, else the control goes
+        // below its label: the panel never needs a horizontal scroll bar.
+        form->setRowWrapPolicy(QFormLayout::WrapLongRows);
         for (const render::LookProperty& p : item.properties) {
             QWidget* control = p.type == render::PropertyType::Color ? colorControl(item, p)
                                                                      : scalarControl(item, p);
@@ -122,19 +143,22 @@ QWidget* LookPanel::colorControl(const render::LookItem& item, const render::Loo
     auto* swatch = new QPushButton(w);
     swatch->setObjectName(QStringLiteral("swatch"));
     swatch->setFixedSize(28, 20);
-    paintSwatch(swatch, swatchColor(p.value, p.max));
+    paintSwatch(swatch, swatchColor(p.value));
     row->addWidget(swatch);
     std::array<QDoubleSpinBox*, 3> spins{};
     for (int c = 0; c < 3; ++c) {
         auto* spin = new QDoubleSpinBox(w);
-        spin->setRange(p.min, p.max);
+        // Any number can be typed: one outside the property's range is refused by the scene
+        // with a message (a spin box clamped to the range refused it without a word).
+        spin->setRange(-kAnyValue, std::max(p.max, kAnyValue));
+        spin->setToolTip(tr("%1 to %2").arg(p.min).arg(p.max));
         spin->setDecimals(3);
         spin->setSingleStep(p.max > 1.0 ? 0.5 : 0.05);
         spin->setKeyboardTracking(false);
         spin->setValue(p.value[std::size_t(c)]);
         spin->setObjectName(QStringLiteral("c%1").arg(c));
         spin->setButtonSymbols(QAbstractSpinBox::NoButtons);
-        spin->setMaximumWidth(64);
+        spin->setMaximumWidth(58);
         spins[std::size_t(c)] = spin;
         row->addWidget(spin);
     }
@@ -148,8 +172,8 @@ QWidget* LookPanel::colorControl(const render::LookItem& item, const render::Loo
         // Colours up to 1 are picked directly; brighter ones (emission) keep their scale.
         const std::array<double, 3> v{spins[0]->value(), spins[1]->value(), spins[2]->value()};
         const double scale = max > 1.0 ? std::max({v[0], v[1], v[2], 1e-6}) : 1.0;
-        const QColor picked = QColorDialog::getColor(
-            swatchColor({v[0] / scale, v[1] / scale, v[2] / scale}, 1.0), this);
+        const QColor picked =
+            QColorDialog::getColor(swatchColor({v[0] / scale, v[1] / scale, v[2] / scale}), this);
         if (!picked.isValid()) return;
         auto lin = [&](int c) { return double(srgbDecode(float(c) / 255.0f)) * scale; };
         edit(name, property, {lin(picked.red()), lin(picked.green()), lin(picked.blue())});
@@ -158,8 +182,8 @@ QWidget* LookPanel::colorControl(const render::LookItem& item, const render::Loo
 }
 
 QWidget* LookPanel::scalarControl(const render::LookItem& item, const render::LookProperty& p) {
-    auto* control = new ScalarControl(p.min, p.max, p.logScale && p.min <= 0.0 ? 1e-3 : p.min,
-                                      p.max, p.logScale, false);
+    const auto [sliderMin, sliderMax] = sliderRange(p);
+    auto* control = new ScalarControl(p.min, p.max, sliderMin, sliderMax, p.logScale, false);
     control->setValue(p.value[0]);
     const std::string name = item.name, property = p.name;
     connect(control, &ScalarControl::editingFinished, this, [this, name, property](double v) {
@@ -185,7 +209,7 @@ void LookPanel::refreshValues() {
                     spin->blockSignals(false);
                 }
             if (auto* swatch = w->findChild<QPushButton*>(QStringLiteral("swatch")))
-                paintSwatch(swatch, swatchColor(p.value, p.max));
+                paintSwatch(swatch, swatchColor(p.value));
         }
 }
 

@@ -18,6 +18,11 @@ class LookPanel : public QWidget {
   public:
     LookPanel(Document* document, SessionAdapter* session, QWidget* parent = nullptr);
 
+    /// Tall enough to take the larger share of its dock column (Compare sits below it): a few
+    /// properties always show.
+    QSize sizeHint() const override { return {340, 560}; }
+    QSize minimumSizeHint() const override { return {340, 220}; }
+
     /// Sets a property as the user would (pushes an undo step); for tests and scripts.
     void edit(const std::string& item, const std::string& property,
               const std::array<double, 3>& value);

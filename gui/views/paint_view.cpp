@@ -1,6 +1,5 @@
 #include "views/paint_view.h"
 
-#include <QButtonGroup>
 #include <QCheckBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
@@ -49,9 +48,8 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
     m_wandTool->setToolTip(
         tr("Click: fill the connected area of similar features (left adds, "
            "right removes) (M)"));
-    auto* tools = new QButtonGroup(this);
-    tools->addButton(m_brushTool);
-    tools->addButton(m_wandTool);
+    addToolButton(m_brushTool, ImageCanvas::Tool::Brush);
+    addToolButton(m_wandTool, ImageCanvas::Tool::Wand);
     auto* diffuseButton = new QPushButton(tr("Diffuse"), this);
     diffuseButton->setToolTip(
         tr("Poisson diffusion: spread the painted weights smoothly over the "
@@ -74,6 +72,8 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
     m_changeMap->setToolTip(tr("Where the selected filter would change the current composite"));
     m_side = new QLabel(this);
     m_side->setMinimumHeight(160);
+    // The preview is scaled to the label: its pixmap must not widen the panel.
+    m_side->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Ignored);
     m_side->setAlignment(Qt::AlignCenter);
     m_side->setToolTip(tr("The selected filter applied everywhere"));
     m_state = new QLabel(this);
@@ -120,12 +120,6 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
             std::size_t(currentLayer()),
             Image(session->session().width(), session->session().height(), 1, 0.0f));
     });
-    connect(m_brushTool, &QToolButton::toggled, this, [this, canvas](bool on) {
-        if (on && m_active) canvas->setTool(ImageCanvas::Tool::Brush);
-    });
-    connect(m_wandTool, &QToolButton::toggled, this, [this, canvas](bool on) {
-        if (on && m_active) canvas->setTool(ImageCanvas::Tool::Wand);
-    });
     connect(diffuseButton, &QPushButton::clicked, this, &PaintView::diffuse);
     connect(m_size, &QDoubleSpinBox::valueChanged, this,
             [this, canvas](double v) { canvas->setBrush(v, m_softness->value() / 100.0); });
@@ -163,6 +157,10 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
     connect(session, &SessionAdapter::sessionReset, this, &PaintView::rebuildLayers);
     connect(session, &SessionAdapter::inputChanged, this, &PaintView::layerSelected);
     connect(m_context.viewer, &Viewer::channelChanged, this, &PaintView::layerSelected);
+    // The side preview and the brush show the layer as the canvas does (exposure, mode).
+    connect(canvas, &ImageCanvas::displayChanged, this, [this] {
+        if (m_active) layerSelected();
+    });
     connect(session, &SessionAdapter::compositeChanged, this, [this](const Rect&) {
         if (m_changeMap->isChecked() && !m_stroking) updateOverlay();
     });
@@ -335,7 +333,7 @@ void PaintView::diffuse() {
 
 void PaintView::activate() {
     ImageCanvas* canvas = m_context.viewer->canvas();
-    canvas->setTool(m_wandTool->isChecked() ? ImageCanvas::Tool::Wand : ImageCanvas::Tool::Brush);
+    applyTool();
     canvas->setBrush(m_size->value(), m_softness->value() / 100.0);
     layerSelected();
 }

@@ -1,6 +1,5 @@
 #include "views/region_view.h"
 
-#include <QButtonGroup>
 #include <QLabel>
 #include <QPushButton>
 #include <QToolButton>
@@ -18,9 +17,8 @@ RegionView::RegionView(const StudioContext& context, QWidget* parent) : StageVie
     m_rectangle->setText(tr("Rectangle"));
     m_rectangle->setCheckable(true);
     m_rectangle->setToolTip(tr("Drag a rectangle"));
-    auto* group = new QButtonGroup(this);
-    group->addButton(m_lasso);
-    group->addButton(m_rectangle);
+    addToolButton(m_lasso, ImageCanvas::Tool::Lasso);
+    addToolButton(m_rectangle, ImageCanvas::Tool::Rectangle);
     auto* whole = new QPushButton(tr("Whole image"), this);
     whole->setToolTip(tr("Work on the whole image (W)"));
     m_label = new QLabel(this);
@@ -42,12 +40,6 @@ RegionView::RegionView(const StudioContext& context, QWidget* parent) : StageVie
     layout->addStretch(1);
 
     ImageCanvas* canvas = m_context.viewer->canvas();
-    connect(m_lasso, &QToolButton::toggled, this, [this, canvas](bool on) {
-        if (on && active()) canvas->setTool(ImageCanvas::Tool::Lasso);
-    });
-    connect(m_rectangle, &QToolButton::toggled, this, [this, canvas](bool on) {
-        if (on && active()) canvas->setTool(ImageCanvas::Tool::Rectangle);
-    });
     connect(whole, &QPushButton::clicked, m_context.region, &RegionOfInterest::clear);
     connect(canvas, &ImageCanvas::lassoDrawn, this, [this](const QPolygonF& polygon) {
         if (active()) m_context.region->setPolygon(polygon);
@@ -62,8 +54,7 @@ RegionView::RegionView(const StudioContext& context, QWidget* parent) : StageVie
 }
 
 void RegionView::activate() {
-    m_context.viewer->canvas()->setTool(m_rectangle->isChecked() ? ImageCanvas::Tool::Rectangle
-                                                                 : ImageCanvas::Tool::Lasso);
+    applyTool();
 }
 
 void RegionView::deactivate() {}

@@ -49,7 +49,9 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
     m_regionTool = new QToolButton(this);
     m_regionTool->setText(tr("Region"));
     m_regionTool->setCheckable(true);
-    m_regionTool->setToolTip(tr("Drag a rectangle on the image: only that part is re-rendered"));
+    m_regionTool->setToolTip(
+        tr("Drag one rectangle on the image: only that part is re-rendered (the tool then "
+           "disarms)"));
     m_clearRegion = new QToolButton(this);
     m_clearRegion->setText(tr("Full frame"));
     m_clearRegion->setToolTip(tr("Render the whole frame again"));
@@ -57,8 +59,9 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
     m_progress->setRange(0, 1000);
     m_progress->setTextVisible(false);
     m_progress->setMaximumWidth(180);
+    m_progress->setMinimumWidth(60);
     m_info = new QLabel(this);
-    m_info->setMinimumWidth(200);
+    m_info->setMinimumWidth(120);
 
     auto* layout = new QHBoxLayout(this);
     layout->setContentsMargins(4, 2, 4, 2);
@@ -91,8 +94,10 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
             emit failed(tr("Cannot render"), QString::fromStdString(e.what()));
         }
     });
-    connect(m_canvas, &ImageCanvas::rectangleDrawn, this, [this](const QRect& r) {
+    connect(m_canvas, &ImageCanvas::renderRegionDrawn, this, [this](const QRect& r) {
         if (!m_regionTool->isChecked()) return;
+        // One rectangle per arming: the next drag is the stage's again.
+        disarmRegionTool();
         try {
             applySettings();
             m_document->renderRegion(Rect{r.left(), r.right() + 1, r.top(), r.bottom() + 1});
@@ -101,7 +106,13 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
         }
     });
     connect(m_document, &Document::opened, this, &RenderBar::syncFromDocument);
-    connect(m_document, &Document::renderingChanged, this, &RenderBar::updateState);
+    connect(m_document, &Document::renderingChanged, this, [this](bool on) {
+        if (on) {
+            m_rendered = true;
+            m_progress->setValue(0);  // a new render starts from nothing
+        }
+        updateState();
+    });
     connect(m_document, &Document::renderProgress, this,
             [this](int pass, double fraction, int spp, double seconds) {
                 m_progress->setValue(int(fraction * 1000.0));
@@ -110,18 +121,33 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
             });
     connect(m_document, &Document::frameChanged, this, [this](bool final) {
         if (!final) return;
+        if (!m_rendered || m_document->kind() != Document::Kind::Scene) {
+            // A frame from a file, a session or a restore: no render of ours to report.
+            m_progress->setValue(0);
+            m_info->clear();
+            return;
+        }
+        m_rendered = false;
         const render::RenderStats& s = m_document->lastStats();
-        m_progress->setValue(1000);
-        if (m_document->kind() == Document::Kind::Scene)
-            m_info->setText(tr("%1 spp in %2 s%3")
-                                .arg(s.completedSpp)
-                                .arg(s.seconds, 0, 'f', 2)
-                                .arg(s.cancelled ? tr(" (cancelled)") : QString()));
+        // A cancelled render keeps the bar where it stopped.
+        if (!s.cancelled) m_progress->setValue(1000);
+        m_info->setText(tr("%1 spp in %2 s%3")
+                            .arg(s.completedSpp)
+                            .arg(s.seconds, 0, 'f', 2)
+                            .arg(s.cancelled ? tr(" (cancelled)") : QString()));
     });
     updateState();
 }
 
+void RenderBar::disarmRegionTool() {
+    if (m_regionTool->isChecked()) m_regionTool->setChecked(false);
+}
+
 void RenderBar::syncFromDocument() {
+    // What the bar said of the previous document's render does not describe this one.
+    m_progress->setValue(0);
+    m_info->clear();
+    m_rendered = false;
     // A scene's own seed, integrator and MIS; the spp stays what the user chose (low).
     const render::Settings& s = m_document->settings();
     m_seed->setValue(int(std::min<std::uint64_t>(s.seed, std::uint64_t(m_seed->maximum()))));

@@ -29,6 +29,8 @@ class RenderBar : public QWidget {
     QPushButton* pauseButton() { return m_pause; }
     QToolButton* regionButton() { return m_regionTool; }
     QCheckBox* halvesBox() { return m_halves; }
+    /// Leaves the render-region tool (after its one rectangle, or when the stage changes).
+    void disarmRegionTool();
 
   signals:
     /// The user asked for the render-region tool (true) or left it.
@@ -53,6 +55,7 @@ class RenderBar : public QWidget {
     QToolButton* m_clearRegion;
     QProgressBar* m_progress;
     QLabel* m_info;
+    bool m_rendered = false;  // a render ran since the last final frame
 };
 
 }  // namespace glint::studio

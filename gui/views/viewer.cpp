@@ -135,6 +135,12 @@ Viewer::Viewer(Document* document, SessionAdapter* session, QWidget* parent)
     m_wipe->setRange(0, 1000);
     m_wipe->setValue(500);
     m_wipe->setMaximumWidth(160);
+    // The bar gives way before the window outgrows a 1366-px screen.
+    m_wipe->setMinimumWidth(40);
+    for (QComboBox* box : {m_channelBox, m_mode}) {
+        box->setSizeAdjustPolicy(QComboBox::AdjustToMinimumContentsLengthWithIcon);
+        box->setMinimumContentsLength(box == m_channelBox ? 8 : 5);
+    }
     m_wipe->setEnabled(false);
 
     auto* bar = new QHBoxLayout;

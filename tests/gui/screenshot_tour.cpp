@@ -1,9 +1,10 @@
 // The screenshot tour: scenes/cornell through every stage of the workflow, one PNG of the whole
 // window per stage, written to the folder given (build/screenshots/ under ctest; docs/images/
 // holds reduced copies). Fails when a screenshot cannot be written or shows a blank canvas.
-//   studio_screenshots OUT_DIR [--docs DOCS_DIR]
+//   studio_screenshots OUT_DIR [--docs DOCS_DIR] [--size WIDTHxHEIGHT]
 // With --docs, reduced copies (720 px wide, 8-bit palette) of the screenshots docs/studio.md shows
-// are written to DOCS_DIR as studio-NAME.png.
+// are written to DOCS_DIR as studio-NAME.png. --size sets the window's size (1500x900 by
+// default; 1366x768 shows the studio on a laptop screen).
 #include <QApplication>
 #include <QCheckBox>
 #include <QDir>
@@ -86,16 +87,29 @@ int main(int argc, char** argv) {
     QApplication app(argc, argv);
     QApplication::setOrganizationName(QStringLiteral("GlintTests"));
     QStandardPaths::setTestModeEnabled(true);
-    if (argc != 2 && !(argc == 4 && std::strcmp(argv[2], "--docs") == 0)) {
-        std::fprintf(stderr, "usage: studio_screenshots OUT_DIR [--docs DOCS_DIR]\n");
+    QSize size(1500, 900);
+    bool usage = argc < 2 || argc % 2 != 0;
+    for (int i = 2; i + 1 < argc && !usage; i += 2) {
+        const QString value = QString::fromLocal8Bit(argv[i + 1]);
+        if (std::strcmp(argv[i], "--docs") == 0) {
+            g_docs = value;
+        } else if (std::strcmp(argv[i], "--size") == 0) {
+            const QStringList wh = value.split(QLatin1Char('x'));
+            size = wh.size() == 2 ? QSize(wh[0].toInt(), wh[1].toInt()) : QSize();
+            usage = size.isEmpty();
+        } else {
+            usage = true;
+        }
+    }
+    if (usage) {
+        std::fprintf(stderr, "usage: studio_screenshots OUT_DIR [--docs DOCS_DIR] [--size WxH]\n");
         return 2;
     }
-    if (argc == 4) g_docs = QString::fromLocal8Bit(argv[3]);
     const QString out = QString::fromLocal8Bit(argv[1]);
     QDir().mkpath(out);
     QTemporaryDir tmp;
     auto w = makeWindow(tmp.filePath(QStringLiteral("autosave")));
-    w->resize(1500, 900);
+    w->resize(size);
     const QString scene = QDir(sourceDir()).filePath(QStringLiteral("scenes/cornell/scene.json"));
 
     // 1. Open: the render refines and lands.

@@ -1,0 +1,39 @@
+// Single-key shortcuts (1–4, B, M, L, Space, E, F...) act on the canvas wherever the focus is,
+// except in a widget where the user is typing (a line edit, a spin box being edited, an editable
+// combo box). Escape returns the focus to the canvas. Spin boxes and combo boxes take the focus
+// by click only and hand it back to the canvas once a value is entered or an item picked, so a
+// later key is a shortcut again.
+#pragma once
+
+#include <QList>
+#include <QObject>
+#include <QPointer>
+
+class QAction;
+class QWidget;
+
+namespace glint::studio {
+
+/// True when `widget` takes typed text: keys go to it, not to shortcuts.
+bool isTextEditing(const QWidget* widget);
+
+class CanvasKeys : public QObject {
+    Q_OBJECT
+  public:
+    /// Routes the single-key `actions` of `window` to the canvas; installs itself on qApp.
+    CanvasKeys(QWidget* window, QWidget* canvas, const QList<QAction*>& actions);
+    ~CanvasKeys() override;
+
+  protected:
+    bool eventFilter(QObject* watched, QEvent* event) override;
+
+  private:
+    void adopt(QWidget* widget);
+    bool isSingleKey(int key, Qt::KeyboardModifiers modifiers) const;
+
+    QPointer<QWidget> m_window;
+    QPointer<QWidget> m_canvas;
+    QList<QAction*> m_actions;
+};
+
+}  // namespace glint::studio
