@@ -55,6 +55,8 @@ class ImageCanvas : public QWidget {
     void clearPreview();
     /// A translucent overlay over the whole image (change map, filter variance...).
     void setOverlay(const QImage& overlay);
+    /// True while an overlay is shown.
+    bool hasOverlay() const { return !m_overlay.isNull(); }
     void clearOverlay();
 
     /// Brush outline and, when given, what the brush would paint (linear, frame-sized): shown

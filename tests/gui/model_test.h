@@ -1,0 +1,11 @@
+// The studio's model tests beyond the user workflow, run by studio_test.cpp's main.
+#pragma once
+
+#include <QObject>
+
+#include <memory>
+
+/// The bank service's tests (model_test.cpp).
+std::unique_ptr<QObject> makeStudioModelTest();
+/// The UI-thread stall test at 1024×1024 (stall_test.cpp).
+std::unique_ptr<QObject> makeStallTest();
