@@ -161,41 +161,42 @@ void SessionAdapter::startSession(FramePtr frame, std::vector<denoise::LayerSpec
         [this](const QString& message) { emit failed(tr("Cannot start the session"), message); });
 }
 
+SessionAdapter::Reapplied SessionAdapter::computeReapply(
+    FramePtr frame, const denoise::SessionOptions& options,
+    const std::vector<denoise::LayerSpec>& specs, const denoise::ProgressFn& progress) {
+    // On a worker: the filters' input, each layer's output, and the session's own copy of the
+    // render (about 100 MB at 1024², features included: not a copy to make on the UI thread).
+    Reapplied out;
+    out.filterInput = filterInputFor(frame, options);
+    for (const denoise::LayerSpec& spec : specs)
+        out.outputs.push_back(
+            denoise::applyFilter(denoise::findFilter(spec.filter), *out.filterInput, spec.params,
+                                 {.region = std::nullopt, .progress = progress, .threads = 0}));
+    out.copy = std::make_shared<FrameBuffers>(*frame);
+    return out;
+}
+
 void SessionAdapter::reapplyInBackground() {
     FramePtr frame = m_pendingInput;
     m_pendingInput.reset();
     if (!frame || !m_session) return;
     const std::vector<denoise::LayerSpec> specs = m_session->layerSpecs();
     const denoise::SessionOptions options = m_options;
-    struct Outputs {
-        FramePtr filterInput;
-        std::vector<Image> outputs;
-    };
-    m_tasks.run<Outputs>(
+    m_tasks.run<std::shared_ptr<Reapplied>>(
         QStringLiteral("reapply"),
         [this, frame, specs, options](const TaskRunner::CancelFlag& cancel) {
-            const denoise::ProgressFn progress = progressFor(tr("Re-applying the layers"), cancel);
-            FramePtr in = filterInputFor(frame, options);
-            std::vector<Image> outputs;
-            for (const denoise::LayerSpec& spec : specs)
-                outputs.push_back(denoise::applyFilter(
-                    denoise::findFilter(spec.filter), *in, spec.params,
-                    {.region = std::nullopt, .progress = progress, .threads = 0}));
-            return Outputs{in, std::move(outputs)};
+            return std::make_shared<Reapplied>(computeReapply(
+                frame, options, specs, progressFor(tr("Re-applying the layers"), cancel)));
         },
-        [this, frame, specs](Outputs out) {
-            auto shared = std::make_shared<Outputs>(std::move(out));
-            whenUnlocked([this, frame, specs, shared] {
-                installReapply(frame, shared->filterInput, std::move(shared->outputs), specs);
-            });
+        [this, frame, specs](std::shared_ptr<Reapplied> out) {
+            whenUnlocked([this, frame, specs, out] { installReapply(frame, *out, specs); });
         },
         [this](const QString& message) {
             emit failed(tr("Cannot re-apply the layers to the new render"), message);
         });
 }
 
-void SessionAdapter::installReapply(FramePtr frame, FramePtr filterInput,
-                                    std::vector<Image> outputs,
+void SessionAdapter::installReapply(FramePtr frame, Reapplied& reapplied,
                                     const std::vector<denoise::LayerSpec>& specs) {
     if (!m_session) return;
     if (m_session->inStroke() || !sameSpecs(specs, m_session->layerSpecs())) {
@@ -205,9 +206,9 @@ void SessionAdapter::installReapply(FramePtr frame, FramePtr filterInput,
         return;
     }
     ++m_generation;
-    m_session->reapply(*frame, std::move(outputs));
+    m_session->reapply(std::move(*reapplied.copy), std::move(reapplied.outputs));
     m_input = frame;
-    m_filterInput = filterInput;
+    m_filterInput = reapplied.filterInput;
     m_banks.setFrame(m_input);
     JournalEntry entry;
     entry.op = journal_codec::encode(journal_codec::Input{});
@@ -473,21 +474,8 @@ void SessionAdapter::replay(const JournalEntry& entry, std::function<void(const 
             FramePtr frame = entry.frame;
             const denoise::SessionOptions options = m_options;
             const std::vector<denoise::LayerSpec> specs = m_session->layerSpecs();
-            struct Outputs {
-                FramePtr filterInput;
-                std::vector<Image> outputs;
-            };
-            later(
-                [frame, options, specs] {
-                    Outputs out{filterInputFor(frame, options), {}};
-                    for (const auto& spec : specs)
-                        out.outputs.push_back(denoise::applyFilter(denoise::findFilter(spec.filter),
-                                                                   *out.filterInput, spec.params));
-                    return out;
-                },
-                [this, frame, specs](Outputs out) {
-                    installReapply(frame, out.filterInput, std::move(out.outputs), specs);
-                });
+            later([frame, options, specs] { return computeReapply(frame, options, specs, {}); },
+                  [this, frame, specs](Reapplied out) { installReapply(frame, out, specs); });
             return;
         }
         if (const auto* add = std::get_if<journal_codec::AddLayer>(&op)) {

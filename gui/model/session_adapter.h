@@ -139,7 +139,16 @@ class SessionAdapter : public QObject {
     void startSession(FramePtr frame, std::vector<denoise::LayerSpec> carry,
                       std::vector<Image> carryWeights);
     void reapplyInBackground();
-    void installReapply(FramePtr frame, FramePtr filterInput, std::vector<Image> outputs,
+    /// What re-applying the layers to a new render needs, computed on a worker.
+    struct Reapplied {
+        FramePtr filterInput;
+        std::vector<Image> outputs;
+        std::shared_ptr<FrameBuffers> copy;  ///< the session's own copy of the render
+    };
+    static Reapplied computeReapply(FramePtr frame, const denoise::SessionOptions& options,
+                                    const std::vector<denoise::LayerSpec>& specs,
+                                    const denoise::ProgressFn& progress);
+    void installReapply(FramePtr frame, Reapplied& reapplied,
                         const std::vector<denoise::LayerSpec>& specs);
     void pushEdit(const QString& text, int steps = 1);
     void doAddLayer(const std::string& filter, const denoise::ParamValues& params, Image output,
