@@ -17,16 +17,51 @@ ImageCanvas::ImageCanvas(QWidget* parent) : QWidget(parent) {
 }
 
 void ImageCanvas::setImage(const Image& image) {
-    const bool resized = m_image.width() != image.width() || m_image.height() != image.height();
     m_lastImage = image;
+    // A small image converts at once; a large one (tens of ms at 1024²) on a worker, the image
+    // shown until then being the previous one.
+    if (std::size_t(image.width()) * std::size_t(image.height()) > kSyncPixels &&
+        m_image.width() == image.width() && m_image.height() == image.height()) {
+        convertInBackground();
+        return;
+    }
+    m_tasks.cancel(QStringLiteral("convert"));
+    m_converting = false;
+    m_dirty.clear();
+    const bool resized = m_image.width() != image.width() || m_image.height() != image.height();
     m_image = toQImage(image, m_display);
     if (resized || m_fitted) fit();
     update();
 }
 
+void ImageCanvas::convertInBackground() {
+    auto source = std::make_shared<const Image>(m_lastImage);
+    const DisplaySettings display = m_display;
+    m_converting = true;
+    m_dirty.clear();
+    m_tasks.run<QImage>(
+        QStringLiteral("convert"),
+        [source, display](const TaskRunner::CancelFlag&) { return toQImage(*source, display); },
+        [this, display](QImage converted) {
+            m_converting = false;
+            if (!(display == m_display) || converted.width() != m_lastImage.width() ||
+                converted.height() != m_lastImage.height()) {
+                convertInBackground();  // the display changed meanwhile
+                return;
+            }
+            m_image = std::move(converted);
+            // Dabs that came meanwhile are in the linear image only.
+            for (const Rect& r : m_dirty) convertRect(m_image, m_lastImage, m_display, r);
+            m_dirty.clear();
+            if (m_fitted) fit();
+            update();
+        });
+}
+
 void ImageCanvas::updateImage(const Image& image, const Rect& rect) {
     if (m_image.isNull() || m_image.width() != image.width() ||
-        m_image.height() != image.height()) {
+        m_image.height() != image.height() || m_lastImage.width() != image.width() ||
+        m_lastImage.height() != image.height()) {
         setImage(image);
         return;
     }
@@ -36,6 +71,7 @@ void ImageCanvas::updateImage(const Image& image, const Rect& rect) {
                   image.row(y) + std::size_t(r.x1) * image.channels(),
                   m_lastImage.row(y) + std::size_t(r.x0) * image.channels());
     convertRect(m_image, image, m_display, r);
+    if (m_converting) m_dirty.push_back(r);
     updateImageRect(r);
 }
 

@@ -11,8 +11,10 @@
 #include <QWidget>
 
 #include <optional>
+#include <vector>
 
 #include "glint/image/image.h"
+#include "model/task_runner.h"
 #include "views/display.h"
 
 namespace glint::studio {
@@ -104,6 +106,12 @@ class ImageCanvas : public QWidget {
     void updateImageRect(const Rect& rect);
     QRectF imageRectInWidget() const;
 
+    // Images larger than this convert for the screen on a worker (about 2 ms on the UI thread).
+    static constexpr std::size_t kSyncPixels = 256 * 256;
+    void convertInBackground();
+    TaskRunner m_tasks;
+    bool m_converting = false;  // a conversion of m_lastImage runs
+    std::vector<Rect> m_dirty;  // rectangles dabbed meanwhile, converted again when it lands
     QImage m_image;
     QImage m_compare;
     QImage m_preview;
