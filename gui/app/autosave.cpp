@@ -171,6 +171,10 @@ void Autosave::step(const std::shared_ptr<Restore>& r) {
             return;
         }
         ++r->restored;
+        // One entry per turn of the event loop: the studio keeps drawing.
+        QMetaObject::invokeMethod(
+            this, [this, r] { step(r); }, Qt::QueuedConnection);
+        return;
     }
     // 3. Done: the old folder goes once this studio's journal holds everything.
     if (m_session->input()) r->document->setFinishedFrame(m_session->input());

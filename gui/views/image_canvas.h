@@ -10,6 +10,7 @@
 #include <QPolygonF>
 #include <QWidget>
 
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -118,7 +119,9 @@ class ImageCanvas : public QWidget {
     Rect m_previewRect{};
     QImage m_overlay;
     QImage m_brushSource;
-    Image m_lastImage;      // the linear image shown, for re-conversion when the display changes
+    // The linear image shown, for re-conversion when the display changes (shared with the
+    // conversion running, if any).
+    std::shared_ptr<Image> m_lastImage = std::make_shared<Image>();
     Image m_compareSource;  // copies, for re-conversion when the display changes
     Image m_brushSourceImage;
     DisplaySettings m_display;
