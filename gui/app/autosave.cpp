@@ -162,7 +162,9 @@ void Autosave::step(const std::shared_ptr<Restore>& r) {
                         return;
                     }
                     ++r->restored;
-                    step(r);
+                    // On the next turn of the event loop (done may come at once).
+                    QMetaObject::invokeMethod(
+                        this, [this, r] { step(r); }, Qt::QueuedConnection);
                 });
                 return;
             }

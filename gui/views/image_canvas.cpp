@@ -60,9 +60,8 @@ void ImageCanvas::convertInBackground() {
 }
 
 void ImageCanvas::updateImage(const Image& image, const Rect& rect) {
-    if (m_image.isNull() || m_image.width() != image.width() ||
-        m_image.height() != image.height() || m_lastImage->width() != image.width() ||
-        m_lastImage->height() != image.height()) {
+    if (m_lastImage->width() != image.width() || m_lastImage->height() != image.height() ||
+        (m_image.isNull() && !m_converting)) {
         setImage(image);
         return;
     }
@@ -72,7 +71,9 @@ void ImageCanvas::updateImage(const Image& image, const Rect& rect) {
         std::copy(image.row(y) + std::size_t(r.x0) * image.channels(),
                   image.row(y) + std::size_t(r.x1) * image.channels(),
                   m_lastImage->row(y) + std::size_t(r.x0) * image.channels());
-    convertRect(m_image, image, m_display, r);
+    // While a conversion runs, the image shown may be another one (or of another size).
+    if (m_image.width() == image.width() && m_image.height() == image.height())
+        convertRect(m_image, image, m_display, r);
     if (m_converting) m_dirty.push_back(r);
     updateImageRect(r);
 }
