@@ -21,27 +21,21 @@ class StallMonitor : public QObject {
     StallMonitor() {
         m_timer.setInterval(kPeriodMs);
         m_timer.setTimerType(Qt::PreciseTimer);
-        connect(&m_timer, &QTimer::timeout, this, [this] {
-            const double now = double(m_clock.nsecsElapsed()) * 1e-6;
-            const double cpu = threadCpuMs();
-            if (m_last >= 0.0) {
-                m_worst = std::max(m_worst, now - m_last - kPeriodMs);
-                m_worstBusy = std::max(m_worstBusy, cpu - m_lastCpu);
-            }
-            m_last = now;
-            m_lastCpu = cpu;
-        });
+        connect(&m_timer, &QTimer::timeout, this, [this] { sample(); });
     }
     /// Starts measuring (from no stall).
     void start() {
         m_worst = 0.0;
         m_worstBusy = 0.0;
-        m_last = -1.0;
+        // The stretch before the first firing counts too.
         m_clock.start();
+        m_last = 0.0;
+        m_lastCpu = threadCpuMs();
         m_timer.start();
     }
     /// Stops; the longest stall since start() in milliseconds (the longest gap).
     double stop() {
+        sample();  // and the stretch after the last firing
         m_timer.stop();
         return std::max(0.0, m_worst);
     }
@@ -51,6 +45,15 @@ class StallMonitor : public QObject {
 
   private:
     static constexpr int kPeriodMs = 2;
+    // A firing (or the end): the gap since the previous one, and the UI thread's CPU time in it.
+    void sample() {
+        const double now = double(m_clock.nsecsElapsed()) * 1e-6;
+        const double cpu = threadCpuMs();
+        m_worst = std::max(m_worst, now - m_last - kPeriodMs);
+        m_worstBusy = std::max(m_worstBusy, cpu - m_lastCpu);
+        m_last = now;
+        m_lastCpu = cpu;
+    }
     static double threadCpuMs() {
         timespec t{};
         clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
