@@ -404,6 +404,12 @@ void SessionAdapter::install(denoise::Session session, FramePtr input, FramePtr 
 
 void SessionAdapter::clear() {
     m_tasks.cancel(QStringLiteral("reapply"));
+    // An Auto Start waiting for its bank is of the dropped session.
+    if (m_autoStartTicket != 0) {
+        m_banks.withdraw(m_autoStartTicket);
+        m_autoStartTicket = 0;
+        emit busyChanged(busy());
+    }
     m_undo.clear();
     m_session.reset();
     m_input.reset();
