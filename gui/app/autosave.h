@@ -7,11 +7,13 @@
 #include <QString>
 #include <QStringList>
 
+#include <functional>
 #include <memory>
 
 #include "model/document.h"
 #include "model/journal.h"
 #include "model/session_adapter.h"
+#include "model/task_runner.h"
 
 namespace glint::studio {
 
@@ -35,16 +37,25 @@ class Autosave : public QObject {
     /// Removes this studio's journal (a clean exit).
     void discard();
 
-    /// Replays the journal in `folder` into the document and session (the journal of this
-    /// studio records the replay, so a second crash is covered too), then removes `folder`.
-    /// Returns the number of edits restored; `complete` is false when the journal ended in an
-    /// unreadable entry (the edit being made at the crash). Throws glint::Error for an entry
-    /// that does not apply.
-    int restore(const QString& folder, Document* document, bool* complete = nullptr);
+    /// Replays the journal in `folder` into the document and session in the background (the
+    /// journal of this studio records the replay, so a second crash is covered too), then
+    /// removes `folder`. `done` gets the number of edits restored, whether the journal was
+    /// complete (false when it ended in an unreadable entry: the edit being made at the crash),
+    /// and "" or the error of an entry that does not apply (the folder is then kept).
+    void restore(const QString& folder, Document* document,
+                 std::function<void(int restored, bool complete, const QString& error)> done);
+    /// True from restore() until its `done`.
+    bool restoring() const { return m_restoring; }
 
   private:
+    struct Restore;
+    void step(const std::shared_ptr<Restore>& r);
+    void finish(const std::shared_ptr<Restore>& r, const QString& error);
+
     SessionAdapter* m_session;
     std::unique_ptr<Journal> m_journal;
+    TaskRunner m_tasks;
+    bool m_restoring = false;
 };
 
 }  // namespace glint::studio

@@ -170,7 +170,10 @@ void MainWindow::buildMenus() {
     connect(a.saveSessionAs, &QAction::triggered, this, [this] {
         QString path =
             askPath(tr("Save the session"), tr("Glint sessions (*.glint-session.json)"), true);
-        if (path.isEmpty()) return;
+        if (path.isEmpty()) {
+            m_afterSave = {};  // nothing is saved: the action maybeSave() held is dropped
+            return;
+        }
         if (!isSessionPath(path)) path += QStringLiteral(".glint-session.json");
         saveSession(path);
     });
@@ -186,7 +189,7 @@ void MainWindow::buildMenus() {
     connect(a.exportExr, &QAction::triggered, this, [this] { exportResult(true); });
     connect(a.exportPng, &QAction::triggered, this, [this] { exportResult(false); });
     connect(a.newSession, &QAction::triggered, this, [this] {
-        if (!maybeSave()) return;
+        if (!maybeSave([this] { m_actions.newSession->trigger(); })) return;
         m_session->clear();
         if (m_document->finishedFrame()) m_session->setInput(m_document->finishedFrame());
     });
@@ -321,7 +324,7 @@ void MainWindow::openFile(const QString& path) {
                   tr("%1: no such file").arg(path));
         return;
     }
-    if (!maybeSave()) return;
+    if (!maybeSave([this, path] { openFile(path); })) return;
     addRecentFile(path);
     rebuildRecent();
     if (isSessionPath(path)) {
@@ -334,21 +337,32 @@ void MainWindow::openFile(const QString& path) {
 }
 
 bool MainWindow::saveSession(const QString& path) {
+    // Written on a worker; the state saved is the undo stack's present step.
+    const int index = m_session->undoStack()->index();
     try {
         m_session->save(path,
                         m_region->wholeImage()
                             ? std::nullopt
                             : std::optional<Rect>(m_region->bounds(m_session->session().width(),
                                                                    m_session->session().height())),
-                        viewState());
-        m_sessionPath = path;
-        m_session->undoStack()->setClean();
-        addRecentFile(path);
-        rebuildRecent();
-        statusBar()->showMessage(tr("Saved %1").arg(path), 4000);
-        updateTitle();
+                        viewState(), [this, path, index](const QString& error) {
+                            std::function<void()> then = std::exchange(m_afterSave, {});
+                            if (!error.isEmpty()) {
+                                showError(tr("Cannot save the session"), error);
+                                return;
+                            }
+                            m_sessionPath = path;
+                            if (m_session->undoStack()->index() == index)
+                                m_session->undoStack()->setClean();
+                            addRecentFile(path);
+                            rebuildRecent();
+                            statusBar()->showMessage(tr("Saved %1").arg(path), 4000);
+                            updateTitle();
+                            if (then) then();
+                        });
         return true;
     } catch (const Error& e) {
+        m_afterSave = {};
         showError(tr("Cannot save the session"), QString::fromStdString(e.what()));
         return false;
     }
@@ -406,18 +420,21 @@ void MainWindow::offerRestore(bool ask) {
                                      QMessageBox::Yes) != QMessageBox::Yes)
         return;
     m_restoring = true;
-    try {
-        bool complete = true;
-        const int n = m_autosave->restore(crashed.first(), m_document, &complete);
-        statusBar()->showMessage(
-            complete ? tr("Restored %1 edits.").arg(n)
-                     : tr("Restored %1 edits (the edit being made at the crash was lost).").arg(n),
-            8000);
-    } catch (const Error& e) {
-        showError(tr("Cannot restore the autosave"), QString::fromStdString(e.what()));
-    }
-    m_restoring = false;
-    updateTitle();
+    // Replayed in the background: the studio keeps drawing meanwhile.
+    m_autosave->restore(
+        crashed.first(), m_document, [this](int n, bool complete, const QString& error) {
+            m_restoring = false;
+            if (!error.isEmpty())
+                showError(tr("Cannot restore the autosave"), error);
+            else
+                statusBar()->showMessage(complete
+                                             ? tr("Restored %1 edits.").arg(n)
+                                             : tr("Restored %1 edits (the edit being made at the "
+                                                  "crash was lost).")
+                                                   .arg(n),
+                                         8000);
+            updateTitle();
+        });
 }
 
 void MainWindow::exportResult(bool exr) {
@@ -428,20 +445,15 @@ void MainWindow::exportResult(bool exr) {
     const QString path = askPath(exr ? tr("Export EXR") : tr("Export PNG"),
                                  exr ? tr("OpenEXR (*.exr)") : tr("PNG (*.png)"), true);
     if (path.isEmpty()) return;
-    try {
-        const std::filesystem::path file(path.toStdString());
-        if (exr) {
-            m_session->session().exportExr(file);
-        } else {
-            DisplayOptions display;
-            display.exposure = float(m_viewer->exposure());
-            m_session->session().exportPng(file, display);
-        }
-        statusBar()->showMessage(tr("Wrote %1").arg(path), 4000);
-    } catch (const Error& e) {
-        showError(exr ? tr("Cannot export the EXR") : tr("Cannot export the PNG"),
-                  QString::fromStdString(e.what()));
-    }
+    DisplayOptions display;
+    display.exposure = float(m_viewer->exposure());
+    // Written on a worker.
+    m_session->exportResult(path, exr, display, [this, path, exr](const QString& error) {
+        if (error.isEmpty())
+            statusBar()->showMessage(tr("Wrote %1").arg(path), 4000);
+        else
+            showError(exr ? tr("Cannot export the EXR") : tr("Cannot export the PNG"), error);
+    });
 }
 
 QString MainWindow::askPath(const QString& title, const QString& filter, bool save) {
@@ -463,15 +475,17 @@ void MainWindow::showError(const QString& title, const QString& message) {
     emit errorShown(title, message);
 }
 
-bool MainWindow::maybeSave() {
+bool MainWindow::maybeSave(std::function<void()> again) {
     if (m_session->undoStack()->isClean() || !m_options.confirmDiscard) return true;
     const auto answer = QMessageBox::question(
         this, tr("Save the session?"), tr("The painting session has unsaved changes."),
         QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Save);
     if (answer == QMessageBox::Cancel) return false;
     if (answer == QMessageBox::Save) {
+        // The save runs on a worker: the action is tried `again` once it succeeded.
+        m_afterSave = std::move(again);
         m_actions.saveSession->trigger();
-        return m_session->undoStack()->isClean();
+        return false;
     }
     return true;
 }
@@ -527,7 +541,7 @@ int MainWindow::stage() const {
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {
-    if (!maybeSave()) {
+    if (!maybeSave([this] { close(); })) {
         event->ignore();
         return;
     }

@@ -6,6 +6,7 @@
 
 #include <QMainWindow>
 
+#include <functional>
 #include <memory>
 
 #include "app/actions.h"
@@ -48,8 +49,8 @@ class MainWindow : public QMainWindow {
 
     /// Opens a scene.json, a layered EXR or a .glint-session.json.
     void openFile(const QString& path);
-    /// Saves the session (with the region and view state) to `path`; false after an error
-    /// (shown in a dialog).
+    /// Saves the session (with the region and view state) to `path` on a worker; false when it
+    /// cannot start. An error is shown in a dialog; session()->busy() holds until it is written.
     bool saveSession(const QString& path);
     /// Offers to restore a crashed studio's journal (asks unless `ask` is false).
     void offerRestore(bool ask = true);
@@ -89,7 +90,9 @@ class MainWindow : public QMainWindow {
     void buildMenus();
     void connectModel();
     void showError(const QString& title, const QString& message);
-    bool maybeSave();
+    /// True when unsaved painting may be dropped now; after "Save", false, and `again` runs once
+    /// the save succeeded.
+    bool maybeSave(std::function<void()> again);
     void updateTitle();
     void rebuildRecent();
     void stageChanged();
@@ -125,6 +128,7 @@ class MainWindow : public QMainWindow {
     QString m_lastError;
     StageView* m_activeStage = nullptr;
     bool m_restoring = false;
+    std::function<void()> m_afterSave;  // what maybeSave() resumes once the save is written
 };
 
 }  // namespace glint::studio

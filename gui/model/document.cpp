@@ -75,7 +75,7 @@ Document::Document(QObject* parent) : QObject(parent) {
     connect(&m_job, &RenderJob::failed, this, [this](std::uint64_t, const QString& message) {
         emit failed(tr("Render failed"), message);
     });
-    connect(&m_job, &RenderJob::busyChanged, this, &Document::renderingChanged);
+    connect(&m_job, &RenderJob::busyChanged, this, [this] { emit renderingChanged(rendering()); });
     // An editor saves a file in several writes: reload once it has settled.
     m_reloadTimer.setSingleShot(true);
     m_reloadTimer.setInterval(200);
@@ -124,6 +124,8 @@ void Document::open(const QString& path, bool renderNow) {
             m_loading = false;
             if (!m_watcher.files().isEmpty()) m_watcher.removePaths(m_watcher.files());
             m_job.cancel();
+            m_tasks.cancel(QStringLiteral("merge"));
+            m_merging = false;
             m_job.setRenderer(nullptr);
             m_kind = Kind::Exr;
             m_path = path;
@@ -174,6 +176,9 @@ void Document::renderRegion(const std::optional<Rect>& region) {
 }
 
 void Document::startRender(const render::Settings& settings) {
+    // A merge of the previous render's frame is stale.
+    m_tasks.cancel(QStringLiteral("merge"));
+    m_merging = false;
     m_curve.clear();
     emit curveChanged();
     m_job.start(settings);
@@ -189,24 +194,47 @@ void Document::setPaused(bool paused) {
 
 void Document::onPass(std::uint64_t id, FramePtr frame, int spp, double seconds) {
     if (id != m_job.currentId()) return;
-    if (m_mergeRegion && m_mergeBase)
-        frame =
-            std::make_shared<const FrameBuffers>(mergeRegion(*m_mergeBase, *frame, *m_mergeRegion));
-    m_frame = frame;
-    emit frameChanged(false);
-    if (m_reference) addCurvePoint(frame, spp, seconds);
+    mergeThen(id, frame, false, [this, spp, seconds](FramePtr merged) {
+        m_frame = merged;
+        emit frameChanged(false);
+        if (m_reference) addCurvePoint(merged, spp, seconds);
+    });
 }
 
 void Document::onFinished(std::uint64_t id, FramePtr frame, const render::RenderStats& stats) {
     if (id != m_job.currentId()) return;
     if (stats.passes == 0 && stats.cancelled) return;  // stopped before anything was rendered
-    if (m_mergeRegion && m_mergeBase)
-        frame =
-            std::make_shared<const FrameBuffers>(mergeRegion(*m_mergeBase, *frame, *m_mergeRegion));
-    m_stats = stats;
-    m_frame = frame;
-    m_finished = frame;
-    emit frameChanged(true);
+    mergeThen(id, frame, true, [this, stats](FramePtr merged) {
+        m_stats = stats;
+        m_frame = merged;
+        m_finished = merged;
+        emit frameChanged(true);
+    });
+}
+
+void Document::mergeThen(std::uint64_t id, FramePtr frame, bool final,
+                         std::function<void(FramePtr)> apply) {
+    if (!m_mergeRegion || !m_mergeBase) {
+        apply(frame);
+        return;
+    }
+    // Copying a frame (every layer, about 100 MB at 1024²) takes longer than a frame: on a
+    // worker. A newer pass supersedes an older one still merging; the final one is the last.
+    const Rect region = *m_mergeRegion;
+    FramePtr base = m_mergeBase;
+    if (final) m_merging = true;  // rendering() holds until the merged frame is in place
+    m_tasks.run<FramePtr>(
+        QStringLiteral("merge"),
+        [base, frame, region](const TaskRunner::CancelFlag&) {
+            return FramePtr(
+                std::make_shared<const FrameBuffers>(mergeRegion(*base, *frame, region)));
+        },
+        [this, id, final, apply = std::move(apply)](FramePtr merged) {
+            if (id != m_job.currentId()) return;
+            if (final) m_merging = false;
+            apply(merged);
+            if (final) emit renderingChanged(rendering());
+        });
 }
 
 void Document::setFinishedFrame(FramePtr frame) {

@@ -8,6 +8,7 @@
 #include <QString>
 #include <QTimer>
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -54,7 +55,9 @@ class Document : public QObject {
     void cancelRender();
     void setPaused(bool paused);
     bool paused() const { return m_job.paused(); }
-    bool rendering() const { return m_job.busy(); }
+    /// True while a render runs (or its last frame is being merged into the frame it renders
+    /// a region of).
+    bool rendering() const { return m_job.busy() || m_merging; }
 
     /// The look of the scene as last edited (materials, lights, environment).
     const std::vector<render::LookItem>& look() const { return m_look; }
@@ -110,6 +113,10 @@ class Document : public QObject {
     void onFinished(std::uint64_t id, FramePtr frame, const render::RenderStats& stats);
     void sceneFileChanged();
     void addCurvePoint(FramePtr frame, int spp, double seconds);
+    /// `apply(frame)` on the UI thread, the frame merged first (on a worker) when the render
+    /// covers a region.
+    void mergeThen(std::uint64_t id, FramePtr frame, bool final,
+                   std::function<void(FramePtr)> apply);
 
     TaskRunner m_tasks;
     RenderJob m_job;
@@ -128,6 +135,7 @@ class Document : public QObject {
     std::optional<std::vector<render::LookItem>> m_referenceLook;  // of a rendered reference
     std::optional<Rect> m_mergeRegion;  // the running render covers only this region
     FramePtr m_mergeBase;               // and is merged into this frame
+    bool m_merging = false;             // the final frame of a region render is being merged
     std::vector<CurvePoint> m_curve;
     render::RenderStats m_stats;
 };

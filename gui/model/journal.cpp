@@ -48,7 +48,7 @@ void Journal::append(const JournalEntry& entry) {
                 writeImage(*copy, file);
                 return true;
             },
-            [this](bool) { --m_pendingWrites; }, [this](const QString&) { --m_pendingWrites; });
+            [this](bool) { written(); }, [this](const QString&) { written(); });
     }
     if (!images.isEmpty()) op.insert(QStringLiteral("images"), images);
     if (entry.frame) {
@@ -71,7 +71,7 @@ void Journal::append(const JournalEntry& entry) {
                 if (!superseded.isEmpty()) QFile::remove(QDir(folder).filePath(superseded));
                 return true;
             },
-            [this](bool) { --m_pendingWrites; }, [this](const QString&) { --m_pendingWrites; });
+            [this](bool) { written(); }, [this](const QString&) { written(); });
     }
     QFile file(QDir(m_folder).filePath(kLines));
     if (file.open(QIODevice::Append | QIODevice::WriteOnly)) {
@@ -87,6 +87,20 @@ void Journal::flush() {
         QCoreApplication::processEvents(QEventLoop::AllEvents, 10);
         QThread::msleep(1);
     }
+}
+
+void Journal::afterWrites(std::function<void()> fn) {
+    if (m_pendingWrites == 0)
+        fn();
+    else
+        m_afterWrites.push_back(std::move(fn));
+}
+
+void Journal::written() {
+    if (--m_pendingWrites > 0) return;
+    std::vector<std::function<void()>> waiting;
+    waiting.swap(m_afterWrites);
+    for (auto& fn : waiting) fn();
 }
 
 void Journal::discard() {

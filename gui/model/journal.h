@@ -7,6 +7,7 @@
 #include <QObject>
 #include <QString>
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -27,6 +28,9 @@ class Journal : public QObject {
     void append(const JournalEntry& entry);
     /// Waits until every file of the entries appended so far is on disk.
     void flush();
+    /// Runs `fn` (on the UI thread, without waiting here) once every file of the entries
+    /// appended so far is on disk.
+    void afterWrites(std::function<void()> fn);
     /// Removes the folder (a clean exit: nothing to restore).
     void discard();
 
@@ -42,6 +46,8 @@ class Journal : public QObject {
     int m_next = 0;           // numbers the side files
     QString m_previousInput;  // the render of the last "input" entry (superseded by the next)
     int m_pendingWrites = 0;
+    std::vector<std::function<void()>> m_afterWrites;
+    void written();
 };
 
 }  // namespace glint::studio

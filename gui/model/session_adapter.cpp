@@ -47,7 +47,7 @@ denoise::Session buildSession(FramePtr frame, FramePtr filterInput,
 }  // namespace
 
 SessionAdapter::SessionAdapter(QObject* parent) : QObject(parent) {
-    connect(&m_tasks, &TaskRunner::busyChanged, this, &SessionAdapter::busyChanged);
+    connect(&m_tasks, &TaskRunner::busyChanged, this, [this] { emit busyChanged(busy()); });
 }
 
 SessionAdapter::~SessionAdapter() {
@@ -64,7 +64,14 @@ void SessionAdapter::whenUnlocked(std::function<void()> fn) {
         m_afterUnlock.push_back(std::move(fn));
 }
 
+void SessionAdapter::lock() {
+    if (m_readers++ > 0) return;
+    m_locked = true;
+    emit lockedChanged(true);
+}
+
 void SessionAdapter::unlock() {
+    if (--m_readers > 0) return;
     m_locked = false;
     emit lockedChanged(false);
     std::vector<std::function<void()>> queued;
@@ -142,9 +149,10 @@ void SessionAdapter::startSession(FramePtr frame, std::vector<denoise::LayerSpec
         },
         [this, frame, entry](Started started) {
             m_undo.clear();
-            m_session = std::make_unique<denoise::Session>(std::move(*started.session));
+            m_session = std::move(started.session);
             m_input = frame;
             m_filterInput = started.filterInput;
+            m_banks.setFrame(m_input);
             emit journal(entry);
             emit sessionReset();
             emit inputChanged();
@@ -153,41 +161,42 @@ void SessionAdapter::startSession(FramePtr frame, std::vector<denoise::LayerSpec
         [this](const QString& message) { emit failed(tr("Cannot start the session"), message); });
 }
 
+SessionAdapter::Reapplied SessionAdapter::computeReapply(
+    FramePtr frame, const denoise::SessionOptions& options,
+    const std::vector<denoise::LayerSpec>& specs, const denoise::ProgressFn& progress) {
+    // On a worker: the filters' input, each layer's output, and the session's own copy of the
+    // render (about 100 MB at 1024², features included: not a copy to make on the UI thread).
+    Reapplied out;
+    out.filterInput = filterInputFor(frame, options);
+    for (const denoise::LayerSpec& spec : specs)
+        out.outputs.push_back(
+            denoise::applyFilter(denoise::findFilter(spec.filter), *out.filterInput, spec.params,
+                                 {.region = std::nullopt, .progress = progress, .threads = 0}));
+    out.copy = std::make_shared<FrameBuffers>(*frame);
+    return out;
+}
+
 void SessionAdapter::reapplyInBackground() {
     FramePtr frame = m_pendingInput;
     m_pendingInput.reset();
     if (!frame || !m_session) return;
     const std::vector<denoise::LayerSpec> specs = m_session->layerSpecs();
     const denoise::SessionOptions options = m_options;
-    struct Outputs {
-        FramePtr filterInput;
-        std::vector<Image> outputs;
-    };
-    m_tasks.run<Outputs>(
+    m_tasks.run<std::shared_ptr<Reapplied>>(
         QStringLiteral("reapply"),
         [this, frame, specs, options](const TaskRunner::CancelFlag& cancel) {
-            const denoise::ProgressFn progress = progressFor(tr("Re-applying the layers"), cancel);
-            FramePtr in = filterInputFor(frame, options);
-            std::vector<Image> outputs;
-            for (const denoise::LayerSpec& spec : specs)
-                outputs.push_back(denoise::applyFilter(
-                    denoise::findFilter(spec.filter), *in, spec.params,
-                    {.region = std::nullopt, .progress = progress, .threads = 0}));
-            return Outputs{in, std::move(outputs)};
+            return std::make_shared<Reapplied>(computeReapply(
+                frame, options, specs, progressFor(tr("Re-applying the layers"), cancel)));
         },
-        [this, frame, specs](Outputs out) {
-            auto shared = std::make_shared<Outputs>(std::move(out));
-            whenUnlocked([this, frame, specs, shared] {
-                installReapply(frame, shared->filterInput, std::move(shared->outputs), specs);
-            });
+        [this, frame, specs](std::shared_ptr<Reapplied> out) {
+            whenUnlocked([this, frame, specs, out] { installReapply(frame, *out, specs); });
         },
         [this](const QString& message) {
             emit failed(tr("Cannot re-apply the layers to the new render"), message);
         });
 }
 
-void SessionAdapter::installReapply(FramePtr frame, FramePtr filterInput,
-                                    std::vector<Image> outputs,
+void SessionAdapter::installReapply(FramePtr frame, Reapplied& reapplied,
                                     const std::vector<denoise::LayerSpec>& specs) {
     if (!m_session) return;
     if (m_session->inStroke() || !sameSpecs(specs, m_session->layerSpecs())) {
@@ -197,9 +206,10 @@ void SessionAdapter::installReapply(FramePtr frame, FramePtr filterInput,
         return;
     }
     ++m_generation;
-    m_session->reapply(*frame, std::move(outputs));
+    m_session->reapply(std::move(*reapplied.copy), std::move(reapplied.outputs));
     m_input = frame;
-    m_filterInput = filterInput;
+    m_filterInput = reapplied.filterInput;
+    m_banks.setFrame(m_input);
     JournalEntry entry;
     entry.op = journal_codec::encode(journal_codec::Input{});
     entry.frame = frame;
@@ -304,92 +314,6 @@ void SessionAdapter::fill(std::size_t index, const Image& mask, denoise::BrushMo
     if (!changed.empty()) emit compositeChanged(changed);
 }
 
-void SessionAdapter::diffuse(const std::vector<std::size_t>& layers) {
-    if (!m_session || m_locked || m_session->inStroke()) return;
-    // The session is read on the worker: it is locked (nothing edits it) until the maps are back.
-    const denoise::Session* session = m_session.get();
-    m_locked = true;
-    emit lockedChanged(true);
-    emit progress(tr("Diffusing the weights"), 0.0);
-    m_tasks.run<std::vector<Image>>(
-        QStringLiteral("diffuse"),
-        [session, layers](const TaskRunner::CancelFlag&) { return session->diffusionMaps(layers); },
-        [this, session, layers](std::vector<Image> maps) {
-            unlock();
-            emit progress(tr("Diffusing the weights"), 1.0);
-            if (m_session.get() != session) return;
-            m_session->applyWeights(layers, maps);
-            JournalEntry entry;
-            entry.op = journal_codec::encode(journal_codec::Apply{layers});
-            entry.images = std::move(maps);
-            emit journal(entry);
-            pushEdit(tr("Diffuse the weights"));
-            changedAll();
-        },
-        [this](const QString& message) {
-            unlock();
-            emit failed(tr("Poisson diffusion failed"), message);
-        });
-}
-
-void SessionAdapter::autoStart(int bankSize) {
-    if (!m_session || m_locked) return;
-    struct AutoStart {
-        std::shared_ptr<denoise::FilterBank> bank;
-        std::shared_ptr<denoise::AutoResult> result;
-    };
-    FramePtr in = m_input;
-    const denoise::SessionOptions options = m_options;
-    const std::uint64_t generation = m_generation;
-    m_tasks.run<AutoStart>(
-        QStringLiteral("auto-start"),
-        [this, in, options, bankSize](const TaskRunner::CancelFlag& cancel) {
-            // The bank reads the features as the session's filters do.
-            denoise::BankOptions bo;
-            bo.size = bankSize;
-            bo.prefilter = options.prefilter;
-            bo.prefilterParams = options.prefilterParams;
-            bo.progress = progressFor(tr("Auto start: building the bank"), cancel);
-            auto bank = std::make_shared<denoise::FilterBank>(denoise::buildBank(*in, bo));
-            denoise::AutoOptions ao;
-            // A session is a blend of member layers; the stacking's correction is not one.
-            ao.allowStacking = false;
-            ao.prefilter = options.prefilter;
-            ao.prefilterParams = options.prefilterParams;
-            ao.progress = progressFor(tr("Auto start: estimating each member's error"), cancel);
-            auto result =
-                std::make_shared<denoise::AutoResult>(denoise::autoComposite(*bank, *in, ao));
-            return AutoStart{bank, result};
-        },
-        [this, generation](AutoStart done) {
-            whenUnlocked([this, generation, done] {
-                if (!m_session || generation != m_generation) return;  // a new render came
-                const std::size_t first = m_session->layerCount();
-                std::size_t edits = 0;
-                try {
-                    edits = denoise::startFromAuto(*m_session, *done.bank, *done.result);
-                } catch (const Error& e) {
-                    emit failed(tr("Auto start failed"), QString::fromStdString(e.what()));
-                    return;
-                }
-                // The journal replays it as plain layer and weight edits.
-                for (std::size_t i = first; i < m_session->layerCount(); ++i) {
-                    const denoise::SessionLayer& layer = m_session->layer(i);
-                    emit journal({journal_codec::encode(
-                                      journal_codec::AddLayer{layer.filter, layer.params, false}),
-                                  {},
-                                  nullptr});
-                    emit journal({journal_codec::encode(journal_codec::Weights{i}),
-                                  {layer.weights},
-                                  nullptr});
-                }
-                if (edits > 0) pushEdit(tr("Auto start"), int(edits));
-                changedAll();
-            });
-        },
-        [this](const QString& message) { emit failed(tr("Auto start failed"), message); });
-}
-
 void SessionAdapter::beginStroke(std::size_t layer, const denoise::Brush& brush,
                                  denoise::BrushMode mode) {
     if (!m_session || m_locked || m_session->inStroke()) return;
@@ -425,14 +349,6 @@ void SessionAdapter::endStroke() {
         emit weightsChanged();
     }
     if (m_pendingInput) reapplyInBackground();
-}
-
-void SessionAdapter::save(const QString& path, const std::optional<Rect>& region,
-                          const std::map<std::string, std::string>& viewState) {
-    if (!m_session) throw Error(ErrorKind::InvalidArgument, "there is no session to save");
-    m_session->region = region;
-    m_session->viewState = viewState;
-    m_session->save(std::filesystem::path(path.toStdString()));
 }
 
 void SessionAdapter::load(const QString& path) {
@@ -472,7 +388,8 @@ void SessionAdapter::install(denoise::Session session, FramePtr input, FramePtr 
                     : m_options.prefilter
                         ? std::make_shared<const FrameBuffers>(session.filterInput())
                         : m_input;
-    m_session = std::make_unique<denoise::Session>(std::move(session));
+    m_session = std::make_shared<denoise::Session>(std::move(session));
+    m_banks.setFrame(m_input);
     // The journal starts again from this session: its input and its layers with their weights.
     JournalEntry entry;
     entry.op = journal_codec::encode(journal_codec::Start{m_options, m_session->layerSpecs()});
@@ -487,50 +404,120 @@ void SessionAdapter::install(denoise::Session session, FramePtr input, FramePtr 
 
 void SessionAdapter::clear() {
     m_tasks.cancel(QStringLiteral("reapply"));
+    // An Auto Start waiting for its bank is of the dropped session.
+    if (m_autoStartTicket != 0) {
+        m_banks.withdraw(m_autoStartTicket);
+        m_autoStartTicket = 0;
+        emit busyChanged(busy());
+    }
     m_undo.clear();
     m_session.reset();
     m_input.reset();
     m_filterInput.reset();
+    m_banks.setFrame(nullptr);
     m_pendingInput.reset();
     ++m_generation;
     emit sessionReset();
     emit layersChanged();
 }
 
-void SessionAdapter::replay(const JournalEntry& entry) {
-    const journal_codec::Op op = journal_codec::decode(entry.op);
+void SessionAdapter::replay(const JournalEntry& entry, std::function<void(const QString&)> done) {
+    journal_codec::Op op;
+    try {
+        op = journal_codec::decode(entry.op);
+    } catch (const Error& e) {
+        done(QString::fromStdString(e.what()));
+        return;
+    }
     const std::string name = entry.op.value(QStringLiteral("op")).toString().toStdString();
+    // The edits that run filters compute on a worker, then apply here; the rest apply at once.
+    auto later = [this, done](auto work, auto apply) {
+        using R = decltype(work());
+        m_tasks.run<std::shared_ptr<R>>(
+            QStringLiteral("replay"),
+            [work](const TaskRunner::CancelFlag&) { return std::make_shared<R>(work()); },
+            [done, apply](std::shared_ptr<R> result) {
+                try {
+                    apply(std::move(*result));
+                } catch (const Error& e) {
+                    done(QString::fromStdString(e.what()));
+                    return;
+                }
+                done(QString());
+            },
+            [done](const QString& message) { done(message); });
+    };
+    try {
+        if (const auto* start = std::get_if<journal_codec::Start>(&op)) {
+            if (!entry.frame)
+                throw Error(ErrorKind::Format, "the journal's start lacks its render");
+            const denoise::SessionOptions options = start->options;
+            const std::vector<denoise::LayerSpec> layers = start->layers;
+            FramePtr frame = entry.frame;
+            const std::vector<Image> weights = entry.images;
+            struct Started {
+                std::shared_ptr<denoise::Session> session;
+                FramePtr filterInput;
+            };
+            later(
+                [frame, options, layers, weights] {
+                    FramePtr in = filterInputFor(frame, options);
+                    return Started{std::make_shared<denoise::Session>(
+                                       buildSession(frame, in, options, layers, weights, {})),
+                                   in};
+                },
+                [this, frame, options](Started s) {
+                    m_options = options;
+                    install(std::move(*s.session), frame, s.filterInput);
+                });
+            return;
+        }
+        if (!m_session)
+            throw Error(ErrorKind::Format, "the journal edits a session before starting one");
+        if (std::holds_alternative<journal_codec::Input>(op)) {
+            if (!entry.frame)
+                throw Error(ErrorKind::Format, "the journal's input lacks its render");
+            FramePtr frame = entry.frame;
+            const denoise::SessionOptions options = m_options;
+            const std::vector<denoise::LayerSpec> specs = m_session->layerSpecs();
+            later([frame, options, specs] { return computeReapply(frame, options, specs, {}); },
+                  [this, frame, specs](Reapplied out) { installReapply(frame, out, specs); });
+            return;
+        }
+        if (const auto* add = std::get_if<journal_codec::AddLayer>(&op)) {
+            std::optional<Image> mask;
+            if (add->fill) {
+                if (entry.images.empty())
+                    throw Error(ErrorKind::Format, "the journal entry lacks its image", {}, name);
+                mask = entry.images[0];
+            }
+            FramePtr in = m_filterInput;
+            const journal_codec::AddLayer a = *add;
+            later(
+                [in, a] {
+                    return denoise::applyFilter(denoise::findFilter(a.filter), *in, a.params);
+                },
+                [this, a, mask](Image output) {
+                    doAddLayer(a.filter, a.params, std::move(output), mask);
+                });
+            return;
+        }
+        replayNow(entry, op, name);
+    } catch (const Error& e) {
+        done(QString::fromStdString(e.what()));
+        return;
+    }
+    done(QString());
+}
+
+void SessionAdapter::replayNow(const JournalEntry& entry, const journal_codec::Op& op,
+                               const std::string& name) {
     auto image = [&](std::size_t i) -> const Image& {
         if (i >= entry.images.size())
             throw Error(ErrorKind::Format, "the journal entry lacks its image", {}, name);
         return entry.images[i];
     };
-    if (const auto* start = std::get_if<journal_codec::Start>(&op)) {
-        if (!entry.frame) throw Error(ErrorKind::Format, "the journal's start lacks its render");
-        m_options = start->options;
-        FramePtr in = filterInputFor(entry.frame, m_options);
-        install(buildSession(entry.frame, in, m_options, start->layers, entry.images, {}),
-                entry.frame, in);
-        return;
-    }
-    if (!m_session)
-        throw Error(ErrorKind::Format, "the journal edits a session before starting one");
-    if (std::holds_alternative<journal_codec::Input>(op)) {
-        if (!entry.frame) throw Error(ErrorKind::Format, "the journal's input lacks its render");
-        FramePtr in = filterInputFor(entry.frame, m_options);
-        const std::vector<denoise::LayerSpec> specs = m_session->layerSpecs();
-        std::vector<Image> outputs;
-        for (const auto& spec : specs)
-            outputs.push_back(
-                denoise::applyFilter(denoise::findFilter(spec.filter), *in, spec.params));
-        installReapply(entry.frame, in, std::move(outputs), specs);
-    } else if (const auto* add = std::get_if<journal_codec::AddLayer>(&op)) {
-        Image output =
-            denoise::applyFilter(denoise::findFilter(add->filter), *m_filterInput, add->params);
-        std::optional<Image> mask;
-        if (add->fill) mask = image(0);
-        doAddLayer(add->filter, add->params, std::move(output), mask);
-    } else if (const auto* remove = std::get_if<journal_codec::RemoveLayer>(&op)) {
+    if (const auto* remove = std::get_if<journal_codec::RemoveLayer>(&op)) {
         removeLayer(remove->index);
     } else if (const auto* weights = std::get_if<journal_codec::Weights>(&op)) {
         setWeights(weights->index, image(0));

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -18,6 +19,7 @@
 
 #include "glint/denoise/paint.h"
 #include "glint/denoise/session.h"
+#include "model/bank_service.h"
 #include "model/journal_codec.h"
 #include "model/render_job.h"
 #include "model/task_runner.h"
@@ -46,8 +48,10 @@ class SessionAdapter : public QObject {
     /// The filters' input: the render with its features prefiltered when the options say so.
     FramePtr filterInput() const { return m_filterInput; }
     const denoise::SessionOptions& options() const { return m_options; }
+    /// The filter banks of the input (Navigate and Auto Start share them).
+    BankService* banks() { return &m_banks; }
     /// True while a background step (re-applying, adding a layer, diffusing, loading) runs.
-    bool busy() const { return m_tasks.pending() > 0; }
+    bool busy() const { return m_tasks.pending() > 0 || m_autoStartTicket != 0; }
     /// True while a worker reads the session (diffusion): edits wait, painting is refused.
     bool locked() const { return m_locked; }
     /// A layer's composite position changes counted since the session started: views cache by it.
@@ -67,11 +71,15 @@ class SessionAdapter : public QObject {
     void removeLayer(std::size_t index);
     void setWeights(std::size_t index, const Image& weights);
     void fill(std::size_t index, const Image& mask, denoise::BrushMode mode);
+    /// The magic wand from pixel (x, y) of the filters' input (denoise::magicWand, on a worker),
+    /// then fill() with its mask; clicks are filled in the order they came.
+    void wand(std::size_t index, int x, int y, const denoise::WandOptions& options,
+              denoise::BrushMode mode);
     /// Poisson-diffusion blending of `layers` (in the background; painting waits meanwhile).
     void diffuse(const std::vector<std::size_t>& layers);
-    /// "Auto start": in the background, a bank of `bankSize` members over the input and the
-    /// per-pixel choice among them by SURE (glint/denoise/auto.h); then the chosen members are
-    /// added as layers with their weights, one undo step ("Auto start").
+    /// "Auto start": in the background, a bank of `bankSize` members over the input (from the
+    /// bank service) and the per-pixel choice among them by SURE (glint/denoise/auto.h); then the
+    /// chosen members are added as layers with their weights, one undo step ("Auto start").
     void autoStart(int bankSize = 64);
 
     /// A stroke: dabs update the composite at once (on the UI thread); the end is one undo step.
@@ -80,19 +88,27 @@ class SessionAdapter : public QObject {
     void endStroke();
     bool inStroke() const { return m_session && m_session->inStroke(); }
 
-    /// Saves the session file (the region and view state come from the caller).
+    /// Saves the session file (the region and view state come from the caller) on a worker,
+    /// atomically; the session is locked meanwhile. `done` gets "" or the error on the UI thread.
+    /// Throws glint::Error when there is no session.
     void save(const QString& path, const std::optional<Rect>& region,
-              const std::map<std::string, std::string>& viewState);
+              const std::map<std::string, std::string>& viewState,
+              std::function<void(const QString&)> done = {});
+    /// Writes the composite (EXR with the features, or PNG through `display`) on a worker, as
+    /// save() does.
+    void exportResult(const QString& path, bool exr, const DisplayOptions& display,
+                      std::function<void(const QString&)> done = {});
     /// Loads a session file in the background; `loaded` is emitted when it is in place.
     void load(const QString& path);
     /// Replaces everything by `session` (an empty undo history); `input` and `filterInput` are
     /// shared copies of its render (made here when not given).
     void install(denoise::Session session, FramePtr input = nullptr,
                  FramePtr filterInput = nullptr);
-    /// Applies one journal entry of a session edit synchronously (restoring an autosave):
-    /// "start", "input", "addLayer", "removeLayer", "weights", "fill", "stroke", "apply".
-    /// Throws glint::Error for an entry that does not fit the session.
-    void replay(const JournalEntry& entry);
+    /// Applies one journal entry of a session edit (restoring an autosave): "start", "input",
+    /// "addLayer", "removeLayer", "weights", "fill", "stroke", "apply". Those that run filters
+    /// compute on a worker; `done` gets "" once the entry is applied, or the error of an entry
+    /// that does not fit the session. Replay the next entry only after `done`.
+    void replay(const JournalEntry& entry, std::function<void(const QString&)> done);
     /// Reports an edit made outside the session (a look edit, undo, redo) to the journal.
     void record(JournalEntry entry) { emit journal(entry); }
     /// Drops the session.
@@ -123,19 +139,38 @@ class SessionAdapter : public QObject {
     void startSession(FramePtr frame, std::vector<denoise::LayerSpec> carry,
                       std::vector<Image> carryWeights);
     void reapplyInBackground();
-    void installReapply(FramePtr frame, FramePtr filterInput, std::vector<Image> outputs,
+    /// What re-applying the layers to a new render needs, computed on a worker.
+    struct Reapplied {
+        FramePtr filterInput;
+        std::vector<Image> outputs;
+        std::shared_ptr<FrameBuffers> copy;  ///< the session's own copy of the render
+    };
+    static Reapplied computeReapply(FramePtr frame, const denoise::SessionOptions& options,
+                                    const std::vector<denoise::LayerSpec>& specs,
+                                    const denoise::ProgressFn& progress);
+    void installReapply(FramePtr frame, Reapplied& reapplied,
                         const std::vector<denoise::LayerSpec>& specs);
     void pushEdit(const QString& text, int steps = 1);
     void doAddLayer(const std::string& filter, const denoise::ParamValues& params, Image output,
                     const std::optional<Image>& fillMask);
+    void autoChoose(BankService::BankPtr bank, FramePtr in, const denoise::SessionOptions& options,
+                    std::uint64_t generation);
     void whenUnlocked(std::function<void()> fn);
+    /// Locks the session while a worker reads it (counted: reads may overlap).
+    void lock();
     void unlock();
+    /// Runs `read` on a worker with the session locked, then `done("" or the error)`.
+    void readInBackground(const QString& what, std::function<void(const denoise::Session&)> read,
+                          std::function<void(const QString&)> done);
     void changedAll();
+    void replayNow(const JournalEntry& entry, const journal_codec::Op& op, const std::string& name);
     denoise::ProgressFn progressFor(const QString& what, const TaskRunner::CancelFlag& cancel);
 
     TaskRunner m_tasks;
+    BankService m_banks;
+    BankService::Ticket m_autoStartTicket = 0;
     QUndoStack m_undo;
-    std::unique_ptr<denoise::Session> m_session;
+    std::shared_ptr<denoise::Session> m_session;  // shared with the workers reading it
     denoise::SessionOptions m_options;
     FramePtr m_input;
     FramePtr m_filterInput;
@@ -143,6 +178,11 @@ class SessionAdapter : public QObject {
     std::uint64_t m_generation = 0;  // counts inputs: outputs computed on an older one are stale
     std::uint64_t m_revision = 0;
     bool m_locked = false;
+    int m_readers = 0;          // workers reading the session (it is locked while > 0)
+    std::uint64_t m_reads = 0;  // numbers their tasks
+    // Magic-wand masks computed so far, filled in click order.
+    std::uint64_t m_wandNext = 0, m_wandApplied = 0;
+    std::map<std::uint64_t, std::function<void()>> m_wandReady;
     std::vector<std::function<void()>> m_afterUnlock;
     // The open stroke, for the journal and to tell whether it changed anything.
     journal_codec::Stroke m_stroke;  ///< the stroke being made, recorded when it ends

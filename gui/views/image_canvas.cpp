@@ -19,25 +19,64 @@ ImageCanvas::ImageCanvas(QWidget* parent) : QWidget(parent) {
 }
 
 void ImageCanvas::setImage(const Image& image) {
+    m_lastImage = std::make_shared<Image>(image);
+    // A small image converts at once; a large one (tens of ms at 1024²) on a worker, the image
+    // shown until then being the previous one (or none).
+    if (std::size_t(image.width()) * std::size_t(image.height()) > kSyncPixels) {
+        convertInBackground();
+        return;
+    }
+    m_tasks.cancel(QStringLiteral("convert"));
+    m_converting = false;
+    m_dirty.clear();
     const bool resized = m_image.width() != image.width() || m_image.height() != image.height();
-    m_lastImage = image;
     m_image = toQImage(image, m_display);
     if (resized || m_fitted) fit();
     update();
 }
 
+void ImageCanvas::convertInBackground() {
+    // The worker reads the linear image; a dab meanwhile writes to a copy (updateImage).
+    std::shared_ptr<const Image> source = m_lastImage;
+    const DisplaySettings display = m_display;
+    m_converting = true;
+    m_dirty.clear();
+    m_tasks.run<QImage>(
+        QStringLiteral("convert"),
+        [source, display](const TaskRunner::CancelFlag&) { return toQImage(*source, display); },
+        [this, display](QImage converted) {
+            m_converting = false;
+            if (!(display == m_display) || converted.width() != m_lastImage->width() ||
+                converted.height() != m_lastImage->height()) {
+                convertInBackground();  // the display changed meanwhile
+                return;
+            }
+            const bool resized = m_image.size() != converted.size();
+            m_image = std::move(converted);
+            // Dabs that came meanwhile are in the linear image only.
+            for (const Rect& r : m_dirty) convertRect(m_image, *m_lastImage, m_display, r);
+            m_dirty.clear();
+            if (resized || m_fitted) fit();
+            update();
+        });
+}
+
 void ImageCanvas::updateImage(const Image& image, const Rect& rect) {
-    if (m_image.isNull() || m_image.width() != image.width() ||
-        m_image.height() != image.height()) {
+    if (m_lastImage->width() != image.width() || m_lastImage->height() != image.height() ||
+        (m_image.isNull() && !m_converting)) {
         setImage(image);
         return;
     }
     const Rect r = intersect(rect, image.bounds());
+    if (m_lastImage.use_count() > 1) m_lastImage = std::make_shared<Image>(*m_lastImage);
     for (int y = r.y0; y < r.y1; ++y)
         std::copy(image.row(y) + std::size_t(r.x0) * image.channels(),
                   image.row(y) + std::size_t(r.x1) * image.channels(),
-                  m_lastImage.row(y) + std::size_t(r.x0) * image.channels());
-    convertRect(m_image, image, m_display, r);
+                  m_lastImage->row(y) + std::size_t(r.x0) * image.channels());
+    // While a conversion runs, the image shown may be another one (or of another size).
+    if (m_image.width() == image.width() && m_image.height() == image.height())
+        convertRect(m_image, image, m_display, r);
+    if (m_converting) m_dirty.push_back(r);
     updateImageRect(r);
 }
 
@@ -65,7 +104,7 @@ void ImageCanvas::setWipe(std::optional<double> fraction) {
 void ImageCanvas::setDisplay(const DisplaySettings& display) {
     if (display == m_display) return;
     m_display = display;
-    if (!m_lastImage.empty()) m_image = toQImage(m_lastImage, m_display);
+    if (!m_lastImage->empty()) m_image = toQImage(*m_lastImage, m_display);
     if (!m_compareSource.empty()) m_compare = toQImage(m_compareSource, m_display);
     if (!m_brushSourceImage.empty()) m_brushSource = toQImage(m_brushSourceImage, m_display);
     update();

@@ -10,9 +10,12 @@
 #include <QPolygonF>
 #include <QWidget>
 
+#include <memory>
 #include <optional>
+#include <vector>
 
 #include "glint/image/image.h"
+#include "model/task_runner.h"
 #include "views/display.h"
 
 namespace glint::studio {
@@ -57,6 +60,8 @@ class ImageCanvas : public QWidget {
     void clearPreview();
     /// A translucent overlay over the whole image (change map, filter variance...).
     void setOverlay(const QImage& overlay);
+    /// True while an overlay is shown.
+    bool hasOverlay() const { return !m_overlay.isNull(); }
     void clearOverlay();
 
     /// Brush outline and, when given, what the brush would paint (linear, frame-sized): shown
@@ -110,13 +115,21 @@ class ImageCanvas : public QWidget {
     void updateImageRect(const Rect& rect);
     QRectF imageRectInWidget() const;
 
+    // Images larger than this convert for the screen on a worker (about 2 ms on the UI thread).
+    static constexpr std::size_t kSyncPixels = 256 * 256;
+    void convertInBackground();
+    TaskRunner m_tasks;
+    bool m_converting = false;  // a conversion of m_lastImage runs
+    std::vector<Rect> m_dirty;  // rectangles dabbed meanwhile, converted again when it lands
     QImage m_image;
     QImage m_compare;
     QImage m_preview;
     Rect m_previewRect{};
     QImage m_overlay;
     QImage m_brushSource;
-    Image m_lastImage;      // the linear image shown, for re-conversion when the display changes
+    // The linear image shown, for re-conversion when the display changes (shared with the
+    // conversion running, if any).
+    std::shared_ptr<Image> m_lastImage = std::make_shared<Image>();
     Image m_compareSource;  // copies, for re-conversion when the display changes
     Image m_brushSourceImage;
     DisplaySettings m_display;

@@ -138,28 +138,35 @@ void NavigateView::build() {
                          .arg(options.size)
                          .arg(rect.width())
                          .arg(rect.height()));
-    struct Built {
-        std::shared_ptr<const denoise::FilterBank> bank;
-        std::shared_ptr<const denoise::NavigationTree> tree;
-    };
-    m_tasks.run<Built>(
-        QStringLiteral("bank"),
-        [this, in, options, tree](const TaskRunner::CancelFlag& cancel) mutable {
-            options.progress = [this, cancel](double f) {
-                QMetaObject::invokeMethod(
-                    &m_tasks, [this, f] { m_progress->setValue(int(f * 900.0)); },
-                    Qt::QueuedConnection);
-                return !cancel->load();
-            };
-            auto bank =
-                std::make_shared<const denoise::FilterBank>(denoise::buildBank(*in, options));
-            auto t = std::make_shared<const denoise::NavigationTree>(
+    // The bank from the studio's bank service (Auto Start may have built it already), then its
+    // tree on a worker.
+    BankService* banks = m_context.session->banks();
+    banks->withdraw(m_bankTicket);
+    m_tasks.cancel(QStringLiteral("tree"));
+    m_bankTicket = banks->request(in, options, this,
+                                  {[this, tree](BankService::BankPtr bank) {
+                                       m_bankTicket = 0;
+                                       buildTree(std::move(bank), tree);
+                                   },
+                                   [this](double f) { m_progress->setValue(int(f * 900.0)); },
+                                   [this](const QString& message) {
+                                       m_bankTicket = 0;
+                                       m_state->setText(message);
+                                       emit failed(tr("Cannot build the bank"), message);
+                                   }});
+}
+
+void NavigateView::buildTree(std::shared_ptr<const denoise::FilterBank> bank,
+                             const denoise::TreeOptions& tree) {
+    m_tasks.run<std::shared_ptr<const denoise::NavigationTree>>(
+        QStringLiteral("tree"),
+        [bank, tree](const TaskRunner::CancelFlag&) {
+            return std::make_shared<const denoise::NavigationTree>(
                 denoise::NavigationTree::fromBank(*bank, tree));
-            return Built{bank, t};
         },
-        [this](Built built) {
-            m_bank = built.bank;
-            m_tree = built.tree;
+        [this, bank](std::shared_ptr<const denoise::NavigationTree> t) {
+            m_bank = bank;
+            m_tree = t;
             m_navigator = std::make_unique<denoise::Navigator>(*m_tree);
             m_progress->setValue(1000);
             m_state->setText(
@@ -303,18 +310,30 @@ void NavigateView::updateOverlay() {
     ImageCanvas* canvas = m_context.viewer->canvas();
     FramePtr in = m_context.session->input();
     if (!m_active || !m_variance->isChecked() || !m_bank || !in) {
+        m_tasks.cancel(QStringLiteral("variance"));
         canvas->clearOverlay();
         return;
     }
-    // The variance of the bank's results, placed over the region in a frame-sized overlay.
-    std::vector<const Image*> results;
-    for (const Image& r : m_bank->results()) results.push_back(&r);
-    const Image variance = denoise::filterVarianceMap(results);
-    Image full(in->width(), in->height(), 1, 0.0f);
-    const Rect r = m_bank->region();
-    for (int y = r.y0; y < r.y1; ++y)
-        for (int x = r.x0; x < r.x1; ++x) full(x, y, 0) = variance(x - r.x0, y - r.y0, 0);
-    canvas->setOverlay(maskOverlay(full, QColor(255, 60, 200, 200)));
+    // The variance of the bank's results (tens of megapixels to read), on a worker.
+    std::shared_ptr<const denoise::FilterBank> bank = m_bank;
+    const int width = in->width(), height = in->height();
+    m_tasks.run<QImage>(
+        QStringLiteral("variance"),
+        [bank, width, height](const TaskRunner::CancelFlag&) {
+            std::vector<const Image*> results;
+            for (const Image& r : bank->results()) results.push_back(&r);
+            const Image variance = denoise::filterVarianceMap(results);
+            // Placed over the region in a frame-sized overlay.
+            Image full(width, height, 1, 0.0f);
+            const Rect r = bank->region();
+            for (int y = r.y0; y < r.y1; ++y)
+                for (int x = r.x0; x < r.x1; ++x) full(x, y, 0) = variance(x - r.x0, y - r.y0, 0);
+            return maskOverlay(full, QColor(255, 60, 200, 200));
+        },
+        [this, bank](QImage overlay) {
+            if (m_active && m_variance->isChecked() && m_bank == bank)
+                m_context.viewer->canvas()->setOverlay(overlay);
+        });
 }
 
 }  // namespace glint::studio

@@ -10,6 +10,7 @@
 
 #include "glint/denoise/bank.h"
 #include "glint/denoise/navigation.h"
+#include "model/bank_service.h"
 #include "model/task_runner.h"
 #include "views/stage_view.h"
 
@@ -59,6 +60,8 @@ class NavigateView : public StageView {
     bool eventFilter(QObject* watched, QEvent* event) override;
 
   private:
+    void buildTree(std::shared_ptr<const denoise::FilterBank> bank,
+                   const denoise::TreeOptions& tree);
     void showOptions();
     void showMember(int member);
     void updateOverlay();
@@ -86,6 +89,7 @@ class NavigateView : public StageView {
     std::vector<int> m_shownMembers;  // member of each option button
     FramePtr m_builtFor;              // the input the bank was built on
     Rect m_builtRect{};
+    BankService::Ticket m_bankTicket = 0;  // the bank asked of the bank service
 };
 
 }  // namespace glint::studio

@@ -165,7 +165,7 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
         if (m_changeMap->isChecked() && !m_stroking) updateOverlay();
     });
     connect(session, &SessionAdapter::lockedChanged, this, [this](bool locked) {
-        m_state->setText(locked ? tr("Diffusing… painting waits.") : QString());
+        m_state->setText(locked ? tr("Diffusing or saving… painting waits.") : QString());
     });
 }
 
@@ -272,15 +272,27 @@ void PaintView::updateOverlay() {
     ImageCanvas* canvas = m_context.viewer->canvas();
     const int layer = currentLayer();
     if (!m_active || !m_changeMap->isChecked() || layer < 0) {
+        m_tasks.cancel(QStringLiteral("change"));
         canvas->clearOverlay();
         return;
     }
+    // The map on a worker, from copies (the composite changes under the brush).
     const denoise::Session& s = m_context.session->session();
-    // The square root lifts the small changes a bright edge would otherwise hide (the map is
-    // divided by its largest value).
-    Image change = denoise::changeMap(s.layer(std::size_t(layer)).output, s.composite());
-    for (float& v : change.data()) v = std::sqrt(v);
-    canvas->setOverlay(maskOverlay(change, QColor(255, 80, 40, 200)));
+    auto output = std::make_shared<const Image>(s.layer(std::size_t(layer)).output);
+    auto composite = std::make_shared<const Image>(s.composite());
+    m_tasks.run<QImage>(
+        QStringLiteral("change"),
+        [output, composite](const TaskRunner::CancelFlag&) {
+            // The square root lifts the small changes a bright edge would otherwise hide (the
+            // map is divided by its largest value).
+            Image change = denoise::changeMap(*output, *composite);
+            for (float& v : change.data()) v = std::sqrt(v);
+            return maskOverlay(change, QColor(255, 80, 40, 200));
+        },
+        [this](QImage overlay) {
+            if (m_active && m_changeMap->isChecked() && currentLayer() >= 0)
+                m_context.viewer->canvas()->setOverlay(overlay);
+        });
 }
 
 void PaintView::strokeTo(const QPointF& at) {
@@ -300,14 +312,11 @@ void PaintView::strokeTo(const QPointF& at) {
 
 void PaintView::wand(const QPoint& pixel, bool subtract) {
     const int layer = currentLayer();
-    FramePtr in = m_context.session->filterInput();
-    if (!m_active || layer < 0 || !in || m_context.session->locked()) return;
-    Image seeds(in->width(), in->height(), 1, 0.0f);
-    seeds(pixel.x(), pixel.y(), 0) = 1.0f;
+    if (!m_active || layer < 0 || !m_context.session->filterInput() || m_context.session->locked())
+        return;
     denoise::WandOptions options;
     options.color = m_wandColor->value();
-    const Image mask = denoise::magicWand(*in, seeds, options);
-    m_context.session->fill(std::size_t(layer), mask,
+    m_context.session->wand(std::size_t(layer), pixel.x(), pixel.y(), options,
                             subtract ? denoise::BrushMode::Subtract : denoise::BrushMode::Add);
 }
 

@@ -348,6 +348,7 @@ class StudioFitTest : public QObject {
         const QString session = m_dir.filePath(QStringLiteral("bar/shown.glint-session.json"));
         QDir().mkpath(QFileInfo(session).path());
         QVERIFY(w->saveSession(session));
+        QVERIFY(waitFor([&] { return !w->session()->busy(); }));  // written on a worker
         bool loaded = false;
         connect(w->session(), &SessionAdapter::loaded, this, [&] { loaded = true; });
         w->openFile(session);

@@ -15,12 +15,14 @@
 #include <csignal>
 #include <cstring>
 
+#include "glint/denoise/auto.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
-#include "glint/denoise/auto.h"
 #include "glint/image/io.h"
 #include "glint/render/scene.h"
 #include "model/document.h"
+#include "model_test.h"
+#include "run_tests.h"
 #include "studio_fixture.h"
 #include "views/help_overlay.h"
 #include "views/image_canvas.h"
@@ -262,6 +264,8 @@ class StudioTest : public QObject {
         w->viewer()->canvas()->setTool(ImageCanvas::Tool::Wand);
         const QPoint at = w->viewer()->canvas()->toWidget(QPointF(32.5, 24.5)).toPoint();
         QTest::mouseClick(w->viewer()->canvas(), Qt::LeftButton, {}, at);
+        // The wand's mask is computed on a worker: the fill is the next undo step.
+        QVERIFY(waitFor([&] { return w->session()->undoStack()->count() == 2; }));
         const denoise::Session& s = w->session()->session();
         QCOMPARE(s.layer(0).weights(32, 24, 0), 1.0f);
         const double filled = sum(s.layer(0).weights);
@@ -354,6 +358,8 @@ class StudioTest : public QObject {
         const QString path = m_dir.filePath(QStringLiteral("saved/look.glint-session.json"));
         QDir().mkpath(QFileInfo(path).path());
         QVERIFY(w->saveSession(path));
+        QVERIFY(waitFor([&] { return !w->session()->busy(); }));  // written on a worker
+        QVERIFY(w->session()->undoStack()->isClean());
         const Image weights = w->session()->session().layer(0).weights;
         const Image composite = w->session()->session().composite();
         const QString lasso = w->region()->toString();
@@ -394,6 +400,7 @@ class StudioTest : public QObject {
         MainWindow w(options);
         w.show();
         w.offerRestore(false);
+        QVERIFY(waitFor([&] { return !w.autosave()->restoring(); }, 60000));
         QVERIFY(w.lastError().isEmpty());
         QVERIFY(waitFor([&] { return w.session()->hasSession() && !w.session()->busy(); }));
         const denoise::Session want = denoise::Session::load(expected.toStdString());
@@ -560,8 +567,10 @@ static int crashChild(const QString& base, const QString& scene) {
     if (!waitFor([&] { return w.session()->session().layerCount() == 1; })) return 4;
     w.paintView()->setBrushSize(14.0);
     drag(w.viewer()->canvas(), {{6, 6}, {20, 18}, {40, 30}, {58, 42}});
+    bool saved = false;
     w.session()->save(QDir(base).filePath(QStringLiteral("expected.glint-session.json")),
-                      std::nullopt, {});
+                      std::nullopt, {}, [&](const QString& error) { saved = error.isEmpty(); });
+    if (!waitFor([&] { return saved; })) return 6;
     w.autosave()->flush();
     std::raise(SIGKILL);
     return 5;
@@ -576,7 +585,8 @@ int main(int argc, char** argv) {
     QApplication::setOrganizationName(QStringLiteral("GlintTests"));
     QStandardPaths::setTestModeEnabled(true);
     StudioTest test;
-    return QTest::qExec(&test, argc, argv);
+    const std::unique_ptr<QObject> model = makeStudioModelTest();
+    return runTests({&test, model.get()}, argc, argv);
 }
 
 #include "studio_test.moc"

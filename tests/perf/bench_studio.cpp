@@ -1,8 +1,9 @@
 // The studio's speed, instrumented (docs/studio.md, "Speed"): time from opening scenes/cornell
 // to the first image on screen; from a look change to the denoised new image on screen (16 spp,
 // one layer applied everywhere); from a brush dab to the screen at 1024×1024; and the longest
-// time the UI thread was busy in each phase (a 2 ms timer that fires late tells). Prints a table
-// and one JSON object.
+// time the UI thread was busy in each phase (a 2 ms timer that fires late tells), the heavy
+// actions at 1024×1024 (magic wand, navigation build, save, autosave restore) included. Prints a
+// table and one JSON object.
 //   QT_QPA_PLATFORM=offscreen build/bin/bench_studio [--repeats N]
 #include <QApplication>
 #include <QElapsedTimer>
@@ -16,6 +17,8 @@
 #include <cstring>
 #include <vector>
 
+#include "../gui/heavy_actions.h"
+#include "../gui/stall_monitor.h"
 #include "../gui/studio_fixture.h"
 #include "glint/image/io.h"
 #include "glint/render/renderer.h"
@@ -31,36 +34,6 @@ using namespace glint::studio;
 using namespace glint::studio::testing;
 
 namespace {
-
-// The longest gap between the ticks of a 2 ms timer on the UI thread, minus the period: how long
-// the UI thread was busy without returning to its event loop.
-class StallMonitor : public QObject {
-  public:
-    StallMonitor() {
-        m_timer.setInterval(2);
-        m_timer.setTimerType(Qt::PreciseTimer);
-        connect(&m_timer, &QTimer::timeout, this, [this] {
-            const double now = double(m_clock.nsecsElapsed()) * 1e-6;
-            if (m_last >= 0.0) m_worst = std::max(m_worst, now - m_last - 2.0);
-            m_last = now;
-        });
-    }
-    void start() {
-        m_worst = 0.0;
-        m_last = -1.0;
-        m_clock.start();
-        m_timer.start();
-    }
-    double stop() {
-        m_timer.stop();
-        return std::max(0.0, m_worst);
-    }
-
-  private:
-    QTimer m_timer;
-    QElapsedTimer m_clock;
-    double m_last = -1.0, m_worst = 0.0;
-};
 
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
@@ -170,6 +143,28 @@ int main(int argc, char** argv) {
     }
     const double dabStall = monitor.stop();
 
+    // 4. The heavy actions at 1024×1024 (tests/gui/heavy_actions.h), each to completion: the
+    // longest gap of each and the UI thread's own CPU time in its longest busy stretch (-1: it
+    // did not finish).
+    struct Stall {
+        double gap = -1.0, busy = -1.0;
+    };
+    auto stallOf = [&](const std::function<bool()>& action) {
+        monitor.start();
+        const bool done = action();
+        const double gap = monitor.stop();
+        return done ? Stall{gap, monitor.busy()} : Stall{};
+    };
+    const Stall wandStall = stallOf([&] { return wandClick(*w); });
+    w->region()->setPolygon({{256, 256}, {768, 256}, {768, 768}, {256, 768}});
+    const Stall navigateStall = stallOf([&] { return navigateBuild(*w, 4); });
+    const Stall saveStall = stallOf(
+        [&] { return saveSession(*w, tmp.filePath(QStringLiteral("s/big.glint-session.json"))); });
+    copyAsCrashed(*w, tmp.filePath(QStringLiteral("crashed")));
+    auto again = makeWindow(tmp.filePath(QStringLiteral("crashed")));
+    const Stall restoreStall = stallOf([&] { return restore(*again); });
+    again->close();
+
     std::printf("Glint Studio, %s platform, 2 threads of this machine\n",
                 qPrintable(QGuiApplication::platformName()));
     std::printf("%-58s %10s %10s\n", "what", "median", "max");
@@ -184,13 +179,24 @@ int main(int argc, char** argv) {
     std::printf("%-58s %8.0f ms / %.0f ms / %.0f ms / %.0f ms\n",
                 "longest UI-thread stall: open / look / 1024^2 open+layer / paint", openStall,
                 lookStall, bigStall, dabStall);
+    std::printf("%-58s %8.0f ms / %.0f ms / %.0f ms / %.0f ms\n",
+                "longest UI-thread stall, 1024^2: wand / navigate build / save / restore",
+                wandStall.gap, navigateStall.gap, saveStall.gap, restoreStall.gap);
+    std::printf("%-58s %8.0f ms / %.0f ms / %.0f ms / %.0f ms\n",
+                "  of which UI-thread CPU time: wand / navigate / save / restore", wandStall.busy,
+                navigateStall.busy, saveStall.busy, restoreStall.busy);
     std::printf(
         "{\"firstImageMs\": %.1f, \"renderReadyMs\": %.1f, \"lookMedianMs\": %.1f, \"lookMaxMs\": "
         "%.1f, "
         "\"dabMedianMs\": %.2f, \"dabMaxMs\": %.2f, \"stallOpenMs\": %.1f, \"stallLookMs\": %.1f, "
-        "\"stallBigOpenMs\": %.1f, \"stallPaintMs\": %.1f}\n",
+        "\"stallBigOpenMs\": %.1f, \"stallPaintMs\": %.1f, \"stallWandMs\": %.1f, "
+        "\"stallNavigateMs\": %.1f, \"stallSaveMs\": %.1f, \"stallRestoreMs\": %.1f, "
+        "\"busyWandMs\": %.1f, \"busyNavigateMs\": %.1f, \"busySaveMs\": %.1f, "
+        "\"busyRestoreMs\": %.1f}\n",
         firstImage, fullRender, median(lookTimes), maximum(lookTimes), median(dabTimes),
-        maximum(dabTimes), openStall, lookStall, bigStall, dabStall);
+        maximum(dabTimes), openStall, lookStall, bigStall, dabStall, wandStall.gap,
+        navigateStall.gap, saveStall.gap, restoreStall.gap, wandStall.busy, navigateStall.busy,
+        saveStall.busy, restoreStall.busy);
     w->close();
     return 0;
 }
