@@ -36,7 +36,7 @@ struct BankMember {
 struct BankOptions {
     int size = 64;           ///< Latin-hypercube members, 1 … kMaxBankSize (defaults come on top)
     std::uint64_t seed = 1;  ///< of the Latin hypercube
-    std::vector<std::string> filters;  ///< restrict to these registry names (empty: all)
+    std::vector<std::string> filters;  ///< these registry names (empty: defaultBankFilters())
     bool prefilter = false;            ///< build on prefiltered features (motion blur, DOF)
     ParamValues prefilterParams;       ///< prefilter parameters (prefilterParams() specs)
     /// Compute the members over this region only (each filter reads its margin around it);
