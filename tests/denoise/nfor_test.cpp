@@ -6,6 +6,7 @@
 #include <limits>
 #include <random>
 
+#include "glint/denoise/bank.h"
 #include "glint/denoise/filter.h"
 #include "glint/denoise/registry.h"
 #include "glint/image/error.h"
@@ -198,4 +199,17 @@ TEST(Nfor, NonFiniteInputStaysLocal) {
                     ASSERT_EQ(a(x, y, c), b(x, y, c)) << x << "," << y;
                 }
             }
+}
+
+// nfor is an opt-in bank filter: the default bank leaves it out, a bank that names it holds it.
+TEST(Nfor, JoinsABankOnlyWhenNamed) {
+    for (const Filter* f : defaultBankFilters()) EXPECT_NE(f->name(), "nfor");
+    EXPECT_EQ(defaultBankFilters().size() + 1, allFilters().size());
+    const FrameBuffers frame = denoise::testing::syntheticFrame(32, 24);
+    BankOptions options;
+    options.size = 2;
+    options.filters = {"nfor"};
+    const FilterBank bank = buildBank(frame, options);
+    ASSERT_EQ(bank.size(), 3u);
+    for (const BankMember& m : bank.members()) EXPECT_EQ(m.filter, "nfor");
 }

@@ -26,8 +26,8 @@
 // Parameters:
 //   windowRadius  r, 1 … 10 (11×11 windows: 5); outputs depend on the 2r + f pixels around.
 //   patchRadius   f, 0 … 5 (7×7 patches: 3)
-//   strength      k, 1e-3 … 10 (log); larger weights more neighbours (smoother)
-//   ridge         lambda, 1e-6 … 1 (log), in squared feature units: larger pulls the slopes to 0
+//   strength      k, 1e-3 … 10 (log; 1); larger weights more neighbours (smoother)
+//   ridge         lambda, 1e-6 … 1 (log; 1e-3), in squared feature units: larger pulls slopes to 0
 #include "filters/nfor.h"
 
 #include <tbb/enumerable_thread_specific.h>
@@ -78,8 +78,8 @@ their weighted mean.
 Parameters:
   windowRadius  r, 1 … 10 (11×11 windows: 5); outputs depend on the 2r + f pixels around.
   patchRadius   f, 0 … 5 (7×7 patches: 3)
-  strength      k, 1e-3 … 10 (log); larger weights more neighbours (smoother)
-  ridge         lambda, 1e-6 … 1 (log), in squared feature units: larger pulls the slopes to 0)";
+  strength      k, 1e-3 … 10 (log; 1); larger weights more neighbours (smoother)
+  ridge         lambda, 1e-6 … 1 (log; 1e-3), in squared feature units: larger pulls slopes to 0)";
 
 constexpr float kUnknownVariance = 1e30f;
 constexpr int kTile = 64;  // tiles on a global grid (reproducible ROI output)
@@ -190,9 +190,9 @@ NforFilter::NforFilter()
           ParamSpec{"patchRadius", "patch radius (px)", 0, 5, 3, ParamScale::Linear, true,
                     "Patch radius f of the NL-means weights: patches are (2f+1)^2 pixels."}
               .soft(1, 3),
-          ParamSpec{"strength", "strength k", 1e-3, 10, 0.5, ParamScale::Log, false,
+          ParamSpec{"strength", "strength k", 1e-3, 10, 1.0, ParamScale::Log, false,
                     "NL-means strength k: larger weights more neighbours (smoother)."}
-              .soft(0.25, 2.0),
+              .soft(0.5, 4.0),
           ParamSpec{"ridge", "ridge lambda", 1e-6, 1, 1e-3, ParamScale::Log, false,
                     "Ridge on the feature slopes, in squared feature units: larger is flatter."}
               .soft(1e-5, 1e-2),

@@ -113,10 +113,35 @@ void weightImages(const P& pk, const Grown& e, const NforSettings& st, NforScrat
         }
 }
 
-// Adds the weighted moments of one row of E for one window offset (n pixels, a multiple of 8).
+// The weighted sample of one pixel vector for one window offset: weight, centred features, colour.
+struct Sample {
+    VecF w;
+    std::array<VecF, kF> d, wd;
+    std::array<VecF, 3> y;
+};
+
+[[gnu::always_inline]] inline void loadSample(const P& pk, std::size_t a, std::ptrdiff_t offset,
+                                              const float* w, Sample& s) {
+    const std::size_t b = std::size_t(std::ptrdiff_t(a) + offset);
+    VecF valid;
+    loadVec(s.w, w);
+    loadVec(valid, pk.at(P::V, b));
+    s.w *= valid;
+    for (int k = 0; k < kF; ++k) {
+        VecF fq, fp;
+        loadVec(fq, pk.at(P::F0 + k, b));
+        loadVec(fp, pk.at(P::F0 + k, a));
+        s.d[std::size_t(k)] = fq - fp;
+        s.wd[std::size_t(k)] = s.w * s.d[std::size_t(k)];
+    }
+    for (int c = 0; c < 3; ++c) loadVec(s.y[std::size_t(c)], pk.at(P::Y0 + c, b));
+}
+
+// Adds the weighted moments of one row of E for two window offsets (n pixels, a multiple of 8;
+// w2 may be a row of zeros): each accumulator is loaded and stored once per two offsets.
 GLINT_SIMD_CLONES_V4
-void momentsRow(const P& pk, std::size_t ip, std::ptrdiff_t offset, const float* w, int n,
-                float* mom, std::size_t momStride) {
+void momentsRow(const P& pk, std::size_t ip, std::ptrdiff_t offset1, const float* w1,
+                std::ptrdiff_t offset2, const float* w2, int n, float* mom, std::size_t momStride) {
     auto add = [&](int m, int i, const VecF& value) {
         float* p = mom + std::size_t(m) * momStride + std::size_t(i);
         VecF a;
@@ -124,29 +149,23 @@ void momentsRow(const P& pk, std::size_t ip, std::ptrdiff_t offset, const float*
         storeVec(p, a + value);
     };
     for (int i = 0; i < n; i += 8) {
-        const std::size_t a = ip + std::size_t(i), b = std::size_t(std::ptrdiff_t(a) + offset);
-        VecF wt, valid;
-        loadVec(wt, w + i);
-        loadVec(valid, pk.at(P::V, b));
-        wt *= valid;
-        std::array<VecF, kF> d, wd;
-        for (int k = 0; k < kF; ++k) {
-            VecF fq, fp;
-            loadVec(fq, pk.at(P::F0 + k, b));
-            loadVec(fp, pk.at(P::F0 + k, a));
-            d[std::size_t(k)] = fq - fp;
-            wd[std::size_t(k)] = wt * d[std::size_t(k)];
-        }
-        add(0, i, wt);
-        for (int k = 0, t = kMomDD; k < kF; ++k) {
-            add(kMomD + k, i, wd[std::size_t(k)]);
-            for (int l = k; l < kF; ++l) add(t++, i, wd[std::size_t(k)] * d[std::size_t(l)]);
+        const std::size_t a = ip + std::size_t(i);
+        Sample s, t;
+        loadSample(pk, a, offset1, w1 + i, s);
+        loadSample(pk, a, offset2, w2 + i, t);
+        add(0, i, s.w + t.w);
+        for (int k = 0, m = kMomDD; k < kF; ++k) {
+            const std::size_t K = std::size_t(k);
+            add(kMomD + k, i, s.wd[K] + t.wd[K]);
+            for (int l = k; l < kF; ++l)
+                add(m++, i, s.wd[K] * s.d[std::size_t(l)] + t.wd[K] * t.d[std::size_t(l)]);
         }
         for (int c = 0; c < 3; ++c) {
-            VecF y;
-            loadVec(y, pk.at(P::Y0 + c, b));
-            add(kMomY + c, i, wt * y);
-            for (int k = 0; k < kF; ++k) add(kMomDY + k * 3 + c, i, wd[std::size_t(k)] * y);
+            const std::size_t C = std::size_t(c);
+            add(kMomY + c, i, s.w * s.y[C] + t.w * t.y[C]);
+            for (int k = 0; k < kF; ++k)
+                add(kMomDY + k * 3 + c, i,
+                    s.wd[std::size_t(k)] * s.y[C] + t.wd[std::size_t(k)] * t.y[C]);
         }
     }
 }
@@ -227,16 +246,22 @@ void fitWindows(const P& pk, const Grown& e, const NforSettings& st, NforScratch
     const int n = roundUp8(e.w);
     sc.beta.assign(plane * std::size_t(kBeta + 1), 0.0f);
     sc.moments.assign(std::size_t(kMoments) * s, 0.0f);
+    sc.zeros.assign(s, 0.0f);
     for (int y = 0; y < e.h; ++y) {
         std::fill(sc.moments.begin(), sc.moments.end(), 0.0f);
         const std::size_t ip = pk.index(e.x0, e.y0 + y);
-        for (int oy = -r; oy <= r; ++oy)
-            for (int ox = -r; ox <= r; ++ox) {
-                const float* w = sc.weights.data() +
-                                 plane * std::size_t((oy + r) * side + (ox + r)) +
-                                 std::size_t(y) * s;
-                momentsRow(pk, ip, std::ptrdiff_t(oy) * pk.stride + ox, w, n, sc.moments.data(), s);
-            }
+        // The window offsets in pairs (the last paired with a zero weight row when odd).
+        const int count = side * side;
+        for (int o = 0; o < count; o += 2) {
+            const int o2 = std::min(o + 1, count - 1);
+            const float* w1 = sc.weights.data() + plane * std::size_t(o) + std::size_t(y) * s;
+            const float* w2 = o + 1 < count
+                                  ? sc.weights.data() + plane * std::size_t(o2) + std::size_t(y) * s
+                                  : sc.zeros.data();
+            const std::ptrdiff_t off1 = std::ptrdiff_t(o / side - r) * pk.stride + (o % side - r);
+            const std::ptrdiff_t off2 = std::ptrdiff_t(o2 / side - r) * pk.stride + (o2 % side - r);
+            momentsRow(pk, ip, off1, w1, off2, w2, n, sc.moments.data(), s);
+        }
         for (int x = 0; x < e.w; ++x)
             solveWindow(sc.moments.data() + x, s, st.ridge, sc.beta.data(), plane,
                         std::size_t(y) * s + std::size_t(x));

@@ -44,6 +44,7 @@ struct NforScratch {
     std::vector<float> weights;  // (2r+1)^2 weight images over the tile grown by r
     std::vector<float> dist, vert;
     std::vector<float> moments;  // 60 accumulator rows of one row of the grown tile
+    std::vector<float> zeros;    // a row of zero weights
     std::vector<float> beta;     // 24 coefficient planes + validity over the grown tile
 };
 

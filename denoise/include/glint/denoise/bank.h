@@ -1,7 +1,8 @@
-// The filter bank: candidate results of every registered filter at Latin-hypercube samples of
-// its parameters (plus each filter's defaults), computed in parallel, optionally for a region
-// only, and cached on disk. Filters are black boxes here: only Filter/ParamSpec are used, so a
-// newly registered filter joins the bank without other changes (docs/navigation.md).
+// The filter bank: candidate results of the chosen filters (defaultBankFilters() unless named)
+// at Latin-hypercube samples of their parameters (plus each filter's defaults), computed in
+// parallel, optionally for a region only, and cached on disk. Filters are black boxes here: only
+// Filter/ParamSpec are used, so a newly registered filter joins the bank without other changes
+// (docs/navigation.md; opt-in filters such as nfor join when named).
 #pragma once
 
 #include <cstdint>
