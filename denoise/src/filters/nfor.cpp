@@ -25,7 +25,7 @@
 //
 // Parameters:
 //   windowRadius  r, 1 … 10 (11×11 windows: 5); outputs depend on the 2r + f pixels around.
-//   patchRadius   f, 0 … 5 (7×7 patches: 3)
+//   patchRadius   f, 0 … 5 (3×3 patches: 1)
 //   strength      k, 1e-3 … 10 (log; 1); larger weights more neighbours (smoother)
 //   ridge         lambda, 1e-6 … 1 (log; 1e-3), in squared feature units: larger pulls slopes to 0
 #include "filters/nfor.h"
@@ -77,7 +77,7 @@ their weighted mean.
 
 Parameters:
   windowRadius  r, 1 … 10 (11×11 windows: 5); outputs depend on the 2r + f pixels around.
-  patchRadius   f, 0 … 5 (7×7 patches: 3)
+  patchRadius   f, 0 … 5 (3×3 patches: 1)
   strength      k, 1e-3 … 10 (log; 1); larger weights more neighbours (smoother)
   ridge         lambda, 1e-6 … 1 (log; 1e-3), in squared feature units: larger pulls slopes to 0)";
 
@@ -187,7 +187,7 @@ NforFilter::NforFilter()
           ParamSpec{"windowRadius", "window radius (px)", 1, 10, 5, ParamScale::Linear, true,
                     "Window radius r: each regression fits a (2r+1)^2 window."}
               .soft(3, 7),
-          ParamSpec{"patchRadius", "patch radius (px)", 0, 5, 3, ParamScale::Linear, true,
+          ParamSpec{"patchRadius", "patch radius (px)", 0, 5, 1, ParamScale::Linear, true,
                     "Patch radius f of the NL-means weights: patches are (2f+1)^2 pixels."}
               .soft(1, 3),
           ParamSpec{"strength", "strength k", 1e-3, 10, 1.0, ParamScale::Log, false,
