@@ -93,7 +93,8 @@ TEST(Nfor, RecoversAnAffineFunctionOfTheFeatures) {
     const Filter& nfor = findFilter("nfor");
     Image truth;
     const FrameBuffers clean = affineFrame(48, 40, 0.0f, 0.0025f, &truth);
-    const ParamValues p{{"ridge", 1e-6}, {"strength", 1.0}};
+    const ParamValues p{
+        {"ridge", 1e-6}, {"strength", 1.0}, {"windowRadius", 5}, {"patchRadius", 1}};
     EXPECT_LT(denoise::testing::maxAbsDiff(applyFilter(nfor, clean, p), truth), 5e-4);
 
     const FrameBuffers noisy = affineFrame(48, 40, 0.05f, 0.0025f, &truth);

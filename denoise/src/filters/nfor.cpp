@@ -24,7 +24,7 @@
 // their weighted mean.
 //
 // Parameters:
-//   windowRadius  r, 1 … 10 (11×11 windows: 5); outputs depend on the 2r + f pixels around.
+//   windowRadius  r, 1 … 10 (9×9 windows: 4); outputs depend on the 2r + f pixels around.
 //   patchRadius   f, 0 … 5 (3×3 patches: 1)
 //   strength      k, 1e-3 … 10 (log; 1); larger weights more neighbours (smoother)
 //   ridge         lambda, 1e-6 … 1 (log; 1e-3), in squared feature units: larger pulls slopes to 0
@@ -76,7 +76,7 @@ windows' intercepts). Windows whose normal equations are not positive definite f
 their weighted mean.
 
 Parameters:
-  windowRadius  r, 1 … 10 (11×11 windows: 5); outputs depend on the 2r + f pixels around.
+  windowRadius  r, 1 … 10 (9×9 windows: 4); outputs depend on the 2r + f pixels around.
   patchRadius   f, 0 … 5 (3×3 patches: 1)
   strength      k, 1e-3 … 10 (log; 1); larger weights more neighbours (smoother)
   ridge         lambda, 1e-6 … 1 (log; 1e-3), in squared feature units: larger pulls slopes to 0)";
@@ -184,7 +184,7 @@ NforPlanes passPlanes(PackedFrame& pk, std::size_t guide, std::size_t target, st
 
 NforFilter::NforFilter()
     : m_params{
-          ParamSpec{"windowRadius", "window radius (px)", 1, 10, 5, ParamScale::Linear, true,
+          ParamSpec{"windowRadius", "window radius (px)", 1, 10, 4, ParamScale::Linear, true,
                     "Window radius r: each regression fits a (2r+1)^2 window."}
               .soft(3, 7),
           ParamSpec{"patchRadius", "patch radius (px)", 0, 5, 1, ParamScale::Linear, true,
