@@ -1,5 +1,7 @@
 #include "glint/denoise/registry.h"
 
+#include <algorithm>
+#include <iterator>
 #include <memory>
 #include <string>
 
@@ -18,8 +20,13 @@ std::vector<std::unique_ptr<Filter>> makeAll() {
     filters.push_back(makeCrossBilateralFilter());
     filters.push_back(makeGuidedFilter());
     filters.push_back(makeNlMeansFilter());
+    filters.push_back(makeNforFilter());
     return filters;
 }
+
+// Filters left out of the default bank: they join a bank only when named (--filters), so that
+// the default bank, and the quality tables measured on it, stay as they were.
+constexpr std::string_view kOptInFilters[] = {"nfor"};
 }  // namespace
 
 const std::vector<const Filter*>& allFilters() {
@@ -27,6 +34,18 @@ const std::vector<const Filter*>& allFilters() {
     static const std::vector<const Filter*> view = [] {
         std::vector<const Filter*> v;
         for (const auto& f : owned) v.push_back(f.get());
+        return v;
+    }();
+    return view;
+}
+
+const std::vector<const Filter*>& defaultBankFilters() {
+    static const std::vector<const Filter*> view = [] {
+        std::vector<const Filter*> v;
+        for (const Filter* f : allFilters())
+            if (std::find(std::begin(kOptInFilters), std::end(kOptInFilters), f->name()) ==
+                std::end(kOptInFilters))
+                v.push_back(f);
         return v;
     }();
     return view;

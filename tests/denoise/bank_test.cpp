@@ -86,8 +86,10 @@ TEST(MapParam, LinearLogIntegerAndChoice) {
 
 TEST(SampleBank, DefaultsFirstThenValidMembersOfEveryFilter) {
     const auto& filters = allFilters();
-    const std::vector<BankMember> members = detail::sampleBank(filters, 60, 3);
-    ASSERT_EQ(members.size(), filters.size() + 60);
+    const int perFilter = 10;
+    const int size = perFilter * int(filters.size());
+    const std::vector<BankMember> members = detail::sampleBank(filters, size, 3);
+    ASSERT_EQ(members.size(), filters.size() + std::size_t(size));
     std::set<std::string> seen;
     for (std::size_t i = 0; i < members.size(); ++i) {
         const Filter& f = findFilter(members[i].filter);
@@ -106,13 +108,13 @@ TEST(SampleBank, DefaultsFirstThenValidMembersOfEveryFilter) {
         }
         if (!members[i].isDefault) seen.insert(members[i].filter);
     }
-    // The filter dimension is stratified: 60 members over 6 filters gives each exactly 10.
+    // The filter dimension is stratified: 10 members per filter gives each exactly 10.
     EXPECT_EQ(seen.size(), filters.size());
     for (const Filter* f : filters) {
         int count = 0;
         for (std::size_t i = filters.size(); i < members.size(); ++i)
             count += members[i].filter == f->name();
-        EXPECT_EQ(count, 10) << f->name();
+        EXPECT_EQ(count, perFilter) << f->name();
     }
 }
 
@@ -126,7 +128,7 @@ BankOptions smallBank(int size = 8) {
 TEST(Bank, MembersEqualTheirFiltersAndTheBuildIsDeterministic) {
     const FrameBuffers frame = testing::syntheticFrame(48, 40);
     const FilterBank bank = buildBank(frame, smallBank());
-    ASSERT_EQ(bank.size(), allFilters().size() + 8);
+    ASSERT_EQ(bank.size(), defaultBankFilters().size() + 8);
     EXPECT_EQ(bank.region(), (Rect{0, 48, 0, 40}));
     for (std::size_t i = 0; i < bank.size(); ++i) {
         const BankMember& m = bank.members()[i];

@@ -80,12 +80,12 @@ std::uint64_t hashFrame(const FrameBuffers& frame) {
 
 namespace {
 
-// The filters of the options (all registered ones when none are named) that can run on this
+// The filters of the options (the default bank's when none are named) that can run on this
 // frame with their default parameters.
 std::vector<const Filter*> usableFilters(const FrameBuffers& frame, const BankOptions& options) {
     std::vector<const Filter*> chosen;
     if (options.filters.empty())
-        chosen = allFilters();
+        chosen = defaultBankFilters();
     else
         for (const std::string& name : options.filters) chosen.push_back(&findFilter(name));
     std::vector<const Filter*> usable;

@@ -13,5 +13,6 @@ std::unique_ptr<Filter> makeBilateralMcFilter();
 std::unique_ptr<Filter> makeCrossBilateralFilter();
 std::unique_ptr<Filter> makeGuidedFilter();
 std::unique_ptr<Filter> makeNlMeansFilter();
+std::unique_ptr<Filter> makeNforFilter();
 
 }  // namespace glint::denoise

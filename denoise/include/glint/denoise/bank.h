@@ -1,7 +1,8 @@
-// The filter bank: candidate results of every registered filter at Latin-hypercube samples of
-// its parameters (plus each filter's defaults), computed in parallel, optionally for a region
-// only, and cached on disk. Filters are black boxes here: only Filter/ParamSpec are used, so a
-// newly registered filter joins the bank without other changes (docs/navigation.md).
+// The filter bank: candidate results of the chosen filters (defaultBankFilters() unless named)
+// at Latin-hypercube samples of their parameters (plus each filter's defaults), computed in
+// parallel, optionally for a region only, and cached on disk. Filters are black boxes here: only
+// Filter/ParamSpec are used, so a newly registered filter joins the bank without other changes
+// (docs/navigation.md; opt-in filters such as nfor join when named).
 #pragma once
 
 #include <cstdint>
@@ -36,7 +37,7 @@ struct BankMember {
 struct BankOptions {
     int size = 64;           ///< Latin-hypercube members, 1 … kMaxBankSize (defaults come on top)
     std::uint64_t seed = 1;  ///< of the Latin hypercube
-    std::vector<std::string> filters;  ///< restrict to these registry names (empty: all)
+    std::vector<std::string> filters;  ///< these registry names (empty: defaultBankFilters())
     bool prefilter = false;            ///< build on prefiltered features (motion blur, DOF)
     ParamValues prefilterParams;       ///< prefilter parameters (prefilterParams() specs)
     /// Compute the members over this region only (each filter reads its margin around it);
