@@ -43,6 +43,10 @@ struct AutoSettings {
     int stackFeatureWindow = 0;
     bool prefilter = false;
     ParamValues prefilterParams;
+
+    /// The streamed selection's strip height in rows (autoCompositeStreamed; docs/auto.md,
+    /// "Memory"): each member is applied to one strip at a time.
+    int streamRows = 128;
 };
 
 /// Checks `options` (validate), that `bank` was built from `frame` and that the options and the

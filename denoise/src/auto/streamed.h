@@ -1,0 +1,13 @@
+// The streamed selection's entry with its strip height (auto_stream.h; the tests run it on tiny
+// strips so that every strip boundary and margin is crossed).
+#pragma once
+
+#include "glint/denoise/auto_stream.h"
+
+namespace glint::denoise::detail {
+
+/// autoCompositeStreamed with strips of `streamRows` rows (0: AutoSettings::streamRows).
+StreamedAuto autoCompositeStreamed(const FrameBuffers& frame, const BankOptions& bank,
+                                   const AutoOptions& options, int streamRows);
+
+}  // namespace glint::denoise::detail
