@@ -12,7 +12,9 @@
 
 #include "cli_boundary.h"
 #include "commands.h"
+#include "glint/denoise/auto_stream.h"
 #include "glint/denoise/bank.h"
+#include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/sure.h"
 #include "glint/image/composite.h"
@@ -62,6 +64,22 @@ void checkOutputsAreNoInputs(const AutoArgs& a) {
                                          {{a.input, "IN"}, {a.reference, "--reference"}});
     checkOutputIsNoBankFile(a.out, "--out", a.bank);
     checkOutputIsNoBankFile(a.choiceMap, "--choice-map", a.bank);
+}
+
+// The best member's result over the bank's region: the bank's own, or (a bank streamed
+// without results) the member applied once more to the input the bank saw.
+Image bestMemberResult(const FilterBank& bank, const FrameBuffers& frame, int best,
+                       const BankOptions& bankOptions) {
+    const auto m = std::size_t(best);
+    if (!bank.results().empty()) return bank.result(m);
+    const BankMember& member = bank.members()[m];
+    FilterOptions fo;
+    fo.region = bank.region();
+    const FrameBuffers input = bankOptions.prefilter
+                                   ? prefilterFeatures(frame, bankOptions.prefilterParams)
+                                   : FrameBuffers{};
+    return applyFilter(findFilter(member.filter), bankOptions.prefilter ? input : frame,
+                       member.params, fo);
 }
 
 void runAuto(const AutoArgs& a) {
@@ -156,21 +174,27 @@ void runAuto(const AutoArgs& a) {
             return true;
         };
     };
+    // Without a bank folder, the members are filtered strip by strip and never held all at once
+    // (autoCompositeStreamed; docs/auto.md, "Memory"); with one, its results are read.
+    const bool streamed = a.bank.empty();
     const auto t0 = Clock::now();
     FilterBank bank;
-    if (a.bank.empty()) {
-        bankOptions.progress = progressLine("bank");
-        bank = buildBank(frame, bankOptions);
-    } else {
+    if (!streamed) {
         bank = openBank(frame, a.bank, progressLine("bank"));
+        if (tty) std::fprintf(stderr, "\n");
     }
-    if (tty) std::fprintf(stderr, "\n");
     const double bankSeconds = secondsSince(t0);
     const auto t1 = Clock::now();
-    options.progress = progressLine("SURE");
+    options.progress = progressLine(streamed ? "auto" : "SURE");
     AutoResult result;
     try {
-        result = autoComposite(bank, frame, options);
+        if (streamed) {
+            StreamedAuto s = autoCompositeStreamed(frame, bankOptions, options);
+            bank = std::move(s.bank);
+            result = std::move(s.result);
+        } else {
+            result = autoComposite(bank, frame, options);
+        }
     } catch (const Error& e) {
         rethrowNaming(e, a.input);
     }
@@ -221,8 +245,8 @@ void runAuto(const AutoArgs& a) {
         report["metricsInput"] = metricsOf(frame.color(), reference->color(), crop);
         report["metrics"] = metricsOf(out.color(), reference->color(), crop);
         FrameBuffers single = frame;
-        paste(single.color(), bank.result(std::size_t(result.bestMember)), bank.region().x0,
-              bank.region().y0);
+        paste(single.color(), bestMemberResult(bank, frame, result.bestMember, bankOptions),
+              bank.region().x0, bank.region().y0);
         report["metricsBestMember"] = metricsOf(single.color(), reference->color(), crop);
     }
     // Written last, so that an error before leaves no output file behind.
