@@ -286,10 +286,20 @@ void Streamer::blendPass(std::vector<Image>& planes, AutoResult& result) {
     const std::size_t sides = stacking ? 3 : 1;
     for (const Strip& strip : m_strips) {
         const int rows = strip.y1 - strip.y0;
-        // The used members' results on the input and, for the stacking, on each half.
+        // The used members' results on the input and, for the stacking, on each half: only
+        // those of members with weight in the strip (feathered, which reaches further), since
+        // every use below reads a result only where its weight is not 0.
+        std::vector<char> needed(used.size(), 0);
+        for (std::size_t j = 0; j < used.size(); ++j) {
+            const Image& weights = m_s.feather > 0 ? feathered[j] : planes[used[j]];
+            const auto begin = weights.data().begin() + std::ptrdiff_t(width) * strip.y0;
+            const auto end = weights.data().begin() + std::ptrdiff_t(width) * strip.y1;
+            needed[j] = std::any_of(begin, end, [](float w) { return w != 0.0f; }) ? 1 : 0;
+        }
         std::vector<Image> results(used.size() * sides);
         forEach(results.size(), filterUnits(strip), [&](std::size_t i) {
             const std::size_t j = i % used.size(), side = i / used.size();
+            if (!needed[j]) return;
             const FrameBuffers& input = side == 0   ? *m_input
                                         : side == 1 ? m_halves->halfA()
                                                     : m_halves->halfB();
@@ -297,6 +307,7 @@ void Streamer::blendPass(std::vector<Image>& planes, AutoResult& result) {
         });
         std::vector<const Image*> full(n, nullptr), onA(n, nullptr), onB(n, nullptr);
         for (std::size_t j = 0; j < used.size(); ++j) {
+            if (!needed[j]) continue;
             full[used[j]] = &results[j];
             if (!stacking) continue;
             onA[used[j]] = &results[used.size() + j];
@@ -313,6 +324,7 @@ void Streamer::blendPass(std::vector<Image>& planes, AutoResult& result) {
             });
             m_work.parallelFor(strip.y0, strip.y1, [&](int y) {
                 for (std::size_t j = 0; j < used.size(); ++j) {
+                    if (!needed[j]) continue;  // weight 0 in the whole strip
                     float* w = feathered[j].row(y);
                     const float* value = full[used[j]]->row(y - strip.y0);
                     const float* to = target.row(y - strip.y0);
