@@ -135,7 +135,7 @@ class Streamer {
     std::unique_ptr<HalvesEstimator> m_halves;
     std::unique_ptr<SureEstimator> m_sure;
     Image m_median, m_weight;
-    std::vector<double> m_displayMedian;
+    std::vector<double> m_displayMedian;  // empty: each strip's is computed from its rows
     Estimates m_estimates;
     Image m_blendA, m_blendB;  // the blend's weights applied to the results on each half
 };
@@ -159,11 +159,8 @@ Streamer::Centre Streamer::centreOf(const Strip& strip) const {
     if (m_median.empty()) return c;
     c.median = rowsOf(m_median, strip.y0, strip.y1);
     if (m_s.tangent) c.weight = rowsOf(m_weight, strip.y0, strip.y1);
-    if (m_s.secant) {
-        const std::size_t rowValues = std::size_t(m_region.width()) * 3;
-        c.display.assign(m_displayMedian.begin() + std::ptrdiff_t(rowValues * strip.y0),
-                         m_displayMedian.begin() + std::ptrdiff_t(rowValues * strip.y1));
-    }
+    // D(median), value by value as displayOf gives it for the whole median.
+    if (m_s.secant) c.display = displayOf(c.median, m_s.exposure);
     return c;
 }
 
@@ -458,16 +455,17 @@ AutoResult Streamer::run() {
     // Pass 1: the display linearisation around the bank's median.
     if (m_s.secant || m_s.tangent) {
         medianPass();
-        if (m_s.secant) m_displayMedian = displayOf(m_median, m_s.exposure, &m_work);
         m_weight = tangentWeights(m_median, m_s.exposure);
     }
-    // Pass 2: the error maps; the first choice.
-    estimatePass();
+    // The temperature's unit (before the maps, so that the weights it needs can go first).
     const ErrorEstimator& estimator =
         m_halves ? static_cast<const ErrorEstimator&>(*m_halves) : *m_sure;
     const Image noise = m_s.temperature > 0.0
                             ? noiseLevel(estimator, m_region, m_weight, m_s.window, m_work)
                             : Image{};
+    if (!m_s.tangent) m_weight = Image{};
+    // Pass 2: the error maps; the first choice.
+    estimatePass();
     std::vector<std::size_t> candidates(n);
     std::iota(candidates.begin(), candidates.end(), std::size_t(0));
     Choice chosen =
@@ -514,7 +512,7 @@ std::int64_t expectedWork(const AutoSettings& s, std::size_t n, std::int64_t h) 
     const auto shortlist = std::int64_t(s.shortlisted ? s.shortlist : 0);
     const std::int64_t finalCandidates = s.shortlisted ? shortlist : members;
     std::int64_t passes = 0;
-    if (s.secant || s.tangent) passes += members * kFilterPasses + 1 + (s.secant ? 1 : 0);
+    if (s.secant || s.tangent) passes += members * kFilterPasses + 1;
     passes += members * kFilterPasses * (s.halves && s.bothHalves ? 2 : 1);
     if (s.temperature > 0.0) passes += 3;
     passes += (s.shortlisted ? members + 1 + shortlist * kFilterPasses : 0) +
