@@ -469,13 +469,13 @@ AutoResult Streamer::run() {
     std::vector<std::size_t> candidates(n);
     std::iota(candidates.begin(), candidates.end(), std::size_t(0));
     Choice chosen =
-        choose(m_estimates, candidates, !m_s.shortlisted, m_s, noise, m_work, m_s.streamRows);
+        choose(m_estimates, candidates, !m_s.shortlisted, m_s, noise, m_work, m_s.scoreRows);
     // Pass 3: the shortlist on B; the final choice.
     if (m_s.shortlisted) {
         candidates = shortlistOf(chosen, std::size_t(m_s.shortlist));
         chosen = Choice{};
         shortlistPass(candidates);
-        chosen = choose(m_estimates, candidates, true, m_s, noise, m_work, m_s.streamRows);
+        chosen = choose(m_estimates, candidates, true, m_s, noise, m_work, m_s.scoreRows);
     }
     m_median = Image{}, m_weight = Image{}, m_displayMedian = {};
     m_estimates.maps = {};
@@ -530,7 +530,7 @@ StreamedAuto autoCompositeStreamed(const FrameBuffers& frame, const BankOptions&
                                    const AutoOptions& options, int streamRows) {
     FilterBank bank = bankWithoutResults(frame, bankOptions);
     AutoSettings settings = resolveSettings(bank, frame, options);
-    if (streamRows > 0) settings.streamRows = streamRows;
+    if (streamRows > 0) settings.streamRows = settings.scoreRows = streamRows;
     WorkContext work(options.progress);
     work.expectWork(expectedWork(settings, bank.size(), bank.region().height()));
     StreamedAuto out;

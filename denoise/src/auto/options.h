@@ -45,8 +45,11 @@ struct AutoSettings {
     ParamValues prefilterParams;
 
     /// The streamed selection's strip height in rows (autoCompositeStreamed; docs/auto.md,
-    /// "Memory"): each member is applied to one strip at a time.
-    int streamRows = 128;
+    /// "Memory"): each member is applied to one strip at a time (taller: fewer margins read
+    /// again, more rows held by the median's pass).
+    int streamRows = 256;
+    /// The strip height of its choices' window scores (every candidate's strip is held at once).
+    int scoreRows = 128;
 };
 
 /// Checks `options` (validate), that `bank` was built from `frame` and that the options and the

@@ -6,7 +6,8 @@
 
 namespace glint::denoise::detail {
 
-/// autoCompositeStreamed with strips of `streamRows` rows (0: AutoSettings::streamRows).
+/// autoCompositeStreamed with strips of `streamRows` rows for the members and the scores (0:
+/// AutoSettings::streamRows and scoreRows).
 StreamedAuto autoCompositeStreamed(const FrameBuffers& frame, const BankOptions& bank,
                                    const AutoOptions& options, int streamRows);
 
