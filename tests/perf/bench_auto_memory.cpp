@@ -82,15 +82,10 @@ int main(int argc, char** argv) {
     getrusage(RUSAGE_SELF, &usage);
     const double peakMiB = double(usage.ru_maxrss) / 1024.0;  // KiB on Linux
 
-    nlohmann::json report = {{"input", input},
-                             {"mode", mode},
-                             {"width", frame.width()},
-                             {"height", frame.height()},
-                             {"members", bankSize},
-                             {"threads", threads},
-                             {"seconds", seconds},
-                             {"peakMiB", peakMiB},
-                             {"stacked", result.stacked}};
+    nlohmann::json report = {
+        {"input", input},           {"mode", mode},        {"width", frame.width()},
+        {"height", frame.height()}, {"members", bankSize}, {"threads", threads},
+        {"seconds", seconds},       {"peakMiB", peakMiB},  {"stacked", result.stacked}};
     if (!outPath.empty()) {
         glint::FrameBuffers out = frame;
         glint::paste(out.color(), result.composite, region.x0, region.y0);
