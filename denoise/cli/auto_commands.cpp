@@ -14,11 +14,14 @@
 #include "cli_boundary.h"
 #include "commands.h"
 #include "glint/denoise/auto.h"
+#include "glint/denoise/auto_stream.h"
 #include "glint/denoise/bank.h"
+#include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
 #include "glint/image/composite.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
+#include "glint/image/memory.h"
 #include "glint/image/metrics.h"
 
 namespace glint::denoise::cli {
@@ -38,7 +41,7 @@ using Clock = std::chrono::steady_clock;
 struct AutoArgs {
     std::string input, bank, out, reference, choiceMap, filters, estimator = "auto";
     // Integers are parsed strictly from their text (parseInteger, parseUnsigned).
-    std::string size = "64", bankSeed = "1", seed = "1";
+    std::string size = "64", bankSeed = "1", seed = "1", stream = "auto";
     float exposure = 0.0f;
     bool prefilter = false, json = false, tuningTable = false;
     /// The tuning flags given (autoTuningSpecs), by parameter name: their text, or "1" for a
@@ -105,11 +108,39 @@ void checkOutputsAreNoInputs(const AutoArgs& a) {
     checkOutputIsNoBankFile(a.choiceMap, "--choice-map", a.bank);
 }
 
+// The best member's result over the bank's region: the bank's own, or (a bank streamed
+// without results) the member applied once more to the input the bank saw.
+Image bestMemberResult(const FilterBank& bank, const FrameBuffers& frame, int best,
+                       const BankOptions& bankOptions) {
+    const auto m = std::size_t(best);
+    if (!bank.results().empty()) return bank.result(m);
+    const BankMember& member = bank.members()[m];
+    FilterOptions fo;
+    fo.region = bank.region();
+    const FrameBuffers input = bankOptions.prefilter
+                                   ? prefilterFeatures(frame, bankOptions.prefilterParams)
+                                   : FrameBuffers{};
+    return applyFilter(findFilter(member.filter), bankOptions.prefilter ? input : frame,
+                       member.params, fo);
+}
+
+// Whether building the bank in memory and choosing from it fits the memory available: the bank's
+// results (estimateMemory), as much again for the results on half A the stacking keeps, and the
+// error maps and window scores, about a quarter of the results (docs/auto.md, "Memory").
+bool wholeFrameFits(const FrameBuffers& frame, const BankOptions& bankOptions) {
+    const double bank = double(estimateMemory(frame, bankOptions));
+    return 2.5 * bank < double(availableMemory());
+}
+
 void runAuto(const AutoArgs& a) {
     if (a.tuningTable) {
         printTuningTable();
         return;
     }
+    if (a.stream != "auto" && a.stream != "on" && a.stream != "off")
+        throw Error(ErrorKind::InvalidArgument,
+                    "'" + a.stream + "' is not a streaming mode (expected auto, on or off)",
+                    "command line", "--stream");
     if (a.input.empty() || a.out.empty())
         throw Error(ErrorKind::InvalidArgument, "IN and --out are required", "command line",
                     a.input.empty() ? "IN" : "--out");
@@ -173,21 +204,36 @@ void runAuto(const AutoArgs& a) {
             return true;
         };
     };
+    // Without a bank folder the bank is built here: in memory and then chosen from (the fastest),
+    // or, when that would not fit (--stream auto) or when asked (--stream on), strip by strip
+    // with no member held whole (autoCompositeStreamed; docs/auto.md, "Memory"). With a bank
+    // folder its results are read.
+    const bool streamed =
+        a.bank.empty() &&
+        (a.stream == "on" || (a.stream == "auto" && !wholeFrameFits(frame, bankOptions)));
     const auto t0 = Clock::now();
     FilterBank bank;
-    if (a.bank.empty()) {
-        bankOptions.progress = progressLine("bank");
-        bank = buildBank(frame, bankOptions);
-    } else {
-        bank = openBank(frame, a.bank, progressLine("bank"));
+    if (!streamed) {
+        if (a.bank.empty()) {
+            bankOptions.progress = progressLine("bank");
+            bank = buildBank(frame, bankOptions);
+        } else {
+            bank = openBank(frame, a.bank, progressLine("bank"));
+        }
+        if (tty) std::fprintf(stderr, "\n");
     }
-    if (tty) std::fprintf(stderr, "\n");
     const double bankSeconds = secondsSince(t0);
     const auto t1 = Clock::now();
     options.progress = progressLine("auto");
     AutoResult result;
     try {
-        result = autoComposite(bank, frame, options);
+        if (streamed) {
+            StreamedAuto s = autoCompositeStreamed(frame, bankOptions, options);
+            bank = std::move(s.bank);
+            result = std::move(s.result);
+        } else {
+            result = autoComposite(bank, frame, options);
+        }
     } catch (const Error& e) {
         rethrowNaming(e, a.input);
     }
@@ -211,6 +257,7 @@ void runAuto(const AutoArgs& a) {
         {"region", {bank.region().x0, bank.region().x1, bank.region().y0, bank.region().y1}},
         {"estimator", autoEstimatorName(result.estimator)},
         {"seed", options.seed},
+        {"streamed", streamed},
         {"stackFeatures", result.stackFeatures},
         {"bestMember", memberJson(bank, result.bestMember)},
         {"bestMemberEstimatedMse", result.estimatedMse[std::size_t(result.bestMember)]},
@@ -234,8 +281,8 @@ void runAuto(const AutoArgs& a) {
         report["metricsInput"] = metricsOf(frame.color(), reference->color(), crop);
         report["metrics"] = metricsOf(out.color(), reference->color(), crop);
         FrameBuffers single = frame;
-        paste(single.color(), bank.result(std::size_t(result.bestMember)), bank.region().x0,
-              bank.region().y0);
+        paste(single.color(), bestMemberResult(bank, frame, result.bestMember, bankOptions),
+              bank.region().x0, bank.region().y0);
         report["metricsBestMember"] = metricsOf(single.color(), reference->color(), crop);
     }
     // Written last, so that an error before leaves no output file behind.
@@ -342,6 +389,10 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
         cmd->add_option_function<std::string>(
             flag, [a, name = spec.name](const std::string& text) { a->tuning[name] = text; }, help);
     }
+    cmd->add_option("--stream", a->stream,
+                    "Without --bank: auto (default: strip by strip only when the bank would not "
+                    "fit in memory) | on (strip by strip: memory grows with the frame, not the "
+                    "bank; slower) | off (the bank in memory)");
     cmd->add_flag("--tuning-table", a->tuningTable,
                   "Print the tuning parameters as the Markdown table of docs/auto.md and exit");
     cmd->add_option("--choice-map", a->choiceMap, "Write the chosen member per pixel as a PNG");

@@ -169,6 +169,24 @@ TEST_F(AutoCli, OracleOfAnInputWithoutVarianceLeavesTheAutoColumnEmpty) {
     EXPECT_NE(j["auto"]["note"].get<std::string>().find("variance"), std::string::npos);
 }
 
+TEST_F(AutoCli, StreamedAndInMemoryAutoAgree) {
+    // --stream on filters the members strip by strip (docs/auto.md, "Memory"); off holds the
+    // bank. Only the stacking's regression adds its sums per strip: float rounding, 1e-5.
+    for (const char* mode : {"on", "off"}) {
+        const RunResult r = run("auto " + path("halves.exr") + " --out " + path(mode) +
+                                ".exr --size 6 --json --stream " + mode);
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        EXPECT_EQ(nlohmann::json::parse(r.out)["streamed"], std::string(mode) == "on");
+    }
+    EXPECT_LE(
+        testing::maxAbsDiff(readExr(path("on.exr")).color(), readExr(path("off.exr")).color()),
+        1e-5);
+    const RunResult bad =
+        run("auto " + path("halves.exr") + " --out " + path("x.exr") + " --stream sometimes");
+    EXPECT_EQ(bad.exitCode, 2);
+    EXPECT_NE(bad.err.find("--stream"), std::string::npos) << bad.err;
+}
+
 TEST_F(AutoCli, TheDocsTuningTableIsTheOneTheSpecsGenerate) {
     // docs/auto.md's table is `glint-denoise auto --tuning-table`, verbatim: a spec changed
     // without the docs (or the reverse) fails here.

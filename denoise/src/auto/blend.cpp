@@ -16,12 +16,12 @@ std::vector<const Image*> bankResults(const FilterBank& bank) {
 }
 
 void blendRow(const std::vector<Image>& planes, const std::vector<const Image*>& results, int y,
-              std::vector<double>& sum) {
+              std::vector<double>& sum, int resultsY0) {
     std::fill(sum.begin(), sum.end(), 0.0);
     for (std::size_t m = 0; m < planes.size(); ++m) {
-        if (planes[m].empty()) continue;
+        if (planes[m].empty() || !results[m]) continue;  // no result: weight 0 in these rows
         const float* w = planes[m].row(y);
-        const float* value = results[m]->row(y);
+        const float* value = results[m]->row(y - resultsY0);
         for (int x = 0; x < planes[m].width(); ++x) {
             if (w[x] == 0.0f) continue;
             for (std::size_t k = 0; k < 3; ++k)

@@ -19,9 +19,11 @@ std::vector<const Image*> bankResults(const FilterBank& bank);
 /// One row of the blend Σ weight · result over the members that have a weight plane, in member
 /// order, in double (3 values per pixel into `sum`, width × 3), `results` per member: the
 /// composite, the unfeathered composite feathering gates against, and the blends on the halves
-/// that the stacking corrects.
+/// that the stacking corrects. The results may cover a strip of rows from `resultsY0` on (the
+/// streamed selection's): row y of the planes is row y − resultsY0 of the results. A member
+/// without a result (null) must have weight 0 in the row.
 void blendRow(const std::vector<Image>& planes, const std::vector<const Image*>& results, int y,
-              std::vector<double>& sum);
+              std::vector<double>& sum, int resultsY0 = 0);
 
 /// The blend of the bank's results under `planes` (per member; empty: no weight).
 struct Blend {

@@ -10,6 +10,7 @@
 #include "glint/denoise/progress.h"
 #include "glint/image/error.h"
 #include "options.h"
+#include "score_rows.h"
 
 namespace glint::denoise {
 
@@ -75,32 +76,16 @@ Image noiseLevel(const ErrorEstimator& estimator, const Rect& region, const Imag
     return boxSmooth(v, window, &work);
 }
 
-Choice choose(const Estimates& estimates, const std::vector<std::size_t>& candidates, bool final,
-              const AutoSettings& settings, const Image& noise, WorkContext& work) {
-    const std::vector<Image>& raws = estimates.maps;
-    const std::vector<double>& mapMean = estimates.mapMean;
-    const std::size_t n = raws.size();
-    const int width = raws[candidates.front()].width(), height = raws[candidates.front()].height();
-    const std::size_t pixels = std::size_t(width) * std::size_t(height);
-    const double confidence = settings.confidence, temperature = settings.temperature;
+namespace {
+
+// The score of each candidate over the whole maps (of `radii`'s windows, the lowest: see
+// choose), candidates through `work`.
+std::vector<Image> windowScores(const std::vector<Image>& raws,
+                                const std::vector<std::size_t>& candidates, std::size_t baseline,
+                                const std::vector<int>& radii, double confidence,
+                                WorkContext& work) {
     const std::size_t c = candidates.size();
-    // The score of each candidate per pixel. The baseline is the candidate with the
-    // smallest map mean over the region; another scores the smoothed difference to it plus
-    // `confidence` standard errors of that local mean (from the difference's spread in the
-    // window), so a pixel leaves the baseline only where the estimate says, with that
-    // confidence, that another member is better there. With confidence 0 it is the plain
-    // smoothed estimate. In the final choice, with `finer` > 0, the same is done in the
-    // window halved `finer` times too, and the score is the lowest of them: a member that
-    // is better by that margin in a smaller window wins there (docs/auto.md, "Per-pixel
-    // choice").
-    std::size_t baseline = 0;  // position in candidates
-    for (std::size_t j = 0; j < c; ++j)
-        if (mapMean[candidates[j]] < mapMean[candidates[baseline]]) baseline = j;
     const Image& base = raws[candidates[baseline]];
-    std::vector<int> radii{settings.window};
-    if (final)
-        for (int k = 0; k < settings.finer && radii.back() > 1; ++k)
-            radii.push_back(radii.back() / 2);
     std::vector<Image> scores(c);
     work.parallelFor(
         0, int(c),
@@ -113,28 +98,31 @@ Choice choose(const Estimates& estimates, const std::vector<std::size_t>& candid
                 if (score.empty()) {
                     score = std::move(mean);
                 } else {
-                    for (std::size_t p = 0; p < pixels; ++p)
+                    for (std::size_t p = 0; p < score.data().size(); ++p)
                         score.data()[p] = std::min(score.data()[p], mean.data()[p]);
                 }
             }
             scores[j] = std::move(score);
         },
-        std::int64_t(radii.size()) * height);
+        std::int64_t(radii.size()) * base.height());
+    return scores;
+}
 
+// The per-pixel weights of rows [y0, y1) from `scores` (whose row 0 is row c0) into `out`'s
+// planes (a final choice) and each row's wins and totals per candidate.
+void weighRows(const std::vector<Image>& scores, int c0, int y0, int y1,
+               const std::vector<std::size_t>& candidates, std::size_t baseline, double temperature,
+               const Image& noise, bool final, Choice& out, std::vector<std::vector<int>>& rowWins,
+               std::vector<std::vector<double>>& rowTotals, WorkContext& work) {
+    const std::size_t c = candidates.size();
+    const int width = scores.front().width();
     // The per-pixel weights over the candidates, in member order (deterministic). Rows
     // go in chunks of 64 pixels so that each candidate's scores are read and its weights
     // written as one run, not one value from each of c images per pixel. Only the final
     // choice keeps the weight planes; the first of a shortlist needs only each candidate's
     // pixels won and total weight (per row, then the rows in order).
-    Choice out;
-    if (final) {
-        out.planes.resize(n);
-        for (std::size_t m : candidates) out.planes[m] = Image(width, height, 1);
-    }
-    std::vector<std::vector<int>> rowWins(static_cast<std::size_t>(height));
-    std::vector<std::vector<double>> rowTotals(static_cast<std::size_t>(height));
     constexpr int kChunk = 64;
-    work.parallelFor(0, height, [&](int y) {
+    work.parallelFor(y0, y1, [&](int y) {
         std::vector<double> s(c * kChunk);
         std::vector<float> w(c * kChunk);
         std::vector<int>& wins = rowWins[std::size_t(y)];
@@ -144,7 +132,7 @@ Choice choose(const Estimates& estimates, const std::vector<std::size_t>& candid
         for (int x0 = 0; x0 < width; x0 += kChunk) {
             const int pixelsHere = std::min(kChunk, width - x0);
             for (std::size_t j = 0; j < c; ++j) {
-                const float* row = scores[j].row(y) + x0;
+                const float* row = scores[j].row(y - c0) + x0;
                 for (int k = 0; k < pixelsHere; ++k) s[j * kChunk + std::size_t(k)] = row[k];
             }
             std::fill(w.begin(), w.end(), 0.0f);
@@ -177,6 +165,69 @@ Choice choose(const Estimates& estimates, const std::vector<std::size_t>& candid
             }
         }
     });
+}
+
+}  // namespace
+
+Choice choose(const Estimates& estimates, const std::vector<std::size_t>& candidates, bool final,
+              const AutoSettings& settings, const Image& noise, WorkContext& work, int stripRows) {
+    const std::vector<Image>& raws = estimates.maps;
+    const std::vector<double>& mapMean = estimates.mapMean;
+    const std::size_t n = raws.size();
+    const int width = raws[candidates.front()].width(), height = raws[candidates.front()].height();
+    const double confidence = settings.confidence, temperature = settings.temperature;
+    const std::size_t c = candidates.size();
+    // The score of each candidate per pixel. The baseline is the candidate with the
+    // smallest map mean over the region; another scores the smoothed difference to it plus
+    // `confidence` standard errors of that local mean (from the difference's spread in the
+    // window), so a pixel leaves the baseline only where the estimate says, with that
+    // confidence, that another member is better there. With confidence 0 it is the plain
+    // smoothed estimate. In the final choice, with `finer` > 0, the same is done in the
+    // window halved `finer` times too, and the score is the lowest of them: a member that
+    // is better by that margin in a smaller window wins there (docs/auto.md, "Per-pixel
+    // choice").
+    std::size_t baseline = 0;  // position in candidates
+    for (std::size_t j = 0; j < c; ++j)
+        if (mapMean[candidates[j]] < mapMean[candidates[baseline]]) baseline = j;
+    std::vector<int> radii{settings.window};
+    if (final)
+        for (int k = 0; k < settings.finer && radii.back() > 1; ++k)
+            radii.push_back(radii.back() / 2);
+    // All rows at once, or strips of `stripRows` rows (the streamed selection's memory) whose
+    // scores ScoreRows gives value for value as windowScore over the whole maps.
+    Choice out;
+    if (final) {
+        out.planes.resize(n);
+        for (std::size_t m : candidates) out.planes[m] = Image(width, height, 1);
+    }
+    std::vector<std::vector<int>> rowWins(static_cast<std::size_t>(height));
+    std::vector<std::vector<double>> rowTotals(static_cast<std::size_t>(height));
+    if (stripRows <= 0) {
+        const std::vector<Image> scores =
+            windowScores(raws, candidates, baseline, radii, confidence, work);
+        weighRows(scores, 0, 0, height, candidates, baseline, temperature, noise, final, out,
+                  rowWins, rowTotals, work);
+    } else {
+        std::vector<ScoreRows> scoreRows;
+        scoreRows.reserve(c);
+        for (std::size_t j = 0; j < c; ++j)
+            scoreRows.emplace_back(raws[candidates[j]], raws[candidates[baseline]], radii,
+                                   j != baseline ? confidence : 0.0);
+        for (int y0 = 0; y0 < height; y0 += stripRows) {
+            const int y1 = std::min(height, y0 + stripRows);
+            std::vector<Image> scores(c);
+            work.parallelFor(
+                0, int(c),
+                [&](int j) {
+                    Image& score = scores[std::size_t(j)];
+                    score = Image(width, y1 - y0, 1);
+                    scoreRows[std::size_t(j)].next(y0, y1, score.data().data());
+                },
+                std::int64_t(radii.size()) * (y1 - y0));
+            weighRows(scores, y0, y0, y1, candidates, baseline, temperature, noise, final, out,
+                      rowWins, rowTotals, work);
+        }
+    }
     // Pixels won: where a candidate has the smallest score (the largest weight).
     out.wins.assign(n, 0);
     out.totals.assign(n, 0.0);

@@ -46,8 +46,11 @@ struct Choice {
 /// The choice among `candidates` (member indices, ascending) by their maps: the window scores
 /// (with settings.finer smaller windows too in a `final` choice), then per-pixel weights — a
 /// hard choice, or soft ones in units of `noise` (noiseLevel) with settings.temperature > 0.
-/// Only a final choice keeps the planes. Candidates, then rows, through `work`.
+/// Only a final choice keeps the planes. Candidates, then rows, through `work`. With
+/// `stripRows` > 0, the scores are computed strip by strip of that many rows (ScoreRows), so
+/// that they take c strips, not c maps; the result is the same, value for value.
 Choice choose(const Estimates& estimates, const std::vector<std::size_t>& candidates, bool final,
-              const AutoSettings& settings, const Image& noise, WorkContext& work);
+              const AutoSettings& settings, const Image& noise, WorkContext& work,
+              int stripRows = 0);
 
 }  // namespace glint::denoise::detail

@@ -80,7 +80,8 @@ void checkHalvesFinite(const FrameBuffers& frame, const std::string& file) {
 
 Image secantMap(const Image& halfA, const Image& halfB, const Image& outputA, const Image* outputB,
                 const Rect& region, const Image& centre, const std::vector<double>& displayCentre,
-                float exposure, SecantForm form, double* unbiasedMean) {
+                float exposure, SecantForm form, double* unbiasedMean,
+                std::vector<double>* unbiasedRows) {
     GLINT_CHECK(outputA.width() == region.width() && outputA.height() == region.height() &&
                 halfA.sameShape(halfB) && (!outputB || outputB->sameShape(outputA)) &&
                 centre.sameShape(outputA) && displayCentre.size() == centre.data().size() &&
@@ -137,6 +138,7 @@ Image secantMap(const Image& halfA, const Image& halfB, const Image& outputA, co
         for (double v : rowSums) total += v;
         *unbiasedMean = total / double(map.pixelCount()) / 3.0;
     }
+    if (unbiasedRows) *unbiasedRows = std::move(rowSums);
     return map;
 }
 
@@ -175,6 +177,23 @@ Image HalvesEstimator::map(const FrameBuffers& on, const FrameBuffers& other, co
     }
     const bool exact = m_settings.space == SureSpace::DisplayExact;
     return crossValidationMap(on.color(), other.color(), output, outputOther, region, m_weight,
+                              exact ? std::optional<float>(m_settings.exposure) : std::nullopt);
+}
+
+Image HalvesEstimator::mapOver(const Rect& region, bool onA, const Image& output,
+                               const Image* outputOther, const Image* centre,
+                               const std::vector<double>* displayCentre, const Image* weight,
+                               std::vector<double>& unbiasedRows) const {
+    const FrameBuffers& on = onA ? m_halfA : m_halfB;
+    const FrameBuffers& other = onA ? m_halfB : m_halfA;
+    if (m_secant) {
+        GLINT_CHECK(centre && displayCentre);
+        return secantMap(on.color(), other.color(), output, outputOther, region, *centre,
+                         *displayCentre, m_settings.exposure, SecantForm::Centred, nullptr,
+                         &unbiasedRows);
+    }
+    const bool exact = m_settings.space == SureSpace::DisplayExact;
+    return crossValidationMap(on.color(), other.color(), output, outputOther, region, weight,
                               exact ? std::optional<float>(m_settings.exposure) : std::nullopt);
 }
 

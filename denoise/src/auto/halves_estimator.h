@@ -64,10 +64,13 @@ Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Ima
 void checkHalvesFinite(const FrameBuffers& frame, const std::string& file);
 
 /// secantCrossValidationMap with D(centre) given (`displayCentre`, from displayOf): the pipeline
-/// computes it once for all the members' maps.
+/// computes it once for all the members' maps. `unbiasedRows`, when given, receives the sum of
+/// the unbiased terms of each row of the region (the streamed selection adds its strips' rows
+/// up in the same order).
 Image secantMap(const Image& halfA, const Image& halfB, const Image& outputA, const Image* outputB,
                 const Rect& region, const Image& centre, const std::vector<double>& displayCentre,
-                float exposure, SecantForm form, double* unbiasedMean);
+                float exposure, SecantForm form, double* unbiasedMean,
+                std::vector<double>* unbiasedRows = nullptr);
 
 /// Cross-validation of every member of `bank` (built from `frame`) on the frame's two halves,
 /// over the bank's region, in the error space of settings.space: the secant's centred form around
@@ -85,6 +88,14 @@ class HalvesEstimator final : public ErrorEstimator {
                     const std::vector<double>* displayMedian, const Image* weight);
     MemberEstimate estimate(std::size_t member, const ProgressFn& going) override;
     double noiseVariance(int x, int y, int c) const override;
+
+    /// The map of one side from the outputs on it (and on the other side, symmetric; null:
+    /// one-sided) over `region`, a part of the bank's (`centre` and `displayCentre` the
+    /// median's over it, for the secant): estimate()'s map, for the streamed selection, with
+    /// the unbiased terms' row sums in `unbiasedRows` (the secant's).
+    Image mapOver(const Rect& region, bool onA, const Image& output, const Image* outputOther,
+                  const Image* centre, const std::vector<double>* displayCentre,
+                  const Image* weight, std::vector<double>& unbiasedRows) const;
 
     /// The member filtered on B and its B-side one-sided map (A and B swapped), with the unbiased
     /// mean of the secant's in unbiasedMean (the shortlist).

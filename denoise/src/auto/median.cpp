@@ -45,20 +45,20 @@ void sortLanes(float* v, std::size_t n) {
 
 }  // namespace
 
-Image bankMedian(const FilterBank& bank, WorkContext& work) {
-    if (bank.size() == 0) throw Error(ErrorKind::InvalidArgument, "the bank has no members");
-    const Rect& r = bank.region();
-    Image median(r.width(), r.height(), 3);
-    const std::size_t n = bank.size();
+Image medianOf(const std::vector<const Image*>& results, WorkContext& work) {
+    if (results.empty()) throw Error(ErrorKind::InvalidArgument, "the bank has no members");
+    const int width = results.front()->width(), height = results.front()->height();
+    Image median(width, height, 3);
+    const std::size_t n = results.size();
     // Per row, 8 values (pixels × channels) at a time: each member's 8 side by side, sorted
     // lane-wise; the median is the (n/2)-th smallest (as std::nth_element would give it).
-    const std::size_t rowValues = std::size_t(r.width()) * 3;
-    work.parallelFor(0, r.height(), [&](int y) {
+    const std::size_t rowValues = std::size_t(width) * 3;
+    work.parallelFor(0, height, [&](int y) {
         std::vector<float> v(n * 8);
         for (std::size_t x0 = 0; x0 < rowValues; x0 += 8) {
             const std::size_t count = std::min<std::size_t>(8, rowValues - x0);
             for (std::size_t m = 0; m < n; ++m) {
-                const float* row = bank.result(m).row(y) + x0;
+                const float* row = results[m]->row(y) + x0;
                 std::copy(row, row + count, v.begin() + std::ptrdiff_t(8 * m));
             }
             sortLanes(v.data(), n);
@@ -67,6 +67,13 @@ Image bankMedian(const FilterBank& bank, WorkContext& work) {
         }
     });
     return median;
+}
+
+Image bankMedian(const FilterBank& bank, WorkContext& work) {
+    if (bank.size() == 0) throw Error(ErrorKind::InvalidArgument, "the bank has no members");
+    std::vector<const Image*> results(bank.size());
+    for (std::size_t m = 0; m < bank.size(); ++m) results[m] = &bank.result(m);
+    return medianOf(results, work);
 }
 
 Image bankMedian(const FilterBank& bank) {

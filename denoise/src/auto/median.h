@@ -2,6 +2,8 @@
 // selection's display linearisation (docs/auto.md, "The display transform and the bank's median").
 #pragma once
 
+#include <vector>
+
 #include "glint/image/image.h"
 
 namespace glint::denoise {
@@ -21,5 +23,8 @@ namespace glint::denoise::detail {
 Image bankMedian(const FilterBank& bank);
 /// bankMedian with its rows run through `work` (one unit each).
 Image bankMedian(const FilterBank& bank, WorkContext& work);
+/// The same median of `results` (at least one, all 3 channels and of one size), rows through
+/// `work`: the bank's over a strip of rows for the streamed selection (auto_stream.h).
+Image medianOf(const std::vector<const Image*>& results, WorkContext& work);
 
 }  // namespace glint::denoise::detail

@@ -209,6 +209,17 @@ MemberEstimate SureEstimator::estimate(std::size_t m, const ProgressFn& going) {
     return e;
 }
 
+MemberEstimate SureEstimator::mapOver(std::size_t m, const Rect& region, const Image& output,
+                                      const Image* weight, const ProgressFn& going) const {
+    const BankMember& member = m_bank.members()[m];
+    MemberEstimate e;
+    const Image div =
+        memberDivergence(findFilter(member.filter), member.params, output, m_filterInput,
+                         m_perturbed, m_delta, region, m_options, going, e.analytic);
+    e.map = sureMap(m_frame.color(), m_frame.layer(Layer::Variance), output, div, region, weight);
+    return e;
+}
+
 double SureEstimator::noiseVariance(int x, int y, int c) const {
     return m_frame.layer(Layer::Variance)(x, y, c);
 }

@@ -69,6 +69,13 @@ class SureEstimator final : public ErrorEstimator {
     MemberEstimate estimate(std::size_t member, const ProgressFn& going) override;
     double noiseVariance(int x, int y, int c) const override;
 
+    /// The input the members see (prefiltered like the bank's).
+    const FrameBuffers& filterInput() const { return m_filterInput; }
+    /// estimate()'s map over `region`, a part of the bank's, from the member's `output` there,
+    /// weighted by `weight` (region-sized; null: 1): for the streamed selection.
+    MemberEstimate mapOver(std::size_t member, const Rect& region, const Image& output,
+                           const Image* weight, const ProgressFn& going) const;
+
   private:
     const FilterBank& m_bank;
     const FrameBuffers& m_frame;

@@ -26,7 +26,8 @@ FilterBank::FilterBank(std::vector<BankMember> members, std::vector<Image> resul
       m_frameWidth(frameWidth),
       m_frameHeight(frameHeight),
       m_inputHash(inputHash) {
-    GLINT_CHECK(m_members.size() == m_results.size(), "one result per bank member");
+    GLINT_CHECK(m_members.size() == m_results.size() || m_results.empty(),
+                "one result per bank member, or none (bankWithoutResults)");
 }
 
 void validate(const BankOptions& options) {
@@ -163,6 +164,13 @@ std::uint64_t estimateMemory(const FrameBuffers& frame, const BankOptions& optio
     validate(options);
     const Rect region = bankRegion(frame, options);
     return bankBytes(frame, options, region, runnableMembers(frame, options).size());
+}
+
+FilterBank detail::bankWithoutResults(const FrameBuffers& frame, const BankOptions& options) {
+    validate(options);
+    const Rect region = bankRegion(frame, options);
+    return FilterBank(runnableMembers(frame, options), {}, region, frame.width(), frame.height(),
+                      hashFrame(frame));
 }
 
 FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options) {

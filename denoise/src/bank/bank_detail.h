@@ -27,6 +27,11 @@ double mapParam(const ParamSpec& spec, double u);
 std::vector<BankMember> sampleBank(const std::vector<const Filter*>& filters, int size,
                                    std::uint64_t seed);
 
+/// The bank buildBank(frame, options) would build, without its results (results() is empty):
+/// its members, region, frame size and input hash, for the streamed selection, which filters
+/// the members strip by strip (auto_stream.h). Throws like buildBank for bad options.
+FilterBank bankWithoutResults(const FrameBuffers& frame, const BankOptions& options);
+
 /// Sets what only a bank's build knows on the bank it returns.
 struct BankAccess {
     /// Members the build read from the cache.

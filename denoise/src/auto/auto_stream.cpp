@@ -1,0 +1,558 @@
+// The automatic selection streamed by strips of rows (auto_stream.h; docs/auto.md, "Memory"):
+// the stages of auto_composite.cpp, with each member applied to one strip at a time and reduced
+// there to what the next stage needs, in passes over the frame:
+//   1. the bank's median (all members on the input, per strip), when the error space needs it;
+//   2. the error maps (all members on the halves, or SURE's applications), kept per member;
+//   3. with a shortlist, its members on B (maps made symmetric);
+//   4. feathering, the blend and the blends on the halves (the final candidates on the input
+//      and the halves);
+//   5. the stacking (its members on the input and the halves, over the strip and the windows
+//      of the regression around it).
+// Between the passes, the stages that need whole-frame quantities (the choice's baseline and
+// windows, the shortlist's counts, the blend's order, the display weights' floor) run on the
+// kept one-channel maps as in autoComposite.
+#include "glint/denoise/auto_stream.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <memory>
+#include <numeric>
+
+#include "bank/bank_detail.h"
+#include "blend.h"
+#include "choice.h"
+#include "display_weights.h"
+#include "estimator.h"
+#include "glint/denoise/prefilter.h"
+#include "glint/denoise/progress.h"
+#include "glint/denoise/registry.h"
+#include "glint/image/display_curve.h"
+#include "glint/image/error.h"
+#include "halves_estimator.h"
+#include "median.h"
+#include "options.h"
+#include "shortlist.h"
+#include "stacking.h"
+#include "streamed.h"
+#include "sure_estimator.h"
+
+namespace glint::denoise {
+
+namespace detail {
+
+namespace {
+
+// A filter application counts as this many passes over its rows (as in auto_composite.cpp).
+constexpr std::int64_t kFilterPasses = 4;
+
+// Copies `rows` rows of `from` from row `fromY` on into `to` from row `toY` on (same width and
+// channels).
+void copyRows(const Image& from, int fromY, Image& to, int toY, int rows) {
+    GLINT_CHECK(from.width() == to.width() && from.channels() == to.channels());
+    const std::size_t values = std::size_t(from.width()) * std::size_t(from.channels());
+    for (int r = 0; r < rows; ++r)
+        std::memcpy(to.row(toY + r), from.row(fromY + r), values * sizeof(float));
+}
+
+// Rows [y0, y1) of a region-sized image.
+Image rowsOf(const Image& image, int y0, int y1) {
+    return image.crop(Rect{0, image.width(), y0, y1});
+}
+
+// The pipeline's state: the settings, the inputs the members see and the strips.
+class Streamer {
+  public:
+    Streamer(const FilterBank& bank, const FrameBuffers& frame, const AutoSettings& s,
+             WorkContext& work)
+        : m_bank(bank), m_frame(frame), m_s(s), m_work(work), m_region(bank.region()) {
+        const int rows = std::max(1, s.streamRows);
+        for (int y = 0; y < m_region.height(); y += rows)
+            m_strips.push_back({y, std::min(m_region.height(), y + rows)});
+    }
+
+    AutoResult run();
+
+  private:
+    // Rows [y0, y1) of the region, in region coordinates.
+    struct Strip {
+        int y0, y1;
+    };
+    Rect frameRect(int y0, int y1) const {
+        return {m_region.x0, m_region.x1, m_region.y0 + y0, m_region.y0 + y1};
+    }
+    // Member m applied to `input` over region rows [y0, y1).
+    Image apply(std::size_t m, const FrameBuffers& input, int y0, int y1) const {
+        const BankMember& member = m_bank.members()[m];
+        FilterOptions fo;
+        fo.region = frameRect(y0, y1);
+        fo.progress = m_going;
+        return applyFilter(findFilter(member.filter), input, member.params, fo);
+    }
+    // fn(i) for i in [0, count) through the work context, a cancelled filter ending its index.
+    void forEach(std::size_t count, std::int64_t units,
+                 const std::function<void(std::size_t)>& fn) {
+        m_work.parallelFor(
+            0, int(count),
+            [&](int i) {
+                try {
+                    fn(std::size_t(i));
+                } catch (const Error& e) {
+                    if (e.kind() == ErrorKind::Cancelled) return;
+                    throw;
+                }
+            },
+            units);
+        m_work.throwIfCancelled();
+    }
+    std::int64_t filterUnits(const Strip& strip) const {
+        return kFilterPasses * (strip.y1 - strip.y0);
+    }
+
+    void medianPass();
+    void estimatePass();
+    void shortlistPass(const std::vector<std::size_t>& shortlist);
+    void blendPass(std::vector<Image>& planes, AutoResult& result);
+    void stackPass(const std::vector<int>& order, AutoResult& result);
+    // The median's, its display values' and the tangent weights' rows of a strip.
+    struct Centre {
+        Image median, weight;
+        std::vector<double> display;
+    };
+    Centre centreOf(const Strip& strip) const;
+
+    const FilterBank& m_bank;
+    const FrameBuffers& m_frame;
+    const AutoSettings& m_s;
+    WorkContext& m_work;
+    const Rect m_region;
+    std::vector<Strip> m_strips;
+    ProgressFn m_going = [this](double) { return !m_work.cancelled(); };
+
+    FrameBuffers m_prefiltered;  // the bank's input when prefiltered (the halves)
+    const FrameBuffers* m_input = nullptr;
+    std::unique_ptr<HalvesEstimator> m_halves;
+    std::unique_ptr<SureEstimator> m_sure;
+    Image m_median, m_weight;
+    std::vector<double> m_displayMedian;  // empty: each strip's is computed from its rows
+    Estimates m_estimates;
+    Image m_blendA, m_blendB;  // the blend's weights applied to the results on each half
+};
+
+void Streamer::medianPass() {
+    const int width = m_region.width(), height = m_region.height();
+    m_median = Image(width, height, 3);
+    const std::size_t n = m_bank.size();
+    for (const Strip& strip : m_strips) {
+        std::vector<Image> results(n);
+        forEach(n, filterUnits(strip),
+                [&](std::size_t m) { results[m] = apply(m, *m_input, strip.y0, strip.y1); });
+        std::vector<const Image*> pointers(n);
+        for (std::size_t m = 0; m < n; ++m) pointers[m] = &results[m];
+        copyRows(medianOf(pointers, m_work), 0, m_median, strip.y0, strip.y1 - strip.y0);
+    }
+}
+
+Streamer::Centre Streamer::centreOf(const Strip& strip) const {
+    Centre c;
+    if (m_median.empty()) return c;
+    c.median = rowsOf(m_median, strip.y0, strip.y1);
+    if (m_s.tangent) c.weight = rowsOf(m_weight, strip.y0, strip.y1);
+    // D(median), value by value as displayOf gives it for the whole median.
+    if (m_s.secant) c.display = displayOf(c.median, m_s.exposure);
+    return c;
+}
+
+void Streamer::estimatePass() {
+    const int width = m_region.width(), height = m_region.height();
+    const std::size_t n = m_bank.size();
+    Estimates& e = m_estimates;
+    e.maps.assign(n, Image{});
+    for (Image& map : e.maps) map = Image(width, height, 1);
+    e.mapMean.assign(n, 0.0);
+    e.estimatedMse.assign(n, 0.0);
+    e.analytic.assign(n, 0);
+    // The secant's unbiased terms per member and row, added up in row order as secantMap does.
+    std::vector<std::vector<double>> unbiased(m_s.secant ? n : 0,
+                                              std::vector<double>(std::size_t(height), 0.0));
+    const std::int64_t sides = m_s.halves && m_s.bothHalves ? 2 : 1;
+    for (const Strip& strip : m_strips) {
+        const Centre c = centreOf(strip);
+        const Image* weight = m_s.tangent ? &c.weight : nullptr;
+        const int rows = strip.y1 - strip.y0;
+        forEach(n, sides * filterUnits(strip), [&](std::size_t m) {
+            Image map;
+            std::vector<double> rowSums;
+            if (m_halves) {
+                const Image outA = apply(m, m_halves->halfA(), strip.y0, strip.y1);
+                const Image outB =
+                    m_s.bothHalves ? apply(m, m_halves->halfB(), strip.y0, strip.y1) : Image{};
+                map = m_halves->mapOver(frameRect(strip.y0, strip.y1), true, outA,
+                                        m_s.bothHalves ? &outB : nullptr, &c.median, &c.display,
+                                        weight, rowSums);
+            } else {
+                const Image out = apply(m, m_sure->filterInput(), strip.y0, strip.y1);
+                MemberEstimate one =
+                    m_sure->mapOver(m, frameRect(strip.y0, strip.y1), out, weight, m_going);
+                map = std::move(one.map);
+                e.analytic[m] = one.analytic ? 1 : 0;
+            }
+            copyRows(map, 0, e.maps[m], strip.y0, rows);
+            if (m_s.secant)
+                std::copy(rowSums.begin(), rowSums.end(), unbiased[m].begin() + strip.y0);
+        });
+    }
+    for (std::size_t m = 0; m < n; ++m) {
+        e.mapMean[m] = meanPerChannel(e.maps[m]);
+        if (!m_s.secant) {
+            e.estimatedMse[m] = e.mapMean[m];
+            continue;
+        }
+        double total = 0.0;
+        for (double v : unbiased[m]) total += v;
+        e.estimatedMse[m] = total / double(e.maps[m].pixelCount()) / 3.0;
+    }
+}
+
+void Streamer::shortlistPass(const std::vector<std::size_t>& shortlist) {
+    Estimates& e = m_estimates;
+    // The other members' maps are no longer read.
+    for (std::size_t m = 0; m < e.maps.size(); ++m)
+        if (!std::binary_search(shortlist.begin(), shortlist.end(), m)) e.maps[m] = Image{};
+    const std::size_t count = shortlist.size();
+    std::vector<std::vector<double>> unbiased(
+        m_s.secant ? count : 0, std::vector<double>(std::size_t(m_region.height()), 0.0));
+    for (const Strip& strip : m_strips) {
+        const Centre c = centreOf(strip);
+        const Image* weight = m_s.tangent ? &c.weight : nullptr;
+        forEach(count, filterUnits(strip), [&](std::size_t j) {
+            const std::size_t m = shortlist[j];
+            const Image outB = apply(m, m_halves->halfB(), strip.y0, strip.y1);
+            std::vector<double> rowSums;
+            // B's term: the one-sided form with the halves' roles swapped (filterShortlistOnB).
+            const Image mapB = m_halves->mapOver(frameRect(strip.y0, strip.y1), false, outB,
+                                                 nullptr, &c.median, &c.display, weight, rowSums);
+            Image& raw = e.maps[m];
+            for (int y = strip.y0; y < strip.y1; ++y) {
+                float* to = raw.row(y);
+                const float* from = mapB.row(y - strip.y0);
+                for (int x = 0; x < raw.width(); ++x)
+                    to[x] = float(0.5 * (double(to[x]) + double(from[x])));
+            }
+            if (m_s.secant)
+                std::copy(rowSums.begin(), rowSums.end(), unbiased[j].begin() + strip.y0);
+        });
+    }
+    for (std::size_t j = 0; j < count; ++j) {
+        const std::size_t m = shortlist[j];
+        e.mapMean[m] = meanPerChannel(e.maps[m]);
+        if (!m_s.secant) {
+            e.estimatedMse[m] = e.mapMean[m];
+            continue;
+        }
+        double total = 0.0;
+        for (double v : unbiased[j]) total += v;
+        const double onB = total / double(e.maps[m].pixelCount()) / 3.0;
+        e.estimatedMse[m] = 0.5 * (e.estimatedMse[m] + onB);
+    }
+}
+
+// Feathering (featherWeights), the blend (blend) and, for the stacking, the blends on the
+// halves, strip by strip: each needs the members' results at the pixel only.
+void Streamer::blendPass(std::vector<Image>& planes, AutoResult& result) {
+    const int width = m_region.width(), height = m_region.height();
+    const std::size_t n = planes.size();
+    std::vector<std::size_t> used;
+    for (std::size_t m = 0; m < n; ++m)
+        if (!planes[m].empty()) used.push_back(m);
+    const bool stacking = m_s.stack > 0;
+    const DisplayCurve display(std::exp2(double(m_s.exposure)));
+    // Each plane feathered, before any is renormalised (members in parallel).
+    std::vector<Image> feathered(m_s.feather > 0 ? used.size() : 0);
+    if (m_s.feather > 0)
+        m_work.parallelFor(
+            0, int(used.size()),
+            [&](int j) {
+                feathered[std::size_t(j)] = boxSmooth(planes[used[std::size_t(j)]], m_s.feather);
+            },
+            height);
+    result.composite = Image(width, height, 3);
+    result.choice = Image(width, height, 1);
+    if (stacking) m_blendA = Image(width, height, 3), m_blendB = Image(width, height, 3);
+    const std::size_t sides = stacking ? 3 : 1;
+    for (const Strip& strip : m_strips) {
+        const int rows = strip.y1 - strip.y0;
+        // The used members' results on the input and, for the stacking, on each half: only
+        // those of members with weight in the strip (feathered, which reaches further), since
+        // every use below reads a result only where its weight is not 0.
+        std::vector<char> needed(used.size(), 0);
+        for (std::size_t j = 0; j < used.size(); ++j) {
+            const Image& weights = m_s.feather > 0 ? feathered[j] : planes[used[j]];
+            const auto begin = weights.data().begin() + std::ptrdiff_t(width) * strip.y0;
+            const auto end = weights.data().begin() + std::ptrdiff_t(width) * strip.y1;
+            needed[j] = std::any_of(begin, end, [](float w) { return w != 0.0f; }) ? 1 : 0;
+        }
+        std::vector<Image> results(used.size() * sides);
+        forEach(results.size(), filterUnits(strip), [&](std::size_t i) {
+            const std::size_t j = i % used.size(), side = i / used.size();
+            if (!needed[j]) return;
+            const FrameBuffers& input = side == 0   ? *m_input
+                                        : side == 1 ? m_halves->halfA()
+                                                    : m_halves->halfB();
+            results[i] = apply(used[j], input, strip.y0, strip.y1);
+        });
+        std::vector<const Image*> full(n, nullptr), onA(n, nullptr), onB(n, nullptr);
+        for (std::size_t j = 0; j < used.size(); ++j) {
+            if (!needed[j]) continue;
+            full[used[j]] = &results[j];
+            if (!stacking) continue;
+            onA[used[j]] = &results[used.size() + j];
+            onB[used[j]] = &results[2 * used.size() + j];
+        }
+        if (m_s.feather > 0) {
+            // The unfeathered composite in display values, the gate, the renormalisation.
+            Image target(width, rows, 3);
+            m_work.parallelFor(strip.y0, strip.y1, [&](int y) {
+                std::vector<double> sum(std::size_t(width) * 3);
+                blendRow(planes, full, y, sum, strip.y0);
+                float* out = target.row(y - strip.y0);
+                for (std::size_t i = 0; i < sum.size(); ++i) out[i] = float(display(sum[i]));
+            });
+            m_work.parallelFor(strip.y0, strip.y1, [&](int y) {
+                for (std::size_t j = 0; j < used.size(); ++j) {
+                    if (!needed[j]) continue;  // weight 0 in the whole strip
+                    float* w = feathered[j].row(y);
+                    const float* value = full[used[j]]->row(y - strip.y0);
+                    const float* to = target.row(y - strip.y0);
+                    for (int x = 0; x < width; ++x) {
+                        if (w[x] == 0.0f) continue;
+                        for (std::size_t k = 0; k < 3; ++k) {
+                            const std::size_t i = std::size_t(x) * 3 + k;
+                            if (std::fabs(display(double(value[i])) - double(to[i])) >
+                                m_s.featherGate) {
+                                w[x] = 0.0f;
+                                break;
+                            }
+                        }
+                    }
+                }
+                for (int x = 0; x < width; ++x) {
+                    double sum = 0.0;
+                    for (const Image& f : feathered) sum += f(x, y, 0);
+                    if (!(sum > 0.0)) {
+                        std::size_t top = 0;
+                        for (std::size_t j = 1; j < used.size(); ++j)
+                            if (planes[used[j]](x, y, 0) > planes[used[top]](x, y, 0)) top = j;
+                        for (std::size_t j = 0; j < used.size(); ++j)
+                            planes[used[j]](x, y, 0) = j == top ? 1.0f : 0.0f;
+                        continue;
+                    }
+                    for (std::size_t j = 0; j < used.size(); ++j)
+                        planes[used[j]](x, y, 0) = float(double(feathered[j](x, y, 0)) / sum);
+                }
+            });
+        }
+        // The blend, the member of largest weight, and the blends on the halves.
+        m_work.parallelFor(strip.y0, strip.y1, [&](int y) {
+            std::vector<double> c(std::size_t(width) * 3);
+            blendRow(planes, full, y, c, strip.y0);
+            std::vector<float> topWeight(std::size_t(width), 0.0f);
+            std::vector<int> top(std::size_t(width), 0);
+            for (std::size_t m : used) {
+                const float* w = planes[m].row(y);
+                for (int x = 0; x < width; ++x)
+                    if (w[x] > topWeight[std::size_t(x)])
+                        topWeight[std::size_t(x)] = w[x], top[std::size_t(x)] = int(m);
+            }
+            float* row = result.composite.row(y);
+            for (std::size_t i = 0; i < c.size(); ++i) row[i] = float(c[i]);
+            for (int x = 0; x < width; ++x) result.choice(x, y, 0) = float(top[std::size_t(x)]);
+            if (!stacking) return;
+            blendRow(planes, onA, y, c, strip.y0);
+            std::copy(c.begin(), c.end(), m_blendA.row(y));
+            blendRow(planes, onB, y, c, strip.y0);
+            std::copy(c.begin(), c.end(), m_blendB.row(y));
+        });
+    }
+}
+
+// The stacking (stack), strip by strip: its members on the input and the halves over the strip
+// and the rows its windows reach around it, the regression over those rows, its strip kept.
+void Streamer::stackPass(const std::vector<int>& order, AutoResult& result) {
+    const int height = m_region.height();
+    std::vector<std::size_t> members;
+    for (int m : order) {
+        if (members.size() == std::size_t(m_s.stack)) break;
+        members.push_back(std::size_t(m));
+    }
+    const std::size_t k = members.size();
+    // The regression's weights: the display slope at the composite (its floor over the frame).
+    const Image weightAtC =
+        m_s.space == SureSpace::Linear ? Image{} : tangentWeights(result.composite, m_s.exposure);
+    const bool features = m_s.stackAlbedo || m_s.stackNormal;
+    const FrameBuffers* sources[3] = {m_input, &m_halves->halfA(), &m_halves->halfB()};
+    const Image* bases[3] = {&result.composite, &m_blendA, &m_blendB};
+    const int reach = m_s.stackWindow + m_s.stackSmooth, fw = m_s.stackFeatureWindow;
+    Image out = result.composite;
+    std::size_t featureCount = 0;
+    for (const Strip& strip : m_strips) {
+        const int c0 = std::max(0, strip.y0 - reach), c1 = std::min(height, strip.y1 + reach);
+        std::vector<Image> results(3 * k);
+        forEach(results.size(), kFilterPasses * (c1 - c0), [&](std::size_t i) {
+            results[i] = apply(members[i % k], *sources[i / k], c0, c1);
+        });
+        std::vector<StackMember> list;
+        for (std::size_t j = 0; j < k; ++j)
+            list.push_back({&results[j], &results[k + j], &results[2 * k + j]});
+        // The features' regressors over these rows, from rows as far again as their window.
+        std::vector<Image> regressors[3];
+        if (features) {
+            const int f0 = std::max(0, c0 - fw), f1 = std::min(height, c1 + fw);
+            for (int side = 0; side < 3; ++side) {
+                const Image base = rowsOf(*bases[side], f0, f1);
+                const Image albedo =
+                    m_s.stackAlbedo ? sources[side]->layer(Layer::Albedo).crop(frameRect(f0, f1))
+                                    : Image{};
+                const Image normal =
+                    m_s.stackNormal ? sources[side]->layer(Layer::Normal).crop(frameRect(f0, f1))
+                                    : Image{};
+                for (Image& r : featureRegressors(base, m_s.stackAlbedo ? &albedo : nullptr,
+                                                  m_s.stackNormal ? &normal : nullptr, fw))
+                    regressors[side].push_back(rowsOf(r, c0 - f0, c1 - f0));
+            }
+            featureCount = regressors[0].size();
+            for (std::size_t q = 0; q < featureCount; ++q)
+                list.push_back({&regressors[0][q], &regressors[1][q], &regressors[2][q]});
+        }
+        const Image stacked = stackComposite(
+            rowsOf(result.composite, c0, c1), rowsOf(m_blendA, c0, c1), rowsOf(m_blendB, c0, c1),
+            list, m_halves->halfA().color().crop(frameRect(c0, c1)),
+            m_halves->halfB().color().crop(frameRect(c0, c1)),
+            weightAtC.empty() ? Image{} : rowsOf(weightAtC, c0, c1), m_s.stackWindow,
+            m_s.stackRidge, m_s.stackFloor, m_s.stackSmooth, &m_work);
+        copyRows(stacked, strip.y0 - c0, out, strip.y0, strip.y1 - strip.y0);
+    }
+    result.composite = std::move(out);
+    result.stacked = int(k);
+    result.stackFeatures = int(featureCount);
+}
+
+AutoResult Streamer::run() {
+    const std::size_t n = m_bank.size();
+    // The inputs the members see: the bank's (prefiltered when it was) and the halves, or SURE's
+    // input and its perturbed copy.
+    if (m_s.halves) {
+        m_halves = std::make_unique<HalvesEstimator>(m_bank, m_frame, m_s, m_s.bothHalves, false,
+                                                     &m_median, &m_displayMedian, nullptr);
+        if (m_s.prefilter) m_prefiltered = prefilterFeatures(m_frame, m_s.prefilterParams);
+        m_input = m_s.prefilter ? &m_prefiltered : &m_frame;
+    } else {
+        m_sure = std::make_unique<SureEstimator>(m_bank, m_frame, m_s, nullptr);
+        m_input = &m_sure->filterInput();
+    }
+
+    // Pass 1: the display linearisation around the bank's median.
+    if (m_s.secant || m_s.tangent) {
+        medianPass();
+        m_weight = tangentWeights(m_median, m_s.exposure);
+    }
+    // The temperature's unit (before the maps, so that the weights it needs can go first).
+    const ErrorEstimator& estimator =
+        m_halves ? static_cast<const ErrorEstimator&>(*m_halves) : *m_sure;
+    const Image noise = m_s.temperature > 0.0
+                            ? noiseLevel(estimator, m_region, m_weight, m_s.window, m_work)
+                            : Image{};
+    if (!m_s.tangent) m_weight = Image{};
+    // Pass 2: the error maps; the first choice.
+    estimatePass();
+    std::vector<std::size_t> candidates(n);
+    std::iota(candidates.begin(), candidates.end(), std::size_t(0));
+    Choice chosen =
+        choose(m_estimates, candidates, !m_s.shortlisted, m_s, noise, m_work, m_s.scoreRows);
+    // Pass 3: the shortlist on B; the final choice.
+    if (m_s.shortlisted) {
+        candidates = shortlistOf(chosen, std::size_t(m_s.shortlist));
+        chosen = Choice{};
+        shortlistPass(candidates);
+        chosen = choose(m_estimates, candidates, true, m_s, noise, m_work, m_s.scoreRows);
+    }
+    m_median = Image{}, m_weight = Image{}, m_displayMedian = {};
+    m_estimates.maps = {};
+
+    // Pass 4: feathering and the blend.
+    std::vector<Image>& planes = chosen.planes;
+    AutoResult result;
+    blendPass(planes, result);
+    std::vector<double> totals(n, 0.0);
+    std::vector<int> order;
+    for (std::size_t m = 0; m < n; ++m)
+        if (!planes[m].empty()) totals[m] = meanPerChannel(planes[m]);
+    for (std::size_t m = 0; m < n; ++m)
+        if (totals[m] > 0.0) order.push_back(int(m));
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return totals[std::size_t(a)] > totals[std::size_t(b)]; });
+    result.estimatedMse = m_estimates.estimatedMse;
+    std::size_t best = candidates.front();
+    for (std::size_t m : candidates)
+        if (m_estimates.estimatedMse[m] < m_estimates.estimatedMse[best]) best = m;
+    result.bestMember = int(best);
+    for (char a : m_estimates.analytic) result.analytic.push_back(a != 0);
+    result.estimator = m_s.estimator;
+
+    // Pass 5: the stacking.
+    if (m_s.stack > 0) stackPass(order, result);
+    for (int m : order) result.layers.push_back({m, std::move(planes[std::size_t(m)])});
+    return result;
+}
+
+// The units the passes count, for the progress fraction (about, as autoComposite's).
+std::int64_t expectedWork(const AutoSettings& s, std::size_t n, std::int64_t h) {
+    const auto members = std::int64_t(n);
+    const auto shortlist = std::int64_t(s.shortlisted ? s.shortlist : 0);
+    const std::int64_t finalCandidates = s.shortlisted ? shortlist : members;
+    std::int64_t passes = 0;
+    if (s.secant || s.tangent) passes += members * kFilterPasses + 1;
+    passes += members * kFilterPasses * (s.halves && s.bothHalves ? 2 : 1);
+    if (s.temperature > 0.0) passes += 3;
+    passes += (s.shortlisted ? members + 1 + shortlist * kFilterPasses : 0) +
+              finalCandidates * (1 + s.finer) + 1;
+    if (s.feather > 0) passes += finalCandidates + 2;
+    passes += finalCandidates * kFilterPasses * (s.stack > 0 ? 3 : 1) + 1;
+    if (s.stack > 0)
+        passes += 3 * s.stack * kFilterPasses + 4 + (s.stackAlbedo || s.stackNormal ? 6 : 0);
+    return passes * h;
+}
+
+}  // namespace
+
+StreamedAuto autoCompositeStreamed(const FrameBuffers& frame, const BankOptions& bankOptions,
+                                   const AutoOptions& options, int streamRows) {
+    FilterBank bank = bankWithoutResults(frame, bankOptions);
+    AutoSettings settings = resolveSettings(bank, frame, options);
+    if (streamRows > 0) settings.streamRows = settings.scoreRows = streamRows;
+    WorkContext work(options.progress);
+    work.expectWork(expectedWork(settings, bank.size(), bank.region().height()));
+    StreamedAuto out;
+    try {
+        work.addWork(0);  // the first report, at 0: a callback can stop before any work
+        out.result = Streamer(bank, frame, settings, work).run();
+        work.throwIfCancelled();
+        work.finish();
+    } catch (const Error& e) {
+        if (e.kind() == ErrorKind::Cancelled)
+            throw Error(ErrorKind::Cancelled, "auto composite cancelled");
+        throw;
+    }
+    out.bank = std::move(bank);
+    return out;
+}
+
+}  // namespace detail
+
+StreamedAuto autoCompositeStreamed(const FrameBuffers& frame, const BankOptions& bank,
+                                   const AutoOptions& options) {
+    return detail::autoCompositeStreamed(frame, bank, options, 0);
+}
+
+}  // namespace glint::denoise

@@ -1,0 +1,183 @@
+// The automatic selection streamed by strips (auto_stream.h; docs/auto.md, "Memory"): on tiny
+// strips, so that every strip boundary and every margin (the filters', the choice's windows,
+// feathering, the stacking's windows) is crossed, it gives autoComposite's result over the
+// whole bank, for SURE and for the halves with a shortlist, feathering and stacking; and it
+// reports progress and stops when told.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <vector>
+
+#include "auto/options.h"
+#include "auto/streamed.h"
+#include "glint/denoise/auto.h"
+#include "glint/denoise/auto_stream.h"
+#include "glint/denoise/bank.h"
+#include "glint/image/error.h"
+#include "halves_frames.h"
+
+namespace glint::denoise {
+namespace {
+
+using namespace halves_test;
+
+// A 96×64 frame with half buffers and, for the stacking's regressors, an albedo and a normal
+// (with their halves) that change across the disc's edge and the checkerboard.
+FrameBuffers featureFrame(std::uint32_t seed) {
+    const Image clean = cleanImage(96, 64);
+    FrameBuffers f = halvesFrame(clean, 0.08, Noise::Skewed, seed);
+    Image albedo(96, 64, 3), normal(96, 64, 3);
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 96; ++x) {
+            for (int c = 0; c < 3; ++c) albedo(x, y, c) = 0.5f * clean(x, y, c) + 0.2f;
+            const float tilt = x >= 48 ? 0.3f : 0.0f;
+            normal(x, y, 0) = tilt, normal(x, y, 1) = 0.1f, normal(x, y, 2) = 0.95f;
+        }
+    for (Layer l : {Layer::Albedo, Layer::HalfAlbedo}) f.set(l, albedo);
+    for (Layer l : {Layer::Normal, Layer::HalfNormal}) f.set(l, normal);
+    return f;
+}
+
+BankOptions smallBank() {
+    BankOptions b;
+    b.size = 8;
+    b.filters = {"gaussian", "bilateral", "cross-bilateral"};
+    return b;
+}
+
+// The largest difference between two images of one shape.
+double maxDifference(const Image& a, const Image& b) {
+    EXPECT_TRUE(a.sameShape(b));
+    double d = 0.0;
+    for (std::size_t i = 0; i < a.data().size(); ++i)
+        d = std::max(d, std::fabs(double(a.data()[i]) - double(b.data()[i])));
+    return d;
+}
+
+// The streamed result against autoComposite's over the same bank. A filter over a strip gives
+// the strip of its whole-frame output and the passes add up their sums in the same order, so
+// the estimates, the choice and the weights are the same, value for value; the stacking's
+// regression sums its windows from the strip's rows (its coefficients may differ by float
+// rounding, so the composite is compared within 1e-6).
+void expectSame(const AutoResult& whole, const StreamedAuto& streamed, const FilterBank& bank) {
+    const AutoResult& s = streamed.result;
+    ASSERT_EQ(streamed.bank.size(), bank.size());
+    for (std::size_t m = 0; m < bank.size(); ++m) {
+        EXPECT_EQ(streamed.bank.members()[m].filter, bank.members()[m].filter);
+        EXPECT_EQ(streamed.bank.members()[m].params, bank.members()[m].params);
+    }
+    EXPECT_EQ(streamed.bank.region(), bank.region());
+    EXPECT_EQ(streamed.bank.inputHash(), bank.inputHash());
+    EXPECT_TRUE(streamed.bank.results().empty());
+    ASSERT_EQ(s.estimatedMse.size(), whole.estimatedMse.size());
+    for (std::size_t m = 0; m < s.estimatedMse.size(); ++m)
+        EXPECT_EQ(s.estimatedMse[m], whole.estimatedMse[m]) << "member " << m;
+    EXPECT_EQ(s.bestMember, whole.bestMember);
+    EXPECT_EQ(s.analytic, whole.analytic);
+    EXPECT_EQ(s.stacked, whole.stacked);
+    EXPECT_EQ(s.stackFeatures, whole.stackFeatures);
+    ASSERT_EQ(s.layers.size(), whole.layers.size());
+    for (std::size_t i = 0; i < s.layers.size(); ++i) {
+        EXPECT_EQ(s.layers[i].member, whole.layers[i].member);
+        EXPECT_EQ(maxDifference(s.layers[i].weights, whole.layers[i].weights), 0.0);
+    }
+    EXPECT_EQ(maxDifference(s.choice, whole.choice), 0.0);
+    EXPECT_LE(maxDifference(s.composite, whole.composite), 1e-6);
+}
+
+TEST(AutoStream, HalvesWithShortlistFeatheringAndStackingMatchTheWholeFrame) {
+    const FrameBuffers f = featureFrame(5);
+    const BankOptions b = smallBank();
+    const FilterBank bank = buildBank(f, b);
+    ASSERT_GT(bank.size(), 6u);
+    AutoOptions o;
+    o.estimator = AutoEstimator::Halves;
+    o.tuning["shortlist"] = 4;
+    o.tuning["feather"] = 3;
+    o.tuning["stack"] = 2;
+    o.tuning["stackWindow"] = 3;
+    o.tuning["stackSmooth"] = 2;
+    o.tuning["stackFeatureWindow"] = 2;
+    const AutoResult whole = autoComposite(bank, f, o);
+    ASSERT_EQ(whole.stacked, 2);
+    ASSERT_EQ(whole.stackFeatures, 4);  // the albedo's and the normal's three
+    for (int rows : {16, 7, 64}) {
+        SCOPED_TRACE("strips of " + std::to_string(rows) + " rows");
+        expectSame(whole, detail::autoCompositeStreamed(f, b, o, rows), bank);
+    }
+}
+
+TEST(AutoStream, HalvesInEverySpaceMatchTheWholeFrame) {
+    const FrameBuffers f = halvesFrame(cleanImage(96, 64), 0.08, Noise::Fireflies, 9);
+    const BankOptions b = smallBank();
+    const FilterBank bank = buildBank(f, b);
+    for (detail::SureSpace space : {detail::SureSpace::Linear, detail::SureSpace::DisplayTangent,
+                                    detail::SureSpace::DisplayExact}) {
+        SCOPED_TRACE("space " + std::to_string(int(space)));
+        AutoOptions o;
+        o.estimator = AutoEstimator::Halves;
+        o.tuning["space"] = double(space);
+        o.tuning["shortlist"] = 0;  // every member on both halves
+        o.tuning["stack"] = 1;
+        expectSame(autoComposite(bank, f, o), detail::autoCompositeStreamed(f, b, o, 16), bank);
+    }
+}
+
+TEST(AutoStream, SureMatchesTheWholeFrame) {
+    const FrameBuffers f = halvesFrame(cleanImage(96, 64), 0.08, Noise::Gaussian, 4);
+    const BankOptions b = smallBank();
+    const FilterBank bank = buildBank(f, b);
+    for (detail::SureSpace space : {detail::SureSpace::Display, detail::SureSpace::Linear}) {
+        SCOPED_TRACE("space " + std::to_string(int(space)));
+        AutoOptions o;
+        o.estimator = AutoEstimator::Sure;
+        o.tuning["space"] = double(space);
+        o.tuning["feather"] = 2;
+        expectSame(autoComposite(bank, f, o), detail::autoCompositeStreamed(f, b, o, 16), bank);
+    }
+}
+
+TEST(AutoStream, ReportsProgressToTheEndAndStopsWhenTold) {
+    const FrameBuffers f = featureFrame(7);
+    const BankOptions b = smallBank();
+    AutoOptions o;
+    o.estimator = AutoEstimator::Halves;
+    o.tuning["shortlist"] = 4;
+    o.tuning["stack"] = 2;
+    std::mutex mutex;
+    std::vector<double> fractions;
+    o.progress = [&](double x) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        fractions.push_back(x);
+        return true;
+    };
+    detail::autoCompositeStreamed(f, b, o, 16);
+    ASSERT_GT(fractions.size(), 10u);
+    EXPECT_EQ(fractions.front(), 0.0);
+    EXPECT_EQ(fractions.back(), 1.0);
+    EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+    // Stopped at the first report, in the estimates' pass and in the later ones.
+    for (double stopAt : {0.0, 0.3, 0.8}) {
+        SCOPED_TRACE("stop at " + std::to_string(stopAt));
+        o.progress = [stopAt](double x) { return x < stopAt; };
+        try {
+            detail::autoCompositeStreamed(f, b, o, 16);
+            FAIL() << "not cancelled";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), ErrorKind::Cancelled) << e.what();
+        }
+    }
+}
+
+TEST(AutoStream, RejectsBadBankOptions) {
+    const FrameBuffers f = halvesFrame(cleanImage(32, 24), 0.08, Noise::Gaussian, 1);
+    BankOptions b;
+    b.size = 0;
+    b.filters = {"no-such-filter"};
+    EXPECT_THROW(autoCompositeStreamed(f, b, {}), Error);
+}
+
+}  // namespace
+}  // namespace glint::denoise

@@ -1,0 +1,111 @@
+// bench_auto_memory: the memory figure of `glint-denoise auto` without a bank folder (docs/auto.md,
+// "Memory"). Reads IN (a render with half buffers for the halves estimator), then runs the
+// automatic selection over a bank of MEMBERS members (plus the defaults, no cache) once, either
+// as before streaming — buildBank then autoComposite over the bank's results (--mode whole) — or
+// strip by strip without the bank (--mode streamed, autoCompositeStreamed; --rows: the strip
+// height, 0: the default). Prints one JSON object: the time, the process's peak resident memory
+// (getrusage), and with --against OTHER.exr (the other mode's --out) the largest difference
+// between the two composites. Run from tests/perf/auto_memory.sh, one process per figure.
+//   bench_auto_memory --in IN.exr [--mode whole|streamed] [--members 64] [--threads 2]
+//                     [--rows 0] [--out OUT.exr] [--against OTHER.exr]
+#include <sys/resource.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "auto/streamed.h"
+#include "bench_options.h"
+#include "glint/denoise/bank.h"
+#include "glint/denoise/auto.h"
+#include "glint/image/composite.h"
+#include "glint/image/io.h"
+#include "glint/image/memory.h"
+
+int main(int argc, char** argv) {
+    using Clock = std::chrono::steady_clock;
+    std::string input, mode = "streamed", outPath, against;
+    int members = 64, threads = 2, rows = 0;
+    const int parsed = glint::bench::parseOptions(
+        "bench_auto_memory", argc, argv, [&](const std::string& a, const std::string& text) {
+            if (a == "--in")
+                input = text;
+            else if (a == "--mode")
+                mode = text;
+            else if (a == "--out")
+                outPath = text;
+            else if (a == "--against")
+                against = text;
+            else if (a == "--members")
+                members = glint::bench::intOption(a, text);
+            else if (a == "--threads")
+                threads = glint::bench::intOption(a, text);
+            else if (a == "--rows")
+                rows = glint::bench::intOption(a, text);
+            else
+                return false;
+            return true;
+        });
+    if (parsed != 0) return parsed;
+    if (input.empty() || (mode != "whole" && mode != "streamed")) {
+        std::fprintf(stderr, "bench_auto_memory: needs --in IN.exr and --mode whole|streamed\n");
+        return 2;
+    }
+    glint::retainFreedMemory();  // as glint-denoise
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+
+    const glint::FrameBuffers frame = glint::readExr(input);
+    glint::denoise::BankOptions bankOptions;
+    bankOptions.size = members;
+    glint::denoise::AutoOptions options;  // the defaults, as `glint-denoise auto IN --out OUT`
+    const auto t0 = Clock::now();
+    glint::denoise::AutoResult result;
+    glint::Rect region;
+    std::size_t bankSize = 0;
+    if (mode == "whole") {
+        const glint::denoise::FilterBank bank = glint::denoise::buildBank(frame, bankOptions);
+        result = glint::denoise::autoComposite(bank, frame, options);
+        region = bank.region(), bankSize = bank.size();
+    } else {
+        glint::denoise::StreamedAuto s =
+            glint::denoise::detail::autoCompositeStreamed(frame, bankOptions, options, rows);
+        result = std::move(s.result);
+        region = s.bank.region(), bankSize = s.bank.size();
+    }
+    const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    const double peakMiB = double(usage.ru_maxrss) / 1024.0;  // KiB on Linux
+
+    nlohmann::json report = {
+        {"input", input},           {"mode", mode},        {"width", frame.width()},
+        {"height", frame.height()}, {"members", bankSize}, {"threads", threads},
+        {"seconds", seconds},       {"peakMiB", peakMiB},  {"stacked", result.stacked}};
+    if (!outPath.empty()) {
+        glint::FrameBuffers out = frame;
+        glint::paste(out.color(), result.composite, region.x0, region.y0);
+        glint::writeExr(out, outPath);
+    }
+    if (!against.empty()) {
+        const glint::Image other = glint::readExr(against).color().crop(region);
+        double largest = 0.0;
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < other.data().size(); ++i) {
+            const double d =
+                std::fabs(double(other.data()[i]) - double(result.composite.data()[i]));
+            largest = std::max(largest, d);
+            differ += d > 0.0 ? 1 : 0;
+        }
+        report["against"] = against;
+        report["maxAbsDifference"] = largest;
+        report["valuesDiffering"] = differ;
+        report["values"] = other.data().size();
+    }
+    std::printf("%s\n", report.dump().c_str());
+    return 0;
+}
