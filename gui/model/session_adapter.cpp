@@ -1,11 +1,12 @@
 #include "model/session_adapter.h"
 
+#include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
-#include "glint/denoise/auto.h"
 #include "glint/image/error.h"
 #include "model/journal_codec.h"
+#include "model/layer_names.h"
 
 namespace glint::studio {
 
@@ -250,7 +251,7 @@ void SessionAdapter::doAddLayer(const std::string& filter, const denoise::ParamV
         journal_codec::AddLayer{filter, m_session->layer(index).params, bool(fillMask)});
     if (fillMask) entry.images.push_back(*fillMask);
     emit journal(entry);
-    pushEdit(tr("Add %1").arg(QString::fromStdString(filter)), steps);
+    pushEdit(tr("Add %1").arg(layerName(filter, m_session->layer(index).params)), steps);
     emit layersChanged();
     if (!changed.empty()) emit compositeChanged(changed);
 }

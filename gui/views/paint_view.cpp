@@ -15,6 +15,7 @@
 
 #include "glint/denoise/aids.h"
 #include "glint/denoise/registry.h"
+#include "model/layer_names.h"
 #include "views/param_controls.h"
 
 namespace glint::studio {
@@ -22,7 +23,7 @@ namespace glint::studio {
 namespace {
 
 QString layerText(const denoise::SessionLayer& layer, std::size_t index) {
-    return QStringLiteral("%1. %2").arg(index + 1).arg(describeFilter(layer.filter, layer.params));
+    return QStringLiteral("%1. %2").arg(index + 1).arg(layerName(layer.filter, layer.params));
 }
 
 }  // namespace
@@ -203,8 +204,12 @@ void PaintView::rebuildLayers() {
     m_layers->clear();
     if (m_context.session->hasSession()) {
         const denoise::Session& s = m_context.session->session();
-        for (std::size_t i = 0; i < s.layerCount(); ++i)
+        for (std::size_t i = 0; i < s.layerCount(); ++i) {
             m_layers->addItem(layerText(s.layer(i), i));
+            // The full parameters on the row.
+            m_layers->item(int(i))->setToolTip(
+                layerParameters(s.layer(i).filter, s.layer(i).params));
+        }
     }
     // A new layer becomes the one to paint with.
     int row = m_layers->count() > before ? m_layers->count() - 1 : previous;
