@@ -308,9 +308,20 @@ class StudioSessionTest : public QObject {
             QDir(sourceDir()).filePath(QStringLiteral("tests/fuzz/seeds/gltf/triangle.glb"));
         QMimeData mime;
         mime.setUrls({QUrl::fromLocalFile(asset)});
+        // A drop reaches the widget that accepted the drag's entry.
+        QDragEnterEvent enter(QPoint(10, 10), Qt::CopyAction, &mime, Qt::LeftButton,
+                              Qt::NoModifier);
+        QApplication::sendEvent(w.get(), &enter);
+        QVERIFY(enter.isAccepted());
         QDropEvent drop(QPointF(10, 10), Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
         QApplication::sendEvent(w.get(), &drop);
-        QVERIFY(waitIdle(*w, 60000));
+        const bool idle = waitIdle(*w, 60000);
+        QVERIFY2(idle, qPrintable(QStringLiteral("%1 kind %2 frame %3 session %4 error %5")
+                                      .arg(w->document()->path())
+                                      .arg(int(w->document()->kind()))
+                                      .arg(bool(w->document()->finishedFrame()))
+                                      .arg(w->session()->hasSession())
+                                      .arg(w->lastError())));
         QCOMPARE(w->document()->kind(), Document::Kind::Scene);
         std::string material;
         for (const render::LookItem& item : w->document()->look())
