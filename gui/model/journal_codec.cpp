@@ -72,6 +72,11 @@ struct Encoder {
         return {{QStringLiteral("op"), QStringLiteral("removeLayer")},
                 {QStringLiteral("index"), qint64(r.index)}};
     }
+    QJsonObject operator()(const RenameLayer& r) const {
+        return {{QStringLiteral("op"), QStringLiteral("renameLayer")},
+                {QStringLiteral("index"), qint64(r.index)},
+                {QStringLiteral("name"), QString::fromStdString(r.name)}};
+    }
     QJsonObject operator()(const Weights& w) const {
         return {{QStringLiteral("op"), QStringLiteral("weights")},
                 {QStringLiteral("index"), qint64(w.index)}};
@@ -130,6 +135,9 @@ Op decode(const QJsonObject& json) {
                         paramsFromJson(json.value(QStringLiteral("params"))),
                         json.value(QStringLiteral("fill")).toBool()};
     if (op == QStringLiteral("removeLayer")) return RemoveLayer{index(json, "index")};
+    if (op == QStringLiteral("renameLayer"))
+        return RenameLayer{index(json, "index"),
+                           json.value(QStringLiteral("name")).toString().toStdString()};
     if (op == QStringLiteral("weights")) return Weights{index(json, "index")};
     if (op == QStringLiteral("fill"))
         return Fill{index(json, "index"), modeFromJson(json.value(QStringLiteral("mode")))};

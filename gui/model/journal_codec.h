@@ -32,6 +32,11 @@ struct AddLayer {
 struct RemoveLayer {
     std::size_t index = 0;
 };
+/// Layer `index` renamed (an empty name: named after its filter again).
+struct RenameLayer {
+    std::size_t index = 0;
+    std::string name;
+};
 /// Layer `index`'s weights set to the entry's first image.
 struct Weights {
     std::size_t index = 0;
@@ -55,8 +60,8 @@ struct Apply {
 struct Undo {};
 struct Redo {};
 
-using Op =
-    std::variant<Start, Input, AddLayer, RemoveLayer, Weights, Fill, Stroke, Apply, Undo, Redo>;
+using Op = std::variant<Start, Input, AddLayer, RemoveLayer, RenameLayer, Weights, Fill, Stroke,
+                        Apply, Undo, Redo>;
 
 /// The JSON of `op`.
 QJsonObject encode(const Op& op);

@@ -520,6 +520,8 @@ void SessionAdapter::replayNow(const JournalEntry& entry, const journal_codec::O
     };
     if (const auto* remove = std::get_if<journal_codec::RemoveLayer>(&op)) {
         removeLayer(remove->index);
+    } else if (const auto* rename = std::get_if<journal_codec::RenameLayer>(&op)) {
+        renameLayer(rename->index, rename->name);
     } else if (const auto* weights = std::get_if<journal_codec::Weights>(&op)) {
         setWeights(weights->index, image(0));
     } else if (const auto* f = std::get_if<journal_codec::Fill>(&op)) {

@@ -12,6 +12,7 @@
 #include <QFileInfo>
 #include <QJsonDocument>
 #include <QJsonObject>
+#include <QLineEdit>
 #include <QListWidget>
 #include <QMenu>
 #include <QMenuBar>
@@ -299,6 +300,45 @@ class StudioSessionTest : public QObject {
         for (const char* part : {"nlmeans", "patch radius", "search radius", "strength k"})
             QVERIFY2(tip.contains(QLatin1String(part)), qPrintable(tip));
         QCOMPARE(w->session()->undoStack()->undoText(), QStringLiteral("Add NL-means, strong"));
+    }
+
+    void aLayerIsRenamedByDoubleClickUndoablyAndSavedWithTheSession() {
+        auto w = openScene();
+        QVERIFY(w);
+        w->session()->addLayer("nlmeans", {{"strength", 1.2}});
+        QVERIFY(waitFor([&] { return w->session()->session().layerCount() == 1; }));
+        w->setStage(3);
+        auto* list = w->paintView()->findChild<QListWidget*>();
+        QVERIFY(list);
+        const QRect row = list->visualItemRect(list->item(0));
+        QTest::mouseClick(list->viewport(), Qt::LeftButton, {}, row.center());
+        QTest::mouseDClick(list->viewport(), Qt::LeftButton, {}, row.center());
+        auto* editor = list->findChild<QLineEdit*>();
+        QVERIFY(editor);
+        QVERIFY(waitFor([&] { return editor->isVisible(); }, 2000));
+        editor->selectAll();
+        QTest::keyClicks(editor, QStringLiteral("walls"));
+        QTest::keyClick(editor, Qt::Key_Return);
+        QVERIFY(waitFor([&] { return w->session()->session().layer(0).name == "walls"; }, 2000));
+        QVERIFY(waitFor([&] { return list->item(0)->text() == QStringLiteral("1. walls"); }));
+        QCOMPARE(w->session()->undoStack()->undoText(), QStringLiteral("Rename layer 1"));
+        w->session()->undoStack()->undo();
+        QVERIFY(w->session()->session().layer(0).name.empty());
+        QCOMPARE(list->item(0)->text(), QStringLiteral("1. NL-means, strong"));
+        w->session()->undoStack()->redo();
+        QCOMPARE(list->item(0)->text(), QStringLiteral("1. walls"));
+        const QString path = save(*w, QStringLiteral("named.glint-session.json"));
+        QVERIFY(!path.isEmpty());
+        w->close();
+        w.reset();
+        auto again = reopen(path);
+        QVERIFY(again);
+        QVERIFY(again->session()->session().layer(0).name == "walls");
+        auto* againList = again->paintView()->findChild<QListWidget*>();
+        QVERIFY(waitFor([&] {
+            return againList->count() == 1 &&
+                   againList->item(0)->text() == QStringLiteral("1. walls");
+        }));
     }
 
     void aGltfAssetOpensByDropAndItsMetallicRoughnessIsEditable() {
