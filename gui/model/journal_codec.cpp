@@ -52,7 +52,10 @@ struct Encoder {
     QJsonObject operator()(const Start& s) const {
         QJsonArray layers;
         for (const auto& spec : s.layers) layers.append(layerToJson(spec));
+        QJsonArray names;
+        for (const std::string& name : s.names) names.append(QString::fromStdString(name));
         return {{QStringLiteral("op"), QStringLiteral("start")},
+                {QStringLiteral("names"), names},
                 {QStringLiteral("options"),
                  QJsonObject{
                      {QStringLiteral("prefilter"), s.options.prefilter},
@@ -127,6 +130,9 @@ Op decode(const QJsonObject& json) {
             s.layers.push_back({l.value(QStringLiteral("filter")).toString().toStdString(),
                                 paramsFromJson(l.value(QStringLiteral("params")))});
         }
+        // Older journals have no names.
+        for (const QJsonValue& v : json.value(QStringLiteral("names")).toArray())
+            s.names.push_back(v.toString().toStdString());
         return s;
     }
     if (op == QStringLiteral("input")) return Input{};

@@ -20,6 +20,7 @@ namespace glint::studio::journal_codec {
 struct Start {
     denoise::SessionOptions options;
     std::vector<denoise::LayerSpec> layers;
+    std::vector<std::string> names;  ///< the first layers' own names ("": none); may be shorter
 };
 /// A new render as the session's input (the entry's frame).
 struct Input {};

@@ -140,7 +140,7 @@ class SessionAdapter : public QObject {
   private:
     friend class SessionCommand;
     void startSession(FramePtr frame, std::vector<denoise::LayerSpec> carry,
-                      std::vector<Image> carryWeights);
+                      std::vector<Image> carryWeights, std::vector<std::string> carryNames = {});
     void reapplyInBackground();
     /// What re-applying the layers to a new render needs, computed on a worker.
     struct Reapplied {

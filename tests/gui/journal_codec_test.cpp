@@ -21,7 +21,7 @@ class JournalCodecTest : public QObject {
         options.prefilter = true;
         options.prefilterParams = {{"sigma", 1.5}};
         const std::vector<jc::Op> ops = {
-            jc::Start{options, {{"gaussian", {{"sigma", 2.0}}}, {"bilateral", {}}}},
+            jc::Start{options, {{"gaussian", {{"sigma", 2.0}}}, {"bilateral", {}}}, {"walls", ""}},
             jc::Input{},
             jc::AddLayer{"nlm", {{"radius", 3.0}, {"h", 0.25}}, true},
             jc::RemoveLayer{4},
@@ -47,6 +47,8 @@ class JournalCodecTest : public QObject {
                  options.prefilterParams);
         QCOMPARE(std::get<jc::Fill>(jc::decode(jc::encode(ops[5]))).mode,
                  denoise::BrushMode::Subtract);
+        QCOMPARE(std::get<jc::Start>(jc::decode(jc::encode(ops[0]))).names,
+                 std::vector<std::string>({"walls", ""}));
         QCOMPARE(std::get<jc::RenameLayer>(jc::decode(jc::encode(ops[10]))).name,
                  std::string("walls, σ 2"));
         // An operation it does not know is named.

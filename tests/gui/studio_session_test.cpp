@@ -327,6 +327,13 @@ class StudioSessionTest : public QObject {
         QCOMPARE(list->item(0)->text(), QStringLiteral("1. NL-means, strong"));
         w->session()->undoStack()->redo();
         QCOMPARE(list->item(0)->text(), QStringLiteral("1. walls"));
+        // A new session carrying the layers (feature prefiltering turned on) keeps the name.
+        w->session()->setOptions({true, {}});
+        QVERIFY(waitFor([&] {
+            return !w->session()->busy() && w->session()->options().prefilter &&
+                   w->session()->session().options().prefilter;
+        }));
+        QVERIFY(w->session()->session().layer(0).name == "walls");
         const QString path = save(*w, QStringLiteral("named.glint-session.json"));
         QVERIFY(!path.isEmpty());
         w->close();
