@@ -17,6 +17,7 @@
 #include <QToolBar>
 
 #include "app/canvas_keys.h"
+#include "app/file_naming.h"
 #include "app/panel_layout.h"
 #include "app/studio_settings.h"
 #include "glint/image/error.h"
@@ -74,7 +75,7 @@ MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
     m_stages->addTab(m_filterTabs, tr("3 Filter"));
     m_stages->addTab(new VerticalScrollArea(m_paint), tr("4 Paint"));
 
-    auto* bar = new QToolBar(tr("Render"), this);
+    auto* bar = new QToolBar(tr("Render bar"), this);
     bar->setObjectName(QStringLiteral("renderBar"));
     bar->setMovable(false);
     bar->addWidget(m_renderBar);
@@ -140,6 +141,12 @@ void MainWindow::buildMenus() {
     render->addAction(a.cancelRender);
     QMenu* view = menuBar()->addMenu(tr("&View"));
     for (QAction* x : {a.fit, a.oneToOne, a.flip, a.exposureUp, a.exposureDown}) view->addAction(x);
+    // Each panel (and the render bar) shown or hidden: a closed dock comes back from here.
+    view->addSeparator();
+    for (QDockWidget* dock : findChildren<QDockWidget*>(Qt::FindDirectChildrenOnly))
+        view->addAction(dock->toggleViewAction());
+    for (QToolBar* toolBar : findChildren<QToolBar*>(Qt::FindDirectChildrenOnly))
+        view->addAction(toolBar->toggleViewAction());
     QMenu* work = menuBar()->addMenu(tr("&Workflow"));
     for (QAction* s : a.stages) work->addAction(s);
     work->addSeparator();
@@ -168,13 +175,12 @@ void MainWindow::buildMenus() {
             saveSession(m_sessionPath);
     });
     connect(a.saveSessionAs, &QAction::triggered, this, [this] {
-        QString path =
+        const QString path =
             askPath(tr("Save the session"), tr("Glint sessions (*.glint-session.json)"), true);
         if (path.isEmpty()) {
             m_afterSave = {};  // nothing is saved: the action maybeSave() held is dropped
             return;
         }
-        if (!isSessionPath(path)) path += QStringLiteral(".glint-session.json");
         saveSession(path);
     });
     connect(a.saveScene, &QAction::triggered, this, [this] {
@@ -266,6 +272,7 @@ void MainWindow::connectModel() {
         if (final && !m_restoring && m_document->finishedFrame())
             m_session->setInput(m_document->finishedFrame());
     });
+    connect(m_document, &Document::modifiedChanged, this, &MainWindow::updateTitle);
     connect(m_document, &Document::failed, this, &MainWindow::showError);
     connect(m_session, &SessionAdapter::failed, this, &MainWindow::showError);
     connect(m_renderBar, &RenderBar::failed, this, &MainWindow::showError);
@@ -312,6 +319,7 @@ void MainWindow::connectModel() {
         m_sessionPath = path;
         m_session->undoStack()->setClean();
         const denoise::Session& s = m_session->session();
+        m_document->markSaved();  // a scene is opened again and restored (applyViewState)
         applyViewState(s.viewState);
         m_document->setFinishedFrame(m_session->input());
         updateTitle();
@@ -334,78 +342,6 @@ void MainWindow::openFile(const QString& path) {
     m_sessionPath.clear();
     m_session->clear();
     m_document->open(path);
-}
-
-bool MainWindow::saveSession(const QString& path) {
-    // Written on a worker; the state saved is the undo stack's present step.
-    const int index = m_session->undoStack()->index();
-    try {
-        m_session->save(path,
-                        m_region->wholeImage()
-                            ? std::nullopt
-                            : std::optional<Rect>(m_region->bounds(m_session->session().width(),
-                                                                   m_session->session().height())),
-                        viewState(), [this, path, index](const QString& error) {
-                            std::function<void()> then = std::exchange(m_afterSave, {});
-                            if (!error.isEmpty()) {
-                                showError(tr("Cannot save the session"), error);
-                                return;
-                            }
-                            m_sessionPath = path;
-                            if (m_session->undoStack()->index() == index)
-                                m_session->undoStack()->setClean();
-                            addRecentFile(path);
-                            rebuildRecent();
-                            statusBar()->showMessage(tr("Saved %1").arg(path), 4000);
-                            updateTitle();
-                            if (then) then();
-                        });
-        return true;
-    } catch (const Error& e) {
-        m_afterSave = {};
-        showError(tr("Cannot save the session"), QString::fromStdString(e.what()));
-        return false;
-    }
-}
-
-std::map<std::string, std::string> MainWindow::viewState() const {
-    std::map<std::string, std::string> state;
-    if (m_document->kind() == Document::Kind::Scene)
-        state["scene"] = QFileInfo(m_document->path()).absoluteFilePath().toStdString();
-    const render::Settings& s = m_document->settings();
-    state["spp"] = std::to_string(s.spp);
-    state["seed"] = std::to_string(s.seed);
-    state["integrator"] = render::integratorName(s.integrator);
-    state["mis"] = render::misName(s.mis);
-    state["lasso"] = m_region->toString().toStdString();
-    state["exposure"] = std::to_string(m_viewer->exposure());
-    state["stage"] = std::to_string(stage());
-    return state;
-}
-
-void MainWindow::applyViewState(const std::map<std::string, std::string>& state) {
-    auto get = [&](const char* key) {
-        auto it = state.find(key);
-        return it == state.end() ? QString() : QString::fromStdString(it->second);
-    };
-    m_region->fromString(get("lasso"));
-    bool ok = false;
-    const double exposure = get("exposure").toDouble(&ok);
-    if (ok) m_viewer->setExposure(exposure);
-    // The scene, opened without rendering: a look change renders and re-applies the layers.
-    const QString scene = get("scene");
-    if (!scene.isEmpty() && QFileInfo::exists(scene)) {
-        m_restoring = true;
-        auto once = std::make_shared<QMetaObject::Connection>();
-        *once = connect(m_document, &Document::opened, this, [this, once] {
-            disconnect(*once);
-            m_restoring = false;
-            m_document->setFinishedFrame(m_session->input());
-        });
-        m_document->open(scene, false);
-    }
-    const int s = get("stage").toInt(&ok);
-    if (ok) setStage(std::clamp(s, 0, 3));
 }
 
 void MainWindow::offerRestore(bool ask) {
@@ -459,8 +395,12 @@ void MainWindow::exportResult(bool exr) {
 QString MainWindow::askPath(const QString& title, const QString& filter, bool save) {
     const QString dir =
         m_document->path().isEmpty() ? QString() : QFileInfo(m_document->path()).path();
-    return save ? QFileDialog::getSaveFileName(this, title, dir, filter)
-                : QFileDialog::getOpenFileName(this, title, dir, filter);
+    if (!save) return QFileDialog::getOpenFileName(this, title, dir, filter);
+    // The chosen filter's extension when the name lacks it: the file is then of the kind
+    // written, and the Open dialog's filter shows it.
+    QString chosen = filter.split(QStringLiteral(";;")).first();
+    const QString path = QFileDialog::getSaveFileName(this, title, dir, filter, &chosen);
+    return withFilterExtension(path, chosen);
 }
 
 void MainWindow::showError(const QString& title, const QString& message) {
@@ -476,9 +416,10 @@ void MainWindow::showError(const QString& title, const QString& message) {
 }
 
 bool MainWindow::maybeSave(std::function<void()> again) {
-    if (m_session->undoStack()->isClean() || !m_options.confirmDiscard) return true;
+    if (!isModified() || !m_options.confirmDiscard) return true;
     const auto answer = QMessageBox::question(
-        this, tr("Save the session?"), tr("The painting session has unsaved changes."),
+        this, tr("Save the session?"),
+        tr("The session has unsaved changes (painting, look or render settings)."),
         QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Save);
     if (answer == QMessageBox::Cancel) return false;
     if (answer == QMessageBox::Save) {
@@ -495,8 +436,7 @@ void MainWindow::updateTitle() {
                                            : QFileInfo(m_sessionPath).fileName();
     if (name.isEmpty()) name = tr("no file");
     setWindowTitle(
-        tr("%1%2 — Glint Studio")
-            .arg(name, m_session->undoStack()->isClean() ? QString() : QStringLiteral(" *")));
+        tr("%1%2 — Glint Studio").arg(name, isModified() ? QStringLiteral(" *") : QString()));
 }
 
 void MainWindow::rebuildRecent() {

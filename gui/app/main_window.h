@@ -52,6 +52,8 @@ class MainWindow : public QMainWindow {
     /// Saves the session (with the region and view state) to `path` on a worker; false when it
     /// cannot start. An error is shown in a dialog; session()->busy() holds until it is written.
     bool saveSession(const QString& path);
+    /// Unsaved painting, look edits or render settings (the title's asterisk; Quit asks).
+    bool isModified() const;
     /// Offers to restore a crashed studio's journal (asks unless `ask` is false).
     void offerRestore(bool ask = true);
 

@@ -42,7 +42,9 @@ QDockWidget* makeDock(QMainWindow* window, const QString& title, const QString& 
     auto* d = new QDockWidget(title, window);
     d->setObjectName(name);
     d->setWidget(content);
-    d->setFeatures(QDockWidget::DockWidgetMovable | QDockWidget::DockWidgetFloatable);
+    // Closable: View > the panel's name brings it back.
+    d->setFeatures(QDockWidget::DockWidgetMovable | QDockWidget::DockWidgetFloatable |
+                   QDockWidget::DockWidgetClosable);
     return d;
 }
 

@@ -31,6 +31,25 @@ struct Loaded {
     render::Settings settings;
 };
 
+// The settings a user chooses in the render bar, compared (render::Settings has no ==).
+bool sameUserSettings(const render::Settings& a, const render::Settings& b) {
+    return a.spp == b.spp && a.seed == b.seed && a.integrator == b.integrator && a.mis == b.mis &&
+           a.halfBuffers == b.halfBuffers;
+}
+
+bool sameLook(const std::vector<render::LookItem>& a, const std::vector<render::LookItem>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        if (a[i].name != b[i].name || a[i].properties.size() != b[i].properties.size())
+            return false;
+        for (std::size_t k = 0; k < a[i].properties.size(); ++k)
+            if (a[i].properties[k].name != b[i].properties[k].name ||
+                a[i].properties[k].value != b[i].properties[k].value)
+                return false;
+    }
+    return true;
+}
+
 Loaded loadRenderer(const std::filesystem::path& path) {
     render::Scene scene = render::loadScene(path);
     Loaded out;
@@ -110,6 +129,8 @@ void Document::open(const QString& path, bool renderNow) {
                 emit opened();
                 emit lookChanged();
                 emit referenceChanged();
+                // What was opened (and restored while it opened) is the saved state.
+                markSaved();
                 if (renderNow) render();
             },
             [this, path](const QString& message) {
@@ -140,6 +161,7 @@ void Document::open(const QString& path, bool renderNow) {
             emit opened();
             emit lookChanged();
             emit referenceChanged();
+            markSaved();
             emit frameChanged(true);
         },
         [this, path](const QString& message) {
@@ -150,7 +172,21 @@ void Document::open(const QString& path, bool renderNow) {
 
 void Document::setSettings(const render::Settings& settings) {
     render::validate(settings);
+    const bool changed = !sameUserSettings(settings, m_settings);
     m_settings = settings;
+    if (!changed) return;
+    emit settingsChanged();
+    emit modifiedChanged();
+}
+
+bool Document::modified() const {
+    return !sameUserSettings(m_settings, m_savedSettings) || !sameLook(m_look, m_savedLook);
+}
+
+void Document::markSaved() {
+    m_savedLook = m_look;
+    m_savedSettings = m_settings;
+    emit modifiedChanged();
 }
 
 void Document::render() {
@@ -288,6 +324,7 @@ void Document::setLook(const std::string& item, const std::string& property,
                             std::to_string(target->max) + "]",
                         m_path.toStdString(), item + "/" + property);
     target->value = value;
+    emit modifiedChanged();
     m_job.withScene(
         [item, property, value](render::Scene& scene) { scene.setLook(item, property, value); },
         [this](const QString& error) {
@@ -321,6 +358,7 @@ void Document::sceneFileChanged() {
             m_look = std::move(loaded.look);
             m_job.setRenderer(loaded.renderer);
             emit lookChanged();
+            markSaved();  // the file on disk is the look now
             render();
         },
         [this](const QString& message) {

@@ -47,7 +47,14 @@ class Document : public QObject {
 
     /// Render settings (spp, seed, integrator, MIS; region). Changing them does not render.
     const render::Settings& settings() const { return m_settings; }
+    /// Throws glint::Error for settings out of range; emits settingsChanged when they change.
     void setSettings(const render::Settings& settings);
+
+    /// The look or the render settings the user sets (spp, seed, integrator, MIS, half buffers)
+    /// differ from those last opened or saved.
+    bool modified() const;
+    /// The present look and settings are saved (a session file carries them now).
+    void markSaved();
     /// Renders the scene with the settings (cancels a running render).
     void render();
     /// Renders only `region` and merges it into the current frame (nullopt: the whole frame).
@@ -101,6 +108,9 @@ class Document : public QObject {
     void renderProgress(int pass, double fraction, int spp, double seconds);
     void renderingChanged(bool rendering);
     void lookChanged();
+    void settingsChanged();
+    /// modified() may have changed.
+    void modifiedChanged();
     void referenceChanged();
     void referenceProgress(double fraction);
     void curveChanged();
@@ -129,6 +139,8 @@ class Document : public QObject {
     bool m_loading = false;
     render::Settings m_settings;
     std::vector<render::LookItem> m_look;
+    std::vector<render::LookItem> m_savedLook;  // as last opened or saved (modified())
+    render::Settings m_savedSettings;
     FramePtr m_frame;
     FramePtr m_finished;
     FramePtr m_reference;

@@ -52,7 +52,10 @@ struct Encoder {
     QJsonObject operator()(const Start& s) const {
         QJsonArray layers;
         for (const auto& spec : s.layers) layers.append(layerToJson(spec));
+        QJsonArray names;
+        for (const std::string& name : s.names) names.append(QString::fromStdString(name));
         return {{QStringLiteral("op"), QStringLiteral("start")},
+                {QStringLiteral("names"), names},
                 {QStringLiteral("options"),
                  QJsonObject{
                      {QStringLiteral("prefilter"), s.options.prefilter},
@@ -71,6 +74,11 @@ struct Encoder {
     QJsonObject operator()(const RemoveLayer& r) const {
         return {{QStringLiteral("op"), QStringLiteral("removeLayer")},
                 {QStringLiteral("index"), qint64(r.index)}};
+    }
+    QJsonObject operator()(const RenameLayer& r) const {
+        return {{QStringLiteral("op"), QStringLiteral("renameLayer")},
+                {QStringLiteral("index"), qint64(r.index)},
+                {QStringLiteral("name"), QString::fromStdString(r.name)}};
     }
     QJsonObject operator()(const Weights& w) const {
         return {{QStringLiteral("op"), QStringLiteral("weights")},
@@ -122,6 +130,9 @@ Op decode(const QJsonObject& json) {
             s.layers.push_back({l.value(QStringLiteral("filter")).toString().toStdString(),
                                 paramsFromJson(l.value(QStringLiteral("params")))});
         }
+        // Older journals have no names.
+        for (const QJsonValue& v : json.value(QStringLiteral("names")).toArray())
+            s.names.push_back(v.toString().toStdString());
         return s;
     }
     if (op == QStringLiteral("input")) return Input{};
@@ -130,6 +141,9 @@ Op decode(const QJsonObject& json) {
                         paramsFromJson(json.value(QStringLiteral("params"))),
                         json.value(QStringLiteral("fill")).toBool()};
     if (op == QStringLiteral("removeLayer")) return RemoveLayer{index(json, "index")};
+    if (op == QStringLiteral("renameLayer"))
+        return RenameLayer{index(json, "index"),
+                           json.value(QStringLiteral("name")).toString().toStdString()};
     if (op == QStringLiteral("weights")) return Weights{index(json, "index")};
     if (op == QStringLiteral("fill"))
         return Fill{index(json, "index"), modeFromJson(json.value(QStringLiteral("mode")))};

@@ -20,6 +20,7 @@ namespace glint::studio::journal_codec {
 struct Start {
     denoise::SessionOptions options;
     std::vector<denoise::LayerSpec> layers;
+    std::vector<std::string> names;  ///< the first layers' own names ("": none); may be shorter
 };
 /// A new render as the session's input (the entry's frame).
 struct Input {};
@@ -31,6 +32,11 @@ struct AddLayer {
 };
 struct RemoveLayer {
     std::size_t index = 0;
+};
+/// Layer `index` renamed (an empty name: named after its filter again).
+struct RenameLayer {
+    std::size_t index = 0;
+    std::string name;
 };
 /// Layer `index`'s weights set to the entry's first image.
 struct Weights {
@@ -55,8 +61,8 @@ struct Apply {
 struct Undo {};
 struct Redo {};
 
-using Op =
-    std::variant<Start, Input, AddLayer, RemoveLayer, Weights, Fill, Stroke, Apply, Undo, Redo>;
+using Op = std::variant<Start, Input, AddLayer, RemoveLayer, RenameLayer, Weights, Fill, Stroke,
+                        Apply, Undo, Redo>;
 
 /// The JSON of `op`.
 QJsonObject encode(const Op& op);

@@ -1,11 +1,12 @@
 #include "model/session_adapter.h"
 
+#include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
-#include "glint/denoise/auto.h"
 #include "glint/image/error.h"
 #include "model/journal_codec.h"
+#include "model/layer_names.h"
 
 namespace glint::studio {
 
@@ -31,6 +32,7 @@ denoise::Session buildSession(FramePtr frame, FramePtr filterInput,
                               const denoise::SessionOptions& options,
                               const std::vector<denoise::LayerSpec>& carry,
                               const std::vector<Image>& carryWeights,
+                              const std::vector<std::string>& carryNames,
                               const denoise::ProgressFn& progress) {
     denoise::Session session(*frame, options);
     for (std::size_t i = 0; i < carry.size(); ++i) {
@@ -40,6 +42,7 @@ denoise::Session buildSession(FramePtr frame, FramePtr filterInput,
                                  {.region = std::nullopt, .progress = progress, .threads = 0});
         session.addLayer(carry[i].filter, carry[i].params, std::move(output));
         if (i < carryWeights.size()) session.setWeights(session.layerCount() - 1, carryWeights[i]);
+        if (i < carryNames.size()) session.renameLayer(session.layerCount() - 1, carryNames[i]);
     }
     return session;
 }
@@ -125,11 +128,12 @@ void SessionAdapter::setInput(FramePtr frame) {
 }
 
 void SessionAdapter::startSession(FramePtr frame, std::vector<denoise::LayerSpec> carry,
-                                  std::vector<Image> carryWeights) {
+                                  std::vector<Image> carryWeights,
+                                  std::vector<std::string> carryNames) {
     ++m_generation;
     const denoise::SessionOptions options = m_options;
     JournalEntry entry;
-    entry.op = journal_codec::encode(journal_codec::Start{options, carry});
+    entry.op = journal_codec::encode(journal_codec::Start{options, carry, carryNames});
     entry.images = carryWeights;
     entry.frame = frame;
     struct Started {
@@ -138,13 +142,14 @@ void SessionAdapter::startSession(FramePtr frame, std::vector<denoise::LayerSpec
     };
     m_tasks.run<Started>(
         QStringLiteral("session"),
-        [this, frame, options, carry, carryWeights](const TaskRunner::CancelFlag& cancel) {
+        [this, frame, options, carry, carryWeights,
+         carryNames](const TaskRunner::CancelFlag& cancel) {
             const denoise::ProgressFn progress = progressFor(tr("Preparing the session"), cancel);
             // The session copies the render (about 100 MB at 1024², features included): here,
             // not on the UI thread.
             FramePtr in = filterInputFor(frame, options, progress);
-            return Started{std::make_shared<denoise::Session>(
-                               buildSession(frame, in, options, carry, carryWeights, progress)),
+            return Started{std::make_shared<denoise::Session>(buildSession(
+                               frame, in, options, carry, carryWeights, carryNames, progress)),
                            in};
         },
         [this, frame, entry](Started started) {
@@ -223,12 +228,14 @@ void SessionAdapter::setOptions(const denoise::SessionOptions& options) {
     if (!m_session) return;
     std::vector<denoise::LayerSpec> carry;
     std::vector<Image> weights;
+    std::vector<std::string> names;
     for (std::size_t i = 0; i < m_session->layerCount(); ++i) {
         const denoise::SessionLayer& l = m_session->layer(i);
         carry.push_back({l.filter, l.params});
         weights.push_back(l.weights);
+        names.push_back(l.name);
     }
-    startSession(m_input, std::move(carry), std::move(weights));
+    startSession(m_input, std::move(carry), std::move(weights), std::move(names));
 }
 
 void SessionAdapter::pushEdit(const QString& text, int steps) {
@@ -250,7 +257,7 @@ void SessionAdapter::doAddLayer(const std::string& filter, const denoise::ParamV
         journal_codec::AddLayer{filter, m_session->layer(index).params, bool(fillMask)});
     if (fillMask) entry.images.push_back(*fillMask);
     emit journal(entry);
-    pushEdit(tr("Add %1").arg(QString::fromStdString(filter)), steps);
+    pushEdit(tr("Add %1").arg(layerName(filter, m_session->layer(index).params)), steps);
     emit layersChanged();
     if (!changed.empty()) emit compositeChanged(changed);
 }
@@ -392,9 +399,13 @@ void SessionAdapter::install(denoise::Session session, FramePtr input, FramePtr 
     m_banks.setFrame(m_input);
     // The journal starts again from this session: its input and its layers with their weights.
     JournalEntry entry;
-    entry.op = journal_codec::encode(journal_codec::Start{m_options, m_session->layerSpecs()});
-    for (std::size_t i = 0; i < m_session->layerCount(); ++i)
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < m_session->layerCount(); ++i) {
         entry.images.push_back(m_session->layer(i).weights);
+        names.push_back(m_session->layer(i).name);
+    }
+    entry.op = journal_codec::encode(
+        journal_codec::Start{m_options, m_session->layerSpecs(), std::move(names)});
     entry.frame = m_input;
     emit journal(entry);
     emit sessionReset();
@@ -453,6 +464,7 @@ void SessionAdapter::replay(const JournalEntry& entry, std::function<void(const 
                 throw Error(ErrorKind::Format, "the journal's start lacks its render");
             const denoise::SessionOptions options = start->options;
             const std::vector<denoise::LayerSpec> layers = start->layers;
+            const std::vector<std::string> names = start->names;
             FramePtr frame = entry.frame;
             const std::vector<Image> weights = entry.images;
             struct Started {
@@ -460,10 +472,10 @@ void SessionAdapter::replay(const JournalEntry& entry, std::function<void(const 
                 FramePtr filterInput;
             };
             later(
-                [frame, options, layers, weights] {
+                [frame, options, layers, weights, names] {
                     FramePtr in = filterInputFor(frame, options);
-                    return Started{std::make_shared<denoise::Session>(
-                                       buildSession(frame, in, options, layers, weights, {})),
+                    return Started{std::make_shared<denoise::Session>(buildSession(
+                                       frame, in, options, layers, weights, names, {})),
                                    in};
                 },
                 [this, frame, options](Started s) {
@@ -519,6 +531,8 @@ void SessionAdapter::replayNow(const JournalEntry& entry, const journal_codec::O
     };
     if (const auto* remove = std::get_if<journal_codec::RemoveLayer>(&op)) {
         removeLayer(remove->index);
+    } else if (const auto* rename = std::get_if<journal_codec::RenameLayer>(&op)) {
+        renameLayer(rename->index, rename->name);
     } else if (const auto* weights = std::get_if<journal_codec::Weights>(&op)) {
         setWeights(weights->index, image(0));
     } else if (const auto* f = std::get_if<journal_codec::Fill>(&op)) {

@@ -69,6 +69,9 @@ class SessionAdapter : public QObject {
     void addLayer(const std::string& filter, const denoise::ParamValues& params,
                   std::optional<Image> fillMask = std::nullopt);
     void removeLayer(std::size_t index);
+    /// Names a layer (empty: named after its filter again): one undo step, saved with the
+    /// session.
+    void renameLayer(std::size_t index, const std::string& name);
     void setWeights(std::size_t index, const Image& weights);
     void fill(std::size_t index, const Image& mask, denoise::BrushMode mode);
     /// The magic wand from pixel (x, y) of the filters' input (denoise::magicWand, on a worker),
@@ -105,9 +108,9 @@ class SessionAdapter : public QObject {
     void install(denoise::Session session, FramePtr input = nullptr,
                  FramePtr filterInput = nullptr);
     /// Applies one journal entry of a session edit (restoring an autosave): "start", "input",
-    /// "addLayer", "removeLayer", "weights", "fill", "stroke", "apply". Those that run filters
-    /// compute on a worker; `done` gets "" once the entry is applied, or the error of an entry
-    /// that does not fit the session. Replay the next entry only after `done`.
+    /// "addLayer", "removeLayer", "renameLayer", "weights", "fill", "stroke", "apply". Those that
+    /// run filters compute on a worker; `done` gets "" once the entry is applied, or the error of
+    /// an entry that does not fit the session. Replay the next entry only after `done`.
     void replay(const JournalEntry& entry, std::function<void(const QString&)> done);
     /// Reports an edit made outside the session (a look edit, undo, redo) to the journal.
     void record(JournalEntry entry) { emit journal(entry); }
@@ -137,7 +140,7 @@ class SessionAdapter : public QObject {
   private:
     friend class SessionCommand;
     void startSession(FramePtr frame, std::vector<denoise::LayerSpec> carry,
-                      std::vector<Image> carryWeights);
+                      std::vector<Image> carryWeights, std::vector<std::string> carryNames = {});
     void reapplyInBackground();
     /// What re-applying the layers to a new render needs, computed on a worker.
     struct Reapplied {

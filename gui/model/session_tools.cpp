@@ -3,8 +3,8 @@
 // the order asked (docs/studio.md, "What runs where").
 #include <atomic>
 
-#include "glint/denoise/bank.h"
 #include "glint/denoise/auto.h"
+#include "glint/denoise/bank.h"
 #include "glint/image/error.h"
 #include "model/journal_codec.h"
 #include "model/session_adapter.h"
@@ -175,6 +175,16 @@ void SessionAdapter::autoChoose(BankService::BankPtr bank, FramePtr in,
             });
         },
         [this](const QString& message) { emit failed(tr("Auto start failed"), message); });
+}
+
+void SessionAdapter::renameLayer(std::size_t index, const std::string& name) {
+    if (!m_session || m_locked || m_session->inStroke() || index >= m_session->layerCount() ||
+        m_session->layer(index).name == name)
+        return;
+    m_session->renameLayer(index, name);
+    emit journal({journal_codec::encode(journal_codec::RenameLayer{index, name}), {}, nullptr});
+    pushEdit(tr("Rename layer %1").arg(index + 1));
+    emit layersChanged();
 }
 
 void SessionAdapter::save(const QString& path, const std::optional<Rect>& region,

@@ -7,6 +7,7 @@
 #include <QLabel>
 #include <QListWidget>
 #include <QPushButton>
+#include <QRegularExpression>
 #include <QSlider>
 #include <QToolButton>
 #include <QVBoxLayout>
@@ -15,6 +16,7 @@
 
 #include "glint/denoise/aids.h"
 #include "glint/denoise/registry.h"
+#include "model/layer_names.h"
 #include "views/param_controls.h"
 
 namespace glint::studio {
@@ -22,14 +24,27 @@ namespace glint::studio {
 namespace {
 
 QString layerText(const denoise::SessionLayer& layer, std::size_t index) {
-    return QStringLiteral("%1. %2").arg(index + 1).arg(describeFilter(layer.filter, layer.params));
+    const QString name = layer.name.empty() ? layerName(layer.filter, layer.params)
+                                            : QString::fromStdString(layer.name);
+    return QStringLiteral("%1. %2").arg(index + 1).arg(name);
+}
+
+// The name typed into row `index` ("3. walls" or "walls"): "" when it is the filter's own name.
+std::string typedName(const QString& text, const denoise::SessionLayer& layer) {
+    QString name = text.trimmed();
+    static const QRegularExpression number(QStringLiteral("^\\d+\\.\\s*"));
+    name.remove(number);
+    if (name.isEmpty() || name == layerName(layer.filter, layer.params)) return {};
+    return name.toStdString();
 }
 
 }  // namespace
 
 PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(context, parent) {
     m_layers = new QListWidget(this);
-    m_layers->setToolTip(tr("The filters chosen so far: select one to paint with it"));
+    m_layers->setToolTip(
+        tr("The filters chosen so far: select one to paint with it, double-click to rename it"));
+    m_layers->setEditTriggers(QAbstractItemView::DoubleClicked | QAbstractItemView::EditKeyPressed);
     m_layers->setMaximumHeight(140);
     auto* remove = new QPushButton(tr("Remove"), this);
     remove->setToolTip(tr("Remove the selected layer"));
@@ -105,6 +120,26 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
     ImageCanvas* canvas = m_context.viewer->canvas();
     SessionAdapter* session = m_context.session;
     connect(m_layers, &QListWidget::currentRowChanged, this, &PaintView::layerSelected);
+    // A name typed into a row: one undo step, saved with the session.
+    // Applied after the editor has let go of the item: the list is rebuilt.
+    connect(m_layers, &QListWidget::itemChanged, this, [this, session](QListWidgetItem* item) {
+        const int row = m_layers->row(item);
+        const QString text = item->text();
+        QMetaObject::invokeMethod(
+            this,
+            [this, session, row, text] {
+                if (!session->hasSession() || row < 0 ||
+                    std::size_t(row) >= session->session().layerCount())
+                    return;
+                const denoise::SessionLayer& layer = session->session().layer(std::size_t(row));
+                const std::string name = typedName(text, layer);
+                if (name != layer.name)
+                    session->renameLayer(std::size_t(row), name);
+                else
+                    rebuildLayers();  // the number and the name as they were
+            },
+            Qt::QueuedConnection);
+    });
     connect(remove, &QPushButton::clicked, this, [this, session] {
         if (currentLayer() >= 0) session->removeLayer(std::size_t(currentLayer()));
     });
@@ -203,8 +238,13 @@ void PaintView::rebuildLayers() {
     m_layers->clear();
     if (m_context.session->hasSession()) {
         const denoise::Session& s = m_context.session->session();
-        for (std::size_t i = 0; i < s.layerCount(); ++i)
+        for (std::size_t i = 0; i < s.layerCount(); ++i) {
             m_layers->addItem(layerText(s.layer(i), i));
+            m_layers->item(int(i))->setFlags(m_layers->item(int(i))->flags() | Qt::ItemIsEditable);
+            // The full parameters on the row.
+            m_layers->item(int(i))->setToolTip(
+                layerParameters(s.layer(i).filter, s.layer(i).params));
+        }
     }
     // A new layer becomes the one to paint with.
     int row = m_layers->count() > before ? m_layers->count() - 1 : previous;

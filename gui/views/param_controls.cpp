@@ -103,6 +103,9 @@ ParamControls::ParamControls(QWidget* parent) : QWidget(parent) {
     m_form = new QFormLayout(this);
     m_form->setContentsMargins(0, 0, 0, 0);
     m_form->setFieldGrowthPolicy(QFormLayout::AllNonFixedFieldsGrow);
+    // A long label ("depth sigma (relative)") puts its control on the next row rather than
+    // widening the panel: the panel's width does not depend on the filter chosen.
+    m_form->setRowWrapPolicy(QFormLayout::WrapLongRows);
 }
 
 void ParamControls::setSpecs(const std::vector<denoise::ParamSpec>& specs,
@@ -139,6 +142,7 @@ void ParamControls::setSpecs(const std::vector<denoise::ParamSpec>& specs,
         control->setToolTip(QString::fromStdString(spec.help));
         auto* label = new QLabel(QString::fromStdString(spec.label), this);
         label->setToolTip(QString::fromStdString(spec.help));
+        label->setWordWrap(true);
         m_form->addRow(label, control);
     }
 }

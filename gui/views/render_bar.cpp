@@ -10,6 +10,7 @@
 #include <QToolButton>
 
 #include "glint/image/error.h"
+#include "model/render_eta.h"
 
 namespace glint::studio {
 
@@ -62,12 +63,15 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
     m_progress->setMinimumWidth(60);
     m_info = new QLabel(this);
     m_info->setMinimumWidth(120);
+    m_remaining = new QLabel(this);
+    m_remaining->setObjectName(QStringLiteral("remaining"));
+    m_remaining->setToolTip(tr("Time left, from the work done so far (pauses not counted)"));
 
     auto* layout = new QHBoxLayout(this);
     layout->setContentsMargins(4, 2, 4, 2);
-    for (QWidget* w : std::initializer_list<QWidget*>{m_spp, m_seed, m_integrator, m_mis, m_halves,
-                                                      m_render, m_pause, m_cancel, m_regionTool,
-                                                      m_clearRegion, m_progress, m_info})
+    for (QWidget* w : std::initializer_list<QWidget*>{
+             m_spp, m_seed, m_integrator, m_mis, m_halves, m_render, m_pause, m_cancel,
+             m_regionTool, m_clearRegion, m_progress, m_info, m_remaining})
         layout->addWidget(w);
     layout->addStretch(1);
 
@@ -85,6 +89,12 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
     });
     connect(m_cancel, &QPushButton::clicked, m_document, &Document::cancelRender);
     connect(m_integrator, &QComboBox::currentIndexChanged, this, &RenderBar::updateState);
+    connect(m_spp, &QSpinBox::valueChanged, this, &RenderBar::controlChanged);
+    connect(m_seed, &QSpinBox::valueChanged, this, &RenderBar::controlChanged);
+    connect(m_integrator, &QComboBox::currentIndexChanged, this, &RenderBar::controlChanged);
+    connect(m_mis, &QComboBox::currentIndexChanged, this, &RenderBar::controlChanged);
+    connect(m_halves, &QCheckBox::toggled, this, &RenderBar::controlChanged);
+    connect(m_document, &Document::settingsChanged, this, &RenderBar::showSettings);
     connect(m_regionTool, &QToolButton::toggled, this, &RenderBar::regionToolToggled);
     connect(m_clearRegion, &QToolButton::clicked, this, [this] {
         try {
@@ -118,9 +128,13 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
                 m_progress->setValue(int(fraction * 1000.0));
                 m_info->setText(
                     tr("pass %1 · %2 spp · %3 s").arg(pass + 1).arg(spp).arg(seconds, 0, 'f', 2));
+                // `pass` passes are done: the estimate starts after the first.
+                const std::optional<double> left = remainingSeconds(fraction, pass, seconds);
+                m_remaining->setText(left ? formatRemaining(*left) : QString());
             });
     connect(m_document, &Document::frameChanged, this, [this](bool final) {
         if (!final) return;
+        m_remaining->clear();
         if (!m_rendered || m_document->kind() != Document::Kind::Scene) {
             // A frame from a file, a session or a restore: no render of ours to report.
             m_progress->setValue(0);
@@ -156,6 +170,32 @@ void RenderBar::syncFromDocument() {
     m_halves->setChecked(s.halfBuffers);
     if (m_document->kind() == Document::Kind::Scene) applySettings();
     updateState();
+}
+
+QString RenderBar::remaining() const {
+    return m_remaining->text();
+}
+
+void RenderBar::showSettings() {
+    const render::Settings& s = m_document->settings();
+    const QSignalBlocker blocks[] = {QSignalBlocker(m_spp), QSignalBlocker(m_seed),
+                                     QSignalBlocker(m_integrator), QSignalBlocker(m_mis),
+                                     QSignalBlocker(m_halves)};
+    m_spp->setValue(s.spp);
+    m_seed->setValue(int(std::min<std::uint64_t>(s.seed, std::uint64_t(m_seed->maximum()))));
+    m_integrator->setCurrentIndex(m_integrator->findData(int(s.integrator)));
+    m_mis->setCurrentIndex(m_mis->findData(int(s.mis)));
+    m_halves->setChecked(s.halfBuffers);
+    updateState();
+}
+
+void RenderBar::controlChanged() {
+    if (m_document->kind() != Document::Kind::Scene) return;
+    try {
+        applySettings();
+    } catch (const Error& e) {
+        emit failed(tr("Cannot use these render settings"), QString::fromStdString(e.what()));
+    }
 }
 
 void RenderBar::applySettings() {

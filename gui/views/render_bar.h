@@ -29,6 +29,9 @@ class RenderBar : public QWidget {
     QPushButton* pauseButton() { return m_pause; }
     QToolButton* regionButton() { return m_regionTool; }
     QCheckBox* halvesBox() { return m_halves; }
+    QSpinBox* sppBox() { return m_spp; }
+    /// The running render's time left ("~12 s left"), empty until there is an estimate.
+    QString remaining() const;
     /// Leaves the render-region tool (after its one rectangle, or when the stage changes).
     void disarmRegionTool();
 
@@ -39,6 +42,10 @@ class RenderBar : public QWidget {
 
   private:
     void syncFromDocument();
+    /// Shows the document's settings in the controls (a restored session's, for one).
+    void showSettings();
+    /// A control changed: the document takes the settings at once (they are saved with it).
+    void controlChanged();
     void updateState();
 
     Document* m_document;
@@ -55,6 +62,7 @@ class RenderBar : public QWidget {
     QToolButton* m_clearRegion;
     QProgressBar* m_progress;
     QLabel* m_info;
+    QLabel* m_remaining;
     bool m_rendered = false;  // a render ran since the last final frame
 };
 

@@ -18,6 +18,9 @@ TuneView::TuneView(const StudioContext& context, QWidget* parent) : StageView(co
     m_filter->setToolTip(tr("The filter to tune"));
     m_description = new QLabel(this);
     m_description->setWordWrap(true);
+    // The summary wraps to the panel's width, never sets it: the full help is its tooltip.
+    m_description->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Preferred);
+    m_description->setMinimumWidth(0);
     m_controls = new ParamControls(this);
     m_preview = new QCheckBox(tr("Preview in the region"), this);
     m_preview->setChecked(true);
@@ -79,8 +82,15 @@ void TuneView::setValues(const denoise::ParamValues& values) {
 
 void TuneView::filterChanged() {
     const denoise::Filter& f = denoise::findFilter(filter());
-    m_description->setText(
-        QString::fromUtf8(f.description().data(), qsizetype(f.description().size())));
+    const QString description =
+        QString::fromUtf8(f.description().data(), qsizetype(f.description().size()));
+    // The first paragraph on the panel; the whole (equations, parameters) in a tooltip that
+    // keeps its lines, so the panel's width does not depend on the filter's help.
+    QString summary = description.section(QStringLiteral("\n\n"), 0, 0);
+    summary.replace(QLatin1Char('\n'), QLatin1Char(' '));
+    m_description->setText(summary);
+    m_description->setToolTip(QStringLiteral("<pre style=\"white-space:pre-wrap\">%1</pre>")
+                                  .arg(description.toHtmlEscaped()));
     m_controls->setSpecs(f.params(), m_memory[filter()]);
     schedulePreview();
 }

@@ -276,6 +276,24 @@ TEST_F(SessionTest, SaveAndLoadRoundTripBitExactly) {
         EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
 }
 
+TEST_F(SessionTest, ALayerIsRenamedAsAnUndoStepAndItsNameIsSaved) {
+    Session s(testing::syntheticFrame(24, 20));
+    const std::size_t g = s.addLayer("gaussian", {{"sigma", 2.0}});
+    EXPECT_EQ(s.layer(g).name, "");
+    s.renameLayer(g, "walls");
+    EXPECT_EQ(s.layer(g).name, "walls");
+    s.renameLayer(g, "walls");  // the same name: no step
+    s.undo();
+    EXPECT_EQ(s.layer(g).name, "");
+    ASSERT_EQ(s.layerCount(), 1u);  // the rename was undone, not the layer
+    s.redo();
+    EXPECT_EQ(s.layer(g).name, "walls");
+    EXPECT_THROW(s.renameLayer(5, "x"), Error);
+    const fs::path file = m_dir / "named.glint-session.json";
+    s.save(file);
+    EXPECT_EQ(Session::load(file).layer(0).name, "walls");
+}
+
 TEST_F(SessionTest, BadSessionFilesAreRefusedAndNothingIsOverwritten) {
     Session s(testing::syntheticFrame(24, 20));
     s.addLayer("gaussian", {});

@@ -21,7 +21,7 @@ class JournalCodecTest : public QObject {
         options.prefilter = true;
         options.prefilterParams = {{"sigma", 1.5}};
         const std::vector<jc::Op> ops = {
-            jc::Start{options, {{"gaussian", {{"sigma", 2.0}}}, {"bilateral", {}}}},
+            jc::Start{options, {{"gaussian", {{"sigma", 2.0}}}, {"bilateral", {}}}, {"walls", ""}},
             jc::Input{},
             jc::AddLayer{"nlm", {{"radius", 3.0}, {"h", 0.25}}, true},
             jc::RemoveLayer{4},
@@ -30,7 +30,8 @@ class JournalCodecTest : public QObject {
             jc::Stroke{3, {17.5, 0.25}, denoise::BrushMode::Add, {1.0, 2.5, 40.0, 41.0}},
             jc::Apply{{0, 2, 5}},
             jc::Undo{},
-            jc::Redo{}};
+            jc::Redo{},
+            jc::RenameLayer{2, "walls, σ 2"}};
         for (const jc::Op& op : ops) {
             const QJsonObject json = jc::encode(op);
             // Through the journal's text and back: the same operation, the same JSON.
@@ -46,6 +47,10 @@ class JournalCodecTest : public QObject {
                  options.prefilterParams);
         QCOMPARE(std::get<jc::Fill>(jc::decode(jc::encode(ops[5]))).mode,
                  denoise::BrushMode::Subtract);
+        QCOMPARE(std::get<jc::Start>(jc::decode(jc::encode(ops[0]))).names,
+                 std::vector<std::string>({"walls", ""}));
+        QCOMPARE(std::get<jc::RenameLayer>(jc::decode(jc::encode(ops[10]))).name,
+                 std::string("walls, σ 2"));
         // An operation it does not know is named.
         bool refused = false;
         try {

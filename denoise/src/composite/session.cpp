@@ -85,6 +85,9 @@ void Session::Impl::apply(const SessionEdit& edit, bool forward) {
                 recomposite(c.rect);
             }
             return;
+        case SessionEdit::Kind::Rename:
+            layers[edit.index].name = forward ? edit.nameAfter : edit.nameBefore;
+            return;
     }
 }
 
@@ -173,6 +176,20 @@ void Session::removeLayer(std::size_t index) {
     edit.kind = SessionEdit::Kind::RemoveLayer;
     edit.index = index;
     edit.layer = s.layers[index];
+    s.apply(edit, true);
+    s.record(std::move(edit));
+}
+
+void Session::renameLayer(std::size_t index, const std::string& name) {
+    Impl& s = *m_impl;
+    s.checkNoStroke();
+    s.checkLayer(index);
+    if (s.layers[index].name == name) return;
+    SessionEdit edit;
+    edit.kind = SessionEdit::Kind::Rename;
+    edit.index = index;
+    edit.nameBefore = s.layers[index].name;
+    edit.nameAfter = name;
     s.apply(edit, true);
     s.record(std::move(edit));
 }

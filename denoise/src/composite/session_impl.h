@@ -19,11 +19,12 @@ struct WeightsChange {
 
 /// One undo step.
 struct SessionEdit {
-    enum class Kind { AddLayer, RemoveLayer, Weights };
+    enum class Kind { AddLayer, RemoveLayer, Weights, Rename };
     Kind kind = Kind::Weights;
-    std::size_t index = 0;               // AddLayer / RemoveLayer: the layer's position
+    std::size_t index = 0;               // AddLayer / RemoveLayer / Rename: the layer's position
     SessionLayer layer;                  // AddLayer / RemoveLayer: the layer itself
     std::vector<WeightsChange> changes;  // Weights
+    std::string nameBefore, nameAfter;   // Rename
 };
 
 struct Session::Impl {

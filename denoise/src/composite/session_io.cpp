@@ -67,10 +67,12 @@ void Session::save(const fs::path& path) const {
                 maps.data()[2 * p + 1] = l.painted.data()[p];
             }
             writeImage(maps, tmpFolder / layerFile(i));
-            layers.push_back({{"filter", l.filter},
-                              {"version", std::string(findFilter(l.filter).version())},
-                              {"params", l.params},
-                              {"weights", layerFile(i)}});
+            json layer{{"filter", l.filter},
+                       {"version", std::string(findFilter(l.filter).version())},
+                       {"params", l.params},
+                       {"weights", layerFile(i)}};
+            if (!l.name.empty()) layer["name"] = l.name;  // optional: older files have none
+            layers.push_back(std::move(layer));
         }
         json view = json::object();
         for (const auto& [k, v] : viewState) view[k] = v;
@@ -184,9 +186,10 @@ Session Session::load(const fs::path& path, const ProgressFn& progress) {
     const json& layers = r.array(r.at(doc, "layers", ""), "/layers");
     for (std::size_t i = 0; i < layers.size(); ++i) {
         const std::string where = "/layers/" + std::to_string(i);
-        r.requireObject(layers[i], where, {"filter", "version", "params", "weights"});
+        r.requireObject(layers[i], where, {"filter", "version", "params", "weights", "name"});
         for (const char* key : {"filter", "version", "weights"})
             r.string(r.at(layers[i], key, where), where + "/" + key);
+        if (layers[i].contains("name")) r.string(layers[i]["name"], where + "/name");
         readParams(r, r.at(layers[i], "params", where), where + "/params");
     }
 
@@ -216,6 +219,7 @@ Session Session::load(const fs::path& path, const ProgressFn& progress) {
             const json& l = layers[i];
             SessionLayer layer;
             layer.filter = l["filter"].get<std::string>();
+            if (l.contains("name")) layer.name = l["name"].get<std::string>();
             where += "/filter";
             const Filter& f = findFilter(layer.filter);
             where = "/layers/" + std::to_string(i) + "/params";

@@ -34,6 +34,7 @@ struct SessionLayer {
     Image output;        ///< the filter applied to the whole input (3 channels)
     Image weights;       ///< 1 channel in [0, 1], frame-sized
     Image painted;       ///< 1 channel, 1 where a stroke or fill set the weight (0 elsewhere)
+    std::string name;    ///< the user's name for it; empty: a program names it after its filter
 };
 
 /// What a layer is without its maps: enough to compute its output.
@@ -82,6 +83,9 @@ class Session {
                          const ProgressFn& progress = {});
     /// Removes a layer. One undo step.
     void removeLayer(std::size_t index);
+    /// Renames a layer (empty: no name of its own). One undo step; none when the name is the
+    /// same. Throws glint::Error(InvalidArgument) for a bad index.
+    void renameLayer(std::size_t index, const std::string& name);
     /// Replaces a layer's weights (1 channel, frame-sized, clamped to [0, 1]) and marks every
     /// pixel painted (e.g. "apply everywhere", an automatic start). One undo step.
     void setWeights(std::size_t index, const Image& weights);

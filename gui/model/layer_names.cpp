@@ -1,0 +1,87 @@
+#include "model/layer_names.h"
+
+#include <QObject>
+#include <QStringList>
+
+#include "glint/denoise/registry.h"
+
+namespace glint::studio {
+
+namespace {
+
+// How each filter is named, and the parameter that tells two layers of it apart.
+struct Naming {
+    const char* filter;
+    const char* title;
+    const char* param;   // the main parameter
+    const char* symbol;  // its symbol in the name; empty: a word for its strength
+};
+
+constexpr Naming kNamings[] = {
+    {"gaussian", "Gaussian", "sigma", "σ"},
+    {"bilateral", "Bilateral", "sigmaS", "σs"},
+    {"bilateral-mc", "Bilateral (sampled)", "sigmaS", "σs"},
+    {"cross-bilateral", "Cross-bilateral", "sigmaS", "σs"},
+    {"guided", "Guided", "radius", "r"},
+    {"nlmeans", "NL-means", "strength", ""},
+};
+
+QString number(double v) {
+    return QString::number(v, 'g', 3);
+}
+
+// "mild", "medium" or "strong": the value against the parameter's default.
+QString strengthWord(double value, double defaultValue) {
+    if (defaultValue > 0.0 && value < 0.67 * defaultValue) return QObject::tr("mild");
+    if (defaultValue > 0.0 && value > 1.5 * defaultValue) return QObject::tr("strong");
+    return QObject::tr("medium");
+}
+
+const denoise::Filter* filterNamed(const std::string& name) {
+    for (const denoise::Filter* f : denoise::allFilters())
+        if (f->name() == name) return f;
+    return nullptr;
+}
+
+}  // namespace
+
+QString layerName(const std::string& filter, const denoise::ParamValues& params) {
+    const Naming* naming = nullptr;
+    for (const Naming& n : kNamings)
+        if (filter == n.filter) naming = &n;
+    QString title = QString::fromStdString(filter);
+    if (!naming) {
+        if (!title.isEmpty()) title[0] = title[0].toUpper();
+        return title;
+    }
+    title = QString::fromUtf8(naming->title);
+    const denoise::Filter* f = filterNamed(filter);
+    const auto it = params.find(naming->param);
+    if (!f || it == params.end()) return title;
+    for (const denoise::ParamSpec& spec : f->params())
+        if (spec.name == naming->param) {
+            const QString detail = *naming->symbol
+                                       ? QStringLiteral("%1 %2").arg(
+                                             QString::fromUtf8(naming->symbol), number(it->second))
+                                       : strengthWord(it->second, spec.defaultValue);
+            return QStringLiteral("%1, %2").arg(title, detail);
+        }
+    return title;
+}
+
+QString layerParameters(const std::string& filter, const denoise::ParamValues& params) {
+    QStringList lines{
+        QStringLiteral("%1 (%2)").arg(layerName(filter, params), QString::fromStdString(filter))};
+    const denoise::Filter* f = filterNamed(filter);
+    if (!f) return lines.join(QLatin1Char('\n'));
+    for (const denoise::ParamSpec& spec : f->params()) {
+        const auto it = params.find(spec.name);
+        if (it == params.end()) continue;
+        lines << QStringLiteral("%1 (%2): %3")
+                     .arg(QString::fromStdString(spec.label), QString::fromStdString(spec.name),
+                          QString::fromStdString(denoise::formatParamValue(spec, it->second)));
+    }
+    return lines.join(QLatin1Char('\n'));
+}
+
+}  // namespace glint::studio

@@ -1,0 +1,35 @@
+// What a session file keeps of the document besides the painting (docs/studio.md, "Session
+// files"): the look as edited and the render settings the user chose, as the string keys of the
+// session's view state. Older session files lack some of these keys: what is missing keeps the
+// scene's own value. No widgets here.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "glint/render/look.h"
+#include "glint/render/settings.h"
+
+namespace glint::studio {
+
+class Document;
+
+/// The view-state key of one look property: "look/<item>/<property>".
+std::string lookKey(const std::string& item, const std::string& property);
+
+/// Adds every look property (as "look/<item>/<property>" = "r g b") and the render settings
+/// ("spp", "seed", "integrator", "mis", "halves") to `state`.
+void writeDocumentState(const std::vector<render::LookItem>& look, const render::Settings& settings,
+                        std::map<std::string, std::string>& state);
+
+/// `settings` with what `state` says of spp, seed, integrator, MIS and half buffers (keys that
+/// are missing or unreadable leave the value as it is).
+render::Settings readSettings(const std::map<std::string, std::string>& state,
+                              render::Settings settings);
+
+/// Applies the look values `state` holds to `document` without rendering; properties the scene
+/// does not have, or values it refuses, are skipped and named in the result ("" when none).
+std::string applyLook(const std::map<std::string, std::string>& state, Document& document);
+
+}  // namespace glint::studio

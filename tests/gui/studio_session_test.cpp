@@ -1,0 +1,414 @@
+// What a session keeps and what counts as unsaved (issue 34, "Lost work"), and the panels around
+// it: the look edits and render settings saved with a session and restored before any render,
+// an older session file still opening, look and settings edits marking the window unsaved, the
+// save dialogs' extensions, the View menu's panel toggles, the render bar's time left and the
+// Tune panel's width with the cross-bilateral filter.
+#include <QApplication>
+#include <QCheckBox>
+#include <QDir>
+#include <QDockWidget>
+#include <QDropEvent>
+#include <QFile>
+#include <QFileInfo>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QLineEdit>
+#include <QListWidget>
+#include <QMenu>
+#include <QMenuBar>
+#include <QMimeData>
+#include <QPushButton>
+#include <QSpinBox>
+#include <QStandardPaths>
+#include <QTemporaryDir>
+#include <QTest>
+#include <QToolBar>
+#include <QUrl>
+
+#include "app/file_naming.h"
+#include "model/layer_names.h"
+#include "model/render_eta.h"
+#include "studio_fixture.h"
+#include "views/look_panel.h"
+#include "views/paint_view.h"
+#include "views/render_bar.h"
+#include "views/tune_view.h"
+
+using namespace glint;
+using namespace glint::studio;
+using namespace glint::studio::testing;
+
+namespace {
+
+// The first non-emitting material with an albedo (a wall of the Cornell box).
+std::string aWall(const Document& d) {
+    for (const render::LookItem& item : d.look())
+        for (const render::LookProperty& p : item.properties)
+            if (p.name == "albedo" && !item.light) return item.name;
+    return {};
+}
+
+bool unsavedTitle(const MainWindow& w) {
+    return w.windowTitle().contains(QStringLiteral(" *"));
+}
+
+QMenu* menuNamed(MainWindow& w, const QString& title) {
+    for (QAction* a : w.menuBar()->actions())
+        if (a->menu() && a->text() == title) return a->menu();
+    return nullptr;
+}
+
+}  // namespace
+
+class StudioSessionTest : public QObject {
+    Q_OBJECT
+  private:
+    QTemporaryDir m_dir;
+    QString m_scene;
+    int m_windows = 0;
+
+    std::unique_ptr<MainWindow> window() {
+        return makeWindow(m_dir.filePath(QStringLiteral("autosave%1").arg(m_windows++)));
+    }
+
+    std::unique_ptr<MainWindow> openScene() {
+        auto w = window();
+        w->openFile(m_scene);
+        if (!waitIdle(*w)) return nullptr;
+        return w;
+    }
+
+    // Saves `w`'s session to `name` in the temporary folder and waits until it is written.
+    QString save(MainWindow& w, const QString& name) {
+        const QString path = m_dir.filePath(name);
+        if (!w.saveSession(path)) return {};
+        if (!waitFor([&] { return !w.session()->busy(); })) return {};
+        return path;
+    }
+
+    // A window with the session at `path` open, its scene reopened and restored.
+    std::unique_ptr<MainWindow> reopen(const QString& path) {
+        auto w = window();
+        w->openFile(path);
+        const bool ok = waitFor([&] {
+            return w->session()->hasSession() && !w->session()->busy() &&
+                   w->document()->kind() == Document::Kind::Scene && !w->document()->loading() &&
+                   w->document()->finishedFrame();
+        });
+        if (!ok) return nullptr;
+        return w;
+    }
+
+  private slots:
+    void initTestCase() {
+        QVERIFY(m_dir.isValid());
+        m_scene = writeCornell(m_dir.filePath(QStringLiteral("scene")), 64, 48, 4);
+    }
+
+    void aSessionKeepsTheLookAndTheRenderSettings() {
+        auto w = openScene();
+        QVERIFY(w);
+        const std::string wall = aWall(*w->document());
+        QVERIFY(!wall.empty());
+        const std::array<double, 3> edited{0.2, 0.3, 0.7};
+        const std::array<double, 3> original = w->document()->lookValue(wall, "albedo");
+        QVERIFY(original != edited);
+        w->lookPanel()->edit(wall, "albedo", edited);
+        QVERIFY(waitIdle(*w));
+        w->renderBar()->sppBox()->setValue(6);
+        w->renderBar()->halvesBox()->setChecked(true);
+        const QString path = save(*w, QStringLiteral("look.glint-session.json"));
+        QVERIFY(!path.isEmpty());
+        QVERIFY(w->lastError().isEmpty());
+        w->close();
+        w.reset();
+
+        auto again = reopen(path);
+        QVERIFY(again);
+        // Restored before any render: the look, the settings and the render bar's controls.
+        QVERIFY(waitFor([&] { return again->document()->lookValue(wall, "albedo") == edited; }));
+        QCOMPARE(again->document()->settings().spp, 6);
+        QVERIFY(again->document()->settings().halfBuffers);
+        QCOMPARE(again->renderBar()->sppBox()->value(), 6);
+        QVERIFY(again->renderBar()->halvesBox()->isChecked());
+        QVERIFY(!again->document()->rendering());
+        QVERIFY2(!unsavedTitle(*again), qPrintable(again->windowTitle()));
+        // A render keeps them.
+        again->renderBar()->renderButton()->click();
+        QVERIFY(waitIdle(*again));
+        QVERIFY(again->document()->lookValue(wall, "albedo") == edited);
+        QCOMPARE(again->document()->finishedFrame()->metadata().spp, 6);
+        QVERIFY(again->document()->finishedFrame()->has(Layer::HalfColor));
+        QVERIFY(again->lastError().isEmpty());
+    }
+
+    void anOlderSessionFileStillOpens() {
+        auto w = openScene();
+        QVERIFY(w);
+        const std::array<double, 3> original =
+            w->document()->lookValue(aWall(*w->document()), "albedo");
+        const QString path = save(*w, QStringLiteral("old.glint-session.json"));
+        QVERIFY(!path.isEmpty());
+        w->close();
+        w.reset();
+        // The view state as the studio wrote it before sessions kept the look and the halves.
+        QFile file(path);
+        QVERIFY(file.open(QIODevice::ReadOnly));
+        QJsonObject doc = QJsonDocument::fromJson(file.readAll()).object();
+        file.close();
+        const QJsonObject view = doc.value(QStringLiteral("view")).toObject();
+        QJsonObject old;
+        for (const char* key :
+             {"scene", "spp", "seed", "integrator", "mis", "lasso", "exposure", "stage"}) {
+            QVERIFY2(view.contains(QLatin1String(key)), key);
+            old.insert(QLatin1String(key), view.value(QLatin1String(key)));
+        }
+        QVERIFY(view.size() > old.size());  // the new keys were there
+        doc.insert(QStringLiteral("view"), old);
+        QVERIFY(file.open(QIODevice::WriteOnly | QIODevice::Truncate));
+        file.write(QJsonDocument(doc).toJson());
+        file.close();
+
+        auto again = reopen(path);
+        QVERIFY(again);
+        QVERIFY2(again->lastError().isEmpty(), qPrintable(again->lastError()));
+        QVERIFY(again->document()->lookValue(aWall(*again->document()), "albedo") == original);
+        QVERIFY(!again->document()->settings().halfBuffers);
+        QVERIFY(!unsavedTitle(*again));
+    }
+
+    void lookAndRenderSettingsEditsAreUnsaved() {
+        auto w = openScene();
+        QVERIFY(w);
+        QVERIFY2(!unsavedTitle(*w), qPrintable(w->windowTitle()));
+        QVERIFY(!w->isModified());
+        // A look edit (the re-render starts a new session: the undo stack is clean again).
+        const std::string wall = aWall(*w->document());
+        w->lookPanel()->edit(wall, "albedo", {0.9, 0.1, 0.1});
+        QVERIFY(waitIdle(*w));
+        QCOMPARE(w->session()->session().layerCount(), std::size_t(0));
+        QVERIFY2(unsavedTitle(*w), qPrintable(w->windowTitle()));
+        QVERIFY(w->isModified());
+        QVERIFY(!save(*w, QStringLiteral("unsaved.glint-session.json")).isEmpty());
+        QVERIFY2(!unsavedTitle(*w), qPrintable(w->windowTitle()));
+        QVERIFY(!w->isModified());
+        // A render setting.
+        w->renderBar()->sppBox()->setValue(w->renderBar()->sppBox()->value() + 3);
+        QVERIFY2(unsavedTitle(*w), qPrintable(w->windowTitle()));
+        QVERIFY(w->isModified());
+        w->renderBar()->sppBox()->setValue(w->renderBar()->sppBox()->value() - 3);
+        QVERIFY(!w->isModified());  // back to what was saved
+        w->renderBar()->halvesBox()->toggle();
+        QVERIFY(w->isModified());
+    }
+
+    void saveDialogsAddTheChosenFiltersExtension() {
+        const QString exr = QStringLiteral("OpenEXR (*.exr)");
+        const QString png = QStringLiteral("PNG (*.png)");
+        const QString scene = QStringLiteral("Scenes (*.json)");
+        const QString session = QStringLiteral("Glint sessions (*.glint-session.json)");
+        QCOMPARE(filterExtensions(QStringLiteral("Images (*.exr *.png)")),
+                 QStringList({QStringLiteral(".exr"), QStringLiteral(".png")}));
+        QCOMPARE(withFilterExtension(QStringLiteral("/tmp/out"), exr),
+                 QStringLiteral("/tmp/out.exr"));
+        QCOMPARE(withFilterExtension(QStringLiteral("/tmp/out"), png),
+                 QStringLiteral("/tmp/out.png"));
+        QCOMPARE(withFilterExtension(QStringLiteral("/tmp/out."), png),
+                 QStringLiteral("/tmp/out.png"));
+        QCOMPARE(withFilterExtension(QStringLiteral("/tmp/out.EXR"), exr),
+                 QStringLiteral("/tmp/out.EXR"));
+        QCOMPARE(withFilterExtension(QStringLiteral("/tmp/a.b/box"), scene),
+                 QStringLiteral("/tmp/a.b/box.json"));
+        QCOMPARE(withFilterExtension(QStringLiteral("/tmp/box.json"), scene),
+                 QStringLiteral("/tmp/box.json"));
+        QCOMPARE(withFilterExtension(QStringLiteral("/tmp/s"), session),
+                 QStringLiteral("/tmp/s.glint-session.json"));
+        QCOMPARE(withFilterExtension(QStringLiteral("/tmp/s.json"), session),
+                 QStringLiteral("/tmp/s.json.glint-session.json"));
+        QCOMPARE(withFilterExtension(QStringLiteral("/tmp/s.glint-session.json"), session),
+                 QStringLiteral("/tmp/s.glint-session.json"));
+        QCOMPARE(withFilterExtension(QString(), exr), QString());
+        QCOMPARE(withFilterExtension(QStringLiteral("/tmp/any"), QStringLiteral("All files (*)")),
+                 QStringLiteral("/tmp/any"));
+        // The name the helper gives is one an export can write.
+        auto w = openScene();
+        QVERIFY(w);
+        const QString out = withFilterExtension(m_dir.filePath(QStringLiteral("typed")), exr);
+        QString error = QStringLiteral("not written");
+        w->session()->exportResult(out, true, {}, [&](const QString& e) { error = e; });
+        QVERIFY(waitFor([&] { return error != QStringLiteral("not written"); }));
+        QVERIFY2(error.isEmpty(), qPrintable(error));
+        QVERIFY(QFileInfo::exists(m_dir.filePath(QStringLiteral("typed.exr"))));
+    }
+
+    void theViewMenuShowsAndHidesEachPanel() {
+        auto w = window();
+        QMenu* view = menuNamed(*w, QStringLiteral("&View"));
+        QVERIFY(view);
+        const QList<QDockWidget*> docks = w->findChildren<QDockWidget*>();
+        QVERIFY(docks.size() >= 3);
+        for (QDockWidget* dock : docks) {
+            QAction* toggle = dock->toggleViewAction();
+            QVERIFY2(view->actions().contains(toggle), qPrintable(dock->objectName()));
+            QVERIFY(dock->isVisible());
+            toggle->trigger();
+            QVERIFY(!dock->isVisible());
+            toggle->trigger();
+            QVERIFY(dock->isVisible());
+        }
+        QToolBar* bar = w->findChild<QToolBar*>(QStringLiteral("renderBar"));
+        QVERIFY(bar);
+        QVERIFY(view->actions().contains(bar->toggleViewAction()));
+    }
+
+    void theTimeLeftIsEstimatedFromTheWorkDone() {
+        QVERIFY(!remainingSeconds(0.0, 0, 0.0));
+        QVERIFY(!remainingSeconds(0.3, 0, 2.0));  // no pass done yet
+        QVERIFY(!remainingSeconds(1.0, 4, 2.0));  // done
+        QCOMPARE(*remainingSeconds(0.25, 1, 3.0), 9.0);
+        QCOMPARE(formatRemaining(12.2), QStringLiteral("~12 s left"));
+        QCOMPARE(formatRemaining(600.0), QStringLiteral("~10 min left"));
+        // A long render shows it in the render bar.
+        auto w = openScene();
+        QVERIFY(w);
+        QVERIFY(w->renderBar()->remaining().isEmpty());
+        w->renderBar()->sppBox()->setValue(1 << 14);
+        w->renderBar()->renderButton()->click();
+        QVERIFY(waitFor([&] { return !w->renderBar()->remaining().isEmpty(); }));
+        QVERIFY2(w->renderBar()->remaining().endsWith(QStringLiteral(" left")),
+                 qPrintable(w->renderBar()->remaining()));
+        w->document()->cancelRender();
+        QVERIFY(waitFor([&] { return !w->document()->rendering(); }));
+        QVERIFY(waitFor([&] { return w->renderBar()->remaining().isEmpty(); }));
+    }
+
+    void layersAreNamedReadablyWithTheirParametersInATooltip() {
+        QCOMPARE(layerName("nlmeans", {{"strength", 1.2}}), QStringLiteral("NL-means, strong"));
+        QCOMPARE(layerName("nlmeans", {{"strength", 0.45}}), QStringLiteral("NL-means, medium"));
+        QCOMPARE(layerName("cross-bilateral", {{"sigmaS", 4.0}}),
+                 QStringLiteral("Cross-bilateral, σs 4"));
+        QCOMPARE(layerName("gaussian", {{"sigma", 2.5}}), QStringLiteral("Gaussian, σ 2.5"));
+        auto w = openScene();
+        QVERIFY(w);
+        w->session()->addLayer("nlmeans", {{"strength", 1.2}});
+        QVERIFY(waitFor([&] { return w->session()->session().layerCount() == 1; }));
+        auto* list = w->paintView()->findChild<QListWidget*>();
+        QVERIFY(list);
+        QCOMPARE(list->count(), 1);
+        QCOMPARE(list->item(0)->text(), QStringLiteral("1. NL-means, strong"));
+        const QString tip = list->item(0)->toolTip();
+        for (const char* part : {"nlmeans", "patch radius", "search radius", "strength k"})
+            QVERIFY2(tip.contains(QLatin1String(part)), qPrintable(tip));
+        QCOMPARE(w->session()->undoStack()->undoText(), QStringLiteral("Add NL-means, strong"));
+    }
+
+    void aLayerIsRenamedByDoubleClickUndoablyAndSavedWithTheSession() {
+        auto w = openScene();
+        QVERIFY(w);
+        w->session()->addLayer("nlmeans", {{"strength", 1.2}});
+        QVERIFY(waitFor([&] { return w->session()->session().layerCount() == 1; }));
+        w->setStage(3);
+        auto* list = w->paintView()->findChild<QListWidget*>();
+        QVERIFY(list);
+        const QRect row = list->visualItemRect(list->item(0));
+        QTest::mouseClick(list->viewport(), Qt::LeftButton, {}, row.center());
+        QTest::mouseDClick(list->viewport(), Qt::LeftButton, {}, row.center());
+        auto* editor = list->findChild<QLineEdit*>();
+        QVERIFY(editor);
+        QVERIFY(waitFor([&] { return editor->isVisible(); }, 2000));
+        editor->selectAll();
+        QTest::keyClicks(editor, QStringLiteral("walls"));
+        QTest::keyClick(editor, Qt::Key_Return);
+        QVERIFY(waitFor([&] { return w->session()->session().layer(0).name == "walls"; }, 2000));
+        QVERIFY(waitFor([&] { return list->item(0)->text() == QStringLiteral("1. walls"); }));
+        QCOMPARE(w->session()->undoStack()->undoText(), QStringLiteral("Rename layer 1"));
+        w->session()->undoStack()->undo();
+        QVERIFY(w->session()->session().layer(0).name.empty());
+        QCOMPARE(list->item(0)->text(), QStringLiteral("1. NL-means, strong"));
+        w->session()->undoStack()->redo();
+        QCOMPARE(list->item(0)->text(), QStringLiteral("1. walls"));
+        // A new session carrying the layers (feature prefiltering turned on) keeps the name.
+        w->session()->setOptions({true, {}});
+        QVERIFY(waitFor([&] {
+            return !w->session()->busy() && w->session()->options().prefilter &&
+                   w->session()->session().options().prefilter;
+        }));
+        QVERIFY(w->session()->session().layer(0).name == "walls");
+        const QString path = save(*w, QStringLiteral("named.glint-session.json"));
+        QVERIFY(!path.isEmpty());
+        w->close();
+        w.reset();
+        auto again = reopen(path);
+        QVERIFY(again);
+        QVERIFY(again->session()->session().layer(0).name == "walls");
+        auto* againList = again->paintView()->findChild<QListWidget*>();
+        QVERIFY(waitFor([&] {
+            return againList->count() == 1 &&
+                   againList->item(0)->text() == QStringLiteral("1. walls");
+        }));
+    }
+
+    void aGltfAssetOpensByDropAndItsMetallicRoughnessIsEditable() {
+        auto w = window();
+        w->renderBar()->sppBox()->setValue(1);
+        const QString asset =
+            QDir(sourceDir()).filePath(QStringLiteral("tests/fuzz/seeds/gltf/triangle.glb"));
+        QMimeData mime;
+        mime.setUrls({QUrl::fromLocalFile(asset)});
+        // A drop reaches the widget that accepted the drag's entry.
+        QDragEnterEvent enter(QPoint(10, 10), Qt::CopyAction, &mime, Qt::LeftButton,
+                              Qt::NoModifier);
+        QApplication::sendEvent(w.get(), &enter);
+        QVERIFY(enter.isAccepted());
+        QDropEvent drop(QPointF(10, 10), Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
+        QApplication::sendEvent(w.get(), &drop);
+        const bool idle = waitIdle(*w, 60000);
+        QVERIFY2(idle, qPrintable(QStringLiteral("%1 kind %2 frame %3 session %4 error %5")
+                                      .arg(w->document()->path())
+                                      .arg(int(w->document()->kind()))
+                                      .arg(bool(w->document()->finishedFrame()))
+                                      .arg(w->session()->hasSession())
+                                      .arg(w->lastError())));
+        QCOMPARE(w->document()->kind(), Document::Kind::Scene);
+        std::string material;
+        for (const render::LookItem& item : w->document()->look())
+            if (item.type == "metallicRoughness") material = item.name;
+        QVERIFY(!material.empty());
+        QVERIFY(
+            w->lookPanel()->findChild<QWidget*>(QString::fromStdString(material + "/metallic")));
+        QVERIFY(
+            w->lookPanel()->findChild<QWidget*>(QString::fromStdString(material + "/roughness")));
+        w->lookPanel()->edit(material, "metallic", {0.9, 0.0, 0.0});
+        w->lookPanel()->edit(material, "roughness", {0.2, 0.0, 0.0});
+        w->lookPanel()->edit(material, "albedo", {0.1, 0.5, 0.9});
+        QVERIFY(waitIdle(*w, 60000));
+        QCOMPARE(w->document()->lookValue(material, "metallic")[0], 0.9);
+        QCOMPARE(w->document()->lookValue(material, "roughness")[0], 0.2);
+        QVERIFY(w->isModified());
+        QVERIFY2(w->lastError().isEmpty(), qPrintable(w->lastError()));
+    }
+
+    void crossBilateralsHelpDoesNotWidenTheTunePanel() {
+        auto w = openScene();
+        QVERIFY(w);
+        w->setStage(2);
+        w->tuneView()->setFilter("gaussian");
+        QCoreApplication::processEvents();
+        const int narrow = w->tuneView()->minimumSizeHint().width();
+        w->tuneView()->setFilter("cross-bilateral");
+        QVERIFY(w->tuneView()->filter() == "cross-bilateral");
+        QCoreApplication::processEvents();
+        const int wide = w->tuneView()->minimumSizeHint().width();
+        QVERIFY2(wide <= narrow, qPrintable(QStringLiteral("%1 > %2").arg(wide).arg(narrow)));
+    }
+};
+
+int main(int argc, char** argv) {
+    QApplication app(argc, argv);
+    QApplication::setOrganizationName(QStringLiteral("GlintTests"));
+    QStandardPaths::setTestModeEnabled(true);
+    StudioSessionTest test;
+    return QTest::qExec(&test, argc, argv);
+}
+
+#include "studio_session_test.moc"
