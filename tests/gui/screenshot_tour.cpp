@@ -108,13 +108,14 @@ int main(int argc, char** argv) {
     const QString out = QString::fromLocal8Bit(argv[1]);
     QDir().mkpath(out);
     QTemporaryDir tmp;
-    auto w = makeWindow(tmp.filePath(QStringLiteral("autosave")));
+    auto w = makeWindow(tmp.filePath(QStringLiteral("autosave")), true);
     w->resize(size);
     const QString scene = QDir(sourceDir()).filePath(QStringLiteral("scenes/cornell/scene.json"));
 
-    // 1. Open: the render refines and lands.
+    // 1. Open: the render refines and lands, denoised by the default layer.
     w->openFile(scene);
     if (!waitIdle(*w)) return 3;
+    waitFor([&] { return w->session()->session().layerCount() == 1 && !w->session()->busy(); });
     shoot(*w, out, QStringLiteral("01-open"));
 
     // 2. Look: a wall turns blue; the image renders again.
@@ -155,9 +156,11 @@ int main(int argc, char** argv) {
     // 7. Paint: the chosen filter painted on with strokes, the change map shown.
     w->navigateView()->chooseOption(0);
     w->navigateView()->same();
+    const std::size_t layers = w->session()->session().layerCount();
     w->navigateView()->choose(false);
-    waitFor(
-        [&] { return w->session()->hasSession() && w->session()->session().layerCount() == 1; });
+    waitFor([&] {
+        return w->session()->hasSession() && w->session()->session().layerCount() == layers + 1;
+    });
     w->paintView()->setBrushSize(40.0);
     drag(w->viewer()->canvas(), {{60, 80}, {120, 90}, {190, 80}});
     drag(w->viewer()->canvas(), {{70, 150}, {130, 170}, {190, 150}});
