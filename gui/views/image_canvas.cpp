@@ -143,7 +143,13 @@ QStringList ImageCanvas::legendLabels() const {
     return glint::studio::legendLabels(m_display.falseLo, m_display.falseHi);
 }
 
-void ImageCanvas::setDisplay(const DisplaySettings& display) {
+void ImageCanvas::setDisplay(const DisplaySettings& given) {
+    // An automatic range is the canvas's own: only the other settings can differ.
+    DisplaySettings display = given;
+    if (display.autoRange && m_display.autoRange) {
+        display.falseLo = m_display.falseLo;
+        display.falseHi = m_display.falseHi;
+    }
     if (display == m_display) return;
     m_display = display;
     updateAutoRange();
@@ -366,6 +372,14 @@ void ImageCanvas::wheelEvent(QWheelEvent* event) {
 }
 
 void ImageCanvas::mousePressEvent(QMouseEvent* event) {
+    // A left press near the wipe line drags it, whatever the tool.
+    if (const std::optional<double> xw = wipeLineX();
+        xw && event->button() == Qt::LeftButton && std::abs(event->position().x() - *xw) <= 6.0) {
+        if (!hasFocus()) setFocus(Qt::MouseFocusReason);
+        m_wipeDragging = true;
+        setCursor(Qt::SplitHCursor);
+        return;
+    }
     // A click into a canvas without focus focuses it; with the brush or the wand it does not
     // also paint (the user clicked to get the keys back).
     if (!hasFocus() && window()->isActiveWindow()) {
@@ -378,12 +392,6 @@ void ImageCanvas::mousePressEvent(QMouseEvent* event) {
     const QPointF at = toImage(event->position());
     m_pressWidget = event->position();
     m_pressOffset = m_offset;
-    if (const std::optional<double> xw = wipeLineX();
-        xw && event->button() == Qt::LeftButton && std::abs(event->position().x() - *xw) <= 6.0) {
-        m_wipeDragging = true;
-        setCursor(Qt::SplitHCursor);
-        return;
-    }
     const bool middle = event->button() == Qt::MiddleButton;
     if (middle || m_tool == Tool::Pan) {
         m_panning = true;
