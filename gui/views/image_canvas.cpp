@@ -356,7 +356,11 @@ void ImageCanvas::paintEvent(QPaintEvent* event) {
             p.drawEllipse(*m_cursor, r * m_brushSoftness, r * m_brushSoftness);
         }
     }
-    drawCanvasLabel(p, rect(), m_label);
+    // A preview (a tuned filter, a hovered bank member) covers the region: say so.
+    drawCanvasLabel(p, rect(),
+                    m_preview.isNull() || m_label.isEmpty()
+                        ? m_label
+                        : tr("%1 · preview inside the region").arg(m_label));
     if (m_display.mode == DisplayMode::FalseColor)
         drawFalseColorLegend(p, rect(), m_display.falseLo, m_display.falseHi);
     emit painted();
