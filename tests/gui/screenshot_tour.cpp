@@ -3,9 +3,9 @@
 // holds reduced copies). Fails when a screenshot cannot be written or shows a blank canvas.
 //   studio_screenshots OUT_DIR [--docs DOCS_DIR] [--size WIDTHxHEIGHT]
 // With --docs, reduced copies (720 px wide, an 8-bit palette with ordered dithering, which
-// compresses about three times better than error diffusion) of the screenshots docs/studio.md shows are written to DOCS_DIR
-// as studio-NAME.png. --size sets the window's size (1500x900 by default; 1366x768 shows the
-// studio on a laptop screen).
+// compresses about three times better than error diffusion) of the screenshots docs/studio.md
+// shows are written to DOCS_DIR as studio-NAME.png. --size sets the window's size (1500x900 by
+// default; 1366x768 shows the studio on a laptop screen).
 #include <QApplication>
 #include <QCheckBox>
 #include <QDir>
