@@ -1,5 +1,7 @@
 #include "model/first_denoise.h"
 
+#include <vector>
+
 #include "glint/denoise/filter.h"
 #include "glint/denoise/registry.h"
 #include "model/document.h"
@@ -22,9 +24,14 @@ void FirstDenoise::onSessionReset() {
     if (m_session->session().layerCount() != 0 || (m_allowed && !m_allowed())) return;
     if (m_session->input() != m_document->finishedFrame()) return;  // not this file's render
     const denoise::Filter& filter = denoise::findFilter(kFilter);
+    const denoise::ParamValues params = denoise::resolveParams(filter, {});
+    // An EXR without the features the filter needs stays raw (no error for what nobody asked).
+    std::vector<Layer> needed = filter.requiredLayers(params);
+    needed.insert(needed.end(), {Layer::Albedo, Layer::Normal, Layer::Depth});  // its guides
+    for (Layer layer : needed)
+        if (!m_session->input()->has(layer)) return;
     const denoise::Session& s = m_session->session();
-    m_session->addLayer(kFilter, denoise::resolveParams(filter, {}),
-                        Image(s.width(), s.height(), 1, 1.0f));
+    m_session->addLayer(kFilter, params, Image(s.width(), s.height(), 1, 1.0f));
 }
 
 }  // namespace glint::studio

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "glint/denoise/session.h"
+#include "glint/image/io.h"
 #include "model/first_denoise.h"
 #include "studio_fixture.h"
 #include "views/image_canvas.h"
@@ -193,6 +194,21 @@ class StudioViewTest : public QObject {
             [&] { return canvas->shownImage() == toQImage(s.composite(), canvas->display()); }));
         // It is an ordinary layer: one undo step.
         QVERIFY(w->session()->undoStack()->canUndo());
+    }
+
+    void anExrWithoutFeaturesStaysRawWithoutAnError() {
+        // Colour only: the cross-bilateral filter has no guides, so no default layer.
+        FrameBuffers frame(32, 24);
+        frame.set(Layer::Color, solid(32, 24, 0.5f, 0.25f, 0.125f));
+        const QString path = m_dir.filePath(QStringLiteral("colour-only.exr"));
+        writeExr(frame, path.toStdString());
+        auto w = makeWindow(m_dir.filePath(QStringLiteral("autosave-exr")), true);
+        w->openFile(path);
+        QVERIFY(waitIdle(*w));
+        QTest::qWait(50);
+        QVERIFY(!w->session()->busy());
+        QCOMPARE(w->session()->session().layerCount(), std::size_t(0));
+        QVERIFY2(w->lastError().isEmpty(), qPrintable(w->lastError()));
     }
 
     void aLookChangeNeverFlashesTheRawFirstPass() {
