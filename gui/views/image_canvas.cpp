@@ -164,11 +164,15 @@ void ImageCanvas::setTool(Tool tool) {
     const bool changed = tool != m_tool;
     m_tool = tool;
     m_drawing.clear();
-    setCursor(tool == Tool::Pan     ? Qt::OpenHandCursor
-              : tool == Tool::Brush ? Qt::BlankCursor
-                                    : Qt::CrossCursor);
+    setCursor(toolCursor());
     update();
     if (changed) emit toolChanged(tool);
+}
+
+Qt::CursorShape ImageCanvas::toolCursor() const {
+    return m_tool == Tool::Pan     ? Qt::OpenHandCursor
+           : m_tool == Tool::Brush ? Qt::BlankCursor
+                                   : Qt::CrossCursor;
 }
 
 void ImageCanvas::setRegion(const QPolygonF& polygon) {
@@ -431,6 +435,12 @@ void ImageCanvas::mouseMoveEvent(QMouseEvent* event) {
         emit hovered(int(at.x()), int(at.y()));
     else
         emit hovered(-1, -1);
+    if (event->buttons() == Qt::NoButton) {
+        // Over the wipe line the cursor says it can be dragged.
+        const std::optional<double> xw = wipeLineX();
+        const bool near = xw && std::abs(event->position().x() - *xw) <= 6.0;
+        setCursor(near ? Qt::SplitHCursor : toolCursor());
+    }
     if (m_wipeDragging) {
         m_wipe = std::clamp(at.x() / std::max(1, m_image.width()), 0.0, 1.0);
         update();
@@ -475,9 +485,7 @@ void ImageCanvas::mouseReleaseEvent(QMouseEvent* event) {
     }
     if (m_wipeDragging) {
         m_wipeDragging = false;
-        setCursor(m_tool == Tool::Pan     ? Qt::OpenHandCursor
-                  : m_tool == Tool::Brush ? Qt::BlankCursor
-                                          : Qt::CrossCursor);
+        setCursor(toolCursor());
         return;
     }
     if (m_panning) {

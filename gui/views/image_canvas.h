@@ -135,6 +135,7 @@ class ImageCanvas : public QWidget {
     void updateImageRect(const Rect& rect);
     QRectF imageRectInWidget() const;
     bool showsWipe() const;
+    Qt::CursorShape toolCursor() const;
     /// Sets the false-colour range of m_display from m_lastImage when it is automatic.
     void updateAutoRange();
 
