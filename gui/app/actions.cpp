@@ -24,7 +24,7 @@ QList<QAction*> StudioActions::all() const {
     QList<QAction*> list{open,      openReference, saveSession,  saveSessionAs, saveScene,
                          exportExr, exportPng,     newSession,   quit,          undo,
                          redo,      render,        cancelRender, fit,           oneToOne,
-                         flip,      exposureUp,    exposureDown};
+                         flip,      wipe,          exposureUp,   exposureDown};
     for (QAction* s : stages) list << s;
     list << lasso << wholeImage << brushSmaller << brushLarger << brush << wand << diffuse
          << autoStart << same << back << help;
@@ -68,6 +68,8 @@ StudioActions createActions(QObject* o) {
                       QObject::tr("One image pixel per screen pixel"));
     a.flip = make(o, QObject::tr("A/B &Flip"), QKeySequence(Qt::Key_Space),
                   QObject::tr("Show the reference instead of the result, and back"));
+    a.wipe = make(o, QObject::tr("&Wipe"), QKeySequence(Qt::Key_V),
+                  QObject::tr("Result left of a line dragged on the canvas, reference right"));
     a.exposureUp = make(o, QObject::tr("Exposure +½"), QKeySequence(Qt::Key_E),
                         QObject::tr("Brighter by half a stop"));
     a.exposureDown = make(o, QObject::tr("Exposure −½"), QKeySequence(QObject::tr("Shift+E")),

@@ -25,6 +25,7 @@ struct StudioActions {
     QAction* fit;
     QAction* oneToOne;
     QAction* flip;
+    QAction* wipe;
     QAction* exposureUp;
     QAction* exposureDown;
     std::array<QAction*, 4> stages;

@@ -21,6 +21,7 @@
 #include "app/panel_layout.h"
 #include "app/studio_settings.h"
 #include "glint/image/error.h"
+#include "model/first_denoise.h"
 #include "views/compare_view.h"
 #include "views/features_view.h"
 #include "views/help_overlay.h"
@@ -49,6 +50,9 @@ MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
     m_document = new Document(this);
     m_session = new SessionAdapter(this);
     m_region = new RegionOfInterest(this);
+    new FirstDenoise(
+        m_document, m_session, [this] { return m_options.denoiseFirstImage && !m_restoring; },
+        this);
     m_autosave = std::make_unique<Autosave>(
         options.autosaveBase.isEmpty() ? Autosave::defaultBase() : options.autosaveBase, m_session);
     m_actions = createActions(this);
@@ -223,6 +227,7 @@ void MainWindow::buildMenus() {
     connect(a.fit, &QAction::triggered, m_viewer->canvas(), &ImageCanvas::fit);
     connect(a.oneToOne, &QAction::triggered, m_viewer->canvas(), &ImageCanvas::oneToOne);
     connect(a.flip, &QAction::triggered, m_viewer, &Viewer::toggleFlip);
+    connect(a.wipe, &QAction::triggered, m_viewer, &Viewer::toggleWipe);
     connect(a.exposureUp, &QAction::triggered, this,
             [this] { m_viewer->setExposure(m_viewer->exposure() + 0.5); });
     connect(a.exposureDown, &QAction::triggered, this,

@@ -39,6 +39,8 @@ struct StudioOptions {
     QString autosaveBase;  ///< empty: Autosave::defaultBase()
     bool offerRestore = true;
     bool confirmDiscard = true;  ///< ask before unsaved painting is dropped (tests say no)
+    /// A newly opened file's first render gets a cross-bilateral layer (model/first_denoise.h).
+    bool denoiseFirstImage = true;
 };
 
 class MainWindow : public QMainWindow {

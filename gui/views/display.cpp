@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <vector>
 
 #include "glint/image/io.h"
 
@@ -57,6 +58,8 @@ void convertRect(QImage& target, const Image& image, const DisplaySettings& disp
     const Rect r = intersect(rect, image.bounds());
     const float scale = std::exp2(display.exposure);
     const int channels = image.channels();
+    const float span =
+        display.falseHi > display.falseLo ? 1.0f / (display.falseHi - display.falseLo) : 1.0f;
     for (int y = r.y0; y < r.y1; ++y) {
         const float* src = image.row(y);
         auto* dst = reinterpret_cast<QRgb*>(target.scanLine(y));
@@ -66,16 +69,50 @@ void convertRect(QImage& target, const Image& image, const DisplaySettings& disp
             for (int c = 0; c < 3; ++c)
                 v[c] = p[channels == 1 ? 0 : std::min(c, channels - 1)] * scale + display.offset;
             if (display.mode == DisplayMode::FalseColor) {
-                // Luminance (Rec. 709) of the exposed values.
+                // Luminance (Rec. 709) of the exposed values, within the range.
                 const float lum =
                     channels == 1 ? v[0] : 0.2126f * v[0] + 0.7152f * v[1] + 0.0722f * v[2];
-                dst[x] = falseColor(lum);
+                dst[x] = falseColor((lum - display.falseLo) * span);
             } else {
                 dst[x] = qRgb(encode(v[0], display.mode), encode(v[1], display.mode),
                               encode(v[2], display.mode));
             }
         }
     }
+}
+
+std::pair<float, float> luminancePercentiles(const Image& image, const DisplaySettings& display,
+                                             double lo, double hi) {
+    // Gather the luminances (every pixel, or a grid of about 2^18 of them).
+    const std::size_t pixels = std::size_t(image.width()) * std::size_t(image.height());
+    const int step =
+        pixels > (1u << 18) ? int(std::ceil(std::sqrt(double(pixels) / (1u << 18)))) : 1;
+    const float scale = std::exp2(display.exposure);
+    const int channels = image.channels();
+    std::vector<float> values;
+    values.reserve(pixels / std::size_t(step * step) + 1);
+    for (int y = 0; y < image.height(); y += step)
+        for (int x = 0; x < image.width(); x += step) {
+            float v[3];
+            for (int c = 0; c < 3; ++c)
+                v[c] = image(x, y, channels == 1 ? 0 : std::min(c, channels - 1)) * scale +
+                       display.offset;
+            const float lum =
+                channels == 1 ? v[0] : 0.2126f * v[0] + 0.7152f * v[1] + 0.0722f * v[2];
+            if (std::isfinite(lum)) values.push_back(lum);
+        }
+    if (values.empty()) return {0.0f, 1.0f};
+    // The value at fraction p of the sorted ranks, interpolated between neighbours.
+    auto at = [&](double p) {
+        const double rank = std::clamp(p, 0.0, 1.0) * double(values.size() - 1);
+        const auto k = std::size_t(std::floor(rank));
+        std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(k), values.end());
+        const float a = values[k];
+        if (k + 1 >= values.size()) return a;
+        const float b = *std::min_element(values.begin() + std::ptrdiff_t(k) + 1, values.end());
+        return float(a + (rank - double(k)) * (b - a));
+    };
+    return {at(lo), at(hi)};
 }
 
 QImage toQImage(const Image& image, const DisplaySettings& display) {

@@ -6,6 +6,8 @@
 #include <QColor>
 #include <QImage>
 
+#include <utility>
+
 #include "glint/image/image.h"
 
 namespace glint::studio {
@@ -17,6 +19,10 @@ struct DisplaySettings {
     float exposure = 0.0f;  ///< stops: values are multiplied by 2^exposure
     float offset = 0.0f;    ///< added after the exposure
     DisplayMode mode = DisplayMode::Srgb;
+    /// False colour maps luminance (after exposure and offset) in [falseLo, falseHi] to the ramp.
+    float falseLo = 0.0f, falseHi = 1.0f;
+    /// The canvas sets [falseLo, falseHi] to the 1st–99th percentiles of the image it shows.
+    bool autoRange = true;
     bool operator==(const DisplaySettings&) const = default;
 };
 
@@ -27,6 +33,11 @@ void convertRect(QImage& target, const Image& image, const DisplaySettings& disp
                  const Rect& rect);
 /// A 1-channel mask as a translucent overlay in `color` (alpha = mask · color.alpha).
 QImage maskOverlay(const Image& mask, const QColor& color);
+/// The luminance (Rec. 709, after exposure and offset, as false colour maps it) of `image` at
+/// percentiles `lo` and `hi` in [0, 1], interpolated linearly between ranks (numpy's default).
+/// Images over 2^18 pixels are sampled on a regular grid; non-finite values are skipped.
+std::pair<float, float> luminancePercentiles(const Image& image, const DisplaySettings& display,
+                                             double lo = 0.01, double hi = 0.99);
 /// The false-colour map at t in [0, 1] (a perceptually ordered ramp, dark blue to yellow).
 QRgb falseColor(float t);
 

@@ -58,6 +58,7 @@ void HelpOverlay::paintEvent(QPaintEvent*) {
     lines << tr("Middle drag") + QLatin1Char('\t') + tr("Pan");
     lines << tr("Shift+drag") + QLatin1Char('\t') + tr("Resize the brush");
     lines << tr("Right button") + QLatin1Char('\t') + tr("Paint out / wand removes");
+    lines << tr("Drag the wipe") + QLatin1Char('\t') + tr("Move the A | B split");
     const int rowHeight = fontMetrics().height() + 4;
     const int perColumn = (lines.size() + 1) / 2;
     const int columnWidth = std::min(420, width() / 2 - 40);

@@ -1,8 +1,12 @@
 #include "views/image_canvas.h"
 
+#include "views/canvas_overlays.h"
+
 #include <QMouseEvent>
 #include <QPainter>
 #include <QWheelEvent>
+
+#include <tuple>
 
 #include <algorithm>
 #include <cmath>
@@ -30,14 +34,32 @@ void ImageCanvas::setImage(const Image& image) {
     m_converting = false;
     m_dirty.clear();
     const bool resized = m_image.width() != image.width() || m_image.height() != image.height();
+    updateAutoRange();
     m_image = toQImage(image, m_display);
     if (resized || m_fitted) fit();
     update();
+    emit imageShown();
+}
+
+void ImageCanvas::updateAutoRange() {
+    if (m_display.mode != DisplayMode::FalseColor) return;
+    if (!m_display.autoRange) {
+        m_display.falseLo = 0.0f;
+        m_display.falseHi = 1.0f;
+        return;
+    }
+    if (m_lastImage->empty()) return;
+    const std::pair<float, float> before{m_display.falseLo, m_display.falseHi};
+    std::tie(m_display.falseLo, m_display.falseHi) = luminancePercentiles(*m_lastImage, m_display);
+    // The compare image is shown with A's range, for a like-for-like comparison.
+    if (!m_compareSource.empty() && falseColorRange() != before)
+        m_compare = toQImage(m_compareSource, m_display);
 }
 
 void ImageCanvas::convertInBackground() {
     // The worker reads the linear image; a dab meanwhile writes to a copy (updateImage).
     std::shared_ptr<const Image> source = m_lastImage;
+    updateAutoRange();
     const DisplaySettings display = m_display;
     m_converting = true;
     m_dirty.clear();
@@ -58,6 +80,7 @@ void ImageCanvas::convertInBackground() {
             m_dirty.clear();
             if (resized || m_fitted) fit();
             update();
+            emit imageShown();
         });
 }
 
@@ -97,13 +120,39 @@ void ImageCanvas::setFlipped(bool flipped) {
 }
 
 void ImageCanvas::setWipe(std::optional<double> fraction) {
-    m_wipe = fraction;
+    m_wipe = fraction ? std::optional<double>(std::clamp(*fraction, 0.0, 1.0)) : std::nullopt;
     update();
 }
 
-void ImageCanvas::setDisplay(const DisplaySettings& display) {
+bool ImageCanvas::showsWipe() const {
+    return m_wipe && !m_flipped && !m_compare.isNull() && m_compare.size() == m_image.size();
+}
+
+std::optional<double> ImageCanvas::wipeLineX() const {
+    if (!showsWipe()) return std::nullopt;
+    return toWidget(QPointF(*m_wipe * m_image.width(), 0)).x();
+}
+
+void ImageCanvas::setLabel(const QString& text) {
+    if (text == m_label) return;
+    m_label = text;
+    update();
+}
+
+QStringList ImageCanvas::legendLabels() const {
+    return glint::studio::legendLabels(m_display.falseLo, m_display.falseHi);
+}
+
+void ImageCanvas::setDisplay(const DisplaySettings& given) {
+    // An automatic range is the canvas's own: only the other settings can differ.
+    DisplaySettings display = given;
+    if (display.autoRange && m_display.autoRange) {
+        display.falseLo = m_display.falseLo;
+        display.falseHi = m_display.falseHi;
+    }
     if (display == m_display) return;
     m_display = display;
+    updateAutoRange();
     if (!m_lastImage->empty()) m_image = toQImage(*m_lastImage, m_display);
     if (!m_compareSource.empty()) m_compare = toQImage(m_compareSource, m_display);
     if (!m_brushSourceImage.empty()) m_brushSource = toQImage(m_brushSourceImage, m_display);
@@ -115,11 +164,15 @@ void ImageCanvas::setTool(Tool tool) {
     const bool changed = tool != m_tool;
     m_tool = tool;
     m_drawing.clear();
-    setCursor(tool == Tool::Pan     ? Qt::OpenHandCursor
-              : tool == Tool::Brush ? Qt::BlankCursor
-                                    : Qt::CrossCursor);
+    setCursor(toolCursor());
     update();
     if (changed) emit toolChanged(tool);
+}
+
+Qt::CursorShape ImageCanvas::toolCursor() const {
+    return m_tool == Tool::Pan     ? Qt::OpenHandCursor
+           : m_tool == Tool::Brush ? Qt::BlankCursor
+                                   : Qt::CrossCursor;
 }
 
 void ImageCanvas::setRegion(const QPolygonF& polygon) {
@@ -237,18 +290,22 @@ void ImageCanvas::paintEvent(QPaintEvent* event) {
     const bool haveB = !m_compare.isNull() && m_compare.size() == m_image.size();
     if (haveB && m_flipped) {
         drawImage(p, m_compare, clip);
-    } else if (haveB && m_wipe) {
+    } else if (showsWipe()) {
         // A left of the wipe line, B right of it.
-        const double xw = toWidget(QPointF(*m_wipe * m_image.width(), 0)).x();
+        const double xw = *wipeLineX();
         drawImage(
             p, m_image,
             clip.intersected(QRectF(clip.left(), clip.top(), xw - clip.left(), clip.height())));
         drawImage(p, m_compare,
                   clip.intersected(QRectF(xw, clip.top(), clip.right() - xw, clip.height())));
-        p.setPen(QPen(QColor(255, 255, 255, 200), 1));
+        // The line, dark-edged for light images, with a handle to drag at mid-height.
+        p.setPen(QPen(QColor(0, 0, 0, 160), 3));
         p.drawLine(QPointF(xw, 0), QPointF(xw, height()));
-        p.drawText(QPointF(xw - 18, 14), QStringLiteral("A"));
-        p.drawText(QPointF(xw + 8, 14), QStringLiteral("B"));
+        p.setPen(QPen(QColor(255, 255, 255, 230), 1));
+        p.drawLine(QPointF(xw, 0), QPointF(xw, height()));
+        p.fillRect(QRectF(xw - 3, height() / 2.0 - 12, 7, 24), QColor(255, 255, 255, 230));
+        p.drawText(QPointF(xw - 18, height() - 10), QStringLiteral("A"));
+        p.drawText(QPointF(xw + 8, height() - 10), QStringLiteral("B"));
     } else {
         drawImage(p, m_image, clip);
     }
@@ -303,6 +360,13 @@ void ImageCanvas::paintEvent(QPaintEvent* event) {
             p.drawEllipse(*m_cursor, r * m_brushSoftness, r * m_brushSoftness);
         }
     }
+    // A preview (a tuned filter, a hovered bank member) covers the region: say so.
+    drawCanvasLabel(p, rect(),
+                    m_preview.isNull() || m_label.isEmpty()
+                        ? m_label
+                        : tr("%1 · preview inside the region").arg(m_label));
+    if (m_display.mode == DisplayMode::FalseColor)
+        drawFalseColorLegend(p, rect(), m_display.falseLo, m_display.falseHi);
     emit painted();
 }
 
@@ -316,6 +380,14 @@ void ImageCanvas::wheelEvent(QWheelEvent* event) {
 }
 
 void ImageCanvas::mousePressEvent(QMouseEvent* event) {
+    // A left press near the wipe line drags it, whatever the tool.
+    if (const std::optional<double> xw = wipeLineX();
+        xw && event->button() == Qt::LeftButton && std::abs(event->position().x() - *xw) <= 6.0) {
+        if (!hasFocus()) setFocus(Qt::MouseFocusReason);
+        m_wipeDragging = true;
+        setCursor(Qt::SplitHCursor);
+        return;
+    }
     // A click into a canvas without focus focuses it; with the brush or the wand it does not
     // also paint (the user clicked to get the keys back).
     if (!hasFocus() && window()->isActiveWindow()) {
@@ -363,6 +435,18 @@ void ImageCanvas::mouseMoveEvent(QMouseEvent* event) {
         emit hovered(int(at.x()), int(at.y()));
     else
         emit hovered(-1, -1);
+    if (event->buttons() == Qt::NoButton) {
+        // Over the wipe line the cursor says it can be dragged.
+        const std::optional<double> xw = wipeLineX();
+        const bool near = xw && std::abs(event->position().x() - *xw) <= 6.0;
+        setCursor(near ? Qt::SplitHCursor : toolCursor());
+    }
+    if (m_wipeDragging) {
+        m_wipe = std::clamp(at.x() / std::max(1, m_image.width()), 0.0, 1.0);
+        update();
+        emit wipeMoved(*m_wipe);
+        return;
+    }
     if (m_panning) {
         m_fitted = false;
         m_offset = m_pressOffset + (event->position() - m_pressWidget);
@@ -397,6 +481,11 @@ void ImageCanvas::mouseMoveEvent(QMouseEvent* event) {
 void ImageCanvas::mouseReleaseEvent(QMouseEvent* event) {
     if (m_focusClick) {
         m_focusClick = false;
+        return;
+    }
+    if (m_wipeDragging) {
+        m_wipeDragging = false;
+        setCursor(toolCursor());
         return;
     }
     if (m_panning) {

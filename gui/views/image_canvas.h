@@ -8,10 +8,13 @@
 #include <QPainterPath>
 #include <QPointF>
 #include <QPolygonF>
+#include <QString>
+#include <QStringList>
 #include <QWidget>
 
 #include <memory>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "glint/image/image.h"
@@ -43,8 +46,21 @@ class ImageCanvas : public QWidget {
     /// Shows B instead of A (the flip key).
     void setFlipped(bool flipped);
     bool flipped() const { return m_flipped; }
-    /// A wipe at this fraction of the image width (A left of it, B right); nothing: off.
+    /// A wipe at this fraction of the image width (A left of it, B right); nothing: off. With
+    /// a B image, a left drag starting near the line moves it (any tool), as in Nuke and tev.
     void setWipe(std::optional<double> fraction);
+    std::optional<double> wipe() const { return m_wipe; }
+    /// The widget x of the wipe line (nothing: no wipe shown).
+    std::optional<double> wipeLineX() const;
+
+    /// The text drawn in the top-left corner saying what is shown (empty: none).
+    void setLabel(const QString& text);
+    const QString& label() const { return m_label; }
+    /// The false-colour range in use (automatic or fixed) and the numbers its legend shows.
+    std::pair<float, float> falseColorRange() const {
+        return {m_display.falseLo, m_display.falseHi};
+    }
+    QStringList legendLabels() const;
 
     void setDisplay(const DisplaySettings& display);
     const DisplaySettings& display() const { return m_display; }
@@ -100,6 +116,10 @@ class ImageCanvas : public QWidget {
     void brushResized(double size);
     /// A frame was painted on screen (instrumentation of the speed test).
     void painted();
+    /// A new image replaced the one shown (shownImage() has it).
+    void imageShown();
+    /// The user dragged the wipe line to this fraction of the image width.
+    void wipeMoved(double fraction);
 
   protected:
     void paintEvent(QPaintEvent* event) override;
@@ -114,6 +134,10 @@ class ImageCanvas : public QWidget {
     void drawImage(QPainter& p, const QImage& image, const QRectF& clip);
     void updateImageRect(const Rect& rect);
     QRectF imageRectInWidget() const;
+    bool showsWipe() const;
+    Qt::CursorShape toolCursor() const;
+    /// Sets the false-colour range of m_display from m_lastImage when it is automatic.
+    void updateAutoRange();
 
     // Images larger than this convert for the screen on a worker (about 2 ms on the UI thread).
     static constexpr std::size_t kSyncPixels = 256 * 256;
@@ -135,6 +159,8 @@ class ImageCanvas : public QWidget {
     DisplaySettings m_display;
     bool m_flipped = false;
     std::optional<double> m_wipe;
+    bool m_wipeDragging = false;
+    QString m_label;
     Tool m_tool = Tool::Pan;
     QPolygonF m_region;
     QPainterPath m_regionPath;

@@ -5,6 +5,7 @@
 #include <QDoubleSpinBox>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QSignalBlocker>
 #include <QSlider>
 #include <QToolButton>
 #include <QVBoxLayout>
@@ -119,6 +120,13 @@ Viewer::Viewer(Document* document, SessionAdapter* session, QWidget* parent)
     m_mode->addItem(tr("Linear"), int(DisplayMode::Linear));
     m_mode->addItem(tr("False colour"), int(DisplayMode::FalseColor));
     m_mode->setToolTip(tr("How values reach the screen"));
+    m_autoRange = new QToolButton(this);
+    m_autoRange->setText(tr("Auto"));
+    m_autoRange->setCheckable(true);
+    m_autoRange->setChecked(true);
+    m_autoRange->setToolTip(
+        tr("False colour spans the 1st to 99th percentile of the shown values (off: 0 to 1)"));
+    m_autoRange->setVisible(false);
     auto* fit = new QToolButton(this);
     fit->setText(tr("Fit"));
     fit->setToolTip(tr("Fit the image to the window (F)"));
@@ -130,7 +138,8 @@ Viewer::Viewer(Document* document, SessionAdapter* session, QWidget* parent)
     m_flip->setCheckable(true);
     m_flip->setToolTip(tr("Show the reference instead of the result (Space)"));
     m_wipeBox = new QCheckBox(tr("Wipe"), this);
-    m_wipeBox->setToolTip(tr("Result left of the line, reference right of it"));
+    m_wipeBox->setToolTip(
+        tr("Result left of the line, reference right of it; drag the line on the canvas (V)"));
     m_wipe = new QSlider(Qt::Horizontal, this);
     m_wipe->setRange(0, 1000);
     m_wipe->setValue(500);
@@ -149,6 +158,7 @@ Viewer::Viewer(Document* document, SessionAdapter* session, QWidget* parent)
     bar->addWidget(m_exposure);
     bar->addWidget(m_offset);
     bar->addWidget(m_mode);
+    bar->addWidget(m_autoRange);
     bar->addWidget(fit);
     bar->addWidget(one);
     bar->addSpacing(12);
@@ -167,6 +177,7 @@ Viewer::Viewer(Document* document, SessionAdapter* session, QWidget* parent)
     connect(m_exposure, &QDoubleSpinBox::valueChanged, this, &Viewer::applyDisplay);
     connect(m_offset, &QDoubleSpinBox::valueChanged, this, &Viewer::applyDisplay);
     connect(m_mode, &QComboBox::currentIndexChanged, this, &Viewer::applyDisplay);
+    connect(m_autoRange, &QToolButton::toggled, this, &Viewer::applyDisplay);
     connect(fit, &QToolButton::clicked, m_canvas, &ImageCanvas::fit);
     connect(one, &QToolButton::clicked, m_canvas, &ImageCanvas::oneToOne);
     connect(m_flip, &QToolButton::toggled, this, &Viewer::setFlipped);
@@ -175,6 +186,10 @@ Viewer::Viewer(Document* document, SessionAdapter* session, QWidget* parent)
         if (m_wipeBox->isChecked()) m_canvas->setWipe(v / 1000.0);
     });
     connect(m_canvas, &ImageCanvas::hovered, this, &Viewer::updateReadout);
+    connect(m_canvas, &ImageCanvas::wipeMoved, this, [this](double fraction) {
+        const QSignalBlocker block(m_wipe);
+        m_wipe->setValue(int(std::lround(fraction * 1000.0)));
+    });
 
     connect(m_document, &Document::frameChanged, this, [this](bool) { refresh(); });
     connect(m_document, &Document::referenceChanged, this, [this] {
@@ -183,17 +198,27 @@ Viewer::Viewer(Document* document, SessionAdapter* session, QWidget* parent)
     });
     connect(m_session, &SessionAdapter::compositeChanged, this, &Viewer::onCompositeChanged);
     connect(m_session, &SessionAdapter::sessionReset, this, &Viewer::refresh);
+    connect(m_session, &SessionAdapter::layersChanged, this, &Viewer::updateLabel);
+    connect(m_document, &Document::renderingChanged, this, [this](bool) { updateLabel(); });
+}
+
+bool Viewer::keepsDenoised() const {
+    // A denoised composite stays on screen while a new render refines: its first passes are
+    // noisier than it. The new render shows once it is finished and its layers re-applied.
+    return m_session->hasSession() && m_session->session().layerCount() > 0;
 }
 
 bool Viewer::showingComposite() const {
-    // While a render refines, the result is the render itself.
+    // While a render refines without layers to keep, the result is the render itself.
     return m_channel == Channel::Result && m_session->hasSession() &&
-           !(m_document->rendering() && m_document->frame() != m_document->finishedFrame());
+           (keepsDenoised() ||
+            !(m_document->rendering() && m_document->frame() != m_document->finishedFrame()));
 }
 
 const Image* Viewer::resultImage() const {
     if (m_session->hasSession() &&
-        !(m_document->rendering() && m_document->frame() != m_document->finishedFrame()))
+        (keepsDenoised() ||
+         !(m_document->rendering() && m_document->frame() != m_document->finishedFrame())))
         return &m_session->session().composite();
     if (FramePtr f = m_document->frame()) return &f->color();
     return nullptr;
@@ -221,6 +246,7 @@ void Viewer::refresh() {
         if (!reference || reference->width() != result->width() ||
             reference->height() != result->height()) {
             m_canvas->setImage(*result);
+            updateLabel();
             return;
         }
         if (m_channel == Channel::ErrorRelative) {
@@ -261,6 +287,7 @@ void Viewer::refresh() {
         m_canvas->setImage(*result);  // the layer is absent: show the result
     }
     updateReadout(m_hoverX, m_hoverY);
+    updateLabel();
 }
 
 void Viewer::onCompositeChanged(const Rect& rect) {
@@ -286,6 +313,7 @@ void Viewer::updateCompare() {
 void Viewer::setFlipped(bool on) {
     if (m_flip->isChecked() != on) m_flip->setChecked(on);
     m_canvas->setFlipped(on);
+    updateLabel();
 }
 
 void Viewer::toggleFlip() {
@@ -296,6 +324,54 @@ void Viewer::setWipe(bool on) {
     if (m_wipeBox->isChecked() != on) m_wipeBox->setChecked(on);
     m_wipe->setEnabled(on);
     m_canvas->setWipe(on ? std::optional<double>(m_wipe->value() / 1000.0) : std::nullopt);
+    updateLabel();
+}
+
+void Viewer::toggleWipe() {
+    setWipe(!m_wipeBox->isChecked());
+}
+
+bool Viewer::wipe() const {
+    return m_wipeBox->isChecked();
+}
+
+void Viewer::setAutoRange(bool on) {
+    m_autoRange->setChecked(on);
+}
+
+void Viewer::updateLabel() {
+    FramePtr frame = m_document->frame();
+    FramePtr reference = m_document->reference();
+    const Image* result = resultImage();
+    auto spp = [](const FramePtr& f) {
+        return f && f->metadata().spp > 0 ? tr(" (%1 spp)").arg(f->metadata().spp) : QString();
+    };
+    const bool haveB = reference && result && reference->width() == result->width() &&
+                       reference->height() == result->height();
+    QString what;
+    if (m_channel == Channel::Result) {
+        if (!frame)
+            what = QString();
+        else if (showingComposite() && keepsDenoised())
+            what = m_document->rendering() && m_document->frame() != m_document->finishedFrame()
+                       ? tr("Result (denoised, previous render; rendering…)")
+                       : tr("Result (denoised, %1 spp)").arg(m_session->input()->metadata().spp);
+        else
+            what = tr("Result (render, %1 spp)").arg(frame->metadata().spp);
+    } else if (m_channel == Channel::Reference) {
+        what = reference ? tr("Reference") + spp(reference) : tr("Result (no reference)");
+    } else {
+        what = channelName(m_channel);
+    }
+    QString text = what;
+    if (haveB && m_canvas->flipped())
+        text = tr("B: Reference") + spp(reference);
+    else if (haveB && m_wipeBox->isChecked())
+        text = tr("Wipe: %1 | reference")
+                   .arg(m_channel == Channel::Result ? tr("result") : channelName(m_channel));
+    else if (haveB && m_channel == Channel::Result && !what.isEmpty())
+        text = tr("A: %1").arg(what);
+    m_canvas->setLabel(text);
 }
 
 void Viewer::setExposure(double stops) {
@@ -315,6 +391,8 @@ void Viewer::applyDisplay() {
     d.exposure = float(m_exposure->value());
     d.offset = float(m_offset->value());
     d.mode = DisplayMode(m_mode->currentData().toInt());
+    d.autoRange = m_autoRange->isChecked();
+    m_autoRange->setVisible(d.mode == DisplayMode::FalseColor);
     m_canvas->setDisplay(d);
 }
 

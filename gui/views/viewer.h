@@ -53,7 +53,15 @@ class Viewer : public QWidget {
     /// Shows the reference instead of the result while `on` (the A/B flip key).
     void setFlipped(bool on);
     void toggleFlip();
+    /// The wipe: the result left of a line the user drags on the canvas, the reference right.
     void setWipe(bool on);
+    void toggleWipe();
+    bool wipe() const;
+    /// What the canvas says it shows ("Result (denoised, 16 spp)", "B: Reference (4096 spp)",
+    /// "Wipe: result | reference"...), drawn in its corner.
+    QString label() const { return m_canvas->label(); }
+    /// False colour maps the 1st–99th percentiles of the shown values (on by default) or [0, 1].
+    void setAutoRange(bool on);
     void setExposure(double stops);
     double exposure() const;
     void setDisplayMode(DisplayMode mode);
@@ -69,6 +77,8 @@ class Viewer : public QWidget {
     void updateReadout(int x, int y);
     void applyDisplay();
     bool showingComposite() const;
+    bool keepsDenoised() const;
+    void updateLabel();
     void updateCompare();
 
     Document* m_document;
@@ -81,6 +91,7 @@ class Viewer : public QWidget {
     QToolButton* m_flip;
     QCheckBox* m_wipeBox;
     QSlider* m_wipe;
+    QToolButton* m_autoRange;
     Channel m_channel = Channel::Result;
     Image m_shown;  // the linear image on the canvas when it is not the composite itself
     QString m_readout;

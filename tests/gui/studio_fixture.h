@@ -46,9 +46,12 @@ inline QString writeCornell(const QString& folder, int width, int height, int sp
     return path;
 }
 
-/// A studio window journalling into `autosave`, asking no questions.
-inline std::unique_ptr<MainWindow> makeWindow(const QString& autosave) {
+/// A studio window journalling into `autosave`, asking no questions. The tests written before
+/// the default layer (model/first_denoise.h) start from a session without layers.
+inline std::unique_ptr<MainWindow> makeWindow(const QString& autosave,
+                                              bool denoiseFirstImage = false) {
     StudioOptions options;
+    options.denoiseFirstImage = denoiseFirstImage;
     options.autosaveBase = autosave;
     options.offerRestore = false;
     options.confirmDiscard = false;

@@ -556,6 +556,9 @@ static int crashChild(const QString& base, const QString& scene) {
     options.autosaveBase = base;
     options.offerRestore = false;
     options.confirmDiscard = false;
+    // No default layer here: the child's one layer is the bilateral it paints. The restoring
+    // window keeps the default on, and its replay must not add one.
+    options.denoiseFirstImage = false;
     MainWindow w(options);
     w.resize(1000, 700);
     w.show();

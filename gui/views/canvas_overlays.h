@@ -1,0 +1,22 @@
+// What the canvas draws over the image, in widget coordinates: the label saying what is shown
+// (top left) and the false-colour legend with its range (bottom right), both on a translucent
+// dark plate that stays readable over any image.
+#pragma once
+
+#include <QRect>
+#include <QString>
+#include <QStringList>
+
+class QPainter;
+
+namespace glint::studio {
+
+/// Draws `text` in the top-left corner of `area`.
+void drawCanvasLabel(QPainter& p, const QRect& area, const QString& text);
+/// The numbers the legend writes at its ends: the range's low and high values.
+QStringList legendLabels(float lo, float hi);
+/// Draws the false-colour bar from `lo` (left) to `hi` (right) in the bottom-right corner of
+/// `area`, with legendLabels under its ends.
+void drawFalseColorLegend(QPainter& p, const QRect& area, float lo, float hi);
+
+}  // namespace glint::studio
