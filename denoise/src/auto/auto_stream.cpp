@@ -25,6 +25,7 @@
 #include "choice.h"
 #include "display_weights.h"
 #include "estimator.h"
+#include "feathering.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/progress.h"
 #include "glint/denoise/registry.h"
@@ -337,20 +338,7 @@ void Streamer::blendPass(std::vector<Image>& planes, AutoResult& result) {
                         }
                     }
                 }
-                for (int x = 0; x < width; ++x) {
-                    double sum = 0.0;
-                    for (const Image& f : feathered) sum += f(x, y, 0);
-                    if (!(sum > 0.0)) {
-                        std::size_t top = 0;
-                        for (std::size_t j = 1; j < used.size(); ++j)
-                            if (planes[used[j]](x, y, 0) > planes[used[top]](x, y, 0)) top = j;
-                        for (std::size_t j = 0; j < used.size(); ++j)
-                            planes[used[j]](x, y, 0) = j == top ? 1.0f : 0.0f;
-                        continue;
-                    }
-                    for (std::size_t j = 0; j < used.size(); ++j)
-                        planes[used[j]](x, y, 0) = float(double(feathered[j](x, y, 0)) / sum);
-                }
+                renormaliseRow(planes, used, feathered, y);
             });
         }
         // The blend, the member of largest weight, and the blends on the halves.

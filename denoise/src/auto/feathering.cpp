@@ -56,24 +56,28 @@ void featherWeights(std::vector<Image>& planes, const FilterBank& bank, int radi
         },
         height);
     // Renormalised per pixel (the members in order).
-    work.parallelFor(0, height, [&](int y) {
-        for (int x = 0; x < width; ++x) {
-            double sum = 0.0;
-            for (const Image& f : feathered) sum += f(x, y, 0);
-            if (!(sum > 0.0)) {
-                // Every member is gated: the members blended here differ by more than the gate
-                // from their blend, so the one with the largest weight is taken alone.
-                std::size_t top = 0;
-                for (std::size_t j = 1; j < used.size(); ++j)
-                    if (planes[used[j]](x, y, 0) > planes[used[top]](x, y, 0)) top = j;
-                for (std::size_t j = 0; j < used.size(); ++j)
-                    planes[used[j]](x, y, 0) = j == top ? 1.0f : 0.0f;
-                continue;
-            }
+    work.parallelFor(0, height, [&](int y) { renormaliseRow(planes, used, feathered, y); });
+}
+
+void renormaliseRow(std::vector<Image>& planes, const std::vector<std::size_t>& used,
+                    const std::vector<Image>& feathered, int y) {
+    const int width = planes[used.front()].width();
+    for (int x = 0; x < width; ++x) {
+        double sum = 0.0;
+        for (const Image& f : feathered) sum += f(x, y, 0);
+        if (!(sum > 0.0)) {
+            // Every member is gated: the members blended here differ by more than the gate from
+            // their blend, so the one with the largest weight is taken alone.
+            std::size_t top = 0;
+            for (std::size_t j = 1; j < used.size(); ++j)
+                if (planes[used[j]](x, y, 0) > planes[used[top]](x, y, 0)) top = j;
             for (std::size_t j = 0; j < used.size(); ++j)
-                planes[used[j]](x, y, 0) = float(double(feathered[j](x, y, 0)) / sum);
+                planes[used[j]](x, y, 0) = j == top ? 1.0f : 0.0f;
+            continue;
         }
-    });
+        for (std::size_t j = 0; j < used.size(); ++j)
+            planes[used[j]](x, y, 0) = float(double(feathered[j](x, y, 0)) / sum);
+    }
 }
 
 }  // namespace glint::denoise::detail

@@ -22,4 +22,10 @@ namespace glint::denoise::detail {
 void featherWeights(std::vector<Image>& planes, const FilterBank& bank, int radius, double gate,
                     float exposure, WorkContext& work);
 
+/// featherWeights's last step on row y: the planes of `used` become `feathered` (one per used
+/// member, in that order) renormalised per pixel, or, where every feathered weight is 0, the
+/// member with the largest weight in `planes` alone.
+void renormaliseRow(std::vector<Image>& planes, const std::vector<std::size_t>& used,
+                    const std::vector<Image>& feathered, int y);
+
 }  // namespace glint::denoise::detail
