@@ -9,9 +9,9 @@
 #include <random>
 #include <vector>
 
+#include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
-#include "glint/denoise/auto.h"
 #include "glint/image/frame_buffers.h"
 #include "glint/image/image.h"
 

@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "auto/choice.h"
+#include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/filter.h"
-#include "glint/denoise/auto.h"
 #include "glint/image/frame_buffers.h"
 
 namespace glint::denoise::testing {

@@ -21,8 +21,8 @@
 
 #include "auto/streamed.h"
 #include "bench_options.h"
-#include "glint/denoise/bank.h"
 #include "glint/denoise/auto.h"
+#include "glint/denoise/bank.h"
 #include "glint/image/composite.h"
 #include "glint/image/io.h"
 #include "glint/image/memory.h"

@@ -2,7 +2,6 @@
 // estimator, and their validation. The command line's flags and the tuning table of docs/auto.md
 // are generated from these specs (denoise/cli/auto_commands.cpp).
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 #include "glint/denoise/auto.h"

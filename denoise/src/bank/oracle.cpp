@@ -9,11 +9,11 @@
 #include <numeric>
 
 #include "../auto/choice.h"
+#include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/research/expected_oracle.h"
-#include "glint/denoise/auto.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"

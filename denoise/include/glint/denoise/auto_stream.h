@@ -5,8 +5,8 @@
 
 #include <vector>
 
-#include "glint/denoise/bank.h"
 #include "glint/denoise/auto.h"
+#include "glint/denoise/bank.h"
 
 namespace glint::denoise {
 
