@@ -231,6 +231,8 @@ void runAuto(const AutoArgs& a) {
             StreamedAuto s = autoCompositeStreamed(frame, bankOptions, options);
             bank = std::move(s.bank);
             result = std::move(s.result);
+            if (!s.warning.empty())
+                std::fprintf(stderr, "glint-denoise: warning: %s\n", s.warning.c_str());
         } else {
             result = autoComposite(bank, frame, options);
         }
