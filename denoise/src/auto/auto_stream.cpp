@@ -10,9 +10,8 @@
 //      of the regression around it).
 // Between the passes, the stages that need whole-frame quantities (the choice's baseline and
 // windows, the shortlist's counts, the blend's order, the display weights' floor) run on the
-// kept one-channel maps as in autoComposite. With the spill (the tuning's "spill"), a member's
-// result on the input or a half that a later pass reads again is written to a temporary file
-// strip by strip (strip_spill.h) and read back there instead of filtered again: the same floats.
+// kept one-channel maps as in autoComposite. With the spill (strip_spill.h), a result that a later
+// pass reads again is written to a temporary file and read back instead of filtered again.
 #include "glint/denoise/auto_stream.h"
 
 #include <algorithm>
@@ -410,6 +409,9 @@ void Streamer::stackPass(const std::vector<int>& order, AutoResult& result) {
         members.push_back(std::size_t(m));
     }
     const std::size_t k = members.size();
+    dropSpilled([&](std::size_t m) {
+        return std::find(members.begin(), members.end(), m) != members.end();
+    });
     // The regression's weights: the display slope at the composite (its floor over the frame).
     const Image weightAtC =
         m_s.space == SureSpace::Linear ? Image{} : tangentWeights(result.composite, m_s.exposure);
@@ -525,11 +527,6 @@ AutoResult Streamer::run() {
     result.estimator = m_s.estimator;
 
     // Pass 5: the stacking.
-    const std::size_t stacked = std::min(order.size(), std::size_t(std::max(0, m_s.stack)));
-    dropSpilled([&](std::size_t m) {
-        return std::find(order.begin(), order.begin() + std::ptrdiff_t(stacked), int(m)) !=
-               order.begin() + std::ptrdiff_t(stacked);
-    });
     if (m_s.stack > 0) stackPass(order, result);
     for (int m : order) result.layers.push_back({m, std::move(planes[std::size_t(m)])});
     return result;
@@ -553,13 +550,6 @@ std::int64_t expectedWork(const AutoSettings& s, std::size_t n, std::int64_t h) 
     return passes * h;
 }
 
-// The most member results the spill holds at once, in frames: every member's on the input (the
-// blend reads the final candidates'), and for the stacking on the halves it reads too.
-std::size_t spillPeak(const AutoSettings& s, std::size_t n) {
-    if (s.stack <= 0) return n;
-    return n * (s.bothHalves && !s.shortlisted ? 3 : 2);
-}
-
 }  // namespace
 
 StreamedAuto autoCompositeStreamed(const FrameBuffers& frame, const BankOptions& bankOptions,
@@ -567,13 +557,16 @@ StreamedAuto autoCompositeStreamed(const FrameBuffers& frame, const BankOptions&
     FilterBank bank = bankWithoutResults(frame, bankOptions);
     AutoSettings settings = resolveSettings(bank, frame, options);
     if (streamRows > 0) settings.streamRows = settings.scoreRows = streamRows;
-    // The spill (the tuning's "spill": auto, on or off), in TMPDIR or /tmp.
+    // The spill (the tuning's "spill": auto, on or off) for at most every member's result on the
+    // input and on the halves that the stacking reads.
     const int spillMode = int(resolveAutoTuning(options, settings.estimator).at("spill"));
+    const std::size_t sides = settings.stack <= 0                            ? 1
+                              : settings.bothHalves && !settings.shortlisted ? 3
+                                                                             : 2;
     StripSpill spill;
-    const bool spillAsked = spillMode == 1;
     if (spillMode != 2)
         spill.open(StripSpill::directory(), bank.region().width(), bank.region().height(), 3,
-                   spillPeak(settings, bank.size()), !spillAsked);
+                   bank.size() * sides, spillMode == 0);
     WorkContext work(options.progress);
     work.expectWork(expectedWork(settings, bank.size(), bank.region().height()));
     StreamedAuto out;
@@ -590,7 +583,7 @@ StreamedAuto autoCompositeStreamed(const FrameBuffers& frame, const BankOptions&
     out.bank = std::move(bank);
     // Filtered again instead: a warning when the spill was asked for or a write failed.
     out.spilled = spill.on();
-    if ((spillAsked && !out.spilled) || spill.failed())
+    if ((spillMode == 1 && !out.spilled) || spill.failed())
         out.warning = "the spill is off, the members are filtered again (same result, slower): " +
                       spill.warning();
     return out;
