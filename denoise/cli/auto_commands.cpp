@@ -231,6 +231,8 @@ void runAuto(const AutoArgs& a) {
             StreamedAuto s = autoCompositeStreamed(frame, bankOptions, options);
             bank = std::move(s.bank);
             result = std::move(s.result);
+            if (!s.warning.empty())
+                std::fprintf(stderr, "glint-denoise: warning: %s\n", s.warning.c_str());
         } else {
             result = autoComposite(bank, frame, options);
         }
@@ -392,7 +394,7 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
     cmd->add_option("--stream", a->stream,
                     "Without --bank: auto (default: strip by strip only when the bank would not "
                     "fit in memory) | on (strip by strip: memory grows with the frame, not the "
-                    "bank; slower) | off (the bank in memory)");
+                    "bank; see --spill) | off (the bank in memory)");
     cmd->add_flag("--tuning-table", a->tuningTable,
                   "Print the tuning parameters as the Markdown table of docs/auto.md and exit");
     cmd->add_option("--choice-map", a->choiceMap, "Write the chosen member per pixel as a PNG");

@@ -2,12 +2,18 @@
 // strips, so that every strip boundary and every margin (the filters', the choice's windows,
 // feathering, the stacking's windows) is crossed, it gives autoComposite's result over the
 // whole bank, for SURE and for the halves with a shortlist, feathering and stacking; and it
-// reports progress and stops when told.
+// reports progress and stops when told. Its spill file changes no value, and a spill that cannot
+// be written gives the same result.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
+#include <cstdlib>
 #include <mutex>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "auto/options.h"
@@ -168,6 +174,139 @@ TEST(AutoStream, ReportsProgressToTheEndAndStopsWhenTold) {
         } catch (const Error& e) {
             EXPECT_EQ(e.kind(), ErrorKind::Cancelled) << e.what();
         }
+    }
+}
+
+// The halves with a shortlist, feathering and stacking (every pass of the streamed selection).
+AutoOptions stackingOptions() {
+    AutoOptions o;
+    o.estimator = AutoEstimator::Halves;
+    o.tuning["shortlist"] = 4;
+    o.tuning["feather"] = 3;
+    o.tuning["stack"] = 2;
+    o.tuning["stackWindow"] = 3;
+    o.tuning["stackSmooth"] = 2;
+    o.tuning["stackFeatureWindow"] = 2;
+    return o;
+}
+
+// The tuning's "spill" choices.
+constexpr double kSpillAuto = 0, kSpillOn = 1, kSpillOff = 2;
+
+AutoOptions withSpill(AutoOptions o, double spill) {
+    o.tuning["spill"] = spill;
+    return o;
+}
+
+// Two streamed results equal value for value.
+void expectIdentical(const StreamedAuto& a, const StreamedAuto& b) {
+    EXPECT_EQ(a.result.estimatedMse, b.result.estimatedMse);
+    EXPECT_EQ(a.result.bestMember, b.result.bestMember);
+    EXPECT_EQ(a.result.stacked, b.result.stacked);
+    ASSERT_EQ(a.result.layers.size(), b.result.layers.size());
+    for (std::size_t i = 0; i < a.result.layers.size(); ++i) {
+        EXPECT_EQ(a.result.layers[i].member, b.result.layers[i].member);
+        EXPECT_EQ(maxDifference(a.result.layers[i].weights, b.result.layers[i].weights), 0.0);
+    }
+    EXPECT_EQ(maxDifference(a.result.choice, b.result.choice), 0.0);
+    EXPECT_EQ(maxDifference(a.result.composite, b.result.composite), 0.0);
+}
+
+// The spill stores the floats the filters give, and the stacking reads its rows across the
+// strips they were written in: the result with it is the one without it, bit for bit.
+TEST(AutoStream, TheSpillGivesTheSameFloatsAsFilteringAgain) {
+    const FrameBuffers f = featureFrame(5);
+    const BankOptions b = smallBank();
+    for (int rows : {7, 16}) {
+        SCOPED_TRACE("strips of " + std::to_string(rows) + " rows");
+        const StreamedAuto off =
+            detail::autoCompositeStreamed(f, b, withSpill(stackingOptions(), kSpillOff), rows);
+        EXPECT_FALSE(off.spilled);
+        EXPECT_TRUE(off.warning.empty()) << off.warning;
+        ASSERT_EQ(off.result.stacked, 2);
+        const StreamedAuto on =
+            detail::autoCompositeStreamed(f, b, withSpill(stackingOptions(), kSpillOn), rows);
+        EXPECT_TRUE(on.spilled) << on.warning;
+        EXPECT_TRUE(on.warning.empty()) << on.warning;
+        expectIdentical(on, off);
+    }
+    // SURE reads the median's pass's results instead of filtering the input again.
+    const FrameBuffers g = halvesFrame(cleanImage(96, 64), 0.08, Noise::Gaussian, 4);
+    AutoOptions o;
+    o.estimator = AutoEstimator::Sure;
+    o.tuning["feather"] = 2;
+    const StreamedAuto on = detail::autoCompositeStreamed(g, b, withSpill(o, kSpillAuto), 16);
+    EXPECT_TRUE(on.spilled) << on.warning;
+    expectIdentical(on, detail::autoCompositeStreamed(g, b, withSpill(o, kSpillOff), 16));
+}
+
+// Sets an environment variable for its lifetime.
+class ScopedEnv {
+  public:
+    ScopedEnv(const char* name, const char* value) : m_name(name) {
+        if (const char* old = std::getenv(name)) m_old = old;
+        setenv(name, value, 1);
+    }
+    ~ScopedEnv() {
+        if (m_old)
+            setenv(m_name, m_old->c_str(), 1);
+        else
+            unsetenv(m_name);
+    }
+
+  private:
+    const char* m_name;
+    std::optional<std::string> m_old;
+};
+
+// Limits the size of the files this process writes for its lifetime (a write past it fails
+// with EFBIG instead of raising SIGXFSZ).
+class ScopedFileSizeLimit {
+  public:
+    explicit ScopedFileSizeLimit(rlim_t bytes) {
+        getrlimit(RLIMIT_FSIZE, &m_old);
+        m_oldHandler = std::signal(SIGXFSZ, SIG_IGN);
+        rlimit limit = m_old;
+        limit.rlim_cur = bytes;
+        setrlimit(RLIMIT_FSIZE, &limit);
+    }
+    ~ScopedFileSizeLimit() {
+        setrlimit(RLIMIT_FSIZE, &m_old);
+        std::signal(SIGXFSZ, m_oldHandler);
+    }
+
+  private:
+    rlimit m_old{};
+    void (*m_oldHandler)(int) = nullptr;
+};
+
+TEST(AutoStream, ASpillThatCannotBeWrittenFallsBackWithTheSameResult) {
+    const FrameBuffers f = featureFrame(6);
+    const BankOptions b = smallBank();
+    const StreamedAuto off =
+        detail::autoCompositeStreamed(f, b, withSpill(stackingOptions(), kSpillOff), 16);
+    {
+        // No file can be created: asked for, a warning; automatic, silently filtered again.
+        const ScopedEnv tmp("TMPDIR", "/nonexistent/glint-spill");
+        const StreamedAuto on =
+            detail::autoCompositeStreamed(f, b, withSpill(stackingOptions(), kSpillOn), 16);
+        EXPECT_FALSE(on.spilled);
+        EXPECT_NE(on.warning.find("/nonexistent/glint-spill"), std::string::npos) << on.warning;
+        expectIdentical(on, off);
+        const StreamedAuto automatic =
+            detail::autoCompositeStreamed(f, b, withSpill(stackingOptions(), kSpillAuto), 16);
+        EXPECT_FALSE(automatic.spilled);
+        EXPECT_TRUE(automatic.warning.empty()) << automatic.warning;
+        expectIdentical(automatic, off);
+    }
+    {
+        // The file stops growing after two of the 96×64 results: the writes fail mid-pass.
+        const ScopedFileSizeLimit limit(2 * 96 * 64 * 3 * sizeof(float) + 100);
+        const StreamedAuto failed =
+            detail::autoCompositeStreamed(f, b, withSpill(stackingOptions(), kSpillAuto), 16);
+        EXPECT_FALSE(failed.spilled);
+        EXPECT_NE(failed.warning.find("cannot write"), std::string::npos) << failed.warning;
+        expectIdentical(failed, off);
     }
 }
 

@@ -4,16 +4,20 @@
 # runs bench_auto_memory in its own process per figure — the streamed selection (what
 # `glint-denoise auto IN --out OUT` runs) and, unless the size is in NO_WHOLE, the selection over
 # a materialised bank as before — under /usr/bin/time -v, and prints one JSON line per run with
-# the time, the peak resident memory and the largest difference between the two composites.
+# the time, the peak resident memory and the largest difference from the run before it. MODES
+# lists the runs in order: whole, streamed (with its spill file, the default) and recompute (the
+# streamed selection with --spill off, which must equal streamed bit for bit).
 # Not part of `make test`: it takes minutes and most of the machine's memory.
 #   tests/perf/auto_memory.sh [BUILD_DIR] [WORK_DIR]
-#   SIZES="1920x1080 3840x2160" NO_WHOLE="3840x2160" MEMBERS=64 THREADS=2 tests/perf/auto_memory.sh
+#   SIZES="1920x1080 3840x2160" NO_WHOLE="3840x2160" MODES="whole streamed recompute" \
+#     MEMBERS=64 THREADS=2 tests/perf/auto_memory.sh
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-$root/build}
 work=${2:-/tmp/glint-auto-memory}
 sizes=${SIZES:-1920x1080 3840x2160}
 noWhole=${NO_WHOLE:-3840x2160}
+modes=${MODES:-whole streamed}
 members=${MEMBERS:-64}
 threads=${THREADS:-2}
 mkdir -p "$work"
@@ -32,13 +36,16 @@ PY
             --threads "$threads" --out "$input" > /dev/null
     fi
     against=()
-    for mode in whole streamed; do
+    for mode in $modes; do
         if [ "$mode" = whole ] && [[ " $noWhole " == *" $size "* ]]; then continue; fi
         out="$work/$mode-$size.exr"
+        spill=auto run=$mode
+        if [ "$mode" = recompute ]; then spill=off run=streamed; fi
         /usr/bin/time -v -o "$work/$mode-$size.time" "$build/bin/bench_auto_memory" \
-            --in "$input" --mode "$mode" --members "$members" --threads "$threads" \
-            --out "$out" "${against[@]}"
-        grep -E "Elapsed|Maximum resident" "$work/$mode-$size.time" | sed 's/^\s*/  /'
+            --in "$input" --mode "$run" --spill "$spill" --members "$members" \
+            --threads "$threads" --out "$out" "${against[@]}"
+        grep -E "User time|System time|Elapsed|Maximum resident" "$work/$mode-$size.time" |
+            sed 's/^\s*/  /'
         against=(--against "$out")
     done
 done

@@ -3,11 +3,13 @@
 // automatic selection over a bank of MEMBERS members (plus the defaults, no cache) once, either
 // as before streaming — buildBank then autoComposite over the bank's results (--mode whole) — or
 // strip by strip without the bank (--mode streamed, autoCompositeStreamed; --rows: the strip
-// height, 0: the default). Prints one JSON object: the time, the process's peak resident memory
-// (getrusage), and with --against OTHER.exr (the other mode's --out) the largest difference
-// between the two composites. Run from tests/perf/auto_memory.sh, one process per figure.
+// height, 0: the default; --spill auto|on|off: the tuning's "spill", whether the members' results
+// read again are kept in a temporary file or filtered again). Prints one JSON object: the time, the
+// process's peak resident memory (getrusage), and with --against OTHER.exr (the other mode's --out)
+// the largest difference between the two composites. Run from tests/perf/auto_memory.sh, one
+// process per figure.
 //   bench_auto_memory --in IN.exr [--mode whole|streamed] [--members 64] [--threads 2]
-//                     [--rows 0] [--out OUT.exr] [--against OTHER.exr]
+//                     [--rows 0] [--spill auto] [--out OUT.exr] [--against OTHER.exr]
 #include <sys/resource.h>
 #include <tbb/global_control.h>
 
@@ -29,7 +31,7 @@
 
 int main(int argc, char** argv) {
     using Clock = std::chrono::steady_clock;
-    std::string input, mode = "streamed", outPath, against;
+    std::string input, mode = "streamed", outPath, against, spill = "auto";
     int members = 64, threads = 2, rows = 0;
     const int parsed = glint::bench::parseOptions(
         "bench_auto_memory", argc, argv, [&](const std::string& a, const std::string& text) {
@@ -41,6 +43,8 @@ int main(int argc, char** argv) {
                 outPath = text;
             else if (a == "--against")
                 against = text;
+            else if (a == "--spill")
+                spill = text;
             else if (a == "--members")
                 members = glint::bench::intOption(a, text);
             else if (a == "--threads")
@@ -52,8 +56,13 @@ int main(int argc, char** argv) {
             return true;
         });
     if (parsed != 0) return parsed;
-    if (input.empty() || (mode != "whole" && mode != "streamed")) {
-        std::fprintf(stderr, "bench_auto_memory: needs --in IN.exr and --mode whole|streamed\n");
+    const char* spills[] = {"auto", "on", "off"};
+    const auto spillIndex = std::find(std::begin(spills), std::end(spills), spill);
+    if (input.empty() || (mode != "whole" && mode != "streamed") ||
+        spillIndex == std::end(spills)) {
+        std::fprintf(stderr,
+                     "bench_auto_memory: needs --in IN.exr, --mode whole|streamed and "
+                     "--spill auto|on|off\n");
         return 2;
     }
     glint::retainFreedMemory();  // as glint-denoise
@@ -63,10 +72,13 @@ int main(int argc, char** argv) {
     glint::denoise::BankOptions bankOptions;
     bankOptions.size = members;
     glint::denoise::AutoOptions options;  // the defaults, as `glint-denoise auto IN --out OUT`
+    options.tuning["spill"] = double(spillIndex - std::begin(spills));
     const auto t0 = Clock::now();
     glint::denoise::AutoResult result;
     glint::Rect region;
     std::size_t bankSize = 0;
+    bool spilled = false;
+    std::string warning;
     if (mode == "whole") {
         const glint::denoise::FilterBank bank = glint::denoise::buildBank(frame, bankOptions);
         result = glint::denoise::autoComposite(bank, frame, options);
@@ -76,6 +88,7 @@ int main(int argc, char** argv) {
             glint::denoise::detail::autoCompositeStreamed(frame, bankOptions, options, rows);
         result = std::move(s.result);
         region = s.bank.region(), bankSize = s.bank.size();
+        spilled = s.spilled, warning = s.warning;
     }
     const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     rusage usage{};
@@ -85,7 +98,9 @@ int main(int argc, char** argv) {
     nlohmann::json report = {
         {"input", input},           {"mode", mode},        {"width", frame.width()},
         {"height", frame.height()}, {"members", bankSize}, {"threads", threads},
-        {"seconds", seconds},       {"peakMiB", peakMiB},  {"stacked", result.stacked}};
+        {"seconds", seconds},       {"peakMiB", peakMiB},  {"stacked", result.stacked},
+        {"spill", spill},           {"spilled", spilled}};
+    if (!warning.empty()) report["warning"] = warning;
     if (!outPath.empty()) {
         glint::FrameBuffers out = frame;
         glint::paste(out.color(), result.composite, region.x0, region.y0);

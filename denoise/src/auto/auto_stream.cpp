@@ -10,7 +10,8 @@
 //      of the regression around it).
 // Between the passes, the stages that need whole-frame quantities (the choice's baseline and
 // windows, the shortlist's counts, the blend's order, the display weights' floor) run on the
-// kept one-channel maps as in autoComposite.
+// kept one-channel maps as in autoComposite. With the spill (strip_spill.h), a result that a later
+// pass reads again is written to a temporary file and read back instead of filtered again.
 #include "glint/denoise/auto_stream.h"
 
 #include <algorithm>
@@ -37,6 +38,7 @@
 #include "shortlist.h"
 #include "stacking.h"
 #include "streamed.h"
+#include "strip_spill.h"
 #include "sure_estimator.h"
 
 namespace glint::denoise {
@@ -66,8 +68,13 @@ Image rowsOf(const Image& image, int y0, int y1) {
 class Streamer {
   public:
     Streamer(const FilterBank& bank, const FrameBuffers& frame, const AutoSettings& s,
-             WorkContext& work)
-        : m_bank(bank), m_frame(frame), m_s(s), m_work(work), m_region(bank.region()) {
+             WorkContext& work, StripSpill& spill)
+        : m_bank(bank),
+          m_frame(frame),
+          m_s(s),
+          m_work(work),
+          m_region(bank.region()),
+          m_spill(spill) {
         const int rows = std::max(1, s.streamRows);
         for (int y = 0; y < m_region.height(); y += rows)
             m_strips.push_back({y, std::min(m_region.height(), y + rows)});
@@ -90,6 +97,27 @@ class Streamer {
         fo.region = frameRect(y0, y1);
         fo.progress = m_going;
         return applyFilter(findFilter(member.filter), input, member.params, fo);
+    }
+    // What a member is applied to: the input the bank sees, half A or half B.
+    enum Side { Input = 0, HalfA = 1, HalfB = 2 };
+    const FrameBuffers& inputOf(Side side) const {
+        return side == Input ? *m_input : side == HalfA ? m_halves->halfA() : m_halves->halfB();
+    }
+    static std::int64_t keyOf(std::size_t m, Side side) { return std::int64_t(m) * 3 + side; }
+    // Member m's result on `side` over region rows [y0, y1): read from the spill when it holds
+    // them, else applied (and spilled when `keep`: a later pass reads it again).
+    Image memberResult(std::size_t m, Side side, int y0, int y1, bool keep) const {
+        Image out;
+        if (m_spill.read(keyOf(m, side), y0, y1, out)) return out;
+        out = apply(m, inputOf(side), y0, y1);
+        if (keep) m_spill.write(keyOf(m, side), y0, out);
+        return out;
+    }
+    // Forgets the spilled results of the members that `keep` refuses.
+    void dropSpilled(const std::function<bool(std::size_t)>& keep) {
+        for (std::size_t m = 0; m < m_bank.size(); ++m)
+            if (!keep(m))
+                for (Side side : {Input, HalfA, HalfB}) m_spill.drop(keyOf(m, side));
     }
     // fn(i) for i in [0, count) through the work context, a cancelled filter ending its index.
     void forEach(std::size_t count, std::int64_t units,
@@ -128,6 +156,7 @@ class Streamer {
     const AutoSettings& m_s;
     WorkContext& m_work;
     const Rect m_region;
+    StripSpill& m_spill;
     std::vector<Strip> m_strips;
     ProgressFn m_going = [this](double) { return !m_work.cancelled(); };
 
@@ -147,8 +176,9 @@ void Streamer::medianPass() {
     const std::size_t n = m_bank.size();
     for (const Strip& strip : m_strips) {
         std::vector<Image> results(n);
-        forEach(n, filterUnits(strip),
-                [&](std::size_t m) { results[m] = apply(m, *m_input, strip.y0, strip.y1); });
+        forEach(n, filterUnits(strip), [&](std::size_t m) {
+            results[m] = memberResult(m, Input, strip.y0, strip.y1, true);
+        });
         std::vector<const Image*> pointers(n);
         for (std::size_t m = 0; m < n; ++m) pointers[m] = &results[m];
         copyRows(medianOf(pointers, m_work), 0, m_median, strip.y0, strip.y1 - strip.y0);
@@ -182,18 +212,21 @@ void Streamer::estimatePass() {
         const Centre c = centreOf(strip);
         const Image* weight = m_s.tangent ? &c.weight : nullptr;
         const int rows = strip.y1 - strip.y0;
+        // The results on the halves are read again by the stacking's passes only.
+        const bool keep = m_s.stack > 0;
         forEach(n, sides * filterUnits(strip), [&](std::size_t m) {
             Image map;
             std::vector<double> rowSums;
             if (m_halves) {
-                const Image outA = apply(m, m_halves->halfA(), strip.y0, strip.y1);
+                const Image outA = memberResult(m, HalfA, strip.y0, strip.y1, keep);
                 const Image outB =
-                    m_s.bothHalves ? apply(m, m_halves->halfB(), strip.y0, strip.y1) : Image{};
+                    m_s.bothHalves ? memberResult(m, HalfB, strip.y0, strip.y1, keep) : Image{};
                 map = m_halves->mapOver(frameRect(strip.y0, strip.y1), true, outA,
                                         m_s.bothHalves ? &outB : nullptr, &c.median, &c.display,
                                         weight, rowSums);
             } else {
-                const Image out = apply(m, m_sure->filterInput(), strip.y0, strip.y1);
+                // SURE's input is the bank's: the median's pass may hold it.
+                const Image out = memberResult(m, Input, strip.y0, strip.y1, true);
                 MemberEstimate one =
                     m_sure->mapOver(m, frameRect(strip.y0, strip.y1), out, weight, m_going);
                 map = std::move(one.map);
@@ -221,6 +254,8 @@ void Streamer::shortlistPass(const std::vector<std::size_t>& shortlist) {
     // The other members' maps are no longer read.
     for (std::size_t m = 0; m < e.maps.size(); ++m)
         if (!std::binary_search(shortlist.begin(), shortlist.end(), m)) e.maps[m] = Image{};
+    dropSpilled(
+        [&](std::size_t m) { return std::binary_search(shortlist.begin(), shortlist.end(), m); });
     const std::size_t count = shortlist.size();
     std::vector<std::vector<double>> unbiased(
         m_s.secant ? count : 0, std::vector<double>(std::size_t(m_region.height()), 0.0));
@@ -229,7 +264,7 @@ void Streamer::shortlistPass(const std::vector<std::size_t>& shortlist) {
         const Image* weight = m_s.tangent ? &c.weight : nullptr;
         forEach(count, filterUnits(strip), [&](std::size_t j) {
             const std::size_t m = shortlist[j];
-            const Image outB = apply(m, m_halves->halfB(), strip.y0, strip.y1);
+            const Image outB = memberResult(m, HalfB, strip.y0, strip.y1, m_s.stack > 0);
             std::vector<double> rowSums;
             // B's term: the one-sided form with the halves' roles swapped (filterShortlistOnB).
             const Image mapB = m_halves->mapOver(frameRect(strip.y0, strip.y1), false, outB,
@@ -296,12 +331,11 @@ void Streamer::blendPass(std::vector<Image>& planes, AutoResult& result) {
         }
         std::vector<Image> results(used.size() * sides);
         forEach(results.size(), filterUnits(strip), [&](std::size_t i) {
-            const std::size_t j = i % used.size(), side = i / used.size();
+            const std::size_t j = i % used.size();
+            const auto side = Side(i / used.size());
             if (!needed[j]) return;
-            const FrameBuffers& input = side == 0   ? *m_input
-                                        : side == 1 ? m_halves->halfA()
-                                                    : m_halves->halfB();
-            results[i] = apply(used[j], input, strip.y0, strip.y1);
+            // Kept for the stacking, whose members are among these.
+            results[i] = memberResult(used[j], side, strip.y0, strip.y1, stacking);
         });
         std::vector<const Image*> full(n, nullptr), onA(n, nullptr), onB(n, nullptr);
         for (std::size_t j = 0; j < used.size(); ++j) {
@@ -375,11 +409,14 @@ void Streamer::stackPass(const std::vector<int>& order, AutoResult& result) {
         members.push_back(std::size_t(m));
     }
     const std::size_t k = members.size();
+    dropSpilled([&](std::size_t m) {
+        return std::find(members.begin(), members.end(), m) != members.end();
+    });
     // The regression's weights: the display slope at the composite (its floor over the frame).
     const Image weightAtC =
         m_s.space == SureSpace::Linear ? Image{} : tangentWeights(result.composite, m_s.exposure);
     const bool features = m_s.stackAlbedo || m_s.stackNormal;
-    const FrameBuffers* sources[3] = {m_input, &m_halves->halfA(), &m_halves->halfB()};
+    const FrameBuffers* sources[3] = {&inputOf(Input), &inputOf(HalfA), &inputOf(HalfB)};
     const Image* bases[3] = {&result.composite, &m_blendA, &m_blendB};
     const int reach = m_s.stackWindow + m_s.stackSmooth, fw = m_s.stackFeatureWindow;
     Image out = result.composite;
@@ -388,7 +425,7 @@ void Streamer::stackPass(const std::vector<int>& order, AutoResult& result) {
         const int c0 = std::max(0, strip.y0 - reach), c1 = std::min(height, strip.y1 + reach);
         std::vector<Image> results(3 * k);
         forEach(results.size(), kFilterPasses * (c1 - c0), [&](std::size_t i) {
-            results[i] = apply(members[i % k], *sources[i / k], c0, c1);
+            results[i] = memberResult(members[i % k], Side(i / k), c0, c1, false);
         });
         std::vector<StackMember> list;
         for (std::size_t j = 0; j < k; ++j)
@@ -467,6 +504,7 @@ AutoResult Streamer::run() {
     }
     m_median = Image{}, m_weight = Image{}, m_displayMedian = {};
     m_estimates.maps = {};
+    dropSpilled([&](std::size_t m) { return !chosen.planes[m].empty(); });
 
     // Pass 4: feathering and the blend.
     std::vector<Image>& planes = chosen.planes;
@@ -519,12 +557,22 @@ StreamedAuto autoCompositeStreamed(const FrameBuffers& frame, const BankOptions&
     FilterBank bank = bankWithoutResults(frame, bankOptions);
     AutoSettings settings = resolveSettings(bank, frame, options);
     if (streamRows > 0) settings.streamRows = settings.scoreRows = streamRows;
+    // The spill (the tuning's "spill": auto, on or off) for at most every member's result on the
+    // input and on the halves that the stacking reads.
+    const int spillMode = int(resolveAutoTuning(options, settings.estimator).at("spill"));
+    const std::size_t sides = settings.stack <= 0                            ? 1
+                              : settings.bothHalves && !settings.shortlisted ? 3
+                                                                             : 2;
+    StripSpill spill;
+    if (spillMode != 2)
+        spill.open(StripSpill::directory(), bank.region().width(), bank.region().height(), 3,
+                   bank.size() * sides, spillMode == 0);
     WorkContext work(options.progress);
     work.expectWork(expectedWork(settings, bank.size(), bank.region().height()));
     StreamedAuto out;
     try {
         work.addWork(0);  // the first report, at 0: a callback can stop before any work
-        out.result = Streamer(bank, frame, settings, work).run();
+        out.result = Streamer(bank, frame, settings, work, spill).run();
         work.throwIfCancelled();
         work.finish();
     } catch (const Error& e) {
@@ -533,6 +581,11 @@ StreamedAuto autoCompositeStreamed(const FrameBuffers& frame, const BankOptions&
         throw;
     }
     out.bank = std::move(bank);
+    // Filtered again instead: a warning when the spill was asked for or a write failed.
+    out.spilled = spill.on();
+    if ((spillMode == 1 && !out.spilled) || spill.failed())
+        out.warning = "the spill is off, the members are filtered again (same result, slower): " +
+                      spill.warning();
     return out;
 }
 

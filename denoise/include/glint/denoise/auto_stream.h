@@ -3,6 +3,7 @@
 // grows with the frame, not with the bank's size.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "glint/denoise/auto.h"
@@ -15,6 +16,12 @@ namespace glint::denoise {
 struct StreamedAuto {
     AutoResult result;
     FilterBank bank;
+    /// Whether the members' results that later passes read again were kept in a temporary file
+    /// (the tuning's "spill") instead of filtered again; the result is the same either way.
+    bool spilled = false;
+    /// Why the spill was not used, when it was asked for ("on") or a write to it failed; else
+    /// empty. One line for the user.
+    std::string warning;
 };
 
 /// autoComposite(buildBank(frame, bank), frame, options) without building the bank: each member
@@ -22,7 +29,9 @@ struct StreamedAuto {
 /// windows) in a few passes over the frame, and only per-pixel error maps (one channel per
 /// member) and the stages' frame-sized images are kept. The result equals autoComposite's up
 /// to float rounding (a filter over a strip equals the strip of its whole-frame output within
-/// 1e-5 relative; the box averages add their sums per strip). bank.cacheDir is not used, and
+/// 1e-5 relative; the box averages add their sums per strip). The results that later passes
+/// read again go to an unlinked temporary file in TMPDIR (else /tmp) when it has room (the
+/// tuning's "spill"), which does not change them. bank.cacheDir is not used, and
 /// options.prefilter must be bank.prefilter (with its parameters). Throws like buildBank and
 /// autoComposite; Error(Cancelled) when options.progress says stop.
 StreamedAuto autoCompositeStreamed(const FrameBuffers& frame, const BankOptions& bank,
