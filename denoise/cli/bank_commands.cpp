@@ -12,12 +12,14 @@
 
 #include "cli_boundary.h"
 #include "commands.h"
+#include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/navigation.h"
 #include "glint/denoise/oracle.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/research/expected_oracle.h"
+#include "glint/denoise/research/local_artist.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/image/memory.h"
@@ -272,7 +274,111 @@ struct NavigateArgs {
     bool simulate = false, json = false;
     std::string k = "4";  // parsed strictly (parseInteger)
     double p = 0.5;
+    // The local artist (--local); empty: not given.
+    bool local = false, keepAll = false, alone = false;
+    std::string strokes, start, pick, brushSize, brushSoftness;
 };
+
+// The local artist (navigate --simulate --local): strokes over regions it picks, each navigated
+// and painted with the soft brush (glint/denoise/research/local_artist.h).
+void runLocalArtist(const NavigateArgs& a, const TreeOptions& tree) {
+    if (!a.roi.empty())
+        throw Error(ErrorKind::InvalidArgument, "the local artist picks its own regions", {},
+                    "--roi");
+    research::LocalArtistOptions options;
+    options.tree = tree;
+    if (!a.strokes.empty()) options.strokes = parseInteger(a.strokes, "--strokes");
+    if (!a.pick.empty()) options.pick = research::parseArtistPick(a.pick);
+    options.keepOnlyHelping = !a.keepAll;
+    options.inContext = !a.alone;
+    auto parseNumber = [](const std::string& text, const char* flag) {
+        double v = 0.0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+        if (ec != std::errc() || end != text.data() + text.size())
+            throw Error(ErrorKind::InvalidArgument, "'" + text + "' is not a number", {}, flag);
+        return v;
+    };
+    if (!a.brushSize.empty()) options.brush.size = parseNumber(a.brushSize, "--brush-size");
+    if (!a.brushSoftness.empty())
+        options.brush.softness = parseNumber(a.brushSoftness, "--brush-softness");
+    const std::string start = a.start.empty() ? "auto" : a.start;
+    if (start != "auto" && start != "best")
+        throw Error(ErrorKind::InvalidArgument,
+                    "unknown start '" + start + "' (expected auto or best)", {}, "--start");
+    research::validate(options);
+    const FrameBuffers frame = readExr(a.input);
+    const FrameBuffers ref = readReference(a.reference, frame.width(), frame.height());
+    const FilterBank bank = openBank(frame, a.bank);
+    const Image refCrop = ref.color().crop(bank.region());
+    // The starting composite: auto's (its defaults, no reference), or the best single member
+    // chosen with the reference (the best any global filter of the bank does).
+    Image composite;
+    int startMember = -1;
+    if (start == "auto") {
+        try {
+            checkAutoInput(frame, AutoEstimator::Auto);
+        } catch (const Error& e) {
+            throw Error(e.kind(), e.message() + " (--start auto needs it; try --start best)",
+                        a.input, e.where());
+        }
+        AutoOptions autoOptions;
+        const BankOptions bankOptions = readBankOptions(a.bank);
+        autoOptions.prefilter = bankOptions.prefilter;
+        autoOptions.prefilterParams = bankOptions.prefilterParams;
+        composite = autoComposite(bank, frame, autoOptions).composite;
+    } else {
+        double best = -2.0;
+        for (int m = 0; m < int(bank.size()); ++m) {
+            const double s = ssim(bank.result(std::size_t(m)), refCrop).value;
+            if (s > best) best = s, startMember = m;
+        }
+        composite = bank.result(std::size_t(startMember));
+    }
+    const auto t0 = Clock::now();
+    const research::LocalArtistResult r = research::localArtist(bank, composite, refCrop, options);
+    const double seconds = secondsSince(t0);
+    json strokes = json::array();
+    int kept = 0;
+    for (const research::ArtistStroke& s : r.strokes) {
+        kept += s.kept ? 1 : 0;
+        strokes.push_back({{"stroke", s.stroke},
+                           {"x", s.x},
+                           {"y", s.y},
+                           {"region", {s.region.x0, s.region.x1, s.region.y0, s.region.y1}},
+                           {"member", memberJson(bank, s.member)},
+                           {"choices", s.choices},
+                           {"ssimIfKept", s.ssimIfKept},
+                           {"kept", s.kept},
+                           {"ssim", s.ssim}});
+    }
+    const double last = r.strokes.empty() ? r.startSsim : r.strokes.back().ssim;
+    json startJson{{"kind", start}, {"ssim", r.startSsim}};
+    if (startMember >= 0) startJson["member"] = memberJson(bank, startMember);
+    const json report{
+        {"input", a.input},
+        {"bank", a.bank},
+        {"region", {bank.region().x0, bank.region().x1, bank.region().y0, bank.region().y1}},
+        {"pick", research::artistPickName(options.pick)},
+        {"brush", {{"size", options.brush.size}, {"softness", options.brush.softness}}},
+        {"keep", a.keepAll ? "all" : "helping"},
+        {"start", startJson},
+        {"strokes", strokes},
+        {"kept", kept},
+        {"ssim", last},
+        {"seconds", seconds}};
+    if (a.json) {
+        printJson(report);
+        return;
+    }
+    std::printf("local artist from %s (SSIM %.4f), pick by %s, brush %.0f px:\n", start.c_str(),
+                r.startSsim, research::artistPickName(options.pick), options.brush.size);
+    for (const research::ArtistStroke& s : r.strokes)
+        std::printf("  stroke %2d at (%.0f, %.0f): %d choices -> %-5s SSIM %.4f  %s\n", s.stroke,
+                    s.x, s.y, s.choices, s.kept ? "kept," : "undone,", s.ssim,
+                    memberText(bank, s.member).c_str());
+    std::printf("%d of %zu strokes kept: SSIM %.4f -> %.4f in %.2f s\n", kept, r.strokes.size(),
+                r.startSsim, last, seconds);
+}
 
 void runNavigate(const NavigateArgs& a) {
     if (!a.simulate)
@@ -290,6 +396,16 @@ void runNavigate(const NavigateArgs& a) {
                     "unknown distance '" + a.distance + "' (expected mse or ssim)", {},
                     "--distance");
     validate(options);
+    if (a.local) {
+        runLocalArtist(a, options);
+        return;
+    }
+    for (const auto& [given, flag] :
+         {std::pair{!a.strokes.empty(), "--strokes"}, std::pair{!a.start.empty(), "--start"},
+          std::pair{!a.pick.empty(), "--pick"}, std::pair{!a.brushSize.empty(), "--brush-size"},
+          std::pair{!a.brushSoftness.empty(), "--brush-softness"},
+          std::pair{a.keepAll, "--keep-all"}})
+        if (given) throw Error(ErrorKind::InvalidArgument, "given without --local", {}, flag);
     const FrameBuffers frame = readExr(a.input);
     const FrameBuffers ref = readReference(a.reference, frame.width(), frame.height());
     const FilterBank bank = openBank(frame, a.bank);
@@ -424,6 +540,25 @@ std::vector<Command> addBankCommands(CLI::App& app) {
     navCmd->add_option("--k", nav->k, "Children per node (2 … 64)");
     navCmd->add_option("--p", nav->p, "Fraction of a node each child keeps, in (0, 1)");
     navCmd->add_option("--distance", nav->distance, "mse | ssim");
+    navCmd->add_flag("--local", nav->local,
+                     "The local artist: pick a region, navigate its bank, paint the choice with "
+                     "the soft brush, repeat (SSIM after each stroke)");
+    navCmd->add_option("--strokes", nav->strokes, "--local: strokes tried (1 … 10000; 30)");
+    navCmd->add_option("--start", nav->start,
+                       "--local: auto (auto's composite) | best (the best single member, chosen "
+                       "with the reference); auto");
+    navCmd->add_option("--pick", nav->pick,
+                       "--local: where to stroke: variance (where the members disagree) | error "
+                       "(where the composite is furthest from the reference); variance");
+    navCmd->add_option("--brush-size", nav->brushSize,
+                       "--local: brush diameter and side of the region navigated (>= 11 px; 24)");
+    navCmd->add_option("--brush-softness", nav->brushSoftness,
+                       "--local: inner radius / outer radius, in [0, 1]; 0.5");
+    navCmd->add_flag("--alone", nav->alone,
+                     "--local: compare the members alone over the region (default: as they would "
+                     "look painted into the composite)");
+    navCmd->add_flag("--keep-all", nav->keepAll,
+                     "--local: keep every stroke (default: undo those that lower the SSIM)");
     navCmd->add_flag("--json", nav->json, "Print one JSON object on stdout");
 
     return {{bankCmd, [bank] { runBank(*bank); }},
