@@ -80,7 +80,8 @@ bool isSwitch(const ParamSpec& spec) {
 void printTuningTable() {
     const ParamValues halves = autoTuningDefaults(AutoEstimator::Halves);
     const ParamValues sure = autoTuningDefaults(AutoEstimator::Sure);
-    std::printf("| flag | `tuning` name | range | default: halves | default: SURE | meaning |\n");
+    std::printf(
+        "| flag | `tuning` name | range | default: halves | default: SURE, image | meaning |\n");
     std::printf("|---|---|---|---|---|---|\n");
     for (const ParamSpec& spec : autoTuningSpecs()) {
         std::string range;
@@ -95,6 +96,18 @@ void printTuningTable() {
         const std::string s = formatParamValue(spec, sure.at(spec.name));
         std::printf("| `%s` | `%s` | %s | %s | %s | %s |\n", autoTuningFlag(spec.name).c_str(),
                     spec.name.c_str(), range.c_str(), h.c_str(), s.c_str(), spec.help.c_str());
+    }
+}
+
+// How the output names an estimator.
+const char* estimatorText(AutoEstimator estimator) {
+    switch (estimator) {
+        case AutoEstimator::Halves:
+            return "cross-validation on the halves";
+        case AutoEstimator::Image:
+            return "SURE with the image-only noise estimate";
+        default:
+            return "SURE";
     }
 }
 
@@ -130,6 +143,27 @@ Image bestMemberResult(const FilterBank& bank, const FrameBuffers& frame, int be
 bool wholeFrameFits(const FrameBuffers& frame, const BankOptions& bankOptions) {
     const double bank = double(estimateMemory(frame, bankOptions));
     return 2.5 * bank < double(availableMemory());
+}
+
+// With the image-only estimator (asked for, or auto's fallback on a render with neither half
+// buffers nor a variance layer): says so on stderr and, when the bank is built here, gives the
+// frame the estimated variance layer, so that the filters which read one (and the streamed
+// selection) see the variance SURE uses. A bank folder was built from the frame as it is.
+void useImageNoise(FrameBuffers& frame, AutoOptions& options, const AutoArgs& a) {
+    if (resolveEstimator(options.estimator, frame) != AutoEstimator::Image) return;
+    if (options.estimator == AutoEstimator::Auto)
+        std::fprintf(stderr,
+                     "glint-denoise: %s has neither half buffers nor a variance layer: auto falls "
+                     "back to the image-only noise estimator (SURE with the variance estimated "
+                     "from the image)\n",
+                     a.input.c_str());
+    else if (frame.has(Layer::Variance))
+        std::fprintf(stderr,
+                     "glint-denoise: --estimator image: the variance layer of %s is not used; "
+                     "the image-only estimate replaces it\n",
+                     a.input.c_str());
+    options.estimator = AutoEstimator::Image;
+    if (a.bank.empty()) frame = withImageNoiseVariance(frame, options);
 }
 
 void runAuto(const AutoArgs& a) {
@@ -177,11 +211,12 @@ void runAuto(const AutoArgs& a) {
     options.prefilter = bankOptions.prefilter;
     options.prefilterParams = bankOptions.prefilterParams;
 
-    const FrameBuffers frame = readExr(a.input);
+    FrameBuffers frame = readExr(a.input);
     // SURE needs the variance layer, the halves every half layer, both finite values: say so
     // before building anything.
     try {
         checkAutoInput(frame, options.estimator, a.input);
+        useImageNoise(frame, options, a);
         const ParamSpec& space = *findParam(autoTuningSpecs(), "space");
         if (options.tuning.count("space") &&
             space.choices[std::size_t(options.tuning.at("space"))] == "display-exact" &&
@@ -301,8 +336,7 @@ void runAuto(const AutoArgs& a) {
     std::printf(
         "auto: %zu of %zu members used over %dx%d, errors by %s (bank %.2f s, %.2f s) -> %s\n",
         result.layers.size(), bank.size(), bank.region().width(), bank.region().height(),
-        result.estimator == AutoEstimator::Halves ? "cross-validation on the halves" : "SURE",
-        bankSeconds, sureSeconds, a.out.c_str());
+        estimatorText(result.estimator), bankSeconds, sureSeconds, a.out.c_str());
     const BankMember& best = bank.members()[std::size_t(result.bestMember)];
     std::printf("  smallest estimated error as a single member: #%d %s\n", result.bestMember,
                 best.filter.c_str());
@@ -344,10 +378,11 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
     auto a = std::make_shared<AutoArgs>();
     CLI::App* cmd = app.add_subcommand(
         "auto",
-        "Per-pixel filter choice over a bank by each member's estimated error (SURE or the "
-        "halves; no reference needed)");
+        "Per-pixel filter choice over a bank by each member's estimated error (SURE, the "
+        "halves or the image-only estimate; no reference needed)");
     cmd->add_option("IN", a->input,
-                    "Input layered EXR with the variance layer (SURE) or half buffers");
+                    "Input layered EXR: with half buffers, the variance layer (SURE), or any "
+                    "renderer's (the image-only estimate)");
     cmd->add_option("--out", a->out, "Output layered EXR (the colour is the auto composite)");
     cmd->add_option("--bank", a->bank,
                     "Bank folder of IN (glint-denoise bank); without it a bank is built in "
@@ -362,7 +397,9 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
     cmd->add_option("--exposure", a->exposure,
                     "Exposure of the display transform (stops, -64 … 64)");
     cmd->add_option("--estimator", a->estimator,
-                    "auto (default: halves when IN has half buffers, else sure) | sure | halves");
+                    "auto (default: halves when IN has half buffers, else sure with its variance "
+                    "layer, else image) | sure | halves | image (SURE with the variance estimated "
+                    "from the colour and features)");
     // The tuning map's flags, from its specs (docs/auto.md, "Tuning").
     const ParamValues sure = autoTuningDefaults(AutoEstimator::Sure);
     for (const ParamSpec& spec : autoTuningSpecs()) {

@@ -74,6 +74,12 @@ std::vector<ParamSpec> makeSpecs() {
         integer("numericDivergence", "numeric divergence", 0, 1, 0,
                 "SURE: estimate every filter's divergence by Monte Carlo, even where the filter "
                 "gives it"),
+        integer("noiseWindow", "noise window (px)", 1, 16, 3,
+                "image-only estimator: radius of the window whose residuals give a pixel's noise "
+                "level"),
+        real("noiseAlpha", "noise brightness exponent", 0.0, 2.0, 1.0,
+             "image-only estimator: the noise variance scales as the smooth value to this power "
+             "within the window (0: uniform there)"),
     };
 }
 
@@ -100,7 +106,7 @@ const std::vector<ParamSpec>& autoTuningSpecs() {
 ParamValues autoTuningDefaults(AutoEstimator estimator) {
     ParamValues values;
     for (const ParamSpec& spec : autoTuningSpecs()) values[spec.name] = spec.defaultValue;
-    if (estimator == AutoEstimator::Sure) {
+    if (estimator == AutoEstimator::Sure || estimator == AutoEstimator::Image) {
         // SURE's maps are less noisy per pixel: a narrower window, a higher bar, a hard choice
         // (docs/auto.md, "Choice"); it cannot stack.
         values["window"] = 4;
