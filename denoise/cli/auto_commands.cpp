@@ -39,7 +39,7 @@ using Clock = std::chrono::steady_clock;
 }
 
 struct AutoArgs {
-    std::string input, bank, out, reference, choiceMap, filters, estimator = "auto";
+    std::string input, bank, out, reference, choiceMap, noiseOut, filters, estimator = "auto";
     // Integers are parsed strictly from their text (parseInteger, parseUnsigned).
     std::string size = "64", bankSeed = "1", seed = "1", stream = "auto";
     float exposure = 0.0f;
@@ -99,6 +99,16 @@ void printTuningTable() {
     }
 }
 
+// --noise-out: the variance of the mean SURE used (the image-only estimate or the render's
+// variance layer) as the colour of an EXR.
+void writeNoise(const FrameBuffers& frame, const AutoOptions& options, const std::string& path) {
+    FrameBuffers noise(frame.width(), frame.height());
+    noise.set(Layer::Color, options.estimator == AutoEstimator::Image
+                                ? withImageNoiseVariance(frame, options).layer(Layer::Variance)
+                                : frame.layer(Layer::Variance));
+    writeExr(noise, path);
+}
+
 // How the output names an estimator.
 const char* estimatorText(AutoEstimator estimator) {
     switch (estimator) {
@@ -114,11 +124,13 @@ const char* estimatorText(AutoEstimator estimator) {
 // Refuses before any work outputs that would replace one of the command's inputs.
 void checkOutputsAreNoInputs(const AutoArgs& a) {
     for (const auto& [output, flag] :
-         {std::pair{a.out, "--out"}, std::pair{a.choiceMap, "--choice-map"}})
+         {std::pair{a.out, "--out"}, std::pair{a.choiceMap, "--choice-map"},
+          std::pair{a.noiseOut, "--noise-out"}})
         glint::cli::checkOutputIsNoInput(output, flag,
                                          {{a.input, "IN"}, {a.reference, "--reference"}});
     checkOutputIsNoBankFile(a.out, "--out", a.bank);
     checkOutputIsNoBankFile(a.choiceMap, "--choice-map", a.bank);
+    checkOutputIsNoBankFile(a.noiseOut, "--noise-out", a.bank);
 }
 
 // The best member's result over the bank's region: the bank's own, or (a bank streamed
@@ -146,9 +158,9 @@ bool wholeFrameFits(const FrameBuffers& frame, const BankOptions& bankOptions) {
 }
 
 // With the image-only estimator (asked for, or auto's fallback on a render with neither half
-// buffers nor a variance layer): says so on stderr and, when the bank is built here, gives the
-// frame the estimated variance layer, so that the filters which read one (and the streamed
-// selection) see the variance SURE uses. A bank folder was built from the frame as it is.
+// buffers nor a variance layer): says so on stderr. The filters see the frame as the renderer
+// wrote it: a variance layer that --estimator image leaves unused is dropped before the bank is
+// built here (a bank folder was built from the frame as it is).
 void useImageNoise(FrameBuffers& frame, AutoOptions& options, const AutoArgs& a) {
     if (resolveEstimator(options.estimator, frame) != AutoEstimator::Image) return;
     if (options.estimator == AutoEstimator::Auto)
@@ -163,7 +175,7 @@ void useImageNoise(FrameBuffers& frame, AutoOptions& options, const AutoArgs& a)
                      "the image-only estimate replaces it\n",
                      a.input.c_str());
     options.estimator = AutoEstimator::Image;
-    if (a.bank.empty()) frame = withImageNoiseVariance(frame, options);
+    if (a.bank.empty()) frame.remove(Layer::Variance);
 }
 
 void runAuto(const AutoArgs& a) {
@@ -181,8 +193,9 @@ void runAuto(const AutoArgs& a) {
     // Everything that needs no image is checked first; nothing is written before the end.
     glint::cli::checkOutputPath(a.out, {".exr"}, "--out");
     if (!a.choiceMap.empty()) glint::cli::checkOutputPath(a.choiceMap, {".png"}, "--choice-map");
+    if (!a.noiseOut.empty()) glint::cli::checkOutputPath(a.noiseOut, {".exr"}, "--noise-out");
     checkOutputsAreNoInputs(a);
-    glint::cli::removeTemporariesOnSignal({a.out, a.choiceMap});
+    glint::cli::removeTemporariesOnSignal({a.out, a.choiceMap, a.noiseOut});
     AutoOptions options;
     options.tuning = parseTuning(a);
     options.seed = glint::cli::parseUnsigned(a.seed, glint::cli::kMaxSeed, "--seed");
@@ -217,6 +230,12 @@ void runAuto(const AutoArgs& a) {
     try {
         checkAutoInput(frame, options.estimator, a.input);
         useImageNoise(frame, options, a);
+        if (!a.noiseOut.empty() &&
+            resolveEstimator(options.estimator, frame) == AutoEstimator::Halves)
+            throw Error(ErrorKind::InvalidArgument,
+                        "the halves estimator uses no variance of the mean to write (--noise-out "
+                        "is for SURE and the image-only estimator)",
+                        "command line", "--noise-out");
         const ParamSpec& space = *findParam(autoTuningSpecs(), "space");
         if (options.tuning.count("space") &&
             space.choices[std::size_t(options.tuning.at("space"))] == "display-exact" &&
@@ -328,6 +347,7 @@ void runAuto(const AutoArgs& a) {
         d.falseColorHi = float(std::max<std::size_t>(bank.size(), 2) - 1);
         writePng(result.choice, a.choiceMap, d);
     }
+    if (!a.noiseOut.empty()) writeNoise(frame, options, a.noiseOut);
     writeExr(out, a.out);
     if (a.json) {
         printJson(report);
@@ -433,6 +453,9 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
     cmd->add_flag("--tuning-table", a->tuningTable,
                   "Print the tuning parameters as the Markdown table of docs/auto.md and exit");
     cmd->add_option("--choice-map", a->choiceMap, "Write the chosen member per pixel as a PNG");
+    cmd->add_option("--noise-out", a->noiseOut,
+                    "With SURE or the image-only estimator: write the variance of the mean it "
+                    "used as the colour of an EXR");
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
     return {{cmd, [a] { runAuto(*a); }}};
 }
