@@ -157,6 +157,30 @@ bool wholeFrameFits(const FrameBuffers& frame, const BankOptions& bankOptions) {
     return 2.5 * bank < double(availableMemory());
 }
 
+// Refuses, naming `file` and the first missing layer, a --filters list none of whose filters
+// can run on `frame` for want of feature layers (NFOR's albedo, normal and depth, say).
+void checkFiltersCanRun(const FrameBuffers& frame, const BankOptions& options,
+                        const std::string& file) {
+    if (options.filters.empty()) return;
+    std::string firstMissing, filterName;
+    for (const std::string& name : options.filters) {
+        const Filter& f = findFilter(name);
+        std::string missing;
+        for (Layer l : f.requiredLayers(resolveParams(f, {})))
+            if (!frame.has(l))
+                missing += (missing.empty() ? "" : ", ") + std::string(layerDisplayName(l));
+        if (missing.empty()) return;
+        if (firstMissing.empty()) {
+            firstMissing = missing;
+            filterName = name;
+        }
+    }
+    throw Error(ErrorKind::Format,
+                "has no " + firstMissing + " layer(s): filter '" + filterName +
+                    "' needs them and no other filter of --filters can run",
+                file, "layer '" + firstMissing.substr(0, firstMissing.find(',')) + "'");
+}
+
 // With the image-only estimator (asked for, or auto's fallback on a render with neither half
 // buffers nor a variance layer): says so on stderr. The filters see the frame as the renderer
 // wrote it: a variance layer that --estimator image leaves unused is dropped before the bank is
@@ -228,6 +252,7 @@ void runAuto(const AutoArgs& a) {
     // SURE needs the variance layer, the halves every half layer, both finite values: say so
     // before building anything.
     try {
+        if (a.bank.empty()) checkFiltersCanRun(frame, bankOptions, a.input);
         checkAutoInput(frame, options.estimator, a.input);
         useImageNoise(frame, options, a);
         if (!a.noiseOut.empty() &&
