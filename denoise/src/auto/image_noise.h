@@ -27,7 +27,7 @@ struct ImageNoiseOptions {
     /// Exponent of the brightness modulation: the noise level is estimated for
     /// residual² / m^alpha with m the pixel's predicted (smooth) value, then multiplied back by
     /// the pixel's own m^alpha (0: no modulation; 1: variance proportional to brightness).
-    double alpha = 0.0;
+    double alpha = 1.0;
 };
 
 /// Throws glint::Error(Numeric) naming `file` and the first non-finite colour value unless the

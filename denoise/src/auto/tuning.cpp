@@ -77,7 +77,7 @@ std::vector<ParamSpec> makeSpecs() {
         integer("noiseWindow", "noise window (px)", 1, 16, 3,
                 "image-only estimator: radius of the window whose residuals give a pixel's noise "
                 "level"),
-        real("noiseAlpha", "noise brightness exponent", 0.0, 2.0, 0.0,
+        real("noiseAlpha", "noise brightness exponent", 0.0, 2.0, 1.0,
              "image-only estimator: the noise variance scales as the smooth value to this power "
              "within the window (0: uniform there)"),
     };

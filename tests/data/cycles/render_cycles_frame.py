@@ -2,9 +2,9 @@
 # plus Cycles' denoising data passes (Denoising Albedo/Normal/Depth), no variance, no half buffers,
 # no denoiser applied. The test frames of tests/data/cycles/ (README.md there) come from it:
 #
-#   blender -b -P tests/data/cycles/render_cycles_frame.py -- --spp 8 --seed 1 --size 96 \
+#   blender -b -P tests/data/cycles/render_cycles_frame.py -- --spp 8 --seed 1 --size 128 \
 #       --out tests/data/cycles/cornell_8spp_seed1.exr
-#   blender -b -P tests/data/cycles/render_cycles_frame.py -- --spp 4096 --seed 99 --size 96 \
+#   blender -b -P tests/data/cycles/render_cycles_frame.py -- --spp 4096 --seed 99 --size 128 \
 #       --no-passes --out tests/data/cycles/cornell_reference.exr
 #
 # The scene (geometry, camera, materials, sampling settings) is tests/perf/cycles/cornell_cycles.py's
