@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "cli_fixture.h"
 #include "glint/image/io.h"
@@ -53,6 +55,22 @@ TEST_F(AutoImageCli, OnTheCyclesExrAutoDenoisesAgainstTheCyclesReference) {
     const nlohmann::json j = nlohmann::json::parse(r.out);
     EXPECT_GT(j["metrics"]["ssim"].get<double>(), 0.95);
     EXPECT_GT(j["metrics"]["ssim"].get<double>(), j["metricsInput"]["ssim"].get<double>() + 0.3);
+}
+
+TEST_F(AutoImageCli, StreamedAndInMemoryAgreeWithTheImageEstimator) {
+    // The streamed selection's SURE estimator makes the same estimate from the frame: the same
+    // composite up to float rounding (1e-5).
+    for (const char* mode : {"on", "off"}) {
+        const RunResult r = run("auto " + kCycles + "/cornell_8spp_seed2.exr --out " + path(mode) +
+                                ".exr --size 8 --json --stream " + mode);
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        const nlohmann::json j = nlohmann::json::parse(r.out);
+        EXPECT_EQ(j["streamed"], std::string(mode) == "on");
+        EXPECT_EQ(j["estimator"], "image");
+    }
+    EXPECT_LE(
+        testing::maxAbsDiff(readExr(path("on.exr")).color(), readExr(path("off.exr")).color()),
+        1e-5);
 }
 
 TEST_F(AutoImageCli, ForcedOnAGlintRenderItSaysTheVarianceLayerIsNotUsedAndWritesItsEstimate) {
