@@ -39,7 +39,7 @@ using Clock = std::chrono::steady_clock;
 }
 
 struct AutoArgs {
-    std::string input, bank, out, reference, choiceMap, filters, estimator = "auto";
+    std::string input, bank, out, reference, choiceMap, noiseOut, filters, estimator = "auto";
     // Integers are parsed strictly from their text (parseInteger, parseUnsigned).
     std::string size = "64", bankSeed = "1", seed = "1", stream = "auto";
     float exposure = 0.0f;
@@ -80,7 +80,8 @@ bool isSwitch(const ParamSpec& spec) {
 void printTuningTable() {
     const ParamValues halves = autoTuningDefaults(AutoEstimator::Halves);
     const ParamValues sure = autoTuningDefaults(AutoEstimator::Sure);
-    std::printf("| flag | `tuning` name | range | default: halves | default: SURE | meaning |\n");
+    std::printf(
+        "| flag | `tuning` name | range | default: halves | default: SURE, image | meaning |\n");
     std::printf("|---|---|---|---|---|---|\n");
     for (const ParamSpec& spec : autoTuningSpecs()) {
         std::string range;
@@ -98,14 +99,38 @@ void printTuningTable() {
     }
 }
 
+// --noise-out: the variance of the mean SURE used (the image-only estimate or the render's
+// variance layer) as the colour of an EXR.
+void writeNoise(const FrameBuffers& frame, const AutoOptions& options, const std::string& path) {
+    FrameBuffers noise(frame.width(), frame.height());
+    noise.set(Layer::Color, options.estimator == AutoEstimator::Image
+                                ? withImageNoiseVariance(frame, options).layer(Layer::Variance)
+                                : frame.layer(Layer::Variance));
+    writeExr(noise, path);
+}
+
+// How the output names an estimator.
+const char* estimatorText(AutoEstimator estimator) {
+    switch (estimator) {
+        case AutoEstimator::Halves:
+            return "cross-validation on the halves";
+        case AutoEstimator::Image:
+            return "SURE with the image-only noise estimate";
+        default:
+            return "SURE";
+    }
+}
+
 // Refuses before any work outputs that would replace one of the command's inputs.
 void checkOutputsAreNoInputs(const AutoArgs& a) {
     for (const auto& [output, flag] :
-         {std::pair{a.out, "--out"}, std::pair{a.choiceMap, "--choice-map"}})
+         {std::pair{a.out, "--out"}, std::pair{a.choiceMap, "--choice-map"},
+          std::pair{a.noiseOut, "--noise-out"}})
         glint::cli::checkOutputIsNoInput(output, flag,
                                          {{a.input, "IN"}, {a.reference, "--reference"}});
     checkOutputIsNoBankFile(a.out, "--out", a.bank);
     checkOutputIsNoBankFile(a.choiceMap, "--choice-map", a.bank);
+    checkOutputIsNoBankFile(a.noiseOut, "--noise-out", a.bank);
 }
 
 // The best member's result over the bank's region: the bank's own, or (a bank streamed
@@ -132,6 +157,51 @@ bool wholeFrameFits(const FrameBuffers& frame, const BankOptions& bankOptions) {
     return 2.5 * bank < double(availableMemory());
 }
 
+// Refuses, naming `file` and the first missing layer, a --filters list none of whose filters
+// can run on `frame` for want of feature layers (NFOR's albedo, normal and depth, say).
+void checkFiltersCanRun(const FrameBuffers& frame, const BankOptions& options,
+                        const std::string& file) {
+    if (options.filters.empty()) return;
+    std::string firstMissing, filterName;
+    for (const std::string& name : options.filters) {
+        const Filter& f = findFilter(name);
+        std::string missing;
+        for (Layer l : f.requiredLayers(resolveParams(f, {})))
+            if (!frame.has(l))
+                missing += (missing.empty() ? "" : ", ") + std::string(layerDisplayName(l));
+        if (missing.empty()) return;
+        if (firstMissing.empty()) {
+            firstMissing = missing;
+            filterName = name;
+        }
+    }
+    throw Error(ErrorKind::Format,
+                "has no " + firstMissing + " layer(s): filter '" + filterName +
+                    "' needs them and no other filter of --filters can run",
+                file, "layer '" + firstMissing.substr(0, firstMissing.find(',')) + "'");
+}
+
+// With the image-only estimator (asked for, or auto's fallback on a render with neither half
+// buffers nor a variance layer): says so on stderr. The filters see the frame as the renderer
+// wrote it: a variance layer that --estimator image leaves unused is dropped before the bank is
+// built here (a bank folder was built from the frame as it is).
+void useImageNoise(FrameBuffers& frame, AutoOptions& options, const AutoArgs& a) {
+    if (resolveEstimator(options.estimator, frame) != AutoEstimator::Image) return;
+    if (options.estimator == AutoEstimator::Auto)
+        std::fprintf(stderr,
+                     "glint-denoise: %s has neither half buffers nor a variance layer: auto falls "
+                     "back to the image-only noise estimator (SURE with the variance estimated "
+                     "from the image)\n",
+                     a.input.c_str());
+    else if (frame.has(Layer::Variance))
+        std::fprintf(stderr,
+                     "glint-denoise: --estimator image: the variance layer of %s is not used; "
+                     "the image-only estimate replaces it\n",
+                     a.input.c_str());
+    options.estimator = AutoEstimator::Image;
+    if (a.bank.empty()) frame.remove(Layer::Variance);
+}
+
 void runAuto(const AutoArgs& a) {
     if (a.tuningTable) {
         printTuningTable();
@@ -147,8 +217,9 @@ void runAuto(const AutoArgs& a) {
     // Everything that needs no image is checked first; nothing is written before the end.
     glint::cli::checkOutputPath(a.out, {".exr"}, "--out");
     if (!a.choiceMap.empty()) glint::cli::checkOutputPath(a.choiceMap, {".png"}, "--choice-map");
+    if (!a.noiseOut.empty()) glint::cli::checkOutputPath(a.noiseOut, {".exr"}, "--noise-out");
     checkOutputsAreNoInputs(a);
-    glint::cli::removeTemporariesOnSignal({a.out, a.choiceMap});
+    glint::cli::removeTemporariesOnSignal({a.out, a.choiceMap, a.noiseOut});
     AutoOptions options;
     options.tuning = parseTuning(a);
     options.seed = glint::cli::parseUnsigned(a.seed, glint::cli::kMaxSeed, "--seed");
@@ -177,11 +248,19 @@ void runAuto(const AutoArgs& a) {
     options.prefilter = bankOptions.prefilter;
     options.prefilterParams = bankOptions.prefilterParams;
 
-    const FrameBuffers frame = readExr(a.input);
+    FrameBuffers frame = readExr(a.input);
     // SURE needs the variance layer, the halves every half layer, both finite values: say so
     // before building anything.
     try {
+        if (a.bank.empty()) checkFiltersCanRun(frame, bankOptions, a.input);
         checkAutoInput(frame, options.estimator, a.input);
+        useImageNoise(frame, options, a);
+        if (!a.noiseOut.empty() &&
+            resolveEstimator(options.estimator, frame) == AutoEstimator::Halves)
+            throw Error(ErrorKind::InvalidArgument,
+                        "the halves estimator uses no variance of the mean to write (--noise-out "
+                        "is for SURE and the image-only estimator)",
+                        "command line", "--noise-out");
         const ParamSpec& space = *findParam(autoTuningSpecs(), "space");
         if (options.tuning.count("space") &&
             space.choices[std::size_t(options.tuning.at("space"))] == "display-exact" &&
@@ -295,6 +374,7 @@ void runAuto(const AutoArgs& a) {
         d.falseColorHi = float(std::max<std::size_t>(bank.size(), 2) - 1);
         writePng(result.choice, a.choiceMap, d);
     }
+    if (!a.noiseOut.empty()) writeNoise(frame, options, a.noiseOut);
     writeExr(out, a.out);
     if (a.json) {
         printJson(report);
@@ -303,8 +383,7 @@ void runAuto(const AutoArgs& a) {
     std::printf(
         "auto: %zu of %zu members used over %dx%d, errors by %s (bank %.2f s, %.2f s) -> %s\n",
         result.layers.size(), bank.size(), bank.region().width(), bank.region().height(),
-        result.estimator == AutoEstimator::Halves ? "cross-validation on the halves" : "SURE",
-        bankSeconds, sureSeconds, a.out.c_str());
+        estimatorText(result.estimator), bankSeconds, sureSeconds, a.out.c_str());
     const BankMember& best = bank.members()[std::size_t(result.bestMember)];
     std::printf("  smallest estimated error as a single member: #%d %s\n", result.bestMember,
                 best.filter.c_str());
@@ -346,10 +425,11 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
     auto a = std::make_shared<AutoArgs>();
     CLI::App* cmd = app.add_subcommand(
         "auto",
-        "Per-pixel filter choice over a bank by each member's estimated error (SURE or the "
-        "halves; no reference needed)");
+        "Per-pixel filter choice over a bank by each member's estimated error (SURE, the "
+        "halves or the image-only estimate; no reference needed)");
     cmd->add_option("IN", a->input,
-                    "Input layered EXR with the variance layer (SURE) or half buffers");
+                    "Input layered EXR: with half buffers, the variance layer (SURE), or any "
+                    "renderer's (the image-only estimate)");
     cmd->add_option("--out", a->out, "Output layered EXR (the colour is the auto composite)");
     cmd->add_option("--bank", a->bank,
                     "Bank folder of IN (glint-denoise bank); without it a bank is built in "
@@ -364,7 +444,9 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
     cmd->add_option("--exposure", a->exposure,
                     "Exposure of the display transform (stops, -64 … 64)");
     cmd->add_option("--estimator", a->estimator,
-                    "auto (default: halves when IN has half buffers, else sure) | sure | halves");
+                    "auto (default: halves when IN has half buffers, else sure with its variance "
+                    "layer, else image) | sure | halves | image (SURE with the variance estimated "
+                    "from the colour and features)");
     // The tuning map's flags, from its specs (docs/auto.md, "Tuning").
     const ParamValues sure = autoTuningDefaults(AutoEstimator::Sure);
     for (const ParamSpec& spec : autoTuningSpecs()) {
@@ -398,6 +480,9 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
     cmd->add_flag("--tuning-table", a->tuningTable,
                   "Print the tuning parameters as the Markdown table of docs/auto.md and exit");
     cmd->add_option("--choice-map", a->choiceMap, "Write the chosen member per pixel as a PNG");
+    cmd->add_option("--noise-out", a->noiseOut,
+                    "With SURE or the image-only estimator: write the variance of the mean it "
+                    "used as the colour of an EXR");
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
     return {{cmd, [a] { runAuto(*a); }}};
 }

@@ -158,15 +158,15 @@ TEST_F(AutoCli, AutoWithAndWithoutABankFolderAndTheOracleColumn) {
     EXPECT_NE(r.err.find("gone.exr"), std::string::npos) << r.err;
 }
 
-TEST_F(AutoCli, OracleOfAnInputWithoutVarianceLeavesTheAutoColumnEmpty) {
+TEST_F(AutoCli, OracleOfAnInputWithoutVarianceRunsAutoOnTheImageEstimate) {
     RunResult r = run("bank " + path("novariance.exr") + " --out " + path("bank") + " --size 4");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     r = run("oracle " + path("novariance.exr") + " --reference " + path("ref.exr") + " --bank " +
             path("bank") + " --json");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const nlohmann::json j = nlohmann::json::parse(r.out);
-    EXPECT_TRUE(j["auto"]["ssim"].is_null());
-    EXPECT_NE(j["auto"]["note"].get<std::string>().find("variance"), std::string::npos);
+    EXPECT_EQ(j["auto"]["estimator"], "image");
+    EXPECT_GT(j["auto"]["ssim"].get<double>(), 0.0);
 }
 
 TEST_F(AutoCli, StreamedAndInMemoryAutoAgree) {
@@ -207,13 +207,13 @@ TEST_F(AutoCli, BadInputExitsTwoWithOneClearLineAndWritesNothing) {
     };
     const std::string out = " --out " + path("out.exr");
     const Case cases[] = {
-        {"auto " + path("novariance.exr") + out,
+        {"auto " + path("novariance.exr") + out + " --estimator sure",
          {"novariance.exr", "layer 'variance'", "variance.R", "SURE"}},
         {"auto " + path("nan.exr") + out, {"nan.exr", "pixel (7, 4), channel B", "NaN"}},
         {"auto " + path("noisy.exr") + out + " --estimator halves",
          {"noisy.exr", "layer 'halfColor'", "--half-buffers"}},
         {"auto " + path("noisy.exr") + out + " --estimator stein",
-         {"--estimator", "auto, sure or halves"}},
+         {"--estimator", "auto, sure, halves or image"}},
         {"auto " + path("noisy.exr") + " --out " + path("out.png"), {"--out", ".exr"}},
         {"auto " + path("noisy.exr") + out + " --window -1", {"--window"}},
         {"auto " + path("noisy.exr") + out + " --temperature -2", {"--temperature"}},

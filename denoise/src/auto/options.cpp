@@ -31,8 +31,9 @@ AutoEstimator parseAutoEstimator(const std::string& name) {
     if (name == "auto") return AutoEstimator::Auto;
     if (name == "sure") return AutoEstimator::Sure;
     if (name == "halves") return AutoEstimator::Halves;
+    if (name == "image") return AutoEstimator::Image;
     throw Error(ErrorKind::InvalidArgument,
-                "unknown error estimator '" + name + "' (expected auto, sure or halves)");
+                "unknown error estimator '" + name + "' (expected auto, sure, halves or image)");
 }
 
 const char* autoEstimatorName(AutoEstimator estimator) {
@@ -43,17 +44,26 @@ const char* autoEstimatorName(AutoEstimator estimator) {
             return "sure";
         case AutoEstimator::Halves:
             return "halves";
+        case AutoEstimator::Image:
+            return "image";
     }
     return "?";
 }
 
 AutoEstimator resolveEstimator(AutoEstimator estimator, const FrameBuffers& frame) {
     if (estimator != AutoEstimator::Auto) return estimator;
-    return frame.has(Layer::HalfColor) ? AutoEstimator::Halves : AutoEstimator::Sure;
+    // Halves > SURE with the render's variance > the image-only estimate.
+    if (frame.has(Layer::HalfColor)) return AutoEstimator::Halves;
+    return frame.has(Layer::Variance) ? AutoEstimator::Sure : AutoEstimator::Image;
 }
 
 void checkAutoInput(const FrameBuffers& frame, AutoEstimator estimator, const std::string& file) {
-    if (resolveEstimator(estimator, frame) == AutoEstimator::Sure) {
+    const AutoEstimator resolved = resolveEstimator(estimator, frame);
+    if (resolved == AutoEstimator::Image) {
+        detail::checkImageNoiseInput(frame, file);
+        return;
+    }
+    if (resolved == AutoEstimator::Sure) {
         detail::checkSureInput(frame, file);
         return;
     }
@@ -64,6 +74,29 @@ void checkAutoInput(const FrameBuffers& frame, AutoEstimator estimator, const st
                     file, "layer 'halfColor'");
     splitHalves(frame, file);  // every half layer present, counts consistent
     detail::checkHalvesFinite(frame, file);
+}
+
+namespace detail {
+
+ImageNoiseOptions imageNoiseOptions(const ParamValues& tuning) {
+    ImageNoiseOptions o;
+    o.window = int(tuning.at("noiseWindow"));
+    o.alpha = tuning.at("noiseAlpha");
+    return o;
+}
+
+}  // namespace detail
+
+FrameBuffers withImageNoiseVariance(const FrameBuffers& frame, const AutoOptions& options) {
+    validate(options);
+    checkAutoInput(frame, AutoEstimator::Image);
+    FrameBuffers out = frame;
+    WorkContext work;
+    out.set(Layer::Variance,
+            detail::estimateImageNoise(
+                frame, detail::imageNoiseOptions(resolveAutoTuning(options, AutoEstimator::Image)),
+                work));
+    return out;
 }
 
 namespace detail {
@@ -144,6 +177,7 @@ AutoSettings resolveSettings(const FilterBank& bank, const FrameBuffers& frame,
     s.sure.epsilon = t["epsilon"];
     s.sure.seed = options.seed;
     s.sure.analyticDivergence = t["numericDivergence"] == 0.0;
+    s.imageNoise = imageNoiseOptions(t);
     s.stackWindow = int(t["stackWindow"]);
     s.stackRidge = t["stackRidge"];
     s.stackFloor = t["stackFloor"];

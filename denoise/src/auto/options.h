@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "glint/denoise/auto.h"
+#include "image_noise.h"
 
 namespace glint::denoise::detail {
 
@@ -62,6 +63,7 @@ struct AutoSettings {
     int shortlist = 0;
     double featherGate = 0.0;
     SureOptions sure;
+    ImageNoiseOptions imageNoise;  ///< estimator == Image
     int stackWindow = 0;
     double stackRidge = 0.0;
     double stackFloor = 0.0;
@@ -78,6 +80,9 @@ struct AutoSettings {
     /// The strip height of its choices' window scores (every candidate's strip is held at once).
     int scoreRows = 128;
 };
+
+/// The image-only estimator's settings from a resolved tuning map (noiseWindow, noiseAlpha).
+ImageNoiseOptions imageNoiseOptions(const ParamValues& tuning);
 
 /// Checks `options` (validate), that `bank` was built from `frame` and that the options and the
 /// input fit each other (checkAutoInput, the stacking's features), and resolves them. Throws

@@ -11,6 +11,7 @@
 #include "glint/denoise/registry.h"
 #include "glint/image/error.h"
 #include "glint/image/random.h"
+#include "image_noise.h"
 
 namespace glint::denoise::detail {
 
@@ -107,12 +108,13 @@ Image rademacherField(int width, int height, std::uint64_t seed) {
     return b;
 }
 
-FrameBuffers perturbColor(const FrameBuffers& frame, const SureOptions& options, Image* delta) {
-    GLINT_CHECK(frame.has(Layer::Variance));
+FrameBuffers perturbColor(const FrameBuffers& frame, const SureOptions& options, Image* delta,
+                          const Image* variancePtr) {
+    GLINT_CHECK(variancePtr || frame.has(Layer::Variance));
     FrameBuffers out = frame;
     const Image b = rademacherField(frame.width(), frame.height(), options.seed);
     const Image& y0 = frame.color();
-    const Image& variance = frame.layer(Layer::Variance);
+    const Image& variance = variancePtr ? *variancePtr : frame.layer(Layer::Variance);
     Image& y1 = out.color();
     if (delta) *delta = Image(frame.width(), frame.height(), 3);
     WorkContext work;
@@ -193,9 +195,17 @@ SureEstimate estimateSure(const Filter& filter, const FrameBuffers& frame,
 SureEstimator::SureEstimator(const FilterBank& bank, const FrameBuffers& frame,
                              const AutoSettings& settings, const Image* weight)
     : m_bank(bank), m_frame(frame), m_options(settings.sure), m_weight(weight) {
+    // The variance of the mean: the render's, or estimated from the image and its features.
+    if (settings.estimator == AutoEstimator::Image) {
+        WorkContext work;
+        m_estimatedVariance = estimateImageNoise(frame, settings.imageNoise, work);
+        m_variance = &m_estimatedVariance;
+    } else {
+        m_variance = &frame.layer(Layer::Variance);
+    }
     // The input the filters see (prefiltered like the bank's) and its perturbed copy.
     m_filterInput = settings.prefilter ? prefilterFeatures(frame, settings.prefilterParams) : frame;
-    m_perturbed = perturbColor(m_filterInput, m_options, &m_delta);
+    m_perturbed = perturbColor(m_filterInput, m_options, &m_delta, m_variance);
 }
 
 MemberEstimate SureEstimator::estimate(std::size_t m, const ProgressFn& going) {
@@ -204,8 +214,7 @@ MemberEstimate SureEstimator::estimate(std::size_t m, const ProgressFn& going) {
     const Image div =
         memberDivergence(findFilter(member.filter), member.params, m_bank.result(m), m_filterInput,
                          m_perturbed, m_delta, m_bank.region(), m_options, going, e.analytic);
-    e.map = sureMap(m_frame.color(), m_frame.layer(Layer::Variance), m_bank.result(m), div,
-                    m_bank.region(), m_weight);
+    e.map = sureMap(m_frame.color(), *m_variance, m_bank.result(m), div, m_bank.region(), m_weight);
     return e;
 }
 
@@ -216,12 +225,12 @@ MemberEstimate SureEstimator::mapOver(std::size_t m, const Rect& region, const I
     const Image div =
         memberDivergence(findFilter(member.filter), member.params, output, m_filterInput,
                          m_perturbed, m_delta, region, m_options, going, e.analytic);
-    e.map = sureMap(m_frame.color(), m_frame.layer(Layer::Variance), output, div, region, weight);
+    e.map = sureMap(m_frame.color(), *m_variance, output, div, region, weight);
     return e;
 }
 
 double SureEstimator::noiseVariance(int x, int y, int c) const {
-    return m_frame.layer(Layer::Variance)(x, y, c);
+    return (*m_variance)(x, y, c);
 }
 
 }  // namespace glint::denoise::detail

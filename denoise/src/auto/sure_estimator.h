@@ -24,11 +24,12 @@ void checkSureInput(const FrameBuffers& frame, const std::string& file = {});
 /// count gets the same numbers. 3 channels, width × height.
 Image rademacherField(int width, int height, std::uint64_t seed);
 
-/// `frame` with its colour perturbed to y + ε·b (ε from the variance, see SureOptions). Other
-/// layers are unchanged (feature-guided filters see the same guides). `delta`, when given,
-/// receives the perturbation actually applied (after float rounding): (y + εb) − y.
+/// `frame` with its colour perturbed to y + ε·b (ε from the variance, see SureOptions: `variance`
+/// when given, else the frame's variance layer). Other layers are unchanged (feature-guided
+/// filters see the same guides). `delta`, when given, receives the perturbation actually applied
+/// (after float rounding): (y + εb) − y.
 FrameBuffers perturbColor(const FrameBuffers& frame, const SureOptions& options,
-                          Image* delta = nullptr);
+                          Image* delta = nullptr, const Image* variance = nullptr);
 
 /// Per pixel and channel over `region`: (perturbedOutput − output) / delta (Ramani et al.'s
 /// estimate with b/ε = 1/delta). `output` and `perturbedOutput` are region-sized, `delta`
@@ -59,11 +60,14 @@ SureEstimate estimateSure(const Filter& filter, const FrameBuffers& frame,
                           const ProgressFn& progress = {});
 
 /// SURE of every member of `bank` (built from `frame`) over the bank's region, weighted per
-/// value by `weight` (the tangent weights; null: 1).
+/// value by `weight` (the tangent weights; null: 1). The variance of the mean is the frame's
+/// variance layer or, with the image-only estimator (settings.estimator == Image), the one
+/// estimateImageNoise makes from the frame (image_noise.h).
 class SureEstimator final : public ErrorEstimator {
   public:
-    /// Prepares the input the members see (prefiltered as the bank's, settings.prefilter) and its
-    /// perturbed copy. `bank`, `frame` and `weight` must outlive the estimator.
+    /// Prepares the input the members see (prefiltered as the bank's, settings.prefilter), the
+    /// variance (estimated, with the image-only estimator) and the perturbed input. `bank`,
+    /// `frame` and `weight` must outlive the estimator.
     SureEstimator(const FilterBank& bank, const FrameBuffers& frame, const AutoSettings& settings,
                   const Image* weight);
     MemberEstimate estimate(std::size_t member, const ProgressFn& going) override;
@@ -83,6 +87,8 @@ class SureEstimator final : public ErrorEstimator {
     const Image* m_weight;
     FrameBuffers m_filterInput, m_perturbed;
     Image m_delta;
+    Image m_estimatedVariance;  ///< the image-only estimator's (else empty)
+    const Image* m_variance;    ///< the variance of the mean SURE uses
 };
 
 }  // namespace glint::denoise::detail

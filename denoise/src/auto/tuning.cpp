@@ -79,6 +79,12 @@ std::vector<ParamSpec> makeSpecs() {
                           "passes read again in an unlinked file in TMPDIR (else /tmp) instead "
                           "of filtering them again; the same result (auto: when the disk has "
                           "room for them and 1 GiB more)"),
+        integer("noiseWindow", "noise window (px)", 1, 16, 3,
+                "image-only estimator: radius of the window whose residuals give a pixel's noise "
+                "level"),
+        real("noiseAlpha", "noise brightness exponent", 0.0, 2.0, 1.0,
+             "image-only estimator: the noise variance scales as the smooth value to this power "
+             "within the window (0: uniform there)"),
     };
 }
 
@@ -105,7 +111,7 @@ const std::vector<ParamSpec>& autoTuningSpecs() {
 ParamValues autoTuningDefaults(AutoEstimator estimator) {
     ParamValues values;
     for (const ParamSpec& spec : autoTuningSpecs()) values[spec.name] = spec.defaultValue;
-    if (estimator == AutoEstimator::Sure) {
+    if (estimator == AutoEstimator::Sure || estimator == AutoEstimator::Image) {
         // SURE's maps are less noisy per pixel: a narrower window, a higher bar, a hard choice
         // (docs/auto.md, "Choice"); it cannot stack.
         values["window"] = 4;

@@ -1,6 +1,7 @@
 // The automatic selection ("auto", docs/auto.md): every bank member's error estimated at every
 // pixel without a reference, then a per-pixel choice (or soft weights) among the members, the
-// composite a painting session can start from. Two estimators:
+// composite a painting session can start from. Two estimators (and SURE with a variance estimated
+// from the image when the render has neither its variance nor half buffers):
 // - SURE, Stein's unbiased risk estimate from the render's variance of the mean, with a
 //   Monte-Carlo divergence for black-box filters (Stein 1981; Ramani, Blu & Unser 2008);
 // - cross-validation on the render's two independent halves A and B of the samples,
@@ -24,14 +25,17 @@ class Session;
 
 /// How the auto composite estimates each member's error per pixel.
 enum class AutoEstimator {
-    Auto,    ///< Halves when the frame has half buffers, else Sure
-    Sure,    ///< Stein's unbiased risk estimate from the variance layer (above)
+    Auto,  ///< Halves when the frame has half buffers, else Sure with a variance layer, else Image
+    Sure,  ///< Stein's unbiased risk estimate from the variance layer (above)
     Halves,  ///< cross-validation on the render's two independent halves
+    /// SURE with the variance of the mean estimated from the colour and its features (any
+    /// variance layer is not read; docs/auto.md, "Error estimation without variance or halves")
+    Image,
 };
 
-/// Parses "auto" / "sure" / "halves"; throws glint::Error(InvalidArgument).
+/// Parses "auto" / "sure" / "halves" / "image"; throws glint::Error(InvalidArgument).
 AutoEstimator parseAutoEstimator(const std::string& name);
-/// "auto", "sure" or "halves".
+/// "auto", "sure", "halves" or "image".
 const char* autoEstimatorName(AutoEstimator estimator);
 /// The estimator Auto stands for with `frame` (the others as given).
 AutoEstimator resolveEstimator(AutoEstimator estimator, const FrameBuffers& frame);
@@ -40,7 +44,8 @@ AutoEstimator resolveEstimator(AutoEstimator estimator, const FrameBuffers& fram
 /// with `estimator`: for SURE, the variance layer (variance.R/G/B, the variance of the mean) and
 /// finite colour and finite, non-negative variance at every pixel (Format for a missing layer,
 /// Numeric for bad values); for the halves, every half-buffer layer
-/// (glint::splitHalves) and finite colour and half colour.
+/// (glint::splitHalves) and finite colour and half colour; for the image-only estimator, finite
+/// colour.
 void checkAutoInput(const FrameBuffers& frame, AutoEstimator estimator,
                     const std::string& file = {});
 
@@ -83,6 +88,11 @@ void validate(const AutoOptions& options);
 /// The tuning autoComposite uses with `estimator` (resolved, not Auto): `options.tuning` over
 /// the estimator's defaults, validated (throws as validate).
 ParamValues resolveAutoTuning(const AutoOptions& options, AutoEstimator estimator);
+
+/// `frame` with its variance layer set to the image-only estimate (AutoEstimator::Image, its
+/// tuning from `options`): for building the bank on a render without variance, so that filters
+/// that read the variance see the one auto uses. Throws like checkAutoInput.
+FrameBuffers withImageNoiseVariance(const FrameBuffers& frame, const AutoOptions& options);
 
 /// One member used by the auto composite and its weight there.
 struct AutoLayer {
