@@ -151,7 +151,7 @@ Image bestMemberResult(const FilterBank& bank, const FrameBuffers& frame, int be
 
 // Whether building the bank in memory and choosing from it fits the memory available: the bank's
 // results (estimateMemory), as much again for the results on half A the stacking keeps, and the
-// error maps and window scores, about a quarter of the results (docs/auto.md, "Memory").
+// error maps and window scores, about a quarter of the results (docs/auto-memory.md).
 bool wholeFrameFits(const FrameBuffers& frame, const BankOptions& bankOptions) {
     const double bank = double(estimateMemory(frame, bankOptions));
     return 2.5 * bank < double(availableMemory());
@@ -285,7 +285,7 @@ void runAuto(const AutoArgs& a) {
     };
     // Without a bank folder the bank is built here: in memory and then chosen from (the fastest),
     // or, when that would not fit (--stream auto) or when asked (--stream on), strip by strip
-    // with no member held whole (autoCompositeStreamed; docs/auto.md, "Memory"). With a bank
+    // with no member held whole (autoCompositeStreamed; docs/auto-memory.md). With a bank
     // folder its results are read.
     const bool streamed =
         a.bank.empty() &&

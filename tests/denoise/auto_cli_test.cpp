@@ -170,7 +170,7 @@ TEST_F(AutoCli, OracleOfAnInputWithoutVarianceRunsAutoOnTheImageEstimate) {
 }
 
 TEST_F(AutoCli, StreamedAndInMemoryAutoAgree) {
-    // --stream on filters the members strip by strip (docs/auto.md, "Memory"); off holds the
+    // --stream on filters the members strip by strip (docs/auto-memory.md); off holds the
     // bank. Only the stacking's regression adds its sums per strip: float rounding, 1e-5.
     for (const char* mode : {"on", "off"}) {
         const RunResult r = run("auto " + path("halves.exr") + " --out " + path(mode) +

@@ -1,4 +1,4 @@
-// The automatic selection streamed by strips (auto_stream.h; docs/auto.md, "Memory"): on tiny
+// The automatic selection streamed by strips (auto_stream.h; docs/auto-memory.md): on tiny
 // strips, so that every strip boundary and every margin (the filters', the choice's windows,
 // feathering, the stacking's windows) is crossed, it gives autoComposite's result over the
 // whole bank, for SURE and for the halves with a shortlist, feathering and stacking; and it

@@ -1,4 +1,4 @@
-# Auto memory benchmark (docs/auto.md, "Memory"), run by tests/perf/auto_memory.sh:
+# Auto memory benchmark (docs/auto-memory.md), run by tests/perf/auto_memory.sh:
 #   build/bin/bench_auto_memory --in IN.exr [--mode whole|streamed] [--members 64] [--threads 2]
 #                               [--rows 0] [--out OUT.exr] [--against OTHER.exr]
 add_executable(bench_auto_memory ${CMAKE_CURRENT_LIST_DIR}/bench_auto_memory.cpp)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The memory figure of the automatic selection (docs/auto.md, "Memory"): renders scenes/cornell
+# The memory figure of the automatic selection (docs/auto-memory.md): renders scenes/cornell
 # with half buffers at 4 spp at each SIZE (WIDTHxHEIGHT; default 1920x1080 and 3840x2160), then
 # runs bench_auto_memory in its own process per figure — the streamed selection (what
 # `glint-denoise auto IN --out OUT` runs) and, unless the size is in NO_WHOLE, the selection over

@@ -1,6 +1,6 @@
-// bench_auto_memory: the memory figure of `glint-denoise auto` without a bank folder (docs/auto.md,
-// "Memory"). Reads IN (a render with half buffers for the halves estimator), then runs the
-// automatic selection over a bank of MEMBERS members (plus the defaults, no cache) once, either
+// bench_auto_memory: the memory figure of `glint-denoise auto` without a bank folder
+// (docs/auto-memory.md). Reads IN (a render with half buffers for the halves estimator), then runs
+// the automatic selection over a bank of MEMBERS members (plus the defaults, no cache) once, either
 // as before streaming — buildBank then autoComposite over the bank's results (--mode whole) — or
 // strip by strip without the bank (--mode streamed, autoCompositeStreamed; --rows: the strip
 // height, 0: the default; --spill auto|on|off: the tuning's "spill", whether the members' results

@@ -1,4 +1,4 @@
-// The automatic selection streamed by strips of rows (auto_stream.h; docs/auto.md, "Memory"):
+// The automatic selection streamed by strips of rows (auto_stream.h; docs/auto-memory.md):
 // the stages of auto_composite.cpp, with each member applied to one strip at a time and reduced
 // there to what the next stage needs, in passes over the frame:
 //   1. the bank's median (all members on the input, per strip), when the error space needs it;

@@ -72,8 +72,8 @@ struct AutoSettings {
     bool prefilter = false;
     ParamValues prefilterParams;
 
-    /// The streamed selection's strip height in rows (autoCompositeStreamed; docs/auto.md,
-    /// "Memory"): each member is applied to one strip at a time (taller: fewer margins read
+    /// The streamed selection's strip height in rows (autoCompositeStreamed; docs/auto-memory.md):
+    /// each member is applied to one strip at a time (taller: fewer margins read
     /// again, more rows held by the median's pass; 256 cut 4 % of the CPU time at 1080p but took
     /// the 4K peak over 6 GB).
     int streamRows = 128;

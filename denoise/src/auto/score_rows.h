@@ -1,4 +1,4 @@
-// The choice's window scores strip by strip (docs/auto.md, "Memory"): the same values as
+// The choice's window scores strip by strip (docs/auto-memory.md): the same values as
 // windowScore over the whole maps, row after row, holding only a few rows of box sums.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The automatic selection without a materialised bank (docs/auto.md, "Memory"): the members are
+// The automatic selection without a materialised bank (docs/auto-memory.md): the members are
 // filtered strip by strip and reduced at once to what the stages need, so that the peak memory
 // grows with the frame, not with the bank's size.
 #pragma once
