@@ -11,7 +11,7 @@ namespace glint::studio {
 
 ConvergencePlot::ConvergencePlot(QWidget* parent) : QWidget(parent) {
     // Room for the frame and three text rows at the panel's font.
-    setMinimumHeight(std::max(120, 7 * fontMetrics().height()));
+    setMinimumHeight(std::max(100, 6 * fontMetrics().height()));
     setToolTip(tr("relMSE of each pass against the reference (log-log)"));
 }
 

@@ -6,10 +6,8 @@
 #include <QCheckBox>
 #include <QDir>
 #include <QFile>
-#include <QPushButton>
 #include <QSpinBox>
 #include <QTest>
-#include <QUndoStack>
 
 #include "app/autosave.h"
 #include "studio_fixture.h"
@@ -70,28 +68,6 @@ inline bool wandClick(MainWindow& w) {
         waitFor([&] { return w.session()->undoStack()->count() == steps + 1; }, 60000);
     canvas->setTool(ImageCanvas::Tool::Brush);
     return done;
-}
-
-/// Edits that rebuild the whole composite: "Everywhere" on layer 0 (its weights set to 1), the
-/// top layer removed, and both undone. True when every step took and was undone.
-inline bool layerEdits(MainWindow& w) {
-    w.setStage(3);
-    w.paintView()->setCurrentLayer(0);
-    QPushButton* everywhere = nullptr;
-    for (QPushButton* b : w.paintView()->findChildren<QPushButton*>())
-        if (b->text() == QObject::tr("Everywhere")) everywhere = b;
-    if (!everywhere) return false;
-    QUndoStack* undo = w.session()->undoStack();
-    const int steps = undo->count();
-    const std::size_t layers = w.session()->session().layerCount();
-    everywhere->click();
-    if (!waitFor([&] { return undo->count() == steps + 1; }, 60000)) return false;
-    w.session()->removeLayer(layers - 1);
-    if (!waitFor([&] { return undo->count() == steps + 2; }, 60000)) return false;
-    undo->undo();
-    undo->undo();
-    return waitIdle(w, 60000) && w.session()->session().layerCount() == layers &&
-           undo->index() == steps;
 }
 
 /// Turns the paint stage's change map on until it shows, then off.

@@ -1,5 +1,5 @@
 // The actions whose work grows with the image (a region render merged into the frame, the magic
-// wand, edits that rebuild the whole composite and their undo, the change map, a navigation bank
+// wand, the change map, a navigation bank
 // and its variance map, save, export, restoring an autosave), driven at 1024×1024, never stall the
 // UI thread: a 2 ms timer on the UI thread records the longest gap between its firings while each
 // action runs to completion (StallMonitor, the method of tests/perf/bench_studio.cpp).
@@ -91,8 +91,6 @@ class StallTest : public QObject {
         check("region render merged into the frame",
               measure(1, [&](int r) { return regionRender(*w, 2 + std::uint64_t(r)); }));
         check("magic wand", measure(1, [&](int) { return wandClick(*w); }));
-        check("layer edits and their undo (whole-frame recomposites)",
-              measure(1, [&](int) { return layerEdits(*w); }));
         check("change map", measure(2, [&](int) { return changeMap(*w); }));
         check("navigation bank build", measure(2, [&](int r) { return navigateBuild(*w, 4 + r); }));
         check("bank variance map", measure(2, [&](int) { return varianceMap(*w); }));

@@ -230,12 +230,21 @@ void Session::setWeights(std::size_t index, const Image& weights) {
             "weights must be " + std::to_string(width()) + "x" + std::to_string(height()) + "x1",
             {}, "session");
     SessionLayer& layer = s.layers[index];
-    WeightsChange c{index,   layer.weights.bounds(),           layer.weights, layer.painted,
-                    weights, Image(width(), height(), 1, 1.0f)};
+    // The maps before move into the undo step; the layer gets copies of those after (two
+    // frame-sized copies fewer than applying the step).
+    WeightsChange c{index,
+                    layer.weights.bounds(),
+                    std::move(layer.weights),
+                    std::move(layer.painted),
+                    weights,
+                    Image(width(), height(), 1, 1.0f)};
     for (float& v : c.weightsAfter.data()) v = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
+    layer.weights = c.weightsAfter;
+    layer.painted = c.paintedAfter;
+    ++s.version;
+    s.recomposite(c.rect);
     SessionEdit edit;
     edit.changes.push_back(std::move(c));
-    s.apply(edit, true);
     s.record(std::move(edit));
 }
 
