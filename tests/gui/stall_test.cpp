@@ -1,8 +1,8 @@
 // The actions whose work grows with the image (a region render merged into the frame, the magic
-// wand, the change map, a navigation bank
-// and its variance map, save, export, restoring an autosave), driven at 1024×1024, never stall the
-// UI thread: a 2 ms timer on the UI thread records the longest gap between its firings while each
-// action runs to completion (StallMonitor, the method of tests/perf/bench_studio.cpp).
+// wand, the change map, a navigation bank and its variance map, save, export, restoring an
+// autosave), driven at 1024×1024, never stall the UI thread: a 2 ms timer on the UI thread
+// records the longest gap between its firings while each action runs to completion
+// (StallMonitor, the method of tests/perf/bench_studio.cpp).
 //
 // Tolerance: 50 ms, the bound (docs/studio.md, "Speed"); 150 ms in the ASan + UBSan build
 // (GLINT_STALL_TOLERANCE_MS, set by tests/gui/CMakeLists.txt), whose instrumented code runs about
