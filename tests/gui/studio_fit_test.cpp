@@ -176,6 +176,19 @@ class StudioFitTest : public QObject {
         auto* plot = w->findChild<ConvergencePlot*>();
         QVERIFY(plot);
         QVERIFY(plot->height() >= plot->minimumHeight());
+        // Scrolled to, the whole plot shows in its panel (the panel scrolls at this size).
+        QScrollArea* area = nullptr;
+        for (QWidget* p = plot->parentWidget(); p && !area; p = p->parentWidget())
+            area = qobject_cast<QScrollArea*>(p);
+        if (area) {
+            area->ensureWidgetVisible(plot, 0, 0);
+            settle();
+        }
+        if (area)
+            QVERIFY2(inWindow(area->viewport(), w.get()).contains(inWindow(plot, w.get())),
+                     qPrintable(QStringLiteral("plot %1 px tall, panel viewport %2 px")
+                                    .arg(plot->height())
+                                    .arg(area->viewport()->height())));
         plot->setPoints({{0.05, 1, 0.31}, {0.4, 8, 0.0421}, {3.2, 64, 0.00087}});
         const QFontMetricsF fm(plot->font());
         for (bool spp : {false, true}) {
