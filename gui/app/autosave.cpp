@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "glint/image/error.h"
+#include "model/journal_codec.h"
 #include "model/look_command.h"
 
 namespace glint::studio {
@@ -61,6 +62,12 @@ void Autosave::recordOpen(const QString& path) {
     entry.op = {{QStringLiteral("op"), QStringLiteral("open")},
                 {QStringLiteral("path"), QFileInfo(path).absoluteFilePath()}};
     m_journal->append(entry);
+}
+
+void Autosave::watch(Document* document) {
+    connect(document, &Document::settingsChanged, this, [this, document] {
+        m_journal->append({journal_codec::encodeSettings(document->settings()), {}, nullptr});
+    });
 }
 
 void Autosave::discard() {
@@ -148,6 +155,9 @@ void Autosave::step(const std::shared_ptr<Restore>& r) {
                     array("before"), array("after"), false);
                 m_session->undoStack()->push(command.get());
                 command.release();
+            } else if (op == QStringLiteral("settings")) {
+                r->document->setSettings(
+                    journal_codec::decodeSettings(entry.op, r->document->settings()));
             } else if (op == QStringLiteral("undo")) {
                 m_session->undoStack()->undo();
             } else if (op == QStringLiteral("redo")) {

@@ -31,6 +31,9 @@ class Autosave : public QObject {
 
     /// Records that `path` is open (the first entry of a restorable journal).
     void recordOpen(const QString& path);
+    /// Journals `document`'s render settings whenever the user changes them (spp, seed,
+    /// integrator, MIS, half buffers), as look edits are: a restore brings them back.
+    void watch(Document* document);
     /// Waits for pending writes (tests and screenshots).
     void flush() { m_journal->flush(); }
     Journal* journal() { return m_journal.get(); }

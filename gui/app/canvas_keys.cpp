@@ -57,12 +57,13 @@ bool CanvasKeys::isSingleKey(int key, Qt::KeyboardModifiers modifiers) const {
 }
 
 void CanvasKeys::adopt(QWidget* widget) {
-    // Spin boxes and combo boxes: focus by click only, and back to the canvas after use.
+    // Spin boxes and combo boxes: focus by Tab or click (not by the wheel: scrolling the panel
+    // must not take the keys from the canvas), and back to the canvas after use.
     const bool spin = qobject_cast<QAbstractSpinBox*>(widget) != nullptr;
     auto* combo = qobject_cast<QComboBox*>(widget);
     if ((!spin && !combo) || widget->property(kAdopted).toBool()) return;
     widget->setProperty(kAdopted, true);
-    if (widget->focusPolicy() & Qt::TabFocus) widget->setFocusPolicy(Qt::ClickFocus);
+    if (widget->focusPolicy() & Qt::TabFocus) widget->setFocusPolicy(Qt::StrongFocus);
     auto back = [this, widget] {
         // Only when the value was entered here (Enter, an item picked), not when the user
         // clicked elsewhere.

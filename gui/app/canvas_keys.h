@@ -1,8 +1,8 @@
 // Single-key shortcuts (1–4, B, M, L, Space, E, F...) act on the canvas wherever the focus is,
 // except in a widget where the user is typing (a line edit, a spin box being edited, an editable
 // combo box). Escape returns the focus to the canvas. Spin boxes and combo boxes take the focus
-// by click only and hand it back to the canvas once a value is entered or an item picked, so a
-// later key is a shortcut again.
+// by Tab or click (never by the wheel) and hand it back to the canvas once a value is entered or
+// an item picked, so a later key is a shortcut again.
 #pragma once
 
 #include <QList>

@@ -22,6 +22,7 @@
 #include "app/studio_settings.h"
 #include "glint/image/error.h"
 #include "model/first_denoise.h"
+#include "model/progressive_denoise.h"
 #include "views/compare_view.h"
 #include "views/features_view.h"
 #include "views/help_overlay.h"
@@ -53,8 +54,11 @@ MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
     new FirstDenoise(
         m_document, m_session, [this] { return m_options.denoiseFirstImage && !m_restoring; },
         this);
+    new ProgressiveDenoise(
+        m_document, m_session, [this] { return !m_restoring; }, this);
     m_autosave = std::make_unique<Autosave>(
         options.autosaveBase.isEmpty() ? Autosave::defaultBase() : options.autosaveBase, m_session);
+    m_autosave->watch(m_document);
     m_actions = createActions(this);
 
     m_viewer = new Viewer(m_document, m_session, this);

@@ -65,6 +65,8 @@ class Document : public QObject {
     /// True while a render runs (or its last frame is being merged into the frame it renders
     /// a region of).
     bool rendering() const { return m_job.busy() || m_merging; }
+    /// True while the render running is of a region (its passes are merged into the frame).
+    bool renderingRegion() const { return rendering() && m_mergeRegion.has_value(); }
 
     /// The look of the scene as last edited (materials, lights, environment).
     const std::vector<render::LookItem>& look() const { return m_look; }

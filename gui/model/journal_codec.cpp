@@ -4,6 +4,7 @@
 #include <QString>
 
 #include "glint/image/error.h"
+#include "model/session_state.h"
 
 namespace glint::studio::journal_codec {
 
@@ -166,6 +167,24 @@ Op decode(const QJsonObject& json) {
     if (op == QStringLiteral("undo")) return Undo{};
     if (op == QStringLiteral("redo")) return Redo{};
     throw Error(ErrorKind::Format, "unknown journal operation \"" + op.toStdString() + "\"");
+}
+
+QJsonObject encodeSettings(const render::Settings& settings) {
+    // The session file's keys and spelling (session_state), one line.
+    std::map<std::string, std::string> state;
+    writeDocumentState({}, settings, state);
+    QJsonObject json{{QStringLiteral("op"), QStringLiteral("settings")}};
+    for (const auto& [key, value] : state)
+        json.insert(QString::fromStdString(key), QString::fromStdString(value));
+    return json;
+}
+
+render::Settings decodeSettings(const QJsonObject& json, render::Settings settings) {
+    std::map<std::string, std::string> state;
+    for (auto it = json.begin(); it != json.end(); ++it)
+        if (it.key() != QStringLiteral("op"))
+            state[it.key().toStdString()] = it.value().toString().toStdString();
+    return readSettings(state, settings);
 }
 
 }  // namespace glint::studio::journal_codec

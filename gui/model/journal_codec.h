@@ -12,6 +12,7 @@
 
 #include "glint/denoise/paint.h"
 #include "glint/denoise/session.h"
+#include "glint/render/settings.h"
 
 namespace glint::studio::journal_codec {
 
@@ -69,5 +70,11 @@ QJsonObject encode(const Op& op);
 /// The operation a journal line's JSON holds. Throws glint::Error(Format) naming an unknown
 /// operation.
 Op decode(const QJsonObject& json);
+
+/// The render settings the user chose (spp, seed, integrator, MIS, half buffers) as a journal
+/// line of their own ("op": "settings", the keys of a session file's view state).
+QJsonObject encodeSettings(const render::Settings& settings);
+/// `settings` with what a "settings" line says (keys missing or unreadable leave the value).
+render::Settings decodeSettings(const QJsonObject& json, render::Settings settings);
 
 }  // namespace glint::studio::journal_codec

@@ -102,7 +102,7 @@ denoise::ProgressFn SessionAdapter::progressFor(const QString& what,
     };
 }
 
-void SessionAdapter::setInput(FramePtr frame) {
+void SessionAdapter::setInput(FramePtr frame, bool journal) {
     if (!frame) return;
     if (!m_session || m_session->layerCount() == 0) {
         startSession(frame, {}, {});
@@ -119,11 +119,9 @@ void SessionAdapter::setInput(FramePtr frame) {
                         .arg(m_session->height()));
         return;
     }
-    if (m_session->inStroke()) {
-        m_pendingInput = frame;  // installed when the stroke ends
-        return;
-    }
     m_pendingInput = frame;
+    m_pendingJournal = journal;
+    if (m_session->inStroke()) return;  // installed when the stroke ends
     reapplyInBackground();
 }
 
@@ -166,59 +164,66 @@ void SessionAdapter::startSession(FramePtr frame, std::vector<denoise::LayerSpec
         [this](const QString& message) { emit failed(tr("Cannot start the session"), message); });
 }
 
-SessionAdapter::Reapplied SessionAdapter::computeReapply(
-    FramePtr frame, const denoise::SessionOptions& options,
-    const std::vector<denoise::LayerSpec>& specs, const denoise::ProgressFn& progress) {
-    // On a worker: the filters' input, each layer's output, and the session's own copy of the
-    // render (about 100 MB at 1024², features included: not a copy to make on the UI thread).
+SessionAdapter::Reapplied SessionAdapter::computeReapply(FramePtr frame,
+                                                         const denoise::Session::Snapshot& snapshot,
+                                                         const denoise::ProgressFn& progress) {
+    // On a worker: the filters' input, each layer's output, the session's own copy of the render
+    // (about 100 MB at 1024², features included) and its composite under the snapshot's weights:
+    // installing them on the UI thread is moves and pointer swaps.
     Reapplied out;
-    out.filterInput = filterInputFor(frame, options);
-    for (const denoise::LayerSpec& spec : specs)
-        out.outputs.push_back(
+    out.filterInput = filterInputFor(frame, snapshot.options);
+    std::vector<Image> outputs;
+    for (const denoise::LayerSpec& spec : snapshot.specs)
+        outputs.push_back(
             denoise::applyFilter(denoise::findFilter(spec.filter), *out.filterInput, spec.params,
                                  {.region = std::nullopt, .progress = progress, .threads = 0}));
-    out.copy = std::make_shared<FrameBuffers>(*frame);
+    out.prepared = std::make_shared<denoise::Session::Reapplication>(
+        denoise::Session::prepareReapply(*frame, std::move(outputs), snapshot));
     return out;
 }
 
 void SessionAdapter::reapplyInBackground() {
     FramePtr frame = m_pendingInput;
+    const bool journal = m_pendingJournal;
     m_pendingInput.reset();
     if (!frame || !m_session) return;
-    const std::vector<denoise::LayerSpec> specs = m_session->layerSpecs();
-    const denoise::SessionOptions options = m_options;
+    auto snapshot = std::make_shared<const denoise::Session::Snapshot>(m_session->snapshot());
     m_tasks.run<std::shared_ptr<Reapplied>>(
         QStringLiteral("reapply"),
-        [this, frame, specs, options](const TaskRunner::CancelFlag& cancel) {
+        [this, frame, snapshot](const TaskRunner::CancelFlag& cancel) {
             return std::make_shared<Reapplied>(computeReapply(
-                frame, options, specs, progressFor(tr("Re-applying the layers"), cancel)));
+                frame, *snapshot, progressFor(tr("Re-applying the layers"), cancel)));
         },
-        [this, frame, specs](std::shared_ptr<Reapplied> out) {
-            whenUnlocked([this, frame, specs, out] { installReapply(frame, *out, specs); });
+        [this, frame, journal](std::shared_ptr<Reapplied> out) {
+            whenUnlocked([this, frame, out, journal] { installReapply(frame, *out, journal); });
         },
         [this](const QString& message) {
             emit failed(tr("Cannot re-apply the layers to the new render"), message);
         });
 }
 
-void SessionAdapter::installReapply(FramePtr frame, Reapplied& reapplied,
-                                    const std::vector<denoise::LayerSpec>& specs) {
+void SessionAdapter::installReapply(FramePtr frame, Reapplied& reapplied, bool journal) {
     if (!m_session) return;
-    if (m_session->inStroke() || !sameSpecs(specs, m_session->layerSpecs())) {
+    if (m_session->inStroke() || !sameSpecs(reapplied.prepared->specs, m_session->layerSpecs())) {
         // The layers changed meanwhile (or a stroke is open): compute again.
         m_pendingInput = frame;
+        m_pendingJournal = journal;
         if (!m_session->inStroke()) reapplyInBackground();
         return;
     }
     ++m_generation;
-    m_session->reapply(std::move(*reapplied.copy), std::move(reapplied.outputs));
+    // Moves and pointer swaps (the composite is rebuilt here only if the weights changed since
+    // the snapshot).
+    m_session->reapply(std::move(*reapplied.prepared));
     m_input = frame;
     m_filterInput = reapplied.filterInput;
     m_banks.setFrame(m_input);
-    JournalEntry entry;
-    entry.op = journal_codec::encode(journal_codec::Input{});
-    entry.frame = frame;
-    emit journal(entry);
+    if (journal) {
+        JournalEntry entry;
+        entry.op = journal_codec::encode(journal_codec::Input{});
+        entry.frame = frame;
+        emit this->journal(entry);
+    }
     emit inputChanged();
     changedAll();
 }
@@ -490,10 +495,10 @@ void SessionAdapter::replay(const JournalEntry& entry, std::function<void(const 
             if (!entry.frame)
                 throw Error(ErrorKind::Format, "the journal's input lacks its render");
             FramePtr frame = entry.frame;
-            const denoise::SessionOptions options = m_options;
-            const std::vector<denoise::LayerSpec> specs = m_session->layerSpecs();
-            later([frame, options, specs] { return computeReapply(frame, options, specs, {}); },
-                  [this, frame, specs](Reapplied out) { installReapply(frame, out, specs); });
+            auto snapshot =
+                std::make_shared<const denoise::Session::Snapshot>(m_session->snapshot());
+            later([frame, snapshot] { return computeReapply(frame, *snapshot, {}); },
+                  [this, frame](Reapplied out) { installReapply(frame, out, true); });
             return;
         }
         if (const auto* add = std::get_if<journal_codec::AddLayer>(&op)) {

@@ -58,8 +58,9 @@ class SessionAdapter : public QObject {
     std::uint64_t revision() const { return m_revision; }
 
     /// A new render: starts a session on it, or re-applies the layers to it in the background
-    /// (the painting stays; a render of another size starts a new session).
-    void setInput(FramePtr frame);
+    /// (the painting stays; a render of another size starts a new session). `journal` false: a
+    /// preview (a pass of a render still running) the journal does not record.
+    void setInput(FramePtr frame, bool journal = true);
     /// Turns feature prefiltering on or off for the filters (the layers are carried over, the
     /// undo history starts again).
     void setOptions(const denoise::SessionOptions& options);
@@ -145,14 +146,12 @@ class SessionAdapter : public QObject {
     /// What re-applying the layers to a new render needs, computed on a worker.
     struct Reapplied {
         FramePtr filterInput;
-        std::vector<Image> outputs;
-        std::shared_ptr<FrameBuffers> copy;  ///< the session's own copy of the render
+        /// The session's copy of the render, its outputs and composite.
+        std::shared_ptr<denoise::Session::Reapplication> prepared;
     };
-    static Reapplied computeReapply(FramePtr frame, const denoise::SessionOptions& options,
-                                    const std::vector<denoise::LayerSpec>& specs,
+    static Reapplied computeReapply(FramePtr frame, const denoise::Session::Snapshot& snapshot,
                                     const denoise::ProgressFn& progress);
-    void installReapply(FramePtr frame, Reapplied& reapplied,
-                        const std::vector<denoise::LayerSpec>& specs);
+    void installReapply(FramePtr frame, Reapplied& reapplied, bool journal);
     void pushEdit(const QString& text, int steps = 1);
     void doAddLayer(const std::string& filter, const denoise::ParamValues& params, Image output,
                     const std::optional<Image>& fillMask);
@@ -178,6 +177,7 @@ class SessionAdapter : public QObject {
     FramePtr m_input;
     FramePtr m_filterInput;
     FramePtr m_pendingInput;         // a render waiting for the open stroke to end
+    bool m_pendingJournal = true;    // whether the journal records it (not for a preview)
     std::uint64_t m_generation = 0;  // counts inputs: outputs computed on an older one are stale
     std::uint64_t m_revision = 0;
     bool m_locked = false;

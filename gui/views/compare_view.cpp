@@ -41,8 +41,11 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
     m_table->setVerticalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
     m_table->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
     m_table->resizeRowsToContents();
+    // As tall as its header and two rows as they are (no blank band under them: at 1366×768
+    // every pixel of the panel counts).
     m_table->setFixedHeight(m_table->horizontalHeader()->sizeHint().height() +
-                            2 * m_table->verticalHeader()->defaultSectionSize() + 4);
+                            m_table->rowHeight(0) + m_table->rowHeight(1) +
+                            2 * m_table->frameWidth());
     m_table->setToolTip(
         tr("Of the result (the composite) against the reference; the region's "
            "figures cover its bounding box"));

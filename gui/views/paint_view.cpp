@@ -228,11 +228,10 @@ void PaintView::growBrush(double factor) {
 
 void PaintView::rebuildLayers() {
     const int previous = m_layers->currentRow();
-    const Image* previousOutput =
+    const Image* previousData =
         currentLayer() >= 0
-            ? &m_context.session->session().layer(std::size_t(currentLayer())).output
+            ? m_context.session->session().layer(std::size_t(currentLayer())).output.get()
             : nullptr;
-    const float* previousData = previousOutput ? previousOutput->data().data() : nullptr;
     const int before = m_layers->count();
     m_layers->blockSignals(true);
     m_layers->clear();
@@ -254,9 +253,8 @@ void PaintView::rebuildLayers() {
     // Converting a megapixel output for the brush and the side preview takes tens of ms: only
     // when the layer under the brush is another one.
     const int now = currentLayer();
-    const float* nowData =
-        now >= 0 ? m_context.session->session().layer(std::size_t(now)).output.data().data()
-                 : nullptr;
+    const Image* nowData =
+        now >= 0 ? m_context.session->session().layer(std::size_t(now)).output.get() : nullptr;
     if (row != previous || nowData != previousData)
         layerSelected();
     else
@@ -279,8 +277,9 @@ void PaintView::layerSelected() {
         Image output;
         QImage full, side;
     };
-    auto output = std::make_shared<const Image>(
-        m_context.session->session().layer(std::size_t(layer)).output);
+    // Shared, not copied: layer outputs are immutable.
+    std::shared_ptr<const Image> output =
+        m_context.session->session().layer(std::size_t(layer)).output;
     const DisplaySettings display = canvas->display();
     const int side = std::max(160, m_side->width() - 8);
     const bool underBrush = m_context.viewer->channel() == Viewer::Channel::Result;
@@ -318,7 +317,7 @@ void PaintView::updateOverlay() {
     }
     // The map on a worker, from copies (the composite changes under the brush).
     const denoise::Session& s = m_context.session->session();
-    auto output = std::make_shared<const Image>(s.layer(std::size_t(layer)).output);
+    std::shared_ptr<const Image> output = s.layer(std::size_t(layer)).output;
     auto composite = std::make_shared<const Image>(s.composite());
     m_tasks.run<QImage>(
         QStringLiteral("change"),

@@ -204,7 +204,8 @@ Viewer::Viewer(Document* document, SessionAdapter* session, QWidget* parent)
 
 bool Viewer::keepsDenoised() const {
     // A denoised composite stays on screen while a new render refines: its first passes are
-    // noisier than it. The new render shows once it is finished and its layers re-applied.
+    // noisier than it. The new render shows denoised once a pass has as many samples per pixel
+    // (ProgressiveDenoise re-applies the layers to it), and again when it is finished.
     return m_session->hasSession() && m_session->session().layerCount() > 0;
 }
 
@@ -353,9 +354,14 @@ void Viewer::updateLabel() {
         if (!frame)
             what = QString();
         else if (showingComposite() && keepsDenoised())
-            what = m_document->rendering() && m_document->frame() != m_document->finishedFrame()
+            what = !(m_document->rendering() && m_document->frame() != m_document->finishedFrame())
+                       ? tr("Result (denoised, %1 spp)").arg(m_session->input()->metadata().spp)
+                   // A pass of the running render, denoised (ProgressiveDenoise), or still the
+                   // previous render until a pass is as good.
+                   : m_session->input() == m_document->finishedFrame()
                        ? tr("Result (denoised, previous render; rendering…)")
-                       : tr("Result (denoised, %1 spp)").arg(m_session->input()->metadata().spp);
+                       : tr("Result (denoised, %1 spp; rendering…)")
+                             .arg(m_session->input()->metadata().spp);
         else
             what = tr("Result (render, %1 spp)").arg(frame->metadata().spp);
     } else if (m_channel == Channel::Reference) {

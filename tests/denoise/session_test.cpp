@@ -32,7 +32,7 @@ bool sameBits(const Image& a, const Image& b) {
 Image compositeFromScratch(const Session& s) {
     Image c = s.input().color();
     for (std::size_t i = 0; i < s.layerCount(); ++i)
-        c = blend(c, s.layer(i).output, s.layer(i).weights);
+        c = blend(c, *s.layer(i).output, s.layer(i).weights);
     return c;
 }
 
@@ -50,7 +50,7 @@ SessionState stateOf(const Session& s) {
     for (std::size_t i = 0; i < s.layerCount(); ++i) {
         st.filters.push_back(s.layer(i).filter);
         st.params.push_back(s.layer(i).params);
-        st.outputs.push_back(s.layer(i).output);
+        st.outputs.push_back(*s.layer(i).output);
         st.weights.push_back(s.layer(i).weights);
         st.painted.push_back(s.layer(i).painted);
     }
@@ -88,7 +88,7 @@ TEST_F(SessionTest, CompositeIsTheFilterWhereWeightIsOneAndTheInputWhereZero) {
     Session s(testing::syntheticFrame(48, 40));
     EXPECT_TRUE(sameBits(s.composite(), s.input().color()));
     const std::size_t g = s.addLayer("gaussian", {{"sigma", 2.0}});
-    EXPECT_TRUE(sameBits(s.layer(g).output,
+    EXPECT_TRUE(sameBits(*s.layer(g).output,
                          applyFilter(findFilter("gaussian"), s.input(), {{"sigma", 2.0}})));
     Image w(48, 40, 1, 0.0f);
     for (int y = 0; y < 40; ++y)
@@ -98,11 +98,11 @@ TEST_F(SessionTest, CompositeIsTheFilterWhereWeightIsOneAndTheInputWhereZero) {
         for (int x = 0; x < 48; ++x)
             for (int c = 0; c < 3; ++c)
                 EXPECT_EQ(s.composite()(x, y, c),
-                          x < 24 ? s.input().color()(x, y, c) : s.layer(g).output(x, y, c));
+                          x < 24 ? s.input().color()(x, y, c) : (*s.layer(g).output)(x, y, c));
     // Layers apply left to right: a second layer at w = 1 wins over the first.
     const std::size_t b = s.addLayer("bilateral", {});
     s.setWeights(b, Image(48, 40, 1, 1.0f));
-    EXPECT_TRUE(sameBits(s.composite(), s.layer(b).output));
+    EXPECT_TRUE(sameBits(s.composite(), *s.layer(b).output));
     EXPECT_TRUE(sameBits(s.composite(), compositeFromScratch(s)));
 }
 
@@ -261,7 +261,7 @@ TEST_F(SessionTest, SaveAndLoadRoundTripBitExactly) {
         EXPECT_EQ(back.layer(i).params, s.layer(i).params);
         EXPECT_TRUE(sameBits(back.layer(i).weights, s.layer(i).weights));
         EXPECT_TRUE(sameBits(back.layer(i).painted, s.layer(i).painted));
-        EXPECT_TRUE(sameBits(back.layer(i).output, s.layer(i).output));
+        EXPECT_TRUE(sameBits(*back.layer(i).output, *s.layer(i).output));
     }
     EXPECT_TRUE(sameBits(back.composite(), s.composite()));
     EXPECT_TRUE(back.options().prefilter);
@@ -392,7 +392,7 @@ TEST_F(SessionTest, ReapplyKeepsTheHistoryWithOutputsOnTheNewRender) {
     ASSERT_TRUE(s.canUndo());
     s.undo();  // the bilateral layer comes back, computed on the new render
     ASSERT_EQ(s.layerCount(), 2u);
-    EXPECT_TRUE(sameBits(s.layer(1).output, applyFilter(findFilter("bilateral"), next, {})));
+    EXPECT_TRUE(sameBits(*s.layer(1).output, applyFilter(findFilter("bilateral"), next, {})));
     EXPECT_TRUE(sameBits(s.composite(), compositeFromScratch(s)));
 }
 
@@ -406,7 +406,7 @@ TEST_F(SessionTest, ReapplyKeepsThePaintingOnANewRender) {
     EXPECT_TRUE(sameBits(s.input().color(), next.color()));
     EXPECT_TRUE(sameBits(s.layer(g).weights, weights));
     EXPECT_TRUE(
-        sameBits(s.layer(g).output, applyFilter(findFilter("gaussian"), next, {{"sigma", 2.0}})));
+        sameBits(*s.layer(g).output, applyFilter(findFilter("gaussian"), next, {{"sigma", 2.0}})));
     EXPECT_TRUE(sameBits(s.composite(), compositeFromScratch(s)));
     // Another size is refused and changes nothing.
     const SessionState before = stateOf(s);
@@ -423,6 +423,81 @@ TEST_F(SessionTest, ReapplyKeepsThePaintingOnANewRender) {
     EXPECT_EQ(differences(stateOf(s), before), "");
     EXPECT_TRUE(sameBits(s.input().color(), next.color()));
     EXPECT_TRUE(s.canUndo());
+}
+
+TEST_F(SessionTest, LayerOutputsAreSharedNotCopied) {
+    Session s(testing::syntheticFrame(40, 32, 0.05f, 1));
+    const std::size_t g = s.addLayer("gaussian", {{"sigma", 2.0}});
+    const Image* output = s.layer(g).output.get();
+    s.removeLayer(g);
+    s.undo();  // the layer comes back from the history: the same image, not a copy
+    EXPECT_EQ(s.layer(g).output.get(), output);
+    // A re-application gives the current layer and the history's copy one new image.
+    s.setWeights(g, Image(40, 32, 1, 0.5f));
+    s.removeLayer(g);
+    s.reapply(testing::syntheticFrame(40, 32, 0.05f, 2));
+    s.undo();
+    const Image* fresh = s.layer(g).output.get();
+    EXPECT_NE(fresh, output);
+    s.undo();  // weights back to 0
+    s.undo();  // the layer removed (its AddLayer undone)
+    s.redo();
+    EXPECT_EQ(s.layer(g).output.get(), fresh);
+}
+
+TEST_F(SessionTest, APreparedReapplicationEqualsReapplyBitForBit) {
+    auto painted = [] {
+        Session s(testing::syntheticFrame(40, 32, 0.05f, 1));
+        const std::size_t g = s.addLayer("gaussian", {{"sigma", 2.0}});
+        s.setWeights(g, Image(40, 32, 1, 0.75f));
+        const std::size_t b = s.addLayer("bilateral", {});
+        s.beginStroke(b, Brush{6.0, 0.5}, BrushMode::Add);
+        s.dab(20.0, 16.0);
+        s.endStroke();
+        const std::size_t m = s.addLayer("gaussian", {{"sigma", 1.0}});
+        s.removeLayer(m);  // the history holds a third filter
+        return s;
+    };
+    const FrameBuffers next = testing::syntheticFrame(40, 32, 0.05f, 2);
+    Session direct = painted();
+    direct.reapply(next);
+    Session prepared = painted();
+    const Session::Snapshot snap = prepared.snapshot();
+    ASSERT_EQ(snap.specs.size(), 3u);
+    ASSERT_EQ(snap.uses.size(), 2u);
+    Session::Reapplication r = Session::prepareReapply(
+        next, Session::computeOutputs(next, snap.options, snap.specs), snap);
+    prepared.reapply(std::move(r));
+    EXPECT_EQ(differences(stateOf(prepared), stateOf(direct)), "");
+    EXPECT_TRUE(sameBits(prepared.composite(), compositeFromScratch(prepared)));
+    prepared.undo();  // the median layer comes back on the new render
+    direct.undo();
+    EXPECT_EQ(differences(stateOf(prepared), stateOf(direct)), "");
+}
+
+TEST_F(SessionTest, APreparedReapplicationFollowsEditsMadeMeanwhile) {
+    Session s(testing::syntheticFrame(40, 32, 0.05f, 1));
+    const std::size_t g = s.addLayer("gaussian", {{"sigma", 2.0}});
+    s.setWeights(g, Image(40, 32, 1, 0.25f));
+    const FrameBuffers next = testing::syntheticFrame(40, 32, 0.05f, 2);
+    const Session::Snapshot snap = s.snapshot();
+    Session::Reapplication r = Session::prepareReapply(
+        next, Session::computeOutputs(next, snap.options, snap.specs), snap);
+    // An edit while the worker prepared: its composite is stale and is rebuilt on install.
+    s.setWeights(g, Image(40, 32, 1, 1.0f));
+    s.reapply(std::move(r));
+    EXPECT_TRUE(sameBits(s.composite(), compositeFromScratch(s)));
+    EXPECT_TRUE(sameBits(s.composite(), *s.layer(g).output));
+    // A layer added meanwhile: the preparation is of other layers and is refused.
+    const Session::Snapshot old = s.snapshot();
+    Session::Reapplication stale =
+        Session::prepareReapply(next, Session::computeOutputs(next, old.options, old.specs), old);
+    s.addLayer("bilateral", {});
+    const SessionState before = stateOf(s);
+    EXPECT_THROW(s.reapply(std::move(stale)), Error);
+    EXPECT_EQ(differences(stateOf(s), before), "");
+    // Outputs that do not fit the snapshot are refused while preparing.
+    EXPECT_THROW(Session::prepareReapply(next, {}, old), Error);
 }
 
 TEST_F(SessionTest, ExportsTheCompositeAndRefusesBadEdits) {

@@ -60,6 +60,29 @@ class JournalCodecTest : public QObject {
         }
         QVERIFY(refused);
     }
+
+    void renderSettingsRoundTripThroughTheirOwnLine() {
+        namespace jc = journal_codec;
+        render::Settings s;
+        s.spp = 7;
+        s.seed = 42;
+        s.integrator = render::Integrator::Mlt;
+        s.mis = render::MisHeuristic::Balance;
+        s.halfBuffers = true;
+        const QJsonObject json = jc::encodeSettings(s);
+        QCOMPARE(json.value(QStringLiteral("op")).toString(), QStringLiteral("settings"));
+        const QJsonObject read = QJsonDocument::fromJson(QJsonDocument(json).toJson()).object();
+        const render::Settings back = jc::decodeSettings(read, render::Settings{});
+        QCOMPARE(back.spp, 7);
+        QCOMPARE(back.seed, std::uint64_t(42));
+        QCOMPARE(back.integrator, render::Integrator::Mlt);
+        QCOMPARE(back.mis, render::MisHeuristic::Balance);
+        QVERIFY(back.halfBuffers);
+        // A key missing leaves the value as it was.
+        QJsonObject partial = json;
+        partial.remove(QStringLiteral("spp"));
+        QCOMPARE(jc::decodeSettings(partial, render::Settings{}).spp, render::Settings{}.spp);
+    }
 };
 
 }  // namespace glint::studio

@@ -25,6 +25,7 @@
 #include "glint/denoise/session.h"
 #include "studio_fixture.h"
 #include "views/compare_view.h"
+#include "views/convergence_plot.h"
 #include "views/image_canvas.h"
 #include "views/look_panel.h"
 #include "views/navigate_view.h"
@@ -167,6 +168,54 @@ class StudioFitTest : public QObject {
         }
     }
 
+    void theConvergencePlotsTextsFitAt1366x768() {
+        auto w = openScene();
+        QVERIFY(w);
+        w->resize(1366, 768);
+        settle();
+        auto* plot = w->findChild<ConvergencePlot*>();
+        QVERIFY(plot);
+        QVERIFY(plot->height() >= plot->minimumHeight());
+        // Scrolled to, the whole plot shows in its panel (the panel scrolls at this size).
+        QScrollArea* area = nullptr;
+        for (QWidget* p = plot->parentWidget(); p && !area; p = p->parentWidget())
+            area = qobject_cast<QScrollArea*>(p);
+        if (area) {
+            area->ensureWidgetVisible(plot, 0, 0);
+            settle();
+        }
+        if (area)
+            QVERIFY2(inWindow(area->viewport(), w.get()).contains(inWindow(plot, w.get())),
+                     qPrintable(QStringLiteral("plot %1 px tall, panel viewport %2 px")
+                                    .arg(plot->height())
+                                    .arg(area->viewport()->height())));
+        plot->setPoints({{0.05, 1, 0.31}, {0.4, 8, 0.0421}, {3.2, 64, 0.00087}});
+        const QFontMetricsF fm(plot->font());
+        for (bool spp : {false, true}) {
+            plot->setAgainstSpp(spp);
+            const ConvergencePlot::Texts t = plot->texts();
+            QCOMPARE(t.items.size(), std::size_t(5));  // the title and four tick labels
+            for (std::size_t i = 0; i < t.items.size(); ++i) {
+                const auto& [box, text] = t.items[i];
+                const QString what = QStringLiteral("'%1' at %2,%3 %4×%5 in %6×%7")
+                                         .arg(text)
+                                         .arg(box.x())
+                                         .arg(box.y())
+                                         .arg(box.width())
+                                         .arg(box.height())
+                                         .arg(plot->width())
+                                         .arg(plot->height());
+                // Inside the widget, as wide as its text, clear of the frame and the others.
+                QVERIFY2(QRectF(plot->rect()).contains(box), qPrintable(what));
+                QVERIFY2(fm.horizontalAdvance(text) <= box.width() + 0.5, qPrintable(what));
+                QVERIFY2(!t.area.intersects(box), qPrintable(what));
+                for (std::size_t j = 0; j < i; ++j)
+                    QVERIFY2(!t.items[j].first.intersects(box), qPrintable(what));
+            }
+            QVERIFY(!t.items[0].second.contains(QChar(0x2026)));  // the title is not elided
+        }
+    }
+
     void theRenderRegionToolDisarmsAfterOneRectangle() {
         auto w = openScene();
         QVERIFY(w);
@@ -259,6 +308,33 @@ class StudioFitTest : public QObject {
         QVERIFY(seed->hasFocus());
         QTest::keyClick(QApplication::focusWidget(), Qt::Key_Escape);
         QVERIFY(canvas->hasFocus());
+    }
+
+    void tabReachesThePanelFieldsAndSingleKeysStillGoToTheCanvas() {
+        auto w = openScene();
+        QVERIFY(w);
+        ImageCanvas* canvas = w->viewer()->canvas();
+        QSpinBox* spp = w->renderBar()->sppBox();
+        canvas->setFocus();
+        QVERIFY(canvas->hasFocus());
+        // Tab from the canvas through the window's fields until the spp box has the focus.
+        bool reached = false;
+        for (int i = 0; i < 120 && !reached; ++i) {
+            QTest::keyClick(QApplication::focusWidget(), Qt::Key_Tab);
+            reached = spp->hasFocus();
+        }
+        QVERIFY2(reached, "Tab never reached the spp box");
+        // A keyboard user types into it; Enter hands the keys back to the canvas.
+        spp->selectAll();
+        QTest::keyClicks(QApplication::focusWidget(), QStringLiteral("9"));
+        QTest::keyClick(QApplication::focusWidget(), Qt::Key_Return);
+        QCOMPARE(spp->value(), 9);
+        QVERIFY(canvas->hasFocus());
+        QTest::keyClick(QApplication::focusWidget(), Qt::Key_2);
+        QCOMPARE(w->stage(), 1);
+        QCOMPARE(spp->value(), 9);
+        // The wheel over a field does not take the keys from the canvas.
+        QVERIFY(spp->focusPolicy() != Qt::WheelFocus);
     }
 
     void aClickThatFocusesTheCanvasDoesNotPaint() {

@@ -26,6 +26,7 @@
 #include <QUrl>
 
 #include "app/file_naming.h"
+#include "heavy_actions.h"
 #include "model/layer_names.h"
 #include "model/render_eta.h"
 #include "studio_fixture.h"
@@ -140,6 +141,23 @@ class StudioSessionTest : public QObject {
         QCOMPARE(again->document()->finishedFrame()->metadata().spp, 6);
         QVERIFY(again->document()->finishedFrame()->has(Layer::HalfColor));
         QVERIFY(again->lastError().isEmpty());
+    }
+
+    void renderSettingsChangesComeBackAfterACrash() {
+        auto w = openScene();
+        QVERIFY(w);
+        // Changed after the last render: only the journal knows them.
+        w->renderBar()->sppBox()->setValue(6);
+        w->renderBar()->halvesBox()->setChecked(true);
+        QCOMPARE(w->document()->settings().spp, 6);
+        const QString crashed = m_dir.filePath(QStringLiteral("crashed-settings"));
+        QVERIFY(copyAsCrashed(*w, crashed));
+        auto again = makeWindow(crashed);
+        QVERIFY(restore(*again));
+        QCOMPARE(again->document()->settings().spp, 6);
+        QVERIFY(again->document()->settings().halfBuffers);
+        QCOMPARE(again->renderBar()->sppBox()->value(), 6);
+        QVERIFY(again->renderBar()->halvesBox()->isChecked());
     }
 
     void anOlderSessionFileStillOpens() {

@@ -150,7 +150,7 @@ class StudioTest : public QObject {
         QCOMPARE(s.layerCount(), std::size_t(1));
         const Image expected =
             denoise::applyFilter(denoise::findFilter("gaussian"), *after, s.layer(0).params);
-        QVERIFY(sameBits(s.layer(0).output, expected));
+        QVERIFY(sameBits(*s.layer(0).output, expected));
         QVERIFY(sameBits(s.composite(), expected));
         QCOMPARE(w->document()->lookValue(material, "albedo")[0], 0.9);
         // The look edit is an undo step: undo renders the old look again (same bits: same seed).

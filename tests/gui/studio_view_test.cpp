@@ -244,6 +244,41 @@ class StudioViewTest : public QObject {
             [&] { return canvas->shownImage() == toQImage(composite, canvas->display()); }));
         QVERIFY(!sameBits(composite, w->document()->finishedFrame()->color()));
     }
+
+    void aLongRendersPassesShowDenoisedOnceTheyAreAsGood() {
+        auto w = openDenoised(QStringLiteral("autosave-progressive"));
+        QVERIFY(w);
+        const int before = w->session()->input()->metadata().spp;
+        QVERIFY(before > 0);
+        // The session's input each time it changes while the render runs (a pass denoised).
+        std::vector<int> previews;
+        connect(w->session(), &SessionAdapter::inputChanged, this, [&] {
+            if (w->document()->rendering())
+                previews.push_back(w->session()->input()->metadata().spp);
+        });
+        render::Settings settings = w->document()->settings();
+        settings.spp = 512;
+        w->document()->setSettings(settings);
+        w->document()->render();
+        QVERIFY(waitFor([&] { return !w->document()->rendering(); }, 60000));
+        QVERIFY(waitIdle(*w));
+        QVERIFY2(!previews.empty(), "no pass was shown denoised before the render finished");
+        // Never a pass noisier than the denoised image it replaced, each better than the last.
+        int last = before;
+        for (int spp : previews) {
+            QVERIFY2(spp >= last, qPrintable(QStringLiteral("%1 spp after %2").arg(spp).arg(last)));
+            QVERIFY(spp <= 512);
+            last = spp;
+        }
+        // It ends on the finished render, denoised; its layers and undo history are kept.
+        QCOMPARE(w->session()->input(), w->document()->finishedFrame());
+        QCOMPARE(w->session()->session().layerCount(), std::size_t(1));
+        QVERIFY(w->session()->undoStack()->canUndo());
+        ImageCanvas* canvas = w->viewer()->canvas();
+        const Image& composite = w->session()->session().composite();
+        QVERIFY(waitFor(
+            [&] { return canvas->shownImage() == toQImage(composite, canvas->display()); }));
+    }
 };
 
 int main(int argc, char** argv) {

@@ -1,6 +1,10 @@
 // The painting session: layers, the composite, strokes, fills, diffusion, undo and redo.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "composite/session_impl.h"
 #include "glint/denoise/prefilter.h"
@@ -35,9 +39,25 @@ Image runLayerFilter(const FrameBuffers& input, const std::string& filter,
 void Session::Impl::recomposite(const Rect& rect) {
     const Rect r = intersect(rect, composite.bounds());
     if (r.empty()) return;
-    paste(composite, input.color().crop(r), r.x0, r.y0);
-    for (const SessionLayer& layer : layers)
-        blendInPlace(composite, layer.output, layer.weights, r);
+    // Band by band, so that a band stays in cache through every layer, bands in parallel for a
+    // large rectangle (a whole frame after an undo or a reapply); the same operations per pixel
+    // as blending layer after layer over the whole rectangle, so the same bits.
+    const Image& color = input.color();
+    const std::size_t rowBytes = std::size_t(r.x1 - r.x0) * std::size_t(composite.channels());
+    auto band = [&](int y0, int y1) {
+        for (int y = y0; y < y1; ++y)
+            std::copy_n(color.row(y) + std::size_t(r.x0) * std::size_t(color.channels()), rowBytes,
+                        composite.row(y) + std::size_t(r.x0) * std::size_t(color.channels()));
+        for (const SessionLayer& layer : layers)
+            blendInPlace(composite, *layer.output, layer.weights, Rect{r.x0, r.x1, y0, y1});
+    };
+    constexpr int kBandRows = 16;
+    if (std::int64_t(r.x1 - r.x0) * (r.y1 - r.y0) < 256 * 256) {
+        band(r.y0, r.y1);  // a dab: not worth the threads
+        return;
+    }
+    tbb::parallel_for(tbb::blocked_range<int>(r.y0, r.y1, kBandRows),
+                      [&](const tbb::blocked_range<int>& rows) { band(rows.begin(), rows.end()); });
 }
 
 void Session::Impl::checkLayer(std::size_t index) const {
@@ -66,6 +86,7 @@ void Session::Impl::checkNoStroke() const {
 }
 
 void Session::Impl::apply(const SessionEdit& edit, bool forward) {
+    ++version;
     switch (edit.kind) {
         case SessionEdit::Kind::AddLayer:
         case SessionEdit::Kind::RemoveLayer: {
@@ -138,6 +159,9 @@ const SessionLayer& Session::layer(std::size_t index) const {
 const Image& Session::composite() const {
     return m_impl->composite;
 }
+std::uint64_t Session::version() const {
+    return m_impl->version;
+}
 
 std::size_t Session::addLayer(const std::string& filter, const ParamValues& params,
                               std::optional<Image> output, const ProgressFn& progress) {
@@ -153,9 +177,10 @@ std::size_t Session::addLayer(const std::string& filter, const ParamValues& para
                         "a layer's output must be " + std::to_string(width()) + "x" +
                             std::to_string(height()) + "x3",
                         {}, "session");
-        layer.output = std::move(*output);
+        layer.output = std::make_shared<const Image>(std::move(*output));
     } else {
-        layer.output = runLayerFilter(s.filterInput(), layer.filter, layer.params, progress);
+        layer.output = std::make_shared<const Image>(
+            runLayerFilter(s.filterInput(), layer.filter, layer.params, progress));
     }
     layer.weights = Image(width(), height(), 1, 0.0f);
     layer.painted = Image(width(), height(), 1, 0.0f);
@@ -164,6 +189,7 @@ std::size_t Session::addLayer(const std::string& filter, const ParamValues& para
     edit.index = s.layers.size();
     edit.layer = layer;
     s.layers.push_back(std::move(layer));  // weight 0: the composite does not change
+    ++s.version;
     s.record(std::move(edit));
     return s.layers.size() - 1;
 }
@@ -204,12 +230,21 @@ void Session::setWeights(std::size_t index, const Image& weights) {
             "weights must be " + std::to_string(width()) + "x" + std::to_string(height()) + "x1",
             {}, "session");
     SessionLayer& layer = s.layers[index];
-    WeightsChange c{index,   layer.weights.bounds(),           layer.weights, layer.painted,
-                    weights, Image(width(), height(), 1, 1.0f)};
+    // The maps before move into the undo step; the layer gets copies of those after (two
+    // frame-sized copies fewer than applying the step).
+    WeightsChange c{index,
+                    layer.weights.bounds(),
+                    std::move(layer.weights),
+                    std::move(layer.painted),
+                    weights,
+                    Image(width(), height(), 1, 1.0f)};
     for (float& v : c.weightsAfter.data()) v = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
+    layer.weights = c.weightsAfter;
+    layer.painted = c.paintedAfter;
+    ++s.version;
+    s.recomposite(c.rect);
     SessionEdit edit;
     edit.changes.push_back(std::move(c));
-    s.apply(edit, true);
     s.record(std::move(edit));
 }
 
@@ -254,6 +289,7 @@ Rect Session::dab(double x, double y) {
             layer.painted(px, py, 0) = 1.0f;
         }
     s.strokeRect = unite(s.strokeRect, r);
+    ++s.version;
     s.recomposite(r);
     return r;
 }
@@ -396,119 +432,6 @@ void Session::redo() {
     s.redo.pop_back();
     s.apply(edit, true);
     s.undo.push_back(std::move(edit));
-}
-
-namespace {
-
-bool sameSpec(const LayerSpec& a, const SessionLayer& b) {
-    return a.filter == b.filter && a.params == b.params;
-}
-
-}  // namespace
-
-std::vector<LayerSpec> Session::layerSpecs() const {
-    const Impl& s = *m_impl;
-    std::vector<LayerSpec> specs;
-    auto add = [&](const SessionLayer& l) {
-        for (const LayerSpec& known : specs)
-            if (sameSpec(known, l)) return;
-        specs.push_back({l.filter, l.params});
-    };
-    for (const SessionLayer& l : s.layers) add(l);
-    for (const auto* history : {&s.undo, &s.redo})
-        for (const SessionEdit& e : *history)
-            if (e.kind != SessionEdit::Kind::Weights) add(e.layer);
-    return specs;
-}
-
-namespace {
-
-// The filters' input for a render: its features prefiltered when the options say so (nothing
-// otherwise: the filters read the render itself).
-std::optional<FrameBuffers> prefilteredFor(const FrameBuffers& input,
-                                           const SessionOptions& options) {
-    if (!options.prefilter) return std::nullopt;
-    return prefilterFeatures(input, options.prefilterParams);
-}
-
-// The outputs of `layers` on a filter input, progress shared out evenly.
-std::vector<Image> outputsOn(const FrameBuffers& in, const std::vector<LayerSpec>& layers,
-                             const ProgressFn& progress) {
-    std::vector<Image> outputs;
-    const std::size_t n = layers.size();
-    for (std::size_t i = 0; i < n; ++i) {
-        ProgressFn part;
-        if (progress) part = [&, i](double f) { return progress((double(i) + f) / double(n)); };
-        outputs.push_back(runLayerFilter(in, layers[i].filter, layers[i].params, part));
-    }
-    return outputs;
-}
-
-}  // namespace
-
-std::vector<Image> Session::computeOutputs(const FrameBuffers& input, const SessionOptions& options,
-                                           const std::vector<LayerSpec>& layers,
-                                           const ProgressFn& progress) {
-    const std::optional<FrameBuffers> prefiltered = prefilteredFor(input, options);
-    return outputsOn(prefiltered ? *prefiltered : input, layers, progress);
-}
-
-void Session::Impl::checkSameSize(const FrameBuffers& newInput) const {
-    if (newInput.width() != input.width() || newInput.height() != input.height())
-        throw Error(ErrorKind::InvalidArgument,
-                    "the new render is " + std::to_string(newInput.width()) + "x" +
-                        std::to_string(newInput.height()) + ", the session " +
-                        std::to_string(input.width()) + "x" + std::to_string(input.height()),
-                    {}, "session");
-}
-
-void Session::Impl::install(FrameBuffers newInput, std::optional<FrameBuffers> newPrefiltered,
-                            const std::vector<LayerSpec>& specs,
-                            const std::vector<Image>& outputs) {
-    input = std::move(newInput);
-    prefiltered = std::move(newPrefiltered);
-    // Current layers and the layers the history would bring back get the new outputs.
-    auto refresh = [&](SessionLayer& l) {
-        for (std::size_t k = 0; k < specs.size(); ++k)
-            if (sameSpec(specs[k], l)) l.output = outputs[k];
-    };
-    for (SessionLayer& l : layers) refresh(l);
-    for (auto* history : {&undo, &redo})
-        for (SessionEdit& e : *history)
-            if (e.kind != SessionEdit::Kind::Weights) refresh(e.layer);
-    recomposite(composite.bounds());
-}
-
-void Session::reapply(FrameBuffers newInput, const ProgressFn& progress) {
-    Impl& s = *m_impl;
-    s.checkSameSize(newInput);
-    // Everything is computed before anything changes: an error or a stop leaves the session.
-    const std::vector<LayerSpec> specs = layerSpecs();
-    std::optional<FrameBuffers> prefiltered = prefilteredFor(newInput, s.options);
-    const std::vector<Image> outputs =
-        outputsOn(prefiltered ? *prefiltered : newInput, specs, progress);
-    if (s.stroking) endStroke();
-    s.install(std::move(newInput), std::move(prefiltered), specs, outputs);
-}
-
-void Session::reapply(FrameBuffers newInput, std::vector<Image> outputs) {
-    Impl& s = *m_impl;
-    s.checkSameSize(newInput);
-    const std::vector<LayerSpec> specs = layerSpecs();
-    if (outputs.size() != specs.size())
-        throw Error(ErrorKind::InvalidArgument,
-                    "reapply needs one output per entry of layerSpecs() (" +
-                        std::to_string(specs.size()) + "), got " + std::to_string(outputs.size()),
-                    {}, "session");
-    for (const Image& o : outputs)
-        if (o.width() != width() || o.height() != height() || o.channels() != 3)
-            throw Error(ErrorKind::InvalidArgument,
-                        "a layer output must be " + std::to_string(width()) + "x" +
-                            std::to_string(height()) + "x3",
-                        {}, "session");
-    std::optional<FrameBuffers> prefiltered = prefilteredFor(newInput, s.options);
-    if (s.stroking) endStroke();
-    s.install(std::move(newInput), std::move(prefiltered), specs, outputs);
 }
 
 }  // namespace glint::denoise

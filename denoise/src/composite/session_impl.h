@@ -2,6 +2,7 @@
 // session_io.cpp (save, load, export).
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -34,6 +35,7 @@ struct Session::Impl {
     std::vector<SessionLayer> layers;
     Image composite;
     std::vector<SessionEdit> undo, redo;
+    std::uint64_t version = 0;  // counts changes of the layers and weights (Session::version)
 
     // The open stroke.
     bool stroking = false;
@@ -60,9 +62,11 @@ struct Session::Impl {
     /// Refuses a new render of another size (naming both sizes).
     void checkSameSize(const FrameBuffers& newInput) const;
     /// Makes `newInput` the session's render: `outputs[k]` (on it) becomes the output of every
-    /// layer, current or in the history, with the filter and parameters of `specs[k]`.
+    /// layer, current or in the history, with the filter and parameters of `specs[k]`. The
+    /// composite is left to the caller.
     void install(FrameBuffers newInput, std::optional<FrameBuffers> newPrefiltered,
-                 const std::vector<LayerSpec>& specs, const std::vector<Image>& outputs);
+                 const std::vector<LayerSpec>& specs,
+                 const std::vector<std::shared_ptr<const Image>>& outputs);
 };
 
 /// The filter output of a layer over the whole input (errors name the filter).

@@ -252,7 +252,8 @@ Session Session::load(const fs::path& path, const ProgressFn& progress) {
                 part = [&, i](double fr) {
                     return progress((double(i) + fr) / double(layers.size()));
                 };
-            layer.output = runLayerFilter(s.filterInput(), layer.filter, layer.params, part);
+            layer.output = std::make_shared<const Image>(
+                runLayerFilter(s.filterInput(), layer.filter, layer.params, part));
             s.layers.push_back(std::move(layer));
         }
         s.recomposite(s.composite.bounds());

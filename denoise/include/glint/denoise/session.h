@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -31,10 +32,12 @@ inline constexpr int kSessionFormat = 1;
 struct SessionLayer {
     std::string filter;  ///< registry name
     ParamValues params;  ///< resolved
-    Image output;        ///< the filter applied to the whole input (3 channels)
-    Image weights;       ///< 1 channel in [0, 1], frame-sized
-    Image painted;       ///< 1 channel, 1 where a stroke or fill set the weight (0 elsewhere)
-    std::string name;    ///< the user's name for it; empty: a program names it after its filter
+    /// The filter applied to the whole input (3 channels). Immutable and shared: copies of the
+    /// layer (the undo history, a program's views) share one image.
+    std::shared_ptr<const Image> output;
+    Image weights;     ///< 1 channel in [0, 1], frame-sized
+    Image painted;     ///< 1 channel, 1 where a stroke or fill set the weight (0 elsewhere)
+    std::string name;  ///< the user's name for it; empty: a program names it after its filter
 };
 
 /// What a layer is without its maps: enough to compute its output.
@@ -135,6 +138,41 @@ class Session {
     /// The same with the outputs computed elsewhere (computeOutputs, e.g. on a worker thread):
     /// one per entry of layerSpecs(), frame-sized.
     void reapply(FrameBuffers newInput, std::vector<Image> outputs);
+
+    /// What a re-application on another thread needs of the session (snapshot()).
+    struct Snapshot {
+        SessionOptions options;
+        std::vector<LayerSpec> specs;   ///< layerSpecs()
+        std::vector<std::size_t> uses;  ///< per current layer: its entry of specs
+        std::vector<Image> weights;     ///< per current layer
+        std::uint64_t version = 0;      ///< version() when taken
+    };
+    /// Copies what prepareReapply needs (the current layers' weights: small beside the render).
+    Snapshot snapshot() const;
+    /// Counts the edits of the layers and weights (and undo, redo, reapply): equal versions mean
+    /// the same layers with the same weights.
+    std::uint64_t version() const;
+
+    /// A re-application prepared off the session's thread (prepareReapply).
+    struct Reapplication {
+        FrameBuffers input;
+        std::optional<FrameBuffers>
+            filterInput;  ///< the prefiltered input, when the options say so
+        std::vector<LayerSpec> specs;
+        std::vector<std::shared_ptr<const Image>> outputs;  ///< one per spec
+        Image composite;                                    ///< under the snapshot's weights
+        std::uint64_t version = 0;                          ///< the snapshot's
+    };
+    /// Everything reapply does that grows with the image, from a snapshot and the outputs on
+    /// `newInput` (computeOutputs: one per snapshot spec, frame-sized), touching no session:
+    /// safe on a worker thread. Throws glint::Error(InvalidArgument) for outputs that do not fit.
+    static Reapplication prepareReapply(FrameBuffers newInput, std::vector<Image> outputs,
+                                        const Snapshot& snapshot);
+    /// Installs a prepared re-application: moves and pointer swaps only when the session is still
+    /// at the snapshot's version (otherwise the composite is rebuilt here). Ends an open stroke.
+    /// Throws glint::Error(InvalidArgument) when its specs are no longer layerSpecs() or its size
+    /// differs (nothing changes then).
+    void reapply(Reapplication prepared);
 
     /// Every distinct filter and parameter set the session's layers and its undo/redo history
     /// hold (current layers first, in order): what reapply needs outputs for.
