@@ -121,7 +121,7 @@ TEST(MetallicRoughness, SampleAgreesWithPdfAndEval) {
                         EXPECT_TRUE(std::isfinite(s.weight[c]) && s.weight[c] >= 0.0f);
                         EXPECT_NEAR(s.weight[c], expect[c], 1e-5f * (1.0f + expect[c]));
                     }
-                    if (testing::Test::HasFailure() && ++failures > 3) return;
+                    if (::testing::Test::HasFailure() && ++failures > 3) return;
                 }
                 // At 89.5° a rough lobe reflects up to half of its samples below the horizon.
                 EXPECT_GT(valid, n / 3);
@@ -139,7 +139,7 @@ TEST(MetallicRoughness, EvalIsReciprocal) {
             int checked = 0;
             for (const auto& [wo, wi] : directionPairs(bsdf.alpha, 11)) {
                 expectNearVec(bsdf.eval(wo, wi), bsdf.eval(wi, wo), 1e-3f, "f");
-                if (testing::Test::HasFailure()) return;
+                if (::testing::Test::HasFailure()) return;
                 ++checked;
             }
             EXPECT_GT(checked, 900);
@@ -192,7 +192,7 @@ TEST(MetallicRoughness, BaseIsLambertTimesOneMinusFresnel) {
                 const Vec3 base = f - black.eval(wo, wi);
                 for (int c = 0; c < 3; ++c)
                     EXPECT_NEAR(base[c], expect[c], 1e-4f * expect[c] + 1e-6f * f[c]);
-                if (testing::Test::HasFailure()) return;
+                if (::testing::Test::HasFailure()) return;
             }
         }
 }
@@ -223,7 +223,7 @@ TEST(MetallicRoughness, LimitsAreSchlickConductors) {
                 expectNearVec(limit.mr.eval(wo, wi), conductor.eval(wo, wi), 1e-4f, "f");
                 EXPECT_NEAR(limit.mr.pdf(wo, wi), conductor.pdf(wo, wi),
                             1e-4f * conductor.pdf(wo, wi));
-                if (testing::Test::HasFailure()) return;
+                if (::testing::Test::HasFailure()) return;
             }
         }
     }
@@ -239,7 +239,7 @@ TEST(MetallicRoughness, LinearInMetallic) {
         for (const auto& [wo, wi] : directionPairs(half.alpha, 14)) {
             const Vec3 expect = dielectric.eval(wo, wi) * 0.75f + metal.eval(wo, wi) * 0.25f;
             expectNearVec(half.eval(wo, wi), expect, 1e-4f, "f");
-            if (testing::Test::HasFailure()) return;
+            if (::testing::Test::HasFailure()) return;
         }
     }
 }

@@ -135,7 +135,7 @@ void expectReciprocal(const Bsdf& bsdf, float ior, const std::string& what) {
                 << what << " wo " << wo.x << " " << wo.y << " " << wo.z << " wi " << wi.x << " "
                 << wi.y << " " << wi.z;
         }
-        if (testing::Test::HasFailure()) return;
+        if (::testing::Test::HasFailure()) return;
         if (f.y > 0.0f && (wo.z > 0.0f) != (wi.z > 0.0f)) ++checked;
     }
     EXPECT_GT(checked, 100) << what << ": too few refraction pairs with f > 0";
@@ -171,7 +171,7 @@ TEST(RoughDielectric, NarrowLobesSampleAsPdfAndEvalSay) {
                     EXPECT_TRUE(std::isfinite(s.weight[c]) && s.weight[c] >= 0.0f);
                     EXPECT_NEAR(s.weight[c], expect[c], 1e-4f * (1.0f + expect[c]));
                 }
-                if (testing::Test::HasFailure()) return;
+                if (::testing::Test::HasFailure()) return;
             }
             EXPECT_GT(valid, 1000) << "roughness " << roughness << " wo.z " << wo.z;
         }
@@ -286,7 +286,7 @@ TEST(MetallicRoughnessTransmission, SampleAgreesWithPdfAndEvalDownToRoughnessZer
                         EXPECT_TRUE(std::isfinite(s.weight[c]) && s.weight[c] >= 0.0f);
                         EXPECT_NEAR(s.weight[c], expect[c], 1e-4f * (1.0f + expect[c]));
                     }
-                    if (testing::Test::HasFailure()) return;
+                    if (::testing::Test::HasFailure()) return;
                 }
                 EXPECT_GT(valid, 1000) << "roughness " << roughness << " wo.z " << wo.z;
             }
