@@ -73,7 +73,7 @@ Image displayVarianceMap(const std::vector<const Image*>& results, float exposur
 }
 
 // 1 − SSIM per pixel (clamped at 0): where the composite looks wrong.
-Image errorMap(const Image& composite, const Image& reference, const MetricOptions& mo) {
+Image dissimilarityMap(const Image& composite, const Image& reference, const MetricOptions& mo) {
     Image map = ssimMap(composite, reference, mo);
     for (float& v : map.data()) v = std::max(0.0f, 1.0f - v);
     return map;
@@ -141,7 +141,7 @@ LocalArtistResult localArtist(const FilterBank& bank, const Image& start, const 
     // (updated after every kept stroke).
     Image priority = options.pick == ArtistPick::Variance
                          ? displayVarianceMap(results, options.exposure)
-                         : errorMap(composite, reference, mo);
+                         : dissimilarityMap(composite, reference, mo);
     // The squares stroked so far: the next pick counts only the priority outside them.
     Image tried(w, h, 1, 0.0f);
     for (int stroke = 1; stroke <= options.strokes; ++stroke) {
@@ -182,7 +182,7 @@ LocalArtistResult localArtist(const FilterBank& bank, const Image& start, const 
         const bool keep = !options.keepOnlyHelping || painted >= current;
         if (keep) {
             current = painted;
-            if (options.pick == ArtistPick::Error) priority = errorMap(composite, reference, mo);
+            if (options.pick == ArtistPick::Error) priority = dissimilarityMap(composite, reference, mo);
         } else {
             for (int y = dab.y0; y < dab.y1; ++y)
                 for (int x = dab.x0; x < dab.x1; ++x)
