@@ -182,7 +182,8 @@ LocalArtistResult localArtist(const FilterBank& bank, const Image& start, const 
         const bool keep = !options.keepOnlyHelping || painted >= current;
         if (keep) {
             current = painted;
-            if (options.pick == ArtistPick::Error) priority = dissimilarityMap(composite, reference, mo);
+            if (options.pick == ArtistPick::Error)
+                priority = dissimilarityMap(composite, reference, mo);
         } else {
             for (int y = dab.y0; y < dab.y1; ++y)
                 for (int x = dab.x0; x < dab.x1; ++x)
