@@ -18,6 +18,7 @@
 #include "glint/denoise/filter.h"
 #include "glint/denoise/paint.h"
 #include "glint/denoise/progress.h"
+#include "glint/denoise/session_reapply.h"
 #include "glint/image/frame_buffers.h"
 #include "glint/image/image.h"
 #include "glint/image/io.h"
@@ -40,23 +41,14 @@ struct SessionLayer {
     std::string name;  ///< the user's name for it; empty: a program names it after its filter
 };
 
-/// What a layer is without its maps: enough to compute its output.
-struct LayerSpec {
-    std::string filter;
-    ParamValues params;
-};
-
 /// Whether a stroke or fill adds weight (left button) or removes it (right button).
 enum class BrushMode { Add, Subtract };
 
-/// How the session treats its input.
-struct SessionOptions {
-    bool prefilter = false;       ///< filters read prefiltered features
-    ParamValues prefilterParams;  ///< of prefilterFeatures
-};
-
 class Session {
   public:
+    using Snapshot = SessionSnapshot;
+    using Reapplication = SessionReapplication;
+
     /// A session over `input` (with a colour layer), no layers yet. Throws
     /// glint::Error(InvalidArgument) for an empty frame or bad prefilter parameters.
     explicit Session(FrameBuffers input, const SessionOptions& options = {});
@@ -139,30 +131,12 @@ class Session {
     /// one per entry of layerSpecs(), frame-sized.
     void reapply(FrameBuffers newInput, std::vector<Image> outputs);
 
-    /// What a re-application on another thread needs of the session (snapshot()).
-    struct Snapshot {
-        SessionOptions options;
-        std::vector<LayerSpec> specs;   ///< layerSpecs()
-        std::vector<std::size_t> uses;  ///< per current layer: its entry of specs
-        std::vector<Image> weights;     ///< per current layer
-        std::uint64_t version = 0;      ///< version() when taken
-    };
     /// Copies what prepareReapply needs (the current layers' weights: small beside the render).
     Snapshot snapshot() const;
     /// Counts the edits of the layers and weights (and undo, redo, reapply): equal versions mean
     /// the same layers with the same weights.
     std::uint64_t version() const;
 
-    /// A re-application prepared off the session's thread (prepareReapply).
-    struct Reapplication {
-        FrameBuffers input;
-        std::optional<FrameBuffers>
-            filterInput;  ///< the prefiltered input, when the options say so
-        std::vector<LayerSpec> specs;
-        std::vector<std::shared_ptr<const Image>> outputs;  ///< one per spec
-        Image composite;                                    ///< under the snapshot's weights
-        std::uint64_t version = 0;                          ///< the snapshot's
-    };
     /// Everything reapply does that grows with the image, from a snapshot and the outputs on
     /// `newInput` (computeOutputs: one per snapshot spec, frame-sized), touching no session:
     /// safe on a worker thread. Throws glint::Error(InvalidArgument) for outputs that do not fit.
