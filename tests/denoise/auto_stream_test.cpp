@@ -93,11 +93,8 @@ void expectSame(const AutoResult& whole, const StreamedAuto& streamed, const Fil
     EXPECT_LE(maxDifference(s.composite, whole.composite), 1e-6);
 }
 
-TEST(AutoStream, HalvesWithShortlistFeatheringAndStackingMatchTheWholeFrame) {
-    const FrameBuffers f = featureFrame(5);
-    const BankOptions b = smallBank();
-    const FilterBank bank = buildBank(f, b);
-    ASSERT_GT(bank.size(), 6u);
+// The halves with a shortlist, feathering and stacking (every pass of the streamed selection).
+AutoOptions stackingOptions() {
     AutoOptions o;
     o.estimator = AutoEstimator::Halves;
     o.tuning["shortlist"] = 4;
@@ -106,6 +103,15 @@ TEST(AutoStream, HalvesWithShortlistFeatheringAndStackingMatchTheWholeFrame) {
     o.tuning["stackWindow"] = 3;
     o.tuning["stackSmooth"] = 2;
     o.tuning["stackFeatureWindow"] = 2;
+    return o;
+}
+
+TEST(AutoStream, HalvesWithShortlistFeatheringAndStackingMatchTheWholeFrame) {
+    const FrameBuffers f = featureFrame(5);
+    const BankOptions b = smallBank();
+    const FilterBank bank = buildBank(f, b);
+    ASSERT_GT(bank.size(), 6u);
+    const AutoOptions o = stackingOptions();
     const AutoResult whole = autoComposite(bank, f, o);
     ASSERT_EQ(whole.stacked, 2);
     ASSERT_EQ(whole.stackFeatures, 4);  // the albedo's and the normal's three
@@ -175,19 +181,6 @@ TEST(AutoStream, ReportsProgressToTheEndAndStopsWhenTold) {
             EXPECT_EQ(e.kind(), ErrorKind::Cancelled) << e.what();
         }
     }
-}
-
-// The halves with a shortlist, feathering and stacking (every pass of the streamed selection).
-AutoOptions stackingOptions() {
-    AutoOptions o;
-    o.estimator = AutoEstimator::Halves;
-    o.tuning["shortlist"] = 4;
-    o.tuning["feather"] = 3;
-    o.tuning["stack"] = 2;
-    o.tuning["stackWindow"] = 3;
-    o.tuning["stackSmooth"] = 2;
-    o.tuning["stackFeatureWindow"] = 2;
-    return o;
 }
 
 // The tuning's "spill" choices.
