@@ -328,22 +328,21 @@ void runAuto(const AutoArgs& a) {
 
     int analytic = 0;
     for (bool b : result.analytic) analytic += b ? 1 : 0;
-    json report{
-        {"input", a.input},
-        {"output", a.out},
-        {"bank", a.bank.empty() ? json(nullptr) : json(a.bank)},
-        {"members", bank.size()},
-        {"membersUsed", result.layers.size()},
-        {"analyticDivergence", analytic},
-        {"region", {bank.region().x0, bank.region().x1, bank.region().y0, bank.region().y1}},
-        {"estimator", autoEstimatorName(result.estimator)},
-        {"seed", options.seed},
-        {"streamed", streamed},
-        {"stackFeatures", result.stackFeatures},
-        {"bestMember", memberJson(bank, result.bestMember)},
-        {"bestMemberEstimatedMse", result.estimatedMse[std::size_t(result.bestMember)]},
-        {"bankSeconds", bankSeconds},
-        {"sureSeconds", sureSeconds}};
+    json report{{"input", a.input},
+                {"output", a.out},
+                {"bank", a.bank.empty() ? json(nullptr) : json(a.bank)},
+                {"members", bank.size()},
+                {"membersUsed", result.layers.size()},
+                {"analyticDivergence", analytic},
+                {"region", rectJson(bank.region())},
+                {"estimator", autoEstimatorName(result.estimator)},
+                {"seed", options.seed},
+                {"streamed", streamed},
+                {"stackFeatures", result.stackFeatures},
+                {"bestMember", memberJson(bank, result.bestMember)},
+                {"bestMemberEstimatedMse", result.estimatedMse[std::size_t(result.bestMember)]},
+                {"bankSeconds", bankSeconds},
+                {"sureSeconds", sureSeconds}};
     // Every tuning parameter as used (choices by their option name).
     const ParamValues tuning = resolveAutoTuning(options, result.estimator);
     for (const ParamSpec& spec : autoTuningSpecs()) {
@@ -367,13 +366,7 @@ void runAuto(const AutoArgs& a) {
         report["metricsBestMember"] = metricsOf(single.color(), reference->color(), crop);
     }
     // Written last, so that an error before leaves no output file behind.
-    if (!a.choiceMap.empty()) {
-        DisplayOptions d;
-        d.falseColorChannel = 0;
-        d.falseColorLo = 0.0f;
-        d.falseColorHi = float(std::max<std::size_t>(bank.size(), 2) - 1);
-        writePng(result.choice, a.choiceMap, d);
-    }
+    if (!a.choiceMap.empty()) writeChoiceMap(result.choice, bank.size(), a.choiceMap);
     if (!a.noiseOut.empty()) writeNoise(frame, options, a.noiseOut);
     writeExr(out, a.out);
     if (a.json) {
@@ -406,10 +399,7 @@ json autoOracleColumn(const FilterBank& bank, const FrameBuffers& frame, const I
     } catch (const Error& e) {
         return {{"ssim", nullptr}, {"note", e.where() + ": " + e.message()}};
     }
-    AutoOptions options;
-    const BankOptions bankOptions = readBankOptions(bankDir);
-    options.prefilter = bankOptions.prefilter;
-    options.prefilterParams = bankOptions.prefilterParams;
+    const AutoOptions options = autoOptionsOfBank(bankDir);
     const auto t0 = Clock::now();
     const AutoResult r = autoComposite(bank, frame, options);
     const double seconds = secondsSince(t0);

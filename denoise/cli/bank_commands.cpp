@@ -131,15 +131,10 @@ void runBank(const BankArgs& a) {
     if (tty && !a.json) std::fprintf(stderr, "\n");
     json members = json::array();
     for (int m = 0; m < int(bank.size()); ++m) members.push_back(memberJson(bank, m));
-    json report{
-        {"input", a.input},
-        {"bank", a.out},
-        {"members", bank.size()},
-        {"computed", bank.size() - bank.cacheHits()},
-        {"cached", bank.cacheHits()},
-        {"region", {bank.region().x0, bank.region().x1, bank.region().y0, bank.region().y1}},
-        {"seconds", seconds},
-        {"list", members}};
+    json report{{"input", a.input},           {"bank", a.out},
+                {"members", bank.size()},     {"computed", bank.size() - bank.cacheHits()},
+                {"cached", bank.cacheHits()}, {"region", rectJson(bank.region())},
+                {"seconds", seconds},         {"list", members}};
     if (!a.members.empty()) {
         report["firstMember"] = bank.firstMember();
         report["bankMembers"] = bank.bankMembers();
@@ -219,13 +214,7 @@ void runOracle(const OracleArgs& a) {
                 r.perPixel > r.bestSingle ? (v - r.bestSingle) / (r.perPixel - r.bestSingle) : 0.0);
         expected = {{"renders", e.renders}, {"radii", e.radii}, {"ssim", e.ssim}, {"share", share}};
     }
-    if (!a.choiceMap.empty()) {
-        DisplayOptions d;
-        d.falseColorChannel = 0;
-        d.falseColorLo = 0.0f;
-        d.falseColorHi = float(bank.size() - 1);
-        writePng(r.choice, a.choiceMap, d);
-    }
+    if (!a.choiceMap.empty()) writeChoiceMap(r.choice, bank.size(), a.choiceMap);
     json best3 = json::array();
     for (int m : r.best3Members) best3.push_back(memberJson(bank, m));
     json report{{"input", a.input},
@@ -291,13 +280,6 @@ void runLocalArtist(const NavigateArgs& a, const TreeOptions& tree) {
     if (!a.pick.empty()) options.pick = research::parseArtistPick(a.pick);
     options.keepOnlyHelping = !a.keepAll;
     options.inContext = !a.alone;
-    auto parseNumber = [](const std::string& text, const char* flag) {
-        double v = 0.0;
-        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-        if (ec != std::errc() || end != text.data() + text.size())
-            throw Error(ErrorKind::InvalidArgument, "'" + text + "' is not a number", {}, flag);
-        return v;
-    };
     if (!a.brushSize.empty()) options.brush.size = parseNumber(a.brushSize, "--brush-size");
     if (!a.brushSoftness.empty())
         options.brush.softness = parseNumber(a.brushSoftness, "--brush-softness");
@@ -321,11 +303,7 @@ void runLocalArtist(const NavigateArgs& a, const TreeOptions& tree) {
             throw Error(e.kind(), e.message() + " (--start auto needs it; try --start best)",
                         a.input, e.where());
         }
-        AutoOptions autoOptions;
-        const BankOptions bankOptions = readBankOptions(a.bank);
-        autoOptions.prefilter = bankOptions.prefilter;
-        autoOptions.prefilterParams = bankOptions.prefilterParams;
-        composite = autoComposite(bank, frame, autoOptions).composite;
+        composite = autoComposite(bank, frame, autoOptionsOfBank(a.bank)).composite;
     } else {
         double best = -2.0;
         for (int m = 0; m < int(bank.size()); ++m) {
@@ -344,7 +322,7 @@ void runLocalArtist(const NavigateArgs& a, const TreeOptions& tree) {
         strokes.push_back({{"stroke", s.stroke},
                            {"x", s.x},
                            {"y", s.y},
-                           {"region", {s.region.x0, s.region.x1, s.region.y0, s.region.y1}},
+                           {"region", rectJson(s.region)},
                            {"member", memberJson(bank, s.member)},
                            {"choices", s.choices},
                            {"ssimIfKept", s.ssimIfKept},
@@ -357,7 +335,7 @@ void runLocalArtist(const NavigateArgs& a, const TreeOptions& tree) {
     const json report{
         {"input", a.input},
         {"bank", a.bank},
-        {"region", {bank.region().x0, bank.region().x1, bank.region().y0, bank.region().y1}},
+        {"region", rectJson(bank.region())},
         {"pick", research::artistPickName(options.pick)},
         {"brush", {{"size", options.brush.size}, {"softness", options.brush.softness}}},
         {"keep", a.keepAll ? "all" : "helping"},
@@ -465,7 +443,7 @@ void runNavigate(const NavigateArgs& a) {
         if (share(steps[i].ssim) >= 0.9) within = int(i) + 1;
     const json report{{"input", a.input},
                       {"bank", a.bank},
-                      {"region", {region.x0, region.x1, region.y0, region.y1}},
+                      {"region", rectJson(region)},
                       {"nodes", tree.nodeCount()},
                       {"treeSeconds", treeSeconds},
                       {"noisy", noisy},

@@ -1,4 +1,5 @@
 // Helpers shared by glint-denoise's subcommands (commands.h).
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +10,7 @@
 
 #include "cli_boundary.h"
 #include "commands.h"
+#include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
@@ -90,6 +92,14 @@ std::optional<int> parseOptionalInteger(const std::string& text, const char* fla
     return parseInteger(text, flag);
 }
 
+double parseNumber(const std::string& text, const char* flag) {
+    double value = 0.0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (ec != std::errc() || end != text.data() + text.size())
+        throw Error(ErrorKind::InvalidArgument, "'" + text + "' is not a number", {}, flag);
+    return value;
+}
+
 void checkOutsideSessionFolder(const std::string& output, const char* outputFlag,
                                const std::string& session, const char* sessionFlag) {
     namespace fs = std::filesystem;
@@ -163,6 +173,26 @@ Rect parseRegion(const std::string& text, int width, int height, const std::stri
     if (!problem.empty())
         throw Error(ErrorKind::InvalidArgument, "'" + text + "': " + problem, file, option);
     return roi;
+}
+
+json rectJson(const Rect& r) {
+    return {r.x0, r.x1, r.y0, r.y1};
+}
+
+void writeChoiceMap(const Image& choice, std::size_t members, const std::string& path) {
+    DisplayOptions d;
+    d.falseColorChannel = 0;
+    d.falseColorLo = 0.0f;
+    d.falseColorHi = float(std::max<std::size_t>(members, 2) - 1);
+    writePng(choice, path, d);
+}
+
+AutoOptions autoOptionsOfBank(const std::string& bankDir) {
+    const BankOptions bankOptions = readBankOptions(bankDir);
+    AutoOptions options;
+    options.prefilter = bankOptions.prefilter;
+    options.prefilterParams = bankOptions.prefilterParams;
+    return options;
 }
 
 FrameBuffers readReference(const std::string& path, int width, int height) {

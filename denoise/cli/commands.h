@@ -20,6 +20,7 @@
 
 namespace glint::denoise {
 class FilterBank;
+struct AutoOptions;
 }  // namespace glint::denoise
 
 namespace glint::denoise::cli {
@@ -57,6 +58,9 @@ ParamValues parseParams(const std::vector<std::string>& given, const std::vector
 int parseInteger(const std::string& text, const char* flag);
 /// parseInteger for an option that may be left out: nullopt for "".
 std::optional<int> parseOptionalInteger(const std::string& text, const char* flag);
+/// Parses a whole decimal number (std::from_chars: no spaces or trailing characters); `flag`
+/// names the option in the error. Ranges are checked by the options' validate().
+double parseNumber(const std::string& text, const char* flag);
 
 /// Refuses before any work an output (a file) inside the side folder of the session file
 /// `session` (NAME.glint-session.json → NAME.glint-session/): writing there would replace the
@@ -80,6 +84,17 @@ std::string regionProblem(const Rect& r, int width, int height);
 /// from `file`.
 Rect parseRegion(const std::string& text, int width, int height, const std::string& file,
                  const std::string& option = "--roi");
+
+/// A rectangle as JSON: [x0, x1, y0, y1] (half-open).
+nlohmann::json rectJson(const Rect& r);
+
+/// Writes the per-pixel choice among `members` bank members (a 1-channel member index) as a
+/// false-colour PNG, the ramp spanning member 0 … members − 1.
+void writeChoiceMap(const Image& choice, std::size_t members, const std::string& path);
+
+/// The auto composite's options (its defaults) for a bank read from the folder `bankDir`: the
+/// features prefiltered as the bank's were (readBankOptions).
+AutoOptions autoOptionsOfBank(const std::string& bankDir);
 
 /// Reads a reference EXR of the given size (errors name the file).
 FrameBuffers readReference(const std::string& path, int width, int height);

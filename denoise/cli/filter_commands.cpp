@@ -149,7 +149,7 @@ void runApply(const ApplyOptions& opt) {
                 {"height", frame.height()},
                 {"prefilterSeconds", std::chrono::duration<double>(t1 - t0).count()},
                 {"filterSeconds", std::chrono::duration<double>(t2 - t1).count()}};
-    if (roi) report["roi"] = {roi->x0, roi->x1, roi->y0, roi->y1};
+    if (roi) report["roi"] = rectJson(*roi);
     if (reference) {
         report["reference"] = opt.reference;
         // Metric errors (e.g. a reference that is NaN everywhere) name the files involved.

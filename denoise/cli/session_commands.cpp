@@ -57,8 +57,7 @@ void runPaint(const PaintArgs& a) {
     session.save(a.save);
     if (!a.out.empty()) session.exportExr(a.out);
     if (!a.png.empty()) session.exportPng(a.png);
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double seconds = secondsSince(t0);
     if (a.json) {
         printJson({{"input", a.input},
                    {"session", a.save},
@@ -112,8 +111,7 @@ void runComposite(const CompositeArgs& a) {
     }
     session.exportExr(a.out);
     if (!a.png.empty()) session.exportPng(a.png);
-    report["seconds"] =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    report["seconds"] = secondsSince(t0);
     if (a.json) {
         printJson(report);
         return;

@@ -97,6 +97,34 @@ TEST_F(AutoCli, HalfBuffersSelectTheHalvesEstimatorAndItsDefaults) {
     EXPECT_NE(r.out.find("cross-validation on the halves"), std::string::npos) << r.out;
 }
 
+// A bank folder built on prefiltered features: `auto --bank`, the oracle's auto column and the
+// local artist's auto start all read its prefiltering (autoOptionsOfBank) and reach one SSIM.
+TEST_F(AutoCli, EveryAutoOfAPrefilteredBankFolderIsTheSameComposite) {
+    RunResult r = run("bank " + path("noisy.exr") + " --out " + path("pbank") +
+                      " --size 6 --prefilter --prefilter-param radius=2");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string inputs =
+        path("noisy.exr") + " --reference " + path("ref.exr") + " --bank " + path("pbank");
+    r = run("auto " + inputs + " --out " + path("pauto.exr") + " --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const double autoSsim = nlohmann::json::parse(r.out)["metrics"]["ssim"].get<double>();
+    r = run("oracle " + inputs + " --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json column = nlohmann::json::parse(r.out)["auto"];
+    ASSERT_TRUE(column["ssim"].is_number()) << r.out;
+    EXPECT_NEAR(column["ssim"].get<double>(), autoSsim, 1e-12);
+    r = run("navigate " + inputs + " --simulate --local --strokes 1 --brush-size 12 --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json start = nlohmann::json::parse(r.out)["start"];
+    EXPECT_EQ(start["kind"], "auto");
+    EXPECT_NEAR(start["ssim"].get<double>(), autoSsim, 1e-12);
+    // Without the bank's prefiltering the composite differs: the agreement above is not chance.
+    r = run("auto " + path("noisy.exr") + " --reference " + path("ref.exr") + " --out " +
+            path("plain.exr") + " --size 6 --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(nlohmann::json::parse(r.out)["metrics"]["ssim"].get<double>(), autoSsim);
+}
+
 TEST_F(AutoCli, AutoWithAndWithoutABankFolderAndTheOracleColumn) {
     RunResult r =
         run("auto " + path("noisy.exr") + " --out " + path("auto.exr") + " --size 10" +

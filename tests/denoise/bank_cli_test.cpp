@@ -37,6 +37,7 @@ TEST_F(BankCli, BankThenReopenFromTheCacheThenOracleAndNavigate) {
     nlohmann::json j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["members"], 16);  // 10 + the 6 defaults
     EXPECT_EQ(j["cached"], 0);
+    EXPECT_EQ(j["region"], nlohmann::json::parse("[0, 48, 0, 40]"));  // x0, x1, y0, y1
     EXPECT_TRUE(fs::exists(fs::path(bank()) / "index.json"));
     r = build();
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -57,6 +58,7 @@ TEST_F(BankCli, BankThenReopenFromTheCacheThenOracleAndNavigate) {
     j = nlohmann::json::parse(r.out);
     ASSERT_FALSE(j["choices"].empty());
     EXPECT_GT(j["choices"].back()["ssim"].get<double>(), j["noisy"].get<double>());
+    EXPECT_EQ(j["region"], nlohmann::json::parse("[0, 48, 0, 40]"));  // the bank's
     // Text output names the choices.
     r = run("navigate " + path("noisy.exr") + " --reference " + path("ref.exr") + " --bank " +
             bank() + " --simulate --roi 0,30,0,30");
