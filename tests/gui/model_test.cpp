@@ -32,10 +32,7 @@ class StudioModelTest : public QObject {
     QString m_scene;
 
     std::unique_ptr<MainWindow> openScene(const QString& autosave) {
-        auto w = makeWindow(m_dir.filePath(autosave));
-        w->openFile(m_scene);
-        if (!waitIdle(*w)) return nullptr;
-        return w;
+        return openAndWait(m_scene, m_dir.filePath(autosave));
     }
 
   private slots:

@@ -102,10 +102,7 @@ class StudioFitTest : public QObject {
     QString m_scene;
 
     std::unique_ptr<MainWindow> openScene() {
-        auto w = makeWindow(m_dir.filePath(QStringLiteral("autosave")));
-        w->openFile(m_scene);
-        if (!waitIdle(*w)) return nullptr;
-        return w;
+        return openAndWait(m_scene, m_dir.filePath(QStringLiteral("autosave")));
     }
 
   private slots:

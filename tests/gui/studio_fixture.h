@@ -87,6 +87,16 @@ inline bool waitIdle(MainWindow& w, int ms = 30000) {
         ms);
 }
 
+/// A window (makeWindow, journalling into `autosave`) with `file` open and settled (waitIdle:
+/// a scene rendered, an EXR read, a session on it). Null when it does not settle in time.
+inline std::unique_ptr<MainWindow> openAndWait(const QString& file, const QString& autosave,
+                                               bool denoiseFirstImage = false, int ms = 30000) {
+    auto window = makeWindow(autosave, denoiseFirstImage);
+    window->openFile(file);
+    if (!waitIdle(*window, ms)) return nullptr;
+    return window;
+}
+
 /// Bit-exact equality of two images.
 inline bool sameBits(const Image& a, const Image& b) {
     return a.sameShape(b) &&

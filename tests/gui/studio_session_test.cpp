@@ -68,16 +68,12 @@ class StudioSessionTest : public QObject {
     QString m_scene;
     int m_windows = 0;
 
-    std::unique_ptr<MainWindow> window() {
-        return makeWindow(m_dir.filePath(QStringLiteral("autosave%1").arg(m_windows++)));
-    }
+    // A journal of its own for every window.
+    QString nextAutosave() { return m_dir.filePath(QStringLiteral("autosave%1").arg(m_windows++)); }
 
-    std::unique_ptr<MainWindow> openScene() {
-        auto w = window();
-        w->openFile(m_scene);
-        if (!waitIdle(*w)) return nullptr;
-        return w;
-    }
+    std::unique_ptr<MainWindow> window() { return makeWindow(nextAutosave()); }
+
+    std::unique_ptr<MainWindow> openScene() { return openAndWait(m_scene, nextAutosave()); }
 
     // Saves `w`'s session to `name` in the temporary folder and waits until it is written.
     QString save(MainWindow& w, const QString& name) {

@@ -71,10 +71,7 @@ class StudioTest : public QObject {
     QString m_scene;
 
     std::unique_ptr<MainWindow> openScene() {
-        auto w = makeWindow(m_dir.filePath(QStringLiteral("autosave")));
-        w->openFile(m_scene);
-        if (!waitIdle(*w)) return nullptr;
-        return w;
+        return openAndWait(m_scene, m_dir.filePath(QStringLiteral("autosave")));
     }
 
     // Adds a Gaussian layer through the tune stage and waits for it.

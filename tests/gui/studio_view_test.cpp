@@ -60,9 +60,8 @@ class StudioViewTest : public QObject {
 
     // A window (the default layer on) with the small Cornell box open, rendered and denoised.
     std::unique_ptr<MainWindow> openDenoised(const QString& name) {
-        auto w = makeWindow(m_dir.filePath(name), true);
-        w->openFile(m_scene);
-        if (!waitIdle(*w)) return nullptr;
+        auto w = openAndWait(m_scene, m_dir.filePath(name), true);
+        if (!w) return nullptr;
         if (!waitFor(
                 [&] { return w->session()->session().layerCount() == 1 && !w->session()->busy(); }))
             return nullptr;
