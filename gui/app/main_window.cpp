@@ -284,6 +284,8 @@ void MainWindow::connectModel() {
     connect(m_document, &Document::modifiedChanged, this, &MainWindow::updateTitle);
     connect(m_document, &Document::failed, this, &MainWindow::showError);
     connect(m_session, &SessionAdapter::failed, this, &MainWindow::showError);
+    connect(m_session, &SessionAdapter::status, this,
+            [this](const QString& m) { statusBar()->showMessage(m, 8000); });
     connect(m_renderBar, &RenderBar::failed, this, &MainWindow::showError);
     connect(m_look, &LookPanel::failed, this, &MainWindow::showError);
     connect(m_renderBar, &RenderBar::regionToolToggled, this, [this](bool on) {

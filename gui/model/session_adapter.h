@@ -133,6 +133,8 @@ class SessionAdapter : public QObject {
     void lockedChanged(bool locked);
     void progress(const QString& what, double fraction);
     void failed(const QString& title, const QString& message);
+    /// A one-line note for the status bar (what Auto start made, and how it estimated the error).
+    void status(const QString& message);
     /// A session file finished loading (its view state may be read now).
     void loaded(const QString& path);
     /// An edit happened (for the autosave journal).

@@ -11,6 +11,33 @@
 
 namespace glint::studio {
 
+namespace {
+
+// What Auto start says it did: the layers it made and how it estimated each member's error (the
+// studio asks for AutoEstimator::Auto, so the image-only estimate means neither half buffers nor
+// a variance layer; glint-denoise auto says the same).
+QString autoStartSummary(const denoise::AutoResult& result) {
+    QString how;
+    switch (result.estimator) {
+        case denoise::AutoEstimator::Halves:
+            how = QObject::tr("cross-validation on the render's halves");
+            break;
+        case denoise::AutoEstimator::Image:
+            how = QObject::tr(
+                "SURE with the image-only noise estimate (the render has neither half buffers "
+                "nor a variance layer)");
+            break;
+        default:
+            how = QObject::tr("SURE with the render's variance");
+            break;
+    }
+    return QObject::tr("Auto start: %n layer(s), errors estimated by %1", "",
+                       int(result.layers.size()))
+        .arg(how);
+}
+
+}  // namespace
+
 void SessionAdapter::wand(std::size_t layer, int x, int y, const denoise::WandOptions& options,
                           denoise::BrushMode mode) {
     if (!m_session || m_locked || !m_filterInput) return;
@@ -172,6 +199,7 @@ void SessionAdapter::autoChoose(BankService::BankPtr bank, FramePtr in,
                 }
                 if (edits > 0) pushEdit(tr("Auto start"), int(edits));
                 changedAll();
+                emit status(autoStartSummary(*result));
             });
         },
         [this](const QString& message) { emit failed(tr("Auto start failed"), message); });

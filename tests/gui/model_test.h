@@ -7,3 +7,5 @@
 
 /// The bank service's tests (model_test.cpp).
 std::unique_ptr<QObject> makeStudioModelTest();
+/// Auto Start on a Cycles frame (auto_start_test.cpp).
+std::unique_ptr<QObject> makeStudioAutoStartTest();

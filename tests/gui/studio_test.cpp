@@ -586,7 +586,8 @@ int main(int argc, char** argv) {
     QStandardPaths::setTestModeEnabled(true);
     StudioTest test;
     const std::unique_ptr<QObject> model = makeStudioModelTest();
-    return runTests({&test, model.get()}, argc, argv);
+    const std::unique_ptr<QObject> autoStart = makeStudioAutoStartTest();
+    return runTests({&test, model.get(), autoStart.get()}, argc, argv);
 }
 
 #include "studio_test.moc"

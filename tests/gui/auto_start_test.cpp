@@ -1,0 +1,67 @@
+// Auto Start on another renderer's frame: a Cycles EXR has neither a variance layer nor half
+// buffers, so the studio's auto composite falls back to the image-only noise estimator (as
+// `glint-denoise auto` does) and says so on the status bar.
+#include <QStatusBar>
+#include <QStringList>
+#include <QTemporaryDir>
+#include <QTest>
+
+#include <cmath>
+
+#include "model_test.h"
+#include "studio_fixture.h"
+
+using namespace glint;
+using namespace glint::studio;
+using namespace glint::studio::testing;
+
+class StudioAutoStartTest : public QObject {
+    Q_OBJECT
+  private:
+    QTemporaryDir m_dir;
+
+  private slots:
+    void initTestCase() { QVERIFY(m_dir.isValid()); }
+
+    void autoStartOnACyclesFrameUsesTheImageOnlyEstimator() {
+        const QString exr =
+            sourceDir() + QStringLiteral("/tests/data/cycles/cornell_8spp_seed1.exr");
+        auto w = openAndWait(exr, m_dir.filePath(QStringLiteral("autosave-cycles")));
+        QVERIFY(w);
+        QCOMPARE(w->document()->kind(), Document::Kind::Exr);
+        const FramePtr frame = w->session()->input();
+        QVERIFY(!frame->has(Layer::Variance));
+        QVERIFY(!frame->has(Layer::HalfColor));
+        QStringList messages;
+        connect(w->statusBar(), &QStatusBar::messageChanged, this, [&](const QString& m) {
+            if (!m.isEmpty()) messages << m;
+        });
+        const denoise::Session& s = w->session()->session();
+        QCOMPARE(s.layerCount(), std::size_t(0));
+        w->actions().autoStart->trigger();
+        QVERIFY2(waitFor([&] { return s.layerCount() > 0 && !w->session()->busy(); }, 180000),
+                 qPrintable(w->lastError()));
+        QVERIFY2(w->lastError().isEmpty(), qPrintable(w->lastError()));
+        // A composite of the frame's size, finite, and not the noisy input.
+        const Image& composite = s.composite();
+        QCOMPARE(composite.width(), frame->width());
+        QCOMPARE(composite.height(), frame->height());
+        double changed = 0.0;
+        for (std::size_t i = 0; i < composite.data().size(); ++i) {
+            QVERIFY(std::isfinite(composite.data()[i]));
+            changed += std::fabs(composite.data()[i] - frame->color().data()[i]);
+        }
+        QVERIFY(changed > 0.0);
+        // The status bar names the estimator that ran.
+        QVERIFY2(messages.filter(QStringLiteral("Auto start")).size() == 1,
+                 qPrintable(messages.join(QStringLiteral(" | "))));
+        QVERIFY2(messages.filter(QStringLiteral("image-only noise estimate")).size() == 1,
+                 qPrintable(messages.join(QStringLiteral(" | "))));
+    }
+};
+
+std::unique_ptr<QObject> makeStudioAutoStartTest() {
+    return std::make_unique<StudioAutoStartTest>();
+}
+
+#include "auto_start_test.moc"
