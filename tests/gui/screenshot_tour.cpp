@@ -120,10 +120,7 @@ int main(int argc, char** argv) {
     shoot(*w, out, QStringLiteral("01-open"));
 
     // 2. Look: a wall turns blue; the image renders again.
-    std::string wall;
-    for (const auto& item : w->document()->look())
-        for (const auto& p : item.properties)
-            if (p.name == "albedo" && !item.light && wall.empty()) wall = item.name;
+    const std::string wall = firstAlbedoMaterial(*w->document());
     const FramePtr before = w->document()->finishedFrame();
     w->lookPanel()->edit(wall, "albedo", {0.15, 0.3, 0.8});
     waitFor([&] { return w->document()->finishedFrame() != before; });

@@ -493,10 +493,7 @@ class StudioFitTest : public QObject {
         w->document()->renderReference(16);
         QVERIFY(waitFor([&] { return w->document()->reference() != nullptr; }, 60000));
         QVERIFY(w->compareView()->lookWarning().isEmpty());
-        std::string wall;
-        for (const auto& item : w->document()->look())
-            for (const auto& p : item.properties)
-                if (p.name == "albedo" && !item.light && wall.empty()) wall = item.name;
+        const std::string wall = firstAlbedoMaterial(*w->document());
         w->lookPanel()->edit(wall, "albedo", {0.2, 0.3, 0.7});
         QVERIFY(w->compareView()->lookWarning().contains(QStringLiteral("another look")));
         QVERIFY(w->statusBar()->currentMessage().contains(QStringLiteral("another look")));

@@ -11,6 +11,7 @@
 
 #include <functional>
 #include <memory>
+#include <string>
 
 #include "app/main_window.h"
 #include "glint/image/frame_buffers.h"
@@ -95,6 +96,15 @@ inline std::unique_ptr<MainWindow> openAndWait(const QString& file, const QStrin
     window->openFile(file);
     if (!waitIdle(*window, ms)) return nullptr;
     return window;
+}
+
+/// The first material of the document's look with an albedo that is no light (a diffuse wall of
+/// the Cornell box); "" when there is none.
+inline std::string firstAlbedoMaterial(const Document& d) {
+    for (const auto& item : d.look())
+        for (const auto& p : item.properties)
+            if (p.name == "albedo" && !item.light) return item.name;
+    return {};
 }
 
 /// Bit-exact equality of two images.

@@ -41,14 +41,6 @@ using namespace glint::studio::testing;
 
 namespace {
 
-// The first non-emitting material with an albedo (a wall of the Cornell box).
-std::string aWall(const Document& d) {
-    for (const render::LookItem& item : d.look())
-        for (const render::LookProperty& p : item.properties)
-            if (p.name == "albedo" && !item.light) return item.name;
-    return {};
-}
-
 bool unsavedTitle(const MainWindow& w) {
     return w.windowTitle().contains(QStringLiteral(" *"));
 }
@@ -105,7 +97,7 @@ class StudioSessionTest : public QObject {
     void aSessionKeepsTheLookAndTheRenderSettings() {
         auto w = openScene();
         QVERIFY(w);
-        const std::string wall = aWall(*w->document());
+        const std::string wall = firstAlbedoMaterial(*w->document());
         QVERIFY(!wall.empty());
         const std::array<double, 3> edited{0.2, 0.3, 0.7};
         const std::array<double, 3> original = w->document()->lookValue(wall, "albedo");
@@ -160,7 +152,7 @@ class StudioSessionTest : public QObject {
         auto w = openScene();
         QVERIFY(w);
         const std::array<double, 3> original =
-            w->document()->lookValue(aWall(*w->document()), "albedo");
+            w->document()->lookValue(firstAlbedoMaterial(*w->document()), "albedo");
         const QString path = save(*w, QStringLiteral("old.glint-session.json"));
         QVERIFY(!path.isEmpty());
         w->close();
@@ -186,7 +178,8 @@ class StudioSessionTest : public QObject {
         auto again = reopen(path);
         QVERIFY(again);
         QVERIFY2(again->lastError().isEmpty(), qPrintable(again->lastError()));
-        QVERIFY(again->document()->lookValue(aWall(*again->document()), "albedo") == original);
+        QVERIFY(again->document()->lookValue(firstAlbedoMaterial(*again->document()), "albedo") ==
+                original);
         QVERIFY(!again->document()->settings().halfBuffers);
         QVERIFY(!unsavedTitle(*again));
     }
@@ -197,7 +190,7 @@ class StudioSessionTest : public QObject {
         QVERIFY2(!unsavedTitle(*w), qPrintable(w->windowTitle()));
         QVERIFY(!w->isModified());
         // A look edit (the re-render starts a new session: the undo stack is clean again).
-        const std::string wall = aWall(*w->document());
+        const std::string wall = firstAlbedoMaterial(*w->document());
         w->lookPanel()->edit(wall, "albedo", {0.9, 0.1, 0.1});
         QVERIFY(waitIdle(*w));
         QCOMPARE(w->session()->session().layerCount(), std::size_t(0));

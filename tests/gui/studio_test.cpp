@@ -54,14 +54,6 @@ double sum(const Image& image) {
     return s;
 }
 
-// The first material of the look with an albedo (a diffuse wall of the box).
-std::string firstAlbedoMaterial(const Document& d) {
-    for (const auto& item : d.look())
-        for (const auto& p : item.properties)
-            if (p.name == "albedo" && !item.light) return item.name;
-    return {};
-}
-
 }  // namespace
 
 class StudioTest : public QObject {

@@ -42,14 +42,6 @@ QColor shownAt(ImageCanvas& canvas, int x, int y) {
     return grab.pixelColor(at * grab.devicePixelRatio());
 }
 
-// The first material of the look with an albedo (a diffuse wall of the box).
-std::string firstAlbedoMaterial(const Document& d) {
-    for (const auto& item : d.look())
-        for (const auto& p : item.properties)
-            if (p.name == "albedo" && !item.light) return item.name;
-    return {};
-}
-
 }  // namespace
 
 class StudioViewTest : public QObject {
