@@ -35,10 +35,7 @@ inline bool openWithLayer(MainWindow& w, const QString& scene) {
     spp->setValue(1);
     w.openFile(scene);
     if (!waitIdle(w, 120000)) return false;
-    w.setStage(2);
-    w.tuneView()->setFilter("gaussian");
-    w.tuneView()->choose(false);
-    if (!waitFor([&] { return w.session()->session().layerCount() == 1; }, 120000)) return false;
+    if (!addGaussian(w, false, 120000)) return false;
     return waitIdle(w, 120000);
 }
 

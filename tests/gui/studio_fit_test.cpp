@@ -108,7 +108,7 @@ class StudioFitTest : public QObject {
   private slots:
     void initTestCase() {
         QVERIFY(m_dir.isValid());
-        m_scene = writeCornell(m_dir.filePath(QStringLiteral("scene")), 64, 48, 4);
+        m_scene = writeSmallCornell(m_dir);
     }
 
     void theMinimumSizeFitsA1366x768ScreenInEveryStage() {
@@ -337,10 +337,7 @@ class StudioFitTest : public QObject {
     void aClickThatFocusesTheCanvasDoesNotPaint() {
         auto w = openScene();
         QVERIFY(w);
-        w->setStage(2);
-        w->tuneView()->setFilter("gaussian");
-        w->tuneView()->choose(false);
-        QVERIFY(waitFor([&] { return w->session()->session().layerCount() == 1; }));
+        QVERIFY(addGaussian(*w, false));
         QVERIFY(waitIdle(*w));
         w->setStage(3);
         ImageCanvas* canvas = w->viewer()->canvas();
@@ -470,10 +467,7 @@ class StudioFitTest : public QObject {
     void theSidePreviewFollowsTheDisplay() {
         auto w = openScene();
         QVERIFY(w);
-        w->setStage(2);
-        w->tuneView()->setFilter("gaussian");
-        w->tuneView()->choose(false);
-        QVERIFY(waitFor([&] { return w->session()->session().layerCount() == 1; }));
+        QVERIFY(addGaussian(*w, false));
         QVERIFY(waitIdle(*w));
         w->setStage(3);
         QLabel* side = nullptr;

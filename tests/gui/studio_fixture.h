@@ -7,6 +7,7 @@
 #include <QElapsedTimer>
 #include <QFile>
 #include <QString>
+#include <QTemporaryDir>
 #include <QTest>
 
 #include <functional>
@@ -16,6 +17,7 @@
 #include "app/main_window.h"
 #include "glint/image/frame_buffers.h"
 #include "glint/image/image.h"
+#include "views/tune_view.h"
 
 namespace glint::studio::testing {
 
@@ -45,6 +47,11 @@ inline QString writeCornell(const QString& folder, int width, int height, int sp
     QFile f(path);
     if (f.open(QIODevice::WriteOnly | QIODevice::Truncate)) f.write(json.toUtf8());
     return path;
+}
+
+/// The small Cornell box most studio tests share (64 × 48 at 4 spp), written to `dir`/scene.
+inline QString writeSmallCornell(const QTemporaryDir& dir) {
+    return writeCornell(dir.filePath(QStringLiteral("scene")), 64, 48, 4);
 }
 
 /// A studio window journalling into `autosave`, asking no questions. The tests written before
@@ -105,6 +112,16 @@ inline std::string firstAlbedoMaterial(const Document& d) {
         for (const auto& p : item.properties)
             if (p.name == "albedo" && !item.light) return item.name;
     return {};
+}
+
+/// Adds a Gaussian layer through the tune stage (weight 1 everywhere when `fill`, else 0) and
+/// waits up to `ms` for it.
+inline bool addGaussian(MainWindow& w, bool fill, int ms = 20000) {
+    w.setStage(2);
+    w.tuneView()->setFilter("gaussian");
+    const std::size_t before = w.session()->session().layerCount();
+    w.tuneView()->choose(fill);
+    return waitFor([&] { return w.session()->session().layerCount() == before + 1; }, ms);
 }
 
 /// Bit-exact equality of two images.

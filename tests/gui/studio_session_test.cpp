@@ -91,7 +91,7 @@ class StudioSessionTest : public QObject {
   private slots:
     void initTestCase() {
         QVERIFY(m_dir.isValid());
-        m_scene = writeCornell(m_dir.filePath(QStringLiteral("scene")), 64, 48, 4);
+        m_scene = writeSmallCornell(m_dir);
     }
 
     void aSessionKeepsTheLookAndTheRenderSettings() {

@@ -66,19 +66,10 @@ class StudioTest : public QObject {
         return openAndWait(m_scene, m_dir.filePath(QStringLiteral("autosave")));
     }
 
-    // Adds a Gaussian layer through the tune stage and waits for it.
-    static bool addGaussian(MainWindow& w, bool fill) {
-        w.setStage(2);
-        w.tuneView()->setFilter("gaussian");
-        const std::size_t before = w.session()->session().layerCount();
-        w.tuneView()->choose(fill);
-        return waitFor([&] { return w.session()->session().layerCount() == before + 1; });
-    }
-
   private slots:
     void initTestCase() {
         QVERIFY(m_dir.isValid());
-        m_scene = writeCornell(m_dir.filePath(QStringLiteral("scene")), 64, 48, 4);
+        m_scene = writeSmallCornell(m_dir);
     }
 
     void opensASceneAndRendersAtOnce() {

@@ -63,7 +63,7 @@ class StudioViewTest : public QObject {
   private slots:
     void initTestCase() {
         QVERIFY(m_dir.isValid());
-        m_scene = writeCornell(m_dir.filePath(QStringLiteral("scene")), 64, 48, 4);
+        m_scene = writeSmallCornell(m_dir);
     }
 
     void aWipeDraggedOnTheCanvasSplitsAFromB() {
