@@ -28,6 +28,9 @@ struct ImageNoiseOptions {
     /// residual² / m^alpha with m the pixel's predicted (smooth) value, then multiplied back by
     /// the pixel's own m^alpha (0: no modulation; 1: variance proportional to brightness).
     double alpha = 1.0;
+    /// Scale the median's level by the frame's tail factor max(1, mean residual / mean level),
+    /// so that heavy-tailed (firefly) noise is not under-read (false: the median's level).
+    bool tail = true;
 };
 
 /// Throws glint::Error(Numeric) naming `file` and the first non-finite colour value unless the
