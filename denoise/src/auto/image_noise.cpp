@@ -175,13 +175,14 @@ Image estimateImageNoise(const FrameBuffers& frame, const ImageNoiseOptions& o, 
     std::array<double, 6> total{};
     for (const auto& row : rowSums)  // in row order: the same sum on every run
         for (std::size_t i = 0; i < 6; ++i) total[i] += row[i];
-    for (int c = 0; c < 3; ++c) {
-        const double levels = total[std::size_t(c) + 3];
-        const double t = levels > 0.0 ? std::max(1.0, total[std::size_t(c)] / levels) : 1.0;
-        work.parallelFor(0, h, [&](int y) {
-            for (int x = 0; x < w; ++x) variance(x, y, c) = float(double(variance(x, y, c)) * t);
-        });
-    }
+    std::array<double, 3> t{};
+    for (std::size_t c = 0; c < 3; ++c)
+        t[c] = total[c + 3] > 0.0 ? std::max(1.0, total[c] / total[c + 3]) : 1.0;
+    work.parallelFor(0, h, [&](int y) {
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c)
+                variance(x, y, c) = float(double(variance(x, y, c)) * t[std::size_t(c)]);
+    });
     return variance;
 }
 

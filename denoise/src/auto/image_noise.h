@@ -40,7 +40,7 @@ void checkImageNoiseInput(const FrameBuffers& frame, const std::string& file = {
 
 /// The variance of the mean of each pixel and channel (3 channels, frame-sized) estimated from
 /// the colour and, where the frame has them, the albedo and normal; any variance or half layer
-/// is not read. Rows in parallel through `work` (one unit per row, twice).
+/// is not read. Rows in parallel through `work` (one unit per row, three times).
 Image estimateImageNoise(const FrameBuffers& frame, const ImageNoiseOptions& options,
                          WorkContext& work);
 
