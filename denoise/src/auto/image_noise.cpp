@@ -132,11 +132,15 @@ Image estimateImageNoise(const FrameBuffers& frame, const ImageNoiseOptions& o, 
 
     // 3. The local noise level: the median of residual² / (m^alpha + floor) over the pixels of
     //    the window whose features are like the centre's (weight ≥ gate), scaled to a variance
-    //    by the median of χ²₁ and multiplied back by the centre's own m^alpha + floor.
+    //    by the median of χ²₁ and multiplied back by the centre's own m^alpha + floor. Each row
+    //    also sums, per channel, the levels and the pixels' own residual² / (m^alpha + floor),
+    //    for the tail factor of step 4.
     Image variance(w, h, 3);
+    std::vector<std::array<double, 6>> rowSums(std::size_t(h), std::array<double, 6>{});
     const int R = o.window;
     work.parallelFor(0, h, [&](int y) {
         std::array<std::vector<double>, 3> values;
+        std::array<double, 6>& sums = rowSums[std::size_t(y)];
         for (int x = 0; x < w; ++x) {
             for (auto& v : values) v.clear();
             for (int qy = std::max(0, y - R); qy <= std::min(h - 1, y + R); ++qy)
@@ -154,9 +158,30 @@ Image estimateImageNoise(const FrameBuffers& frame, const ImageNoiseOptions& o, 
                 const auto mid = v.begin() + std::ptrdiff_t(v.size() / 2);
                 std::nth_element(v.begin(), mid, v.end());
                 const double s = std::pow(double(smooth(x, y, c)), o.alpha) + floor[std::size_t(c)];
-                variance(x, y, c) = float(*mid / kChiSquare1Median * s);
+                const double level = *mid / kChiSquare1Median;
+                variance(x, y, c) = float(level * s);
+                sums[std::size_t(c)] += double(residual(x, y, c)) / s;
+                sums[std::size_t(c) + 3] += level;
             }
         }
+    });
+
+    // 4. The tail factor: over the frame, the mean of the pixels' own residual² / (m^alpha +
+    //    floor) estimates the mean normalised variance with every firefly counted; the median
+    //    level reads only the body of the distribution, T = mean / mean level times too low for
+    //    heavy-tailed noise. T is kept when above 1; a light-tailed or structure-dominated frame
+    //    (T < 1: edges the features miss give residuals of even size) keeps the median's level.
+    if (!o.tail) return variance;
+    std::array<double, 6> total{};
+    for (const auto& row : rowSums)  // in row order: the same sum on every run
+        for (std::size_t i = 0; i < 6; ++i) total[i] += row[i];
+    std::array<double, 3> t{};
+    for (std::size_t c = 0; c < 3; ++c)
+        t[c] = total[c + 3] > 0.0 ? std::max(1.0, total[c] / total[c + 3]) : 1.0;
+    work.parallelFor(0, h, [&](int y) {
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c)
+                variance(x, y, c) = float(double(variance(x, y, c)) * t[std::size_t(c)]);
     });
     return variance;
 }

@@ -28,6 +28,9 @@ struct ImageNoiseOptions {
     /// residual² / m^alpha with m the pixel's predicted (smooth) value, then multiplied back by
     /// the pixel's own m^alpha (0: no modulation; 1: variance proportional to brightness).
     double alpha = 1.0;
+    /// Scale the median's level by the frame's tail factor max(1, mean residual / mean level),
+    /// so that heavy-tailed (firefly) noise is not under-read (false: the median's level).
+    bool tail = true;
 };
 
 /// Throws glint::Error(Numeric) naming `file` and the first non-finite colour value unless the
@@ -37,7 +40,7 @@ void checkImageNoiseInput(const FrameBuffers& frame, const std::string& file = {
 
 /// The variance of the mean of each pixel and channel (3 channels, frame-sized) estimated from
 /// the colour and, where the frame has them, the albedo and normal; any variance or half layer
-/// is not read. Rows in parallel through `work` (one unit per row, twice).
+/// is not read. Rows in parallel through `work` (one unit per row, three times).
 Image estimateImageNoise(const FrameBuffers& frame, const ImageNoiseOptions& options,
                          WorkContext& work);
 

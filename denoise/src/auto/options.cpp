@@ -82,6 +82,7 @@ ImageNoiseOptions imageNoiseOptions(const ParamValues& tuning) {
     ImageNoiseOptions o;
     o.window = int(tuning.at("noiseWindow"));
     o.alpha = tuning.at("noiseAlpha");
+    o.tail = tuning.at("noiseTail") != 0.0;
     return o;
 }
 

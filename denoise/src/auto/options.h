@@ -81,7 +81,8 @@ struct AutoSettings {
     int scoreRows = 128;
 };
 
-/// The image-only estimator's settings from a resolved tuning map (noiseWindow, noiseAlpha).
+/// The image-only estimator's settings from a resolved tuning map (noiseWindow, noiseAlpha,
+/// noiseTail).
 ImageNoiseOptions imageNoiseOptions(const ParamValues& tuning);
 
 /// Checks `options` (validate), that `bank` was built from `frame` and that the options and the

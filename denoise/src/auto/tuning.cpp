@@ -85,6 +85,9 @@ std::vector<ParamSpec> makeSpecs() {
         real("noiseAlpha", "noise brightness exponent", 0.0, 2.0, 1.0,
              "image-only estimator: the noise variance scales as the smooth value to this power "
              "within the window (0: uniform there)"),
+        integer("noiseTail", "noise tail factor", 0, 1, 1,
+                "image-only estimator: raise the level by the frame's tail factor for "
+                "heavy-tailed (firefly) noise (0: the window's median alone)"),
     };
 }
 

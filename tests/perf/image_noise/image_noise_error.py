@@ -70,9 +70,11 @@ def main():
     p.add_argument("--bin", default="build/bin/glint-denoise")
     p.add_argument("--noise-window", help="passed to auto --estimator image")
     p.add_argument("--noise-alpha", help="passed to auto --estimator image")
+    p.add_argument("--noise-tail", help="passed to auto --estimator image")
     p.add_argument("pairs", nargs="+", help="RENDER.exr:REFERENCE.exr")
     a = p.parse_args()
-    for flag, value in (("--noise-window", a.noise_window), ("--noise-alpha", a.noise_alpha)):
+    for flag, value in (("--noise-window", a.noise_window), ("--noise-alpha", a.noise_alpha),
+                        ("--noise-tail", a.noise_tail)):
         if value is not None:
             EXTRA.extend([flag, value])
     print("| render | frame-mean rel. error | median per-pixel rel. error (raw / 7x7) "
