@@ -203,8 +203,10 @@ std::optional<std::string> after(const std::string& text, const std::string& pre
                          rest->substr(comma + 9, colon - comma - 9),
                      "malformed JSON: " + rest->substr(colon + 2));
     }
-    if (const auto name = after(first, "File not found : ", true))
+    if (const auto name = after(first, "File not found : ", true)) {
+        if (const auto problem = undecodedDataUri(*name)) failFile(file, "buffers", *problem);
         failFile(file, "buffers", "buffer file '" + *name + "' not found", ErrorKind::Io);
+    }
     // "File size mismatch : NAME, requestedBytes N, but got M".
     if (const auto rest = after(first, "File size mismatch : ", true)) {
         const std::size_t requested = rest->find(", requestedBytes "),
@@ -223,6 +225,27 @@ std::optional<std::string> after(const std::string& text, const std::string& pre
 }
 
 }  // namespace
+
+std::optional<std::string> undecodedDataUri(const std::string& uri) {
+    // URI schemes are case-insensitive (RFC 3986, 3.1).
+    if (uri.size() < 5) return std::nullopt;
+    std::string scheme = uri.substr(0, 5);
+    std::transform(scheme.begin(), scheme.end(), scheme.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    if (scheme != "data:") return std::nullopt;
+    const std::size_t comma = uri.find(',');
+    std::string header = uri.substr(0, std::min<std::size_t>(comma, 100));
+    if (comma == std::string::npos || comma > 100) header += "...";
+    const std::string base64 = ";base64";
+    const bool isBase64 = comma != std::string::npos && comma >= base64.size() &&
+                          uri.compare(comma - base64.size(), base64.size(), base64) == 0;
+    if (!isBase64)
+        return "the data URI '" + header +
+               ",' is not base64-encoded: glTF data URIs must end their header with ';base64,'";
+    return "the data URI '" + header +
+           ",' has a media type Glint does not decode (it reads application/octet-stream, "
+           "application/gltf-buffer, image/png and image/jpeg)";
+}
 
 void readGltfFile(const fs::path& path, tinygltf::Model& model) {
     std::error_code ec;  // odd paths (too long...) are reported, not thrown
