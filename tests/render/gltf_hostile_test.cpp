@@ -113,6 +113,9 @@ std::vector<BadAsset> badAssets() {
         cases.push_back({"nobin.glb", "", b.glb(0, false)});
     }
     cases.push_back({"garbage.gltf", "", text("{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [")});
+    // GitHub's page for an asset saved under the asset's name (neilgannon/Hosting's
+    // BoxTextured.gltf): reported as an invalid literal followed by the page's bytes before.
+    cases.push_back({"page.gltf", "line 3, column 1", text("\n\n<!DOCTYPE html>\n<html>")});
     {
         // A data URI that is not base64 (atteneder/glTF-test-models' EmbedBufferInvalid): it
         // was reported as a missing buffer file named by the whole URI.
@@ -214,6 +217,20 @@ TEST(GltfHostile, AnUndecodedDataUriIsNamedByItsHeaderNotItsData) {
         EXPECT_EQ(e.where(), "buffers") << e.what();
         EXPECT_NE(std::string(e.what()).find("not base64"), std::string::npos) << e.what();
         EXPECT_LT(std::string(e.what()).size(), 400u);
+    }
+}
+
+TEST(GltfHostile, AWebPageSavedAsAGltfIsNamedAsOne) {
+    test::TempDir dir("gltf_page");
+    for (const std::string& start : {std::string("<html>"), std::string("\xEF\xBB\xBF  <?xml")}) {
+        try {
+            loadScene(dir.write("page.gltf", start + "<body></body></html>"));
+            ADD_FAILURE() << "accepted";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.where(), start[0] == '<' ? "line 1, column 1" : "line 1, column 3")
+                << e.what();
+            EXPECT_NE(std::string(e.what()).find("HTML or XML"), std::string::npos) << e.what();
+        }
     }
 }
 

@@ -224,6 +224,21 @@ std::optional<std::string> after(const std::string& text, const std::string& pre
     failFile(file, placeOf(first), "cannot read the glTF: " + first);
 }
 
+/// Refuses a .gltf whose text starts (after white space and a UTF-8 byte-order mark) with '<':
+/// an HTML or XML page, most often a web page saved under the asset's name, which the JSON
+/// parser would report as an invalid literal followed by the page's first bytes.
+void refuseMarkup(const fs::path& file, const std::vector<unsigned char>& text) {
+    const bool bom = text.size() >= 3 && text[0] == 0xEF && text[1] == 0xBB && text[2] == 0xBF;
+    std::size_t at = bom ? 3 : 0;
+    std::size_t line = 1, column = 1;
+    for (; at < text.size() && std::isspace(text[at]); ++at, ++column)
+        if (text[at] == '\n') ++line, column = 0;
+    if (at < text.size() && text[at] == '<')
+        failFile(file, "line " + std::to_string(line) + ", column " + std::to_string(column),
+                 "malformed JSON: the file is HTML or XML, not glTF (a web page saved under the "
+                 "asset's name?)");
+}
+
 }  // namespace
 
 std::optional<std::string> undecodedDataUri(const std::string& uri) {
@@ -300,6 +315,8 @@ void readGltfFile(const fs::path& path, tinygltf::Model& model) {
         }
     } else if (!readBytes(path, 0, size, bytes)) {
         failFile(path, "", "cannot open the glTF file", ErrorKind::Io);
+    } else {
+        refuseMarkup(path, bytes);
     }
     bool ok = false;
     try {
