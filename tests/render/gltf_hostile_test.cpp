@@ -113,6 +113,26 @@ std::vector<BadAsset> badAssets() {
         cases.push_back({"nobin.glb", "", b.glb(0, false)});
     }
     cases.push_back({"garbage.gltf", "", text("{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [")});
+    // GitHub's page for an asset saved under the asset's name (neilgannon/Hosting's
+    // BoxTextured.gltf): reported as an invalid literal followed by the page's bytes before.
+    cases.push_back({"page.gltf", "line 3, column 1", text("\n\n<!DOCTYPE html>\n<html>")});
+    {
+        // A data URI that is not base64 (atteneder/glTF-test-models' EmbedBufferInvalid): it
+        // was reported as a missing buffer file named by the whole URI.
+        GltfBuilder b = good();
+        json d = json::parse(b.gltf());
+        d["buffers"][0]["uri"] = "data:application/gltf-buffer,1111";
+        cases.push_back({"datauri.gltf", "buffers", text(d.dump())});
+    }
+    {
+        GltfBuilder b;
+        b.doc["images"] = json::array({{{"uri", "data:image/png,notbase64"}}});
+        b.doc["textures"] = json::array({{{"source", 0}}});
+        b.doc["materials"] =
+            json::array({{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}});
+        b.scene({b.node({{"mesh", b.quad(0)}})});
+        cases.push_back({"imageuri.gltf", "images[0].uri", text(b.gltf())});
+    }
     return cases;
 }
 
@@ -159,6 +179,57 @@ TEST(GltfHostile, EveryBadAssetIsOneErrorNamingTheFileAndPlace) {
                 }
                 EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
             }
+        }
+    }
+}
+
+TEST(GltfHostile, AnUndecodedDataUriIsNamedByItsHeaderNotItsData) {
+    // A base64 image of a media type tinygltf does not decode ("image/jpg", "image/webp") was
+    // taken for a file name: the message held the whole URI, megabytes for a real texture.
+    test::TempDir dir("gltf_datauri");
+    GltfBuilder b;
+    const std::string data(100000, 'A');
+    b.doc["images"] = json::array({{{"uri", "data:image/jpg;base64," + data}}});
+    b.doc["textures"] = json::array({{{"source", 0}}});
+    b.doc["materials"] =
+        json::array({{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}});
+    b.scene({b.node({{"mesh", b.quad(0)}})});
+    const fs::path asset = dir.write("jpg.gltf", b.gltf());
+    try {
+        loadScene(asset);
+        ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.where(), "images[0].uri") << e.what();
+        const std::string what = e.what();
+        EXPECT_NE(what.find("'data:image/jpg;base64,'"), std::string::npos) << what;
+        EXPECT_NE(what.find("media type"), std::string::npos) << what;
+        EXPECT_LT(what.size(), 400u) << what.substr(0, 400);
+    }
+    // Upper-case schemes are data URIs too (RFC 3986: schemes are case-insensitive).
+    GltfBuilder c;
+    c.scene({c.node({{"mesh", c.quad()}})});
+    json d = json::parse(c.gltf());
+    d["buffers"][0]["uri"] = "DATA:application/octet-stream," + data;
+    try {
+        loadScene(dir.write("upper.gltf", d.dump()));
+        ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.where(), "buffers") << e.what();
+        EXPECT_NE(std::string(e.what()).find("not base64"), std::string::npos) << e.what();
+        EXPECT_LT(std::string(e.what()).size(), 400u);
+    }
+}
+
+TEST(GltfHostile, AWebPageSavedAsAGltfIsNamedAsOne) {
+    test::TempDir dir("gltf_page");
+    for (const std::string& start : {std::string("<html>"), std::string("\xEF\xBB\xBF  <?xml")}) {
+        try {
+            loadScene(dir.write("page.gltf", start + "<body></body></html>"));
+            ADD_FAILURE() << "accepted";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.where(), start[0] == '<' ? "line 1, column 1" : "line 1, column 3")
+                << e.what();
+            EXPECT_NE(std::string(e.what()).find("HTML or XML"), std::string::npos) << e.what();
         }
     }
 }

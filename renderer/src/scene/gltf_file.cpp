@@ -203,8 +203,10 @@ std::optional<std::string> after(const std::string& text, const std::string& pre
                          rest->substr(comma + 9, colon - comma - 9),
                      "malformed JSON: " + rest->substr(colon + 2));
     }
-    if (const auto name = after(first, "File not found : ", true))
+    if (const auto name = after(first, "File not found : ", true)) {
+        if (const auto problem = undecodedDataUri(*name)) failFile(file, "buffers", *problem);
         failFile(file, "buffers", "buffer file '" + *name + "' not found", ErrorKind::Io);
+    }
     // "File size mismatch : NAME, requestedBytes N, but got M".
     if (const auto rest = after(first, "File size mismatch : ", true)) {
         const std::size_t requested = rest->find(", requestedBytes "),
@@ -222,7 +224,43 @@ std::optional<std::string> after(const std::string& text, const std::string& pre
     failFile(file, placeOf(first), "cannot read the glTF: " + first);
 }
 
+/// Refuses a .gltf whose text starts (after white space and a UTF-8 byte-order mark) with '<':
+/// an HTML or XML page, most often a web page saved under the asset's name, which the JSON
+/// parser would report as an invalid literal followed by the page's first bytes.
+void refuseMarkup(const fs::path& file, const std::vector<unsigned char>& text) {
+    const bool bom = text.size() >= 3 && text[0] == 0xEF && text[1] == 0xBB && text[2] == 0xBF;
+    std::size_t at = bom ? 3 : 0;
+    std::size_t line = 1, column = 1;
+    for (; at < text.size() && std::isspace(text[at]); ++at, ++column)
+        if (text[at] == '\n') ++line, column = 0;
+    if (at < text.size() && text[at] == '<')
+        failFile(file, "line " + std::to_string(line) + ", column " + std::to_string(column),
+                 "malformed JSON: the file is HTML or XML, not glTF (a web page saved under the "
+                 "asset's name?)");
+}
+
 }  // namespace
+
+std::optional<std::string> undecodedDataUri(const std::string& uri) {
+    // URI schemes are case-insensitive (RFC 3986, 3.1).
+    if (uri.size() < 5) return std::nullopt;
+    std::string scheme = uri.substr(0, 5);
+    std::transform(scheme.begin(), scheme.end(), scheme.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    if (scheme != "data:") return std::nullopt;
+    const std::size_t comma = uri.find(',');
+    std::string header = uri.substr(0, std::min<std::size_t>(comma, 100));
+    if (comma == std::string::npos || comma > 100) header += "...";
+    const std::string base64 = ";base64";
+    const bool isBase64 = comma != std::string::npos && comma >= base64.size() &&
+                          uri.compare(comma - base64.size(), base64.size(), base64) == 0;
+    if (!isBase64)
+        return "the data URI '" + header +
+               ",' is not base64-encoded: glTF data URIs must end their header with ';base64,'";
+    return "the data URI '" + header +
+           ",' has a media type Glint does not decode (it reads application/octet-stream, "
+           "application/gltf-buffer, image/png and image/jpeg)";
+}
 
 void readGltfFile(const fs::path& path, tinygltf::Model& model) {
     std::error_code ec;  // odd paths (too long...) are reported, not thrown
@@ -277,6 +315,8 @@ void readGltfFile(const fs::path& path, tinygltf::Model& model) {
         }
     } else if (!readBytes(path, 0, size, bytes)) {
         failFile(path, "", "cannot open the glTF file", ErrorKind::Io);
+    } else {
+        refuseMarkup(path, bytes);
     }
     bool ok = false;
     try {

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
+#include <string>
 
 namespace tinygltf {
 class Model;
@@ -16,5 +18,10 @@ namespace glint::render::detail {
 /// binary layout, malformed JSON, a buffer file that is missing or of the wrong size, a glTF
 /// version other than 2.x.
 void readGltfFile(const std::filesystem::path& path, tinygltf::Model& model);
+
+/// When `uri` is a `data:` URI that tinygltf left undecoded (not base64, or a media type other
+/// than those it reads), what is wrong with it, naming the URI by its header only (the data of
+/// a large one would fill the message); otherwise nothing.
+std::optional<std::string> undecodedDataUri(const std::string& uri);
 
 }  // namespace glint::render::detail

@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "glint/image/error.h"
+#include "scene/gltf_file.h"
 #include "scene/gltf_import.h"
 
 namespace glint::render::detail {
@@ -319,6 +320,7 @@ int GltfImport::texture(int index, TextureUse use, const std::string& place) {
     const tinygltf::Image& image = m_model.images[std::size_t(gt.source)];
     const std::string imagePlace = "images[" + std::to_string(gt.source) + "]";
     if (image.bufferView < 0 && !image.uri.empty()) {
+        if (const auto problem = undecodedDataUri(image.uri)) fail(imagePlace + ".uri", *problem);
         const fs::path file = m_file.parent_path() / fs::path(decodeUri(image.uri));
         std::error_code ec;
         if (!fs::exists(file, ec))
