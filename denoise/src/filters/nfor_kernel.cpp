@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include "filters/simd.h"
 
@@ -170,18 +171,34 @@ void momentsRow(const P& pk, std::size_t ip, std::ptrdiff_t offset1, const float
     }
 }
 
-// Solves the ridge-regularised normal equations of one window from its moments m (stride s)
-// into beta (kBeta + 1 planes of stride `bs`, at index i). A window without weight is invalid;
-// one whose system is not positive definite falls back to the weighted mean.
-void solveWindow(const float* m, std::size_t s, double ridge, float* beta, std::size_t bs,
-                 std::size_t i) {
-    auto mom = [&](int k) { return double(m[std::size_t(k) * s]); };
-    const double sum = mom(0);
-    for (int j = 0; j <= kBeta; ++j) beta[std::size_t(j) * bs + i] = 0.0f;
-    if (!(sum > 0.0) || !std::isfinite(sum)) return;
+// 4-wide double vectors for solving four windows' normal equations at once (lane l: window x + l).
+typedef double VecD __attribute__((vector_size(32)));
+typedef long long VecL __attribute__((vector_size(32)));
+typedef float VecF4 __attribute__((vector_size(16)));
+
+// ok <- ok & (v is finite), lane-wise: inf - inf and NaN - NaN are NaN.
+[[gnu::always_inline]] inline void andFinite(VecL& ok, const VecD& v) {
+    ok &= (v - v) == 0.0;
+}
+
+// Solves the ridge-regularised normal equations of the 4 windows whose moments start at m
+// (stride s) into beta (kBeta + 1 planes of stride `bs`, at indices i … i + 3). A window without
+// weight is invalid; one whose system is not positive definite falls back to the weighted mean.
+// Every lane follows the same steps in double, so a window's result does not depend on its lane.
+GLINT_SIMD_CLONES
+void solveWindows4(const float* m, std::size_t s, double ridge, float* beta, std::size_t bs,
+                   std::size_t i) {
+    std::array<VecD, kMoments> M;
+    for (int k = 0; k < kMoments; ++k) {
+        VecF4 v;
+        std::memcpy(&v, m + std::size_t(k) * s, sizeof v);
+        M[std::size_t(k)] = __builtin_convertvector(v, VecD);
+    }
+    auto mom = [&](int k) -> const VecD& { return M[std::size_t(k)]; };
+    const VecD sum = mom(0);
     // Normal matrix A = sum w x x^T with x = [1, d], ridge on the slopes; right sides B.
-    std::array<std::array<double, kDims>, kDims> A{};
-    std::array<std::array<double, 3>, kDims> B{};
+    std::array<std::array<VecD, kDims>, kDims> A{};
+    std::array<std::array<VecD, 3>, kDims> B{};
     A[0][0] = sum;
     for (int k = 0, t = kMomDD; k < kF; ++k) {
         A[0][k + 1] = A[k + 1][0] = mom(kMomD + k);
@@ -193,48 +210,54 @@ void solveWindow(const float* m, std::size_t s, double ridge, float* beta, std::
         for (int k = 0; k < kF; ++k)
             B[std::size_t(k + 1)][std::size_t(c)] = mom(kMomDY + k * 3 + c);
     }
-    // Cholesky A = L L^T in place (lower triangle).
-    bool ok = true;
-    for (int j = 0; j < kDims && ok; ++j) {
-        double dj = A[j][j];
+    // Cholesky A = L L^T in place (lower triangle); lanes that fail go on with garbage.
+    VecL ok = sum > 0.0;
+    andFinite(ok, sum);
+    for (int j = 0; j < kDims; ++j) {
+        VecD dj = A[j][j];
         for (int k = 0; k < j; ++k) dj -= A[j][k] * A[j][k];
-        ok = dj > 1e-12 * sum && std::isfinite(dj);
-        if (!ok) break;
-        const double ljj = std::sqrt(dj);
+        ok &= dj > 1e-12 * sum;
+        andFinite(ok, dj);
+        VecD ljj;
+        for (int l = 0; l < 4; ++l) ljj[l] = dj[l] > 0.0 ? std::sqrt(dj[l]) : 1.0;
         A[j][j] = ljj;
         for (int i2 = j + 1; i2 < kDims; ++i2) {
-            double v = A[i2][j];
+            VecD v = A[i2][j];
             for (int k = 0; k < j; ++k) v -= A[i2][k] * A[j][k];
             A[i2][j] = v / ljj;
         }
     }
-    std::array<std::array<double, 3>, kDims> X{};
-    if (ok) {
-        for (int c = 0; c < 3; ++c) {
-            std::array<double, kDims> z{};
-            for (int j = 0; j < kDims; ++j) {
-                double v = B[std::size_t(j)][std::size_t(c)];
-                for (int k = 0; k < j; ++k) v -= A[j][k] * z[std::size_t(k)];
-                z[std::size_t(j)] = v / A[j][j];
-            }
-            for (int j = kDims - 1; j >= 0; --j) {
-                double v = z[std::size_t(j)];
-                for (int k = j + 1; k < kDims; ++k)
-                    v -= A[k][j] * X[std::size_t(k)][std::size_t(c)];
-                X[std::size_t(j)][std::size_t(c)] = v / A[j][j];
-            }
+    std::array<std::array<VecD, 3>, kDims> X{};
+    for (int c = 0; c < 3; ++c) {
+        std::array<VecD, kDims> z{};
+        for (int j = 0; j < kDims; ++j) {
+            VecD v = B[std::size_t(j)][std::size_t(c)];
+            for (int k = 0; k < j; ++k) v -= A[j][k] * z[std::size_t(k)];
+            z[std::size_t(j)] = v / A[j][j];
         }
-        for (const auto& row : X)
-            for (double v : row) ok = ok && std::isfinite(v);
+        for (int j = kDims - 1; j >= 0; --j) {
+            VecD v = z[std::size_t(j)];
+            for (int k = j + 1; k < kDims; ++k) v -= A[k][j] * X[std::size_t(k)][std::size_t(c)];
+            X[std::size_t(j)][std::size_t(c)] = v / A[j][j];
+        }
     }
-    if (!ok) {
-        X = {};
-        for (int c = 0; c < 3; ++c) X[0][std::size_t(c)] = B[0][std::size_t(c)] / sum;
+    for (const auto& row : X)
+        for (const VecD& v : row) andFinite(ok, v);
+    // Per lane: the fit, the weighted mean, or nothing.
+    for (int l = 0; l < 4; ++l) {
+        const std::size_t at = i + std::size_t(l);
+        const bool valid = sum[l] > 0.0 && std::isfinite(sum[l]);
+        for (int j = 0; j < kDims; ++j)
+            for (int c = 0; c < 3; ++c) {
+                double v = 0.0;
+                if (ok[l] != 0)
+                    v = X[std::size_t(j)][std::size_t(c)][l];
+                else if (valid && j == 0)
+                    v = B[0][std::size_t(c)][l] / sum[l];
+                beta[std::size_t(j * 3 + c) * bs + at] = float(v);
+            }
+        beta[std::size_t(kBeta) * bs + at] = valid ? 1.0f : 0.0f;
     }
-    for (int j = 0; j < kDims; ++j)
-        for (int c = 0; c < 3; ++c)
-            beta[std::size_t(j * 3 + c) * bs + i] = float(X[std::size_t(j)][std::size_t(c)]);
-    beta[std::size_t(kBeta) * bs + i] = 1.0f;
 }
 
 // Step 2: the coefficients of every window centred in E (Bitterli et al. 2016, eq. 4, with a
@@ -262,9 +285,9 @@ void fitWindows(const P& pk, const Grown& e, const NforSettings& st, NforScratch
             const std::ptrdiff_t off2 = std::ptrdiff_t(o2 / side - r) * pk.stride + (o2 % side - r);
             momentsRow(pk, ip, off1, w1, off2, w2, n, sc.moments.data(), s);
         }
-        for (int x = 0; x < e.w; ++x)
-            solveWindow(sc.moments.data() + x, s, st.ridge, sc.beta.data(), plane,
-                        std::size_t(y) * s + std::size_t(x));
+        for (int x = 0; x < e.w; x += 4)
+            solveWindows4(sc.moments.data() + x, s, st.ridge, sc.beta.data(), plane,
+                          std::size_t(y) * s + std::size_t(x));
     }
 }
 
