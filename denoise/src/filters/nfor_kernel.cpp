@@ -73,6 +73,7 @@ void weightImages(const P& pk, const Grown& e, const NforSettings& st, NforScrat
     const int n = roundUp8(e.w + 2 * f), dh = e.h + 2 * f;
     const int patch = (2 * f + 1) * (2 * f + 1);
     const float cap = 30.0f * float(patch), invPatch = 1.0f / float(patch);
+    const float tau = std::max(pk.typicalVariance, 1e-30f);
     const std::size_t plane = std::size_t(e.h) * std::size_t(e.stride);
     sc.weights.assign(plane * std::size_t(side * side), 0.0f);
     sc.dist.assign(std::size_t(dh) * std::size_t(n), 0.0f);
@@ -101,13 +102,21 @@ void weightImages(const P& pk, const Grown& e, const NforSettings& st, NforScrat
                 for (int i = 1; i <= 2 * f; ++i)
                     for (int x = 0; x < e.w; ++x) row[x] += v[x + i];
                 for (int x = 0; x < e.w; ++x) row[x] *= -invPatch;
+                const std::size_t ip = pk.index(e.x0, e.y0 + y);
                 for (int x = 0; x < e.w; x += 8) {
-                    VecF t, m;
+                    VecF t, m, sp, sq;
                     loadVec(t, row + x);
                     t = t > 0.0f ? VecF{} : t;
                     expNegInPlace(t);
                     loadVec(m, valid + x);
-                    storeVec(row + x, t * m);
+                    // The variance-ratio factor (the emitter guard, nfor.cpp).
+                    loadVec(sp, pk.at(P::GS, ip + std::size_t(x)));
+                    loadVec(sq, pk.at(P::GS,
+                                      std::size_t(std::ptrdiff_t(ip + std::size_t(x)) + offset)));
+                    const VecF lo = sp < sq ? sp : sq, hi = sp < sq ? sq : sp;
+                    VecF g = st.varianceRatio * (lo + tau) / (hi + tau);
+                    g = g > 1.0f ? (VecF{} + 1.0f) : g;
+                    storeVec(row + x, t * m * g);
                 }
                 std::fill(row + e.w, row + e.stride, 0.0f);
             }
