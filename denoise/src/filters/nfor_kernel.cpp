@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "filters/nl_distance.h"
 #include "filters/simd.h"
 
 namespace glint::denoise::detail {
@@ -26,7 +27,6 @@ constexpr int kDims = kF + 1;  // regressors: 1 and the 7 centred features
 // sum w d y^T (7 × 3).
 constexpr int kMomD = 1, kMomDD = 8, kMomY = 36, kMomDY = 39, kMoments = 60;
 constexpr int kBeta = kDims * 3;  // coefficient planes (j * 3 + c), then the validity plane
-constexpr float kEps = 1e-10f;
 
 int roundUp8(int n) {
     return (n + 7) / 8 * 8;
@@ -42,27 +42,10 @@ struct Grown {
 GLINT_SIMD_CLONES
 void distanceRow(const P& pk, std::size_t ip, std::ptrdiff_t offset, int n, float k2, float cap,
                  float* out) {
-    for (int i = 0; i < n; i += 8) {
-        const std::size_t a = ip + std::size_t(i), b = std::size_t(std::ptrdiff_t(a) + offset);
-        VecF d{};
-        for (int c = 0; c < 3; ++c) {
-            VecF up, uq, vp, vq;
-            loadVec(up, pk.at(P::G0 + c, a));
-            loadVec(uq, pk.at(P::G0 + c, b));
-            loadVec(vp, pk.at(P::GV0 + c, a));
-            loadVec(vq, pk.at(P::GV0 + c, b));
-            const VecF diff = up - uq;
-            const VecF vmin = vp < vq ? vp : vq;
-            d += (diff * diff - (vp + vmin)) / (kEps + k2 * (vp + vq));
-        }
-        d *= 1.0f / 3.0f;
-        d = d > cap ? (VecF{} + cap) : d;
-        d = d < -cap ? (VecF{} - cap) : d;
-        VecF mp, mq;
-        loadVec(mp, pk.at(P::V, a));
-        loadVec(mq, pk.at(P::V, b));
-        storeVec(out + i, d * (mp * mq));
-    }
+    const NlDistancePlanes pl{{pk.planes[P::G0], pk.planes[P::G1], pk.planes[P::G2]},
+                              {pk.planes[P::GV0], pk.planes[P::GV1], pk.planes[P::GV2]},
+                              pk.planes[P::V]};
+    nlDistanceRow(pl, ip, offset, n, k2, 1.0f, cap, out);
 }
 
 // Step 1: the weight image of every window offset over E, w(p, p + o) = exp(-max(0, D)) times
