@@ -257,7 +257,7 @@ NforFilter::NforFilter()
     : m_params{
           ParamSpec{"windowRadius", "window radius (px)", 1, 10, 4, ParamScale::Linear, true,
                     "Window radius r: each regression fits a (2r+1)^2 window."}
-              .soft(3, 7),
+              .soft(3, 5),
           ParamSpec{"patchRadius", "patch radius (px)", 0, 5, 1, ParamScale::Linear, true,
                     "Patch radius f of the NL-means weights: patches are (2f+1)^2 pixels."}
               .soft(1, 3),
