@@ -7,7 +7,11 @@
 // relative to the centre: y_q ~ b_p + B_p^T (x_q - x_p) (eq. 4), with a ridge lambda * sum w on
 // the slopes and the 8×8 normal equations solved by Cholesky. The weights w(p,q) are NL-means
 // weights exp(-max(0, D(p,q))) with the variance-normalised patch distance of Rousselle, Knaus &
-// Zwicker 2012 (eq. 5, as nlmeans: (2f+1)^2 patches, strength k, full variance cancellation).
+// Zwicker 2012 (eq. 5, as nlmeans: (2f+1)^2 patches, strength k, full variance cancellation),
+// times an emitter guard min(1, 4 (s_min + t) / (s_max + t)): s is the guide's variance averaged
+// over channels and 3×3 pixels, s_min and s_max the pair's smaller and larger, t the frame's
+// median s. A pixel partly covering a tiny bright emitter has a huge variance, and the distance,
+// normalised by the sum of the variances, would let its dark neighbours accept it (and it them).
 // Collaborative filtering (eq. 6): every window's fit gives an estimate at each pixel q of the
 // window, and q's output is the w(p,q)-weighted average of the estimates of all windows
 // containing it. First-order regression is exact on colour that is an affine function of the
@@ -59,7 +63,11 @@ affine function of the 7 features x_q = [albedo RGB, normal XYZ, depth / mean |d
 relative to the centre: y_q ~ b_p + B_p^T (x_q - x_p) (eq. 4), with a ridge lambda * sum w on
 the slopes and the 8×8 normal equations solved by Cholesky. The weights w(p,q) are NL-means
 weights exp(-max(0, D(p,q))) with the variance-normalised patch distance of Rousselle, Knaus &
-Zwicker 2012 (eq. 5, as nlmeans: (2f+1)^2 patches, strength k, full variance cancellation).
+Zwicker 2012 (eq. 5, as nlmeans: (2f+1)^2 patches, strength k, full variance cancellation),
+times an emitter guard min(1, 4 (s_min + t) / (s_max + t)): s is the guide's variance averaged
+over channels and 3×3 pixels, s_min and s_max the pair's smaller and larger, t the frame's
+median s. A pixel partly covering a tiny bright emitter has a huge variance, and the distance,
+normalised by the sum of the variances, would let its dark neighbours accept it (and it them).
 Collaborative filtering (eq. 6): every window's fit gives an estimate at each pixel q of the
 window, and q's output is the w(p,q)-weighted average of the estimates of all windows
 containing it. First-order regression is exact on colour that is an affine function of the
@@ -90,6 +98,7 @@ struct PackedFrame {
     Rect rect;
     int stride = 0;
     std::vector<std::vector<float>> store;
+    std::vector<float> typicalVariance;  // per colour: NforPlanes::typicalVariance
     float* plane(std::size_t i) { return store[i].data(); }
 };
 
@@ -107,16 +116,75 @@ double meanAbsDepth(const Image& depth) {
     return mean > 0.0 && std::isfinite(mean) ? mean : 1.0;
 }
 
+// The variance of `colours`, clamped to [0, kUnknownVariance] (non-finite: unknown), averaged
+// over the channels and over the pixels of the image among the 3×3 around (NforPlanes::GS), over
+// the whole frame; without a variance layer, the uniform estimate of the noise.
+Image smoothedVariance(const FrameBuffers& colours, WorkContext& work) {
+    const Image& color = colours.color();
+    const Image* var = colours.find(Layer::Variance);
+    const int w = color.width(), h = color.height();
+    Image mean(w, h, 1), out(w, h, 1);
+    std::array<double, 3> uniform{};
+    if (!var) uniform = estimateNoiseVariance(color);
+    work.parallelFor(
+        0, h,
+        [&](int y) {
+            for (int x = 0; x < w; ++x) {
+                double sum = 0.0;
+                for (int c = 0; c < 3; ++c) {
+                    double v = var ? double((*var)(x, y, c)) : uniform[std::size_t(c)];
+                    v = std::isfinite(v) ? std::clamp(v, 0.0, double(kUnknownVariance))
+                                         : double(kUnknownVariance);
+                    sum += v;
+                }
+                mean(x, y, 0) = float(sum / 3.0);
+            }
+        },
+        0);
+    work.parallelFor(
+        0, h,
+        [&](int y) {
+            for (int x = 0; x < w; ++x) {
+                double sum = 0.0;
+                int n = 0;
+                for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+                    for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i, ++n)
+                        sum += double(mean(i, j, 0));
+                out(x, y, 0) = float(sum / double(n));
+            }
+        },
+        0);
+    return out;
+}
+
+// The median of the positive values of `plane` (0 when none is).
+float medianPositive(const Image& plane) {
+    std::vector<float> v;
+    v.reserve(plane.data().size());
+    for (float x : plane.data())
+        if (x > 0.0f) v.push_back(x);
+    if (v.empty()) return 0.0f;
+    auto mid = v.begin() + std::ptrdiff_t(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+}
+
 // Packs `colours` (one frame, or halves A and B) and the features of `frame` over `rect`. The
-// layout of `store`: per colour 3 colour and 3 variance planes, then 7 features, V and FM.
+// layout of `store`: per colour 3 colour and 3 variance planes, then 7 features, V and FM, then
+// per colour its GS plane.
 PackedFrame pack(const FrameBuffers& frame, const std::vector<const FrameBuffers*>& colours,
                  const Rect& rect, WorkContext& work) {
     PackedFrame pk;
     pk.rect = rect;
     pk.stride = rect.width();
     const std::size_t size = std::size_t(pk.stride) * std::size_t(rect.height());
-    const std::size_t nc = colours.size(), oF = 6 * nc, oV = oF + 7, oFM = oV + 1;
-    pk.store.assign(oFM + 1, std::vector<float>(size, 0.0f));
+    const std::size_t nc = colours.size(), oF = 6 * nc, oV = oF + 7, oFM = oV + 1, oGS = oFM + 1;
+    pk.store.assign(oGS + nc, std::vector<float>(size, 0.0f));
+    std::vector<Image> smoothed;
+    for (std::size_t h = 0; h < nc; ++h) {
+        smoothed.push_back(smoothedVariance(*colours[h], work));
+        pk.typicalVariance.push_back(medianPositive(smoothed.back()));
+    }
     std::vector<std::array<double, 3>> uniform(nc);
     for (std::size_t h = 0; h < nc; ++h)
         if (!colours[h]->find(Layer::Variance))
@@ -157,6 +225,7 @@ PackedFrame pack(const FrameBuffers& frame, const std::vector<const FrameBuffers
                 for (std::size_t k = 0; k < 7; ++k) pk.store[oF + k][i] = featuresOk ? f[k] : 0.0f;
                 pk.store[oV][i] = valid ? 1.0f : 0.0f;
                 pk.store[oFM][i] = featuresOk ? 1.0f : 0.0f;
+                for (std::size_t h = 0; h < nc; ++h) pk.store[oGS + h][i] = smoothed[h](x, y, 0);
             }
         },
         0);
@@ -177,6 +246,8 @@ NforPlanes passPlanes(PackedFrame& pk, std::size_t guide, std::size_t target, st
         p.planes[std::size_t(NforPlanes::F0 + k)] = pk.plane(6 * nc + std::size_t(k));
     p.planes[NforPlanes::V] = pk.plane(6 * nc + 7);
     p.planes[NforPlanes::FM] = pk.plane(6 * nc + 8);
+    p.planes[NforPlanes::GS] = pk.plane(6 * nc + 9 + guide);
+    p.typicalVariance = pk.typicalVariance[guide];
     return p;
 }
 
@@ -186,7 +257,7 @@ NforFilter::NforFilter()
     : m_params{
           ParamSpec{"windowRadius", "window radius (px)", 1, 10, 4, ParamScale::Linear, true,
                     "Window radius r: each regression fits a (2r+1)^2 window."}
-              .soft(3, 7),
+              .soft(3, 5),
           ParamSpec{"patchRadius", "patch radius (px)", 0, 5, 1, ParamScale::Linear, true,
                     "Patch radius f of the NL-means weights: patches are (2f+1)^2 pixels."}
               .soft(1, 3),

@@ -11,7 +11,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 
+#include "filters/nl_distance.h"
 #include "filters/simd.h"
 
 namespace glint::denoise::detail {
@@ -25,7 +27,6 @@ constexpr int kDims = kF + 1;  // regressors: 1 and the 7 centred features
 // sum w d y^T (7 × 3).
 constexpr int kMomD = 1, kMomDD = 8, kMomY = 36, kMomDY = 39, kMoments = 60;
 constexpr int kBeta = kDims * 3;  // coefficient planes (j * 3 + c), then the validity plane
-constexpr float kEps = 1e-10f;
 
 int roundUp8(int n) {
     return (n + 7) / 8 * 8;
@@ -41,27 +42,10 @@ struct Grown {
 GLINT_SIMD_CLONES
 void distanceRow(const P& pk, std::size_t ip, std::ptrdiff_t offset, int n, float k2, float cap,
                  float* out) {
-    for (int i = 0; i < n; i += 8) {
-        const std::size_t a = ip + std::size_t(i), b = std::size_t(std::ptrdiff_t(a) + offset);
-        VecF d{};
-        for (int c = 0; c < 3; ++c) {
-            VecF up, uq, vp, vq;
-            loadVec(up, pk.at(P::G0 + c, a));
-            loadVec(uq, pk.at(P::G0 + c, b));
-            loadVec(vp, pk.at(P::GV0 + c, a));
-            loadVec(vq, pk.at(P::GV0 + c, b));
-            const VecF diff = up - uq;
-            const VecF vmin = vp < vq ? vp : vq;
-            d += (diff * diff - (vp + vmin)) / (kEps + k2 * (vp + vq));
-        }
-        d *= 1.0f / 3.0f;
-        d = d > cap ? (VecF{} + cap) : d;
-        d = d < -cap ? (VecF{} - cap) : d;
-        VecF mp, mq;
-        loadVec(mp, pk.at(P::V, a));
-        loadVec(mq, pk.at(P::V, b));
-        storeVec(out + i, d * (mp * mq));
-    }
+    const NlDistancePlanes pl{{pk.planes[P::G0], pk.planes[P::G1], pk.planes[P::G2]},
+                              {pk.planes[P::GV0], pk.planes[P::GV1], pk.planes[P::GV2]},
+                              pk.planes[P::V]};
+    nlDistanceRow(pl, ip, offset, n, k2, 1.0f, cap, out);
 }
 
 // Step 1: the weight image of every window offset over E, w(p, p + o) = exp(-max(0, D)) times
@@ -72,6 +56,7 @@ void weightImages(const P& pk, const Grown& e, const NforSettings& st, NforScrat
     const int n = roundUp8(e.w + 2 * f), dh = e.h + 2 * f;
     const int patch = (2 * f + 1) * (2 * f + 1);
     const float cap = 30.0f * float(patch), invPatch = 1.0f / float(patch);
+    const float tau = std::max(pk.typicalVariance, 1e-30f);
     const std::size_t plane = std::size_t(e.h) * std::size_t(e.stride);
     sc.weights.assign(plane * std::size_t(side * side), 0.0f);
     sc.dist.assign(std::size_t(dh) * std::size_t(n), 0.0f);
@@ -100,13 +85,21 @@ void weightImages(const P& pk, const Grown& e, const NforSettings& st, NforScrat
                 for (int i = 1; i <= 2 * f; ++i)
                     for (int x = 0; x < e.w; ++x) row[x] += v[x + i];
                 for (int x = 0; x < e.w; ++x) row[x] *= -invPatch;
+                const std::size_t ip = pk.index(e.x0, e.y0 + y);
                 for (int x = 0; x < e.w; x += 8) {
-                    VecF t, m;
+                    VecF t, m, sp, sq;
                     loadVec(t, row + x);
                     t = t > 0.0f ? VecF{} : t;
                     expNegInPlace(t);
                     loadVec(m, valid + x);
-                    storeVec(row + x, t * m);
+                    // The variance-ratio factor (the emitter guard, nfor.cpp).
+                    loadVec(sp, pk.at(P::GS, ip + std::size_t(x)));
+                    loadVec(sq, pk.at(P::GS,
+                                      std::size_t(std::ptrdiff_t(ip + std::size_t(x)) + offset)));
+                    const VecF lo = sp < sq ? sp : sq, hi = sp < sq ? sq : sp;
+                    VecF g = st.varianceRatio * (lo + tau) / (hi + tau);
+                    g = g > 1.0f ? (VecF{} + 1.0f) : g;
+                    storeVec(row + x, t * m * g);
                 }
                 std::fill(row + e.w, row + e.stride, 0.0f);
             }
@@ -170,18 +163,34 @@ void momentsRow(const P& pk, std::size_t ip, std::ptrdiff_t offset1, const float
     }
 }
 
-// Solves the ridge-regularised normal equations of one window from its moments m (stride s)
-// into beta (kBeta + 1 planes of stride `bs`, at index i). A window without weight is invalid;
-// one whose system is not positive definite falls back to the weighted mean.
-void solveWindow(const float* m, std::size_t s, double ridge, float* beta, std::size_t bs,
-                 std::size_t i) {
-    auto mom = [&](int k) { return double(m[std::size_t(k) * s]); };
-    const double sum = mom(0);
-    for (int j = 0; j <= kBeta; ++j) beta[std::size_t(j) * bs + i] = 0.0f;
-    if (!(sum > 0.0) || !std::isfinite(sum)) return;
+// 4-wide double vectors for solving four windows' normal equations at once (lane l: window x + l).
+typedef double VecD __attribute__((vector_size(32)));
+typedef long long VecL __attribute__((vector_size(32)));
+typedef float VecF4 __attribute__((vector_size(16)));
+
+// ok <- ok & (v is finite), lane-wise: inf - inf and NaN - NaN are NaN.
+[[gnu::always_inline]] inline void andFinite(VecL& ok, const VecD& v) {
+    ok &= (v - v) == 0.0;
+}
+
+// Solves the ridge-regularised normal equations of the 4 windows whose moments start at m
+// (stride s) into beta (kBeta + 1 planes of stride `bs`, at indices i … i + 3). A window without
+// weight is invalid; one whose system is not positive definite falls back to the weighted mean.
+// Every lane follows the same steps in double, so a window's result does not depend on its lane.
+GLINT_SIMD_CLONES
+void solveWindows4(const float* m, std::size_t s, double ridge, float* beta, std::size_t bs,
+                   std::size_t i) {
+    std::array<VecD, kMoments> M;
+    for (int k = 0; k < kMoments; ++k) {
+        VecF4 v;
+        std::memcpy(&v, m + std::size_t(k) * s, sizeof v);
+        M[std::size_t(k)] = __builtin_convertvector(v, VecD);
+    }
+    auto mom = [&](int k) -> const VecD& { return M[std::size_t(k)]; };
+    const VecD sum = mom(0);
     // Normal matrix A = sum w x x^T with x = [1, d], ridge on the slopes; right sides B.
-    std::array<std::array<double, kDims>, kDims> A{};
-    std::array<std::array<double, 3>, kDims> B{};
+    std::array<std::array<VecD, kDims>, kDims> A{};
+    std::array<std::array<VecD, 3>, kDims> B{};
     A[0][0] = sum;
     for (int k = 0, t = kMomDD; k < kF; ++k) {
         A[0][k + 1] = A[k + 1][0] = mom(kMomD + k);
@@ -193,48 +202,54 @@ void solveWindow(const float* m, std::size_t s, double ridge, float* beta, std::
         for (int k = 0; k < kF; ++k)
             B[std::size_t(k + 1)][std::size_t(c)] = mom(kMomDY + k * 3 + c);
     }
-    // Cholesky A = L L^T in place (lower triangle).
-    bool ok = true;
-    for (int j = 0; j < kDims && ok; ++j) {
-        double dj = A[j][j];
+    // Cholesky A = L L^T in place (lower triangle); lanes that fail go on with garbage.
+    VecL ok = sum > 0.0;
+    andFinite(ok, sum);
+    for (int j = 0; j < kDims; ++j) {
+        VecD dj = A[j][j];
         for (int k = 0; k < j; ++k) dj -= A[j][k] * A[j][k];
-        ok = dj > 1e-12 * sum && std::isfinite(dj);
-        if (!ok) break;
-        const double ljj = std::sqrt(dj);
+        ok &= dj > 1e-12 * sum;
+        andFinite(ok, dj);
+        VecD ljj;
+        for (int l = 0; l < 4; ++l) ljj[l] = dj[l] > 0.0 ? std::sqrt(dj[l]) : 1.0;
         A[j][j] = ljj;
         for (int i2 = j + 1; i2 < kDims; ++i2) {
-            double v = A[i2][j];
+            VecD v = A[i2][j];
             for (int k = 0; k < j; ++k) v -= A[i2][k] * A[j][k];
             A[i2][j] = v / ljj;
         }
     }
-    std::array<std::array<double, 3>, kDims> X{};
-    if (ok) {
-        for (int c = 0; c < 3; ++c) {
-            std::array<double, kDims> z{};
-            for (int j = 0; j < kDims; ++j) {
-                double v = B[std::size_t(j)][std::size_t(c)];
-                for (int k = 0; k < j; ++k) v -= A[j][k] * z[std::size_t(k)];
-                z[std::size_t(j)] = v / A[j][j];
-            }
-            for (int j = kDims - 1; j >= 0; --j) {
-                double v = z[std::size_t(j)];
-                for (int k = j + 1; k < kDims; ++k)
-                    v -= A[k][j] * X[std::size_t(k)][std::size_t(c)];
-                X[std::size_t(j)][std::size_t(c)] = v / A[j][j];
-            }
+    std::array<std::array<VecD, 3>, kDims> X{};
+    for (int c = 0; c < 3; ++c) {
+        std::array<VecD, kDims> z{};
+        for (int j = 0; j < kDims; ++j) {
+            VecD v = B[std::size_t(j)][std::size_t(c)];
+            for (int k = 0; k < j; ++k) v -= A[j][k] * z[std::size_t(k)];
+            z[std::size_t(j)] = v / A[j][j];
         }
-        for (const auto& row : X)
-            for (double v : row) ok = ok && std::isfinite(v);
+        for (int j = kDims - 1; j >= 0; --j) {
+            VecD v = z[std::size_t(j)];
+            for (int k = j + 1; k < kDims; ++k) v -= A[k][j] * X[std::size_t(k)][std::size_t(c)];
+            X[std::size_t(j)][std::size_t(c)] = v / A[j][j];
+        }
     }
-    if (!ok) {
-        X = {};
-        for (int c = 0; c < 3; ++c) X[0][std::size_t(c)] = B[0][std::size_t(c)] / sum;
+    for (const auto& row : X)
+        for (const VecD& v : row) andFinite(ok, v);
+    // Per lane: the fit, the weighted mean, or nothing.
+    for (int l = 0; l < 4; ++l) {
+        const std::size_t at = i + std::size_t(l);
+        const bool valid = sum[l] > 0.0 && std::isfinite(sum[l]);
+        for (int j = 0; j < kDims; ++j)
+            for (int c = 0; c < 3; ++c) {
+                double v = 0.0;
+                if (ok[l] != 0)
+                    v = X[std::size_t(j)][std::size_t(c)][l];
+                else if (valid && j == 0)
+                    v = B[0][std::size_t(c)][l] / sum[l];
+                beta[std::size_t(j * 3 + c) * bs + at] = float(v);
+            }
+        beta[std::size_t(kBeta) * bs + at] = valid ? 1.0f : 0.0f;
     }
-    for (int j = 0; j < kDims; ++j)
-        for (int c = 0; c < 3; ++c)
-            beta[std::size_t(j * 3 + c) * bs + i] = float(X[std::size_t(j)][std::size_t(c)]);
-    beta[std::size_t(kBeta) * bs + i] = 1.0f;
 }
 
 // Step 2: the coefficients of every window centred in E (Bitterli et al. 2016, eq. 4, with a
@@ -262,9 +277,9 @@ void fitWindows(const P& pk, const Grown& e, const NforSettings& st, NforScratch
             const std::ptrdiff_t off2 = std::ptrdiff_t(o2 / side - r) * pk.stride + (o2 % side - r);
             momentsRow(pk, ip, off1, w1, off2, w2, n, sc.moments.data(), s);
         }
-        for (int x = 0; x < e.w; ++x)
-            solveWindow(sc.moments.data() + x, s, st.ridge, sc.beta.data(), plane,
-                        std::size_t(y) * s + std::size_t(x));
+        for (int x = 0; x < e.w; x += 4)
+            solveWindows4(sc.moments.data() + x, s, st.ridge, sc.beta.data(), plane,
+                          std::size_t(y) * s + std::size_t(x));
     }
 }
 

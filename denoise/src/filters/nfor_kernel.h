@@ -16,14 +16,17 @@ namespace glint::denoise::detail {
 struct NforPlanes {
     /// Guide colour and its variance of the mean (the NL-means weights), regression target
     /// colour, the 7 features (albedo RGB, normal XYZ, depth / mean |depth|), and two masks:
-    /// V = 1 where guide, target and features are all finite, FM = 1 where the features are.
-    enum Plane : int { G0, G1, G2, GV0, GV1, GV2, Y0, Y1, Y2, F0, V = F0 + 7, FM, kCount };
+    /// V = 1 where guide, target and features are all finite, FM = 1 where the features are;
+    /// GS: the guide's variance, averaged over the channels and the 3×3 pixels around.
+    enum Plane : int { G0, G1, G2, GV0, GV1, GV2, Y0, Y1, Y2, F0, V = F0 + 7, FM, GS, kCount };
     static constexpr int kFeatures = 7;
 
     Rect rect;
     int stride = 0;
     /// The planes, owned elsewhere (the two cross-filtering passes share all but the colours).
     std::array<const float*, kCount> planes{};
+    /// The guide's typical GS (the frame's median of the positive GS; 0 when there is none).
+    float typicalVariance = 0.0f;
 
     std::size_t index(int x, int y) const {
         return std::size_t(y - rect.y0) * std::size_t(stride) + std::size_t(x - rect.x0);
@@ -37,6 +40,9 @@ struct NforSettings {
     int f = 3;            ///< patch radius
     float k2 = 0.25f;     ///< squared NL-means strength
     double ridge = 1e-3;  ///< ridge, relative to the window's weight sum
+    /// Weights are scaled by min(1, rho (GS_min + t) / (GS_max + t)) over the pair's two GS, t
+    /// the typical one: a neighbour far noisier than the centre (or far quieter) is let in less.
+    float varianceRatio = 4.0f;
 };
 
 /// Per-thread scratch buffers of the kernel.

@@ -31,6 +31,7 @@
 
 #include "filters/factories.h"
 #include "filters/filter_util.h"
+#include "filters/nl_distance.h"
 
 namespace glint::denoise {
 
@@ -64,7 +65,6 @@ Parameters:
   searchRadius  s, 1 … 30 (21×21 window: 10)
   strength      k, 1e-4 … 10 (log); larger smooths more, k -> 0 is the identity)";
 
-constexpr float kEps = 1e-10f;
 constexpr float kUnknownVariance = 1e30f;
 constexpr float kFullCancellation = 0.05f;  // alpha = 1 from this strength up
 constexpr int kTile = 64;                   // tiles on a global grid (reproducible ROI output)
@@ -128,27 +128,11 @@ GLINT_SIMD_CLONES
 void distanceRow(const Packed& pk, std::size_t ip, std::ptrdiff_t offset, int n, const Settings& st,
                  float* out) {
     const auto& P = pk.planes;
-    for (int i = 0; i < n; i += 8) {
-        const std::size_t a = ip + std::size_t(i), b = std::size_t(std::ptrdiff_t(a) + offset);
-        VecF d{};
-        for (int c = 0; c < 3; ++c) {
-            VecF up, uq, vp, vq;
-            detail::loadVec(up, &P[std::size_t(U0 + c)][a]);
-            detail::loadVec(uq, &P[std::size_t(U0 + c)][b]);
-            detail::loadVec(vp, &P[std::size_t(V0 + c)][a]);
-            detail::loadVec(vq, &P[std::size_t(V0 + c)][b]);
-            const VecF diff = up - uq;
-            const VecF vmin = vp < vq ? vp : vq;
-            d += (diff * diff - st.alpha * (vp + vmin)) / (kEps + st.k2 * (vp + vq));
-        }
-        d *= 1.0f / 3.0f;
-        d = d > st.cap ? (VecF{} + (st.cap)) : d;
-        d = d < -st.cap ? (VecF{} + (-st.cap)) : d;
-        VecF mp, mq;
-        detail::loadVec(mp, &P[M][a]);
-        detail::loadVec(mq, &P[M][b]);
-        detail::storeVec(out + i, d * (mp * mq));
-    }
+    const detail::NlDistancePlanes pl{
+        {P[std::size_t(U0)].data(), P[std::size_t(U0 + 1)].data(), P[std::size_t(U0 + 2)].data()},
+        {P[std::size_t(V0)].data(), P[std::size_t(V0 + 1)].data(), P[std::size_t(V0 + 2)].data()},
+        P[M].data()};
+    detail::nlDistanceRow(pl, ip, offset, n, st.k2, st.alpha, st.cap, out);
 }
 
 // Vertical box sums: out[y][i] = sum_{j=y..y+2f} in[j][i] for y < rows, i < n (multiple of 8).
