@@ -87,10 +87,7 @@ int main(int argc, char** argv) {
     w->tuneView()->choose(true);
     waitFor([&] { return w->session()->session().layerCount() == 1; });
     waitIdle(*w);
-    std::string wall;
-    for (const auto& item : w->document()->look())
-        for (const auto& p : item.properties)
-            if (p.name == "albedo" && !item.light && wall.empty()) wall = item.name;
+    const std::string wall = firstAlbedoMaterial(*w->document());
     std::vector<double> lookTimes;
     monitor.start();
     for (int r = 0; r < repeats; ++r) {
