@@ -6,6 +6,8 @@
 // the cache size and the process's peak resident memory during the textured renders.
 //   bench_texture [--size 512] [--spp 16] [--threads 2] [--repeat 3] [--texture 2048]
 //                 [--cache-mb MB (default: a quarter of the textures' size in memory)]
+//                 [--untextured 0|1] [--textured 0|1] (0: skip that render, e.g. for perf record)
+//                 [--keep 1] (keep the folder with the scenes and textures; its path is printed)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -114,6 +116,7 @@ void resetPeakRss() {
 
 int main(int argc, char** argv) {
     int size = 512, spp = 16, threads = 2, repeat = 3, textureSize = 2048, cacheOption = 0;
+    int runUntextured = 1, runTextured = 1, keep = 0;
     if (const int code = glint::bench::parseOptions(
             "bench_texture", argc, argv, [&](const std::string& name, const std::string& value) {
                 const int v = glint::bench::intOption(name, value);
@@ -129,6 +132,12 @@ int main(int argc, char** argv) {
                     textureSize = v;
                 else if (name == "--cache-mb")
                     cacheOption = v;
+                else if (name == "--untextured")
+                    runUntextured = v;
+                else if (name == "--textured")
+                    runTextured = v;
+                else if (name == "--keep")
+                    keep = v;
                 else
                     return false;
                 return true;
@@ -167,9 +176,10 @@ int main(int argc, char** argv) {
             return seconds[seconds.size() / 2];
         };
         std::uint64_t plainRss = 0, texturedRss = 0;
-        const double plain = time(dir / "plain.json", plainRss);
-        const double textured = time(dir / "textured.json", texturedRss);
-        const nlohmann::json j = {{"width", size},
+        const double plain = runUntextured ? time(dir / "plain.json", plainRss) : 0.0;
+        const double textured = runTextured ? time(dir / "textured.json", texturedRss) : 0.0;
+        const nlohmann::json j = {{"folder", keep ? dir.string() : std::string()},
+                                  {"width", size},
                                   {"height", size},
                                   {"spp", spp},
                                   {"threads", threads},
@@ -181,10 +191,11 @@ int main(int argc, char** argv) {
                                   {"textureCacheMb", cacheMb},
                                   {"secondsUntextured", plain},
                                   {"secondsTextured", textured},
-                                  {"ratio", textured / plain},
+                                  {"ratio", plain > 0.0 ? textured / plain : 0.0},
                                   {"peakRssUntexturedMb", double(plainRss) / (1 << 20)},
                                   {"peakRssTexturedMb", double(texturedRss) / (1 << 20)}};
         std::cout << j.dump(2) << "\n";
+        if (keep) return 0;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "bench_texture: %s\n", e.what());
         fs::remove_all(dir);
