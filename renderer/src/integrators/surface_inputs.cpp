@@ -1,19 +1,34 @@
 #include "integrators/surface_inputs.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+
+#include "glint/image/random.h"
 
 namespace glint::render {
 
 namespace {
 
-/// Texture `texture` looked up at the hit through `transform` (applied to the uv and to the
-/// footprint's axes).
+/// The number in [0, 1) that picks the tap of a hit's texture filters: a hash of where the hit
+/// lies on its triangle, which differs from sample to sample as the rays do, so that the
+/// picked taps average to the whole filter over a pixel's samples (and a lookup depends on the
+/// hit alone, not on the thread or the sampler).
+float tapNumber(const SurfacePoint& at) {
+    const std::uint64_t h =
+        hash64(hash64(std::bit_cast<std::uint32_t>(at.b1), std::bit_cast<std::uint32_t>(at.b2)),
+               (std::uint64_t(at.id.instance) << 32) | at.id.prim);
+    return float(h >> 40) * 0x1p-24f;
+}
+
+/// Texture `texture` at the hit through `transform` (applied to the uv and to the footprint's
+/// axes): one tap of its filter, picked by tapNumber().
 Vec4 lookup(const detail::SceneData& scene, int texture, const detail::UvTransform& transform,
             const SurfacePoint& at) {
     const detail::TexFootprint fp{transform.applyLinear(at.footprint.dx),
                                   transform.applyLinear(at.footprint.dy)};
-    return scene.textures[std::size_t(texture)].lookup(transform.apply(at.uv), fp);
+    return scene.textures[std::size_t(texture)].lookupOneTap(transform.apply(at.uv), fp,
+                                                             tapNumber(at));
 }
 
 Vec4 lookup(const detail::SceneData& scene, const detail::TextureSlot& slot,

@@ -134,10 +134,7 @@ Vec4 TextureLevels::bilinear(const TextureStore& store, int file, int index, flo
 #endif
 }
 
-Vec4 TextureLevels::lookup(const TextureStore& store, int file, float s, float t,
-                           const TexFootprint& footprint, TextureWrap wrapS,
-                           TextureWrap wrapT) const {
-    if (m_levels.empty()) return {0.0f, 0.0f, 0.0f, 1.0f};
+TextureLevels::Filter TextureLevels::filterFor(const TexFootprint& footprint) const {
     const FilterPlan p = plan(footprint);
     const Level& finest = m_levels.front();
     // The level whose texel is as wide as the filter, between two levels when it falls there;
@@ -147,23 +144,50 @@ Vec4 TextureLevels::lookup(const TextureStore& store, int file, float s, float t
             ? std::max(0.0f, std::log2(p.width * float(std::max(finest.width, finest.height))))
             : 0.0f;
     const int last = int(m_levels.size()) - 1;
-    const int fine = std::min(int(lod), last), coarse = std::min(fine + 1, last);
-    const float blend = fine == coarse ? 0.0f : std::min(lod - float(fine), 1.0f);
+    Filter f;
+    f.major = p.major;
+    f.taps = p.taps;
+    f.fine = std::min(int(lod), last);
+    f.coarse = std::min(f.fine + 1, last);
+    f.blend = f.fine == f.coarse ? 0.0f : std::min(lod - float(f.fine), 1.0f);
+    return f;
+}
+
+Vec4 TextureLevels::lookup(const TextureStore& store, int file, float s, float t,
+                           const TexFootprint& footprint, TextureWrap wrapS,
+                           TextureWrap wrapT) const {
+    if (m_levels.empty()) return {0.0f, 0.0f, 0.0f, 1.0f};
+    const Filter f = filterFor(footprint);
     Vec4 sum;
-    for (int k = 0; k < p.taps; ++k) {
-        const float offset = (float(k) + 0.5f) / float(p.taps) - 0.5f;
-        const float ks = s + offset * p.major.x, kt = t + offset * p.major.y;
-        Vec4 v = bilinear(store, file, fine, ks, kt, wrapS, wrapT);
-        if (blend > 0.0f) {
-            const Vec4 c = bilinear(store, file, coarse, ks, kt, wrapS, wrapT);
-            const float keep = 1.0f - blend;
-            v = {v.x * keep + c.x * blend, v.y * keep + c.y * blend, v.z * keep + c.z * blend,
-                 v.w * keep + c.w * blend};
+    for (int k = 0; k < f.taps; ++k) {
+        const float offset = (float(k) + 0.5f) / float(f.taps) - 0.5f;
+        const float ks = s + offset * f.major.x, kt = t + offset * f.major.y;
+        Vec4 v = bilinear(store, file, f.fine, ks, kt, wrapS, wrapT);
+        if (f.blend > 0.0f) {
+            const Vec4 c = bilinear(store, file, f.coarse, ks, kt, wrapS, wrapT);
+            const float keep = 1.0f - f.blend;
+            v = {v.x * keep + c.x * f.blend, v.y * keep + c.y * f.blend, v.z * keep + c.z * f.blend,
+                 v.w * keep + c.w * f.blend};
         }
         sum = {sum.x + v.x, sum.y + v.y, sum.z + v.z, sum.w + v.w};
     }
-    const float inv = 1.0f / float(p.taps);
+    const float inv = 1.0f / float(f.taps);
     return {sum.x * inv, sum.y * inv, sum.z * inv, sum.w * inv};
+}
+
+Vec4 TextureLevels::lookupOneTap(const TextureStore& store, int file, float s, float t,
+                                 const TexFootprint& footprint, TextureWrap wrapS,
+                                 TextureWrap wrapT, float u) const {
+    if (m_levels.empty()) return {0.0f, 0.0f, 0.0f, 1.0f};
+    const Filter f = filterFor(footprint);
+    // u picks the tap (its integer part over taps); what is left of it, again uniform in
+    // [0, 1), picks the level.
+    const float scaled = std::clamp(u, 0.0f, 1.0f) * float(f.taps);
+    const int k = std::min(int(scaled), f.taps - 1);
+    const float rest = scaled - float(k);
+    const float offset = (float(k) + 0.5f) / float(f.taps) - 0.5f;
+    return bilinear(store, file, rest < f.blend ? f.coarse : f.fine, s + offset * f.major.x,
+                    t + offset * f.major.y, wrapS, wrapT);
 }
 
 Vec4 TextureLevels::mean() const {

@@ -39,6 +39,14 @@ class TextureLevels {
     /// decoded from sRGB, not clamped); 0 where a tile cannot be read (recorded in the store).
     Vec4 lookup(const TextureStore& store, int file, float s, float t,
                 const TexFootprint& footprint, TextureWrap wrapS, TextureWrap wrapT) const;
+    /// One tap of lookup()'s filter, picked by `u` in [0, 1): one of its taps along the long
+    /// axis, each as likely, and of the two MIP levels it blends the finer with probability its
+    /// weight, so that the mean over uniform u is lookup()'s value (stochastic texture filtering,
+    /// Pharr et al. 2024, "Filtering After Shading with Stochastic Texture Filtering"). One
+    /// bilinear lookup where lookup() makes up to 16.
+    Vec4 lookupOneTap(const TextureStore& store, int file, float s, float t,
+                      const TexFootprint& footprint, TextureWrap wrapS, TextureWrap wrapT,
+                      float u) const;
     /// The mean over the whole texture: the coarsest level's mean.
     Vec4 mean() const;
 
@@ -47,6 +55,15 @@ class TextureLevels {
         int width = 0, height = 0;
         std::vector<std::uint16_t> texels;  ///< half RGBA, rows from the top; empty: in tiles
     };
+    /// The taps of a footprint's filter and the two levels each blends.
+    struct Filter {
+        Vec2 major;          ///< the taps lie along it, spaced by major / taps
+        int taps = 1;        ///< lookups spaced along `major`
+        int fine = 0;        ///< the finer level of each tap
+        int coarse = 0;      ///< the coarser one (fine when there is no blend)
+        float blend = 0.0f;  ///< the coarser level's weight
+    };
+    Filter filterFor(const TexFootprint& footprint) const;
     Vec4 bilinear(const TextureStore& store, int file, int level, float s, float t,
                   TextureWrap wrapS, TextureWrap wrapT) const;
 
