@@ -1,5 +1,5 @@
 // Glint's filter over a tiled texture's MIP levels (TextureLevels): which levels are held in
-// memory, lookups that agree with OpenImageIO's filter, single taps that average to it, texels
+// memory, lookups that agree with OpenImageIO's filter, single levels that average to it, texels
 // read through the cache's tiles, the level a footprint picks, wrap modes, the memory taken from
 // the tile cache, and renders that read no tile when all they need is resident.
 #include <gtest/gtest.h>
@@ -120,13 +120,12 @@ TEST(TextureLevels, AgreeWithOpenImageIosFilter) {
         }
 }
 
-TEST(TextureLevels, OneTapAveragesToTheWholeFilter) {
-    // The render's lookups take one tap of the filter, picked by a number u. Over u stratified
-    // in [0, 1) (u_i = (i + 1/2) / 4096, no randomness) the taps average to lookup()'s value:
-    // each of a footprint's n <= 8 taps gets 4096 / n numbers, and its level choice among them is
-    // off its blend weight by at most n / 4096 <= 2e-3 of the two levels' difference (at most
-    // 1 here), so the means agree to 2.5e-3. On a 3-texel checker the taps differ, so a
-    // footprint's single taps spread where the filter does not.
+TEST(TextureLevels, OneLevelAveragesToTheTrilinearFilter) {
+    // The render's lookups read one of the filter's two MIP levels, picked by a number u. Over u
+    // stratified in [0, 1) (u_i = (i + 1/2) / 4096, no randomness) they average to lookup()'s
+    // value: the share of the u below the blend weight is off it by at most 1 / 4096 of the two
+    // levels' difference (at most 1 here), so the means agree to 1e-3. On a 3-texel checker
+    // the levels differ, so the single values spread where the filter does not.
     test::TempDir dir("levels_one_tap");
     test::writeCheckerTexture(dir.path() / "checker.exr", 2048, 3);
     const Opened checker(dir.path() / "checker.exr");
@@ -149,23 +148,23 @@ TEST(TextureLevels, OneTapAveragesToTheWholeFilter) {
                 float lo = 1.0f, hi = 0.0f;
                 for (int i = 0; i < kNumbers; ++i) {
                     const float u = (float(i) + 0.5f) / float(kNumbers);
-                    const Vec4 v = checker.levels.lookupOneTap(
+                    const Vec4 v = checker.levels.lookupOneLevel(
                         checker.store, 0, s, t, fp, TextureWrap::Repeat, TextureWrap::Repeat, u);
                     sum[0] += v.x, sum[1] += v.y, sum[2] += v.z, sum[3] += v.w;
                     lo = std::min(lo, v.x), hi = std::max(hi, v.x);
                 }
-                EXPECT_NEAR(sum[0] / kNumbers, whole.x, 2.5e-3) << s << ", " << t << " " << fp.dx.x;
-                EXPECT_NEAR(sum[1] / kNumbers, whole.y, 2.5e-3) << s << ", " << t << " " << fp.dx.x;
-                EXPECT_NEAR(sum[2] / kNumbers, whole.z, 2.5e-3) << s << ", " << t << " " << fp.dx.x;
+                EXPECT_NEAR(sum[0] / kNumbers, whole.x, 1e-3) << s << ", " << t << " " << fp.dx.x;
+                EXPECT_NEAR(sum[1] / kNumbers, whole.y, 1e-3) << s << ", " << t << " " << fp.dx.x;
+                EXPECT_NEAR(sum[2] / kNumbers, whole.z, 1e-3) << s << ", " << t << " " << fp.dx.x;
                 EXPECT_NEAR(sum[3] / kNumbers, 1.0, 1e-6);
                 widestSpread = std::max(widestSpread, hi - lo);
             }
     EXPECT_GT(widestSpread, 0.2f);
-    // u at and beyond the ends stays within the filter's taps.
+    // u at and beyond the ends picks one of the two levels.
     for (float u : {0.0f, 0.9999999f, 1.0f, -3.0f, 7.0f})
         EXPECT_TRUE(std::isfinite(checker.levels
-                                      .lookupOneTap(checker.store, 0, 0.5f, 0.5f, footprints[3],
-                                                    TextureWrap::Repeat, TextureWrap::Repeat, u)
+                                      .lookupOneLevel(checker.store, 0, 0.5f, 0.5f, footprints[3],
+                                                      TextureWrap::Repeat, TextureWrap::Repeat, u)
                                       .x));
 }
 

@@ -10,11 +10,11 @@ namespace glint::render {
 
 namespace {
 
-/// The number in [0, 1) that picks the tap of a hit's texture filters: a hash of where the hit
-/// lies on its triangle, which differs from sample to sample as the rays do, so that the
-/// picked taps average to the whole filter over a pixel's samples (and a lookup depends on the
-/// hit alone, not on the thread or the sampler).
-float tapNumber(const SurfacePoint& at) {
+/// The number in [0, 1) that picks the MIP level of a hit's texture filters: a hash of where
+/// the hit lies on its triangle, which differs from sample to sample as the rays do, so that
+/// the picked levels average to the trilinear filter over a pixel's samples (and a lookup
+/// depends on the hit alone, not on the thread or the sampler).
+float levelNumber(const SurfacePoint& at) {
     const std::uint64_t h =
         hash64(hash64(std::bit_cast<std::uint32_t>(at.b1), std::bit_cast<std::uint32_t>(at.b2)),
                (std::uint64_t(at.id.instance) << 32) | at.id.prim);
@@ -22,13 +22,13 @@ float tapNumber(const SurfacePoint& at) {
 }
 
 /// Texture `texture` at the hit through `transform` (applied to the uv and to the footprint's
-/// axes): one tap of its filter, picked by tapNumber().
+/// axes): its filter at one of two MIP levels, picked by levelNumber().
 Vec4 lookup(const detail::SceneData& scene, int texture, const detail::UvTransform& transform,
             const SurfacePoint& at) {
     const detail::TexFootprint fp{transform.applyLinear(at.footprint.dx),
                                   transform.applyLinear(at.footprint.dy)};
-    return scene.textures[std::size_t(texture)].lookupOneTap(transform.apply(at.uv), fp,
-                                                             tapNumber(at));
+    return scene.textures[std::size_t(texture)].lookupOneLevel(transform.apply(at.uv), fp,
+                                                               levelNumber(at));
 }
 
 Vec4 lookup(const detail::SceneData& scene, const detail::TextureSlot& slot,

@@ -22,28 +22,32 @@ Vec2 saneAxis(Vec2 d) {
     return {sane(d.x), sane(d.y)};
 }
 
-/// How a footprint is filtered: `taps` lookups spaced along `major`, each over `width`.
+/// How a footprint is filtered: `taps` lookups spaced along `major`, each over a filter of
+/// squared width `width2`. At most 8 taps along the long axis, each as wide as the short one; a
+/// footprint more than 8 times longer than wide is widened to an eighth of its length (so the
+/// taps still cover it). In squared lengths: at most one square root (for the tap count), none
+/// for an isotropic footprint.
 struct FilterPlan {
     Vec2 major;
     int taps = 1;
-    float width = 0.0f;
+    float width2 = 0.0f;
 };
 
-/// At most 8 taps along the long axis, each as wide as the short one; a footprint more than 8
-/// times longer than wide is widened to an eighth of its length (so the taps still cover it).
 FilterPlan plan(const TexFootprint& footprint) {
-    const Vec2 dx = saneAxis(footprint.dx), dy = saneAxis(footprint.dy);
-    const float lx = std::sqrt(dx.x * dx.x + dx.y * dx.y),
-                ly = std::sqrt(dy.x * dy.x + dy.y * dy.y);
-    const float longer = std::max(lx, ly), shorter = std::min(lx, ly);
-    FilterPlan p;
-    p.major = lx >= ly ? dx : dy;
-    if (!(longer > 0.0f)) return p;
     constexpr int kMaxTaps = 8;
-    const float ratio = shorter > 0.0f ? longer / shorter : float(kMaxTaps);
-    // Clamped as a float first: a needle-thin footprint's ratio is beyond any int.
-    p.taps = std::max(1, int(std::ceil(std::min(ratio, float(kMaxTaps)))));
-    p.width = std::max(shorter, longer / float(kMaxTaps));
+    const Vec2 dx = saneAxis(footprint.dx), dy = saneAxis(footprint.dy);
+    const float lx2 = dx.x * dx.x + dx.y * dx.y, ly2 = dy.x * dy.x + dy.y * dy.y;
+    const float longer2 = std::max(lx2, ly2), shorter2 = std::min(lx2, ly2);
+    FilterPlan p;
+    p.major = lx2 >= ly2 ? dx : dy;
+    if (!(longer2 > 0.0f)) return p;
+    constexpr float kMaxRatio2 = float(kMaxTaps * kMaxTaps);
+    // Compared as squares first: a needle-thin footprint's ratio is beyond any int.
+    const float ratio2 = shorter2 > 0.0f ? longer2 / shorter2 : kMaxRatio2;
+    p.taps = ratio2 >= kMaxRatio2 ? kMaxTaps
+             : ratio2 > 1.0f      ? int(std::ceil(std::sqrt(ratio2)))
+                                  : 1;
+    p.width2 = std::max(shorter2, longer2 / kMaxRatio2);
     return p;
 }
 
@@ -84,7 +88,8 @@ std::size_t TextureLevels::residentBytes() const {
 bool TextureLevels::resident(const TexFootprint& footprint) const {
     if (m_firstResident >= int(m_levels.size())) return false;
     const Level& finest = m_levels[std::size_t(m_firstResident)];
-    return plan(footprint).width * float(std::max(finest.width, finest.height)) >= 1.0f;
+    const float size = float(std::max(finest.width, finest.height));
+    return plan(footprint).width2 * (size * size) >= 1.0f;
 }
 
 Vec4 TextureLevels::bilinear(const TextureStore& store, int file, int index, float s, float t,
@@ -137,12 +142,12 @@ Vec4 TextureLevels::bilinear(const TextureStore& store, int file, int index, flo
 TextureLevels::Filter TextureLevels::filterFor(const TexFootprint& footprint) const {
     const FilterPlan p = plan(footprint);
     const Level& finest = m_levels.front();
-    // The level whose texel is as wide as the filter, between two levels when it falls there;
-    // a filter narrower than a texel of the finest level: the finest, bilinearly.
-    const float lod =
-        p.width > 0.0f
-            ? std::max(0.0f, std::log2(p.width * float(std::max(finest.width, finest.height))))
-            : 0.0f;
+    // The level whose texel is as wide as the filter, between two levels when it falls there
+    // (log2 of the width in texels, from its square); a filter narrower than a texel of the
+    // finest level: the finest, bilinearly.
+    const float size = float(std::max(finest.width, finest.height));
+    const float texels2 = p.width2 * (size * size);
+    const float lod = texels2 > 1.0f ? 0.5f * std::log2(texels2) : 0.0f;
     const int last = int(m_levels.size()) - 1;
     Filter f;
     f.major = p.major;
@@ -175,19 +180,21 @@ Vec4 TextureLevels::lookup(const TextureStore& store, int file, float s, float t
     return {sum.x * inv, sum.y * inv, sum.z * inv, sum.w * inv};
 }
 
-Vec4 TextureLevels::lookupOneTap(const TextureStore& store, int file, float s, float t,
-                                 const TexFootprint& footprint, TextureWrap wrapS,
-                                 TextureWrap wrapT, float u) const {
+Vec4 TextureLevels::lookupOneLevel(const TextureStore& store, int file, float s, float t,
+                                   const TexFootprint& footprint, TextureWrap wrapS,
+                                   TextureWrap wrapT, float u) const {
     if (m_levels.empty()) return {0.0f, 0.0f, 0.0f, 1.0f};
     const Filter f = filterFor(footprint);
-    // u picks the tap (its integer part over taps); what is left of it, again uniform in
-    // [0, 1), picks the level.
-    const float scaled = std::clamp(u, 0.0f, 1.0f) * float(f.taps);
-    const int k = std::min(int(scaled), f.taps - 1);
-    const float rest = scaled - float(k);
-    const float offset = (float(k) + 0.5f) / float(f.taps) - 0.5f;
-    return bilinear(store, file, rest < f.blend ? f.coarse : f.fine, s + offset * f.major.x,
-                    t + offset * f.major.y, wrapS, wrapT);
+    const int level = u < f.blend ? f.coarse : f.fine;
+    Vec4 sum;
+    for (int k = 0; k < f.taps; ++k) {
+        const float offset = (float(k) + 0.5f) / float(f.taps) - 0.5f;
+        const Vec4 v = bilinear(store, file, level, s + offset * f.major.x, t + offset * f.major.y,
+                                wrapS, wrapT);
+        sum = {sum.x + v.x, sum.y + v.y, sum.z + v.z, sum.w + v.w};
+    }
+    const float inv = 1.0f / float(f.taps);
+    return {sum.x * inv, sum.y * inv, sum.z * inv, sum.w * inv};
 }
 
 Vec4 TextureLevels::mean() const {

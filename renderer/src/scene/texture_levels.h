@@ -2,8 +2,9 @@
 // texels a side are read once into memory (half-float RGBA); finer ones are read texel by texel
 // from the TextureStore's tile cache (OpenImageIO's ImageCache). A lookup is filtered over its
 // footprint: trilinear between the two levels the filter width falls between, at up to 8 taps
-// along the footprint's long axis, as OIIO's anisotropic filter does, at a third of its cost
-// (docs/assets.md, "Textures").
+// along the footprint's long axis, as OIIO's anisotropic filter does, at a third of its cost;
+// a render's lookups read one of the two levels, picked at random by its weight (docs/assets.md,
+// "Textures").
 #pragma once
 
 #include <cstddef>
@@ -39,14 +40,14 @@ class TextureLevels {
     /// decoded from sRGB, not clamped); 0 where a tile cannot be read (recorded in the store).
     Vec4 lookup(const TextureStore& store, int file, float s, float t,
                 const TexFootprint& footprint, TextureWrap wrapS, TextureWrap wrapT) const;
-    /// One tap of lookup()'s filter, picked by `u` in [0, 1): one of its taps along the long
-    /// axis, each as likely, and of the two MIP levels it blends the finer with probability its
-    /// weight, so that the mean over uniform u is lookup()'s value (stochastic texture filtering,
-    /// Pharr et al. 2024, "Filtering After Shading with Stochastic Texture Filtering"). One
-    /// bilinear lookup where lookup() makes up to 16.
-    Vec4 lookupOneTap(const TextureStore& store, int file, float s, float t,
-                      const TexFootprint& footprint, TextureWrap wrapS, TextureWrap wrapT,
-                      float u) const;
+    /// lookup()'s filter at one of the two MIP levels it blends, the coarser when `u` (in
+    /// [0, 1)) is below its weight, so that the mean over uniform u is lookup()'s value
+    /// (stochastic trilinear filtering: Pharr et al. 2024, "Filtering After Shading with
+    /// Stochastic Texture Filtering"). Half the bilinear lookups of lookup(), and tiles read only
+    /// as often as their level's weight.
+    Vec4 lookupOneLevel(const TextureStore& store, int file, float s, float t,
+                        const TexFootprint& footprint, TextureWrap wrapS, TextureWrap wrapT,
+                        float u) const;
     /// The mean over the whole texture: the coarsest level's mean.
     Vec4 mean() const;
 
