@@ -15,10 +15,11 @@ namespace {
 /// the picked levels average to the trilinear filter over a pixel's samples (and a lookup
 /// depends on the hit alone, not on the thread or the sampler).
 float levelNumber(const SurfacePoint& at) {
-    const std::uint64_t h =
-        hash64(hash64(std::bit_cast<std::uint32_t>(at.b1), std::bit_cast<std::uint32_t>(at.b2)),
-               (std::uint64_t(at.id.instance) << 32) | at.id.prim);
-    return float(h >> 40) * 0x1p-24f;
+    // One SplitMix64 finaliser over the barycentrics' bits and the triangle.
+    const std::uint64_t bary = (std::uint64_t(std::bit_cast<std::uint32_t>(at.b1)) << 32) |
+                               std::bit_cast<std::uint32_t>(at.b2);
+    const std::uint64_t triangle = (std::uint64_t(at.id.instance) << 32) | at.id.prim;
+    return float(mix64(bary ^ (triangle * 0x9e3779b97f4a7c15ULL)) >> 40) * 0x1p-24f;
 }
 
 /// Texture `texture` at the hit through `transform` (applied to the uv and to the footprint's
