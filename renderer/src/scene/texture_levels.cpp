@@ -158,34 +158,8 @@ TextureLevels::Filter TextureLevels::filterFor(const TexFootprint& footprint) co
     return f;
 }
 
-Vec4 TextureLevels::lookup(const TextureStore& store, int file, float s, float t,
-                           const TexFootprint& footprint, TextureWrap wrapS,
-                           TextureWrap wrapT) const {
-    if (m_levels.empty()) return {0.0f, 0.0f, 0.0f, 1.0f};
-    const Filter f = filterFor(footprint);
-    Vec4 sum;
-    for (int k = 0; k < f.taps; ++k) {
-        const float offset = (float(k) + 0.5f) / float(f.taps) - 0.5f;
-        const float ks = s + offset * f.major.x, kt = t + offset * f.major.y;
-        Vec4 v = bilinear(store, file, f.fine, ks, kt, wrapS, wrapT);
-        if (f.blend > 0.0f) {
-            const Vec4 c = bilinear(store, file, f.coarse, ks, kt, wrapS, wrapT);
-            const float keep = 1.0f - f.blend;
-            v = {v.x * keep + c.x * f.blend, v.y * keep + c.y * f.blend, v.z * keep + c.z * f.blend,
-                 v.w * keep + c.w * f.blend};
-        }
-        sum = {sum.x + v.x, sum.y + v.y, sum.z + v.z, sum.w + v.w};
-    }
-    const float inv = 1.0f / float(f.taps);
-    return {sum.x * inv, sum.y * inv, sum.z * inv, sum.w * inv};
-}
-
-Vec4 TextureLevels::lookupOneLevel(const TextureStore& store, int file, float s, float t,
-                                   const TexFootprint& footprint, TextureWrap wrapS,
-                                   TextureWrap wrapT, float u) const {
-    if (m_levels.empty()) return {0.0f, 0.0f, 0.0f, 1.0f};
-    const Filter f = filterFor(footprint);
-    const int level = u < f.blend ? f.coarse : f.fine;
+Vec4 TextureLevels::taps(const TextureStore& store, int file, const Filter& f, int level, float s,
+                         float t, TextureWrap wrapS, TextureWrap wrapT) const {
     Vec4 sum;
     for (int k = 0; k < f.taps; ++k) {
         const float offset = (float(k) + 0.5f) / float(f.taps) - 0.5f;
@@ -195,6 +169,28 @@ Vec4 TextureLevels::lookupOneLevel(const TextureStore& store, int file, float s,
     }
     const float inv = 1.0f / float(f.taps);
     return {sum.x * inv, sum.y * inv, sum.z * inv, sum.w * inv};
+}
+
+Vec4 TextureLevels::lookup(const TextureStore& store, int file, float s, float t,
+                           const TexFootprint& footprint, TextureWrap wrapS,
+                           TextureWrap wrapT) const {
+    if (m_levels.empty()) return {0.0f, 0.0f, 0.0f, 1.0f};
+    const Filter f = filterFor(footprint);
+    const Vec4 v = taps(store, file, f, f.fine, s, t, wrapS, wrapT);
+    if (!(f.blend > 0.0f)) return v;
+    // Trilinear: the taps at both levels, weighed (the same as blending each tap's two).
+    const Vec4 c = taps(store, file, f, f.coarse, s, t, wrapS, wrapT);
+    const float keep = 1.0f - f.blend;
+    return {v.x * keep + c.x * f.blend, v.y * keep + c.y * f.blend, v.z * keep + c.z * f.blend,
+            v.w * keep + c.w * f.blend};
+}
+
+Vec4 TextureLevels::lookupOneLevel(const TextureStore& store, int file, float s, float t,
+                                   const TexFootprint& footprint, TextureWrap wrapS,
+                                   TextureWrap wrapT, float u) const {
+    if (m_levels.empty()) return {0.0f, 0.0f, 0.0f, 1.0f};
+    const Filter f = filterFor(footprint);
+    return taps(store, file, f, u < f.blend ? f.coarse : f.fine, s, t, wrapS, wrapT);
 }
 
 Vec4 TextureLevels::mean() const {

@@ -64,7 +64,11 @@ class TextureLevels {
         int coarse = 0;      ///< the coarser one (fine when there is no blend)
         float blend = 0.0f;  ///< the coarser level's weight
     };
+    /// The filter of `footprint`: its taps and the two levels it blends.
     Filter filterFor(const TexFootprint& footprint) const;
+    /// The mean of the filter's taps at one level.
+    Vec4 taps(const TextureStore& store, int file, const Filter& f, int level, float s, float t,
+              TextureWrap wrapS, TextureWrap wrapT) const;
     Vec4 bilinear(const TextureStore& store, int file, int level, float s, float t,
                   TextureWrap wrapS, TextureWrap wrapT) const;
 
