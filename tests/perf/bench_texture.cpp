@@ -2,10 +2,13 @@
 // Writes four 2048² tiled, MIP-mapped half-float EXR textures (make_texture, as maketx would)
 // and a 2 × 2 grid of UV spheres into a temporary folder, then renders the asset textured and
 // untextured (albedo 0.5 instead) with a texture cache of a quarter of the textures' size.
-// Prints one JSON object: both times (median of --repeat), their ratio, the textures' bytes,
-// the cache size and the process's peak resident memory during the textured renders.
+// Prints one JSON object: both times (median of --repeat; wall and the process's CPU time), their
+// ratios, the textures' bytes, the cache size and the process's peak resident memory during the
+// textured renders.
 //   bench_texture [--size 512] [--spp 16] [--threads 2] [--repeat 3] [--texture 2048]
 //                 [--cache-mb MB (default: a quarter of the textures' size in memory)]
+//                 [--untextured 0|1] [--textured 0|1] (0: skip that render, e.g. for perf record)
+//                 [--keep 1] (keep the folder with the scenes and textures; its path is printed)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -15,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <OpenImageIO/imagebuf.h>
@@ -105,6 +109,14 @@ std::uint64_t procStatusBytes(const std::string& key) {
     return 0;
 }
 
+/// The process's CPU time so far (user + system), in seconds.
+double cpuSeconds() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    auto seconds = [](const timeval& t) { return double(t.tv_sec) + 1e-6 * double(t.tv_usec); };
+    return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
 /// Resets the peak resident size (VmHWM) to the current one (Linux 4.0+).
 void resetPeakRss() {
     std::ofstream("/proc/self/clear_refs") << "5";
@@ -114,6 +126,7 @@ void resetPeakRss() {
 
 int main(int argc, char** argv) {
     int size = 512, spp = 16, threads = 2, repeat = 3, textureSize = 2048, cacheOption = 0;
+    int runUntextured = 1, runTextured = 1, keep = 0;
     if (const int code = glint::bench::parseOptions(
             "bench_texture", argc, argv, [&](const std::string& name, const std::string& value) {
                 const int v = glint::bench::intOption(name, value);
@@ -129,6 +142,12 @@ int main(int argc, char** argv) {
                     textureSize = v;
                 else if (name == "--cache-mb")
                     cacheOption = v;
+                else if (name == "--untextured")
+                    runUntextured = v;
+                else if (name == "--textured")
+                    runTextured = v;
+                else if (name == "--keep")
+                    keep = v;
                 else
                     return false;
                 return true;
@@ -154,22 +173,33 @@ int main(int argc, char** argv) {
         std::ofstream(dir / "textured.json") << sceneJson(true, size, spp);
         std::ofstream(dir / "plain.json") << sceneJson(false, size, spp);
 
+        // Wall and CPU seconds (the process's user + system time over the render: on a shared
+        // machine it counts the render's work, not the waits for a core), medians of `repeat`.
+        struct Timing {
+            double wall = 0.0, cpu = 0.0;
+        };
         auto time = [&](const fs::path& scene, std::uint64_t& peakRss) {
             resetPeakRss();
             glint::render::Renderer renderer(glint::render::loadScene(scene));
             glint::render::Settings s = renderer.scene().settings();
             s.threads = threads;
             s.textureCacheMb = cacheMb;
-            std::vector<double> seconds;
-            for (int r = 0; r < repeat; ++r) seconds.push_back(renderer.render(s).stats.seconds);
-            std::sort(seconds.begin(), seconds.end());
+            std::vector<double> wall, cpu;
+            for (int r = 0; r < repeat; ++r) {
+                const double before = cpuSeconds();
+                wall.push_back(renderer.render(s).stats.seconds);
+                cpu.push_back(cpuSeconds() - before);
+            }
+            std::sort(wall.begin(), wall.end());
+            std::sort(cpu.begin(), cpu.end());
             peakRss = procStatusBytes("VmHWM");
-            return seconds[seconds.size() / 2];
+            return Timing{wall[wall.size() / 2], cpu[cpu.size() / 2]};
         };
         std::uint64_t plainRss = 0, texturedRss = 0;
-        const double plain = time(dir / "plain.json", plainRss);
-        const double textured = time(dir / "textured.json", texturedRss);
-        const nlohmann::json j = {{"width", size},
+        const Timing plain = runUntextured ? time(dir / "plain.json", plainRss) : Timing{};
+        const Timing textured = runTextured ? time(dir / "textured.json", texturedRss) : Timing{};
+        const nlohmann::json j = {{"folder", keep ? dir.string() : std::string()},
+                                  {"width", size},
                                   {"height", size},
                                   {"spp", spp},
                                   {"threads", threads},
@@ -179,12 +209,16 @@ int main(int argc, char** argv) {
                                   {"textureFileBytes", textureBytes},
                                   {"textureMemoryBytes", memoryBytes},
                                   {"textureCacheMb", cacheMb},
-                                  {"secondsUntextured", plain},
-                                  {"secondsTextured", textured},
-                                  {"ratio", textured / plain},
+                                  {"secondsUntextured", plain.wall},
+                                  {"secondsTextured", textured.wall},
+                                  {"ratio", plain.wall > 0.0 ? textured.wall / plain.wall : 0.0},
+                                  {"cpuSecondsUntextured", plain.cpu},
+                                  {"cpuSecondsTextured", textured.cpu},
+                                  {"cpuRatio", plain.cpu > 0.0 ? textured.cpu / plain.cpu : 0.0},
                                   {"peakRssUntexturedMb", double(plainRss) / (1 << 20)},
                                   {"peakRssTexturedMb", double(texturedRss) / (1 << 20)}};
         std::cout << j.dump(2) << "\n";
+        if (keep) return 0;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "bench_texture: %s\n", e.what());
         fs::remove_all(dir);

@@ -1,7 +1,7 @@
 // Glint's filter over a tiled texture's MIP levels (TextureLevels): which levels are held in
-// memory, lookups that agree with OpenImageIO's filter, texels read through the cache's tiles,
-// the level a footprint picks, wrap modes, the memory taken from the tile cache, and renders
-// that read no tile when all they need is resident.
+// memory, lookups that agree with OpenImageIO's filter, single levels that average to it, texels
+// read through the cache's tiles, the level a footprint picks, wrap modes, the memory taken from
+// the tile cache, and renders that read no tile when all they need is resident.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -118,6 +118,54 @@ TEST(TextureLevels, AgreeWithOpenImageIosFilter) {
                 checker.store.lookup(0, s, t, {}, TextureWrap::Repeat, TextureWrap::Repeat, false);
             EXPECT_NEAR(ours.x, oiio.x, 1e-5f) << s << ", " << t;
         }
+}
+
+TEST(TextureLevels, OneLevelAveragesToTheTrilinearFilter) {
+    // The render's lookups read one of the filter's two MIP levels, picked by a number u. Over u
+    // stratified in [0, 1) (u_i = (i + 1/2) / 4096, no randomness) they average to lookup()'s
+    // value: the share of the u below the blend weight is off it by at most 1 / 4096 of the two
+    // levels' difference (at most 1 here), so the means agree to 1e-3. On a 3-texel checker
+    // the levels differ, so the single values spread where the filter does not.
+    test::TempDir dir("levels_one_tap");
+    test::writeCheckerTexture(dir.path() / "checker.exr", 2048, 3);
+    const Opened checker(dir.path() / "checker.exr");
+    const TexFootprint footprints[] = {
+        {},                                                          // bilinear at the finest
+        isotropic(1.5f, 2048),                                       // blended, in the tiles
+        isotropic(2.5f, 512),                                        // blended, resident
+        {{4.0f / 2048, 1.0f / 2048}, {-0.25f / 2048, 1.0f / 2048}},  // 4:1, in the tiles
+        {{3.0f / 2048, 6.0f / 2048}, {1.5f / 2048, 0.0f}},           // 2:1 at a slant
+        {{0.0f, 30.0f / 512}, {1.0f / 512, 0.0f}},                   // 30:1, widened
+    };
+    constexpr int kNumbers = 4096;
+    float widestSpread = 0.0f;
+    for (const TexFootprint& fp : footprints)
+        for (float s : {0.3f, 0.5123f})
+            for (float t : {0.35f, 0.77f}) {
+                const Vec4 whole = checker.levels.lookup(checker.store, 0, s, t, fp,
+                                                         TextureWrap::Repeat, TextureWrap::Repeat);
+                double sum[4] = {0.0, 0.0, 0.0, 0.0};
+                float lo = 1.0f, hi = 0.0f;
+                for (int i = 0; i < kNumbers; ++i) {
+                    const float u = (float(i) + 0.5f) / float(kNumbers);
+                    const Vec4 v = checker.levels.lookupOneLevel(
+                        checker.store, 0, s, t, fp, TextureWrap::Repeat, TextureWrap::Repeat, u);
+                    sum[0] += v.x, sum[1] += v.y, sum[2] += v.z, sum[3] += v.w;
+                    lo = std::min(lo, v.x), hi = std::max(hi, v.x);
+                }
+                EXPECT_NEAR(sum[0] / kNumbers, whole.x, 1e-3) << s << ", " << t << " " << fp.dx.x;
+                EXPECT_NEAR(sum[1] / kNumbers, whole.y, 1e-3) << s << ", " << t << " " << fp.dx.x;
+                EXPECT_NEAR(sum[2] / kNumbers, whole.z, 1e-3) << s << ", " << t << " " << fp.dx.x;
+                EXPECT_NEAR(sum[3] / kNumbers, 1.0, 1e-6);
+                widestSpread = std::max(widestSpread, hi - lo);
+            }
+    EXPECT_GT(widestSpread, 0.2f);
+    // u at and beyond the ends picks one of the two levels.
+    for (float u : {0.0f, 0.9999999f, 1.0f, -3.0f, 7.0f})
+        EXPECT_TRUE(std::isfinite(checker.levels
+                                      .lookupOneLevel(checker.store, 0, 0.5f, 0.5f, footprints[3],
+                                                      TextureWrap::Repeat, TextureWrap::Repeat, u)
+                                      .x));
 }
 
 TEST(TextureLevels, ReadTheTexelsOfAnUntiledFileThroughTheCachesTiles) {

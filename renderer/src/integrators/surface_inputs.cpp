@@ -1,19 +1,35 @@
 #include "integrators/surface_inputs.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+
+#include "glint/image/random.h"
 
 namespace glint::render {
 
 namespace {
 
-/// Texture `texture` looked up at the hit through `transform` (applied to the uv and to the
-/// footprint's axes).
+/// The number in [0, 1) that picks the MIP level of a hit's texture filters: a hash of where
+/// the hit lies on its triangle, which differs from sample to sample as the rays do, so that
+/// the picked levels average to the trilinear filter over a pixel's samples (and a lookup
+/// depends on the hit alone, not on the thread or the sampler).
+float levelNumber(const SurfacePoint& at) {
+    // One SplitMix64 finaliser over the barycentrics' bits and the triangle.
+    const std::uint64_t bary = (std::uint64_t(std::bit_cast<std::uint32_t>(at.b1)) << 32) |
+                               std::bit_cast<std::uint32_t>(at.b2);
+    const std::uint64_t triangle = (std::uint64_t(at.id.instance) << 32) | at.id.prim;
+    return float(mix64(bary ^ (triangle * 0x9e3779b97f4a7c15ULL)) >> 40) * 0x1p-24f;
+}
+
+/// Texture `texture` at the hit through `transform` (applied to the uv and to the footprint's
+/// axes): its filter at one of two MIP levels, picked by levelNumber().
 Vec4 lookup(const detail::SceneData& scene, int texture, const detail::UvTransform& transform,
             const SurfacePoint& at) {
     const detail::TexFootprint fp{transform.applyLinear(at.footprint.dx),
                                   transform.applyLinear(at.footprint.dy)};
-    return scene.textures[std::size_t(texture)].lookup(transform.apply(at.uv), fp);
+    return scene.textures[std::size_t(texture)].lookupOneLevel(transform.apply(at.uv), fp,
+                                                               levelNumber(at));
 }
 
 Vec4 lookup(const detail::SceneData& scene, const detail::TextureSlot& slot,

@@ -153,6 +153,10 @@ struct Texture {
     /// over `footprint` (the change of uv per ray step in x and y; zero: bilinear). An image in
     /// memory is always looked up bilinearly.
     Vec4 lookup(Vec2 uv, const TexFootprint& footprint = {}) const;
+    /// lookup()'s filter at one of its two MIP levels, picked by `u` in [0, 1)
+    /// (TextureLevels::lookupOneLevel): its mean over uniform u is lookup()'s value. An image in
+    /// memory: lookup().
+    Vec4 lookupOneLevel(Vec2 uv, const TexFootprint& footprint, float u) const;
     /// Fills `levels` from the store (a file texture). A file that cannot be read there is
     /// recorded in the store (throwIfFailed()).
     void readLevels();

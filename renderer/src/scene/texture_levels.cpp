@@ -22,28 +22,32 @@ Vec2 saneAxis(Vec2 d) {
     return {sane(d.x), sane(d.y)};
 }
 
-/// How a footprint is filtered: `taps` lookups spaced along `major`, each over `width`.
+/// How a footprint is filtered: `taps` lookups spaced along `major`, each over a filter of
+/// squared width `width2`. At most 8 taps along the long axis, each as wide as the short one; a
+/// footprint more than 8 times longer than wide is widened to an eighth of its length (so the
+/// taps still cover it). In squared lengths: at most one square root (for the tap count), none
+/// for an isotropic footprint.
 struct FilterPlan {
     Vec2 major;
     int taps = 1;
-    float width = 0.0f;
+    float width2 = 0.0f;
 };
 
-/// At most 8 taps along the long axis, each as wide as the short one; a footprint more than 8
-/// times longer than wide is widened to an eighth of its length (so the taps still cover it).
 FilterPlan plan(const TexFootprint& footprint) {
-    const Vec2 dx = saneAxis(footprint.dx), dy = saneAxis(footprint.dy);
-    const float lx = std::sqrt(dx.x * dx.x + dx.y * dx.y),
-                ly = std::sqrt(dy.x * dy.x + dy.y * dy.y);
-    const float longer = std::max(lx, ly), shorter = std::min(lx, ly);
-    FilterPlan p;
-    p.major = lx >= ly ? dx : dy;
-    if (!(longer > 0.0f)) return p;
     constexpr int kMaxTaps = 8;
-    const float ratio = shorter > 0.0f ? longer / shorter : float(kMaxTaps);
-    // Clamped as a float first: a needle-thin footprint's ratio is beyond any int.
-    p.taps = std::max(1, int(std::ceil(std::min(ratio, float(kMaxTaps)))));
-    p.width = std::max(shorter, longer / float(kMaxTaps));
+    const Vec2 dx = saneAxis(footprint.dx), dy = saneAxis(footprint.dy);
+    const float lx2 = dx.x * dx.x + dx.y * dx.y, ly2 = dy.x * dy.x + dy.y * dy.y;
+    const float longer2 = std::max(lx2, ly2), shorter2 = std::min(lx2, ly2);
+    FilterPlan p;
+    p.major = lx2 >= ly2 ? dx : dy;
+    if (!(longer2 > 0.0f)) return p;
+    constexpr float kMaxRatio2 = float(kMaxTaps * kMaxTaps);
+    // Compared as squares first: a needle-thin footprint's ratio is beyond any int.
+    const float ratio2 = shorter2 > 0.0f ? longer2 / shorter2 : kMaxRatio2;
+    p.taps = ratio2 >= kMaxRatio2 ? kMaxTaps
+             : ratio2 > 1.0f      ? int(std::ceil(std::sqrt(ratio2)))
+                                  : 1;
+    p.width2 = std::max(shorter2, longer2 / kMaxRatio2);
     return p;
 }
 
@@ -84,7 +88,8 @@ std::size_t TextureLevels::residentBytes() const {
 bool TextureLevels::resident(const TexFootprint& footprint) const {
     if (m_firstResident >= int(m_levels.size())) return false;
     const Level& finest = m_levels[std::size_t(m_firstResident)];
-    return plan(footprint).width * float(std::max(finest.width, finest.height)) >= 1.0f;
+    const float size = float(std::max(finest.width, finest.height));
+    return plan(footprint).width2 * (size * size) >= 1.0f;
 }
 
 Vec4 TextureLevels::bilinear(const TextureStore& store, int file, int index, float s, float t,
@@ -134,36 +139,58 @@ Vec4 TextureLevels::bilinear(const TextureStore& store, int file, int index, flo
 #endif
 }
 
+TextureLevels::Filter TextureLevels::filterFor(const TexFootprint& footprint) const {
+    const FilterPlan p = plan(footprint);
+    const Level& finest = m_levels.front();
+    // The level whose texel is as wide as the filter, between two levels when it falls there
+    // (log2 of the width in texels, from its square); a filter narrower than a texel of the
+    // finest level: the finest, bilinearly.
+    const float size = float(std::max(finest.width, finest.height));
+    const float texels2 = p.width2 * (size * size);
+    const float lod = texels2 > 1.0f ? 0.5f * std::log2(texels2) : 0.0f;
+    const int last = int(m_levels.size()) - 1;
+    Filter f;
+    f.major = p.major;
+    f.taps = p.taps;
+    f.fine = std::min(int(lod), last);
+    f.coarse = std::min(f.fine + 1, last);
+    f.blend = f.fine == f.coarse ? 0.0f : std::min(lod - float(f.fine), 1.0f);
+    return f;
+}
+
+Vec4 TextureLevels::taps(const TextureStore& store, int file, const Filter& f, int level, float s,
+                         float t, TextureWrap wrapS, TextureWrap wrapT) const {
+    Vec4 sum;
+    for (int k = 0; k < f.taps; ++k) {
+        const float offset = (float(k) + 0.5f) / float(f.taps) - 0.5f;
+        const Vec4 v = bilinear(store, file, level, s + offset * f.major.x, t + offset * f.major.y,
+                                wrapS, wrapT);
+        sum = {sum.x + v.x, sum.y + v.y, sum.z + v.z, sum.w + v.w};
+    }
+    const float inv = 1.0f / float(f.taps);
+    return {sum.x * inv, sum.y * inv, sum.z * inv, sum.w * inv};
+}
+
 Vec4 TextureLevels::lookup(const TextureStore& store, int file, float s, float t,
                            const TexFootprint& footprint, TextureWrap wrapS,
                            TextureWrap wrapT) const {
     if (m_levels.empty()) return {0.0f, 0.0f, 0.0f, 1.0f};
-    const FilterPlan p = plan(footprint);
-    const Level& finest = m_levels.front();
-    // The level whose texel is as wide as the filter, between two levels when it falls there;
-    // a filter narrower than a texel of the finest level: the finest, bilinearly.
-    const float lod =
-        p.width > 0.0f
-            ? std::max(0.0f, std::log2(p.width * float(std::max(finest.width, finest.height))))
-            : 0.0f;
-    const int last = int(m_levels.size()) - 1;
-    const int fine = std::min(int(lod), last), coarse = std::min(fine + 1, last);
-    const float blend = fine == coarse ? 0.0f : std::min(lod - float(fine), 1.0f);
-    Vec4 sum;
-    for (int k = 0; k < p.taps; ++k) {
-        const float offset = (float(k) + 0.5f) / float(p.taps) - 0.5f;
-        const float ks = s + offset * p.major.x, kt = t + offset * p.major.y;
-        Vec4 v = bilinear(store, file, fine, ks, kt, wrapS, wrapT);
-        if (blend > 0.0f) {
-            const Vec4 c = bilinear(store, file, coarse, ks, kt, wrapS, wrapT);
-            const float keep = 1.0f - blend;
-            v = {v.x * keep + c.x * blend, v.y * keep + c.y * blend, v.z * keep + c.z * blend,
-                 v.w * keep + c.w * blend};
-        }
-        sum = {sum.x + v.x, sum.y + v.y, sum.z + v.z, sum.w + v.w};
-    }
-    const float inv = 1.0f / float(p.taps);
-    return {sum.x * inv, sum.y * inv, sum.z * inv, sum.w * inv};
+    const Filter f = filterFor(footprint);
+    const Vec4 v = taps(store, file, f, f.fine, s, t, wrapS, wrapT);
+    if (!(f.blend > 0.0f)) return v;
+    // Trilinear: the taps at both levels, weighed (the same as blending each tap's two).
+    const Vec4 c = taps(store, file, f, f.coarse, s, t, wrapS, wrapT);
+    const float keep = 1.0f - f.blend;
+    return {v.x * keep + c.x * f.blend, v.y * keep + c.y * f.blend, v.z * keep + c.z * f.blend,
+            v.w * keep + c.w * f.blend};
+}
+
+Vec4 TextureLevels::lookupOneLevel(const TextureStore& store, int file, float s, float t,
+                                   const TexFootprint& footprint, TextureWrap wrapS,
+                                   TextureWrap wrapT, float u) const {
+    if (m_levels.empty()) return {0.0f, 0.0f, 0.0f, 1.0f};
+    const Filter f = filterFor(footprint);
+    return taps(store, file, f, u < f.blend ? f.coarse : f.fine, s, t, wrapS, wrapT);
 }
 
 Vec4 TextureLevels::mean() const {

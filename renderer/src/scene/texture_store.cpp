@@ -156,6 +156,13 @@ bool TextureStore::texelQuad(int file, int level, int x0, int x1, int y0, int y1
     auto* handle = static_cast<OIIO::ImageCache::ImageHandle*>(f.imageHandle);
     const int channels = f.info.channels, n = std::min(channels, 4);
     const int xs[4] = {x0, x1, x0, x1}, ys[4] = {y0, y0, y1, y1};
+    // Each texel's tile origin: two divisions for the quad, not eight (x1 is mostly x0 + 1, in
+    // x0's tile).
+    auto origin = [](int i, int size) { return (i / size) * size; };
+    const int ox0 = origin(x0, tiles.tileWidth), oy0 = origin(y0, tiles.tileHeight);
+    const int ox1 = x1 >= ox0 && x1 - ox0 < tiles.tileWidth ? ox0 : origin(x1, tiles.tileWidth);
+    const int oy1 = y1 >= oy0 && y1 - oy0 < tiles.tileHeight ? oy0 : origin(y1, tiles.tileHeight);
+    const int oxs[4] = {ox0, ox1, ox0, ox1}, oys[4] = {oy0, oy0, oy1, oy1};
     // The four texels mostly share a tile: it is fetched once.
     OIIO::ImageCache::Tile* tile = nullptr;
     const void* pixels = nullptr;
@@ -164,8 +171,7 @@ bool TextureStore::texelQuad(int file, int level, int x0, int x1, int y0, int y1
     bool ok = true;
     for (int k = 0; k < 4; ++k) {
         const int x = tiles.x + xs[k], y = tiles.y + ys[k];
-        const int tx = tiles.x + (xs[k] / tiles.tileWidth) * tiles.tileWidth;
-        const int ty = tiles.y + (ys[k] / tiles.tileHeight) * tiles.tileHeight;
+        const int tx = tiles.x + oxs[k], ty = tiles.y + oys[k];
         if (!tile || tx != tileX || ty != tileY) {
             if (tile) cache.release_tile(tile);
             tile = cache.get_tile(handle, thread, 0, level, x, y, 0);
