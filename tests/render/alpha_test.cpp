@@ -1,11 +1,15 @@
 // Cut-outs and stochastic transparency (glTF alphaMode MASK and BLEND, embree/alpha_filter.cpp):
 // a black quad in front of a white sky hides it where it is there and shows it where it is not,
-// for camera rays and shadow rays alike, from the material's opacity and its texture's alpha.
+// for camera rays and shadow rays alike, from the material's opacity and its texture's alpha;
+// shadow rays through BLEND surfaces carry the product of their 1 − alpha.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <memory>
+#include <string>
+#include <vector>
 
+#include "embree/embree_scene.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 #include "scene/scene_access.h"
@@ -146,6 +150,156 @@ TEST(Alpha, ShadowRaysPassWhereTheSurfaceIsNotThere) {
     };
     EXPECT_NEAR(mean(render(scene(AlphaMode::Mask), 4).color()), 1.0, 1e-5);
     EXPECT_EQ(mean(render(scene(AlphaMode::Opaque), 4).color()), 0.0);
+}
+
+namespace {
+
+/// `count` copies of the quad stacked 0.5 apart along z (instances of one shared mesh), BLEND
+/// of opacity `opacity`.
+detail::SceneData stackedQuads(const test::TempDir& dir, int count, float opacity) {
+    dir.write("quad.obj", kQuad);
+    std::string shapes;
+    for (int i = 0; i < count; ++i)
+        shapes += std::string(i ? ", " : "") +
+                  R"({"obj": "quad.obj", "material": "black", "transform": {"translate": [0, 0, )" +
+                  std::to_string(0.5 * i) + "]}}";
+    const Scene parsed = parseScene(
+        R"({"camera": {"position": [0, 0, 30], "lookAt": [0, 0, 0], "fovY": 30},
+            "film": {"width": 4, "height": 4},
+            "materials": {"black": {"type": "diffuse", "albedo": [0, 0, 0]}},
+            "shapes": [)" +
+            shapes + "]}",
+        dir.path() / "scene.json");
+    detail::SceneData data = detail::sceneData(parsed);
+    data.materials[0].alphaMode = AlphaMode::Blend;
+    data.materials[0].opacity = opacity;
+    return data;
+}
+
+/// Shadow segments straight down through the stack from a grid of points inside the quad
+/// (clear of its diagonal), one per ray.
+std::vector<ShadowRay> downwardRays(int perSide) {
+    std::vector<ShadowRay> rays;
+    for (int j = 0; j < perSide; ++j)
+        for (int i = 0; i < perSide; ++i) {
+            const float x = -0.9f + 1.8f * (float(i) + 0.5f) / float(perSide);
+            const float y = -0.9f + 1.8f * (float(j) + 0.3f) / float(perSide);
+            rays.push_back({{x, y, 20.0f}, {0, 0, -1}, 40.0f, 0.0f});
+        }
+    return rays;
+}
+
+/// visibilityMany of `rays` (packets).
+std::vector<float> visibilities(const EmbreeScene& embree, const std::vector<ShadowRay>& rays) {
+    std::vector<const ShadowRay*> pointers;
+    for (const ShadowRay& r : rays) pointers.push_back(&r);
+    std::vector<float> visible(rays.size());
+    embree.visibilityMany(rays.size(), pointers.data(), visible.data());
+    return visible;
+}
+
+}  // namespace
+
+TEST(Alpha, AShadowRayCarriesTheProductOfOneMinusAlpha) {
+    test::TempDir dir("blend_shadow");
+    for (const auto& [count, expected] : {std::pair{1, 0.5f}, std::pair{2, 0.25f}}) {
+        const detail::SceneData data = stackedQuads(dir, count, 0.5f);
+        const EmbreeScene embree(data);
+        // Exactly, every ray, single or in packets: each triangle counts once however often
+        // Embree reports it.
+        EXPECT_EQ(embree.visibility({0.3f, -0.2f, 20.0f}, {0, 0, -1}, 40.0f), expected) << count;
+        const std::vector<ShadowRay> rays = downwardRays(7);
+        for (float v : visibilities(embree, rays)) ASSERT_EQ(v, expected) << count;
+        // A segment that stops short of the stack, and one that misses it, are clear.
+        EXPECT_EQ(embree.visibility({0.3f, -0.2f, 20.0f}, {0, 0, -1}, 15.0f), 1.0f);
+        EXPECT_EQ(embree.visibility({5.0f, 0.0f, 20.0f}, {0, 0, -1}, 40.0f), 1.0f);
+    }
+    // Opacity 1 blocks.
+    const detail::SceneData opaque = stackedQuads(dir, 2, 1.0f);
+    EXPECT_EQ(EmbreeScene(opaque).visibility({0.3f, -0.2f, 20.0f}, {0, 0, -1}, 40.0f), 0.0f);
+}
+
+TEST(Alpha, PastSixteenSurfacesAShadowRayFallsBackToTheStochasticChoice) {
+    // 20 quads of opacity 0.5: 16 are counted (2^-16), the other 4 let a ray through with
+    // probability 2^-4 each way; 64² rays, a Bernoulli(1/16) fraction: σ 0.0038, within 5σ.
+    test::TempDir dir("blend_shadow_many");
+    const detail::SceneData data = stackedQuads(dir, 20, 0.5f);
+    const EmbreeScene embree(data);
+    int through = 0;
+    const std::vector<float> visible = visibilities(embree, downwardRays(64));
+    for (float v : visible) {
+        ASSERT_TRUE(v == 0.0f || v == 0x1p-16f) << v;
+        through += v > 0.0f;
+    }
+    EXPECT_NEAR(double(through) / double(visible.size()), 1.0 / 16.0, 5 * 0.0038);
+}
+
+namespace {
+
+/// A white floor at z = -1 seen from just above it (below a 2 × 2 BLEND quad of opacity 0.5 at
+/// z = 0), lit by a sun straight above (irradiance π) or by a white sky.
+Scene floorUnderGlass(const test::TempDir& dir, bool sun) {
+    dir.write("quad.obj", kQuad);
+    dir.write("floor.obj", "v -9 -9 -1\nv 9 -9 -1\nv 9 9 -1\nv -9 9 -1\nf 1 2 3\nf 1 3 4\n");
+    const Scene parsed = parseScene(
+        std::string(R"({"camera": {"position": [0, 0, -0.5], "lookAt": [0, 0, -1], "fovY": 0.5},
+                        "film": {"width": 8, "height": 8},
+                        "materials": {"black": {"type": "diffuse", "albedo": [0, 0, 0]},
+                                      "white": {"type": "diffuse", "albedo": [1, 1, 1]}},
+                        "shapes": [{"obj": "quad.obj", "material": "black"},
+                                   {"obj": "floor.obj", "material": "white"}])") +
+            (sun ? "}" : R"(, "environment": {"color": [1, 1, 1]}})"),
+        dir.path() / "scene.json");
+    auto data = std::make_unique<detail::SceneData>(detail::sceneData(parsed));
+    data->materials[0].alphaMode = AlphaMode::Blend;
+    data->materials[0].opacity = 0.5f;
+    if (sun) {
+        detail::PunctualLight light;
+        light.kind = detail::PunctualLight::Kind::Directional;
+        light.direction = {0, 0, -1};
+        light.intensity = {kPi, kPi, kPi};
+        data->punctualLights.push_back(light);
+    }
+    return Scene(std::move(data));
+}
+
+FrameBuffers renderSeeded(Scene scene, int spp, int threads) {
+    Renderer renderer(std::move(scene));
+    Settings s = renderer.scene().settings();
+    s.spp = spp;
+    s.maxDepth = 2;
+    s.threads = threads;
+    s.seed = 11;
+    return renderer.render(s).frame;
+}
+
+}  // namespace
+
+TEST(Alpha, ShadowsThroughBlendAreExactNotSampled) {
+    // Under the sun every shadow ray carries exactly 0.5 (ρ/π · E · 0.5): the mean is 0.5 and
+    // the variance layer 0. A stochastic choice gave each sample 0 or 1 (variance of the mean
+    // 0.25 / spp per pixel).
+    test::TempDir dir("blend_sun");
+    const FrameBuffers sun = renderSeeded(floorUnderGlass(dir, true), 16, 2);
+    EXPECT_NEAR(mean(sun.color()), 0.5, 1e-5);
+    EXPECT_LT(mean(sun.layer(Layer::Variance)), 1e-3 * 0.25 / 16);
+
+    // Under the sky the floor below the middle of the quad sees it over a cosine-weighted
+    // fraction F = (4 / (π√2)) atan(1/√2) of its hemisphere (differential area to a parallel
+    // rectangle, four corners): L = 1 − 0.5 F. Within 5σ of the mean (σ from the variance
+    // layer) plus 1e-3 for the pixels' footprint off the middle; seed 11.
+    const double f = 4.0 / (kPi * std::sqrt(2.0)) * std::atan(1.0 / std::sqrt(2.0));
+    const FrameBuffers sky = renderSeeded(floorUnderGlass(dir, false), 64, 2);
+    const Image& var = sky.layer(Layer::Variance);
+    const double sigma = std::sqrt(mean(var) / double(var.width() * var.height()));
+    EXPECT_NEAR(mean(sky.color()), 1.0 - 0.5 * f, 5 * sigma + 1e-3);
+    // Any thread count gives the same bits.
+    const FrameBuffers one = renderSeeded(floorUnderGlass(dir, false), 8, 1),
+                       two = renderSeeded(floorUnderGlass(dir, false), 8, 2);
+    for (std::size_t i = 0; i < one.color().data().size(); ++i)
+        ASSERT_EQ(one.color().data()[i], two.color().data()[i]);
+    std::printf("sky: mean %.5f (expected %.5f), mean variance of the mean %.3g\n",
+                mean(sky.color()), 1.0 - 0.5 * f, mean(var));
 }
 
 }  // namespace glint::render

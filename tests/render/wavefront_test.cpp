@@ -1,5 +1,5 @@
 // The wavefront path tracer (PathIntegrator::traceMany) and what it is built from: Embree ray
-// packets (EmbreeScene::intersectMany / occludedMany), batch Sobol numbers
+// packets (EmbreeScene::intersectMany / visibilityMany), batch Sobol numbers
 // (SobolSampler::prefetchMany) and the cheaper maths of the hot path (the polynomial sincos of
 // cosine sampling, renormalize, the scanned light choice). Each must give what the one-path form
 // gives; where Embree's packet and single-ray kernels may round differently, the tests say so and
@@ -110,14 +110,14 @@ TEST(Wavefront, PacketQueriesAgreeWithSingleRays) {
                                 rays[i].time});
         std::vector<const ShadowRay*> segmentPointers;
         for (const ShadowRay& s : segments) segmentPointers.push_back(&s);
-        std::unique_ptr<bool[]> blocked(new bool[segments.size()]);
-        embree.occludedMany(segments.size(), segmentPointers.data(), blocked.get());
+        std::unique_ptr<float[]> visible(new float[segments.size()]);
+        embree.visibilityMany(segments.size(), segmentPointers.data(), visible.get());
         int blockedCount = 0;
         disagree = 0;
         for (std::size_t i = 0; i < segments.size(); ++i) {
             const ShadowRay& s = segments[i];
-            blockedCount += blocked[i];
-            disagree += blocked[i] != embree.occluded(s.origin, s.dir, s.tMax, s.time);
+            blockedCount += visible[i] == 0.0f;
+            disagree += visible[i] != embree.visibility(s.origin, s.dir, s.tMax, s.time);
         }
         EXPECT_GT(blockedCount, 500);
         EXPECT_LT(blockedCount, int(segments.size()) - 500);

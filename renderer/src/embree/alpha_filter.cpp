@@ -5,6 +5,9 @@
 
 #include <embree3/rtcore.h>
 
+#include "embree/shadow_context.h"
+#include "glint/image/error.h"
+
 namespace glint::render {
 
 float surfaceAlpha(const detail::SceneData& scene, std::uint32_t instance, std::uint32_t prim,
@@ -50,31 +53,82 @@ float hashUniform(const float* values, int count) {
     return float(h >> 40) * 0x1p-24f;
 }
 
-void alphaFilter(const RTCFilterFunctionNArguments* args) {
+/// The instance and triangle of lane i's hit and its material, or nullptr for an opaque one.
+const detail::Material* alphaMaterial(const RTCFilterFunctionNArguments* args, unsigned i,
+                                      std::uint32_t& instance, std::uint32_t& prim) {
     const auto* test = static_cast<const AlphaTest*>(args->geometryUserPtr);
-    const detail::SceneData& scene = *test->scene;
+    prim = RTCHitN_primID(args->hit, args->N, i);
+    instance = test->shared ? RTCHitN_instID(args->hit, args->N, i, 0) : test->instance;
+    const detail::Material& m = test->scene->materials[test->scene->materialOf(instance, prim)];
+    return m.alphaMode == detail::AlphaMode::Opaque ? nullptr : &m;
+}
+
+/// Stochastic transparency: lane i's ray passes a BLEND surface of presence `alpha` with
+/// probability 1 − alpha, the same way every time it meets the same triangle.
+bool passesStochastically(const RTCFilterFunctionNArguments* args, unsigned i,
+                          std::uint32_t instance, std::uint32_t prim, float alpha) {
+    const float key[] = {RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                         RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),
+                         RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i),
+                         std::bit_cast<float>(prim),           std::bit_cast<float>(instance)};
+    return hashUniform(key, 8) >= alpha;
+}
+
+/// Closest hits: MASK cuts out below its cut-off, BLEND is met with probability alpha.
+void intersectFilter(const RTCFilterFunctionNArguments* args) {
+    const detail::SceneData& scene = *static_cast<const AlphaTest*>(args->geometryUserPtr)->scene;
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] != -1) continue;
-        const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
-        const float b1 = RTCHitN_u(args->hit, args->N, i), b2 = RTCHitN_v(args->hit, args->N, i);
-        const std::uint32_t instance =
-            test->shared ? RTCHitN_instID(args->hit, args->N, i, 0) : test->instance;
-        const detail::Material& m = scene.materials[scene.materialOf(instance, prim)];
-        if (m.alphaMode == detail::AlphaMode::Opaque) continue;
-        const float alpha = surfaceAlpha(scene, instance, prim, b1, b2);
-        bool reject = false;
-        if (m.alphaMode == detail::AlphaMode::Mask) {
-            reject = alpha < m.alphaCutoff;
-        } else {
-            // Blend: the surface is met with probability alpha (stochastic transparency).
-            const float key[] = {
-                RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
-                RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),
-                RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i),
-                std::bit_cast<float>(prim),           std::bit_cast<float>(instance)};
-            reject = hashUniform(key, 8) >= alpha;
-        }
+        std::uint32_t instance, prim;
+        const detail::Material* m = alphaMaterial(args, i, instance, prim);
+        if (!m) continue;
+        const float alpha = surfaceAlpha(scene, instance, prim, RTCHitN_u(args->hit, args->N, i),
+                                         RTCHitN_v(args->hit, args->N, i));
+        const bool reject = m->alphaMode == detail::AlphaMode::Mask
+                                ? alpha < m->alphaCutoff
+                                : passesStochastically(args, i, instance, prim, alpha);
         if (reject) args->valid[i] = 0;
+    }
+}
+
+/// Shadow rays (the context is a ShadowContext): MASK as for closest hits; a BLEND hit
+/// multiplies the lane's transmittance by 1 − alpha and is rejected so that the traversal goes
+/// on — once per triangle, however often Embree reports it; past ShadowContext::kSeen counted
+/// triangles a lane falls back to the stochastic decision, which keeps the estimate unbiased.
+void occludedFilter(const RTCFilterFunctionNArguments* args) {
+    const detail::SceneData& scene = *static_cast<const AlphaTest*>(args->geometryUserPtr)->scene;
+    auto* shadow =
+        reinterpret_cast<ShadowContext*>(const_cast<RTCIntersectContext*>(args->context));
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        std::uint32_t instance, prim;
+        const detail::Material* m = alphaMaterial(args, i, instance, prim);
+        if (!m) continue;
+        const float alpha = surfaceAlpha(scene, instance, prim, RTCHitN_u(args->hit, args->N, i),
+                                         RTCHitN_v(args->hit, args->N, i));
+        if (m->alphaMode == detail::AlphaMode::Mask) {
+            if (alpha < m->alphaCutoff) args->valid[i] = 0;
+            continue;
+        }
+        const unsigned lane = RTCRayN_id(args->ray, args->N, i);
+        GLINT_DCHECK(lane < unsigned(ShadowContext::kLanes));
+        const int seen = shadow->seenCount[lane];
+        bool counted = false;
+        for (int s = 0; s < seen && !counted; ++s)
+            counted =
+                shadow->seenPrim[lane][s] == prim && shadow->seenInstance[lane][s] == instance;
+        if (!counted && seen < ShadowContext::kSeen) {
+            shadow->seenInstance[lane][seen] = instance;
+            shadow->seenPrim[lane][seen] = prim;
+            shadow->seenCount[lane] = std::uint8_t(seen + 1);
+            shadow->transmittance[lane] *= 1.0f - alpha;
+            counted = true;
+        }
+        // Reject (pass through) unless nothing gets through any more: then accepting the hit
+        // ends the traversal with the segment blocked.
+        const bool pass = counted ? shadow->transmittance[lane] > 0.0f
+                                  : passesStochastically(args, i, instance, prim, alpha);
+        if (pass) args->valid[i] = 0;
     }
 }
 
@@ -82,8 +136,8 @@ void alphaFilter(const RTCFilterFunctionNArguments* args) {
 
 void attachAlphaFilter(RTCGeometryTy* geometry, const AlphaTest* test) {
     rtcSetGeometryUserData(geometry, const_cast<AlphaTest*>(test));
-    rtcSetGeometryIntersectFilterFunction(geometry, alphaFilter);
-    rtcSetGeometryOccludedFilterFunction(geometry, alphaFilter);
+    rtcSetGeometryIntersectFilterFunction(geometry, intersectFilter);
+    rtcSetGeometryOccludedFilterFunction(geometry, occludedFilter);
 }
 
 }  // namespace glint::render

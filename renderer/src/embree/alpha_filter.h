@@ -1,6 +1,7 @@
 // Cut-outs and stochastic transparency (glTF alphaMode MASK and BLEND) through Embree's filter
 // functions: a hit where the surface is not there is rejected before the traversal accepts it,
-// for closest hits and shadow rays alike.
+// for closest hits and shadow rays alike — except that a shadow ray does not choose at a BLEND
+// surface but carries its 1 − alpha on (embree/shadow_context.h).
 #pragma once
 
 #include <cstdint>

@@ -10,6 +10,7 @@
 #include <embree3/rtcore.h>
 
 #include "embree/alpha_filter.h"
+#include "embree/shadow_context.h"
 #include "glint/image/error.h"
 
 namespace glint::render {
@@ -234,9 +235,10 @@ bool EmbreeScene::intersect(const Ray& ray, float tMax, Hit& hit, bool coherent)
     return true;
 }
 
-bool EmbreeScene::occluded(const Vec3& origin, const Vec3& dir, float tMax, float time) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
+float EmbreeScene::visibility(const Vec3& origin, const Vec3& dir, float tMax, float time) const {
+    // The occluded filter multiplies context.transmittance[id] at each BLEND surface.
+    ShadowContext context;
+    context.reset(1);
     RTCRay r;
     r.org_x = origin.x, r.org_y = origin.y, r.org_z = origin.z;
     r.dir_x = dir.x, r.dir_y = dir.y, r.dir_z = dir.z;
@@ -246,9 +248,9 @@ bool EmbreeScene::occluded(const Vec3& origin, const Vec3& dir, float tMax, floa
     r.mask = 0xffffffffu;
     r.id = 0;
     r.flags = 0;
-    rtcOccluded1(m_scene, &context, &r);
+    rtcOccluded1(m_scene, &context.base, &r);
     // Embree sets tfar to -inf when the ray is blocked.
-    return r.tfar < 0.0f;
+    return r.tfar < 0.0f ? 0.0f : context.transmittance[0];
 }
 
 namespace {
@@ -327,23 +329,26 @@ void EmbreeScene::intersectPackets(std::size_t count, const Ray* const* rays, Hi
 }
 
 template <int N>
-void EmbreeScene::occludedPackets(std::size_t count, const ShadowRay* const* rays,
-                                  bool* blocked) const {
+void EmbreeScene::visibilityPackets(std::size_t count, const ShadowRay* const* rays,
+                                    float* visible) const {
+    static_assert(N <= ShadowContext::kLanes);
     using P = Packet<N>;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
+    ShadowContext context;
     for (std::size_t first = 0; first < count; first += N) {
         const int lanes = int(std::min<std::size_t>(N, count - first));
+        context.reset(N);
         alignas(64) int valid[N];
         alignas(64) typename P::Ray r;
         for (int k = 0; k < N; ++k) {
             valid[k] = k < lanes ? -1 : 0;
             const ShadowRay& s = *rays[first + std::size_t(k < lanes ? k : 0)];
             setLane(r, k, s.origin, s.dir, s.tMax, s.time);
+            r.id[k] = unsigned(k);  // the filter's index into the context's lanes
         }
-        P::occluded(valid, m_scene, &context, &r);
+        P::occluded(valid, m_scene, &context.base, &r);
         // Embree sets tfar to -inf where the segment is blocked.
-        for (int k = 0; k < lanes; ++k) blocked[first + std::size_t(k)] = r.tfar[k] < 0.0f;
+        for (int k = 0; k < lanes; ++k)
+            visible[first + std::size_t(k)] = r.tfar[k] < 0.0f ? 0.0f : context.transmittance[k];
     }
 }
 
@@ -363,18 +368,19 @@ void EmbreeScene::intersectMany(std::size_t count, const Ray* const* rays, Hit* 
     }
 }
 
-void EmbreeScene::occludedMany(std::size_t count, const ShadowRay* const* rays,
-                               bool* blocked) const {
+void EmbreeScene::visibilityMany(std::size_t count, const ShadowRay* const* rays,
+                                 float* visible) const {
     switch (m_packetWidth) {
         case 16:
-            return occludedPackets<16>(count, rays, blocked);
+            return visibilityPackets<16>(count, rays, visible);
         case 8:
-            return occludedPackets<8>(count, rays, blocked);
+            return visibilityPackets<8>(count, rays, visible);
         case 4:
-            return occludedPackets<4>(count, rays, blocked);
+            return visibilityPackets<4>(count, rays, visible);
         default:
             for (std::size_t i = 0; i < count; ++i)
-                blocked[i] = occluded(rays[i]->origin, rays[i]->dir, rays[i]->tMax, rays[i]->time);
+                visible[i] =
+                    visibility(rays[i]->origin, rays[i]->dir, rays[i]->tMax, rays[i]->time);
     }
 }
 

@@ -45,9 +45,11 @@ class EmbreeScene {
     /// Closest hit along the ray within (0, tMax) at the ray's shutter time; `coherent` hints
     /// primary rays. hit.surface names the instance and its triangle.
     bool intersect(const Ray& ray, float tMax, Hit& hit, bool coherent = false) const;
-    /// True when anything blocks the segment from origin along dir within (0, tMax) at
-    /// normalised shutter time `time`.
-    bool occluded(const Vec3& origin, const Vec3& dir, float tMax, float time = 0.0f) const;
+    /// The fraction of light that passes the segment from origin along dir within (0, tMax) at
+    /// normalised shutter time `time`: 0 when something opaque (or a MASK surface where it is
+    /// there) blocks it, else the product of 1 − alpha over the BLEND surfaces it crosses (1
+    /// for a clear segment).
+    float visibility(const Vec3& origin, const Vec3& dir, float tMax, float time = 0.0f) const;
 
     /// Number of meshes built once and shared by several instances.
     int sharedMeshCount() const { return int(m_meshScenes.size()); }
@@ -58,8 +60,8 @@ class EmbreeScene {
     /// packet and keep its traversal code hot (docs/renderer.md, "Wavefront").
     void intersectMany(std::size_t count, const Ray* const* rays, Hit* hits, bool* found,
                        bool coherent) const;
-    /// occluded() of `count` segments at once, as intersectMany.
-    void occludedMany(std::size_t count, const ShadowRay* const* rays, bool* blocked) const;
+    /// visibility() of `count` segments at once, as intersectMany.
+    void visibilityMany(std::size_t count, const ShadowRay* const* rays, float* visible) const;
 
     /// Number of motion-blur geometries built (0 for a scene without moving shapes).
     int motionGeometryCount() const { return int(m_timeSteps.size()); }
@@ -72,7 +74,7 @@ class EmbreeScene {
     void intersectPackets(std::size_t count, const Ray* const* rays, Hit* hits, bool* found,
                           bool coherent) const;
     template <int N>
-    void occludedPackets(std::size_t count, const ShadowRay* const* rays, bool* blocked) const;
+    void visibilityPackets(std::size_t count, const ShadowRay* const* rays, float* visible) const;
     /// The instance and triangle of Embree's hit (top-level instance, geometry, primitive).
     static detail::SurfaceId surfaceOf(unsigned instID, unsigned geomID, unsigned primID);
 

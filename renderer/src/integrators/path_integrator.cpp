@@ -183,7 +183,8 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
     }
 
     // Next-event estimation at non-specular vertices (Veach 1997, sec. 9.2): the contribution
-    // is weighed now, with this bounce's throughput, and counts once its shadow ray is clear.
+    // is weighed now, with this bounce's throughput, and counts times the fraction its shadow
+    // ray lets through (EmbreeScene::visibility).
     // A transmitting surface also takes light from behind it (wi.z < 0 in the local frame).
     if (!specular && m_useLightSampling) {
         LightSample ls;
@@ -293,9 +294,12 @@ void PathIntegrator::trace(const Ray& cameraRay, Sampler& rng, FilmSample& out,
         ++rays;
         const bool found = m_embree.intersect(p.ray, kInfinity, hit, p.depth == 0);
         advance(p, found, hit, rng, rays);
-        if (p.shadowPending &&
-            !m_embree.occluded(p.shadow.origin, p.shadow.dir, p.shadow.tMax, p.shadow.time))
-            p.radiance += p.shadowContribution;
+        // The light's contribution, times the fraction its shadow ray lets through.
+        if (p.shadowPending) {
+            const float v =
+                m_embree.visibility(p.shadow.origin, p.shadow.dir, p.shadow.tMax, p.shadow.time);
+            if (v > 0.0f) p.radiance += p.shadowContribution * v;
+        }
     }
     out = p.out;
     out.color = p.radiance;
@@ -311,7 +315,8 @@ struct BatchScratch {
     std::vector<const Ray*> queries;
     std::vector<const ShadowRay*> shadowQueries;
     std::vector<Hit> hits;
-    std::unique_ptr<bool[]> found, blocked;
+    std::unique_ptr<bool[]> found;
+    std::unique_ptr<float[]> visible;
     std::vector<Sampler*> prefetchSamplers;
     std::vector<int> prefetchDepths;
     std::vector<unsigned> prefetchSlots;
@@ -326,7 +331,7 @@ struct BatchScratch {
         shadowQueries.clear();
         if (count > capacity) {
             found.reset(new bool[count]);
-            blocked.reset(new bool[count]);
+            visible.reset(new float[count]);
             capacity = count;
         }
     }
@@ -375,10 +380,10 @@ void PathIntegrator::traceMany(std::size_t count, const Ray* cameraRays, Sampler
                 b.shadowQueries.push_back(&p.shadow);
             }
         }
-        m_embree.occludedMany(b.shadowQueries.size(), b.shadowQueries.data(), b.blocked.get());
+        m_embree.visibilityMany(b.shadowQueries.size(), b.shadowQueries.data(), b.visible.get());
         for (std::size_t k = 0; k < b.shadowed.size(); ++k) {
             PathState& p = b.paths[b.shadowed[k]];
-            if (!b.blocked[k]) p.radiance += p.shadowContribution;
+            if (b.visible[k] > 0.0f) p.radiance += p.shadowContribution * b.visible[k];
         }
         b.live.erase(std::remove_if(b.live.begin(), b.live.end(),
                                     [&](std::size_t i) { return !b.paths[i].alive; }),

@@ -26,7 +26,7 @@ struct PathState {
     bool specularBounce = false, featuresDone = false;
     bool alive = true;
     /// Next-event estimation of this bounce, waiting for its shadow ray: `shadowContribution`
-    /// counts when nothing blocks `shadow`.
+    /// counts times the fraction of light `shadow` lets through (EmbreeScene::visibility).
     bool shadowPending = false;
     ShadowRay shadow;
     Vec3 shadowContribution;
