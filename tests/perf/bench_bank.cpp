@@ -5,6 +5,7 @@
 // the 64 (+ defaults) members, whole frame and region. Prints one JSON object.
 //   bench_bank [--size 1024] [--spp 4] [--threads 2] [--members 64] [--reps 1]
 //              [--retain-freed 1|0 (glint::retainFreedMemory, as glint-denoise; default 1)]
+//              [--nfor 1 (the default filters and nfor)] [--halves 1 (render half buffers)]
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -23,6 +24,7 @@
 #include "bench_options.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/navigation.h"
+#include "glint/denoise/registry.h"
 #include "glint/image/memory.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
@@ -47,9 +49,17 @@ double median(std::vector<double> v) {
 int main(int argc, char** argv) {
     namespace fs = std::filesystem;
     glint::bench::RenderBankOptions o;
+    int withNfor = 0, halves = 0;
     const int parsed = glint::bench::parseOptions(
         "bench_bank", argc, argv, [&](const std::string& a, const std::string& text) {
-            return o.take(a, glint::bench::intOption(a, text));
+            const int v = glint::bench::intOption(a, text);
+            if (a == "--nfor")
+                withNfor = v;
+            else if (a == "--halves")
+                halves = v;
+            else
+                return o.take(a, v);
+            return true;
         });
     if (parsed != 0) return parsed;
     const int size = o.size, spp = o.spp, threads = o.threads, members = o.members, reps = o.reps,
@@ -67,13 +77,21 @@ int main(int argc, char** argv) {
     glint::render::Settings s = renderer.scene().settings();
     s.spp = spp;
     s.threads = threads;
+    s.halfBuffers = halves != 0;
     const glint::FrameBuffers frame = renderer.render(s).frame;
 
-    nlohmann::json out = {{"size", size},       {"spp", spp},   {"threads", threads},
-                          {"members", members}, {"reps", reps}, {"retainFreed", retained}};
+    nlohmann::json out = {{"size", size},          {"spp", spp},
+                          {"threads", threads},    {"members", members},
+                          {"reps", reps},          {"retainFreed", retained},
+                          {"nfor", withNfor != 0}, {"halves", halves != 0}};
     glint::denoise::BankOptions options;
     options.size = members;
     options.seed = 1;
+    if (withNfor != 0) {  // the default filters and the opt-in nfor
+        for (const glint::denoise::Filter* f : glint::denoise::defaultBankFilters())
+            options.filters.emplace_back(f->name());
+        options.filters.push_back("nfor");
+    }
 
     std::vector<double> whole;
     glint::denoise::FilterBank bank;
