@@ -185,9 +185,12 @@ Vec4 TextureLevels::lookup(const TextureStore& store, int file, float s, float t
             v.w * keep + c.w * f.blend};
 }
 
-Vec4 TextureLevels::lookupOneLevel(const TextureStore& store, int file, float s, float t,
-                                   const TexFootprint& footprint, TextureWrap wrapS,
-                                   TextureWrap wrapT, float u) const {
+// Flattened: the plan, the taps and their bilinear lookups inlined into the render's one lookup
+// (calls between them were a fifth of the texture path: docs/research/texture-speed.md, step 9).
+[[gnu::flatten]] Vec4 TextureLevels::lookupOneLevel(const TextureStore& store, int file, float s,
+                                                    float t, const TexFootprint& footprint,
+                                                    TextureWrap wrapS, TextureWrap wrapT,
+                                                    float u) const {
     if (m_levels.empty()) return {0.0f, 0.0f, 0.0f, 1.0f};
     const Filter f = filterFor(footprint);
     return taps(store, file, f, u < f.blend ? f.coarse : f.fine, s, t, wrapS, wrapT);
