@@ -243,6 +243,32 @@ TEST(TextureLevels, PickTheLevelTheFootprintSpans) {
     }
 }
 
+TEST(TextureLevels, ANearlyRoundFootprintTakesOneTapAsWideAsItsLongAxis) {
+    // Up to 1.25:1 a footprint is filtered as the round one of its long axis (one tap, a level
+    // chosen by the long axis): exactly the same value. Past it, two taps along the long axis,
+    // each as wide as the short one, which on a 3-texel checker differs somewhere.
+    test::TempDir dir("levels_round");
+    test::writeCheckerTexture(dir.path() / "checker.exr", 2048, 3);
+    const Opened checker(dir.path() / "checker.exr");
+    const float a = 2.0f / 2048;  // the short axis: two texels of the finest level
+    const auto at = [&](float s, float t, const TexFootprint& fp) {
+        return checker.levels.lookup(checker.store, 0, s, t, fp, TextureWrap::Repeat,
+                                     TextureWrap::Repeat);
+    };
+    float widestGap = 0.0f;
+    for (float s : {0.3f, 0.5123f, 0.61f})
+        for (float t : {0.35f, 0.77f, 0.9f}) {
+            const Vec4 oval = at(s, t, {{1.2f * a, 0.0f}, {0.0f, a}});
+            const Vec4 round = at(s, t, {{1.2f * a, 0.0f}, {0.0f, 1.2f * a}});
+            EXPECT_EQ(oval.x, round.x) << s << ", " << t;
+            EXPECT_EQ(oval.y, round.y) << s << ", " << t;
+            const Vec4 longer = at(s, t, {{1.6f * a, 0.0f}, {0.0f, a}});
+            const Vec4 longerRound = at(s, t, {{1.6f * a, 0.0f}, {0.0f, 1.6f * a}});
+            widestGap = std::max(widestGap, std::abs(longer.x - longerRound.x));
+        }
+    EXPECT_GT(widestGap, 0.01f);
+}
+
 TEST(TextureLevels, CountAgainstTheCacheSize) {
     TextureStore store(8);
     EXPECT_FLOAT_EQ(store.tileCacheMb(), 8.0f);

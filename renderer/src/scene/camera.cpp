@@ -63,8 +63,12 @@ void Camera::footprintAxes(const Vec3& p, const Vec3& n, float time, Vec3& dpdx,
     const Vec3 d = w / dist;
     // Two unit axes across the line of sight, as near the image's right and up as it allows.
     Vec3 ax = b.right - d * dot(d, b.right);
-    if (!(length(ax) > 1e-4f)) ax = b.up - d * dot(d, b.up);
-    ax = normalize(ax);
+    float axLength = length(ax);
+    if (!(axLength > 1e-4f)) {
+        ax = b.up - d * dot(d, b.up);
+        axLength = length(ax);
+    }
+    ax = ax / axLength;
     const Vec3 ay = cross(ax, d);
     // One pixel's angle at the image centre (the smallest of the film).
     const float spread = 2.0f * m_tanHalfY * m_invHeight;
@@ -76,7 +80,8 @@ void Camera::footprintAxes(const Vec3& p, const Vec3& n, float time, Vec3& dpdx,
         const Vec3 dir = d + axis * spread;
         const float t = nw / dot(n, dir);
         const Vec3 o = dir * t - w;
-        if (!(t > 0.0f) || !std::isfinite(length(o))) return axis * (dist * spread * 1e3f);
+        // (o · o finite: its length is.)
+        if (!(t > 0.0f) || !std::isfinite(dot(o, o))) return axis * (dist * spread * 1e3f);
         return o;
     };
     dpdx = offset(ax);

@@ -54,7 +54,10 @@ Vec4 Texture::lookup(Vec2 uv, const TexFootprint& footprint) const {
     return usableTextureValue(levels.lookup(*store, file, s, t, st, wrapS, wrapT), decodeSrgb);
 }
 
-Vec4 Texture::lookupOneLevel(Vec2 uv, const TexFootprint& footprint, float u) const {
+// Flattened (as TextureLevels::lookupOneLevel is): in a unity build, which batches this file with
+// texture_levels.cpp and texture_store.cpp, the whole lookup becomes one function.
+[[gnu::flatten]] Vec4 Texture::lookupOneLevel(Vec2 uv, const TexFootprint& footprint,
+                                              float u) const {
     if (!store) return bilinear(image, uv, wrapS, wrapT);
     const float s = wrapCoordinate(uv.x, wrapS), t = 1.0f - wrapCoordinate(uv.y, wrapT);
     const TexFootprint st{{footprint.dx.x, -footprint.dx.y}, {footprint.dy.x, -footprint.dy.y}};

@@ -23,10 +23,11 @@ Vec2 saneAxis(Vec2 d) {
 }
 
 /// How a footprint is filtered: `taps` lookups spaced along `major`, each over a filter of
-/// squared width `width2`. At most 8 taps along the long axis, each as wide as the short one; a
-/// footprint more than 8 times longer than wide is widened to an eighth of its length (so the
-/// taps still cover it). In squared lengths: at most one square root (for the tap count), none
-/// for an isotropic footprint.
+/// squared width `width2`. At most 8 taps along the long axis, as few as cover it at up to 1.25
+/// times the short axis apart, each as wide as the short axis or as their spacing if that is
+/// wider (so a footprint of up to 1.25:1 takes one tap as wide as its long axis, and one more
+/// than 10 times longer than wide eight taps an eighth of its length wide). In squared lengths:
+/// at most one square root (for the tap count), none for an isotropic footprint.
 struct FilterPlan {
     Vec2 major;
     int taps = 1;
@@ -41,13 +42,16 @@ FilterPlan plan(const TexFootprint& footprint) {
     FilterPlan p;
     p.major = lx2 >= ly2 ? dx : dy;
     if (!(longer2 > 0.0f)) return p;
-    constexpr float kMaxRatio2 = float(kMaxTaps * kMaxTaps);
+    // A tap may be up to kSlack times as wide as the short axis (a GPU's anisotropic filter
+    // allows as much): a nearly round footprint takes one tap, not two.
+    constexpr float kSlack2 = 1.25f * 1.25f;
+    constexpr float kMaxRatio2 = float(kMaxTaps * kMaxTaps) * kSlack2;
     // Compared as squares first: a needle-thin footprint's ratio is beyond any int.
     const float ratio2 = shorter2 > 0.0f ? longer2 / shorter2 : kMaxRatio2;
     p.taps = ratio2 >= kMaxRatio2 ? kMaxTaps
-             : ratio2 > 1.0f      ? int(std::ceil(std::sqrt(ratio2)))
+             : ratio2 > kSlack2   ? int(std::ceil(std::sqrt(ratio2 / kSlack2)))
                                   : 1;
-    p.width2 = std::max(shorter2, longer2 / kMaxRatio2);
+    p.width2 = std::max(shorter2, longer2 / float(p.taps * p.taps));
     return p;
 }
 
@@ -185,9 +189,12 @@ Vec4 TextureLevels::lookup(const TextureStore& store, int file, float s, float t
             v.w * keep + c.w * f.blend};
 }
 
-Vec4 TextureLevels::lookupOneLevel(const TextureStore& store, int file, float s, float t,
-                                   const TexFootprint& footprint, TextureWrap wrapS,
-                                   TextureWrap wrapT, float u) const {
+// Flattened: the plan, the taps and their bilinear lookups inlined into the render's one lookup,
+// which took a fifth off the texture path's samples (docs/research/texture-speed.md, step 9).
+[[gnu::flatten]] Vec4 TextureLevels::lookupOneLevel(const TextureStore& store, int file, float s,
+                                                    float t, const TexFootprint& footprint,
+                                                    TextureWrap wrapS, TextureWrap wrapT,
+                                                    float u) const {
     if (m_levels.empty()) return {0.0f, 0.0f, 0.0f, 1.0f};
     const Filter f = filterFor(footprint);
     return taps(store, file, f, u < f.blend ? f.coarse : f.fine, s, t, wrapS, wrapT);
