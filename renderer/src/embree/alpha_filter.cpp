@@ -53,40 +53,48 @@ float hashUniform(const float* values, int count) {
     return float(h >> 40) * 0x1p-24f;
 }
 
-/// The instance and triangle of lane i's hit and its material, or nullptr for an opaque one.
-const detail::Material* alphaMaterial(const RTCFilterFunctionNArguments* args, unsigned i,
-                                      std::uint32_t& instance, std::uint32_t& prim) {
+/// Lane i's hit on a surface that may be cut out or see-through: where it is and how present.
+struct AlphaHit {
+    std::uint32_t instance = 0, prim = 0;
+    detail::AlphaMode mode = detail::AlphaMode::Opaque;
+    float alpha = 1.0f;   ///< surfaceAlpha at the hit
+    float cutoff = 0.0f;  ///< the material's MASK cut-off
+};
+
+/// Lane i's hit, or false for an opaque material (the filter leaves such a hit alone).
+bool alphaHit(const RTCFilterFunctionNArguments* args, unsigned i, AlphaHit& hit) {
     const auto* test = static_cast<const AlphaTest*>(args->geometryUserPtr);
-    prim = RTCHitN_primID(args->hit, args->N, i);
-    instance = test->shared ? RTCHitN_instID(args->hit, args->N, i, 0) : test->instance;
-    const detail::Material& m = test->scene->materials[test->scene->materialOf(instance, prim)];
-    return m.alphaMode == detail::AlphaMode::Opaque ? nullptr : &m;
+    hit.prim = RTCHitN_primID(args->hit, args->N, i);
+    hit.instance = test->shared ? RTCHitN_instID(args->hit, args->N, i, 0) : test->instance;
+    const detail::Material& m =
+        test->scene->materials[test->scene->materialOf(hit.instance, hit.prim)];
+    if (m.alphaMode == detail::AlphaMode::Opaque) return false;
+    hit.mode = m.alphaMode;
+    hit.cutoff = m.alphaCutoff;
+    hit.alpha = surfaceAlpha(*test->scene, hit.instance, hit.prim, RTCHitN_u(args->hit, args->N, i),
+                             RTCHitN_v(args->hit, args->N, i));
+    return true;
 }
 
-/// Stochastic transparency: lane i's ray passes a BLEND surface of presence `alpha` with
+/// Stochastic transparency: lane i's ray passes a BLEND surface of presence alpha with
 /// probability 1 − alpha, the same way every time it meets the same triangle.
 bool passesStochastically(const RTCFilterFunctionNArguments* args, unsigned i,
-                          std::uint32_t instance, std::uint32_t prim, float alpha) {
+                          const AlphaHit& hit) {
     const float key[] = {RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
                          RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),
                          RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i),
-                         std::bit_cast<float>(prim),           std::bit_cast<float>(instance)};
-    return hashUniform(key, 8) >= alpha;
+                         std::bit_cast<float>(hit.prim),       std::bit_cast<float>(hit.instance)};
+    return hashUniform(key, 8) >= hit.alpha;
 }
 
 /// Closest hits: MASK cuts out below its cut-off, BLEND is met with probability alpha.
 void intersectFilter(const RTCFilterFunctionNArguments* args) {
-    const detail::SceneData& scene = *static_cast<const AlphaTest*>(args->geometryUserPtr)->scene;
     for (unsigned i = 0; i < args->N; ++i) {
-        if (args->valid[i] != -1) continue;
-        std::uint32_t instance, prim;
-        const detail::Material* m = alphaMaterial(args, i, instance, prim);
-        if (!m) continue;
-        const float alpha = surfaceAlpha(scene, instance, prim, RTCHitN_u(args->hit, args->N, i),
-                                         RTCHitN_v(args->hit, args->N, i));
-        const bool reject = m->alphaMode == detail::AlphaMode::Mask
-                                ? alpha < m->alphaCutoff
-                                : passesStochastically(args, i, instance, prim, alpha);
+        AlphaHit hit;
+        if (args->valid[i] != -1 || !alphaHit(args, i, hit)) continue;
+        const bool reject = hit.mode == detail::AlphaMode::Mask
+                                ? hit.alpha < hit.cutoff
+                                : passesStochastically(args, i, hit);
         if (reject) args->valid[i] = 0;
     }
 }
@@ -96,18 +104,13 @@ void intersectFilter(const RTCFilterFunctionNArguments* args) {
 /// on — once per triangle, however often Embree reports it; past ShadowContext::kSeen counted
 /// triangles a lane falls back to the stochastic decision, which keeps the estimate unbiased.
 void occludedFilter(const RTCFilterFunctionNArguments* args) {
-    const detail::SceneData& scene = *static_cast<const AlphaTest*>(args->geometryUserPtr)->scene;
     auto* shadow =
         reinterpret_cast<ShadowContext*>(const_cast<RTCIntersectContext*>(args->context));
     for (unsigned i = 0; i < args->N; ++i) {
-        if (args->valid[i] != -1) continue;
-        std::uint32_t instance, prim;
-        const detail::Material* m = alphaMaterial(args, i, instance, prim);
-        if (!m) continue;
-        const float alpha = surfaceAlpha(scene, instance, prim, RTCHitN_u(args->hit, args->N, i),
-                                         RTCHitN_v(args->hit, args->N, i));
-        if (m->alphaMode == detail::AlphaMode::Mask) {
-            if (alpha < m->alphaCutoff) args->valid[i] = 0;
+        AlphaHit hit;
+        if (args->valid[i] != -1 || !alphaHit(args, i, hit)) continue;
+        if (hit.mode == detail::AlphaMode::Mask) {
+            if (hit.alpha < hit.cutoff) args->valid[i] = 0;
             continue;
         }
         const unsigned lane = RTCRayN_id(args->ray, args->N, i);
@@ -115,19 +118,19 @@ void occludedFilter(const RTCFilterFunctionNArguments* args) {
         const int seen = shadow->seenCount[lane];
         bool counted = false;
         for (int s = 0; s < seen && !counted; ++s)
-            counted =
-                shadow->seenPrim[lane][s] == prim && shadow->seenInstance[lane][s] == instance;
+            counted = shadow->seenPrim[lane][s] == hit.prim &&
+                      shadow->seenInstance[lane][s] == hit.instance;
         if (!counted && seen < ShadowContext::kSeen) {
-            shadow->seenInstance[lane][seen] = instance;
-            shadow->seenPrim[lane][seen] = prim;
+            shadow->seenInstance[lane][seen] = hit.instance;
+            shadow->seenPrim[lane][seen] = hit.prim;
             shadow->seenCount[lane] = std::uint8_t(seen + 1);
-            shadow->transmittance[lane] *= 1.0f - alpha;
+            shadow->transmittance[lane] *= 1.0f - hit.alpha;
             counted = true;
         }
         // Reject (pass through) unless nothing gets through any more: then accepting the hit
         // ends the traversal with the segment blocked.
-        const bool pass = counted ? shadow->transmittance[lane] > 0.0f
-                                  : passesStochastically(args, i, instance, prim, alpha);
+        const bool pass =
+            counted ? shadow->transmittance[lane] > 0.0f : passesStochastically(args, i, hit);
         if (pass) args->valid[i] = 0;
     }
 }
