@@ -239,7 +239,33 @@ void refuseMarkup(const fs::path& file, const std::vector<unsigned char>& text) 
                  "asset's name?)");
 }
 
+/// The extensionsRequired of a document tinygltf could not read, as strings (non-strings
+/// skipped); empty when the document is not a JSON object.
+std::vector<std::string> requiredExtensions(const nlohmann::json& doc) {
+    std::vector<std::string> out;
+    if (!doc.is_object() || !doc.contains("extensionsRequired") ||
+        !doc["extensionsRequired"].is_array())
+        return out;
+    for (const nlohmann::json& e : doc["extensionsRequired"])
+        out.push_back(e.is_string() ? e.get<std::string>() : std::string());
+    return out;
+}
+
 }  // namespace
+
+std::optional<std::pair<std::size_t, std::string>> unreadRequiredExtension(
+    const std::vector<std::string>& required) {
+    std::string list;
+    for (const char* e : kReadGltfExtensions) list += (list.empty() ? "" : ", ") + std::string(e);
+    for (std::size_t i = 0; i < required.size(); ++i) {
+        bool read = false;
+        for (const char* e : kReadGltfExtensions) read = read || required[i] == e;
+        if (!read && !required[i].empty())
+            return std::pair{i, "the asset requires extension " + required[i] +
+                                    ", which Glint does not read (it reads " + list + ")"};
+    }
+    return std::nullopt;
+}
 
 std::optional<std::string> undecodedDataUri(const std::string& uri) {
     // URI schemes are case-insensitive (RFC 3986, 3.1).
@@ -282,7 +308,8 @@ void readGltfFile(const fs::path& path, tinygltf::Model& model) {
     reader.SetFsCallbacks({&fileExists, &expandFilePath, &readWholeFile, &writeWholeFile, &bin});
     std::string err, warnings;
     const std::string baseDir = fs::absolute(path, ec).parent_path().string();
-    std::string json;  // the text tinygltf reads as a .gltf
+    std::string json;        // the text tinygltf reads as a .gltf
+    nlohmann::json glbJson;  // a .glb's JSON chunk, parsed (discarded when it does not parse)
     if (binary || extension == ".glb") {
         const GlbLayout layout = glbLayout(path, size);
         // A .glb whose buffer 0 is its BIN chunk is read as a .gltf whose buffer 0 names the
@@ -291,7 +318,8 @@ void readGltfFile(const fs::path& path, tinygltf::Model& model) {
         // that its error is tinygltf's.
         if (!readBytes(path, layout.jsonOffset, layout.jsonSize, bytes))
             failFile(path, "", "cannot read the JSON chunk", ErrorKind::Io);
-        nlohmann::json doc = nlohmann::json::parse(bytes.begin(), bytes.end(), nullptr, false);
+        glbJson = nlohmann::json::parse(bytes.begin(), bytes.end(), nullptr, false);
+        nlohmann::json& doc = glbJson;
         const nlohmann::json* buffer0 = nullptr;
         if (!doc.is_discarded() && doc.is_object() && doc.contains("buffers") &&
             doc["buffers"].is_array() && !doc["buffers"].empty() && doc["buffers"][0].is_object())
@@ -333,7 +361,18 @@ void readGltfFile(const fs::path& path, tinygltf::Model& model) {
     } catch (const std::exception& e) {
         err = e.what();
     }
-    if (!ok) readerFailed(path, err);
+    if (!ok) {
+        // An asset that requires an extension Glint does not read (Draco, meshopt) fails in
+        // tinygltf for want of what the extension holds: name the extension, not the symptom.
+        const nlohmann::json doc =
+            binary || extension == ".glb"
+                ? glbJson
+                : nlohmann::json::parse(bytes.begin(), bytes.end(), nullptr, false);
+        if (const auto unread = unreadRequiredExtension(requiredExtensions(doc)))
+            failFile(path, "extensionsRequired[" + std::to_string(unread->first) + "]",
+                     unread->second);
+        readerFailed(path, err);
+    }
     if (model.asset.version.rfind("2.", 0) != 0)
         failFile(path, "asset.version", "is '" + model.asset.version + "'; Glint reads glTF 2.x");
 }

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace tinygltf {
 class Model;
@@ -13,10 +15,23 @@ class Model;
 
 namespace glint::render::detail {
 
+/// The glTF extensions Glint reads (docs/assets.md); any other in extensionsRequired is an
+/// error, in extensionsUsed a warning.
+inline constexpr const char* kReadGltfExtensions[] = {
+    "KHR_texture_transform", "KHR_lights_punctual", "KHR_materials_emissive_strength",
+    "KHR_materials_ior", "KHR_materials_transmission"};
+
+/// The first entry of an asset's extensionsRequired that Glint does not read: its index and
+/// the message naming it and the extensions Glint reads; nothing when every one is read.
+std::optional<std::pair<std::size_t, std::string>> unreadRequiredExtension(
+    const std::vector<std::string>& required);
+
 /// Reads `path` into `model`. Throws glint::Error naming the file and the byte, chunk, JSON line
 /// or glTF place (e.g. `buffers[0]`) of what is wrong: a missing or truncated file, a damaged
 /// binary layout, malformed JSON, a buffer file that is missing or of the wrong size, a glTF
-/// version other than 2.x.
+/// version other than 2.x. When tinygltf cannot read an asset that requires an extension Glint
+/// does not read (a Draco- or meshopt-compressed mesh, whose accessors have no bufferView), the
+/// error names that extension.
 void readGltfFile(const std::filesystem::path& path, tinygltf::Model& model);
 
 /// When `uri` is a `data:` URI that tinygltf left undecoded (not base64, or a media type other

@@ -112,6 +112,22 @@ Matrix34 localTransform(const tinygltf::Node& n, const std::string& place,
     return out;
 }
 
+/// A triangle strip's or fan's indices as a triangle list (glTF 2.0 spec, 3.7.2.1: strip
+/// triangle i is (i, i + 1 + i % 2, i + 2 − i % 2), fan triangle i is (i + 1, i + 2, 0)).
+/// Triangles that repeat an index (a strip's restarts) are left out.
+std::vector<std::uint32_t> triangleList(const std::vector<std::uint32_t>& in, bool strip) {
+    std::vector<std::uint32_t> out;
+    out.reserve(3 * (in.size() - 2));
+    for (std::size_t i = 0; i + 2 < in.size(); ++i) {
+        const std::uint32_t a = strip ? in[i] : in[i + 1];
+        const std::uint32_t b = strip ? in[i + 1 + i % 2] : in[i + 2];
+        const std::uint32_t c = strip ? in[i + 2 - i % 2] : in[0];
+        if (a == b || b == c || a == c) continue;
+        out.insert(out.end(), {a, b, c});
+    }
+    return out;
+}
+
 /// The extension object `name` of an extension map, or null.
 const tinygltf::Value* extension(const tinygltf::ExtensionMap& map, const char* name) {
     const auto it = map.find(name);
@@ -153,6 +169,10 @@ void GltfImport::warn(const std::string& text) {
         m_scene.warnings.push_back(line);
 }
 
+void GltfImport::warnOnce(const std::string& key, const std::string& text) {
+    if (m_warnedOnce.insert(key).second) warn(text);
+}
+
 void GltfImport::fail(const std::string& place, const std::string& what) const {
     m_accessors.fail(place, what);
 }
@@ -163,21 +183,14 @@ std::string GltfImport::nodeName(int node) const {
 }
 
 void GltfImport::checkExtensions() {
-    auto read = [](const std::string& name) {
-        for (const char* e : kReadGltfExtensions)
-            if (name == e) return true;
-        return false;
-    };
-    std::string list;
-    for (const char* e : kReadGltfExtensions) list += (list.empty() ? "" : ", ") + std::string(e);
-    for (std::size_t i = 0; i < m_model.extensionsRequired.size(); ++i)
-        if (!read(m_model.extensionsRequired[i]))
-            fail("extensionsRequired[" + std::to_string(i) + "]",
-                 "the asset requires extension " + m_model.extensionsRequired[i] +
-                     ", which Glint does not read (it reads " + list + ")");
-    for (const std::string& name : m_model.extensionsUsed)
-        if (!read(name))
+    if (const auto unread = unreadRequiredExtension(m_model.extensionsRequired))
+        fail("extensionsRequired[" + std::to_string(unread->first) + "]", unread->second);
+    for (const std::string& name : m_model.extensionsUsed) {
+        bool read = false;
+        for (const char* e : kReadGltfExtensions) read = read || name == e;
+        if (!read)
             warn("extension " + name + " is not read by Glint; the asset may look different");
+    }
 }
 
 void GltfImport::importScene(const std::vector<Affine>& poses) {
@@ -283,7 +296,10 @@ void GltfImport::importScene(const std::vector<Affine>& poses) {
     if (m_scene.triangleCount() == trianglesBefore)
         fail(m_model.meshes.empty() ? "meshes" : scenePlace,
              m_model.meshes.empty() ? "the asset has no mesh"
-                                    : "no node of the scene places a triangle mesh");
+             : m_skippedPrimitives > 0
+                 ? "no node of the scene places a triangle mesh (the primitives it places are "
+                   "points or lines, which Glint does not render)"
+                 : "no node of the scene places a triangle mesh");
 }
 
 int GltfImport::mesh(int index) {
@@ -298,11 +314,16 @@ int GltfImport::mesh(int index) {
         const tinygltf::Primitive& prim = gm.primitives[p];
         const std::string place = meshPlace + ".primitives[" + std::to_string(p) + "]";
         const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
-        if (mode != TINYGLTF_MODE_TRIANGLES) {
-            warn("primitives of mode " + std::to_string(mode) +
-                 " (points, lines, strips or fans) are skipped; Glint reads mode 4 (triangles), "
-                 "first at " +
-                 place);
+        if (mode > TINYGLTF_MODE_TRIANGLE_FAN)
+            fail(place + ".mode", "is " + std::to_string(mode) + ", expected 0 to 6");
+        if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+            mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+            ++m_skippedPrimitives;
+            warnOnce("mode " + std::to_string(mode),
+                     "primitives of mode " + std::to_string(mode) +
+                         " (points or lines) are skipped; Glint renders modes 4, 5 and 6 "
+                         "(triangles, strips, fans), first at " +
+                         place + ".mode");
             continue;
         }
         auto attribute = [&](const char* name) {
@@ -310,6 +331,11 @@ int GltfImport::mesh(int index) {
             return it == prim.attributes.end() ? -1 : it->second;
         };
         if (!prim.targets.empty()) warn("morph targets are ignored (the base shape is rendered)");
+        if (attribute("COLOR_0") >= 0)
+            warnOnce("COLOR_0",
+                     "vertex colours are not read (the base colour is not multiplied "
+                     "by them), first at " +
+                         place + ".attributes.COLOR_0");
         const int position = attribute("POSITION");
         if (position < 0) fail(place + ".attributes", "has no POSITION");
         std::vector<Vec3> positions =
@@ -341,15 +367,22 @@ int GltfImport::mesh(int index) {
         std::vector<std::uint32_t> indices;
         if (prim.indices >= 0) {
             indices = m_accessors.indices(prim.indices, place + ".indices", positions.size());
-            if (indices.size() % 3 != 0)
-                fail(place + ".indices", "has " + std::to_string(indices.size()) +
-                                             " indices, not a multiple of 3 (triangles)");
         } else {
-            if (positions.size() % 3 != 0)
-                fail(place, "has " + std::to_string(positions.size()) +
-                                " vertices and no indices: not a multiple of 3 (triangles)");
             indices.resize(positions.size());
             for (std::size_t i = 0; i < indices.size(); ++i) indices[i] = std::uint32_t(i);
+        }
+        const std::string indicesPlace = prim.indices >= 0 ? place + ".indices" : place;
+        const std::string indicesWhat = prim.indices >= 0 ? " indices" : " vertices and no indices";
+        if (mode == TINYGLTF_MODE_TRIANGLES && indices.size() % 3 != 0)
+            fail(indicesPlace, "has " + std::to_string(indices.size()) + indicesWhat +
+                                   ": not a multiple of 3 (triangles)");
+        if (mode != TINYGLTF_MODE_TRIANGLES) {
+            if (indices.size() < 3)
+                fail(indicesPlace, "has " + std::to_string(indices.size()) + indicesWhat +
+                                       ": a triangle " +
+                                       (mode == TINYGLTF_MODE_TRIANGLE_STRIP ? "strip" : "fan") +
+                                       " needs at least 3");
+            indices = triangleList(indices, mode == TINYGLTF_MODE_TRIANGLE_STRIP);
         }
         const int materialIndex = material(prim.material);
         const bool hasNormals = !normals.empty(), hasUvs = !uvs.empty(),

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "scene/gltf_accessor.h"
+#include "scene/gltf_file.h"
 #include "scene/loader.h"
 #include "scene/scene_data.h"
 
@@ -22,12 +23,6 @@ class Value;
 }  // namespace tinygltf
 
 namespace glint::render::detail {
-
-/// The glTF extensions Glint reads (docs/assets.md); any other in extensionsRequired is an
-/// error, in extensionsUsed a warning.
-inline constexpr const char* kReadGltfExtensions[] = {
-    "KHR_texture_transform", "KHR_lights_punctual", "KHR_materials_emissive_strength",
-    "KHR_materials_ior", "KHR_materials_transmission"};
 
 /// Candela (lumen per steradian) and lux per W/sr and W/m²: the luminous efficacy Blender's
 /// glTF importer converts punctual lights with.
@@ -62,6 +57,8 @@ class GltfImport {
 
     /// Adds "FILE: text" to SceneData::warnings once.
     void warn(const std::string& text);
+    /// warn(text) for the first use of `key` only (a text naming the first place of many).
+    void warnOnce(const std::string& key, const std::string& text);
     [[noreturn]] void fail(const std::string& place, const std::string& what) const;
     std::string nodeName(int node) const;
     /// The name a shape's "edits" address materials[index] by: its name, else
@@ -81,6 +78,8 @@ class GltfImport {
     std::map<std::pair<int, int>, int> m_textures;  ///< (glTF texture, use) → scene texture
     std::set<std::string> m_usedMaterialNames;      ///< glTF material names (for the overrides)
     std::size_t m_instances = 0;
+    std::size_t m_skippedPrimitives = 0;  ///< points and lines primitives skipped
+    std::set<std::string> m_warnedOnce;   ///< the keys warnOnce has warned for
 };
 
 /// "%41" → "A": a glTF uri's percent escapes decoded.
