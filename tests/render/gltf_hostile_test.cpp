@@ -112,6 +112,29 @@ std::vector<BadAsset> badAssets() {
         cases.push_back({"binlength.glb", "buffers[0].byteLength", b.glb(binBytes + 64)});
         cases.push_back({"nobin.glb", "", b.glb(0, false)});
     }
+    {
+        // Draco as google/draco's Box_Draco.glb has it: the indices accessor has no bufferView
+        // (the data is in the primitive's extension), which tinygltf refuses; it was reported
+        // as "accessors[0]: ... invalid bufferView" rather than by the extension.
+        GltfBuilder b = good();
+        b.doc["accessors"][3].erase("bufferView");
+        b.doc["meshes"][0]["primitives"][0]["extensions"] = {
+            {"KHR_draco_mesh_compression", {{"bufferView", 0}, {"attributes", {{"POSITION", 0}}}}}};
+        b.doc["extensionsUsed"] = {"KHR_materials_clearcoat", "KHR_draco_mesh_compression"};
+        b.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+        cases.push_back({"draco.glb", "extensionsRequired[0]", b.glb()});
+        cases.push_back({"draco.gltf", "extensionsRequired[0]", text(b.gltf())});
+    }
+    {
+        GltfBuilder b = good();
+        b.doc["meshes"][0]["primitives"][0]["mode"] = 9;
+        cases.push_back({"mode.gltf", "meshes[0].primitives[0].mode", text(b.gltf())});
+        b.doc["meshes"][0]["primitives"][0]["mode"] = 5;  // a strip of 2 vertices
+        b.doc["accessors"][3]["count"] = 2;
+        cases.push_back({"strip.gltf", "meshes[0].primitives[0].indices", text(b.gltf())});
+        b.doc["meshes"][0]["primitives"][0]["mode"] = 1;  // lines only
+        cases.push_back({"lines.gltf", "scenes[0]", text(b.gltf())});
+    }
     cases.push_back({"garbage.gltf", "", text("{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [")});
     // GitHub's page for an asset saved under the asset's name (neilgannon/Hosting's
     // BoxTextured.gltf): reported as an invalid literal followed by the page's bytes before.
@@ -180,6 +203,41 @@ TEST(GltfHostile, EveryBadAssetIsOneErrorNamingTheFileAndPlace) {
                 EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
             }
         }
+    }
+}
+
+TEST(GltfHostile, WhatIsNotReadIsNamedOnceAtItsFirstPlace) {
+    test::TempDir dir("gltf_unread");
+    // Two primitives with vertex colours (VertexColorTest, trimesh's cubevc.glb), two of points.
+    GltfBuilder b;
+    const int mesh = b.quad(), other = b.quad();
+    json& prims = b.doc["meshes"][std::size_t(mesh)]["primitives"];
+    const int colours = b.floats(std::vector<float>(16, 0.5f), "VEC4", 4);
+    prims[0]["attributes"]["COLOR_0"] = colours;
+    b.doc["meshes"][std::size_t(other)]["primitives"][0]["attributes"]["COLOR_0"] = colours;
+    json points = prims[0];
+    points["mode"] = 0;
+    prims.push_back(points), prims.push_back(points);
+    b.scene({b.node({{"mesh", mesh}}), b.node({{"mesh", other}})});
+    dir.write("c.gltf", b.gltf());
+    const Scene s = loadScene(dir.write("scene.json", sceneJson("c.gltf")));
+    EXPECT_EQ(s.triangleCount(), 4u);
+    ASSERT_EQ(s.warnings().size(), 2u);
+    EXPECT_NE(s.warnings()[0].find("meshes[0].primitives[0].attributes.COLOR_0"), std::string::npos)
+        << s.warnings()[0];
+    EXPECT_NE(s.warnings()[1].find("mode 0 (points or lines) are skipped"), std::string::npos);
+    EXPECT_NE(s.warnings()[1].find("meshes[0].primitives[1].mode"), std::string::npos);
+    // Only points and lines: the error says so instead of only that there is no mesh.
+    prims.erase(0);
+    prims.erase(0);
+    b.doc["nodes"].erase(1);
+    b.scene({0});
+    dir.write("p.gltf", b.gltf());
+    try {
+        loadScene(dir.write("scene.json", sceneJson("p.gltf")));
+        ADD_FAILURE() << "points only loaded";
+    } catch (const Error& e) {
+        EXPECT_NE(e.message().find("points or lines"), std::string::npos) << e.message();
     }
 }
 

@@ -114,6 +114,28 @@ TEST(GltfImport, IndexedAndNonIndexedPrimitivesGiveTheSameTriangles) {
     }
 }
 
+TEST(GltfImport, TriangleStripsAndFansBecomeTriangles) {
+    // trimesh's mode5.gltf (strips only) loaded as "no triangle mesh" before. Strip
+    // 0 1 3 2 2 (a restart at the end), fan 0 1 2 3: two counter-clockwise triangles each.
+    test::TempDir dir("gltf_strips");
+    for (const auto& [mode, order] : {std::pair{5, std::vector<std::uint16_t>{0, 1, 3, 2, 2}},
+                                      std::pair{6, std::vector<std::uint16_t>{0, 1, 2, 3}}}) {
+        GltfBuilder b;
+        b.quad();
+        b.doc["meshes"][0]["primitives"][0]["mode"] = mode;
+        b.doc["meshes"][0]["primitives"][0]["indices"] = b.u16(order);
+        b.scene({b.node({{"mesh", 0}})});
+        dir.write("s.gltf", b.gltf());
+        const Scene s = loadScene(dir.write("scene.json", sceneJson("s.gltf")));
+        ASSERT_EQ(s.triangleCount(), 2u) << "mode " << mode;
+        for (std::uint32_t t = 0; t < 2; ++t) {
+            const detail::TriangleView tri = dataOf(s).triangle(0, t);
+            EXPECT_NEAR(cross(tri.p[1] - tri.p[0], tri.p[2] - tri.p[0]).z, 1.0f, 1e-6f)
+                << mode << t;
+        }
+    }
+}
+
 /// A 2×2 RGBA PNG: red, green / blue, white (top row first).
 std::vector<unsigned char> smallPng(const fs::path& dir) {
     Image im(2, 2, 4, 1.0f);
