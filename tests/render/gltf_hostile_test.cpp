@@ -290,6 +290,17 @@ TEST(GltfHostile, AWebPageSavedAsAGltfIsNamedAsOne) {
             EXPECT_NE(std::string(e.what()).find("HTML or XML"), std::string::npos) << e.what();
         }
     }
+    // A .glb: amoghgg/portfolio's facecap.glb is such a page, 8 blank lines first (it was a
+    // "wrong magic").
+    try {
+        loadScene(dir.write("page.glb", "\n\n\n\n\n\n\n\n<!DOCTYPE html>\n<html>"));
+        ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.where(), "line 9, column 1") << e.what();
+        EXPECT_NE(std::string(e.what()).find("not a binary glTF: the file is HTML or XML"),
+                  std::string::npos)
+            << e.what();
+    }
 }
 
 class GltfCli : public glint::testing::CliFixture {

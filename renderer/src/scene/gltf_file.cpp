@@ -67,6 +67,23 @@ struct GlbLayout {
     bool hasBin = false;
 };
 
+/// Refuses a .gltf or .glb whose text starts (after white space and a UTF-8 byte-order mark)
+/// with '<': an HTML or XML page, most often a web page saved under the asset's name, which the
+/// JSON parser would report as an invalid literal followed by the page's first bytes (and the
+/// .glb reader as a wrong magic).
+void refuseMarkup(const fs::path& file, const std::vector<unsigned char>& text, bool binary) {
+    const bool bom = text.size() >= 3 && text[0] == 0xEF && text[1] == 0xBB && text[2] == 0xBF;
+    std::size_t at = bom ? 3 : 0;
+    std::size_t line = 1, column = 1;
+    for (; at < text.size() && std::isspace(text[at]); ++at, ++column)
+        if (text[at] == '\n') ++line, column = 0;
+    if (at < text.size() && text[at] == '<')
+        failFile(file, "line " + std::to_string(line) + ", column " + std::to_string(column),
+                 std::string(binary ? "not a binary glTF" : "malformed JSON") +
+                     ": the file is HTML or XML, not glTF (a web page saved under the asset's "
+                     "name?)");
+}
+
 /// Checks a binary glTF's header and chunk structure (glTF 2.0 spec, "Binary glTF Layout") from
 /// the file, so that a truncated or damaged file is named with its byte rather than by
 /// tinygltf's text.
@@ -84,8 +101,13 @@ GlbLayout glbLayout(const fs::path& file, std::uint64_t fileSize) {
     unsigned char h[12];
     if (!in.read(reinterpret_cast<char*>(h), 12))
         failFile(file, "header", "cannot read the header", ErrorKind::Io);
-    if (le32(&h[0]) != kGlbMagic)
+    if (le32(&h[0]) != kGlbMagic) {
+        // A web page saved under a .glb's name is named as one, as for a .gltf.
+        std::vector<unsigned char> head;
+        if (readBytes(file, 0, std::min<std::uint64_t>(fileSize, 4096), head))
+            refuseMarkup(file, head, true);
         failFile(file, "byte 0", "wrong magic: not a binary glTF (expected the bytes 'glTF')");
+    }
     if (const std::uint32_t version = le32(&h[4]); version != 2)
         failFile(file, "header",
                  "binary glTF version " + std::to_string(version) + "; Glint reads version 2");
@@ -224,21 +246,6 @@ std::optional<std::string> after(const std::string& text, const std::string& pre
     failFile(file, placeOf(first), "cannot read the glTF: " + first);
 }
 
-/// Refuses a .gltf whose text starts (after white space and a UTF-8 byte-order mark) with '<':
-/// an HTML or XML page, most often a web page saved under the asset's name, which the JSON
-/// parser would report as an invalid literal followed by the page's first bytes.
-void refuseMarkup(const fs::path& file, const std::vector<unsigned char>& text) {
-    const bool bom = text.size() >= 3 && text[0] == 0xEF && text[1] == 0xBB && text[2] == 0xBF;
-    std::size_t at = bom ? 3 : 0;
-    std::size_t line = 1, column = 1;
-    for (; at < text.size() && std::isspace(text[at]); ++at, ++column)
-        if (text[at] == '\n') ++line, column = 0;
-    if (at < text.size() && text[at] == '<')
-        failFile(file, "line " + std::to_string(line) + ", column " + std::to_string(column),
-                 "malformed JSON: the file is HTML or XML, not glTF (a web page saved under the "
-                 "asset's name?)");
-}
-
 /// The extensionsRequired of a document tinygltf could not read, as strings (non-strings
 /// skipped); empty when the document is not a JSON object.
 std::vector<std::string> requiredExtensions(const nlohmann::json& doc) {
@@ -344,7 +351,7 @@ void readGltfFile(const fs::path& path, tinygltf::Model& model) {
     } else if (!readBytes(path, 0, size, bytes)) {
         failFile(path, "", "cannot open the glTF file", ErrorKind::Io);
     } else {
-        refuseMarkup(path, bytes);
+        refuseMarkup(path, bytes, false);
     }
     bool ok = false;
     try {
