@@ -318,4 +318,21 @@ std::vector<std::uint32_t> GltfAccessors::indices(int index, const std::string& 
     return out;
 }
 
+/// A triangle strip's or fan's indices as a triangle list (glTF 2.0 spec, 3.7.2.1: strip
+/// triangle i is (i, i + 1 + i % 2, i + 2 − i % 2), fan triangle i is (i + 1, i + 2, 0)).
+/// Triangles that repeat an index (a strip's restarts) are left out.
+std::vector<std::uint32_t> unrollTriangles(const std::vector<std::uint32_t>& in, bool strip) {
+    std::vector<std::uint32_t> out;
+    if (in.size() < 3) return out;
+    out.reserve(3 * (in.size() - 2));
+    for (std::size_t i = 0; i + 2 < in.size(); ++i) {
+        const std::uint32_t a = strip ? in[i] : in[i + 1];
+        const std::uint32_t b = strip ? in[i + 1 + i % 2] : in[i + 2];
+        const std::uint32_t c = strip ? in[i + 2 - i % 2] : in[0];
+        if (a == b || b == c || a == c) continue;
+        out.insert(out.end(), {a, b, c});
+    }
+    return out;
+}
+
 }  // namespace glint::render::detail

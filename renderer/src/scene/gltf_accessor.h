@@ -1,7 +1,8 @@
 // Checked reading of glTF 2.0 accessors: every byte an accessor names must lie inside its buffer
 // view and buffer, its type and component type must be what the attribute allows, and the values
 // must be usable (finite positions, indices inside the vertex count). Errors name the asset file
-// and the glTF place (`accessors[3]`, `meshes[0].primitives[1].indices`).
+// and the glTF place (`accessors[3]`, `meshes[0].primitives[1].indices`). Triangle strips' and
+// fans' indices are unrolled into triangle lists here too.
 #pragma once
 
 #include <cstdint>
@@ -59,5 +60,9 @@ class GltfAccessors {
 
 /// "accessors[i]".
 std::string accessorPlace(int index);
+
+/// A triangle strip's (`strip`) or fan's indices as a triangle list (none for fewer than 3);
+/// triangles that repeat an index (a strip's restarts) are left out.
+std::vector<std::uint32_t> unrollTriangles(const std::vector<std::uint32_t>& in, bool strip);
 
 }  // namespace glint::render::detail

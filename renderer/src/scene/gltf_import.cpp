@@ -112,22 +112,6 @@ Matrix34 localTransform(const tinygltf::Node& n, const std::string& place,
     return out;
 }
 
-/// A triangle strip's or fan's indices as a triangle list (glTF 2.0 spec, 3.7.2.1: strip
-/// triangle i is (i, i + 1 + i % 2, i + 2 − i % 2), fan triangle i is (i + 1, i + 2, 0)).
-/// Triangles that repeat an index (a strip's restarts) are left out.
-std::vector<std::uint32_t> triangleList(const std::vector<std::uint32_t>& in, bool strip) {
-    std::vector<std::uint32_t> out;
-    out.reserve(3 * (in.size() - 2));
-    for (std::size_t i = 0; i + 2 < in.size(); ++i) {
-        const std::uint32_t a = strip ? in[i] : in[i + 1];
-        const std::uint32_t b = strip ? in[i + 1 + i % 2] : in[i + 2];
-        const std::uint32_t c = strip ? in[i + 2 - i % 2] : in[0];
-        if (a == b || b == c || a == c) continue;
-        out.insert(out.end(), {a, b, c});
-    }
-    return out;
-}
-
 /// The extension object `name` of an extension map, or null.
 const tinygltf::Value* extension(const tinygltf::ExtensionMap& map, const char* name) {
     const auto it = map.find(name);
@@ -382,7 +366,7 @@ int GltfImport::mesh(int index) {
                                        ": a triangle " +
                                        (mode == TINYGLTF_MODE_TRIANGLE_STRIP ? "strip" : "fan") +
                                        " needs at least 3");
-            indices = triangleList(indices, mode == TINYGLTF_MODE_TRIANGLE_STRIP);
+            indices = unrollTriangles(indices, mode == TINYGLTF_MODE_TRIANGLE_STRIP);
         }
         const int materialIndex = material(prim.material);
         const bool hasNormals = !normals.empty(), hasUvs = !uvs.empty(),
