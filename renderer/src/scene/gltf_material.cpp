@@ -314,6 +314,11 @@ int GltfImport::texture(int index, TextureUse use, const std::string& place) {
         if (!known)
             fail(sp + ".wrapT",
                  "is " + std::to_string(s.wrapT) + ", expected 33071, 33648 or 10497");
+        // Pixel art asks for NEAREST magnification; Glint filters every texture.
+        if (s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST)
+            warnOnce("magFilter", sp + ".magFilter is NEAREST, which Glint does not honour: "
+                                       "textures are filtered, so magnified texels have soft "
+                                       "edges");
     }
 
     // The image: a file beside the asset, a bufferView, or a data URI.
