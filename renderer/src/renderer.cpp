@@ -75,6 +75,11 @@ int accelerationBuilds(const Renderer& renderer) {
     return RendererAccess::impl(renderer).accelerationBuilds;
 }
 
+AccelerationMemory accelerationMemory(const Renderer& renderer) {
+    const EmbreeMemory m = RendererAccess::impl(renderer).embree.memory();
+    return {m.current, m.peak};
+}
+
 int lightBuilds(const Renderer& renderer) {
     return RendererAccess::impl(renderer).lightBuilds;
 }

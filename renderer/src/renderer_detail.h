@@ -26,6 +26,12 @@ RayThroughput measureRayThroughput(const Renderer& renderer, std::uint64_t rays,
 /// How many times `renderer` built its ray-tracing structures (Embree BVH): 1 for its life,
 /// since look edits never need a rebuild.
 int accelerationBuilds(const Renderer& renderer);
+/// Bytes `renderer`'s Embree device holds now (the BVH) and held at most (the build's peak), as
+/// Embree's memory monitor counts them: not the mesh arrays Embree reads in place.
+struct AccelerationMemory {
+    std::int64_t current = 0, peak = 0;
+};
+AccelerationMemory accelerationMemory(const Renderer& renderer);
 /// How many times `renderer` built its light sampling structures (once, plus once per render
 /// after a look edit).
 int lightBuilds(const Renderer& renderer);

@@ -4,7 +4,12 @@
 //   bench_asset_load load FILE.glb [--threads T]      load it and build its BVH; prints JSON
 // Run `load` in a fresh process (as docs/assets.md does) so that the peak resident size is the
 // asset's alone. "meshBytes" is the asset's vertex and index data (its BIN chunk); "loadPeakRss"
-// the peak after loading (before the BVH), "peakRss" the peak once the BVH is built.
+// the peak after loading (before the BVH), "peakRss" the peak once the BVH is built; "rss" the
+// resident size once built, and "trimmedRss" after malloc_trim(0) hands freed heap back.
+// "glintMesh" counts Glint's mesh arrays byte by byte (their sizes, and "capacity" what is
+// allocated), "embree" what Embree's device holds once built and held at most during the build
+// (its memory monitor; the mesh arrays it reads in place are Glint's).
+#include <malloc.h>
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -16,6 +21,7 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <tbb/global_control.h>
@@ -25,6 +31,8 @@
 #include "glint/image/error.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
+#include "renderer_detail.h"
+#include "scene/scene_access.h"
 
 namespace {
 
@@ -39,6 +47,39 @@ double peakRssBytes() {
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
     return double(usage.ru_maxrss) * 1024.0;
+}
+
+/// Resident size of this process now (VmRSS), bytes.
+double rssBytes() {
+    std::ifstream status("/proc/self/status");
+    std::string line;
+    while (std::getline(status, line))
+        if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) * 1024.0;
+    return 0.0;
+}
+
+/// Bytes of each array of the scene's meshes (their sizes), and what they allocate.
+nlohmann::json meshArrays(const glint::render::Scene& scene) {
+    std::size_t positions = 0, normals = 0, tangents = 0, uvs = 0, indices = 0, materials = 0,
+                capacity = 0;
+    auto count = [&](std::size_t& sum, const auto& array) {
+        using T = typename std::decay_t<decltype(array)>::value_type;
+        sum += array.size() * sizeof(T);
+        capacity += array.capacity() * sizeof(T);
+    };
+    for (const auto& mesh : glint::render::detail::sceneData(scene).meshes) {
+        count(positions, mesh.positions), count(normals, mesh.normals);
+        count(tangents, mesh.tangents), count(uvs, mesh.uvs);
+        count(indices, mesh.indices), count(materials, mesh.materials);
+    }
+    return {{"positions", positions},
+            {"normals", normals},
+            {"tangents", tangents},
+            {"uvs", uvs},
+            {"indices", indices},
+            {"materials", materials},
+            {"total", positions + normals + tangents + uvs + indices + materials},
+            {"capacity", capacity}};
 }
 
 void append32(std::string& out, std::uint32_t v) {
@@ -140,6 +181,10 @@ int load(const std::string& file, int threads) {
     const auto bvhStart = Clock::now();
     glint::render::Renderer renderer(std::move(scene));
     const double bvhSeconds = seconds(bvhStart);
+    const double peak = peakRssBytes(), rss = rssBytes();
+    malloc_trim(0);
+    const double trimmedRss = rssBytes();
+    const auto embree = glint::render::detail::accelerationMemory(renderer);
     const double mesh = binChunkBytes(file);
     const nlohmann::json out = {{"file", file},
                                 {"triangles", renderer.scene().triangleCount()},
@@ -148,9 +193,13 @@ int load(const std::string& file, int threads) {
                                 {"bvhSeconds", bvhSeconds},
                                 {"setupSeconds", loadSeconds + bvhSeconds},
                                 {"loadPeakRss", loadPeak},
-                                {"peakRss", peakRssBytes()},
+                                {"peakRss", peak},
+                                {"rss", rss},
+                                {"trimmedRss", trimmedRss},
+                                {"glintMesh", meshArrays(renderer.scene())},
+                                {"embree", {{"bytes", embree.current}, {"peakBytes", embree.peak}}},
                                 {"loadPeakOverMesh", mesh > 0 ? loadPeak / mesh : 0.0},
-                                {"peakOverMesh", mesh > 0 ? peakRssBytes() / mesh : 0.0}};
+                                {"peakOverMesh", mesh > 0 ? peak / mesh : 0.0}};
     std::printf("%s\n", out.dump().c_str());
     return 0;
 }

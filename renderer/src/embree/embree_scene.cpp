@@ -2,6 +2,7 @@
 #include "embree/embree_scene.h"
 
 #include <algorithm>
+#include <atomic>
 #include <limits>
 #include <memory>
 #include <string>
@@ -180,9 +181,30 @@ RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& da
     return scene;
 }
 
-EmbreeScene::EmbreeScene(const detail::SceneData& scene) {
+/// The bytes the device holds, counted by its memory monitor (Embree calls it from its build
+/// threads: +bytes before or after an allocation, -bytes after a free).
+struct EmbreeScene::MemoryCount {
+    std::atomic<std::int64_t> current{0}, peak{0};
+
+    static bool monitor(void* self, ssize_t bytes, bool /*post*/) {
+        auto* count = static_cast<MemoryCount*>(self);
+        const std::int64_t now = count->current.fetch_add(bytes) + bytes;
+        std::int64_t peak = count->peak.load();
+        while (now > peak && !count->peak.compare_exchange_weak(peak, now)) {
+        }
+        return true;
+    }
+};
+
+EmbreeMemory EmbreeScene::memory() const {
+    return {m_memory->current.load(), m_memory->peak.load()};
+}
+
+EmbreeScene::EmbreeScene(const detail::SceneData& scene)
+    : m_memory(std::make_unique<MemoryCount>()) {
     m_device = rtcNewDevice("verbose=0");
     if (!m_device) throwDeviceError(nullptr, "device creation");
+    rtcSetDeviceMemoryMonitorFunction(m_device, &MemoryCount::monitor, m_memory.get());
     // The destructor does not run when the constructor throws: release what exists here.
     try {
         m_scene = convertScene(m_device, scene);

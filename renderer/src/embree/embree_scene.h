@@ -30,6 +30,13 @@ struct ShadowRay {
     float tMax = 0.0f, time = 0.0f;
 };
 
+/// Bytes an Embree device holds (its memory monitor): the BVH and, while building, the build's
+/// temporary arrays — not the mesh arrays Embree reads in place.
+struct EmbreeMemory {
+    std::int64_t current = 0;  ///< now
+    std::int64_t peak = 0;     ///< at most since the device was made (the build's peak)
+};
+
 /// Embree device + committed scene of one SceneData. Geometry i of the top-level scene is
 /// instance i: a triangle mesh in world space (a mesh only it uses), an Embree instance of the
 /// mesh's own scene (a mesh several instances share, which is built once), or a motion-blur
@@ -63,6 +70,9 @@ class EmbreeScene {
     /// visibility() of `count` segments at once, as intersectMany.
     void visibilityMany(std::size_t count, const ShadowRay* const* rays, float* visible) const;
 
+    /// What the device holds now and held at most (the build included).
+    EmbreeMemory memory() const;
+
     /// Number of motion-blur geometries built (0 for a scene without moving shapes).
     int motionGeometryCount() const { return int(m_timeSteps.size()); }
     /// Embree time steps of motion geometry i (< motionGeometryCount()).
@@ -78,6 +88,8 @@ class EmbreeScene {
     /// The instance and triangle of Embree's hit (top-level instance, geometry, primitive).
     static detail::SurfaceId surfaceOf(unsigned instID, unsigned geomID, unsigned primID);
 
+    struct MemoryCount;  // the monitor's running count (embree_scene.cpp)
+    std::unique_ptr<MemoryCount> m_memory;
     RTCDeviceTy* m_device = nullptr;
     RTCSceneTy* m_scene = nullptr;
     int m_packetWidth = 1;                  // 16, 8, 4 or 1 (no packet support)

@@ -389,7 +389,7 @@ int GltfImport::mesh(int index) {
             mesh.indices.reserve(mesh.indices.size() + indices.size());
             for (std::uint32_t i : indices) mesh.indices.push_back(std::uint32_t(base) + i);
         }
-        mesh.materials.resize(mesh.triangleCount(), std::uint32_t(std::max(materialIndex, 0)));
+        mesh.assignMaterial(firstTriangle, std::uint32_t(std::max(materialIndex, 0)));
         // Tangents for a normal map, generated (MikkTSpace convention) when the asset has none.
         const int used = m_overrides.material >= 0 ? m_overrides.material : materialIndex;
         if (m_scene.materials[std::size_t(used)].normalMap.present() && !hasTangents) {
@@ -444,7 +444,7 @@ void GltfImport::placeMesh(int node, int glintMesh, const std::vector<Affine>& p
     double emissiveArea = 0.0;
     bool anyEmissive = false;
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
-        const int m = m_overrides.material >= 0 ? m_overrides.material : int(mesh.materials[t]);
+        const int m = m_overrides.material >= 0 ? m_overrides.material : int(mesh.materialOf(t));
         if (!m_scene.materials[std::size_t(m)].emissive()) continue;
         anyEmissive = true;
         const std::uint32_t* idx = &mesh.indices[3 * t];

@@ -210,21 +210,21 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
                 for (int v = 0; v < 3; ++v)
                     mesh.indices.push_back(
                         addCorner(faces.indices[offset + triangles[t + std::size_t(v)]]));
-                mesh.materials.push_back(std::uint32_t(std::max(mat, 0)));
+                mesh.assignMaterial(mesh.triangleCount() - 1, std::uint32_t(std::max(mat, 0)));
             }
             offset += fv;
         }
     }
     if (!anyNormals) mesh.normals.clear();
     if (!anyUvs) mesh.uvs.clear();
-    if (overrideMaterial >= 0) std::fill(mesh.materials.begin(), mesh.materials.end(), 0u);
+    if (overrideMaterial >= 0) mesh.assignMaterial(0, 0u);
 
     // A shape whose emissive faces have no area cannot emit: reject it clearly.
     double emissiveArea = 0.0;
     bool anyEmissive = false;
     const Affine& pose = poses.front();
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
-        const int material = overrideMaterial >= 0 ? overrideMaterial : int(mesh.materials[t]);
+        const int material = overrideMaterial >= 0 ? overrideMaterial : int(mesh.materialOf(t));
         if (!m_scene.materials[std::size_t(material)].emissive()) continue;
         anyEmissive = true;
         const std::uint32_t* idx = &mesh.indices[3 * t];

@@ -234,11 +234,32 @@ struct Mesh {
     std::vector<Vec3> normals;    ///< per vertex, or empty; a zero normal means none
     std::vector<Vec4> tangents;   ///< per vertex, or empty: xyz unit tangent, w = ±1 handedness
     std::vector<Vec2> uvs;        ///< per vertex, or empty
-    std::vector<std::uint32_t> indices;    ///< 3 per triangle
-    std::vector<std::uint32_t> materials;  ///< per triangle: index into SceneData::materials
+    std::vector<std::uint32_t> indices;  ///< 3 per triangle
+    /// Indices into SceneData::materials: one per triangle, or a single one that every triangle
+    /// shares (a mesh of one material holds 4 bytes, not 4 per triangle). Read through
+    /// materialOf; written through assignMaterial, which keeps the single entry while it can.
+    std::vector<std::uint32_t> materials;
 
     std::size_t triangleCount() const { return indices.size() / 3; }
     std::size_t vertexCount() const { return positions.size(); }
+    /// The material of triangle `prim`.
+    std::uint32_t materialOf(std::size_t prim) const {
+        return materials[materials.size() == 1 ? 0 : prim];
+    }
+    /// Gives the triangles from `first` to triangleCount() (those appended since the last call)
+    /// material `material`: one entry stays one while every triangle has the same material, and
+    /// becomes one per triangle at the first triangle of another.
+    void assignMaterial(std::size_t first, std::uint32_t material) {
+        const std::size_t count = triangleCount();
+        if (first >= count) return;
+        const bool shared = first == 0 || (materials.size() == 1 && materials[0] == material);
+        if (shared) {
+            materials.assign(1, material);
+            return;
+        }
+        if (materials.size() == 1) materials.assign(first, materials[0]);
+        materials.resize(count, material);
+    }
     /// Bytes of the arrays above (for memory figures).
     std::size_t bytes() const;
 };
@@ -310,7 +331,7 @@ struct SceneData {
     std::uint32_t materialOf(std::uint32_t instance, std::uint32_t prim) const {
         const Instance& inst = instances[instance];
         return inst.material >= 0 ? std::uint32_t(inst.material)
-                                  : meshes[inst.mesh].materials[prim];
+                                  : meshes[inst.mesh].materialOf(prim);
     }
     std::uint32_t materialOf(SurfaceId s) const { return materialOf(s.instance, s.prim); }
 

@@ -393,7 +393,7 @@ void Loader::readShape(const json& j, const std::string& where, int shapeIndex) 
     if (mesh.triangleCount() == 0) return;
     if (moving) {
         for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
-            const int m = overrideMaterial >= 0 ? overrideMaterial : int(mesh.materials[t]);
+            const int m = overrideMaterial >= 0 ? overrideMaterial : int(mesh.materialOf(t));
             if (m_scene.materials[std::size_t(m)].emissive())
                 m_reader.fail(where + "/motion",
                               "a moving shape must not be emissive (area lights are static)");
