@@ -1,7 +1,9 @@
 // Cut-outs and stochastic transparency (glTF alphaMode MASK and BLEND, embree/alpha_filter.cpp):
 // a black quad in front of a white sky hides it where it is there and shows it where it is not,
 // for camera rays and shadow rays alike, from the material's opacity and its texture's alpha;
-// shadow rays through BLEND surfaces carry the product of their 1 − alpha.
+// shadow rays through BLEND surfaces carry the product of their 1 − alpha; camera and bounce
+// rays choose at a BLEND surface with the bounce's component number (PathIntegrator::meetsBlend),
+// unbiased for the path tracer's strategies and Metropolis, and stratified.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -96,18 +98,19 @@ TEST(Alpha, TheBaseColourTexturesAlphaCutsPerTexel) {
 }
 
 TEST(Alpha, BlendLetsTheSkyThroughWithProbabilityOneMinusOpacity) {
-    // 16 × 16 pixels × 64 samples, each a Bernoulli(0.75) draw: σ of the mean 0.0034; within
-    // 5σ (a 6e-7 chance of failing by accident).
+    // 16 × 16 pixels × 64 samples; were each an independent Bernoulli(1 − alpha) draw, σ of
+    // the mean would be at most 0.0039 (alpha 0.5); within 5σ of 1 − alpha. (The choice reads
+    // a Sobol dimension, which makes the error far smaller: see the next test.)
     test::TempDir dir("blend");
-    const double m = mean(render(quadScene(dir,
-                                           [](auto&, detail::Material& mat) {
-                                               mat.alphaMode = AlphaMode::Blend;
-                                               mat.opacity = 0.25f;
-                                           }),
-                                 64)
-                              .color());
-    EXPECT_NEAR(m, 0.75, 5 * 0.0034);
-    // The same seed gives the same bits (the decision hashes the ray, not a thread's state).
+    for (float alpha : {0.25f, 0.5f}) {
+        const auto blend = [alpha](auto&, detail::Material& mat) {
+            mat.alphaMode = AlphaMode::Blend;
+            mat.opacity = alpha;
+        };
+        const double m = mean(render(quadScene(dir, blend), 64).color());
+        EXPECT_NEAR(m, 1.0 - alpha, 5 * std::sqrt(alpha * (1.0 - alpha) / (256.0 * 64.0))) << alpha;
+    }
+    // The same seed gives the same bits (the choice reads the pixel's sampler, not a thread's).
     const auto again = [&](int threads) {
         Renderer renderer(quadScene(dir, [](auto&, detail::Material& mat) {
             mat.alphaMode = AlphaMode::Blend;
@@ -300,6 +303,205 @@ TEST(Alpha, ShadowsThroughBlendAreExactNotSampled) {
         ASSERT_EQ(one.color().data()[i], two.color().data()[i]);
     std::printf("sky: mean %.5f (expected %.5f), mean variance of the mean %.3g\n",
                 mean(sky.color()), 1.0 - 0.5 * f, mean(var));
+}
+
+namespace {
+
+/// Variance across the pixels of a film's mean (every pixel has the same expectation).
+double pixelVariance(const Image& image) {
+    const double m = mean(image);
+    double sum = 0.0;
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x) sum += (image(x, y, 0) - m) * (image(x, y, 0) - m);
+    return sum / double(image.pixelCount() - 1);
+}
+
+}  // namespace
+
+TEST(Alpha, TheBlendChoiceIsStratified) {
+    // 16 × 16 pixels at 4 spp behind a pane of opacity 0.3. A hashed choice made each sample
+    // an independent Bernoulli(0.7) draw: variance of a pixel's mean 0.21 / 4 = 0.0525. With
+    // the Sobol component number a pixel's four numbers fall one in each quarter of [0, 1):
+    // three or four pass, variance 0.01 (a factor 5.25). The independent sampler stands for
+    // the hash. Across 256 pixels a variance is estimated within ~9 % (σ); we require the
+    // factor above 2.5 and the independent sampler's variance within 30 % of 0.0525, seed 1.
+    test::TempDir dir("blend_strata");
+    const auto pane = [&](SamplerKind sampler) {
+        Renderer renderer(quadScene(dir, [](auto&, detail::Material& mat) {
+            mat.alphaMode = AlphaMode::Blend;
+            mat.opacity = 0.3f;
+        }));
+        Settings s = renderer.scene().settings();
+        s.spp = 4;
+        s.maxDepth = 2;
+        s.sampler = sampler;
+        return pixelVariance(renderer.render(s).frame.color());
+    };
+    const double sobol = pane(SamplerKind::Sobol), independent = pane(SamplerKind::Independent);
+    std::printf(
+        "variance of a pixel behind opacity 0.3 at 4 spp: sobol %.4f, independent %.4f "
+        "(Bernoulli 0.0525), factor %.1f\n",
+        sobol, independent, independent / sobol);
+    EXPECT_NEAR(independent, 0.0525, 0.3 * 0.0525);
+    EXPECT_GT(independent / sobol, 2.5);
+}
+
+namespace {
+
+/// The sky (radiance 1) seen straight down through `count` BLEND quads of opacity `alpha`,
+/// `gap` apart (instances of one shared mesh), on an 8 × 8 film.
+Scene paneStack(const test::TempDir& dir, int count, float alpha, float gap) {
+    dir.write("quad.obj", kQuad);
+    std::string shapes;
+    for (int i = 0; i < count; ++i)
+        shapes += std::string(i ? ", " : "") +
+                  R"({"obj": "quad.obj", "material": "pane", "transform": {"translate": [0, 0, )" +
+                  std::to_string(-gap * float(i)) + "]}}";
+    const Scene parsed = parseScene(
+        R"({"camera": {"position": [0, 0, 30], "lookAt": [0, 0, 0], "fovY": 2},
+            "film": {"width": 8, "height": 8},
+            "materials": {"pane": {"type": "diffuse", "albedo": [0, 0, 0]}},
+            "environment": {"color": [1, 1, 1]},
+            "shapes": [)" +
+            shapes + "]}",
+        dir.path() / "scene.json");
+    auto data = std::make_unique<detail::SceneData>(detail::sceneData(parsed));
+    data->materials[0].alphaMode = AlphaMode::Blend;
+    data->materials[0].opacity = alpha;
+    return Scene(std::move(data));
+}
+
+}  // namespace
+
+TEST(Alpha, AStackOfPanesPassesTheProductOfOneMinusAlpha) {
+    // Three panes of opacity 0.5: 0.125 of the sky. 64 pixels × 256 samples; σ of independent
+    // draws 0.0026, within 5σ. 80 panes of opacity 0.02 (0.98^80 = 0.199): past 64 passes the
+    // hash decides (PathIntegrator::meetsBlend), unbiased too; σ 0.0031, within 5σ.
+    test::TempDir dir("blend_stack");
+    const double three = mean(render(paneStack(dir, 3, 0.5f, 0.5f), 256).color());
+    EXPECT_NEAR(three, 0.125, 5 * 0.0026);
+    const double many = mean(render(paneStack(dir, 80, 0.02f, 0.05f), 256).color());
+    EXPECT_NEAR(many, std::pow(0.98, 80), 5 * 0.0031);
+    std::printf("three panes %.5f (0.125), 80 panes %.5f (%.5f)\n", three, many,
+                std::pow(0.98, 80));
+}
+
+namespace {
+
+/// A white floor at z = -1 under a 2 × 2 light of radiance 1 at z = 0, seen from z = -0.5
+/// through nothing; a BLEND pane of opacity 0.5 (black, 18 × 18) at z = -0.25 between floor
+/// and light. Direct light only comes through the pane: L = 0.5 F with F the floor's form
+/// factor to the light (as in floorUnderGlass).
+Scene lightBehindGlass(const test::TempDir& dir) {
+    dir.write("quad.obj", kQuad);
+    dir.write("floor.obj", "v -9 -9 -1\nv 9 -9 -1\nv 9 9 -1\nv -9 9 -1\nf 1 2 3\nf 1 3 4\n");
+    const Scene parsed = parseScene(
+        R"({"camera": {"position": [0, 0, -0.5], "lookAt": [0, 0, -1], "fovY": 0.5},
+            "film": {"width": 8, "height": 8},
+            "materials": {"pane": {"type": "diffuse", "albedo": [0, 0, 0]},
+                          "white": {"type": "diffuse", "albedo": [1, 1, 1]},
+                          "light": {"type": "diffuse", "albedo": [0, 0, 0],
+                                    "emission": [1, 1, 1]}},
+            "shapes": [{"obj": "quad.obj", "material": "light"},
+                       {"obj": "quad.obj", "material": "pane",
+                        "transform": {"scale": 9, "translate": [0, 0, -0.25]}},
+                       {"obj": "floor.obj", "material": "white"}]})",
+        dir.path() / "scene.json");
+    auto data = std::make_unique<detail::SceneData>(detail::sceneData(parsed));
+    for (detail::Material& m : data->materials)
+        if (m.name == "pane") {
+            m.alphaMode = AlphaMode::Blend;
+            m.opacity = 0.5f;
+        }
+    return Scene(std::move(data));
+}
+
+/// The floor's radiance under lightBehindGlass: 0.5 F.
+double behindGlassRadiance() {
+    return 0.5 * 4.0 / (kPi * std::sqrt(2.0)) * std::atan(1.0 / std::sqrt(2.0));
+}
+
+}  // namespace
+
+TEST(Alpha, MisStrategiesAgreeThroughAPane) {
+    // Next-event estimation multiplies the pane's 0.5 exactly; BSDF sampling reaches the light
+    // through it half the time. Power, balance, light only and BSDF only: each within 5σ (σ
+    // from the variance layer, 64 pixels × 256 samples, seed 11) plus 1e-3 for the pixels'
+    // footprint off the middle of the floor, of 0.5 F.
+    test::TempDir dir("blend_mis");
+    const double expected = behindGlassRadiance();
+    const std::pair<MisHeuristic, Strategy> kinds[] = {{MisHeuristic::Power, Strategy::Bsdf},
+                                                       {MisHeuristic::Balance, Strategy::Bsdf},
+                                                       {MisHeuristic::None, Strategy::Light},
+                                                       {MisHeuristic::None, Strategy::Bsdf}};
+    for (const auto& [mis, strategy] : kinds) {
+        Renderer renderer(lightBehindGlass(dir));
+        Settings s = renderer.scene().settings();
+        s.spp = 256;
+        s.maxDepth = 2;
+        s.seed = 11;
+        s.mis = mis;
+        s.strategy = strategy;
+        const FrameBuffers f = renderer.render(s).frame;
+        const Image& var = f.layer(Layer::Variance);
+        const double sigma = std::sqrt(mean(var) / double(var.pixelCount()));
+        const double m = mean(f.color());
+        std::printf("mis %d strategy %d: %.5f (expected %.5f), sigma %.2g\n", int(mis),
+                    int(strategy), m, expected, sigma);
+        EXPECT_NEAR(m, expected, 5 * sigma + 1e-3) << int(mis) << " " << int(strategy);
+    }
+    // The same bits for any thread count.
+    const FrameBuffers one = renderSeeded(lightBehindGlass(dir), 8, 1),
+                       two = renderSeeded(lightBehindGlass(dir), 8, 2);
+    for (std::size_t i = 0; i < one.color().data().size(); ++i)
+        ASSERT_EQ(one.color().data()[i], two.color().data()[i]);
+}
+
+TEST(Alpha, MetropolisAgreesThroughAPane) {
+    // Metropolis' primary-sample coordinates make the same choice. Its image mean is set by
+    // b, whose relative standard error the render reports: within 5 of them plus 1e-3 of 0.5 F
+    // (seed 1, 2^16 bootstrap paths).
+    test::TempDir dir("blend_mlt");
+    Renderer renderer(lightBehindGlass(dir));
+    Settings s = renderer.scene().settings();
+    s.integrator = Integrator::Mlt;
+    s.spp = 64;
+    s.maxDepth = 2;
+    s.mlt.chains = 64;
+    s.mlt.groups = 16;
+    s.mlt.bootstrap = 1 << 16;
+    s.mlt.featureSpp = 1;
+    const FrameBuffers f = renderer.render(s).frame;
+    const double rel = std::stod(f.metadata().extra.at("mltBRelStdErr"));
+    const double expected = behindGlassRadiance(), m = mean(f.color());
+    std::printf("mlt: %.5f (expected %.5f), b relative standard error %.3g\n", m, expected, rel);
+    EXPECT_NEAR(m, expected, 5 * rel * expected + 1e-3);
+}
+
+TEST(Alpha, AShadedPaneIsTheFeatureHitAPassedOneIsNot) {
+    // A grey pane (albedo 0.2, opacity 0.5) in front of the white floor (floorUnderGlass's
+    // geometry seen from above): the albedo layer is the first surface the camera ray meets,
+    // 0.5 · 0.2 + 0.5 · 1 = 0.6 in expectation; 64 pixels × 64 samples, σ of independent
+    // choices 0.0063 (depth 0.0079), within 5σ.
+    test::TempDir dir("blend_features");
+    dir.write("quad.obj", kQuad);
+    dir.write("floor.obj", "v -9 -9 -1\nv 9 -9 -1\nv 9 9 -1\nv -9 9 -1\nf 1 2 3\nf 1 3 4\n");
+    const Scene parsed = parseScene(
+        R"({"camera": {"position": [0, 0, 3], "lookAt": [0, 0, 0], "fovY": 5},
+            "film": {"width": 8, "height": 8},
+            "materials": {"pane": {"type": "diffuse", "albedo": [0.2, 0.2, 0.2]},
+                          "white": {"type": "diffuse", "albedo": [1, 1, 1]}},
+            "shapes": [{"obj": "quad.obj", "material": "pane"},
+                       {"obj": "floor.obj", "material": "white"}],
+            "environment": {"color": [1, 1, 1]}})",
+        dir.path() / "scene.json");
+    auto data = std::make_unique<detail::SceneData>(detail::sceneData(parsed));
+    data->materials[0].alphaMode = AlphaMode::Blend;
+    data->materials[0].opacity = 0.5f;
+    const FrameBuffers f = render(Scene(std::move(data)), 64);
+    EXPECT_NEAR(mean(f.layer(Layer::Albedo)), 0.6, 5 * 0.0063);
+    // Depth likewise: the pane at 3, the floor at 4.
+    EXPECT_NEAR(mean(f.layer(Layer::Depth)), 3.5, 5 * 0.0079);
 }
 
 }  // namespace glint::render

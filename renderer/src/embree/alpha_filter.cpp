@@ -37,14 +37,18 @@ bool needsAlphaTest(const detail::SceneData& scene, std::uint32_t instance) {
     return false;
 }
 
-namespace {
-
-/// A number in [0, 1) from the ray and the surface it meets, so that the same ray through the
-/// same surface decides the same way (determinism) and other rays independently.
-float hashUniform(const float* values, int count) {
+float blendHash(const Vec3& origin, const Vec3& dir, std::uint32_t instance, std::uint32_t prim) {
+    const float key[] = {origin.x,
+                         origin.y,
+                         origin.z,
+                         dir.x,
+                         dir.y,
+                         dir.z,
+                         std::bit_cast<float>(prim),
+                         std::bit_cast<float>(instance)};
     std::uint64_t h = 0x9e3779b97f4a7c15ULL;
-    for (int i = 0; i < count; ++i) {
-        h ^= std::bit_cast<std::uint32_t>(values[i]);
+    for (float value : key) {
+        h ^= std::bit_cast<std::uint32_t>(value);
         h *= 0xbf58476d1ce4e5b9ULL;
         h ^= h >> 31;
     }
@@ -52,6 +56,8 @@ float hashUniform(const float* values, int count) {
     h ^= h >> 29;
     return float(h >> 40) * 0x1p-24f;
 }
+
+namespace {
 
 /// Lane i's hit on a surface that may be cut out or see-through: where it is and how present.
 struct AlphaHit {
@@ -61,14 +67,17 @@ struct AlphaHit {
     float cutoff = 0.0f;  ///< the material's MASK cut-off
 };
 
-/// Lane i's hit, or false for an opaque material (the filter leaves such a hit alone).
-bool alphaHit(const RTCFilterFunctionNArguments* args, unsigned i, AlphaHit& hit) {
+/// Lane i's hit, or false for an opaque material, or for a BLEND one unless `blend` (the filter
+/// leaves such a hit alone).
+bool alphaHit(const RTCFilterFunctionNArguments* args, unsigned i, bool blend, AlphaHit& hit) {
     const auto* test = static_cast<const AlphaTest*>(args->geometryUserPtr);
     hit.prim = RTCHitN_primID(args->hit, args->N, i);
     hit.instance = test->shared ? RTCHitN_instID(args->hit, args->N, i, 0) : test->instance;
     const detail::Material& m =
         test->scene->materials[test->scene->materialOf(hit.instance, hit.prim)];
-    if (m.alphaMode == detail::AlphaMode::Opaque) return false;
+    if (m.alphaMode == detail::AlphaMode::Opaque ||
+        (!blend && m.alphaMode == detail::AlphaMode::Blend))
+        return false;
     hit.mode = m.alphaMode;
     hit.cutoff = m.alphaCutoff;
     hit.alpha = surfaceAlpha(*test->scene, hit.instance, hit.prim, RTCHitN_u(args->hit, args->N, i),
@@ -80,22 +89,20 @@ bool alphaHit(const RTCFilterFunctionNArguments* args, unsigned i, AlphaHit& hit
 /// probability 1 − alpha, the same way every time it meets the same triangle.
 bool passesStochastically(const RTCFilterFunctionNArguments* args, unsigned i,
                           const AlphaHit& hit) {
-    const float key[] = {RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
-                         RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),
-                         RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i),
-                         std::bit_cast<float>(hit.prim),       std::bit_cast<float>(hit.instance)};
-    return hashUniform(key, 8) >= hit.alpha;
+    const Vec3 origin{RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                      RTCRayN_org_z(args->ray, args->N, i)};
+    const Vec3 dir{RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                   RTCRayN_dir_z(args->ray, args->N, i)};
+    return blendHash(origin, dir, hit.instance, hit.prim) >= hit.alpha;
 }
 
-/// Closest hits: MASK cuts out below its cut-off, BLEND is met with probability alpha.
+/// Closest hits: MASK cuts out below its cut-off. A BLEND hit is accepted: the caller chooses
+/// whether its ray meets the surface (PathIntegrator, with the bounce's component number).
 void intersectFilter(const RTCFilterFunctionNArguments* args) {
     for (unsigned i = 0; i < args->N; ++i) {
         AlphaHit hit;
-        if (args->valid[i] != -1 || !alphaHit(args, i, hit)) continue;
-        const bool reject = hit.mode == detail::AlphaMode::Mask
-                                ? hit.alpha < hit.cutoff
-                                : passesStochastically(args, i, hit);
-        if (reject) args->valid[i] = 0;
+        if (args->valid[i] != -1 || !alphaHit(args, i, false, hit)) continue;
+        if (hit.alpha < hit.cutoff) args->valid[i] = 0;
     }
 }
 
@@ -108,7 +115,7 @@ void occludedFilter(const RTCFilterFunctionNArguments* args) {
         reinterpret_cast<ShadowContext*>(const_cast<RTCIntersectContext*>(args->context));
     for (unsigned i = 0; i < args->N; ++i) {
         AlphaHit hit;
-        if (args->valid[i] != -1 || !alphaHit(args, i, hit)) continue;
+        if (args->valid[i] != -1 || !alphaHit(args, i, true, hit)) continue;
         if (hit.mode == detail::AlphaMode::Mask) {
             if (hit.alpha < hit.cutoff) args->valid[i] = 0;
             continue;

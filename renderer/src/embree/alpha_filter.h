@@ -1,12 +1,15 @@
-// Cut-outs and stochastic transparency (glTF alphaMode MASK and BLEND) through Embree's filter
-// functions: a hit where the surface is not there is rejected before the traversal accepts it,
-// for closest hits and shadow rays alike — except that a shadow ray does not choose at a BLEND
-// surface but carries its 1 − alpha on (embree/shadow_context.h).
+// Cut-outs and see-through surfaces (glTF alphaMode MASK and BLEND) through Embree's filter
+// functions: a hit where a MASK surface is not there is rejected before the traversal accepts
+// it, for closest hits and shadow rays alike. A BLEND hit is left to the closest-hit query's
+// caller, which chooses with its sampler's numbers whether the ray meets the surface
+// (PathIntegrator); a shadow ray does not choose at a BLEND surface but carries its 1 − alpha
+// on (embree/shadow_context.h).
 #pragma once
 
 #include <cstdint>
 
 #include "scene/scene_data.h"
+#include "vecmath.h"
 
 struct RTCGeometryTy;
 
@@ -27,6 +30,12 @@ float surfaceAlpha(const detail::SceneData& scene, std::uint32_t instance, std::
 /// True when some triangle of `instance` may be cut out or see-through (its material's
 /// alphaMode is not Opaque): only such geometries get a filter.
 bool needsAlphaTest(const detail::SceneData& scene, std::uint32_t instance);
+
+/// A number in [0, 1) hashed from a ray (origin, direction) and the triangle `prim` of
+/// `instance` it meets: the same ray through the same surface gives the same number (the render
+/// does not depend on threads), other rays or surfaces independent ones. The choice at a BLEND
+/// surface where no sampler's number is left for it.
+float blendHash(const Vec3& origin, const Vec3& dir, std::uint32_t instance, std::uint32_t prim);
 
 /// Installs the filter on `geometry` (before it is committed); `test` must outlive it.
 void attachAlphaFilter(RTCGeometryTy* geometry, const AlphaTest* test);

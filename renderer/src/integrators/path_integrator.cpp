@@ -15,6 +15,19 @@ namespace glint::render {
 
 namespace {
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
+/// BLEND surfaces one bounce's ray passes on its sampler's number; past them, the hash decides.
+constexpr int kMaxBlendPasses = 64;
+/// The narrowest interval a BLEND choice's number may have been rescaled from: 2^-12 leaves
+/// it 12 of a float's 24 bits.
+constexpr float kMinBlendWidth = 0x1p-12f;
+/// The largest float below 1 (rescaled numbers must stay in [0, 1)).
+constexpr float kBelowOne = 0x1.fffffep-1f;
+
+/// True when some material of the scene is alphaMode BLEND.
+bool hasBlend(const detail::SceneData& scene) {
+    return std::any_of(scene.materials.begin(), scene.materials.end(),
+                       [](const auto& m) { return m.alphaMode == detail::AlphaMode::Blend; });
+}
 
 /// True when light passes the material's surface (glass; glTF transmission): its normals keep
 /// pointing outside, so that which side wo lies on tells inside from outside.
@@ -101,6 +114,7 @@ PathIntegrator::PathIntegrator(const detail::SceneData& scene, const EmbreeScene
       m_useLightSampling(!lights.empty() && (settings.mis != MisHeuristic::None ||
                                              settings.strategy == Strategy::Light)),
       m_useBsdfHits(settings.mis != MisHeuristic::None || settings.strategy == Strategy::Bsdf),
+      m_hasBlend(hasBlend(scene)),
       m_maxDepth(settings.maxDepth),
       m_rrDepth(settings.rrDepth) {}
 
@@ -111,6 +125,33 @@ float PathIntegrator::misWeight(float pdf, float other) const {
     // (Veach 1997, eqs. 9.12 and 9.13).
     const float r = other / pdf;
     return m_mis == MisHeuristic::Balance ? 1.0f / (1.0f + r) : 1.0f / (1.0f + r * r);
+}
+
+template <PathSampler Sampler>
+bool PathIntegrator::meetsBlend(PathState& p, const Hit& hit, Sampler& rng) const {
+    const detail::SurfaceId id = hit.surface;
+    const float alpha = surfaceAlpha(m_scene, id.instance, id.prim, hit.u, hit.v);
+    // The bounce's component number; past the cap, or with too few bits left, the hash's.
+    if (!p.blendDrawn) {
+        p.blendU = rng.bounce1D(p.depth, BounceDim::BsdfComponent);
+        p.blendWidth = 1.0f;
+        p.blendDrawn = true;
+    } else if (p.blendPasses >= kMaxBlendPasses || p.blendWidth < kMinBlendWidth) {
+        p.blendU = blendHash(p.ray.origin, p.ray.dir, id.instance, id.prim);
+        p.blendWidth = 1.0f;
+    }
+    if (p.blendU < alpha) {
+        p.blendU = std::min(p.blendU / alpha, kBelowOne);
+        return true;
+    }
+    p.blendU = std::min((p.blendU - alpha) / (1.0f - alpha), kBelowOne);
+    p.blendWidth *= 1.0f - alpha;
+    ++p.blendPasses;
+    // Continue from the far side of the surface (the triangle as the ray met it).
+    const detail::TriangleView tri = m_scene.triangle(id.instance, id.prim, p.ray.time);
+    const Vec3 at = tri.p[0] * (1.0f - hit.u - hit.v) + tri.p[1] * hit.u + tri.p[2] * hit.v;
+    p.ray.origin = offsetRayOrigin(at, tri.ng, p.ray.dir, m_scene.extent);
+    return false;
 }
 
 template <PathSampler Sampler>
@@ -131,6 +172,13 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
                 p.radiance += p.beta * le * misWeight(p.prevPdf, lightPdf);
             }
         }
+        return;
+    }
+    // A BLEND surface the ray passes: the same bounce goes on beyond it (p.ray moved).
+    if (m_hasBlend &&
+        m_scene.materials[m_scene.materialOf(hit.surface)].alphaMode == detail::AlphaMode::Blend &&
+        !meetsBlend(p, hit, rng)) {
+        p.alive = true;
         return;
     }
     const Vec3 wo = -ray.dir;
@@ -226,7 +274,11 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
     float uc = 0.0f;
     if (!slotted || bsdf.readsDirectionPair())
         uBsdf = rng.bounce2D(depth, BounceDim::BsdfDirection);
-    if (!slotted || bsdf.readsComponentNumber()) uc = rng.bounce1D(depth, BounceDim::BsdfComponent);
+    // After a BLEND choice the component number is what the choice left of it (meetsBlend).
+    if (p.blendDrawn)
+        uc = p.blendU;
+    else if (!slotted || bsdf.readsComponentNumber())
+        uc = rng.bounce1D(depth, BounceDim::BsdfComponent);
     if (!bsdf.sample(woLocal, uBsdf, uc, bs)) return;
     // bs.wi is unit and the frame orthonormal: only rounding is left to correct.
     const Vec3 wi = renormalize(frame.toWorld(bs.wi));
@@ -251,25 +303,31 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
     p.ray.origin = offsetRayOrigin(sh.p, sh.ng, wi, m_scene.extent);
     p.ray.dir = wi;
     p.depth = depth + 1;
+    p.blendDrawn = false;
+    p.blendPasses = 0;
     p.alive = true;
 }
 
 unsigned PathIntegrator::numbersNeeded(const PathState& p, const Hit& hit) const {
     using detail::MaterialType;
-    if (p.depth >= m_maxDepth) return 0;
     auto bit = [](BounceDim slot) { return slotBit(slot); };
-    unsigned slots = 0;
     const detail::Material& mat = m_scene.materials[m_scene.materialOf(hit.surface)];
+    // A BLEND surface's choice reads the component number (meetsBlend).
+    const unsigned blend = mat.alphaMode == detail::AlphaMode::Blend && !p.blendDrawn
+                               ? bit(BounceDim::BsdfComponent)
+                               : 0u;
+    if (p.depth >= m_maxDepth) return blend;
+    unsigned slots = blend;
     switch (mat.type) {
         case MaterialType::Diffuse:
         case MaterialType::Conductor:
         case MaterialType::MetallicRoughness:
-            slots = bit(BounceDim::BsdfDirection);
+            slots |= bit(BounceDim::BsdfDirection);
             if (m_useLightSampling)
                 slots |= bit(BounceDim::LightSelect) | bit(BounceDim::LightPoint);
             break;
         case MaterialType::Dielectric:
-            slots = bit(BounceDim::BsdfComponent);
+            slots |= bit(BounceDim::BsdfComponent);
             // Rough glass: a microfacet from the direction pair, and next-event estimation.
             if (roughDielectric(mat)) {
                 slots |= bit(BounceDim::BsdfDirection);

@@ -25,6 +25,12 @@ struct PathState {
     int depth = 0;
     bool specularBounce = false, featuresDone = false;
     bool alive = true;
+    /// The choice at BLEND surfaces met by this bounce's ray (meetsBlend): the bounce's
+    /// component number once drawn, rescaled by every choice made with it; the width of the
+    /// interval it has been narrowed to (the bits of it left) and the surfaces passed so far.
+    bool blendDrawn = false;
+    float blendU = 0.0f, blendWidth = 1.0f;
+    int blendPasses = 0;
     /// Next-event estimation of this bounce, waiting for its shadow ray: `shadowContribution`
     /// counts times the fraction of light `shadow` lets through (EmbreeScene::visibility).
     bool shadowPending = false;
@@ -60,6 +66,17 @@ class PathIntegrator {
     template <PathSampler Sampler>
     void advance(PathState& p, bool found, const Hit& hit, Sampler& rng, std::uint64_t& rays) const;
 
+    /// At a hit on a BLEND surface of presence alpha: true when p.ray meets it (then the
+    /// surface is shaded and p.blendU is the component number of its BSDF), else false with
+    /// p.ray moved past it, same direction, throughput and bounce. The choice reads the
+    /// bounce's component number u — met when u < alpha, u / alpha left for the BSDF, else
+    /// passed with (u − alpha) / (1 − alpha) left for the next surface: uniform and independent
+    /// of the choice either way, so the estimate stays unbiased and the first choice stratified.
+    /// Past kMaxBlendPasses surfaces, or when u has too few bits left, a hash of the ray and
+    /// the triangle takes its place (blendHash).
+    template <PathSampler Sampler>
+    bool meetsBlend(PathState& p, const Hit& hit, Sampler& rng) const;
+
     /// The bounce numbers (slotBit() mask) p's next advance() will read at `hit`,
     /// as far as the material tells: a prefetch that may compute one or two numbers the path
     /// then does not use (a conductor too smooth for next-event estimation, a path that ends).
@@ -75,6 +92,7 @@ class PathIntegrator {
     MisHeuristic m_mis;
     bool m_useLightSampling;  // NEE at non-specular vertices
     bool m_useBsdfHits;       // emitters found by BSDF sampling count (after non-specular)
+    bool m_hasBlend;          // some material is alphaMode BLEND (meetsBlend)
     int m_maxDepth, m_rrDepth;
 };
 
