@@ -393,6 +393,152 @@ TEST(ObjImport, OutOfRangeMtlValuesAreRefusedWithTheirLine) {
     expectVec(m.albedo, 0.0f, 1.0f, 0.0f);
 }
 
+// Loads `files` (name → text) from a fresh folder, the scene being "mesh.obj" itself (a bare
+// asset) unless a scene.json is among them.
+Scene loadFiles(test::TempDir& dir, const std::map<std::string, std::string>& files) {
+    for (const auto& [name, text] : files) {
+        fs::create_directories((dir.path() / name).parent_path());
+        std::ofstream(dir.path() / name, std::ios::binary) << text;
+    }
+    return loadScene(dir.path() / (files.count("scene.json") ? "scene.json" : "mesh.obj"));
+}
+
+// Issue 32: a bare OBJ is a scene by itself as a bare glTF asset is (framing camera, white sky).
+TEST(ObjImport, ABareObjIsASceneWithAFramingCameraAndAWhiteSky) {
+    test::TempDir dir("obj_bare");
+    const Scene scene = loadFiles(dir, {{"mesh.obj", test::quadObj()}});
+    const SceneData& data = detail::sceneData(scene);
+    EXPECT_EQ(data.width, 640);
+    EXPECT_EQ(data.height, 480);
+    EXPECT_EQ(data.environment.kind, detail::EnvironmentDesc::Kind::Constant);
+    EXPECT_FLOAT_EQ(data.camera.lookAt.x, 0.0f);
+    EXPECT_GT(data.camera.position.z, 1.0f);  // on +z, outside the quad's bounding sphere
+    EXPECT_NE(data.sourceJson.find("\"obj\": \"mesh.obj\""), std::string::npos);
+}
+
+// Before: tinyobjloader read only the first file of "mtllib a.mtl b.mtl" (faces of b's
+// materials were grey), and split 3ds Max's "mtllib my model.mtl" into two missing files.
+TEST(ObjImport, EveryMtllibFileIsReadAndNamesMayHoldSpaces) {
+    test::TempDir dir("obj_mtllib");
+    const Scene scene = loadFiles(
+        dir, {{"mesh.obj", "mtllib a.mtl b.mtl\r\nmtllib my model.mtl\r\nusemtl fromB\r\n" +
+                               test::quadObj() + "usemtl spaced\nf 1 2 3\n"},
+              {"a.mtl", "newmtl fromA\nKd 1 0 0\n"},
+              {"b.mtl", "newmtl fromB\nKd 0 1 0\n"},
+              {"my model.mtl", "newmtl spaced\nKd 0 0 1\n"}});
+    const SceneData& data = detail::sceneData(scene);
+    std::map<std::string, Vec3> albedo;
+    for (const Material& m : data.materials) albedo[m.name] = m.albedo;
+    ASSERT_EQ(albedo.count("fromB"), 1u);
+    ASSERT_EQ(albedo.count("spaced"), 1u);
+    expectVec(albedo["fromB"], 0.0f, 1.0f, 0.0f);
+    expectVec(albedo["spaced"], 0.0f, 0.0f, 1.0f);
+    const auto& tri = data.meshes.at(0).materials;
+    ASSERT_EQ(tri.size(), 3u);
+    EXPECT_EQ(data.materials[tri[0]].name, "fromB");
+    EXPECT_EQ(data.materials[tri[2]].name, "spaced");
+}
+
+// Before: a UTF-8 byte order mark hid the first statement ("mtllib" here, "newmtl" in the MTL).
+TEST(ObjImport, AByteOrderMarkIsSkipped) {
+    test::TempDir dir("obj_bom");
+    const std::string bom = "\xEF\xBB\xBF";
+    const Scene scene =
+        loadFiles(dir, {{"mesh.obj", bom + "mtllib m.mtl\nusemtl m\n" + test::quadObj()},
+                        {"m.mtl", bom + "newmtl m\nKd 0.25 0.5 0.75\n"}});
+    const SceneData& data = detail::sceneData(scene);
+    ASSERT_EQ(data.materials.size(), 1u);
+    expectVec(data.materials[0].albedo, 0.25f, 0.5f, 0.75f);
+}
+
+// Before: map_Kd was looked for only as written: Wings 3D's "maps\FLAME1.jpg" (the folder being
+// Maps/), DAZ Studio's "/Maps/rust.jpg" and names with spaces were not found; -s and -o were
+// ignored.
+TEST(ObjImport, TexturePathsFromOtherMachinesAreFoundBesideTheMtl) {
+    for (const std::string written : {"maps\\Tex.PNG", "/Maps/tex.png", "C:\\Users\\me\\tex.png",
+                                      "-s 2 2 1 -o 0.5 0 Maps/tex.png"}) {
+        test::TempDir dir("obj_texpath");
+        fs::create_directories(dir.path() / "Maps");
+        writePng(dir.path() / "Maps" / "tex.png", 1.0f, 0.0f, 0.0f);
+        writePng(dir.path() / "tex.png", 1.0f, 0.0f, 0.0f);
+        const Scene scene =
+            loadFiles(dir, {{"mesh.obj", "mtllib m.mtl\nusemtl m\n" + test::quadObj()},
+                            {"m.mtl", "newmtl m\nmap_Kd " + written + "\r\n"}});
+        const Material& m = detail::sceneData(scene).materials.at(0);
+        EXPECT_GE(m.texture, 0) << written;
+        if (written[0] == '-') {
+            EXPECT_FALSE(m.textureTransform.identity);
+            EXPECT_FLOAT_EQ(m.textureTransform.apply({0.25f, 0.5f}).x, 1.0f);
+            EXPECT_FLOAT_EQ(m.textureTransform.apply({0.25f, 0.5f}).y, 1.0f);
+        }
+    }
+    test::TempDir dir("obj_texspace");
+    writePng(dir.path() / "my tex.png", 0.0f, 1.0f, 0.0f);
+    const Scene scene = loadFiles(dir, {{"mesh.obj", "mtllib m.mtl\nusemtl m\n" + test::quadObj()},
+                                        {"m.mtl", "newmtl m\nmap_Kd my tex.png -bm 1\n"}});
+    EXPECT_GE(detail::sceneData(scene).materials.at(0).texture, 0);
+}
+
+// Before: d, Tr and the PBR extension's Pr/Pm were read by tinyobjloader and dropped.
+TEST(ObjImport, DissolveAndThePbrExtensionAreRead) {
+    const Material d = loadMtlMaterial("newmtl m\nKd 1 1 1\nd 0.25\n");
+    EXPECT_EQ(d.alphaMode, detail::AlphaMode::Blend);
+    EXPECT_FLOAT_EQ(d.opacity, 0.25f);
+    EXPECT_FLOAT_EQ(loadMtlMaterial("newmtl m\nTr 0.75\n").opacity, 0.25f);
+    EXPECT_EQ(loadMtlMaterial("newmtl m\nd 1\nTr 0\n").alphaMode, detail::AlphaMode::Opaque);
+    const Material pbr = loadMtlMaterial("newmtl m\nKd 0.5 0.25 0\nPr 0.3\nPm 1\n");
+    EXPECT_EQ(pbr.type, MaterialType::MetallicRoughness);
+    EXPECT_FLOAT_EQ(pbr.roughness, 0.3f);
+    EXPECT_FLOAT_EQ(pbr.metallic, 1.0f);
+    expectVec(pbr.albedo, 0.5f, 0.25f, 0.0f);
+}
+
+// Statements Glint does not read are named once each, with their file and first line; a
+// normal map (norm) is read, with tangents; map_d naming map_Kd's file is map_Kd's alpha.
+TEST(ObjImport, UnreadMtlStatementsAreNamedOnceAndNormMapsAreRead) {
+    test::TempDir dir("obj_unread");
+    writePng(dir.path() / "n.png", 0.5f, 0.5f, 1.0f);
+    writePng(dir.path() / "c.png", 1.0f, 1.0f, 1.0f);
+    const Scene scene = loadFiles(
+        dir, {{"mesh.obj", "mtllib m.mtl\nusemtl a\n" + test::quadObj() + "usemtl b\nf 1 2 3\n"},
+              {"m.mtl",
+               "newmtl a\nmap_Bump -bm 2 h.png\nnorm n.png\nmap_Kd -cc on c.png\n"
+               "map_d c.png\nnewmtl b\nbump h.png\nmap_Bump h.png\nmap_d other.png\n"}});
+    const SceneData& data = detail::sceneData(scene);
+    const auto& w = scene.warnings();
+    auto count = [&](const std::string& text) {
+        return std::count_if(w.begin(), w.end(), [&](const std::string& s) {
+            return s.find(text) != std::string::npos;
+        });
+    };
+    EXPECT_EQ(count("m.mtl line 2: 'map_Bump' is ignored"), 1) << ::testing::PrintToString(w);
+    EXPECT_EQ(count("m.mtl line 7: 'bump' is ignored"), 1);
+    EXPECT_EQ(count("'map_Kd -cc' is ignored"), 1);
+    EXPECT_EQ(count("line 9: 'map_d' of material 'b' is ignored"), 1);
+    EXPECT_EQ(count("'norm' normal map but the faces have no normals"), 1);
+    const Material& a = data.materials.at(0);
+    EXPECT_TRUE(a.normalMap.present());
+    EXPECT_EQ(a.alphaMode, detail::AlphaMode::Blend);
+    EXPECT_FLOAT_EQ(a.opacity, 1.0f);
+}
+
+// A texture an MTL names but that is nowhere beside it is refused with the MTL's file and line.
+TEST(ObjImport, AMissingTextureIsRefusedWithTheMtlsLine) {
+    test::TempDir dir("obj_notex");
+    try {
+        loadFiles(dir, {{"mesh.obj", "mtllib m.mtl\nusemtl m\n" + test::quadObj()},
+                        {"m.mtl", "newmtl m\nKd 1 1 1\nmap_Kd maps\\gone.jpg\n"}});
+        FAIL() << "a missing map_Kd was accepted";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::Io);
+        EXPECT_EQ(fs::path(e.file()), dir.path() / "m.mtl");
+        EXPECT_EQ(e.where(), "line 3");
+        EXPECT_NE(e.message().find("map_Kd 'maps\\gone.jpg' of material 'm' not found"),
+                  std::string::npos)
+            << e.message();
+    }
+}
+
 // Before issue 32 random bytes and zeros loaded as an empty mesh (glint-render: exit 0). The
 // files here are a few KB: a file of 2 GB is refused the same way, from its first 64 KiB, which
 // is all that is read of it before deciding.
