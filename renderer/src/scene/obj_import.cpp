@@ -20,9 +20,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// An OBJ face corner: its position, normal and texture coordinate indices (-1: none).
+/// An OBJ face corner: its position, normal and texture coordinate indices (-1: none), and the
+/// smoothing group of a face without normals (0: none), whose normals are made per group.
 struct Corner {
     int v, n, t;
+    unsigned group;
     bool operator==(const Corner&) const = default;
 };
 struct CornerHash {
@@ -30,9 +32,35 @@ struct CornerHash {
         std::uint64_t h = std::uint64_t(std::uint32_t(c.v)) * 0x9e3779b97f4a7c15ULL;
         h ^= (std::uint64_t(std::uint32_t(c.n)) + 0x632be59bd9b4e019ULL + (h << 6) + (h >> 2));
         h ^= (std::uint64_t(std::uint32_t(c.t)) + 0x8cb92ba72f3d8dd7ULL + (h << 6) + (h >> 2));
+        h ^= (std::uint64_t(c.group) + 0x94d049bb133111ebULL + (h << 6) + (h >> 2));
         return std::size_t(h);
     }
 };
+
+// Vertex normals for the faces of smoothing groups that give none (an OBJ's "s 1" without "vn",
+// as ZBrush and older exporters write): the face normals around each (position, group) summed,
+// weighted by the corner's angle (as Blender weights them), then normalised. `group[i]` is the
+// key of mesh vertex i ((position + 1) << 32 | group), 0 for a vertex with its own normal.
+void smoothGroupNormals(Mesh& mesh, const std::vector<std::uint64_t>& group) {
+    std::unordered_map<std::uint64_t, Vec3> sum;
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const std::uint32_t* idx = &mesh.indices[3 * t];
+        const Vec3 p[3] = {mesh.positions[idx[0]], mesh.positions[idx[1]], mesh.positions[idx[2]]};
+        const Vec3 n = cross(p[1] - p[0], p[2] - p[0]);
+        if (!(length(n) > 0.0f)) continue;
+        for (int k = 0; k < 3; ++k) {
+            if (group[idx[k]] == 0) continue;
+            const Vec3 a = p[(k + 1) % 3] - p[k], b = p[(k + 2) % 3] - p[k];
+            const float la = length(a), lb = length(b);
+            if (!(la > 0.0f && lb > 0.0f)) continue;
+            const float angle = std::acos(std::clamp(dot(a, b) / (la * lb), -1.0f, 1.0f));
+            sum[group[idx[k]]] += normalize(n) * angle;
+        }
+    }
+    for (std::size_t i = 0; i < group.size(); ++i)
+        if (group[i] != 0)
+            if (const Vec3 n = sum[group[i]]; length(n) > 0.0f) mesh.normals[i] = normalize(n);
+}
 
 Material materialFromMtl(const tinyobj::material_t& mtl, bool pbr) {
     Material m;
@@ -226,14 +254,16 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     Mesh mesh;
     mesh.name = objPath.filename().string();
     std::unordered_map<Corner, std::uint32_t, CornerHash> corners;
-    bool anyNormals = false, anyUvs = false;
-    auto addCorner = [&](const tinyobj::index_t& idx) -> std::uint32_t {
+    bool anyNormals = false, anyUvs = false, anySmoothed = false;
+    std::vector<std::uint64_t> smoothKey;  // per mesh vertex (smoothGroupNormals)
+    auto addCorner = [&](const tinyobj::index_t& idx, unsigned group) -> std::uint32_t {
         // scanObj checked every index; this guards the reader's own resolution.
         if (idx.vertex_index < 0 || std::size_t(idx.vertex_index) >= vertexCount ||
             idx.normal_index >= int(normalCount) || idx.texcoord_index >= int(texcoordCount))
             throw Error(ErrorKind::Format, "a face index is out of range", objPath.string());
         const auto [it, inserted] =
-            corners.try_emplace(Corner{idx.vertex_index, idx.normal_index, idx.texcoord_index},
+            corners.try_emplace(Corner{idx.vertex_index, idx.normal_index, idx.texcoord_index,
+                                       idx.normal_index >= 0 ? 0u : group},
                                 std::uint32_t(mesh.positions.size()));
         if (!inserted) return it->second;
         const float* p = &attrib.vertices[3 * std::size_t(idx.vertex_index)];
@@ -245,6 +275,10 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
             anyNormals = anyNormals || length(n) > 0.0f;
         }
         mesh.normals.push_back(n);
+        const bool smoothed = idx.normal_index < 0 && group != 0;
+        anySmoothed = anySmoothed || smoothed;
+        smoothKey.push_back(
+            smoothed ? (std::uint64_t(idx.vertex_index) + 1) << 32 | std::uint64_t(group) : 0);
         Vec2 uv{};
         if (idx.texcoord_index >= 0) {
             const float* t = &attrib.texcoords[2 * std::size_t(idx.texcoord_index)];
@@ -275,6 +309,8 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
                 // A face of at most kMaxObjFaceCorners stays far within the clipper's budget.
                 GLINT_CHECK(triangulatePolygon(polygon, triangles));
             }
+            const unsigned group =
+                f < faces.smoothing_group_ids.size() ? faces.smoothing_group_ids[f] : 0u;
             int mat = -1;
             const int id = f < faces.material_ids.size() ? faces.material_ids[f] : -1;
             if (id >= 0 && id < int(objMaterial.size())) {
@@ -293,11 +329,15 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
             for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
                 for (int v = 0; v < 3; ++v)
                     mesh.indices.push_back(
-                        addCorner(faces.indices[offset + triangles[t + std::size_t(v)]]));
+                        addCorner(faces.indices[offset + triangles[t + std::size_t(v)]], group));
                 mesh.materials.push_back(std::uint32_t(std::max(mat, 0)));
             }
             offset += fv;
         }
+    }
+    if (anySmoothed) {
+        smoothGroupNormals(mesh, smoothKey);
+        anyNormals = true;
     }
     if (!anyNormals) mesh.normals.clear();
     if (!anyUvs) mesh.uvs.clear();

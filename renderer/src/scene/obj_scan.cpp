@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "glint/image/error.h"
@@ -383,7 +384,17 @@ ObjLines scanObj(const std::filesystem::path& path) {
         if (!(ls >> key)) continue;
         const int line = int(n) + 1;
         if (key == "v") {
-            checkNumbers(ls, path, line, key, 3, 7);  // x y z [w] or x y z r g b
+            const auto values = std::distance(std::istream_iterator<std::string>(ls),
+                                              std::istream_iterator<std::string>());
+            std::istringstream again(lines[n]);
+            again >> key;
+            checkNumbers(again, path, line, key, 3, 7);  // x y z [w] or x y z r g b
+            if (values >= 6 &&
+                std::none_of(out.warnings.begin(), out.warnings.end(), [](const std::string& w) {
+                    return w.find("vertex colours") != std::string::npos;
+                }))
+                out.warnings.push_back(path.filename().string() + " line " + std::to_string(line) +
+                                       ": vertex colours ('v x y z r g b') are ignored");
             out.vertices.push_back(line);
         } else if (key == "vn") {
             checkNumbers(ls, path, line, key, 3, 3);
