@@ -549,6 +549,11 @@ TEST(ObjImport, SmoothingGroupsWithoutNormalsAreSmooth) {
             EXPECT_NEAR(std::fabs(n.x), p.y > 0.5f ? 0.0f : float(std::sqrt(0.5)), 1e-5f) << i;
         }
     }
+    // Normals and texture coordinates named in a file that has none (OpenSubdiv's Maya shapes).
+    test::TempDir dir("obj_unnamed");
+    const Scene s =
+        loadFiles(dir, {{"mesh.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1 2/2/2 3/3/3\n"}});
+    EXPECT_EQ(s.warnings().size(), 2u) << ::testing::PrintToString(s.warnings());
 }
 
 // Before issue 32 random bytes and zeros loaded as an empty mesh (glint-render: exit 0). The

@@ -256,7 +256,10 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     std::unordered_map<Corner, std::uint32_t, CornerHash> corners;
     bool anyNormals = false, anyUvs = false, anySmoothed = false;
     std::vector<std::uint64_t> smoothKey;  // per mesh vertex (smoothGroupNormals)
-    auto addCorner = [&](const tinyobj::index_t& idx, unsigned group) -> std::uint32_t {
+    auto addCorner = [&](tinyobj::index_t idx, unsigned group) -> std::uint32_t {
+        // Normals and texture coordinates named in a file that has none are ignored (scanObj).
+        if (normalCount == 0) idx.normal_index = -1;
+        if (texcoordCount == 0) idx.texcoord_index = -1;
         // scanObj checked every index; this guards the reader's own resolution.
         if (idx.vertex_index < 0 || std::size_t(idx.vertex_index) >= vertexCount ||
             idx.normal_index >= int(normalCount) || idx.texcoord_index >= int(texcoordCount))

@@ -460,9 +460,17 @@ ObjLines scanObj(const std::filesystem::path& path) {
                     fail(path, line,
                          "malformed face corner '" + shorten(corner) +
                              "': expected v, v/vt, v//vn or v/vt/vn");
-                if (!t.empty()) checkIndex(t, vt, nt, "texture coordinate", path, line);
-                if (b != std::string::npos)
-                    checkIndex(corner.substr(b + 1), vn, nn, "normal", path, line);
+                // A file with no vt (or no vn) whose faces name some anyway (OpenSubdiv's Maya
+                // shapes): the indices name nothing and are ignored, with a warning.
+                if (!t.empty() && nt == 0 && out.unnamedTexcoordLine == 0)
+                    out.unnamedTexcoordLine = line;
+                if (!t.empty() && nt > 0) checkIndex(t, vt, nt, "texture coordinate", path, line);
+                if (b != std::string::npos) {
+                    if (nn > 0)
+                        checkIndex(corner.substr(b + 1), vn, nn, "normal", path, line);
+                    else if (out.unnamedNormalLine == 0)
+                        out.unnamedNormalLine = line;
+                }
             }
             ++corners;
         }
@@ -475,6 +483,11 @@ ObjLines scanObj(const std::filesystem::path& path) {
                      " are read (split it into faces of fewer corners)");
         ++faces;
     }
+    for (const auto& [first, what] : {std::pair{out.unnamedTexcoordLine, "texture coordinates"},
+                                      std::pair{out.unnamedNormalLine, "normals"}})
+        if (first > 0)
+            out.warnings.push_back(path.filename().string() + " line " + std::to_string(first) +
+                                   ": faces name " + what + " but the file has none; ignored");
     // Text without a face is no mesh (HTML, a log, an OBJ of points or lines only).
     if (faces == 0)
         throw Error(ErrorKind::Format,

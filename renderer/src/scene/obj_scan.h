@@ -45,6 +45,8 @@ struct ObjLines {
     std::vector<std::filesystem::path> mtlFiles;
     std::map<std::string, MtlMaterialInfo> materials;
     std::vector<std::string> warnings;
+    /// The first face naming a normal (texture coordinate) in a file that has none (0: none).
+    int unnamedNormalLine = 0, unnamedTexcoordLine = 0;
 };
 
 /// The file an OBJ or MTL names (`mtllib`, `map_Kd`), as Windows and macOS exporters write it
