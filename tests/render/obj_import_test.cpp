@@ -393,8 +393,7 @@ TEST(ObjImport, OutOfRangeMtlValuesAreRefusedWithTheirLine) {
     expectVec(m.albedo, 0.0f, 1.0f, 0.0f);
 }
 
-// Loads `files` (name → text) from a fresh folder, the scene being "mesh.obj" itself (a bare
-// asset) unless a scene.json is among them.
+// Loads `files` (name → text) from a fresh folder: "mesh.obj" as a bare asset, or scene.json.
 Scene loadFiles(test::TempDir& dir, const std::map<std::string, std::string>& files) {
     for (const auto& [name, text] : files) {
         fs::create_directories((dir.path() / name).parent_path());
@@ -505,7 +504,7 @@ TEST(ObjImport, UnreadMtlStatementsAreNamedOnceAndNormMapsAreRead) {
         dir, {{"mesh.obj", "mtllib m.mtl\nusemtl a\n" + test::quadObj() + "usemtl b\nf 1 2 3\n"},
               {"m.mtl",
                "newmtl a\nmap_Bump -bm 2 h.png\nnorm n.png\nmap_Kd -cc on c.png\n"
-               "map_d c.png\nnewmtl b\nbump h.png\nmap_Bump h.png\nmap_d other.png\n"}});
+               "map_d c.png\nnewmtl b\nbump h.png\nmap_Bump h.png\nmap_d other.png\nnewmtl a\n"}});
     const SceneData& data = detail::sceneData(scene);
     const auto& w = scene.warnings();
     auto count = [&](const std::string& text) {
@@ -517,6 +516,7 @@ TEST(ObjImport, UnreadMtlStatementsAreNamedOnceAndNormMapsAreRead) {
     EXPECT_EQ(count("m.mtl line 7: 'bump' is ignored"), 1);
     EXPECT_EQ(count("'map_Kd -cc' is ignored"), 1);
     EXPECT_EQ(count("line 9: 'map_d' of material 'b' is ignored"), 1);
+    EXPECT_EQ(count("line 10: material 'a' is defined again; the first"), 1);
     EXPECT_EQ(count("'norm' normal map but the faces have no normals"), 1);
     const Material& a = data.materials.at(0);
     EXPECT_TRUE(a.normalMap.present());

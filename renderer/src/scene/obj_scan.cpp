@@ -281,6 +281,9 @@ void scanMtl(const std::filesystem::path& path, ObjLines& out) {
             info.file = path;
             const auto [it, added] = out.materials.try_emplace(name, std::move(info));
             current = added ? &it->second : &ignored;
+            // LightWave names every surface "Default": which one a face gets is the reader's
+            // choice (Blender's importer and three.js take the last).
+            if (!added) unread.try_emplace("newmtl " + name, line);
             continue;
         }
         MtlMaterialInfo& m = current ? *current : ignored;
@@ -333,6 +336,13 @@ void scanMtl(const std::filesystem::path& path, ObjLines& out) {
         }
     }
     for (const auto& [what, first] : unread) {
+        if (what.rfind("newmtl ", 0) == 0) {
+            out.warnings.push_back(path.filename().string() + " line " + std::to_string(first) +
+                                   ": material '" + what.substr(7) +
+                                   "' is defined again; the first definition is used (Blender "
+                                   "uses the last)");
+            continue;
+        }
         const auto space = what.find(' ');
         const char* note = unreadNote(what);
         out.warnings.push_back(
