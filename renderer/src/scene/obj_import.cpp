@@ -221,6 +221,9 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
                          std::to_string(info->mapD.line) + ": 'map_d' of material '" + mtl.name +
                          "' is ignored (only map_Kd's own alpha is read as opacity)");
             }
+            if (m.alphaMode == AlphaMode::Blend && m.opacity == 0.0f)
+                warn("material '" + mtl.name +
+                     "' is fully transparent (d 0, or Tr 1: some exporters mean opaque by it)");
             index = addMaterial(std::move(m));
         }
         objMaterial.push_back(index);

@@ -124,7 +124,7 @@ std::filesystem::path findCaseless(std::filesystem::path base,
     return fs::is_regular_file(base, ec) ? base : fs::path{};
 }
 
-std::string trimmed(const std::string& s) {
+std::string mtlTrimmed(const std::string& s) {
     const auto b = s.find_first_not_of(" \t\r\n");
     if (b == std::string::npos) return {};
     return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
@@ -199,7 +199,7 @@ MtlTexture parseTexture(const std::string& rest, int line, std::vector<std::stri
             break;
         }
     }
-    tex.name = trimmed(name);
+    tex.name = mtlTrimmed(name);
     return tex;
 }
 
@@ -360,7 +360,7 @@ namespace {
 std::vector<std::string> mtllibNames(std::string rest) {
     for (std::size_t at = rest.find("\\ "); at != std::string::npos; at = rest.find("\\ ", at))
         rest.erase(at, 1);
-    rest = trimmed(rest);
+    rest = mtlTrimmed(rest);
     std::string lower = rest;
     std::transform(lower.begin(), lower.end(), lower.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
@@ -369,7 +369,7 @@ std::vector<std::string> mtllibNames(std::string rest) {
     while (from < rest.size()) {
         std::size_t end = lower.find(".mtl", from);
         end = end == std::string::npos ? rest.size() : end + 4;
-        if (std::string name = trimmed(rest.substr(from, end - from)); !name.empty())
+        if (std::string name = mtlTrimmed(rest.substr(from, end - from)); !name.empty())
             names.push_back(name);
         from = end;
     }
