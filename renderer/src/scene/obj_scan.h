@@ -15,9 +15,9 @@ namespace glint::render::detail {
 /// The most corners an OBJ face may have: tinyobjloader counts a face's corners in a byte.
 inline constexpr std::size_t kMaxObjFaceCorners = 255;
 
-/// A texture statement of an MTL material (`map_Kd`, `norm`): the file name as written, options
-/// removed (it may hold spaces and Windows backslashes), its line, and its `-s`/`-o` (u, v) and
-/// `-clamp` options.
+/// A texture statement of an MTL material (`map_Kd`, `norm`, `map_d`): the file name as written,
+/// options removed (it may hold spaces and Windows backslashes), its line, and its `-s`/`-o`
+/// (u, v) and `-clamp` options.
 struct MtlTexture {
     std::string name;  ///< empty: none
     int line = 0;
@@ -38,8 +38,9 @@ struct MtlMaterialInfo {
 
 /// Lines (1-based) of the OBJ's `v`, `vn` and `vt` statements, in order; its MTL files (every
 /// `mtllib` name, once, in order); what the scan saw of their materials (the first definition
-/// of a name, as tinyobjloader keeps); and one warning per MTL statement kind that Glint does
-/// not read (a bump map, `map_d`, ...), naming its file and first line.
+/// of a name, as tinyobjloader keeps); and one warning per kind of statement Glint does not read
+/// (a bump map, a texture option, vertex colours, a material defined again...), naming its file
+/// and first line.
 struct ObjLines {
     std::vector<int> vertices, normals, texcoords;
     std::vector<std::filesystem::path> mtlFiles;
@@ -49,11 +50,11 @@ struct ObjLines {
     int unnamedNormalLine = 0, unnamedTexcoordLine = 0;
 };
 
-/// The file an OBJ or MTL names (`mtllib`, `map_Kd`), as Windows and macOS exporters write it
-/// for case-insensitive file systems: `name` relative to `folder` (or absolute) with `\` read as
-/// a folder separator; else the same path matched without regard to case; else, for a name
-/// that is absolute or climbs out of `folder`, its file name alone in `folder`. Returns an empty
-/// path when none exists.
+/// The file an OBJ or MTL names (`mtllib`, `map_Kd`), as exporters on other machines write it:
+/// `name` relative to `folder` (or absolute) with `\` read as a folder separator; else the same
+/// path matched without regard to case; else, for an absolute name, the same below `folder`
+/// without its root; else, for a name with folders, its file name alone in `folder` (each part
+/// matched without regard to case). Returns an empty path when none exists.
 std::filesystem::path findNamedFile(const std::filesystem::path& folder, const std::string& name);
 
 /// The text of an OBJ or MTL file without a leading UTF-8 byte order mark (which tinyobjloader
