@@ -314,7 +314,7 @@ int main(int argc, char** argv) {
     CLI::App app{"glint-render: render a scene.json into a layered EXR"};
     Options opt;
     app.add_option("scene", opt.scene,
-                   "scene.json, or a glTF asset (.glb, .gltf) rendered with its own camera or a "
+                   "scene.json, or an asset (.glb, .gltf, .obj) rendered with its own camera or a "
                    "framing one")
         ->required();
     app.add_option("--camera", opt.camera,

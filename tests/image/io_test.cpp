@@ -461,3 +461,20 @@ TEST_F(IoTest, PlainImagesRoundTrip) {
     const Image raw = readImage(path("plain.png"), false);
     EXPECT_NEAR(raw.data()[44], srgbEncode(44.0f / 45.0f), 0.5f / 255.0f + 1e-5f);
 }
+
+// Before: an 8-bit BMP or TGA (older exporters' textures: 3ds Max, the Blender 2.7 die of
+// docs/obj-assets.md) declares no colour space and was read as linear: mid-grey 128 came out
+// 0.502 instead of 0.216, every such texture rendered too bright.
+TEST_F(IoTest, UntaggedEightBitFilesAreSrgb) {
+    for (const char* name : {"grey.bmp", "grey.tga"}) {
+        auto out = OIIO::ImageOutput::create(path(name).string());
+        ASSERT_TRUE(out) << name;
+        const std::vector<unsigned char> pixels(4 * 4 * 3, 128);
+        ASSERT_TRUE(
+            out->open(path(name).string(), OIIO::ImageSpec(4, 4, 3, OIIO::TypeDesc::UINT8)));
+        ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
+        out->close();
+        EXPECT_NEAR(readImage(path(name)).data()[0], srgbDecode(128.0f / 255.0f), 1e-6f) << name;
+        EXPECT_NEAR(readImage(path(name), false).data()[0], 128.0f / 255.0f, 1e-6f) << name;
+    }
+}

@@ -393,6 +393,169 @@ TEST(ObjImport, OutOfRangeMtlValuesAreRefusedWithTheirLine) {
     expectVec(m.albedo, 0.0f, 1.0f, 0.0f);
 }
 
+// Loads `files` (name → text) from a fresh folder: "mesh.obj" as a bare asset, or scene.json.
+Scene loadFiles(test::TempDir& dir, const std::map<std::string, std::string>& files) {
+    for (const auto& [name, text] : files) {
+        fs::create_directories((dir.path() / name).parent_path());
+        std::ofstream(dir.path() / name, std::ios::binary) << text;
+    }
+    return loadScene(dir.path() / (files.count("scene.json") ? "scene.json" : "mesh.obj"));
+}
+
+// Issue 32: a bare OBJ is a scene by itself as a bare glTF asset is (framing camera, white sky).
+TEST(ObjImport, ABareObjIsASceneWithAFramingCameraAndAWhiteSky) {
+    test::TempDir dir("obj_bare");
+    const Scene scene = loadFiles(dir, {{"mesh.obj", test::quadObj()}});
+    const SceneData& data = detail::sceneData(scene);
+    EXPECT_EQ(data.width, 640);
+    EXPECT_EQ(data.height, 480);
+    EXPECT_EQ(data.environment.kind, detail::EnvironmentDesc::Kind::Constant);
+    EXPECT_FLOAT_EQ(data.camera.lookAt.x, 0.0f);
+    EXPECT_GT(data.camera.position.z, 1.0f);  // on +z, outside the quad's bounding sphere
+    EXPECT_NE(data.sourceJson.find("\"obj\": \"mesh.obj\""), std::string::npos);
+}
+
+// Before: "mtllib a.mtl b.mtl" read a.mtl only; 3ds Max's "my model.mtl" was two missing files.
+TEST(ObjImport, EveryMtllibFileIsReadAndNamesMayHoldSpaces) {
+    test::TempDir dir("obj_mtllib");
+    const Scene scene = loadFiles(
+        dir, {{"mesh.obj", "mtllib a.mtl b.mtl\r\nmtllib my model.mtl\r\nusemtl fromB\r\n" +
+                               test::quadObj() + "usemtl spaced\nf 1 2 3\n"},
+              {"a.mtl", "newmtl fromA\nKd 1 0 0\n"},
+              {"b.mtl", "newmtl fromB\nKd 0 1 0\n"},
+              {"my model.mtl", "newmtl spaced\nKd 0 0 1\n"}});
+    const SceneData& data = detail::sceneData(scene);
+    std::map<std::string, Vec3> albedo;
+    for (const Material& m : data.materials) albedo[m.name] = m.albedo;
+    ASSERT_EQ(albedo.count("fromB"), 1u);
+    ASSERT_EQ(albedo.count("spaced"), 1u);
+    expectVec(albedo["fromB"], 0.0f, 1.0f, 0.0f);
+    expectVec(albedo["spaced"], 0.0f, 0.0f, 1.0f);
+}
+
+// Before: a UTF-8 byte order mark hid the first statement ("mtllib" here, "newmtl" in the MTL).
+TEST(ObjImport, AByteOrderMarkIsSkipped) {
+    test::TempDir dir("obj_bom");
+    const std::string bom = "\xEF\xBB\xBF";
+    const Scene scene =
+        loadFiles(dir, {{"mesh.obj", bom + "mtllib m.mtl\nusemtl m\n" + test::quadObj()},
+                        {"m.mtl", bom + "newmtl m\nKd 0.25 0.5 0.75\n"}});
+    const SceneData& data = detail::sceneData(scene);
+    EXPECT_EQ(data.materials.at(0).name, "m");
+    expectVec(data.materials.at(0).albedo, 0.25f, 0.5f, 0.75f);
+}
+
+// Before: map_Kd was looked for only as written: Wings 3D's "maps\FLAME1.jpg" (the folder being
+// Maps/), DAZ Studio's "/Maps/rust.jpg" and names with spaces were not found; -s and -o were
+// ignored.
+TEST(ObjImport, TexturePathsFromOtherMachinesAreFoundBesideTheMtl) {
+    for (const auto& [written, found] : std::vector<std::pair<std::string, std::string>>{
+             {"maps\\Tex.PNG", "Maps/tex.png"},
+             {"/Maps/tex.png", "Maps/tex.png"},
+             {"C:\\Users\\me\\tex.png", "tex.png"},
+             {"-s 2 2 1 -o 0.5 0 Maps/tex.png", "Maps/tex.png"},
+             {"my tex.png -bm 1", "my tex.png"}}) {
+        test::TempDir dir("obj_texpath");
+        fs::create_directories(dir.path() / "Maps");
+        for (const char* file : {"Maps/tex.png", "tex.png", "my tex.png"})
+            writePng(dir.path() / file, 1.0f, 0.0f, 0.0f);
+        const Scene scene =
+            loadFiles(dir, {{"mesh.obj", "mtllib m.mtl\nusemtl m\n" + test::quadObj()},
+                            {"m.mtl", "newmtl m\nmap_Kd " + written + "\r\n"}});
+        const SceneData& data = detail::sceneData(scene);
+        const Material& m = data.materials.at(0);
+        ASSERT_GE(m.texture, 0) << written;
+        EXPECT_TRUE(fs::equivalent(data.textures[std::size_t(m.texture)].path, dir.path() / found))
+            << written;
+        EXPECT_EQ(m.textureTransform.identity, written[0] != '-');
+        if (written[0] == '-')
+            expectVec({m.textureTransform.apply({0.25f, 0.5f}).x,
+                       m.textureTransform.apply({0.25f, 0.5f}).y, 0.0f},
+                      1.0f, 1.0f, 0.0f);
+    }
+}
+
+// Before: d, Tr and the PBR extension's Pr/Pm were read by tinyobjloader and dropped.
+TEST(ObjImport, DissolveAndThePbrExtensionAreRead) {
+    const Material d = loadMtlMaterial("newmtl m\nKd 1 1 1\nd 0.25\n");
+    EXPECT_EQ(d.alphaMode, detail::AlphaMode::Blend);
+    EXPECT_FLOAT_EQ(d.opacity, 0.25f);
+    EXPECT_FLOAT_EQ(loadMtlMaterial("newmtl m\nTr 0.75\n").opacity, 0.25f);
+    test::TempDir dir("obj_tr1");  // "Tr 1": invisible, or opaque as some exporters mean it
+    const Scene tr1 = loadFiles(dir, {{"mesh.obj", "mtllib m.mtl\nusemtl m\n" + test::quadObj()},
+                                      {"m.mtl", "newmtl m\nTr 1\n"}});
+    EXPECT_NE(::testing::PrintToString(tr1.warnings()).find("'m' is fully transparent"),
+              std::string::npos);
+    EXPECT_EQ(loadMtlMaterial("newmtl m\nd 1\nTr 0\n").alphaMode, detail::AlphaMode::Opaque);
+    const Material pbr = loadMtlMaterial("newmtl m\nKd 0.5 0.25 0\nPr 0.3\nPm 1\n");
+    EXPECT_EQ(pbr.type, MaterialType::MetallicRoughness);
+    EXPECT_FLOAT_EQ(pbr.roughness, 0.3f);
+    EXPECT_FLOAT_EQ(pbr.metallic, 1.0f);
+    expectVec(pbr.albedo, 0.5f, 0.25f, 0.0f);
+}
+
+// Statements Glint does not read are named once each, with their file and first line; a
+// normal map (norm) is read, with tangents; map_d naming map_Kd's file is map_Kd's alpha.
+TEST(ObjImport, UnreadMtlStatementsAreNamedOnceAndNormMapsAreRead) {
+    test::TempDir dir("obj_unread");
+    writePng(dir.path() / "n.png", 0.5f, 0.5f, 1.0f);
+    writePng(dir.path() / "c.png", 1.0f, 1.0f, 1.0f);
+    const Scene scene = loadFiles(
+        dir, {{"mesh.obj", "mtllib m.mtl\nusemtl a\n" + test::quadObj() + "usemtl b\nf 1 2 3\n"},
+              {"m.mtl",
+               "newmtl a\nmap_Bump -bm 2 h.png\nnorm n.png\nmap_Kd -cc on c.png\n"
+               "map_d c.png\nnewmtl b\nbump h.png\nmap_Bump h.png\nmap_d other.png\nnewmtl a\n"}});
+    const SceneData& data = detail::sceneData(scene);
+    const auto& w = scene.warnings();
+    auto count = [&](const std::string& text) {
+        return std::count_if(w.begin(), w.end(), [&](const std::string& s) {
+            return s.find(text) != std::string::npos;
+        });
+    };
+    EXPECT_EQ(count("m.mtl line 2: 'map_Bump' is ignored"), 1) << ::testing::PrintToString(w);
+    EXPECT_EQ(count("m.mtl line 7: 'bump' is ignored"), 1);
+    EXPECT_EQ(count("'map_Kd -cc' is ignored"), 1);
+    EXPECT_EQ(count("line 9: 'map_d' of material 'b' is ignored"), 1);
+    EXPECT_EQ(count("line 10: material 'a' is defined again; the first"), 1);
+    EXPECT_EQ(count("'norm' normal map but the faces have no normals"), 1);
+    const Material& a = data.materials.at(0);
+    EXPECT_TRUE(a.normalMap.present());
+    EXPECT_EQ(a.alphaMode, detail::AlphaMode::Blend);
+    EXPECT_FLOAT_EQ(a.opacity, 1.0f);
+}
+
+// Before: faces without normals were flat whatever their smoothing group ("s 1" without "vn",
+// as ZBrush writes); now a group's faces share angle-weighted vertex normals, "s off" stays flat.
+TEST(ObjImport, SmoothingGroupsWithoutNormalsAreSmooth) {
+    const std::string roof =
+        "v -1 0 0\nv 0 1 0\nv 0 1 -1\nv -1 0 -1\nv 1 0 0\nv 1 0 -1\n"
+        "f 1 2 3 4\nf 2 5 6 3\n";
+    for (const std::string group : {"s 1\n", "s off\n"}) {
+        test::TempDir dir("obj_smooth");
+        const Scene scene = loadFiles(dir, {{"mesh.obj", group + roof}});
+        const auto& mesh = detail::sceneData(scene).meshes.at(0);
+        if (group == "s off\n") {
+            EXPECT_TRUE(mesh.normals.empty());
+            continue;
+        }
+        ASSERT_EQ(mesh.normals.size(), mesh.positions.size());
+        for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+            const Vec3& p = mesh.positions[i];
+            const Vec3& n = mesh.normals[i];
+            EXPECT_NEAR(length(n), 1.0f, 1e-5f);
+            // The ridge's normal is straight up; the eaves' are their own face's.
+            const float ridge = p.y > 0.5f ? 1.0f : float(std::sqrt(0.5));
+            EXPECT_NEAR(n.y, ridge, 1e-5f) << i;
+            EXPECT_NEAR(std::fabs(n.x), p.y > 0.5f ? 0.0f : float(std::sqrt(0.5)), 1e-5f) << i;
+        }
+    }
+    // Normals and texture coordinates named in a file that has none (OpenSubdiv's Maya shapes).
+    test::TempDir dir("obj_unnamed");
+    const Scene s =
+        loadFiles(dir, {{"mesh.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1 2/2/2 3/3/3\n"}});
+    EXPECT_EQ(s.warnings().size(), 2u) << ::testing::PrintToString(s.warnings());
+}
+
 // Before issue 32 random bytes and zeros loaded as an empty mesh (glint-render: exit 0). The
 // files here are a few KB: a file of 2 GB is refused the same way, from its first 64 KiB, which
 // is all that is read of it before deciding.

@@ -41,10 +41,10 @@ class Loader {
 
     /// Reads the whole document.
     void load(const nlohmann::json& root);
-    /// Builds a scene around the glTF asset `file` (a bare asset: loadScene("model.glb")): film
-    /// 640 pixels wide, the asset's first camera or one framing its bounding sphere, a constant
-    /// environment of radiance 1 when the asset has no light. Records an equivalent scene.json
-    /// as the scene's source.
+    /// Builds a scene around the glTF or OBJ asset `file` (a bare asset: loadScene("model.glb")):
+    /// film 640 pixels wide, the asset's first camera or one framing its bounding sphere, a
+    /// constant environment of radiance 1 when the asset has no light. Records an equivalent
+    /// scene.json as the scene's source.
     void loadAsset(const std::filesystem::path& file);
 
   private:

@@ -1,5 +1,6 @@
 // OBJ/MTL import through tinyobjloader: triangles, per-vertex normals and uvs, MTL materials
-// (JSON materials of the same name take precedence), map_Kd textures.
+// (JSON materials of the same name take precedence): colours, d/Tr, the PBR extension's Pr/Pm,
+// map_Kd (with -s, -o, -clamp), norm, and map_d where it is map_Kd's alpha (docs/obj-assets.md).
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -11,6 +12,7 @@
 #include "scene/loader.h"
 #include "scene/obj_scan.h"
 #include "scene/polygon_triangulation.h"
+#include "scene/tangent_frames.h"
 
 namespace glint::render::detail {
 
@@ -18,9 +20,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// An OBJ face corner: its position, normal and texture coordinate indices (-1: none).
+/// An OBJ face corner: its position, normal and texture coordinate indices (-1: none), and the
+/// smoothing group of a face without normals (0: none), whose normals are made per group.
 struct Corner {
     int v, n, t;
+    unsigned group;
     bool operator==(const Corner&) const = default;
 };
 struct CornerHash {
@@ -28,11 +32,37 @@ struct CornerHash {
         std::uint64_t h = std::uint64_t(std::uint32_t(c.v)) * 0x9e3779b97f4a7c15ULL;
         h ^= (std::uint64_t(std::uint32_t(c.n)) + 0x632be59bd9b4e019ULL + (h << 6) + (h >> 2));
         h ^= (std::uint64_t(std::uint32_t(c.t)) + 0x8cb92ba72f3d8dd7ULL + (h << 6) + (h >> 2));
+        h ^= (std::uint64_t(c.group) + 0x94d049bb133111ebULL + (h << 6) + (h >> 2));
         return std::size_t(h);
     }
 };
 
-Material materialFromMtl(const tinyobj::material_t& mtl) {
+// Vertex normals for the faces of smoothing groups that give none (an OBJ's "s 1" without "vn",
+// as ZBrush and older exporters write): the face normals around each (position, group) summed,
+// weighted by the corner's angle (as Blender weights them), then normalised. `group[i]` is the
+// key of mesh vertex i ((position + 1) << 32 | group), 0 for a vertex with its own normal.
+void smoothGroupNormals(Mesh& mesh, const std::vector<std::uint64_t>& group) {
+    std::unordered_map<std::uint64_t, Vec3> sum;
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const std::uint32_t* idx = &mesh.indices[3 * t];
+        const Vec3 p[3] = {mesh.positions[idx[0]], mesh.positions[idx[1]], mesh.positions[idx[2]]};
+        const Vec3 n = cross(p[1] - p[0], p[2] - p[0]);
+        if (!(length(n) > 0.0f)) continue;
+        for (int k = 0; k < 3; ++k) {
+            if (group[idx[k]] == 0) continue;
+            const Vec3 a = p[(k + 1) % 3] - p[k], b = p[(k + 2) % 3] - p[k];
+            const float la = length(a), lb = length(b);
+            if (!(la > 0.0f && lb > 0.0f)) continue;
+            const float angle = std::acos(std::clamp(dot(a, b) / (la * lb), -1.0f, 1.0f));
+            sum[group[idx[k]]] += normalize(n) * angle;
+        }
+    }
+    for (std::size_t i = 0; i < group.size(); ++i)
+        if (group[i] != 0)
+            if (const Vec3 n = sum[group[i]]; length(n) > 0.0f) mesh.normals[i] = normalize(n);
+}
+
+Material materialFromMtl(const tinyobj::material_t& mtl, bool pbr) {
     Material m;
     m.name = mtl.name;
     m.albedo = {mtl.diffuse[0], mtl.diffuse[1], mtl.diffuse[2]};
@@ -42,6 +72,12 @@ Material materialFromMtl(const tinyobj::material_t& mtl) {
         m.type = MaterialType::Dielectric;
         m.ior = mtl.ior;
         m.albedo = {1.0f, 1.0f, 1.0f};
+    } else if (pbr) {
+        // The PBR extension (Pr, Pm) as Blender's importer reads it: a metallic-roughness
+        // surface with Kd as its base colour.
+        m.type = MaterialType::MetallicRoughness;
+        m.metallic = std::clamp(mtl.metallic, 0.0f, 1.0f);
+        m.roughness = std::clamp(mtl.roughness, 0.0f, 1.0f);
     } else if (isBlack(m.albedo) && !isBlack(ks) && mtl.diffuse_texname.empty()) {
         m.type = MaterialType::Conductor;
         m.specular = ks;
@@ -53,8 +89,46 @@ Material materialFromMtl(const tinyobj::material_t& mtl) {
         m.specular[c] = std::clamp(m.specular[c], 0.0f, 1.0f);
         m.emission[c] = std::max(m.emission[c], 0.0f);
     }
+    // d (or 1 - Tr; d wins where both are given, as in tinyobjloader): let light through.
+    if (mtl.dissolve < 1.0f) {
+        m.alphaMode = AlphaMode::Blend;
+        m.opacity = std::clamp(mtl.dissolve, 0.0f, 1.0f);
+    }
     return m;
 }
+
+// An MTL texture's -s and -o (u, v) as a transform of the texture coordinates.
+UvTransform uvTransformOf(const MtlTexture& tex) {
+    UvTransform t;
+    t.m[0][0] = tex.scale[0], t.m[1][1] = tex.scale[1];
+    t.m[0][2] = tex.offset[0], t.m[1][2] = tex.offset[1];
+    t.identity = tex.scale[0] == 1.0f && tex.scale[1] == 1.0f && tex.offset[0] == 0.0f &&
+                 tex.offset[1] == 0.0f;
+    return t;
+}
+
+// tinyobjloader's material reader given the MTL files the scan found: the first `mtllib` reads
+// them all (tinyobjloader itself reads only the first file of a line that exists), without a
+// byte order mark.
+class ScannedMtlReader final : public tinyobj::MaterialReader {
+  public:
+    explicit ScannedMtlReader(const std::vector<fs::path>& files) : m_files(files) {}
+    bool operator()(const std::string&, std::vector<tinyobj::material_t>* materials,
+                    std::map<std::string, int>* names, std::string* warn,
+                    std::string* err) override {
+        if (!m_read)
+            for (const fs::path& file : m_files) {
+                std::istringstream in(readObjText(file, "MTL"));
+                tinyobj::LoadMtl(names, materials, &in, warn, err);
+            }
+        m_read = true;
+        return true;
+    }
+
+  private:
+    const std::vector<fs::path>& m_files;
+    bool m_read = false;
+};
 
 }  // namespace
 
@@ -70,51 +144,92 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     // Indices and numbers checked with their line first: tinyobjloader trusts them.
     const ObjLines lines = scanObj(objPath);
 
-    tinyobj::ObjReaderConfig config;
     // Faces come whole: tinyobjloader's triangulation splits a concave face wrongly, and
     // differently where it sits; polygon_triangulation.cpp clips ears in the face's plane.
-    config.triangulate = false;
-    config.vertex_color = false;
-    config.mtl_search_path = objPath.parent_path().string();
-    tinyobj::ObjReader obj;
-    if (!obj.ParseFromFile(objPath.string(), config) || !obj.Valid())
-        throw Error(ErrorKind::Format, "cannot parse OBJ: " + obj.Error(), objPath.string(),
-                    where + "/obj");
-    if (obj.Warning().find("not found") != std::string::npos) {
-        // One line: tinyobjloader's warning repeats itself for every material.
-        std::string first = obj.Warning().substr(0, obj.Warning().find('\n'));
-        throw Error(ErrorKind::Io, "OBJ references a missing file (" + first + ")",
-                    objPath.string(), "mtllib");
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    std::vector<tinyobj::material_t> materials;
+    {
+        std::istringstream text(readObjText(objPath, "OBJ"));
+        ScannedMtlReader mtlReader(lines.mtlFiles);
+        std::string warn, err;
+        if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &text, &mtlReader,
+                              /*triangulate=*/false, /*default_vcols_fallback=*/false))
+            throw Error(ErrorKind::Format, "cannot parse OBJ: " + err, objPath.string(),
+                        where + "/obj");
     }
+    auto warn = [&](const std::string& text) {
+        const std::string line = objPath.filename().string() + ": " + text;
+        if (std::find(m_scene.warnings.begin(), m_scene.warnings.end(), line) ==
+            m_scene.warnings.end())
+            m_scene.warnings.push_back(line);
+    };
+    for (const std::string& w : lines.warnings) warn(w);
+    // A texture an MTL statement names: found as findNamedFile finds it, or refused with the
+    // MTL's file and line.
+    auto mtlTexture = [&](const MtlMaterialInfo& info, const MtlTexture& tex, const char* key,
+                          const std::string& material, TextureUse use) {
+        const fs::path file = findNamedFile(info.file.parent_path(), tex.name);
+        if (file.empty())
+            throw Error(ErrorKind::Io,
+                        std::string(key) + " '" + tex.name + "' of material '" + material +
+                            "' not found (looked for " +
+                            (info.file.parent_path() / tex.name).string() + ")",
+                        info.file.string(), "line " + std::to_string(tex.line));
+        Texture source;
+        source.path = fs::absolute(file, ec);  // so that loadTexture does not prefix the scene's
+        source.use = use;                      // folder again
+        if (tex.clamp) source.wrapS = source.wrapT = TextureWrap::Clamp;
+        return TextureSlot{loadTexture(source, where + "/obj (" + key + " of " + material + ")"),
+                           uvTransformOf(tex)};
+    };
 
     // Map the OBJ's materials to scene materials (JSON overrides MTL by name).
     std::vector<int> objMaterial;
-    for (tinyobj::material_t mtl : obj.GetMaterials()) {
+    bool normalMapped = false;
+    for (tinyobj::material_t mtl : materials) {
         int index = materialIndex(mtl.name);
         if (index < 0) {
             // Where the scan saw tinyobjloader part from the MTL specification: one value is
             // a grey (it sets red only), and paths are relative to the MTL file's folder.
-            const auto info = lines.materials.find(mtl.name);
-            fs::path mtlFolder = objPath.parent_path();
-            if (info != lines.materials.end()) {
-                if (info->second.greyKd) mtl.diffuse[1] = mtl.diffuse[2] = mtl.diffuse[0];
-                if (info->second.greyKs) mtl.specular[1] = mtl.specular[2] = mtl.specular[0];
-                if (info->second.greyKe) mtl.emission[1] = mtl.emission[2] = mtl.emission[0];
-                mtlFolder = info->second.file.parent_path();
+            const auto found = lines.materials.find(mtl.name);
+            const MtlMaterialInfo* info = found == lines.materials.end() ? nullptr : &found->second;
+            if (info) {
+                if (info->greyKd) mtl.diffuse[1] = mtl.diffuse[2] = mtl.diffuse[0];
+                if (info->greyKs) mtl.specular[1] = mtl.specular[2] = mtl.specular[0];
+                if (info->greyKe) mtl.emission[1] = mtl.emission[2] = mtl.emission[0];
             }
-            Material m = materialFromMtl(mtl);
-            if (!mtl.diffuse_texname.empty()) {
-                // Absolute, so that loadTexture does not put the scene's folder before it again.
-                const fs::path texture = fs::absolute(mtlFolder / mtl.diffuse_texname, ec);
-                m.texture = loadTexture(texture, where + "/obj (map_Kd of " + mtl.name + ")");
+            Material m = materialFromMtl(mtl, info && info->pbr);
+            if (info && !info->mapKd.name.empty()) {
+                const TextureSlot slot =
+                    mtlTexture(*info, info->mapKd, "map_Kd", mtl.name, TextureUse::Color);
+                m.texture = slot.texture;
+                m.textureTransform = slot.transform;
             }
+            if (info && !info->norm.name.empty()) {
+                m.normalMap = mtlTexture(*info, info->norm, "norm", mtl.name, TextureUse::Data);
+                normalMapped = true;
+            }
+            if (info && !info->mapD.name.empty()) {
+                // The base texture's alpha is the opacity Glint reads; another file is not.
+                const fs::path d = findNamedFile(info->file.parent_path(), info->mapD.name);
+                if (m.texture >= 0 && !d.empty() &&
+                    fs::equivalent(d, m_scene.textures[std::size_t(m.texture)].path, ec))
+                    m.alphaMode = AlphaMode::Blend;
+                else
+                    warn(info->file.filename().string() + " line " +
+                         std::to_string(info->mapD.line) + ": 'map_d' of material '" + mtl.name +
+                         "' is ignored (only map_Kd's own alpha is read as opacity)");
+            }
+            if (m.alphaMode == AlphaMode::Blend && m.opacity == 0.0f)
+                warn("material '" + mtl.name +
+                     "' is fully transparent (d 0, or Tr 1: some exporters mean opaque by it)");
             index = addMaterial(std::move(m));
         }
         objMaterial.push_back(index);
     }
     int defaultMaterial = -1;
 
-    const tinyobj::attrib_t& attrib = obj.GetAttrib();
     const std::size_t vertexCount = attrib.vertices.size() / 3;
     const std::size_t normalCount = attrib.normals.size() / 3;
     const std::size_t texcoordCount = attrib.texcoords.size() / 2;
@@ -142,14 +257,19 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     Mesh mesh;
     mesh.name = objPath.filename().string();
     std::unordered_map<Corner, std::uint32_t, CornerHash> corners;
-    bool anyNormals = false, anyUvs = false;
-    auto addCorner = [&](const tinyobj::index_t& idx) -> std::uint32_t {
+    bool anyNormals = false, anyUvs = false, anySmoothed = false;
+    std::vector<std::uint64_t> smoothKey;  // per mesh vertex (smoothGroupNormals)
+    auto addCorner = [&](tinyobj::index_t idx, unsigned group) -> std::uint32_t {
+        // Normals and texture coordinates named in a file that has none are ignored (scanObj).
+        if (normalCount == 0) idx.normal_index = -1;
+        if (texcoordCount == 0) idx.texcoord_index = -1;
         // scanObj checked every index; this guards the reader's own resolution.
         if (idx.vertex_index < 0 || std::size_t(idx.vertex_index) >= vertexCount ||
             idx.normal_index >= int(normalCount) || idx.texcoord_index >= int(texcoordCount))
             throw Error(ErrorKind::Format, "a face index is out of range", objPath.string());
         const auto [it, inserted] =
-            corners.try_emplace(Corner{idx.vertex_index, idx.normal_index, idx.texcoord_index},
+            corners.try_emplace(Corner{idx.vertex_index, idx.normal_index, idx.texcoord_index,
+                                       idx.normal_index >= 0 ? 0u : group},
                                 std::uint32_t(mesh.positions.size()));
         if (!inserted) return it->second;
         const float* p = &attrib.vertices[3 * std::size_t(idx.vertex_index)];
@@ -161,6 +281,10 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
             anyNormals = anyNormals || length(n) > 0.0f;
         }
         mesh.normals.push_back(n);
+        const bool smoothed = idx.normal_index < 0 && group != 0;
+        anySmoothed = anySmoothed || smoothed;
+        smoothKey.push_back(
+            smoothed ? (std::uint64_t(idx.vertex_index) + 1) << 32 | std::uint64_t(group) : 0);
         Vec2 uv{};
         if (idx.texcoord_index >= 0) {
             const float* t = &attrib.texcoords[2 * std::size_t(idx.texcoord_index)];
@@ -170,7 +294,7 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
         mesh.uvs.push_back(uv);
         return it->second;
     };
-    for (const tinyobj::shape_t& shape : obj.GetShapes()) {
+    for (const tinyobj::shape_t& shape : shapes) {
         const auto& faces = shape.mesh;
         std::size_t offset = 0;
         std::vector<Vec3> polygon;
@@ -191,6 +315,8 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
                 // A face of at most kMaxObjFaceCorners stays far within the clipper's budget.
                 GLINT_CHECK(triangulatePolygon(polygon, triangles));
             }
+            const unsigned group =
+                f < faces.smoothing_group_ids.size() ? faces.smoothing_group_ids[f] : 0u;
             int mat = -1;
             const int id = f < faces.material_ids.size() ? faces.material_ids[f] : -1;
             if (id >= 0 && id < int(objMaterial.size())) {
@@ -209,14 +335,26 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
             for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
                 for (int v = 0; v < 3; ++v)
                     mesh.indices.push_back(
-                        addCorner(faces.indices[offset + triangles[t + std::size_t(v)]]));
+                        addCorner(faces.indices[offset + triangles[t + std::size_t(v)]], group));
                 mesh.assignMaterial(mesh.triangleCount() - 1, std::uint32_t(std::max(mat, 0)));
             }
             offset += fv;
         }
     }
+    if (anySmoothed) {
+        smoothGroupNormals(mesh, smoothKey);
+        anyNormals = true;
+    }
     if (!anyNormals) mesh.normals.clear();
     if (!anyUvs) mesh.uvs.clear();
+    // Tangents for `norm` normal maps (MikkTSpace convention, as Blender's importer reads them).
+    if (normalMapped && overrideMaterial < 0) {
+        if (anyNormals && anyUvs)
+            generateTangents(mesh, 0, mesh.triangleCount());
+        else
+            warn(std::string("a material has a 'norm' normal map but the faces have no ") +
+                 (anyNormals ? "texture coordinates" : "normals") + ": it is not applied");
+    }
     if (overrideMaterial >= 0) mesh.assignMaterial(0, 0u);
 
     // A shape whose emissive faces have no area cannot emit: reject it clearly.

@@ -1,8 +1,11 @@
 #include "scene/obj_scan.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "glint/image/error.h"
@@ -88,13 +91,183 @@ void checkText(const std::filesystem::path& path, const char* kind) {
 
 }  // namespace
 
-void scanMtl(const std::filesystem::path& path, std::map<std::string, MtlMaterialInfo>& materials) {
-    checkText(path, "MTL");
+namespace {
+
+bool sameCaseless(const std::string& a, const std::string& b) {
+    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+               return std::tolower(static_cast<unsigned char>(x)) ==
+                      std::tolower(static_cast<unsigned char>(y));
+           });
+}
+
+// `relative` below `base`, each part matched exactly or else without regard to case.
+std::filesystem::path findCaseless(std::filesystem::path base,
+                                   const std::filesystem::path& relative) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    for (const fs::path& part : relative) {
+        if (part.empty() || part == ".") continue;
+        if (fs::exists(base / part, ec) || part == "..") {
+            base /= part;
+            continue;
+        }
+        fs::path found;
+        for (auto it = fs::directory_iterator(base, ec); !ec && it != fs::directory_iterator();
+             it.increment(ec))
+            if (sameCaseless(it->path().filename().string(), part.string())) {
+                found = it->path();
+                break;
+            }
+        if (found.empty()) return {};
+        base = found;
+    }
+    return fs::is_regular_file(base, ec) ? base : fs::path{};
+}
+
+std::string mtlTrimmed(const std::string& s) {
+    const auto b = s.find_first_not_of(" \t\r\n");
+    if (b == std::string::npos) return {};
+    return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
+}
+
+// The MTL texture options (MTL specification, "Options for texture map statements") and how
+// many values follow each; -o, -s and -t take 1 to 3 numbers.
+int optionValues(const std::string& option) {
+    static const std::map<std::string, int> counts{
+        {"-blendu", 1}, {"-blendv", 1},  {"-bm", 1},     {"-boost", 1},     {"-cc", 1},
+        {"-clamp", 1},  {"-imfchan", 1}, {"-texres", 1}, {"-type", 1},      {"-mm", 2},
+        {"-o", 3},      {"-s", 3},       {"-t", 3},      {"-colorspace", 1}};
+    const auto it = counts.find(option);
+    return it == counts.end() ? 0 : it->second;
+}
+
+// Reads a texture statement after its keyword: options, then the file name (the rest of the
+// line, spaces included, up to an option written after it). Options Glint does not read are
+// added to `ignored`.
+MtlTexture parseTexture(const std::string& rest, int line, std::vector<std::string>& ignored) {
+    MtlTexture tex;
+    tex.line = line;
+    std::size_t pos = 0;
+    auto next = [&](std::string& token) {
+        const auto b = rest.find_first_not_of(" \t\r", pos);
+        if (b == std::string::npos) return std::string::npos;
+        const auto e = rest.find_first_of(" \t\r", b);
+        token = rest.substr(b, e == std::string::npos ? std::string::npos : e - b);
+        pos = e == std::string::npos ? rest.size() : e;
+        return b;
+    };
+    std::string token;
+    std::size_t at = next(token);
+    while (at != std::string::npos && optionValues(token) > 0) {
+        const std::string option = token;
+        std::vector<std::string> values;
+        const bool numeric = option == "-o" || option == "-s" || option == "-t";
+        for (int k = 0; k < optionValues(option); ++k) {
+            const std::size_t save = pos;
+            std::string value;
+            if (next(value) == std::string::npos) break;
+            char* end = nullptr;
+            std::strtod(value.c_str(), &end);
+            if (numeric && (end == value.c_str() || *end != '\0')) {
+                pos = save;  // the file name
+                break;
+            }
+            values.push_back(value);
+        }
+        auto number = [&](std::size_t i, float fallback) {
+            return i < values.size() ? float(std::strtod(values[i].c_str(), nullptr)) : fallback;
+        };
+        if (option == "-s") {
+            tex.scale[0] = number(0, 1.0f), tex.scale[1] = number(1, 1.0f);
+        } else if (option == "-o") {
+            tex.offset[0] = number(0, 0.0f), tex.offset[1] = number(1, 0.0f);
+        } else if (option == "-clamp") {
+            tex.clamp = !values.empty() && values[0] == "on";
+        } else if (option != "-bm" && option != "-colorspace") {
+            ignored.push_back(option);
+        }
+        at = next(token);
+    }
+    if (at == std::string::npos) return tex;
+    std::string name = rest.substr(at);
+    // An option written after the name (" -bm 1.5").
+    for (std::size_t dash = name.find(" -"); dash != std::string::npos;
+         dash = name.find(" -", dash + 1)) {
+        const std::string option = name.substr(dash + 1, name.find(' ', dash + 1) - dash - 1);
+        if (optionValues(option) > 0) {
+            name.resize(dash);
+            break;
+        }
+    }
+    tex.name = mtlTrimmed(name);
+    return tex;
+}
+
+// What Glint does not read of an MTL, by statement: the note its warning gives.
+const char* unreadNote(const std::string& key) {
+    static const std::map<std::string, const char*> notes{
+        {"map_Bump", "bump maps (heights) are not read; use 'norm' for a normal map"},
+        {"map_bump", "bump maps (heights) are not read; use 'norm' for a normal map"},
+        {"bump", "bump maps (heights) are not read; use 'norm' for a normal map"},
+        {"disp", "displacement is not read"},
+        {"decal", "decal textures are not read"},
+        {"refl", "reflection maps are not read (reflections are traced)"},
+        {"map_Ks", "specular textures are not read"},
+        {"map_Ns", "specular exponent textures are not read"},
+        {"map_Ke", "emission textures are not read ('Ke' is)"},
+        {"map_Pr", "roughness textures are not read ('Pr' is)"},
+        {"map_Pm", "metallic textures are not read ('Pm' is)"},
+        {"map_Ps", "sheen is not read"},
+        {"Ps", "sheen is not read"},
+        {"Pc", "clearcoat is not read"},
+        {"Pcr", "clearcoat is not read"},
+        {"aniso", "anisotropy is not read"},
+        {"anisor", "anisotropy is not read"}};
+    const auto it = notes.find(key);
+    return it == notes.end() ? nullptr : it->second;
+}
+
+}  // namespace
+
+std::filesystem::path findNamedFile(const std::filesystem::path& folder, const std::string& name) {
+    namespace fs = std::filesystem;
+    std::string slashed = name;
+    std::replace(slashed.begin(), slashed.end(), '\\', '/');
+    const fs::path written(slashed);
+    std::error_code ec;
+    const fs::path direct = written.is_absolute() ? written : folder / written;
+    if (fs::is_regular_file(direct, ec)) return direct;
+    if (!written.is_absolute())
+        if (fs::path found = findCaseless(folder, written); !found.empty()) return found;
+    // A path of the exporter's machine ("/Maps/rust.jpg", "C:/textures/wood.jpg"): below
+    // the folder without its root, else its file name alone.
+    if (written.is_absolute())
+        if (fs::path found = findCaseless(folder, written.relative_path()); !found.empty())
+            return found;
+    if (written.has_parent_path()) return findCaseless(folder, written.filename());
+    return {};
+}
+
+std::string readObjText(const std::filesystem::path& path, const char* kind) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(ErrorKind::Io, "cannot read the MTL file", path.string());
+    if (!in)
+        throw Error(ErrorKind::Io, std::string("cannot read the ") + kind + " file", path.string());
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad())
+        throw Error(ErrorKind::Io, std::string("cannot read the ") + kind + " file", path.string());
+    std::string s = std::move(text).str();
+    if (s.rfind("\xEF\xBB\xBF", 0) == 0) s.erase(0, 3);
+    return s;
+}
+
+void scanMtl(const std::filesystem::path& path, ObjLines& out) {
+    checkText(path, "MTL");
+    std::istringstream in(readObjText(path, "MTL"));
     int line = 0;
     MtlMaterialInfo* current = nullptr;  // the material being defined, when its first definition
     MtlMaterialInfo ignored;
+    std::map<std::string, int> unread;  // statement or option Glint does not read → first line
     for (std::string text; std::getline(in, text);) {
         ++line;
         std::istringstream ls(text);
@@ -104,10 +277,16 @@ void scanMtl(const std::filesystem::path& path, std::map<std::string, MtlMateria
             std::string name;
             std::getline(ls >> std::ws, name);
             while (!name.empty() && (name.back() == '\r' || name.back() == ' ')) name.pop_back();
-            const auto [it, added] = materials.try_emplace(name, MtlMaterialInfo{path});
+            MtlMaterialInfo info;
+            info.file = path;
+            const auto [it, added] = out.materials.try_emplace(name, std::move(info));
             current = added ? &it->second : &ignored;
+            // LightWave names every surface "Default": which one a face gets is the reader's
+            // choice (Blender's importer and three.js take the last).
+            if (!added) unread.try_emplace("newmtl " + name, line);
             continue;
         }
+        MtlMaterialInfo& m = current ? *current : ignored;
         if (key == "Ka" || key == "Kd" || key == "Ks" || key == "Ke" || key == "Tf") {
             std::istringstream again(text);
             again >> key;
@@ -127,11 +306,11 @@ void scanMtl(const std::filesystem::path& path, std::map<std::string, MtlMateria
                                         : " (a reflectance)");
                     fail(path, line, msg.str());
                 }
-            MtlMaterialInfo& m = current ? *current : ignored;
             if (key == "Kd") m.greyKd = values.size() == 1;
             if (key == "Ks") m.greyKs = values.size() == 1;
             if (key == "Ke") m.greyKe = values.size() == 1;
-        } else if (key == "Ns" || key == "Ni" || key == "d" || key == "Tr" || key == "illum") {
+        } else if (key == "Ns" || key == "Ni" || key == "d" || key == "Tr" || key == "illum" ||
+                   key == "Pr" || key == "Pm") {
             std::istringstream again(text);
             again >> key;
             checkNumbers(ls, path, line, key, 1, 1);
@@ -139,17 +318,73 @@ void scanMtl(const std::filesystem::path& path, std::map<std::string, MtlMateria
             again >> v;
             if (key == "Ns" && v < 0.0)
                 fail(path, line, "'Ns' " + std::to_string(v) + " is negative; expected >= 0");
+            if ((key == "d" || key == "Tr" || key == "Pr" || key == "Pm") && (v < 0.0 || v > 1.0))
+                fail(path, line,
+                     "'" + key + "' " + std::to_string(v) + " is outside [0, 1] (a fraction)");
+            if (key == "Pr" || key == "Pm") m.pbr = true;
+        } else if (key == "map_Kd" || key == "norm" || key == "map_d") {
+            std::string rest;
+            std::getline(ls, rest);
+            std::vector<std::string> options;
+            MtlTexture tex = parseTexture(rest, line, options);
+            for (const std::string& option : options) unread.try_emplace(key + " " + option, line);
+            if (key == "map_Kd") m.mapKd = tex;
+            if (key == "norm") m.norm = tex;
+            if (key == "map_d") m.mapD = tex;
+        } else if (unreadNote(key)) {
+            unread.try_emplace(key, line);
         }
+    }
+    for (const auto& [what, first] : unread) {
+        if (what.rfind("newmtl ", 0) == 0) {
+            out.warnings.push_back(path.filename().string() + " line " + std::to_string(first) +
+                                   ": material '" + what.substr(7) +
+                                   "' is defined again; the first definition is used (Blender "
+                                   "uses the last)");
+            continue;
+        }
+        const auto space = what.find(' ');
+        const char* note = unreadNote(what);
+        out.warnings.push_back(
+            path.filename().string() + " line " + std::to_string(first) + ": '" + what +
+            "' is ignored" + (note ? std::string(" (") + note + ")" : "") +
+            (space != std::string::npos ? " (the texture option is not read)" : ""));
     }
 }
 
+namespace {
+
+// The names of an `mtllib` statement after the keyword, as Blender's importer splits them: a
+// name runs to the next ".mtl" (3ds Max writes "mtllib my model.mtl" for my model.obj), and
+// tinyobjloader's "\ " is a space.
+std::vector<std::string> mtllibNames(std::string rest) {
+    for (std::size_t at = rest.find("\\ "); at != std::string::npos; at = rest.find("\\ ", at))
+        rest.erase(at, 1);
+    rest = mtlTrimmed(rest);
+    std::string lower = rest;
+    std::transform(lower.begin(), lower.end(), lower.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    std::vector<std::string> names;
+    std::size_t from = 0;
+    while (from < rest.size()) {
+        std::size_t end = lower.find(".mtl", from);
+        end = end == std::string::npos ? rest.size() : end + 4;
+        if (std::string name = mtlTrimmed(rest.substr(from, end - from)); !name.empty())
+            names.push_back(name);
+        from = end;
+    }
+    return names;
+}
+
+}  // namespace
+
 ObjLines scanObj(const std::filesystem::path& path) {
     checkText(path, "OBJ");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(ErrorKind::Io, "cannot read the OBJ file", path.string());
     std::vector<std::string> lines;
-    for (std::string l; std::getline(in, l);) lines.push_back(std::move(l));
-    if (in.bad()) throw Error(ErrorKind::Io, "cannot read the OBJ file", path.string());
+    {
+        std::istringstream in(readObjText(path, "OBJ"));
+        for (std::string l; std::getline(in, l);) lines.push_back(std::move(l));
+    }
 
     // First pass: every v / vn / vt, so positive face indices can be checked against totals.
     ObjLines out;
@@ -159,7 +394,17 @@ ObjLines scanObj(const std::filesystem::path& path) {
         if (!(ls >> key)) continue;
         const int line = int(n) + 1;
         if (key == "v") {
-            checkNumbers(ls, path, line, key, 3, 7);  // x y z [w] or x y z r g b
+            const auto values = std::distance(std::istream_iterator<std::string>(ls),
+                                              std::istream_iterator<std::string>());
+            std::istringstream again(lines[n]);
+            again >> key;
+            checkNumbers(again, path, line, key, 3, 7);  // x y z [w] or x y z r g b
+            if (values >= 6 &&
+                std::none_of(out.warnings.begin(), out.warnings.end(), [](const std::string& w) {
+                    return w.find("vertex colours") != std::string::npos;
+                }))
+                out.warnings.push_back(path.filename().string() + " line " + std::to_string(line) +
+                                       ": vertex colours ('v x y z r g b') are ignored");
             out.vertices.push_back(line);
         } else if (key == "vn") {
             checkNumbers(ls, path, line, key, 3, 3);
@@ -169,19 +414,30 @@ ObjLines scanObj(const std::filesystem::path& path) {
             out.texcoords.push_back(line);
         }
     }
-    // Material libraries, where they exist (tinyobjloader reports missing ones).
+    // Material libraries: each must exist (tinyobjloader reads only the first it finds of a line
+    // and calls the others missing).
     for (std::size_t n = 0; n < lines.size(); ++n) {
         std::istringstream ls(lines[n]);
-        std::string key, name;
+        std::string key, rest;
         if (!(ls >> key) || key != "mtllib") continue;
-        while (ls >> name) {
-            const std::filesystem::path mtl = path.parent_path() / name;
+        std::getline(ls, rest);
+        for (const std::string& name : mtllibNames(rest)) {
+            const std::filesystem::path mtl = findNamedFile(path.parent_path(), name);
             std::error_code ec;
-            if (std::filesystem::is_regular_file(mtl, ec))
-                scanMtl(mtl, out.materials);
-            else if (std::filesystem::exists(mtl, ec))  // a folder, a device, a pipe...
-                fail(path, int(n) + 1,
-                     "mtllib '" + shorten(name) + "' is not a regular file (expected an MTL file)");
+            if (mtl.empty()) {
+                const std::filesystem::path there = path.parent_path() / name;
+                if (std::filesystem::exists(there, ec))  // a folder, a device, a pipe...
+                    fail(path, int(n) + 1,
+                         "mtllib '" + shorten(name) +
+                             "' is not a regular file (expected an MTL file)");
+                throw Error(ErrorKind::Io,
+                            "mtllib '" + name + "' not found (looked for " + there.string() + ")",
+                            path.string(), "line " + std::to_string(n + 1));
+            }
+            if (std::find(out.mtlFiles.begin(), out.mtlFiles.end(), mtl) != out.mtlFiles.end())
+                continue;
+            out.mtlFiles.push_back(mtl);
+            scanMtl(mtl, out);
         }
     }
     // Second pass: faces.
@@ -214,9 +470,17 @@ ObjLines scanObj(const std::filesystem::path& path) {
                     fail(path, line,
                          "malformed face corner '" + shorten(corner) +
                              "': expected v, v/vt, v//vn or v/vt/vn");
-                if (!t.empty()) checkIndex(t, vt, nt, "texture coordinate", path, line);
-                if (b != std::string::npos)
-                    checkIndex(corner.substr(b + 1), vn, nn, "normal", path, line);
+                // A file with no vt (or no vn) whose faces name some anyway (OpenSubdiv's Maya
+                // shapes): the indices name nothing and are ignored, with a warning.
+                if (!t.empty() && nt == 0 && out.unnamedTexcoordLine == 0)
+                    out.unnamedTexcoordLine = line;
+                if (!t.empty() && nt > 0) checkIndex(t, vt, nt, "texture coordinate", path, line);
+                if (b != std::string::npos) {
+                    if (nn > 0)
+                        checkIndex(corner.substr(b + 1), vn, nn, "normal", path, line);
+                    else if (out.unnamedNormalLine == 0)
+                        out.unnamedNormalLine = line;
+                }
             }
             ++corners;
         }
@@ -229,6 +493,11 @@ ObjLines scanObj(const std::filesystem::path& path) {
                      " are read (split it into faces of fewer corners)");
         ++faces;
     }
+    for (const auto& [first, what] : {std::pair{out.unnamedTexcoordLine, "texture coordinates"},
+                                      std::pair{out.unnamedNormalLine, "normals"}})
+        if (first > 0)
+            out.warnings.push_back(path.filename().string() + " line " + std::to_string(first) +
+                                   ": faces name " + what + " but the file has none; ignored");
     // Text without a face is no mesh (HTML, a log, an OBJ of points or lines only).
     if (faces == 0)
         throw Error(ErrorKind::Format,

@@ -1,7 +1,7 @@
 // scene.json → SceneData, the JSON half of the loader (loader.h): camera, film, render block,
 // materials (JSON overriding MTL and glTF materials by name), environment, shapes (OBJ or glTF)
 // with scale-rotate-translate transforms and motion, and the scene built around a bare glTF
-// asset. OBJ/MTL import is in obj_import.cpp, glTF in gltf_import.cpp, images in
+// or OBJ asset. OBJ/MTL import is in obj_import.cpp, glTF in gltf_import.cpp, images in
 // image_import.cpp.
 #include <algorithm>
 #include <cmath>
@@ -21,6 +21,18 @@ namespace glint::render {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+
+namespace {
+
+/// The extension of `path` in lower case: ".obj", ".glb", ".gltf" name a bare asset.
+std::string lowerExtension(const fs::path& path) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+}  // namespace
 
 namespace detail {
 
@@ -428,7 +440,8 @@ void Loader::loadAsset(const fs::path& file) {
     // The scene a newcomer's first command gets: the asset, its camera or one that frames it,
     // and light to see it by.
     json doc;
-    doc["shapes"] = json::array({json{{"gltf", file.filename().string()}}});
+    const char* key = lowerExtension(file) == ".obj" ? "obj" : "gltf";
+    doc["shapes"] = json::array({json{{key, file.filename().string()}}});
     readShape(doc["shapes"][0], "/shapes/0", 0);
     m_scene.width = 640;
     m_scene.height = 480;
@@ -551,21 +564,10 @@ Scene parseScene(const std::string& jsonText, const fs::path& path) {
     return Scene(std::move(data));
 }
 
-namespace {
-
-/// True when `path` names a glTF asset (.gltf or .glb, any case).
-bool isGltfAsset(const fs::path& path) {
-    std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
-    return ext == ".gltf" || ext == ".glb";
-}
-
-}  // namespace
-
 Scene loadScene(const fs::path& path) {
     std::error_code ec;
-    if (isGltfAsset(path) && fs::is_regular_file(path, ec)) {
+    const std::string ext = lowerExtension(path);
+    if ((ext == ".gltf" || ext == ".glb" || ext == ".obj") && fs::is_regular_file(path, ec)) {
         auto data = std::make_unique<detail::SceneData>();
         data->path = path;
         detail::Loader loader(path, *data);

@@ -31,7 +31,8 @@ void writeExr(const FrameBuffers& frame, const std::filesystem::path& path,
               const ExrWriteOptions& options = {});
 
 /// Reads any image OpenImageIO can read as float (all channels). If `linearize` and the file
-/// declares sRGB colour (8-bit PNG/JPEG...), values are converted to linear.
+/// declares sRGB colour (8-bit PNG/JPEG...) or is 8-bit and declares none (BMP, TGA), values are
+/// converted to linear.
 Image readImage(const std::filesystem::path& path, bool linearize = true);
 /// Checks an image file's structure before a reader allocates for it or prints its own
 /// messages: PNG chunks, a JPEG's end marker, the sizes an OpenEXR header's attributes claim.
