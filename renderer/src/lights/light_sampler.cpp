@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "embree/alpha_filter.h"
 #include "lights/spherical_triangle.h"
 #include "sampling/warp.h"
 
@@ -40,11 +41,12 @@ LightSampler::LightSampler(const detail::SceneData& scene) : m_scene(&scene) {
             emits = true;
             m_lightOfTriangle[first + t] = int(m_lights.size());
             const Vec3 centroid = (tri.p[0] + tri.p[1] + tri.p[2]) * (1.0f / 3.0f);
-            AreaLight light{{tri.p[0], tri.p[1], tri.p[2]}, area, tri.ng, m.emission, centroid};
+            AreaLight light{
+                {tri.p[0], tri.p[1], tri.p[2]}, area, tri.ng, m.emission, centroid, i, t};
+            light.partial = m.alphaMode != detail::AlphaMode::Opaque;
             Vec3 mean = m.emission;
             if (m.emissionMap.present() && !mesh.uvs.empty()) {
-                light.instance = i;
-                light.prim = t;
+                light.textured = true;
                 Vec3& texMean = textureMeans[std::size_t(m.emissionMap.texture)];
                 if (texMean.x < 0.0f)
                     texMean = scene.textures[std::size_t(m.emissionMap.texture)].meanColour();
@@ -164,9 +166,8 @@ bool LightSampler::sample(const Vec3& p, float uSelect, Vec2 u, LightSample& out
 }
 
 Vec3 LightSampler::emittedAt(const AreaLight& light, const Vec3& point) const {
-    if (light.instance < 0) return light.emission;
-    // Barycentrics of the point (in double: the triangle may be tiny or far from the origin),
-    // then its texture coordinates on the mesh.
+    if (!light.textured && !light.partial) return light.emission;
+    // Barycentrics of the point (in double: the triangle may be tiny or far from the origin).
     auto d3 = [](const Vec3& a, const Vec3& b) {
         return double(a.x) * b.x + double(a.y) * b.y + double(a.z) * b.z;
     };
@@ -174,21 +175,36 @@ Vec3 LightSampler::emittedAt(const AreaLight& light, const Vec3& point) const {
     const double d00 = d3(e1, e1), d01 = d3(e1, e2), d11 = d3(e2, e2), d20 = d3(d, e1),
                  d21 = d3(d, e2);
     const double denom = d00 * d11 - d01 * d01;
-    if (!(denom > 0.0)) return light.emission;
-    const float b1 = float(std::clamp((d11 * d20 - d01 * d21) / denom, 0.0, 1.0));
-    const float b2 = float(std::clamp((d00 * d21 - d01 * d20) / denom, 0.0, 1.0 - b1));
+    float b1 = 1.0f / 3.0f, b2 = 1.0f / 3.0f;
+    if (denom > 0.0) {
+        b1 = float(std::clamp((d11 * d20 - d01 * d21) / denom, 0.0, 1.0));
+        b2 = float(std::clamp((d00 * d21 - d01 * d20) / denom, 0.0, 1.0 - b1));
+    }
     const detail::SceneData& scene = *m_scene;
-    const detail::Instance& inst = scene.instances[std::size_t(light.instance)];
-    const detail::Mesh& mesh = scene.meshes[inst.mesh];
-    const detail::Material& m =
-        scene.materials[scene.materialOf(std::uint32_t(light.instance), light.prim)];
-    const std::uint32_t* idx = &mesh.indices[3 * std::size_t(light.prim)];
-    const float b0 = 1.0f - b1 - b2;
-    const Vec2 &a = mesh.uvs[idx[0]], &b = mesh.uvs[idx[1]], &c = mesh.uvs[idx[2]];
-    const Vec2 uv{a.x * b0 + b.x * b1 + c.x * b2, a.y * b0 + b.y * b1 + c.y * b2};
-    const Vec4 t = scene.textures[std::size_t(m.emissionMap.texture)].lookup(
-        m.emissionMap.transform.apply(uv));
-    return light.emission * Vec3{t.x, t.y, t.z};
+    const detail::Material& m = scene.materials[scene.materialOf(light.instance, light.prim)];
+    Vec3 le = light.emission;
+    if (light.textured) {
+        // The texture coordinates of the point on the mesh.
+        const detail::Mesh& mesh = scene.meshes[scene.instances[light.instance].mesh];
+        const std::uint32_t* idx = &mesh.indices[3 * std::size_t(light.prim)];
+        const float b0 = 1.0f - b1 - b2;
+        const Vec2 &a = mesh.uvs[idx[0]], &b = mesh.uvs[idx[1]], &c = mesh.uvs[idx[2]];
+        const Vec2 uv{a.x * b0 + b.x * b1 + c.x * b2, a.y * b0 + b.y * b1 + c.y * b2};
+        const Vec4 t = scene.textures[std::size_t(m.emissionMap.texture)].lookup(
+            m.emissionMap.transform.apply(uv));
+        le = le * Vec3{t.x, t.y, t.z};
+    }
+    if (light.partial) {
+        // A camera or BSDF ray meets a BLEND surface with probability alpha and passes a MASK
+        // one where alpha < cut-off (embree/alpha_filter.cpp): next-event estimation gives the
+        // point the same expected radiance, so both MIS strategies estimate alpha × Le.
+        const float alpha = surfaceAlpha(scene, light.instance, light.prim, b1, b2);
+        if (m.alphaMode == detail::AlphaMode::Mask)
+            le = alpha < m.alphaCutoff ? Vec3{} : le;
+        else
+            le = le * alpha;
+    }
+    return le;
 }
 
 bool LightSampler::samplePunctual(const detail::PunctualLight& light, const Vec3& p,

@@ -55,12 +55,14 @@ class LightSampler {
         float area;
         Vec3 normal;
         Vec3 emission;
-        Vec3 centroid;  ///< of the triangle (worthSolidAngle)
-        /// The triangle, when its material's emission is textured (else instance < 0).
-        std::int64_t instance = -1;
-        std::uint32_t prim = 0;
+        Vec3 centroid;                         ///< of the triangle (worthSolidAngle)
+        std::uint32_t instance = 0, prim = 0;  ///< the triangle
+        bool textured = false;  ///< its material's emission has a texture (and the mesh uvs)
+        /// Its material's alphaMode is MASK or BLEND: the surface is not everywhere there.
+        bool partial = false;
     };
-    /// The radiance light `light` emits at `point`: its emission times its texture there.
+    /// The radiance light `light` gives at `point` as a camera or BSDF ray finds it there: its
+    /// emission times its texture, times its presence (BLEND: alpha; MASK: 0 where cut out).
     Vec3 emittedAt(const AreaLight& light, const Vec3& point) const;
 
     const detail::SceneData* m_scene = nullptr;
