@@ -166,10 +166,10 @@ void MainWindow::buildMenus() {
     rebuildRecent();
 
     connect(a.open, &QAction::triggered, this, [this] {
-        const QString path = askPath(
-            tr("Open"),
-            tr("Scenes, assets, renders and sessions (*.json *.glb *.gltf *.exr);;All files (*)"),
-            false);
+        const QString path = askPath(tr("Open"),
+                                     tr("Scenes, assets, renders and sessions (*.json *.glb *.gltf "
+                                        "*.obj *.exr);;All files (*)"),
+                                     false);
         if (!path.isEmpty()) openFile(path);
     });
     connect(a.openReference, &QAction::triggered, this, [this] {

@@ -18,8 +18,8 @@ std::filesystem::path toPath(const QString& path) {
 }
 
 bool isScenePath(const QString& path) {
-    // A scene.json, or a bare glTF asset that loadScene frames with a camera and a sky.
-    for (const char* ext : {".json", ".glb", ".gltf"})
+    // A scene.json, or a bare glTF or OBJ asset that loadScene frames with a camera and a sky.
+    for (const char* ext : {".json", ".glb", ".gltf", ".obj"})
         if (path.endsWith(QLatin1String(ext), Qt::CaseInsensitive)) return true;
     return false;
 }

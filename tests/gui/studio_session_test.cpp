@@ -395,6 +395,27 @@ class StudioSessionTest : public QObject {
         QVERIFY2(w->lastError().isEmpty(), qPrintable(w->lastError()));
     }
 
+    void aBareObjOpensAsASceneWithItsMtlMaterial() {
+        // An OBJ made elsewhere, opened alone: framed and lit as glint-render frames it, its MTL
+        // material in the look panel.
+        QFile obj(m_dir.filePath(QStringLiteral("quad.obj")));
+        QVERIFY(obj.open(QIODevice::WriteOnly));
+        obj.write(
+            "mtllib quad.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nusemtl clay\n"
+            "f 1 2 3 4\n");
+        obj.close();
+        QFile mtl(m_dir.filePath(QStringLiteral("quad.mtl")));
+        QVERIFY(mtl.open(QIODevice::WriteOnly));
+        mtl.write("newmtl clay\nKd 0.8 0.4 0.2\n");
+        mtl.close();
+        auto w = openAndWait(obj.fileName(), nextAutosave(), false, 60000);
+        QVERIFY(w);
+        QCOMPARE(w->document()->kind(), Document::Kind::Scene);
+        QVERIFY2(w->lastError().isEmpty(), qPrintable(w->lastError()));
+        QCOMPARE(firstAlbedoMaterial(*w->document()), std::string("clay"));
+        QCOMPARE(float(w->document()->lookValue("clay", "albedo")[0]), 0.8f);
+    }
+
     void crossBilateralsHelpDoesNotWidenTheTunePanel() {
         auto w = openScene();
         QVERIFY(w);
