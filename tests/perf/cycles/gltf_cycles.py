@@ -1,17 +1,24 @@
-# Renders a glTF asset (.glb/.gltf) with Blender's Cycles as glint-render renders the bare asset
-# (docs/assets.md): the asset's first camera (or glint-render's framing camera when it has
-# none), a uniform white world of radiance 1 when the asset has no lights (else black), a
-# box pixel filter, linear output. For the
-# side-by-side of tests/perf/cycles/gltf_compare.sh.
+# Renders an asset (glTF .glb/.gltf, or a Wavefront .obj) with Blender's Cycles as glint-render
+# renders the bare asset (docs/assets.md, docs/obj-assets.md): imported by Blender's glTF or OBJ
+# importer (OBJ's +y up becoming Blender's +z, as glTF's does), the asset's first camera (or
+# glint-render's framing camera when it has none), a uniform white world of radiance 1 when the
+# asset has no lights (else black), a box pixel filter, linear output. For the side-by-side of
+# tests/perf/cycles/gltf_compare.sh.
 #
 #   blender -b -P tests/perf/cycles/gltf_cycles.py -- model.glb --width 640 --height 427 \
-#       --spp 256 --threads 2 --out /tmp/cycles.exr
+#       --spp 256 --threads 2 --out /tmp/cycles.exr [--single-scatter] [--lambert]
+#
+# --lambert replaces every Principled BSDF the importer built by a Lambertian (a Diffuse BSDF of
+# roughness 0) of its base colour, as Glint reads an MTL material with a non-black Kd: Blender's
+# OBJ importer turns Ks and Ns into a specular layer that Glint does not model, and the
+# Principled diffuse lobe is Burley's, not Lambert's (a few % apart by angle).
 #
 # Debian's Blender 3.4 glTF importer still uses numpy.bool, which Debian's numpy 1.24 removed:
 # it is set back to bool before the importer runs. Prints one JSON line starting with
 # {"renderer": "cycles" on stdout.
 import argparse
 import json
+import math
 import sys
 import time
 
@@ -21,6 +28,7 @@ if not hasattr(numpy, "bool"):
     numpy.bool = bool  # Blender 3.4's glTF importer predates numpy 1.24
 
 import bpy
+from mathutils import Vector
 
 
 def parse_args():
@@ -37,6 +45,8 @@ def parse_args():
     p.add_argument("--single-scatter", action="store_true",
                    help="Principled BSDFs with single-scattering GGX (Cycles' default is "
                         "multiple scattering, which the glTF BRDF does not model)")
+    p.add_argument("--lambert", action="store_true",
+                   help="Principled BSDFs replaced by Lambertians of their base colour")
     return p.parse_args(argv)
 
 
@@ -44,8 +54,6 @@ def framing_camera(scene, width, height):
     """glint-render's camera for an asset without one (docs/assets.md): on glTF's +z (Blender's
     -y) of the centre of the vertices' bounding box, looking back at it, fovY 40 degrees, at the
     distance at which the sphere of half the box's diagonal fits the narrower field of view."""
-    import math
-    from mathutils import Vector
     points = [o.matrix_world @ v.co for o in scene.objects if o.type == "MESH"
               for v in o.data.vertices]
     lo = Vector([min(p[i] for p in points) for i in range(3)])
@@ -68,7 +76,10 @@ def framing_camera(scene, width, height):
 def main():
     args = parse_args()
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    bpy.ops.import_scene.gltf(filepath=args.asset)
+    if args.asset.lower().endswith(".obj"):
+        bpy.ops.import_scene.obj(filepath=args.asset)
+    else:
+        bpy.ops.import_scene.gltf(filepath=args.asset)
     scene = bpy.context.scene
     cameras = [o for o in scene.objects if o.type == "CAMERA"]
     if cameras:
@@ -81,6 +92,21 @@ def main():
             for node in (material.node_tree.nodes if material.use_nodes else []):
                 if node.type == "BSDF_PRINCIPLED":
                     node.distribution = "GGX"
+    if args.lambert:
+        for material in bpy.data.materials:
+            tree = material.node_tree if material.use_nodes else None
+            for node in list(tree.nodes) if tree else []:
+                if node.type != "BSDF_PRINCIPLED":
+                    continue
+                # A Diffuse BSDF of roughness 0 is Lambertian; it takes the base colour (value or
+                # image) and replaces the Principled BSDF at the material output.
+                diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
+                base = node.inputs["Base Color"]
+                diffuse.inputs["Color"].default_value = base.default_value
+                for link in base.links:
+                    tree.links.new(link.from_socket, diffuse.inputs["Color"])
+                for link in list(node.outputs["BSDF"].links):
+                    tree.links.new(diffuse.outputs["BSDF"], link.to_socket)
 
     # A white world of radiance 1 when the asset brings no light (as glint-render's bare
     # asset), else black.
