@@ -15,7 +15,7 @@ Vec4 bilinear(const Image& image, Vec2 uv, TextureWrap wrapS, TextureWrap wrapT)
     // Texel centres at half-integers; v flipped because image rows run top to bottom.
     const float x = wrapCoordinate(uv.x, wrapS) * float(w) - 0.5f;
     const float y = (1.0f - wrapCoordinate(uv.y, wrapT)) * float(h) - 0.5f;
-    const float fx = std::floor(x), fy = std::floor(y);
+    const float fx = floorFast(x), fy = floorFast(y);
     const float tx = x - fx, ty = y - fy;
     const int x0 = wrapIndex(long(fx), w, wrapS), x1 = wrapIndex(long(fx) + 1, w, wrapS);
     const int y0 = wrapIndex(long(fy), h, wrapT), y1 = wrapIndex(long(fy) + 1, h, wrapT);

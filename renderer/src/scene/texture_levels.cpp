@@ -48,8 +48,14 @@ FilterPlan plan(const TexFootprint& footprint) {
     constexpr float kMaxRatio2 = float(kMaxTaps * kMaxTaps) * kSlack2;
     // Compared as squares first: a needle-thin footprint's ratio is beyond any int.
     const float ratio2 = shorter2 > 0.0f ? longer2 / shorter2 : kMaxRatio2;
+    // The tap count, ceil(sqrt(ratio2 / kSlack2)) (by truncation: std::ceil is a call or a long
+    // sequence on plain x86-64).
+    auto ceilToInt = [](float v) {
+        const int i = int(v);
+        return float(i) < v ? i + 1 : i;
+    };
     p.taps = ratio2 >= kMaxRatio2 ? kMaxTaps
-             : ratio2 > kSlack2   ? int(std::ceil(std::sqrt(ratio2 / kSlack2)))
+             : ratio2 > kSlack2   ? ceilToInt(std::sqrt(ratio2 / kSlack2))
                                   : 1;
     p.width2 = std::max(shorter2, longer2 / float(p.taps * p.taps));
     return p;
@@ -97,13 +103,14 @@ bool TextureLevels::resident(const TexFootprint& footprint) const {
 }
 
 Vec4 TextureLevels::bilinear(const TextureStore& store, int file, int index, float s, float t,
-                             TextureWrap wrapS, TextureWrap wrapT) const {
+                             TextureWrap wrapS, TextureWrap wrapT, TilePin& pin) const {
     const Level& level = m_levels[std::size_t(index)];
     const int w = level.width, h = level.height;
-    // Texel centres at half-integers.
-    const float x = wrapCoordinate(s, wrapS) * float(w) - 0.5f;
-    const float y = wrapCoordinate(t, wrapT) * float(h) - 0.5f;
-    const float fx = std::floor(x), fy = std::floor(y);
+    // Texel centres at half-integers. (s, t) lies within a few periods of [0, 1] (taps()), so
+    // the texel indices are wrapped, not the coordinates.
+    const float x = s * float(w) - 0.5f;
+    const float y = t * float(h) - 0.5f;
+    const float fx = floorFast(x), fy = floorFast(y);
     const float tx = x - fx, ty = y - fy;
     // Inside the level (most lookups) the indices need no wrapping, which divides.
     int x0 = int(fx), x1 = x0 + 1, y0 = int(fy), y1 = y0 + 1;
@@ -117,7 +124,7 @@ Vec4 TextureLevels::bilinear(const TextureStore& store, int file, int index, flo
     };
     Vec4 q[4];
     if (level.texels.empty()) {
-        store.texelQuad(file, index, x0, x1, y0, y1, q);
+        store.texelQuad(file, index, x0, x1, y0, y1, q, pin);
         return mix(ty, mix(tx, q[0], q[1]), mix(tx, q[2], q[3]));
     }
     const std::uint16_t* rows[2] = {level.texels.data() + std::size_t(y0) * std::size_t(w) * 4,
@@ -163,15 +170,18 @@ TextureLevels::Filter TextureLevels::filterFor(const TexFootprint& footprint) co
 }
 
 Vec4 TextureLevels::taps(const TextureStore& store, int file, const Filter& f, int level, float s,
-                         float t, TextureWrap wrapS, TextureWrap wrapT) const {
+                         float t, TextureWrap wrapS, TextureWrap wrapT, TilePin& pin) const {
+    // The coordinates wrapped once: the taps lie within a few periods of them (the axes are at
+    // most 4 long), where bilinear() wraps the texel indices.
+    s = wrapCoordinate(s, wrapS), t = wrapCoordinate(t, wrapT);
+    const float inv = 1.0f / float(f.taps);
     Vec4 sum;
     for (int k = 0; k < f.taps; ++k) {
-        const float offset = (float(k) + 0.5f) / float(f.taps) - 0.5f;
+        const float offset = (float(k) + 0.5f) * inv - 0.5f;
         const Vec4 v = bilinear(store, file, level, s + offset * f.major.x, t + offset * f.major.y,
-                                wrapS, wrapT);
+                                wrapS, wrapT, pin);
         sum = {sum.x + v.x, sum.y + v.y, sum.z + v.z, sum.w + v.w};
     }
-    const float inv = 1.0f / float(f.taps);
     return {sum.x * inv, sum.y * inv, sum.z * inv, sum.w * inv};
 }
 
@@ -180,10 +190,15 @@ Vec4 TextureLevels::lookup(const TextureStore& store, int file, float s, float t
                            TextureWrap wrapT) const {
     if (m_levels.empty()) return {0.0f, 0.0f, 0.0f, 1.0f};
     const Filter f = filterFor(footprint);
-    const Vec4 v = taps(store, file, f, f.fine, s, t, wrapS, wrapT);
-    if (!(f.blend > 0.0f)) return v;
+    TilePin pin;
+    const Vec4 v = taps(store, file, f, f.fine, s, t, wrapS, wrapT, pin);
+    if (!(f.blend > 0.0f)) {
+        store.release(pin);
+        return v;
+    }
     // Trilinear: the taps at both levels, weighed (the same as blending each tap's two).
-    const Vec4 c = taps(store, file, f, f.coarse, s, t, wrapS, wrapT);
+    const Vec4 c = taps(store, file, f, f.coarse, s, t, wrapS, wrapT, pin);
+    store.release(pin);
     const float keep = 1.0f - f.blend;
     return {v.x * keep + c.x * f.blend, v.y * keep + c.y * f.blend, v.z * keep + c.z * f.blend,
             v.w * keep + c.w * f.blend};
@@ -197,7 +212,10 @@ Vec4 TextureLevels::lookup(const TextureStore& store, int file, float s, float t
                                                     float u) const {
     if (m_levels.empty()) return {0.0f, 0.0f, 0.0f, 1.0f};
     const Filter f = filterFor(footprint);
-    return taps(store, file, f, u < f.blend ? f.coarse : f.fine, s, t, wrapS, wrapT);
+    TilePin pin;
+    const Vec4 v = taps(store, file, f, u < f.blend ? f.coarse : f.fine, s, t, wrapS, wrapT, pin);
+    store.release(pin);
+    return v;
 }
 
 Vec4 TextureLevels::mean() const {

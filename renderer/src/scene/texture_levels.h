@@ -66,11 +66,11 @@ class TextureLevels {
     };
     /// The filter of `footprint`: its taps and the two levels it blends.
     Filter filterFor(const TexFootprint& footprint) const;
-    /// The mean of the filter's taps at one level.
+    /// The mean of the filter's taps at one level; tiles read are left in `pin`.
     Vec4 taps(const TextureStore& store, int file, const Filter& f, int level, float s, float t,
-              TextureWrap wrapS, TextureWrap wrapT) const;
+              TextureWrap wrapS, TextureWrap wrapT, TilePin& pin) const;
     Vec4 bilinear(const TextureStore& store, int file, int level, float s, float t,
-                  TextureWrap wrapS, TextureWrap wrapT) const;
+                  TextureWrap wrapS, TextureWrap wrapT, TilePin& pin) const;
 
     std::vector<Level> m_levels;  ///< finest first
     int m_firstResident = 0;      ///< the finest level held in memory
