@@ -1,7 +1,9 @@
 #include "scene/texture_levels.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include <Imath/half.h>
 
@@ -33,6 +35,18 @@ struct FilterPlan {
     int taps = 1;
     float width2 = 0.0f;
 };
+
+/// log2(v) for a finite v > 0, within 1.1e-3: the float's exponent plus a cubic in its mantissa
+/// m (log2 m ≈ x (a + b x + c x²), x = m − 1, a + b + c = 1 so that it is exact at powers of two
+/// and continuous between them; fitted by least squares). It picks MIP levels and their weights,
+/// which need no more, at a fraction of libm's log2f (a twentieth of the lookup's time).
+float log2Fast(float v) {
+    const std::uint32_t bits = std::bit_cast<std::uint32_t>(v);
+    const float exponent = float(int(bits >> 23) - 127);
+    const float x = std::bit_cast<float>((bits & 0x007fffffu) | 0x3f800000u) - 1.0f;
+    constexpr float a = 1.4208645f, b = -0.5772507f, c = 1.0f - a - b;
+    return exponent + x * (a + x * (b + x * c));
+}
 
 FilterPlan plan(const TexFootprint& footprint) {
     constexpr int kMaxTaps = 8;
@@ -158,7 +172,7 @@ TextureLevels::Filter TextureLevels::filterFor(const TexFootprint& footprint) co
     // finest level: the finest, bilinearly.
     const float size = float(std::max(finest.width, finest.height));
     const float texels2 = p.width2 * (size * size);
-    const float lod = texels2 > 1.0f ? 0.5f * std::log2(texels2) : 0.0f;
+    const float lod = texels2 > 1.0f ? 0.5f * log2Fast(texels2) : 0.0f;
     const int last = int(m_levels.size()) - 1;
     Filter f;
     f.major = p.major;
