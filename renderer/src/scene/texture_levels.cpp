@@ -48,8 +48,17 @@ float log2Fast(float v) {
     return exponent + x * (a + x * (b + x * c));
 }
 
+/// The most taps along a footprint's long axis.
+constexpr int kMaxTaps = 8;
+/// 1 / n² and 1 / n for n taps.
+constexpr float kInverseSquares[kMaxTaps + 1] = {0.0f,         1.0f,         1.0f / 4.0f,
+                                                 1.0f / 9.0f,  1.0f / 16.0f, 1.0f / 25.0f,
+                                                 1.0f / 36.0f, 1.0f / 49.0f, 1.0f / 64.0f};
+constexpr float kInverses[kMaxTaps + 1] = {0.0f,        1.0f,        1.0f / 2.0f,
+                                           1.0f / 3.0f, 1.0f / 4.0f, 1.0f / 5.0f,
+                                           1.0f / 6.0f, 1.0f / 7.0f, 1.0f / 8.0f};
+
 FilterPlan plan(const TexFootprint& footprint) {
-    constexpr int kMaxTaps = 8;
     const Vec2 dx = saneAxis(footprint.dx), dy = saneAxis(footprint.dy);
     const float lx2 = dx.x * dx.x + dx.y * dx.y, ly2 = dy.x * dy.x + dy.y * dy.y;
     const float longer2 = std::max(lx2, ly2), shorter2 = std::min(lx2, ly2);
@@ -59,19 +68,13 @@ FilterPlan plan(const TexFootprint& footprint) {
     // A tap may be up to kSlack times as wide as the short axis (a GPU's anisotropic filter
     // allows as much): a nearly round footprint takes one tap, not two.
     constexpr float kSlack2 = 1.25f * 1.25f;
-    constexpr float kMaxRatio2 = float(kMaxTaps * kMaxTaps) * kSlack2;
-    // Compared as squares first: a needle-thin footprint's ratio is beyond any int.
-    const float ratio2 = shorter2 > 0.0f ? longer2 / shorter2 : kMaxRatio2;
-    // The tap count, ceil(sqrt(ratio2 / kSlack2)) (by truncation: std::ceil is a call or a long
-    // sequence on plain x86-64).
-    auto ceilToInt = [](float v) {
-        const int i = int(v);
-        return float(i) < v ? i + 1 : i;
-    };
-    p.taps = ratio2 >= kMaxRatio2 ? kMaxTaps
-             : ratio2 > kSlack2   ? ceilToInt(std::sqrt(ratio2 / kSlack2))
-                                  : 1;
-    p.width2 = std::max(shorter2, longer2 / float(p.taps * p.taps));
+    // The tap count, ceil(sqrt(ratio2 / kSlack2)) for the squared ratio ratio2 = longer2 /
+    // shorter2, capped at kMaxTaps: one more tap for each n² the ratio exceeds, compared without a
+    // division or a square root (they were the lookup's longest wait before its texels; a
+    // needle-thin footprint, shorter2 = 0, takes them all).
+    p.taps = 1;
+    for (int n = 1; n < kMaxTaps; ++n) p.taps += longer2 > shorter2 * (kSlack2 * float(n * n));
+    p.width2 = std::max(shorter2, longer2 * kInverseSquares[p.taps]);
     return p;
 }
 
@@ -188,7 +191,7 @@ Vec4 TextureLevels::taps(const TextureStore& store, int file, const Filter& f, i
     // The coordinates wrapped once: the taps lie within a few periods of them (the axes are at
     // most 4 long), where bilinear() wraps the texel indices.
     s = wrapCoordinate(s, wrapS), t = wrapCoordinate(t, wrapT);
-    const float inv = 1.0f / float(f.taps);
+    const float inv = kInverses[f.taps];
     Vec4 sum;
     for (int k = 0; k < f.taps; ++k) {
         const float offset = (float(k) + 0.5f) * inv - 0.5f;
