@@ -34,7 +34,8 @@ class TextureLevels {
     /// True when a lookup over `footprint` reads only resident levels (no tile): its filter
     /// width spans a texel of the finest resident level or more.
     bool resident(const TexFootprint& footprint) const;
-    /// The value at (s, t) (OIIO's orientation: t runs down from the top) filtered over
+    /// The value at (s, t) (OIIO's orientation: t runs down from the top; any floats, wrapped by
+    /// wrapS and wrapT, non-finite ones taken as 0) filtered over
     /// `footprint` (zero: bilinear at the finest level), with texels of the levels not resident
     /// read from `store` (file `file`, the one read()). Values as the file stores them (not
     /// decoded from sRGB, not clamped); 0 where a tile cannot be read (recorded in the store).
