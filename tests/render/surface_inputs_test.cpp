@@ -11,6 +11,7 @@
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 #include "integrators/surface_inputs.h"
+#include "scene/camera.h"
 #include "scene/scene_access.h"
 #include "scene/scene_data.h"
 #include "scene/transform.h"
@@ -196,6 +197,69 @@ TEST(SurfaceInputs, AnEmissionTextureLightsAsItsColourDoesForHitsAndLightSamples
             right += half(half.width() - 1 - x, y, 0);
         }
     EXPECT_GT(right, 1.5 * left);
+}
+
+TEST(SurfaceInputs, TheFootprintIsOnePixelsStepOnTheSurface) {
+    // A 100-pixel-high film with a 40° field of view: a pixel spans `spread` radians at the
+    // image centre. Each axis p + dp lies on the surface's plane, on the line of sight turned by
+    // that angle, within the plane of the line of sight and the camera's right (x) or the axis
+    // across both (y), for surfaces straight ahead, tilted and off to the side.
+    detail::CameraDesc desc;
+    desc.position = {0.5f, 1.0f, 3.0f};
+    desc.lookAt = {0.5f, 1.0f, 0.0f};
+    desc.fovY = 40.0f;
+    const Camera camera(desc, 100, 100);
+    const float spread = 2.0f * std::tan(20.0f * kPi / 180.0f) / 100.0f;
+    const Vec3 right{1, 0, 0};
+    const Vec3 points[] = {{0.5f, 1.0f, -2.0f}, {1.7f, 0.2f, -1.0f}, {-0.8f, 2.0f, 0.5f}};
+    const Vec3 normals[] = {
+        {0, 0, 1}, normalize(Vec3{0.3f, 0.2f, 1.0f}), normalize(Vec3{-0.5f, 0.1f, 0.4f})};
+    for (const Vec3& p : points)
+        for (const Vec3& n : normals) {
+            Vec3 dpdx, dpdy;
+            camera.footprintAxes(p, n, 0.0f, dpdx, dpdy);
+            const Vec3 w = p - desc.position;
+            for (const Vec3& dp : {dpdx, dpdy}) {
+                EXPECT_NEAR(dot(n, dp), 0.0f, 1e-5f * length(dp));
+                const Vec3 v = normalize(w + dp), d = normalize(w);
+                EXPECT_NEAR(length(cross(v, d)) / dot(v, d), spread, 1e-3f * spread);
+            }
+            // x turns the line of sight towards the right, y across both.
+            const Vec3 across = normalize(cross(w, right));
+            EXPECT_NEAR(dot(normalize(w + dpdx), across), 0.0f, 1e-5f);
+            EXPECT_NEAR(dot(normalize(w + dpdy), normalize(cross(across, w))), 0.0f, 1e-5f);
+        }
+    // Straight ahead on a facing plane: a step of dist × spread along the right.
+    Vec3 dpdx, dpdy;
+    camera.footprintAxes({0.5f, 1.0f, -2.0f}, {0, 0, 1}, 0.0f, dpdx, dpdy);
+    EXPECT_NEAR(dpdx.x, 5.0f * spread, 1e-5f);
+    EXPECT_NEAR(std::abs(dpdy.y), 5.0f * spread, 1e-5f);
+    // A point at the camera: zero axes.
+    camera.footprintAxes(desc.position, {0, 0, 1}, 0.0f, dpdx, dpdy);
+    EXPECT_EQ(length(dpdx), 0.0f);
+    EXPECT_EQ(length(dpdy), 0.0f);
+}
+
+TEST(SurfaceInputs, AFootprintMapsSurfaceStepsToTextureSteps) {
+    // A triangle whose uv is half its (x, z) position, tilted out of the xz plane: a step in
+    // the triangle's plane maps to half its x and z; a step off the plane to that of its
+    // projection (least squares).
+    detail::TriangleView tri;
+    tri.p[0] = {0, 0, 0}, tri.p[1] = {2, 1, 0}, tri.p[2] = {0, 0, 2};
+    const Vec2 uv0{0, 0}, uv1{1, 0}, uv2{0, 1};
+    const Vec3 inPlane{0.2f, 0.1f, 0.06f};
+    const Vec3 normal = normalize(cross(tri.p[1] - tri.p[0], tri.p[2] - tri.p[0]));
+    const detail::TexFootprint fp =
+        uvFootprint(tri, uv0, uv1, uv2, inPlane, inPlane + normal * 0.3f);
+    EXPECT_NEAR(fp.dx.x, 0.1f, 1e-6f);
+    EXPECT_NEAR(fp.dx.y, 0.03f, 1e-6f);
+    EXPECT_NEAR(fp.dy.x, 0.1f, 1e-6f);
+    EXPECT_NEAR(fp.dy.y, 0.03f, 1e-6f);
+    // A degenerate triangle: no footprint.
+    tri.p[2] = {4, 2, 0};
+    const detail::TexFootprint none = uvFootprint(tri, uv0, uv1, uv2, inPlane, inPlane);
+    EXPECT_EQ(none.dx.x, 0.0f);
+    EXPECT_EQ(none.dy.y, 0.0f);
 }
 
 }  // namespace glint::render

@@ -4,6 +4,7 @@
 // the tile cache, and renders that read no tile when all they need is resident.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -177,14 +178,24 @@ TEST(TextureLevels, ReadTheTexelsOfAnUntiledFileThroughTheCachesTiles) {
             for (int c = 0; c < 3; ++c) image(x, y, c) = float(x + 1000 * y + 7 * c);
     writeImage(image, dir.path() / "scan.exr");
     const Opened scan(dir.path() / "scan.exr");
+    // One pin across all the quads, as a lookup's taps share it: each quad reads its own tiles
+    // (a quad at x = 63 or y = 127 straddles two or four).
+    detail::TilePin pin;
     for (int x : {0, 63, 64, 130, 299})
         for (int y : {0, 1, 64, 127, 199}) {
+            const int x1 = std::min(x + 1, 299), y1 = std::min(y + 1, 199);
             Vec4 q[4];
-            ASSERT_TRUE(scan.store.texelQuad(0, 0, x, x, y, y, q));
+            ASSERT_TRUE(scan.store.texelQuad(0, 0, x, x1, y, y1, q, pin));
             EXPECT_EQ(q[0].x, float(x + 1000 * y)) << x << ", " << y;
             EXPECT_EQ(q[0].z, float(x + 1000 * y + 14)) << x << ", " << y;
             EXPECT_EQ(q[0].w, 1.0f);
+            EXPECT_EQ(q[1].x, float(x1 + 1000 * y)) << x << ", " << y;
+            EXPECT_EQ(q[2].x, float(x + 1000 * y1)) << x << ", " << y;
+            EXPECT_EQ(q[3].x, float(x1 + 1000 * y1)) << x << ", " << y;
         }
+    EXPECT_NE(pin.tile, nullptr);
+    scan.store.release(pin);
+    EXPECT_EQ(pin.tile, nullptr);
 }
 
 TEST(TextureLevels, AFootprintOfATexelOfTheFinestResidentLevelReadsOnlyResidentOnes) {

@@ -52,10 +52,11 @@ detail::TexFootprint uvFootprint(const detail::TriangleView& tri, const Vec2& uv
     const float a00 = dot(e1, e1), a01 = dot(e1, e2), a11 = dot(e2, e2);
     const float det = a00 * a11 - a01 * a01;
     if (!(det > 0.0f) || !std::isfinite(det)) return {};
+    const float inv = 1.0f / det;  // one division for the four
     const Vec2 du1{uv1.x - uv0.x, uv1.y - uv0.y}, du2{uv2.x - uv0.x, uv2.y - uv0.y};
     auto map = [&](const Vec3& dp) -> Vec2 {
         const float b0 = dot(e1, dp), b1 = dot(e2, dp);
-        const float db1 = (a11 * b0 - a01 * b1) / det, db2 = (a00 * b1 - a01 * b0) / det;
+        const float db1 = (a11 * b0 - a01 * b1) * inv, db2 = (a00 * b1 - a01 * b0) * inv;
         const Vec2 d{du1.x * db1 + du2.x * db2, du1.y * db1 + du2.y * db2};
         return std::isfinite(d.x) && std::isfinite(d.y) ? d : Vec2{};
     };

@@ -58,17 +58,22 @@ void Camera::footprintAxes(const Vec3& p, const Vec3& n, float time, Vec3& dpdx,
     Basis b{m_position, m_forward, m_right, m_up};
     if (m_moving) b = basisAt(time);
     const Vec3 w = p - b.position;
-    const float dist = length(w);
-    if (!(dist > 0.0f) || !std::isfinite(dist)) return;
-    const Vec3 d = w / dist;
-    // Two unit axes across the line of sight, as near the image's right and up as it allows.
-    Vec3 ax = b.right - d * dot(d, b.right);
-    float axLength = length(ax);
-    if (!(axLength > 1e-4f)) {
-        ax = b.up - d * dot(d, b.up);
-        axLength = length(ax);
+    const float dist2 = dot(w, w);
+    if (!(dist2 > 0.0f) || !std::isfinite(dist2)) return;
+    // Two unit axes across the line of sight, as near the image's right and up as it allows:
+    // the right (the up where the line of sight is within 0.6° of the right) less its part along
+    // w, a − w (w·a) / |w|², of squared length q / |w|² with q = |w|² − (w·a)². Written so, the
+    // square roots and divisions do not wait for one another (the footprint's time is their
+    // latency).
+    Vec3 across = b.right;
+    float wa = dot(w, across), q = dist2 - wa * wa;
+    if (!(q > 1e-4f * dist2)) {
+        across = b.up;
+        wa = dot(w, across), q = dist2 - wa * wa;
     }
-    ax = ax / axLength;
+    const float invDist2 = 1.0f / dist2, dist = std::sqrt(dist2), invQ = 1.0f / std::sqrt(q);
+    const Vec3 d = w * (dist * invDist2);
+    const Vec3 ax = (across - w * (wa * invDist2)) * (dist * invQ);
     const Vec3 ay = cross(ax, d);
     // One pixel's angle at the image centre (the smallest of the film).
     const float spread = 2.0f * m_tanHalfY * m_invHeight;

@@ -15,7 +15,7 @@ Vec4 bilinear(const Image& image, Vec2 uv, TextureWrap wrapS, TextureWrap wrapT)
     // Texel centres at half-integers; v flipped because image rows run top to bottom.
     const float x = wrapCoordinate(uv.x, wrapS) * float(w) - 0.5f;
     const float y = (1.0f - wrapCoordinate(uv.y, wrapT)) * float(h) - 0.5f;
-    const float fx = std::floor(x), fy = std::floor(y);
+    const float fx = floorFast(x), fy = floorFast(y);
     const float tx = x - fx, ty = y - fy;
     const int x0 = wrapIndex(long(fx), w, wrapS), x1 = wrapIndex(long(fx) + 1, w, wrapS);
     const int y0 = wrapIndex(long(fy), h, wrapT), y1 = wrapIndex(long(fy) + 1, h, wrapT);
@@ -47,9 +47,9 @@ Vec3 meanOf(const Image& image) {
 
 Vec4 Texture::lookup(Vec2 uv, const TexFootprint& footprint) const {
     if (!store) return bilinear(image, uv, wrapS, wrapT);
-    // OIIO's t runs down from the top; Glint's v up from the bottom. The coordinates are
-    // wrapped first so that huge ones stay clear of float → integer texel indices.
-    const float s = wrapCoordinate(uv.x, wrapS), t = 1.0f - wrapCoordinate(uv.y, wrapT);
+    // OIIO's t runs down from the top; Glint's v up from the bottom (the filter wraps them, huge
+    // and non-finite ones included).
+    const float s = uv.x, t = 1.0f - uv.y;
     const TexFootprint st{{footprint.dx.x, -footprint.dx.y}, {footprint.dy.x, -footprint.dy.y}};
     return usableTextureValue(levels.lookup(*store, file, s, t, st, wrapS, wrapT), decodeSrgb);
 }
@@ -59,7 +59,7 @@ Vec4 Texture::lookup(Vec2 uv, const TexFootprint& footprint) const {
 [[gnu::flatten]] Vec4 Texture::lookupOneLevel(Vec2 uv, const TexFootprint& footprint,
                                               float u) const {
     if (!store) return bilinear(image, uv, wrapS, wrapT);
-    const float s = wrapCoordinate(uv.x, wrapS), t = 1.0f - wrapCoordinate(uv.y, wrapT);
+    const float s = uv.x, t = 1.0f - uv.y;
     const TexFootprint st{{footprint.dx.x, -footprint.dx.y}, {footprint.dy.x, -footprint.dy.y}};
     return usableTextureValue(levels.lookupOneLevel(*store, file, s, t, st, wrapS, wrapT, u),
                               decodeSrgb);

@@ -1,7 +1,9 @@
 #include "scene/texture_levels.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include <Imath/half.h>
 
@@ -34,8 +36,29 @@ struct FilterPlan {
     float width2 = 0.0f;
 };
 
+/// log2(v) for a finite v > 0, within 1.1e-3: the float's exponent plus a cubic in its mantissa
+/// m (log2 m ≈ x (a + b x + c x²), x = m − 1, a + b + c = 1 so that it is exact at powers of two
+/// and continuous between them; fitted by least squares). It picks MIP levels and their weights,
+/// which need no more, at a fraction of libm's log2f (a twentieth of the lookup's time).
+float log2Fast(float v) {
+    const std::uint32_t bits = std::bit_cast<std::uint32_t>(v);
+    const float exponent = float(int(bits >> 23) - 127);
+    const float x = std::bit_cast<float>((bits & 0x007fffffu) | 0x3f800000u) - 1.0f;
+    constexpr float a = 1.4208645f, b = -0.5772507f, c = 1.0f - a - b;
+    return exponent + x * (a + x * (b + x * c));
+}
+
+/// The most taps along a footprint's long axis.
+constexpr int kMaxTaps = 8;
+/// 1 / n² and 1 / n for n taps.
+constexpr float kInverseSquares[kMaxTaps + 1] = {0.0f,         1.0f,         1.0f / 4.0f,
+                                                 1.0f / 9.0f,  1.0f / 16.0f, 1.0f / 25.0f,
+                                                 1.0f / 36.0f, 1.0f / 49.0f, 1.0f / 64.0f};
+constexpr float kInverses[kMaxTaps + 1] = {0.0f,        1.0f,        1.0f / 2.0f,
+                                           1.0f / 3.0f, 1.0f / 4.0f, 1.0f / 5.0f,
+                                           1.0f / 6.0f, 1.0f / 7.0f, 1.0f / 8.0f};
+
 FilterPlan plan(const TexFootprint& footprint) {
-    constexpr int kMaxTaps = 8;
     const Vec2 dx = saneAxis(footprint.dx), dy = saneAxis(footprint.dy);
     const float lx2 = dx.x * dx.x + dx.y * dx.y, ly2 = dy.x * dy.x + dy.y * dy.y;
     const float longer2 = std::max(lx2, ly2), shorter2 = std::min(lx2, ly2);
@@ -45,13 +68,13 @@ FilterPlan plan(const TexFootprint& footprint) {
     // A tap may be up to kSlack times as wide as the short axis (a GPU's anisotropic filter
     // allows as much): a nearly round footprint takes one tap, not two.
     constexpr float kSlack2 = 1.25f * 1.25f;
-    constexpr float kMaxRatio2 = float(kMaxTaps * kMaxTaps) * kSlack2;
-    // Compared as squares first: a needle-thin footprint's ratio is beyond any int.
-    const float ratio2 = shorter2 > 0.0f ? longer2 / shorter2 : kMaxRatio2;
-    p.taps = ratio2 >= kMaxRatio2 ? kMaxTaps
-             : ratio2 > kSlack2   ? int(std::ceil(std::sqrt(ratio2 / kSlack2)))
-                                  : 1;
-    p.width2 = std::max(shorter2, longer2 / float(p.taps * p.taps));
+    // The tap count, ceil(sqrt(ratio2 / kSlack2)) for the squared ratio ratio2 = longer2 /
+    // shorter2, capped at kMaxTaps: one more tap for each n² the ratio exceeds, compared without a
+    // division or a square root (they were the lookup's longest wait before its texels; a
+    // needle-thin footprint, shorter2 = 0, takes them all).
+    p.taps = 1;
+    for (int n = 1; n < kMaxTaps; ++n) p.taps += longer2 > shorter2 * (kSlack2 * float(n * n));
+    p.width2 = std::max(shorter2, longer2 * kInverseSquares[p.taps]);
     return p;
 }
 
@@ -97,13 +120,14 @@ bool TextureLevels::resident(const TexFootprint& footprint) const {
 }
 
 Vec4 TextureLevels::bilinear(const TextureStore& store, int file, int index, float s, float t,
-                             TextureWrap wrapS, TextureWrap wrapT) const {
+                             TextureWrap wrapS, TextureWrap wrapT, TilePin& pin) const {
     const Level& level = m_levels[std::size_t(index)];
     const int w = level.width, h = level.height;
-    // Texel centres at half-integers.
-    const float x = wrapCoordinate(s, wrapS) * float(w) - 0.5f;
-    const float y = wrapCoordinate(t, wrapT) * float(h) - 0.5f;
-    const float fx = std::floor(x), fy = std::floor(y);
+    // Texel centres at half-integers. (s, t) lies within a few periods of [0, 1] (taps()), so
+    // the texel indices are wrapped, not the coordinates.
+    const float x = s * float(w) - 0.5f;
+    const float y = t * float(h) - 0.5f;
+    const float fx = floorFast(x), fy = floorFast(y);
     const float tx = x - fx, ty = y - fy;
     // Inside the level (most lookups) the indices need no wrapping, which divides.
     int x0 = int(fx), x1 = x0 + 1, y0 = int(fy), y1 = y0 + 1;
@@ -117,7 +141,7 @@ Vec4 TextureLevels::bilinear(const TextureStore& store, int file, int index, flo
     };
     Vec4 q[4];
     if (level.texels.empty()) {
-        store.texelQuad(file, index, x0, x1, y0, y1, q);
+        store.texelQuad(file, index, x0, x1, y0, y1, q, pin);
         return mix(ty, mix(tx, q[0], q[1]), mix(tx, q[2], q[3]));
     }
     const std::uint16_t* rows[2] = {level.texels.data() + std::size_t(y0) * std::size_t(w) * 4,
@@ -151,7 +175,7 @@ TextureLevels::Filter TextureLevels::filterFor(const TexFootprint& footprint) co
     // finest level: the finest, bilinearly.
     const float size = float(std::max(finest.width, finest.height));
     const float texels2 = p.width2 * (size * size);
-    const float lod = texels2 > 1.0f ? 0.5f * std::log2(texels2) : 0.0f;
+    const float lod = texels2 > 1.0f ? 0.5f * log2Fast(texels2) : 0.0f;
     const int last = int(m_levels.size()) - 1;
     Filter f;
     f.major = p.major;
@@ -163,15 +187,18 @@ TextureLevels::Filter TextureLevels::filterFor(const TexFootprint& footprint) co
 }
 
 Vec4 TextureLevels::taps(const TextureStore& store, int file, const Filter& f, int level, float s,
-                         float t, TextureWrap wrapS, TextureWrap wrapT) const {
+                         float t, TextureWrap wrapS, TextureWrap wrapT, TilePin& pin) const {
+    // The coordinates wrapped once: the taps lie within a few periods of them (the axes are at
+    // most 4 long), where bilinear() wraps the texel indices.
+    s = wrapCoordinate(s, wrapS), t = wrapCoordinate(t, wrapT);
+    const float inv = kInverses[f.taps];
     Vec4 sum;
     for (int k = 0; k < f.taps; ++k) {
-        const float offset = (float(k) + 0.5f) / float(f.taps) - 0.5f;
+        const float offset = (float(k) + 0.5f) * inv - 0.5f;
         const Vec4 v = bilinear(store, file, level, s + offset * f.major.x, t + offset * f.major.y,
-                                wrapS, wrapT);
+                                wrapS, wrapT, pin);
         sum = {sum.x + v.x, sum.y + v.y, sum.z + v.z, sum.w + v.w};
     }
-    const float inv = 1.0f / float(f.taps);
     return {sum.x * inv, sum.y * inv, sum.z * inv, sum.w * inv};
 }
 
@@ -180,10 +207,15 @@ Vec4 TextureLevels::lookup(const TextureStore& store, int file, float s, float t
                            TextureWrap wrapT) const {
     if (m_levels.empty()) return {0.0f, 0.0f, 0.0f, 1.0f};
     const Filter f = filterFor(footprint);
-    const Vec4 v = taps(store, file, f, f.fine, s, t, wrapS, wrapT);
-    if (!(f.blend > 0.0f)) return v;
+    TilePin pin;
+    const Vec4 v = taps(store, file, f, f.fine, s, t, wrapS, wrapT, pin);
+    if (!(f.blend > 0.0f)) {
+        store.release(pin);
+        return v;
+    }
     // Trilinear: the taps at both levels, weighed (the same as blending each tap's two).
-    const Vec4 c = taps(store, file, f, f.coarse, s, t, wrapS, wrapT);
+    const Vec4 c = taps(store, file, f, f.coarse, s, t, wrapS, wrapT, pin);
+    store.release(pin);
     const float keep = 1.0f - f.blend;
     return {v.x * keep + c.x * f.blend, v.y * keep + c.y * f.blend, v.z * keep + c.z * f.blend,
             v.w * keep + c.w * f.blend};
@@ -197,7 +229,10 @@ Vec4 TextureLevels::lookup(const TextureStore& store, int file, float s, float t
                                                     float u) const {
     if (m_levels.empty()) return {0.0f, 0.0f, 0.0f, 1.0f};
     const Filter f = filterFor(footprint);
-    return taps(store, file, f, u < f.blend ? f.coarse : f.fine, s, t, wrapS, wrapT);
+    TilePin pin;
+    const Vec4 v = taps(store, file, f, u < f.blend ? f.coarse : f.fine, s, t, wrapS, wrapT, pin);
+    store.release(pin);
+    return v;
 }
 
 Vec4 TextureLevels::mean() const {

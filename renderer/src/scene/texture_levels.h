@@ -34,7 +34,8 @@ class TextureLevels {
     /// True when a lookup over `footprint` reads only resident levels (no tile): its filter
     /// width spans a texel of the finest resident level or more.
     bool resident(const TexFootprint& footprint) const;
-    /// The value at (s, t) (OIIO's orientation: t runs down from the top) filtered over
+    /// The value at (s, t) (OIIO's orientation: t runs down from the top; any floats, wrapped by
+    /// wrapS and wrapT, non-finite ones taken as 0) filtered over
     /// `footprint` (zero: bilinear at the finest level), with texels of the levels not resident
     /// read from `store` (file `file`, the one read()). Values as the file stores them (not
     /// decoded from sRGB, not clamped); 0 where a tile cannot be read (recorded in the store).
@@ -66,11 +67,11 @@ class TextureLevels {
     };
     /// The filter of `footprint`: its taps and the two levels it blends.
     Filter filterFor(const TexFootprint& footprint) const;
-    /// The mean of the filter's taps at one level.
+    /// The mean of the filter's taps at one level; tiles read are left in `pin`.
     Vec4 taps(const TextureStore& store, int file, const Filter& f, int level, float s, float t,
-              TextureWrap wrapS, TextureWrap wrapT) const;
+              TextureWrap wrapS, TextureWrap wrapT, TilePin& pin) const;
     Vec4 bilinear(const TextureStore& store, int file, int level, float s, float t,
-                  TextureWrap wrapS, TextureWrap wrapT) const;
+                  TextureWrap wrapS, TextureWrap wrapT, TilePin& pin) const;
 
     std::vector<Level> m_levels;  ///< finest first
     int m_firstResident = 0;      ///< the finest level held in memory

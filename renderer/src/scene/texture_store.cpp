@@ -147,12 +147,12 @@ float tileValue(const void* pixels, OIIO::TypeDesc format, std::size_t i) {
 
 }  // namespace
 
-bool TextureStore::texelQuad(int file, int level, int x0, int x1, int y0, int y1,
-                             Vec4 out[4]) const {
+bool TextureStore::texelQuad(int file, int level, int x0, int x1, int y0, int y1, Vec4 out[4],
+                             TilePin& pin) const {
     const File& f = m_files[std::size_t(file)];
     const LevelTiles& tiles = f.levels[std::size_t(level)];
     OIIO::ImageCache& cache = *m_impl->ts->imagecache();
-    OIIO::ImageCache::Perthread* thread = cache.get_perthread_info();
+    if (!pin.thread) pin.thread = cache.get_perthread_info();
     auto* handle = static_cast<OIIO::ImageCache::ImageHandle*>(f.imageHandle);
     const int channels = f.info.channels, n = std::min(channels, 4);
     const int xs[4] = {x0, x1, x0, x1}, ys[4] = {y0, y0, y1, y1};
@@ -163,40 +163,45 @@ bool TextureStore::texelQuad(int file, int level, int x0, int x1, int y0, int y1
     const int ox1 = x1 >= ox0 && x1 - ox0 < tiles.tileWidth ? ox0 : origin(x1, tiles.tileWidth);
     const int oy1 = y1 >= oy0 && y1 - oy0 < tiles.tileHeight ? oy0 : origin(y1, tiles.tileHeight);
     const int oxs[4] = {ox0, ox1, ox0, ox1}, oys[4] = {oy0, oy0, oy1, oy1};
-    // The four texels mostly share a tile: it is fetched once.
-    OIIO::ImageCache::Tile* tile = nullptr;
-    const void* pixels = nullptr;
-    OIIO::TypeDesc format;
-    int tileX = 0, tileY = 0;
+    // The four texels, and a lookup's taps, mostly share a tile: it is fetched once.
     bool ok = true;
     for (int k = 0; k < 4; ++k) {
         const int x = tiles.x + xs[k], y = tiles.y + ys[k];
         const int tx = tiles.x + oxs[k], ty = tiles.y + oys[k];
-        if (!tile || tx != tileX || ty != tileY) {
-            if (tile) cache.release_tile(tile);
-            tile = cache.get_tile(handle, thread, 0, level, x, y, 0);
-            if (!tile) {
+        if (!pin.tile || tx != pin.x || ty != pin.y || level != pin.level || file != pin.file) {
+            release(pin);
+            pin.tile = cache.get_tile(handle, static_cast<OIIO::ImageCache::Perthread*>(pin.thread),
+                                      0, level, x, y, 0);
+            if (!pin.tile) {
                 ok = false;
                 break;
             }
-            pixels = cache.tile_pixels(tile, format);
-            tileX = tx, tileY = ty;
+            OIIO::TypeDesc format;
+            pin.pixels = cache.tile_pixels(static_cast<OIIO::ImageCache::Tile*>(pin.tile), format);
+            pin.format = int(format.basetype);
+            pin.file = file, pin.level = level, pin.x = tx, pin.y = ty;
         }
         const std::size_t at =
             (std::size_t(y - ty) * std::size_t(tiles.tileWidth) + std::size_t(x - tx)) *
             std::size_t(channels);
+        const OIIO::TypeDesc format{OIIO::TypeDesc::BASETYPE(pin.format)};
         float v[4] = {0.0f, 0.0f, 0.0f, 1.0f};
-        for (int c = 0; c < n; ++c) v[c] = tileValue(pixels, format, at + std::size_t(c));
+        for (int c = 0; c < n; ++c) v[c] = tileValue(pin.pixels, format, at + std::size_t(c));
         // Grey, grey + alpha, RGB or RGBA → RGBA (alpha 1 where there is none).
         out[k] = n <= 2 ? Vec4{v[0], v[0], v[0], n == 2 ? v[1] : 1.0f}
                         : Vec4{v[0], v[1], v[2], n == 4 ? v[3] : 1.0f};
     }
-    if (tile) cache.release_tile(tile);
     if (!ok) {
         for (int k = 0; k < 4; ++k) out[k] = {};
         recordFailure(file);
     }
     return ok;
+}
+
+void TextureStore::release(TilePin& pin) const {
+    if (!pin.tile) return;
+    m_impl->ts->imagecache()->release_tile(static_cast<OIIO::ImageCache::Tile*>(pin.tile));
+    pin.tile = nullptr;
 }
 
 bool TextureStore::readLevel(int file, int level, std::vector<float>& rgba) const {

@@ -43,6 +43,16 @@ struct TextureFileInfo {
 /// as Cycles does for 8-bit sRGB images).
 Vec4 usableTextureValue(Vec4 v, bool decodeSrgb);
 
+/// The tile a lookup last read from the cache, held (pinned) between its texelQuad() calls so
+/// that taps falling in one tile fetch it once; TextureStore::release() it when the lookup ends.
+struct TilePin {
+    void* tile = nullptr;                     ///< OIIO::ImageCache::Tile, or null
+    void* thread = nullptr;                   ///< the ImageCache's OIIO::ImageCache::Perthread
+    const void* pixels = nullptr;             ///< the tile's texels
+    int format = 0;                           ///< their OIIO::TypeDesc::BASETYPE
+    int file = -1, level = -1, x = 0, y = 0;  ///< the tile: file, MIP level, pixel origin
+};
+
 /// One scene's texture files and their tile cache (a TextureSystem of its own).
 class TextureStore {
   public:
@@ -86,8 +96,12 @@ class TextureStore {
     /// The texels (x0, y0), (x1, y0), (x0, y1) and (x1, y1) of MIP level `level` of `file`
     /// (indices within the level), read from the tile cache into `out` as the file stores them:
     /// grey replicated, alpha 1 where the file has none. False, the texels 0 and the failure
-    /// recorded, when a tile cannot be read.
-    bool texelQuad(int file, int level, int x0, int x1, int y0, int y1, Vec4 out[4]) const;
+    /// recorded, when a tile cannot be read. The tile read stays pinned in `pin` for the next
+    /// call; release(pin) when done.
+    bool texelQuad(int file, int level, int x0, int x1, int y0, int y1, Vec4 out[4],
+                   TilePin& pin) const;
+    /// Lets go of the tile `pin` holds (if any).
+    void release(TilePin& pin) const;
     /// Reads MIP level `level` of `file` whole into `rgba` (RGBA floats, rows from the top; grey
     /// replicated, alpha 1 where the file has none). False, and the failure recorded, when the
     /// file cannot be read there.

@@ -9,6 +9,15 @@
 
 namespace glint::render::detail {
 
+/// std::floor(t) for a finite t, without SSE4.1's roundss: the build targets plain x86-64, where
+/// std::floor is a long sequence, and texture filtering takes several per lookup. (Only -0 differs:
+/// it gives +0.) Floats of magnitude 2^23 and more are whole already.
+inline float floorFast(float t) {
+    if (!(std::fabs(t) < 0x1p23f)) return t;
+    const float i = float(int(t));  // truncated towards zero
+    return i > t ? i - 1.0f : i;
+}
+
 /// A texel index along an axis of n texels under `wrap` (i may be any integer).
 inline int wrapIndex(long i, int n, TextureWrap wrap) {
     switch (wrap) {
@@ -35,11 +44,11 @@ inline float wrapCoordinate(float t, TextureWrap wrap) {
         case TextureWrap::Clamp:
             return std::clamp(t, -1.0f, 2.0f);
         case TextureWrap::Mirror:
-            return t - 2.0f * std::floor(0.5f * t);
+            return t - 2.0f * floorFast(0.5f * t);
         case TextureWrap::Repeat:
             break;
     }
-    return t - std::floor(t);
+    return t - floorFast(t);
 }
 
 }  // namespace glint::render::detail
