@@ -18,6 +18,10 @@ struct SurfacePoint {
     bool hasUv = false;
     /// The change of uv for a step of one pixel in x and y (zero: texture lookups are bilinear).
     detail::TexFootprint footprint;
+    /// The second set (Mesh::uvs1) and its footprint, read by slots with UvTransform::set 1.
+    bool hasUv1 = false;
+    Vec2 uv1;
+    detail::TexFootprint footprint1;
 };
 
 /// True when `material` reads a texture (so that a hit needs its footprint).
@@ -32,7 +36,8 @@ detail::TexFootprint uvFootprint(const detail::TriangleView& tri, const Vec2& uv
 
 /// The textured inputs of `material` at `at`.
 struct SurfaceInputs {
-    Vec3 albedo;                ///< base colour: the factor, replaced or multiplied by the texture
+    Vec3 albedo;  ///< base colour: the factor, replaced or multiplied by the texture, × vertex
+                  ///< colour
     float metallic = 0.0f;      ///< metallic-roughness material only
     float roughness = 0.0f;     ///< metallic-roughness material only (perceptual, α = roughness²)
     float transmission = 0.0f;  ///< metallic-roughness material only (KHR_materials_transmission)
