@@ -25,6 +25,7 @@
 #include "scene/scene_access.h"
 #include "scene/scene_data.h"
 #include "test_util.h"
+#include "tiled_texture.h"
 
 namespace glint::render {
 namespace vertex_attributes {
@@ -224,6 +225,53 @@ TEST(GltfVertexAttributes, ATextureOnTexCoordOneReadsTheSecondUvSet) {
                         {"texCoord", 0},
                         {"extensions", {{"KHR_texture_transform", {{"texCoord", 1}}}}}}),
                  {0, 1, 0}, "KHR_texture_transform texCoord 1");
+}
+
+TEST(GltfVertexAttributes, ASlotOnTheSecondSetIsFilteredByThatSetsFootprint) {
+    // A 64² checker of single texels (a tiled, MIP-mapped file: filtered by the footprint).
+    // Set 1 tiles it 16 times across the quad, set 0 once: a pixel covers about 22 texels of
+    // set 1 but about 1.4 of set 0. Read on set 1 with set 1's footprint, every sample reads
+    // levels of uniform grey (no variance), exactly as the same tiling read on set 0 does; with
+    // set 0's footprint, 16 times narrower, it reads single texels (a variance of the mean of
+    // 0.0037 when tried).
+    test::TempDir dir("gltf_texcoord1_footprint");
+    test::writeCheckerTexture(dir.path() / "checker.exr", 64, 1);
+    auto render = [&](const json& textureInfo, float tile0, float tile1) {
+        GltfBuilder b;
+        b.doc["images"] = json::array({{{"uri", "checker.exr"}}});
+        b.doc["textures"] = json::array({{{"source", 0}}});
+        b.doc["materials"] =
+            json::array({{{"pbrMetallicRoughness", {{"baseColorTexture", textureInfo}}}}});
+        const int mesh = b.quad(0);
+        const std::vector<float> uv = {0, 1, 1, 1, 1, 0, 0, 0};
+        std::vector<float> uv0 = uv, uv1 = uv;
+        for (float& t : uv0) t *= tile0;
+        for (float& t : uv1) t *= tile1;
+        b.doc["accessors"][2]["bufferView"] = b.view(uv0.data(), uv0.size() * sizeof(float));
+        if (tile1 > 0.0f) addAttribute(b, mesh, "TEXCOORD_1", b.floats(uv1, "VEC2", 2));
+        b.scene({b.node({{"mesh", mesh}})});
+        dir.write("f.gltf", b.gltf());
+        Renderer renderer(loadScene(dir.write("scene.json", lookingAtTheQuad("f.gltf"))));
+        Settings settings = renderer.scene().settings();
+        settings.spp = 4;
+        settings.threads = 2;
+        return renderer.render(settings).frame;
+    };
+    auto meanOf = [](const Image& im) {
+        double sum = 0.0;
+        for (int y = 0; y < im.height(); ++y)
+            for (int x = 0; x < im.width(); ++x) sum += im(x, y, 0);
+        return sum / (im.width() * im.height());
+    };
+    const json onSet1 = {{"index", 0}, {"texCoord", 1}}, onSet0 = {{"index", 0}};
+    const FrameBuffers set1 = render(onSet1, 1.0f, 16.0f);
+    const FrameBuffers set0 = render(onSet0, 16.0f, 0.0f);
+    const double mean1 = meanOf(set1.layer(Layer::Albedo));
+    EXPECT_GT(mean1, 0.05) << "the checker is read";
+    EXPECT_LT(mean1, 0.95) << "the checker is read";
+    EXPECT_NEAR(mean1, meanOf(set0.layer(Layer::Albedo)), 1e-6);
+    EXPECT_LT(meanOf(set1.layer(Layer::AlbedoVariance)), 1e-6);
+    EXPECT_LT(meanOf(set0.layer(Layer::AlbedoVariance)), 1e-6);
 }
 
 TEST(GltfVertexAttributes, SetsPastOneStillWarnAndSetOneNeedsSetZero) {

@@ -27,7 +27,7 @@ float surfaceAlpha(const detail::SceneData& scene, std::uint32_t instance, std::
         alpha *= scene.textures[std::size_t(m.texture)].lookup(m.textureTransform.apply(uv)).w;
     }
     // glTF's COLOR_0 alpha multiplies a glTF material's alpha.
-    if (!mesh.colors.empty() && m.textureTimesFactor)
+    if (m.textureTimesFactor && !mesh.colors.empty())
         alpha *= detail::vertexColor(mesh, prim, b1, b2).w;
     return alpha;
 }

@@ -72,10 +72,12 @@ SurfaceInputs evaluateInputs(const detail::SceneData& scene, const detail::Mater
     in.roughness = material.roughness;
     in.transmission = material.transmission;
     // glTF's COLOR_0 multiplies a glTF material's base colour (factor × texture).
-    if (const detail::Mesh& mesh = scene.meshes[scene.instances[at.id.instance].mesh];
-        !mesh.colors.empty() && material.textureTimesFactor) {
-        const Vec4 c = detail::vertexColor(mesh, at.id.prim, at.b1, at.b2);
-        in.albedo = in.albedo * Vec3{c.x, c.y, c.z};
+    if (material.textureTimesFactor) {
+        const detail::Mesh& mesh = scene.meshes[scene.instances[at.id.instance].mesh];
+        if (!mesh.colors.empty()) {
+            const Vec4 c = detail::vertexColor(mesh, at.id.prim, at.b1, at.b2);
+            in.albedo = in.albedo * Vec3{c.x, c.y, c.z};
+        }
     }
     if (!at.hasUv) return in;
     if (material.texture >= 0) {

@@ -36,8 +36,7 @@ detail::TexFootprint uvFootprint(const detail::TriangleView& tri, const Vec2& uv
 
 /// The textured inputs of `material` at `at`.
 struct SurfaceInputs {
-    Vec3 albedo;  ///< base colour: the factor, replaced or multiplied by the texture, × vertex
-                  ///< colour
+    Vec3 albedo;                ///< base colour: the factor, replaced or multiplied by the texture
     float metallic = 0.0f;      ///< metallic-roughness material only
     float roughness = 0.0f;     ///< metallic-roughness material only (perceptual, α = roughness²)
     float transmission = 0.0f;  ///< metallic-roughness material only (KHR_materials_transmission)
