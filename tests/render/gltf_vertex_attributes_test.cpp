@@ -1,8 +1,8 @@
 // glTF's optional vertex attributes beyond TEXCOORD_0 (renderer/src/scene/gltf_import.cpp,
 // gltf_accessor.cpp, gltf_material.cpp): COLOR_0 (float or normalised unsigned bytes and shorts,
 // VEC3 or VEC4) multiplying the base colour, TEXCOORD_1 picked by a texture slot's texCoord (or
-// KHR_texture_transform's), and the warning that stays for sets past 1. Rendered where the
-// albedo feature buffer shows the base colour without noise.
+// KHR_texture_transform's) and filtered by that set's own footprint, and the warning that stays
+// for sets past 1. Rendered where the albedo feature buffer shows the base colour without noise.
 
 #include <cmath>
 #include <cstdint>
