@@ -155,6 +155,19 @@ TEST(GltfVertexAttributes, NormalizedIntegerColoursReadAsFractionsOfTheirRange) 
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("must be normalized"), std::string::npos) << e.what();
     }
+    // A colour must be VEC3 or VEC4: an error naming the accessor and the attribute.
+    b.doc["accessors"][std::size_t(ubyte)]["normalized"] = true;
+    b.doc["accessors"][std::size_t(ubyte)]["type"] = "SCALAR";
+    b.doc["accessors"][std::size_t(ubyte)]["count"] = 16;
+    dir.write("u.gltf", b.gltf());
+    try {
+        loadScene(dir.write("scene.json", sceneJson("u.gltf")));
+        ADD_FAILURE() << "a SCALAR colour was accepted";
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("accessors[" + std::to_string(ubyte) + "]"), std::string::npos) << what;
+        EXPECT_NE(what.find("COLOR_0 needs VEC3 or VEC4"), std::string::npos) << what;
+    }
 }
 
 TEST(GltfVertexAttributes, APrimitiveWithoutColoursIsWhiteBesideOneWithThem) {
