@@ -97,6 +97,29 @@ TEST(Alpha, TheBaseColourTexturesAlphaCutsPerTexel) {
     EXPECT_EQ(mean(c, 12, 16), 0.0);
 }
 
+TEST(Alpha, AVertexColoursAlphaCutsAMaskAcrossTheQuad) {
+    // glTF's COLOR_0 alpha multiplies the material's: 0 at the left corners (x = −1), 1 at the
+    // right ones, so that alpha = (x + 1) / 2 falls below the cut-off 0.5 on the left half.
+    test::TempDir dir("vertex_alpha");
+    const Image c = render(quadScene(dir, [](detail::SceneData& d, detail::Material& m) {
+                        detail::Mesh& mesh = d.meshes[0];
+                        ASSERT_EQ(mesh.vertexCount(), 4u);
+                        for (const Vec3& p : mesh.positions)
+                            mesh.colors.push_back({1, 1, 1, p.x < 0.0f ? 0.0f : 1.0f});
+                        m.textureTimesFactor = true;  // a glTF material
+                        m.alphaMode = AlphaMode::Mask;
+                    })).color();
+    // Sky on the left, the quad on the right, clear of the middle columns.
+    EXPECT_EQ(mean(c, 0, 6), 1.0);
+    EXPECT_EQ(mean(c, 10, 16), 0.0);
+    // A material that is not glTF's ignores the colours: the quad everywhere.
+    const Image opaque = render(quadScene(dir, [](detail::SceneData& d, detail::Material& m) {
+                             for (int v = 0; v < 4; ++v) d.meshes[0].colors.push_back({1, 1, 1, 0});
+                             m.alphaMode = AlphaMode::Mask;
+                         })).color();
+    EXPECT_EQ(mean(opaque), 0.0);
+}
+
 TEST(Alpha, BlendLetsTheSkyThroughWithProbabilityOneMinusOpacity) {
     // 16 × 16 pixels × 64 samples; were each an independent Bernoulli(1 − alpha) draw, σ of
     // the mean would be at most 0.0039 (alpha 0.5); within 5σ of 1 − alpha. (The choice reads

@@ -262,4 +262,50 @@ TEST(SurfaceInputs, AFootprintMapsSurfaceStepsToTextureSteps) {
     EXPECT_EQ(none.dy.y, 0.0f);
 }
 
+TEST(SurfaceInputs, VertexColoursMultiplyAGltfBaseColourAtTheBarycentrics) {
+    detail::SceneData d = oneTriangle({0.5f, 0.5f, 1.0f});
+    detail::Material& m = d.materials[0];
+    m.albedo = {0.5f, 0.8f, 1.0f};
+    m.textureTimesFactor = true;  // glTF
+    d.meshes[0].colors = {{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}};
+    SurfacePoint at = centre();
+    at.b1 = 0.25f, at.b2 = 0.5f;  // colour (0.25, 0.25, 0.5)
+    expectNear(evaluateInputs(d, m, at).albedo, {0.125f, 0.2f, 0.5f});
+    // Without texture coordinates too.
+    at.hasUv = false;
+    expectNear(evaluateInputs(d, m, at).albedo, {0.125f, 0.2f, 0.5f});
+    // Times the base colour texture (a grey 0.5 texel).
+    detail::Texture grey;
+    grey.image = Image(1, 1, 4, 0.5f);
+    d.textures.push_back(grey);
+    m.texture = 1;
+    at.hasUv = true;
+    expectNear(evaluateInputs(d, m, at).albedo, {0.0625f, 0.1f, 0.25f});
+}
+
+TEST(SurfaceInputs, ASlotOnTheSecondSetReadsItsUvs) {
+    // A 2 × 1 texture, black on the left and white on the right, clamped: set 0 sits on the
+    // left texel, set 1 on the right one.
+    detail::SceneData d = oneTriangle({0.5f, 0.5f, 1.0f});
+    detail::Texture t;
+    t.wrapS = t.wrapT = detail::TextureWrap::Clamp;
+    t.image = Image(2, 1, 4, 1.0f);
+    for (int c = 0; c < 3; ++c) t.image(0, 0, c) = 0.0f;
+    d.textures.push_back(t);
+    detail::Material& m = d.materials[0];
+    m.albedo = {1, 1, 1};
+    m.texture = 1;
+    m.textureTimesFactor = true;
+    SurfacePoint at = centre();
+    at.uv = {0.1f, 0.5f};
+    at.hasUv1 = true;
+    at.uv1 = {0.9f, 0.5f};
+    expectNear(evaluateInputs(d, m, at).albedo, {0, 0, 0});
+    m.textureTransform.set = 1;
+    expectNear(evaluateInputs(d, m, at).albedo, {1, 1, 1});
+    // A mesh without the second set falls back to set 0.
+    at.hasUv1 = false;
+    expectNear(evaluateInputs(d, m, at).albedo, {0, 0, 0});
+}
+
 }  // namespace glint::render

@@ -80,10 +80,17 @@ Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, fl
         s.at.uv = {uv0.x * b0 + uv1.x * hit.u + uv2.x * hit.v,
                    uv0.y * b0 + uv1.y * hit.u + uv2.y * hit.v};
     }
+    s.at.hasUv1 = !mesh.uvs1.empty();
+    if (s.at.hasUv1) {
+        const std::uint32_t* idx = &mesh.indices[3 * std::size_t(id.prim)];
+        const Vec2 &uv0 = mesh.uvs1[idx[0]], &uv1 = mesh.uvs1[idx[1]], &uv2 = mesh.uvs1[idx[2]];
+        s.at.uv1 = {uv0.x * b0 + uv1.x * hit.u + uv2.x * hit.v,
+                    uv0.y * b0 + uv1.y * hit.u + uv2.y * hit.v};
+    }
     s.material = &scene.materials[scene.materialOf(id)];
     if (s.at.hasUv && !seenSharply) {
         // After a diffuse or glossy bounce: a widened footprint, the resident levels in memory.
-        s.at.footprint = detail::kCoarseFootprint;
+        s.at.footprint = s.at.footprint1 = detail::kCoarseFootprint;
     } else if (s.at.hasUv && usesTextures(*s.material)) {
         // The texture footprint: a pixel's step as seen from the camera (docs/assets.md).
         Vec3 dpdx, dpdy;
@@ -91,6 +98,10 @@ Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, fl
         const std::uint32_t* idx = &mesh.indices[3 * std::size_t(id.prim)];
         s.at.footprint =
             uvFootprint(tri, mesh.uvs[idx[0]], mesh.uvs[idx[1]], mesh.uvs[idx[2]], dpdx, dpdy);
+        // The second set's own footprint: its uvs change at their own rate over the triangle.
+        if (s.at.hasUv1)
+            s.at.footprint1 = uvFootprint(tri, mesh.uvs1[idx[0]], mesh.uvs1[idx[1]],
+                                          mesh.uvs1[idx[2]], dpdx, dpdy);
     }
     // Surfaces that do not transmit are two-sided: face the normals towards the viewer.
     if (!transmits(*s.material) && dot(wo, s.ng) < 0.0f) {

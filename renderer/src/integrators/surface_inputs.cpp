@@ -22,14 +22,16 @@ float levelNumber(const SurfacePoint& at) {
     return float(mix64(bary ^ (triangle * 0x9e3779b97f4a7c15ULL)) >> 40) * 0x1p-24f;
 }
 
-/// Texture `texture` at the hit through `transform` (applied to the uv and to the footprint's
-/// axes): its filter at one of two MIP levels, picked by levelNumber().
+/// Texture `texture` at the hit through `transform` (applied to the uv of its set and to that
+/// set's footprint axes): its filter at one of two MIP levels, picked by levelNumber().
 Vec4 lookup(const detail::SceneData& scene, int texture, const detail::UvTransform& transform,
             const SurfacePoint& at) {
-    const detail::TexFootprint fp{transform.applyLinear(at.footprint.dx),
-                                  transform.applyLinear(at.footprint.dy)};
-    return scene.textures[std::size_t(texture)].lookupOneLevel(transform.apply(at.uv), fp,
-                                                               levelNumber(at));
+    const bool second = transform.set != 0 && at.hasUv1;
+    const detail::TexFootprint& footprint = second ? at.footprint1 : at.footprint;
+    const detail::TexFootprint fp{transform.applyLinear(footprint.dx),
+                                  transform.applyLinear(footprint.dy)};
+    return scene.textures[std::size_t(texture)].lookupOneLevel(
+        transform.apply(second ? at.uv1 : at.uv), fp, levelNumber(at));
 }
 
 Vec4 lookup(const detail::SceneData& scene, const detail::TextureSlot& slot,
@@ -70,6 +72,14 @@ SurfaceInputs evaluateInputs(const detail::SceneData& scene, const detail::Mater
     in.metallic = material.metallic;
     in.roughness = material.roughness;
     in.transmission = material.transmission;
+    // glTF's COLOR_0 multiplies a glTF material's base colour (factor × texture).
+    if (material.textureTimesFactor) {
+        const detail::Mesh& mesh = scene.meshes[scene.instances[at.id.instance].mesh];
+        if (!mesh.colors.empty()) {
+            const Vec4 c = detail::vertexColor(mesh, at.id.prim, at.b1, at.b2);
+            in.albedo = in.albedo * Vec3{c.x, c.y, c.z};
+        }
+    }
     if (!at.hasUv) return in;
     if (material.texture >= 0) {
         const Vec4 t = lookup(scene, material.texture, material.textureTransform, at);

@@ -18,6 +18,10 @@ struct SurfacePoint {
     bool hasUv = false;
     /// The change of uv for a step of one pixel in x and y (zero: texture lookups are bilinear).
     detail::TexFootprint footprint;
+    /// The second set (Mesh::uvs1) and its footprint, read by slots with UvTransform::set 1.
+    bool hasUv1 = false;
+    Vec2 uv1;
+    detail::TexFootprint footprint1;
 };
 
 /// True when `material` reads a texture (so that a hit needs its footprint).

@@ -2,6 +2,7 @@
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -293,6 +294,38 @@ std::vector<Vec2> GltfAccessors::vec2(int index, const std::string& use) const {
         if (!std::isfinite(out[i].x) || !std::isfinite(out[i].y))
             fail(accessorPlace(index), "element " + std::to_string(i) + " of " + use +
                                            " is not finite (NaN or infinity)");
+    }
+    return out;
+}
+
+std::vector<Vec4> GltfAccessors::color(int index, const std::string& use) const {
+    count(index, use);
+    const int type = m_model.accessors[std::size_t(index)].type;
+    if (type != TINYGLTF_TYPE_VEC3 && type != TINYGLTF_TYPE_VEC4)
+        fail(accessorPlace(index),
+             std::string("is ") + typeName(type) + ", but " + use + " needs VEC3 or VEC4");
+    std::vector<unsigned char> copy;
+    const Layout l = layout(index, type,
+                            {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                             TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
+                            use, copy);
+    if (l.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !l.normalized)
+        fail(accessorPlace(index), use + " of integer type must be normalized");
+    const int channels = type == TINYGLTF_TYPE_VEC4 ? 4 : 3;
+    std::vector<Vec4> out(l.count, Vec4{0.0f, 0.0f, 0.0f, channels == 4 ? 0.0f : 1.0f});
+    if (!l.data) return out;
+    for (std::size_t i = 0; i < l.count; ++i) {
+        const unsigned char* p = l.data + i * l.stride;
+        float v[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+        for (int c = 0; c < channels; ++c) {
+            v[c] = component(p, c, l.componentType);
+            if (!std::isfinite(v[c]))
+                fail(accessorPlace(index), "element " + std::to_string(i) + " of " + use +
+                                               " is not finite (NaN or infinity)");
+            // A reflectance: exporters' values past [0, 1] are clamped into it.
+            v[c] = std::clamp(v[c], 0.0f, 1.0f);
+        }
+        out[i] = {v[0], v[1], v[2], v[3]};
     }
     return out;
 }

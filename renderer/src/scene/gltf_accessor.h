@@ -33,6 +33,9 @@ class GltfAccessors {
     std::vector<Vec4> vec4(int index, const std::string& use) const;
     /// A VEC2 accessor of floats or normalised unsigned bytes or shorts (texture coordinates).
     std::vector<Vec2> vec2(int index, const std::string& use) const;
+    /// A VEC3 or VEC4 accessor of floats or normalised unsigned bytes or shorts (vertex
+    /// colours) as RGBA, alpha 1 for VEC3; values are clamped to [0, 1].
+    std::vector<Vec4> color(int index, const std::string& use) const;
     /// A SCALAR accessor of unsigned bytes, shorts or ints (indices), each below `vertices`.
     std::vector<std::uint32_t> indices(int index, const std::string& use,
                                        std::size_t vertices) const;

@@ -28,20 +28,20 @@ namespace {
 
 /// Appends one primitive's per-vertex array `add` (empty: the primitive lacks it) to the mesh's
 /// `to`, whose first `base` vertices are the earlier primitives'. An array the earlier
-/// primitives lacked starts with `base` zeros; one this primitive lacks gets `count` zeros
-/// when earlier primitives had it. An empty `to` takes `add` over without a copy.
+/// primitives lacked starts with `base` copies of `fill`; one this primitive lacks gets `count`
+/// of them when earlier primitives had it. An empty `to` takes `add` over without a copy.
 template <typename T>
-void appendAttribute(std::vector<T>& to, std::vector<T>&& add, std::size_t base,
-                     std::size_t count) {
+void appendAttribute(std::vector<T>& to, std::vector<T>&& add, std::size_t base, std::size_t count,
+                     const T& fill = T{}) {
     if (add.empty()) {
-        if (!to.empty()) to.resize(base + count);
+        if (!to.empty()) to.resize(base + count, fill);
         return;
     }
     if (base == 0 && to.empty()) {
         to = std::move(add);
         return;
     }
-    to.resize(base);
+    to.resize(base, fill);
     to.insert(to.end(), add.begin(), add.end());
 }
 
@@ -315,11 +315,6 @@ int GltfImport::mesh(int index) {
             return it == prim.attributes.end() ? -1 : it->second;
         };
         if (!prim.targets.empty()) warn("morph targets are ignored (the base shape is rendered)");
-        if (attribute("COLOR_0") >= 0)
-            warnOnce("COLOR_0",
-                     "vertex colours are not read (the base colour is not multiplied "
-                     "by them), first at " +
-                         place + ".attributes.COLOR_0");
         const int position = attribute("POSITION");
         if (position < 0) fail(place + ".attributes", "has no POSITION");
         std::vector<Vec3> positions =
@@ -342,6 +337,20 @@ int GltfImport::mesh(int index) {
         if (const int a = attribute("TEXCOORD_0"); a >= 0) {
             uvs = m_accessors.vec2(a, place + ".attributes.TEXCOORD_0");
             sameCount(uvs.size(), "TEXCOORD_0");
+        }
+        // A second uv set, which texture slots pick by texCoord 1; sets are numbered from 0
+        // without gaps (spec 3.7.2.1).
+        std::vector<Vec2> uvs1;
+        if (const int a = attribute("TEXCOORD_1"); a >= 0) {
+            if (uvs.empty()) fail(place + ".attributes", "has TEXCOORD_1 but no TEXCOORD_0");
+            uvs1 = m_accessors.vec2(a, place + ".attributes.TEXCOORD_1");
+            sameCount(uvs1.size(), "TEXCOORD_1");
+        }
+        // Vertex colours, linear RGB(A), multiplying the base colour (spec 3.7.2.1).
+        std::vector<Vec4> colors;
+        if (const int a = attribute("COLOR_0"); a >= 0) {
+            colors = m_accessors.color(a, place + ".attributes.COLOR_0");
+            sameCount(colors.size(), "COLOR_0");
         }
         std::vector<Vec4> tangents;
         if (const int a = attribute("TANGENT"); a >= 0 && !normals.empty()) {
@@ -372,15 +381,20 @@ int GltfImport::mesh(int index) {
         const bool hasNormals = !normals.empty(), hasUvs = !uvs.empty(),
                    hasTangents = !tangents.empty();
 
-        // Append the primitive. An optional per-vertex array (normals, uvs, tangents) exists only
-        // once a primitive has it: it is then as long as positions, zero where a primitive
-        // lacks it. The accessors' arrays are moved in where the mesh has none yet.
+        // Append the primitive. An optional per-vertex array (normals, uvs, tangents, colours)
+        // exists only once a primitive has it: it is then as long as positions, zero (colours:
+        // white) where a primitive lacks it. The accessors' arrays are moved in where the mesh has
+        // none yet.
         const std::size_t firstTriangle = mesh.triangleCount();
         // glTF's texture origin is the top-left, Glint's the bottom-left: v' = 1 − v.
         for (Vec2& uv : uvs) uv.y = 1.0f - uv.y;
+        for (Vec2& uv : uvs1) uv.y = 1.0f - uv.y;
         for (Vec4& t : tangents) t.w = t.w < 0.0f ? -1.0f : 1.0f;
         appendAttribute(mesh.normals, std::move(normals), base, positions.size());
         appendAttribute(mesh.uvs, std::move(uvs), base, positions.size());
+        appendAttribute(mesh.uvs1, std::move(uvs1), base, positions.size());
+        appendAttribute(mesh.colors, std::move(colors), base, positions.size(),
+                        Vec4{1.0f, 1.0f, 1.0f, 1.0f});
         appendAttribute(mesh.tangents, std::move(tangents), base, positions.size());
         appendAttribute(mesh.positions, std::move(positions), base, 0);
         if (base == 0 && mesh.indices.empty()) {

@@ -274,9 +274,11 @@ TextureSlot GltfImport::textureSlot(int index, int texCoord, const tinygltf::Ext
             for (int j = 0; j < 3; ++j) slot.transform.m[i][j] = float(glint.m[i][j]);
         slot.transform.identity = false;
     }
-    if (texCoord != 0)
+    if (texCoord == 1)
+        slot.transform.set = 1;
+    else if (texCoord != 0)
         warn(place + " uses TEXCOORD_" + std::to_string(texCoord) +
-             "; Glint reads TEXCOORD_0 only and uses it instead");
+             "; Glint reads TEXCOORD_0 and TEXCOORD_1 only and uses TEXCOORD_0 instead");
     return slot;
 }
 

@@ -28,8 +28,9 @@ const char* materialTypeName(MaterialType type) {
 
 std::size_t Mesh::bytes() const {
     return positions.size() * sizeof(Vec3) + normals.size() * sizeof(Vec3) +
-           tangents.size() * sizeof(Vec4) + uvs.size() * sizeof(Vec2) +
-           indices.size() * sizeof(std::uint32_t) + materials.size() * sizeof(std::uint32_t);
+           tangents.size() * sizeof(Vec4) + uvs.size() * sizeof(Vec2) + uvs1.size() * sizeof(Vec2) +
+           colors.size() * sizeof(Vec4) + indices.size() * sizeof(std::uint32_t) +
+           materials.size() * sizeof(std::uint32_t);
 }
 
 std::size_t SceneData::triangleCount() const {

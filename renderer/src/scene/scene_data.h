@@ -26,10 +26,12 @@ enum class AlphaMode { Opaque, Mask, Blend };
 
 /// An affine map of texture coordinates, uv' = m · (u, v, 1): glTF's KHR_texture_transform
 /// (offset, rotation, scale) composed with the flip between glTF's top-left and Glint's
-/// bottom-left texture origin.
+/// bottom-left texture origin; applied to the mesh's texture coordinate set `set`.
 struct UvTransform {
     float m[2][3] = {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
     bool identity = true;
+    /// The set read (glTF texCoord): 0 Mesh::uvs, 1 Mesh::uvs1 (set 0 where the mesh has none).
+    std::uint8_t set = 0;
 
     Vec2 apply(Vec2 uv) const {
         if (identity) return uv;
@@ -234,6 +236,8 @@ struct Mesh {
     std::vector<Vec3> normals;    ///< per vertex, or empty; a zero normal means none
     std::vector<Vec4> tangents;   ///< per vertex, or empty: xyz unit tangent, w = ±1 handedness
     std::vector<Vec2> uvs;        ///< per vertex, or empty
+    std::vector<Vec2> uvs1;       ///< a second set (glTF TEXCOORD_1) per vertex, or empty
+    std::vector<Vec4> colors;     ///< linear RGBA per vertex (glTF COLOR_0), or empty
     std::vector<std::uint32_t> indices;  ///< 3 per triangle
     /// Indices into SceneData::materials: one per triangle, or a single one that every triangle
     /// shares (a mesh of one material holds 4 bytes, not 4 per triangle). Read through
@@ -263,6 +267,16 @@ struct Mesh {
     /// Bytes of the arrays above (for memory figures).
     std::size_t bytes() const;
 };
+
+/// The vertex colour (Mesh::colors) at barycentrics (b1, b2) of triangle `prim`; the mesh must
+/// have colours.
+inline Vec4 vertexColor(const Mesh& mesh, std::uint32_t prim, float b1, float b2) {
+    const std::uint32_t* idx = &mesh.indices[3 * std::size_t(prim)];
+    const Vec4 &c0 = mesh.colors[idx[0]], &c1 = mesh.colors[idx[1]], &c2 = mesh.colors[idx[2]];
+    const float b0 = 1.0f - b1 - b2;
+    return {c0.x * b0 + c1.x * b1 + c2.x * b2, c0.y * b0 + c1.y * b1 + c2.y * b2,
+            c0.z * b0 + c1.z * b1 + c2.z * b2, c0.w * b0 + c1.w * b1 + c2.w * b2};
+}
 
 /// One placement of a mesh in the world. A static instance maps object to world space by
 /// `transform`; a moving one (motion >= 0) follows SceneData::motions[motion] over the shutter

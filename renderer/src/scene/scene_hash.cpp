@@ -78,6 +78,11 @@ std::uint64_t sceneContentHash(const detail::SceneData& d) {
             h.bytes(m.transmissionMap.transform.m, sizeof m.transmissionMap.transform.m);
         }
         h.bytes(m.textureTransform.m, sizeof m.textureTransform.m);
+        // The second uv set and vertex colours likewise only where they are read.
+        for (const detail::UvTransform* t :
+             {&m.textureTransform, &m.roughnessMetallicMap.transform, &m.normalMap.transform,
+              &m.emissionMap.transform, &m.transmissionMap.transform})
+            if (t->set != 0) h.value(int(t->set));
     }
     for (const detail::PunctualLight& l : d.punctualLights) {
         h.value(int(l.kind)), h.value(l.position), h.value(l.direction), h.value(l.intensity);
@@ -95,6 +100,8 @@ std::uint64_t sceneContentHash(const detail::SceneData& d) {
     for (const detail::Mesh& m : d.meshes) {
         h.vector(m.positions), h.vector(m.normals), h.vector(m.uvs);
         for (const Vec4& t : m.tangents) h.bytes(&t, sizeof t);
+        if (!m.uvs1.empty()) h.vector(m.uvs1);
+        for (const Vec4& c : m.colors) h.bytes(&c, sizeof c);
         h.vector(m.indices), h.vector(m.materials);
     }
     auto affine = [&](const detail::Affine& a) {

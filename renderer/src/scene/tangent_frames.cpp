@@ -66,6 +66,8 @@ void generateTangents(Mesh& mesh, std::size_t firstTriangle, std::size_t lastTri
                 mesh.positions.push_back(mesh.positions[v]);
                 mesh.normals.push_back(mesh.normals[v]);
                 mesh.uvs.push_back(mesh.uvs[v]);
+                if (!mesh.uvs1.empty()) mesh.uvs1.push_back(mesh.uvs1[v]);
+                if (!mesh.colors.empty()) mesh.colors.push_back(mesh.colors[v]);
                 mesh.tangents.push_back(Vec4{});
             }
             v = it->second;
