@@ -95,14 +95,6 @@ double opaqueFloorRadiance() {
     return 4.0 / (kPi * std::sqrt(2.0)) * std::atan(1.0 / std::sqrt(2.0));
 }
 
-double meanOf(const Image& image, int x0 = 0, int x1 = -1) {
-    if (x1 < 0) x1 = image.width();
-    double sum = 0.0;
-    for (int y = 0; y < image.height(); ++y)
-        for (int x = x0; x < x1; ++x) sum += image(x, y, 0);
-    return sum / (double(x1 - x0) * image.height());
-}
-
 struct Estimate {
     double mean, sigma;  ///< image mean and its standard error (from the variance layer)
 };
@@ -118,7 +110,8 @@ Estimate renderFloor(const test::TempDir& dir, Presence presence, MisHeuristic m
     s.strategy = strategy;
     const FrameBuffers f = renderer.render(s).frame;
     const Image& var = f.layer(Layer::Variance);
-    return {meanOf(f.color()), std::sqrt(meanOf(var) / double(var.pixelCount()))};
+    return {test::columnsMean(f.color()),
+            std::sqrt(test::columnsMean(var) / double(var.pixelCount()))};
 }
 
 }  // namespace
@@ -133,20 +126,16 @@ TEST(AlphaEmitter, EveryStrategySeesHalfAHalfPresentEmitter) {
     // 0.277, some 200σ off).
     test::TempDir dir("emitter_floor");
     const double opaque = opaqueFloorRadiance();
-    const std::pair<MisHeuristic, Strategy> kinds[] = {{MisHeuristic::Power, Strategy::Bsdf},
-                                                       {MisHeuristic::Balance, Strategy::Bsdf},
-                                                       {MisHeuristic::None, Strategy::Light},
-                                                       {MisHeuristic::None, Strategy::Bsdf}};
     for (Presence presence :
          {Presence::Opaque, Presence::Blend, Presence::BlendTexture, Presence::MaskTexture}) {
         const double expected = presence == Presence::Opaque ? opaque : 0.5 * opaque;
-        for (const auto& [mis, strategy] : kinds) {
+        for (const auto& [name, mis, strategy] : test::kMisModes) {
             const Estimate e = renderFloor(dir, presence, mis, strategy);
-            std::printf("%s, mis %d strategy %d: %.5f (expected %.5f), sigma %.2g, %.1f sigma\n",
-                        presenceName(presence), int(mis), int(strategy), e.mean, expected, e.sigma,
+            std::printf("%s, %s: %.5f (expected %.5f), sigma %.2g, %.1f sigma\n",
+                        presenceName(presence), name, e.mean, expected, e.sigma,
                         (e.mean - expected) / e.sigma);
             EXPECT_NEAR(e.mean, expected, 5 * e.sigma + 1e-3)
-                << presenceName(presence) << " mis " << int(mis) << " strategy " << int(strategy);
+                << presenceName(presence) << ", " << name;
         }
     }
 }
@@ -171,7 +160,7 @@ TEST(AlphaEmitter, MetropolisSeesHalfAHalfPresentEmitter) {
         s.mlt.featureSpp = 1;
         const FrameBuffers f = renderer.render(s).frame;
         const double rel = std::stod(f.metadata().extra.at("mltBRelStdErr"));
-        const double expected = 0.5 * opaqueFloorRadiance(), m = meanOf(f.color());
+        const double expected = 0.5 * opaqueFloorRadiance(), m = test::columnsMean(f.color());
         std::printf("mlt %s: %.5f (expected %.5f), b relative standard error %.3g\n",
                     presenceName(presence), m, expected, rel);
         EXPECT_NEAR(m, expected, 5 * 4 * rel * expected + 1e-3) << presenceName(presence);
@@ -203,11 +192,11 @@ TEST(AlphaEmitter, TheCameraSeesAlphaTimesLe) {
         return renderer.render(s).frame.color();
     };
     const double sigma = 0.5 / std::sqrt(256.0 * 64.0);
-    EXPECT_NEAR(meanOf(facing(Presence::Blend)), 0.5, 5 * sigma);
-    EXPECT_NEAR(meanOf(facing(Presence::BlendTexture)), 0.5, 5 * sigma);
+    EXPECT_NEAR(test::columnsMean(facing(Presence::Blend)), 0.5, 5 * sigma);
+    EXPECT_NEAR(test::columnsMean(facing(Presence::BlendTexture)), 0.5, 5 * sigma);
     const Image mask = facing(Presence::MaskTexture);
-    EXPECT_EQ(meanOf(mask, 0, 4), 0.0);
-    EXPECT_EQ(meanOf(mask, 12, 16), 1.0);
+    EXPECT_EQ(test::columnsMean(mask, 0, 4), 0.0);
+    EXPECT_EQ(test::columnsMean(mask, 12, 16), 1.0);
 }
 
 }  // namespace glint::render::emitter_alpha_test

@@ -53,19 +53,11 @@ FrameBuffers render(Scene scene, int spp = 16) {
     return renderer.render(s).frame;
 }
 
-double mean(const Image& image, int x0 = 0, int x1 = -1) {
-    if (x1 < 0) x1 = image.width();
-    double sum = 0.0;
-    for (int y = 0; y < image.height(); ++y)
-        for (int x = x0; x < x1; ++x) sum += image(x, y, 0);
-    return sum / (double(x1 - x0) * image.height());
-}
-
 }  // namespace
 
 TEST(Alpha, AMaskCutsOutBelowItsCutoff) {
     test::TempDir dir("mask");
-    EXPECT_EQ(mean(render(quadScene(dir, [](auto&, auto&) {})).color()), 0.0);
+    EXPECT_EQ(test::columnsMean(render(quadScene(dir, [](auto&, auto&) {})).color()), 0.0);
     auto mask = [](float opacity) {
         return [opacity](detail::SceneData&, detail::Material& m) {
             m.alphaMode = AlphaMode::Mask;
@@ -73,8 +65,8 @@ TEST(Alpha, AMaskCutsOutBelowItsCutoff) {
             m.alphaCutoff = 0.5f;
         };
     };
-    EXPECT_EQ(mean(render(quadScene(dir, mask(0.3f))).color()), 1.0);
-    EXPECT_EQ(mean(render(quadScene(dir, mask(0.7f))).color()), 0.0);
+    EXPECT_EQ(test::columnsMean(render(quadScene(dir, mask(0.3f))).color()), 1.0);
+    EXPECT_EQ(test::columnsMean(render(quadScene(dir, mask(0.7f))).color()), 0.0);
 }
 
 TEST(Alpha, TheBaseColourTexturesAlphaCutsPerTexel) {
@@ -93,8 +85,8 @@ TEST(Alpha, TheBaseColourTexturesAlphaCutsPerTexel) {
                     })).color();
     // The quad fills the film (u runs from about 0.1 to 0.9 across it); the columns clear of
     // the texels' blend: sky at the far left, quad at the far right.
-    EXPECT_EQ(mean(c, 0, 4), 1.0);
-    EXPECT_EQ(mean(c, 12, 16), 0.0);
+    EXPECT_EQ(test::columnsMean(c, 0, 4), 1.0);
+    EXPECT_EQ(test::columnsMean(c, 12, 16), 0.0);
 }
 
 TEST(Alpha, AVertexColoursAlphaCutsAMaskAcrossTheQuad) {
@@ -110,14 +102,14 @@ TEST(Alpha, AVertexColoursAlphaCutsAMaskAcrossTheQuad) {
                         m.alphaMode = AlphaMode::Mask;
                     })).color();
     // Sky on the left, the quad on the right, clear of the middle columns.
-    EXPECT_EQ(mean(c, 0, 6), 1.0);
-    EXPECT_EQ(mean(c, 10, 16), 0.0);
+    EXPECT_EQ(test::columnsMean(c, 0, 6), 1.0);
+    EXPECT_EQ(test::columnsMean(c, 10, 16), 0.0);
     // A material that is not glTF's ignores the colours: the quad everywhere.
     const Image opaque = render(quadScene(dir, [](detail::SceneData& d, detail::Material& m) {
                              for (int v = 0; v < 4; ++v) d.meshes[0].colors.push_back({1, 1, 1, 0});
                              m.alphaMode = AlphaMode::Mask;
                          })).color();
-    EXPECT_EQ(mean(opaque), 0.0);
+    EXPECT_EQ(test::columnsMean(opaque), 0.0);
 }
 
 TEST(Alpha, BlendLetsTheSkyThroughWithProbabilityOneMinusOpacity) {
@@ -130,7 +122,7 @@ TEST(Alpha, BlendLetsTheSkyThroughWithProbabilityOneMinusOpacity) {
             mat.alphaMode = AlphaMode::Blend;
             mat.opacity = alpha;
         };
-        const double m = mean(render(quadScene(dir, blend), 64).color());
+        const double m = test::columnsMean(render(quadScene(dir, blend), 64).color());
         EXPECT_NEAR(m, 1.0 - alpha, 5 * std::sqrt(alpha * (1.0 - alpha) / (256.0 * 64.0))) << alpha;
     }
     // The same seed gives the same bits (the choice reads the pixel's sampler, not a thread's).
@@ -174,8 +166,8 @@ TEST(Alpha, ShadowRaysPassWhereTheSurfaceIsNotThere) {
         data->punctualLights.push_back(sun);
         return Scene(std::move(data));
     };
-    EXPECT_NEAR(mean(render(scene(AlphaMode::Mask), 4).color()), 1.0, 1e-5);
-    EXPECT_EQ(mean(render(scene(AlphaMode::Opaque), 4).color()), 0.0);
+    EXPECT_NEAR(test::columnsMean(render(scene(AlphaMode::Mask), 4).color()), 1.0, 1e-5);
+    EXPECT_EQ(test::columnsMean(render(scene(AlphaMode::Opaque), 4).color()), 0.0);
 }
 
 namespace {
@@ -307,8 +299,8 @@ TEST(Alpha, ShadowsThroughBlendAreExactNotSampled) {
     // 0.25 / spp per pixel).
     test::TempDir dir("blend_sun");
     const FrameBuffers sun = renderSeeded(floorUnderGlass(dir, true), 16, 2);
-    EXPECT_NEAR(mean(sun.color()), 0.5, 1e-5);
-    EXPECT_LT(mean(sun.layer(Layer::Variance)), 1e-3 * 0.25 / 16);
+    EXPECT_NEAR(test::columnsMean(sun.color()), 0.5, 1e-5);
+    EXPECT_LT(test::columnsMean(sun.layer(Layer::Variance)), 1e-3 * 0.25 / 16);
 
     // Under the sky the floor below the middle of the quad sees it over a cosine-weighted
     // fraction F = (4 / (π√2)) atan(1/√2) of its hemisphere (differential area to a parallel
@@ -317,22 +309,22 @@ TEST(Alpha, ShadowsThroughBlendAreExactNotSampled) {
     const double f = 4.0 / (kPi * std::sqrt(2.0)) * std::atan(1.0 / std::sqrt(2.0));
     const FrameBuffers sky = renderSeeded(floorUnderGlass(dir, false), 64, 2);
     const Image& var = sky.layer(Layer::Variance);
-    const double sigma = std::sqrt(mean(var) / double(var.width() * var.height()));
-    EXPECT_NEAR(mean(sky.color()), 1.0 - 0.5 * f, 5 * sigma + 1e-3);
+    const double sigma = std::sqrt(test::columnsMean(var) / double(var.width() * var.height()));
+    EXPECT_NEAR(test::columnsMean(sky.color()), 1.0 - 0.5 * f, 5 * sigma + 1e-3);
     // Any thread count gives the same bits.
     const FrameBuffers one = renderSeeded(floorUnderGlass(dir, false), 8, 1),
                        two = renderSeeded(floorUnderGlass(dir, false), 8, 2);
     for (std::size_t i = 0; i < one.color().data().size(); ++i)
         ASSERT_EQ(one.color().data()[i], two.color().data()[i]);
     std::printf("sky: mean %.5f (expected %.5f), mean variance of the mean %.3g\n",
-                mean(sky.color()), 1.0 - 0.5 * f, mean(var));
+                test::columnsMean(sky.color()), 1.0 - 0.5 * f, test::columnsMean(var));
 }
 
 namespace {
 
 /// Variance across the pixels of a film's mean (every pixel has the same expectation).
 double pixelVariance(const Image& image) {
-    const double m = mean(image);
+    const double m = test::columnsMean(image);
     double sum = 0.0;
     for (int y = 0; y < image.height(); ++y)
         for (int x = 0; x < image.width(); ++x) sum += (image(x, y, 0) - m) * (image(x, y, 0) - m);
@@ -401,9 +393,9 @@ TEST(Alpha, AStackOfPanesPassesTheProductOfOneMinusAlpha) {
     // draws 0.0026, within 5σ. 80 panes of opacity 0.02 (0.98^80 = 0.199): past 64 passes the
     // hash decides (PathIntegrator::meetsBlend), unbiased too; σ 0.0031, within 5σ.
     test::TempDir dir("blend_stack");
-    const double three = mean(render(paneStack(dir, 3, 0.5f, 0.5f), 256).color());
+    const double three = test::columnsMean(render(paneStack(dir, 3, 0.5f, 0.5f), 256).color());
     EXPECT_NEAR(three, 0.125, 5 * 0.0026);
-    const double many = mean(render(paneStack(dir, 80, 0.02f, 0.05f), 256).color());
+    const double many = test::columnsMean(render(paneStack(dir, 80, 0.02f, 0.05f), 256).color());
     EXPECT_NEAR(many, std::pow(0.98, 80), 5 * 0.0031);
     std::printf("three panes %.5f (0.125), 80 panes %.5f (%.5f)\n", three, many,
                 std::pow(0.98, 80));
@@ -453,11 +445,7 @@ TEST(Alpha, MisStrategiesAgreeThroughAPane) {
     // footprint off the middle of the floor, of 0.5 F.
     test::TempDir dir("blend_mis");
     const double expected = behindGlassRadiance();
-    const std::pair<MisHeuristic, Strategy> kinds[] = {{MisHeuristic::Power, Strategy::Bsdf},
-                                                       {MisHeuristic::Balance, Strategy::Bsdf},
-                                                       {MisHeuristic::None, Strategy::Light},
-                                                       {MisHeuristic::None, Strategy::Bsdf}};
-    for (const auto& [mis, strategy] : kinds) {
+    for (const auto& [name, mis, strategy] : test::kMisModes) {
         Renderer renderer(lightBehindGlass(dir));
         Settings s = renderer.scene().settings();
         s.spp = 256;
@@ -467,11 +455,10 @@ TEST(Alpha, MisStrategiesAgreeThroughAPane) {
         s.strategy = strategy;
         const FrameBuffers f = renderer.render(s).frame;
         const Image& var = f.layer(Layer::Variance);
-        const double sigma = std::sqrt(mean(var) / double(var.pixelCount()));
-        const double m = mean(f.color());
-        std::printf("mis %d strategy %d: %.5f (expected %.5f), sigma %.2g\n", int(mis),
-                    int(strategy), m, expected, sigma);
-        EXPECT_NEAR(m, expected, 5 * sigma + 1e-3) << int(mis) << " " << int(strategy);
+        const double sigma = std::sqrt(test::columnsMean(var) / double(var.pixelCount()));
+        const double m = test::columnsMean(f.color());
+        std::printf("%s: %.5f (expected %.5f), sigma %.2g\n", name, m, expected, sigma);
+        EXPECT_NEAR(m, expected, 5 * sigma + 1e-3) << name;
     }
     // The same bits for any thread count.
     const FrameBuffers one = renderSeeded(lightBehindGlass(dir), 8, 1),
@@ -496,7 +483,7 @@ TEST(Alpha, MetropolisAgreesThroughAPane) {
     s.mlt.featureSpp = 1;
     const FrameBuffers f = renderer.render(s).frame;
     const double rel = std::stod(f.metadata().extra.at("mltBRelStdErr"));
-    const double expected = behindGlassRadiance(), m = mean(f.color());
+    const double expected = behindGlassRadiance(), m = test::columnsMean(f.color());
     std::printf("mlt: %.5f (expected %.5f), b relative standard error %.3g\n", m, expected, rel);
     EXPECT_NEAR(m, expected, 5 * rel * expected + 1e-3);
 }
@@ -522,9 +509,9 @@ TEST(Alpha, AShadedPaneIsTheFeatureHitAPassedOneIsNot) {
     data->materials[0].alphaMode = AlphaMode::Blend;
     data->materials[0].opacity = 0.5f;
     const FrameBuffers f = render(Scene(std::move(data)), 64);
-    EXPECT_NEAR(mean(f.layer(Layer::Albedo)), 0.6, 5 * 0.0063);
+    EXPECT_NEAR(test::columnsMean(f.layer(Layer::Albedo)), 0.6, 5 * 0.0063);
     // Depth likewise: the pane at 3, the floor at 4.
-    EXPECT_NEAR(mean(f.layer(Layer::Depth)), 3.5, 5 * 0.0079);
+    EXPECT_NEAR(test::columnsMean(f.layer(Layer::Depth)), 3.5, 5 * 0.0079);
 }
 
 }  // namespace glint::render

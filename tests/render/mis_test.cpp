@@ -83,15 +83,7 @@ TEST(Mis, EstimatorsAgreeAndMisWins) {
     dir.write("quad.obj", test::quadObj());
     Renderer renderer(parseScene(glossyScene(), dir.path() / "scene.json"));
     std::map<std::string, Estimate> estimates;
-    const struct {
-        const char* name;
-        MisHeuristic mis;
-        Strategy strategy;
-    } modes[] = {{"power", MisHeuristic::Power, Strategy::Bsdf},
-                 {"balance", MisHeuristic::Balance, Strategy::Bsdf},
-                 {"bsdf", MisHeuristic::None, Strategy::Bsdf},
-                 {"light", MisHeuristic::None, Strategy::Light}};
-    for (const auto& m : modes) {
+    for (const test::MisMode& m : test::kMisModes) {
         Settings s = renderer.scene().settings();
         s.mis = m.mis;
         s.strategy = m.strategy;

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "glint/image/frame_buffers.h"
+#include "glint/render/settings.h"
 
 namespace glint::render::test {
 
@@ -165,6 +166,27 @@ inline Chi2 chi2Test(const std::vector<double>& observed, const std::vector<doub
 /// Šidák-corrected per-test significance for `tests` tests at family-wise level alpha.
 inline double sidak(double alpha, int tests) {
     return 1.0 - std::pow(1.0 - alpha, 1.0 / tests);
+}
+
+/// The ways of combining light and BSDF sampling that the unbiasedness tests compare: each
+/// estimates the same image.
+struct MisMode {
+    const char* name;
+    MisHeuristic mis;
+    Strategy strategy;
+};
+inline constexpr MisMode kMisModes[] = {{"power", MisHeuristic::Power, Strategy::Bsdf},
+                                        {"balance", MisHeuristic::Balance, Strategy::Bsdf},
+                                        {"light", MisHeuristic::None, Strategy::Light},
+                                        {"bsdf", MisHeuristic::None, Strategy::Bsdf}};
+
+/// The mean of channel 0 of `image` over columns [x0, x1) (x1 < 0: to the right edge).
+inline double columnsMean(const Image& image, int x0 = 0, int x1 = -1) {
+    if (x1 < 0) x1 = image.width();
+    double sum = 0.0;
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = x0; x < x1; ++x) sum += image(x, y, 0);
+    return sum / (double(x1 - x0) * image.height());
 }
 
 }  // namespace glint::render::test

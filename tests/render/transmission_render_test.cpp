@@ -91,7 +91,7 @@ TEST(TransmissionRender, EstimatorsAgreeThroughRoughGlass) {
     // glass beyond, so that shadow rays from its face are not blocked by a far face) in front
     // of a small bright sphere light and a diffuse wall. Next-event estimation at the glass finds
     // the light behind its surface (wi.z < 0); the wall is lit through the glass from inside.
-    // The three estimators agree in expectation: |z| < 5 per channel and pair (two-sided
+    // The four estimators agree in expectation: |z| < 5 per channel and pair (two-sided
     // p ≈ 6e-7 under normality), z from the variance-of-the-mean buffers.
     test::TempDir dir("glass_mis");
     dir.write("sphere.obj", test::sphereObj(1.0f, 16, 32));
@@ -114,14 +114,7 @@ TEST(TransmissionRender, EstimatorsAgreeThroughRoughGlass) {
     })");
     Renderer renderer(loadScene(scenePath));
     std::map<std::string, Estimate> estimates;
-    const struct {
-        const char* name;
-        MisHeuristic mis;
-        Strategy strategy;
-    } modes[] = {{"power", MisHeuristic::Power, Strategy::Bsdf},
-                 {"bsdf", MisHeuristic::None, Strategy::Bsdf},
-                 {"light", MisHeuristic::None, Strategy::Light}};
-    for (const auto& m : modes) {
+    for (const test::MisMode& m : test::kMisModes) {
         Settings s = renderer.scene().settings();
         s.mis = m.mis;
         s.strategy = m.strategy;
