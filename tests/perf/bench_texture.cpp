@@ -2,9 +2,12 @@
 // Writes four 2048² tiled, MIP-mapped half-float EXR textures (make_texture, as maketx would)
 // and a 2 × 2 grid of UV spheres into a temporary folder, then renders the asset textured and
 // untextured (albedo 0.5 instead) with a texture cache of a quarter of the textures' size.
-// Prints one JSON object: both times (median of --repeat; wall and the process's CPU time), their
-// ratios, the textures' bytes, the cache size and the process's peak resident memory during the
-// textured renders.
+// After one untimed warm-up render of each, the timed renders alternate in --repeat pairs
+// (untextured then textured, then textured then untextured, …) so that a change of the machine's
+// load falls on both halves of a pair alike. Prints one JSON object: both times (median of
+// --repeat; wall and the process's CPU time), the median and range of the pairs' ratios, the
+// ratio of the medians, the textures' bytes, the cache size and the process's peak resident
+// memory during each warm-up render (each with only its own renderer in the process).
 //   bench_texture [--size 512] [--spp 16] [--threads 2] [--repeat 3] [--texture 2048]
 //                 [--cache-mb MB (default: a quarter of the textures' size in memory)]
 //                 [--untextured 0|1] [--textured 0|1] (0: skip that render, e.g. for perf record)
@@ -15,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -173,31 +177,79 @@ int main(int argc, char** argv) {
         std::ofstream(dir / "textured.json") << sceneJson(true, size, spp);
         std::ofstream(dir / "plain.json") << sceneJson(false, size, spp);
 
-        // Wall and CPU seconds (the process's user + system time over the render: on a shared
-        // machine it counts the render's work, not the waits for a core), medians of `repeat`.
+        // Wall and CPU seconds of one render (the process's user + system time over the render:
+        // on a shared machine it counts the render's work, not the waits for a core).
         struct Timing {
             double wall = 0.0, cpu = 0.0;
         };
-        auto time = [&](const fs::path& scene, std::uint64_t& peakRss) {
-            resetPeakRss();
-            glint::render::Renderer renderer(glint::render::loadScene(scene));
+        using Renderer = glint::render::Renderer;
+        auto settingsOf = [&](const Renderer& renderer) {
             glint::render::Settings s = renderer.scene().settings();
             s.threads = threads;
             s.textureCacheMb = cacheMb;
-            std::vector<double> wall, cpu;
-            for (int r = 0; r < repeat; ++r) {
-                const double before = cpuSeconds();
-                wall.push_back(renderer.render(s).stats.seconds);
-                cpu.push_back(cpuSeconds() - before);
-            }
-            std::sort(wall.begin(), wall.end());
-            std::sort(cpu.begin(), cpu.end());
-            peakRss = procStatusBytes("VmHWM");
-            return Timing{wall[wall.size() / 2], cpu[cpu.size() / 2]};
+            return s;
         };
-        std::uint64_t plainRss = 0, texturedRss = 0;
-        const Timing plain = runUntextured ? time(dir / "plain.json", plainRss) : Timing{};
-        const Timing textured = runTextured ? time(dir / "textured.json", texturedRss) : Timing{};
+        auto timeOnce = [&](Renderer& renderer) {
+            const glint::render::Settings s = settingsOf(renderer);
+            const double before = cpuSeconds();
+            const double wall = renderer.render(s).stats.seconds;
+            return Timing{wall, cpuSeconds() - before};
+        };
+        // The untimed warm-up render of a new renderer, and the process's peak resident size
+        // over it (reset before the renderer is made).
+        auto warmUp = [&](const fs::path& scene, std::uint64_t& peakRss) {
+            resetPeakRss();
+            auto renderer = std::make_unique<Renderer>(glint::render::loadScene(scene));
+            timeOnce(*renderer);
+            peakRss = procStatusBytes("VmHWM");
+            return renderer;
+        };
+        // Warm up each alone for its peak: the untextured renderer is dropped before the textured
+        // one is made, then made and warmed up again for the timed pairs.
+        std::uint64_t plainRss = 0, texturedRss = 0, unused = 0;
+        std::unique_ptr<Renderer> plainRenderer, texturedRenderer;
+        if (runUntextured) plainRenderer = warmUp(dir / "plain.json", plainRss);
+        if (runTextured) {
+            plainRenderer.reset();
+            texturedRenderer = warmUp(dir / "textured.json", texturedRss);
+            if (runUntextured) plainRenderer = warmUp(dir / "plain.json", unused);
+        }
+        // The timed renders: pair r runs untextured first for even r, textured first for odd r.
+        std::vector<Timing> plainTimes, texturedTimes;
+        for (int r = 0; r < repeat; ++r) {
+            const bool plainFirst = r % 2 == 0;
+            if (plainRenderer && plainFirst) plainTimes.push_back(timeOnce(*plainRenderer));
+            if (texturedRenderer) texturedTimes.push_back(timeOnce(*texturedRenderer));
+            if (plainRenderer && !plainFirst) plainTimes.push_back(timeOnce(*plainRenderer));
+        }
+        auto median = [](std::vector<double> v) {
+            if (v.empty()) return 0.0;
+            std::sort(v.begin(), v.end());
+            return v[v.size() / 2];
+        };
+        auto medianOf = [&](const std::vector<Timing>& times) {
+            std::vector<double> wall, cpu;
+            for (const Timing& t : times) {
+                wall.push_back(t.wall);
+                cpu.push_back(t.cpu);
+            }
+            return Timing{median(wall), median(cpu)};
+        };
+        const Timing plain = medianOf(plainTimes), textured = medianOf(texturedTimes);
+        // Each pair's textured / untextured ratio (none when either render is skipped).
+        std::vector<double> pairWall, pairCpu;
+        for (std::size_t r = 0; r < plainTimes.size() && r < texturedTimes.size(); ++r) {
+            if (plainTimes[r].wall > 0.0)
+                pairWall.push_back(texturedTimes[r].wall / plainTimes[r].wall);
+            if (plainTimes[r].cpu > 0.0)
+                pairCpu.push_back(texturedTimes[r].cpu / plainTimes[r].cpu);
+        }
+        auto low = [](const std::vector<double>& v) {
+            return v.empty() ? 0.0 : *std::min_element(v.begin(), v.end());
+        };
+        auto high = [](const std::vector<double>& v) {
+            return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
+        };
         const nlohmann::json j = {{"folder", keep ? dir.string() : std::string()},
                                   {"width", size},
                                   {"height", size},
@@ -216,7 +268,16 @@ int main(int argc, char** argv) {
                                   {"cpuSecondsTextured", textured.cpu},
                                   {"cpuRatio", plain.cpu > 0.0 ? textured.cpu / plain.cpu : 0.0},
                                   {"peakRssUntexturedMb", double(plainRss) / (1 << 20)},
-                                  {"peakRssTexturedMb", double(texturedRss) / (1 << 20)}};
+                                  {"peakRssTexturedMb", double(texturedRss) / (1 << 20)},
+                                  {"order", "interleaved"},
+                                  {"pairRatio", median(pairWall)},
+                                  {"pairRatioMin", low(pairWall)},
+                                  {"pairRatioMax", high(pairWall)},
+                                  {"cpuPairRatio", median(pairCpu)},
+                                  {"cpuPairRatioMin", low(pairCpu)},
+                                  {"cpuPairRatioMax", high(pairCpu)},
+                                  {"pairRatios", pairWall},
+                                  {"cpuPairRatios", pairCpu}};
         std::cout << j.dump(2) << "\n";
         if (keep) return 0;
     } catch (const std::exception& e) {
