@@ -17,13 +17,7 @@ float surfaceAlpha(const detail::SceneData& scene, std::uint32_t instance, std::
     float alpha = m.opacity;
     const detail::Mesh& mesh = scene.meshes[scene.instances[instance].mesh];
     if (m.texture >= 0 && !mesh.uvs.empty()) {
-        const std::uint32_t* idx = &mesh.indices[3 * std::size_t(prim)];
-        const float b0 = 1.0f - b1 - b2;
-        // The texture's uv set: TEXCOORD_1 where it reads it and the mesh has it.
-        const std::vector<Vec2>& uvs =
-            m.textureTransform.set != 0 && !mesh.uvs1.empty() ? mesh.uvs1 : mesh.uvs;
-        const Vec2 &a = uvs[idx[0]], &b = uvs[idx[1]], &c = uvs[idx[2]];
-        const Vec2 uv{a.x * b0 + b.x * b1 + c.x * b2, a.y * b0 + b.y * b1 + c.y * b2};
+        const Vec2 uv = detail::surfaceUv(mesh, m.textureTransform.set, prim, b1, b2);
         alpha *= scene.textures[std::size_t(m.texture)].lookup(m.textureTransform.apply(uv)).w;
     }
     // glTF's COLOR_0 alpha multiplies a glTF material's alpha.

@@ -74,19 +74,9 @@ Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, fl
     s.at.b1 = hit.u;
     s.at.b2 = hit.v;
     s.at.hasUv = !mesh.uvs.empty();
-    if (s.at.hasUv) {
-        const std::uint32_t* idx = &mesh.indices[3 * std::size_t(id.prim)];
-        const Vec2 &uv0 = mesh.uvs[idx[0]], &uv1 = mesh.uvs[idx[1]], &uv2 = mesh.uvs[idx[2]];
-        s.at.uv = {uv0.x * b0 + uv1.x * hit.u + uv2.x * hit.v,
-                   uv0.y * b0 + uv1.y * hit.u + uv2.y * hit.v};
-    }
+    if (s.at.hasUv) s.at.uv = detail::surfaceUv(mesh, 0, id.prim, hit.u, hit.v);
     s.at.hasUv1 = !mesh.uvs1.empty();
-    if (s.at.hasUv1) {
-        const std::uint32_t* idx = &mesh.indices[3 * std::size_t(id.prim)];
-        const Vec2 &uv0 = mesh.uvs1[idx[0]], &uv1 = mesh.uvs1[idx[1]], &uv2 = mesh.uvs1[idx[2]];
-        s.at.uv1 = {uv0.x * b0 + uv1.x * hit.u + uv2.x * hit.v,
-                    uv0.y * b0 + uv1.y * hit.u + uv2.y * hit.v};
-    }
+    if (s.at.hasUv1) s.at.uv1 = detail::surfaceUv(mesh, 1, id.prim, hit.u, hit.v);
     s.material = &scene.materials[scene.materialOf(id)];
     if (s.at.hasUv && !seenSharply) {
         // After a diffuse or glossy bounce: a widened footprint, the resident levels in memory.

@@ -186,12 +186,7 @@ Vec3 LightSampler::emittedAt(const AreaLight& light, const Vec3& point) const {
     if (light.textured) {
         // The texture coordinates of the point on the mesh.
         const detail::Mesh& mesh = scene.meshes[scene.instances[light.instance].mesh];
-        const std::uint32_t* idx = &mesh.indices[3 * std::size_t(light.prim)];
-        const float b0 = 1.0f - b1 - b2;
-        const std::vector<Vec2>& uvs =
-            m.emissionMap.transform.set != 0 && !mesh.uvs1.empty() ? mesh.uvs1 : mesh.uvs;
-        const Vec2 &a = uvs[idx[0]], &b = uvs[idx[1]], &c = uvs[idx[2]];
-        const Vec2 uv{a.x * b0 + b.x * b1 + c.x * b2, a.y * b0 + b.y * b1 + c.y * b2};
+        const Vec2 uv = detail::surfaceUv(mesh, m.emissionMap.transform.set, light.prim, b1, b2);
         const Vec4 t = scene.textures[std::size_t(m.emissionMap.texture)].lookup(
             m.emissionMap.transform.apply(uv));
         le = le * Vec3{t.x, t.y, t.z};

@@ -278,6 +278,16 @@ inline Vec4 vertexColor(const Mesh& mesh, std::uint32_t prim, float b1, float b2
             c0.z * b0 + c1.z * b1 + c2.z * b2, c0.w * b0 + c1.w * b1 + c2.w * b2};
 }
 
+/// The texture coordinates of set `set` (1: TEXCOORD_1 where the mesh has it, else set 0) at
+/// barycentrics (b1, b2) of triangle `prim`; the mesh must have uvs.
+inline Vec2 surfaceUv(const Mesh& mesh, int set, std::uint32_t prim, float b1, float b2) {
+    const std::vector<Vec2>& uvs = set != 0 && !mesh.uvs1.empty() ? mesh.uvs1 : mesh.uvs;
+    const std::uint32_t* idx = &mesh.indices[3 * std::size_t(prim)];
+    const Vec2 &a = uvs[idx[0]], &b = uvs[idx[1]], &c = uvs[idx[2]];
+    const float b0 = 1.0f - b1 - b2;
+    return {a.x * b0 + b.x * b1 + c.x * b2, a.y * b0 + b.y * b1 + c.y * b2};
+}
+
 /// One placement of a mesh in the world. A static instance maps object to world space by
 /// `transform`; a moving one (motion >= 0) follows SceneData::motions[motion] over the shutter
 /// (its `transform` is the shutter-open pose).
