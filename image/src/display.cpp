@@ -1,5 +1,6 @@
 // Turning linear images into display values: exposure, clamp, sRGB, false colour, PNG export.
 #include <OpenImageIO/imageio.h>
+#include <OpenImageIO/strutil.h>
 
 #include <algorithm>
 #include <array>
@@ -62,6 +63,11 @@ float srgbDecode(float encoded) {
     // Inverse of IEC 61966-2-1.
     if (encoded <= 0.04045f) return encoded / 12.92f;
     return std::pow((encoded + 0.055f) / 1.055f, 2.4f);
+}
+
+bool srgbEncodedFile(const std::string& declaredColorSpace, bool eightBit) {
+    return OIIO::Strutil::iequals(declaredColorSpace, "sRGB") ||
+           (declaredColorSpace.empty() && eightBit);
 }
 
 Image toDisplay(const Image& linear, const DisplayOptions& options) {

@@ -287,11 +287,8 @@ Image readImage(const std::filesystem::path& path, bool linearize) {
                     file, "pixels");
     in->close();
 
-    // sRGB-encoded: as the file declares, or an 8-bit file that declares nothing (BMP, TGA: 8-bit
-    // colour is sRGB, as Blender and pbrt-v4 read it; they used to be read as linear).
-    const std::string space = spec.get_string_attribute("oiio:ColorSpace");
-    const bool srgb = OIIO::Strutil::iequals(space, "sRGB") ||
-                      (space.empty() && spec.format == OIIO::TypeDesc::UINT8);
+    const bool srgb = srgbEncodedFile(spec.get_string_attribute("oiio:ColorSpace"),
+                                      spec.format == OIIO::TypeDesc::UINT8);
     if (linearize && srgb) {
         // Decode every colour channel; alpha stays linear.
         float* data = image.data().data();

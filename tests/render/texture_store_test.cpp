@@ -165,6 +165,34 @@ TEST(TextureStore, SrgbIsDecodedAfterFiltering) {
                 1e-4);
 }
 
+TEST(TextureStore, AnUntaggedEightBitTiledFileIsSrgbAsAWholeOneIs) {
+    // A tiled 8-bit TIFF that declares no colour space (as older tools write them) is sRGB, by
+    // the rule readImage applies to a whole BMP or TGA; a float file that declares none is
+    // linear.
+    test::TempDir dir("tex_untagged");
+    OIIO::ImageSpec spec(128, 128, 3, OIIO::TypeDesc::UINT8);
+    spec.tile_width = spec.tile_height = 64;
+    OIIO::ImageBuf grey(spec);
+    const float half[3] = {0.5f, 0.5f, 0.5f};
+    OIIO::ImageBufAlgo::fill(grey, half);
+    grey.set_write_tiles(64, 64);
+    ASSERT_TRUE(grey.write((dir.path() / "grey.tif").string()));
+    test::writeCheckerTexture(dir.path() / "checker.exr", 64, 8);
+    auto store = std::make_shared<TextureStore>();
+    const int tif = store->open(dir.path() / "grey.tif", "scene.json", "/m");
+    EXPECT_TRUE(store->info(tif).tiled);
+    EXPECT_TRUE(store->info(tif).srgb);
+    // The same decoded value either way (code value 128 of 255).
+    const float decoded = srgbDecode(128.0f / 255.0f);
+    EXPECT_NEAR(readImage(dir.path() / "grey.tif", true)(5, 5, 0), decoded, 1e-4);
+    EXPECT_NEAR(
+        fileTexture(store, tif, TextureWrap::Clamp, store->info(tif).srgb).lookup({0.5f, 0.5f}).x,
+        decoded, 1e-4);
+    EXPECT_FALSE(store->info(store->open(dir.path() / "checker.exr", "scene.json", "/m")).srgb);
+    EXPECT_TRUE(srgbEncodedFile("sRGB", false));
+    EXPECT_FALSE(srgbEncodedFile("Linear", true));
+}
+
 TEST(TextureStore, FarTexturesAreFilteredOverThePixelFootprint) {
     // A checkerboard of single texels, 512 of them across a 16-pixel film: one sample a pixel
     // without filtering would see 0 or 1; filtered over the pixel's footprint it is grey.

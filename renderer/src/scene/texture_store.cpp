@@ -259,10 +259,12 @@ int TextureStore::open(const std::filesystem::path& file, const std::filesystem:
     // The file's own layout, from its header (the TextureSystem shows its cache's tiles and MIP
     // levels for every file).
     if (auto in = OIIO::ImageInput::open(file.string())) {
-        f.info.tiled = in->spec().tile_width > 0;
+        const OIIO::ImageSpec& header = in->spec();
+        f.info.tiled = header.tile_width > 0;
+        f.info.srgb = srgbEncodedFile(header.get_string_attribute("oiio:ColorSpace"),
+                                      header.format == OIIO::TypeDesc::UINT8);
         f.info.mipmapped = in->seek_subimage(0, 1);
     }
-    f.info.srgb = OIIO::Strutil::iequals(spec->get_string_attribute("oiio:ColorSpace"), "sRGB");
     // Where each MIP level's texels lie in the cache's tiles, for texelQuad().
     OIIO::ImageCache& cache = *ts.imagecache();
     const OIIO::ustring name(file.string());

@@ -71,6 +71,12 @@ Image toDisplay(const Image& linear, const DisplayOptions& options = {});
 float srgbEncode(float linear);
 float srgbDecode(float encoded);
 
+/// Whether a file's colour values are sRGB-encoded, from the colour space its header declares
+/// (OpenImageIO's "oiio:ColorSpace") and whether it stores 8-bit integers: "sRGB", or nothing
+/// declared in an 8-bit file (BMP, TGA, TIFF: 8-bit colour is sRGB, as Blender and pbrt-v4
+/// read it).
+bool srgbEncodedFile(const std::string& declaredColorSpace, bool eightBit);
+
 /// Writes an 8-bit RGB PNG of toDisplay(linear, options).
 void writePng(const Image& linear, const std::filesystem::path& path,
               const DisplayOptions& options = {});
