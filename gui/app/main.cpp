@@ -22,7 +22,8 @@ int main(int argc, char** argv) {
     const QCommandLineOption version = parser.addVersionOption();
     parser.addPositionalArgument(
         QStringLiteral("file"),
-        QStringLiteral("a scene.json, a layered EXR or a .glint-session.json"));
+        QStringLiteral(
+            "a scene.json, a glTF or OBJ asset, a layered EXR or a .glint-session.json"));
     QCommandLineOption autosave(QStringLiteral("autosave-dir"),
                                 QStringLiteral("where edits are journalled (default: the user's "
                                                "application data folder)"),
