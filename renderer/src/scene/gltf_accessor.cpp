@@ -278,14 +278,20 @@ std::vector<Vec4> GltfAccessors::vec4(int index, const std::string& use) const {
     return out;
 }
 
-std::vector<Vec2> GltfAccessors::vec2(int index, const std::string& use) const {
-    std::vector<unsigned char> copy;
-    const Layout l = layout(index, TINYGLTF_TYPE_VEC2,
+GltfAccessors::Layout GltfAccessors::unitLayout(int index, int type, const std::string& use,
+                                                std::vector<unsigned char>& sparseCopy) const {
+    const Layout l = layout(index, type,
                             {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
-                            use, copy);
+                            use, sparseCopy);
     if (l.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !l.normalized)
         fail(accessorPlace(index), use + " of integer type must be normalized");
+    return l;
+}
+
+std::vector<Vec2> GltfAccessors::vec2(int index, const std::string& use) const {
+    std::vector<unsigned char> copy;
+    const Layout l = unitLayout(index, TINYGLTF_TYPE_VEC2, use, copy);
     std::vector<Vec2> out(l.count);
     if (!l.data) return out;
     for (std::size_t i = 0; i < l.count; ++i) {
@@ -305,12 +311,7 @@ std::vector<Vec4> GltfAccessors::color(int index, const std::string& use) const 
         fail(accessorPlace(index),
              std::string("is ") + typeName(type) + ", but " + use + " needs VEC3 or VEC4");
     std::vector<unsigned char> copy;
-    const Layout l = layout(index, type,
-                            {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
-                             TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
-                            use, copy);
-    if (l.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !l.normalized)
-        fail(accessorPlace(index), use + " of integer type must be normalized");
+    const Layout l = unitLayout(index, type, use, copy);
     const int channels = type == TINYGLTF_TYPE_VEC4 ? 4 : 3;
     std::vector<Vec4> out(l.count, Vec4{0.0f, 0.0f, 0.0f, channels == 4 ? 0.0f : 1.0f});
     if (!l.data) return out;

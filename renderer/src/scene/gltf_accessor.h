@@ -56,6 +56,10 @@ class GltfAccessors {
     };
     Layout layout(int index, int type, std::initializer_list<int> componentTypes,
                   const std::string& use, std::vector<unsigned char>& sparseCopy) const;
+    /// layout() of values in [0, 1] as glTF stores texture coordinates and colours: floats, or
+    /// unsigned bytes or shorts that must be normalized.
+    Layout unitLayout(int index, int type, const std::string& use,
+                      std::vector<unsigned char>& sparseCopy) const;
 
     const tinygltf::Model& m_model;
     std::filesystem::path m_file;
