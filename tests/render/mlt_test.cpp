@@ -277,6 +277,12 @@ TEST(Mlt, NoNanAfterALongRunAndStatisticsRecorded) {
         EXPECT_LE(a, 1.0) << k;
     }
     EXPECT_GT(std::stod(extra.at("mltMutationsPerSecond")), 0.0);
+    // The image mean's error holds b's and the chains' (in quadrature).
+    const double bRel = std::stod(extra.at("mltBRelStdErr")),
+                 chainsRel = std::stod(extra.at("mltChainsRelStdErr"));
+    EXPECT_GT(chainsRel, 0.0);
+    EXPECT_NEAR(std::stod(extra.at("mltMeanRelStdErr")), std::hypot(bRel, chainsRel),
+                1e-6 * std::hypot(bRel, chainsRel));
     // Features come from the path-traced pass.
     EXPECT_TRUE(f.has(Layer::Albedo));
     EXPECT_TRUE(f.has(Layer::Normal));
