@@ -277,10 +277,55 @@ TEST(Mlt, NoNanAfterALongRunAndStatisticsRecorded) {
         EXPECT_LE(a, 1.0) << k;
     }
     EXPECT_GT(std::stod(extra.at("mltMutationsPerSecond")), 0.0);
+    // The image mean's error holds b's and the chains' (in quadrature).
+    const double bRel = std::stod(extra.at("mltBRelStdErr")),
+                 chainsRel = std::stod(extra.at("mltChainsRelStdErr"));
+    EXPECT_GT(chainsRel, 0.0);
+    EXPECT_NEAR(std::stod(extra.at("mltMeanRelStdErr")), std::hypot(bRel, chainsRel),
+                1e-6 * std::hypot(bRel, chainsRel));
     // Features come from the path-traced pass.
     EXPECT_TRUE(f.has(Layer::Albedo));
     EXPECT_TRUE(f.has(Layer::Normal));
     EXPECT_TRUE(f.has(Layer::Depth));
+}
+
+// The reported errors against their spread over 40 seeds (101-140, used for nothing else):
+// cornell 24×24, 32 mutations per pixel, 2^16 bootstrap paths. The spread of b matches b's
+// relative standard error, and the spread of the image's mean luminance matches
+// mltMeanRelStdErr (b's and the chains' errors in quadrature), each within a factor 1.5 (the
+// standard deviation of 40 draws is itself uncertain by ≈ 11 %). b's error alone is not that of
+// the mean: the chains' part is as large here, and 3-4 × larger behind a pane
+// (docs/metropolis.md).
+TEST(Mlt, ReportedErrorsMatchTheSpreadOverSeeds) {
+    Renderer renderer(cornell(24));
+    std::vector<double> means, bs;
+    double bRel2 = 0.0, meanRel2 = 0.0;
+    const int seeds = 40;
+    for (int seed = 101; seed < 101 + seeds; ++seed) {
+        Settings s = mltSettings(renderer, 32);
+        s.seed = std::uint64_t(seed);
+        const FrameBuffers f = renderer.render(s).frame;
+        const auto& extra = f.metadata().extra;
+        means.push_back(meanLuminance(f.color()));
+        bs.push_back(std::stod(extra.at("mltB")));
+        bRel2 += std::pow(std::stod(extra.at("mltBRelStdErr")), 2) / seeds;
+        meanRel2 += std::pow(std::stod(extra.at("mltMeanRelStdErr")), 2) / seeds;
+    }
+    auto relSpread = [](const std::vector<double>& v) {
+        double m = 0.0, s2 = 0.0;
+        for (double x : v) m += x / double(v.size());
+        for (double x : v) s2 += (x - m) * (x - m) / double(v.size() - 1);
+        return std::sqrt(s2) / m;
+    };
+    const double bRatio = relSpread(bs) / std::sqrt(bRel2);
+    const double meanRatio = relSpread(means) / std::sqrt(meanRel2);
+    std::cout << "spread / reported: b " << bRatio << ", image mean " << meanRatio
+              << ", image mean against b's error alone " << relSpread(means) / std::sqrt(bRel2)
+              << "\n";
+    EXPECT_GT(bRatio, 1.0 / 1.5);
+    EXPECT_LT(bRatio, 1.5);
+    EXPECT_GT(meanRatio, 1.0 / 1.5);
+    EXPECT_LT(meanRatio, 1.5);
 }
 
 TEST(Mlt, BitIdenticalForAnyThreadCount) {

@@ -165,6 +165,12 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
     meta.extra["mltSampleCount"] = "feature pass";
     meta.extra["mltB"] = formatDouble(ms.b);
     meta.extra["mltBRelStdErr"] = formatDouble(ms.bRelStdErr);
+    // The image's mean is b times the chains' estimate given b: their independent relative errors
+    // add in quadrature (docs/metropolis.md, "Error of the image's mean").
+    const double chainsRel = work.chainsRelStdErr();
+    meta.extra["mltChainsRelStdErr"] = formatDouble(chainsRel);
+    meta.extra["mltMeanRelStdErr"] =
+        formatDouble(std::sqrt(ms.bRelStdErr * ms.bRelStdErr + chainsRel * chainsRel));
     meta.extra["mltBootstrap"] = std::to_string(ms.bootstrap);
     meta.extra["mltChains"] = std::to_string(mlt.chains);
     meta.extra["mltMutations"] = std::to_string(ms.mutations);

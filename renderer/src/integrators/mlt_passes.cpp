@@ -227,6 +227,25 @@ FrameBuffers MltPasses::resolve() const {
     return frame;
 }
 
+double MltPasses::chainsRelStdErr() const {
+    // Each group's image is an estimate of the whole image given b; the spread of the groups'
+    // mean luminances is the chains' part of the error of the image's mean (batch means).
+    const std::size_t k = m_groups.size();
+    if (m_perChainDone == 0 || k < 2) return 0.0;
+    std::vector<double> means(k, 0.0);
+    for (std::size_t g = 0; g < k; ++g) {
+        const std::vector<double>& sum = m_groups[g].sum;
+        double r = 0.0, gr = 0.0, bl = 0.0;
+        for (std::size_t p = 0; p < m_pixels; ++p)
+            r += sum[3 * p], gr += sum[3 * p + 1], bl += sum[3 * p + 2];
+        means[g] = 0.2126 * r + 0.7152 * gr + 0.0722 * bl;  // luminance() in double
+    }
+    double mean = 0.0, s2 = 0.0;
+    for (double m : means) mean += m / double(k);
+    for (double m : means) s2 += (m - mean) * (m - mean);
+    return mean > 0.0 ? std::sqrt(s2 / (double(k) * double(k - 1))) / mean : 0.0;
+}
+
 void MltPasses::addStatistics(MltStats& stats, std::uint64_t& rays, std::int64_t& nonFinite) const {
     stats.b = m_b;
     stats.bRelStdErr = m_bRelStdErr;

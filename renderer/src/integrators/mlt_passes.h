@@ -66,6 +66,10 @@ class MltPasses final : public PassWork {
     /// Adds the bootstrap's and the chains' figures to `stats` (b, its error, bootstrap samples
     /// taken, mutation counts), `rays` and `nonFinite`.
     void addStatistics(MltStats& stats, std::uint64_t& rays, std::int64_t& nonFinite) const;
+    /// Relative standard error of the image's mean luminance from the chains alone, for a
+    /// given b: batch means over the groups of their images' mean luminance (0 before the first
+    /// pass or with one group).
+    double chainsRelStdErr() const;
 
   private:
     /// One Markov chain: its primary sample vector and the current state's contribution.
