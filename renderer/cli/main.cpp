@@ -46,6 +46,8 @@ struct Options {
 nlohmann::json mltJson(const glint::render::MltStats& m) {
     nlohmann::json j = {{"b", m.b},
                         {"bRelStdErr", m.bRelStdErr},
+                        {"chainsRelStdErr", m.chainsRelStdErr},
+                        {"meanRelStdErr", m.meanRelStdErr},
                         {"bootstrap", m.bootstrap},
                         {"chains", m.chains},
                         {"groups", m.groups},
@@ -294,10 +296,11 @@ int run(const Options& opt) {
         if (stats.mlt) {
             const glint::render::MltStats& m = *stats.mlt;
             std::printf(
-                "  mlt: b %.6g (rel. std. error %.3g), %llu bootstrap paths, %d chains, "
-                "%llu mutations at %.3f M/s\n",
-                m.b, m.bRelStdErr, static_cast<unsigned long long>(m.bootstrap), m.chains,
-                static_cast<unsigned long long>(m.mutations), m.mutationsPerSecond() * 1e-6);
+                "  mlt: b %.6g (rel. std. error %.3g; the image's mean %.3g), %llu bootstrap "
+                "paths, %d chains, %llu mutations at %.3f M/s\n",
+                m.b, m.bRelStdErr, m.meanRelStdErr, static_cast<unsigned long long>(m.bootstrap),
+                m.chains, static_cast<unsigned long long>(m.mutations),
+                m.mutationsPerSecond() * 1e-6);
             std::printf("  mlt acceptance:");
             for (int k = 0; k < 4; ++k)
                 std::printf(" %s %.3f", glint::render::mltMutationName(k), m.acceptance(k));

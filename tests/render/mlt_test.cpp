@@ -283,6 +283,9 @@ TEST(Mlt, NoNanAfterALongRunAndStatisticsRecorded) {
     EXPECT_GT(chainsRel, 0.0);
     EXPECT_NEAR(std::stod(extra.at("mltMeanRelStdErr")), std::hypot(bRel, chainsRel),
                 1e-6 * std::hypot(bRel, chainsRel));
+    // The same figures in the render's statistics (glint-render's summary and --json).
+    EXPECT_NEAR(mlt.chainsRelStdErr, chainsRel, 1e-6 * chainsRel);
+    EXPECT_NEAR(mlt.meanRelStdErr, std::hypot(bRel, chainsRel), 1e-6 * mlt.meanRelStdErr);
     // Features come from the path-traced pass.
     EXPECT_TRUE(f.has(Layer::Albedo));
     EXPECT_TRUE(f.has(Layer::Normal));

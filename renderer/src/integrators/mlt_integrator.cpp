@@ -154,6 +154,11 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
     ms.chains = mlt.chains;
     ms.groups = mlt.groups;
     ms.featureSpp = mlt.featureSpp;
+    // The image's mean is b times the chains' estimate given b: their independent relative errors
+    // add in quadrature (docs/metropolis.md, "Error of the image's mean").
+    ms.chainsRelStdErr = work.chainsRelStdErr();
+    ms.meanRelStdErr =
+        std::sqrt(ms.bRelStdErr * ms.bRelStdErr + ms.chainsRelStdErr * ms.chainsRelStdErr);
 
     // The file records what the statistics say (strings in metadata are for files).
     FrameMetadata& meta = result.metadata();
@@ -165,12 +170,8 @@ FrameBuffers MltIntegrator::render(FrameBuffers features, const Callbacks& callb
     meta.extra["mltSampleCount"] = "feature pass";
     meta.extra["mltB"] = formatDouble(ms.b);
     meta.extra["mltBRelStdErr"] = formatDouble(ms.bRelStdErr);
-    // The image's mean is b times the chains' estimate given b: their independent relative errors
-    // add in quadrature (docs/metropolis.md, "Error of the image's mean").
-    const double chainsRel = work.chainsRelStdErr();
-    meta.extra["mltChainsRelStdErr"] = formatDouble(chainsRel);
-    meta.extra["mltMeanRelStdErr"] =
-        formatDouble(std::sqrt(ms.bRelStdErr * ms.bRelStdErr + chainsRel * chainsRel));
+    meta.extra["mltChainsRelStdErr"] = formatDouble(ms.chainsRelStdErr);
+    meta.extra["mltMeanRelStdErr"] = formatDouble(ms.meanRelStdErr);
     meta.extra["mltBootstrap"] = std::to_string(ms.bootstrap);
     meta.extra["mltChains"] = std::to_string(mlt.chains);
     meta.extra["mltMutations"] = std::to_string(ms.mutations);

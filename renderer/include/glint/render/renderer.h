@@ -43,7 +43,11 @@ struct MltStats {
     std::uint64_t bootstrap = 0;            ///< uniform paths that estimated b
     double b = 0.0;                         ///< mean luminance of the image (bootstrap estimate)
     double bRelStdErr = 0.0;                ///< relative standard error of b
-    double mutationSeconds = 0.0;           ///< time spent in the chains
+    /// Relative standard error of the chains' estimate given b (batch means over the groups).
+    double chainsRelStdErr = 0.0;
+    /// Relative standard error of the image's mean: b's and the chains' in quadrature.
+    double meanRelStdErr = 0.0;
+    double mutationSeconds = 0.0;  ///< time spent in the chains
     int chains = 0;
     int groups = 0;      ///< batches of chains of the batch-means variance
     int featureSpp = 0;  ///< spp of the path-traced feature pass
