@@ -240,6 +240,42 @@ TEST(GltfVertexAttributes, ATextureOnTexCoordOneReadsTheSecondUvSet) {
                  {0, 1, 0}, "KHR_texture_transform texCoord 1");
 }
 
+TEST(GltfVertexAttributes, ANormalMapOnTexCoordOneGetsTangentsAlongThatSet) {
+    // TEXCOORD_0 runs with x; TEXCOORD_1 is mirrored in u. Generated tangents follow the normal
+    // map's set: along -x with w = -1 (a mirrored layout) for texCoord 1, along +x for 0.
+    test::TempDir dir("gltf_tangents1");
+    writeFourTexels(dir.path());
+    auto tangents = [&](int texCoord) {
+        GltfBuilder b;
+        b.doc["images"] = json::array({{{"uri", "tex.png"}}});
+        b.doc["textures"] = json::array({{{"source", 0}}});
+        b.doc["materials"] =
+            json::array({{{"normalTexture", {{"index", 0}, {"texCoord", texCoord}}}}});
+        const int mesh = b.quad(0);
+        // The quad's TEXCOORD_0 is accessor 2 (POSITION, NORMAL, TEXCOORD_0).
+        const json& uv0 = b.doc["accessors"][2];
+        const std::size_t at = b.doc["bufferViews"][int(uv0["bufferView"])]["byteOffset"];
+        std::vector<float> uv1(reinterpret_cast<const float*>(b.bin.data() + at),
+                               reinterpret_cast<const float*>(b.bin.data() + at) + 8);
+        for (int v = 0; v < 4; ++v) uv1[std::size_t(2 * v)] = 1.0f - uv1[std::size_t(2 * v)];
+        addAttribute(b, mesh, "TEXCOORD_1", b.floats(uv1, "VEC2", 2));
+        b.scene({b.node({{"mesh", mesh}})});
+        dir.write("n.gltf", b.gltf());
+        const Scene s = loadScene(dir.write("scene.json", lookingAtTheQuad("n.gltf")));
+        return detail::sceneData(s).meshes[0].tangents;
+    };
+    for (const int texCoord : {0, 1}) {
+        const std::vector<Vec4> t = tangents(texCoord);
+        ASSERT_EQ(t.size(), 4u) << "texCoord " << texCoord;
+        const float along = texCoord == 1 ? -1.0f : 1.0f;
+        for (const Vec4& v : t) {
+            EXPECT_NEAR(v.x, along, 1e-5f) << "texCoord " << texCoord;
+            EXPECT_NEAR(v.y, 0.0f, 1e-5f) << "texCoord " << texCoord;
+            EXPECT_FLOAT_EQ(v.w, along) << "texCoord " << texCoord;
+        }
+    }
+}
+
 TEST(GltfVertexAttributes, ASlotOnTheSecondSetIsFilteredByThatSetsFootprint) {
     // A 64² checker of single texels (a tiled, MIP-mapped file: filtered by the footprint).
     // Set 1 tiles it 16 times across the quad, set 0 once: a pixel covers about 22 texels of

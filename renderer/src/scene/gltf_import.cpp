@@ -411,7 +411,8 @@ int GltfImport::mesh(int index) {
                 warn(place + " has a normal-mapped material but no " +
                      (hasNormals ? "TEXCOORD_0" : "NORMAL") + ": its normal map is not applied");
             else
-                generateTangents(mesh, firstTriangle, mesh.triangleCount());
+                generateTangents(mesh, firstTriangle, mesh.triangleCount(),
+                                 m_scene.materials[std::size_t(used)].normalMap.transform.set);
         }
     }
     if (mesh.triangleCount() == 0) return cached = -2;

@@ -17,7 +17,7 @@ float cornerAngle(const Vec3& a, const Vec3& b, const Vec3& c) {
 
 }  // namespace
 
-void generateTangents(Mesh& mesh, std::size_t firstTriangle, std::size_t lastTriangle) {
+void generateTangents(Mesh& mesh, std::size_t firstTriangle, std::size_t lastTriangle, int uvSet) {
     const std::size_t originalVertices = mesh.vertexCount();
     mesh.tangents.resize(originalVertices, Vec4{});
 
@@ -28,11 +28,13 @@ void generateTangents(Mesh& mesh, std::size_t firstTriangle, std::size_t lastTri
         float sign = 0.0f;  // 0: the texture coordinates are degenerate
     };
     std::vector<Direction> directions(lastTriangle - firstTriangle);
+    // Read only in this loop, before vertices are split (which appends to both sets).
+    const std::vector<Vec2>& uvs = uvSet != 0 && !mesh.uvs1.empty() ? mesh.uvs1 : mesh.uvs;
     for (std::size_t f = firstTriangle; f < lastTriangle; ++f) {
         const std::uint32_t* idx = &mesh.indices[3 * f];
         const Vec3 e1 = mesh.positions[idx[1]] - mesh.positions[idx[0]];
         const Vec3 e2 = mesh.positions[idx[2]] - mesh.positions[idx[0]];
-        const Vec2 a = mesh.uvs[idx[0]], b = mesh.uvs[idx[1]], c = mesh.uvs[idx[2]];
+        const Vec2 a = uvs[idx[0]], b = uvs[idx[1]], c = uvs[idx[2]];
         const float du1 = b.x - a.x, dv1 = b.y - a.y, du2 = c.x - a.x, dv2 = c.y - a.y;
         const float det = du1 * dv2 - du2 * dv1;
         if (!std::isfinite(det) || std::abs(det) < 1e-20f) continue;

@@ -14,7 +14,9 @@ namespace glint::render::detail {
 /// vertex shared by triangles of both handednesses (a mirrored texture) is split in two, as
 /// MikkTSpace splits it. Vertices without a usable texture-space direction get any tangent
 /// orthogonal to their normal. Needs normals and uvs; mesh.tangents is resized to the vertex
-/// count (zero where not generated).
-void generateTangents(Mesh& mesh, std::size_t firstTriangle, std::size_t lastTriangle);
+/// count (zero where not generated). `uvSet` 1 follows the second set (Mesh::uvs1, the normal
+/// map's glTF texCoord) where the mesh has one.
+void generateTangents(Mesh& mesh, std::size_t firstTriangle, std::size_t lastTriangle,
+                      int uvSet = 0);
 
 }  // namespace glint::render::detail
