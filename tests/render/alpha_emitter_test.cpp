@@ -95,12 +95,8 @@ double opaqueFloorRadiance() {
     return 4.0 / (kPi * std::sqrt(2.0)) * std::atan(1.0 / std::sqrt(2.0));
 }
 
-struct Estimate {
-    double mean, sigma;  ///< image mean and its standard error (from the variance layer)
-};
-
-Estimate renderFloor(const test::TempDir& dir, Presence presence, MisHeuristic mis,
-                     Strategy strategy) {
+test::MeanEstimate renderFloor(const test::TempDir& dir, Presence presence, MisHeuristic mis,
+                               Strategy strategy) {
     Renderer renderer(floorUnderEmitter(dir, presence));
     Settings s = renderer.scene().settings();
     s.spp = 256;
@@ -108,10 +104,7 @@ Estimate renderFloor(const test::TempDir& dir, Presence presence, MisHeuristic m
     s.seed = 15;
     s.mis = mis;
     s.strategy = strategy;
-    const FrameBuffers f = renderer.render(s).frame;
-    const Image& var = f.layer(Layer::Variance);
-    return {test::columnsMean(f.color()),
-            std::sqrt(test::columnsMean(var) / double(var.pixelCount()))};
+    return test::meanAndError(renderer.render(s).frame);
 }
 
 }  // namespace
@@ -130,7 +123,7 @@ TEST(AlphaEmitter, EveryStrategySeesHalfAHalfPresentEmitter) {
          {Presence::Opaque, Presence::Blend, Presence::BlendTexture, Presence::MaskTexture}) {
         const double expected = presence == Presence::Opaque ? opaque : 0.5 * opaque;
         for (const auto& [name, mis, strategy] : test::kMisModes) {
-            const Estimate e = renderFloor(dir, presence, mis, strategy);
+            const test::MeanEstimate e = renderFloor(dir, presence, mis, strategy);
             std::printf("%s, %s: %.5f (expected %.5f), sigma %.2g, %.1f sigma\n",
                         presenceName(presence), name, e.mean, expected, e.sigma,
                         (e.mean - expected) / e.sigma);

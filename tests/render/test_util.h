@@ -189,4 +189,14 @@ inline double columnsMean(const Image& image, int x0 = 0, int x1 = -1) {
     return sum / (double(x1 - x0) * image.height());
 }
 
+/// The image mean of channel 0 and its standard error, from the variance layer (the pixels'
+/// variances of the mean over their count: pixels independent).
+struct MeanEstimate {
+    double mean, sigma;
+};
+inline MeanEstimate meanAndError(const FrameBuffers& frame) {
+    const Image& var = frame.layer(Layer::Variance);
+    return {columnsMean(frame.color()), std::sqrt(columnsMean(var) / double(var.pixelCount()))};
+}
+
 }  // namespace glint::render::test
