@@ -24,6 +24,7 @@
 #include "model/first_denoise.h"
 #include "model/progressive_denoise.h"
 #include "views/compare_view.h"
+#include "views/elided_label.h"
 #include "views/features_view.h"
 #include "views/help_overlay.h"
 #include "views/look_panel.h"
@@ -99,7 +100,7 @@ MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
     addDockWidget(Qt::RightDockWidgetArea,
                   makeDock(this, tr("Workflow"), QStringLiteral("stages"), m_stages));
 
-    m_readout = new QLabel(this);
+    m_readout = new ElidedLabel(this);
     m_readout->setTextInteractionFlags(Qt::TextSelectableByMouse);
     m_busy = new QLabel(this);
     m_busyProgress = new QProgressBar(this);
@@ -316,7 +317,7 @@ void MainWindow::connectModel() {
     connect(m_filterTabs, &QTabWidget::currentChanged, this, &MainWindow::stageChanged);
     connect(m_region, &RegionOfInterest::changed, this,
             [this] { m_viewer->canvas()->setRegion(QPolygonF(m_region->polygon())); });
-    connect(m_viewer, &Viewer::readoutChanged, m_readout, &QLabel::setText);
+    connect(m_viewer, &Viewer::readoutChanged, m_readout, &ElidedLabel::setFullText);
     connect(m_session, &SessionAdapter::busyChanged, this, [this](bool busy) {
         m_busy->setText(busy ? tr("working…") : QString());
         if (!busy) m_busyProgress->hide();

@@ -32,6 +32,7 @@ class NavigateView;
 class PaintView;
 class CompareView;
 class HelpOverlay;
+class ElidedLabel;
 class StageView;
 
 /// Options of a studio window (from the command line, or a test).
@@ -124,7 +125,7 @@ class MainWindow : public QMainWindow {
     HelpOverlay* m_help;
     QTabWidget* m_stages;
     QTabWidget* m_filterTabs;
-    QLabel* m_readout;
+    ElidedLabel* m_readout;
     QLabel* m_busy;
     QProgressBar* m_busyProgress;
     QMenu* m_recentMenu;

@@ -11,6 +11,8 @@
 #include <QToolButton>
 #include <QVBoxLayout>
 
+#include <algorithm>
+
 #include "glint/denoise/aids.h"
 #include "glint/denoise/filter.h"
 #include "glint/denoise/registry.h"
@@ -27,9 +29,12 @@ NavigateView::NavigateView(const StudioContext& context, QWidget* parent)
     m_size = new QSpinBox(this);
     m_size->setRange(4, denoise::kMaxBankSize);
     m_size->setValue(64);
-    m_size->setPrefix(tr("bank "));
+    // The bank's size is the Latin-hypercube samples (as glint-denoise bank --size and Auto
+    // Start count it); each filter's defaults join them, so the box says so.
+    m_size->setSuffix(tr(" sampled + defaults"));
     m_size->setToolTip(
-        tr("Latin-hypercube members of the bank (each filter's defaults come on top)"));
+        tr("Filters sampled over the parameters (Latin hypercube); each filter's default "
+           "settings join them, so the bank holds a few more results than this"));
     m_build = new QPushButton(tr("Build bank"), this);
     m_build->setToolTip(tr("Filter the region with every member of the bank (in the background)"));
     m_progress = new QProgressBar(this);
@@ -132,12 +137,14 @@ void NavigateView::build() {
     m_tree.reset();
     m_builtFor = in;
     m_builtRect = rect;
+    m_builtSize = options.size;
     showOptions();
     m_progress->setValue(0);
-    m_state->setText(tr("Building a bank of %1 filters over %2×%3 pixels…")
-                         .arg(options.size)
+    m_state->setText(tr("Building a bank over %1×%2 pixels: %3 sampled filters and each "
+                        "filter's defaults…")
                          .arg(rect.width())
-                         .arg(rect.height()));
+                         .arg(rect.height())
+                         .arg(options.size));
     // The bank from the studio's bank service (Auto Start may have built it already), then its
     // tree on a worker.
     BankService* banks = m_context.session->banks();
@@ -169,8 +176,7 @@ void NavigateView::buildTree(std::shared_ptr<const denoise::FilterBank> bank,
             m_tree = t;
             m_navigator = std::make_unique<denoise::Navigator>(*m_tree);
             m_progress->setValue(1000);
-            m_state->setText(
-                tr("%1 filter results; pick the one you like best.").arg(m_bank->size()));
+            m_state->setText(bankText(*m_bank, m_builtSize));
             showOptions();
             updateOverlay();
             emit bankReady();
@@ -196,6 +202,21 @@ int NavigateView::depth() const {
 std::optional<denoise::BankMember> NavigateView::chosen() const {
     if (!m_navigator || !m_navigator->chosen()) return std::nullopt;
     return m_bank->members()[std::size_t(*m_navigator->chosen())];
+}
+
+QString NavigateView::bankText(const denoise::FilterBank& bank, int sampled) {
+    const auto defaults = std::count_if(bank.members().begin(), bank.members().end(),
+                                        [](const denoise::BankMember& m) { return m.isDefault; });
+    const qsizetype kept = qsizetype(bank.size()) - defaults;
+    QString text = tr("%1 filter results: %2 sampled and the defaults of %3 filters")
+                       .arg(bank.size())
+                       .arg(kept)
+                       .arg(defaults);
+    if (kept < sampled)
+        text += tr(" (%1 of the %2 sampled need layers this image lacks)")
+                    .arg(sampled - kept)
+                    .arg(sampled);
+    return text + tr("; pick the one you like best.");
 }
 
 QString NavigateView::memberText(int member) const {

@@ -31,7 +31,7 @@ class NavigateView : public StageView {
 
     /// Builds the bank and its tree over the region (in the background).
     void build();
-    /// Latin-hypercube members of the next bank.
+    /// Latin-hypercube members of the next bank (each filter's defaults join them).
     void setBankSize(int size);
     bool ready() const { return m_navigator != nullptr; }
     /// The options shown now (their number; 0 before the bank is built).
@@ -66,6 +66,8 @@ class NavigateView : public StageView {
     void showMember(int member);
     void updateOverlay();
     QString memberText(int member) const;
+    // What the bank holds: its results, how many were sampled and how many are defaults.
+    static QString bankText(const denoise::FilterBank& bank, int sampled);
 
     TaskRunner m_tasks;
     QSpinBox* m_size;
@@ -89,6 +91,7 @@ class NavigateView : public StageView {
     std::vector<int> m_shownMembers;  // member of each option button
     FramePtr m_builtFor;              // the input the bank was built on
     Rect m_builtRect{};
+    int m_builtSize = 0;                   // the Latin-hypercube samples asked of it
     BankService::Ticket m_bankTicket = 0;  // the bank asked of the bank service
 };
 

@@ -10,6 +10,7 @@
 #include <QToolButton>
 #include <QVBoxLayout>
 
+#include <algorithm>
 #include <cmath>
 
 #include "glint/denoise/aids.h"
@@ -146,10 +147,12 @@ Viewer::Viewer(Document* document, SessionAdapter* session, QWidget* parent)
     m_wipe->setMaximumWidth(160);
     // The bar gives way before the window outgrows a 1366-px screen.
     m_wipe->setMinimumWidth(40);
-    for (QComboBox* box : {m_channelBox, m_mode}) {
-        box->setSizeAdjustPolicy(QComboBox::AdjustToMinimumContentsLengthWithIcon);
-        box->setMinimumContentsLength(box == m_channelBox ? 8 : 5);
-    }
+    // The channel box is as wide as its longest item when there is room and gives way down to
+    // ten characters ("Error: relative") when the window is narrow; the display mode (three short
+    // items) always shows its item whole ("False colour").
+    m_channelBox->setSizeAdjustPolicy(QComboBox::AdjustToContents);
+    m_channelBox->setMinimumContentsLength(10);
+    m_mode->setSizeAdjustPolicy(QComboBox::AdjustToContents);
     m_wipe->setEnabled(false);
 
     auto* bar = new QHBoxLayout;
@@ -411,21 +414,28 @@ void Viewer::updateReadout(int x, int y) {
         emit readoutChanged(m_readout);
         return;
     }
+    // Most wanted first (the status bar shows what fits of it): the result and the reference,
+    // the render's colour and features, then the features' variances and the half buffers.
     QStringList parts;
     parts << tr("(%1, %2)").arg(x).arg(y);
     if (const Image* result = resultImage())
         parts << tr("result %1").arg(formatPixel(*result, x, y));
-    for (int l = 0; l < kLayerCount; ++l) {
-        const Layer layer = Layer(l);
-        if (!frame->has(layer)) continue;
-        parts << QStringLiteral("%1 %2").arg(
-            QString::fromUtf8(layerDisplayName(layer).data(),
-                              qsizetype(layerDisplayName(layer).size())),
-            formatPixel(frame->layer(layer), x, y));
-    }
     if (FramePtr reference = m_document->reference();
         reference && x < reference->width() && y < reference->height())
         parts << tr("reference %1").arg(formatPixel(reference->color(), x, y));
+    constexpr Layer kFirst[] = {Layer::Color, Layer::Variance, Layer::Albedo,     Layer::Normal,
+                                Layer::Depth, Layer::Position, Layer::SampleCount};
+    auto add = [&](Layer layer) {
+        const std::string_view name = layerDisplayName(layer);
+        parts << QStringLiteral("%1 %2").arg(QString::fromUtf8(name.data(), qsizetype(name.size())),
+                                             formatPixel(frame->layer(layer), x, y));
+    };
+    for (Layer layer : kFirst)
+        if (frame->has(layer)) add(layer);
+    for (int l = 0; l < kLayerCount; ++l)
+        if (frame->has(Layer(l)) &&
+            std::find(std::begin(kFirst), std::end(kFirst), Layer(l)) == std::end(kFirst))
+            add(Layer(l));
     m_readout = parts.join(QStringLiteral("  ·  "));
     emit readoutChanged(m_readout);
 }

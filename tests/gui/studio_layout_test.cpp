@@ -1,0 +1,223 @@
+// Defects seen in the screenshot tour (build/screenshots, build/shots-1366), each held down:
+// the bank says what it holds (a "bank 24" listed 30 results without saying why), the shortcut
+// sheet lays out inside the window on an opaque card at 1366×768 and 1600×1000 (its key column
+// was drawn over the left panel), the view bar shows its display mode whole ("False colou"), and
+// the status bar's pixel readout ends with "…" instead of a character cut in half.
+#include <QApplication>
+#include <QComboBox>
+#include <QLabel>
+#include <QSpinBox>
+#include <QStandardPaths>
+#include <QStatusBar>
+#include <QStyleOptionComboBox>
+#include <QTemporaryDir>
+#include <QTest>
+
+#include "glint/denoise/registry.h"
+#include "studio_fixture.h"
+#include "views/elided_label.h"
+#include "views/help_overlay.h"
+#include "views/image_canvas.h"
+#include "views/navigate_view.h"
+#include "views/viewer.h"
+
+using namespace glint;
+using namespace glint::studio;
+using namespace glint::studio::testing;
+
+namespace {
+
+void settle() {
+    for (int i = 0; i < 10; ++i) {
+        QCoreApplication::processEvents();
+        QTest::qWait(5);
+    }
+}
+
+QString rectText(const QRect& r) {
+    return QStringLiteral("(%1, %2) %3×%4").arg(r.x()).arg(r.y()).arg(r.width()).arg(r.height());
+}
+
+// The width a combo box gives its current text.
+int comboTextRoom(QComboBox* box) {
+    QStyleOptionComboBox option;
+    option.initFrom(box);
+    option.currentText = box->currentText();
+    option.editable = box->isEditable();
+    option.frame = box->hasFrame();
+    return box->style()
+        ->subControlRect(QStyle::CC_ComboBox, &option, QStyle::SC_ComboBoxEditField, box)
+        .width();
+}
+
+}  // namespace
+
+class StudioLayoutTest : public QObject {
+    Q_OBJECT
+  private:
+    QTemporaryDir m_dir;
+    QString m_scene;
+
+    std::unique_ptr<MainWindow> openScene(QSize size) {
+        auto w = openAndWait(m_scene, m_dir.filePath(QStringLiteral("autosave")));
+        if (w) {
+            w->resize(size);
+            settle();
+        }
+        return w;
+    }
+
+  private slots:
+    void initTestCase() {
+        QVERIFY(m_dir.isValid());
+        m_scene = writeSmallCornell(m_dir);
+    }
+
+    // "bank 24" built 30 results (each filter's defaults join the 24 Latin-hypercube samples,
+    // as glint-denoise bank --size counts them) and said only "30 filter results". The box and
+    // the label now say what the bank holds and why.
+    void aBankSaysWhatItHolds() {
+        auto w = openScene(QSize(1366, 768));
+        QVERIFY(w);
+        w->navigateView()->setBankSize(24);
+        w->setStage(2, true);
+        QVERIFY(waitFor([&] { return w->navigateView()->ready(); }, 60000));
+        auto* size = w->navigateView()->findChild<QSpinBox*>();
+        QLabel* state = nullptr;
+        for (QLabel* label : w->navigateView()->findChildren<QLabel*>())
+            if (label->text().contains(QStringLiteral("filter results"))) state = label;
+        QVERIFY(size && state);
+        QVERIFY2(size->text().contains(QStringLiteral("24 sampled + defaults")),
+                 qPrintable(size->text()));
+        // The small Cornell box has every feature layer: every default filter joins.
+        const std::size_t defaults = denoise::defaultBankFilters().size();
+        const QString expected =
+            QStringLiteral("%1 filter results: 24 sampled and the defaults of %2 filters")
+                .arg(24 + defaults)
+                .arg(defaults);
+        QVERIFY2(state->text().startsWith(expected), qPrintable(state->text()));
+        // What the label says is what the navigation holds.
+        QVERIFY(w->navigateView()->optionCount() == 4);
+    }
+
+    void theShortcutSheetFitsTheWindow_data() {
+        QTest::addColumn<QSize>("size");
+        QTest::newRow("1366x768") << QSize(1366, 768);
+        QTest::newRow("1600x1000") << QSize(1600, 1000);
+    }
+
+    void theShortcutSheetFitsTheWindow() {
+        QFETCH(QSize, size);
+        auto w = openScene(size);
+        QVERIFY(w);
+        QCOMPARE(w->size(), size);
+        auto* help = w->findChild<HelpOverlay*>();
+        QVERIFY(help && !help->isVisible());
+        QTest::keyClick(w.get(), Qt::Key_F1);
+        settle();
+        QVERIFY(help->isVisible());
+        QCOMPARE(help->geometry(), w->rect());
+        const HelpOverlay::Sheet sheet = help->layoutFor(help->size());
+        const QRect window = w->rect();
+        QVERIFY2(window.contains(sheet.card), qPrintable(rectText(sheet.card)));
+        QVERIFY(sheet.card.contains(sheet.title) && sheet.card.contains(sheet.footer));
+        QVERIFY2(sheet.rows.size() >= 30, qPrintable(QString::number(sheet.rows.size())));
+        QVERIFY(sheet.columns >= 1 && sheet.columns <= 3);
+        const QFontMetrics fm = help->fontMetrics();
+        std::vector<QRect> boxes;
+        for (const HelpOverlay::Row& row : sheet.rows) {
+            const QString what = row.key + QStringLiteral(" / ") + row.text;
+            QVERIFY2(!row.key.isEmpty() && !row.text.isEmpty(), qPrintable(what));
+            // Inside the card, above the footer, and whole (no elision at these sizes).
+            for (const QRect& r : {row.keyRect, row.textRect}) {
+                QVERIFY2(sheet.card.contains(r), qPrintable(what + QLatin1Char(' ') + rectText(r)));
+                QVERIFY2(r.bottom() < sheet.footer.top(), qPrintable(what));
+                QVERIFY2(r.top() > sheet.title.bottom(), qPrintable(what));
+            }
+            QVERIFY2(fm.horizontalAdvance(row.key) <= row.keyRect.width(), qPrintable(what));
+            QVERIFY2(fm.horizontalAdvance(row.text) <= row.textRect.width(), qPrintable(what));
+            boxes.push_back(row.keyRect);
+            boxes.push_back(row.textRect);
+        }
+        // No key or text overlaps another (a column's keys stay clear of the column before).
+        for (std::size_t i = 0; i < boxes.size(); ++i)
+            for (std::size_t j = i + 1; j < boxes.size(); ++j)
+                QVERIFY2(!boxes[i].intersects(boxes[j]),
+                         qPrintable(rectText(boxes[i]) + QStringLiteral(" meets ") +
+                                    rectText(boxes[j])));
+        // The card is opaque: the panels under it do not show through. Its margin left of the
+        // first column, from the title to the footer, is one colour.
+        const QImage shot = w->grab().toImage();
+        const QRect strip(sheet.card.left() + 2, sheet.title.bottom() + 1,
+                          sheet.rows.front().keyRect.left() - sheet.card.left() - 4,
+                          sheet.footer.top() - sheet.title.bottom() - 1);
+        QVERIFY2(strip.width() > 4 && strip.height() > 100, qPrintable(rectText(strip)));
+        const QRgb card = shot.pixel(strip.topLeft());
+        for (int y = strip.top(); y <= strip.bottom(); ++y)
+            for (int x = strip.left(); x <= strip.right(); ++x)
+                QVERIFY2(shot.pixel(x, y) == card,
+                         qPrintable(QStringLiteral("(%1, %2)").arg(x).arg(y)));
+        QTest::keyClick(w.get(), Qt::Key_F1);
+        QVERIFY(!help->isVisible());
+    }
+
+    // At 1366×768 with the false-colour error shown, the view bar's boxes show their items whole.
+    void theViewBarShowsItsChoicesWholeAt1366x768() {
+        auto w = openScene(QSize(1366, 768));
+        QVERIFY(w);
+        w->viewer()->setChannel(Viewer::Channel::ErrorRelative);
+        w->viewer()->setDisplayMode(DisplayMode::FalseColor);
+        settle();
+        int checked = 0;
+        for (QComboBox* box : w->viewer()->findChildren<QComboBox*>()) {
+            if (!box->isVisible()) continue;
+            const QString text = box->currentText();
+            if (text != QStringLiteral("False colour") && text != QStringLiteral("Error: relative"))
+                continue;
+            ++checked;
+            QVERIFY2(box->fontMetrics().horizontalAdvance(text) <= comboTextRoom(box),
+                     qPrintable(QStringLiteral("%1: %2 px for %3 px of text")
+                                    .arg(text)
+                                    .arg(comboTextRoom(box))
+                                    .arg(box->fontMetrics().horizontalAdvance(text))));
+        }
+        QCOMPARE(checked, 2);
+    }
+
+    // The pixel readout lists more layers than 1366 px hold: it shows what fits, ends with "…",
+    // keeps the whole in its tooltip, and the result comes first.
+    void theReadoutEndsWithAnEllipsisAt1366x768() {
+        auto w = openScene(QSize(1366, 768));
+        QVERIFY(w);
+        ImageCanvas* canvas = w->viewer()->canvas();
+        QTest::mouseMove(canvas, canvas->toWidget(QPointF(40.5, 40.5)).toPoint());
+        settle();
+        auto* readout = w->statusBar()->findChild<ElidedLabel*>();
+        QVERIFY(readout);
+        const QString full = readout->fullText();
+        QVERIFY2(full.startsWith(QStringLiteral("(40, 40)")), qPrintable(full));
+        QVERIFY(full.contains(QStringLiteral("result ")));
+        const QString shown = readout->text();
+        QVERIFY2(readout->fontMetrics().horizontalAdvance(shown) <= readout->contentsRect().width(),
+                 qPrintable(shown));
+        QVERIFY2(readout->fontMetrics().horizontalAdvance(full) > readout->contentsRect().width(),
+                 "the readout fits at 1366 px: this test no longer tests eliding");
+        QVERIFY2(shown.endsWith(QChar(0x2026)), qPrintable(shown));
+        QCOMPARE(readout->toolTip(), full);
+        QVERIFY(shown.contains(QStringLiteral("result ")));
+        // Wider, it shows more of the same text.
+        w->resize(1600, 1000);
+        settle();
+        QVERIFY(readout->text().size() > shown.size());
+    }
+};
+
+int main(int argc, char** argv) {
+    QApplication app(argc, argv);
+    QApplication::setOrganizationName(QStringLiteral("GlintTests"));
+    QStandardPaths::setTestModeEnabled(true);
+    StudioLayoutTest test;
+    return QTest::qExec(&test, argc, argv);
+}
+
+#include "studio_layout_test.moc"
