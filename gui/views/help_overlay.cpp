@@ -14,6 +14,7 @@ constexpr int kPadding = 20;    // inside the sheet
 constexpr int kKeyGap = 14;     // between a key and its text
 constexpr int kColumnGap = 36;  // between columns
 constexpr int kRowSpacing = 4;
+constexpr int kOneColumnRows = 16;  // more rows than this go in two columns when they fit
 const QColor kCard(28, 28, 32);
 }  // namespace
 
@@ -91,7 +92,6 @@ HelpOverlay::Sheet HelpOverlay::layoutFor(QSize size) const {
     const int fitting = std::max(1, rowsRoom / rowHeight);
     const int n = int(all.size());
     sheet.columns = std::max(1, (n + fitting - 1) / fitting);
-    const int perColumn = std::max(1, (n + sheet.columns - 1) / sheet.columns);
     // 2. Widths from the texts, shrunk (texts elided) only when the window is too narrow.
     int keyWidth = 0, textWidth = 0;
     for (const auto& [key, text] : all) {
@@ -99,6 +99,11 @@ HelpOverlay::Sheet HelpOverlay::layoutFor(QSize size) const {
         textWidth = std::max(textWidth, fm.horizontalAdvance(text));
     }
     const int roomWidth = size.width() - 2 * kMargin - 2 * kPadding;
+    // A long list reads better in two columns than in one tall one, when they fit.
+    if (sheet.columns == 1 && n > kOneColumnRows &&
+        2 * (keyWidth + kKeyGap + textWidth) + kColumnGap <= roomWidth)
+        sheet.columns = 2;
+    const int perColumn = std::max(1, (n + sheet.columns - 1) / sheet.columns);
     const int columnRoom = (roomWidth - (sheet.columns - 1) * kColumnGap) / sheet.columns;
     if (keyWidth + kKeyGap + textWidth > columnRoom) {
         keyWidth = std::min(keyWidth, std::max(1, columnRoom / 3));
