@@ -89,7 +89,8 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
     m_side->setMinimumHeight(160);
     // The preview is scaled to the label: its pixmap must not widen the panel.
     m_side->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Ignored);
-    m_side->setAlignment(Qt::AlignCenter);
+    // Under its controls, not floating in the middle of a tall panel.
+    m_side->setAlignment(Qt::AlignHCenter | Qt::AlignTop);
     m_side->setToolTip(tr("The selected filter applied everywhere"));
     m_state = new QLabel(this);
     m_state->setWordWrap(true);

@@ -2,7 +2,8 @@
 // the bank says what it holds (a "bank 24" listed 30 results without saying why), the shortcut
 // sheet lays out inside the window on an opaque card at 1366×768 and 1600×1000 (its key column
 // was drawn over the left panel), the view bar shows its display mode whole ("False colou"), and
-// the status bar's pixel readout ends with "…" instead of a character cut in half.
+// the status bar's pixel readout ends with "…" instead of a character cut in half, and the paint
+// stage's side preview sits under its controls.
 #include <QApplication>
 #include <QComboBox>
 #include <QLabel>
@@ -182,6 +183,34 @@ class StudioLayoutTest : public QObject {
                                     .arg(box->fontMetrics().horizontalAdvance(text))));
         }
         QCOMPARE(checked, 2);
+    }
+
+    // At 1600×1000 the paint stage's side preview sat in the middle of a tall empty area, far
+    // from the controls it belongs to: it now starts at the top of its place.
+    void theSidePreviewSitsUnderItsControls() {
+        auto w = openScene(QSize(1600, 1000));
+        QVERIFY(w);
+        QVERIFY(addGaussian(*w, false));
+        w->setStage(3);
+        QLabel* side = nullptr;
+        for (QLabel* label : w->findChildren<QLabel*>())
+            if (label->toolTip() == QStringLiteral("The selected filter applied everywhere"))
+                side = label;
+        QVERIFY(side);
+        QVERIFY(waitFor([&] { return !side->pixmap().isNull(); }));
+        settle();
+        const QSize picture = side->pixmap().deviceIndependentSize().toSize();
+        QVERIFY2(side->height() > picture.height() + 40,
+                 "the preview fills its place: this test no longer tests where it sits");
+        // The first row of the grab that differs from the label's background.
+        const QImage shot = side->grab().toImage();
+        const QRgb background = shot.pixel(0, shot.height() - 1);
+        int first = -1;
+        for (int y = 0; y < shot.height() && first < 0; ++y)
+            if (shot.pixel(shot.width() / 2, y) != background) first = y;
+        QVERIFY2(
+            first >= 0 && first <= side->contentsRect().top() + 2,
+            qPrintable(QStringLiteral("picture from row %1 of %2").arg(first).arg(shot.height())));
     }
 
     // The pixel readout lists more layers than 1366 px hold: it shows what fits, ends with "…",
