@@ -7,6 +7,7 @@
 #include <QApplication>
 #include <QComboBox>
 #include <QLabel>
+#include <QRegularExpression>
 #include <QSpinBox>
 #include <QStandardPaths>
 #include <QStatusBar>
@@ -15,6 +16,7 @@
 #include <QTest>
 
 #include "glint/denoise/registry.h"
+#include "glint/image/io.h"
 #include "studio_fixture.h"
 #include "views/elided_label.h"
 #include "views/help_overlay.h"
@@ -99,6 +101,42 @@ class StudioLayoutTest : public QObject {
         QVERIFY2(state->text().startsWith(expected), qPrintable(state->text()));
         // What the label says is what the navigation holds.
         QVERIFY(w->navigateView()->optionCount() == 4);
+    }
+
+    // On an image without feature layers, the sampled members that need one (guided with an
+    // albedo, normal or depth guide) are left out; the label says how many, and its numbers add
+    // up to the bank's.
+    void aBankOfAColourOnlyImageSaysWhatItLeftOut() {
+        FrameBuffers frame(48, 32);
+        Image colour(48, 32, 3, 0.0f);
+        for (int y = 0; y < 32; ++y)
+            for (int x = 0; x < 48; ++x)
+                for (int c = 0; c < 3; ++c)
+                    colour(x, y, c) = float((x * 7 + y * 13 + c * 5) % 17) / 17.0f;
+        frame.set(Layer::Color, colour);
+        const QString path = m_dir.filePath(QStringLiteral("colour-only.exr"));
+        writeExr(frame, path.toStdString());
+        auto w = openAndWait(path, m_dir.filePath(QStringLiteral("autosave-exr")));
+        QVERIFY(w);
+        w->navigateView()->setBankSize(24);
+        w->setStage(2, true);
+        QVERIFY(waitFor([&] { return w->navigateView()->ready(); }, 60000));
+        QString text;
+        for (QLabel* label : w->navigateView()->findChildren<QLabel*>())
+            if (label->text().contains(QStringLiteral("filter results"))) text = label->text();
+        const QRegularExpression pattern(
+            QStringLiteral("^(\\d+) filter results: (\\d+) sampled and the defaults of (\\d+) "
+                           "filters \\((\\d+) of "
+                           "the 24 sampled need layers this image lacks\\)"));
+        const QRegularExpressionMatch m = pattern.match(text);
+        QVERIFY2(m.hasMatch(), qPrintable(text));
+        const int total = m.captured(1).toInt(), kept = m.captured(2).toInt(),
+                  defaults = m.captured(3).toInt(), left = m.captured(4).toInt();
+        QCOMPARE(total, kept + defaults);
+        QCOMPARE(kept + left, 24);
+        QVERIFY(left > 0);
+        // Cross-bilateral needs the features: not every default filter can run.
+        QVERIFY(defaults >= 1 && std::size_t(defaults) < denoise::defaultBankFilters().size());
     }
 
     void theShortcutSheetFitsTheWindow_data() {
