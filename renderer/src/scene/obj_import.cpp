@@ -1,6 +1,7 @@
 // OBJ/MTL import through tinyobjloader: triangles, per-vertex normals and uvs, MTL materials
 // (JSON materials of the same name take precedence): colours, d/Tr, the PBR extension's Pr/Pm,
-// map_Kd (with -s, -o, -clamp), norm, and map_d where it is map_Kd's alpha (docs/obj-assets.md).
+// map_Kd (with -s, -o, -clamp), norm, bump (heights, with -bm) and map_d where it is map_Kd's
+// alpha (docs/obj-assets.md).
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -186,7 +187,8 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
 
     // Map the OBJ's materials to scene materials (JSON overrides MTL by name).
     std::vector<int> objMaterial;
-    bool normalMapped = false;
+    bool normalMapped = false, bumpMapped = false;
+    std::vector<fs::path> bumpBesideNorm;  // MTL files warned of a bump map beside a normal map
     for (tinyobj::material_t mtl : materials) {
         int index = materialIndex(mtl.name);
         if (index < 0) {
@@ -209,6 +211,20 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
             if (info && !info->norm.name.empty()) {
                 m.normalMap = mtlTexture(*info, info->norm, "norm", mtl.name, TextureUse::Data);
                 normalMapped = true;
+            }
+            // Heights are data (read linearly, as normal maps are), whatever the file's encoding.
+            if (info && !info->bump.name.empty() && m.normalMap.present()) {
+                if (std::find(bumpBesideNorm.begin(), bumpBesideNorm.end(), info->file) ==
+                    bumpBesideNorm.end()) {
+                    bumpBesideNorm.push_back(info->file);
+                    warn(info->file.filename().string() + " line " +
+                         std::to_string(info->bump.line) + ": the bump map of material '" +
+                         mtl.name + "' is ignored: it has a normal map ('norm'), which is used");
+                }
+            } else if (info && !info->bump.name.empty()) {
+                m.bumpMap = mtlTexture(*info, info->bump, "bump", mtl.name, TextureUse::Data);
+                m.bumpMultiplier = info->bump.bumpMultiplier;
+                bumpMapped = true;
             }
             if (info && !info->mapD.name.empty()) {
                 // The base texture's alpha is the opacity Glint reads; another file is not.
@@ -355,6 +371,10 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
             warn(std::string("a material has a 'norm' normal map but the faces have no ") +
                  (anyNormals ? "texture coordinates" : "normals") + ": it is not applied");
     }
+    if (bumpMapped && overrideMaterial < 0 && !anyUvs)
+        warn(
+            "a material has a bump map but the faces have no texture coordinates: it is not "
+            "applied");
     if (overrideMaterial >= 0) mesh.assignMaterial(0, 0u);
 
     // A shape whose emissive faces have no area cannot emit: reject it clearly.
