@@ -133,21 +133,59 @@ TEST(ObjBump, BadBumpMultipliersAreRefusedWithTheirLine) {
     }
 }
 
+/// Writes a 4 × 4 8-bit PNG whose every texel is `texel` (1 to 4 bytes), as stored.
+void writeBytesPng(const fs::path& path, const std::vector<unsigned char>& texel) {
+    std::vector<unsigned char> bytes;
+    for (int i = 0; i < 16; ++i) bytes.insert(bytes.end(), texel.begin(), texel.end());
+    auto out = OIIO::ImageOutput::create(path.string());
+    ASSERT_TRUE(out);
+    ASSERT_TRUE(
+        out->open(path.string(), OIIO::ImageSpec(4, 4, int(texel.size()), OIIO::TypeDesc::UINT8)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, bytes.data()));
+    out->close();
+}
+
 // An 8-bit PNG of heights is data: byte 128 is 0.502, not the sRGB decoding's 0.216.
 TEST(ObjBump, EightBitHeightsAreReadLinearly) {
     test::TempDir dir("obj_bump_png");
-    const std::vector<unsigned char> grey(4 * 4, 128);
-    auto out = OIIO::ImageOutput::create((dir.path() / "h.png").string());
-    ASSERT_TRUE(out);
-    ASSERT_TRUE(out->open((dir.path() / "h.png").string(),
-                          OIIO::ImageSpec(4, 4, 1, OIIO::TypeDesc::UINT8)));
-    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, grey.data()));
-    out->close();
+    writeBytesPng(dir.path() / "h.png", {128});
     const Scene scene = loadQuad(dir, "newmtl m\nbump h.png\n");
     const SceneData& d = detail::sceneData(scene);
     const detail::Texture& t = d.textures.at(std::size_t(d.materials.at(0).bumpMap.texture));
     EXPECT_FALSE(t.decodeSrgb);
     EXPECT_NEAR(t.lookup({0.5f, 0.5f}).x, 128.0f / 255.0f, 1e-6f);
+}
+
+// Blender's exporter writes a tangent-space normal map as map_Bump: a texture of a normal map's
+// colours (mean (0.5, 0.5, 1)) is read as one, -bm its strength, with one warning per MTL file;
+// grey heights and a colour photograph stay heights.
+TEST(ObjBump, ANormalMapInTheBumpSlotIsReadAsOne) {
+    test::TempDir dir("obj_bump_normals");
+    writeBytesPng(dir.path() / "n.png", {128, 128, 255});
+    writeBytesPng(dir.path() / "photo.png", {90, 140, 200});
+    writeBytesPng(dir.path() / "h.png", {200});
+    const Scene scene = loadQuad(dir,
+                                 "newmtl m\nmap_Bump -bm 0.8 n.png\nnewmtl m2\nbump n.png\n"
+                                 "newmtl p\nbump photo.png\nnewmtl h\nbump h.png\n");
+    const SceneData& d = detail::sceneData(scene);
+    ASSERT_EQ(d.materials.size(), 4u);
+    const Material& m = d.materials[0];
+    EXPECT_TRUE(m.normalMap.present() && !m.bumpMap.present());
+    EXPECT_FLOAT_EQ(m.normalScale, 0.8f);
+    EXPECT_TRUE(d.materials[1].normalMap.present());
+    for (std::size_t i : {2u, 3u})
+        EXPECT_TRUE(d.materials[i].bumpMap.present() && !d.materials[i].normalMap.present())
+            << d.materials[i].name;
+    const auto& w = scene.warnings();
+    EXPECT_EQ(std::count_if(w.begin(), w.end(),
+                            [](const std::string& s) {
+                                return s.find(
+                                           "m.mtl line 2: the bump map 'n.png' of material 'm' "
+                                           "holds tangent-space normals") != std::string::npos;
+                            }),
+              1)
+        << ::testing::PrintToString(w);
+    EXPECT_EQ(w.size(), 2u) << ::testing::PrintToString(w);  // and: no vertex normals, no tangents
 }
 
 // A height ramp h = u (or v) times -bm on a quad of side L scene units slopes by -bm / L: the

@@ -98,6 +98,14 @@ Material materialFromMtl(const tinyobj::material_t& mtl, bool pbr) {
     return m;
 }
 
+// True when a texture's mean colour (read as data) is that of a tangent-space normal map: red
+// and green near 0.5 (normals leaning every way), blue near 1 and well above both (normals
+// mostly along +z). A height map's grey, or a photograph, is not.
+bool tangentNormalColours(const Vec3& mean) {
+    return std::abs(mean.x - 0.5f) <= 0.15f && std::abs(mean.y - 0.5f) <= 0.15f &&
+           mean.z >= 0.75f && mean.z - std::max(mean.x, mean.y) >= 0.25f;
+}
+
 // An MTL texture's -s and -o (u, v) as a transform of the texture coordinates.
 UvTransform uvTransformOf(const MtlTexture& tex) {
     UvTransform t;
@@ -188,7 +196,8 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     // Map the OBJ's materials to scene materials (JSON overrides MTL by name).
     std::vector<int> objMaterial;
     bool normalMapped = false, bumpMapped = false;
-    std::vector<fs::path> bumpBesideNorm;  // MTL files warned of a bump map beside a normal map
+    // MTL files warned of a bump map beside a normal map, and of one that is a normal map.
+    std::vector<fs::path> bumpBesideNorm, bumpAsNormals;
     for (tinyobj::material_t mtl : materials) {
         int index = materialIndex(mtl.name);
         if (index < 0) {
@@ -222,9 +231,32 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
                          mtl.name + "' is ignored: it has a normal map ('norm'), which is used");
                 }
             } else if (info && !info->bump.name.empty()) {
-                m.bumpMap = mtlTexture(*info, info->bump, "bump", mtl.name, TextureUse::Data);
-                m.bumpMultiplier = info->bump.bumpMultiplier;
-                bumpMapped = true;
+                const TextureSlot slot =
+                    mtlTexture(*info, info->bump, "bump", mtl.name, TextureUse::Data);
+                const Vec3 mean = m_scene.textures[std::size_t(slot.texture)].meanColour();
+                if (tangentNormalColours(mean)) {
+                    // Blender's exporter writes a normal map as map_Bump (and its importer reads
+                    // map_Bump as one): read as a normal map, -bm its strength.
+                    m.normalMap = slot;
+                    m.normalScale = info->bump.bumpMultiplier;
+                    normalMapped = true;
+                    if (std::find(bumpAsNormals.begin(), bumpAsNormals.end(), info->file) ==
+                        bumpAsNormals.end()) {
+                        bumpAsNormals.push_back(info->file);
+                        std::ostringstream msg;
+                        msg.precision(3);
+                        msg << info->file.filename().string() << " line " << info->bump.line
+                            << ": the bump map '" << info->bump.name << "' of material '"
+                            << mtl.name << "' holds tangent-space normals (mean colour " << mean.x
+                            << ", " << mean.y << ", " << mean.z
+                            << "): read as a normal map, as Blender writes it";
+                        warn(msg.str());
+                    }
+                } else {
+                    m.bumpMap = slot;
+                    m.bumpMultiplier = info->bump.bumpMultiplier;
+                    bumpMapped = true;
+                }
             }
             if (info && !info->mapD.name.empty()) {
                 // The base texture's alpha is the opacity Glint reads; another file is not.
