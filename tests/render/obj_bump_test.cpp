@@ -23,6 +23,7 @@
 #include "integrators/surface_inputs.h"
 #include "scene/scene_access.h"
 #include "scene/scene_data.h"
+#include "scene/scene_hash.h"
 #include "test_util.h"
 
 namespace glint::render {
@@ -38,7 +39,7 @@ const char* kQuadObj =
     "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n";
 
 /// A scene of the quad under a white sky, scaled by `scale`, seen from above.
-std::string quadScene(float scale = 1.0f, int spp = 4) {
+std::string bumpQuadScene(float scale = 1.0f, int spp = 4) {
     return R"({"camera": {"position": [1, 1, 3], "lookAt": [1, 1, 0], "fovY": 30},
       "film": {"width": 24, "height": 24},
       "shapes": [{"obj": "mesh.obj", "transform": {"scale": )" +
@@ -63,7 +64,7 @@ void writeHeights(const fs::path& path, int w, int h, F value) {
 Scene loadQuad(const test::TempDir& dir, const std::string& mtl, float scale = 1.0f) {
     dir.write("mesh.obj", kQuadObj);
     dir.write("m.mtl", mtl);
-    dir.write("scene.json", quadScene(scale));
+    dir.write("scene.json", bumpQuadScene(scale));
     return loadScene(dir.path() / "scene.json");
 }
 
@@ -110,6 +111,20 @@ TEST(ObjBump, BumpStatementsAndTheirOptionsAreRead) {
         EXPECT_EQ(t.use, detail::TextureUse::Data);
         EXPECT_EQ(scene.warnings().size(), 0u) << ::testing::PrintToString(scene.warnings());
     }
+}
+
+// Shards of a render compare scene hashes (docs/distributed.md): a bump map and its -bm count.
+TEST(ObjBump, TheSceneHashSeesTheBumpMapAndItsMultiplier) {
+    test::TempDir dir("obj_bump_hash");
+    writeHeights(dir.path() / "h.exr", 2, 2, [](float u, float) { return u; });
+    auto hash = [&](const std::string& mtl) {
+        return sceneContentHash(detail::sceneData(loadQuad(dir, "newmtl m\n" + mtl)));
+    };
+    const std::uint64_t flat = hash(""), one = hash("bump h.exr\n"),
+                        two = hash("bump -bm 2 h.exr\n");
+    EXPECT_NE(flat, one);
+    EXPECT_NE(one, two);
+    EXPECT_EQ(two, hash("bump -bm 2 h.exr\n"));
 }
 
 TEST(ObjBump, BadBumpMultipliersAreRefusedWithTheirLine) {
@@ -265,7 +280,7 @@ TEST(ObjBump, ABumpedQuadReflectsNoMoreThanAFlatOne) {
     auto render = [&](const std::string& bump) {
         dir.write("mesh.obj", kQuadObj);
         dir.write("m.mtl", "newmtl m\nKd 1 1 1\n" + bump);
-        dir.write("scene.json", quadScene(1.0f, 32));
+        dir.write("scene.json", bumpQuadScene(1.0f, 32));
         Renderer renderer(loadScene(dir.path() / "scene.json"));
         return renderer.render(renderer.scene().settings()).frame;
     };
