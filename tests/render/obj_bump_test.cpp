@@ -148,10 +148,13 @@ TEST(ObjBump, BadBumpMultipliersAreRefusedWithTheirLine) {
     }
 }
 
-/// Writes a 4 × 4 8-bit PNG whose every texel is `texel` (1 to 4 bytes), as stored.
-void writeBytesPng(const fs::path& path, const std::vector<unsigned char>& texel) {
+/// Writes a 4 × 4 8-bit PNG whose every texel is `texel` (1 to 4 bytes), as stored, but for its
+/// first `blackRows` rows, which are 0.
+void writeBytesPng(const fs::path& path, const std::vector<unsigned char>& texel,
+                   int blackRows = 0) {
     std::vector<unsigned char> bytes;
-    for (int i = 0; i < 16; ++i) bytes.insert(bytes.end(), texel.begin(), texel.end());
+    for (int i = 0; i < 16; ++i)
+        for (unsigned char b : texel) bytes.push_back(i < 4 * blackRows ? 0 : b);
     auto out = OIIO::ImageOutput::create(path.string());
     ASSERT_TRUE(out);
     ASSERT_TRUE(
@@ -172,11 +175,12 @@ TEST(ObjBump, EightBitHeightsAreReadLinearly) {
 }
 
 // Blender's exporter writes a tangent-space normal map as map_Bump: a texture of a normal map's
-// colours (mean (0.5, 0.5, 1)) is read as one, -bm its strength, with one warning per MTL file;
-// grey heights and a colour photograph stay heights.
+// colours (mean (0.5, 0.5, 1) where not black: Crytek Sponza pads its islands with black) is read
+// as one, -bm its strength, with one warning per MTL file; grey heights and a colour photograph
+// stay heights.
 TEST(ObjBump, ANormalMapInTheBumpSlotIsReadAsOne) {
     test::TempDir dir("obj_bump_normals");
-    writeBytesPng(dir.path() / "n.png", {128, 128, 255});
+    writeBytesPng(dir.path() / "n.png", {128, 128, 255}, 2);
     writeBytesPng(dir.path() / "photo.png", {90, 140, 200});
     writeBytesPng(dir.path() / "h.png", {200});
     const Scene scene = loadQuad(dir,

@@ -98,12 +98,44 @@ Material materialFromMtl(const tinyobj::material_t& mtl, bool pbr) {
     return m;
 }
 
-// True when a texture's mean colour (read as data) is that of a tangent-space normal map: red
-// and green near 0.5 (normals leaning every way), blue near 1 and well above both (normals
-// mostly along +z). A height map's grey, or a photograph, is not.
-bool tangentNormalColours(const Vec3& mean) {
-    return std::abs(mean.x - 0.5f) <= 0.15f && std::abs(mean.y - 0.5f) <= 0.15f &&
-           mean.z >= 0.75f && mean.z - std::max(mean.x, mean.y) >= 0.25f;
+// The mean colour (read as data) of a texture's texels that are not black, and their share of
+// the texels: the texture in memory, or a level of at most 512 texels a side from the store.
+std::pair<Vec3, double> meanOfNonBlack(const Texture& texture) {
+    std::vector<float> rgba;
+    const float* texels = texture.image.data().data();
+    std::size_t count = texture.image.pixelCount(), stride = std::size_t(texture.image.channels());
+    if (texture.store) {
+        const auto sizes = texture.store->levelSizes(texture.file);
+        std::size_t level = 0;
+        while (level + 1 < sizes.size() && std::max(sizes[level].first, sizes[level].second) > 512)
+            ++level;
+        if (!texture.store->readLevel(texture.file, int(level), rgba)) return {{}, 0.0};
+        texels = rgba.data(), count = rgba.size() / 4, stride = 4;
+    }
+    double sum[3] = {0.0, 0.0, 0.0};
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+        const float* t = texels + i * stride;
+        if (t[0] + t[1] + t[2] < 0.05f) continue;  // padding around an atlas' islands
+        for (int c = 0; c < 3; ++c) sum[c] += t[c];
+        ++kept;
+    }
+    if (kept == 0) return {{}, 0.0};
+    return {
+        {float(sum[0] / double(kept)), float(sum[1] / double(kept)), float(sum[2] / double(kept))},
+        double(kept) / double(count)};
+}
+
+// True when a texture holds tangent-space normals: over its texels that are not black (Crytek
+// Sponza's normal maps pad their islands with black), red and green near 0.5 on average
+// (normals leaning every way) and blue near 1 and well above both (normals mostly along +z),
+// with such texels a quarter of the texture at least. A height map's grey, or a photograph,
+// is not.
+bool holdsTangentNormals(const Texture& texture, Vec3& mean) {
+    const auto [m, share] = meanOfNonBlack(texture);
+    mean = m;
+    return share >= 0.25 && std::abs(m.x - 0.5f) <= 0.15f && std::abs(m.y - 0.5f) <= 0.15f &&
+           m.z >= 0.75f && m.z - std::max(m.x, m.y) >= 0.25f;
 }
 
 // An MTL texture's -s and -o (u, v) as a transform of the texture coordinates.
@@ -233,8 +265,8 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
             } else if (info && !info->bump.name.empty()) {
                 const TextureSlot slot =
                     mtlTexture(*info, info->bump, "bump", mtl.name, TextureUse::Data);
-                const Vec3 mean = m_scene.textures[std::size_t(slot.texture)].meanColour();
-                if (tangentNormalColours(mean)) {
+                Vec3 mean;
+                if (holdsTangentNormals(m_scene.textures[std::size_t(slot.texture)], mean)) {
                     // Blender's exporter writes a normal map as map_Bump (and its importer reads
                     // map_Bump as one): read as a normal map, -bm its strength.
                     m.normalMap = slot;
@@ -249,7 +281,7 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
                             << ": the bump map '" << info->bump.name << "' of material '"
                             << mtl.name << "' holds tangent-space normals (mean colour " << mean.x
                             << ", " << mean.y << ", " << mean.z
-                            << "): read as a normal map, as Blender writes it";
+                            << " where not black): read as a normal map, as Blender writes it";
                         warn(msg.str());
                     }
                 } else {
