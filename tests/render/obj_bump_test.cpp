@@ -208,9 +208,9 @@ TEST(ObjBump, ANormalMapInTheBumpSlotIsReadAsOne) {
 }
 
 // A height ramp h = u (or v) times -bm on a quad of side L scene units slopes by -bm / L: the
-// shading normal tilts away from the rising side by atan(slope × mult / L). Tolerance 1e-4 rad:
-// the central differences of float heights near 0.5 over steps of at least 0.001 in u are exact
-// to about 1e-4 of the slope.
+// shading normal tilts away from the rising side by atan(slope × mult / L), on either side.
+// Tolerance 1e-4 rad: the central differences of float heights near 0.5 over steps of at least
+// 0.001 in u are exact to about 1e-4 of the slope.
 TEST(ObjBump, ALinearRampTiltsTheNormalByItsSlope) {
     struct Case {
         std::string mtl;
@@ -234,15 +234,19 @@ TEST(ObjBump, ALinearRampTiltsTheNormalByItsSlope) {
         const Scene scene = loadQuad(dir, "newmtl m\n" + c.mtl + "\n", c.scale);
         const SceneData& d = detail::sceneData(scene);
         for (const detail::TexFootprint& fp : footprints)
-            for (const auto& [prim, b1, b2] : kPoints) {
-                const SurfacePoint at = hitAt(d, std::uint32_t(prim), b1, b2, fp);
-                const Vec3 n = applyNormalMap(d, d.materials[0], at, {0, 0, 1});
-                const float tilt = std::acos(std::clamp(n.z, -1.0f, 1.0f));
-                EXPECT_NEAR(tilt, std::atan(c.expected), 1e-4f)
-                    << c.mtl << " at uv " << at.uv.x << ", " << at.uv.y << " footprint " << fp.dx.x;
-                EXPECT_NEAR(dot(n, c.towards), std::sin(std::atan(c.expected)), 1e-4f) << c.mtl;
-                EXPECT_NEAR(length(n), 1.0f, 1e-6f);
-            }
+            for (const auto& [prim, b1, b2] : kPoints)
+                for (const float side : {1.0f, -1.0f}) {  // seen from the back: ns = -z
+                    const SurfacePoint at = hitAt(d, std::uint32_t(prim), b1, b2, fp);
+                    const Vec3 n = applyNormalMap(d, d.materials[0], at, {0, 0, side});
+                    const float tilt = std::acos(std::clamp(n.z * side, -1.0f, 1.0f));
+                    EXPECT_NEAR(tilt, std::atan(c.expected), 1e-4f)
+                        << c.mtl << " at uv " << at.uv.x << ", " << at.uv.y << " footprint "
+                        << fp.dx.x << " side " << side;
+                    // Heights rise towards the viewer on either side: the lean is the same.
+                    EXPECT_NEAR(dot(n, c.towards), std::sin(std::atan(c.expected)), 1e-4f)
+                        << c.mtl << " side " << side;
+                    EXPECT_NEAR(length(n), 1.0f, 1e-6f);
+                }
     }
 }
 
