@@ -494,12 +494,11 @@ TEST(ObjImport, DissolveAndThePbrExtensionAreRead) {
     expectVec(pbr.albedo, 0.5f, 0.25f, 0.0f);
 }
 
-// Statements Glint does not read are named once each, with their file and first line; a
-// normal map (norm) is read, with tangents; map_d naming map_Kd's file is map_Kd's alpha.
+// Unread statements are named once each, with file and first line; norm is read (tangents) and
+// wins over a bump map; map_d naming map_Kd's file is map_Kd's alpha.
 TEST(ObjImport, UnreadMtlStatementsAreNamedOnceAndNormMapsAreRead) {
     test::TempDir dir("obj_unread");
-    writePng(dir.path() / "n.png", 0.5f, 0.5f, 1.0f);
-    writePng(dir.path() / "c.png", 1.0f, 1.0f, 1.0f);
+    for (const char* f : {"n.png", "c.png", "h.png"}) writePng(dir.path() / f, 0.5f, 0.5f, 1.0f);
     const Scene scene = loadFiles(
         dir, {{"mesh.obj", "mtllib m.mtl\nusemtl a\n" + test::quadObj() + "usemtl b\nf 1 2 3\n"},
               {"m.mtl",
@@ -512,14 +511,15 @@ TEST(ObjImport, UnreadMtlStatementsAreNamedOnceAndNormMapsAreRead) {
             return s.find(text) != std::string::npos;
         });
     };
-    EXPECT_EQ(count("m.mtl line 2: 'map_Bump' is ignored"), 1) << ::testing::PrintToString(w);
-    EXPECT_EQ(count("m.mtl line 7: 'bump' is ignored"), 1);
+    EXPECT_EQ(count("line 2: the bump map of material 'a' is ignored: it has a normal"), 1);
+    EXPECT_EQ(count("bump' is ignored"), 0);  // b's second statement names the same file
     EXPECT_EQ(count("'map_Kd -cc' is ignored"), 1);
     EXPECT_EQ(count("line 9: 'map_d' of material 'b' is ignored"), 1);
     EXPECT_EQ(count("line 10: material 'a' is defined again; the first"), 1);
     EXPECT_EQ(count("'norm' normal map but the faces have no normals"), 1);
     const Material& a = data.materials.at(0);
-    EXPECT_TRUE(a.normalMap.present());
+    EXPECT_TRUE(a.normalMap.present() && !a.bumpMap.present());
+    EXPECT_TRUE(data.materials.at(1).bumpMap.present());
     EXPECT_EQ(a.alphaMode, detail::AlphaMode::Blend);
     EXPECT_FLOAT_EQ(a.opacity, 1.0f);
 }

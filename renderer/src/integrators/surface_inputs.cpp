@@ -43,7 +43,8 @@ Vec4 lookup(const detail::SceneData& scene, const detail::TextureSlot& slot,
 
 bool usesTextures(const detail::Material& material) {
     return material.texture >= 0 || material.roughnessMetallicMap.present() ||
-           material.normalMap.present() || material.emissionMap.present();
+           material.normalMap.present() || material.emissionMap.present() ||
+           material.bumpMap.present();
 }
 
 detail::TexFootprint uvFootprint(const detail::TriangleView& tri, const Vec2& uv0, const Vec2& uv1,
@@ -111,7 +112,9 @@ Vec3 emissionAt(const detail::SceneData& scene, const detail::Material& material
 
 Vec3 applyNormalMap(const detail::SceneData& scene, const detail::Material& material,
                     const SurfacePoint& at, const Vec3& ns) {
-    if (!material.normalMap.present() || !at.hasUv) return ns;
+    if (!material.normalMap.present())
+        return material.bumpMap.present() ? applyBumpMap(scene, material, at, ns) : ns;
+    if (!at.hasUv) return ns;
     const detail::Instance& inst = scene.instances[at.id.instance];
     const detail::Mesh& mesh = scene.meshes[inst.mesh];
     if (mesh.tangents.empty()) return ns;
@@ -150,6 +153,86 @@ Vec3 applyNormalMap(const detail::SceneData& scene, const detail::Material& mate
     const Vec3 bent = tangent * x + bitangent * y + ns * z;
     const float len = length(bent);
     return len > 0.0f && std::isfinite(len) ? bent / len : ns;
+}
+
+Vec3 applyBumpMap(const detail::SceneData& scene, const detail::Material& material,
+                  const SurfacePoint& at, const Vec3& ns) {
+    const detail::TextureSlot& slot = material.bumpMap;
+    if (!slot.present() || !at.hasUv) return ns;
+    const detail::Mesh& mesh = scene.meshes[scene.instances[at.id.instance].mesh];
+    const bool second = slot.transform.set != 0 && at.hasUv1;
+    const std::vector<Vec2>& uvs = second ? mesh.uvs1 : mesh.uvs;
+    const std::uint32_t* idx = &mesh.indices[3 * std::size_t(at.id.prim)];
+
+    // The triangle's dp/du and dp/dv in the texture's coordinates (Lengyel 2001: solve
+    // e1 = du1 dp/du + dv1 dp/dv, e2 = du2 dp/du + dv2 dp/dv), in double: a bump's slope is
+    // the ratio of two derivatives, either of which may be tiny or huge.
+    const detail::TriangleView tri = scene.triangle(at.id.instance, at.id.prim);
+    const Vec2 a = slot.transform.apply(uvs[idx[0]]), b = slot.transform.apply(uvs[idx[1]]),
+               c = slot.transform.apply(uvs[idx[2]]);
+    const double du1 = double(b.x) - a.x, dv1 = double(b.y) - a.y;
+    const double du2 = double(c.x) - a.x, dv2 = double(c.y) - a.y;
+    const double det = du1 * dv2 - du2 * dv1;
+    if (!(std::abs(det) > 0.0) || !std::isfinite(det)) return ns;
+    const Vec3 e1 = tri.p[1] - tri.p[0], e2 = tri.p[2] - tri.p[0];
+    double dpdu[3], dpdv[3];
+    for (int k = 0; k < 3; ++k) {
+        dpdu[k] = (double(e1[k]) * dv2 - double(e2[k]) * dv1) / det;
+        dpdv[k] = (double(e2[k]) * du1 - double(e1[k]) * du2) / det;
+    }
+
+    // The steps of the differences: half the footprint (pbrt-v4's BumpMap), 0.0005 where it is
+    // zero, and no finer than 2^-16, below which float texture coordinates and the filter's
+    // rounding make the differences noise.
+    const detail::TexFootprint& footprint = second ? at.footprint1 : at.footprint;
+    const detail::TexFootprint fp{slot.transform.applyLinear(footprint.dx),
+                                  slot.transform.applyLinear(footprint.dy)};
+    auto step = [](float x, float y) {
+        const float s = 0.5f * (std::abs(x) + std::abs(y));
+        return !(s > 0.0f) || !std::isfinite(s) ? 0.0005f : std::max(s, 0x1p-16f);
+    };
+    const float su = step(fp.dx.x, fp.dy.x), sv = step(fp.dx.y, fp.dy.y);
+
+    // The heights around the hit, every lookup at the same MIP level (one level number), so
+    // that their differences are the texture's slope and not a change of level.
+    const Vec2 uv = slot.transform.apply(second ? at.uv1 : at.uv);
+    const detail::Texture& texture = scene.textures[std::size_t(slot.texture)];
+    const float level = levelNumber(at);
+    auto height = [&](float u, float v) {
+        const Vec4 t = texture.lookupOneLevel({u, v}, fp, level);
+        return 0.2126f * t.x + 0.7152f * t.y + 0.0722f * t.z;  // Rec. 709 luminance
+    };
+    // A difference within a few float roundings of the heights (a constant texture filtered at
+    // two places) is no slope.
+    auto difference = [](float hi, float lo) {
+        const float d = hi - lo;
+        return std::abs(d) <= 0x1p-20f * std::max(std::abs(hi), std::abs(lo)) ? 0.0f : d;
+    };
+    const float hu = difference(height(uv.x + su, uv.y), height(uv.x - su, uv.y));
+    const float hv = difference(height(uv.x, uv.y + sv), height(uv.x, uv.y - sv));
+    if (hu == 0.0f && hv == 0.0f) return ns;
+    const double gu = double(hu) * material.bumpMultiplier / (2.0 * su);
+    const double gv = double(hv) * material.bumpMultiplier / (2.0 * sv);
+
+    // The displaced surface's tangents: dp/du and dp/dv in the plane of ns, plus the height's
+    // derivative along ns (pbrt-v4, BumpMap; the dn/du term of a curved surface is left out,
+    // as the shading normal's own change over a triangle is not a height).
+    const double n[3] = {ns.x, ns.y, ns.z};
+    const double pu = dpdu[0] * n[0] + dpdu[1] * n[1] + dpdu[2] * n[2];
+    const double pv = dpdv[0] * n[0] + dpdv[1] * n[1] + dpdv[2] * n[2];
+    double tu[3], tv[3];
+    for (int k = 0; k < 3; ++k) {
+        tu[k] = dpdu[k] - n[k] * pu + n[k] * gu;
+        tv[k] = dpdv[k] - n[k] * pv + n[k] * gv;
+    }
+    double bent[3] = {tu[1] * tv[2] - tu[2] * tv[1], tu[2] * tv[0] - tu[0] * tv[2],
+                      tu[0] * tv[1] - tu[1] * tv[0]};
+    // On ns's side: the displaced surface's normal does not depend on the uv's handedness.
+    const double side = bent[0] * n[0] + bent[1] * n[1] + bent[2] * n[2] < 0.0 ? -1.0 : 1.0;
+    const double len = std::sqrt(bent[0] * bent[0] + bent[1] * bent[1] + bent[2] * bent[2]);
+    if (!(len > 0.0) || !std::isfinite(len)) return ns;
+    for (double& x : bent) x *= side / len;
+    return {float(bent[0]), float(bent[1]), float(bent[2])};
 }
 
 }  // namespace glint::render

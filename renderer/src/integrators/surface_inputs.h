@@ -53,8 +53,20 @@ Vec3 emissionAt(const detail::SceneData& scene, const detail::Material& material
 /// The shading normal `ns` (unit, world space, on the viewer's side) bent by the material's
 /// normal map: n = normalize(T x + B y + N z) with (x, y, z) = (2 rgb − 1) × (s, s, 1), T and
 /// B the mesh's tangent frame at the hit in world space (glTF: B = w · N × T) made orthogonal to
-/// N. Returns ns unchanged without a normal map, texture coordinates or tangents.
+/// N. A material without a normal map but with a bump map gets applyBumpMap(). Returns ns
+/// unchanged without either, texture coordinates or tangents.
 Vec3 applyNormalMap(const detail::SceneData& scene, const detail::Material& material,
                     const SurfacePoint& at, const Vec3& ns);
+
+/// The shading normal `ns` (unit, world space, on the viewer's side) bent by the material's bump
+/// map (pbrt-v4's BumpMap): the surface displaced along ns by the height d = luminance ×
+/// bumpMultiplier (scene units) has tangents ∂p/∂u + ∂d/∂u ns and ∂p/∂v + ∂d/∂v ns, with
+/// ∂p/∂u, ∂p/∂v the triangle's (world space at shutter open, in the bump texture's transformed
+/// coordinates) made orthogonal to ns, and ∂d/∂u, ∂d/∂v central differences over half the
+/// texture footprint (0.0005 where it is zero); their cross product, on ns's side, is the
+/// result. Returns ns itself (bit for bit) where the differences vanish (a constant height) and
+/// without a bump map or texture coordinates.
+Vec3 applyBumpMap(const detail::SceneData& scene, const detail::Material& material,
+                  const SurfacePoint& at, const Vec3& ns);
 
 }  // namespace glint::render

@@ -1,6 +1,7 @@
 // OBJ/MTL import through tinyobjloader: triangles, per-vertex normals and uvs, MTL materials
 // (JSON materials of the same name take precedence): colours, d/Tr, the PBR extension's Pr/Pm,
-// map_Kd (with -s, -o, -clamp), norm, and map_d where it is map_Kd's alpha (docs/obj-assets.md).
+// map_Kd (with -s, -o, -clamp), norm, bump (heights, with -bm) and map_d where it is map_Kd's
+// alpha (docs/obj-assets.md).
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -97,6 +98,46 @@ Material materialFromMtl(const tinyobj::material_t& mtl, bool pbr) {
     return m;
 }
 
+// The mean colour (read as data) of a texture's texels that are not black, and their share of
+// the texels: the texture in memory, or a level of at most 512 texels a side from the store.
+std::pair<Vec3, double> meanOfNonBlack(const Texture& texture) {
+    std::vector<float> rgba;
+    const float* texels = texture.image.data().data();
+    std::size_t count = texture.image.pixelCount(), stride = std::size_t(texture.image.channels());
+    if (texture.store) {
+        const auto sizes = texture.store->levelSizes(texture.file);
+        std::size_t level = 0;
+        while (level + 1 < sizes.size() && std::max(sizes[level].first, sizes[level].second) > 512)
+            ++level;
+        if (!texture.store->readLevel(texture.file, int(level), rgba)) return {{}, 0.0};
+        texels = rgba.data(), count = rgba.size() / 4, stride = 4;
+    }
+    double sum[3] = {0.0, 0.0, 0.0};
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+        const float* t = texels + i * stride;
+        if (t[0] + t[1] + t[2] < 0.05f) continue;  // padding around an atlas' islands
+        for (int c = 0; c < 3; ++c) sum[c] += t[c];
+        ++kept;
+    }
+    if (kept == 0) return {{}, 0.0};
+    return {
+        {float(sum[0] / double(kept)), float(sum[1] / double(kept)), float(sum[2] / double(kept))},
+        double(kept) / double(count)};
+}
+
+// True when a texture holds tangent-space normals: over its texels that are not black (Crytek
+// Sponza's normal maps pad their islands with black), red and green near 0.5 on average
+// (normals leaning every way) and blue near 1 and well above both (normals mostly along +z),
+// with such texels a quarter of the texture at least. A height map's grey, or a photograph,
+// is not.
+bool holdsTangentNormals(const Texture& texture, Vec3& mean) {
+    const auto [m, share] = meanOfNonBlack(texture);
+    mean = m;
+    return share >= 0.25 && std::abs(m.x - 0.5f) <= 0.15f && std::abs(m.y - 0.5f) <= 0.15f &&
+           m.z >= 0.75f && m.z - std::max(m.x, m.y) >= 0.25f;
+}
+
 // An MTL texture's -s and -o (u, v) as a transform of the texture coordinates.
 UvTransform uvTransformOf(const MtlTexture& tex) {
     UvTransform t;
@@ -186,7 +227,9 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
 
     // Map the OBJ's materials to scene materials (JSON overrides MTL by name).
     std::vector<int> objMaterial;
-    bool normalMapped = false;
+    bool normalMapped = false, bumpMapped = false;
+    // MTL files warned of a bump map beside a normal map, and of one that is a normal map.
+    std::vector<fs::path> bumpBesideNorm, bumpAsNormals;
     for (tinyobj::material_t mtl : materials) {
         int index = materialIndex(mtl.name);
         if (index < 0) {
@@ -209,6 +252,43 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
             if (info && !info->norm.name.empty()) {
                 m.normalMap = mtlTexture(*info, info->norm, "norm", mtl.name, TextureUse::Data);
                 normalMapped = true;
+            }
+            // Heights are data (read linearly, as normal maps are), whatever the file's encoding.
+            if (info && !info->bump.name.empty() && m.normalMap.present()) {
+                if (std::find(bumpBesideNorm.begin(), bumpBesideNorm.end(), info->file) ==
+                    bumpBesideNorm.end()) {
+                    bumpBesideNorm.push_back(info->file);
+                    warn(info->file.filename().string() + " line " +
+                         std::to_string(info->bump.line) + ": the bump map of material '" +
+                         mtl.name + "' is ignored: it has a normal map ('norm'), which is used");
+                }
+            } else if (info && !info->bump.name.empty()) {
+                const TextureSlot slot =
+                    mtlTexture(*info, info->bump, "bump", mtl.name, TextureUse::Data);
+                Vec3 mean;
+                if (holdsTangentNormals(m_scene.textures[std::size_t(slot.texture)], mean)) {
+                    // Blender's exporter writes a normal map as map_Bump (and its importer reads
+                    // map_Bump as one): read as a normal map, -bm its strength.
+                    m.normalMap = slot;
+                    m.normalScale = info->bump.bumpMultiplier;
+                    normalMapped = true;
+                    if (std::find(bumpAsNormals.begin(), bumpAsNormals.end(), info->file) ==
+                        bumpAsNormals.end()) {
+                        bumpAsNormals.push_back(info->file);
+                        std::ostringstream msg;
+                        msg.precision(3);
+                        msg << info->file.filename().string() << " line " << info->bump.line
+                            << ": the bump map '" << info->bump.name << "' of material '"
+                            << mtl.name << "' holds tangent-space normals (mean colour " << mean.x
+                            << ", " << mean.y << ", " << mean.z
+                            << " where not black): read as a normal map, as Blender writes it";
+                        warn(msg.str());
+                    }
+                } else {
+                    m.bumpMap = slot;
+                    m.bumpMultiplier = info->bump.bumpMultiplier;
+                    bumpMapped = true;
+                }
             }
             if (info && !info->mapD.name.empty()) {
                 // The base texture's alpha is the opacity Glint reads; another file is not.
@@ -355,6 +435,10 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
             warn(std::string("a material has a 'norm' normal map but the faces have no ") +
                  (anyNormals ? "texture coordinates" : "normals") + ": it is not applied");
     }
+    if (bumpMapped && overrideMaterial < 0 && !anyUvs)
+        warn(
+            "a material has a bump map but the faces have no texture coordinates: it is not "
+            "applied");
     if (overrideMaterial >= 0) mesh.assignMaterial(0, 0u);
 
     // A shape whose emissive faces have no area cannot emit: reject it clearly.

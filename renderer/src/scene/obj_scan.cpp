@@ -142,9 +142,11 @@ int optionValues(const std::string& option) {
 }
 
 // Reads a texture statement after its keyword: options, then the file name (the rest of the
-// line, spaces included, up to an option written after it). Options Glint does not read are
-// added to `ignored`.
-MtlTexture parseTexture(const std::string& rest, int line, std::vector<std::string>& ignored) {
+// line, spaces included, up to an option written after it), then options written after it.
+// Options Glint does not read are added to `ignored`; a `-bm` that is not a finite number is
+// refused with the MTL's file and line.
+MtlTexture parseTexture(const std::string& rest, const std::filesystem::path& path, int line,
+                        std::vector<std::string>& ignored) {
     MtlTexture tex;
     tex.line = line;
     std::size_t pos = 0;
@@ -156,45 +158,67 @@ MtlTexture parseTexture(const std::string& rest, int line, std::vector<std::stri
         pos = e == std::string::npos ? rest.size() : e;
         return b;
     };
-    std::string token;
-    std::size_t at = next(token);
-    while (at != std::string::npos && optionValues(token) > 0) {
-        const std::string option = token;
-        std::vector<std::string> values;
-        const bool numeric = option == "-o" || option == "-s" || option == "-t";
-        for (int k = 0; k < optionValues(option); ++k) {
-            const std::size_t save = pos;
-            std::string value;
-            if (next(value) == std::string::npos) break;
-            char* end = nullptr;
-            std::strtod(value.c_str(), &end);
-            if (numeric && (end == value.c_str() || *end != '\0')) {
-                pos = save;  // the file name
-                break;
+    // Reads options from `at` (the start of `token`) while they are options; returns where the
+    // first token that is not one starts (npos: the line ended).
+    auto readOptions = [&](std::size_t at, std::string& token) {
+        while (at != std::string::npos && optionValues(token) > 0) {
+            const std::string option = token;
+            std::vector<std::string> values;
+            const bool numeric = option == "-o" || option == "-s" || option == "-t";
+            for (int k = 0; k < optionValues(option); ++k) {
+                const std::size_t save = pos;
+                std::string value;
+                if (next(value) == std::string::npos) break;
+                char* end = nullptr;
+                std::strtod(value.c_str(), &end);
+                if (numeric && (end == value.c_str() || *end != '\0')) {
+                    pos = save;  // the file name
+                    break;
+                }
+                values.push_back(value);
             }
-            values.push_back(value);
+            auto number = [&](std::size_t i, float fallback) {
+                return i < values.size() ? float(std::strtod(values[i].c_str(), nullptr))
+                                         : fallback;
+            };
+            if (option == "-s") {
+                tex.scale[0] = number(0, 1.0f), tex.scale[1] = number(1, 1.0f);
+            } else if (option == "-o") {
+                tex.offset[0] = number(0, 0.0f), tex.offset[1] = number(1, 0.0f);
+            } else if (option == "-clamp") {
+                tex.clamp = !values.empty() && values[0] == "on";
+            } else if (option == "-bm") {
+                // The bump multiplier: any finite number (a negative one turns bumps into dents).
+                const std::string value = values.empty() ? std::string() : values[0];
+                char* end = nullptr;
+                const double v = std::strtod(value.c_str(), &end);
+                if (value.empty() || end == value.c_str() || *end != '\0')
+                    fail(
+                        path, line,
+                        "'-bm' needs a number (the bump multiplier), got '" + shorten(value) + "'");
+                if (!std::isfinite(v) || std::fabs(v) > 3.0e38)
+                    fail(path, line,
+                         "'-bm' has a non-finite or overflowing value '" + shorten(value) + "'");
+                tex.bumpMultiplier = float(v);
+            } else if (option != "-colorspace") {
+                ignored.push_back(option);
+            }
+            at = next(token);
         }
-        auto number = [&](std::size_t i, float fallback) {
-            return i < values.size() ? float(std::strtod(values[i].c_str(), nullptr)) : fallback;
-        };
-        if (option == "-s") {
-            tex.scale[0] = number(0, 1.0f), tex.scale[1] = number(1, 1.0f);
-        } else if (option == "-o") {
-            tex.offset[0] = number(0, 0.0f), tex.offset[1] = number(1, 0.0f);
-        } else if (option == "-clamp") {
-            tex.clamp = !values.empty() && values[0] == "on";
-        } else if (option != "-bm" && option != "-colorspace") {
-            ignored.push_back(option);
-        }
-        at = next(token);
-    }
+        return at;
+    };
+    std::string token;
+    const std::size_t at = readOptions(next(token), token);
     if (at == std::string::npos) return tex;
     std::string name = rest.substr(at);
-    // An option written after the name (" -bm 1.5").
+    // Options written after the name (" -bm 1.5"): read from there, and the name ends there.
     for (std::size_t dash = name.find(" -"); dash != std::string::npos;
          dash = name.find(" -", dash + 1)) {
         const std::string option = name.substr(dash + 1, name.find(' ', dash + 1) - dash - 1);
         if (optionValues(option) > 0) {
+            pos = at + dash;
+            std::string after;
+            readOptions(next(after), after);  // text after them is dropped
             name.resize(dash);
             break;
         }
@@ -206,9 +230,6 @@ MtlTexture parseTexture(const std::string& rest, int line, std::vector<std::stri
 // What Glint does not read of an MTL, by statement: the note its warning gives.
 const char* unreadNote(const std::string& key) {
     static const std::map<std::string, const char*> notes{
-        {"map_Bump", "bump maps (heights) are not read; use 'norm' for a normal map"},
-        {"map_bump", "bump maps (heights) are not read; use 'norm' for a normal map"},
-        {"bump", "bump maps (heights) are not read; use 'norm' for a normal map"},
         {"disp", "displacement is not read"},
         {"decal", "decal textures are not read"},
         {"refl", "reflection maps are not read (reflections are traced)"},
@@ -322,15 +343,23 @@ void scanMtl(const std::filesystem::path& path, ObjLines& out) {
                 fail(path, line,
                      "'" + key + "' " + std::to_string(v) + " is outside [0, 1] (a fraction)");
             if (key == "Pr" || key == "Pm") m.pbr = true;
-        } else if (key == "map_Kd" || key == "norm" || key == "map_d") {
+        } else if (key == "map_Kd" || key == "norm" || key == "map_d" || key == "bump" ||
+                   key == "map_Bump" || key == "map_bump") {
             std::string rest;
             std::getline(ls, rest);
             std::vector<std::string> options;
-            MtlTexture tex = parseTexture(rest, line, options);
+            MtlTexture tex = parseTexture(rest, path, line, options);
             for (const std::string& option : options) unread.try_emplace(key + " " + option, line);
             if (key == "map_Kd") m.mapKd = tex;
             if (key == "norm") m.norm = tex;
             if (key == "map_d") m.mapD = tex;
+            // Crytek Sponza gives both `map_bump` and `bump` of one file: the first is read, a
+            // later one naming another file is warned.
+            const bool bump = key == "bump" || key == "map_Bump" || key == "map_bump";
+            if (bump && m.bump.name.empty())
+                m.bump = tex;
+            else if (bump && tex.name != m.bump.name)
+                unread.try_emplace(key + " naming a second bump map", line);
         } else if (unreadNote(key)) {
             unread.try_emplace(key, line);
         }
@@ -345,6 +374,12 @@ void scanMtl(const std::filesystem::path& path, ObjLines& out) {
         }
         const auto space = what.find(' ');
         const char* note = unreadNote(what);
+        if (what.find(" naming a second bump map") != std::string::npos) {
+            out.warnings.push_back(path.filename().string() + " line " + std::to_string(first) +
+                                   ": '" + what.substr(0, space) +
+                                   "' is ignored (the material's first bump map is read)");
+            continue;
+        }
         out.warnings.push_back(
             path.filename().string() + " line " + std::to_string(first) + ": '" + what +
             "' is ignored" + (note ? std::string(" (") + note + ")" : "") +

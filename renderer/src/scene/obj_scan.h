@@ -15,25 +15,28 @@ namespace glint::render::detail {
 /// The most corners an OBJ face may have: tinyobjloader counts a face's corners in a byte.
 inline constexpr std::size_t kMaxObjFaceCorners = 255;
 
-/// A texture statement of an MTL material (`map_Kd`, `norm`, `map_d`): the file name as written,
-/// options removed (it may hold spaces and Windows backslashes), its line, and its `-s`/`-o`
-/// (u, v) and `-clamp` options.
+/// A texture statement of an MTL material (`map_Kd`, `norm`, `map_d`, `bump`): the file name as
+/// written, options removed (it may hold spaces and Windows backslashes), its line, its `-s`/`-o`
+/// (u, v) and `-clamp` options, and `-bm` (the bump multiplier, written before or after the
+/// name).
 struct MtlTexture {
     std::string name;  ///< empty: none
     int line = 0;
     float scale[2] = {1.0f, 1.0f}, offset[2] = {0.0f, 0.0f};
     bool clamp = false;
+    float bumpMultiplier = 1.0f;
 };
 
 /// What the scan saw of one MTL material that tinyobjloader reads differently from the MTL
 /// specification or does not read: where it is defined (its texture paths are relative to that
 /// file), which colours were given as one value (the specification's grey; tinyobjloader sets
-/// red only), whether it gives the PBR extension's `Pr` or `Pm`, and its textures.
+/// red only), whether it gives the PBR extension's `Pr` or `Pm`, and its textures (`bump`: the
+/// first of its `bump`, `map_Bump` and `map_bump` statements).
 struct MtlMaterialInfo {
     std::filesystem::path file;
     bool greyKd = false, greyKs = false, greyKe = false;
     bool pbr = false;
-    MtlTexture mapKd, norm, mapD;
+    MtlTexture mapKd, norm, mapD, bump;
 };
 
 /// Lines (1-based) of the OBJ's `v`, `vn` and `vt` statements, in order; its MTL files (every
@@ -71,11 +74,11 @@ std::string readObjText(const std::filesystem::path& path, const char* kind);
 ObjLines scanObj(const std::filesystem::path& path);
 
 /// Checks the numeric statements of an MTL file (Ka/Kd/Ks/Ke/Tf: 1 or 3 finite numbers; Ns/Ni/
-/// d/Tr/illum/Pr/Pm: 1) with the ranges of the JSON keys they become (Kd and Ks in [0, 1], Ke in
-/// [0, kMaxRadiance], Ns ≥ 0, d, Tr, Pr and Pm in [0, 1]), and throws glint::Error(Format)
-/// naming its file and line; adds its materials to `out.materials` (names already there are
-/// kept) and a warning to `out.warnings` for each kind of statement Glint does not read.
-/// scanObj calls it for every `mtllib` file.
+/// d/Tr/illum/Pr/Pm: 1; a texture's `-bm`: 1) with the ranges of the JSON keys they become (Kd and
+/// Ks in [0, 1], Ke in [0, kMaxRadiance], Ns ≥ 0, d, Tr, Pr and Pm in [0, 1]), and throws
+/// glint::Error(Format) naming its file and line; adds its materials to `out.materials` (names
+/// already there are kept) and a warning to `out.warnings` for each kind of statement Glint does
+/// not read. scanObj calls it for every `mtllib` file.
 void scanMtl(const std::filesystem::path& path, ObjLines& out);
 
 }  // namespace glint::render::detail

@@ -93,6 +93,11 @@ struct Material {
     /// `emission`; transmission in R multiplies `transmission`.
     TextureSlot roughnessMetallicMap, normalMap, emissionMap, transmissionMap;
     float normalScale = 1.0f;
+    /// A height map (MTL `bump`, `map_Bump`): the luminance of its texture, read as data, times
+    /// bumpMultiplier (`-bm`) is a height in scene units along the shading normal, which bends
+    /// it (applyNormalMap). Read where the material has no normalMap.
+    TextureSlot bumpMap;
+    float bumpMultiplier = 1.0f;
     /// Where the surface is not there: alpha = opacity × base colour texture alpha; Mask cuts
     /// out alpha < alphaCutoff, Blend lets light through with probability 1 − alpha.
     AlphaMode alphaMode = AlphaMode::Opaque;

@@ -77,6 +77,10 @@ std::uint64_t sceneContentHash(const detail::SceneData& d) {
             h.value(m.transmissionMap.texture);
             h.bytes(m.transmissionMap.transform.m, sizeof m.transmissionMap.transform.m);
         }
+        if (m.bumpMap.present()) {
+            h.value(m.bumpMap.texture), h.value(m.bumpMultiplier);
+            h.bytes(m.bumpMap.transform.m, sizeof m.bumpMap.transform.m);
+        }
         h.bytes(m.textureTransform.m, sizeof m.textureTransform.m);
         // The second uv set and vertex colours likewise only where they are read.
         for (const detail::UvTransform* t :
