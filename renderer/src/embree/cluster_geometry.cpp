@@ -1,0 +1,371 @@
+#include "embree/cluster_geometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include <embree3/rtcore.h>
+
+#include "embree/alpha_filter.h"
+#include "glint/image/error.h"
+
+namespace glint::render {
+
+namespace {
+
+constexpr int kBucketBits = 16;  // the codes' top bits that pick a bucket
+constexpr std::uint32_t kBuckets = 1u << kBucketBits;
+
+/// Spreads the low 21 bits of x to every third bit (bit i to bit 3i).
+std::uint64_t spreadBits(std::uint64_t x) {
+    x &= 0x1fffffULL;
+    x = (x | x << 32) & 0x1f00000000ffffULL;
+    x = (x | x << 16) & 0x1f0000ff0000ffULL;
+    x = (x | x << 8) & 0x100f00f00f00f00fULL;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+    x = (x | x << 2) & 0x1249249249249249ULL;
+    return x;
+}
+
+/// 48-bit Morton codes of triangle centroids, quantised to 16 bits an axis over a cube.
+struct MortonCoder {
+    const detail::Mesh& mesh;
+    float lo[3] = {0.0f, 0.0f, 0.0f};
+    float scale = 0.0f;
+
+    static constexpr std::uint64_t kNonFinite = (std::uint64_t(1) << 48) - 1;
+
+    /// Three times the centroid of triangle t (the sum of its vertices).
+    void centroidSum(std::size_t t, float s[3]) const {
+        const std::uint32_t* idx = &mesh.indices[3 * t];
+        const Vec3 &a = mesh.positions[idx[0]], &b = mesh.positions[idx[1]],
+                   &c = mesh.positions[idx[2]];
+        s[0] = a.x + b.x + c.x, s[1] = a.y + b.y + c.y, s[2] = a.z + b.z + c.z;
+    }
+
+    explicit MortonCoder(const detail::Mesh& m) : mesh(m) {
+        float hi[3] = {-std::numeric_limits<float>::infinity(),
+                       -std::numeric_limits<float>::infinity(),
+                       -std::numeric_limits<float>::infinity()};
+        for (float& l : lo) l = std::numeric_limits<float>::infinity();
+        for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+            float s[3];
+            centroidSum(t, s);
+            if (!(std::isfinite(s[0]) && std::isfinite(s[1]) && std::isfinite(s[2]))) continue;
+            for (int a = 0; a < 3; ++a)
+                lo[a] = std::min(lo[a], s[a]), hi[a] = std::max(hi[a], s[a]);
+        }
+        // A cube, so that a cluster is about as wide as it is deep.
+        float extent = 0.0f;
+        for (int a = 0; a < 3; ++a)
+            if (hi[a] >= lo[a]) extent = std::max(extent, hi[a] - lo[a]);
+        scale = extent > 0.0f && std::isfinite(extent) ? 65536.0f / extent : 0.0f;
+    }
+
+    std::uint64_t code(std::size_t t) const {
+        float s[3];
+        centroidSum(t, s);
+        if (!(std::isfinite(s[0]) && std::isfinite(s[1]) && std::isfinite(s[2]))) return kNonFinite;
+        std::uint64_t q[3];
+        for (int a = 0; a < 3; ++a)
+            q[a] = std::uint64_t(std::clamp((s[a] - lo[a]) * scale, 0.0f, 65535.0f));
+        return spreadBits(q[0]) << 2 | spreadBits(q[1]) << 1 | spreadBits(q[2]);
+    }
+};
+
+/// Woop, Benthin and Wald 2013, "Watertight Ray/Triangle Intersection" (JCGT 2(1)): the ray
+/// sheared so that it runs along +z from the origin, computed once a ray.
+struct ShearedRay {
+    float org[3];
+    int kx = 0, ky = 1, kz = 2;
+    float sx = 0.0f, sy = 0.0f, sz = 0.0f;
+};
+
+ShearedRay shearRay(const float org[3], const float dir[3]) {
+    ShearedRay r;
+    for (int a = 0; a < 3; ++a) r.org[a] = org[a];
+    // The axis where the direction is largest becomes z; swap x and y when it points down z,
+    // which keeps the triangles' winding.
+    r.kz = std::fabs(dir[0]) >= std::fabs(dir[1])
+               ? (std::fabs(dir[0]) >= std::fabs(dir[2]) ? 0 : 2)
+               : (std::fabs(dir[1]) >= std::fabs(dir[2]) ? 1 : 2);
+    r.kx = (r.kz + 1) % 3;
+    r.ky = (r.kx + 1) % 3;
+    if (dir[r.kz] < 0.0f) std::swap(r.kx, r.ky);
+    // Shear constants (Woop et al. 2013, section 3).
+    r.sx = dir[r.kx] / dir[r.kz];
+    r.sy = dir[r.ky] / dir[r.kz];
+    r.sz = 1.0f / dir[r.kz];
+    return r;
+}
+
+/// A candidate hit: distance and Embree's barycentrics (u of p1, v of p2).
+struct TriangleHit {
+    float t = 0.0f, u = 0.0f, v = 0.0f;
+};
+
+/// The watertight test of triangle (p0, p1, p2) within (tnear, tfar] (Embree's interval).
+bool hitTriangle(const ShearedRay& r, const Vec3& p0, const Vec3& p1, const Vec3& p2, float tnear,
+                 float tfar, TriangleHit& hit) {
+    // Translate the vertices to the ray's origin.
+    const float a[3] = {p0.x - r.org[0], p0.y - r.org[1], p0.z - r.org[2]};
+    const float b[3] = {p1.x - r.org[0], p1.y - r.org[1], p1.z - r.org[2]};
+    const float c[3] = {p2.x - r.org[0], p2.y - r.org[1], p2.z - r.org[2]};
+    // Shear and scale them into the ray's space (the ray is +z there).
+    const float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
+    const float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
+    const float cx = c[r.kx] - r.sx * c[r.kz], cy = c[r.ky] - r.sy * c[r.kz];
+    // Scaled barycentrics: the 2D edge functions.
+    float u = cx * by - cy * bx, v = ax * cy - ay * cx, w = bx * ay - by * ax;
+    // On an edge in float: decide again in double, so that a ray through a shared edge meets
+    // one of its triangles (the paper's fallback).
+    if (u == 0.0f || v == 0.0f || w == 0.0f) {
+        u = float(double(cx) * double(by) - double(cy) * double(bx));
+        v = float(double(ax) * double(cy) - double(ay) * double(cx));
+        w = float(double(bx) * double(ay) - double(by) * double(ax));
+    }
+    if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return false;
+    const float det = u + v + w;
+    if (det == 0.0f) return false;
+    // The scaled distance; written so that NaN fails the test.
+    const float t =
+        (u * (r.sz * a[r.kz]) + v * (r.sz * b[r.kz]) + w * (r.sz * c[r.kz])) * (1.0f / det);
+    if (!(t > tnear && t <= tfar)) return false;
+    const float rcp = 1.0f / det;
+    hit = {t, v * rcp, w * rcp};
+    return true;
+}
+
+/// The hit record of triangle `prim` as Embree's triangles report it.
+RTCHit hitRecord(const detail::Mesh& mesh, std::uint32_t prim, const TriangleHit& h,
+                 unsigned geomID, const RTCIntersectContext* context) {
+    const std::uint32_t* idx = &mesh.indices[3 * std::size_t(prim)];
+    const Vec3 &p0 = mesh.positions[idx[0]], &p1 = mesh.positions[idx[1]],
+               &p2 = mesh.positions[idx[2]];
+    // Embree's geometric normal: (p0 - p1) × (p2 - p0), not normalised.
+    const Vec3 e1 = p0 - p1, e2 = p2 - p0;
+    RTCHit hit;
+    hit.Ng_x = e1.y * e2.z - e1.z * e2.y;
+    hit.Ng_y = e1.z * e2.x - e1.x * e2.z;
+    hit.Ng_z = e1.x * e2.y - e1.y * e2.x;
+    hit.u = h.u;
+    hit.v = h.v;
+    hit.primID = prim;
+    hit.geomID = geomID;
+    for (int l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l) hit.instID[l] = context->instID[l];
+    return hit;
+}
+
+/// Lane i of a ray packet as a single ray.
+RTCRay laneRay(RTCRayN* ray, unsigned N, unsigned i) {
+    RTCRay r;
+    r.org_x = RTCRayN_org_x(ray, N, i), r.org_y = RTCRayN_org_y(ray, N, i);
+    r.org_z = RTCRayN_org_z(ray, N, i), r.tnear = RTCRayN_tnear(ray, N, i);
+    r.dir_x = RTCRayN_dir_x(ray, N, i), r.dir_y = RTCRayN_dir_y(ray, N, i);
+    r.dir_z = RTCRayN_dir_z(ray, N, i), r.time = RTCRayN_time(ray, N, i);
+    r.tfar = RTCRayN_tfar(ray, N, i), r.mask = RTCRayN_mask(ray, N, i);
+    r.id = RTCRayN_id(ray, N, i), r.flags = RTCRayN_flags(ray, N, i);
+    return r;
+}
+
+/// Runs the geometry's filter on one candidate hit of lane i at distance t, as a single ray
+/// (N = 1: the filters read the ray's origin, direction and id and the hit); true when the
+/// filter accepts it. `report` is rtcFilterIntersection or rtcFilterOcclusion.
+template <class Args, class Report>
+bool filterAccepts(const Args* args, const ClusterGeometry& g, RTCRayN* ray, unsigned i, float t,
+                   RTCHit& hit, Report report) {
+    RTCRayHit single;
+    single.ray = laneRay(ray, args->N, i);
+    single.ray.tfar = t;  // Embree's filters see the ray ending at the hit
+    single.hit = hit;
+    int valid = -1;
+    RTCFilterFunctionNArguments filter;
+    filter.valid = &valid;
+    filter.geometryUserPtr = const_cast<AlphaTest*>(g.alpha());
+    filter.context = args->context;
+    filter.ray = reinterpret_cast<RTCRayN*>(&single.ray);
+    filter.hit = reinterpret_cast<RTCHitN*>(&single.hit);
+    filter.N = 1;
+    report(args, &filter);
+    if (valid != -1) return false;
+    hit = single.hit;
+    return true;
+}
+
+/// The closest hit of lane i among cluster `cluster`'s triangles within (tnear, tfar]; updates
+/// tfar and hit. `accept` decides a candidate (the filter, or always).
+template <class Accept>
+bool closestInCluster(const ClusterGeometry& g, unsigned cluster, const ShearedRay& r, float tnear,
+                      float& tfar, Accept accept) {
+    const detail::Mesh& mesh = g.mesh();
+    const std::size_t first = std::size_t(cluster) * g.clusterSize();
+    const std::size_t last = std::min(first + g.clusterSize(), g.order().size());
+    bool found = false;
+    for (std::size_t j = first; j < last; ++j) {
+        const std::uint32_t prim = g.order()[j];
+        const std::uint32_t* idx = &mesh.indices[3 * std::size_t(prim)];
+        TriangleHit h;
+        if (!hitTriangle(r, mesh.positions[idx[0]], mesh.positions[idx[1]], mesh.positions[idx[2]],
+                         tnear, tfar, h))
+            continue;
+        if (!accept(prim, h)) continue;
+        tfar = h.t;
+        found = true;
+    }
+    return found;
+}
+
+ShearedRay shearLane(RTCRayN* ray, unsigned N, unsigned i) {
+    const float org[3] = {RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i),
+                          RTCRayN_org_z(ray, N, i)};
+    const float dir[3] = {RTCRayN_dir_x(ray, N, i), RTCRayN_dir_y(ray, N, i),
+                          RTCRayN_dir_z(ray, N, i)};
+    return shearRay(org, dir);
+}
+
+void clusterBounds(const RTCBoundsFunctionArguments* args) {
+    const auto& g = *static_cast<const ClusterGeometry*>(args->geometryUserPtr);
+    const detail::Mesh& mesh = g.mesh();
+    const std::size_t first = std::size_t(args->primID) * g.clusterSize();
+    const std::size_t last = std::min(first + g.clusterSize(), g.order().size());
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    float lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
+    for (std::size_t j = first; j < last; ++j) {
+        const std::uint32_t* idx = &mesh.indices[3 * std::size_t(g.order()[j])];
+        for (int k = 0; k < 3; ++k) {
+            const Vec3& p = mesh.positions[idx[k]];
+            // A triangle with a non-finite vertex is never hit; it does not widen the box.
+            if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))) continue;
+            lo[0] = std::min(lo[0], p.x), lo[1] = std::min(lo[1], p.y);
+            lo[2] = std::min(lo[2], p.z), hi[0] = std::max(hi[0], p.x);
+            hi[1] = std::max(hi[1], p.y), hi[2] = std::max(hi[2], p.z);
+        }
+    }
+    RTCBounds& b = *args->bounds_o;
+    if (!(lo[0] <= hi[0])) {
+        // Nothing finite: NaN bounds, which Embree's build leaves out.
+        const float nan = std::numeric_limits<float>::quiet_NaN();
+        b.lower_x = b.lower_y = b.lower_z = b.upper_x = b.upper_y = b.upper_z = nan;
+        return;
+    }
+    b.lower_x = lo[0], b.lower_y = lo[1], b.lower_z = lo[2];
+    b.upper_x = hi[0], b.upper_y = hi[1], b.upper_z = hi[2];
+}
+
+void intersectCluster(const RTCIntersectFunctionNArguments* args) {
+    const auto& g = *static_cast<const ClusterGeometry*>(args->geometryUserPtr);
+    const unsigned N = args->N;
+    RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, N);
+    RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, N);
+    for (unsigned i = 0; i < N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const ShearedRay r = shearLane(ray, N, i);
+        float tfar = RTCRayN_tfar(ray, N, i);
+        RTCHit best;
+        auto accept = [&](std::uint32_t prim, const TriangleHit& h) {
+            RTCHit hit = hitRecord(g.mesh(), prim, h, args->geomID, args->context);
+            if (g.alpha() && !filterAccepts(args, g, ray, i, h.t, hit, rtcFilterIntersection))
+                return false;
+            best = hit;
+            return true;
+        };
+        if (!closestInCluster(g, args->primID, r, RTCRayN_tnear(ray, N, i), tfar, accept)) continue;
+        RTCRayN_tfar(ray, N, i) = tfar;
+        RTCHitN_Ng_x(hits, N, i) = best.Ng_x;
+        RTCHitN_Ng_y(hits, N, i) = best.Ng_y;
+        RTCHitN_Ng_z(hits, N, i) = best.Ng_z;
+        RTCHitN_u(hits, N, i) = best.u;
+        RTCHitN_v(hits, N, i) = best.v;
+        RTCHitN_primID(hits, N, i) = best.primID;
+        RTCHitN_geomID(hits, N, i) = best.geomID;
+        for (unsigned l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l)
+            RTCHitN_instID(hits, N, i, l) = best.instID[l];
+    }
+}
+
+void occludedCluster(const RTCOccludedFunctionNArguments* args) {
+    const auto& g = *static_cast<const ClusterGeometry*>(args->geometryUserPtr);
+    const detail::Mesh& mesh = g.mesh();
+    const unsigned N = args->N;
+    RTCRayN* ray = args->ray;
+    const std::size_t first = std::size_t(args->primID) * g.clusterSize();
+    const std::size_t last = std::min(first + g.clusterSize(), g.order().size());
+    for (unsigned i = 0; i < N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const ShearedRay r = shearLane(ray, N, i);
+        const float tnear = RTCRayN_tnear(ray, N, i), tfar = RTCRayN_tfar(ray, N, i);
+        // Any accepted hit blocks the segment; a filter's rejection (a MASK hole, a BLEND
+        // surface counted into the transmittance) goes on with the next triangle, and the
+        // filter sees every candidate within the whole segment.
+        for (std::size_t j = first; j < last; ++j) {
+            const std::uint32_t prim = g.order()[j];
+            const std::uint32_t* idx = &mesh.indices[3 * std::size_t(prim)];
+            TriangleHit h;
+            if (!hitTriangle(r, mesh.positions[idx[0]], mesh.positions[idx[1]],
+                             mesh.positions[idx[2]], tnear, tfar, h))
+                continue;
+            if (g.alpha()) {
+                RTCHit hit = hitRecord(mesh, prim, h, args->geomID, args->context);
+                if (!filterAccepts(args, g, ray, i, h.t, hit, rtcFilterOcclusion)) continue;
+            }
+            RTCRayN_tfar(ray, N, i) = -std::numeric_limits<float>::infinity();
+            break;
+        }
+    }
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> spatialOrder(const detail::Mesh& mesh) {
+    const std::size_t n = mesh.triangleCount();
+    GLINT_CHECK(n <= std::numeric_limits<std::uint32_t>::max(),
+                "a clustered mesh holds at most 2^32 - 1 triangles");
+    const MortonCoder coder(mesh);
+    auto bucketOf = [](std::uint64_t code) { return std::uint32_t(code >> (48 - kBucketBits)); };
+    // Step 1: count the triangles of each bucket (the codes' top bits).
+    std::vector<std::uint32_t> start(kBuckets + 1, 0);
+    for (std::size_t t = 0; t < n; ++t) ++start[bucketOf(coder.code(t)) + 1];
+    for (std::uint32_t b = 0; b < kBuckets; ++b) start[b + 1] += start[b];
+    // Step 2: place each triangle in its bucket, in index order.
+    std::vector<std::uint32_t> order(n);
+    {
+        std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+        for (std::size_t t = 0; t < n; ++t)
+            order[next[bucketOf(coder.code(t))]++] = std::uint32_t(t);
+    }
+    // Step 3: sort each bucket by the rest of its code, ties by index.
+    std::vector<std::uint64_t> keys;
+    constexpr std::uint64_t lowMask = (std::uint64_t(1) << (48 - kBucketBits)) - 1;
+    for (std::uint32_t b = 0; b < kBuckets; ++b) {
+        const std::uint32_t begin = start[b], end = start[b + 1];
+        if (end - begin < 2) continue;
+        keys.resize(end - begin);
+        for (std::uint32_t j = begin; j < end; ++j)
+            keys[j - begin] = (coder.code(order[j]) & lowMask) << 32 | order[j];
+        std::sort(keys.begin(), keys.end());
+        for (std::uint32_t j = begin; j < end; ++j)
+            order[j] = std::uint32_t(keys[j - begin] & 0xffffffffu);
+    }
+    return order;
+}
+
+ClusterGeometry::ClusterGeometry(const detail::Mesh& mesh, std::uint32_t clusterSize)
+    : m_mesh(&mesh), m_order(spatialOrder(mesh)), m_size(clusterSize) {
+    GLINT_CHECK(clusterSize >= 1, "a cluster holds at least one triangle");
+}
+
+RTCGeometryTy* ClusterGeometry::newGeometry(RTCDeviceTy* device, const AlphaTest* alpha) {
+    m_alpha = alpha;
+    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+    if (!geom) return nullptr;
+    rtcSetGeometryUserPrimitiveCount(geom, clusterCount());
+    rtcSetGeometryUserData(geom, this);
+    rtcSetGeometryBoundsFunction(geom, clusterBounds, this);
+    rtcSetGeometryIntersectFunction(geom, intersectCluster);
+    rtcSetGeometryOccludedFunction(geom, occludedCluster);
+    if (alpha) attachAlphaFilterFunctions(geom);
+    return geom;
+}
+
+}  // namespace glint::render
