@@ -84,7 +84,7 @@ AccelerationMemory accelerationMemory(const Renderer& renderer) {
     const EmbreeScene& embree = RendererAccess::impl(renderer).embree;
     const EmbreeMemory m = embree.memory();
     return {m.current, m.peak, std::int64_t(embree.clusterOrderBytes()),
-            embree.clusteredMeshCount()};
+            embree.clusteredMeshCount(), embree.clusterSize()};
 }
 
 int lightBuilds(const Renderer& renderer) {

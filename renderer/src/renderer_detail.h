@@ -34,6 +34,7 @@ struct AccelerationMemory {
     std::int64_t current = 0, peak = 0;
     std::int64_t clusterOrder = 0;
     int clusteredMeshes = 0;
+    int clusterSize = 0;  ///< triangles a cluster holds (0 without clusters)
 };
 AccelerationMemory accelerationMemory(const Renderer& renderer);
 /// How many times `renderer` built its light sampling structures (once, plus once per render

@@ -138,7 +138,7 @@ TEST(ClusterGeometry, TheOrderHoldsEveryTriangleOnceAndKeepsClustersSmall) {
         const std::size_t s = std::size_t(rng.nextU64() % (t + 1));
         for (int k = 0; k < 3; ++k) std::swap(mesh.indices[3 * t + k], mesh.indices[3 * s + k]);
     }
-    const std::vector<std::uint32_t> order = spatialOrder(mesh);
+    const ClusterOrder order = spatialOrder(mesh);
     ASSERT_EQ(order.size(), n);
     std::vector<int> seen(n, 0);
     for (std::uint32_t t : order) {

@@ -8,6 +8,7 @@
 #include <embree3/rtcore.h>
 
 #include "embree/alpha_filter.h"
+#include "embree/ray_triangle.h"
 #include "glint/image/error.h"
 
 namespace glint::render {
@@ -74,69 +75,6 @@ struct MortonCoder {
     }
 };
 
-/// Woop, Benthin and Wald 2013, "Watertight Ray/Triangle Intersection" (JCGT 2(1)): the ray
-/// sheared so that it runs along +z from the origin, computed once a ray.
-struct ShearedRay {
-    float org[3];
-    int kx = 0, ky = 1, kz = 2;
-    float sx = 0.0f, sy = 0.0f, sz = 0.0f;
-};
-
-ShearedRay shearRay(const float org[3], const float dir[3]) {
-    ShearedRay r;
-    for (int a = 0; a < 3; ++a) r.org[a] = org[a];
-    // The axis where the direction is largest becomes z; swap x and y when it points down z,
-    // which keeps the triangles' winding.
-    r.kz = std::fabs(dir[0]) >= std::fabs(dir[1])
-               ? (std::fabs(dir[0]) >= std::fabs(dir[2]) ? 0 : 2)
-               : (std::fabs(dir[1]) >= std::fabs(dir[2]) ? 1 : 2);
-    r.kx = (r.kz + 1) % 3;
-    r.ky = (r.kx + 1) % 3;
-    if (dir[r.kz] < 0.0f) std::swap(r.kx, r.ky);
-    // Shear constants (Woop et al. 2013, section 3).
-    r.sx = dir[r.kx] / dir[r.kz];
-    r.sy = dir[r.ky] / dir[r.kz];
-    r.sz = 1.0f / dir[r.kz];
-    return r;
-}
-
-/// A candidate hit: distance and Embree's barycentrics (u of p1, v of p2).
-struct TriangleHit {
-    float t = 0.0f, u = 0.0f, v = 0.0f;
-};
-
-/// The watertight test of triangle (p0, p1, p2) within (tnear, tfar] (Embree's interval).
-bool hitTriangle(const ShearedRay& r, const Vec3& p0, const Vec3& p1, const Vec3& p2, float tnear,
-                 float tfar, TriangleHit& hit) {
-    // Translate the vertices to the ray's origin.
-    const float a[3] = {p0.x - r.org[0], p0.y - r.org[1], p0.z - r.org[2]};
-    const float b[3] = {p1.x - r.org[0], p1.y - r.org[1], p1.z - r.org[2]};
-    const float c[3] = {p2.x - r.org[0], p2.y - r.org[1], p2.z - r.org[2]};
-    // Shear and scale them into the ray's space (the ray is +z there).
-    const float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
-    const float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
-    const float cx = c[r.kx] - r.sx * c[r.kz], cy = c[r.ky] - r.sy * c[r.kz];
-    // Scaled barycentrics: the 2D edge functions.
-    float u = cx * by - cy * bx, v = ax * cy - ay * cx, w = bx * ay - by * ax;
-    // On an edge in float: decide again in double, so that a ray through a shared edge meets
-    // one of its triangles (the paper's fallback).
-    if (u == 0.0f || v == 0.0f || w == 0.0f) {
-        u = float(double(cx) * double(by) - double(cy) * double(bx));
-        v = float(double(ax) * double(cy) - double(ay) * double(cx));
-        w = float(double(bx) * double(ay) - double(by) * double(ax));
-    }
-    if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return false;
-    const float det = u + v + w;
-    if (det == 0.0f) return false;
-    // The scaled distance; written so that NaN fails the test.
-    const float t =
-        (u * (r.sz * a[r.kz]) + v * (r.sz * b[r.kz]) + w * (r.sz * c[r.kz])) * (1.0f / det);
-    if (!(t > tnear && t <= tfar)) return false;
-    const float rcp = 1.0f / det;
-    hit = {t, v * rcp, w * rcp};
-    return true;
-}
-
 /// The hit record of triangle `prim` as Embree's triangles report it.
 RTCHit hitRecord(const detail::Mesh& mesh, std::uint32_t prim, const TriangleHit& h,
                  unsigned geomID, const RTCIntersectContext* context) {
@@ -193,29 +131,6 @@ bool filterAccepts(const Args* args, const ClusterGeometry& g, RTCRayN* ray, uns
     return true;
 }
 
-/// The closest hit of lane i among cluster `cluster`'s triangles within (tnear, tfar]; updates
-/// tfar and hit. `accept` decides a candidate (the filter, or always).
-template <class Accept>
-bool closestInCluster(const ClusterGeometry& g, unsigned cluster, const ShearedRay& r, float tnear,
-                      float& tfar, Accept accept) {
-    const detail::Mesh& mesh = g.mesh();
-    const std::size_t first = std::size_t(cluster) * g.clusterSize();
-    const std::size_t last = std::min(first + g.clusterSize(), g.order().size());
-    bool found = false;
-    for (std::size_t j = first; j < last; ++j) {
-        const std::uint32_t prim = g.order()[j];
-        const std::uint32_t* idx = &mesh.indices[3 * std::size_t(prim)];
-        TriangleHit h;
-        if (!hitTriangle(r, mesh.positions[idx[0]], mesh.positions[idx[1]], mesh.positions[idx[2]],
-                         tnear, tfar, h))
-            continue;
-        if (!accept(prim, h)) continue;
-        tfar = h.t;
-        found = true;
-    }
-    return found;
-}
-
 ShearedRay shearLane(RTCRayN* ray, unsigned N, unsigned i) {
     const float org[3] = {RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i),
                           RTCRayN_org_z(ray, N, i)};
@@ -253,24 +168,76 @@ void clusterBounds(const RTCBoundsFunctionArguments* args) {
     b.upper_x = hi[0], b.upper_y = hi[1], b.upper_z = hi[2];
 }
 
+/// Cluster `cluster`'s triangles in SIMD layout (NaN past its last), and which they are.
+template <int W>
+struct ClusterBatch {
+    TriangleBatch<W> batch;
+    std::uint32_t prim[W];
+    int count = 0;
+
+    ClusterBatch(const ClusterGeometry& g, unsigned cluster) {
+        const detail::Mesh& mesh = g.mesh();
+        const std::size_t first = std::size_t(cluster) * g.clusterSize();
+        count = int(std::min<std::size_t>(g.clusterSize(), g.order().size() - first));
+        // In three passes, each load of one independent of the others in flight (the cache
+        // misses overlap): the triangles, their vertex numbers, the vertices.
+        std::uint32_t vertex[3][W];
+        for (int j = 0; j < count; ++j) prim[j] = g.order()[first + std::size_t(j)];
+        for (int j = 0; j < count; ++j)
+            for (int k = 0; k < 3; ++k) vertex[k][j] = mesh.indices[3 * std::size_t(prim[j]) + k];
+        for (int k = 0; k < 3; ++k)
+            for (int j = 0; j < count; ++j) {
+                const Vec3& p = mesh.positions[vertex[k][j]];
+                batch.p[k][0][j] = p.x, batch.p[k][1][j] = p.y, batch.p[k][2][j] = p.z;
+            }
+        for (auto& v : batch.p)
+            for (auto& axis : v)
+                for (int j = count; j < W; ++j) axis[j] = std::numeric_limits<float>::quiet_NaN();
+    }
+
+    /// Lane j's test: the batch's float result, or hitTriangle where it met an edge.
+    bool hit(const BatchResult<W>& r, int j, const ShearedRay& ray, float tnear, float tfar,
+             TriangleHit& h) const {
+        if (r.edge[j]) {
+            const Vec3 p0{batch.p[0][0][j], batch.p[0][1][j], batch.p[0][2][j]};
+            const Vec3 p1{batch.p[1][0][j], batch.p[1][1][j], batch.p[1][2][j]};
+            const Vec3 p2{batch.p[2][0][j], batch.p[2][1][j], batch.p[2][2][j]};
+            return hitTriangle(ray, p0, p1, p2, tnear, tfar, h);
+        }
+        if (!r.hit[j] || !(r.t[j] <= tfar)) return false;
+        h = {r.t[j], r.u[j], r.v[j]};
+        return true;
+    }
+};
+
+template <int W>
 void intersectCluster(const RTCIntersectFunctionNArguments* args) {
     const auto& g = *static_cast<const ClusterGeometry*>(args->geometryUserPtr);
     const unsigned N = args->N;
     RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, N);
     RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, N);
+    const ClusterBatch<W> cluster(g, args->primID);
     for (unsigned i = 0; i < N; ++i) {
         if (args->valid[i] != -1) continue;
         const ShearedRay r = shearLane(ray, N, i);
+        const float tnear = RTCRayN_tnear(ray, N, i);
         float tfar = RTCRayN_tfar(ray, N, i);
+        BatchResult<W> result;
+        testBatch(cluster.batch, r, tnear, tfar, result);
+        // The closest accepted hit: candidates in order, each nearer than the last accepted.
+        bool found = false;
         RTCHit best;
-        auto accept = [&](std::uint32_t prim, const TriangleHit& h) {
-            RTCHit hit = hitRecord(g.mesh(), prim, h, args->geomID, args->context);
+        for (int j = 0; j < cluster.count; ++j) {
+            TriangleHit h;
+            if (!cluster.hit(result, j, r, tnear, tfar, h)) continue;
+            RTCHit hit = hitRecord(g.mesh(), cluster.prim[j], h, args->geomID, args->context);
             if (g.alpha() && !filterAccepts(args, g, ray, i, h.t, hit, rtcFilterIntersection))
-                return false;
+                continue;
+            tfar = h.t;
             best = hit;
-            return true;
-        };
-        if (!closestInCluster(g, args->primID, r, RTCRayN_tnear(ray, N, i), tfar, accept)) continue;
+            found = true;
+        }
+        if (!found) continue;
         RTCRayN_tfar(ray, N, i) = tfar;
         RTCHitN_Ng_x(hits, N, i) = best.Ng_x;
         RTCHitN_Ng_y(hits, N, i) = best.Ng_y;
@@ -284,29 +251,26 @@ void intersectCluster(const RTCIntersectFunctionNArguments* args) {
     }
 }
 
+template <int W>
 void occludedCluster(const RTCOccludedFunctionNArguments* args) {
     const auto& g = *static_cast<const ClusterGeometry*>(args->geometryUserPtr);
-    const detail::Mesh& mesh = g.mesh();
     const unsigned N = args->N;
     RTCRayN* ray = args->ray;
-    const std::size_t first = std::size_t(args->primID) * g.clusterSize();
-    const std::size_t last = std::min(first + g.clusterSize(), g.order().size());
+    const ClusterBatch<W> cluster(g, args->primID);
     for (unsigned i = 0; i < N; ++i) {
         if (args->valid[i] != -1) continue;
         const ShearedRay r = shearLane(ray, N, i);
         const float tnear = RTCRayN_tnear(ray, N, i), tfar = RTCRayN_tfar(ray, N, i);
+        BatchResult<W> result;
+        testBatch(cluster.batch, r, tnear, tfar, result);
         // Any accepted hit blocks the segment; a filter's rejection (a MASK hole, a BLEND
         // surface counted into the transmittance) goes on with the next triangle, and the
         // filter sees every candidate within the whole segment.
-        for (std::size_t j = first; j < last; ++j) {
-            const std::uint32_t prim = g.order()[j];
-            const std::uint32_t* idx = &mesh.indices[3 * std::size_t(prim)];
+        for (int j = 0; j < cluster.count; ++j) {
             TriangleHit h;
-            if (!hitTriangle(r, mesh.positions[idx[0]], mesh.positions[idx[1]],
-                             mesh.positions[idx[2]], tnear, tfar, h))
-                continue;
+            if (!cluster.hit(result, j, r, tnear, tfar, h)) continue;
             if (g.alpha()) {
-                RTCHit hit = hitRecord(mesh, prim, h, args->geomID, args->context);
+                RTCHit hit = hitRecord(g.mesh(), cluster.prim[j], h, args->geomID, args->context);
                 if (!filterAccepts(args, g, ray, i, h.t, hit, rtcFilterOcclusion)) continue;
             }
             RTCRayN_tfar(ray, N, i) = -std::numeric_limits<float>::infinity();
@@ -317,7 +281,7 @@ void occludedCluster(const RTCOccludedFunctionNArguments* args) {
 
 }  // namespace
 
-std::vector<std::uint32_t> spatialOrder(const detail::Mesh& mesh) {
+ClusterOrder spatialOrder(const detail::Mesh& mesh) {
     const std::size_t n = mesh.triangleCount();
     GLINT_CHECK(n <= std::numeric_limits<std::uint32_t>::max(),
                 "a clustered mesh holds at most 2^32 - 1 triangles");
@@ -328,7 +292,7 @@ std::vector<std::uint32_t> spatialOrder(const detail::Mesh& mesh) {
     for (std::size_t t = 0; t < n; ++t) ++start[bucketOf(coder.code(t)) + 1];
     for (std::uint32_t b = 0; b < kBuckets; ++b) start[b + 1] += start[b];
     // Step 2: place each triangle in its bucket, in index order.
-    std::vector<std::uint32_t> order(n);
+    ClusterOrder order(n);
     {
         std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
         for (std::size_t t = 0; t < n; ++t)
@@ -352,7 +316,8 @@ std::vector<std::uint32_t> spatialOrder(const detail::Mesh& mesh) {
 
 ClusterGeometry::ClusterGeometry(const detail::Mesh& mesh, std::uint32_t clusterSize)
     : m_mesh(&mesh), m_order(spatialOrder(mesh)), m_size(clusterSize) {
-    GLINT_CHECK(clusterSize >= 1, "a cluster holds at least one triangle");
+    GLINT_CHECK(clusterSize >= 1 && clusterSize <= kMaxClusterSize,
+                "a cluster holds 1 to 16 triangles");
 }
 
 RTCGeometryTy* ClusterGeometry::newGeometry(RTCDeviceTy* device, const AlphaTest* alpha) {
@@ -362,8 +327,17 @@ RTCGeometryTy* ClusterGeometry::newGeometry(RTCDeviceTy* device, const AlphaTest
     rtcSetGeometryUserPrimitiveCount(geom, clusterCount());
     rtcSetGeometryUserData(geom, this);
     rtcSetGeometryBoundsFunction(geom, clusterBounds, this);
-    rtcSetGeometryIntersectFunction(geom, intersectCluster);
-    rtcSetGeometryOccludedFunction(geom, occludedCluster);
+    // The narrowest SIMD batch that holds a cluster.
+    if (m_size <= 4) {
+        rtcSetGeometryIntersectFunction(geom, intersectCluster<4>);
+        rtcSetGeometryOccludedFunction(geom, occludedCluster<4>);
+    } else if (m_size <= 8) {
+        rtcSetGeometryIntersectFunction(geom, intersectCluster<8>);
+        rtcSetGeometryOccludedFunction(geom, occludedCluster<8>);
+    } else {
+        rtcSetGeometryIntersectFunction(geom, intersectCluster<16>);
+        rtcSetGeometryOccludedFunction(geom, occludedCluster<16>);
+    }
     if (alpha) attachAlphaFilterFunctions(geom);
     return geom;
 }

@@ -97,12 +97,14 @@ detail::SurfaceId EmbreeScene::surfaceOf(unsigned instID, unsigned geomID, unsig
     return {instID != RTC_INVALID_GEOMETRY_ID ? instID : geomID, primID};
 }
 
-/// A scene of more than kHighQualityBuildLimit primitives (triangles, or clusters) gets Embree's
-/// medium-quality builder and its compact layout. On a 4M-triangle asset compact took the peak
-/// memory from 636 to 378 MB and the build from 1.8 to 1.4 s at the same samples/s (docs/assets.md,
-/// "Speed and memory"); smaller scenes keep the high-quality build, which traces faster.
-void setBuildOptions(RTCScene scene, std::size_t primitives) {
-    const bool large = primitives > kHighQualityBuildLimit;
+/// A scene of more than kHighQualityBuildLimit triangles gets Embree's medium-quality builder
+/// and its compact layout. On a 4M-triangle asset compact took the peak memory from 636 to
+/// 378 MB and the build from 1.8 to 1.4 s at the same samples/s (docs/assets.md, "Speed and
+/// memory"); smaller scenes keep the high-quality build, which traces faster. Clusters (Accel)
+/// are built at medium quality too: on that asset, 18.3 instead of 21.0 MB at the same rays/s
+/// (docs/research/mesh-memory.md).
+void setBuildOptions(RTCScene scene, std::size_t triangles, bool clusters) {
+    const bool large = clusters || triangles > kHighQualityBuildLimit;
     rtcSetSceneBuildQuality(scene, large ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH);
     if (large) rtcSetSceneFlags(scene, RTC_SCENE_FLAG_COMPACT);
 }
@@ -121,14 +123,9 @@ std::size_t EmbreeScene::clusterOrderBytes() const {
 RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& data, Accel accel) {
     const bool clusters = accel == Accel::Clusters ||
                           (accel == Accel::Auto && data.triangleCount() > kClusterTriangles);
-    // A static mesh's geometry: Embree's triangles or clusters of them.
-    // What Embree builds its BVH over: clusters hold kClusterSize triangles.
-    auto primitives = [&](std::size_t triangles) {
-        return clusters ? (triangles + kClusterSize - 1) / kClusterSize : triangles;
-    };
     // Held in m_scene at once so that the constructor releases it if the conversion throws.
     RTCScene scene = m_scene = rtcNewScene(device);
-    setBuildOptions(scene, primitives(data.triangleCount()));
+    setBuildOptions(scene, data.triangleCount(), clusters);
     // Default (non-robust) traversal: RTC_SCENE_FLAG_ROBUST made cornell ~40 % slower and the
     // closed-sphere furnace test shows no leaks without it.
     std::vector<int> meshScene(data.meshes.size(), -1);
@@ -188,7 +185,7 @@ RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& da
         if (child < 0) {
             RTCScene meshScene = rtcNewScene(device);
             m_meshScenes.push_back(meshScene);
-            setBuildOptions(meshScene, primitives(mesh.triangleCount()));
+            setBuildOptions(meshScene, mesh.triangleCount(), clusters);
             RTCGeometry geom =
                 staticMesh(mesh, meshAlpha[inst.mesh] ? alphaTest(0, true) : nullptr);
             attach(meshScene, geom, 0);

@@ -81,6 +81,8 @@ class EmbreeScene {
     int clusteredMeshCount() const { return int(m_clusters.size()); }
     /// Bytes of the clustered meshes' triangle orders (Glint's, beside memory()'s Embree bytes).
     std::size_t clusterOrderBytes() const;
+    /// Triangles a cluster holds (0 without clusters).
+    int clusterSize() const { return m_clusters.empty() ? 0 : int(m_clusters[0]->clusterSize()); }
 
     /// Number of motion-blur geometries built (0 for a scene without moving shapes).
     int motionGeometryCount() const { return int(m_timeSteps.size()); }
