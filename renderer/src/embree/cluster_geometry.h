@@ -44,10 +44,11 @@ inline constexpr std::uint32_t kClusterSize = 16;
 /// The most triangles a cluster may hold (one SIMD batch of 16 lanes).
 inline constexpr std::uint32_t kMaxClusterSize = 16;
 
-/// A deterministic spatial order of the mesh's triangles: by the Morton code of their centroids
-/// (16 bits an axis over the centroids' bounding cube), ties by triangle index. Sorted in
-/// buckets of the codes' top 16 bits, so that the temporary arrays are a 256 KB histogram and
-/// one bucket's keys, not a key per triangle. Non-finite centroids come last.
+/// A deterministic spatial order of the mesh's triangles: by the Hilbert index of their
+/// centroids (16 bits an axis over the centroids' bounding cube), ties by triangle index. Sorted
+/// in buckets of the indices' top 16 bits, so that the temporary arrays are a bucket number a
+/// triangle (2 bytes), a 256 KB histogram and a bucket's keys per thread, not a key per
+/// triangle. Non-finite centroids come last.
 ClusterOrder spatialOrder(const detail::Mesh& mesh);
 
 /// The clusters of one mesh: cluster c is the triangles order[c·k, c·k + k) (the last one may
