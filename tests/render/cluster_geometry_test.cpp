@@ -400,6 +400,7 @@ TEST(ClusterGeometry, BadAccelIsRefusedNamingThePlace) {
             ADD_FAILURE() << bad << " was accepted";
         } catch (const Error& e) {
             EXPECT_NE(e.where().find("/render/accel"), std::string::npos) << e.where();
+            EXPECT_NE(e.message().find("triangles"), std::string::npos) << e.message();
         }
     }
     EXPECT_THROW(parseAccel("fast"), Error);
@@ -436,6 +437,21 @@ TEST_F(ClusterCli, AccelFlagRunsAndBadValuesExitTwo) {
     EXPECT_EQ(err.rfind("glint-render: command line: --accel: ", 0), 0u) << err;
     EXPECT_NE(err.find("--accel"), std::string::npos) << err;
     EXPECT_NE(err.find("auto, triangles or clusters"), std::string::npos) << err;
+    EXPECT_FALSE(std::filesystem::exists(out));
+    // The scene's "accel": 3 the same way, naming the file and the place.
+    std::ofstream(path("three.json")) << R"({
+        "camera": {"position": [0, 0, 5], "lookAt": [0, 0, 0]},
+        "film": {"width": 8, "height": 8}, "shapes": [{"obj": "sphere.obj"}],
+        "render": {"accel": 3}})";
+    const glint::testing::RunResult three = run(path("three.json") + " --spp 2 --out " + out);
+    EXPECT_EQ(three.exitCode, 2);
+    err = three.err;
+    while (!err.empty() && err.back() == '\n') err.pop_back();
+    err = err.substr(err.rfind('\n') + 1);
+    EXPECT_NE(err.find("three.json: /render/accel: expected \"auto\", \"triangles\" or "
+                       "\"clusters\""),
+              std::string::npos)
+        << err;
     EXPECT_FALSE(std::filesystem::exists(out));
 }
 

@@ -200,6 +200,8 @@ void Loader::readRender(const json& j, const std::string& where) {
     choice("mis", parseMis, s.mis);
     choice("strategy", parseStrategy, s.strategy);
     choice("sampler", parseSampler, s.sampler);
+    if (j.contains("accel") && !j["accel"].is_string())
+        m_reader.fail(where + "/accel", "expected \"auto\", \"triangles\" or \"clusters\"");
     choice("accel", parseAccel, s.accel);
     if (j.contains("halfBuffers")) {
         if (!j["halfBuffers"].is_boolean())
