@@ -177,6 +177,9 @@ TEST(ClusterGeometry, GivesTheHitsOfEmbreesTriangles) {
     test::TempDir dir("cluster_hits");
     const Scene scene = mixedScene(dir);
     const detail::SceneData& data = detail::sceneData(scene);
+    const std::uint32_t firstShared = 2;  // instances 2 and 3 are the tile's
+    ASSERT_EQ(data.instances.size(), 4u);
+    ASSERT_FALSE(data.instances[firstShared].identity);
     const EmbreeScene triangles(data, Accel::Triangles), clusters(data, Accel::Clusters);
     EXPECT_EQ(triangles.clusteredMeshCount(), 0);
     EXPECT_EQ(clusters.clusteredMeshCount(), 3);
@@ -184,9 +187,17 @@ TEST(ClusterGeometry, GivesTheHitsOfEmbreesTriangles) {
     EXPECT_EQ(clusters.clusterOrderBytes(), (528u + 392u + 288u) * 4u);
     // The auto choice keeps a small scene on Embree's triangles.
     EXPECT_EQ(EmbreeScene(data).clusteredMeshCount(), 0);
-    const std::uint32_t firstShared = 2;  // instances 2 and 3 are the tile's
-    ASSERT_EQ(data.instances.size(), 4u);
-    ASSERT_FALSE(data.instances[firstShared].identity);
+    // ... and one whose instances hold more than 2^21 triangles of one shared mesh, which its
+    // BVHs hold once (the tile's 288 triangles, 7300 times: 2.1M).
+    detail::SceneData many = data;
+    many.instances.resize(2);
+    for (int i = 0; i < 7300; ++i) {
+        detail::Instance copy = data.instances[firstShared];
+        copy.transform.t = {float(i % 100) * 7.0f, float(i / 100) * 7.0f, 50.0f};
+        many.instances.push_back(copy);
+    }
+    ASSERT_GT(many.triangleCount(), kClusterTriangles);
+    EXPECT_EQ(EmbreeScene(many).clusteredMeshCount(), 0);
 
     const std::vector<Ray> rays = clusterTestRays(20000, 19);
     const float inf = std::numeric_limits<float>::infinity();

@@ -109,6 +109,25 @@ void setBuildOptions(RTCScene scene, std::size_t triangles, bool clusters) {
     if (large) rtcSetSceneFlags(scene, RTC_SCENE_FLAG_COMPACT);
 }
 
+namespace {
+
+/// The triangles the BVHs hold: a static mesh once however many instances share it, a moving
+/// instance's mesh once per instance (each has its own geometry).
+std::size_t bvhTriangles(const detail::SceneData& data) {
+    std::vector<bool> counted(data.meshes.size(), false);
+    std::size_t triangles = 0;
+    for (const detail::Instance& inst : data.instances) {
+        if (inst.motion < 0) {
+            if (counted[inst.mesh]) continue;
+            counted[inst.mesh] = true;
+        }
+        triangles += data.meshes[inst.mesh].triangleCount();
+    }
+    return triangles;
+}
+
+}  // namespace
+
 std::size_t EmbreeScene::clusterOrderBytes() const {
     std::size_t bytes = 0;
     for (const auto& c : m_clusters) bytes += c->bytes();
@@ -122,7 +141,7 @@ std::size_t EmbreeScene::clusterOrderBytes() const {
 /// meshes keep Embree's triangles. Ends in rtcCommitScene.
 RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& data, Accel accel) {
     const bool clusters = accel == Accel::Clusters ||
-                          (accel == Accel::Auto && data.triangleCount() > kClusterTriangles);
+                          (accel == Accel::Auto && bvhTriangles(data) > kClusterTriangles);
     // Held in m_scene at once so that the constructor releases it if the conversion throws.
     RTCScene scene = m_scene = rtcNewScene(device);
     setBuildOptions(scene, data.triangleCount(), clusters);

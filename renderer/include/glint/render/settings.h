@@ -28,7 +28,9 @@ enum class SamplerKind {
 
 /// What Embree builds its BVH over (docs/renderer.md, "Acceleration structure").
 enum class Accel {
-    Auto,       ///< clusters for a scene of more than kClusterTriangles triangles, else triangles
+    /// Clusters when the BVHs would hold more than kClusterTriangles triangles (a mesh shared
+    /// by instances counted once), else triangles.
+    Auto,
     Triangles,  ///< Embree's own triangles
     Clusters    ///< clusters of a few triangles a static mesh (less memory, slower rays)
 };
