@@ -254,6 +254,44 @@ TEST(ClusterGeometry, GivesTheHitsOfEmbreesTriangles) {
     EXPECT_LE(disagreePackets, int(segments.size()) / 1000);
 }
 
+TEST(ClusterGeometry, MovingMeshesKeepEmbreesTriangles) {
+    // A moving, turning sphere over a static ground: with clusters the ground is clustered, the
+    // sphere stays a motion-blur triangle mesh, and rays at random shutter times (seed 20) hit
+    // what they hit with triangles (tolerances as above).
+    test::TempDir dir("cluster_motion");
+    dir.write("sphere.obj", test::sphereObj(1.0f, 12, 24));
+    dir.write("ground.obj", wavedGridObj(10));
+    const Scene scene = parseScene(
+        R"({"camera": {"position": [0, 0, 6], "lookAt": [0, 0, 0], "fovY": 40},
+            "film": {"width": 8, "height": 8},
+            "shapes": [{"obj": "sphere.obj",
+                        "motion": {"translate": [1, 0.2, 0], "rotate": [90, [0, 0, 1]]}},
+                       {"obj": "ground.obj", "transform": {"translate": [0, -1.5, 0],
+                                                          "scale": 4}}]})",
+        dir.path() / "scene.json");
+    const detail::SceneData& data = detail::sceneData(scene);
+    const EmbreeScene triangles(data, Accel::Triangles), clusters(data, Accel::Clusters);
+    EXPECT_EQ(clusters.clusteredMeshCount(), 1);
+    EXPECT_EQ(clusters.motionGeometryCount(), 1);
+    std::vector<Ray> rays = clusterTestRays(5000, 20);
+    Rng rng(20);
+    for (Ray& r : rays) r.time = rng.uniform();
+    HitComparison c;
+    int sphereHits = 0;
+    for (const Ray& r : rays) {
+        Hit a, b;
+        const bool fa = triangles.intersect(r, std::numeric_limits<float>::infinity(), a);
+        const bool fb = clusters.intersect(r, std::numeric_limits<float>::infinity(), b);
+        c.add(fa, a, fb, b, 2);
+        sphereHits += fa && a.surface.instance == 0;
+    }
+    EXPECT_GT(sphereHits, 80);
+    EXPECT_GT(c.hits, 1000);
+    EXPECT_LE(c.disagree, c.rays / 1000);
+    EXPECT_LE(c.maxT, 1e-4);
+    EXPECT_LE(c.maxUv, 1e-4);
+}
+
 namespace {
 
 constexpr const char* kClusterQuad =
