@@ -254,6 +254,36 @@ TEST(ClusterGeometry, GivesTheHitsOfEmbreesTriangles) {
     EXPECT_LE(disagreePackets, int(segments.size()) / 1000);
 }
 
+TEST(ClusterGeometry, AutoClustersAMeshOfMoreThanTwoToTheTwentyOneTriangles) {
+    // The sphere of the mixed scene replaced by a flat grid of 1025² quads: 2,101,250 triangles,
+    // just above 2^21 = 2,097,152. auto clusters every static mesh, the shared one included.
+    test::TempDir dir("cluster_auto");
+    const Scene scene = mixedScene(dir);
+    detail::SceneData data = detail::sceneData(scene);
+    detail::Mesh& mesh = data.meshes[data.instances[0].mesh];
+    const std::uint32_t n = 1025;
+    mesh.positions.clear();
+    mesh.normals.clear();
+    mesh.indices.clear();
+    mesh.positions.reserve(std::size_t(n + 1) * (n + 1) + 1);
+    for (std::uint32_t j = 0; j <= n; ++j)
+        for (std::uint32_t i = 0; i <= n; ++i)
+            mesh.positions.push_back({float(i) / float(n), 0.0f, float(j) / float(n)});
+    for (std::uint32_t j = 0; j < n; ++j)
+        for (std::uint32_t i = 0; i < n; ++i) {
+            const std::uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+            mesh.indices.insert(mesh.indices.end(), {a, c, b, b, c, d});
+        }
+    ASSERT_GT(data.triangleCount(), kClusterTriangles);
+    const EmbreeScene embree(data);
+    EXPECT_EQ(embree.clusteredMeshCount(), 3);
+    EXPECT_EQ(embree.clusterSize(), int(kClusterSize));
+    Hit hit;
+    ASSERT_TRUE(embree.intersect({{0.3f, 1.0f, 0.6f}, {0, -1, 0}}, 10.0f, hit));
+    EXPECT_NEAR(hit.t, 1.0f, 1e-5f);
+    EXPECT_EQ(EmbreeScene(data, Accel::Triangles).clusteredMeshCount(), 0);
+}
+
 TEST(ClusterGeometry, MovingMeshesKeepEmbreesTriangles) {
     // A moving, turning sphere over a static ground: with clusters the ground is clustered, the
     // sphere stays a motion-blur triangle mesh, and rays at random shutter times (seed 20) hit
