@@ -33,7 +33,7 @@ struct Options {
     std::optional<std::string> camera;  // a glTF asset's camera, by name
     std::optional<int> spp, threads, maxDepth, rrDepth, textureCacheMb;
     std::optional<std::string> seed;  // parsed strictly: "-1" must not wrap to 2^64 - 1
-    std::optional<std::string> integrator, mis, strategy, sampler, shard;
+    std::optional<std::string> integrator, mis, strategy, sampler, shard, accel;
     double timeLimit = 0.0;
     bool json = false, position = false, halfBuffers = false;
     // Metropolis parameters (--integrator mlt).
@@ -140,6 +140,8 @@ int run(const Options& opt) {
     if (opt.sampler)
         settings.sampler =
             option("--sampler", [&] { return glint::render::parseSampler(*opt.sampler); });
+    if (opt.accel)
+        settings.accel = option("--accel", [&] { return glint::render::parseAccel(*opt.accel); });
     if (opt.strategy && settings.mis != glint::render::MisHeuristic::None)
         throw glint::Error(glint::ErrorKind::InvalidArgument,
                            "--strategy applies only with --mis none", "command line", "--strategy");
@@ -198,7 +200,7 @@ int run(const Options& opt) {
 
     stage("building BVH (" + std::to_string(scene.triangleCount()) + " triangles, " +
           std::to_string(scene.areaLightCount()) + " emissive)");
-    glint::render::Renderer renderer(std::move(scene));
+    glint::render::Renderer renderer(std::move(scene), settings.accel);
     const double setupSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
@@ -256,6 +258,7 @@ int run(const Options& opt) {
                             {"spp", stats.completedSpp},
                             {"seed", settings.seed},
                             {"mis", glint::render::misName(settings.mis)},
+                            {"accel", glint::render::accelName(settings.accel)},
                             {"maxDepth", settings.maxDepth},
                             {"threads", settings.threads},
                             {"setupSeconds", setupSeconds},
@@ -330,6 +333,9 @@ int main(int argc, char** argv) {
     app.add_option("--integrator", opt.integrator, "path | mlt");
     app.add_option("--mis", opt.mis, "power | balance | none");
     app.add_option("--strategy", opt.strategy, "bsdf | light (with --mis none)");
+    app.add_option("--accel", opt.accel,
+                   "auto | triangles | clusters: what the BVH is built over (default: the "
+                   "scene's render.accel, else auto: clusters above 2^21 triangles)");
     app.add_option("--sampler", opt.sampler, "stratified | independent | sobol | zsobol");
     app.add_option("--max-depth", opt.maxDepth, "maximum bounces, 1 … 1024");
     app.add_option("--rr-depth", opt.rrDepth,

@@ -42,8 +42,8 @@ namespace glint::render {
 using Clock = std::chrono::steady_clock;
 
 struct Renderer::Impl {
-    explicit Impl(const detail::SceneData& scene)
-        : embree(scene),
+    Impl(const detail::SceneData& scene, Accel accel)
+        : embree(scene, accel),
           lights(scene),
           camera(scene.camera, scene.width, scene.height),
           lookRevision(scene.lookRevision) {}
@@ -57,7 +57,12 @@ struct Renderer::Impl {
 
 Renderer::Renderer(Scene scene) : m_scene(std::move(scene)) {
     GLINT_CHECK(m_scene.width() > 0 && m_scene.height() > 0, "scene has no film");
-    m_impl = std::make_unique<Impl>(detail::sceneData(m_scene));
+    m_impl = std::make_unique<Impl>(detail::sceneData(m_scene), m_scene.settings().accel);
+}
+
+Renderer::Renderer(Scene scene, Accel accel) : m_scene(std::move(scene)) {
+    GLINT_CHECK(m_scene.width() > 0 && m_scene.height() > 0, "scene has no film");
+    m_impl = std::make_unique<Impl>(detail::sceneData(m_scene), accel);
 }
 
 Renderer::~Renderer() = default;
@@ -76,8 +81,10 @@ int accelerationBuilds(const Renderer& renderer) {
 }
 
 AccelerationMemory accelerationMemory(const Renderer& renderer) {
-    const EmbreeMemory m = RendererAccess::impl(renderer).embree.memory();
-    return {m.current, m.peak};
+    const EmbreeScene& embree = RendererAccess::impl(renderer).embree;
+    const EmbreeMemory m = embree.memory();
+    return {m.current, m.peak, std::int64_t(embree.clusterOrderBytes()),
+            embree.clusteredMeshCount(), embree.clusterSize()};
 }
 
 int lightBuilds(const Renderer& renderer) {

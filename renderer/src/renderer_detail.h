@@ -27,9 +27,14 @@ RayThroughput measureRayThroughput(const Renderer& renderer, std::uint64_t rays,
 /// since look edits never need a rebuild.
 int accelerationBuilds(const Renderer& renderer);
 /// Bytes `renderer`'s Embree device holds now (the BVH) and held at most (the build's peak), as
-/// Embree's memory monitor counts them: not the mesh arrays Embree reads in place.
+/// Embree's memory monitor counts them: not the mesh arrays Embree reads in place. With
+/// clusters (Accel), also the bytes of the clusters' triangle order (Glint's) and how many
+/// meshes are clustered (0: Embree's triangles throughout).
 struct AccelerationMemory {
     std::int64_t current = 0, peak = 0;
+    std::int64_t clusterOrder = 0;
+    int clusteredMeshes = 0;
+    int clusterSize = 0;  ///< triangles a cluster holds (0 without clusters)
 };
 AccelerationMemory accelerationMemory(const Renderer& renderer);
 /// How many times `renderer` built its light sampling structures (once, plus once per render

@@ -38,6 +38,26 @@ SamplerKind parseSampler(const std::string& name) {
         "unknown sampler '" + name + "' (expected stratified, independent, sobol or zsobol)");
 }
 
+Accel parseAccel(const std::string& name) {
+    if (name == "auto") return Accel::Auto;
+    if (name == "triangles") return Accel::Triangles;
+    if (name == "clusters") return Accel::Clusters;
+    throw Error(ErrorKind::InvalidArgument,
+                "unknown accel '" + name + "' (expected auto, triangles or clusters)");
+}
+
+const char* accelName(Accel accel) {
+    switch (accel) {
+        case Accel::Auto:
+            return "auto";
+        case Accel::Triangles:
+            return "triangles";
+        case Accel::Clusters:
+            return "clusters";
+    }
+    return "?";
+}
+
 const char* samplerName(SamplerKind sampler) {
     switch (sampler) {
         case SamplerKind::Stratified:

@@ -1,14 +1,21 @@
 // bench_asset_load: how long a large glTF asset takes to set up and how much memory it needs.
 //   bench_asset_load write FILE.glb [--triangles N]   a wavy grid of about N triangles
 //                                                      (positions, normals, 32-bit indices)
-//   bench_asset_load load FILE.glb [--threads T]      load it and build its BVH; prints JSON
+//   bench_asset_load load FILE.glb [--threads T] [--accel auto|triangles|clusters] [--rays N]
+//                                                      load it and build its BVH; prints JSON
 // Run `load` in a fresh process (as docs/assets.md does) so that the peak resident size is the
 // asset's alone. "meshBytes" is the asset's vertex and index data (its BIN chunk); "loadPeakRss"
 // the peak after loading (before the BVH), "peakRss" the peak once the BVH is built; "rss" the
 // resident size once built, and "trimmedRss" after malloc_trim(0) hands freed heap back.
 // "glintMesh" counts Glint's mesh arrays byte by byte (their sizes, and "capacity" what is
 // allocated), "embree" what Embree's device holds once built and held at most during the build
-// (its memory monitor; the mesh arrays it reads in place are Glint's).
+// (its memory monitor; the mesh arrays it reads in place are Glint's). "accel" is the choice asked
+// for and "bvh" what was built: "clusters" when a mesh is traced as clusters of triangles
+// (docs/assets.md, "Speed and memory"), with their triangle order's bytes ("clusterOrder", Glint's
+// beside Embree's) and the triangles a cluster holds, else "triangles" (Embree's own). With
+// --rays N (after the memory figures), "trace" times N rays of the raw kernel (half camera rays,
+// half random rays in the bounding box; detail::measureRayThroughput, seed 19) one query a ray
+// and in packets: wall and CPU seconds (the process's user + system time) and rays per CPU second.
 #include <malloc.h>
 #include <sys/resource.h>
 
@@ -31,6 +38,7 @@
 #include "glint/image/error.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
+#include "glint/render/settings.h"
 #include "renderer_detail.h"
 #include "scene/scene_access.h"
 
@@ -170,8 +178,40 @@ double binChunkBytes(const std::string& file) {
     return double(binLength);
 }
 
-/// Loads `file` and builds its BVH on `threads` worker threads; prints one JSON line.
-int load(const std::string& file, int threads) {
+/// The --accel value, or OptionError naming the option.
+glint::render::Accel accelOption(const std::string& name, const std::string& value) {
+    try {
+        return glint::render::parseAccel(value);
+    } catch (const glint::Error& e) {
+        throw glint::bench::OptionError(name + ": " + e.message());
+    }
+}
+
+/// CPU time (user + system) of this process so far, seconds.
+double cpuSeconds() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+           1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
+/// `rays` rays of the renderer's raw kernel on `threads` threads, one query a ray or in packets.
+nlohmann::json traceRays(const glint::render::Renderer& renderer, long long rays, int threads,
+                         bool packets) {
+    const double cpu = cpuSeconds();
+    const auto t = glint::render::detail::measureRayThroughput(renderer, std::uint64_t(rays),
+                                                               threads, 19, packets);
+    const double used = cpuSeconds() - cpu;
+    return {{"rays", t.rays},
+            {"hits", t.hits},
+            {"seconds", t.seconds},
+            {"cpuSeconds", used},
+            {"raysPerCpuSecond", used > 0.0 ? double(t.rays) / used : 0.0}};
+}
+
+/// Loads `file` and builds its BVH over the primitives `accel` names on `threads` worker threads;
+/// prints one JSON line (with `rays` > 0, also the kernel's speed).
+int load(const std::string& file, int threads, glint::render::Accel accel, long long rays) {
     tbb::global_control workers(tbb::global_control::max_allowed_parallelism,
                                 std::size_t(std::max(1, threads)));
     const auto start = Clock::now();
@@ -179,27 +219,35 @@ int load(const std::string& file, int threads) {
     const double loadSeconds = seconds(start);
     const double loadPeak = peakRssBytes();
     const auto bvhStart = Clock::now();
-    glint::render::Renderer renderer(std::move(scene));
+    glint::render::Renderer renderer(std::move(scene), accel);
     const double bvhSeconds = seconds(bvhStart);
     const double peak = peakRssBytes(), rss = rssBytes();
     malloc_trim(0);
     const double trimmedRss = rssBytes();
     const auto embree = glint::render::detail::accelerationMemory(renderer);
     const double mesh = binChunkBytes(file);
-    const nlohmann::json out = {{"file", file},
-                                {"triangles", renderer.scene().triangleCount()},
-                                {"meshBytes", mesh},
-                                {"loadSeconds", loadSeconds},
-                                {"bvhSeconds", bvhSeconds},
-                                {"setupSeconds", loadSeconds + bvhSeconds},
-                                {"loadPeakRss", loadPeak},
-                                {"peakRss", peak},
-                                {"rss", rss},
-                                {"trimmedRss", trimmedRss},
-                                {"glintMesh", meshArrays(renderer.scene())},
-                                {"embree", {{"bytes", embree.current}, {"peakBytes", embree.peak}}},
-                                {"loadPeakOverMesh", mesh > 0 ? loadPeak / mesh : 0.0},
-                                {"peakOverMesh", mesh > 0 ? peak / mesh : 0.0}};
+    nlohmann::json out = {{"file", file},
+                          {"triangles", renderer.scene().triangleCount()},
+                          {"meshBytes", mesh},
+                          {"loadSeconds", loadSeconds},
+                          {"bvhSeconds", bvhSeconds},
+                          {"setupSeconds", loadSeconds + bvhSeconds},
+                          {"loadPeakRss", loadPeak},
+                          {"peakRss", peak},
+                          {"rss", rss},
+                          {"trimmedRss", trimmedRss},
+                          {"glintMesh", meshArrays(renderer.scene())},
+                          {"embree", {{"bytes", embree.current}, {"peakBytes", embree.peak}}},
+                          {"accel", glint::render::accelName(accel)},
+                          {"bvh", embree.clusteredMeshes > 0 ? "clusters" : "triangles"},
+                          {"clusteredMeshes", embree.clusteredMeshes},
+                          {"clusterSize", embree.clusterSize},
+                          {"clusterOrder", embree.clusterOrder},
+                          {"loadPeakOverMesh", mesh > 0 ? loadPeak / mesh : 0.0},
+                          {"peakOverMesh", mesh > 0 ? peak / mesh : 0.0}};
+    if (rays > 0)
+        out["trace"] = {{"single", traceRays(renderer, rays, threads, false)},
+                        {"packets", traceRays(renderer, rays, threads, true)}};
     std::printf("%s\n", out.dump().c_str());
     return 0;
 }
@@ -208,12 +256,15 @@ int load(const std::string& file, int threads) {
 
 int main(int argc, char** argv) {
     if (argc < 3) {
-        std::fprintf(stderr, "usage: bench_asset_load write|load FILE.glb [--triangles N]\n");
+        std::fprintf(stderr,
+                     "usage: bench_asset_load write|load FILE.glb [--triangles N] [--threads T] "
+                     "[--accel auto|triangles|clusters] [--rays N]\n");
         return 2;
     }
     const std::string mode = argv[1], file = argv[2];
-    long long triangles = 4'000'000;
+    long long triangles = 4'000'000, rays = 0;
     int threads = 2;
+    glint::render::Accel accel = glint::render::Accel::Auto;
     const int status =
         glint::bench::parseOptions("bench_asset_load", argc - 2, argv + 2,
                                    [&](const std::string& name, const std::string& value) {
@@ -221,6 +272,10 @@ int main(int argc, char** argv) {
                                            triangles = glint::bench::intOption(name, value);
                                        else if (name == "--threads")
                                            threads = glint::bench::intOption(name, value);
+                                       else if (name == "--rays")
+                                           rays = glint::bench::intOption(name, value);
+                                       else if (name == "--accel")
+                                           accel = accelOption(name, value);
                                        else
                                            return false;
                                        return true;
@@ -231,7 +286,7 @@ int main(int argc, char** argv) {
             writeGrid(file, triangles);
             return 0;
         }
-        if (mode == "load") return load(file, threads);
+        if (mode == "load") return load(file, threads, accel, rays);
         std::fprintf(stderr, "bench_asset_load: mode '%s' is neither write nor load\n",
                      mode.c_str());
         return 2;

@@ -146,6 +146,10 @@ void occludedFilter(const RTCFilterFunctionNArguments* args) {
 
 void attachAlphaFilter(RTCGeometryTy* geometry, const AlphaTest* test) {
     rtcSetGeometryUserData(geometry, const_cast<AlphaTest*>(test));
+    attachAlphaFilterFunctions(geometry);
+}
+
+void attachAlphaFilterFunctions(RTCGeometryTy* geometry) {
     rtcSetGeometryIntersectFilterFunction(geometry, intersectFilter);
     rtcSetGeometryOccludedFilterFunction(geometry, occludedFilter);
 }

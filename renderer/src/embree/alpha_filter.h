@@ -39,5 +39,9 @@ float blendHash(const Vec3& origin, const Vec3& dir, std::uint32_t instance, std
 
 /// Installs the filter on `geometry` (before it is committed); `test` must outlive it.
 void attachAlphaFilter(RTCGeometryTy* geometry, const AlphaTest* test);
+/// Installs the filter functions alone, for a geometry whose user data is its own: its
+/// callbacks hand the filters an AlphaTest as their geometryUserPtr (rtcFilterIntersection,
+/// rtcFilterOcclusion; embree/cluster_geometry.cpp).
+void attachAlphaFilterFunctions(RTCGeometryTy* geometry);
 
 }  // namespace glint::render

@@ -100,21 +100,51 @@ detail::SurfaceId EmbreeScene::surfaceOf(unsigned instID, unsigned geomID, unsig
 /// A scene of more than kHighQualityBuildLimit triangles gets Embree's medium-quality builder
 /// and its compact layout. On a 4M-triangle asset compact took the peak memory from 636 to
 /// 378 MB and the build from 1.8 to 1.4 s at the same samples/s (docs/assets.md, "Speed and
-/// memory"); smaller scenes keep the high-quality build, which traces faster.
-void setBuildOptions(RTCScene scene, std::size_t triangles) {
-    const bool large = triangles > kHighQualityBuildLimit;
+/// memory"); smaller scenes keep the high-quality build, which traces faster. Clusters (Accel)
+/// are built at medium quality too: on that asset, 18.3 instead of 21.0 MB at the same rays/s
+/// (docs/research/mesh-memory.md).
+void setBuildOptions(RTCScene scene, std::size_t triangles, bool clusters) {
+    const bool large = clusters || triangles > kHighQualityBuildLimit;
     rtcSetSceneBuildQuality(scene, large ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH);
     if (large) rtcSetSceneFlags(scene, RTC_SCENE_FLAG_COMPACT);
+}
+
+namespace {
+
+/// The triangles the BVHs hold: a static mesh once however many instances share it, a moving
+/// instance's mesh once per instance (each has its own geometry).
+std::size_t bvhTriangles(const detail::SceneData& data) {
+    std::vector<bool> counted(data.meshes.size(), false);
+    std::size_t triangles = 0;
+    for (const detail::Instance& inst : data.instances) {
+        if (inst.motion < 0) {
+            if (counted[inst.mesh]) continue;
+            counted[inst.mesh] = true;
+        }
+        triangles += data.meshes[inst.mesh].triangleCount();
+    }
+    return triangles;
+}
+
+}  // namespace
+
+std::size_t EmbreeScene::clusterOrderBytes() const {
+    std::size_t bytes = 0;
+    for (const auto& c : m_clusters) bytes += c->bytes();
+    return bytes;
 }
 
 /// Converts the scene: geometry i of the top-level scene is instance i — its mesh in world
 /// space, an Embree instance of the shared mesh's own scene (built once per mesh), or a
 /// motion-blur mesh whose time step k holds the mesh posed at normalised time k / (steps - 1).
-/// Ends in rtcCommitScene.
-RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& data) {
+/// With clusters, a static mesh (in world space or shared) is a clustered geometry; motion-blur
+/// meshes keep Embree's triangles. Ends in rtcCommitScene.
+RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& data, Accel accel) {
+    const bool clusters = accel == Accel::Clusters ||
+                          (accel == Accel::Auto && bvhTriangles(data) > kClusterTriangles);
     // Held in m_scene at once so that the constructor releases it if the conversion throws.
     RTCScene scene = m_scene = rtcNewScene(device);
-    setBuildOptions(scene, data.triangleCount());
+    setBuildOptions(scene, data.triangleCount(), clusters);
     // Default (non-robust) traversal: RTC_SCENE_FLAG_ROBUST made cornell ~40 % slower and the
     // closed-sphere furnace test shows no leaks without it.
     std::vector<int> meshScene(data.meshes.size(), -1);
@@ -125,9 +155,23 @@ RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& da
         instanceAlpha[i] = needsAlphaTest(data, i);
         if (instanceAlpha[i]) meshAlpha[data.instances[i].mesh] = true;
     }
-    auto alphaTest = [&](RTCGeometry geom, std::uint32_t instance, bool shared) {
+    // The filter's data of an instance, or of a shared mesh (its instance comes with the hit).
+    auto alphaTest = [&](std::uint32_t instance, bool shared) {
         m_alphaTests.push_back(std::make_unique<AlphaTest>(AlphaTest{&data, instance, shared}));
-        attachAlphaFilter(geom, m_alphaTests.back().get());
+        return m_alphaTests.back().get();
+    };
+    // A static mesh's geometry, with the filter when `alpha` is set: Embree's triangles, or
+    // clusters of them whose callbacks run the same filter.
+    auto staticMesh = [&](const detail::Mesh& mesh, const AlphaTest* alpha) {
+        if (!clusters) {
+            RTCGeometry geom = newStaticMesh(device, mesh);
+            if (alpha) attachAlphaFilter(geom, alpha);
+            return geom;
+        }
+        m_clusters.push_back(std::make_unique<ClusterGeometry>(mesh));
+        RTCGeometry geom = m_clusters.back()->newGeometry(device, alpha);
+        if (!geom) throwDeviceError(device, "user geometry creation");
+        return geom;
     };
     for (std::size_t i = 0; i < data.instances.size(); ++i) {
         const detail::Instance& inst = data.instances[i];
@@ -144,14 +188,14 @@ RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& da
                         store(buffer, v, pose.point(mesh.positions[v]));
                 },
                 false);
-            if (instanceAlpha[i]) alphaTest(geom, std::uint32_t(i), false);
+            if (instanceAlpha[i]) attachAlphaFilter(geom, alphaTest(std::uint32_t(i), false));
             attach(scene, geom, unsigned(i));
             m_timeSteps.push_back(steps);
             continue;
         }
         if (inst.identity) {
-            RTCGeometry geom = newStaticMesh(device, mesh);
-            if (instanceAlpha[i]) alphaTest(geom, std::uint32_t(i), false);
+            RTCGeometry geom =
+                staticMesh(mesh, instanceAlpha[i] ? alphaTest(std::uint32_t(i), false) : nullptr);
             attach(scene, geom, unsigned(i));
             continue;
         }
@@ -160,9 +204,9 @@ RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& da
         if (child < 0) {
             RTCScene meshScene = rtcNewScene(device);
             m_meshScenes.push_back(meshScene);
-            setBuildOptions(meshScene, mesh.triangleCount());
-            RTCGeometry geom = newStaticMesh(device, mesh);
-            if (meshAlpha[inst.mesh]) alphaTest(geom, 0, true);
+            setBuildOptions(meshScene, mesh.triangleCount(), clusters);
+            RTCGeometry geom =
+                staticMesh(mesh, meshAlpha[inst.mesh] ? alphaTest(0, true) : nullptr);
             attach(meshScene, geom, 0);
             rtcCommitScene(meshScene);
             child = int(m_meshScenes.size()) - 1;
@@ -200,14 +244,14 @@ EmbreeMemory EmbreeScene::memory() const {
     return {m_memory->current.load(), m_memory->peak.load()};
 }
 
-EmbreeScene::EmbreeScene(const detail::SceneData& scene)
+EmbreeScene::EmbreeScene(const detail::SceneData& scene, Accel accel)
     : m_memory(std::make_unique<MemoryCount>()) {
     m_device = rtcNewDevice("verbose=0");
     if (!m_device) throwDeviceError(nullptr, "device creation");
     rtcSetDeviceMemoryMonitorFunction(m_device, &MemoryCount::monitor, m_memory.get());
     // The destructor does not run when the constructor throws: release what exists here.
     try {
-        m_scene = convertScene(m_device, scene);
+        m_scene = convertScene(m_device, scene, accel);
         if (rtcGetDeviceError(m_device) != RTC_ERROR_NONE)
             throwDeviceError(m_device, "scene build");
         // The widest packet the device traces natively.

@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "embree/alpha_filter.h"
+#include "embree/cluster_geometry.h"
+#include "glint/render/settings.h"
 #include "scene/camera.h"
 #include "scene/scene_data.h"
 #include "vecmath.h"
@@ -40,11 +42,13 @@ struct EmbreeMemory {
 /// Embree device + committed scene of one SceneData. Geometry i of the top-level scene is
 /// instance i: a triangle mesh in world space (a mesh only it uses), an Embree instance of the
 /// mesh's own scene (a mesh several instances share, which is built once), or a motion-blur
-/// triangle mesh (a moving instance).
+/// triangle mesh (a moving instance). With clusters (Accel), a static mesh is a clustered
+/// geometry instead of Embree's triangles (embree/cluster_geometry.h); hits are the same.
 class EmbreeScene {
   public:
-    /// Converts the scene (see convertScene in embree_scene.cpp). Throws glint::Error on failure.
-    explicit EmbreeScene(const detail::SceneData& scene);
+    /// Converts the scene (see convertScene in embree_scene.cpp) over the primitives `accel`
+    /// names. Throws glint::Error on failure.
+    explicit EmbreeScene(const detail::SceneData& scene, Accel accel = Accel::Auto);
     ~EmbreeScene();
     EmbreeScene(const EmbreeScene&) = delete;
     EmbreeScene& operator=(const EmbreeScene&) = delete;
@@ -73,13 +77,20 @@ class EmbreeScene {
     /// What the device holds now and held at most (the build included).
     EmbreeMemory memory() const;
 
+    /// Number of meshes traced as clusters (0: Embree's triangles throughout).
+    int clusteredMeshCount() const { return int(m_clusters.size()); }
+    /// Bytes of the clustered meshes' triangle orders (Glint's, beside memory()'s Embree bytes).
+    std::size_t clusterOrderBytes() const;
+    /// Triangles a cluster holds (0 without clusters).
+    int clusterSize() const { return m_clusters.empty() ? 0 : int(m_clusters[0]->clusterSize()); }
+
     /// Number of motion-blur geometries built (0 for a scene without moving shapes).
     int motionGeometryCount() const { return int(m_timeSteps.size()); }
     /// Embree time steps of motion geometry i (< motionGeometryCount()).
     int timeStepCount(int i) const { return m_timeSteps[std::size_t(i)]; }
 
   private:
-    RTCSceneTy* convertScene(RTCDeviceTy* device, const detail::SceneData& data);
+    RTCSceneTy* convertScene(RTCDeviceTy* device, const detail::SceneData& data, Accel accel);
     template <int N>
     void intersectPackets(std::size_t count, const Ray* const* rays, Hit* hits, bool* found,
                           bool coherent) const;
@@ -95,7 +106,8 @@ class EmbreeScene {
     int m_packetWidth = 1;                  // 16, 8, 4 or 1 (no packet support)
     std::vector<RTCSceneTy*> m_meshScenes;  // the scene of each shared mesh
     std::vector<int> m_timeSteps;           // of each motion-blur geometry, in instance order
-    std::vector<std::unique_ptr<AlphaTest>> m_alphaTests;  // the filters' data (alpha_filter.h)
+    std::vector<std::unique_ptr<AlphaTest>> m_alphaTests;      // the filters' data (alpha_filter.h)
+    std::vector<std::unique_ptr<ClusterGeometry>> m_clusters;  // of each clustered mesh
 };
 
 }  // namespace glint::render

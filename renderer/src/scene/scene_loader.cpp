@@ -174,7 +174,7 @@ void Loader::readCamera(const json& j, const std::string& where) {
 void Loader::readRender(const json& j, const std::string& where) {
     m_reader.requireObject(j, where,
                            {"spp", "maxDepth", "rrDepth", "integrator", "mis", "strategy",
-                            "sampler", "seed", "halfBuffers", "textureCacheMb"});
+                            "sampler", "seed", "halfBuffers", "textureCacheMb", "accel"});
     Settings& s = m_scene.settings;
     auto choice = [&](const char* key, auto parse, auto& out) {
         if (!j.contains(key)) return;
@@ -200,6 +200,9 @@ void Loader::readRender(const json& j, const std::string& where) {
     choice("mis", parseMis, s.mis);
     choice("strategy", parseStrategy, s.strategy);
     choice("sampler", parseSampler, s.sampler);
+    if (j.contains("accel") && !j["accel"].is_string())
+        m_reader.fail(where + "/accel", "expected \"auto\", \"triangles\" or \"clusters\"");
+    choice("accel", parseAccel, s.accel);
     if (j.contains("halfBuffers")) {
         if (!j["halfBuffers"].is_boolean())
             m_reader.fail(where + "/halfBuffers", "expected true or false");

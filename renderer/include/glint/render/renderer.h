@@ -88,8 +88,11 @@ struct RenderResult {
 /// Owns the acceleration structure of one scene; render() may be called repeatedly.
 class Renderer {
   public:
-    /// Builds the ray-tracing structures of the scene.
+    /// Builds the ray-tracing structures of the scene, over the primitives its settings' accel
+    /// names.
     explicit Renderer(Scene scene);
+    /// Builds them over the primitives `accel` names (Settings::accel).
+    Renderer(Scene scene, Accel accel);
     ~Renderer();
     Renderer(Renderer&&) noexcept;
     Renderer& operator=(Renderer&&) noexcept;

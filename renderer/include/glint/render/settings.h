@@ -1,6 +1,7 @@
 // glint::render::Settings — how one render runs (spp, seed, threads, integrator, MIS...).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -24,6 +25,17 @@ enum class SamplerKind {
     Sobol,        ///< Owen-scrambled Sobol over every path dimension (Burley 2020)
     ZSobol        ///< one Sobol sequence across the film in Morton order (Ahmed and Wonka 2020)
 };
+
+/// What Embree builds its BVH over (docs/renderer.md, "Acceleration structure").
+enum class Accel {
+    /// Clusters when the BVHs would hold more than kClusterTriangles triangles (a mesh shared
+    /// by instances counted once), else triangles.
+    Auto,
+    Triangles,  ///< Embree's own triangles
+    Clusters    ///< clusters of a few triangles a static mesh (less memory, slower rays)
+};
+/// Above this many triangles, Accel::Auto builds clusters.
+inline constexpr std::size_t kClusterTriangles = std::size_t(1) << 21;
 
 /// The limits of Settings, the same for scene.json's "render" block, the command line and the
 /// API (validate()).
@@ -78,6 +90,9 @@ struct Settings {
     /// textures larger than it render the same, reading tiles again as they are needed.
     int textureCacheMb = 1024;
     MltSettings mlt;  ///< Metropolis parameters (integrator == Mlt)
+    /// The BVH's primitives; read when a Renderer is made (the BVH is built once), not by
+    /// render().
+    Accel accel = Accel::Auto;
     /// Render only this shard of the spp samples per pixel (path integrator, no time limit);
     /// the frame then records glint::ShardInfo. The whole render when empty.
     std::optional<Shard> shard;
@@ -92,6 +107,10 @@ Strategy parseStrategy(const std::string& name);
 /// Parses "stratified" / "independent" / "sobol" / "zsobol"; throws
 /// glint::Error(InvalidArgument).
 SamplerKind parseSampler(const std::string& name);
+/// Parses "auto" / "triangles" / "clusters"; throws glint::Error(InvalidArgument).
+Accel parseAccel(const std::string& name);
+/// Name of an acceleration choice ("auto", "triangles", "clusters").
+const char* accelName(Accel accel);
 /// Name of a sampler ("stratified", "independent", "sobol", "zsobol").
 const char* samplerName(SamplerKind sampler);
 
