@@ -83,19 +83,25 @@ std::vector<fs::path> threeForms(const test::TempDir& dir, const std::vector<uns
     return {asGlb, asFiles, asDataUri};
 }
 
-TEST(GltfBuffers, PagesHoldingCoverTheRangeInWholePagesInsideTheMapping) {
-    // Data 100 bytes into a mapping of 10000 bytes, 4096-byte pages.
+TEST(GltfBuffers, PagesReleasedCoverTheRangeAndTwoMegabytesBeforeInWholePages) {
+    // Data 100 bytes into a mapping of 10 MB, 4096-byte pages.
     using R = std::pair<std::size_t, std::size_t>;
-    EXPECT_EQ(detail::pagesHolding(100, 10000, 0, 1, 4096), R(0, 4096));
-    EXPECT_EQ(detail::pagesHolding(100, 10000, 0, 3996, 4096), R(0, 4096));
-    EXPECT_EQ(detail::pagesHolding(100, 10000, 0, 3997, 4096), R(0, 8192));
-    EXPECT_EQ(detail::pagesHolding(100, 10000, 3996, 3997, 4096), R(4096, 8192));
-    // The last page is clamped to the mapping's end.
-    EXPECT_EQ(detail::pagesHolding(100, 10000, 9000, 9900, 4096), R(8192, 10000));
-    EXPECT_EQ(detail::pagesHolding(0, 8192, 0, 8192, 4096), R(0, 8192));
+    const std::size_t mb = std::size_t(1) << 20, length = 10 * mb;
+    ASSERT_EQ(detail::kMappedBehind, 2 * mb);
+    EXPECT_EQ(detail::pagesToRelease(100, length, 0, 1, 4096), R(0, 4096));
+    EXPECT_EQ(detail::pagesToRelease(100, length, 0, 3996, 4096), R(0, 4096));
+    EXPECT_EQ(detail::pagesToRelease(100, length, 0, 3997, 4096), R(0, 8192));
+    // A megabyte read from 3 MB: its pages and the 2 MB before (pages mapped again by the
+    // fault that began the read), outward to whole pages.
+    EXPECT_EQ(detail::pagesToRelease(100, length, 3 * mb, 4 * mb, 4096), R(mb, 4 * mb + 4096));
+    EXPECT_EQ(detail::pagesToRelease(0, length, 3 * mb, 4 * mb, 4096), R(mb, 4 * mb));
+    // Clamped to the mapping at both ends.
+    EXPECT_EQ(detail::pagesToRelease(100, length, mb, length - 100, 4096), R(0, length));
+    EXPECT_EQ(detail::pagesToRelease(100, length, length - 200, length - 100, 4096),
+              R(length - 2 * mb - 4096, length));
     // Nothing for an empty range.
-    EXPECT_EQ(detail::pagesHolding(100, 10000, 500, 500, 4096), R(0, 0));
-    EXPECT_EQ(detail::pagesHolding(100, 10000, 600, 500, 4096), R(0, 0));
+    EXPECT_EQ(detail::pagesToRelease(100, length, 500, 500, 4096), R(0, 0));
+    EXPECT_EQ(detail::pagesToRelease(100, length, 600, 500, 4096), R(0, 0));
 }
 
 TEST(GltfBuffers, TheBinChunkAndBufferFilesAreMappedAndDataUrisAreNot) {

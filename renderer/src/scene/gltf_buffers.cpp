@@ -23,12 +23,13 @@ std::size_t systemPageSize() {
 
 }  // namespace
 
-std::pair<std::size_t, std::size_t> pagesHolding(std::size_t dataOffset, std::size_t length,
-                                                 std::size_t from, std::size_t to,
-                                                 std::size_t pageSize) {
+std::pair<std::size_t, std::size_t> pagesToRelease(std::size_t dataOffset, std::size_t length,
+                                                   std::size_t from, std::size_t to,
+                                                   std::size_t pageSize) {
     if (from >= to) return {0, 0};
-    // Round the range outward to whole pages: a page partly consumed is read again on its next
-    // touch, which costs a page fault, never a wrong byte.
+    // Round outward to whole pages: a page partly read is read again on its next touch, which
+    // costs a page fault, never a wrong byte.
+    from = from > kMappedBehind ? from - kMappedBehind : 0;
     const std::size_t first = (dataOffset + from) / pageSize * pageSize;
     const std::size_t last =
         std::min(length, (dataOffset + to + pageSize - 1) / pageSize * pageSize);
@@ -68,7 +69,7 @@ MappedFile::~MappedFile() {
 
 void MappedFile::release(std::size_t from, std::size_t to) const {
     const std::size_t dataOffset = std::size_t(m_data - static_cast<const unsigned char*>(m_base));
-    const auto [first, last] = pagesHolding(dataOffset, m_length, from, to, systemPageSize());
+    const auto [first, last] = pagesToRelease(dataOffset, m_length, from, to, systemPageSize());
     // On a read-only private mapping no page was ever copied, so MADV_DONTNEED drops only what
     // can be read again from the file.
     if (first < last) ::madvise(static_cast<char*>(m_base) + first, last - first, MADV_DONTNEED);

@@ -46,12 +46,19 @@ class MappedFile {
     std::size_t m_size = 0;
 };
 
-/// The page-aligned range [first, last) of a mapping of `length` bytes that holds bytes
-/// [from, to) of data starting `dataOffset` bytes into the mapping: every page the range touches,
-/// partly or wholly, clamped to the mapping; empty when [from, to) is.
-std::pair<std::size_t, std::size_t> pagesHolding(std::size_t dataOffset, std::size_t length,
-                                                 std::size_t from, std::size_t to,
-                                                 std::size_t pageSize);
+/// How far behind the bytes just read the kernel may have mapped pages again: a page fault
+/// maps the whole folio of the page cache that holds the page (up to 2 MB on Linux 6, PMD-mapped
+/// or not) or its fault-around window (64 KB), so a fault at the start of a read maps pages
+/// before it that were given back.
+inline constexpr std::size_t kMappedBehind = std::size_t(2) << 20;
+
+/// The page-aligned range [first, last) of a mapping of `length` bytes to give back once bytes
+/// [from, to) of data starting `dataOffset` bytes into the mapping are read: every page that
+/// holds them, partly or wholly, and those up to kMappedBehind before, clamped to the mapping;
+/// empty when [from, to) is.
+std::pair<std::size_t, std::size_t> pagesToRelease(std::size_t dataOffset, std::size_t length,
+                                                   std::size_t from, std::size_t to,
+                                                   std::size_t pageSize);
 
 /// The bytes of every buffer of one asset: mapped, or tinygltf's.
 class GltfBuffers {
