@@ -286,7 +286,8 @@ nlohmann::json buffersOf(const unsigned char* text, std::size_t size) {
     return doc["buffers"];
 }
 
-/// The uri and byteLength tinygltf gives a buffer of a uri-less data placeholder: one zero byte.
+/// The uri a mapped buffer has in the document tinygltf parses (with byteLength 1): one zero
+/// byte as a data URI, which tinygltf decodes instead of reading the buffer.
 constexpr const char* kMappedBufferUri = "data:application/octet-stream;base64,AA==";
 
 /// Maps the buffers of `buffersJson` (buffersOf) that Glint reads from files: a .glb's BIN chunk
@@ -312,7 +313,7 @@ std::vector<std::size_t> mapBufferFiles(const fs::path& path, std::uint64_t file
             file = MappedFile::map(path, fileSize, glb->binOffset, byteLength);
         } else if (b.contains("uri") && b["uri"].is_string()) {
             const std::string& uri = b["uri"].get_ref<const std::string&>();
-            if (uri.rfind("data:", 0) == 0 || tinygltf::IsDataURI(uri)) continue;
+            if (uri.rfind("data:", 0) == 0) continue;  // tinygltf's, decoded or named by it
             const std::string name = bufferUriAsTinygltf(uri);
             if (name.empty()) continue;
             // Where tinygltf looks for it (its JoinPath of the asset's folder and the name).
@@ -445,12 +446,12 @@ void readGltfFile(const fs::path& path, tinygltf::Model& model, GltfBuffers& buf
         // tinygltf for want of what the extension holds: name the extension, not the symptom.
         const auto text =
             bytes.begin() + std::ptrdiff_t(layout && json.empty() ? layout->jsonOffset : 0);
-        const nlohmann::json doc =
+        const nlohmann::json document =
             !json.empty() ? nlohmann::json::parse(json, nullptr, false)
             : layout ? nlohmann::json::parse(text, text + std::ptrdiff_t(layout->jsonSize), nullptr,
                                              false)
                      : nlohmann::json::parse(bytes.begin(), bytes.end(), nullptr, false);
-        if (const auto unread = unreadRequiredExtension(requiredExtensions(doc)))
+        if (const auto unread = unreadRequiredExtension(requiredExtensions(document)))
             failFile(path, "extensionsRequired[" + std::to_string(unread->first) + "]",
                      unread->second);
         readerFailed(path, err);
