@@ -18,6 +18,8 @@
 #include <nlohmann/json.hpp>
 
 #include "glint/image/error.h"
+#include "glint/image/image.h"
+#include "glint/image/io.h"
 #include "glint/render/scene.h"
 #include "gltf_builder.h"
 #include "scene/gltf_buffers.h"
@@ -176,6 +178,34 @@ TEST(GltfBuffers, AMeshOfSeveralPrimitivesIsAllocatedOnceAtItsFinalSize) {
         EXPECT_EQ(m.materials.size(), 4u);
         EXPECT_EQ(m.materials.capacity(), m.materials.size());
         EXPECT_EQ(m.tangents.capacity(), 0u);
+    }
+}
+
+TEST(GltfBuffers, GeneratedTangentsOfSeveralPrimitivesAreAllocatedOnce) {
+    // Three normal-mapped primitives without tangents: the tangents generated for each are
+    // written into an array reserved for all (grown primitive by primitive, 4, 10, then 14
+    // vertices, its capacity would reach 20).
+    test::TempDir dir("gltf_buffers_tangents");
+    Image texture(2, 2, 3, 0.5f);
+    writeImage(texture, dir.path() / "normal.png");
+    GltfBuilder b;
+    b.quad(0, true);
+    b.quad(0, false);
+    json prims = b.doc["meshes"][0]["primitives"];
+    prims.push_back(b.doc["meshes"][1]["primitives"][0]);
+    prims.push_back(b.doc["meshes"][0]["primitives"][0]);
+    b.doc["meshes"] = json::array({{{"primitives", prims}}});
+    b.doc["images"] = json::array({{{"uri", "normal.png"}}});
+    b.doc["textures"] = json::array({{{"source", 0}}});
+    b.doc["materials"] = json::array({{{"normalTexture", {{"index", 0}}}}});
+    b.scene({b.node({{"mesh", 0}})});
+    for (const fs::path& form : threeForms(dir, b.glb())) {
+        const Scene scene = loadScene(form);
+        const detail::Mesh& m = detail::sceneData(scene).meshes.at(0);
+        ASSERT_EQ(m.positions.size(), 14u) << form.filename();
+        EXPECT_EQ(m.positions.capacity(), m.positions.size() + 1) << form.filename();
+        ASSERT_EQ(m.tangents.size(), 14u) << form.filename();
+        EXPECT_EQ(m.tangents.capacity(), m.tangents.size()) << form.filename();
     }
 }
 

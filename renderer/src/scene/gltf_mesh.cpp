@@ -80,7 +80,15 @@ int GltfImport::mesh(int index) {
         uvs = uvs || meshAttribute(prim, "TEXCOORD_0") >= 0;
         uvs1 = uvs1 || meshAttribute(prim, "TEXCOORD_1") >= 0;
         colors = colors || meshAttribute(prim, "COLOR_0") >= 0;
-        tangents = tangents || (hasNormals && meshAttribute(prim, "TANGENT") >= 0);
+        // Tangents when the asset has them, or when a normal map will have them generated.
+        const int m = m_overrides.material;
+        const bool normalMapped =
+            m >= 0 ? m_scene.materials[std::size_t(m)].normalMap.present()
+                   : prim.material >= 0 && std::size_t(prim.material) < m_model.materials.size() &&
+                         m_model.materials[std::size_t(prim.material)].normalTexture.index >= 0;
+        tangents =
+            tangents || (hasNormals && (meshAttribute(prim, "TANGENT") >= 0 ||
+                                        (normalMapped && meshAttribute(prim, "TEXCOORD_0") >= 0)));
         materials.insert(prim.material);
     }
     if (vertices < std::numeric_limits<std::uint32_t>::max()) {
