@@ -1,8 +1,8 @@
-// glTF buffers mapped from their files (renderer/src/scene/gltf_buffers.{h,cpp}, gltf_file.cpp,
-// gltf_accessor.cpp, gltf_mesh.cpp): a .glb, a .gltf with its buffer in a .bin file (both mapped)
-// and a .gltf with a data URI (read by tinygltf) give the same meshes, byte for byte those of the
-// loader before mapping; buffers are bounded by their real size; the pages given back are whole
-// pages inside the mapping; a mesh's arrays are allocated once at their final size.
+// glTF buffers read from their files (renderer/src/scene/gltf_buffers.{h,cpp}, gltf_file.cpp,
+// gltf_accessor.cpp, gltf_mesh.cpp): a .glb, a .gltf with its buffer in a .bin file (both read
+// piece by piece from the file) and a .gltf with a data URI (read by tinygltf) give the same
+// meshes, byte for byte those of the loader before; buffers are bounded by their real size; a file
+// cut short while it is read is an error; a mesh's arrays are allocated once at their final size.
 
 #include <cstdint>
 #include <cstring>
@@ -85,52 +85,60 @@ std::vector<fs::path> threeForms(const test::TempDir& dir, const std::vector<uns
     return {asGlb, asFiles, asDataUri};
 }
 
-TEST(GltfBuffers, PagesReleasedCoverTheRangeAndTwoMegabytesBeforeInWholePages) {
-    // Data 100 bytes into a mapping of 10 MB, 4096-byte pages.
-    using R = std::pair<std::size_t, std::size_t>;
-    const std::size_t mb = std::size_t(1) << 20, length = 10 * mb;
-    ASSERT_EQ(detail::kMappedBehind, 2 * mb);
-    EXPECT_EQ(detail::pagesToRelease(100, length, 0, 1, 4096), R(0, 4096));
-    EXPECT_EQ(detail::pagesToRelease(100, length, 0, 3996, 4096), R(0, 4096));
-    EXPECT_EQ(detail::pagesToRelease(100, length, 0, 3997, 4096), R(0, 8192));
-    // A megabyte read from 3 MB: its pages and the 2 MB before (pages mapped again by the
-    // fault that began the read), outward to whole pages.
-    EXPECT_EQ(detail::pagesToRelease(100, length, 3 * mb, 4 * mb, 4096), R(mb, 4 * mb + 4096));
-    EXPECT_EQ(detail::pagesToRelease(0, length, 3 * mb, 4 * mb, 4096), R(mb, 4 * mb));
-    // Clamped to the mapping at both ends.
-    EXPECT_EQ(detail::pagesToRelease(100, length, mb, length - 100, 4096), R(0, length));
-    EXPECT_EQ(detail::pagesToRelease(100, length, length - 200, length - 100, 4096),
-              R(length - 2 * mb - 4096, length));
-    // Nothing for an empty range.
-    EXPECT_EQ(detail::pagesToRelease(100, length, 500, 500, 4096), R(0, 0));
-    EXPECT_EQ(detail::pagesToRelease(100, length, 600, 500, 4096), R(0, 0));
-}
-
-TEST(GltfBuffers, TheBinChunkAndBufferFilesAreMappedAndDataUrisAreNot) {
+TEST(GltfBuffers, TheBinChunkAndBufferFilesAreReadFromTheirFilesAndDataUrisAreNot) {
     const std::vector<unsigned char> glb =
         readAll(fs::path(GLINT_SOURCE_DIR) / "scenes/assets/duck/Duck.glb");
     const std::vector<unsigned char> bin = splitGlb(glb).second;
-    test::TempDir dir("gltf_buffers_mapped");
+    test::TempDir dir("gltf_buffers_files");
     const std::vector<fs::path> forms = threeForms(dir, glb);
     for (std::size_t f = 0; f < forms.size(); ++f) {
         tinygltf::Model model;
         detail::GltfBuffers buffers;
         detail::readGltfFile(forms[f], model, buffers);
         ASSERT_EQ(buffers.count(), 1u);
-        const bool mapped = f < 2;
-        EXPECT_EQ(buffers.mapped(0), mapped) << forms[f].filename();
-        // tinygltf holds a one-byte placeholder for a mapped buffer.
-        EXPECT_EQ(model.buffers[0].data.size(), mapped ? 1u : bin.size()) << forms[f].filename();
-        const detail::GltfBuffers::Bytes bytes = buffers.bytes(0);
-        ASSERT_EQ(bytes.size, bin.size()) << forms[f].filename();
-        EXPECT_EQ(std::memcmp(bytes.data, bin.data(), bin.size()), 0) << forms[f].filename();
-        // Bytes given back read again the same (from the file).
-        buffers.release(0, 0, bin.size());
-        EXPECT_EQ(std::memcmp(bytes.data, bin.data(), bin.size()), 0) << forms[f].filename();
+        const bool fromFile = f < 2;
+        EXPECT_EQ(buffers.fromFile(0), fromFile) << forms[f].filename();
+        // tinygltf holds a one-byte placeholder for a buffer read from its file.
+        EXPECT_EQ(model.buffers[0].data.size(), fromFile ? 1u : bin.size()) << forms[f].filename();
+        ASSERT_EQ(buffers.size(0), bin.size()) << forms[f].filename();
+        std::vector<unsigned char> scratch;
+        const unsigned char* bytes = buffers.bytes(0, 0, bin.size(), scratch);
+        EXPECT_EQ(std::memcmp(bytes, bin.data(), bin.size()), 0) << forms[f].filename();
+        EXPECT_EQ(bytes == scratch.data(), fromFile) << forms[f].filename();
+        bytes = buffers.bytes(0, 1000, 1010, scratch);
+        EXPECT_EQ(std::memcmp(bytes, bin.data() + 1000, 10), 0) << forms[f].filename();
     }
 }
 
-TEST(GltfBuffers, TheCommittedAssetsGiveTheMeshesOfTheLoaderBeforeMapping) {
+TEST(GltfBuffers, AFileCutShortWhileTheAssetIsReadIsAnErrorNamingTheBuffer) {
+    // A file another program truncates after it was opened (an exporter saving over it) gives
+    // a short read: one error, not a crash (as a file mapped into memory would give).
+    const std::vector<unsigned char> glb =
+        readAll(fs::path(GLINT_SOURCE_DIR) / "scenes/assets/duck/Duck.glb");
+    const std::size_t bytes = splitGlb(glb).second.size();
+    test::TempDir dir("gltf_buffers_cut");
+    const std::vector<fs::path> forms = threeForms(dir, glb);
+    for (const fs::path& asset : {forms[0], forms[1]}) {
+        tinygltf::Model model;
+        detail::GltfBuffers buffers;
+        detail::readGltfFile(asset, model, buffers);
+        const fs::path file = asset.extension() == ".glb" ? asset : dir.path() / "asset buffer.bin";
+        fs::resize_file(file, fs::file_size(file) - 1000);
+        std::vector<unsigned char> scratch;
+        EXPECT_NO_THROW(buffers.bytes(0, 0, 1000, scratch)) << asset.filename();
+        try {
+            buffers.bytes(0, bytes - 2000, bytes, scratch);
+            ADD_FAILURE() << asset.filename() << ": the cut file was read";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), ErrorKind::Io);
+            EXPECT_EQ(e.file(), asset.string());
+            EXPECT_EQ(e.where(), "buffers[0]");
+            EXPECT_NE(e.message().find("changed while it was read"), std::string::npos) << e.what();
+        }
+    }
+}
+
+TEST(GltfBuffers, TheCommittedAssetsGiveTheMeshesOfTheLoaderBefore) {
     // The hashes of the mesh arrays as 0932a18's loader (tinygltf holding every buffer, the
     // accessors copied into vectors) gave them; every form must give them now.
     const std::vector<std::pair<const char*, std::uint64_t>> assets = {
@@ -209,9 +217,9 @@ TEST(GltfBuffers, GeneratedTangentsOfSeveralPrimitivesAreAllocatedOnce) {
     }
 }
 
-TEST(GltfBuffers, InterleavedAttributesReadWholeAcrossPagesGivenBack) {
-    // Positions and normals interleaved in one 3 MB bufferView: reading the positions gives
-    // their pages back megabyte by megabyte, and the normals read the same pages again.
+TEST(GltfBuffers, InterleavedAttributesReadWholeAMegabyteAtATime) {
+    // Positions and normals interleaved in one 3 MB bufferView: each is read from the file a
+    // megabyte at a time (elements across the pieces' ends included), the same bytes twice.
     const std::size_t count = 3 * 43691;  // 131073 vertices, 24 bytes each: 3.0 MB
     std::vector<float> interleaved;
     interleaved.reserve(count * 6);
@@ -267,7 +275,7 @@ Error loadError(const fs::path& asset) {
 }
 
 TEST(GltfBuffers, ABufferFileShorterOrLongerThanItsByteLengthIsRefused) {
-    // Such a file is not mapped: tinygltf reads it and Glint names what is wrong, as before.
+    // Such a file is left to tinygltf, which reads it; Glint names what is wrong, as before.
     GltfBuilder b;
     b.scene({b.node({{"mesh", b.quad()}})});
     test::TempDir dir("gltf_buffers_short");
@@ -288,7 +296,7 @@ TEST(GltfBuffers, ABufferFileShorterOrLongerThanItsByteLengthIsRefused) {
     }
 }
 
-TEST(GltfBuffers, ABufferViewOrAccessorPastTheEndOfAMappedBufferIsRefused) {
+TEST(GltfBuffers, ABufferViewOrAccessorPastTheEndOfABufferFileIsRefused) {
     GltfBuilder b;
     b.scene({b.node({{"mesh", b.quad()}})});
     test::TempDir dir("gltf_buffers_bounds");
@@ -307,7 +315,7 @@ TEST(GltfBuffers, ABufferViewOrAccessorPastTheEndOfAMappedBufferIsRefused) {
     accessor["accessors"][0]["count"] = 1000;
     cases.push_back({"accessor", accessor, "accessors[0]", "go past the end of its bufferView"});
     for (Case& c : cases) {
-        // As a .glb (its BIN chunk mapped) and as a .gltf with the .bin file (mapped).
+        // As a .glb (its BIN chunk read from the file) and as a .gltf with the .bin file.
         GltfBuilder g = b;
         g.doc = c.doc;
         c.doc["buffers"] = json::array({{{"byteLength", b.bin.size()}, {"uri", "asset.bin"}}});

@@ -12,9 +12,9 @@ namespace glint::render::detail {
 
 namespace {
 
-/// The bytes of source read between two releases of a mapped buffer's pages: so much is
-/// resident at most while an accessor is read.
-constexpr std::size_t kReleaseBytes = std::size_t(1) << 20;
+/// The bytes of a buffer read at a time from its file: so much of it is in memory at most while
+/// an accessor is read.
+constexpr std::size_t kReadBytes = std::size_t(1) << 20;
 
 const char* typeName(int type) {
     switch (type) {
@@ -147,13 +147,29 @@ std::size_t GltfAccessors::readableCount(int index) const {
     if (std::size_t(a.bufferView) >= m_model.bufferViews.size()) return 0;
     const tinygltf::BufferView& view = m_model.bufferViews[std::size_t(a.bufferView)];
     if (view.buffer < 0 || std::size_t(view.buffer) >= m_buffers.count()) return 0;
-    const std::size_t size = m_buffers.bytes(std::size_t(view.buffer)).size;
+    const std::size_t size = m_buffers.size(std::size_t(view.buffer));
     const std::size_t stride = view.byteStride != 0 ? view.byteStride : elementSize;
     const std::size_t span = a.count == 0 ? 0 : (a.count - 1) * stride + elementSize;
     if (view.byteOffset > size || view.byteLength > size - view.byteOffset ||
         a.byteOffset > view.byteLength || span > view.byteLength - a.byteOffset)
         return 0;
     return a.count;
+}
+
+template <typename Read>
+void GltfAccessors::forEachElement(const Layout& l, Read&& read) const {
+    // A megabyte of the buffer at a time: a file's bytes are read into `scratch`, tinygltf's
+    // (and a sparse copy) are used in place.
+    std::vector<unsigned char> scratch;
+    const std::size_t perRead = std::max<std::size_t>(1, kReadBytes / l.stride);
+    for (std::size_t first = 0; first < l.count; first += perRead) {
+        const std::size_t last = std::min(l.count, first + perRead);
+        const std::size_t from = first * l.stride, to = (last - 1) * l.stride + l.elementSize;
+        const unsigned char* p = l.data ? l.data + from
+                                        : m_buffers.bytes(std::size_t(l.buffer), l.offset + from,
+                                                          l.offset + to, scratch);
+        for (std::size_t i = first; i < last; ++i) read(i, p + (i - first) * l.stride);
+    }
 }
 
 GltfAccessors::Layout GltfAccessors::layout(int index, int type,
@@ -194,11 +210,11 @@ GltfAccessors::Layout GltfAccessors::layout(int index, int type,
         if (view.buffer < 0 || std::size_t(view.buffer) >= m_buffers.count())
             fail(viewPlace, "names buffer " + std::to_string(view.buffer) + ", but the asset has " +
                                 std::to_string(m_buffers.count()));
-        const GltfBuffers::Bytes buffer = m_buffers.bytes(std::size_t(view.buffer));
-        if (view.byteOffset > buffer.size || view.byteLength > buffer.size - view.byteOffset)
+        const std::size_t bufferSize = m_buffers.size(std::size_t(view.buffer));
+        if (view.byteOffset > bufferSize || view.byteLength > bufferSize - view.byteOffset)
             fail(viewPlace, "bytes " + std::to_string(view.byteOffset) + " + " +
                                 std::to_string(view.byteLength) + " go past the end of buffer " +
-                                std::to_string(view.buffer) + " (" + std::to_string(buffer.size) +
+                                std::to_string(view.buffer) + " (" + std::to_string(bufferSize) +
                                 " bytes)");
         if (view.byteStride != 0) {
             if (view.byteStride < elementSize || view.byteStride > 252)
@@ -215,22 +231,23 @@ GltfAccessors::Layout GltfAccessors::layout(int index, int type,
                             std::to_string(view.byteLength) + " bytes)");
         out.buffer = view.buffer;
         out.offset = view.byteOffset + a.byteOffset;
-        out.data = buffer.data + out.offset;
     }
     if (!a.sparse.isSparse) return out;
 
     // Sparse: the base (or zeros) packed into a copy, then the substitutions.
     const std::string sparsePlace = place + ".sparse";
     sparseCopy.assign(a.count * elementSize, 0);
-    if (out.data)
-        for (std::size_t i = 0; i < a.count; ++i)
-            std::memcpy(&sparseCopy[i * elementSize], out.data + i * out.stride, elementSize);
+    if (out.buffer >= 0)
+        forEachElement(out, [&](std::size_t i, const unsigned char* p) {
+            std::memcpy(&sparseCopy[i * elementSize], p, elementSize);
+        });
     const int n = a.sparse.count;
     if (n < 1 || std::size_t(n) > a.count)
         fail(sparsePlace,
              "count " + std::to_string(n) + " is not in [1, " + std::to_string(a.count) + "]");
-    auto span = [&](int viewIndex, std::size_t offset, std::size_t bytes,
-                    const std::string& what) -> const unsigned char* {
+    std::vector<unsigned char> indexBytes, valueBytes;
+    auto span = [&](int viewIndex, std::size_t offset, std::size_t bytes, const std::string& what,
+                    std::vector<unsigned char>& scratch) -> const unsigned char* {
         if (viewIndex < 0 || std::size_t(viewIndex) >= m_model.bufferViews.size())
             fail(sparsePlace + "." + what, "names bufferView " + std::to_string(viewIndex) +
                                                ", but the asset has " +
@@ -238,11 +255,12 @@ GltfAccessors::Layout GltfAccessors::layout(int index, int type,
         const tinygltf::BufferView& view = m_model.bufferViews[std::size_t(viewIndex)];
         if (view.buffer < 0 || std::size_t(view.buffer) >= m_buffers.count())
             fail(sparsePlace + "." + what, "its bufferView names a missing buffer");
-        const GltfBuffers::Bytes buffer = m_buffers.bytes(std::size_t(view.buffer));
-        if (view.byteOffset > buffer.size || view.byteLength > buffer.size - view.byteOffset ||
+        const std::size_t bufferSize = m_buffers.size(std::size_t(view.buffer));
+        if (view.byteOffset > bufferSize || view.byteLength > bufferSize - view.byteOffset ||
             offset > view.byteLength || bytes > view.byteLength - offset)
             fail(sparsePlace + "." + what, "goes past the end of its bufferView or buffer");
-        return buffer.data + view.byteOffset + offset;
+        const std::size_t from = view.byteOffset + offset;
+        return m_buffers.bytes(std::size_t(view.buffer), from, from + bytes, scratch);
     };
     const int indexType = a.sparse.indices.componentType;
     const std::size_t indexSize = componentSize(indexType);
@@ -251,10 +269,10 @@ GltfAccessors::Layout GltfAccessors::layout(int index, int type,
         fail(sparsePlace + ".indices", "needs unsigned byte, short or int indices");
     const unsigned char* indices =
         span(a.sparse.indices.bufferView, std::size_t(std::max(a.sparse.indices.byteOffset, 0)),
-             std::size_t(n) * indexSize, "indices");
+             std::size_t(n) * indexSize, "indices", indexBytes);
     const unsigned char* values =
         span(a.sparse.values.bufferView, std::size_t(std::max(a.sparse.values.byteOffset, 0)),
-             std::size_t(n) * elementSize, "values");
+             std::size_t(n) * elementSize, "values", valueBytes);
     for (int k = 0; k < n; ++k) {
         const std::uint32_t i = readIndex(indices + std::size_t(k) * indexSize, indexType);
         if (i >= a.count)
@@ -263,23 +281,10 @@ GltfAccessors::Layout GltfAccessors::layout(int index, int type,
         std::memcpy(&sparseCopy[i * elementSize], values + std::size_t(k) * elementSize,
                     elementSize);
     }
+    out.buffer = -1;
     out.data = sparseCopy.data();
     out.stride = elementSize;
-    out.buffer = -1;
     return out;
-}
-
-template <typename Read>
-void GltfAccessors::forEachElement(const Layout& l, Read&& read) const {
-    const std::size_t perRelease = std::max<std::size_t>(1, kReleaseBytes / l.stride);
-    for (std::size_t first = 0; first < l.count; first += perRelease) {
-        const std::size_t last = std::min(l.count, first + perRelease);
-        for (std::size_t i = first; i < last; ++i) read(i, l.data + i * l.stride);
-        // The bytes of these elements are copied out: their pages can go.
-        if (l.buffer >= 0)
-            m_buffers.release(std::size_t(l.buffer), l.offset + first * l.stride,
-                              l.offset + (last - 1) * l.stride + l.elementSize);
-    }
 }
 
 std::size_t GltfAccessors::appendVec3(int index, const std::string& use, bool finite,
@@ -288,7 +293,7 @@ std::size_t GltfAccessors::appendVec3(int index, const std::string& use, bool fi
     const Layout l = layout(index, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT}, use, copy);
     const std::size_t first = out.size();
     out.resize(first + l.count);
-    if (!l.data) return l.count;
+    if (l.zero()) return l.count;
     Vec3* to = out.data() + first;
     forEachElement(l, [&](std::size_t i, const unsigned char* p) {
         Vec3& v = to[i];
@@ -306,7 +311,7 @@ std::size_t GltfAccessors::appendVec4(int index, const std::string& use,
     const Layout l = layout(index, TINYGLTF_TYPE_VEC4, {TINYGLTF_COMPONENT_TYPE_FLOAT}, use, copy);
     const std::size_t first = out.size();
     out.resize(first + l.count);
-    if (!l.data) return l.count;
+    if (l.zero()) return l.count;
     Vec4* to = out.data() + first;
     forEachElement(l, [&](std::size_t i, const unsigned char* p) {
         Vec4& v = to[i];
@@ -337,7 +342,7 @@ std::size_t GltfAccessors::appendVec2(int index, const std::string& use,
     const Layout l = unitLayout(index, TINYGLTF_TYPE_VEC2, use, copy);
     const std::size_t first = out.size();
     out.resize(first + l.count);
-    if (!l.data) return l.count;
+    if (l.zero()) return l.count;
     Vec2* to = out.data() + first;
     forEachElement(l, [&](std::size_t i, const unsigned char* p) {
         to[i] = {component(p, 0, l.componentType), component(p, 1, l.componentType)};
@@ -360,7 +365,7 @@ std::size_t GltfAccessors::appendColor(int index, const std::string& use,
     const int channels = type == TINYGLTF_TYPE_VEC4 ? 4 : 3;
     const std::size_t first = out.size();
     out.resize(first + l.count, Vec4{0.0f, 0.0f, 0.0f, channels == 4 ? 0.0f : 1.0f});
-    if (!l.data) return l.count;
+    if (l.zero()) return l.count;
     Vec4* to = out.data() + first;
     forEachElement(l, [&](std::size_t i, const unsigned char* p) {
         float v[4] = {0.0f, 0.0f, 0.0f, 1.0f};
@@ -388,7 +393,7 @@ std::size_t GltfAccessors::appendIndices(int index, const std::string& use, std:
                use, copy);
     const std::size_t first = out.size();
     out.resize(first + l.count, base);
-    if (!l.data) return l.count;
+    if (l.zero()) return l.count;
     std::uint32_t* to = out.data() + first;
     forEachElement(l, [&](std::size_t i, const unsigned char* p) {
         const std::uint32_t v = readIndex(p, l.componentType);

@@ -20,9 +20,9 @@ class Model;
 
 namespace glint::render::detail {
 
-/// Reads accessors of one parsed asset from its buffers' bytes (gltf_buffers.h). Each reader
-/// appends to an array the caller has sized (so that a mesh's arrays are allocated once) and,
-/// reading a mapped buffer, gives its pages back every megabyte it has copied out.
+/// Reads accessors of one parsed asset from its buffers (gltf_buffers.h), a megabyte at a time.
+/// Each reader appends to an array the caller has sized, so that a mesh's arrays are allocated
+/// once.
 class GltfAccessors {
   public:
     GltfAccessors(const tinygltf::Model& model, const GltfBuffers& buffers,
@@ -58,16 +58,18 @@ class GltfAccessors {
 
   private:
     /// Where accessor `index`'s elements lie, checked against its buffer view and buffer:
-    /// the first byte, the stride between elements, their count; `type` (TINYGLTF_TYPE_*) and
-    /// the allowed component types are checked too. A sparse accessor's substitutions are
-    /// applied to `sparseCopy`, which then holds every element tightly packed.
+    /// the buffer and first byte, the stride between elements, their count; `type`
+    /// (TINYGLTF_TYPE_*) and the allowed component types are checked too. A sparse accessor's
+    /// substitutions are applied to `sparseCopy`, which then holds every element tightly packed.
     struct Layout {
-        const unsigned char* data = nullptr;  ///< null: every element is zero
+        int buffer = -1;                      ///< the buffer holding the elements, or -1
+        std::size_t offset = 0;               ///< where the first starts in it
+        const unsigned char* data = nullptr;  ///< else the elements (a sparse copy)
         std::size_t stride = 0, count = 0, elementSize = 0;
         int componentType = 0;
         bool normalized = false;
-        int buffer = -1;         ///< the buffer `data` points into (-1: a copy)
-        std::size_t offset = 0;  ///< where `data` starts in that buffer
+        /// Neither in a buffer nor copied: every element is zero.
+        bool zero() const { return buffer < 0 && !data; }
     };
     Layout layout(int index, int type, std::initializer_list<int> componentTypes,
                   const std::string& use, std::vector<unsigned char>& sparseCopy) const;
@@ -75,8 +77,8 @@ class GltfAccessors {
     /// unsigned bytes or shorts that must be normalized.
     Layout unitLayout(int index, int type, const std::string& use,
                       std::vector<unsigned char>& sparseCopy) const;
-    /// Calls read(i, p) for every element i of `l` in order, p pointing at its bytes, giving the
-    /// pages of the buffer read so far back every megabyte.
+    /// Calls read(i, p) for every element i of `l` (not zero()) in order, p pointing at its
+    /// bytes; a buffer is read a megabyte at a time.
     template <typename Read>
     void forEachElement(const Layout& l, Read&& read) const;
 

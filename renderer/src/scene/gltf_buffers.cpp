@@ -1,100 +1,87 @@
-// A glTF asset's buffer bytes (gltf_buffers.h): read-only file mappings and the pages given back
-// as the accessor readers consume them.
+// A glTF asset's buffer bytes (gltf_buffers.h): file regions read on demand, or tinygltf's.
 #include "scene/gltf_buffers.h"
 
 #include <fcntl.h>
-#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <tiny_gltf.h>
 
-#include <algorithm>
-#include <cstdint>
+#include <cerrno>
+#include <string>
+
+#include "glint/image/error.h"
 
 namespace glint::render::detail {
 
-namespace {
-
-std::size_t systemPageSize() {
-    static const std::size_t size = std::size_t(sysconf(_SC_PAGESIZE));
-    return size;
-}
-
-}  // namespace
-
-std::pair<std::size_t, std::size_t> pagesToRelease(std::size_t dataOffset, std::size_t length,
-                                                   std::size_t from, std::size_t to,
-                                                   std::size_t pageSize) {
-    if (from >= to) return {0, 0};
-    // Round outward to whole pages: a page partly read is read again on its next touch, which
-    // costs a page fault, never a wrong byte.
-    from = from > kMappedBehind ? from - kMappedBehind : 0;
-    const std::size_t first = (dataOffset + from) / pageSize * pageSize;
-    const std::size_t last =
-        std::min(length, (dataOffset + to + pageSize - 1) / pageSize * pageSize);
-    return first < last ? std::pair{first, last} : std::pair<std::size_t, std::size_t>{0, 0};
-}
-
-std::unique_ptr<MappedFile> MappedFile::map(const std::filesystem::path& path,
-                                            std::uint64_t fileSize, std::uint64_t offset,
-                                            std::uint64_t size) {
+std::unique_ptr<BufferFile> BufferFile::open(const std::filesystem::path& path,
+                                             std::uint64_t fileSize, std::uint64_t offset,
+                                             std::uint64_t size) {
     if (size == 0 || offset > fileSize || size > fileSize - offset) return nullptr;
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) return nullptr;
-    // The size is checked on the file that is mapped, not on the name: a file replaced or
-    // resized since it was measured is left to the reading path, which reports it.
+    // The size is checked on the file that is read, not on the name: a file replaced or
+    // resized since it was measured is left to tinygltf, which reports it.
     struct stat st {};
-    std::unique_ptr<MappedFile> out;
-    if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && std::uint64_t(st.st_size) == fileSize) {
-        const std::size_t page = systemPageSize();
-        const std::uint64_t start = offset / page * page;
-        const std::size_t length = std::size_t(offset + size - start);
-        void* base = ::mmap(nullptr, length, PROT_READ, MAP_PRIVATE, fd, off_t(start));
-        if (base != MAP_FAILED) {
-            out.reset(new MappedFile);
-            out->m_base = base;
-            out->m_length = length;
-            out->m_data = static_cast<const unsigned char*>(base) + (offset - start);
-            out->m_size = std::size_t(size);
-        }
+    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || std::uint64_t(st.st_size) != fileSize) {
+        ::close(fd);
+        return nullptr;
     }
-    ::close(fd);  // the mapping keeps the file
+    std::unique_ptr<BufferFile> out(new BufferFile);
+    out->m_fd = fd;
+    out->m_path = path;
+    out->m_offset = offset;
+    out->m_size = std::size_t(size);
     return out;
 }
 
-MappedFile::~MappedFile() {
-    ::munmap(m_base, m_length);
+BufferFile::~BufferFile() {
+    ::close(m_fd);
 }
 
-void MappedFile::release(std::size_t from, std::size_t to) const {
-    const std::size_t dataOffset = std::size_t(m_data - static_cast<const unsigned char*>(m_base));
-    const auto [first, last] = pagesToRelease(dataOffset, m_length, from, to, systemPageSize());
-    // On a read-only private mapping no page was ever copied, so MADV_DONTNEED drops only what
-    // can be read again from the file.
-    if (first < last) ::madvise(static_cast<char*>(m_base) + first, last - first, MADV_DONTNEED);
+bool BufferFile::read(std::size_t from, std::size_t count, unsigned char* out) const {
+    if (from > m_size || count > m_size - from) return false;
+    while (count > 0) {
+        const ssize_t n = ::pread(m_fd, out, count, off_t(m_offset + from));
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;  // an error, or the file ends early: it was cut short
+        out += n, from += std::size_t(n), count -= std::size_t(n);
+    }
+    return true;
 }
 
-void GltfBuffers::setMapped(std::size_t index, std::unique_ptr<MappedFile> file) {
+void GltfBuffers::setFile(std::size_t index, std::unique_ptr<BufferFile> file) {
     if (m_buffers.size() <= index) m_buffers.resize(index + 1);
-    m_buffers[index].bytes = {file->data(), file->size()};
+    m_buffers[index].data = nullptr;
+    m_buffers[index].size = file->size();
     m_buffers[index].file = std::move(file);
 }
 
-bool GltfBuffers::mapped(std::size_t index) const {
+bool GltfBuffers::fromFile(std::size_t index) const {
     return index < m_buffers.size() && m_buffers[index].file != nullptr;
 }
 
 void GltfBuffers::bind(const tinygltf::Model& model) {
     m_buffers.resize(model.buffers.size());
     for (std::size_t i = 0; i < m_buffers.size(); ++i)
-        if (!m_buffers[i].file)
-            m_buffers[i].bytes = {model.buffers[i].data.data(), model.buffers[i].data.size()};
+        if (!m_buffers[i].file) {
+            m_buffers[i].data = model.buffers[i].data.data();
+            m_buffers[i].size = model.buffers[i].data.size();
+        }
 }
 
-void GltfBuffers::release(std::size_t index, std::size_t from, std::size_t to) const {
-    if (index < m_buffers.size() && m_buffers[index].file)
-        m_buffers[index].file->release(from, std::min(to, m_buffers[index].bytes.size));
+const unsigned char* GltfBuffers::bytes(std::size_t index, std::size_t from, std::size_t to,
+                                        std::vector<unsigned char>& scratch) const {
+    const Buffer& b = m_buffers[index];
+    if (!b.file) return b.data + from;
+    scratch.resize(to - from);
+    if (!b.file->read(from, to - from, scratch.data()))
+        throw Error(ErrorKind::Io,
+                    "buffer file '" + b.file->path().string() +
+                        "' changed while it was read: bytes " + std::to_string(from) + " to " +
+                        std::to_string(to) + " of the buffer are no longer in it",
+                    m_asset.string(), "buffers[" + std::to_string(index) + "]");
+    return scratch.data();
 }
 
 }  // namespace glint::render::detail

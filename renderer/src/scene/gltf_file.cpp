@@ -266,7 +266,7 @@ std::string bufferUriAsTinygltf(const std::string& uri) {
 }
 
 /// The buffers array of a glTF document's text, parsed without the rest of the document and with
-/// each data URI cut to its scheme ("data:"): what mapBufferFiles needs, without a second copy
+/// each data URI cut to its scheme ("data:"): what openBufferFiles needs, without a second copy
 /// of a large embedded buffer. Null when the text does not parse.
 nlohmann::json buffersOf(const unsigned char* text, std::size_t size) {
     using Event = nlohmann::json::parse_event_t;
@@ -286,31 +286,32 @@ nlohmann::json buffersOf(const unsigned char* text, std::size_t size) {
     return doc["buffers"];
 }
 
-/// The uri a mapped buffer has in the document tinygltf parses (with byteLength 1): one zero
-/// byte as a data URI, which tinygltf decodes instead of reading the buffer.
-constexpr const char* kMappedBufferUri = "data:application/octet-stream;base64,AA==";
+/// The uri a buffer Glint reads from its file has in the document tinygltf parses (with
+/// byteLength 1): one zero byte as a data URI, which tinygltf decodes instead of reading the
+/// buffer.
+constexpr const char* kFileBufferUri = "data:application/octet-stream;base64,AA==";
 
-/// Maps the buffers of `buffersJson` (buffersOf) that Glint reads from files: a .glb's BIN chunk
-/// (buffer 0 without a uri, when `glb` has a BIN chunk) and buffer files (a uri that is not a
-/// data URI) of exactly their byteLength. A buffer that is not mapped is left to tinygltf, which
-/// reads it as before and reports what is wrong with it. Returns the indices mapped.
-std::vector<std::size_t> mapBufferFiles(const fs::path& path, std::uint64_t fileSize,
-                                        const std::string& baseDir, const GlbLayout* glb,
-                                        const nlohmann::json& buffersJson, GltfBuffers& buffers) {
-    std::vector<std::size_t> mapped;
+/// Opens the buffers of `buffersJson` (buffersOf) that Glint reads from their files: a .glb's
+/// BIN chunk (buffer 0 without a uri, when `glb` has a BIN chunk) and buffer files (a uri that is
+/// not a data URI) of exactly their byteLength. A buffer not opened is left to tinygltf, which
+/// reads it as before and reports what is wrong with it. Returns the indices opened.
+std::vector<std::size_t> openBufferFiles(const fs::path& path, std::uint64_t fileSize,
+                                         const std::string& baseDir, const GlbLayout* glb,
+                                         const nlohmann::json& buffersJson, GltfBuffers& buffers) {
+    std::vector<std::size_t> opened;
     for (std::size_t i = 0; i < buffersJson.size(); ++i) {
         const nlohmann::json& b = buffersJson[i];
         if (!b.is_object() || !b.contains("byteLength") || !b["byteLength"].is_number_unsigned())
             continue;
         const std::uint64_t byteLength = b["byteLength"].get<std::uint64_t>();
         if (byteLength == 0) continue;
-        std::unique_ptr<MappedFile> file;
+        std::unique_ptr<BufferFile> file;
         if (!b.contains("uri") && glb && glb->hasBin && i == 0) {
             if (byteLength > glb->binSize)
                 failFile(path, "buffers[0].byteLength",
                          "is " + std::to_string(byteLength) + " bytes, more than the " +
                              std::to_string(glb->binSize) + " bytes of the BIN chunk");
-            file = MappedFile::map(path, fileSize, glb->binOffset, byteLength);
+            file = BufferFile::open(path, fileSize, glb->binOffset, byteLength);
         } else if (b.contains("uri") && b["uri"].is_string()) {
             const std::string& uri = b["uri"].get_ref<const std::string&>();
             if (uri.rfind("data:", 0) == 0) continue;  // tinygltf's, decoded or named by it
@@ -322,13 +323,13 @@ std::vector<std::size_t> mapBufferFiles(const fs::path& path, std::uint64_t file
                                                               : baseDir + "/" + name;
             std::error_code ec;
             if (fs::is_regular_file(where, ec) && fs::file_size(where, ec) == byteLength && !ec)
-                file = MappedFile::map(where, byteLength, 0, byteLength);
+                file = BufferFile::open(where, byteLength, 0, byteLength);
         }
         if (!file) continue;
-        buffers.setMapped(i, std::move(file));
-        mapped.push_back(i);
+        buffers.setFile(i, std::move(file));
+        opened.push_back(i);
     }
-    return mapped;
+    return opened;
 }
 
 }  // namespace
@@ -398,31 +399,32 @@ void readGltfFile(const fs::path& path, tinygltf::Model& model, GltfBuffers& buf
     } else {
         refuseMarkup(path, bytes, false);
     }
-    // Map the buffers Glint reads from files, and give tinygltf the document with each of those
-    // buffers replaced by a one-byte data URI, so that it parses the document without loading
-    // them. A .glb is read that way only when every buffer without a uri (which tinygltf fills
-    // from the BIN chunk) is mapped; otherwise, like any document Glint maps nothing of, it is
-    // given to tinygltf as it is, so that its reading and errors are tinygltf's.
+    // Open the buffers Glint reads from their files, and give tinygltf the document with each of
+    // those buffers replaced by a one-byte data URI, so that it parses the document without
+    // reading them. A .glb is read that way only when every buffer without a uri (which tinygltf
+    // fills from the BIN chunk) is opened; otherwise, like any document with no buffer file, it
+    // is given to tinygltf as it is, so that its reading and errors are tinygltf's.
+    buffers = GltfBuffers(path);
     const nlohmann::json buffersJson = buffersOf(bytes.data(), bytes.size());
-    std::vector<std::size_t> mapped =
-        mapBufferFiles(path, size, baseDir, layout ? &*layout : nullptr, buffersJson, buffers);
-    bool uriLessUnmapped = false;
+    std::vector<std::size_t> opened =
+        openBufferFiles(path, size, baseDir, layout ? &*layout : nullptr, buffersJson, buffers);
+    bool uriLessUnopened = false;
     for (std::size_t i = 0; i < buffersJson.size(); ++i)
-        uriLessUnmapped =
-            uriLessUnmapped || (buffersJson[i].is_object() && !buffersJson[i].contains("uri") &&
-                                std::find(mapped.begin(), mapped.end(), i) == mapped.end());
+        uriLessUnopened =
+            uriLessUnopened || (buffersJson[i].is_object() && !buffersJson[i].contains("uri") &&
+                                std::find(opened.begin(), opened.end(), i) == opened.end());
     nlohmann::json doc;
-    if (!mapped.empty() && !(layout && uriLessUnmapped))
+    if (!opened.empty() && !(layout && uriLessUnopened))
         doc = nlohmann::json::parse(bytes.begin(), bytes.end(), nullptr, false);
-    std::string json;  // the rewritten document, when buffers are mapped
+    std::string json;  // the rewritten document, when buffers are read from their files
     if (doc.is_object()) {
-        for (std::size_t i : mapped) {
-            doc["buffers"][i]["uri"] = kMappedBufferUri;
+        for (std::size_t i : opened) {
+            doc["buffers"][i]["uri"] = kFileBufferUri;
             doc["buffers"][i]["byteLength"] = 1;
         }
         json = doc.dump();
     } else {
-        buffers = GltfBuffers();  // tinygltf reads every buffer
+        buffers = GltfBuffers(path);  // tinygltf reads every buffer
         if (layout && !readBytes(path, 0, size, bytes))
             failFile(path, "", "cannot open the glTF file", ErrorKind::Io);
     }

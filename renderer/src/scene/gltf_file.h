@@ -1,7 +1,7 @@
 // Reading a glTF 2.0 file into a tinygltf model: a .gltf with its buffer files, or a .glb whose
 // header and chunks are checked before tinygltf sees them. tinygltf parses the document; a .glb's
-// BIN chunk and buffer files are mapped by Glint (gltf_buffers.h) instead of read into memory, so
-// that a large asset's buffers are resident only as far as the accessor readers are reading them.
+// BIN chunk and buffer files stay in their files, read by Glint piece by piece as the accessor
+// readers need them (gltf_buffers.h), so that a large asset's buffers are never held whole.
 #pragma once
 
 #include <filesystem>
