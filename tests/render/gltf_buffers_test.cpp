@@ -110,6 +110,40 @@ TEST(GltfBuffers, TheBinChunkAndBufferFilesAreReadFromTheirFilesAndDataUrisAreNo
     }
 }
 
+TEST(GltfBuffers, AtMostSixtyFourBufferFilesAreHeldOpenTheRestReadByTinygltf) {
+    // 70 buffers, each a file holding one triangle's positions: the first 64 are read from their
+    // files, the others whole by tinygltf, and the mesh is the same either way.
+    test::TempDir dir("gltf_buffers_many");
+    json doc = {{"asset", {{"version", "2.0"}}}};
+    json primitives = json::array();
+    for (int i = 0; i < 70; ++i) {
+        const std::vector<float> p = {float(i), 0, 0, float(i) + 1, 0, 0, float(i), 1, 0};
+        std::vector<unsigned char> bytes(p.size() * 4);
+        std::memcpy(bytes.data(), p.data(), bytes.size());
+        const std::string name = "b" + std::to_string(i) + ".bin";
+        writeBytes(dir.path() / name, bytes);
+        doc["buffers"].push_back({{"byteLength", bytes.size()}, {"uri", name}});
+        doc["bufferViews"].push_back({{"buffer", i}, {"byteLength", bytes.size()}});
+        doc["accessors"].push_back(
+            {{"bufferView", i}, {"componentType", 5126}, {"type", "VEC3"}, {"count", 3}});
+        primitives.push_back({{"attributes", {{"POSITION", i}}}});
+    }
+    doc["meshes"] = json::array({{{"primitives", primitives}}});
+    doc["nodes"] = json::array({{{"mesh", 0}}});
+    doc["scenes"] = json::array({{{"nodes", {0}}}});
+    const fs::path asset = dir.write("many.gltf", doc.dump());
+    tinygltf::Model model;
+    detail::GltfBuffers buffers;
+    detail::readGltfFile(asset, model, buffers);
+    ASSERT_EQ(buffers.count(), 70u);
+    for (std::size_t i = 0; i < 70; ++i)
+        EXPECT_EQ(buffers.fromFile(i), i < 64) << "buffers[" << i << "]";
+    const Scene scene = loadScene(asset);
+    const detail::Mesh& m = detail::sceneData(scene).meshes.at(0);
+    ASSERT_EQ(m.positions.size(), 210u);
+    EXPECT_EQ(m.positions[3 * 65 + 1].x, 66.0f);
+}
+
 TEST(GltfBuffers, AFileCutShortWhileTheAssetIsReadIsAnErrorNamingTheBuffer) {
     // A file another program truncates after it was opened (an exporter saving over it) gives
     // a short read: one error, not a crash (as a file mapped into memory would give).

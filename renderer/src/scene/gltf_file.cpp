@@ -291,15 +291,20 @@ nlohmann::json buffersOf(const unsigned char* text, std::size_t size) {
 /// buffer.
 constexpr const char* kFileBufferUri = "data:application/octet-stream;base64,AA==";
 
+/// The most buffer files one asset holds open while it is read; tinygltf reads any further ones
+/// whole, so that an asset of many small buffers leaves descriptors for its textures.
+constexpr std::size_t kMaxOpenBufferFiles = 64;
+
 /// Opens the buffers of `buffersJson` (buffersOf) that Glint reads from their files: a .glb's
 /// BIN chunk (buffer 0 without a uri, when `glb` has a BIN chunk) and buffer files (a uri that is
-/// not a data URI) of exactly their byteLength. A buffer not opened is left to tinygltf, which
-/// reads it as before and reports what is wrong with it. Returns the indices opened.
+/// not a data URI) of exactly their byteLength, at most kMaxOpenBufferFiles. A buffer not opened
+/// is left to tinygltf, which reads it as before and reports what is wrong with it. Returns the
+/// indices opened.
 std::vector<std::size_t> openBufferFiles(const fs::path& path, std::uint64_t fileSize,
                                          const std::string& baseDir, const GlbLayout* glb,
                                          const nlohmann::json& buffersJson, GltfBuffers& buffers) {
     std::vector<std::size_t> opened;
-    for (std::size_t i = 0; i < buffersJson.size(); ++i) {
+    for (std::size_t i = 0; i < buffersJson.size() && opened.size() < kMaxOpenBufferFiles; ++i) {
         const nlohmann::json& b = buffersJson[i];
         if (!b.is_object() || !b.contains("byteLength") || !b["byteLength"].is_number_unsigned())
             continue;
