@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "glint/image/error.h"
+#include "scene/gltf_buffers.h"
 
 namespace glint::render::detail {
 
@@ -47,18 +48,6 @@ bool readBytes(const fs::path& path, std::uint64_t offset, std::uint64_t count,
     in.seekg(std::streamoff(offset));
     return bool(in.read(reinterpret_cast<char*>(out.data()), std::streamsize(count)));
 }
-
-/// A .glb's BIN chunk, handed to tinygltf as the file its buffer 0 names (kBinChunkUri), so
-/// that tinygltf's buffer takes the bytes over instead of copying them.
-struct BinChunk {
-    std::string path;  ///< the uri as tinygltf asks for it (joined to the asset's folder)
-    std::vector<unsigned char> data;
-    bool taken = false;
-    bool serves(const std::string& asked) const { return !taken && asked == path; }
-};
-
-/// The name buffer 0 of a .glb is given for tinygltf to ask for its BIN chunk by.
-constexpr const char* kBinChunkUri = "glint-glb-bin-chunk";
 
 /// Where a .glb's chunks are: the JSON chunk and, when there is one, the BIN chunk.
 struct GlbLayout {
@@ -154,8 +143,7 @@ bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::stri
 
 // File access for tinygltf: no search of the current folder (tinygltf tries "./name" after the
 // asset's folder), no devices or pipes.
-bool fileExists(const std::string& path, void* userData) {
-    if (auto* bin = static_cast<BinChunk*>(userData); bin && bin->serves(path)) return true;
+bool fileExists(const std::string& path, void*) {
     if (path.rfind("./", 0) == 0) return false;
     std::error_code ec;
     return fs::is_regular_file(path, ec);
@@ -164,12 +152,7 @@ std::string expandFilePath(const std::string& path, void*) {
     return path;
 }
 bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
-                   void* userData) {
-    if (auto* bin = static_cast<BinChunk*>(userData); bin && bin->serves(path)) {
-        out->swap(bin->data);  // the chunk moves into tinygltf's buffer: no copy
-        bin->taken = true;
-        return true;
-    }
+                   void*) {
     std::error_code ec;
     if (!fs::is_regular_file(path, ec)) {
         if (err) *err += "not a regular file: " + path + "\n";
@@ -258,6 +241,102 @@ std::vector<std::string> requiredExtensions(const nlohmann::json& doc) {
     return out;
 }
 
+/// A buffer uri as tinygltf decodes it before looking for the file (dlib's urldecode: "+" is a
+/// space, "%XY" a byte, a non-hex digit counting as 0).
+std::string bufferUriAsTinygltf(const std::string& uri) {
+    auto hex = [](unsigned char c) -> unsigned {
+        return c >= '0' && c <= '9'   ? unsigned(c - '0')
+               : c >= 'a' && c <= 'f' ? unsigned(c - 'a' + 10)
+               : c >= 'A' && c <= 'F' ? unsigned(c - 'A' + 10)
+                                      : 0u;
+    };
+    std::string out;
+    for (std::size_t i = 0; i < uri.size(); ++i) {
+        if (uri[i] == '+') {
+            out += ' ';
+        } else if (uri[i] == '%' && uri.size() > i + 2) {
+            out += char(hex(static_cast<unsigned char>(uri[i + 1])) << 4 |
+                        hex(static_cast<unsigned char>(uri[i + 2])));
+            i += 2;
+        } else {
+            out += uri[i];
+        }
+    }
+    return out;
+}
+
+/// The buffers array of a glTF document's text, parsed without the rest of the document and with
+/// each data URI cut to its scheme ("data:"): what openBufferFiles needs, without a second copy
+/// of a large embedded buffer. Null when the text does not parse.
+nlohmann::json buffersOf(const unsigned char* text, std::size_t size) {
+    using Event = nlohmann::json::parse_event_t;
+    const nlohmann::json doc = nlohmann::json::parse(
+        text, text + size,
+        [](int depth, Event event, nlohmann::json& parsed) {
+            if (event == Event::key && depth == 1) return parsed == "buffers";
+            if (event == Event::value && parsed.is_string() &&
+                parsed.get_ref<const std::string&>().rfind("data:", 0) == 0)
+                parsed = "data:";
+            return true;
+        },
+        false);
+    if (doc.is_discarded() || !doc.is_object() || !doc.contains("buffers") ||
+        !doc["buffers"].is_array())
+        return nullptr;
+    return doc["buffers"];
+}
+
+/// The uri a buffer Glint reads from its file has in the document tinygltf parses (with
+/// byteLength 1): one zero byte as a data URI, which tinygltf decodes instead of reading the
+/// buffer.
+constexpr const char* kFileBufferUri = "data:application/octet-stream;base64,AA==";
+
+/// The most buffer files one asset holds open while it is read; tinygltf reads any further ones
+/// whole, so that an asset of many small buffers leaves descriptors for its textures.
+constexpr std::size_t kMaxOpenBufferFiles = 64;
+
+/// Opens the buffers of `buffersJson` (buffersOf) that Glint reads from their files: a .glb's
+/// BIN chunk (buffer 0 without a uri, when `glb` has a BIN chunk) and buffer files (a uri that is
+/// not a data URI) of exactly their byteLength, at most kMaxOpenBufferFiles. A buffer not opened
+/// is left to tinygltf, which reads it as before and reports what is wrong with it. Returns the
+/// indices opened.
+std::vector<std::size_t> openBufferFiles(const fs::path& path, std::uint64_t fileSize,
+                                         const std::string& baseDir, const GlbLayout* glb,
+                                         const nlohmann::json& buffersJson, GltfBuffers& buffers) {
+    std::vector<std::size_t> opened;
+    for (std::size_t i = 0; i < buffersJson.size() && opened.size() < kMaxOpenBufferFiles; ++i) {
+        const nlohmann::json& b = buffersJson[i];
+        if (!b.is_object() || !b.contains("byteLength") || !b["byteLength"].is_number_unsigned())
+            continue;
+        const std::uint64_t byteLength = b["byteLength"].get<std::uint64_t>();
+        if (byteLength == 0) continue;
+        std::unique_ptr<BufferFile> file;
+        if (!b.contains("uri") && glb && glb->hasBin && i == 0) {
+            if (byteLength > glb->binSize)
+                failFile(path, "buffers[0].byteLength",
+                         "is " + std::to_string(byteLength) + " bytes, more than the " +
+                             std::to_string(glb->binSize) + " bytes of the BIN chunk");
+            file = BufferFile::open(path, fileSize, glb->binOffset, byteLength);
+        } else if (b.contains("uri") && b["uri"].is_string()) {
+            const std::string& uri = b["uri"].get_ref<const std::string&>();
+            if (uri.rfind("data:", 0) == 0) continue;  // tinygltf's, decoded or named by it
+            const std::string name = bufferUriAsTinygltf(uri);
+            if (name.empty()) continue;
+            // Where tinygltf looks for it (its JoinPath of the asset's folder and the name).
+            const std::string where = baseDir.empty()         ? name
+                                      : baseDir.back() == '/' ? baseDir + name
+                                                              : baseDir + "/" + name;
+            std::error_code ec;
+            if (fs::is_regular_file(where, ec) && fs::file_size(where, ec) == byteLength && !ec)
+                file = BufferFile::open(where, byteLength, 0, byteLength);
+        }
+        if (!file) continue;
+        buffers.setFile(i, std::move(file));
+        opened.push_back(i);
+    }
+    return opened;
+}
+
 }  // namespace
 
 std::optional<std::pair<std::size_t, std::string>> unreadRequiredExtension(
@@ -295,7 +374,7 @@ std::optional<std::string> undecodedDataUri(const std::string& uri) {
            "application/gltf-buffer, image/png and image/jpeg)";
 }
 
-void readGltfFile(const fs::path& path, tinygltf::Model& model) {
+void readGltfFile(const fs::path& path, tinygltf::Model& model, GltfBuffers& buffers) {
     std::error_code ec;  // odd paths (too long...) are reported, not thrown
     const std::uint64_t size = fs::file_size(path, ec);
     if (ec) failFile(path, "", "cannot read the glTF file: " + ec.message(), ErrorKind::Io);
@@ -311,54 +390,55 @@ void readGltfFile(const fs::path& path, tinygltf::Model& model) {
 
     tinygltf::TinyGLTF reader;
     reader.SetImageLoader(&keepEncodedImage, nullptr);
-    BinChunk bin;
-    reader.SetFsCallbacks({&fileExists, &expandFilePath, &readWholeFile, &writeWholeFile, &bin});
+    reader.SetFsCallbacks({&fileExists, &expandFilePath, &readWholeFile, &writeWholeFile, nullptr});
     std::string err, warnings;
     const std::string baseDir = fs::absolute(path, ec).parent_path().string();
-    std::string json;        // the text tinygltf reads as a .gltf
-    nlohmann::json glbJson;  // a .glb's JSON chunk, parsed (discarded when it does not parse)
+    // The document's text: a .gltf's, or a .glb's JSON chunk.
+    std::optional<GlbLayout> layout;
     if (binary || extension == ".glb") {
-        const GlbLayout layout = glbLayout(path, size);
-        // A .glb whose buffer 0 is its BIN chunk is read as a .gltf whose buffer 0 names the
-        // chunk (kBinChunkUri), which readWholeFile then hands over without a copy. Any other
-        // .glb (no BIN chunk, an odd buffer 0, JSON that does not parse) is read as it is, so
-        // that its error is tinygltf's.
-        if (!readBytes(path, layout.jsonOffset, layout.jsonSize, bytes))
+        layout = glbLayout(path, size);
+        if (!readBytes(path, layout->jsonOffset, layout->jsonSize, bytes))
             failFile(path, "", "cannot read the JSON chunk", ErrorKind::Io);
-        glbJson = nlohmann::json::parse(bytes.begin(), bytes.end(), nullptr, false);
-        nlohmann::json& doc = glbJson;
-        const nlohmann::json* buffer0 = nullptr;
-        if (!doc.is_discarded() && doc.is_object() && doc.contains("buffers") &&
-            doc["buffers"].is_array() && !doc["buffers"].empty() && doc["buffers"][0].is_object())
-            buffer0 = &doc["buffers"][0];
-        if (layout.hasBin && buffer0 && !buffer0->contains("uri") &&
-            buffer0->contains("byteLength") && (*buffer0)["byteLength"].is_number_unsigned() &&
-            (*buffer0)["byteLength"].get<std::uint64_t>() > 0) {
-            const std::uint64_t byteLength = (*buffer0)["byteLength"].get<std::uint64_t>();
-            if (byteLength > layout.binSize)
-                failFile(path, "buffers[0].byteLength",
-                         "is " + std::to_string(byteLength) + " bytes, more than the " +
-                             std::to_string(layout.binSize) + " bytes of the BIN chunk");
-            if (!readBytes(path, layout.binOffset, byteLength, bin.data))
-                failFile(path, "", "cannot read the BIN chunk", ErrorKind::Io);
-            doc["buffers"][0]["uri"] = kBinChunkUri;
-            bin.path = baseDir.empty() || baseDir.back() == '/' ? baseDir + kBinChunkUri
-                                                                : baseDir + "/" + kBinChunkUri;
-            json = doc.dump();
-        } else if (!readBytes(path, 0, size, bytes)) {
-            failFile(path, "", "cannot open the glTF file", ErrorKind::Io);
-        }
     } else if (!readBytes(path, 0, size, bytes)) {
         failFile(path, "", "cannot open the glTF file", ErrorKind::Io);
     } else {
         refuseMarkup(path, bytes, false);
+    }
+    // Open the buffers Glint reads from their files, and give tinygltf the document with each of
+    // those buffers replaced by a one-byte data URI, so that it parses the document without
+    // reading them. A .glb is read that way only when every buffer without a uri (which tinygltf
+    // fills from the BIN chunk) is opened; otherwise, like any document with no buffer file, it
+    // is given to tinygltf as it is, so that its reading and errors are tinygltf's.
+    buffers = GltfBuffers(path);
+    const nlohmann::json buffersJson = buffersOf(bytes.data(), bytes.size());
+    std::vector<std::size_t> opened =
+        openBufferFiles(path, size, baseDir, layout ? &*layout : nullptr, buffersJson, buffers);
+    bool uriLessUnopened = false;
+    for (std::size_t i = 0; i < buffersJson.size(); ++i)
+        uriLessUnopened =
+            uriLessUnopened || (buffersJson[i].is_object() && !buffersJson[i].contains("uri") &&
+                                std::find(opened.begin(), opened.end(), i) == opened.end());
+    nlohmann::json doc;
+    if (!opened.empty() && !(layout && uriLessUnopened))
+        doc = nlohmann::json::parse(bytes.begin(), bytes.end(), nullptr, false);
+    std::string json;  // the rewritten document, when buffers are read from their files
+    if (doc.is_object()) {
+        for (std::size_t i : opened) {
+            doc["buffers"][i]["uri"] = kFileBufferUri;
+            doc["buffers"][i]["byteLength"] = 1;
+        }
+        json = doc.dump();
+    } else {
+        buffers = GltfBuffers(path);  // tinygltf reads every buffer
+        if (layout && !readBytes(path, 0, size, bytes))
+            failFile(path, "", "cannot open the glTF file", ErrorKind::Io);
     }
     bool ok = false;
     try {
         if (!json.empty())
             ok = reader.LoadASCIIFromString(&model, &err, &warnings, json.data(),
                                             unsigned(json.size()), baseDir);
-        else if (binary || extension == ".glb")
+        else if (layout)
             ok = reader.LoadBinaryFromMemory(&model, &err, &warnings, bytes.data(),
                                              unsigned(bytes.size()), baseDir);
         else
@@ -371,17 +451,21 @@ void readGltfFile(const fs::path& path, tinygltf::Model& model) {
     if (!ok) {
         // An asset that requires an extension Glint does not read (Draco, meshopt) fails in
         // tinygltf for want of what the extension holds: name the extension, not the symptom.
-        const nlohmann::json doc =
-            binary || extension == ".glb"
-                ? glbJson
-                : nlohmann::json::parse(bytes.begin(), bytes.end(), nullptr, false);
-        if (const auto unread = unreadRequiredExtension(requiredExtensions(doc)))
+        const auto text =
+            bytes.begin() + std::ptrdiff_t(layout && json.empty() ? layout->jsonOffset : 0);
+        const nlohmann::json document =
+            !json.empty() ? nlohmann::json::parse(json, nullptr, false)
+            : layout ? nlohmann::json::parse(text, text + std::ptrdiff_t(layout->jsonSize), nullptr,
+                                             false)
+                     : nlohmann::json::parse(bytes.begin(), bytes.end(), nullptr, false);
+        if (const auto unread = unreadRequiredExtension(requiredExtensions(document)))
             failFile(path, "extensionsRequired[" + std::to_string(unread->first) + "]",
                      unread->second);
         readerFailed(path, err);
     }
     if (model.asset.version.rfind("2.", 0) != 0)
         failFile(path, "asset.version", "is '" + model.asset.version + "'; Glint reads glTF 2.x");
+    buffers.bind(model);
 }
 
 }  // namespace glint::render::detail

@@ -1,6 +1,7 @@
 // Reading a glTF 2.0 file into a tinygltf model: a .gltf with its buffer files, or a .glb whose
-// header and chunks are checked before tinygltf sees them. A .glb's BIN chunk is read once,
-// straight into the buffer that holds it: a large asset is never held twice while loading.
+// header and chunks are checked before tinygltf sees them. tinygltf parses the document; a .glb's
+// BIN chunk and buffer files stay in their files, read by Glint piece by piece as the accessor
+// readers need them (gltf_buffers.h), so that a large asset's buffers are never held whole.
 #pragma once
 
 #include <filesystem>
@@ -15,6 +16,8 @@ class Model;
 
 namespace glint::render::detail {
 
+class GltfBuffers;
+
 /// The glTF extensions Glint reads (docs/assets.md); any other in extensionsRequired is an
 /// error, in extensionsUsed a warning.
 inline constexpr const char* kReadGltfExtensions[] = {
@@ -26,13 +29,14 @@ inline constexpr const char* kReadGltfExtensions[] = {
 std::optional<std::pair<std::size_t, std::string>> unreadRequiredExtension(
     const std::vector<std::string>& required);
 
-/// Reads `path` into `model`. Throws glint::Error naming the file and the byte, chunk, JSON line
-/// or glTF place (e.g. `buffers[0]`) of what is wrong: a missing or truncated file, a damaged
+/// Reads `path` into `model` and the bytes of its buffers into `buffers` (bound to `model`: keep
+/// both while reading the asset). Throws glint::Error naming the file and the byte, chunk, JSON
+/// line or glTF place (e.g. `buffers[0]`) of what is wrong: a missing or truncated file, a damaged
 /// binary layout, malformed JSON, a buffer file that is missing or of the wrong size, a glTF
 /// version other than 2.x. When tinygltf cannot read an asset that requires an extension Glint
 /// does not read (a Draco- or meshopt-compressed mesh, whose accessors have no bufferView), the
 /// error names that extension.
-void readGltfFile(const std::filesystem::path& path, tinygltf::Model& model);
+void readGltfFile(const std::filesystem::path& path, tinygltf::Model& model, GltfBuffers& buffers);
 
 /// When `uri` is a `data:` URI that tinygltf left undecoded (not base64, or a media type other
 /// than those it reads), what is wrong with it, naming the URI by its header only (the data of

@@ -1,7 +1,7 @@
 // glTF 2.0 import through tinygltf: the extensions an asset requires, the default scene's node
-// hierarchy (TRS or matrix transforms), triangle meshes shared between the nodes that use them,
-// perspective cameras and KHR_lights_punctual lights. The file is read by gltf_file.cpp,
-// materials and textures are converted by gltf_material.cpp.
+// hierarchy (TRS or matrix transforms), the placing of meshes shared between the nodes that use
+// them, perspective cameras and KHR_lights_punctual lights. The file is read by gltf_file.cpp,
+// meshes are converted by gltf_mesh.cpp, materials and textures by gltf_material.cpp.
 #include "scene/gltf_import.h"
 
 #include <tiny_gltf.h>
@@ -17,6 +17,7 @@
 #include <string>
 
 #include "glint/image/error.h"
+#include "scene/gltf_buffers.h"
 #include "scene/gltf_file.h"
 #include "scene/tangent_frames.h"
 
@@ -25,25 +26,6 @@ namespace glint::render::detail {
 namespace fs = std::filesystem;
 
 namespace {
-
-/// Appends one primitive's per-vertex array `add` (empty: the primitive lacks it) to the mesh's
-/// `to`, whose first `base` vertices are the earlier primitives'. An array the earlier
-/// primitives lacked starts with `base` copies of `fill`; one this primitive lacks gets `count`
-/// of them when earlier primitives had it. An empty `to` takes `add` over without a copy.
-template <typename T>
-void appendAttribute(std::vector<T>& to, std::vector<T>&& add, std::size_t base, std::size_t count,
-                     const T& fill = T{}) {
-    if (add.empty()) {
-        if (!to.empty()) to.resize(base + count, fill);
-        return;
-    }
-    if (base == 0 && to.empty()) {
-        to = std::move(add);
-        return;
-    }
-    to.resize(base, fill);
-    to.insert(to.end(), add.begin(), add.end());
-}
 
 /// A row-major 3×4 affine matrix in double, for composing the node hierarchy.
 struct Matrix34 {
@@ -135,15 +117,16 @@ std::string decodeUri(const std::string& uri) {
     return out;
 }
 
-GltfImport::GltfImport(Loader& loader, const tinygltf::Model& model, fs::path file,
-                       const GltfOverrides& overrides, std::string where)
+GltfImport::GltfImport(Loader& loader, const tinygltf::Model& model, const GltfBuffers& buffers,
+                       fs::path file, const GltfOverrides& overrides, std::string where)
     : m_loader(loader),
       m_scene(loader.m_scene),
       m_model(model),
+      m_buffers(buffers),
       m_file(std::move(file)),
       m_overrides(overrides),
       m_where(std::move(where)),
-      m_accessors(model, m_file),
+      m_accessors(model, buffers, m_file),
       m_meshes(model.meshes.size(), -1),
       m_materials(model.materials.size(), -1) {}
 
@@ -284,140 +267,6 @@ void GltfImport::importScene(const std::vector<Affine>& poses) {
                  ? "no node of the scene places a triangle mesh (the primitives it places are "
                    "points or lines, which Glint does not render)"
                  : "no node of the scene places a triangle mesh");
-}
-
-int GltfImport::mesh(int index) {
-    int& cached = m_meshes[std::size_t(index)];
-    if (cached != -1) return cached;
-    const tinygltf::Mesh& gm = m_model.meshes[std::size_t(index)];
-    const std::string meshPlace = "meshes[" + std::to_string(index) + "]";
-    Mesh mesh;
-    mesh.name = m_file.filename().string() + ": " + (gm.name.empty() ? meshPlace : gm.name);
-    if (!gm.weights.empty()) warn("morph targets are ignored (the base shape is rendered)");
-    for (std::size_t p = 0; p < gm.primitives.size(); ++p) {
-        const tinygltf::Primitive& prim = gm.primitives[p];
-        const std::string place = meshPlace + ".primitives[" + std::to_string(p) + "]";
-        const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
-        if (mode > TINYGLTF_MODE_TRIANGLE_FAN)
-            fail(place + ".mode", "is " + std::to_string(mode) + ", expected 0 to 6");
-        if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
-            mode != TINYGLTF_MODE_TRIANGLE_FAN) {
-            ++m_skippedPrimitives;
-            warnOnce("mode " + std::to_string(mode),
-                     "primitives of mode " + std::to_string(mode) +
-                         " (points or lines) are skipped; Glint renders modes 4, 5 and 6 "
-                         "(triangles, strips, fans), first at " +
-                         place + ".mode");
-            continue;
-        }
-        auto attribute = [&](const char* name) {
-            const auto it = prim.attributes.find(name);
-            return it == prim.attributes.end() ? -1 : it->second;
-        };
-        if (!prim.targets.empty()) warn("morph targets are ignored (the base shape is rendered)");
-        const int position = attribute("POSITION");
-        if (position < 0) fail(place + ".attributes", "has no POSITION");
-        std::vector<Vec3> positions =
-            m_accessors.vec3(position, place + ".attributes.POSITION", true);
-        const std::size_t base = mesh.positions.size();
-        if (positions.size() > std::numeric_limits<std::uint32_t>::max() - base - 1)
-            fail(place, "has more vertices than Glint can index in one mesh (2^32)");
-        auto sameCount = [&](std::size_t n, const char* name) {
-            if (n != positions.size())
-                fail(place + ".attributes." + name, "has " + std::to_string(n) +
-                                                        " elements, POSITION has " +
-                                                        std::to_string(positions.size()));
-        };
-        std::vector<Vec3> normals;
-        if (const int a = attribute("NORMAL"); a >= 0) {
-            normals = m_accessors.vec3(a, place + ".attributes.NORMAL", true);
-            sameCount(normals.size(), "NORMAL");
-        }
-        std::vector<Vec2> uvs;
-        if (const int a = attribute("TEXCOORD_0"); a >= 0) {
-            uvs = m_accessors.vec2(a, place + ".attributes.TEXCOORD_0");
-            sameCount(uvs.size(), "TEXCOORD_0");
-        }
-        // A second uv set, which texture slots pick by texCoord 1; sets are numbered from 0
-        // without gaps (spec 3.7.2.1).
-        std::vector<Vec2> uvs1;
-        if (const int a = attribute("TEXCOORD_1"); a >= 0) {
-            if (uvs.empty()) fail(place + ".attributes", "has TEXCOORD_1 but no TEXCOORD_0");
-            uvs1 = m_accessors.vec2(a, place + ".attributes.TEXCOORD_1");
-            sameCount(uvs1.size(), "TEXCOORD_1");
-        }
-        // Vertex colours, linear RGB(A), multiplying the base colour (spec 3.7.2.1).
-        std::vector<Vec4> colors;
-        if (const int a = attribute("COLOR_0"); a >= 0) {
-            colors = m_accessors.color(a, place + ".attributes.COLOR_0");
-            sameCount(colors.size(), "COLOR_0");
-        }
-        std::vector<Vec4> tangents;
-        if (const int a = attribute("TANGENT"); a >= 0 && !normals.empty()) {
-            tangents = m_accessors.vec4(a, place + ".attributes.TANGENT");
-            sameCount(tangents.size(), "TANGENT");
-        }
-        std::vector<std::uint32_t> indices;
-        if (prim.indices >= 0) {
-            indices = m_accessors.indices(prim.indices, place + ".indices", positions.size());
-        } else {
-            indices.resize(positions.size());
-            for (std::size_t i = 0; i < indices.size(); ++i) indices[i] = std::uint32_t(i);
-        }
-        const std::string indicesPlace = prim.indices >= 0 ? place + ".indices" : place;
-        const std::string indicesWhat = prim.indices >= 0 ? " indices" : " vertices and no indices";
-        if (mode == TINYGLTF_MODE_TRIANGLES && indices.size() % 3 != 0)
-            fail(indicesPlace, "has " + std::to_string(indices.size()) + indicesWhat +
-                                   ": not a multiple of 3 (triangles)");
-        if (mode != TINYGLTF_MODE_TRIANGLES) {
-            if (indices.size() < 3)
-                fail(indicesPlace, "has " + std::to_string(indices.size()) + indicesWhat +
-                                       ": a triangle " +
-                                       (mode == TINYGLTF_MODE_TRIANGLE_STRIP ? "strip" : "fan") +
-                                       " needs at least 3");
-            indices = unrollTriangles(indices, mode == TINYGLTF_MODE_TRIANGLE_STRIP);
-        }
-        const int materialIndex = material(prim.material);
-        const bool hasNormals = !normals.empty(), hasUvs = !uvs.empty(),
-                   hasTangents = !tangents.empty();
-
-        // Append the primitive. An optional per-vertex array (normals, uvs, tangents, colours)
-        // exists only once a primitive has it: it is then as long as positions, zero (colours:
-        // white) where a primitive lacks it. The accessors' arrays are moved in where the mesh has
-        // none yet.
-        const std::size_t firstTriangle = mesh.triangleCount();
-        // glTF's texture origin is the top-left, Glint's the bottom-left: v' = 1 − v.
-        for (Vec2& uv : uvs) uv.y = 1.0f - uv.y;
-        for (Vec2& uv : uvs1) uv.y = 1.0f - uv.y;
-        for (Vec4& t : tangents) t.w = t.w < 0.0f ? -1.0f : 1.0f;
-        appendAttribute(mesh.normals, std::move(normals), base, positions.size());
-        appendAttribute(mesh.uvs, std::move(uvs), base, positions.size());
-        appendAttribute(mesh.uvs1, std::move(uvs1), base, positions.size());
-        appendAttribute(mesh.colors, std::move(colors), base, positions.size(),
-                        Vec4{1.0f, 1.0f, 1.0f, 1.0f});
-        appendAttribute(mesh.tangents, std::move(tangents), base, positions.size());
-        appendAttribute(mesh.positions, std::move(positions), base, 0);
-        if (base == 0 && mesh.indices.empty()) {
-            mesh.indices = std::move(indices);
-        } else {
-            mesh.indices.reserve(mesh.indices.size() + indices.size());
-            for (std::uint32_t i : indices) mesh.indices.push_back(std::uint32_t(base) + i);
-        }
-        mesh.assignMaterial(firstTriangle, std::uint32_t(std::max(materialIndex, 0)));
-        // Tangents for a normal map, generated (MikkTSpace convention) when the asset has none.
-        const int used = m_overrides.material >= 0 ? m_overrides.material : materialIndex;
-        if (m_scene.materials[std::size_t(used)].normalMap.present() && !hasTangents) {
-            if (!hasNormals || !hasUvs)
-                warn(place + " has a normal-mapped material but no " +
-                     (hasNormals ? "TEXCOORD_0" : "NORMAL") + ": its normal map is not applied");
-            else
-                generateTangents(mesh, firstTriangle, mesh.triangleCount(),
-                                 m_scene.materials[std::size_t(used)].normalMap.transform.set);
-        }
-    }
-    if (mesh.triangleCount() == 0) return cached = -2;
-    m_scene.meshes.push_back(std::move(mesh));
-    return cached = int(m_scene.meshes.size() - 1);
 }
 
 void GltfImport::placeMesh(int node, int glintMesh, const std::vector<Affine>& poses) {
@@ -587,9 +436,11 @@ void Loader::importGltf(const fs::path& path, const std::vector<Affine>& poses,
     if (!fs::is_regular_file(path, ec))
         throw Error(ErrorKind::Io, "'" + path.string() + "' is not a file",
                     m_reader.file().string(), where + "/gltf");
+    // The buffers' mappings end with this function: after the asset is converted.
     tinygltf::Model model;
-    readGltfFile(path, model);
-    GltfImport(*this, model, path, overrides, where).importScene(poses);
+    GltfBuffers buffers;
+    readGltfFile(path, model, buffers);
+    GltfImport(*this, model, buffers, path, overrides, where).importScene(poses);
 }
 
 }  // namespace glint::render::detail

@@ -1,8 +1,8 @@
 // One glTF 2.0 asset being imported into a scene (Loader::importGltf): the parsed tinygltf model,
-// the asset's file, the shape's overrides, and what has been converted so far (meshes,
-// materials, textures), so that everything the asset shares stays shared. gltf_import.cpp reads
-// the file, the node hierarchy, meshes, cameras and lights; gltf_material.cpp the materials and
-// textures.
+// the asset's file and buffers, the shape's overrides, and what has been converted so far
+// (meshes, materials, textures), so that everything the asset shares stays shared.
+// gltf_import.cpp reads the file, the node hierarchy, cameras and lights; gltf_mesh.cpp the
+// meshes; gltf_material.cpp the materials and textures.
 #pragma once
 
 #include <filesystem>
@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "scene/gltf_accessor.h"
+#include "scene/gltf_buffers.h"
 #include "scene/gltf_file.h"
 #include "scene/loader.h"
 #include "scene/scene_data.h"
@@ -31,15 +32,18 @@ inline constexpr double kLumensPerWatt = 683.0;
 /// Converts one parsed asset into scene meshes, materials, textures, cameras and lights.
 class GltfImport {
   public:
-    GltfImport(Loader& loader, const tinygltf::Model& model, std::filesystem::path file,
-               const GltfOverrides& overrides, std::string where);
+    GltfImport(Loader& loader, const tinygltf::Model& model, const GltfBuffers& buffers,
+               std::filesystem::path file, const GltfOverrides& overrides, std::string where);
 
     /// Places the default scene's nodes (or every root node) with each pose of `poses`.
     void importScene(const std::vector<Affine>& poses);
 
   private:
-    // gltf_import.cpp
+    // gltf_mesh.cpp
+    /// The scene mesh of meshes[index] (converted on first use; -2: it has no triangles).
     int mesh(int index);
+
+    // gltf_import.cpp
     void placeMesh(int node, int glintMesh, const std::vector<Affine>& poses);
     void addCamera(int node, const Affine& world);
     void addLight(int node, const Affine& world);
@@ -68,6 +72,7 @@ class GltfImport {
     Loader& m_loader;
     SceneData& m_scene;
     const tinygltf::Model& m_model;
+    const GltfBuffers& m_buffers;
     std::filesystem::path m_file;
     GltfOverrides m_overrides;
     std::string m_where;

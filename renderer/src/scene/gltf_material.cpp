@@ -341,15 +341,17 @@ int GltfImport::texture(int index, TextureUse use, const std::string& place) {
         if (std::size_t(image.bufferView) >= m_model.bufferViews.size())
             fail(imagePlace + ".bufferView", "names a missing bufferView");
         const tinygltf::BufferView& view = m_model.bufferViews[std::size_t(image.bufferView)];
-        if (view.buffer < 0 || std::size_t(view.buffer) >= m_model.buffers.size())
+        if (view.buffer < 0 || std::size_t(view.buffer) >= m_buffers.count())
             fail("bufferViews[" + std::to_string(image.bufferView) + "]", "names a missing buffer");
-        const std::vector<unsigned char>& data = m_model.buffers[std::size_t(view.buffer)].data;
-        if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset)
+        const std::size_t size = m_buffers.size(std::size_t(view.buffer));
+        if (view.byteOffset > size || view.byteLength > size - view.byteOffset)
             fail("bufferViews[" + std::to_string(image.bufferView) + "]",
-                 "goes past the end of its buffer (" + std::to_string(data.size()) + " bytes)");
-        source.bytes = std::make_shared<const std::vector<unsigned char>>(
-            data.begin() + std::ptrdiff_t(view.byteOffset),
-            data.begin() + std::ptrdiff_t(view.byteOffset + view.byteLength));
+                 "goes past the end of its buffer (" + std::to_string(size) + " bytes)");
+        std::vector<unsigned char> scratch;
+        const unsigned char* bytes = m_buffers.bytes(std::size_t(view.buffer), view.byteOffset,
+                                                     view.byteOffset + view.byteLength, scratch);
+        source.bytes =
+            std::make_shared<const std::vector<unsigned char>>(bytes, bytes + view.byteLength);
         source.path = m_file.string() + "#" + imagePlace;
     } else {
         if (image.image.empty()) fail(imagePlace, "its data URI holds no image");
