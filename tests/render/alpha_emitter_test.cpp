@@ -72,7 +72,7 @@ void makePresent(detail::SceneData& data, detail::Material& m, Presence p) {
 /// straight down from z = -0.5 on an 8 × 8 film.
 Scene floorUnderEmitter(const test::TempDir& dir, Presence presence) {
     dir.write("light.obj", kLightQuad);
-    dir.write("floor.obj", "v -9 -9 -1\nv 9 -9 -1\nv 9 9 -1\nv -9 9 -1\nf 1 2 3\nf 1 3 4\n");
+    dir.write("floor.obj", test::floorObj(-1));
     const Scene parsed = parseScene(
         R"({"camera": {"position": [0, 0, -0.5], "lookAt": [0, 0, -1], "fovY": 0.5},
             "film": {"width": 8, "height": 8},

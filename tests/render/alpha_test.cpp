@@ -146,7 +146,7 @@ TEST(Alpha, ShadowRaysPassWhereTheSurfaceIsNotThere) {
     // it is dark.
     test::TempDir dir("shadow");
     dir.write("quad.obj", kQuad);
-    dir.write("floor.obj", "v -9 -9 -1\nv 9 -9 -1\nv 9 9 -1\nv -9 9 -1\nf 1 2 3\nf 1 3 4\n");
+    dir.write("floor.obj", test::floorObj(-1));
     auto scene = [&](AlphaMode mode) {
         const Scene parsed = parseScene(
             R"({"camera": {"position": [0.2, 0.3, 6], "lookAt": [0.2, 0.3, 0], "fovY": 2},
@@ -258,7 +258,7 @@ namespace {
 /// z = 0), lit by a sun straight above (irradiance π) or by a white sky.
 Scene floorUnderGlass(const test::TempDir& dir, bool sun) {
     dir.write("quad.obj", kQuad);
-    dir.write("floor.obj", "v -9 -9 -1\nv 9 -9 -1\nv 9 9 -1\nv -9 9 -1\nf 1 2 3\nf 1 3 4\n");
+    dir.write("floor.obj", test::floorObj(-1));
     const Scene parsed = parseScene(
         std::string(R"({"camera": {"position": [0, 0, -0.5], "lookAt": [0, 0, -1], "fovY": 0.5},
                         "film": {"width": 8, "height": 8},
@@ -407,7 +407,7 @@ namespace {
 /// factor to the light (as in floorUnderGlass).
 Scene lightBehindGlass(const test::TempDir& dir) {
     dir.write("quad.obj", kQuad);
-    dir.write("floor.obj", "v -9 -9 -1\nv 9 -9 -1\nv 9 9 -1\nv -9 9 -1\nf 1 2 3\nf 1 3 4\n");
+    dir.write("floor.obj", test::floorObj(-1));
     const Scene parsed = parseScene(
         R"({"camera": {"position": [0, 0, -0.5], "lookAt": [0, 0, -1], "fovY": 0.5},
             "film": {"width": 8, "height": 8},
@@ -490,7 +490,7 @@ TEST(Alpha, AShadedPaneIsTheFeatureHitAPassedOneIsNot) {
     // choices 0.0063 (depth 0.0079), within 5σ.
     test::TempDir dir("blend_features");
     dir.write("quad.obj", kQuad);
-    dir.write("floor.obj", "v -9 -9 -1\nv 9 -9 -1\nv 9 9 -1\nv -9 9 -1\nf 1 2 3\nf 1 3 4\n");
+    dir.write("floor.obj", test::floorObj(-1));
     const Scene parsed = parseScene(
         R"({"camera": {"position": [0, 0, 3], "lookAt": [0, 0, 0], "fovY": 5},
             "film": {"width": 8, "height": 8},

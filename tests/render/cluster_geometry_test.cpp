@@ -339,7 +339,7 @@ detail::Material& paneMaterial(detail::SceneData& data) {
 /// nearer the camera) over a white floor at z = -5, the quads' material BLEND of `opacity`.
 detail::SceneData blendStack(const test::TempDir& dir, int count, float opacity) {
     dir.write("quad.obj", kClusterQuad);
-    dir.write("floor.obj", "v -9 -9 -5\nv 9 -9 -5\nv 9 9 -5\nv -9 9 -5\nf 1 2 3\nf 1 3 4\n");
+    dir.write("floor.obj", test::floorObj(-5));
     const Scene parsed = parseScene(
         R"({"camera": {"position": [0, 0, 30], "lookAt": [0, 0, 0], "fovY": 30},
             "film": {"width": 4, "height": 4},

@@ -62,6 +62,13 @@ class TempDir {
     std::filesystem::path m_path;
 };
 
+/// OBJ text of an 18 × 18 square (two triangles, facing +z) in the plane z = `z`: the floor
+/// of the alpha and cluster tests.
+inline std::string floorObj(int z) {
+    const std::string h = " " + std::to_string(z) + "\n";
+    return "v -9 -9" + h + "v 9 -9" + h + "v 9 9" + h + "v -9 9" + h + "f 1 2 3\nf 1 3 4\n";
+}
+
 /// OBJ text of a flat-shaded UV sphere (no vertex normals) of radius r at the origin.
 inline std::string sphereObj(float r, int stacks = 16, int slices = 32) {
     std::string s;

@@ -148,6 +148,16 @@ bool cpuHasAvx2() {
 #endif
 }
 
+/// Batches of 8 and 16 lanes: AVX2 where the CPU has it.
+template <int W>
+void testWideBatch(const TriangleBatch<W>& batch, const ShearedRay& r, float tnear, float tfar,
+                   BatchResult<W>& out) {
+    if (cpuHasAvx2())
+        batchAvx2(batch, r, tnear, tfar, out);
+    else
+        batchSse2(batch, r, tnear, tfar, out);
+}
+
 }  // namespace
 
 void testBatch(const TriangleBatch<4>& batch, const ShearedRay& r, float tnear, float tfar,
@@ -157,18 +167,12 @@ void testBatch(const TriangleBatch<4>& batch, const ShearedRay& r, float tnear, 
 
 void testBatch(const TriangleBatch<8>& batch, const ShearedRay& r, float tnear, float tfar,
                BatchResult<8>& out) {
-    if (cpuHasAvx2())
-        batchAvx2(batch, r, tnear, tfar, out);
-    else
-        batchSse2(batch, r, tnear, tfar, out);
+    testWideBatch(batch, r, tnear, tfar, out);
 }
 
 void testBatch(const TriangleBatch<16>& batch, const ShearedRay& r, float tnear, float tfar,
                BatchResult<16>& out) {
-    if (cpuHasAvx2())
-        batchAvx2(batch, r, tnear, tfar, out);
-    else
-        batchSse2(batch, r, tnear, tfar, out);
+    testWideBatch(batch, r, tnear, tfar, out);
 }
 
 }  // namespace glint::render
