@@ -4,7 +4,9 @@
 // alpha (docs/obj-assets.md).
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <sstream>
+#include <string_view>
 #include <unordered_map>
 
 #include <tiny_obj_loader.h>
@@ -28,6 +30,7 @@ struct Corner {
     unsigned group;
     bool operator==(const Corner&) const = default;
 };
+constexpr std::uint32_t kNoVertex = ~0u;
 struct CornerHash {
     std::size_t operator()(const Corner& c) const {
         std::uint64_t h = std::uint64_t(std::uint32_t(c.v)) * 0x9e3779b97f4a7c15ULL;
@@ -183,7 +186,7 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
         throw Error(ErrorKind::Io, "'" + objPath.string() + "' is not a file",
                     m_reader.file().string(), where + "/obj");
     // Indices and numbers checked with their line first: tinyobjloader trusts them.
-    const ObjLines lines = scanObj(objPath);
+    ObjLines lines = scanObj(objPath);
 
     // Faces come whole: tinyobjloader's triangulation splits a concave face wrongly, and
     // differently where it sits; polygon_triangulation.cpp clips ears in the face's plane.
@@ -191,7 +194,13 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     std::vector<tinyobj::shape_t> shapes;
     std::vector<tinyobj::material_t> materials;
     {
-        std::istringstream text(readObjText(objPath, "OBJ"));
+        // Read from the file as it goes (the scan has released its text), after a UTF-8 byte
+        // order mark, which tinyobjloader would read as part of the first statement.
+        std::ifstream text(objPath, std::ios::binary);
+        char bom[3] = {};
+        if (!text.read(bom, 3) || std::string_view(bom, 3) != "\xEF\xBB\xBF") text.clear();
+        if (!text.seekg(std::string_view(bom, 3) == "\xEF\xBB\xBF" ? 3 : 0))
+            throw Error(ErrorKind::Io, "cannot read the OBJ file", objPath.string());
         ScannedMtlReader mtlReader(lines.mtlFiles);
         std::string warn, err;
         if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &text, &mtlReader,
@@ -313,8 +322,8 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     const std::size_t vertexCount = attrib.vertices.size() / 3;
     const std::size_t normalCount = attrib.normals.size() / 3;
     const std::size_t texcoordCount = attrib.texcoords.size() / 2;
-    if (vertexCount != lines.vertices.size() || normalCount != lines.normals.size() ||
-        texcoordCount != lines.texcoords.size())
+    if (vertexCount != lines.vertices.size() || normalCount != lines.normalCount ||
+        texcoordCount != lines.texcoordCount)
         throw Error(ErrorKind::Format, "the OBJ reader and the scan disagree on the statements",
                     objPath.string());
     // Every vertex in every pose of the shape: finite and within kMaxCoordinate, so that areas,
@@ -333,12 +342,24 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
         }
     }
 
-    // One mesh vertex per distinct (position, normal, texture coordinate) triple of the faces.
+    // One mesh vertex per distinct (position, normal, texture coordinate) triple of the faces,
+    // numbered in the order the faces first name them. The first corner named at each position
+    // is held in a flat table (a grid's `a//a` corners are all such); only the others (texture
+    // seams, hard edges) go to a map.
     Mesh mesh;
     mesh.name = objPath.filename().string();
+    std::vector<Corner> firstCorner(vertexCount);
+    std::vector<std::uint32_t> firstVertex(vertexCount, kNoVertex);
     std::unordered_map<Corner, std::uint32_t, CornerHash> corners;
     bool anyNormals = false, anyUvs = false, anySmoothed = false;
-    std::vector<std::uint64_t> smoothKey;  // per mesh vertex (smoothGroupNormals)
+    std::vector<std::uint64_t> smoothKey;  // per mesh vertex once one is smoothed
+    std::size_t triangleCount = 0;
+    for (const tinyobj::shape_t& shape : shapes)
+        for (const unsigned char fv : shape.mesh.num_face_vertices) triangleCount += fv - 2u;
+    mesh.indices.reserve(3 * triangleCount);
+    mesh.positions.reserve(vertexCount);
+    if (normalCount > 0) mesh.normals.reserve(vertexCount);
+    if (texcoordCount > 0) mesh.uvs.reserve(vertexCount);
     auto addCorner = [&](tinyobj::index_t idx, unsigned group) -> std::uint32_t {
         // Normals and texture coordinates named in a file that has none are ignored (scanObj).
         if (normalCount == 0) idx.normal_index = -1;
@@ -347,32 +368,43 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
         if (idx.vertex_index < 0 || std::size_t(idx.vertex_index) >= vertexCount ||
             idx.normal_index >= int(normalCount) || idx.texcoord_index >= int(texcoordCount))
             throw Error(ErrorKind::Format, "a face index is out of range", objPath.string());
-        const auto [it, inserted] =
-            corners.try_emplace(Corner{idx.vertex_index, idx.normal_index, idx.texcoord_index,
-                                       idx.normal_index >= 0 ? 0u : group},
-                                std::uint32_t(mesh.positions.size()));
-        if (!inserted) return it->second;
-        const float* p = &attrib.vertices[3 * std::size_t(idx.vertex_index)];
+        const Corner key{idx.vertex_index, idx.normal_index, idx.texcoord_index,
+                         idx.normal_index >= 0 ? 0u : group};
+        const auto next = std::uint32_t(mesh.positions.size());
+        const std::size_t at = std::size_t(idx.vertex_index);
+        if (firstVertex[at] == kNoVertex) {
+            firstVertex[at] = next, firstCorner[at] = key;
+        } else if (firstCorner[at] == key) {
+            return firstVertex[at];
+        } else if (const auto [it, inserted] = corners.try_emplace(key, next); !inserted) {
+            return it->second;
+        }
+        const float* p = &attrib.vertices[3 * at];
         mesh.positions.push_back({p[0], p[1], p[2]});
-        Vec3 n{};
-        if (idx.normal_index >= 0) {
-            const float* q = &attrib.normals[3 * std::size_t(idx.normal_index)];
-            n = {q[0], q[1], q[2]};
-            anyNormals = anyNormals || length(n) > 0.0f;
+        if (normalCount > 0) {  // else every normal is zero (or smoothed below)
+            Vec3 n{};
+            if (idx.normal_index >= 0) {
+                const float* q = &attrib.normals[3 * std::size_t(idx.normal_index)];
+                n = {q[0], q[1], q[2]};
+                anyNormals = anyNormals || length(n) > 0.0f;
+            }
+            mesh.normals.push_back(n);
         }
-        mesh.normals.push_back(n);
-        const bool smoothed = idx.normal_index < 0 && group != 0;
-        anySmoothed = anySmoothed || smoothed;
-        smoothKey.push_back(
-            smoothed ? (std::uint64_t(idx.vertex_index) + 1) << 32 | std::uint64_t(group) : 0);
-        Vec2 uv{};
-        if (idx.texcoord_index >= 0) {
-            const float* t = &attrib.texcoords[2 * std::size_t(idx.texcoord_index)];
-            uv = {t[0], t[1]};
-            anyUvs = true;
+        if (idx.normal_index < 0 && group != 0) {
+            anySmoothed = true;
+            smoothKey.resize(next, 0);
+            smoothKey.push_back((std::uint64_t(idx.vertex_index) + 1) << 32 | std::uint64_t(group));
         }
-        mesh.uvs.push_back(uv);
-        return it->second;
+        if (texcoordCount > 0) {  // else every uv is zero, and none is kept
+            Vec2 uv{};
+            if (idx.texcoord_index >= 0) {
+                const float* t = &attrib.texcoords[2 * std::size_t(idx.texcoord_index)];
+                uv = {t[0], t[1]};
+                anyUvs = true;
+            }
+            mesh.uvs.push_back(uv);
+        }
+        return next;
     };
     for (const tinyobj::shape_t& shape : shapes) {
         const auto& faces = shape.mesh;
@@ -421,12 +453,18 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
             offset += fv;
         }
     }
+    // What the reader gave is no longer needed.
+    attrib = tinyobj::attrib_t(), shapes = std::vector<tinyobj::shape_t>();
+    corners = decltype(corners)(), firstCorner = std::vector<Corner>();
+    firstVertex = std::vector<std::uint32_t>();
     if (anySmoothed) {
+        smoothKey.resize(mesh.positions.size(), 0);
+        mesh.normals.resize(mesh.positions.size());  // zero where the file gave none
         smoothGroupNormals(mesh, smoothKey);
         anyNormals = true;
     }
-    if (!anyNormals) mesh.normals.clear();
-    if (!anyUvs) mesh.uvs.clear();
+    if (!anyNormals) mesh.normals = std::vector<Vec3>();
+    if (!anyUvs) mesh.uvs = std::vector<Vec2>();
     // Tangents for `norm` normal maps (MikkTSpace convention, as Blender's importer reads them).
     if (normalMapped && overrideMaterial < 0) {
         if (anyNormals && anyUvs)
