@@ -1,7 +1,8 @@
 // The OBJ reader's output does not change with its speed (issue 32, "Large files" in
 // docs/obj-assets.md): the committed OBJ scenes and an OBJ of every corner form give the mesh
-// arrays the reader before gave (their hashes), and a large grid loads the same whether its
-// faces name their normals by the vertex's own index or not.
+// arrays the reader before gave (their hashes), also when the file is larger than the blocks
+// tinyobjloader is given (obj_import.cpp's GroupedObjBuffer) and its materials, smoothing groups
+// and texture seams run across them.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -83,6 +84,52 @@ TEST(ObjMeshHash, EveryCornerFormGivesTheMeshOfTheReaderBefore) {
     ASSERT_EQ(detail::sceneData(scene).meshes.size(), 1u);
     EXPECT_EQ(detail::sceneData(scene).meshes[0].triangleCount(), 17u);
     EXPECT_EQ(objMeshArraysHash(scene), 0x4abc2caab266b34dull);
+}
+
+TEST(ObjMeshHash, AFileOfManyBlocksGivesTheMeshOfTheReaderBefore) {
+    // A 240 x 240 grid (about 11 MB of text: three blocks) whose faces change material every
+    // 997, alternate quads and triangle pairs, and where every seventh row names no normals (in
+    // smoothing group 1 or 2) and every fifth row its own texture coordinates (seams): the arrays
+    // e2cacb6's reader gave.
+    test::TempDir dir("obj_mesh_hash_blocks");
+    dir.write("m.mtl", "newmtl a\nKd 0.8 0.2 0.2\nnewmtl b\nKd 0.2 0.8 0.2\n");
+    const int n = 240;
+    std::ostringstream obj;
+    obj << "mtllib m.mtl\n";
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+            obj << "v " << i * 0.01 << ' ' << 0.05 * std::sin(0.3 * i) * std::cos(0.2 * j) << ' '
+                << j * 0.01 << "\nvn " << 0.1 * std::sin(0.3 * i) << " 1 " << 0.1 * std::cos(j)
+                << "\nvt " << i / double(n) << ' ' << j / double(n) << "\n";
+    obj << "vt 0.5 0.5\n";
+    long long faces = 0;
+    for (int j = 0; j < n; ++j) {
+        if (j % 7 == 3) obj << "s " << 1 + j % 2 << "\n";
+        for (int i = 0; i < n; ++i) {
+            const int a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 1, d = c + 1;
+            auto corner = [&](int v) {
+                std::ostringstream k;
+                k << v << '/' << (j % 5 == 2 ? (n + 1) * (n + 1) + 1 : v);
+                if (j % 7 != 3) k << '/' << v;
+                return k.str();
+            };
+            if (faces % 997 == 0) obj << "usemtl " << (faces / 997 % 2 ? "b" : "a") << "\n";
+            if ((i + j) % 2)
+                obj << "f " << corner(a) << ' ' << corner(c) << ' ' << corner(d) << ' ' << corner(b)
+                    << "\n";
+            else
+                obj << "f " << corner(a) << ' ' << corner(c) << ' ' << corner(b) << "\nf "
+                    << corner(b) << ' ' << corner(c) << ' ' << corner(d) << "\n";
+            faces += 1 + (i + j + 1) % 2;
+        }
+        if (j % 7 == 3) obj << "s off\n";
+    }
+    const std::string text = obj.str();
+    ASSERT_GT(text.size(), std::size_t(2) << 22);
+    const Scene scene = loadScene(dir.write("blocks.obj", text));
+    ASSERT_EQ(detail::sceneData(scene).meshes.size(), 1u);
+    EXPECT_EQ(detail::sceneData(scene).meshes[0].triangleCount(), std::size_t(2 * n * n));
+    EXPECT_EQ(objMeshArraysHash(scene), 0x00af050477b4420bull);
 }
 
 }  // namespace

@@ -174,6 +174,51 @@ class ScannedMtlReader final : public tinyobj::MaterialReader {
     bool m_read = false;
 };
 
+// The OBJ file as tinyobjloader reads it: a block at a time, after a UTF-8 byte order mark
+// (which it would read as part of the first statement), with a group statement after the last
+// whole line of each block. The reader keeps each face of a group as an array of its own until
+// the group ends, which for a large file of one group is most of its memory; a group ends the
+// shape but changes nothing the faces hold (their material and smoothing group carry over, and
+// Glint reads no group names).
+class GroupedObjBuffer final : public std::streambuf {
+  public:
+    explicit GroupedObjBuffer(const fs::path& path) : m_in(path, std::ios::binary) {
+        char bom[3] = {};
+        if (!m_in.read(bom, 3) || std::string_view(bom, 3) != "\xEF\xBB\xBF") {
+            m_in.clear();
+            m_in.seekg(0);
+        }
+    }
+    bool good() const { return bool(m_in); }
+
+  protected:
+    int_type underflow() override {
+        if (gptr() < egptr()) return traits_type::to_int_type(*gptr());
+        static constexpr std::size_t kBlock = std::size_t(1) << 22;
+        static constexpr std::string_view kGroup = "g glint-block\n";
+        m_block.assign(m_rest.begin(), m_rest.end());
+        m_rest.clear();
+        const std::size_t had = m_block.size();
+        m_block.resize(had + kBlock);
+        m_in.read(m_block.data() + had, std::streamsize(kBlock));
+        m_block.resize(had + std::size_t(std::max<std::streamsize>(m_in.gcount(), 0)));
+        if (m_block.empty()) return traits_type::eof();
+        const auto newline = std::find(m_block.rbegin(), m_block.rend(), '\n');
+        if (m_in && newline != m_block.rend()) {  // more to come: a group after the last line
+            const auto end = m_block.begin() + (m_block.rend() - newline);
+            m_rest.assign(end, m_block.end());
+            m_block.erase(end, m_block.end());
+            m_block.insert(m_block.end(), kGroup.begin(), kGroup.end());
+        }
+        setg(m_block.data(), m_block.data(), m_block.data() + m_block.size());
+        return traits_type::to_int_type(m_block[0]);
+    }
+
+  private:
+    std::ifstream m_in;
+    std::vector<char> m_block, m_rest;
+};
+
 }  // namespace
 
 std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affine>& poses,
@@ -194,13 +239,11 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     std::vector<tinyobj::shape_t> shapes;
     std::vector<tinyobj::material_t> materials;
     {
-        // Read from the file as it goes (the scan has released its text), after a UTF-8 byte
-        // order mark, which tinyobjloader would read as part of the first statement.
-        std::ifstream text(objPath, std::ios::binary);
-        char bom[3] = {};
-        if (!text.read(bom, 3) || std::string_view(bom, 3) != "\xEF\xBB\xBF") text.clear();
-        if (!text.seekg(std::string_view(bom, 3) == "\xEF\xBB\xBF" ? 3 : 0))
+        // Read from the file as it goes (the scan has released its text), in blocks.
+        GroupedObjBuffer buffer(objPath);
+        if (!buffer.good())
             throw Error(ErrorKind::Io, "cannot read the OBJ file", objPath.string());
+        std::istream text(&buffer);
         ScannedMtlReader mtlReader(lines.mtlFiles);
         std::string warn, err;
         if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &text, &mtlReader,
@@ -406,7 +449,7 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
         }
         return next;
     };
-    for (const tinyobj::shape_t& shape : shapes) {
+    for (tinyobj::shape_t& shape : shapes) {
         const auto& faces = shape.mesh;
         std::size_t offset = 0;
         std::vector<Vec3> polygon;
@@ -452,6 +495,7 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
             }
             offset += fv;
         }
+        shape = tinyobj::shape_t();  // released as it is read
     }
     // What the reader gave is no longer needed.
     attrib = tinyobj::attrib_t(), shapes = std::vector<tinyobj::shape_t>();
