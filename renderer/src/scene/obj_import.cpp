@@ -8,6 +8,9 @@
 #include <sstream>
 #include <string_view>
 #include <unordered_map>
+#if defined(__GLIBC__)
+#include <malloc.h>  // malloc_trim
+#endif
 
 #include <tiny_obj_loader.h>
 
@@ -449,6 +452,7 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
         }
         return next;
     };
+    std::size_t released = 0;  // bytes of the shapes released since the heap was trimmed
     for (tinyobj::shape_t& shape : shapes) {
         const auto& faces = shape.mesh;
         std::size_t offset = 0;
@@ -495,7 +499,16 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
             }
             offset += fv;
         }
-        shape = tinyobj::shape_t();  // released as it is read
+        // Released as it is read, and its pages handed back to the system (the heap would
+        // keep them) every 8 MB, so that the mesh's arrays take their place instead of adding
+        // to them.
+        released += faces.indices.size() * sizeof(tinyobj::index_t) +
+                    faces.num_face_vertices.size() + 4 * faces.material_ids.size() +
+                    4 * faces.smoothing_group_ids.size();
+        shape = tinyobj::shape_t();
+#if defined(__GLIBC__)
+        if (released >= (std::size_t(8) << 20)) malloc_trim(0), released = 0;
+#endif
     }
     // What the reader gave is no longer needed.
     attrib = tinyobj::attrib_t(), shapes = std::vector<tinyobj::shape_t>();
