@@ -6,7 +6,8 @@
 //   bench_asset_load load FILE [--threads T] [--accel auto|triangles|clusters] [--rays N]
 //                       load it and build its BVH; prints JSON
 // Run `load` in a fresh process (as docs/assets.md and docs/obj-assets.md do) so that the peak
-// resident size is the asset's alone. "meshBytes" is the asset's vertex and index data (a .glb's
+// resident size is the asset's alone ("loadCpuSeconds": the process's user + system time while
+// loading). "meshBytes" is the asset's vertex and index data (a .glb's
 // BIN chunk; else the bytes of Glint's mesh arrays); "loadPeakRss"
 // the peak after loading (before the BVH), "peakRss" the peak once the BVH is built; "rss" the
 // resident size once built, and "trimmedRss" after malloc_trim(0) hands freed heap back.
@@ -267,8 +268,9 @@ int load(const std::string& file, int threads, glint::render::Accel accel, long 
     tbb::global_control workers(tbb::global_control::max_allowed_parallelism,
                                 std::size_t(std::max(1, threads)));
     const auto start = Clock::now();
+    const double startCpu = cpuSeconds();
     glint::render::Scene scene = glint::render::loadScene(file);
-    const double loadSeconds = seconds(start);
+    const double loadSeconds = seconds(start), loadCpuSeconds = cpuSeconds() - startCpu;
     const double loadPeak = peakRssBytes();
     const auto bvhStart = Clock::now();
     glint::render::Renderer renderer(std::move(scene), accel);
@@ -284,6 +286,7 @@ int load(const std::string& file, int threads, glint::render::Accel accel, long 
                           {"triangles", renderer.scene().triangleCount()},
                           {"meshBytes", mesh},
                           {"loadSeconds", loadSeconds},
+                          {"loadCpuSeconds", loadCpuSeconds},
                           {"bvhSeconds", bvhSeconds},
                           {"setupSeconds", loadSeconds + bvhSeconds},
                           {"loadPeakRss", loadPeak},
