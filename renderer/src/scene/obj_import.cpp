@@ -33,6 +33,12 @@ struct Corner {
     unsigned group;
     bool operator==(const Corner&) const = default;
 };
+/// A corner at a known position: its normal, texture coordinate and smoothing group.
+struct CornerAt {
+    int n, t;
+    unsigned group;
+    bool operator==(const CornerAt&) const = default;
+};
 constexpr std::uint32_t kNoVertex = ~0u;
 struct CornerHash {
     std::size_t operator()(const Corner& c) const {
@@ -186,6 +192,9 @@ class ScannedMtlReader final : public tinyobj::MaterialReader {
 class GroupedObjBuffer final : public std::streambuf {
   public:
     explicit GroupedObjBuffer(const fs::path& path) : m_in(path, std::ios::binary) {
+        // A block of at most the file's size: a small file's block is small.
+        std::error_code ec;
+        m_blockSize = std::clamp<std::uintmax_t>(fs::file_size(path, ec), 1, m_blockSize);
         char bom[3] = {};
         if (!m_in.read(bom, 3) || std::string_view(bom, 3) != "\xEF\xBB\xBF") {
             m_in.clear();
@@ -197,13 +206,12 @@ class GroupedObjBuffer final : public std::streambuf {
   protected:
     int_type underflow() override {
         if (gptr() < egptr()) return traits_type::to_int_type(*gptr());
-        static constexpr std::size_t kBlock = std::size_t(1) << 22;
         static constexpr std::string_view kGroup = "g glint-block\n";
         m_block.assign(m_rest.begin(), m_rest.end());
         m_rest.clear();
         const std::size_t had = m_block.size();
-        m_block.resize(had + kBlock);
-        m_in.read(m_block.data() + had, std::streamsize(kBlock));
+        m_block.resize(had + m_blockSize);
+        m_in.read(m_block.data() + had, std::streamsize(m_blockSize));
         m_block.resize(had + std::size_t(std::max<std::streamsize>(m_in.gcount(), 0)));
         if (m_block.empty()) return traits_type::eof();
         const auto newline = std::find(m_block.rbegin(), m_block.rend(), '\n');
@@ -219,6 +227,7 @@ class GroupedObjBuffer final : public std::streambuf {
 
   private:
     std::ifstream m_in;
+    std::size_t m_blockSize = std::size_t(1) << 22;
     std::vector<char> m_block, m_rest;
 };
 
@@ -387,6 +396,7 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
                         "line " + std::to_string(lines.vertices[i]));
         }
     }
+    lines.vertices = std::vector<int>();
 
     // One mesh vertex per distinct (position, normal, texture coordinate) triple of the faces,
     // numbered in the order the faces first name them. The first corner named at each position
@@ -394,7 +404,7 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     // seams, hard edges) go to a map.
     Mesh mesh;
     mesh.name = objPath.filename().string();
-    std::vector<Corner> firstCorner(vertexCount);
+    std::vector<CornerAt> firstCorner(vertexCount);
     std::vector<std::uint32_t> firstVertex(vertexCount, kNoVertex);
     std::unordered_map<Corner, std::uint32_t, CornerHash> corners;
     bool anyNormals = false, anyUvs = false, anySmoothed = false;
@@ -419,8 +429,8 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
         const auto next = std::uint32_t(mesh.positions.size());
         const std::size_t at = std::size_t(idx.vertex_index);
         if (firstVertex[at] == kNoVertex) {
-            firstVertex[at] = next, firstCorner[at] = key;
-        } else if (firstCorner[at] == key) {
+            firstVertex[at] = next, firstCorner[at] = {key.n, key.t, key.group};
+        } else if (firstCorner[at] == CornerAt{key.n, key.t, key.group}) {
             return firstVertex[at];
         } else if (const auto [it, inserted] = corners.try_emplace(key, next); !inserted) {
             return it->second;
@@ -512,7 +522,7 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     }
     // What the reader gave is no longer needed.
     attrib = tinyobj::attrib_t(), shapes = std::vector<tinyobj::shape_t>();
-    corners = decltype(corners)(), firstCorner = std::vector<Corner>();
+    corners = decltype(corners)(), firstCorner = std::vector<CornerAt>();
     firstVertex = std::vector<std::uint32_t>();
     if (anySmoothed) {
         smoothKey.resize(mesh.positions.size(), 0);
