@@ -1,10 +1,14 @@
-// bench_asset_load: how long a large glTF asset takes to set up and how much memory it needs.
-//   bench_asset_load write FILE.glb [--triangles N]   a wavy grid of about N triangles
-//                                                      (positions, normals, 32-bit indices)
-//   bench_asset_load load FILE.glb [--threads T] [--accel auto|triangles|clusters] [--rays N]
-//                                                      load it and build its BVH; prints JSON
-// Run `load` in a fresh process (as docs/assets.md does) so that the peak resident size is the
-// asset's alone. "meshBytes" is the asset's vertex and index data (its BIN chunk); "loadPeakRss"
+// bench_asset_load: how long a large glTF or OBJ asset takes to set up and how much memory it
+// needs.
+//   bench_asset_load write FILE.glb|FILE.obj [--triangles N]
+//                       a wavy grid of about N triangles (positions, normals, 32-bit indices);
+//                       as OBJ text, `v`, `vn` and faces `f a//a b//b c//c`
+//   bench_asset_load load FILE [--threads T] [--accel auto|triangles|clusters] [--rays N]
+//                       load it and build its BVH; prints JSON
+// Run `load` in a fresh process (as docs/assets.md and docs/obj-assets.md do) so that the peak
+// resident size is the asset's alone ("loadCpuSeconds": the process's user + system time while
+// loading). "meshBytes" is the asset's vertex and index data (a .glb's
+// BIN chunk; else the bytes of Glint's mesh arrays); "loadPeakRss"
 // the peak after loading (before the BVH), "peakRss" the peak once the BVH is built; "rss" the
 // resident size once built, and "trimmedRss" after malloc_trim(0) hands freed heap back.
 // "glintMesh" counts Glint's mesh arrays byte by byte (their sizes, and "capacity" what is
@@ -94,9 +98,15 @@ void append32(std::string& out, std::uint32_t v) {
     for (int i = 0; i < 4; ++i) out.push_back(char((v >> (8 * i)) & 0xffu));
 }
 
-/// Writes a .glb of one mesh: an nx × ny grid of quads (two triangles each) over [-1, 1]²,
-/// gently waved so that its BVH is not that of a flat plane.
-void writeGrid(const std::string& file, long long triangles) {
+/// An nx × ny grid of quads (two triangles each) over [-1, 1]², gently waved so that its BVH is
+/// not that of a flat plane.
+struct Grid {
+    int nx = 0, ny = 0;
+    std::vector<float> positions, normals;
+    std::vector<std::uint32_t> indices;
+};
+
+Grid makeGrid(long long triangles) {
     const int ny = std::max(1, int(std::sqrt(double(triangles) / 4.0)));
     const int nx = std::max(1, int(triangles / (2LL * ny)));
     const std::size_t vertices = std::size_t(nx + 1) * std::size_t(ny + 1);
@@ -119,6 +129,49 @@ void writeGrid(const std::string& file, long long triangles) {
                                 c = a + std::uint32_t(nx + 1), d = c + 1;
             indices.insert(indices.end(), {a, c, b, b, c, d});
         }
+    return {nx, ny, std::move(positions), std::move(normals), std::move(indices)};
+}
+
+/// Writes the grid as OBJ text (to a temporary name, then renamed): every position and normal
+/// as `v` and `vn` (printf's %g: 6 significant digits, as exporters often write), each triangle
+/// `f a//a b//b c//c`.
+void writeGridObj(const std::string& file, const Grid& grid) {
+    const std::string part = file + ".part";
+    {
+        std::FILE* out = std::fopen(part.c_str(), "wb");
+        if (!out) throw std::runtime_error("cannot write " + part);
+        const std::size_t vertices = grid.positions.size() / 3;
+        for (std::size_t i = 0; i < vertices; ++i) {
+            const float* p = &grid.positions[3 * i];
+            std::fprintf(out, "v %g %g %g\n", double(p[0]), double(p[1]), double(p[2]));
+        }
+        for (std::size_t i = 0; i < vertices; ++i) {
+            const float* n = &grid.normals[3 * i];
+            std::fprintf(out, "vn %g %g %g\n", double(n[0]), double(n[1]), double(n[2]));
+        }
+        for (std::size_t t = 0; t < grid.indices.size(); t += 3) {
+            const std::uint32_t* f = &grid.indices[t];
+            std::fprintf(out, "f %u//%u %u//%u %u//%u\n", f[0] + 1, f[0] + 1, f[1] + 1, f[1] + 1,
+                         f[2] + 1, f[2] + 1);
+        }
+        if (std::fclose(out) != 0) throw std::runtime_error("cannot write " + part);
+    }
+    if (std::rename(part.c_str(), file.c_str()) != 0)
+        throw std::runtime_error("cannot rename " + part + " to " + file);
+    std::printf("%s: %zu triangles, %zu vertices, %.1f MB of mesh data\n", file.c_str(),
+                grid.indices.size() / 3, grid.positions.size() / 3,
+                double(4 * (2 * grid.positions.size() + grid.indices.size())) / 1e6);
+}
+
+/// Writes a .glb of one mesh: the grid.
+void writeGrid(const std::string& file, long long triangles) {
+    const Grid grid = makeGrid(triangles);
+    if (file.size() >= 4 && file.compare(file.size() - 4, 4, ".obj") == 0)
+        return writeGridObj(file, grid);
+    const int nx = grid.nx, ny = grid.ny;
+    const std::size_t vertices = grid.positions.size() / 3;
+    const std::vector<float>&positions = grid.positions, &normals = grid.normals;
+    const std::vector<std::uint32_t>& indices = grid.indices;
     const std::size_t pBytes = positions.size() * 4, iBytes = indices.size() * 4;
     const std::size_t binBytes = 2 * pBytes + iBytes;
     const nlohmann::json doc = {
@@ -215,8 +268,9 @@ int load(const std::string& file, int threads, glint::render::Accel accel, long 
     tbb::global_control workers(tbb::global_control::max_allowed_parallelism,
                                 std::size_t(std::max(1, threads)));
     const auto start = Clock::now();
+    const double startCpu = cpuSeconds();
     glint::render::Scene scene = glint::render::loadScene(file);
-    const double loadSeconds = seconds(start);
+    const double loadSeconds = seconds(start), loadCpuSeconds = cpuSeconds() - startCpu;
     const double loadPeak = peakRssBytes();
     const auto bvhStart = Clock::now();
     glint::render::Renderer renderer(std::move(scene), accel);
@@ -225,18 +279,21 @@ int load(const std::string& file, int threads, glint::render::Accel accel, long 
     malloc_trim(0);
     const double trimmedRss = rssBytes();
     const auto embree = glint::render::detail::accelerationMemory(renderer);
-    const double mesh = binChunkBytes(file);
+    const nlohmann::json arrays = meshArrays(renderer.scene());
+    const bool glb = file.size() >= 4 && file.compare(file.size() - 4, 4, ".glb") == 0;
+    const double mesh = glb ? binChunkBytes(file) : arrays["total"].get<double>();
     nlohmann::json out = {{"file", file},
                           {"triangles", renderer.scene().triangleCount()},
                           {"meshBytes", mesh},
                           {"loadSeconds", loadSeconds},
+                          {"loadCpuSeconds", loadCpuSeconds},
                           {"bvhSeconds", bvhSeconds},
                           {"setupSeconds", loadSeconds + bvhSeconds},
                           {"loadPeakRss", loadPeak},
                           {"peakRss", peak},
                           {"rss", rss},
                           {"trimmedRss", trimmedRss},
-                          {"glintMesh", meshArrays(renderer.scene())},
+                          {"glintMesh", arrays},
                           {"embree", {{"bytes", embree.current}, {"peakBytes", embree.peak}}},
                           {"accel", glint::render::accelName(accel)},
                           {"bvh", embree.clusteredMeshes > 0 ? "clusters" : "triangles"},
@@ -256,9 +313,10 @@ int load(const std::string& file, int threads, glint::render::Accel accel, long 
 
 int main(int argc, char** argv) {
     if (argc < 3) {
-        std::fprintf(stderr,
-                     "usage: bench_asset_load write|load FILE.glb [--triangles N] [--threads T] "
-                     "[--accel auto|triangles|clusters] [--rays N]\n");
+        std::fprintf(
+            stderr,
+            "usage: bench_asset_load write|load FILE.glb|FILE.obj [--triangles N] [--threads T] "
+            "[--accel auto|triangles|clusters] [--rays N]\n");
         return 2;
     }
     const std::string mode = argv[1], file = argv[2];

@@ -4,8 +4,13 @@
 // alpha (docs/obj-assets.md).
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <sstream>
+#include <string_view>
 #include <unordered_map>
+#if defined(__GLIBC__)
+#include <malloc.h>  // malloc_trim
+#endif
 
 #include <tiny_obj_loader.h>
 
@@ -28,6 +33,13 @@ struct Corner {
     unsigned group;
     bool operator==(const Corner&) const = default;
 };
+/// A corner at a known position: its normal, texture coordinate and smoothing group.
+struct CornerAt {
+    int n, t;
+    unsigned group;
+    bool operator==(const CornerAt&) const = default;
+};
+constexpr std::uint32_t kNoVertex = ~0u;
 struct CornerHash {
     std::size_t operator()(const Corner& c) const {
         std::uint64_t h = std::uint64_t(std::uint32_t(c.v)) * 0x9e3779b97f4a7c15ULL;
@@ -171,6 +183,54 @@ class ScannedMtlReader final : public tinyobj::MaterialReader {
     bool m_read = false;
 };
 
+// The OBJ file as tinyobjloader reads it: a block at a time, after a UTF-8 byte order mark
+// (which it would read as part of the first statement), with a group statement after the last
+// whole line of each block. The reader keeps each face of a group as an array of its own until
+// the group ends, which for a large file of one group is most of its memory; a group ends the
+// shape but changes nothing the faces hold (their material and smoothing group carry over, and
+// Glint reads no group names).
+class GroupedObjBuffer final : public std::streambuf {
+  public:
+    explicit GroupedObjBuffer(const fs::path& path) : m_in(path, std::ios::binary) {
+        // A block of at most the file's size: a small file's block is small.
+        std::error_code ec;
+        m_blockSize = std::clamp<std::uintmax_t>(fs::file_size(path, ec), 1, m_blockSize);
+        char bom[3] = {};
+        if (!m_in.read(bom, 3) || std::string_view(bom, 3) != "\xEF\xBB\xBF") {
+            m_in.clear();
+            m_in.seekg(0);
+        }
+    }
+    bool good() const { return bool(m_in); }
+
+  protected:
+    int_type underflow() override {
+        if (gptr() < egptr()) return traits_type::to_int_type(*gptr());
+        static constexpr std::string_view kGroup = "g glint-block\n";
+        m_block.assign(m_rest.begin(), m_rest.end());
+        m_rest.clear();
+        const std::size_t had = m_block.size();
+        m_block.resize(had + m_blockSize);
+        m_in.read(m_block.data() + had, std::streamsize(m_blockSize));
+        m_block.resize(had + std::size_t(std::max<std::streamsize>(m_in.gcount(), 0)));
+        if (m_block.empty()) return traits_type::eof();
+        const auto newline = std::find(m_block.rbegin(), m_block.rend(), '\n');
+        if (m_in && newline != m_block.rend()) {  // more to come: a group after the last line
+            const auto end = m_block.begin() + (m_block.rend() - newline);
+            m_rest.assign(end, m_block.end());
+            m_block.erase(end, m_block.end());
+            m_block.insert(m_block.end(), kGroup.begin(), kGroup.end());
+        }
+        setg(m_block.data(), m_block.data(), m_block.data() + m_block.size());
+        return traits_type::to_int_type(m_block[0]);
+    }
+
+  private:
+    std::ifstream m_in;
+    std::size_t m_blockSize = std::size_t(1) << 22;
+    std::vector<char> m_block, m_rest;
+};
+
 }  // namespace
 
 std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affine>& poses,
@@ -183,7 +243,7 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
         throw Error(ErrorKind::Io, "'" + objPath.string() + "' is not a file",
                     m_reader.file().string(), where + "/obj");
     // Indices and numbers checked with their line first: tinyobjloader trusts them.
-    const ObjLines lines = scanObj(objPath);
+    ObjLines lines = scanObj(objPath);
 
     // Faces come whole: tinyobjloader's triangulation splits a concave face wrongly, and
     // differently where it sits; polygon_triangulation.cpp clips ears in the face's plane.
@@ -191,7 +251,11 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     std::vector<tinyobj::shape_t> shapes;
     std::vector<tinyobj::material_t> materials;
     {
-        std::istringstream text(readObjText(objPath, "OBJ"));
+        // Read from the file as it goes (the scan has released its text), in blocks.
+        GroupedObjBuffer buffer(objPath);
+        if (!buffer.good())
+            throw Error(ErrorKind::Io, "cannot read the OBJ file", objPath.string());
+        std::istream text(&buffer);
         ScannedMtlReader mtlReader(lines.mtlFiles);
         std::string warn, err;
         if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &text, &mtlReader,
@@ -313,8 +377,8 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     const std::size_t vertexCount = attrib.vertices.size() / 3;
     const std::size_t normalCount = attrib.normals.size() / 3;
     const std::size_t texcoordCount = attrib.texcoords.size() / 2;
-    if (vertexCount != lines.vertices.size() || normalCount != lines.normals.size() ||
-        texcoordCount != lines.texcoords.size())
+    if (vertexCount != lines.vertices.size() || normalCount != lines.normalCount ||
+        texcoordCount != lines.texcoordCount)
         throw Error(ErrorKind::Format, "the OBJ reader and the scan disagree on the statements",
                     objPath.string());
     // Every vertex in every pose of the shape: finite and within kMaxCoordinate, so that areas,
@@ -332,13 +396,26 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
                         "line " + std::to_string(lines.vertices[i]));
         }
     }
+    lines.vertices = std::vector<int>();
 
-    // One mesh vertex per distinct (position, normal, texture coordinate) triple of the faces.
+    // One mesh vertex per distinct (position, normal, texture coordinate) triple of the faces,
+    // numbered in the order the faces first name them. The first corner named at each position
+    // is held in a flat table (a grid's `a//a` corners are all such); only the others (texture
+    // seams, hard edges) go to a map.
     Mesh mesh;
     mesh.name = objPath.filename().string();
+    std::vector<CornerAt> firstCorner(vertexCount);
+    std::vector<std::uint32_t> firstVertex(vertexCount, kNoVertex);
     std::unordered_map<Corner, std::uint32_t, CornerHash> corners;
     bool anyNormals = false, anyUvs = false, anySmoothed = false;
-    std::vector<std::uint64_t> smoothKey;  // per mesh vertex (smoothGroupNormals)
+    std::vector<std::uint64_t> smoothKey;  // per mesh vertex once one is smoothed
+    std::size_t triangleCount = 0;
+    for (const tinyobj::shape_t& shape : shapes)
+        for (const unsigned char fv : shape.mesh.num_face_vertices) triangleCount += fv - 2u;
+    mesh.indices.reserve(3 * triangleCount);
+    mesh.positions.reserve(vertexCount);
+    if (normalCount > 0) mesh.normals.reserve(vertexCount);
+    if (texcoordCount > 0) mesh.uvs.reserve(vertexCount);
     auto addCorner = [&](tinyobj::index_t idx, unsigned group) -> std::uint32_t {
         // Normals and texture coordinates named in a file that has none are ignored (scanObj).
         if (normalCount == 0) idx.normal_index = -1;
@@ -347,34 +424,46 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
         if (idx.vertex_index < 0 || std::size_t(idx.vertex_index) >= vertexCount ||
             idx.normal_index >= int(normalCount) || idx.texcoord_index >= int(texcoordCount))
             throw Error(ErrorKind::Format, "a face index is out of range", objPath.string());
-        const auto [it, inserted] =
-            corners.try_emplace(Corner{idx.vertex_index, idx.normal_index, idx.texcoord_index,
-                                       idx.normal_index >= 0 ? 0u : group},
-                                std::uint32_t(mesh.positions.size()));
-        if (!inserted) return it->second;
-        const float* p = &attrib.vertices[3 * std::size_t(idx.vertex_index)];
+        const Corner key{idx.vertex_index, idx.normal_index, idx.texcoord_index,
+                         idx.normal_index >= 0 ? 0u : group};
+        const auto next = std::uint32_t(mesh.positions.size());
+        const std::size_t at = std::size_t(idx.vertex_index);
+        if (firstVertex[at] == kNoVertex) {
+            firstVertex[at] = next, firstCorner[at] = {key.n, key.t, key.group};
+        } else if (firstCorner[at] == CornerAt{key.n, key.t, key.group}) {
+            return firstVertex[at];
+        } else if (const auto [it, inserted] = corners.try_emplace(key, next); !inserted) {
+            return it->second;
+        }
+        const float* p = &attrib.vertices[3 * at];
         mesh.positions.push_back({p[0], p[1], p[2]});
-        Vec3 n{};
-        if (idx.normal_index >= 0) {
-            const float* q = &attrib.normals[3 * std::size_t(idx.normal_index)];
-            n = {q[0], q[1], q[2]};
-            anyNormals = anyNormals || length(n) > 0.0f;
+        if (normalCount > 0) {  // else every normal is zero (or smoothed below)
+            Vec3 n{};
+            if (idx.normal_index >= 0) {
+                const float* q = &attrib.normals[3 * std::size_t(idx.normal_index)];
+                n = {q[0], q[1], q[2]};
+                anyNormals = anyNormals || length(n) > 0.0f;
+            }
+            mesh.normals.push_back(n);
         }
-        mesh.normals.push_back(n);
-        const bool smoothed = idx.normal_index < 0 && group != 0;
-        anySmoothed = anySmoothed || smoothed;
-        smoothKey.push_back(
-            smoothed ? (std::uint64_t(idx.vertex_index) + 1) << 32 | std::uint64_t(group) : 0);
-        Vec2 uv{};
-        if (idx.texcoord_index >= 0) {
-            const float* t = &attrib.texcoords[2 * std::size_t(idx.texcoord_index)];
-            uv = {t[0], t[1]};
-            anyUvs = true;
+        if (idx.normal_index < 0 && group != 0) {
+            anySmoothed = true;
+            smoothKey.resize(next, 0);
+            smoothKey.push_back((std::uint64_t(idx.vertex_index) + 1) << 32 | std::uint64_t(group));
         }
-        mesh.uvs.push_back(uv);
-        return it->second;
+        if (texcoordCount > 0) {  // else every uv is zero, and none is kept
+            Vec2 uv{};
+            if (idx.texcoord_index >= 0) {
+                const float* t = &attrib.texcoords[2 * std::size_t(idx.texcoord_index)];
+                uv = {t[0], t[1]};
+                anyUvs = true;
+            }
+            mesh.uvs.push_back(uv);
+        }
+        return next;
     };
-    for (const tinyobj::shape_t& shape : shapes) {
+    std::size_t released = 0;  // bytes of the shapes released since the heap was trimmed
+    for (tinyobj::shape_t& shape : shapes) {
         const auto& faces = shape.mesh;
         std::size_t offset = 0;
         std::vector<Vec3> polygon;
@@ -420,13 +509,29 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
             }
             offset += fv;
         }
+        // Released as it is read, and its pages handed back to the system (the heap would
+        // keep them) every 8 MB, so that the mesh's arrays take their place instead of adding
+        // to them.
+        released += faces.indices.size() * sizeof(tinyobj::index_t) +
+                    faces.num_face_vertices.size() + 4 * faces.material_ids.size() +
+                    4 * faces.smoothing_group_ids.size();
+        shape = tinyobj::shape_t();
+#if defined(__GLIBC__)
+        if (released >= (std::size_t(8) << 20)) malloc_trim(0), released = 0;
+#endif
     }
+    // What the reader gave is no longer needed.
+    attrib = tinyobj::attrib_t(), shapes = std::vector<tinyobj::shape_t>();
+    corners = decltype(corners)(), firstCorner = std::vector<CornerAt>();
+    firstVertex = std::vector<std::uint32_t>();
     if (anySmoothed) {
+        smoothKey.resize(mesh.positions.size(), 0);
+        mesh.normals.resize(mesh.positions.size());  // zero where the file gave none
         smoothGroupNormals(mesh, smoothKey);
         anyNormals = true;
     }
-    if (!anyNormals) mesh.normals.clear();
-    if (!anyUvs) mesh.uvs.clear();
+    if (!anyNormals) mesh.normals = std::vector<Vec3>();
+    if (!anyUvs) mesh.uvs = std::vector<Vec2>();
     // Tangents for `norm` normal maps (MikkTSpace convention, as Blender's importer reads them).
     if (normalMapped && overrideMaterial < 0) {
         if (anyNormals && anyUvs)

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <sstream>
+#include <string_view>
 
 #include "glint/image/error.h"
 #include "scene/scene_data.h"
@@ -23,29 +25,66 @@ std::string shorten(const std::string& s) {
     return s.size() > 40 ? s.substr(0, 37) + "..." : s;
 }
 
-// Parses whitespace-separated finite numbers after the keyword; between lo and hi of them.
-void checkNumbers(std::istringstream& in, const std::filesystem::path& path, int line,
-                  const std::string& keyword, int lo, int hi) {
-    std::string token;
+// Whitespace as `>>` reads it (the "C" locale's, newline aside: lines are split at it).
+constexpr bool isBlank(char c) {
+    return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
+
+/// The whitespace-separated tokens of one line, read in place.
+struct LineTokens {
+    const char* at;
+    const char* end;
+    bool next(std::string_view& token) {
+        while (at < end && isBlank(*at)) ++at;
+        if (at == end) return false;
+        const char* from = at;
+        while (at < end && !isBlank(*at)) ++at;
+        token = {from, std::size_t(at - from)};
+        return true;
+    }
+};
+
+// Finite numbers after the keyword, between lo and hi of them; returns their count.
+// std::from_chars reads the plain ones, strtod (as C reads numbers) any token it does not read
+// whole.
+int checkNumberTokens(LineTokens in, const std::filesystem::path& path, int line,
+                      std::string_view keyword, int lo, int hi) {
+    std::string_view token;
     int count = 0;
-    while (in >> token) {
-        char* end = nullptr;
-        const double v = std::strtod(token.c_str(), &end);
-        if (end == token.c_str() || *end != '\0')
-            fail(path, line,
-                 "expected numbers after '" + keyword + "', got '" + shorten(token) + "'");
+    while (in.next(token)) {
+        double v = 0.0;
+        const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
+        if (ec != std::errc() || end != token.data() + token.size()) {
+            const std::string text(token);
+            char* stop = nullptr;
+            v = std::strtod(text.c_str(), &stop);
+            if (stop == text.c_str() || *stop != '\0')
+                fail(path, line,
+                     "expected numbers after '" + std::string(keyword) + "', got '" +
+                         shorten(text) + "'");
+        }
         if (!std::isfinite(v) || std::fabs(v) > 3.0e38)
-            fail(
-                path, line,
-                "'" + keyword + "' has a non-finite or overflowing value '" + shorten(token) + "'");
+            fail(path, line,
+                 "'" + std::string(keyword) + "' has a non-finite or overflowing value '" +
+                     shorten(std::string(token)) + "'");
         ++count;
     }
     if (count < lo || count > hi)
         fail(
             path, line,
-            "'" + keyword + "' needs " +
+            "'" + std::string(keyword) + "' needs " +
                 (lo == hi ? std::to_string(lo) : std::to_string(lo) + " to " + std::to_string(hi)) +
                 " numbers, got " + std::to_string(count));
+    return count;
+}
+
+// The same over the rest of a line's stream.
+void checkNumbers(std::istringstream& in, const std::filesystem::path& path, int line,
+                  const std::string& keyword, int lo, int hi) {
+    std::string rest;
+    std::getline(in, rest);
+    checkNumberTokens(LineTokens{rest.data(), rest.data() + rest.size()}, path, line, keyword, lo,
+                      hi);
 }
 
 // Resolves one OBJ index (1-based, or negative relative to `count` statements so far) and
@@ -64,10 +103,6 @@ void checkIndex(const std::string& text, long long count, long long total, const
                  std::to_string(total) + " " + what + " statement" + (total == 1 ? "" : "s") +
                  (i < 0 ? ", " + std::to_string(count) + " before this line" : "") + ")");
 }
-
-}  // namespace
-
-namespace {
 
 /// Refuses a file that is not text before reading it whole (a 2 GB file of zeros is decided by
 /// its first bytes): a NUL or another control character than tab, CR, LF, FF or VT in the first
@@ -88,10 +123,6 @@ void checkText(const std::filesystem::path& path, const char* kind) {
                         path.string(), "line " + std::to_string(line));
     }
 }
-
-}  // namespace
-
-namespace {
 
 bool sameCaseless(const std::string& a, const std::string& b) {
     return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
@@ -270,14 +301,12 @@ std::filesystem::path findNamedFile(const std::filesystem::path& folder, const s
 }
 
 std::string readObjText(const std::filesystem::path& path, const char* kind) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in)
+    // Read into a string of the file's size (a stream's buffer would grow by doubling).
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    const std::streamoff size = in ? std::streamoff(in.tellg()) : -1;
+    std::string s(std::size_t(std::max<std::streamoff>(size, 0)), '\0');
+    if (size < 0 || !in.seekg(0) || !in.read(s.data(), std::streamsize(s.size())))
         throw Error(ErrorKind::Io, std::string("cannot read the ") + kind + " file", path.string());
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad())
-        throw Error(ErrorKind::Io, std::string("cannot read the ") + kind + " file", path.string());
-    std::string s = std::move(text).str();
     if (s.rfind("\xEF\xBB\xBF", 0) == 0) s.erase(0, 3);
     return s;
 }
@@ -411,108 +440,126 @@ std::vector<std::string> mtllibNames(std::string rest) {
     return names;
 }
 
+/// Calls `f(line, tokens)` for each line of `text` (as std::getline splits it), 1-based;
+/// returns the number of lines.
+template <typename F>
+int forEachLine(const std::string& text, F&& f) {
+    int line = 0;
+    for (std::size_t at = 0; at < text.size();) {
+        std::size_t nl = text.find('\n', at);
+        if (nl == std::string::npos) nl = text.size();
+        f(++line, LineTokens{text.data() + at, text.data() + nl});
+        at = nl + 1;
+    }
+    return line;
+}
+
+// As checkIndex, in place: an index of plain digits is resolved here, anything else (and every
+// index out of range) by checkIndex, which names it.
+void checkIndexToken(std::string_view text, long long count, long long total, const char* what,
+                     const std::filesystem::path& path, int line) {
+    const bool negative = !text.empty() && text[0] == '-';
+    const std::string_view digits = text.substr(negative ? 1 : 0);
+    if (!digits.empty() && digits.size() <= 18 &&
+        std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+        long long i = 0;
+        for (const char c : digits) i = 10 * i + (c - '0');
+        if (negative) i = -i;
+        const long long resolved = i < 0 ? count + i + 1 : i;
+        if (i != 0 && resolved >= 1 && resolved <= total) return;
+    }
+    checkIndex(std::string(text), count, total, what, path, line);
+}
+
 }  // namespace
 
 ObjLines scanObj(const std::filesystem::path& path) {
     checkText(path, "OBJ");
-    std::vector<std::string> lines;
-    {
-        std::istringstream in(readObjText(path, "OBJ"));
-        for (std::string l; std::getline(in, l);) lines.push_back(std::move(l));
-    }
+    ObjLines out;
+    const std::string text = readObjText(path, "OBJ");  // released when the scan returns
 
     // First pass: every v / vn / vt, so positive face indices can be checked against totals.
-    ObjLines out;
-    for (std::size_t n = 0; n < lines.size(); ++n) {
-        std::istringstream ls(lines[n]);
-        std::string key;
-        if (!(ls >> key)) continue;
-        const int line = int(n) + 1;
+    bool colours = false;
+    const int lineCount = forEachLine(text, [&](int line, LineTokens ls) {
+        std::string_view key;
+        if (!ls.next(key)) return;
         if (key == "v") {
-            const auto values = std::distance(std::istream_iterator<std::string>(ls),
-                                              std::istream_iterator<std::string>());
-            std::istringstream again(lines[n]);
-            again >> key;
-            checkNumbers(again, path, line, key, 3, 7);  // x y z [w] or x y z r g b
-            if (values >= 6 &&
-                std::none_of(out.warnings.begin(), out.warnings.end(), [](const std::string& w) {
-                    return w.find("vertex colours") != std::string::npos;
-                }))
+            const int values = checkNumberTokens(ls, path, line, key, 3, 7);  // x y z [w] / rgb
+            if (values >= 6 && !colours)
                 out.warnings.push_back(path.filename().string() + " line " + std::to_string(line) +
                                        ": vertex colours ('v x y z r g b') are ignored");
+            colours = colours || values >= 6;
             out.vertices.push_back(line);
         } else if (key == "vn") {
-            checkNumbers(ls, path, line, key, 3, 3);
-            out.normals.push_back(line);
+            checkNumberTokens(ls, path, line, key, 3, 3);
+            ++out.normalCount;
         } else if (key == "vt") {
-            checkNumbers(ls, path, line, key, 1, 3);
-            out.texcoords.push_back(line);
+            checkNumberTokens(ls, path, line, key, 1, 3);
+            ++out.texcoordCount;
         }
-    }
+    });
     // Material libraries: each must exist (tinyobjloader reads only the first it finds of a line
     // and calls the others missing).
-    for (std::size_t n = 0; n < lines.size(); ++n) {
-        std::istringstream ls(lines[n]);
-        std::string key, rest;
-        if (!(ls >> key) || key != "mtllib") continue;
-        std::getline(ls, rest);
-        for (const std::string& name : mtllibNames(rest)) {
+    forEachLine(text, [&](int line, LineTokens ls) {
+        std::string_view key;
+        if (!ls.next(key) || key != "mtllib") return;
+        for (const std::string& name : mtllibNames(std::string(ls.at, ls.end))) {
             const std::filesystem::path mtl = findNamedFile(path.parent_path(), name);
             std::error_code ec;
             if (mtl.empty()) {
                 const std::filesystem::path there = path.parent_path() / name;
                 if (std::filesystem::exists(there, ec))  // a folder, a device, a pipe...
-                    fail(path, int(n) + 1,
+                    fail(path, line,
                          "mtllib '" + shorten(name) +
                              "' is not a regular file (expected an MTL file)");
                 throw Error(ErrorKind::Io,
                             "mtllib '" + name + "' not found (looked for " + there.string() + ")",
-                            path.string(), "line " + std::to_string(n + 1));
+                            path.string(), "line " + std::to_string(line));
             }
             if (std::find(out.mtlFiles.begin(), out.mtlFiles.end(), mtl) != out.mtlFiles.end())
                 continue;
             out.mtlFiles.push_back(mtl);
             scanMtl(mtl, out);
         }
-    }
+    });
     // Second pass: faces.
     long long v = 0, vn = 0, vt = 0, faces = 0;
-    const auto nv = (long long)out.vertices.size(), nn = (long long)out.normals.size(),
-               nt = (long long)out.texcoords.size();
-    for (std::size_t n = 0; n < lines.size(); ++n) {
-        std::istringstream ls(lines[n]);
-        std::string key;
-        if (!(ls >> key)) continue;
-        const int line = int(n) + 1;
+    const auto nv = (long long)out.vertices.size(), nn = (long long)out.normalCount,
+               nt = (long long)out.texcoordCount;
+    forEachLine(text, [&](int line, LineTokens ls) {
+        std::string_view key;
+        if (!ls.next(key)) return;
         if (key == "v")
             ++v;
         else if (key == "vn")
             ++vn;
         else if (key == "vt")
             ++vt;
-        if (key != "f") continue;
-        std::string corner;
+        if (key != "f") return;
+        std::string_view corner;
         int corners = 0;
-        while (ls >> corner) {
+        while (ls.next(corner)) {
             // v, v/vt, v//vn or v/vt/vn
             const std::size_t a = corner.find('/');
             const std::size_t b = a == std::string::npos ? a : corner.find('/', a + 1);
-            checkIndex(corner.substr(0, a), v, nv, "vertex", path, line);
+            checkIndexToken(corner.substr(0, a), v, nv, "vertex", path, line);
             if (a != std::string::npos) {
-                const std::string t = corner.substr(a + 1, b == std::string::npos ? b : b - a - 1);
+                const std::string_view t =
+                    corner.substr(a + 1, b == std::string::npos ? b : b - a - 1);
                 // "v/" names no texture coordinate and no normal: not one of the four forms.
                 if (t.empty() && b == std::string::npos)
                     fail(path, line,
-                         "malformed face corner '" + shorten(corner) +
+                         "malformed face corner '" + shorten(std::string(corner)) +
                              "': expected v, v/vt, v//vn or v/vt/vn");
                 // A file with no vt (or no vn) whose faces name some anyway (OpenSubdiv's Maya
                 // shapes): the indices name nothing and are ignored, with a warning.
                 if (!t.empty() && nt == 0 && out.unnamedTexcoordLine == 0)
                     out.unnamedTexcoordLine = line;
-                if (!t.empty() && nt > 0) checkIndex(t, vt, nt, "texture coordinate", path, line);
+                if (!t.empty() && nt > 0)
+                    checkIndexToken(t, vt, nt, "texture coordinate", path, line);
                 if (b != std::string::npos) {
                     if (nn > 0)
-                        checkIndex(corner.substr(b + 1), vn, nn, "normal", path, line);
+                        checkIndexToken(corner.substr(b + 1), vn, nn, "normal", path, line);
                     else if (out.unnamedNormalLine == 0)
                         out.unnamedNormalLine = line;
                 }
@@ -527,7 +574,7 @@ ObjLines scanObj(const std::filesystem::path& path) {
                      std::to_string(kMaxObjFaceCorners) +
                      " are read (split it into faces of fewer corners)");
         ++faces;
-    }
+    });
     for (const auto& [first, what] : {std::pair{out.unnamedTexcoordLine, "texture coordinates"},
                                       std::pair{out.unnamedNormalLine, "normals"}})
         if (first > 0)
@@ -536,7 +583,7 @@ ObjLines scanObj(const std::filesystem::path& path) {
     // Text without a face is no mesh (HTML, a log, an OBJ of points or lines only).
     if (faces == 0)
         throw Error(ErrorKind::Format,
-                    "no faces ('f' statements): not an OBJ mesh (" + std::to_string(lines.size()) +
+                    "no faces ('f' statements): not an OBJ mesh (" + std::to_string(lineCount) +
                         " lines read)",
                     path.string(), "faces");
     return out;

@@ -1,7 +1,7 @@
 // A validating pre-pass over an OBJ file: tinyobjloader does not check what faces reference, nor
 // that numbers are numbers, and it does not say where it read them. The scan names the file and
-// line of the first problem and remembers the line of every vertex, normal and texture
-// coordinate so that later checks (after the shape's transform) can name it too.
+// line of the first problem and remembers the line of every vertex so that later checks (after
+// the shape's transform) can name it too. It reads the text in place, once.
 #pragma once
 
 #include <cstddef>
@@ -39,13 +39,15 @@ struct MtlMaterialInfo {
     MtlTexture mapKd, norm, mapD, bump;
 };
 
-/// Lines (1-based) of the OBJ's `v`, `vn` and `vt` statements, in order; its MTL files (every
+/// Lines (1-based) of the OBJ's `v` statements, in order, and how many `vn` and `vt` it has; its
+/// MTL files (every
 /// `mtllib` name, once, in order); what the scan saw of their materials (the first definition
 /// of a name, as tinyobjloader keeps); and one warning per kind of statement Glint does not read
 /// (a bump map, a texture option, vertex colours, a material defined again...), naming its file
 /// and first line.
 struct ObjLines {
-    std::vector<int> vertices, normals, texcoords;
+    std::vector<int> vertices;
+    std::size_t normalCount = 0, texcoordCount = 0;
     std::vector<std::filesystem::path> mtlFiles;
     std::map<std::string, MtlMaterialInfo> materials;
     std::vector<std::string> warnings;
