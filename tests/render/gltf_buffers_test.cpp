@@ -22,6 +22,7 @@
 #include "glint/image/io.h"
 #include "glint/render/scene.h"
 #include "gltf_builder.h"
+#include "mesh_hash.h"
 #include "scene/gltf_buffers.h"
 #include "scene/gltf_file.h"
 #include "scene/scene_access.h"
@@ -34,25 +35,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace test_gltf;
-
-/// FNV-1a over an array's bytes and its length.
-template <typename T>
-void hashInto(std::uint64_t& h, const std::vector<T>& v) {
-    const auto* p = reinterpret_cast<const unsigned char*>(v.data());
-    for (std::size_t i = 0; i < v.size() * sizeof(T); ++i) h = (h ^ p[i]) * 1099511628211ull;
-    h = (h ^ v.size()) * 1099511628211ull;
-}
-
-/// A hash of every mesh array of a loaded scene, in order.
-std::uint64_t meshArraysHash(const Scene& scene) {
-    std::uint64_t h = 14695981039346656037ull;
-    for (const detail::Mesh& m : detail::sceneData(scene).meshes) {
-        hashInto(h, m.positions), hashInto(h, m.normals), hashInto(h, m.tangents);
-        hashInto(h, m.uvs), hashInto(h, m.uvs1), hashInto(h, m.colors);
-        hashInto(h, m.indices), hashInto(h, m.materials);
-    }
-    return h;
-}
 
 std::vector<unsigned char> readAll(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
@@ -183,7 +165,7 @@ TEST(GltfBuffers, TheCommittedAssetsGiveTheMeshesOfTheLoaderBefore) {
         for (const fs::path& form : threeForms(dir, readAll(fs::path(GLINT_SOURCE_DIR) / asset))) {
             const Scene scene = loadScene(form);
             EXPECT_FALSE(detail::sceneData(scene).meshes.empty());
-            EXPECT_EQ(meshArraysHash(scene), before) << asset << " as " << form.filename();
+            EXPECT_EQ(test::meshArraysHash(scene), before) << asset << " as " << form.filename();
         }
     }
 }
@@ -209,7 +191,7 @@ TEST(GltfBuffers, AMeshOfSeveralPrimitivesIsAllocatedOnceAtItsFinalSize) {
         ASSERT_EQ(detail::sceneData(scene).meshes.size(), 1u);
         const detail::Mesh& m = detail::sceneData(scene).meshes[0];
         // The arrays 0932a18's loader gave (its hash), with no slack.
-        EXPECT_EQ(meshArraysHash(scene), 0xf9e343a4b85fb9a4ull) << form.filename();
+        EXPECT_EQ(test::meshArraysHash(scene), 0xf9e343a4b85fb9a4ull) << form.filename();
         EXPECT_EQ(m.positions.size(), 10u);
         EXPECT_EQ(m.positions.capacity(), m.positions.size() + 1);
         EXPECT_EQ(m.normals.capacity(), m.normals.size());

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "glint/render/scene.h"
+#include "mesh_hash.h"
 #include "scene/scene_access.h"
 #include "scene/scene_data.h"
 #include "test_util.h"
@@ -22,25 +23,6 @@ namespace glint::render {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// FNV-1a over an array's bytes and its length.
-template <typename T>
-void objHashArray(std::uint64_t& h, const std::vector<T>& v) {
-    const auto* p = reinterpret_cast<const unsigned char*>(v.data());
-    for (std::size_t i = 0; i < v.size() * sizeof(T); ++i) h = (h ^ p[i]) * 1099511628211ull;
-    h = (h ^ v.size()) * 1099511628211ull;
-}
-
-/// A hash of every mesh array of a loaded scene, in order.
-std::uint64_t objMeshArraysHash(const Scene& scene) {
-    std::uint64_t h = 14695981039346656037ull;
-    for (const detail::Mesh& m : detail::sceneData(scene).meshes) {
-        objHashArray(h, m.positions), objHashArray(h, m.normals), objHashArray(h, m.tangents);
-        objHashArray(h, m.uvs), objHashArray(h, m.uvs1), objHashArray(h, m.colors);
-        objHashArray(h, m.indices), objHashArray(h, m.materials);
-    }
-    return h;
-}
 
 TEST(ObjMeshHash, TheCommittedObjScenesGiveTheMeshesOfTheReaderBefore) {
     // The hashes as e2cacb6's reader (a scan keeping every line as a string, corners de-duplicated
@@ -59,7 +41,7 @@ TEST(ObjMeshHash, TheCommittedObjScenesGiveTheMeshesOfTheReaderBefore) {
     for (const auto& [file, before] : scenes) {
         const Scene scene = loadScene(fs::path(GLINT_SOURCE_DIR) / file);
         EXPECT_FALSE(detail::sceneData(scene).meshes.empty()) << file;
-        EXPECT_EQ(objMeshArraysHash(scene), before) << file;
+        EXPECT_EQ(test::meshArraysHash(scene), before) << file;
     }
 }
 
@@ -83,7 +65,7 @@ TEST(ObjMeshHash, EveryCornerFormGivesTheMeshOfTheReaderBefore) {
     const Scene scene = loadScene(file);
     ASSERT_EQ(detail::sceneData(scene).meshes.size(), 1u);
     EXPECT_EQ(detail::sceneData(scene).meshes[0].triangleCount(), 17u);
-    EXPECT_EQ(objMeshArraysHash(scene), 0x4abc2caab266b34dull);
+    EXPECT_EQ(test::meshArraysHash(scene), 0x4abc2caab266b34dull);
 }
 
 TEST(ObjMeshHash, AFileOfManyBlocksGivesTheMeshOfTheReaderBefore) {
@@ -129,7 +111,7 @@ TEST(ObjMeshHash, AFileOfManyBlocksGivesTheMeshOfTheReaderBefore) {
     const Scene scene = loadScene(dir.write("blocks.obj", text));
     ASSERT_EQ(detail::sceneData(scene).meshes.size(), 1u);
     EXPECT_EQ(detail::sceneData(scene).meshes[0].triangleCount(), std::size_t(2 * n * n));
-    EXPECT_EQ(objMeshArraysHash(scene), 0x00af050477b4420bull);
+    EXPECT_EQ(test::meshArraysHash(scene), 0x00af050477b4420bull);
 }
 
 }  // namespace
