@@ -81,6 +81,12 @@ void checkPngStructure(std::span<const unsigned char> bytes, const std::string& 
         if ((crc32(&bytes[at + 4], 4 + std::size_t(length)) ^ 0xffffffffu) != stored)
             fail(at, "chunk '" + type + "' fails its CRC");
         if (!sawHeader && type != "IHDR") fail(at, "the first chunk is not IHDR");
+        // libpng prints its own lines for a zero width or height (PNG 1.2, 11.2.2: both >= 1).
+        if (!sawHeader && length >= 8 &&
+            (bigEndian(&bytes[at + 8]) == 0 || bigEndian(&bytes[at + 12]) == 0))
+            fail(at, "IHDR says the image is " + std::to_string(bigEndian(&bytes[at + 8])) + "x" +
+                         std::to_string(bigEndian(&bytes[at + 12])) +
+                         " pixels; a PNG is at least 1x1");
         sawHeader = true;
         sawData = sawData || type == "IDAT";
         at += 12 + std::size_t(length);

@@ -12,6 +12,7 @@
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"
+#include "png_bytes.h"
 
 namespace glint {
 namespace {
@@ -65,6 +66,23 @@ TEST_F(ImageHostile, DamagedPngIsCaughtBeforeLibpng) {
     std::vector<char> flipped = png;
     flipped[flipped.size() - 20] ^= 0x5a;
     expectFormatError(write("flip.png", flipped), "CRC");
+}
+
+TEST_F(ImageHostile, APngOfZeroWidthOrHeightIsOneErrorNotLibpngsLines) {
+    // libpng printed two "libpng error" lines of its own for these.
+    for (const auto& [w, h] : {std::pair{0u, 0u}, std::pair{0u, 5u}, std::pair{5u, 0u}}) {
+        const std::string png = test::pngOfSize(w, h);
+        const fs::path file = write("zero.png", {png.begin(), png.end()});
+        expectFormatError(file, "a PNG is at least 1x1");
+        try {
+            readImage(std::span<const unsigned char>(
+                          reinterpret_cast<const unsigned char*>(png.data()), png.size()),
+                      "embedded.png");
+            ADD_FAILURE() << "embedded bytes were read";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("at least 1x1"), std::string::npos) << e.what();
+        }
+    }
 }
 
 TEST_F(ImageHostile, TruncatedJpegIsRefusedNotDecodedGrey) {
