@@ -110,7 +110,11 @@ class GltfBuilder {
         json d = doc;
         d["buffers"] =
             json::array({{{"byteLength", declaredLength ? declaredLength : bin.size()}}});
-        std::string text = d.dump();
+        return glbOf(d.dump(), withBin);
+    }
+    /// The .glb bytes of the document text `text` (as written, e.g. nested too deep for a json
+    /// value) and, with `withBin`, the buffer as its BIN chunk.
+    std::vector<unsigned char> glbOf(std::string text, bool withBin = true) const {
         while (text.size() % 4) text += ' ';
         std::vector<unsigned char> data = bin;
         while (data.size() % 4) data.push_back(0);

@@ -37,6 +37,94 @@ std::vector<unsigned char> text(const std::string& s) {
     return {s.begin(), s.end()};
 }
 
+/// Assets tinygltf read without a word although glTF 2.0 does not allow them (reliability round
+/// 3): each rendered wrongly (empty, as triangles, without its transform, on a 3 GB film) or
+/// crashed (JSON 30,000 levels deep overflowed the stack).
+std::vector<BadAsset> outOfSpecAssets() {
+    std::vector<BadAsset> cases;
+    auto good = [] {
+        GltfBuilder b;
+        b.scene({b.node({{"mesh", b.quad()}})});
+        return b;
+    };
+    {
+        // 30,000 levels under extras (60 KB): refused at level 257, before any parser.
+        GltfBuilder b = good();
+        const std::string open(30000, '['), close(30000, ']');
+        std::string doc = b.gltf();
+        doc.pop_back();
+        doc += ",\"extras\":";
+        const std::string column = std::to_string(doc.size() + 256);
+        cases.push_back({"deep.gltf", "line 1, column " + column, text(doc + open + close + "}")});
+        std::string chunk = json(b.doc).dump();
+        chunk.pop_back();
+        chunk += ",\"buffers\":[{\"byteLength\":" + std::to_string(b.bin.size()) +
+                 "}],\"extras\":{\"a\":";
+        cases.push_back(
+            {"deep.glb",
+             "line 1, column " + std::to_string(chunk.size() + 255) + " of the JSON chunk",
+             b.glbOf(chunk + open + close + "}}")});
+    }
+    {
+        // Offsets not a multiple of the float components' 4 bytes (rendered as empty sky).
+        GltfBuilder b = good();
+        b.doc["accessors"][0]["byteOffset"] = 2;
+        b.doc["bufferViews"][0]["byteLength"] = 52;
+        cases.push_back({"align.gltf", "accessors[0].byteOffset", text(b.gltf())});
+        b = good();
+        b.doc["bufferViews"][0]["byteOffset"] = 2;
+        cases.push_back({"viewalign.glb", "accessors[0].byteOffset", b.glb()});
+    }
+    {
+        GltfBuilder b = good();
+        b.doc["meshes"][0]["primitives"][0]["mode"] = -1;  // was read as triangles
+        cases.push_back({"modeminus.gltf", "meshes[0].primitives[0].mode", text(b.gltf())});
+    }
+    {
+        GltfBuilder b = good();
+        b.doc["nodes"][0]["translation"] = {"1", "2", "3"};  // was read as no translation
+        cases.push_back({"translation.gltf", "nodes[0].translation", text(b.gltf())});
+    }
+    for (const double aspect : {0.0, 1e-9, -1.0, 1e4}) {
+        // 0 was taken for none; 1e-9 made a 640x16384 film (20.7 s, 3.1 GB).
+        GltfBuilder b = good();
+        b.doc["cameras"] = json::array(
+            {{{"type", "perspective"},
+              {"perspective", {{"yfov", 0.8}, {"znear", 0.01}, {"aspectRatio", aspect}}}}});
+        b.doc["nodes"].push_back({{"camera", 0}, {"translation", {0.5, 0.5, 3}}});
+        b.doc["scenes"][0]["nodes"].push_back(1);
+        cases.push_back({"aspect" + std::to_string(cases.size()) + ".gltf",
+                         "cameras[0].perspective.aspectRatio", text(b.gltf())});
+    }
+    {
+        GltfBuilder b;
+        b.doc["materials"] = json::array({{{"alphaMode", "MASK"}, {"alphaCutoff", -1}}});
+        b.scene({b.node({{"mesh", b.quad(0)}})});
+        cases.push_back({"cutoff.gltf", "materials[0].alphaCutoff", text(b.gltf())});
+    }
+    {
+        // A string: a Draco primitive then rendered empty with one warning.
+        GltfBuilder b = good();
+        b.doc["extensionsRequired"] = "KHR_draco_mesh_compression";
+        cases.push_back({"requiredstring.gltf", "extensionsRequired", text(b.gltf())});
+    }
+    {
+        // A raw json.exception without line or column.
+        GltfBuilder b = good();
+        b.doc["extras"] = 12345;
+        std::string doc = b.gltf();
+        const std::size_t at = doc.find("12345");
+        doc.replace(at, 5, "1e400");
+        cases.push_back({"overflow.gltf", "line 1, column " + std::to_string(at + 1), text(doc)});
+    }
+    {
+        GltfBuilder b = good();
+        b.doc["bufferViews"][0]["byteStride"] = 256;  // was "must be a multiple of 4"
+        cases.push_back({"stride.gltf", "bufferViews[0].byteStride", text(b.gltf())});
+    }
+    return cases;
+}
+
 std::vector<BadAsset> badAssets() {
     std::vector<BadAsset> cases;
     auto good = [] {
@@ -110,7 +198,8 @@ std::vector<BadAsset> badAssets() {
         GltfBuilder b = good();
         const std::size_t binBytes = b.bin.size();
         cases.push_back({"binlength.glb", "buffers[0].byteLength", b.glb(binBytes + 64)});
-        cases.push_back({"nobin.glb", "", b.glb(0, false)});
+        // tinygltf's "Invalid binary data in `Buffer', or GLB with empty BIN chunk", no place.
+        cases.push_back({"nobin.glb", "buffers[0]", b.glb(0, false)});
     }
     {
         // Draco as google/draco's Box_Draco.glb has it: the indices accessor has no bufferView
@@ -155,7 +244,11 @@ std::vector<BadAsset> badAssets() {
             json::array({{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}});
         b.scene({b.node({{"mesh", b.quad(0)}})});
         cases.push_back({"imageuri.gltf", "images[0].uri", text(b.gltf())});
+        // Base64 with characters outside the alphabet: it was blamed on "buffers".
+        b.doc["images"][0]["uri"] = "data:image/png;base64,!!!!";
+        cases.push_back({"imagebase64.gltf", "images[0].uri", text(b.gltf())});
     }
+    for (const BadAsset& c : outOfSpecAssets()) cases.push_back(c);
     return cases;
 }
 
@@ -299,6 +392,93 @@ TEST(GltfHostile, AWebPageSavedAsAGltfIsNamedAsOne) {
                   std::string::npos)
             << e.what();
     }
+}
+
+TEST(GltfHostile, AFolderOrADeviceIsSaidToBeOneNotMissing) {
+    // A buffer file, an image, the asset itself and an MTL texture that exist but are not
+    // regular files were reported as "not found" (or "is not a file").
+    test::TempDir dir("gltf_folder");
+    fs::create_directories(dir.path() / "folder");
+    fs::create_symlink("/dev/zero", dir.path() / "device");
+    struct Expect {
+        fs::path scene;
+        std::string file, place, text;
+    };
+    std::vector<Expect> cases;
+    for (const std::string target : {"folder", "device"}) {
+        const std::string said =
+            target == "folder" ? "is a folder" : "is not a regular file (a device or a pipe)";
+        GltfBuilder b;
+        b.scene({b.node({{"mesh", b.quad()}})});
+        json d = json::parse(b.gltf());
+        d["buffers"][0]["uri"] = target;
+        const fs::path bin = dir.write("bin-" + target + ".gltf", d.dump());
+        cases.push_back({bin, bin.string(), "buffers[0].uri", said});
+        GltfBuilder c;
+        c.doc["images"] = json::array({{{"uri", target}}});
+        c.doc["textures"] = json::array({{{"source", 0}}});
+        c.doc["materials"] =
+            json::array({{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}});
+        c.scene({c.node({{"mesh", c.quad(0)}})});
+        const fs::path image = dir.write("image-" + target + ".gltf", c.gltf());
+        cases.push_back({image, image.string(), "images[0]", said});
+        const fs::path scene = dir.write("scene-" + target + ".json", sceneJson(target));
+        cases.push_back({scene, scene.string(), "/shapes/0/gltf", said});
+        // map_Kd in an MTL (a regression: "not found").
+        dir.write("mesh-" + target + ".obj", "mtllib m-" + target +
+                                                 ".mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                                 "vt 0 0\nf 1/1 2/1 3/1\n");
+        const fs::path mtl = dir.write("m-" + target + ".mtl", "newmtl a\nmap_Kd " + target + "\n");
+        cases.push_back({dir.path() / ("mesh-" + target + ".obj"), mtl.string(), "line 2", said});
+    }
+    for (const Expect& c : cases) {
+        try {
+            loadScene(c.scene);
+            ADD_FAILURE() << c.scene << " was accepted";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), ErrorKind::Io) << e.what();
+            EXPECT_EQ(e.file(), c.file) << e.what();
+            EXPECT_EQ(e.where(), c.place) << e.what();
+            EXPECT_NE(std::string(e.what()).find(c.text), std::string::npos) << e.what();
+            EXPECT_EQ(std::string(e.what()).find("not found"), std::string::npos) << e.what();
+        }
+    }
+}
+
+TEST(GltfHostile, AnAssetTooSmallForFloatIsRefusedByTheRuleOfASceneCamera) {
+    // A 1e-30 or 1e-45-sized asset rendered as an empty frame with exit 0; a scene.json at that
+    // scale is refused by its camera's lookAt distance, with these words.
+    test::TempDir dir("gltf_tiny");
+    const std::string rule =
+        "from position, too close to give a view direction in float; expected a distance of at "
+        "least 1e-18";
+    for (const float size : {1e-30f, 1e-45f}) {
+        GltfBuilder b;
+        const int p = b.floats({0, 0, 0, size, 0, 0, 0, size, 0}, "VEC3", 3);
+        b.doc["meshes"] = json::array({{{"primitives", {{{"attributes", {{"POSITION", p}}}}}}}});
+        b.scene({b.node({{"mesh", 0}})});
+        const fs::path asset = writeBytes(dir.path() / "tiny.glb", b.glb());
+        try {
+            loadScene(asset);
+            ADD_FAILURE() << size << " was accepted";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.file(), asset.string());
+            EXPECT_NE(std::string(e.what()).find(rule), std::string::npos) << e.what();
+        }
+    }
+    try {
+        loadScene(dir.write("scene.json", R"({"camera": {"position": [0, 0, 0], "lookAt": [0, 0,
+            1e-30]}, "film": {"width": 8, "height": 8}, "shapes": [{"gltf": "tiny.glb"}]})"));
+        ADD_FAILURE() << "the scene.json was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find(rule), std::string::npos) << e.what();
+    }
+    // The smallest scale the renderer keeps (docs/reliability.md: 1e-6 ... 1e6) still loads.
+    GltfBuilder b;
+    const int p = b.floats({0, 0, 0, 1e-6f, 0, 0, 0, 1e-6f, 0}, "VEC3", 3);
+    b.doc["meshes"] = json::array({{{"primitives", {{{"attributes", {{"POSITION", p}}}}}}}});
+    b.scene({b.node({{"mesh", 0}})});
+    EXPECT_EQ(loadScene(writeBytes(dir.path() / "small.glb", b.glb())).triangleCount(), 1u);
 }
 
 class GltfCli : public glint::testing::CliFixture {

@@ -21,6 +21,7 @@
 #include "glint/image/io.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
+#include "png_bytes.h"
 #include "test_util.h"
 
 namespace glint::render {
@@ -193,7 +194,7 @@ std::vector<Case> hostileScenes() {
           {"sub/x.txt", ""},
           {"scene.json", sceneWith()}},
          "mesh.obj",
-         "line 1: mtllib 'sub' is not a regular file"},
+         "line 1: mtllib 'sub' is a folder, expected an MTL file"},
         {"mtllib naming a device",
          {{"mesh.obj", "mtllib ../../../../../../../../dev/zero\n" + std::string(kTriangle)},
           {"scene.json", sceneWith()}},
@@ -210,6 +211,21 @@ std::vector<Case> hostileScenes() {
              "film": {"width": 8, "height": 8}, "shapes": [{"obj": "mesh.obj"}]})"}},
          "scene.json",
          "lookAt is 1e-30 from position, too close"},
+        {"map_Kd naming a device (was \"not found\")",
+         {{"mesh.obj",
+           "mtllib m.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n"},
+          {"m.mtl", "newmtl m\nmap_Kd /dev/zero\n"},
+          {"scene.json", sceneWith()}},
+         "m.mtl",
+         "line 2: map_Kd '/dev/zero' of material 'm' is not a regular file (a device or a pipe)"},
+        {"PNG texture of 0x0 pixels (libpng printed two lines)",
+         {{"mesh.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n"},
+          {"t.png", glint::test::pngOfSize(0, 0)},
+          {"scene.json",
+           sceneWith(R"(, "materials": {"m": {"type": "diffuse", "texture": "t.png"}})",
+                     R"({"obj": "mesh.obj", "material": "m"})")}},
+         "t.png",
+         "a PNG is at least 1x1"},
         {"truncated PNG texture",
          {{"mesh.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n"},
           {"scene.json",

@@ -17,6 +17,8 @@
 
 #include "glint/image/error.h"
 #include "scene/gltf_buffers.h"
+#include "scene/gltf_document.h"
+#include "scene/input_file.h"
 
 namespace glint::render::detail {
 
@@ -222,6 +224,11 @@ std::optional<std::string> after(const std::string& text, const std::string& pre
                          rest->substr(got + 10) + " bytes, its byteLength says " +
                          rest->substr(requested + 17, got - requested - 17));
     }
+    // "Failed to decode 'uri' for image[N] name = [...]" (an image's) or "... in Buffer".
+    if (const auto rest = after(first, "Failed to decode 'uri' for image[", true)) {
+        const std::string index = rest->substr(0, rest->find(']'));
+        failFile(file, "images[" + index + "].uri", "the image's data URI is not valid base64");
+    }
     if (first.rfind("Failed to decode 'uri'", 0) == 0)
         failFile(file, "buffers", "a buffer's data URI is not base64 of its byteLength bytes");
     if (first.empty()) first = "unreadable glTF";
@@ -265,27 +272,6 @@ std::string bufferUriAsTinygltf(const std::string& uri) {
     return out;
 }
 
-/// The buffers array of a glTF document's text, parsed without the rest of the document and with
-/// each data URI cut to its scheme ("data:"): what openBufferFiles needs, without a second copy
-/// of a large embedded buffer. Null when the text does not parse.
-nlohmann::json buffersOf(const unsigned char* text, std::size_t size) {
-    using Event = nlohmann::json::parse_event_t;
-    const nlohmann::json doc = nlohmann::json::parse(
-        text, text + size,
-        [](int depth, Event event, nlohmann::json& parsed) {
-            if (event == Event::key && depth == 1) return parsed == "buffers";
-            if (event == Event::value && parsed.is_string() &&
-                parsed.get_ref<const std::string&>().rfind("data:", 0) == 0)
-                parsed = "data:";
-            return true;
-        },
-        false);
-    if (doc.is_discarded() || !doc.is_object() || !doc.contains("buffers") ||
-        !doc["buffers"].is_array())
-        return nullptr;
-    return doc["buffers"];
-}
-
 /// The uri a buffer Glint reads from its file has in the document tinygltf parses (with
 /// byteLength 1): one zero byte as a data URI, which tinygltf decodes instead of reading the
 /// buffer.
@@ -326,6 +312,11 @@ std::vector<std::size_t> openBufferFiles(const fs::path& path, std::uint64_t fil
             const std::string where = baseDir.empty()         ? name
                                       : baseDir.back() == '/' ? baseDir + name
                                                               : baseDir + "/" + name;
+            if (const InputKind kind = inputKind(where);
+                kind == InputKind::Folder || kind == InputKind::Special)
+                failFile(path, "buffers[" + std::to_string(i) + "].uri",
+                         "buffer file '" + name + "' " + notARegularFile(kind, "a buffer file"),
+                         ErrorKind::Io);
             std::error_code ec;
             if (fs::is_regular_file(where, ec) && fs::file_size(where, ec) == byteLength && !ec)
                 file = BufferFile::open(where, byteLength, 0, byteLength);
@@ -409,8 +400,22 @@ void readGltfFile(const fs::path& path, tinygltf::Model& model, GltfBuffers& buf
     // reading them. A .glb is read that way only when every buffer without a uri (which tinygltf
     // fills from the BIN chunk) is opened; otherwise, like any document with no buffer file, it
     // is given to tinygltf as it is, so that its reading and errors are tinygltf's.
+    // The document's JSON checked first: its nesting before any parser recurses through it, then
+    // the values tinygltf would read leniently (gltf_document.h).
+    GltfText text;
+    text.text = {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
+    if (layout) {
+        text.binary = true;
+        text.chunkOffset = layout->jsonOffset;
+        text.hasBin = layout->hasBin && layout->binSize > 0;
+    }
+    checkGltfNesting(text, path);
+    const nlohmann::json checked = parseGltfDocument(text, path);
+    checkGltfDocument(checked, text, path);
+    const nlohmann::json buffersJson = checked.contains("buffers") && checked["buffers"].is_array()
+                                           ? checked["buffers"]
+                                           : nlohmann::json::array();
     buffers = GltfBuffers(path);
-    const nlohmann::json buffersJson = buffersOf(bytes.data(), bytes.size());
     std::vector<std::size_t> opened =
         openBufferFiles(path, size, baseDir, layout ? &*layout : nullptr, buffersJson, buffers);
     bool uriLessUnopened = false;

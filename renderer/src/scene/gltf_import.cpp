@@ -18,7 +18,9 @@
 
 #include "glint/image/error.h"
 #include "scene/gltf_buffers.h"
+#include "scene/gltf_document.h"
 #include "scene/gltf_file.h"
+#include "scene/input_file.h"
 #include "scene/tangent_frames.h"
 
 namespace glint::render::detail {
@@ -348,10 +350,9 @@ void GltfImport::addCamera(int node, const Affine& world) {
     if (!(yfov > 0.0 && yfov < kPi))
         fail(place + ".perspective.yfov",
              "is " + std::to_string(yfov) + ", expected (0, pi) radians");
+    // 0: none given (gltf_document.cpp refuses a 0, or any ratio out of range, that is written).
     const double aspect = cam.perspective.aspectRatio;
-    if (!(aspect >= 0.0 && aspect <= 1e4))
-        fail(place + ".perspective.aspectRatio",
-             "is " + std::to_string(aspect) + ", expected (0, 1e4]");
+    GLINT_CHECK(aspect == 0.0 || (aspect >= kMinGltfAspectRatio && aspect <= kMaxGltfAspectRatio));
     AssetCamera c;
     const std::string& nodeLabel = m_model.nodes[std::size_t(node)].name;
     c.name = !nodeLabel.empty() ? nodeLabel : !cam.name.empty() ? cam.name : place;
@@ -429,13 +430,8 @@ void GltfImport::addLight(int node, const Affine& world) {
 
 void Loader::importGltf(const fs::path& path, const std::vector<Affine>& poses,
                         const GltfOverrides& overrides, const std::string& where) {
-    std::error_code ec;  // odd paths (too long...) are reported, not thrown
-    if (!fs::exists(path, ec))
-        throw Error(ErrorKind::Io, "glTF file '" + path.string() + "' not found",
-                    m_reader.file().string(), where + "/gltf");
-    if (!fs::is_regular_file(path, ec))
-        throw Error(ErrorKind::Io, "'" + path.string() + "' is not a file",
-                    m_reader.file().string(), where + "/gltf");
+    requireRegularFile(path, "glTF", "a .gltf or .glb file", m_reader.file().string(),
+                       where + "/gltf");
     // The buffers' mappings end with this function: after the asset is converted.
     tinygltf::Model model;
     GltfBuffers buffers;

@@ -11,6 +11,7 @@
 #include "glint/image/error.h"
 #include "scene/gltf_file.h"
 #include "scene/gltf_import.h"
+#include "scene/input_file.h"
 
 namespace glint::render::detail {
 
@@ -329,13 +330,7 @@ int GltfImport::texture(int index, TextureUse use, const std::string& place) {
     if (image.bufferView < 0 && !image.uri.empty()) {
         if (const auto problem = undecodedDataUri(image.uri)) fail(imagePlace + ".uri", *problem);
         const fs::path file = m_file.parent_path() / fs::path(decodeUri(image.uri));
-        std::error_code ec;
-        if (!fs::exists(file, ec))
-            throw Error(ErrorKind::Io, "image file '" + file.string() + "' not found",
-                        m_file.string(), imagePlace);
-        if (!fs::is_regular_file(file, ec))
-            throw Error(ErrorKind::Io, "image '" + file.string() + "' is not a file",
-                        m_file.string(), imagePlace);
+        requireRegularFile(file, "image", "an image file", m_file.string(), imagePlace);
         source.path = file;
     } else if (image.bufferView >= 0) {
         if (std::size_t(image.bufferView) >= m_model.bufferViews.size())

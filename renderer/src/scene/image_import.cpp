@@ -9,6 +9,7 @@
 
 #include "glint/image/error.h"
 #include "glint/image/io.h"
+#include "scene/input_file.h"
 #include "scene/loader.h"
 
 namespace glint::render::detail {
@@ -40,13 +41,7 @@ Image scaledRgb(const Image& source, float scale, const std::string& what,
 
 Image readLinearRgb(const std::filesystem::path& image, float scale, const std::string& what,
                     const std::filesystem::path& sceneFile, const std::string& where) {
-    std::error_code ec;  // odd paths (too long...) are reported, not thrown
-    if (!std::filesystem::exists(image, ec))
-        throw Error(ErrorKind::Io, what + " file '" + image.string() + "' not found",
-                    sceneFile.string(), where);
-    if (!std::filesystem::is_regular_file(image, ec))
-        throw Error(ErrorKind::Io, what + " '" + image.string() + "' is not a file",
-                    sceneFile.string(), where);
+    requireRegularFile(image, what, "an image file", sceneFile.string(), where);
     const Image raw = readImage(image, true);
     try {
         return scaledRgb(raw, scale, what, sceneFile, where);
@@ -103,13 +98,8 @@ int Loader::loadTexture(const Texture& source, const std::string& where) {
                         where + (e.where().empty() ? "" : " (" + e.where() + ")"));
         }
     } else {
-        std::error_code ec;  // odd paths (too long...) are reported, not thrown
-        if (!fs::exists(source.path, ec))
-            throw Error(ErrorKind::Io, "texture file '" + source.path.string() + "' not found",
-                        m_reader.file().string(), where);
-        if (!fs::is_regular_file(source.path, ec))
-            throw Error(ErrorKind::Io, "texture '" + source.path.string() + "' is not a file",
-                        m_reader.file().string(), where);
+        requireRegularFile(source.path, "texture", "an image file", m_reader.file().string(),
+                           where);
         const int file = openTextureFile(source.path, linearize, where);
         if (!m_scene.textureStore->info(file).tiled) {
             // An untiled file (PNG, JPEG, scanline EXR) has no random access: it is read

@@ -1,5 +1,6 @@
 #include "scene/json_reader.h"
 
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <sstream>
@@ -15,6 +16,38 @@ std::string describe(const nlohmann::json& value) {
     return text;
 }
 }  // namespace
+
+void throwMalformedJson(const nlohmann::json::exception& e, std::string_view text,
+                        const std::string& file, const std::string& within) {
+    // Turn the byte offset into a line and column. A number the parser cannot hold
+    // (-1e400: out_of_range) has no offset; its text, quoted in the message, is found.
+    std::string msg = e.what();
+    std::size_t byte = 0;
+    if (const auto* pe = dynamic_cast<const nlohmann::json::parse_error*>(&e)) {
+        byte = pe->byte;
+    } else {
+        const auto q0 = msg.find('\''), q1 = msg.rfind('\'');
+        if (q0 != std::string::npos && q1 > q0) {
+            const auto at = text.find(msg.substr(q0 + 1, q1 - q0 - 1));
+            if (at != std::string::npos) byte = at + 1;
+        }
+    }
+    byte = std::min<std::size_t>(byte, text.size());
+    int line = 1, column = 1;
+    for (std::size_t i = 0; i + 1 < byte; ++i) {
+        if (text[i] == '\n')
+            ++line, column = 1;
+        else
+            ++column;
+    }
+    // Drop nlohmann's "[json.exception.x.n] parse error at line 1, column 2: " prefix.
+    const auto bracket = msg.find("] ");
+    if (bracket != std::string::npos) msg = msg.substr(bracket + 2);
+    const auto colon = msg.find(": ", msg.find("parse error"));
+    if (msg.rfind("parse error", 0) == 0 && colon != std::string::npos) msg = msg.substr(colon + 2);
+    throw Error(ErrorKind::Format, "malformed JSON: " + msg, file,
+                "line " + std::to_string(line) + ", column " + std::to_string(column) + within);
+}
 
 void JsonReader::fail(const std::string& where, const std::string& message) const {
     throw Error(ErrorKind::Format, message, m_file.string(), where.empty() ? "/" : where);

@@ -4,12 +4,20 @@
 #include <filesystem>
 #include <initializer_list>
 #include <string>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
 
 #include "vecmath.h"
 
 namespace glint::render::detail {
+
+/// Throws the glint::Error(Format) for nlohmann-json's exception `e` on `text`: "malformed
+/// JSON: what" at "line L, column C" (`within` appended to the place, e.g. " of the JSON chunk");
+/// a number the parser cannot hold (1e400), which nlohmann reports without an offset, is found
+/// by its text.
+[[noreturn]] void throwMalformedJson(const nlohmann::json::exception& e, std::string_view text,
+                                     const std::string& file, const std::string& within = "");
 
 /// Reads typed values out of a parsed JSON document, throwing glint::Error(Format) with
 /// file = the scene file and where = the JSON pointer of the offending value.

@@ -15,6 +15,7 @@
 #include <tiny_obj_loader.h>
 
 #include "glint/image/error.h"
+#include "scene/input_file.h"
 #include "scene/loader.h"
 #include "scene/obj_scan.h"
 #include "scene/polygon_triangulation.h"
@@ -236,12 +237,7 @@ class GroupedObjBuffer final : public std::streambuf {
 std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affine>& poses,
                                 int overrideMaterial, const std::string& where) {
     std::error_code ec;  // odd paths (too long...) are reported, not thrown as filesystem errors
-    if (!fs::exists(objPath, ec))
-        throw Error(ErrorKind::Io, "OBJ file '" + objPath.string() + "' not found",
-                    m_reader.file().string(), where + "/obj");
-    if (!fs::is_regular_file(objPath, ec))
-        throw Error(ErrorKind::Io, "'" + objPath.string() + "' is not a file",
-                    m_reader.file().string(), where + "/obj");
+    requireRegularFile(objPath, "OBJ", "an OBJ file", m_reader.file().string(), where + "/obj");
     // Indices and numbers checked with their line first: tinyobjloader trusts them.
     ObjLines lines = scanObj(objPath);
 
@@ -275,6 +271,12 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     auto mtlTexture = [&](const MtlMaterialInfo& info, const MtlTexture& tex, const char* key,
                           const std::string& material, TextureUse use) {
         const fs::path file = findNamedFile(info.file.parent_path(), tex.name);
+        const fs::path written = info.file.parent_path() / tex.name;
+        if (const InputKind kind = inputKind(written); file.empty() && kind != InputKind::Missing)
+            throw Error(ErrorKind::Io,
+                        std::string(key) + " '" + tex.name + "' of material '" + material + "' " +
+                            notARegularFile(kind, "an image file"),
+                        info.file.string(), "line " + std::to_string(tex.line));
         if (file.empty())
             throw Error(ErrorKind::Io,
                         std::string(key) + " '" + tex.name + "' of material '" + material +

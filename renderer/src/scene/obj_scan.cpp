@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "glint/image/error.h"
+#include "scene/input_file.h"
 #include "scene/scene_data.h"
 
 namespace glint::render::detail {
@@ -505,13 +506,11 @@ ObjLines scanObj(const std::filesystem::path& path) {
         if (!ls.next(key) || key != "mtllib") return;
         for (const std::string& name : mtllibNames(std::string(ls.at, ls.end))) {
             const std::filesystem::path mtl = findNamedFile(path.parent_path(), name);
-            std::error_code ec;
             if (mtl.empty()) {
                 const std::filesystem::path there = path.parent_path() / name;
-                if (std::filesystem::exists(there, ec))  // a folder, a device, a pipe...
+                if (const InputKind kind = inputKind(there); kind != InputKind::Missing)
                     fail(path, line,
-                         "mtllib '" + shorten(name) +
-                             "' is not a regular file (expected an MTL file)");
+                         "mtllib '" + shorten(name) + "' " + notARegularFile(kind, "an MTL file"));
                 throw Error(ErrorKind::Io,
                             "mtllib '" + name + "' not found (looked for " + there.string() + ")",
                             path.string(), "line " + std::to_string(line));

@@ -14,6 +14,7 @@
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/render/scene.h"
+#include "scene/json_reader.h"
 #include "scene/loader.h"
 #include "scene/scene_data.h"
 
@@ -30,6 +31,17 @@ std::string lowerExtension(const fs::path& path) {
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
     return ext;
+}
+
+/// Why a camera `distance` from its lookAt point cannot render the scene, or "" when it can: the
+/// camera normalises the view direction in float, whose squares end near 1e-38. The one rule
+/// for a scene.json camera and for the camera that frames a bare asset.
+std::string viewDistanceProblem(double distance) {
+    if (distance >= detail::kMinViewDistance) return {};
+    std::ostringstream msg;
+    msg << "lookAt is " << distance << " from position, too close to give a view direction "
+        << "in float; expected a distance of at least " << detail::kMinViewDistance;
+    return msg.str();
 }
 
 }  // namespace
@@ -159,13 +171,8 @@ void Loader::readCamera(const json& j, const std::string& where) {
     const Vec3 view = cam.lookAt - cam.position;
     const double distance = lengthOf(view);
     if (distance == 0.0) m_reader.fail(where + "/lookAt", "lookAt must differ from position");
-    // The camera normalises the view direction in float, whose squares end near 1e-38.
-    if (distance < kMinViewDistance) {
-        std::ostringstream msg;
-        msg << "lookAt is " << distance << " from position, too close to give a view direction "
-            << "in float; expected a distance of at least " << kMinViewDistance;
-        m_reader.fail(where + "/lookAt", msg.str());
-    }
+    if (const std::string problem = viewDistanceProblem(distance); !problem.empty())
+        m_reader.fail(where + "/lookAt", problem);
     const Vec3 dir{float(view.x / distance), float(view.y / distance), float(view.z / distance)};
     if (lengthOf(cross(dir, cam.up)) < 1e-6 * lengthOf(cam.up))
         m_reader.fail(where + "/up", "up must not be parallel to the viewing direction");
@@ -448,6 +455,22 @@ void Loader::loadAsset(const fs::path& file) {
     readShape(doc["shapes"][0], "/shapes/0", 0);
     m_scene.width = 640;
     m_scene.height = 480;
+    // An asset too small for float (1e-30 across) would render as an empty frame: the camera
+    // that frames it, in double, is held to the rule of a scene.json camera, whichever camera is
+    // used.
+    {
+        Vec3 lo, hi;
+        worldBounds(m_scene, lo, hi);
+        double across = 0.0;
+        for (int c = 0; c < 3; ++c) across = std::max(across, double(hi[c]) - double(lo[c]));
+        const double framing = 0.5 * across / std::sin(20.0 * kPi / 180.0);
+        if (const std::string problem = viewDistanceProblem(framing); !problem.empty()) {
+            std::ostringstream msg;
+            msg << "the asset is " << across
+                << " across, too small to render (the camera framing it: " << problem << ")";
+            throw Error(ErrorKind::Format, msg.str(), file.string());
+        }
+    }
     if (!m_scene.assetCameras.empty()) {
         useAssetCamera(0);
         const float aspect = m_scene.assetCameras.front().aspectRatio;
@@ -528,36 +551,7 @@ Scene parseScene(const std::string& jsonText, const fs::path& path) {
     try {
         root = json::parse(jsonText, nullptr, true, false);
     } catch (const json::exception& e) {
-        // Turn the byte offset into a line and column. A number the parser cannot hold
-        // (-1e400: out_of_range) has no offset; its text, quoted in the message, is found.
-        std::size_t byte = 0;
-        if (const auto* pe = dynamic_cast<const json::parse_error*>(&e)) {
-            byte = pe->byte;
-        } else {
-            const std::string what = e.what();
-            const auto q0 = what.find('\''), q1 = what.rfind('\'');
-            if (q0 != std::string::npos && q1 > q0) {
-                const auto at = jsonText.find(what.substr(q0 + 1, q1 - q0 - 1));
-                if (at != std::string::npos) byte = at + 1;
-            }
-        }
-        byte = std::min<std::size_t>(byte, jsonText.size());
-        int line = 1, column = 1;
-        for (std::size_t i = 0; i + 1 < byte; ++i) {
-            if (jsonText[i] == '\n')
-                ++line, column = 1;
-            else
-                ++column;
-        }
-        std::string msg = e.what();
-        // Drop nlohmann's "[json.exception.x.n] parse error at line 1, column 2: " prefix.
-        const auto bracket = msg.find("] ");
-        if (bracket != std::string::npos) msg = msg.substr(bracket + 2);
-        const auto colon = msg.find(": ", msg.find("parse error"));
-        if (msg.rfind("parse error", 0) == 0 && colon != std::string::npos)
-            msg = msg.substr(colon + 2);
-        throw Error(ErrorKind::Format, "malformed JSON: " + msg, path.string(),
-                    "line " + std::to_string(line) + ", column " + std::to_string(column));
+        detail::throwMalformedJson(e, jsonText, path.string());
     }
     auto data = std::make_unique<detail::SceneData>();
     data->path = path;
