@@ -24,8 +24,11 @@ for t in "${targets[@]}"; do
                # First byte 0 picks ".png" in the harness.
                printf '\000' | cat - "$f" > "$corpus/$(basename "$(dirname "$f")")-$(basename "$f")"; done ;;
   esac
+  # A target's dictionary of keys and values (tests/fuzz/TARGET.dict), when it has one.
+  dict=()
+  [ -f "tests/fuzz/$t.dict" ] && dict=(-dict="tests/fuzz/$t.dict")
   echo "== fuzz_$t for $seconds s"
-  "$build/bin/fuzz_$t" "$corpus" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=4096 \
+  "$build/bin/fuzz_$t" "$corpus" "${dict[@]}" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=4096 \
       -max_len=65536 -print_final_stats=1 -artifact_prefix="$build/fuzz-crashes/$t-" 2>&1 |
       grep -a -E "^#|Done|stat::|ERROR|SUMMARY|^(scene_json|obj|texture|exr|gltf):" | tail -12 || true
 done
