@@ -395,11 +395,6 @@ void readGltfFile(const fs::path& path, tinygltf::Model& model, GltfBuffers& buf
     } else {
         refuseMarkup(path, bytes, false);
     }
-    // Open the buffers Glint reads from their files, and give tinygltf the document with each of
-    // those buffers replaced by a one-byte data URI, so that it parses the document without
-    // reading them. A .glb is read that way only when every buffer without a uri (which tinygltf
-    // fills from the BIN chunk) is opened; otherwise, like any document with no buffer file, it
-    // is given to tinygltf as it is, so that its reading and errors are tinygltf's.
     // The document's JSON checked first: its nesting before any parser recurses through it, then
     // the values tinygltf would read leniently (gltf_document.h).
     GltfText text;
@@ -410,11 +405,18 @@ void readGltfFile(const fs::path& path, tinygltf::Model& model, GltfBuffers& buf
         text.hasBin = layout->hasBin && layout->binSize > 0;
     }
     checkGltfNesting(text, path);
-    const nlohmann::json checked = parseGltfDocument(text, path);
-    checkGltfDocument(checked, text, path);
-    const nlohmann::json buffersJson = checked.contains("buffers") && checked["buffers"].is_array()
-                                           ? checked["buffers"]
-                                           : nlohmann::json::array();
+    nlohmann::json buffersJson = nlohmann::json::array();
+    {
+        nlohmann::json checked = parseGltfDocument(text, path);
+        checkGltfDocument(checked, text, path);
+        if (checked.contains("buffers") && checked["buffers"].is_array())
+            buffersJson = std::move(checked["buffers"]);
+    }  // the rest of the checked document is freed before tinygltf parses its own
+    // Open the buffers Glint reads from their files, and give tinygltf the document with each of
+    // those buffers replaced by a one-byte data URI, so that it parses the document without
+    // reading them. A .glb is read that way only when every buffer without a uri (which tinygltf
+    // fills from the BIN chunk) is opened; otherwise, like any document with no buffer file, it
+    // is given to tinygltf as it is, so that its reading and errors are tinygltf's.
     buffers = GltfBuffers(path);
     std::vector<std::size_t> opened =
         openBufferFiles(path, size, baseDir, layout ? &*layout : nullptr, buffersJson, buffers);

@@ -32,8 +32,9 @@ std::optional<std::pair<std::size_t, std::string>> unreadRequiredExtension(
 /// Reads `path` into `model` and the bytes of its buffers into `buffers` (bound to `model`: keep
 /// both while reading the asset). Throws glint::Error naming the file and the byte, chunk, JSON
 /// line or glTF place (e.g. `buffers[0]`) of what is wrong: a missing or truncated file, a damaged
-/// binary layout, malformed JSON, a buffer file that is missing or of the wrong size, a glTF
-/// version other than 2.x. When tinygltf cannot read an asset that requires an extension Glint
+/// binary layout, malformed or too deeply nested JSON, values glTF 2.0 does not allow
+/// (gltf_document.h), a buffer file that is missing, not a regular file or of the wrong size, a
+/// glTF version other than 2.x. When tinygltf cannot read an asset that requires an extension Glint
 /// does not read (a Draco- or meshopt-compressed mesh, whose accessors have no bufferView), the
 /// error names that extension.
 void readGltfFile(const std::filesystem::path& path, tinygltf::Model& model, GltfBuffers& buffers);
