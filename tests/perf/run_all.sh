@@ -11,6 +11,10 @@ run() { echo; echo "== $*"; "$@"; }
 run "$bin/bench_exr_io" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 run /usr/bin/python3 tests/perf/ssim_skimage.py "$bin/bench_ssim" --repeat 20
 run "$bin/bench_render"
+# The renderer against the previous release (tests/perf/previous_release.txt): a slower render
+# fails `make bench` at the end, after the other benchmarks have run.
+regression=0
+run tests/perf/render_vs_previous.sh "$build" || regression=$?
 run "$bin/bench_asset_load" write /tmp/glint-bench-asset.glb --triangles 4000000
 run "$bin/bench_asset_load" load /tmp/glint-bench-asset.glb --threads 2
 run "$bin/bench_texture"
@@ -21,3 +25,4 @@ run "$bin/bench_auto" --reps 3
 if [ -x tests/perf/cycles/run_compare.sh ]; then
   run tests/perf/cycles/run_compare.sh "$build"
 fi
+exit "$regression"

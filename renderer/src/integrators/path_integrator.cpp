@@ -98,7 +98,9 @@ Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, fl
         s.ng = -s.ng;
         s.ns = -s.ns;
     }
-    s.ns = applyNormalMap(scene, *s.material, s.at, s.ns);
+    // Only a normal or bump map bends it (the call is not free on every hit of a plain scene).
+    if (s.material->normalMap.present() || s.material->bumpMap.present())
+        s.ns = applyNormalMap(scene, *s.material, s.at, s.ns);
     return s;
 }
 

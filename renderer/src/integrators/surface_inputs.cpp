@@ -66,7 +66,7 @@ detail::TexFootprint uvFootprint(const detail::TriangleView& tri, const Vec2& uv
     return {map(dpdx), map(dpdy)};
 }
 
-SurfaceInputs evaluateInputs(const detail::SceneData& scene, const detail::Material& material,
+SurfaceInputs texturedInputs(const detail::SceneData& scene, const detail::Material& material,
                              const SurfacePoint& at) {
     SurfaceInputs in;
     in.albedo = material.albedo;

@@ -42,8 +42,18 @@ struct SurfaceInputs {
     float transmission = 0.0f;  ///< metallic-roughness material only (KHR_materials_transmission)
 };
 
-SurfaceInputs evaluateInputs(const detail::SceneData& scene, const detail::Material& material,
+/// evaluateInputs() of a hit with texture coordinates or a material that reads vertex colours.
+SurfaceInputs texturedInputs(const detail::SceneData& scene, const detail::Material& material,
                              const SurfacePoint& at);
+/// The inputs of `material` at `at`: its factors, times (or replaced by) its textures and the
+/// mesh's vertex colours.
+inline SurfaceInputs evaluateInputs(const detail::SceneData& scene,
+                                    const detail::Material& material, const SurfacePoint& at) {
+    // Without texture coordinates or vertex colours, the factors (inline: every hit asks).
+    if (!at.hasUv && !material.textureTimesFactor)
+        return {material.albedo, material.metallic, material.roughness, material.transmission};
+    return texturedInputs(scene, material, at);
+}
 
 /// The material's emitted radiance at `at`: its emission times its emission texture's colour
 /// (glTF's emissiveTexture) where it has one and the mesh has texture coordinates.

@@ -165,8 +165,7 @@ bool LightSampler::sample(const Vec3& p, float uSelect, Vec2 u, LightSample& out
     return true;
 }
 
-Vec3 LightSampler::emittedAt(const AreaLight& light, const Vec3& point) const {
-    if (!light.textured && !light.partial) return light.emission;
+Vec3 LightSampler::emittedThrough(const AreaLight& light, const Vec3& point) const {
     // Barycentrics of the point (in double: the triangle may be tiny or far from the origin).
     auto d3 = [](const Vec3& a, const Vec3& b) {
         return double(a.x) * b.x + double(a.y) * b.y + double(a.z) * b.z;

@@ -63,7 +63,13 @@ class LightSampler {
     };
     /// The radiance light `light` gives at `point` as a camera or BSDF ray finds it there: its
     /// emission times its texture, times its presence (BLEND: alpha; MASK: 0 where cut out).
-    Vec3 emittedAt(const AreaLight& light, const Vec3& point) const;
+    Vec3 emittedAt(const AreaLight& light, const Vec3& point) const {
+        // Most lights are neither: no call at every light sample for them.
+        if (!light.textured && !light.partial) return light.emission;
+        return emittedThrough(light, point);
+    }
+    /// emittedAt() of a textured or partly present light.
+    Vec3 emittedThrough(const AreaLight& light, const Vec3& point) const;
 
     const detail::SceneData* m_scene = nullptr;
     /// The light of triangle `prim` of `instance`, or -1 when it does not emit.

@@ -30,7 +30,7 @@ std::size_t Mesh::bytes() const {
     return positions.size() * sizeof(Vec3) + normals.size() * sizeof(Vec3) +
            tangents.size() * sizeof(Vec4) + uvs.size() * sizeof(Vec2) + uvs1.size() * sizeof(Vec2) +
            colors.size() * sizeof(Vec4) + indices.size() * sizeof(std::uint32_t) +
-           materials.size() * sizeof(std::uint32_t);
+           materials.size() * sizeof(std::uint32_t) + faceNormals.size() * sizeof(Vec3);
 }
 
 std::size_t SceneData::triangleCount() const {
@@ -39,8 +39,7 @@ std::size_t SceneData::triangleCount() const {
     return count;
 }
 
-TriangleView SceneData::triangle(std::uint32_t instance, std::uint32_t prim, float time) const {
-    const Instance& inst = instances[instance];
+TriangleView SceneData::posedTriangle(const Instance& inst, std::uint32_t prim, float time) const {
     const Mesh& mesh = meshes[inst.mesh];
     const std::uint32_t* idx = &mesh.indices[3 * std::size_t(prim)];
     TriangleView tri;
@@ -63,10 +62,7 @@ TriangleView SceneData::triangle(std::uint32_t instance, std::uint32_t prim, flo
             }
         }
     } else if (inst.identity) {
-        for (int v = 0; v < 3; ++v) {
-            tri.p[v] = mesh.positions[idx[v]];
-            if (tri.hasNormals) tri.n[v] = mesh.normals[idx[v]];
-        }
+        return worldTriangle(mesh, prim);
     } else {
         for (int v = 0; v < 3; ++v) {
             tri.p[v] = inst.transform.point(mesh.positions[idx[v]]);
@@ -120,6 +116,20 @@ void SceneData::finishMeshes() {
             for (Vec3& n : mesh.normals) n = length(n) > 0.0f ? normalize(n) : Vec3{};
         if (mesh.positions.capacity() == mesh.positions.size())
             mesh.positions.reserve(mesh.positions.size() + 1);
+    }
+    // Face normals of the world-space meshes, when the scene is small enough to hold them.
+    std::size_t triangles = 0;
+    for (const Mesh& mesh : meshes) triangles += mesh.triangleCount();
+    for (std::size_t m = 0; m < meshes.size(); ++m) {
+        Mesh& mesh = meshes[m];
+        mesh.faceNormals.clear();
+        if (!worldOnly[m] || triangles > kFaceNormalTriangles) continue;
+        mesh.faceNormals.resize(mesh.triangleCount());
+        for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+            const std::uint32_t* idx = &mesh.indices[3 * std::size_t(t)];
+            mesh.faceNormals[t] = triangleNormal(mesh.positions[idx[0]], mesh.positions[idx[1]],
+                                                 mesh.positions[idx[2]]);
+        }
     }
 }
 

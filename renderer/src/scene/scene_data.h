@@ -248,6 +248,10 @@ struct Mesh {
     /// shares (a mesh of one material holds 4 bytes, not 4 per triangle). Read through
     /// materialOf; written through assignMaterial, which keeps the single entry while it can.
     std::vector<std::uint32_t> materials;
+    /// The unit geometric normal of each triangle (triangleNormal of its corners) of a mesh in
+    /// world space, in a scene of at most kFaceNormalTriangles triangles; else empty, and
+    /// SceneData::triangle computes it at every hit (SceneData::finishMeshes).
+    std::vector<Vec3> faceNormals;
 
     std::size_t triangleCount() const { return indices.size() / 3; }
     std::size_t vertexCount() const { return positions.size(); }
@@ -321,6 +325,28 @@ struct TriangleView {
     bool hasNormals = false;
 };
 
+/// Scenes of at most this many triangles keep their world-space meshes' face normals
+/// (Mesh::faceNormals, 12 bytes a triangle; Embree's own triangles hold more than that): a hit
+/// then reads its normal instead of waiting on a square root and three divisions in double
+/// (the largest part of what each ray of the Cornell box lost after 8123d93: docs/renderer.md,
+/// "Performance"). Larger scenes compute it at each hit, the same bits, without the memory.
+inline constexpr std::size_t kFaceNormalTriangles = std::size_t(1) << 20;
+
+/// Triangle `prim` of a mesh in world space (an identity, static instance's). Always inlined:
+/// called at every hit, its copies fold into the caller's registers.
+[[gnu::always_inline]] inline TriangleView worldTriangle(const Mesh& mesh, std::uint32_t prim) {
+    const std::uint32_t* idx = &mesh.indices[3 * std::size_t(prim)];
+    TriangleView tri;
+    tri.hasNormals = !mesh.normals.empty();
+    for (int v = 0; v < 3; ++v) {
+        tri.p[v] = mesh.positions[idx[v]];
+        if (tri.hasNormals) tri.n[v] = mesh.normals[idx[v]];
+    }
+    tri.ng = prim < mesh.faceNormals.size() ? mesh.faceNormals[prim]
+                                            : triangleNormal(tri.p[0], tri.p[1], tri.p[2]);
+    return tri;
+}
+
 /// Where a ray hit: an instance and one of its mesh's triangles.
 struct SurfaceId {
     std::uint32_t instance = 0, prim = 0;
@@ -365,7 +391,14 @@ struct SceneData {
     std::uint32_t materialOf(SurfaceId s) const { return materialOf(s.instance, s.prim); }
 
     /// Triangle `prim` of `instance` in world space at normalised shutter time `time` in [0, 1].
-    TriangleView triangle(std::uint32_t instance, std::uint32_t prim, float time) const;
+    [[gnu::always_inline]] TriangleView triangle(std::uint32_t instance, std::uint32_t prim,
+                                                 float time) const {
+        const Instance& inst = instances[instance];
+        if (inst.motion < 0 && inst.identity) return worldTriangle(meshes[inst.mesh], prim);
+        return posedTriangle(inst, prim, time);
+    }
+    /// triangle() of a moving or transformed instance.
+    TriangleView posedTriangle(const Instance& inst, std::uint32_t prim, float time) const;
     /// The same at shutter open, for static instances (lights, bounds).
     TriangleView triangle(std::uint32_t instance, std::uint32_t prim) const {
         return triangle(instance, prim, 0.0f);
@@ -373,8 +406,9 @@ struct SceneData {
 
     /// Ends loading: moves every mesh used by exactly one static instance into world space (the
     /// instance's transform becomes the identity; meshes used by several instances or by moving
-    /// ones stay in object space), and pads each mesh's position storage by one vertex so that
-    /// Embree can read it in place (it reads 16 bytes per float3).
+    /// ones stay in object space), pads each mesh's position storage by one vertex so that
+    /// Embree can read it in place (it reads 16 bytes per float3), and keeps the face normals of
+    /// the world-space meshes of a scene of at most kFaceNormalTriangles triangles.
     void finishMeshes();
 };
 
