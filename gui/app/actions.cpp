@@ -21,10 +21,10 @@ QAction* make(QObject* owner, const QString& text, const QKeySequence& shortcut,
 }  // namespace
 
 QList<QAction*> StudioActions::all() const {
-    QList<QAction*> list{open,      openReference, saveSession,  saveSessionAs, saveScene,
-                         exportExr, exportPng,     newSession,   quit,          undo,
-                         redo,      render,        cancelRender, fit,           oneToOne,
-                         flip,      wipe,          exposureUp,   exposureDown};
+    QList<QAction*> list{open,      openReference, saveSession, saveSessionAs, saveScene,
+                         exportExr, exportPng,     newSession,  recover,       quit,
+                         undo,      redo,          render,      cancelRender,  fit,
+                         oneToOne,  flip,          wipe,        exposureUp,    exposureDown};
     for (QAction* s : stages) list << s;
     list << lasso << wholeImage << brushSmaller << brushLarger << brush << wand << diffuse
          << autoStart << same << back << help;
@@ -51,6 +51,8 @@ StudioActions createActions(QObject* o) {
                        QObject::tr("Write the result as an 8-bit sRGB PNG"));
     a.newSession = make(o, QObject::tr("&New Session"), QKeySequence(),
                         QObject::tr("Drop the layers and start painting on the current render"));
+    a.recover = make(o, QObject::tr("Re&cover Autosave…"), QKeySequence(),
+                     QObject::tr("Restore the work a studio that did not exit cleanly autosaved"));
     a.quit = make(o, QObject::tr("&Quit"), QKeySequence::Quit, QObject::tr("Close the studio"));
     a.undo = make(o, QObject::tr("&Undo"), QKeySequence::Undo, QObject::tr("Undo the last edit"));
     a.redo = make(o, QObject::tr("&Redo"), QKeySequence(QObject::tr("Ctrl+Shift+Z")),

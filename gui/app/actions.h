@@ -17,6 +17,7 @@ struct StudioActions {
     QAction* exportExr;
     QAction* exportPng;
     QAction* newSession;
+    QAction* recover;
     QAction* quit;
     QAction* undo;
     QAction* redo;

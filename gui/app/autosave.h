@@ -1,6 +1,8 @@
 // Autosave and crash recovery: each running studio journals its edits into a folder of its own
 // under the autosave base (named by its process id); a clean exit removes the folder. At start,
 // a folder whose process is gone is a crash: the studio offers to restore it by replaying it.
+// A folder the user declined, or that could not be restored, is kept aside under another name
+// (<pid>.kept-<time>): never offered again, never deleted.
 #pragma once
 
 #include <QObject>
@@ -12,6 +14,7 @@
 
 #include "model/document.h"
 #include "model/journal.h"
+#include "model/recovery.h"
 #include "model/session_adapter.h"
 #include "model/task_runner.h"
 
@@ -40,22 +43,22 @@ class Autosave : public QObject {
     /// Removes this studio's journal (a clean exit).
     void discard();
 
-    /// Replays the journal in `folder` into the document and session in the background (the
-    /// journal of this studio records the replay, so a second crash is covered too), then
-    /// removes `folder`. `done` gets the number of edits restored, whether the journal was
-    /// complete (false when it ended in an unreadable entry: the edit being made at the crash),
-    /// and "" or the error of an entry that does not apply (the folder is then kept).
-    void restore(const QString& folder, Document* document,
-                 std::function<void(int restored, bool complete, const QString& error)> done);
+    /// Replays the journal in `folder` on a worker (model/recovery.h) and hands the result to
+    /// `done` on the UI thread: the recovered state, or null and the error. Nothing of the
+    /// studio changes here; the caller applies the result and then calls finishRestore().
+    void restore(
+        const QString& folder,
+        std::function<void(std::shared_ptr<Recovered> recovered, const QString& error)> done);
     /// True from restore() until its `done`.
     bool restoring() const { return m_restoring; }
+    /// After a restore was applied: removes `folder` once this studio's journal holds the
+    /// restored state.
+    void finishRestore(const QString& folder);
+    /// Keeps `folder` aside so that it is not offered again (renamed, not deleted: nothing is
+    /// lost), and returns its new path ("" when it cannot be renamed; it is then left as is).
+    static QString setAside(const QString& folder);
 
   private:
-    struct Restore;
-    void step(const std::shared_ptr<Restore>& r);
-    void finish(const std::shared_ptr<Restore>& r, const QString& error);
-
-    SessionAdapter* m_session;
     std::unique_ptr<Journal> m_journal;
     TaskRunner m_tasks;
     bool m_restoring = false;

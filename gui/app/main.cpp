@@ -52,10 +52,8 @@ int main(int argc, char** argv) {
     options.offerRestore = !parser.isSet(noRestore);
     glint::studio::MainWindow window(options);
     window.show();
-    const QStringList files = parser.positionalArguments();
-    QTimer::singleShot(0, &window, [&window, &options, files] {
-        if (options.offerRestore) window.offerRestore();
-        if (!files.isEmpty()) window.openFile(files.first());
-    });
+    const QString file = parser.positionalArguments().value(0);
+    QTimer::singleShot(0, &window,
+                       [&window, &options, file] { window.start(file, options.offerRestore); });
     return app.exec();
 }

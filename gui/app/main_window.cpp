@@ -22,6 +22,7 @@
 #include "app/studio_settings.h"
 #include "glint/image/error.h"
 #include "model/first_denoise.h"
+#include "model/look_command.h"
 #include "model/progressive_denoise.h"
 #include "views/compare_view.h"
 #include "views/elided_label.h"
@@ -140,6 +141,7 @@ void MainWindow::buildMenus() {
     file->addAction(a.exportPng);
     file->addSeparator();
     file->addAction(a.newSession);
+    file->addAction(a.recover);
     file->addSeparator();
     file->addAction(a.quit);
     QMenu* edit = menuBar()->addMenu(tr("&Edit"));
@@ -207,6 +209,15 @@ void MainWindow::buildMenus() {
         if (!maybeSave([this] { m_actions.newSession->trigger(); })) return;
         m_session->clear();
         if (m_document->finishedFrame()) m_session->setInput(m_document->finishedFrame());
+    });
+    connect(a.recover, &QAction::triggered, this, [this] {
+        // The newest crashed studio's autosave, else one kept aside, chosen.
+        const QStringList crashed = Autosave::crashed(autosaveBase());
+        const QString folder = !crashed.isEmpty()
+                                   ? crashed.first()
+                                   : QFileDialog::getExistingDirectory(
+                                         this, tr("Recover an autosave"), autosaveBase());
+        if (!folder.isEmpty()) restoreFrom(folder);
     });
     connect(a.quit, &QAction::triggered, this, &QWidget::close);
     connect(a.undo, &QAction::triggered, m_session->undoStack(), &QUndoStack::undo);
@@ -356,33 +367,99 @@ void MainWindow::openFile(const QString& path) {
     m_document->open(path);
 }
 
+QString MainWindow::autosaveBase() const {
+    return m_options.autosaveBase.isEmpty() ? Autosave::defaultBase() : m_options.autosaveBase;
+}
+
+void MainWindow::start(const QString& file, bool offer) {
+    // The file first: a question about an old autosave never holds it back.
+    if (!file.isEmpty()) openFile(file);
+    if (offer) offerRestore(true);
+}
+
 void MainWindow::offerRestore(bool ask) {
-    const QString base =
-        m_options.autosaveBase.isEmpty() ? Autosave::defaultBase() : m_options.autosaveBase;
-    const QStringList crashed = Autosave::crashed(base);
+    const QStringList crashed = Autosave::crashed(autosaveBase());
     if (crashed.isEmpty()) return;
-    if (ask && QMessageBox::question(this, tr("Restore your work?"),
-                                     tr("Glint Studio did not exit cleanly last time. Restore the "
-                                        "painting and look edits it autosaved?"),
-                                     QMessageBox::Yes | QMessageBox::No,
-                                     QMessageBox::Yes) != QMessageBox::Yes)
+    const QString folder = crashed.first();
+    if (!ask) {
+        restoreFrom(folder);
         return;
+    }
+    // Not modal: the studio (and a file opening) goes on while the question waits.
+    auto* box = new QMessageBox(
+        QMessageBox::Question, tr("Restore your work?"),
+        tr("Glint Studio did not exit cleanly last time. Restore the painting and look edits it "
+           "autosaved?\n\nNo keeps the autosave aside (File > Recover Autosave… restores it "
+           "later); it is not offered again."),
+        QMessageBox::Yes | QMessageBox::No, this);
+    box->setObjectName(QStringLiteral("restoreQuestion"));
+    box->setAttribute(Qt::WA_DeleteOnClose);
+    box->setWindowModality(Qt::NonModal);
+    box->setDefaultButton(QMessageBox::Yes);
+    connect(box, &QMessageBox::finished, this, [this, folder](int answer) {
+        if (answer == QMessageBox::Yes) {
+            restoreFrom(folder);
+            return;
+        }
+        const QString kept = Autosave::setAside(folder);
+        showStatus(kept.isEmpty() ? tr("The autosave was left in %1.").arg(folder)
+                                  : tr("The autosave was kept as %1 (File > Recover Autosave… "
+                                       "restores it).")
+                                        .arg(kept));
+    });
+    box->show();
+}
+
+void MainWindow::restoreFrom(const QString& folder) {
+    if (m_autosave->restoring()) return;
+    if (!maybeSave([this, folder] { restoreFrom(folder); })) return;
+    showStatus(tr("Restoring the autosave…"));
+    // Replayed on a worker: the studio keeps drawing, and nothing of it changes until the whole
+    // result is in.
+    m_autosave->restore(folder, [this, folder](std::shared_ptr<Recovered> recovered,
+                                               const QString& error) {
+        if (!recovered) {
+            const QString kept = Autosave::setAside(folder);
+            showError(tr("Cannot restore the autosave"),
+                      tr("%1\n\nNothing was changed. The autosave was kept as %2.")
+                          .arg(error, kept.isEmpty() ? folder : kept));
+            return;
+        }
+        applyRecovered(*recovered);
+        m_autosave->finishRestore(folder);
+        const int n = recovered->edits;
+        showStatus(recovered->complete ? tr("Restored %1 edits.").arg(n)
+                                       : tr("Restored %1 edits (the edit being made at the crash "
+                                            "was lost).")
+                                             .arg(n));
+    });
+}
+
+void MainWindow::applyRecovered(Recovered& r) {
+    // Checked on the worker: nothing here can fail halfway. The journal of this studio records
+    // the restored state (file, look, settings, session), so a second crash is covered too.
     m_restoring = true;
-    // Replayed in the background: the studio keeps drawing meanwhile.
-    m_autosave->restore(
-        crashed.first(), m_document, [this](int n, bool complete, const QString& error) {
-            m_restoring = false;
-            if (!error.isEmpty())
-                showError(tr("Cannot restore the autosave"), error);
-            else
-                statusBar()->showMessage(complete
-                                             ? tr("Restored %1 edits.").arg(n)
-                                             : tr("Restored %1 edits (the edit being made at the "
-                                                  "crash was lost).")
-                                                   .arg(n),
-                                         8000);
-            updateTitle();
-        });
+    m_sessionPath.clear();
+    if (r.file) m_document->adopt(r.path, std::move(*r.file), false);
+    for (const LookValue& v : r.look) {
+        const std::array<double, 3> before = m_document->lookValue(v.item, v.property);
+        m_document->setLook(v.item, v.property, v.value, false);
+        m_session->record(
+            {LookCommand::journalOp(v.item, v.property, before, v.value), {}, nullptr});
+    }
+    if (r.settings) m_document->setSettings(*r.settings);
+    if (r.session)
+        m_session->install(std::move(*r.session), r.input, r.filterInput);
+    else
+        m_session->clear();
+    if (m_session->input()) m_document->setFinishedFrame(m_session->input());
+    m_restoring = false;
+    updateTitle();
+}
+
+void MainWindow::showStatus(const QString& message) {
+    m_lastStatus = message;
+    statusBar()->showMessage(message, 8000);
 }
 
 void MainWindow::exportResult(bool exr) {

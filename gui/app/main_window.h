@@ -57,8 +57,16 @@ class MainWindow : public QMainWindow {
     bool saveSession(const QString& path);
     /// Unsaved painting, look edits or render settings (the title's asterisk; Quit asks).
     bool isModified() const;
-    /// Offers to restore a crashed studio's journal (asks unless `ask` is false).
+    /// The start of glint-studio: opens `file` (when given) at once, then, when `offerRestore`,
+    /// offers a crashed studio's autosave beside it without blocking anything.
+    void start(const QString& file, bool offerRestore = true);
+    /// Offers to restore a crashed studio's autosave: asks (a question that blocks nothing:
+    /// "No" keeps the autosave aside, not offered again) unless `ask` is false.
     void offerRestore(bool ask = true);
+    /// Restores the autosave in `folder`, all or nothing: the replay runs on a worker and the
+    /// result replaces the document, look, settings and session at once; when any part does not
+    /// restore, nothing changes, one error says why and the autosave is kept aside.
+    void restoreFrom(const QString& folder);
 
     // The parts, for tests and the screenshot tour.
     Document* document() { return m_document; }
@@ -81,6 +89,8 @@ class MainWindow : public QMainWindow {
     int stage() const;
     /// The last error shown (title and message), for tests.
     QString lastError() const { return m_lastError; }
+    /// The last status-bar message, for tests.
+    QString lastStatus() const { return m_lastStatus; }
 
   signals:
     /// An error dialog was opened.
@@ -95,6 +105,7 @@ class MainWindow : public QMainWindow {
     void buildMenus();
     void connectModel();
     void showError(const QString& title, const QString& message);
+    void showStatus(const QString& message);
     /// True when unsaved painting may be dropped now; after "Save", false, and `again` runs once
     /// the save succeeded.
     bool maybeSave(std::function<void()> again);
@@ -106,6 +117,8 @@ class MainWindow : public QMainWindow {
     void applyViewState(const std::map<std::string, std::string>& state);
     QString askPath(const QString& title, const QString& filter, bool save);
     void exportResult(bool exr);
+    void applyRecovered(Recovered& recovered);
+    QString autosaveBase() const;
 
     StudioOptions m_options;
     Document* m_document;
@@ -131,6 +144,7 @@ class MainWindow : public QMainWindow {
     QMenu* m_recentMenu;
     QString m_sessionPath;
     QString m_lastError;
+    QString m_lastStatus;
     StageView* m_activeStage = nullptr;
     bool m_restoring = false;
     std::function<void()> m_afterSave;  // what maybeSave() resumes once the save is written

@@ -80,7 +80,8 @@ void MainWindow::applyViewState(const std::map<std::string, std::string>& state)
             disconnect(*once);
             const std::string skipped = applyLook(state, *m_document);
             try {
-                m_document->setSettings(readSettings(state, m_document->settings()));
+                m_document->setSettings(readSettings(state, m_document->settings(),
+                                                     m_sessionPath.toStdString(), "/view/"));
             } catch (const Error& e) {
                 showError(tr("The session's render settings were not restored"),
                           QString::fromStdString(e.what()));

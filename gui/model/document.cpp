@@ -24,13 +24,6 @@ bool isScenePath(const QString& path) {
     return false;
 }
 
-// A scene with a renderer, loaded on a worker thread.
-struct Loaded {
-    std::shared_ptr<render::Renderer> renderer;
-    std::vector<render::LookItem> look;
-    render::Settings settings;
-};
-
 // The settings a user chooses in the render bar, compared (render::Settings has no ==).
 bool sameUserSettings(const render::Settings& a, const render::Settings& b) {
     return a.spp == b.spp && a.seed == b.seed && a.integrator == b.integrator && a.mis == b.mis &&
@@ -50,9 +43,11 @@ bool sameLook(const std::vector<render::LookItem>& a, const std::vector<render::
     return true;
 }
 
-Loaded loadRenderer(const std::filesystem::path& path) {
+// A scene with a renderer, loaded on a worker thread.
+Document::Loaded loadRenderer(const std::filesystem::path& path) {
     render::Scene scene = render::loadScene(path);
-    Loaded out;
+    Document::Loaded out;
+    out.kind = Document::Kind::Scene;
     out.settings = scene.settings();
     out.look = scene.look();
     out.renderer = std::make_shared<render::Renderer>(std::move(scene));
@@ -104,70 +99,66 @@ Document::Document(QObject* parent) : QObject(parent) {
 
 Document::~Document() = default;
 
+Document::Loaded Document::load(const QString& path) {
+    const std::filesystem::path file = toPath(path);
+    Loaded out;
+    if (isScenePath(path)) {
+        out = loadRenderer(file);
+        out.settings.threads = 0;
+        return out;
+    }
+    FrameBuffers frame = readExr(file);
+    out.kind = Kind::Exr;
+    out.settings.spp = frame.metadata().spp > 0 ? frame.metadata().spp : out.settings.spp;
+    out.frame = std::make_shared<const FrameBuffers>(std::move(frame));
+    return out;
+}
+
 void Document::open(const QString& path, bool renderNow) {
     m_loading = true;
-    const std::filesystem::path file = toPath(path);
-    if (isScenePath(path)) {
-        m_tasks.run<Loaded>(
-            QStringLiteral("open"),
-            [file](const TaskRunner::CancelFlag&) { return loadRenderer(file); },
-            [this, path, renderNow](Loaded loaded) {
-                m_loading = false;
-                if (!m_watcher.files().isEmpty()) m_watcher.removePaths(m_watcher.files());
-                m_kind = Kind::Scene;
-                m_path = path;
-                m_look = std::move(loaded.look);
-                // Keep what the user chose in the render bar when a scene replaces another.
-                m_settings = loaded.settings;
-                m_settings.threads = 0;
-                m_reference.reset();
-                m_curve.clear();
-                m_frame.reset();
-                m_finished.reset();
-                m_job.setRenderer(loaded.renderer);
-                m_watcher.addPath(path);
-                emit opened();
-                emit lookChanged();
-                emit referenceChanged();
-                // What was opened (and restored while it opened) is the saved state.
-                markSaved();
-                if (renderNow) render();
-            },
-            [this, path](const QString& message) {
-                m_loading = false;
-                emit failed(tr("Cannot open %1").arg(QFileInfo(path).fileName()), message);
-            });
-        return;
-    }
-    m_tasks.run<FrameBuffers>(
-        QStringLiteral("open"), [file](const TaskRunner::CancelFlag&) { return readExr(file); },
-        [this, path](FrameBuffers frame) {
-            m_loading = false;
-            if (!m_watcher.files().isEmpty()) m_watcher.removePaths(m_watcher.files());
-            m_job.cancel();
-            m_tasks.cancel(QStringLiteral("merge"));
-            m_merging = false;
-            m_job.setRenderer(nullptr);
-            m_kind = Kind::Exr;
-            m_path = path;
-            m_look.clear();
-            m_reference.reset();
-            m_curve.clear();
-            m_settings = render::Settings{};
-            m_settings.spp = frame.metadata().spp > 0 ? frame.metadata().spp : m_settings.spp;
-            auto shared = std::make_shared<const FrameBuffers>(std::move(frame));
-            m_frame = shared;
-            m_finished = shared;
-            emit opened();
-            emit lookChanged();
-            emit referenceChanged();
-            markSaved();
-            emit frameChanged(true);
+    m_tasks.run<std::shared_ptr<Loaded>>(
+        QStringLiteral("open"),
+        [path](const TaskRunner::CancelFlag&) { return std::make_shared<Loaded>(load(path)); },
+        [this, path, renderNow](std::shared_ptr<Loaded> loaded) {
+            adopt(path, std::move(*loaded), renderNow);
         },
         [this, path](const QString& message) {
             m_loading = false;
             emit failed(tr("Cannot open %1").arg(QFileInfo(path).fileName()), message);
         });
+}
+
+void Document::adopt(const QString& path, Loaded loaded, bool renderNow) {
+    m_loading = false;
+    if (!m_watcher.files().isEmpty()) m_watcher.removePaths(m_watcher.files());
+    m_kind = loaded.kind;
+    m_path = path;
+    m_look = std::move(loaded.look);
+    m_settings = loaded.settings;
+    m_reference.reset();
+    m_curve.clear();
+    if (m_kind == Kind::Scene) {
+        m_frame.reset();
+        m_finished.reset();
+        m_job.setRenderer(loaded.renderer);
+        m_watcher.addPath(path);
+    } else {
+        m_job.cancel();
+        m_tasks.cancel(QStringLiteral("merge"));
+        m_merging = false;
+        m_job.setRenderer(nullptr);
+        m_frame = loaded.frame;
+        m_finished = loaded.frame;
+    }
+    emit opened();
+    emit lookChanged();
+    emit referenceChanged();
+    // What was opened (and restored while it opened) is the saved state.
+    markSaved();
+    if (m_kind == Kind::Exr)
+        emit frameChanged(true);
+    else if (renderNow)
+        render();
 }
 
 void Document::setSettings(const render::Settings& settings) {
@@ -307,23 +298,29 @@ std::array<double, 3> Document::lookValue(const std::string& item,
     throw Error(ErrorKind::InvalidArgument, "no look property " + item + "/" + property);
 }
 
-void Document::setLook(const std::string& item, const std::string& property,
-                       const std::array<double, 3>& value, bool renderNow) {
+void setLookValue(std::vector<render::LookItem>& look, const std::string& item,
+                  const std::string& property, const std::array<double, 3>& value,
+                  const std::string& file) {
     render::LookProperty* target = nullptr;
-    for (render::LookItem& i : m_look)
+    for (render::LookItem& i : look)
         if (i.name == item)
             for (render::LookProperty& p : i.properties)
                 if (p.name == property) target = &p;
     if (!target)
-        throw Error(ErrorKind::InvalidArgument, "no look property " + item + "/" + property);
+        throw Error(ErrorKind::InvalidArgument, "no look property " + item + "/" + property, file);
     const int n = target->type == render::PropertyType::Color ? 3 : 1;
     for (int c = 0; c < n; ++c)
         if (!(value[std::size_t(c)] >= target->min && value[std::size_t(c)] <= target->max))
             throw Error(ErrorKind::InvalidArgument,
                         target->label + " must lie in [" + std::to_string(target->min) + ", " +
                             std::to_string(target->max) + "]",
-                        m_path.toStdString(), item + "/" + property);
+                        file, item + "/" + property);
     target->value = value;
+}
+
+void Document::setLook(const std::string& item, const std::string& property,
+                       const std::array<double, 3>& value, bool renderNow) {
+    setLookValue(m_look, item, property, value, m_path.toStdString());
     emit modifiedChanged();
     m_job.withScene(
         [item, property, value](render::Scene& scene) { scene.setLook(item, property, value); },

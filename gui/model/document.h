@@ -22,6 +22,12 @@
 
 namespace glint::studio {
 
+/// Sets one property of `look` to `value`. Throws glint::Error(InvalidArgument) naming `file`
+/// for a property it lacks or a value out of the property's range (nothing changes then).
+void setLookValue(std::vector<render::LookItem>& look, const std::string& item,
+                  const std::string& property, const std::array<double, 3>& value,
+                  const std::string& file = {});
+
 /// One point of the convergence plot: a pass of the running render against the reference.
 struct CurvePoint {
     double seconds = 0.0;
@@ -37,9 +43,23 @@ class Document : public QObject {
     explicit Document(QObject* parent = nullptr);
     ~Document() override;
 
+    /// A file as opening it loads it (touching no document: safe on a worker thread): a scene
+    /// with its renderer, look and settings, or a layered EXR's frame.
+    struct Loaded {
+        Kind kind = Kind::None;
+        std::shared_ptr<render::Renderer> renderer;
+        std::vector<render::LookItem> look;
+        render::Settings settings;
+        std::shared_ptr<const FrameBuffers> frame;
+    };
+    /// Loads `path` (a scene.json, glTF or OBJ asset, or layered EXR). Throws glint::Error.
+    static Loaded load(const QString& path);
+
     /// Opens a scene.json (renders at once) or a layered EXR, in the background. `render`
     /// false opens a scene without rendering (a restored session brings its own frame).
     void open(const QString& path, bool render = true);
+    /// Makes `loaded` (load(path), e.g. on a worker) the open file, as open() does once loaded.
+    void adopt(const QString& path, Loaded loaded, bool render = true);
     Kind kind() const { return m_kind; }
     QString path() const { return m_path; }
     bool isOpen() const { return m_kind != Kind::None; }

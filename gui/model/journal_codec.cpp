@@ -44,6 +44,16 @@ QJsonArray indicesToJson(const std::vector<std::size_t>& indices) {
     return a;
 }
 
+std::vector<denoise::LayerSpec> layersFromJson(const QJsonValue& v) {
+    std::vector<denoise::LayerSpec> layers;
+    for (const QJsonValue& item : v.toArray()) {
+        const QJsonObject l = item.toObject();
+        layers.push_back({l.value(QStringLiteral("filter")).toString().toStdString(),
+                          paramsFromJson(l.value(QStringLiteral("params")))});
+    }
+    return layers;
+}
+
 std::size_t index(const QJsonObject& o, const char* key) {
     return std::size_t(o.value(QLatin1String(key)).toInteger());
 }
@@ -71,6 +81,12 @@ struct Encoder {
                 {QStringLiteral("filter"), QString::fromStdString(a.filter)},
                 {QStringLiteral("params"), paramsToJson(a.params)},
                 {QStringLiteral("fill"), a.fill}};
+    }
+    QJsonObject operator()(const AddLayers& a) const {
+        QJsonArray layers;
+        for (const auto& spec : a.layers) layers.append(layerToJson(spec));
+        return {{QStringLiteral("op"), QStringLiteral("addLayers")},
+                {QStringLiteral("layers"), layers}};
     }
     QJsonObject operator()(const RemoveLayer& r) const {
         return {{QStringLiteral("op"), QStringLiteral("removeLayer")},
@@ -104,6 +120,9 @@ struct Encoder {
         return {{QStringLiteral("op"), QStringLiteral("apply")},
                 {QStringLiteral("layers"), indicesToJson(a.layers)}};
     }
+    QJsonObject operator()(const Clear&) const {
+        return {{QStringLiteral("op"), QStringLiteral("clear")}};
+    }
     QJsonObject operator()(const Undo&) const {
         return {{QStringLiteral("op"), QStringLiteral("undo")}};
     }
@@ -126,11 +145,7 @@ Op decode(const QJsonObject& json) {
         s.options.prefilter = options.value(QStringLiteral("prefilter")).toBool();
         s.options.prefilterParams =
             paramsFromJson(options.value(QStringLiteral("prefilterParams")));
-        for (const QJsonValue& v : json.value(QStringLiteral("layers")).toArray()) {
-            const QJsonObject l = v.toObject();
-            s.layers.push_back({l.value(QStringLiteral("filter")).toString().toStdString(),
-                                paramsFromJson(l.value(QStringLiteral("params")))});
-        }
+        s.layers = layersFromJson(json.value(QStringLiteral("layers")));
         // Older journals have no names.
         for (const QJsonValue& v : json.value(QStringLiteral("names")).toArray())
             s.names.push_back(v.toString().toStdString());
@@ -141,6 +156,8 @@ Op decode(const QJsonObject& json) {
         return AddLayer{json.value(QStringLiteral("filter")).toString().toStdString(),
                         paramsFromJson(json.value(QStringLiteral("params"))),
                         json.value(QStringLiteral("fill")).toBool()};
+    if (op == QStringLiteral("addLayers"))
+        return AddLayers{layersFromJson(json.value(QStringLiteral("layers")))};
     if (op == QStringLiteral("removeLayer")) return RemoveLayer{index(json, "index")};
     if (op == QStringLiteral("renameLayer"))
         return RenameLayer{index(json, "index"),
@@ -164,6 +181,7 @@ Op decode(const QJsonObject& json) {
             a.layers.push_back(std::size_t(v.toInteger()));
         return a;
     }
+    if (op == QStringLiteral("clear")) return Clear{};
     if (op == QStringLiteral("undo")) return Undo{};
     if (op == QStringLiteral("redo")) return Redo{};
     throw Error(ErrorKind::Format, "unknown journal operation \"" + op.toStdString() + "\"");
@@ -179,12 +197,13 @@ QJsonObject encodeSettings(const render::Settings& settings) {
     return json;
 }
 
-render::Settings decodeSettings(const QJsonObject& json, render::Settings settings) {
+render::Settings decodeSettings(const QJsonObject& json, render::Settings settings,
+                                const std::string& file, const std::string& where) {
     std::map<std::string, std::string> state;
     for (auto it = json.begin(); it != json.end(); ++it)
         if (it.key() != QStringLiteral("op"))
-            state[it.key().toStdString()] = it.value().toString().toStdString();
-    return readSettings(state, settings);
+            state[it.key().toStdString()] = it.value().toVariant().toString().toStdString();
+    return readSettings(state, settings, file, where + "/");
 }
 
 }  // namespace glint::studio::journal_codec

@@ -1,6 +1,6 @@
 // The journal's JSON (docs/studio.md, "Autosave"): each session operation as the JSON object one
-// journal line holds, and back. SessionAdapter records and replays typed operations; only this
-// file knows their keys.
+// journal line holds, and back. SessionAdapter records typed operations and the recovery
+// (model/recovery.h) replays them; only this file knows their keys.
 #pragma once
 
 #include <QJsonObject>
@@ -31,6 +31,11 @@ struct AddLayer {
     denoise::ParamValues params;
     bool fill = false;
 };
+/// Layers added with their weights (the entry's images, in order) as one undo step: what Auto
+/// Start made.
+struct AddLayers {
+    std::vector<denoise::LayerSpec> layers;
+};
 struct RemoveLayer {
     std::size_t index = 0;
 };
@@ -59,11 +64,13 @@ struct Stroke {
 struct Apply {
     std::vector<std::size_t> layers;
 };
+/// The session dropped (a new file opens, File > New Session).
+struct Clear {};
 struct Undo {};
 struct Redo {};
 
-using Op = std::variant<Start, Input, AddLayer, RemoveLayer, RenameLayer, Weights, Fill, Stroke,
-                        Apply, Undo, Redo>;
+using Op = std::variant<Start, Input, AddLayer, AddLayers, RemoveLayer, RenameLayer, Weights, Fill,
+                        Stroke, Apply, Clear, Undo, Redo>;
 
 /// The JSON of `op`.
 QJsonObject encode(const Op& op);
@@ -74,7 +81,10 @@ Op decode(const QJsonObject& json);
 /// The render settings the user chose (spp, seed, integrator, MIS, half buffers) as a journal
 /// line of their own ("op": "settings", the keys of a session file's view state).
 QJsonObject encodeSettings(const render::Settings& settings);
-/// `settings` with what a "settings" line says (keys missing or unreadable leave the value).
-render::Settings decodeSettings(const QJsonObject& json, render::Settings settings);
+/// `settings` with what a "settings" line says (missing keys leave the value). Read strictly
+/// (readSettings): a bad value throws glint::Error(Format) naming `file` and `where` (the line)
+/// with the key.
+render::Settings decodeSettings(const QJsonObject& json, render::Settings settings,
+                                const std::string& file = {}, const std::string& where = {});
 
 }  // namespace glint::studio::journal_codec

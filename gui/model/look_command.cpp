@@ -24,15 +24,21 @@ void LookCommand::apply(const std::array<double, 3>& value, const char* op) {
     m_document->setLook(m_item, m_property, value, m_render);
     JournalEntry entry;
     if (std::string_view(op) == "look") {
-        entry.op = {{QStringLiteral("op"), QStringLiteral("look")},
-                    {QStringLiteral("item"), QString::fromStdString(m_item)},
-                    {QStringLiteral("property"), QString::fromStdString(m_property)},
-                    {QStringLiteral("before"), QJsonArray{m_before[0], m_before[1], m_before[2]}},
-                    {QStringLiteral("after"), QJsonArray{m_after[0], m_after[1], m_after[2]}}};
+        entry.op = journalOp(m_item, m_property, m_before, m_after);
     } else {
         entry.op = {{QStringLiteral("op"), QString::fromLatin1(op)}};
     }
     m_session->record(entry);
+}
+
+QJsonObject LookCommand::journalOp(const std::string& item, const std::string& property,
+                                   const std::array<double, 3>& before,
+                                   const std::array<double, 3>& after) {
+    return {{QStringLiteral("op"), QStringLiteral("look")},
+            {QStringLiteral("item"), QString::fromStdString(item)},
+            {QStringLiteral("property"), QString::fromStdString(property)},
+            {QStringLiteral("before"), QJsonArray{before[0], before[1], before[2]}},
+            {QStringLiteral("after"), QJsonArray{after[0], after[1], after[2]}}};
 }
 
 void LookCommand::undo() {

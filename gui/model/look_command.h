@@ -2,6 +2,7 @@
 // value, undo the old one, each re-rendering; both are reported to the autosave journal.
 #pragma once
 
+#include <QJsonObject>
 #include <QUndoCommand>
 
 #include <array>
@@ -19,6 +20,10 @@ class LookCommand : public QUndoCommand {
                 std::array<double, 3> before, std::array<double, 3> after, bool render = true);
     void undo() override;
     void redo() override;
+    /// The journal's JSON of a look edit ("op": "look").
+    static QJsonObject journalOp(const std::string& item, const std::string& property,
+                                 const std::array<double, 3>& before,
+                                 const std::array<double, 3>& after);
 
   private:
     void apply(const std::array<double, 3>& value, const char* op);

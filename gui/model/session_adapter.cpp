@@ -2,11 +2,11 @@
 
 #include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
-#include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
 #include "glint/image/error.h"
 #include "model/journal_codec.h"
 #include "model/layer_names.h"
+#include "model/session_build.h"
 
 namespace glint::studio {
 
@@ -17,34 +17,6 @@ bool sameSpecs(const std::vector<denoise::LayerSpec>& a, const std::vector<denoi
     for (std::size_t i = 0; i < a.size(); ++i)
         if (a[i].filter != b[i].filter || a[i].params != b[i].params) return false;
     return true;
-}
-
-FramePtr filterInputFor(FramePtr frame, const denoise::SessionOptions& options,
-                        const denoise::ProgressFn& progress = {}) {
-    if (!options.prefilter) return frame;
-    return std::make_shared<const FrameBuffers>(
-        denoise::prefilterFeatures(*frame, options.prefilterParams, progress));
-}
-
-// A session with `carry` layers transferred (outputs given, weights set): how a new session
-// keeps the painting when the options change.
-denoise::Session buildSession(FramePtr frame, FramePtr filterInput,
-                              const denoise::SessionOptions& options,
-                              const std::vector<denoise::LayerSpec>& carry,
-                              const std::vector<Image>& carryWeights,
-                              const std::vector<std::string>& carryNames,
-                              const denoise::ProgressFn& progress) {
-    denoise::Session session(*frame, options);
-    for (std::size_t i = 0; i < carry.size(); ++i) {
-        const denoise::Filter& f = denoise::findFilter(carry[i].filter);
-        Image output =
-            denoise::applyFilter(f, *filterInput, carry[i].params,
-                                 {.region = std::nullopt, .progress = progress, .threads = 0});
-        session.addLayer(carry[i].filter, carry[i].params, std::move(output));
-        if (i < carryWeights.size()) session.setWeights(session.layerCount() - 1, carryWeights[i]);
-        if (i < carryNames.size()) session.renameLayer(session.layerCount() - 1, carryNames[i]);
-    }
-    return session;
 }
 
 }  // namespace
@@ -162,24 +134,6 @@ void SessionAdapter::startSession(FramePtr frame, std::vector<denoise::LayerSpec
             changedAll();
         },
         [this](const QString& message) { emit failed(tr("Cannot start the session"), message); });
-}
-
-SessionAdapter::Reapplied SessionAdapter::computeReapply(FramePtr frame,
-                                                         const denoise::Session::Snapshot& snapshot,
-                                                         const denoise::ProgressFn& progress) {
-    // On a worker: the filters' input, each layer's output, the session's own copy of the render
-    // (about 100 MB at 1024², features included) and its composite under the snapshot's weights:
-    // installing them on the UI thread is moves and pointer swaps.
-    Reapplied out;
-    out.filterInput = filterInputFor(frame, snapshot.options);
-    std::vector<Image> outputs;
-    for (const denoise::LayerSpec& spec : snapshot.specs)
-        outputs.push_back(
-            denoise::applyFilter(denoise::findFilter(spec.filter), *out.filterInput, spec.params,
-                                 {.region = std::nullopt, .progress = progress, .threads = 0}));
-    out.prepared = std::make_shared<denoise::Session::Reapplication>(
-        denoise::Session::prepareReapply(*frame, std::move(outputs), snapshot));
-    return out;
 }
 
 void SessionAdapter::reapplyInBackground() {
@@ -433,129 +387,10 @@ void SessionAdapter::clear() {
     m_banks.setFrame(nullptr);
     m_pendingInput.reset();
     ++m_generation;
+    // A restore must not carry the dropped session over to the next file.
+    emit journal({journal_codec::encode(journal_codec::Clear{}), {}, nullptr});
     emit sessionReset();
     emit layersChanged();
-}
-
-void SessionAdapter::replay(const JournalEntry& entry, std::function<void(const QString&)> done) {
-    journal_codec::Op op;
-    try {
-        op = journal_codec::decode(entry.op);
-    } catch (const Error& e) {
-        done(QString::fromStdString(e.what()));
-        return;
-    }
-    const std::string name = entry.op.value(QStringLiteral("op")).toString().toStdString();
-    // The edits that run filters compute on a worker, then apply here; the rest apply at once.
-    auto later = [this, done](auto work, auto apply) {
-        using R = decltype(work());
-        m_tasks.run<std::shared_ptr<R>>(
-            QStringLiteral("replay"),
-            [work](const TaskRunner::CancelFlag&) { return std::make_shared<R>(work()); },
-            [done, apply](std::shared_ptr<R> result) {
-                try {
-                    apply(std::move(*result));
-                } catch (const Error& e) {
-                    done(QString::fromStdString(e.what()));
-                    return;
-                }
-                done(QString());
-            },
-            [done](const QString& message) { done(message); });
-    };
-    try {
-        if (const auto* start = std::get_if<journal_codec::Start>(&op)) {
-            if (!entry.frame)
-                throw Error(ErrorKind::Format, "the journal's start lacks its render");
-            const denoise::SessionOptions options = start->options;
-            const std::vector<denoise::LayerSpec> layers = start->layers;
-            const std::vector<std::string> names = start->names;
-            FramePtr frame = entry.frame;
-            const std::vector<Image> weights = entry.images;
-            struct Started {
-                std::shared_ptr<denoise::Session> session;
-                FramePtr filterInput;
-            };
-            later(
-                [frame, options, layers, weights, names] {
-                    FramePtr in = filterInputFor(frame, options);
-                    return Started{std::make_shared<denoise::Session>(buildSession(
-                                       frame, in, options, layers, weights, names, {})),
-                                   in};
-                },
-                [this, frame, options](Started s) {
-                    m_options = options;
-                    install(std::move(*s.session), frame, s.filterInput);
-                });
-            return;
-        }
-        if (!m_session)
-            throw Error(ErrorKind::Format, "the journal edits a session before starting one");
-        if (std::holds_alternative<journal_codec::Input>(op)) {
-            if (!entry.frame)
-                throw Error(ErrorKind::Format, "the journal's input lacks its render");
-            FramePtr frame = entry.frame;
-            auto snapshot =
-                std::make_shared<const denoise::Session::Snapshot>(m_session->snapshot());
-            later([frame, snapshot] { return computeReapply(frame, *snapshot, {}); },
-                  [this, frame](Reapplied out) { installReapply(frame, out, true); });
-            return;
-        }
-        if (const auto* add = std::get_if<journal_codec::AddLayer>(&op)) {
-            std::optional<Image> mask;
-            if (add->fill) {
-                if (entry.images.empty())
-                    throw Error(ErrorKind::Format, "the journal entry lacks its image", {}, name);
-                mask = entry.images[0];
-            }
-            FramePtr in = m_filterInput;
-            const journal_codec::AddLayer a = *add;
-            later(
-                [in, a] {
-                    return denoise::applyFilter(denoise::findFilter(a.filter), *in, a.params);
-                },
-                [this, a, mask](Image output) {
-                    doAddLayer(a.filter, a.params, std::move(output), mask);
-                });
-            return;
-        }
-        replayNow(entry, op, name);
-    } catch (const Error& e) {
-        done(QString::fromStdString(e.what()));
-        return;
-    }
-    done(QString());
-}
-
-void SessionAdapter::replayNow(const JournalEntry& entry, const journal_codec::Op& op,
-                               const std::string& name) {
-    auto image = [&](std::size_t i) -> const Image& {
-        if (i >= entry.images.size())
-            throw Error(ErrorKind::Format, "the journal entry lacks its image", {}, name);
-        return entry.images[i];
-    };
-    if (const auto* remove = std::get_if<journal_codec::RemoveLayer>(&op)) {
-        removeLayer(remove->index);
-    } else if (const auto* rename = std::get_if<journal_codec::RenameLayer>(&op)) {
-        renameLayer(rename->index, rename->name);
-    } else if (const auto* weights = std::get_if<journal_codec::Weights>(&op)) {
-        setWeights(weights->index, image(0));
-    } else if (const auto* f = std::get_if<journal_codec::Fill>(&op)) {
-        fill(f->index, image(0), f->mode);
-    } else if (const auto* stroke = std::get_if<journal_codec::Stroke>(&op)) {
-        beginStroke(stroke->layer, stroke->brush, stroke->mode);
-        for (std::size_t i = 0; i + 1 < stroke->dabs.size(); i += 2)
-            dab(stroke->dabs[i], stroke->dabs[i + 1]);
-        endStroke();
-    } else if (const auto* apply = std::get_if<journal_codec::Apply>(&op)) {
-        m_session->applyWeights(apply->layers, entry.images);
-        emit journal(entry);
-        pushEdit(tr("Diffuse the weights"));
-        changedAll();
-    } else {
-        // Undo and redo are the document's (its undo stack replays them).
-        throw Error(ErrorKind::Format, "unknown journal operation \"" + name + "\"");
-    }
 }
 
 SessionCommand::SessionCommand(SessionAdapter* adapter, const QString& text, int steps)

@@ -22,6 +22,7 @@
 #include "model/bank_service.h"
 #include "model/journal_codec.h"
 #include "model/render_job.h"
+#include "model/session_build.h"
 #include "model/task_runner.h"
 
 namespace glint::studio {
@@ -108,14 +109,9 @@ class SessionAdapter : public QObject {
     /// shared copies of its render (made here when not given).
     void install(denoise::Session session, FramePtr input = nullptr,
                  FramePtr filterInput = nullptr);
-    /// Applies one journal entry of a session edit (restoring an autosave): "start", "input",
-    /// "addLayer", "removeLayer", "renameLayer", "weights", "fill", "stroke", "apply". Those that
-    /// run filters compute on a worker; `done` gets "" once the entry is applied, or the error of
-    /// an entry that does not fit the session. Replay the next entry only after `done`.
-    void replay(const JournalEntry& entry, std::function<void(const QString&)> done);
     /// Reports an edit made outside the session (a look edit, undo, redo) to the journal.
     void record(JournalEntry entry) { emit journal(entry); }
-    /// Drops the session.
+    /// Drops the session (journaled: a restore does not carry it over to the next file).
     void clear();
 
   signals:
@@ -145,14 +141,6 @@ class SessionAdapter : public QObject {
     void startSession(FramePtr frame, std::vector<denoise::LayerSpec> carry,
                       std::vector<Image> carryWeights, std::vector<std::string> carryNames = {});
     void reapplyInBackground();
-    /// What re-applying the layers to a new render needs, computed on a worker.
-    struct Reapplied {
-        FramePtr filterInput;
-        /// The session's copy of the render, its outputs and composite.
-        std::shared_ptr<denoise::Session::Reapplication> prepared;
-    };
-    static Reapplied computeReapply(FramePtr frame, const denoise::Session::Snapshot& snapshot,
-                                    const denoise::ProgressFn& progress);
     void installReapply(FramePtr frame, Reapplied& reapplied, bool journal);
     void pushEdit(const QString& text, int steps = 1);
     void doAddLayer(const std::string& filter, const denoise::ParamValues& params, Image output,
@@ -167,7 +155,6 @@ class SessionAdapter : public QObject {
     void readInBackground(const QString& what, std::function<void(const denoise::Session&)> read,
                           std::function<void(const QString&)> done);
     void changedAll();
-    void replayNow(const JournalEntry& entry, const journal_codec::Op& op, const std::string& name);
     denoise::ProgressFn progressFor(const QString& what, const TaskRunner::CancelFlag& cancel);
 
     TaskRunner m_tasks;

@@ -1,6 +1,8 @@
 #include "model/session_state.h"
 
 #include <algorithm>
+#include <charconv>
+#include <cstdint>
 #include <sstream>
 
 #include "glint/image/error.h"
@@ -49,24 +51,41 @@ void writeDocumentState(const std::vector<render::LookItem>& look, const render:
 }
 
 render::Settings readSettings(const std::map<std::string, std::string>& state,
-                              render::Settings settings) {
-    // Each key on its own: one unreadable value does not lose the others.
-    auto attempt = [](auto&& fn) {
-        try {
-            fn();
-        } catch (const std::exception&) {
-        }
+                              render::Settings settings, const std::string& file,
+                              const std::string& pointer) {
+    // Strictly, with the renderer's limits (render::validate): a bad value is an error naming
+    // the file and the key, never a value quietly made up from part of the text.
+    auto bad = [&](const char* key, const std::string& expected, const std::string& text) {
+        throw Error(ErrorKind::Format, "expected " + expected + ", got \"" + text + "\"", file,
+                    pointer + key);
+    };
+    auto integer = [&](const char* key, const std::string& text, std::uint64_t lo,
+                       std::uint64_t hi) {
+        std::uint64_t v = 0;
+        const char* end = text.data() + text.size();
+        const auto [at, ec] = std::from_chars(text.data(), end, v);
+        if (ec != std::errc() || at != end || v < lo || v > hi)
+            bad(key, "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]",
+                text);
+        return v;
     };
     if (const std::string* v = find(state, "spp"))
-        attempt([&] { settings.spp = std::clamp(std::stoi(*v), 1, render::kMaxSpp); });
+        settings.spp = int(integer("spp", *v, 1, std::uint64_t(render::kMaxSpp)));
     if (const std::string* v = find(state, "seed"))
-        attempt(
-            [&] { settings.seed = std::min<std::uint64_t>(std::stoull(*v), render::kMaxSeed); });
-    if (const std::string* v = find(state, "integrator"))
-        attempt([&] { settings.integrator = render::parseIntegrator(*v); });
-    if (const std::string* v = find(state, "mis"))
-        attempt([&] { settings.mis = render::parseMis(*v); });
-    if (const std::string* v = find(state, "halves")) settings.halfBuffers = *v == "1";
+        settings.seed = integer("seed", *v, 0, render::kMaxSeed);
+    if (const std::string* v = find(state, "integrator")) {
+        if (*v != "path" && *v != "mlt") bad("integrator", "path or mlt", *v);
+        settings.integrator = render::parseIntegrator(*v);
+    }
+    if (const std::string* v = find(state, "mis")) {
+        if (*v != "power" && *v != "balance" && *v != "none")
+            bad("mis", "power, balance or none", *v);
+        settings.mis = render::parseMis(*v);
+    }
+    if (const std::string* v = find(state, "halves")) {
+        if (*v != "0" && *v != "1") bad("halves", "0 or 1", *v);
+        settings.halfBuffers = *v == "1";
+    }
     return settings;
 }
 

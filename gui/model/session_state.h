@@ -23,10 +23,13 @@ std::string lookKey(const std::string& item, const std::string& property);
 void writeDocumentState(const std::vector<render::LookItem>& look, const render::Settings& settings,
                         std::map<std::string, std::string>& state);
 
-/// `settings` with what `state` says of spp, seed, integrator, MIS and half buffers (keys that
-/// are missing or unreadable leave the value as it is).
+/// `settings` with what `state` says of spp, seed, integrator, MIS and half buffers (missing keys
+/// leave the value as it is). Read strictly, with the renderer's limits (spp 1…2^24, seed
+/// 0…2^63−1, render::validate): a bad value throws glint::Error(Format) naming `file`, the place
+/// `pointer` + key (e.g. "/view/spp") and what was expected.
 render::Settings readSettings(const std::map<std::string, std::string>& state,
-                              render::Settings settings);
+                              render::Settings settings, const std::string& file = {},
+                              const std::string& pointer = {});
 
 /// Applies the look values `state` holds to `document` without rendering; properties the scene
 /// does not have, or values it refuses, are skipped and named in the result ("" when none).

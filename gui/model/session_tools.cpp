@@ -186,18 +186,20 @@ void SessionAdapter::autoChoose(BankService::BankPtr bank, FramePtr in,
                     emit failed(tr("Auto start failed"), QString::fromStdString(e.what()));
                     return;
                 }
-                // The journal replays it as plain layer and weight edits.
-                for (std::size_t i = first; i < m_session->layerCount(); ++i) {
-                    const denoise::SessionLayer& layer = m_session->layer(i);
-                    emit journal({journal_codec::encode(
-                                      journal_codec::AddLayer{layer.filter, layer.params, false}),
-                                  {},
-                                  nullptr});
-                    emit journal({journal_codec::encode(journal_codec::Weights{i}),
-                                  {layer.weights},
-                                  nullptr});
+                // One journal entry, as it is one undo step: a restore replays the journal's
+                // undo and redo step for step.
+                if (edits > 0) {
+                    journal_codec::AddLayers added;
+                    JournalEntry entry;
+                    for (std::size_t i = first; i < m_session->layerCount(); ++i) {
+                        const denoise::SessionLayer& layer = m_session->layer(i);
+                        added.layers.push_back({layer.filter, layer.params});
+                        entry.images.push_back(layer.weights);
+                    }
+                    entry.op = journal_codec::encode(added);
+                    emit journal(entry);
+                    pushEdit(tr("Auto start"), int(edits));
                 }
-                if (edits > 0) pushEdit(tr("Auto start"), int(edits));
                 changedAll();
                 emit status(autoStartSummary(*result));
             });

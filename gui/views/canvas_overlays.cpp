@@ -9,8 +9,8 @@ namespace glint::studio {
 
 namespace {
 
-constexpr int kMargin = 8;   // from the canvas's edge
-constexpr int kPadding = 5;  // inside the plate
+constexpr int kPlateMargin = 8;   // from the canvas's edge
+constexpr int kPlatePadding = 5;  // inside the plate
 
 void plate(QPainter& p, const QRect& r) {
     p.save();
@@ -26,8 +26,9 @@ void plate(QPainter& p, const QRect& r) {
 void drawCanvasLabel(QPainter& p, const QRect& area, const QString& text) {
     if (text.isEmpty()) return;
     const QFontMetrics fm(p.font());
-    const QRect box(area.left() + kMargin, area.top() + kMargin,
-                    fm.horizontalAdvance(text) + 2 * kPadding, fm.height() + 2 * kPadding);
+    const QRect box(area.left() + kPlateMargin, area.top() + kPlateMargin,
+                    fm.horizontalAdvance(text) + 2 * kPlatePadding,
+                    fm.height() + 2 * kPlatePadding);
     plate(p, box);
     p.setPen(QColor(235, 235, 235));
     p.drawText(box, Qt::AlignCenter, text);
@@ -41,17 +42,17 @@ void drawFalseColorLegend(QPainter& p, const QRect& area, float lo, float hi) {
     const QFontMetrics fm(p.font());
     const QStringList labels = legendLabels(lo, hi);
     const int barWidth = 160, barHeight = 10;
-    const QRect box(area.right() - kMargin - barWidth - 2 * kPadding,
-                    area.bottom() - kMargin - barHeight - fm.height() - 3 * kPadding,
-                    barWidth + 2 * kPadding, barHeight + fm.height() + 3 * kPadding);
+    const QRect box(area.right() - kPlateMargin - barWidth - 2 * kPlatePadding,
+                    area.bottom() - kPlateMargin - barHeight - fm.height() - 3 * kPlatePadding,
+                    barWidth + 2 * kPlatePadding, barHeight + fm.height() + 3 * kPlatePadding);
     plate(p, box);
     // The ramp, one column per step.
-    const QRect bar(box.left() + kPadding, box.top() + kPadding, barWidth, barHeight);
+    const QRect bar(box.left() + kPlatePadding, box.top() + kPlatePadding, barWidth, barHeight);
     for (int x = 0; x < barWidth; ++x)
         p.fillRect(QRect(bar.left() + x, bar.top(), 1, barHeight),
                    QColor(falseColor(float(x) / float(barWidth - 1))));
     p.setPen(QColor(235, 235, 235));
-    const QRect text(bar.left(), bar.bottom() + kPadding, barWidth, fm.height());
+    const QRect text(bar.left(), bar.bottom() + kPlatePadding, barWidth, fm.height());
     p.drawText(text, Qt::AlignLeft | Qt::AlignVCenter, labels[0]);
     p.drawText(text, Qt::AlignRight | Qt::AlignVCenter, labels[1]);
 }

@@ -8,6 +8,7 @@
 
 #include "glint/image/error.h"
 #include "model/journal_codec.h"
+#include "model/session_state.h"
 
 namespace glint::studio {
 
@@ -31,7 +32,9 @@ class JournalCodecTest : public QObject {
             jc::Apply{{0, 2, 5}},
             jc::Undo{},
             jc::Redo{},
-            jc::RenameLayer{2, "walls, σ 2"}};
+            jc::RenameLayer{2, "walls, σ 2"},
+            jc::AddLayers{{{"gaussian", {{"sigma", 1.0}}}, {"nlm", {{"h", 0.5}}}}},
+            jc::Clear{}};
         for (const jc::Op& op : ops) {
             const QJsonObject json = jc::encode(op);
             // Through the journal's text and back: the same operation, the same JSON.
@@ -51,6 +54,8 @@ class JournalCodecTest : public QObject {
                  std::vector<std::string>({"walls", ""}));
         QCOMPARE(std::get<jc::RenameLayer>(jc::decode(jc::encode(ops[10]))).name,
                  std::string("walls, σ 2"));
+        QCOMPARE(std::get<jc::AddLayers>(jc::decode(jc::encode(ops[11]))).layers.size(),
+                 std::size_t(2));
         // An operation it does not know is named.
         bool refused = false;
         try {
@@ -82,6 +87,52 @@ class JournalCodecTest : public QObject {
         QJsonObject partial = json;
         partial.remove(QStringLiteral("spp"));
         QCOMPARE(jc::decodeSettings(partial, render::Settings{}).spp, render::Settings{}.spp);
+    }
+
+    // Issue "reliability round 3", item 4: "1e12" was read as 1 spp and "-1" as a seed without a
+    // word. A session file's and a journal's settings are read with glint-render's limits, and a
+    // bad one is one error naming the file, the key and what was expected.
+    void badRenderSettingsInASessionOrAJournalAreOneErrorNamingFileAndKey() {
+        auto refusal = [](const std::map<std::string, std::string>& state) -> QString {
+            try {
+                readSettings(state, render::Settings{}, "/tmp/look.glint-session.json", "/view/");
+            } catch (const Error& e) {
+                return QString::fromStdString(e.what());
+            }
+            return {};
+        };
+        const QString spp = refusal({{"spp", "1e12"}});
+        QVERIFY2(spp.contains(QStringLiteral("look.glint-session.json")), qPrintable(spp));
+        QVERIFY2(spp.contains(QStringLiteral("/view/spp")), qPrintable(spp));
+        QVERIFY2(spp.contains(QStringLiteral("16777216")), qPrintable(spp));  // 2^24
+        const QString seed = refusal({{"seed", "-1"}});
+        QVERIFY2(seed.contains(QStringLiteral("/view/seed")), qPrintable(seed));
+        QVERIFY2(seed.contains(QStringLiteral("9223372036854775807")), qPrintable(seed));
+        QVERIFY(!refusal({{"spp", "0"}}).isEmpty());
+        QVERIFY(!refusal({{"spp", "16777217"}}).isEmpty());
+        QVERIFY(!refusal({{"spp", " 4"}}).isEmpty());
+        QVERIFY(!refusal({{"seed", "9223372036854775808"}}).isEmpty());
+        QVERIFY(!refusal({{"integrator", "bdpt"}}).isEmpty());
+        QVERIFY(!refusal({{"mis", "max"}}).isEmpty());
+        QVERIFY(!refusal({{"halves", "yes"}}).isEmpty());
+        // The limits themselves are accepted.
+        const render::Settings edge = readSettings(
+            {{"spp", "16777216"}, {"seed", "9223372036854775807"}}, render::Settings{});
+        QCOMPARE(edge.spp, render::kMaxSpp);
+        QCOMPARE(edge.seed, render::kMaxSeed);
+
+        // A journal's "settings" line names the journal and its line.
+        namespace jc = journal_codec;
+        QJsonObject line = jc::encodeSettings(render::Settings{});
+        line.insert(QStringLiteral("spp"), QStringLiteral("1e12"));
+        QString journal;
+        try {
+            jc::decodeSettings(line, render::Settings{}, "/tmp/4242/journal.jsonl", "line 7");
+        } catch (const Error& e) {
+            journal = QString::fromStdString(e.what());
+        }
+        QVERIFY2(journal.contains(QStringLiteral("journal.jsonl")), qPrintable(journal));
+        QVERIFY2(journal.contains(QStringLiteral("line 7/spp")), qPrintable(journal));
     }
 };
 

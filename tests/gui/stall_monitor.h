@@ -2,8 +2,8 @@
 // thread, and the longest gap between its firings minus the period. On a machine whose cores
 // other processes (or the studio's own workers) keep busy, a gap also holds the time the UI
 // thread waited for a core: the CPU time the UI thread itself used within the gap (its thread
-// CPU clock) tells the two apart. Shared by the studio's stall test (tests/gui/stall_test.cpp)
-// and its speed benchmark (tests/perf/bench_studio.cpp).
+// CPU clock) tells the two apart. Used by the studio's speed benchmark
+// (tests/perf/bench_studio.cpp) only: a unit test asserts no time.
 #pragma once
 
 #include <QElapsedTimer>

@@ -2,8 +2,9 @@
 // to the first image on screen; from a look change to the denoised new image on screen (16 spp,
 // one layer applied everywhere); from a brush dab to the screen at 1024×1024; and the longest
 // time the UI thread was busy in each phase (a 2 ms timer that fires late tells), the heavy
-// actions at 1024×1024 (magic wand, navigation build, save, autosave restore) included. Prints a
-// table and one JSON object.
+// actions at 1024×1024 (magic wand, navigation build, save, autosave restore, region render,
+// change map, variance map, export) included. Prints a table and one JSON object. The studio's
+// "≤ 50 ms" stall target (docs/studio.md, "Speed") is checked here, by reading, never by a test.
 //   QT_QPA_PLATFORM=offscreen build/bin/bench_studio [--repeats N]
 #include <QApplication>
 #include <QElapsedTimer>
@@ -162,6 +163,21 @@ int main(int argc, char** argv) {
     const Stall restoreStall = stallOf([&] { return restore(*again); });
     again->close();
 
+    // 5. The actions of a 1024×1024 scene (at 1 spp, one Gaussian layer): a region render merged
+    // into the frame, the change map, the bank's variance map (after a navigation build over a
+    // 512² region) and an EXR export. Formerly asserted by a unit test (Studio.Stall), which a
+    // loaded machine failed: measured here, never asserted.
+    auto scene = makeWindow(tmp.filePath(QStringLiteral("autosave-scene")));
+    openWithLayer(*scene, writeCornell(tmp.filePath(QStringLiteral("big-scene")), 1024, 1024, 1));
+    scene->region()->setPolygon({{256, 256}, {768, 256}, {768, 768}, {256, 768}});
+    const Stall regionStall = stallOf([&] { return regionRender(*scene, 2); });
+    const Stall changeStall = stallOf([&] { return changeMap(*scene); });
+    navigateBuild(*scene, 4);
+    const Stall varianceStall = stallOf([&] { return varianceMap(*scene); });
+    const Stall exportStall =
+        stallOf([&] { return exportExr(*scene, tmp.filePath(QStringLiteral("out/big.exr"))); });
+    scene->close();
+
     std::printf("Glint Studio, %s platform, 2 threads of this machine\n",
                 qPrintable(QGuiApplication::platformName()));
     std::printf("%-58s %10s %10s\n", "what", "median", "max");
@@ -182,6 +198,12 @@ int main(int argc, char** argv) {
     std::printf("%-58s %8.0f ms / %.0f ms / %.0f ms / %.0f ms\n",
                 "  of which UI-thread CPU time: wand / navigate / save / restore", wandStall.busy,
                 navigateStall.busy, saveStall.busy, restoreStall.busy);
+    std::printf("%-58s %8.0f ms / %.0f ms / %.0f ms / %.0f ms\n",
+                "longest UI-thread stall, 1024^2: region / change map / variance / export",
+                regionStall.gap, changeStall.gap, varianceStall.gap, exportStall.gap);
+    std::printf("%-58s %8.0f ms / %.0f ms / %.0f ms / %.0f ms\n",
+                "  of which UI-thread CPU time: region / change / variance / export",
+                regionStall.busy, changeStall.busy, varianceStall.busy, exportStall.busy);
     std::printf(
         "{\"firstImageMs\": %.1f, \"renderReadyMs\": %.1f, \"lookMedianMs\": %.1f, \"lookMaxMs\": "
         "%.1f, "
@@ -189,11 +211,14 @@ int main(int argc, char** argv) {
         "\"stallBigOpenMs\": %.1f, \"stallPaintMs\": %.1f, \"stallWandMs\": %.1f, "
         "\"stallNavigateMs\": %.1f, \"stallSaveMs\": %.1f, \"stallRestoreMs\": %.1f, "
         "\"busyWandMs\": %.1f, \"busyNavigateMs\": %.1f, \"busySaveMs\": %.1f, "
-        "\"busyRestoreMs\": %.1f}\n",
+        "\"busyRestoreMs\": %.1f, \"stallRegionMs\": %.1f, \"stallChangeMapMs\": %.1f, "
+        "\"stallVarianceMs\": %.1f, \"stallExportMs\": %.1f, \"busyRegionMs\": %.1f, "
+        "\"busyChangeMapMs\": %.1f, \"busyVarianceMs\": %.1f, \"busyExportMs\": %.1f}\n",
         firstImage, fullRender, median(lookTimes), maximum(lookTimes), median(dabTimes),
         maximum(dabTimes), openStall, lookStall, bigStall, dabStall, wandStall.gap,
         navigateStall.gap, saveStall.gap, restoreStall.gap, wandStall.busy, navigateStall.busy,
-        saveStall.busy, restoreStall.busy);
+        saveStall.busy, restoreStall.busy, regionStall.gap, changeStall.gap, varianceStall.gap,
+        exportStall.gap, regionStall.busy, changeStall.busy, varianceStall.busy, exportStall.busy);
     w->close();
     return 0;
 }

@@ -1,0 +1,286 @@
+// Restoring an autosave (docs/studio.md, "Autosave and restore"; issue "reliability round 3"):
+// a studio killed after layers from Auto Start, an undo, a look edit and a stroke comes back
+// whole and consistent; the replay runs off the UI thread and changes nothing until it is done;
+// a broken autosave changes nothing, says so once and is kept aside; "No" keeps the autosave
+// aside and it is not offered again; a file named on the command line opens at once.
+#include <QApplication>
+#include <QDir>
+#include <QListWidget>
+#include <QMessageBox>
+#include <QPointer>
+#include <QProcess>
+#include <QStandardPaths>
+#include <QTemporaryDir>
+#include <QTest>
+#include <QThread>
+
+#include <csignal>
+#include <cstring>
+#include <thread>
+
+#include "heavy_actions.h"
+#include "views/look_panel.h"
+
+using namespace glint;
+using namespace glint::studio;
+using namespace glint::studio::testing;
+
+namespace {
+
+// The look edit the killed studio makes (a wall's albedo).
+constexpr std::array<double, 3> kAlbedo{0.3, 0.6, 0.2};
+
+double sum(const Image& image) {
+    double s = 0.0;
+    for (float v : image.data()) s += v;
+    return s;
+}
+
+// Folders under `base` kept aside (declined or broken autosaves).
+QStringList keptAside(const QString& base) {
+    return QDir(base).entryList({QStringLiteral("*.kept-*")}, QDir::Dirs | QDir::NoDotAndDotDot);
+}
+
+// Runs Auto Start with a bank of 4 members and waits until its layers are in.
+bool autoStart(MainWindow& w) {
+    const std::size_t before = w.session()->session().layerCount();
+    w.session()->autoStart(4);
+    return waitFor(
+        [&] { return w.session()->session().layerCount() > before && !w.session()->busy(); },
+        180000);
+}
+
+}  // namespace
+
+class RestoreTest : public QObject {
+    Q_OBJECT
+  private:
+    QTemporaryDir m_dir;
+    QString m_scene;
+
+    // A crashed studio's autosave under `base`: a window with `m_scene` open, a Gaussian layer
+    // filled and a stroke, its journal copied as that of a process that is gone.
+    QString crashedAutosave(const QString& base) {
+        auto w = openAndWait(m_scene, m_dir.filePath(base + QStringLiteral("-live")));
+        if (!w || !addGaussian(*w, true) || !waitIdle(*w)) return {};
+        w->session()->beginStroke(0, {8.0, 0.5}, denoise::BrushMode::Subtract);
+        w->session()->dab(20.0, 20.0);
+        w->session()->endStroke();
+        if (!copyAsCrashed(*w, m_dir.filePath(base))) return {};
+        w->close();
+        const QStringList crashed = Autosave::crashed(m_dir.filePath(base));
+        return crashed.size() == 1 ? crashed.first() : QString();
+    }
+
+  private slots:
+    void initTestCase() {
+        QVERIFY(m_dir.isValid());
+        m_scene = writeSmallCornell(m_dir);
+    }
+
+    void aKilledStudioComesBackWholeAfterAutoStartALookEditAndAStroke() {
+        const QString base = m_dir.filePath(QStringLiteral("killed"));
+        QProcess child;
+        child.setProcessChannelMode(QProcess::ForwardedChannels);
+        child.start(QCoreApplication::applicationFilePath(),
+                    {QStringLiteral("--kill-child"), base, m_scene});
+        QVERIFY(child.waitForFinished(400000));
+        QCOMPARE(child.exitStatus(), QProcess::CrashExit);  // SIGKILL: nothing cleaned up
+        const QString expected = QDir(base).filePath(QStringLiteral("expected.glint-session.json"));
+        QVERIFY(QFileInfo::exists(expected));
+        const QStringList crashed = Autosave::crashed(base);
+        QCOMPARE(crashed.size(), 1);
+
+        // The default layer stays on here: applying a restore must not add one.
+        auto w = makeWindow(base, true);
+        // 1. The replay alone: on a worker, the studio untouched until the result is applied.
+        std::shared_ptr<Recovered> recovered;
+        QString error;
+        bool done = false;
+        w->autosave()->restore(crashed.first(),
+                               [&](std::shared_ptr<Recovered> r, const QString& e) {
+                                   recovered = std::move(r);
+                                   error = e;
+                                   done = true;
+                               });
+        QVERIFY(waitFor([&] { return done; }, 240000));
+        QVERIFY2(recovered, qPrintable(error));
+        QVERIFY(recovered->worker != std::this_thread::get_id());
+        QVERIFY(!w->session()->hasSession());
+        QVERIFY(!w->document()->isOpen());
+        QVERIFY(QFileInfo::exists(crashed.first()));
+
+        // 2. The whole restore, as "Restore your work? > Yes" does.
+        w->restoreFrom(crashed.first());
+        QVERIFY(waitFor([&] { return !w->autosave()->restoring(); }, 240000));
+        QVERIFY2(w->lastError().isEmpty(), qPrintable(w->lastError()));
+        QVERIFY(waitFor([&] { return w->session()->hasSession() && !w->session()->busy(); }));
+        const denoise::Session want = denoise::Session::load(expected.toStdString());
+        const denoise::Session& got = w->session()->session();
+        QCOMPARE(got.layerCount(), want.layerCount());
+        QVERIFY(got.layerCount() >= 3);  // the default layer and Auto Start's
+        for (std::size_t i = 0; i < want.layerCount(); ++i) {
+            QCOMPARE(got.layer(i).filter, want.layer(i).filter);
+            QCOMPARE(got.layer(i).params, want.layer(i).params);
+            QVERIFY2(sameBits(got.layer(i).weights, want.layer(i).weights),
+                     qPrintable(QStringLiteral("layer %1").arg(i)));
+        }
+        QVERIFY(sameBits(got.composite(), want.composite()));
+        // The stroke made before the kill (on the last layer) is there.
+        QVERIFY(sum(got.layer(got.layerCount() - 1).weights) > 0.0);
+        // The document, its look and the canvas agree with the session.
+        QCOMPARE(w->document()->path(), m_scene);
+        QCOMPARE(w->document()->kind(), Document::Kind::Scene);
+        const std::string wall = firstAlbedoMaterial(*w->document());
+        QCOMPARE(w->document()->lookValue(wall, "albedo"), kAlbedo);
+        QCOMPARE(w->document()->finishedFrame(), w->session()->input());
+        auto* list = w->paintView()->findChild<QListWidget*>();
+        QVERIFY(list);
+        QCOMPARE(std::size_t(list->count()), got.layerCount());
+        // The restored folder goes once this studio's journal holds the restored state.
+        QVERIFY(waitFor([&] { return !QFileInfo::exists(crashed.first()); }));
+        QVERIFY2(Autosave::crashed(base).isEmpty(),
+                 qPrintable(Autosave::crashed(base).join(QStringLiteral(", "))));
+        QVERIFY(w->lastStatus().contains(QStringLiteral("Restored")));
+    }
+
+    void aBrokenAutosaveChangesNothingSaysSoOnceAndIsKeptAside() {
+        const QString folder = crashedAutosave(QStringLiteral("broken"));
+        QVERIFY(!folder.isEmpty());
+        // An entry the session cannot apply: a stroke on a layer it does not have (what the
+        // tester's autosave held).
+        {
+            QFile journal(QDir(folder).filePath(QStringLiteral("journal.jsonl")));
+            QVERIFY(journal.open(QIODevice::Append));
+            journal.write(
+                R"({"op":"stroke","layer":63,"size":8,"softness":0.5,"mode":"add","dabs":[5,5]})"
+                "\n");
+        }
+        // A studio with work of its own: a Gaussian layer and a look edit.
+        auto w = openAndWait(m_scene, m_dir.filePath(QStringLiteral("broken-base")));
+        QVERIFY(w);
+        QVERIFY(addGaussian(*w, false));
+        QVERIFY(waitIdle(*w));
+        const std::size_t layers = w->session()->session().layerCount();
+        const Image composite = w->session()->session().composite();
+        const FramePtr input = w->session()->input();
+        const QString path = w->document()->path();
+        int errors = 0;
+        connect(w.get(), &MainWindow::errorShown, this, [&] { ++errors; });
+
+        w->restoreFrom(folder);
+        QVERIFY(waitFor([&] { return !w->autosave()->restoring(); }, 120000));
+        QVERIFY(waitFor([&] { return errors > 0; }));
+        QTest::qWait(50);
+        QCOMPARE(errors, 1);
+        const QString error = w->lastError();
+        QVERIFY2(error.contains(QStringLiteral("journal.jsonl")), qPrintable(error));
+        QVERIFY2(error.contains(QStringLiteral("layer 63")), qPrintable(error));
+        QVERIFY2(error.contains(QStringLiteral("Nothing was changed")), qPrintable(error));
+        // Nothing changed.
+        QCOMPARE(w->session()->session().layerCount(), layers);
+        QVERIFY(sameBits(w->session()->session().composite(), composite));
+        QCOMPARE(w->session()->input(), input);
+        QCOMPARE(w->document()->path(), path);
+        // Kept aside, not offered again.
+        const QString base = QFileInfo(folder).path();
+        QVERIFY(Autosave::crashed(base).isEmpty());
+        const QStringList kept = keptAside(base);
+        QCOMPARE(kept.size(), 1);
+        QVERIFY(error.contains(kept.first()));
+        QVERIFY(QFileInfo::exists(QDir(base).filePath(kept.first() + "/journal.jsonl")));
+        w->offerRestore(true);
+        QVERIFY(!w->findChild<QMessageBox*>(QStringLiteral("restoreQuestion")));
+    }
+
+    void noKeepsTheAutosaveAsideAndItIsNotOfferedAgain() {
+        const QString folder = crashedAutosave(QStringLiteral("declined"));
+        QVERIFY(!folder.isEmpty());
+        const QString base = QFileInfo(folder).path();
+        auto w = makeWindow(base);
+        w->offerRestore(true);
+        QPointer<QMessageBox> box = w->findChild<QMessageBox*>(QStringLiteral("restoreQuestion"));
+        QVERIFY(box);
+        QVERIFY(!box->isModal());
+        box->button(QMessageBox::No)->click();
+        QVERIFY(waitFor([&] { return box.isNull(); }));
+        QVERIFY(Autosave::crashed(base).isEmpty());
+        const QStringList kept = keptAside(base);
+        QCOMPARE(kept.size(), 1);
+        QVERIFY(QFileInfo::exists(QDir(base).filePath(kept.first() + "/journal.jsonl")));
+        QVERIFY2(w->lastStatus().contains(kept.first()), qPrintable(w->lastStatus()));
+        QVERIFY(!w->session()->hasSession());
+        // The next start does not ask again.
+        auto again = makeWindow(base);
+        again->offerRestore(true);
+        QVERIFY(!again->findChild<QMessageBox*>(QStringLiteral("restoreQuestion")));
+    }
+
+    void aFileOnTheCommandLineOpensWhileTheRestoreQuestionWaits() {
+        const QString folder = crashedAutosave(QStringLiteral("waiting"));
+        QVERIFY(!folder.isEmpty());
+        auto w = makeWindow(QFileInfo(folder).path());
+        w->start(m_scene, true);
+        QPointer<QMessageBox> box = w->findChild<QMessageBox*>(QStringLiteral("restoreQuestion"));
+        QVERIFY(box);
+        QVERIFY(!box->isModal());
+        // Unanswered, the question holds nothing back: the file opens and renders.
+        QVERIFY(waitIdle(*w));
+        QCOMPARE(w->document()->path(), m_scene);
+        QVERIFY(box && box->isVisible());
+        QVERIFY(QFileInfo::exists(folder));
+    }
+};
+
+// The child of aKilledStudioComesBack…: the default layer, Auto Start, undo, Auto Start again, a
+// look edit and a stroke; it saves what the restore should give and dies by SIGKILL.
+static int killChild(const QString& base, const QString& scene) {
+    StudioOptions options;
+    options.autosaveBase = base;
+    options.offerRestore = false;
+    options.confirmDiscard = false;
+    MainWindow w(options);
+    w.resize(1000, 700);
+    w.show();
+    w.openFile(scene);
+    if (!waitIdle(w, 60000)) return 3;
+    if (!waitFor([&] { return w.session()->session().layerCount() == 1 && !w.session()->busy(); }))
+        return 4;  // the default layer
+    // Auto Start, undone (one undo step for all its layers), and again: the journal's undo must
+    // take back exactly what it did.
+    if (!autoStart(w)) return 5;
+    w.session()->undoStack()->undo();
+    if (w.session()->session().layerCount() != 1) return 6;
+    if (!autoStart(w)) return 7;
+    // A look edit: a new render, the layers re-applied to it.
+    const FramePtr before = w.document()->finishedFrame();
+    w.lookPanel()->edit(firstAlbedoMaterial(*w.document()), "albedo", kAlbedo);
+    if (!waitFor([&] { return w.document()->finishedFrame() != before; }, 60000)) return 8;
+    if (!waitIdle(w, 60000)) return 9;
+    // A stroke on the last layer.
+    const std::size_t last = w.session()->session().layerCount() - 1;
+    w.session()->beginStroke(last, {12.0, 0.5}, denoise::BrushMode::Add);
+    for (double x = 8.0; x < 56.0; x += 4.0) w.session()->dab(x, 24.0);
+    w.session()->endStroke();
+    bool saved = false;
+    w.session()->save(QDir(base).filePath(QStringLiteral("expected.glint-session.json")),
+                      std::nullopt, {}, [&](const QString& error) { saved = error.isEmpty(); });
+    if (!waitFor([&] { return saved; })) return 10;
+    w.autosave()->flush();
+    std::raise(SIGKILL);
+    return 11;
+}
+
+int main(int argc, char** argv) {
+    if (argc == 4 && std::strcmp(argv[1], "--kill-child") == 0) {
+        QApplication app(argc, argv);
+        return killChild(QString::fromLocal8Bit(argv[2]), QString::fromLocal8Bit(argv[3]));
+    }
+    QApplication app(argc, argv);
+    QApplication::setOrganizationName(QStringLiteral("GlintTests"));
+    QStandardPaths::setTestModeEnabled(true);
+    RestoreTest test;
+    return QTest::qExec(&test, argc, argv);
+}
+
+#include "restore_test.moc"
