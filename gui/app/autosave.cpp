@@ -68,6 +68,16 @@ void Autosave::watch(Document* document) {
     connect(document, &Document::settingsChanged, this, [this, document] {
         m_journal->append({journal_codec::encodeSettings(document->settings()), {}, nullptr});
     });
+    connect(document, &Document::referenceChanged, this, [this, document] {
+        if (document->reference() == m_journalledReference) return;  // a render of one started
+        m_journalledReference = document->reference();
+        const std::optional<ReferenceInfo>& info = document->referenceInfo();
+        const bool rendered = info && info->source == ReferenceInfo::Source::Rendered;
+        m_journal->append(
+            {journal_codec::encodeReference(m_journalledReference ? info : std::nullopt),
+             {},
+             rendered ? m_journalledReference : nullptr});
+    });
 }
 
 void Autosave::discard() {
@@ -158,6 +168,14 @@ void Autosave::step(const std::shared_ptr<Restore>& r) {
             } else if (op == QStringLiteral("settings")) {
                 r->document->setSettings(
                     journal_codec::decodeSettings(entry.op, r->document->settings()));
+            } else if (op == QStringLiteral("reference")) {
+                // A file's reference is read again (and checked) in the background.
+                const std::optional<ReferenceInfo> info =
+                    journal_codec::decodeReference(entry.op, r->document->look());
+                if (info)
+                    r->document->restoreReference(*info, entry.frame, false);
+                else
+                    r->document->clearReference();
             } else if (op == QStringLiteral("undo")) {
                 m_session->undoStack()->undo();
             } else if (op == QStringLiteral("redo")) {

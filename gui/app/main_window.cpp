@@ -431,7 +431,7 @@ bool MainWindow::maybeSave(std::function<void()> again) {
     if (!isModified() || !m_options.confirmDiscard) return true;
     const auto answer = QMessageBox::question(
         this, tr("Save the session?"),
-        tr("The session has unsaved changes (painting, look or render settings)."),
+        tr("The session has unsaved changes (painting, look, render settings or reference)."),
         QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Save);
     if (answer == QMessageBox::Cancel) return false;
     if (answer == QMessageBox::Save) {

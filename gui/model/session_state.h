@@ -28,6 +28,11 @@ void writeDocumentState(const std::vector<render::LookItem>& look, const render:
 render::Settings readSettings(const std::map<std::string, std::string>& state,
                               render::Settings settings);
 
+/// `look` with the values `state` holds under "look/<item>/<property>" (values that are missing
+/// or unreadable keep those of `look`).
+std::vector<render::LookItem> readLook(const std::map<std::string, std::string>& state,
+                                       std::vector<render::LookItem> look);
+
 /// Applies the look values `state` holds to `document` without rendering; properties the scene
 /// does not have, or values it refuses, are skipped and named in the result ("" when none).
 std::string applyLook(const std::map<std::string, std::string>& state, Document& document);
