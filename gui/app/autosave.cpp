@@ -65,6 +65,16 @@ void Autosave::watch(Document* document) {
     connect(document, &Document::settingsChanged, this, [this, document] {
         m_journal->append({journal_codec::encodeSettings(document->settings()), {}, nullptr});
     });
+    connect(document, &Document::referenceChanged, this, [this, document] {
+        if (document->reference() == m_journalledReference) return;  // a render of one started
+        m_journalledReference = document->reference();
+        const std::optional<ReferenceInfo>& info = document->referenceInfo();
+        const bool rendered = info && info->source == ReferenceInfo::Source::Rendered;
+        m_journal->append(
+            {journal_codec::encodeReference(m_journalledReference ? info : std::nullopt),
+             {},
+             rendered ? m_journalledReference : nullptr});
+    });
 }
 
 void Autosave::discard() {

@@ -35,7 +35,8 @@ class Autosave : public QObject {
     /// Records that `path` is open (the first entry of a restorable journal).
     void recordOpen(const QString& path);
     /// Journals `document`'s render settings whenever the user changes them (spp, seed,
-    /// integrator, MIS, half buffers), as look edits are: a restore brings them back.
+    /// integrator, MIS, half buffers), as look edits are, and its reference whenever it changes
+    /// (a rendered one with its pixels): a restore brings them back.
     void watch(Document* document);
     /// Waits for pending writes (tests and screenshots).
     void flush() { m_journal->flush(); }
@@ -59,6 +60,7 @@ class Autosave : public QObject {
     static QString setAside(const QString& folder);
 
   private:
+    FramePtr m_journalledReference;  // the reference the journal holds last
     std::unique_ptr<Journal> m_journal;
     TaskRunner m_tasks;
     bool m_restoring = false;

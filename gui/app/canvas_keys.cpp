@@ -5,9 +5,8 @@
 #include <QApplication>
 #include <QComboBox>
 #include <QKeyEvent>
-#include <QLineEdit>
-#include <QPlainTextEdit>
-#include <QTextEdit>
+
+#include "views/text_editing.h"
 
 namespace glint::studio {
 
@@ -15,27 +14,7 @@ namespace {
 
 constexpr char kAdopted[] = "glintCanvasKeys";
 
-// The spin box or combo box `widget` belongs to (its line edit is the focus widget).
-template <class T>
-T* enclosing(const QWidget* widget) {
-    for (QWidget* w = const_cast<QWidget*>(widget); w; w = w->parentWidget())
-        if (auto* t = qobject_cast<T*>(w)) return t;
-    return nullptr;
-}
-
 }  // namespace
-
-bool isTextEditing(const QWidget* widget) {
-    if (!widget) return false;
-    if (auto* line = qobject_cast<const QLineEdit*>(widget); line && !line->isReadOnly())
-        return true;
-    if (auto* text = qobject_cast<const QTextEdit*>(widget); text && !text->isReadOnly())
-        return true;
-    if (auto* plain = qobject_cast<const QPlainTextEdit*>(widget); plain && !plain->isReadOnly())
-        return true;
-    if (auto* spin = enclosing<QAbstractSpinBox>(widget); spin && !spin->isReadOnly()) return true;
-    return false;
-}
 
 CanvasKeys::CanvasKeys(QWidget* window, QWidget* canvas, const QList<QAction*>& actions)
     : QObject(window), m_window(window), m_canvas(canvas), m_actions(actions) {

@@ -14,9 +14,6 @@ class QWidget;
 
 namespace glint::studio {
 
-/// True when `widget` takes typed text: keys go to it, not to shortcuts.
-bool isTextEditing(const QWidget* widget);
-
 class CanvasKeys : public QObject {
     Q_OBJECT
   public:

@@ -448,6 +448,12 @@ void MainWindow::applyRecovered(Recovered& r) {
             {LookCommand::journalOp(v.item, v.property, before, v.value), {}, nullptr});
     }
     if (r.settings) m_document->setSettings(*r.settings);
+    if (r.referenceSet) {
+        if (r.referenceInfo)
+            m_document->restoreReference(*r.referenceInfo, r.reference, false);
+        else
+            m_document->clearReference();
+    }
     if (r.session)
         m_session->install(std::move(*r.session), r.input, r.filterInput);
     else
@@ -508,7 +514,7 @@ bool MainWindow::maybeSave(std::function<void()> again) {
     if (!isModified() || !m_options.confirmDiscard) return true;
     const auto answer = QMessageBox::question(
         this, tr("Save the session?"),
-        tr("The session has unsaved changes (painting, look or render settings)."),
+        tr("The session has unsaved changes (painting, look, render settings or reference)."),
         QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Save);
     if (answer == QMessageBox::Cancel) return false;
     if (answer == QMessageBox::Save) {

@@ -115,6 +115,8 @@ class MainWindow : public QMainWindow {
     StageView* activeStage() const;
     std::map<std::string, std::string> viewState() const;
     void applyViewState(const std::map<std::string, std::string>& state);
+    /// The reference `state` describes, from the session's side frame or its file.
+    void restoreReference(const std::map<std::string, std::string>& state);
     QString askPath(const QString& title, const QString& filter, bool save);
     void exportResult(bool exr);
     void applyRecovered(Recovered& recovered);

@@ -1,11 +1,13 @@
-// The main window's session file: saving it with the region, the view, the look and the render
-// settings, and restoring them when a session is opened (docs/studio.md, "Session files").
+// The main window's session file: saving it with the region, the view, the look, the render
+// settings and the reference, and restoring them when a session is opened (docs/studio.md,
+// "Session files").
 #include <QFileInfo>
 #include <QStatusBar>
 
 #include "app/main_window.h"
 #include "app/studio_settings.h"
 #include "glint/image/error.h"
+#include "model/reference_info.h"
 #include "model/session_state.h"
 #include "views/viewer.h"
 
@@ -18,13 +20,18 @@ bool MainWindow::isModified() const {
 bool MainWindow::saveSession(const QString& path) {
     // Written on a worker; the state saved is the undo stack's present step.
     const int index = m_session->undoStack()->index();
+    // A rendered reference's pixels go to the side folder; one read from a file stays there.
+    std::map<std::string, FramePtr> frames;
+    if (const std::optional<ReferenceInfo>& info = m_document->referenceInfo();
+        info && info->source == ReferenceInfo::Source::Rendered && m_document->reference())
+        frames[kReferenceFrame] = m_document->reference();
     try {
         m_session->save(path,
                         m_region->wholeImage()
                             ? std::nullopt
                             : std::optional<Rect>(m_region->bounds(m_session->session().width(),
                                                                    m_session->session().height())),
-                        viewState(), [this, path, index](const QString& error) {
+                        viewState(), frames, [this, path, index](const QString& error) {
                             std::function<void()> then = std::exchange(m_afterSave, {});
                             if (!error.isEmpty()) {
                                 showError(tr("Cannot save the session"), error);
@@ -55,6 +62,8 @@ std::map<std::string, std::string> MainWindow::viewState() const {
         // The look as edited and the render settings: reopening renders what was saved.
         writeDocumentState(m_document->look(), m_document->settings(), state);
     }
+    if (m_document->reference() && m_document->referenceInfo())
+        writeReferenceState(*m_document->referenceInfo(), state);
     state["lasso"] = m_region->toString().toStdString();
     state["exposure"] = std::to_string(m_viewer->exposure());
     state["stage"] = std::to_string(stage());
@@ -92,11 +101,26 @@ void MainWindow::applyViewState(const std::map<std::string, std::string>& state)
                               .arg(QString::fromStdString(skipped)));
             m_restoring = false;
             m_document->setFinishedFrame(m_session->input());
+            restoreReference(state);
         });
         m_document->open(scene, false);
+    } else {
+        restoreReference(state);
     }
     const int s = get("stage").toInt(&ok);
     if (ok) setStage(std::clamp(s, 0, 3));
+}
+
+void MainWindow::restoreReference(const std::map<std::string, std::string>& state) {
+    const std::optional<ReferenceInfo> info = readReferenceState(state, m_document->look());
+    if (!info || !m_session->hasSession()) return;
+    FramePtr frame;
+    const auto& frames = m_session->session().sideFrames;
+    if (const auto it = frames.find(kReferenceFrame);
+        info->source == ReferenceInfo::Source::Rendered && it != frames.end())
+        frame = it->second;
+    // What the session file holds: it does not make the window unsaved.
+    m_document->restoreReference(*info, frame, true);
 }
 
 }  // namespace glint::studio

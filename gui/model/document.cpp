@@ -50,6 +50,7 @@ Document::Loaded loadRenderer(const std::filesystem::path& path) {
     out.kind = Document::Kind::Scene;
     out.settings = scene.settings();
     out.look = scene.look();
+    out.camera = sceneCamera(path);
     out.renderer = std::make_shared<render::Renderer>(std::move(scene));
     return out;
 }
@@ -134,8 +135,10 @@ void Document::adopt(const QString& path, Loaded loaded, bool renderNow) {
     m_kind = loaded.kind;
     m_path = path;
     m_look = std::move(loaded.look);
+    m_camera = std::move(loaded.camera);
     m_settings = loaded.settings;
     m_reference.reset();
+    m_referenceInfo.reset();
     m_curve.clear();
     if (m_kind == Kind::Scene) {
         m_frame.reset();
@@ -171,12 +174,14 @@ void Document::setSettings(const render::Settings& settings) {
 }
 
 bool Document::modified() const {
-    return !sameUserSettings(m_settings, m_savedSettings) || !sameLook(m_look, m_savedLook);
+    return !sameUserSettings(m_settings, m_savedSettings) || !sameLook(m_look, m_savedLook) ||
+           m_reference != m_savedReference;
 }
 
 void Document::markSaved() {
     m_savedLook = m_look;
     m_savedSettings = m_settings;
+    m_savedReference = m_reference;
     emit modifiedChanged();
 }
 
@@ -353,6 +358,7 @@ void Document::sceneFileChanged() {
         [file](const TaskRunner::CancelFlag&) { return loadRenderer(file); },
         [this](Loaded loaded) {
             m_look = std::move(loaded.look);
+            m_camera = std::move(loaded.camera);
             m_job.setRenderer(loaded.renderer);
             emit lookChanged();
             markSaved();  // the file on disk is the look now
@@ -364,14 +370,50 @@ void Document::sceneFileChanged() {
 }
 
 void Document::openReference(const QString& path) {
+    readReference(path, std::nullopt, false);
+}
+
+void Document::restoreReference(const ReferenceInfo& info, FramePtr frame, bool saved) {
+    if (frame) {
+        setReference(frame, info, saved);
+        return;
+    }
+    if (info.source == ReferenceInfo::Source::File) {
+        readReference(QString::fromStdString(info.file), info.identity, saved);
+        return;
+    }
+    emit failed(tr("The reference was not restored"),
+                tr("The pixels of the reference rendered for %1 were not kept")
+                    .arg(QString::fromStdString(info.scene)));
+}
+
+void Document::readReference(const QString& path, std::optional<std::uint64_t> expected,
+                             bool saved) {
     const std::filesystem::path file = toPath(path);
-    m_tasks.run<FrameBuffers>(
+    struct Read {
+        FramePtr frame;
+        std::uint64_t identity = 0;
+    };
+    m_tasks.run<Read>(
         QStringLiteral("reference"),
-        [file](const TaskRunner::CancelFlag&) { return readExr(file); },
-        [this, path](FrameBuffers frame) {
+        [file](const TaskRunner::CancelFlag&) {
+            FrameBuffers frame = readExr(file);
+            const std::uint64_t identity = referenceIdentity(frame);
+            return Read{std::make_shared<const FrameBuffers>(std::move(frame)), identity};
+        },
+        [this, path, expected, saved](Read read) {
+            const QString name = QFileInfo(path).fileName();
+            if (expected && read.identity != *expected) {
+                emit failed(tr("The reference %1 was not restored").arg(name),
+                            tr("%1: the file changed since it was opened as the reference (its "
+                               "content is not the one the session compared with)")
+                                .arg(path));
+                return;
+            }
+            const FrameBuffers& frame = *read.frame;
             if (m_finished &&
                 (frame.width() != m_finished->width() || frame.height() != m_finished->height())) {
-                emit failed(tr("Cannot use %1 as the reference").arg(QFileInfo(path).fileName()),
+                emit failed(tr("Cannot use %1 as the reference").arg(name),
                             tr("%1: the reference is %2x%3, the image %4x%5")
                                 .arg(path)
                                 .arg(frame.width())
@@ -380,14 +422,24 @@ void Document::openReference(const QString& path) {
                                 .arg(m_finished->height()));
                 return;
             }
-            m_reference = std::make_shared<const FrameBuffers>(std::move(frame));
-            m_referenceLook.reset();
-            emit referenceChanged();
+            ReferenceInfo info;
+            info.source = ReferenceInfo::Source::File;
+            info.file = QFileInfo(path).absoluteFilePath().toStdString();
+            info.identity = read.identity;
+            setReference(read.frame, info, saved);
         },
         [this, path](const QString& message) {
             emit failed(tr("Cannot open the reference %1").arg(QFileInfo(path).fileName()),
                         message);
         });
+}
+
+void Document::setReference(FramePtr frame, std::optional<ReferenceInfo> info, bool saved) {
+    m_reference = std::move(frame);
+    m_referenceInfo = std::move(info);
+    if (saved) m_savedReference = m_reference;
+    emit referenceChanged();
+    emit modifiedChanged();
 }
 
 void Document::renderReference(int spp) {
@@ -398,17 +450,22 @@ void Document::renderReference(int spp) {
     s.timeLimit = 0.0;
     render::validate(s);
     const std::filesystem::path file = toPath(m_path);
-    std::vector<render::LookItem> look = m_look;
+    // What it is rendered for: saved with the session beside its pixels.
+    ReferenceInfo info;
+    info.source = ReferenceInfo::Source::Rendered;
+    info.scene = QFileInfo(m_path).absoluteFilePath().toStdString();
+    info.look = m_look;
+    info.camera = m_camera;
+    info.settings = s;
+    const std::vector<render::LookItem> look = m_look;
     m_referenceJob = std::make_unique<RenderJob>();
     connect(
         m_referenceJob.get(), &RenderJob::progress, this,
         [this](std::uint64_t, int, double fraction, double) { emit referenceProgress(fraction); });
     connect(m_referenceJob.get(), &RenderJob::finished, this,
-            [this, look](std::uint64_t, FramePtr frame, const render::RenderStats& stats) {
+            [this, info](std::uint64_t, FramePtr frame, const render::RenderStats& stats) {
                 if (stats.cancelled) return;
-                m_reference = frame;
-                m_referenceLook = look;
-                emit referenceChanged();
+                setReference(frame, info, false);
             });
     connect(m_referenceJob.get(), &RenderJob::failed, this,
             [this](std::uint64_t, const QString& m) {
@@ -437,24 +494,16 @@ void Document::renderReference(int spp) {
 }
 
 bool Document::referenceLookDiffers() const {
-    if (!m_reference || !m_referenceLook) return false;
-    if (m_referenceLook->size() != m_look.size()) return true;
-    for (std::size_t i = 0; i < m_look.size(); ++i) {
-        const auto& a = (*m_referenceLook)[i].properties;
-        const auto& b = m_look[i].properties;
-        if (a.size() != b.size()) return true;
-        for (std::size_t k = 0; k < a.size(); ++k)
-            if (a[k].name != b[k].name || a[k].value != b[k].value) return true;
-    }
-    return false;
+    if (!m_reference || !m_referenceInfo ||
+        m_referenceInfo->source != ReferenceInfo::Source::Rendered)
+        return false;
+    return !sameLook(m_referenceInfo->look, m_look) || m_referenceInfo->camera != m_camera;
 }
 
 void Document::clearReference() {
     m_referenceJob.reset();
-    m_reference.reset();
-    m_referenceLook.reset();
     m_curve.clear();
-    emit referenceChanged();
+    setReference(nullptr, std::nullopt, false);
     emit curveChanged();
 }
 

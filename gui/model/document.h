@@ -17,6 +17,7 @@
 #include "glint/render/look.h"
 #include "glint/render/renderer.h"
 #include "glint/render/settings.h"
+#include "model/reference_info.h"
 #include "model/render_job.h"
 #include "model/task_runner.h"
 
@@ -51,6 +52,7 @@ class Document : public QObject {
         std::vector<render::LookItem> look;
         render::Settings settings;
         std::shared_ptr<const FrameBuffers> frame;
+        std::string camera;  // sceneCamera() of a scene; empty for an EXR
     };
     /// Loads `path` (a scene.json, glTF or OBJ asset, or layered EXR). Throws glint::Error.
     static Loaded load(const QString& path);
@@ -70,10 +72,10 @@ class Document : public QObject {
     /// Throws glint::Error for settings out of range; emits settingsChanged when they change.
     void setSettings(const render::Settings& settings);
 
-    /// The look or the render settings the user sets (spp, seed, integrator, MIS, half buffers)
-    /// differ from those last opened or saved.
+    /// The look, the render settings the user sets (spp, seed, integrator, MIS, half buffers) or
+    /// the reference differ from those last opened or saved.
     bool modified() const;
-    /// The present look and settings are saved (a session file carries them now).
+    /// The present look, settings and reference are saved (a session file carries them now).
     void markSaved();
     /// Renders the scene with the settings (cancels a running render).
     void render();
@@ -108,12 +110,19 @@ class Document : public QObject {
 
     /// The reference, if any (opened or rendered in the background).
     FramePtr reference() const { return m_reference; }
+    /// What the reference was rendered for, or the file it was read from (nullopt: none).
+    const std::optional<ReferenceInfo>& referenceInfo() const { return m_referenceInfo; }
     void openReference(const QString& path);
+    /// Adopts the reference a saved session or the autosave describes: `frame` when its pixels
+    /// were kept (a rendered one); else the info's file is read again (in the background) and
+    /// used only if its content is what was opened then (emits failed() otherwise). `saved`: it
+    /// is what the open session file holds, so it does not make the document modified.
+    void restoreReference(const ReferenceInfo& info, FramePtr frame, bool saved);
     /// Renders a reference at `spp` in the background with its own renderer.
     void renderReference(int spp);
     void clearReference();
-    /// The reference was rendered with another look than the current one (false for an opened
-    /// EXR, whose look is not known).
+    /// The reference was rendered with another look than the current one, or for another scene
+    /// or camera (false for an opened EXR, whose look is not known).
     bool referenceLookDiffers() const;
     bool referenceRendering() const { return m_referenceJob && m_referenceJob->busy(); }
 
@@ -145,6 +154,9 @@ class Document : public QObject {
     void onFinished(std::uint64_t id, FramePtr frame, const render::RenderStats& stats);
     void sceneFileChanged();
     void addCurvePoint(FramePtr frame, int spp, double seconds);
+    /// Reads the reference `path` on a worker; `expected`: its content must have that identity.
+    void readReference(const QString& path, std::optional<std::uint64_t> expected, bool saved);
+    void setReference(FramePtr frame, std::optional<ReferenceInfo> info, bool saved);
     /// `apply(frame)` on the UI thread, the frame merged first (on a worker) when the render
     /// covers a region.
     void mergeThen(std::uint64_t id, FramePtr frame, bool final,
@@ -165,8 +177,10 @@ class Document : public QObject {
     render::Settings m_savedSettings;
     FramePtr m_frame;
     FramePtr m_finished;
+    std::string m_camera;  // sceneCamera() of the scene open
     FramePtr m_reference;
-    std::optional<std::vector<render::LookItem>> m_referenceLook;  // of a rendered reference
+    std::optional<ReferenceInfo> m_referenceInfo;
+    FramePtr m_savedReference;          // as last opened or saved (modified())
     std::optional<Rect> m_mergeRegion;  // the running render covers only this region
     FramePtr m_mergeBase;               // and is merged into this frame
     bool m_merging = false;             // the final frame of a region render is being merged

@@ -187,23 +187,49 @@ Op decode(const QJsonObject& json) {
     throw Error(ErrorKind::Format, "unknown journal operation \"" + op.toStdString() + "\"");
 }
 
-QJsonObject encodeSettings(const render::Settings& settings) {
-    // The session file's keys and spelling (session_state), one line.
+namespace {
+
+// A line's keys but "op" as a session's view state (string values).
+std::map<std::string, std::string> stringsOf(const QJsonObject& json) {
     std::map<std::string, std::string> state;
-    writeDocumentState({}, settings, state);
-    QJsonObject json{{QStringLiteral("op"), QStringLiteral("settings")}};
+    for (auto it = json.begin(); it != json.end(); ++it)
+        if (it.key() != QStringLiteral("op"))
+            // A number is read as its text, so that the strict reader sees what was written.
+            state[it.key().toStdString()] = it.value().toVariant().toString().toStdString();
+    return state;
+}
+
+// A line of operation `op` holding `state` (a session's view-state keys).
+QJsonObject lineOf(const QString& op, const std::map<std::string, std::string>& state) {
+    QJsonObject json{{QStringLiteral("op"), op}};
     for (const auto& [key, value] : state)
         json.insert(QString::fromStdString(key), QString::fromStdString(value));
     return json;
 }
 
+}  // namespace
+
+QJsonObject encodeSettings(const render::Settings& settings) {
+    // The session file's keys and spelling (session_state), one line.
+    std::map<std::string, std::string> state;
+    writeDocumentState({}, settings, state);
+    return lineOf(QStringLiteral("settings"), state);
+}
+
 render::Settings decodeSettings(const QJsonObject& json, render::Settings settings,
                                 const std::string& file, const std::string& where) {
+    return readSettings(stringsOf(json), settings, file, where + "/");
+}
+
+QJsonObject encodeReference(const std::optional<ReferenceInfo>& info) {
     std::map<std::string, std::string> state;
-    for (auto it = json.begin(); it != json.end(); ++it)
-        if (it.key() != QStringLiteral("op"))
-            state[it.key().toStdString()] = it.value().toVariant().toString().toStdString();
-    return readSettings(state, settings, file, where + "/");
+    if (info) writeReferenceState(*info, state);
+    return lineOf(QStringLiteral("reference"), state);
+}
+
+std::optional<ReferenceInfo> decodeReference(const QJsonObject& json,
+                                             const std::vector<render::LookItem>& look) {
+    return readReferenceState(stringsOf(json), look);
 }
 
 }  // namespace glint::studio::journal_codec

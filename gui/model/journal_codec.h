@@ -6,6 +6,7 @@
 #include <QJsonObject>
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "glint/denoise/paint.h"
 #include "glint/denoise/session.h"
 #include "glint/render/settings.h"
+#include "model/reference_info.h"
 
 namespace glint::studio::journal_codec {
 
@@ -86,5 +88,14 @@ QJsonObject encodeSettings(const render::Settings& settings);
 /// with the key.
 render::Settings decodeSettings(const QJsonObject& json, render::Settings settings,
                                 const std::string& file = {}, const std::string& where = {});
+
+/// The document's reference as a journal line of its own ("op": "reference", the keys a session
+/// file's view state describes it with; none: the reference was cleared). A rendered
+/// reference's pixels are the entry's frame.
+QJsonObject encodeReference(const std::optional<ReferenceInfo>& info);
+/// What a "reference" line says (nullopt: cleared); `look` is the scene's look now
+/// (readReferenceState).
+std::optional<ReferenceInfo> decodeReference(const QJsonObject& json,
+                                             const std::vector<render::LookItem>& look);
 
 }  // namespace glint::studio::journal_codec

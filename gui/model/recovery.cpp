@@ -37,6 +37,9 @@ class Replay {
             m_out.path = entry.op.value(QStringLiteral("path")).toString();
             m_out.look.clear();
             m_settings.reset();
+            m_reference.reset();
+        } else if (op == QStringLiteral("reference")) {
+            m_reference = entry;  // decoded at the end, against the look then
         } else if (op == QStringLiteral("look")) {
             auto value = [&](const char* key) {
                 const QJsonArray a = entry.op.value(QLatin1String(key)).toArray();
@@ -63,6 +66,8 @@ class Replay {
         m_out.settings = s;
     }
     const std::optional<QJsonObject>& settingsEntry() const { return m_settings; }
+    /// The last "reference" entry since the file was opened.
+    const std::optional<JournalEntry>& referenceEntry() const { return m_reference; }
 
   private:
     Recovered& m_out;
@@ -70,6 +75,7 @@ class Replay {
     denoise::SessionOptions m_options;
     std::vector<UndoStep> m_steps, m_redo;
     std::optional<QJsonObject> m_settings;
+    std::optional<JournalEntry> m_reference;
 
     denoise::Session& session() {
         if (!m_out.session)
@@ -237,6 +243,12 @@ Recovered recover(const QString& folder, const denoise::ProgressFn& progress) {
                 throw Error(ErrorKind::Format, e.what(), journal,
                             "look " + v.item + "/" + v.property);
             }
+        }
+        // The reference as the journal left it, described against the look restored.
+        if (const std::optional<JournalEntry>& ref = replay.referenceEntry()) {
+            out.referenceSet = true;
+            out.referenceInfo = journal_codec::decodeReference(ref->op, look);
+            out.reference = ref->frame;
         }
     } else if (!out.look.empty()) {
         throw Error(ErrorKind::Format, "the journal edits a look before opening a file", journal);

@@ -32,7 +32,12 @@ struct Recovered {
     std::optional<render::Settings> settings;   ///< the render settings chosen (checked)
     std::shared_ptr<denoise::Session> session;  ///< null: no session
     FramePtr input, filterInput;                ///< shared copies of the session's render
-    int edits = 0;                              ///< journal entries replayed
+    /// The journal's last "reference" entry, if any (after the last "open"): what the
+    /// reference became (nullopt: cleared) and, for a rendered one, its pixels.
+    bool referenceSet = false;
+    std::optional<ReferenceInfo> referenceInfo;
+    FramePtr reference;
+    int edits = 0;           ///< journal entries replayed
     bool complete = true;    ///< false: the journal ended in an unreadable entry (cut by the crash)
     std::thread::id worker;  ///< the thread that did the work (tests check it is not the UI's)
 };

@@ -93,11 +93,12 @@ class SessionAdapter : public QObject {
     void endStroke();
     bool inStroke() const { return m_session && m_session->inStroke(); }
 
-    /// Saves the session file (the region and view state come from the caller) on a worker,
-    /// atomically; the session is locked meanwhile. `done` gets "" or the error on the UI thread.
-    /// Throws glint::Error when there is no session.
+    /// Saves the session file (the region, view state and side frames — a reference, say —
+    /// come from the caller) on a worker, atomically; the session is locked meanwhile. `done`
+    /// gets "" or the error on the UI thread. Throws glint::Error when there is no session.
     void save(const QString& path, const std::optional<Rect>& region,
               const std::map<std::string, std::string>& viewState,
+              const std::map<std::string, FramePtr>& frames,
               std::function<void(const QString&)> done = {});
     /// Writes the composite (EXR with the features, or PNG through `display`) on a worker, as
     /// save() does.

@@ -89,6 +89,17 @@ render::Settings readSettings(const std::map<std::string, std::string>& state,
     return settings;
 }
 
+std::vector<render::LookItem> readLook(const std::map<std::string, std::string>& state,
+                                       std::vector<render::LookItem> look) {
+    for (render::LookItem& item : look)
+        for (render::LookProperty& p : item.properties) {
+            const auto it = state.find(lookKey(item.name, p.name));
+            std::array<double, 3> value{};
+            if (it != state.end() && parseValue(it->second, value)) p.value = value;
+        }
+    return look;
+}
+
 std::string applyLook(const std::map<std::string, std::string>& state, Document& document) {
     std::string skipped;
     // Only the properties the scene has: a key of another scene is ignored.

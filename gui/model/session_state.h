@@ -31,6 +31,11 @@ render::Settings readSettings(const std::map<std::string, std::string>& state,
                               render::Settings settings, const std::string& file = {},
                               const std::string& pointer = {});
 
+/// `look` with the values `state` holds under "look/<item>/<property>" (values that are missing
+/// or unreadable keep those of `look`).
+std::vector<render::LookItem> readLook(const std::map<std::string, std::string>& state,
+                                       std::vector<render::LookItem> look);
+
 /// Applies the look values `state` holds to `document` without rendering; properties the scene
 /// does not have, or values it refuses, are skipped and named in the result ("" when none).
 std::string applyLook(const std::map<std::string, std::string>& state, Document& document);

@@ -219,10 +219,12 @@ void SessionAdapter::renameLayer(std::size_t index, const std::string& name) {
 
 void SessionAdapter::save(const QString& path, const std::optional<Rect>& region,
                           const std::map<std::string, std::string>& viewState,
+                          const std::map<std::string, FramePtr>& frames,
                           std::function<void(const QString&)> done) {
     if (!m_session) throw Error(ErrorKind::InvalidArgument, "there is no session to save");
     m_session->region = region;
     m_session->viewState = viewState;
+    m_session->sideFrames = {frames.begin(), frames.end()};  // shared, not copied
     const std::filesystem::path file(path.toStdString());
     // Session::save writes to a temporary name and renames: a failed save leaves the old file.
     readInBackground(

@@ -50,8 +50,8 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
         tr("Of the result (the composite) against the reference; the region's "
            "figures cover its bounding box"));
     m_lookWarning =
-        new QLabel(tr("The reference was rendered with another look: its metrics compare different "
-                      "scenes. Render it again."),
+        new QLabel(tr("The reference was rendered with another look or camera: its metrics compare "
+                      "different scenes. Render it again."),
                    this);
     m_lookWarning->setWordWrap(true);
     m_lookWarning->setStyleSheet(QStringLiteral("color: #d04020;"));

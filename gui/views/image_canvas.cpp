@@ -1,7 +1,9 @@
 #include "views/image_canvas.h"
 
 #include "views/canvas_overlays.h"
+#include "views/text_editing.h"
 
+#include <QApplication>
 #include <QMouseEvent>
 #include <QPainter>
 #include <QWheelEvent>
@@ -388,11 +390,14 @@ void ImageCanvas::mousePressEvent(QMouseEvent* event) {
         setCursor(Qt::SplitHCursor);
         return;
     }
-    // A click into a canvas without focus focuses it; with the brush or the wand it does not
-    // also paint (the user clicked to get the keys back).
+    // A click into a canvas without focus focuses it. Out of a field being typed in, with the
+    // brush or the wand, it does not also paint (the user clicked to get the keys back). Out of
+    // a button, a list or a drop-down (a side panel's "Paint with it", the layer list) it paints:
+    // single keys reach the canvas from there anyway, and the press is the stroke's start.
     if (!hasFocus() && window()->isActiveWindow()) {
+        const bool typing = isTextEditing(QApplication::focusWidget());
         setFocus(Qt::MouseFocusReason);
-        if (m_tool == Tool::Brush || m_tool == Tool::Wand) {
+        if (typing && (m_tool == Tool::Brush || m_tool == Tool::Wand)) {
             m_focusClick = true;
             return;
         }

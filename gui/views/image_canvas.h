@@ -175,7 +175,7 @@ class ImageCanvas : public QWidget {
     bool m_panning = false;
     bool m_stroking = false;
     bool m_resizingBrush = false;
-    bool m_focusClick = false;  // the press only gave the canvas focus: it does not paint
+    bool m_focusClick = false;  // the press only took the keys from a field: it does not paint
     QPointF m_pressWidget;
     QPointF m_pressOffset;
     double m_pressBrushSize = 0.0;

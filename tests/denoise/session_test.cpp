@@ -294,6 +294,42 @@ TEST_F(SessionTest, ALayerIsRenamedAsAnUndoStepAndItsNameIsSaved) {
     EXPECT_EQ(Session::load(file).layer(0).name, "walls");
 }
 
+TEST_F(SessionTest, SideFramesAreSavedInTheSideFolderAndLoadedBack) {
+    Session s(testing::syntheticFrame(24, 20));
+    s.addLayer("gaussian", {});
+    const fs::path plain = m_dir / "plain.glint-session.json";
+    s.save(plain);  // a session without side frames: no "frames" key, as older files
+    EXPECT_TRUE(Session::load(plain).sideFrames.empty());
+    std::ifstream in(plain);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(text.find("\"frames\""), std::string::npos);
+
+    auto reference =
+        std::make_shared<const FrameBuffers>(testing::syntheticFrame(24, 20, 0.05f, 99));
+    s.sideFrames["reference"] = reference;
+    const fs::path file = m_dir / "framed.glint-session.json";
+    s.save(file);
+    EXPECT_TRUE(fs::exists(m_dir / "framed.glint-session" / "reference.exr"));
+    const Session back = Session::load(file);
+    ASSERT_EQ(back.sideFrames.count("reference"), 1u);
+    EXPECT_TRUE(sameBits(back.sideFrames.at("reference")->color(), reference->color()));
+    // A side frame whose file is gone is refused with its place.
+    fs::remove(m_dir / "framed.glint-session" / "reference.exr");
+    try {
+        Session::load(file);
+        ADD_FAILURE() << "loaded without its side frame";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("/frames/reference"), std::string::npos) << e.what();
+    }
+    // A name that is no plain file name, or one of the session's own files, is refused.
+    for (const char* bad : {"../escape", "input", "layer-0", ""}) {
+        Session t(testing::syntheticFrame(8, 8));
+        t.sideFrames[bad] = reference;
+        EXPECT_THROW(t.save(m_dir / "bad.glint-session.json"), Error) << bad;
+    }
+    EXPECT_FALSE(fs::exists(m_dir / "bad.glint-session.json"));
+}
+
 TEST_F(SessionTest, BadSessionFilesAreRefusedAndNothingIsOverwritten) {
     Session s(testing::syntheticFrame(24, 20));
     s.addLayer("gaussian", {});

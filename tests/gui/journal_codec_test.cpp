@@ -134,6 +134,47 @@ class JournalCodecTest : public QObject {
         QVERIFY2(journal.contains(QStringLiteral("journal.jsonl")), qPrintable(journal));
         QVERIFY2(journal.contains(QStringLiteral("line 7/spp")), qPrintable(journal));
     }
+
+    void theReferenceRoundTripsThroughItsOwnLine() {
+        namespace jc = journal_codec;
+        render::LookItem wall;
+        wall.name = "white";
+        render::LookProperty albedo;
+        albedo.name = "albedo";
+        albedo.value = {0.25, 0.5, 0.75};
+        wall.properties.push_back(albedo);
+        ReferenceInfo rendered;
+        rendered.source = ReferenceInfo::Source::Rendered;
+        rendered.scene = "/scenes/cornell/scene.json";
+        rendered.camera = R"({"fovY":39.3})";
+        rendered.look = {wall};
+        rendered.settings.spp = 1024;
+        auto roundTrip = [&](const std::optional<ReferenceInfo>& info) {
+            const QJsonObject json = jc::encodeReference(info);
+            const QJsonObject read = QJsonDocument::fromJson(QJsonDocument(json).toJson()).object();
+            // The scene's look now (another albedo) is the shape the reference's values fill.
+            std::vector<render::LookItem> now{wall};
+            now[0].properties[0].value = {1.0, 1.0, 1.0};
+            return jc::decodeReference(read, now);
+        };
+        QCOMPARE(jc::encodeReference(rendered).value(QStringLiteral("op")).toString(),
+                 QStringLiteral("reference"));
+        const std::optional<ReferenceInfo> back = roundTrip(rendered);
+        QVERIFY(back && back->source == ReferenceInfo::Source::Rendered);
+        QVERIFY(back->scene == rendered.scene);
+        QVERIFY(back->camera == rendered.camera);
+        QCOMPARE(back->settings.spp, 1024);
+        QVERIFY(back->look.at(0).properties.at(0).value == albedo.value);
+
+        ReferenceInfo file;
+        file.file = "/renders/reference.exr";
+        file.identity = 0xfedcba9876543210ull;
+        const std::optional<ReferenceInfo> fileBack = roundTrip(file);
+        QVERIFY(fileBack && fileBack->source == ReferenceInfo::Source::File);
+        QVERIFY(fileBack->file == file.file);
+        QCOMPARE(fileBack->identity, file.identity);
+        QVERIFY(!roundTrip(std::nullopt));  // cleared
+    }
 };
 
 }  // namespace glint::studio

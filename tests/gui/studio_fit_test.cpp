@@ -2,7 +2,7 @@
 // stage, what shows at that size, the one-shot render-region tool, one source of truth for the
 // canvas tool, single-key shortcuts wherever the focus is (but a field being typed in), the look
 // panel's sliders, swatches and refusals, the render bar's figures and the paint stage's side
-// preview.
+// preview, and the first stroke after a click in a side panel.
 #include <QApplication>
 #include <QComboBox>
 #include <QDockWidget>
@@ -10,6 +10,7 @@
 #include <QElapsedTimer>
 #include <QFileInfo>
 #include <QLabel>
+#include <QListWidget>
 #include <QProgressBar>
 #include <QPushButton>
 #include <QScrollArea>
@@ -91,6 +92,14 @@ double paintedSum(const MainWindow& w) {
     for (std::size_t i = 0; i < session.layerCount(); ++i)
         for (float v : session.layer(i).painted.data()) s += v;
     return s;
+}
+
+// One stroke with the mouse from `from` to `to` (image pixels), as a user drags.
+void stroke(ImageCanvas* canvas, QPointF from, QPointF to) {
+    auto at = [&](const QPointF& p) { return canvas->toWidget(p).toPoint(); };
+    QTest::mousePress(canvas, Qt::LeftButton, {}, at(from));
+    for (int k = 1; k <= 8; ++k) QTest::mouseMove(canvas, at(from + (to - from) * (k / 8.0)), 1);
+    QTest::mouseRelease(canvas, Qt::LeftButton, {}, at(to));
 }
 
 }  // namespace
@@ -344,7 +353,8 @@ class StudioFitTest : public QObject {
         QCOMPARE(canvas->tool(), ImageCanvas::Tool::Brush);
         w->paintView()->setBrushSize(12.0);
         const QPoint at = canvas->toWidget(QPointF(32, 24)).toPoint();
-        w->findChild<QComboBox*>()->setFocus();
+        // Out of a field being typed in (a spin box): the click takes the keys back only.
+        w->renderBar()->findChild<QSpinBox*>()->setFocus();
         QVERIFY(!canvas->hasFocus());
         QTest::mouseClick(canvas, Qt::LeftButton, {}, at);
         QVERIFY(canvas->hasFocus());
@@ -352,6 +362,43 @@ class StudioFitTest : public QObject {
         QCOMPARE(paintedSum(*w), 0.0);
         QTest::mouseClick(canvas, Qt::LeftButton, {}, at);  // now it paints
         QVERIFY(waitFor([&] { return paintedSum(*w) > 0.0; }));
+    }
+
+    void theFirstStrokeAfterAClickInASidePanelPaints() {
+        auto w = openScene();
+        QVERIFY(w);
+        ImageCanvas* canvas = w->viewer()->canvas();
+        // "Paint with it" clicked in the Tune panel: a layer with weight 0, then stage 4.
+        w->setStage(2);
+        w->tuneView()->setFilter("gaussian");
+        QPushButton* paintWithIt = nullptr;
+        for (QPushButton* b : w->tuneView()->findChildren<QPushButton*>())
+            if (b->text() == QStringLiteral("Paint with it")) paintWithIt = b;
+        QVERIFY(paintWithIt);
+        QTest::mouseClick(paintWithIt, Qt::LeftButton, {}, paintWithIt->rect().center());
+        QVERIFY(waitFor([&] { return w->session()->session().layerCount() == 1; }));
+        QVERIFY(waitIdle(*w));
+        QCOMPARE(w->stage(), 3);
+        QCOMPARE(canvas->tool(), ImageCanvas::Tool::Brush);
+        QVERIFY(!canvas->hasFocus());  // the click left the focus in the side panel
+        w->paintView()->setBrushSize(10.0);
+        const int steps = w->session()->undoStack()->count();
+        stroke(canvas, {8, 8}, {30, 12});
+        QVERIFY(waitFor([&] { return paintedSum(*w) > 0.0; }, 2000));
+        QCOMPARE(w->session()->undoStack()->count(), steps + 1);
+
+        // The layer list clicked, then a stroke elsewhere: it paints too.
+        auto* list = w->paintView()->findChild<QListWidget*>();
+        QVERIFY(list && list->count() == 1);
+        canvas->setFocus();
+        const double painted = paintedSum(*w);
+        QTest::mouseClick(list->viewport(), Qt::LeftButton, {},
+                          list->visualItemRect(list->item(0)).center());
+        QVERIFY(!canvas->hasFocus());
+        QCOMPARE(w->paintView()->currentLayer(), 0);
+        stroke(canvas, {40, 36}, {58, 40});
+        QVERIFY(waitFor([&] { return paintedSum(*w) > painted; }, 2000));
+        QCOMPARE(w->session()->undoStack()->count(), steps + 2);
     }
 
     void theEmissionSliderStaysInASaneRange() {

@@ -553,7 +553,7 @@ static int crashChild(const QString& base, const QString& scene) {
     drag(w.viewer()->canvas(), {{6, 6}, {20, 18}, {40, 30}, {58, 42}});
     bool saved = false;
     w.session()->save(QDir(base).filePath(QStringLiteral("expected.glint-session.json")),
-                      std::nullopt, {}, [&](const QString& error) { saved = error.isEmpty(); });
+                      std::nullopt, {}, {}, [&](const QString& error) { saved = error.isEmpty(); });
     if (!waitFor([&] { return saved; })) return 6;
     w.autosave()->flush();
     std::raise(SIGKILL);

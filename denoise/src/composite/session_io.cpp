@@ -3,6 +3,8 @@
 // written atomically; exports of the composite.
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <fstream>
 #include <optional>
@@ -34,6 +36,18 @@ fs::path sideFolder(const fs::path& path) {
 std::string layerFile(std::size_t i) {
     return "layer-" + std::to_string(i) + ".exr";
 }
+
+// A side frame's name: letters, digits and '-', clear of the session's own files (input.exr,
+// layer-N.exr). Its file is NAME.exr.
+bool isFrameName(const std::string& name) {
+    return !name.empty() && name != "input" && name.rfind("layer-", 0) != 0 &&
+           std::all_of(name.begin(), name.end(), [](char c) {
+               return std::isalnum(static_cast<unsigned char>(c)) || c == '-';
+           });
+}
+
+constexpr const char* kFrameNameRule =
+    "a side frame's name is letters, digits and '-', not \"input\" nor \"layer-...\"";
 
 void removeQuietly(const fs::path& p) {
     std::error_code ec;
@@ -74,6 +88,15 @@ void Session::save(const fs::path& path) const {
             if (!l.name.empty()) layer["name"] = l.name;  // optional: older files have none
             layers.push_back(std::move(layer));
         }
+        json frames = json::object();
+        for (const auto& [name, frame] : sideFrames) {
+            if (!isFrameName(name))
+                throw Error(ErrorKind::InvalidArgument,
+                            std::string(kFrameNameRule) + "; got '" + name + "'", path.string(),
+                            "/frames");
+            writeExr(*frame, tmpFolder / (name + ".exr"));
+            frames[name] = name + ".exr";
+        }
         json view = json::object();
         for (const auto& [k, v] : viewState) view[k] = v;
         const json doc{
@@ -92,7 +115,9 @@ void Session::save(const fs::path& path) const {
         const fs::path tmpJson = temporaryPathFor(path);
         {
             std::ofstream out(tmpJson);
-            out << doc.dump(2) << "\n";
+            json written = doc;
+            if (!frames.empty()) written["frames"] = frames;  // optional: older files have none
+            out << written.dump(2) << "\n";
             out.close();
             if (!out) throw Error(ErrorKind::Io, "cannot write the session file", path.string());
         }
@@ -163,7 +188,7 @@ Session Session::load(const fs::path& path, const ProgressFn& progress) {
     const detail::JsonReader r(file);
     r.requireObject(doc, "",
                     {"format", "width", "height", "input", "prefilter", "prefilterParams", "bank",
-                     "region", "view", "layers"});
+                     "region", "view", "layers", "frames"});
     const std::int64_t format = r.integer(r.at(doc, "format", ""), "/format", 1, INT32_MAX);
     if (format > kSessionFormat)
         r.fail("/format", "session format " + std::to_string(format) +
@@ -183,6 +208,18 @@ Session Session::load(const fs::path& path, const ProgressFn& progress) {
     std::map<std::string, std::string> viewState;
     for (const auto& item : view.items())
         viewState[item.key()] = r.string(item.value(), "/view/" + item.key());
+    std::map<std::string, std::string> frameFiles;
+    if (doc.contains("frames")) {
+        const json& frames = doc["frames"];
+        if (!frames.is_object()) r.fail("/frames", "expected an object of side frames");
+        for (const auto& item : frames.items()) {
+            const std::string where = "/frames/" + item.key();
+            if (!isFrameName(item.key())) r.fail(where, kFrameNameRule);
+            if (r.string(item.value(), where) != item.key() + ".exr")
+                r.fail(where, "expected \"" + item.key() + ".exr\"");
+            frameFiles[item.key()] = item.key() + ".exr";
+        }
+    }
     const json& layers = r.array(r.at(doc, "layers", ""), "/layers");
     for (std::size_t i = 0; i < layers.size(); ++i) {
         const std::string where = "/layers/" + std::to_string(i);
@@ -255,6 +292,14 @@ Session Session::load(const fs::path& path, const ProgressFn& progress) {
             layer.output = std::make_shared<const Image>(
                 runLayerFilter(s.filterInput(), layer.filter, layer.params, part));
             s.layers.push_back(std::move(layer));
+        }
+        for (const auto& [name, sideFile] : frameFiles) {
+            where = "/frames/" + name;
+            const fs::path framePath = folder / sideFile;
+            if (!fs::is_regular_file(framePath, ec))
+                throw Error(ErrorKind::Io, "side file '" + framePath.string() + "' not found", file,
+                            where);
+            session.sideFrames[name] = std::make_shared<const FrameBuffers>(readExr(framePath));
         }
         s.recomposite(s.composite.bounds());
         return session;

@@ -162,10 +162,16 @@ class Session {
     std::optional<Rect> region;                    ///< the region of interest
     std::filesystem::path bankDir;                 ///< the bank cache folder, if any
     std::map<std::string, std::string> viewState;  ///< free-form view settings
+    /// Frames kept with the session (a program's reference render, say): each saved as the side
+    /// file NAME.exr (NAME: letters, digits and '-', not "input" nor a layer's file) and listed
+    /// under "frames" in the session file; loaded back as they were. A file without "frames"
+    /// has none.
+    std::map<std::string, std::shared_ptr<const FrameBuffers>> sideFrames;
 
     /// Saves NAME.glint-session.json (with "format") plus the side folder
-    /// NAME.glint-session/ holding input.exr and one weights EXR per layer, written
-    /// atomically (a failed save leaves the old session intact). Throws glint::Error(Io).
+    /// NAME.glint-session/ holding input.exr, one weights EXR per layer and the side frames,
+    /// written atomically (a failed save leaves the old session intact). Throws
+    /// glint::Error(Io), or InvalidArgument for a side frame's name that is no file name.
     void save(const std::filesystem::path& path) const;
     /// Loads a saved session, re-running the layers' filters. Throws glint::Error naming the
     /// file: Format for malformed or truncated JSON (with line and column) or a format newer
