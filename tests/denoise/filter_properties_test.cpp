@@ -61,9 +61,14 @@ bool allFinite(const Image& image) {
 class FilterProperties : public ::testing::TestWithParam<std::string> {
   protected:
     const Filter& filter() const { return findFilter(GetParam()); }
+    // The learned filter unet is no normalised kernel: it does not keep a constant image constant
+    // to 1e-5, and a NaN (read as 0, as in OIDN) moves the frame's autoexposure and so every
+    // pixel slightly. Its own tests (unet_test.cpp) hold it to the OIDN peer instead.
+    bool learned() const { return GetParam() == "unet"; }
 };
 
 TEST_P(FilterProperties, ConstantImageStaysConstant) {
+    if (learned()) GTEST_SKIP() << "a learned filter (see learned())";
     const Filter& f = filter();
     for (float scale : {1.0f, 1e-30f, 1e30f}) {
         SCOPED_TRACE("radiance scale " + std::to_string(scale));
@@ -93,6 +98,7 @@ TEST_P(FilterProperties, FiniteInputGivesFiniteOutput) {
 }
 
 TEST_P(FilterProperties, NonFiniteInputDoesNotSpreadBeyondMargin) {
+    if (learned()) GTEST_SKIP() << "a learned filter (see learned())";
     const Filter& f = filter();
     // The frame is sized from the margin so that a band of pixels lies beyond it.
     const int margin = f.margin(resolveParams(f, {}));

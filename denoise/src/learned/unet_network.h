@@ -1,0 +1,65 @@
+// The U-Net of Open Image Denoise's RT filter (OIDN 2.x, training/model.py and
+// core/unet_filter.cpp): the base, small and large variants built from a weight blob and run on
+// the CPU with oneDNN convolutions.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "learned/tza.h"
+
+namespace glint::denoise::learned {
+
+/// Sizes of tiles the network takes: width and height are multiples of this.
+inline constexpr int kUNetAlignment = 16;
+
+/// A U-Net with its weights, ready to run on tiles of any size (a multiple of 16). Thread-safe:
+/// run() may be called concurrently.
+class UNetNetwork {
+  public:
+    /// Checks the tensors against the U-Net variant they describe (base, small or large, told
+    /// apart as OIDN does) for `inputChannels` (3, 6 or 9) input channels; throws
+    /// glint::Error(Format) naming `file` and the first tensor that does not fit.
+    UNetNetwork(const TzaTensors& tensors, int inputChannels, const std::string& file);
+    ~UNetNetwork();
+    UNetNetwork(const UNetNetwork&) = delete;
+    UNetNetwork& operator=(const UNetNetwork&) = delete;
+
+    int inputChannels() const { return m_inputChannels; }
+    /// "base", "small" or "large".
+    const std::string& variant() const { return m_variant; }
+    /// Border a tile needs around the pixels it outputs so that they equal a single pass:
+    /// OIDN's receptive-field half-width rounded up to the alignment (96 base, 112 large).
+    int overlap() const;
+    /// Multiply-adds per pixel of all convolutions (×2 for FLOPs).
+    double macsPerPixel() const;
+    /// Peak bytes of activations per pixel of a tile (from oneDNN's chosen memory formats).
+    double bytesPerPixel() const;
+
+    /// Called after each layer with the number of layers done and the total; may throw to stop.
+    using LayerFn = std::function<void(int done, int total)>;
+
+    /// Runs the network on one tile: `input` holds h × w pixels of inputChannels() interleaved
+    /// floats (row-major), `output` receives h × w × 3. h and w must be multiples of 16. Uses
+    /// `threads` OpenMP threads inside oneDNN.
+    void run(const float* input, int h, int w, float* output, int threads,
+             const LayerFn& afterLayer = {}) const;
+
+  private:
+    struct Layer;
+    struct Plan;
+    std::shared_ptr<const Plan> plan(int h, int w) const;
+
+    int m_inputChannels = 0;
+    std::string m_variant;
+    std::vector<Layer> m_layers;
+    mutable std::mutex m_mutex;
+    mutable std::vector<std::pair<std::pair<int, int>, std::shared_ptr<const Plan>>> m_plans;
+};
+
+}  // namespace glint::denoise::learned
