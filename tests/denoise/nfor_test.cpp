@@ -242,7 +242,7 @@ TEST(Nfor, BrightHighVarianceSpeckDoesNotLeak) {
 // nfor is an opt-in bank filter: the default bank leaves it out, a bank that names it holds it.
 TEST(Nfor, JoinsABankOnlyWhenNamed) {
     for (const Filter* f : defaultBankFilters()) EXPECT_NE(f->name(), "nfor");
-    EXPECT_EQ(defaultBankFilters().size() + 1, allFilters().size());
+    EXPECT_LT(defaultBankFilters().size(), allFilters().size());
     const FrameBuffers frame = denoise::testing::syntheticFrame(32, 24);
     BankOptions options;
     options.size = 2;

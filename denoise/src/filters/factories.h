@@ -14,5 +14,6 @@ std::unique_ptr<Filter> makeCrossBilateralFilter();
 std::unique_ptr<Filter> makeGuidedFilter();
 std::unique_ptr<Filter> makeNlMeansFilter();
 std::unique_ptr<Filter> makeNforFilter();
+std::unique_ptr<Filter> makeExternalFilter();
 
 }  // namespace glint::denoise
