@@ -192,6 +192,10 @@ TEST_F(ExternalFilter, IsUnavailableUntilItsProgramIsAllowed) {
     EXPECT_NE(what.find("--allow-command " + stubPath().string()), std::string::npos) << what;
     EXPECT_FALSE(fs::exists(marker));
     EXPECT_TRUE(temporaryFolderEmpty());
+    // A program not named by its full path is never allowed.
+    ParamValues relative = stubParams("good");
+    relative.strings["command"][0] = "bin/tool";
+    EXPECT_NE(failure(relative, ErrorKind::InvalidArgument).find("full path"), std::string::npos);
     // A filter without a command is unavailable too, and so never joins a bank by default.
     EXPECT_FALSE(
         findFilter("external").unavailable(resolveParams(findFilter("external"), {})).empty());

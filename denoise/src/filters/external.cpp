@@ -147,6 +147,9 @@ class ExternalFilter final : public Filter {
         if (argv.empty() || argv[0].empty())
             return "no command given (parameter 'command': the program's full path, then its "
                    "arguments)";
+        if (!fs::path(argv[0]).is_absolute())
+            return "the command '" + argv[0] +
+                   "' is not named by its full path (an absolute path, e.g. /opt/bin/tool)";
         if (!commandAllowed(argv[0]))
             return "the command '" + argv[0] + "' is not allowed to run; " + howToAllow(argv[0]);
         return {};
