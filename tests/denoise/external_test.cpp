@@ -16,6 +16,7 @@
 #include "cli_fixture.h"
 #include "filters/external_files.h"
 #include "glint/denoise/external.h"
+#include "glint/denoise/paint_script.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
 #include "glint/image/error.h"
@@ -305,6 +306,30 @@ TEST_F(ExternalFilter, ASessionNamingAProgramOpensWithoutRunningItUnlessAllowed)
     EXPECT_TRUE(fs::exists(marker));
     EXPECT_TRUE(open.layer(0).unavailable.empty());
     EXPECT_GT(testing::maxAbsDiff(open.composite(), open.input().color()), 0.0);
+    EXPECT_TRUE(temporaryFolderEmpty());
+}
+
+TEST_F(ExternalFilter, APaintScriptNamesTheProgramAsAnArrayAndRunsItOnlyWhenAllowed) {
+    const fs::path marker = m_dir / "ran";
+    const std::string text = R"({"layers": [{"filter": "external", "params": {"command": [")" +
+                             stubPath().string() + R"(", "good", "pfm", "{color}", "{output}", ")" +
+                             marker.string() + R"("], "format": "pfm", "timeout": 60}}],
+                                  "edits": [{"weights": {"layer": 0, "value": 1}}]})";
+    const PaintScript script = PaintScript::parse(text, "script.json");
+    ASSERT_EQ(script.layers().size(), 1u);
+    EXPECT_EQ(script.layers()[0].params.strings.at("command")[1], "good");
+    clearAllowedCommands();
+    Session refused(testing::syntheticFrame(8, 6));
+    EXPECT_THROW(script.apply(refused), Error);
+    EXPECT_FALSE(fs::exists(marker));
+    allowCommand(stubPath());
+    Session s(testing::syntheticFrame(8, 6));
+    script.apply(s);
+    EXPECT_TRUE(fs::exists(marker));
+    EXPECT_EQ(s.composite()(2, 3, 1), s.input().color()(2, 3, 1) * 0.5f);
+    // A list of anything but strings is refused at its place.
+    const std::string bad = R"({"layers": [{"filter": "external", "params": {"command": [1]}}]})";
+    EXPECT_THROW(PaintScript::parse(bad, "bad.json"), Error);
     EXPECT_TRUE(temporaryFolderEmpty());
 }
 
