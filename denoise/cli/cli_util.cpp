@@ -12,6 +12,7 @@
 #include "commands.h"
 #include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
+#include "glint/denoise/external.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"
@@ -36,7 +37,17 @@ std::vector<std::string> splitList(const std::string& text) {
 json memberJson(const FilterBank& bank, int m) {
     if (m < 0) return nullptr;
     const BankMember& b = bank.members()[std::size_t(m)];
-    return {{"index", m}, {"filter", b.filter}, {"params", b.params}, {"default", b.isDefault}};
+    return {{"index", m},
+            {"filter", b.filter},
+            {"params", paramsJson(b.params)},
+            {"default", b.isDefault}};
+}
+
+json paramsJson(const ParamValues& params) {
+    json out = json::object();
+    for (const auto& [name, value] : params) out[name] = value;
+    for (const auto& [name, list] : params.strings) out[name] = list;
+    return out;
 }
 
 // Splits "name=value"; `option` names the flag in the error.
@@ -62,7 +73,7 @@ ParamValues parseParams(const std::vector<std::string>& given, const std::vector
             continue;
         }
         try {
-            values[key] = parseParamValue(*spec, value);
+            setParamFromText(*spec, value, values);
         } catch (const Error& e) {
             throw Error(e.kind(), e.message(), {}, option);
         }
@@ -231,6 +242,10 @@ json describe(const std::vector<ParamSpec>& specs) {
                {"integer", s.integer},
                {"help", s.help}};
         if (s.isChoice()) p["choices"] = s.choices;
+        if (s.isStrings) {
+            p["kind"] = "strings";
+            p["defaultStrings"] = s.defaultStrings;
+        }
         params.push_back(p);
     }
     return params;
@@ -238,6 +253,11 @@ json describe(const std::vector<ParamSpec>& specs) {
 
 void printJson(const json& j) {
     std::cout << j.dump(-1, ' ', false, json::error_handler_t::replace) << "\n";
+}
+
+void allowCommands(const std::vector<std::string>& given) {
+    allowCommandsFromFile(allowedCommandsFile());
+    for (const std::string& program : given) allowCommand(program);
 }
 
 }  // namespace glint::denoise::cli

@@ -43,6 +43,13 @@ std::vector<std::string> splitList(const std::string& text);
 /// Member `m` of `bank` as JSON (index, filter, params, default); null for m < 0.
 nlohmann::json memberJson(const FilterBank& bank, int m);
 
+/// Parameter values as one JSON object (lists of strings as arrays).
+nlohmann::json paramsJson(const ParamValues& params);
+
+/// Allows the programs of --allow-command and of the user's allowed-commands file
+/// (glint/denoise/external.h); call once the command line is parsed.
+void allowCommands(const std::vector<std::string>& given);
+
 /// Splits "name=value"; `option` names the flag in the error.
 std::pair<std::string, std::string> splitKeyValue(const std::string& text,
                                                   const std::string& option);

@@ -10,6 +10,7 @@
 
 #include "cli_boundary.h"
 #include "commands.h"
+#include "glint/denoise/external.h"
 #include "glint/denoise/filter.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
@@ -40,7 +41,11 @@ struct ApplyOptions {
 void printParams(const json& params) {
     for (const json& p : params) {
         char line[512];
-        if (p.contains("choices")) {
+        if (p.value("kind", "") == "strings") {
+            std::snprintf(line, sizeof line, "    %-16s %-8s default %s  %s\n",
+                          p["name"].get<std::string>().c_str(), "list",
+                          p["defaultStrings"].dump().c_str(), p["help"].get<std::string>().c_str());
+        } else if (p.contains("choices")) {
             std::string options;
             for (const auto& c : p["choices"])
                 options += (options.empty() ? "" : "|") + c.get<std::string>();
@@ -105,6 +110,11 @@ void runApply(const ApplyOptions& opt) {
     // Validate everything that does not need the image before reading it.
     const ParamValues params = parseParams(
         opt.params, filter.params(), "filter '" + std::string(filter.name()) + "'", "--param");
+    // The program an external filter names on this command line is the user's own choice.
+    if (const auto it = params.strings.find("command");
+        filter.name() == "external" && it != params.strings.end() && !it->second.empty() &&
+        std::filesystem::path(it->second[0]).is_absolute())
+        allowCommand(it->second[0]);
     const ParamValues prefilterValues = parseParams(opt.prefilterParams, denoise::prefilterParams(),
                                                     "feature prefilter", "--prefilter-param");
     if (!opt.prefilterParams.empty() && !opt.prefilter)
@@ -143,7 +153,7 @@ void runApply(const ApplyOptions& opt) {
     json report{{"input", opt.input},
                 {"output", opt.output},
                 {"filter", filter.name()},
-                {"params", params},
+                {"params", paramsJson(params)},
                 {"prefilter", opt.prefilter},
                 {"width", frame.width()},
                 {"height", frame.height()},

@@ -72,6 +72,21 @@ void runPaint(const PaintArgs& a) {
 
 // ---- composite -------------------------------------------------------------------------------
 
+// Warns on stderr about every layer of the session that was not run (an external program the
+// user has not allowed); returns them as [{"layer", "filter", "reason"}].
+json reportUnavailableLayers(const Session& session, const std::string& file) {
+    json list = json::array();
+    for (std::size_t i = 0; i < session.layerCount(); ++i) {
+        const SessionLayer& l = session.layer(i);
+        if (l.unavailable.empty()) continue;
+        std::fprintf(stderr,
+                     "glint-denoise: warning: %s: layer %zu (%s) is unavailable and left out: %s\n",
+                     file.c_str(), i, l.filter.c_str(), oneLine(l.unavailable).c_str());
+        list.push_back({{"layer", i}, {"filter", l.filter}, {"reason", l.unavailable}});
+    }
+    return list;
+}
+
 struct CompositeArgs {
     std::string session, input, out, png, reference;
     bool json = false;
@@ -89,6 +104,7 @@ void runComposite(const CompositeArgs& a) {
     glint::cli::removeTemporariesOnSignal({a.out, a.png});
     const auto t0 = std::chrono::steady_clock::now();
     Session session = Session::load(a.session);
+    const json unavailable = reportUnavailableLayers(session, a.session);
     FrameBuffers render = readExr(a.input);
     if (render.width() != session.width() || render.height() != session.height())
         throw Error(ErrorKind::InvalidArgument,
@@ -105,6 +121,7 @@ void runComposite(const CompositeArgs& a) {
                 {"input", a.input},
                 {"output", a.out},
                 {"layers", session.layerCount()}};
+    if (!unavailable.empty()) report["unavailable"] = unavailable;
     if (reference) {
         report["metricsInput"] = metricsOf(session.input().color(), reference->color(), {});
         report["metrics"] = metricsOf(session.composite(), reference->color(), {});

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "glint/image/error.h"
@@ -20,7 +21,9 @@ std::string describeParams(const std::vector<ParamSpec>& specs) {
     bool first = true;
     for (const ParamSpec& spec : specs) {
         out << (first ? "" : ", ") << spec.name;
-        if (spec.isChoice()) {
+        if (spec.isStrings) {
+            out << " (list of strings)";
+        } else if (spec.isChoice()) {
             out << " (";
             for (std::size_t i = 0; i < spec.choices.size(); ++i)
                 out << (i ? "|" : "") << spec.choices[i];
@@ -58,6 +61,13 @@ ParamSpec ParamSpec::choice(std::string name, std::string label, std::vector<std
     spec.choices = std::move(options);
     spec.softMin = spec.min;
     spec.softMax = spec.max;
+    return spec;
+}
+
+ParamSpec ParamSpec::strings(std::string name, std::string label, std::string help) {
+    ParamSpec spec(std::move(name), std::move(label), 0.0, 0.0, 0.0, ParamScale::Linear, false,
+                   std::move(help));
+    spec.isStrings = true;
     return spec;
 }
 
@@ -105,18 +115,68 @@ std::string formatParamValue(const ParamSpec& spec, double value) {
     return text;
 }
 
+void setParamFromText(const ParamSpec& spec, const std::string& text, ParamValues& values) {
+    if (!spec.isStrings) {
+        values[spec.name] = parseParamValue(spec, text);
+        return;
+    }
+    std::vector<std::string> list{text};
+    if (!text.empty() && text.front() == '[') {
+        const nlohmann::json array = nlohmann::json::parse(text, nullptr, false);
+        if (!array.is_array())
+            throw Error(ErrorKind::InvalidArgument,
+                        "'" + text + "' is not a JSON array of strings (parameter '" + spec.name +
+                            "', e.g. [\"/opt/bin/tool\", \"{color}\"])");
+        list.clear();
+        for (const auto& item : array) {
+            if (!item.is_string())
+                throw Error(ErrorKind::InvalidArgument, "item " + item.dump() + " of '" + text +
+                                                            "' is not a string (parameter '" +
+                                                            spec.name + "')");
+            list.push_back(item.get<std::string>());
+        }
+    }
+    values[spec.name] = 0.0;
+    values.strings[spec.name] = std::move(list);
+}
+
+std::string formatParam(const ParamSpec& spec, const ParamValues& values) {
+    if (!spec.isStrings) {
+        const auto it = values.find(spec.name);
+        return formatParamValue(spec, it == values.end() ? spec.defaultValue : it->second);
+    }
+    const auto it = values.strings.find(spec.name);
+    return nlohmann::json(it == values.strings.end() ? spec.defaultStrings : it->second)
+        .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 ParamValues resolveParams(const std::vector<ParamSpec>& specs, const ParamValues& given,
                           const std::string& where) {
-    // Reject names the owner does not know.
+    // Reject names the owner does not know, and lists for numbers.
     for (const auto& [name, value] : given)
         if (!findParam(specs, name))
             throw Error(
                 ErrorKind::InvalidArgument,
                 "unknown parameter '" + name + "'; valid parameters: " + describeParams(specs), {},
                 where);
-    // Fill in defaults and check the values given.
+    for (const auto& [name, list] : given.strings) {
+        const ParamSpec* spec = findParam(specs, name);
+        if (!spec || !spec->isStrings)
+            throw Error(ErrorKind::InvalidArgument,
+                        (spec ? "parameter '" + name + "' is a number, not a list of strings"
+                              : "unknown parameter '" + name + "'") +
+                            "; valid parameters: " + describeParams(specs),
+                        {}, where);
+    }
+    // Fill in defaults and check the values given. A list of strings keeps the number 0 beside
+    // its list, so that code reading numbers (sliders, the bank's sampler) treats it as fixed.
     ParamValues resolved;
     for (const ParamSpec& spec : specs) {
+        if (spec.isStrings) {
+            const auto it = given.strings.find(spec.name);
+            resolved.strings[spec.name] =
+                it == given.strings.end() ? spec.defaultStrings : it->second;
+        }
         auto it = given.find(spec.name);
         const double value = it == given.end() ? spec.defaultValue : it->second;
         std::ostringstream range;
@@ -156,6 +216,8 @@ Image applyFilter(const Filter& filter, const FrameBuffers& frame, const ParamVa
                     "threads = " + std::to_string(options.threads) + " must be in [0, 4096]", {},
                     where);
     const ParamValues resolved = resolveParams(filter, params);
+    if (const std::string why = filter.unavailable(resolved); !why.empty())
+        throw Error(ErrorKind::InvalidArgument, "unavailable: " + why, {}, where);
     // Check the feature layers the filter needs, naming every missing one.
     const std::vector<Layer> required = filter.requiredLayers(resolved);
     std::string missing, needed;

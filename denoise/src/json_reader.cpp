@@ -163,4 +163,11 @@ const json& JsonReader::array(const json& value, const std::string& where, std::
     return value;
 }
 
+nlohmann::json paramsJson(const ParamValues& params) {
+    nlohmann::json out = nlohmann::json::object();
+    for (const auto& [name, value] : params) out[name] = value;
+    for (const auto& [name, list] : params.strings) out[name] = list;
+    return out;
+}
+
 }  // namespace glint::denoise::detail

@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "glint/denoise/filter.h"
+
 namespace glint::denoise::detail {
 
 /// The text of the JSON file `path`, described as `what` ("paint script", "session file") in
@@ -55,6 +57,9 @@ class JsonReader {
   private:
     std::string m_file;
 };
+
+/// Parameter values as one JSON object: numbers, and lists of strings as arrays.
+nlohmann::json paramsJson(const ParamValues& params);
 
 /// Short text of a JSON value for messages (at most ~40 characters).
 std::string describeJson(const nlohmann::json& value);

@@ -22,12 +22,13 @@ std::vector<std::unique_ptr<Filter>> makeAll() {
     filters.push_back(makeNlMeansFilter());
     filters.push_back(makeNforFilter());
     filters.push_back(makeUNetFilter());
+    filters.push_back(makeExternalFilter());
     return filters;
 }
 
 // Filters left out of the default bank: they join a bank only when named (--filters), so that
 // the default bank, and the quality tables measured on it, stay as they were.
-constexpr std::string_view kOptInFilters[] = {"nfor", "unet"};
+constexpr std::string_view kOptInFilters[] = {"nfor", "unet", "external"};
 }  // namespace
 
 const std::vector<const Filter*>& allFilters() {

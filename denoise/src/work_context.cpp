@@ -57,6 +57,14 @@ void WorkContext::addWork(std::int64_t units) {
     if (!s.progress(fraction)) cancel();
 }
 
+bool WorkContext::poll() {
+    State& s = *m_state;
+    if (!s.progress || cancelled()) return !cancelled();
+    std::unique_lock<std::mutex> lock(s.callbackMutex, std::try_to_lock);
+    if (lock.owns_lock() && !s.progress(std::max(0.0, s.lastReported))) cancel();
+    return !cancelled();
+}
+
 void WorkContext::parallelFor(int begin, int end, const std::function<void(int)>& fn,
                               std::int64_t unitsPerIndex) {
     throwIfCancelled();

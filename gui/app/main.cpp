@@ -7,12 +7,15 @@
 #include <exception>
 
 #include "app/main_window.h"
+#include "app/studio_settings.h"
 
 int main(int argc, char** argv) {
     QApplication app(argc, argv);
     QApplication::setOrganizationName(QStringLiteral("Glint"));
     QApplication::setApplicationName(QStringLiteral("Glint Studio"));
     QApplication::setApplicationVersion(QStringLiteral("0.1"));
+    // External denoisers run only the programs the user allowed (docs/external-denoiser.md).
+    glint::studio::applyAllowedCommands();
 
     QCommandLineParser parser;
     parser.setApplicationDescription(QStringLiteral(

@@ -4,11 +4,15 @@
 #include <QMainWindow>
 #include <QSettings>
 
+#include "glint/denoise/external.h"
+
 namespace glint::studio {
 
 namespace {
 const QString kRecent = QStringLiteral("recentFiles");
-}
+// Never read from a session or scene: only the user adds to it (docs/external-denoiser.md).
+const QString kAllowedCommands = QStringLiteral("externalDenoiser/allowedCommands");
+}  // namespace
 
 QStringList recentFiles() {
     QStringList out;
@@ -24,6 +28,27 @@ void addRecentFile(const QString& path) {
     files.prepend(absolute);
     while (files.size() > kMaxRecent) files.removeLast();
     QSettings().setValue(kRecent, files);
+}
+
+QStringList allowedCommands() {
+    QStringList out;
+    for (const QString& p : QSettings().value(kAllowedCommands).toStringList())
+        if (QFileInfo(p).isAbsolute()) out << p;
+    return out;
+}
+
+bool allowCommandForGood(const QString& program) {
+    if (!QFileInfo(program).isAbsolute()) return false;
+    QStringList list = allowedCommands();
+    if (!list.contains(program)) list << program;
+    QSettings().setValue(kAllowedCommands, list);
+    denoise::allowCommand(program.toStdString());
+    return true;
+}
+
+void applyAllowedCommands() {
+    denoise::clearAllowedCommands();
+    for (const QString& p : allowedCommands()) denoise::allowCommand(p.toStdString());
 }
 
 namespace {

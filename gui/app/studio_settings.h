@@ -1,4 +1,5 @@
-// What the studio remembers between runs (QSettings): recent files and the window layout.
+// What the studio remembers between runs (QSettings): recent files, the window layout and the
+// programs the user allowed external denoisers to run.
 #pragma once
 
 #include <QStringList>
@@ -12,6 +13,14 @@ QStringList recentFiles();
 /// Puts `path` first in the recent files.
 void addRecentFile(const QString& path);
 inline constexpr int kMaxRecent = 8;
+
+/// The programs the user allowed external denoisers to run (full paths), as saved.
+QStringList allowedCommands();
+/// Allows `program` (a full path) for good: saved in the settings and allowed in this process
+/// (glint/denoise/external.h). Returns false, changing nothing, for a path that is not absolute.
+bool allowCommandForGood(const QString& program);
+/// Allows in this process exactly the saved programs (called at start).
+void applyAllowedCommands();
 
 void saveWindowState(const QMainWindow& window);
 void restoreWindowState(QMainWindow& window);

@@ -10,17 +10,29 @@ namespace glint::studio::journal_codec {
 
 namespace {
 
+// Numbers, and lists of strings (an external denoiser's command) as arrays.
 QJsonObject paramsToJson(const denoise::ParamValues& params) {
     QJsonObject o;
     for (const auto& [name, value] : params) o.insert(QString::fromStdString(name), value);
+    for (const auto& [name, list] : params.strings) {
+        QJsonArray items;
+        for (const std::string& item : list) items.append(QString::fromStdString(item));
+        o.insert(QString::fromStdString(name), items);
+    }
     return o;
 }
 
 denoise::ParamValues paramsFromJson(const QJsonValue& v) {
     const QJsonObject o = v.toObject();
     denoise::ParamValues params;
-    for (auto it = o.begin(); it != o.end(); ++it)
-        params[it.key().toStdString()] = it.value().toDouble();
+    for (auto it = o.begin(); it != o.end(); ++it) {
+        const std::string name = it.key().toStdString();
+        params[name] = it.value().toDouble();  // 0 for a list: its numeric slot
+        if (!it.value().isArray()) continue;
+        std::vector<std::string>& list = params.strings[name];
+        for (const QJsonValue& item : it.value().toArray())
+            list.push_back(item.toString().toStdString());
+    }
     return params;
 }
 

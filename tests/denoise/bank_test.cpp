@@ -85,7 +85,7 @@ TEST(MapParam, LinearLogIntegerAndChoice) {
 }
 
 TEST(SampleBank, DefaultsFirstThenValidMembersOfEveryFilter) {
-    const auto& filters = allFilters();
+    const std::vector<const Filter*> filters = testing::runnableFilters();
     const int perFilter = 10;
     const int size = perFilter * int(filters.size());
     const std::vector<BankMember> members = detail::sampleBank(filters, size, 3);

@@ -32,7 +32,7 @@ using testing::syntheticFrame;
 std::vector<std::string> filterNames() {
     try {
         std::vector<std::string> names;
-        for (const Filter* f : allFilters()) names.emplace_back(f->name());
+        for (const Filter* f : testing::runnableFilters()) names.emplace_back(f->name());
         return names;
     } catch (const std::exception& e) {
         return {std::string("registry-failed: ") + e.what()};
@@ -245,7 +245,7 @@ TEST(FilterApi, ApplyFilterChecksRoiAndRequiredLayers) {
     EXPECT_THROW(applyFilter(g, frame, {}, testing::inRegion(empty)), Error);
     // Every filter that needs feature layers names the missing one.
     FrameBuffers bare(8, 6);
-    for (const Filter* f : allFilters()) {
+    for (const Filter* f : testing::runnableFilters()) {
         if (f->requiredLayers(resolveParams(*f, {})).empty()) {
             EXPECT_NO_THROW(applyFilter(*f, bare, {})) << f->name();
             continue;

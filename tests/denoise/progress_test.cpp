@@ -67,7 +67,7 @@ TEST_P(EveryFilter, ThreadCountDoesNotChangeTheResult) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(All, EveryFilter, ::testing::ValuesIn(allFilters()),
+INSTANTIATE_TEST_SUITE_P(All, EveryFilter, ::testing::ValuesIn(testing::runnableFilters()),
                          [](const ::testing::TestParamInfo<const Filter*>& info) {
                              std::string n(info.param->name());
                              for (char& c : n)

@@ -13,9 +13,20 @@
 #include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/filter.h"
+#include "glint/denoise/registry.h"
 #include "glint/image/frame_buffers.h"
 
 namespace glint::denoise::testing {
+
+/// The registered filters that run with their default parameters (Filter::unavailable empty:
+/// every one but external, which needs a program the user allowed): the filters the tests of
+/// every filter apply as they are.
+inline std::vector<const Filter*> runnableFilters() {
+    std::vector<const Filter*> out;
+    for (const Filter* f : allFilters())
+        if (f->unavailable(resolveParams(*f, {})).empty()) out.push_back(f);
+    return out;
+}
 
 /// applyFilter options that filter only `region`.
 inline FilterOptions inRegion(const Rect& region) {

@@ -56,6 +56,14 @@ class JournalCodecTest : public QObject {
                  std::string("walls, σ 2"));
         QCOMPARE(std::get<jc::AddLayers>(jc::decode(jc::encode(ops[11]))).layers.size(),
                  std::size_t(2));
+        // A list-of-strings parameter (an external denoiser's command) comes back as the list.
+        denoise::ParamValues external{{"format", 1.0}, {"command", 0.0}};
+        external.strings["command"] = {"/opt/oidn/bin/oidnDenoise", "--hdr", "{color}", "-o",
+                                       "{output}"};
+        const QJsonObject added = jc::encode(jc::AddLayer{"external", external, false});
+        const QJsonObject addedRead =
+            QJsonDocument::fromJson(QJsonDocument(added).toJson()).object();
+        QVERIFY(std::get<jc::AddLayer>(jc::decode(addedRead)).params == external);
         // An operation it does not know is named.
         bool refused = false;
         try {

@@ -18,6 +18,7 @@
 #include <QMenuBar>
 #include <QMimeData>
 #include <QPushButton>
+#include <QSettings>
 #include <QSpinBox>
 #include <QStandardPaths>
 #include <QTemporaryDir>
@@ -26,6 +27,9 @@
 #include <QUrl>
 
 #include "app/file_naming.h"
+#include "app/studio_settings.h"
+#include "glint/denoise/external.h"
+#include "glint/denoise/registry.h"
 #include "heavy_actions.h"
 #include "model/layer_names.h"
 #include "model/render_eta.h"
@@ -92,6 +96,32 @@ class StudioSessionTest : public QObject {
     void initTestCase() {
         QVERIFY(m_dir.isValid());
         m_scene = writeSmallCornell(m_dir);
+    }
+
+    // External denoisers run only the programs the user allowed in the studio's own settings
+    // (docs/external-denoiser.md): kept between runs, full paths only.
+    void anExternalProgramRunsOnlyOnceAllowedInTheSettings() {
+        const QString oidn = QStringLiteral("/opt/oidn/bin/oidnDenoise");
+        QSettings().remove(QStringLiteral("externalDenoiser/allowedCommands"));
+        applyAllowedCommands();
+        const denoise::Filter& external = denoise::findFilter("external");
+        denoise::ParamValues params;
+        params.strings["command"] = {oidn.toStdString(), "--hdr", "{color}", "-o", "{output}"};
+        params = denoise::resolveParams(external, params);
+        QVERIFY(!external.unavailable(params).empty());
+        QVERIFY(!allowCommandForGood(QStringLiteral("bin/oidnDenoise")));
+        QVERIFY(allowCommandForGood(oidn));
+        QVERIFY(allowCommandForGood(oidn));
+        QCOMPARE(allowedCommands(), QStringList{oidn});
+        QVERIFY(external.unavailable(params).empty());
+        // The next run of the studio allows what the settings hold, and nothing else.
+        denoise::allowCommand("/usr/bin/other");
+        applyAllowedCommands();
+        QVERIFY(denoise::commandAllowed(oidn.toStdString()));
+        QVERIFY(!denoise::commandAllowed("/usr/bin/other"));
+        QSettings().remove(QStringLiteral("externalDenoiser/allowedCommands"));
+        applyAllowedCommands();
+        QVERIFY(!external.unavailable(params).empty());
     }
 
     void aSessionKeepsTheLookAndTheRenderSettings() {

@@ -80,6 +80,8 @@ TEST_F(CornellQuality, EveryFilterWithDefaultsRaisesSsim) {
     EXPECT_GT(noisy, 0.5);
     EXPECT_LT(noisy, 0.75);
     for (const denoise::Filter* filter : denoise::allFilters()) {
+        // external runs a program of the user's: nothing to run by default.
+        if (!filter->unavailable(denoise::resolveParams(*filter, {})).empty()) continue;
         const double value = denoised(std::string(filter->name()));
         EXPECT_GT(value, noisy + 0.1) << filter->name();
     }

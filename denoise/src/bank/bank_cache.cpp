@@ -46,6 +46,10 @@ std::uint64_t hashDouble(std::uint64_t h, double v) {
 
 std::uint64_t hashParams(std::uint64_t h, const ParamValues& params) {
     for (const auto& [name, value] : params) h = hashDouble(hashString(h, name), value);
+    for (const auto& [name, list] : params.strings) {
+        h = hashString(h, name);
+        for (const std::string& item : list) h = hashString(h, item);
+    }
     return h;
 }
 
@@ -335,7 +339,7 @@ void BankCache::writeIndex(const std::vector<BankMember>& members,
         const Entry& e = m_entries.at(keys[i]);
         list.push_back({{"filter", members[i].filter},
                         {"version", std::string(findFilter(members[i].filter).version())},
-                        {"params", members[i].params},
+                        {"params", detail::paramsJson(members[i].params)},
                         {"default", members[i].isDefault},
                         {"key", toHex(keys[i])},
                         {"file", e.file},

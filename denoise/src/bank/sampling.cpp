@@ -75,6 +75,10 @@ std::vector<BankMember> sampleBank(const std::vector<const Filter*>& filters, in
         // every filter gets the same share of the strata.
         const int pick = std::clamp(int(std::lround(0.5 + u[0] * double(m))), 1, m) - 1;
         const Filter& f = *filters[std::size_t(pick)];
+        // A filter whose parameters are all fixed (external) is its default member only.
+        if (std::all_of(f.params().begin(), f.params().end(),
+                        [](const ParamSpec& s) { return s.softMin == s.softMax; }))
+            continue;
         ParamValues params;
         for (std::size_t i = 0; i < f.params().size(); ++i)
             params[f.params()[i].name] = mapParam(f.params()[i], u[1 + i]);

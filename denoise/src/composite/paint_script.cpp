@@ -101,12 +101,16 @@ class ScriptReader {
                 }
                 GLINT_CHECK(false, "resolveParams accepted an unknown parameter");
             }
-            if (!item.value().is_string()) {
+            if (!item.value().is_string() && !spec->isStrings) {
                 values[item.key()] = m_json.number(item.value(), place, spec->min, spec->max);
                 continue;
             }
+            // A name, a number as text, or a list of strings (an array, read as its JSON text).
             try {
-                values[item.key()] = parseParamValue(*spec, item.value().get<std::string>());
+                setParamFromText(*spec,
+                                 item.value().is_string() ? item.value().get<std::string>()
+                                                          : item.value().dump(),
+                                 values);
             } catch (const Error& e) {
                 m_json.fail(place, e.message());
             }

@@ -83,7 +83,7 @@ void Session::save(const fs::path& path) const {
             writeImage(maps, tmpFolder / layerFile(i));
             json layer{{"filter", l.filter},
                        {"version", std::string(findFilter(l.filter).version())},
-                       {"params", l.params},
+                       {"params", detail::paramsJson(l.params)},
                        {"weights", layerFile(i)}};
             if (!l.name.empty()) layer["name"] = l.name;  // optional: older files have none
             layers.push_back(std::move(layer));
@@ -152,12 +152,23 @@ namespace {
 /// The largest width or height a session holds (as the images Glint reads).
 constexpr std::int64_t kMaxSide = 1 << 24;
 
-// A numeric parameter block ({"name": number}); the names are checked by resolveParams.
+// A parameter block ({"name": number or list of strings}); the names and kinds are checked by
+// resolveParams.
 ParamValues readParams(const detail::JsonReader& r, const json& value, const std::string& where) {
     if (!value.is_object()) r.fail(where, "expected an object of parameters");
     ParamValues params;
-    for (const auto& item : value.items())
-        params[item.key()] = r.number(item.value(), where + "/" + item.key(), -1e30, 1e30);
+    for (const auto& item : value.items()) {
+        const std::string at = where + "/" + item.key();
+        if (!item.value().is_array()) {
+            params[item.key()] = r.number(item.value(), at, -1e30, 1e30);
+            continue;
+        }
+        std::vector<std::string> list;
+        for (std::size_t i = 0; i < item.value().size(); ++i)
+            list.push_back(r.string(item.value()[i], at + "/" + std::to_string(i)));
+        params[item.key()] = 0.0;
+        params.strings[item.key()] = std::move(list);
+    }
     return params;
 }
 
@@ -289,8 +300,12 @@ Session Session::load(const fs::path& path, const ProgressFn& progress) {
                 part = [&, i](double fr) {
                     return progress((double(i) + fr) / double(layers.size()));
                 };
+            // A file never runs a program by itself: an unavailable filter is not run.
+            layer.unavailable = f.unavailable(layer.params);
             layer.output = std::make_shared<const Image>(
-                runLayerFilter(s.filterInput(), layer.filter, layer.params, part));
+                layer.unavailable.empty()
+                    ? runLayerFilter(s.filterInput(), layer.filter, layer.params, part)
+                    : s.filterInput().color());
             s.layers.push_back(std::move(layer));
         }
         for (const auto& [name, sideFile] : frameFiles) {

@@ -3,6 +3,7 @@
 // worker thread so that installing it is moves and pointer swaps.
 #include "composite/session_impl.h"
 #include "glint/denoise/prefilter.h"
+#include "glint/denoise/registry.h"
 #include "glint/image/composite.h"
 #include "glint/image/error.h"
 
@@ -49,7 +50,11 @@ std::vector<Image> outputsOn(const FrameBuffers& in, const std::vector<LayerSpec
     for (std::size_t i = 0; i < n; ++i) {
         ProgressFn part;
         if (progress) part = [&, i](double f) { return progress((double(i) + f) / double(n)); };
-        outputs.push_back(runLayerFilter(in, layers[i].filter, layers[i].params, part));
+        // A layer that cannot run here (an external program not allowed) stays the input.
+        if (!findFilter(layers[i].filter).unavailable(layers[i].params).empty())
+            outputs.push_back(in.color());
+        else
+            outputs.push_back(runLayerFilter(in, layers[i].filter, layers[i].params, part));
     }
     return outputs;
 }

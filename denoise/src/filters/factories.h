@@ -15,5 +15,6 @@ std::unique_ptr<Filter> makeGuidedFilter();
 std::unique_ptr<Filter> makeNlMeansFilter();
 std::unique_ptr<Filter> makeNforFilter();
 std::unique_ptr<Filter> makeUNetFilter();  // src/learned/unet_filter.cpp
+std::unique_ptr<Filter> makeExternalFilter();
 
 }  // namespace glint::denoise

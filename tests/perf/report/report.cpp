@@ -246,11 +246,15 @@ void denoiseReport(const Args& a) {
     // The candidates: each filter at three settings (part 3), then the members of a filter
     // bank as the studio builds it (Latin hypercube, seed 1; part 4 chooses among all rows).
     std::vector<std::tuple<const denoise::Filter*, std::string, denoise::ParamValues>> candidates;
+    // Every filter that runs as it is (external needs a program the user allowed).
+    std::vector<const denoise::Filter*> filters;
     for (const denoise::Filter* f : denoise::allFilters())
+        if (f->unavailable(denoise::resolveParams(*f, {})).empty()) filters.push_back(f);
+    for (const denoise::Filter* f : filters)
         for (auto& [name, params] : filterSettings(*f)) candidates.emplace_back(f, name, params);
     if (bankSize > 0) {
         const std::vector<denoise::BankMember> members =
-            denoise::detail::sampleBank(denoise::allFilters(), bankSize, 1);
+            denoise::detail::sampleBank(filters, bankSize, 1);
         int i = 0;
         for (const denoise::BankMember& m : members)
             if (!m.isDefault)

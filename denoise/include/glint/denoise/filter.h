@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "glint/denoise/progress.h"
@@ -18,8 +19,9 @@ namespace glint::denoise {
 /// How a parameter's range is explored by sliders and the filter bank.
 enum class ParamScale { Linear, Log };
 
-/// Description of one filter parameter: a real number, an integer, or a choice among named
-/// options (whose value is the option's index).
+/// Description of one filter parameter: a real number, an integer, a choice among named
+/// options (whose value is the option's index), or a list of strings (a program's argv: see
+/// ParamSpec::strings; its value lives in ParamValues::strings, never sampled by a bank).
 struct ParamSpec {
     std::string name;   ///< key used on the command line and in sessions, e.g. "sigmaS"
     std::string label;  ///< human label, e.g. "spatial sigma (px)"
@@ -54,15 +56,34 @@ struct ParamSpec {
     /// This spec with the soft range [lo, hi] (which must lie inside [min, max]).
     ParamSpec soft(double lo, double hi) const;
 
+    /// True for a list-of-strings parameter (ParamSpec::strings).
+    bool isStrings = false;
+    /// The default of a list-of-strings parameter.
+    std::vector<std::string> defaultStrings;
+
     bool isChoice() const { return !choices.empty(); }
 
     /// A choice parameter among `options` (at least one), defaulting to option `defaultIndex`.
     static ParamSpec choice(std::string name, std::string label, std::vector<std::string> options,
                             int defaultIndex, std::string help);
+    /// A list-of-strings parameter (empty by default): a program and its arguments, for
+    /// instance. Its numeric range is [0, 0], so a bank holds it at its value.
+    static ParamSpec strings(std::string name, std::string label, std::string help);
 };
 
-/// Parameter values by name. Missing names take their defaults (see resolveParams).
-using ParamValues = std::map<std::string, double>;
+/// Parameter values by name: numbers (real, integer, choice) in the map itself, lists of strings
+/// in `strings`. Missing names take their defaults (see resolveParams).
+struct ParamValues : std::map<std::string, double> {
+    using std::map<std::string, double>::map;
+    ParamValues() = default;
+    /// Numbers only (a plain map of numeric parameters converts implicitly).
+    ParamValues(std::map<std::string, double> numbers)  // NOLINT(google-explicit-constructor)
+        : std::map<std::string, double>(std::move(numbers)) {}
+    /// Values of list-of-strings parameters (ParamSpec::strings), by name.
+    std::map<std::string, std::vector<std::string>> strings;
+
+    friend bool operator==(const ParamValues&, const ParamValues&) = default;
+};
 
 /// The spec called `name` in `specs`, or nullptr.
 const ParamSpec* findParam(const std::vector<ParamSpec>& specs, std::string_view name);
@@ -74,9 +95,19 @@ double parseParamValue(const ParamSpec& spec, const std::string& text);
 /// The text of a value: the option name of a choice, else the number ("%g").
 std::string formatParamValue(const ParamSpec& spec, double value);
 
+/// Sets parameter `spec` in `values` from the text a user types: parseParamValue for a number
+/// or choice; for a list of strings, a JSON array of strings (["/opt/bin/tool", "{color}"]) or
+/// else the text as a one-element list. Throws glint::Error(InvalidArgument).
+void setParamFromText(const ParamSpec& spec, const std::string& text, ParamValues& values);
+
+/// The text of parameter `spec` in resolved `values`: formatParamValue, or for a list of
+/// strings the JSON array (what setParamFromText reads back).
+std::string formatParam(const ParamSpec& spec, const ParamValues& values);
+
 /// Fills in defaults and validates against `specs`: unknown names, values outside [min, max],
-/// non-integers for integer or choice parameters and NaN all throw glint::Error(InvalidArgument)
-/// listing the valid names and ranges; `where` names the owner ("filter 'gaussian'").
+/// non-integers for integer or choice parameters, NaN, a number for a list of strings or a list
+/// for a number all throw glint::Error(InvalidArgument) listing the valid names and ranges;
+/// `where` names the owner ("filter 'gaussian'").
 ParamValues resolveParams(const std::vector<ParamSpec>& specs, const ParamValues& given,
                           const std::string& where);
 
@@ -98,6 +129,10 @@ class Filter {
     /// Feature layers the filter cannot run without (besides Color) for these resolved
     /// parameters (a guide layer chosen by a parameter, for instance).
     virtual std::vector<Layer> requiredLayers(const ParamValues& /*params*/) const { return {}; }
+    /// Why the filter cannot run here with these resolved parameters (empty when it can): a
+    /// program the user has not allowed, for instance. applyFilter refuses such parameters;
+    /// a session or bank that names them opens with the layer or member marked unavailable.
+    virtual std::string unavailable(const ParamValues& /*params*/) const { return {}; }
     /// How many pixels beyond a region the filter reads for these (resolved) parameters.
     virtual int margin(const ParamValues& params) const = 0;
 
@@ -134,7 +169,8 @@ struct FilterOptions {
 };
 
 /// Checks that `frame` has what `filter` needs for these parameters (throws
-/// glint::Error(InvalidArgument) naming the missing layer), resolves the parameters and applies
+/// glint::Error(InvalidArgument) naming the missing layer, or the reason when
+/// Filter::unavailable says it cannot run), resolves the parameters and applies
 /// the filter to the whole frame or the region. Returns an image of the region's size.
 Image applyFilter(const Filter& filter, const FrameBuffers& frame, const ParamValues& params,
                   const FilterOptions& options = {});

@@ -37,6 +37,11 @@ class WorkContext {
     /// Counts units done outside parallelFor (a serial step) and reports progress.
     void addWork(std::int64_t units);
 
+    /// Asks the callback again with the fraction last reported (an operation waiting on something
+    /// outside Glint, such as a program, calls it to learn whether to stop); returns false once
+    /// cancelled.
+    bool poll();
+
     /// True once the callback returned false or cancel() was called.
     bool cancelled() const;
     /// Stops the operation at its next check.

@@ -12,7 +12,7 @@ namespace glint::denoise {
 const std::vector<const Filter*>& allFilters();
 
 /// The filters of a bank built without a filter list (BankOptions::filters empty): every
-/// registered filter except the opt-in ones (nfor), which join a bank only when named.
+/// registered filter except the opt-in ones (nfor, external), which join a bank only when named.
 const std::vector<const Filter*>& defaultBankFilters();
 
 /// The filter called `name`; throws glint::Error(InvalidArgument) listing the valid names.

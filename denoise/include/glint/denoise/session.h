@@ -39,6 +39,10 @@ struct SessionLayer {
     Image weights;     ///< 1 channel in [0, 1], frame-sized
     Image painted;     ///< 1 channel, 1 where a stroke or fill set the weight (0 elsewhere)
     std::string name;  ///< the user's name for it; empty: a program names it after its filter
+    /// Why the filter did not run (Filter::unavailable: an external program the user has not
+    /// allowed): the output is then the input colour, so the layer changes nothing. Empty when
+    /// it ran.
+    std::string unavailable;
 };
 
 /// Whether a stroke or fill adds weight (left button) or removes it (right button).
@@ -173,9 +177,10 @@ class Session {
     /// written atomically (a failed save leaves the old session intact). Throws
     /// glint::Error(Io), or InvalidArgument for a side frame's name that is no file name.
     void save(const std::filesystem::path& path) const;
-    /// Loads a saved session, re-running the layers' filters. Throws glint::Error naming the
-    /// file: Format for malformed or truncated JSON (with line and column) or a format newer
-    /// than kSessionFormat, Io for a missing side file.
+    /// Loads a saved session, re-running the layers' filters; a layer whose filter cannot run
+    /// here (Filter::unavailable) is loaded without running, marked SessionLayer::unavailable.
+    /// Throws glint::Error naming the file: Format for malformed or truncated JSON (with line and
+    /// column) or a format newer than kSessionFormat, Io for a missing side file.
     static Session load(const std::filesystem::path& path, const ProgressFn& progress = {});
 
     /// Writes the input's layers with the colour replaced by the composite (layered EXR).
