@@ -55,14 +55,16 @@ struct Renderer::Impl {
     int lightBuilds = 1;
 };
 
-Renderer::Renderer(Scene scene) : m_scene(std::move(scene)) {
-    GLINT_CHECK(m_scene.width() > 0 && m_scene.height() > 0, "scene has no film");
-    m_impl = std::make_unique<Impl>(detail::sceneData(m_scene), m_scene.settings().accel);
-}
+Renderer::Renderer(Scene scene) : m_scene(std::move(scene)) { build(m_scene.settings().accel); }
 
-Renderer::Renderer(Scene scene, Accel accel) : m_scene(std::move(scene)) {
+Renderer::Renderer(Scene scene, Accel accel) : m_scene(std::move(scene)) { build(accel); }
+
+void Renderer::build(Accel accel) {
     GLINT_CHECK(m_scene.width() > 0 && m_scene.height() > 0, "scene has no film");
-    m_impl = std::make_unique<Impl>(detail::sceneData(m_scene), accel);
+    const detail::SceneData& data = detail::sceneData(m_scene);
+    // A camera without a view basis would send NaN rays into Embree: refuse it before building.
+    checkCamera(data);
+    m_impl = std::make_unique<Impl>(data, accel);
 }
 
 Renderer::~Renderer() = default;

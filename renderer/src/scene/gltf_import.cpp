@@ -17,6 +17,7 @@
 #include <string>
 
 #include "glint/image/error.h"
+#include "scene/camera.h"
 #include "scene/gltf_buffers.h"
 #include "scene/gltf_file.h"
 #include "scene/tangent_frames.h"
@@ -358,10 +359,14 @@ void GltfImport::addCamera(int node, const Affine& world) {
     c.position = world.point({0.0f, 0.0f, 0.0f});
     const Vec3 forward = world.vector({0.0f, 0.0f, -1.0f});
     const Vec3 up = world.vector({0.0f, 1.0f, 0.0f});
-    if (!isFinite(c.position) || maxAbsComponent(c.position) > kMaxCoordinate ||
-        !(length(forward) > 0.0f) || !(length(cross(normalize(forward), up)) > 1e-6f * length(up)))
+    if (!isFinite(c.position) || maxAbsComponent(c.position) > kMaxCoordinate)
+        fail("nodes[" + std::to_string(node) + "]", "places " + place + " out of range");
+    // The node's transform gives the view direction (its −z) and up (its +y) the camera needs.
+    if (const auto fault = viewBasisFault({0.0f, 0.0f, 0.0f}, forward, up))
         fail("nodes[" + std::to_string(node) + "]",
-             "places " + place + " out of range or with a degenerate orientation");
+             "places " + place + " with a degenerate orientation (" +
+                 (fault->key == "up" ? "its +y" : "its -z") +
+                 " from the node's transform: " + fault->reason + ")");
     // The look-at point at a distance that float keeps apart from the position.
     const float distance = std::max(1.0f, maxAbsComponent(c.position));
     c.lookAt = c.position + normalize(forward) * distance;

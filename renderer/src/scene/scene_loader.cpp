@@ -14,6 +14,7 @@
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/render/scene.h"
+#include "scene/camera.h"
 #include "scene/loader.h"
 #include "scene/scene_data.h"
 
@@ -141,34 +142,9 @@ void Loader::readCamera(const json& j, const std::string& where) {
                                : cam.lookAt;
         cam.hasMotion = length(cam.motionPosition - cam.position) > 0.0f ||
                         length(cam.motionLookAt - cam.lookAt) > 0.0f;
-        // The view direction must stay defined (and not along up) over the whole shutter.
-        for (int i = 0; i <= 64 && cam.hasMotion; ++i) {
-            const float tau = float(i) / 64.0f;
-            const Vec3 d = lerp(tau, cam.lookAt, cam.motionLookAt) -
-                           lerp(tau, cam.position, cam.motionPosition);
-            if (length(d) == 0.0f || length(cross(normalize(d), cam.up)) < 1e-6f)
-                m_reader.fail(where + "/motion",
-                              "the camera's view direction degenerates (zero or parallel to up) "
-                              "during the shutter");
-        }
     }
-    // In double: a float length of a tiny difference underflows to 0 although the points differ.
-    auto lengthOf = [](const Vec3& v) {
-        return std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z);
-    };
-    const Vec3 view = cam.lookAt - cam.position;
-    const double distance = lengthOf(view);
-    if (distance == 0.0) m_reader.fail(where + "/lookAt", "lookAt must differ from position");
-    // The camera normalises the view direction in float, whose squares end near 1e-38.
-    if (distance < kMinViewDistance) {
-        std::ostringstream msg;
-        msg << "lookAt is " << distance << " from position, too close to give a view direction "
-            << "in float; expected a distance of at least " << kMinViewDistance;
-        m_reader.fail(where + "/lookAt", msg.str());
-    }
-    const Vec3 dir{float(view.x / distance), float(view.y / distance), float(view.z / distance)};
-    if (lengthOf(cross(dir, cam.up)) < 1e-6 * lengthOf(cam.up))
-        m_reader.fail(where + "/up", "up must not be parallel to the viewing direction");
+    // A view basis the camera can compute in float, at shutter open and over the shutter.
+    if (const auto fault = cameraFault(cam)) m_reader.fail(where + "/" + fault->key, fault->reason);
 }
 
 void Loader::readRender(const json& j, const std::string& where) {

@@ -120,6 +120,8 @@ class Renderer {
     // Test and benchmark hooks (renderer/src/renderer_detail.h) read the private state.
     friend struct detail::RendererAccess;
     struct Impl;
+    /// Checks the scene's camera and builds the ray-tracing structures over `accel`.
+    void build(Accel accel);
     Scene m_scene;
     std::unique_ptr<Impl> m_impl;
 };
