@@ -96,11 +96,12 @@ int run(const Options& opt) {
             throw glint::Error(e.kind(), e.message(), "command line", "--camera");
         }
     }
-    // The scene's images are inputs too (an environment EXR).
-    std::vector<glint::cli::NamedInput> images;
-    for (const auto& image : scene.imageFiles())
-        images.push_back({image.string(), "the scene (" + opt.scene + ")"});
-    glint::cli::checkOutputIsNoInput(opt.out, "--out", images);
+    // Every file the scene was read from is an input too (its OBJ and MTL files, a .gltf's
+    // buffers, its textures and environment image).
+    std::vector<glint::cli::NamedInput> sceneFiles;
+    for (const auto& file : scene.inputs())
+        sceneFiles.push_back({file.string(), "the scene (" + opt.scene + ")"});
+    glint::cli::checkOutputIsNoInput(opt.out, "--out", sceneFiles);
     Settings settings = scene.settings();
     if (opt.spp)
         settings.spp = *opt.spp;

@@ -445,6 +445,14 @@ void Loader::importGltf(const fs::path& path, const std::vector<Affine>& poses,
     tinygltf::Model model;
     GltfBuffers buffers;
     readGltfFile(path, model, buffers);
+    m_scene.addInput(path);
+    for (const fs::path& file : buffers.files()) m_scene.addInput(file);
+    // Buffer files tinygltf read itself (beyond those Glint keeps open).
+    for (std::size_t i = 0; i < model.buffers.size(); ++i) {
+        const std::string& uri = model.buffers[i].uri;
+        if (!buffers.fromFile(i) && !uri.empty() && uri.rfind("data:", 0) != 0)
+            m_scene.addInput(path.parent_path() / uri);
+    }
     GltfImport(*this, model, buffers, path, overrides, where).importScene(poses);
 }
 

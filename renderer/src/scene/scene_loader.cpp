@@ -261,6 +261,7 @@ void Loader::readEnvironment(const json& j, const std::string& where) {
     }
     const fs::path rel = m_reader.string(j["image"], where + "/image");
     env.path = rel.is_absolute() ? rel : m_dir / rel;
+    m_scene.addInput(env.path);
     env.source =
         readLinearRgb(env.path, 1.0f, "environment image", m_reader.file(), where + "/image");
     env.image = scaledRgb(env.source, env.scale, "environment image", env.path, where + "/image");
@@ -499,7 +500,10 @@ void computeExtent(SceneData& scene) {
 
 }  // namespace detail
 
-Scene parseScene(const std::string& jsonText, const fs::path& path) {
+namespace {
+
+/// Parses scene JSON text as the file `path`; `read` says the text is that file's (an input).
+Scene readScene(const std::string& jsonText, const fs::path& path, bool read) {
     json root;
     try {
         root = json::parse(jsonText, nullptr, true, false);
@@ -538,9 +542,16 @@ Scene parseScene(const std::string& jsonText, const fs::path& path) {
     auto data = std::make_unique<detail::SceneData>();
     data->path = path;
     data->sourceJson = jsonText;
+    if (read) data->addInput(path);
     detail::Loader loader(path, *data);
     loader.load(root);
     return Scene(std::move(data));
+}
+
+}  // namespace
+
+Scene parseScene(const std::string& jsonText, const fs::path& path) {
+    return readScene(jsonText, path, false);
 }
 
 Scene loadScene(const fs::path& path) {
@@ -567,7 +578,7 @@ Scene loadScene(const fs::path& path) {
     if (!in) throw Error(ErrorKind::Io, "cannot open scene file", path.string());
     std::ostringstream text;
     text << in.rdbuf();
-    return parseScene(text.str(), path);
+    return readScene(text.str(), path, true);
 }
 
 }  // namespace glint::render
