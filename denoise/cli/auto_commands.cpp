@@ -41,7 +41,7 @@ using Clock = std::chrono::steady_clock;
 struct AutoArgs {
     std::string input, bank, out, reference, choiceMap, noiseOut, filters, estimator = "auto";
     // Integers are parsed strictly from their text (parseInteger, parseUnsigned).
-    std::string size = "64", bankSeed = "1", seed = "1", stream = "auto";
+    std::string size = "64", bankSeed = "1", seed = "1", stream = "auto", memoryLimit;
     float exposure = 0.0f;
     bool prefilter = false, json = false, tuningTable = false;
     /// The tuning flags given (autoTuningSpecs), by parameter name: their text, or "1" for a
@@ -149,12 +149,14 @@ Image bestMemberResult(const FilterBank& bank, const FrameBuffers& frame, int be
                        member.params, fo);
 }
 
-// Whether building the bank in memory and choosing from it fits the memory available: the bank's
-// results (estimateMemory), as much again for the results on half A the stacking keeps, and the
-// error maps and window scores, about a quarter of the results (docs/auto-memory.md).
-bool wholeFrameFits(const FrameBuffers& frame, const BankOptions& bankOptions) {
+// Whether holding the bank in memory and choosing from it fits `limit` (0: the memory available):
+// the bank's results (estimateMemory), as much again for the results on half A the stacking
+// keeps, and the error maps and window scores, about a quarter of the results
+// (docs/auto-memory.md).
+bool wholeFrameFits(const FrameBuffers& frame, const BankOptions& bankOptions,
+                    std::uint64_t limit) {
     const double bank = double(estimateMemory(frame, bankOptions));
-    return 2.5 * bank < double(availableMemory());
+    return 2.5 * bank < double(limit > 0 ? limit : availableMemory());
 }
 
 // Refuses, naming `file` and the first missing layer, a --filters list none of whose filters
@@ -230,6 +232,8 @@ void runAuto(const AutoArgs& a) {
         throw Error(ErrorKind::InvalidArgument, e.message(), "command line", "--estimator");
     }
     validate(options);
+    const std::uint64_t memoryLimit =
+        a.memoryLimit.empty() ? 0 : parseMemorySize(a.memoryLimit, "--memory-limit");
     BankOptions bankOptions;
     bankOptions.size = parseInteger(a.size, "--size");
     bankOptions.seed = glint::cli::parseUnsigned(a.bankSeed, glint::cli::kMaxSeed, "--bank-seed");
@@ -245,6 +249,7 @@ void runAuto(const AutoArgs& a) {
                         a.bank, "--bank");
         bankOptions = readBankOptions(a.bank);
     }
+    bankOptions.memoryLimit = memoryLimit;
     options.prefilter = bankOptions.prefilter;
     options.prefilterParams = bankOptions.prefilterParams;
 
@@ -283,13 +288,23 @@ void runAuto(const AutoArgs& a) {
             return true;
         };
     };
-    // Without a bank folder the bank is built here: in memory and then chosen from (the fastest),
-    // or, when that would not fit (--stream auto) or when asked (--stream on), strip by strip
-    // with no member held whole (autoCompositeStreamed; docs/auto-memory.md). With a bank
-    // folder its results are read.
-    const bool streamed =
-        a.bank.empty() &&
-        (a.stream == "on" || (a.stream == "auto" && !wholeFrameFits(frame, bankOptions)));
+    // The bank is held in memory and chosen from (the fastest): built here, or read from the bank
+    // folder. When that would not fit --memory-limit (or the memory available) under --stream
+    // auto, or when asked (--stream on), the members (a bank folder's: the same options) are
+    // applied strip by strip instead, no member held whole (autoCompositeStreamed;
+    // docs/auto-memory.md); a folder's stored results are then not read.
+    const bool streamed = a.stream == "on" ||
+                          (a.stream == "auto" && !wholeFrameFits(frame, bankOptions, memoryLimit));
+    if (streamed && !a.bank.empty())
+        std::fprintf(stderr,
+                     "glint-denoise: streamed: the members of the bank %s are applied again strip "
+                     "by strip (its stored results are read only when the bank fits in memory)\n",
+                     a.bank.c_str());
+    if (!streamed && !a.bank.empty() && memoryLimit > 0)
+        checkMemory(saturatingMul(estimateMemory(frame, bankOptions), 5) / 2, memoryLimit,
+                    "reading the bank's members whole (--stream off; --stream auto would stream "
+                    "them)",
+                    a.bank, "--memory-limit");
     const auto t0 = Clock::now();
     FilterBank bank;
     if (!streamed) {
@@ -433,6 +448,9 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
     cmd->add_option("--seed", a->seed, "Seed of SURE's random +-1 perturbation (0 … 2^63 - 1)");
     cmd->add_option("--exposure", a->exposure,
                     "Exposure of the display transform (stops, -64 … 64)");
+    cmd->add_option("--memory-limit", a->memoryLimit,
+                    "Hold the bank in memory only within this size (e.g. 2G; default: what is "
+                    "available, or GLINT_MEMORY_LIMIT), else stream it strip by strip");
     cmd->add_option("--estimator", a->estimator,
                     "auto (default: halves when IN has half buffers, else sure with its variance "
                     "layer, else image) | sure | halves | image (SURE with the variance estimated "
@@ -464,9 +482,9 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
             flag, [a, name = spec.name](const std::string& text) { a->tuning[name] = text; }, help);
     }
     cmd->add_option("--stream", a->stream,
-                    "Without --bank: auto (default: strip by strip only when the bank would not "
-                    "fit in memory) | on (strip by strip: memory grows with the frame, not the "
-                    "bank; see --spill) | off (the bank in memory)");
+                    "auto (default: strip by strip only when the bank would not fit in memory) | "
+                    "on (strip by strip: memory grows with the frame, not the bank; see --spill; "
+                    "a --bank folder's members are applied again) | off (the bank in memory)");
     cmd->add_flag("--tuning-table", a->tuningTable,
                   "Print the tuning parameters as the Markdown table of docs/auto.md and exit");
     cmd->add_option("--choice-map", a->choiceMap, "Write the chosen member per pixel as a PNG");

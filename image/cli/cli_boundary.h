@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include <signal.h>
 #include <unistd.h>
 
 #include "glint/image/error.h"
@@ -137,29 +138,48 @@ extern "C" inline void removeTemporariesAndDie(int sig) {
 }
 }  // namespace detail
 
-/// On SIGINT or SIGTERM, removes the temporary files (glint::temporaryPathFor) of `outputs`,
-/// then dies of the signal as usual: an interrupted write leaves neither a partial output nor a
-/// hidden temporary file, and the old output stays intact. Call once, before the work starts.
+/// The one signal rule of every Glint tool (docs/reliability.md, "Signals"): SIGINT and SIGTERM
+/// remove the temporary files registered below and then kill the process as the signal would;
+/// a signal the process started with ignored stays ignored (the POSIX and GNU convention: a
+/// background job of a non-interactive shell, or `nohup`, must not die of the terminal's ^C).
+/// runGuarded installs it before the command runs; calling it again does nothing.
+inline void installSignalRule() {
+    static const bool installed = [] {
+        for (const int sig : {SIGINT, SIGTERM}) {
+            struct sigaction old {};
+            if (::sigaction(sig, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+            struct sigaction handler {};
+            handler.sa_handler = detail::removeTemporariesAndDie;
+            sigemptyset(&handler.sa_mask);
+            ::sigaction(sig, &handler, nullptr);
+        }
+        return true;
+    }();
+    (void)installed;
+}
+
+/// Registers the temporary files (glint::temporaryPathFor) of `outputs` for removal on SIGINT or
+/// SIGTERM (installSignalRule): an interrupted write leaves neither a partial output nor a hidden
+/// temporary file, and the old output stays intact. Call before the work starts.
 inline void removeTemporariesOnSignal(const std::vector<std::string>& outputs) {
     for (const std::string& o : outputs)
         if (!o.empty()) detail::signalTemporaries().push_back(temporaryPathFor(o).string());
-    std::signal(SIGINT, detail::removeTemporariesAndDie);
-    std::signal(SIGTERM, detail::removeTemporariesAndDie);
+    installSignalRule();
 }
 
 /// The same for temporary files known by their own names (Session::temporaries).
 inline void removeOnSignal(const std::vector<std::string>& temporaries) {
     for (const std::string& t : temporaries)
         if (!t.empty()) detail::signalTemporaries().push_back(t);
-    std::signal(SIGINT, detail::removeTemporariesAndDie);
-    std::signal(SIGTERM, detail::removeTemporariesAndDie);
+    installSignalRule();
 }
 
-/// Runs `body` (which returns the exit code): a glint::Error prints "tool: file: place: message"
-/// and exits 2 for bad input or 1 for a broken invariant; any other exception is an internal
-/// error (exit 1).
+/// Runs `body` (which returns the exit code) under the signal rule (installSignalRule): a
+/// glint::Error prints "tool: file: place: message" and exits 2 for bad input or 1 for a broken
+/// invariant; any other exception is an internal error (exit 1).
 template <class Body>
 int runGuarded(const char* tool, Body&& body) {
+    installSignalRule();
     try {
         return body();
     } catch (const Error& e) {

@@ -96,11 +96,12 @@ int run(const Options& opt) {
             throw glint::Error(e.kind(), e.message(), "command line", "--camera");
         }
     }
-    // The scene's images are inputs too (an environment EXR).
-    std::vector<glint::cli::NamedInput> images;
-    for (const auto& image : scene.imageFiles())
-        images.push_back({image.string(), "the scene (" + opt.scene + ")"});
-    glint::cli::checkOutputIsNoInput(opt.out, "--out", images);
+    // Every file the scene was read from is an input too (its OBJ and MTL files, a .gltf's
+    // buffers, its textures and environment image).
+    std::vector<glint::cli::NamedInput> sceneFiles;
+    for (const auto& file : scene.inputs())
+        sceneFiles.push_back({file.string(), "the scene (" + opt.scene + ")"});
+    glint::cli::checkOutputIsNoInput(opt.out, "--out", sceneFiles);
     Settings settings = scene.settings();
     if (opt.spp)
         settings.spp = *opt.spp;
@@ -200,7 +201,15 @@ int run(const Options& opt) {
 
     stage("building BVH (" + std::to_string(scene.triangleCount()) + " triangles, " +
           std::to_string(scene.areaLightCount()) + " emissive)");
-    glint::render::Renderer renderer(std::move(scene), settings.accel);
+    const glint::render::Accel asked =
+        glint::render::estimateSceneMemory(scene, settings.accel, settings.textureCacheMb).accel;
+    // Within --memory-limit (or the memory available), the scene and the film together; auto
+    // takes clusters when Embree's triangles would not fit (docs/renderer.md, "Memory").
+    glint::render::Renderer renderer(std::move(scene), settings);
+    if (renderer.accel() != asked)
+        stage(
+            "the BVH is built over clusters: over Embree's triangles the scene would not fit "
+            "the memory");
     const double setupSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
@@ -259,6 +268,7 @@ int run(const Options& opt) {
                             {"seed", settings.seed},
                             {"mis", glint::render::misName(settings.mis)},
                             {"accel", glint::render::accelName(settings.accel)},
+                            {"bvh", glint::render::accelName(renderer.accel())},
                             {"maxDepth", settings.maxDepth},
                             {"threads", settings.threads},
                             {"setupSeconds", setupSeconds},
@@ -351,8 +361,9 @@ int main(int argc, char** argv) {
                  "split the samples into two independent halves and also write the halfBuffer "
                  "layer (the odd half's mean), for an unbiased variance estimate (SURE auto)");
     app.add_option("--memory-limit", opt.memoryLimit,
-                   "refuse a render needing more memory than this (e.g. 2G; default: what is "
-                   "available)");
+                   "refuse a render whose scene, BVH, textures and film need more memory than "
+                   "this, before building anything; auto takes clusters when that fits (e.g. "
+                   "2G; default: what is available)");
     app.add_option("--texture-cache-mb", opt.textureCacheMb,
                    "texture tile cache in MB, 1 … 1048576 (default: the scene's "
                    "render.textureCacheMb, else 1024)");

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -41,6 +42,32 @@ namespace glint::render {
 
 using Clock = std::chrono::steady_clock;
 
+namespace {
+
+/// "a 640x480 path render": the film a memory message names.
+std::string filmDescription(const detail::SceneData& data, const Settings& settings) {
+    return "a " + std::to_string(data.width) + "x" + std::to_string(data.height) + " " +
+           integratorName(settings.integrator) + " render";
+}
+
+/// What a render may allocate: an explicit limit, which what the scene holds counts against, or
+/// the machine's available memory, from which it is already spent.
+struct MemoryBudget {
+    explicit MemoryBudget(const Settings& settings)
+        : machine(settings.memoryLimit == 0),
+          allowed(machine ? availableMemory() : settings.memoryLimit) {}
+    std::uint64_t needs(std::uint64_t film, const SceneMemory& scene) const {
+        return saturatingAdd(film, machine ? scene.added() : scene.total());
+    }
+    bool fits(std::uint64_t film, const SceneMemory& scene) const {
+        return needs(film, scene) <= allowed;
+    }
+    bool machine;
+    std::uint64_t allowed;
+};
+
+}  // namespace
+
 struct Renderer::Impl {
     Impl(const detail::SceneData& scene, Accel accel)
         : embree(scene, accel),
@@ -56,13 +83,73 @@ struct Renderer::Impl {
 };
 
 Renderer::Renderer(Scene scene) : m_scene(std::move(scene)) {
-    GLINT_CHECK(m_scene.width() > 0 && m_scene.height() > 0, "scene has no film");
-    m_impl = std::make_unique<Impl>(detail::sceneData(m_scene), m_scene.settings().accel);
+    build(m_scene.settings().accel);
 }
 
 Renderer::Renderer(Scene scene, Accel accel) : m_scene(std::move(scene)) {
+    build(accel);
+}
+
+Renderer::Renderer(Scene scene, const Settings& settings) : m_scene(std::move(scene)) {
+    build(accelWithin(settings));
+}
+
+Accel Renderer::accelWithin(const Settings& settings) const {
     GLINT_CHECK(m_scene.width() > 0 && m_scene.height() > 0, "scene has no film");
-    m_impl = std::make_unique<Impl>(detail::sceneData(m_scene), accel);
+    validate(settings);
+    const detail::SceneData& data = detail::sceneData(m_scene);
+    const std::uint64_t film = estimateMemory(settings);
+    checkMemory(film, settings.memoryLimit, filmDescription(data, settings), data.path.string(),
+                "/film");
+    const MemoryBudget budget(settings);
+    const SceneMemory asked = estimateSceneMemory(m_scene, settings.accel, settings.textureCacheMb);
+    if (budget.fits(film, asked)) return asked.accel;
+    // Clusters hold the same triangles in about a third of the memory (docs/renderer.md).
+    if (settings.accel == Accel::Auto && asked.accel == Accel::Triangles &&
+        budget.fits(film, estimateSceneMemory(m_scene, Accel::Clusters, settings.textureCacheMb)))
+        return Accel::Clusters;
+    checkSceneMemory(film, asked, settings);
+    return asked.accel;
+}
+
+void Renderer::checkSceneMemory(std::uint64_t film, const SceneMemory& scene,
+                                const Settings& settings) const {
+    const MemoryBudget budget(settings);
+    if (budget.fits(film, scene)) return;
+    const detail::SceneData& data = detail::sceneData(m_scene);
+    const char* over = scene.accel == Accel::Clusters ? "clusters" : "Embree's triangles";
+    const std::uint64_t textures =
+        budget.machine ? scene.textureCache : saturatingAdd(scene.images, scene.textureCache);
+    std::string msg =
+        "the scene (" + std::to_string(data.triangleCount()) + " triangles) and " +
+        filmDescription(data, settings) + " need " + formatBytes(budget.needs(film, scene)) + " (" +
+        (budget.machine ? "" : "meshes " + formatBytes(scene.meshes) + ", ") + "BVH over " + over +
+        " " + formatBytes(scene.structures) + ", textures " + formatBytes(textures) + ", film " +
+        formatBytes(film) + ") but only " + formatBytes(budget.allowed) +
+        (budget.machine ? " is available on this machine" : " is allowed (memory limit)");
+    // What would help.
+    if (scene.accel == Accel::Triangles) {
+        const std::uint64_t clusters = budget.needs(
+            film, estimateSceneMemory(m_scene, Accel::Clusters, settings.textureCacheMb));
+        msg += "; over clusters (--accel clusters) it would " +
+               std::string(clusters <= budget.allowed ? "need " : "still need ") +
+               formatBytes(clusters) + (clusters <= budget.allowed ? ", which fits" : "");
+    }
+    if (scene.textureCache > budget.allowed / 4)
+        msg += "; a smaller texture cache (--texture-cache-mb) needs less";
+    throw Error(ErrorKind::OutOfMemory, msg + "; nothing was built", data.path.string(), "/shapes");
+}
+
+Accel Renderer::accel() const {
+    return m_impl->embree.clusteredMeshCount() > 0 ? Accel::Clusters : Accel::Triangles;
+}
+
+void Renderer::build(Accel accel) {
+    GLINT_CHECK(m_scene.width() > 0 && m_scene.height() > 0, "scene has no film");
+    const detail::SceneData& data = detail::sceneData(m_scene);
+    // A camera without a view basis would send NaN rays into Embree: refuse it before building.
+    checkCamera(data);
+    m_impl = std::make_unique<Impl>(data, accel);
 }
 
 Renderer::~Renderer() = default;
@@ -195,11 +282,14 @@ RenderResult Renderer::render(const Settings& settings, const Callbacks& callbac
                             " bits, more than its 32 (use the sobol sampler)",
                         {}, "sampler");
     }
-    // Refuse a frame the machine cannot hold before allocating any of it.
-    checkMemory(estimateMemory(settings), settings.memoryLimit,
-                "a " + std::to_string(data.width) + "x" + std::to_string(data.height) + " " +
-                    integratorName(settings.integrator) + " render",
-                data.path.string(), "/film");
+    // Refuse a frame the machine cannot hold before allocating any of it; a limit given counts
+    // the scene too.
+    const std::uint64_t film = estimateMemory(settings);
+    checkMemory(film, settings.memoryLimit, filmDescription(data, settings), data.path.string(),
+                "/film");
+    if (settings.memoryLimit > 0)
+        checkSceneMemory(film, estimateSceneMemory(m_scene, accel(), settings.textureCacheMb),
+                         settings);
     // Look edits since the last render: rebuild the lights, keep the BVH.
     if (data.lookRevision != m_impl->lookRevision) {
         m_impl->lights = LightSampler(data);

@@ -215,6 +215,45 @@ TEST_F(AutoCli, StreamedAndInMemoryAutoAgree) {
     EXPECT_NE(bad.err.find("--stream"), std::string::npos) << bad.err;
 }
 
+// --memory-limit decides, as GLINT_MEMORY_LIMIT did without a word, whether the bank is held in
+// memory or streamed; it is parsed as every tool's size. --stream on with a bank folder streams
+// that folder's members (it used to be ignored) and agrees with reading them.
+TEST_F(AutoCli, TheMemoryLimitChoosesStreamingAndStreamOnWorksWithABankFolder) {
+    const std::string in = path("halves.exr") + " --size 6 --json";
+    RunResult r = run("auto " + in + " --out " + path("small.exr") + " --memory-limit 1K");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["streamed"], true);
+    r = run("auto " + in + " --out " + path("large.exr") + " --memory-limit 64G");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["streamed"], false);
+    for (const char* bad : {"0", "12Q", "-1"}) {
+        r = run("auto " + in + " --out " + path("bad.exr") + " --memory-limit " + bad);
+        EXPECT_EQ(r.exitCode, 2) << bad << "\n" << r.err;
+        EXPECT_NE(r.err.find("--memory-limit"), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(path("bad.exr")));
+    }
+
+    r = run("bank " + path("halves.exr") + " --out " + path("bank") + " --size 6");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string bank = path("halves.exr") + " --bank " + path("bank") + " --json";
+    r = run("auto " + bank + " --out " + path("read.exr") + " --stream off");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["streamed"], false);
+    r = run("auto " + bank + " --out " + path("streamed.exr") + " --stream on");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["streamed"], true);
+    EXPECT_NE(r.err.find("applied again strip by strip"), std::string::npos) << r.err;
+    // Float rounding of the stacking's sums per strip, as StreamedAndInMemoryAutoAgree.
+    EXPECT_LE(testing::maxAbsDiff(readExr(path("read.exr")).color(),
+                                  readExr(path("streamed.exr")).color()),
+              1e-5);
+    // Reading the folder whole within a limit too small for it is refused with the way out.
+    r = run("auto " + bank + " --out " + path("tight.exr") + " --stream off --memory-limit 1K");
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    EXPECT_NE(r.err.find("--stream auto"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("tight.exr")));
+}
+
 TEST_F(AutoCli, TheDocsTuningTableIsTheOneTheSpecsGenerate) {
     // docs/auto.md's table is `glint-denoise auto --tuning-table`, verbatim: a spec changed
     // without the docs (or the reverse) fails here.

@@ -164,8 +164,34 @@ TEST_F(ToolInputs, EveryCommandRefusesAnOutputThatIsOneOfItsInputs) {
     }
     std::ofstream(path("lit.json")) << R"({"camera": {"position": [0, 0, 0], "lookAt": [0, 0, 1]},
         "film": {"width": 8, "height": 8}, "environment": {"image": "sky.exr"}})";
+    // So are its meshes, their MTL files and a .gltf's buffer files, reached here through hard
+    // links whose names pass the .exr check.
+    std::ofstream(path("mesh.obj"))
+        << "mtllib m.mtl\nusemtl m\nv 0 0 1\nv 1 0 1\nv 0 1 1\nf 1 2 3\n";
+    std::ofstream(path("m.mtl")) << "newmtl m\nKd 0.5 0.5 0.5\n";
+    std::ofstream(path("obj.json")) << R"({"camera": {"position": [0, 0, 0], "lookAt": [0, 0, 1]},
+        "film": {"width": 8, "height": 8}, "shapes": [{"obj": "mesh.obj"}],
+        "environment": {"color": [1, 1, 1]}})";
+    {
+        const float triangle[9] = {0, 0, 1, 1, 0, 1, 0, 1, 1};
+        std::ofstream(path("tri.bin"), std::ios::binary)
+            .write(reinterpret_cast<const char*>(triangle), sizeof triangle);
+        std::ofstream(path("tri.gltf")) << R"({"asset": {"version": "2.0"},
+            "buffers": [{"uri": "tri.bin", "byteLength": 36}],
+            "bufferViews": [{"buffer": 0, "byteLength": 36}],
+            "accessors": [{"bufferView": 0, "componentType": 5126, "type": "VEC3", "count": 3,
+                           "min": [0, 0, 1], "max": [1, 1, 1]}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+            "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0})";
+    }
+    for (const char* file : {"mesh.obj", "m.mtl", "tri.bin", "obj.json"})
+        fs::create_hard_link(path(file), path(std::string(file) + "-hard.exr"));
     const std::vector<Case> cases = {
         {"glint-render", "lit.json --spp 1 --out sky-hard.exr", "sky.exr"},
+        {"glint-render", "obj.json --spp 1 --out mesh.obj-hard.exr", "mesh.obj"},
+        {"glint-render", "obj.json --spp 1 --out m.mtl-hard.exr", "m.mtl"},
+        {"glint-render", "obj.json --spp 1 --out obj.json-hard.exr", "obj.json"},
+        {"glint-render", "tri.gltf --spp 1 --out tri.bin-hard.exr", "tri.bin"},
         {"glint-render", scene + " --spp 1 --out ./ref.exr --reference ref.exr", "ref.exr"},
         {"glint-render", scene + " --spp 1 --out ref-link.exr --reference ref.exr", "ref.exr"},
         {"glint-denoise", "apply in.exr --filter gaussian --out in-hard.exr", "in.exr"},

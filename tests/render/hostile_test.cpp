@@ -347,6 +347,49 @@ TEST_F(HostileCli, OptionsHaveTheSceneFilesLimitsAndOutputsAreCheckedFirst) {
     EXPECT_EQ(readExr(path("tiny.exr")).metadata().spp, 1);
 }
 
+// Every file the scene was read from is an input --out must not name: the scene file, its OBJ,
+// the OBJ's MTL, the MTL's texture, the environment image and a .gltf's buffer file (only the
+// images were checked: --out onto the OBJ or the .bin replaced it by the render). Reached here
+// through hard links whose names pass the .exr check; refused before any work, intact after.
+TEST_F(HostileCli, AnOutputThatIsOneOfTheScenesFilesIsRefusedAndTheFileKept) {
+    std::ofstream(m_dir / "mesh.obj") << "mtllib l.mtl\nusemtl m\nvt 0 0\n"
+                                      << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1 2/1 3/1\n";
+    std::ofstream(m_dir / "l.mtl") << "newmtl m\nKd 1 1 1\nmap_Kd t.png\n";
+    writeImage(Image(4, 4, 3, 0.5f), m_dir / "t.png");
+    writeImage(Image(8, 4, 3, 0.5f), m_dir / "sky.exr");
+    std::ofstream(m_dir / "scene.json") << R"({"camera": {"position": [0.3, 0.3, 3],
+        "lookAt": [0.3, 0.3, 0]}, "film": {"width": 8, "height": 8},
+        "shapes": [{"obj": "mesh.obj"}, {"gltf": "tri.gltf"}],
+        "environment": {"image": "sky.exr"}})";
+    const float triangle[9] = {0, 0, -1, 1, 0, -1, 0, 1, -1};
+    std::ofstream(m_dir / "tri.bin", std::ios::binary)
+        .write(reinterpret_cast<const char*>(triangle), sizeof triangle);
+    std::ofstream(m_dir / "tri.gltf") << R"({"asset": {"version": "2.0"},
+        "buffers": [{"uri": "tri.bin", "byteLength": 36}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "type": "VEC3", "count": 3,
+                       "min": [0, 0, -1], "max": [1, 1, -1]}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0})";
+    // The scene renders as it is.
+    ASSERT_EQ(run(path("scene.json") + " --spp 1 --out " + path("ok.exr")).exitCode, 0);
+    for (const char* file :
+         {"scene.json", "mesh.obj", "l.mtl", "t.png", "sky.exr", "tri.gltf", "tri.bin"}) {
+        const std::string link = path(std::string(file) + "-hard.exr");
+        fs::create_hard_link(path(file), link);
+        const std::string before = glint::testing::slurp(path(file));
+        const RunResult r = run(path("scene.json") + " --spp 1 --out " + link);
+        EXPECT_EQ(r.exitCode, 2) << file << "\n" << r.err;
+        EXPECT_NE(r.err.find("--out: '" + link +
+                             "' is the same file as the input given by the "
+                             "scene"),
+                  std::string::npos)
+            << file << "\n"
+            << r.err;
+        EXPECT_TRUE(glint::testing::slurp(path(file)) == before) << file << " changed";
+    }
+}
+
 // SIGTERM during the write of a large frame: no hidden temporary file is left beside the
 // target and an older file there stays intact.
 TEST_F(HostileCli, ASignalDuringTheWriteLeavesNoTemporaryFile) {

@@ -13,6 +13,7 @@
 #include "embree/alpha_filter.h"
 #include "embree/shadow_context.h"
 #include "glint/image/error.h"
+#include "glint/image/memory.h"
 
 namespace glint::render {
 
@@ -126,7 +127,47 @@ std::size_t bvhTriangles(const detail::SceneData& data) {
     return triangles;
 }
 
+// Bytes a triangle costs at the build's peak (Embree's BVH and build arrays; with clusters also
+// Glint's order, 4 bytes), and a geometry, from Embree's memory monitor in bench_asset_load on
+// generated meshes (docs/renderer.md, "Memory"): the high-quality build 126 over 1M triangles,
+// compact triangles 59.4 over 2.4M (34.6 over 4M), clusters 10.6 over 1M and 12.1 over 2.4M; a
+// glb of 100k one-triangle meshes 115 bytes a geometry with its triangle. Rounded up.
+constexpr std::uint64_t kHighQualityTriangleBytes = 128;
+constexpr std::uint64_t kCompactTriangleBytes = 60;
+constexpr std::uint64_t kClusterTriangleBytes = 13;
+constexpr std::uint64_t kGeometryBytes = 128;
+
 }  // namespace
+
+bool EmbreeScene::buildsClusters(const detail::SceneData& data, Accel accel) {
+    return accel == Accel::Clusters ||
+           (accel == Accel::Auto && bvhTriangles(data) > kClusterTriangles);
+}
+
+std::uint64_t EmbreeScene::estimateBytes(const detail::SceneData& data, bool clusters) {
+    const bool compact = data.triangleCount() > kHighQualityBuildLimit;
+    std::uint64_t bytes = 0;
+    std::vector<bool> counted(data.meshes.size(), false);
+    for (const detail::Instance& inst : data.instances) {
+        const detail::Mesh& mesh = data.meshes[inst.mesh];
+        bytes = saturatingAdd(bytes, kGeometryBytes);
+        if (inst.motion >= 0) {
+            // Embree's triangles at every time step, and the posed vertices it is given.
+            const std::uint64_t steps = data.motions[std::size_t(inst.motion)].steps.size();
+            bytes = saturatingAdd(
+                bytes, saturatingMul(steps, mesh.triangleCount() * kHighQualityTriangleBytes +
+                                                mesh.vertexCount() * 16));
+            continue;
+        }
+        if (counted[inst.mesh]) continue;  // a shared mesh is built once
+        counted[inst.mesh] = true;
+        const std::uint64_t perTriangle = clusters  ? kClusterTriangleBytes
+                                          : compact ? kCompactTriangleBytes
+                                                    : kHighQualityTriangleBytes;
+        bytes = saturatingAdd(bytes, saturatingMul(mesh.triangleCount(), perTriangle));
+    }
+    return bytes;
+}
 
 std::size_t EmbreeScene::clusterOrderBytes() const {
     std::size_t bytes = 0;
@@ -140,8 +181,7 @@ std::size_t EmbreeScene::clusterOrderBytes() const {
 /// With clusters, a static mesh (in world space or shared) is a clustered geometry; motion-blur
 /// meshes keep Embree's triangles. Ends in rtcCommitScene.
 RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& data, Accel accel) {
-    const bool clusters = accel == Accel::Clusters ||
-                          (accel == Accel::Auto && bvhTriangles(data) > kClusterTriangles);
+    const bool clusters = buildsClusters(data, accel);
     // Held in m_scene at once so that the constructor releases it if the conversion throws.
     RTCScene scene = m_scene = rtcNewScene(device);
     setBuildOptions(scene, data.triangleCount(), clusters);

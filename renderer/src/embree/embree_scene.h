@@ -84,6 +84,15 @@ class EmbreeScene {
     /// Triangles a cluster holds (0 without clusters).
     int clusterSize() const { return m_clusters.empty() ? 0 : int(m_clusters[0]->clusterSize()); }
 
+    /// Whether the scene built over `accel` is traced as clusters (Auto: when the BVHs would hold
+    /// more than kClusterTriangles triangles, a mesh shared by instances counted once).
+    static bool buildsClusters(const detail::SceneData& scene, Accel accel);
+    /// Bytes building the scene's structures takes at its peak, over clusters or over Embree's
+    /// triangles: Embree's BVHs and build arrays and the clusters' triangle orders, estimated from
+    /// the BVHs' triangles and geometries by the rates measured on generated meshes
+    /// (docs/renderer.md, "Memory").
+    static std::uint64_t estimateBytes(const detail::SceneData& scene, bool clusters);
+
     /// Number of motion-blur geometries built (0 for a scene without moving shapes).
     int motionGeometryCount() const { return int(m_timeSteps.size()); }
     /// Embree time steps of motion geometry i (< motionGeometryCount()).

@@ -1,10 +1,101 @@
 #include "scene/camera.h"
 
 #include <cmath>
+#include <sstream>
+#include <string>
+#include <utility>
 
+#include "glint/image/error.h"
 #include "sampling/warp.h"
 
 namespace glint::render {
+
+namespace {
+
+using detail::kMinViewDistance;
+
+struct Vec3d {
+    double x, y, z;
+};
+
+Vec3d toDouble(const Vec3& v) {
+    return {double(v.x), double(v.y), double(v.z)};
+}
+
+double lengthOf(const Vec3d& v) {
+    return std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+}
+
+Vec3d crossOf(const Vec3d& a, const Vec3d& b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+// The largest up accepted: the camera's float cross products and their squares stay finite.
+constexpr double kMaxUpLength = 1e18;
+
+}  // namespace
+
+std::string viewDistanceProblem(double distance) {
+    if (distance >= kMinViewDistance) return {};
+    std::ostringstream msg;
+    msg << "lookAt is " << distance << " from position, too close to give a view direction "
+        << "in float; expected a distance of at least " << kMinViewDistance;
+    return msg.str();
+}
+
+std::optional<ViewBasisFault> viewBasisFault(const Vec3& position, const Vec3& lookAt,
+                                             const Vec3& up) {
+    // In double: a float length of a tiny difference underflows to 0 although the points differ.
+    const Vec3d p = toDouble(position), l = toDouble(lookAt), u = toDouble(up);
+    const Vec3d view{l.x - p.x, l.y - p.y, l.z - p.z};
+    const double distance = lengthOf(view);
+    std::ostringstream msg;
+    if (distance == 0.0) return ViewBasisFault{"lookAt", "lookAt must differ from position"};
+    if (std::string problem = viewDistanceProblem(distance); !problem.empty())
+        return ViewBasisFault{"lookAt", std::move(problem)};
+    const double upLength = lengthOf(u);
+    if (!std::isfinite(upLength) || upLength == 0.0) {
+        msg << "up is [" << up.x << ", " << up.y << ", " << up.z
+            << "]; expected a non-zero vector (the image's up direction)";
+        return ViewBasisFault{"up", msg.str()};
+    }
+    if (upLength > kMaxUpLength) {
+        msg << "up is " << upLength << " long; expected a length of at most " << kMaxUpLength;
+        return ViewBasisFault{"up", msg.str()};
+    }
+    // The right axis is the view direction × up, normalised in float.
+    const Vec3d dir{view.x / distance, view.y / distance, view.z / distance};
+    const double across = lengthOf(crossOf(dir, u));
+    if (across < 1e-6 * upLength)
+        return ViewBasisFault{"up", "up must not be parallel to the viewing direction"};
+    if (across < kMinViewDistance) {
+        msg << "up is " << upLength << " long (" << across << " across the view direction), "
+            << "too short to give a direction in float; expected at least " << kMinViewDistance;
+        return ViewBasisFault{"up", msg.str()};
+    }
+    return std::nullopt;
+}
+
+std::optional<ViewBasisFault> cameraFault(const detail::CameraDesc& cam) {
+    if (auto fault = viewBasisFault(cam.position, cam.lookAt, cam.up)) return fault;
+    for (int i = 1; i <= 64 && cam.hasMotion; ++i) {
+        const float tau = float(i) / 64.0f;
+        if (const auto fault = viewBasisFault(lerp(tau, cam.position, cam.motionPosition),
+                                              lerp(tau, cam.lookAt, cam.motionLookAt), cam.up))
+            return ViewBasisFault{
+                "motion",
+                "the camera's view direction degenerates (zero or parallel to up) during "
+                "the shutter: " +
+                    fault->reason};
+    }
+    return std::nullopt;
+}
+
+void checkCamera(const detail::SceneData& scene) {
+    if (const auto fault = cameraFault(scene.camera))
+        throw Error(ErrorKind::InvalidArgument, fault->reason, scene.path.string(),
+                    "/camera/" + fault->key);
+}
 
 Camera::Camera(const detail::CameraDesc& desc, int width, int height)
     : m_position(desc.position),

@@ -2,10 +2,42 @@
 // sample + time sample → world ray.
 #pragma once
 
+#include <optional>
+#include <string>
+
 #include "scene/scene_data.h"
 #include "vecmath.h"
 
 namespace glint::render {
+
+/// Why a camera's position, lookAt and up give no view basis in float: the key at fault
+/// ("lookAt" or "up") and the reason, one sentence.
+struct ViewBasisFault {
+    std::string key;
+    std::string reason;
+};
+
+/// Why a camera `distance` from its lookAt point cannot render, or "" when it can: the camera
+/// normalises the view direction in float, whose squares end near 1e-38. The one rule for a
+/// scene.json camera and for the camera that frames a bare asset.
+std::string viewDistanceProblem(double distance);
+
+/// Checks that position, lookAt and up give a view basis the camera can compute in float:
+/// lookAt at least kMinViewDistance from position; up non-zero, at most 1e18 long, its part across
+/// the view direction at least 1e-6 of its length (not parallel) and at least kMinViewDistance
+/// (normalisable in float, whose squares end near 1e-38). Computed in double. Returns the first
+/// fault, or nullopt.
+std::optional<ViewBasisFault> viewBasisFault(const Vec3& position, const Vec3& lookAt,
+                                             const Vec3& up);
+
+/// The first fault of a scene camera's view basis: at shutter open, or (key "motion") at any of
+/// 64 times over the shutter of a moving camera.
+std::optional<ViewBasisFault> cameraFault(const detail::CameraDesc& camera);
+
+/// Throws glint::Error(InvalidArgument) naming the scene file and /camera/KEY when the scene's
+/// camera has a fault (cameraFault): the check every scene passes before a Renderer builds
+/// anything, whichever way its camera was set (scene.json, a glTF camera, useAssetCamera).
+void checkCamera(const detail::SceneData& scene);
 
 /// A ray with origin, (unit) direction and normalised shutter time (0 = open, 1 = close).
 struct Ray {

@@ -61,6 +61,13 @@ bool GltfBuffers::fromFile(std::size_t index) const {
     return index < m_buffers.size() && m_buffers[index].file != nullptr;
 }
 
+std::vector<std::filesystem::path> GltfBuffers::files() const {
+    std::vector<std::filesystem::path> out;
+    for (const Buffer& b : m_buffers)
+        if (b.file && b.file->path() != m_asset) out.push_back(b.file->path());
+    return out;
+}
+
 void GltfBuffers::bind(const tinygltf::Model& model) {
     m_buffers.resize(model.buffers.size());
     for (std::size_t i = 0; i < m_buffers.size(); ++i)

@@ -56,6 +56,8 @@ class GltfBuffers {
     void setFile(std::size_t index, std::unique_ptr<BufferFile> file);
     /// Whether buffer `index` is read from its file.
     bool fromFile(std::size_t index) const;
+    /// The files of the buffers read from a file other than the asset (a .gltf's .bin files).
+    std::vector<std::filesystem::path> files() const;
     /// Takes every buffer not read from a file from `model` (its tinygltf-read bytes); call once
     /// the model is read, and keep the model while these bytes are read.
     void bind(const tinygltf::Model& model);

@@ -17,6 +17,7 @@
 #include <string>
 
 #include "glint/image/error.h"
+#include "scene/camera.h"
 #include "scene/gltf_buffers.h"
 #include "scene/gltf_document.h"
 #include "scene/gltf_file.h"
@@ -359,10 +360,14 @@ void GltfImport::addCamera(int node, const Affine& world) {
     c.position = world.point({0.0f, 0.0f, 0.0f});
     const Vec3 forward = world.vector({0.0f, 0.0f, -1.0f});
     const Vec3 up = world.vector({0.0f, 1.0f, 0.0f});
-    if (!isFinite(c.position) || maxAbsComponent(c.position) > kMaxCoordinate ||
-        !(length(forward) > 0.0f) || !(length(cross(normalize(forward), up)) > 1e-6f * length(up)))
+    if (!isFinite(c.position) || maxAbsComponent(c.position) > kMaxCoordinate)
+        fail("nodes[" + std::to_string(node) + "]", "places " + place + " out of range");
+    // The node's transform gives the view direction (its −z) and up (its +y) the camera needs.
+    if (const auto fault = viewBasisFault({0.0f, 0.0f, 0.0f}, forward, up))
         fail("nodes[" + std::to_string(node) + "]",
-             "places " + place + " out of range or with a degenerate orientation");
+             "places " + place + " with a degenerate orientation (" +
+                 (fault->key == "up" ? "its +y" : "its -z") +
+                 " from the node's transform: " + fault->reason + ")");
     // The look-at point at a distance that float keeps apart from the position.
     const float distance = std::max(1.0f, maxAbsComponent(c.position));
     c.lookAt = c.position + normalize(forward) * distance;
@@ -436,6 +441,14 @@ void Loader::importGltf(const fs::path& path, const std::vector<Affine>& poses,
     tinygltf::Model model;
     GltfBuffers buffers;
     readGltfFile(path, model, buffers);
+    m_scene.addInput(path);
+    for (const fs::path& file : buffers.files()) m_scene.addInput(file);
+    // Buffer files tinygltf read itself (beyond those Glint keeps open).
+    for (std::size_t i = 0; i < model.buffers.size(); ++i) {
+        const std::string& uri = model.buffers[i].uri;
+        if (!buffers.fromFile(i) && !uri.empty() && uri.rfind("data:", 0) != 0)
+            m_scene.addInput(path.parent_path() / uri);
+    }
     GltfImport(*this, model, buffers, path, overrides, where).importScene(poses);
 }
 

@@ -101,6 +101,7 @@ int Loader::loadTexture(const Texture& source, const std::string& where) {
         requireRegularFile(source.path, "texture", "an image file", m_reader.file().string(),
                            where);
         const int file = openTextureFile(source.path, linearize, where);
+        m_scene.addInput(source.path);
         if (!m_scene.textureStore->info(file).tiled) {
             // An untiled file (PNG, JPEG, scanline EXR) has no random access: it is read
             // whole, decoded to linear and looked up in memory, exactly and fast, as an

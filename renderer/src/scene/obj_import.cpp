@@ -240,6 +240,8 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     requireRegularFile(objPath, "OBJ", "an OBJ file", m_reader.file().string(), where + "/obj");
     // Indices and numbers checked with their line first: tinyobjloader trusts them.
     ObjLines lines = scanObj(objPath);
+    m_scene.addInput(objPath);
+    for (const fs::path& mtl : lines.mtlFiles) m_scene.addInput(mtl);
 
     // Faces come whole: tinyobjloader's triangulation splits a concave face wrongly, and
     // differently where it sits; polygon_triangulation.cpp clips ears in the face's plane.

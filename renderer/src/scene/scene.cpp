@@ -199,13 +199,8 @@ void Scene::useAssetCamera(const std::string& name) {
         m_data->path.string());
 }
 
-std::vector<std::filesystem::path> Scene::imageFiles() const {
-    std::vector<std::filesystem::path> files;
-    for (const detail::Texture& t : m_data->textures)
-        if (!t.bytes) files.push_back(t.path);  // embedded images are no files
-    if (m_data->environment.kind == detail::EnvironmentDesc::Kind::Image)
-        files.push_back(m_data->environment.path);
-    return files;
+const std::vector<std::filesystem::path>& Scene::inputs() const {
+    return m_data->inputs;
 }
 
 }  // namespace glint::render

@@ -376,6 +376,14 @@ struct SceneData {
     /// What the loader ignored and the user should know (an unread glTF extension...), one line
     /// each.
     std::vector<std::string> warnings;
+    /// Every file the loader read, once each in the order read: the scene file, OBJ and MTL
+    /// files, glTF files and their buffer files, texture and environment images (Scene::inputs).
+    std::vector<std::filesystem::path> inputs;
+
+    /// Records `file` among the inputs (once).
+    void addInput(const std::filesystem::path& file) {
+        if (std::find(inputs.begin(), inputs.end(), file) == inputs.end()) inputs.push_back(file);
+    }
 
     /// Triangles over every instance (an instanced mesh counts once per instance).
     std::size_t triangleCount() const;

@@ -14,6 +14,7 @@
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/render/scene.h"
+#include "scene/camera.h"
 #include "scene/json_reader.h"
 #include "scene/loader.h"
 #include "scene/scene_data.h"
@@ -31,17 +32,6 @@ std::string lowerExtension(const fs::path& path) {
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
     return ext;
-}
-
-/// Why a camera `distance` from its lookAt point cannot render the scene, or "" when it can: the
-/// camera normalises the view direction in float, whose squares end near 1e-38. The one rule
-/// for a scene.json camera and for the camera that frames a bare asset.
-std::string viewDistanceProblem(double distance) {
-    if (distance >= detail::kMinViewDistance) return {};
-    std::ostringstream msg;
-    msg << "lookAt is " << distance << " from position, too close to give a view direction "
-        << "in float; expected a distance of at least " << detail::kMinViewDistance;
-    return msg.str();
 }
 
 }  // namespace
@@ -153,29 +143,9 @@ void Loader::readCamera(const json& j, const std::string& where) {
                                : cam.lookAt;
         cam.hasMotion = length(cam.motionPosition - cam.position) > 0.0f ||
                         length(cam.motionLookAt - cam.lookAt) > 0.0f;
-        // The view direction must stay defined (and not along up) over the whole shutter.
-        for (int i = 0; i <= 64 && cam.hasMotion; ++i) {
-            const float tau = float(i) / 64.0f;
-            const Vec3 d = lerp(tau, cam.lookAt, cam.motionLookAt) -
-                           lerp(tau, cam.position, cam.motionPosition);
-            if (length(d) == 0.0f || length(cross(normalize(d), cam.up)) < 1e-6f)
-                m_reader.fail(where + "/motion",
-                              "the camera's view direction degenerates (zero or parallel to up) "
-                              "during the shutter");
-        }
     }
-    // In double: a float length of a tiny difference underflows to 0 although the points differ.
-    auto lengthOf = [](const Vec3& v) {
-        return std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z);
-    };
-    const Vec3 view = cam.lookAt - cam.position;
-    const double distance = lengthOf(view);
-    if (distance == 0.0) m_reader.fail(where + "/lookAt", "lookAt must differ from position");
-    if (const std::string problem = viewDistanceProblem(distance); !problem.empty())
-        m_reader.fail(where + "/lookAt", problem);
-    const Vec3 dir{float(view.x / distance), float(view.y / distance), float(view.z / distance)};
-    if (lengthOf(cross(dir, cam.up)) < 1e-6 * lengthOf(cam.up))
-        m_reader.fail(where + "/up", "up must not be parallel to the viewing direction");
+    // A view basis the camera can compute in float, at shutter open and over the shutter.
+    if (const auto fault = cameraFault(cam)) m_reader.fail(where + "/" + fault->key, fault->reason);
 }
 
 void Loader::readRender(const json& j, const std::string& where) {
@@ -292,6 +262,7 @@ void Loader::readEnvironment(const json& j, const std::string& where) {
     }
     const fs::path rel = m_reader.string(j["image"], where + "/image");
     env.path = rel.is_absolute() ? rel : m_dir / rel;
+    m_scene.addInput(env.path);
     env.source =
         readLinearRgb(env.path, 1.0f, "environment image", m_reader.file(), where + "/image");
     env.image = scaledRgb(env.source, env.scale, "environment image", env.path, where + "/image");
@@ -546,7 +517,10 @@ void computeExtent(SceneData& scene) {
 
 }  // namespace detail
 
-Scene parseScene(const std::string& jsonText, const fs::path& path) {
+namespace {
+
+/// Parses scene JSON text as the file `path`; `read` says the text is that file's (an input).
+Scene readScene(const std::string& jsonText, const fs::path& path, bool read) {
     json root;
     try {
         root = json::parse(jsonText, nullptr, true, false);
@@ -556,9 +530,16 @@ Scene parseScene(const std::string& jsonText, const fs::path& path) {
     auto data = std::make_unique<detail::SceneData>();
     data->path = path;
     data->sourceJson = jsonText;
+    if (read) data->addInput(path);
     detail::Loader loader(path, *data);
     loader.load(root);
     return Scene(std::move(data));
+}
+
+}  // namespace
+
+Scene parseScene(const std::string& jsonText, const fs::path& path) {
+    return readScene(jsonText, path, false);
 }
 
 Scene loadScene(const fs::path& path) {
@@ -585,7 +566,7 @@ Scene loadScene(const fs::path& path) {
     if (!in) throw Error(ErrorKind::Io, "cannot open scene file", path.string());
     std::ostringstream text;
     text << in.rdbuf();
-    return parseScene(text.str(), path);
+    return readScene(text.str(), path, true);
 }
 
 }  // namespace glint::render

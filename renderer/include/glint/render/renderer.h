@@ -85,6 +85,26 @@ struct RenderResult {
     RenderStats stats;
 };
 
+/// What a scene needs in memory besides the film, estimated before its ray-tracing structures
+/// are built (docs/renderer.md, "Memory").
+struct SceneMemory {
+    Accel accel = Accel::Triangles;  ///< what the BVH is built over (Auto resolved)
+    std::uint64_t meshes = 0;        ///< the mesh arrays and instances (held since loading)
+    std::uint64_t images = 0;      ///< in-memory textures, resident texture levels, the environment
+    std::uint64_t structures = 0;  ///< the BVH at its build's peak (and the clusters' order)
+    std::uint64_t textureCache = 0;  ///< the texture tile cache, full (at most the textures)
+    /// Bytes held since loading.
+    std::uint64_t held() const;
+    /// Bytes building and rendering will add.
+    std::uint64_t added() const;
+    /// held() + added().
+    std::uint64_t total() const;
+};
+
+/// Estimates the memory of `scene` built over `accel` (Auto resolved as a Renderer resolves it)
+/// and rendered with a texture cache of `textureCacheMb` megabytes.
+SceneMemory estimateSceneMemory(const Scene& scene, Accel accel, int textureCacheMb);
+
 /// Owns the acceleration structure of one scene; render() may be called repeatedly.
 class Renderer {
   public:
@@ -93,6 +113,13 @@ class Renderer {
     explicit Renderer(Scene scene);
     /// Builds them over the primitives `accel` names (Settings::accel).
     Renderer(Scene scene, Accel accel);
+    /// Builds them over settings.accel within settings.memoryLimit (0: the memory available),
+    /// for renders with `settings`: before building anything, refuses with Error(OutOfMemory) a
+    /// film (estimateMemory) or a scene and film (estimateSceneMemory: against an explicit
+    /// limit what the scene holds counts too) that exceed it, saying whether clusters would
+    /// fit; under Accel::Auto builds clusters where Embree's triangles would not fit and
+    /// clusters do.
+    Renderer(Scene scene, const Settings& settings);
     ~Renderer();
     Renderer(Renderer&&) noexcept;
     Renderer& operator=(Renderer&&) noexcept;
@@ -108,8 +135,12 @@ class Renderer {
     /// Bytes render(settings) allocates at most besides the scene and its BVH (already built):
     /// the film's running statistics, the resolved frame, a snapshot for Callbacks::passDone,
     /// and Metropolis' per-group splat buffers. render() refuses with Error(OutOfMemory) when
-    /// this exceeds Settings::memoryLimit (or the memory available), before allocating.
+    /// this exceeds the memory available or, with Settings::memoryLimit, when this and the
+    /// scene's estimateSceneMemory exceed the limit, before allocating.
     std::uint64_t estimateMemory(const Settings& settings) const;
+
+    /// What the BVH was built over: Accel::Triangles or Accel::Clusters.
+    Accel accel() const;
 
     /// The scene being rendered; its look (materials, lights, environment) may be edited
     /// between renders.
@@ -120,6 +151,15 @@ class Renderer {
     // Test and benchmark hooks (renderer/src/renderer_detail.h) read the private state.
     friend struct detail::RendererAccess;
     struct Impl;
+    /// Checks the scene's camera and builds the ray-tracing structures over `accel`.
+    void build(Accel accel);
+    /// What to build over for renders with `settings` within their memory limit (see the
+    /// constructor); throws Error(OutOfMemory) when nothing fits.
+    Accel accelWithin(const Settings& settings) const;
+    /// Throws Error(OutOfMemory) when a film of `film` bytes and the scene built as `scene` says
+    /// exceed `settings`' limit, saying what would fit.
+    void checkSceneMemory(std::uint64_t film, const SceneMemory& scene,
+                          const Settings& settings) const;
     Scene m_scene;
     std::unique_ptr<Impl> m_impl;
 };

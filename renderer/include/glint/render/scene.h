@@ -41,9 +41,10 @@ class Scene {
     std::size_t areaLightCount() const;
     /// True when the scene has an environment (image or constant colour).
     bool hasEnvironment() const;
-    /// Every image file the scene reads (textures and the environment image), so that a tool
-    /// can refuse to write over one of them.
-    std::vector<std::filesystem::path> imageFiles() const;
+    /// Every file the scene was read from: the scene file, OBJ and MTL files, glTF files and
+    /// their buffer files, texture and environment images; so that a tool can refuse to write
+    /// over one of them.
+    const std::vector<std::filesystem::path>& inputs() const;
 
     /// What loading ignored and the user should know (an unread glTF extension, a skipped
     /// orthographic camera...), one line each.

@@ -82,9 +82,10 @@ struct Settings {
     /// (docs/renderer.md, "Half buffers"). Path integrator with the sobol or independent
     /// sampler. The cost: two sequences of n/2 samples are worth less than one of n.
     bool halfBuffers = false;
-    /// Bytes render() may allocate for its film and frames (Renderer::estimateMemory); a render
-    /// needing more is refused with Error(OutOfMemory) before anything is allocated. 0: what
-    /// the machine has available (glint::availableMemory()).
+    /// Bytes a render's data may take: its film and frames (Renderer::estimateMemory) and, when
+    /// set, the scene (estimateSceneMemory: meshes, images, BVH, texture cache); a render or a
+    /// Renderer(scene, settings) needing more is refused with Error(OutOfMemory) before anything
+    /// is allocated. 0: what the machine has available (glint::availableMemory()).
     std::uint64_t memoryLimit = 0;
     /// Megabytes of texture tiles the scene's texture cache holds (docs/assets.md, "Textures");
     /// textures larger than it render the same, reading tiles again as they are needed.

@@ -1,0 +1,158 @@
+// One signal rule for every command-line tool (docs/reliability.md, "Signals"): a SIGINT the tool
+// was started with ignored (a background job of a non-interactive shell, nohup) stays ignored,
+// and the tool finishes its work; otherwise SIGINT removes the tool's temporary files and kills
+// it as the signal would. `glint-render`, `apply`, `auto` and `paint` used to die of an ignored
+// SIGINT, while `bank` and `glint-image` installed no handler at all.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "cli_fixture.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// The signals a process catches (SigCgt of /proc/PID/status); 0 once it is gone.
+unsigned long long caughtSignals(pid_t pid) {
+    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+    for (std::string line; std::getline(status, line);)
+        if (line.rfind("SigCgt:", 0) == 0) return std::stoull(line.substr(7), nullptr, 16);
+    return 0;
+}
+
+bool catches(unsigned long long mask, int sig) {
+    return (mask >> (sig - 1)) & 1u;
+}
+
+class SignalRule : public glint::testing::CliFixture {
+  protected:
+    SignalRule() : CliFixture("glint-render") {}
+
+    void SetUp() override {
+        CliFixture::SetUp();
+        bin = m_binary.parent_path();
+        // A 160 × 160 Cornell box: every command below takes long enough to be interrupted.
+        std::ofstream(m_dir / "scene.json")
+            << R"({"camera": {"position": [278, 273, -800], "lookAt": [278, 273, 0],
+                   "fovY": 39.3}, "film": {"width": 160, "height": 160},
+                   "shapes": [{"obj": ")"
+            << GLINT_SOURCE_DIR << R"(/scenes/cornell/cornell_box.obj"}],
+                   "render": {"spp": 4, "maxDepth": 4}})";
+        ASSERT_EQ(run(path("scene.json") + " --out " + path("in.exr")).exitCode, 0);
+        std::ofstream(m_dir / "strokes.json")
+            << R"({"layers": [{"filter": "nlmeans"}, {"filter": "bilateral"}],
+                   "edits": [{"weights": {"layer": 1, "value": 1}}]})";
+    }
+
+    /// Starts `tool args` in the test's folder, with SIGINT ignored when `ignoreSigint`; waits
+    /// until the tool has installed its signal rule (it catches SIGTERM), sends SIGINT and
+    /// returns the wait status. Fails when the tool ends before it could be interrupted.
+    int interrupt(const std::string& tool, const std::vector<std::string>& args,
+                  bool ignoreSigint) {
+        const pid_t child = fork();
+        if (child == 0) {
+            if (::chdir(m_dir.c_str()) != 0) _exit(126);
+            if (ignoreSigint) ::signal(SIGINT, SIG_IGN);
+            if (!std::freopen("stderr.txt", "w", stderr) || !std::freopen("/dev/null", "w", stdout))
+                _exit(126);
+            const std::string binary = (bin / tool).string();
+            std::vector<char*> argv{const_cast<char*>(binary.c_str())};
+            for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+            argv.push_back(nullptr);
+            ::execv(binary.c_str(), argv.data());
+            _exit(127);
+        }
+        EXPECT_GT(child, 0);
+        int status = 0;
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+        while (std::chrono::steady_clock::now() < deadline) {
+            if (catches(caughtSignals(child), SIGTERM)) {
+                ::kill(child, SIGINT);
+                ::waitpid(child, &status, 0);
+                return status;
+            }
+            if (::waitpid(child, &status, WNOHANG) == child) {
+                ADD_FAILURE() << tool << " ended (status " << status
+                              << ") before it caught SIGTERM: it has no signal rule";
+                return status;
+            }
+            std::this_thread::sleep_for(std::chrono::microseconds(200));
+        }
+        ::kill(child, SIGKILL);
+        ::waitpid(child, &status, 0);
+        ADD_FAILURE() << tool << " never caught SIGTERM";
+        return status;
+    }
+
+    /// Temporary files (".NAME.tmp-PID.EXT") left in the test's folder.
+    std::vector<std::string> temporaries() const {
+        std::vector<std::string> left;
+        for (const auto& e : fs::directory_iterator(m_dir))
+            if (e.path().filename().string().find(".tmp-") != std::string::npos)
+                left.push_back(e.path().filename().string());
+        return left;
+    }
+
+    fs::path bin;
+};
+
+struct Command {
+    std::string tool;
+    std::vector<std::string> args;
+    std::string output;  ///< what a finished run writes
+};
+
+std::vector<Command> commands() {
+    return {
+        {"glint-render",
+         {"scene.json", "--spp", "64", "--threads", "1", "--out", "r.exr"},
+         "r.exr"},
+        {"glint-image", {"diff", "in.exr", "--reference", "in.exr", "--metric", "ssim"}, ""},
+        {"glint-denoise", {"apply", "in.exr", "--filter", "nlmeans", "--out", "a.exr"}, "a.exr"},
+        {"glint-denoise", {"auto", "in.exr", "--out", "auto.exr"}, "auto.exr"},
+        {"glint-denoise", {"bank", "in.exr", "--out", "bank", "--size", "4"}, "bank/index.json"},
+        {"glint-denoise",
+         {"paint", "in.exr", "--script", "strokes.json", "--save", "p.glint-session.json"},
+         "p.glint-session.json"},
+    };
+}
+
+TEST_F(SignalRule, EveryToolKeepsAnIgnoredSigintAndFinishesItsWork) {
+    for (const Command& c : commands()) {
+        SCOPED_TRACE(c.tool + " " + c.args.front());
+        const int status = interrupt(c.tool, c.args, true);
+        EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
+            << "status " << status << "\n"
+            << glint::testing::slurp(m_dir / "stderr.txt");
+        if (!c.output.empty()) {
+            EXPECT_TRUE(fs::exists(m_dir / c.output));
+        }
+        EXPECT_TRUE(temporaries().empty());
+    }
+}
+
+TEST_F(SignalRule, EveryToolDiesOfASigintItWasNotStartedIgnoringAndLeavesNoTemporary) {
+    for (const Command& c : commands()) {
+        SCOPED_TRACE(c.tool + " " + c.args.front());
+        const int status = interrupt(c.tool, c.args, false);
+        EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) << "status " << status;
+        if (!c.output.empty()) {
+            EXPECT_FALSE(fs::exists(m_dir / c.output));
+        }
+        EXPECT_TRUE(temporaries().empty());
+    }
+}
+
+}  // namespace
