@@ -264,7 +264,7 @@ static int killChild(const QString& base, const QString& scene) {
     w.session()->endStroke();
     bool saved = false;
     w.session()->save(QDir(base).filePath(QStringLiteral("expected.glint-session.json")),
-                      std::nullopt, {}, [&](const QString& error) { saved = error.isEmpty(); });
+                      std::nullopt, {}, {}, [&](const QString& error) { saved = error.isEmpty(); });
     if (!waitFor([&] { return saved; })) return 10;
     w.autosave()->flush();
     std::raise(SIGKILL);

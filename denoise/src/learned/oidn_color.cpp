@@ -4,6 +4,7 @@
 #include "learned/oidn_color.h"
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace glint::denoise::learned {
