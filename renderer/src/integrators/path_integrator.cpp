@@ -50,18 +50,23 @@ struct Shading {
     const detail::Material* material;
 };
 
-Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, float time,
-              const Camera& camera, bool seenSharply) {
-    Shading s;
-    const detail::SurfaceId id = hit.surface;
-    // The triangle in world space at the ray's shutter time (moving instances are posed).
-    const detail::TriangleView tri = scene.triangle(id.instance, id.prim, time);
-    const float b0 = 1.0f - hit.u - hit.v;
-    s.p = tri.p[0] * b0 + tri.p[1] * hit.u + tri.p[2] * hit.v;
-    s.ng = tri.ng;
-    s.ns = s.ng;
-    if (tri.hasNormals) {
-        const Vec3 ns = tri.n[0] * b0 + tri.n[1] * hit.u + tri.n[2] * hit.v;
+/// The point at barycentrics (1 - u - v, u, v) of corners a, b, c.
+[[gnu::always_inline]] inline Vec3 atBarycentrics(const Vec3& a, const Vec3& b, const Vec3& c,
+                                                  float b0, float u, float v) {
+    return a * b0 + b * u + c * v;
+}
+
+/// Sets s.p, s.ng and s.ns from a triangle's corners p0..p2, unit normal ng and vertex normals
+/// n (null: none) at barycentrics (b0, u, v).
+[[gnu::always_inline]] inline void setGeometry(Shading& s, const Vec3& p0, const Vec3& p1,
+                                               const Vec3& p2, const Vec3& ng, const Vec3* n0,
+                                               const Vec3* n1, const Vec3* n2, float b0, float u,
+                                               float v) {
+    s.p = atBarycentrics(p0, p1, p2, b0, u, v);
+    s.ng = ng;
+    s.ns = ng;
+    if (n0) {
+        const Vec3 ns = atBarycentrics(*n0, *n1, *n2, b0, u, v);
         const float len = length(ns);
         if (len > 0.0f) {
             s.ns = ns / len;
@@ -69,7 +74,35 @@ Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, fl
             if (dot(s.ng, s.ns) < 0.0f) s.ng = -s.ng;
         }
     }
-    const detail::Mesh& mesh = scene.meshes[scene.instances[id.instance].mesh];
+}
+
+Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, float time,
+              const Camera& camera, bool seenSharply) {
+    Shading s;
+    const detail::SurfaceId id = hit.surface;
+    // The instance and its mesh, found once for the corners, texture coordinates and material.
+    const detail::Instance& inst = scene.instances[id.instance];
+    const detail::Mesh& mesh = scene.meshes[inst.mesh];
+    const float b0 = 1.0f - hit.u - hit.v;
+    if (inst.motion < 0 && inst.identity) {
+        // A mesh in world space: its corners and face normal read in place (the same values
+        // as worldTriangle's, without filling a TriangleView).
+        const std::uint32_t* idx = &mesh.indices[3 * std::size_t(id.prim)];
+        const Vec3 &p0 = mesh.positions[idx[0]], &p1 = mesh.positions[idx[1]],
+                   &p2 = mesh.positions[idx[2]];
+        const Vec3 ng = id.prim < mesh.faceNormals.size() ? mesh.faceNormals[id.prim]
+                                                          : triangleNormal(p0, p1, p2);
+        const bool hasNormals = !mesh.normals.empty();
+        setGeometry(s, p0, p1, p2, ng, hasNormals ? &mesh.normals[idx[0]] : nullptr,
+                    hasNormals ? &mesh.normals[idx[1]] : nullptr,
+                    hasNormals ? &mesh.normals[idx[2]] : nullptr, b0, hit.u, hit.v);
+    } else {
+        // The triangle in world space at the ray's shutter time (moving instances are posed).
+        const detail::TriangleView tri = scene.posedTriangle(inst, id.prim, time);
+        setGeometry(s, tri.p[0], tri.p[1], tri.p[2], tri.ng, tri.hasNormals ? &tri.n[0] : nullptr,
+                    tri.hasNormals ? &tri.n[1] : nullptr, tri.hasNormals ? &tri.n[2] : nullptr, b0,
+                    hit.u, hit.v);
+    }
     s.at.id = id;
     s.at.b1 = hit.u;
     s.at.b2 = hit.v;
@@ -77,12 +110,15 @@ Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, fl
     if (s.at.hasUv) s.at.uv = detail::surfaceUv(mesh, 0, id.prim, hit.u, hit.v);
     s.at.hasUv1 = !mesh.uvs1.empty();
     if (s.at.hasUv1) s.at.uv1 = detail::surfaceUv(mesh, 1, id.prim, hit.u, hit.v);
-    s.material = &scene.materials[scene.materialOf(id)];
+    s.material = &scene.materials[inst.material >= 0 ? std::uint32_t(inst.material)
+                                                     : mesh.materialOf(id.prim)];
     if (s.at.hasUv && !seenSharply) {
         // After a diffuse or glossy bounce: a widened footprint, the resident levels in memory.
         s.at.footprint = s.at.footprint1 = detail::kCoarseFootprint;
     } else if (s.at.hasUv && usesTextures(*s.material)) {
         // The texture footprint: a pixel's step as seen from the camera (docs/assets.md).
+        // The triangle again (only here: textured hits seen sharply), for its edges.
+        const detail::TriangleView tri = scene.triangle(id.instance, id.prim, time);
         Vec3 dpdx, dpdy;
         camera.footprintAxes(s.p, tri.ng, time, dpdx, dpdy);
         const std::uint32_t* idx = &mesh.indices[3 * std::size_t(id.prim)];
