@@ -2,6 +2,7 @@
 // builds, the disk cache (hits, invalidation, damaged entries), bad options, cancellation.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -84,8 +85,34 @@ TEST(MapParam, LinearLogIntegerAndChoice) {
     EXPECT_EQ(detail::mapParam(fixed, 0.7), 0.0);
 }
 
+// True when some parameter of `f` has a soft range to explore.
+bool explorable(const Filter& f) {
+    return std::any_of(f.params().begin(), f.params().end(),
+                       [](const ParamSpec& s) { return s.softMin != s.softMax; });
+}
+
+TEST(SampleBank, AFilterWhoseParametersAreAllFixedIsItsDefaultOnly) {
+    const Filter& fixed = findFilter("external");  // its command is a fixed parameter
+    ASSERT_FALSE(explorable(fixed));
+    const Filter& open = findFilter("gaussian");
+    const std::vector<BankMember> members = detail::sampleBank({&open, &fixed}, 40, 3);
+    const auto fixedMembers = std::count_if(
+        members.begin(), members.end(), [](const BankMember& m) { return m.filter == "external"; });
+    EXPECT_EQ(fixedMembers, 1);
+    EXPECT_TRUE(members[1].isDefault);
+    EXPECT_EQ(members[1].filter, "external");
+    // The design's strata that fall on it are not redrawn: gaussian keeps its own share.
+    const auto gaussians = std::count_if(
+        members.begin(), members.end(), [](const BankMember& m) { return m.filter == "gaussian"; });
+    EXPECT_EQ(gaussians, 1 + 20);
+}
+
 TEST(SampleBank, DefaultsFirstThenValidMembersOfEveryFilter) {
-    const std::vector<const Filter*> filters = testing::runnableFilters();
+    // The runnable filters with a parameter to explore (one whose parameters are all fixed is its
+    // default member only: SampleBank.AFilterWhoseParametersAreAllFixedIsItsDefaultOnly).
+    std::vector<const Filter*> filters;
+    for (const Filter* f : testing::runnableFilters())
+        if (explorable(*f)) filters.push_back(f);
     const int perFilter = 10;
     const int size = perFilter * int(filters.size());
     const std::vector<BankMember> members = detail::sampleBank(filters, size, 3);

@@ -85,7 +85,9 @@ inline bool waitFor(const std::function<bool()>& done, int ms = 20000) {
 }
 
 /// Waits until the window has a finished render, a session on it, and nothing running.
-inline bool waitIdle(MainWindow& w, int ms = 30000) {
+// The bound only ends a wait that would never end: a slow machine (the sanitizer build, two
+// test programs on two cores) may take minutes where this one takes seconds.
+inline bool waitIdle(MainWindow& w, int ms = 180000) {
     return waitFor(
         [&] {
             return w.document()->finishedFrame() && w.session()->hasSession() &&
