@@ -74,7 +74,9 @@ inline std::unique_ptr<MainWindow> makeWindow(const QString& autosave,
 }
 
 /// Processes events until `done()` or `ms` pass; returns done().
-inline bool waitFor(const std::function<bool()>& done, int ms = 20000) {
+// The default bound only ends a wait that would never end (see waitIdle): nothing asserts that a
+// condition stays false.
+inline bool waitFor(const std::function<bool()>& done, int ms = 120000) {
     QElapsedTimer t;
     t.start();
     while (!done() && t.elapsed() < ms) {
