@@ -116,14 +116,15 @@ int main(int argc, char** argv) {
     // 1. Open: the render refines and lands, denoised by the default layer.
     w->openFile(scene);
     if (!waitIdle(*w)) return 3;
-    waitFor([&] { return w->session()->session().layerCount() == 1 && !w->session()->busy(); });
+    waitFor([&] { return w->session()->session().layerCount() == 1 && !w->session()->busy(); },
+            20000);
     shoot(*w, out, QStringLiteral("01-open"));
 
     // 2. Look: a wall turns blue; the image renders again.
     const std::string wall = firstAlbedoMaterial(*w->document());
     const FramePtr before = w->document()->finishedFrame();
     w->lookPanel()->edit(wall, "albedo", {0.15, 0.3, 0.8});
-    waitFor([&] { return w->document()->finishedFrame() != before; });
+    waitFor([&] { return w->document()->finishedFrame() != before; }, 20000);
     waitIdle(*w);
     shoot(*w, out, QStringLiteral("02-look"));
 
@@ -141,7 +142,7 @@ int main(int argc, char** argv) {
     // 5. Tune: a bilateral filter previewed inside the region.
     w->setStage(2);
     w->tuneView()->setFilter("bilateral");
-    waitFor([&] { return w->tuneView()->previewReady(); });
+    waitFor([&] { return w->tuneView()->previewReady(); }, 20000);
     shoot(*w, out, QStringLiteral("05-tune"));
 
     // 6. Navigate: the bank's four previews, one hovered.
@@ -156,9 +157,11 @@ int main(int argc, char** argv) {
     w->navigateView()->same();
     const std::size_t layers = w->session()->session().layerCount();
     w->navigateView()->choose(false);
-    waitFor([&] {
-        return w->session()->hasSession() && w->session()->session().layerCount() == layers + 1;
-    });
+    waitFor(
+        [&] {
+            return w->session()->hasSession() && w->session()->session().layerCount() == layers + 1;
+        },
+        20000);
     w->paintView()->setBrushSize(40.0);
     drag(w->viewer()->canvas(), {{60, 80}, {120, 90}, {190, 80}});
     drag(w->viewer()->canvas(), {{70, 150}, {130, 170}, {190, 150}});
@@ -175,7 +178,7 @@ int main(int argc, char** argv) {
     w->document()->render();  // a render against the reference draws the convergence plot
     waitIdle(*w);
     w->viewer()->setWipe(true);
-    waitFor([&] { return w->compareView()->measurement().haveReference; });
+    waitFor([&] { return w->compareView()->measurement().haveReference; }, 20000);
     shoot(*w, out, QStringLiteral("09-compare"));
     w->viewer()->setWipe(false);
     w->viewer()->setChannel(Viewer::Channel::ErrorRelative);
