@@ -5,6 +5,7 @@
 // by the halves estimator; auto with it bit-identical for one and two threads.
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -39,7 +40,8 @@ bool holdsUNet(const std::vector<const Filter*>& filters) {
 
 // A folder holding the shipped weights with one byte of `file` flipped.
 fs::path corruptWeights(const std::string& file) {
-    const fs::path dir = fs::temp_directory_path() / ("glint_unet_bank_corrupt_" + file);
+    const fs::path dir = fs::temp_directory_path() /
+                         ("glint_unet_bank_corrupt_" + file + "_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     for (const auto& entry : fs::directory_iterator(testing::shippedUNetWeights()))
@@ -77,7 +79,8 @@ TEST(UNetMember, TheDefaultBankGoesOnWithoutUNetWhenItsWeightsAreMissingOrCorrup
     const FrameBuffers frame = testing::syntheticFrame(40, 32);
     BankOptions o;
     o.size = 6;
-    const fs::path empty = fs::temp_directory_path() / "glint_unet_bank_empty";
+    const fs::path empty =
+        fs::temp_directory_path() / ("glint_unet_bank_empty_" + std::to_string(::getpid()));
     fs::remove_all(empty);
     fs::create_directories(empty);
     const fs::path corrupt = corruptWeights("rt_hdr_calb_cnrm.tza");
