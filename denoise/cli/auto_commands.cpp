@@ -4,6 +4,7 @@
 // oracle's "auto" column (autoOracleColumn).
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -305,6 +306,8 @@ void runAuto(const AutoArgs& a) {
                     "reading the bank's members whole (--stream off; --stream auto would stream "
                     "them)",
                     a.bank, "--memory-limit");
+    // A bank built here (whole or streamed) without --filters says once what it goes without.
+    const json leftOut = a.bank.empty() ? reportLeftOutFilters(bankOptions) : json::array();
     const auto t0 = Clock::now();
     FilterBank bank;
     if (!streamed) {
@@ -358,6 +361,18 @@ void runAuto(const AutoArgs& a) {
                 {"bestMemberEstimatedMse", result.estimatedMse[std::size_t(result.bestMember)]},
                 {"bankSeconds", bankSeconds},
                 {"sureSeconds", sureSeconds}};
+    if (!leftOut.empty()) report["leftOut"] = leftOut;
+    // Each member's share of the blend: its weight plane's mean over the region.
+    json layers = json::array();
+    for (const AutoLayer& l : result.layers) {
+        double sum = 0.0;
+        for (float w : l.weights.data()) sum += double(w);
+        layers.push_back(
+            {{"member", l.member},
+             {"filter", bank.members()[std::size_t(l.member)].filter},
+             {"share", sum / double(std::max<std::size_t>(l.weights.pixelCount(), 1))}});
+    }
+    report["layers"] = layers;
     // Every tuning parameter as used (choices by their option name).
     const ParamValues tuning = resolveAutoTuning(options, result.estimator);
     for (const ParamSpec& spec : autoTuningSpecs()) {

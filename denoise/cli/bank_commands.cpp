@@ -125,6 +125,7 @@ void runBank(const BankArgs& a) {
             std::fprintf(stderr, "\rglint-denoise: bank %3d%%", int(f * 100.0 + 0.5));
             return true;
         };
+    const json leftOut = reportLeftOutFilters(options);
     const auto t0 = Clock::now();
     const FilterBank bank = buildBank(frame, options);
     const double seconds = secondsSince(t0);
@@ -135,6 +136,7 @@ void runBank(const BankArgs& a) {
                 {"members", bank.size()},     {"computed", bank.size() - bank.cacheHits()},
                 {"cached", bank.cacheHits()}, {"region", rectJson(bank.region())},
                 {"seconds", seconds},         {"list", members}};
+    if (!leftOut.empty()) report["leftOut"] = leftOut;
     if (!a.members.empty()) {
         report["firstMember"] = bank.firstMember();
         report["bankMembers"] = bank.bankMembers();

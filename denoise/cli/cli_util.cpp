@@ -13,6 +13,7 @@
 #include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/external.h"
+#include "glint/denoise/registry.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"
@@ -249,6 +250,19 @@ json describe(const std::vector<ParamSpec>& specs) {
         params.push_back(p);
     }
     return params;
+}
+
+json reportLeftOutFilters(const BankOptions& options) {
+    json list = json::array();
+    if (!options.filters.empty()) return list;
+    std::vector<LeftOutFilter> leftOut;
+    defaultBankFilters(&leftOut);
+    for (const LeftOutFilter& f : leftOut) {
+        std::fprintf(stderr, "glint-denoise: note: the bank goes on without '%s': %s\n",
+                     f.name.c_str(), oneLine(f.reason).c_str());
+        list.push_back({{"filter", f.name}, {"reason", f.reason}});
+    }
+    return list;
 }
 
 void printJson(const json& j) {

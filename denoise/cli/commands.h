@@ -21,6 +21,7 @@
 namespace glint::denoise {
 class FilterBank;
 struct AutoOptions;
+struct BankOptions;
 }  // namespace glint::denoise
 
 namespace glint::denoise::cli {
@@ -119,6 +120,11 @@ nlohmann::json autoOracleColumn(const FilterBank& bank, const FrameBuffers& fram
 
 /// The parameter table of a filter or of the prefilter as JSON.
 nlohmann::json describe(const std::vector<ParamSpec>& specs);
+
+/// For a bank built without a filter list (options.filters empty): the default filters left out
+/// because they cannot run here (unet without its weights), each said once on stderr, as a JSON
+/// array of {filter, reason} (empty when none).
+nlohmann::json reportLeftOutFilters(const BankOptions& options);
 
 /// Prints one JSON object on stdout (invalid UTF-8 replaced).
 void printJson(const nlohmann::json& j);

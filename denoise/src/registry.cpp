@@ -28,7 +28,12 @@ std::vector<std::unique_ptr<Filter>> makeAll() {
 
 // Filters left out of the default bank: they join a bank only when named (--filters), so that
 // the default bank, and the quality tables measured on it, stay as they were.
-constexpr std::string_view kOptInFilters[] = {"nfor", "unet", "external"};
+constexpr std::string_view kOptInFilters[] = {"nfor", "external"};
+
+bool optIn(const Filter& f) {
+    return std::find(std::begin(kOptInFilters), std::end(kOptInFilters), f.name()) !=
+           std::end(kOptInFilters);
+}
 }  // namespace
 
 const std::vector<const Filter*>& allFilters() {
@@ -41,16 +46,18 @@ const std::vector<const Filter*>& allFilters() {
     return view;
 }
 
-const std::vector<const Filter*>& defaultBankFilters() {
-    static const std::vector<const Filter*> view = [] {
-        std::vector<const Filter*> v;
-        for (const Filter* f : allFilters())
-            if (std::find(std::begin(kOptInFilters), std::end(kOptInFilters), f->name()) ==
-                std::end(kOptInFilters))
-                v.push_back(f);
-        return v;
-    }();
-    return view;
+std::vector<const Filter*> defaultBankFilters(std::vector<LeftOutFilter>* leftOut) {
+    std::vector<const Filter*> v;
+    for (const Filter* f : allFilters()) {
+        if (optIn(*f)) continue;
+        // A filter that cannot run here with its defaults (unet without its weights) is left out.
+        if (std::string why = f->unavailable(resolveParams(*f, {})); !why.empty()) {
+            if (leftOut) leftOut->push_back({std::string(f->name()), std::move(why)});
+            continue;
+        }
+        v.push_back(f);
+    }
+    return v;
 }
 
 const Filter& findFilter(std::string_view name) {

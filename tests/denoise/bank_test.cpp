@@ -101,10 +101,12 @@ TEST(SampleBank, AFilterWhoseParametersAreAllFixedIsItsDefaultOnly) {
     EXPECT_EQ(fixedMembers, 1);
     EXPECT_TRUE(members[1].isDefault);
     EXPECT_EQ(members[1].filter, "external");
-    // The design's strata that fall on it are not redrawn: gaussian keeps its own share.
+    // It takes no stratum of the design: gaussian takes them all (and the sampled members of a
+    // bank stay as they were when a fixed filter joins it:
+    // UNetMember.AFixedFilterTakesNoStratumSoTheOtherMembersStayAsTheyWere).
     const auto gaussians = std::count_if(
         members.begin(), members.end(), [](const BankMember& m) { return m.filter == "gaussian"; });
-    EXPECT_EQ(gaussians, 1 + 20);
+    EXPECT_EQ(gaussians, 1 + 40);
 }
 
 TEST(SampleBank, DefaultsFirstThenValidMembersOfEveryFilter) {

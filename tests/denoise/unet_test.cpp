@@ -20,6 +20,7 @@
 #include "learned/tza.h"
 #include "learned/unet_tiles.h"
 #include "synthetic_frames.h"
+#include "unet_weights_dir.h"
 
 namespace glint::denoise {
 namespace {
@@ -132,27 +133,19 @@ TEST(UNetWeights, Sha256MatchesTheFipsExamples) {
               "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
 }
 
-// Sets GLINT_UNET_WEIGHTS_DIR for the scope.
-class WeightsDir {
-  public:
-    explicit WeightsDir(const fs::path& dir) { setenv("GLINT_UNET_WEIGHTS_DIR", dir.c_str(), 1); }
-    ~WeightsDir() { unsetenv("GLINT_UNET_WEIGHTS_DIR"); }
-};
-
-fs::path shippedWeights() {
-    return fs::path(GLINT_SOURCE_DIR) / "denoise/weights/oidn";
-}
+using testing::UNetWeightsDir;
 
 TEST(UNetWeights, MissingWeightsFailWithOneLineNamingFileAndDigest) {
     const fs::path dir = fs::temp_directory_path() / "glint_unet_missing";
     fs::create_directories(dir);
-    const WeightsDir scope(dir);
+    const UNetWeightsDir scope(dir);
     const FrameBuffers frame = testing::syntheticFrame(20, 16);
     try {
         applyFilter(findFilter("unet"), frame, {});
         FAIL() << "ran without weights";
     } catch (const Error& e) {
-        EXPECT_EQ(e.kind(), ErrorKind::Io);
+        // The filter is unavailable without them (Filter::unavailable), so applyFilter refuses.
+        EXPECT_EQ(e.kind(), ErrorKind::InvalidArgument);
         const std::string what = e.what();
         EXPECT_NE(what.find("rt_hdr_alb_nrm.tza"), std::string::npos) << what;
         EXPECT_NE(what.find("sha256 e586ef2ff48d7fbb"), std::string::npos) << what;
@@ -164,18 +157,19 @@ TEST(UNetWeights, CorruptWeightsFailWithTheExpectedDigest) {
     const fs::path dir = fs::temp_directory_path() / "glint_unet_corrupt";
     fs::create_directories(dir);
     // One flipped byte in a copy of the colour-only weights.
-    std::ifstream in(shippedWeights() / "rt_hdr.tza", std::ios::binary);
+    std::ifstream in(testing::shippedUNetWeights() / "rt_hdr.tza", std::ios::binary);
     std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
     ASSERT_GT(bytes.size(), 1000u);
     bytes[bytes.size() / 2] ^= 1;
     std::ofstream(dir / "rt_hdr.tza", std::ios::binary)
         .write(bytes.data(), std::streamsize(bytes.size()));
-    const WeightsDir scope(dir);
+    const UNetWeightsDir scope(dir);
     try {
         applyFilter(findFilter("unet"), testing::syntheticFrame(20, 16), {{"features", 1}});
         FAIL() << "ran with corrupt weights";
     } catch (const Error& e) {
-        EXPECT_EQ(e.kind(), ErrorKind::Format);
+        EXPECT_EQ(e.kind(), ErrorKind::InvalidArgument);
+        EXPECT_NE(std::string(e.what()).find("weights corrupt"), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("sha256 a097e8fe"), std::string::npos) << e.what();
     }
 }

@@ -66,19 +66,23 @@ std::vector<BankMember> sampleBank(const std::vector<const Filter*>& filters, in
     // The defaults of every filter are always members, so the bank never loses to them.
     for (const Filter* f : filters)
         members.push_back({std::string(f->name()), resolveParams(*f, {}), true});
+    // A filter whose parameters are all fixed (unet, external) is its default member only and
+    // takes no stratum of the design: adding it leaves the other members as they were.
+    std::vector<const Filter*> explored;
+    for (const Filter* f : filters)
+        if (std::any_of(f->params().begin(), f->params().end(),
+                        [](const ParamSpec& s) { return s.softMin != s.softMax; }))
+            explored.push_back(f);
+    if (explored.empty()) return members;
     std::size_t maxParams = 0;
-    for (const Filter* f : filters) maxParams = std::max(maxParams, f->params().size());
+    for (const Filter* f : explored) maxParams = std::max(maxParams, f->params().size());
     const auto design = latinHypercube(size, 1 + int(maxParams), seed);
-    const int m = int(filters.size());
+    const int m = int(explored.size());
     for (const std::vector<double>& u : design) {
         // Dimension 0 chooses the filter: continuous over [0.5, M + 0.5), rounded to 1 … M, so
         // every filter gets the same share of the strata.
         const int pick = std::clamp(int(std::lround(0.5 + u[0] * double(m))), 1, m) - 1;
-        const Filter& f = *filters[std::size_t(pick)];
-        // A filter whose parameters are all fixed (external) is its default member only.
-        if (std::all_of(f.params().begin(), f.params().end(),
-                        [](const ParamSpec& s) { return s.softMin == s.softMax; }))
-            continue;
+        const Filter& f = *explored[std::size_t(pick)];
         ParamValues params;
         for (std::size_t i = 0; i < f.params().size(); ++i)
             params[f.params()[i].name] = mapParam(f.params()[i], u[1 + i]);

@@ -11,13 +11,15 @@
 //
 // Weights (Apache-2.0, third_party_notes/oidn-weights.md) are read from denoise/weights/oidn/ or
 // the folder in GLINT_UNET_WEIGHTS_DIR and checked by SHA-256; missing or corrupt weights make
-// apply() fail with one line naming the file and the expected digest.
+// the filter unavailable (one line naming the file and the expected digest): apply() refuses to
+// run and the default bank goes on without it.
 //
 // Parameters:
 //   features  auto: colour, + albedo, + albedo + normal as the frame has them; or one set
 //             (its layers must exist).
 //   aux       noisy: albedo and normal straight from the render; clean: they are noise-free
-//             (after --prefilter), which picks OIDN's clean-aux weights (albedo + normal only).
+//             (after --prefilter), which picks OIDN's clean-aux weights (albedo + normal only);
+//             auto (the default): clean when the frame's features were prefiltered, else noisy.
 //   quality   fast: the small weights; balanced: the default weights; high: the large weights
 //             where OIDN has them (clean albedo + normal), else the default.
 //   memoryMB  budget of the network's activations; larger frames are tiled (same output).
@@ -31,9 +33,11 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 
 #include "filters/factories.h"
 #include "filters/filter_util.h"
+#include "glint/denoise/prefilter.h"
 #include "glint/image/error.h"
 #include "learned/oidn_color.h"
 #include "learned/sha256.h"
@@ -62,19 +66,22 @@ equals a single pass; the tile size follows a memory budget.
 
 Weights (Apache-2.0, third_party_notes/oidn-weights.md) are read from denoise/weights/oidn/ or
 the folder in GLINT_UNET_WEIGHTS_DIR and checked by SHA-256; missing or corrupt weights make
-apply() fail with one line naming the file and the expected digest.
+the filter unavailable (one line naming the file and the expected digest): apply() refuses to
+run and the default bank goes on without it.
 
 Parameters:
   features  auto: colour, + albedo, + albedo + normal as the frame has them; or one set
             (its layers must exist).
   aux       noisy: albedo and normal straight from the render; clean: they are noise-free
-            (after --prefilter), which picks OIDN's clean-aux weights (albedo + normal only).
+            (after --prefilter), which picks OIDN's clean-aux weights (albedo + normal only);
+            auto (the default): clean when the frame's features were prefiltered, else noisy.
   quality   fast: the small weights; balanced: the default weights; high: the large weights
             where OIDN has them (clean albedo + normal), else the default.
   memoryMB  budget of the network's activations; larger frames are tiled (same output).)";
 
 enum class Features : int { Auto = 0, Color = 1, Albedo = 2, AlbedoNormal = 3 };
 enum class Quality : int { Fast = 0, Balanced = 1, High = 2 };
+enum class Aux : int { Noisy = 0, Clean = 1, Auto = 2 };
 
 // The weight files Glint ships (OIDN weights @28883d1) and their SHA-256.
 struct WeightsFile {
@@ -118,21 +125,49 @@ std::vector<std::uint8_t> readFile(const std::string& path) {
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-// The network of weight file `name` for `channels` inputs, loaded and checked once per path.
-std::shared_ptr<const UNetNetwork> network(const std::string& name, int channels) {
-    static std::mutex mutex;
-    static std::map<std::string, std::shared_ptr<const UNetNetwork>> cache;
-    const std::string path = weightsDir() + "/" + name + ".tza";
-    const std::lock_guard lock(mutex);
-    if (auto it = cache.find(path); it != cache.end()) return it->second;
+std::string weightsPath(const std::string& name) {
+    return weightsDir() + "/" + name + ".tza";
+}
+
+// The bytes of weight file `name` at `path`, checked against its digest: throws Error(Io) when
+// missing, Error(Format) when altered, with one line naming the file and the expected digest.
+std::vector<std::uint8_t> checkedWeights(const std::string& name, const std::string& path) {
     const WeightsFile* known = findWeights(name);
     GLINT_CHECK(known != nullptr, "unknown weights");
-    const std::vector<std::uint8_t> blob = readFile(path);
+    std::vector<std::uint8_t> blob = readFile(path);
     const std::string expected = " (expected sha256 " + std::string(known->sha256) + ")";
     if (blob.empty())
         throw Error(ErrorKind::Io, "unet: weights missing or unreadable" + expected, path);
     if (learned::sha256Hex(blob) != known->sha256)
         throw Error(ErrorKind::Format, "unet: weights corrupt" + expected, path);
+    return blob;
+}
+
+// Why weight file `name` cannot be used (empty when it can): checkedWeights' one line. An intact
+// file is checked once per path.
+std::string weightsProblem(const std::string& name) {
+    static std::mutex mutex;
+    static std::set<std::string> intact;
+    const std::string path = weightsPath(name);
+    const std::lock_guard lock(mutex);
+    if (intact.count(path)) return {};
+    try {
+        checkedWeights(name, path);
+    } catch (const Error& e) {
+        return e.what();
+    }
+    intact.insert(path);
+    return {};
+}
+
+// The network of weight file `name` for `channels` inputs, loaded and checked once per path.
+std::shared_ptr<const UNetNetwork> network(const std::string& name, int channels) {
+    static std::mutex mutex;
+    static std::map<std::string, std::shared_ptr<const UNetNetwork>> cache;
+    const std::string path = weightsPath(name);
+    const std::lock_guard lock(mutex);
+    if (auto it = cache.find(path); it != cache.end()) return it->second;
+    const std::vector<std::uint8_t> blob = checkedWeights(name, path);
     auto net = std::make_shared<const UNetNetwork>(learned::parseTza(blob, path), channels, path);
     cache.emplace(path, net);
     return net;
@@ -144,6 +179,32 @@ Features featuresFor(const FrameBuffers& frame, const ParamValues& params) {
     if (f != Features::Auto) return f;
     if (!frame.has(Layer::Albedo)) return Features::Color;
     return frame.has(Layer::Normal) ? Features::AlbedoNormal : Features::Albedo;
+}
+
+// Whether the albedo and normal are noise-free: aux = clean, or auto on a frame whose features
+// were prefiltered (kFeaturesPrefilteredKey).
+bool cleanAux(const FrameBuffers& frame, const ParamValues& params) {
+    const auto aux = Aux(detail::paramInt(params, "aux"));
+    return aux == Aux::Clean ||
+           (aux == Aux::Auto && frame.metadata().extra.count(kFeaturesPrefilteredKey) != 0);
+}
+
+// The weight files these parameters may pick on some frame, the likeliest first.
+std::vector<std::string> candidateWeights(const ParamValues& params) {
+    const auto f = Features(detail::paramInt(params, "features"));
+    const auto aux = Aux(detail::paramInt(params, "aux"));
+    const auto q = Quality(detail::paramInt(params, "quality"));
+    std::vector<Features> sets{f};
+    if (f == Features::Auto) sets = {Features::AlbedoNormal, Features::Albedo, Features::Color};
+    std::vector<bool> cleans{aux == Aux::Clean};
+    if (aux == Aux::Auto) cleans = {false, true};
+    std::vector<std::string> names;
+    for (Features s : sets)
+        for (bool clean : cleans)
+            if (std::string n = weightsName(s, clean, q);
+                std::find(names.begin(), names.end(), n) == names.end())
+                names.push_back(std::move(n));
+    return names;
 }
 
 int channelsOf(Features f) {
@@ -191,9 +252,9 @@ class UNetFilter final : public Filter {
             fixed(ParamSpec::choice("features", "input features",
                                     {"auto", "color", "albedo", "albedo-normal"}, 0,
                                     "Which feature layers feed the network (auto: all present).")),
-            fixed(ParamSpec::choice("aux", "feature quality", {"noisy", "clean"}, 0,
-                                    "clean picks OIDN's weights for noise-free albedo and normal "
-                                    "(use after --prefilter).")),
+            fixed(ParamSpec::choice("aux", "feature quality", {"noisy", "clean", "auto"}, 2,
+                                    "clean picks OIDN's weights for noise-free albedo and normal; "
+                                    "auto: clean when the features were prefiltered.")),
             fixed(ParamSpec::choice("quality", "weights", {"fast", "balanced", "high"}, 1,
                                     "fast: small weights; high: large weights where they exist.")),
             fixed(ParamSpec("memoryMB", "memory budget (MB)", 64, 65536, 1024, ParamScale::Log,
@@ -211,6 +272,11 @@ class UNetFilter final : public Filter {
         if (f == Features::AlbedoNormal) return {Layer::Albedo, Layer::Normal};
         return {};
     }
+    std::string unavailable(const ParamValues& params) const override {
+        for (const std::string& name : candidateWeights(params))
+            if (std::string why = weightsProblem(name); !why.empty()) return why;
+        return {};
+    }
     int margin(const ParamValues& params) const override {
         // The receptive-field half-width rounded to the tile grid (learned::UNetNetwork::overlap).
         return Quality(detail::paramInt(params, "quality")) == Quality::High ? 112 : 96;
@@ -219,7 +285,7 @@ class UNetFilter final : public Filter {
     Image apply(const FrameBuffers& frame, const ParamValues& params, const Rect& roi,
                 WorkContext& work) const override {
         const Features f = featuresFor(frame, params);
-        const bool clean = detail::paramInt(params, "aux") == 1;
+        const bool clean = cleanAux(frame, params);
         const auto q = Quality(detail::paramInt(params, "quality"));
         const int channels = channelsOf(f);
         const auto net = network(weightsName(f, clean, q), channels);

@@ -225,6 +225,7 @@ FrameBuffers prefilterFeatures(const FrameBuffers& frame, const ParamValues& giv
             filterFeature<1>(frame.layer(layer), frame.layer(*varLayer), params, f, v, work);
         out.set(layer, std::move(f));
         out.set(*varLayer, std::move(v));
+        out.metadata().extra[kFeaturesPrefilteredKey] = "1";
     }
     work.finish();
     return out;
