@@ -65,4 +65,15 @@ bool learnedFilterAvailable() {
     return learnedFilterUnavailable().empty();
 }
 
+std::vector<std::string> studioBankFilters() {
+    std::vector<std::string> names;
+    for (const denoise::Filter* f : denoise::defaultBankFilters()) {
+        if (f->name() == kLearnedFilter) return {};
+        names.emplace_back(f->name());
+    }
+    if (!learnedFilterAvailable()) return {};
+    names.emplace_back(kLearnedFilter);
+    return names;
+}
+
 }  // namespace glint::studio

@@ -22,4 +22,9 @@ const std::string& learnedFilterUnavailable();
 /// True when learnedFilterUnavailable() is empty.
 bool learnedFilterAvailable();
 
+/// The filters of the studio's banks (Navigate and Auto Start share one bank, so they name the
+/// same): empty — the default bank — when it holds the learned filter or the learned filter does
+/// not run here; else the default bank's filters and the learned filter (its one member).
+std::vector<std::string> studioBankFilters();
+
 }  // namespace glint::studio
