@@ -221,10 +221,6 @@ int NavigateView::optionCount() const {
     return int(m_shownMembers.size());
 }
 
-int NavigateView::shownMember(int i) const {
-    return i >= 0 && i < optionCount() ? m_shownMembers[std::size_t(i)] : -1;
-}
-
 int NavigateView::depth() const {
     return m_navigator ? m_navigator->choices() : 0;
 }

@@ -51,8 +51,6 @@ class NavigateView : public StageView {
     /// The option that shows the learned filter's result (pinned: see showOptions), or -1 when
     /// this level holds none (or the bank has no learned member).
     int learnedOption() const { return m_learnedOption; }
-    /// The bank member option i shows (-1 when there is no such option).
-    int shownMember(int i) const;
     /// Adds the chosen member as a layer.
     void choose(bool fillRegion);
 
