@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The main job: render scenes/cornell at 16 spp, denoise it, and compare both with the reference.
+# The main job: render scenes/cornell at 16 spp, denoise it with a classical filter and with the
+# learned one (unet), and compare each with the reference.
 # Usage: scripts/demo.sh [BUILD_DIR]   (run by `make demo` after deps and build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,9 +19,14 @@ echo "== denoise: cross-bilateral on the colour, guided by albedo, normal and de
     --out out/cornell-16spp-denoised.exr
 "$bin/glint-image" convert out/cornell-16spp-denoised.exr out/cornell-16spp-denoised.png
 
+echo "== denoise: unet, Open Image Denoise's learned network with its trained weights (docs/learned.md)"
+"$bin/glint-denoise" apply out/cornell-16spp.exr --filter unet --out out/cornell-16spp-unet.exr
+"$bin/glint-image" convert out/cornell-16spp-unet.exr out/cornell-16spp-unet.png
+
 if [ -f "$ref" ]; then
   echo "== SSIM against the reference ($ref)"
-  printf 'noisy:    '; "$bin/glint-image" diff out/cornell-16spp.exr --reference "$ref" --metric ssim
-  printf 'denoised: '; "$bin/glint-image" diff out/cornell-16spp-denoised.exr --reference "$ref" --metric ssim
+  printf 'noisy:           '; "$bin/glint-image" diff out/cornell-16spp.exr --reference "$ref" --metric ssim
+  printf 'cross-bilateral: '; "$bin/glint-image" diff out/cornell-16spp-denoised.exr --reference "$ref" --metric ssim
+  printf 'unet (learned):  '; "$bin/glint-image" diff out/cornell-16spp-unet.exr --reference "$ref" --metric ssim
 fi
-echo "== outputs in out/: cornell-16spp.{exr,png}, cornell-16spp-denoised.{exr,png}"
+echo "== outputs in out/: cornell-16spp.{exr,png}, cornell-16spp-denoised.{exr,png}, cornell-16spp-unet.{exr,png}"

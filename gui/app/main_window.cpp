@@ -19,6 +19,7 @@
 #include "app/canvas_keys.h"
 #include "app/file_naming.h"
 #include "app/panel_layout.h"
+#include "app/program_allowance.h"
 #include "app/studio_settings.h"
 #include "glint/image/error.h"
 #include "model/first_denoise.h"
@@ -58,6 +59,7 @@ MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
         this);
     new ProgressiveDenoise(
         m_document, m_session, [this] { return !m_restoring; }, this);
+    m_allowance = new ProgramAllowance(m_session, this);
     m_autosave = std::make_unique<Autosave>(
         options.autosaveBase.isEmpty() ? Autosave::defaultBase() : options.autosaveBase, m_session);
     m_autosave->watch(m_document);
@@ -316,6 +318,11 @@ void MainWindow::connectModel() {
                 [this](const QString& m) { statusBar()->showMessage(m, 4000); });
         connect(s, &StageView::layerChosen, this, [this] { setStage(3); });
     }
+    connect(m_paint, &PaintView::allowProgramRequested, m_allowance, &ProgramAllowance::ask);
+    connect(m_allowance, &ProgramAllowance::failed, this, &MainWindow::showError);
+    connect(m_allowance, &ProgramAllowance::allowed, this, [this](const QString& program) {
+        showStatus(tr("Allowed %1; running its layers…").arg(program));
+    });
     connect(m_navigate, &NavigateView::tuneRequested, this,
             [this](const std::string& filter, const denoise::ParamValues& params) {
                 m_tune->setFilter(filter);

@@ -34,6 +34,7 @@ class CompareView;
 class HelpOverlay;
 class ElidedLabel;
 class StageView;
+class ProgramAllowance;
 
 /// Options of a studio window (from the command line, or a test).
 struct StudioOptions {
@@ -82,6 +83,8 @@ class MainWindow : public QMainWindow {
     CompareView* compareView() { return m_compare; }
     RenderBar* renderBar() { return m_renderBar; }
     Autosave* autosave() { return m_autosave.get(); }
+    /// The question that allows an unavailable layer's program (app/program_allowance.h).
+    ProgramAllowance* programAllowance() { return m_allowance; }
     const StudioActions& actions() const { return m_actions; }
     /// Switches to stage 0–3 (features, region, filter, paint); `navigate` picks the navigation
     /// tab of the filter stage.
@@ -138,6 +141,7 @@ class MainWindow : public QMainWindow {
     PaintView* m_paint;
     CompareView* m_compare;
     HelpOverlay* m_help;
+    ProgramAllowance* m_allowance;
     QTabWidget* m_stages;
     QTabWidget* m_filterTabs;
     ElidedLabel* m_readout;

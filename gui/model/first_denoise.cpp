@@ -5,6 +5,7 @@
 #include "glint/denoise/filter.h"
 #include "glint/denoise/registry.h"
 #include "model/document.h"
+#include "model/learned_member.h"
 #include "model/session_adapter.h"
 
 namespace glint::studio {
@@ -16,6 +17,20 @@ FirstDenoise::FirstDenoise(Document* document, SessionAdapter* session,
     // without a layer (a loaded session or a restored journal brings its own layers).
     connect(m_document, &Document::opened, this, [this] { m_armed = true; });
     connect(m_session, &SessionAdapter::sessionReset, this, &FirstDenoise::onSessionReset);
+    // Whether the learned filter runs here is known by the time the first render lands.
+    probeLearnedFilter();
+}
+
+std::string FirstDenoise::filterFor(const FrameBuffers& frame) {
+    if (frame.has(Layer::Albedo) && frame.has(Layer::Normal) && learnedFilterAvailable())
+        return kLearnedFilter;
+    const denoise::Filter& filter = denoise::findFilter(kClassicalFilter);
+    // A frame without the features the filter needs stays raw (no error for what nobody asked).
+    std::vector<Layer> needed = filter.requiredLayers(denoise::resolveParams(filter, {}));
+    needed.insert(needed.end(), {Layer::Albedo, Layer::Normal, Layer::Depth});  // its guides
+    for (Layer layer : needed)
+        if (!frame.has(layer)) return {};
+    return kClassicalFilter;
 }
 
 void FirstDenoise::onSessionReset() {
@@ -23,15 +38,11 @@ void FirstDenoise::onSessionReset() {
     m_armed = false;
     if (m_session->session().layerCount() != 0 || (m_allowed && !m_allowed())) return;
     if (m_session->input() != m_document->finishedFrame()) return;  // not this file's render
-    const denoise::Filter& filter = denoise::findFilter(kFilter);
-    const denoise::ParamValues params = denoise::resolveParams(filter, {});
-    // An EXR without the features the filter needs stays raw (no error for what nobody asked).
-    std::vector<Layer> needed = filter.requiredLayers(params);
-    needed.insert(needed.end(), {Layer::Albedo, Layer::Normal, Layer::Depth});  // its guides
-    for (Layer layer : needed)
-        if (!m_session->input()->has(layer)) return;
+    const std::string name = filterFor(*m_session->input());
+    if (name.empty()) return;
     const denoise::Session& s = m_session->session();
-    m_session->addLayer(kFilter, params, Image(s.width(), s.height(), 1, 1.0f));
+    m_session->addLayer(name, denoise::resolveParams(denoise::findFilter(name), {}),
+                        Image(s.width(), s.height(), 1, 1.0f));
 }
 
 }  // namespace glint::studio

@@ -24,6 +24,7 @@ constexpr Naming kNamings[] = {
     {"cross-bilateral", "Cross-bilateral", "sigmaS", "σs"},
     {"guided", "Guided", "radius", "r"},
     {"nlmeans", "NL-means", "strength", ""},
+    {"unet", "Learned (unet)", "quality", ""},
 };
 
 QString number(double v) {
@@ -60,10 +61,14 @@ QString layerName(const std::string& filter, const denoise::ParamValues& params)
     if (!f || it == params.end()) return title;
     for (const denoise::ParamSpec& spec : f->params())
         if (spec.name == naming->param) {
-            const QString detail = *naming->symbol
-                                       ? QStringLiteral("%1 %2").arg(
-                                             QString::fromUtf8(naming->symbol), number(it->second))
-                                       : strengthWord(it->second, spec.defaultValue);
+            // A choice by its option's name ("Learned (unet), fast"); a number by its symbol
+            // or a word for its strength.
+            const QString detail =
+                spec.isChoice()
+                    ? QString::fromStdString(denoise::formatParamValue(spec, it->second))
+                : *naming->symbol ? QStringLiteral("%1 %2").arg(QString::fromUtf8(naming->symbol),
+                                                                number(it->second))
+                                  : strengthWord(it->second, spec.defaultValue);
             return QStringLiteral("%1, %2").arg(title, detail);
         }
     return title;

@@ -97,6 +97,11 @@ void SessionAdapter::setInput(FramePtr frame, bool journal) {
     reapplyInBackground();
 }
 
+void SessionAdapter::rerunLayers() {
+    // Not journalled: the same render, and a restore runs the layers anyway.
+    if (m_session && m_input && m_session->layerCount() > 0) setInput(m_input, false);
+}
+
 void SessionAdapter::startSession(FramePtr frame, std::vector<denoise::LayerSpec> carry,
                                   std::vector<Image> carryWeights,
                                   std::vector<std::string> carryNames) {

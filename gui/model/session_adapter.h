@@ -62,6 +62,9 @@ class SessionAdapter : public QObject {
     /// (the painting stays; a render of another size starts a new session). `journal` false: a
     /// preview (a pass of a render still running) the journal does not record.
     void setInput(FramePtr frame, bool journal = true);
+    /// Runs the layers again on the present render, in the background as for a new render: a
+    /// layer that could not run (a program the user has just allowed) runs now.
+    void rerunLayers();
     /// Turns feature prefiltering on or off for the filters (the layers are carried over, the
     /// undo history starts again).
     void setOptions(const denoise::SessionOptions& options);

@@ -7,6 +7,7 @@
 #include "glint/denoise/bank.h"
 #include "glint/image/error.h"
 #include "model/journal_codec.h"
+#include "model/learned_member.h"
 #include "model/session_adapter.h"
 
 namespace glint::studio {
@@ -140,6 +141,7 @@ void SessionAdapter::autoStart(int bankSize) {
     // The bank reads the features as the session's filters do.
     denoise::BankOptions bo;
     bo.size = bankSize;
+    bo.filters = studioBankFilters();  // the learned filter too (as Navigate's bank)
     bo.prefilter = options.prefilter;
     bo.prefilterParams = options.prefilterParams;
     m_banks.withdraw(m_autoStartTicket);

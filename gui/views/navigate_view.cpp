@@ -16,13 +16,34 @@
 #include "glint/denoise/aids.h"
 #include "glint/denoise/filter.h"
 #include "glint/denoise/registry.h"
+#include "model/learned_member.h"
 #include "views/param_controls.h"
 
 namespace glint::studio {
 
 namespace {
 constexpr int kThumb = 132;
+
+// The option that shows bank member `pinned` at this level: the option that is that member, else
+// the child holding it whose representative is nearest to it; -1 when no option leads to it.
+int pinnedOption(const denoise::NavigationTree& tree,
+                 const std::vector<denoise::Navigator::Option>& options, int pinned) {
+    if (pinned < 0) return -1;
+    int best = -1;
+    for (int i = 0; i < int(options.size()); ++i) {
+        const denoise::Navigator::Option& o = options[std::size_t(i)];
+        if (o.member == pinned) return i;
+        if (o.node < 0) continue;
+        const std::vector<int>& members = tree.node(o.node).members;
+        if (std::find(members.begin(), members.end(), pinned) == members.end()) continue;
+        if (best < 0 || tree.distance(pinned, o.member) <
+                            tree.distance(pinned, options[std::size_t(best)].member))
+            best = i;
+    }
+    return best;
 }
+
+}  // namespace
 
 NavigateView::NavigateView(const StudioContext& context, QWidget* parent)
     : StageView(context, parent) {
@@ -127,6 +148,7 @@ void NavigateView::build() {
     const Rect rect = m_context.region->bounds(in->width(), in->height());
     denoise::BankOptions options;
     options.size = m_size->value();
+    options.filters = studioBankFilters();  // with the learned filter when it runs here
     options.region = rect;
     options.prefilter = m_context.session->options().prefilter;
     options.prefilterParams = m_context.session->options().prefilterParams;
@@ -135,6 +157,7 @@ void NavigateView::build() {
     m_navigator.reset();
     m_bank.reset();
     m_tree.reset();
+    m_learned = -1;
     m_builtFor = in;
     m_builtRect = rect;
     m_builtSize = options.size;
@@ -174,9 +197,12 @@ void NavigateView::buildTree(std::shared_ptr<const denoise::FilterBank> bank,
         [this, bank](std::shared_ptr<const denoise::NavigationTree> t) {
             m_bank = bank;
             m_tree = t;
+            m_learned = -1;
+            for (std::size_t i = 0; i < bank->size() && m_learned < 0; ++i)
+                if (bank->members()[i].filter == kLearnedFilter) m_learned = int(i);
             m_navigator = std::make_unique<denoise::Navigator>(*m_tree);
             m_progress->setValue(1000);
-            m_state->setText(bankText(*m_bank, m_builtSize));
+            m_state->setText(bankText(*m_bank, m_builtSize, *m_builtFor));
             showOptions();
             updateOverlay();
             emit bankReady();
@@ -204,7 +230,8 @@ std::optional<denoise::BankMember> NavigateView::chosen() const {
     return m_bank->members()[std::size_t(*m_navigator->chosen())];
 }
 
-QString NavigateView::bankText(const denoise::FilterBank& bank, int sampled) {
+QString NavigateView::bankText(const denoise::FilterBank& bank, int sampled,
+                               const FrameBuffers& input) {
     const auto defaults = std::count_if(bank.members().begin(), bank.members().end(),
                                         [](const denoise::BankMember& m) { return m.isDefault; });
     const qsizetype kept = qsizetype(bank.size()) - defaults;
@@ -212,10 +239,28 @@ QString NavigateView::bankText(const denoise::FilterBank& bank, int sampled) {
                        .arg(bank.size())
                        .arg(kept)
                        .arg(defaults);
-    if (kept < sampled)
-        text += tr(" (%1 of the %2 sampled need layers this image lacks)")
+    if (kept < sampled) {
+        // Why samples are missing: a filter whose parameters are all fixed (unet, external) is
+        // its default only, and members needing a layer the image lacks are left out.
+        QStringList fixed;
+        for (const denoise::BankMember& m : bank.members()) {
+            const auto& specs = denoise::findFilter(m.filter).params();
+            if (m.isDefault && std::all_of(specs.begin(), specs.end(), [](const auto& spec) {
+                    return spec.softMin == spec.softMax;
+                }))
+                fixed << QString::fromStdString(m.filter);
+        }
+        QStringList why;
+        if (!fixed.isEmpty())
+            why << tr("fixed parameters (%1) have their default only")
+                       .arg(fixed.join(QStringLiteral(", ")));
+        if (!input.has(Layer::Albedo) || !input.has(Layer::Normal) || !input.has(Layer::Depth))
+            why << tr("some need layers this image lacks");
+        text += tr(" (%1 of the %2 sampled left out: %3)")
                     .arg(sampled - kept)
-                    .arg(sampled);
+                    .arg(sampled)
+                    .arg(why.join(tr("; ")));
+    }
     return text + tr("; pick the one you like best.");
 }
 
@@ -229,18 +274,27 @@ void NavigateView::showOptions() {
     const bool done = m_navigator && m_navigator->chosen();
     std::vector<denoise::Navigator::Option> options;
     if (m_navigator && !done) options = m_navigator->options();
+    // The learned result is pinned: whichever option leads to it shows it.
+    m_learnedOption = m_tree ? pinnedOption(*m_tree, options, m_learned) : -1;
     const DisplaySettings display = m_context.viewer->canvas()->display();
     for (std::size_t i = 0; i < m_options.size(); ++i) {
         QToolButton* b = m_options[i];
         if (i < options.size()) {
-            const int member = options[i].member;
+            const bool learned = int(i) == m_learnedOption;
+            const int member = learned ? m_learned : options[i].member;
             m_shownMembers.push_back(member);
             const QImage image = toQImage(m_bank->result(std::size_t(member)), display);
             b->setIcon(QIcon(QPixmap::fromImage(
                 image.scaled(kThumb, kThumb, Qt::KeepAspectRatio, Qt::SmoothTransformation))));
             const bool leaf = options[i].node < 0;
-            b->setText(leaf ? QString::fromStdString(m_bank->members()[std::size_t(member)].filter)
-                            : tr("%1 alike").arg(m_tree->node(options[i].node).members.size()));
+            const QString name =
+                learned ? tr("%1 (learned)").arg(QString::fromUtf8(kLearnedFilter))
+                        : QString::fromStdString(m_bank->members()[std::size_t(member)].filter);
+            const qsizetype alike =
+                leaf ? 0 : qsizetype(m_tree->node(options[i].node).members.size());
+            b->setText(leaf      ? name
+                       : learned ? tr("%1 + %2 alike").arg(name).arg(alike - 1)
+                                 : tr("%1 alike").arg(alike));
             b->setToolTip(memberText(member));
             b->setEnabled(true);
             b->setVisible(true);

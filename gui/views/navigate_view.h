@@ -1,7 +1,9 @@
 // Stage 3 by navigation: a filter bank over the region, built in the background with progress,
 // organised as a soft clustering tree; the four previews of the current level (hover one to see
 // it large on the image, click to descend), "They look the same", back and restart; the filter
-// variance of the bank as a visual aid.
+// variance of the bank as a visual aid. The learned filter's result, when the bank holds it, is
+// pinned: the option whose subtree holds it shows it instead of its representative, down to the
+// leaf where it can be picked (docs/navigation.md, "The learned member").
 #pragma once
 
 #include <memory>
@@ -46,6 +48,9 @@ class NavigateView : public StageView {
     int depth() const;
     /// The member picked, once done.
     std::optional<denoise::BankMember> chosen() const;
+    /// The option that shows the learned filter's result (pinned: see showOptions), or -1 when
+    /// this level holds none (or the bank has no learned member).
+    int learnedOption() const { return m_learnedOption; }
     /// Adds the chosen member as a layer.
     void choose(bool fillRegion);
 
@@ -66,8 +71,10 @@ class NavigateView : public StageView {
     void showMember(int member);
     void updateOverlay();
     QString memberText(int member) const;
-    // What the bank holds: its results, how many were sampled and how many are defaults.
-    static QString bankText(const denoise::FilterBank& bank, int sampled);
+    // What the bank holds: its results, how many were sampled and how many are defaults, and
+    // why sampled members are missing (on `input`, the frame it was built on).
+    static QString bankText(const denoise::FilterBank& bank, int sampled,
+                            const FrameBuffers& input);
 
     TaskRunner m_tasks;
     QSpinBox* m_size;
@@ -89,6 +96,8 @@ class NavigateView : public StageView {
     std::shared_ptr<const denoise::NavigationTree> m_tree;
     std::unique_ptr<denoise::Navigator> m_navigator;
     std::vector<int> m_shownMembers;  // member of each option button
+    int m_learned = -1;               // the bank's learned member (unet), or -1
+    int m_learnedOption = -1;         // the option showing it now, or -1
     FramePtr m_builtFor;              // the input the bank was built on
     Rect m_builtRect{};
     int m_builtSize = 0;                   // the Latin-hypercube samples asked of it

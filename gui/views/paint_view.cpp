@@ -12,10 +12,12 @@
 #include <QToolButton>
 #include <QVBoxLayout>
 
+#include <algorithm>
 #include <cmath>
 
 #include "glint/denoise/aids.h"
 #include "glint/denoise/registry.h"
+#include "model/blocked_programs.h"
 #include "model/layer_names.h"
 #include "views/param_controls.h"
 
@@ -33,7 +35,9 @@ QString layerText(const denoise::SessionLayer& layer, std::size_t index) {
 std::string typedName(const QString& text, const denoise::SessionLayer& layer) {
     QString name = text.trimmed();
     static const QRegularExpression number(QStringLiteral("^\\d+\\.\\s*"));
+    static const QRegularExpression unavailable(QStringLiteral("\\s*\\(unavailable\\)$"));
     name.remove(number);
+    name.remove(unavailable);
     if (name.isEmpty() || name == layerName(layer.filter, layer.params)) return {};
     return name.toStdString();
 }
@@ -46,6 +50,11 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
         tr("The filters chosen so far: select one to paint with it, double-click to rename it"));
     m_layers->setEditTriggers(QAbstractItemView::DoubleClicked | QAbstractItemView::EditKeyPressed);
     m_layers->setMaximumHeight(140);
+    m_allowProgram = new QPushButton(tr("Allow its program…"), this);
+    m_allowProgram->setObjectName(QStringLiteral("allowProgram"));
+    m_allowProgram->setToolTip(
+        tr("The selected layer runs a program you have not allowed: allow it, by its full path"));
+    m_allowProgram->setVisible(false);
     auto* remove = new QPushButton(tr("Remove"), this);
     remove->setToolTip(tr("Remove the selected layer"));
     auto* everywhere = new QPushButton(tr("Everywhere"), this);
@@ -111,6 +120,7 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
     auto* layout = new QVBoxLayout(this);
     layout->addWidget(new QLabel(tr("Layers (palette)"), this));
     layout->addWidget(m_layers);
+    layout->addWidget(m_allowProgram);
     layout->addLayout(layerButtons);
     layout->addLayout(toolRow);
     layout->addLayout(form);
@@ -121,6 +131,9 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
     ImageCanvas* canvas = m_context.viewer->canvas();
     SessionAdapter* session = m_context.session;
     connect(m_layers, &QListWidget::currentRowChanged, this, &PaintView::layerSelected);
+    connect(m_allowProgram, &QPushButton::clicked, this, [this] {
+        if (!m_blockedProgram.isEmpty()) emit allowProgramRequested(m_blockedProgram);
+    });
     // A name typed into a row: one undo step, saved with the session.
     // Applied after the editor has let go of the item: the list is rebuilt.
     connect(m_layers, &QListWidget::itemChanged, this, [this, session](QListWidgetItem* item) {
@@ -241,9 +254,16 @@ void PaintView::rebuildLayers() {
         for (std::size_t i = 0; i < s.layerCount(); ++i) {
             m_layers->addItem(layerText(s.layer(i), i));
             m_layers->item(int(i))->setFlags(m_layers->item(int(i))->flags() | Qt::ItemIsEditable);
-            // The full parameters on the row.
-            m_layers->item(int(i))->setToolTip(
-                layerParameters(s.layer(i).filter, s.layer(i).params));
+            // The full parameters on the row; a layer that did not run says why.
+            QListWidgetItem* item = m_layers->item(int(i));
+            QString tip = layerParameters(s.layer(i).filter, s.layer(i).params);
+            if (!s.layer(i).unavailable.empty()) {
+                item->setText(tr("%1 (unavailable)").arg(item->text()));
+                item->setForeground(palette().color(QPalette::Disabled, QPalette::Text));
+                tip += QStringLiteral("\n\n") +
+                       tr("Unavailable: %1").arg(QString::fromStdString(s.layer(i).unavailable));
+            }
+            item->setToolTip(tip);
         }
     }
     // A new layer becomes the one to paint with.
@@ -256,15 +276,28 @@ void PaintView::rebuildLayers() {
     const int now = currentLayer();
     const Image* nowData =
         now >= 0 ? m_context.session->session().layer(std::size_t(now)).output.get() : nullptr;
-    if (row != previous || nowData != previousData)
+    if (row != previous || nowData != previousData) {
         layerSelected();
-    else
+    } else {
+        updateAllowButton();
         updateOverlay();
+    }
+}
+
+void PaintView::updateAllowButton() {
+    m_blockedProgram.clear();
+    const int layer = currentLayer();
+    if (layer >= 0)
+        for (const BlockedProgram& b : blockedPrograms(m_context.session->session()))
+            if (std::find(b.layers.begin(), b.layers.end(), std::size_t(layer)) != b.layers.end())
+                m_blockedProgram = b.program;
+    m_allowProgram->setVisible(!m_blockedProgram.isEmpty());
 }
 
 void PaintView::layerSelected() {
     const int layer = currentLayer();
     ImageCanvas* canvas = m_context.viewer->canvas();
+    updateAllowButton();
     updateOverlay();
     if (layer < 0) {
         m_tasks.cancel(QStringLiteral("convert"));

@@ -11,6 +11,7 @@
 #include "views/stage_view.h"
 
 class QListWidget;
+class QPushButton;
 class QLabel;
 class QSlider;
 class QDoubleSpinBox;
@@ -34,6 +35,10 @@ class PaintView : public StageView {
     /// Diffuses the weights of every layer that has painted pixels.
     void diffuse();
 
+  signals:
+    /// The user asks to allow the program (a full path) the selected, unavailable layer runs.
+    void allowProgramRequested(const QString& program);
+
   protected:
     void activate() override;
     void deactivate() override;
@@ -42,12 +47,16 @@ class PaintView : public StageView {
     void rebuildLayers();
     void layerSelected();
     void updateSidePreview();
+    // Shows "Allow program…" when the selected layer waits for a program not allowed.
+    void updateAllowButton();
     void updateOverlay();
     void strokeTo(const QPointF& at);
     void wand(const QPoint& pixel, bool subtract);
 
     TaskRunner m_tasks;
     QListWidget* m_layers;
+    QPushButton* m_allowProgram;
+    QString m_blockedProgram;  // the program the selected layer waits for
     QToolButton* m_brushTool;
     QToolButton* m_wandTool;
     QDoubleSpinBox* m_size;

@@ -309,6 +309,25 @@ TEST_F(ExternalFilter, ASessionNamingAProgramOpensWithoutRunningItUnlessAllowed)
     EXPECT_TRUE(temporaryFolderEmpty());
 }
 
+// The studio allows a program while a session that names it is open, then re-applies its
+// layers to the same render: the layer runs and is no longer marked unavailable.
+TEST_F(ExternalFilter, AnUnavailableLayerRunsWhenReappliedOnceItsProgramIsAllowed) {
+    const fs::path marker = m_dir / "ran";
+    const fs::path file = saveExternalSession(m_dir, marker);
+    clearAllowedCommands();
+    Session s = Session::load(file);
+    ASSERT_FALSE(s.layer(0).unavailable.empty());
+    s.reapply(FrameBuffers(s.input()));
+    EXPECT_FALSE(fs::exists(marker));
+    EXPECT_FALSE(s.layer(0).unavailable.empty());
+    allowCommand(stubPath());
+    s.reapply(FrameBuffers(s.input()));
+    EXPECT_TRUE(fs::exists(marker));
+    EXPECT_TRUE(s.layer(0).unavailable.empty()) << s.layer(0).unavailable;
+    EXPECT_GT(testing::maxAbsDiff(s.composite(), s.input().color()), 0.0);
+    EXPECT_TRUE(temporaryFolderEmpty());
+}
+
 TEST_F(ExternalFilter, APaintScriptNamesTheProgramAsAnArrayAndRunsItOnlyWhenAllowed) {
     const fs::path marker = m_dir / "ran";
     const std::string text = R"({"layers": [{"filter": "external", "params": {"command": [")" +

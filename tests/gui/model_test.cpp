@@ -5,6 +5,7 @@
 #include <QTemporaryDir>
 #include <QTest>
 
+#include "model/learned_member.h"
 #include "studio_fixture.h"
 #include "views/navigate_view.h"
 
@@ -18,6 +19,7 @@ namespace {
 denoise::BankOptions autoStartBank(SessionAdapter& s) {
     denoise::BankOptions o;
     o.size = 64;
+    o.filters = studioBankFilters();  // the learned filter too, when it runs here
     o.prefilter = s.options().prefilter;
     o.prefilterParams = s.options().prefilterParams;
     return o;

@@ -149,7 +149,9 @@ int main(int argc, char** argv) {
     w->navigateView()->setBankSize(24);
     w->setStage(2, true);
     waitFor([&] { return w->navigateView()->ready(); }, 120000);
-    w->navigateView()->hoverOption(1);
+    // The learned result, pinned among them, hovered (another preview without it).
+    const int learned = w->navigateView()->learnedOption();
+    w->navigateView()->hoverOption(learned >= 0 ? learned : 1);
     shoot(*w, out, QStringLiteral("06-navigate"));
 
     // 7. Paint: the chosen filter painted on with strokes, the change map shown.

@@ -16,6 +16,7 @@
 #include <QListWidget>
 #include <QMenu>
 #include <QMenuBar>
+#include <QMessageBox>
 #include <QMimeData>
 #include <QPushButton>
 #include <QSettings>
@@ -27,9 +28,11 @@
 #include <QUrl>
 
 #include "app/file_naming.h"
+#include "app/program_allowance.h"
 #include "app/studio_settings.h"
 #include "glint/denoise/external.h"
 #include "glint/denoise/registry.h"
+#include "glint/denoise/session.h"
 #include "heavy_actions.h"
 #include "model/layer_names.h"
 #include "model/render_eta.h"
@@ -122,6 +125,81 @@ class StudioSessionTest : public QObject {
         QSettings().remove(QStringLiteral("externalDenoiser/allowedCommands"));
         applyAllowedCommands();
         QVERIFY(!external.unavailable(params).empty());
+    }
+
+    // A session naming a program the user has not allowed opens with that layer unavailable and
+    // the program not run; a question names the program by its full path, and "Allow" keeps it
+    // in the user's settings and runs the layer (docs/external-denoiser.md, "Security").
+    void aSessionsExternalProgramRunsOnceAllowedInTheDialog() {
+        const QString key = QStringLiteral("externalDenoiser/allowedCommands");
+        const QString stub = QStringLiteral(GLINT_EXTERNAL_STUB);
+        const QString marker = m_dir.filePath(QStringLiteral("ran"));
+        // The session: one external layer (the stub, writing the marker) painted everywhere,
+        // saved while the stub is allowed; then the allowance is dropped and the marker removed.
+        denoise::ParamValues params;
+        params.strings["command"] = {stub.toStdString(), "good",     "exr",
+                                     "{color}",          "{output}", marker.toStdString()};
+        const QString file = m_dir.filePath(QStringLiteral("ext.glint-session.json"));
+        {
+            denoise::allowCommand(stub.toStdString());
+            FrameBuffers frame(16, 12);
+            frame.set(Layer::Color, Image(16, 12, 3, 0.25f));
+            denoise::Session s(frame);
+            s.addLayer("external", params);
+            s.setWeights(0, Image(16, 12, 1, 1.0f));
+            s.save(file.toStdString());
+        }
+        QVERIFY(QFile::remove(marker));
+        QSettings().remove(key);
+        applyAllowedCommands();
+        QVERIFY(!denoise::commandAllowed(stub.toStdString()));
+
+        auto w = window();
+        w->openFile(file);
+        QVERIFY(waitFor([&] { return w->session()->hasSession() && !w->session()->busy(); }));
+        QCOMPARE(w->session()->session().layerCount(), std::size_t(1));
+        QVERIFY(!w->session()->session().layer(0).unavailable.empty());
+        QVERIFY(!QFile::exists(marker));
+        // The palette shows the layer unavailable, with a button that asks again.
+        w->setStage(3);
+        auto* list = w->paintView()->findChild<QListWidget*>();
+        QVERIFY(list && list->count() == 1);
+        QVERIFY2(list->item(0)->text().contains(QStringLiteral("unavailable")),
+                 qPrintable(list->item(0)->text()));
+        auto* again = w->paintView()->findChild<QPushButton*>(QStringLiteral("allowProgram"));
+        QVERIFY(again && again->isVisible());
+        // The question names the program by its full path; "Not now" runs nothing.
+        QVERIFY(waitFor([&] { return w->programAllowance()->question() != nullptr; }));
+        QVERIFY2(w->programAllowance()->question()->text().contains(stub),
+                 qPrintable(w->programAllowance()->question()->text()));
+        w->programAllowance()
+            ->question()
+            ->findChild<QPushButton*>(QStringLiteral("notNow"))
+            ->click();
+        QVERIFY(waitFor([&] { return w->programAllowance()->question() == nullptr; }));
+        QVERIFY(waitFor([&] { return !w->session()->busy(); }));
+        QVERIFY(!QFile::exists(marker));
+        QVERIFY(allowedCommands().isEmpty());
+        // Asked again from the palette, and allowed: kept in the settings, and the layer runs.
+        again->click();
+        QVERIFY(waitFor([&] { return w->programAllowance()->question() != nullptr; }));
+        w->programAllowance()
+            ->question()
+            ->findChild<QPushButton*>(QStringLiteral("allow"))
+            ->click();
+        QVERIFY(waitFor([&] {
+            return QFile::exists(marker) && !w->session()->busy() &&
+                   w->session()->session().layer(0).unavailable.empty();
+        }));
+        QCOMPARE(allowedCommands(), QStringList{stub});
+        QVERIFY(!list->item(0)->text().contains(QStringLiteral("unavailable")));
+        QVERIFY(!again->isVisible());
+        // The session file never holds the allowance: opened elsewhere, only the settings count.
+        QFile saved(file);
+        QVERIFY(saved.open(QIODevice::ReadOnly));
+        QVERIFY(!saved.readAll().contains("allowedCommands"));
+        QSettings().remove(key);
+        applyAllowedCommands();
     }
 
     void aSessionKeepsTheLookAndTheRenderSettings() {
@@ -325,6 +403,9 @@ class StudioSessionTest : public QObject {
         QCOMPARE(layerName("cross-bilateral", {{"sigmaS", 4.0}}),
                  QStringLiteral("Cross-bilateral, σs 4"));
         QCOMPARE(layerName("gaussian", {{"sigma", 2.5}}), QStringLiteral("Gaussian, σ 2.5"));
+        // The learned filter by its weights' quality (a choice: its option's name).
+        QCOMPARE(layerName("unet", {{"quality", 0.0}}), QStringLiteral("Learned (unet), fast"));
+        QCOMPARE(layerName("unet", {{"quality", 1.0}}), QStringLiteral("Learned (unet), balanced"));
         auto w = openScene();
         QVERIFY(w);
         w->session()->addLayer("nlmeans", {{"strength", 1.2}});

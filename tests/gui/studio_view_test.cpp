@@ -14,6 +14,7 @@
 #include "glint/denoise/session.h"
 #include "glint/image/io.h"
 #include "model/first_denoise.h"
+#include "model/learned_member.h"
 #include "studio_fixture.h"
 #include "views/image_canvas.h"
 #include "views/viewer.h"
@@ -177,7 +178,11 @@ class StudioViewTest : public QObject {
         auto w = openDenoised(QStringLiteral("autosave-first"));
         QVERIFY(w);
         const denoise::Session& s = w->session()->session();
-        QCOMPARE(s.layer(0).filter, std::string(FirstDenoise::kFilter));
+        // The learned filter, whose weights the build has (a render has albedo and normal).
+        QVERIFY2(learnedFilterAvailable(), learnedFilterUnavailable().c_str());
+        QCOMPARE(s.layer(0).filter, std::string(kLearnedFilter));
+        QCOMPARE(FirstDenoise::filterFor(*w->document()->finishedFrame()),
+                 std::string(kLearnedFilter));
         // The canvas shows the composite, which is not the raw render.
         QVERIFY(!sameBits(s.composite(), w->document()->finishedFrame()->color()));
         ImageCanvas* canvas = w->viewer()->canvas();
@@ -188,7 +193,8 @@ class StudioViewTest : public QObject {
     }
 
     void anExrWithoutFeaturesStaysRawWithoutAnError() {
-        // Colour only: the cross-bilateral filter has no guides, so no default layer.
+        // Colour only: the cross-bilateral filter has no guides and the learned filter is used
+        // with albedo and normal only, so no default layer.
         FrameBuffers frame(32, 24);
         frame.set(Layer::Color, solid(32, 24, 0.5f, 0.25f, 0.125f));
         const QString path = m_dir.filePath(QStringLiteral("colour-only.exr"));

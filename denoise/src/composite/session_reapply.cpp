@@ -105,10 +105,12 @@ void Session::Impl::install(FrameBuffers newInput, std::optional<FrameBuffers> n
                             const std::vector<std::shared_ptr<const Image>>& outputs) {
     input = std::move(newInput);
     prefiltered = std::move(newPrefiltered);
-    // Current layers and the layers the history would bring back share the new outputs.
+    // Current layers and the layers the history would bring back share the new outputs; a layer
+    // that could not run before (a program allowed since) says so no longer.
     auto refresh = [&](SessionLayer& l) {
         for (std::size_t k = 0; k < specs.size(); ++k)
             if (sameSpec(specs[k], l)) l.output = outputs[k];
+        l.unavailable = findFilter(l.filter).unavailable(l.params);
     };
     for (SessionLayer& l : layers) refresh(l);
     for (auto* history : {&undo, &redo})
