@@ -35,12 +35,8 @@ using Clock = std::chrono::steady_clock;
 
 std::string memberText(const FilterBank& bank, int m) {
     const BankMember& b = bank.members()[std::size_t(m)];
-    std::string text = "#" + std::to_string(m) + " " + b.filter;
-    const Filter& f = findFilter(b.filter);
-    for (const auto& [k, v] : b.params)
-        if (const ParamSpec* spec = findParam(f.params(), k))
-            text += " " + k + "=" + formatParamValue(*spec, v);
-    return text;
+    return "#" + std::to_string(m) + " " + b.filter + " " +
+           paramsSummary(findFilter(b.filter).params(), b.params);
 }
 
 // ---- bank ------------------------------------------------------------------------------------

@@ -275,6 +275,34 @@ TEST(StringsParameter, ParsesAJsonArrayOrOneStringAndIsCheckedByKind) {
     EXPECT_EQ(f.requiredLayers(resolveParams(f, values)), std::vector<Layer>{Layer::Albedo});
 }
 
+TEST(StringsParameter, IsSummarisedAsQuotedArgvShortenedPastItsWidth) {
+    const Filter& f = findFilter("external");
+    const ParamSpec& command = *findParam(f.params(), "command");
+    ParamValues values = resolveParams(f, {});
+    values.strings["command"] = {"/opt/bin/tool", "--in={color}", "my file", "it's"};
+    EXPECT_EQ(paramSummary(command, values), R"([/opt/bin/tool --in={color} 'my file' 'it'\''s'])");
+    // Too wide: the arguments' paths by their file names, the program's kept while it fits.
+    values.strings["command"] = {"/usr/bin/python3",
+                                 "/home/me/glint/docs/examples/external_box_denoiser.py", "{color}",
+                                 "{output}", "2"};
+    EXPECT_EQ(paramSummary(command, values),
+              "[/usr/bin/python3 …/external_box_denoiser.py {color} {output} 2]");
+    EXPECT_EQ(paramsSummary(f.params(), values),
+              "command=[/usr/bin/python3 …/external_box_denoiser.py {color} {output} 2] "
+              "format=exr timeout=600");
+    // Still too wide: the tail is cut.
+    values.strings["command"] = {"/opt/bin/tool"};
+    for (int i = 0; i < 30; ++i) values.strings["command"].push_back("--flag" + std::to_string(i));
+    const std::string cut = paramSummary(command, values);
+    EXPECT_LE(cut.size(), 72u) << cut;
+    EXPECT_EQ(cut.rfind("[/opt/bin/tool --flag0 --flag1 ", 0), 0u) << cut;
+    EXPECT_EQ(cut.substr(cut.size() - 5), " …]") << cut;
+    // Numbers and choices as formatParamValue writes them.
+    const Filter& g = findFilter("gaussian");
+    EXPECT_EQ(paramSummary(g.params()[0], resolveParams(g, {})),
+              formatParamValue(g.params()[0], g.params()[0].defaultValue));
+}
+
 // ---- a file never runs a program by itself -----------------------------------------------------
 
 // Saves a session over a small frame with one external layer (the stub writing `marker`),

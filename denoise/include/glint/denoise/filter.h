@@ -104,6 +104,18 @@ void setParamFromText(const ParamSpec& spec, const std::string& text, ParamValue
 /// strings the JSON array (what setParamFromText reads back).
 std::string formatParam(const ParamSpec& spec, const ParamValues& values);
 
+/// The short text of parameter `spec` in `values` for a label or a line of output: for a number
+/// or a choice formatParamValue; for a list of strings its items in brackets, each quoted as a
+/// POSIX shell would need it ('my file'), shortened past `maxChars` bytes by writing path items
+/// by their file name ("…/script.py"; the arguments before the program) and then by cutting
+/// the tail (" …]"). Not read back: formatParam is the exact form.
+std::string paramSummary(const ParamSpec& spec, const ParamValues& values,
+                         std::size_t maxChars = 72);
+
+/// "name=value name=value ..." (paramSummary) for every parameter of `specs` that `values`
+/// holds, in the specs' order: a bank member's or a layer's one-line description.
+std::string paramsSummary(const std::vector<ParamSpec>& specs, const ParamValues& values);
+
 /// Fills in defaults and validates against `specs`: unknown names, values outside [min, max],
 /// non-integers for integer or choice parameters, NaN, a number for a list of strings or a list
 /// for a number all throw glint::Error(InvalidArgument) listing the valid names and ranges;
