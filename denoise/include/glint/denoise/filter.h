@@ -106,9 +106,10 @@ std::string formatParam(const ParamSpec& spec, const ParamValues& values);
 
 /// The short text of parameter `spec` in `values` for a label or a line of output: for a number
 /// or a choice formatParamValue; for a list of strings its items in brackets, each quoted as a
-/// POSIX shell would need it ('my file'), shortened past `maxChars` bytes by writing path items
-/// by their file name ("…/script.py"; the arguments before the program) and then by cutting
-/// the tail (" …]"). Not read back: formatParam is the exact form.
+/// POSIX shell would need it ('my file'), shortened past `maxChars` bytes by writing the
+/// arguments' paths by their file names ("…/script.py") and then by cutting the tail (" …]";
+/// the program's path by its file name only when it alone does not fit). Not read back:
+/// formatParam is the exact form.
 std::string paramSummary(const ParamSpec& spec, const ParamValues& values,
                          std::size_t maxChars = 72);
 
