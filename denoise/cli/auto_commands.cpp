@@ -45,6 +45,7 @@ struct AutoArgs {
     std::string size = "64", bankSeed = "1", seed = "1", stream = "auto", memoryLimit;
     float exposure = 0.0f;
     bool prefilter = false, json = false, tuningTable = false;
+    std::vector<std::string> filterParams;  // --filter-param FILTER.NAME=VALUE
     /// The tuning flags given (autoTuningSpecs), by parameter name: their text, or "1" for a
     /// flag without a value.
     std::map<std::string, std::string> tuning;
@@ -169,7 +170,9 @@ void checkFiltersCanRun(const FrameBuffers& frame, const BankOptions& options,
     for (const std::string& name : options.filters) {
         const Filter& f = findFilter(name);
         std::string missing;
-        for (Layer l : f.requiredLayers(resolveParams(f, {})))
+        for (Layer l : f.requiredLayers(resolveParams(f, options.filterParams.count(name)
+                                                             ? options.filterParams.at(name)
+                                                             : ParamValues{})))
             if (!frame.has(l))
                 missing += (missing.empty() ? "" : ", ") + std::string(layerDisplayName(l));
         if (missing.empty()) return;
@@ -239,6 +242,7 @@ void runAuto(const AutoArgs& a) {
     bankOptions.size = parseInteger(a.size, "--size");
     bankOptions.seed = glint::cli::parseUnsigned(a.bankSeed, glint::cli::kMaxSeed, "--bank-seed");
     bankOptions.filters = splitList(a.filters);
+    bankOptions.filterParams = parseFilterParams(a.filterParams, "--filter-param");
     bankOptions.prefilter = a.prefilter;
     if (a.bank.empty()) {
         validate(bankOptions);
@@ -338,6 +342,7 @@ void runAuto(const AutoArgs& a) {
     }
     if (tty) std::fprintf(stderr, "\n");
     const double sureSeconds = secondsSince(t1);
+    const json unavailable = reportUnavailableMembers(bank, a.bank.empty() ? a.input : a.bank);
 
     // The output: every input layer, the colour replaced by the composite over the bank's region.
     FrameBuffers out = frame;
@@ -385,6 +390,7 @@ void runAuto(const AutoArgs& a) {
             report[spec.name] = v;
     }
     report["stack"] = result.stacked;
+    if (!unavailable.empty()) report["unavailable"] = unavailable;
     if (reference) {
         report["reference"] = a.reference;
         const std::optional<Rect> crop = bank.region();
@@ -459,6 +465,8 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
     cmd->add_option("--bank-seed", a->bankSeed,
                     "Without --bank: seed of the Latin hypercube (0 … 2^63 - 1)");
     cmd->add_option("--filters", a->filters, "Without --bank: only these filters, comma-separated");
+    cmd->add_option("--filter-param", a->filterParams,
+                    std::string("Without --bank: ") + kFilterParamHelp);
     cmd->add_flag("--prefilter", a->prefilter, "Without --bank: build on prefiltered features");
     cmd->add_option("--seed", a->seed, "Seed of SURE's random +-1 perturbation (0 … 2^63 - 1)");
     cmd->add_option("--exposure", a->exposure,

@@ -35,12 +35,8 @@ using Clock = std::chrono::steady_clock;
 
 std::string memberText(const FilterBank& bank, int m) {
     const BankMember& b = bank.members()[std::size_t(m)];
-    std::string text = "#" + std::to_string(m) + " " + b.filter;
-    const Filter& f = findFilter(b.filter);
-    for (const auto& [k, v] : b.params)
-        if (const ParamSpec* spec = findParam(f.params(), k))
-            text += " " + k + "=" + formatParamValue(*spec, v);
-    return text;
+    return "#" + std::to_string(m) + " " + b.filter + " " +
+           paramsSummary(findFilter(b.filter).params(), b.params);
 }
 
 // ---- bank ------------------------------------------------------------------------------------
@@ -49,7 +45,7 @@ struct BankArgs {
     std::string input, out, filters, roi, memoryLimit, members;
     std::string size = "64", seed = "1";  // parsed strictly (parseInteger, parseUnsigned)
     bool prefilter = false, json = false;
-    std::vector<std::string> prefilterParams;
+    std::vector<std::string> prefilterParams, filterParams;
 };
 
 // Checks before any work that the bank folder `out` can be created or written: not a file, in an
@@ -82,6 +78,7 @@ void runBank(const BankArgs& a) {
     options.size = parseInteger(a.size, "--size");
     options.seed = glint::cli::parseUnsigned(a.seed, glint::cli::kMaxSeed, "--seed");
     options.filters = splitList(a.filters);
+    options.filterParams = parseFilterParams(a.filterParams, "--filter-param");
     options.prefilter = a.prefilter;
     if (!a.memoryLimit.empty())
         options.memoryLimit = parseMemorySize(a.memoryLimit, "--memory-limit");
@@ -130,6 +127,7 @@ void runBank(const BankArgs& a) {
     const FilterBank bank = buildBank(frame, options);
     const double seconds = secondsSince(t0);
     if (tty && !a.json) std::fprintf(stderr, "\n");
+    const json unavailable = reportUnavailableMembers(bank, a.out);
     json members = json::array();
     for (int m = 0; m < int(bank.size()); ++m) members.push_back(memberJson(bank, m));
     json report{{"input", a.input},           {"bank", a.out},
@@ -137,6 +135,7 @@ void runBank(const BankArgs& a) {
                 {"cached", bank.cacheHits()}, {"region", rectJson(bank.region())},
                 {"seconds", seconds},         {"list", members}};
     if (!leftOut.empty()) report["leftOut"] = leftOut;
+    if (!unavailable.empty()) report["unavailable"] = unavailable;
     if (!a.members.empty()) {
         report["firstMember"] = bank.firstMember();
         report["bankMembers"] = bank.bankMembers();
@@ -179,6 +178,7 @@ void runOracle(const OracleArgs& a) {
     const FrameBuffers ref = readReference(a.reference, frame.width(), frame.height());
     const auto t0 = Clock::now();
     const FilterBank bank = openBank(frame, a.bank);
+    const json unavailable = reportUnavailableMembers(bank, a.bank);
     OracleResult r;
     try {
         r = oracle(bank, frame.color(), ref.color());
@@ -232,6 +232,7 @@ void runOracle(const OracleArgs& a) {
                 {"auto", autoColumn},
                 {"seconds", seconds}};
     if (!expected.is_null()) report["expected"] = expected;
+    if (!unavailable.empty()) report["unavailable"] = unavailable;
     if (a.json) {
         printJson(report);
         return;
@@ -293,6 +294,7 @@ void runLocalArtist(const NavigateArgs& a, const TreeOptions& tree) {
     const FrameBuffers frame = readExr(a.input);
     const FrameBuffers ref = readReference(a.reference, frame.width(), frame.height());
     const FilterBank bank = openBank(frame, a.bank);
+    const json unavailable = reportUnavailableMembers(bank, a.bank);
     const Image refCrop = ref.color().crop(bank.region());
     // The starting composite: auto's (its defaults, no reference), or the best single member
     // chosen with the reference (the best any global filter of the bank does).
@@ -334,18 +336,18 @@ void runLocalArtist(const NavigateArgs& a, const TreeOptions& tree) {
     const double last = r.strokes.empty() ? r.startSsim : r.strokes.back().ssim;
     json startJson{{"kind", start}, {"ssim", r.startSsim}};
     if (startMember >= 0) startJson["member"] = memberJson(bank, startMember);
-    const json report{
-        {"input", a.input},
-        {"bank", a.bank},
-        {"region", rectJson(bank.region())},
-        {"pick", research::artistPickName(options.pick)},
-        {"brush", {{"size", options.brush.size}, {"softness", options.brush.softness}}},
-        {"keep", a.keepAll ? "all" : "helping"},
-        {"start", startJson},
-        {"strokes", strokes},
-        {"kept", kept},
-        {"ssim", last},
-        {"seconds", seconds}};
+    json report{{"input", a.input},
+                {"bank", a.bank},
+                {"region", rectJson(bank.region())},
+                {"pick", research::artistPickName(options.pick)},
+                {"brush", {{"size", options.brush.size}, {"softness", options.brush.softness}}},
+                {"keep", a.keepAll ? "all" : "helping"},
+                {"start", startJson},
+                {"strokes", strokes},
+                {"kept", kept},
+                {"ssim", last},
+                {"seconds", seconds}};
+    if (!unavailable.empty()) report["unavailable"] = unavailable;
     if (a.json) {
         printJson(report);
         return;
@@ -389,6 +391,7 @@ void runNavigate(const NavigateArgs& a) {
     const FrameBuffers frame = readExr(a.input);
     const FrameBuffers ref = readReference(a.reference, frame.width(), frame.height());
     const FilterBank bank = openBank(frame, a.bank);
+    const json unavailable = reportUnavailableMembers(bank, a.bank);
     Rect region = bank.region();
     if (!a.roi.empty()) {
         region = parseRegion(a.roi, frame.width(), frame.height(), a.input);
@@ -443,16 +446,17 @@ void runNavigate(const NavigateArgs& a) {
     int within = -1;
     for (std::size_t i = 0; i < steps.size() && within < 0; ++i)
         if (share(steps[i].ssim) >= 0.9) within = int(i) + 1;
-    const json report{{"input", a.input},
-                      {"bank", a.bank},
-                      {"region", rectJson(region)},
-                      {"nodes", tree.nodeCount()},
-                      {"treeSeconds", treeSeconds},
-                      {"noisy", noisy},
-                      {"bestSingle", bestSingle},
-                      {"bestMember", memberJson(bank, bestMember)},
-                      {"choices", list},
-                      {"choicesTo90PercentOfBestGain", within < 0 ? json(nullptr) : json(within)}};
+    json report{{"input", a.input},
+                {"bank", a.bank},
+                {"region", rectJson(region)},
+                {"nodes", tree.nodeCount()},
+                {"treeSeconds", treeSeconds},
+                {"noisy", noisy},
+                {"bestSingle", bestSingle},
+                {"bestMember", memberJson(bank, bestMember)},
+                {"choices", list},
+                {"choicesTo90PercentOfBestGain", within < 0 ? json(nullptr) : json(within)}};
+    if (!unavailable.empty()) report["unavailable"] = unavailable;
     if (a.json) {
         printJson(report);
         return;
@@ -483,6 +487,7 @@ std::vector<Command> addBankCommands(CLI::App& app) {
                         "Latin-hypercube members (1 … 4096; defaults on top)");
     bankCmd->add_option("--seed", bank->seed, "Seed of the Latin hypercube (0 … 2^63 - 1)");
     bankCmd->add_option("--filters", bank->filters, "Only these filters, comma-separated");
+    bankCmd->add_option("--filter-param", bank->filterParams, kFilterParamHelp);
     bankCmd->add_flag("--prefilter", bank->prefilter, "Build on prefiltered features");
     bankCmd->add_option("--prefilter-param", bank->prefilterParams, "Prefilter parameter k=v");
     bankCmd->add_option("--roi", bank->roi, "Only this region x0,x1,y0,y1 (half-open)");

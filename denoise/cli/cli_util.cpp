@@ -61,10 +61,12 @@ std::pair<std::string, std::string> splitKeyValue(const std::string& text,
     return {text.substr(0, eq), text.substr(eq + 1)};
 }
 
-// Parses every "name=value" against `specs` (a choice takes an option name or its index) and
-// resolves them; `owner` names the filter or the prefilter in errors.
-ParamValues parseParams(const std::vector<std::string>& given, const std::vector<ParamSpec>& specs,
-                        const std::string& owner, const std::string& option) {
+namespace {
+
+// Every "name=value" read against `specs`, unresolved (an unknown name is kept for
+// resolveParams to name with the valid ones).
+ParamValues readParamTexts(const std::vector<std::string>& given,
+                           const std::vector<ParamSpec>& specs, const std::string& option) {
     ParamValues values;
     for (const std::string& text : given) {
         const auto [key, value] = splitKeyValue(text, option);
@@ -79,11 +81,55 @@ ParamValues parseParams(const std::vector<std::string>& given, const std::vector
             throw Error(e.kind(), e.message(), {}, option);
         }
     }
+    return values;
+}
+
+}  // namespace
+
+// Parses every "name=value" against `specs` (a choice takes an option name or its index) and
+// resolves them; `owner` names the filter or the prefilter in errors.
+ParamValues parseParams(const std::vector<std::string>& given, const std::vector<ParamSpec>& specs,
+                        const std::string& owner, const std::string& option) {
+    const ParamValues values = readParamTexts(given, specs, option);
     try {
         return resolveParams(specs, values, owner);
     } catch (const Error& e) {
         throw Error(e.kind(), e.message(), {}, option);
     }
+}
+
+std::map<std::string, ParamValues> parseFilterParams(const std::vector<std::string>& given,
+                                                     const std::string& option) {
+    // "FILTER.NAME=VALUE" grouped by filter as "NAME=VALUE".
+    std::map<std::string, std::vector<std::string>> byFilter;
+    for (const std::string& text : given) {
+        const std::size_t dot = text.find('.'), eq = text.find('=');
+        if (dot == std::string::npos || dot == 0 || (eq != std::string::npos && eq < dot))
+            throw Error(ErrorKind::InvalidArgument,
+                        "'" + text +
+                            "' is not of the form filter.name=value (e.g. "
+                            "external.command=[\"/opt/bin/tool\",\"{color}\",\"{output}\"])",
+                        {}, option);
+        byFilter[text.substr(0, dot)].push_back(text.substr(dot + 1));
+    }
+    std::map<std::string, ParamValues> fixed;
+    for (const auto& [name, texts] : byFilter) {
+        const Filter* filter = nullptr;
+        try {
+            filter = &findFilter(name);
+        } catch (const Error& e) {
+            throw Error(e.kind(), e.message(), {}, option);
+        }
+        ParamValues values = readParamTexts(texts, filter->params(), option);
+        // Checked as the filter's parameters, kept as given: only these are fixed.
+        try {
+            resolveParams(*filter, values);
+        } catch (const Error& e) {
+            throw Error(e.kind(), e.where() + ": " + e.message(), {}, option);
+        }
+        fixed[name] = std::move(values);
+    }
+    return fixed;
 }
 
 int parseInteger(const std::string& text, const char* flag) {
@@ -267,6 +313,22 @@ json reportLeftOutFilters(const BankOptions& options) {
 
 void printJson(const json& j) {
     std::cout << j.dump(-1, ' ', false, json::error_handler_t::replace) << "\n";
+}
+
+json reportUnavailableMembers(const FilterBank& bank, const std::string& source) {
+    json list = json::array();
+    for (const UnavailableMember& u : bank.unavailable()) {
+        const std::string params =
+            paramsSummary(findFilter(u.member.filter).params(), u.member.params);
+        std::fprintf(stderr,
+                     "glint-denoise: warning: %s: bank member %s (%s) is unavailable and left "
+                     "out: %s\n",
+                     source.c_str(), u.member.filter.c_str(), params.c_str(), u.reason.c_str());
+        list.push_back({{"filter", u.member.filter},
+                        {"params", paramsJson(u.member.params)},
+                        {"reason", u.reason}});
+    }
+    return list;
 }
 
 void allowCommands(const std::vector<std::string>& given) {

@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -59,6 +60,23 @@ std::pair<std::string, std::string> splitKeyValue(const std::string& text,
 /// resolves them; `owner` names the filter or the prefilter in errors, `option` the flag.
 ParamValues parseParams(const std::vector<std::string>& given, const std::vector<ParamSpec>& specs,
                         const std::string& owner, const std::string& option);
+
+/// Parses every "FILTER.NAME=VALUE" of `option` (--filter-param; VALUE as --param reads it: a
+/// number, a choice's option name, or a JSON array of strings) into fixed parameters by filter
+/// (BankOptions::filterParams): checked against the filter's parameters, only those given kept.
+std::map<std::string, ParamValues> parseFilterParams(const std::vector<std::string>& given,
+                                                     const std::string& option);
+
+/// The help of --filter-param (bank, auto).
+inline constexpr const char* kFilterParamHelp =
+    "Fixed parameter of one filter, filter.name=value, held by every member of that filter "
+    "(repeatable; the value as apply's --param reads it, e.g. "
+    "'external.command=[\"/opt/bin/tool\",\"{color}\",\"{output}\"]')";
+
+/// Warns on stderr, one line per member, of the members of `bank` that cannot run here and were
+/// left out (an external program not allowed: the reason says how to allow it), naming `source`
+/// (the bank folder or the input); returns them for a --json report ({filter, params, reason}).
+nlohmann::json reportUnavailableMembers(const FilterBank& bank, const std::string& source);
 
 /// Parses a whole decimal integer (an optional '-', then digits: no '+', spaces, hexadecimal or
 /// exponent, no overflow); `flag` names the option in the error. Ranges are checked by the

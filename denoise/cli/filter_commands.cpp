@@ -10,7 +10,6 @@
 
 #include "cli_boundary.h"
 #include "commands.h"
-#include "glint/denoise/external.h"
 #include "glint/denoise/filter.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
@@ -110,11 +109,10 @@ void runApply(const ApplyOptions& opt) {
     // Validate everything that does not need the image before reading it.
     const ParamValues params = parseParams(
         opt.params, filter.params(), "filter '" + std::string(filter.name()) + "'", "--param");
-    // The program an external filter names on this command line is the user's own choice.
-    if (const auto it = params.strings.find("command");
-        filter.name() == "external" && it != params.strings.end() && !it->second.empty() &&
-        std::filesystem::path(it->second[0]).is_absolute())
-        allowCommand(it->second[0]);
+    // A filter that cannot run here (an external program not allowed) stops before any work.
+    if (const std::string why = filter.unavailable(params); !why.empty())
+        throw Error(ErrorKind::InvalidArgument, "unavailable: " + why, {},
+                    "filter '" + std::string(filter.name()) + "'");
     const ParamValues prefilterValues = parseParams(opt.prefilterParams, denoise::prefilterParams(),
                                                     "feature prefilter", "--prefilter-param");
     if (!opt.prefilterParams.empty() && !opt.prefilter)

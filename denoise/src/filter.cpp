@@ -3,6 +3,8 @@
 
 #include <tbb/task_arena.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -148,6 +150,73 @@ std::string formatParam(const ParamSpec& spec, const ParamValues& values) {
     const auto it = values.strings.find(spec.name);
     return nlohmann::json(it == values.strings.end() ? spec.defaultStrings : it->second)
         .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+namespace {
+
+// `item` as one word of a POSIX shell: as it is when every byte is safe there (UTF-8 included),
+// else in single quotes (a quote inside written '\'').
+std::string shellWord(const std::string& item) {
+    auto safe = [](unsigned char c) {
+        return std::isalnum(c) || c >= 0x80 ||
+               std::string_view("_@%+=:,./{}-").find(char(c)) != std::string_view::npos;
+    };
+    if (!item.empty() && std::all_of(item.begin(), item.end(), safe)) return item;
+    std::string quoted = "'";
+    for (char c : item) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return quoted + "'";
+}
+
+// A path item by its file name: "--in=/a/b/c.exr" -> "--in=…/c.exr"; other items unchanged.
+std::string byFileName(const std::string& item) {
+    const std::size_t slash = item.find('/'), last = item.rfind('/');
+    if (slash == std::string::npos || last + 1 == item.size()) return item;
+    const std::size_t eq = item.find('=');
+    const std::size_t keep = eq != std::string::npos && eq < slash ? eq + 1 : 0;
+    const std::string shorter = item.substr(0, keep) + "…/" + item.substr(last + 1);
+    return shorter.size() < item.size() ? shorter : item;
+}
+
+// "[a b 'c d']": the items as shell words.
+std::string bracketed(const std::vector<std::string>& items) {
+    std::string text = "[";
+    for (std::size_t i = 0; i < items.size(); ++i) text += (i ? " " : "") + shellWord(items[i]);
+    return text + "]";
+}
+
+}  // namespace
+
+std::string paramSummary(const ParamSpec& spec, const ParamValues& values, std::size_t maxChars) {
+    if (!spec.isStrings) return formatParam(spec, values);
+    const auto it = values.strings.find(spec.name);
+    std::vector<std::string> items = it == values.strings.end() ? spec.defaultStrings : it->second;
+    std::string text = bracketed(items);
+    // The arguments' paths by their file names, from the last.
+    for (std::size_t i = items.size(); i-- > 1 && text.size() > maxChars;) {
+        items[i] = byFileName(items[i]);
+        text = bracketed(items);
+    }
+    if (text.size() <= maxChars) return text;
+    // Then the tail: whole items while they fit, and " …]"; the program's path by its file
+    // name only when it alone does not fit.
+    const std::string tail = " …]";
+    if (!items.empty() && 1 + shellWord(items[0]).size() + tail.size() > maxChars)
+        items[0] = byFileName(items[0]);
+    std::string cut = "[";
+    for (std::size_t i = 0; i < items.size(); ++i) {
+        const std::string word = (i ? " " : "") + shellWord(items[i]);
+        if (i > 0 && cut.size() + word.size() + tail.size() > maxChars) break;
+        cut += word;
+    }
+    return cut + tail;
+}
+
+std::string paramsSummary(const std::vector<ParamSpec>& specs, const ParamValues& values) {
+    std::string text;
+    for (const ParamSpec& spec : specs)
+        if (values.count(spec.name) || values.strings.count(spec.name))
+            text += (text.empty() ? "" : " ") + spec.name + "=" + paramSummary(spec, values);
+    return text;
 }
 
 ParamValues resolveParams(const std::vector<ParamSpec>& specs, const ParamValues& given,

@@ -155,6 +155,24 @@ bool JsonReader::boolean(const json& value, const std::string& where) const {
     return value.get<bool>();
 }
 
+ParamValues JsonReader::params(const json& value, const std::string& where) const {
+    if (!value.is_object()) fail(where, "expected an object of parameters");
+    ParamValues params;
+    for (const auto& item : value.items()) {
+        const std::string at = where + "/" + item.key();
+        if (!item.value().is_array()) {
+            params[item.key()] = number(item.value(), at, -1e30, 1e30);
+            continue;
+        }
+        std::vector<std::string> list;
+        for (std::size_t i = 0; i < item.value().size(); ++i)
+            list.push_back(string(item.value()[i], at + "/" + std::to_string(i)));
+        params[item.key()] = 0.0;
+        params.strings[item.key()] = std::move(list);
+    }
+    return params;
+}
+
 const json& JsonReader::array(const json& value, const std::string& where, std::size_t size) const {
     if (!value.is_array() || (size > 0 && value.size() != size))
         fail(where, (size > 0 ? "expected an array of " + std::to_string(size) + " values"

@@ -50,6 +50,9 @@ class JsonReader {
                                   std::uint64_t hi) const;
     std::string string(const nlohmann::json& value, const std::string& where) const;
     bool boolean(const nlohmann::json& value, const std::string& where) const;
+    /// A parameter block ({"name": number or list of strings}); the names and kinds are checked
+    /// by resolveParams.
+    ParamValues params(const nlohmann::json& value, const std::string& where) const;
     /// An array (of any length when `size` is 0, else of exactly `size` elements).
     const nlohmann::json& array(const nlohmann::json& value, const std::string& where,
                                 std::size_t size = 0) const;

@@ -80,11 +80,10 @@ QString layerParameters(const std::string& filter, const denoise::ParamValues& p
     const denoise::Filter* f = filterNamed(filter);
     if (!f) return lines.join(QLatin1Char('\n'));
     for (const denoise::ParamSpec& spec : f->params()) {
-        const auto it = params.find(spec.name);
-        if (it == params.end()) continue;
+        if (!params.count(spec.name) && !params.strings.count(spec.name)) continue;
         lines << QStringLiteral("%1 (%2): %3")
                      .arg(QString::fromStdString(spec.label), QString::fromStdString(spec.name),
-                          QString::fromStdString(denoise::formatParamValue(spec, it->second)));
+                          QString::fromStdString(denoise::paramSummary(spec, params)));
     }
     return lines.join(QLatin1Char('\n'));
 }

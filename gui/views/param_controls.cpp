@@ -19,15 +19,8 @@ constexpr int kSliderSteps = 1000;
 }
 
 QString describeFilter(const std::string& filter, const denoise::ParamValues& params) {
-    QStringList parts{QString::fromStdString(filter)};
-    for (const denoise::ParamSpec& spec : denoise::findFilter(filter).params()) {
-        auto it = params.find(spec.name);
-        if (it != params.end())
-            parts << QStringLiteral("%1=%2").arg(
-                QString::fromStdString(spec.name),
-                QString::fromStdString(denoise::formatParamValue(spec, it->second)));
-    }
-    return parts.join(QLatin1Char(' '));
+    const std::string values = denoise::paramsSummary(denoise::findFilter(filter).params(), params);
+    return QString::fromStdString(values.empty() ? filter : filter + " " + values);
 }
 
 ScalarControl::ScalarControl(double min, double max, double sliderMin, double sliderMax,

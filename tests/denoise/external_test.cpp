@@ -14,6 +14,7 @@
 #include <string>
 
 #include "cli_fixture.h"
+#include "external_stub.h"
 #include "filters/external_files.h"
 #include "glint/denoise/external.h"
 #include "glint/denoise/paint_script.h"
@@ -28,45 +29,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path stubPath() {
-    return fs::read_symlink("/proc/self/exe").parent_path() / "external_denoiser_stub";
-}
+using testing::stubParams;
+using testing::stubPath;
 
-// The external filter's parameters running the stub in `mode` on files of `format`.
-ParamValues stubParams(const std::string& mode, const std::string& format = "exr",
-                       const std::string& marker = {}, double timeout = 600.0) {
-    ParamValues p{{"format", format == "pfm" ? 1.0 : 0.0}, {"timeout", timeout}};
-    p.strings["command"] = {stubPath().string(), mode, format, "{color}", "{output}"};
-    if (!marker.empty()) p.strings["command"].push_back(marker);
-    return p;
-}
-
-// Every test gets its own TMPDIR (where the filter makes its private folder) and a fresh list
-// of allowed commands holding the stub.
-class ExternalFilter : public ::testing::Test {
+class ExternalFilter : public testing::ExternalSandbox {
   protected:
-    void SetUp() override {
-        m_dir = fs::temp_directory_path() /
-                ("external_test_" + std::to_string(::getpid()) + "_" +
-                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(m_dir);
-        fs::create_directories(m_dir / "tmp");
-        if (const char* old = std::getenv("TMPDIR")) m_oldTmp = old;
-        ::setenv("TMPDIR", (m_dir / "tmp").c_str(), 1);
-        clearAllowedCommands();
-        allowCommand(stubPath());
-        ASSERT_TRUE(fs::exists(stubPath())) << stubPath();
-    }
-    void TearDown() override {
-        if (m_oldTmp.empty())
-            ::unsetenv("TMPDIR");
-        else
-            ::setenv("TMPDIR", m_oldTmp.c_str(), 1);
-        clearAllowedCommands();
-        fs::remove_all(m_dir);
-    }
-    // True when the filter left nothing in TMPDIR.
-    bool temporaryFolderEmpty() const { return fs::is_empty(m_dir / "tmp"); }
     // The message of the error applyFilter throws for `params` (fails the test without one).
     std::string failure(const ParamValues& params, ErrorKind kind = ErrorKind::Io) {
         try {
@@ -78,9 +45,6 @@ class ExternalFilter : public ::testing::Test {
         ADD_FAILURE() << "no error";
         return {};
     }
-
-    fs::path m_dir;
-    std::string m_oldTmp;
 };
 
 TEST_F(ExternalFilter, ReadsBackWhatTheProgramWritesInEitherFormatAndRemovesItsFolder) {
@@ -275,6 +239,34 @@ TEST(StringsParameter, ParsesAJsonArrayOrOneStringAndIsCheckedByKind) {
     EXPECT_EQ(f.requiredLayers(resolveParams(f, values)), std::vector<Layer>{Layer::Albedo});
 }
 
+TEST(StringsParameter, IsSummarisedAsQuotedArgvShortenedPastItsWidth) {
+    const Filter& f = findFilter("external");
+    const ParamSpec& command = *findParam(f.params(), "command");
+    ParamValues values = resolveParams(f, {});
+    values.strings["command"] = {"/opt/bin/tool", "--in={color}", "my file", "it's"};
+    EXPECT_EQ(paramSummary(command, values), R"([/opt/bin/tool --in={color} 'my file' 'it'\''s'])");
+    // Too wide: the arguments' paths by their file names, the program's kept while it fits.
+    values.strings["command"] = {"/usr/bin/python3",
+                                 "/home/me/glint/docs/examples/external_box_denoiser.py", "{color}",
+                                 "{output}", "2"};
+    EXPECT_EQ(paramSummary(command, values),
+              "[/usr/bin/python3 …/external_box_denoiser.py {color} {output} 2]");
+    EXPECT_EQ(paramsSummary(f.params(), values),
+              "command=[/usr/bin/python3 …/external_box_denoiser.py {color} {output} 2] "
+              "format=exr timeout=600");
+    // Still too wide: the tail is cut.
+    values.strings["command"] = {"/opt/bin/tool"};
+    for (int i = 0; i < 30; ++i) values.strings["command"].push_back("--flag" + std::to_string(i));
+    const std::string cut = paramSummary(command, values);
+    EXPECT_LE(cut.size(), 72u) << cut;
+    EXPECT_EQ(cut.rfind("[/opt/bin/tool --flag0 --flag1 ", 0), 0u) << cut;
+    EXPECT_EQ(cut.substr(cut.size() - 5), " …]") << cut;
+    // Numbers and choices as formatParamValue writes them.
+    const Filter& g = findFilter("gaussian");
+    EXPECT_EQ(paramSummary(g.params()[0], resolveParams(g, {})),
+              formatParamValue(g.params()[0], g.params()[0].defaultValue));
+}
+
 // ---- a file never runs a program by itself -----------------------------------------------------
 
 // Saves a session over a small frame with one external layer (the stub writing `marker`),
@@ -386,11 +378,17 @@ TEST_F(ExternalCli, CompositeLeavesOutAProgramNotAllowedAndRunsItWhenAllowed) {
     EXPECT_TRUE(fs::exists(marker));
 }
 
-TEST_F(ExternalCli, ApplyRunsTheProgramItNamesAndReportsItsFailureOnOneLine) {
+// The --param of apply running the stub in `mode` (on PFM files), creating `marker` if given.
+std::string stubParamArgs(const std::string& mode, const std::string& marker = {}) {
+    return "--param 'command=" + nlohmann::json(testing::stubCommand(mode, "pfm", marker)).dump() +
+           "' --param format=pfm";
+}
+
+TEST_F(ExternalCli, ApplyRunsTheProgramItNamesOnceAllowedAndReportsItsFailureOnOneLine) {
     writeExr(testing::syntheticFrame(10, 8), m_dir / "in.exr");
     auto command = [&](const std::string& mode) {
-        return "'command=[\"" + stubPath().string() + "\",\"" + mode +
-               "\",\"pfm\",\"{color}\",\"{output}\"]' --param format=pfm";
+        return stubParamArgs(mode).substr(std::string("--param ").size()) + " --allow-command " +
+               stubPath().string();
     };
     const glint::testing::RunResult good =
         run("apply " + path("in.exr") + " --filter external --param " + command("good") +
@@ -407,6 +405,23 @@ TEST_F(ExternalCli, ApplyRunsTheProgramItNamesAndReportsItsFailureOnOneLine) {
     EXPECT_NE(bad.err.find("code 3"), std::string::npos) << bad.err;
     EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
     EXPECT_FALSE(fs::exists(m_dir / "bad.exr"));
+}
+
+TEST_F(ExternalCli, ApplyRefusesAProgramNotAllowedOnOneLineAndRunsNothing) {
+    writeExr(testing::syntheticFrame(10, 8), m_dir / "in.exr");
+    const fs::path marker = m_dir / "ran";
+    // Typing the command is not allowing it: --allow-command (or the user's file) does that.
+    const glint::testing::RunResult refused =
+        run("XDG_CONFIG_HOME=" + m_dir.string(), "apply " + path("in.exr") + " --filter external " +
+                                                     stubParamArgs("good", marker.string()) +
+                                                     " --out " + path("out.exr"));
+    EXPECT_EQ(refused.exitCode, 2) << refused.err;
+    EXPECT_EQ(std::count(refused.err.begin(), refused.err.end(), '\n'), 1) << refused.err;
+    EXPECT_NE(refused.err.find("not allowed"), std::string::npos) << refused.err;
+    EXPECT_NE(refused.err.find("--allow-command " + stubPath().string()), std::string::npos)
+        << refused.err;
+    EXPECT_FALSE(fs::exists(marker));
+    EXPECT_FALSE(fs::exists(m_dir / "out.exr"));
 }
 
 TEST(ExchangeFiles, APfmIsReadBottomRowFirstAndAShortOneIsRefused) {

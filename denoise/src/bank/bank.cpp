@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstring>
 #include <mutex>
@@ -43,6 +44,24 @@ void validate(const BankOptions& options) {
             findFilter(name);
         } catch (const Error& e) {
             bad(e.message(), "--filters");
+        }
+    }
+    // Fixed parameters: of one of the bank's filters, each known to it and in its range.
+    for (const auto& [name, params] : options.filterParams) {
+        const bool named =
+            options.filters.empty()
+                ? std::any_of(defaultBankFilters().begin(), defaultBankFilters().end(),
+                              [&](const Filter* f) { return f->name() == name; })
+                : std::find(options.filters.begin(), options.filters.end(), name) !=
+                      options.filters.end();
+        if (!named)
+            bad("parameters given to filter '" + name +
+                    "', which is not one of the bank's filters (name it in --filters)",
+                "--filter-param");
+        try {
+            resolveParams(findFilter(name), params);
+        } catch (const Error& e) {
+            bad(e.where() + ": " + e.message(), "--filter-param");
         }
     }
     if (options.prefilter)
@@ -93,7 +112,9 @@ std::vector<const Filter*> usableFilters(const FrameBuffers& frame, const BankOp
     std::string missing;
     for (const Filter* f : chosen) {
         bool ok = true;
-        for (Layer l : f->requiredLayers(resolveParams(*f, {}))) ok = ok && frame.has(l);
+        const ParamValues params =
+            resolveParams(*f, detail::fixedParams(options.filterParams, f->name()));
+        for (Layer l : f->requiredLayers(params)) ok = ok && frame.has(l);
         if (ok)
             usable.push_back(f);
         else
@@ -129,13 +150,33 @@ Rect bankRegion(const FrameBuffers& frame, const BankOptions& options) {
     return region;
 }
 
-/// The members of the bank that can run on `frame`.
-std::vector<BankMember> runnableMembers(const FrameBuffers& frame, const BankOptions& options) {
+/// The members of a bank: those that can run on `frame` here, and those that cannot run in
+/// this process (Filter::unavailable), which are never run.
+struct Selection {
     std::vector<BankMember> members;
-    for (BankMember& m :
-         detail::sampleBank(usableFilters(frame, options), options.size, options.seed))
-        if (canRun(frame, m)) members.push_back(std::move(m));
-    return members;
+    std::vector<UnavailableMember> unavailable;
+};
+
+/// The members of the bank that can run on `frame`. Throws Error(InvalidArgument) with the
+/// reasons when every member is unavailable.
+Selection runnableMembers(const FrameBuffers& frame, const BankOptions& options) {
+    Selection s;
+    for (BankMember& m : detail::sampleBank(usableFilters(frame, options), options.size,
+                                            options.seed, options.filterParams)) {
+        if (!canRun(frame, m)) continue;
+        if (std::string why = findFilter(m.filter).unavailable(m.params); !why.empty())
+            s.unavailable.push_back({std::move(m), std::move(why)});
+        else
+            s.members.push_back(std::move(m));
+    }
+    if (s.members.empty() && !s.unavailable.empty()) {
+        std::string reasons;
+        for (const UnavailableMember& u : s.unavailable)
+            reasons += (reasons.empty() ? "" : "; ") + u.member.filter + ": " + u.reason;
+        throw Error(ErrorKind::InvalidArgument,
+                    "no member of the bank can run here (" + reasons + ")", {}, "--filters");
+    }
+    return s;
 }
 
 /// Bytes of a bank of `members` results over `region` of `frame` (estimateMemory).
@@ -163,14 +204,17 @@ std::uint64_t bankBytes(const FrameBuffers& frame, const BankOptions& options, c
 std::uint64_t estimateMemory(const FrameBuffers& frame, const BankOptions& options) {
     validate(options);
     const Rect region = bankRegion(frame, options);
-    return bankBytes(frame, options, region, runnableMembers(frame, options).size());
+    return bankBytes(frame, options, region, runnableMembers(frame, options).members.size());
 }
 
 FilterBank detail::bankWithoutResults(const FrameBuffers& frame, const BankOptions& options) {
     validate(options);
     const Rect region = bankRegion(frame, options);
-    return FilterBank(runnableMembers(frame, options), {}, region, frame.width(), frame.height(),
-                      hashFrame(frame));
+    Selection selection = runnableMembers(frame, options);
+    FilterBank bank(std::move(selection.members), {}, region, frame.width(), frame.height(),
+                    hashFrame(frame));
+    detail::BankAccess::setUnavailable(bank, std::move(selection.unavailable));
+    return bank;
 }
 
 FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options) {
@@ -183,7 +227,8 @@ FilterBank detail::buildBank(const FrameBuffers& frame, const BankOptions& optio
     const bool writes = mode == CacheMode::ReadWrite;
     GLINT_CHECK(writes || !options.members, "a bank built in parts writes its part");
     const Rect region = bankRegion(frame, options);
-    std::vector<BankMember> members = runnableMembers(frame, options);
+    Selection selection = runnableMembers(frame, options);
+    std::vector<BankMember>& members = selection.members;
     // The members this build computes: all, or a range of them (a bank built in parts).
     std::size_t first = 0, end = members.size();
     if (options.members) {
@@ -251,16 +296,17 @@ FilterBank detail::buildBank(const FrameBuffers& frame, const BankOptions& optio
     });
     if (stop.load()) throw Error(ErrorKind::Cancelled, "bank cancelled");
     if (!options.members) {
-        if (writes) cache.writeIndex(members, keys, region);
+        if (writes) cache.writeIndex(members, keys, region, selection.unavailable);
         FilterBank bank(std::move(members), std::move(results), region, frame.width(),
                         frame.height(), inputHash);
         detail::BankAccess::setCacheHits(bank, hits);
+        detail::BankAccess::setUnavailable(bank, std::move(selection.unavailable));
         return bank;
     }
 
     // A part of the bank: record it, and complete index.json when every part is there.
     cache.writePartialIndex(members, keys, first, end, region);
-    const bool complete = cache.mergePartialIndices(members, keys, region);
+    const bool complete = cache.mergePartialIndices(members, keys, region, selection.unavailable);
     const std::size_t total = members.size();
     std::vector<BankMember> part(std::make_move_iterator(members.begin() + std::ptrdiff_t(first)),
                                  std::make_move_iterator(members.begin() + std::ptrdiff_t(end)));
@@ -270,6 +316,7 @@ FilterBank detail::buildBank(const FrameBuffers& frame, const BankOptions& optio
                     inputHash);
     detail::BankAccess::setCacheHits(bank, hits);
     detail::BankAccess::setMemberRange(bank, first, total, complete);
+    detail::BankAccess::setUnavailable(bank, std::move(selection.unavailable));
     return bank;
 }
 

@@ -53,6 +53,12 @@ std::uint64_t hashParams(std::uint64_t h, const ParamValues& params) {
     return h;
 }
 
+json filterParamsJson(const std::map<std::string, ParamValues>& fixed) {
+    json out = json::object();
+    for (const auto& [filter, params] : fixed) out[filter] = paramsJson(params);
+    return out;
+}
+
 json regionJson(const Rect& r) {
     return json::array({r.x0, r.x1, r.y0, r.y1});
 }
@@ -248,6 +254,7 @@ json BankCache::optionsJson() const {
     return {{"size", m_options.size},
             {"seed", m_options.seed},
             {"filters", m_options.filters},
+            {"filterParams", filterParamsJson(m_options.filterParams)},
             {"prefilter", m_options.prefilter},
             {"prefilterParams", m_options.prefilterParams},
             {"region", m_options.region ? regionJson(*m_options.region) : json(nullptr)}};
@@ -286,7 +293,8 @@ void BankCache::writePartialIndex(const std::vector<BankMember>& members,
 }
 
 bool BankCache::mergePartialIndices(const std::vector<BankMember>& members,
-                                    const std::vector<std::uint64_t>& keys, const Rect& region) {
+                                    const std::vector<std::uint64_t>& keys, const Rect& region,
+                                    const std::vector<UnavailableMember>& unavailable) {
     if (m_dir.empty()) return false;
     // Entries of every partial index of this very bank (same input, options and region); a
     // partial index of another bank, or one being replaced, is passed over.
@@ -326,13 +334,14 @@ bool BankCache::mergePartialIndices(const std::vector<BankMember>& members,
         const std::lock_guard<std::mutex> lock(m_mutex);
         for (const auto& [key, entry] : found) m_entries[key] = entry;
     }
-    writeIndex(members, keys, region);
+    writeIndex(members, keys, region, unavailable);
     for (const fs::path& p : partials) fs::remove(p, ec);
     return true;
 }
 
 void BankCache::writeIndex(const std::vector<BankMember>& members,
-                           const std::vector<std::uint64_t>& keys, const Rect& region) {
+                           const std::vector<std::uint64_t>& keys, const Rect& region,
+                           const std::vector<UnavailableMember>& unavailable) {
     if (m_dir.empty()) return;
     json list = json::array();
     for (std::size_t i = 0; i < members.size(); ++i) {
@@ -346,10 +355,19 @@ void BankCache::writeIndex(const std::vector<BankMember>& members,
                         {"checksum", toHex(e.checksum)}});
     }
     const json options = optionsJson();
-    const json index{
-        {"format", kIndexFormat}, {"inputHash", toHex(m_inputHash)}, {"width", m_width},
-        {"height", m_height},     {"region", regionJson(region)},    {"options", options},
-        {"members", list}};
+    json index{{"format", kIndexFormat}, {"inputHash", toHex(m_inputHash)}, {"width", m_width},
+               {"height", m_height},     {"region", regionJson(region)},    {"options", options},
+               {"members", list}};
+    // Members the options name that did not run in the process that wrote the index (a reader
+    // recomputes what it can: availability is the reader's, not the folder's).
+    if (!unavailable.empty()) {
+        json left = json::array();
+        for (const UnavailableMember& u : unavailable)
+            left.push_back({{"filter", u.member.filter},
+                            {"params", detail::paramsJson(u.member.params)},
+                            {"reason", u.reason}});
+        index["unavailable"] = left;
+    }
     writeAtomically(m_dir / kIndexName, [&](const fs::path& tmp) {
         std::ofstream out(tmp);
         out << index.dump(1) << "\n";
@@ -404,6 +422,14 @@ BankOptions readBankOptions(const fs::path& dir) {
     const json& filters = r.array(r.at(o, "filters", "/options"), "/options/filters");
     for (std::size_t i = 0; i < filters.size(); ++i)
         options.filters.push_back(r.string(filters[i], "/options/filters/" + std::to_string(i)));
+    // Fixed parameters of filters (absent from folders written before they existed).
+    if (o.contains("filterParams")) {
+        const json& fixed = o["filterParams"];
+        if (!fixed.is_object()) r.fail("/options/filterParams", "expected an object");
+        for (const auto& item : fixed.items())
+            options.filterParams[item.key()] =
+                r.params(item.value(), "/options/filterParams/" + item.key());
+    }
     options.prefilter = r.boolean(r.at(o, "prefilter", "/options"), "/options/prefilter");
     const json& params = r.at(o, "prefilterParams", "/options");
     if (!params.is_object()) r.fail("/options/prefilterParams", "expected an object");

@@ -31,10 +31,10 @@ class BankCache {
     /// Writes a computed result (thread-safe).
     void write(std::uint64_t key, const BankMember& member, const Rect& region,
                const Image& result);
-    /// Writes index.json (atomically) for these members and removes member files of other
-    /// inputs or settings.
+    /// Writes index.json (atomically) for these members, listing those left out as unavailable,
+    /// and removes member files of other inputs or settings.
     void writeIndex(const std::vector<BankMember>& members, const std::vector<std::uint64_t>& keys,
-                    const Rect& region);
+                    const Rect& region, const std::vector<UnavailableMember>& unavailable);
 
     /// Records members [first, end) (computed or read by this build) in the partial index
     /// index.members-FIRST-END.json (atomically), for a bank built in parts.
@@ -45,7 +45,8 @@ class BankCache {
     /// hold every member, writes index.json (writeIndex), removes the partial indices and
     /// returns true.
     bool mergePartialIndices(const std::vector<BankMember>& members,
-                             const std::vector<std::uint64_t>& keys, const Rect& region);
+                             const std::vector<std::uint64_t>& keys, const Rect& region,
+                             const std::vector<UnavailableMember>& unavailable);
 
     /// Removes the stale temporary files of an interrupted build from the folder: Glint's own
     /// temporary names of its members and indices (bankTemporaryOwner) whose process no longer

@@ -5,6 +5,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "glint/denoise/bank.h"
@@ -23,9 +26,15 @@ double mapParam(const ParamSpec& spec, double u);
 
 /// The members of a bank over `filters`: first each filter's defaults, then `size` members from
 /// a Latin hypercube with one dimension for the filter (continuous in [1, M], rounded) and one
-/// per parameter of the filter with the most parameters (unused dimensions ignored).
+/// per parameter of the filter with the most parameters (unused dimensions ignored). A filter's
+/// parameters in `fixed` (BankOptions::filterParams) hold their values in every member of it.
 std::vector<BankMember> sampleBank(const std::vector<const Filter*>& filters, int size,
-                                   std::uint64_t seed);
+                                   std::uint64_t seed,
+                                   const std::map<std::string, ParamValues>& fixed = {});
+
+/// The fixed parameters `fixed` (BankOptions::filterParams) give `filter` (empty when none).
+const ParamValues& fixedParams(const std::map<std::string, ParamValues>& fixed,
+                               std::string_view filter);
 
 /// The bank buildBank(frame, options) would build, without its results (results() is empty):
 /// its members, region, frame size and input hash, for the streamed selection, which filters
@@ -34,6 +43,10 @@ FilterBank bankWithoutResults(const FrameBuffers& frame, const BankOptions& opti
 
 /// Sets what only a bank's build knows on the bank it returns.
 struct BankAccess {
+    /// Members left out because they cannot run here.
+    static void setUnavailable(FilterBank& bank, std::vector<UnavailableMember> unavailable) {
+        bank.m_unavailable = std::move(unavailable);
+    }
     /// Members the build read from the cache.
     static void setCacheHits(FilterBank& bank, std::size_t hits) { bank.m_cacheHits = hits; }
     /// For a build of BankOptions::members: see FilterBank::firstMember and the next two.

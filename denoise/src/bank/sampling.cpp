@@ -54,8 +54,16 @@ double mapParam(const ParamSpec& spec, double u) {
     return std::clamp(value, spec.min, spec.max);
 }
 
+const ParamValues& fixedParams(const std::map<std::string, ParamValues>& fixed,
+                               std::string_view filter) {
+    static const ParamValues none;
+    const auto it = fixed.find(std::string(filter));
+    return it == fixed.end() ? none : it->second;
+}
+
 std::vector<BankMember> sampleBank(const std::vector<const Filter*>& filters, int size,
-                                   std::uint64_t seed) {
+                                   std::uint64_t seed,
+                                   const std::map<std::string, ParamValues>& fixed) {
     if (filters.empty())
         throw Error(ErrorKind::InvalidArgument, "a bank needs at least one filter");
     if (size < 1 || size > kMaxBankSize)
@@ -65,14 +73,19 @@ std::vector<BankMember> sampleBank(const std::vector<const Filter*>& filters, in
     std::vector<BankMember> members;
     // The defaults of every filter are always members, so the bank never loses to them.
     for (const Filter* f : filters)
-        members.push_back({std::string(f->name()), resolveParams(*f, {}), true});
-    // A filter whose parameters are all fixed (unet, external) is its default member only and
-    // takes no stratum of the design: adding it leaves the other members as they were.
+        members.push_back(
+            {std::string(f->name()), resolveParams(*f, fixedParams(fixed, f->name())), true});
+    // A filter whose parameters are all fixed (unet; external with its command given) is its
+    // default member only and takes no stratum of the design: adding it leaves the other members
+    // as they were.
     std::vector<const Filter*> explored;
-    for (const Filter* f : filters)
-        if (std::any_of(f->params().begin(), f->params().end(),
-                        [](const ParamSpec& s) { return s.softMin != s.softMax; }))
-            explored.push_back(f);
+    for (const Filter* f : filters) {
+        const ParamValues& given = fixedParams(fixed, f->name());
+        auto isFixed = [&](const ParamSpec& s) {
+            return s.softMin == s.softMax || given.count(s.name) || given.strings.count(s.name);
+        };
+        if (!std::all_of(f->params().begin(), f->params().end(), isFixed)) explored.push_back(f);
+    }
     if (explored.empty()) return members;
     std::size_t maxParams = 0;
     for (const Filter* f : explored) maxParams = std::max(maxParams, f->params().size());
@@ -83,9 +96,12 @@ std::vector<BankMember> sampleBank(const std::vector<const Filter*>& filters, in
         // every filter gets the same share of the strata.
         const int pick = std::clamp(int(std::lround(0.5 + u[0] * double(m))), 1, m) - 1;
         const Filter& f = *explored[std::size_t(pick)];
+        const ParamValues& given = fixedParams(fixed, f.name());
         ParamValues params;
         for (std::size_t i = 0; i < f.params().size(); ++i)
             params[f.params()[i].name] = mapParam(f.params()[i], u[1 + i]);
+        for (const auto& [name, value] : given) params[name] = value;
+        params.strings = given.strings;
         members.push_back({std::string(f.name()), resolveParams(f, params), false});
     }
     return members;

@@ -152,26 +152,6 @@ namespace {
 /// The largest width or height a session holds (as the images Glint reads).
 constexpr std::int64_t kMaxSide = 1 << 24;
 
-// A parameter block ({"name": number or list of strings}); the names and kinds are checked by
-// resolveParams.
-ParamValues readParams(const detail::JsonReader& r, const json& value, const std::string& where) {
-    if (!value.is_object()) r.fail(where, "expected an object of parameters");
-    ParamValues params;
-    for (const auto& item : value.items()) {
-        const std::string at = where + "/" + item.key();
-        if (!item.value().is_array()) {
-            params[item.key()] = r.number(item.value(), at, -1e30, 1e30);
-            continue;
-        }
-        std::vector<std::string> list;
-        for (std::size_t i = 0; i < item.value().size(); ++i)
-            list.push_back(r.string(item.value()[i], at + "/" + std::to_string(i)));
-        params[item.key()] = 0.0;
-        params.strings[item.key()] = std::move(list);
-    }
-    return params;
-}
-
 // The region of interest, null or [x0, x1, y0, y1] inside the width × height image.
 std::optional<Rect> readRegion(const detail::JsonReader& r, const json& value, int width,
                                int height) {
@@ -210,7 +190,7 @@ Session Session::load(const fs::path& path, const ProgressFn& progress) {
     const std::string inputName = r.string(r.at(doc, "input", ""), "/input");
     SessionOptions options;
     options.prefilter = r.boolean(r.at(doc, "prefilter", ""), "/prefilter");
-    options.prefilterParams = readParams(r, r.at(doc, "prefilterParams", ""), "/prefilterParams");
+    options.prefilterParams = r.params(r.at(doc, "prefilterParams", ""), "/prefilterParams");
     const json& bank = r.at(doc, "bank", "");
     const std::string bankDir = bank.is_null() ? std::string() : r.string(bank, "/bank");
     const std::optional<Rect> region = readRegion(r, r.at(doc, "region", ""), width, height);
@@ -238,7 +218,7 @@ Session Session::load(const fs::path& path, const ProgressFn& progress) {
         for (const char* key : {"filter", "version", "weights"})
             r.string(r.at(layers[i], key, where), where + "/" + key);
         if (layers[i].contains("name")) r.string(layers[i]["name"], where + "/name");
-        readParams(r, r.at(layers[i], "params", where), where + "/params");
+        r.params(r.at(layers[i], "params", where), where + "/params");
     }
 
     std::string where = "/input";
@@ -271,7 +251,7 @@ Session Session::load(const fs::path& path, const ProgressFn& progress) {
             where += "/filter";
             const Filter& f = findFilter(layer.filter);
             where = "/layers/" + std::to_string(i) + "/params";
-            layer.params = resolveParams(f, readParams(r, l["params"], where));
+            layer.params = resolveParams(f, r.params(l["params"], where));
             where = "/layers/" + std::to_string(i) + "/weights";
             const fs::path mapsFile = folder / l["weights"].get<std::string>();
             if (!fs::is_regular_file(mapsFile, ec))

@@ -277,6 +277,10 @@ class UNetFilter final : public Filter {
             if (std::string why = weightsProblem(name); !why.empty()) return why;
         return {};
     }
+    // A trained network reading a NaN as 0, as OIDN's input process does.
+    FilterTraits traits() const override {
+        return {FilterTraits::Output::Prediction, FilterTraits::Missing::ReadAsZero};
+    }
     int margin(const ParamValues& params) const override {
         // The receptive-field half-width rounded to the tile grid (learned::UNetNetwork::overlap).
         return Quality(detail::paramInt(params, "quality")) == Quality::High ? 112 : 96;

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -33,13 +34,24 @@ struct BankMember {
     bool isDefault = false;  ///< the filter's default parameters (always a member)
 };
 
+/// A member the bank's options name that cannot run in this process (Filter::unavailable: an
+/// external program the user has not allowed, say): left out of the bank, not run.
+struct UnavailableMember {
+    BankMember member;
+    std::string reason;  ///< Filter::unavailable's text: what is wrong and how to put it right
+};
+
 /// How a bank is built.
 struct BankOptions {
     int size = 64;           ///< Latin-hypercube members, 1 … kMaxBankSize (defaults come on top)
     std::uint64_t seed = 1;  ///< of the Latin hypercube
     std::vector<std::string> filters;  ///< these registry names (empty: defaultBankFilters())
-    bool prefilter = false;            ///< build on prefiltered features (motion blur, DOF)
-    ParamValues prefilterParams;       ///< prefilter parameters (prefilterParams() specs)
+    /// Fixed parameters by filter name (e.g. "external" -> its command): every member of that
+    /// filter holds these values and only its other parameters are sampled, so a filter whose
+    /// parameters are all fixed is one member. Each name must be one of the bank's filters.
+    std::map<std::string, ParamValues> filterParams;
+    bool prefilter = false;       ///< build on prefiltered features (motion blur, DOF)
+    ParamValues prefilterParams;  ///< prefilter parameters (prefilterParams() specs)
     /// Compute the members over this region only (each filter reads its margin around it);
     /// the whole frame when empty. It must lie inside the frame.
     std::optional<Rect> region;
@@ -58,7 +70,8 @@ struct BankOptions {
     std::optional<std::pair<int, int>> members;
 };
 
-/// Throws glint::Error(InvalidArgument) naming the first bad option (size, unknown filter...).
+/// Throws glint::Error(InvalidArgument) naming the first bad option (size, unknown filter, a
+/// fixed parameter the filter does not have or outside its range...).
 void validate(const BankOptions& options);
 
 /// A computed bank: its members and their results over its region.
@@ -73,6 +86,9 @@ class FilterBank {
     /// Result of member i over region() (3 channels, region-sized).
     const Image& result(std::size_t i) const { return m_results[i]; }
     const std::vector<Image>& results() const { return m_results; }
+    /// Members the options name that cannot run in this process (an external program not
+    /// allowed), left out of members(): never run, listed with the reason.
+    const std::vector<UnavailableMember>& unavailable() const { return m_unavailable; }
     /// The region the results cover (frame coordinates).
     const Rect& region() const { return m_region; }
     int frameWidth() const { return m_frameWidth; }
@@ -93,6 +109,7 @@ class FilterBank {
 
     std::vector<BankMember> m_members;
     std::vector<Image> m_results;
+    std::vector<UnavailableMember> m_unavailable;
     Rect m_region;
     int m_frameWidth = 0, m_frameHeight = 0;
     std::uint64_t m_inputHash = 0;
@@ -107,15 +124,19 @@ class FilterBank {
 std::uint64_t estimateMemory(const FrameBuffers& frame, const BankOptions& options);
 
 /// Builds the bank of `frame`: members in parallel (TBB), each result cached when a cache folder
-/// is given. A cache entry is reused only when the input hash, filter name, parameters, filter
-/// version, prefilter settings and region all match and its pixels pass their checksum; a
-/// damaged entry is recomputed. Throws glint::Error: InvalidArgument for bad options (or a
-/// frame lacking a layer every selected filter needs), OutOfMemory when estimateMemory exceeds
-/// the limit, Cancelled when progress says stop, Io when the cache cannot be written.
+/// is given. A member that cannot run here (Filter::unavailable) is left out and listed in
+/// FilterBank::unavailable(); when no member can run, Error(InvalidArgument) gives the reasons. A
+/// cache entry is reused only when the input hash, filter name, parameters, filter version,
+/// prefilter settings and region all match and its pixels pass their checksum; a damaged entry is
+/// recomputed. Throws glint::Error: InvalidArgument for bad options (or a frame lacking a layer
+/// every selected filter needs), OutOfMemory when estimateMemory exceeds the limit, Cancelled when
+/// progress says stop, Io when the cache cannot be written.
 FilterBank buildBank(const FrameBuffers& frame, const BankOptions& options);
 
 /// Opens the bank cached in `dir` for `frame`: the options are read from the folder's index,
-/// intact entries are read and damaged or missing ones recomputed. Throws glint::Error(Format)
+/// intact entries are read and damaged or missing ones recomputed. A member the folder names
+/// that cannot run here (an external program not allowed) is not run: it is listed in
+/// FilterBank::unavailable(). Throws glint::Error(Format)
 /// naming the folder when it holds no bank or the bank of another image.
 FilterBank openBank(const FrameBuffers& frame, const std::filesystem::path& dir,
                     const ProgressFn& progress = {});

@@ -104,12 +104,52 @@ void setParamFromText(const ParamSpec& spec, const std::string& text, ParamValue
 /// strings the JSON array (what setParamFromText reads back).
 std::string formatParam(const ParamSpec& spec, const ParamValues& values);
 
+/// The short text of parameter `spec` in `values` for a label or a line of output: for a number
+/// or a choice formatParamValue; for a list of strings its items in brackets, each quoted as a
+/// POSIX shell would need it ('my file'), shortened past `maxChars` bytes by writing the
+/// arguments' paths by their file names ("…/script.py") and then by cutting the tail (" …]";
+/// the program's path by its file name only when it alone does not fit). Not read back:
+/// formatParam is the exact form.
+std::string paramSummary(const ParamSpec& spec, const ParamValues& values,
+                         std::size_t maxChars = 72);
+
+/// "name=value name=value ..." (paramSummary) for every parameter of `specs` that `values`
+/// holds, in the specs' order: a bank member's or a layer's one-line description.
+std::string paramsSummary(const std::vector<ParamSpec>& specs, const ParamValues& values);
+
 /// Fills in defaults and validates against `specs`: unknown names, values outside [min, max],
 /// non-integers for integer or choice parameters, NaN, a number for a list of strings or a list
 /// for a number all throw glint::Error(InvalidArgument) listing the valid names and ranges;
 /// `where` names the owner ("filter 'gaussian'").
 ParamValues resolveParams(const std::vector<ParamSpec>& specs, const ParamValues& given,
                           const std::string& where);
+
+/// What kind of operator a filter is, for the code and the tests that reason about its output
+/// (tests ask a filter for its kind, never for its name). The defaults describe Glint's
+/// classical filters.
+struct FilterTraits {
+    /// How the output relates to the input's values.
+    enum class Output {
+        /// A normalised weighted average of input pixels (non-negative weights summing to one): a
+        /// constant image stays constant, to float rounding.
+        Average,
+        /// A prediction (a trained network): a constant image comes out only close to constant
+        /// (the network's output is not a convex combination of its inputs).
+        Prediction,
+    };
+    /// How a missing (NaN or infinite) colour value is read.
+    enum class Missing {
+        /// Glint's policy (docs/denoise.md): no weight as a neighbour, the pixel's own output
+        /// from its finite neighbours; nothing farther than margin() from it changes.
+        Neighbours,
+        /// As Open Image Denoise reads it: NaN and -Inf as 0, +Inf as the largest float. A
+        /// statistic of the whole frame (an autoexposure) sees that value, so every pixel may
+        /// move; the output is that of the frame with 0 in place of a NaN.
+        ReadAsZero,
+    };
+    Output output = Output::Average;
+    Missing missing = Missing::Neighbours;
+};
 
 /// A denoising filter. Implementations are stateless and thread-safe: apply() may run
 /// concurrently on different inputs.
@@ -133,6 +173,8 @@ class Filter {
     /// program the user has not allowed, for instance. applyFilter refuses such parameters;
     /// a session or bank that names them opens with the layer or member marked unavailable.
     virtual std::string unavailable(const ParamValues& /*params*/) const { return {}; }
+    /// What kind of operator the filter is (FilterTraits: Glint's classical kernels by default).
+    virtual FilterTraits traits() const { return {}; }
     /// How many pixels beyond a region the filter reads for these (resolved) parameters.
     virtual int margin(const ParamValues& params) const = 0;
 
