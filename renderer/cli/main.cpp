@@ -364,9 +364,10 @@ int main(int argc, char** argv) {
                  "split the samples into two independent halves and also write the halfBuffer "
                  "layer (the odd half's mean), for an unbiased variance estimate (SURE auto)");
     app.add_option("--memory-limit", opt.memoryLimit,
-                   "refuse a render whose scene, BVH, textures and film need more memory than "
-                   "this, before building anything; auto takes clusters when that fits (e.g. "
-                   "2G; default: what is available)");
+                   "refuse an asset whose load would peak above this before reading it, and a "
+                   "render whose scene, BVH, textures and film need more before building "
+                   "anything; auto takes clusters when that fits (e.g. 2G; default: what is "
+                   "available, not checked while loading)");
     app.add_option("--texture-cache-mb", opt.textureCacheMb,
                    "texture tile cache in MB, 1 … 1048576 (default: the scene's "
                    "render.textureCacheMb, else 1024)");
