@@ -86,8 +86,12 @@ int run(const Options& opt) {
     glint::cli::checkOutputIsNoInput(opt.out, "--out", {{opt.reference, "--reference"}});
     glint::cli::removeTemporariesOnSignal({opt.out});
     const auto t0 = std::chrono::steady_clock::now();
+    // --memory-limit holds the load too: an asset whose predicted load peak exceeds it is
+    // refused before it is read (docs/renderer.md, "Memory").
+    const std::uint64_t memoryLimit =
+        opt.memoryLimit.empty() ? 0 : glint::parseMemorySize(opt.memoryLimit, "--memory-limit");
     stage("loading " + opt.scene);
-    glint::render::Scene scene = glint::render::loadScene(opt.scene);
+    glint::render::Scene scene = glint::render::loadScene(opt.scene, memoryLimit);
     for (const std::string& warning : scene.warnings()) stage("warning: " + warning);
     if (opt.camera) {
         try {
@@ -153,8 +157,7 @@ int run(const Options& opt) {
         const auto [index, count] = glint::parseShardSpec(*opt.shard, "--shard");
         settings.shard = glint::render::Shard{index, count};
     }
-    if (!opt.memoryLimit.empty())
-        settings.memoryLimit = glint::parseMemorySize(opt.memoryLimit, "--memory-limit");
+    if (memoryLimit > 0) settings.memoryLimit = memoryLimit;
     glint::render::MltSettings& mlt = settings.mlt;
     if (opt.mltLarge) mlt.largeStep = *opt.mltLarge;
     if (opt.mltSmall) mlt.smallStep = *opt.mltSmall;
@@ -361,9 +364,10 @@ int main(int argc, char** argv) {
                  "split the samples into two independent halves and also write the halfBuffer "
                  "layer (the odd half's mean), for an unbiased variance estimate (SURE auto)");
     app.add_option("--memory-limit", opt.memoryLimit,
-                   "refuse a render whose scene, BVH, textures and film need more memory than "
-                   "this, before building anything; auto takes clusters when that fits (e.g. "
-                   "2G; default: what is available)");
+                   "refuse an asset whose load would peak above this before reading it, and a "
+                   "render whose scene, BVH, textures and film need more before building "
+                   "anything; auto takes clusters when that fits (e.g. 2G; default: what is "
+                   "available, not checked while loading)");
     app.add_option("--texture-cache-mb", opt.textureCacheMb,
                    "texture tile cache in MB, 1 … 1048576 (default: the scene's "
                    "render.textureCacheMb, else 1024)");

@@ -8,6 +8,7 @@
 #include "embree/embree_scene.h"
 #include "glint/image/memory.h"
 #include "glint/render/renderer.h"
+#include "scene/load_memory.h"
 #include "scene/scene_access.h"
 #include "scene/scene_data.h"
 
@@ -41,7 +42,20 @@ std::uint64_t heldImageBytes(const detail::SceneData& data, int textureCacheMb,
     return saturatingAdd(held, imageBytes(data.environment.image));
 }
 
+/// Bytes of the scene's mesh arrays and instances.
+std::uint64_t meshBytes(const detail::SceneData& data) {
+    std::uint64_t bytes = std::uint64_t(data.meshes.size()) * sizeof(detail::Mesh) +
+                          std::uint64_t(data.instances.size()) * sizeof(detail::Instance);
+    for (const detail::Mesh& mesh : data.meshes) bytes = saturatingAdd(bytes, mesh.bytes());
+    return bytes;
+}
+
 }  // namespace
+
+std::uint64_t detail::heldBytes(const detail::SceneData& data) {
+    std::uint64_t cache = 0;
+    return saturatingAdd(meshBytes(data), heldImageBytes(data, 0, cache));
+}
 
 std::uint64_t SceneMemory::held() const {
     return saturatingAdd(meshes, images);
@@ -60,9 +74,7 @@ SceneMemory estimateSceneMemory(const Scene& scene, Accel accel, int textureCach
     SceneMemory m;
     const bool clusters = EmbreeScene::buildsClusters(data, accel);
     m.accel = clusters ? Accel::Clusters : Accel::Triangles;
-    m.meshes = std::uint64_t(data.meshes.size()) * sizeof(detail::Mesh) +
-               std::uint64_t(data.instances.size()) * sizeof(detail::Instance);
-    for (const detail::Mesh& mesh : data.meshes) m.meshes = saturatingAdd(m.meshes, mesh.bytes());
+    m.meshes = meshBytes(data);
     m.images = heldImageBytes(data, textureCacheMb, m.textureCache);
     m.structures = EmbreeScene::estimateBytes(data, clusters);
     return m;

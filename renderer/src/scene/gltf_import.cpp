@@ -22,6 +22,7 @@
 #include "scene/gltf_document.h"
 #include "scene/gltf_file.h"
 #include "scene/input_file.h"
+#include "scene/load_memory.h"
 #include "scene/tangent_frames.h"
 
 namespace glint::render::detail {
@@ -437,6 +438,10 @@ void Loader::importGltf(const fs::path& path, const std::vector<Affine>& poses,
                         const GltfOverrides& overrides, const std::string& where) {
     requireRegularFile(path, "glTF", "a .gltf or .glb file", m_reader.file().string(),
                        where + "/gltf");
+    // Within the memory limit, predicted from the JSON before anything is parsed.
+    if (m_memoryLimit > 0)
+        checkLoadMemory(predictGltfLoad(path), heldBytes(m_scene), m_memoryLimit, path,
+                        m_reader.file(), where + "/gltf");
     // The buffers' mappings end with this function: after the asset is converted.
     tinygltf::Model model;
     GltfBuffers buffers;

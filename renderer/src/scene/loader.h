@@ -5,6 +5,7 @@
 // image_import.cpp reads textures and environment images.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -37,7 +38,9 @@ struct GltfOverrides {
 /// scene's TextureStore, embedded images decoded into memory).
 class Loader {
   public:
-    Loader(const std::filesystem::path& file, SceneData& scene);
+    /// With `memoryLimit` > 0, each OBJ or glTF asset is refused before it is read when the
+    /// scene so far and the asset's predicted load peak exceed it (load_memory.h).
+    Loader(const std::filesystem::path& file, SceneData& scene, std::uint64_t memoryLimit = 0);
 
     /// Reads the whole document.
     void load(const nlohmann::json& root);
@@ -104,7 +107,8 @@ class Loader {
     std::filesystem::path m_dir;
     std::map<std::string, int> m_materialIndex;
     std::map<std::tuple<std::filesystem::path, int, int, int>, int> m_textureIndex;
-    bool m_hasCamera = false;  ///< the document has a "camera" block
+    bool m_hasCamera = false;         ///< the document has a "camera" block
+    std::uint64_t m_memoryLimit = 0;  ///< bytes the load may take (0: no limit)
 };
 
 /// The bounding box of every vertex of every instance at shutter open; false when the scene

@@ -16,6 +16,7 @@
 
 #include "glint/image/error.h"
 #include "scene/input_file.h"
+#include "scene/load_memory.h"
 #include "scene/loader.h"
 #include "scene/obj_scan.h"
 #include "scene/polygon_triangulation.h"
@@ -238,6 +239,11 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
                                 int overrideMaterial, const std::string& where) {
     std::error_code ec;  // odd paths (too long...) are reported, not thrown as filesystem errors
     requireRegularFile(objPath, "OBJ", "an OBJ file", m_reader.file().string(), where + "/obj");
+    // Within the memory limit, predicted from a count of the statements before the check reads
+    // the text.
+    if (m_memoryLimit > 0)
+        checkLoadMemory(predictObjLoad(objPath), heldBytes(m_scene), m_memoryLimit, objPath,
+                        m_reader.file(), where + "/obj");
     // Indices and numbers checked with their line first: tinyobjloader trusts them.
     ObjLines lines = scanObj(objPath);
     m_scene.addInput(objPath);

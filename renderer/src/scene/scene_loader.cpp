@@ -38,7 +38,8 @@ std::string lowerExtension(const fs::path& path) {
 
 namespace detail {
 
-Loader::Loader(const fs::path& file, SceneData& scene) : m_reader(file), m_scene(scene) {
+Loader::Loader(const fs::path& file, SceneData& scene, std::uint64_t memoryLimit)
+    : m_reader(file), m_scene(scene), m_memoryLimit(memoryLimit) {
     m_dir = file.parent_path();
 }
 
@@ -520,7 +521,8 @@ void computeExtent(SceneData& scene) {
 namespace {
 
 /// Parses scene JSON text as the file `path`; `read` says the text is that file's (an input).
-Scene readScene(const std::string& jsonText, const fs::path& path, bool read) {
+Scene readScene(const std::string& jsonText, const fs::path& path, bool read,
+                std::uint64_t memoryLimit) {
     json root;
     try {
         root = json::parse(jsonText, nullptr, true, false);
@@ -531,24 +533,24 @@ Scene readScene(const std::string& jsonText, const fs::path& path, bool read) {
     data->path = path;
     data->sourceJson = jsonText;
     if (read) data->addInput(path);
-    detail::Loader loader(path, *data);
+    detail::Loader loader(path, *data, memoryLimit);
     loader.load(root);
     return Scene(std::move(data));
 }
 
 }  // namespace
 
-Scene parseScene(const std::string& jsonText, const fs::path& path) {
-    return readScene(jsonText, path, false);
+Scene parseScene(const std::string& jsonText, const fs::path& path, std::uint64_t memoryLimit) {
+    return readScene(jsonText, path, false, memoryLimit);
 }
 
-Scene loadScene(const fs::path& path) {
+Scene loadScene(const fs::path& path, std::uint64_t memoryLimit) {
     std::error_code ec;
     const std::string ext = lowerExtension(path);
     if ((ext == ".gltf" || ext == ".glb" || ext == ".obj") && fs::is_regular_file(path, ec)) {
         auto data = std::make_unique<detail::SceneData>();
         data->path = path;
-        detail::Loader loader(path, *data);
+        detail::Loader loader(path, *data, memoryLimit);
         loader.loadAsset(path);
         return Scene(std::move(data));
     }
@@ -566,7 +568,7 @@ Scene loadScene(const fs::path& path) {
     if (!in) throw Error(ErrorKind::Io, "cannot open scene file", path.string());
     std::ostringstream text;
     text << in.rdbuf();
-    return readScene(text.str(), path, true);
+    return readScene(text.str(), path, true, memoryLimit);
 }
 
 }  // namespace glint::render

@@ -81,13 +81,20 @@ class Scene {
     std::unique_ptr<detail::SceneData> m_data;
 };
 
-/// Loads scene.json and everything it references (paths relative to the file). Throws
-/// glint::Error naming the file and the JSON path or line of every problem.
-Scene loadScene(const std::filesystem::path& path);
+/// Loads scene.json and everything it references (paths relative to the file), or a bare glTF
+/// or OBJ asset. Throws glint::Error naming the file and the JSON path or line of every problem.
+/// With `memoryLimit` > 0 (Settings::memoryLimit), the load is held to it: before an OBJ or glTF
+/// reader parses an asset, its load's peak is predicted from a scan of the file (its statement
+/// counts; its JSON and image headers), and an asset that would take the scene past the limit
+/// is refused with Error(OutOfMemory) naming the prediction, the limit and what would help,
+/// before its reader allocates (docs/renderer.md, "Memory").
+Scene loadScene(const std::filesystem::path& path, std::uint64_t memoryLimit = 0);
 
 /// Parses scene JSON text as if it were the file `path` (relative paths resolve against
-/// path's directory; `path` is used in error messages and need not exist).
-Scene parseScene(const std::string& jsonText, const std::filesystem::path& path);
+/// path's directory; `path` is used in error messages and need not exist); `memoryLimit` as in
+/// loadScene.
+Scene parseScene(const std::string& jsonText, const std::filesystem::path& path,
+                 std::uint64_t memoryLimit = 0);
 
 /// Writes the scene, with its look edits, as scene.json at `path` (atomically): the original
 /// file with the edited materials and environment updated (a material that came from an MTL
