@@ -43,11 +43,15 @@ bool roughDielectric(const detail::Material& m) {
            m.roughness * m.roughness >= kMinGgxAlpha && m.ior != 1.0f;
 }
 
-/// Surface data at a hit.
+/// Surface data at a hit: the point, its geometric and shading normals, and the material's
+/// inputs and emission there.
 struct Shading {
     Vec3 p, ng, ns;
-    SurfacePoint at;  ///< where on the mesh, with its texture coordinates
-    const detail::Material* material;
+    SurfaceInputs inputs;
+    Vec3 emission;  ///< set where the material is emissive
+    /// The hit reads textures or vertex colours (readsSurface): its inputs may differ from the
+    /// material's factors.
+    bool textured = false;
 };
 
 /// The point at barycentrics (1 - u - v, u, v) of corners a, b, c.
@@ -76,11 +80,76 @@ struct Shading {
     }
 }
 
-Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, float time,
-              const Camera& camera, bool seenSharply) {
+/// True when a hit on `mesh` with `material` reads more than the material's factors: a texture
+/// through the mesh's texture coordinates, or the mesh's vertex colours times its base colour.
+/// Elsewhere evaluateInputs and emissionAt give the factors and applyNormalMap leaves the
+/// normal as it is, so a plain hit needs no SurfacePoint.
+[[gnu::always_inline]] inline bool readsSurface(const detail::Mesh& mesh,
+                                                const detail::Material& material) {
+    if (material.textureTimesFactor && !mesh.colors.empty()) return true;
+    return !mesh.uvs.empty() && (usesTextures(material) || material.transmissionMap.present());
+}
+
+/// What a hit that reads textures or vertex colours (readsSurface) takes from them: its shading
+/// normal bent by a normal or bump map, its inputs and its emission.
+struct TexturedSurface {
+    Vec3 ns;
+    SurfaceInputs inputs;
+    Vec3 emission;
+};
+
+/// The TexturedSurface of `hit` at p on `mesh` with `material`, whose shading normal (on the
+/// viewer's side) is `ns`: its SurfacePoint (both texture coordinate sets and their footprints)
+/// looked up in the material's textures. Out of line: plain hits never come here.
+TexturedSurface texturedSurface(const detail::SceneData& scene, const detail::Mesh& mesh,
+                                const Hit& hit, const detail::Material& material, const Vec3& p,
+                                const Vec3& ns, float time, const Camera& camera,
+                                bool seenSharply) {
+    SurfacePoint at;
+    const detail::SurfaceId id = hit.surface;
+    at.id = id;
+    at.b1 = hit.u;
+    at.b2 = hit.v;
+    at.hasUv = !mesh.uvs.empty();
+    if (at.hasUv) at.uv = detail::surfaceUv(mesh, 0, id.prim, hit.u, hit.v);
+    at.hasUv1 = !mesh.uvs1.empty();
+    if (at.hasUv1) at.uv1 = detail::surfaceUv(mesh, 1, id.prim, hit.u, hit.v);
+    if (at.hasUv && !seenSharply) {
+        // After a diffuse or glossy bounce: a widened footprint, the resident levels in memory.
+        at.footprint = at.footprint1 = detail::kCoarseFootprint;
+    } else if (at.hasUv && usesTextures(material)) {
+        // The texture footprint: a pixel's step as seen from the camera (docs/assets.md).
+        // The triangle again (only here: textured hits seen sharply), for its edges.
+        const detail::TriangleView tri = scene.triangle(id.instance, id.prim, time);
+        Vec3 dpdx, dpdy;
+        camera.footprintAxes(p, tri.ng, time, dpdx, dpdy);
+        const std::uint32_t* idx = &mesh.indices[3 * std::size_t(id.prim)];
+        at.footprint =
+            uvFootprint(tri, mesh.uvs[idx[0]], mesh.uvs[idx[1]], mesh.uvs[idx[2]], dpdx, dpdy);
+        // The second set's own footprint: its uvs change at their own rate over the triangle.
+        if (at.hasUv1)
+            at.footprint1 = uvFootprint(tri, mesh.uvs1[idx[0]], mesh.uvs1[idx[1]],
+                                        mesh.uvs1[idx[2]], dpdx, dpdy);
+    }
+    TexturedSurface t;
+    // Only a normal or bump map bends the normal.
+    t.ns = material.normalMap.present() || material.bumpMap.present()
+               ? applyNormalMap(scene, material, at, ns)
+               : ns;
+    t.inputs = evaluateInputs(scene, material, at);
+    t.emission = material.emissive() ? emissionAt(scene, material, at) : material.emission;
+    return t;
+}
+
+/// The shading data of `hit` on a surface of `material` seen from wo (the ray's shutter time
+/// `time`; `seenSharply`: by the camera or through specular bounces only). A plain hit (not
+/// readsSurface) takes the material's factors, emission and the geometry's normal as they are.
+[[gnu::always_inline]] inline Shading shade(const detail::SceneData& scene, const Hit& hit,
+                                            const detail::Material& material, const Vec3& wo,
+                                            float time, const Camera& camera, bool seenSharply) {
     Shading s;
     const detail::SurfaceId id = hit.surface;
-    // The instance and its mesh, found once for the corners, texture coordinates and material.
+    // The instance and its mesh, found once for the corners and texture coordinates.
     const detail::Instance& inst = scene.instances[id.instance];
     const detail::Mesh& mesh = scene.meshes[inst.mesh];
     const float b0 = 1.0f - hit.u - hit.v;
@@ -90,8 +159,7 @@ Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, fl
         const std::uint32_t* idx = &mesh.indices[3 * std::size_t(id.prim)];
         const Vec3 &p0 = mesh.positions[idx[0]], &p1 = mesh.positions[idx[1]],
                    &p2 = mesh.positions[idx[2]];
-        const Vec3 ng = id.prim < mesh.faceNormals.size() ? mesh.faceNormals[id.prim]
-                                                          : triangleNormal(p0, p1, p2);
+        const Vec3 ng = detail::faceNormal(mesh, id.prim, p0, p1, p2);
         const bool hasNormals = !mesh.normals.empty();
         setGeometry(s, p0, p1, p2, ng, hasNormals ? &mesh.normals[idx[0]] : nullptr,
                     hasNormals ? &mesh.normals[idx[1]] : nullptr,
@@ -103,40 +171,22 @@ Shading shade(const detail::SceneData& scene, const Hit& hit, const Vec3& wo, fl
                     tri.hasNormals ? &tri.n[1] : nullptr, tri.hasNormals ? &tri.n[2] : nullptr, b0,
                     hit.u, hit.v);
     }
-    s.at.id = id;
-    s.at.b1 = hit.u;
-    s.at.b2 = hit.v;
-    s.at.hasUv = !mesh.uvs.empty();
-    if (s.at.hasUv) s.at.uv = detail::surfaceUv(mesh, 0, id.prim, hit.u, hit.v);
-    s.at.hasUv1 = !mesh.uvs1.empty();
-    if (s.at.hasUv1) s.at.uv1 = detail::surfaceUv(mesh, 1, id.prim, hit.u, hit.v);
-    s.material = &scene.materials[inst.material >= 0 ? std::uint32_t(inst.material)
-                                                     : mesh.materialOf(id.prim)];
-    if (s.at.hasUv && !seenSharply) {
-        // After a diffuse or glossy bounce: a widened footprint, the resident levels in memory.
-        s.at.footprint = s.at.footprint1 = detail::kCoarseFootprint;
-    } else if (s.at.hasUv && usesTextures(*s.material)) {
-        // The texture footprint: a pixel's step as seen from the camera (docs/assets.md).
-        // The triangle again (only here: textured hits seen sharply), for its edges.
-        const detail::TriangleView tri = scene.triangle(id.instance, id.prim, time);
-        Vec3 dpdx, dpdy;
-        camera.footprintAxes(s.p, tri.ng, time, dpdx, dpdy);
-        const std::uint32_t* idx = &mesh.indices[3 * std::size_t(id.prim)];
-        s.at.footprint =
-            uvFootprint(tri, mesh.uvs[idx[0]], mesh.uvs[idx[1]], mesh.uvs[idx[2]], dpdx, dpdy);
-        // The second set's own footprint: its uvs change at their own rate over the triangle.
-        if (s.at.hasUv1)
-            s.at.footprint1 = uvFootprint(tri, mesh.uvs1[idx[0]], mesh.uvs1[idx[1]],
-                                          mesh.uvs1[idx[2]], dpdx, dpdy);
-    }
     // Surfaces that do not transmit are two-sided: face the normals towards the viewer.
-    if (!transmits(*s.material) && dot(wo, s.ng) < 0.0f) {
+    if (!transmits(material) && dot(wo, s.ng) < 0.0f) {
         s.ng = -s.ng;
         s.ns = -s.ns;
     }
-    // Only a normal or bump map bends it (the call is not free on every hit of a plain scene).
-    if (s.material->normalMap.present() || s.material->bumpMap.present())
-        s.ns = applyNormalMap(scene, *s.material, s.at, s.ns);
+    s.textured = readsSurface(mesh, material);
+    if (s.textured) {
+        const TexturedSurface t =
+            texturedSurface(scene, mesh, hit, material, s.p, s.ns, time, camera, seenSharply);
+        s.ns = t.ns;
+        s.inputs = t.inputs;
+        s.emission = t.emission;
+    } else {
+        s.inputs = factorInputs(material);
+        s.emission = material.emission;
+    }
     return s;
 }
 
@@ -155,7 +205,21 @@ PathIntegrator::PathIntegrator(const detail::SceneData& scene, const EmbreeScene
       m_useBsdfHits(settings.mis != MisHeuristic::None || settings.strategy == Strategy::Bsdf),
       m_hasBlend(hasBlend(scene)),
       m_maxDepth(settings.maxDepth),
-      m_rrDepth(settings.rrDepth) {}
+      m_rrDepth(settings.rrDepth) {
+    // Where each instance's materials are (as SceneData::materialOf finds them).
+    m_instanceMaterials.reserve(scene.instances.size());
+    for (const detail::Instance& inst : scene.instances) {
+        const std::vector<std::uint32_t>& materials = scene.meshes[inst.mesh].materials;
+        InstanceMaterials m;
+        if (inst.material >= 0)
+            m.only = &scene.materials[std::size_t(inst.material)];
+        else if (materials.size() == 1)
+            m.only = &scene.materials[materials[0]];
+        else
+            m.perTriangle = materials.data();
+        m_instanceMaterials.push_back(m);
+    }
+}
 
 float PathIntegrator::misWeight(float pdf, float other) const {
     if (m_mis == MisHeuristic::None) return 1.0f;
@@ -194,7 +258,8 @@ bool PathIntegrator::meetsBlend(PathState& p, const Hit& hit, Sampler& rng) cons
 }
 
 template <PathSampler Sampler>
-void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& rng,
+void PathIntegrator::advance(PathState& p, bool found, const Hit& hit,
+                             const detail::Material* material, Sampler& rng,
                              std::uint64_t& rays) const {
     p.shadowPending = false;
     p.alive = false;
@@ -214,19 +279,18 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
         return;
     }
     // A BLEND surface the ray passes: the same bounce goes on beyond it (p.ray moved).
-    if (m_hasBlend &&
-        m_scene.materials[m_scene.materialOf(hit.surface)].alphaMode == detail::AlphaMode::Blend &&
-        !meetsBlend(p, hit, rng)) {
+    const detail::Material& mat = *material;
+    if (m_hasBlend && mat.alphaMode == detail::AlphaMode::Blend && !meetsBlend(p, hit, rng)) {
         p.alive = true;
         return;
     }
     const Vec3 wo = -ray.dir;
-    const Shading sh = shade(m_scene, hit, wo, ray.time, m_camera, depth == 0 || p.specularBounce);
-    const detail::Material& mat = *sh.material;
+    const Shading sh =
+        shade(m_scene, hit, mat, wo, ray.time, m_camera, depth == 0 || p.specularBounce);
 
     // Emission found by the camera ray, a specular bounce or BSDF sampling (MIS).
     if (mat.emissive()) {
-        const Vec3 le = emissionAt(m_scene, mat, sh.at);
+        const Vec3& le = sh.emission;
         if (depth == 0 || p.specularBounce) {
             p.radiance += p.beta * le;
         } else if (m_useBsdfHits) {
@@ -236,7 +300,7 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
         }
     }
 
-    const SurfaceInputs inputs = evaluateInputs(m_scene, mat, sh.at);
+    const SurfaceInputs& inputs = sh.inputs;
     const Vec3& albedo = inputs.albedo;
     const Bsdf bsdf = mat.type == detail::MaterialType::MetallicRoughness
                           ? Bsdf::metallicRoughness(albedo, inputs.metallic, inputs.roughness,
@@ -246,8 +310,9 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
     // A transmitting material keeps its normals outside; where its BSDF is opaque (a texel of
     // zero transmission) the surface is two-sided as any other: face it to the viewer.
     const bool passes = bsdf.transmits();
+    // (Only a textured hit can differ: elsewhere shade() has faced them to the viewer already.)
     Vec3 ng = sh.ng, ns = sh.ns;
-    if (!passes && dot(wo, ng) < 0.0f) {
+    if (sh.textured && !passes && dot(wo, ng) < 0.0f) {
         ng = -ng;
         ns = -ns;
     }
@@ -347,12 +412,11 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit, Sampler& 
     p.alive = true;
 }
 
-unsigned PathIntegrator::numbersNeeded(const PathState& p, const Hit& hit) const {
+unsigned PathIntegrator::numbersNeeded(const PathState& p, const detail::Material& mat) const {
     using detail::MaterialType;
     auto bit = [](BounceDim slot) { return slotBit(slot); };
-    const detail::Material& mat = m_scene.materials[m_scene.materialOf(hit.surface)];
     // A BLEND surface's choice reads the component number (meetsBlend).
-    const unsigned blend = mat.alphaMode == detail::AlphaMode::Blend && !p.blendDrawn
+    const unsigned blend = m_hasBlend && mat.alphaMode == detail::AlphaMode::Blend && !p.blendDrawn
                                ? bit(BounceDim::BsdfComponent)
                                : 0u;
     if (p.depth >= m_maxDepth) return blend;
@@ -390,7 +454,7 @@ void PathIntegrator::trace(const Ray& cameraRay, Sampler& rng, FilmSample& out,
         Hit hit;
         ++rays;
         const bool found = m_embree.intersect(p.ray, kInfinity, hit, p.depth == 0);
-        advance(p, found, hit, rng, rays);
+        advance(p, found, hit, found ? &materialAt(hit) : nullptr, rng, rays);
         // The light's contribution, times the fraction its shadow ray lets through.
         if (p.shadowPending) {
             const float v =
@@ -404,7 +468,8 @@ void PathIntegrator::trace(const Ray& cameraRay, Sampler& rng, FilmSample& out,
 
 namespace {
 /// traceMany's working arrays, kept per thread (and sampler type) so that batches do not
-/// allocate.
+/// allocate; each as long as the batch, written by index (a bounce fills a prefix of the
+/// shadow and prefetch arrays).
 template <PathSampler Sampler>
 struct BatchScratch {
     std::vector<PathState> paths;
@@ -412,6 +477,7 @@ struct BatchScratch {
     std::vector<const Ray*> queries;
     std::vector<const ShadowRay*> shadowQueries;
     std::vector<Hit> hits;
+    std::vector<const detail::Material*> materials;
     std::unique_ptr<bool[]> found;
     std::unique_ptr<float[]> visible;
     std::vector<Sampler*> prefetchSamplers;
@@ -424,8 +490,12 @@ struct BatchScratch {
         live.resize(count);
         queries.resize(count);
         hits.resize(count);
-        shadowed.clear();
-        shadowQueries.clear();
+        materials.resize(count);
+        shadowed.resize(count);
+        shadowQueries.resize(count);
+        prefetchSamplers.resize(count);
+        prefetchDepths.resize(count);
+        prefetchSlots.resize(count);
         if (count > capacity) {
             found.reset(new bool[count]);
             visible.reset(new float[count]);
@@ -452,33 +522,40 @@ void PathIntegrator::traceMany(std::size_t count, const Ray* cameraRays, Sampler
         for (std::size_t k = 0; k < n; ++k) b.queries[k] = &b.paths[b.live[k]].ray;
         rays += n;
         m_embree.intersectMany(n, b.queries.data(), b.hits.data(), b.found.get(), first);
-        b.shadowed.clear();
-        b.shadowQueries.clear();
-        if constexpr (PrefetchingSampler<Sampler>) {
-            // This bounce's numbers of every path that hit something, computed together.
-            b.prefetchSamplers.clear();
-            b.prefetchDepths.clear();
-            b.prefetchSlots.clear();
-            for (std::size_t k = 0; k < n; ++k) {
-                if (!b.found[k]) continue;
-                const PathState& p = b.paths[b.live[k]];
-                b.prefetchSamplers.push_back(&samplers[b.live[k]]);
-                b.prefetchDepths.push_back(p.depth);
-                b.prefetchSlots.push_back(numbersNeeded(p, b.hits[k]));
+        // Each hit's material, found once for the numbers it needs and for its shading; with a
+        // PrefetchingSampler, this bounce's numbers of every path that hit something, computed
+        // together.
+        [[maybe_unused]] std::size_t prefetched = 0;
+        for (std::size_t k = 0; k < n; ++k) {
+            if (!b.found[k]) {
+                b.materials[k] = nullptr;
+                continue;
             }
-            Sampler::prefetchMany(b.prefetchSamplers.size(), b.prefetchSamplers.data(),
-                                  b.prefetchDepths.data(), b.prefetchSlots.data());
+            const detail::Material& material = materialAt(b.hits[k]);
+            b.materials[k] = &material;
+            if constexpr (PrefetchingSampler<Sampler>) {
+                const PathState& p = b.paths[b.live[k]];
+                b.prefetchSamplers[prefetched] = &samplers[b.live[k]];
+                b.prefetchDepths[prefetched] = p.depth;
+                b.prefetchSlots[prefetched] = numbersNeeded(p, material);
+                ++prefetched;
+            }
         }
+        if constexpr (PrefetchingSampler<Sampler>)
+            Sampler::prefetchMany(prefetched, b.prefetchSamplers.data(), b.prefetchDepths.data(),
+                                  b.prefetchSlots.data());
+        std::size_t shadowCount = 0;
         for (std::size_t k = 0; k < n; ++k) {
             PathState& p = b.paths[b.live[k]];
-            advance(p, b.found[k], b.hits[k], samplers[b.live[k]], rays);
+            advance(p, b.found[k], b.hits[k], b.materials[k], samplers[b.live[k]], rays);
             if (p.shadowPending) {
-                b.shadowed.push_back(b.live[k]);
-                b.shadowQueries.push_back(&p.shadow);
+                b.shadowed[shadowCount] = b.live[k];
+                b.shadowQueries[shadowCount] = &p.shadow;
+                ++shadowCount;
             }
         }
-        m_embree.visibilityMany(b.shadowQueries.size(), b.shadowQueries.data(), b.visible.get());
-        for (std::size_t k = 0; k < b.shadowed.size(); ++k) {
+        m_embree.visibilityMany(shadowCount, b.shadowQueries.data(), b.visible.get());
+        for (std::size_t k = 0; k < shadowCount; ++k) {
             PathState& p = b.paths[b.shadowed[k]];
             if (b.visible[k] > 0.0f) p.radiance += p.shadowContribution * b.visible[k];
         }

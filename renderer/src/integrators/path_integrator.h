@@ -60,11 +60,13 @@ class PathIntegrator {
                    std::uint64_t& rays) const;
 
   private:
-    /// Consumes the intersection of p.ray (`found` and `hit`) at bounce p.depth: emission,
-    /// features, next-event estimation (leaving its shadow ray pending) and the next ray, or
-    /// the end of the path (p.alive false).
+    /// Consumes the intersection of p.ray (`found` and `hit`, whose material is `material`:
+    /// materialAt(hit), null when nothing was found) at bounce p.depth: emission, features,
+    /// next-event estimation (leaving its shadow ray pending) and the next ray, or the end of
+    /// the path (p.alive false).
     template <PathSampler Sampler>
-    void advance(PathState& p, bool found, const Hit& hit, Sampler& rng, std::uint64_t& rays) const;
+    void advance(PathState& p, bool found, const Hit& hit, const detail::Material* material,
+                 Sampler& rng, std::uint64_t& rays) const;
 
     /// At a hit on a BLEND surface of presence alpha: true when p.ray meets it (then the
     /// surface is shaded and p.blendU is the component number of its BSDF), else false with
@@ -77,10 +79,17 @@ class PathIntegrator {
     template <PathSampler Sampler>
     bool meetsBlend(PathState& p, const Hit& hit, Sampler& rng) const;
 
-    /// The bounce numbers (slotBit() mask) p's next advance() will read at `hit`,
+    /// The bounce numbers (slotBit() mask) p's next advance() will read at a hit on `material`,
     /// as far as the material tells: a prefetch that may compute one or two numbers the path
     /// then does not use (a conductor too smooth for next-event estimation, a path that ends).
-    unsigned numbersNeeded(const PathState& p, const Hit& hit) const;
+    unsigned numbersNeeded(const PathState& p, const detail::Material& material) const;
+
+    /// The material of the surface `hit` found (SceneData::materialOf, through
+    /// m_instanceMaterials; found once a hit: traceMany keeps it).
+    const detail::Material& materialAt(const Hit& hit) const {
+        const InstanceMaterials& m = m_instanceMaterials[hit.surface.instance];
+        return m.only ? *m.only : m_scene.materials[m.perTriangle[hit.surface.prim]];
+    }
 
     /// MIS weight of a strategy with density `pdf` against the other with `other`.
     float misWeight(float pdf, float other) const;
@@ -93,6 +102,14 @@ class PathIntegrator {
     bool m_useLightSampling;  // NEE at non-specular vertices
     bool m_useBsdfHits;       // emitters found by BSDF sampling count (after non-specular)
     bool m_hasBlend;          // some material is alphaMode BLEND (meetsBlend)
+    /// Where an instance's triangles find their material: the one of all of them (the
+    /// instance's own, or its mesh's only one), else its mesh's index per triangle into
+    /// SceneData::materials (Mesh::materials).
+    struct InstanceMaterials {
+        const detail::Material* only = nullptr;
+        const std::uint32_t* perTriangle = nullptr;
+    };
+    std::vector<InstanceMaterials> m_instanceMaterials;
     int m_maxDepth, m_rrDepth;
 };
 

@@ -41,12 +41,6 @@ Vec4 lookup(const detail::SceneData& scene, const detail::TextureSlot& slot,
 
 }  // namespace
 
-bool usesTextures(const detail::Material& material) {
-    return material.texture >= 0 || material.roughnessMetallicMap.present() ||
-           material.normalMap.present() || material.emissionMap.present() ||
-           material.bumpMap.present();
-}
-
 detail::TexFootprint uvFootprint(const detail::TriangleView& tri, const Vec2& uv0, const Vec2& uv1,
                                  const Vec2& uv2, const Vec3& dpdx, const Vec3& dpdy) {
     // Least squares: the (db1, db2) with db1 e1 + db2 e2 nearest to the step, from the normal
@@ -68,11 +62,7 @@ detail::TexFootprint uvFootprint(const detail::TriangleView& tri, const Vec2& uv
 
 SurfaceInputs texturedInputs(const detail::SceneData& scene, const detail::Material& material,
                              const SurfacePoint& at) {
-    SurfaceInputs in;
-    in.albedo = material.albedo;
-    in.metallic = material.metallic;
-    in.roughness = material.roughness;
-    in.transmission = material.transmission;
+    SurfaceInputs in = factorInputs(material);
     // glTF's COLOR_0 multiplies a glTF material's base colour (factor × texture).
     if (material.textureTimesFactor) {
         const detail::Mesh& mesh = scene.meshes[scene.instances[at.id.instance].mesh];

@@ -25,7 +25,11 @@ struct SurfacePoint {
 };
 
 /// True when `material` reads a texture (so that a hit needs its footprint).
-bool usesTextures(const detail::Material& material);
+inline bool usesTextures(const detail::Material& material) {
+    return material.texture >= 0 || material.roughnessMetallicMap.present() ||
+           material.normalMap.present() || material.emissionMap.present() ||
+           material.bumpMap.present();
+}
 
 /// The uv footprint (SurfacePoint::footprint) of surface steps dpdx and dpdy (world space) on
 /// triangle `tri` (world space) whose corners have texture coordinates uv0, uv1, uv2: each step
@@ -42,6 +46,10 @@ struct SurfaceInputs {
     float transmission = 0.0f;  ///< metallic-roughness material only (KHR_materials_transmission)
 };
 
+/// The inputs of `material` where it reads no texture nor vertex colour: its factors.
+inline SurfaceInputs factorInputs(const detail::Material& material) {
+    return {material.albedo, material.metallic, material.roughness, material.transmission};
+}
 /// evaluateInputs() of a hit with texture coordinates or a material that reads vertex colours.
 SurfaceInputs texturedInputs(const detail::SceneData& scene, const detail::Material& material,
                              const SurfacePoint& at);
@@ -50,8 +58,7 @@ SurfaceInputs texturedInputs(const detail::SceneData& scene, const detail::Mater
 inline SurfaceInputs evaluateInputs(const detail::SceneData& scene,
                                     const detail::Material& material, const SurfacePoint& at) {
     // Without texture coordinates or vertex colours, the factors (inline: every hit asks).
-    if (!at.hasUv && !material.textureTimesFactor)
-        return {material.albedo, material.metallic, material.roughness, material.transmission};
+    if (!at.hasUv && !material.textureTimesFactor) return factorInputs(material);
     return texturedInputs(scene, material, at);
 }
 

@@ -1,6 +1,6 @@
 // BSDFs in the local shading frame (z = shading normal). Each material kind lives in its own
 // file (diffuse.cpp, mirror.cpp, dielectric.cpp, rough_dielectric.cpp, conductor.cpp,
-// metallic_roughness.cpp); Bsdf dispatches by kind.
+// metallic_roughness.cpp); Bsdf dispatches by kind (inline, below).
 #pragma once
 
 #include "scene/scene_data.h"
@@ -36,6 +36,7 @@ struct Bsdf {
 
     /// Builds the BSDF of `material` with (possibly textured) albedo. A metallicRoughness
     /// material takes its factors from `material`; use metallicRoughness() for textured ones.
+    /// Inline, as the dispatch below: built at every hit.
     static Bsdf fromMaterial(const detail::Material& material, const Vec3& albedo);
     /// Builds the glTF metallic-roughness BSDF from per-hit values: the base colour (factor ×
     /// texture), metallic and perceptual roughness (factors × the texture's B and G), the IOR
@@ -95,7 +96,9 @@ struct GgxRefraction {
 /// Fills `out` for a pair that refracts through some microfacet; false when none does.
 bool ggxRefraction(const Vec3& wo, const Vec3& wi, float alpha, float eta, GgxRefraction& out);
 /// A dielectric with alpha < kMinGgxAlpha (or ior 1) is the smooth one, a delta BSDF.
-bool roughDielectricIsSmooth(const Bsdf& b);
+inline bool roughDielectricIsSmooth(const Bsdf& b) {
+    return b.alpha < kMinGgxAlpha || b.ior == 1.0f;
+}
 Vec3 roughDielectricEval(const Bsdf& b, const Vec3& wo, const Vec3& wi);
 float roughDielectricPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi);
 /// GGX reflection or refraction (chosen by uc against the microfacet's Fresnel); the smooth
@@ -123,5 +126,85 @@ float metallicRoughnessSpecularProbability(const Bsdf& b, const Vec3& wo);
 Vec3 metallicRoughnessEval(const Bsdf& b, const Vec3& wo, const Vec3& wi);
 float metallicRoughnessPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi);
 bool metallicRoughnessSample(const Bsdf& b, const Vec3& wo, Vec2 u, BsdfSample& out);
+
+// Bsdf's dispatch by kind, inline: called at every hit, it folds into the integrator's code
+// (a plain material then pays one test and the call of its own kind's function).
+
+inline Bsdf Bsdf::fromMaterial(const detail::Material& material, const Vec3& albedo) {
+    if (material.type == detail::MaterialType::MetallicRoughness)
+        return metallicRoughness(albedo, material.metallic, material.roughness, material.ior,
+                                 material.transmission);
+    Bsdf b;
+    b.type = material.type;
+    b.albedo = albedo;
+    b.ior = material.ior;
+    b.alpha = material.roughness * material.roughness;
+    b.hasEtaK = material.hasEtaK;
+    b.eta = material.eta;
+    b.k = material.k;
+    b.specular = material.specular;
+    return b;
+}
+
+inline bool Bsdf::isSpecular() const {
+    switch (type) {
+        case detail::MaterialType::Diffuse:
+        case detail::MaterialType::MetallicRoughness:
+            return false;
+        case detail::MaterialType::Mirror:
+            return true;
+        case detail::MaterialType::Dielectric:
+            return roughDielectricIsSmooth(*this);
+        case detail::MaterialType::Conductor:
+            return alpha < kMinGgxAlpha;
+    }
+    return false;
+}
+
+inline Vec3 Bsdf::eval(const Vec3& wo, const Vec3& wi) const {
+    switch (type) {
+        case detail::MaterialType::Diffuse:
+            return diffuseEval(*this, wo, wi);
+        case detail::MaterialType::MetallicRoughness:
+            return metallicRoughnessEval(*this, wo, wi);
+        case detail::MaterialType::Conductor:
+            return alpha < kMinGgxAlpha ? Vec3{} : conductorEval(*this, wo, wi);
+        case detail::MaterialType::Dielectric:
+            return roughDielectricIsSmooth(*this) ? Vec3{} : roughDielectricEval(*this, wo, wi);
+        default:
+            return {};
+    }
+}
+
+inline float Bsdf::pdf(const Vec3& wo, const Vec3& wi) const {
+    switch (type) {
+        case detail::MaterialType::Diffuse:
+            return diffusePdf(*this, wo, wi);
+        case detail::MaterialType::MetallicRoughness:
+            return metallicRoughnessPdf(*this, wo, wi);
+        case detail::MaterialType::Conductor:
+            return alpha < kMinGgxAlpha ? 0.0f : conductorPdf(*this, wo, wi);
+        case detail::MaterialType::Dielectric:
+            return roughDielectricIsSmooth(*this) ? 0.0f : roughDielectricPdf(*this, wo, wi);
+        default:
+            return 0.0f;
+    }
+}
+
+inline bool Bsdf::sample(const Vec3& wo, Vec2 u, float uc, BsdfSample& out) const {
+    switch (type) {
+        case detail::MaterialType::Diffuse:
+            return diffuseSample(*this, wo, u, out);
+        case detail::MaterialType::MetallicRoughness:
+            return metallicRoughnessSample(*this, wo, u, out);
+        case detail::MaterialType::Mirror:
+            return mirrorSample(*this, wo, out);
+        case detail::MaterialType::Dielectric:
+            return roughDielectricSample(*this, wo, u, uc, out);
+        case detail::MaterialType::Conductor:
+            return conductorSample(*this, wo, u, out);
+    }
+    return false;
+}
 
 }  // namespace glint::render

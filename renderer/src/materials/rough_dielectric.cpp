@@ -111,10 +111,6 @@ void evalAndPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi, Vec3& f, float& p
 
 }  // namespace
 
-bool roughDielectricIsSmooth(const Bsdf& b) {
-    return b.alpha < kMinGgxAlpha || b.ior == 1.0f;
-}
-
 Vec3 roughDielectricEval(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
     Vec3 f;
     float pdf;

@@ -332,6 +332,14 @@ struct TriangleView {
 /// "Performance"). Larger scenes compute it at each hit, the same bits, without the memory.
 inline constexpr std::size_t kFaceNormalTriangles = std::size_t(1) << 20;
 
+/// The unit geometric normal of triangle `prim`, with corners p0, p1, p2, of a mesh in world
+/// space: the kept one (Mesh::faceNormals) where the mesh keeps them, else triangleNormal of the
+/// corners (the same bits). The one place that choice is made (worldTriangle, shading a hit).
+[[gnu::always_inline]] inline Vec3 faceNormal(const Mesh& mesh, std::uint32_t prim, const Vec3& p0,
+                                              const Vec3& p1, const Vec3& p2) {
+    return prim < mesh.faceNormals.size() ? mesh.faceNormals[prim] : triangleNormal(p0, p1, p2);
+}
+
 /// Triangle `prim` of a mesh in world space (an identity, static instance's). Always inlined:
 /// called at every hit, its copies fold into the caller's registers.
 [[gnu::always_inline]] inline TriangleView worldTriangle(const Mesh& mesh, std::uint32_t prim) {
@@ -342,8 +350,7 @@ inline constexpr std::size_t kFaceNormalTriangles = std::size_t(1) << 20;
         tri.p[v] = mesh.positions[idx[v]];
         if (tri.hasNormals) tri.n[v] = mesh.normals[idx[v]];
     }
-    tri.ng = prim < mesh.faceNormals.size() ? mesh.faceNormals[prim]
-                                            : triangleNormal(tri.p[0], tri.p[1], tri.p[2]);
+    tri.ng = faceNormal(mesh, prim, tri.p[0], tri.p[1], tri.p[2]);
     return tri;
 }
 
