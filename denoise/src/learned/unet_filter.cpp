@@ -311,17 +311,20 @@ class UNetFilter final : public Filter {
         const int threads = tbb::this_task_arena::max_concurrency();
 
         Image out(roi.width(), roi.height(), 3);
+        // One workspace for all tiles: activations are allocated (and their pages touched) once.
+        learned::UNetWorkspace workspace;
         std::vector<float> input, result;
         for (const auto& t : tiles) {
             const int pw = learned::alignUp16(t.in.width()), ph = learned::alignUp16(t.in.height());
             input.assign(std::size_t(pw) * ph * channels, 0.0f);
             result.resize(std::size_t(pw) * ph * 3);
             fillInput(frame, f, scale, t.in, pw, input, channels, work);
-            net->run(input.data(), ph, pw, result.data(), threads, [&](int done, int all) {
-                (void)done;
-                work.addWork(std::int64_t(pw) * ph / all);
-                work.throwIfCancelled();
-            });
+            net->run(input.data(), ph, pw, result.data(), threads, workspace,
+                     [&](int done, int all) {
+                         (void)done;
+                         work.addWork(std::int64_t(pw) * ph / all);
+                         work.throwIfCancelled();
+                     });
             // Output process: clamp at 0, inverse transfer, undo the exposure.
             work.parallelFor(
                 t.out.y0, t.out.y1,
