@@ -63,35 +63,36 @@ memory::desc anyDesc(int c, int h, int w) {
     return {{1, c, h, w}, memory::data_type::f32, memory::format_tag::any};
 }
 
-// Offsets of buffers in one arena such that buffers whose lifetimes [first, last] overlap do not
-// share bytes: each buffer, in order of first use, goes to the lowest 4 KiB-aligned gap left by
-// the buffers still live (first fit). `bytes` receives the arena's size.
+// Offsets of buffers in one arena such that buffers whose lifetimes [first, last] (in steps)
+// overlap do not share bytes: largest first, each at the lowest 4 KiB-aligned gap between the
+// already placed buffers it overlaps (the greedy-by-size planner of TensorFlow Lite's arena,
+// Pisarchyk and Lee 2020). `bytes` receives the arena's size.
 std::vector<std::size_t> packArena(const std::vector<std::size_t>& sizes,
                                    const std::vector<int>& first, const std::vector<int>& last,
                                    std::size_t& bytes) {
     constexpr std::size_t kAlign = 4096;
     const std::size_t n = sizes.size();
+    auto aligned = [&](std::size_t i) { return (sizes[i] + kAlign - 1) / kAlign * kAlign; };
     std::vector<std::size_t> order(n), offsets(n, 0);
     for (std::size_t i = 0; i < n; ++i) order[i] = i;
     std::stable_sort(order.begin(), order.end(),
-                     [&](std::size_t a, std::size_t b) { return first[a] < first[b]; });
+                     [&](std::size_t a, std::size_t b) { return sizes[a] > sizes[b]; });
     std::vector<std::size_t> placed;
     bytes = 0;
     for (std::size_t b : order) {
-        const std::size_t size = (sizes[b] + kAlign - 1) / kAlign * kAlign;
-        // Live buffers (a buffer read at step first[b] is still live), by offset.
-        std::vector<std::size_t> live;
+        if (sizes[b] == 0) continue;
+        std::vector<std::size_t> conflicts;
         for (std::size_t a : placed)
-            if (last[a] >= first[b]) live.push_back(a);
-        std::sort(live.begin(), live.end(),
+            if (first[a] <= last[b] && first[b] <= last[a]) conflicts.push_back(a);
+        std::sort(conflicts.begin(), conflicts.end(),
                   [&](std::size_t x, std::size_t y) { return offsets[x] < offsets[y]; });
         std::size_t at = 0;
-        for (std::size_t a : live) {
-            if (offsets[a] >= at + size) break;
-            at = std::max(at, offsets[a] + (sizes[a] + kAlign - 1) / kAlign * kAlign);
+        for (std::size_t a : conflicts) {
+            if (offsets[a] >= at + aligned(b)) break;
+            at = std::max(at, offsets[a] + aligned(a));
         }
         offsets[b] = at;
-        bytes = std::max(bytes, at + size);
+        bytes = std::max(bytes, at + aligned(b));
         placed.push_back(b);
     }
     return offsets;
