@@ -14,8 +14,9 @@
 // as two convolutions into one destination, conv(a, W_a) then conv(b, W_b) + bias with oneDNN's
 // sum post-op and the ReLU fused, so no concatenated tensor is ever stored.
 //
-// Memory formats are chosen by oneDNN (format_tag::any; nChw16c on AVX-512); primitives and
-// reordered weights are built once per tile size (a Plan) and reused.
+// Memory formats are chosen by oneDNN (format_tag::any; nhwc with brgconv on AVX-512);
+// primitives and reordered weights are built once per tile size (a Plan) and reused. Activations
+// have fixed offsets in one arena (packed by lifetime) that the caller's UNetWorkspace holds.
 #include "learned/unet_network.h"
 
 #include <omp.h>
