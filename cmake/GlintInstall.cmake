@@ -19,6 +19,10 @@ foreach(module image renderer denoise)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${module}/include/glint
           DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endforeach()
+# The learned filter's weights (and their licence), where weightsDir() looks beside bin/.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/denoise/weights/oidn/
+        DESTINATION ${GLINT_UNET_WEIGHTS_INSTALL_DIR}
+        FILES_MATCHING PATTERN "*.tza" PATTERN "LICENSE.txt")
 foreach(tool glint-image glint-render glint-denoise)
   if(TARGET ${tool})
     install(TARGETS ${tool} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

@@ -2,6 +2,7 @@
 // blobs made here (good, truncated, corrupt), SHA-256, missing and corrupt weight files, equality
 // with the OIDN peer on a committed crop of scenes/glossy, thread-count determinism and tiling.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdint>
@@ -19,6 +20,7 @@
 #include "learned/sha256.h"
 #include "learned/tza.h"
 #include "learned/unet_tiles.h"
+#include "learned/weights_dir.h"
 #include "synthetic_frames.h"
 #include "unet_weights_dir.h"
 
@@ -172,6 +174,23 @@ TEST(UNetWeights, CorruptWeightsFailWithTheExpectedDigest) {
         EXPECT_NE(std::string(e.what()).find("weights corrupt"), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("sha256 a097e8fe"), std::string::npos) << e.what();
     }
+}
+
+TEST(UNetWeights, TheFolderIsTheEnvironmentsThenTheInstalledCopyThenTheSourceTree) {
+    const fs::path prefix =
+        fs::temp_directory_path() / ("glint_unet_lookup_" + std::to_string(::getpid()));
+    const fs::path installed = prefix / "share/glint/weights/oidn";
+    fs::create_directories(installed);
+    const fs::path exe = prefix / "bin/glint-denoise", rel = "../share/glint/weights/oidn";
+    EXPECT_EQ(learned::weightsDir("/env/weights", exe, rel, "/src/weights"), "/env/weights");
+    EXPECT_EQ(learned::weightsDir("", exe, rel, "/src/weights"), installed);
+    fs::remove_all(prefix);
+    EXPECT_EQ(learned::weightsDir("", exe, rel, "/src/weights"), "/src/weights");
+    EXPECT_EQ(learned::weightsDir("", "", rel, "/src/weights"), "/src/weights");
+    // This test binary runs from the build tree, which has no installed copy.
+    unsetenv("GLINT_UNET_WEIGHTS_DIR");
+    EXPECT_EQ(fs::canonical(learned::weightsDir()),
+              fs::canonical(fs::path(GLINT_SOURCE_DIR) / "denoise/weights/oidn"));
 }
 
 // |difference| statistics of the peer comparison (docs/learned.md, "Equality with the peer").

@@ -9,8 +9,9 @@
 // the receptive-field half-width (96 px; 112 for the large weights), so that a tile's output
 // equals a single pass; the tile size follows a memory budget.
 //
-// Weights (Apache-2.0, third_party_notes/oidn-weights.md) are read from denoise/weights/oidn/ or
-// the folder in GLINT_UNET_WEIGHTS_DIR and checked by SHA-256; missing or corrupt weights make
+// Weights (Apache-2.0, third_party_notes/oidn-weights.md) are read from the folder in
+// GLINT_UNET_WEIGHTS_DIR, else the installed share/glint/weights/oidn, else the source tree's
+// denoise/weights/oidn/, and checked by SHA-256; missing or corrupt weights make
 // the filter unavailable (one line naming the file and the expected digest): apply() refuses to
 // run and the default bank goes on without it.
 //
@@ -27,7 +28,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -44,6 +44,7 @@
 #include "learned/tza.h"
 #include "learned/unet_network.h"
 #include "learned/unet_tiles.h"
+#include "learned/weights_dir.h"
 
 namespace glint::denoise {
 
@@ -64,8 +65,9 @@ decoded by the inverse transfer and exposure. Large frames are split into tiles 
 the receptive-field half-width (96 px; 112 for the large weights), so that a tile's output
 equals a single pass; the tile size follows a memory budget.
 
-Weights (Apache-2.0, third_party_notes/oidn-weights.md) are read from denoise/weights/oidn/ or
-the folder in GLINT_UNET_WEIGHTS_DIR and checked by SHA-256; missing or corrupt weights make
+Weights (Apache-2.0, third_party_notes/oidn-weights.md) are read from the folder in
+GLINT_UNET_WEIGHTS_DIR, else the installed share/glint/weights/oidn, else the source tree's
+denoise/weights/oidn/, and checked by SHA-256; missing or corrupt weights make
 the filter unavailable (one line naming the file and the expected digest): apply() refuses to
 run and the default bank goes on without it.
 
@@ -105,11 +107,6 @@ const WeightsFile* findWeights(std::string_view name) {
     return nullptr;
 }
 
-std::string weightsDir() {
-    if (const char* env = std::getenv("GLINT_UNET_WEIGHTS_DIR"); env && *env) return env;
-    return GLINT_UNET_WEIGHTS_DIR;
-}
-
 // The weights for a feature set, aux kind and quality (OIDN RTFilter's model table, HDR).
 std::string weightsName(Features f, bool cleanAux, Quality q) {
     std::string base = "rt_hdr";
@@ -126,7 +123,7 @@ std::vector<std::uint8_t> readFile(const std::string& path) {
 }
 
 std::string weightsPath(const std::string& name) {
-    return weightsDir() + "/" + name + ".tza";
+    return (learned::weightsDir() / (name + ".tza")).string();
 }
 
 // The bytes of weight file `name` at `path`, checked against its digest: throws Error(Io) when
@@ -311,17 +308,20 @@ class UNetFilter final : public Filter {
         const int threads = tbb::this_task_arena::max_concurrency();
 
         Image out(roi.width(), roi.height(), 3);
+        // One workspace for all tiles: activations are allocated (and their pages touched) once.
+        learned::UNetWorkspace workspace;
         std::vector<float> input, result;
         for (const auto& t : tiles) {
             const int pw = learned::alignUp16(t.in.width()), ph = learned::alignUp16(t.in.height());
             input.assign(std::size_t(pw) * ph * channels, 0.0f);
             result.resize(std::size_t(pw) * ph * 3);
             fillInput(frame, f, scale, t.in, pw, input, channels, work);
-            net->run(input.data(), ph, pw, result.data(), threads, [&](int done, int all) {
-                (void)done;
-                work.addWork(std::int64_t(pw) * ph / all);
-                work.throwIfCancelled();
-            });
+            net->run(input.data(), ph, pw, result.data(), threads, workspace,
+                     [&](int done, int all) {
+                         (void)done;
+                         work.addWork(std::int64_t(pw) * ph / all);
+                         work.throwIfCancelled();
+                     });
             // Output process: clamp at 0, inverse transfer, undo the exposure.
             work.parallelFor(
                 t.out.y0, t.out.y1,

@@ -14,13 +14,17 @@
 // as two convolutions into one destination, conv(a, W_a) then conv(b, W_b) + bias with oneDNN's
 // sum post-op and the ReLU fused, so no concatenated tensor is ever stored.
 //
-// Memory formats are chosen by oneDNN (format_tag::any; nChw16c on AVX-512); primitives and
-// reordered weights are built once per tile size (a Plan) and reused.
+// Memory formats are chosen by oneDNN (format_tag::any; nhwc with brgconv on AVX-512);
+// primitives and reordered weights are built once per tile size (a Plan) and reused. Activations
+// have fixed offsets in one arena (packed by lifetime) that the caller's UNetWorkspace holds.
 #include "learned/unet_network.h"
 
 #include <omp.h>
+#include <sys/mman.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <new>
 #include <oneapi/dnnl/dnnl.hpp>
 
 #include "glint/image/error.h"
@@ -60,7 +64,60 @@ memory::desc anyDesc(int c, int h, int w) {
     return {{1, c, h, w}, memory::data_type::f32, memory::format_tag::any};
 }
 
+// Offsets of buffers in one arena such that buffers whose lifetimes [first, last] (in steps)
+// overlap do not share bytes: largest first, each at the lowest 4 KiB-aligned gap between the
+// already placed buffers it overlaps (the greedy-by-size planner of TensorFlow Lite's arena,
+// Pisarchyk and Lee 2020). `bytes` receives the arena's size.
+std::vector<std::size_t> packArena(const std::vector<std::size_t>& sizes,
+                                   const std::vector<int>& first, const std::vector<int>& last,
+                                   std::size_t& bytes) {
+    constexpr std::size_t kAlign = 4096;
+    const std::size_t n = sizes.size();
+    auto aligned = [&](std::size_t i) { return (sizes[i] + kAlign - 1) / kAlign * kAlign; };
+    std::vector<std::size_t> order(n), offsets(n, 0);
+    for (std::size_t i = 0; i < n; ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return sizes[a] > sizes[b]; });
+    std::vector<std::size_t> placed;
+    bytes = 0;
+    for (std::size_t b : order) {
+        if (sizes[b] == 0) continue;
+        std::vector<std::size_t> conflicts;
+        for (std::size_t a : placed)
+            if (first[a] <= last[b] && first[b] <= last[a]) conflicts.push_back(a);
+        std::sort(conflicts.begin(), conflicts.end(),
+                  [&](std::size_t x, std::size_t y) { return offsets[x] < offsets[y]; });
+        std::size_t at = 0;
+        for (std::size_t a : conflicts) {
+            if (offsets[a] >= at + aligned(b)) break;
+            at = std::max(at, offsets[a] + aligned(a));
+        }
+        offsets[b] = at;
+        bytes = std::max(bytes, at + aligned(b));
+        placed.push_back(b);
+    }
+    return offsets;
+}
+
 }  // namespace
+
+void UNetWorkspace::Free::operator()(std::byte* p) const {
+    std::free(p);
+}
+
+std::byte* UNetWorkspace::reserve(std::size_t bytes) {
+    if (bytes <= m_size) return m_data.get();
+    constexpr std::size_t kHuge = std::size_t(2) << 20;
+    const std::size_t size = (bytes + kHuge - 1) / kHuge * kHuge;
+    m_data.reset();
+    void* p = std::aligned_alloc(kHuge, size);
+    if (!p) throw std::bad_alloc();
+    // Transparent huge pages where the kernel offers them: 512× fewer page faults.
+    madvise(p, size, MADV_HUGEPAGE);
+    m_data.reset(static_cast<std::byte*>(p));
+    m_size = size;
+    return m_data.get();
+}
 
 struct UNetNetwork::Layer {
     std::string name;
@@ -138,10 +195,10 @@ struct UNetNetwork::Plan {
     Graph graph;
     std::vector<memory::desc> descs;
     std::vector<Step> steps;
-    std::vector<int> lastUse;
+    std::vector<std::size_t> offsets;  // of each tensor in the arena
     memory::desc inUser, outUser;
     dnnl::reorder inReorder, outReorder;
-    std::size_t peakBytes = 0;
+    std::size_t arenaBytes = 0;
 };
 
 UNetNetwork::UNetNetwork(const TzaTensors& tensors, int inputChannels, const std::string& file)
@@ -204,7 +261,7 @@ double UNetNetwork::macsPerPixel() const {
 
 double UNetNetwork::bytesPerPixel() const {
     constexpr int kSide = 256;
-    return double(plan(kSide, kSide)->peakBytes) / double(kSide * kSide);
+    return double(plan(kSide, kSide)->arenaBytes) / double(kSide * kSide);
 }
 
 std::shared_ptr<const UNetNetwork::Plan> UNetNetwork::plan(int h, int w) const {
@@ -318,22 +375,19 @@ std::shared_ptr<const UNetNetwork::Plan> UNetNetwork::plan(int h, int w) const {
     p->inReorder = dnnl::reorder(dnnl::reorder::primitive_desc(eng, p->inUser, eng, p->descs[0]));
     p->outReorder =
         dnnl::reorder(dnnl::reorder::primitive_desc(eng, p->descs.back(), eng, p->outUser));
-    // Lifetimes, and the peak of live activations when each tensor is freed after its last use.
-    p->lastUse.assign(g.tensors.size(), -1);
+    // Lifetimes: a tensor lives from its producing step to its last use (the input from before
+    // the first step, the output until the output reorder).
+    const int n = int(g.tensors.size());
+    std::vector<int> first(std::size_t(n), -1), last(std::size_t(n), -1);
     for (std::size_t i = 0; i < p->steps.size(); ++i) {
-        p->lastUse[std::size_t(p->steps[i].src0)] = int(i);
-        if (p->steps[i].src1 >= 0) p->lastUse[std::size_t(p->steps[i].src1)] = int(i);
+        first[std::size_t(p->steps[i].dst)] = int(i);
+        last[std::size_t(p->steps[i].src0)] = int(i);
+        if (p->steps[i].src1 >= 0) last[std::size_t(p->steps[i].src1)] = int(i);
     }
-    p->lastUse.back() = int(p->steps.size());  // the output is read by the output reorder
-    std::size_t live = p->descs[0].get_size(), peak = live;
-    for (std::size_t i = 0; i < p->steps.size(); ++i) {
-        live += p->descs[std::size_t(p->steps[i].dst)].get_size();
-        peak = std::max(peak, live);
-        for (std::size_t t = 0; t < g.tensors.size(); ++t)
-            if (p->lastUse[t] == int(i)) live -= p->descs[t].get_size();
-    }
-    p->peakBytes = peak;
-
+    last.back() = int(p->steps.size());
+    std::vector<std::size_t> sizes(static_cast<std::size_t>(n));
+    for (int t = 0; t < n; ++t) sizes[std::size_t(t)] = p->descs[std::size_t(t)].get_size();
+    p->offsets = packArena(sizes, first, last, p->arenaBytes);
     // Keep a few plans (tiles of a frame have at most four sizes).
     constexpr std::size_t kMaxPlans = 6;
     if (m_plans.size() >= kMaxPlans) m_plans.erase(m_plans.begin());
@@ -342,7 +396,7 @@ std::shared_ptr<const UNetNetwork::Plan> UNetNetwork::plan(int h, int w) const {
 }
 
 void UNetNetwork::run(const float* input, int h, int w, float* output, int threads,
-                      const LayerFn& afterLayer) const {
+                      UNetWorkspace& workspace, const LayerFn& afterLayer) const {
     GLINT_CHECK(h > 0 && w > 0 && h % kUNetAlignment == 0 && w % kUNetAlignment == 0,
                 "U-Net tile sizes must be positive multiples of 16");
     const std::shared_ptr<const Plan> p = plan(h, w);
@@ -350,16 +404,16 @@ void UNetNetwork::run(const float* input, int h, int w, float* output, int threa
     omp_set_num_threads(std::max(1, threads));
     dnnl::stream s(eng);
 
-    // Activations live from their producing step to their last use.
+    // Every activation at its place in the arena.
+    std::byte* arena = workspace.reserve(p->arenaBytes);
     std::vector<memory> mem(p->descs.size());
+    for (std::size_t t = 0; t < mem.size(); ++t)
+        mem[t] = memory(p->descs[t], eng, arena + p->offsets[t]);
     memory inUser(p->inUser, eng, const_cast<float*>(input));
-    mem[0] = memory(p->descs[0], eng);
     p->inReorder.execute(s, inUser, mem[0]);
     const int totalConvs = int(m_layers.size());
     int convs = 0;
-    for (std::size_t i = 0; i < p->steps.size(); ++i) {
-        const Plan::Step& st = p->steps[i];
-        mem[std::size_t(st.dst)] = memory(p->descs[std::size_t(st.dst)], eng);
+    for (const Plan::Step& st : p->steps) {
         const memory& dst = mem[std::size_t(st.dst)];
         if (st.kind == OpKind::Conv) {
             const bool split = st.src1 >= 0;
@@ -375,8 +429,6 @@ void UNetNetwork::run(const float* input, int h, int w, float* output, int threa
             st.main.execute(s, {{DNNL_ARG_SRC, mem[std::size_t(st.src0)]}, {DNNL_ARG_DST, dst}});
         }
         s.wait();
-        for (std::size_t t = 0; t < mem.size(); ++t)
-            if (p->lastUse[t] == int(i)) mem[t] = memory();
         if (st.kind == OpKind::Conv && afterLayer) afterLayer(++convs, totalConvs);
     }
     memory outUser(p->outUser, eng, output);

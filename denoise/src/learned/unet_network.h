@@ -3,6 +3,7 @@
 // the CPU with oneDNN convolutions.
 #pragma once
 
+#include <cstddef>
 #include <functional>
 #include <map>
 #include <memory>
@@ -17,6 +18,26 @@ namespace glint::denoise::learned {
 
 /// Sizes of tiles the network takes: width and height are multiples of this.
 inline constexpr int kUNetAlignment = 16;
+
+/// Memory for a network's activations, reused by every run() given it (e.g. all tiles of one
+/// frame): it grows to the largest tile's need and is backed by huge pages where the system
+/// allows, so that its pages are touched once. Not thread-safe: one per concurrent run.
+class UNetWorkspace {
+  public:
+    UNetWorkspace() = default;
+    UNetWorkspace(const UNetWorkspace&) = delete;
+    UNetWorkspace& operator=(const UNetWorkspace&) = delete;
+    /// At least `bytes` bytes, 2 MiB-aligned; the contents of earlier calls are not kept.
+    std::byte* reserve(std::size_t bytes);
+    std::size_t size() const { return m_size; }
+
+  private:
+    struct Free {
+        void operator()(std::byte* p) const;
+    };
+    std::unique_ptr<std::byte, Free> m_data;
+    std::size_t m_size = 0;
+};
 
 /// A U-Net with its weights, ready to run on tiles of any size (a multiple of 16). Thread-safe:
 /// run() may be called concurrently.
@@ -38,7 +59,8 @@ class UNetNetwork {
     int overlap() const;
     /// Multiply-adds per pixel of all convolutions (×2 for FLOPs).
     double macsPerPixel() const;
-    /// Peak bytes of activations per pixel of a tile (from oneDNN's chosen memory formats).
+    /// Bytes of activations per pixel of a tile (oneDNN's chosen memory formats, buffers shared
+    /// between tensors whose lifetimes do not overlap).
     double bytesPerPixel() const;
 
     /// Called after each layer with the number of layers done and the total; may throw to stop.
@@ -46,8 +68,8 @@ class UNetNetwork {
 
     /// Runs the network on one tile: `input` holds h × w pixels of inputChannels() interleaved
     /// floats (row-major), `output` receives h × w × 3. h and w must be multiples of 16. Uses
-    /// `threads` OpenMP threads inside oneDNN.
-    void run(const float* input, int h, int w, float* output, int threads,
+    /// `threads` OpenMP threads inside oneDNN. Activations live in `workspace`.
+    void run(const float* input, int h, int w, float* output, int threads, UNetWorkspace& workspace,
              const LayerFn& afterLayer = {}) const;
 
   private:
