@@ -75,7 +75,9 @@ ParamValues parseTuning(const AutoArgs& a) {
 
 // A flag without a value: an integer parameter over 0 … 1 that defaults to 0.
 bool isSwitch(const ParamSpec& spec) {
-    return spec.integer && spec.min == 0.0 && spec.max == 1.0 && spec.defaultValue == 0.0;
+    // A choice of two names is an option that takes one of them, not a switch.
+    return !spec.isChoice() && spec.integer && spec.min == 0.0 && spec.max == 1.0 &&
+           spec.defaultValue == 0.0;
 }
 
 // The tuning table of docs/auto.md, generated from the specs (`--tuning-table`).

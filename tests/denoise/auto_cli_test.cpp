@@ -262,6 +262,18 @@ TEST_F(AutoCli, TheMemoryLimitChoosesStreamingAndStreamOnWorksWithABankFolder) {
     EXPECT_FALSE(fs::exists(path("tight.exr")));
 }
 
+TEST_F(AutoCli, AChoiceOfTwoNamesTakesOneOfThem) {
+    // `--margin` has two names (each, family): an option with a value, not a switch.
+    const RunResult r = run("auto " + path("halves.exr") + " --out " + path("auto.exr") +
+                            " --size 6 --margin family --json" + kClassicalFilters);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(nlohmann::json::accept(r.out)) << r.out;
+    EXPECT_EQ(run("auto " + path("halves.exr") + " --out " + path("auto.exr") +
+                  " --size 6 --margin" + kClassicalFilters)
+                  .exitCode,
+              2);
+}
+
 TEST_F(AutoCli, TheDocsTuningTableIsTheOneTheSpecsGenerate) {
     // docs/auto.md's table is `glint-denoise auto --tuning-table`, verbatim: a spec changed
     // without the docs (or the reverse) fails here.

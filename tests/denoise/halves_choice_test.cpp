@@ -9,9 +9,13 @@
 #include <tuple>
 #include <vector>
 
+#include "auto/choice.h"
+#include "auto/estimator.h"
+#include "auto/options.h"
 #include "auto/stacking.h"
 #include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
+#include "glint/denoise/progress.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
 #include "glint/image/error.h"
@@ -114,6 +118,75 @@ TEST(AutoChoice, AFinerWindowKeepsASmallFeatureTheFullWindowSmoothsOver) {
         o.tuning["finer"] = bad;
         EXPECT_THROW(autoComposite(bank, f, o), Error) << bad;
     }
+}
+
+TEST(AutoChoice, TheFamilywiseMarginIsTheBonferroniQuantileOfTheConfidence) {
+    // Φ⁻¹(1 − Φ(−1)/30) = 2.5556 (Φ(−1) = 0.158655; tables: Φ(−2.5556) = 0.0052885).
+    EXPECT_NEAR(detail::familywiseMargin(1.0, 30), 2.5556, 1e-3);
+    EXPECT_DOUBLE_EQ(detail::familywiseMargin(1.0, 1), 1.0);
+    EXPECT_DOUBLE_EQ(detail::familywiseMargin(0.0, 70), 0.0);
+    double previous = 1.0;
+    for (std::size_t n : {2, 15, 70, 1000}) {
+        const double margin = detail::familywiseMargin(1.0, n);
+        EXPECT_GT(margin, previous) << n;
+        previous = margin;
+    }
+    // Back through the tail: Φ(−margin)·n = Φ(−confidence).
+    const auto tail = [](double z) { return 0.5 * std::erfc(z / std::sqrt(2.0)); };
+    EXPECT_NEAR(tail(detail::familywiseMargin(3.0, 70)) * 70.0, tail(3.0), 1e-9);
+}
+
+// 16 candidates' maps on 192² pixels: independent Gaussian noise (σ 1, fixed seed) about 0 for
+// the baseline (candidate 0) and 0.01 for the others: none is better anywhere.
+detail::Estimates noiseMaps() {
+    const int w = 192, h = 192;
+    std::mt19937 rng(41);
+    std::normal_distribution<float> noise(0.0f, 1.0f);
+    detail::Estimates estimates;
+    for (std::size_t m = 0; m < 16; ++m) {
+        Image map(w, h, 1);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) map(x, y, 0) = noise(rng) + (m == 0 ? 0.0f : 0.01f);
+        estimates.mapMean.push_back(detail::meanPerChannel(map));
+        estimates.maps.push_back(std::move(map));
+    }
+    return estimates;
+}
+
+// The final choice among the 16 with window radius 8, confidence 1, `finer` 1 and a hard choice.
+detail::Choice chooseAmong(const detail::Estimates& estimates, bool familywise) {
+    std::vector<std::size_t> candidates(estimates.maps.size());
+    for (std::size_t m = 0; m < candidates.size(); ++m) candidates[m] = m;
+    detail::AutoSettings settings;
+    settings.window = 8;
+    settings.confidence = 1.0;
+    settings.finer = 1;
+    settings.familywise = familywise;
+    WorkContext work;
+    return detail::choose(estimates, candidates, true, settings, Image{}, work);
+}
+
+TEST(AutoChoice, AmongManyEqualCandidatesTheFamilywiseMarginKeepsTheBaseline) {
+    // The winner's curse (docs/auto.md, "Per-pixel choice"): none of 15 candidates is better
+    // than the baseline anywhere, yet with each comparison at one standard error the lowest of
+    // 30 scores (two radii) leaves the baseline at most pixels; with the family's margin at
+    // about Φ(−1) = 16 % of them or fewer (Bonferroni is conservative). About 128 independent
+    // windows: standard error of a fraction about 0.03. Measured (fixed seed): 0.72 and 0.09.
+    // Asserted: above 0.6 and below 0.25.
+    const detail::Estimates estimates = noiseMaps();
+    std::size_t baseline = 0;
+    for (std::size_t m = 0; m < estimates.maps.size(); ++m)
+        if (estimates.mapMean[m] < estimates.mapMean[baseline]) baseline = m;
+    const auto leaving = [&](bool familywise) {
+        const detail::Choice c = chooseAmong(estimates, familywise);
+        return 1.0 - double(c.wins[baseline]) / double(192 * 192);
+    };
+    const double each = leaving(false), family = leaving(true);
+    std::printf("pixels leaving the baseline: %.3f each, %.3f family\n", each, family);
+    EXPECT_GT(each, 0.6);
+    EXPECT_LT(family, 0.25);
+    // Not the default: it loses where a mix of members is really better (docs/auto.md).
+    EXPECT_EQ(autoTuningDefaults(AutoEstimator::Halves).at("margin"), 0);  // each
 }
 
 }  // namespace

@@ -7,3 +7,10 @@ if(TARGET glint_render)
   target_compile_definitions(bench_auto PRIVATE GLINT_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
   glint_warnings(bench_auto)
 endif()
+
+# Each member's halves estimate against its true error per tile (docs/research/oidn-gap.md,
+# section 4): build/bin/auto_member_errors IN.exr BANK REFERENCE.exr [--tile 32]
+add_executable(auto_member_errors ${CMAKE_CURRENT_LIST_DIR}/auto_member_errors.cpp)
+target_link_libraries(auto_member_errors PRIVATE glint_denoise TBB::tbb)
+target_include_directories(auto_member_errors PRIVATE ${CMAKE_SOURCE_DIR}/denoise/src)
+glint_warnings(auto_member_errors)

@@ -60,6 +60,20 @@ Image windowScore(const Image& raw, const Image& base, int radius, double confid
     return score;
 }
 
+double familywiseMargin(double confidence, std::size_t comparisons) {
+    if (!(confidence > 0.0) || comparisons <= 1) return confidence;
+    // Solve Φ(−z) = Φ(−confidence)/comparisons by bisection: Φ(−z) = erfc(z/√2)/2 falls
+    // monotonically in z, and z lies between confidence and confidence + 40.
+    const auto tail = [](double z) { return 0.5 * std::erfc(z / std::sqrt(2.0)); };
+    const double target = tail(confidence) / double(comparisons);
+    double lo = confidence, hi = confidence + 40.0;
+    for (int i = 0; i < 100; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (tail(mid) > target ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
 Image noiseLevel(const ErrorEstimator& estimator, const Rect& region, const Image& weight,
                  int window, WorkContext& work) {
     Image v(region.width(), region.height(), 1);
@@ -175,7 +189,7 @@ Choice choose(const Estimates& estimates, const std::vector<std::size_t>& candid
     const std::vector<double>& mapMean = estimates.mapMean;
     const std::size_t n = raws.size();
     const int width = raws[candidates.front()].width(), height = raws[candidates.front()].height();
-    const double confidence = settings.confidence, temperature = settings.temperature;
+    const double temperature = settings.temperature;
     const std::size_t c = candidates.size();
     // The score of each candidate per pixel. The baseline is the candidate with the
     // smallest map mean over the region; another scores the smoothed difference to it plus
@@ -193,6 +207,11 @@ Choice choose(const Estimates& estimates, const std::vector<std::size_t>& candid
     if (final)
         for (int k = 0; k < settings.finer && radii.back() > 1; ++k)
             radii.push_back(radii.back() / 2);
+    // Every other candidate at every radius is one more chance to leave the baseline by noise:
+    // with `familywise`, the margin keeps the family's chance at what `confidence` gives one.
+    const double confidence = settings.familywise
+                                  ? familywiseMargin(settings.confidence, (c - 1) * radii.size())
+                                  : settings.confidence;
     // All rows at once, or strips of `stripRows` rows (the streamed selection's memory) whose
     // scores ScoreRows gives value for value as windowScore over the whole maps.
     Choice out;

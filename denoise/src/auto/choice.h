@@ -25,6 +25,14 @@ struct AutoSettings;
 /// same, value for value, as boxSmooth of stored d and d² maps.
 Image windowScore(const Image& raw, const Image& base, int radius, double confidence);
 
+/// The margin, in standard errors, that keeps at Φ(−confidence) the chance that any of
+/// `comparisons` candidates (each at each radius) leaves the baseline by the noise of its score
+/// alone: Φ⁻¹(1 − Φ(−confidence)/comparisons) (Bonferroni), `confidence` itself for one
+/// comparison or a confidence of 0. Among many candidates whose noisy window means are compared
+/// with one margin, the lowest falls below it somewhere far more often than any one does (the
+/// winner's curse; docs/auto.md, "Per-pixel choice").
+double familywiseMargin(double confidence, std::size_t comparisons);
+
 /// Box average of a 1-channel image over (2·radius + 1)² pixels, truncated at the border. `work`,
 /// if given, runs its passes (one unit per row each).
 Image boxSmooth(const Image& image, int radius, WorkContext* work = nullptr);

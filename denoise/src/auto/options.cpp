@@ -159,6 +159,7 @@ AutoSettings resolveSettings(const FilterBank& bank, const FrameBuffers& frame,
     }
     s.window = int(t["window"]);
     s.confidence = t["confidence"];
+    s.familywise = t["margin"] == 1.0;  // family
     s.temperature = t["temperature"];
     s.finer = int(t["finer"]);
     s.feather = int(t["feather"]);

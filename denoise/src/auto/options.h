@@ -41,6 +41,8 @@ struct AutoSettings {
     bool halves = false;                            ///< estimator == Halves
     int window = 0;
     double confidence = 0.0;
+    /// The confidence is the family's (choice.h, familywiseMargin), not each comparison's.
+    bool familywise = false;
     double temperature = 0.0;
     int finer = 0;
     int feather = 0;

@@ -39,6 +39,10 @@ std::vector<ParamSpec> makeSpecs() {
                 "radius of the box over which the error maps are averaged before the choice"),
         real("confidence", "confidence (standard errors)", 0.0, 1000.0, 1.0,
              "standard errors of the local mean by which a member must beat the baseline"),
+        ParamSpec::choice("margin", "confidence of", {"each", "family"}, 0,
+                          "each: the confidence bounds the chance that each candidate beats the "
+                          "baseline by noise alone; family: that any does (the margin grows "
+                          "with the candidates)"),
         integer("finer", "finer windows", 0, 6, 1,
                 "times the window is halved for the final choice, which keeps the lowest score"),
         real("temperature", "temperature (noise units)", 0.0, 1000.0, 0.06,
