@@ -4,9 +4,12 @@ small triangles): the many-mesh asset of docs/renderer.md, "Memory".
 
     python3 tests/perf/many_meshes_glb.py /tmp/m100k.glb 100000
 """
-import json
+import os
 import struct
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from load_memory_assets import write_glb  # noqa: E402
 
 
 def main():
@@ -27,15 +30,7 @@ def main():
            "meshes": [{"primitives": [{"attributes": {"POSITION": i}}]} for i in range(n)],
            "nodes": [{"mesh": i} for i in range(n)],
            "scenes": [{"nodes": list(range(n))}], "scene": 0}
-    text = json.dumps(doc, separators=(",", ":")).encode()
-    text += b" " * (-len(text) % 4)
-    data += b"\0" * (-len(data) % 4)
-    with open(out, "wb") as f:
-        f.write(struct.pack("<III", 0x46546C67, 2, 12 + 8 + len(text) + 8 + len(data)))
-        f.write(struct.pack("<II", len(text), 0x4E4F534A))
-        f.write(text)
-        f.write(struct.pack("<II", len(data), 0x004E4942))
-        f.write(data)
+    write_glb(out, doc, data)
 
 
 if __name__ == "__main__":
