@@ -338,18 +338,18 @@ void Loader::readShape(const json& j, const std::string& where, int shapeIndex) 
     const std::string& key = format->key;
     const fs::path rel = m_reader.string(j[key], where + "/" + key);
     const fs::path filePath = rel.is_absolute() ? rel : m_dir / rel;
-    // Keys another format's shape takes: refused with the format's reason, else in general.
-    for (const std::string& other : shapeKeys()) {
-        const bool common = other == "material" || other == "transform" || other == "motion";
-        if (common || other == key || !j.contains(other) ||
-            std::find(format->shapeKeys.begin(), format->shapeKeys.end(), other) !=
-                format->shapeKeys.end())
-            continue;
-        std::string why = "'" + other + "' does not apply to " + format->shapeDescription;
-        for (const auto& [refused, reason] : format->refusedKeys)
-            if (refused == other) why = reason;
-        m_reader.fail(where + "/" + other, why);
-    }
+    // A key of another format's shapes that this format does not take: refused with its reason,
+    // else in general words.
+    for (const AssetFormat* other : registry)
+        for (const std::string& extra : other->shapeKeys) {
+            const auto& own = format->shapeKeys;
+            if (!j.contains(extra) || std::find(own.begin(), own.end(), extra) != own.end())
+                continue;
+            std::string why = "'" + extra + "' does not apply to " + format->shapeDescription;
+            for (const auto& [refused, reason] : format->refusedKeys)
+                if (refused == extra) why = reason;
+            m_reader.fail(where + "/" + extra, why);
+        }
     const TransformDesc start = j.contains("transform")
                                     ? readTransform(j["transform"], where + "/transform", {})
                                     : TransformDesc{};
