@@ -123,6 +123,14 @@ TEST(AssetFormats, AFormatRegisteredInTheTestIsAShapeWithItsKeyAndItsMessages) {
     EXPECT_NE(edits.message().find("'edits' does not apply to a toy triangle file"),
               std::string::npos)
         << edits.what();
+    // A format's own reason for another format's key, as the OBJ format gives it.
+    const Error objEdits = error(R"({"obj": "quad.obj", "edits": {}})");
+    EXPECT_EQ(objEdits.where(), "/shapes/0/edits");
+    EXPECT_EQ(objEdits.message(),
+              "'edits' changes a glTF asset's material factors; an OBJ shape's materials are "
+              "edited as JSON materials of the same name");
+    const Error objMaterials = error(R"({"obj": "quad.obj", "materials": {}, "edits": {}})");
+    EXPECT_EQ(objMaterials.where(), "/shapes/0/materials");
     const Error missing = error(R"({"tri": "none.tri"})");
     EXPECT_EQ(missing.where(), "/shapes/0/tri");
     EXPECT_NE(missing.message().find("toy file"), std::string::npos) << missing.what();
