@@ -11,6 +11,7 @@
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/render/scene.h"
+#include "scene/asset_format.h"
 #include "scene/scene_access.h"
 #include "scene/scene_data.h"
 
@@ -141,8 +142,8 @@ void saveScene(const Scene& scene, const fs::path& path) {
     };
     if (root.contains("shapes"))
         for (ordered_json& shape : root["shapes"])
-            for (const char* key : {"obj", "gltf"})
-                if (shape.contains(key)) rebaseString(shape[key]);
+            for (const detail::AssetFormat* format : detail::assetFormatRegistry())
+                if (shape.contains(format->key)) rebaseString(shape[format->key]);
     if (root.contains("environment") && root["environment"].contains("image"))
         rebaseString(root["environment"]["image"]);
     if (root.contains("materials"))
