@@ -312,8 +312,9 @@ void runAuto(const AutoArgs& a) {
                     "reading the bank's members whole (--stream off; --stream auto would stream "
                     "them)",
                     a.bank, "--memory-limit");
-    // A bank built here (whole or streamed) without --filters says once what it goes without.
-    const json leftOut = a.bank.empty() ? reportLeftOutFilters(bankOptions) : json::array();
+    // A default bank, built here (whole or streamed) or reopened from its folder, says once what
+    // it goes without.
+    const json leftOut = reportLeftOutFilters(bankOptions);
     const auto t0 = Clock::now();
     FilterBank bank;
     if (!streamed) {

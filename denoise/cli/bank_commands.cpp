@@ -177,6 +177,7 @@ void runOracle(const OracleArgs& a) {
     const FrameBuffers frame = readExr(a.input);
     const FrameBuffers ref = readReference(a.reference, frame.width(), frame.height());
     const auto t0 = Clock::now();
+    const json leftOut = reportLeftOutFilters(readBankOptions(a.bank));
     const FilterBank bank = openBank(frame, a.bank);
     const json unavailable = reportUnavailableMembers(bank, a.bank);
     OracleResult r;
@@ -232,6 +233,7 @@ void runOracle(const OracleArgs& a) {
                 {"auto", autoColumn},
                 {"seconds", seconds}};
     if (!expected.is_null()) report["expected"] = expected;
+    if (!leftOut.empty()) report["leftOut"] = leftOut;
     if (!unavailable.empty()) report["unavailable"] = unavailable;
     if (a.json) {
         printJson(report);
@@ -293,6 +295,7 @@ void runLocalArtist(const NavigateArgs& a, const TreeOptions& tree) {
     research::validate(options);
     const FrameBuffers frame = readExr(a.input);
     const FrameBuffers ref = readReference(a.reference, frame.width(), frame.height());
+    const json leftOut = reportLeftOutFilters(readBankOptions(a.bank));
     const FilterBank bank = openBank(frame, a.bank);
     const json unavailable = reportUnavailableMembers(bank, a.bank);
     const Image refCrop = ref.color().crop(bank.region());
@@ -347,6 +350,7 @@ void runLocalArtist(const NavigateArgs& a, const TreeOptions& tree) {
                 {"kept", kept},
                 {"ssim", last},
                 {"seconds", seconds}};
+    if (!leftOut.empty()) report["leftOut"] = leftOut;
     if (!unavailable.empty()) report["unavailable"] = unavailable;
     if (a.json) {
         printJson(report);
@@ -390,6 +394,7 @@ void runNavigate(const NavigateArgs& a) {
         if (given) throw Error(ErrorKind::InvalidArgument, "given without --local", {}, flag);
     const FrameBuffers frame = readExr(a.input);
     const FrameBuffers ref = readReference(a.reference, frame.width(), frame.height());
+    const json leftOut = reportLeftOutFilters(readBankOptions(a.bank));
     const FilterBank bank = openBank(frame, a.bank);
     const json unavailable = reportUnavailableMembers(bank, a.bank);
     Rect region = bank.region();
@@ -456,6 +461,7 @@ void runNavigate(const NavigateArgs& a) {
                 {"bestMember", memberJson(bank, bestMember)},
                 {"choices", list},
                 {"choicesTo90PercentOfBestGain", within < 0 ? json(nullptr) : json(within)}};
+    if (!leftOut.empty()) report["leftOut"] = leftOut;
     if (!unavailable.empty()) report["unavailable"] = unavailable;
     if (a.json) {
         printJson(report);

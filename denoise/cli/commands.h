@@ -139,9 +139,9 @@ nlohmann::json autoOracleColumn(const FilterBank& bank, const FrameBuffers& fram
 /// The parameter table of a filter or of the prefilter as JSON.
 nlohmann::json describe(const std::vector<ParamSpec>& specs);
 
-/// For a bank built without a filter list (options.filters empty): the default filters left out
-/// because they cannot run here (unet without its weights), each said once on stderr, as a JSON
-/// array of {filter, reason} (empty when none).
+/// For a bank without a filter list (options.filters empty), built here or reopened from its
+/// folder: the default filters left out because they cannot run here (unet without its weights),
+/// each said once on stderr, as a JSON array of {filter, reason} (empty when none).
 nlohmann::json reportLeftOutFilters(const BankOptions& options);
 
 /// Prints one JSON object on stdout (invalid UTF-8 replaced).

@@ -3,12 +3,29 @@
 #include <algorithm>
 #include <atomic>
 
+#include "model/learned_member.h"
+
 namespace glint::studio {
+
+denoise::BankOptions studioBankOptions(int size, const std::optional<Rect>& region,
+                                       const denoise::SessionOptions& session,
+                                       const denoise::BankOptions& folder) {
+    denoise::BankOptions options;
+    options.size = size;
+    // The folder's filters, else the studio's (the learned filter too, when it runs here).
+    options.filters = folder.filters.empty() ? studioBankFilters() : folder.filters;
+    options.filterParams = folder.filterParams;
+    options.region = region;
+    // The bank reads the features as the session's filters do.
+    options.prefilter = session.prefilter;
+    options.prefilterParams = session.prefilterParams;
+    return options;
+}
 
 bool BankService::Key::operator==(const Key& o) const {
     return frame == o.frame && size == o.size && seed == o.seed && filters == o.filters &&
-           prefilter == o.prefilter && (!prefilter || prefilterParams == o.prefilterParams) &&
-           region == o.region;
+           filterParams == o.filterParams && prefilter == o.prefilter &&
+           (!prefilter || prefilterParams == o.prefilterParams) && region == o.region;
 }
 
 BankService::BankService(QObject* parent) : QObject(parent) {}
@@ -23,6 +40,7 @@ BankService::Key BankService::keyOf(const FramePtr& frame, const denoise::BankOp
     key.seed = options.seed;
     key.filters = options.filters;
     std::sort(key.filters.begin(), key.filters.end());
+    key.filterParams = options.filterParams;
     key.prefilter = options.prefilter;
     key.prefilterParams = options.prefilterParams;
     // The bank's own rule: no region is the whole frame.

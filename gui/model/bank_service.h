@@ -12,13 +12,25 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "glint/denoise/bank.h"
+#include "glint/denoise/session_reapply.h"
 #include "model/render_job.h"
 #include "model/task_runner.h"
 
 namespace glint::studio {
+
+/// The options of the studio's banks (Navigate's and Auto Start's are one bank): `size` sampled
+/// members over `region` (the whole frame when empty), built on the features as `session`
+/// prefilters them. The filters and their fixed parameters (BankOptions::filterParams: an
+/// external member's command, unet's weights) are those of `folder`, the options of the bank
+/// folder a session names (Session::bankDir) — its filters when it names some, else
+/// studioBankFilters() — so a bank made with `glint-denoise bank --filter-param` keeps them here.
+denoise::BankOptions studioBankOptions(int size, const std::optional<Rect>& region,
+                                       const denoise::SessionOptions& session,
+                                       const denoise::BankOptions& folder = {});
 
 class BankService : public QObject {
     Q_OBJECT
@@ -41,12 +53,12 @@ class BankService : public QObject {
     explicit BankService(QObject* parent = nullptr);
     ~BankService() override;
 
-    /// Asks for the bank of `frame` built with `options` (its size, seed, filters, prefilter and
-    /// region matter; a region covering the whole frame is the whole frame; progress, cache
-    /// folder and memory limit are the service's). `callbacks.ready` gets it after a queued
-    /// call: from the cache, from the build of the same bank already running, or from a new
-    /// build. Nothing is called once `context` is destroyed. Returns the ticket to withdraw the
-    /// request with.
+    /// Asks for the bank of `frame` built with `options` (its size, seed, filters, their fixed
+    /// parameters, prefilter and region matter; a region covering the whole frame is the whole
+    /// frame; progress, cache folder and memory limit are the service's). `callbacks.ready` gets it
+    /// after a queued call: from the cache, from the build of the same bank already running, or
+    /// from a new build. Nothing is called once `context` is destroyed. Returns the ticket to
+    /// withdraw the request with.
     Ticket request(FramePtr frame, const denoise::BankOptions& options, QObject* context,
                    Callbacks callbacks);
     /// Forgets a request (its callbacks are not called); a build nobody waits for is cancelled.
@@ -75,6 +87,7 @@ class BankService : public QObject {
         int size = 0;
         std::uint64_t seed = 0;
         std::vector<std::string> filters;
+        std::map<std::string, denoise::ParamValues> filterParams;
         bool prefilter = false;
         denoise::ParamValues prefilterParams;
         Rect region{};

@@ -83,7 +83,8 @@ struct Encoder {
                  QJsonObject{
                      {QStringLiteral("prefilter"), s.options.prefilter},
                      {QStringLiteral("prefilterParams"), paramsToJson(s.options.prefilterParams)}}},
-                {QStringLiteral("layers"), layers}};
+                {QStringLiteral("layers"), layers},
+                {QStringLiteral("bank"), QString::fromStdString(s.bankDir)}};
     }
     QJsonObject operator()(const Input&) const {
         return {{QStringLiteral("op"), QStringLiteral("input")}};
@@ -161,6 +162,8 @@ Op decode(const QJsonObject& json) {
         // Older journals have no names.
         for (const QJsonValue& v : json.value(QStringLiteral("names")).toArray())
             s.names.push_back(v.toString().toStdString());
+        // Older journals name no bank folder.
+        s.bankDir = json.value(QStringLiteral("bank")).toString().toStdString();
         return s;
     }
     if (op == QStringLiteral("input")) return Input{};

@@ -24,6 +24,9 @@ struct Start {
     denoise::SessionOptions options;
     std::vector<denoise::LayerSpec> layers;
     std::vector<std::string> names;  ///< the first layers' own names ("": none); may be shorter
+    /// The bank folder the session names (Session::bankDir: its filters' fixed parameters are the
+    /// studio's banks'); "" when none.
+    std::string bankDir;
 };
 /// A new render as the session's input (the entry's frame).
 struct Input {};

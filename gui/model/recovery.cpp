@@ -118,6 +118,7 @@ class Replay {
             m_out.session = std::make_shared<denoise::Session>(
                 buildSession(f, m_out.filterInput, m_options, start->layers, entry.images,
                              start->names, m_progress));
+            m_out.session->bankDir = start->bankDir;
             m_out.input = f;
             m_steps.clear();  // a new session starts the undo history again
             m_redo.clear();

@@ -108,7 +108,9 @@ void SessionAdapter::startSession(FramePtr frame, std::vector<denoise::LayerSpec
     ++m_generation;
     const denoise::SessionOptions options = m_options;
     JournalEntry entry;
-    entry.op = journal_codec::encode(journal_codec::Start{options, carry, carryNames});
+    // The new session names the bank folder of the present one.
+    const std::string bankDir = m_session ? m_session->bankDir.string() : std::string();
+    entry.op = journal_codec::encode(journal_codec::Start{options, carry, carryNames, bankDir});
     entry.images = carryWeights;
     entry.frame = frame;
     struct Started {
@@ -127,8 +129,10 @@ void SessionAdapter::startSession(FramePtr frame, std::vector<denoise::LayerSpec
                                frame, in, options, carry, carryWeights, carryNames, progress)),
                            in};
         },
-        [this, frame, entry](Started started) {
+        [this, frame, entry, bankDir](Started started) {
             m_undo.clear();
+            // The new session names the same bank folder (m_bankFolder stays).
+            started.session->bankDir = bankDir;
             m_session = std::move(started.session);
             m_input = frame;
             m_filterInput = started.filterInput;
@@ -361,6 +365,18 @@ void SessionAdapter::install(denoise::Session session, FramePtr input, FramePtr 
                         : m_input;
     m_session = std::make_shared<denoise::Session>(std::move(session));
     m_banks.setFrame(m_input);
+    // The bank folder the session names gives the studio's banks its filters and their fixed
+    // parameters (a folder that cannot be read gives none, and says so).
+    m_bankFolder = {};
+    if (!m_session->bankDir.empty()) {
+        try {
+            m_bankFolder = denoise::readBankOptions(m_session->bankDir);
+        } catch (const Error& e) {
+            emit status(tr("The session's bank folder cannot be read, so the banks use the "
+                           "studio's filters: %1")
+                            .arg(QString::fromStdString(e.what())));
+        }
+    }
     // The journal starts again from this session: its input and its layers with their weights.
     JournalEntry entry;
     std::vector<std::string> names;
@@ -368,8 +384,8 @@ void SessionAdapter::install(denoise::Session session, FramePtr input, FramePtr 
         entry.images.push_back(m_session->layer(i).weights);
         names.push_back(m_session->layer(i).name);
     }
-    entry.op = journal_codec::encode(
-        journal_codec::Start{m_options, m_session->layerSpecs(), std::move(names)});
+    entry.op = journal_codec::encode(journal_codec::Start{
+        m_options, m_session->layerSpecs(), std::move(names), m_session->bankDir.string()});
     entry.frame = m_input;
     emit journal(entry);
     emit sessionReset();
@@ -387,6 +403,7 @@ void SessionAdapter::clear() {
     }
     m_undo.clear();
     m_session.reset();
+    m_bankFolder = {};
     m_input.reset();
     m_filterInput.reset();
     m_banks.setFrame(nullptr);

@@ -51,6 +51,10 @@ class SessionAdapter : public QObject {
     const denoise::SessionOptions& options() const { return m_options; }
     /// The filter banks of the input (Navigate and Auto Start share them).
     BankService* banks() { return &m_banks; }
+    /// The options of the studio's banks of the input (studioBankOptions): `size` members over
+    /// `region` (the whole frame when empty), with the filters and fixed parameters of the bank
+    /// folder the session names (Session::bankDir), if any.
+    denoise::BankOptions bankOptions(int size, const std::optional<Rect>& region = {}) const;
     /// True while a background step (re-applying, adding a layer, diffusing, loading) runs.
     bool busy() const { return m_tasks.pending() > 0 || m_autoStartTicket != 0; }
     /// True while a worker reads the session (diffusion): edits wait, painting is refused.
@@ -164,6 +168,8 @@ class SessionAdapter : public QObject {
     TaskRunner m_tasks;
     BankService m_banks;
     BankService::Ticket m_autoStartTicket = 0;
+    // The options of the bank folder the session names (its filters and fixed parameters).
+    denoise::BankOptions m_bankFolder;
     QUndoStack m_undo;
     std::shared_ptr<denoise::Session> m_session;  // shared with the workers reading it
     denoise::SessionOptions m_options;

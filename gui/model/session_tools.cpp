@@ -7,7 +7,6 @@
 #include "glint/denoise/bank.h"
 #include "glint/image/error.h"
 #include "model/journal_codec.h"
-#include "model/learned_member.h"
 #include "model/session_adapter.h"
 
 namespace glint::studio {
@@ -132,18 +131,18 @@ void SessionAdapter::readInBackground(const QString& what,
         });
 }
 
+denoise::BankOptions SessionAdapter::bankOptions(int size,
+                                                 const std::optional<Rect>& region) const {
+    return studioBankOptions(size, region, m_options, m_bankFolder);
+}
+
 void SessionAdapter::autoStart(int bankSize) {
     if (!m_session || m_locked) return;
     FramePtr in = m_input;
     const denoise::SessionOptions options = m_options;
     const std::uint64_t generation = m_generation;
     // 1. The bank of the input, from the bank service (Navigate may have built it already).
-    // The bank reads the features as the session's filters do.
-    denoise::BankOptions bo;
-    bo.size = bankSize;
-    bo.filters = studioBankFilters();  // the learned filter too (as Navigate's bank)
-    bo.prefilter = options.prefilter;
-    bo.prefilterParams = options.prefilterParams;
+    const denoise::BankOptions bo = bankOptions(bankSize);
     m_banks.withdraw(m_autoStartTicket);
     m_tasks.cancel(QStringLiteral("auto-start"));
     const bool wasBusy = busy();

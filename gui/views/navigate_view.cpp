@@ -146,12 +146,9 @@ void NavigateView::build() {
     FramePtr in = m_context.session->input();
     if (!in) return;
     const Rect rect = m_context.region->bounds(in->width(), in->height());
-    denoise::BankOptions options;
-    options.size = m_size->value();
-    options.filters = studioBankFilters();  // with the learned filter when it runs here
-    options.region = rect;
-    options.prefilter = m_context.session->options().prefilter;
-    options.prefilterParams = m_context.session->options().prefilterParams;
+    // The studio's bank (Auto Start's too): with the learned filter when it runs here, and the
+    // filters and fixed parameters of the bank folder the session names.
+    const denoise::BankOptions options = m_context.session->bankOptions(m_size->value(), rect);
     denoise::TreeOptions tree;
     tree.exposure = float(m_context.viewer->exposure());
     m_navigator.reset();

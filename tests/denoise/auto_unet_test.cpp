@@ -105,6 +105,47 @@ TEST(UNetMember, TheDefaultBankGoesOnWithoutUNetWhenItsWeightsAreMissingOrCorrup
     fs::remove_all(corrupt);
 }
 
+TEST(UNetMember, AReopenedBankFolderGoesOnWithoutUNetWhenItsWeightsWentMissing) {
+    const FrameBuffers frame = testing::syntheticFrame(40, 32);
+    const fs::path dir =
+        fs::temp_directory_path() / ("glint_unet_bank_reopened_" + std::to_string(::getpid()));
+    const fs::path empty = dir.string() + "_noweights";
+    fs::remove_all(dir);
+    fs::remove_all(empty);
+    fs::create_directories(dir);
+    fs::create_directories(empty);
+    // A default bank with a fixed parameter of unet, built while its weights are there.
+    BankOptions o;
+    o.size = 6;
+    o.filterParams["unet"] = {{"quality", 0}};
+    o.cacheDir = dir;
+    const FilterBank built = buildBank(frame, o);
+    ASSERT_EQ(std::count_if(built.members().begin(), built.members().end(),
+                            [](const BankMember& m) { return m.filter == "unet"; }),
+              1);
+    {
+        // The weights went missing: the folder's options are still valid, and the bank opens
+        // without unet, every other member read from the folder as it was built.
+        const UNetWeightsDir scope(empty);
+        const BankOptions stored = readBankOptions(dir);
+        EXPECT_EQ(stored.filterParams.at("unet").at("quality"), 0.0);
+        EXPECT_NO_THROW(validate(stored));
+        const FilterBank opened = openBank(frame, dir);
+        ASSERT_EQ(opened.size(), built.size() - 1);
+        EXPECT_EQ(opened.cacheHits(), opened.size());
+        std::size_t j = 0;
+        for (std::size_t i = 0; i < built.size(); ++i) {
+            if (built.members()[i].filter == "unet") continue;
+            EXPECT_EQ(opened.members()[j].filter, built.members()[i].filter) << i;
+            EXPECT_EQ(opened.members()[j].params, built.members()[i].params) << i;
+            EXPECT_EQ(testing::maxAbsDiff(opened.result(j), built.result(i)), 0.0) << i;
+            ++j;
+        }
+    }
+    fs::remove_all(dir);
+    fs::remove_all(empty);
+}
+
 TEST(UNetMember, ItTakesTheCleanFeatureWeightsOnAPrefilteredFrame) {
     const FrameBuffers frame = testing::syntheticFrame(40, 32, 0.1f);
     const FrameBuffers prefiltered = prefilterFeatures(frame);
@@ -236,6 +277,38 @@ TEST_F(UNetMemberCli, WithoutWeightsBankAndAutoSayOnceThatTheyGoOnWithoutIt) {
     EXPECT_NE(r.err.find("rt_hdr_alb_nrm.tza"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("expected sha256 e586ef2f"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(path("u.exr")));
+}
+
+TEST_F(UNetMemberCli, ABankFolderReopenedWithoutWeightsSaysOnceThatItGoesOnWithoutIt) {
+    writeExr(testing::syntheticFrame(40, 32, 0.1f), m_dir / "noisy.exr");
+    fs::create_directories(m_dir / "noweights");
+    // Two folders made while the weights are there: the default bank, and the default bank
+    // with a fixed parameter of unet (its small weights).
+    for (const std::string& extra :
+         {std::string(), std::string(" --filter-param unet.quality=fast")}) {
+        const std::string bank = path(extra.empty() ? "bank" : "bankfast");
+        const glint::testing::RunResult built =
+            run("bank " + path("noisy.exr") + " --out " + bank + " --size 4" + extra);
+        ASSERT_EQ(built.exitCode, 0) << built.err;
+        // Reopened after the weights went missing: exit 0, one line, and leftOut.
+        const std::string env = "GLINT_UNET_WEIGHTS_DIR=" + path("noweights");
+        for (const std::string& cmd : {"auto " + path("noisy.exr") + " --bank " + bank + " --out " +
+                                           path("a.exr") + " --json",
+                                       "oracle " + path("noisy.exr") + " --bank " + bank +
+                                           " --reference " + path("noisy.exr") + " --json"}) {
+            const glint::testing::RunResult r = run(env, cmd);
+            ASSERT_EQ(r.exitCode, 0) << cmd << "\n" << r.err;
+            const std::string says = "goes on without 'unet'";
+            const auto first = r.err.find(says);
+            ASSERT_NE(first, std::string::npos) << cmd << "\n" << r.err;
+            EXPECT_EQ(r.err.find(says, first + 1), std::string::npos) << r.err;
+            EXPECT_NE(r.err.find("rt_hdr_alb_nrm.tza"), std::string::npos) << r.err;
+            const nlohmann::json j = nlohmann::json::parse(r.out);
+            ASSERT_EQ(j["leftOut"].size(), 1u) << cmd;
+            EXPECT_EQ(j["leftOut"][0]["filter"], "unet");
+            EXPECT_EQ(j.count("unavailable"), 0u) << cmd;
+        }
+    }
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // blobs made here (good, truncated, corrupt), SHA-256, missing and corrupt weight files, equality
 // with the OIDN peer on a committed crop of scenes/glossy, thread-count determinism and tiling.
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -17,6 +18,7 @@
 #include "glint/denoise/registry.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
+#include "learned/oidn_color.h"
 #include "learned/sha256.h"
 #include "learned/tza.h"
 #include "learned/unet_tiles.h"
@@ -230,6 +232,23 @@ TEST(UNetPeer, MatchesTheOidnPeerOnACrop) {
     EXPECT_LE(d.maxDisplay, 1.0 / 255.0);
     // The network did something: the output is not the noisy input.
     EXPECT_GT(difference(crop.color(), peer).meanRelative, 10 * d.meanRelative);
+}
+
+TEST(UNetColor, AutoexposureIsTheKeyOverTheBinsGeometricMeanOnAnyThreadCount) {
+    // A frame of luminance 1 (the Rec. 709 weights sum to 1): the key itself.
+    EXPECT_NEAR(learned::autoexposure(Image(40, 24, 3, 1.0f)), 0.18, 1e-12);
+    // Four bins at 4 and four at 1/4 (their log2 mean is 0); the bins at 0 do not count.
+    Image halves(64, 48, 3, 0.0f);
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 64; ++x)
+            for (int k = 0; k < 3; ++k) halves(x, y, k) = x < 32 ? 4.0f : 0.25f;
+    EXPECT_NEAR(learned::autoexposure(halves), 0.18, 1e-12);
+    // The bins are summed in parallel: the same bits on 1 and 2 threads.
+    const Image noisy = testing::syntheticFrame(333, 217, 0.1f).color();
+    double one = 0.0, two = 0.0;
+    tbb::task_arena(1).execute([&] { one = learned::autoexposure(noisy); });
+    tbb::task_arena(2).execute([&] { two = learned::autoexposure(noisy); });
+    EXPECT_EQ(one, two);
 }
 
 TEST(UNetFilter, OneAndTwoThreadsGiveTheSameBits) {

@@ -22,7 +22,10 @@ class JournalCodecTest : public QObject {
         options.prefilter = true;
         options.prefilterParams = {{"sigma", 1.5}};
         const std::vector<jc::Op> ops = {
-            jc::Start{options, {{"gaussian", {{"sigma", 2.0}}}, {"bilateral", {}}}, {"walls", ""}},
+            jc::Start{options,
+                      {{"gaussian", {{"sigma", 2.0}}}, {"bilateral", {}}},
+                      {"walls", ""},
+                      "/work/banks/cornell"},
             jc::Input{},
             jc::AddLayer{"nlm", {{"radius", 3.0}, {"h", 0.25}}, true},
             jc::RemoveLayer{4},
@@ -52,6 +55,9 @@ class JournalCodecTest : public QObject {
                  denoise::BrushMode::Subtract);
         QCOMPARE(std::get<jc::Start>(jc::decode(jc::encode(ops[0]))).names,
                  std::vector<std::string>({"walls", ""}));
+        // The bank folder the session names (its fixed parameters are the studio's banks').
+        QCOMPARE(std::get<jc::Start>(jc::decode(jc::encode(ops[0]))).bankDir,
+                 std::string("/work/banks/cornell"));
         QCOMPARE(std::get<jc::RenameLayer>(jc::decode(jc::encode(ops[10]))).name,
                  std::string("walls, σ 2"));
         QCOMPARE(std::get<jc::AddLayers>(jc::decode(jc::encode(ops[11]))).layers.size(),

@@ -2,9 +2,14 @@
 // bank share its build, and a new render builds again.
 #include "model_test.h"
 
+#include <QDir>
 #include <QTemporaryDir>
 #include <QTest>
 
+#include <map>
+#include <string>
+
+#include "glint/denoise/session.h"
 #include "model/learned_member.h"
 #include "studio_fixture.h"
 #include "views/navigate_view.h"
@@ -99,6 +104,82 @@ class StudioModelTest : public QObject {
         w->navigateView()->build();
         QVERIFY(waitFor([&] { return w->navigateView()->ready(); }, 60000));
         QCOMPARE(banks->builds(), before + 2);
+    }
+
+    void aSessionsBankFolderGivesTheStudiosBanksItsFixedParameters() {
+        auto w = openScene(QStringLiteral("autosave-bank-params"));
+        QVERIFY(w);
+        // A bank folder of the render made with fixed parameters (glint-denoise bank
+        // --filter-param bilateral.sigmaS=2, and unet's small weights when it runs here), and a
+        // session naming it.
+        std::map<std::string, denoise::ParamValues> fixed{{"bilateral", {{"sigmaS", 2.0}}}};
+        if (learnedFilterAvailable()) fixed[kLearnedFilter] = {{"quality", 0.0}};
+        denoise::BankOptions made;
+        made.size = 4;
+        made.filterParams = fixed;
+        made.cacheDir = m_dir.filePath(QStringLiteral("params-bank")).toStdString();
+        QVERIFY(QDir().mkpath(QString::fromStdString(made.cacheDir.string())));
+        (void)denoise::buildBank(*w->session()->input(), made);
+        denoise::Session named(*w->session()->input());
+        named.bankDir = made.cacheDir;
+        const QString file = m_dir.filePath(QStringLiteral("params.glint-session.json"));
+        named.save(file.toStdString());
+        bool loaded = false;
+        connect(w->session(), &SessionAdapter::loaded, this, [&] { loaded = true; });
+        w->session()->load(file);
+        QVERIFY(waitFor([&] { return loaded && !w->session()->busy(); }, 60000));
+
+        // Navigate and Auto Start share one bank, and it holds the folder's parameters.
+        BankService* banks = w->session()->banks();
+        const int before = banks->builds();
+        w->navigateView()->setBankSize(64);
+        w->setStage(2, true);
+        QVERIFY(waitFor([&] { return w->navigateView()->ready(); }, 60000));
+        w->actions().autoStart->trigger();
+        QVERIFY(waitFor(
+            [&] { return w->session()->session().layerCount() > 0 && !w->session()->busy(); },
+            60000));
+        QCOMPARE(banks->builds(), before + 1);
+        QVERIFY(w->lastError().isEmpty());
+        const FramePtr in = w->session()->input();
+        denoise::BankOptions withParams = autoStartBank(*w->session());
+        withParams.filterParams = fixed;
+        const BankService::BankPtr bank = banks->cached(in, withParams);
+        QVERIFY(bank);
+        // Without the parameters it is another bank, not built.
+        QVERIFY(!banks->cached(in, autoStartBank(*w->session())));
+        int held = 0;
+        for (const denoise::BankMember& m : bank->members())
+            for (const auto& [filter, params] : fixed) {
+                if (m.filter != filter) continue;
+                for (const auto& [name, value] : params) QCOMPARE(m.params.at(name), value);
+                ++held;
+            }
+        QVERIFY(held >= int(fixed.size()));
+    }
+
+    void banksWithOtherFixedParametersAreOtherBanks() {
+        auto w = openScene(QStringLiteral("autosave-bank-params2"));
+        QVERIFY(w);
+        BankService* banks = w->session()->banks();
+        const FramePtr frame = w->session()->input();
+        denoise::BankOptions plain;
+        plain.size = 4;
+        plain.filters = {"gaussian", "bilateral"};
+        denoise::BankOptions fixed = plain;
+        fixed.filterParams["bilateral"] = {{"sigmaS", 2.0}};
+        const int before = banks->builds();
+        BankService::BankPtr a, b;
+        banks->request(frame, plain, this, {[&](BankService::BankPtr x) { a = x; }, {}, {}});
+        QVERIFY(waitFor([&] { return a != nullptr; }, 60000));
+        banks->request(frame, fixed, this, {[&](BankService::BankPtr x) { b = x; }, {}, {}});
+        QVERIFY(waitFor([&] { return b != nullptr; }, 60000));
+        QCOMPARE(banks->builds(), before + 2);
+        QVERIFY(a != b);
+        for (const denoise::BankMember& m : b->members())
+            if (m.filter == "bilateral") QCOMPARE(m.params.at("sigmaS"), 2.0);
+        QCOMPARE(banks->cached(frame, fixed), b);
+        QCOMPARE(banks->cached(frame, plain), a);
     }
 
     void requestsOfOneBankShareItsBuild() {

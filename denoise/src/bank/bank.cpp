@@ -46,15 +46,17 @@ void validate(const BankOptions& options) {
             bad(e.message(), "--filters");
         }
     }
-    // Fixed parameters: of one of the bank's filters, each known to it and in its range.
+    // Fixed parameters: of one of the bank's filters, each known to it and in its range. A
+    // default filter left out here (unet without its weights) is still one of the default
+    // bank's: its parameters stay valid, and the bank goes on without it (usableFilters).
+    std::vector<std::string> bankFilters = options.filters;
+    if (options.filters.empty()) {
+        std::vector<LeftOutFilter> leftOut;
+        for (const Filter* f : defaultBankFilters(&leftOut)) bankFilters.emplace_back(f->name());
+        for (LeftOutFilter& f : leftOut) bankFilters.push_back(std::move(f.name));
+    }
     for (const auto& [name, params] : options.filterParams) {
-        const bool named =
-            options.filters.empty()
-                ? std::any_of(defaultBankFilters().begin(), defaultBankFilters().end(),
-                              [&](const Filter* f) { return f->name() == name; })
-                : std::find(options.filters.begin(), options.filters.end(), name) !=
-                      options.filters.end();
-        if (!named)
+        if (std::find(bankFilters.begin(), bankFilters.end(), name) == bankFilters.end())
             bad("parameters given to filter '" + name +
                     "', which is not one of the bank's filters (name it in --filters)",
                 "--filter-param");

@@ -3,9 +3,12 @@
 // Mantiuk and Seidel (2008) with a linear, a power and a logarithmic piece.
 #include "learned/oidn_color.h"
 
+#include <tbb/parallel_for.h>
+
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 namespace glint::denoise::learned {
 
@@ -53,10 +56,10 @@ double autoexposure(const Image& color) {
     constexpr double kKey = 0.18, kEps = 1e-8;
     const int h = color.height(), w = color.width();
     const int nbH = (h + kMaxBin - 1) / kMaxBin, nbW = (w + kMaxBin - 1) / kMaxBin;
-    double sum = 0.0;
-    int count = 0;
-    // Mean luminance (Rec. 709 weights) of each bin, then the log2 mean over bright-enough bins.
-    for (int i = 0; i < nbH; ++i) {
+    // Mean luminance (Rec. 709 weights) of each bin, rows of bins in parallel (each bin summed in
+    // one order by one thread, so the same bits on any thread count).
+    std::vector<double> bins(std::size_t(nbH) * std::size_t(nbW));
+    tbb::parallel_for(0, nbH, [&](int i) {
         const int y0 = int(std::int64_t(i) * h / nbH), y1 = int(std::int64_t(i + 1) * h / nbH);
         for (int j = 0; j < nbW; ++j) {
             const int x0 = int(std::int64_t(j) * w / nbW), x1 = int(std::int64_t(j + 1) * w / nbW);
@@ -67,13 +70,18 @@ double autoexposure(const Image& color) {
                     l += 0.212671 * sanitize(p[3 * x]) + 0.715160 * sanitize(p[3 * x + 1]) +
                          0.072169 * sanitize(p[3 * x + 2]);
             }
-            l /= double(y1 - y0) * double(x1 - x0);
-            if (l > kEps) {
-                sum += std::log2(l);
-                ++count;
-            }
+            bins[std::size_t(i) * std::size_t(nbW) + std::size_t(j)] =
+                l / (double(y1 - y0) * double(x1 - x0));
         }
-    }
+    });
+    // The log2 mean over the bright-enough bins, in bin order.
+    double sum = 0.0;
+    int count = 0;
+    for (double l : bins)
+        if (l > kEps) {
+            sum += std::log2(l);
+            ++count;
+        }
     return count > 0 ? kKey / std::exp2(sum / count) : 1.0;
 }
 

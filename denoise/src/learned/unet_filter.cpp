@@ -210,8 +210,8 @@ int channelsOf(Features f) {
 
 // Network input of one tile (OIDN's input process): `pw` × `ph` pixels of `channels` values,
 // zero outside `in`.
-void fillInput(const FrameBuffers& frame, Features f, double scale, const Rect& in, int pw,
-               std::vector<float>& buf, int channels, WorkContext& work) {
+void fillInput(const FrameBuffers& frame, Features f, double scale, const Rect& in, int pw, int ph,
+               float* buf, int channels, WorkContext& work) {
     constexpr double kMax = std::numeric_limits<float>::max();
     auto clampNaN = [](double v, double lo, double hi) {
         return std::isnan(v) ? 0.0 : std::min(std::max(v, lo), hi);
@@ -219,10 +219,17 @@ void fillInput(const FrameBuffers& frame, Features f, double scale, const Rect& 
     const Image& color = frame.color();
     const Image* albedo = f != Features::Color ? &frame.layer(Layer::Albedo) : nullptr;
     const Image* normal = f == Features::AlbedoNormal ? &frame.layer(Layer::Normal) : nullptr;
+    const std::size_t row = std::size_t(pw) * channels;
     work.parallelFor(
-        in.y0, in.y1,
+        in.y0, in.y0 + ph,
         [&](int y) {
-            float* dst = buf.data() + std::size_t(y - in.y0) * pw * channels;
+            float* dst = buf + std::size_t(y - in.y0) * row;
+            // The padding at the bottom and right (to the 16-pixel grid) is zero.
+            if (y >= in.y1) {
+                std::fill_n(dst, row, 0.0f);
+                return;
+            }
+            std::fill(dst + std::size_t(in.width()) * channels, dst + row, 0.0f);
             for (int x = in.x0; x < in.x1; ++x, dst += channels) {
                 const float* c = color.row(y) + std::size_t(x) * 3;
                 for (int k = 0; k < 3; ++k)
@@ -309,32 +316,37 @@ class UNetFilter final : public Filter {
 
         Image out(roi.width(), roi.height(), 3);
         // One workspace for all tiles: activations are allocated (and their pages touched) once.
+        // The input is written and the output read in place in it (no copies).
         learned::UNetWorkspace workspace;
-        std::vector<float> input, result;
         for (const auto& t : tiles) {
             const int pw = learned::alignUp16(t.in.width()), ph = learned::alignUp16(t.in.height());
-            input.assign(std::size_t(pw) * ph * channels, 0.0f);
-            result.resize(std::size_t(pw) * ph * 3);
-            fillInput(frame, f, scale, t.in, pw, input, channels, work);
-            net->run(input.data(), ph, pw, result.data(), threads, workspace,
-                     [&](int done, int all) {
-                         (void)done;
-                         work.addWork(std::int64_t(pw) * ph / all);
-                         work.throwIfCancelled();
-                     });
             // Output process: clamp at 0, inverse transfer, undo the exposure.
-            work.parallelFor(
-                t.out.y0, t.out.y1,
-                [&](int y) {
-                    const float* src =
-                        result.data() + (std::size_t(y - t.in.y0) * pw + (t.out.x0 - t.in.x0)) * 3;
-                    float* dst = out.row(y - roi.y0) + std::size_t(t.out.x0 - roi.x0) * 3;
-                    for (int k = 0; k < t.out.width() * 3; ++k) {
-                        const double v = std::isnan(src[k]) ? 0.0 : std::max(double(src[k]), 0.0);
-                        dst[k] = float(learned::puInverse(v) * outScale);
-                    }
+            auto readOutput = [&](const float* result) {
+                work.parallelFor(
+                    t.out.y0, t.out.y1,
+                    [&](int y) {
+                        const float* src =
+                            result + (std::size_t(y - t.in.y0) * pw + (t.out.x0 - t.in.x0)) * 3;
+                        float* dst = out.row(y - roi.y0) + std::size_t(t.out.x0 - roi.x0) * 3;
+                        for (int k = 0; k < t.out.width() * 3; ++k) {
+                            const double v =
+                                std::isnan(src[k]) ? 0.0 : std::max(double(src[k]), 0.0);
+                            dst[k] = float(learned::puInverse(v) * outScale);
+                        }
+                    },
+                    0);
+            };
+            net->run(
+                ph, pw,
+                [&](float* input) {
+                    fillInput(frame, f, scale, t.in, pw, ph, input, channels, work);
                 },
-                0);
+                readOutput, threads, workspace,
+                [&](int done, int all) {
+                    (void)done;
+                    work.addWork(std::int64_t(pw) * ph / all);
+                    work.throwIfCancelled();
+                });
         }
         return out;
     }

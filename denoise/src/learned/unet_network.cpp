@@ -24,8 +24,10 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <memory>
 #include <new>
 #include <oneapi/dnnl/dnnl.hpp>
+#include <optional>
 
 #include "glint/image/error.h"
 
@@ -197,7 +199,8 @@ struct UNetNetwork::Plan {
     std::vector<Step> steps;
     std::vector<std::size_t> offsets;  // of each tensor in the arena
     memory::desc inUser, outUser;
-    dnnl::reorder inReorder, outReorder;
+    // Reorders between the interleaved buffers and oneDNN's formats, only where they differ.
+    std::optional<dnnl::reorder> inReorder, outReorder;
     std::size_t arenaBytes = 0;
 };
 
@@ -372,9 +375,12 @@ std::shared_ptr<const UNetNetwork::Plan> UNetNetwork::plan(int h, int w) const {
     p->inUser =
         memory::desc({1, m_inputChannels, h, w}, memory::data_type::f32, memory::format_tag::nhwc);
     p->outUser = memory::desc({1, 3, h, w}, memory::data_type::f32, memory::format_tag::nhwc);
-    p->inReorder = dnnl::reorder(dnnl::reorder::primitive_desc(eng, p->inUser, eng, p->descs[0]));
-    p->outReorder =
-        dnnl::reorder(dnnl::reorder::primitive_desc(eng, p->descs.back(), eng, p->outUser));
+    if (p->descs[0] != p->inUser)
+        p->inReorder =
+            dnnl::reorder(dnnl::reorder::primitive_desc(eng, p->inUser, eng, p->descs[0]));
+    if (p->descs.back() != p->outUser)
+        p->outReorder =
+            dnnl::reorder(dnnl::reorder::primitive_desc(eng, p->descs.back(), eng, p->outUser));
     // Lifetimes: a tensor lives from its producing step to its last use (the input from before
     // the first step, the output until the output reorder).
     const int n = int(g.tensors.size());
@@ -395,7 +401,7 @@ std::shared_ptr<const UNetNetwork::Plan> UNetNetwork::plan(int h, int w) const {
     return p;
 }
 
-void UNetNetwork::run(const float* input, int h, int w, float* output, int threads,
+void UNetNetwork::run(int h, int w, const FillFn& fill, const ReadFn& read, int threads,
                       UNetWorkspace& workspace, const LayerFn& afterLayer) const {
     GLINT_CHECK(h > 0 && w > 0 && h % kUNetAlignment == 0 && w % kUNetAlignment == 0,
                 "U-Net tile sizes must be positive multiples of 16");
@@ -409,8 +415,16 @@ void UNetNetwork::run(const float* input, int h, int w, float* output, int threa
     std::vector<memory> mem(p->descs.size());
     for (std::size_t t = 0; t < mem.size(); ++t)
         mem[t] = memory(p->descs[t], eng, arena + p->offsets[t]);
-    memory inUser(p->inUser, eng, const_cast<float*>(input));
-    p->inReorder.execute(s, inUser, mem[0]);
+    // The input, written in place when oneDNN reads it interleaved (no copy).
+    if (p->inReorder) {
+        const auto staged = std::make_unique_for_overwrite<float[]>(p->inUser.get_size() / 4);
+        fill(staged.get());
+        memory inUser(p->inUser, eng, staged.get());
+        p->inReorder->execute(s, inUser, mem[0]);
+        s.wait();
+    } else {
+        fill(static_cast<float*>(mem[0].get_data_handle()));
+    }
     const int totalConvs = int(m_layers.size());
     int convs = 0;
     for (const Plan::Step& st : p->steps) {
@@ -431,9 +445,16 @@ void UNetNetwork::run(const float* input, int h, int w, float* output, int threa
         s.wait();
         if (st.kind == OpKind::Conv && afterLayer) afterLayer(++convs, totalConvs);
     }
-    memory outUser(p->outUser, eng, output);
-    p->outReorder.execute(s, mem.back(), outUser);
-    s.wait();
+    // The output, read in place when oneDNN wrote it interleaved.
+    if (p->outReorder) {
+        const auto staged = std::make_unique_for_overwrite<float[]>(p->outUser.get_size() / 4);
+        memory outUser(p->outUser, eng, staged.get());
+        p->outReorder->execute(s, mem.back(), outUser);
+        s.wait();
+        read(staged.get());
+    } else {
+        read(static_cast<const float*>(mem.back().get_data_handle()));
+    }
 }
 
 }  // namespace glint::denoise::learned

@@ -66,11 +66,18 @@ class UNetNetwork {
     /// Called after each layer with the number of layers done and the total; may throw to stop.
     using LayerFn = std::function<void(int done, int total)>;
 
-    /// Runs the network on one tile: `input` holds h × w pixels of inputChannels() interleaved
-    /// floats (row-major), `output` receives h × w × 3. h and w must be multiples of 16. Uses
-    /// `threads` OpenMP threads inside oneDNN. Activations live in `workspace`.
-    void run(const float* input, int h, int w, float* output, int threads, UNetWorkspace& workspace,
-             const LayerFn& afterLayer = {}) const;
+    /// Writes a tile's input: h × w pixels of inputChannels() interleaved floats, row-major,
+    /// every value (the padding's zeros too).
+    using FillFn = std::function<void(float* input)>;
+    /// Reads a tile's output: h × w pixels of 3 interleaved floats, row-major.
+    using ReadFn = std::function<void(const float* output)>;
+
+    /// Runs the network on one tile of h × w pixels (multiples of 16): `fill` writes its input,
+    /// `read` reads its output, both in place in `workspace` (where the activations live) when
+    /// oneDNN keeps them interleaved, as it does on AVX-512 (else through a reorder). Uses
+    /// `threads` OpenMP threads inside oneDNN.
+    void run(int h, int w, const FillFn& fill, const ReadFn& read, int threads,
+             UNetWorkspace& workspace, const LayerFn& afterLayer = {}) const;
 
   private:
     struct Layer;
