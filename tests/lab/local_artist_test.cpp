@@ -1,6 +1,6 @@
-// The local artist (glint/denoise/research/local_artist.h) and glint-denoise navigate --simulate
-// --local: strokes that only stay when they help never lower the SSIM, the strokes beat the start,
-// the run is deterministic, bad flags exit 2 with one line.
+// The local artist (glint/lab/local_artist.h) and glint-lab navigate --simulate --local: strokes
+// that only stay when they help never lower the SSIM, the strokes beat the start, the run is
+// deterministic, bad flags exit 2 with one line.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,14 +10,19 @@
 
 #include "cli_fixture.h"
 #include "glint/denoise/bank.h"
-#include "glint/denoise/research/local_artist.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"
+#include "glint/lab/local_artist.h"
 #include "synthetic_frames.h"
 
-namespace glint::denoise {
+namespace glint::lab {
 namespace {
+
+using denoise::BankOptions;
+using denoise::buildBank;
+using denoise::FilterBank;
+namespace testing = glint::denoise::testing;
 
 namespace fs = std::filesystem;
 using glint::testing::RunResult;
@@ -40,8 +45,8 @@ const Fixture& fixture() {
     return f;
 }
 
-research::LocalArtistOptions smallBrush(int strokes) {
-    research::LocalArtistOptions o;
+LocalArtistOptions smallBrush(int strokes) {
+    LocalArtistOptions o;
     o.strokes = strokes;
     o.brush.size = 16.0;
     return o;
@@ -49,16 +54,14 @@ research::LocalArtistOptions smallBrush(int strokes) {
 
 TEST(LocalArtist, KeptStrokesNeverLowerTheSsimAndBeatTheStart) {
     const Fixture& f = fixture();
-    for (research::ArtistPick pick :
-         {research::ArtistPick::Variance, research::ArtistPick::Error}) {
-        research::LocalArtistOptions o = smallBrush(12);
+    for (ArtistPick pick : {ArtistPick::Variance, ArtistPick::Error}) {
+        LocalArtistOptions o = smallBrush(12);
         o.pick = pick;
-        const research::LocalArtistResult r =
-            research::localArtist(f.bank, f.noisy.color(), f.clean.color(), o);
+        const LocalArtistResult r = localArtist(f.bank, f.noisy.color(), f.clean.color(), o);
         ASSERT_EQ(r.strokes.size(), 12u);
         double previous = r.startSsim;
         int kept = 0;
-        for (const research::ArtistStroke& s : r.strokes) {
+        for (const ArtistStroke& s : r.strokes) {
             // The rule: a stroke stays only if the whole composite's SSIM does not drop.
             EXPECT_GE(s.ssim, previous) << "stroke " << s.stroke;
             if (s.kept)
@@ -77,17 +80,15 @@ TEST(LocalArtist, KeptStrokesNeverLowerTheSsimAndBeatTheStart) {
         EXPECT_NEAR(ssim(r.composite, f.clean.color()).value, r.strokes.back().ssim, 1e-12);
         // From the noisy input, a dozen 16-px strokes over a 64×48 frame gain clearly (the
         // noise's SSIM is about 0.5, the bank's members about 0.9: 0.05 is a fraction of that).
-        EXPECT_GT(r.strokes.back().ssim, r.startSsim + 0.05) << research::artistPickName(pick);
+        EXPECT_GT(r.strokes.back().ssim, r.startSsim + 0.05) << artistPickName(pick);
     }
 }
 
 TEST(LocalArtist, StrokesGoToDifferentRegionsAndTheRunIsDeterministic) {
     const Fixture& f = fixture();
-    const research::LocalArtistOptions o = smallBrush(6);
-    const research::LocalArtistResult a =
-        research::localArtist(f.bank, f.noisy.color(), f.clean.color(), o);
-    const research::LocalArtistResult b =
-        research::localArtist(f.bank, f.noisy.color(), f.clean.color(), o);
+    const LocalArtistOptions o = smallBrush(6);
+    const LocalArtistResult a = localArtist(f.bank, f.noisy.color(), f.clean.color(), o);
+    const LocalArtistResult b = localArtist(f.bank, f.noisy.color(), f.clean.color(), o);
     ASSERT_EQ(a.strokes.size(), b.strokes.size());
     for (std::size_t i = 0; i < a.strokes.size(); ++i) {
         EXPECT_EQ(a.strokes[i].member, b.strokes[i].member);
@@ -103,24 +104,21 @@ TEST(LocalArtist, StrokesGoToDifferentRegionsAndTheRunIsDeterministic) {
 TEST(LocalArtist, KeepingEveryStrokeCanLowerTheSsimButPaintsEveryOne) {
     const Fixture& f = fixture();
     // Starting from the clean image itself, any stroke can only make it worse.
-    research::LocalArtistOptions o = smallBrush(4);
+    LocalArtistOptions o = smallBrush(4);
     o.keepOnlyHelping = false;
-    const research::LocalArtistResult all =
-        research::localArtist(f.bank, f.clean.color(), f.clean.color(), o);
-    for (const research::ArtistStroke& s : all.strokes) EXPECT_TRUE(s.kept);
+    const LocalArtistResult all = localArtist(f.bank, f.clean.color(), f.clean.color(), o);
+    for (const ArtistStroke& s : all.strokes) EXPECT_TRUE(s.kept);
     EXPECT_LT(all.strokes.back().ssim, all.startSsim);
     o.keepOnlyHelping = true;
-    const research::LocalArtistResult helping =
-        research::localArtist(f.bank, f.clean.color(), f.clean.color(), o);
+    const LocalArtistResult helping = localArtist(f.bank, f.clean.color(), f.clean.color(), o);
     EXPECT_EQ(helping.strokes.back().ssim, helping.startSsim);
 }
 
 TEST(LocalArtist, BadOptionsAndSizesThrow) {
     const Fixture& f = fixture();
-    auto throwsNaming = [&](research::LocalArtistOptions o, const Image& start,
-                            const std::string& mention) {
+    auto throwsNaming = [&](LocalArtistOptions o, const Image& start, const std::string& mention) {
         try {
-            research::localArtist(f.bank, start, f.clean.color(), o);
+            localArtist(f.bank, start, f.clean.color(), o);
             ADD_FAILURE() << "no error for " << mention;
         } catch (const Error& e) {
             EXPECT_EQ(e.kind(), ErrorKind::InvalidArgument);
@@ -128,7 +126,7 @@ TEST(LocalArtist, BadOptionsAndSizesThrow) {
                 << e.message();
         }
     };
-    research::LocalArtistOptions o = smallBrush(0);
+    LocalArtistOptions o = smallBrush(0);
     throwsNaming(o, f.noisy.color(), "--strokes");
     o = smallBrush(3);
     o.brush.size = 8.0;
@@ -136,19 +134,21 @@ TEST(LocalArtist, BadOptionsAndSizesThrow) {
     o.brush.size = 60.0;  // wider than the 48-px-high frame
     throwsNaming(o, f.noisy.color(), "does not fit");
     throwsNaming(smallBrush(3), Image(10, 10, 3), "region");
-    EXPECT_THROW(research::parseArtistPick("random"), Error);
+    EXPECT_THROW(parseArtistPick("random"), Error);
 }
 
 class LocalArtistCli : public glint::testing::CliFixture {
   protected:
-    LocalArtistCli() : CliFixture("glint-denoise") {}
+    LocalArtistCli() : CliFixture("glint-lab") {}
     void SetUp() override {
         CliFixture::SetUp();
         if (HasFatalFailure()) return;
         writeExr(testing::syntheticFrame(48, 40, 0.1f), m_dir / "noisy.exr");
         writeExr(testing::syntheticFrame(48, 40, 0.0f), m_dir / "ref.exr");
-        ASSERT_EQ(
-            run("bank " + path("noisy.exr") + " --out " + path("bank") + " --size 6").exitCode, 0);
+        ASSERT_EQ(runTool("glint-denoise",
+                          "bank " + path("noisy.exr") + " --out " + path("bank") + " --size 6")
+                      .exitCode,
+                  0);
     }
     std::string navigate(const std::string& extra) const {
         return "navigate " + path("noisy.exr") + " --reference " + path("ref.exr") + " --bank " +
@@ -199,4 +199,4 @@ TEST_F(LocalArtistCli, BadFlagsExitTwoWithOneLine) {
 }
 
 }  // namespace
-}  // namespace glint::denoise
+}  // namespace glint::lab

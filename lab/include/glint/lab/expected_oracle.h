@@ -1,7 +1,5 @@
-// The expected-error oracle: a research measure of what an exact estimate of each member's error
-// could reach (glint-denoise oracle --expected; docs/auto.md, "What limits the share"). A
-// research header (docs/architecture.md, "Public headers"): public so that the CLI's research
-// command uses only what an outside program could, but not part of the denoiser's contract.
+// The expected-error oracle: a measure of what an exact estimate of each member's error could
+// reach (glint-lab oracle --expected; docs/auto.md, "What limits the share").
 #pragma once
 
 #include <map>
@@ -9,11 +7,11 @@
 #include <vector>
 
 #include "glint/denoise/bank.h"
-#include "glint/denoise/oracle.h"
 #include "glint/image/frame_buffers.h"
 #include "glint/image/image.h"
+#include "glint/lab/oracle.h"
 
-namespace glint::denoise::research {
+namespace glint::lab {
 
 /// The per-pixel choice by each member's *expected* error instead of the error it made on this
 /// render. Each member's per-pixel error (the oracle's: 3×3 display MSE) is averaged over the
@@ -41,9 +39,9 @@ struct ExpectedOracleResult {
 };
 /// Throws glint::Error(InvalidArgument) naming `others[i]` by its index when its size differs,
 /// for no others, or for a radius outside 0 … 64.
-ExpectedOracleResult expectedErrorOracle(const FilterBank& bank,
+ExpectedOracleResult expectedErrorOracle(const denoise::FilterBank& bank,
                                          const std::vector<FrameBuffers>& others,
                                          const Image& reference,
                                          const ExpectedOracleOptions& options = {});
 
-}  // namespace glint::denoise::research
+}  // namespace glint::lab

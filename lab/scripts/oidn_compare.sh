@@ -8,19 +8,19 @@
 #   - unet alone (`glint-denoise apply --filter unet`, its defaults),
 #   - OIDN's RT filter with albedo and normal, HDR (the peer of ../shared/peers/oidn, when it is
 #     installed: its column is empty otherwise),
-#   - the per-pixel oracle over the default bank (`glint-denoise oracle`),
-#   - with ARTIST=1, the local artist (`glint-denoise navigate --simulate --local`) over the default
+#   - the per-pixel oracle over the default bank (`glint-lab oracle`),
+#   - with ARTIST=1, the local artist (`glint-lab navigate --simulate --local`) over the default
 #     bank after 10 and after 30 strokes (docs/navigation.md, "The local artist").
 # With CYCLES=1, also the two Cycles frames of tests/data/cycles/ (no half buffers: auto takes the
-# image-only estimator; `glint-denoise auto --bank`), against their 4096-spp reference.
+# image-only estimator; `glint-lab auto --bank`), against their 4096-spp reference.
 # All SSIMs are glint::ssim (oracle, auto, apply, navigate, `glint-image diff --metric ssim`), full
 # frame.
-#   tests/perf/oidn_compare.sh [build] [scenes...]
+#   lab/scripts/oidn_compare.sh [build] [scenes...]
 # Environment: SPPS (default "4 16 64"), SEEDS (render seeds, default 7), OIDN (the installed peer's
 # folder, default /tmp/oidn), ARTIST (1: the local artist's columns), ARTIST_FLAGS (more flags for
 # navigate, e.g. "--start best"), CYCLES (1: the Cycles rows).
 set -euo pipefail
-source "$(dirname "$0")/../../scripts/lib/cells.sh"
+source "$(dirname "$0")/lib/cells.sh"
 spps=${SPPS:-4 16 64}
 seeds=${SEEDS:-7}
 oidn=${OIDN:-/tmp/oidn}
@@ -67,11 +67,11 @@ row() {
   "$bin/glint-denoise" bank "$work/in.exr" --out "$work/bank-classical" --size 64 --seed 1 \
     --filters "$classical" >/dev/null
   # The oracle's auto column is auto with its defaults over the bank (the halves estimator); a
-  # frame without half buffers gets it from `glint-denoise auto` (the image-only estimator).
-  "$bin/glint-denoise" oracle "$work/in.exr" --reference "$ref" --bank "$work/bank" \
+  # frame without half buffers gets it from `glint-lab auto` (the image-only estimator).
+  "$bin/glint-lab" oracle "$work/in.exr" --reference "$ref" --bank "$work/bank" \
     --json >"$work/oracle.json"
   if [ "$halves" = 1 ]; then
-    "$bin/glint-denoise" oracle "$work/in.exr" --reference "$ref" --bank "$work/bank-classical" \
+    "$bin/glint-lab" oracle "$work/in.exr" --reference "$ref" --bank "$work/bank-classical" \
       --json >"$work/oracle-classical.json"
     python3 - "$work" <<'PY'
 import json, sys
@@ -82,9 +82,9 @@ for oracle, auto in (("oracle", "auto"), ("oracle-classical", "auto-classical"))
               open("%s/%s.json" % (work, auto), "w"))
 PY
   else
-    "$bin/glint-denoise" auto "$work/in.exr" --bank "$work/bank" --reference "$ref" \
+    "$bin/glint-lab" auto "$work/in.exr" --bank "$work/bank" --reference "$ref" \
       --out "$work/auto.exr" --json 2>/dev/null >"$work/auto.json"
-    "$bin/glint-denoise" auto "$work/in.exr" --bank "$work/bank-classical" --reference "$ref" \
+    "$bin/glint-lab" auto "$work/in.exr" --bank "$work/bank-classical" --reference "$ref" \
       --out "$work/auto-classical.exr" --json 2>/dev/null >"$work/auto-classical.json"
   fi
   "$bin/glint-denoise" apply "$work/in.exr" --filter unet --reference "$ref" \
@@ -92,7 +92,7 @@ PY
   echo '{}' >"$work/artist.json"
   if [ "$artist" = 1 ]; then
     # shellcheck disable=SC2086
-    "$bin/glint-denoise" navigate "$work/in.exr" --bank "$work/bank" --reference "$ref" \
+    "$bin/glint-lab" navigate "$work/in.exr" --bank "$work/bank" --reference "$ref" \
       --simulate --local --strokes 30 ${ARTIST_FLAGS:-} --json >"$work/artist.json"
   fi
   python3 - "$label" "$spp" "$seed" "$work" "$halves" <<'PY'

@@ -3,7 +3,7 @@
 # project root and sets `build` (first argument, default build), `bin`, `scenes` (the remaining
 # arguments up to a `--`, default cornell pool dof glossy), `rest` (an array of the arguments
 # after `--`) and `work` (a temporary folder removed on exit).
-cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+cd "$(dirname "${BASH_SOURCE[0]}")/../../.."
 build=${1:-build}
 shift || true
 scenes=""

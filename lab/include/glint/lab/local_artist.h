@@ -3,9 +3,8 @@
 // region's bank (the navigation tree over the region's crop, the simulated user picking the
 // child closest to the reference there), paint the chosen member into the composite with the
 // soft brush, and keep the stroke if the whole composite got closer to the reference
-// (glint-denoise navigate --simulate --local; docs/navigation.md, "The local artist"). A research
-// header (docs/architecture.md, "Public headers"): it measures the claim that local choices beat
-// any global filter, and is not part of the denoiser's contract.
+// (glint-lab navigate --simulate --local; docs/navigation.md, "The local artist"): it measures the
+// claim that local choices beat any global filter.
 #pragma once
 
 #include <cstdint>
@@ -17,7 +16,7 @@
 #include "glint/denoise/paint.h"
 #include "glint/image/image.h"
 
-namespace glint::denoise::research {
+namespace glint::lab {
 
 /// Where the artist strokes next.
 enum class ArtistPick {
@@ -39,7 +38,7 @@ struct LocalArtistOptions {
     int strokes = 30;  ///< strokes tried, 1 … 10000 (a stroke undone still counts)
     /// The soft brush of every stroke (one dab): its diameter is also the side of the region
     /// navigated, so it must be at least 11 px (SSIM's window) and fit in the bank's region.
-    Brush brush{24.0, 0.5};
+    denoise::Brush brush{24.0, 0.5};
     ArtistPick pick = ArtistPick::Variance;
     /// The simulated user compares the options as they would look painted into the composite
     /// (true), or the members alone over the region (false: simulateUser's plain choice).
@@ -47,8 +46,8 @@ struct LocalArtistOptions {
     /// Undo a stroke that lowers the whole composite's SSIM (the artist sees it got worse); with
     /// false every stroke stays.
     bool keepOnlyHelping = true;
-    TreeOptions tree;       ///< of each region's navigation tree (k, p, distance, seed)
-    float exposure = 0.0f;  ///< stops, of the display values SSIM compares
+    denoise::TreeOptions tree;  ///< of each region's navigation tree (k, p, distance, seed)
+    float exposure = 0.0f;      ///< stops, of the display values SSIM compares
 };
 
 /// Throws glint::Error(InvalidArgument) naming the first bad option (strokes, brush, tree).
@@ -77,7 +76,7 @@ struct LocalArtistResult {
 /// the auto composite or the best member), towards `reference` (3 channels, bank-region-sized).
 /// SSIM is of display values over the bank's region. Deterministic for fixed options. Throws
 /// glint::Error(InvalidArgument) for bad options, mismatched sizes or an empty bank.
-LocalArtistResult localArtist(const FilterBank& bank, const Image& start, const Image& reference,
-                              const LocalArtistOptions& options = {});
+LocalArtistResult localArtist(const denoise::FilterBank& bank, const Image& start,
+                              const Image& reference, const LocalArtistOptions& options = {});
 
-}  // namespace glint::denoise::research
+}  // namespace glint::lab

@@ -4,8 +4,8 @@
 # the auto composite (its default estimator: cross-validation on the halves), plus auto with SURE on
 # the same render; then the same scene rendered without half buffers (noisy, best single and auto by
 # SURE: the cost of splitting the samples, and the SURE table). SSIM on display values against the
-# committed references. Same machinery as scripts/navigation_quality.sh.
-#   scripts/auto_quality.sh [build] [scenes...]
+# committed references. Same machinery as lab/scripts/navigation_quality.sh.
+#   lab/scripts/auto_quality.sh [build] [scenes...]
 set -euo pipefail
 source "$(dirname "$0")/lib/cells.sh"
 echo "| scene | spp | noisy | best single (with the reference) | auto, halves | auto, SURE | best 3 | per-pixel | halves' share of the way from best single to per-pixel | members used | auto s | without half buffers: noisy, best single, auto (SURE) |"
@@ -18,10 +18,10 @@ for scene in $scenes; do
       "$bin/glint-render" "scenes/$scene/scene.json" --spp "$spp" --seed 1 $flags \
         --out "$work/$kind.exr" >/dev/null 2>&1
       "$bin/glint-denoise" bank "$work/$kind.exr" --out "$work/bank_$kind" --size 64 --seed 1 >/dev/null
-      "$bin/glint-denoise" oracle "$work/$kind.exr" --reference "scenes/$scene/reference.exr" \
+      "$bin/glint-lab" oracle "$work/$kind.exr" --reference "scenes/$scene/reference.exr" \
         --bank "$work/bank_$kind" --json >"$work/oracle_$kind.json"
     done
-    "$bin/glint-denoise" auto "$work/halves.exr" --bank "$work/bank_halves" --estimator sure \
+    "$bin/glint-lab" auto "$work/halves.exr" --bank "$work/bank_halves" --estimator sure \
       --reference "scenes/$scene/reference.exr" --out "$work/sure.exr" --json >"$work/sure.json"
     python3 - "$scene" "$spp" "$work" <<'PY'
 import json, sys

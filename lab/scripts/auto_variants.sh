@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
-# The option tables of docs/research/auto-notebook.md and the other renders' shares in docs/auto.md
+# The option tables of docs/lab/auto-notebook.md and the other renders' shares in docs/auto.md
 # ("Quality"): for cornell, pool, dof and glossy at 4, 16 and 64 spp, the render with half buffers
-# (seed 1) and its 64-member bank (seed 1), as in scripts/auto_quality.sh; then `glint-denoise auto`
+# (seed 1) and its 64-member bank (seed 1), as in lab/scripts/auto_quality.sh; then `glint-lab auto`
 # once per option set given after `--` (an empty string: the defaults). Prints one row per option
 # set: SSIM per cell, how many cells are at least the best single member, and the average share of
 # the way from the best single member to the per-pixel oracle (about 2 minutes on 2 cores, plus 15 s
 # per option set). SEED=N renders with seed N instead of 1 (the bank keeps seed 1): the same table
 # on other renders, to check defaults chosen on seed 1.
-#   scripts/auto_variants.sh [build] [scenes...] -- "" "--feather 0" "--feather 6 --feather-gate 10"
-#   SEED=2 scripts/auto_variants.sh build -- "" "--stack-smooth 0"
+#   lab/scripts/auto_variants.sh [build] [scenes...] -- "" "--feather 0" "--feather 6 --feather-gate 10"
+#   SEED=2 lab/scripts/auto_variants.sh build -- "" "--stack-smooth 0"
 set -euo pipefail
 source "$(dirname "$0")/lib/cells.sh"
 [ ${#rest[@]} -gt 0 ] || rest=("")
@@ -19,7 +19,7 @@ for scene in $scenes; do
     "$bin/glint-render" "scenes/$scene/scene.json" --spp "$spp" --seed "${SEED:-1}" --half-buffers \
       --out "$cell/in.exr" >/dev/null 2>&1
     "$bin/glint-denoise" bank "$cell/in.exr" --out "$cell/bank" --size 64 --seed 1 >/dev/null
-    "$bin/glint-denoise" oracle "$cell/in.exr" --reference "scenes/$scene/reference.exr" \
+    "$bin/glint-lab" oracle "$cell/in.exr" --reference "scenes/$scene/reference.exr" \
       --bank "$cell/bank" --json >"$cell/oracle.json"
   done
 done
@@ -32,7 +32,7 @@ for options in "${rest[@]}"; do
     for spp in 4 16 64; do
       cell="$work/$scene-$spp"
       # shellcheck disable=SC2086  # the option set is split into words on purpose
-      "$bin/glint-denoise" auto "$cell/in.exr" --bank "$cell/bank" \
+      "$bin/glint-lab" auto "$cell/in.exr" --bank "$cell/bank" \
         --reference "scenes/$scene/reference.exr" --out "$cell/auto.exr" --json $options \
         >"$cell/auto-$index.json"
     done

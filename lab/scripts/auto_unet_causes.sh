@@ -1,16 +1,16 @@
 #!/usr/bin/env bash
 # Where auto with the learned member loses to unet alone (= OIDN) or to auto over the classical
 # bank (docs/auto.md, "Against OIDN"): for each CELL (scene:spp:seed), the render of
-# tests/perf/oidn_compare.sh (half buffers, the same seed), its default bank (64 members, seed 1,
+# lab/scripts/oidn_compare.sh (half buffers, the same seed), its default bank (64 members, seed 1,
 # unet among them) and SSIM against the committed reference of
 #   - auto with its defaults, the share of the blend's weight unet holds, and auto's own single
 #     choice (the member of smallest estimated error),
 #   - auto without the stacking (--stack 0), and without the stacking and the feathering,
-#   - the best single member chosen with the reference (`glint-denoise oracle`), and the per-pixel
+#   - the best single member chosen with the reference (`glint-lab oracle`), and the per-pixel
 #     oracle.
-#   tests/perf/auto_unet_causes.sh [build] -- CELL...      e.g. -- cornell:4:7 glossy:16:21
+#   lab/scripts/auto_unet_causes.sh [build] -- CELL...      e.g. -- cornell:4:7 glossy:16:21
 set -euo pipefail
-source "$(dirname "$0")/../../scripts/lib/cells.sh"
+source "$(dirname "$0")/lib/cells.sh"
 echo "| cell | auto | unet's share | auto's single choice | --stack 0 | --stack 0 --feather 0 | best single (with the reference) | unet alone | per-pixel |"
 echo "|---|---|---|---|---|---|---|---|---|"
 for cell in "${rest[@]}"; do
@@ -19,9 +19,9 @@ for cell in "${rest[@]}"; do
   "$bin/glint-render" "scenes/$scene/scene.json" --spp "$spp" --seed "$seed" --half-buffers \
     --out "$work/in.exr" >/dev/null 2>&1
   "$bin/glint-denoise" bank "$work/in.exr" --out "$work/bank" --size 64 --seed 1 >/dev/null
-  "$bin/glint-denoise" oracle "$work/in.exr" --reference "$ref" --bank "$work/bank" \
+  "$bin/glint-lab" oracle "$work/in.exr" --reference "$ref" --bank "$work/bank" \
     --json >"$work/oracle.json"
-  auto() { "$bin/glint-denoise" auto "$work/in.exr" --bank "$work/bank" --reference "$ref" \
+  auto() { "$bin/glint-lab" auto "$work/in.exr" --bank "$work/bank" --reference "$ref" \
     --out "$work/a.exr" --json "$@" 2>/dev/null; }
   auto >"$work/auto.json"
   auto --stack 0 >"$work/nostack.json"

@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # The expected-error oracle of docs/auto.md ("What limits the share"): for cornell, pool, dof and
 # glossy at 4, 16 and 64 spp, a render with half buffers (seed 1) and its 64-member bank (seed 1),
-# as in scripts/auto_quality.sh, plus seven more renders of the scene at the same spp (seeds 2-8);
-# then `glint-denoise oracle --expected` chooses per pixel by each member's error averaged over the
+# as in lab/scripts/auto_quality.sh, plus seven more renders of the scene at the same spp (seeds 2-8);
+# then `glint-lab oracle --expected` chooses per pixel by each member's error averaged over the
 # eight renders, at radii 0, 2, 4 and 8. Prints the share of the way from the best single member to
 # the per-pixel oracle per cell and the average (about 3 minutes on 2 cores).
-#   scripts/expected_oracle.sh [build] [scenes...]
+#   lab/scripts/expected_oracle.sh [build] [scenes...]
 set -euo pipefail
 source "$(dirname "$0")/lib/cells.sh"
 echo "| scene | spp | best single | per-pixel | expected error, radius 0 / 2 / 4 / 8 (share of the way) |"
@@ -21,7 +21,7 @@ for scene in $scenes; do
       others="$others${others:+,}$work/r$seed.exr"
     done
     "$bin/glint-denoise" bank "$work/in.exr" --out "$work/bank" --size 64 --seed 1 >/dev/null
-    "$bin/glint-denoise" oracle "$work/in.exr" --reference "scenes/$scene/reference.exr" \
+    "$bin/glint-lab" oracle "$work/in.exr" --reference "scenes/$scene/reference.exr" \
       --bank "$work/bank" --expected "$others" --json >"$work/$scene-$spp.json"
     python3 - "$scene" "$spp" "$work/$scene-$spp.json" <<'PY'
 import json, sys

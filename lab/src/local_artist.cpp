@@ -1,6 +1,6 @@
 // The local artist: pick a region, navigate its bank, paint the choice with the soft brush, keep
-// the stroke if it helped, repeat (glint/denoise/research/local_artist.h).
-#include "glint/denoise/research/local_artist.h"
+// the stroke if it helped, repeat (glint/lab/local_artist.h).
+#include "glint/lab/local_artist.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,8 +11,13 @@
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"
+#include "glint/lab/simulated_user.h"
 
-namespace glint::denoise::research {
+namespace glint::lab {
+
+using denoise::Brush;
+using denoise::FilterBank;
+using denoise::NavigationTree;
 
 namespace {
 
@@ -69,7 +74,7 @@ Image displayVarianceMap(const std::vector<const Image*>& results, float exposur
     }
     std::vector<const Image*> pointers;
     for (const Image& d : display) pointers.push_back(&d);
-    return filterVarianceMap(pointers);
+    return denoise::filterVarianceMap(pointers);
 }
 
 // 1 − SSIM per pixel (clamped at 0): where the composite looks wrong.
@@ -196,4 +201,4 @@ LocalArtistResult localArtist(const FilterBank& bank, const Image& start, const 
     return result;
 }
 
-}  // namespace glint::denoise::research
+}  // namespace glint::lab

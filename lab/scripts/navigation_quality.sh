@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # The quality table of docs/navigation.md: for cornell, pool and dof at 16 spp (seed 1), a
 # 64-member bank (seed 1), the oracle measures and the simulated user's SSIM after each choice.
-#   scripts/navigation_quality.sh [build] [--prefilter]
+#   lab/scripts/navigation_quality.sh [build] [--prefilter]
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 build=${1:-build}
 pre=${2:-}
 bin=$build/bin
@@ -14,9 +14,9 @@ echo "|---|---|---|---|---|---|---|"
 for scene in cornell pool dof; do
   "$bin/glint-render" "scenes/$scene/scene.json" --spp 16 --seed 1 --out "$work/$scene.exr" >/dev/null 2>&1
   "$bin/glint-denoise" bank "$work/$scene.exr" --out "$work/bank_$scene" --size 64 --seed 1 $pre >/dev/null
-  oracle=$("$bin/glint-denoise" oracle "$work/$scene.exr" --reference "scenes/$scene/reference.exr" \
+  oracle=$("$bin/glint-lab" oracle "$work/$scene.exr" --reference "scenes/$scene/reference.exr" \
            --bank "$work/bank_$scene" --json)
-  nav=$("$bin/glint-denoise" navigate "$work/$scene.exr" --reference "scenes/$scene/reference.exr" \
+  nav=$("$bin/glint-lab" navigate "$work/$scene.exr" --reference "scenes/$scene/reference.exr" \
         --bank "$work/bank_$scene" --simulate --json)
   python3 - "$scene" "$oracle" "$nav" <<'PY'
 import json, sys

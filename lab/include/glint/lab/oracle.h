@@ -1,20 +1,19 @@
 // What a bank can reach against a reference (the thesis's oracle measures): the noisy input,
 // the best single member, the best three members with a per-pixel choice among them (the
-// image-complexity measure) and the per-pixel optimal choice over the whole bank.
+// image-complexity measure) and the per-pixel optimal choice over the whole bank (glint-lab
+// oracle; docs/lab/README.md).
 #pragma once
 
 #include <array>
-#include <map>
-#include <optional>
-#include <string>
-#include <vector>
 
 #include "glint/image/frame_buffers.h"
 #include "glint/image/image.h"
 
 namespace glint::denoise {
-
 class FilterBank;
+}
+
+namespace glint::lab {
 
 /// SSIM (display values) of each composite against the reference over the bank's region.
 struct OracleResult {
@@ -33,7 +32,7 @@ struct OracleResult {
 /// summed over channels, box-averaged over a 3×3 neighbourhood; the best three are searched
 /// exhaustively among the 12 best single members. Throws glint::Error(InvalidArgument) for
 /// mismatched sizes or a bank smaller than 3.
-OracleResult oracle(const FilterBank& bank, const Image& noisy, const Image& reference,
+OracleResult oracle(const denoise::FilterBank& bank, const Image& noisy, const Image& reference,
                     float exposure = 0.0f);
 
-}  // namespace glint::denoise
+}  // namespace glint::lab
