@@ -436,9 +436,9 @@ CLI::App* addAutoFlags(CLI::App& app, const std::shared_ptr<AutoArgs>& a) {
                     "The denoised render: a layered EXR with every layer of IN, its colour "
                     "denoised");
     cmd->add_option("--quality", a->quality,
-                    "fast | balanced | best: fast tries 32 filter settings and checks each once "
-                    "(about half the time), best tries 128 and checks every one twice (about "
-                    "three times the time); default balanced, 64 settings");
+                    "fast | balanced | best: fast tries 32 filter settings and checks each on "
+                    "one half of the samples (about 0.7 × the time), best tries 128 (about 1.4 × "
+                    "the time); default balanced, 64 settings");
     cmd->add_option("--bank", a->bank,
                     "A bank folder of IN (glint-denoise bank) to reuse; without it the filter "
                     "settings are tried here");

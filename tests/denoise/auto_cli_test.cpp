@@ -316,12 +316,13 @@ TEST_F(AutoCli, FastAndBestSetTheirBankSizeAndTuning) {
     EXPECT_EQ(j["members"].get<int>(), balanced - 32);
     EXPECT_EQ(j["oneSided"], 1);
     EXPECT_EQ(j["stack"], 0);
-    // best: 64 members more, every one filtered on both halves (no shortlist), stacked.
+    // best: 64 members more, the tuning's defaults (the shortlist, the stacking).
     r = run(in + " --out " + path("best.exr") + " --quality best");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["members"].get<int>(), balanced + 64);
-    EXPECT_EQ(j["shortlist"], 0);
+    EXPECT_EQ(j["quality"], "best");
+    EXPECT_EQ(j["shortlist"], 16);
     EXPECT_EQ(j["oneSided"], 0);
     EXPECT_GE(j["stack"].get<int>(), 1);
     EXPECT_NE(colourOf(path("fast.exr")), colourOf(path("balanced.exr")));

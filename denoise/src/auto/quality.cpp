@@ -2,8 +2,9 @@
 // overrides. Balanced is the defaults. Fast filters the halves one-sided, which the lab measured
 // at 1.59–1.73 × the bank's time against 1.85–1.96 × for the defaults, 2 of 12 cells below the
 // best single member (docs/lab/auto-notebook.md, step 7; auto-notebook-2.md, "Speed"), and builds
-// half the bank. Best filters every member on both halves (--shortlist 0; docs/lab/oidn-gap.md,
-// section 1: +0.0022 on glossy 16 spp) over twice the members.
+// half the bank. Best builds twice the bank with the default tuning; no setting has yet been
+// measured better than balanced (docs/auto.md, "Command line": --shortlist 0 lost on cornell 4 and
+// glossy 16 spp, 128 members tied on cornell and lost 0.002 on glossy).
 #include <string>
 
 #include "glint/denoise/auto.h"
@@ -36,7 +37,6 @@ ParamValues autoQualityTuning(AutoQuality quality) {
         case AutoQuality::Fast:
             return {{"oneSided", 1.0}};
         case AutoQuality::Best:
-            return {{"shortlist", 0.0}};
         case AutoQuality::Balanced:
             break;
     }

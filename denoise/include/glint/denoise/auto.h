@@ -65,7 +65,7 @@ std::string autoTuningFlag(const std::string& name);
 enum class AutoQuality {
     Fast,      ///< 32 members, the halves filtered one-sided (no shortlist, no stacking)
     Balanced,  ///< the defaults: 64 members, the tuning's defaults
-    Best,      ///< 128 members, every member filtered on both halves (no shortlist)
+    Best,      ///< 128 members, the tuning's defaults
 };
 /// Parses "fast" / "balanced" / "best"; throws glint::Error(InvalidArgument).
 AutoQuality parseAutoQuality(const std::string& name);
