@@ -1,7 +1,6 @@
 // glint-denoise auto: the automatic local baseline — every bank member's per-pixel error
 // estimated by SURE from the render's variance or by cross-validation on its halves (no
-// reference), a per-pixel choice among them, written as a layered EXR (docs/auto.md). Also the
-// oracle's "auto" column (autoOracleColumn).
+// reference), a per-pixel choice among them, written as a layered EXR (docs/auto.md).
 #include <unistd.h>
 
 #include <algorithm>
@@ -12,6 +11,7 @@
 #include <memory>
 #include <sstream>
 
+#include "auto_args.h"
 #include "cli_boundary.h"
 #include "commands.h"
 #include "glint/denoise/auto.h"
@@ -39,18 +39,6 @@ using Clock = std::chrono::steady_clock;
     throw e;
 }
 
-struct AutoArgs {
-    std::string input, bank, out, reference, choiceMap, noiseOut, filters, estimator = "auto";
-    // Integers are parsed strictly from their text (parseInteger, parseUnsigned).
-    std::string size = "64", bankSeed = "1", seed = "1", stream = "auto", memoryLimit;
-    float exposure = 0.0f;
-    bool prefilter = false, json = false, tuningTable = false;
-    std::vector<std::string> filterParams;  // --filter-param FILTER.NAME=VALUE
-    /// The tuning flags given (autoTuningSpecs), by parameter name: their text, or "1" for a
-    /// flag without a value.
-    std::map<std::string, std::string> tuning;
-};
-
 // The tuning map from the flags given: each value parsed as its spec reads it, errors naming
 // the flag (the range is checked by validate).
 ParamValues parseTuning(const AutoArgs& a) {
@@ -71,36 +59,6 @@ ParamValues parseTuning(const AutoArgs& a) {
         }
     }
     return tuning;
-}
-
-// A flag without a value: an integer parameter over 0 … 1 that defaults to 0.
-bool isSwitch(const ParamSpec& spec) {
-    // A choice of two names is an option that takes one of them, not a switch.
-    return !spec.isChoice() && spec.integer && spec.min == 0.0 && spec.max == 1.0 &&
-           spec.defaultValue == 0.0;
-}
-
-// The tuning table of docs/auto.md, generated from the specs (`--tuning-table`).
-void printTuningTable() {
-    const ParamValues halves = autoTuningDefaults(AutoEstimator::Halves);
-    const ParamValues sure = autoTuningDefaults(AutoEstimator::Sure);
-    std::printf(
-        "| flag | `tuning` name | range | default: halves | default: SURE, image | meaning |\n");
-    std::printf("|---|---|---|---|---|---|\n");
-    for (const ParamSpec& spec : autoTuningSpecs()) {
-        std::string range;
-        if (spec.isChoice()) {
-            for (const std::string& c : spec.choices) range += (range.empty() ? "" : ", ") + c;
-        } else if (isSwitch(spec)) {
-            range = "(a switch)";
-        } else {
-            range = formatParamValue(spec, spec.min) + " … " + formatParamValue(spec, spec.max);
-        }
-        const std::string h = formatParamValue(spec, halves.at(spec.name));
-        const std::string s = formatParamValue(spec, sure.at(spec.name));
-        std::printf("| `%s` | `%s` | %s | %s | %s | %s |\n", autoTuningFlag(spec.name).c_str(),
-                    spec.name.c_str(), range.c_str(), h.c_str(), s.c_str(), spec.help.c_str());
-    }
 }
 
 // --noise-out: the variance of the mean SURE used (the image-only estimate or the render's
@@ -210,11 +168,9 @@ void useImageNoise(FrameBuffers& frame, AutoOptions& options, const AutoArgs& a)
     if (a.bank.empty()) frame.remove(Layer::Variance);
 }
 
+}  // namespace
+
 void runAuto(const AutoArgs& a) {
-    if (a.tuningTable) {
-        printTuningTable();
-        return;
-    }
     if (a.stream != "auto" && a.stream != "on" && a.stream != "off")
         throw Error(ErrorKind::InvalidArgument,
                     "'" + a.stream + "' is not a streaming mode (expected auto, on or off)",
@@ -228,8 +184,16 @@ void runAuto(const AutoArgs& a) {
     if (!a.noiseOut.empty()) glint::cli::checkOutputPath(a.noiseOut, {".exr"}, "--noise-out");
     checkOutputsAreNoInputs(a);
     glint::cli::removeTemporariesOnSignal({a.out, a.choiceMap, a.noiseOut});
+    AutoQuality quality = AutoQuality::Balanced;
+    try {
+        quality = parseAutoQuality(a.quality);
+    } catch (const Error& e) {
+        throw Error(ErrorKind::InvalidArgument, e.message(), "command line", "--quality");
+    }
     AutoOptions options;
-    options.tuning = parseTuning(a);
+    // The quality's tuning, then each tuning flag given (glint-lab's) over it.
+    options.tuning = autoQualityTuning(quality);
+    for (const auto& [name, value] : parseTuning(a)) options.tuning[name] = value;
     options.seed = glint::cli::parseUnsigned(a.seed, glint::cli::kMaxSeed, "--seed");
     options.exposure = a.exposure;
     try {
@@ -241,7 +205,8 @@ void runAuto(const AutoArgs& a) {
     const std::uint64_t memoryLimit =
         a.memoryLimit.empty() ? 0 : parseMemorySize(a.memoryLimit, "--memory-limit");
     BankOptions bankOptions;
-    bankOptions.size = parseInteger(a.size, "--size");
+    bankOptions.size =
+        a.size.empty() ? autoQualityBankSize(quality) : parseInteger(a.size, "--size");
     bankOptions.seed = glint::cli::parseUnsigned(a.bankSeed, glint::cli::kMaxSeed, "--bank-seed");
     bankOptions.filters = splitList(a.filters);
     bankOptions.filterParams = parseFilterParams(a.filterParams, "--filter-param");
@@ -362,6 +327,7 @@ void runAuto(const AutoArgs& a) {
                 {"analyticDivergence", analytic},
                 {"region", rectJson(bank.region())},
                 {"estimator", autoEstimatorName(result.estimator)},
+                {"quality", autoQualityName(quality)},
                 {"seed", options.seed},
                 {"streamed", streamed},
                 {"stackFeatures", result.stackFeatures},
@@ -429,95 +395,82 @@ void runAuto(const AutoArgs& a) {
     }
 }
 
-}  // namespace
-
-json autoOracleColumn(const FilterBank& bank, const FrameBuffers& frame, const Image& reference,
-                      const std::string& bankDir) {
-    try {
-        checkAutoInput(frame, AutoEstimator::Auto);
-    } catch (const Error& e) {
-        return {{"ssim", nullptr}, {"note", e.where() + ": " + e.message()}};
+void addTuningFlag(CLI::App* cmd, const std::shared_ptr<AutoArgs>& a, const ParamSpec& spec) {
+    const std::string flag = autoTuningFlag(spec.name);
+    std::string help = spec.help;
+    if (isTuningSwitch(spec)) {
+        cmd->add_flag_callback(
+            flag, [a, name = spec.name] { a->tuning[name] = "1"; }, help);
+        return;
     }
-    const AutoOptions options = autoOptionsOfBank(bankDir);
-    const auto t0 = Clock::now();
-    const AutoResult r = autoComposite(bank, frame, options);
-    const double seconds = secondsSince(t0);
-    MetricOptions mo;
-    return {{"ssim", ssim(r.composite, reference.crop(bank.region()), mo).value},
-            {"membersUsed", r.layers.size()},
-            {"estimator", autoEstimatorName(r.estimator)},
-            {"bestMember", memberJson(bank, r.bestMember)},
-            {"seconds", seconds}};
+    const double s = autoTuningDefaults(AutoEstimator::Sure).at(spec.name);
+    help += " (";
+    if (spec.isChoice()) {
+        for (std::size_t i = 0; i < spec.choices.size(); ++i)
+            help += (i ? " | " : "") + spec.choices[i];
+        help += "; ";
+    } else {
+        help += formatParamValue(spec, spec.min) + " … " + formatParamValue(spec, spec.max) + "; ";
+    }
+    help += "default " + formatParamValue(spec, spec.defaultValue);
+    if (s != spec.defaultValue) help += ", with SURE " + formatParamValue(spec, s);
+    help += ")";
+    cmd->add_option_function<std::string>(
+        flag, [a, name = spec.name](const std::string& text) { a->tuning[name] = text; }, help);
 }
 
-std::vector<Command> addAutoCommands(CLI::App& app) {
-    auto a = std::make_shared<AutoArgs>();
+bool isTuningSwitch(const ParamSpec& spec) {
+    // A choice of two names is an option that takes one of them, not a switch.
+    return !spec.isChoice() && spec.integer && spec.min == 0.0 && spec.max == 1.0 &&
+           spec.defaultValue == 0.0;
+}
+
+CLI::App* addAutoFlags(CLI::App& app, const std::shared_ptr<AutoArgs>& a) {
     CLI::App* cmd = app.add_subcommand(
         "auto",
-        "Per-pixel filter choice over a bank by each member's estimated error (SURE, the "
-        "halves or the image-only estimate; no reference needed)");
+        "Denoise a render without a reference: many filter settings are tried and each pixel "
+        "takes those whose error it estimates lowest there");
     cmd->add_option("IN", a->input,
-                    "Input layered EXR: with half buffers, the variance layer (SURE), or any "
-                    "renderer's (the image-only estimate)");
-    cmd->add_option("--out", a->out, "Output layered EXR (the colour is the auto composite)");
+                    "The render: a layered EXR (Glint's, with half buffers or its variance layer, "
+                    "or any renderer's)");
+    cmd->add_option("--out", a->out,
+                    "The denoised render: a layered EXR with every layer of IN, its colour "
+                    "denoised");
+    cmd->add_option("--quality", a->quality,
+                    "fast | balanced | best: fast tries 32 filter settings and checks each on "
+                    "one half of the samples (about 0.7 × the time), best tries 128 (about 1.4 × "
+                    "the time); default balanced, 64 settings");
     cmd->add_option("--bank", a->bank,
-                    "Bank folder of IN (glint-denoise bank); without it a bank is built in "
-                    "memory");
-    cmd->add_option("--reference", a->reference, "Reference EXR: print SSIM/PSNR/relMSE");
-    cmd->add_option("--size", a->size, "Without --bank: Latin-hypercube members (1 … 4096)");
-    cmd->add_option("--bank-seed", a->bankSeed,
-                    "Without --bank: seed of the Latin hypercube (0 … 2^63 - 1)");
-    cmd->add_option("--filters", a->filters, "Without --bank: only these filters, comma-separated");
-    cmd->add_option("--filter-param", a->filterParams,
-                    std::string("Without --bank: ") + kFilterParamHelp);
-    cmd->add_flag("--prefilter", a->prefilter, "Without --bank: build on prefiltered features");
-    cmd->add_option("--seed", a->seed, "Seed of SURE's random +-1 perturbation (0 … 2^63 - 1)");
+                    "A bank folder of IN (glint-denoise bank) to reuse; without it the filter "
+                    "settings are tried here");
+    cmd->add_option("--filters", a->filters,
+                    "Without --bank: try only these filters, comma-separated (glint-denoise "
+                    "list)");
+    cmd->add_option("--estimator", a->estimator,
+                    "How each setting's error is estimated: auto (default: from IN's half "
+                    "buffers, else its variance layer, else the image alone) | halves | sure | "
+                    "image");
     cmd->add_option("--exposure", a->exposure,
-                    "Exposure of the display transform (stops, -64 … 64)");
+                    "The exposure you view the image at (stops, -64 … 64): errors are weighed as "
+                    "they look there");
+    cmd->add_option("--seed", a->seed,
+                    "Seed of the estimate's random numbers (0 … 2^63 - 1): the same seed, the same "
+                    "image");
     cmd->add_option("--memory-limit", a->memoryLimit,
                     "Hold the bank in memory only within this size (e.g. 2G; default: what is "
                     "available, or GLINT_MEMORY_LIMIT), else stream it strip by strip");
-    cmd->add_option("--estimator", a->estimator,
-                    "auto (default: halves when IN has half buffers, else sure with its variance "
-                    "layer, else image) | sure | halves | image (SURE with the variance estimated "
-                    "from the colour and features)");
-    // The tuning map's flags, from its specs (docs/auto.md, "Tuning").
-    const ParamValues sure = autoTuningDefaults(AutoEstimator::Sure);
-    for (const ParamSpec& spec : autoTuningSpecs()) {
-        const std::string flag = autoTuningFlag(spec.name);
-        std::string help = spec.help;
-        if (isSwitch(spec)) {
-            cmd->add_flag_callback(
-                flag, [a, name = spec.name] { a->tuning[name] = "1"; }, help);
-            continue;
-        }
-        const double s = sure.at(spec.name);
-        help += " (";
-        if (spec.isChoice()) {
-            for (std::size_t i = 0; i < spec.choices.size(); ++i)
-                help += (i ? " | " : "") + spec.choices[i];
-            help += "; ";
-        } else {
-            help +=
-                formatParamValue(spec, spec.min) + " … " + formatParamValue(spec, spec.max) + "; ";
-        }
-        help += "default " + formatParamValue(spec, spec.defaultValue);
-        if (s != spec.defaultValue) help += ", with SURE " + formatParamValue(spec, s);
-        help += ")";
-        cmd->add_option_function<std::string>(
-            flag, [a, name = spec.name](const std::string& text) { a->tuning[name] = text; }, help);
-    }
     cmd->add_option("--stream", a->stream,
                     "auto (default: strip by strip only when the bank would not fit in memory) | "
                     "on (strip by strip: memory grows with the frame, not the bank; see --spill; "
                     "a --bank folder's members are applied again) | off (the bank in memory)");
-    cmd->add_flag("--tuning-table", a->tuningTable,
-                  "Print the tuning parameters as the Markdown table of docs/auto.md and exit");
-    cmd->add_option("--choice-map", a->choiceMap, "Write the chosen member per pixel as a PNG");
-    cmd->add_option("--noise-out", a->noiseOut,
-                    "With SURE or the image-only estimator: write the variance of the mean it "
-                    "used as the colour of an EXR");
+    addTuningFlag(cmd, a, *findParam(autoTuningSpecs(), "spill"));
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
+    return cmd;
+}
+
+std::vector<Command> addAutoCommands(CLI::App& app) {
+    auto a = std::make_shared<AutoArgs>();
+    CLI::App* cmd = addAutoFlags(app, a);
     return {{cmd, [a] { runAuto(*a); }}};
 }
 

@@ -13,6 +13,7 @@
 #include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/external.h"
+#include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
@@ -96,6 +97,21 @@ ParamValues parseParams(const std::vector<std::string>& given, const std::vector
     } catch (const Error& e) {
         throw Error(e.kind(), e.message(), {}, option);
     }
+}
+
+ParamValues takePrefilterParams(std::vector<std::string>& given, bool prefilter,
+                                const std::string& option) {
+    static const std::string prefix = "prefilter.";
+    std::vector<std::string> items;
+    std::erase_if(given, [&](const std::string& text) {
+        if (text.rfind(prefix, 0) != 0) return false;
+        items.push_back(text.substr(prefix.size()));
+        return true;
+    });
+    if (!items.empty() && !prefilter)
+        throw Error(ErrorKind::InvalidArgument,
+                    "'" + prefix + items.front() + "' given without --prefilter", {}, option);
+    return parseParams(items, prefilterParams(), "feature prefilter", option);
 }
 
 std::map<std::string, ParamValues> parseFilterParams(const std::vector<std::string>& given,

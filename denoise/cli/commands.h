@@ -1,6 +1,7 @@
 // glint-denoise's subcommands, one file per group: filter_commands.cpp (list, apply),
-// bank_commands.cpp (bank, oracle, navigate), session_commands.cpp (paint, composite),
-// auto_commands.cpp (auto), and the helpers they share (cli_util.cpp). Private to the CLI.
+// bank_commands.cpp (bank), session_commands.cpp (paint, composite), auto_commands.cpp (auto),
+// and the helpers they share (cli_util.cpp). Private to the CLIs: glint-denoise, and glint-lab
+// (lab/cli/), which reuses them through the glint_denoise_cli library.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -67,6 +68,13 @@ ParamValues parseParams(const std::vector<std::string>& given, const std::vector
 std::map<std::string, ParamValues> parseFilterParams(const std::vector<std::string>& given,
                                                      const std::string& option);
 
+/// Takes the "prefilter.NAME=VALUE" items out of `given` (bank's --filter-param, apply's --param)
+/// and parses them as the feature prefilter's parameters (radius, sigmaSpatial, varianceScale);
+/// `option` names the flag in errors. Refuses them when the features are not prefiltered
+/// (`prefilter` false).
+ParamValues takePrefilterParams(std::vector<std::string>& given, bool prefilter,
+                                const std::string& option);
+
 /// The help of --filter-param (bank, auto).
 inline constexpr const char* kFilterParamHelp =
     "Fixed parameter of one filter, filter.name=value, held by every member of that filter "
@@ -129,12 +137,6 @@ FrameBuffers readReference(const std::string& path, int width, int height);
 /// `reference`, over `crop` when given.
 nlohmann::json metricsOf(const Image& image, const Image& reference,
                          const std::optional<Rect>& crop);
-
-/// The oracle's "auto" column (auto_commands.cpp): SSIM of the SURE auto composite of `bank`
-/// against `reference` over the bank's region, or a null SSIM and a note when `frame` cannot
-/// use SURE (no variance layer).
-nlohmann::json autoOracleColumn(const FilterBank& bank, const FrameBuffers& frame,
-                                const Image& reference, const std::string& bankDir);
 
 /// The parameter table of a filter or of the prefilter as JSON.
 nlohmann::json describe(const std::vector<ParamSpec>& specs);

@@ -29,7 +29,6 @@ struct ApplyOptions {
     std::string filter;
     std::vector<std::string> params;
     bool prefilter = false;
-    std::vector<std::string> prefilterParams;
     std::string roi;
     std::string output;
     std::string reference;
@@ -94,7 +93,7 @@ void runList(bool asJson) {
         printParams(f["params"]);
         std::cout << "\n";
     }
-    std::cout << "prefilter (--prefilter, --prefilter-param)\n  "
+    std::cout << "prefilter (--prefilter, prefilter.NAME=VALUE)\n  "
               << prefilter["description"].get<std::string>() << "\n";
     printParams(prefilter["params"]);
 }
@@ -106,18 +105,16 @@ void runApply(const ApplyOptions& opt) {
                                      {{opt.input, "IN"}, {opt.reference, "--reference"}});
     glint::cli::removeTemporariesOnSignal({opt.output});
     const Filter& filter = findFilter(opt.filter);
-    // Validate everything that does not need the image before reading it.
+    // Validate everything that does not need the image before reading it: the prefilter's
+    // parameters (prefilter.NAME=VALUE), then the filter's.
+    std::vector<std::string> given = opt.params;
+    const ParamValues prefilterValues = takePrefilterParams(given, opt.prefilter, "--param");
     const ParamValues params = parseParams(
-        opt.params, filter.params(), "filter '" + std::string(filter.name()) + "'", "--param");
+        given, filter.params(), "filter '" + std::string(filter.name()) + "'", "--param");
     // A filter that cannot run here (an external program not allowed) stops before any work.
     if (const std::string why = filter.unavailable(params); !why.empty())
         throw Error(ErrorKind::InvalidArgument, "unavailable: " + why, {},
                     "filter '" + std::string(filter.name()) + "'");
-    const ParamValues prefilterValues = parseParams(opt.prefilterParams, denoise::prefilterParams(),
-                                                    "feature prefilter", "--prefilter-param");
-    if (!opt.prefilterParams.empty() && !opt.prefilter)
-        throw Error(ErrorKind::InvalidArgument, "given without --prefilter", {},
-                    "--prefilter-param");
 
     FrameBuffers frame = readExr(opt.input);
     const Rect bounds{0, frame.width(), 0, frame.height()};
@@ -206,12 +203,13 @@ std::vector<Command> addFilterCommands(CLI::App& app) {
     applyCmd->add_option("IN", apply->input, "Input layered EXR")->required();
     applyCmd->add_option("--filter", apply->filter, "Filter name (see `glint-denoise list`)")
         ->required();
-    applyCmd->add_option("--param", apply->params, "Filter parameter name=value (repeatable)")
+    applyCmd
+        ->add_option("--param", apply->params,
+                     "Filter parameter name=value (repeatable); with --prefilter, "
+                     "prefilter.radius|sigmaSpatial|varianceScale=value sets the prefilter's")
         ->take_all();
     applyCmd->add_flag("--prefilter", apply->prefilter,
                        "Prefilter the albedo/normal/depth layers first (written to OUT)");
-    applyCmd->add_option("--prefilter-param", apply->prefilterParams,
-                         "Prefilter parameter radius|sigmaSpatial|varianceScale=value");
     applyCmd->add_option("--roi", apply->roi,
                          "Filter only x0,x1,y0,y1 (half-open); the rest of OUT is the input");
     applyCmd->add_option("--out", apply->output, "Output layered EXR")->required();

@@ -9,6 +9,8 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <type_traits>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -32,16 +34,57 @@ using glint::render::Settings;
 struct Options {
     std::string scene, out, reference, memoryLimit;
     std::optional<std::string> camera;  // a glTF asset's camera, by name
-    std::optional<int> spp, threads, maxDepth, rrDepth, textureCacheMb;
+    std::optional<int> spp, threads, maxDepth;
     std::optional<std::string> seed;  // parsed strictly: "-1" must not wrap to 2^64 - 1
-    std::optional<std::string> integrator, mis, strategy, sampler, shard, accel;
+    std::optional<std::string> integrator, shard, accel;
     double timeLimit = 0.0;
     bool json = false, position = false, halfBuffers = false;
-    // Metropolis parameters (--integrator mlt).
-    std::optional<double> mltLarge, mltSmall, mltLens, mltLight;
-    std::optional<std::int64_t> mltBootstrap;
-    std::optional<int> mltChains, mltGroups, mltFeatureSpp;
+    // Metropolis parameters (--integrator mlt), "name=value" each.
+    std::vector<std::string> mlt;
 };
+
+// Sets the Metropolis parameter of each "name=value" of --mlt (large, small, lens, light:
+// weights; bootstrap, chains, groups, featureSpp: counts), each number parsed whole.
+void setMltParams(const std::vector<std::string>& given, glint::render::MltSettings& mlt) {
+    for (const std::string& item : given) {
+        const std::size_t eq = item.find('=');
+        const std::string name = item.substr(0, eq);
+        const std::string text = eq == std::string::npos ? std::string() : item.substr(eq + 1);
+        auto bad = [&](const std::string& what) {
+            return glint::Error(glint::ErrorKind::InvalidArgument, "'" + item + "': " + what,
+                                "command line", "--mlt");
+        };
+        if (eq == std::string::npos) throw bad("expected name=value");
+        auto number = [&](auto& field) {
+            using T = std::remove_reference_t<decltype(field)>;
+            T value{};
+            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+            if (text.empty() || ec != std::errc() || end != text.data() + text.size())
+                throw bad(std::is_integral_v<T> ? "not an integer" : "not a number");
+            field = value;
+        };
+        if (name == "large")
+            number(mlt.largeStep);
+        else if (name == "small")
+            number(mlt.smallStep);
+        else if (name == "lens")
+            number(mlt.lens);
+        else if (name == "light")
+            number(mlt.light);
+        else if (name == "bootstrap")
+            number(mlt.bootstrap);
+        else if (name == "chains")
+            number(mlt.chains);
+        else if (name == "groups")
+            number(mlt.groups);
+        else if (name == "featureSpp")
+            number(mlt.featureSpp);
+        else
+            throw bad(
+                "unknown parameter (expected large, small, lens, light, bootstrap, chains, "
+                "groups or featureSpp)");
+    }
+}
 
 /// The Metropolis statistics as JSON numbers.
 nlohmann::json mltJson(const glint::render::MltStats& m) {
@@ -125,8 +168,6 @@ int run(const Options& opt) {
     }
     if (opt.threads) settings.threads = *opt.threads;
     if (opt.maxDepth) settings.maxDepth = *opt.maxDepth;
-    if (opt.rrDepth) settings.rrDepth = *opt.rrDepth;
-    if (opt.textureCacheMb) settings.textureCacheMb = *opt.textureCacheMb;
     // Re-throw option errors with the option as the place.
     auto option = [](const char* name, auto parse) {
         try {
@@ -139,18 +180,8 @@ int run(const Options& opt) {
     if (opt.integrator)
         settings.integrator =
             option("--integrator", [&] { return glint::render::parseIntegrator(*opt.integrator); });
-    if (opt.mis) settings.mis = option("--mis", [&] { return glint::render::parseMis(*opt.mis); });
-    if (opt.strategy)
-        settings.strategy =
-            option("--strategy", [&] { return glint::render::parseStrategy(*opt.strategy); });
-    if (opt.sampler)
-        settings.sampler =
-            option("--sampler", [&] { return glint::render::parseSampler(*opt.sampler); });
     if (opt.accel)
         settings.accel = option("--accel", [&] { return glint::render::parseAccel(*opt.accel); });
-    if (opt.strategy && settings.mis != glint::render::MisHeuristic::None)
-        throw glint::Error(glint::ErrorKind::InvalidArgument,
-                           "--strategy applies only with --mis none", "command line", "--strategy");
     settings.timeLimit = opt.timeLimit;
     settings.positionLayer = opt.position;
     if (opt.halfBuffers) settings.halfBuffers = true;
@@ -159,15 +190,7 @@ int run(const Options& opt) {
         settings.shard = glint::render::Shard{index, count};
     }
     if (memoryLimit > 0) settings.memoryLimit = memoryLimit;
-    glint::render::MltSettings& mlt = settings.mlt;
-    if (opt.mltLarge) mlt.largeStep = *opt.mltLarge;
-    if (opt.mltSmall) mlt.smallStep = *opt.mltSmall;
-    if (opt.mltLens) mlt.lens = *opt.mltLens;
-    if (opt.mltLight) mlt.light = *opt.mltLight;
-    if (opt.mltBootstrap) mlt.bootstrap = *opt.mltBootstrap;
-    if (opt.mltChains) mlt.chains = *opt.mltChains;
-    if (opt.mltGroups) mlt.groups = *opt.mltGroups;
-    if (opt.mltFeatureSpp) mlt.featureSpp = *opt.mltFeatureSpp;
+    setMltParams(opt.mlt, settings.mlt);
     // Settings errors name the field; report the flag that sets it.
     try {
         glint::render::validate(settings);
@@ -175,7 +198,6 @@ int run(const Options& opt) {
         const std::string flag = e.where() == "spp"           ? "--spp"
                                  : e.where() == "threads"     ? "--threads"
                                  : e.where() == "maxDepth"    ? "--max-depth"
-                                 : e.where() == "rrDepth"     ? "--rr-depth"
                                  : e.where() == "timeLimit"   ? "--time-limit"
                                  : e.where() == "seed"        ? "--seed"
                                  : e.where() == "shard"       ? "--shard"
@@ -184,7 +206,7 @@ int run(const Options& opt) {
         throw glint::Error(glint::ErrorKind::InvalidArgument, e.message(), "command line", flag);
     }
     if (settings.integrator == glint::render::Integrator::Mlt)
-        option("--mlt-*", [&] {
+        option("--mlt", [&] {
             glint::render::validateMlt(settings.mlt);
             return 0;
         });
@@ -348,15 +370,10 @@ int main(int argc, char** argv) {
     app.add_option("--seed", opt.seed, "random seed, 0 … 2^63 - 1");
     app.add_option("--threads", opt.threads, "worker threads, 0 (all) … 1024");
     app.add_option("--integrator", opt.integrator, "path | mlt");
-    app.add_option("--mis", opt.mis, "power | balance | none");
-    app.add_option("--strategy", opt.strategy, "bsdf | light (with --mis none)");
     app.add_option("--accel", opt.accel,
                    "auto | triangles | clusters: what the BVH is built over (default: the "
                    "scene's render.accel, else auto: clusters above 2^21 triangles)");
-    app.add_option("--sampler", opt.sampler, "stratified | independent | sobol | zsobol");
     app.add_option("--max-depth", opt.maxDepth, "maximum bounces, 1 … 1024");
-    app.add_option("--rr-depth", opt.rrDepth,
-                   "Russian roulette starts after this many bounces, 0 … 1024");
     app.add_option("--time-limit", opt.timeLimit,
                    "seconds, 0 … 1e7: render passes until time runs out (at least 1 spp)");
     app.add_option("--shard", opt.shard,
@@ -372,18 +389,11 @@ int main(int argc, char** argv) {
                    "render whose scene, BVH, textures and film need more before building "
                    "anything; auto takes clusters when that fits (e.g. 2G; default: what is "
                    "available, not checked while loading)");
-    app.add_option("--texture-cache-mb", opt.textureCacheMb,
-                   "texture tile cache in MB, 1 … 1048576 (default: the scene's "
-                   "render.textureCacheMb, else 1024)");
     app.add_flag("--json", opt.json, "print one JSON object on stdout");
-    app.add_option("--mlt-large", opt.mltLarge, "mlt: weight of large steps");
-    app.add_option("--mlt-small", opt.mltSmall, "mlt: weight of small steps");
-    app.add_option("--mlt-lens", opt.mltLens, "mlt: weight of lens perturbations");
-    app.add_option("--mlt-light", opt.mltLight, "mlt: weight of light perturbations");
-    app.add_option("--mlt-bootstrap", opt.mltBootstrap, "mlt: bootstrap paths");
-    app.add_option("--mlt-chains", opt.mltChains, "mlt: Markov chains (multiple of groups)");
-    app.add_option("--mlt-groups", opt.mltGroups, "mlt: batches of chains for the variance");
-    app.add_option("--mlt-feature-spp", opt.mltFeatureSpp, "mlt: spp of the feature pass");
+    app.add_option("--mlt", opt.mlt,
+                   "mlt: a Metropolis parameter name=value (repeatable): large, small, lens, light "
+                   "(mutation weights), bootstrap (paths), chains (a multiple of groups), groups, "
+                   "featureSpp (docs/metropolis.md)");
     if (const auto code = glint::cli::parseCommandLine(app, argc, argv, "glint-render"))
         return *code;
     return glint::cli::runGuarded("glint-render", [&] { return run(opt); });

@@ -55,15 +55,26 @@ class CliFixture : public ::testing::Test {
 
     /// The same with environment assignments (e.g. "GLINT_MEMORY_LIMIT=1M") before the binary.
     RunResult run(const std::string& env, const std::string& args) const {
-        const std::filesystem::path out = m_dir / "stdout.txt", err = m_dir / "stderr.txt";
-        const std::string cmd = (env.empty() ? "" : env + " ") + m_binary.string() + " " + args +
-                                " >" + out.string() + " 2>" + err.string();
-        const int status = std::system(cmd.c_str());
-        RunResult r;
-        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        r.out = slurp(out);
-        r.err = slurp(err);
-        return r;
+        return runBinary(m_binary, env, args);
+    }
+
+    /// Runs another Glint binary built beside the test (e.g. glint-denoise's bank for a test of
+    /// glint-lab), the same way.
+    RunResult runTool(const std::string& name, const std::string& args) const {
+        return runBinary(m_binary.parent_path() / name, {}, args);
+    }
+
+    /// Runs `args` through glint-lab when it starts with one of glint-lab's subcommands (oracle,
+    /// navigate, auto: glint-denoise's auto with every tuning flag), else through this fixture's
+    /// binary: for the tests of auto's tuning and of tables of cases over several commands.
+    RunResult runEither(const std::string& args) const { return runEither({}, args); }
+
+    /// The same with environment assignments.
+    RunResult runEither(const std::string& env, const std::string& args) const {
+        for (const char* lab : {"oracle ", "navigate ", "auto "})
+            if (args.rfind(lab, 0) == 0)
+                return runBinary(m_binary.parent_path() / "glint-lab", env, args);
+        return run(env, args);
     }
 
     /// Path of `name` inside the test's temporary directory.
@@ -72,6 +83,20 @@ class CliFixture : public ::testing::Test {
     std::string m_name;
     std::filesystem::path m_binary;
     std::filesystem::path m_dir;
+
+  private:
+    RunResult runBinary(const std::filesystem::path& binary, const std::string& env,
+                        const std::string& args) const {
+        const std::filesystem::path out = m_dir / "stdout.txt", err = m_dir / "stderr.txt";
+        const std::string cmd = (env.empty() ? "" : env + " ") + binary.string() + " " + args +
+                                " >" + out.string() + " 2>" + err.string();
+        const int status = std::system(cmd.c_str());
+        RunResult r;
+        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        r.out = slurp(out);
+        r.err = slurp(err);
+        return r;
+    }
 };
 
 }  // namespace glint::testing

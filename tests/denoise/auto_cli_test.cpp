@@ -1,11 +1,11 @@
-// glint-denoise auto end to end, and the oracle's auto column: good and bad input.
+// glint-denoise auto end to end (its tuning through glint-lab auto, the same run with every
+// tuning flag), its qualities, and the oracle's auto column: good and bad input.
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "cli_fixture.h"
 #include "glint/image/io.h"
@@ -53,8 +53,8 @@ class AutoCli : public glint::testing::CliFixture {
 };
 
 TEST_F(AutoCli, HalfBuffersSelectTheHalvesEstimatorAndItsDefaults) {
-    RunResult r = run("auto " + path("halves.exr") + " --out " + path("auto.exr") +
-                      " --size 6 --json" + kClassicalFilters);
+    RunResult r = runEither("auto " + path("halves.exr") + " --out " + path("auto.exr") +
+                            " --size 6 --json" + kClassicalFilters);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     nlohmann::json j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["estimator"], "halves");
@@ -78,18 +78,18 @@ TEST_F(AutoCli, HalfBuffersSelectTheHalvesEstimatorAndItsDefaults) {
     for (const auto& [flags, count] :
          {std::pair{"--stack-albedo off --stack-normal off", 0}, std::pair{"--stack-albedo off", 3},
           std::pair{"--stack-normal off", 1}}) {
-        r = run("auto " + path("halves.exr") + " --out " + path("auto.exr") + " --size 6 --json " +
-                flags + kClassicalFilters);
+        r = runEither("auto " + path("halves.exr") + " --out " + path("auto.exr") +
+                      " --size 6 --json " + flags + kClassicalFilters);
         ASSERT_EQ(r.exitCode, 0) << r.err;
         EXPECT_EQ(nlohmann::json::parse(r.out)["stackFeatures"], count) << flags;
     }
     // A file without an albedo stacks on the normal alone unless the albedo is asked for.
-    r = run("auto " + path("noalbedo.exr") + " --out " + path("auto.exr") + " --size 6 --json" +
-            kClassicalFilters);
+    r = runEither("auto " + path("noalbedo.exr") + " --out " + path("auto.exr") +
+                  " --size 6 --json" + kClassicalFilters);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(nlohmann::json::parse(r.out)["stackFeatures"], 3);
-    r = run("auto " + path("halves.exr") + " --out " + path("auto.exr") +
-            " --size 6 --json --estimator sure --one-sided" + kClassicalFilters);
+    r = runEither("auto " + path("halves.exr") + " --out " + path("auto.exr") +
+                  " --size 6 --json --estimator sure --one-sided" + kClassicalFilters);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["estimator"], "sure");
@@ -98,8 +98,8 @@ TEST_F(AutoCli, HalfBuffersSelectTheHalvesEstimatorAndItsDefaults) {
     EXPECT_EQ(j["finer"], 0);
     EXPECT_EQ(j["feather"], 4);
     EXPECT_EQ(j["stack"], 0);
-    r = run("auto " + path("halves.exr") + " --out " + path("auto.exr") + " --size 6" +
-            kClassicalFilters);
+    r = runEither("auto " + path("halves.exr") + " --out " + path("auto.exr") + " --size 6" +
+                  kClassicalFilters);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("cross-validation on the halves"), std::string::npos) << r.out;
 }
@@ -108,34 +108,35 @@ TEST_F(AutoCli, HalfBuffersSelectTheHalvesEstimatorAndItsDefaults) {
 // local artist's auto start all read its prefiltering (autoOptionsOfBank) and reach one SSIM.
 TEST_F(AutoCli, EveryAutoOfAPrefilteredBankFolderIsTheSameComposite) {
     RunResult r = run("bank " + path("noisy.exr") + " --out " + path("pbank") +
-                      " --size 6 --prefilter --prefilter-param radius=2");
+                      " --size 6 --prefilter --filter-param prefilter.radius=2");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const std::string inputs =
         path("noisy.exr") + " --reference " + path("ref.exr") + " --bank " + path("pbank");
-    r = run("auto " + inputs + " --out " + path("pauto.exr") + " --json");
+    r = runEither("auto " + inputs + " --out " + path("pauto.exr") + " --json");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const double autoSsim = nlohmann::json::parse(r.out)["metrics"]["ssim"].get<double>();
-    r = run("oracle " + inputs + " --json");
+    r = runTool("glint-lab", "oracle " + inputs + " --json");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const nlohmann::json column = nlohmann::json::parse(r.out)["auto"];
     ASSERT_TRUE(column["ssim"].is_number()) << r.out;
     EXPECT_NEAR(column["ssim"].get<double>(), autoSsim, 1e-12);
-    r = run("navigate " + inputs + " --simulate --local --strokes 1 --brush-size 12 --json");
+    r = runTool("glint-lab",
+                "navigate " + inputs + " --simulate --local --strokes 1 --brush-size 12 --json");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const nlohmann::json start = nlohmann::json::parse(r.out)["start"];
     EXPECT_EQ(start["kind"], "auto");
     EXPECT_NEAR(start["ssim"].get<double>(), autoSsim, 1e-12);
     // Without the bank's prefiltering the composite differs: the agreement above is not chance.
-    r = run("auto " + path("noisy.exr") + " --reference " + path("ref.exr") + " --out " +
-            path("plain.exr") + " --size 6 --json");
+    r = runEither("auto " + path("noisy.exr") + " --reference " + path("ref.exr") + " --out " +
+                  path("plain.exr") + " --size 6 --json");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(nlohmann::json::parse(r.out)["metrics"]["ssim"].get<double>(), autoSsim);
 }
 
 TEST_F(AutoCli, AutoWithAndWithoutABankFolderAndTheOracleColumn) {
     RunResult r =
-        run("auto " + path("noisy.exr") + " --out " + path("auto.exr") + " --size 10" +
-            " --reference " + path("ref.exr") + " --choice-map " + path("c.png") + " --json");
+        runEither("auto " + path("noisy.exr") + " --out " + path("auto.exr") + " --size 10" +
+                  " --reference " + path("ref.exr") + " --choice-map " + path("c.png") + " --json");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     nlohmann::json j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["members"], 10 + defaultBankFilters().size());  // 10 + the defaults
@@ -152,28 +153,29 @@ TEST_F(AutoCli, AutoWithAndWithoutABankFolderAndTheOracleColumn) {
     // From a bank folder: the same bank, the same composite, bit for bit.
     r = run("bank " + path("noisy.exr") + " --out " + path("bank") + " --size 10");
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    r = run("auto " + path("noisy.exr") + " --bank " + path("bank") + " --out " +
-            path("auto2.exr"));
+    r = runEither("auto " + path("noisy.exr") + " --bank " + path("bank") + " --out " +
+                  path("auto2.exr"));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("members used"), std::string::npos) << r.out;
     EXPECT_EQ(
         testing::maxAbsDiff(readExr(path("auto.exr")).color(), readExr(path("auto2.exr")).color()),
         0.0);
 
-    r = run("oracle " + path("noisy.exr") + " --reference " + path("ref.exr") + " --bank " +
-            path("bank") + " --json");
+    r = runTool("glint-lab", "oracle " + path("noisy.exr") + " --reference " + path("ref.exr") +
+                                 " --bank " + path("bank") + " --json");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     j = nlohmann::json::parse(r.out);
     ASSERT_TRUE(j["auto"]["ssim"].is_number()) << r.out;
     EXPECT_GT(j["auto"]["ssim"].get<double>(), j["noisy"].get<double>());
-    r = run("oracle " + path("noisy.exr") + " --reference " + path("ref.exr") + " --bank " +
-            path("bank"));
+    r = runTool("glint-lab", "oracle " + path("noisy.exr") + " --reference " + path("ref.exr") +
+                                 " --bank " + path("bank"));
     EXPECT_NE(r.out.find("auto (sure)"), std::string::npos) << r.out;
 
     // The expected-error oracle: with IN itself as the other render, the expected error is the
     // realised one, so at radius 0 it is the per-pixel oracle.
-    r = run("oracle " + path("noisy.exr") + " --reference " + path("ref.exr") + " --bank " +
-            path("bank") + " --json --expected " + path("noisy.exr"));
+    r = runTool("glint-lab", "oracle " + path("noisy.exr") + " --reference " + path("ref.exr") +
+                                 " --bank " + path("bank") + " --json --expected " +
+                                 path("noisy.exr"));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["expected"]["renders"], 2);
@@ -182,13 +184,14 @@ TEST_F(AutoCli, AutoWithAndWithoutABankFolderAndTheOracleColumn) {
     EXPECT_NEAR(j["expected"]["share"][0].get<double>(), 1.0, 1e-9);
     // Another render of another size is refused naming it.
     writeExr(testing::syntheticFrame(40, 40, 0.1f, 3), m_dir / "small.exr");
-    r = run("oracle " + path("noisy.exr") + " --reference " + path("ref.exr") + " --bank " +
-            path("bank") + " --expected " + path("noisy.exr") + "," + path("small.exr"));
+    r = runTool("glint-lab", "oracle " + path("noisy.exr") + " --reference " + path("ref.exr") +
+                                 " --bank " + path("bank") + " --expected " + path("noisy.exr") +
+                                 "," + path("small.exr"));
     EXPECT_EQ(r.exitCode, 2) << r.err;
     EXPECT_NE(r.err.find("small.exr"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("40x40"), std::string::npos) << r.err;
-    r = run("oracle " + path("noisy.exr") + " --reference " + path("ref.exr") + " --bank " +
-            path("bank") + " --expected " + path("gone.exr"));
+    r = runTool("glint-lab", "oracle " + path("noisy.exr") + " --reference " + path("ref.exr") +
+                                 " --bank " + path("bank") + " --expected " + path("gone.exr"));
     EXPECT_EQ(r.exitCode, 2) << r.err;
     EXPECT_NE(r.err.find("gone.exr"), std::string::npos) << r.err;
 }
@@ -196,8 +199,8 @@ TEST_F(AutoCli, AutoWithAndWithoutABankFolderAndTheOracleColumn) {
 TEST_F(AutoCli, OracleOfAnInputWithoutVarianceRunsAutoOnTheImageEstimate) {
     RunResult r = run("bank " + path("novariance.exr") + " --out " + path("bank") + " --size 4");
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    r = run("oracle " + path("novariance.exr") + " --reference " + path("ref.exr") + " --bank " +
-            path("bank") + " --json");
+    r = runTool("glint-lab", "oracle " + path("novariance.exr") + " --reference " +
+                                 path("ref.exr") + " --bank " + path("bank") + " --json");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const nlohmann::json j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["auto"]["estimator"], "image");
@@ -208,8 +211,8 @@ TEST_F(AutoCli, StreamedAndInMemoryAutoAgree) {
     // --stream on filters the members strip by strip (docs/auto-memory.md); off holds the
     // bank. Only the stacking's regression adds its sums per strip: float rounding, 1e-5.
     for (const char* mode : {"on", "off"}) {
-        const RunResult r = run("auto " + path("halves.exr") + " --out " + path(mode) +
-                                ".exr --size 6 --json --stream " + mode);
+        const RunResult r = runEither("auto " + path("halves.exr") + " --out " + path(mode) +
+                                      ".exr --size 6 --json --stream " + mode);
         ASSERT_EQ(r.exitCode, 0) << r.err;
         EXPECT_EQ(nlohmann::json::parse(r.out)["streamed"], std::string(mode) == "on");
     }
@@ -217,7 +220,7 @@ TEST_F(AutoCli, StreamedAndInMemoryAutoAgree) {
         testing::maxAbsDiff(readExr(path("on.exr")).color(), readExr(path("off.exr")).color()),
         1e-5);
     const RunResult bad =
-        run("auto " + path("halves.exr") + " --out " + path("x.exr") + " --stream sometimes");
+        runEither("auto " + path("halves.exr") + " --out " + path("x.exr") + " --stream sometimes");
     EXPECT_EQ(bad.exitCode, 2);
     EXPECT_NE(bad.err.find("--stream"), std::string::npos) << bad.err;
 }
@@ -227,14 +230,14 @@ TEST_F(AutoCli, StreamedAndInMemoryAutoAgree) {
 // that folder's members (it used to be ignored) and agrees with reading them.
 TEST_F(AutoCli, TheMemoryLimitChoosesStreamingAndStreamOnWorksWithABankFolder) {
     const std::string in = path("halves.exr") + " --size 6 --json" + kClassicalFilters;
-    RunResult r = run("auto " + in + " --out " + path("small.exr") + " --memory-limit 1K");
+    RunResult r = runEither("auto " + in + " --out " + path("small.exr") + " --memory-limit 1K");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(nlohmann::json::parse(r.out)["streamed"], true);
-    r = run("auto " + in + " --out " + path("large.exr") + " --memory-limit 64G");
+    r = runEither("auto " + in + " --out " + path("large.exr") + " --memory-limit 64G");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(nlohmann::json::parse(r.out)["streamed"], false);
     for (const char* bad : {"0", "12Q", "-1"}) {
-        r = run("auto " + in + " --out " + path("bad.exr") + " --memory-limit " + bad);
+        r = runEither("auto " + in + " --out " + path("bad.exr") + " --memory-limit " + bad);
         EXPECT_EQ(r.exitCode, 2) << bad << "\n" << r.err;
         EXPECT_NE(r.err.find("--memory-limit"), std::string::npos) << r.err;
         EXPECT_FALSE(fs::exists(path("bad.exr")));
@@ -244,10 +247,10 @@ TEST_F(AutoCli, TheMemoryLimitChoosesStreamingAndStreamOnWorksWithABankFolder) {
             kClassicalFilters);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const std::string bank = path("halves.exr") + " --bank " + path("bank") + " --json";
-    r = run("auto " + bank + " --out " + path("read.exr") + " --stream off");
+    r = runEither("auto " + bank + " --out " + path("read.exr") + " --stream off");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(nlohmann::json::parse(r.out)["streamed"], false);
-    r = run("auto " + bank + " --out " + path("streamed.exr") + " --stream on");
+    r = runEither("auto " + bank + " --out " + path("streamed.exr") + " --stream on");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(nlohmann::json::parse(r.out)["streamed"], true);
     EXPECT_NE(r.err.find("applied again strip by strip"), std::string::npos) << r.err;
@@ -256,7 +259,8 @@ TEST_F(AutoCli, TheMemoryLimitChoosesStreamingAndStreamOnWorksWithABankFolder) {
                                   readExr(path("streamed.exr")).color()),
               1e-5);
     // Reading the folder whole within a limit too small for it is refused with the way out.
-    r = run("auto " + bank + " --out " + path("tight.exr") + " --stream off --memory-limit 1K");
+    r = runEither("auto " + bank + " --out " + path("tight.exr") +
+                  " --stream off --memory-limit 1K");
     EXPECT_EQ(r.exitCode, 2) << r.err;
     EXPECT_NE(r.err.find("--stream auto"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(path("tight.exr")));
@@ -264,27 +268,84 @@ TEST_F(AutoCli, TheMemoryLimitChoosesStreamingAndStreamOnWorksWithABankFolder) {
 
 TEST_F(AutoCli, AChoiceOfTwoNamesTakesOneOfThem) {
     // `--margin` has two names (each, family): an option with a value, not a switch.
-    const RunResult r = run("auto " + path("halves.exr") + " --out " + path("auto.exr") +
-                            " --size 6 --margin family --json" + kClassicalFilters);
+    const RunResult r = runEither("auto " + path("halves.exr") + " --out " + path("auto.exr") +
+                                  " --size 6 --margin family --json" + kClassicalFilters);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_TRUE(nlohmann::json::accept(r.out)) << r.out;
-    EXPECT_EQ(run("auto " + path("halves.exr") + " --out " + path("auto.exr") +
-                  " --size 6 --margin" + kClassicalFilters)
+    EXPECT_EQ(runEither("auto " + path("halves.exr") + " --out " + path("auto.exr") +
+                        " --size 6 --margin" + kClassicalFilters)
                   .exitCode,
               2);
 }
 
-TEST_F(AutoCli, TheDocsTuningTableIsTheOneTheSpecsGenerate) {
-    // docs/auto.md's table is `glint-denoise auto --tuning-table`, verbatim: a spec changed
-    // without the docs (or the reverse) fails here.
-    const RunResult r = run("auto --tuning-table");
+// The colour of an EXR auto wrote.
+std::vector<float> colourOf(const fs::path& file) {
+    const FrameBuffers frame = readExr(file);
+    return {frame.color().data().begin(), frame.color().data().end()};
+}
+
+TEST_F(AutoCli, TheBalancedQualityIsTheDefaultBitForBit) {
+    // The product's default, --quality balanced, and the lab's explicit former defaults (64
+    // members, bank seed 1, no tuning) give the same floats.
+    const std::string in = "auto " + path("halves.exr") + " --json" + kClassicalFilters;
+    RunResult r = run(in + " --out " + path("default.exr"));
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_NE(r.out.find("| `--window` | `window` | 0 … 64 | 8 | 4 |"), std::string::npos) << r.out;
-    std::ifstream in(fs::path(GLINT_SOURCE_DIR) / "docs/auto.md");
-    const std::string docs((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    EXPECT_NE(docs.find(r.out), std::string::npos)
-        << "docs/auto.md lacks the generated table; paste this into its \"Tuning\" section:\n"
-        << r.out;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["quality"], "balanced");
+    r = run(in + " --out " + path("balanced.exr") + " --quality balanced");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["members"], j["members"]);
+    r = runTool("glint-lab", in + " --out " + path("lab.exr") + " --size 64 --bank-seed 1");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["members"], j["members"]);
+    const std::vector<float> byDefault = colourOf(path("default.exr"));
+    EXPECT_EQ(colourOf(path("balanced.exr")), byDefault);
+    EXPECT_EQ(colourOf(path("lab.exr")), byDefault);
+}
+
+TEST_F(AutoCli, FastAndBestSetTheirBankSizeAndTuning) {
+    const std::string in = "auto " + path("halves.exr") + " --json" + kClassicalFilters;
+    RunResult r = run(in + " --out " + path("balanced.exr"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const int balanced = nlohmann::json::parse(r.out)["members"].get<int>();
+    // fast: 32 members fewer, half A filtered alone (no shortlist, no stacking).
+    r = run(in + " --out " + path("fast.exr") + " --quality fast");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["quality"], "fast");
+    EXPECT_EQ(j["members"].get<int>(), balanced - 32);
+    EXPECT_EQ(j["oneSided"], 1);
+    EXPECT_EQ(j["stack"], 0);
+    // best: 64 members more, the tuning's defaults (the shortlist, the stacking).
+    r = run(in + " --out " + path("best.exr") + " --quality best");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["members"].get<int>(), balanced + 64);
+    EXPECT_EQ(j["quality"], "best");
+    EXPECT_EQ(j["shortlist"], 16);
+    EXPECT_EQ(j["oneSided"], 0);
+    EXPECT_GE(j["stack"].get<int>(), 1);
+    EXPECT_NE(colourOf(path("fast.exr")), colourOf(path("balanced.exr")));
+    EXPECT_NE(colourOf(path("best.exr")), colourOf(path("balanced.exr")));
+    // A lab flag over a quality: the lab's --stack cannot stack one-sided halves.
+    r = runTool("glint-lab", in + " --out " + path("o.exr") + " --quality fast --stack 2");
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    EXPECT_NE(r.err.find("one-sided"), std::string::npos) << r.err;
+}
+
+TEST_F(AutoCli, TheProductsAutoHasNoTuningFlags) {
+    const RunResult help = run("auto --help");
+    ASSERT_EQ(help.exitCode, 0) << help.err;
+    EXPECT_NE(help.out.find("--quality"), std::string::npos) << help.out;
+    for (const char* lab : {"--window", "--stack", "--size", "--one-sided", "--tuning-table",
+                            "--choice-map", "--noise-out", "--bank-seed"})
+        EXPECT_EQ(help.out.find(lab), std::string::npos) << lab << "\n" << help.out;
+    // Given anyway, it is refused in one line naming it; glint-lab takes it.
+    const RunResult r =
+        run("auto " + path("noisy.exr") + " --out " + path("o.exr") + " --window 4");
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    EXPECT_NE(r.err.find("--window"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("o.exr")));
 }
 
 TEST_F(AutoCli, BadInputExitsTwoWithOneClearLineAndWritesNothing) {
@@ -301,6 +362,8 @@ TEST_F(AutoCli, BadInputExitsTwoWithOneClearLineAndWritesNothing) {
          {"noisy.exr", "layer 'halfColor'", "--half-buffers"}},
         {"auto " + path("noisy.exr") + out + " --estimator stein",
          {"--estimator", "auto, sure, halves or image"}},
+        {"auto " + path("noisy.exr") + out + " --quality great",
+         {"--quality", "fast, balanced or best"}},
         {"auto " + path("noisy.exr") + " --out " + path("out.png"), {"--out", ".exr"}},
         {"auto " + path("noisy.exr") + out + " --window -1", {"--window"}},
         {"auto " + path("noisy.exr") + out + " --temperature -2", {"--temperature"}},
@@ -334,7 +397,7 @@ TEST_F(AutoCli, BadInputExitsTwoWithOneClearLineAndWritesNothing) {
         {"auto " + path("noisy.exr") + out + " --choice-map " + path("c.jpg"), {"--choice-map"}},
     };
     for (const Case& c : cases) {
-        const RunResult r = run(c.args);
+        const RunResult r = runEither(c.args);
         EXPECT_EQ(r.exitCode, 2) << c.args << "\n" << r.err;
         for (const std::string& m : c.mentions)
             EXPECT_NE(r.err.find(m), std::string::npos) << c.args << "\n" << r.err;

@@ -29,7 +29,7 @@ class AutoImageCli : public glint::testing::CliFixture {
 
 TEST_F(AutoImageCli, ACyclesExrFallsBackToTheImageEstimatorAndSaysSoOnce) {
     const std::string in = kCycles + "/cornell_8spp_seed1.exr";
-    RunResult r = run("auto " + in + " --out " + path("auto.exr") + " --size 8 --json");
+    RunResult r = runEither("auto " + in + " --out " + path("auto.exr") + " --size 8 --json");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(nlohmann::json::parse(r.out)["estimator"], "image");
     // One line on stderr, naming the file and the estimator it falls back to.
@@ -41,7 +41,7 @@ TEST_F(AutoImageCli, ACyclesExrFallsBackToTheImageEstimatorAndSaysSoOnce) {
     EXPECT_EQ(out.width(), 128);
     EXPECT_EQ(out.color().countNonFinite(), 0u);
     // The text output names it too.
-    r = run("auto " + in + " --out " + path("auto2.exr") + " --size 8");
+    r = runEither("auto " + in + " --out " + path("auto2.exr") + " --size 8");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("SURE with the image-only noise estimate"), std::string::npos) << r.out;
 }
@@ -49,8 +49,9 @@ TEST_F(AutoImageCli, ACyclesExrFallsBackToTheImageEstimatorAndSaysSoOnce) {
 TEST_F(AutoImageCli, OnTheCyclesExrAutoDenoisesAgainstTheCyclesReference) {
     // The default bank (70 members, bank seed 1) and SURE seed 1: deterministic. Measured 0.9609
     // (docs/auto.md); the bound leaves 0.01 for float differences between machines.
-    const RunResult r = run("auto " + kCycles + "/cornell_8spp_seed1.exr --out " + path("a.exr") +
-                            " --reference " + kCycles + "/cornell_reference.exr --json");
+    const RunResult r =
+        runEither("auto " + kCycles + "/cornell_8spp_seed1.exr --out " + path("a.exr") +
+                  " --reference " + kCycles + "/cornell_reference.exr --json");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const nlohmann::json j = nlohmann::json::parse(r.out);
     EXPECT_GT(j["metrics"]["ssim"].get<double>(), 0.95);
@@ -61,8 +62,8 @@ TEST_F(AutoImageCli, StreamedAndInMemoryAgreeWithTheImageEstimator) {
     // The streamed selection's SURE estimator makes the same estimate from the frame: the same
     // composite up to float rounding (1e-5).
     for (const char* mode : {"on", "off"}) {
-        const RunResult r = run("auto " + kCycles + "/cornell_8spp_seed2.exr --out " + path(mode) +
-                                ".exr --size 8 --json --stream " + mode);
+        const RunResult r = runEither("auto " + kCycles + "/cornell_8spp_seed2.exr --out " +
+                                      path(mode) + ".exr --size 8 --json --stream " + mode);
         ASSERT_EQ(r.exitCode, 0) << r.err;
         const nlohmann::json j = nlohmann::json::parse(r.out);
         EXPECT_EQ(j["streamed"], std::string(mode) == "on");
@@ -76,8 +77,8 @@ TEST_F(AutoImageCli, StreamedAndInMemoryAgreeWithTheImageEstimator) {
 TEST_F(AutoImageCli, ForcedOnAGlintRenderItSaysTheVarianceLayerIsNotUsedAndWritesItsEstimate) {
     writeExr(testing::syntheticFrame(48, 40, 0.1f), m_dir / "noisy.exr");
     const RunResult r =
-        run("auto " + path("noisy.exr") + " --out " + path("a.exr") +
-            " --size 6 --estimator image --noise-out " + path("noise.exr") + " --json");
+        runEither("auto " + path("noisy.exr") + " --out " + path("a.exr") +
+                  " --size 6 --estimator image --noise-out " + path("noise.exr") + " --json");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(nlohmann::json::parse(r.out)["estimator"], "image");
     EXPECT_NE(r.err.find("the variance layer of"), std::string::npos) << r.err;
@@ -117,14 +118,15 @@ TEST_F(AutoImageCli, BadInputExitsTwoWithOneLineNamingTheFileAndThePlace) {
          {"--noise-out", ".exr"}},
     };
     for (const Case& c : cases) {
-        const RunResult r = run(c.args);
+        const RunResult r = runEither(c.args);
         EXPECT_EQ(r.exitCode, 2) << c.args << "\n" << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.args << "\n" << r.err;
         for (const std::string& m : c.mentions)
             EXPECT_NE(r.err.find(m), std::string::npos) << c.args << ": " << m << "\n" << r.err;
         EXPECT_FALSE(fs::exists(path("o.exr"))) << c.args;
     }
-    const RunResult ok = run("auto " + path("bare.exr") + " --out " + path("o.exr") + " --size 6");
+    const RunResult ok =
+        runEither("auto " + path("bare.exr") + " --out " + path("o.exr") + " --size 6");
     EXPECT_EQ(ok.exitCode, 0) << ok.err;
     EXPECT_NE(ok.err.find("falls back to the image-only noise estimator"), std::string::npos);
 }

@@ -135,8 +135,10 @@ TEST_F(DenoiseCli, BadInputExitsTwoWithAClearMessage) {
         {"apply " + path("nope.exr") + " --filter gaussian --out " + out, "nope.exr"},
         {"apply " + in + " --filter gaussian --reference " + path("nope.exr") + " --out " + out,
          "nope.exr"},
-        {"apply " + in + " --filter gaussian --prefilter --prefilter-param foo=1 --out " + out,
+        {"apply " + in + " --filter gaussian --prefilter --param prefilter.foo=1 --out " + out,
          "varianceScale"},
+        {"apply " + in + " --filter gaussian --param prefilter.radius=2 --out " + out,
+         "without --prefilter"},
     };
     for (const Case& c : cases) {
         const RunResult r = run(c.args);

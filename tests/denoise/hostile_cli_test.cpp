@@ -39,7 +39,7 @@ class HostileCli : public glint::testing::CliFixture {
     }
     // Exit 2, one line on stderr holding every mention.
     void expectRefused(const std::string& args, const std::vector<std::string>& mentions) const {
-        const RunResult r = run(args);
+        const RunResult r = runEither(args);
         EXPECT_EQ(r.exitCode, 2) << args << "\n" << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
         for (const std::string& m : mentions)
@@ -151,7 +151,7 @@ TEST_F(HostileCli, ExposureIsLimitedToSixtyFourStopsAndNaNIsNamed) {
     expectRefused(base + " --temperature inf", {"--temperature", "finite"});
     expectRefused(base + " --feather-gate nan", {"--feather-gate", "finite"});
     EXPECT_FALSE(fs::exists(path("o.exr")));
-    EXPECT_EQ(run(base + " --exposure -64").exitCode, 0);
+    EXPECT_EQ(runEither(base + " --exposure -64").exitCode, 0);
 }
 
 TEST_F(HostileCli, PaintScriptsWithUnknownKeysFoldersOrDevicesWriteNoSession) {
@@ -201,7 +201,7 @@ TEST_F(HostileCli, OracleNavigateAndAutoReadABankWithoutWritingIt) {
          {"oracle " + in + " --reference " + path("ref.exr") + bank,
           "navigate " + in + " --reference " + path("ref.exr") + bank + " --simulate",
           "auto " + in + bank + " --out " + path("o.exr")}) {
-        const RunResult r = run(args);
+        const RunResult r = runEither(args);
         EXPECT_EQ(r.exitCode, 0) << args << "\n" << r.err;
         EXPECT_EQ(snapshot(m_dir / "bank"), before) << args;
     }

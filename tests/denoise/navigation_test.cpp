@@ -1,7 +1,6 @@
-// The navigation tree (soft hierarchical clustering), the navigator, the simulated user and
-// the oracle.
+// The navigation tree (soft hierarchical clustering) and the navigator. The simulated user and the
+// oracle are glint-lab's (tests/lab/oracle_test.cpp).
 #include <gtest/gtest.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -9,39 +8,14 @@
 
 #include "glint/denoise/bank.h"
 #include "glint/denoise/navigation.h"
-#include "glint/denoise/oracle.h"
-#include "glint/denoise/research/expected_oracle.h"
 #include "glint/image/error.h"
-#include "glint/image/random.h"
-#include "synthetic_frames.h"
+#include "navigation_images.h"
 
 namespace glint::denoise {
 namespace {
 
-// n images of 24×20 whose colour is a distinct level plus a pattern, so that their distances
-// are spread out and unambiguous.
-std::vector<Image> syntheticResults(int n, std::uint64_t seed = 3) {
-    std::vector<Image> images;
-    SplitMix64 rng(seed);
-    for (int i = 0; i < n; ++i) {
-        Image im(24, 20, 3);
-        const float level = 0.05f + 0.9f * float(i) / float(std::max(n - 1, 1));
-        const float tilt = float(rng.uniformDouble()) * 0.1f;
-        for (int y = 0; y < 20; ++y)
-            for (int x = 0; x < 24; ++x)
-                for (int c = 0; c < 3; ++c)
-                    im(x, y, c) =
-                        level * (1.0f + tilt * float(x - 12) / 12.0f) * (c == 0 ? 1.0f : 0.8f);
-        images.push_back(std::move(im));
-    }
-    return images;
-}
-
-std::vector<const Image*> pointers(const std::vector<Image>& images) {
-    std::vector<const Image*> out;
-    for (const Image& im : images) out.push_back(&im);
-    return out;
-}
+using glint::testing::pointers;
+using glint::testing::syntheticResults;
 
 // Every node's invariants, recursively; returns the members reachable below `node`.
 std::set<int> checkNode(const NavigationTree& tree, int node) {
@@ -165,85 +139,6 @@ TEST(Navigator, ChooseBackRestartAndTheyLookTheSame) {
     other.choose(1);
     EXPECT_EQ(other.same(), picked);
     EXPECT_THROW(other.choose(7), Error);
-}
-
-TEST(SimulatedUser, ReachesTheMemberClosestToTheReference) {
-    const std::vector<Image> images = syntheticResults(40);
-    const NavigationTree tree(pointers(images), TreeOptions{});
-    for (int target : {0, 13, 27, 39}) {
-        const std::vector<SimulatedChoice> steps =
-            simulateUser(tree, pointers(images), images[std::size_t(target)]);
-        ASSERT_FALSE(steps.empty());
-        EXPECT_EQ(steps.back().member, target);
-        EXPECT_NEAR(steps.back().ssim, 1.0, 1e-9);
-        // One choice per level down to a leaf, then the pick.
-        EXPECT_LE(steps.size(), 1u + std::size_t(std::ceil(std::log2(40.0))));
-    }
-}
-
-TEST(Oracle, OrderedMeasuresOnARealBank) {
-    const FrameBuffers noisy = testing::syntheticFrame(48, 40, 0.1f);
-    const FrameBuffers clean = testing::syntheticFrame(48, 40, 0.0f);
-    BankOptions o;
-    o.size = 12;
-    const FilterBank bank = buildBank(noisy, o);
-    const OracleResult r = oracle(bank, noisy.color(), clean.color());
-    EXPECT_GT(r.bestSingle, r.noisy);
-    EXPECT_GE(r.best3, r.bestSingle - 0.02);
-    EXPECT_GE(r.perPixel, r.best3 - 0.02);
-    EXPECT_GE(r.bestMember, 0);
-    EXPECT_EQ(r.choice.width(), 48);
-    for (float v : r.choice.data()) {
-        EXPECT_GE(v, 0.0f);
-        EXPECT_LT(v, float(bank.size()));
-    }
-    std::set<int> three(r.best3Members.begin(), r.best3Members.end());
-    EXPECT_EQ(three.size(), 3u);
-    EXPECT_THROW(oracle(bank, noisy.color(), Image(10, 10, 3)), Error);
-}
-
-TEST(Oracle, TheExpectedErrorOfOneRenderIsThePerPixelOracle) {
-    // With the bank's own input as the only other render, each member's averaged error is the
-    // error it made, so the choice at radius 0 is the per-pixel oracle's, pixel for pixel; it is
-    // the same for any thread count, and bad input is refused.
-    const FrameBuffers noisy = testing::syntheticFrame(48, 40, 0.1f);
-    const FrameBuffers clean = testing::syntheticFrame(48, 40, 0.0f);
-    BankOptions o;
-    o.size = 8;
-    const FilterBank bank = buildBank(noisy, o);
-    const OracleResult r = oracle(bank, noisy.color(), clean.color());
-    research::ExpectedOracleResult one, two;
-    {
-        tbb::task_arena arena(1);
-        arena.execute([&] { one = research::expectedErrorOracle(bank, {noisy}, clean.color()); });
-    }
-    {
-        tbb::task_arena arena(2);
-        arena.execute([&] { two = research::expectedErrorOracle(bank, {noisy}, clean.color()); });
-    }
-    ASSERT_EQ(one.ssim.size(), 4u);
-    EXPECT_EQ(one.renders, 2);
-    EXPECT_EQ(one.ssim[0], r.perPixel);
-    for (std::size_t p = 0; p < r.choice.data().size(); ++p)
-        ASSERT_EQ(one.choice.data()[p], r.choice.data()[p]) << p;
-    EXPECT_EQ(one.ssim, two.ssim);
-    // Another render: a different choice, still a per-pixel choice among the members.
-    const research::ExpectedOracleResult other = research::expectedErrorOracle(
-        bank, {testing::syntheticFrame(48, 40, 0.1f, 11)}, clean.color());
-    EXPECT_NE(other.ssim[0], one.ssim[0]);
-    EXPECT_GT(other.ssim[0], r.noisy);
-    EXPECT_THROW(research::expectedErrorOracle(bank, {}, clean.color()), Error);
-    try {
-        research::expectedErrorOracle(bank, {noisy, testing::syntheticFrame(40, 40, 0.1f)},
-                                      clean.color());
-        FAIL() << "no error";
-    } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("other render 2 is 40x40"), std::string::npos)
-            << e.what();
-    }
-    research::ExpectedOracleOptions bad;
-    bad.radii = {65};
-    EXPECT_THROW(research::expectedErrorOracle(bank, {noisy}, clean.color(), bad), Error);
 }
 
 }  // namespace

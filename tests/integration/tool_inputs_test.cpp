@@ -199,7 +199,7 @@ TEST_F(ToolInputs, EveryCommandRefusesAnOutputThatIsOneOfItsInputs) {
          "ref.exr"},
         {"glint-denoise", "auto in.exr --out ../" + m_dir.filename().string() + "/in.exr",
          "in.exr"},
-        {"glint-denoise", "auto in.exr --reference ref.exr --out ref-link.exr", "ref.exr"},
+        {"glint-lab", "auto in.exr --reference ref.exr --out ref-link.exr", "ref.exr"},
         {"glint-denoise", "composite s.glint-session.json --input other.exr --out other.exr",
          "other.exr"},
         {"glint-denoise",

@@ -8,7 +8,7 @@ if(TARGET glint_render)
   glint_warnings(bench_auto)
 endif()
 
-# Each member's halves estimate against its true error per tile (docs/research/oidn-gap.md,
+# Each member's halves estimate against its true error per tile (docs/lab/oidn-gap.md,
 # section 4): build/bin/auto_member_errors IN.exr BANK REFERENCE.exr [--tile 32]
 add_executable(auto_member_errors ${CMAKE_CURRENT_LIST_DIR}/auto_member_errors.cpp)
 target_link_libraries(auto_member_errors PRIVATE glint_denoise TBB::tbb)

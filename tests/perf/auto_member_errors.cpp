@@ -1,4 +1,4 @@
-// Each bank member's halves estimate against its true error, per tile (docs/research/oidn-gap.md,
+// Each bank member's halves estimate against its true error, per tile (docs/lab/oidn-gap.md,
 // section 4): whether the halves rank the members over a region as their results on all the
 // samples rank against the reference.
 //   build/bin/auto_member_errors IN.exr BANK REFERENCE.exr [--tile 32]

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes the assets the load's memory prediction was checked on (docs/renderer.md, "Memory";
-docs/research/mesh-memory.md): a grid of n × n quads in several forms.
+docs/lab/mesh-memory.md): a grid of n × n quads in several forms.
 
     python3 tests/perf/load_memory_assets.py KIND OUT N [IMAGE_SIDE]
 

@@ -97,6 +97,13 @@ TEST_F(RenderCli, ReferenceMetricsAndThreadIndependence) {
 
 TEST_F(RenderCli, BadInputExitsTwoNamingTheProblemAndWritesNothing) {
     std::ofstream(path("broken.json")) << "{\"film\": {\"width\": 8,}\n";
+    // The MIS heuristic and the sampler are the scene's (glint-render lost --mis and --sampler).
+    const std::string text = glint::testing::slurp(m_dir / "scene.json");
+    const std::size_t render = text.find("\"render\": {") + 11;
+    std::ofstream(path("mis.json"))
+        << text.substr(0, render) + "\"mis\": \"bogus\", " + text.substr(render);
+    std::ofstream(path("stratified.json"))
+        << text.substr(0, render) + "\"sampler\": \"stratified\", " + text.substr(render);
     writeExr(FrameBuffers(8, 8), path("small.exr"));
     const std::string scene = path("scene.json"), out = path("bad.exr");
     struct Case {
@@ -108,8 +115,12 @@ TEST_F(RenderCli, BadInputExitsTwoNamingTheProblemAndWritesNothing) {
         {scene + " --spp -3 --out " + out, "--spp"},
         {scene + " --spp 4 --threads -1 --out " + out, "--threads"},
         {scene + " --spp 4 --max-depth 0 --out " + out, "--max-depth"},
-        {scene + " --spp 4 --mis bogus --out " + out, "--mis"},
-        {scene + " --spp 4 --half-buffers --sampler stratified --out " + out, "--half-buffers"},
+        {path("mis.json") + " --spp 4 --out " + out, "mis"},
+        {path("stratified.json") + " --spp 4 --half-buffers --out " + out, "--half-buffers"},
+        {scene + " --integrator mlt --mlt chains=many --out " + out, "--mlt"},
+        {scene + " --integrator mlt --mlt nosuch=1 --out " + out, "--mlt"},
+        {scene + " --integrator mlt --mlt chains --out " + out, "--mlt"},
+        {scene + " --integrator mlt --mlt chains=30 --mlt groups=4 --out " + out, "--mlt"},
         {scene + " --spp 4 --half-buffers --integrator mlt --out " + out, "--half-buffers"},
         {scene + " --spp 4 --reference " + path("small.exr") + " --out " + out, "small.exr"},
     };
@@ -121,6 +132,20 @@ TEST_F(RenderCli, BadInputExitsTwoNamingTheProblemAndWritesNothing) {
         EXPECT_NE(line.find(c.mention), std::string::npos) << c.args << "\n" << line;
         EXPECT_FALSE(fs::exists(out)) << c.args;
     }
+}
+
+TEST_F(RenderCli, MetropolisParametersAreSetByName) {
+    const RunResult r =
+        run(path("scene.json") +
+            " --spp 4 --integrator mlt --mlt chains=32 --mlt groups=4 "
+            "--mlt bootstrap=2000 --mlt featureSpp=2 --mlt large=0.5 --json --out " +
+            path("mlt.exr"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["mlt"]["chains"], 32);
+    EXPECT_EQ(j["mlt"]["groups"], 4);
+    EXPECT_EQ(j["mlt"]["bootstrap"], 2000);
+    EXPECT_EQ(j["mlt"]["featureSpp"], 2);
 }
 
 TEST_F(RenderCli, ARenderOverTheMemoryLimitIsRefusedAndWritesNothing) {

@@ -314,13 +314,16 @@ TEST_F(HostileCli, EveryClassOfBadSceneExitsTwoWithOneClearLine) {
 TEST_F(HostileCli, OptionsHaveTheSceneFilesLimitsAndOutputsAreCheckedFirst) {
     std::ofstream(m_dir / "mesh.obj") << kTriangle;
     std::ofstream(m_dir / "scene.json") << sceneWith();
+    // Russian roulette's depth is the scene's alone (glint-render lost --rr-depth): its limit
+    // holds.
+    std::ofstream(m_dir / "rr.json") << sceneWith(R"(, "render": {"rrDepth": 2000})");
     const std::string scene = path("scene.json"), out = " --out " + path("out.exr");
     struct Flag {
         std::string args, mention;
     };
     const Flag flags[] = {
         {scene + " --max-depth 100000" + out, "--max-depth"},
-        {scene + " --rr-depth 2000" + out, "--rr-depth"},
+        {path("rr.json") + out, "rrDepth"},
         {scene + " --spp 16777217" + out, "--spp"},
         {scene + " --time-limit inf" + out, "--time-limit"},
         {scene + " --time-limit nan" + out, "--time-limit"},

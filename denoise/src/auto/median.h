@@ -17,7 +17,7 @@ namespace glint::denoise::detail {
 /// member-independent estimate of the clean value, the centre of the display linearisation
 /// (SureSpace::Display and DisplayTangent). The median rather than the mean, which the members
 /// that barely filter pull into the clamp at a firefly or a highlight
-/// (docs/research/auto-notebook.md measures both). The (n/2)-th smallest of the n values (the
+/// (docs/lab/auto-notebook.md measures both). The (n/2)-th smallest of the n values (the
 /// upper median for even n), found by a sorting network 8 values at a time. Throws
 /// glint::Error(InvalidArgument) for a bank without members.
 Image bankMedian(const FilterBank& bank);

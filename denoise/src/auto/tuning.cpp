@@ -1,6 +1,6 @@
 // The automatic selection's tuning map (auto.h): its parameters, their defaults with each
-// estimator, and their validation. The command line's flags and the tuning table of docs/auto.md
-// are generated from these specs (denoise/cli/auto_commands.cpp).
+// estimator, and their validation. glint-lab auto's flags and the tuning table of
+// docs/lab/auto-tuning.md are generated from these specs (lab/cli/auto_command.cpp).
 #include <cmath>
 #include <string>
 

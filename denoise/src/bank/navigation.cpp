@@ -1,6 +1,6 @@
 // The navigation tree: soft hierarchical clustering of a bank's results (k-means++ start,
 // k-medoids refinement, overlapping children of the fraction p closest to each centre), the
-// navigator a user walks, and the simulated user of the research tools.
+// navigator a user walks.
 #include "glint/denoise/navigation.h"
 
 #include <tbb/parallel_for.h>
@@ -317,34 +317,6 @@ void Navigator::back() {
 void Navigator::restart() {
     m_path.assign(1, m_tree->root());
     m_chosen.reset();
-}
-
-std::vector<SimulatedChoice> simulateUser(const NavigationTree& tree,
-                                          const std::vector<const Image*>& images,
-                                          const Image& reference, float exposure) {
-    if (images.size() != tree.memberCount())
-        throw Error(ErrorKind::InvalidArgument, "simulateUser: one image per tree member");
-    MetricOptions mo;
-    mo.exposure = exposure;
-    std::vector<double> score(images.size(), std::numeric_limits<double>::quiet_NaN());
-    auto ssimOf = [&](int m) {
-        if (std::isnan(score[std::size_t(m)]))
-            score[std::size_t(m)] = glint::ssim(*images[std::size_t(m)], reference, mo).value;
-        return score[std::size_t(m)];
-    };
-    Navigator nav(tree);
-    std::vector<SimulatedChoice> steps;
-    while (!nav.chosen()) {
-        const std::vector<Navigator::Option> opts = nav.options();
-        int best = 0;
-        for (int i = 1; i < int(opts.size()); ++i)
-            if (ssimOf(opts[std::size_t(i)].member) > ssimOf(opts[std::size_t(best)].member))
-                best = i;
-        steps.push_back(
-            {best, opts[std::size_t(best)].member, ssimOf(opts[std::size_t(best)].member)});
-        nav.choose(best);
-    }
-    return steps;
 }
 
 }  // namespace glint::denoise

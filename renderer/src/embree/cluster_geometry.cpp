@@ -35,7 +35,7 @@ std::uint64_t spreadBits(std::uint64_t x) {
 /// into the "transpose" of the index (J. Skilling, "Programming the Hilbert curve", AIP Conf.
 /// Proc. 707, 2004), whose bits interleaved (x's first) are the index. Consecutive cells of the
 /// curve are neighbours, unlike Morton order's jumps; on the 4M-triangle grid its clusters of
-/// 16 have a third less box area than Morton order's (docs/research/mesh-memory.md).
+/// 16 have a third less box area than Morton order's (docs/lab/mesh-memory.md).
 std::uint64_t hilbertIndex(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
     constexpr std::uint32_t top = 1u << 15;
     // Where bit q of a coordinate c is set, invert the low bits of x; else exchange the low

@@ -38,7 +38,7 @@ struct CacheLineAllocator {
 using ClusterOrder = std::vector<std::uint32_t, CacheLineAllocator<std::uint32_t>>;
 
 /// Triangles a cluster holds. Of k = 4, 8 and 16 measured on a 4M-triangle asset
-/// (docs/research/mesh-memory.md), 16 alone keeps the asset within 1.5× its mesh data; it also
+/// (docs/lab/mesh-memory.md), 16 alone keeps the asset within 1.5× its mesh data; it also
 /// builds fastest.
 inline constexpr std::uint32_t kClusterSize = 16;
 /// The most triangles a cluster may hold (one SIMD batch of 16 lanes).

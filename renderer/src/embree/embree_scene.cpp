@@ -103,7 +103,7 @@ detail::SurfaceId EmbreeScene::surfaceOf(unsigned instID, unsigned geomID, unsig
 /// 378 MB and the build from 1.8 to 1.4 s at the same samples/s (docs/assets.md, "Speed and
 /// memory"); smaller scenes keep the high-quality build, which traces faster. Clusters (Accel)
 /// are built at medium quality too: on that asset, 18.3 instead of 21.0 MB at the same rays/s
-/// (docs/research/mesh-memory.md).
+/// (docs/lab/mesh-memory.md).
 void setBuildOptions(RTCScene scene, std::size_t triangles, bool clusters) {
     const bool large = clusters || triangles > kHighQualityBuildLimit;
     rtcSetSceneBuildQuality(scene, large ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH);

@@ -1,6 +1,6 @@
 // The load's memory, predicted before an asset is parsed (load_memory.h). The rates are the
 // sizes of the objects the readers make, checked against the peak resident size of loads of
-// generated assets (docs/research/mesh-memory.md, "The memory limit holds during loading").
+// generated assets (docs/lab/mesh-memory.md, "The memory limit holds during loading").
 #include "scene/load_memory.h"
 
 #include <tiny_gltf.h>

@@ -14,7 +14,7 @@ namespace glint::render::detail {
 struct SceneData;
 
 /// What loading one asset will take at its peak, above what the program holds anyway: an upper
-/// bound in practice (docs/research/mesh-memory.md has the measurements it was checked on).
+/// bound in practice (docs/lab/mesh-memory.md has the measurements it was checked on).
 struct LoadPrediction {
     std::uint64_t bytes = 0;   ///< the load's peak
     std::uint64_t meshes = 0;  ///< of which Glint's mesh arrays (held after loading)

@@ -222,7 +222,7 @@ Vec4 TextureLevels::lookup(const TextureStore& store, int file, float s, float t
 }
 
 // Flattened: the plan, the taps and their bilinear lookups inlined into the render's one lookup,
-// which took a fifth off the texture path's samples (docs/research/texture-speed.md, step 9).
+// which took a fifth off the texture path's samples (docs/lab/texture-speed.md, step 9).
 [[gnu::flatten]] Vec4 TextureLevels::lookupOneLevel(const TextureStore& store, int file, float s,
                                                     float t, const TexFootprint& footprint,
                                                     TextureWrap wrapS, TextureWrap wrapT,

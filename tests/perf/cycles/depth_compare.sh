@@ -14,7 +14,8 @@ DEPTHS=${*:-1 2 3}
 G="$BUILD_DIR/bin/glint-render"
 OUT=${TMPDIR:-/tmp}/glint-depth-compare.$$
 mkdir -p "$OUT"
-trap 'rm -rf "$OUT"' EXIT
+source "$(dirname "$0")/with_sampler.sh"
+trap 'rm -rf "$OUT"; remove_sampler_copies' EXIT
 command -v blender >/dev/null || { echo "depth_compare.sh: blender not found (make bench-deps)" >&2; exit 2; }
 relmse() { "$BUILD_DIR/bin/glint-image" diff "$1" --reference "$2" --metric relmse --json |
   python3 -c 'import json,sys; print("%.3g" % json.load(sys.stdin)["value"])'; }
@@ -26,7 +27,7 @@ for D in $DEPTHS; do
     --max-depth $((D - 1)) --out "$OUT/cycles.exr" >/dev/null 2>&1
   line="$D $(relmse "$OUT/cycles.exr" "$OUT/ref.exr")"
   for S in stratified sobol; do
-    "$G" scenes/cornell/scene.json --spp "$SPP" --max-depth "$D" --sampler $S --threads 2 \
+    "$G" "$(with_sampler scenes/cornell/scene.json $S)" --spp "$SPP" --max-depth "$D" --threads 2 \
       --out "$OUT/g.exr" >/dev/null 2>&1
     line="$line $(relmse "$OUT/g.exr" "$OUT/ref.exr")"
   done

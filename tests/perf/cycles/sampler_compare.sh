@@ -14,7 +14,8 @@ GLINT="$BUILD_DIR/bin/glint-render"
 IMAGE="$BUILD_DIR/bin/glint-image"
 OUT=${TMPDIR:-/tmp}/glint-sampler-compare.$$
 mkdir -p "$OUT"
-trap 'rm -rf "$OUT"' EXIT
+source "$(dirname "$0")/with_sampler.sh"
+trap 'rm -rf "$OUT"; remove_sampler_copies' EXIT
 command -v blender >/dev/null || { echo "sampler_compare.sh: blender not found (make bench-deps)" >&2; exit 2; }
 
 relmse() { "$IMAGE" diff "$1" --reference "$2" --metric relmse --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["value"])'; }
@@ -27,7 +28,7 @@ for ((i = 1; i <= REPEATS; ++i)); do
   err=$(relmse "$OUT/cycles.exr" scenes/cornell/reference.exr)
   python3 -c "import sys; r,e=float(sys.argv[1]),float(sys.argv[2]); print(f'cornell cycles pmj $SPP {r/1e6:.3f}M {e:.5f} {e/r*1e6:.5f}')" "$rate" "$err"
   for sampler in stratified sobol zsobol; do
-    rate=$("$GLINT" scenes/cornell/scene.json --spp "$SPP" --max-depth 8 --threads 2 --sampler $sampler \
+    rate=$("$GLINT" "$(with_sampler scenes/cornell/scene.json $sampler)" --spp "$SPP" --max-depth 8 --threads 2 \
       --seed "$i" --out "$OUT/glint.exr" --json 2>/dev/null | python3 -c 'import json,sys; print(json.load(sys.stdin)["samplesPerSecond"])')
     err=$(relmse "$OUT/glint.exr" scenes/cornell/reference.exr)
     python3 -c "import sys; r,e=float(sys.argv[1]),float(sys.argv[2]); print(f'cornell glint $sampler $SPP {r/1e6:.3f}M {e:.5f} {e/r*1e6:.5f}')" "$rate" "$err"
@@ -56,7 +57,7 @@ for scene in glossy envmap; do
     err=$(relmse "$OUT/cycles.exr" "$ref")
     python3 -c "import sys; r,e=float(sys.argv[1]),float(sys.argv[2]); print(f'$scene cycles pmj $SPP {r/1e6:.3f}M {e:.5f} {e/r*1e6:.5f}')" "$rate" "$err"
     for sampler in stratified sobol zsobol; do
-      rate=$("$GLINT" scenes/$scene/scene.json --spp "$SPP" --threads 2 --sampler $sampler \
+      rate=$("$GLINT" "$(with_sampler scenes/$scene/scene.json $sampler)" --spp "$SPP" --threads 2 \
         --seed "$i" --out "$OUT/glint.exr" --json 2>/dev/null | python3 -c 'import json,sys; print(json.load(sys.stdin)["samplesPerSecond"])')
       err=$(relmse "$OUT/glint.exr" scenes/$scene/reference.exr)
       python3 -c "import sys; r,e=float(sys.argv[1]),float(sys.argv[2]); print(f'$scene glint $sampler $SPP {r/1e6:.3f}M {e:.5f} {e/r*1e6:.5f}')" "$rate" "$err"

@@ -50,15 +50,31 @@ void checkAutoInput(const FrameBuffers& frame, AutoEstimator estimator,
                     const std::string& file = {});
 
 /// The tuning map's parameters (window, confidence, feathering, stacking …), described as
-/// filters describe theirs: name, range, default with the halves, one-line help. The command
-/// line's flags and the tuning table of docs/auto.md are generated from them. Where SURE's
-/// default differs, autoTuningDefaults gives it.
+/// filters describe theirs: name, range, default with the halves, one-line help. glint-lab
+/// auto's flags and the tuning table of docs/lab/auto-tuning.md are generated from them. Where
+/// SURE's default differs, autoTuningDefaults gives it.
 const std::vector<ParamSpec>& autoTuningSpecs();
 /// Every tuning parameter's default with `estimator` (Auto: as the halves).
 ParamValues autoTuningDefaults(AutoEstimator estimator);
 /// The command-line flag of a tuning parameter, which errors name: featherGate → --feather-gate
 /// (an integer parameter over 0 … 1 that defaults to 0 is a flag without a value).
 std::string autoTuningFlag(const std::string& name);
+
+/// The trade of time for quality an artist picks (glint-denoise auto --quality; docs/auto.md,
+/// "Command line"): each is a bank size and tuning overrides the lab measured (docs/lab/).
+enum class AutoQuality {
+    Fast,      ///< 32 members, the halves filtered one-sided (no shortlist, no stacking)
+    Balanced,  ///< the defaults: 64 members, the tuning's defaults
+    Best,      ///< 128 members, the tuning's defaults
+};
+/// Parses "fast" / "balanced" / "best"; throws glint::Error(InvalidArgument).
+AutoQuality parseAutoQuality(const std::string& name);
+/// "fast", "balanced" or "best".
+const char* autoQualityName(AutoQuality quality);
+/// The tuning a quality sets (AutoOptions::tuning; Balanced: none, the defaults).
+ParamValues autoQualityTuning(AutoQuality quality);
+/// The Latin-hypercube members of the bank auto builds at a quality (BankOptions::size).
+int autoQualityBankSize(AutoQuality quality);
 
 /// How the auto composite is chosen: what a user sets, and a tuning map for the rest.
 struct AutoOptions {

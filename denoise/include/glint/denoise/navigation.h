@@ -117,19 +117,4 @@ class Navigator {
     std::uint64_t m_sameCount = 0;
 };
 
-/// One step of the simulated user: the option picked, its member, and that member's SSIM
-/// against the reference over the region.
-struct SimulatedChoice {
-    int option = -1;
-    int member = -1;
-    double ssim = 0.0;
-};
-
-/// A simulated user who at each level picks the option whose member is closest (SSIM of
-/// display values) to `reference` (region-sized, 3 channels), until a member is picked.
-/// `images` are the tree's images in full resolution (same order as when it was built).
-std::vector<SimulatedChoice> simulateUser(const NavigationTree& tree,
-                                          const std::vector<const Image*>& images,
-                                          const Image& reference, float exposure = 0.0f);
-
 }  // namespace glint::denoise
