@@ -399,10 +399,9 @@ void Streamer::blendPass(std::vector<Image>& planes, AutoResult& result) {
     }
 }
 
-// The stacking (stack), strip by strip: its members on the input and the halves over the strip
-// and the rows its windows reach around it, the regression over those rows, its strip kept.
+// The stacking (stackComposite), as over the whole frame: the features' regressors over the
+// frame, its members' results on the input and the halves read by rows, tile after tile.
 void Streamer::stackPass(const std::vector<int>& order, AutoResult& result) {
-    const int height = m_region.height();
     std::vector<std::size_t> members;
     for (int m : order) {
         if (members.size() == std::size_t(m_s.stack)) break;
@@ -412,53 +411,51 @@ void Streamer::stackPass(const std::vector<int>& order, AutoResult& result) {
     dropSpilled([&](std::size_t m) {
         return std::find(members.begin(), members.end(), m) != members.end();
     });
-    // The regression's weights: the display slope at the composite (its floor over the frame).
+    // The features' regressors, from the whole frame's features around the composite and from
+    // each half's around its blend (as the filters saw them: prefiltered when the bank was).
+    std::vector<Image> features[3];
+    if (m_s.stackAlbedo || m_s.stackNormal) {
+        const FrameBuffers* sources[3] = {&inputOf(Input), &inputOf(HalfA), &inputOf(HalfB)};
+        const Image* bases[3] = {&result.composite, &m_blendA, &m_blendB};
+        for (int side = 0; side < 3; ++side) {
+            const Image albedo =
+                m_s.stackAlbedo ? sources[side]->layer(Layer::Albedo).crop(m_region) : Image{};
+            const Image normal =
+                m_s.stackNormal ? sources[side]->layer(Layer::Normal).crop(m_region) : Image{};
+            features[side] = featureRegressors(*bases[side], m_s.stackAlbedo ? &albedo : nullptr,
+                                               m_s.stackNormal ? &normal : nullptr,
+                                               m_s.stackFeatureWindow, &m_work);
+        }
+    }
+    const std::size_t featureCount = features[0].size();
+    // The regressors' rows: the members' results (from the spill, else filtered again), then the
+    // features' rows.
+    const LoadStackRows load = [&](int y0, int y1, bool full, bool halves, StackRows& rows) {
+        std::vector<Side> sides;
+        if (full) sides.push_back(Input);
+        if (halves) sides.push_back(HalfA), sides.push_back(HalfB);
+        std::vector<Image> results(sides.size() * k);
+        forEach(results.size(), kFilterPasses * (y1 - y0), [&](std::size_t i) {
+            results[i] = memberResult(members[i % k], sides[i / k], y0, y1, false);
+        });
+        rows = StackRows{};
+        const Rect rect{0, m_region.width(), y0, y1};
+        for (std::size_t s = 0; s < sides.size(); ++s) {
+            std::vector<Image>& to = sides[s] == Input   ? rows.full
+                                     : sides[s] == HalfA ? rows.onA
+                                                         : rows.onB;
+            for (std::size_t j = 0; j < k; ++j) to.push_back(std::move(results[s * k + j]));
+            for (std::size_t q = 0; q < featureCount; ++q)
+                to.push_back(features[int(sides[s])][q].crop(rect));
+        }
+    };
+    // The regression, weighted by the display slope at the composite.
     const Image weightAtC =
         m_s.space == SureSpace::Linear ? Image{} : tangentWeights(result.composite, m_s.exposure);
-    const bool features = m_s.stackAlbedo || m_s.stackNormal;
-    const FrameBuffers* sources[3] = {&inputOf(Input), &inputOf(HalfA), &inputOf(HalfB)};
-    const Image* bases[3] = {&result.composite, &m_blendA, &m_blendB};
-    const int reach = m_s.stackWindow + m_s.stackSmooth, fw = m_s.stackFeatureWindow;
-    Image out = result.composite;
-    std::size_t featureCount = 0;
-    for (const Strip& strip : m_strips) {
-        const int c0 = std::max(0, strip.y0 - reach), c1 = std::min(height, strip.y1 + reach);
-        std::vector<Image> results(3 * k);
-        forEach(results.size(), kFilterPasses * (c1 - c0), [&](std::size_t i) {
-            results[i] = memberResult(members[i % k], Side(i / k), c0, c1, false);
-        });
-        std::vector<StackMember> list;
-        for (std::size_t j = 0; j < k; ++j)
-            list.push_back({&results[j], &results[k + j], &results[2 * k + j]});
-        // The features' regressors over these rows, from rows as far again as their window.
-        std::vector<Image> regressors[3];
-        if (features) {
-            const int f0 = std::max(0, c0 - fw), f1 = std::min(height, c1 + fw);
-            for (int side = 0; side < 3; ++side) {
-                const Image base = rowsOf(*bases[side], f0, f1);
-                const Image albedo =
-                    m_s.stackAlbedo ? sources[side]->layer(Layer::Albedo).crop(frameRect(f0, f1))
-                                    : Image{};
-                const Image normal =
-                    m_s.stackNormal ? sources[side]->layer(Layer::Normal).crop(frameRect(f0, f1))
-                                    : Image{};
-                for (Image& r : featureRegressors(base, m_s.stackAlbedo ? &albedo : nullptr,
-                                                  m_s.stackNormal ? &normal : nullptr, fw))
-                    regressors[side].push_back(rowsOf(r, c0 - f0, c1 - f0));
-            }
-            featureCount = regressors[0].size();
-            for (std::size_t q = 0; q < featureCount; ++q)
-                list.push_back({&regressors[0][q], &regressors[1][q], &regressors[2][q]});
-        }
-        const Image stacked = stackComposite(
-            rowsOf(result.composite, c0, c1), rowsOf(m_blendA, c0, c1), rowsOf(m_blendB, c0, c1),
-            list, m_halves->halfA().color().crop(frameRect(c0, c1)),
-            m_halves->halfB().color().crop(frameRect(c0, c1)),
-            weightAtC.empty() ? Image{} : rowsOf(weightAtC, c0, c1), m_s.stackWindow,
-            m_s.stackRidge, m_s.stackFloor, m_s.stackSmooth, &m_work);
-        copyRows(stacked, strip.y0 - c0, out, strip.y0, strip.y1 - strip.y0);
-    }
-    result.composite = std::move(out);
+    result.composite = stackComposite(
+        result.composite, m_blendA, m_blendB, k + featureCount, load,
+        m_halves->halfA().color().crop(m_region), m_halves->halfB().color().crop(m_region),
+        weightAtC, m_s.stackWindow, m_s.stackRidge, m_s.stackFloor, m_s.stackSmooth, &m_work);
     result.stacked = int(k);
     result.stackFeatures = int(featureCount);
 }

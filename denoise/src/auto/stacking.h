@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "glint/image/frame_buffers.h"
@@ -74,6 +75,28 @@ Image stackComposite(const Image& composite, const Image& blendA, const Image& b
                      const std::vector<StackMember>& members, const Image& halfA,
                      const Image& halfB, const Image& weight, int radius, double ridge,
                      double floor, int smooth, WorkContext* work = nullptr);
+
+/// Rows [y0, y1) of the stacking's regressors (StackMember's three images, each of those rows
+/// only): `full` when asked for, `onA` and `onB` when the halves are.
+struct StackRows {
+    std::vector<Image> full, onA, onB;
+};
+/// Fills `rows` with rows [y0, y1) of every regressor, in stackComposite's order; `full` and
+/// `halves` say which of the three are needed.
+using LoadStackRows = std::function<void(int y0, int y1, bool full, bool halves, StackRows& rows)>;
+
+/// stackComposite with the `count` regressors' results read by rows through `load` (the tiled
+/// pipeline's: from the spill, the bank or the filter again) instead of held whole: the same
+/// floats. The regression loads each tile of kStackTileRows rows with its context rows once,
+/// and the smoothing each tile's results on all the samples once, in row order.
+Image stackComposite(const Image& composite, const Image& blendA, const Image& blendB,
+                     std::size_t count, const LoadStackRows& load, const Image& halfA,
+                     const Image& halfB, const Image& weight, int radius, double ridge,
+                     double floor, int smooth, WorkContext* work = nullptr);
+
+/// The rows of the regression's tiles (each with `radius` rows of context on either side), so
+/// that the sums of a 1024-wide frame with 10 regressors take about 75 MB, not ten times that.
+constexpr int kStackTileRows = 128;
 
 /// The stacked composite and what it fitted.
 struct Stacked {
