@@ -42,7 +42,7 @@ using Clock = std::chrono::steady_clock;
 struct AutoArgs {
     std::string input, bank, out, reference, choiceMap, noiseOut, filters, estimator = "auto";
     // Integers are parsed strictly from their text (parseInteger, parseUnsigned).
-    std::string size = "64", bankSeed = "1", seed = "1", stream = "auto", memoryLimit;
+    std::string size = "64", bankSeed = "1", seed = "1", memoryLimit;
     float exposure = 0.0f;
     bool prefilter = false, json = false, tuningTable = false;
     std::vector<std::string> filterParams;  // --filter-param FILTER.NAME=VALUE
@@ -153,14 +153,13 @@ Image bestMemberResult(const FilterBank& bank, const FrameBuffers& frame, int be
                        member.params, fo);
 }
 
-// Whether holding the bank in memory and choosing from it fits `limit` (0: the memory available):
-// the bank's results (estimateMemory), as much again for the results on half A the stacking
-// keeps, and the error maps and window scores, about a quarter of the results
-// (docs/auto-memory.md).
-bool wholeFrameFits(const FrameBuffers& frame, const BankOptions& bankOptions,
+// Whether a bank folder's results, read whole, fit `limit` (0: the memory available) beside the
+// selection's own budget (docs/auto-memory.md); else its members are applied again.
+bool bankFolderFits(const FrameBuffers& frame, const BankOptions& bankOptions,
                     std::uint64_t limit) {
-    const double bank = double(estimateMemory(frame, bankOptions));
-    return 2.5 * bank < double(limit > 0 ? limit : availableMemory());
+    const std::uint64_t need =
+        saturatingAdd(estimateMemory(frame, bankOptions), autoMemoryBudget(limit));
+    return need <= (limit > 0 ? limit : availableMemory());
 }
 
 // Refuses, naming `file` and the first missing layer, a --filters list none of whose filters
@@ -215,10 +214,6 @@ void runAuto(const AutoArgs& a) {
         printTuningTable();
         return;
     }
-    if (a.stream != "auto" && a.stream != "on" && a.stream != "off")
-        throw Error(ErrorKind::InvalidArgument,
-                    "'" + a.stream + "' is not a streaming mode (expected auto, on or off)",
-                    "command line", "--stream");
     if (a.input.empty() || a.out.empty())
         throw Error(ErrorKind::InvalidArgument, "IN and --out are required", "command line",
                     a.input.empty() ? "IN" : "--out");
@@ -257,6 +252,7 @@ void runAuto(const AutoArgs& a) {
         bankOptions = readBankOptions(a.bank);
     }
     bankOptions.memoryLimit = memoryLimit;
+    options.memoryLimit = memoryLimit;
     options.prefilter = bankOptions.prefilter;
     options.prefilterParams = bankOptions.prefilterParams;
 
@@ -295,34 +291,22 @@ void runAuto(const AutoArgs& a) {
             return true;
         };
     };
-    // The bank is held in memory and chosen from (the fastest): built here, or read from the bank
-    // folder. When that would not fit --memory-limit (or the memory available) under --stream
-    // auto, or when asked (--stream on), the members (a bank folder's: the same options) are
-    // applied strip by strip instead, no member held whole (autoCompositeStreamed;
-    // docs/auto-memory.md); a folder's stored results are then not read.
-    const bool streamed = a.stream == "on" ||
-                          (a.stream == "auto" && !wholeFrameFits(frame, bankOptions, memoryLimit));
-    if (streamed && !a.bank.empty())
+    // The selection applies the members tile by tile, the tiles' height from --memory-limit
+    // (autoCompositeStreamed; docs/auto-memory.md). A bank folder's stored results are read
+    // instead when they fit in memory beside it; else its members (the same options) are
+    // applied again: the same result.
+    const bool readFolder = !a.bank.empty() && bankFolderFits(frame, bankOptions, memoryLimit);
+    if (!a.bank.empty() && !readFolder)
         std::fprintf(stderr,
-                     "glint-denoise: streamed: the members of the bank %s are applied again strip "
-                     "by strip (its stored results are read only when the bank fits in memory)\n",
+                     "glint-denoise: the members of the bank %s are applied again tile by tile "
+                     "(its stored results do not fit in memory)\n",
                      a.bank.c_str());
-    if (!streamed && !a.bank.empty() && memoryLimit > 0)
-        checkMemory(saturatingMul(estimateMemory(frame, bankOptions), 5) / 2, memoryLimit,
-                    "reading the bank's members whole (--stream off; --stream auto would stream "
-                    "them)",
-                    a.bank, "--memory-limit");
-    // A bank built here (whole or streamed) without --filters says once what it goes without.
+    // A bank built here without --filters says once what it goes without.
     const json leftOut = a.bank.empty() ? reportLeftOutFilters(bankOptions) : json::array();
     const auto t0 = Clock::now();
     FilterBank bank;
-    if (!streamed) {
-        if (a.bank.empty()) {
-            bankOptions.progress = progressLine("bank");
-            bank = buildBank(frame, bankOptions);
-        } else {
-            bank = openBank(frame, a.bank, progressLine("bank"));
-        }
+    if (readFolder) {
+        bank = openBank(frame, a.bank, progressLine("bank"));
         if (tty) std::fprintf(stderr, "\n");
     }
     const double bankSeconds = secondsSince(t0);
@@ -330,7 +314,7 @@ void runAuto(const AutoArgs& a) {
     options.progress = progressLine("auto");
     AutoResult result;
     try {
-        if (streamed) {
+        if (!readFolder) {
             StreamedAuto s = autoCompositeStreamed(frame, bankOptions, options);
             bank = std::move(s.bank);
             result = std::move(s.result);
@@ -362,7 +346,7 @@ void runAuto(const AutoArgs& a) {
                 {"region", rectJson(bank.region())},
                 {"estimator", autoEstimatorName(result.estimator)},
                 {"seed", options.seed},
-                {"streamed", streamed},
+                {"tileRows", result.tileRows},
                 {"stackFeatures", result.stackFeatures},
                 {"bestMember", memberJson(bank, result.bestMember)},
                 {"bestMemberEstimatedMse", result.estimatedMse[std::size_t(result.bestMember)]},
@@ -474,8 +458,9 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
     cmd->add_option("--exposure", a->exposure,
                     "Exposure of the display transform (stops, -64 … 64)");
     cmd->add_option("--memory-limit", a->memoryLimit,
-                    "Hold the bank in memory only within this size (e.g. 2G; default: what is "
-                    "available, or GLINT_MEMORY_LIMIT), else stream it strip by strip");
+                    "Memory the selection may use besides IN (e.g. 1G; default 1.25G, or less "
+                    "when less is available or GLINT_MEMORY_LIMIT says so): a smaller limit "
+                    "cuts the frame into more tiles, the same result");
     cmd->add_option("--estimator", a->estimator,
                     "auto (default: halves when IN has half buffers, else sure with its variance "
                     "layer, else image) | sure | halves | image (SURE with the variance estimated "
@@ -506,10 +491,6 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
         cmd->add_option_function<std::string>(
             flag, [a, name = spec.name](const std::string& text) { a->tuning[name] = text; }, help);
     }
-    cmd->add_option("--stream", a->stream,
-                    "auto (default: strip by strip only when the bank would not fit in memory) | "
-                    "on (strip by strip: memory grows with the frame, not the bank; see --spill; "
-                    "a --bank folder's members are applied again) | off (the bank in memory)");
     cmd->add_flag("--tuning-table", a->tuningTable,
                   "Print the tuning parameters as the Markdown table of docs/auto.md and exit");
     cmd->add_option("--choice-map", a->choiceMap, "Write the chosen member per pixel as a PNG");

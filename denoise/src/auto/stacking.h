@@ -1,7 +1,7 @@
 // The stacking of the automatic selection (docs/auto.md, "Stacking"): the blend corrected per
 // pixel by a local ridge regression, fitted on the halves, on the members of most weight and on
-// the features' local deviations. The set-up (stacking.cpp) and the regression
-// (stack_regression.cpp).
+// the features' local deviations: the regressors and the regression (stack_regression.cpp); the
+// pipeline (auto_composite.cpp) sets them up.
 #pragma once
 
 #include <cstddef>
@@ -12,14 +12,10 @@
 #include "glint/image/image.h"
 
 namespace glint::denoise {
-class FilterBank;
 class WorkContext;
 }  // namespace glint::denoise
 
 namespace glint::denoise::detail {
-
-class HalvesEstimator;
-struct AutoSettings;
 
 /// One member of the stacking (AutoOptions::stack): its results on all the samples, on half A
 /// and on half B (region-sized, 3 channels). A feature regressor (featureRegressors) is one
@@ -97,20 +93,5 @@ Image stackComposite(const Image& composite, const Image& blendA, const Image& b
 /// The rows of the regression's tiles (each with `radius` rows of context on either side), so
 /// that the sums of a 1024-wide frame with 10 regressors take about 75 MB, not ten times that.
 constexpr int kStackTileRows = 128;
-
-/// The stacked composite and what it fitted.
-struct Stacked {
-    Image composite;
-    int members = 0;   ///< AutoResult::stacked
-    int features = 0;  ///< AutoResult::stackFeatures
-};
-
-/// The stacking stage: `composite`, the blend of the bank's results under `planes`, corrected by
-/// the `stack` members first in `order` (largest total weight first) and the features
-/// settings.stackAlbedo / stackNormal ask for, fitted on `halves`' results (kept for the
-/// stacking). Rows through `work`.
-Stacked stack(const Image& composite, const std::vector<Image>& planes,
-              const std::vector<int>& order, const FilterBank& bank, const FrameBuffers& frame,
-              const HalvesEstimator& halves, const AutoSettings& settings, WorkContext& work);
 
 }  // namespace glint::denoise::detail
