@@ -77,14 +77,15 @@ class Pipeline {
     };
 
     Pipeline(const FilterBank& bank, const FrameBuffers& frame, const AutoSettings& s, int rows,
-             WorkContext& work, StripSpill& spill)
+             double memberMB, WorkContext& work, StripSpill& spill)
         : m_bank(bank),
           m_frame(frame),
           m_s(s),
           m_work(work),
           m_region(bank.region()),
           m_spill(spill),
-          m_rows(std::max(1, rows)) {
+          m_rows(std::max(1, rows)),
+          m_memberMB(memberMB) {
         for (int y = 0; y < m_region.height(); y += m_rows)
             m_strips.push_back({y, std::min(m_region.height(), y + m_rows)});
         // A member whose margins (read again above and below every tile) would cost more than
@@ -105,7 +106,7 @@ class Pipeline {
     }
     // Member m applied to `input` over region rows [y0, y1). A member with a memory budget of
     // its own (the learned member's memoryMB, whose tiling does not change its output) is held
-    // to kMemberMemoryMB.
+    // to autoMemberMemoryMB.
     Image apply(std::size_t m, const FrameBuffers& input, int y0, int y1) const {
         const BankMember& member = m_bank.members()[m];
         const Filter& filter = findFilter(member.filter);
@@ -114,7 +115,7 @@ class Pipeline {
         fo.progress = m_going;
         ParamValues params = resolveParams(filter, member.params);
         if (const auto it = params.find("memoryMB"); it != params.end())
-            it->second = std::min(it->second, kMemberMemoryMB);
+            it->second = std::min(it->second, m_memberMB);
         return applyFilter(filter, input, params, fo);
     }
     // What a member is applied to: the input the bank sees, half A or half B.
@@ -188,6 +189,7 @@ class Pipeline {
     const Rect m_region;
     StripSpill& m_spill;
     const int m_rows;
+    const double m_memberMB;  // autoMemberMemoryMB
     std::vector<Strip> m_strips;
     std::vector<char> m_wide;  // per member: applied over the whole region (above)
     ProgressFn m_going = [this](double) { return !m_work.cancelled(); };
@@ -567,10 +569,9 @@ TiledAuto autoCompositeTiled(const FilterBank& bank, const FrameBuffers& frame,
                              const AutoOptions& options, const TileControl& control) {
     const AutoSettings settings = resolveSettings(bank, frame, options);
     const int height = bank.region().height();
+    const std::uint64_t budget = autoMemoryBudget(options.memoryLimit);
     const int rows = std::min(
-        height, control.rows > 0
-                    ? control.rows
-                    : autoTileRows(bank, frame, settings, autoMemoryBudget(options.memoryLimit)));
+        height, control.rows > 0 ? control.rows : autoTileRows(bank, frame, settings, budget));
     // The spill for at most every member's result on the input and on the halves that the
     // stacking reads.
     const std::size_t sides = settings.stack <= 0                            ? 1
@@ -585,7 +586,9 @@ TiledAuto autoCompositeTiled(const FilterBank& bank, const FrameBuffers& frame,
     TiledAuto out;
     try {
         work.addWork(0);  // the first report, at 0: a callback can stop before any work
-        out.result = Pipeline(bank, frame, settings, rows, work, spill).run();
+        out.result = Pipeline(bank, frame, settings, rows,
+                              autoMemberMemoryMB(bank, frame, settings, budget), work, spill)
+                         .run();
         work.throwIfCancelled();
         work.finish();
     } catch (const Error& e) {

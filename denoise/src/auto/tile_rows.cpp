@@ -1,6 +1,7 @@
 // The height of the automatic selection's tiles from its memory budget (pipeline.h;
 // docs/auto-memory.md, "Memory").
 #include <algorithm>
+#include <cmath>
 
 #include "glint/image/memory.h"
 #include "options.h"
@@ -14,12 +15,26 @@ std::uint64_t autoMemoryBudget(std::uint64_t limit) {
 
 namespace detail {
 
-std::uint64_t autoFixedMemory(const FilterBank& bank, const FrameBuffers& frame,
-                              const AutoSettings& settings) {
-    std::uint64_t input = 0;
+// Bytes of the frame's layers.
+std::uint64_t frameBytes(const FrameBuffers& frame) {
+    std::uint64_t bytes = 0;
     for (int l = 0; l < kLayerCount; ++l)
         if (const Image* layer = frame.find(Layer(l)))
-            input += std::uint64_t(layer->data().size()) * sizeof(float);
+            bytes += std::uint64_t(layer->data().size()) * sizeof(float);
+    return bytes;
+}
+
+double autoMemberMemoryMB(const FilterBank&, const FrameBuffers& frame,
+                          const AutoSettings& settings, std::uint64_t budget) {
+    const std::uint64_t inputs = (settings.halves ? 1 : 2) * frameBytes(frame);
+    const double room = budget > inputs ? double(budget - inputs) : 0.0;
+    // Whole MiB: the parameter is an integer.
+    return std::clamp(std::floor(0.6 * room / 1048576.0), 256.0, 1024.0);
+}
+
+std::uint64_t autoFixedMemory(const FilterBank& bank, const FrameBuffers& frame,
+                              const AutoSettings& settings) {
+    const std::uint64_t input = frameBytes(frame);
     const Rect& r = bank.region();
     const auto pixels = std::uint64_t(r.width()) * std::uint64_t(r.height());
     const std::uint64_t n = bank.size();
