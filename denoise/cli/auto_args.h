@@ -20,7 +20,7 @@ struct AutoArgs {
     std::string quality = "balanced";
     // Integers are parsed strictly from their text (parseInteger, parseUnsigned). An empty size
     // is the quality's.
-    std::string size, bankSeed = "1", seed = "1", stream = "auto", memoryLimit;
+    std::string size, bankSeed = "1", seed = "1", memoryLimit;
     float exposure = 0.0f;
     bool prefilter = false, json = false;
     std::vector<std::string> filterParams;  // --filter-param FILTER.NAME=VALUE

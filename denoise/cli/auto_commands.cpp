@@ -111,14 +111,13 @@ Image bestMemberResult(const FilterBank& bank, const FrameBuffers& frame, int be
                        member.params, fo);
 }
 
-// Whether holding the bank in memory and choosing from it fits `limit` (0: the memory available):
-// the bank's results (estimateMemory), as much again for the results on half A the stacking
-// keeps, and the error maps and window scores, about a quarter of the results
-// (docs/auto-memory.md).
-bool wholeFrameFits(const FrameBuffers& frame, const BankOptions& bankOptions,
+// Whether a bank folder's results, read whole, fit `limit` (0: the memory available) beside the
+// selection's own budget (docs/auto-memory.md); else its members are applied again.
+bool bankFolderFits(const FrameBuffers& frame, const BankOptions& bankOptions,
                     std::uint64_t limit) {
-    const double bank = double(estimateMemory(frame, bankOptions));
-    return 2.5 * bank < double(limit > 0 ? limit : availableMemory());
+    const std::uint64_t need =
+        saturatingAdd(estimateMemory(frame, bankOptions), autoMemoryBudget(limit));
+    return need <= (limit > 0 ? limit : availableMemory());
 }
 
 // Refuses, naming `file` and the first missing layer, a --filters list none of whose filters
@@ -171,10 +170,6 @@ void useImageNoise(FrameBuffers& frame, AutoOptions& options, const AutoArgs& a)
 }  // namespace
 
 void runAuto(const AutoArgs& a) {
-    if (a.stream != "auto" && a.stream != "on" && a.stream != "off")
-        throw Error(ErrorKind::InvalidArgument,
-                    "'" + a.stream + "' is not a streaming mode (expected auto, on or off)",
-                    "command line", "--stream");
     if (a.input.empty() || a.out.empty())
         throw Error(ErrorKind::InvalidArgument, "IN and --out are required", "command line",
                     a.input.empty() ? "IN" : "--out");
@@ -222,6 +217,7 @@ void runAuto(const AutoArgs& a) {
         bankOptions = readBankOptions(a.bank);
     }
     bankOptions.memoryLimit = memoryLimit;
+    options.memoryLimit = memoryLimit;
     options.prefilter = bankOptions.prefilter;
     options.prefilterParams = bankOptions.prefilterParams;
 
@@ -260,35 +256,23 @@ void runAuto(const AutoArgs& a) {
             return true;
         };
     };
-    // The bank is held in memory and chosen from (the fastest): built here, or read from the bank
-    // folder. When that would not fit --memory-limit (or the memory available) under --stream
-    // auto, or when asked (--stream on), the members (a bank folder's: the same options) are
-    // applied strip by strip instead, no member held whole (autoCompositeStreamed;
-    // docs/auto-memory.md); a folder's stored results are then not read.
-    const bool streamed = a.stream == "on" ||
-                          (a.stream == "auto" && !wholeFrameFits(frame, bankOptions, memoryLimit));
-    if (streamed && !a.bank.empty())
+    // The selection applies the members tile by tile, the tiles' height from --memory-limit
+    // (autoCompositeStreamed; docs/auto-memory.md). A bank folder's stored results are read
+    // instead when they fit in memory beside it; else its members (the same options) are
+    // applied again: the same result.
+    const bool readFolder = !a.bank.empty() && bankFolderFits(frame, bankOptions, memoryLimit);
+    if (!a.bank.empty() && !readFolder)
         std::fprintf(stderr,
-                     "glint-denoise: streamed: the members of the bank %s are applied again strip "
-                     "by strip (its stored results are read only when the bank fits in memory)\n",
+                     "glint-denoise: the members of the bank %s are applied again tile by tile "
+                     "(its stored results do not fit in memory)\n",
                      a.bank.c_str());
-    if (!streamed && !a.bank.empty() && memoryLimit > 0)
-        checkMemory(saturatingMul(estimateMemory(frame, bankOptions), 5) / 2, memoryLimit,
-                    "reading the bank's members whole (--stream off; --stream auto would stream "
-                    "them)",
-                    a.bank, "--memory-limit");
-    // A default bank, built here (whole or streamed) or reopened from its folder, says once what
+    // A default bank, built here or reopened from its folder, says once what
     // it goes without.
     const json leftOut = reportLeftOutFilters(bankOptions);
     const auto t0 = Clock::now();
     FilterBank bank;
-    if (!streamed) {
-        if (a.bank.empty()) {
-            bankOptions.progress = progressLine("bank");
-            bank = buildBank(frame, bankOptions);
-        } else {
-            bank = openBank(frame, a.bank, progressLine("bank"));
-        }
+    if (readFolder) {
+        bank = openBank(frame, a.bank, progressLine("bank"));
         if (tty) std::fprintf(stderr, "\n");
     }
     const double bankSeconds = secondsSince(t0);
@@ -296,7 +280,7 @@ void runAuto(const AutoArgs& a) {
     options.progress = progressLine("auto");
     AutoResult result;
     try {
-        if (streamed) {
+        if (!readFolder) {
             StreamedAuto s = autoCompositeStreamed(frame, bankOptions, options);
             bank = std::move(s.bank);
             result = std::move(s.result);
@@ -329,7 +313,7 @@ void runAuto(const AutoArgs& a) {
                 {"estimator", autoEstimatorName(result.estimator)},
                 {"quality", autoQualityName(quality)},
                 {"seed", options.seed},
-                {"streamed", streamed},
+                {"tileRows", result.tileRows},
                 {"stackFeatures", result.stackFeatures},
                 {"bestMember", memberJson(bank, result.bestMember)},
                 {"bestMemberEstimatedMse", result.estimatedMse[std::size_t(result.bestMember)]},
@@ -457,13 +441,9 @@ CLI::App* addAutoFlags(CLI::App& app, const std::shared_ptr<AutoArgs>& a) {
                     "Seed of the estimate's random numbers (0 … 2^63 - 1): the same seed, the same "
                     "image");
     cmd->add_option("--memory-limit", a->memoryLimit,
-                    "Hold the bank in memory only within this size (e.g. 2G; default: what is "
-                    "available, or GLINT_MEMORY_LIMIT), else stream it strip by strip");
-    cmd->add_option("--stream", a->stream,
-                    "auto (default: strip by strip only when the bank would not fit in memory) | "
-                    "on (strip by strip: memory grows with the frame, not the bank; see --spill; "
-                    "a --bank folder's members are applied again) | off (the bank in memory)");
-    addTuningFlag(cmd, a, *findParam(autoTuningSpecs(), "spill"));
+                    "Memory the selection may use besides IN (e.g. 1G; default 1.25G, or less "
+                    "when less is available or GLINT_MEMORY_LIMIT says so): a smaller limit "
+                    "cuts the frame into more tiles, the same result");
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
     return cmd;
 }

@@ -207,63 +207,59 @@ TEST_F(AutoCli, OracleOfAnInputWithoutVarianceRunsAutoOnTheImageEstimate) {
     EXPECT_GT(j["auto"]["ssim"].get<double>(), 0.0);
 }
 
-TEST_F(AutoCli, StreamedAndInMemoryAutoAgree) {
-    // --stream on filters the members strip by strip (docs/auto-memory.md); off holds the
-    // bank. Only the stacking's regression adds its sums per strip: float rounding, 1e-5.
-    for (const char* mode : {"on", "off"}) {
-        const RunResult r = runEither("auto " + path("halves.exr") + " --out " + path(mode) +
-                                      ".exr --size 6 --json --stream " + mode);
-        ASSERT_EQ(r.exitCode, 0) << r.err;
-        EXPECT_EQ(nlohmann::json::parse(r.out)["streamed"], std::string(mode) == "on");
-    }
-    EXPECT_LE(
-        testing::maxAbsDiff(readExr(path("on.exr")).color(), readExr(path("off.exr")).color()),
-        1e-5);
-    const RunResult bad =
-        runEither("auto " + path("halves.exr") + " --out " + path("x.exr") + " --stream sometimes");
-    EXPECT_EQ(bad.exitCode, 2);
-    EXPECT_NE(bad.err.find("--stream"), std::string::npos) << bad.err;
-}
-
-// --memory-limit decides, as GLINT_MEMORY_LIMIT did without a word, whether the bank is held in
-// memory or streamed; it is parsed as every tool's size. --stream on with a bank folder streams
-// that folder's members (it used to be ignored) and agrees with reading them.
-TEST_F(AutoCli, TheMemoryLimitChoosesStreamingAndStreamOnWorksWithABankFolder) {
-    const std::string in = path("halves.exr") + " --size 6 --json" + kClassicalFilters;
-    RunResult r = runEither("auto " + in + " --out " + path("small.exr") + " --memory-limit 1K");
+// --memory-limit sets the height of the selection's tiles (docs/auto-memory.md): one tile
+// when the frame fits, many in a small limit, the same floats; it is parsed as every tool's
+// size. --stream and --spill are gone (the one pipeline decides).
+TEST_F(AutoCli, TheMemoryLimitTilesTheFrameWithTheSameResult) {
+    // Taller than the lowest tile height, so that a small limit cuts it.
+    FrameBuffers tall = testing::syntheticFrame(48, 160, 0.1f);
+    tall.set(Layer::HalfColor, testing::syntheticFrame(48, 160, 0.1f, 2).color());
+    for (Layer l : {Layer::Albedo, Layer::Normal, Layer::Depth, Layer::AlbedoVariance,
+                    Layer::NormalVariance, Layer::DepthVariance})
+        if (tall.has(l)) tall.set(*halfLayer(l), tall.layer(l));
+    tall.ensure(Layer::HalfVariance);
+    for (float& v : tall.ensure(Layer::SampleCount).data()) v = 2.0f;
+    for (float& v : tall.ensure(Layer::HalfSampleCount).data()) v = 1.0f;
+    writeExr(tall, path("tall.exr"));
+    const std::string in = path("tall.exr") + " --size 6 --json" + kClassicalFilters;
+    RunResult r = runEither("auto " + in + " --out " + path("whole.exr") + " --memory-limit 64G");
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_EQ(nlohmann::json::parse(r.out)["streamed"], true);
-    r = runEither("auto " + in + " --out " + path("large.exr") + " --memory-limit 64G");
+    EXPECT_EQ(nlohmann::json::parse(r.out)["tileRows"], 160);
+    r = runEither("auto " + in + " --out " + path("tiled.exr") + " --memory-limit 1K");
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_EQ(nlohmann::json::parse(r.out)["streamed"], false);
+    EXPECT_LT(nlohmann::json::parse(r.out)["tileRows"].get<int>(), 160);
+    EXPECT_EQ(
+        testing::maxAbsDiff(readExr(path("whole.exr")).color(), readExr(path("tiled.exr")).color()),
+        0.0);
     for (const char* bad : {"0", "12Q", "-1"}) {
         r = runEither("auto " + in + " --out " + path("bad.exr") + " --memory-limit " + bad);
         EXPECT_EQ(r.exitCode, 2) << bad << "\n" << r.err;
         EXPECT_NE(r.err.find("--memory-limit"), std::string::npos) << r.err;
         EXPECT_FALSE(fs::exists(path("bad.exr")));
     }
+    for (const char* gone : {"--stream on", "--spill off"}) {
+        r = runEither("auto " + in + " --out " + path("gone.exr") + " " + gone);
+        EXPECT_EQ(r.exitCode, 2) << gone << "\n" << r.err;
+        EXPECT_FALSE(fs::exists(path("gone.exr")));
+    }
+}
 
-    r = run("bank " + path("halves.exr") + " --out " + path("bank") + " --size 6" +
-            kClassicalFilters);
+// A bank folder's results are read when they fit in memory, else its members are applied again
+// tile by tile (said on stderr): the same floats either way.
+TEST_F(AutoCli, ABankFolderIsReadOrAppliedAgainWithTheSameResult) {
+    RunResult r = run("bank " + path("halves.exr") + " --out " + path("bank") + " --size 6" +
+                      kClassicalFilters);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const std::string bank = path("halves.exr") + " --bank " + path("bank") + " --json";
-    r = runEither("auto " + bank + " --out " + path("read.exr") + " --stream off");
+    r = runEither("auto " + bank + " --out " + path("read.exr"));
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_EQ(nlohmann::json::parse(r.out)["streamed"], false);
-    r = runEither("auto " + bank + " --out " + path("streamed.exr") + " --stream on");
+    EXPECT_EQ(r.err.find("applied again"), std::string::npos) << r.err;
+    r = runEither("auto " + bank + " --out " + path("again.exr") + " --memory-limit 1K");
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_EQ(nlohmann::json::parse(r.out)["streamed"], true);
-    EXPECT_NE(r.err.find("applied again strip by strip"), std::string::npos) << r.err;
-    // Float rounding of the stacking's sums per strip, as StreamedAndInMemoryAutoAgree.
-    EXPECT_LE(testing::maxAbsDiff(readExr(path("read.exr")).color(),
-                                  readExr(path("streamed.exr")).color()),
-              1e-5);
-    // Reading the folder whole within a limit too small for it is refused with the way out.
-    r = runEither("auto " + bank + " --out " + path("tight.exr") +
-                  " --stream off --memory-limit 1K");
-    EXPECT_EQ(r.exitCode, 2) << r.err;
-    EXPECT_NE(r.err.find("--stream auto"), std::string::npos) << r.err;
-    EXPECT_FALSE(fs::exists(path("tight.exr")));
+    EXPECT_NE(r.err.find("applied again tile by tile"), std::string::npos) << r.err;
+    EXPECT_EQ(
+        testing::maxAbsDiff(readExr(path("read.exr")).color(), readExr(path("again.exr")).color()),
+        0.0);
 }
 
 TEST_F(AutoCli, AChoiceOfTwoNamesTakesOneOfThem) {

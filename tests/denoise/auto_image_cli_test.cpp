@@ -58,20 +58,26 @@ TEST_F(AutoImageCli, OnTheCyclesExrAutoDenoisesAgainstTheCyclesReference) {
     EXPECT_GT(j["metrics"]["ssim"].get<double>(), j["metricsInput"]["ssim"].get<double>() + 0.3);
 }
 
-TEST_F(AutoImageCli, StreamedAndInMemoryAgreeWithTheImageEstimator) {
-    // The streamed selection's SURE estimator makes the same estimate from the frame: the same
-    // composite up to float rounding (1e-5).
-    for (const char* mode : {"on", "off"}) {
+TEST_F(AutoImageCli, OneTileAndManyAgreeWithTheImageEstimator) {
+    // The pipeline's SURE estimator makes the same estimate from the frame in one tile (a large
+    // --memory-limit) and in many (a tiny one): the same composite, bit for bit.
+    int height = 0;
+    for (const char* limit : {"64G", "1K"}) {
         const RunResult r = runEither("auto " + kCycles + "/cornell_8spp_seed2.exr --out " +
-                                      path(mode) + ".exr --size 8 --json --stream " + mode);
+                                      path(limit) + ".exr --size 8 --json --memory-limit " + limit);
         ASSERT_EQ(r.exitCode, 0) << r.err;
         const nlohmann::json j = nlohmann::json::parse(r.out);
-        EXPECT_EQ(j["streamed"], std::string(mode) == "on");
         EXPECT_EQ(j["estimator"], "image");
+        if (height == 0) {
+            height = j["tileRows"].get<int>();  // one tile: the region's height
+            EXPECT_GT(height, 64);              // taller than the lowest tile height
+        } else {
+            EXPECT_LT(j["tileRows"].get<int>(), height);
+        }
     }
-    EXPECT_LE(
-        testing::maxAbsDiff(readExr(path("on.exr")).color(), readExr(path("off.exr")).color()),
-        1e-5);
+    EXPECT_EQ(
+        testing::maxAbsDiff(readExr(path("64G.exr")).color(), readExr(path("1K.exr")).color()),
+        0.0);
 }
 
 TEST_F(AutoImageCli, ForcedOnAGlintRenderItSaysTheVarianceLayerIsNotUsedAndWritesItsEstimate) {

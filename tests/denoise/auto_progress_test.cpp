@@ -113,14 +113,23 @@ TEST(AutoProgress, EachLaterStageStopsAtItsFirstReportWhenTheCallbackSaysStop) {
         planes[m] = Image(w, h, 1);
         for (float& v : planes[m].data()) v = 0.5f;
     }
+    const std::vector<std::size_t> used{0, 1};
+    const std::vector<const Image*> results{&c.bank.result(0), &c.bank.result(1)};
     {
         WorkContext work(stopping());
-        std::vector<Image> feathered = planes;
-        expectCancelled([&] { detail::featherWeights(feathered, c.bank, 3, 0.2, 0.0f, work); });
+        std::vector<Image> p = planes, feathered{planes[0], planes[1]};
+        expectCancelled([&] {
+            detail::featherRows(p, used, feathered, results, 0, h, 0.2, 0.0f, work);
+            work.throwIfCancelled();
+        });
     }
     {
         WorkContext work(stopping());
-        expectCancelled([&] { detail::blend(planes, c.bank, work); });
+        Image out(w, h, 3);
+        expectCancelled([&] {
+            detail::blendRows(planes, used, results, 0, h, out, nullptr, work);
+            work.throwIfCancelled();
+        });
     }
     {
         detail::Estimates estimates;

@@ -1,9 +1,10 @@
-// The automatic selection streamed by strips (auto_stream.h; docs/auto-memory.md): on tiny
-// strips, so that every strip boundary and every margin (the filters', the choice's windows,
-// feathering, the stacking's windows) is crossed, it gives autoComposite's result over the
-// whole bank, for SURE and for the halves with a shortlist, feathering and stacking; and it
-// reports progress and stops when told. Its spill file changes no value, and a spill that cannot
-// be written gives the same result.
+// The automatic selection's tiles (pipeline.h; docs/auto-memory.md): on tiny strips, so that
+// every strip boundary and every margin (the filters', the choice's windows, feathering, the
+// stacking's windows and tiles) is crossed, without the bank's results (auto_stream.h) it gives
+// autoComposite's result over the whole bank, for SURE and for the halves with a shortlist,
+// feathering and stacking, and one tile and many give the same floats; it reports progress and
+// stops when told. Its spill file changes no value, and a spill that cannot be written gives the
+// same result. The tiles' height follows the memory budget.
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 
@@ -11,13 +12,15 @@
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
+#include <cstring>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "auto/options.h"
-#include "auto/streamed.h"
+#include "auto/pipeline.h"
+#include "auto/stacking.h"
 #include "glint/denoise/auto.h"
 #include "glint/denoise/auto_stream.h"
 #include "glint/denoise/bank.h"
@@ -46,6 +49,11 @@ FrameBuffers featureFrame(std::uint32_t seed) {
     return f;
 }
 
+// Tiles of `rows` rows, with the spill as given.
+detail::TileControl tiles(int rows, detail::SpillMode spill = detail::SpillMode::Auto) {
+    return {rows, spill};
+}
+
 BankOptions smallBank() {
     BankOptions b;
     b.size = 8;
@@ -63,10 +71,8 @@ double maxDifference(const Image& a, const Image& b) {
 }
 
 // The streamed result against autoComposite's over the same bank. A filter over a strip gives
-// the strip of its whole-frame output and the passes add up their sums in the same order, so
-// the estimates, the choice and the weights are the same, value for value; the stacking's
-// regression sums its windows from the strip's rows (its coefficients may differ by float
-// rounding, so the composite is compared within 1e-6).
+// the strip of its whole-frame output and the passes add up their sums in the same order (the
+// stacking's too, tile after tile), so everything is the same, value for value.
 void expectSame(const AutoResult& whole, const StreamedAuto& streamed, const FilterBank& bank) {
     const AutoResult& s = streamed.result;
     ASSERT_EQ(streamed.bank.size(), bank.size());
@@ -90,7 +96,7 @@ void expectSame(const AutoResult& whole, const StreamedAuto& streamed, const Fil
         EXPECT_EQ(maxDifference(s.layers[i].weights, whole.layers[i].weights), 0.0);
     }
     EXPECT_EQ(maxDifference(s.choice, whole.choice), 0.0);
-    EXPECT_LE(maxDifference(s.composite, whole.composite), 1e-6);
+    EXPECT_EQ(maxDifference(s.composite, whole.composite), 0.0);
 }
 
 // The halves with a shortlist, feathering and stacking (every pass of the streamed selection).
@@ -117,7 +123,7 @@ TEST(AutoStream, HalvesWithShortlistFeatheringAndStackingMatchTheWholeFrame) {
     ASSERT_EQ(whole.stackFeatures, 4);  // the albedo's and the normal's three
     for (int rows : {16, 7, 64}) {
         SCOPED_TRACE("strips of " + std::to_string(rows) + " rows");
-        expectSame(whole, detail::autoCompositeStreamed(f, b, o, rows), bank);
+        expectSame(whole, detail::autoCompositeStreamed(f, b, o, tiles(rows)), bank);
     }
 }
 
@@ -133,7 +139,8 @@ TEST(AutoStream, HalvesInEverySpaceMatchTheWholeFrame) {
         o.tuning["space"] = double(space);
         o.tuning["shortlist"] = 0;  // every member on both halves
         o.tuning["stack"] = 1;
-        expectSame(autoComposite(bank, f, o), detail::autoCompositeStreamed(f, b, o, 16), bank);
+        expectSame(autoComposite(bank, f, o), detail::autoCompositeStreamed(f, b, o, tiles(16)),
+                   bank);
     }
 }
 
@@ -147,7 +154,8 @@ TEST(AutoStream, SureMatchesTheWholeFrame) {
         o.estimator = AutoEstimator::Sure;
         o.tuning["space"] = double(space);
         o.tuning["feather"] = 2;
-        expectSame(autoComposite(bank, f, o), detail::autoCompositeStreamed(f, b, o, 16), bank);
+        expectSame(autoComposite(bank, f, o), detail::autoCompositeStreamed(f, b, o, tiles(16)),
+                   bank);
     }
 }
 
@@ -165,7 +173,7 @@ TEST(AutoStream, ReportsProgressToTheEndAndStopsWhenTold) {
         fractions.push_back(x);
         return true;
     };
-    detail::autoCompositeStreamed(f, b, o, 16);
+    detail::autoCompositeStreamed(f, b, o, tiles(16));
     ASSERT_GT(fractions.size(), 10u);
     EXPECT_EQ(fractions.front(), 0.0);
     EXPECT_EQ(fractions.back(), 1.0);
@@ -175,7 +183,7 @@ TEST(AutoStream, ReportsProgressToTheEndAndStopsWhenTold) {
         SCOPED_TRACE("stop at " + std::to_string(stopAt));
         o.progress = [stopAt](double x) { return x < stopAt; };
         try {
-            detail::autoCompositeStreamed(f, b, o, 16);
+            detail::autoCompositeStreamed(f, b, o, tiles(16));
             FAIL() << "not cancelled";
         } catch (const Error& e) {
             EXPECT_EQ(e.kind(), ErrorKind::Cancelled) << e.what();
@@ -183,13 +191,8 @@ TEST(AutoStream, ReportsProgressToTheEndAndStopsWhenTold) {
     }
 }
 
-// The tuning's "spill" choices.
-constexpr double kSpillAuto = 0, kSpillOn = 1, kSpillOff = 2;
-
-AutoOptions withSpill(AutoOptions o, double spill) {
-    o.tuning["spill"] = spill;
-    return o;
-}
+constexpr detail::SpillMode kSpillAuto = detail::SpillMode::Auto, kSpillOn = detail::SpillMode::On,
+                            kSpillOff = detail::SpillMode::Off;
 
 // Two streamed results equal value for value.
 void expectIdentical(const StreamedAuto& a, const StreamedAuto& b) {
@@ -213,12 +216,12 @@ TEST(AutoStream, TheSpillGivesTheSameFloatsAsFilteringAgain) {
     for (int rows : {7, 16}) {
         SCOPED_TRACE("strips of " + std::to_string(rows) + " rows");
         const StreamedAuto off =
-            detail::autoCompositeStreamed(f, b, withSpill(stackingOptions(), kSpillOff), rows);
+            detail::autoCompositeStreamed(f, b, stackingOptions(), tiles(rows, kSpillOff));
         EXPECT_FALSE(off.spilled);
         EXPECT_TRUE(off.warning.empty()) << off.warning;
         ASSERT_EQ(off.result.stacked, 2);
         const StreamedAuto on =
-            detail::autoCompositeStreamed(f, b, withSpill(stackingOptions(), kSpillOn), rows);
+            detail::autoCompositeStreamed(f, b, stackingOptions(), tiles(rows, kSpillOn));
         EXPECT_TRUE(on.spilled) << on.warning;
         EXPECT_TRUE(on.warning.empty()) << on.warning;
         expectIdentical(on, off);
@@ -228,9 +231,9 @@ TEST(AutoStream, TheSpillGivesTheSameFloatsAsFilteringAgain) {
     AutoOptions o;
     o.estimator = AutoEstimator::Sure;
     o.tuning["feather"] = 2;
-    const StreamedAuto on = detail::autoCompositeStreamed(g, b, withSpill(o, kSpillAuto), 16);
+    const StreamedAuto on = detail::autoCompositeStreamed(g, b, o, tiles(16, kSpillAuto));
     EXPECT_TRUE(on.spilled) << on.warning;
-    expectIdentical(on, detail::autoCompositeStreamed(g, b, withSpill(o, kSpillOff), 16));
+    expectIdentical(on, detail::autoCompositeStreamed(g, b, o, tiles(16, kSpillOff)));
 }
 
 // Sets an environment variable for its lifetime.
@@ -277,17 +280,17 @@ TEST(AutoStream, ASpillThatCannotBeWrittenFallsBackWithTheSameResult) {
     const FrameBuffers f = featureFrame(6);
     const BankOptions b = smallBank();
     const StreamedAuto off =
-        detail::autoCompositeStreamed(f, b, withSpill(stackingOptions(), kSpillOff), 16);
+        detail::autoCompositeStreamed(f, b, stackingOptions(), tiles(16, kSpillOff));
     {
         // No file can be created: asked for, a warning; automatic, silently filtered again.
         const ScopedEnv tmp("TMPDIR", "/nonexistent/glint-spill");
         const StreamedAuto on =
-            detail::autoCompositeStreamed(f, b, withSpill(stackingOptions(), kSpillOn), 16);
+            detail::autoCompositeStreamed(f, b, stackingOptions(), tiles(16, kSpillOn));
         EXPECT_FALSE(on.spilled);
         EXPECT_NE(on.warning.find("/nonexistent/glint-spill"), std::string::npos) << on.warning;
         expectIdentical(on, off);
         const StreamedAuto automatic =
-            detail::autoCompositeStreamed(f, b, withSpill(stackingOptions(), kSpillAuto), 16);
+            detail::autoCompositeStreamed(f, b, stackingOptions(), tiles(16, kSpillAuto));
         EXPECT_FALSE(automatic.spilled);
         EXPECT_TRUE(automatic.warning.empty()) << automatic.warning;
         expectIdentical(automatic, off);
@@ -296,11 +299,112 @@ TEST(AutoStream, ASpillThatCannotBeWrittenFallsBackWithTheSameResult) {
         // The file stops growing after two of the 96×64 results: the writes fail mid-pass.
         const ScopedFileSizeLimit limit(2 * 96 * 64 * 3 * sizeof(float) + 100);
         const StreamedAuto failed =
-            detail::autoCompositeStreamed(f, b, withSpill(stackingOptions(), kSpillAuto), 16);
+            detail::autoCompositeStreamed(f, b, stackingOptions(), tiles(16, kSpillAuto));
         EXPECT_FALSE(failed.spilled);
         EXPECT_NE(failed.warning.find("cannot write"), std::string::npos) << failed.warning;
         expectIdentical(failed, off);
     }
+}
+
+// A frame taller than the stacking's regression tiles (kStackTileRows), with half buffers and
+// the features, so that the stacking's tiles and its smoothing cross the pipeline's tiles.
+FrameBuffers tallFrame(std::uint32_t seed) {
+    const Image clean = cleanImage(48, 2 * detail::kStackTileRows + 40);
+    FrameBuffers f = halvesFrame(clean, 0.08, Noise::Skewed, seed);
+    Image albedo(clean.width(), clean.height(), 3), normal(clean.width(), clean.height(), 3);
+    for (int y = 0; y < clean.height(); ++y)
+        for (int x = 0; x < clean.width(); ++x) {
+            for (int c = 0; c < 3; ++c) albedo(x, y, c) = 0.5f * clean(x, y, c) + 0.2f;
+            normal(x, y, 0) = y >= 150 ? 0.3f : 0.0f, normal(x, y, 1) = 0.1f;
+            normal(x, y, 2) = 0.95f;
+        }
+    for (Layer l : {Layer::Albedo, Layer::HalfAlbedo}) f.set(l, albedo);
+    for (Layer l : {Layer::Normal, Layer::HalfNormal}) f.set(l, normal);
+    return f;
+}
+
+// Two results equal value for value (a bank's layers included).
+void expectIdentical(const AutoResult& a, const AutoResult& b) {
+    EXPECT_EQ(a.estimatedMse, b.estimatedMse);
+    EXPECT_EQ(a.bestMember, b.bestMember);
+    EXPECT_EQ(a.stacked, b.stacked);
+    EXPECT_EQ(a.stackFeatures, b.stackFeatures);
+    ASSERT_EQ(a.layers.size(), b.layers.size());
+    for (std::size_t i = 0; i < a.layers.size(); ++i) {
+        EXPECT_EQ(a.layers[i].member, b.layers[i].member);
+        EXPECT_EQ(maxDifference(a.layers[i].weights, b.layers[i].weights), 0.0);
+    }
+    EXPECT_EQ(maxDifference(a.choice, b.choice), 0.0);
+    ASSERT_TRUE(a.composite.sameShape(b.composite));
+    EXPECT_EQ(std::memcmp(a.composite.data().data(), b.composite.data().data(),
+                          a.composite.data().size() * sizeof(float)),
+              0);  // bit for bit
+}
+
+// The one pipeline: the whole region as one tile and many tiles of any height give the same
+// floats, with the bank's results read by rows or the members applied tile by tile, with the
+// default options (the halves, a shortlist, feathering, the stacking with the features) and
+// with SURE.
+TEST(AutoTiles, OneTileAndManyTilesGiveTheSameFloats) {
+    const FrameBuffers f = tallFrame(3);
+    const int height = f.height();
+    const BankOptions b = smallBank();
+    const FilterBank bank = buildBank(f, b);
+    AutoOptions o;
+    o.tuning["shortlist"] = 4;  // fewer than the members: the shortlist's pass runs
+    const detail::TiledAuto one = detail::autoCompositeTiled(bank, f, o, tiles(height));
+    ASSERT_EQ(one.result.tileRows, height);
+    ASSERT_GT(one.result.stacked, 0);
+    ASSERT_EQ(one.result.stackFeatures, 4);
+    for (int rows : {height / 2 + 1, 100, 37}) {
+        SCOPED_TRACE("tiles of " + std::to_string(rows) + " rows");
+        const detail::TiledAuto many = detail::autoCompositeTiled(bank, f, o, tiles(rows));
+        EXPECT_EQ(many.result.tileRows, rows);
+        expectIdentical(one.result, many.result);
+        expectIdentical(one.result, detail::autoCompositeStreamed(f, b, o, tiles(rows)).result);
+    }
+    AutoOptions sure;
+    sure.estimator = AutoEstimator::Sure;
+    const AutoResult oneSure = detail::autoCompositeTiled(bank, f, sure, tiles(height)).result;
+    expectIdentical(oneSure, detail::autoCompositeTiled(bank, f, sure, tiles(45)).result);
+    expectIdentical(oneSure, detail::autoCompositeStreamed(f, b, sure, tiles(45)).result);
+}
+
+// The tiles' height comes from the memory budget: one tile when the region fits, fewer rows as
+// the budget shrinks (never below the lowest height but where the region is lower), tiles of
+// one height; and AutoOptions::memoryLimit sets it without changing a value.
+TEST(AutoTiles, TheTileHeightFollowsTheMemoryBudget) {
+    const FrameBuffers f = tallFrame(4);
+    const int height = f.height();
+    const BankOptions b = smallBank();
+    const FilterBank bank = buildBank(f, b);
+    const FilterBank unbuilt = autoCompositeStreamed(f, b, {}).bank;
+    const detail::AutoSettings s = detail::resolveSettings(bank, f, {});
+    const std::uint64_t fixed = detail::autoFixedMemory(unbuilt, f, s);
+    EXPECT_EQ(detail::autoTileRows(unbuilt, f, s, std::uint64_t(1) << 40), height);
+    int previous = height;
+    for (std::uint64_t extra : {std::uint64_t(1) << 20, std::uint64_t(1) << 19, std::uint64_t(0)}) {
+        const int rows = detail::autoTileRows(unbuilt, f, s, fixed + extra);
+        EXPECT_LE(rows, previous) << extra;
+        EXPECT_GE(rows, detail::kMinTileRows * 3 / 4) << extra;  // evened out below the lowest
+        const int count = (height + rows - 1) / rows;
+        EXPECT_LT(count * rows - height, count) << rows;  // tiles of one height, but for rounding
+        previous = rows;
+    }
+    EXPECT_LT(previous, height);
+    // The bank's results are not the selection's to hold: with them, taller tiles.
+    EXPECT_GE(detail::autoTileRows(bank, f, s, fixed + (std::uint64_t(1) << 19)),
+              detail::autoTileRows(unbuilt, f, s, fixed + (std::uint64_t(1) << 19)));
+    // The public option: a tiny budget tiles the frame; the same floats as one tile.
+    AutoOptions tight;
+    tight.memoryLimit = 1;
+    const AutoResult tiled = autoComposite(bank, f, tight);
+    EXPECT_LT(tiled.tileRows, height);
+    const AutoResult whole = autoComposite(bank, f, {});
+    EXPECT_EQ(whole.tileRows, height);
+    expectIdentical(whole, tiled);
+    EXPECT_EQ(autoMemoryBudget(1000), 1000u);
+    EXPECT_LE(autoMemoryBudget(0), detail::kDefaultAutoMemory);
 }
 
 TEST(AutoStream, RejectsBadBankOptions) {

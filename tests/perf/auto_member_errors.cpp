@@ -24,6 +24,7 @@
 #include "auto/options.h"
 #include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
+#include "glint/denoise/registry.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 
@@ -94,7 +95,7 @@ int main(int argc, char** argv) {
     const dd::AutoSettings settings = dd::resolveSettings(bank, frame, options);
     const Image median = dd::bankMedian(bank);
     const std::vector<double> displayMedian = dd::displayOf(median, settings.exposure);
-    dd::HalvesEstimator halves(bank, frame, settings, true, true, &median, &displayMedian, nullptr);
+    dd::HalvesEstimator halves(bank, frame, settings, true, &median, &displayMedian, nullptr);
     const Rect region = bank.region();
     GLINT_CHECK(region.x0 == 0 && region.y0 == 0 && region.width() == frame.width() &&
                 region.height() == frame.height());
@@ -105,8 +106,15 @@ int main(int argc, char** argv) {
         const dd::MemberEstimate e = halves.estimate(m, [](double) { return true; });
         est[m] = tileMeans(e.map, tile);
         maps[m] = e.map;
-        const std::vector<double> a = tileErrors(halves.onA(m), ref, settings.exposure, tile);
-        const std::vector<double> b = tileErrors(halves.onB(m), ref, settings.exposure, tile);
+        // The member's results on each half (the estimator keeps none).
+        const BankMember& member = bank.members()[m];
+        FilterOptions fo;
+        fo.region = region;
+        const Filter& filter = findFilter(member.filter);
+        const Image onA = applyFilter(filter, halves.halfA(), member.params, fo);
+        const Image onB = applyFilter(filter, halves.halfB(), member.params, fo);
+        const std::vector<double> a = tileErrors(onA, ref, settings.exposure, tile);
+        const std::vector<double> b = tileErrors(onB, ref, settings.exposure, tile);
         half[m].resize(a.size());
         for (std::size_t t = 0; t < a.size(); ++t) half[m][t] = 0.5 * (a[t] + b[t]);
         full[m] = tileErrors(bank.result(m), ref, settings.exposure, tile);

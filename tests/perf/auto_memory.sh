@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # The memory figure of the automatic selection (docs/auto-memory.md): renders scenes/cornell
 # with half buffers at 4 spp at each SIZE (WIDTHxHEIGHT; default 1920x1080 and 3840x2160), then
-# runs bench_auto_memory in its own process per figure — the streamed selection (what
-# `glint-denoise auto IN --out OUT` runs) and, unless the size is in NO_WHOLE, the selection over
-# a materialised bank as before — under /usr/bin/time -v, and prints one JSON line per run with
-# the time, the peak resident memory and the largest difference from the run before it. MODES
-# lists the runs in order: whole, streamed (with its spill file, the default) and recompute (the
-# streamed selection with --spill off, which must equal streamed bit for bit).
+# runs bench_auto_memory in its own process per figure — the pipeline applying the members tile
+# by tile (what `glint-denoise auto IN --out OUT` runs) and, unless the size is in NO_WHOLE, the
+# same pipeline over a materialised bank — under /usr/bin/time -v, and prints one JSON line per
+# run with the time, the tiles' height, the peak resident memory and the largest difference from
+# the run before it. MODES lists the runs in order: whole, streamed (with its spill file, the
+# default) and recompute (with the spill off, which must equal streamed bit for bit).
 # Not part of `make test`: it takes minutes and most of the machine's memory.
 #   tests/perf/auto_memory.sh [BUILD_DIR] [WORK_DIR]
 #   SIZES="1920x1080 3840x2160" NO_WHOLE="3840x2160" MODES="whole streamed recompute" \

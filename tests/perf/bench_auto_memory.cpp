@@ -1,15 +1,17 @@
 // bench_auto_memory: the memory figure of `glint-denoise auto` without a bank folder
 // (docs/auto-memory.md). Reads IN (a render with half buffers for the halves estimator), then runs
 // the automatic selection over a bank of MEMBERS members (plus the defaults, no cache) once, either
-// as before streaming — buildBank then autoComposite over the bank's results (--mode whole) — or
-// strip by strip without the bank (--mode streamed, autoCompositeStreamed; --rows: the strip
-// height, 0: the default; --spill auto|on|off: the tuning's "spill", whether the members' results
-// read again are kept in a temporary file or filtered again). Prints one JSON object: the time, the
-// process's peak resident memory (getrusage), and with --against OTHER.exr (the other mode's --out)
-// the largest difference between the two composites. Run from tests/perf/auto_memory.sh, one
-// process per figure.
+// over a materialised bank — buildBank then autoComposite over the bank's results (--mode whole)
+// — or applying the members tile by tile (--mode streamed, autoCompositeStreamed: what
+// `glint-denoise auto IN --out OUT` runs); --rows: the tile height (0: from the memory budget,
+// --memory-limit BYTES, 0: the default); --spill auto|on|off: whether the members' results read
+// again are kept in a temporary file or filtered again. Prints one JSON object: the time, the tile
+// height, the process's peak resident memory (getrusage), and with --against OTHER.exr (the other
+// mode's --out) the largest difference between the two composites. Run from
+// tests/perf/auto_memory.sh, one process per figure.
 //   bench_auto_memory --in IN.exr [--mode whole|streamed] [--members 64] [--threads 2]
-//                     [--rows 0] [--spill auto] [--out OUT.exr] [--against OTHER.exr]
+//                     [--rows 0] [--memory-limit 0] [--spill auto] [--out OUT.exr]
+//                     [--against OTHER.exr]
 #include <sys/resource.h>
 #include <tbb/global_control.h>
 
@@ -21,7 +23,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "auto/streamed.h"
+#include "auto/pipeline.h"
 #include "bench_options.h"
 #include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
@@ -33,6 +35,7 @@ int main(int argc, char** argv) {
     using Clock = std::chrono::steady_clock;
     std::string input, mode = "streamed", outPath, against, spill = "auto";
     int members = 64, threads = 2, rows = 0;
+    long long memoryLimit = 0;
     const int parsed = glint::bench::parseOptions(
         "bench_auto_memory", argc, argv, [&](const std::string& a, const std::string& text) {
             if (a == "--in")
@@ -51,6 +54,8 @@ int main(int argc, char** argv) {
                 threads = glint::bench::intOption(a, text);
             else if (a == "--rows")
                 rows = glint::bench::intOption(a, text);
+            else if (a == "--memory-limit")
+                memoryLimit = std::stoll(text);
             else
                 return false;
             return true;
@@ -72,7 +77,9 @@ int main(int argc, char** argv) {
     glint::denoise::BankOptions bankOptions;
     bankOptions.size = members;
     glint::denoise::AutoOptions options;  // the defaults, as `glint-denoise auto IN --out OUT`
-    options.tuning["spill"] = double(spillIndex - std::begin(spills));
+    options.memoryLimit = std::uint64_t(std::max(0LL, memoryLimit));
+    const glint::denoise::detail::TileControl control{
+        rows, glint::denoise::detail::SpillMode(spillIndex - std::begin(spills))};
     const auto t0 = Clock::now();
     glint::denoise::AutoResult result;
     glint::Rect region;
@@ -81,11 +88,14 @@ int main(int argc, char** argv) {
     std::string warning;
     if (mode == "whole") {
         const glint::denoise::FilterBank bank = glint::denoise::buildBank(frame, bankOptions);
-        result = glint::denoise::autoComposite(bank, frame, options);
+        glint::denoise::detail::TiledAuto t =
+            glint::denoise::detail::autoCompositeTiled(bank, frame, options, control);
+        result = std::move(t.result);
         region = bank.region(), bankSize = bank.size();
+        spilled = t.spilled, warning = t.warning;
     } else {
         glint::denoise::StreamedAuto s =
-            glint::denoise::detail::autoCompositeStreamed(frame, bankOptions, options, rows);
+            glint::denoise::detail::autoCompositeStreamed(frame, bankOptions, options, control);
         result = std::move(s.result);
         region = s.bank.region(), bankSize = s.bank.size();
         spilled = s.spilled, warning = s.warning;
@@ -99,7 +109,7 @@ int main(int argc, char** argv) {
         {"input", input},           {"mode", mode},        {"width", frame.width()},
         {"height", frame.height()}, {"members", bankSize}, {"threads", threads},
         {"seconds", seconds},       {"peakMiB", peakMiB},  {"stacked", result.stacked},
-        {"spill", spill},           {"spilled", spilled}};
+        {"spill", spill},           {"spilled", spilled},  {"tileRows", result.tileRows}};
     if (!warning.empty()) report["warning"] = warning;
     if (!outPath.empty()) {
         glint::FrameBuffers out = frame;

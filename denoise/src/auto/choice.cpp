@@ -212,7 +212,7 @@ Choice choose(const Estimates& estimates, const std::vector<std::size_t>& candid
     const double confidence = settings.familywise
                                   ? familywiseMargin(settings.confidence, (c - 1) * radii.size())
                                   : settings.confidence;
-    // All rows at once, or strips of `stripRows` rows (the streamed selection's memory) whose
+    // All rows at once, or strips of `stripRows` rows (the pipeline's tiles) whose
     // scores ScoreRows gives value for value as windowScore over the whole maps.
     Choice out;
     if (final) {

@@ -1,6 +1,6 @@
 // The error estimators of the automatic selection (docs/auto.md, "Error estimation by SURE" and
-// "… by cross-validation on the halves") behind one interface, and the stage that runs one over
-// every member of the bank.
+// "… by cross-validation on the halves") behind one interface, and the estimates the pipeline
+// (auto_composite.cpp) keeps of every member.
 #pragma once
 
 #include <cstddef>
@@ -51,10 +51,5 @@ struct Estimates {
     std::vector<double> estimatedMse;
     std::vector<char> analytic;
 };
-
-/// The error estimation stage: `estimator` over members 0 … n − 1, in parallel through `work`,
-/// each member counting `unitsPerMember` work units. Throws Error(Cancelled) once cancelled.
-Estimates estimateMembers(ErrorEstimator& estimator, std::size_t n, WorkContext& work,
-                          std::int64_t unitsPerMember);
 
 }  // namespace glint::denoise::detail

@@ -4,59 +4,46 @@
 #include <cmath>
 
 #include "blend.h"
-#include "choice.h"
-#include "glint/denoise/bank.h"
 #include "glint/denoise/progress.h"
 #include "glint/image/display_curve.h"
 
 namespace glint::denoise::detail {
 
-void featherWeights(std::vector<Image>& planes, const FilterBank& bank, int radius, double gate,
-                    float exposure, WorkContext& work) {
-    std::vector<std::size_t> used;
-    for (std::size_t m = 0; m < planes.size(); ++m)
-        if (!planes[m].empty()) used.push_back(m);
+void featherRows(std::vector<Image>& planes, const std::vector<std::size_t>& used,
+                 std::vector<Image>& feathered, const std::vector<const Image*>& results, int y0,
+                 int y1, double gate, float exposure, WorkContext& work) {
     if (used.empty()) return;
-    const int width = planes[used.front()].width(), height = planes[used.front()].height();
+    const int width = planes[used.front()].width();
     const DisplayCurve display(std::exp2(double(exposure)));
     // The unfeathered composite in display values (blended as the blend stage blends the final
     // one).
-    Image composite(width, height, 3);
-    const std::vector<const Image*> results = bankResults(bank);
-    work.parallelFor(0, height, [&](int y) {
+    Image target(width, y1 - y0, 3);
+    work.parallelFor(y0, y1, [&](int y) {
         std::vector<double> sum(std::size_t(width) * 3);
-        blendRow(planes, results, y, sum);
-        float* out = composite.row(y);
+        blendRow(planes, results, y, sum, y0);
+        float* out = target.row(y - y0);
         for (std::size_t i = 0; i < sum.size(); ++i) out[i] = float(display(sum[i]));
     });
-    // Each plane feathered and gated (members in parallel).
-    std::vector<Image> feathered(used.size());
-    work.parallelFor(
-        0, int(used.size()),
-        [&](int index) {
-            const auto j = std::size_t(index);
-            const std::size_t m = used[j];
-            Image f = boxSmooth(planes[m], radius);
-            for (int y = 0; y < height; ++y) {
-                float* w = f.row(y);
-                const float* value = bank.result(m).row(y);
-                const float* target = composite.row(y);
-                for (int x = 0; x < width; ++x) {
-                    if (w[x] == 0.0f) continue;
-                    for (std::size_t k = 0; k < 3; ++k) {
-                        const std::size_t i = std::size_t(x) * 3 + k;
-                        if (std::fabs(display(double(value[i])) - double(target[i])) > gate) {
-                            w[x] = 0.0f;
-                            break;
-                        }
+    // Each feathered plane gated, then all renormalised per pixel (the members in order).
+    work.parallelFor(y0, y1, [&](int y) {
+        for (std::size_t j = 0; j < used.size(); ++j) {
+            if (!results[used[j]]) continue;  // weight 0 in all these rows
+            float* w = feathered[j].row(y);
+            const float* value = results[used[j]]->row(y - y0);
+            const float* to = target.row(y - y0);
+            for (int x = 0; x < width; ++x) {
+                if (w[x] == 0.0f) continue;
+                for (std::size_t k = 0; k < 3; ++k) {
+                    const std::size_t i = std::size_t(x) * 3 + k;
+                    if (std::fabs(display(double(value[i])) - double(to[i])) > gate) {
+                        w[x] = 0.0f;
+                        break;
                     }
                 }
             }
-            feathered[j] = std::move(f);
-        },
-        height);
-    // Renormalised per pixel (the members in order).
-    work.parallelFor(0, height, [&](int y) { renormaliseRow(planes, used, feathered, y); });
+        }
+        renormaliseRow(planes, used, feathered, y);
+    });
 }
 
 void renormaliseRow(std::vector<Image>& planes, const std::vector<std::size_t>& used,

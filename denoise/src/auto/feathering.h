@@ -8,21 +8,20 @@
 #include "glint/image/image.h"
 
 namespace glint::denoise {
-class FilterBank;
 class WorkContext;
 }  // namespace glint::denoise
 
 namespace glint::denoise::detail {
 
-/// Each member's plane (the non-empty ones, those of the final candidates) box-averaged over
-/// `radius`, zero where the member's display value is more than `gate` from the unfeathered
-/// composite's in a channel, then renormalised per pixel; a pixel where every feathered weight
-/// is 0 takes the member with the largest unfeathered weight alone. Rows and members through
-/// `work`.
-void featherWeights(std::vector<Image>& planes, const FilterBank& bank, int radius, double gate,
-                    float exposure, WorkContext& work);
-
-/// featherWeights's last step on row y: the planes of `used` become `feathered` (one per used
+/// Feathering over rows [y0, y1) (one tile): each `used` member's `feathered` plane (its plane
+/// in `planes` box-averaged over the feathering's radius, frame-sized) is set to zero where the
+/// member's display value (`results`, per member, rows from y0 on; null: no weight in these
+/// rows) is more than `gate` from the unfeathered composite's in a channel, then the planes are
+/// renormalised per pixel (renormaliseRow). Rows through `work`.
+void featherRows(std::vector<Image>& planes, const std::vector<std::size_t>& used,
+                 std::vector<Image>& feathered, const std::vector<const Image*>& results, int y0,
+                 int y1, double gate, float exposure, WorkContext& work);
+/// featherRows's last step on row y: the planes of `used` become `feathered` (one per used
 /// member, in that order) renormalised per pixel, or, where every feathered weight is 0, the
 /// member with the largest weight in `planes` alone.
 void renormaliseRow(std::vector<Image>& planes, const std::vector<std::size_t>& used,

@@ -143,19 +143,15 @@ Image secantMap(const Image& halfA, const Image& halfB, const Image& outputA, co
 }
 
 HalvesEstimator::HalvesEstimator(const FilterBank& bank, const FrameBuffers& frame,
-                                 const AutoSettings& settings, bool bothHalves, bool keepResults,
-                                 const Image* median, const std::vector<double>* displayMedian,
-                                 const Image* weight)
+                                 const AutoSettings& settings, bool bothHalves, const Image* median,
+                                 const std::vector<double>* displayMedian, const Image* weight)
     : m_bank(bank),
       m_settings(settings),
       m_bothHalves(bothHalves),
-      m_keepResults(keepResults),
       m_secant(settings.space == SureSpace::Display),
       m_median(median),
       m_displayMedian(displayMedian),
-      m_weight(weight),
-      m_onA(keepResults ? bank.size() : 0),
-      m_onB(keepResults ? bank.size() : 0) {
+      m_weight(weight) {
     GLINT_CHECK(!m_secant || (median && displayMedian));
     // The two halves, each prefiltered like the bank's input.
     auto split = splitHalves(frame);
@@ -203,32 +199,11 @@ MemberEstimate HalvesEstimator::estimate(std::size_t m, const ProgressFn& going)
     fo.region = m_bank.region();
     fo.progress = going;
     const Filter& filter = findFilter(member.filter);
-    Image outA = applyFilter(filter, m_halfA, member.params, fo);
-    Image outB = m_bothHalves ? applyFilter(filter, m_halfB, member.params, fo) : Image{};
+    const Image outA = applyFilter(filter, m_halfA, member.params, fo);
+    const Image outB = m_bothHalves ? applyFilter(filter, m_halfB, member.params, fo) : Image{};
     MemberEstimate e;
     e.map = map(m_halfA, m_halfB, outA, m_bothHalves ? &outB : nullptr, e.unbiasedMean);
-    if (m_keepResults) {
-        m_onA[m] = std::move(outA);
-        if (m_bothHalves) m_onB[m] = std::move(outB);
-    }
     return e;
-}
-
-MemberEstimate HalvesEstimator::estimateOnB(std::size_t m, const ProgressFn& going) {
-    const BankMember& member = m_bank.members()[m];
-    FilterOptions fo;
-    fo.region = m_bank.region();
-    fo.progress = going;
-    Image outB = applyFilter(findFilter(member.filter), m_halfB, member.params, fo);
-    // B's term: the one-sided form with the halves' roles swapped.
-    MemberEstimate e;
-    e.map = map(m_halfB, m_halfA, outB, nullptr, e.unbiasedMean);
-    if (m_keepResults) m_onB[m] = std::move(outB);
-    return e;
-}
-
-void HalvesEstimator::dropResults(std::size_t m) {
-    if (m_keepResults) m_onA[m] = Image{};
 }
 
 double HalvesEstimator::noiseVariance(int x, int y, int c) const {

@@ -65,7 +65,7 @@ void checkHalvesFinite(const FrameBuffers& frame, const std::string& file);
 
 /// secantCrossValidationMap with D(centre) given (`displayCentre`, from displayOf): the pipeline
 /// computes it once for all the members' maps. `unbiasedRows`, when given, receives the sum of
-/// the unbiased terms of each row of the region (the streamed selection adds its strips' rows
+/// the unbiased terms of each row of the region (the pipeline adds its tiles' rows
 /// up in the same order).
 Image secantMap(const Image& halfA, const Image& halfB, const Image& outputA, const Image* outputB,
                 const Rect& region, const Image& centre, const std::vector<double>& displayCentre,
@@ -79,35 +79,25 @@ Image secantMap(const Image& halfA, const Image& halfB, const Image& outputA, co
 class HalvesEstimator final : public ErrorEstimator {
   public:
     /// Splits `frame` into its halves, each prefiltered as the bank's input was
-    /// (settings.prefilter). `bothHalves`: estimate() filters B too (the symmetric form);
-    /// `keepResults`: the members' results on the halves are kept for the stacking. `median`
-    /// and `displayMedian` are needed for SureSpace::Display only. Everything given must outlive
-    /// the estimator.
+    /// (settings.prefilter). `bothHalves`: estimate() filters B too (the symmetric form).
+    /// `median` and `displayMedian` are needed for SureSpace::Display only. Everything given
+    /// must outlive the estimator.
     HalvesEstimator(const FilterBank& bank, const FrameBuffers& frame, const AutoSettings& settings,
-                    bool bothHalves, bool keepResults, const Image* median,
-                    const std::vector<double>* displayMedian, const Image* weight);
+                    bool bothHalves, const Image* median, const std::vector<double>* displayMedian,
+                    const Image* weight);
     MemberEstimate estimate(std::size_t member, const ProgressFn& going) override;
     double noiseVariance(int x, int y, int c) const override;
 
     /// The map of one side from the outputs on it (and on the other side, symmetric; null:
     /// one-sided) over `region`, a part of the bank's (`centre` and `displayCentre` the
-    /// median's over it, for the secant): estimate()'s map, for the streamed selection, with
+    /// median's over it, for the secant): estimate()'s map, for the pipeline's tiles, with
     /// the unbiased terms' row sums in `unbiasedRows` (the secant's).
     Image mapOver(const Rect& region, bool onA, const Image& output, const Image* outputOther,
                   const Image* centre, const std::vector<double>* displayCentre,
                   const Image* weight, std::vector<double>& unbiasedRows) const;
 
-    /// The member filtered on B and its B-side one-sided map (A and B swapped), with the unbiased
-    /// mean of the secant's in unbiasedMean (the shortlist).
-    MemberEstimate estimateOnB(std::size_t member, const ProgressFn& going);
-    /// Forgets the member's results on the halves (a member the shortlist leaves out).
-    void dropResults(std::size_t member);
-
     const FrameBuffers& halfA() const { return m_halfA; }
     const FrameBuffers& halfB() const { return m_halfB; }
-    /// The member's result on half A or B (region-sized; with keepResults).
-    const Image& onA(std::size_t member) const { return m_onA[member]; }
-    const Image& onB(std::size_t member) const { return m_onB[member]; }
 
   private:
     Image map(const FrameBuffers& on, const FrameBuffers& other, const Image& output,
@@ -115,12 +105,11 @@ class HalvesEstimator final : public ErrorEstimator {
 
     const FilterBank& m_bank;
     const AutoSettings& m_settings;
-    bool m_bothHalves, m_keepResults, m_secant;
+    bool m_bothHalves, m_secant;
     const Image* m_median;
     const std::vector<double>* m_displayMedian;
     const Image* m_weight;
     FrameBuffers m_halfA, m_halfB;
-    std::vector<Image> m_onA, m_onB;
 };
 
 }  // namespace glint::denoise::detail

@@ -24,7 +24,7 @@ Image bankMedian(const FilterBank& bank);
 /// bankMedian with its rows run through `work` (one unit each).
 Image bankMedian(const FilterBank& bank, WorkContext& work);
 /// The same median of `results` (at least one, all 3 channels and of one size), rows through
-/// `work`: the bank's over a strip of rows for the streamed selection (auto_stream.h).
+/// `work`: the bank's over a strip of rows for the pipeline's tiles (auto_composite.cpp).
 Image medianOf(const std::vector<const Image*>& results, WorkContext& work);
 
 }  // namespace glint::denoise::detail

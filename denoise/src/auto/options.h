@@ -73,14 +73,6 @@ struct AutoSettings {
     int stackFeatureWindow = 0;
     bool prefilter = false;
     ParamValues prefilterParams;
-
-    /// The streamed selection's strip height in rows (autoCompositeStreamed; docs/auto-memory.md):
-    /// each member is applied to one strip at a time (taller: fewer margins read
-    /// again, more rows held by the median's pass; 256 cut 4 % of the CPU time at 1080p but took
-    /// the 4K peak over 6 GB).
-    int streamRows = 128;
-    /// The strip height of its choices' window scores (every candidate's strip is held at once).
-    int scoreRows = 128;
 };
 
 /// The image-only estimator's settings from a resolved tuning map (noiseWindow, noiseAlpha,

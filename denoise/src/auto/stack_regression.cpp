@@ -94,16 +94,49 @@ Image stackComposite(const Image& composite, const Image& blendA, const Image& b
                      const std::vector<StackMember>& members, const Image& halfA,
                      const Image& halfB, const Image& weight, int radius, double ridge,
                      double floor, int smooth, WorkContext* work) {
+    for (const StackMember& m : members)
+        GLINT_CHECK(m.full && m.onA && m.onB && m.full->sameShape(composite) &&
+                    m.onA->sameShape(composite) && m.onB->sameShape(composite));
+    const int w = composite.width();
+    // The members' rows, cropped from their whole images.
+    const LoadStackRows load = [&](int y0, int y1, bool full, bool halves, StackRows& rows) {
+        const Rect rect{0, w, y0, y1};
+        rows = StackRows{};
+        for (const StackMember& m : members) {
+            if (full) rows.full.push_back(m.full->crop(rect));
+            if (halves) {
+                rows.onA.push_back(m.onA->crop(rect));
+                rows.onB.push_back(m.onB->crop(rect));
+            }
+        }
+    };
+    return stackComposite(composite, blendA, blendB, members.size(), load, halfA, halfB, weight,
+                          radius, ridge, floor, smooth, work);
+}
+
+Image stackComposite(const Image& composite, const Image& blendA, const Image& blendB,
+                     std::size_t count, const LoadStackRows& load, const Image& halfA,
+                     const Image& halfB, const Image& weight, int radius, double ridge,
+                     double floor, int smooth, WorkContext* work) {
     const int w = composite.width(), h = composite.height();
-    const std::size_t k = members.size();
+    const std::size_t k = count;
     GLINT_CHECK(composite.channels() == 3 && blendA.sameShape(composite) &&
                 blendB.sameShape(composite) && halfA.sameShape(composite) &&
                 halfB.sameShape(composite) && (weight.empty() || weight.sameShape(composite)) &&
                 radius >= 1 && floor >= 0.0 && smooth >= 0 && k > 0 && k <= kMaxStackRegressors);
-    for (const StackMember& m : members)
-        GLINT_CHECK(m.full && m.onA && m.onB && m.full->sameShape(composite) &&
-                    m.onA->sameShape(composite) && m.onB->sameShape(composite));
     Image out = composite;
+    // The loaded rows (from row rowsY0 on), checked as they come.
+    StackRows rows;
+    int rowsY0 = 0;
+    const auto loadRows = [&](int y0, int y1, bool full, bool halves) {
+        load(y0, y1, full, halves, rows);
+        rowsY0 = y0;
+        GLINT_CHECK(rows.full.size() == (full ? k : 0) && rows.onA.size() == (halves ? k : 0) &&
+                    rows.onB.size() == (halves ? k : 0));
+        for (const auto* list : {&rows.full, &rows.onA, &rows.onB})
+            for (const Image& r : *list)
+                GLINT_CHECK(r.width() == w && r.height() == y1 - y0 && r.channels() == 3);
+    };
     // c + Σ a_i (f_i − c) at one pixel, clamped at 0; the composite where it is not finite.
     const auto correct = [&](int x, int y, const double* a) {
         float value[3];
@@ -111,7 +144,7 @@ Image stackComposite(const Image& composite, const Image& blendA, const Image& b
             const double base = composite(x, y, c);
             double v = base;
             for (std::size_t i = 0; i < k; ++i)
-                v += a[i] * (double((*members[i].full)(x, y, c)) - base);
+                v += a[i] * (double(rows.full[i](x, y - rowsY0, c)) - base);
             if (!std::isfinite(v)) return;
             value[c] = float(std::max(0.0, v));
         }
@@ -124,16 +157,13 @@ Image stackComposite(const Image& composite, const Image& blendA, const Image& b
     std::vector<std::pair<std::size_t, std::size_t>> pairOf;
     for (std::size_t i = 0; i < k; ++i)
         for (std::size_t j = i; j < k; ++j) pairOf.emplace_back(i, j);
-    // Rows in tiles (each with `radius` rows of context on either side), so that the sums of a
-    // 1024-wide frame with 10 regressors take about 75 MB, not ten times that.
-    constexpr int kTileRows = 128;
     // Per pixel: the planes' terms (G's upper triangle, r, v), each a sum over both sides and
     // the channels, computed from ω, the members' deviations from the blend on each half and
     // each half's deviation from the blend on the other; written row by row into the box sums.
     const auto fillTerms = [&](int y, double* terms) {
         const float *fa[kMaxStackRegressors], *fb[kMaxStackRegressors];
         for (std::size_t i = 0; i < k; ++i)
-            fa[i] = members[i].onA->row(y), fb[i] = members[i].onB->row(y);
+            fa[i] = rows.onA[i].row(y - rowsY0), fb[i] = rows.onB[i].row(y - rowsY0);
         const float *ha = halfA.row(y), *hb = halfB.row(y), *ba = blendA.row(y),
                     *bb = blendB.row(y), *om = weight.empty() ? nullptr : weight.row(y);
         double wd[kMaxStackRegressors][6], d[kMaxStackRegressors + 1][6];  // ω·deviation
@@ -171,12 +201,12 @@ Image stackComposite(const Image& composite, const Image& blendA, const Image& b
         }
     };
     std::vector<double> horizontal;  // reused by every tile
-    for (int t0 = 0; t0 < h; t0 += kTileRows) {
-        const int t1 = std::min(h, t0 + kTileRows);
+    for (int t0 = 0; t0 < h; t0 += kStackTileRows) {
+        const int t1 = std::min(h, t0 + kStackTileRows);
         const int y0 = std::max(0, t0 - radius), y1 = std::min(h, t1 + radius);
-        const int rows = y1 - y0;
+        loadRows(y0, y1, smooth == 0, true);
         boxAveragesOfRows(
-            w, rows, radius, planes, [&](int yy, double* terms) { fillTerms(y0 + yy, terms); },
+            w, y1 - y0, radius, planes, [&](int yy, double* terms) { fillTerms(y0 + yy, terms); },
             [&](int x, int yy, const double* means) {
                 const int y = y0 + yy;
                 if (y < t0 || y >= t1) return;  // context rows: another tile's
@@ -203,13 +233,23 @@ Image stackComposite(const Image& composite, const Image& blendA, const Image& b
     if (smooth > 0) {
         // Every window's model applied to each pixel it covers, averaged (the guided filter's
         // aggregation): the same as applying the coefficients box-averaged over the window.
-        boxAverages(
-            w, h, smooth, k,
-            [&](int x, int y, std::size_t i) {
-                return double(
-                    coefficients[(std::size_t(y) * std::size_t(w) + std::size_t(x)) * k + i]);
-            },
-            correct, &horizontal, work);
+        // Tile after tile, with each tile's results on all the samples.
+        horizontal = {};
+        RunningBoxAverages smoothed(w, h, smooth, k);
+        for (int t0 = 0; t0 < h; t0 += kStackTileRows) {
+            if (work) work->throwIfCancelled();
+            const int t1 = std::min(h, t0 + kStackTileRows);
+            loadRows(t0, t1, true, false);
+            smoothed.advance(
+                t1,
+                [&](int y, double* terms) {
+                    const float* from = coefficients.data() + std::size_t(y) * std::size_t(w) * k;
+                    for (std::size_t i = 0; i < std::size_t(w) * k; ++i) terms[i] = double(from[i]);
+                },
+                correct);
+            if (work) work->addWork(2 * (t1 - t0));
+        }
+        if (work) work->throwIfCancelled();
     }
     return out;
 }

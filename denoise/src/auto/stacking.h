@@ -1,24 +1,21 @@
 // The stacking of the automatic selection (docs/auto.md, "Stacking"): the blend corrected per
 // pixel by a local ridge regression, fitted on the halves, on the members of most weight and on
-// the features' local deviations. The set-up (stacking.cpp) and the regression
-// (stack_regression.cpp).
+// the features' local deviations: the regressors and the regression (stack_regression.cpp); the
+// pipeline (auto_composite.cpp) sets them up.
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "glint/image/frame_buffers.h"
 #include "glint/image/image.h"
 
 namespace glint::denoise {
-class FilterBank;
 class WorkContext;
 }  // namespace glint::denoise
 
 namespace glint::denoise::detail {
-
-class HalvesEstimator;
-struct AutoSettings;
 
 /// One member of the stacking (AutoOptions::stack): its results on all the samples, on half A
 /// and on half B (region-sized, 3 channels). A feature regressor (featureRegressors) is one
@@ -75,19 +72,26 @@ Image stackComposite(const Image& composite, const Image& blendA, const Image& b
                      const Image& halfB, const Image& weight, int radius, double ridge,
                      double floor, int smooth, WorkContext* work = nullptr);
 
-/// The stacked composite and what it fitted.
-struct Stacked {
-    Image composite;
-    int members = 0;   ///< AutoResult::stacked
-    int features = 0;  ///< AutoResult::stackFeatures
+/// Rows [y0, y1) of the stacking's regressors (StackMember's three images, each of those rows
+/// only): `full` when asked for, `onA` and `onB` when the halves are.
+struct StackRows {
+    std::vector<Image> full, onA, onB;
 };
+/// Fills `rows` with rows [y0, y1) of every regressor, in stackComposite's order; `full` and
+/// `halves` say which of the three are needed.
+using LoadStackRows = std::function<void(int y0, int y1, bool full, bool halves, StackRows& rows)>;
 
-/// The stacking stage: `composite`, the blend of the bank's results under `planes`, corrected by
-/// the `stack` members first in `order` (largest total weight first) and the features
-/// settings.stackAlbedo / stackNormal ask for, fitted on `halves`' results (kept for the
-/// stacking). Rows through `work`.
-Stacked stack(const Image& composite, const std::vector<Image>& planes,
-              const std::vector<int>& order, const FilterBank& bank, const FrameBuffers& frame,
-              const HalvesEstimator& halves, const AutoSettings& settings, WorkContext& work);
+/// stackComposite with the `count` regressors' results read by rows through `load` (the tiled
+/// pipeline's: from the spill, the bank or the filter again) instead of held whole: the same
+/// floats. The regression loads each tile of kStackTileRows rows with its context rows once,
+/// and the smoothing each tile's results on all the samples once, in row order.
+Image stackComposite(const Image& composite, const Image& blendA, const Image& blendB,
+                     std::size_t count, const LoadStackRows& load, const Image& halfA,
+                     const Image& halfB, const Image& weight, int radius, double ridge,
+                     double floor, int smooth, WorkContext* work = nullptr);
+
+/// The rows of the regression's tiles (each with `radius` rows of context on either side), so
+/// that the sums of a 1024-wide frame with 10 regressors take about 75 MB, not ten times that.
+constexpr int kStackTileRows = 128;
 
 }  // namespace glint::denoise::detail

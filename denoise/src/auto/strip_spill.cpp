@@ -1,4 +1,4 @@
-// The streamed selection's spill file (strip_spill.h): one unlinked temporary file holding slots
+// The auto pipeline's spill file (strip_spill.h): one unlinked temporary file holding slots
 // of one frame-sized image each, written and read by rows with pwrite and pread.
 #include "strip_spill.h"
 

@@ -1,4 +1,4 @@
-// The streamed selection's spill (docs/auto-memory.md): the members' results, written strip by
+// The auto pipeline's spill (docs/auto-memory.md): the members' results, written strip by
 // strip to one unlinked temporary file as raw floats and read back by rows, so that a later pass
 // reads a member's result instead of applying the filter again. The file's pages are the
 // kernel's page cache, not the process's resident memory.

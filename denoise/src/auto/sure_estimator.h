@@ -76,7 +76,7 @@ class SureEstimator final : public ErrorEstimator {
     /// The input the members see (prefiltered like the bank's).
     const FrameBuffers& filterInput() const { return m_filterInput; }
     /// estimate()'s map over `region`, a part of the bank's, from the member's `output` there,
-    /// weighted by `weight` (region-sized; null: 1): for the streamed selection.
+    /// weighted by `weight` (region-sized; null: 1): for the pipeline's tiles.
     MemberEstimate mapOver(std::size_t member, const Rect& region, const Image& output,
                            const Image* weight, const ProgressFn& going) const;
 

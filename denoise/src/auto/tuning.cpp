@@ -78,11 +78,6 @@ std::vector<ParamSpec> makeSpecs() {
         integer("numericDivergence", "numeric divergence", 0, 1, 0,
                 "SURE: estimate every filter's divergence by Monte Carlo, even where the filter "
                 "gives it"),
-        ParamSpec::choice("spill", "spill file", {features, features + 3}, 0,
-                          "streamed selection (--stream): keep the members' results that later "
-                          "passes read again in an unlinked file in TMPDIR (else /tmp) instead "
-                          "of filtering them again; the same result (auto: when the disk has "
-                          "room for them and 1 GiB more)"),
         integer("noiseWindow", "noise window (px)", 1, 16, 3,
                 "image-only estimator: radius of the window whose residuals give a pixel's noise "
                 "level"),

@@ -95,7 +95,17 @@ struct AutoOptions {
     /// The fraction of the work done, through every stage (docs/auto.md, "Stages"); returning
     /// false stops: autoComposite throws Error(Cancelled).
     ProgressFn progress;
+    /// Bytes the selection may allocate besides its input frame and a given bank's results: the
+    /// height of its tiles follows (docs/auto-memory.md). 0: the default, 1.25 GiB (or the
+    /// memory available, availableMemory(), when less); a limit only lowers it. The result
+    /// does not depend on it.
+    std::uint64_t memoryLimit = 0;
 };
+
+/// The bytes the selection's tiles may take for AutoOptions::memoryLimit `limit`: 1.25 GiB,
+/// lowered to `limit` (0: to the memory available, availableMemory(), which
+/// GLINT_MEMORY_LIMIT lowers).
+std::uint64_t autoMemoryBudget(std::uint64_t limit);
 
 /// Throws glint::Error(InvalidArgument) naming the first bad option (a tuning parameter by its
 /// flag, e.g. "--window").
@@ -134,12 +144,16 @@ struct AutoResult {
     /// The feature regressors the stacking fitted besides them (AutoOptions::stackAlbedo and
     /// stackNormal: 1 for the albedo, 3 for the normal).
     int stackFeatures = 0;
+    /// The height of the tiles (strips of rows) the selection ran in: the region's height when
+    /// it was one tile (AutoOptions::memoryLimit).
+    int tileRows = 0;
 };
 
 /// Computes every member's error map — SURE (one extra application of each member to the
 /// perturbed input) or cross-validation on the halves (one application to A, and one to B for
 /// the shortlist or every member) — with members in parallel in the caller's TBB pool, smooths
-/// them and builds the composite.
+/// them and builds the composite. Tiled in strips of rows whose height follows
+/// options.memoryLimit (one tile when the region fits): the same floats for any tiling.
 /// With the halves, estimatedMse is a member's error on a half of the samples.
 /// `frame` is the input the bank was built from (checked by hash). Deterministic for a seed,
 /// whatever the thread count. Throws glint::Error like checkAutoInput, InvalidArgument for a

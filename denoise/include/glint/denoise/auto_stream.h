@@ -1,6 +1,6 @@
-// The automatic selection without a materialised bank (docs/auto-memory.md): the members are
-// filtered strip by strip and reduced at once to what the stages need, so that the peak memory
-// grows with the frame, not with the bank's size.
+// The automatic selection without a materialised bank (docs/auto-memory.md): autoComposite's
+// pipeline applying the members tile by tile, so that the peak memory grows with the frame, not
+// with the bank's size. What `glint-denoise auto` runs without --bank.
 #pragma once
 
 #include <string>
@@ -17,7 +17,7 @@ struct StreamedAuto {
     AutoResult result;
     FilterBank bank;
     /// Whether the members' results that later passes read again were kept in a temporary file
-    /// (the tuning's "spill") instead of filtered again; the result is the same either way.
+    /// (the spill) instead of filtered again; the result is the same either way.
     bool spilled = false;
     /// Why the spill was not used, when it was asked for ("on") or a write to it failed; else
     /// empty. One line for the user.
@@ -25,15 +25,14 @@ struct StreamedAuto {
 };
 
 /// autoComposite(buildBank(frame, bank), frame, options) without building the bank: each member
-/// is applied to strips of rows (with the margin its filter declares, and the stacking's
-/// windows) in a few passes over the frame, and only per-pixel error maps (one channel per
-/// member) and the stages' frame-sized images are kept. The result equals autoComposite's up
-/// to float rounding (a filter over a strip equals the strip of its whole-frame output within
-/// 1e-5 relative; the box averages add their sums per strip). The results that later passes
-/// read again go to an unlinked temporary file in TMPDIR (else /tmp) when it has room (the
-/// tuning's "spill"), which does not change them. bank.cacheDir is not used, and
-/// options.prefilter must be bank.prefilter (with its parameters). Throws like buildBank and
-/// autoComposite; Error(Cancelled) when options.progress says stop.
+/// is applied to the pipeline's tiles (strips of rows, with the margin its filter declares) in
+/// a few passes over the frame, and only per-pixel error maps (one channel per member) and the
+/// stages' frame-sized images are kept. The same floats as autoComposite's (a filter over a
+/// strip gives the strip of its whole-frame output). The results that later passes read again
+/// go to an unlinked temporary file in TMPDIR (else /tmp) when it has room (the spill), which
+/// does not change them. bank.cacheDir is not used, and options.prefilter must be
+/// bank.prefilter (with its parameters). Throws like buildBank and autoComposite;
+/// Error(Cancelled) when options.progress says stop.
 StreamedAuto autoCompositeStreamed(const FrameBuffers& frame, const BankOptions& bank,
                                    const AutoOptions& options = {});
 
