@@ -68,22 +68,30 @@ Vec3 ggxSampleVisibleNormal(const Vec3& wo, float alpha, Vec2 u) {
     return normalize(Vec3{alpha * nh.x, alpha * nh.y, std::max(1e-7f, nh.z)});
 }
 
-Vec3 conductorEval(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
-    if (wo.z <= 0.0f || wi.z <= 0.0f) return {};
-    const Vec3 h = normalize(wo + wi);
-    // f = D G2 F / (4 cosθo cosθi) (Walter et al. 2007, eq. 20).
-    const float g2 = 1.0f / (1.0f + ggxLambda(wo, b.alpha) + ggxLambda(wi, b.alpha));
-    const float scale = ggxD(h, b.alpha) * g2 / (4.0f * wo.z * wi.z);
-    return conductorFresnel(b, dot(wo, h)) * b.albedo * scale;
+namespace {
+/// Visible-normal density D_wo(h) = G1 max(0, wo·h) D / cosθo, times the reflection Jacobian
+/// 1 / (4 wo·h) (Heitz 2018, eq. 17), from D(h) and Λ(wo).
+float conductorDensity(const Vec3& wo, float d, float lambdaO) {
+    const float g1 = 1.0f / (1.0f + lambdaO);
+    return g1 * d / (4.0f * wo.z);
 }
 
 float conductorPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
     const Vec3 h = normalize(wo + wi);
-    // Visible-normal density D_wo(h) = G1 max(0, wo·h) D / cosθo, times the reflection Jacobian
-    // 1 / (4 wo·h) (Heitz 2018, eq. 17).
-    const float g1 = 1.0f / (1.0f + ggxLambda(wo, b.alpha));
-    return g1 * ggxD(h, b.alpha) / (4.0f * wo.z);
+    return conductorDensity(wo, ggxD(h, b.alpha), ggxLambda(wo, b.alpha));
+}
+}  // namespace
+
+BsdfValue conductorEvaluate(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
+    if (wo.z <= 0.0f || wi.z <= 0.0f) return {};
+    const Vec3 h = normalize(wo + wi);
+    const float d = ggxD(h, b.alpha);
+    const float lo = ggxLambda(wo, b.alpha);
+    // f = D G2 F / (4 cosθo cosθi) (Walter et al. 2007, eq. 20).
+    const float g2 = 1.0f / (1.0f + lo + ggxLambda(wi, b.alpha));
+    const float scale = d * g2 / (4.0f * wo.z * wi.z);
+    return {conductorFresnel(b, dot(wo, h)) * b.albedo * scale, conductorDensity(wo, d, lo)};
 }
 
 bool conductorSample(const Bsdf& b, const Vec3& wo, Vec2 u, BsdfSample& out) {
@@ -107,5 +115,16 @@ bool conductorSample(const Bsdf& b, const Vec3& wo, Vec2 u, BsdfSample& out) {
     out.specular = false;
     return true;
 }
+
+namespace {
+BsdfFlags conductorFlags(const detail::Material& m) {
+    return {.specular = m.roughness * m.roughness < kMinGgxAlpha, .directionPair = true};
+}
+}  // namespace
+
+const MaterialKind conductorKind{"conductor", conductorFlags, nullptr, conductorEvaluate,
+                                 [](const Bsdf& b, const Vec3& wo, Vec2 u, float, BsdfSample& out) {
+                                     return conductorSample(b, wo, u, out);
+                                 }};
 
 }  // namespace glint::render

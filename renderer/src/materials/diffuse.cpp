@@ -5,14 +5,9 @@
 
 namespace glint::render {
 
-Vec3 diffuseEval(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
+BsdfValue diffuseEvaluate(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return {};
-    return b.albedo * kInvPi;
-}
-
-float diffusePdf(const Bsdf&, const Vec3& wo, const Vec3& wi) {
-    if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
-    return cosineHemispherePdf(wi.z);
+    return {b.albedo * kInvPi, cosineHemispherePdf(wi.z)};
 }
 
 bool diffuseSample(const Bsdf& b, const Vec3& wo, Vec2 u, BsdfSample& out) {
@@ -25,5 +20,16 @@ bool diffuseSample(const Bsdf& b, const Vec3& wo, Vec2 u, BsdfSample& out) {
     out.specular = false;
     return true;
 }
+
+namespace {
+BsdfFlags diffuseFlags(const detail::Material&) {
+    return {.directionPair = true};
+}
+}  // namespace
+
+const MaterialKind diffuseKind{"diffuse", diffuseFlags, nullptr, diffuseEvaluate,
+                               [](const Bsdf& b, const Vec3& wo, Vec2 u, float, BsdfSample& out) {
+                                   return diffuseSample(b, wo, u, out);
+                               }};
 
 }  // namespace glint::render

@@ -172,13 +172,14 @@ float schlickF0(float ior) {
 Bsdf Bsdf::metallicRoughness(const Vec3& baseColor, float metallic, float roughness, float ior,
                              float transmission) {
     Bsdf b;
-    b.type = detail::MaterialType::MetallicRoughness;
+    b.kind = &metallicRoughnessKind;
     b.albedo = baseColor;
     b.metallic = std::clamp(metallic, 0.0f, 1.0f);
     const float r = std::clamp(roughness, 0.0f, 1.0f);
     b.alpha = std::max(r * r, kMinGgxAlpha);
     b.ior = ior;
     b.transmission = std::clamp(transmission, 0.0f, 1.0f);
+    b.flags = {.transmits = b.transmission > 0.0f, .directionPair = true};
     return b;
 }
 
@@ -188,18 +189,10 @@ float metallicRoughnessSpecularProbability(const Bsdf& b, const Vec3& wo) {
     return lobeProbabilities(b, l.wo, l.ior, l.eta).reflect;
 }
 
-Vec3 metallicRoughnessEval(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
-    Vec3 f;
-    float pdf;
-    evalAndPdf(b, wo, wi, f, pdf);
-    return f;
-}
-
-float metallicRoughnessPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
-    Vec3 f;
-    float pdf;
-    evalAndPdf(b, wo, wi, f, pdf);
-    return pdf;
+BsdfValue metallicRoughnessEvaluate(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
+    BsdfValue v;
+    evalAndPdf(b, wo, wi, v.f, v.pdf);
+    return v;
 }
 
 bool metallicRoughnessSample(const Bsdf& b, const Vec3& wo0, Vec2 u, BsdfSample& out) {
@@ -238,5 +231,19 @@ bool metallicRoughnessSample(const Bsdf& b, const Vec3& wo0, Vec2 u, BsdfSample&
     out.specular = false;
     return true;
 }
+
+const MaterialKind metallicRoughnessKind{
+    "metallicRoughness",
+    [](const detail::Material& m) {
+        return BsdfFlags{.transmits = m.transmission > 0.0f, .directionPair = true};
+    },
+    [](const detail::Material& m, const BsdfInputs& in) {
+        return Bsdf::metallicRoughness(in.albedo, in.metallic, in.roughness, m.ior,
+                                       in.transmission);
+    },
+    metallicRoughnessEvaluate,
+    [](const Bsdf& b, const Vec3& wo, Vec2 u, float, BsdfSample& out) {
+        return metallicRoughnessSample(b, wo, u, out);
+    }};
 
 }  // namespace glint::render

@@ -13,4 +13,17 @@ bool mirrorSample(const Bsdf& b, const Vec3& wo, BsdfSample& out) {
     return true;
 }
 
+namespace {
+BsdfFlags mirrorFlags(const detail::Material&) {
+    return {.specular = true};
+}
+}  // namespace
+
+const MaterialKind mirrorKind{"mirror", mirrorFlags, nullptr,
+                              // A delta BSDF: Bsdf::evaluate never asks.
+                              [](const Bsdf&, const Vec3&, const Vec3&) { return BsdfValue{}; },
+                              [](const Bsdf& b, const Vec3& wo, Vec2, float, BsdfSample& out) {
+                                  return mirrorSample(b, wo, out);
+                              }};
+
 }  // namespace glint::render

@@ -111,18 +111,10 @@ void evalAndPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi, Vec3& f, float& p
 
 }  // namespace
 
-Vec3 roughDielectricEval(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
-    Vec3 f;
-    float pdf;
-    evalAndPdf(b, wo, wi, f, pdf);
-    return f;
-}
-
-float roughDielectricPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
-    Vec3 f;
-    float pdf;
-    evalAndPdf(b, wo, wi, f, pdf);
-    return pdf;
+BsdfValue roughDielectricEvaluate(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
+    BsdfValue v;
+    evalAndPdf(b, wo, wi, v.f, v.pdf);
+    return v;
 }
 
 bool roughDielectricSample(const Bsdf& b, const Vec3& wo, Vec2 u, float uc, BsdfSample& out) {
@@ -153,5 +145,18 @@ bool roughDielectricSample(const Bsdf& b, const Vec3& wo, Vec2 u, float uc, Bsdf
     out.specular = false;
     return true;
 }
+
+namespace {
+/// The smooth dielectric (roughDielectricIsSmooth) is a delta BSDF; both read the component
+/// number, the rough one a microfacet too.
+BsdfFlags dielectricFlags(const detail::Material& m) {
+    const float alpha = m.roughness * m.roughness;
+    const bool smooth = alpha < kMinGgxAlpha || m.ior == 1.0f;
+    return {smooth, true, !smooth, true};
+}
+}  // namespace
+
+const MaterialKind dielectricKind{"dielectric", dielectricFlags, nullptr, roughDielectricEvaluate,
+                                  roughDielectricSample};
 
 }  // namespace glint::render
