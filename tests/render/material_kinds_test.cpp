@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "materials/bsdf.h"
+#include "materials/material_parameters.h"
 #include "sampling/rng.h"
 
 namespace glint::render {
@@ -77,6 +78,44 @@ TEST(MaterialKinds, EveryKindHasItsOwnNameAndItsBsdfsFunctions) {
         EXPECT_NE(kind.flags, nullptr);
         EXPECT_NE(kind.evaluate, nullptr);
         EXPECT_NE(kind.sample, nullptr);
+    }
+}
+
+TEST(MaterialKinds, TheDocsMaterialTableIsTheOneTheKindsGenerate) {
+    // docs/scene-format.md's material table is materialParameterTable(), verbatim: a kind or a
+    // parameter changed without the docs (or the reverse) fails here.
+    const std::string table = materialParameterTable();
+    EXPECT_NE(table.find("| `conductor` | `roughness` | number in [0, 1] | 0 |"), std::string::npos)
+        << table;
+    std::ifstream in(fs::path(GLINT_SOURCE_DIR) / "docs/scene-format.md");
+    std::stringstream docs;
+    docs << in.rdbuf();
+    EXPECT_NE(docs.str().find(table), std::string::npos)
+        << "docs/scene-format.md lacks the generated table; paste this into its \"materials\" "
+           "section:\n"
+        << table;
+}
+
+TEST(MaterialKinds, EveryParameterNamesTheFieldItFillsAndAUsableRange) {
+    for (const MaterialType type : allTypes()) {
+        const MaterialKind& kind = materialKind(type);
+        for (const MaterialParameter& p : kind.parameters) {
+            SCOPED_TRACE(std::string(kind.name) + "/" + p.spec.name);
+            // Exactly one field, of the parameter's type.
+            EXPECT_NE(p.colour == nullptr, p.number == nullptr);
+            EXPECT_EQ(p.spec.isColour, p.colour != nullptr);
+            EXPECT_LE(p.spec.min, p.spec.defaultValue);
+            EXPECT_LE(p.spec.defaultValue, p.spec.max);
+            EXPECT_FALSE(p.spec.label.empty());
+            EXPECT_FALSE(p.spec.help.empty());
+            // A pair names a partner of the same kind that names it back.
+            if (p.partner) {
+                const MaterialParameter* other = findParameter(kind, p.partner);
+                ASSERT_NE(other, nullptr);
+                ASSERT_NE(other->partner, nullptr);
+                EXPECT_EQ(p.spec.name, other->partner);
+            }
+        }
     }
 }
 

@@ -5,7 +5,10 @@
 // or a BSDF what it does (BsdfFlags), never which kind it is.
 #pragma once
 
+#include <span>
+
 #include "materials/material_kinds.h"
+#include "materials/material_parameters.h"
 #include "scene/scene_data.h"
 #include "vecmath.h"
 
@@ -108,10 +111,17 @@ struct Bsdf {
     bool sample(const Vec3& wo, Vec2 u, float uc, BsdfSample& out) const;
 };
 
-/// A kind of material: its scene.json name and its BSDF. One object per kind, defined in the
-/// kind's file and listed in material_kinds.h.
+/// A kind of material: its name, its parameters and its BSDF. One object per kind, defined in
+/// the kind's file and listed in material_kinds.h.
 struct MaterialKind {
-    const char* name;  ///< scene.json's "type" (detail::materialTypeName)
+    const char* name;     ///< scene.json's "type" (detail::materialTypeName)
+    const char* summary;  ///< what it is, one sentence (docs/scene-format.md's table)
+    /// scene.json's materials may be of this kind; else only importers make it (glTF, MTL), and
+    /// its parameters are a glTF shape's `edits`.
+    bool inSceneJson;
+    /// Its parameters beside those of every kind (texture, emission): read, edited in a look
+    /// panel and written as they describe.
+    std::span<const MaterialParameter> parameters;
     /// What the BSDF built from the material's factors does (materialFlags).
     BsdfFlags (*flags)(const detail::Material& material);
     /// The BSDF at a hit (Bsdf::at); null for a kind whose BSDF takes the material's factors

@@ -1,13 +1,33 @@
 // conductor — GGX microfacet metal (Walter et al. 2007) with height-correlated Smith masking
 // (Heitz 2014) and visible-normal sampling (Heitz 2018). alpha = roughness^2; alpha < 1e-3 is a
 // perfect mirror. Fresnel: complex IOR (eta, k) per channel, else Schlick from `specular`.
-//   scene.json: {"type": "conductor", "roughness": 0.3, "eta": [..], "k": [..] | "specular": [..],
-//                "albedo": [r,g,b] (tint)}
 #include <cmath>
 
 #include "materials/bsdf.h"
 
 namespace glint::render {
+
+namespace {
+/// scene.json: {"type": "conductor", "roughness": 0.3, "eta": [..], "k": [..] | "specular": [..],
+///              "albedo": [r,g,b]}
+const MaterialParameter kConductorParameters[] = {
+    colourParameter("albedo", "tint", 0.0, 1.0, 1.0, &detail::Material::albedo,
+                    "Colour that multiplies what the metal reflects.")
+        .inLook(),
+    numberParameter("roughness", "roughness", 0.0, 1.0, 0.0, &detail::Material::roughness,
+                    "GGX roughness: α = roughness² (α < 0.001 is a perfect mirror).")
+        .inLook(),
+    colourParameter("eta", "η", 1e-4, 100.0, 1.0, &detail::Material::eta,
+                    "Complex index of refraction, real part, per channel (given with `k`).")
+        .givenWith("k", &detail::Material::hasEtaK),
+    colourParameter("k", "κ", 0.0, 100.0, 0.0, &detail::Material::k,
+                    "Complex index of refraction, imaginary part (given with `eta`).")
+        .givenWith("eta", &detail::Material::hasEtaK),
+    colourParameter("specular", "specular", 0.0, 1.0, 1.0, &detail::Material::specular,
+                    "Reflectance at normal incidence for Schlick's Fresnel, used when `eta` and "
+                    "`k` are absent."),
+};
+}  // namespace
 
 namespace {
 float conductorFresnel1(float cosI, float eta, float k) {
@@ -122,9 +142,17 @@ BsdfFlags conductorFlags(const detail::Material& m) {
 }
 }  // namespace
 
-const MaterialKind conductorKind{"conductor", conductorFlags, nullptr, conductorEvaluate,
-                                 [](const Bsdf& b, const Vec3& wo, Vec2 u, float, BsdfSample& out) {
-                                     return conductorSample(b, wo, u, out);
-                                 }};
+const MaterialKind conductorKind{
+    "conductor",
+    "Rough metal: GGX microfacets, visible-normal sampling; Fresnel from `eta` and `k`, else "
+    "Schlick's from `specular`.",
+    true,
+    kConductorParameters,
+    conductorFlags,
+    nullptr,
+    conductorEvaluate,
+    [](const Bsdf& b, const Vec3& wo, Vec2 u, float, BsdfSample& out) {
+        return conductorSample(b, wo, u, out);
+    }};
 
 }  // namespace glint::render

@@ -1,9 +1,17 @@
 // diffuse — Lambertian reflection: f = albedo / π, sampled with a cosine-weighted hemisphere.
-//   scene.json: {"type": "diffuse", "albedo": [r,g,b] | "texture": "file", "emission": [r,g,b]}
 #include "materials/bsdf.h"
 #include "sampling/warp.h"
 
 namespace glint::render {
+
+namespace {
+/// scene.json: {"type": "diffuse", "albedo": [r,g,b] | "texture": "file", "emission": [r,g,b]}
+const MaterialParameter kDiffuseParameters[] = {
+    colourParameter("albedo", "base colour", 0.0, 1.0, 0.8, &detail::Material::albedo,
+                    "Diffuse reflectance.")
+        .inLook(),
+};
+}  // namespace
 
 BsdfValue diffuseEvaluate(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return {};
@@ -27,7 +35,13 @@ BsdfFlags diffuseFlags(const detail::Material&) {
 }
 }  // namespace
 
-const MaterialKind diffuseKind{"diffuse", diffuseFlags, nullptr, diffuseEvaluate,
+const MaterialKind diffuseKind{"diffuse",
+                               "Lambertian reflection.",
+                               true,
+                               kDiffuseParameters,
+                               diffuseFlags,
+                               nullptr,
+                               diffuseEvaluate,
                                [](const Bsdf& b, const Vec3& wo, Vec2 u, float, BsdfSample& out) {
                                    return diffuseSample(b, wo, u, out);
                                }};

@@ -55,14 +55,19 @@ void JsonReader::fail(const std::string& where, const std::string& message) cons
 
 void JsonReader::requireObject(const nlohmann::json& value, const std::string& where,
                                std::initializer_list<const char*> allowed) const {
+    requireObject(value, where, std::vector<std::string>(allowed.begin(), allowed.end()));
+}
+
+void JsonReader::requireObject(const nlohmann::json& value, const std::string& where,
+                               const std::vector<std::string>& allowed) const {
     if (!value.is_object()) fail(where, "expected an object, got " + describe(value));
     for (const auto& item : value.items()) {
         bool known = false;
-        for (const char* key : allowed) known = known || item.key() == key;
+        for (const std::string& key : allowed) known = known || item.key() == key;
         if (known) continue;
         std::ostringstream list;
         const char* sep = "";
-        for (const char* key : allowed) list << sep << key, sep = ", ";
+        for (const std::string& key : allowed) list << sep << key, sep = ", ";
         fail(where + "/" + item.key(),
              "unknown key '" + item.key() + "' (expected one of: " + list.str() + ")");
     }

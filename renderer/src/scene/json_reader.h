@@ -5,6 +5,7 @@
 #include <initializer_list>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -32,6 +33,8 @@ class JsonReader {
     /// The value must be an object whose keys are all in `allowed`.
     void requireObject(const nlohmann::json& value, const std::string& where,
                        std::initializer_list<const char*> allowed) const;
+    void requireObject(const nlohmann::json& value, const std::string& where,
+                       const std::vector<std::string>& allowed) const;
     /// A finite number in [lo, hi].
     float number(const nlohmann::json& value, const std::string& where, double lo, double hi) const;
     /// An integer in [lo, hi].
