@@ -24,6 +24,7 @@
 #include "glint/image/error.h"
 #include "model/first_denoise.h"
 #include "model/look_command.h"
+#include "model/openable_files.h"
 #include "model/progressive_denoise.h"
 #include "views/compare_view.h"
 #include "views/elided_label.h"
@@ -171,10 +172,7 @@ void MainWindow::buildMenus() {
     rebuildRecent();
 
     connect(a.open, &QAction::triggered, this, [this] {
-        const QString path = askPath(tr("Open"),
-                                     tr("Scenes, assets, renders and sessions (*.json *.glb *.gltf "
-                                        "*.obj *.exr);;All files (*)"),
-                                     false);
+        const QString path = askPath(tr("Open"), openDialogFilter(), false);
         if (!path.isEmpty()) openFile(path);
     });
     connect(a.openReference, &QAction::triggered, this, [this] {
@@ -594,7 +592,10 @@ void MainWindow::closeEvent(QCloseEvent* event) {
 }
 
 void MainWindow::dragEnterEvent(QDragEnterEvent* event) {
-    if (event->mimeData()->hasUrls()) event->acceptProposedAction();
+    // A file the studio opens (the Open dialog's list); anything else is refused at the door.
+    const QList<QUrl> urls = event->mimeData()->urls();
+    if (!urls.isEmpty() && urls.first().isLocalFile() && isOpenableFile(urls.first().toLocalFile()))
+        event->acceptProposedAction();
 }
 
 void MainWindow::dropEvent(QDropEvent* event) {

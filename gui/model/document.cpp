@@ -8,6 +8,7 @@
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"
 #include "glint/render/scene.h"
+#include "model/openable_files.h"
 
 namespace glint::studio {
 
@@ -15,13 +16,6 @@ namespace {
 
 std::filesystem::path toPath(const QString& path) {
     return std::filesystem::path(path.toStdString());
-}
-
-bool isScenePath(const QString& path) {
-    // A scene.json, or a bare glTF or OBJ asset that loadScene frames with a camera and a sky.
-    for (const char* ext : {".json", ".glb", ".gltf", ".obj"})
-        if (path.endsWith(QLatin1String(ext), Qt::CaseInsensitive)) return true;
-    return false;
 }
 
 // The settings a user chooses in the render bar, compared (render::Settings has no ==).

@@ -20,6 +20,7 @@
 #include "glint/image/memory.h"
 #include "glint/image/metrics.h"
 #include "glint/image/shard.h"
+#include "glint/render/asset_formats.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 #include "glint/render/settings.h"
@@ -332,9 +333,12 @@ int run(const Options& opt) {
 int main(int argc, char** argv) {
     CLI::App app{"glint-render: render a scene.json into a layered EXR"};
     Options opt;
-    app.add_option("scene", opt.scene,
-                   "scene.json, or an asset (.glb, .gltf, .obj) rendered with its own camera or a "
-                   "framing one")
+    std::string assets;
+    for (const std::string& ext : glint::render::assetExtensions())
+        assets += (assets.empty() ? "" : ", ") + ext;
+    app.add_option(
+           "scene", opt.scene,
+           "scene.json, or an asset (" + assets + ") rendered with its own camera or a framing one")
         ->required();
     app.add_option("--camera", opt.camera,
                    "render through the glTF camera of this name (a node's or camera's name)");

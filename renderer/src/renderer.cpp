@@ -347,16 +347,8 @@ detail::RayThroughput detail::measureRayThroughput(const Renderer& renderer, std
                                                    int threads, std::uint64_t seed, bool packets) {
     const auto& impl = RendererAccess::impl(renderer);
     const SceneData& data = sceneData(renderer.scene());
-    Vec3 lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
-    bool any = false;
-    for (const Instance& inst : data.instances)
-        for (const Vec3& q : data.meshes[inst.mesh].positions) {
-            const Vec3 p = inst.identity ? q : inst.transform.point(q);
-            for (int c = 0; c < 3; ++c)
-                lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
-            any = true;
-        }
-    if (!any) lo = hi = Vec3{};
+    const Vec3 lo = data.bounds.empty() ? Vec3{} : data.bounds.lo;
+    const Vec3 hi = data.bounds.empty() ? Vec3{} : data.bounds.hi;
     const std::uint64_t chunk = 4096;
     const std::uint64_t chunks = (rayCount + chunk - 1) / chunk;
     std::atomic<std::uint64_t> hits{0};

@@ -1,14 +1,16 @@
 // What a session keeps and what counts as unsaved (issue 34, "Lost work"), and the panels around
 // it: the look edits and render settings saved with a session and restored before any render,
 // an older session file still opening, look and settings edits marking the window unsaved, the
-// save dialogs' extensions, the View menu's panel toggles, the render bar's time left and the
-// Tune panel's width with the cross-bilateral filter.
+// save dialogs' extensions, the Open dialog's and drag and drop's list of files (the renderer's
+// asset formats), the View menu's panel toggles, the render bar's time left and the Tune panel's
+// width with the cross-bilateral filter.
 #include <QApplication>
 #include <QCheckBox>
 #include <QDir>
 #include <QDockWidget>
 #include <QDropEvent>
 #include <QFile>
+#include <QFileDialog>
 #include <QFileInfo>
 #include <QJsonDocument>
 #include <QJsonObject>
@@ -24,17 +26,21 @@
 #include <QStandardPaths>
 #include <QTemporaryDir>
 #include <QTest>
+#include <QTimer>
 #include <QToolBar>
 #include <QUrl>
 
+#include "app/actions.h"
 #include "app/file_naming.h"
 #include "app/program_allowance.h"
 #include "app/studio_settings.h"
 #include "glint/denoise/external.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
+#include "glint/render/asset_formats.h"
 #include "heavy_actions.h"
 #include "model/layer_names.h"
+#include "model/openable_files.h"
 #include "model/render_eta.h"
 #include "studio_fixture.h"
 #include "views/look_panel.h"
@@ -504,6 +510,57 @@ class StudioSessionTest : public QObject {
         QCOMPARE(w->document()->lookValue(material, "roughness")[0], 0.2);
         QVERIFY(w->isModified());
         QVERIFY2(w->lastError().isEmpty(), qPrintable(w->lastError()));
+    }
+
+    void theOpenDialogAndDropTakeTheirListFromTheRenderersAssetFormats() {
+        // Every asset format the renderer registers, and nothing else, in one list: the Open
+        // dialog's filter, drag and drop, and the document's choice of a scene over an EXR.
+        const QString filter = openDialogFilter();
+        for (const std::string& ext : render::assetExtensions()) {
+            const QString e = QString::fromStdString(ext);
+            QVERIFY2(openablePatterns().contains(QLatin1Char('*') + e), qPrintable(filter));
+            QVERIFY2(filter.contains(QLatin1Char('*') + e + QLatin1Char(' ')), qPrintable(filter));
+            QVERIFY(isScenePath(QStringLiteral("/tmp/model") + e.toUpper()));
+            QVERIFY(isOpenableFile(QStringLiteral("/tmp/model") + e));
+        }
+        QCOMPARE(openablePatterns().size(), int(render::assetExtensions().size()) + 2);
+        QVERIFY(isScenePath(QStringLiteral("/tmp/scene.json")));
+        QVERIFY(!isScenePath(QStringLiteral("/tmp/render.exr")));
+        QVERIFY(isOpenableFile(QStringLiteral("/tmp/render.EXR")));
+        QVERIFY(!isOpenableFile(QStringLiteral("/tmp/notes.txt")));
+
+        // The Open dialog shows that filter.
+        auto w = window();
+        QString shown;
+        int tries = 0;
+        std::function<void()> answer = [&] {
+            auto* dialog = qobject_cast<QFileDialog*>(QApplication::activeModalWidget());
+            if (!dialog && ++tries < 100) {
+                QTimer::singleShot(50, answer);
+                return;
+            }
+            if (!dialog) return;
+            shown = dialog->nameFilters().join(QStringLiteral(";;"));
+            dialog->reject();
+        };
+        QTimer::singleShot(0, answer);
+        w->actions().open->trigger();
+        QCOMPARE(shown, filter);
+
+        // A drag is let in for an asset and refused for a file the studio does not open.
+        auto enters = [&](const QString& file) {
+            QMimeData mime;
+            mime.setUrls({QUrl::fromLocalFile(file)});
+            QDragEnterEvent enter(QPoint(10, 10), Qt::CopyAction, &mime, Qt::LeftButton,
+                                  Qt::NoModifier);
+            enter.setAccepted(false);
+            QApplication::sendEvent(w.get(), &enter);
+            return enter.isAccepted();
+        };
+        for (const std::string& ext : render::assetExtensions())
+            QVERIFY(enters(m_dir.filePath(QStringLiteral("model") + QString::fromStdString(ext))));
+        QVERIFY(enters(m_dir.filePath(QStringLiteral("scene.json"))));
+        QVERIFY(!enters(m_dir.filePath(QStringLiteral("notes.txt"))));
     }
 
     void aBareObjOpensAsASceneWithItsMtlMaterial() {

@@ -16,9 +16,13 @@
 # All SSIMs are glint::ssim (oracle, auto, apply, navigate, `glint-image diff --metric ssim`), full
 # frame.
 #   tests/perf/oidn_compare.sh [build] [scenes...]
+# Scenes: cornell pool dof glossy by default; any folder of scenes/ with a scene.json and its
+# reference.exr, e.g. `fox` (the Khronos glTF Fox, on which no choice was tuned; its reference is
+# rendered with seed 1000, no test seed).
 # Environment: SPPS (default "4 16 64"), SEEDS (render seeds, default 7), OIDN (the installed peer's
 # folder, default /tmp/oidn), ARTIST (1: the local artist's columns), ARTIST_FLAGS (more flags for
-# navigate, e.g. "--start best"), CYCLES (1: the Cycles rows).
+# navigate, e.g. "--start best"), CYCLES (1: the Cycles rows), KEEP (a folder: each cell's JSON
+# outputs are kept there as SCENE-SPP-SEED-{oracle,auto,auto-classical,unet,oidn,artist}.json).
 set -euo pipefail
 source "$(dirname "$0")/../../scripts/lib/cells.sh"
 spps=${SPPS:-4 16 64}
@@ -112,6 +116,12 @@ if a:
     row += " %.4f | %.4f | %s %.4f |" % (last(10), last(30), a["start"]["kind"], a["start"]["ssim"])
 print(row, flush=True)
 PY
+  if [ -n "${KEEP:-}" ]; then
+    mkdir -p "$KEEP"
+    for name in oracle auto auto-classical unet oidn artist; do
+      cp "$work/$name.json" "$KEEP/${label// /_}-$spp-$seed-$name.json"
+    done
+  fi
   rm -rf "$work/bank" "$work/bank-classical"
 }
 

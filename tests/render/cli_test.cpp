@@ -11,6 +11,7 @@
 
 #include "cli_fixture.h"
 #include "glint/image/io.h"
+#include "glint/render/asset_formats.h"
 #include "test_util.h"
 
 namespace glint::render {
@@ -42,6 +43,14 @@ class RenderCli : public glint::testing::CliFixture {
         })";
     }
 };
+
+TEST_F(RenderCli, TheHelpListsTheExtensionOfEveryAssetFormat) {
+    const RunResult r = run("--help");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    ASSERT_FALSE(assetExtensions().empty());
+    for (const std::string& ext : assetExtensions())
+        EXPECT_NE(r.out.find(ext), std::string::npos) << ext << " in\n" << r.out;
+}
 
 TEST_F(RenderCli, JsonSummaryAndLayeredOutput) {
     const RunResult r =

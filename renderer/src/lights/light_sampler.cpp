@@ -13,19 +13,10 @@ namespace glint::render {
 LightSampler::LightSampler(const detail::SceneData& scene) : m_scene(&scene) {
     std::vector<Vec3> textureMeans(scene.textures.size(), Vec3{-1.0f, 0.0f, 0.0f});
     std::vector<float> power;
-    Vec3 lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
-    bool anyVertex = false;
     m_firstOfInstance.assign(scene.instances.size(), -1);
     for (std::uint32_t i = 0; i < scene.instances.size(); ++i) {
         const detail::Instance& inst = scene.instances[i];
         const detail::Mesh& mesh = scene.meshes[inst.mesh];
-        // Bounds of the shutter-open pose (as the environment's power estimate always used).
-        for (const Vec3& q : mesh.positions) {
-            const Vec3 p = inst.identity ? q : inst.transform.point(q);
-            for (int c = 0; c < 3; ++c)
-                lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
-            anyVertex = true;
-        }
         // Area lights: power = π × area × luminance(Le) per side, two sides. Moving instances
         // never emit (the loader refuses it).
         if (inst.motion >= 0) continue;
@@ -58,9 +49,11 @@ LightSampler::LightSampler(const detail::SceneData& scene) : m_scene(&scene) {
         if (emits) m_firstOfInstance[i] = std::int64_t(first);
     }
     m_areaCount = m_lights.size();
-    // Lights at infinity light the scene's bounding sphere: power ≈ π r² × radiance (or
-    // irradiance) for its radius r (PBR 12.6).
-    const float radius = !anyVertex ? 1.0f : std::max(0.5f * length(hi - lo), 1e-3f * scene.extent);
+    // Lights at infinity light the scene's bounding sphere (the box of the shutter-open pose):
+    // power ≈ π r² × radiance (or irradiance) for its radius r (PBR 12.6).
+    const detail::Box& box = scene.bounds;
+    const float radius =
+        box.empty() ? 1.0f : std::max(0.5f * length(box.hi - box.lo), 1e-3f * scene.extent);
     for (const detail::PunctualLight& light : scene.punctualLights) {
         const float intensity = luminance(light.intensity);
         float lightPower = 0.0f;

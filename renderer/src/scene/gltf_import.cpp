@@ -436,12 +436,6 @@ void GltfImport::addLight(int node, const Affine& world) {
 
 void Loader::importGltf(const fs::path& path, const std::vector<Affine>& poses,
                         const GltfOverrides& overrides, const std::string& where) {
-    requireRegularFile(path, "glTF", "a .gltf or .glb file", m_reader.file().string(),
-                       where + "/gltf");
-    // Within the memory limit, predicted from the JSON before anything is parsed.
-    if (m_memoryLimit > 0)
-        checkLoadMemory(predictGltfLoad(path), heldBytes(m_scene), m_memoryLimit, path,
-                        m_reader.file(), where + "/gltf");
     // The buffers' mappings end with this function: after the asset is converted.
     tinygltf::Model model;
     GltfBuffers buffers;
@@ -455,6 +449,55 @@ void Loader::importGltf(const fs::path& path, const std::vector<Affine>& poses,
             m_scene.addInput(path.parent_path() / uri);
     }
     GltfImport(*this, model, buffers, path, overrides, where).importScene(poses);
+}
+
+namespace {
+
+/// A glTF shape of scene.json: its "edits" and "materials" as overrides, then the asset.
+void importGltfShape(Loader& loader, const AssetShape& shape) {
+    const nlohmann::json& j = shape.object;
+    const std::string& where = shape.where;
+    GltfOverrides overrides;
+    overrides.material = shape.material;
+    overrides.byNamePlace = where + "/materials";
+    overrides.editsPlace = where + "/edits";
+    overrides.shape = shape.index;
+    if (j.contains("edits")) {
+        if (!j["edits"].is_object())
+            loader.reader().fail(where + "/edits",
+                                 "expected an object mapping glTF material names to their edits");
+        for (const auto& item : j["edits"].items()) overrides.edits[item.key()] = item.value();
+    }
+    if (j.contains("materials")) {
+        const nlohmann::json& map = j["materials"];
+        if (!map.is_object())
+            loader.reader().fail(
+                where + "/materials",
+                "expected an object mapping glTF material names to JSON materials");
+        for (const auto& item : map.items())
+            overrides.byName[item.key()] =
+                loader.sceneMaterial(item.value(), where + "/materials/" + item.key());
+    }
+    loader.importGltf(shape.file, shape.poses, overrides, where);
+}
+
+}  // namespace
+
+const AssetFormat& gltfAssetFormat() {
+    static const AssetFormat format{
+        .name = "glTF 2.0",
+        .key = "gltf",
+        .shapeDescription = "a glTF 2.0 .gltf or .glb asset",
+        .fileWord = "glTF",
+        .expected = "a .gltf or .glb file",
+        .extensions = {".gltf", ".glb"},
+        .shapeKeys = {"materials", "edits"},
+        .refusedKeys = {},
+        // Predicted from the JSON before anything is parsed.
+        .predictLoad = predictGltfLoad,
+        .import = importGltfShape,
+    };
+    return format;
 }
 
 }  // namespace glint::render::detail

@@ -33,6 +33,7 @@ class JsonReader {
     /// The value must be an object whose keys are all in `allowed`.
     void requireObject(const nlohmann::json& value, const std::string& where,
                        std::initializer_list<const char*> allowed) const;
+    /// The same with a list made at run time (a shape's keys, from the asset formats).
     void requireObject(const nlohmann::json& value, const std::string& where,
                        const std::vector<std::string>& allowed) const;
     /// A finite number in [lo, hi].

@@ -500,15 +500,23 @@ LoadPrediction predictGltfLoad(const fs::path& path) {
                 plural(c.accessors, "accessor") + ", " + plural(c.images, "image") +
                 "; mesh data " + formatBytes(p.meshes) + ", images " + formatBytes(p.images) +
                 ", the glTF reader's document " + formatBytes(p.reader);
+    if (p.reader > p.meshes + p.images)
+        p.advice =
+            "fewer, larger meshes (joined in the modelling tool) load in less (the glTF reader's "
+            "document is the larger part)";
     return p;
 }
 
 LoadPrediction predictObjLoad(const fs::path& path) {
+    LoadPrediction p;
+    p.advice =
+        "the same mesh as a .glb loads in about its mesh data (the OBJ reader's text and arrays "
+        "are the larger part)";
     std::error_code ec;
     const std::uint64_t size = fs::file_size(path, ec);
-    if (ec) return {};
+    if (ec) return p;
     ObjCount count;
-    if (!readBlocks(path, 0, size, [&](std::string_view piece) { count.feed(piece); })) return {};
+    if (!readBlocks(path, 0, size, [&](std::string_view piece) { count.feed(piece); })) return p;
     const ObjCensus& c = count.finish();
     // The check (obj_scan.cpp) holds the text and the line of every vertex.
     const std::uint64_t check = size + 8 * c.v;
@@ -526,7 +534,6 @@ LoadPrediction predictObjLoad(const fs::path& path) {
     const std::uint64_t vertices = std::min(c.corners, c.triples + c.triples / 20);
     const std::uint64_t map = vertices > c.v ? 64 * (vertices - c.v) : 0;
     const std::uint64_t tables = 16 * c.v + map + (c.smoothing && c.vn == 0 ? 8 * vertices : 0);
-    LoadPrediction p;
     p.meshes = vertices * (12 + (normals ? 12 : 0) + (c.vt > 0 ? 8 : 0)) +
                triangles * (c.usemtl > 1 ? 16 : 12) +
                (triangles <= kFaceNormalTriangles ? triangles * 12 : 0) + kMeshObjectBytes;
@@ -548,10 +555,6 @@ void checkLoadMemory(const LoadPrediction& prediction, std::uint64_t held, std::
                      const fs::path& asset, const fs::path& sceneFile, const std::string& where) {
     const std::uint64_t need = saturatingAdd(held, prediction.bytes);
     if (limit == 0 || need <= limit) return;
-    std::string ext = asset.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char ch) { return char(std::tolower(ch)); });
-    const bool obj = ext == ".obj";
     // A bare asset is named as the file; an asset of a scene.json by the shape's place.
     const bool bare = asset == sceneFile;
     std::string text = (bare ? std::string("loading it") : "loading " + asset.string()) +
@@ -561,14 +564,7 @@ void checkLoadMemory(const LoadPrediction& prediction, std::uint64_t held, std::
     text += " but only " + formatBytes(limit) +
             " is allowed (memory limit); nothing of it was read. A limit of " + formatBytes(need) +
             " would load it";
-    if (obj)
-        text +=
-            "; the same mesh as a .glb loads in about its mesh data (the OBJ reader's text "
-            "and arrays are the larger part)";
-    else if (prediction.reader > prediction.meshes + prediction.images)
-        text +=
-            "; fewer, larger meshes (joined in the modelling tool) load in less (the glTF "
-            "reader's document is the larger part)";
+    if (!prediction.advice.empty()) text += "; " + prediction.advice;
     throw Error(ErrorKind::OutOfMemory, text, sceneFile.string(), bare ? "" : where);
 }
 

@@ -23,6 +23,8 @@ struct LoadPrediction {
     /// tinyobjloader's arrays (released when the load ends)
     std::uint64_t reader = 0;
     std::string counted;  ///< what was counted, for messages ("1000 meshes, 1000 nodes, ...")
+    /// What would make the load smaller, for the message refusing it (empty: nothing to say).
+    std::string advice;
 };
 
 /// Predicts the load of the .gltf or .glb at `path` from its JSON (read a block at a time, never

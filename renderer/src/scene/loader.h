@@ -1,8 +1,8 @@
 // scene.json → SceneData. One loader, files by concern: scene_loader.cpp reads the JSON
 // (camera, film, render block, materials, environment, shapes and their transforms) and builds
-// the scene around a bare asset, obj_import.cpp imports OBJ/MTL geometry through tinyobjloader,
-// gltf_import.cpp and gltf_material.cpp import glTF 2.0 assets through tinygltf,
-// image_import.cpp reads textures and environment images.
+// the scene around a bare asset; each asset format (asset_format.h) imports its files:
+// obj_import.cpp OBJ/MTL geometry through tinyobjloader, gltf_import.cpp and gltf_material.cpp
+// glTF 2.0 assets through tinygltf; image_import.cpp reads textures and environment images.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "glint/image/image.h"
+#include "scene/asset_format.h"
 #include "scene/json_reader.h"
 #include "scene/scene_data.h"
 #include "scene/transform.h"
@@ -42,17 +43,54 @@ struct GltfOverrides {
 /// scene's TextureStore, embedded images decoded into memory).
 class Loader {
   public:
-    /// With `memoryLimit` > 0, each OBJ or glTF asset is refused before it is read when the
-    /// scene so far and the asset's predicted load peak exceed it (load_memory.h).
+    /// With `memoryLimit` > 0, each asset is refused before it is read when the scene so far
+    /// and the asset's predicted load peak exceed it (load_memory.h).
     Loader(const std::filesystem::path& file, SceneData& scene, std::uint64_t memoryLimit = 0);
 
     /// Reads the whole document.
     void load(const nlohmann::json& root);
-    /// Builds a scene around the glTF or OBJ asset `file` (a bare asset: loadScene("model.glb")):
-    /// film 640 pixels wide, the asset's first camera or one framing its bounding sphere, a
-    /// constant environment of radiance 1 when the asset has no light. Records an equivalent
-    /// scene.json as the scene's source.
+    /// Builds a scene around the asset `file` of a registered format (a bare asset:
+    /// loadScene("model.glb")): film 640 pixels wide, the asset's first camera or one framing its
+    /// bounding sphere, a constant environment of radiance 1 when the asset has no light.
+    /// Records an equivalent scene.json as the scene's source.
     void loadAsset(const std::filesystem::path& file);
+
+    // What an asset format's import (asset_format.h) uses.
+
+    /// The scene being loaded.
+    SceneData& scene() { return m_scene; }
+    /// The reader of the scene file, whose fail() names the file and a JSON place.
+    const JsonReader& reader() const { return m_reader; }
+    /// The scene material a JSON string at `place` names; fails when /materials lacks it.
+    int sceneMaterial(const nlohmann::json& value, const std::string& place) const;
+    /// Places scene mesh `mesh` as one instance with the shape's poses and material (a moving
+    /// shape must not be emissive); a mesh without triangles is not placed.
+    void placeMesh(std::uint32_t mesh, const AssetShape& shape);
+    int materialIndex(const std::string& name) const {
+        const auto it = m_materialIndex.find(name);
+        return it == m_materialIndex.end() ? -1 : it->second;
+    }
+    int addMaterial(Material material);
+    /// Loads (or finds) a texture from a file or embedded bytes; returns its index.
+    int loadTexture(const Texture& source, const std::string& where);
+
+    // The built-in formats' readers, which their AssetFormat's import calls.
+
+    /// obj_import.cpp: adds the OBJ file as one mesh in its object space and returns its index,
+    /// adding its MTL materials unless JSON overrides them by name. Every vertex must stay within
+    /// the coordinate range in each of `poses` (the shape's transform, or every time step of
+    /// its motion). With `overrideMaterial` >= 0 the caller's instance replaces every material
+    /// (the mesh's own are then 0).
+    std::uint32_t importObj(const std::filesystem::path& objPath, const std::vector<Affine>& poses,
+                            int overrideMaterial, const std::string& where);
+
+    /// gltf_import.cpp: adds the glTF asset's default scene (its node hierarchy) as meshes placed
+    /// by instances, each glTF mesh one Glint mesh however many nodes use it; its materials
+    /// (unless overridden), cameras (SceneData::assetCameras) and KHR_lights_punctual lights.
+    /// `poses` is the shape's transform (or every time step of its motion); every vertex must
+    /// stay within the coordinate range in each. Errors name the asset and the glTF place.
+    void importGltf(const std::filesystem::path& path, const std::vector<Affine>& poses,
+                    const GltfOverrides& overrides, const std::string& where);
 
   private:
     void readCamera(const nlohmann::json& j, const std::string& where);
@@ -71,39 +109,22 @@ class Loader {
     /// Reads parameter `p` of a material into `m` where the object `j` (at `where`) gives it.
     void readParameter(Material& m, const MaterialParameter& p, const nlohmann::json& j,
                        const std::string& where) const;
-
-    /// obj_import.cpp: adds the OBJ file as one mesh in its object space and returns its index,
-    /// adding its MTL materials unless JSON overrides them by name. Every vertex must stay within
-    /// the coordinate range in each of `poses` (the shape's transform, or every time step of
-    /// its motion). With `overrideMaterial` >= 0 the caller's instance replaces every material
-    /// (the mesh's own are then 0).
-    std::uint32_t importObj(const std::filesystem::path& objPath, const std::vector<Affine>& poses,
-                            int overrideMaterial, const std::string& where);
-
-    /// gltf_import.cpp: adds the glTF asset's default scene (its node hierarchy) as meshes placed
-    /// by instances, each glTF mesh one Glint mesh however many nodes use it; its materials
-    /// (unless overridden), cameras (SceneData::assetCameras) and KHR_lights_punctual lights.
-    /// `poses` is the shape's transform (or every time step of its motion); every vertex must
-    /// stay within the coordinate range in each. Errors name the asset and the glTF place.
-    void importGltf(const std::filesystem::path& path, const std::vector<Affine>& poses,
-                    const GltfOverrides& overrides, const std::string& where);
+    /// The shape keys scene.json takes: every format's key, then the common and the formats'
+    /// own keys, in the order the unknown-key message lists them.
+    static std::vector<std::string> shapeKeys();
+    /// Fails unless the asset of `format` at `shape.file` is a regular file whose predicted
+    /// load fits the memory limit.
+    void checkAsset(const AssetFormat& format, const AssetShape& shape) const;
     /// Sets the camera from SceneData::assetCameras[index] (film unchanged).
     void useAssetCamera(std::size_t index);
 
     /// Loads (or finds) the colour texture at `path` (relative to the scene folder), repeating;
     /// returns its index.
     int loadTexture(const std::filesystem::path& path, const std::string& where);
-    /// Loads (or finds) a texture from a file or embedded bytes; returns its index.
-    int loadTexture(const Texture& source, const std::string& where);
     /// Opens a texture file in the scene's TextureStore (made on first need), checking it as
     /// loadTexture promises; returns its index there.
     int openTextureFile(const std::filesystem::path& path, bool linearize,
                         const std::string& where);
-    int materialIndex(const std::string& name) const {
-        const auto it = m_materialIndex.find(name);
-        return it == m_materialIndex.end() ? -1 : it->second;
-    }
-    int addMaterial(Material material);
     /// An RGB radiance in [0, kMaxRadiance].
     Vec3 radiance(const nlohmann::json& value, const std::string& where) const;
 
@@ -118,13 +139,10 @@ class Loader {
     std::uint64_t m_memoryLimit = 0;  ///< bytes the load may take (0: no limit)
 };
 
-/// The bounding box of every vertex of every instance at shutter open; false when the scene
-/// has no vertex.
-bool worldBounds(const SceneData& scene, Vec3& lo, Vec3& hi);
-
-/// The largest side of the bounding box of every vertex of every instance in every pose
-/// (SceneData::extent).
-void computeExtent(SceneData& scene);
+/// Ends loading, after SceneData::finishMeshes: the bounding box of every vertex at shutter open
+/// (SceneData::bounds) and the largest side of the box of every vertex in every pose
+/// (SceneData::extent). What needs the scene's size reads them.
+void computeBounds(SceneData& scene);
 
 /// image_import.cpp: reads an image file as linear RGB (grey replicated) multiplied by `scale`.
 /// Every value must be finite and >= 0: otherwise glint::Error(Format) names the image, the

@@ -238,12 +238,6 @@ class GroupedObjBuffer final : public std::streambuf {
 std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affine>& poses,
                                 int overrideMaterial, const std::string& where) {
     std::error_code ec;  // odd paths (too long...) are reported, not thrown as filesystem errors
-    requireRegularFile(objPath, "OBJ", "an OBJ file", m_reader.file().string(), where + "/obj");
-    // Within the memory limit, predicted from a count of the statements before the check reads
-    // the text.
-    if (m_memoryLimit > 0)
-        checkLoadMemory(predictObjLoad(objPath), heldBytes(m_scene), m_memoryLimit, objPath,
-                        m_reader.file(), where + "/obj");
     // Indices and numbers checked with their line first: tinyobjloader trusts them.
     ObjLines lines = scanObj(objPath);
     m_scene.addInput(objPath);
@@ -574,6 +568,32 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
                     objPath.string(), where);
     m_scene.meshes.push_back(std::move(mesh));
     return std::uint32_t(m_scene.meshes.size() - 1);
+}
+
+const AssetFormat& objAssetFormat() {
+    static const AssetFormat format{
+        .name = "Wavefront OBJ",
+        .key = "obj",
+        .shapeDescription = "a Wavefront OBJ file",
+        .fileWord = "OBJ",
+        .expected = "an OBJ file",
+        .extensions = {".obj"},
+        .shapeKeys = {},
+        .refusedKeys = {{"materials",
+                         "'materials' renames a glTF asset's materials; an OBJ shape takes "
+                         "'material', and JSON materials override MTL materials by name"},
+                        {"edits",
+                         "'edits' changes a glTF asset's material factors; an OBJ shape's "
+                         "materials are edited as JSON materials of the same name"}},
+        // Predicted from a count of the statements before the reader reads the text.
+        .predictLoad = predictObjLoad,
+        .import =
+            [](Loader& loader, const AssetShape& shape) {
+                loader.placeMesh(
+                    loader.importObj(shape.file, shape.poses, shape.material, shape.where), shape);
+            },
+    };
+    return format;
 }
 
 }  // namespace glint::render::detail

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -367,6 +368,18 @@ struct SurfaceId {
 };
 
 /// Everything a Scene holds.
+/// An axis-aligned box; empty (lo above hi) until it holds a point.
+struct Box {
+    Vec3 lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
+            std::numeric_limits<float>::max()};
+    Vec3 hi = lo * -1.0f;
+
+    bool empty() const { return !(lo.x <= hi.x); }
+    void grow(const Vec3& p) {
+        for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
+    }
+};
+
 struct SceneData {
     std::filesystem::path path;
     std::string sourceJson;          ///< the text the scene was parsed from (saveScene edits it)
@@ -381,6 +394,10 @@ struct SceneData {
     std::vector<Mesh> meshes;
     std::vector<Instance> instances;
     std::vector<InstanceMotion> motions;
+    /// The bounding box of every vertex of every instance at shutter open (empty without
+    /// geometry), computed once when loading ends (computeBounds): the bare asset's framing
+    /// camera, the power of lights at infinity.
+    Box bounds;
     /// The largest side of the bounding box of every vertex (every pose of moving shapes): the
     /// scale that ray offsets follow (1 for a scene without geometry).
     float extent = 1.0f;

@@ -1,8 +1,8 @@
 // scene.json → SceneData, the JSON half of the loader (loader.h): camera, film, render block,
-// materials (JSON overriding MTL and glTF materials by name), environment, shapes (OBJ or glTF)
-// with scale-rotate-translate transforms and motion, and the scene built around a bare glTF
-// or OBJ asset. OBJ/MTL import is in obj_import.cpp, glTF in gltf_import.cpp, images in
-// image_import.cpp.
+// materials (JSON overriding MTL and glTF materials by name), environment, shapes (an asset of a
+// registered format, asset_format.h) with scale-rotate-translate transforms and motion, and the
+// scene built around a bare asset. Each format imports its own files (obj_import.cpp,
+// gltf_import.cpp); images are read by image_import.cpp.
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -15,7 +15,9 @@
 #include "glint/image/io.h"
 #include "glint/render/scene.h"
 #include "materials/bsdf.h"
+#include "scene/asset_format.h"
 #include "scene/camera.h"
+#include "scene/input_file.h"
 #include "scene/json_reader.h"
 #include "scene/loader.h"
 #include "scene/scene_data.h"
@@ -24,18 +26,6 @@ namespace glint::render {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-namespace {
-
-/// The extension of `path` in lower case: ".obj", ".glb", ".gltf" name a bare asset.
-std::string lowerExtension(const fs::path& path) {
-    std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
-    return ext;
-}
-
-}  // namespace
 
 namespace detail {
 
@@ -93,7 +83,7 @@ void Loader::load(const json& root) {
     if (!m_hasCamera && !m_scene.assetCameras.empty()) useAssetCamera(0);
     for (Material& m : m_scene.materials) m.deriveEmissionLook();
     m_scene.finishMeshes();
-    computeExtent(m_scene);
+    computeBounds(m_scene);
     if (m_scene.triangleCount() == 0 && m_scene.environment.kind == EnvironmentDesc::Kind::None)
         m_reader.fail("/shapes", "the scene has neither geometry nor an environment");
 }
@@ -322,25 +312,65 @@ TransformDesc Loader::readTransform(const json& j, const std::string& where,
     return desc;
 }
 
+std::vector<std::string> Loader::shapeKeys() {
+    std::vector<std::string> keys;
+    for (const AssetFormat* format : assetFormatRegistry()) keys.push_back(format->key);
+    keys.push_back("material");
+    for (const AssetFormat* format : assetFormatRegistry())
+        for (const std::string& key : format->shapeKeys)
+            if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+    keys.push_back("transform");
+    keys.push_back("motion");
+    return keys;
+}
+
+void Loader::checkAsset(const AssetFormat& format, const AssetShape& shape) const {
+    const std::string place = shape.where + "/" + format.key;
+    requireRegularFile(shape.file, format.fileWord, format.expected, m_reader.file().string(),
+                       place);
+    // Within the memory limit, predicted before the format's reader allocates anything.
+    if (m_memoryLimit > 0 && format.predictLoad)
+        checkLoadMemory(format.predictLoad(shape.file), heldBytes(m_scene), m_memoryLimit,
+                        shape.file, m_reader.file(), place);
+}
+
+int Loader::sceneMaterial(const json& value, const std::string& place) const {
+    const std::string name = m_reader.string(value, place);
+    const int index = materialIndex(name);
+    if (index < 0) m_reader.fail(place, "material '" + name + "' is not defined in /materials");
+    return index;
+}
+
 void Loader::readShape(const json& j, const std::string& where, int shapeIndex) {
-    m_reader.requireObject(
-        j, where, {"obj", "gltf", "material", "materials", "edits", "transform", "motion"});
-    if (j.contains("obj") == j.contains("gltf"))
-        m_reader.fail(where,
-                      "expected exactly one of 'obj' (a Wavefront OBJ file) or 'gltf' (a "
-                      "glTF 2.0 .gltf or .glb asset)");
-    const bool gltf = j.contains("gltf");
-    const std::string key = gltf ? "gltf" : "obj";
+    m_reader.requireObject(j, where, shapeKeys());
+    // The shape's format: the one whose key it has.
+    const AssetFormat* format = nullptr;
+    int formats = 0;
+    std::string choices;
+    const auto& registry = assetFormatRegistry();
+    for (std::size_t i = 0; i < registry.size(); ++i) {
+        if (j.contains(registry[i]->key)) format = registry[i], ++formats;
+        choices += std::string(i == 0                     ? ""
+                               : i + 1 == registry.size() ? " or "
+                                                          : ", ") +
+                   "'" + registry[i]->key + "' (" + registry[i]->shapeDescription + ")";
+    }
+    if (formats != 1) m_reader.fail(where, "expected exactly one of " + choices);
+    const std::string& key = format->key;
     const fs::path rel = m_reader.string(j[key], where + "/" + key);
     const fs::path filePath = rel.is_absolute() ? rel : m_dir / rel;
-    if (!gltf && j.contains("materials"))
-        m_reader.fail(where + "/materials",
-                      "'materials' renames a glTF asset's materials; an OBJ shape takes "
-                      "'material', and JSON materials override MTL materials by name");
-    if (!gltf && j.contains("edits"))
-        m_reader.fail(where + "/edits",
-                      "'edits' changes a glTF asset's material factors; an OBJ shape's materials "
-                      "are edited as JSON materials of the same name");
+    // A key of another format's shapes that this format does not take: refused with its reason,
+    // else in general words.
+    for (const AssetFormat* other : registry)
+        for (const std::string& extra : other->shapeKeys) {
+            const auto& own = format->shapeKeys;
+            if (!j.contains(extra) || std::find(own.begin(), own.end(), extra) != own.end())
+                continue;
+            std::string why = "'" + extra + "' does not apply to " + format->shapeDescription;
+            for (const auto& [refused, reason] : format->refusedKeys)
+                if (refused == extra) why = reason;
+            m_reader.fail(where + "/" + extra, why);
+        }
     const TransformDesc start = j.contains("transform")
                                     ? readTransform(j["transform"], where + "/transform", {})
                                     : TransformDesc{};
@@ -358,64 +388,38 @@ void Loader::readShape(const json& j, const std::string& where, int shapeIndex) 
                  length(end.scale - start.scale) > 0.0f || end.degrees != start.degrees ||
                  (start.degrees != 0.0f && length(end.axis - start.axis) > 0.0f);
     }
-    auto jsonMaterial = [&](const json& value, const std::string& place) {
-        const std::string name = m_reader.string(value, place);
-        const int index = materialIndex(name);
-        if (index < 0) m_reader.fail(place, "material '" + name + "' is not defined in /materials");
-        return index;
-    };
-    int overrideMaterial = -1;
-    if (j.contains("material")) overrideMaterial = jsonMaterial(j["material"], where + "/material");
-    std::vector<Affine> poses{toAffine(start)};
+    AssetShape shape{j, where, shapeIndex, filePath, {toAffine(start)}, moving, -1};
+    if (j.contains("material")) shape.material = sceneMaterial(j["material"], where + "/material");
     if (moving) {
         const TransformMotion motion(start, end);
         const int steps = motion.timeSteps();
-        poses.clear();
-        for (int k = 0; k < steps; ++k) poses.push_back(motion.at(float(k) / float(steps - 1)));
+        shape.poses.clear();
+        for (int k = 0; k < steps; ++k)
+            shape.poses.push_back(motion.at(float(k) / float(steps - 1)));
     }
-    if (gltf) {
-        GltfOverrides overrides;
-        overrides.material = overrideMaterial;
-        overrides.byNamePlace = where + "/materials";
-        overrides.editsPlace = where + "/edits";
-        overrides.shape = shapeIndex;
-        if (j.contains("edits")) {
-            if (!j["edits"].is_object())
-                m_reader.fail(where + "/edits",
-                              "expected an object mapping glTF material names to their edits");
-            for (const auto& item : j["edits"].items()) overrides.edits[item.key()] = item.value();
-        }
-        if (j.contains("materials")) {
-            const json& map = j["materials"];
-            if (!map.is_object())
-                m_reader.fail(where + "/materials",
-                              "expected an object mapping glTF material names to JSON materials");
-            for (const auto& item : map.items())
-                overrides.byName[item.key()] =
-                    jsonMaterial(item.value(), where + "/materials/" + item.key());
-        }
-        importGltf(filePath, poses, overrides, where);
-        return;
-    }
+    checkAsset(*format, shape);
+    format->import(*this, shape);
+}
 
+void Loader::placeMesh(std::uint32_t meshIndex, const AssetShape& shape) {
     Instance instance;
-    instance.transform = poses.front();
+    instance.transform = shape.poses.front();
     instance.identity = isIdentity(instance.transform);
-    instance.material = overrideMaterial;
-    instance.name = where;
-    instance.mesh = importObj(filePath, poses, overrideMaterial, where);
+    instance.material = shape.material;
+    instance.name = shape.where;
+    instance.mesh = meshIndex;
     const Mesh& mesh = m_scene.meshes[instance.mesh];
     if (mesh.triangleCount() == 0) return;
-    if (moving) {
+    if (shape.moving) {
         for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
-            const int m = overrideMaterial >= 0 ? overrideMaterial : int(mesh.materialOf(t));
+            const int m = shape.material >= 0 ? shape.material : int(mesh.materialOf(t));
             if (m_scene.materials[std::size_t(m)].emissive())
-                m_reader.fail(where + "/motion",
+                m_reader.fail(shape.where + "/motion",
                               "a moving shape must not be emissive (area lights are static)");
         }
         instance.motion = std::int32_t(m_scene.motions.size());
         instance.identity = false;
-        m_scene.motions.push_back({std::move(poses)});
+        m_scene.motions.push_back({shape.poses});
     }
     m_scene.instances.push_back(std::move(instance));
 }
@@ -424,36 +428,23 @@ void Loader::useAssetCamera(std::size_t index) {
     m_scene.camera = cameraOf(m_scene.assetCameras.at(index));
 }
 
-bool worldBounds(const SceneData& scene, Vec3& lo, Vec3& hi) {
-    lo = Vec3{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
-              std::numeric_limits<float>::max()};
-    hi = lo * -1.0f;
-    bool any = false;
-    for (const Instance& inst : scene.instances)
-        for (const Vec3& q : scene.meshes[inst.mesh].positions) {
-            const Vec3 p = inst.identity ? q : inst.transform.point(q);
-            for (int c = 0; c < 3; ++c)
-                lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
-            any = true;
-        }
-    return any;
-}
-
 void Loader::loadAsset(const fs::path& file) {
     // The scene a newcomer's first command gets: the asset, its camera or one that frames it,
     // and light to see it by.
     json doc;
-    const char* key = lowerExtension(file) == ".obj" ? "obj" : "gltf";
-    doc["shapes"] = json::array({json{{key, file.filename().string()}}});
+    const AssetFormat* format = findAssetFormat(file);
+    GLINT_CHECK(format);
+    doc["shapes"] = json::array({json{{format->key, file.filename().string()}}});
     readShape(doc["shapes"][0], "/shapes/0", 0);
+    m_scene.finishMeshes();
+    computeBounds(m_scene);
     m_scene.width = 640;
     m_scene.height = 480;
     // An asset too small for float (1e-30 across) would render as an empty frame: the camera
     // that frames it, in double, is held to the rule of a scene.json camera, whichever camera is
     // used.
+    const Vec3 lo = m_scene.bounds.lo, hi = m_scene.bounds.hi;
     {
-        Vec3 lo, hi;
-        worldBounds(m_scene, lo, hi);
         double across = 0.0;
         for (int c = 0; c < 3; ++c) across = std::max(across, double(hi[c]) - double(lo[c]));
         const double framing = 0.5 * across / std::sin(20.0 * kPi / 180.0);
@@ -471,8 +462,6 @@ void Loader::loadAsset(const fs::path& file) {
     } else {
         // A camera on +z of the bounding sphere's centre, looking down −z, at the distance at
         // which the sphere fits the narrower field of view.
-        Vec3 lo, hi;
-        worldBounds(m_scene, lo, hi);
         const Vec3 centre = (lo + hi) * 0.5f;
         const float radius =
             std::max(0.5f * length(hi - lo), 1e-6f * std::max(1.0f, maxAbsComponent(centre)));
@@ -494,8 +483,6 @@ void Loader::loadAsset(const fs::path& file) {
         m_scene.environment.baseColor = m_scene.environment.color = {1.0f, 1.0f, 1.0f};
     }
     for (Material& m : m_scene.materials) m.deriveEmissionLook();
-    m_scene.finishMeshes();
-    computeExtent(m_scene);
 
     // The equivalent scene.json, so that the scene can be saved and reloaded as it is.
     auto array = [](const Vec3& v) { return json::array({v.x, v.y, v.z}); };
@@ -509,31 +496,32 @@ void Loader::loadAsset(const fs::path& file) {
     m_scene.sourceJson = doc.dump(2);
 }
 
-void computeExtent(SceneData& scene) {
-    // The scene's scale, for scale-free ray offsets (vecmath.h, rayEpsilon): the bounding box
-    // of every vertex in every pose.
-    Vec3 lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
-            std::numeric_limits<float>::max()};
-    Vec3 hi = lo * -1.0f;
-    auto grow = [&](const Vec3& p) {
-        for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
-    };
+void computeBounds(SceneData& scene) {
+    // One pass over every vertex of every instance: the box at shutter open and the box of
+    // every pose, whose largest side is the scene's scale for scale-free ray offsets
+    // (vecmath.h, rayEpsilon).
+    Box open, swept;
     bool any = false;
     for (const Instance& inst : scene.instances) {
         const Mesh& mesh = scene.meshes[inst.mesh];
         any = any || !mesh.positions.empty();
         if (inst.motion >= 0) {
+            for (const Vec3& p : mesh.positions) open.grow(inst.transform.point(p));
             for (const Affine& step : scene.motions[std::size_t(inst.motion)].steps)
-                for (const Vec3& p : mesh.positions) grow(step.point(p));
+                for (const Vec3& p : mesh.positions) swept.grow(step.point(p));
         } else if (inst.identity) {
-            for (const Vec3& p : mesh.positions) grow(p);
+            for (const Vec3& p : mesh.positions) open.grow(p), swept.grow(p);
         } else {
-            for (const Vec3& p : mesh.positions) grow(inst.transform.point(p));
+            for (const Vec3& q : mesh.positions) {
+                const Vec3 p = inst.transform.point(q);
+                open.grow(p), swept.grow(p);
+            }
         }
     }
+    scene.bounds = open;
     if (any) {
-        const float extent = maxAbsComponent(hi - lo);
-        scene.extent = extent > 0.0f ? extent : std::max(maxAbsComponent(hi), 1e-30f);
+        const float extent = maxAbsComponent(swept.hi - swept.lo);
+        scene.extent = extent > 0.0f ? extent : std::max(maxAbsComponent(swept.hi), 1e-30f);
     }
 }
 
@@ -567,8 +555,7 @@ Scene parseScene(const std::string& jsonText, const fs::path& path, std::uint64_
 
 Scene loadScene(const fs::path& path, std::uint64_t memoryLimit) {
     std::error_code ec;
-    const std::string ext = lowerExtension(path);
-    if ((ext == ".gltf" || ext == ".glb" || ext == ".obj") && fs::is_regular_file(path, ec)) {
+    if (detail::findAssetFormat(path) && fs::is_regular_file(path, ec)) {
         auto data = std::make_unique<detail::SceneData>();
         data->path = path;
         detail::Loader loader(path, *data, memoryLimit);

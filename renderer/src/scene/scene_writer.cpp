@@ -12,6 +12,7 @@
 #include "glint/image/io.h"
 #include "glint/render/scene.h"
 #include "materials/bsdf.h"
+#include "scene/asset_format.h"
 #include "scene/scene_access.h"
 #include "scene/scene_data.h"
 
@@ -152,8 +153,8 @@ void saveScene(const Scene& scene, const fs::path& path) {
     };
     if (root.contains("shapes"))
         for (ordered_json& shape : root["shapes"])
-            for (const char* key : {"obj", "gltf"})
-                if (shape.contains(key)) rebaseString(shape[key]);
+            for (const detail::AssetFormat* format : detail::assetFormatRegistry())
+                if (shape.contains(format->key)) rebaseString(shape[format->key]);
     if (root.contains("environment") && root["environment"].contains("image"))
         rebaseString(root["environment"]["image"]);
     if (root.contains("materials"))

@@ -1,0 +1,74 @@
+// The registry of asset formats (asset_format.h) and the public list of them
+// (glint/render/asset_formats.h).
+#include <algorithm>
+#include <cctype>
+
+#include "glint/render/asset_formats.h"
+#include "scene/asset_format.h"
+
+namespace glint::render {
+
+namespace detail {
+
+// Each format's file defines its description. A new format adds its declaration here and its
+// line to the list below.
+const AssetFormat& objAssetFormat();   // obj_import.cpp
+const AssetFormat& gltfAssetFormat();  // gltf_import.cpp
+
+namespace {
+
+std::vector<const AssetFormat*>& registry() {
+    static std::vector<const AssetFormat*> formats{
+        &objAssetFormat(),
+        &gltfAssetFormat(),
+    };
+    return formats;
+}
+
+}  // namespace
+
+const std::vector<const AssetFormat*>& assetFormatRegistry() {
+    return registry();
+}
+
+const AssetFormat* findAssetFormat(const std::filesystem::path& path) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    for (const AssetFormat* format : registry())
+        if (std::find(format->extensions.begin(), format->extensions.end(), ext) !=
+            format->extensions.end())
+            return format;
+    return nullptr;
+}
+
+ScopedAssetFormat::ScopedAssetFormat(const AssetFormat& format) : m_format(&format) {
+    registry().push_back(m_format);
+}
+
+ScopedAssetFormat::~ScopedAssetFormat() {
+    auto& formats = registry();
+    formats.erase(std::remove(formats.begin(), formats.end(), m_format), formats.end());
+}
+
+}  // namespace detail
+
+std::vector<AssetFormatInfo> assetFormats() {
+    std::vector<AssetFormatInfo> out;
+    for (const detail::AssetFormat* format : detail::assetFormatRegistry())
+        out.push_back({format->name, format->key, format->extensions});
+    return out;
+}
+
+std::vector<std::string> assetExtensions() {
+    std::vector<std::string> out;
+    for (const detail::AssetFormat* format : detail::assetFormatRegistry())
+        out.insert(out.end(), format->extensions.begin(), format->extensions.end());
+    return out;
+}
+
+bool isAssetFile(const std::filesystem::path& path) {
+    return detail::findAssetFormat(path) != nullptr;
+}
+
+}  // namespace glint::render
