@@ -307,7 +307,7 @@ void setLookValue(std::vector<render::LookItem>& look, const std::string& item,
                 if (p.name == property) target = &p;
     if (!target)
         throw Error(ErrorKind::InvalidArgument, "no look property " + item + "/" + property, file);
-    const int n = target->type == render::PropertyType::Color ? 3 : 1;
+    const int n = target->isColour ? 3 : 1;
     for (int c = 0; c < n; ++c)
         if (!(value[std::size_t(c)] >= target->min && value[std::size_t(c)] <= target->max))
             throw Error(ErrorKind::InvalidArgument,

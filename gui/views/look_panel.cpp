@@ -39,7 +39,7 @@ QColor swatchColor(const std::array<double, 3>& v) {
 // reach 1e18, a rotation ±1e6), so a short drag stays a small change; the spin box beside it
 // takes any value of the full range.
 std::pair<double, double> sliderRange(const render::LookProperty& p) {
-    if (p.logScale) {
+    if (p.scale == ParamScale::Log) {
         const double lo = p.min <= 0.0 ? 1e-3 : p.min;
         return {lo, std::max(lo, std::min(p.max, std::max(1000.0, 10.0 * p.value[0])))};
     }
@@ -121,8 +121,7 @@ void LookPanel::rebuild() {
         // below its label: the panel never needs a horizontal scroll bar.
         form->setRowWrapPolicy(QFormLayout::WrapLongRows);
         for (const render::LookProperty& p : item.properties) {
-            QWidget* control = p.type == render::PropertyType::Color ? colorControl(item, p)
-                                                                     : scalarControl(item, p);
+            QWidget* control = p.isColour ? colorControl(item, p) : scalarControl(item, p);
             control->setObjectName(QString::fromStdString(keyOf(item, p)));
             control->setToolTip(QString::fromStdString(p.help));
             auto* label = new QLabel(QString::fromStdString(p.label), box);
@@ -183,7 +182,8 @@ QWidget* LookPanel::colorControl(const render::LookItem& item, const render::Loo
 
 QWidget* LookPanel::scalarControl(const render::LookItem& item, const render::LookProperty& p) {
     const auto [sliderMin, sliderMax] = sliderRange(p);
-    auto* control = new ScalarControl(p.min, p.max, sliderMin, sliderMax, p.logScale, false);
+    auto* control =
+        new ScalarControl(p.min, p.max, sliderMin, sliderMax, p.scale == ParamScale::Log, false);
     control->setValue(p.value[0]);
     const std::string name = item.name, property = p.name;
     connect(control, &ScalarControl::editingFinished, this, [this, name, property](double v) {

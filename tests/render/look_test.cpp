@@ -67,12 +67,12 @@ TEST(Look, ListsMaterialsLightsAndEnvironmentWithDescribedProperties) {
     EXPECT_EQ(light->type, "diffuse");
     const LookProperty* strength = findProperty(*light, "strength");
     ASSERT_NE(strength, nullptr);
-    EXPECT_EQ(strength->type, PropertyType::Scalar);
+    EXPECT_FALSE(strength->isColour);
     EXPECT_EQ(strength->value[0], 17.0);
-    EXPECT_TRUE(strength->logScale);
+    EXPECT_EQ(strength->scale, ParamScale::Log);
     const LookProperty* emission = findProperty(*light, "emission");
     ASSERT_NE(emission, nullptr);
-    EXPECT_EQ(emission->type, PropertyType::Color);
+    EXPECT_TRUE(emission->isColour);
     EXPECT_NEAR(emission->value[1], 12.0 / 17.0, 1e-6);
     const LookItem* red = findItem(items, "red");
     ASSERT_NE(red, nullptr);

@@ -55,6 +55,19 @@ TEST(SceneErrors, UnknownMaterialTypeNamesTheJsonPath) {
     EXPECT_NE(e.message().find("metal"), std::string::npos);
 }
 
+TEST(SceneErrors, AKeyOfAnotherMaterialKindNamesItAndTheKeysOfTheKind) {
+    // Each kind reads the parameters it describes: a dielectric's ior on a diffuse material
+    // would be ignored, so it is refused.
+    const Error e = loadError(R"({"film": {"width": 4, "height": 4},
+      "materials": {"chalk": {"type": "diffuse", "ior": 1.5}}, "shapes": [{"obj": "quad.obj"}]})");
+    EXPECT_EQ(e.kind(), ErrorKind::Format);
+    EXPECT_EQ(e.where(), "/materials/chalk/ior");
+    EXPECT_NE(e.message().find("unknown key 'ior' (expected one of: type, texture, albedo, "
+                               "emission)"),
+              std::string::npos)
+        << e.what();
+}
+
 TEST(SceneErrors, NegativeSpp) {
     const Error e = loadError(R"({"film": {"width": 4, "height": 4},
       "shapes": [{"obj": "quad.obj"}], "render": {"spp": -4}})");

@@ -29,20 +29,6 @@ bool hasBlend(const detail::SceneData& scene) {
                        [](const auto& m) { return m.alphaMode == detail::AlphaMode::Blend; });
 }
 
-/// True when light passes the material's surface (glass; glTF transmission): its normals keep
-/// pointing outside, so that which side wo lies on tells inside from outside.
-bool transmits(const detail::Material& m) {
-    return m.type == detail::MaterialType::Dielectric ||
-           (m.type == detail::MaterialType::MetallicRoughness && m.transmission > 0.0f);
-}
-
-/// A dielectric whose roughness makes it a sampled GGX BSDF rather than the smooth delta one
-/// (as Bsdf::isSpecular decides it from the material's factors).
-bool roughDielectric(const detail::Material& m) {
-    return m.type == detail::MaterialType::Dielectric &&
-           m.roughness * m.roughness >= kMinGgxAlpha && m.ior != 1.0f;
-}
-
 /// Surface data at a hit: the point, its geometric and shading normals, and the material's
 /// inputs and emission there.
 struct Shading {
@@ -142,11 +128,13 @@ TexturedSurface texturedSurface(const detail::SceneData& scene, const detail::Me
 }
 
 /// The shading data of `hit` on a surface of `material` seen from wo (the ray's shutter time
-/// `time`; `seenSharply`: by the camera or through specular bounces only). A plain hit (not
-/// readsSurface) takes the material's factors, emission and the geometry's normal as they are.
+/// `time`; `seenSharply`: by the camera or through specular bounces only; `transmits`: the
+/// material's BsdfFlags::transmits). A plain hit (not readsSurface) takes the material's
+/// factors, emission and the geometry's normal as they are.
 [[gnu::always_inline]] inline Shading shade(const detail::SceneData& scene, const Hit& hit,
-                                            const detail::Material& material, const Vec3& wo,
-                                            float time, const Camera& camera, bool seenSharply) {
+                                            const detail::Material& material, bool transmits,
+                                            const Vec3& wo, float time, const Camera& camera,
+                                            bool seenSharply) {
     Shading s;
     const detail::SurfaceId id = hit.surface;
     // The instance and its mesh, found once for the corners and texture coordinates.
@@ -171,8 +159,10 @@ TexturedSurface texturedSurface(const detail::SceneData& scene, const detail::Me
                     tri.hasNormals ? &tri.n[1] : nullptr, tri.hasNormals ? &tri.n[2] : nullptr, b0,
                     hit.u, hit.v);
     }
-    // Surfaces that do not transmit are two-sided: face the normals towards the viewer.
-    if (!transmits(material) && dot(wo, s.ng) < 0.0f) {
+    // Surfaces that do not transmit are two-sided: face the normals towards the viewer. Those
+    // that do (glass; glTF transmission) keep their normals outside, so that which side wo
+    // lies on tells inside from outside.
+    if (!transmits && dot(wo, s.ng) < 0.0f) {
         s.ng = -s.ng;
         s.ns = -s.ns;
     }
@@ -219,6 +209,9 @@ PathIntegrator::PathIntegrator(const detail::SceneData& scene, const EmbreeScene
             m.perTriangle = materials.data();
         m_instanceMaterials.push_back(m);
     }
+    // What each material's BSDF does, asked once: every hit and prefetch reads it.
+    m_materialFlags.reserve(scene.materials.size());
+    for (const detail::Material& m : scene.materials) m_materialFlags.push_back(materialFlags(m));
 }
 
 float PathIntegrator::misWeight(float pdf, float other) const {
@@ -285,8 +278,9 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit,
         return;
     }
     const Vec3 wo = -ray.dir;
-    const Shading sh =
-        shade(m_scene, hit, mat, wo, ray.time, m_camera, depth == 0 || p.specularBounce);
+    const BsdfFlags& flags = flagsOf(mat);
+    const Shading sh = shade(m_scene, hit, mat, flags.transmits, wo, ray.time, m_camera,
+                             depth == 0 || p.specularBounce);
 
     // Emission found by the camera ray, a specular bounce or BSDF sampling (MIS).
     if (mat.emissive()) {
@@ -302,10 +296,7 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit,
 
     const SurfaceInputs& inputs = sh.inputs;
     const Vec3& albedo = inputs.albedo;
-    const Bsdf bsdf = mat.type == detail::MaterialType::MetallicRoughness
-                          ? Bsdf::metallicRoughness(albedo, inputs.metallic, inputs.roughness,
-                                                    mat.ior, inputs.transmission)
-                          : Bsdf::fromMaterial(mat, albedo);
+    const Bsdf bsdf = Bsdf::at(mat, flags, inputs);
     const bool specular = bsdf.isSpecular();
     // A transmitting material keeps its normals outside; where its BSDF is opaque (a texel of
     // zero transmission) the surface is two-sided as any other: face it to the viewer.
@@ -344,7 +335,9 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit,
         const Vec2 uLight = rng.bounce2D(depth, BounceDim::LightPoint);
         if (m_lights.sample(sh.p, uSelect, uLight, ls) && (passes || dot(ls.wi, ng) > 0.0f)) {
             const Vec3 wiLocal = frame.toLocal(ls.wi);
-            const Vec3 f = bsdf.eval(woLocal, wiLocal) * std::abs(wiLocal.z);
+            // f and its density together: the MIS weight below needs the density.
+            const BsdfValue value = bsdf.evaluate(woLocal, wiLocal);
+            const Vec3 f = value.f * std::abs(wiLocal.z);
             if (!isBlack(f) && !isBlack(ls.radiance)) {
                 const Vec3 origin = offsetRayOrigin(sh.p, sh.ng, ls.wi, m_scene.extent);
                 float tMax = kInfinity;
@@ -358,9 +351,8 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit,
                 ++rays;
                 if (tMax > 0.0f) {
                     // A delta light has no BSDF-sampling strategy to weigh against.
-                    const float w = m_useBsdfHits && !ls.delta
-                                        ? misWeight(ls.pdf, bsdf.pdf(woLocal, wiLocal))
-                                        : 1.0f;
+                    const float w =
+                        m_useBsdfHits && !ls.delta ? misWeight(ls.pdf, value.pdf) : 1.0f;
                     p.shadowContribution = p.beta * f * ls.radiance * (w / ls.pdf);
                     p.shadow = ShadowRay{origin, dir, tMax, ray.time};
                     p.shadowPending = true;
@@ -413,7 +405,6 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit,
 }
 
 unsigned PathIntegrator::numbersNeeded(const PathState& p, const detail::Material& mat) const {
-    using detail::MaterialType;
     auto bit = [](BounceDim slot) { return slotBit(slot); };
     // A BLEND surface's choice reads the component number (meetsBlend).
     const unsigned blend = m_hasBlend && mat.alphaMode == detail::AlphaMode::Blend && !p.blendDrawn
@@ -421,26 +412,13 @@ unsigned PathIntegrator::numbersNeeded(const PathState& p, const detail::Materia
                                : 0u;
     if (p.depth >= m_maxDepth) return blend;
     unsigned slots = blend;
-    switch (mat.type) {
-        case MaterialType::Diffuse:
-        case MaterialType::Conductor:
-        case MaterialType::MetallicRoughness:
-            slots |= bit(BounceDim::BsdfDirection);
-            if (m_useLightSampling)
-                slots |= bit(BounceDim::LightSelect) | bit(BounceDim::LightPoint);
-            break;
-        case MaterialType::Dielectric:
-            slots |= bit(BounceDim::BsdfComponent);
-            // Rough glass: a microfacet from the direction pair, and next-event estimation.
-            if (roughDielectric(mat)) {
-                slots |= bit(BounceDim::BsdfDirection);
-                if (m_useLightSampling)
-                    slots |= bit(BounceDim::LightSelect) | bit(BounceDim::LightPoint);
-            }
-            break;
-        case MaterialType::Mirror:
-            break;
-    }
+    // What the material's BSDF reads (advance: sample()'s numbers, next-event estimation where
+    // it is not specular); its textures never change that.
+    const BsdfFlags& flags = flagsOf(mat);
+    if (flags.directionPair) slots |= bit(BounceDim::BsdfDirection);
+    if (flags.componentNumber) slots |= bit(BounceDim::BsdfComponent);
+    if (!flags.specular && m_useLightSampling)
+        slots |= bit(BounceDim::LightSelect) | bit(BounceDim::LightPoint);
     if (p.depth + 1 > m_rrDepth) slots |= bit(BounceDim::Roulette);
     return slots;
 }

@@ -9,6 +9,7 @@
 #include "film/film.h"
 #include "glint/render/settings.h"
 #include "lights/light_sampler.h"
+#include "materials/bsdf.h"
 #include "sampling/sampler.h"
 #include "scene/camera.h"
 #include "scene/scene_data.h"
@@ -81,7 +82,7 @@ class PathIntegrator {
 
     /// The bounce numbers (slotBit() mask) p's next advance() will read at a hit on `material`,
     /// as far as the material tells: a prefetch that may compute one or two numbers the path
-    /// then does not use (a conductor too smooth for next-event estimation, a path that ends).
+    /// then does not use (a path that ends).
     unsigned numbersNeeded(const PathState& p, const detail::Material& material) const;
 
     /// The material of the surface `hit` found (SceneData::materialOf, through
@@ -89,6 +90,11 @@ class PathIntegrator {
     const detail::Material& materialAt(const Hit& hit) const {
         const InstanceMaterials& m = m_instanceMaterials[hit.surface.instance];
         return m.only ? *m.only : m_scene.materials[m.perTriangle[hit.surface.prim]];
+    }
+
+    /// What `material`'s BSDF does (materialFlags, found once in the constructor).
+    const BsdfFlags& flagsOf(const detail::Material& material) const {
+        return m_materialFlags[std::size_t(&material - m_scene.materials.data())];
     }
 
     /// MIS weight of a strategy with density `pdf` against the other with `other`.
@@ -110,6 +116,7 @@ class PathIntegrator {
         const std::uint32_t* perTriangle = nullptr;
     };
     std::vector<InstanceMaterials> m_instanceMaterials;
+    std::vector<BsdfFlags> m_materialFlags;  ///< of SceneData::materials, by index
     int m_maxDepth, m_rrDepth;
 };
 

@@ -77,15 +77,14 @@ SurfaceInputs texturedInputs(const detail::SceneData& scene, const detail::Mater
         const Vec3 rgb{t.x, t.y, t.z};
         in.albedo = material.textureTimesFactor ? in.albedo * rgb : rgb;
     }
-    if (material.type == detail::MaterialType::MetallicRoughness &&
-        material.roughnessMetallicMap.present()) {
+    // (Only metallic-roughness materials have these two maps.)
+    if (material.roughnessMetallicMap.present()) {
         // glTF: roughness in G, metallic in B, each multiplying its factor.
         const Vec4 t = lookup(scene, material.roughnessMetallicMap, at);
         in.roughness = std::clamp(in.roughness * t.y, 0.0f, 1.0f);
         in.metallic = std::clamp(in.metallic * t.z, 0.0f, 1.0f);
     }
-    if (material.type == detail::MaterialType::MetallicRoughness &&
-        material.transmissionMap.present()) {
+    if (material.transmissionMap.present()) {
         // KHR_materials_transmission: the texture's R multiplies the factor.
         const Vec4 t = lookup(scene, material.transmissionMap, at);
         in.transmission = std::clamp(in.transmission * t.x, 0.0f, 1.0f);

@@ -4,6 +4,7 @@
 // docs/assets.md).
 #pragma once
 
+#include "materials/bsdf.h"
 #include "scene/scene_data.h"
 #include "vecmath.h"
 
@@ -39,12 +40,7 @@ detail::TexFootprint uvFootprint(const detail::TriangleView& tri, const Vec2& uv
                                  const Vec2& uv2, const Vec3& dpdx, const Vec3& dpdy);
 
 /// The textured inputs of `material` at `at`.
-struct SurfaceInputs {
-    Vec3 albedo;                ///< base colour: the factor, replaced or multiplied by the texture
-    float metallic = 0.0f;      ///< metallic-roughness material only
-    float roughness = 0.0f;     ///< metallic-roughness material only (perceptual, α = roughness²)
-    float transmission = 0.0f;  ///< metallic-roughness material only (KHR_materials_transmission)
-};
+using SurfaceInputs = BsdfInputs;
 
 /// The inputs of `material` where it reads no texture nor vertex colour: its factors.
 inline SurfaceInputs factorInputs(const detail::Material& material) {

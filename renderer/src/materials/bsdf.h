@@ -1,8 +1,14 @@
-// BSDFs in the local shading frame (z = shading normal). Each material kind lives in its own
-// file (diffuse.cpp, mirror.cpp, dielectric.cpp, rough_dielectric.cpp, conductor.cpp,
-// metallic_roughness.cpp); Bsdf dispatches by kind (inline, below).
+// BSDFs in the local shading frame (z = shading normal), and the material kinds that make them.
+// Each kind lives in its own file (diffuse.cpp, mirror.cpp, dielectric.cpp with
+// rough_dielectric.cpp, conductor.cpp, metallic_roughness.cpp) and is registered by one line of
+// material_kinds.h; Bsdf dispatches through its kind's MaterialKind. Integrators ask a material
+// or a BSDF what it does (BsdfFlags), never which kind it is.
 #pragma once
 
+#include <span>
+
+#include "materials/material_kinds.h"
+#include "materials/material_parameters.h"
 #include "scene/scene_data.h"
 #include "vecmath.h"
 
@@ -17,14 +23,45 @@ struct BsdfSample {
     bool specular = false;
 };
 
+/// f(wo, wi) without the cosine and the solid-angle density of sample() producing wi,
+/// computed together (next-event estimation needs both).
+struct BsdfValue {
+    Vec3 f;
+    float pdf = 0.0f;
+};
+
+/// What a BSDF does and which of sample()'s numbers it reads; for a material (materialFlags),
+/// what the BSDF built from its factors does, which a hit's textures can only narrow
+/// (textures lower a transmission factor, never raise it).
+struct BsdfFlags {
+    bool specular = false;   ///< every event is a delta: no next-event estimation, eval is 0
+    bool transmits = false;  ///< light passes the surface: wo and wi may lie on either side
+    /// sample() reads the direction pair `u` (a microfacet, a cosine-weighted direction...).
+    bool directionPair = false;
+    /// sample() reads the component number `uc` (the dielectric's reflect or refract).
+    bool componentNumber = false;
+};
+
+/// What a hit's textures give a BSDF: the base colour (albedo, tint) and the metallic-roughness
+/// material's metallic, perceptual roughness and transmission (factors times textures).
+struct BsdfInputs {
+    Vec3 albedo;
+    float metallic = 0.0f;
+    float roughness = 0.0f;
+    float transmission = 0.0f;
+};
+
 /// GGX alphas below this are treated as a perfect mirror (conductor) or smooth glass
 /// (dielectric); the metallic-roughness
 /// material clamps its alpha up to it instead, so that its lobe stays a sampled GGX.
 inline constexpr float kMinGgxAlpha = 1e-3f;
 
+struct MaterialKind;
+
 /// A material evaluated at one shading point (texture already looked up).
 struct Bsdf {
-    detail::MaterialType type = detail::MaterialType::Diffuse;
+    const MaterialKind* kind = nullptr;  ///< set by the kind that built it
+    BsdfFlags flags;
     Vec3 albedo{};              ///< reflectance / tint / transmittance tint
     float ior = 1.5f;           ///< dielectric; metallicRoughness: f0 = ((ior − 1) / (ior + 1))²
     float alpha = 0.0f;         ///< conductor, dielectric, metallicRoughness: GGX alpha
@@ -34,9 +71,12 @@ struct Bsdf {
     Vec3 eta{1.0f, 1.0f, 1.0f}, k{};
     Vec3 specular{1.0f, 1.0f, 1.0f};
 
-    /// Builds the BSDF of `material` with (possibly textured) albedo. A metallicRoughness
-    /// material takes its factors from `material`; use metallicRoughness() for textured ones.
-    /// Inline, as the dispatch below: built at every hit.
+    /// The BSDF of `material` at a hit whose textures give `inputs`; `flags` are
+    /// materialFlags(material) (an integrator finds them once per render).
+    static Bsdf at(const detail::Material& material, const BsdfFlags& flags,
+                   const BsdfInputs& inputs);
+    /// Builds the BSDF of `material` with (possibly textured) albedo and the material's
+    /// factors otherwise.
     static Bsdf fromMaterial(const detail::Material& material, const Vec3& albedo);
     /// Builds the glTF metallic-roughness BSDF from per-hit values: the base colour (factor ×
     /// texture), metallic and perceptual roughness (factors × the texture's B and G), the IOR
@@ -44,36 +84,78 @@ struct Bsdf {
     /// [0, 1]; alpha = max(roughness², kMinGgxAlpha).
     static Bsdf metallicRoughness(const Vec3& baseColor, float metallic, float roughness,
                                   float ior = 1.5f, float transmission = 0.0f);
+    /// A BSDF of `kind` with the fields every kind but metallicRoughness takes from its material:
+    /// albedo (possibly textured), ior, alpha = roughness², the conductor's Fresnel terms.
+    static Bsdf fromFactors(const MaterialKind& kind, const detail::Material& material,
+                            const Vec3& albedo);
 
     /// True when every event is a delta (mirror, smooth dielectric, conductor with tiny alpha).
-    bool isSpecular() const;
+    bool isSpecular() const { return flags.specular; }
     /// True when light passes the surface (dielectric, metallicRoughness with transmission):
     /// wo and wi may lie on either side, wo.z < 0 meaning wo is inside.
-    bool transmits() const {
-        return type == detail::MaterialType::Dielectric ||
-               (type == detail::MaterialType::MetallicRoughness && transmission > 0.0f);
-    }
+    bool transmits() const { return flags.transmits; }
     /// Which of sample()'s numbers it reads: the direction pair `u` (diffuse, conductor,
     /// metallicRoughness, rough dielectric: the microfacet) and the component number `uc`
     /// (dielectric: reflect or refract). A sampler with a fixed slot per number need not draw
     /// the others.
-    bool readsDirectionPair() const {
-        return type == detail::MaterialType::Diffuse || type == detail::MaterialType::Conductor ||
-               type == detail::MaterialType::MetallicRoughness ||
-               (type == detail::MaterialType::Dielectric && !isSpecular());
-    }
-    bool readsComponentNumber() const { return type == detail::MaterialType::Dielectric; }
-    /// f(wo, wi) without the cosine; 0 for specular BSDFs.
-    Vec3 eval(const Vec3& wo, const Vec3& wi) const;
-    /// Solid-angle density of sample() producing wi; 0 for specular BSDFs.
-    float pdf(const Vec3& wo, const Vec3& wi) const;
+    bool readsDirectionPair() const { return flags.directionPair; }
+    bool readsComponentNumber() const { return flags.componentNumber; }
+    /// f(wo, wi) without the cosine and the density of sample() producing wi; both 0 for
+    /// specular BSDFs.
+    BsdfValue evaluate(const Vec3& wo, const Vec3& wi) const;
+    /// f(wo, wi) without the cosine; 0 for specular BSDFs (evaluate()'s f).
+    Vec3 eval(const Vec3& wo, const Vec3& wi) const { return evaluate(wo, wi).f; }
+    /// Solid-angle density of sample() producing wi; 0 for specular BSDFs (evaluate()'s pdf).
+    float pdf(const Vec3& wo, const Vec3& wi) const { return evaluate(wo, wi).pdf; }
     /// Samples wi from u (2D) and uc (for discrete choices); false when no valid direction.
     bool sample(const Vec3& wo, Vec2 u, float uc, BsdfSample& out) const;
 };
 
+/// A kind of material: its name, its parameters and its BSDF. One object per kind, defined in
+/// the kind's file and listed in material_kinds.h.
+struct MaterialKind {
+    const char* name;     ///< scene.json's "type" (detail::materialTypeName)
+    const char* summary;  ///< what it is, one sentence (docs/scene-format.md's table)
+    /// scene.json's materials may be of this kind; else only importers make it (glTF, MTL), and
+    /// its parameters are a glTF shape's `edits`.
+    bool inSceneJson;
+    /// Its parameters beside those of every kind (texture, emission): read, edited in a look
+    /// panel and written as they describe.
+    std::span<const MaterialParameter> parameters;
+    /// What the BSDF built from the material's factors does (materialFlags).
+    BsdfFlags (*flags)(const detail::Material& material);
+    /// The BSDF at a hit (Bsdf::at); null for a kind whose BSDF takes the material's factors
+    /// as they are (Bsdf::fromFactors) and its flags, built inline.
+    Bsdf (*bsdf)(const detail::Material& material, const BsdfInputs& inputs);
+    /// f and pdf of a BSDF of this kind that is not specular (Bsdf::evaluate).
+    BsdfValue (*evaluate)(const Bsdf& b, const Vec3& wo, const Vec3& wi);
+    /// Bsdf::sample.
+    bool (*sample)(const Bsdf& b, const Vec3& wo, Vec2 u, float uc, BsdfSample& out);
+};
+
+#define GLINT_DECLARE_MATERIAL_KIND(Enum, object) extern const MaterialKind object;
+GLINT_MATERIAL_KINDS(GLINT_DECLARE_MATERIAL_KIND)
+#undef GLINT_DECLARE_MATERIAL_KIND
+
+/// Every material kind, indexed by detail::MaterialType.
+inline constexpr const MaterialKind* kMaterialKinds[] = {
+#define GLINT_MATERIAL_KIND_ADDRESS(Enum, object) &object,
+    GLINT_MATERIAL_KINDS(GLINT_MATERIAL_KIND_ADDRESS)
+#undef GLINT_MATERIAL_KIND_ADDRESS
+};
+
+/// The kind of material `type`.
+inline const MaterialKind& materialKind(detail::MaterialType type) {
+    return *kMaterialKinds[int(type)];
+}
+
+/// What the BSDF of `material` does, known before a hit is shaded (its factors' BsdfFlags).
+inline BsdfFlags materialFlags(const detail::Material& material) {
+    return materialKind(material.type).flags(material);
+}
+
 // Per-material implementations (wo, wi in the local frame).
-Vec3 diffuseEval(const Bsdf& b, const Vec3& wo, const Vec3& wi);
-float diffusePdf(const Bsdf& b, const Vec3& wo, const Vec3& wi);
+BsdfValue diffuseEvaluate(const Bsdf& b, const Vec3& wo, const Vec3& wi);
 bool diffuseSample(const Bsdf& b, const Vec3& wo, Vec2 u, BsdfSample& out);
 
 bool mirrorSample(const Bsdf& b, const Vec3& wo, BsdfSample& out);
@@ -99,8 +181,7 @@ bool ggxRefraction(const Vec3& wo, const Vec3& wi, float alpha, float eta, GgxRe
 inline bool roughDielectricIsSmooth(const Bsdf& b) {
     return b.alpha < kMinGgxAlpha || b.ior == 1.0f;
 }
-Vec3 roughDielectricEval(const Bsdf& b, const Vec3& wo, const Vec3& wi);
-float roughDielectricPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi);
+BsdfValue roughDielectricEvaluate(const Bsdf& b, const Vec3& wo, const Vec3& wi);
 /// GGX reflection or refraction (chosen by uc against the microfacet's Fresnel); the smooth
 /// dielectric's dielectricSample when roughDielectricIsSmooth.
 bool roughDielectricSample(const Bsdf& b, const Vec3& wo, Vec2 u, float uc, BsdfSample& out);
@@ -114,8 +195,7 @@ float ggxLambda(const Vec3& w, float alpha);
 /// Visible-normal sample of GGX seen from wo (Heitz 2018, "Sampling the GGX Distribution of
 /// Visible Normals").
 Vec3 ggxSampleVisibleNormal(const Vec3& wo, float alpha, Vec2 u);
-Vec3 conductorEval(const Bsdf& b, const Vec3& wo, const Vec3& wi);
-float conductorPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi);
+BsdfValue conductorEvaluate(const Bsdf& b, const Vec3& wo, const Vec3& wi);
 bool conductorSample(const Bsdf& b, const Vec3& wo, Vec2 u, BsdfSample& out);
 
 /// Schlick's f0 of a dielectric of index `ior` seen from air: ((ior − 1) / (ior + 1))².
@@ -123,19 +203,29 @@ float schlickF0(float ior);
 /// Probability that metallicRoughnessSample picks GGX reflection at wo (else, split by the
 /// transmission factor, GGX refraction or the Lambert lobe).
 float metallicRoughnessSpecularProbability(const Bsdf& b, const Vec3& wo);
-Vec3 metallicRoughnessEval(const Bsdf& b, const Vec3& wo, const Vec3& wi);
-float metallicRoughnessPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi);
+BsdfValue metallicRoughnessEvaluate(const Bsdf& b, const Vec3& wo, const Vec3& wi);
 bool metallicRoughnessSample(const Bsdf& b, const Vec3& wo, Vec2 u, BsdfSample& out);
 
-// Bsdf's dispatch by kind, inline: called at every hit, it folds into the integrator's code
-// (a plain material then pays one test and the call of its own kind's function).
+// Bsdf's dispatch through its kind, inline: called at every hit.
+
+inline Bsdf Bsdf::at(const detail::Material& material, const BsdfFlags& flags,
+                     const BsdfInputs& inputs) {
+    const MaterialKind& kind = materialKind(material.type);
+    if (kind.bsdf) return kind.bsdf(material, inputs);
+    Bsdf b = fromFactors(kind, material, inputs.albedo);
+    b.flags = flags;
+    return b;
+}
 
 inline Bsdf Bsdf::fromMaterial(const detail::Material& material, const Vec3& albedo) {
-    if (material.type == detail::MaterialType::MetallicRoughness)
-        return metallicRoughness(albedo, material.metallic, material.roughness, material.ior,
-                                 material.transmission);
+    return at(material, materialFlags(material),
+              {albedo, material.metallic, material.roughness, material.transmission});
+}
+
+inline Bsdf Bsdf::fromFactors(const MaterialKind& kind, const detail::Material& material,
+                              const Vec3& albedo) {
     Bsdf b;
-    b.type = material.type;
+    b.kind = &kind;
     b.albedo = albedo;
     b.ior = material.ior;
     b.alpha = material.roughness * material.roughness;
@@ -146,65 +236,13 @@ inline Bsdf Bsdf::fromMaterial(const detail::Material& material, const Vec3& alb
     return b;
 }
 
-inline bool Bsdf::isSpecular() const {
-    switch (type) {
-        case detail::MaterialType::Diffuse:
-        case detail::MaterialType::MetallicRoughness:
-            return false;
-        case detail::MaterialType::Mirror:
-            return true;
-        case detail::MaterialType::Dielectric:
-            return roughDielectricIsSmooth(*this);
-        case detail::MaterialType::Conductor:
-            return alpha < kMinGgxAlpha;
-    }
-    return false;
-}
-
-inline Vec3 Bsdf::eval(const Vec3& wo, const Vec3& wi) const {
-    switch (type) {
-        case detail::MaterialType::Diffuse:
-            return diffuseEval(*this, wo, wi);
-        case detail::MaterialType::MetallicRoughness:
-            return metallicRoughnessEval(*this, wo, wi);
-        case detail::MaterialType::Conductor:
-            return alpha < kMinGgxAlpha ? Vec3{} : conductorEval(*this, wo, wi);
-        case detail::MaterialType::Dielectric:
-            return roughDielectricIsSmooth(*this) ? Vec3{} : roughDielectricEval(*this, wo, wi);
-        default:
-            return {};
-    }
-}
-
-inline float Bsdf::pdf(const Vec3& wo, const Vec3& wi) const {
-    switch (type) {
-        case detail::MaterialType::Diffuse:
-            return diffusePdf(*this, wo, wi);
-        case detail::MaterialType::MetallicRoughness:
-            return metallicRoughnessPdf(*this, wo, wi);
-        case detail::MaterialType::Conductor:
-            return alpha < kMinGgxAlpha ? 0.0f : conductorPdf(*this, wo, wi);
-        case detail::MaterialType::Dielectric:
-            return roughDielectricIsSmooth(*this) ? 0.0f : roughDielectricPdf(*this, wo, wi);
-        default:
-            return 0.0f;
-    }
+inline BsdfValue Bsdf::evaluate(const Vec3& wo, const Vec3& wi) const {
+    if (flags.specular) return {};
+    return kind->evaluate(*this, wo, wi);
 }
 
 inline bool Bsdf::sample(const Vec3& wo, Vec2 u, float uc, BsdfSample& out) const {
-    switch (type) {
-        case detail::MaterialType::Diffuse:
-            return diffuseSample(*this, wo, u, out);
-        case detail::MaterialType::MetallicRoughness:
-            return metallicRoughnessSample(*this, wo, u, out);
-        case detail::MaterialType::Mirror:
-            return mirrorSample(*this, wo, out);
-        case detail::MaterialType::Dielectric:
-            return roughDielectricSample(*this, wo, u, uc, out);
-        case detail::MaterialType::Conductor:
-            return conductorSample(*this, wo, u, out);
-    }
-    return false;
+    return kind->sample(*this, wo, u, uc, out);
 }
 
 }  // namespace glint::render

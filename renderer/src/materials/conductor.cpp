@@ -1,13 +1,33 @@
 // conductor — GGX microfacet metal (Walter et al. 2007) with height-correlated Smith masking
 // (Heitz 2014) and visible-normal sampling (Heitz 2018). alpha = roughness^2; alpha < 1e-3 is a
 // perfect mirror. Fresnel: complex IOR (eta, k) per channel, else Schlick from `specular`.
-//   scene.json: {"type": "conductor", "roughness": 0.3, "eta": [..], "k": [..] | "specular": [..],
-//                "albedo": [r,g,b] (tint)}
 #include <cmath>
 
 #include "materials/bsdf.h"
 
 namespace glint::render {
+
+namespace {
+/// scene.json: {"type": "conductor", "roughness": 0.3, "eta": [..], "k": [..] | "specular": [..],
+///              "albedo": [r,g,b]}
+const MaterialParameter kConductorParameters[] = {
+    colourParameter("albedo", "tint", 0.0, 1.0, 1.0, &detail::Material::albedo,
+                    "Colour that multiplies what the metal reflects.")
+        .inLook(),
+    numberParameter("roughness", "roughness", 0.0, 1.0, 0.0, &detail::Material::roughness,
+                    "GGX roughness: α = roughness² (α < 0.001 is a perfect mirror).")
+        .inLook(),
+    colourParameter("eta", "η", 1e-4, 100.0, 1.0, &detail::Material::eta,
+                    "Complex index of refraction, real part, per channel (given with `k`).")
+        .givenWith("k", &detail::Material::hasEtaK),
+    colourParameter("k", "κ", 0.0, 100.0, 0.0, &detail::Material::k,
+                    "Complex index of refraction, imaginary part (given with `eta`).")
+        .givenWith("eta", &detail::Material::hasEtaK),
+    colourParameter("specular", "specular", 0.0, 1.0, 1.0, &detail::Material::specular,
+                    "Reflectance at normal incidence for Schlick's Fresnel, used when `eta` and "
+                    "`k` are absent."),
+};
+}  // namespace
 
 namespace {
 float conductorFresnel1(float cosI, float eta, float k) {
@@ -68,22 +88,30 @@ Vec3 ggxSampleVisibleNormal(const Vec3& wo, float alpha, Vec2 u) {
     return normalize(Vec3{alpha * nh.x, alpha * nh.y, std::max(1e-7f, nh.z)});
 }
 
-Vec3 conductorEval(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
-    if (wo.z <= 0.0f || wi.z <= 0.0f) return {};
-    const Vec3 h = normalize(wo + wi);
-    // f = D G2 F / (4 cosθo cosθi) (Walter et al. 2007, eq. 20).
-    const float g2 = 1.0f / (1.0f + ggxLambda(wo, b.alpha) + ggxLambda(wi, b.alpha));
-    const float scale = ggxD(h, b.alpha) * g2 / (4.0f * wo.z * wi.z);
-    return conductorFresnel(b, dot(wo, h)) * b.albedo * scale;
+namespace {
+/// Visible-normal density D_wo(h) = G1 max(0, wo·h) D / cosθo, times the reflection Jacobian
+/// 1 / (4 wo·h) (Heitz 2018, eq. 17), from D(h) and Λ(wo).
+float conductorDensity(const Vec3& wo, float d, float lambdaO) {
+    const float g1 = 1.0f / (1.0f + lambdaO);
+    return g1 * d / (4.0f * wo.z);
 }
 
 float conductorPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
     const Vec3 h = normalize(wo + wi);
-    // Visible-normal density D_wo(h) = G1 max(0, wo·h) D / cosθo, times the reflection Jacobian
-    // 1 / (4 wo·h) (Heitz 2018, eq. 17).
-    const float g1 = 1.0f / (1.0f + ggxLambda(wo, b.alpha));
-    return g1 * ggxD(h, b.alpha) / (4.0f * wo.z);
+    return conductorDensity(wo, ggxD(h, b.alpha), ggxLambda(wo, b.alpha));
+}
+}  // namespace
+
+BsdfValue conductorEvaluate(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
+    if (wo.z <= 0.0f || wi.z <= 0.0f) return {};
+    const Vec3 h = normalize(wo + wi);
+    const float d = ggxD(h, b.alpha);
+    const float lo = ggxLambda(wo, b.alpha);
+    // f = D G2 F / (4 cosθo cosθi) (Walter et al. 2007, eq. 20).
+    const float g2 = 1.0f / (1.0f + lo + ggxLambda(wi, b.alpha));
+    const float scale = d * g2 / (4.0f * wo.z * wi.z);
+    return {conductorFresnel(b, dot(wo, h)) * b.albedo * scale, conductorDensity(wo, d, lo)};
 }
 
 bool conductorSample(const Bsdf& b, const Vec3& wo, Vec2 u, BsdfSample& out) {
@@ -107,5 +135,24 @@ bool conductorSample(const Bsdf& b, const Vec3& wo, Vec2 u, BsdfSample& out) {
     out.specular = false;
     return true;
 }
+
+namespace {
+BsdfFlags conductorFlags(const detail::Material& m) {
+    return {.specular = m.roughness * m.roughness < kMinGgxAlpha, .directionPair = true};
+}
+}  // namespace
+
+const MaterialKind conductorKind{
+    "conductor",
+    "Rough metal: GGX microfacets, visible-normal sampling; Fresnel from `eta` and `k`, else "
+    "Schlick's from `specular`.",
+    true,
+    kConductorParameters,
+    conductorFlags,
+    nullptr,
+    conductorEvaluate,
+    [](const Bsdf& b, const Vec3& wo, Vec2 u, float, BsdfSample& out) {
+        return conductorSample(b, wo, u, out);
+    }};
 
 }  // namespace glint::render

@@ -46,6 +46,31 @@ namespace {
 /// diffuse base is never left to a handful of samples with huge weights.
 constexpr float kMinLobeProbability = 0.1f;
 
+/// A glTF shape's "edits": {"albedo": [r,g,b], "metallic": 1, "roughness": 1, "ior": 1.5,
+/// "transmission": 0, "emission": [r,g,b]}, each over the asset's own factor.
+const MaterialParameter kMetallicRoughnessParameters[] = {
+    colourParameter("albedo", "base colour", 0.0, 1.0, 1.0, &detail::Material::albedo,
+                    "Base colour: the diffuse colour of a dielectric, the reflectance of a metal "
+                    "(multiplies the base colour texture).")
+        .inLook()
+        .timesTexture(),
+    numberParameter("metallic", "metallic", 0.0, 1.0, 1.0, &detail::Material::metallic,
+                    "0 is a dielectric base under a specular coat, 1 a metal (multiplies the "
+                    "metallic-roughness texture's B).")
+        .inLook(),
+    numberParameter("roughness", "roughness", 0.0, 1.0, 1.0, &detail::Material::roughness,
+                    "Perceptual roughness (GGX α = roughness²; multiplies the metallic-roughness "
+                    "texture's G).")
+        .inLook(),
+    numberParameter("ior", "index of refraction", 1.0, 10.0, 1.5, &detail::Material::ior,
+                    "The dielectric base's index (its specular f0).")
+        .inLook(),
+    numberParameter("transmission", "transmission", 0.0, 1.0, 0.0, &detail::Material::transmission,
+                    "How much of the dielectric base refracts (rough glass) instead of scattering "
+                    "diffusely (KHR_materials_transmission).")
+        .inLook(),
+};
+
 float pow5(float x) {
     const float x2 = x * x;
     return x2 * x2 * x;
@@ -172,13 +197,14 @@ float schlickF0(float ior) {
 Bsdf Bsdf::metallicRoughness(const Vec3& baseColor, float metallic, float roughness, float ior,
                              float transmission) {
     Bsdf b;
-    b.type = detail::MaterialType::MetallicRoughness;
+    b.kind = &metallicRoughnessKind;
     b.albedo = baseColor;
     b.metallic = std::clamp(metallic, 0.0f, 1.0f);
     const float r = std::clamp(roughness, 0.0f, 1.0f);
     b.alpha = std::max(r * r, kMinGgxAlpha);
     b.ior = ior;
     b.transmission = std::clamp(transmission, 0.0f, 1.0f);
+    b.flags = {.transmits = b.transmission > 0.0f, .directionPair = true};
     return b;
 }
 
@@ -188,18 +214,10 @@ float metallicRoughnessSpecularProbability(const Bsdf& b, const Vec3& wo) {
     return lobeProbabilities(b, l.wo, l.ior, l.eta).reflect;
 }
 
-Vec3 metallicRoughnessEval(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
-    Vec3 f;
-    float pdf;
-    evalAndPdf(b, wo, wi, f, pdf);
-    return f;
-}
-
-float metallicRoughnessPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
-    Vec3 f;
-    float pdf;
-    evalAndPdf(b, wo, wi, f, pdf);
-    return pdf;
+BsdfValue metallicRoughnessEvaluate(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
+    BsdfValue v;
+    evalAndPdf(b, wo, wi, v.f, v.pdf);
+    return v;
 }
 
 bool metallicRoughnessSample(const Bsdf& b, const Vec3& wo0, Vec2 u, BsdfSample& out) {
@@ -238,5 +256,23 @@ bool metallicRoughnessSample(const Bsdf& b, const Vec3& wo0, Vec2 u, BsdfSample&
     out.specular = false;
     return true;
 }
+
+const MaterialKind metallicRoughnessKind{
+    "metallicRoughness",
+    "glTF 2.0 metallic-roughness, with KHR_materials_ior and KHR_materials_transmission (made by "
+    "the glTF and MTL importers).",
+    false,
+    kMetallicRoughnessParameters,
+    [](const detail::Material& m) {
+        return BsdfFlags{.transmits = m.transmission > 0.0f, .directionPair = true};
+    },
+    [](const detail::Material& m, const BsdfInputs& in) {
+        return Bsdf::metallicRoughness(in.albedo, in.metallic, in.roughness, m.ior,
+                                       in.transmission);
+    },
+    metallicRoughnessEvaluate,
+    [](const Bsdf& b, const Vec3& wo, Vec2 u, float, BsdfSample& out) {
+        return metallicRoughnessSample(b, wo, u, out);
+    }};
 
 }  // namespace glint::render

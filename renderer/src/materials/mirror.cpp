@@ -1,8 +1,16 @@
 // mirror — perfect specular reflection tinted by albedo.
-//   scene.json: {"type": "mirror", "albedo": [r,g,b] (tint, default white)}
 #include "materials/bsdf.h"
 
 namespace glint::render {
+
+namespace {
+/// scene.json: {"type": "mirror", "albedo": [r,g,b]}
+const MaterialParameter kMirrorParameters[] = {
+    colourParameter("albedo", "tint", 0.0, 1.0, 1.0, &detail::Material::albedo,
+                    "Colour that multiplies what the mirror reflects.")
+        .inLook(),
+};
+}  // namespace
 
 bool mirrorSample(const Bsdf& b, const Vec3& wo, BsdfSample& out) {
     if (wo.z <= 0.0f) return false;
@@ -12,5 +20,19 @@ bool mirrorSample(const Bsdf& b, const Vec3& wo, BsdfSample& out) {
     out.specular = true;
     return true;
 }
+
+namespace {
+BsdfFlags mirrorFlags(const detail::Material&) {
+    return {.specular = true};
+}
+}  // namespace
+
+const MaterialKind mirrorKind{"mirror", "Perfect mirror.", true, kMirrorParameters, mirrorFlags,
+                              nullptr,
+                              // A delta BSDF: Bsdf::evaluate never asks.
+                              [](const Bsdf&, const Vec3&, const Vec3&) { return BsdfValue{}; },
+                              [](const Bsdf& b, const Vec3& wo, Vec2, float, BsdfSample& out) {
+                                  return mirrorSample(b, wo, out);
+                              }};
 
 }  // namespace glint::render

@@ -2,8 +2,6 @@
 // "Microfacet Models for Refraction through Rough Surfaces") with height-correlated Smith
 // masking-shadowing (Heitz 2014) and visible-normal sampling (Heitz 2018); the reflect/refract
 // choice is made per sampled microfacet by its exact Fresnel reflectance.
-//   scene.json: {"type": "dielectric", "ior": 1.5, "roughness": 0.2 (α = roughness²; default 0),
-//                "albedo": [r,g,b] (transmission tint)}
 // α < kMinGgxAlpha (and ior = 1, where refraction does not bend) is the smooth dielectric
 // (dielectric.cpp): sample() hands over to dielectricSample, eval and pdf are 0.
 // Radiance form, as the smooth dielectric: crossing into a medium of relative index η scales
@@ -16,6 +14,21 @@
 #include "materials/bsdf.h"
 
 namespace glint::render {
+
+namespace {
+/// scene.json: {"type": "dielectric", "ior": 1.5, "roughness": 0.2, "albedo": [r,g,b]}
+const MaterialParameter kDielectricParameters[] = {
+    colourParameter("albedo", "tint", 0.0, 1.0, 1.0, &detail::Material::albedo,
+                    "Colour that multiplies what the surface transmits.")
+        .inLook(),
+    numberParameter("ior", "index of refraction", 1e-3, 100.0, 1.5, &detail::Material::ior,
+                    "Index of refraction inside the surface; outside is air, 1 (glass about 1.5).")
+        .inLook(),
+    numberParameter("roughness", "roughness", 0.0, 1.0, 0.0, &detail::Material::roughness,
+                    "GGX roughness: α = roughness² (α < 0.001 is smooth glass).")
+        .inLook(),
+};
+}  // namespace
 
 bool refractThrough(const Vec3& wo, const Vec3& h, float eta, Vec3& wi) {
     // Snell's law about h (PBR 4th ed., sec. 9.3.2); cosI = wo·h > 0.
@@ -111,18 +124,10 @@ void evalAndPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi, Vec3& f, float& p
 
 }  // namespace
 
-Vec3 roughDielectricEval(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
-    Vec3 f;
-    float pdf;
-    evalAndPdf(b, wo, wi, f, pdf);
-    return f;
-}
-
-float roughDielectricPdf(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
-    Vec3 f;
-    float pdf;
-    evalAndPdf(b, wo, wi, f, pdf);
-    return pdf;
+BsdfValue roughDielectricEvaluate(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
+    BsdfValue v;
+    evalAndPdf(b, wo, wi, v.f, v.pdf);
+    return v;
 }
 
 bool roughDielectricSample(const Bsdf& b, const Vec3& wo, Vec2 u, float uc, BsdfSample& out) {
@@ -153,5 +158,25 @@ bool roughDielectricSample(const Bsdf& b, const Vec3& wo, Vec2 u, float uc, Bsdf
     out.specular = false;
     return true;
 }
+
+namespace {
+/// The smooth dielectric (roughDielectricIsSmooth) is a delta BSDF; both read the component
+/// number, the rough one a microfacet too.
+BsdfFlags dielectricFlags(const detail::Material& m) {
+    const float alpha = m.roughness * m.roughness;
+    const bool smooth = alpha < kMinGgxAlpha || m.ior == 1.0f;
+    return {smooth, true, !smooth, true};
+}
+}  // namespace
+
+const MaterialKind dielectricKind{
+    "dielectric",
+    "Glass: exact Fresnel reflection and refraction, smooth or rough (GGX microfacets).",
+    true,
+    kDielectricParameters,
+    dielectricFlags,
+    nullptr,
+    roughDielectricEvaluate,
+    roughDielectricSample};
 
 }  // namespace glint::render

@@ -20,6 +20,10 @@
 #include "scene/scene_data.h"
 #include "scene/transform.h"
 
+namespace glint::render {
+struct MaterialParameter;
+}
+
 namespace glint::render::detail {
 
 /// What a scene.json shape asks of the glTF asset it places.
@@ -102,6 +106,9 @@ class Loader {
     /// Applies a glTF material's saved look edits (a shape's "edits" entry at `where`) over
     /// the values the asset gives, with the ranges the look panel and JSON materials use.
     void applyGltfEdits(Material& m, const nlohmann::json& edits, const std::string& where);
+    /// Reads parameter `p` of a material into `m` where the object `j` (at `where`) gives it.
+    void readParameter(Material& m, const MaterialParameter& p, const nlohmann::json& j,
+                       const std::string& where) const;
     /// The shape keys scene.json takes: every format's key, then the common and the formats'
     /// own keys, in the order the unknown-key message lists them.
     static std::vector<std::string> shapeKeys();

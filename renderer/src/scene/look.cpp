@@ -5,6 +5,7 @@
 
 #include "glint/image/error.h"
 #include "glint/render/scene.h"
+#include "materials/bsdf.h"
 #include "scene/loader.h"
 #include "scene/scene_data.h"
 
@@ -13,7 +14,6 @@ namespace glint::render {
 using detail::EnvironmentDesc;
 using detail::kMaxRadiance;
 using detail::Material;
-using detail::MaterialType;
 using detail::materialTypeName;
 using detail::SceneData;
 
@@ -23,72 +23,48 @@ std::array<double, 3> toArray(const Vec3& v) {
     return {double(v.x), double(v.y), double(v.z)};
 }
 
+LookProperty property(ParamSpec spec, const std::array<double, 3>& value) {
+    LookProperty p;
+    static_cast<ParamSpec&>(p) = std::move(spec);
+    p.value = value;
+    return p;
+}
+
 LookProperty color(const char* name, const char* label, double max, const Vec3& value,
                    const char* help) {
-    LookProperty p;
-    p.name = name;
-    p.label = label;
-    p.type = PropertyType::Color;
-    p.min = 0.0;
-    p.max = max;
-    p.help = help;
-    p.value = toArray(value);
-    return p;
+    return property(ParamSpec::colour(name, label, 0.0, max, 0.0, help), toArray(value));
 }
 
 LookProperty scalar(const char* name, const char* label, double min, double max, bool logScale,
                     double value, const char* help) {
-    LookProperty p;
-    p.name = name;
-    p.label = label;
-    p.type = PropertyType::Scalar;
-    p.min = min;
-    p.max = max;
-    p.logScale = logScale;
-    p.help = help;
-    p.value = {value, 0.0, 0.0};
-    return p;
+    return property(ParamSpec(name, label, min, max, value,
+                              logScale ? ParamScale::Log : ParamScale::Linear, false, help),
+                    {value, 0.0, 0.0});
+}
+
+/// True when a look panel shows parameter `p` of `m`: a look parameter, unless it is the base
+/// colour and a texture replaces it.
+bool shown(const Material& m, const MaterialParameter& p) {
+    return p.look && (m.texture < 0 || p.colour != &Material::albedo || p.multipliedByTexture);
 }
 
 std::vector<LookProperty> materialProperties(const Material& m) {
     std::vector<LookProperty> props;
-    if (m.type == MaterialType::MetallicRoughness) {
-        // glTF factors: each multiplies its texture where the material has one.
-        props.push_back(color("albedo", m.texture >= 0 ? "base colour factor" : "base colour", 1.0,
-                              m.albedo,
-                              "Base colour: the diffuse colour of a dielectric, the reflectance "
-                              "of a metal (multiplies the base colour texture)."));
-        props.push_back(scalar("metallic", "metallic", 0.0, 1.0, false, m.metallic,
-                               "0 is a dielectric base under a specular coat, 1 a metal "
-                               "(multiplies the metallic-roughness texture's B)."));
-        props.push_back(scalar("roughness", "roughness", 0.0, 1.0, false, m.roughness,
-                               "Perceptual roughness (GGX alpha = roughness²; multiplies the "
-                               "metallic-roughness texture's G)."));
-        props.push_back(scalar("ior", "index of refraction", 1.0, 10.0, false, m.ior,
-                               "The dielectric base's index (its specular f0; 1.5 by default)."));
-        props.push_back(scalar("transmission", "transmission", 0.0, 1.0, false, m.transmission,
-                               "How much of the dielectric base refracts (rough glass) instead of "
-                               "scattering diffusely (KHR_materials_transmission)."));
-    } else if (m.texture < 0)
-        props.push_back(color(
-            "albedo", m.type == MaterialType::Diffuse ? "base colour" : "tint", 1.0, m.albedo,
-            m.type == MaterialType::Diffuse ? "Diffuse reflectance."
-                                            : "Colour that multiplies what the surface reflects or "
-                                              "transmits."));
+    // The kind's own parameters, as it describes them.
+    for (const MaterialParameter& p : materialKind(m.type).parameters) {
+        if (!shown(m, p)) continue;
+        LookProperty prop =
+            property(p.spec, p.colour ? toArray(m.*p.colour)
+                                      : std::array<double, 3>{double(m.*p.number), 0.0, 0.0});
+        // A factor that multiplies a texture says so.
+        if (p.multipliedByTexture && m.texture >= 0) prop.label += " factor";
+        props.push_back(std::move(prop));
+    }
     props.push_back(color("emission", "emission colour", 1.0, m.emissionColor,
                           "Colour of the light the surface emits (times strength)."));
     props.push_back(scalar("strength", "emission strength", 0.0, kMaxRadiance, true,
                            m.emissionStrength,
                            "Emitted radiance scale; 0 makes the surface no light."));
-    if (m.type == MaterialType::Conductor)
-        props.push_back(scalar("roughness", "roughness", 0.0, 1.0, false, m.roughness,
-                               "GGX roughness (alpha = roughness²); 0 is a perfect mirror."));
-    if (m.type == MaterialType::Dielectric) {
-        props.push_back(scalar("ior", "index of refraction", 1e-3, 100.0, false, m.ior,
-                               "Index of refraction inside the surface (glass about 1.5)."));
-        props.push_back(scalar("roughness", "roughness", 0.0, 1.0, false, m.roughness,
-                               "GGX roughness (alpha = roughness²); 0 is smooth glass."));
-    }
     return props;
 }
 
@@ -150,28 +126,19 @@ void setMaterial(SceneData& d, std::size_t index, const std::string& property,
     Material& m = d.materials[index];
     const std::string where = "/materials/" + m.name + "/" + property;
     Material next = m;
-    const bool gltf = m.type == MaterialType::MetallicRoughness;
-    if (property == "albedo" && (m.texture < 0 || gltf)) {
-        next.albedo = checkedColor(value, 0.0, 1.0, d.path, where);
-    } else if (property == "metallic" && gltf) {
-        next.metallic = checked(value[0], 0.0, 1.0, d.path, where);
-    } else if (property == "roughness" && gltf) {
-        next.roughness = checked(value[0], 0.0, 1.0, d.path, where);
-    } else if (property == "ior" && gltf) {
-        next.ior = checked(value[0], 1.0, 10.0, d.path, where);
-    } else if (property == "transmission" && gltf) {
-        next.transmission = checked(value[0], 0.0, 1.0, d.path, where);
+    const MaterialParameter* p = findParameter(materialKind(m.type), property);
+    if (p && shown(m, *p)) {
+        // A parameter of the kind, in the range it describes.
+        if (p->colour)
+            next.*p->colour = checkedColor(value, p->spec.min, p->spec.max, d.path, where);
+        else
+            next.*p->number = checked(value[0], p->spec.min, p->spec.max, d.path, where);
     } else if (property == "emission") {
         next.emissionColor = checkedColor(value, 0.0, 1.0, d.path, where);
         next.emission = next.emissionColor * next.emissionStrength;
     } else if (property == "strength") {
         next.emissionStrength = checked(value[0], 0.0, kMaxRadiance, d.path, where);
         next.emission = next.emissionColor * next.emissionStrength;
-    } else if (property == "roughness" &&
-               (m.type == MaterialType::Conductor || m.type == MaterialType::Dielectric)) {
-        next.roughness = checked(value[0], 0.0, 1.0, d.path, where);
-    } else if (property == "ior" && m.type == MaterialType::Dielectric) {
-        next.ior = checked(value[0], 1e-3, 100.0, d.path, where);
     } else {
         std::string names;
         for (const LookProperty& p : materialProperties(m))

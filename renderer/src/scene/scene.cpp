@@ -1,6 +1,7 @@
 #include "glint/render/scene.h"
 
 #include "glint/image/error.h"
+#include "materials/bsdf.h"
 #include "scene/scene_data.h"
 
 #include <algorithm>
@@ -11,19 +12,7 @@ namespace glint::render {
 namespace detail {
 
 const char* materialTypeName(MaterialType type) {
-    switch (type) {
-        case MaterialType::Diffuse:
-            return "diffuse";
-        case MaterialType::Mirror:
-            return "mirror";
-        case MaterialType::Dielectric:
-            return "dielectric";
-        case MaterialType::Conductor:
-            return "conductor";
-        case MaterialType::MetallicRoughness:
-            return "metallicRoughness";
-    }
-    return "?";
+    return materialKind(type).name;
 }
 
 std::size_t Mesh::bytes() const {

@@ -12,6 +12,7 @@
 
 #include "glint/image/image.h"
 #include "glint/render/settings.h"
+#include "materials/material_kinds.h"
 #include "scene/texture_levels.h"
 #include "scene/texture_store.h"
 #include "scene/transform.h"
@@ -19,8 +20,14 @@
 
 namespace glint::render::detail {
 
-/// Kinds of material ("type" in scene.json).
-enum class MaterialType { Diffuse, Mirror, Dielectric, Conductor, MetallicRoughness };
+/// Kinds of material ("type" in scene.json), in the order of their registration
+/// (materials/material_kinds.h); what each kind is and does is its MaterialKind
+/// (materials/bsdf.h, materialKind()).
+enum class MaterialType {
+#define GLINT_MATERIAL_TYPE(Enum, object) Enum,
+    GLINT_MATERIAL_KINDS(GLINT_MATERIAL_TYPE)
+#undef GLINT_MATERIAL_TYPE
+};
 
 /// How a material lets light through its surface where it is not opaque (glTF alphaMode).
 enum class AlphaMode { Opaque, Mask, Blend };

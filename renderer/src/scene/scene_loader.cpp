@@ -14,6 +14,7 @@
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/render/scene.h"
+#include "materials/bsdf.h"
 #include "scene/asset_format.h"
 #include "scene/camera.h"
 #include "scene/input_file.h"
@@ -178,57 +179,77 @@ void Loader::readRender(const json& j, const std::string& where) {
     }
 }
 
+namespace {
+/// The keys a material of `kind` takes: those of every kind, then its own parameters (all of
+/// them, or those a look panel edits).
+std::vector<std::string> materialKeys(const MaterialKind& kind, bool lookOnly) {
+    std::vector<std::string> keys;
+    if (!lookOnly) keys = {"type", "texture"};
+    for (const MaterialParameter& p : kind.parameters)
+        if (p.look || !lookOnly) keys.push_back(p.spec.name);
+    keys.push_back("emission");
+    return keys;
+}
+}  // namespace
+
+void Loader::readParameter(Material& m, const MaterialParameter& p, const json& j,
+                           const std::string& where) const {
+    const std::string& key = p.spec.name;
+    if (!j.contains(key)) return;
+    if (p.colour)
+        m.*p.colour = m_reader.vec3(j[key], where + "/" + key, p.spec.min, p.spec.max);
+    else
+        m.*p.number = m_reader.number(j[key], where + "/" + key, p.spec.min, p.spec.max);
+    if (p.given) m.*p.given = true;
+}
+
 Material Loader::readMaterial(const std::string& name, const json& j, const std::string& where) {
-    m_reader.requireObject(
-        j, where,
-        {"type", "albedo", "texture", "emission", "ior", "roughness", "eta", "k", "specular"});
+    // Keys no kind takes first (today's message lists them all), then the kind's own.
+    std::vector<std::string> anyKind;
+    for (const MaterialKind* kind : kMaterialKinds)
+        if (kind->inSceneJson)
+            for (const std::string& key : materialKeys(*kind, false))
+                if (std::find(anyKind.begin(), anyKind.end(), key) == anyKind.end())
+                    anyKind.push_back(key);
+    m_reader.requireObject(j, where, anyKind);
     Material m;
     m.name = name;
     if (!j.contains("type")) m_reader.fail(where + "/type", "missing required key 'type'");
     const std::string type = m_reader.string(j["type"], where + "/type");
-    if (type == "diffuse")
-        m.type = MaterialType::Diffuse;
-    else if (type == "mirror")
-        m.type = MaterialType::Mirror;
-    else if (type == "dielectric")
-        m.type = MaterialType::Dielectric;
-    else if (type == "conductor")
-        m.type = MaterialType::Conductor;
-    else
-        m_reader.fail(where + "/type", "unknown material type '" + type +
-                                           "' (expected diffuse, mirror, dielectric or conductor)");
-    if (m.type != MaterialType::Diffuse) m.albedo = {1.0f, 1.0f, 1.0f};
-    if (j.contains("albedo")) m.albedo = m_reader.vec3(j["albedo"], where + "/albedo", 0.0, 1.0);
+    const MaterialKind* kind = nullptr;
+    for (std::size_t i = 0; i < std::size(kMaterialKinds) && !kind; ++i)
+        if (kMaterialKinds[i]->inSceneJson && type == kMaterialKinds[i]->name) {
+            kind = kMaterialKinds[i];
+            m.type = MaterialType(int(i));
+        }
+    if (!kind)
+        m_reader.fail(where + "/type", "unknown material type '" + type + "' (expected " +
+                                           sceneJsonTypeList() + ")");
+    m_reader.requireObject(j, where, materialKeys(*kind, false));
+    // Each parameter of the kind: its default, or the value given.
+    for (const MaterialParameter& p : kind->parameters) {
+        if (p.colour)
+            m.*p.colour = Vec3{1.0f, 1.0f, 1.0f} * float(p.spec.defaultValue);
+        else
+            m.*p.number = float(p.spec.defaultValue);
+        if (p.partner && j.contains(p.spec.name) != j.contains(p.partner))
+            m_reader.fail(where, type + " '" + p.spec.name + "' and '" + p.partner +
+                                     "' must be given together");
+        readParameter(m, p, j, where);
+    }
     if (j.contains("texture"))
         m.texture =
             loadTexture(m_reader.string(j["texture"], where + "/texture"), where + "/texture");
     if (j.contains("emission")) m.emission = radiance(j["emission"], where + "/emission");
-    if (j.contains("ior")) m.ior = m_reader.number(j["ior"], where + "/ior", 1e-3, 100.0);
-    if (j.contains("roughness"))
-        m.roughness = m_reader.number(j["roughness"], where + "/roughness", 0.0, 1.0);
-    if (j.contains("eta") != j.contains("k"))
-        m_reader.fail(where, "conductor 'eta' and 'k' must be given together");
-    if (j.contains("eta")) {
-        m.hasEtaK = true;
-        m.eta = m_reader.vec3(j["eta"], where + "/eta", 1e-4, 100.0);
-        m.k = m_reader.vec3(j["k"], where + "/k", 0.0, 100.0);
-    }
-    if (j.contains("specular"))
-        m.specular = m_reader.vec3(j["specular"], where + "/specular", 0.0, 1.0);
     return m;
 }
 
 void Loader::applyGltfEdits(Material& m, const json& j, const std::string& where) {
-    m_reader.requireObject(j, where,
-                           {"albedo", "metallic", "roughness", "ior", "transmission", "emission"});
-    if (j.contains("albedo")) m.albedo = m_reader.vec3(j["albedo"], where + "/albedo", 0.0, 1.0);
-    if (j.contains("metallic"))
-        m.metallic = m_reader.number(j["metallic"], where + "/metallic", 0.0, 1.0);
-    if (j.contains("roughness"))
-        m.roughness = m_reader.number(j["roughness"], where + "/roughness", 0.0, 1.0);
-    if (j.contains("ior")) m.ior = m_reader.number(j["ior"], where + "/ior", 1.0, 10.0);
-    if (j.contains("transmission"))
-        m.transmission = m_reader.number(j["transmission"], where + "/transmission", 0.0, 1.0);
+    // The look panel's parameters of the material's kind, over the asset's own factors.
+    const MaterialKind& kind = materialKind(m.type);
+    m_reader.requireObject(j, where, materialKeys(kind, true));
+    for (const MaterialParameter& p : kind.parameters)
+        if (p.look) readParameter(m, p, j, where);
     if (j.contains("emission")) m.emission = radiance(j["emission"], where + "/emission");
 }
 

@@ -11,6 +11,7 @@
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/render/scene.h"
+#include "materials/bsdf.h"
 #include "scene/asset_format.h"
 #include "scene/scene_access.h"
 #include "scene/scene_data.h"
@@ -21,7 +22,6 @@ namespace fs = std::filesystem;
 using ordered_json = nlohmann::ordered_json;
 using detail::EnvironmentDesc;
 using detail::Material;
-using detail::MaterialType;
 
 namespace {
 
@@ -99,29 +99,40 @@ std::string rebase(const fs::path& file, const fs::path& fromDir, const fs::path
     return file.is_absolute() ? file.string() : relativeTo(fromDir / file, toDir);
 }
 
+// Parameter `p` of `m` as JSON.
+ordered_json valueOf(const Material& m, const MaterialParameter& p) {
+    return p.colour ? toJson(m.*p.colour) : toJson(m.*p.number);
+}
+
+// True when parameter `p` of `m` holds its default (reading it back without the key gives the
+// same value).
+bool atDefault(const Material& m, const MaterialParameter& p) {
+    const float d = float(p.spec.defaultValue);
+    if (!p.colour) return m.*p.number == d;
+    const Vec3& c = m.*p.colour;
+    return c.x == d && c.y == d && c.z == d;
+}
+
+// Writes into the material object `j` the parameters of `m`'s kind that `j` already has or
+// that differ from their default: those a look panel edits (lookOnly), or all (a definition).
+// A base colour that a texture replaces is not written, nor a pair (eta, k) not given; a pair
+// given is written whole (one of them alone would not read back).
+void writeParameters(ordered_json& j, const Material& m, bool lookOnly) {
+    for (const MaterialParameter& p : materialKind(m.type).parameters) {
+        if (lookOnly && !p.look) continue;
+        if (p.colour == &Material::albedo && m.texture >= 0 && !p.multipliedByTexture) continue;
+        if (p.given && !(m.*p.given)) continue;
+        if (j.contains(p.spec.name) || !atDefault(m, p) || p.given) j[p.spec.name] = valueOf(m, p);
+    }
+}
+
 // The full JSON definition of a material that came from an MTL file.
 ordered_json definition(const Material& m, const detail::SceneData& d, const fs::path& toDir) {
     ordered_json j;
     j["type"] = detail::materialTypeName(m.type);
-    if (m.texture >= 0)
-        j["texture"] = relativeTo(d.textures[std::size_t(m.texture)].path, toDir);
-    else
-        j["albedo"] = toJson(m.albedo);
+    if (m.texture >= 0) j["texture"] = relativeTo(d.textures[std::size_t(m.texture)].path, toDir);
+    writeParameters(j, m, false);
     j["emission"] = toJson(m.emission);
-    if (m.type == MaterialType::Dielectric) {
-        j["ior"] = toJson(m.ior);
-        // Smooth glass keeps the definition it had before dielectrics took a roughness.
-        if (m.roughness > 0.0f) j["roughness"] = toJson(m.roughness);
-    }
-    if (m.type == MaterialType::Conductor) {
-        j["roughness"] = toJson(m.roughness);
-        if (m.hasEtaK) {
-            j["eta"] = toJson(m.eta);
-            j["k"] = toJson(m.k);
-        } else {
-            j["specular"] = toJson(m.specular);
-        }
-    }
     return j;
 }
 
@@ -157,11 +168,8 @@ void saveScene(const Scene& scene, const fs::path& path) {
             // A glTF asset's material: its factors go to the placing shape's "edits"; the
             // asset's textures stay as the asset has them.
             ordered_json& j = root["shapes"][std::size_t(m.gltfShape)]["edits"][m.gltfName];
-            j["albedo"] = toJson(m.albedo);
-            j["metallic"] = toJson(m.metallic);
-            j["roughness"] = toJson(m.roughness);
-            j["ior"] = toJson(m.ior);
-            j["transmission"] = toJson(m.transmission);
+            for (const MaterialParameter& p : materialKind(m.type).parameters)
+                if (p.look) j[p.spec.name] = valueOf(m, p);
             j["emission"] = toJson(m.emission);
             continue;
         }
@@ -171,12 +179,8 @@ void saveScene(const Scene& scene, const fs::path& path) {
             continue;
         }
         ordered_json& j = materials[m.name];
-        if (m.texture < 0) j["albedo"] = toJson(m.albedo);
+        writeParameters(j, m, true);
         j["emission"] = toJson(m.emission);
-        if (m.type == MaterialType::Dielectric) j["ior"] = toJson(m.ior);
-        if (m.type == MaterialType::Conductor ||
-            (m.type == MaterialType::Dielectric && (m.roughness > 0.0f || j.contains("roughness"))))
-            j["roughness"] = toJson(m.roughness);
     }
     const EnvironmentDesc& env = d.environment;
     if (env.edited) {

@@ -13,63 +13,14 @@
 #include "glint/denoise/progress.h"
 #include "glint/image/frame_buffers.h"
 #include "glint/image/image.h"
+#include "glint/image/parameters.h"
 
 namespace glint::denoise {
 
-/// How a parameter's range is explored by sliders and the filter bank.
-enum class ParamScale { Linear, Log };
-
-/// Description of one filter parameter: a real number, an integer, a choice among named
-/// options (whose value is the option's index), or a list of strings (a program's argv: see
-/// ParamSpec::strings; its value lives in ParamValues::strings, never sampled by a bank).
-struct ParamSpec {
-    std::string name;   ///< key used on the command line and in sessions, e.g. "sigmaS"
-    std::string label;  ///< human label, e.g. "spatial sigma (px)"
-    double min = 0.0;
-    double max = 1.0;
-    double defaultValue = 0.0;
-    ParamScale scale = ParamScale::Linear;
-    bool integer = false;
-    std::string help;  ///< one sentence
-    /// The useful part of [min, max] that sliders and the filter bank explore by default
-    /// (Blender's soft limits): [min, max] is what the filter accepts, [softMin, softMax] what
-    /// makes sense to try. softMin == softMax keeps the parameter at that value in a bank.
-    double softMin = 0.0, softMax = 1.0;
-    /// Option names of a choice parameter (value = index, min 0, max size − 1); empty otherwise.
-    std::vector<std::string> choices;
-
-    ParamSpec() = default;
-    /// A real (integer = false) or integer parameter.
-    ParamSpec(std::string name, std::string label, double min, double max, double defaultValue,
-              ParamScale scale, bool integer, std::string help)
-        : name(std::move(name)),
-          label(std::move(label)),
-          min(min),
-          max(max),
-          defaultValue(defaultValue),
-          scale(scale),
-          integer(integer),
-          help(std::move(help)),
-          softMin(min),
-          softMax(max) {}
-
-    /// This spec with the soft range [lo, hi] (which must lie inside [min, max]).
-    ParamSpec soft(double lo, double hi) const;
-
-    /// True for a list-of-strings parameter (ParamSpec::strings).
-    bool isStrings = false;
-    /// The default of a list-of-strings parameter.
-    std::vector<std::string> defaultStrings;
-
-    bool isChoice() const { return !choices.empty(); }
-
-    /// A choice parameter among `options` (at least one), defaulting to option `defaultIndex`.
-    static ParamSpec choice(std::string name, std::string label, std::vector<std::string> options,
-                            int defaultIndex, std::string help);
-    /// A list-of-strings parameter (empty by default): a program and its arguments, for
-    /// instance. Its numeric range is [0, 0], so a bank holds it at its value.
-    static ParamSpec strings(std::string name, std::string label, std::string help);
-};
+/// Filter parameters are described by the description every user-editable parameter shares
+/// (glint/image/parameters.h).
+using glint::ParamScale;
+using glint::ParamSpec;
 
 /// Parameter values by name: numbers (real, integer, choice) in the map itself, lists of strings
 /// in `strings`. Missing names take their defaults (see resolveParams).

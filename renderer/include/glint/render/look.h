@@ -6,23 +6,15 @@
 #include <string>
 #include <vector>
 
+#include "glint/image/parameters.h"
+
 namespace glint::render {
 
-/// The kind of value a look property holds.
-enum class PropertyType {
-    Color,  ///< three components (RGB), each in [min, max]
-    Scalar  ///< one number in [min, max] (value[0])
-};
-
-/// One editable property: its description and current value.
-struct LookProperty {
-    std::string name;   ///< key: "albedo", "emission", "strength", "roughness", "ior", "scale"...
-    std::string label;  ///< for a UI, e.g. "emission colour"
-    PropertyType type = PropertyType::Scalar;
-    double min = 0.0, max = 1.0;    ///< range of the value (of each component for a colour)
-    bool logScale = false;          ///< a slider should move logarithmically
-    std::string help;               ///< one sentence
-    std::array<double, 3> value{};  ///< current value; a scalar uses value[0]
+/// One editable property: its description (a number, or a colour when isColour; a slider moves
+/// logarithmically when scale is ParamScale::Log) and its current value. Material properties
+/// are described by their kind (renderer/src/materials).
+struct LookProperty : ParamSpec {
+    std::array<double, 3> value{};  ///< current value; a number uses value[0]
 };
 
 /// What a look item is.
