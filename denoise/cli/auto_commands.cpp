@@ -41,6 +41,7 @@ using Clock = std::chrono::steady_clock;
 
 struct AutoArgs {
     std::string input, bank, out, reference, choiceMap, noiseOut, filters, estimator = "auto";
+    std::string session;  // --session: the session that starts from the result
     // Integers are parsed strictly from their text (parseInteger, parseUnsigned).
     std::string size = "64", bankSeed = "1", seed = "1", stream = "auto", memoryLimit;
     float exposure = 0.0f;
@@ -227,6 +228,10 @@ void runAuto(const AutoArgs& a) {
     if (!a.choiceMap.empty()) glint::cli::checkOutputPath(a.choiceMap, {".png"}, "--choice-map");
     if (!a.noiseOut.empty()) glint::cli::checkOutputPath(a.noiseOut, {".exr"}, "--noise-out");
     checkOutputsAreNoInputs(a);
+    checkSessionOutput(
+        a.session, "--session", {{a.input, "IN"}, {a.reference, "--reference"}, {a.bank, "--bank"}},
+        {{a.out, "--out"}, {a.choiceMap, "--choice-map"}, {a.noiseOut, "--noise-out"}});
+    checkOutputIsNoBankFile(a.session, "--session", a.bank);
     glint::cli::removeTemporariesOnSignal({a.out, a.choiceMap, a.noiseOut});
     AutoOptions options;
     options.tuning = parseTuning(a);
@@ -284,6 +289,12 @@ void runAuto(const AutoArgs& a) {
     } catch (const Error& e) {
         rethrowNaming(e, a.input);
     }
+    if (!a.session.empty() && bankOptions.region &&
+        *bankOptions.region != Rect{0, frame.width(), 0, frame.height()})
+        throw Error(ErrorKind::InvalidArgument,
+                    "a session starts from a bank over the whole frame; the bank " + a.bank +
+                        " covers a region of it",
+                    "command line", "--session");
     std::optional<FrameBuffers> reference;
     if (!a.reference.empty()) reference = readReference(a.reference, frame.width(), frame.height());
 
@@ -406,6 +417,10 @@ void runAuto(const AutoArgs& a) {
     // Written last, so that an error before leaves no output file behind.
     if (!a.choiceMap.empty()) writeChoiceMap(result.choice, bank.size(), a.choiceMap);
     if (!a.noiseOut.empty()) writeNoise(frame, options, a.noiseOut);
+    if (!a.session.empty()) {
+        report["session"] = a.session;
+        report["sessionLayers"] = writeAutoSession(a.session, frame, bankOptions, bank, result);
+    }
     writeExr(out, a.out);
     if (a.json) {
         printJson(report);
@@ -512,6 +527,10 @@ std::vector<Command> addAutoCommands(CLI::App& app) {
                     "a --bank folder's members are applied again) | off (the bank in memory)");
     cmd->add_flag("--tuning-table", a->tuningTable,
                   "Print the tuning parameters as the Markdown table of docs/auto.md and exit");
+    cmd->add_option("--session", a->session,
+                    "Also write a painting session NAME.glint-session.json that starts from the "
+                    "result: the members as layers and auto's correction, its composite OUT's "
+                    "colour (open it in Glint Studio, or glint-denoise composite)");
     cmd->add_option("--choice-map", a->choiceMap, "Write the chosen member per pixel as a PNG");
     cmd->add_option("--noise-out", a->noiseOut,
                     "With SURE or the image-only estimator: write the variance of the mean it "
