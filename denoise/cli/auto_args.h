@@ -18,6 +18,7 @@ namespace glint::denoise::cli {
 struct AutoArgs {
     std::string input, bank, out, reference, choiceMap, noiseOut, filters, estimator = "auto";
     std::string quality = "balanced";
+    std::string session;  // --session: the session that starts from the result
     // Integers are parsed strictly from their text (parseInteger, parseUnsigned). An empty size
     // is the quality's.
     std::string size, bankSeed = "1", seed = "1", memoryLimit;

@@ -178,6 +178,10 @@ void runAuto(const AutoArgs& a) {
     if (!a.choiceMap.empty()) glint::cli::checkOutputPath(a.choiceMap, {".png"}, "--choice-map");
     if (!a.noiseOut.empty()) glint::cli::checkOutputPath(a.noiseOut, {".exr"}, "--noise-out");
     checkOutputsAreNoInputs(a);
+    checkSessionOutput(
+        a.session, "--session", {{a.input, "IN"}, {a.reference, "--reference"}, {a.bank, "--bank"}},
+        {{a.out, "--out"}, {a.choiceMap, "--choice-map"}, {a.noiseOut, "--noise-out"}});
+    checkOutputIsNoBankFile(a.session, "--session", a.bank);
     glint::cli::removeTemporariesOnSignal({a.out, a.choiceMap, a.noiseOut});
     AutoQuality quality = AutoQuality::Balanced;
     try {
@@ -245,6 +249,12 @@ void runAuto(const AutoArgs& a) {
     } catch (const Error& e) {
         rethrowNaming(e, a.input);
     }
+    if (!a.session.empty() && bankOptions.region &&
+        *bankOptions.region != Rect{0, frame.width(), 0, frame.height()})
+        throw Error(ErrorKind::InvalidArgument,
+                    "a session starts from a bank over the whole frame; the bank " + a.bank +
+                        " covers a region of it",
+                    "command line", "--session");
     std::optional<FrameBuffers> reference;
     if (!a.reference.empty()) reference = readReference(a.reference, frame.width(), frame.height());
 
@@ -357,6 +367,10 @@ void runAuto(const AutoArgs& a) {
     // Written last, so that an error before leaves no output file behind.
     if (!a.choiceMap.empty()) writeChoiceMap(result.choice, bank.size(), a.choiceMap);
     if (!a.noiseOut.empty()) writeNoise(frame, options, a.noiseOut);
+    if (!a.session.empty()) {
+        report["session"] = a.session;
+        report["sessionLayers"] = writeAutoSession(a.session, frame, bankOptions, bank, result);
+    }
     writeExr(out, a.out);
     if (a.json) {
         printJson(report);
@@ -444,6 +458,10 @@ CLI::App* addAutoFlags(CLI::App& app, const std::shared_ptr<AutoArgs>& a) {
                     "Memory the selection may use besides IN (e.g. 1G; default 1.25G, or less "
                     "when less is available or GLINT_MEMORY_LIMIT says so): a smaller limit "
                     "cuts the frame into more tiles, the same result");
+    cmd->add_option("--session", a->session,
+                    "Also write a painting session NAME.glint-session.json that starts from the "
+                    "result: the filters as layers and auto's correction, its image OUT's "
+                    "colour (open it in Glint Studio to paint, or glint-denoise composite)");
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
     return cmd;
 }

@@ -1,7 +1,7 @@
 // glint-denoise's subcommands, one file per group: filter_commands.cpp (list, apply),
-// bank_commands.cpp (bank), session_commands.cpp (paint, composite), auto_commands.cpp (auto),
-// and the helpers they share (cli_util.cpp). Private to the CLIs: glint-denoise, and glint-lab
-// (lab/cli/), which reuses them through the glint_denoise_cli library.
+// bank_commands.cpp (bank), session_commands.cpp (paint, composite, the session auto writes),
+// auto_commands.cpp (auto), and the helpers they share (cli_util.cpp). Private to the CLIs:
+// glint-denoise, and glint-lab (lab/cli/), which reuses them through the glint_denoise_cli library.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -23,6 +23,7 @@
 namespace glint::denoise {
 class FilterBank;
 struct AutoOptions;
+struct AutoResult;
 struct BankOptions;
 }  // namespace glint::denoise
 
@@ -101,6 +102,22 @@ double parseNumber(const std::string& text, const char* flag);
 /// session's input or weights, or be removed by the session's next save.
 void checkOutsideSessionFolder(const std::string& output, const char* outputFlag,
                                const std::string& session, const char* sessionFlag);
+
+/// Refuses before any work a session file `session` (given by `flag`) that cannot be written
+/// where asked: not NAME.json in a writable folder, one of `inputs` (path, flag; by file
+/// identity), or a side folder (NAME/) that is one of `inputs` (a bank folder) or holds one; and
+/// each of `outputs` (path, flag) inside that side folder.
+void checkSessionOutput(const std::string& session, const char* flag,
+                        const std::vector<std::pair<std::string, const char*>>& inputs,
+                        const std::vector<std::pair<std::string, const char*>>& outputs);
+
+/// Writes the session that starts from auto's result (startFromAuto; docs/auto.md, "Starting a
+/// session from auto"): `frame`, the input auto read, with the filters reading its features as
+/// the bank's did (`bankOptions`), saved atomically to `path` (its temporaries registered for
+/// removal on a signal first). Returns its layer count.
+std::size_t writeAutoSession(const std::string& path, const FrameBuffers& frame,
+                             const BankOptions& bankOptions, const FilterBank& bank,
+                             const AutoResult& result);
 
 /// Refuses before any work an output that is one of the files of the bank folder `bankDir` (its
 /// index or a member), compared by file identity.

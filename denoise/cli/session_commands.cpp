@@ -1,5 +1,5 @@
 // glint-denoise paint | composite: script a painting session, apply a saved session to a new
-// render (docs/painting.md).
+// render (docs/painting.md); and the session `auto --session` writes (docs/auto.md).
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -8,6 +8,8 @@
 
 #include "cli_boundary.h"
 #include "commands.h"
+#include "glint/denoise/auto.h"
+#include "glint/denoise/bank.h"
 #include "glint/denoise/paint_script.h"
 #include "glint/denoise/session.h"
 #include "glint/image/error.h"
@@ -142,6 +144,50 @@ void runComposite(const CompositeArgs& a) {
 }
 
 }  // namespace
+
+void checkSessionOutput(const std::string& session, const char* flag,
+                        const std::vector<std::pair<std::string, const char*>>& inputs,
+                        const std::vector<std::pair<std::string, const char*>>& outputs) {
+    if (session.empty()) return;
+    glint::cli::checkOutputPath(session, {".json"}, flag);
+    std::vector<glint::cli::NamedInput> named;
+    for (const auto& [path, inputFlag] : inputs)
+        if (!path.empty()) named.push_back({path, inputFlag});
+    glint::cli::checkOutputIsNoInput(session, flag, named);
+    // The save replaces the side folder: it must be no input, nor hold one.
+    const fs::path side = fs::path(session).parent_path() / fs::path(session).stem();
+    for (const auto& [path, inputFlag] : inputs) {
+        std::error_code ec;
+        if (path.empty()) continue;
+        const fs::path folder =
+            fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
+        if ((fs::equivalent(path, side, ec) && !ec) || (fs::equivalent(folder, side, ec) && !ec))
+            throw Error(ErrorKind::InvalidArgument,
+                        "the side folder of the session, '" + side.string() +
+                            "', is or holds the input given by " + inputFlag + " ('" + path +
+                            "'); saving the session would replace it",
+                        {}, flag);
+    }
+    for (const auto& [path, outputFlag] : outputs)
+        checkOutsideSessionFolder(path, outputFlag, session, flag);
+}
+
+std::size_t writeAutoSession(const std::string& path, const FrameBuffers& frame,
+                             const BankOptions& bankOptions, const FilterBank& bank,
+                             const AutoResult& result) {
+    // At most one layer per member and auto's correction.
+    std::vector<std::string> temporaries;
+    for (const fs::path& p : Session::temporaries(path, result.layers.size() + 1))
+        temporaries.push_back(p.string());
+    glint::cli::removeOnSignal(temporaries);
+    SessionOptions options;
+    options.prefilter = bankOptions.prefilter;
+    options.prefilterParams = bankOptions.prefilterParams;
+    Session session(frame, options);
+    startFromAuto(session, bank, result);
+    session.save(path);
+    return session.layerCount();
+}
 
 std::vector<Command> addSessionCommands(CLI::App& app) {
     auto paint = std::make_shared<PaintArgs>();

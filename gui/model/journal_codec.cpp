@@ -60,8 +60,8 @@ std::vector<denoise::LayerSpec> layersFromJson(const QJsonValue& v) {
     std::vector<denoise::LayerSpec> layers;
     for (const QJsonValue& item : v.toArray()) {
         const QJsonObject l = item.toObject();
-        layers.push_back({l.value(QStringLiteral("filter")).toString().toStdString(),
-                          paramsFromJson(l.value(QStringLiteral("params")))});
+        layers.emplace_back(l.value(QStringLiteral("filter")).toString().toStdString(),
+                            paramsFromJson(l.value(QStringLiteral("params"))));
     }
     return layers;
 }
@@ -69,6 +69,33 @@ std::vector<denoise::LayerSpec> layersFromJson(const QJsonValue& v) {
 std::size_t index(const QJsonObject& o, const char* key) {
     return std::size_t(o.value(QLatin1String(key)).toInteger());
 }
+
+}  // namespace
+
+std::vector<Image> correctionImages(const std::vector<denoise::LayerSpec>& layers) {
+    std::vector<Image> images;
+    for (const denoise::LayerSpec& spec : layers)
+        if (spec.correction) {
+            images.push_back(spec.correction->result);
+            images.push_back(spec.correction->blend);
+        }
+    return images;
+}
+
+void takeCorrections(std::vector<denoise::LayerSpec>& layers, const std::vector<Image>& images) {
+    std::size_t next = layers.size();
+    for (denoise::LayerSpec& spec : layers) {
+        if (spec.filter != denoise::kAutoCorrection) continue;
+        if (next + 2 > images.size())
+            throw Error(ErrorKind::Format,
+                        "the journal entry lacks the images of auto's correction");
+        spec.correction = std::make_shared<const denoise::SessionCorrection>(
+            denoise::SessionCorrection{images[next], images[next + 1]});
+        next += 2;
+    }
+}
+
+namespace {
 
 /// The JSON of one operation, by type.
 struct Encoder {

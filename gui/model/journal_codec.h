@@ -19,7 +19,7 @@
 namespace glint::studio::journal_codec {
 
 /// A session started on a render (the entry's frame), with `layers` carried over (their weights
-/// are the entry's images).
+/// are the entry's images, then the corrections' images: correctionImages).
 struct Start {
     denoise::SessionOptions options;
     std::vector<denoise::LayerSpec> layers;
@@ -36,8 +36,8 @@ struct AddLayer {
     denoise::ParamValues params;
     bool fill = false;
 };
-/// Layers added with their weights (the entry's images, in order) as one undo step: what Auto
-/// Start made.
+/// Layers added with their weights (the entry's images, in order, then the corrections' images:
+/// correctionImages) as one undo step: what Auto Start made.
 struct AddLayers {
     std::vector<denoise::LayerSpec> layers;
 };
@@ -76,6 +76,13 @@ struct Redo {};
 
 using Op = std::variant<Start, Input, AddLayer, AddLayers, RemoveLayer, RenameLayer, Weights, Fill,
                         Stroke, Apply, Clear, Undo, Redo>;
+
+/// The images a Start or AddLayers entry holds after one weight map per layer: the result and
+/// the blend of each of `layers` that is auto's correction (LayerSpec::correction), in order.
+std::vector<Image> correctionImages(const std::vector<denoise::LayerSpec>& layers);
+/// Gives each of `layers` named kAutoCorrection its correction from `images` (one weight map per
+/// layer, then correctionImages). Throws glint::Error(Format) when an image is missing.
+void takeCorrections(std::vector<denoise::LayerSpec>& layers, const std::vector<Image>& images);
 
 /// The JSON of `op`.
 QJsonObject encode(const Op& op);

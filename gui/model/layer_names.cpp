@@ -4,6 +4,7 @@
 #include <QStringList>
 
 #include "glint/denoise/registry.h"
+#include "glint/denoise/session.h"
 
 namespace glint::studio {
 
@@ -25,6 +26,7 @@ constexpr Naming kNamings[] = {
     {"guided", "Guided", "radius", "r"},
     {"nlmeans", "NL-means", "strength", ""},
     {"unet", "Learned (unet)", "quality", ""},
+    {denoise::kAutoCorrection, "Auto's correction", "", ""},  // no filter: Auto Start's layer
 };
 
 QString number(double v) {
@@ -77,6 +79,10 @@ QString layerName(const std::string& filter, const denoise::ParamValues& params)
 QString layerParameters(const std::string& filter, const denoise::ParamValues& params) {
     QStringList lines{
         QStringLiteral("%1 (%2)").arg(layerName(filter, params), QString::fromStdString(filter))};
+    if (filter == denoise::kAutoCorrection)
+        lines << QObject::tr(
+            "What takes the blend of the layers beneath to auto's result (the stacking's "
+            "correction): painted away, the blend shows");
     const denoise::Filter* f = filterNamed(filter);
     if (!f) return lines.join(QLatin1Char('\n'));
     for (const denoise::ParamSpec& spec : f->params()) {

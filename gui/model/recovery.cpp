@@ -115,9 +115,10 @@ class Replay {
             const FramePtr f = frame(entry);
             m_options = start->options;
             m_out.filterInput = filterInputFor(f, m_options, m_progress);
-            m_out.session = std::make_shared<denoise::Session>(
-                buildSession(f, m_out.filterInput, m_options, start->layers, entry.images,
-                             start->names, m_progress));
+            std::vector<denoise::LayerSpec> layers = start->layers;
+            jc::takeCorrections(layers, entry.images);
+            m_out.session = std::make_shared<denoise::Session>(buildSession(
+                f, m_out.filterInput, m_options, layers, entry.images, start->names, m_progress));
             m_out.session->bankDir = start->bankDir;
             m_out.input = f;
             m_steps.clear();  // a new session starts the undo history again
@@ -137,11 +138,16 @@ class Replay {
             push({add->fill ? 2 : 1, {}, {}});
         } else if (const auto* layers = std::get_if<jc::AddLayers>(&op)) {
             denoise::Session& s = session();
-            for (std::size_t i = 0; i < layers->layers.size(); ++i) {
-                const denoise::LayerSpec& spec = layers->layers[i];
+            std::vector<denoise::LayerSpec> specs = layers->layers;
+            jc::takeCorrections(specs, entry.images);
+            for (std::size_t i = 0; i < specs.size(); ++i) {
+                const denoise::LayerSpec& spec = specs[i];
                 const Image& weights = image(entry, i);
-                s.setWeights(s.addLayer(spec.filter, spec.params, output(spec.filter, spec.params)),
-                             weights);
+                const std::size_t index =
+                    spec.correction
+                        ? s.addCorrection(spec.correction->result, spec.correction->blend)
+                        : s.addLayer(spec.filter, spec.params, output(spec.filter, spec.params));
+                s.setWeights(index, weights);
             }
             push({2 * int(layers->layers.size()), {}, {}});
         } else if (const auto* remove = std::get_if<jc::RemoveLayer>(&op)) {

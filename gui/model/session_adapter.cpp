@@ -112,6 +112,8 @@ void SessionAdapter::startSession(FramePtr frame, std::vector<denoise::LayerSpec
     const std::string bankDir = m_session ? m_session->bankDir.string() : std::string();
     entry.op = journal_codec::encode(journal_codec::Start{options, carry, carryNames, bankDir});
     entry.images = carryWeights;
+    for (Image& image : journal_codec::correctionImages(carry))
+        entry.images.push_back(std::move(image));
     entry.frame = frame;
     struct Started {
         std::shared_ptr<denoise::Session> session;
@@ -191,19 +193,34 @@ void SessionAdapter::installReapply(FramePtr frame, Reapplied& reapplied, bool j
     changedAll();
 }
 
+namespace {
+
+// The session's current layers as a new session carries them over (auto's correction with its
+// images), their weights and names.
+struct Carried {
+    std::vector<denoise::LayerSpec> specs;
+    std::vector<Image> weights;
+    std::vector<std::string> names;
+};
+
+Carried carriedLayers(const denoise::Session& session) {
+    Carried c;
+    for (std::size_t i = 0; i < session.layerCount(); ++i) {
+        const denoise::SessionLayer& l = session.layer(i);
+        c.specs.emplace_back(l.filter, l.params, l.correction);
+        c.weights.push_back(l.weights);
+        c.names.push_back(l.name);
+    }
+    return c;
+}
+
+}  // namespace
+
 void SessionAdapter::setOptions(const denoise::SessionOptions& options) {
     m_options = options;
     if (!m_session) return;
-    std::vector<denoise::LayerSpec> carry;
-    std::vector<Image> weights;
-    std::vector<std::string> names;
-    for (std::size_t i = 0; i < m_session->layerCount(); ++i) {
-        const denoise::SessionLayer& l = m_session->layer(i);
-        carry.push_back({l.filter, l.params});
-        weights.push_back(l.weights);
-        names.push_back(l.name);
-    }
-    startSession(m_input, std::move(carry), std::move(weights), std::move(names));
+    Carried c = carriedLayers(*m_session);
+    startSession(m_input, std::move(c.specs), std::move(c.weights), std::move(c.names));
 }
 
 void SessionAdapter::pushEdit(const QString& text, int steps) {
@@ -377,15 +394,15 @@ void SessionAdapter::install(denoise::Session session, FramePtr input, FramePtr 
                             .arg(QString::fromStdString(e.what())));
         }
     }
-    // The journal starts again from this session: its input and its layers with their weights.
+    // The journal starts again from this session: its input and its layers with their weights
+    // (auto's correction with its images).
+    Carried c = carriedLayers(*m_session);
     JournalEntry entry;
-    std::vector<std::string> names;
-    for (std::size_t i = 0; i < m_session->layerCount(); ++i) {
-        entry.images.push_back(m_session->layer(i).weights);
-        names.push_back(m_session->layer(i).name);
-    }
-    entry.op = journal_codec::encode(journal_codec::Start{
-        m_options, m_session->layerSpecs(), std::move(names), m_session->bankDir.string()});
+    entry.images = std::move(c.weights);
+    for (Image& image : journal_codec::correctionImages(c.specs))
+        entry.images.push_back(std::move(image));
+    entry.op = journal_codec::encode(
+        journal_codec::Start{m_options, c.specs, std::move(c.names), m_session->bankDir.string()});
     entry.frame = m_input;
     emit journal(entry);
     emit sessionReset();

@@ -20,11 +20,15 @@ denoise::Session buildSession(FramePtr frame, FramePtr filterInput,
                               const denoise::ProgressFn& progress) {
     denoise::Session session(*frame, options);
     for (std::size_t i = 0; i < carry.size(); ++i) {
-        const denoise::Filter& f = denoise::findFilter(carry[i].filter);
-        Image output =
-            denoise::applyFilter(f, *filterInput, carry[i].params,
-                                 {.region = std::nullopt, .progress = progress, .threads = 0});
-        session.addLayer(carry[i].filter, carry[i].params, std::move(output));
+        if (const auto& c = carry[i].correction) {
+            session.addCorrection(c->result, c->blend);  // auto's correction, as it was
+        } else {
+            const denoise::Filter& f = denoise::findFilter(carry[i].filter);
+            Image output =
+                denoise::applyFilter(f, *filterInput, carry[i].params,
+                                     {.region = std::nullopt, .progress = progress, .threads = 0});
+            session.addLayer(carry[i].filter, carry[i].params, std::move(output));
+        }
         if (i < carryWeights.size()) session.setWeights(session.layerCount() - 1, carryWeights[i]);
         if (i < carryNames.size()) session.renameLayer(session.layerCount() - 1, carryNames[i]);
     }

@@ -17,8 +17,9 @@ namespace glint::studio {
 FramePtr filterInputFor(FramePtr frame, const denoise::SessionOptions& options,
                         const denoise::ProgressFn& progress = {});
 
-/// A session on `frame` with `carry` layers (outputs computed on `filterInput`), their weights
-/// and names set where given: how a new session keeps the painting.
+/// A session on `frame` with `carry` layers (outputs computed on `filterInput`; auto's
+/// correction carried as it is), their weights and names set where given: how a new session
+/// keeps the painting.
 denoise::Session buildSession(FramePtr frame, FramePtr filterInput,
                               const denoise::SessionOptions& options,
                               const std::vector<denoise::LayerSpec>& carry,

@@ -163,13 +163,12 @@ void SessionAdapter::autoStart(int bankSize) {
 
 void SessionAdapter::autoChoose(BankService::BankPtr bank, FramePtr in,
                                 const denoise::SessionOptions& options, std::uint64_t generation) {
-    // 2. The per-pixel choice among the members by SURE, on a worker.
+    // 2. The per-pixel choice among the members, on a worker: glint-denoise auto's defaults,
+    // stacking included (its correction becomes a layer of its own).
     m_tasks.run<std::shared_ptr<denoise::AutoResult>>(
         QStringLiteral("auto-start"),
         [this, bank, in, options](const TaskRunner::CancelFlag& cancel) {
             denoise::AutoOptions ao;
-            // A session is a blend of member layers; the stacking's correction is not one.
-            ao.allowStacking = false;
             ao.prefilter = options.prefilter;
             ao.prefilterParams = options.prefilterParams;
             ao.progress = progressFor(tr("Auto start: estimating each member's error"), cancel);
@@ -194,9 +193,11 @@ void SessionAdapter::autoChoose(BankService::BankPtr bank, FramePtr in,
                     JournalEntry entry;
                     for (std::size_t i = first; i < m_session->layerCount(); ++i) {
                         const denoise::SessionLayer& layer = m_session->layer(i);
-                        added.layers.push_back({layer.filter, layer.params});
+                        added.layers.emplace_back(layer.filter, layer.params, layer.correction);
                         entry.images.push_back(layer.weights);
                     }
+                    for (Image& image : journal_codec::correctionImages(added.layers))
+                        entry.images.push_back(std::move(image));
                     entry.op = journal_codec::encode(added);
                     emit journal(entry);
                     pushEdit(tr("Auto start"), int(edits));

@@ -220,7 +220,7 @@ TEST(AutoStacking, StackingKeepsTheCompositeWhereNothingDiffersAndClampsAtZero) 
     EXPECT_GT(zeros, long(clamped.data().size() / 2)) << zeros;
 }
 
-TEST(AutoStacking, StackingNeedsBothHalvesAndASessionCannotStartFromIt) {
+TEST(AutoStacking, StackingNeedsBothHalvesAndASessionStartsFromItWithItsCorrection) {
     const Image clean = cleanImage(64, 48);
     const FrameBuffers f = halvesFrame(clean, 0.08, Noise::Gaussian, 17);
     const FilterBank bank = gaussianBank(f, {0.5, 1.0, 2.0, 4.0});
@@ -263,10 +263,21 @@ TEST(AutoStacking, StackingNeedsBothHalvesAndASessionCannotStartFromIt) {
     }
     EXPECT_FALSE(std::equal(one.composite.data().begin(), one.composite.data().end(),
                             plain.composite.data().begin(), plain.composite.data().end()));
-    // Not a blend of the members: a session refuses to start from it, and stays empty.
+    // Not a blend of the members: a session starts from it with the members as layers and auto's
+    // correction on top, and is the stacked composite bit for bit; every edit can be undone.
     Session session(f);
-    EXPECT_THROW(startFromAuto(session, bank, one), Error);
+    const std::size_t edits = startFromAuto(session, bank, one);
+    ASSERT_EQ(session.layerCount(), one.layers.size() + 1);
+    EXPECT_EQ(edits, 2 * session.layerCount());
+    const SessionLayer& correction = session.layer(one.layers.size());
+    ASSERT_TRUE(correction.correction);
+    EXPECT_EQ(correction.filter, kAutoCorrection);
+    EXPECT_TRUE(std::equal(session.composite().data().begin(), session.composite().data().end(),
+                           one.composite.data().begin(), one.composite.data().end()));
+    for (std::size_t i = 0; i < edits; ++i) session.undo();
     EXPECT_EQ(session.layerCount(), 0u);
+    EXPECT_TRUE(std::equal(session.composite().data().begin(), session.composite().data().end(),
+                           f.color().data().begin(), f.color().data().end()));
     // SURE (no half buffers) and one-sided halves are refused, naming --stack.
     const FrameBuffers plainFrame = testing::syntheticFrame(24, 20, 0.05f);
     const FilterBank plainBank = gaussianBank(plainFrame, {1.0, 2.0});

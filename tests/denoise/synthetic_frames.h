@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <random>
 #include <utility>
 #include <vector>
@@ -86,6 +87,12 @@ inline FrameBuffers constantFrame(int w, int h, float r, float g, float b) {
         for (int x = 0; x < w; ++x) f.layer(Layer::Normal)(x, y, 2) = 1.0f;
     f.layer(Layer::Depth).fill(2.0f);
     return f;
+}
+
+/// Whether two images have the same shape and the same bits.
+inline bool sameBits(const Image& a, const Image& b) {
+    return a.sameShape(b) &&
+           std::memcmp(a.data().data(), b.data().data(), a.data().size_bytes()) == 0;
 }
 
 /// Largest absolute difference between two same-shaped images (NaN if any value is NaN).

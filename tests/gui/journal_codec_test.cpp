@@ -80,6 +80,39 @@ class JournalCodecTest : public QObject {
         QVERIFY(refused);
     }
 
+    void autosCorrectionTravelsAsImagesAfterTheWeights() {
+        namespace jc = journal_codec;
+        // Auto Start's entry: a member, then auto's correction (its result and blend after the
+        // layers' weights).
+        auto correction = std::make_shared<const denoise::SessionCorrection>(
+            denoise::SessionCorrection{Image(4, 3, 3, 0.5f), Image(4, 3, 3, 0.25f)});
+        const std::vector<denoise::LayerSpec> layers{{"gaussian", {{"sigma", 1.0}}},
+                                                     {denoise::kAutoCorrection, {}, correction}};
+        std::vector<Image> images{Image(4, 3, 1, 0.5f), Image(4, 3, 1, 1.0f)};
+        for (Image& image : jc::correctionImages(layers)) images.push_back(std::move(image));
+        QCOMPARE(images.size(), std::size_t(4));
+        const QJsonObject json = jc::encode(jc::AddLayers{layers});
+        const QJsonObject read = QJsonDocument::fromJson(QJsonDocument(json).toJson()).object();
+        std::vector<denoise::LayerSpec> back = std::get<jc::AddLayers>(jc::decode(read)).layers;
+        QCOMPARE(back.size(), std::size_t(2));
+        QVERIFY(!back[1].correction);
+        jc::takeCorrections(back, images);
+        QVERIFY(!back[0].correction);
+        QVERIFY(back[1].correction);
+        QCOMPARE(back[1].correction->result(3, 2, 1), 0.5f);
+        QCOMPARE(back[1].correction->blend(3, 2, 1), 0.25f);
+        // An entry without the correction's images is a Format error, not a layer without one.
+        std::vector<denoise::LayerSpec> partial = std::get<jc::AddLayers>(jc::decode(read)).layers;
+        images.pop_back();
+        bool refused = false;
+        try {
+            jc::takeCorrections(partial, images);
+        } catch (const Error& e) {
+            refused = e.kind() == ErrorKind::Format;
+        }
+        QVERIFY(refused);
+    }
+
     void renderSettingsRoundTripThroughTheirOwnLine() {
         namespace jc = journal_codec;
         render::Settings s;

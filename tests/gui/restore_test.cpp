@@ -50,6 +50,13 @@ bool autoStart(MainWindow& w) {
         180000);
 }
 
+// The top layer that runs a filter (Auto Start may put auto's correction above its members).
+std::size_t lastMember(const denoise::Session& s) {
+    std::size_t i = s.layerCount() - 1;
+    while (i > 0 && s.layer(i).correction) --i;
+    return i;
+}
+
 }  // namespace
 
 class RestoreTest : public QObject {
@@ -126,8 +133,17 @@ class RestoreTest : public QObject {
                      qPrintable(QStringLiteral("layer %1").arg(i)));
         }
         QVERIFY(sameBits(got.composite(), want.composite()));
-        // The stroke made before the kill (on the last layer) is there.
-        QVERIFY(sum(got.layer(got.layerCount() - 1).weights) > 0.0);
+        // The stroke made before the kill (on the last member's layer) is there; so is auto's
+        // correction, with its images, when Auto Start added one.
+        QVERIFY(sum(got.layer(lastMember(got)).weights) > 0.0);
+        for (std::size_t i = 0; i < want.layerCount(); ++i) {
+            QCOMPARE(bool(got.layer(i).correction), bool(want.layer(i).correction));
+            if (want.layer(i).correction) {
+                QVERIFY(
+                    sameBits(got.layer(i).correction->result, want.layer(i).correction->result));
+                QVERIFY(sameBits(got.layer(i).correction->blend, want.layer(i).correction->blend));
+            }
+        }
         // The document, its look and the canvas agree with the session.
         QCOMPARE(w->document()->path(), m_scene);
         QCOMPARE(w->document()->kind(), Document::Kind::Scene);
@@ -257,8 +273,8 @@ static int killChild(const QString& base, const QString& scene) {
     w.lookPanel()->edit(firstAlbedoMaterial(*w.document()), "albedo", kAlbedo);
     if (!waitFor([&] { return w.document()->finishedFrame() != before; }, 60000)) return 8;
     if (!waitIdle(w, 60000)) return 9;
-    // A stroke on the last layer.
-    const std::size_t last = w.session()->session().layerCount() - 1;
+    // A stroke on the last member's layer (beneath auto's correction, if any).
+    const std::size_t last = lastMember(w.session()->session());
     w.session()->beginStroke(last, {12.0, 0.5}, denoise::BrushMode::Add);
     for (double x = 8.0; x < 56.0; x += 4.0) w.session()->dab(x, 24.0);
     w.session()->endStroke();

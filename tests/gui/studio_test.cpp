@@ -4,6 +4,7 @@
 #include <QApplication>
 #include <QCheckBox>
 #include <QComboBox>
+#include <QListWidget>
 #include <QMessageBox>
 #include <QProcess>
 #include <QPushButton>
@@ -15,11 +16,13 @@
 #include <csignal>
 #include <cstring>
 
+#include "cli_auto.h"
 #include "glint/denoise/auto.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
 #include "glint/image/io.h"
 #include "glint/render/scene.h"
+#include "heavy_actions.h"
 #include "model/document.h"
 #include "model_test.h"
 #include "run_tests.h"
@@ -265,15 +268,22 @@ class StudioTest : public QObject {
         w->actions().autoStart->trigger();
         QVERIFY(waitFor([&] { return s.layerCount() > 0 && !w->session()->busy(); }, 60000));
         QCOMPARE(w->session()->undoStack()->count(), 1);  // one step for every layer
-        // The layers' weights cover every pixel: nothing of the noisy input shows through.
+        // The members' weights cover every pixel: nothing of the noisy input shows through (auto's
+        // correction, when the blend's rounding needs one, is on top and not counted).
         QVERIFY(!sameBits(s.composite(), noisy));
         for (int y = 0; y < 48; y += 5)
             for (int x = 0; x < 64; x += 5) {
                 double rest = 1.0;
                 for (std::size_t i = s.layerCount(); i-- > 0;)
-                    rest *= 1.0 - s.layer(i).weights(x, y, 0);
+                    if (!s.layer(i).correction) rest *= 1.0 - s.layer(i).weights(x, y, 0);
                 QVERIFY2(rest < 1e-6, "the input shows through the auto start");
             }
+        // The result is glint-denoise auto's on the same render, bit for bit.
+        QString error;
+        const std::optional<Image> cli = cliAutoColour(
+            *w->session()->input(), m_dir.filePath(QStringLiteral("cli-sure")), error);
+        QVERIFY2(cli, qPrintable(error));
+        QVERIFY(sameBits(s.composite(), *cli));
         w->session()->undoStack()->undo();
         QCOMPARE(s.layerCount(), std::size_t(0));
         QVERIFY(sameBits(s.composite(), noisy));
@@ -319,6 +329,39 @@ class StudioTest : public QObject {
             60000));
         QVERIFY(w->session()->input()->has(Layer::HalfColor));
         QVERIFY(w->lastError().isEmpty());
+        // The halves stack, as glint-denoise auto does by default: the members, then auto's
+        // correction on top, one undo step; the result is the CLI's on the same render, bit for
+        // bit.
+        const denoise::Session& s = w->session()->session();
+        QVERIFY(s.layer(s.layerCount() - 1).correction);
+        QCOMPARE(w->session()->undoStack()->count(), 1);
+        QString error;
+        const std::optional<Image> cli = cliAutoColour(
+            *w->session()->input(), m_dir.filePath(QStringLiteral("cli-halves")), error);
+        QVERIFY2(cli, qPrintable(error));
+        QVERIFY(sameBits(s.composite(), *cli));
+        // Saved and opened again, the correction is a layer of the list; restored from that
+        // window's journal (its start entry carries the correction), the same composite.
+        const Image composite = s.composite();
+        const std::size_t layers = s.layerCount();
+        QVERIFY(saveSession(*w, m_dir.filePath(QStringLiteral("halves/auto.glint-session.json"))));
+        auto again = makeWindow(m_dir.filePath(QStringLiteral("autosave-halves")));
+        again->openFile(m_dir.filePath(QStringLiteral("halves/auto.glint-session.json")));
+        QVERIFY(
+            waitFor([&] { return again->session()->hasSession() && !again->session()->busy(); }));
+        QCOMPARE(again->session()->session().layerCount(), layers);
+        QVERIFY(sameBits(again->session()->session().composite(), composite));
+        auto* list = again->paintView()->findChild<QListWidget*>();
+        QVERIFY(list && list->count() == int(layers));
+        QVERIFY2(list->item(int(layers) - 1)->text().endsWith(QStringLiteral("Auto's correction")),
+                 qPrintable(list->item(int(layers) - 1)->text()));
+        const QString crashed = m_dir.filePath(QStringLiteral("crashed-halves"));
+        QVERIFY(copyAsCrashed(*again, crashed));
+        auto restored = makeWindow(crashed);
+        QVERIFY(restore(*restored));
+        QCOMPARE(restored->session()->session().layerCount(), layers);
+        QVERIFY(restored->session()->session().layer(layers - 1).correction);
+        QVERIFY(sameBits(restored->session()->session().composite(), composite));
         // Metropolis has no half buffers: the box is disabled with it.
         auto* integrator = w->renderBar()->findChild<QComboBox*>();
         QVERIFY(integrator);

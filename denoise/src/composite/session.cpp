@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "composite/correction.h"
 #include "composite/session_impl.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
@@ -29,6 +30,14 @@ void put(Image& image, const Image& crop, const Rect& rect) {
 
 }  // namespace
 
+void composeLayer(Image& composite, const Image* output, const SessionCorrection* correction,
+                  const Image& weights, const Rect& rect) {
+    if (correction)
+        correctInPlace(composite, *correction, weights, rect);
+    else
+        blendInPlace(composite, *output, weights, rect);
+}
+
 Image runLayerFilter(const FrameBuffers& input, const std::string& filter,
                      const ParamValues& params, const ProgressFn& progress) {
     FilterOptions options;
@@ -49,7 +58,8 @@ void Session::Impl::recomposite(const Rect& rect) {
             std::copy_n(color.row(y) + std::size_t(r.x0) * std::size_t(color.channels()), rowBytes,
                         composite.row(y) + std::size_t(r.x0) * std::size_t(color.channels()));
         for (const SessionLayer& layer : layers)
-            blendInPlace(composite, *layer.output, layer.weights, Rect{r.x0, r.x1, y0, y1});
+            composeLayer(composite, layer.output.get(), layer.correction.get(), layer.weights,
+                         Rect{r.x0, r.x1, y0, y1});
     };
     constexpr int kBandRows = 16;
     if (std::int64_t(r.x1 - r.x0) * (r.y1 - r.y0) < 256 * 256) {
@@ -182,16 +192,39 @@ std::size_t Session::addLayer(const std::string& filter, const ParamValues& para
         layer.output = std::make_shared<const Image>(
             runLayerFilter(s.filterInput(), layer.filter, layer.params, progress));
     }
-    layer.weights = Image(width(), height(), 1, 0.0f);
-    layer.painted = Image(width(), height(), 1, 0.0f);
+    return s.pushLayer(std::move(layer));
+}
+
+std::size_t Session::addCorrection(Image result, std::optional<Image> blend) {
+    Impl& s = *m_impl;
+    s.checkNoStroke();
+    auto correction = std::make_shared<SessionCorrection>();
+    correction->result = std::move(result);
+    correction->blend = blend ? std::move(*blend) : s.composite;
+    const std::string problem = correctionProblem(*correction, width(), height());
+    if (!problem.empty())
+        throw Error(ErrorKind::InvalidArgument, "auto's correction: " + problem, {}, "session");
+    SessionLayer layer;
+    layer.filter = kAutoCorrection;
+    // The layer's output is auto's result (what it shows over the blend it corrected), shared
+    // with the correction.
+    layer.output = std::shared_ptr<const Image>(correction, &correction->result);
+    layer.correction = std::move(correction);
+    return s.pushLayer(std::move(layer));
+}
+
+std::size_t Session::Impl::pushLayer(SessionLayer layer) {
+    const int w = input.width(), h = input.height();
+    layer.weights = Image(w, h, 1, 0.0f);
+    layer.painted = Image(w, h, 1, 0.0f);
     SessionEdit edit;
     edit.kind = SessionEdit::Kind::AddLayer;
-    edit.index = s.layers.size();
+    edit.index = layers.size();
     edit.layer = layer;
-    s.layers.push_back(std::move(layer));  // weight 0: the composite does not change
-    ++s.version;
-    s.record(std::move(edit));
-    return s.layers.size() - 1;
+    layers.push_back(std::move(layer));  // weight 0: the composite does not change
+    ++version;
+    record(std::move(edit));
+    return layers.size() - 1;
 }
 
 void Session::removeLayer(std::size_t index) {

@@ -53,6 +53,9 @@ struct Session::Impl {
     void apply(const SessionEdit& edit, bool forward);
     /// Records an edit (clears redo).
     void record(SessionEdit edit);
+    /// Adds `layer` (filter, output and correction set) on top with weight 0: one undo step.
+    /// Returns its index.
+    std::size_t pushLayer(SessionLayer layer);
     /// Checks a layer index.
     void checkLayer(std::size_t index) const;
     /// Checks that every index names a layer and none is listed twice.
@@ -68,6 +71,11 @@ struct Session::Impl {
                  const std::vector<LayerSpec>& specs,
                  const std::vector<std::shared_ptr<const Image>>& outputs);
 };
+
+/// Composes one layer into `composite` over `rect`: blends `output` by `weights`, or adds
+/// auto's correction when `correction` is set (correctInPlace).
+void composeLayer(Image& composite, const Image* output, const SessionCorrection* correction,
+                  const Image& weights, const Rect& rect);
 
 /// The filter output of a layer over the whole input (errors name the filter).
 Image runLayerFilter(const FrameBuffers& input, const std::string& filter,

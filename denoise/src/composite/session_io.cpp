@@ -1,6 +1,7 @@
 // Session files: NAME.glint-session.json ("format", the layers, the view state) plus the side
-// folder NAME.glint-session/ with input.exr and one weights EXR per layer (weights, painted),
-// written atomically; exports of the composite.
+// folder NAME.glint-session/ with input.exr, one weights EXR per layer (weights, painted) and one
+// correction EXR per auto's correction layer (result, blend), written atomically; exports of the
+// composite.
 #include <unistd.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "composite/correction.h"
 #include "composite/session_impl.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
@@ -37,17 +39,31 @@ std::string layerFile(std::size_t i) {
     return "layer-" + std::to_string(i) + ".exr";
 }
 
+// Auto's correction of layer i: 6 channels, its result's RGB then its blend's.
+std::string correctionFile(std::size_t i) {
+    return "correction-" + std::to_string(i) + ".exr";
+}
+
+// The session format a file of `layers` needs: 2 for layer kinds (auto's correction), else 1,
+// which Glints older than the kinds read too.
+int formatFor(const std::vector<SessionLayer>& layers) {
+    for (const SessionLayer& l : layers)
+        if (l.correction) return 2;
+    return 1;
+}
+
 // A side frame's name: letters, digits and '-', clear of the session's own files (input.exr,
-// layer-N.exr). Its file is NAME.exr.
+// layer-N.exr, correction-N.exr). Its file is NAME.exr.
 bool isFrameName(const std::string& name) {
     return !name.empty() && name != "input" && name.rfind("layer-", 0) != 0 &&
-           std::all_of(name.begin(), name.end(), [](char c) {
+           name.rfind("correction-", 0) != 0 && std::all_of(name.begin(), name.end(), [](char c) {
                return std::isalnum(static_cast<unsigned char>(c)) || c == '-';
            });
 }
 
 constexpr const char* kFrameNameRule =
-    "a side frame's name is letters, digits and '-', not \"input\" nor \"layer-...\"";
+    "a side frame's name is letters, digits and '-', not \"input\", \"layer-...\" nor "
+    "\"correction-...\"";
 
 void removeQuietly(const fs::path& p) {
     std::error_code ec;
@@ -81,10 +97,24 @@ void Session::save(const fs::path& path) const {
                 maps.data()[2 * p + 1] = l.painted.data()[p];
             }
             writeImage(maps, tmpFolder / layerFile(i));
-            json layer{{"filter", l.filter},
-                       {"version", std::string(findFilter(l.filter).version())},
-                       {"params", detail::paramsJson(l.params)},
-                       {"weights", layerFile(i)}};
+            json layer;
+            if (l.correction) {
+                Image both(width(), height(), 6);
+                for (std::size_t p = 0; p < maps.pixelCount(); ++p)
+                    for (std::size_t c = 0; c < 3; ++c) {
+                        both.data()[6 * p + c] = l.correction->result.data()[3 * p + c];
+                        both.data()[6 * p + 3 + c] = l.correction->blend.data()[3 * p + c];
+                    }
+                writeImage(both, tmpFolder / correctionFile(i));
+                layer = {{"kind", kAutoCorrection},
+                         {"correction", correctionFile(i)},
+                         {"weights", layerFile(i)}};
+            } else {
+                layer = {{"filter", l.filter},
+                         {"version", std::string(findFilter(l.filter).version())},
+                         {"params", detail::paramsJson(l.params)},
+                         {"weights", layerFile(i)}};
+            }
             if (!l.name.empty()) layer["name"] = l.name;  // optional: older files have none
             layers.push_back(std::move(layer));
         }
@@ -100,7 +130,7 @@ void Session::save(const fs::path& path) const {
         json view = json::object();
         for (const auto& [k, v] : viewState) view[k] = v;
         const json doc{
-            {"format", kSessionFormat},
+            {"format", formatFor(s.layers)},
             {"width", width()},
             {"height", height()},
             {"input", "input.exr"},
@@ -148,6 +178,23 @@ void Session::save(const fs::path& path) const {
 }
 
 namespace {
+
+// Auto's correction from its side file (correctionFile): 6 channels of the session's size,
+// every value finite. Throws glint::Error(Format) naming the file otherwise.
+SessionCorrection readCorrection(const fs::path& path, int width, int height) {
+    const Image both = readImage(path, false);
+    if (both.width() != width || both.height() != height || both.channels() != 6)
+        throw Error(ErrorKind::Format,
+                    "is " + std::to_string(both.width()) + "x" + std::to_string(both.height()) +
+                        "x" + std::to_string(both.channels()) + ", expected " +
+                        std::to_string(width) + "x" + std::to_string(height) +
+                        "x6 (auto's result RGB, then the blend it corrected RGB)",
+                    path.string());
+    SessionCorrection c{both.channelsSlice(0, 3), both.channelsSlice(3, 3)};
+    const std::string problem = correctionProblem(c, width, height);
+    if (!problem.empty()) throw Error(ErrorKind::Format, problem, path.string());
+    return c;
+}
 
 /// The largest width or height a session holds (as the images Glint reads).
 constexpr std::int64_t kMaxSide = 1 << 24;
@@ -214,6 +261,18 @@ Session Session::load(const fs::path& path, const ProgressFn& progress) {
     const json& layers = r.array(r.at(doc, "layers", ""), "/layers");
     for (std::size_t i = 0; i < layers.size(); ++i) {
         const std::string where = "/layers/" + std::to_string(i);
+        // Format 2's layer kinds: auto's correction (older files have filter layers only).
+        if (format >= 2 && layers[i].is_object() && layers[i].contains("kind")) {
+            r.requireObject(layers[i], where, {"kind", "correction", "weights", "name"});
+            const std::string kind = r.string(layers[i]["kind"], where + "/kind");
+            if (kind != kAutoCorrection)
+                r.fail(where + "/kind", "unknown layer kind '" + kind + "' (expected " +
+                                            std::string(kAutoCorrection) + ")");
+            for (const char* key : {"correction", "weights"})
+                r.string(r.at(layers[i], key, where), where + "/" + key);
+            if (layers[i].contains("name")) r.string(layers[i]["name"], where + "/name");
+            continue;
+        }
         r.requireObject(layers[i], where, {"filter", "version", "params", "weights", "name"});
         for (const char* key : {"filter", "version", "weights"})
             r.string(r.at(layers[i], key, where), where + "/" + key);
@@ -242,21 +301,35 @@ Session Session::load(const fs::path& path, const ProgressFn& progress) {
         session.bankDir = bankDir;
         session.region = region;
         session.viewState = viewState;
+        // A side file the session names, which must exist.
+        auto namedFile = [&](const json& name) {
+            const fs::path p = folder / name.get<std::string>();
+            if (!fs::is_regular_file(p, ec))
+                throw Error(ErrorKind::Io, "side file '" + p.string() + "' not found", file, where);
+            return p;
+        };
         for (std::size_t i = 0; i < layers.size(); ++i) {
-            where = "/layers/" + std::to_string(i);
+            const std::string at = "/layers/" + std::to_string(i);
             const json& l = layers[i];
             SessionLayer layer;
-            layer.filter = l["filter"].get<std::string>();
             if (l.contains("name")) layer.name = l["name"].get<std::string>();
-            where += "/filter";
-            const Filter& f = findFilter(layer.filter);
-            where = "/layers/" + std::to_string(i) + "/params";
-            layer.params = resolveParams(f, r.params(l["params"], where));
-            where = "/layers/" + std::to_string(i) + "/weights";
-            const fs::path mapsFile = folder / l["weights"].get<std::string>();
-            if (!fs::is_regular_file(mapsFile, ec))
-                throw Error(ErrorKind::Io, "side file '" + mapsFile.string() + "' not found", file,
-                            where);
+            const Filter* f = nullptr;
+            if (l.contains("kind")) {
+                where = at + "/correction";
+                layer.filter = kAutoCorrection;
+                auto correction = std::make_shared<SessionCorrection>(
+                    readCorrection(namedFile(l["correction"]), width, height));
+                layer.output = std::shared_ptr<const Image>(correction, &correction->result);
+                layer.correction = std::move(correction);
+            } else {
+                layer.filter = l["filter"].get<std::string>();
+                where = at + "/filter";
+                f = &findFilter(layer.filter);
+                where = at + "/params";
+                layer.params = resolveParams(*f, r.params(l["params"], where));
+            }
+            where = at + "/weights";
+            const fs::path mapsFile = namedFile(l["weights"]);
             const Image maps = readImage(mapsFile, false);
             if (maps.width() != session.width() || maps.height() != session.height() ||
                 maps.channels() != 2)
@@ -274,6 +347,10 @@ Session Session::load(const fs::path& path, const ProgressFn& progress) {
                     throw Error(ErrorKind::Format,
                                 "weights outside [0, 1] in '" + mapsFile.string() + "'", file,
                                 where);
+            if (layer.correction) {
+                s.layers.push_back(std::move(layer));
+                continue;
+            }
             // Filters are deterministic: the output is recomputed, bit for bit what was saved.
             ProgressFn part;
             if (progress)
@@ -281,7 +358,7 @@ Session Session::load(const fs::path& path, const ProgressFn& progress) {
                     return progress((double(i) + fr) / double(layers.size()));
                 };
             // A file never runs a program by itself: an unavailable filter is not run.
-            layer.unavailable = f.unavailable(layer.params);
+            layer.unavailable = f->unavailable(layer.params);
             layer.output = std::make_shared<const Image>(
                 layer.unavailable.empty()
                     ? runLayerFilter(s.filterInput(), layer.filter, layer.params, part)
@@ -313,10 +390,11 @@ std::vector<fs::path> Session::temporaries(const fs::path& path, std::size_t lay
     const fs::path tmpFolder = temporaryPathFor(folder);
     std::vector<fs::path> out{temporaryPathFor(path), temporaryPathFor(tmpFolder / "input.exr"),
                               tmpFolder / "input.exr"};
-    for (std::size_t i = 0; i < layers; ++i) {
-        out.push_back(temporaryPathFor(tmpFolder / layerFile(i)));
-        out.push_back(tmpFolder / layerFile(i));
-    }
+    for (std::size_t i = 0; i < layers; ++i)
+        for (const std::string& name : {layerFile(i), correctionFile(i)}) {
+            out.push_back(temporaryPathFor(tmpFolder / name));
+            out.push_back(tmpFolder / name);
+        }
     out.push_back(tmpFolder);
     return out;
 }

@@ -23,12 +23,14 @@ std::vector<LayerSpec> Session::layerSpecs() const {
     auto add = [&](const SessionLayer& l) {
         for (const LayerSpec& known : specs)
             if (sameSpec(known, l)) return;
-        specs.push_back({l.filter, l.params});
+        specs.emplace_back(l.filter, l.params);
     };
-    for (const SessionLayer& l : s.layers) add(l);
+    // Auto's correction has no filter to run: it is no spec.
+    for (const SessionLayer& l : s.layers)
+        if (!l.correction) add(l);
     for (const auto* history : {&s.undo, &s.redo})
         for (const SessionEdit& e : *history)
-            if (e.kind != SessionEdit::Kind::Weights) add(e.layer);
+            if (e.kind != SessionEdit::Kind::Weights && !e.layer.correction) add(e.layer);
     return specs;
 }
 
@@ -108,6 +110,7 @@ void Session::Impl::install(FrameBuffers newInput, std::optional<FrameBuffers> n
     // Current layers and the layers the history would bring back share the new outputs; a layer
     // that could not run before (a program allowed since) says so no longer.
     auto refresh = [&](SessionLayer& l) {
+        if (l.correction) return;  // nothing to re-run: the correction is carried over
         for (std::size_t k = 0; k < specs.size(); ++k)
             if (sameSpec(specs[k], l)) l.output = outputs[k];
         l.unavailable = findFilter(l.filter).unavailable(l.params);
@@ -149,8 +152,13 @@ Session::Snapshot Session::snapshot() const {
     snap.specs = layerSpecs();
     for (const SessionLayer& l : s.layers) {
         std::size_t k = 0;
-        while (!sameSpec(snap.specs[k], l)) ++k;  // layerSpecs() lists every current layer
+        // layerSpecs() lists every current layer but auto's correction.
+        if (l.correction)
+            k = snap.specs.size();
+        else
+            while (!sameSpec(snap.specs[k], l)) ++k;
         snap.uses.push_back(k);
+        snap.corrections.push_back(l.correction);
         snap.weights.push_back(l.weights);
     }
     snap.version = s.version;
@@ -167,9 +175,12 @@ Session::Reapplication Session::prepareReapply(FrameBuffers newInput, std::vecto
     r.version = snapshot.version;
     // The composite as Impl::recomposite builds it, under the snapshot's weights.
     r.composite = newInput.color();
-    for (std::size_t i = 0; i < snapshot.uses.size(); ++i)
-        blendInPlace(r.composite, *r.outputs[snapshot.uses[i]], snapshot.weights[i],
-                     r.composite.bounds());
+    for (std::size_t i = 0; i < snapshot.uses.size(); ++i) {
+        const SessionCorrection* correction =
+            i < snapshot.corrections.size() ? snapshot.corrections[i].get() : nullptr;
+        composeLayer(r.composite, correction ? nullptr : r.outputs[snapshot.uses[i]].get(),
+                     correction, snapshot.weights[i], r.composite.bounds());
+    }
     r.input = std::move(newInput);
     return r;
 }

@@ -82,8 +82,8 @@ struct AutoOptions {
     AutoEstimator estimator = AutoEstimator::Auto;
     float exposure = 0.0f;  ///< stops, of the display transform the error is measured in
     /// Whether the result may be stacked (a regression on the members, docs/auto.md,
-    /// "Stacking"), which the halves do by default. A stacked result is no blend of the members:
-    /// a session cannot start from it (startFromAuto), so the studio asks for false.
+    /// "Stacking"), which the halves do by default. A session starts from a stacked result too
+    /// (startFromAuto adds the stacking's correction as a layer of its own).
     bool allowStacking = true;
     std::uint64_t seed = 1;  ///< of SURE's random ±1 perturbation
     /// Tuning parameters by name (autoTuningSpecs); missing names take the estimator's default.
@@ -162,11 +162,14 @@ AutoResult autoComposite(const FilterBank& bank, const FrameBuffers& frame,
                          const AutoOptions& options = {});
 
 /// Starts a painting session from the auto composite: one layer per AutoLayer (largest first,
-/// output taken from the bank) with the weights that make the session's left-to-right blend
-/// equal Σ weights · result (up to float rounding). The bank must cover the whole frame and be
-/// of the session's filter input, and the result not stacked (AutoOptions::stack). Returns how many
-/// session edits were made (two per layer: added, weights set). Throws
-/// glint::Error(InvalidArgument) otherwise (nothing changes then).
+/// output taken from the bank, or run by the session for a bank without results) with the
+/// weights that make the session's left-to-right blend equal Σ weights · result (up to float
+/// rounding), then, unless that blend is already the composite bit for bit, auto's correction
+/// (Session::addCorrection, weight 1 everywhere): the stacking's correction and the blend's
+/// rounding, so that the session's composite is result.composite bit for bit. The bank must
+/// cover the whole frame and be of the session's filter input. Returns how many session edits
+/// were made (two per layer: added, weights set). Throws glint::Error(InvalidArgument)
+/// otherwise (nothing changes then).
 std::size_t startFromAuto(Session& session, const FilterBank& bank, const AutoResult& result);
 
 }  // namespace glint::denoise

@@ -25,8 +25,22 @@
 
 namespace glint::denoise {
 
-/// The version of the session file this Glint writes (and the newest it reads).
-inline constexpr int kSessionFormat = 1;
+/// The newest version of the session file this Glint reads. It writes 2 when a layer is auto's
+/// correction (the layer kinds of format 2), else 1, which every Glint reads.
+inline constexpr int kSessionFormat = 2;
+
+/// SessionLayer::filter of auto's correction layer (no registered filter has this name).
+inline constexpr const char* kAutoCorrection = "auto-correction";
+
+/// What auto's correction layer adds (docs/painting.md, "Auto's correction"): auto's result and
+/// the composite beneath the layer it corrected. With weight w the layer makes the composite x
+///   x + w · (result − blend)   (in double, rounded once, clamped at 0 as the stacking is),
+/// and exactly `result` where w = 1 and x is still `blend`, so a session started from auto is
+/// auto's result bit for bit.
+struct SessionCorrection {
+    Image result;  ///< 3 channels, frame-sized, finite
+    Image blend;   ///< 3 channels, frame-sized, finite
+};
 
 /// One layer: a filter with resolved parameters, its output over the whole frame, and where it
 /// shows.
@@ -43,6 +57,10 @@ struct SessionLayer {
     /// allowed): the output is then the input colour, so the layer changes nothing. Empty when
     /// it ran.
     std::string unavailable;
+    /// Set for auto's correction layer (`filter` is kAutoCorrection, `params` empty, `output`
+    /// auto's result): the layer adds its correction to the composite beneath instead of blending
+    /// a filter's output over it, and has nothing to re-run on a new render.
+    std::shared_ptr<const SessionCorrection> correction;
 };
 
 /// Whether a stroke or fill adds weight (left button) or removes it (right button).
@@ -80,6 +98,11 @@ class Session {
     std::size_t addLayer(const std::string& filter, const ParamValues& params,
                          std::optional<Image> output = std::nullopt,
                          const ProgressFn& progress = {});
+    /// Adds auto's correction on top with weight 0 (SessionCorrection): `result` (3 channels,
+    /// frame-sized) against `blend`, by default the composite now. One undo step. Returns its
+    /// index. Throws glint::Error(InvalidArgument) for images of the wrong size or non-finite
+    /// values (nothing changes then).
+    std::size_t addCorrection(Image result, std::optional<Image> blend = std::nullopt);
     /// Removes a layer. One undo step.
     void removeLayer(std::size_t index);
     /// Renames a layer (empty: no name of its own). One undo step; none when the name is the
@@ -173,14 +196,16 @@ class Session {
     std::map<std::string, std::shared_ptr<const FrameBuffers>> sideFrames;
 
     /// Saves NAME.glint-session.json (with "format") plus the side folder
-    /// NAME.glint-session/ holding input.exr, one weights EXR per layer and the side frames,
+    /// NAME.glint-session/ holding input.exr, one weights EXR per layer (and correction-N.exr per
+    /// correction layer) and the side frames,
     /// written atomically (a failed save leaves the old session intact). Throws
     /// glint::Error(Io), or InvalidArgument for a side frame's name that is no file name.
     void save(const std::filesystem::path& path) const;
     /// Loads a saved session, re-running the layers' filters; a layer whose filter cannot run
     /// here (Filter::unavailable) is loaded without running, marked SessionLayer::unavailable.
     /// Throws glint::Error naming the file: Format for malformed or truncated JSON (with line and
-    /// column) or a format newer than kSessionFormat, Io for a missing side file.
+    /// column), a format newer than kSessionFormat or a bad correction layer, Io for a missing
+    /// side file.
     static Session load(const std::filesystem::path& path, const ProgressFn& progress = {});
 
     /// Writes the input's layers with the colour replaced by the composite (layered EXR).

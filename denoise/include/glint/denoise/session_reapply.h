@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "glint/denoise/filter.h"
@@ -15,10 +16,22 @@
 
 namespace glint::denoise {
 
+struct SessionCorrection;
+
 /// What a layer is without its maps: enough to compute its output.
 struct LayerSpec {
+    // A constructor rather than an aggregate: {filter, params} needs no correction.
+    LayerSpec(std::string filterName = {}, ParamValues filterParams = {},
+              std::shared_ptr<const SessionCorrection> autoCorrection = {})
+        : filter(std::move(filterName)),
+          params(std::move(filterParams)),
+          correction(std::move(autoCorrection)) {}
+
     std::string filter;
     ParamValues params;
+    /// Auto's correction layer (filter kAutoCorrection): nothing to compute, the correction is
+    /// carried as it is (Session::addCorrection). Session::layerSpecs() lists none.
+    std::shared_ptr<const SessionCorrection> correction;
 };
 
 /// How the session treats its input.
@@ -31,9 +44,11 @@ struct SessionOptions {
 struct SessionSnapshot {
     SessionOptions options;
     std::vector<LayerSpec> specs;   ///< Session::layerSpecs()
-    std::vector<std::size_t> uses;  ///< per current layer: its entry of specs
-    std::vector<Image> weights;     ///< per current layer
-    std::uint64_t version = 0;      ///< Session::version() when taken
+    std::vector<std::size_t> uses;  ///< per current layer: its entry of specs (a correction: none)
+    /// Per current layer: its correction (auto's correction layer), else null.
+    std::vector<std::shared_ptr<const SessionCorrection>> corrections;
+    std::vector<Image> weights;  ///< per current layer
+    std::uint64_t version = 0;   ///< Session::version() when taken
 };
 
 /// A re-application prepared off the session's thread (Session::prepareReapply).
