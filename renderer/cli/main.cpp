@@ -2,7 +2,6 @@
 // docs/assets.md).
 #include <unistd.h>
 
-#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -23,6 +22,7 @@
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 #include "glint/render/settings.h"
+#include "glint/render/settings_codec.h"
 
 namespace {
 
@@ -31,16 +31,39 @@ using glint::render::Settings;
 struct Options {
     std::string scene, out, reference, memoryLimit;
     std::optional<std::string> camera;  // a glTF asset's camera, by name
-    std::optional<int> spp, threads, maxDepth, rrDepth, textureCacheMb;
-    std::optional<std::string> seed;  // parsed strictly: "-1" must not wrap to 2^64 - 1
-    std::optional<std::string> integrator, mis, strategy, sampler, shard, accel;
+    std::optional<int> threads;
+    std::optional<std::string> shard;
     double timeLimit = 0.0;
-    bool json = false, position = false, halfBuffers = false;
-    // Metropolis parameters (--integrator mlt).
-    std::optional<double> mltLarge, mltSmall, mltLens, mltLight;
-    std::optional<std::int64_t> mltBootstrap;
-    std::optional<int> mltChains, mltGroups, mltFeatureSpp;
+    bool json = false, position = false;
+    /// The named render settings given (--spp, --max-depth, --mlt-chains, …) as text, read
+    /// strictly by the settings codec ("-1" must not wrap to a seed of 2^64 - 1).
+    glint::render::SettingValues settings;
 };
+
+/// The flag that sets the Settings field `field` (validate's place), else "options".
+std::string flagOf(const std::string& field) {
+    if (const glint::render::SettingSpec* spec = glint::render::findSetting(field))
+        return glint::render::settingFlag(*spec);
+    if (field == "threads") return "--threads";
+    if (field == "timeLimit") return "--time-limit";
+    if (field == "shard") return "--shard";
+    return "options";
+}
+
+/// --help's text for a named setting: its meaning and values, and where its default comes from.
+std::string settingHelp(const glint::render::SettingSpec& spec) {
+    using glint::render::SettingKind;
+    std::string help = spec.meaning;
+    if (spec.kind == SettingKind::Integer)
+        help += ", " + std::to_string(spec.lo) + " … " + std::to_string(spec.hi);
+    if (spec.kind == SettingKind::Choice) {
+        help += ": ";
+        for (const char* c = spec.choices; *c; ++c) help += *c == ' ' ? " | " : std::string(1, *c);
+    }
+    if (spec.kind == SettingKind::Boolean)
+        return help + " (default: the scene's render." + spec.name + ", else off)";
+    return help + " (default: the scene's render." + spec.name + ")";
+}
 
 /// The Metropolis statistics as JSON numbers.
 nlohmann::json mltJson(const glint::render::MltStats& m) {
@@ -107,25 +130,31 @@ int run(const Options& opt) {
         sceneFiles.push_back({file.string(), "the scene (" + opt.scene + ")"});
     glint::cli::checkOutputIsNoInput(opt.out, "--out", sceneFiles);
     Settings settings = scene.settings();
-    if (opt.spp)
-        settings.spp = *opt.spp;
-    else if (opt.timeLimit > 0.0)
-        settings.spp = 0;
-    if (opt.seed) {
-        std::uint64_t seed = 0;
-        const std::string& text = *opt.seed;
-        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), seed);
-        if (text.empty() || ec != std::errc() || end != text.data() + text.size() ||
-            seed > glint::render::kMaxSeed)
-            throw glint::Error(glint::ErrorKind::InvalidArgument,
-                               "'" + text + "' is not an integer in [0, 2^63 - 1]", "command line",
-                               "--seed");
-        settings.seed = seed;
+    if (!opt.settings.count("spp") && opt.timeLimit > 0.0) settings.spp = 0;
+    // The named settings through the codec, each error naming its flag.
+    for (const auto& [name, text] : opt.settings) {
+        const glint::render::SettingSpec& spec = *glint::render::findSetting(name);
+        glint::render::setSetting(settings, spec, text, "command line",
+                                  glint::render::settingFlag(spec));
     }
     if (opt.threads) settings.threads = *opt.threads;
-    if (opt.maxDepth) settings.maxDepth = *opt.maxDepth;
-    if (opt.rrDepth) settings.rrDepth = *opt.rrDepth;
-    if (opt.textureCacheMb) settings.textureCacheMb = *opt.textureCacheMb;
+    if (opt.settings.count("strategy") && settings.mis != glint::render::MisHeuristic::None)
+        throw glint::Error(glint::ErrorKind::InvalidArgument,
+                           "--strategy applies only with --mis none", "command line", "--strategy");
+    settings.timeLimit = opt.timeLimit;
+    settings.positionLayer = opt.position;
+    if (opt.shard) {
+        const auto [index, count] = glint::parseShardSpec(*opt.shard, "--shard");
+        settings.shard = glint::render::Shard{index, count};
+    }
+    if (memoryLimit > 0) settings.memoryLimit = memoryLimit;
+    // Settings errors name the field; report the flag that sets it.
+    try {
+        glint::render::validate(settings);
+    } catch (const glint::Error& e) {
+        throw glint::Error(glint::ErrorKind::InvalidArgument, e.message(), "command line",
+                           flagOf(e.where()));
+    }
     // Re-throw option errors with the option as the place.
     auto option = [](const char* name, auto parse) {
         try {
@@ -135,53 +164,6 @@ int run(const Options& opt) {
                                name);
         }
     };
-    if (opt.integrator)
-        settings.integrator =
-            option("--integrator", [&] { return glint::render::parseIntegrator(*opt.integrator); });
-    if (opt.mis) settings.mis = option("--mis", [&] { return glint::render::parseMis(*opt.mis); });
-    if (opt.strategy)
-        settings.strategy =
-            option("--strategy", [&] { return glint::render::parseStrategy(*opt.strategy); });
-    if (opt.sampler)
-        settings.sampler =
-            option("--sampler", [&] { return glint::render::parseSampler(*opt.sampler); });
-    if (opt.accel)
-        settings.accel = option("--accel", [&] { return glint::render::parseAccel(*opt.accel); });
-    if (opt.strategy && settings.mis != glint::render::MisHeuristic::None)
-        throw glint::Error(glint::ErrorKind::InvalidArgument,
-                           "--strategy applies only with --mis none", "command line", "--strategy");
-    settings.timeLimit = opt.timeLimit;
-    settings.positionLayer = opt.position;
-    if (opt.halfBuffers) settings.halfBuffers = true;
-    if (opt.shard) {
-        const auto [index, count] = glint::parseShardSpec(*opt.shard, "--shard");
-        settings.shard = glint::render::Shard{index, count};
-    }
-    if (memoryLimit > 0) settings.memoryLimit = memoryLimit;
-    glint::render::MltSettings& mlt = settings.mlt;
-    if (opt.mltLarge) mlt.largeStep = *opt.mltLarge;
-    if (opt.mltSmall) mlt.smallStep = *opt.mltSmall;
-    if (opt.mltLens) mlt.lens = *opt.mltLens;
-    if (opt.mltLight) mlt.light = *opt.mltLight;
-    if (opt.mltBootstrap) mlt.bootstrap = *opt.mltBootstrap;
-    if (opt.mltChains) mlt.chains = *opt.mltChains;
-    if (opt.mltGroups) mlt.groups = *opt.mltGroups;
-    if (opt.mltFeatureSpp) mlt.featureSpp = *opt.mltFeatureSpp;
-    // Settings errors name the field; report the flag that sets it.
-    try {
-        glint::render::validate(settings);
-    } catch (const glint::Error& e) {
-        const std::string flag = e.where() == "spp"           ? "--spp"
-                                 : e.where() == "threads"     ? "--threads"
-                                 : e.where() == "maxDepth"    ? "--max-depth"
-                                 : e.where() == "rrDepth"     ? "--rr-depth"
-                                 : e.where() == "timeLimit"   ? "--time-limit"
-                                 : e.where() == "seed"        ? "--seed"
-                                 : e.where() == "shard"       ? "--shard"
-                                 : e.where() == "halfBuffers" ? "--half-buffers"
-                                                              : "options";
-        throw glint::Error(glint::ErrorKind::InvalidArgument, e.message(), "command line", flag);
-    }
     if (settings.integrator == glint::render::Integrator::Mlt)
         option("--mlt-*", [&] {
             glint::render::validateMlt(settings.mlt);
@@ -338,21 +320,8 @@ int main(int argc, char** argv) {
         ->required();
     app.add_option("--camera", opt.camera,
                    "render through the glTF camera of this name (a node's or camera's name)");
-    app.add_option("--spp", opt.spp,
-                   "samples per pixel, 1 … 16777216 (default: the scene's render.spp)");
     app.add_option("--out", opt.out, "output EXR (.exr, in an existing folder)")->required();
-    app.add_option("--seed", opt.seed, "random seed, 0 … 2^63 - 1");
     app.add_option("--threads", opt.threads, "worker threads, 0 (all) … 1024");
-    app.add_option("--integrator", opt.integrator, "path | mlt");
-    app.add_option("--mis", opt.mis, "power | balance | none");
-    app.add_option("--strategy", opt.strategy, "bsdf | light (with --mis none)");
-    app.add_option("--accel", opt.accel,
-                   "auto | triangles | clusters: what the BVH is built over (default: the "
-                   "scene's render.accel, else auto: clusters above 2^21 triangles)");
-    app.add_option("--sampler", opt.sampler, "stratified | independent | sobol | zsobol");
-    app.add_option("--max-depth", opt.maxDepth, "maximum bounces, 1 … 1024");
-    app.add_option("--rr-depth", opt.rrDepth,
-                   "Russian roulette starts after this many bounces, 0 … 1024");
     app.add_option("--time-limit", opt.timeLimit,
                    "seconds, 0 … 1e7: render passes until time runs out (at least 1 spp)");
     app.add_option("--shard", opt.shard,
@@ -360,26 +329,26 @@ int main(int argc, char** argv) {
                    "glint-image merge (docs/distributed.md)");
     app.add_option("--reference", opt.reference, "reference EXR: print relMSE and SSIM per pass");
     app.add_flag("--position", opt.position, "also write the world-space position layer");
-    app.add_flag("--half-buffers", opt.halfBuffers,
-                 "split the samples into two independent halves and also write the halfBuffer "
-                 "layer (the odd half's mean), for an unbiased variance estimate (SURE auto)");
     app.add_option("--memory-limit", opt.memoryLimit,
                    "refuse an asset whose load would peak above this before reading it, and a "
                    "render whose scene, BVH, textures and film need more before building "
                    "anything; auto takes clusters when that fits (e.g. 2G; default: what is "
                    "available, not checked while loading)");
-    app.add_option("--texture-cache-mb", opt.textureCacheMb,
-                   "texture tile cache in MB, 1 … 1048576 (default: the scene's "
-                   "render.textureCacheMb, else 1024)");
     app.add_flag("--json", opt.json, "print one JSON object on stdout");
-    app.add_option("--mlt-large", opt.mltLarge, "mlt: weight of large steps");
-    app.add_option("--mlt-small", opt.mltSmall, "mlt: weight of small steps");
-    app.add_option("--mlt-lens", opt.mltLens, "mlt: weight of lens perturbations");
-    app.add_option("--mlt-light", opt.mltLight, "mlt: weight of light perturbations");
-    app.add_option("--mlt-bootstrap", opt.mltBootstrap, "mlt: bootstrap paths");
-    app.add_option("--mlt-chains", opt.mltChains, "mlt: Markov chains (multiple of groups)");
-    app.add_option("--mlt-groups", opt.mltGroups, "mlt: batches of chains for the variance");
-    app.add_option("--mlt-feature-spp", opt.mltFeatureSpp, "mlt: spp of the feature pass");
+    // The render settings: one flag per named setting of the codec (scene.json's render block
+    // under the same names, docs/scene-format.md).
+    for (const glint::render::SettingSpec& spec : glint::render::settingSpecs()) {
+        const std::string name = spec.name;
+        if (spec.kind == glint::render::SettingKind::Boolean)
+            app.add_flag_callback(
+                glint::render::settingFlag(spec), [&opt, name] { opt.settings[name] = "true"; },
+                settingHelp(spec));
+        else
+            app.add_option_function<std::string>(
+                glint::render::settingFlag(spec),
+                [&opt, name](const std::string& text) { opt.settings[name] = text; },
+                settingHelp(spec));
+    }
     if (const auto code = glint::cli::parseCommandLine(app, argc, argv, "glint-render"))
         return *code;
     return glint::cli::runGuarded("glint-render", [&] { return run(opt); });
