@@ -9,6 +9,8 @@
 #include "glint/image/metrics.h"
 #include "glint/render/scene.h"
 #include "model/openable_files.h"
+#include "glint/render/settings_codec.h"
+#include "model/session_state.h"
 
 namespace glint::studio {
 
@@ -20,8 +22,8 @@ std::filesystem::path toPath(const QString& path) {
 
 // The settings a user chooses in the render bar, compared (render::Settings has no ==).
 bool sameUserSettings(const render::Settings& a, const render::Settings& b) {
-    return a.spp == b.spp && a.seed == b.seed && a.integrator == b.integrator && a.mis == b.mis &&
-           a.halfBuffers == b.halfBuffers;
+    return render::encodeSettings(a, userSettingNames()) ==
+           render::encodeSettings(b, userSettingNames());
 }
 
 bool sameLook(const std::vector<render::LookItem>& a, const std::vector<render::LookItem>& b) {

@@ -90,8 +90,9 @@ QJsonObject encode(const Op& op);
 /// operation.
 Op decode(const QJsonObject& json);
 
-/// The render settings the user chose (spp, seed, integrator, MIS, half buffers) as a journal
-/// line of their own ("op": "settings", the keys of a session file's view state).
+/// The render settings the user chose (userSettingNames: spp, seed, integrator, MIS, half
+/// buffers) as a journal line of their own ("op": "settings", the settings codec's names and
+/// text, as a session file's view state holds them).
 QJsonObject encodeSettings(const render::Settings& settings);
 /// `settings` with what a "settings" line says (missing keys leave the value). Read strictly
 /// (readSettings): a bad value throws glint::Error(Format) naming `file` and `where` (the line)

@@ -1,11 +1,10 @@
 #include "model/session_state.h"
 
 #include <algorithm>
-#include <charconv>
-#include <cstdint>
 #include <sstream>
 
 #include "glint/image/error.h"
+#include "glint/render/settings_codec.h"
 #include "model/document.h"
 
 namespace glint::studio {
@@ -34,6 +33,12 @@ const std::string* find(const std::map<std::string, std::string>& state, const c
 
 }  // namespace
 
+const std::vector<std::string>& userSettingNames() {
+    static const std::vector<std::string> names = {"spp", "seed", "integrator", "mis",
+                                                   "halfBuffers"};
+    return names;
+}
+
 std::string lookKey(const std::string& item, const std::string& property) {
     return kLookPrefix + item + "/" + property;
 }
@@ -43,50 +48,27 @@ void writeDocumentState(const std::vector<render::LookItem>& look, const render:
     for (const render::LookItem& item : look)
         for (const render::LookProperty& p : item.properties)
             state[lookKey(item.name, p.name)] = formatValue(p.value);
-    state["spp"] = std::to_string(settings.spp);
-    state["seed"] = std::to_string(settings.seed);
-    state["integrator"] = render::integratorName(settings.integrator);
-    state["mis"] = render::misName(settings.mis);
-    state["halves"] = settings.halfBuffers ? "1" : "0";
+    for (const auto& [name, value] : render::encodeSettings(settings, userSettingNames()))
+        state[name] = value;
 }
 
 render::Settings readSettings(const std::map<std::string, std::string>& state,
                               render::Settings settings, const std::string& file,
                               const std::string& pointer) {
-    // Strictly, with the renderer's limits (render::validate): a bad value is an error naming
+    // Strictly, with the renderer's limits (the settings codec): a bad value is an error naming
     // the file and the key, never a value quietly made up from part of the text.
-    auto bad = [&](const char* key, const std::string& expected, const std::string& text) {
-        throw Error(ErrorKind::Format, "expected " + expected + ", got \"" + text + "\"", file,
-                    pointer + key);
-    };
-    auto integer = [&](const char* key, const std::string& text, std::uint64_t lo,
-                       std::uint64_t hi) {
-        std::uint64_t v = 0;
-        const char* end = text.data() + text.size();
-        const auto [at, ec] = std::from_chars(text.data(), end, v);
-        if (ec != std::errc() || at != end || v < lo || v > hi)
-            bad(key, "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]",
-                text);
-        return v;
-    };
-    if (const std::string* v = find(state, "spp"))
-        settings.spp = int(integer("spp", *v, 1, std::uint64_t(render::kMaxSpp)));
-    if (const std::string* v = find(state, "seed"))
-        settings.seed = integer("seed", *v, 0, render::kMaxSeed);
-    if (const std::string* v = find(state, "integrator")) {
-        if (*v != "path" && *v != "mlt") bad("integrator", "path or mlt", *v);
-        settings.integrator = render::parseIntegrator(*v);
+    render::SettingValues values;
+    for (const std::string& name : userSettingNames())
+        if (const std::string* v = find(state, name.c_str())) values[name] = *v;
+    // Sessions and journals written before the codec kept half buffers as "halves": "0" / "1".
+    const std::string* halves = find(state, "halves");
+    if (halves && !values.count("halfBuffers")) {
+        if (*halves != "0" && *halves != "1")
+            throw Error(ErrorKind::Format, "expected 0 or 1, got \"" + *halves + "\"", file,
+                        pointer + "halves");
+        values["halfBuffers"] = *halves == "1" ? "true" : "false";
     }
-    if (const std::string* v = find(state, "mis")) {
-        if (*v != "power" && *v != "balance" && *v != "none")
-            bad("mis", "power, balance or none", *v);
-        settings.mis = render::parseMis(*v);
-    }
-    if (const std::string* v = find(state, "halves")) {
-        if (*v != "0" && *v != "1") bad("halves", "0 or 1", *v);
-        settings.halfBuffers = *v == "1";
-    }
-    return settings;
+    return render::decodeSettings(values, settings, file, pointer);
 }
 
 std::vector<render::LookItem> readLook(const std::map<std::string, std::string>& state,

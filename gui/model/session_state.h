@@ -18,14 +18,20 @@ class Document;
 /// The view-state key of one look property: "look/<item>/<property>".
 std::string lookKey(const std::string& item, const std::string& property);
 
-/// Adds every look property (as "look/<item>/<property>" = "r g b") and the render settings
-/// ("spp", "seed", "integrator", "mis", "halves") to `state`.
+/// The render settings a user chooses in the studio (the render bar), by their names in the
+/// settings codec (glint/render/settings_codec.h): "spp", "seed", "integrator", "mis",
+/// "halfBuffers".
+const std::vector<std::string>& userSettingNames();
+
+/// Adds every look property (as "look/<item>/<property>" = "r g b") and the user's render
+/// settings (userSettingNames, as the settings codec writes them) to `state`.
 void writeDocumentState(const std::vector<render::LookItem>& look, const render::Settings& settings,
                         std::map<std::string, std::string>& state);
 
-/// `settings` with what `state` says of spp, seed, integrator, MIS and half buffers (missing keys
-/// leave the value as it is). Read strictly, with the renderer's limits (spp 1…2^24, seed
-/// 0…2^63−1, render::validate): a bad value throws glint::Error(Format) naming `file`, the place
+/// `settings` with what `state` says of the user's render settings (userSettingNames; missing
+/// keys leave the value as it is; "halves" = "0" / "1", as files written before the settings
+/// codec say "halfBuffers"). Read strictly by the settings codec, with the renderer's limits
+/// (spp 1…2^24, seed 0…2^63−1): a bad value throws glint::Error(Format) naming `file`, the place
 /// `pointer` + key (e.g. "/view/spp") and what was expected.
 render::Settings readSettings(const std::map<std::string, std::string>& state,
                               render::Settings settings, const std::string& file = {},

@@ -1,8 +1,8 @@
 // glint-render: renders a scene.json or a bare glTF asset to a layered EXR (docs/renderer.md,
 // docs/assets.md).
 #include <unistd.h>
+#include <cctype>
 
-#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -26,6 +26,7 @@
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 #include "glint/render/settings.h"
+#include "glint/render/settings_codec.h"
 
 namespace {
 
@@ -34,56 +35,39 @@ using glint::render::Settings;
 struct Options {
     std::string scene, out, reference, memoryLimit;
     std::optional<std::string> camera;  // a glTF asset's camera, by name
-    std::optional<int> spp, threads, maxDepth;
-    std::optional<std::string> seed;  // parsed strictly: "-1" must not wrap to 2^64 - 1
-    std::optional<std::string> integrator, shard, accel;
+    std::optional<int> threads;
+    std::optional<std::string> shard;
     double timeLimit = 0.0;
-    bool json = false, position = false, halfBuffers = false;
-    // Metropolis parameters (--integrator mlt), "name=value" each.
-    std::vector<std::string> mlt;
+    bool json = false, position = false;
+    /// The named render settings given (--spp, --max-depth, --mlt-chains, …) as text, read
+    /// strictly by the settings codec ("-1" must not wrap to a seed of 2^64 - 1).
+    glint::render::SettingValues settings;
 };
 
-// Sets the Metropolis parameter of each "name=value" of --mlt (large, small, lens, light:
-// weights; bootstrap, chains, groups, featureSpp: counts), each number parsed whole.
-void setMltParams(const std::vector<std::string>& given, glint::render::MltSettings& mlt) {
-    for (const std::string& item : given) {
-        const std::size_t eq = item.find('=');
-        const std::string name = item.substr(0, eq);
-        const std::string text = eq == std::string::npos ? std::string() : item.substr(eq + 1);
-        auto bad = [&](const std::string& what) {
-            return glint::Error(glint::ErrorKind::InvalidArgument, "'" + item + "': " + what,
-                                "command line", "--mlt");
-        };
-        if (eq == std::string::npos) throw bad("expected name=value");
-        auto number = [&](auto& field) {
-            using T = std::remove_reference_t<decltype(field)>;
-            T value{};
-            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-            if (text.empty() || ec != std::errc() || end != text.data() + text.size())
-                throw bad(std::is_integral_v<T> ? "not an integer" : "not a number");
-            field = value;
-        };
-        if (name == "large")
-            number(mlt.largeStep);
-        else if (name == "small")
-            number(mlt.smallStep);
-        else if (name == "lens")
-            number(mlt.lens);
-        else if (name == "light")
-            number(mlt.light);
-        else if (name == "bootstrap")
-            number(mlt.bootstrap);
-        else if (name == "chains")
-            number(mlt.chains);
-        else if (name == "groups")
-            number(mlt.groups);
-        else if (name == "featureSpp")
-            number(mlt.featureSpp);
-        else
-            throw bad(
-                "unknown parameter (expected large, small, lens, light, bootstrap, chains, "
-                "groups or featureSpp)");
+/// The flag that sets the Settings field `field` (validate's place), else "options".
+std::string flagOf(const std::string& field) {
+    if (field.rfind("mlt", 0) == 0) return "--mlt";
+    if (const glint::render::SettingSpec* spec = glint::render::findSetting(field))
+        return glint::render::settingFlag(*spec);
+    if (field == "threads") return "--threads";
+    if (field == "timeLimit") return "--time-limit";
+    if (field == "shard") return "--shard";
+    return "options";
+}
+
+/// --help's text for a named setting: its meaning and values, and where its default comes from.
+std::string settingHelp(const glint::render::SettingSpec& spec) {
+    using glint::render::SettingKind;
+    std::string help = spec.meaning;
+    if (spec.kind == SettingKind::Integer)
+        help += ", " + std::to_string(spec.lo) + " … " + std::to_string(spec.hi);
+    if (spec.kind == SettingKind::Choice) {
+        help += ": ";
+        for (const char* c = spec.choices; *c; ++c) help += *c == ' ' ? " | " : std::string(1, *c);
     }
+    if (spec.kind == SettingKind::Boolean)
+        return help + " (default: the scene's render." + spec.name + ", else off)";
+    return help + " (default: the scene's render." + spec.name + ")";
 }
 
 /// The Metropolis statistics as JSON numbers.
@@ -151,23 +135,29 @@ int run(const Options& opt) {
         sceneFiles.push_back({file.string(), "the scene (" + opt.scene + ")"});
     glint::cli::checkOutputIsNoInput(opt.out, "--out", sceneFiles);
     Settings settings = scene.settings();
-    if (opt.spp)
-        settings.spp = *opt.spp;
-    else if (opt.timeLimit > 0.0)
-        settings.spp = 0;
-    if (opt.seed) {
-        std::uint64_t seed = 0;
-        const std::string& text = *opt.seed;
-        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), seed);
-        if (text.empty() || ec != std::errc() || end != text.data() + text.size() ||
-            seed > glint::render::kMaxSeed)
-            throw glint::Error(glint::ErrorKind::InvalidArgument,
-                               "'" + text + "' is not an integer in [0, 2^63 - 1]", "command line",
-                               "--seed");
-        settings.seed = seed;
+    if (!opt.settings.count("spp") && opt.timeLimit > 0.0) settings.spp = 0;
+    // The named settings through the codec, each error naming its flag.
+    for (const auto& [name, text] : opt.settings) {
+        const glint::render::SettingSpec& spec = *glint::render::findSetting(name);
+        glint::render::setSetting(
+            settings, spec, text, "command line",
+            name.rfind("mlt", 0) == 0 ? std::string("--mlt") : glint::render::settingFlag(spec));
     }
     if (opt.threads) settings.threads = *opt.threads;
-    if (opt.maxDepth) settings.maxDepth = *opt.maxDepth;
+    settings.timeLimit = opt.timeLimit;
+    settings.positionLayer = opt.position;
+    if (opt.shard) {
+        const auto [index, count] = glint::parseShardSpec(*opt.shard, "--shard");
+        settings.shard = glint::render::Shard{index, count};
+    }
+    if (memoryLimit > 0) settings.memoryLimit = memoryLimit;
+    // Settings errors name the field; report the flag that sets it.
+    try {
+        glint::render::validate(settings);
+    } catch (const glint::Error& e) {
+        throw glint::Error(glint::ErrorKind::InvalidArgument, e.message(), "command line",
+                           flagOf(e.where()));
+    }
     // Re-throw option errors with the option as the place.
     auto option = [](const char* name, auto parse) {
         try {
@@ -177,34 +167,6 @@ int run(const Options& opt) {
                                name);
         }
     };
-    if (opt.integrator)
-        settings.integrator =
-            option("--integrator", [&] { return glint::render::parseIntegrator(*opt.integrator); });
-    if (opt.accel)
-        settings.accel = option("--accel", [&] { return glint::render::parseAccel(*opt.accel); });
-    settings.timeLimit = opt.timeLimit;
-    settings.positionLayer = opt.position;
-    if (opt.halfBuffers) settings.halfBuffers = true;
-    if (opt.shard) {
-        const auto [index, count] = glint::parseShardSpec(*opt.shard, "--shard");
-        settings.shard = glint::render::Shard{index, count};
-    }
-    if (memoryLimit > 0) settings.memoryLimit = memoryLimit;
-    setMltParams(opt.mlt, settings.mlt);
-    // Settings errors name the field; report the flag that sets it.
-    try {
-        glint::render::validate(settings);
-    } catch (const glint::Error& e) {
-        const std::string flag = e.where() == "spp"           ? "--spp"
-                                 : e.where() == "threads"     ? "--threads"
-                                 : e.where() == "maxDepth"    ? "--max-depth"
-                                 : e.where() == "timeLimit"   ? "--time-limit"
-                                 : e.where() == "seed"        ? "--seed"
-                                 : e.where() == "shard"       ? "--shard"
-                                 : e.where() == "halfBuffers" ? "--half-buffers"
-                                                              : "options";
-        throw glint::Error(glint::ErrorKind::InvalidArgument, e.message(), "command line", flag);
-    }
     if (settings.integrator == glint::render::Integrator::Mlt)
         option("--mlt", [&] {
             glint::render::validateMlt(settings.mlt);
@@ -364,16 +326,8 @@ int main(int argc, char** argv) {
         ->required();
     app.add_option("--camera", opt.camera,
                    "render through the glTF camera of this name (a node's or camera's name)");
-    app.add_option("--spp", opt.spp,
-                   "samples per pixel, 1 … 16777216 (default: the scene's render.spp)");
     app.add_option("--out", opt.out, "output EXR (.exr, in an existing folder)")->required();
-    app.add_option("--seed", opt.seed, "random seed, 0 … 2^63 - 1");
     app.add_option("--threads", opt.threads, "worker threads, 0 (all) … 1024");
-    app.add_option("--integrator", opt.integrator, "path | mlt");
-    app.add_option("--accel", opt.accel,
-                   "auto | triangles | clusters: what the BVH is built over (default: the "
-                   "scene's render.accel, else auto: clusters above 2^21 triangles)");
-    app.add_option("--max-depth", opt.maxDepth, "maximum bounces, 1 … 1024");
     app.add_option("--time-limit", opt.timeLimit,
                    "seconds, 0 … 1e7: render passes until time runs out (at least 1 spp)");
     app.add_option("--shard", opt.shard,
@@ -381,19 +335,48 @@ int main(int argc, char** argv) {
                    "glint-image merge (docs/distributed.md)");
     app.add_option("--reference", opt.reference, "reference EXR: print relMSE and SSIM per pass");
     app.add_flag("--position", opt.position, "also write the world-space position layer");
-    app.add_flag("--half-buffers", opt.halfBuffers,
-                 "split the samples into two independent halves and also write the halfBuffer "
-                 "layer (the odd half's mean), for an unbiased variance estimate (SURE auto)");
     app.add_option("--memory-limit", opt.memoryLimit,
                    "refuse an asset whose load would peak above this before reading it, and a "
                    "render whose scene, BVH, textures and film need more before building "
                    "anything; auto takes clusters when that fits (e.g. 2G; default: what is "
                    "available, not checked while loading)");
     app.add_flag("--json", opt.json, "print one JSON object on stdout");
-    app.add_option("--mlt", opt.mlt,
-                   "mlt: a Metropolis parameter name=value (repeatable): large, small, lens, light "
-                   "(mutation weights), bootstrap (paths), chains (a multiple of groups), groups, "
-                   "featureSpp (docs/metropolis.md)");
+    // The render settings the artist sets here, one flag each from the codec (scene.json's render
+    // block under the same names, docs/scene-format.md); the others are the scene's.
+    for (const char* name : {"spp", "seed", "integrator", "maxDepth", "halfBuffers", "accel"}) {
+        const glint::render::SettingSpec& spec = *glint::render::findSetting(name);
+        const std::string key = spec.name;
+        if (spec.kind == glint::render::SettingKind::Boolean)
+            app.add_flag_callback(
+                glint::render::settingFlag(spec), [&opt, key] { opt.settings[key] = "true"; },
+                settingHelp(spec));
+        else
+            app.add_option_function<std::string>(
+                glint::render::settingFlag(spec),
+                [&opt, key](const std::string& text) { opt.settings[key] = text; },
+                settingHelp(spec));
+    }
+    // The Metropolis parameters, name=value each: the codec's mlt* settings without the prefix.
+    app.add_option_function<std::vector<std::string>>(
+        "--mlt",
+        [&opt](const std::vector<std::string>& items) {
+            for (const std::string& item : items) {
+                const std::size_t eq = item.find('=');
+                std::string name = item.substr(0, eq);
+                if (!name.empty()) name[0] = char(std::toupper((unsigned char)name[0]));
+                const glint::render::SettingSpec* spec = glint::render::findSetting("mlt" + name);
+                if (eq == std::string::npos || name.empty() || !spec)
+                    throw glint::Error(glint::ErrorKind::InvalidArgument,
+                                       "'" + item +
+                                           "': expected name=value, the name one of large, small, "
+                                           "lens, light, bootstrap, chains, groups or featureSpp",
+                                       "command line", "--mlt");
+                opt.settings[spec->name] = item.substr(eq + 1);
+            }
+        },
+        "mlt: a Metropolis parameter name=value (repeatable): large, small, lens, light "
+        "(mutation weights), bootstrap (paths), chains (a multiple of groups), groups, "
+        "featureSpp (docs/metropolis.md)");
     if (const auto code = glint::cli::parseCommandLine(app, argc, argv, "glint-render"))
         return *code;
     return glint::cli::runGuarded("glint-render", [&] { return run(opt); });

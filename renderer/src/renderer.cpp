@@ -24,6 +24,7 @@
 #include "glint/image/error.h"
 #include "glint/image/memory.h"
 #include "glint/image/shard.h"
+#include "glint/render/settings_codec.h"
 #include "integrators/mlt_integrator.h"
 #include "integrators/path_integrator.h"
 #include "integrators/path_passes.h"
@@ -206,18 +207,10 @@ RenderResult renderPath(const detail::SceneData& data, const EmbreeScene& embree
     RenderResult result;
     result.frame = film.resolve(settings.positionLayer);
     FrameMetadata& meta = result.frame.metadata();
+    recordSettings(settings, meta);
     meta.spp = done.completedSpp;
-    meta.seed = settings.seed;
-    meta.integrator = integratorName(settings.integrator);
     meta.scene = data.path.string();
     meta.nonFiniteSamples = film.nonFiniteSamples();
-    meta.extra["mis"] = misName(settings.mis);
-    meta.extra["sampler"] = samplerName(settings.sampler);
-    if (settings.mis == MisHeuristic::None)
-        meta.extra["strategy"] = strategyName(settings.strategy);
-    meta.extra["maxDepth"] = std::to_string(settings.maxDepth);
-    meta.extra["rrDepth"] = std::to_string(settings.rrDepth);
-    if (settings.halfBuffers) meta.extra["halfBuffers"] = "true";
     if (done.cancelled) meta.extra["cancelled"] = "true";
     if (shard) {
         shard->sceneHash = sceneContentHash(data);

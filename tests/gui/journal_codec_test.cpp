@@ -136,6 +136,34 @@ class JournalCodecTest : public QObject {
         QCOMPARE(jc::decodeSettings(partial, render::Settings{}).spp, render::Settings{}.spp);
     }
 
+    // Issue 47: one render-settings codec, whose name for half buffers is "halfBuffers" as in
+    // scene.json and glint-render. Journals and session files written before it said
+    // "halves": "0" / "1"; they still restore.
+    void anOldJournalWithHalvesStillRestoresHalfBuffers() {
+        namespace jc = journal_codec;
+        const QJsonObject old =
+            QJsonDocument::fromJson(R"({"op": "settings", "spp": "6", "seed": "1",
+                "integrator": "path", "mis": "power", "halves": "1"})")
+                .object();
+        const render::Settings back = jc::decodeSettings(old, render::Settings{});
+        QCOMPARE(back.spp, 6);
+        QVERIFY(back.halfBuffers);
+        render::Settings on;
+        on.halfBuffers = true;
+        QVERIFY(!readSettings({{"halves", "0"}}, on).halfBuffers);
+        QVERIFY(readSettings({{"halves", "1"}}, render::Settings{}).halfBuffers);
+        // The codec's own key wins over the old one.
+        QVERIFY(!readSettings({{"halves", "1"}, {"halfBuffers", "false"}}, on).halfBuffers);
+        // Written now: the codec's name and text.
+        const QJsonObject now = jc::encodeSettings(back);
+        QCOMPARE(now.value(QStringLiteral("halfBuffers")).toString(), QStringLiteral("true"));
+        QVERIFY(!now.contains(QStringLiteral("halves")));
+        std::map<std::string, std::string> state;
+        writeDocumentState({}, back, state);
+        QCOMPARE(state.count("halves"), std::size_t(0));
+        QCOMPARE(state.at("halfBuffers"), std::string("true"));
+    }
+
     // Issue "reliability round 3", item 4: "1e12" was read as 1 spp and "-1" as a seed without a
     // word. A session file's and a journal's settings are read with glint-render's limits, and a
     // bad one is one error naming the file, the key and what was expected.

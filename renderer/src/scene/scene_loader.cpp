@@ -21,6 +21,7 @@
 #include "scene/json_reader.h"
 #include "scene/loader.h"
 #include "scene/scene_data.h"
+#include "settings_json.h"
 
 namespace glint::render {
 
@@ -141,42 +142,7 @@ void Loader::readCamera(const json& j, const std::string& where) {
 }
 
 void Loader::readRender(const json& j, const std::string& where) {
-    m_reader.requireObject(j, where,
-                           {"spp", "maxDepth", "rrDepth", "integrator", "mis", "strategy",
-                            "sampler", "seed", "halfBuffers", "textureCacheMb", "accel"});
-    Settings& s = m_scene.settings;
-    auto choice = [&](const char* key, auto parse, auto& out) {
-        if (!j.contains(key)) return;
-        const std::string value = m_reader.string(j[key], where + "/" + key);
-        try {
-            out = parse(value);
-        } catch (const Error& e) {
-            m_reader.fail(where + "/" + key, e.message());
-        }
-    };
-    if (j.contains("spp")) s.spp = int(m_reader.integer(j["spp"], where + "/spp", 1, kMaxSpp));
-    if (j.contains("maxDepth"))
-        s.maxDepth = int(m_reader.integer(j["maxDepth"], where + "/maxDepth", 1, kMaxDepth));
-    if (j.contains("rrDepth"))
-        s.rrDepth = int(m_reader.integer(j["rrDepth"], where + "/rrDepth", 0, kMaxDepth));
-    if (j.contains("textureCacheMb"))
-        s.textureCacheMb = int(m_reader.integer(j["textureCacheMb"], where + "/textureCacheMb", 1,
-                                                kMaxTextureCacheMb));
-    if (j.contains("seed"))
-        s.seed =
-            std::uint64_t(m_reader.integer(j["seed"], where + "/seed", 0, (long long)kMaxSeed));
-    choice("integrator", parseIntegrator, s.integrator);
-    choice("mis", parseMis, s.mis);
-    choice("strategy", parseStrategy, s.strategy);
-    choice("sampler", parseSampler, s.sampler);
-    if (j.contains("accel") && !j["accel"].is_string())
-        m_reader.fail(where + "/accel", "expected \"auto\", \"triangles\" or \"clusters\"");
-    choice("accel", parseAccel, s.accel);
-    if (j.contains("halfBuffers")) {
-        if (!j["halfBuffers"].is_boolean())
-            m_reader.fail(where + "/halfBuffers", "expected true or false");
-        s.halfBuffers = j["halfBuffers"].get<bool>();
-    }
+    readSettingsJson(m_reader, j, where, m_scene.settings);
 }
 
 namespace {
