@@ -42,7 +42,26 @@ struct Options {
     /// The named render settings given (--spp, --max-depth, --mlt-chains, …) as text, read
     /// strictly by the settings codec ("-1" must not wrap to a seed of 2^64 - 1).
     glint::render::SettingValues settings;
+    /// --mlt: Metropolis parameters, "name=value" each (the codec's mlt* settings unprefixed).
+    std::vector<std::string> mlt;
 };
+
+/// The named settings of --mlt's "name=value" items added to `settings`.
+void addMltSettings(const std::vector<std::string>& items, glint::render::SettingValues& settings) {
+    for (const std::string& item : items) {
+        const std::size_t eq = item.find('=');
+        std::string name = item.substr(0, eq);
+        if (!name.empty()) name[0] = char(std::toupper((unsigned char)name[0]));
+        const glint::render::SettingSpec* spec = glint::render::findSetting("mlt" + name);
+        if (eq == std::string::npos || name.empty() || !spec)
+            throw glint::Error(glint::ErrorKind::InvalidArgument,
+                               "'" + item +
+                                   "': expected name=value, the name one of large, small, lens, "
+                                   "light, bootstrap, chains, groups or featureSpp",
+                               "command line", "--mlt");
+        settings[spec->name] = item.substr(eq + 1);
+    }
+}
 
 /// The flag that sets the Settings field `field` (validate's place), else "options".
 std::string flagOf(const std::string& field) {
@@ -137,7 +156,9 @@ int run(const Options& opt) {
     Settings settings = scene.settings();
     if (!opt.settings.count("spp") && opt.timeLimit > 0.0) settings.spp = 0;
     // The named settings through the codec, each error naming its flag.
-    for (const auto& [name, text] : opt.settings) {
+    glint::render::SettingValues given = opt.settings;
+    addMltSettings(opt.mlt, given);
+    for (const auto& [name, text] : given) {
         const glint::render::SettingSpec& spec = *glint::render::findSetting(name);
         glint::render::setSetting(
             settings, spec, text, "command line",
@@ -357,26 +378,10 @@ int main(int argc, char** argv) {
                 settingHelp(spec));
     }
     // The Metropolis parameters, name=value each: the codec's mlt* settings without the prefix.
-    app.add_option_function<std::vector<std::string>>(
-        "--mlt",
-        [&opt](const std::vector<std::string>& items) {
-            for (const std::string& item : items) {
-                const std::size_t eq = item.find('=');
-                std::string name = item.substr(0, eq);
-                if (!name.empty()) name[0] = char(std::toupper((unsigned char)name[0]));
-                const glint::render::SettingSpec* spec = glint::render::findSetting("mlt" + name);
-                if (eq == std::string::npos || name.empty() || !spec)
-                    throw glint::Error(glint::ErrorKind::InvalidArgument,
-                                       "'" + item +
-                                           "': expected name=value, the name one of large, small, "
-                                           "lens, light, bootstrap, chains, groups or featureSpp",
-                                       "command line", "--mlt");
-                opt.settings[spec->name] = item.substr(eq + 1);
-            }
-        },
-        "mlt: a Metropolis parameter name=value (repeatable): large, small, lens, light "
-        "(mutation weights), bootstrap (paths), chains (a multiple of groups), groups, "
-        "featureSpp (docs/metropolis.md)");
+    app.add_option("--mlt", opt.mlt,
+                   "mlt: a Metropolis parameter name=value (repeatable): large, small, lens, light "
+                   "(mutation weights), bootstrap (paths), chains (a multiple of groups), groups, "
+                   "featureSpp (docs/metropolis.md)");
     if (const auto code = glint::cli::parseCommandLine(app, argc, argv, "glint-render"))
         return *code;
     return glint::cli::runGuarded("glint-render", [&] { return run(opt); });

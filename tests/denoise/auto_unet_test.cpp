@@ -296,7 +296,7 @@ TEST_F(UNetMemberCli, ABankFolderReopenedWithoutWeightsSaysOnceThatItGoesOnWitho
                                            path("a.exr") + " --json",
                                        "oracle " + path("noisy.exr") + " --bank " + bank +
                                            " --reference " + path("noisy.exr") + " --json"}) {
-            const glint::testing::RunResult r = run(env, cmd);
+            const glint::testing::RunResult r = runEither(env, cmd);
             ASSERT_EQ(r.exitCode, 0) << cmd << "\n" << r.err;
             const std::string says = "goes on without 'unet'";
             const auto first = r.err.find(says);
