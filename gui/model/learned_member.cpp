@@ -4,6 +4,8 @@
 #include <future>
 #include <mutex>
 
+#include <QCoreApplication>
+
 #include "glint/denoise/filter.h"
 #include "glint/denoise/registry.h"
 #include "glint/image/frame_buffers.h"
@@ -53,7 +55,15 @@ Probe& theProbe() {
 
 void probeLearnedFilter() {
     Probe& p = theProbe();
-    std::call_once(p.started, [&p] { p.answer = std::async(std::launch::async, probe).share(); });
+    std::call_once(p.started, [&p] {
+        p.answer = std::async(std::launch::async, probe).share();
+        // The probe's thread builds the filter's statics (oneDNN, the weights): the application
+        // waits for it as it ends, before any static is destroyed under it (QTest's main too).
+        if (QCoreApplication::instance())
+            qAddPostRoutine([] {
+                if (theProbe().answer.valid()) theProbe().answer.wait();
+            });
+    });
 }
 
 const std::string& learnedFilterUnavailable() {
