@@ -8,8 +8,8 @@
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"
 #include "glint/render/scene.h"
-#include "model/openable_files.h"
 #include "glint/render/settings_codec.h"
+#include "model/openable_files.h"
 #include "model/session_state.h"
 
 namespace glint::studio {
