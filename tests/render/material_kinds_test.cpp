@@ -4,9 +4,9 @@
 // evaluate()'s density is the one sample() draws with.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -31,13 +31,40 @@ std::vector<MaterialType> allTypes() {
     return types;
 }
 
-/// The text of `file` with its comments (// to the end of the line, /* … */) removed.
+/// The text of `file` with its comments (// to the end of the line, /* … */) blanked. (No
+/// std::regex: GCC 12's <regex> trips -Werror=maybe-uninitialized in the sanitizer build.)
 std::string codeOf(const fs::path& file) {
     std::ifstream in(file);
     std::stringstream text;
     text << in.rdbuf();
-    static const std::regex comments(R"(//[^\n]*|/\*[\s\S]*?\*/)");
-    return std::regex_replace(text.str(), comments, " ");
+    std::string code = text.str();
+    for (std::size_t i = 0; i + 1 < code.size(); ++i) {
+        if (code[i] != '/') continue;
+        std::size_t end = std::string::npos;
+        if (code[i + 1] == '/')
+            end = code.find('\n', i);
+        else if (code[i + 1] == '*')
+            end = code.find("*/", i + 2) == std::string::npos ? std::string::npos
+                                                              : code.find("*/", i + 2) + 2;
+        else
+            continue;
+        if (end == std::string::npos) end = code.size();
+        for (std::size_t j = i; j < end; ++j) code[j] = ' ';
+        i = end - 1;
+    }
+    return code;
+}
+
+/// Whether `code` holds `name` as a whole identifier.
+bool namesWord(const std::string& code, const std::string& name) {
+    const auto identifier = [](char c) { return std::isalnum((unsigned char)c) || c == '_'; };
+    for (std::size_t at = code.find(name); at != std::string::npos; at = code.find(name, at + 1)) {
+        const bool startsWord = at == 0 || !identifier(code[at - 1]);
+        const std::size_t after = at + name.size();
+        const bool endsWord = after >= code.size() || !identifier(code[after]);
+        if (startsWord && endsWord) return true;
+    }
+    return false;
 }
 
 TEST(MaterialKinds, NoIntegratorSourceNamesAMaterialKind) {
@@ -59,8 +86,7 @@ TEST(MaterialKinds, NoIntegratorSourceNamesAMaterialKind) {
         ++files;
         const std::string code = codeOf(entry.path());
         for (const std::string& name : names) {
-            const std::regex word("\\b" + name + "\\b");
-            EXPECT_FALSE(std::regex_search(code, word))
+            EXPECT_FALSE(namesWord(code, name))
                 << entry.path().filename().string() << " names '" << name
                 << "': ask the material or its BSDF for its flags (materialFlags, Bsdf::flags)";
         }
