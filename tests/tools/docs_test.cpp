@@ -1,8 +1,8 @@
 // Checks of the docs against the tree (issue 47, "Docs as a reference"): the source layout in
 // docs/architecture.md names every folder of the five modules and no other; every relative link
 // of README.md, docs/*.md and docs/lab/*.md reaches a file (and, with #anchor, a heading of it);
-// the newcomer's lists of where to add a filter, a material kind and an asset format hold at most
-// three files each, every one of which exists.
+// every source path a reference page names exists; the newcomer's lists of where to add a filter, a
+// material kind and an asset format hold at most three files each, every one of which exists.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -199,6 +199,26 @@ std::vector<std::string> brokenLinks(const fs::path& file) {
     return broken;
 }
 
+/// The source paths the Markdown file `file` names in code spans that start with a module's
+/// folder (`renderer/src/scene/loader.h`) and that do not exist under `root`: "file:line: path".
+/// A span with a placeholder (`<kind>.cpp`, `{h,cpp}`, `*`) is not a path.
+std::vector<std::string> missingSourcePaths(const fs::path& root, const fs::path& file) {
+    std::vector<std::string> missing;
+    int number = 0;
+    for (const std::string& line : linesOf(readText(file))) {
+        ++number;
+        for (const std::string& span : codeSpans({line})) {
+            if (span.find_first_of("<>{}* ") != std::string::npos) continue;
+            const bool module =
+                std::any_of(kModules.begin(), kModules.end(),
+                            [&](const std::string& m) { return span.rfind(m + "/", 0) == 0; });
+            if (module && !fs::exists(root / span))
+                missing.push_back(file.string() + ":" + std::to_string(number) + ": " + span);
+        }
+    }
+    return missing;
+}
+
 /// README.md, docs/*.md and docs/lab/*.md under `root`.
 std::vector<fs::path> markdownFiles(const fs::path& root) {
     std::vector<fs::path> files;
@@ -292,6 +312,29 @@ TEST(Docs, TheLinkCheckFindsAMissingFileAndAMissingHeading) {
         (std::vector<std::string>{
             (docs.path / "docs/page.md").string() + ":8: lab/gone.md: no such file",
             (docs.path / "docs/page.md").string() + ":8: lab/notes.md#speed: no such heading"}));
+}
+
+TEST(Docs, EverySourcePathTheReferenceDocsNameExists) {
+    std::vector<std::string> missing;
+    for (const fs::path& file : markdownFiles(kRoot)) {
+        if (file.parent_path().filename() == "lab") continue;  // notebooks keep history's paths
+        const auto m = missingSourcePaths(kRoot, file);
+        missing.insert(missing.end(), m.begin(), m.end());
+    }
+    EXPECT_TRUE(missing.empty()) << joined(missing);
+}
+
+TEST(Docs, ThePathCheckFindsAPathThatDoesNotExist) {
+    ScratchDir tree;
+    tree.write("renderer/src/scene/loader.h", "");
+    tree.write("docs/page.md",
+               "`renderer/src/scene/loader.h`, `renderer/src/scene/<format>_import.cpp`,\n"
+               "`glint/render/scene.h`, `docs/lab/x.md`\n"
+               "`renderer/src/scene/gone.cpp` and `gui/app/`\n");
+    EXPECT_EQ(missingSourcePaths(tree.path, tree.path / "docs/page.md"),
+              (std::vector<std::string>{
+                  (tree.path / "docs/page.md").string() + ":3: renderer/src/scene/gone.cpp",
+                  (tree.path / "docs/page.md").string() + ":3: gui/app/"}));
 }
 
 TEST(Docs, TheNewcomerFindsWhereToAddAFilterAMaterialKindAndAnAssetFormat) {
