@@ -46,7 +46,7 @@ bench-deps:
 bench: build bench-deps
 	./lab/bench/run_all.sh $(BUILD_DIR)
 
-# The speed-versus-accuracy report (docs/tradeoffs.md): CSVs and PNG plots into docs/tradeoffs/,
+# The speed-versus-accuracy report (docs/lab/tradeoffs.md): CSVs and PNG plots into docs/tradeoffs/,
 # about 4 minutes on 2 cores; Cycles (blender) for the peer curve, matplotlib for the plots.
 report: build
 	@./.ci/install-deps blender python3-matplotlib

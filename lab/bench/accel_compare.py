@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Clusters against triangles on one asset (docs/assets-tried.md, "Clusters and the buffer
+"""Clusters against triangles on one asset (docs/lab/assets-tried.md, "Clusters and the buffer
 reader on real assets"; docs/renderer.md, "Acceleration structure").
 
 Renders ASSET with `--accel triangles` and `--accel clusters` at each seed (default 19 and 20) and

@@ -1,4 +1,4 @@
-# Auto start benchmark (docs/auto.md, "Speed"):
+# Auto start benchmark (docs/lab/auto.md, "Speed"):
 #   build/bin/bench_auto [--estimator sure|halves] [--one-sided 0|1] [--size 1024] [--spp 4] [--threads 2] [--members 64] [--reps 3]
 if(TARGET glint_render)
   add_executable(bench_auto ${CMAKE_CURRENT_LIST_DIR}/bench_auto.cpp)

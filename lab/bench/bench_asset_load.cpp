@@ -15,8 +15,8 @@
 // allocated), "embree" what Embree's device holds once built and held at most during the build
 // (its memory monitor; the mesh arrays it reads in place are Glint's). "accel" is the choice asked
 // for and "bvh" what was built: "clusters" when a mesh is traced as clusters of triangles
-// (docs/assets.md, "Speed and memory"), with their triangle order's bytes ("clusterOrder", Glint's
-// beside Embree's) and the triangles a cluster holds, else "triangles" (Embree's own). With
+// (docs/lab/gltf-assets.md, "Speed and memory"), with their triangle order's bytes ("clusterOrder",
+// Glint's beside Embree's) and the triangles a cluster holds, else "triangles" (Embree's own). With
 // --rays N (after the memory figures), "trace" times N rays of the raw kernel (half camera rays,
 // half random rays in the bounding box; detail::measureRayThroughput, seed 19) one query a ray
 // and in packets: wall and CPU seconds (the process's user + system time) and rays per CPU second.

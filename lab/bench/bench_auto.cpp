@@ -1,4 +1,4 @@
-// bench_auto: the speed figure of the auto start (docs/auto.md, "Speed"). Renders scenes/cornell at
+// bench_auto: the auto start's speed (docs/lab/auto.md, "Speed"). Renders scenes/cornell at
 // SIZE×SIZE (default 1024) with SPP samples (default 4; with half buffers for the halves
 // estimator), then times on THREADS threads (default 2), REPS times each (best kept; the machine
 // may be shared): the bank of MEMBERS Latin-hypercube members (plus the defaults, no cache), and

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 # The error of renders over the pixels where camera rays meet a glTF asset's alphaMode BLEND
-# surfaces first (docs/assets.md, "Assets tried": the Aventador's windows). The region: the
+# surfaces first (docs/lab/gltf-assets.md, "Assets tried": the Aventador's windows). The region: the
 # asset rendered once more with every BLEND material made opaque, black and emissive (radiance
 # 100) — pixels brighter than 50 are those whose camera rays meet such a surface first at least
 # half the time. Then, per render: relMSE over the region ((x − r)² / (r² + 1e-2), as

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """How much box area clusters of 16 triangles add over single triangles, for a `.glb`'s first
-mesh primitive (docs/assets-tried.md, "Clusters and the buffer reader on real assets").
+mesh primitive (docs/lab/assets-tried.md, "Clusters and the buffer reader on real assets").
 
 The triangles are put in Hilbert order of their centroids (16 bits an axis over their bounding
 cube, as renderer/src/embree/cluster_geometry.cpp orders them; ties by index), and for

@@ -1,4 +1,4 @@
-# The Khronos OrientationTest (docs/assets.md, "Assets tried"): for each arrow, the angle between
+# The Khronos OrientationTest (docs/lab/gltf-assets.md, "Assets tried"): for each arrow, the angle between
 # its long axis (the node's T · R · S applied to the mesh's longest local axis) and the line from
 # the arrow's node origin to the centroid of the target of the same name. A transposed rotation
 # shows as 10–70° on this asset, against 1.2–1.5° for the right one. Usage:

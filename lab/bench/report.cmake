@@ -1,4 +1,4 @@
-# The speed-versus-accuracy report (docs/tradeoffs.md): glint-report computes the numbers with
+# The speed-versus-accuracy report (docs/lab/tradeoffs.md): glint-report computes the numbers with
 # Glint's public API and the bank's sampling helpers (denoise/src/bank/bank_detail.h);
 # lab/bench/report/run.sh (make report) runs it and plots the CSVs.
 add_executable(glint-report ${CMAKE_CURRENT_LIST_DIR}/report/report.cpp)

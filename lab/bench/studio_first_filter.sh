@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Which filter the studio's first denoise should use (docs/studio.md, "The first image is
-# denoised"): SSIM against each scene's committed reference of cross-bilateral (its defaults, the
+# Which filter the studio's first denoise should use (docs/lab/studio.md, "Which filter
+# denoises the first image"): SSIM against each scene's committed reference of cross-bilateral (its defaults, the
 # studio's first layer until issue 46) and unet (its defaults), at the studio's 16 spp, on render
 # seeds no choice was tuned on.
 #   lab/bench/studio_first_filter.sh [build] [scenes...]

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Where auto with the learned member loses to unet alone (= OIDN) or to auto over the classical
-# bank (docs/auto.md, "Against OIDN"): for each CELL (scene:spp:seed), the render of
+# bank (docs/lab/auto.md, "Against OIDN"): for each CELL (scene:spp:seed), the render of
 # lab/scripts/oidn_compare.sh (half buffers, the same seed), its default bank (64 members, seed 1,
 # unet among them) and SSIM against the committed reference of
 #   - auto with its defaults, the share of the blend's weight unet holds, and auto's own single

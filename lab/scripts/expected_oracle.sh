@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The expected-error oracle of docs/auto.md ("What limits the share"): for cornell, pool, dof and
+# The expected-error oracle of docs/lab/oidn-gap.md ("What limits the share"): for cornell, pool, dof and
 # glossy at 4, 16 and 64 spp, a render with half buffers (seed 1) and its 64-member bank (seed 1),
 # as in lab/scripts/auto_quality.sh, plus seven more renders of the scene at the same spp (seeds 2-8);
 # then `glint-lab oracle --expected` chooses per pixel by each member's error averaged over the

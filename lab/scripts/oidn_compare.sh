@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Glint against Open Image Denoise (docs/auto.md, "Against OIDN"): for each scene, spp and render
+# Glint against Open Image Denoise (docs/lab/auto.md, "Against OIDN"): for each scene, spp and render
 # seed, a render with half buffers, its 64-member banks (seed 1) and SSIM on display values
 # against the committed reference of
 #   - auto (the halves estimator, its defaults) over the bank of the filters before the learned

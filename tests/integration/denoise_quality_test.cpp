@@ -1,7 +1,7 @@
 // Denoising quality on real renders: every registered filter raises the SSIM of a 16-spp
 // cornell render against its reference, cross-bilateral beats gaussian, and on the motion-blurred
 // pool scene prefiltered features give cross-bilateral a higher SSIM than raw features.
-// The figures are printed and recorded (RecordProperty) for docs/denoise-quality.md.
+// The figures are printed and recorded (RecordProperty) for docs/lab/denoise-quality.md.
 #include <cstdio>
 #include <string>
 
@@ -71,7 +71,7 @@ FrameBuffers* CornellQuality::s_reference = nullptr;
 
 // The render is deterministic (seed 1), so these are fixed numbers; the margins say how far
 // they are from failing. Measured: noisy 0.63, every filter with its defaults 0.84 … 0.98 (see
-// docs/denoise-quality.md). Over seeds 1-4 the SSIMs move by at most 0.006 (noisy 0.6305 …
+// docs/lab/denoise-quality.md). Over seeds 1-4 the SSIMs move by at most 0.006 (noisy 0.6305 …
 // 0.6325, bilateral-mc 0.8413 … 0.8472, cross-bilateral 0.9780 … 0.9795), far below the
 // margins: +0.1 over the noisy input, cross-bilateral over gaussian by 0.02 (measured 0.06).
 TEST_F(CornellQuality, EveryFilterWithDefaultsRaisesSsim) {
@@ -99,7 +99,7 @@ TEST_F(CornellQuality, CrossBilateralBeatsGaussian) {
 // whole image and in the streak of the cue ball (crop x 20-70, y 52-76).
 // Tolerance: measured over seeds 1-6 the gain is +0.0023 … +0.0030 (whole image) with a seed
 // spread of ±0.0004, so a margin of 0.001 is ~3 spreads below the smallest gain; the streak
-// gain is several times larger (see docs/denoise-quality.md).
+// gain is several times larger (see docs/lab/denoise-quality.md).
 TEST(PoolQuality, PrefilteredFeaturesBeatRawFeatures) {
     // 4 spp: since the lamps are sampled by solid angle (and paths by Sobol points) the 16-spp
     // pool is so clean (display SSIM 0.985) that the default cross-bilateral only blurs it.

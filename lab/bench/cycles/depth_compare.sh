@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Where does the error per sample come from? Glint and Cycles at equal spp on scenes/cornell,
-# bounce depth by bounce depth (docs/renderer.md, "Where the error per sample came from"):
+# bounce depth by bounce depth (docs/lab/renderer.md, "Where the error per sample came from"):
 # for Glint maxDepth D (Cycles max bounces D - 1), a Glint reference at 1024 spp (seed 99), then
 # relMSE at SPP spp of Cycles and of Glint's stratified and sobol samplers against it.
 #   lab/bench/cycles/depth_compare.sh [BUILD_DIR] [SPP] [DEPTHS...]

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Plots of the speed-versus-accuracy report (docs/tradeoffs.md) from the CSVs glint-report
+"""Plots of the speed-versus-accuracy report (docs/lab/tradeoffs.md) from the CSVs glint-report
 writes. Run by lab/bench/report/run.sh with Debian's python3-matplotlib:
 
     /usr/bin/python3 lab/bench/report/plot_tradeoffs.py docs/tradeoffs

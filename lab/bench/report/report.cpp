@@ -1,4 +1,4 @@
-// glint-report: the numbers of the speed-versus-accuracy report (docs/tradeoffs.md), computed
+// glint-report: the numbers of the speed-versus-accuracy report (docs/lab/tradeoffs.md), computed
 // with Glint's public API as an outside program would. One subcommand per part, each writing
 // one CSV (to a temporary name, then renamed); lab/bench/report/run.sh runs them all and
 // plot_tradeoffs.py draws the plots.
@@ -443,7 +443,7 @@ int main(int argc, char** argv) {
         if (argc < 3) {
             std::fprintf(stderr,
                          "usage: glint-report convergence|denoise|bilateral-mc|threads SCENE_DIR "
-                         "--out F.csv [options] (docs/tradeoffs.md)\n");
+                         "--out F.csv [options] (docs/lab/tradeoffs.md)\n");
             return 2;
         }
         const std::string cmd = argv[1];

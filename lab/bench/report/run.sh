@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# make report: every part of docs/tradeoffs.md — CSVs from glint-report (and Blender's Cycles for
+# make report: every part of docs/lab/tradeoffs.md — CSVs from glint-report (and Blender's Cycles for
 # the peer comparison), then the PNG plots — into docs/tradeoffs/. About 3-4 minutes on a quiet
-# 2-core machine (docs/tradeoffs.md has the measured time); each part's line can be run alone.
+# 2-core machine (docs/lab/tradeoffs.md has the measured time); each part's line can be run alone.
 #   lab/bench/report/run.sh [BUILD_DIR]
 set -euo pipefail
 cd "$(dirname "$0")/../../.."

@@ -1,4 +1,5 @@
-// A clustered triangle geometry for large meshes (docs/assets.md, "Speed and memory"): Embree
+// A clustered triangle geometry for large meshes (docs/lab/gltf-assets.md, "Speed and memory"):
+// Embree
 // builds its BVH over clusters of a few spatially coherent triangles (an Embree user geometry),
 // and Glint's own callbacks intersect a cluster's triangles with a watertight ray–triangle test.
 // Embree then holds a BVH over N/k primitives instead of N; Glint adds one uint32 a triangle

@@ -100,10 +100,10 @@ detail::SurfaceId EmbreeScene::surfaceOf(unsigned instID, unsigned geomID, unsig
 
 /// A scene of more than kHighQualityBuildLimit triangles gets Embree's medium-quality builder
 /// and its compact layout. On a 4M-triangle asset compact took the peak memory from 636 to
-/// 378 MB and the build from 1.8 to 1.4 s at the same samples/s (docs/assets.md, "Speed and
-/// memory"); smaller scenes keep the high-quality build, which traces faster. Clusters (Accel)
-/// are built at medium quality too: on that asset, 18.3 instead of 21.0 MB at the same rays/s
-/// (docs/lab/mesh-memory.md).
+/// 378 MB and the build from 1.8 to 1.4 s at the same samples/s
+/// (docs/lab/gltf-assets.md, "Speed and memory"); smaller scenes keep the high-quality build, which
+/// traces faster. Clusters (Accel) are built at medium quality too: on that asset, 18.3 instead
+/// of 21.0 MB at the same rays/s (docs/lab/mesh-memory.md).
 void setBuildOptions(RTCScene scene, std::size_t triangles, bool clusters) {
     const bool large = clusters || triangles > kHighQualityBuildLimit;
     rtcSetSceneBuildQuality(scene, large ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH);

@@ -385,7 +385,7 @@ void PathIntegrator::advance(PathState& p, bool found, const Hit& hit,
     // Russian roulette (PBR 14.5.1) with survival probability √(max throughput channel), as
     // Cycles does: paths end later than with the throughput itself, which on the Cornell
     // box lowers the relMSE at 64 spp by 19 % for 4 % fewer samples per second
-    // (docs/renderer.md, "Where the error per sample came from").
+    // (docs/lab/renderer.md, "Where the error per sample came from").
     if (depth + 1 > m_rrDepth) {
         const float survive = std::min(1.0f, std::sqrt(maxComponent(p.beta)));
         if (rng.bounce1D(depth, BounceDim::Roulette) >= survive) return;

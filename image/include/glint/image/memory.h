@@ -31,7 +31,7 @@ void checkMemory(std::uint64_t bytes, std::uint64_t limit, const std::string& wh
 /// trimmed below 2 GiB of free space. The filters and the auto composite allocate and free
 /// frame-sized buffers by the hundred; without this, each comes back as fresh zeroed pages
 /// (the kernel's page clearing took about a tenth of a `bench_auto` run;
-/// docs/lab/auto-notebook.md, "Speed of the halves"). A process-wide setting for
+/// docs/lab/auto-notebook-2.md, "Speed of the halves"). A process-wide setting for
 /// command-line tools and benchmarks (not a long-running application, whose memory after a large
 /// job would stay at its peak); does nothing on other C libraries or under an allocator that
 /// replaces glibc's (AddressSanitizer's).

@@ -1,5 +1,5 @@
 // The expected-error oracle: a measure of what an exact estimate of each member's error could
-// reach (glint-lab oracle --expected; docs/auto.md, "What limits the share").
+// reach (glint-lab oracle --expected; docs/lab/oidn-gap.md, "What limits the share").
 #pragma once
 
 #include <map>
@@ -23,8 +23,8 @@ namespace glint::lab {
 /// error this render happened to have, luck no estimate can know of; this choice by the error
 /// a member makes on average is what an exact estimate of each member's error could reach, and
 /// its SSIM at the auto composite's window is what that choice can reach there
-/// (docs/auto.md, "What limits the share"). `others` must be frame-sized; memory: one float per
-/// member and pixel.
+/// (docs/lab/oidn-gap.md, "What limits the share"). `others` must be frame-sized; memory: one
+/// float per member and pixel.
 struct ExpectedOracleOptions {
     std::vector<int> radii{0, 2, 4, 8};  ///< each 0 … 64
     float exposure = 0.0f;
