@@ -407,6 +407,68 @@ TEST(AutoTiles, TheTileHeightFollowsTheMemoryBudget) {
     EXPECT_LE(autoMemoryBudget(0), detail::kDefaultAutoMemory);
 }
 
+// Banded (the spill on, no bank results): each member is applied into the spill and the median
+// and the blend read the results back band by band, and the error maps live in a spill file of
+// their own; bands of any height give the floats of the results and maps held, with the halves
+// (a shortlist, feathering, the stacking) and with SURE.
+TEST(AutoTiles, BandsAndSpilledErrorMapsGiveTheSameFloatsAsHeldOnes) {
+    const FrameBuffers f = tallFrame(5);
+    const BankOptions b = smallBank();
+    const FilterBank unbuilt = autoCompositeStreamed(f, b, {}).bank;
+    AutoOptions sure;
+    sure.estimator = AutoEstimator::Sure;
+    for (const AutoOptions& o : {AutoOptions{}, stackingOptions(), sure}) {
+        const detail::TiledAuto held =
+            detail::autoCompositeTiled(unbuilt, f, o, tiles(100, kSpillOff));
+        EXPECT_EQ(held.bandRows, 0);
+        EXPECT_FALSE(held.mapsSpilled);
+        for (int band : {1, 7, 100}) {
+            SCOPED_TRACE("bands of " + std::to_string(band) + " rows");
+            detail::TileControl control = tiles(100, kSpillOn);
+            control.bandRows = band;
+            const detail::TiledAuto banded = detail::autoCompositeTiled(unbuilt, f, o, control);
+            EXPECT_EQ(banded.bandRows, band);
+            EXPECT_TRUE(banded.mapsSpilled);
+            expectIdentical(banded.result, held.result);
+        }
+    }
+}
+
+// With the spill, a tile holds the filters under way, not every member's result: its height
+// follows the budget at kApplyBytesPerPixel per filter and pixel whatever the bank's size. The
+// model bands only where that costs less than the bank's results (12 bytes a pixel a member),
+// with the spill and without the bank's results.
+TEST(AutoTiles, BandedTilesTakeTheFiltersUnderWayNotTheBank) {
+    const FrameBuffers f = tallFrame(4);
+    BankOptions b = smallBank();
+    b.size = 24;
+    const FilterBank bank = buildBank(f, b);
+    const FilterBank unbuilt = autoCompositeStreamed(f, b, {}).bank;
+    const std::size_t n = unbuilt.size();
+    ASSERT_GT(12 * n, detail::kApplyBytesPerPixel);
+    const detail::TileModel one = detail::autoTileModel(unbuilt, true, true, 1);
+    EXPECT_TRUE(one.banded);
+    EXPECT_TRUE(one.mapsSpilled);
+    EXPECT_FALSE(detail::autoTileModel(unbuilt, true, true, int(n)).banded);
+    EXPECT_FALSE(detail::autoTileModel(unbuilt, false, false, 1).banded);
+    EXPECT_FALSE(detail::autoTileModel(bank, true, true, 1).banded);
+    const detail::AutoSettings s = detail::resolveSettings(bank, f, {});
+    const std::uint64_t fixed = detail::autoFixedMemory(unbuilt, f, s, one);
+    // The bands and the choice's score strips are in the fixed part; the maps are not.
+    EXPECT_EQ(fixed, detail::autoFixedMemory(unbuilt, f, s, {}) + 2 * detail::kBandBytes);
+    const std::uint64_t perRow = std::uint64_t(f.width()) * (detail::kApplyBytesPerPixel + 64);
+    // Room for 100 rows of the region's 296: three tiles of 99.
+    EXPECT_EQ(detail::autoTileRows(unbuilt, f, s, fixed + 100 * perRow, one), 99);
+    EXPECT_EQ(detail::autoTileRows(unbuilt, f, s, fixed + 296 * perRow, one), 296);
+    // Two filters at once: room for 116 rows where one has 200, evened out (three tiles of 99).
+    detail::TileModel two = one;
+    two.concurrency = 2;
+    EXPECT_EQ(detail::autoTileRows(unbuilt, f, s, fixed + 200 * perRow, one), 148);
+    EXPECT_EQ(detail::autoTileRows(unbuilt, f, s, fixed + 200 * perRow, two), 99);
+    // The band: every member's result (the input's) in kBandBytes, at most the region.
+    EXPECT_EQ(detail::autoBandRows(unbuilt, s), f.height());
+}
+
 TEST(AutoStream, RejectsBadBankOptions) {
     const FrameBuffers f = halvesFrame(cleanImage(32, 24), 0.08, Noise::Gaussian, 1);
     BankOptions b;
