@@ -455,7 +455,11 @@ TEST(AutoTiles, BandedTilesTakeTheFiltersUnderWayNotTheBank) {
     const detail::AutoSettings s = detail::resolveSettings(bank, f, {});
     const std::uint64_t fixed = detail::autoFixedMemory(unbuilt, f, s, one);
     // The bands and the choice's score strips are in the fixed part; the maps are not.
-    EXPECT_EQ(fixed, detail::autoFixedMemory(unbuilt, f, s, {}) + 2 * detail::kBandBytes);
+    detail::TileModel spilledMaps;
+    spilledMaps.mapsSpilled = true;
+    EXPECT_EQ(fixed, detail::autoFixedMemory(unbuilt, f, s, spilledMaps) + 2 * detail::kBandBytes);
+    EXPECT_LT(detail::autoFixedMemory(unbuilt, f, s, spilledMaps),
+              detail::autoFixedMemory(unbuilt, f, s, {}));
     const std::uint64_t perRow = std::uint64_t(f.width()) * (detail::kApplyBytesPerPixel + 64);
     // Room for 100 rows of the region's 296: three tiles of 99.
     EXPECT_EQ(detail::autoTileRows(unbuilt, f, s, fixed + 100 * perRow, one), 99);

@@ -61,10 +61,16 @@ std::uint64_t autoFixedMemory(const FilterBank& bank, const FrameBuffers& frame,
     const std::uint64_t n = bank.size();
     // The halves (together about the input's layers), or SURE's input and its perturbed copy.
     const std::uint64_t inputs = settings.halves ? input : 2 * input;
-    // Per pixel: the error maps (one float per member) or, after them, the stacking's images
-    // (the features' regressors on three sides, its coefficients, the final weight planes), and
-    // the median, the display weights, the noise, the composite and the blends on the halves.
-    const std::uint64_t perPixel = std::max<std::uint64_t>(model.mapsSpilled ? 0 : 4 * n, 320) + 64;
+    // Per pixel, held maps: the error maps (one float per member) or, after them, the stacking's
+    // images (the features' regressors on three sides, its coefficients, the final weight
+    // planes), and the median, the display weights, the noise, the composite and the blends on
+    // the halves. Spilled maps: while the tiles run, the final candidates' weight planes and
+    // their feathered copies (4 bytes each) and those 96 bytes; the stacking runs after the
+    // tiles, by tiles of its own, whatever their height.
+    const std::uint64_t finalCandidates =
+        settings.shortlisted ? std::min<std::uint64_t>(n, std::uint64_t(settings.shortlist)) : n;
+    const std::uint64_t perPixel =
+        model.mapsSpilled ? 8 * finalCandidates + 96 : std::max<std::uint64_t>(4 * n, 320) + 64;
     // Banded: a band of results and a strip of the choice's scores.
     const std::uint64_t bands = model.banded ? 2 * kBandBytes : 0;
     return saturatingAdd(saturatingAdd(inputs, bands), saturatingMul(pixels, perPixel));
