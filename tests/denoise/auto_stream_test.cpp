@@ -473,6 +473,27 @@ TEST(AutoTiles, BandedTilesTakeTheFiltersUnderWayNotTheBank) {
     EXPECT_EQ(detail::autoBandRows(unbuilt, s), f.height());
 }
 
+// The stacking's feature regressors (one image per regressor on each of the three sides) go to
+// the spill and are read back by rows instead of being held over the frame: the spill grows by
+// exactly their bytes, and the floats are those with the spill off.
+TEST(AutoTiles, TheStackingsFeatureRegressorsAreReadFromTheSpill) {
+    const FrameBuffers f = tallFrame(6);
+    const BankOptions b = smallBank();
+    const FilterBank unbuilt = autoCompositeStreamed(f, b, {}).bank;
+    AutoOptions without;
+    without.tuning["stackAlbedo"] = 2;  // off
+    without.tuning["stackNormal"] = 2;
+    const detail::TiledAuto plain = detail::autoCompositeTiled(unbuilt, f, without, tiles(100));
+    ASSERT_EQ(plain.result.stackFeatures, 0);
+    const detail::TiledAuto with = detail::autoCompositeTiled(unbuilt, f, {}, tiles(100));
+    ASSERT_GT(with.result.stackFeatures, 0);
+    EXPECT_EQ(with.spillBytes - plain.spillBytes,
+              3 * std::uint64_t(with.result.stackFeatures) * std::uint64_t(f.width()) *
+                  std::uint64_t(f.height()) * 3 * sizeof(float));
+    expectIdentical(with.result,
+                    detail::autoCompositeTiled(unbuilt, f, {}, tiles(100, kSpillOff)).result);
+}
+
 TEST(AutoStream, RejectsBadBankOptions) {
     const FrameBuffers f = halvesFrame(cleanImage(32, 24), 0.08, Noise::Gaussian, 1);
     BankOptions b;

@@ -518,23 +518,43 @@ void Pipeline::stackPass(const std::vector<int>& order, AutoResult& result) {
     });
     // The features' regressors, from the whole frame's features around the composite and from
     // each half's around its blend (as the filters saw them: prefiltered when the bank was).
+    // Each side's go to the spill (keys past the members') and are read back by rows; they are
+    // held when the spill is off, and made again if a write failed.
+    const FrameBuffers* sources[3] = {&inputOf(Input), &inputOf(HalfA), &inputOf(HalfB)};
+    const Image* bases[3] = {&result.composite, &m_blendA, &m_blendB};
+    const auto regressorsOf = [&](int side) {
+        const Image albedo =
+            m_s.stackAlbedo ? sources[side]->layer(Layer::Albedo).crop(m_region) : Image{};
+        const Image normal =
+            m_s.stackNormal ? sources[side]->layer(Layer::Normal).crop(m_region) : Image{};
+        return featureRegressors(*bases[side], m_s.stackAlbedo ? &albedo : nullptr,
+                                 m_s.stackNormal ? &normal : nullptr, m_s.stackFeatureWindow,
+                                 &m_work);
+    };
+    const auto featureKey = [&](std::size_t q, int side) {
+        return keyOf(m_bank.size() + q, Side(side));
+    };
     std::vector<Image> features[3];
+    bool spilledFeatures[3] = {false, false, false};
+    std::size_t featureCount = 0;
     if (m_s.stackAlbedo || m_s.stackNormal) {
-        const FrameBuffers* sources[3] = {&inputOf(Input), &inputOf(HalfA), &inputOf(HalfB)};
-        const Image* bases[3] = {&result.composite, &m_blendA, &m_blendB};
         for (int side = 0; side < 3; ++side) {
-            const Image albedo =
-                m_s.stackAlbedo ? sources[side]->layer(Layer::Albedo).crop(m_region) : Image{};
-            const Image normal =
-                m_s.stackNormal ? sources[side]->layer(Layer::Normal).crop(m_region) : Image{};
-            features[side] = featureRegressors(*bases[side], m_s.stackAlbedo ? &albedo : nullptr,
-                                               m_s.stackNormal ? &normal : nullptr,
-                                               m_s.stackFeatureWindow, &m_work);
+            features[side] = regressorsOf(side);
+            featureCount = features[side].size();
+            for (std::size_t q = 0; q < featureCount && m_spill.on(); ++q)
+                m_spill.write(featureKey(q, side), 0, features[side][q]);
+            spilledFeatures[side] = m_spill.on();
+            if (spilledFeatures[side]) features[side] = {};
         }
     }
-    const std::size_t featureCount = features[0].size();
-    // The regressors' rows: the members' results (from the spill, else filtered again), then the
-    // features' rows.
+    // Rows [y0, y1) of feature regressor q on `side`: from the spill, or held.
+    const auto featureRows = [&](std::size_t q, int side, int y0, int y1) {
+        Image rows;
+        if (spilledFeatures[side] && m_spill.read(featureKey(q, side), y0, y1, rows)) return rows;
+        if (spilledFeatures[side])
+            features[side] = regressorsOf(side), spilledFeatures[side] = false;
+        return features[side][q].crop(Rect{0, m_region.width(), y0, y1});
+    };
     const LoadStackRows load = [&](int y0, int y1, bool full, bool halves, StackRows& rows) {
         std::vector<Side> sides;
         if (full) sides.push_back(Input);
@@ -544,14 +564,13 @@ void Pipeline::stackPass(const std::vector<int>& order, AutoResult& result) {
             results[i] = memberResult(members[i % k], sides[i / k], y0, y1, false);
         });
         rows = StackRows{};
-        const Rect rect{0, m_region.width(), y0, y1};
         for (std::size_t s = 0; s < sides.size(); ++s) {
             std::vector<Image>& to = sides[s] == Input   ? rows.full
                                      : sides[s] == HalfA ? rows.onA
                                                          : rows.onB;
             for (std::size_t j = 0; j < k; ++j) to.push_back(std::move(results[s * k + j]));
             for (std::size_t q = 0; q < featureCount; ++q)
-                to.push_back(features[int(sides[s])][q].crop(rect));
+                to.push_back(featureRows(q, int(sides[s]), y0, y1));
         }
     };
     // The regression, weighted by the display slope at the composite.
@@ -710,6 +729,7 @@ TiledAuto autoCompositeTiled(const FilterBank& bank, const FrameBuffers& frame,
     out.result.tileRows = rows;
     out.bandRows = band;
     out.mapsSpilled = mapSpill.on();
+    out.spillBytes = spill.bytesWritten();
     // Filtered again instead: a warning when the spill was asked for or a write failed.
     out.spilled = spill.on();
     if ((control.spill == SpillMode::On && !out.spilled) || spill.failed())

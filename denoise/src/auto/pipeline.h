@@ -81,10 +81,11 @@ struct TileControl {
 /// What the pipeline gives besides the result.
 struct TiledAuto {
     AutoResult result;
-    bool spilled = false;      ///< StreamedAuto::spilled
-    std::string warning;       ///< StreamedAuto::warning
-    int bandRows = 0;          ///< the reductions' bands (0: not banded)
-    bool mapsSpilled = false;  ///< the error maps were kept in a spill file
+    bool spilled = false;          ///< StreamedAuto::spilled
+    std::string warning;           ///< StreamedAuto::warning
+    int bandRows = 0;              ///< the reductions' bands (0: not banded)
+    bool mapsSpilled = false;      ///< the error maps were kept in a spill file
+    std::uint64_t spillBytes = 0;  ///< written to the results' spill file (StripSpill)
 };
 
 /// autoComposite with its tiles given: `bank` with its results (read by rows) or without them
