@@ -454,17 +454,17 @@ TEST(AutoTiles, BandedTilesTakeTheFiltersUnderWayNotTheBank) {
     EXPECT_FALSE(detail::autoTileModel(bank, true, true, 1).banded);
     const detail::AutoSettings s = detail::resolveSettings(bank, f, {});
     const std::uint64_t fixed = detail::autoFixedMemory(unbuilt, f, s, one);
-    // The bands and the choice's score strips are in the fixed part; the maps are not.
+    // A band (or the choice's score strip) is in the fixed part; the maps are not.
     detail::TileModel spilledMaps;
     spilledMaps.mapsSpilled = true;
-    EXPECT_EQ(fixed, detail::autoFixedMemory(unbuilt, f, s, spilledMaps) + 2 * detail::kBandBytes);
+    EXPECT_EQ(fixed, detail::autoFixedMemory(unbuilt, f, s, spilledMaps) + detail::kBandBytes);
     EXPECT_LT(detail::autoFixedMemory(unbuilt, f, s, spilledMaps),
               detail::autoFixedMemory(unbuilt, f, s, {}));
     const std::uint64_t perRow = std::uint64_t(f.width()) * (detail::kApplyBytesPerPixel + 64);
     // Room for 100 rows of the region's 296: three tiles of 99.
     EXPECT_EQ(detail::autoTileRows(unbuilt, f, s, fixed + 100 * perRow, one), 99);
     EXPECT_EQ(detail::autoTileRows(unbuilt, f, s, fixed + 296 * perRow, one), 296);
-    // Two filters at once: room for 116 rows where one has 200, evened out (three tiles of 99).
+    // Two filters at once: fewer rows than one's 200, evened out (three tiles of 99).
     detail::TileModel two = one;
     two.concurrency = 2;
     EXPECT_EQ(detail::autoTileRows(unbuilt, f, s, fixed + 200 * perRow, one), 148);

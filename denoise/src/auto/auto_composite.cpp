@@ -576,9 +576,16 @@ void Pipeline::stackPass(const std::vector<int>& order, AutoResult& result) {
     // The regression, weighted by the display slope at the composite.
     const Image weightAtC =
         m_s.space == SureSpace::Linear ? Image{} : tangentWeights(result.composite, m_s.exposure);
+    // The halves' colour over the region: themselves when the region is the frame (no copy).
+    Image cropA, cropB;
+    const auto regionOf = [&](const Image& image, Image& crop) -> const Image& {
+        if (m_region == image.bounds()) return image;
+        crop = image.crop(m_region);
+        return crop;
+    };
     result.composite = stackComposite(
         result.composite, m_blendA, m_blendB, k + featureCount, load,
-        m_halves->halfA().color().crop(m_region), m_halves->halfB().color().crop(m_region),
+        regionOf(m_halves->halfA().color(), cropA), regionOf(m_halves->halfB().color(), cropB),
         weightAtC, m_s.stackWindow, m_s.stackRidge, m_s.stackFloor, m_s.stackSmooth, &m_work);
     result.stacked = int(k);
     result.stackFeatures = int(featureCount);

@@ -26,13 +26,14 @@ double autoMemberMemoryMB(const FilterBank& bank, const FrameBuffers& frame,
 /// than the rows themselves.
 constexpr int kMinTileRows = 64;
 
-/// What the reductions (the median, the blend) and the choice's window scores may hold at once
-/// when they read the members' results by bands (autoBandRows).
+/// What the reductions (the median, the blend) may hold at once when they read the members'
+/// results by bands (autoBandRows), and the choice's window scores by strips (never both).
 constexpr std::uint64_t kBandBytes = std::uint64_t(64) << 20;
 /// The bytes per pixel of a tile that one member's application holds while it runs: its result,
 /// the results on the halves and the error map the estimate makes of them, and the filter's
-/// own buffers.
-constexpr std::uint64_t kApplyBytesPerPixel = 160;
+/// own buffers. Measured: at 1920×1080 the resident memory of the tiled passes grew by 64 bytes
+/// a pixel per filter under way from 360-row tiles to one tile (docs/lab/auto-memory.md).
+constexpr std::uint64_t kApplyBytesPerPixel = 64;
 
 /// How a tile's members reach the reductions: every member's result on the tile held at once
 /// (`banded` false), or each applied into the spill and the results read back by bands of

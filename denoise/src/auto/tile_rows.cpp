@@ -71,8 +71,8 @@ std::uint64_t autoFixedMemory(const FilterBank& bank, const FrameBuffers& frame,
         settings.shortlisted ? std::min<std::uint64_t>(n, std::uint64_t(settings.shortlist)) : n;
     const std::uint64_t perPixel =
         model.mapsSpilled ? 8 * finalCandidates + 96 : std::max<std::uint64_t>(4 * n, 320) + 64;
-    // Banded: a band of results and a strip of the choice's scores.
-    const std::uint64_t bands = model.banded ? 2 * kBandBytes : 0;
+    // Banded: a band of results or, in the choice, a strip of its scores.
+    const std::uint64_t bands = model.banded ? kBandBytes : 0;
     return saturatingAdd(saturatingAdd(inputs, bands), saturatingMul(pixels, perPixel));
 }
 
