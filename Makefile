@@ -44,13 +44,13 @@ bench-deps:
 	@./.ci/install-deps $(BENCH_PACKAGES)
 
 bench: build bench-deps
-	./tests/perf/run_all.sh $(BUILD_DIR)
+	./lab/bench/run_all.sh $(BUILD_DIR)
 
 # The speed-versus-accuracy report (docs/tradeoffs.md): CSVs and PNG plots into docs/tradeoffs/,
 # about 4 minutes on 2 cores; Cycles (blender) for the peer curve, matplotlib for the plots.
 report: build
 	@./.ci/install-deps blender python3-matplotlib
-	./tests/perf/report/run.sh $(BUILD_DIR)
+	./lab/bench/report/run.sh $(BUILD_DIR)
 
 # A real one-node Slurm cluster on 127.0.0.1 (docs/distributed.md): slurmctld, slurmd and munged
 # started from a temporary folder and stopped again; a 4-shard render of scenes/cornell (one shard

@@ -1,6 +1,6 @@
 // Test and benchmark hooks of the Renderer: the ray kernel's throughput and how often the
 // renderer built its structures. Not part of the public API (docs/architecture.md, "Public
-// headers"); tests and tests/perf include it with renderer/src on their include path.
+// headers"); tests and lab/bench include it with renderer/src on their include path.
 #pragma once
 
 #include <cstdint>

@@ -1,6 +1,6 @@
 // The studio's actions whose work grows with the image, each driven as a user would and waited
 // for to completion: shared by the restore test (tests/gui/restore_test.cpp) and the speed
-// benchmark (tests/perf/bench_studio.cpp), which measures how long each stalls the UI thread.
+// benchmark (lab/bench/bench_studio.cpp), which measures how long each stalls the UI thread.
 #pragma once
 
 #include <QCheckBox>

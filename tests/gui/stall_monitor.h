@@ -3,7 +3,7 @@
 // other processes (or the studio's own workers) keep busy, a gap also holds the time the UI
 // thread waited for a core: the CPU time the UI thread itself used within the gap (its thread
 // CPU clock) tells the two apart. Used by the studio's speed benchmark
-// (tests/perf/bench_studio.cpp) only: a unit test asserts no time.
+// (lab/bench/bench_studio.cpp) only: a unit test asserts no time.
 #pragma once
 
 #include <QElapsedTimer>

@@ -1,7 +1,7 @@
 // The learned filter (unet, docs/learned.md) everywhere the filters are in the studio (issue 46):
 // Navigate pins its result as a preview down to its pick, the Tune panel lists it with its
 // parameters and "Paint with it" makes a brush of it. (The first render's denoise by it is
-// Studio.View's aScenesFirstImageIsDenoised; its speed is measured by tests/perf/bench_studio.cpp,
+// Studio.View's aScenesFirstImageIsDenoised; its speed is measured by lab/bench/bench_studio.cpp,
 // never asserted here.)
 #include <QApplication>
 #include <QComboBox>

@@ -121,7 +121,7 @@ TEST(Metrics, DisplayModeIsSsimOfEncodedValues) {
 }
 
 // Values computed once with scikit-image 0.19.3 (Debian bookworm python3-skimage) by
-//   /usr/bin/python3 tests/perf/ssim_skimage.py --test-values
+//   /usr/bin/python3 lab/bench/ssim_skimage.py --test-values
 // i.e. structural_similarity(a, b, gaussian_weights=True, sigma=1.5,
 // use_sample_covariance=False, data_range=1, channel_axis=2[, full=True]) on float64 copies of
 // these float32 images (same integer formulas there). Glint agreed to about 1e-15 when they were

@@ -1,4 +1,4 @@
-// Internals of the filter bank that its own code, the tests and tests/perf use: the
+// Internals of the filter bank that its own code, the tests and lab/bench use: the
 // Latin-hypercube design of the members (sampling.cpp) and the build's bookkeeping on a
 // FilterBank (bank.cpp). Not part of the public API (docs/architecture.md, "Public headers").
 #pragma once

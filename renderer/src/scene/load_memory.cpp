@@ -42,7 +42,7 @@ constexpr std::uint64_t kMeshObjectBytes = sizeof(Mesh) + 8 * 32;
 constexpr std::uint64_t kInstanceBytes = sizeof(Instance) + 32;
 /// Glint's Material of a glTF material, its name, its entries in the loader's maps by name and
 /// what converting it leaves in the heap: about 1.4 KB a material measured beyond the object
-/// (a glb of 20000 one-triangle primitives with a material each, tests/perf/load_memory_assets.py).
+/// (a glb of 20000 one-triangle primitives with a material each, lab/bench/load_memory_assets.py).
 constexpr std::uint64_t kMaterialBytes = sizeof(Material) + 1536;
 /// What glibc's heap keeps beyond the objects counted (its chunk headers, rounding and the
 /// freed text it holds): measured as up to 12 % on the many-mesh assets; 20 % is kept.

@@ -7,7 +7,7 @@
 #   blender -b -P tests/data/cycles/render_cycles_frame.py -- --spp 4096 --seed 99 --size 128 \
 #       --no-passes --out tests/data/cycles/cornell_reference.exr
 #
-# The scene (geometry, camera, materials, sampling settings) is tests/perf/cycles/cornell_cycles.py's
+# The scene (geometry, camera, materials, sampling settings) is lab/bench/cycles/cornell_cycles.py's
 # build_scene; this script only sets the size, the passes and the file format (half float, ZIP).
 import argparse
 import os
@@ -16,7 +16,7 @@ import sys
 import bpy
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.normpath(os.path.join(HERE, "..", "..", "perf", "cycles")))
+sys.path.insert(0, os.path.normpath(os.path.join(HERE, "..", "..", "..", "lab", "bench", "cycles")))
 import cornell_cycles  # noqa: E402  (needs the path above)
 
 

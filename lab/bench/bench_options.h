@@ -1,0 +1,81 @@
+// Command-line options of the benchmarks in lab/bench: "--name value" pairs. One parser for
+// what bench_bank, bench_auto and bench_denoise_a each parsed by hand: a lone last option
+// without a value, a value that is not a whole integer, and an unknown option each end the run
+// with one line naming the option (exit code 2), instead of being ignored or ending in an
+// uncaught exception.
+#pragma once
+
+#include <cstdio>
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+namespace glint::bench {
+
+/// A bad option value; parseOptions prints its message and returns 2.
+struct OptionError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+/// The integer that is the whole of `text`, or OptionError naming `name`.
+inline int intOption(const std::string& name, const std::string& text) {
+    std::size_t used = 0;
+    int value = 0;
+    try {
+        value = std::stoi(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used == 0 || used != text.size())
+        throw OptionError(name + " needs an integer, not '" + text + "'");
+    return value;
+}
+
+/// The options bench_bank and bench_auto share: the cornell render they time on (--size, --spp),
+/// the threads, the bank's --members, the --reps (at least 1) and --retain-freed.
+struct RenderBankOptions {
+    int size = 1024, spp = 4, threads = 2, members = 64, reps = 1, retainFreed = 1;
+    /// Sets the option `name` names to `value`; false for any other name.
+    bool take(const std::string& name, int value) {
+        if (name == "--size")
+            size = value;
+        else if (name == "--spp")
+            spp = value;
+        else if (name == "--threads")
+            threads = value;
+        else if (name == "--members")
+            members = value;
+        else if (name == "--reps")
+            reps = value < 1 ? 1 : value;
+        else if (name == "--retain-freed")
+            retainFreed = value;
+        else
+            return false;
+        return true;
+    }
+};
+
+/// Calls handle(name, value) for each "--name value" pair of argv[1 …]; `handle` returns false
+/// for a name it does not know, and may throw OptionError for a bad value. Returns 0, or 2
+/// after printing "program: …" on stderr for a lone last option, an unknown one or a bad value.
+inline int parseOptions(const char* program, int argc, char** argv,
+                        const std::function<bool(const std::string&, const std::string&)>& handle) {
+    if (argc % 2 == 0) {  // options come in pairs: a lone last one has no value
+        std::fprintf(stderr, "%s: option %s needs a value\n", program, argv[argc - 1]);
+        return 2;
+    }
+    for (int i = 1; i + 1 < argc; i += 2) {
+        try {
+            if (!handle(argv[i], argv[i + 1])) {
+                std::fprintf(stderr, "%s: unknown option %s\n", program, argv[i]);
+                return 2;
+            }
+        } catch (const OptionError& e) {
+            std::fprintf(stderr, "%s: %s\n", program, e.what());
+            return 2;
+        }
+    }
+    return 0;
+}
+
+}  // namespace glint::bench

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Which filter the studio's first denoise should use (docs/studio.md, "The first image is
+# denoised"): SSIM against each scene's committed reference of cross-bilateral (its defaults, the
+# studio's first layer until issue 46) and unet (its defaults), at the studio's 16 spp, on render
+# seeds no choice was tuned on.
+#   lab/bench/studio_first_filter.sh [build] [scenes...]
+# Environment: SEEDS (default "7 8 9"), SPP (default 16), WORK (scratch folder, default a temporary
+# one). Prints one line per scene and seed: scene seed spp ssim(noisy) ssim(cross-bilateral)
+# ssim(unet).
+set -euo pipefail
+build=${1:-build}
+shift || true
+scenes=${*:-cornell pool dof glossy}
+seeds=${SEEDS:-7 8 9}
+spp=${SPP:-16}
+work=${WORK:-$(mktemp -d)}
+ssim() { "$build/bin/glint-image" diff "$1" --reference "$2" --metric ssim 2>/dev/null | awk '{print $NF}'; }
+printf '%-8s %4s %4s %8s %8s %8s\n' scene seed spp noisy xbil unet
+for s in $scenes; do
+  ref="scenes/$s/reference.exr"
+  for seed in $seeds; do
+    in="$work/$s-$seed.exr"
+    "$build/bin/glint-render" "scenes/$s/scene.json" --spp "$spp" --seed "$seed" --out "$in" >/dev/null 2>&1
+    "$build/bin/glint-denoise" apply "$in" --filter cross-bilateral --out "$work/$s-$seed-xbil.exr" >/dev/null 2>&1
+    "$build/bin/glint-denoise" apply "$in" --filter unet --out "$work/$s-$seed-unet.exr" >/dev/null 2>&1
+    printf '%-8s %4s %4s %8s %8s %8s\n' "$s" "$seed" "$spp" "$(ssim "$in" "$ref")" \
+      "$(ssim "$work/$s-$seed-xbil.exr" "$ref")" "$(ssim "$work/$s-$seed-unet.exr" "$ref")"
+  done
+done
