@@ -407,6 +407,93 @@ TEST(AutoTiles, TheTileHeightFollowsTheMemoryBudget) {
     EXPECT_LE(autoMemoryBudget(0), detail::kDefaultAutoMemory);
 }
 
+// Banded (the spill on, no bank results): each member is applied into the spill and the median
+// and the blend read the results back band by band, and the error maps live in a spill file of
+// their own; bands of any height give the floats of the results and maps held, with the halves
+// (a shortlist, feathering, the stacking) and with SURE.
+TEST(AutoTiles, BandsAndSpilledErrorMapsGiveTheSameFloatsAsHeldOnes) {
+    const FrameBuffers f = tallFrame(5);
+    const BankOptions b = smallBank();
+    const FilterBank unbuilt = autoCompositeStreamed(f, b, {}).bank;
+    AutoOptions sure;
+    sure.estimator = AutoEstimator::Sure;
+    for (const AutoOptions& o : {AutoOptions{}, stackingOptions(), sure}) {
+        const detail::TiledAuto held =
+            detail::autoCompositeTiled(unbuilt, f, o, tiles(100, kSpillOff));
+        EXPECT_EQ(held.bandRows, 0);
+        EXPECT_FALSE(held.mapsSpilled);
+        for (int band : {1, 7, 100}) {
+            SCOPED_TRACE("bands of " + std::to_string(band) + " rows");
+            detail::TileControl control = tiles(100, kSpillOn);
+            control.bandRows = band;
+            const detail::TiledAuto banded = detail::autoCompositeTiled(unbuilt, f, o, control);
+            EXPECT_EQ(banded.bandRows, band);
+            EXPECT_TRUE(banded.mapsSpilled);
+            expectIdentical(banded.result, held.result);
+        }
+    }
+}
+
+// With the spill, a tile holds the filters under way, not every member's result: its height
+// follows the budget at kApplyBytesPerPixel per filter and pixel whatever the bank's size. The
+// model bands only where that costs less than the bank's results (12 bytes a pixel a member),
+// with the spill and without the bank's results.
+TEST(AutoTiles, BandedTilesTakeTheFiltersUnderWayNotTheBank) {
+    const FrameBuffers f = tallFrame(4);
+    BankOptions b = smallBank();
+    b.size = 24;
+    const FilterBank bank = buildBank(f, b);
+    const FilterBank unbuilt = autoCompositeStreamed(f, b, {}).bank;
+    const std::size_t n = unbuilt.size();
+    ASSERT_GT(12 * n, detail::kApplyBytesPerPixel);
+    const detail::TileModel one = detail::autoTileModel(unbuilt, true, true, 1);
+    EXPECT_TRUE(one.banded);
+    EXPECT_TRUE(one.mapsSpilled);
+    EXPECT_FALSE(detail::autoTileModel(unbuilt, true, true, int(n)).banded);
+    EXPECT_FALSE(detail::autoTileModel(unbuilt, false, false, 1).banded);
+    EXPECT_FALSE(detail::autoTileModel(bank, true, true, 1).banded);
+    const detail::AutoSettings s = detail::resolveSettings(bank, f, {});
+    const std::uint64_t fixed = detail::autoFixedMemory(unbuilt, f, s, one);
+    // A band (or the choice's score strip) is in the fixed part; the maps are not.
+    detail::TileModel spilledMaps;
+    spilledMaps.mapsSpilled = true;
+    EXPECT_EQ(fixed, detail::autoFixedMemory(unbuilt, f, s, spilledMaps) + detail::kBandBytes);
+    EXPECT_LT(detail::autoFixedMemory(unbuilt, f, s, spilledMaps),
+              detail::autoFixedMemory(unbuilt, f, s, {}));
+    const std::uint64_t perRow = std::uint64_t(f.width()) * (detail::kApplyBytesPerPixel + 64);
+    // Room for 100 rows of the region's 296: three tiles of 99.
+    EXPECT_EQ(detail::autoTileRows(unbuilt, f, s, fixed + 100 * perRow, one), 99);
+    EXPECT_EQ(detail::autoTileRows(unbuilt, f, s, fixed + 296 * perRow, one), 296);
+    // Two filters at once: fewer rows than one's 200, evened out (three tiles of 99).
+    detail::TileModel two = one;
+    two.concurrency = 2;
+    EXPECT_EQ(detail::autoTileRows(unbuilt, f, s, fixed + 200 * perRow, one), 148);
+    EXPECT_EQ(detail::autoTileRows(unbuilt, f, s, fixed + 200 * perRow, two), 99);
+    // The band: every member's result (the input's) in kBandBytes, at most the region.
+    EXPECT_EQ(detail::autoBandRows(unbuilt, s), f.height());
+}
+
+// The stacking's feature regressors (one image per regressor on each of the three sides) go to
+// the spill and are read back by rows instead of being held over the frame: the spill grows by
+// exactly their bytes, and the floats are those with the spill off.
+TEST(AutoTiles, TheStackingsFeatureRegressorsAreReadFromTheSpill) {
+    const FrameBuffers f = tallFrame(6);
+    const BankOptions b = smallBank();
+    const FilterBank unbuilt = autoCompositeStreamed(f, b, {}).bank;
+    AutoOptions without;
+    without.tuning["stackAlbedo"] = 2;  // off
+    without.tuning["stackNormal"] = 2;
+    const detail::TiledAuto plain = detail::autoCompositeTiled(unbuilt, f, without, tiles(100));
+    ASSERT_EQ(plain.result.stackFeatures, 0);
+    const detail::TiledAuto with = detail::autoCompositeTiled(unbuilt, f, {}, tiles(100));
+    ASSERT_GT(with.result.stackFeatures, 0);
+    EXPECT_EQ(with.spillBytes - plain.spillBytes,
+              3 * std::uint64_t(with.result.stackFeatures) * std::uint64_t(f.width()) *
+                  std::uint64_t(f.height()) * 3 * sizeof(float));
+    expectIdentical(with.result,
+                    detail::autoCompositeTiled(unbuilt, f, {}, tiles(100, kSpillOff)).result);
+}
+
 TEST(AutoStream, RejectsBadBankOptions) {
     const FrameBuffers f = halvesFrame(cleanImage(32, 24), 0.08, Noise::Gaussian, 1);
     BankOptions b;

@@ -18,6 +18,8 @@
 // and read from the spill by rows.
 #include "glint/denoise/auto_stream.h"
 
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -63,6 +65,22 @@ void copyRows(const Image& from, int fromY, Image& to, int toY, int rows) {
         std::memcpy(to.row(toY + r), from.row(fromY + r), values * sizeof(float));
 }
 
+// Each row's sum of a 1-channel map of rows from y0 on, into sums[y0 …] (meanPerChannel's).
+void sumRows(const Image& rows, int y0, std::vector<double>& sums) {
+    for (int y = 0; y < rows.height(); ++y) {
+        double row = 0.0;
+        for (int x = 0; x < rows.width(); ++x) row += rows(x, y, 0);
+        sums[std::size_t(y0 + y)] = row;
+    }
+}
+
+// meanPerChannel of a map from its row sums (sumRows), added in row order.
+double meanOfRows(const std::vector<double>& sums, int width) {
+    double total = 0.0;
+    for (double row : sums) total += row;
+    return total / double(std::size_t(width) * sums.size()) / 3.0;
+}
+
 // Rows [y0, y1) of a region-sized image.
 Image rowsOf(const Image& image, int y0, int y1) {
     return image.crop(Rect{0, image.width(), y0, y1});
@@ -77,14 +95,16 @@ class Pipeline {
     };
 
     Pipeline(const FilterBank& bank, const FrameBuffers& frame, const AutoSettings& s, int rows,
-             double memberMB, WorkContext& work, StripSpill& spill)
+             int band, double memberMB, WorkContext& work, StripSpill& spill, StripSpill& mapSpill)
         : m_bank(bank),
           m_frame(frame),
           m_s(s),
           m_work(work),
           m_region(bank.region()),
           m_spill(spill),
+          m_mapSpill(mapSpill),
           m_rows(std::max(1, rows)),
+          m_band(std::max(0, band)),
           m_memberMB(memberMB) {
         for (int y = 0; y < m_region.height(); y += m_rows)
             m_strips.push_back({y, std::min(m_region.height(), y + m_rows)});
@@ -143,6 +163,44 @@ class Pipeline {
         held = memberResult(m, Input, strip.y0, strip.y1, true);
         return held;
     }
+    // Whether the reductions read the members' results from the spill in bands (m_band rows)
+    // after a tile has applied them one at a time into it: then a tile holds the results of
+    // the filters under way only, not every member's, and may be as tall as the budget allows.
+    bool banded() const { return m_band > 0; }
+    // Member m's result on `side` over `strip` into the spill unless it is there already.
+    void spillResult(std::size_t m, Side side, const Strip& strip) const {
+        if (m_spill.has(keyOf(m, side), strip.y0, strip.y1)) return;
+        m_spill.write(keyOf(m, side), strip.y0, apply(m, inputOf(side), strip.y0, strip.y1));
+    }
+    // The bands of `strip`: the whole strip unless banded().
+    std::vector<Strip> bandsOf(const Strip& strip) const {
+        if (!banded()) return {strip};
+        std::vector<Strip> bands;
+        for (int y = strip.y0; y < strip.y1; y += m_band)
+            bands.push_back({y, std::min(strip.y1, y + m_band)});
+        return bands;
+    }
+    // The rows of the choice's score strips: the tiles', within kBandBytes of scores (a score
+    // is a third of a result: three bands) whatever the tiles' height.
+    int scoreRows() const { return std::min(m_rows, 3 * autoBandRows(m_bank, m_s)); }
+    // Whether the error maps are kept in their spill file rather than held (storeMapRows, mapRows).
+    bool mapsSpilled() const { return m_mapsInSpill; }
+    // Rows [y0, y1) of member m's error map into its store (held or spilled).
+    void storeMapRows(std::size_t m, int y0, const Image& rows) {
+        if (mapsSpilled())
+            m_mapSpill.write(std::int64_t(m), y0, rows);
+        else
+            copyRows(rows, 0, m_estimates.maps[m], y0, rows.height());
+    }
+    // Rows [y0, y1) of member m's error map (zeros from a spill that failed: then the passes
+    // run again with the maps held, run()).
+    Image mapRows(std::size_t m, int y0, int y1) const {
+        if (!m_estimates.maps[m].empty()) return rowsOf(m_estimates.maps[m], y0, y1);
+        Image rows;
+        if (!m_mapSpill.read(std::int64_t(m), y0, y1, rows))
+            rows = Image(m_region.width(), y1 - y0, 1);
+        return rows;
+    }
     // Forgets the spilled results of the members that `keep` refuses.
     void dropSpilled(const std::function<bool(std::size_t)>& keep) {
         for (std::size_t m = 0; m < m_bank.size(); ++m)
@@ -188,7 +246,10 @@ class Pipeline {
     WorkContext& m_work;
     const Rect m_region;
     StripSpill& m_spill;
+    StripSpill& m_mapSpill;      // the error maps, 1 channel, when mapsSpilled()
+    bool m_mapsInSpill = false;  // estimatePass's choice: the maps are in m_mapSpill
     const int m_rows;
+    const int m_band;         // the reductions' bands (autoBandRows), 0: not banded
     const double m_memberMB;  // autoMemberMemoryMB
     std::vector<Strip> m_strips;
     std::vector<char> m_wide;  // per member: applied over the whole region (above)
@@ -229,11 +290,16 @@ void Pipeline::medianPass() {
     m_median = Image(width, height, 3);
     const std::size_t n = m_bank.size();
     for (const Strip& strip : m_strips) {
-        std::vector<Image> held(n);
-        std::vector<const Image*> pointers(n);
-        forEach(n, filterUnits(strip),
-                [&](std::size_t m) { pointers[m] = &inputResult(m, strip, held[m]); });
-        copyRows(medianOf(pointers, m_work), 0, m_median, strip.y0, strip.y1 - strip.y0);
+        // Banded: every member into the spill, one at a time, then the median band by band.
+        if (banded())
+            forEach(n, filterUnits(strip), [&](std::size_t m) { spillResult(m, Input, strip); });
+        for (const Strip& band : bandsOf(strip)) {
+            std::vector<Image> held(n);
+            std::vector<const Image*> pointers(n);
+            forEach(n, banded() ? 0 : filterUnits(band),
+                    [&](std::size_t m) { pointers[m] = &inputResult(m, band, held[m]); });
+            copyRows(medianOf(pointers, m_work), 0, m_median, band.y0, band.y1 - band.y0);
+        }
     }
 }
 
@@ -252,8 +318,16 @@ void Pipeline::estimatePass() {
     const std::size_t n = m_bank.size();
     Estimates& e = m_estimates;
     e.maps.assign(n, Image{});
-    for (Image& map : e.maps) map = Image(width, height, 1);
+    e.width = width, e.height = height;
+    e.mapRows = {};
+    m_mapsInSpill = m_mapSpill.on();
+    if (mapsSpilled())
+        e.mapRows = [this](std::size_t m, int y0, int y1) { return mapRows(m, y0, y1); };
+    else
+        for (Image& map : e.maps) map = Image(width, height, 1);
     e.mapMean.assign(n, 0.0);
+    // Each map's row sums (meanPerChannel's, row by row).
+    std::vector<std::vector<double>> rowMeans(n, std::vector<double>(std::size_t(height), 0.0));
     e.estimatedMse.assign(n, 0.0);
     e.analytic.assign(n, 0);
     // The secant's unbiased terms per member and row, added up in row order as secantMap does.
@@ -263,7 +337,6 @@ void Pipeline::estimatePass() {
     for (const Strip& strip : m_strips) {
         const Centre c = centreOf(strip);
         const Image* weight = m_s.tangent ? &c.weight : nullptr;
-        const int rows = strip.y1 - strip.y0;
         // The results on the halves are read again by the stacking's passes only.
         const bool keep = m_s.stack > 0;
         forEach(n, sides * filterUnits(strip), [&](std::size_t m) {
@@ -285,20 +358,21 @@ void Pipeline::estimatePass() {
                 map = std::move(one.map);
                 e.analytic[m] = one.analytic ? 1 : 0;
             }
-            copyRows(map, 0, e.maps[m], strip.y0, rows);
+            sumRows(map, strip.y0, rowMeans[m]);
+            storeMapRows(m, strip.y0, map);
             if (m_s.secant)
                 std::copy(rowSums.begin(), rowSums.end(), unbiased[m].begin() + strip.y0);
         });
     }
     for (std::size_t m = 0; m < n; ++m) {
-        e.mapMean[m] = meanPerChannel(e.maps[m]);
+        e.mapMean[m] = meanOfRows(rowMeans[m], width);
         if (!m_s.secant) {
             e.estimatedMse[m] = e.mapMean[m];
             continue;
         }
         double total = 0.0;
         for (double v : unbiased[m]) total += v;
-        e.estimatedMse[m] = total / double(e.maps[m].pixelCount()) / 3.0;
+        e.estimatedMse[m] = total / double(width) / double(height) / 3.0;
     }
 }
 
@@ -306,7 +380,12 @@ void Pipeline::shortlistPass(const std::vector<std::size_t>& shortlist) {
     Estimates& e = m_estimates;
     // The other members' maps are no longer read.
     for (std::size_t m = 0; m < e.maps.size(); ++m)
-        if (!std::binary_search(shortlist.begin(), shortlist.end(), m)) e.maps[m] = Image{};
+        if (!std::binary_search(shortlist.begin(), shortlist.end(), m)) {
+            e.maps[m] = Image{};
+            m_mapSpill.drop(std::int64_t(m));
+        }
+    std::vector<std::vector<double>> rowMeans(
+        shortlist.size(), std::vector<double>(std::size_t(m_region.height()), 0.0));
     dropSpilled(
         [&](std::size_t m) { return std::binary_search(shortlist.begin(), shortlist.end(), m); });
     const std::size_t count = shortlist.size();
@@ -322,27 +401,29 @@ void Pipeline::shortlistPass(const std::vector<std::size_t>& shortlist) {
             // B's term: the one-sided form with the halves' roles swapped.
             const Image mapB = m_halves->mapOver(frameRect(strip.y0, strip.y1), false, outB,
                                                  nullptr, &c.median, &c.display, weight, rowSums);
-            Image& raw = e.maps[m];
-            for (int y = strip.y0; y < strip.y1; ++y) {
+            Image raw = mapRows(m, strip.y0, strip.y1);
+            for (int y = 0; y < raw.height(); ++y) {
                 float* to = raw.row(y);
-                const float* from = mapB.row(y - strip.y0);
+                const float* from = mapB.row(y);
                 for (int x = 0; x < raw.width(); ++x)
                     to[x] = float(0.5 * (double(to[x]) + double(from[x])));
             }
+            sumRows(raw, strip.y0, rowMeans[j]);
+            storeMapRows(m, strip.y0, raw);
             if (m_s.secant)
                 std::copy(rowSums.begin(), rowSums.end(), unbiased[j].begin() + strip.y0);
         });
     }
     for (std::size_t j = 0; j < count; ++j) {
         const std::size_t m = shortlist[j];
-        e.mapMean[m] = meanPerChannel(e.maps[m]);
+        e.mapMean[m] = meanOfRows(rowMeans[j], m_region.width());
         if (!m_s.secant) {
             e.estimatedMse[m] = e.mapMean[m];
             continue;
         }
         double total = 0.0;
         for (double v : unbiased[j]) total += v;
-        const double onB = total / double(e.maps[m].pixelCount()) / 3.0;
+        const double onB = total / double(m_region.width()) / double(m_region.height()) / 3.0;
         e.estimatedMse[m] = 0.5 * (e.estimatedMse[m] + onB);
     }
 }
@@ -380,35 +461,45 @@ void Pipeline::blendPass(std::vector<Image>& planes, AutoResult& result) {
             const auto end = weights.data().begin() + std::ptrdiff_t(width) * strip.y1;
             needed[j] = std::any_of(begin, end, [](float w) { return w != 0.0f; }) ? 1 : 0;
         }
-        std::vector<Image> held(used.size() * sides);
-        std::vector<const Image*> results(used.size() * sides, nullptr);
-        forEach(results.size(), filterUnits(strip), [&](std::size_t i) {
-            const std::size_t j = i % used.size();
-            const auto side = Side(i / used.size());
-            if (!needed[j]) return;
-            // Kept for the stacking, whose members are among these.
-            if (side == Input) {
-                results[i] = &inputResult(used[j], strip, held[i]);
-                return;
+        const std::size_t count = used.size() * sides;
+        // Banded: the needed results into the spill, one at a time, then read band by band.
+        if (banded())
+            forEach(count, filterUnits(strip), [&](std::size_t i) {
+                if (needed[i % used.size()])
+                    spillResult(used[i % used.size()], Side(i / used.size()), strip);
+            });
+        for (const Strip& band : bandsOf(strip)) {
+            std::vector<Image> held(count);
+            std::vector<const Image*> results(count, nullptr);
+            forEach(count, banded() ? 0 : filterUnits(band), [&](std::size_t i) {
+                const std::size_t j = i % used.size();
+                const auto side = Side(i / used.size());
+                if (!needed[j]) return;
+                // Kept for the stacking, whose members are among these.
+                if (side == Input) {
+                    results[i] = &inputResult(used[j], band, held[i]);
+                    return;
+                }
+                held[i] = memberResult(used[j], side, band.y0, band.y1, stacking);
+                results[i] = &held[i];
+            });
+            std::vector<const Image*> full(n, nullptr), onA(n, nullptr), onB(n, nullptr);
+            for (std::size_t j = 0; j < used.size(); ++j) {
+                if (!needed[j]) continue;
+                full[used[j]] = results[j];
+                if (!stacking) continue;
+                onA[used[j]] = results[used.size() + j];
+                onB[used[j]] = results[2 * used.size() + j];
             }
-            held[i] = memberResult(used[j], side, strip.y0, strip.y1, stacking);
-            results[i] = &held[i];
-        });
-        std::vector<const Image*> full(n, nullptr), onA(n, nullptr), onB(n, nullptr);
-        for (std::size_t j = 0; j < used.size(); ++j) {
-            if (!needed[j]) continue;
-            full[used[j]] = results[j];
-            if (!stacking) continue;
-            onA[used[j]] = results[used.size() + j];
-            onB[used[j]] = results[2 * used.size() + j];
-        }
-        if (m_s.feather > 0)
-            featherRows(planes, used, feathered, full, strip.y0, strip.y1, m_s.featherGate,
-                        m_s.exposure, m_work);
-        blendRows(planes, used, full, strip.y0, strip.y1, result.composite, &result.choice, m_work);
-        if (stacking) {
-            blendRows(planes, used, onA, strip.y0, strip.y1, m_blendA, nullptr, m_work);
-            blendRows(planes, used, onB, strip.y0, strip.y1, m_blendB, nullptr, m_work);
+            if (m_s.feather > 0)
+                featherRows(planes, used, feathered, full, band.y0, band.y1, m_s.featherGate,
+                            m_s.exposure, m_work);
+            blendRows(planes, used, full, band.y0, band.y1, result.composite, &result.choice,
+                      m_work);
+            if (stacking) {
+                blendRows(planes, used, onA, band.y0, band.y1, m_blendA, nullptr, m_work);
+                blendRows(planes, used, onB, band.y0, band.y1, m_blendB, nullptr, m_work);
+            }
         }
     }
 }
@@ -427,23 +518,43 @@ void Pipeline::stackPass(const std::vector<int>& order, AutoResult& result) {
     });
     // The features' regressors, from the whole frame's features around the composite and from
     // each half's around its blend (as the filters saw them: prefiltered when the bank was).
+    // Each side's go to the spill (keys past the members') and are read back by rows; they are
+    // held when the spill is off, and made again if a write failed.
+    const FrameBuffers* sources[3] = {&inputOf(Input), &inputOf(HalfA), &inputOf(HalfB)};
+    const Image* bases[3] = {&result.composite, &m_blendA, &m_blendB};
+    const auto regressorsOf = [&](int side) {
+        const Image albedo =
+            m_s.stackAlbedo ? sources[side]->layer(Layer::Albedo).crop(m_region) : Image{};
+        const Image normal =
+            m_s.stackNormal ? sources[side]->layer(Layer::Normal).crop(m_region) : Image{};
+        return featureRegressors(*bases[side], m_s.stackAlbedo ? &albedo : nullptr,
+                                 m_s.stackNormal ? &normal : nullptr, m_s.stackFeatureWindow,
+                                 &m_work);
+    };
+    const auto featureKey = [&](std::size_t q, int side) {
+        return keyOf(m_bank.size() + q, Side(side));
+    };
     std::vector<Image> features[3];
+    bool spilledFeatures[3] = {false, false, false};
+    std::size_t featureCount = 0;
     if (m_s.stackAlbedo || m_s.stackNormal) {
-        const FrameBuffers* sources[3] = {&inputOf(Input), &inputOf(HalfA), &inputOf(HalfB)};
-        const Image* bases[3] = {&result.composite, &m_blendA, &m_blendB};
         for (int side = 0; side < 3; ++side) {
-            const Image albedo =
-                m_s.stackAlbedo ? sources[side]->layer(Layer::Albedo).crop(m_region) : Image{};
-            const Image normal =
-                m_s.stackNormal ? sources[side]->layer(Layer::Normal).crop(m_region) : Image{};
-            features[side] = featureRegressors(*bases[side], m_s.stackAlbedo ? &albedo : nullptr,
-                                               m_s.stackNormal ? &normal : nullptr,
-                                               m_s.stackFeatureWindow, &m_work);
+            features[side] = regressorsOf(side);
+            featureCount = features[side].size();
+            for (std::size_t q = 0; q < featureCount && m_spill.on(); ++q)
+                m_spill.write(featureKey(q, side), 0, features[side][q]);
+            spilledFeatures[side] = m_spill.on();
+            if (spilledFeatures[side]) features[side] = {};
         }
     }
-    const std::size_t featureCount = features[0].size();
-    // The regressors' rows: the members' results (from the spill, else filtered again), then the
-    // features' rows.
+    // Rows [y0, y1) of feature regressor q on `side`: from the spill, or held.
+    const auto featureRows = [&](std::size_t q, int side, int y0, int y1) {
+        Image rows;
+        if (spilledFeatures[side] && m_spill.read(featureKey(q, side), y0, y1, rows)) return rows;
+        if (spilledFeatures[side])
+            features[side] = regressorsOf(side), spilledFeatures[side] = false;
+        return features[side][q].crop(Rect{0, m_region.width(), y0, y1});
+    };
     const LoadStackRows load = [&](int y0, int y1, bool full, bool halves, StackRows& rows) {
         std::vector<Side> sides;
         if (full) sides.push_back(Input);
@@ -453,22 +564,28 @@ void Pipeline::stackPass(const std::vector<int>& order, AutoResult& result) {
             results[i] = memberResult(members[i % k], sides[i / k], y0, y1, false);
         });
         rows = StackRows{};
-        const Rect rect{0, m_region.width(), y0, y1};
         for (std::size_t s = 0; s < sides.size(); ++s) {
             std::vector<Image>& to = sides[s] == Input   ? rows.full
                                      : sides[s] == HalfA ? rows.onA
                                                          : rows.onB;
             for (std::size_t j = 0; j < k; ++j) to.push_back(std::move(results[s * k + j]));
             for (std::size_t q = 0; q < featureCount; ++q)
-                to.push_back(features[int(sides[s])][q].crop(rect));
+                to.push_back(featureRows(q, int(sides[s]), y0, y1));
         }
     };
     // The regression, weighted by the display slope at the composite.
     const Image weightAtC =
         m_s.space == SureSpace::Linear ? Image{} : tangentWeights(result.composite, m_s.exposure);
+    // The halves' colour over the region: themselves when the region is the frame (no copy).
+    Image cropA, cropB;
+    const auto regionOf = [&](const Image& image, Image& crop) -> const Image& {
+        if (m_region == image.bounds()) return image;
+        crop = image.crop(m_region);
+        return crop;
+    };
     result.composite = stackComposite(
         result.composite, m_blendA, m_blendB, k + featureCount, load,
-        m_halves->halfA().color().crop(m_region), m_halves->halfB().color().crop(m_region),
+        regionOf(m_halves->halfA().color(), cropA), regionOf(m_halves->halfB().color(), cropB),
         weightAtC, m_s.stackWindow, m_s.stackRidge, m_s.stackFloor, m_s.stackSmooth, &m_work);
     result.stacked = int(k);
     result.stackFeatures = int(featureCount);
@@ -502,20 +619,26 @@ AutoResult Pipeline::run() {
                             ? noiseLevel(estimator, m_region, m_weight, m_s.window, m_work)
                             : Image{};
     if (!m_s.tangent) m_weight = Image{};
-    // Pass 2: the error maps; the first choice.
-    estimatePass();
-    std::vector<std::size_t> candidates(n);
-    std::iota(candidates.begin(), candidates.end(), std::size_t(0));
-    Choice chosen = choose(m_estimates, candidates, !m_s.shortlisted, m_s, noise, m_work, m_rows);
-    // Pass 3: the shortlist on B; the final choice.
-    if (m_s.shortlisted) {
-        candidates = shortlistOf(chosen, std::size_t(m_s.shortlist));
-        chosen = Choice{};
-        shortlistPass(candidates);
-        chosen = choose(m_estimates, candidates, true, m_s, noise, m_work, m_rows);
-    }
+    // Passes 2 and 3, again with the maps held if their spill failed on the way.
+    std::vector<std::size_t> candidates;
+    Choice chosen;
+    do {
+        // Pass 2: the error maps; the first choice.
+        estimatePass();
+        candidates.resize(n);
+        std::iota(candidates.begin(), candidates.end(), std::size_t(0));
+        chosen = choose(m_estimates, candidates, !m_s.shortlisted, m_s, noise, m_work, scoreRows());
+        // Pass 3: the shortlist on B; the final choice.
+        if (m_s.shortlisted) {
+            candidates = shortlistOf(chosen, std::size_t(m_s.shortlist));
+            chosen = Choice{};
+            shortlistPass(candidates);
+            chosen = choose(m_estimates, candidates, true, m_s, noise, m_work, scoreRows());
+        }
+    } while (m_mapsInSpill && m_mapSpill.failed());
     m_median = Image{}, m_weight = Image{}, m_displayMedian = {};
-    m_estimates.maps = {};
+    m_estimates.maps = {}, m_estimates.mapRows = {};
+    for (std::size_t m = 0; m < n; ++m) m_mapSpill.drop(std::int64_t(m));
     dropSpilled([&](std::size_t m) { return !chosen.planes[m].empty(); });
 
     // Pass 4: feathering and the blend.
@@ -570,8 +693,6 @@ TiledAuto autoCompositeTiled(const FilterBank& bank, const FrameBuffers& frame,
     const AutoSettings settings = resolveSettings(bank, frame, options);
     const int height = bank.region().height();
     const std::uint64_t budget = autoMemoryBudget(options.memoryLimit);
-    const int rows = std::min(
-        height, control.rows > 0 ? control.rows : autoTileRows(bank, frame, settings, budget));
     // The spill for at most every member's result on the input and on the halves that the
     // stacking reads.
     const std::size_t sides = settings.stack <= 0                            ? 1
@@ -581,14 +702,30 @@ TiledAuto autoCompositeTiled(const FilterBank& bank, const FrameBuffers& frame,
     if (control.spill != SpillMode::Off)
         spill.open(StripSpill::directory(), bank.region().width(), height, 3, bank.size() * sides,
                    control.spill == SpillMode::Auto);
+    // The error maps (one channel per member) in a spill of their own, unless the spill is off.
+    StripSpill mapSpill;
+    if (control.spill != SpillMode::Off)
+        mapSpill.open(StripSpill::directory(), bank.region().width(), height, 1, bank.size(),
+                      control.spill == SpillMode::Auto);
+    // With the spill, the members are applied into it and read back by bands (Pipeline::banded).
+    TileModel model =
+        autoTileModel(bank, spill.on(), mapSpill.on(), tbb::this_task_arena::max_concurrency());
+    if (control.bandRows > 0) model.banded = spill.on() && bank.results().empty();
+    const int band = !model.banded          ? 0
+                     : control.bandRows > 0 ? control.bandRows
+                                            : autoBandRows(bank, settings);
+    const int rows =
+        std::min(height, control.rows > 0 ? control.rows
+                                          : autoTileRows(bank, frame, settings, budget, model));
     WorkContext work(options.progress);
     work.expectWork(expectedWork(settings, bank.size(), height));
     TiledAuto out;
     try {
         work.addWork(0);  // the first report, at 0: a callback can stop before any work
-        out.result = Pipeline(bank, frame, settings, rows,
-                              autoMemberMemoryMB(bank, frame, settings, budget), work, spill)
-                         .run();
+        out.result =
+            Pipeline(bank, frame, settings, rows, band,
+                     autoMemberMemoryMB(bank, frame, settings, budget), work, spill, mapSpill)
+                .run();
         work.throwIfCancelled();
         work.finish();
     } catch (const Error& e) {
@@ -597,6 +734,9 @@ TiledAuto autoCompositeTiled(const FilterBank& bank, const FrameBuffers& frame,
         throw;
     }
     out.result.tileRows = rows;
+    out.bandRows = band;
+    out.mapsSpilled = mapSpill.on();
+    out.spillBytes = spill.bytesWritten();
     // Filtered again instead: a warning when the spill was asked for or a write failed.
     out.spilled = spill.on();
     if ((control.spill == SpillMode::On && !out.spilled) || spill.failed())

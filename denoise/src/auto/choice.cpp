@@ -187,8 +187,12 @@ Choice choose(const Estimates& estimates, const std::vector<std::size_t>& candid
               const AutoSettings& settings, const Image& noise, WorkContext& work, int stripRows) {
     const std::vector<Image>& raws = estimates.maps;
     const std::vector<double>& mapMean = estimates.mapMean;
-    const std::size_t n = raws.size();
-    const int width = raws[candidates.front()].width(), height = raws[candidates.front()].height();
+    const bool held = !estimates.mapRows;
+    const std::size_t n = mapMean.size();
+    const int width = held ? raws[candidates.front()].width() : estimates.width;
+    const int height = held ? raws[candidates.front()].height() : estimates.height;
+    // Maps read by rows go strip by strip.
+    if (!held && stripRows <= 0) stripRows = height;
     const double temperature = settings.temperature;
     const std::size_t c = candidates.size();
     // The score of each candidate per pixel. The baseline is the candidate with the
@@ -221,7 +225,7 @@ Choice choose(const Estimates& estimates, const std::vector<std::size_t>& candid
     }
     std::vector<std::vector<int>> rowWins(static_cast<std::size_t>(height));
     std::vector<std::vector<double>> rowTotals(static_cast<std::size_t>(height));
-    if (stripRows <= 0) {
+    if (stripRows <= 0) {  // held maps
         const std::vector<Image> scores =
             windowScores(raws, candidates, baseline, radii, confidence, work);
         weighRows(scores, 0, 0, height, candidates, baseline, temperature, noise, final, out,
@@ -230,17 +234,30 @@ Choice choose(const Estimates& estimates, const std::vector<std::size_t>& candid
         std::vector<ScoreRows> scoreRows;
         scoreRows.reserve(c);
         for (std::size_t j = 0; j < c; ++j)
-            scoreRows.emplace_back(raws[candidates[j]], raws[candidates[baseline]], radii,
-                                   j != baseline ? confidence : 0.0);
+            scoreRows.emplace_back(width, height, radii, j != baseline ? confidence : 0.0);
         for (int y0 = 0; y0 < height; y0 += stripRows) {
             const int y1 = std::min(height, y0 + stripRows);
+            // The maps' rows the strip reads: the held maps, or those rows read.
+            const int end = scoreRows.front().rowsReadEnd(y1);
+            const auto rowsOf = [&](std::size_t m, Image& read) -> const Image& {
+                if (held) return raws[m];
+                read = estimates.mapRows(m, y0, end);
+                return read;
+            };
+            const int rowsY0 = held ? 0 : y0;
+            Image baseRead;
+            const Image& base = rowsOf(candidates[baseline], baseRead);
             std::vector<Image> scores(c);
             work.parallelFor(
                 0, int(c),
                 [&](int j) {
+                    Image read;
+                    const Image& raw = std::size_t(j) == baseline
+                                           ? base
+                                           : rowsOf(candidates[std::size_t(j)], read);
                     Image& score = scores[std::size_t(j)];
                     score = Image(width, y1 - y0, 1);
-                    scoreRows[std::size_t(j)].next(y0, y1, score.data().data());
+                    scoreRows[std::size_t(j)].next(y0, y1, raw, base, rowsY0, score.data().data());
                 },
                 std::int64_t(radii.size()) * (y1 - y0));
             weighRows(scores, y0, y0, y1, candidates, baseline, temperature, noise, final, out,

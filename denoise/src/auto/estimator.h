@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,6 +45,10 @@ class ErrorEstimator {
 /// Every member's estimate (the error estimation stage's result), by member.
 struct Estimates {
     std::vector<Image> maps;
+    /// When set, the maps are not held (`maps` is empty; the pipeline keeps them in a spill
+    /// file): rows [y0, y1) of member m's map, 1 channel, `width` wide.
+    std::function<Image(std::size_t m, int y0, int y1)> mapRows;
+    int width = 0, height = 0;  ///< the maps' size
     /// The mean of each map per pixel and channel: the choice's baseline is the smallest.
     std::vector<double> mapMean;
     /// The estimate of each member's mean squared error (mapMean but for the secant's centred

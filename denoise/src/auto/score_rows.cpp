@@ -8,11 +8,15 @@
 
 namespace glint::denoise::detail {
 
-ScoreRows::ScoreRows(const Image& raw, const Image& base, std::vector<int> radii, double confidence)
-    : m_raw(raw), m_base(base), m_confidence(confidence), m_planes(confidence > 0.0 ? 2 : 1) {
-    GLINT_CHECK(raw.sameShape(base) && raw.channels() == 1 && !radii.empty());
-    const std::size_t w = std::size_t(raw.width());
+ScoreRows::ScoreRows(int width, int height, std::vector<int> radii, double confidence)
+    : m_width(width),
+      m_height(height),
+      m_confidence(confidence),
+      m_planes(confidence > 0.0 ? 2 : 1) {
+    GLINT_CHECK(width > 0 && height > 0 && !radii.empty());
+    const std::size_t w = std::size_t(width);
     for (int radius : radii) {
+        m_reach = std::max(m_reach, radius);
         Pass p;
         p.radius = radius;
         if (radius > 0) {
@@ -26,18 +30,22 @@ ScoreRows::ScoreRows(const Image& raw, const Image& base, std::vector<int> radii
 
 std::size_t ScoreRows::ringOffset(const Pass& pass, int y) const {
     const std::size_t slot = std::size_t(y % (2 * pass.radius + 2));
-    return slot * std::size_t(m_raw.width()) * m_planes;
+    return slot * std::size_t(m_width) * m_planes;
+}
+
+int ScoreRows::rowsReadEnd(int y1) const {
+    return std::min(m_height, y1 + m_reach);
 }
 
 // Row y's horizontal box averages into its ring slot (boxAveragesOfRows's first pass, with
 // windowScore's terms).
 void ScoreRows::horizontal(Pass& pass, int y) {
-    const int w = m_raw.width(), radius = pass.radius;
+    const int w = m_width, radius = pass.radius;
     const std::size_t planes = m_planes;
     std::vector<double>& prefix = pass.prefix;
     std::fill(prefix.begin(), prefix.begin() + std::ptrdiff_t(planes), 0.0);
-    const float* raw = m_raw.row(y);
-    const float* base = m_base.row(y);
+    const float* raw = rawRow(y);
+    const float* base = baseRow(y);
     for (int x = 0; x < w; ++x) {
         const double v = double(raw[x]) - double(base[x]);
         double* t = prefix.data() + planes + std::size_t(x) * planes;
@@ -57,10 +65,15 @@ void ScoreRows::horizontal(Pass& pass, int y) {
     }
 }
 
-void ScoreRows::next(int y0, int y1, float* out) {
-    GLINT_CHECK(y0 == m_next && y1 >= y0 && y1 <= m_raw.height());
+void ScoreRows::next(int y0, int y1, const Image& rawRows, const Image& baseRows, int rowsY0,
+                     float* out) {
+    GLINT_CHECK(y0 == m_next && y1 >= y0 && y1 <= m_height);
+    GLINT_CHECK(rawRows.sameShape(baseRows) && rawRows.channels() == 1 &&
+                rawRows.width() == m_width && rowsY0 <= y0 &&
+                rowsY0 + rawRows.height() >= rowsReadEnd(y1));
+    m_raw = &rawRows, m_base = &baseRows, m_rowsY0 = rowsY0;
     m_next = y1;
-    const int w = m_raw.width(), h = m_raw.height();
+    const int w = m_width, h = m_height;
     const std::size_t planes = m_planes;
     const std::size_t span = std::size_t(w) * planes;
     const double confidence = m_confidence;
@@ -77,8 +90,8 @@ void ScoreRows::next(int y0, int y1, float* out) {
         auto put = [&](float* to, float score) { *to = q == 0 ? score : std::min(*to, score); };
         if (radius == 0) {  // windowScore's pointwise case
             for (int y = y0; y < y1; ++y) {
-                const float* raw = m_raw.row(y);
-                const float* base = m_base.row(y);
+                const float* raw = rawRow(y);
+                const float* base = baseRow(y);
                 float* o = out + std::size_t(y - y0) * std::size_t(w);
                 for (int x = 0; x < w; ++x) {
                     const double v = double(raw[x]) - double(base[x]);

@@ -32,31 +32,64 @@ double autoMemberMemoryMB(const FilterBank&, const FrameBuffers& frame,
     return std::clamp(std::floor(0.6 * room / 1048576.0), 256.0, 1024.0);
 }
 
+TileModel autoTileModel(const FilterBank& bank, bool spillOn, bool mapSpillOn, int concurrency) {
+    TileModel model;
+    model.concurrency = std::max(1, concurrency);
+    model.banded = spillOn && bank.results().empty() &&
+                   std::uint64_t(model.concurrency) * kApplyBytesPerPixel < 12 * bank.size();
+    model.mapsSpilled = mapSpillOn;
+    return model;
+}
+
+int autoBandRows(const FilterBank& bank, const AutoSettings& settings) {
+    const std::uint64_t n = bank.size();
+    const std::uint64_t finalCandidates =
+        settings.shortlisted ? std::min<std::uint64_t>(n, std::uint64_t(settings.shortlist)) : n;
+    const std::uint64_t results =
+        std::max<std::uint64_t>(1, std::max(n, (settings.stack > 0 ? 3 : 1) * finalCandidates));
+    const std::uint64_t rowBytes = std::uint64_t(bank.region().width()) * 3 * sizeof(float);
+    return int(
+        std::clamp<std::uint64_t>(kBandBytes / (results * std::max<std::uint64_t>(rowBytes, 1)), 1,
+                                  std::uint64_t(std::max(1, bank.region().height()))));
+}
+
 std::uint64_t autoFixedMemory(const FilterBank& bank, const FrameBuffers& frame,
-                              const AutoSettings& settings) {
+                              const AutoSettings& settings, const TileModel& model) {
     const std::uint64_t input = frameBytes(frame);
     const Rect& r = bank.region();
     const auto pixels = std::uint64_t(r.width()) * std::uint64_t(r.height());
     const std::uint64_t n = bank.size();
     // The halves (together about the input's layers), or SURE's input and its perturbed copy.
     const std::uint64_t inputs = settings.halves ? input : 2 * input;
-    // Per pixel: the error maps (one float per member) or, after them, the stacking's images
-    // (the features' regressors on three sides, its coefficients, the final weight planes), and
-    // the median, the display weights, the noise, the composite and the blends on the halves.
-    const std::uint64_t perPixel = std::max<std::uint64_t>(4 * n, 320) + 64;
-    return saturatingAdd(inputs, saturatingMul(pixels, perPixel));
+    // Per pixel, held maps: the error maps (one float per member) or, after them, the stacking's
+    // images (the features' regressors on three sides, its coefficients, the final weight
+    // planes), and the median, the display weights, the noise, the composite and the blends on
+    // the halves. Spilled maps: while the tiles run, the final candidates' weight planes and
+    // their feathered copies (4 bytes each) and those 96 bytes; the stacking runs after the
+    // tiles, by tiles of its own, whatever their height.
+    const std::uint64_t finalCandidates =
+        settings.shortlisted ? std::min<std::uint64_t>(n, std::uint64_t(settings.shortlist)) : n;
+    const std::uint64_t perPixel =
+        model.mapsSpilled ? 8 * finalCandidates + 96 : std::max<std::uint64_t>(4 * n, 320) + 64;
+    // Banded: a band of results or, in the choice, a strip of its scores.
+    const std::uint64_t bands = model.banded ? kBandBytes : 0;
+    return saturatingAdd(saturatingAdd(inputs, bands), saturatingMul(pixels, perPixel));
 }
 
 int autoTileRows(const FilterBank& bank, const FrameBuffers& frame, const AutoSettings& settings,
-                 std::uint64_t budget) {
+                 std::uint64_t budget, const TileModel& model) {
     const Rect& r = bank.region();
     const int height = r.height();
-    const std::uint64_t fixed = autoFixedMemory(bank, frame, settings);
-    // Per row of a tile: every member's result there on the input at once (the median's pass),
-    // or, when the bank holds those, every candidate's window scores (the choice's pass).
+    const std::uint64_t fixed = autoFixedMemory(bank, frame, settings, model);
+    // Per row of a tile: banded, the filters under way; else every member's result there on the
+    // input at once (the median's pass), or, when the bank holds those, every candidate's window
+    // scores (the choice's pass).
     const std::uint64_t n = bank.size();
-    const std::uint64_t perRow =
-        std::uint64_t(r.width()) * ((bank.results().empty() ? 12 * n : 4 * n) + 64);
+    const std::uint64_t perPixel =
+        model.banded ? std::uint64_t(std::max(1, model.concurrency)) * kApplyBytesPerPixel
+        : bank.results().empty() ? 12 * n
+                                 : 4 * n;
+    const std::uint64_t perRow = std::uint64_t(r.width()) * (perPixel + 64);
     if (saturatingAdd(fixed, saturatingMul(perRow, std::uint64_t(height))) <= budget) return height;
     const std::uint64_t room = budget > fixed ? budget - fixed : 0;
     const int tallest = int(
