@@ -242,6 +242,14 @@ void CompareView::measure() {
         });
 }
 
+QString compactNumber(double v) {
+    // At most 7 characters, the width of "0.00184": "0.00059", then "5.9e-06".
+    QString text = QString::number(v, 'g', 3);
+    if (text.size() > 7) text = QString::number(v, 'g', 2);
+    if (text.size() > 7) text = QString::number(v, 'e', 1);
+    return text;
+}
+
 QString CompareView::columnTitle(int column) const {
     const QTableWidgetItem* item = m_table->horizontalHeaderItem(column);
     return item ? item->text() : QString();
@@ -271,7 +279,7 @@ void CompareView::show() {
         const bool have = m.haveReference && (col % 2 == 1 || m.haveRaw);
         const Metrics& x = *columns[col];
         const double values[] = {x.ssim, x.relMse, x.psnr};
-        const QString texts[] = {QString::number(x.ssim, 'f', 4), QString::number(x.relMse, 'g', 3),
+        const QString texts[] = {QString::number(x.ssim, 'f', 4), compactNumber(x.relMse),
                                  QString::number(x.psnr, 'f', 2)};
         for (int row = 0; row < 3; ++row) {
             auto* item = new QTableWidgetItem(!have   ? QStringLiteral("–")

@@ -37,6 +37,10 @@ struct Measurement {
     bool haveRaw = false;
 };
 
+/// A relMSE as the metrics table shows it: three significant digits in at most 7 characters
+/// (fewer digits, then the exponent form, for small values), so no cell is elided.
+QString compactNumber(double v);
+
 class CompareView : public StageView {
     Q_OBJECT
   public:

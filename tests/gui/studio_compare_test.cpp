@@ -186,6 +186,14 @@ class StudioCompareTest : public QObject {
         QVERIFY2(!nav->stateText().contains(QLatin1Char('=')), qPrintable(nav->stateText()));
     }
 
+    // A relMSE fits its cell (the screenshot tour showed "0...." for 0.000594).
+    void smallFiguresFitTheirCells() {
+        QCOMPARE(compactNumber(0.00184), QStringLiteral("0.00184"));
+        QCOMPARE(compactNumber(0.000594), QStringLiteral("0.00059"));
+        QCOMPARE(compactNumber(5.94e-6), QStringLiteral("5.9e-06"));
+        QCOMPARE(compactNumber(2.01644), QStringLiteral("2.02"));
+    }
+
     void theFilterMenuNamesFiltersAsTheLayersDo() {
         auto w = openScene();
         QVERIFY(w);
@@ -350,8 +358,8 @@ class StudioCompareTest : public QObject {
             return m.haveRaw && m.rawImage.relMse == rawRelMse && m.relMseImage != rawRelMse;
         }));
         const Measurement& m = c->measurement();
-        QCOMPARE(c->cellText(1, 0), QString::number(m.rawImage.relMse, 'g', 3));
-        QCOMPARE(c->cellText(1, 1), QString::number(m.relMseImage, 'g', 3));
+        QCOMPARE(c->cellText(1, 0), compactNumber(m.rawImage.relMse));
+        QCOMPARE(c->cellText(1, 1), compactNumber(m.relMseImage));
         QCOMPARE(c->cellText(0, 2), QString::number(m.rawRegion.ssim, 'f', 4));
         QVERIFY2(m.rawImage.relMse > 0.0, "the reference shares the render's samples");
         QVERIFY2(c->verdict().startsWith(QStringLiteral("Denoising ")), qPrintable(c->verdict()));
