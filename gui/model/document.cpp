@@ -26,19 +26,6 @@ bool sameUserSettings(const render::Settings& a, const render::Settings& b) {
            render::encodeSettings(b, userSettingNames());
 }
 
-bool sameLook(const std::vector<render::LookItem>& a, const std::vector<render::LookItem>& b) {
-    if (a.size() != b.size()) return false;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        if (a[i].name != b[i].name || a[i].properties.size() != b[i].properties.size())
-            return false;
-        for (std::size_t k = 0; k < a[i].properties.size(); ++k)
-            if (a[i].properties[k].name != b[i].properties[k].name ||
-                a[i].properties[k].value != b[i].properties[k].value)
-                return false;
-    }
-    return true;
-}
-
 // A scene with a renderer, loaded on a worker thread.
 Document::Loaded loadRenderer(const std::filesystem::path& path) {
     render::Scene scene = render::loadScene(path);
@@ -131,6 +118,7 @@ void Document::adopt(const QString& path, Loaded loaded, bool renderNow) {
     m_kind = loaded.kind;
     m_path = path;
     m_look = std::move(loaded.look);
+    m_fileLook = m_look;
     m_camera = std::move(loaded.camera);
     m_settings = loaded.settings;
     m_reference.reset();
@@ -337,9 +325,12 @@ void Document::saveScene(const QString& path) {
     const bool same = QFileInfo(path) == QFileInfo(m_path);
     // Our own write must not trigger a reload.
     if (same) m_watcher.removePath(m_path);
+    const std::vector<render::LookItem> look = m_look;
     m_job.withScene([file](render::Scene& scene) { render::saveScene(scene, file); },
-                    [this, path, same](const QString& error) {
+                    [this, path, same, look](const QString& error) {
                         if (same) m_watcher.addPath(m_path);
+                        // The file holds this look now (what glint-render renders of it).
+                        if (same && error.isEmpty()) m_fileLook = look;
                         if (!error.isEmpty()) emit failed(tr("Cannot save %1").arg(path), error);
                     });
 }
@@ -354,6 +345,7 @@ void Document::sceneFileChanged() {
         [file](const TaskRunner::CancelFlag&) { return loadRenderer(file); },
         [this](Loaded loaded) {
             m_look = std::move(loaded.look);
+            m_fileLook = m_look;
             m_camera = std::move(loaded.camera);
             m_job.setRenderer(loaded.renderer);
             emit lookChanged();
@@ -422,6 +414,8 @@ void Document::readReference(const QString& path, std::optional<std::uint64_t> e
             info.source = ReferenceInfo::Source::File;
             info.file = QFileInfo(path).absoluteFilePath().toStdString();
             info.identity = read.identity;
+            // What the file says it was rendered from (glint-render's glint:scene).
+            info.scene = frame.metadata().scene;
             setReference(read.frame, info, saved);
         },
         [this, path](const QString& message) {
@@ -442,6 +436,7 @@ void Document::renderReference(int spp) {
     if (m_kind != Kind::Scene) return;
     render::Settings s = m_settings;
     s.spp = spp;
+    s.seed = referenceSeed(s.seed);  // independent of the render's samples
     s.region.reset();
     s.timeLimit = 0.0;
     render::validate(s);
@@ -489,11 +484,22 @@ void Document::renderReference(int spp) {
         });
 }
 
+ReferenceMismatch Document::referenceMismatch() const {
+    if (!m_reference || !m_referenceInfo) return ReferenceMismatch::None;
+    ReferenceTarget now;
+    // An open EXR shows the scene its glint:scene names (its look and camera the file's own).
+    now.scene = m_kind == Kind::Scene ? QFileInfo(m_path).absoluteFilePath().toStdString()
+                : m_finished          ? m_finished->metadata().scene
+                                      : std::string();
+    now.look = m_look;
+    now.fileLook = m_fileLook;
+    now.camera = m_camera;
+    return glint::studio::referenceMismatch(*m_referenceInfo, now);
+}
+
 bool Document::referenceLookDiffers() const {
-    if (!m_reference || !m_referenceInfo ||
-        m_referenceInfo->source != ReferenceInfo::Source::Rendered)
-        return false;
-    return !sameLook(m_referenceInfo->look, m_look) || m_referenceInfo->camera != m_camera;
+    const ReferenceMismatch m = referenceMismatch();
+    return m != ReferenceMismatch::None && m != ReferenceMismatch::Unknown;
 }
 
 void Document::clearReference() {

@@ -121,8 +121,11 @@ class Document : public QObject {
     /// Renders a reference at `spp` in the background with its own renderer.
     void renderReference(int spp);
     void clearReference();
-    /// The reference was rendered with another look than the current one, or for another scene
-    /// or camera (false for an opened EXR, whose look is not known).
+    /// Whether the reference was rendered for what is open now: its scene, look and camera
+    /// (model/reference_info.h); None without a reference.
+    ReferenceMismatch referenceMismatch() const;
+    /// The reference was rendered for another scene, look or camera than the current one
+    /// (referenceMismatch() is Scene, Look or Camera; not Unknown).
     bool referenceLookDiffers() const;
     bool referenceRendering() const { return m_referenceJob && m_referenceJob->busy(); }
 
@@ -177,7 +180,8 @@ class Document : public QObject {
     render::Settings m_savedSettings;
     FramePtr m_frame;
     FramePtr m_finished;
-    std::string m_camera;  // sceneCamera() of the scene open
+    std::string m_camera;                      // sceneCamera() of the scene open
+    std::vector<render::LookItem> m_fileLook;  // the look of the file as opened (its own)
     FramePtr m_reference;
     std::optional<ReferenceInfo> m_referenceInfo;
     FramePtr m_savedReference;          // as last opened or saved (modified())

@@ -24,10 +24,18 @@ constexpr Naming kNamings[] = {
     {"bilateral-mc", "Bilateral (sampled)", "sigmaS", "σs"},
     {"cross-bilateral", "Cross-bilateral", "sigmaS", "σs"},
     {"guided", "Guided", "radius", "r"},
-    {"nlmeans", "NL-means", "strength", ""},
+    {"nlmeans", "Non-local means", "strength", ""},
+    {"nfor", "NFOR (regression)", "strength", ""},
+    {"external", "External denoiser", "", ""},
     {"unet", "Learned (unet)", "quality", ""},
     {denoise::kAutoCorrection, "Auto's correction", "", ""},  // no filter: Auto Start's layer
 };
+
+const Naming* namingOf(const std::string& filter) {
+    for (const Naming& n : kNamings)
+        if (filter == n.filter) return &n;
+    return nullptr;
+}
 
 QString number(double v) {
     return QString::number(v, 'g', 3);
@@ -48,16 +56,47 @@ const denoise::Filter* filterNamed(const std::string& name) {
 
 }  // namespace
 
-QString layerName(const std::string& filter, const denoise::ParamValues& params) {
-    const Naming* naming = nullptr;
-    for (const Naming& n : kNamings)
-        if (filter == n.filter) naming = &n;
+QString filterTitle(const std::string& filter) {
+    if (const Naming* naming = namingOf(filter)) return QString::fromUtf8(naming->title);
     QString title = QString::fromStdString(filter);
-    if (!naming) {
-        if (!title.isEmpty()) title[0] = title[0].toUpper();
-        return title;
-    }
-    title = QString::fromUtf8(naming->title);
+    if (!title.isEmpty()) title[0] = title[0].toUpper();
+    return title;
+}
+
+QString shortParamLabel(const denoise::ParamSpec& spec) {
+    // "spatial sigma (px)" -> "spatial sigma", "strength k" -> "strength".
+    QString label = QString::fromStdString(spec.label);
+    const qsizetype paren = label.indexOf(QStringLiteral(" ("));
+    if (paren > 0) label.truncate(paren);
+    const qsizetype space = label.lastIndexOf(QLatin1Char(' '));
+    if (space > 0 && label.size() - space == 2) label.truncate(space);
+    return label.isEmpty() ? QString::fromStdString(spec.name) : label;
+}
+
+QString paramValueText(const denoise::ParamSpec& spec, double value, int digits) {
+    if (spec.isChoice()) return QString::fromStdString(denoise::formatParamValue(spec, value));
+    return QString::number(value, 'g', spec.integer ? 10 : digits);
+}
+
+QString choiceName(const std::string& filter, const denoise::ParamValues& params) {
+    const QString title = filterTitle(filter);
+    const Naming* naming = namingOf(filter);
+    const denoise::Filter* f = filterNamed(filter);
+    if (!naming || !f || !*naming->param) return title;
+    const auto it = params.find(naming->param);
+    const denoise::ParamSpec* spec = denoise::findParam(f->params(), naming->param);
+    if (it == params.end() || !spec) return title;
+    // A choice by its option's name; a number by its short label and 2 significant digits.
+    if (spec->isChoice())
+        return QStringLiteral("%1, %2").arg(title, paramValueText(*spec, it->second));
+    return QStringLiteral("%1, %2 %3")
+        .arg(title, shortParamLabel(*spec), paramValueText(*spec, it->second));
+}
+
+QString layerName(const std::string& filter, const denoise::ParamValues& params) {
+    const Naming* naming = namingOf(filter);
+    const QString title = filterTitle(filter);
+    if (!naming || !*naming->param) return title;
     const denoise::Filter* f = filterNamed(filter);
     const auto it = params.find(naming->param);
     if (!f || it == params.end()) return title;

@@ -4,6 +4,7 @@
 #include <QJsonDocument>
 #include <QJsonObject>
 
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 
@@ -87,6 +88,53 @@ std::string sceneCamera(const std::filesystem::path& path) {
         QJsonDocument::fromJson(file.readAll()).object().value(QStringLiteral("camera")).toObject();
     return camera.isEmpty() ? std::string()
                             : QJsonDocument(camera).toJson(QJsonDocument::Compact).toStdString();
+}
+
+bool sameLook(const std::vector<render::LookItem>& a, const std::vector<render::LookItem>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        if (a[i].name != b[i].name || a[i].properties.size() != b[i].properties.size())
+            return false;
+        for (std::size_t k = 0; k < a[i].properties.size(); ++k)
+            if (a[i].properties[k].name != b[i].properties[k].name ||
+                a[i].properties[k].value != b[i].properties[k].value)
+                return false;
+    }
+    return true;
+}
+
+bool sameSceneFile(const std::string& a, const std::string& b) {
+    if (a.empty() || b.empty()) return false;
+    const std::filesystem::path pa = std::filesystem::path(a).lexically_normal();
+    const std::filesystem::path pb = std::filesystem::path(b).lexically_normal();
+    if (pa == pb) return true;
+    if (pa.is_absolute() == pb.is_absolute()) return false;
+    // The relative one's components (without a leading ".") end the absolute one.
+    const std::filesystem::path& rel = pa.is_absolute() ? pb : pa;
+    const std::filesystem::path& abs = pa.is_absolute() ? pa : pb;
+    std::vector<std::filesystem::path> r(rel.begin(), rel.end()), f(abs.begin(), abs.end());
+    while (!r.empty() && r.front() == ".") r.erase(r.begin());
+    if (r.empty() || r.size() > f.size() ||
+        std::any_of(r.begin(), r.end(), [](const auto& c) { return c == ".."; }))
+        return false;
+    return std::equal(r.rbegin(), r.rend(), f.rbegin());
+}
+
+ReferenceMismatch referenceMismatch(const ReferenceInfo& reference, const ReferenceTarget& now) {
+    if ((reference.source == ReferenceInfo::Source::File && reference.scene.empty()) ||
+        now.scene.empty())
+        return ReferenceMismatch::Unknown;
+    if (!sameSceneFile(reference.scene, now.scene)) return ReferenceMismatch::Scene;
+    // A file of glint-render shows the scene file as it is: its own look and camera.
+    const bool rendered = reference.source == ReferenceInfo::Source::Rendered;
+    if (!sameLook(rendered ? reference.look : now.fileLook, now.look))
+        return ReferenceMismatch::Look;
+    if (rendered && reference.camera != now.camera) return ReferenceMismatch::Camera;
+    return ReferenceMismatch::None;
+}
+
+std::uint64_t referenceSeed(std::uint64_t seed) {
+    return (seed ^ 0x2545F4914F6CDD1DULL) & ((std::uint64_t(1) << 63) - 1);
 }
 
 std::uint64_t referenceIdentity(const FrameBuffers& frame) {

@@ -1,6 +1,7 @@
 #include "views/compare_view.h"
 
 #include <QComboBox>
+#include <QFileInfo>
 #include <QHBoxLayout>
 #include <QHeaderView>
 #include <QLabel>
@@ -33,26 +34,29 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
     m_progress->setRange(0, 1000);
     m_progress->setTextVisible(false);
     m_progress->setMaximumHeight(8);
-    m_table = new QTableWidget(2, 3, this);
-    m_table->setHorizontalHeaderLabels({tr("SSIM"), tr("relMSE"), tr("PSNR (dB)")});
-    m_table->setVerticalHeaderLabels({tr("Image"), tr("Region")});
+    // The raw render beside the result, for the image and for the region: one metric a row.
+    m_table = new QTableWidget(3, 4, this);
+    m_table->setHorizontalHeaderLabels(
+        {tr("Raw\nimage"), tr("Result\nimage"), tr("Raw\nregion"), tr("Result\nregion")});
+    m_table->setVerticalHeaderLabels({tr("SSIM"), tr("relMSE"), tr("PSNR dB")});
     m_table->setEditTriggers(QAbstractItemView::NoEditTriggers);
     m_table->horizontalHeader()->setSectionResizeMode(QHeaderView::Stretch);
     m_table->setVerticalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
     m_table->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
     m_table->resizeRowsToContents();
-    // As tall as its header and two rows as they are (no blank band under them: at 1366×768
-    // every pixel of the panel counts).
-    m_table->setFixedHeight(m_table->horizontalHeader()->sizeHint().height() +
-                            m_table->rowHeight(0) + m_table->rowHeight(1) +
+    // As tall as its header and rows as they are (no blank band under them: at 1366×768 every
+    // pixel of the panel counts).
+    int rows = 0;
+    for (int r = 0; r < m_table->rowCount(); ++r) rows += m_table->rowHeight(r);
+    m_table->setFixedHeight(m_table->horizontalHeader()->sizeHint().height() + rows +
                             2 * m_table->frameWidth());
     m_table->setToolTip(
-        tr("Of the result (the composite) against the reference; the region's "
-           "figures cover its bounding box"));
-    m_lookWarning =
-        new QLabel(tr("The reference was rendered with another look or camera: its metrics compare "
-                      "different scenes. Render it again."),
-                   this);
+        tr("Against the reference, over the whole image and over the region's bounding box: "
+           "Raw is the render the result was made from (the convergence plot's last point is "
+           "its relMSE over the image), Result the composite of the layers"));
+    m_verdict = new QLabel(this);
+    m_verdict->setWordWrap(true);
+    m_lookWarning = new QLabel(this);
     m_lookWarning->setWordWrap(true);
     m_lookWarning->setStyleSheet(QStringLiteral("color: #d04020;"));
     m_lookWarning->hide();
@@ -66,9 +70,13 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
                               Viewer::Channel::ErrorRelative})
         m_error->addItem(channelName(c), int(c));
     m_error->setToolTip(tr("What the canvas shows: the result, the reference or an error image"));
-    auto* axis = new QComboBox(this);
-    axis->addItem(tr("relMSE vs seconds"));
-    axis->addItem(tr("relMSE vs spp"));
+    // The plot measures the raw passes (the table's Raw column), not the result: it says so.
+    m_axis = new QComboBox(this);
+    m_axis->addItem(tr("Plot: raw render's relMSE vs seconds"));
+    m_axis->addItem(tr("Plot: raw render's relMSE vs spp"));
+    m_axis->setToolTip(
+        tr("relMSE of each pass of the raw render (not the denoised result) against the "
+           "reference, over the whole image: the table's Raw, image figure once it finishes"));
     m_plot = new ConvergencePlot(this);
 
     auto* row1 = new QHBoxLayout;
@@ -81,11 +89,12 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
     layout->addLayout(row1);
     layout->addLayout(row2);
     layout->addWidget(m_progress);
-    layout->addWidget(m_lookWarning);
     layout->addWidget(m_error);
+    layout->addWidget(m_lookWarning);
     layout->addWidget(m_table);
+    layout->addWidget(m_verdict);
     layout->addWidget(m_stats);
-    layout->addWidget(axis);
+    layout->addWidget(m_axis);
     layout->addWidget(m_plot, 1);
 
     connect(open, &QPushButton::clicked, this, &CompareView::openReferenceRequested);
@@ -101,7 +110,7 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
     connect(m_error, &QComboBox::currentIndexChanged, this, [this](int i) {
         m_context.viewer->setChannel(Viewer::Channel(m_error->itemData(i).toInt()));
     });
-    connect(axis, &QComboBox::currentIndexChanged, this,
+    connect(m_axis, &QComboBox::currentIndexChanged, this,
             [this](int i) { m_plot->setAgainstSpp(i == 1); });
     connect(m_context.document, &Document::referenceProgress, this,
             [this](double f) { m_progress->setValue(int(f * 1000.0)); });
@@ -126,11 +135,45 @@ QString CompareView::lookWarning() const {
     return m_lookWarning->isHidden() ? QString() : m_lookWarning->text();
 }
 
+bool CompareView::metricsStale() const {
+    return m_context.document->referenceLookDiffers();
+}
+
 void CompareView::updateLookWarning() {
-    const bool differs = m_context.document->referenceLookDiffers();
-    m_lookWarning->setVisible(differs);
-    if (differs && !m_warnedLook) emit status(m_lookWarning->text());
+    QString text;
+    switch (m_context.document->referenceMismatch()) {
+        case ReferenceMismatch::None:
+            break;
+        case ReferenceMismatch::Scene:
+            text =
+                tr("The reference was rendered for another scene (%1): its metrics are stale. Open "
+                   "or render a reference of this one.")
+                    .arg(QFileInfo(
+                             QString::fromStdString(m_context.document->referenceInfo()->scene))
+                             .fileName());
+            break;
+        case ReferenceMismatch::Look:
+            text =
+                tr("The reference was rendered with another look (the look was edited since): its "
+                   "metrics are stale. Render it again, or undo the look edit.");
+            break;
+        case ReferenceMismatch::Camera:
+            text =
+                tr("The reference was rendered through another camera: its metrics are stale. "
+                   "Render it again.");
+            break;
+        case ReferenceMismatch::Unknown:
+            text =
+                tr("Not known what the reference was rendered for (it names no scene): check it "
+                   "shows this scene and look.");
+            break;
+    }
+    m_lookWarning->setText(text);
+    m_lookWarning->setVisible(!text.isEmpty());
+    const bool differs = metricsStale();
+    if (differs && !m_warnedLook) emit status(text);
     m_warnedLook = differs;
+    show();
 }
 
 void CompareView::schedule() {
@@ -141,13 +184,15 @@ void CompareView::measure() {
     const Image* result = m_context.viewer->resultImage();
     if (!result) return;
     FramePtr reference = m_context.document->reference();
+    // The raw render the result was made from.
+    FramePtr raw = m_context.session->input();
     const Rect rect = m_context.region->bounds(result->width(), result->height());
     auto image = std::make_shared<const Image>(*result);
     auto mask =
         std::make_shared<const Image>(m_context.region->mask(result->width(), result->height()));
     m_tasks.run<Measurement>(
         QStringLiteral("measure"),
-        [image, reference, rect, mask](const TaskRunner::CancelFlag&) {
+        [image, reference, raw, rect, mask](const TaskRunner::CancelFlag&) {
             Measurement m;
             // Per-channel statistics of the result inside the region.
             std::array<double, 3> sum{};
@@ -179,6 +224,14 @@ void CompareView::measure() {
                 m.ssimRegion = ssim(*image, ref, region).value;
                 m.relMseRegion = relMse(*image, ref, region).value;
                 m.psnrRegion = psnr(*image, ref, region).value;
+                if (raw && raw->width() == image->width() && raw->height() == image->height()) {
+                    m.haveRaw = true;
+                    const Image& r = raw->color();
+                    m.rawImage = {ssim(r, ref, whole).value, relMse(r, ref, whole).value,
+                                  psnr(r, ref, whole).value};
+                    m.rawRegion = {ssim(r, ref, region).value, relMse(r, ref, region).value,
+                                   psnr(r, ref, region).value};
+                }
             }
             return m;
         },
@@ -189,20 +242,74 @@ void CompareView::measure() {
         });
 }
 
+QString compactNumber(double v) {
+    // At most 7 characters, the width of "0.00184": "0.00059", then "5.9e-06".
+    QString text = QString::number(v, 'g', 3);
+    if (text.size() > 7) text = QString::number(v, 'g', 2);
+    if (text.size() > 7) text = QString::number(v, 'e', 1);
+    return text;
+}
+
+QString CompareView::columnTitle(int column) const {
+    const QTableWidgetItem* item = m_table->horizontalHeaderItem(column);
+    return item ? item->text() : QString();
+}
+
+QString CompareView::cellText(int row, int column) const {
+    const QTableWidgetItem* item = m_table->item(row, column);
+    return item ? item->text() : QString();
+}
+
+QString CompareView::verdict() const {
+    return m_verdict->text();
+}
+
+QString CompareView::plotTitle() const {
+    return m_axis->currentText();
+}
+
 void CompareView::show() {
     const Measurement& m = m_measurement;
-    auto cell = [&](int row, int col, double v, int digits) {
-        auto* item = new QTableWidgetItem(m.haveReference ? QString::number(v, 'f', digits)
-                                                          : QStringLiteral("–"));
-        item->setTextAlignment(Qt::AlignCenter);
-        m_table->setItem(row, col, item);
-    };
-    cell(0, 0, m.ssimImage, 4);
-    cell(0, 1, m.relMseImage, 5);
-    cell(0, 2, m.psnrImage, 2);
-    cell(1, 0, m.ssimRegion, 4);
-    cell(1, 1, m.relMseRegion, 5);
-    cell(1, 2, m.psnrRegion, 2);
+    const bool stale = metricsStale();
+    // Columns: raw, result, raw in the region, result in the region; rows: SSIM, relMSE, PSNR.
+    const Metrics result{m.ssimImage, m.relMseImage, m.psnrImage};
+    const Metrics resultRegion{m.ssimRegion, m.relMseRegion, m.psnrRegion};
+    const Metrics* columns[] = {&m.rawImage, &result, &m.rawRegion, &resultRegion};
+    for (int col = 0; col < 4; ++col) {
+        const bool have = m.haveReference && (col % 2 == 1 || m.haveRaw);
+        const Metrics& x = *columns[col];
+        const double values[] = {x.ssim, x.relMse, x.psnr};
+        const QString texts[] = {QString::number(x.ssim, 'f', 4), compactNumber(x.relMse),
+                                 QString::number(x.psnr, 'f', 2)};
+        for (int row = 0; row < 3; ++row) {
+            auto* item = new QTableWidgetItem(!have   ? QStringLiteral("–")
+                                              : stale ? tr("stale")
+                                                      : texts[row]);
+            item->setTextAlignment(Qt::AlignCenter);
+            // A stale figure is kept out of sight, in the tooltip (it compares other scenes).
+            if (have && stale) {
+                item->setForeground(QColor(150, 150, 150));
+                item->setToolTip(tr("%1 against a reference of another scene, look or camera")
+                                     .arg(values[row], 0, 'g', 4));
+            }
+            m_table->setItem(row, col, item);
+        }
+    }
+    // Did denoising help? The result's relMSE against the raw render's.
+    QString verdict;
+    if (m.haveReference && m.haveRaw && !stale && m.relMseImage > 0.0 && m.rawImage.relMse > 0.0) {
+        const double ratio = m.rawImage.relMse / m.relMseImage;
+        verdict = ratio >= 1.0
+                      ? tr("Denoising helped: relMSE %1× lower than the raw render's (image), "
+                           "SSIM %2 → %3.")
+                      : tr("Denoising made it worse: relMSE %1× the raw render's (image), "
+                           "SSIM %2 → %3.");
+        verdict = verdict.arg(ratio >= 1.0 ? ratio : 1.0 / ratio, 0, 'g', 2)
+                      .arg(m.rawImage.ssim, 0, 'f', 3)
+                      .arg(m.ssimImage, 0, 'f', 3);
+    }
+    m_verdict->setText(verdict);
+    m_verdict->setVisible(!verdict.isEmpty());
     if (!std::isfinite(m.min[0])) {
         m_stats->setText(tr("Region statistics appear once there is an image."));
         return;

@@ -1,6 +1,8 @@
 // Comparing with a reference: open a high-spp EXR or render one in the background; live SSIM,
-// relMSE and PSNR of the result for the image and the region, per-channel min/mean/max of the
-// region, error images, and the relMSE-versus-time plot of the running render.
+// relMSE and PSNR of the raw render and of the result, for the image and for the region, side by
+// side (did denoising help?), per-channel min/mean/max of the region, error images, and the plot
+// of the raw render's relMSE against time of the running render. A reference rendered for another
+// scene, look or camera is said so beside the metrics, which are then marked stale.
 #pragma once
 
 #include <QTimer>
@@ -17,21 +19,47 @@ class QComboBox;
 
 namespace glint::studio {
 
+/// SSIM, relMSE and PSNR of one image against the reference.
+struct Metrics {
+    double ssim = 0.0, relMse = 0.0, psnr = 0.0;
+};
+
 /// What the compare view measured last.
 struct Measurement {
+    // The result (the composite).
     double ssimImage = 0.0, relMseImage = 0.0, psnrImage = 0.0;
     double ssimRegion = 0.0, relMseRegion = 0.0, psnrRegion = 0.0;
+    // The raw render the result was made from (the session's input): the same metric, the same
+    // images as the convergence plot's last point over the whole image.
+    Metrics rawImage, rawRegion;
     std::array<double, 3> min{}, mean{}, max{};  ///< of the result inside the region
     bool haveReference = false;
+    bool haveRaw = false;
 };
+
+/// A relMSE as the metrics table shows it: three significant digits in at most 7 characters
+/// (fewer digits, then the exponent form, for small values), so no cell is elided.
+QString compactNumber(double v);
 
 class CompareView : public StageView {
     Q_OBJECT
   public:
     CompareView(const StudioContext& context, QWidget* parent = nullptr);
     const Measurement& measurement() const { return m_measurement; }
-    /// The warning that the reference's look is not the current one (empty: none).
+    /// The warning that the reference was rendered for another scene, look or camera, or that
+    /// what it was rendered for is not known (empty: none).
     QString lookWarning() const;
+    /// The metrics compare with a reference of another scene, look or camera: the table shows
+    /// "stale" instead of their values (kept in each cell's tooltip).
+    bool metricsStale() const;
+    /// The text of the metrics table's cell (row: SSIM, relMSE, PSNR; column: raw, result,
+    /// raw in the region, result in the region) and of its column header.
+    QString cellText(int row, int column) const;
+    QString columnTitle(int column) const;
+    /// The line that answers "did denoising help?" (empty without a reference).
+    QString verdict() const;
+    /// What the convergence plot shows, as its drop-down says it.
+    QString plotTitle() const;
 
   signals:
     void measured();
@@ -50,9 +78,11 @@ class CompareView : public StageView {
     QProgressBar* m_progress;
     QTableWidget* m_table;
     QLabel* m_stats;
+    QLabel* m_verdict;
     QLabel* m_lookWarning;
     bool m_warnedLook = false;
     QComboBox* m_error;
+    QComboBox* m_axis;
     ConvergencePlot* m_plot;
     Measurement m_measurement;
 };

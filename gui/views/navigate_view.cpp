@@ -16,6 +16,7 @@
 #include "glint/denoise/aids.h"
 #include "glint/denoise/filter.h"
 #include "glint/denoise/registry.h"
+#include "model/layer_names.h"
 #include "model/learned_member.h"
 #include "views/param_controls.h"
 
@@ -261,11 +262,6 @@ QString NavigateView::bankText(const denoise::FilterBank& bank, int sampled,
     return text + tr("; pick the one you like best.");
 }
 
-QString NavigateView::memberText(int member) const {
-    const denoise::BankMember& m = m_bank->members()[std::size_t(member)];
-    return describeFilter(m.filter, m.params);
-}
-
 void NavigateView::showOptions() {
     m_shownMembers.clear();
     const bool done = m_navigator && m_navigator->chosen();
@@ -273,26 +269,39 @@ void NavigateView::showOptions() {
     if (m_navigator && !done) options = m_navigator->options();
     // The learned result is pinned: whichever option leads to it shows it.
     m_learnedOption = m_tree ? pinnedOption(*m_tree, options, m_learned) : -1;
+    std::vector<OptionMember> shown;
+    std::vector<const Image*> images;
+    for (std::size_t i = 0; i < options.size() && i < m_options.size(); ++i) {
+        const int member = int(i) == m_learnedOption ? m_learned : options[i].member;
+        const denoise::BankMember& m = m_bank->members()[std::size_t(member)];
+        m_shownMembers.push_back(member);
+        shown.push_back({m.filter, m.params});
+        images.push_back(&m_bank->result(std::size_t(member)));
+    }
+    // Each preview says what sets it apart from the others (docs/studio.md, "Navigate").
+    const std::vector<QStringList> labels = distinguishingLabels(shown);
+    m_contrast = contrastOf(images);
+    // The thumbnails show the part of the region where the options differ most (at half
+    // scale), not the whole region shrunk until they look alike.
+    const Rect window = mostDifferentWindow(images, 2 * kThumb);
+    const bool cropped = !images.empty() && (window.width() < images.front()->width() ||
+                                             window.height() < images.front()->height());
     const DisplaySettings display = m_context.viewer->canvas()->display();
     for (std::size_t i = 0; i < m_options.size(); ++i) {
         QToolButton* b = m_options[i];
-        if (i < options.size()) {
-            const bool learned = int(i) == m_learnedOption;
-            const int member = learned ? m_learned : options[i].member;
-            m_shownMembers.push_back(member);
-            const QImage image = toQImage(m_bank->result(std::size_t(member)), display);
+        if (i < m_shownMembers.size()) {
+            const QImage image = toQImage(cropped ? images[i]->crop(window) : *images[i], display);
             b->setIcon(QIcon(QPixmap::fromImage(
                 image.scaled(kThumb, kThumb, Qt::KeepAspectRatio, Qt::SmoothTransformation))));
-            const bool leaf = options[i].node < 0;
-            const QString name =
-                learned ? tr("%1 (learned)").arg(QString::fromUtf8(kLearnedFilter))
-                        : QString::fromStdString(m_bank->members()[std::size_t(member)].filter);
-            const qsizetype alike =
-                leaf ? 0 : qsizetype(m_tree->node(options[i].node).members.size());
-            b->setText(leaf      ? name
-                       : learned ? tr("%1 + %2 alike").arg(name).arg(alike - 1)
-                                 : tr("%1 alike").arg(alike));
-            b->setToolTip(memberText(member));
+            QStringList lines = labels[i];
+            if (!m_contrast.words[i].isEmpty()) lines << m_contrast.words[i];
+            b->setText(lines.join(QLatin1Char('\n')));
+            QString tip = layerParameters(shown[i].filter, shown[i].params);
+            if (options[i].node >= 0)
+                tip += tr("\n%1 results alike below it")
+                           .arg(m_tree->node(options[i].node).members.size());
+            if (int(i) == m_learnedOption) tip += tr("\nThe learned result (pinned)");
+            b->setToolTip(tip);
             b->setEnabled(true);
             b->setVisible(true);
         } else {
@@ -309,15 +318,38 @@ void NavigateView::showOptions() {
     m_apply->setEnabled(done);
     m_tune->setEnabled(done);
     if (done) {
-        m_chosen->setText(tr("Chosen: %1").arg(memberText(*m_navigator->chosen())));
+        // The choice in user terms; every parameter in the tooltip.
+        const denoise::BankMember& m = m_bank->members()[std::size_t(*m_navigator->chosen())];
+        m_chosen->setText(tr("Chosen: %1").arg(choiceName(m.filter, m.params)));
+        m_chosen->setToolTip(layerParameters(m.filter, m.params));
         showMember(*m_navigator->chosen());
     } else {
-        m_chosen->setText(m_navigator ? tr("Level %1: hover a preview to see it on the image, "
-                                           "click the best.")
-                                            .arg(m_navigator->choices() + 1)
-                                      : QString());
+        QString text;
+        if (m_navigator) {
+            text = (cropped ? tr("Level %1: the previews show where they differ most; hover one "
+                                 "to see it on the image, click the best.")
+                            : tr("Level %1: hover a preview to see it on the image, click the "
+                                 "best."))
+                       .arg(m_navigator->choices() + 1);
+            if (m_contrast.nearIdentical && m_shownMembers.size() > 1)
+                text = tr("Level %1: these %2 previews are near-identical (they differ by "
+                          "%3 % at most): pick any, or They look the same (S).")
+                           .arg(m_navigator->choices() + 1)
+                           .arg(m_shownMembers.size())
+                           .arg(std::max(m_contrast.maxDifference * 100.0, 0.01), 0, 'g', 2);
+        }
+        m_chosen->setText(text);
+        m_chosen->setToolTip(QString());
         m_context.viewer->canvas()->clearPreview();
     }
+}
+
+QString NavigateView::optionText(int i) const {
+    return i >= 0 && i < int(m_options.size()) ? m_options[std::size_t(i)]->text() : QString();
+}
+
+QString NavigateView::stateText() const {
+    return m_chosen->text();
 }
 
 void NavigateView::showMember(int member) {

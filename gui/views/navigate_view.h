@@ -13,6 +13,7 @@
 #include "glint/denoise/bank.h"
 #include "glint/denoise/navigation.h"
 #include "model/bank_service.h"
+#include "model/option_labels.h"
 #include "model/task_runner.h"
 #include "views/stage_view.h"
 
@@ -51,6 +52,12 @@ class NavigateView : public StageView {
     /// The option that shows the learned filter's result (pinned: see showOptions), or -1 when
     /// this level holds none (or the bank has no learned member).
     int learnedOption() const { return m_learnedOption; }
+    /// The text of option i's preview (what sets it apart from the others shown) and of the
+    /// line under the previews (the level, near-identical options, or the choice).
+    QString optionText(int i) const;
+    QString stateText() const;
+    /// How the options shown now differ (their detail, whether they are near-identical).
+    const OptionContrast& contrast() const { return m_contrast; }
     /// Adds the chosen member as a layer.
     void choose(bool fillRegion);
 
@@ -70,7 +77,6 @@ class NavigateView : public StageView {
     void showOptions();
     void showMember(int member);
     void updateOverlay();
-    QString memberText(int member) const;
     // What the bank holds: its results, how many were sampled and how many are defaults, and
     // why sampled members are missing (on `input`, the frame it was built on).
     static QString bankText(const denoise::FilterBank& bank, int sampled,
@@ -96,6 +102,7 @@ class NavigateView : public StageView {
     std::shared_ptr<const denoise::NavigationTree> m_tree;
     std::unique_ptr<denoise::Navigator> m_navigator;
     std::vector<int> m_shownMembers;  // member of each option button
+    OptionContrast m_contrast;        // of the options shown
     int m_learned = -1;               // the bank's learned member (unet), or -1
     int m_learnedOption = -1;         // the option showing it now, or -1
     FramePtr m_builtFor;              // the input the bank was built on

@@ -8,13 +8,20 @@
 #include <QVBoxLayout>
 
 #include "glint/denoise/registry.h"
+#include "model/first_denoise.h"
+#include "model/layer_names.h"
 
 namespace glint::studio {
 
 TuneView::TuneView(const StudioContext& context, QWidget* parent) : StageView(context, parent) {
     m_filter = new QComboBox(this);
-    for (const denoise::Filter* f : denoise::allFilters())
-        m_filter->addItem(QString::fromUtf8(f->name().data(), qsizetype(f->name().size())));
+    // Each filter by its display name (the palette's and Navigate's), its registry name the
+    // item's data and tooltip.
+    for (const denoise::Filter* f : denoise::allFilters()) {
+        const std::string id(f->name());
+        m_filter->addItem(filterTitle(id), QString::fromStdString(id));
+        m_filter->setItemData(m_filter->count() - 1, QString::fromStdString(id), Qt::ToolTipRole);
+    }
     m_filter->setToolTip(tr("The filter to tune"));
     m_description = new QLabel(this);
     m_description->setWordWrap(true);
@@ -46,7 +53,9 @@ TuneView::TuneView(const StudioContext& context, QWidget* parent) : StageView(co
     m_debounce.setInterval(30);
     connect(&m_debounce, &QTimer::timeout, this, &TuneView::computePreview);
     connect(m_filter, &QComboBox::currentIndexChanged, this, &TuneView::filterChanged);
+    connect(m_filter, &QComboBox::activated, this, [this] { m_userChose = true; });
     connect(m_controls, &ParamControls::valuesChanged, this, [this](const denoise::ParamValues& v) {
+        m_userChose = true;
         m_memory[filter()] = v;
         schedulePreview();
     });
@@ -64,14 +73,17 @@ TuneView::TuneView(const StudioContext& context, QWidget* parent) : StageView(co
 }
 
 std::string TuneView::filter() const {
-    return m_filter->currentText().toStdString();
+    return m_filter->currentData().toString().toStdString();
 }
 
 void TuneView::setFilter(const std::string& name) {
-    m_filter->setCurrentText(QString::fromStdString(name));
+    m_userChose = true;
+    const int i = m_filter->findData(QString::fromStdString(name));
+    if (i >= 0) m_filter->setCurrentIndex(i);
 }
 
 void TuneView::setValues(const denoise::ParamValues& values) {
+    m_userChose = true;
     denoise::ParamValues merged = m_controls->values();
     for (const auto& [k, v] : values) merged[k] = v;
     m_memory[filter()] = merged;
@@ -98,7 +110,7 @@ void TuneView::filterChanged() {
 void TuneView::choose(bool fillRegion) {
     try {
         addChosenLayer(m_context, filter(), m_controls->values(), fillRegion);
-        emit status(tr("Adding %1 as a layer…").arg(QString::fromStdString(filter())));
+        emit status(tr("Adding %1 as a layer…").arg(choiceName(filter(), m_controls->values())));
         emit layerChosen();
     } catch (const Error& e) {
         emit failed(tr("Cannot add the layer"), QString::fromStdString(e.what()));
@@ -107,7 +119,32 @@ void TuneView::choose(bool fillRegion) {
 
 void TuneView::activate() {
     m_context.viewer->canvas()->setTool(ImageCanvas::Tool::Pan);
+    startFromTheResult();
     schedulePreview();
+}
+
+void TuneView::startFromTheResult() {
+    if (m_userChose || !m_context.session->hasSession()) return;
+    // The top layer a filter makes (Auto's correction is none), with its parameters: the
+    // preview then shows what the result shows there.
+    const denoise::Session& s = m_context.session->session();
+    std::string name;
+    denoise::ParamValues params;
+    for (std::size_t i = s.layerCount(); i-- > 0 && name.empty();)
+        if (m_filter->findData(QString::fromStdString(s.layer(i).filter)) >= 0) {
+            name = s.layer(i).filter;
+            params = s.layer(i).params;
+        }
+    // No layer yet: the filter the studio denoises a first image with, at its defaults.
+    if (name.empty())
+        if (FramePtr in = m_context.session->input()) name = FirstDenoise::filterFor(*in);
+    const int index = m_filter->findData(QString::fromStdString(name));
+    if (index < 0) return;
+    m_memory[name] = params;
+    if (index == m_filter->currentIndex())
+        filterChanged();
+    else
+        m_filter->setCurrentIndex(index);
 }
 
 void TuneView::deactivate() {

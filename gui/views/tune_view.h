@@ -1,6 +1,6 @@
-// Stage 3 by tuning: a filter menu and sliders generated from the filter's ParamSpecs, a live
-// preview of the region (computed in the background, superseded by the next change), and the
-// parameters remembered per filter.
+// Stage 3 by tuning: a filter menu (by display name) and sliders generated from the filter's
+// ParamSpecs, a live preview of the region (computed in the background, superseded by the next
+// change), and the parameters remembered per filter. It opens on the current result's filter.
 #pragma once
 
 #include <QTimer>
@@ -44,6 +44,9 @@ class TuneView : public StageView {
     void filterChanged();
     void schedulePreview();
     void computePreview();
+    /// Until the user picks a filter or moves a control, the panel opens on the top layer's
+    /// filter and parameters (what the result shows), else on the first image's filter.
+    void startFromTheResult();
 
     TaskRunner m_tasks;
     QTimer m_debounce;
@@ -54,6 +57,7 @@ class TuneView : public StageView {
     QLabel* m_state;
     std::map<std::string, denoise::ParamValues> m_memory;
     bool m_previewReady = false;
+    bool m_userChose = false;  // a filter or a value was chosen (by the user or setFilter)
 };
 
 }  // namespace glint::studio

@@ -139,8 +139,11 @@ int main(int argc, char** argv) {
          {{40, 40}, {210, 36}, {222, 150}, {180, 210}, {60, 214}, {34, 120}});
     shoot(*w, out, QStringLiteral("04-region"));
 
-    // 5. Tune: a bilateral filter previewed inside the region.
+    // 5. Tune: it opens on the result's filter (the default layer's), then a bilateral filter
+    // previewed inside the region.
     w->setStage(2);
+    waitFor([&] { return w->tuneView()->previewReady(); }, 20000);
+    shoot(*w, out, QStringLiteral("05a-tune-opens"));
     w->tuneView()->setFilter("bilateral");
     waitFor([&] { return w->tuneView()->previewReady(); }, 20000);
     shoot(*w, out, QStringLiteral("05-tune"));
@@ -153,10 +156,13 @@ int main(int argc, char** argv) {
     const int learned = w->navigateView()->learnedOption();
     w->navigateView()->hoverOption(learned >= 0 ? learned : 1);
     shoot(*w, out, QStringLiteral("06-navigate"));
+    // One level down: each preview says what sets it apart; then the choice in user terms.
+    w->navigateView()->chooseOption(0);
+    shoot(*w, out, QStringLiteral("06b-navigate-level2"));
+    w->navigateView()->same();
+    shoot(*w, out, QStringLiteral("06c-navigate-chosen"));
 
     // 7. Paint: the chosen filter painted on with strokes, the change map shown.
-    w->navigateView()->chooseOption(0);
-    w->navigateView()->same();
     const std::size_t layers = w->session()->session().layerCount();
     w->navigateView()->choose(false);
     waitFor(
@@ -188,6 +194,14 @@ int main(int argc, char** argv) {
     shoot(*w, out, QStringLiteral("10-error"));
     w->viewer()->setDisplayMode(DisplayMode::Srgb);
     w->viewer()->setChannel(Viewer::Channel::Result);
+    // A look edit: the reference is of another look, its metrics marked stale beside a warning.
+    const FramePtr unedited = w->document()->finishedFrame();
+    w->lookPanel()->edit(wall, "albedo", {0.8, 0.3, 0.15});
+    waitFor([&] { return w->document()->finishedFrame() != unedited; }, 20000);
+    waitIdle(*w);
+    shoot(*w, out, QStringLiteral("09b-compare-stale"));
+    w->session()->undoStack()->undo();
+    waitIdle(*w);
 
     // 9. The shortcut sheet.
     QTest::keyClick(w.get(), Qt::Key_F1);

@@ -12,6 +12,7 @@
 #include <QToolButton>
 
 #include "glint/denoise/session.h"
+#include "model/layer_names.h"
 #include "model/learned_member.h"
 #include "studio_fixture.h"
 #include "views/image_canvas.h"
@@ -71,8 +72,9 @@ class StudioLearnedTest : public QObject {
                 qPrintable(QStringLiteral("level %1 shows no learned result").arg(levels + 1)));
             auto* button = nav->findChild<QToolButton*>(QStringLiteral("option%1").arg(i));
             QVERIFY(button && button->isVisible());
-            QVERIFY2(button->text().startsWith(QStringLiteral("unet")), qPrintable(button->text()));
-            QVERIFY(button->toolTip().startsWith(QStringLiteral("unet")));
+            QVERIFY2(button->text().startsWith(filterTitle(kLearnedFilter)),
+                     qPrintable(button->text()));
+            QVERIFY(button->toolTip().startsWith(filterTitle(kLearnedFilter)));
             nav->hoverOption(i);  // shows it large on the image
             nav->chooseOption(i);
             QVERIFY(++levels < 16);
@@ -97,8 +99,11 @@ class StudioLearnedTest : public QObject {
         TuneView* tune = w->tuneView();
         QComboBox* filters = nullptr;
         for (QComboBox* box : tune->findChildren<QComboBox*>())
-            if (box->findText(QStringLiteral("gaussian")) >= 0) filters = box;
-        QVERIFY(filters && filters->findText(QString::fromUtf8(kLearnedFilter)) >= 0);
+            if (box->findData(QStringLiteral("gaussian")) >= 0) filters = box;
+        // Listed by its display name, the palette's (the registry name is the item's data).
+        QVERIFY(filters && filters->findData(QString::fromUtf8(kLearnedFilter)) >= 0);
+        QCOMPARE(filters->itemText(filters->findData(QString::fromUtf8(kLearnedFilter))),
+                 filterTitle(kLearnedFilter));
         tune->setFilter(kLearnedFilter);
         QCOMPARE(tune->filter(), std::string(kLearnedFilter));
         for (const char* name : {"features", "aux", "quality", "memoryMB"})

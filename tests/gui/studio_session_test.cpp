@@ -404,8 +404,8 @@ class StudioSessionTest : public QObject {
     }
 
     void layersAreNamedReadablyWithTheirParametersInATooltip() {
-        QCOMPARE(layerName("nlmeans", {{"strength", 1.2}}), QStringLiteral("NL-means, strong"));
-        QCOMPARE(layerName("nlmeans", {{"strength", 0.45}}), QStringLiteral("NL-means, medium"));
+        QCOMPARE(layerName("nlmeans", {{"strength", 1.2}}), QStringLiteral("Non-local means, strong"));
+        QCOMPARE(layerName("nlmeans", {{"strength", 0.45}}), QStringLiteral("Non-local means, medium"));
         QCOMPARE(layerName("cross-bilateral", {{"sigmaS", 4.0}}),
                  QStringLiteral("Cross-bilateral, σs 4"));
         QCOMPARE(layerName("gaussian", {{"sigma", 2.5}}), QStringLiteral("Gaussian, σ 2.5"));
@@ -419,11 +419,11 @@ class StudioSessionTest : public QObject {
         auto* list = w->paintView()->findChild<QListWidget*>();
         QVERIFY(list);
         QCOMPARE(list->count(), 1);
-        QCOMPARE(list->item(0)->text(), QStringLiteral("1. NL-means, strong"));
+        QCOMPARE(list->item(0)->text(), QStringLiteral("1. Non-local means, strong"));
         const QString tip = list->item(0)->toolTip();
         for (const char* part : {"nlmeans", "patch radius", "search radius", "strength k"})
             QVERIFY2(tip.contains(QLatin1String(part)), qPrintable(tip));
-        QCOMPARE(w->session()->undoStack()->undoText(), QStringLiteral("Add NL-means, strong"));
+        QCOMPARE(w->session()->undoStack()->undoText(), QStringLiteral("Add Non-local means, strong"));
     }
 
     void aLayerIsRenamedByDoubleClickUndoablyAndSavedWithTheSession() {
@@ -448,7 +448,7 @@ class StudioSessionTest : public QObject {
         QCOMPARE(w->session()->undoStack()->undoText(), QStringLiteral("Rename layer 1"));
         w->session()->undoStack()->undo();
         QVERIFY(w->session()->session().layer(0).name.empty());
-        QCOMPARE(list->item(0)->text(), QStringLiteral("1. NL-means, strong"));
+        QCOMPARE(list->item(0)->text(), QStringLiteral("1. Non-local means, strong"));
         w->session()->undoStack()->redo();
         QCOMPARE(list->item(0)->text(), QStringLiteral("1. walls"));
         // A new session carrying the layers (feature prefiltering turned on) keeps the name.
