@@ -196,12 +196,10 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
     layout->addLayout(layerButtons);
     layout->addLayout(toolRow);
     layout->addLayout(form);
-    auto* overlays = new QHBoxLayout;
-    overlays->addWidget(m_showWeight);
-    overlays->addWidget(m_changeMap);
-    overlays->addWidget(m_choiceMap);
-    overlays->addStretch(1);
-    layout->addLayout(overlays);
+    // One a line: side by side they widened the panel past a 1366-px screen.
+    layout->addWidget(m_showWeight);
+    layout->addWidget(m_changeMap);
+    layout->addWidget(m_choiceMap);
     layout->addWidget(m_side, 1);
     layout->addWidget(m_state);
 

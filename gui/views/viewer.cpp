@@ -154,9 +154,11 @@ Viewer::Viewer(Document* document, SessionAdapter* session, QWidget* parent)
     m_wipe->setMaximumWidth(160);
     // The bar gives way before the window outgrows a 1366-px screen.
     m_wipe->setMinimumWidth(40);
-    // The channel box and the display mode are as wide as their longest items ("Colour
-    // variance", "False colour"): a cut name ("Colour varianc") reads as another channel.
+    // The channel box is as wide as its longest item when there is room and gives way down to
+    // ten characters ("Error: relative") when the window is narrow; the display mode (three short
+    // items) always shows its item whole ("False colour").
     m_channelBox->setSizeAdjustPolicy(QComboBox::AdjustToContents);
+    m_channelBox->setMinimumContentsLength(10);
     m_mode->setSizeAdjustPolicy(QComboBox::AdjustToContents);
     m_wipe->setEnabled(false);
 

@@ -180,7 +180,7 @@ int main(int argc, char** argv) {
     QTest::keyClick(w->viewer()->canvas(), Qt::Key_O);
     QTest::keyClick(w->viewer()->canvas(), Qt::Key_M);
     QTest::mouseClick(w->viewer()->canvas(), Qt::LeftButton, {},
-                      w->viewer()->canvas()->toWidget(QPointF(128, 40)).toPoint());
+                      w->viewer()->canvas()->toWidget(QPointF(128, 100)).toPoint());
     waitFor([&] { return w->viewer()->canvas()->hasSelection() && !w->session()->busy(); }, 20000);
     shoot(*w, out, QStringLiteral("13-wand-selection"));
     QTest::keyClick(w->viewer()->canvas(), Qt::Key_B);
