@@ -27,7 +27,7 @@ QList<QAction*> StudioActions::all() const {
                          oneToOne,  flip,          wipe,        exposureUp,    exposureDown};
     for (QAction* s : stages) list << s;
     list << lasso << wholeImage << brushSmaller << brushLarger << brush << wand << diffuse
-         << autoStart << same << back << help;
+         << showWeight << autoStart << same << back << help;
     return list;
 }
 
@@ -96,6 +96,8 @@ StudioActions createActions(QObject* o) {
                   QObject::tr("Fill connected areas of similar features"));
     a.diffuse = make(o, QObject::tr("&Diffuse"), QKeySequence(Qt::Key_D),
                      QObject::tr("Poisson-diffuse the painted weights"));
+    a.showWeight = make(o, QObject::tr("Show Layer &Weight"), QKeySequence(Qt::Key_O),
+                        QObject::tr("Paint: dim the image where the selected layer does not show"));
     a.autoStart =
         make(o, QObject::tr("&Auto Start"), QKeySequence(QObject::tr("Ctrl+Shift+A")),
              QObject::tr("Start painting from a per-pixel choice among a filter bank, made by "

@@ -37,6 +37,7 @@ struct StudioActions {
     QAction* brush;
     QAction* wand;
     QAction* diffuse;
+    QAction* showWeight;
     QAction* autoStart;
     QAction* same;
     QAction* back;

@@ -165,7 +165,7 @@ void MainWindow::buildMenus() {
     for (QAction* s : a.stages) work->addAction(s);
     work->addSeparator();
     for (QAction* x : {a.lasso, a.wholeImage, a.same, a.back, a.brush, a.wand, a.brushSmaller,
-                       a.brushLarger, a.diffuse, a.autoStart})
+                       a.brushLarger, a.diffuse, a.showWeight, a.autoStart})
         work->addAction(x);
     QMenu* help = menuBar()->addMenu(tr("&Help"));
     help->addAction(a.help);
@@ -266,6 +266,10 @@ void MainWindow::buildMenus() {
         m_paint->selectTool(ImageCanvas::Tool::Wand);
     });
     connect(a.diffuse, &QAction::triggered, m_paint, &PaintView::diffuse);
+    connect(a.showWeight, &QAction::triggered, this, [this] {
+        setStage(3);
+        m_paint->toggleWeightOverlay();
+    });
     connect(a.autoStart, &QAction::triggered, this, [this] {
         setStage(3);
         m_session->autoStart();
@@ -336,11 +340,18 @@ void MainWindow::connectModel() {
     connect(m_viewer, &Viewer::readoutChanged, m_readout, &ElidedLabel::setFullText);
     connect(m_session, &SessionAdapter::busyChanged, this, [this](bool busy) {
         m_busy->setText(busy ? tr("working…") : QString());
-        if (!busy) m_busyProgress->hide();
+        if (!busy) {
+            m_busyProgress->hide();
+            m_busyProgress->setRange(0, 1000);
+        }
     });
     connect(m_session, &SessionAdapter::progress, this, [this](const QString& what, double f) {
+        // At 100 % with work still running (the last of a stage, applying its result) the bar
+        // stays, as a busy indicator, until busyChanged(false).
         m_busy->setText(what);
-        m_busyProgress->setVisible(f < 1.0);
+        const bool done = f >= 1.0;
+        m_busyProgress->setRange(0, done && m_session->busy() ? 0 : 1000);
+        m_busyProgress->setVisible(!done || m_session->busy());
         m_busyProgress->setValue(int(f * 1000.0));
     });
     connect(m_session, &SessionAdapter::loaded, this, [this](const QString& path) {

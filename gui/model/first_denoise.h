@@ -1,16 +1,20 @@
 // A scene's first render is shown denoised, not raw: when a scene or an EXR is opened and its
 // session starts with no layers, one layer (its filter's defaults, weight 1 everywhere) is added,
-// as the user could do by hand: the learned filter (unet) when its weights are present and the
-// render has albedo and normal, else the cross-bilateral filter when the render has its guides
-// (docs/studio.md says why: unet is better at the studio's spp on every scene measured). It is an
-// ordinary layer: one undo step, journalled, painted over or removed like any other. No widgets
-// here.
+// as the user could do by hand. The filter is chosen by measurement: the learned filter (unet)
+// when it runs here and the render has albedo and normal (the lab measured it best at the
+// studio's spp on every scene, docs/lab/first-denoise.md); else, on the render itself, each
+// classical candidate's defaults are applied and their error estimated as auto estimates a
+// member's (SURE from the variance, the halves, or the image-only noise estimate; no
+// reference), and the smallest wins (cross-bilateral alone erased detail its guides do not
+// see). It is an ordinary layer: one undo step, journalled, painted over or removed like any
+// other. No widgets here.
 #pragma once
 
 #include <QObject>
 
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "glint/image/frame_buffers.h"
 
@@ -19,15 +23,38 @@ namespace glint::studio {
 class Document;
 class SessionAdapter;
 
+/// One candidate of the first denoise and its estimated error on the frame.
+struct FirstDenoiseEstimate {
+    std::string filter;
+    double mse = 0.0;  ///< auto's estimate, mean over the measured region and channels
+};
+
+/// What the measurement chose and what it saw.
+struct FirstDenoiseChoice {
+    std::string filter;  ///< "" when no candidate can run (the render stays raw)
+    std::vector<FirstDenoiseEstimate> estimates;  ///< in candidate order (empty: one candidate)
+};
+
 class FirstDenoise : public QObject {
     Q_OBJECT
   public:
-    /// The filter of the default layer without the learned one.
-    static constexpr const char* kClassicalFilter = "cross-bilateral";
-    /// The filter of the default layer on `frame`: the learned filter (model/learned_member.h)
-    /// when it runs here and the frame has albedo and normal, else kClassicalFilter when the
-    /// frame has its guides (albedo, normal, depth), else "" (the render stays raw).
-    static std::string filterFor(const FrameBuffers& frame);
+    /// The classical filters tried, in the order of preference when estimates tie.
+    static const std::vector<std::string>& classicalCandidates();
+    /// The candidates on `frame`: the learned filter (model/learned_member.h) when it runs here
+    /// and the frame has albedo and normal, then, when the frame has albedo, normal and depth
+    /// (a render's guides; a colour-only EXR stays raw), the classical candidates it can run.
+    static std::vector<std::string> candidatesFor(const FrameBuffers& frame);
+    /// Measures `candidates` (registry names, at their defaults) on `frame` over a centred
+    /// window of at most kMeasuredSide² pixels and picks the smallest estimated error (the
+    /// first candidate when the frame cannot be estimated, e.g. non-finite values). Runs the
+    /// filters: call it on a worker. Deterministic.
+    static FirstDenoiseChoice choose(const FrameBuffers& frame,
+                                     const std::vector<std::string>& candidates);
+    /// What the studio adds: the learned filter when it is a candidate (the lab's measurement),
+    /// else choose(frame, candidatesFor(frame)).
+    static FirstDenoiseChoice choose(const FrameBuffers& frame);
+    /// The side of the window the candidates are measured over.
+    static constexpr int kMeasuredSide = 384;
 
     /// Watches `document` and `session`; `allowed()` is asked before a layer is added (false
     /// while a journal is restored, or when the user turned the default off).

@@ -252,27 +252,56 @@ void SessionAdapter::addLayer(const std::string& filter, const denoise::ParamVal
     if (!m_session) return;
     const denoise::Filter* f = &denoise::findFilter(filter);
     const denoise::ParamValues resolved = denoise::resolveParams(*f, params);
+    runAddLayer(
+        [this, f, filter, resolved](const FrameBuffers& in, const TaskRunner::CancelFlag& cancel) {
+            return NewLayer{filter, resolved,
+                            std::make_shared<Image>(denoise::applyFilter(
+                                *f, in, resolved,
+                                {.region = std::nullopt,
+                                 .progress = progressFor(tr("Adding a layer"), cancel),
+                                 .threads = 0}))};
+        },
+        std::move(fillMask));
+}
+
+void SessionAdapter::addChosenLayer(std::function<std::string(const FrameBuffers&)> choose,
+                                    std::optional<Image> fillMask) {
+    if (!m_session) return;
+    runAddLayer(
+        [this, choose](const FrameBuffers& in, const TaskRunner::CancelFlag& cancel) {
+            const std::string filter = choose(in);
+            if (filter.empty()) return NewLayer{};
+            const denoise::Filter& f = denoise::findFilter(filter);
+            const denoise::ParamValues params = denoise::resolveParams(f, {});
+            return NewLayer{filter, params,
+                            std::make_shared<Image>(denoise::applyFilter(
+                                f, in, params,
+                                {.region = std::nullopt,
+                                 .progress = progressFor(tr("Adding a layer"), cancel),
+                                 .threads = 0}))};
+        },
+        std::move(fillMask));
+}
+
+void SessionAdapter::runAddLayer(
+    std::function<NewLayer(const FrameBuffers&, const TaskRunner::CancelFlag&)> work,
+    std::optional<Image> fillMask) {
     FramePtr in = m_filterInput;
     const std::uint64_t generation = m_generation;
-    m_tasks.run<Image>(
+    m_tasks.run<NewLayer>(
         QStringLiteral("add-%1").arg(m_revision),
-        [this, f, resolved, in](const TaskRunner::CancelFlag& cancel) {
-            return denoise::applyFilter(*f, *in, resolved,
-                                        {.region = std::nullopt,
-                                         .progress = progressFor(tr("Adding a layer"), cancel),
-                                         .threads = 0});
-        },
-        [this, filter, resolved, fillMask, generation](Image output) {
-            auto shared = std::make_shared<Image>(std::move(output));
-            whenUnlocked([this, filter, resolved, fillMask, generation, shared] {
+        [work, in](const TaskRunner::CancelFlag& cancel) { return work(*in, cancel); },
+        [this, work, fillMask, generation](NewLayer layer) {
+            if (!layer.output) return;
+            whenUnlocked([this, work, fillMask, generation, layer] {
                 if (!m_session) return;
                 if (generation != m_generation) {
                     // A new render arrived meanwhile: the output must be of the new one.
-                    addLayer(filter, resolved, fillMask);
+                    runAddLayer(work, fillMask);
                     return;
                 }
                 try {
-                    doAddLayer(filter, resolved, std::move(*shared), fillMask);
+                    doAddLayer(layer.filter, layer.params, std::move(*layer.output), fillMask);
                 } catch (const Error& e) {
                     emit failed(tr("Cannot add the layer"), QString::fromStdString(e.what()));
                 }

@@ -7,6 +7,7 @@
 #include <QJsonObject>
 #include <QObject>
 #include <QString>
+#include <QStringList>
 #include <QUndoStack>
 
 #include <cstdint>
@@ -77,6 +78,10 @@ class SessionAdapter : public QObject {
     /// and, when `fillMask` is given, sets its weight to 1 there: one undo step.
     void addLayer(const std::string& filter, const denoise::ParamValues& params,
                   std::optional<Image> fillMask = std::nullopt);
+    /// As addLayer with the filter's defaults, the filter named by `choose` on the filters'
+    /// input, on the same worker (busy() meanwhile); nothing when it names none.
+    void addChosenLayer(std::function<std::string(const FrameBuffers&)> choose,
+                        std::optional<Image> fillMask = std::nullopt);
     void removeLayer(std::size_t index);
     /// Names a layer (empty: named after its filter again): one undo step, saved with the
     /// session.
@@ -90,9 +95,19 @@ class SessionAdapter : public QObject {
     /// Poisson-diffusion blending of `layers` (in the background; painting waits meanwhile).
     void diffuse(const std::vector<std::size_t>& layers);
     /// "Auto start": in the background, a bank of `bankSize` members over the input (from the
-    /// bank service) and the per-pixel choice among them by SURE (glint/denoise/auto.h); then the
-    /// chosen members are added as layers with their weights, one undo step ("Auto start").
+    /// bank service) and the per-pixel choice among them (glint/denoise/auto.h); then auto's
+    /// result is added as one layer (auto's correction over the composite, weight 1: the result
+    /// bit for bit), one undo step ("Auto start"); its choice map is kept (autoChoice).
     void autoStart(int bankSize = 64);
+    /// What Auto Start chose per pixel for its result layer (for the choice map).
+    struct AutoChoiceMap {
+        std::shared_ptr<const Image> choice;  ///< 1 channel: the member index per pixel
+        QStringList members;                  ///< display names (layerName), by member index
+        int used = 0;                         ///< members with any weight in the blend
+    };
+    /// The choice map of layer `index` when it is the result layer of an Auto Start run in this
+    /// studio; null otherwise (a session opened from a file does not carry it).
+    const AutoChoiceMap* autoChoice(std::size_t index) const;
 
     /// A stroke: dabs update the composite at once (on the UI thread); the end is one undo step.
     void beginStroke(std::size_t layer, const denoise::Brush& brush, denoise::BrushMode mode);
@@ -139,6 +154,8 @@ class SessionAdapter : public QObject {
     void failed(const QString& title, const QString& message);
     /// A one-line note for the status bar (what Auto start made, and how it estimated the error).
     void status(const QString& message);
+    /// The magic wand's selection (1 channel, 1 inside), before it fills the layer.
+    void wandSelected(std::shared_ptr<const glint::Image> mask);
     /// A session file finished loading (its view state may be read now).
     void loaded(const QString& path);
     /// An edit happened (for the autosave journal).
@@ -151,6 +168,15 @@ class SessionAdapter : public QObject {
     void reapplyInBackground();
     void installReapply(FramePtr frame, Reapplied& reapplied, bool journal);
     void pushEdit(const QString& text, int steps = 1);
+    // A layer's filter, parameters and output, computed on a worker.
+    struct NewLayer {
+        std::string filter;
+        denoise::ParamValues params;
+        std::shared_ptr<Image> output;  // null: nothing to add
+    };
+    void runAddLayer(
+        std::function<NewLayer(const FrameBuffers&, const TaskRunner::CancelFlag&)> work,
+        std::optional<Image> fillMask);
     void doAddLayer(const std::string& filter, const denoise::ParamValues& params, Image output,
                     const std::optional<Image>& fillMask);
     void autoChoose(BankService::BankPtr bank, FramePtr in, const denoise::SessionOptions& options,
@@ -186,6 +212,9 @@ class SessionAdapter : public QObject {
     std::uint64_t m_wandNext = 0, m_wandApplied = 0;
     std::map<std::uint64_t, std::function<void()>> m_wandReady;
     std::vector<std::function<void()>> m_afterUnlock;
+    // Auto Start's choice maps, by the result layer they belong to.
+    std::vector<std::pair<std::weak_ptr<const denoise::SessionCorrection>, AutoChoiceMap>>
+        m_autoChoices;
     // The open stroke, for the journal and to tell whether it changed anything.
     journal_codec::Stroke m_stroke;  ///< the stroke being made, recorded when it ends
     Image m_strokeBefore;

@@ -7,6 +7,7 @@
 #include "glint/denoise/bank.h"
 #include "glint/image/error.h"
 #include "model/journal_codec.h"
+#include "model/layer_names.h"
 #include "model/session_adapter.h"
 
 namespace glint::studio {
@@ -31,8 +32,8 @@ QString autoStartSummary(const denoise::AutoResult& result) {
             how = QObject::tr("SURE with the render's variance");
             break;
     }
-    return QObject::tr("Auto start: %n layer(s), errors estimated by %1", "",
-                       int(result.layers.size()))
+    return QObject::tr("Auto start: one result layer blending %n member(s), errors estimated by %1",
+                       "", int(result.layers.size()))
         .arg(how);
 }
 
@@ -66,6 +67,7 @@ void SessionAdapter::wand(std::size_t layer, int x, int y, const denoise::WandOp
         [this, ready, session, layer, mode](std::shared_ptr<Image> mask) {
             ready([this, session, layer, mode, mask] {
                 if (m_session.get() != session || layer >= m_session->layerCount()) return;
+                emit wandSelected(mask);
                 fill(layer, *mask, mode);
             });
         },
@@ -175,38 +177,51 @@ void SessionAdapter::autoChoose(BankService::BankPtr bank, FramePtr in,
             return std::make_shared<denoise::AutoResult>(denoise::autoComposite(*bank, *in, ao));
         },
         [this, generation, bank](std::shared_ptr<denoise::AutoResult> result) {
-            // 3. The chosen members as layers, one undo step.
+            // 3. One result layer, one undo step: auto's correction over the composite now
+            // (Session::addCorrection) with weight 1 everywhere is auto's result bit for bit,
+            // whatever lies beneath; its per-pixel member choice is kept for the choice map.
             whenUnlocked([this, generation, bank, result] {
                 if (!m_session || generation != m_generation) return;  // a new render came
-                const std::size_t first = m_session->layerCount();
-                std::size_t edits = 0;
+                std::size_t index = 0;
                 try {
-                    edits = denoise::startFromAuto(*m_session, *bank, *result);
+                    index = m_session->addCorrection(result->composite);
+                    m_session->setWeights(index,
+                                          Image(m_session->width(), m_session->height(), 1, 1.0f));
                 } catch (const Error& e) {
                     emit failed(tr("Auto start failed"), QString::fromStdString(e.what()));
                     return;
                 }
-                // One journal entry, as it is one undo step: a restore replays the journal's
-                // undo and redo step for step.
-                if (edits > 0) {
-                    journal_codec::AddLayers added;
-                    JournalEntry entry;
-                    for (std::size_t i = first; i < m_session->layerCount(); ++i) {
-                        const denoise::SessionLayer& layer = m_session->layer(i);
-                        added.layers.emplace_back(layer.filter, layer.params, layer.correction);
-                        entry.images.push_back(layer.weights);
-                    }
-                    for (Image& image : journal_codec::correctionImages(added.layers))
-                        entry.images.push_back(std::move(image));
-                    entry.op = journal_codec::encode(added);
-                    emit journal(entry);
-                    pushEdit(tr("Auto start"), int(edits));
-                }
+                const denoise::SessionLayer& layer = m_session->layer(index);
+                AutoChoiceMap map;
+                map.choice = std::make_shared<const Image>(result->choice);
+                for (const denoise::BankMember& m : bank->members())
+                    map.members << layerName(m.filter, m.params);
+                map.used = int(result->layers.size());
+                m_autoChoices.emplace_back(layer.correction, std::move(map));
+                // One journal entry, as it is one undo step (a restore replays it).
+                journal_codec::AddLayers added;
+                added.layers.emplace_back(layer.filter, layer.params, layer.correction);
+                JournalEntry entry;
+                entry.images.push_back(layer.weights);
+                for (Image& image : journal_codec::correctionImages(added.layers))
+                    entry.images.push_back(std::move(image));
+                entry.op = journal_codec::encode(added);
+                emit journal(entry);
+                pushEdit(tr("Auto start"), 2);
                 changedAll();
                 emit status(autoStartSummary(*result));
             });
         },
         [this](const QString& message) { emit failed(tr("Auto start failed"), message); });
+}
+
+const SessionAdapter::AutoChoiceMap* SessionAdapter::autoChoice(std::size_t index) const {
+    if (!m_session || index >= m_session->layerCount()) return nullptr;
+    const auto& correction = m_session->layer(index).correction;
+    if (!correction) return nullptr;
+    for (const auto& [layer, map] : m_autoChoices)
+        if (layer.lock() == correction) return &map;
+    return nullptr;
 }
 
 void SessionAdapter::renameLayer(std::size_t index, const std::string& name) {

@@ -3,6 +3,8 @@
 #include <QFontMetrics>
 #include <QPainter>
 
+#include <algorithm>
+
 #include "views/display.h"
 
 namespace glint::studio {
@@ -55,6 +57,26 @@ void drawFalseColorLegend(QPainter& p, const QRect& area, float lo, float hi) {
     const QRect text(bar.left(), bar.bottom() + kPlatePadding, barWidth, fm.height());
     p.drawText(text, Qt::AlignLeft | Qt::AlignVCenter, labels[0]);
     p.drawText(text, Qt::AlignRight | Qt::AlignVCenter, labels[1]);
+}
+
+void drawCategoryLegend(QPainter& p, const QRect& area,
+                        const QList<QPair<QColor, QString>>& entries) {
+    const QFontMetrics fm(p.font());
+    const int swatch = fm.height() - 4, line = fm.height() + 2;
+    int textWidth = 0;
+    for (const auto& e : entries) textWidth = std::max(textWidth, fm.horizontalAdvance(e.second));
+    const int w = swatch + 6 + textWidth + 2 * kPlatePadding;
+    const int h = int(entries.size()) * line + 2 * kPlatePadding;
+    const QRect box(area.left() + kPlateMargin, area.bottom() - kPlateMargin - h, w, h);
+    plate(p, box);
+    int y = box.top() + kPlatePadding;
+    for (const auto& e : entries) {
+        p.fillRect(QRect(box.left() + kPlatePadding, y + 3, swatch, swatch), e.first);
+        p.setPen(QColor(235, 235, 235));
+        p.drawText(QRect(box.left() + kPlatePadding + swatch + 6, y, textWidth, line),
+                   Qt::AlignLeft | Qt::AlignVCenter, e.second);
+        y += line;
+    }
 }
 
 }  // namespace glint::studio

@@ -1,8 +1,12 @@
 // What the canvas draws over the image, in widget coordinates: the label saying what is shown
-// (top left) and the false-colour legend with its range (bottom right), both on a translucent
+// (top left), the false-colour legend with its range (bottom right) and a categorical map's
+// legend (bottom left), all on a translucent
 // dark plate that stays readable over any image.
 #pragma once
 
+#include <QColor>
+#include <QList>
+#include <QPair>
 #include <QRect>
 #include <QString>
 #include <QStringList>
@@ -18,5 +22,9 @@ QStringList legendLabels(float lo, float hi);
 /// Draws the false-colour bar from `lo` (left) to `hi` (right) in the bottom-right corner of
 /// `area`, with legendLabels under its ends.
 void drawFalseColorLegend(QPainter& p, const QRect& area, float lo, float hi);
+/// Draws a categorical map's legend (a swatch and a name a line) in the bottom-left corner of
+/// `area`.
+void drawCategoryLegend(QPainter& p, const QRect& area,
+                        const QList<QPair<QColor, QString>>& entries);
 
 }  // namespace glint::studio

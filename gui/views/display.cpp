@@ -135,4 +135,65 @@ QImage maskOverlay(const Image& mask, const QColor& color) {
     return out;
 }
 
+QImage changeOverlay(const Image& change) {
+    QImage out(change.width(), change.height(), QImage::Format_ARGB32_Premultiplied);
+    for (int y = 0; y < change.height(); ++y) {
+        auto* dst = reinterpret_cast<QRgb*>(out.scanLine(y));
+        for (int x = 0; x < change.width(); ++x) {
+            const float m = std::clamp(change(x, y, 0), 0.0f, 1.0f);
+            const bool cyan = ((x / 4) + (y / 4)) % 2 == 0;
+            const int a = int(std::lround(m * 220.0f));
+            dst[x] = qPremultiply(cyan ? qRgba(0, 255, 255, a) : qRgba(255, 0, 255, a));
+        }
+    }
+    return out;
+}
+
+QImage weightOverlay(const Image& weights) {
+    QImage out(weights.width(), weights.height(), QImage::Format_ARGB32_Premultiplied);
+    for (int y = 0; y < weights.height(); ++y) {
+        auto* dst = reinterpret_cast<QRgb*>(out.scanLine(y));
+        for (int x = 0; x < weights.width(); ++x) {
+            const float w = std::clamp(weights(x, y, 0), 0.0f, 1.0f);
+            dst[x] = qPremultiply(qRgba(10, 16, 48, int(std::lround((1.0f - w) * 170.0f))));
+        }
+    }
+    return out;
+}
+
+QImage selectionOverlay(const Image& mask) {
+    QImage out(mask.width(), mask.height(), QImage::Format_ARGB32_Premultiplied);
+    auto in = [&](int x, int y) {
+        return x >= 0 && y >= 0 && x < mask.width() && y < mask.height() && mask(x, y, 0) > 0.5f;
+    };
+    for (int y = 0; y < mask.height(); ++y) {
+        auto* dst = reinterpret_cast<QRgb*>(out.scanLine(y));
+        for (int x = 0; x < mask.width(); ++x) {
+            if (!in(x, y)) {
+                dst[x] = 0;
+                continue;
+            }
+            // An edge pixel has a 4-neighbour outside: a dash of 4 black, 4 white.
+            const bool edge = !in(x - 1, y) || !in(x + 1, y) || !in(x, y - 1) || !in(x, y + 1);
+            dst[x] =
+                edge ? (((x + y) / 4) % 2 == 0 ? qRgba(0, 0, 0, 255) : qRgba(255, 255, 255, 255))
+                     : qPremultiply(qRgba(0, 220, 255, 70));
+        }
+    }
+    return out;
+}
+
+QColor categoryColor(int i) {
+    // Hues a golden-ratio turn apart never repeat and stay far apart for the first dozen.
+    const double hue = std::fmod(0.13 + 0.618033988749895 * double(i), 1.0);
+    return QColor::fromHsvF(float(hue), 0.85f, 0.95f);
+}
+
+float normalizeForDisplay(Image& image) {
+    const float hi = luminancePercentiles(image, DisplaySettings{}, 0.99, 0.99).second;
+    if (!(hi > 0.0f) || !std::isfinite(hi)) return 1.0f;
+    for (float& v : image.data()) v /= hi;
+    return hi;
+}
+
 }  // namespace glint::studio

@@ -205,8 +205,20 @@ void ImageCanvas::setOverlay(const QImage& overlay) {
 }
 
 void ImageCanvas::clearOverlay() {
-    if (m_overlay.isNull()) return;
+    if (m_overlay.isNull() && m_legend.isEmpty()) return;
     m_overlay = QImage();
+    m_legend.clear();
+    update();
+}
+
+void ImageCanvas::setSelection(const QImage& selection) {
+    if (m_selection.isNull() && selection.isNull()) return;
+    m_selection = selection;
+    update();
+}
+
+void ImageCanvas::setLegend(const QList<QPair<QColor, QString>>& entries) {
+    m_legend = entries;
     update();
 }
 
@@ -326,6 +338,7 @@ void ImageCanvas::paintEvent(QPaintEvent* event) {
         p.restore();
     }
     if (!m_overlay.isNull()) p.drawImage(imageRectInWidget(), m_overlay);
+    if (!m_selection.isNull()) p.drawImage(imageRectInWidget(), m_selection);
     // The region of interest: a dashed outline, white over black for any background.
     auto outline = [&](const QPolygonF& poly, bool closed) {
         QPolygonF w;
@@ -369,6 +382,7 @@ void ImageCanvas::paintEvent(QPaintEvent* event) {
                         : tr("%1 · preview inside the region").arg(m_label));
     if (m_display.mode == DisplayMode::FalseColor)
         drawFalseColorLegend(p, rect(), m_display.falseLo, m_display.falseHi);
+    if (!m_legend.isEmpty()) drawCategoryLegend(p, rect(), m_legend);
     emit painted();
 }
 

@@ -4,8 +4,11 @@
 // that owns the current tool. It knows nothing of sessions or renders.
 #pragma once
 
+#include <QColor>
 #include <QImage>
+#include <QList>
 #include <QPainterPath>
+#include <QPair>
 #include <QPointF>
 #include <QPolygonF>
 #include <QString>
@@ -79,6 +82,13 @@ class ImageCanvas : public QWidget {
     /// True while an overlay is shown.
     bool hasOverlay() const { return !m_overlay.isNull(); }
     void clearOverlay();
+    /// A selection drawn over the overlay (the magic wand's: selectionOverlay); null clears.
+    void setSelection(const QImage& selection);
+    bool hasSelection() const { return !m_selection.isNull(); }
+    /// Entries of a categorical map's legend (a colour and its name), drawn bottom left; empty:
+    /// none.
+    void setLegend(const QList<QPair<QColor, QString>>& entries);
+    const QList<QPair<QColor, QString>>& legend() const { return m_legend; }
 
     /// Brush outline and, when given, what the brush would paint (linear, frame-sized): shown
     /// inside the brush under the cursor. Copied.
@@ -150,6 +160,8 @@ class ImageCanvas : public QWidget {
     QImage m_preview;
     Rect m_previewRect{};
     QImage m_overlay;
+    QImage m_selection;
+    QList<QPair<QColor, QString>> m_legend;
     QImage m_brushSource;
     // The linear image shown, for re-conversion when the display changes (shared with the
     // conversion running, if any).

@@ -8,6 +8,7 @@
 #include <QListWidget>
 #include <QPushButton>
 #include <QRegularExpression>
+#include <QSignalBlocker>
 #include <QSlider>
 #include <QToolButton>
 #include <QVBoxLayout>
@@ -25,10 +26,66 @@ namespace glint::studio {
 
 namespace {
 
-QString layerText(const denoise::SessionLayer& layer, std::size_t index) {
-    const QString name = layer.name.empty() ? layerName(layer.filter, layer.params)
-                                            : QString::fromStdString(layer.name);
+QString layerText(const denoise::SessionLayer& layer, std::size_t index,
+                  const SessionAdapter::AutoChoiceMap* autoChoice) {
+    QString name = layer.name.empty() ? layerName(layer.filter, layer.params)
+                                      : QString::fromStdString(layer.name);
+    if (autoChoice && layer.name.empty())
+        name = QObject::tr("Auto result (%n member(s))", "", autoChoice->used);
     return QStringLiteral("%1. %2").arg(index + 1).arg(name);
+}
+
+// The choice map as an image, each member in its colour (the members covering most pixels
+// first), and its legend: the largest members by name, the rest counted.
+struct ChoiceOverlay {
+    QImage image;
+    QList<QPair<QColor, QString>> legend;
+};
+
+ChoiceOverlay choiceOverlay(const SessionAdapter::AutoChoiceMap& map) {
+    constexpr int kNamed = 6;
+    const Image& choice = *map.choice;
+    const int members = int(map.members.size());
+    std::vector<std::size_t> count(std::size_t(members) + 1, 0);
+    auto memberAt = [&](int x, int y) {
+        const int m = int(choice(x, y, 0));
+        return m >= 0 && m < members ? m : members;
+    };
+    for (int y = 0; y < choice.height(); ++y)
+        for (int x = 0; x < choice.width(); ++x) ++count[std::size_t(memberAt(x, y))];
+    std::vector<int> order(static_cast<std::size_t>(members));
+    for (int i = 0; i < members; ++i) order[std::size_t(i)] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return count[std::size_t(a)] > count[std::size_t(b)]; });
+    std::vector<QColor> colour(std::size_t(members) + 1, QColor(128, 128, 128));
+    ChoiceOverlay out;
+    int others = 0;
+    for (int rank = 0; rank < members; ++rank) {
+        const int m = order[std::size_t(rank)];
+        if (count[std::size_t(m)] == 0) break;
+        colour[std::size_t(m)] = rank < kNamed ? categoryColor(rank) : QColor(128, 128, 128);
+        const double share = 100.0 * double(count[std::size_t(m)]) /
+                             double(std::size_t(choice.width()) * std::size_t(choice.height()));
+        if (rank < kNamed)
+            out.legend << qMakePair(colour[std::size_t(m)],
+                                    QStringLiteral("%1 · %2 %")
+                                        .arg(map.members[m])
+                                        .arg(share, 0, 'f', share < 1.0 ? 1 : 0));
+        else
+            ++others;
+    }
+    if (others > 0)
+        out.legend << qMakePair(QColor(128, 128, 128),
+                                QObject::tr("%n other member(s)", "", others));
+    out.image = QImage(choice.width(), choice.height(), QImage::Format_ARGB32_Premultiplied);
+    for (int y = 0; y < choice.height(); ++y) {
+        auto* dst = reinterpret_cast<QRgb*>(out.image.scanLine(y));
+        for (int x = 0; x < choice.width(); ++x) {
+            const QColor& c = colour[std::size_t(memberAt(x, y))];
+            dst[x] = qPremultiply(qRgba(c.red(), c.green(), c.blue(), 190));
+        }
+    }
+    return out;
 }
 
 // The name typed into row `index` ("3. walls" or "walls"): "" when it is the filter's own name.
@@ -87,13 +144,28 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
     m_softness->setRange(0, 100);
     m_softness->setValue(50);
     m_softness->setToolTip(tr("Inner radius / outer radius: 1 is a hard brush"));
-    m_wandColor = new QDoubleSpinBox(this);
-    m_wandColor->setRange(-1.0, 10.0);
-    m_wandColor->setSingleStep(0.05);
-    m_wandColor->setValue(denoise::WandOptions{}.color);
-    m_wandColor->setToolTip(tr("Colour tolerance of the wand, relative (−1: colour not used)"));
+    m_wandTolerance = new QDoubleSpinBox(this);
+    m_wandTolerance->setObjectName(QStringLiteral("wandTolerance"));
+    m_wandTolerance->setRange(-1.0, 10.0);
+    m_wandTolerance->setSingleStep(0.05);
+    m_wandTolerance->setValue(denoise::WandOptions{}.color);
+    m_wandTolerance->setToolTip(
+        tr("How different a pixel's colour may be from the clicked one and still be selected, "
+           "relative (larger selects more; −1: colour not used, features only)"));
+    m_showWeight = new QCheckBox(tr("Show weight (O)"), this);
+    m_showWeight->setObjectName(QStringLiteral("showWeight"));
+    m_showWeight->setToolTip(
+        tr("Where the selected layer shows: the rest of the image is dimmed (O)"));
     m_changeMap = new QCheckBox(tr("Show change map"), this);
-    m_changeMap->setToolTip(tr("Where the selected filter would change the current composite"));
+    m_changeMap->setObjectName(QStringLiteral("changeMap"));
+    m_changeMap->setToolTip(
+        tr("Where the selected filter would change the current composite (a cyan and magenta "
+           "checker, stronger where the change is larger)"));
+    m_choiceMap = new QCheckBox(tr("Show choice map"), this);
+    m_choiceMap->setObjectName(QStringLiteral("choiceMap"));
+    m_choiceMap->setToolTip(
+        tr("For Auto Start's result layer: which bank member auto chose at each pixel, coloured "
+           "by member, with a legend"));
     m_side = new QLabel(this);
     m_side->setMinimumHeight(160);
     // The preview is scaled to the label: its pixmap must not widen the panel.
@@ -116,7 +188,7 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
     auto* form = new QFormLayout;
     form->addRow(tr("Size"), m_size);
     form->addRow(tr("Softness"), m_softness);
-    form->addRow(tr("Wand colour"), m_wandColor);
+    form->addRow(tr("Wand tolerance"), m_wandTolerance);
     auto* layout = new QVBoxLayout(this);
     layout->addWidget(new QLabel(tr("Layers (palette)"), this));
     layout->addWidget(m_layers);
@@ -124,7 +196,10 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
     layout->addLayout(layerButtons);
     layout->addLayout(toolRow);
     layout->addLayout(form);
+    // One a line: side by side they widened the panel past a 1366-px screen.
+    layout->addWidget(m_showWeight);
     layout->addWidget(m_changeMap);
+    layout->addWidget(m_choiceMap);
     layout->addWidget(m_side, 1);
     layout->addWidget(m_state);
 
@@ -179,12 +254,19 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
         m_size->setValue(size);
         m_size->blockSignals(false);
     });
-    connect(m_changeMap, &QCheckBox::toggled, this, &PaintView::updateOverlay);
+    for (QCheckBox* box : {m_showWeight, m_changeMap, m_choiceMap})
+        connect(box, &QCheckBox::toggled, this, [this, box](bool on) { overlayChosen(box, on); });
+    // The wand's selection shows until the next stroke, click or layer.
+    connect(session, &SessionAdapter::wandSelected, this,
+            [this, canvas](std::shared_ptr<const Image> mask) {
+                if (m_active && mask) canvas->setSelection(selectionOverlay(*mask));
+            });
 
     // Strokes: a dab where the button went down, then dabs a quarter brush apart along the drag.
     connect(
         canvas, &ImageCanvas::strokeBegan, this, [this, session](const QPointF& at, bool subtract) {
             if (!m_active || currentLayer() < 0 || session->locked()) return;
+            m_context.viewer->canvas()->setSelection(QImage());
             session->beginStroke(std::size_t(currentLayer()), brush(),
                                  subtract ? denoise::BrushMode::Subtract : denoise::BrushMode::Add);
             m_stroking = session->inStroke();
@@ -213,6 +295,7 @@ PaintView::PaintView(const StudioContext& context, QWidget* parent) : StageView(
     connect(session, &SessionAdapter::compositeChanged, this, [this](const Rect&) {
         if (m_changeMap->isChecked() && !m_stroking) updateOverlay();
     });
+
     connect(session, &SessionAdapter::lockedChanged, this, [this](bool locked) {
         m_state->setText(locked ? tr("Diffusing or saving… painting waits.") : QString());
     });
@@ -252,7 +335,7 @@ void PaintView::rebuildLayers() {
     if (m_context.session->hasSession()) {
         const denoise::Session& s = m_context.session->session();
         for (std::size_t i = 0; i < s.layerCount(); ++i) {
-            m_layers->addItem(layerText(s.layer(i), i));
+            m_layers->addItem(layerText(s.layer(i), i, m_context.session->autoChoice(i)));
             m_layers->item(int(i))->setFlags(m_layers->item(int(i))->flags() | Qt::ItemIsEditable);
             // The full parameters on the row; a layer that did not run says why.
             QListWidgetItem* item = m_layers->item(int(i));
@@ -297,6 +380,7 @@ void PaintView::updateAllowButton() {
 void PaintView::layerSelected() {
     const int layer = currentLayer();
     ImageCanvas* canvas = m_context.viewer->canvas();
+    if (m_active) canvas->setSelection(QImage());
     updateAllowButton();
     updateOverlay();
     if (layer < 0) {
@@ -341,31 +425,72 @@ void PaintView::updateSidePreview() {
     m_side->setText(tr("Choose a filter in stage 3 to paint with it."));
 }
 
+void PaintView::overlayChosen(QCheckBox* box, bool on) {
+    if (on)
+        for (QCheckBox* other : {m_showWeight, m_changeMap, m_choiceMap})
+            if (other != box) {
+                const QSignalBlocker block(other);
+                other->setChecked(false);
+            }
+    updateOverlay();
+}
+
+void PaintView::toggleWeightOverlay() {
+    m_showWeight->toggle();
+}
+
 void PaintView::updateOverlay() {
     ImageCanvas* canvas = m_context.viewer->canvas();
     const int layer = currentLayer();
-    if (!m_active || !m_changeMap->isChecked() || layer < 0) {
+    const SessionAdapter::AutoChoiceMap* choice =
+        layer >= 0 ? m_context.session->autoChoice(std::size_t(layer)) : nullptr;
+    m_choiceMap->setEnabled(choice != nullptr);
+    const bool any = m_showWeight->isChecked() || m_changeMap->isChecked() ||
+                     (m_choiceMap->isChecked() && choice);
+    if (!m_active || !any || layer < 0) {
         m_tasks.cancel(QStringLiteral("change"));
         canvas->clearOverlay();
         return;
     }
-    // The map on a worker, from copies (the composite changes under the brush).
+    // The maps on a worker, from copies (the composite and weights change under the brush).
     const denoise::Session& s = m_context.session->session();
+    if (m_showWeight->isChecked()) {
+        auto weights = std::make_shared<const Image>(s.layer(std::size_t(layer)).weights);
+        m_tasks.run<ChoiceOverlay>(
+            QStringLiteral("change"),
+            [weights](const TaskRunner::CancelFlag&) {
+                return ChoiceOverlay{weightOverlay(*weights), {}};
+            },
+            [this](ChoiceOverlay overlay) { showOverlay(overlay.image, overlay.legend); });
+        return;
+    }
+    if (m_choiceMap->isChecked()) {
+        const SessionAdapter::AutoChoiceMap map = *choice;
+        m_tasks.run<ChoiceOverlay>(
+            QStringLiteral("change"),
+            [map](const TaskRunner::CancelFlag&) { return choiceOverlay(map); },
+            [this](ChoiceOverlay overlay) { showOverlay(overlay.image, overlay.legend); });
+        return;
+    }
     std::shared_ptr<const Image> output = s.layer(std::size_t(layer)).output;
     auto composite = std::make_shared<const Image>(s.composite());
-    m_tasks.run<QImage>(
+    m_tasks.run<ChoiceOverlay>(
         QStringLiteral("change"),
         [output, composite](const TaskRunner::CancelFlag&) {
             // The square root lifts the small changes a bright edge would otherwise hide (the
             // map is divided by its largest value).
             Image change = denoise::changeMap(*output, *composite);
             for (float& v : change.data()) v = std::sqrt(v);
-            return maskOverlay(change, QColor(255, 80, 40, 200));
+            return ChoiceOverlay{changeOverlay(change), {}};
         },
-        [this](QImage overlay) {
-            if (m_active && m_changeMap->isChecked() && currentLayer() >= 0)
-                m_context.viewer->canvas()->setOverlay(overlay);
-        });
+        [this](ChoiceOverlay overlay) { showOverlay(overlay.image, overlay.legend); });
+}
+
+void PaintView::showOverlay(const QImage& image, const QList<QPair<QColor, QString>>& legend) {
+    if (!m_active || currentLayer() < 0) return;
+    ImageCanvas* canvas = m_context.viewer->canvas();
+    canvas->setOverlay(image);
+    canvas->setLegend(legend);
 }
 
 void PaintView::strokeTo(const QPointF& at) {
@@ -388,7 +513,7 @@ void PaintView::wand(const QPoint& pixel, bool subtract) {
     if (!m_active || layer < 0 || !m_context.session->filterInput() || m_context.session->locked())
         return;
     denoise::WandOptions options;
-    options.color = m_wandColor->value();
+    options.color = m_wandTolerance->value();
     m_context.session->wand(std::size_t(layer), pixel.x(), pixel.y(), options,
                             subtract ? denoise::BrushMode::Subtract : denoise::BrushMode::Add);
 }
@@ -424,6 +549,7 @@ void PaintView::deactivate() {
     ImageCanvas* canvas = m_context.viewer->canvas();
     canvas->setBrushSource(nullptr);
     canvas->clearOverlay();
+    canvas->setSelection(QImage());
 }
 
 }  // namespace glint::studio

@@ -1,8 +1,15 @@
 // Stage 4, painting: the palette of layers chosen so far, a soft brush (size and softness; [ and ]
 // or shift+drag resize it; left button adds, right removes) with what it would paint shown under
-// it, the magic wand and Poisson-diffusion blending as tools, the change map as an overlay and a
-// large side preview of the selected filter applied everywhere.
+// it, the magic wand (its selection shown) and Poisson-diffusion blending as tools, overlays of
+// the selected layer's weight, its change map or Auto Start's choice map, and a large side
+// preview of the selected filter applied everywhere.
 #pragma once
+
+#include <QColor>
+#include <QImage>
+#include <QList>
+#include <QPair>
+#include <QString>
 
 #include <optional>
 
@@ -34,6 +41,8 @@ class PaintView : public StageView {
     void growBrush(double factor);
     /// Diffuses the weights of every layer that has painted pixels.
     void diffuse();
+    /// Shows or hides the selected layer's weight over the image (the O key).
+    void toggleWeightOverlay();
 
   signals:
     /// The user asks to allow the program (a full path) the selected, unavailable layer runs.
@@ -50,6 +59,9 @@ class PaintView : public StageView {
     // Shows "Allow program…" when the selected layer waits for a program not allowed.
     void updateAllowButton();
     void updateOverlay();
+    // Keeps at most one of the overlay boxes checked (the one just checked).
+    void overlayChosen(QCheckBox* box, bool on);
+    void showOverlay(const QImage& image, const QList<QPair<QColor, QString>>& legend);
     void strokeTo(const QPointF& at);
     void wand(const QPoint& pixel, bool subtract);
 
@@ -61,8 +73,10 @@ class PaintView : public StageView {
     QToolButton* m_wandTool;
     QDoubleSpinBox* m_size;
     QSlider* m_softness;
-    QDoubleSpinBox* m_wandColor;
+    QDoubleSpinBox* m_wandTolerance;
+    QCheckBox* m_showWeight;
     QCheckBox* m_changeMap;
+    QCheckBox* m_choiceMap;
     QLabel* m_side;
     QLabel* m_state;
     std::optional<QPointF> m_lastDab;

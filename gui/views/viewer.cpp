@@ -97,6 +97,13 @@ QString channelName(Viewer::Channel channel) {
     return {};
 }
 
+bool isStatistic(Viewer::Channel channel) {
+    return channel == Viewer::Channel::ColorVariance ||
+           channel == Viewer::Channel::AlbedoVariance ||
+           channel == Viewer::Channel::NormalVariance ||
+           channel == Viewer::Channel::DepthVariance || channel == Viewer::Channel::SampleCount;
+}
+
 Viewer::Viewer(Document* document, SessionAdapter* session, QWidget* parent)
     : QWidget(parent), m_document(document), m_session(session) {
     m_canvas = new ImageCanvas(this);
@@ -241,6 +248,7 @@ void Viewer::refresh() {
     FramePtr reference = m_document->reference();
     const Image* result = resultImage();
     if (!frame || !result) return;
+    m_statScale = 0.0f;
     if (m_channel == Channel::Result) {
         m_canvas->setImage(*result);
     } else if (m_channel == Channel::Reference) {
@@ -276,13 +284,11 @@ void Viewer::refresh() {
             for (float& v : m_shown.data()) v = 0.5f * v + 0.5f;
         } else if (m_channel == Channel::Depth) {
             m_shown = denoise::equalizeHistogram(source);
-        } else if (m_channel == Channel::SampleCount) {
-            // Normalised by the largest count.
+        } else if (isStatistic(m_channel)) {
+            // Variances and counts are tiny or large numbers: divided by their 99th percentile
+            // so that they read at EV 0 (the label says by what; the read-out stays raw).
             m_shown = source;
-            float hi = 0.0f;
-            for (float v : m_shown.data()) hi = std::max(hi, v);
-            if (hi > 0.0f)
-                for (float& v : m_shown.data()) v /= hi;
+            m_statScale = normalizeForDisplay(m_shown);
         } else {
             m_shown = source;
         }
@@ -371,6 +377,9 @@ void Viewer::updateLabel() {
         what = reference ? tr("Reference") + spp(reference) : tr("Result (no reference)");
     } else {
         what = channelName(m_channel);
+        if (m_statScale > 0.0f)
+            what =
+                tr("%1 (normalised ÷ %2)").arg(what, QString::number(double(m_statScale), 'g', 3));
     }
     QString text = what;
     if (haveB && m_canvas->flipped())

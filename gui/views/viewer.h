@@ -93,11 +93,14 @@ class Viewer : public QWidget {
     QSlider* m_wipe;
     QToolButton* m_autoRange;
     Channel m_channel = Channel::Result;
-    Image m_shown;  // the linear image on the canvas when it is not the composite itself
+    Image m_shown;             // the linear image on the canvas when it is not the composite itself
+    float m_statScale = 0.0f;  // what a statistics channel was divided by for display (0: none)
     QString m_readout;
     int m_hoverX = -1, m_hoverY = -1;
 };
 
+/// Whether `channel` is a statistic (a variance, the sample count): shown normalised.
+bool isStatistic(Viewer::Channel channel);
 /// The name of a viewer channel, for menus.
 QString channelName(Viewer::Channel channel);
 

@@ -176,9 +176,24 @@ int main(int argc, char** argv) {
     QTest::mouseMove(w->viewer()->canvas(),
                      w->viewer()->canvas()->toWidget(QPointF(128, 120)).toPoint());
     shoot(*w, out, QStringLiteral("07-paint"));
-    if (auto* change = w->paintView()->findChild<QCheckBox*>()) change->setChecked(true);
+    auto* change = w->paintView()->findChild<QCheckBox*>(QStringLiteral("changeMap"));
+    if (change) change->setChecked(true);
     shoot(*w, out, QStringLiteral("08-change-map"));
-    if (auto* change = w->paintView()->findChild<QCheckBox*>()) change->setChecked(false);
+    if (change) change->setChecked(false);
+    // The painted layer's weight (O), then a wand click and its selection.
+    QTest::keyClick(w->viewer()->canvas(), Qt::Key_O);
+    shoot(*w, out, QStringLiteral("12-weight-overlay"));
+    QTest::keyClick(w->viewer()->canvas(), Qt::Key_O);
+    QTest::keyClick(w->viewer()->canvas(), Qt::Key_M);
+    QTest::mouseClick(w->viewer()->canvas(), Qt::LeftButton, {},
+                      w->viewer()->canvas()->toWidget(QPointF(128, 100)).toPoint());
+    waitFor([&] { return w->viewer()->canvas()->hasSelection() && !w->session()->busy(); }, 20000);
+    shoot(*w, out, QStringLiteral("13-wand-selection"));
+    QTest::keyClick(w->viewer()->canvas(), Qt::Key_B);
+    // The colour variance at EV 0, normalised for display.
+    w->viewer()->setChannel(Viewer::Channel::ColorVariance);
+    shoot(*w, out, QStringLiteral("14-colour-variance"));
+    w->viewer()->setChannel(Viewer::Channel::Result);
 
     // 8. Compare: a 256-spp reference rendered in the background, a wipe, the metrics and plot.
     w->document()->renderReference(256);
@@ -203,7 +218,17 @@ int main(int argc, char** argv) {
     w->session()->undoStack()->undo();
     waitIdle(*w);
 
-    // 9. The shortcut sheet.
+    // 9. Auto Start: one result layer, its choice map with the members' names.
+    w->session()->autoStart();
+    waitFor([&] { return !w->session()->busy(); }, 300000);
+    if (auto* choice = w->paintView()->findChild<QCheckBox*>(QStringLiteral("choiceMap")))
+        choice->setChecked(true);
+    waitFor([&] { return !w->viewer()->canvas()->legend().isEmpty(); }, 20000);
+    shoot(*w, out, QStringLiteral("15-auto-choice-map"));
+    if (auto* choice = w->paintView()->findChild<QCheckBox*>(QStringLiteral("choiceMap")))
+        choice->setChecked(false);
+
+    // 10. The shortcut sheet.
     QTest::keyClick(w.get(), Qt::Key_F1);
     shoot(*w, out, QStringLiteral("11-help"));
     QTest::keyClick(w.get(), Qt::Key_F1);

@@ -181,7 +181,7 @@ class StudioViewTest : public QObject {
         // The learned filter, whose weights the build has (a render has albedo and normal).
         QVERIFY2(learnedFilterAvailable(), learnedFilterUnavailable().c_str());
         QCOMPARE(s.layer(0).filter, std::string(kLearnedFilter));
-        QCOMPARE(FirstDenoise::filterFor(*w->document()->finishedFrame()),
+        QCOMPARE(FirstDenoise::choose(*w->document()->finishedFrame()).filter,
                  std::string(kLearnedFilter));
         // The canvas shows the composite, which is not the raw render.
         QVERIFY(!sameBits(s.composite(), w->document()->finishedFrame()->color()));
