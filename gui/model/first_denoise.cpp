@@ -1,5 +1,8 @@
 #include "model/first_denoise.h"
 
+#include <QUndoStack>
+
+#include <memory>
 #include <vector>
 
 #include "glint/denoise/filter.h"
@@ -41,6 +44,16 @@ void FirstDenoise::onSessionReset() {
     const std::string name = filterFor(*m_session->input());
     if (name.empty()) return;
     const denoise::Session& s = m_session->session();
+    QUndoStack* stack = m_session->undoStack();
+    if (stack->isClean()) {
+        // The automatic layer is part of what was opened: its step leaves the file unmodified
+        // (no "*" right after opening). Added on a worker, it is the first step pushed.
+        auto once = std::make_shared<QMetaObject::Connection>();
+        *once = connect(stack, &QUndoStack::indexChanged, this, [this, stack, once] {
+            disconnect(*once);
+            if (stack->count() == 1 && m_session->session().layerCount() == 1) stack->setClean();
+        });
+    }
     m_session->addLayer(name, denoise::resolveParams(denoise::findFilter(name), {}),
                         Image(s.width(), s.height(), 1, 1.0f));
 }

@@ -15,6 +15,7 @@
 #include <limits>
 
 #include "glint/image/metrics.h"
+#include "model/render_eta.h"
 
 namespace glint::studio {
 
@@ -31,8 +32,8 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
     auto* clear = new QPushButton(tr("Clear"), this);
     m_progress = new QProgressBar(this);
     m_progress->setRange(0, 1000);
-    m_progress->setTextVisible(false);
-    m_progress->setMaximumHeight(8);
+    // The reference render's samples and time left (model/render_eta.h) on the bar.
+    m_progress->setFormat(QString());
     m_table = new QTableWidget(2, 3, this);
     m_table->setHorizontalHeaderLabels({tr("SSIM"), tr("relMSE"), tr("PSNR (dB)")});
     m_table->setVerticalHeaderLabels({tr("Image"), tr("Region")});
@@ -104,9 +105,13 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
     connect(axis, &QComboBox::currentIndexChanged, this,
             [this](int i) { m_plot->setAgainstSpp(i == 1); });
     connect(m_context.document, &Document::referenceProgress, this,
-            [this](double f) { m_progress->setValue(int(f * 1000.0)); });
+            [this](double f, int spp, int total, double left) {
+                m_progress->setValue(int(f * 1000.0));
+                m_progress->setFormat(formatSamplesLeft(spp, total, left));
+            });
     connect(m_context.document, &Document::referenceChanged, this, [this] {
         if (m_context.document->reference()) m_progress->setValue(1000);
+        m_progress->setFormat(QString());
         updateLookWarning();
         schedule();
     });
