@@ -103,8 +103,8 @@ MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
         makeDock(this, tr("Compare"), QStringLiteral("compare"), new VerticalScrollArea(m_compare));
     addDockWidget(Qt::LeftDockWidgetArea, look);
     addDockWidget(Qt::LeftDockWidgetArea, compare);
-    addDockWidget(Qt::RightDockWidgetArea,
-                  makeDock(this, tr("Workflow"), QStringLiteral("stages"), m_stages));
+    QDockWidget* workflow = makeDock(this, tr("Workflow"), QStringLiteral("stages"), m_stages);
+    addDockWidget(Qt::RightDockWidgetArea, workflow);
 
     m_readout = new ElidedLabel(this);
     m_readout->setTextInteractionFlags(Qt::TextSelectableByMouse);
@@ -126,8 +126,12 @@ MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
     new WheelGuard(this);
     // The preferred size, or what fits the screen; a restored geometry inside it stays.
     placeOnScreen(*this, QSize(1400, 860));
-    restoreWindowState(*this);
+    // Without a saved layout the panels start as wide as they would like (the viewer gives).
+    if (!restoreWindowState(*this))
+        resizeDocks({look, workflow}, {look->sizeHint().width(), workflow->sizeHint().width()},
+                    Qt::Horizontal);
     placeOnScreen(*this, QSize(1400, 860), true);
+    keepPanelsWide(this, {workflow, look});
     updateTitle();
     stageChanged();
     m_viewer->canvas()->setFocus();

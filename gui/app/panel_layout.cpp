@@ -6,6 +6,7 @@
 #include <QScreen>
 #include <QScrollBar>
 #include <QStyle>
+#include <QTimer>
 
 #include <algorithm>
 
@@ -50,6 +51,52 @@ QDockWidget* makeDock(QMainWindow* window, const QString& title, const QString& 
     d->setFeatures(QDockWidget::DockWidgetMovable | QDockWidget::DockWidgetFloatable |
                    QDockWidget::DockWidgetClosable);
     return d;
+}
+
+namespace {
+
+class PanelWidener : public QObject {
+  public:
+    PanelWidener(QMainWindow* window, const QList<QDockWidget*>& docks)
+        : QObject(window), m_window(window), m_docks(docks) {
+        window->installEventFilter(this);
+    }
+
+  protected:
+    bool eventFilter(QObject* watched, QEvent* event) override {
+        // After the layout settled at the new size.
+        if (watched == m_window && event->type() == QEvent::Resize)
+            QTimer::singleShot(0, this, &PanelWidener::widen);
+        return false;
+    }
+
+  private:
+    void widen() {
+        const QWidget* central = m_window->centralWidget();
+        if (!central) return;
+        int spare = central->width() - central->minimumSizeHint().width();
+        QList<QDockWidget*> docks;
+        QList<int> widths;
+        for (QDockWidget* dock : m_docks) {
+            if (!dock->isVisible() || dock->isFloating() || !dock->widget()) continue;
+            const int wanted = dock->widget()->sizeHint().width() - dock->widget()->width();
+            const int grow = std::min(wanted, spare);
+            if (grow <= 0) continue;
+            docks << dock;
+            widths << dock->width() + grow;
+            spare -= grow;
+        }
+        if (!docks.isEmpty()) m_window->resizeDocks(docks, widths, Qt::Horizontal);
+    }
+
+    QMainWindow* m_window;
+    QList<QDockWidget*> m_docks;
+};
+
+}  // namespace
+
+void keepPanelsWide(QMainWindow* window, const QList<QDockWidget*>& docks) {
+    new PanelWidener(window, docks);
 }
 
 QRect windowPlacement(const QRect& available, QSize preferred, QSize minimum) {

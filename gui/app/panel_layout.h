@@ -4,6 +4,7 @@
 // is cut off), and the window opens inside the screen's available area.
 #pragma once
 
+#include <QList>
 #include <QRect>
 #include <QScrollArea>
 
@@ -30,6 +31,11 @@ class VerticalScrollArea : public QScrollArea {
 /// A dock of `content` (named `name` for the saved window state) that moves and floats.
 QDockWidget* makeDock(QMainWindow* window, const QString& title, const QString& name,
                       QWidget* content);
+
+/// Widens `docks` towards their panels' preferred width whenever `window` is resized and its
+/// central widget has width to spare (a window opened small and then enlarged: the main window
+/// would give all the new width to the central widget and leave a panel scrolling sideways).
+void keepPanelsWide(QMainWindow* window, const QList<QDockWidget*>& docks);
 
 /// Where a window of `preferred` size (at least `minimum`) goes on a screen whose available area
 /// (without task bars) is `available`: its frame (title bar and borders included), the preferred

@@ -13,6 +13,7 @@
 #include <QDir>
 #include <QImage>
 #include <QPixmap>
+#include <QProgressBar>
 #include <QStandardPaths>
 #include <QTemporaryDir>
 #include <QTest>
@@ -185,6 +186,11 @@ int main(int argc, char** argv) {
 
     // 8. Compare: a 256-spp reference rendered in the background, a wipe, the metrics and plot.
     w->document()->renderReference(256);
+    // While it renders, its bar shows the samples and the time left.
+    auto* referenceBar = w->compareView()->findChild<QProgressBar*>();
+    if (referenceBar &&
+        waitFor([&] { return referenceBar->format().contains(QStringLiteral("left")); }, 60000))
+        shoot(*w, out, QStringLiteral("08b-reference-progress"));
     waitFor([&] { return w->document()->reference() != nullptr; }, 120000);
     w->document()->render();  // a render against the reference draws the convergence plot
     waitIdle(*w);

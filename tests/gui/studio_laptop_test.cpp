@@ -119,6 +119,13 @@ class StudioLaptopTest : public QObject {
                 for (QDockWidget* dock : w->findChildren<QDockWidget*>())
                     QVERIFY2(dock->isVisible(),
                              qPrintable(where + QStringLiteral(": ") + dock->objectName()));
+                // From 1366 px on the workflow's panels have their width: no sideways scrolling.
+                if (screen.width() >= 1366)
+                    for (QScrollArea* area : w->findChild<QDockWidget*>(QStringLiteral("stages"))
+                                                 ->findChildren<QScrollArea*>())
+                        QVERIFY2(
+                            !area->horizontalScrollBar()->isVisible(),
+                            qPrintable(where + QStringLiteral(": the panel scrolls sideways")));
                 const QStringList problems = reachProblems(w.get());
                 QVERIFY2(problems.isEmpty(), qPrintable(where + QStringLiteral(":\n  ") +
                                                         problems.join(QStringLiteral("\n  "))));
