@@ -28,6 +28,8 @@
 #include <QToolBar>
 #include <QWidget>
 
+#include <algorithm>
+
 #include "views/elided_label.h"
 
 namespace glint::studio::testing {
@@ -131,10 +133,12 @@ inline QString textCut(const QWidget* w) {
         option.initFrom(combo);
         option.editable = combo->isEditable();
         const QSize text(fm.horizontalAdvance(combo->currentText()), fm.height());
-        const int needed =
+        int needed =
             combo->style()->sizeFromContents(QStyle::CT_ComboBox, &option, text, combo).width();
-        // One pixel of slack: Qt's own size hint of a combo box fitted to its items is one
-        // pixel under this estimate.
+        // A combo box fitted to its items: Qt's own size hint (over all items) is what it needs
+        // (this estimate is a pixel or two over it). Else one pixel of slack.
+        if (combo->sizeAdjustPolicy() == QComboBox::AdjustToContents)
+            needed = std::min(needed, combo->sizeHint().width());
         return needed > combo->width() + 1 ? QStringLiteral("'%1' needs %2 px, has %3")
                                                  .arg(combo->currentText())
                                                  .arg(needed)
