@@ -1,7 +1,9 @@
 #include "app/file_naming.h"
 
+#include <QDir>
 #include <QFileInfo>
 #include <QRegularExpression>
+#include <QStandardPaths>
 
 namespace glint::studio {
 
@@ -32,6 +34,40 @@ QString withFilterExtension(const QString& path, const QString& filter) {
     QString base = path;
     if (base.endsWith(QLatin1Char('.'))) base.chop(1);
     return base + extensions.first();
+}
+
+QString documentTitle(const QString& path) {
+    if (path.isEmpty()) return {};
+    const QFileInfo info(path);
+    const QString folder = info.absoluteDir().dirName();
+    return folder.isEmpty() ? info.fileName() : folder + QLatin1Char('/') + info.fileName();
+}
+
+QString defaultBaseName(const QString& path) {
+    if (path.isEmpty()) return QStringLiteral("untitled");
+    const QFileInfo info(path);
+    const QString base = info.baseName();  // before the first dot: "a.glint-session.json" is "a"
+    const QString folder = info.absoluteDir().dirName();
+    if ((base.isEmpty() || base.compare(QStringLiteral("scene"), Qt::CaseInsensitive) == 0) &&
+        !folder.isEmpty())
+        return folder;
+    return base.isEmpty() ? QStringLiteral("untitled") : base;
+}
+
+bool isWritableFolder(const QString& folder) {
+    if (folder.isEmpty()) return false;
+    const QFileInfo info(folder);
+    // The permission bits (not WriteUser, which asks access() and is true for the super-user).
+    const QFile::Permissions write = QFile::WriteOwner | QFile::WriteGroup | QFile::WriteOther;
+    return info.isDir() && info.isWritable() && (info.permissions() & write);
+}
+
+QString writableFolder(const QStringList& preferred) {
+    for (const QString& folder : preferred)
+        if (isWritableFolder(folder)) return QFileInfo(folder).absoluteFilePath();
+    const QString documents = QStandardPaths::writableLocation(QStandardPaths::DocumentsLocation);
+    if (isWritableFolder(documents)) return documents;
+    return QDir::homePath();
 }
 
 }  // namespace glint::studio

@@ -2,6 +2,7 @@
 
 #include <QApplication>
 #include <QCloseEvent>
+#include <QDir>
 #include <QDockWidget>
 #include <QDragEnterEvent>
 #include <QFileDialog>
@@ -21,6 +22,7 @@
 #include "app/panel_layout.h"
 #include "app/program_allowance.h"
 #include "app/studio_settings.h"
+#include "app/wheel_guard.h"
 #include "glint/image/error.h"
 #include "model/first_denoise.h"
 #include "model/look_command.h"
@@ -93,7 +95,7 @@ MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
     bar->setMovable(false);
     bar->addWidget(m_renderBar);
     addToolBar(Qt::TopToolBarArea, bar);
-    m_look->setMinimumWidth(340);
+    m_look->setMinimumWidth(kPanelMinWidth - 20);
     // The workflow has the right column to itself (Navigate's previews need its height); the
     // comparison sits under the look on the left, which keeps the larger share.
     QDockWidget* look = makeDock(this, tr("Look"), QStringLiteral("look"), m_look);
@@ -101,8 +103,8 @@ MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
         makeDock(this, tr("Compare"), QStringLiteral("compare"), new VerticalScrollArea(m_compare));
     addDockWidget(Qt::LeftDockWidgetArea, look);
     addDockWidget(Qt::LeftDockWidgetArea, compare);
-    addDockWidget(Qt::RightDockWidgetArea,
-                  makeDock(this, tr("Workflow"), QStringLiteral("stages"), m_stages));
+    QDockWidget* workflow = makeDock(this, tr("Workflow"), QStringLiteral("stages"), m_stages);
+    addDockWidget(Qt::RightDockWidgetArea, workflow);
 
     m_readout = new ElidedLabel(this);
     m_readout->setTextInteractionFlags(Qt::TextSelectableByMouse);
@@ -121,8 +123,15 @@ MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
     buildMenus();
     new CanvasKeys(this, m_viewer->canvas(), m_actions.all());
     connectModel();
-    resize(1400, 860);
-    restoreWindowState(*this);
+    new WheelGuard(this);
+    // The preferred size, or what fits the screen; a restored geometry inside it stays.
+    placeOnScreen(*this, QSize(1400, 860));
+    // Without a saved layout the panels start as wide as they would like (the viewer gives).
+    if (!restoreWindowState(*this))
+        resizeDocks({look, workflow}, {look->sizeHint().width(), workflow->sizeHint().width()},
+                    Qt::Horizontal);
+    placeOnScreen(*this, QSize(1400, 860), true);
+    keepPanelsWide(this, {workflow, look});
     updateTitle();
     stageChanged();
     m_viewer->canvas()->setFocus();
@@ -200,7 +209,8 @@ void MainWindow::buildMenus() {
                       tr("Only a scene opened from scene.json can be saved as JSON."));
             return;
         }
-        const QString path = askPath(tr("Save the scene"), tr("Scenes (*.json)"), true);
+        const QString path =
+            askPath(tr("Save the scene"), tr("Scenes (*.json)"), true, QStringLiteral("-edited"));
         if (!path.isEmpty()) m_document->saveScene(path);
     });
     connect(a.exportExr, &QAction::triggered, this, [this] { exportResult(true); });
@@ -503,14 +513,30 @@ void MainWindow::exportResult(bool exr) {
     });
 }
 
-QString MainWindow::askPath(const QString& title, const QString& filter, bool save) {
-    const QString dir =
-        m_document->path().isEmpty() ? QString() : QFileInfo(m_document->path()).path();
-    if (!save) return QFileDialog::getOpenFileName(this, title, dir, filter);
+QString MainWindow::saveDialogStart(const QString& filter, const QString& suffix) const {
+    // The session's folder, else the opened file's, when files can be written there (an asset
+    // folder is often read-only), else the user's Documents or home folder.
+    QStringList folders;
+    for (const QString& file : {m_sessionPath, m_document->path()})
+        if (!file.isEmpty()) folders << QFileInfo(file).absolutePath();
+    const QString named = m_sessionPath.isEmpty() ? m_document->path() : m_sessionPath;
+    const QString name = withFilterExtension(defaultBaseName(named) + suffix,
+                                             filter.split(QStringLiteral(";;")).first());
+    return QDir(writableFolder(folders)).filePath(name);
+}
+
+QString MainWindow::askPath(const QString& title, const QString& filter, bool save,
+                            const QString& suffix) {
+    if (!save) {
+        const QString dir =
+            m_document->path().isEmpty() ? QString() : QFileInfo(m_document->path()).path();
+        return QFileDialog::getOpenFileName(this, title, dir, filter);
+    }
     // The chosen filter's extension when the name lacks it: the file is then of the kind
     // written, and the Open dialog's filter shows it.
     QString chosen = filter.split(QStringLiteral(";;")).first();
-    const QString path = QFileDialog::getSaveFileName(this, title, dir, filter, &chosen);
+    const QString path =
+        QFileDialog::getSaveFileName(this, title, saveDialogStart(filter, suffix), filter, &chosen);
     return withFilterExtension(path, chosen);
 }
 
@@ -543,7 +569,7 @@ bool MainWindow::maybeSave(std::function<void()> again) {
 }
 
 void MainWindow::updateTitle() {
-    QString name = m_sessionPath.isEmpty() ? QFileInfo(m_document->path()).fileName()
+    QString name = m_sessionPath.isEmpty() ? documentTitle(m_document->path())
                                            : QFileInfo(m_sessionPath).fileName();
     if (name.isEmpty()) name = tr("no file");
     setWindowTitle(

@@ -94,6 +94,9 @@ class MainWindow : public QMainWindow {
     QString lastError() const { return m_lastError; }
     /// The last status-bar message, for tests.
     QString lastStatus() const { return m_lastStatus; }
+    /// Where a save dialog of `filter` opens: a writable folder (app/file_naming.h) and a name
+    /// from the scene's, with `suffix` and the filter's first extension.
+    QString saveDialogStart(const QString& filter, const QString& suffix = {}) const;
 
   signals:
     /// An error dialog was opened.
@@ -120,7 +123,8 @@ class MainWindow : public QMainWindow {
     void applyViewState(const std::map<std::string, std::string>& state);
     /// The reference `state` describes, from the session's side frame or its file.
     void restoreReference(const std::map<std::string, std::string>& state);
-    QString askPath(const QString& title, const QString& filter, bool save);
+    QString askPath(const QString& title, const QString& filter, bool save,
+                    const QString& suffix = {});
     void exportResult(bool exr);
     void applyRecovered(Recovered& recovered);
     QString autosaveBase() const;

@@ -52,8 +52,9 @@ void applyAllowedCommands() {
 }
 
 namespace {
-// Version 2: Compare moved under Look (the window fits 1366×768); older layouts are not restored.
-constexpr int kStateVersion = 2;
+// Version 2: Compare moved under Look (the window fits 1366×768); version 3: panels narrower
+// (the window fits 1280×720). Older layouts are not restored.
+constexpr int kStateVersion = 3;
 }  // namespace
 
 void saveWindowState(const QMainWindow& window) {
@@ -62,10 +63,11 @@ void saveWindowState(const QMainWindow& window) {
     s.setValue(QStringLiteral("window/state"), window.saveState(kStateVersion));
 }
 
-void restoreWindowState(QMainWindow& window) {
+bool restoreWindowState(QMainWindow& window) {
     QSettings s;
     window.restoreGeometry(s.value(QStringLiteral("window/geometry")).toByteArray());
-    window.restoreState(s.value(QStringLiteral("window/state")).toByteArray(), kStateVersion);
+    return window.restoreState(s.value(QStringLiteral("window/state")).toByteArray(),
+                               kStateVersion);
 }
 
 }  // namespace glint::studio

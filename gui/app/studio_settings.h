@@ -23,6 +23,8 @@ bool allowCommandForGood(const QString& program);
 void applyAllowedCommands();
 
 void saveWindowState(const QMainWindow& window);
-void restoreWindowState(QMainWindow& window);
+/// Restores the saved geometry and panel layout; false when there was no layout of this version
+/// to restore (the window keeps its own).
+bool restoreWindowState(QMainWindow& window);
 
 }  // namespace glint::studio

@@ -2,6 +2,7 @@
 
 #include <QFileInfo>
 
+#include <cmath>
 #include <filesystem>
 
 #include "glint/image/error.h"
@@ -450,9 +451,13 @@ void Document::renderReference(int spp) {
     info.settings = s;
     const std::vector<render::LookItem> look = m_look;
     m_referenceJob = std::make_unique<RenderJob>();
-    connect(
-        m_referenceJob.get(), &RenderJob::progress, this,
-        [this](std::uint64_t, int, double fraction, double) { emit referenceProgress(fraction); });
+    m_referenceEta.reset();
+    connect(m_referenceJob.get(), &RenderJob::progress, this,
+            [this, spp](std::uint64_t, int pass, double fraction, double seconds) {
+                const std::optional<double> left = m_referenceEta.update(pass, fraction, seconds);
+                emit referenceProgress(fraction, int(std::lround(fraction * spp)), spp,
+                                       left ? *left : -1.0);
+            });
     connect(m_referenceJob.get(), &RenderJob::finished, this,
             [this, info](std::uint64_t, FramePtr frame, const render::RenderStats& stats) {
                 if (stats.cancelled) return;

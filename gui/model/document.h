@@ -18,6 +18,7 @@
 #include "glint/render/renderer.h"
 #include "glint/render/settings.h"
 #include "model/reference_info.h"
+#include "model/render_eta.h"
 #include "model/render_job.h"
 #include "model/task_runner.h"
 
@@ -146,7 +147,9 @@ class Document : public QObject {
     /// modified() may have changed.
     void modifiedChanged();
     void referenceChanged();
-    void referenceProgress(double fraction);
+    /// The reference render did `fraction` of its work: `spp` of `totalSpp` samples, the time
+    /// left in `secondsLeft` (negative before there is an estimate, model/render_eta.h).
+    void referenceProgress(double fraction, int spp, int totalSpp, double secondsLeft);
     void curveChanged();
     /// Something failed: `title` says what was attempted, `message` names the file and place.
     void failed(const QString& title, const QString& message);
@@ -168,6 +171,7 @@ class Document : public QObject {
     TaskRunner m_tasks;
     RenderJob m_job;
     std::unique_ptr<RenderJob> m_referenceJob;
+    RemainingTime m_referenceEta;
     QFileSystemWatcher m_watcher;
     QTimer m_reloadTimer;
 

@@ -1,6 +1,10 @@
 #include "model/first_denoise.h"
 
+#include <QUndoStack>
+
 #include <algorithm>
+#include <memory>
+#include <vector>
 
 #include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
@@ -121,6 +125,16 @@ void FirstDenoise::onSessionReset() {
     if (m_session->session().layerCount() != 0 || (m_allowed && !m_allowed())) return;
     if (m_session->input() != m_document->finishedFrame()) return;  // not this file's render
     const denoise::Session& s = m_session->session();
+    QUndoStack* stack = m_session->undoStack();
+    if (stack->isClean()) {
+        // The automatic layer is part of what was opened: its step leaves the file unmodified
+        // (no "*" right after opening). Added on a worker, it is the first step pushed.
+        auto once = std::make_shared<QMetaObject::Connection>();
+        *once = connect(stack, &QUndoStack::indexChanged, this, [this, stack, once] {
+            disconnect(*once);
+            if (stack->count() == 1 && m_session->session().layerCount() == 1) stack->setClean();
+        });
+    }
     // Measured and filtered on the session's worker (the filters' input: prefiltered features
     // when the session says so), weight 1 everywhere.
     m_session->addChosenLayer([](const FrameBuffers& in) { return choose(in).filter; },

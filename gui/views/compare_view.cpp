@@ -16,6 +16,7 @@
 #include <limits>
 
 #include "glint/image/metrics.h"
+#include "model/render_eta.h"
 
 namespace glint::studio {
 
@@ -32,8 +33,8 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
     auto* clear = new QPushButton(tr("Clear"), this);
     m_progress = new QProgressBar(this);
     m_progress->setRange(0, 1000);
-    m_progress->setTextVisible(false);
-    m_progress->setMaximumHeight(8);
+    // The reference render's samples and time left (model/render_eta.h) on the bar.
+    m_progress->setFormat(QString());
     // The raw render beside the result, for the image and for the region: one metric a row.
     m_table = new QTableWidget(3, 4, this);
     m_table->setHorizontalHeaderLabels(
@@ -113,9 +114,13 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
     connect(m_axis, &QComboBox::currentIndexChanged, this,
             [this](int i) { m_plot->setAgainstSpp(i == 1); });
     connect(m_context.document, &Document::referenceProgress, this,
-            [this](double f) { m_progress->setValue(int(f * 1000.0)); });
+            [this](double f, int spp, int total, double left) {
+                m_progress->setValue(int(f * 1000.0));
+                m_progress->setFormat(formatSamplesLeft(spp, total, left));
+            });
     connect(m_context.document, &Document::referenceChanged, this, [this] {
         if (m_context.document->reference()) m_progress->setValue(1000);
+        m_progress->setFormat(QString());
         updateLookWarning();
         schedule();
     });

@@ -17,6 +17,7 @@
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "model/look_command.h"
+#include "views/log_control.h"
 #include "views/param_controls.h"
 
 namespace glint::studio {
@@ -35,14 +36,10 @@ QColor swatchColor(const std::array<double, 3>& v) {
     return QColor(c(v[0]), c(v[1]), c(v[2]));
 }
 
-// The slider's range for a scalar: bounded even when the property's range is not (a strength can
-// reach 1e18, a rotation ±1e6), so a short drag stays a small change; the spin box beside it
-// takes any value of the full range.
+// The slider's range for a linear scalar: bounded even when the property's range is not (a
+// rotation ±1e6), so a short drag stays a small change; the spin box beside it takes any value of
+// the full range. (Strengths, logarithmic, have a LogControl.)
 std::pair<double, double> sliderRange(const render::LookProperty& p) {
-    if (p.scale == ParamScale::Log) {
-        const double lo = p.min <= 0.0 ? 1e-3 : p.min;
-        return {lo, std::max(lo, std::min(p.max, std::max(1000.0, 10.0 * p.value[0])))};
-    }
     if (p.max - p.min > 1e4) return {std::max(p.min, -360.0), std::min(p.max, 360.0)};
     return {p.min, p.max};
 }
@@ -181,11 +178,20 @@ QWidget* LookPanel::colorControl(const render::LookItem& item, const render::Loo
 }
 
 QWidget* LookPanel::scalarControl(const render::LookItem& item, const render::LookProperty& p) {
+    const std::string name = item.name, property = p.name;
+    if (p.scale == ParamScale::Log) {
+        // A strength: its slider moves in stops around the value (views/log_control.h).
+        auto* control = new LogControl(p.min, p.max);
+        control->setValue(p.value[0]);
+        connect(control, &LogControl::editingFinished, this, [this, name, property](double v) {
+            edit(name, property, {v, 0.0, 0.0});
+        });
+        return control;
+    }
     const auto [sliderMin, sliderMax] = sliderRange(p);
     auto* control =
         new ScalarControl(p.min, p.max, sliderMin, sliderMax, p.scale == ParamScale::Log, false);
     control->setValue(p.value[0]);
-    const std::string name = item.name, property = p.name;
     connect(control, &ScalarControl::editingFinished, this, [this, name, property](double v) {
         edit(name, property, {v, 0.0, 0.0});
     });
@@ -200,6 +206,10 @@ void LookPanel::refreshValues() {
             if (!w) continue;
             if (auto* scalar = qobject_cast<ScalarControl*>(w)) {
                 scalar->setValue(p.value[0]);
+                continue;
+            }
+            if (auto* strength = qobject_cast<LogControl*>(w)) {
+                strength->setValue(p.value[0]);
                 continue;
             }
             for (int c = 0; c < 3; ++c)

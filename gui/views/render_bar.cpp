@@ -67,6 +67,9 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
     m_remaining->setObjectName(QStringLiteral("remaining"));
     m_remaining->setToolTip(tr("Time left, from the work done so far (pauses not counted)"));
 
+    // Never narrower than their longest item: a narrow window cuts nothing of the names.
+    m_integrator->setSizeAdjustPolicy(QComboBox::AdjustToContents);
+    m_mis->setSizeAdjustPolicy(QComboBox::AdjustToContents);
     auto* layout = new QHBoxLayout(this);
     layout->setContentsMargins(4, 2, 4, 2);
     for (QWidget* w : std::initializer_list<QWidget*>{
@@ -120,6 +123,7 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
         if (on) {
             m_rendered = true;
             m_progress->setValue(0);  // a new render starts from nothing
+            m_eta.reset();
         }
         updateState();
     });
@@ -129,7 +133,7 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
                 m_info->setText(
                     tr("pass %1 · %2 spp · %3 s").arg(pass + 1).arg(spp).arg(seconds, 0, 'f', 2));
                 // `pass` passes are done: the estimate starts after the first.
-                const std::optional<double> left = remainingSeconds(fraction, pass, seconds);
+                const std::optional<double> left = m_eta.update(pass, fraction, seconds);
                 m_remaining->setText(left ? formatRemaining(*left) : QString());
             });
     connect(m_document, &Document::frameChanged, this, [this](bool final) {

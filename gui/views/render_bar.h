@@ -5,6 +5,7 @@
 #include <QWidget>
 
 #include "model/document.h"
+#include "model/render_eta.h"
 #include "views/image_canvas.h"
 
 class QSpinBox;
@@ -64,6 +65,7 @@ class RenderBar : public QWidget {
     QLabel* m_info;
     QLabel* m_remaining;
     bool m_rendered = false;  // a render ran since the last final frame
+    RemainingTime m_eta;
 };
 
 }  // namespace glint::studio

@@ -1,16 +1,19 @@
 // The screenshot tour: scenes/cornell through every stage of the workflow, one PNG of the whole
 // window per stage, written to the folder given (build/screenshots/ under ctest; docs/images/
-// holds reduced copies). Fails when a screenshot cannot be written or shows a blank canvas.
+// holds reduced copies). Fails when a screenshot cannot be written or shows a blank canvas, or
+// when a control of the window cannot be reached or has its text cut (widget_reach.h: each is
+// printed).
 //   studio_screenshots OUT_DIR [--docs DOCS_DIR] [--size WIDTHxHEIGHT]
 // With --docs, reduced copies (720 px wide, an 8-bit palette with ordered dithering, which
 // compresses about three times better than error diffusion) of the screenshots docs/studio.md
 // shows are written to DOCS_DIR as studio-NAME.png. --size sets the window's size (1500x900 by
-// default; 1366x768 shows the studio on a laptop screen).
+// default; 1280x720 and 1366x768 show the studio on laptop screens).
 #include <QApplication>
 #include <QCheckBox>
 #include <QDir>
 #include <QImage>
 #include <QPixmap>
+#include <QProgressBar>
 #include <QStandardPaths>
 #include <QTemporaryDir>
 #include <QTest>
@@ -26,6 +29,7 @@
 #include "views/paint_view.h"
 #include "views/tune_view.h"
 #include "views/viewer.h"
+#include "widget_reach.h"
 
 using namespace glint;
 using namespace glint::studio;
@@ -73,6 +77,12 @@ void shoot(MainWindow& w, const QString& folder, const QString& name) {
     std::printf("%s %s (canvas spread %.0f)\n", saved ? "wrote" : "FAILED to write",
                 qPrintable(path), spread);
     if (!saved || spread < 20.0) ++g_failures;
+    // The shortcut sheet covers the window on purpose.
+    if (name.endsWith(QStringLiteral("help"))) return;
+    for (const QString& problem : reachProblems(&w)) {
+        std::printf("  unreachable or cut: %s\n", qPrintable(problem));
+        ++g_failures;
+    }
 }
 
 void drag(ImageCanvas* canvas, const QVector<QPointF>& path) {
@@ -197,6 +207,11 @@ int main(int argc, char** argv) {
 
     // 8. Compare: a 256-spp reference rendered in the background, a wipe, the metrics and plot.
     w->document()->renderReference(256);
+    // While it renders, its bar shows the samples and the time left.
+    auto* referenceBar = w->compareView()->findChild<QProgressBar*>();
+    if (referenceBar &&
+        waitFor([&] { return referenceBar->format().contains(QStringLiteral("left")); }, 60000))
+        shoot(*w, out, QStringLiteral("08b-reference-progress"));
     waitFor([&] { return w->document()->reference() != nullptr; }, 120000);
     w->document()->render();  // a render against the reference draws the convergence plot
     waitIdle(*w);

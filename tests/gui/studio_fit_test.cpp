@@ -28,6 +28,7 @@
 #include "views/compare_view.h"
 #include "views/convergence_plot.h"
 #include "views/image_canvas.h"
+#include "views/log_control.h"
 #include "views/look_panel.h"
 #include "views/navigate_view.h"
 #include "views/paint_view.h"
@@ -404,19 +405,19 @@ class StudioFitTest : public QObject {
     void theEmissionSliderStaysInASaneRange() {
         auto w = openScene();
         QVERIFY(w);
-        ScalarControl* strength = nullptr;
-        for (ScalarControl* c : w->lookPanel()->findChildren<ScalarControl*>())
+        LogControl* strength = nullptr;
+        for (LogControl* c : w->lookPanel()->findChildren<LogControl*>())
             if (c->objectName().endsWith(QStringLiteral("/strength")) && c->value() > 1.0)
                 strength = c;
         QVERIFY(strength);
-        auto* slider = strength->findChild<QSlider*>();
-        auto* spin = strength->findChild<QDoubleSpinBox*>();
-        QVERIFY(slider && spin);
-        // The whole slider spans at most 1000, so a short drag is a small change...
-        slider->setValue(slider->maximum());
-        QVERIFY2(strength->value() <= 1000.0, qPrintable(QString::number(strength->value())));
+        const double value = strength->value();
+        // The whole slider spans a few stops around the value, so a short drag is a small
+        // change...
+        strength->slider()->setValue(strength->slider()->maximum());
+        QVERIFY2(strength->value() <= value * (1 << LogControl::kStops) * 1.0001,
+                 qPrintable(QString::number(strength->value())));
         // ...and the spin box still takes an exact value beyond it.
-        spin->setValue(5e5);
+        strength->spinBox()->setValue(5e5);
         QCOMPARE(strength->value(), 5e5);
     }
 

@@ -1,0 +1,199 @@
+// Whether every control of a window can be seen and reached: shared by the laptop-size tests and
+// the screenshot tour (which prints what it finds). A control is reachable when it lies inside
+// each widget around it, up to the window; inside a scroll area it only has to lie inside the
+// scrolled panel (scrolling brings it into view), unless that direction's scroll bar is off.
+// Its text must fit too: a label's text (a word-wrapped label's lines) is not cut, a button,
+// spin box (with its arrows) or combo box is not narrower than its text needs (an icon button
+// has no text to check). ElidedLabel is the one
+// label allowed to shorten its text: it ends it with "…" and shows the whole text in its tooltip
+// (the status bar's pixel readout, longer than any screen is wide).
+#pragma once
+
+#include <QAbstractButton>
+#include <QAbstractScrollArea>
+#include <QAbstractSpinBox>
+#include <QCheckBox>
+#include <QComboBox>
+#include <QLabel>
+#include <QProgressBar>
+#include <QRadioButton>
+#include <QScrollArea>
+#include <QScrollBar>
+#include <QSlider>
+#include <QStatusBar>
+#include <QStringList>
+#include <QStyle>
+#include <QStyleOptionComboBox>
+#include <QStyleOptionSpinBox>
+#include <QToolBar>
+#include <QWidget>
+
+#include <algorithm>
+
+#include "views/elided_label.h"
+
+namespace glint::studio::testing {
+
+/// "QPushButton 'Render'" for a failure message.
+inline QString describeWidget(const QWidget* w) {
+    QString text;
+    if (auto* b = qobject_cast<const QAbstractButton*>(w)) text = b->text();
+    if (auto* l = qobject_cast<const QLabel*>(w)) text = l->text().left(40);
+    if (auto* c = qobject_cast<const QComboBox*>(w)) text = c->currentText();
+    if (auto* s = qobject_cast<const QAbstractSpinBox*>(w)) text = s->text();
+    QString path;
+    for (const QWidget* p = w->parentWidget(); p && !p->isWindow(); p = p->parentWidget())
+        if (!p->objectName().isEmpty() && !p->objectName().startsWith(QStringLiteral("qt_"))) {
+            path = p->objectName();
+            break;
+        }
+    return QStringLiteral("%1 '%2'%3")
+        .arg(QString::fromLatin1(w->metaObject()->className()), text,
+             path.isEmpty() ? QString() : QStringLiteral(" in ") + path);
+}
+
+/// The controls the walk checks: buttons, spin boxes, combo boxes, sliders, labels, progress
+/// bars and the status bar (not the parts of a spin box or combo box, nor scroll bars).
+inline bool isCheckedControl(const QWidget* w) {
+    const QWidget* parent = w->parentWidget();
+    if (parent &&
+        (qobject_cast<const QAbstractSpinBox*>(parent) || qobject_cast<const QComboBox*>(parent)))
+        return false;
+    return qobject_cast<const QAbstractButton*>(w) || qobject_cast<const QAbstractSpinBox*>(w) ||
+           qobject_cast<const QComboBox*>(w) || qobject_cast<const QSlider*>(w) ||
+           qobject_cast<const QLabel*>(w) || qobject_cast<const QProgressBar*>(w) ||
+           qobject_cast<const QStatusBar*>(w);
+}
+
+/// Why `w` cannot be reached in its window (empty when it can).
+inline QString unreachable(const QWidget* w) {
+    const QWidget* window = w->window();
+    QRect r = w->geometry();  // in the parent's coordinates
+    for (const QWidget* p = w->parentWidget(); p; p = p->parentWidget()) {
+        const auto* area = p->parentWidget()
+                               ? qobject_cast<const QAbstractScrollArea*>(p->parentWidget())
+                               : nullptr;
+        if (area && area->viewport() == p) {
+            // Scrolled into view when needed; along a direction without a scroll bar it must
+            // lie inside the viewport as it is.
+            if (area->horizontalScrollBarPolicy() == Qt::ScrollBarAlwaysOff &&
+                (r.left() < 0 || r.right() >= p->width()))
+                return QStringLiteral(
+                           "beyond the right edge of a scroll area without a "
+                           "horizontal scroll bar (x %1..%2 of %3)")
+                    .arg(r.left())
+                    .arg(r.right())
+                    .arg(p->width());
+            if (area->verticalScrollBarPolicy() == Qt::ScrollBarAlwaysOff &&
+                (r.top() < 0 || r.bottom() >= p->height()))
+                return QStringLiteral("below a scroll area without a vertical scroll bar");
+            r = p->geometry();  // the viewport itself must be reachable
+        } else if (!QRect(QPoint(0, 0), p->size()).contains(r)) {
+            return QStringLiteral("cut off by %1 (%2,%3 %4×%5 in %6×%7)")
+                .arg(QString::fromLatin1(p->metaObject()->className()))
+                .arg(r.x())
+                .arg(r.y())
+                .arg(r.width())
+                .arg(r.height())
+                .arg(p->width())
+                .arg(p->height());
+        } else {
+            r.translate(p->pos());
+        }
+        if (p == window) break;
+    }
+    return {};
+}
+
+/// Why the text of `w` does not show whole (empty when it does).
+inline QString textCut(const QWidget* w) {
+    const QFontMetrics fm(w->font());
+    if (qobject_cast<const ElidedLabel*>(w)) return {};  // elides by design, tooltip holds all
+    if (auto* label = qobject_cast<const QLabel*>(w)) {
+        if (label->text().isEmpty()) return {};
+        const QRect room = label->contentsRect();
+        if (label->wordWrap()) {
+            const int needed = label->heightForWidth(label->width());
+            return needed > label->height() ? QStringLiteral("needs %1 px of height, has %2")
+                                                  .arg(needed)
+                                                  .arg(label->height())
+                                            : QString();
+        }
+        const int needed =
+            label->textFormat() == Qt::PlainText ||
+                    (label->textFormat() == Qt::AutoText && !Qt::mightBeRichText(label->text()))
+                ? fm.horizontalAdvance(label->text()) + 2 * label->margin()
+                : label->minimumSizeHint().width();
+        return needed > room.width() + 1
+                   ? QStringLiteral("text needs %1 px, has %2").arg(needed).arg(room.width())
+                   : QString();
+    }
+    if (auto* combo = qobject_cast<const QComboBox*>(w)) {
+        QStyleOptionComboBox option;
+        option.initFrom(combo);
+        option.editable = combo->isEditable();
+        const QSize text(fm.horizontalAdvance(combo->currentText()), fm.height());
+        int needed =
+            combo->style()->sizeFromContents(QStyle::CT_ComboBox, &option, text, combo).width();
+        // A combo box fitted to its items: Qt's own size hint (over all items) is what it needs
+        // (this estimate is a pixel or two over it). Else one pixel of slack.
+        if (combo->sizeAdjustPolicy() == QComboBox::AdjustToContents)
+            needed = std::min(needed, combo->sizeHint().width());
+        return needed > combo->width() + 1 ? QStringLiteral("'%1' needs %2 px, has %3")
+                                                 .arg(combo->currentText())
+                                                 .arg(needed)
+                                                 .arg(combo->width())
+                                           : QString();
+    }
+    if (auto* spin = qobject_cast<const QAbstractSpinBox*>(w)) {
+        // The text shown and, when it has them, the arrows.
+        QStyleOptionSpinBox option;
+        option.initFrom(spin);
+        option.buttonSymbols = spin->buttonSymbols();
+        option.frame = spin->hasFrame();
+        option.subControls = QStyle::SC_SpinBoxFrame | QStyle::SC_SpinBoxEditField;
+        if (spin->buttonSymbols() != QAbstractSpinBox::NoButtons)
+            option.subControls |= QStyle::SC_SpinBoxUp | QStyle::SC_SpinBoxDown;
+        const QSize text(fm.horizontalAdvance(spin->text()) + 4, fm.height());
+        const int needed =
+            spin->style()->sizeFromContents(QStyle::CT_SpinBox, &option, text, spin).width();
+        return needed > spin->width() ? QStringLiteral("'%1' needs %2 px, has %3")
+                                            .arg(spin->text())
+                                            .arg(needed)
+                                            .arg(spin->width())
+                                      : QString();
+    }
+    if (auto* button = qobject_cast<const QAbstractButton*>(w)) {
+        if (button->text().isEmpty()) return {};  // an icon or a swatch
+        // A check box's box and text; a push or tool button's text and a small margin.
+        const bool box = qobject_cast<const QCheckBox*>(w) || qobject_cast<const QRadioButton*>(w);
+        QString text = button->text();
+        text.remove(QLatin1Char('&'));
+        const int needed = box ? button->minimumSizeHint().width() : fm.horizontalAdvance(text) + 6;
+        return needed > button->width() ? QStringLiteral("'%1' needs %2 px, has %3")
+                                              .arg(text)
+                                              .arg(needed)
+                                              .arg(button->width())
+                                        : QString();
+    }
+    return {};
+}
+
+/// Every visible control of `window` that cannot be reached or whose text is cut, one line each;
+/// also a tool bar that hides part of itself behind its extension button.
+inline QStringList reachProblems(const QWidget* window) {
+    QStringList problems;
+    for (const QWidget* w : window->findChildren<QWidget*>()) {
+        if (!w->isVisible() || w->window() != window) continue;
+        if (w->objectName() == QStringLiteral("qt_toolbar_ext_button")) {
+            problems << QStringLiteral("a tool bar is too narrow for its contents");
+            continue;
+        }
+        if (!isCheckedControl(w)) continue;
+        for (const QString& why : {unreachable(w), textCut(w)})
+            if (!why.isEmpty()) problems << describeWidget(w) + QStringLiteral(": ") + why;
+    }
+    return problems;
+}
+
+}  // namespace glint::studio::testing
