@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -48,6 +50,22 @@ constexpr double kWhite[3] = {0.950428545, 1.0, 1.088900371};
 // Luminance of linear sRGB (Rec. 709 weights), used for HDR-FLIP's exposure range.
 float luminance(const float* rgb) {
     return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2];
+}
+
+/// Cube root of v in [0, ~2] to float precision without a library call (so the per-pixel loop
+/// stays inlined): Kahan's exponent-thirds first guess, then two Halley steps.
+float cubeRoot(float v) {
+    if (!(v > 0.0f)) return 0.0f;
+    std::uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    bits = bits / 3 + 709921077u;
+    float y;
+    std::memcpy(&y, &bits, sizeof y);
+    for (int i = 0; i < 2; ++i) {
+        const float y3 = y * y * y;
+        y *= (y3 + 2.0f * v) / (2.0f * y3 + v);
+    }
+    return y;
 }
 
 /// The colour transforms of the pipeline, with the XYZ-to-RGB inverse computed once.
@@ -110,7 +128,7 @@ struct ColorSpace {
         apply(toXyz, rgb, xyz);
         for (int c = 0; c < 3; ++c) {
             const float v = xyz[c] * invWhite[c];
-            xyz[c] = v > deltaCube ? std::cbrt(v) : slope * v + 4.0f / 29.0f;
+            xyz[c] = v > deltaCube ? cubeRoot(v) : slope * v + 4.0f / 29.0f;
         }
         const float l = 116.0f * xyz[1] - 16.0f;
         lab[0] = l;
@@ -126,7 +144,8 @@ const ColorSpace& colorSpace() {
 
 /// HyAB distance (FLIP eq. 4): city-block in L, Euclidean in (a, b).
 float hyab(const float* a, const float* b) {
-    return std::fabs(a[0] - b[0]) + std::hypot(a[1] - b[1], a[2] - b[2]);
+    const float da = a[1] - b[1], db = a[2] - b[2];
+    return std::fabs(a[0] - b[0]) + std::sqrt(da * da + db * db);
 }
 
 /// The 1D kernels at a viewing condition. The 2D spatial filters are Gaussians (Y, Cx) or a sum
@@ -342,11 +361,14 @@ void ldrFlip(const Image& image, const Image& reference, const PixelTransform& t
                 for (int input = 0; input < 2; ++input) {
                     const float ycxcz[3] = {row(input, 0)[x], row(input, 1)[x], row(input, 2)[x]};
                     space.ycxczToHuntLab(ycxcz, lab[input]);
-                    edge[input] = std::hypot(row(input, 3)[x], row(input, 5)[x]);
-                    point[input] = std::hypot(row(input, 4)[x], row(input, 6)[x]);
+                    const float dx = row(input, 3)[x], dy = row(input, 5)[x];
+                    const float ddx = row(input, 4)[x], ddy = row(input, 6)[x];
+                    edge[input] = std::sqrt(dx * dx + dy * dy);
+                    point[input] = std::sqrt(ddx * ddx + ddy * ddy);
                 }
                 // FLIP eq. 5: compress the colour difference, redistribute to [0, 1].
-                float color = std::pow(hyab(lab[0], lab[1]), kQc);
+                const float distance = hyab(lab[0], lab[1]);
+                float color = distance > 0.0f ? std::exp2(kQc * std::log2(distance)) : 0.0f;
                 color = color < pccmax ? color * (kPt / pccmax)
                                        : kPt + (color - pccmax) / (cmax - pccmax) * (1.0f - kPt);
                 // FLIP eq. 8-9: the larger of the edge and point differences.
