@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "glint/image/error.h"
+#include "glint/image/expectation.h"
+#include "glint/image/flip.h"
 #include "glint/image/frame_buffers.h"
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"
@@ -30,13 +32,6 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-std::string lowerExtension(const std::string& file) {
-    std::string ext = std::filesystem::path(file).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
-    return ext;
-}
-
 /// A loaded image: layered EXR, or any other format read as a colour-only frame.
 struct Loaded {
     FrameBuffers frame;
@@ -44,17 +39,8 @@ struct Loaded {
 };
 
 Loaded load(const std::string& file) {
-    if (lowerExtension(file) == ".exr") return {readExr(file), true};
-    const Image image = readImage(file, true);
-    FrameBuffers frame(image.width(), image.height());
-    Image& color = frame.color();
-    // Grey for one or two channels (grey + alpha), the first three otherwise.
-    for (int y = 0; y < image.height(); ++y)
-        for (int x = 0; x < image.width(); ++x)
-            for (int c = 0; c < 3; ++c) color(x, y, c) = image(x, y, image.channels() >= 3 ? c : 0);
-    frame.metadata() = FrameMetadata{};
-    frame.metadata().source = "image";
-    return {std::move(frame), false};
+    ComparedImage image = readComparedImage(file);
+    return {std::move(image.frame), image.hdr};
 }
 
 /// Pixels with a NaN or ±Inf in some channel.
@@ -192,15 +178,33 @@ void runInfo(const InfoOptions& options) {
     for (const auto& [key, value] : md.extra) std::cout << "  " << key << ": " << value << "\n";
 }
 
-void runDiff(const DiffOptions& options) {
-    Metric metric;
-    try {
-        metric = parseMetric(options.metric);
-    } catch (const Error& e) {
-        throw Error(ErrorKind::InvalidArgument,
-                    "expected ssim, psnr, mse or relmse, got '" + options.metric + "'", "",
-                    "--metric");
+int runDiff(const DiffOptions& options) {
+    // Each --metric value is a metric to print or an expectation (a metric with a bound, or mc).
+    std::vector<Expectation> requests;
+    for (const std::string& text : options.metrics) {
+        const bool bound = text.find_first_of("<>") != std::string::npos || text == "mc" ||
+                           text.rfind("mc:", 0) == 0;
+        if (bound) {
+            requests.push_back(parseExpectation(text));
+            continue;
+        }
+        Expectation print;
+        print.text = text;
+        print.metric = text;
+        try {
+            if (text != "flip") (void)parseMetric(text);
+        } catch (const Error&) {
+            throw Error(ErrorKind::InvalidArgument,
+                        "expected ssim, psnr, mse, relmse, flip, flip-ldr or flip-hdr, or an "
+                        "expectation such as 'ssim>=0.98' or mc, got '" +
+                            text + "'",
+                        "", "--metric");
+        }
+        requests.push_back(print);
     }
+    if (requests.empty())
+        throw Error(ErrorKind::InvalidArgument, "give at least one --metric (or --expect)", "",
+                    "--metric");
     MetricOptions metricOptions;
     metricOptions.linear = options.linear;
     metricOptions.exposure = options.exposure;
@@ -215,57 +219,118 @@ void runDiff(const DiffOptions& options) {
                         "expected four integers x0,x1,y0,y1, got '" + options.crop + "'", "",
                         "--crop");
     }
+    if (!options.errorMap.empty()) {
+        checkOutputPath(options.errorMap, {".png"}, "--error-map");
+        removeTemporariesOnSignal({options.errorMap});
+    }
 
-    const FrameBuffers image = load(options.file).frame;
-    const FrameBuffers reference = load(options.reference).frame;
-    if (image.width() != reference.width() || image.height() != reference.height())
+    const ComparedImage image = readComparedImage(options.file);
+    const ComparedImage reference = readComparedImage(options.reference);
+    const bool hdr = image.hdr || reference.hdr;
+    if (image.frame.width() != reference.frame.width() ||
+        image.frame.height() != reference.frame.height())
         throw Error(ErrorKind::InvalidArgument,
-                    "size " + std::to_string(reference.width()) + "x" +
-                        std::to_string(reference.height()) + " differs from " + options.file +
-                        " (" + std::to_string(image.width()) + "x" +
-                        std::to_string(image.height()) + ")",
+                    "size " + std::to_string(reference.frame.width()) + "x" +
+                        std::to_string(reference.frame.height()) + " differs from " + options.file +
+                        " (" + std::to_string(image.frame.width()) + "x" +
+                        std::to_string(image.frame.height()) + ")",
                     options.reference, "size");
     if (crop) {
         const Rect rect{(*crop)[0], (*crop)[1], (*crop)[2], (*crop)[3]};
-        if (rect.empty() || intersect(rect, image.color().bounds()) != rect)
+        if (rect.empty() || intersect(rect, image.frame.color().bounds()) != rect)
             throw Error(ErrorKind::InvalidArgument,
                         "crop x " + std::to_string(rect.x0) + ".." + std::to_string(rect.x1) +
                             ", y " + std::to_string(rect.y0) + ".." + std::to_string(rect.y1) +
-                            " is empty or outside the " + std::to_string(image.width()) + "x" +
-                            std::to_string(image.height()) + " image",
+                            " is empty or outside the " + std::to_string(image.frame.width()) +
+                            "x" + std::to_string(image.frame.height()) + " image",
                         options.file, "--crop");
         metricOptions.crop = rect;
     }
+    const bool flipRequested = std::any_of(requests.begin(), requests.end(), [&](auto& r) {
+        if (r.monteCarlo) return false;
+        const Metric m = resolveMetric(r.metric, hdr);
+        return m == Metric::FlipLdr || m == Metric::FlipHdr;
+    });
+    if (!options.errorMap.empty() && !flipRequested)
+        throw Error(ErrorKind::InvalidArgument, "the error map is FLIP's: add --metric flip", "",
+                    "--error-map");
 
-    MetricResult result;
-    try {
-        result = computeMetric(metric, image.color(), reference.color(), metricOptions);
-    } catch (const Error& e) {
-        // Name the image for errors about its content (too small for SSIM, all NaN...).
-        if (e.file().empty()) throw Error(e.kind(), e.message(), options.file, e.where());
-        throw;
+    json results = json::array();
+    int failed = 0;
+    for (const Expectation& request : requests) {
+        const Metric metric = request.monteCarlo ? Metric::Mse : resolveMetric(request.metric, hdr);
+        json entry = {{"request", request.text}};
+        try {
+            if (request.monteCarlo || request.text.find_first_of("<>") != std::string::npos) {
+                // An expectation: the library checks it (mc on the whole image).
+                const ExpectationOutcome outcome =
+                    checkExpectations(image, reference, {request}, metricOptions).front();
+                entry["metric"] = request.monteCarlo ? "mc" : metricName(metric);
+                entry["value"] = std::isfinite(outcome.value) ? json(outcome.value) : json(nullptr);
+                entry["passed"] = outcome.passed;
+                entry["message"] = outcome.message;
+                if (!outcome.passed) {
+                    ++failed;
+                    if (!options.json)
+                        std::fprintf(stderr, "glint-image: expectation failed: %s\n",
+                                     outcome.message.c_str());
+                } else if (!options.json) {
+                    std::cout << outcome.message << "\n";
+                }
+            } else {
+                MetricResult result;
+                if (metric == Metric::FlipLdr || metric == Metric::FlipHdr) {
+                    FlipOptions flipOptions;
+                    flipOptions.hdr = metric == Metric::FlipHdr;
+                    flipOptions.crop = metricOptions.crop;
+                    const FlipResult flipped =
+                        flip(image.frame.color(), reference.frame.color(), flipOptions);
+                    result.value = flipped.mean;
+                    result.pixels = flipped.map.pixelCount();
+                    if (!options.errorMap.empty())
+                        writePng(flipColorMap(flipped.map), options.errorMap);
+                } else {
+                    result = computeMetric(metric, image.frame.color(), reference.frame.color(),
+                                           metricOptions);
+                }
+                // What the metric did with pixels holding NaN/Inf (see metrics.h).
+                const bool ssimLike = metric == Metric::Ssim;
+                entry["metric"] = metricName(metric);
+                entry["value"] = std::isfinite(result.value) ? json(result.value) : json(nullptr);
+                entry["finite"] = bool(std::isfinite(result.value));
+                entry["pixels"] = result.pixels;
+                entry["nonFinitePixels"] = result.nonFinitePixels;
+                entry["nonFiniteTreatment"] = ssimLike ? "zeroed" : "excluded";
+                if (!options.json) {
+                    std::cout << metricName(metric) << " " << formatNumber(result.value) << "\n";
+                    std::cout << "  " << result.pixels << " pixels"
+                              << (crop ? " in crop " + options.crop : "") << "; "
+                              << result.nonFinitePixels << " non-finite pixels "
+                              << (ssimLike ? "set to 0 before filtering" : "excluded") << "\n";
+                }
+            }
+        } catch (const Error& e) {
+            // Name the image for errors about its content (too small for SSIM, all NaN...).
+            if (e.file().empty()) throw Error(e.kind(), e.message(), options.file, e.where());
+            throw;
+        }
+        results.push_back(entry);
     }
-    // What the metric did with pixels holding NaN/Inf (see metrics.h).
-    const char* treatment = metric == Metric::Ssim ? "set to 0 before filtering" : "excluded";
 
     if (options.json) {
         json out = {{"file", options.file},
                     {"reference", options.reference},
-                    {"metric", metricName(metric)},
-                    {"value", std::isfinite(result.value) ? json(result.value) : json(nullptr)},
-                    {"finite", bool(std::isfinite(result.value))},
-                    {"pixels", result.pixels},
-                    {"nonFinitePixels", result.nonFinitePixels},
-                    {"nonFiniteTreatment", metric == Metric::Ssim ? "zeroed" : "excluded"},
+                    {"results", results},
+                    {"failedExpectations", failed},
                     {"crop", crop ? json(*crop) : json(nullptr)},
                     {"linear", options.linear},
                     {"exposure", options.exposure}};
+        // One metric: its fields at the top level too, as before expectations existed.
+        if (results.size() == 1)
+            for (const auto& [key, value] : results[0].items()) out[key] = value;
         std::cout << out.dump(-1, ' ', false, json::error_handler_t::replace) << "\n";
-        return;
     }
-    std::cout << metricName(metric) << " " << formatNumber(result.value) << "\n";
-    std::cout << "  " << result.pixels << " pixels" << (crop ? " in crop " + options.crop : "")
-              << "; " << result.nonFinitePixels << " non-finite pixels " << treatment << "\n";
+    return failed > 0 ? 1 : 0;
 }
 
 void runConvert(const ConvertOptions& options) {

@@ -17,8 +17,11 @@ struct InfoOptions {
 struct DiffOptions {
     std::string file;
     std::string reference;
-    std::string metric;
-    std::string crop;  ///< "x0,x1,y0,y1" or empty
+    /// Metrics to print, each "NAME" or an expectation "NAME>=X", "NAME<=X", "mc[:ALPHA]"
+    /// (--metric and its second name --expect are one option).
+    std::vector<std::string> metrics;
+    std::string errorMap;  ///< FLIP error map PNG, or empty
+    std::string crop;      ///< "x0,x1,y0,y1" or empty
     bool linear = false;
     float exposure = 0.0f;
     bool json = false;
@@ -44,7 +47,7 @@ struct MergeOptions {
 /// Prints size, layers, metadata and non-finite counts of an image.
 void runInfo(const InfoOptions& options);
 /// Prints one metric of an image against a reference.
-void runDiff(const DiffOptions& options);
+int runDiff(const DiffOptions& options);
 /// Writes a layer or channel of an image as an 8-bit sRGB PNG.
 void runConvert(const ConvertOptions& options);
 /// Merges the shards of a sharded render (glint-render --shard i/N) into the whole frame, or a

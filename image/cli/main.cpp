@@ -18,7 +18,14 @@ int main(int argc, char** argv) {
     CLI::App* diffCmd = app.add_subcommand("diff", "Error metric of an image against a reference");
     diffCmd->add_option("FILE", diff.file, "Image to evaluate")->required();
     diffCmd->add_option("--reference", diff.reference, "Reference image")->required();
-    diffCmd->add_option("--metric", diff.metric, "ssim | psnr | mse | relmse")->required();
+    diffCmd
+        ->add_option("--metric,--expect", diff.metrics,
+                     "ssim | psnr | mse | relmse | flip | flip-ldr | flip-hdr, or an expectation "
+                     "that sets the exit code: 'ssim>=0.98', 'flip<=0.05', mc[:ALPHA] "
+                     "(repeatable; --expect is the same option)")
+        ->take_all()
+        ->allow_extra_args(false);
+    diffCmd->add_option("--error-map", diff.errorMap, "Write FLIP's error map (magma) as a PNG");
     diffCmd->add_option("--crop", diff.crop, "Pixel rectangle x0,x1,y0,y1 (half-open)");
     diffCmd->add_flag("--linear", diff.linear, "SSIM on linear values instead of display values");
     diffCmd->add_option("--exposure", diff.exposure, "Exposure in stops for display values");
@@ -52,7 +59,7 @@ int main(int argc, char** argv) {
         return *code;
     return glint::cli::runGuarded("glint-image", [&] {
         if (*infoCmd) glint::cli::runInfo(info);
-        if (*diffCmd) glint::cli::runDiff(diff);
+        if (*diffCmd) return glint::cli::runDiff(diff);
         if (*convertCmd) glint::cli::runConvert(convert);
         if (*mergeCmd) glint::cli::runMerge(merge);
         return 0;

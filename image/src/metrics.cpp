@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "glint/image/error.h"
+#include "glint/image/flip.h"
 #include "glint/image/io.h"
 #include "ssim.h"
 
@@ -177,8 +178,11 @@ Metric parseMetric(const std::string& name) {
     if (lower == "relmse") return Metric::RelMse;
     if (lower == "psnr") return Metric::Psnr;
     if (lower == "ssim") return Metric::Ssim;
+    if (lower == "flip-ldr") return Metric::FlipLdr;
+    if (lower == "flip-hdr") return Metric::FlipHdr;
     throw Error(ErrorKind::InvalidArgument,
-                "unknown metric '" + name + "'; expected one of mse, relmse, psnr, ssim");
+                "unknown metric '" + name +
+                    "'; expected one of mse, relmse, psnr, ssim, flip-ldr, flip-hdr");
 }
 
 const char* metricName(Metric metric) {
@@ -191,6 +195,10 @@ const char* metricName(Metric metric) {
             return "psnr";
         case Metric::Ssim:
             return "ssim";
+        case Metric::FlipLdr:
+            return "flip-ldr";
+        case Metric::FlipHdr:
+            return "flip-hdr";
     }
     return "unknown";
 }
@@ -240,6 +248,17 @@ MetricResult computeMetric(Metric metric, const Image& image, const Image& refer
             return psnr(image, reference, options);
         case Metric::Ssim:
             return ssim(image, reference, options);
+        case Metric::FlipLdr:
+        case Metric::FlipHdr: {
+            FlipOptions flipOptions;
+            flipOptions.hdr = metric == Metric::FlipHdr;
+            flipOptions.crop = options.crop;
+            const FlipResult flipped = flip(image, reference, flipOptions);
+            MetricResult result;
+            result.value = flipped.mean;
+            result.pixels = flipped.map.pixelCount();
+            return result;
+        }
     }
     throw Error(ErrorKind::InvalidArgument, "unknown metric kind");
 }

@@ -436,7 +436,7 @@ TEST(Metrics, Names) {
         EXPECT_EQ(parseMetric(metricName(metric)), metric);
     EXPECT_EQ(parseMetric("SSIM"), Metric::Ssim);
     EXPECT_STREQ(metricName(Metric::RelMse), "relmse");
-    expectError([] { parseMetric("flip"); }, ErrorKind::InvalidArgument, {"flip", "relmse"});
+    expectError([] { parseMetric("lpips"); }, ErrorKind::InvalidArgument, {"lpips", "flip-hdr"});
     const Image a(11, 11, 1, 0.25f);
     const Image b(11, 11, 1, 0.5f);
     EXPECT_EQ(computeMetric(Metric::Mse, a, b).value, 0.0625);

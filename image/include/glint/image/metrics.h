@@ -1,4 +1,4 @@
-// Error metrics against a reference: MSE, relMSE, PSNR, SSIM (docs/metrics.md).
+// Error metrics against a reference: MSE, relMSE, PSNR, SSIM, FLIP (docs/metrics.md).
 #pragma once
 
 #include <cstddef>
@@ -28,8 +28,9 @@ struct MetricResult {
     std::size_t pixels = 0;  ///< pixels considered (crop area)
 };
 
-enum class Metric { Mse, RelMse, Psnr, Ssim };
-/// Parses "mse", "relmse", "psnr", "ssim"; throws glint::Error(InvalidArgument).
+enum class Metric { Mse, RelMse, Psnr, Ssim, FlipLdr, FlipHdr };
+/// Parses "mse", "relmse", "psnr", "ssim", "flip-ldr", "flip-hdr"; throws
+/// glint::Error(InvalidArgument).
 Metric parseMetric(const std::string& name);
 const char* metricName(Metric metric);
 
@@ -42,7 +43,8 @@ MetricResult psnr(const Image& image, const Image& reference, const MetricOption
 /// SSIM of Wang et al. 2004 as docs/metrics.md specifies (equal to scikit-image's with
 /// gaussian_weights=True, sigma=1.5, use_sample_covariance=False, data_range=1).
 MetricResult ssim(const Image& image, const Image& reference, const MetricOptions& options = {});
-/// Dispatch by metric kind.
+/// Dispatch by metric kind. FLIP (glint/image/flip.h) runs at its default viewing condition;
+/// it throws on NaN/Inf rather than counting them.
 MetricResult computeMetric(Metric metric, const Image& image, const Image& reference,
                            const MetricOptions& options = {});
 

@@ -1,0 +1,580 @@
+// FLIP and HDR-FLIP (docs/metrics.md, "FLIP"). Equations from Andersson et al., "FLIP: A
+// Difference Evaluator for Alternating Images", HPG 2020 (cited as "FLIP"), and Andersson et al.,
+// "Visualizing Errors in Rendered High Dynamic Range Images", EG 2021 short ("HDR-FLIP"); the
+// separated form of the filters follows the authors' note on separated convolutions.
+#include "glint/image/flip.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "glint/image/error.h"
+#include "glint/image/io.h"
+
+namespace glint {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// FLIP sec. 4: colour exponent q_c, redistribution knee p_c and target p_t, the edge detector's
+// peak-to-trough width w (degrees) and feature exponent q_f.
+constexpr float kQc = 0.7f;
+constexpr float kPc = 0.4f;
+constexpr float kPt = 0.95f;
+constexpr double kFeatureWidth = 0.082;
+constexpr float kQf = 0.5f;
+
+// FLIP eq. 2 and Table 1: each opponent channel's contrast sensitivity as a sum of two Gaussians
+// a1 sqrt(pi/b1) exp(-pi^2 r^2/b1) + a2 sqrt(pi/b2) exp(-pi^2 r^2/b2), r in degrees.
+struct Csf {
+    double a1, b1, a2, b2;
+};
+constexpr Csf kAchromatic{1.0, 0.0047, 0.0, 1e-5};
+constexpr Csf kRedGreen{1.0, 0.0053, 0.0, 1e-5};
+constexpr Csf kBlueYellow{34.1, 0.04, 13.5, 0.025};
+
+// Linear sRGB (D65) to CIE XYZ, and the D65 white point.
+constexpr double kRgbToXyz[3][3] = {
+    {10135552.0 / 24577794.0, 8788810.0 / 24577794.0, 4435075.0 / 24577794.0},
+    {2613072.0 / 12288897.0, 8788810.0 / 12288897.0, 887015.0 / 12288897.0},
+    {1425312.0 / 73733382.0, 8788810.0 / 73733382.0, 70074185.0 / 73733382.0}};
+constexpr double kWhite[3] = {0.950428545, 1.0, 1.088900371};
+
+// Luminance of linear sRGB (Rec. 709 weights), used for HDR-FLIP's exposure range.
+float luminance(const float* rgb) {
+    return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2];
+}
+
+/// Cube root of v in [0, ~2] to float precision without a library call (so the per-pixel loop
+/// stays inlined): Kahan's exponent-thirds first guess, then two Halley steps.
+float cubeRoot(float v) {
+    if (!(v > 0.0f)) return 0.0f;
+    std::uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    bits = bits / 3 + 709921077u;
+    float y;
+    std::memcpy(&y, &bits, sizeof y);
+    for (int i = 0; i < 2; ++i) {
+        const float y3 = y * y * y;
+        y *= (y3 + 2.0f * v) / (2.0f * y3 + v);
+    }
+    return y;
+}
+
+/// The colour transforms of the pipeline, with the XYZ-to-RGB inverse computed once.
+struct ColorSpace {
+    float toXyz[3][3];
+    float toRgb[3][3];
+    float white[3];
+    float invWhite[3];
+
+    ColorSpace() {
+        const auto& m = kRgbToXyz;
+        const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                           m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) {
+                // Inverse = adjugate / determinant: cofactor of (c, r).
+                const int r0 = (c + 1) % 3, r1 = (c + 2) % 3, c0 = (r + 1) % 3, c1 = (r + 2) % 3;
+                toRgb[r][c] = float((m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0]) / det);
+                toXyz[r][c] = float(m[r][c]);
+            }
+        for (int c = 0; c < 3; ++c) {
+            white[c] = float(kWhite[c]);
+            invWhite[c] = float(1.0 / kWhite[c]);
+        }
+    }
+
+    static void apply(const float (&m)[3][3], const float* in, float* out) {
+        for (int r = 0; r < 3; ++r) out[r] = m[r][0] * in[0] + m[r][1] * in[1] + m[r][2] * in[2];
+    }
+
+    /// Linear RGB to the opponent space YCxCz (FLIP sec. 4.1: CIELab without the cube root).
+    void rgbToYcxcz(const float* rgb, float* ycxcz) const {
+        float xyz[3];
+        apply(toXyz, rgb, xyz);
+        for (int c = 0; c < 3; ++c) xyz[c] *= invWhite[c];
+        ycxcz[0] = 116.0f * xyz[1] - 16.0f;
+        ycxcz[1] = 500.0f * (xyz[0] - xyz[1]);
+        ycxcz[2] = 200.0f * (xyz[1] - xyz[2]);
+    }
+
+    /// Filtered YCxCz back to linear RGB, clamped to the unit cube (FLIP sec. 4.1.1), then to
+    /// the Hunt-adjusted L*a*b* space: a and b scaled by 0.01 L (FLIP sec. 4.1.2).
+    void ycxczToHuntLab(const float* ycxcz, float* lab) const {
+        const float y = (ycxcz[0] + 16.0f) / 116.0f;
+        const float xyz[3] = {(y + ycxcz[1] / 500.0f) * white[0], y * white[1],
+                              (y - ycxcz[2] / 200.0f) * white[2]};
+        float rgb[3];
+        apply(toRgb, xyz, rgb);
+        for (float& v : rgb) v = std::clamp(v, 0.0f, 1.0f);
+        rgbToHuntLab(rgb, lab);
+    }
+
+    /// Linear RGB to Hunt-adjusted CIELab.
+    void rgbToHuntLab(const float* rgb, float* lab) const {
+        constexpr float delta = 6.0f / 29.0f;
+        constexpr float deltaCube = delta * delta * delta;
+        constexpr float slope = 1.0f / (3.0f * delta * delta);
+        float xyz[3];
+        apply(toXyz, rgb, xyz);
+        for (int c = 0; c < 3; ++c) {
+            const float v = xyz[c] * invWhite[c];
+            xyz[c] = v > deltaCube ? cubeRoot(v) : slope * v + 4.0f / 29.0f;
+        }
+        const float l = 116.0f * xyz[1] - 16.0f;
+        lab[0] = l;
+        lab[1] = 0.01f * l * 500.0f * (xyz[0] - xyz[1]);
+        lab[2] = 0.01f * l * 200.0f * (xyz[1] - xyz[2]);
+    }
+};
+
+const ColorSpace& colorSpace() {
+    static const ColorSpace space;
+    return space;
+}
+
+/// HyAB distance (FLIP eq. 4): city-block in L, Euclidean in (a, b).
+float hyab(const float* a, const float* b) {
+    const float da = a[1] - b[1], db = a[2] - b[2];
+    return std::fabs(a[0] - b[0]) + std::sqrt(da * da + db * db);
+}
+
+/// The 1D kernels at a viewing condition. The 2D spatial filters are Gaussians (Y, Cx) or a sum
+/// of two Gaussians (Cz), each separable: Cz = cz1(x) cz1(y) + cz2(x) cz2(y).
+struct Kernels {
+    int spatialRadius = 0;
+    std::vector<float> y, cx, cz1, cz2;
+    int featureRadius = 0;
+    std::vector<float> g, dg, ddg;  ///< Gaussian, its first and second derivative
+};
+
+Kernels makeKernels(double ppd) {
+    Kernels k;
+    // FLIP sec. 4.1.1: support of 3 standard deviations of the widest Gaussian (b = 0.04).
+    const double widest = std::max({kAchromatic.b1, kRedGreen.b1, kBlueYellow.b1, kBlueYellow.b2});
+    k.spatialRadius = int(std::ceil(3.0 * std::sqrt(widest / (2.0 * kPi * kPi)) * ppd));
+    const int n = 2 * k.spatialRadius + 1;
+    // The 1D factor of a sqrt(pi/b) exp(-pi^2 (x^2 + y^2)/b) is sqrt(a sqrt(pi/b)) exp(-pi^2
+    // x^2/b).
+    auto factor = [](double a, double b, double x) {
+        return std::sqrt(a * std::sqrt(kPi / b)) * std::exp(-kPi * kPi * x * x / b);
+    };
+    std::vector<double> y(n), cx(n), cz1(n), cz2(n);
+    double sy = 0, scx = 0, scz1 = 0, scz2 = 0;
+    for (int i = 0; i < n; ++i) {
+        const double x = (i - k.spatialRadius) / ppd;  // degrees
+        sy += y[i] = factor(kAchromatic.a1, kAchromatic.b1, x);
+        scx += cx[i] = factor(kRedGreen.a1, kRedGreen.b1, x);
+        scz1 += cz1[i] = factor(kBlueYellow.a1, kBlueYellow.b1, x);
+        scz2 += cz2[i] = factor(kBlueYellow.a2, kBlueYellow.b2, x);
+    }
+    // Each 2D filter sums to 1: Y and Cx are products of one normalised 1D factor; the Cz sum
+    // of products has total scz1^2 + scz2^2.
+    const double czNorm = std::sqrt(scz1 * scz1 + scz2 * scz2);
+    for (int i = 0; i < n; ++i) {
+        k.y.push_back(float(y[i] / sy));
+        k.cx.push_back(float(cx[i] / scx));
+        k.cz1.push_back(float(cz1[i] / czNorm));
+        k.cz2.push_back(float(cz2[i] / czNorm));
+    }
+
+    // FLIP sec. 4.2: edge and point detectors, the first and second derivative of a Gaussian of
+    // standard deviation w/2 degrees; positive and negative weights normalised to +1 and -1.
+    const double sd = 0.5 * kFeatureWidth * ppd;
+    k.featureRadius = int(std::ceil(3.0 * sd));
+    const int m = 2 * k.featureRadius + 1;
+    std::vector<double> g(m), dg(m), ddg(m);
+    double sg = 0, dgPos = 0, dgNeg = 0, ddgPos = 0, ddgNeg = 0;
+    for (int i = 0; i < m; ++i) {
+        const double x = i - k.featureRadius;
+        g[i] = std::exp(-x * x / (2.0 * sd * sd));
+        dg[i] = -x * g[i];
+        ddg[i] = (x * x / (sd * sd) - 1.0) * g[i];
+        sg += g[i];
+        (dg[i] > 0 ? dgPos : dgNeg) += std::fabs(dg[i]);
+        (ddg[i] > 0 ? ddgPos : ddgNeg) += std::fabs(ddg[i]);
+    }
+    for (int i = 0; i < m; ++i) {
+        k.g.push_back(float(g[i] / sg));
+        k.dg.push_back(float(dg[i] / (dg[i] > 0 ? dgPos : dgNeg)));
+        k.ddg.push_back(float(ddg[i] / (ddg[i] > 0 ? ddgPos : ddgNeg)));
+    }
+    return k;
+}
+
+/// Rational tone curves (k0 x^2 + k1 x + k2) / (k3 x^2 + k4 x + k5) (HDR-FLIP sec. 3).
+std::array<double, 6> toneCurve(FlipToneMapper mapper) {
+    switch (mapper) {
+        case FlipToneMapper::Aces:
+            // Narkowicz's ACES fit, with its 0.6 pre-exposure folded in.
+            return {0.6 * 0.6 * 2.51, 0.6 * 0.03, 0.0, 0.6 * 0.6 * 2.43, 0.6 * 0.59, 0.14};
+        case FlipToneMapper::Hable: {
+            // Hable 2010's filmic curve f(x) = ((x(Ax + CB) + DE) / (x(Ax + B) + DF)) - E/F at
+            // exposure bias 2, divided by f(W) for white W = 11.2.
+            const double A = 0.15, B = 0.50, C = 0.10, D = 0.20, E = 0.02, F = 0.30, W = 11.2;
+            const double n0 = A * F - A * E, n1 = C * B * F - B * E;
+            const double d0 = A * F, d1 = B * F, d2 = D * F * F;
+            const double whiteScale = (d0 * W * W + d1 * W + d2) / (n0 * W * W + n1 * W);
+            return {4.0 * n0 * whiteScale, 2.0 * n1 * whiteScale, 0.0, 4.0 * d0, 2.0 * d1, d2};
+        }
+        case FlipToneMapper::Reinhard:
+            return {0.0, 1.0, 0.0, 0.0, 1.0, 1.0};
+    }
+    return {};
+}
+
+/// Maps one pixel of the input to the linear RGB in [0, 1] that LDR-FLIP sees.
+struct PixelTransform {
+    bool hdr = false;
+    FlipToneMapper mapper = FlipToneMapper::Aces;
+    double scale = 1.0;  ///< 2^exposure
+    std::array<double, 6> k{};
+
+    void operator()(const float* in, float* out) const {
+        if (!hdr) {
+            for (int c = 0; c < 3; ++c) out[c] = std::clamp(in[c], 0.0f, 1.0f);
+            return;
+        }
+        // HDR-FLIP sec. 3: negative values are clipped, the exposure applied, the tone curve
+        // (per channel; Reinhard's on luminance) and a clamp to [0, 1].
+        double rgb[3];
+        for (int c = 0; c < 3; ++c) rgb[c] = std::max(double(in[c]), 0.0) * scale;
+        if (mapper == FlipToneMapper::Reinhard) {
+            const double l = 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
+            for (int c = 0; c < 3; ++c) out[c] = float(std::clamp(rgb[c] / (1.0 + l), 0.0, 1.0));
+            return;
+        }
+        for (int c = 0; c < 3; ++c) {
+            const double x = rgb[c];
+            const double den = (k[3] * x + k[4]) * x + k[5];
+            const double v = std::isfinite(den) ? ((k[0] * x + k[1]) * x + k[2]) / den : 1.0;
+            out[c] = float(std::clamp(v, 0.0, 1.0));
+        }
+    }
+};
+
+/// Convolves a padded row (`in` holds `radius` extra values on each side) with `kernel`.
+void convolveRow(const float* in, const std::vector<float>& kernel, int width, float* out) {
+    const int taps = int(kernel.size());
+    for (int x = 0; x < width; ++x) out[x] = 0.0f;
+    for (int t = 0; t < taps; ++t) {
+        const float w = kernel[std::size_t(t)];
+        const float* src = in + t;
+        for (int x = 0; x < width; ++x) out[x] += w * src[x];
+    }
+}
+
+/// Adds the vertical convolution of `plane` (width x height) with `kernel` at row y to `out`,
+/// the image clamped at its top and bottom rows.
+void convolveColumn(const float* plane, const std::vector<float>& kernel, int width, int height,
+                    int y, float* out) {
+    const int radius = int(kernel.size()) / 2;
+    for (int t = 0; t < int(kernel.size()); ++t) {
+        const float w = kernel[std::size_t(t)];
+        const float* src = plane + std::size_t(std::clamp(y + t - radius, 0, height - 1)) * width;
+        for (int x = 0; x < width; ++x) out[x] += w * src[x];
+    }
+}
+
+// The horizontally filtered planes of one image.
+enum Plane { SpatialY, SpatialCx, SpatialCz1, SpatialCz2, FeatureD, FeatureDD, FeatureG, kPlanes };
+
+/// One LDR-FLIP evaluation of two 3-channel images after `transform`; writes the map into
+/// `map` (max with what it holds when `keepMax`).
+void ldrFlip(const Image& image, const Image& reference, const PixelTransform& transform,
+             const Kernels& k, Image& map, bool keepMax) {
+    const int w = image.width(), h = image.height();
+    const std::size_t area = std::size_t(w) * h;
+    const ColorSpace& space = colorSpace();
+    const Image* inputs[2] = {&reference, &image};
+    std::vector<float> planes(2 * kPlanes * area);
+    auto plane = [&](int input, int p) { return planes.data() + (input * kPlanes + p) * area; };
+    const int pad = std::max(k.spatialRadius, k.featureRadius);
+
+    // Step 1: opponent colours of each row, filtered horizontally (edges clamped).
+    tbb::parallel_for(tbb::blocked_range<int>(0, h, 4), [&](const tbb::blocked_range<int>& rows) {
+        const std::size_t padded = std::size_t(w + 2 * pad);
+        std::vector<float> yRow(padded), cxRow(padded), czRow(padded), grayRow(padded);
+        for (int y = rows.begin(); y != rows.end(); ++y)
+            for (int input = 0; input < 2; ++input) {
+                const float* src = inputs[input]->row(y);
+                for (int x = -pad; x < w + pad; ++x) {
+                    float rgb[3], ycxcz[3];
+                    transform(src + 3 * std::clamp(x, 0, w - 1), rgb);
+                    space.rgbToYcxcz(rgb, ycxcz);
+                    const std::size_t i = std::size_t(x + pad);
+                    yRow[i] = ycxcz[0];
+                    cxRow[i] = ycxcz[1];
+                    czRow[i] = ycxcz[2];
+                    grayRow[i] = (ycxcz[0] + 16.0f) / 116.0f;  // FLIP sec. 4.2: Y in [0, 1]
+                }
+                const std::size_t row = std::size_t(y) * w;
+                const int s = pad - k.spatialRadius, f = pad - k.featureRadius;
+                convolveRow(yRow.data() + s, k.y, w, plane(input, SpatialY) + row);
+                convolveRow(cxRow.data() + s, k.cx, w, plane(input, SpatialCx) + row);
+                convolveRow(czRow.data() + s, k.cz1, w, plane(input, SpatialCz1) + row);
+                convolveRow(czRow.data() + s, k.cz2, w, plane(input, SpatialCz2) + row);
+                convolveRow(grayRow.data() + f, k.dg, w, plane(input, FeatureD) + row);
+                convolveRow(grayRow.data() + f, k.ddg, w, plane(input, FeatureDD) + row);
+                convolveRow(grayRow.data() + f, k.g, w, plane(input, FeatureG) + row);
+            }
+    });
+
+    // Step 2: vertical filtering, colour and feature differences, the FLIP error per pixel.
+    const float cmax = [&] {
+        // FLIP sec. 4.1.2: the largest HyAB distance of the unit cube, green to blue.
+        const float green[3] = {0, 1, 0}, blue[3] = {0, 0, 1};
+        float g[3], b[3];
+        space.rgbToHuntLab(green, g);
+        space.rgbToHuntLab(blue, b);
+        return std::pow(hyab(g, b), kQc);
+    }();
+    const float pccmax = kPc * cmax;
+    tbb::parallel_for(tbb::blocked_range<int>(0, h, 4), [&](const tbb::blocked_range<int>& rows) {
+        // Per input: Y, Cx, Cz, dx, ddx, dy, ddy of one row.
+        std::vector<float> acc(std::size_t(2 * 7) * w);
+        auto row = [&](int input, int q) { return acc.data() + std::size_t(input * 7 + q) * w; };
+        for (int y = rows.begin(); y != rows.end(); ++y) {
+            std::fill(acc.begin(), acc.end(), 0.0f);
+            for (int input = 0; input < 2; ++input) {
+                convolveColumn(plane(input, SpatialY), k.y, w, h, y, row(input, 0));
+                convolveColumn(plane(input, SpatialCx), k.cx, w, h, y, row(input, 1));
+                convolveColumn(plane(input, SpatialCz1), k.cz1, w, h, y, row(input, 2));
+                convolveColumn(plane(input, SpatialCz2), k.cz2, w, h, y, row(input, 2));
+                convolveColumn(plane(input, FeatureD), k.g, w, h, y, row(input, 3));
+                convolveColumn(plane(input, FeatureDD), k.g, w, h, y, row(input, 4));
+                convolveColumn(plane(input, FeatureG), k.dg, w, h, y, row(input, 5));
+                convolveColumn(plane(input, FeatureG), k.ddg, w, h, y, row(input, 6));
+            }
+            float* out = map.row(y);
+            for (int x = 0; x < w; ++x) {
+                float lab[2][3], edge[2], point[2];
+                for (int input = 0; input < 2; ++input) {
+                    const float ycxcz[3] = {row(input, 0)[x], row(input, 1)[x], row(input, 2)[x]};
+                    space.ycxczToHuntLab(ycxcz, lab[input]);
+                    const float dx = row(input, 3)[x], dy = row(input, 5)[x];
+                    const float ddx = row(input, 4)[x], ddy = row(input, 6)[x];
+                    edge[input] = std::sqrt(dx * dx + dy * dy);
+                    point[input] = std::sqrt(ddx * ddx + ddy * ddy);
+                }
+                // FLIP eq. 5: compress the colour difference, redistribute to [0, 1].
+                const float distance = hyab(lab[0], lab[1]);
+                float color = distance > 0.0f ? std::exp2(kQc * std::log2(distance)) : 0.0f;
+                color = color < pccmax ? color * (kPt / pccmax)
+                                       : kPt + (color - pccmax) / (cmax - pccmax) * (1.0f - kPt);
+                // FLIP eq. 8-9: the larger of the edge and point differences.
+                const float feature = std::pow(
+                    std::max(std::fabs(edge[0] - edge[1]), std::fabs(point[0] - point[1])) /
+                        std::sqrt(2.0f),
+                    kQf);
+                // FLIP eq. 10.
+                const float error = std::pow(color, 1.0f - feature);
+                out[x] = keepMax ? std::max(out[x], error) : error;
+            }
+        }
+    });
+}
+
+std::string pixelText(int x, int y) {
+    return "(" + std::to_string(x) + ", " + std::to_string(y) + ")";
+}
+
+/// Throws unless every value of `im` is finite (and, for LDR, in [0, 1]).
+void checkValues(const Image& im, const char* name, bool hdr) {
+    for (int y = 0; y < im.height(); ++y) {
+        const float* p = im.row(y);
+        for (int x = 0; x < im.width(); ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float v = p[3 * x + c];
+                if (!std::isfinite(v))
+                    throw Error(ErrorKind::InvalidArgument,
+                                std::string("the ") + name + " has " +
+                                    (std::isnan(v) ? "NaN" : "Inf") + " at pixel " +
+                                    pixelText(x, y) + "; FLIP needs finite values",
+                                {}, hdr ? "flip-hdr" : "flip-ldr");
+                if (!hdr && !(v >= 0.0f && v <= 1.0f))
+                    throw Error(ErrorKind::InvalidArgument,
+                                std::string("the ") + name + " has " + std::to_string(v) +
+                                    " at pixel " + pixelText(x, y) +
+                                    ", outside [0, 1]: LDR-FLIP compares display values; use "
+                                    "HDR-FLIP (flip-hdr) for radiance",
+                                {}, "flip-ldr");
+            }
+    }
+}
+
+Image cropped(const Image& im, const Rect& r) {
+    Image out(r.width(), r.height(), im.channels());
+    for (int y = r.y0; y < r.y1; ++y)
+        std::copy(im.row(y) + std::size_t(r.x0) * im.channels(),
+                  im.row(y) + std::size_t(r.x1) * im.channels(), out.row(y - r.y0));
+    return out;
+}
+
+}  // namespace
+
+FlipExposureRange flipExposureRange(const Image& reference, FlipToneMapper toneMapper) {
+    if (reference.channels() != 3 || reference.empty())
+        throw Error(ErrorKind::InvalidArgument, "HDR-FLIP needs a non-empty RGB reference", {},
+                    "flip-hdr");
+    // HDR-FLIP sec. 3: the input x_max that the tone curve maps to t = 0.85, the larger root of
+    // (k0 - t k3) x^2 + (k1 - t k4) x + (k2 - t k5) = 0.
+    const std::array<double, 6> k = toneCurve(toneMapper);
+    const double t = 0.85;
+    const double a = k[0] - t * k[3], b = k[1] - t * k[4], c = k[2] - t * k[5];
+    const double xMax =
+        a == 0.0 ? -c / b : (-b + std::copysign(1.0, a) * std::sqrt(b * b - 4 * a * c)) / (2 * a);
+    std::vector<float> lum(reference.pixelCount());
+    for (std::size_t i = 0; i < lum.size(); ++i)
+        lum[i] = luminance(reference.data().data() + 3 * i);
+    const float yMax = *std::max_element(lum.begin(), lum.end());
+    // The median as the authors take it: the element at n/2 of the sorted luminances.
+    const std::size_t mid = lum.size() / 2;
+    std::nth_element(lum.begin(), lum.begin() + std::ptrdiff_t(mid), lum.end());
+    const float yMedian = lum[mid];
+    if (!(yMedian > 0.0f))
+        throw Error(ErrorKind::InvalidArgument,
+                    "half or more of the reference is black (median luminance " +
+                        std::to_string(yMedian) +
+                        "), so HDR-FLIP's exposure range (brightest to median) is undefined; "
+                        "give the exposure range explicitly",
+                    {}, "flip-hdr");
+    return {std::log2(xMax / yMax), std::log2(xMax / yMedian)};
+}
+
+FlipResult flip(const Image& image, const Image& reference, const FlipOptions& options) {
+    const char* where = options.hdr ? "flip-hdr" : "flip-ldr";
+    if (!image.sameShape(reference))
+        throw Error(ErrorKind::InvalidArgument,
+                    "image is " + std::to_string(image.width()) + "x" +
+                        std::to_string(image.height()) + "x" + std::to_string(image.channels()) +
+                        " but the reference is " + std::to_string(reference.width()) + "x" +
+                        std::to_string(reference.height()) + "x" +
+                        std::to_string(reference.channels()) + "; they must match",
+                    {}, where);
+    if (image.empty() || image.channels() != 3)
+        throw Error(ErrorKind::InvalidArgument,
+                    "FLIP compares non-empty RGB images, got " + std::to_string(image.channels()) +
+                        " channels",
+                    {}, where);
+    if (!(options.pixelsPerDegree > 0.0 && options.pixelsPerDegree <= 1000.0))
+        throw Error(ErrorKind::InvalidArgument,
+                    "pixels per degree must be in (0, 1000], got " +
+                        std::to_string(options.pixelsPerDegree),
+                    {}, where);
+    const Image* a = &image;
+    const Image* b = &reference;
+    Image ca, cb;
+    if (options.crop) {
+        const Rect r = *options.crop;
+        if (r.empty() || intersect(r, image.bounds()) != r)
+            throw Error(ErrorKind::InvalidArgument, "the crop is empty or not inside the image", {},
+                        where);
+        ca = cropped(image, r);
+        cb = cropped(reference, r);
+        a = &ca;
+        b = &cb;
+    }
+    checkValues(*a, "image", options.hdr);
+    checkValues(*b, "reference", options.hdr);
+
+    const Kernels kernels = makeKernels(options.pixelsPerDegree);
+    FlipResult result;
+    result.map = Image(a->width(), a->height(), 1, 0.0f);
+    PixelTransform transform;
+    transform.hdr = options.hdr;
+    if (!options.hdr) {
+        ldrFlip(*a, *b, transform, kernels, result.map, false);
+    } else {
+        double start = 0.0, stop = 0.0;
+        if (!options.startExposure || !options.stopExposure) {
+            const FlipExposureRange range = flipExposureRange(*b, options.toneMapper);
+            start = options.startExposure.value_or(range.start);
+            stop = options.stopExposure.value_or(range.stop);
+        } else {
+            start = *options.startExposure;
+            stop = *options.stopExposure;
+        }
+        if (!(std::isfinite(start) && std::isfinite(stop) && start <= stop))
+            throw Error(ErrorKind::InvalidArgument,
+                        "the exposure range must be finite with start <= stop, got " +
+                            std::to_string(start) + " .. " + std::to_string(stop),
+                        {}, where);
+        const int count =
+            options.exposures > 0 ? options.exposures : int(std::max(2.0, std::ceil(stop - start)));
+        if (count > 256)
+            throw Error(ErrorKind::InvalidArgument,
+                        "the exposure range " + std::to_string(start) + " .. " +
+                            std::to_string(stop) + " needs " + std::to_string(count) +
+                            " exposures (at most 256)",
+                        {}, where);
+        transform.mapper = options.toneMapper;
+        transform.k = toneCurve(options.toneMapper);
+        // HDR-FLIP sec. 3: LDR-FLIP at evenly spaced exposures, the maximum per pixel.
+        for (int i = 0; i < count; ++i) {
+            const double exposure = count == 1 ? start : start + i * (stop - start) / (count - 1);
+            transform.scale = std::exp2(exposure);
+            ldrFlip(*a, *b, transform, kernels, result.map, i > 0);
+        }
+        result.startExposure = start;
+        result.stopExposure = stop;
+        result.exposures = count;
+    }
+    // Mean: per-row sums added in order (the same value for any thread count).
+    double total = 0.0;
+    for (int y = 0; y < result.map.height(); ++y) {
+        double rowSum = 0.0;
+        const float* p = result.map.row(y);
+        for (int x = 0; x < result.map.width(); ++x) rowSum += p[x];
+        total += rowSum;
+    }
+    result.mean = total / double(result.map.pixelCount());
+    return result;
+}
+
+Image flipColorMap(const Image& errors) {
+    // matplotlib's magma (CC0), every 8th of its 256 entries and the last, sRGB-encoded.
+    static constexpr float kMagma[33][3] = {
+        {0.001462f, 0.000466f, 0.013866f}, {0.013708f, 0.011771f, 0.068667f},
+        {0.039608f, 0.031090f, 0.133515f}, {0.074257f, 0.052017f, 0.202660f},
+        {0.113094f, 0.065492f, 0.276784f}, {0.159018f, 0.068354f, 0.352688f},
+        {0.211718f, 0.061992f, 0.418647f}, {0.265447f, 0.060237f, 0.461840f},
+        {0.316654f, 0.071690f, 0.485380f}, {0.366012f, 0.090314f, 0.497960f},
+        {0.414709f, 0.110431f, 0.504662f}, {0.463508f, 0.129893f, 0.507652f},
+        {0.512831f, 0.148179f, 0.507648f}, {0.562866f, 0.165368f, 0.504692f},
+        {0.613617f, 0.181811f, 0.498536f}, {0.664915f, 0.198075f, 0.488836f},
+        {0.716387f, 0.214982f, 0.475290f}, {0.767398f, 0.233705f, 0.457755f},
+        {0.816914f, 0.255895f, 0.436461f}, {0.863320f, 0.283729f, 0.412403f},
+        {0.904281f, 0.319610f, 0.388137f}, {0.937221f, 0.364929f, 0.368567f},
+        {0.960949f, 0.418323f, 0.359630f}, {0.976690f, 0.476226f, 0.364466f},
+        {0.986700f, 0.535582f, 0.382210f}, {0.992785f, 0.594891f, 0.410283f},
+        {0.996096f, 0.653659f, 0.446213f}, {0.997325f, 0.711848f, 0.488154f},
+        {0.996898f, 0.769591f, 0.534892f}, {0.995131f, 0.827052f, 0.585701f},
+        {0.992440f, 0.884330f, 0.640099f}, {0.989434f, 0.941470f, 0.697519f},
+        {0.987053f, 0.991438f, 0.749504f}};
+    Image out(errors.width(), errors.height(), 3);
+    for (std::size_t i = 0; i < errors.pixelCount(); ++i) {
+        const float e = errors.data()[i * errors.channels()];
+        // Entry index 255 e along the table; knots at 0, 8, ..., 248 and 255.
+        const float index = std::isfinite(e) ? std::clamp(e, 0.0f, 1.0f) * 255.0f : 0.0f;
+        const int knot = std::min(int(index / 8.0f), 31);
+        const float lo = float(knot * 8), hi = knot == 31 ? 255.0f : lo + 8.0f;
+        const float t = std::clamp((index - lo) / (hi - lo), 0.0f, 1.0f);
+        for (int c = 0; c < 3; ++c) {
+            const float v = kMagma[knot][c] + t * (kMagma[knot + 1][c] - kMagma[knot][c]);
+            out.data()[i * 3 + std::size_t(c)] = srgbDecode(v);
+        }
+    }
+    return out;
+}
+
+}  // namespace glint
