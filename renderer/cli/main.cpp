@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <string>
 #include <type_traits>
@@ -23,6 +24,7 @@
 #include "glint/image/metrics.h"
 #include "glint/image/shard.h"
 #include "glint/render/asset_formats.h"
+#include "glint/render/importance_map.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 #include "glint/render/settings.h"
@@ -42,35 +44,48 @@ struct Options {
     /// The named render settings given (--spp, --max-depth, --mlt-chains, …) as text, read
     /// strictly by the settings codec ("-1" must not wrap to a seed of 2^64 - 1).
     glint::render::SettingValues settings;
-    /// --mlt: Metropolis parameters, "name=value" each (the codec's mlt* settings unprefixed).
-    std::vector<std::string> mlt;
+    /// --set: any named render setting, "name=value" each (scene.json's render keys).
+    std::vector<std::string> set;
+    std::string importance;  ///< --importance: the adaptive passes' per-pixel weights
 };
 
-/// The named settings of --mlt's "name=value" items added to `settings`.
-void addMltSettings(const std::vector<std::string>& items, glint::render::SettingValues& settings) {
+/// The named settings with a flag of their own (--spp, --max-depth, …); the others are set by
+/// --set name=value or the scene's render block.
+constexpr const char* kSettingFlags[] = {"spp",      "seed",        "integrator",
+                                         "maxDepth", "halfBuffers", "accel"};
+
+bool hasOwnFlag(const std::string& name) {
+    for (const char* n : kSettingFlags)
+        if (name == n) return true;
+    return false;
+}
+
+/// The named settings of --set's "name=value" items added to `settings`.
+void addSetSettings(const std::vector<std::string>& items, glint::render::SettingValues& settings) {
     for (const std::string& item : items) {
         const std::size_t eq = item.find('=');
-        std::string name = item.substr(0, eq);
-        if (!name.empty()) name[0] = char(std::toupper((unsigned char)name[0]));
-        const glint::render::SettingSpec* spec = glint::render::findSetting("mlt" + name);
-        if (eq == std::string::npos || name.empty() || !spec)
-            throw glint::Error(glint::ErrorKind::InvalidArgument,
-                               "'" + item +
-                                   "': expected name=value, the name one of large, small, lens, "
-                                   "light, bootstrap, chains, groups or featureSpp",
-                               "command line", "--mlt");
-        settings[spec->name] = item.substr(eq + 1);
+        const std::string name = item.substr(0, eq);
+        if (eq == std::string::npos || !glint::render::findSetting(name)) {
+            std::string names;
+            for (const glint::render::SettingSpec& spec : glint::render::settingSpecs())
+                names += (names.empty() ? "" : ", ") + std::string(spec.name);
+            throw glint::Error(
+                glint::ErrorKind::InvalidArgument,
+                "'" + item + "': expected name=value, the name a render setting (" + names + ")",
+                "command line", "--set");
+        }
+        settings[name] = item.substr(eq + 1);
     }
 }
 
 /// The flag that sets the Settings field `field` (validate's place), else "options".
 std::string flagOf(const std::string& field) {
-    if (field.rfind("mlt", 0) == 0) return "--mlt";
     if (const glint::render::SettingSpec* spec = glint::render::findSetting(field))
-        return glint::render::settingFlag(*spec);
+        return hasOwnFlag(field) ? glint::render::settingFlag(*spec) : "--set " + field;
     if (field == "threads") return "--threads";
     if (field == "timeLimit") return "--time-limit";
     if (field == "shard") return "--shard";
+    if (field == "importance") return "--importance";
     return "options";
 }
 
@@ -157,12 +172,19 @@ int run(const Options& opt) {
     if (!opt.settings.count("spp") && opt.timeLimit > 0.0) settings.spp = 0;
     // The named settings through the codec, each error naming its flag.
     glint::render::SettingValues given = opt.settings;
-    addMltSettings(opt.mlt, given);
+    addSetSettings(opt.set, given);
     for (const auto& [name, text] : given) {
         const glint::render::SettingSpec& spec = *glint::render::findSetting(name);
-        glint::render::setSetting(
-            settings, spec, text, "command line",
-            name.rfind("mlt", 0) == 0 ? std::string("--mlt") : glint::render::settingFlag(spec));
+        glint::render::setSetting(settings, spec, text, "command line", flagOf(name));
+    }
+    // An importance map steers adaptive sampling, so it turns it on.
+    if (!opt.importance.empty()) {
+        glint::cli::checkOutputIsNoInput(opt.out, "--out", {{opt.importance, "--importance"}});
+        auto weights =
+            std::make_shared<glint::Image>(glint::render::readImportanceMap(opt.importance));
+        glint::render::checkImportanceMap(*weights, scene.width(), scene.height(), opt.importance);
+        settings.importance = std::move(weights);
+        settings.adaptive = true;
     }
     if (opt.threads) settings.threads = *opt.threads;
     settings.timeLimit = opt.timeLimit;
@@ -189,7 +211,7 @@ int run(const Options& opt) {
         }
     };
     if (settings.integrator == glint::render::Integrator::Mlt)
-        option("--mlt", [&] {
+        option("--set", [&] {
             glint::render::validateMlt(settings.mlt);
             return 0;
         });
@@ -252,6 +274,15 @@ int run(const Options& opt) {
     const glint::FrameBuffers& frame = result.frame;
     const glint::render::RenderStats& stats = result.stats;
     if (tty && !opt.json) std::fprintf(stderr, "\n");
+    // The first pass always completes: a time limit shorter than it gets that one pass.
+    if (settings.timeLimit > 0.0 && stats.passes == 1 && stats.seconds > settings.timeLimit) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf,
+                      "warning: the time limit (%g s) is shorter than one pass (%.3g s at 1 spp): "
+                      "writing that one pass",
+                      settings.timeLimit, stats.seconds);
+        std::fprintf(stderr, "glint-render: %s\n", buf);
+    }
     stage("writing " + opt.out);
     glint::writeExr(frame, opt.out);
     // A variance below float's range is written as 0: say so, it is no estimate of the noise.
@@ -269,26 +300,28 @@ int run(const Options& opt) {
         stats.seconds > 0.0 ? double(stats.samples) / stats.seconds : 0.0;
     const double raysPerSecond = stats.seconds > 0.0 ? double(stats.rays) / stats.seconds : 0.0;
     if (opt.json) {
-        nlohmann::json j = {{"scene", opt.scene},
-                            {"out", opt.out},
-                            {"width", frame.width()},
-                            {"height", frame.height()},
-                            {"spp", stats.completedSpp},
-                            {"seed", settings.seed},
-                            {"mis", glint::render::misName(settings.mis)},
-                            {"accel", glint::render::accelName(settings.accel)},
-                            {"bvh", glint::render::accelName(renderer.accel())},
-                            {"maxDepth", settings.maxDepth},
-                            {"threads", settings.threads},
-                            {"setupSeconds", setupSeconds},
-                            {"seconds", stats.seconds},
-                            {"samples", stats.samples},
-                            {"rays", stats.rays},
-                            {"samplesPerSecond", samplesPerSecond},
-                            {"raysPerSecond", raysPerSecond},
-                            {"nonFiniteSamples", stats.nonFiniteSamples},
-                            {"varianceUnderflowPixels", underflowPixels},
-                            {"passes", passes}};
+        nlohmann::json j = {
+            {"scene", opt.scene},
+            {"out", opt.out},
+            {"width", frame.width()},
+            {"height", frame.height()},
+            {"spp", stats.completedSpp},
+            {"seed", settings.seed},
+            {"mis", glint::render::misName(settings.mis)},
+            {"accel", glint::render::accelName(settings.accel)},
+            {"bvh", glint::render::accelName(renderer.accel())},
+            {"maxDepth", settings.maxDepth},
+            {"threads", settings.threads},
+            {"setupSeconds", setupSeconds},
+            {"seconds", stats.seconds},
+            {"samples", stats.samples},
+            {"meanSpp", double(stats.samples) / (double(frame.width()) * double(frame.height()))},
+            {"rays", stats.rays},
+            {"samplesPerSecond", samplesPerSecond},
+            {"raysPerSecond", raysPerSecond},
+            {"nonFiniteSamples", stats.nonFiniteSamples},
+            {"varianceUnderflowPixels", underflowPixels},
+            {"passes", passes}};
         if (reference) j["relMse"] = lastRelMse, j["ssim"] = lastSsim;
         if (settings.shard) {
             const auto [begin, end] =
@@ -364,7 +397,7 @@ int main(int argc, char** argv) {
     app.add_flag("--json", opt.json, "print one JSON object on stdout");
     // The render settings the artist sets here, one flag each from the codec (scene.json's render
     // block under the same names, docs/scene-format.md); the others are the scene's.
-    for (const char* name : {"spp", "seed", "integrator", "maxDepth", "halfBuffers", "accel"}) {
+    for (const char* name : kSettingFlags) {
         const glint::render::SettingSpec& spec = *glint::render::findSetting(name);
         const std::string key = spec.name;
         if (spec.kind == glint::render::SettingKind::Boolean)
@@ -377,11 +410,14 @@ int main(int argc, char** argv) {
                 [&opt, key](const std::string& text) { opt.settings[key] = text; },
                 settingHelp(spec));
     }
-    // The Metropolis parameters, name=value each: the codec's mlt* settings without the prefix.
-    app.add_option("--mlt", opt.mlt,
-                   "mlt: a Metropolis parameter name=value (repeatable): large, small, lens, light "
-                   "(mutation weights), bootstrap (paths), chains (a multiple of groups), groups, "
-                   "featureSpp (docs/metropolis.md)");
+    // Every other render setting, name=value each, under its scene.json name.
+    app.add_option("--set", opt.set,
+                   "a render setting name=value (repeatable), scene.json's render keys: adaptive, "
+                   "noiseThreshold, minSpp, adaptiveError (adaptive sampling), mltChains, … "
+                   "(Metropolis), mis, sampler, rrDepth, … (docs/scene-format.md)");
+    app.add_option("--importance", opt.importance,
+                   "adaptive sampling with these per-pixel weights (EXR: one channel, or the "
+                   "luminance of RGB; the film's size) multiplying each pixel's estimated error");
     if (const auto code = glint::cli::parseCommandLine(app, argc, argv, "glint-render"))
         return *code;
     return glint::cli::runGuarded("glint-render", [&] { return run(opt); });

@@ -24,6 +24,7 @@
 #include "glint/image/error.h"
 #include "glint/image/memory.h"
 #include "glint/image/shard.h"
+#include "glint/render/importance_map.h"
 #include "glint/render/settings_codec.h"
 #include "integrators/mlt_integrator.h"
 #include "integrators/path_integrator.h"
@@ -183,16 +184,23 @@ int lightBuilds(const Renderer& renderer) {
 
 namespace {
 
+/// Whether the film keeps half B's statistics without writing them: adaptive sampling estimates
+/// the error from them.
+bool keepsHalf(const Settings& settings) {
+    return settings.adaptive && settings.adaptiveError == AdaptiveError::Half;
+}
+
 /// Path-traces `settings` through the render loop, reporting progress in [begin, end].
 RenderResult renderPath(const detail::SceneData& data, const EmbreeScene& embree,
                         const LightSampler& lights, const Camera& camera, const Settings& settings,
                         const Callbacks& callbacks, tbb::task_arena& arena, double begin,
                         double end, bool reportPasses) {
     const Clock::time_point start = Clock::now();
-    Film film(data.width, data.height, settings.halfBuffers);
+    Film film(data.width, data.height, settings.halfBuffers, keepsHalf(settings));
     const PathIntegrator integrator(data, embree, lights, camera, settings);
     PathPasses work(data, integrator, camera, settings, film);
     RenderLoop loop(settings.spp, settings.timeLimit, callbacks, arena, begin, end);
+    if (settings.adaptive) loop.setAdaptive(adaptiveStartSpp(settings));
     // A shard takes its range of every pixel's samples; the passes stay those of the whole
     // render, so a stratified pass stratifies over the same block (docs/distributed.md).
     std::optional<ShardInfo> shard;
@@ -247,7 +255,10 @@ std::uint64_t Renderer::estimateMemory(const Settings& settings) const {
             frameChannels += std::uint64_t(layerInfo(Layer(l)).channels);
     const std::uint64_t frame = frameChannels * sizeof(float);
     // The film, the frame it resolves to, and the copy a pass observer may be handed.
-    std::uint64_t perPixel = Film::bytesPerPixel(settings.halfBuffers) + 2 * frame;
+    std::uint64_t perPixel =
+        Film::bytesPerPixel(settings.halfBuffers || keepsHalf(settings)) + 2 * frame;
+    // Adaptive sampling's two masks (converged, chosen).
+    if (settings.adaptive) perPixel += 2;
     if (settings.integrator == Integrator::Mlt) {
         // The feature frame kept beside the colour, and each group's splats (3 doubles).
         perPixel += frame + std::uint64_t(std::max(settings.mlt.groups, 1)) * 3 * sizeof(double);
@@ -264,6 +275,7 @@ RenderResult Renderer::render(const Settings& settings, const Callbacks& callbac
                     "the render region lies outside the " + std::to_string(data.width) + "x" +
                         std::to_string(data.height) + " film",
                     {}, "region");
+    if (settings.importance) checkImportanceMap(*settings.importance, data.width, data.height);
     if (settings.sampler == SamplerKind::ZSobol) {
         const auto [log2Res, log2Spp] = zsobolLayout(data, settings);
         const int bits = 2 * log2Res + log2Spp;

@@ -1,6 +1,8 @@
 #include "glint/render/settings.h"
 
 #include <algorithm>
+#include <cmath>
+#include <sstream>
 
 #include "glint/image/error.h"
 
@@ -44,6 +46,26 @@ Accel parseAccel(const std::string& name) {
     if (name == "clusters") return Accel::Clusters;
     throw Error(ErrorKind::InvalidArgument,
                 "unknown accel '" + name + "' (expected auto, triangles or clusters)");
+}
+
+AdaptiveError parseAdaptiveError(const std::string& name) {
+    if (name == "half") return AdaptiveError::Half;
+    if (name == "whole") return AdaptiveError::Whole;
+    throw Error(ErrorKind::InvalidArgument,
+                "unknown adaptive error source '" + name + "' (expected half or whole)");
+}
+
+const char* adaptiveErrorName(AdaptiveError from) {
+    return from == AdaptiveError::Half ? "half" : "whole";
+}
+
+int adaptiveStartSpp(const Settings& s) {
+    // Cycles' automatic minimum: 32 at a threshold of 0.1, 64 at 0.01, 128 at 0.001.
+    const int start =
+        s.minSpp > 0
+            ? s.minSpp
+            : std::max(4, int(std::ceil(16.0 / std::pow(std::max(s.noiseThreshold, 1e-30), 0.3))));
+    return s.spp > 0 ? std::min(start, s.spp) : std::min(start, kMaxSpp);
 }
 
 const char* accelName(Accel accel) {
@@ -92,6 +114,47 @@ const char* strategyName(Strategy strategy) {
     return strategy == Strategy::Bsdf ? "bsdf" : "light";
 }
 
+namespace {
+
+/// The adaptive-sampling part of validate().
+void validateAdaptive(const Settings& s) {
+    auto bad = [](const char* field, const std::string& what) {
+        throw Error(ErrorKind::InvalidArgument, what, {}, field);
+    };
+    if (s.importance && !s.adaptive)
+        bad("importance",
+            "an importance map steers adaptive sampling: it needs adaptive sampling on");
+    if (!(s.noiseThreshold > 0.0 && s.noiseThreshold <= kMaxNoiseThreshold)) {
+        std::ostringstream got;
+        got << s.noiseThreshold;
+        bad("noiseThreshold",
+            "noiseThreshold must be a number in (0, 1e6] (a pixel's estimated relative error; "
+            "Cycles' default is 0.01), got " +
+                got.str());
+    }
+    if (s.minSpp < 0 || s.minSpp > kMaxSpp)
+        bad("minSpp", "minSpp must be in [0, " + std::to_string(kMaxSpp) +
+                          "] (0: automatic), got " + std::to_string(s.minSpp));
+    if (s.spp > 0 && s.minSpp > s.spp)
+        bad("spp", "spp (" + std::to_string(s.spp) +
+                       ", the most samples an adaptive render gives a pixel) is below minSpp (" +
+                       std::to_string(s.minSpp) + ", the samples every pixel takes first)");
+    if (s.integrator != Integrator::Path)
+        bad("adaptive",
+            "adaptive sampling works with the path integrator only (Metropolis distributes its "
+            "samples by the image's brightness already)");
+    if (s.sampler == SamplerKind::Stratified)
+        bad("adaptive",
+            "adaptive sampling needs the sobol, zsobol or independent sampler (a stratified pass "
+            "stratifies over every pixel's samples of the pass, which adaptive passes split)");
+    if (s.shard)
+        bad("shard",
+            "adaptive sampling decides per pixel from all the samples so far, which one shard "
+            "does not have: render adaptively on one machine");
+}
+
+}  // namespace
+
 void validate(const Settings& s) {
     // `where` names the field, so a command line can name its flag.
     auto bad = [](const char* field, const std::string& what) {
@@ -129,6 +192,7 @@ void validate(const Settings& s) {
         bad("sampler",
             "the zsobol sampler needs a fixed spp (no time limit): it lays each pixel's samples "
             "out as a block of 2^ceil(log2 spp) indices");
+    if (s.adaptive || s.importance) validateAdaptive(s);
     if (s.shard) {
         // The time limit first: with it spp is open (0), and the spp bound would mislead.
         if (s.timeLimit > 0.0)

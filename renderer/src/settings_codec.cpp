@@ -21,6 +21,8 @@ using nlohmann::json;
 // The most a Metropolis count may be (bootstrap paths, chains, groups).
 constexpr std::int64_t kMaxMltCount = std::int64_t(1) << 40;
 constexpr double kMaxMltWeight = 1e6;
+// The least noiseThreshold the codec reads (0 and below are refused).
+constexpr double kMinNoiseThreshold = 1e-9;
 
 /// A named setting and how to reach its field: get gives the text, set takes a text the spec
 /// has already checked.
@@ -40,9 +42,9 @@ std::int64_t integerOf(const std::string& text) {
     return std::stoll(text);
 }
 
-const std::array<NamedField, 19>& namedFields() {
+const std::array<NamedField, 23>& namedFields() {
     using K = SettingKind;
-    static const std::array<NamedField, 19> table{{
+    static const std::array<NamedField, 23> table{{
         {{"spp", K::Integer, 1, kMaxSpp, 0, 0, "", true, "samples per pixel"},
          [](const Settings& s) { return std::to_string(s.spp); },
          [](Settings& s, const std::string& t) { s.spp = int(integerOf(t)); }},
@@ -87,6 +89,25 @@ const std::array<NamedField, 19>& namedFields() {
           "what the BVH is built over (auto: clusters above 2^21 triangles)"},
          [](const Settings& s) { return std::string(accelName(s.accel)); },
          [](Settings& s, const std::string& t) { s.accel = parseAccel(t); }},
+        {{"adaptive", K::Boolean, 0, 0, 0, 0, "", true,
+          "adaptive sampling: after minSpp, samples only where the estimated error is above "
+          "noiseThreshold, up to spp"},
+         [](const Settings& s) { return std::string(s.adaptive ? "true" : "false"); },
+         [](Settings& s, const std::string& t) { s.adaptive = t == "true"; }},
+        {{"noiseThreshold", K::Real, 0, 0, kMinNoiseThreshold, kMaxNoiseThreshold, "", true,
+          "adaptive: a pixel's estimated relative error below which it takes no more samples "
+          "(Cycles' noise threshold)"},
+         [](const Settings& s) { return shortestReal(s.noiseThreshold); },
+         [](Settings& s, const std::string& t) { s.noiseThreshold = std::stod(t); }},
+        {{"minSpp", K::Integer, 0, kMaxSpp, 0, 0, "", true,
+          "adaptive: samples every pixel takes first (0: automatic, 64 at a threshold of 0.01)"},
+         [](const Settings& s) { return std::to_string(s.minSpp); },
+         [](Settings& s, const std::string& t) { s.minSpp = int(integerOf(t)); }},
+        {{"adaptiveError", K::Choice, 0, 0, 0, 0, "half whole", true,
+          "adaptive: estimate the error from the odd half of the samples (the even half stays "
+          "unbiased) or from all of them"},
+         [](const Settings& s) { return std::string(adaptiveErrorName(s.adaptiveError)); },
+         [](Settings& s, const std::string& t) { s.adaptiveError = parseAdaptiveError(t); }},
         {{"mltLarge", K::Real, 0, 0, 0.0, kMaxMltWeight, "", true, "mlt: weight of large steps"},
          [](const Settings& s) { return shortestReal(s.mlt.largeStep); },
          [](Settings& s, const std::string& t) { s.mlt.largeStep = std::stod(t); }},
@@ -140,6 +161,12 @@ std::string choiceSentence(const SettingSpec& spec) {
 
 bool isMltSetting(const SettingSpec& spec) {
     return std::string_view(spec.name).starts_with("mlt");
+}
+
+/// The settings of adaptive sampling other than the switch itself.
+bool isAdaptiveDetail(const SettingSpec& spec) {
+    const std::string_view name = spec.name;
+    return name == "noiseThreshold" || name == "minSpp" || name == "adaptiveError";
 }
 
 }  // namespace
@@ -273,6 +300,8 @@ void recordSettings(const Settings& settings, FrameMetadata& metadata) {
         if (!f.spec.recorded || name == "spp" || name == "seed" || name == "integrator") continue;
         if (name == "strategy" && settings.mis != MisHeuristic::None) continue;
         if (isMltSetting(f.spec) && settings.integrator != Integrator::Mlt) continue;
+        // A uniform render records nothing of adaptive sampling (its file stays as it was).
+        if ((name == "adaptive" || isAdaptiveDetail(f.spec)) && !settings.adaptive) continue;
         metadata.extra[f.spec.name] = f.get(settings);
     }
 }

@@ -2,6 +2,8 @@
 // box. Checks the summary and --json output, --reference metrics, determinism across --threads,
 // and that bad input exits 2 with a last stderr line naming the file or flag and writes nothing.
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -117,10 +119,10 @@ TEST_F(RenderCli, BadInputExitsTwoNamingTheProblemAndWritesNothing) {
         {scene + " --spp 4 --max-depth 0 --out " + out, "--max-depth"},
         {path("mis.json") + " --spp 4 --out " + out, "mis"},
         {path("stratified.json") + " --spp 4 --half-buffers --out " + out, "--half-buffers"},
-        {scene + " --integrator mlt --mlt chains=many --out " + out, "--mlt"},
-        {scene + " --integrator mlt --mlt nosuch=1 --out " + out, "--mlt"},
-        {scene + " --integrator mlt --mlt chains --out " + out, "--mlt"},
-        {scene + " --integrator mlt --mlt chains=30 --mlt groups=4 --out " + out, "--mlt"},
+        {scene + " --integrator mlt --set mltChains=many --out " + out, "--set mltChains"},
+        {scene + " --integrator mlt --set nosuch=1 --out " + out, "--set"},
+        {scene + " --integrator mlt --set mltChains --out " + out, "--set"},
+        {scene + " --integrator mlt --set mltChains=30 --set mltGroups=4 --out " + out, "--set"},
         {scene + " --spp 4 --half-buffers --integrator mlt --out " + out, "--half-buffers"},
         {scene + " --spp 4 --reference " + path("small.exr") + " --out " + out, "small.exr"},
     };
@@ -137,8 +139,8 @@ TEST_F(RenderCli, BadInputExitsTwoNamingTheProblemAndWritesNothing) {
 TEST_F(RenderCli, MetropolisParametersAreSetByName) {
     const RunResult r =
         run(path("scene.json") +
-            " --spp 4 --integrator mlt --mlt chains=32 --mlt groups=4 "
-            "--mlt bootstrap=2000 --mlt featureSpp=2 --mlt large=0.5 --json --out " +
+            " --spp 4 --integrator mlt --set mltChains=32 --set mltGroups=4 "
+            "--set mltBootstrap=2000 --set mltFeatureSpp=2 --set mltLarge=0.5 --json --out " +
             path("mlt.exr"));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const nlohmann::json j = nlohmann::json::parse(r.out);
@@ -146,6 +148,89 @@ TEST_F(RenderCli, MetropolisParametersAreSetByName) {
     EXPECT_EQ(j["mlt"]["groups"], 4);
     EXPECT_EQ(j["mlt"]["bootstrap"], 2000);
     EXPECT_EQ(j["mlt"]["featureSpp"], 2);
+}
+
+TEST_F(RenderCli, AdaptiveSamplingIsSetByNameAndSteeredByAnImportanceMap) {
+    // --set adaptive=true with a threshold no pixel reaches: every pixel takes spp; a one-channel
+    // map of weight 0 on the left half keeps those pixels at minSpp.
+    Image weights(24, 24, 1, 1.0f);
+    for (int y = 0; y < 24; ++y)
+        for (int x = 0; x < 12; ++x) weights(x, y, 0) = 0.0f;
+    writeImage(weights, path("w.exr"));
+    const RunResult r = run(path("scene.json") +
+                            " --spp 16 --set minSpp=4 --set noiseThreshold=1e-9 --importance " +
+                            path("w.exr") + " --json --out " + path("ad.exr"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const FrameBuffers f = readExr(path("ad.exr"));
+    EXPECT_EQ(f.metadata().extra.at("adaptive"), "true");
+    EXPECT_EQ(f.layer(Layer::SampleCount)(3, 10, 0), 4.0f);
+    EXPECT_EQ(f.layer(Layer::SampleCount)(20, 10, 0), 16.0f);
+    EXPECT_DOUBLE_EQ(nlohmann::json::parse(r.out)["meanSpp"].get<double>(), 10.0);
+    // The same bits at 1 and 2 threads.
+    for (int t : {1, 2})
+        ASSERT_EQ(run(path("scene.json") + " --spp 16 --set adaptive=true --set minSpp=4 " +
+                      "--set noiseThreshold=0.05 --threads " + std::to_string(t) + " --out " +
+                      path("t" + std::to_string(t) + ".exr"))
+                      .exitCode,
+                  0);
+    const FrameBuffers one = readExr(path("t1.exr")), two = readExr(path("t2.exr"));
+    for (Layer l : {Layer::Color, Layer::Variance, Layer::SampleCount})
+        EXPECT_TRUE(std::equal(one.layer(l).data().begin(), one.layer(l).data().end(),
+                               two.layer(l).data().begin()))
+            << layerDisplayName(l);
+}
+
+TEST_F(RenderCli, BadAdaptiveInputExitsTwoWithOneLineAndWritesNothing) {
+    const std::string scene = path("scene.json"), out = path("bad.exr");
+    auto map = [&](const std::string& name, int w, int h, float fill, float at34 = 1.0f) {
+        Image m(w, h, 1, fill);
+        if (w > 4 && h > 4) m(3, 4, 0) = at34;
+        writeImage(m, path(name));
+        return path(name);
+    };
+    struct Case {
+        std::string args, mention;
+    };
+    const Case cases[] = {
+        {scene + " --set adaptive=true --set noiseThreshold=0 --out " + out,
+         "--set noiseThreshold: expected a number in [1e-09, 1e+06]"},
+        {scene + " --set adaptive=true --set noiseThreshold=-0.1 --out " + out,
+         "--set noiseThreshold"},
+        {scene + " --set adaptive=true --set noiseThreshold=nan --out " + out,
+         "--set noiseThreshold"},
+        {scene + " --set adaptive=true --set noiseThreshold=2e6 --out " + out,
+         "--set noiseThreshold"},
+        {scene + " --spp 4 --set adaptive=true --set minSpp=8 --out " + out,
+         "--spp: spp (4, the most samples an adaptive render gives a pixel) is below minSpp (8"},
+        {scene + " --importance " + map("small.exr", 8, 8, 1.0f) + " --out " + out,
+         "small.exr: the importance map is 8x8, the scene renders 24x24"},
+        {scene + " --importance " + map("nan.exr", 24, 24, 1.0f, std::nanf("")) + " --out " + out,
+         "nan.exr: pixel (3, 4): importance weight nan; expected a finite weight >= 0"},
+        {scene + " --importance " + map("neg.exr", 24, 24, 1.0f, -2.0f) + " --out " + out,
+         "neg.exr: pixel (3, 4): importance weight -2"},
+        {scene + " --importance " + map("zero.exr", 24, 24, 0.0f, 0.0f) + " --out " + out,
+         "zero.exr: every weight is 0"},
+        {scene + " --importance " + path("missing.exr") + " --out " + out, "missing.exr"},
+        {scene + " --set adaptive=true --shard 0/2 --out " + out, "--shard"},
+        {scene + " --set adaptive=true --integrator mlt --out " + out, "path integrator only"},
+    };
+    for (const Case& c : cases) {
+        const RunResult r = run(c.args);
+        EXPECT_EQ(r.exitCode, 2) << c.args << "\n" << r.err;
+        const std::string line = lastLine(r.err);
+        EXPECT_EQ(line.rfind("glint-render: ", 0), 0u) << line;
+        EXPECT_NE(line.find(c.mention), std::string::npos) << c.args << "\n" << line;
+        EXPECT_FALSE(fs::exists(out)) << c.args;
+    }
+}
+
+TEST_F(RenderCli, ATimeLimitShorterThanOnePassSaysSoAndWritesThatPass) {
+    const RunResult r =
+        run(path("scene.json") + " --time-limit 1e-9 --set adaptive=true --out " + path("t.exr"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("the time limit (1e-09 s) is shorter than one pass"), std::string::npos)
+        << r.err;
+    EXPECT_EQ(readExr(path("t.exr")).layer(Layer::SampleCount)(5, 5, 0), 1.0f);
 }
 
 TEST_F(RenderCli, ARenderOverTheMemoryLimitIsRefusedAndWritesNothing) {

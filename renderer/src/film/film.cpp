@@ -1,14 +1,39 @@
 #include "film/film.h"
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace glint::render {
 
-Film::Film(int width, int height, bool halfBuffers)
-    : m_width(width), m_height(height), m_pixels(std::size_t(width) * std::size_t(height)) {
-    if (halfBuffers) m_half.resize(m_pixels.size());
+Film::Film(int width, int height, bool halfBuffers, bool keepHalf)
+    : m_width(width),
+      m_height(height),
+      m_pixels(std::size_t(width) * std::size_t(height)),
+      m_writeHalves(halfBuffers) {
+    if (halfBuffers || keepHalf) m_half.resize(m_pixels.size());
+}
+
+double Film::adaptiveError(int x, int y, AdaptiveError from) const {
+    const Pixel& whole = m_pixels[index(x, y)];
+    const Pixel& p = from == AdaptiveError::Half ? m_half[index(x, y)] : whole;
+    if (p.n < 2) return std::numeric_limits<double>::infinity();
+    // Standard error of the mean per channel, s / sqrt(n); half B's scaled to the whole's
+    // count: s_B / sqrt(n_B) * sqrt(n_B / n) = s_B / sqrt(n).
+    const double n = double(p.n);
+    const double perSample = 1.0 / ((n - 1.0) * double(whole.n));
+    double se = 0.0, intensity = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        se += std::sqrt(std::max(p.m2[c] * perSample, 0.0));
+        intensity += p.mean[c];
+    }
+    // Cycles' |I - A| (the whole mean against the even half's) has the standard error of the
+    // whole mean; its expectation is sqrt(2/pi) of it for Gaussian noise (Dammertz et al. 2010,
+    // sec. 2.1, with Cycles' sqrt(intensity) normalisation).
+    constexpr double kMeanAbs = 0.7978845608028654;
+    return kMeanAbs * se / (1e-4 + std::sqrt(std::max(intensity, 0.0)));
 }
 
 namespace {
@@ -76,7 +101,7 @@ FrameBuffers Film::resolve(bool withPosition) const {
                                         {Layer::Normal, Layer::NormalVariance, 6, 3},
                                         {Layer::Depth, Layer::DepthVariance, 9, 1}};
     // The whole, then half B into the half-buffer layers.
-    const bool halves = !m_half.empty();
+    const bool halves = m_writeHalves;
     for (const Out& o : outs) {
         frame.ensure(o.mean), frame.ensure(o.variance);
         if (halves) frame.ensure(*halfLayer(o.mean)), frame.ensure(*halfLayer(o.variance));

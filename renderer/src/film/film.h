@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "glint/image/frame_buffers.h"
+#include "glint/render/settings.h"
 #include "vecmath.h"
 
 namespace glint::render {
@@ -23,8 +24,9 @@ struct FilmSample {
 class Film {
   public:
     /// With `halfBuffers`, also the statistics of each pixel's second half of samples alone
-    /// (the half-buffer layers; add() says which samples belong to it).
-    Film(int width, int height, bool halfBuffers = false);
+    /// (the half-buffer layers; add() says which samples belong to it). `keepHalf` keeps those
+    /// statistics without writing them (adaptive sampling's error from half B).
+    Film(int width, int height, bool halfBuffers = false, bool keepHalf = false);
 
     int width() const { return m_width; }
     int height() const { return m_height; }
@@ -33,6 +35,19 @@ class Film {
     void add(int x, int y, const FilmSample& sample, bool secondHalf = false);
     /// Samples accepted in pixel (x, y).
     std::uint32_t count(int x, int y) const { return m_pixels[index(x, y)].n; }
+    /// Samples taken in pixel (x, y), the discarded non-finite ones included: the index of the
+    /// pixel's next sample.
+    std::uint32_t taken(int x, int y) const {
+        const Pixel& p = m_pixels[index(x, y)];
+        return p.n + p.nonFinite;
+    }
+    /// Adaptive sampling's estimate of pixel (x, y)'s error, on the scale of Cycles' noise
+    /// threshold (docs/renderer.md, "Adaptive sampling"): the expected |I − A| of Cycles'
+    /// estimator, √(2/π) Σc SEc, over 1e-4 + √(Σc μc), from the colour's standard errors of the
+    /// mean SEc and means μc of every sample (`from` Whole) or of half B alone, its standard
+    /// errors scaled to the whole's count (Half; needs half statistics). Infinite below two
+    /// samples.
+    double adaptiveError(int x, int y, AdaptiveError from) const;
     /// Total discarded (non-finite) samples.
     std::int64_t nonFiniteSamples() const;
     /// Means, variances of the mean (sample variance / n; 0 below two samples), sample counts,
@@ -59,6 +74,7 @@ class Film {
     int m_width, m_height;
     std::vector<Pixel> m_pixels;
     std::vector<Pixel> m_half;  ///< half B's statistics; empty without half buffers
+    bool m_writeHalves;         ///< resolve() writes the half-buffer layers
 };
 
 }  // namespace glint::render

@@ -41,23 +41,64 @@ PathPasses::PathPasses(const detail::SceneData& data, const PathIntegrator& inte
     for (int h = 0; h < 2; ++h)
         m_halfSeed[h] = hash64(hash64(settings.seed, 0x4a1fb0ffULL), std::uint64_t(h));
     std::tie(m_log2Res, m_log2Spp) = zsobolLayout(data, settings);
+    if (settings.adaptive) {
+        m_active.assign(std::size_t(data.width) * std::size_t(data.height), 0);
+        m_tileSamples.assign(m_tiles.size(), 0);
+        m_maxSpp = settings.spp > 0 ? settings.spp : kMaxSpp;
+    }
+}
+
+std::uint64_t PathPasses::planAdaptivePass() {
+    const int w = m_data.width, h = m_data.height;
+    const Rect region = m_settings.region.value_or(Rect{0, w, 0, h});
+    const Image* weights = m_settings.importance.get();
+    // Cycles' noise threshold is compared with 5x its error (its "more intuitive values").
+    const double threshold = 5.0 * m_settings.noiseThreshold;
+    // Per pixel: 0 converged, 1 not converged (the error estimate, times the pixel's weight, is
+    // above the threshold), 2 weight 0 (only the start, whatever its error, even infinite).
+    std::vector<std::uint8_t> state(m_active.size(), 0);
+    for (int y = region.y0; y < region.y1; ++y)
+        for (int x = region.x0; x < region.x1; ++x) {
+            const double weight = weights ? double((*weights)(x, y, 0)) : 1.0;
+            state[std::size_t(y) * w + x] =
+                weight <= 0.0                                                               ? 2
+                : m_film.adaptiveError(x, y, m_settings.adaptiveError) * weight > threshold ? 1
+                                                                                            : 0;
+        }
+    // The pass: the pixels not converged and their eight neighbours (Cycles' filter of the
+    // convergence mask), within the region, of weight > 0 and below spp.
+    std::uint64_t active = 0;
+    for (int y = region.y0; y < region.y1; ++y)
+        for (int x = region.x0; x < region.x1; ++x) {
+            bool near = false;
+            for (int dy = -1; dy <= 1 && !near; ++dy)
+                for (int dx = -1; dx <= 1 && !near; ++dx) {
+                    const int nx = x + dx, ny = y + dy;
+                    near = nx >= region.x0 && nx < region.x1 && ny >= region.y0 && ny < region.y1 &&
+                           state[std::size_t(ny) * w + nx] == 1;
+                }
+            const std::size_t i = std::size_t(y) * w + x;
+            const bool take = near && state[i] != 2 && int(m_film.taken(x, y)) < m_maxSpp;
+            m_active[i] = take;
+            active += take;
+        }
+    return active;
 }
 
 void PathPasses::run(const PassInfo& pass, std::size_t item, const RenderLoop&) {
-    const Rect& tile = m_tiles[item];
     const bool halves = m_settings.halfBuffers;
     const std::uint64_t seed = m_settings.seed;
     // With half buffers, sample s is sample s/2 of half s mod 2's own scramble.
     switch (m_settings.sampler) {
         case SamplerKind::Sobol:
             // Every dimension from its own scrambled Sobol sequence (sampling/sobol.h).
-            runBatches(pass, tile, [&](std::uint64_t pixel, int, int, int s) {
+            runBatches(pass, item, [&](std::uint64_t pixel, int, int, int s) {
                 return halves ? SobolSampler(m_halfSeed[s & 1], pixel, std::uint32_t(s >> 1))
                               : SobolSampler(seed, pixel, std::uint32_t(s));
             });
             break;
         case SamplerKind::ZSobol:
-            runBatches(pass, tile, [&](std::uint64_t, int x, int y, int s) {
+            runBatches(pass, item, [&](std::uint64_t, int x, int y, int s) {
                 return ZSobolSampler(halves ? m_halfSeed[s & 1] : seed, x, y,
                                      std::uint32_t(halves ? s >> 1 : s), m_log2Res, m_log2Spp);
             });
@@ -65,7 +106,7 @@ void PathPasses::run(const PassInfo& pass, std::size_t item, const RenderLoop&) 
         case SamplerKind::Stratified:
         case SamplerKind::Independent: {
             const StratifiedPattern pattern(m_settings.sampler, seed, pass.first, pass.count);
-            runBatches(pass, tile, [&](std::uint64_t pixel, int, int, int s) {
+            runBatches(pass, item, [&](std::uint64_t pixel, int, int, int s) {
                 return StratifiedSampler(pattern, seed, pixel, s);
             });
             break;
@@ -86,8 +127,10 @@ Ray PathPasses::cameraRay(Sampler& sampler, int x, int y) const {
 }
 
 template <class MakeSampler>
-void PathPasses::runBatches(const PassInfo& pass, const Rect& tile,
+void PathPasses::runBatches(const PassInfo& pass, std::size_t item,
                             const MakeSampler& makeSampler) {
+    const Rect& tile = m_tiles[item];
+    std::uint64_t adaptiveSamples = 0;
     using Sampler = decltype(makeSampler(std::uint64_t(0), 0, 0, 0));
     static_assert(PixelSampler<Sampler>);
     std::uint64_t tileRays = 0;
@@ -114,7 +157,16 @@ void PathPasses::runBatches(const PassInfo& pass, const Rect& tile,
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x) {
             const auto pixel = std::uint64_t(y) * std::uint64_t(m_data.width) + x;
-            for (int s = pass.begin; s < pass.end; ++s) {
+            int begin = pass.begin, end = pass.end;
+            if (pass.adaptive) {
+                // A chosen pixel continues its own sequence: its next sample index is the
+                // number it has taken.
+                if (!m_active[pixel]) continue;
+                begin = int(m_film.taken(x, y));
+                end = std::min(begin + pass.count, m_maxSpp);
+                adaptiveSamples += std::uint64_t(end - begin);
+            }
+            for (int s = begin; s < end; ++s) {
                 // The path continues from the sampler the camera ray drew from.
                 Sampler& sampler = samplers.emplace_back(makeSampler(pixel, x, y, s));
                 cameraRays.push_back(cameraRay(sampler, x, y));
@@ -124,6 +176,7 @@ void PathPasses::runBatches(const PassInfo& pass, const Rect& tile,
         }
     if (!targets.empty()) flush();
     m_rays += tileRays;
+    if (pass.adaptive) m_tileSamples[item] = adaptiveSamples;
 }
 
 }  // namespace glint::render

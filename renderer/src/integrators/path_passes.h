@@ -34,6 +34,10 @@ class PathPasses final : public PassWork {
     std::size_t items() const override { return m_tiles.size(); }
     std::optional<Rect> itemRect(std::size_t item) const override { return m_tiles[item]; }
     void run(const PassInfo& pass, std::size_t item, const RenderLoop& loop) override;
+    std::uint64_t planAdaptivePass() override;
+    std::uint64_t adaptiveItemSamples(std::size_t item) const override {
+        return m_tileSamples[item];
+    }
     FrameBuffers snapshot() override;
 
     /// Rays traced so far.
@@ -44,7 +48,7 @@ class PathPasses final : public PassWork {
     /// batches and added to the film in that same order; makeSampler(pixel, x, y, s) gives the
     /// sampler of sample s of pixel (x, y).
     template <class MakeSampler>
-    void runBatches(const PassInfo& pass, const Rect& tile, const MakeSampler& makeSampler);
+    void runBatches(const PassInfo& pass, std::size_t item, const MakeSampler& makeSampler);
 
     /// The camera ray of pixel (x, y) from a sampler's camera numbers (film, lens, time).
     template <PixelSampler Sampler>
@@ -60,6 +64,11 @@ class PathPasses final : public PassWork {
     std::uint64_t m_halfSeed[2];
     int m_log2Res = 0, m_log2Spp = 0;
     std::atomic<std::uint64_t> m_rays{0};
+    // Adaptive sampling: the pixels of the next adaptive pass (1: takes it), the samples each
+    // tile took in the last one, and the most samples a pixel takes.
+    std::vector<std::uint8_t> m_active;
+    std::vector<std::uint64_t> m_tileSamples;
+    int m_maxSpp = 0;
 };
 
 }  // namespace glint::render

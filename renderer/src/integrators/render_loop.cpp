@@ -30,6 +30,12 @@ void RenderLoop::restrictSamples(int begin, int end) {
     m_sampleEnd = end;
 }
 
+void RenderLoop::setAdaptive(int startSpp) {
+    GLINT_CHECK(startSpp > 0 && m_sampleBegin == 0 && (m_spp == 0 || m_sampleEnd == m_spp),
+                "adaptive sampling starts after at least one sample and takes every sample");
+    m_adaptiveStart = m_spp > 0 ? std::min(startSpp, m_spp) : startSpp;
+}
+
 double RenderLoop::elapsed() const {
     return std::chrono::duration<double>(Clock::now() - m_start).count();
 }
@@ -101,36 +107,56 @@ LoopResult RenderLoop::run(PassWork& work, bool reportPasses) {
         }
     }
 
-    double secondsPerSpp = 0.0;
+    double secondsPerSpp = 0.0, secondsPerSample = 0.0;
     while (!m_cancelled.load()) {
-        if (m_spp > 0 && done >= m_sampleEnd) break;
+        // Past the adaptive start, the work chooses each pass's pixels and each pixel stops at
+        // spp on its own.
+        const bool adaptive = m_adaptiveStart > 0 && done >= m_adaptiveStart;
+        if (!adaptive && m_spp > 0 && done >= m_sampleEnd) break;
         // The first pass always completes: a tiny time limit still gives a 1-spp image.
         if (timed && done > 0 && elapsed() >= m_budget) break;
         if (m_spp <= 0 && !timed) break;
         // Pass sizes double (1, 1, 2, 4, ... up to 64 spp) for quick early feedback; under a time
         // limit they are also cut to what the remaining time allows by the measured rate.
         int count = std::clamp(done, 1, 64);
-        if (m_spp > 0) count = std::min(count, m_spp - done);
-        if (timed && secondsPerSpp > 0.0) {
-            // Clamped in double: a fast pass on a tiny film gives ratios beyond INT_MAX.
-            count = int(std::clamp((m_budget - elapsed()) / secondsPerSpp, 1.0, double(count)));
+        if (adaptive) {
+            const std::uint64_t active = work.planAdaptivePass();
+            if (active == 0) break;  // every pixel converged or at spp
+            count = std::min(count, kAdaptiveStep);
+            if (timed && secondsPerSample > 0.0)
+                count = int(std::clamp((m_budget - elapsed()) / (secondsPerSample * double(active)),
+                                       1.0, double(count)));
+        } else {
+            if (m_adaptiveStart > 0) count = std::min(count, m_adaptiveStart - done);
+            if (m_spp > 0) count = std::min(count, m_spp - done);
+            if (timed && secondsPerSpp > 0.0) {
+                // Clamped in double: a fast pass on a tiny film gives ratios beyond INT_MAX.
+                count = int(std::clamp((m_budget - elapsed()) / secondsPerSpp, 1.0, double(count)));
+            }
         }
-        // A shard renders its part of this pass; a pass wholly outside it is skipped.
-        const int begin = std::max(done, m_sampleBegin);
-        const int end = std::min(done + count, m_sampleEnd > 0 ? m_sampleEnd : done + count);
+        // A shard renders its part of this pass; a pass wholly outside it is skipped. (An
+        // adaptive pass is no shard's: each pixel's samples continue from its own count.)
+        const int begin = adaptive ? done : std::max(done, m_sampleBegin);
+        const int end = adaptive
+                            ? done + count
+                            : std::min(done + count, m_sampleEnd > 0 ? m_sampleEnd : done + count);
         if (begin >= end) {
             done += count;
             continue;
         }
         const int rendered = end - begin;
-        const PassInfo info{pass, done, count, begin, end};
+        const PassInfo info{pass, done, count, begin, end, adaptive};
         const double passStart = elapsed();
+        const std::uint64_t samplesBefore = samples.load();
         runItems(
             items, pass,
             [&](std::size_t i) {
                 work.run(info, i, *this);
                 const std::optional<Rect> rect = work.itemRect(i);
-                if (rect) samples += std::uint64_t(rect->width()) * rect->height() * rendered;
+                if (adaptive)
+                    samples += work.adaptiveItemSamples(i);
+                else if (rect)
+                    samples += std::uint64_t(rect->width()) * rect->height() * rendered;
                 return rect;
             },
             [&](std::size_t finished) {
@@ -138,9 +164,14 @@ LoopResult RenderLoop::run(PassWork& work, bool reportPasses) {
                                      double(finished) / double(items) * rendered);
             });
         if (m_cancelled.load()) break;
-        secondsPerSpp = (elapsed() - passStart) / double(rendered);
+        const double passSeconds = elapsed() - passStart;
+        secondsPerSpp = passSeconds / double(rendered);
+        if (const std::uint64_t passSamples = samples.load() - samplesBefore; passSamples > 0)
+            secondsPerSample = passSeconds / double(passSamples);
         done += count;
         taken += rendered;
+        // An adaptive render's spp is the most any pixel took.
+        if (adaptive && m_spp > 0) taken = std::min(taken, m_spp);
         ++pass;
         work.passCompleted(info);
         if (reportPasses && m_callbacks.passDone) {

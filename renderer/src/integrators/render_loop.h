@@ -26,6 +26,9 @@ struct PassInfo {
     int count = 0;
     int begin = 0;
     int end = 0;
+    /// An adaptive pass: only the pixels PassWork::planAdaptivePass chose take `count` more
+    /// samples each, continuing their own sample sequences (begin and end are not used).
+    bool adaptive = false;
 };
 
 class RenderLoop;
@@ -51,6 +54,11 @@ class PassWork {
     virtual void run(const PassInfo& pass, std::size_t item, const RenderLoop& loop) = 0;
     /// The pixels an item covers, for Callbacks::tileDone (nullopt: it is not a tile).
     virtual std::optional<Rect> itemRect(std::size_t /*item*/) const { return std::nullopt; }
+    /// Adaptive sampling: chooses the pixels that take the next pass (those not converged),
+    /// returning how many there are; 0 ends the render.
+    virtual std::uint64_t planAdaptivePass() { return 0; }
+    /// The pixel samples item `item` took in the last adaptive pass.
+    virtual std::uint64_t adaptiveItemSamples(std::size_t /*item*/) const { return 0; }
     /// After each completed pass (before any snapshot of it is taken).
     virtual void passCompleted(const PassInfo& /*pass*/) {}
     /// The frame of every completed pass so far (for Callbacks::passDone).
@@ -68,8 +76,10 @@ struct LoopResult {
 };
 
 /// Runs the work's preparatory pass, if any, then passes of sizes 1, 1, 2, 4 … 64 spp until
-/// `spp` is reached, the time budget runs out or the caller cancels. Progress of this loop maps
-/// to [progressBegin, progressEnd] of the render.
+/// `spp` is reached, the time budget runs out or the caller cancels. With adaptive sampling
+/// (setAdaptive), the passes after the adaptive start go only to the pixels the work chooses,
+/// until it chooses none. Progress of this loop maps to [progressBegin, progressEnd] of the
+/// render.
 class RenderLoop {
   public:
     RenderLoop(int spp, double timeBudget, const Callbacks& callbacks, tbb::task_arena& arena,
@@ -83,6 +93,13 @@ class RenderLoop {
     /// passes keep the sizes and boundaries of the whole render, and each takes its share of
     /// the range. Needs a fixed spp (no time budget).
     void restrictSamples(int begin, int end);
+
+    /// Adaptive sampling: uniform passes up to `startSpp` samples per pixel, then adaptive
+    /// passes of at most kAdaptiveStep samples (PassWork::planAdaptivePass); `spp` bounds
+    /// each pixel (0: only the time budget and convergence end the render).
+    void setAdaptive(int startSpp);
+    /// The most samples an adaptive pass adds to a pixel (Cycles checks every 16).
+    static constexpr int kAdaptiveStep = 16;
 
     /// Polls Callbacks::cancel (serialised); true once the render should stop.
     bool stopRequested() const;
@@ -101,6 +118,7 @@ class RenderLoop {
     tbb::task_arena& m_arena;
     double m_begin, m_end;
     int m_sampleBegin = 0, m_sampleEnd = 0;  // the samples taken (a shard), or all of them
+    int m_adaptiveStart = 0;                 // uniform passes up to this spp; 0: not adaptive
     mutable std::mutex m_callbackMutex;
     mutable std::atomic<bool> m_cancelled{false};
     std::chrono::steady_clock::time_point m_start;

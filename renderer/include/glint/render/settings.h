@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -26,6 +27,17 @@ enum class SamplerKind {
     ZSobol        ///< one Sobol sequence across the film in Morton order (Ahmed and Wonka 2020)
 };
 
+/// Which statistics adaptive sampling estimates a pixel's error from (docs/renderer.md,
+/// "Adaptive sampling").
+enum class AdaptiveError {
+    /// The odd samples alone (half B): the even half never steers where samples go, so it stays
+    /// an unbiased estimate of the pixel (and half buffers stay honest for cross-validation).
+    Half,
+    /// Every sample (the film's own Welford statistics): a decision from the very samples it
+    /// stops, so the mean has a small bias.
+    Whole
+};
+
 /// What Embree builds its BVH over (docs/renderer.md, "Acceleration structure").
 enum class Accel {
     /// Clusters when the BVHs would hold more than kClusterTriangles triangles (a mesh shared
@@ -45,6 +57,7 @@ inline constexpr int kMaxThreads = 1024;      ///< worker threads
 inline constexpr double kMaxTimeLimit = 1e7;  ///< seconds (about 4 months)
 inline constexpr std::uint64_t kMaxSeed = (std::uint64_t(1) << 63) - 1;
 inline constexpr int kMaxTextureCacheMb = 1 << 20;  ///< texture tile cache, MB (1 TiB)
+inline constexpr double kMaxNoiseThreshold = 1e6;   ///< adaptive sampling's noiseThreshold
 
 /// One shard of a render split over machines (docs/distributed.md): shard `index` of `count`
 /// takes per-pixel samples [⌊index·spp/count⌋, ⌊(index+1)·spp/count⌋) of the spp of the whole
@@ -97,7 +110,27 @@ struct Settings {
     /// Render only this shard of the spp samples per pixel (path integrator, no time limit);
     /// the frame then records glint::ShardInfo. The whole render when empty.
     std::optional<Shard> shard;
+    /// Adaptive sampling (docs/renderer.md, "Adaptive sampling"; Cycles' "noise threshold"):
+    /// after minSpp samples everywhere, passes add samples only to the pixels whose estimated
+    /// error (times the importance map's weight) is above noiseThreshold, until none is, spp
+    /// (the most a pixel takes) is reached or the time limit runs out. Path integrator, sobol,
+    /// zsobol or independent sampler, no shard.
+    bool adaptive = false;
+    /// A pixel has converged when its estimated error is below this, in (0, 1e6].
+    double noiseThreshold = 0.01;
+    /// Samples every pixel takes before adaptive passes; 0: Cycles' automatic choice,
+    /// max(4, ceil(16 / noiseThreshold^0.3)) (64 at 0.01), at most spp.
+    int minSpp = 0;
+    /// Whose statistics estimate the error (AdaptiveError).
+    AdaptiveError adaptiveError = AdaptiveError::Half;
+    /// Per-pixel weights (one channel, the film's size, finite, ≥ 0, not all 0) that multiply
+    /// the estimated error: 0 gives a pixel only the minSpp start. Needs adaptive. None: 1.
+    std::shared_ptr<const Image> importance;
 };
+
+/// The samples every pixel takes before adaptive passes (Settings::minSpp, or its automatic
+/// value), at most spp when spp is set.
+int adaptiveStartSpp(const Settings& settings);
 
 /// Parses "path" / "mlt"; throws glint::Error(InvalidArgument).
 Integrator parseIntegrator(const std::string& name);
@@ -114,6 +147,11 @@ Accel parseAccel(const std::string& name);
 const char* accelName(Accel accel);
 /// Name of a sampler ("stratified", "independent", "sobol", "zsobol").
 const char* samplerName(SamplerKind sampler);
+
+/// Parses "half" / "whole"; throws glint::Error(InvalidArgument).
+AdaptiveError parseAdaptiveError(const std::string& name);
+/// Name of an adaptive error source ("half", "whole").
+const char* adaptiveErrorName(AdaptiveError from);
 
 /// Name of an integrator ("path", "mlt").
 const char* integratorName(Integrator integrator);
