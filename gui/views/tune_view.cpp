@@ -135,9 +135,13 @@ void TuneView::startFromTheResult() {
             name = s.layer(i).filter;
             params = s.layer(i).params;
         }
-    // No layer yet: the filter the studio denoises a first image with, at its defaults.
+    // No layer yet: the filter the studio prefers for a first image, at its defaults (its first
+    // candidate; measuring them all runs the filters, which the UI thread does not).
     if (name.empty())
-        if (FramePtr in = m_context.session->input()) name = FirstDenoise::filterFor(*in);
+        if (FramePtr in = m_context.session->input()) {
+            const std::vector<std::string> candidates = FirstDenoise::candidatesFor(*in);
+            if (!candidates.empty()) name = candidates.front();
+        }
     const int index = m_filter->findData(QString::fromStdString(name));
     if (index < 0) return;
     m_memory[name] = params;

@@ -7,12 +7,15 @@
 int main(int argc, char** argv) {
     CLI::App app{"Inspect, compare and convert Glint's layered EXR images.", "glint-image"};
     app.require_subcommand(1);
+    // One --json for every command, given before or after the command's own arguments.
+    bool json = false;
+    app.add_flag("--json", json, "Print one JSON object on stdout (info, diff, merge)");
+    app.fallthrough();
 
     glint::cli::InfoOptions info;
     CLI::App* infoCmd = app.add_subcommand("info", "Size, layers, metadata and NaN/Inf counts");
     infoCmd->add_option("FILE", info.file, "Image (layered EXR or any OpenImageIO format)")
         ->required();
-    infoCmd->add_flag("--json", info.json, "Print one JSON object on stdout");
 
     glint::cli::DiffOptions diff;
     CLI::App* diffCmd = app.add_subcommand("diff", "Error metric of an image against a reference");
@@ -29,7 +32,6 @@ int main(int argc, char** argv) {
     diffCmd->add_option("--crop", diff.crop, "Pixel rectangle x0,x1,y0,y1 (half-open)");
     diffCmd->add_flag("--linear", diff.linear, "SSIM on linear values instead of display values");
     diffCmd->add_option("--exposure", diff.exposure, "Exposure in stops for display values");
-    diffCmd->add_flag("--json", diff.json, "Print one JSON object on stdout");
 
     glint::cli::ConvertOptions convert;
     CLI::App* convertCmd = app.add_subcommand("convert", "Write an 8-bit sRGB PNG of a layer");
@@ -53,10 +55,10 @@ int main(int argc, char** argv) {
                        "Merge a contiguous range of shards a..b into a file recording "
                        "glint:shard \"a-b/N\", which a later merge accepts like a shard");
     mergeCmd->add_option("--out", merge.output, "Merged EXR (.exr)")->required();
-    mergeCmd->add_flag("--json", merge.json, "Print one JSON object on stdout");
 
     if (const auto code = glint::cli::parseCommandLine(app, argc, argv, "glint-image"))
         return *code;
+    info.json = diff.json = merge.json = json;
     return glint::cli::runGuarded("glint-image", [&] {
         if (*infoCmd) glint::cli::runInfo(info);
         if (*diffCmd) return glint::cli::runDiff(diff);
