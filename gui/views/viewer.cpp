@@ -10,7 +10,6 @@
 #include <QToolButton>
 #include <QVBoxLayout>
 
-#include <algorithm>
 #include <cmath>
 
 #include "glint/denoise/aids.h"
@@ -155,10 +154,15 @@ Viewer::Viewer(Document* document, SessionAdapter* session, QWidget* parent)
     // The bar gives way before the window outgrows a 1366-px screen.
     m_wipe->setMinimumWidth(40);
     // The channel box is as wide as its longest item when there is room and gives way down to
-    // ten characters ("Error: relative") when the window is narrow; the display mode (three short
-    // items) always shows its item whole ("False colour").
+    // ten characters when the window is narrow; the display mode (three short items) always
+    // shows its item whole ("False colour"). The Auto button that false colour shows keeps its
+    // place when hidden, so the bar is as wide in every mode: panels that took the viewer's spare
+    // width never squeeze the channel box when false colour is turned on.
     m_channelBox->setSizeAdjustPolicy(QComboBox::AdjustToContents);
     m_channelBox->setMinimumContentsLength(10);
+    QSizePolicy keep = m_autoRange->sizePolicy();
+    keep.setRetainSizeWhenHidden(true);
+    m_autoRange->setSizePolicy(keep);
     m_mode->setSizeAdjustPolicy(QComboBox::AdjustToContents);
     m_wipe->setEnabled(false);
 

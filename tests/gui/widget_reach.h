@@ -169,12 +169,24 @@ inline QString textCut(const QWidget* w) {
         const bool box = qobject_cast<const QCheckBox*>(w) || qobject_cast<const QRadioButton*>(w);
         QString text = button->text();
         text.remove(QLatin1Char('&'));
-        const int needed = box ? button->minimumSizeHint().width() : fm.horizontalAdvance(text) + 6;
-        return needed > button->width() ? QStringLiteral("'%1' needs %2 px, has %3")
-                                              .arg(text)
-                                              .arg(needed)
-                                              .arg(button->width())
-                                        : QString();
+        // A tool button draws each line of its text on its own (a navigation preview's label
+        // is two or three lines): the widest line and all of their heights must fit.
+        const QStringList lines = text.split(QLatin1Char('\n'));
+        int widest = 0;
+        for (const QString& line : lines) widest = std::max(widest, fm.horizontalAdvance(line));
+        const int needed = box ? button->minimumSizeHint().width() : widest + 6;
+        if (needed > button->width())
+            return QStringLiteral("'%1' needs %2 px, has %3")
+                .arg(text)
+                .arg(needed)
+                .arg(button->width());
+        const int tall = int(lines.size()) * fm.height();
+        return !box && tall > button->height()
+                   ? QStringLiteral("'%1' needs %2 px of height, has %3")
+                         .arg(text)
+                         .arg(tall)
+                         .arg(button->height())
+                   : QString();
     }
     return {};
 }
