@@ -51,20 +51,23 @@ QAction* fromSheet(MainWindow& w, const QString& text) {
     return nullptr;
 }
 
-// Answers the next file dialog with `path` (as a user types a name and presses Enter).
+// One try at answering the open file dialog with `path` (as a user types a name and presses
+// Enter); tried again every 50 ms, 200 times at most.
+void answerFileDialogTry(const QString& path, int tries) {
+    auto* dialog = qobject_cast<QFileDialog*>(QApplication::activeModalWidget());
+    if (!dialog) {
+        if (tries < 200)
+            QTimer::singleShot(50, [path, tries] { answerFileDialogTry(path, tries + 1); });
+        return;
+    }
+    dialog->selectFile(path);
+    static_cast<QDialog*>(dialog)->accept();  // as Enter in the name box
+}
+
+// Answers the next file dialog with `path` once it is open (each try re-arms a timer: no
+// self-owning callback, which LeakSanitizer reported).
 void answerFileDialog(const QString& path) {
-    auto tries = std::make_shared<int>(0);
-    auto answer = std::make_shared<std::function<void()>>();
-    *answer = [path, tries, answer] {
-        auto* dialog = qobject_cast<QFileDialog*>(QApplication::activeModalWidget());
-        if (!dialog) {
-            if (++*tries < 200) QTimer::singleShot(50, *answer);
-            return;
-        }
-        dialog->selectFile(path);
-        static_cast<QDialog*>(dialog)->accept();  // as Enter in the name box
-    };
-    QTimer::singleShot(0, *answer);
+    QTimer::singleShot(0, [path] { answerFileDialogTry(path, 0); });
 }
 
 // Drags the canvas through image points `path` with `button`.
