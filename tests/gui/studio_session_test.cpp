@@ -404,8 +404,10 @@ class StudioSessionTest : public QObject {
     }
 
     void layersAreNamedReadablyWithTheirParametersInATooltip() {
-        QCOMPARE(layerName("nlmeans", {{"strength", 1.2}}), QStringLiteral("Non-local means, strong"));
-        QCOMPARE(layerName("nlmeans", {{"strength", 0.45}}), QStringLiteral("Non-local means, medium"));
+        QCOMPARE(layerName("nlmeans", {{"strength", 1.2}}),
+                 QStringLiteral("Non-local means, strong"));
+        QCOMPARE(layerName("nlmeans", {{"strength", 0.45}}),
+                 QStringLiteral("Non-local means, medium"));
         QCOMPARE(layerName("cross-bilateral", {{"sigmaS", 4.0}}),
                  QStringLiteral("Cross-bilateral, σs 4"));
         QCOMPARE(layerName("gaussian", {{"sigma", 2.5}}), QStringLiteral("Gaussian, σ 2.5"));
@@ -423,7 +425,8 @@ class StudioSessionTest : public QObject {
         const QString tip = list->item(0)->toolTip();
         for (const char* part : {"nlmeans", "patch radius", "search radius", "strength k"})
             QVERIFY2(tip.contains(QLatin1String(part)), qPrintable(tip));
-        QCOMPARE(w->session()->undoStack()->undoText(), QStringLiteral("Add Non-local means, strong"));
+        QCOMPARE(w->session()->undoStack()->undoText(),
+                 QStringLiteral("Add Non-local means, strong"));
     }
 
     void aLayerIsRenamedByDoubleClickUndoablyAndSavedWithTheSession() {
