@@ -1,6 +1,6 @@
 // glint-lab navigate --simulate [--local]: walks a bank's navigation tree as a simulated user
 // who sees the reference, or works as the local artist who strokes regions with the soft brush
-// (docs/navigation.md, "Research tools", "The local artist").
+// (docs/lab/navigation.md, "The research tools in detail", "The local artist in detail").
 #include <chrono>
 #include <cstdio>
 #include <memory>

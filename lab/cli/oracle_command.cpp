@@ -1,6 +1,7 @@
 // glint-lab oracle: what a bank can reach against a reference: the noisy input, the best single
 // member, the best three per pixel, the per-pixel optimum, auto's composite and the expected-error
-// oracle (docs/navigation.md, "Research tools"; docs/lab/oidn-gap.md, "What limits the share").
+// oracle (docs/lab/navigation.md, "The research tools in detail"; docs/lab/oidn-gap.md, "What
+// limits the share").
 #include <chrono>
 #include <cstdio>
 #include <memory>

@@ -10,7 +10,7 @@
 #     installed: its column is empty otherwise),
 #   - the per-pixel oracle over the default bank (`glint-lab oracle`),
 #   - with ARTIST=1, the local artist (`glint-lab navigate --simulate --local`) over the default
-#     bank after 10 and after 30 strokes (docs/navigation.md, "The local artist").
+#     bank after 10 and after 30 strokes (docs/lab/navigation.md, "The local artist in detail").
 # With CYCLES=1, also the two Cycles frames of tests/data/cycles/ (no half buffers: auto takes the
 # image-only estimator; `glint-lab auto --bank`), against their 4096-spp reference.
 # All SSIMs are glint::ssim (oracle, auto, apply, navigate, `glint-image diff --metric ssim`), full

@@ -3,8 +3,8 @@
 // region's bank (the navigation tree over the region's crop, the simulated user picking the
 // child closest to the reference there), paint the chosen member into the composite with the
 // soft brush, and keep the stroke if the whole composite got closer to the reference
-// (glint-lab navigate --simulate --local; docs/navigation.md, "The local artist"): it measures the
-// claim that local choices beat any global filter.
+// (glint-lab navigate --simulate --local; docs/lab/navigation.md, "The local artist in detail"): it
+// measures the claim that local choices beat any global filter.
 #pragma once
 
 #include <cstdint>

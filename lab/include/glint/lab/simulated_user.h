@@ -1,6 +1,6 @@
 // The simulated user of the navigation tree: at each level it picks the option closest to the
-// reference (glint-lab navigate --simulate; docs/navigation.md, "Research tools"). A measure of how
-// many choices the gallery needs, not something an artist runs.
+// reference (glint-lab navigate --simulate; docs/lab/navigation.md, "The simulated user"). A
+// measure of how many choices the gallery needs, not something an artist runs.
 #pragma once
 
 #include <vector>
