@@ -1,5 +1,5 @@
-// The private state of a painting session, shared by session.cpp (edits, undo) and
-// session_io.cpp (save, load, export).
+// The private state of a painting session, shared by session.cpp (edits, undo, re-application)
+// and session_io.cpp (save, load, export).
 #pragma once
 
 #include <cstdint>

@@ -1,8 +1,8 @@
-// scene.json → SceneData. One loader, files by concern: scene_loader.cpp reads the JSON
-// (camera, film, render block, materials, environment, shapes and their transforms) and builds
-// the scene around a bare asset; each asset format (asset_format.h) imports its files:
+// scene.json → SceneData. scene_loader.cpp reads the JSON (camera, film, render block,
+// materials, environment, shapes and their transforms), builds the scene around a bare asset and
+// reads textures and environment images; each asset format (asset_format.h) imports its files:
 // obj_import.cpp OBJ/MTL geometry through tinyobjloader, gltf_import.cpp and gltf_material.cpp
-// glTF 2.0 assets through tinygltf; image_import.cpp reads textures and environment images.
+// glTF 2.0 assets through tinygltf.
 #pragma once
 
 #include <cstdint>
@@ -144,19 +144,19 @@ class Loader {
 /// (SceneData::extent). What needs the scene's size reads them.
 void computeBounds(SceneData& scene);
 
-/// image_import.cpp: reads an image file as linear RGB (grey replicated) multiplied by `scale`.
+/// Reads an image file as linear RGB (grey replicated) multiplied by `scale`.
 /// Every value must be finite and >= 0: otherwise glint::Error(Format) names the image, the
 /// pixel, and the scene file and JSON place that referenced it (`what`: "texture",
 /// "environment image").
 Image readLinearRgb(const std::filesystem::path& image, float scale, const std::string& what,
                     const std::filesystem::path& sceneFile, const std::string& where);
 
-/// image_import.cpp: an image as RGBA (grey replicated, alpha 1 where there is none), every value
+/// An image as RGBA (grey replicated, alpha 1 where there is none), every value
 /// finite and in [0, kMaxRadiance]; errors name `file` (the texture) and `where`.
 Image textureRgba(const Image& raw, const std::string& what, const std::filesystem::path& file,
                   const std::string& where);
 
-/// image_import.cpp: `source` × `scale` with the same checks as readLinearRgb (for look edits).
+/// `source` × `scale` with the same checks as readLinearRgb (for look edits).
 Image scaledRgb(const Image& source, float scale, const std::string& what,
                 const std::filesystem::path& sceneFile, const std::string& where);
 
