@@ -5,6 +5,7 @@
 #include <string>
 
 #include "glint/image/error.h"
+#include "shape_text.h"
 
 namespace glint {
 
@@ -27,8 +28,7 @@ namespace {
 [[noreturn]] void outOfRange(const Image& im, int x, int y, int c) {
     throw Error(ErrorKind::InvalidArgument,
                 "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") channel " +
-                    std::to_string(c) + " is outside the " + std::to_string(im.width()) + "x" +
-                    std::to_string(im.height()) + "x" + std::to_string(im.channels()) + " image");
+                    std::to_string(c) + " is outside the " + detail::shapeText(im) + " image");
 }
 }  // namespace
 

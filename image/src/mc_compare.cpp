@@ -8,17 +8,13 @@
 #include <vector>
 
 #include "glint/image/error.h"
+#include "shape_text.h"
 
 namespace glint {
 namespace {
 
 /// Window sides (pixels); each is tested at a stride of a quarter of its side.
 constexpr int kWindowSides[] = {8, 16, 32};
-
-std::string sizeText(const Image& im) {
-    return std::to_string(im.width()) + "x" + std::to_string(im.height()) + "x" +
-           std::to_string(im.channels());
-}
 
 /// Summed-area table of per-pixel sums over channels (double, (w+1) x (h+1)).
 struct Integral {
@@ -38,8 +34,8 @@ McCompareResult mcCompare(const Image& mean, const Image& variance, const Image&
     for (const Image* im : {&variance, &reference, &referenceVariance})
         if (!im->sameShape(mean))
             throw Error(ErrorKind::InvalidArgument,
-                        "the image is " + sizeText(mean) +
-                            " but a mean or variance to compare is " + sizeText(*im) +
+                        "the image is " + detail::shapeText(mean) +
+                            " but a mean or variance to compare is " + detail::shapeText(*im) +
                             "; they must match",
                         {}, where);
     if (mean.empty()) throw Error(ErrorKind::InvalidArgument, "the images are empty", {}, where);

@@ -14,6 +14,7 @@
 #include "glint/image/error.h"
 #include "glint/image/flip.h"
 #include "glint/image/io.h"
+#include "shape_text.h"
 #include "ssim.h"
 
 namespace glint {
@@ -21,11 +22,6 @@ namespace {
 
 /// pbrt-style relative MSE denominator offset: (x - r)^2 / (r^2 + 1e-2).
 constexpr double kRelEpsilon = 1e-2;
-
-std::string shapeText(const Image& im) {
-    return std::to_string(im.width()) + "x" + std::to_string(im.height()) + "x" +
-           std::to_string(im.channels());
-}
 
 std::string rectText(const Rect& r) {
     return std::to_string(r.x0) + "," + std::to_string(r.x1) + "," + std::to_string(r.y0) + "," +
@@ -38,12 +34,13 @@ Rect metricRect(const Image& image, const Image& reference, const MetricOptions&
     const std::string where = metric;
     if (!image.sameShape(reference))
         throw Error(ErrorKind::InvalidArgument,
-                    "image is " + shapeText(image) + " (width x height x channels) but the " +
-                        "reference is " + shapeText(reference) + "; they must match",
+                    "image is " + detail::shapeText(image) +
+                        " (width x height x channels) but the " + "reference is " +
+                        detail::shapeText(reference) + "; they must match",
                     {}, where);
     if (image.empty())
         throw Error(ErrorKind::InvalidArgument,
-                    "image and reference are empty (" + shapeText(image) + ")", {}, where);
+                    "image and reference are empty (" + detail::shapeText(image) + ")", {}, where);
     if (!options.crop) return image.bounds();
     const Rect crop = *options.crop;
     if (crop.empty() || intersect(crop, image.bounds()) != crop)

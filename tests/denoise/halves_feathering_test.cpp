@@ -64,7 +64,8 @@ TEST(AutoFeathering, FeatheringBoxAveragesTheWeightsWhereNothingIsGated) {
                         l.weights(x, y, 0) * bank.result(std::size_t(l.member))(x, y, c);
     for (std::size_t i = 0; i < blend.data().size(); ++i)
         ASSERT_NEAR(blend.data()[i], b.composite.data()[i], 1e-5f);
-    // The halves feather by 5 pixels unless told otherwise (docs/auto.md, "Tuning"), SURE by 4.
+    // The halves feather by 5 pixels unless told otherwise, SURE by 4 (docs/lab/auto-tuning.md,
+    // the table of the tuning map).
     EXPECT_EQ(autoTuningDefaults(AutoEstimator::Halves).at("feather"), 5);
     EXPECT_EQ(autoTuningDefaults(AutoEstimator::Sure).at("feather"), 4);
     for (int bad : {-1, 33}) {
