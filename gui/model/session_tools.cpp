@@ -8,6 +8,7 @@
 #include "glint/image/error.h"
 #include "model/journal_codec.h"
 #include "model/layer_names.h"
+#include "model/option_labels.h"
 #include "model/session_adapter.h"
 
 namespace glint::studio {
@@ -194,8 +195,10 @@ void SessionAdapter::autoChoose(BankService::BankPtr bank, FramePtr in,
                 const denoise::SessionLayer& layer = m_session->layer(index);
                 AutoChoiceMap map;
                 map.choice = std::make_shared<const Image>(result->choice);
+                std::vector<OptionMember> members;
                 for (const denoise::BankMember& m : bank->members())
-                    map.members << layerName(m.filter, m.params);
+                    members.push_back({m.filter, m.params});
+                map.members = distinctNames(members);
                 map.used = int(result->layers.size());
                 m_autoChoices.emplace_back(layer.correction, std::move(map));
                 // One journal entry, as it is one undo step (a restore replays it).
