@@ -264,15 +264,16 @@ void SessionAdapter::addLayer(const std::string& filter, const denoise::ParamVal
         std::move(fillMask));
 }
 
-void SessionAdapter::addChosenLayer(std::function<std::string(const FrameBuffers&)> choose,
-                                    std::optional<Image> fillMask) {
+void SessionAdapter::addChosenLayer(
+    std::function<std::pair<std::string, denoise::ParamValues>(const FrameBuffers&)> choose,
+    std::optional<Image> fillMask) {
     if (!m_session) return;
     runAddLayer(
         [this, choose](const FrameBuffers& in, const TaskRunner::CancelFlag& cancel) {
-            const std::string filter = choose(in);
+            const auto [filter, chosen] = choose(in);
             if (filter.empty()) return NewLayer{};
             const denoise::Filter& f = denoise::findFilter(filter);
-            const denoise::ParamValues params = denoise::resolveParams(f, {});
+            const denoise::ParamValues params = denoise::resolveParams(f, chosen);
             return NewLayer{filter, params,
                             std::make_shared<Image>(denoise::applyFilter(
                                 f, in, params,
