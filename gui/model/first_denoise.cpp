@@ -3,6 +3,8 @@
 #include <QUndoStack>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -64,8 +66,35 @@ FirstDenoiseChoice FirstDenoise::choose(const FrameBuffers& frame) {
     // frame cannot overrule it: on a 16-spp render its means are within their own noise (some
     // negative). Among the classical filters, whose ranking changes from scene to scene, the
     // frame's own measurement chooses.
-    if (!candidates.empty() && candidates.front() == kLearnedFilter) return {kLearnedFilter, {}};
+    // Its weights for noisy features (the default) blur texture detail the albedo holds: with
+    // features clean enough, its weights for clean ones (docs/lab/first-denoise.md, "Detail").
+    if (!candidates.empty() && candidates.front() == kLearnedFilter) {
+        FirstDenoiseChoice learned{kLearnedFilter, {}, {}};
+        if (featuresAreClean(frame)) {
+            const denoise::Filter& unet = denoise::findFilter(kLearnedFilter);
+            learned.params["aux"] =
+                denoise::parseParamValue(*denoise::findParam(unet.params(), "aux"), "clean");
+        }
+        return learned;
+    }
     return choose(frame, candidates);
+}
+
+bool FirstDenoise::featuresAreClean(const FrameBuffers& frame) {
+    // The mean of a variance layer over its finite values (every pixel and channel).
+    auto meanOf = [](const Image& image) {
+        double sum = 0.0;
+        std::size_t count = 0;
+        for (float v : image.data())
+            if (std::isfinite(v)) {
+                sum += double(v);
+                ++count;
+            }
+        return count == 0 ? std::numeric_limits<double>::infinity() : sum / double(count);
+    };
+    if (!frame.has(Layer::AlbedoVariance) || !frame.has(Layer::NormalVariance)) return false;
+    return meanOf(frame.layer(Layer::AlbedoVariance)) <= kCleanFeatureVariance &&
+           meanOf(frame.layer(Layer::NormalVariance)) <= kCleanFeatureVariance;
 }
 
 FirstDenoiseChoice FirstDenoise::choose(const FrameBuffers& frame,
@@ -137,8 +166,12 @@ void FirstDenoise::onSessionReset() {
     }
     // Measured and filtered on the session's worker (the filters' input: prefiltered features
     // when the session says so), weight 1 everywhere.
-    m_session->addChosenLayer([](const FrameBuffers& in) { return choose(in).filter; },
-                              Image(s.width(), s.height(), 1, 1.0f));
+    m_session->addChosenLayer(
+        [](const FrameBuffers& in) {
+            FirstDenoiseChoice choice = choose(in);
+            return std::make_pair(std::move(choice.filter), std::move(choice.params));
+        },
+        Image(s.width(), s.height(), 1, 1.0f));
 }
 
 }  // namespace glint::studio

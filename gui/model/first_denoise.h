@@ -2,7 +2,9 @@
 // session starts with no layers, one layer (its filter's defaults, weight 1 everywhere) is added,
 // as the user could do by hand. The filter is chosen by measurement: the learned filter (unet)
 // when it runs here and the render has albedo and normal (the lab measured it best at the
-// studio's spp on every scene, docs/lab/first-denoise.md); else, on the render itself, each
+// studio's spp on every scene, docs/lab/first-denoise.md), with its weights for clean features
+// when the render's are (they keep the texture detail the albedo holds); else, on the render
+// itself, each
 // classical candidate's defaults are applied and their error estimated as auto estimates a
 // member's (SURE from the variance, the halves, or the image-only noise estimate; no
 // reference), and the smallest wins (cross-bilateral alone erased detail its guides do not
@@ -16,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "glint/denoise/filter.h"
 #include "glint/image/frame_buffers.h"
 
 namespace glint::studio {
@@ -31,7 +34,8 @@ struct FirstDenoiseEstimate {
 
 /// What the measurement chose and what it saw.
 struct FirstDenoiseChoice {
-    std::string filter;  ///< "" when no candidate can run (the render stays raw)
+    std::string filter;           ///< "" when no candidate can run (the render stays raw)
+    denoise::ParamValues params;  ///< over the filter's defaults (empty: its defaults)
     std::vector<FirstDenoiseEstimate> estimates;  ///< in candidate order (empty: one candidate)
 };
 
@@ -51,8 +55,18 @@ class FirstDenoise : public QObject {
     static FirstDenoiseChoice choose(const FrameBuffers& frame,
                                      const std::vector<std::string>& candidates);
     /// What the studio adds: the learned filter when it is a candidate (the lab's measurement),
-    /// else choose(frame, candidatesFor(frame)).
+    /// with its weights for noise-free features (aux = clean) when featuresAreClean(frame), else
+    /// choose(frame, candidatesFor(frame)).
     static FirstDenoiseChoice choose(const FrameBuffers& frame);
+    /// Whether `frame`'s albedo and normal are clean enough for the learned filter's weights
+    /// for noise-free features, which keep the texture detail the albedo holds (decals, printed
+    /// lines) where its default weights for noisy features blur it: the means of the albedo's
+    /// and the normal's variance-of-the-mean layers (finite pixels, every channel) are both at
+    /// most kCleanFeatureVariance. False without those layers.
+    static bool featuresAreClean(const FrameBuffers& frame);
+    /// Between the renders whose features the lab found clean (at most 4.3e-4 at 16 spp) and
+    /// those it found noisy (depth of field: 1.4e-3 and more; docs/lab/first-denoise.md).
+    static constexpr double kCleanFeatureVariance = 1e-3;
     /// The side of the window the candidates are measured over.
     static constexpr int kMeasuredSide = 384;
 

@@ -117,6 +117,35 @@ std::vector<QStringList> distinguishingLabels(const std::vector<OptionMember>& o
     return labels;
 }
 
+QStringList distinctNames(const std::vector<OptionMember>& members) {
+    QStringList names;
+    for (const OptionMember& m : members) names << layerName(m.filter, m.params);
+    // The indices of each name that more than one member has.
+    auto sharedNames = [&names] {
+        std::map<QString, std::vector<std::size_t>> byName;
+        for (std::size_t i = 0; i < std::size_t(names.size()); ++i)
+            byName[names[qsizetype(i)]].push_back(i);
+        std::erase_if(byName, [](const auto& entry) { return entry.second.size() < 2; });
+        return byName;
+    };
+    // 1. Members sharing a name: the parameters that differ among them.
+    for (const auto& [name, indices] : sharedNames()) {
+        std::vector<OptionMember> group;
+        for (std::size_t i : indices) group.push_back(members[i]);
+        const std::vector<QStringList> labels = distinguishingLabels(group);
+        for (std::size_t k = 0; k < indices.size(); ++k) {
+            const QStringList differing = labels[k].mid(1);  // after the filter's title
+            if (!differing.isEmpty() && differing.front() != QObject::tr("same settings"))
+                names[qsizetype(indices[k])] += QStringLiteral(" (%1)").arg(differing.join(", "));
+        }
+    }
+    // 2. Still alike (the same settings, or differing beyond the two widest parameters): the
+    // member's number.
+    for (const auto& [name, indices] : sharedNames())
+        for (std::size_t i : indices) names[qsizetype(i)] += QStringLiteral(" #%1").arg(i + 1);
+    return names;
+}
+
 OptionContrast contrastOf(const std::vector<const Image*>& images) {
     OptionContrast c;
     c.words.assign(images.size(), QString());

@@ -28,6 +28,12 @@ struct OptionMember {
 /// main parameter (choiceName's). Options of one filter with the same values say "same settings".
 std::vector<QStringList> distinguishingLabels(const std::vector<OptionMember>& options);
 
+/// One display name per member, no two alike (a choice map's legend): the layer name
+/// ("Non-local means, strong"), followed, where members share it, by the parameters that differ
+/// among them as distinguishingLabels words them ("Non-local means, strong (strength 0.8)"), and
+/// by the member's number ("#12", from 1) where even those are alike.
+QStringList distinctNames(const std::vector<OptionMember>& members);
+
 /// Below this largest mean relative difference (of luminance) between two options' images,
 /// the options are near-identical: no one can tell them apart at a glance.
 inline constexpr double kNearIdentical = 0.01;

@@ -8,6 +8,7 @@
 #include "glint/image/error.h"
 #include "model/journal_codec.h"
 #include "model/layer_names.h"
+#include "model/option_labels.h"
 #include "model/session_build.h"
 
 namespace glint::studio {
@@ -266,15 +267,16 @@ void SessionAdapter::addLayer(const std::string& filter, const denoise::ParamVal
         std::move(fillMask));
 }
 
-void SessionAdapter::addChosenLayer(std::function<std::string(const FrameBuffers&)> choose,
-                                    std::optional<Image> fillMask) {
+void SessionAdapter::addChosenLayer(
+    std::function<std::pair<std::string, denoise::ParamValues>(const FrameBuffers&)> choose,
+    std::optional<Image> fillMask) {
     if (!m_session) return;
     runAddLayer(
         [this, choose](const FrameBuffers& in, const TaskRunner::CancelFlag& cancel) {
-            const std::string filter = choose(in);
+            const auto [filter, chosen] = choose(in);
             if (filter.empty()) return NewLayer{};
             const denoise::Filter& f = denoise::findFilter(filter);
-            const denoise::ParamValues params = denoise::resolveParams(f, {});
+            const denoise::ParamValues params = denoise::resolveParams(f, chosen);
             return NewLayer{filter, params,
                             std::make_shared<Image>(denoise::applyFilter(
                                 f, in, params,
@@ -668,8 +670,10 @@ void SessionAdapter::autoChoose(BankService::BankPtr bank, FramePtr in,
                 const denoise::SessionLayer& layer = m_session->layer(index);
                 AutoChoiceMap map;
                 map.choice = std::make_shared<const Image>(result->choice);
+                std::vector<OptionMember> members;
                 for (const denoise::BankMember& m : bank->members())
-                    map.members << layerName(m.filter, m.params);
+                    members.push_back({m.filter, m.params});
+                map.members = distinctNames(members);
                 map.used = int(result->layers.size());
                 m_autoChoices.emplace_back(layer.correction, std::move(map));
                 // One journal entry, as it is one undo step (a restore replays it).

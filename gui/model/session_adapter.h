@@ -78,10 +78,11 @@ class SessionAdapter : public QObject {
     /// and, when `fillMask` is given, sets its weight to 1 there: one undo step.
     void addLayer(const std::string& filter, const denoise::ParamValues& params,
                   std::optional<Image> fillMask = std::nullopt);
-    /// As addLayer with the filter's defaults, the filter named by `choose` on the filters'
-    /// input, on the same worker (busy() meanwhile); nothing when it names none.
-    void addChosenLayer(std::function<std::string(const FrameBuffers&)> choose,
-                        std::optional<Image> fillMask = std::nullopt);
+    /// As addLayer with the filter and parameters (over the filter's defaults) `choose` names
+    /// on the filters' input, on the same worker (busy() meanwhile); nothing when it names none.
+    void addChosenLayer(
+        std::function<std::pair<std::string, denoise::ParamValues>(const FrameBuffers&)> choose,
+        std::optional<Image> fillMask = std::nullopt);
     void removeLayer(std::size_t index);
     /// Names a layer (empty: named after its filter again): one undo step, saved with the
     /// session.
@@ -102,7 +103,7 @@ class SessionAdapter : public QObject {
     /// What Auto Start chose per pixel for its result layer (for the choice map).
     struct AutoChoiceMap {
         std::shared_ptr<const Image> choice;  ///< 1 channel: the member index per pixel
-        QStringList members;                  ///< display names (layerName), by member index
+        QStringList members;                  ///< distinct display names (distinctNames), by member
         int used = 0;                         ///< members with any weight in the blend
     };
     /// The choice map of layer `index` when it is the result layer of an Auto Start run in this

@@ -159,14 +159,19 @@ QWidget* LookPanel::colorControl(const render::LookItem& item, const render::Loo
         row->addWidget(spin);
     }
     const std::string name = item.name, property = p.name;
-    for (QDoubleSpinBox* spin : spins)
-        connect(spin, &QDoubleSpinBox::valueChanged, this, [this, spins, name, property] {
-            edit(name, property, {spins[0]->value(), spins[1]->value(), spins[2]->value()});
-        });
+    // A field shows 3 decimals and holds its value rounded to them: an edit changes its own
+    // channel and keeps the others at the look's full precision (0.12345 stayed 0.123).
+    for (int c = 0; c < 3; ++c)
+        connect(spins[std::size_t(c)], &QDoubleSpinBox::valueChanged, this,
+                [this, c, name, property](double v) {
+                    std::array<double, 3> value = m_document->lookValue(name, property);
+                    value[std::size_t(c)] = v;
+                    edit(name, property, value);
+                });
     const double max = p.max;
-    connect(swatch, &QPushButton::clicked, this, [this, spins, name, property, max] {
+    connect(swatch, &QPushButton::clicked, this, [this, name, property, max] {
         // Colours up to 1 are picked directly; brighter ones (emission) keep their scale.
-        const std::array<double, 3> v{spins[0]->value(), spins[1]->value(), spins[2]->value()};
+        const std::array<double, 3> v = m_document->lookValue(name, property);
         const double scale = max > 1.0 ? std::max({v[0], v[1], v[2], 1e-6}) : 1.0;
         const QColor picked =
             QColorDialog::getColor(swatchColor({v[0] / scale, v[1] / scale, v[2] / scale}), this);

@@ -7,9 +7,12 @@
 #include <QLabel>
 #include <QSignalBlocker>
 #include <QSlider>
+#include <QStyle>
+#include <QStyleOptionComboBox>
 #include <QToolButton>
 #include <QVBoxLayout>
 
+#include <algorithm>
 #include <cmath>
 
 #include "glint/denoise/aids.h"
@@ -152,14 +155,18 @@ Viewer::Viewer(Document* document, SessionAdapter* session, QWidget* parent)
     m_wipe->setValue(500);
     m_wipe->setMaximumWidth(160);
     // The bar gives way before the window outgrows a 1366-px screen.
-    m_wipe->setMinimumWidth(40);
+    m_wipe->setMinimumWidth(32);
     // The channel box is as wide as its longest item when there is room and gives way down to
-    // ten characters when the window is narrow; the display mode (three short items) always
-    // shows its item whole ("False colour"). The Auto button that false colour shows keeps its
-    // place when hidden, so the bar is as wide in every mode: panels that took the viewer's spare
-    // width never squeeze the channel box when false colour is turned on.
+    // ten characters, never below its current item (fitChannelBox: ten cut "Colour variance" and
+    // "Error: relative" at 1280×720 and 1366×768, the screenshot tour's walk at those sizes;
+    // every item's width would make the window wider than 1280; the wipe slider and the gap
+    // before A/B give way instead); the display mode (three short
+    // items) always shows its item whole ("False colour"). The Auto button that false colour shows
+    // keeps its place when hidden, so the bar is as wide in every mode: panels that took the
+    // viewer's spare width never squeeze the channel box when false colour is turned on.
     m_channelBox->setSizeAdjustPolicy(QComboBox::AdjustToContents);
     m_channelBox->setMinimumContentsLength(10);
+    fitChannelBox();
     QSizePolicy keep = m_autoRange->sizePolicy();
     keep.setRetainSizeWhenHidden(true);
     m_autoRange->setSizePolicy(keep);
@@ -175,7 +182,7 @@ Viewer::Viewer(Document* document, SessionAdapter* session, QWidget* parent)
     bar->addWidget(m_autoRange);
     bar->addWidget(fit);
     bar->addWidget(one);
-    bar->addSpacing(12);
+    bar->addSpacing(6);
     bar->addWidget(m_flip);
     bar->addWidget(m_wipeBox);
     bar->addWidget(m_wipe);
@@ -243,8 +250,21 @@ void Viewer::setChannel(Channel channel) {
     m_channel = channel;
     const int index = m_channelBox->findData(int(channel));
     if (index != m_channelBox->currentIndex()) m_channelBox->setCurrentIndex(index);
+    fitChannelBox();
     refresh();
     emit channelChanged(channel);
+}
+
+void Viewer::fitChannelBox() {
+    QStyleOptionComboBox option;
+    option.initFrom(m_channelBox);
+    const QFontMetrics fm(m_channelBox->font());
+    const QSize text(fm.horizontalAdvance(m_channelBox->currentText()), fm.height());
+    const int needed = m_channelBox->style()
+                           ->sizeFromContents(QStyle::CT_ComboBox, &option, text, m_channelBox)
+                           .width() +
+                       1;
+    m_channelBox->setMinimumWidth(std::min(needed, m_channelBox->sizeHint().width()));
 }
 
 void Viewer::refresh() {

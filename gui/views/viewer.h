@@ -80,6 +80,8 @@ class Viewer : public QWidget {
     bool keepsDenoised() const;
     void updateLabel();
     void updateCompare();
+    /// The channel box's minimum width: its current item whole (at most its widest item's).
+    void fitChannelBox();
 
     Document* m_document;
     SessionAdapter* m_session;

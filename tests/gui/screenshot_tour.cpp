@@ -3,11 +3,13 @@
 // holds reduced copies). Fails when a screenshot cannot be written or shows a blank canvas, or
 // when a control of the window cannot be reached or has its text cut (widget_reach.h: each is
 // printed).
-//   studio_screenshots OUT_DIR [--docs DOCS_DIR] [--size WIDTHxHEIGHT]
+//   studio_screenshots OUT_DIR [--docs DOCS_DIR] [--size WIDTHxHEIGHT] [--reach-sizes WxH,...]
 // With --docs, reduced copies (720 px wide, an 8-bit palette with ordered dithering, which
 // compresses about three times better than error diffusion) of the screenshots docs/studio.md
 // shows are written to DOCS_DIR as studio-NAME.png. --size sets the window's size (1500x900 by
-// default; 1280x720 and 1366x768 show the studio on laptop screens).
+// default; 1280x720 and 1366x768 show the studio on laptop screens). --reach-sizes
+// 1280x720,1366x768,1920x1080 (ctest's) also walks every shot's window at each of those sizes
+// for reach and cut text (issue 48's goal), and writes the key shots at each as NAME-WxH.png.
 #include <QApplication>
 #include <QCheckBox>
 #include <QDir>
@@ -38,13 +40,29 @@ using namespace glint::studio::testing;
 namespace {
 
 int g_failures = 0;
-QString g_docs;  // where reduced copies go (empty: none)
+QString g_docs;             // where reduced copies go (empty: none)
+QList<QSize> g_reachSizes;  // the other sizes each shot's window is walked at (--reach-sizes)
 
-// The screenshots docs/studio.md shows.
-const QStringList kDocumented = {QStringLiteral("01-open"),   QStringLiteral("02-look"),
-                                 QStringLiteral("04-region"), QStringLiteral("06-navigate"),
-                                 QStringLiteral("07-paint"),  QStringLiteral("09-compare"),
-                                 QStringLiteral("11-help")};
+// The shots also written at each of the reach sizes: one per kind of panel.
+const QStringList kShotAtEverySize = {QStringLiteral("01-open"), QStringLiteral("06-navigate"),
+                                      QStringLiteral("07-paint"), QStringLiteral("09-compare")};
+
+// The screenshots docs/studio.md shows (a reach size's shot named with its size).
+const QStringList kDocumented = {
+    QStringLiteral("01-open"),           QStringLiteral("02-look"),
+    QStringLiteral("04-region"),         QStringLiteral("06-navigate"),
+    QStringLiteral("07-paint"),          QStringLiteral("08-change-map"),
+    QStringLiteral("09-compare"),        QStringLiteral("11-help"),
+    QStringLiteral("12-weight-overlay"), QStringLiteral("15-auto-choice-map"),
+    QStringLiteral("07-paint-1280x720")};
+
+// The reduced copy of a documented shot in the docs folder (with --docs).
+void writeDocsCopy(const QImage& shot, const QString& name) {
+    if (g_docs.isEmpty() || !kDocumented.contains(name)) return;
+    const QImage small = shot.scaledToWidth(720, Qt::SmoothTransformation)
+                             .convertToFormat(QImage::Format_Indexed8, Qt::OrderedDither);
+    if (!small.save(QDir(g_docs).filePath(QStringLiteral("studio-%1.png").arg(name)))) ++g_failures;
+}
 
 // The spread of grey levels inside the canvas: 0 for a blank canvas.
 double canvasSpread(MainWindow& w) {
@@ -59,30 +77,69 @@ double canvasSpread(MainWindow& w) {
     return hi - lo;
 }
 
-void shoot(MainWindow& w, const QString& folder, const QString& name) {
-    for (int i = 0; i < 20; ++i) {
+// "1280x720" as a size; an empty size when it is not one.
+QSize parseSize(const QString& text) {
+    const QStringList wh = text.split(QLatin1Char('x'));
+    return wh.size() == 2 ? QSize(wh[0].toInt(), wh[1].toInt()) : QSize();
+}
+
+void settle(int turns) {
+    for (int i = 0; i < turns; ++i) {
         QCoreApplication::processEvents();
         QTest::qWait(10);
     }
+}
+
+// Every control of the window reachable and whole (widget_reach.h), each problem printed.
+void walkForReach(MainWindow& w, const QString& where) {
+    for (const QString& problem : reachProblems(&w)) {
+        std::printf("  %sunreachable or cut: %s\n", qPrintable(where), qPrintable(problem));
+        ++g_failures;
+    }
+}
+
+// The window at each reach size, walked (and shot, for the key shots), then its size again.
+void walkAtReachSizes(MainWindow& w, const QString& folder, const QString& name) {
+    const QSize size = w.size();
+    for (const QSize& at : g_reachSizes) {
+        w.resize(at);
+        settle(5);
+        const QString tag = QStringLiteral("%1x%2").arg(at.width()).arg(at.height());
+        if (w.size() != at) {
+            std::printf("  at %s: the window is %dx%d\n", qPrintable(tag), w.width(), w.height());
+            ++g_failures;
+        }
+        if (kShotAtEverySize.contains(name)) {
+            const QString sized = QStringLiteral("%1-%2").arg(name, tag);
+            const QImage shot = w.grab().toImage();
+            const QString path = QDir(folder).filePath(sized + QStringLiteral(".png"));
+            const bool saved = shot.save(path);
+            writeDocsCopy(shot, sized);
+            std::printf("%s %s\n", saved ? "wrote" : "FAILED to write", qPrintable(path));
+            if (!saved) ++g_failures;
+        }
+        walkForReach(w, QStringLiteral("at %1: ").arg(tag));
+    }
+    if (!g_reachSizes.isEmpty()) {
+        w.resize(size);
+        settle(5);
+    }
+}
+
+void shoot(MainWindow& w, const QString& folder, const QString& name) {
+    settle(20);
     const QString path = QDir(folder).filePath(name + QStringLiteral(".png"));
     const QImage shot = w.grab().toImage();
     const bool saved = shot.save(path);
-    if (!g_docs.isEmpty() && kDocumented.contains(name)) {
-        const QImage small = shot.scaledToWidth(720, Qt::SmoothTransformation)
-                                 .convertToFormat(QImage::Format_Indexed8, Qt::OrderedDither);
-        if (!small.save(QDir(g_docs).filePath(QStringLiteral("studio-%1.png").arg(name))))
-            ++g_failures;
-    }
+    writeDocsCopy(shot, name);
     const double spread = canvasSpread(w);
     std::printf("%s %s (canvas spread %.0f)\n", saved ? "wrote" : "FAILED to write",
                 qPrintable(path), spread);
     if (!saved || spread < 20.0) ++g_failures;
     // The shortcut sheet covers the window on purpose.
     if (name.endsWith(QStringLiteral("help"))) return;
-    for (const QString& problem : reachProblems(&w)) {
-        std::printf("  unreachable or cut: %s\n", qPrintable(problem));
-        ++g_failures;
-    }
+    walkForReach(w, QString());
+    walkAtReachSizes(w, folder, name);
 }
 
 void drag(ImageCanvas* canvas, const QVector<QPointF>& path) {
@@ -105,15 +162,21 @@ int main(int argc, char** argv) {
         if (std::strcmp(argv[i], "--docs") == 0) {
             g_docs = value;
         } else if (std::strcmp(argv[i], "--size") == 0) {
-            const QStringList wh = value.split(QLatin1Char('x'));
-            size = wh.size() == 2 ? QSize(wh[0].toInt(), wh[1].toInt()) : QSize();
+            size = parseSize(value);
             usage = size.isEmpty();
+        } else if (std::strcmp(argv[i], "--reach-sizes") == 0) {
+            for (const QString& text : value.split(QLatin1Char(','))) {
+                g_reachSizes << parseSize(text);
+                usage = usage || g_reachSizes.last().isEmpty();
+            }
         } else {
             usage = true;
         }
     }
     if (usage) {
-        std::fprintf(stderr, "usage: studio_screenshots OUT_DIR [--docs DOCS_DIR] [--size WxH]\n");
+        std::fprintf(stderr,
+                     "usage: studio_screenshots OUT_DIR [--docs DOCS_DIR] [--size WxH] "
+                     "[--reach-sizes WxH,...]\n");
         return 2;
     }
     const QString out = QString::fromLocal8Bit(argv[1]);

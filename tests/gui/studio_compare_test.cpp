@@ -7,6 +7,7 @@
 #include <QComboBox>
 #include <QDir>
 #include <QLabel>
+#include <QSet>
 #include <QStandardPaths>
 #include <QStatusBar>
 #include <QTableWidget>
@@ -124,6 +125,36 @@ class StudioCompareTest : public QObject {
         labels =
             distinguishingLabels({{"gaussian", {{"sigma", 2.0}}}, {"gaussian", {{"sigma", 2.0}}}});
         QCOMPARE(labels[0].last(), QStringLiteral("same settings"));
+    }
+
+    void aChoiceMapsLegendNamesNoTwoMembersAlike() {
+        // Two strong non-local means of other strengths, two cross-bilaterals of one spatial
+        // sigma and other colour sigmas, two identical Gaussians, and a member alone of its name.
+        const std::vector<OptionMember> members{
+            {"nlmeans", {{"strength", 0.8}}},
+            {"nlmeans", {{"strength", 1.6}}},
+            {"cross-bilateral", {{"sigmaS", 4.0}, {"sigmaColor", 0.05}}},
+            {"cross-bilateral", {{"sigmaS", 4.0}, {"sigmaColor", 0.4}}},
+            {"gaussian", {{"sigma", 2.0}}},
+            {"gaussian", {{"sigma", 2.0}}},
+            {"gaussian", {{"sigma", 8.0}}}};
+        // Without help the layer names repeat (what the legend showed).
+        QCOMPARE(layerName("nlmeans", members[0].params), layerName("nlmeans", members[1].params));
+        const QStringList names = distinctNames(members);
+        QCOMPARE(names.size(), qsizetype(members.size()));
+        QCOMPARE(QSet<QString>(names.begin(), names.end()).size(), names.size());
+        // Each starts with its layer name and adds what differs, as Navigate's labels word it.
+        for (std::size_t i = 0; i < members.size(); ++i)
+            QVERIFY2(
+                names[qsizetype(i)].startsWith(layerName(members[i].filter, members[i].params)),
+                qPrintable(names[qsizetype(i)]));
+        QVERIFY2(names[0].endsWith(QStringLiteral("(strength 0.8)")), qPrintable(names[0]));
+        QVERIFY2(names[1].endsWith(QStringLiteral("(strength 1.6)")), qPrintable(names[1]));
+        QVERIFY2(names[2].endsWith(QStringLiteral(" 0.05)")), qPrintable(names[2]));
+        QVERIFY2(names[3].endsWith(QStringLiteral(" 0.4)")), qPrintable(names[3]));
+        QCOMPARE(names[4], layerName("gaussian", members[4].params) + QStringLiteral(" #5"));
+        QCOMPARE(names[5], layerName("gaussian", members[5].params) + QStringLiteral(" #6"));
+        QCOMPARE(names[6], layerName("gaussian", members[6].params));  // alone: as it was
     }
 
     void nearIdenticalPreviewsAndTheSmoothestAreFound() {

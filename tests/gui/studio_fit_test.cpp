@@ -455,6 +455,29 @@ class StudioFitTest : public QObject {
         QCOMPARE(red->value(), before);
     }
 
+    void aColourFieldEditKeepsTheOtherChannelsAtFullPrecision() {
+        auto w = openScene();
+        QVERIFY(w);
+        std::string item;
+        QWidget* field = nullptr;
+        for (QWidget* c : w->lookPanel()->findChildren<QWidget*>())
+            if (c->objectName().endsWith(QStringLiteral("/albedo"))) {
+                field = c;
+                item = c->objectName().section(QLatin1Char('/'), 0, -2).toStdString();
+            }
+        QVERIFY(field);
+        // A colour with more digits than the fields show (a scene's or a picked one).
+        w->lookPanel()->edit(item, "albedo", {0.12345, 0.23456, 0.34567});
+        QVERIFY(waitFor([&] { return !w->document()->rendering(); }));
+        auto* green = field->findChild<QDoubleSpinBox*>(QStringLiteral("c1"));
+        QVERIFY(green);
+        green->setValue(0.5);  // as if typed
+        const std::array<double, 3> value = w->document()->lookValue(item, "albedo");
+        QCOMPARE(value[1], 0.5);
+        QCOMPARE(value[0], 0.12345);  // not 0.123
+        QCOMPARE(value[2], 0.34567);  // not 0.346
+    }
+
     void theRenderBarDescribesTheFrameShown() {
         auto w = openScene();
         QVERIFY(w);

@@ -31,6 +31,7 @@
 #include "views/look_panel.h"
 #include "views/navigate_view.h"
 #include "views/render_bar.h"
+#include "views/viewer.h"
 #include "widget_reach.h"
 
 using namespace glint;
@@ -174,6 +175,24 @@ class StudioLaptopTest : public QObject {
         if (screen.width() >= least.width() + 16 && screen.height() >= least.height() + 40)
             QVERIFY(screen.contains(fresh.geometry()));
         QVERIFY(fresh.width() <= std::max(screen.width(), least.width()));
+    }
+
+    void theChannelBoxShowsItsLongestChannelsWholeOnALaptop() {
+        // Ten characters cut "Colour variance" and "Error: relative" (the tour's walk at these
+        // sizes); the window still fits.
+        auto w = openScene();
+        QVERIFY(w);
+        for (const QSize screen : {QSize(1280, 720), QSize(1366, 768)})
+            for (Viewer::Channel channel :
+                 {Viewer::Channel::ColorVariance, Viewer::Channel::ErrorRelative,
+                  Viewer::Channel::Result}) {
+                w->resize(screen);
+                w->viewer()->setChannel(channel);
+                settle();
+                QCOMPARE(w->size(), screen);
+                const QStringList problems = reachProblems(w.get());
+                QVERIFY2(problems.isEmpty(), qPrintable(problems.join(QStringLiteral("\n  "))));
+            }
     }
 
     void theWheelOverAnUnfocusedControlScrollsThePanelInstead() {

@@ -11,6 +11,7 @@
 #include <QLabel>
 #include <QListWidget>
 #include <QProgressBar>
+#include <QSet>
 #include <QStandardPaths>
 #include <QStatusBar>
 #include <QTemporaryDir>
@@ -73,6 +74,57 @@ FrameBuffers detailFrame(Image& clean) {
     frame.set(Layer::Normal, normal);
     frame.set(Layer::Depth, Image(n, n, 1, 1.0f));
     return frame;
+}
+
+// A 96² textured frame at a 16-spp render's noise: the albedo holds the fine detail (one-pixel
+// dark lines every 4 pixels above, 2×2 glyph-like blocks a pixel apart below, as printed decals
+// and panel lines), the colour is that albedo under smooth light with Gaussian noise of σ = 0.05
+// (seed 11) and its variance layer, the features nearly noise-free (variance 1e-5, as a 16-spp
+// render's first-hit albedo on a plain diffuse texture). The clean colour in `clean`.
+FrameBuffers texturedFrame(Image& clean) {
+    const int n = 96;
+    Image albedo(n, n, 3, 0.0f);
+    clean = Image(n, n, 3, 0.0f);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            const bool dark =
+                y < n / 2 ? x % 4 == 0 : (x % 3 < 2 && y % 3 < 2 && (x * 7 + y * 13) % 5 != 0);
+            const float a = dark ? 0.1f : 0.6f;
+            const float light = 0.6f + 0.4f * float(x + y) / float(2 * n);  // smooth shading
+            for (int c = 0; c < 3; ++c) {
+                albedo(x, y, c) = a * (1.0f - 0.1f * float(c));
+                clean(x, y, c) = albedo(x, y, c) * light;
+            }
+        }
+    FrameBuffers frame(n, n);
+    Image noisy = clean;
+    std::mt19937 rng(11);
+    std::normal_distribution<float> noise(0.0f, 0.05f);
+    for (float& v : noisy.data()) v += noise(rng);
+    frame.set(Layer::Color, noisy);
+    frame.set(Layer::Variance, Image(n, n, 3, 0.05f * 0.05f));
+    frame.set(Layer::Albedo, albedo);
+    frame.set(Layer::AlbedoVariance, Image(n, n, 3, 1e-5f));
+    Image normal(n, n, 3, 0.0f);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) normal(x, y, 2) = 1.0f;
+    frame.set(Layer::Normal, normal);
+    frame.set(Layer::NormalVariance, Image(n, n, 3, 1e-5f));
+    frame.set(Layer::Depth, Image(n, n, 1, 1.0f));
+    frame.set(Layer::DepthVariance, Image(n, n, 1, 0.0f));
+    return frame;
+}
+
+// The mean luminance gradient (forward differences) of `image`: its fine detail.
+double gradientEnergy(const Image& image) {
+    auto lum = [&](int x, int y) {
+        return 0.2126 * image(x, y, 0) + 0.7152 * image(x, y, 1) + 0.0722 * image(x, y, 2);
+    };
+    double sum = 0.0;
+    for (int y = 0; y + 1 < image.height(); ++y)
+        for (int x = 0; x + 1 < image.width(); ++x)
+            sum += std::hypot(lum(x + 1, y) - lum(x, y), lum(x, y + 1) - lum(x, y));
+    return sum / double((image.width() - 1) * (image.height() - 1));
 }
 
 Image defaultsOf(const std::string& filter, const FrameBuffers& frame) {
@@ -141,6 +193,39 @@ class StudioOverlayTest : public QObject {
         FrameBuffers noGuides = detailFrame(clean);
         noGuides.remove(Layer::Normal);
         QVERIFY(FirstDenoise::candidatesFor(noGuides).empty());
+    }
+
+    void theFirstDenoiseKeepsTheTextureDetailTheAlbedoHolds() {
+        QVERIFY2(learnedFilterAvailable(), learnedFilterUnavailable().c_str());
+        Image clean;
+        const FrameBuffers frame = texturedFrame(clean);
+        // What the studio adds, applied as its layer is (its parameters over the defaults).
+        const FirstDenoiseChoice choice = FirstDenoise::choose(frame);
+        QCOMPARE(choice.filter, std::string(kLearnedFilter));
+        const denoise::Filter& unet = denoise::findFilter(kLearnedFilter);
+        const Image chosen =
+            denoise::applyFilter(unet, frame, denoise::resolveParams(unet, choice.params));
+        // unet at its defaults (weights for noisy features) blurs the lines and blocks.
+        const Image plain = defaultsOf(kLearnedFilter, frame);
+        const double chosenMse = mse(chosen, clean), plainMse = mse(plain, clean);
+        const double detail = gradientEnergy(clean);
+        const QString figures = QStringLiteral(
+                                    "MSE %1 (defaults %2), detail %3 (defaults %4, "
+                                    "clean %5)")
+                                    .arg(chosenMse)
+                                    .arg(plainMse)
+                                    .arg(gradientEnergy(chosen))
+                                    .arg(gradientEnergy(plain))
+                                    .arg(detail);
+        qInfo("%s", qPrintable(figures));
+        // Tolerances: half the defaults' error; 90 % of the clean image's gradient energy.
+        QVERIFY2(chosenMse < 0.5 * plainMse, qPrintable(figures));
+        QVERIFY2(gradientEnergy(chosen) > 0.9 * detail, qPrintable(figures));
+        // Features as noisy as a depth-of-field render's keep the default weights.
+        FrameBuffers blurred = frame;
+        blurred.set(Layer::AlbedoVariance, Image(96, 96, 3, 2e-3f));
+        QVERIFY(!FirstDenoise::featuresAreClean(blurred));
+        QVERIFY(FirstDenoise::choose(blurred).params.empty());
     }
 
     void theWeightOverlayShowsWhereTheSelectedLayerShows() {
@@ -260,6 +345,12 @@ class StudioOverlayTest : public QObject {
             named = named || entry.second.startsWith(map->members[first]);
         QVERIFY(named);
         QVERIFY(!map->members[first].contains(QLatin1Char('=')));  // a display name, not an id
+        // No two members share a name (the legend showed "Non-local means, strong" thrice).
+        QCOMPARE(QSet<QString>(map->members.begin(), map->members.end()).size(),
+                 map->members.size());
+        QStringList shown;
+        for (const auto& entry : canvas->legend()) shown << entry.second;
+        QCOMPARE(QSet<QString>(shown.begin(), shown.end()).size(), shown.size());
         // Undone, the map goes with the layer.
         w->session()->undoStack()->undo();
         QCOMPARE(s.layerCount(), std::size_t(0));
