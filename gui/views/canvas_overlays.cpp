@@ -4,7 +4,10 @@
 #include <QPainter>
 
 #include <algorithm>
+#include <cmath>
 
+#include "glint/image/flip.h"
+#include "glint/image/io.h"
 #include "views/display.h"
 
 namespace glint::studio {
@@ -24,6 +27,20 @@ void plate(QPainter& p, const QRect& r) {
 }
 
 }  // namespace
+
+QImage flipOverlay(const Image& errors) {
+    const Image colors = flipColorMap(errors);
+    QImage out(colors.width(), colors.height(), QImage::Format_ARGB32_Premultiplied);
+    auto byte = [](float linear) {
+        return int(std::lround(std::clamp(srgbEncode(linear), 0.0f, 1.0f) * 255.0f));
+    };
+    for (int y = 0; y < colors.height(); ++y) {
+        auto* dst = reinterpret_cast<QRgb*>(out.scanLine(y));
+        for (int x = 0; x < colors.width(); ++x)
+            dst[x] = qRgb(byte(colors(x, y, 0)), byte(colors(x, y, 1)), byte(colors(x, y, 2)));
+    }
+    return out;
+}
 
 void drawCanvasLabel(QPainter& p, const QRect& area, const QString& text) {
     if (text.isEmpty()) return;

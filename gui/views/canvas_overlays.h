@@ -1,19 +1,25 @@
 // What the canvas draws over the image, in widget coordinates: the label saying what is shown
 // (top left), the false-colour legend with its range (bottom right) and a categorical map's
 // legend (bottom left), all on a translucent
-// dark plate that stays readable over any image.
+// dark plate that stays readable over any image; and the FLIP map as an image-sized overlay.
 #pragma once
 
 #include <QColor>
+#include <QImage>
 #include <QList>
 #include <QPair>
 #include <QRect>
 #include <QString>
 #include <QStringList>
 
+#include "glint/image/image.h"
+
 class QPainter;
 
 namespace glint::studio {
+
+/// A FLIP error map (1 channel in [0, 1], glint/image/flip.h) in the papers' magma colours, opaque.
+QImage flipOverlay(const Image& errors);
 
 /// Draws `text` in the top-left corner of `area`.
 void drawCanvasLabel(QPainter& p, const QRect& area, const QString& text);

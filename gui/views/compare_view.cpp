@@ -1,5 +1,6 @@
 #include "views/compare_view.h"
 
+#include <QCheckBox>
 #include <QComboBox>
 #include <QFileInfo>
 #include <QHBoxLayout>
@@ -15,10 +16,43 @@
 #include <cmath>
 #include <limits>
 
+#include "glint/image/flip.h"
 #include "glint/image/metrics.h"
 #include "model/render_eta.h"
+#include "views/canvas_overlays.h"
 
 namespace glint::studio {
+
+namespace {
+
+/// HDR-FLIP of `image` against `reference`: its mean over the image and over `rect` (of the
+/// image's map: the filters see the whole image) and the map; NaN means when FLIP cannot be
+/// computed (a mostly black reference, a non-finite value).
+struct FlipMeans {
+    double image = std::numeric_limits<double>::quiet_NaN();
+    double region = std::numeric_limits<double>::quiet_NaN();
+    Image map;
+};
+
+FlipMeans hdrFlip(const Image& image, const Image& reference, const Rect& rect) {
+    FlipMeans f;
+    try {
+        FlipOptions options;
+        options.hdr = true;
+        FlipResult r = flip(image, reference, options);
+        double sum = 0.0;
+        for (int y = rect.y0; y < rect.y1; ++y)
+            for (int x = rect.x0; x < rect.x1; ++x) sum += r.map(x, y, 0);
+        f.image = r.mean;
+        f.region = rect.empty() ? f.image : sum / (double(rect.width()) * rect.height());
+        f.map = std::move(r.map);
+    } catch (const Error&) {
+        // Left NaN: the table shows a dash.
+    }
+    return f;
+}
+
+}  // namespace
 
 CompareView::CompareView(const StudioContext& context, QWidget* parent)
     : StageView(context, parent) {
@@ -36,10 +70,10 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
     // The reference render's samples and time left (model/render_eta.h) on the bar.
     m_progress->setFormat(QString());
     // The raw render beside the result, for the image and for the region: one metric a row.
-    m_table = new QTableWidget(3, 4, this);
+    m_table = new QTableWidget(4, 4, this);
     m_table->setHorizontalHeaderLabels(
         {tr("Raw\nimage"), tr("Result\nimage"), tr("Raw\nregion"), tr("Result\nregion")});
-    m_table->setVerticalHeaderLabels({tr("SSIM"), tr("relMSE"), tr("PSNR dB")});
+    m_table->setVerticalHeaderLabels({tr("SSIM"), tr("relMSE"), tr("PSNR dB"), tr("FLIP")});
     m_table->setEditTriggers(QAbstractItemView::NoEditTriggers);
     m_table->horizontalHeader()->setSectionResizeMode(QHeaderView::Stretch);
     m_table->setVerticalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
@@ -54,7 +88,8 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
     m_table->setToolTip(
         tr("Against the reference, over the whole image and over the region's bounding box: "
            "Raw is the render the result was made from (the convergence plot's last point is "
-           "its relMSE over the image), Result the composite of the layers"));
+           "its relMSE over the image), Result the composite of the layers. FLIP is HDR-FLIP's "
+           "mean error (0 none, 1 most); in the region, the image's map averaged there"));
     m_verdict = new QLabel(this);
     m_verdict->setWordWrap(true);
     m_lookWarning = new QLabel(this);
@@ -71,6 +106,11 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
                               Viewer::Channel::ErrorRelative})
         m_error->addItem(channelName(c), int(c));
     m_error->setToolTip(tr("What the canvas shows: the result, the reference or an error image"));
+    m_flipMap = new QCheckBox(tr("FLIP map over the canvas"), this);
+    m_flipMap->setObjectName(QStringLiteral("flipMap"));
+    m_flipMap->setToolTip(
+        tr("The result's HDR-FLIP error against the reference, per pixel, in magma: black where "
+           "a viewer sees no difference, pale yellow where it is most visible"));
     // The plot measures the raw passes (the table's Raw column), not the result: it says so.
     m_axis = new QComboBox(this);
     m_axis->addItem(tr("Plot: raw render's relMSE vs seconds"));
@@ -91,6 +131,7 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
     layout->addLayout(row2);
     layout->addWidget(m_progress);
     layout->addWidget(m_error);
+    layout->addWidget(m_flipMap);
     layout->addWidget(m_lookWarning);
     layout->addWidget(m_table);
     layout->addWidget(m_verdict);
@@ -111,6 +152,7 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
     connect(m_error, &QComboBox::currentIndexChanged, this, [this](int i) {
         m_context.viewer->setChannel(Viewer::Channel(m_error->itemData(i).toInt()));
     });
+    connect(m_flipMap, &QCheckBox::toggled, this, &CompareView::showFlipMap);
     connect(m_axis, &QComboBox::currentIndexChanged, this,
             [this](int i) { m_plot->setAgainstSpp(i == 1); });
     connect(m_context.document, &Document::referenceProgress, this,
@@ -229,6 +271,10 @@ void CompareView::measure() {
                 m.ssimRegion = ssim(*image, ref, region).value;
                 m.relMseRegion = relMse(*image, ref, region).value;
                 m.psnrRegion = psnr(*image, ref, region).value;
+                FlipMeans f = hdrFlip(*image, ref, rect);
+                m.flipImage = f.image;
+                m.flipRegion = f.region;
+                if (!f.map.empty()) m.flipMap = flipOverlay(f.map);
                 if (raw && raw->width() == image->width() && raw->height() == image->height()) {
                     m.haveRaw = true;
                     const Image& r = raw->color();
@@ -236,6 +282,9 @@ void CompareView::measure() {
                                   psnr(r, ref, whole).value};
                     m.rawRegion = {ssim(r, ref, region).value, relMse(r, ref, region).value,
                                    psnr(r, ref, region).value};
+                    const FlipMeans rawFlip = hdrFlip(r, ref, rect);
+                    m.rawImage.flip = rawFlip.image;
+                    m.rawRegion.flip = rawFlip.region;
                 }
             }
             return m;
@@ -243,6 +292,7 @@ void CompareView::measure() {
         [this](Measurement m) {
             m_measurement = m;
             show();
+            showFlipMap();
             emit measured();
         });
 }
@@ -273,23 +323,40 @@ QString CompareView::plotTitle() const {
     return m_axis->currentText();
 }
 
+void CompareView::setFlipMapShown(bool shown) {
+    m_flipMap->setChecked(shown);
+}
+
+void CompareView::showFlipMap() {
+    ImageCanvas* canvas = m_context.viewer->canvas();
+    const QImage& map = m_measurement.flipMap;
+    if (m_flipMap->isChecked() && m_measurement.haveReference && !map.isNull()) {
+        canvas->setOverlay(map);
+        m_flipMapOnCanvas = true;
+    } else if (m_flipMapOnCanvas) {
+        canvas->clearOverlay();
+        m_flipMapOnCanvas = false;
+    }
+}
+
 void CompareView::show() {
     const Measurement& m = m_measurement;
     const bool stale = metricsStale();
-    // Columns: raw, result, raw in the region, result in the region; rows: SSIM, relMSE, PSNR.
-    const Metrics result{m.ssimImage, m.relMseImage, m.psnrImage};
-    const Metrics resultRegion{m.ssimRegion, m.relMseRegion, m.psnrRegion};
+    // Columns: raw, result, raw in the region, result in the region; rows: SSIM, relMSE, PSNR,
+    // FLIP.
+    const Metrics result{m.ssimImage, m.relMseImage, m.psnrImage, m.flipImage};
+    const Metrics resultRegion{m.ssimRegion, m.relMseRegion, m.psnrRegion, m.flipRegion};
     const Metrics* columns[] = {&m.rawImage, &result, &m.rawRegion, &resultRegion};
     for (int col = 0; col < 4; ++col) {
         const bool have = m.haveReference && (col % 2 == 1 || m.haveRaw);
         const Metrics& x = *columns[col];
-        const double values[] = {x.ssim, x.relMse, x.psnr};
+        const double values[] = {x.ssim, x.relMse, x.psnr, x.flip};
         const QString texts[] = {QString::number(x.ssim, 'f', 4), compactNumber(x.relMse),
-                                 QString::number(x.psnr, 'f', 2)};
-        for (int row = 0; row < 3; ++row) {
-            auto* item = new QTableWidgetItem(!have   ? QStringLiteral("–")
-                                              : stale ? tr("stale")
-                                                      : texts[row]);
+                                 QString::number(x.psnr, 'f', 2), QString::number(x.flip, 'f', 4)};
+        for (int row = 0; row < 4; ++row) {
+            auto* item = new QTableWidgetItem(!have || std::isnan(values[row]) ? QStringLiteral("–")
+                                              : stale                          ? tr("stale")
+                                                                               : texts[row]);
             item->setTextAlignment(Qt::AlignCenter);
             // A stale figure is kept out of sight, in the tooltip (it compares other scenes).
             if (have && stale) {

@@ -1,16 +1,19 @@
 // Comparing with a reference: open a high-spp EXR or render one in the background; live SSIM,
 // relMSE and PSNR of the raw render and of the result, for the image and for the region, side by
-// side (did denoising help?), per-channel min/mean/max of the region, error images, and the plot
-// of the raw render's relMSE against time of the running render. A reference rendered for another
-// scene, look or camera is said so beside the metrics, which are then marked stale.
+// side (did denoising help?), HDR-FLIP's mean with its map as a canvas overlay, per-channel
+// min/mean/max of the region, error images, and the plot of the raw render's relMSE against time of
+// the running render. A reference rendered for another scene, look or camera is said so beside the
+// metrics, which are then marked stale.
 #pragma once
 
+#include <QImage>
 #include <QTimer>
 
 #include "model/task_runner.h"
 #include "views/convergence_plot.h"
 #include "views/stage_view.h"
 
+class QCheckBox;
 class QLabel;
 class QSpinBox;
 class QProgressBar;
@@ -19,9 +22,10 @@ class QComboBox;
 
 namespace glint::studio {
 
-/// SSIM, relMSE and PSNR of one image against the reference.
+/// SSIM, relMSE, PSNR and HDR-FLIP of one image against the reference (FLIP: NaN when it
+/// cannot be computed, e.g. for a reference mostly black).
 struct Metrics {
-    double ssim = 0.0, relMse = 0.0, psnr = 0.0;
+    double ssim = 0.0, relMse = 0.0, psnr = 0.0, flip = 0.0;
 };
 
 /// What the compare view measured last.
@@ -29,6 +33,9 @@ struct Measurement {
     // The result (the composite).
     double ssimImage = 0.0, relMseImage = 0.0, psnrImage = 0.0;
     double ssimRegion = 0.0, relMseRegion = 0.0, psnrRegion = 0.0;
+    /// HDR-FLIP (glint/image/flip.h) of the image; in the region, the mean of its map there.
+    double flipImage = 0.0, flipRegion = 0.0;
+    QImage flipMap;  ///< the result's FLIP map in magma (null without a reference)
     // The raw render the result was made from (the session's input): the same metric, the same
     // images as the convergence plot's last point over the whole image.
     Metrics rawImage, rawRegion;
@@ -52,7 +59,7 @@ class CompareView : public StageView {
     /// The metrics compare with a reference of another scene, look or camera: the table shows
     /// "stale" instead of their values (kept in each cell's tooltip).
     bool metricsStale() const;
-    /// The text of the metrics table's cell (row: SSIM, relMSE, PSNR; column: raw, result,
+    /// The text of the metrics table's cell (row: SSIM, relMSE, PSNR, FLIP; column: raw, result,
     /// raw in the region, result in the region) and of its column header.
     QString cellText(int row, int column) const;
     QString columnTitle(int column) const;
@@ -60,6 +67,10 @@ class CompareView : public StageView {
     QString verdict() const;
     /// What the convergence plot shows, as its drop-down says it.
     QString plotTitle() const;
+    /// Shows the result's FLIP map over the canvas (when there is a reference) or hides it. The
+    /// compare dock is always there, so the map stays until unticked (a stage's overlay, such
+    /// as the paint stage's change map, replaces it until the next measurement).
+    void setFlipMapShown(bool shown);
 
   signals:
     void measured();
@@ -71,6 +82,7 @@ class CompareView : public StageView {
     void measure();
     void show();
     void updateLookWarning();
+    void showFlipMap();
 
     TaskRunner m_tasks;
     QTimer m_debounce;
@@ -82,6 +94,8 @@ class CompareView : public StageView {
     QLabel* m_lookWarning;
     bool m_warnedLook = false;
     QComboBox* m_error;
+    QCheckBox* m_flipMap;
+    bool m_flipMapOnCanvas = false;
     QComboBox* m_axis;
     ConvergencePlot* m_plot;
     Measurement m_measurement;

@@ -12,11 +12,14 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <initializer_list>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "glint/image/error.h"
 #include "glint/image/io.h"
+#include "simd.h"
 
 namespace glint {
 namespace {
@@ -52,10 +55,9 @@ float luminance(const float* rgb) {
     return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2];
 }
 
-/// Cube root of v in [0, ~2] to float precision without a library call (so the per-pixel loop
-/// stays inlined): Kahan's exponent-thirds first guess, then two Halley steps.
+/// Cube root of a positive normal v to float precision without a library call or a branch (so
+/// the per-pixel loops vectorise): Kahan's exponent-thirds first guess, then two Halley steps.
 float cubeRoot(float v) {
-    if (!(v > 0.0f)) return 0.0f;
     std::uint32_t bits;
     std::memcpy(&bits, &v, sizeof bits);
     bits = bits / 3 + 709921077u;
@@ -66,6 +68,45 @@ float cubeRoot(float v) {
         y *= (y3 + 2.0f * v) / (2.0f * y3 + v);
     }
     return y;
+}
+
+/// log2 of a positive normal x to about 1e-7 relative error, branch-free: the exponent plus the
+/// natural log of the mantissa in [sqrt(1/2), sqrt(2)) by Cephes' logf polynomial.
+float log2Approx(float x) {
+    std::int32_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    int e = ((bits >> 23) & 0xff) - 127;
+    bits = (bits & 0x007fffff) | 0x3f800000;
+    float m;
+    std::memcpy(&m, &bits, sizeof m);
+    const bool high = m > 1.41421356f;
+    m = high ? 0.5f * m : m;
+    e = high ? e + 1 : e;
+    const float f = m - 1.0f, z = f * f;
+    float p = 7.0376836292e-2f;
+    for (const float c : {-1.1514610310e-1f, 1.1676998740e-1f, -1.2420140846e-1f, 1.4249322787e-1f,
+                          -1.6668057665e-1f, 2.0000714765e-1f, -2.4999993993e-1f, 3.3333331174e-1f})
+        p = p * f + c;
+    const float ln = f + (p * f * z - 0.5f * z);
+    return ln * 1.44269504089f + float(e);
+}
+
+/// 2^x to about 2e-7 relative error, branch-free; 0 below -126, x at most 127: 2^n for the
+/// nearest integer n (by the 1.5 * 2^23 rounding trick) times Cephes' exp2f polynomial of the
+/// rest in [-1/2, 1/2].
+float exp2Approx(float x) {
+    constexpr float kRound = 12582912.0f;
+    const float clamped = std::clamp(x, -126.0f, 127.0f);
+    const float n = (clamped + kRound) - kRound;
+    const float f = clamped - n;
+    float p = 1.535336188319500e-4f;
+    for (const float c : {1.339887440266574e-3f, 9.618437357674640e-3f, 5.550332471162809e-2f,
+                          2.402264791363012e-1f, 6.931472028550421e-1f, 1.0f})
+        p = p * f + c;
+    const std::int32_t bits = (std::int32_t(n) + 127) << 23;
+    float scale;
+    std::memcpy(&scale, &bits, sizeof scale);
+    return x < -126.0f ? 0.0f : p * scale;
 }
 
 /// The colour transforms of the pipeline, with the XYZ-to-RGB inverse computed once.
@@ -128,7 +169,8 @@ struct ColorSpace {
         apply(toXyz, rgb, xyz);
         for (int c = 0; c < 3; ++c) {
             const float v = xyz[c] * invWhite[c];
-            xyz[c] = v > deltaCube ? cubeRoot(v) : slope * v + 4.0f / 29.0f;
+            const float root = cubeRoot(std::max(v, deltaCube));
+            xyz[c] = v > deltaCube ? root : slope * v + 4.0f / 29.0f;
         }
         const float l = 116.0f * xyz[1] - 16.0f;
         lab[0] = l;
@@ -232,154 +274,284 @@ std::array<double, 6> toneCurve(FlipToneMapper mapper) {
     return {};
 }
 
-/// Maps one pixel of the input to the linear RGB in [0, 1] that LDR-FLIP sees.
+/// Maps the input to the linear RGB in [0, 1] that LDR-FLIP sees, a row at a time.
 struct PixelTransform {
     bool hdr = false;
     FlipToneMapper mapper = FlipToneMapper::Aces;
     double scale = 1.0;  ///< 2^exposure
     std::array<double, 6> k{};
 
-    void operator()(const float* in, float* out) const {
+    /// Exposed values beyond this are at the tone curves' asymptote (clamped to 1); the cap
+    /// keeps the rational curves finite and maps an overflowed exposure (NaN, Inf) to white.
+    static double exposed(float v, double scale) {
+        const double x = std::max(double(v), 0.0) * scale;
+        return x < 1e30 ? x : 1e30;
+    }
+
+    /// Transforms `n` pixels of planar rows in place.
+    void operator()(float* r, float* g, float* b, int n) const {
+        float* rgb[3] = {r, g, b};
         if (!hdr) {
-            for (int c = 0; c < 3; ++c) out[c] = std::clamp(in[c], 0.0f, 1.0f);
+            for (float* c : rgb)
+                for (int i = 0; i < n; ++i) c[i] = std::clamp(c[i], 0.0f, 1.0f);
             return;
         }
         // HDR-FLIP sec. 3: negative values are clipped, the exposure applied, the tone curve
         // (per channel; Reinhard's on luminance) and a clamp to [0, 1].
-        double rgb[3];
-        for (int c = 0; c < 3; ++c) rgb[c] = std::max(double(in[c]), 0.0) * scale;
+        const double s = scale;
         if (mapper == FlipToneMapper::Reinhard) {
-            const double l = 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
-            for (int c = 0; c < 3; ++c) out[c] = float(std::clamp(rgb[c] / (1.0 + l), 0.0, 1.0));
+            for (int i = 0; i < n; ++i) {
+                const double x[3] = {exposed(r[i], s), exposed(g[i], s), exposed(b[i], s)};
+                const double l = 0.2126 * x[0] + 0.7152 * x[1] + 0.0722 * x[2];
+                for (int c = 0; c < 3; ++c)
+                    rgb[c][i] = float(std::clamp(x[c] / (1.0 + l), 0.0, 1.0));
+            }
             return;
         }
-        for (int c = 0; c < 3; ++c) {
-            const double x = rgb[c];
-            const double den = (k[3] * x + k[4]) * x + k[5];
-            const double v = std::isfinite(den) ? ((k[0] * x + k[1]) * x + k[2]) / den : 1.0;
-            out[c] = float(std::clamp(v, 0.0, 1.0));
-        }
+        for (float* c : rgb)
+            for (int i = 0; i < n; ++i) {
+                const double x = exposed(c[i], s);
+                const double v = ((k[0] * x + k[1]) * x + k[2]) / ((k[3] * x + k[4]) * x + k[5]);
+                c[i] = float(std::clamp(v, 0.0, 1.0));
+            }
     }
 };
 
-/// Convolves a padded row (`in` holds `radius` extra values on each side) with `kernel`.
-void convolveRow(const float* in, const std::vector<float>& kernel, int width, float* out) {
-    const int taps = int(kernel.size());
-    for (int x = 0; x < width; ++x) out[x] = 0.0f;
+// The convolutions accumulate blocks of kLanes outputs in registers over all taps, the taps in
+// order, so that each output's bits do not depend on the blocking.
+using detail::Vec8f;
+constexpr int kLanes = 64;
+
+/// acc[i] += the sum over taps t of weights[t] times the 8 floats at src(t) + 8 i.
+template <int N, typename Source>
+[[gnu::always_inline]] inline void accumulate(const float* weights, int taps, Source src,
+                                              Vec8f (&acc)[N]) {
     for (int t = 0; t < taps; ++t) {
-        const float w = kernel[std::size_t(t)];
-        const float* src = in + t;
-        for (int x = 0; x < width; ++x) out[x] += w * src[x];
+        const float* p = src(t);
+        const float wt = weights[t];
+        for (int i = 0; i < N; ++i) {
+            Vec8f v;
+            detail::load8(v, p + 8 * i);
+            acc[i] += wt * v;
+        }
     }
 }
 
-/// Adds the vertical convolution of `plane` (width x height) with `kernel` at row y to `out`,
-/// the image clamped at its top and bottom rows.
-void convolveColumn(const float* plane, const std::vector<float>& kernel, int width, int height,
-                    int y, float* out) {
-    const int radius = int(kernel.size()) / 2;
-    for (int t = 0; t < int(kernel.size()); ++t) {
-        const float w = kernel[std::size_t(t)];
-        const float* src = plane + std::size_t(std::clamp(y + t - radius, 0, height - 1)) * width;
-        for (int x = 0; x < width; ++x) out[x] += w * src[x];
-    }
+/// Runs `block` over [0, width) in blocks of kLanes, then 8, then 1 (the scalar rest).
+template <typename Block>
+[[gnu::always_inline]] inline void blocks(int width, Block block) {
+    int x = 0;
+    for (; x + kLanes <= width; x += kLanes) block.template operator()<kLanes / 8>(x);
+    for (; x + 8 <= width; x += 8) block.template operator()<1>(x);
+    for (; x < width; ++x) block.template operator()<0>(x);
+}
+
+/// out[x] = sum_t weights[t] in[x + t] for x in [0, width): `in` holds a padded row, taps - 1
+/// more values than `out`.
+GLINT_SIMD_CLONES
+void convolveRow(const float* in, const std::vector<float>& kernel, int width, float* out) {
+    const float* weights = kernel.data();
+    const int taps = int(kernel.size());
+    blocks(width, [&]<int N>(int x) {
+        if constexpr (N == 0) {
+            float acc = 0.0f;
+            for (int t = 0; t < taps; ++t) acc += weights[t] * in[x + t];
+            out[x] = acc;
+        } else {
+            Vec8f acc[N] = {};
+            accumulate(
+                weights, taps, [&](int t) { return in + x + t; }, acc);
+            for (int i = 0; i < N; ++i) detail::store8(out + x + 8 * i, acc[i]);
+        }
+    });
+}
+
+/// One term of a vertical filter: `kernel` down the columns of `plane`.
+struct ColumnTerm {
+    const float* plane;
+    const std::vector<float>* kernel;
+};
+
+/// out[x] = the sum over terms[0, count) of their vertical convolutions at row y of planes of
+/// width x height, clamped at their top and bottom rows.
+GLINT_SIMD_CLONES
+void convolveColumns(const ColumnTerm* terms, int count, int width, int height, int y, float* out) {
+    blocks(width, [&]<int N>(int x) {
+        Vec8f acc[N > 0 ? N : 1] = {};
+        float scalar = 0.0f;
+        for (int i = 0; i < count; ++i) {
+            const float* weights = terms[i].kernel->data();
+            const int taps = int(terms[i].kernel->size()), radius = taps / 2;
+            auto src = [&](int t) {
+                return terms[i].plane +
+                       std::size_t(std::clamp(y + t - radius, 0, height - 1)) * width + x;
+            };
+            if constexpr (N == 0)
+                for (int t = 0; t < taps; ++t) scalar += weights[t] * *src(t);
+            else
+                accumulate(weights, taps, src, acc);
+        }
+        if constexpr (N == 0)
+            out[x] = scalar;
+        else
+            for (int i = 0; i < N; ++i) detail::store8(out + x + 8 * i, acc[i]);
+    });
 }
 
 // The horizontally filtered planes of one image.
 enum Plane { SpatialY, SpatialCx, SpatialCz1, SpatialCz2, FeatureD, FeatureDD, FeatureG, kPlanes };
 
+/// The horizontally filtered planes of both inputs, allocated once for all exposures.
+class FlipPlanes {
+  public:
+    FlipPlanes(int width, int height)
+        : m_area(std::size_t(width) * height), m_data(new float[2 * kPlanes * m_area]) {}
+    float* operator()(int input, int p) { return m_data.get() + (input * kPlanes + p) * m_area; }
+
+  private:
+    std::size_t m_area;
+    std::unique_ptr<float[]> m_data;  // uninitialised: every value is written before read
+};
+
+/// Step 1 of LDR-FLIP for one row of one input: the transform, the opponent colours and the
+/// grey of FLIP sec. 4.2, filtered horizontally (edges clamped) into the planes' row y.
+GLINT_SIMD_CLONES
+void filterRow(const float* src, int w, const PixelTransform& transform, const Kernels& k, int pad,
+               std::vector<float>& scratch, float* const (&out)[kPlanes]) {
+    const std::size_t n = std::size_t(w + 2 * pad);
+    scratch.resize(7 * n);
+    float* r = scratch.data();
+    float *g = r + n, *b = g + n, *yRow = b + n, *cxRow = yRow + n, *czRow = cxRow + n,
+          *grayRow = czRow + n;
+    for (std::size_t i = 0; i < n; ++i) {
+        const float* p = src + 3 * std::clamp(int(i) - pad, 0, w - 1);
+        r[i] = p[0];
+        g[i] = p[1];
+        b[i] = p[2];
+    }
+    transform(r, g, b, int(n));
+    const ColorSpace& space = colorSpace();
+    for (std::size_t i = 0; i < n; ++i) {
+        const float rgb[3] = {r[i], g[i], b[i]};
+        float ycxcz[3];
+        space.rgbToYcxcz(rgb, ycxcz);
+        yRow[i] = ycxcz[0];
+        cxRow[i] = ycxcz[1];
+        czRow[i] = ycxcz[2];
+        grayRow[i] = (ycxcz[0] + 16.0f) / 116.0f;  // FLIP sec. 4.2: Y in [0, 1]
+    }
+    const int s = pad - k.spatialRadius, f = pad - k.featureRadius;
+    convolveRow(yRow + s, k.y, w, out[SpatialY]);
+    convolveRow(cxRow + s, k.cx, w, out[SpatialCx]);
+    convolveRow(czRow + s, k.cz1, w, out[SpatialCz1]);
+    convolveRow(czRow + s, k.cz2, w, out[SpatialCz2]);
+    convolveRow(grayRow + f, k.dg, w, out[FeatureD]);
+    convolveRow(grayRow + f, k.ddg, w, out[FeatureDD]);
+    convolveRow(grayRow + f, k.g, w, out[FeatureG]);
+}
+
+/// FLIP sec. 4.1.2: the largest HyAB distance of the unit cube (green to blue), to the power q_c.
+float maxColorError() {
+    static const float cmax = [] {
+        const float green[3] = {0, 1, 0}, blue[3] = {0, 0, 1};
+        float g[3], b[3];
+        colorSpace().rgbToHuntLab(green, g);
+        colorSpace().rgbToHuntLab(blue, b);
+        return std::pow(hyab(g, b), kQc);
+    }();
+    return cmax;
+}
+
+/// Step 2's per-pixel part for one row. `acc` holds 7 rows of `w` values per input (reference,
+/// then image): the filtered Y, Cx, Cz and the edge (dx, ddx) and point (dy, ddy) responses.
+/// Writes FLIP's error to `out` (the max with what it holds when `keepMax`); overwrites `acc`.
+GLINT_SIMD_CLONES
+void errorRow(float* acc, int w, bool keepMax, float* out) {
+    const ColorSpace& space = colorSpace();
+    const float cmax = maxColorError();
+    const float pccmax = kPc * cmax;
+    auto row = [&](int input, int q) { return acc + std::size_t(input * 7 + q) * w; };
+    // Hunt-adjusted L*a*b* into the first three rows, the edge and point magnitudes into the
+    // next two.
+    for (int input = 0; input < 2; ++input) {
+        float *c0 = row(input, 0), *c1 = row(input, 1), *c2 = row(input, 2);
+        float *dx = row(input, 3), *ddx = row(input, 4), *dy = row(input, 5), *ddy = row(input, 6);
+        for (int x = 0; x < w; ++x) {
+            const float ycxcz[3] = {c0[x], c1[x], c2[x]};
+            float lab[3];
+            space.ycxczToHuntLab(ycxcz, lab);
+            c0[x] = lab[0];
+            c1[x] = lab[1];
+            c2[x] = lab[2];
+            const float edge = std::sqrt(dx[x] * dx[x] + dy[x] * dy[x]);
+            const float point = std::sqrt(ddx[x] * ddx[x] + ddy[x] * ddy[x]);
+            dx[x] = edge;
+            ddx[x] = point;
+        }
+    }
+    const float *l0 = row(0, 0), *a0 = row(0, 1), *b0 = row(0, 2), *e0 = row(0, 3), *p0 = row(0, 4);
+    const float *l1 = row(1, 0), *a1 = row(1, 1), *b1 = row(1, 2), *e1 = row(1, 3), *p1 = row(1, 4);
+    for (int x = 0; x < w; ++x) {
+        // FLIP eq. 4-5: HyAB distance, compressed, redistributed to [0, 1].
+        const float da = a0[x] - a1[x], db = b0[x] - b1[x];
+        const float distance = std::fabs(l0[x] - l1[x]) + std::sqrt(da * da + db * db);
+        const float compressed = exp2Approx(kQc * log2Approx(std::max(distance, 1e-30f)));
+        const float c = distance > 0.0f ? compressed : 0.0f;
+        // Both branches computed, then chosen: a select the loop vectorises.
+        const float below = c * (kPt / pccmax);
+        const float above = kPt + (c - pccmax) / (cmax - pccmax) * (1.0f - kPt);
+        const float color = c < pccmax ? below : above;
+        // FLIP eq. 8-9: the larger of the edge and point differences, to the power q_f.
+        static_assert(kQf == 0.5f, "the feature exponent is taken as a square root");
+        const float feature = std::sqrt(
+            std::max(std::fabs(e0[x] - e1[x]), std::fabs(p0[x] - p1[x])) / std::sqrt(2.0f));
+        // FLIP eq. 10: color^(1 - feature), with 0^0 = 1 as pow has it.
+        const float exponent = 1.0f - feature;
+        const float powered = exp2Approx(exponent * log2Approx(std::max(color, 1e-30f)));
+        const float error = color > 0.0f ? powered : (exponent == 0.0f ? 1.0f : 0.0f);
+        out[x] = keepMax ? std::max(out[x], error) : error;
+    }
+}
+
 /// One LDR-FLIP evaluation of two 3-channel images after `transform`; writes the map into
 /// `map` (max with what it holds when `keepMax`).
 void ldrFlip(const Image& image, const Image& reference, const PixelTransform& transform,
-             const Kernels& k, Image& map, bool keepMax) {
+             const Kernels& k, FlipPlanes& planes, Image& map, bool keepMax) {
     const int w = image.width(), h = image.height();
-    const std::size_t area = std::size_t(w) * h;
-    const ColorSpace& space = colorSpace();
     const Image* inputs[2] = {&reference, &image};
-    std::vector<float> planes(2 * kPlanes * area);
-    auto plane = [&](int input, int p) { return planes.data() + (input * kPlanes + p) * area; };
     const int pad = std::max(k.spatialRadius, k.featureRadius);
 
-    // Step 1: opponent colours of each row, filtered horizontally (edges clamped).
+    // Step 1: opponent colours of each row, filtered horizontally.
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 4), [&](const tbb::blocked_range<int>& rows) {
-        const std::size_t padded = std::size_t(w + 2 * pad);
-        std::vector<float> yRow(padded), cxRow(padded), czRow(padded), grayRow(padded);
+        std::vector<float> scratch;
         for (int y = rows.begin(); y != rows.end(); ++y)
             for (int input = 0; input < 2; ++input) {
-                const float* src = inputs[input]->row(y);
-                for (int x = -pad; x < w + pad; ++x) {
-                    float rgb[3], ycxcz[3];
-                    transform(src + 3 * std::clamp(x, 0, w - 1), rgb);
-                    space.rgbToYcxcz(rgb, ycxcz);
-                    const std::size_t i = std::size_t(x + pad);
-                    yRow[i] = ycxcz[0];
-                    cxRow[i] = ycxcz[1];
-                    czRow[i] = ycxcz[2];
-                    grayRow[i] = (ycxcz[0] + 16.0f) / 116.0f;  // FLIP sec. 4.2: Y in [0, 1]
-                }
-                const std::size_t row = std::size_t(y) * w;
-                const int s = pad - k.spatialRadius, f = pad - k.featureRadius;
-                convolveRow(yRow.data() + s, k.y, w, plane(input, SpatialY) + row);
-                convolveRow(cxRow.data() + s, k.cx, w, plane(input, SpatialCx) + row);
-                convolveRow(czRow.data() + s, k.cz1, w, plane(input, SpatialCz1) + row);
-                convolveRow(czRow.data() + s, k.cz2, w, plane(input, SpatialCz2) + row);
-                convolveRow(grayRow.data() + f, k.dg, w, plane(input, FeatureD) + row);
-                convolveRow(grayRow.data() + f, k.ddg, w, plane(input, FeatureDD) + row);
-                convolveRow(grayRow.data() + f, k.g, w, plane(input, FeatureG) + row);
+                float* out[kPlanes];
+                for (int p = 0; p < kPlanes; ++p) out[p] = planes(input, p) + std::size_t(y) * w;
+                filterRow(inputs[input]->row(y), w, transform, k, pad, scratch, out);
             }
     });
 
     // Step 2: vertical filtering, colour and feature differences, the FLIP error per pixel.
-    const float cmax = [&] {
-        // FLIP sec. 4.1.2: the largest HyAB distance of the unit cube, green to blue.
-        const float green[3] = {0, 1, 0}, blue[3] = {0, 0, 1};
-        float g[3], b[3];
-        space.rgbToHuntLab(green, g);
-        space.rgbToHuntLab(blue, b);
-        return std::pow(hyab(g, b), kQc);
-    }();
-    const float pccmax = kPc * cmax;
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 4), [&](const tbb::blocked_range<int>& rows) {
-        // Per input: Y, Cx, Cz, dx, ddx, dy, ddy of one row.
+        // Per input: Y, Cx, Cz, dx, ddx, dy, ddy of one row; then L, a, b, edge, point.
         std::vector<float> acc(std::size_t(2 * 7) * w);
         auto row = [&](int input, int q) { return acc.data() + std::size_t(input * 7 + q) * w; };
         for (int y = rows.begin(); y != rows.end(); ++y) {
-            std::fill(acc.begin(), acc.end(), 0.0f);
             for (int input = 0; input < 2; ++input) {
-                convolveColumn(plane(input, SpatialY), k.y, w, h, y, row(input, 0));
-                convolveColumn(plane(input, SpatialCx), k.cx, w, h, y, row(input, 1));
-                convolveColumn(plane(input, SpatialCz1), k.cz1, w, h, y, row(input, 2));
-                convolveColumn(plane(input, SpatialCz2), k.cz2, w, h, y, row(input, 2));
-                convolveColumn(plane(input, FeatureD), k.g, w, h, y, row(input, 3));
-                convolveColumn(plane(input, FeatureDD), k.g, w, h, y, row(input, 4));
-                convolveColumn(plane(input, FeatureG), k.dg, w, h, y, row(input, 5));
-                convolveColumn(plane(input, FeatureG), k.ddg, w, h, y, row(input, 6));
+                auto vertical = [&](std::initializer_list<ColumnTerm> terms, int q) {
+                    convolveColumns(terms.begin(), int(terms.size()), w, h, y, row(input, q));
+                };
+                vertical({{planes(input, SpatialY), &k.y}}, 0);
+                vertical({{planes(input, SpatialCx), &k.cx}}, 1);
+                vertical({{planes(input, SpatialCz1), &k.cz1}, {planes(input, SpatialCz2), &k.cz2}},
+                         2);
+                vertical({{planes(input, FeatureD), &k.g}}, 3);
+                vertical({{planes(input, FeatureDD), &k.g}}, 4);
+                vertical({{planes(input, FeatureG), &k.dg}}, 5);
+                vertical({{planes(input, FeatureG), &k.ddg}}, 6);
             }
-            float* out = map.row(y);
-            for (int x = 0; x < w; ++x) {
-                float lab[2][3], edge[2], point[2];
-                for (int input = 0; input < 2; ++input) {
-                    const float ycxcz[3] = {row(input, 0)[x], row(input, 1)[x], row(input, 2)[x]};
-                    space.ycxczToHuntLab(ycxcz, lab[input]);
-                    const float dx = row(input, 3)[x], dy = row(input, 5)[x];
-                    const float ddx = row(input, 4)[x], ddy = row(input, 6)[x];
-                    edge[input] = std::sqrt(dx * dx + dy * dy);
-                    point[input] = std::sqrt(ddx * ddx + ddy * ddy);
-                }
-                // FLIP eq. 5: compress the colour difference, redistribute to [0, 1].
-                const float distance = hyab(lab[0], lab[1]);
-                float color = distance > 0.0f ? std::exp2(kQc * std::log2(distance)) : 0.0f;
-                color = color < pccmax ? color * (kPt / pccmax)
-                                       : kPt + (color - pccmax) / (cmax - pccmax) * (1.0f - kPt);
-                // FLIP eq. 8-9: the larger of the edge and point differences.
-                const float feature = std::pow(
-                    std::max(std::fabs(edge[0] - edge[1]), std::fabs(point[0] - point[1])) /
-                        std::sqrt(2.0f),
-                    kQf);
-                // FLIP eq. 10.
-                const float error = std::pow(color, 1.0f - feature);
-                out[x] = keepMax ? std::max(out[x], error) : error;
-            }
+            errorRow(acc.data(), w, keepMax, map.row(y));
         }
     });
 }
@@ -490,10 +662,11 @@ FlipResult flip(const Image& image, const Image& reference, const FlipOptions& o
     const Kernels kernels = makeKernels(options.pixelsPerDegree);
     FlipResult result;
     result.map = Image(a->width(), a->height(), 1, 0.0f);
+    FlipPlanes planes(a->width(), a->height());
     PixelTransform transform;
     transform.hdr = options.hdr;
     if (!options.hdr) {
-        ldrFlip(*a, *b, transform, kernels, result.map, false);
+        ldrFlip(*a, *b, transform, kernels, planes, result.map, false);
     } else {
         double start = 0.0, stop = 0.0;
         if (!options.startExposure || !options.stopExposure) {
@@ -523,7 +696,7 @@ FlipResult flip(const Image& image, const Image& reference, const FlipOptions& o
         for (int i = 0; i < count; ++i) {
             const double exposure = count == 1 ? start : start + i * (stop - start) / (count - 1);
             transform.scale = std::exp2(exposure);
-            ldrFlip(*a, *b, transform, kernels, result.map, i > 0);
+            ldrFlip(*a, *b, transform, kernels, planes, result.map, i > 0);
         }
         result.startExposure = start;
         result.stopExposure = stop;

@@ -28,14 +28,7 @@
 
 #include "glint/image/error.h"
 #include "glint/image/io.h"
-
-// Hot loops get an AVX2+FMA clone chosen at load time where the compiler supports it; the
-// default clone keeps the binary runnable on any x86-64.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-#define GLINT_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define GLINT_SIMD_CLONES
-#endif
+#include "simd.h"
 
 namespace glint::detail {
 namespace {

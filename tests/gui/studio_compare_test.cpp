@@ -2,8 +2,10 @@
 // them, near-identical ones said so, the choice in user terms, filters by their display names in
 // the Tune menu, stage 3 opening on the current result's filter — and comparisons that do not
 // mislead: a reference of another scene or look marks the metrics stale, the raw render's metrics
-// beside the result's, and the plot saying what it measures.
+// beside the result's, and the plot saying what it measures; FLIP in the table and its map over the
+// canvas (issue 50).
 #include <QApplication>
+#include <QCheckBox>
 #include <QComboBox>
 #include <QDir>
 #include <QLabel>
@@ -19,6 +21,7 @@
 
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
+#include "glint/image/flip.h"
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"
 #include "model/first_denoise.h"
@@ -27,6 +30,7 @@
 #include "model/reference_info.h"
 #include "studio_fixture.h"
 #include "views/compare_view.h"
+#include "views/image_canvas.h"
 #include "views/look_panel.h"
 #include "views/navigate_view.h"
 #include "views/tune_view.h"
@@ -401,6 +405,32 @@ class StudioCompareTest : public QObject {
         const CurvePoint last = w->document()->curve().back();
         QCOMPARE(last.spp, w->document()->settings().spp);
         QCOMPARE(last.relMse, m.rawImage.relMse);
+    }
+
+    void aReferenceShowsFlipInTheTableAndItsMapOverTheCanvas() {
+        auto w = openScene();
+        QVERIFY(w);
+        QVERIFY(renderReference(*w));
+        QVERIFY(waitIdle(*w));
+        CompareView* c = w->compareView();
+        const Image* result = w->viewer()->resultImage();
+        QVERIFY(result);
+        FlipOptions hdr;
+        hdr.hdr = true;
+        const double expected = flip(*result, w->document()->reference()->color(), hdr).mean;
+        QVERIFY2(expected > 0.0, "the reference has its own seed: another image");
+        QVERIFY(waitFor([&] { return c->measurement().flipImage == expected; }));
+        QCOMPARE(c->cellText(3, 1), QString::number(expected, 'f', 4));
+        // The map in magma over the canvas, on and off with its box.
+        auto* box = c->findChild<QCheckBox*>(QStringLiteral("flipMap"));
+        QVERIFY(box);
+        ImageCanvas* canvas = w->viewer()->canvas();
+        QVERIFY(!canvas->hasOverlay());
+        box->click();
+        QVERIFY(canvas->hasOverlay());
+        QCOMPARE(c->measurement().flipMap.size(), QSize(result->width(), result->height()));
+        box->click();
+        QVERIFY(!canvas->hasOverlay());
     }
 };
 

@@ -88,6 +88,22 @@ axes[0][0].set_ylabel("relMSE to reference")
 axes[1][0].set_ylabel("SSIM to reference")
 save(fig, "convergence.png")
 
+# FLIP (HDR-FLIP's mean error) against spp, for the same renders; CSVs from before it have no
+# flip column and are skipped.
+fig, axes = plt.subplots(1, 5, figsize=(17, 3.4))
+for i, scene in enumerate(scenes):
+    data = [r for r in rows(f"convergence_{scene}.csv") if r.get("flip") not in (None, "", "nan")]
+    for method in ["power", "balance", "none", "mlt"]:
+        pts = [(int(r["spp"]), float(r["flip"])) for r in data if r["method"] == method]
+        if pts:
+            axes[i].loglog([p[0] for p in pts], [p[1] for p in pts], "o-", ms=3, label=method)
+            summary.append(["convergence_flip_1024", f"{scene}/{method}", f"{pts[-1][1]:.4f}"])
+    axes[i].set_title(f"{scene}: HDR-FLIP vs spp")
+    axes[i].set_xlabel("samples per pixel")
+    axes[i].legend(fontsize=6.5, loc="lower left")
+axes[0].set_ylabel("HDR-FLIP mean to reference")
+save(fig, "convergence_flip.png")
+
 # Seconds against spp and error against seconds, for the same renders.
 fig, axes = plt.subplots(2, 5, figsize=(17, 6.5))
 for i, scene in enumerate(scenes):

@@ -43,6 +43,16 @@ using namespace glint;
 
 namespace {
 
+/// HDR-FLIP's mean error against the reference; NaN where it is undefined (a reference half or
+/// more black, glint/image/flip.h).
+double hdrFlip(const Image& image, const Image& reference) {
+    try {
+        return computeMetric(Metric::FlipHdr, image, reference).value;
+    } catch (const Error&) {
+        return std::nan("");
+    }
+}
+
 double secondsSince(Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
 }
@@ -141,7 +151,7 @@ Args parseArgs(int argc, char** argv, int first) {
 // ---- part 1 and 2: convergence -------------------------------------------------------------
 
 /// Renders progressively up to maxSpp and records, at every power-of-two spp the pass schedule
-/// reaches, the elapsed seconds and the relMSE and SSIM against the reference.
+/// reaches, the elapsed seconds and the relMSE, SSIM and HDR-FLIP against the reference.
 void convergence(const Args& a) {
     const fs::path dir = a.positional[0];
     const int scale = std::stoi(a.get("scale", "2"));
@@ -153,7 +163,7 @@ void convergence(const Args& a) {
     std::ostringstream tail;
     tail << ',' << ref.spp << ',' << ref.floor << '\n';
     std::ostringstream csv;
-    csv << "scene,method,spp,seconds,relmse,ssim,reference_spp,reference_floor\n";
+    csv << "scene,method,spp,seconds,relmse,ssim,flip,reference_spp,reference_floor\n";
     std::stringstream list(methods);
     for (std::string method; std::getline(list, method, ',');) {
         render::Renderer renderer(loadScaled(dir, scale));
@@ -174,7 +184,8 @@ void convergence(const Args& a) {
                 const render::RenderResult rm = renderer.render(s);
                 csv << dir.filename().string() << ",mlt," << spp << ',' << rm.stats.seconds << ','
                     << relMse(rm.frame.color(), reference).value << ','
-                    << ssim(rm.frame.color(), reference).value << tail.str();
+                    << ssim(rm.frame.color(), reference).value << ','
+                    << hdrFlip(rm.frame.color(), reference) << tail.str();
             }
             std::fprintf(stderr, "convergence %s mlt done\n", dir.filename().c_str());
             continue;
@@ -190,7 +201,8 @@ void convergence(const Args& a) {
                 const double seconds = std::chrono::duration<double>(t0 - start).count() - excluded;
                 csv << dir.filename().string() << ',' << method << ',' << spp << ',' << seconds
                     << ',' << relMse(frame.color(), reference).value << ','
-                    << ssim(frame.color(), reference).value << tail.str();
+                    << ssim(frame.color(), reference).value << ','
+                    << hdrFlip(frame.color(), reference) << tail.str();
             }
             excluded += secondsSince(t0);
         };
