@@ -67,7 +67,7 @@ void inArena(int threads, const std::function<void()>& work) {
 
 /// The bank and the options of its build a Python caller gives by keyword.
 BankOptions bankOptions(int size, std::uint64_t seed, py::handle filters, py::handle filterParams,
-                        bool prefilter, py::handle region, const fs::path& cacheDir,
+                        bool prefilter, py::handle region, py::handle cacheDir,
                         std::uint64_t memoryLimit) {
     BankOptions options;
     options.size = size;
@@ -81,7 +81,8 @@ BankOptions bankOptions(int size, std::uint64_t seed, py::handle filters, py::ha
         }
     options.prefilter = prefilter;
     options.region = regionFrom(region);
-    options.cacheDir = cacheDir;
+    // None, not "": pybind11 gives an empty path to Python as Path("."), the current folder.
+    if (!cacheDir.is_none()) options.cacheDir = cacheDir.cast<fs::path>();
     options.memoryLimit = memoryLimit;
     validate(options);
     return options;
@@ -157,10 +158,19 @@ void bindDenoise(py::module_& m) {
     m.def(
         "build_bank",
         [](const FrameBuffers& frame, int size, std::uint64_t seed, py::handle filters,
-           py::handle filterParams, bool prefilter, py::handle region, const fs::path& cacheDir,
+           py::handle filterParams, bool prefilter, py::handle region, py::handle cacheDir,
            std::uint64_t memoryLimit, py::object progress, int threads) {
             BankOptions options = bankOptions(size, seed, filters, filterParams, prefilter, region,
                                               cacheDir, memoryLimit);
+            if (!options.cacheDir.empty()) {
+                // As glint-denoise bank: the cache folder is made when missing.
+                std::error_code ec;
+                fs::create_directories(options.cacheDir, ec);
+                if (ec)
+                    throw Error(ErrorKind::Io,
+                                "cannot create the bank folder (" + ec.message() + ")",
+                                options.cacheDir.string(), "cache_dir");
+            }
             Job job(std::move(progress));
             options.progress = job.progressFn();
             auto bank = std::make_shared<FilterBank>();
@@ -170,7 +180,7 @@ void bindDenoise(py::module_& m) {
         py::arg("frame"), py::arg("size") = 64, py::arg("seed") = 1,
         py::arg("filters") = py::none(), py::arg("filter_params") = py::none(),
         py::arg("prefilter") = false, py::arg("region") = py::none(),
-        py::arg("cache_dir") = fs::path(), py::arg("memory_limit") = 0,
+        py::arg("cache_dir") = py::none(), py::arg("memory_limit") = 0,
         py::arg("progress") = py::none(), py::arg("threads") = 0,
         "Builds the filter bank of a frame (glint-denoise bank): Latin-hypercube members of the "
         "filters (the default bank's unless named) plus each filter's defaults.");
@@ -226,7 +236,7 @@ void bindDenoise(py::module_& m) {
             }
             const BankOptions b =
                 bankOptions(size.is_none() ? autoQualityBankSize(q) : size.cast<int>(), bankSeed,
-                            filters, py::none(), false, py::none(), {}, 0);
+                            filters, py::none(), false, py::none(), py::none(), 0);
             job.run([&] {
                 inArena(threads, [&] {
                     StreamedAuto s = autoCompositeStreamed(frame, b, options);

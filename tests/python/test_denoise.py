@@ -56,8 +56,12 @@ def test_a_cancelled_filter_raises_cancelled():
         glint.apply_filter(frame, "nlmeans", progress=lambda f: False, threads=1)
 
 
-def test_a_bank_s_results_are_read_only_views_equal_to_each_member_applied_alone(tiny_frame):
+def test_a_bank_s_results_are_read_only_views_equal_to_each_member_applied_alone(
+        tiny_frame, tmp_path, monkeypatch):
+    (tmp_path / "cwd").mkdir()
+    monkeypatch.chdir(tmp_path / "cwd")
     bank = glint.build_bank(tiny_frame, size=4, seed=2, filters=["gaussian", "cross-bilateral"])
+    assert not list((tmp_path / "cwd").iterdir())  # no cache folder: nothing written
     assert len(bank) >= 4 and bank.region == (0, 0, 32, 32)
     for i, member in enumerate(bank.members):
         result = bank.result(i)
@@ -98,3 +102,10 @@ def test_auto_without_variance_or_halves_refuses_sure(tiny_frame):
     frame["color"] = tiny_frame["color"]
     with pytest.raises(glint.Error, match="variance"):
         glint.auto(frame, estimator="sure")
+
+
+def test_a_bank_with_a_cache_folder_is_read_back_from_it(tiny_frame, tmp_path):
+    first = glint.build_bank(tiny_frame, size=4, cache_dir=tmp_path / "bank")
+    assert (tmp_path / "bank" / "index.json").exists() and first.cache_hits == 0
+    again = glint.build_bank(tiny_frame, size=4, cache_dir=tmp_path / "bank")
+    assert again.cache_hits == len(again) == len(first)
