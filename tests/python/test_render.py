@@ -3,6 +3,7 @@ and cancelling, look edits, and a closed ("dead") scene raising instead of crash
 import os
 import signal
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -66,6 +67,28 @@ def test_ctrl_c_stops_a_render_with_keyboard_interrupt(tmp_path):
                 scene.render(spp=1000000, threads=1)  # hours without the interrupt
         finally:
             timer.cancel()
+
+
+def test_other_python_threads_run_while_glint_renders(tmp_path):
+    ticks = []
+    stop = threading.Event()
+
+    def tick():
+        while not stop.is_set():
+            ticks.append(1)
+            time.sleep(0.001)
+
+    with glint.load_scene(write_cornell(tmp_path, 64)) as scene:
+        ticker = threading.Thread(target=tick)
+        ticker.start()
+        try:
+            result = scene.render(spp=256, threads=1)
+            during = len(ticks)
+        finally:
+            stop.set()
+            ticker.join()
+    # With the GIL held through the render the ticker would not run at all.
+    assert result.stats["completed_spp"] == 256 and during > 5
 
 
 def test_settings_are_given_by_name_and_checked_by_glint(tiny_scene):
