@@ -8,11 +8,14 @@ DEB_PACKAGES := build-essential cmake ninja-build pkg-config \
   libembree-dev libopenimageio-dev libopencv-core-dev openimageio-tools libopenexr-dev \
   libtinyobjloader-dev libtinygltf-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev \
   nlohmann-json3-dev libcli11-dev libeigen3-dev libdnnl-dev ocl-icd-opencl-dev \
-  qt6-base-dev libgl-dev xvfb xauth fonts-dejavu-core
+  qt6-base-dev libgl-dev xvfb xauth fonts-dejavu-core \
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
 # qt6-base-dev (with libgl-dev, which Qt6Gui's CMake config asks for) builds the studio (gui/);
 # xvfb, xauth and fonts-dejavu-core run its screenshot test in a real X server.
 # libdnnl-dev (oneDNN) runs the learned filter unet; its CMake config needs the OpenCL
 # headers and loader (ocl-icd-opencl-dev) although Glint uses only its CPU engine.
+# pybind11-dev and python3-dev build the Python module (python/); numpy, pytest and matplotlib run
+# its tests and the worked example of docs/python.md.
 
 .PHONY: all deps build test clean demo bench bench-deps fuzz studio test-sanitize report test-slurm
 

@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 const fs::path kRoot = GLINT_SOURCE_DIR;
 
 /// The modules whose folders the layout section lists.
-const std::vector<std::string> kModules = {"image", "renderer", "denoise", "gui", "lab"};
+const std::vector<std::string> kModules = {"image", "renderer", "denoise", "gui", "lab", "python"};
 
 std::string readText(const fs::path& file) {
     std::ifstream in(file, std::ios::binary);
