@@ -8,6 +8,8 @@
 
 #include "app/main_window.h"
 #include "app/studio_settings.h"
+#include "glint/image/error.h"
+#include "glint/image/tev_client.h"
 
 int main(int argc, char** argv) {
     QApplication app(argc, argv);
@@ -33,8 +35,19 @@ int main(int argc, char** argv) {
                                 QStringLiteral("DIR"));
     QCommandLineOption noRestore(QStringLiteral("no-restore"),
                                  QStringLiteral("do not offer to restore a crashed session"));
+    QCommandLineOption tevListen(
+        QStringLiteral("tev-listen"),
+        QStringLiteral("listen on this port of 127.0.0.1 for images sent by tev clients "
+                       "(pbrt-v4 --display-server, glint-render --display); 14158 is tev's own"),
+        QStringLiteral("PORT"));
+    QCommandLineOption tevDisplay(
+        QStringLiteral("tev-display"),
+        QStringLiteral("send each pass of the studio's renders to tev at HOST:PORT"),
+        QStringLiteral("HOST:PORT"));
     parser.addOption(autosave);
     parser.addOption(noRestore);
+    parser.addOption(tevListen);
+    parser.addOption(tevDisplay);
     // Not QCommandLineParser::process, which exits 1 on a bad option: a bad command line exits 2,
     // as every Glint tool does.
     if (!parser.parse(QApplication::arguments())) {
@@ -53,6 +66,31 @@ int main(int argc, char** argv) {
     glint::studio::StudioOptions options;
     options.autosaveBase = parser.value(autosave);
     options.offerRestore = !parser.isSet(noRestore);
+    // tev: the settings, then the command line (docs/studio.md, "Receiving images").
+    const glint::studio::TevSettings tev = glint::studio::tevSettings();
+    options.tevListenPort = tev.listenPort;
+    options.tevAnyInterface = tev.anyInterface;
+    options.tevDisplay = tev.display;
+    if (parser.isSet(tevListen)) {
+        bool ok = false;
+        options.tevListenPort = parser.value(tevListen).toInt(&ok);
+        if (!ok || options.tevListenPort < 0 || options.tevListenPort > 65535) {
+            std::fprintf(stderr,
+                         "glint-studio: command line: --tev-listen: '%s' is no port "
+                         "(expected 0 … 65535)\n",
+                         qPrintable(parser.value(tevListen)));
+            return 2;
+        }
+    }
+    if (parser.isSet(tevDisplay)) {
+        options.tevDisplay = parser.value(tevDisplay);
+        try {
+            glint::tev::parseAddress(options.tevDisplay.toStdString(), "--tev-display");
+        } catch (const glint::Error& e) {
+            std::fprintf(stderr, "glint-studio: %s\n", glint::oneLine(e.what()).c_str());
+            return 2;
+        }
+    }
     glint::studio::MainWindow window(options);
     window.show();
     const QString file = parser.positionalArguments().value(0);

@@ -123,6 +123,7 @@ MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
     buildMenus();
     new CanvasKeys(this, m_viewer->canvas(), m_actions.all());
     connectModel();
+    connectTev();
     new WheelGuard(this);
     // The preferred size, or what fits the screen; a restored geometry inside it stays.
     placeOnScreen(*this, QSize(1400, 860));

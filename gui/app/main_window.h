@@ -35,6 +35,8 @@ class HelpOverlay;
 class ElidedLabel;
 class StageView;
 class ProgramAllowance;
+class TevListener;
+class TevSender;
 
 /// Options of a studio window (from the command line, or a test).
 struct StudioOptions {
@@ -43,6 +45,12 @@ struct StudioOptions {
     bool confirmDiscard = true;  ///< ask before unsaved painting is dropped (tests say no)
     /// A newly opened file's first render gets a cross-bilateral layer (model/first_denoise.h).
     bool denoiseFirstImage = true;
+    /// Listen for tev clients on this port (-1: do not; 0: any free one), on 127.0.0.1 unless
+    /// `tevAnyInterface` (docs/studio.md, "Receiving images").
+    int tevListenPort = -1;
+    bool tevAnyInterface = false;
+    /// Send each pass of a render to tev at HOST:PORT (empty: do not).
+    QString tevDisplay;
 };
 
 class MainWindow : public QMainWindow {
@@ -86,6 +94,9 @@ class MainWindow : public QMainWindow {
     /// The question that allows an unavailable layer's program (app/program_allowance.h).
     ProgramAllowance* programAllowance() { return m_allowance; }
     const StudioActions& actions() const { return m_actions; }
+    /// The tev listener (null unless StudioOptions::tevListenPort asked for one) and sender.
+    TevListener* tevListener() { return m_tevListener; }
+    TevSender* tevSender() { return m_tevSender; }
     /// Switches to stage 0–3 (features, region, filter, paint); `navigate` picks the navigation
     /// tab of the filter stage.
     void setStage(int stage, bool navigate = false);
@@ -128,6 +139,8 @@ class MainWindow : public QMainWindow {
     void exportResult(bool exr);
     void applyRecovered(Recovered& recovered);
     QString autosaveBase() const;
+    /// The tev listener and sender of the options, their log lines in the status bar.
+    void connectTev();
 
     StudioOptions m_options;
     Document* m_document;
@@ -158,6 +171,8 @@ class MainWindow : public QMainWindow {
     StageView* m_activeStage = nullptr;
     bool m_restoring = false;
     std::function<void()> m_afterSave;  // what maybeSave() resumes once the save is written
+    TevListener* m_tevListener = nullptr;
+    TevSender* m_tevSender = nullptr;
 };
 
 }  // namespace glint::studio

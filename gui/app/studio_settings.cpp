@@ -70,4 +70,13 @@ bool restoreWindowState(QMainWindow& window) {
                                kStateVersion);
 }
 
+TevSettings tevSettings() {
+    QSettings s;
+    TevSettings t;
+    t.listenPort = s.value(QStringLiteral("tev/listenPort"), -1).toInt();
+    t.anyInterface = s.value(QStringLiteral("tev/anyInterface"), false).toBool();
+    t.display = s.value(QStringLiteral("tev/display")).toString();
+    return t;
+}
+
 }  // namespace glint::studio

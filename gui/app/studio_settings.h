@@ -27,4 +27,13 @@ void saveWindowState(const QMainWindow& window);
 /// to restore (the window keeps its own).
 bool restoreWindowState(QMainWindow& window);
 
+/// The tev settings (QSettings "tev/listenPort", "tev/anyInterface", "tev/display"; docs/studio.md,
+/// "Receiving images"): all off unless set, the command line's options win over them.
+struct TevSettings {
+    int listenPort = -1;  ///< -1: do not listen
+    bool anyInterface = false;
+    QString display;  ///< HOST:PORT, empty: do not send
+};
+TevSettings tevSettings();
+
 }  // namespace glint::studio

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -23,6 +24,7 @@
 #include "glint/image/memory.h"
 #include "glint/image/metrics.h"
 #include "glint/image/shard.h"
+#include "glint/image/tev_client.h"
 #include "glint/render/asset_formats.h"
 #include "glint/render/importance_map.h"
 #include "glint/render/renderer.h"
@@ -47,6 +49,7 @@ struct Options {
     /// --set: any named render setting, "name=value" each (scene.json's render keys).
     std::vector<std::string> set;
     std::string importance;  ///< --importance: the adaptive passes' per-pixel weights
+    std::string display;     ///< --display HOST:PORT: each pass to a running tev
 };
 
 /// The named settings with a flag of their own (--spp, --max-depth, …); the others are set by
@@ -137,6 +140,28 @@ void drawBar(double fraction, int pass) {
     std::fflush(stderr);
 }
 
+/// A display sending each pass to tev at `address` as the image named after `out` (a pass's
+/// frame is copied: the renderer goes on while it is sent); a tev that is not there or goes
+/// away is one warning line, and the render goes on (docs/renderer.md, "Watching a render in
+/// tev").
+std::unique_ptr<glint::tev::Display> showPasses(const glint::tev::Address& address,
+                                                const std::string& out,
+                                                glint::render::Callbacks& callbacks) {
+    glint::tev::DisplayOptions options;
+    options.address = address;
+    options.name = std::filesystem::path(out).filename().string();
+    options.warn = [](const std::string& line) {
+        std::fprintf(stderr, "glint-render: warning: %s\n", glint::oneLine(line).c_str());
+    };
+    auto display = std::make_unique<glint::tev::Display>(std::move(options));
+    callbacks.passDone = [display = display.get(), before = callbacks.passDone](
+                             int pass, const glint::FrameBuffers& frame) {
+        if (before) before(pass, frame);
+        display->show(std::make_shared<glint::FrameBuffers>(frame));
+    };
+    return display;
+}
+
 int run(const Options& opt) {
     const bool tty = isatty(fileno(stderr)) != 0;
     auto stage = [&](const std::string& line) {
@@ -147,6 +172,8 @@ int run(const Options& opt) {
     glint::cli::checkOutputPath(opt.out, {".exr"}, "--out");
     glint::cli::checkOutputIsNoInput(opt.out, "--out", {{opt.reference, "--reference"}});
     glint::cli::removeTemporariesOnSignal({opt.out});
+    std::optional<glint::tev::Address> tevAddress;
+    if (!opt.display.empty()) tevAddress = glint::tev::parseAddress(opt.display, "--display");
     const auto t0 = std::chrono::steady_clock::now();
     // --memory-limit holds the load too: an asset whose predicted load peak exceeds it is
     // refused before it is read (docs/renderer.md, "Memory").
@@ -270,6 +297,9 @@ int run(const Options& opt) {
         };
     }
 
+    std::unique_ptr<glint::tev::Display> display;
+    if (tevAddress) display = showPasses(*tevAddress, opt.out, callbacks);
+
     glint::render::RenderResult result = renderer.render(settings, callbacks);
     const glint::FrameBuffers& frame = result.frame;
     const glint::render::RenderStats& stats = result.stats;
@@ -285,6 +315,10 @@ int run(const Options& opt) {
     }
     stage("writing " + opt.out);
     glint::writeExr(frame, opt.out);
+    if (display) {
+        display->show(std::make_shared<glint::FrameBuffers>(frame));
+        display->finish();
+    }
     // A variance below float's range is written as 0: say so, it is no estimate of the noise.
     const auto underflow = frame.metadata().extra.find(glint::kVarianceUnderflowKey);
     const long long underflowPixels =
@@ -418,6 +452,9 @@ int main(int argc, char** argv) {
     app.add_option("--importance", opt.importance,
                    "adaptive sampling with these per-pixel weights (EXR: one channel, or the "
                    "luminance of RGB; the film's size) multiplying each pixel's estimated error");
+    app.add_option("--display", opt.display,
+                   "HOST:PORT of a running tev (e.g. 127.0.0.1:14158): each pass is sent to it "
+                   "with every layer; a tev that is not there is one warning");
     if (const auto code = glint::cli::parseCommandLine(app, argc, argv, "glint-render"))
         return *code;
     return glint::cli::runGuarded("glint-render", [&] { return run(opt); });
