@@ -73,8 +73,9 @@ def framing_camera(scene, width, height):
     return cam
 
 
-def main():
-    args = parse_args()
+def build_scene(args):
+    """The imported asset, its camera, world and Cycles' settings (`args` as parse_args gives):
+    everything but the output, for this script and lab/bench/cycles/race_cycles.py."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
     if args.asset.lower().endswith(".obj"):
         bpy.ops.import_scene.obj(filepath=args.asset)
@@ -145,6 +146,12 @@ def main():
     cycles.caustics_reflective = True
     cycles.caustics_refractive = True
     cycles.filter_width = 0.01  # a box over the pixel, as Glint's film
+    return scene
+
+
+def main():
+    args = parse_args()
+    scene = build_scene(args)
     scene.render.image_settings.file_format = "OPEN_EXR"
     scene.render.image_settings.color_depth = "32"
     scene.render.image_settings.color_mode = "RGB"
@@ -157,4 +164,5 @@ def main():
                       "seconds": seconds, "out": args.out}), flush=True)
 
 
-main()
+if __name__ == "__main__":
+    main()

@@ -49,6 +49,14 @@ echo "== 6. threads and peak memory"
 "$R" threads scenes/cornell --out "$OUT/threads.csv"
 
 echo "   (${SECONDS} s)"
+echo "== 7. the equal-time race against Cycles + OIDN (docs/lab/race.md; RACE=1 reruns it, ~30 min)"
+if [ "${RACE:-0}" = 1 ]; then
+  lab/bench/race.sh "$BUILD" "$OUT"
+elif [ -f "$OUT/race.csv" ]; then
+  /usr/bin/python3 lab/bench/report/plot_race.py "$OUT" >/dev/null  # race.png from race.csv
+fi
+
+echo "   (${SECONDS} s)"
 echo "== plots"
 /usr/bin/python3 lab/bench/report/plot_tradeoffs.py "$OUT"
 echo "report: done in ${SECONDS} s; CSVs and PNGs in $OUT/"

@@ -1,0 +1,168 @@
+// Adaptive sampling's bias (issue 49; docs/renderer.md "Adaptive sampling",
+// docs/lab/adaptive-bias.md): pixel by pixel, an adaptive render's mean is a uniform render's of
+// the same total samples within the noise both report, for both choices of the error that steers it
+// (the odd half alone, every sample). The comparison is the image module's Monte Carlo test
+// (glint/image/ mc_compare.h, docs/testing.md): per-value z-scores from both variance layers,
+// self-normalised window sums, a stated false-alarm rate.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "glint/image/frame_buffers.h"
+#include "glint/image/mc_compare.h"
+#include "glint/render/renderer.h"
+#include "glint/render/scene.h"
+#include "test_util.h"
+
+namespace glint::render {
+namespace {
+
+/// The false-alarm rate of one comparison (kAlpha / 3 for each channel). The first test makes 12 (4
+/// seeds; the whole image of both choices and the even half of `half`): by Bonferroni, an unbiased
+/// renderer fails it with a probability of at most 1.2 % over the draw of seeds; the seeds are
+/// fixed, so it either always passes or always fails.
+constexpr double kAlpha = 1e-3;
+constexpr int kSeeds[] = {1, 2, 3, 4};
+
+/// A diffuse ball on a floor under a white sky, 32 × 24 (the mc windows of 8 and 16 pixels fit):
+/// noisy soft shadows and interreflection on the objects, a noiseless sky in the top rows.
+class AdaptiveBias : public ::testing::Test {
+  protected:
+    AdaptiveBias() : m_dir("adaptive_bias") {
+        m_dir.write("quad.obj", test::quadObj());
+        m_dir.write("sphere.obj", test::sphereObj(1.0f));
+    }
+
+    /// The scene with the ball's albedo (r, 0.3, 0.2).
+    Scene scene(double ballRed) const {
+        const auto path = m_dir.write("scene.json", R"({
+          "camera": {"position": [0, 1.2, 3], "lookAt": [0, 0.5, 0], "fovY": 40},
+          "film": {"width": 32, "height": 24},
+          "materials": {"floor": {"type": "diffuse", "albedo": [0.6, 0.6, 0.6]},
+                        "ball": {"type": "diffuse", "albedo": [)" +
+                                                        std::to_string(ballRed) + R"(, 0.3, 0.2]}},
+          "shapes": [{"obj": "quad.obj", "material": "floor", "transform": {"scale": 3}},
+                     {"obj": "sphere.obj", "material": "ball",
+                      "transform": {"translate": [0, 0.5, 0], "scale": 0.5}}],
+          "environment": {"color": [1, 1, 1]},
+          "render": {"spp": 8, "maxDepth": 3}
+        })");
+        return loadScene(path);
+    }
+
+    /// Adaptive sampling from 64 spp up to 512 at threshold 0.005 (about 190 spp a pixel on
+    /// average), half buffers on.
+    static Settings adaptive(AdaptiveError from, std::uint64_t seed) {
+        Settings s;
+        s.spp = 512;
+        s.seed = seed;
+        s.maxDepth = 3;
+        s.threads = 2;
+        s.tileSize = 8;
+        s.halfBuffers = true;
+        s.adaptive = true;
+        s.minSpp = 64;
+        s.noiseThreshold = 0.005;
+        s.adaptiveError = from;
+        return s;
+    }
+
+    /// A uniform render of `samples` samples in all (rounded to whole spp) with another seed.
+    static Settings uniform(double samples, int pixels, std::uint64_t seed) {
+        Settings s = adaptive(AdaptiveError::Half, seed + 1000);
+        s.adaptive = false;
+        s.spp = int(std::lround(samples / pixels));
+        return s;
+    }
+
+    test::TempDir m_dir;
+};
+
+double totalSamples(const FrameBuffers& f) {
+    double n = 0.0;
+    for (float c : f.layer(Layer::SampleCount).data()) n += c;
+    return n;
+}
+
+/// Channel c of `image`, as a one-channel image.
+Image channel(const Image& image, int c) {
+    Image out(image.width(), image.height(), 1);
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x) out(x, y, 0) = image(x, y, c);
+    return out;
+}
+
+/// The Monte Carlo comparison of the colour of `a` and `b` with their variance layers, channel
+/// by channel at kAlpha / 3 each (the worst channel's result): mc's rate holds for independent
+/// values, and a pixel's R, G and B come from the same paths (compared together, their
+/// correlated z-scores would inflate the window statistic by up to sqrt(3)).
+McCompareResult compareColour(const FrameBuffers& a, const FrameBuffers& b) {
+    McCompareResult worst;
+    for (int c = 0; c < 3; ++c) {
+        auto of = [c](const FrameBuffers& f, Layer l) { return channel(f.layer(l), c); };
+        const McCompareResult r =
+            mcCompare(of(a, Layer::Color), of(a, Layer::Variance), of(b, Layer::Color),
+                      of(b, Layer::Variance), McCompareOptions{kAlpha / 3});
+        if (c == 0 || r.statistic / r.threshold > worst.statistic / worst.threshold) worst = r;
+    }
+    worst.passed = worst.statistic <= worst.threshold;
+    return worst;
+}
+
+std::string describe(const McCompareResult& r) {
+    return "statistic " + std::to_string(r.statistic) + " (threshold " +
+           std::to_string(r.threshold) + ", " + std::to_string(r.windows) +
+           " windows), worst window x " + std::to_string(r.worstWindow.x0) + ".." +
+           std::to_string(r.worstWindow.x1) + ", y " + std::to_string(r.worstWindow.y0) + ".." +
+           std::to_string(r.worstWindow.y1) + " differs by " +
+           std::to_string(100.0 * r.relativeBias) + " %";
+}
+
+TEST_F(AdaptiveBias, EachPixelsMeanIsTheUniformRendersOfTheSameSamplesForBothChoices) {
+    Renderer renderer(scene(0.8));
+    for (const int seed : kSeeds) {
+        for (AdaptiveError from : {AdaptiveError::Half, AdaptiveError::Whole}) {
+            const FrameBuffers a = renderer.render(adaptive(from, seed)).frame;
+            // The pixels took different counts (else this would compare two uniform renders).
+            const auto counts = a.layer(Layer::SampleCount).data();
+            ASSERT_LT(*std::min_element(counts.begin(), counts.end()),
+                      *std::max_element(counts.begin(), counts.end()));
+            const int pixels = a.width() * a.height();
+            const FrameBuffers u = renderer.render(uniform(totalSamples(a), pixels, seed)).frame;
+            const std::string what = std::string(adaptiveErrorName(from)) + ", seed " +
+                                     std::to_string(seed) + ", mean spp " +
+                                     std::to_string(totalSamples(a) / pixels);
+            const McCompareResult whole = compareColour(a, u);
+            std::printf("%s, every sample: %s\n", what.c_str(), describe(whole).c_str());
+            EXPECT_TRUE(whole.passed) << what << ": " << describe(whole);
+            if (from == AdaptiveError::Half) {
+                // The even half (half A), which never steered: unbiased by construction.
+                const McCompareResult even = compareColour(splitHalves(a).first, u);
+                std::printf("%s, even half: %s\n", what.c_str(), describe(even).c_str());
+                EXPECT_TRUE(even.passed) << what << " (even half): " << describe(even);
+            }
+        }
+    }
+}
+
+TEST_F(AdaptiveBias, TheComparisonFindsAThreePercentChangeOfTheBallsRed) {
+    // The power of the test above on this scene at these sample counts: the uniform render of
+    // a ball 3 % less red fails the comparison for every seed.
+    Renderer renderer(scene(0.8));
+    Renderer darker(scene(0.8 * 0.97));
+    for (const int seed : kSeeds) {
+        const FrameBuffers a = renderer.render(adaptive(AdaptiveError::Half, seed)).frame;
+        const int pixels = a.width() * a.height();
+        const FrameBuffers u = darker.render(uniform(totalSamples(a), pixels, seed)).frame;
+        const McCompareResult r = compareColour(a, u);
+        std::printf("seed %d, ball 3 %% less red: %s\n", seed, describe(r).c_str());
+        EXPECT_FALSE(r.passed) << "seed " << seed << ": " << describe(r);
+    }
+}
+
+}  // namespace
+}  // namespace glint::render
