@@ -595,7 +595,7 @@ void Pipeline::stackPass(const std::vector<int>& order, AutoResult& result) {
     // The halves' colour over the region.
     Image cropA, cropB;
     result.composite = stackComposite(
-        result.composite, m_blendA, m_blendB, k + featureCount, load,
+        std::move(result.composite), m_blendA, m_blendB, k + featureCount, load,
         regionOf(m_halves->halfA().color(), cropA), regionOf(m_halves->halfB().color(), cropB),
         weightAtC, m_s.stackWindow, m_s.stackRidge, m_s.stackFloor, m_s.stackSmooth, &m_work);
     result.stacked = int(k);
@@ -626,9 +626,9 @@ AutoResult Pipeline::run() {
     // The temperature's unit (before the maps, so that the weights it needs can go first).
     const ErrorEstimator& estimator =
         m_halves ? static_cast<const ErrorEstimator&>(*m_halves) : *m_sure;
-    const Image noise = m_s.temperature > 0.0
-                            ? noiseLevel(estimator, m_region, m_weight, m_s.window, m_work)
-                            : Image{};
+    Image noise = m_s.temperature > 0.0
+                      ? noiseLevel(estimator, m_region, m_weight, m_s.window, m_work)
+                      : Image{};
     if (!m_s.tangent) m_weight = Image{};
     // Passes 2 and 3, again with the maps held if their spill failed on the way.
     std::vector<std::size_t> candidates;
@@ -649,6 +649,7 @@ AutoResult Pipeline::run() {
     } while (m_mapsInSpill && m_mapSpill.failed());
     m_median = Image{}, m_weight = Image{}, m_displayMedian = {};
     m_estimates.maps = {}, m_estimates.mapRows = {};
+    noise = Image{};
     for (std::size_t m = 0; m < n; ++m) m_mapSpill.drop(std::int64_t(m));
     dropSpilled([&](std::size_t m) { return !chosen.planes[m].empty(); });
 

@@ -153,21 +153,23 @@ Image stackComposite(const Image& composite, const Image& blendA, const Image& b
             }
         }
     };
-    return stackComposite(composite, blendA, blendB, members.size(), load, halfA, halfB, weight,
-                          radius, ridge, floor, smooth, work);
+    return stackComposite(Image(composite), blendA, blendB, members.size(), load, halfA, halfB,
+                          weight, radius, ridge, floor, smooth, work);
 }
 
-Image stackComposite(const Image& composite, const Image& blendA, const Image& blendB,
-                     std::size_t count, const LoadStackRows& load, const Image& halfA,
-                     const Image& halfB, const Image& weight, int radius, double ridge,
-                     double floor, int smooth, WorkContext* work) {
+Image stackComposite(Image composite, const Image& blendA, const Image& blendB, std::size_t count,
+                     const LoadStackRows& load, const Image& halfA, const Image& halfB,
+                     const Image& weight, int radius, double ridge, double floor, int smooth,
+                     WorkContext* work) {
     const int w = composite.width(), h = composite.height();
     const std::size_t k = count;
     GLINT_CHECK(composite.channels() == 3 && blendA.sameShape(composite) &&
                 blendB.sameShape(composite) && halfA.sameShape(composite) &&
                 halfB.sameShape(composite) && (weight.empty() || weight.sameShape(composite)) &&
                 radius >= 1 && floor >= 0.0 && smooth >= 0 && k > 0 && k <= kMaxStackRegressors);
-    Image out = composite;
+    // Corrected in place: a pixel's value is read before it is written, and nothing else reads
+    // the composite.
+    Image& out = composite;
     // Loaded rows (`into`, from row `intoY0` on), checked as they come: the regression's, and
     // with `smooth` the smoothing's results on all the samples.
     StackRows rows, fullRows;
@@ -275,14 +277,17 @@ Image stackComposite(const Image& composite, const Image& blendA, const Image& b
         coefficientsY0 = read;
         if (work) work->addWork(2 * (until - from));
     };
-    std::vector<double> horizontal;  // reused by every tile
     for (int t0 = 0; t0 < h; t0 += kStackTileRows) {
         const int t1 = std::min(h, t0 + kStackTileRows);
         const int y0 = std::max(0, t0 - radius), y1 = std::min(h, t1 + radius);
+        if (work) work->throwIfCancelled();
         loadRows(y0, y1, smooth == 0, true, rows, rowsY0);
         if (smooth > 0) coefficients.resize(std::size_t(t1 - coefficientsY0) * rowValues, 0.0f);
-        boxAveragesOfRows(
-            w, y1 - y0, radius, planes, [&](int yy, double* terms) { fillTerms(y0 + yy, terms); },
+        // The tile's window sums row after row (2·radius + 2 rows of horizontal sums, not the
+        // tile's): boxAveragesOfRows' averages over its rows, value for value.
+        RunningBoxAverages sums(w, y1 - y0, radius, planes);
+        sums.advance(
+            y1 - y0, [&](int yy, double* terms) { fillTerms(y0 + yy, terms); },
             [&](int x, int yy, const double* means) {
                 const int y = y0 + yy;
                 if (y < t0 || y >= t1) return;  // context rows: another tile's
@@ -303,8 +308,8 @@ Image stackComposite(const Image& composite, const Image& blendA, const Image& b
                 float* to = coefficients.data() + std::size_t(y - coefficientsY0) * rowValues +
                             std::size_t(x) * k;
                 for (std::size_t i = 0; i < k; ++i) to[i] = float(a[i]);
-            },
-            &horizontal, work);
+            });
+        if (work) work->addWork(2 * (y1 - y0));
         if (smooth > 0) {
             rows = StackRows{};
             if (work) work->throwIfCancelled();
@@ -319,7 +324,10 @@ std::uint64_t stackTileBytes(int width, std::size_t count, int radius, int smoot
     const auto w = std::uint64_t(std::max(0, width));
     const std::uint64_t k = count, planes = k * (k + 1) / 2 + k + 1;
     const auto tile = std::uint64_t(kStackTileRows), context = tile + 2 * std::uint64_t(radius);
-    const std::uint64_t regression = w * context * (planes * sizeof(double) + 2 * k * 12);
+    // The tile's regressors on the halves, and its window sums: a ring of 2·radius + 2 rows, the
+    // running sums and a row's prefix sums.
+    const std::uint64_t regression =
+        w * context * 2 * k * 12 + w * planes * sizeof(double) * (2 * std::uint64_t(radius) + 4);
     const std::uint64_t smoothing = w * k *
                                     ((tile + std::uint64_t(smooth)) * sizeof(float) +
                                      (2 * std::uint64_t(smooth) + 2) * sizeof(double) + tile * 12);

@@ -91,14 +91,15 @@ struct StackRows {
 using LoadStackRows = std::function<void(int y0, int y1, bool full, bool halves, StackRows& rows)>;
 
 /// stackComposite with the `count` regressors' results read by rows through `load` (the tiled
-/// pipeline's: from the spill, the bank or the filter again) instead of held whole: the same
-/// floats. The regression loads each tile of kStackTileRows rows with its context rows once;
-/// the smoothing runs behind it, loading the results on all the samples of the rows it reaches
-/// once, in row order, so that only the coefficients of rows not yet smoothed are held.
-Image stackComposite(const Image& composite, const Image& blendA, const Image& blendB,
-                     std::size_t count, const LoadStackRows& load, const Image& halfA,
-                     const Image& halfB, const Image& weight, int radius, double ridge,
-                     double floor, int smooth, WorkContext* work = nullptr);
+/// pipeline's: from the spill, the bank or the filter again) instead of held whole, and the
+/// composite corrected in place: the same floats. The regression loads each tile of kStackTileRows
+/// rows with its context rows once; the smoothing runs behind it, loading the results on all the
+/// samples of the rows it reaches once, in row order, so that only the coefficients of rows not yet
+/// smoothed are held.
+Image stackComposite(Image composite, const Image& blendA, const Image& blendB, std::size_t count,
+                     const LoadStackRows& load, const Image& halfA, const Image& halfB,
+                     const Image& weight, int radius, double ridge, double floor, int smooth,
+                     WorkContext* work = nullptr);
 
 /// The rows of the regression's tiles (each with `radius` rows of context on either side), so
 /// that the sums of a 1024-wide frame with 10 regressors take about 75 MB, not ten times that.

@@ -88,9 +88,9 @@ std::uint64_t autoFixedMemory(const FilterBank& bank, const FrameBuffers& frame,
     // images (the features' regressors on three sides, its coefficients, the final weight
     // planes), and the median, the display weights, the noise, the composite and the blends on
     // the halves. Spilled maps: the most of the blend's (the final candidates' weight planes and
-    // their feathered copies, 4 bytes each, the composite, the blends on the halves, the choice
-    // and the noise: 44) and the stacking's (the weight planes, those 44, its weights and its
-    // output: 68). Either way, the stacking's tile (stackTileBytes).
+    // their feathered copies, 4 bytes each, the composite, the blends on the halves and the
+    // choice: 40) and the stacking's (the weight planes, those 40 and its weights: 52). Either
+    // way, the stacking's tile (stackTileBytes).
     std::uint64_t stackTile = 0;
     if (settings.stack > 0) {
         const std::size_t regressors = std::size_t(settings.stack) +
@@ -101,10 +101,10 @@ std::uint64_t autoFixedMemory(const FilterBank& bank, const FrameBuffers& frame,
     }
     std::uint64_t held = 0;
     if (model.mapsSpilled) {
-        const std::uint64_t blend = saturatingMul(pixels, 8 * finalCandidates + 44);
+        const std::uint64_t blend = saturatingMul(pixels, 8 * finalCandidates + 40);
         const std::uint64_t stack =
             settings.stack > 0
-                ? saturatingAdd(saturatingMul(pixels, 4 * finalCandidates + 68), stackTile)
+                ? saturatingAdd(saturatingMul(pixels, 4 * finalCandidates + 52), stackTile)
                 : 0;
         held = std::max(blend, stack);
     } else {
