@@ -10,6 +10,7 @@
 #include <map>
 #include <memory>
 #include <sstream>
+#include <utility>
 
 #include "auto_args.h"
 #include "cli_boundary.h"
@@ -306,9 +307,9 @@ void runAuto(const AutoArgs& a) {
     const double sureSeconds = secondsSince(t1);
     const json unavailable = reportUnavailableMembers(bank, a.bank.empty() ? a.input : a.bank);
 
-    // The output: every input layer, the colour replaced by the composite over the bank's region.
-    FrameBuffers out = frame;
-    paste(out.color(), result.composite, bank.region().x0, bank.region().y0);
+    // The output: every input layer (shared, not copied), the colour replaced by the composite
+    // over the bank's region.
+    FrameBuffers out = withColorPasted(frame, result.composite, bank.region().x0, bank.region().y0);
     out.metadata().extra["denoiseFilter"] = std::string("auto");
 
     int analytic = 0;
@@ -357,12 +358,12 @@ void runAuto(const AutoArgs& a) {
     if (reference) {
         report["reference"] = a.reference;
         const std::optional<Rect> crop = bank.region();
-        report["metricsInput"] = metricsOf(frame.color(), reference->color(), crop);
+        report["metricsInput"] = metricsOf(std::as_const(frame).color(), reference->color(), crop);
         report["metrics"] = metricsOf(out.color(), reference->color(), crop);
-        FrameBuffers single = frame;
-        paste(single.color(), bestMemberResult(bank, frame, result.bestMember, bankOptions),
+        Image single = std::as_const(frame).color();
+        paste(single, bestMemberResult(bank, frame, result.bestMember, bankOptions),
               bank.region().x0, bank.region().y0);
-        report["metricsBestMember"] = metricsOf(single.color(), reference->color(), crop);
+        report["metricsBestMember"] = metricsOf(single, reference->color(), crop);
     }
     // Written last, so that an error before leaves no output file behind.
     if (!a.choiceMap.empty()) writeChoiceMap(result.choice, bank.size(), a.choiceMap);

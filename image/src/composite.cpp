@@ -70,6 +70,14 @@ void paste(Image& dst, const Image& src, int x0, int y0) {
                     dst.row(y0 + y) + std::size_t(x0) * dst.channels());
 }
 
+FrameBuffers withColorPasted(const FrameBuffers& frame, const Image& src, int x0, int y0) {
+    FrameBuffers out = frame.sharedCopy();
+    Image color = frame.color();
+    paste(color, src, x0, y0);
+    out.set(Layer::Color, std::move(color));
+    return out;
+}
+
 Image blend(const Image& a, const Image& b, const Image& weight) {
     checkBlendShapes(a, b, weight, "blend");
     Image out(a.width(), a.height(), a.channels());

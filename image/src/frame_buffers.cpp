@@ -101,40 +101,81 @@ std::optional<Layer> varianceLayer(Layer layer) {
 }
 
 FrameBuffers::FrameBuffers(int width, int height) : m_width(width), m_height(height) {
-    m_layers[int(Layer::Color)] = Image(width, height, 3);
+    m_layers[int(Layer::Color)] = std::make_shared<Image>(width, height, 3);
+}
+
+FrameBuffers::FrameBuffers(const FrameBuffers& other)
+    : m_width(other.m_width), m_height(other.m_height), m_metadata(other.m_metadata) {
+    for (int l = 0; l < kLayerCount; ++l)
+        if (other.m_layers[l]) m_layers[l] = std::make_shared<Image>(*other.m_layers[l]);
+}
+
+FrameBuffers& FrameBuffers::operator=(const FrameBuffers& other) {
+    if (this != &other) *this = FrameBuffers(other);
+    return *this;
+}
+
+Image& FrameBuffers::owned(Layer l) {
+    std::shared_ptr<Image>& held = m_layers[int(l)];
+    if (held.use_count() > 1) held = std::make_shared<Image>(*held);
+    return *held;
 }
 
 Image& FrameBuffers::layer(Layer l) {
     if (!has(l))
         throw Error(ErrorKind::InvalidArgument,
                     "frame has no '" + std::string(layerDisplayName(l)) + "' layer");
-    return m_layers[int(l)];
+    return owned(l);
 }
 
 const Image& FrameBuffers::layer(Layer l) const {
-    return const_cast<FrameBuffers*>(this)->layer(l);
+    if (!has(l))
+        throw Error(ErrorKind::InvalidArgument,
+                    "frame has no '" + std::string(layerDisplayName(l)) + "' layer");
+    return *m_layers[int(l)];
 }
 
-void FrameBuffers::set(Layer l, Image image) {
+namespace {
+// Throws unless `image` has the shape of layer `l` of a width × height frame.
+void checkShape(Layer l, const Image& image, int width, int height) {
     const LayerInfo& info = layerInfo(l);
-    if (image.width() != m_width || image.height() != m_height || image.channels() != info.channels)
+    if (image.width() != width || image.height() != height || image.channels() != info.channels)
         throw Error(ErrorKind::InvalidArgument,
                     "layer '" + std::string(layerDisplayName(l)) + "' must be " +
-                        std::to_string(m_width) + "x" + std::to_string(m_height) + "x" +
+                        std::to_string(width) + "x" + std::to_string(height) + "x" +
                         std::to_string(info.channels) + ", got " + std::to_string(image.width()) +
                         "x" + std::to_string(image.height()) + "x" +
                         std::to_string(image.channels()));
-    m_layers[int(l)] = std::move(image);
+}
+}  // namespace
+
+void FrameBuffers::set(Layer l, Image image) {
+    checkShape(l, image, m_width, m_height);
+    m_layers[int(l)] = std::make_shared<Image>(std::move(image));
+}
+
+void FrameBuffers::shareLayer(Layer l, const FrameBuffers& from, Layer fromLayer) {
+    checkShape(l, from.layer(fromLayer), m_width, m_height);
+    m_layers[int(l)] = from.m_layers[int(fromLayer)];
+}
+
+FrameBuffers FrameBuffers::sharedCopy() const {
+    FrameBuffers out;
+    out.m_width = m_width, out.m_height = m_height;
+    out.m_layers = m_layers;
+    out.m_metadata = m_metadata;
+    return out;
 }
 
 void FrameBuffers::remove(Layer l) {
     GLINT_CHECK(l != Layer::Color, "the colour layer cannot be removed");
-    m_layers[int(l)] = Image();
+    m_layers[int(l)] = nullptr;
 }
 
 Image& FrameBuffers::ensure(Layer l) {
-    if (!has(l)) m_layers[int(l)] = Image(m_width, m_height, layerInfo(l).channels);
-    return m_layers[int(l)];
+    if (!has(l))
+        m_layers[int(l)] = std::make_shared<Image>(m_width, m_height, layerInfo(l).channels);
+    return owned(l);
 }
 
 std::optional<Layer> halfLayer(Layer layer) {
@@ -151,8 +192,7 @@ std::string shortNumber(float v) {
 }
 }  // namespace
 
-std::pair<FrameBuffers, FrameBuffers> splitHalves(const FrameBuffers& frame,
-                                                  const std::string& file) {
+void checkHalves(const FrameBuffers& frame, const std::string& file) {
     for (int l = 0; l < kLayerCount; ++l) {
         const std::optional<Layer> half = halfLayer(Layer(l));
         if (half && frame.has(Layer(l)) && !frame.has(*half))
@@ -165,25 +205,33 @@ std::pair<FrameBuffers, FrameBuffers> splitHalves(const FrameBuffers& frame,
     if (!frame.has(Layer::SampleCount))
         throw Error(ErrorKind::Format, "has no sampleCount layer: the halves need the counts", file,
                     "layer 'sampleCount'");
-    const int w = frame.width(), h = frame.height();
-    FrameBuffers a(w, h), b(w, h);
-    for (int l = 0; l < kLayerCount; ++l) {
-        const Layer layer = Layer(l);
-        if (isHalfLayer(layer) || !frame.has(layer)) continue;
-        const std::optional<Layer> half = halfLayer(layer);
-        a.set(layer, frame.layer(layer));
-        b.set(layer, half ? frame.layer(*half) : frame.layer(layer));
-    }
     const Image& n = frame.layer(Layer::SampleCount);
     const Image& nbImage = frame.layer(Layer::HalfSampleCount);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
+    for (int y = 0; y < frame.height(); ++y)
+        for (int x = 0; x < frame.width(); ++x)
             if (!(nbImage(x, y, 0) >= 0.0f && nbImage(x, y, 0) <= n(x, y, 0)))
                 throw Error(ErrorKind::InvalidArgument,
                             "halfSampleCount " + shortNumber(nbImage(x, y, 0)) +
                                 " is not in [0, sampleCount = " + shortNumber(n(x, y, 0)) + "]",
                             file, "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")");
-    // A = whole − B, per mean layer with its variance of the mean.
+}
+
+std::pair<FrameBuffers, FrameBuffers> splitHalves(const FrameBuffers& frame,
+                                                  const std::string& file) {
+    checkHalves(frame, file);
+    const int w = frame.width(), h = frame.height();
+    // B is the half layers, A starts as the whole's; both shared, not copied.
+    FrameBuffers a(w, h), b(w, h);
+    for (int l = 0; l < kLayerCount; ++l) {
+        const Layer layer = Layer(l);
+        if (isHalfLayer(layer) || !frame.has(layer)) continue;
+        const std::optional<Layer> half = halfLayer(layer);
+        a.shareLayer(layer, frame, layer);
+        b.shareLayer(layer, frame, half ? *half : layer);
+    }
+    const Image& n = frame.layer(Layer::SampleCount);
+    const Image& nbImage = frame.layer(Layer::HalfSampleCount);
+    // A = whole − B, per mean layer with its variance of the mean, into layers of its own.
     for (Layer mean : {Layer::Color, Layer::Albedo, Layer::Normal, Layer::Depth}) {
         if (!frame.has(mean)) continue;
         const Layer halfMean = *halfLayer(mean);
@@ -191,7 +239,10 @@ std::pair<FrameBuffers, FrameBuffers> splitHalves(const FrameBuffers& frame,
         const bool withVariance = frame.has(*var);
         const Image& m = frame.layer(mean);
         const Image& mb = frame.layer(halfMean);
-        Image& ma = a.layer(mean);
+        Image ma(w, h, m.channels()), va;
+        const Image* v = withVariance ? &frame.layer(*var) : nullptr;
+        const Image* vb = withVariance ? &frame.layer(*halfLayer(*var)) : nullptr;
+        if (withVariance) va = Image(w, h, m.channels());
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 const double nt = n(x, y, 0), nb = nbImage(x, y, 0), na = nt - nb;
@@ -200,19 +251,21 @@ std::pair<FrameBuffers, FrameBuffers> splitHalves(const FrameBuffers& frame,
                         na > 0.0 ? (nt * double(m(x, y, c)) - nb * double(mb(x, y, c))) / na : 0.0;
                     ma(x, y, c) = float(meanA);
                     if (!withVariance) continue;
-                    const double m2 = double(frame.layer(*var)(x, y, c)) * nt * (nt - 1.0);
-                    const double m2b = double(frame.layer(*halfLayer(*var))(x, y, c)) * nb *
-                                       std::max(nb - 1.0, 0.0);
+                    const double m2 = double((*v)(x, y, c)) * nt * (nt - 1.0);
+                    const double m2b = double((*vb)(x, y, c)) * nb * std::max(nb - 1.0, 0.0);
                     const double delta = double(mb(x, y, c)) - meanA;
                     const double m2a =
                         nt > 0.0 ? std::max(0.0, m2 - m2b - delta * delta * na * nb / nt) : 0.0;
-                    a.layer (*var)(x, y, c) = na > 1.0 ? float(m2a / (na * (na - 1.0))) : 0.0f;
+                    va(x, y, c) = na > 1.0 ? float(m2a / (na * (na - 1.0))) : 0.0f;
                 }
             }
+        a.set(mean, std::move(ma));
+        if (withVariance) a.set(*var, std::move(va));
     }
-    Image& countA = a.layer(Layer::SampleCount);
+    Image countA(w, h, 1);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) countA(x, y, 0) = n(x, y, 0) - nbImage(x, y, 0);
+    a.set(Layer::SampleCount, std::move(countA));
     a.metadata() = frame.metadata();
     b.metadata() = frame.metadata();
     a.metadata().spp = frame.metadata().spp - frame.metadata().spp / 2;

@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
     glint::retainFreedMemory();  // as glint-denoise
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
 
-    const glint::FrameBuffers frame = glint::readExr(input);
+    glint::FrameBuffers frame = glint::readExr(input);
     glint::denoise::BankOptions bankOptions;
     bankOptions.size = members;
     glint::denoise::AutoOptions options;  // the defaults, as `glint-denoise auto IN --out OUT`
@@ -112,10 +112,12 @@ int main(int argc, char** argv) {
         {"spill", spill},           {"spilled", spilled},  {"tileRows", result.tileRows}};
     if (!warning.empty()) report["warning"] = warning;
     if (!outPath.empty()) {
-        glint::FrameBuffers out = frame;
-        glint::paste(out.color(), result.composite, region.x0, region.y0);
-        glint::writeExr(out, outPath);
+        glint::writeExr(glint::withColorPasted(frame, result.composite, region.x0, region.y0),
+                        outPath);
     }
+    // Only the composite is read from here on: the rest goes before the other output is read.
+    frame = glint::FrameBuffers{};
+    result.layers.clear();
     if (!against.empty()) {
         const glint::Image other = glint::readExr(against).color().crop(region);
         double largest = 0.0;

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "auto/options.h"
+#include "bank/bank_detail.h"
 #include "auto/pipeline.h"
 #include "auto/stacking.h"
 #include "glint/denoise/auto.h"
@@ -405,6 +406,39 @@ TEST(AutoTiles, TheTileHeightFollowsTheMemoryBudget) {
     expectIdentical(whole, tiled);
     EXPECT_EQ(autoMemoryBudget(1000), 1000u);
     EXPECT_LE(autoMemoryBudget(0), detail::kDefaultAutoMemory);
+}
+
+// At 3840×2160, a render with half buffers (42 floats a pixel, as glint-render --half-buffers
+// writes them), the default bank and the default budget: the model's estimate of the peak —
+// the frame, half A's own layers (half B is the frame's layers, shared), the most the blend or
+// the stacking holds, a band and a tile — is under 4 GB (issue 47; docs/lab/auto-memory.md has
+// the measured peak), and counts at least the frame and half A's 21 floats a pixel.
+TEST(AutoTiles, TheModelsEstimateForA4KRenderIsUnderFourGigabytes) {
+    std::vector<Layer> layers;
+    for (int l = 0; l < kLayerCount; ++l)
+        if (Layer(l) != Layer::Position) layers.push_back(Layer(l));
+    // A small render gives the settings and the bank's members.
+    FrameBuffers small(16, 16);
+    for (Layer l : layers) small.ensure(l);
+    small.layer(Layer::SampleCount).fill(4.0f);
+    small.layer(Layer::HalfSampleCount).fill(2.0f);
+    const FilterBank smallBank = detail::bankWithoutResults(small, BankOptions{});
+    const detail::AutoSettings s = detail::resolveSettings(smallBank, small, {});
+    ASSERT_TRUE(s.halves);
+    ASSERT_GT(s.stack, 0);
+    // The 4K frame's layers are two images, shared (130 MB, not 1.4 GB).
+    const int w = 3840, h = 2160;
+    FrameBuffers big(w, h);
+    big.set(Layer::Depth, Image(w, h, 1));
+    for (Layer l : layers)
+        if (l != Layer::Color && l != Layer::Depth)
+            big.shareLayer(l, big, layerInfo(l).channels == 3 ? Layer::Color : Layer::Depth);
+    const FilterBank bank(smallBank.members(), {}, Rect{0, w, 0, h}, w, h, 0);
+    const detail::TileModel model = detail::autoTileModel(bank, true, true, 2);
+    const std::uint64_t estimate =
+        detail::autoMemoryEstimate(bank, big, s, detail::kDefaultAutoMemory, model);
+    EXPECT_LE(estimate, std::uint64_t(4000000000));
+    EXPECT_GE(estimate, std::uint64_t(w) * std::uint64_t(h) * (42 + 21) * sizeof(float));
 }
 
 // Banded (the spill on, no bank results): each member is applied into the spill and the median

@@ -362,6 +362,81 @@ TEST(AutoStacking, FeatureRegressorsAreTheBaseTimesTheFeaturesLocalDeviation) {
     EXPECT_TRUE(detail::featureRegressors(base, nullptr, nullptr, radius).empty());
 }
 
+// featureRegressorStrips gives featureRegressors' values, value for value, strip after strip of
+// any height, in row order: the pipeline writes each strip to its spill and never holds the
+// regressors over the frame (issue 47: 1 GB at 4K with their box sums).
+TEST(AutoStacking, FeatureRegressorsStripByStripAreTheWholeFramesValues) {
+    const int w = 19, h = 41, radius = 3;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    Image base(w, h, 3), albedo(w, h, 3), normal(w, h, 3);
+    for (float& v : base.data()) v = float(0.1 + u(rng));
+    for (float& v : albedo.data()) v = float(u(rng));
+    for (float& v : normal.data()) v = float(2.0 * u(rng) - 1.0);
+    albedo(4, 30, 2) = std::nanf("");
+    const std::vector<Image> whole = detail::featureRegressors(base, &albedo, &normal, radius);
+    for (int rows : {1, 7, 41, 64}) {
+        SCOPED_TRACE("strips of " + std::to_string(rows) + " rows");
+        std::vector<Image> got(whole.size(), Image(w, h, 3, -1.0f));
+        int next = 0;
+        detail::featureRegressorStrips(base, &albedo, &normal, radius, rows,
+                                       [&](int y0, std::vector<Image>& strip) {
+                                           EXPECT_EQ(y0, next);
+                                           ASSERT_EQ(strip.size(), whole.size());
+                                           EXPECT_LE(strip[0].height(), rows);
+                                           for (std::size_t q = 0; q < strip.size(); ++q)
+                                               for (int y = 0; y < strip[q].height(); ++y)
+                                                   for (int x = 0; x < w; ++x)
+                                                       for (int c = 0; c < 3; ++c)
+                                                           got[q](x, y0 + y, c) = strip[q](x, y, c);
+                                           next = y0 + strip[0].height();
+                                       });
+        EXPECT_EQ(next, h);
+        for (std::size_t q = 0; q < whole.size(); ++q)
+            for (std::size_t i = 0; i < whole[q].data().size(); ++i)
+                ASSERT_EQ(got[q].data()[i], whole[q].data()[i]) << "regressor " << q << " at " << i;
+    }
+}
+
+// With smoothing, the coefficients are averaged behind the regression, tile after tile: the
+// results on all the samples are loaded for the rows it has passed before the regression loads
+// its last tile, each row once and in order, so that the coefficients over the whole region
+// are never held (issue 47: 330 MB at 4K). The floats are the stacking's over held images.
+TEST(AutoStacking, TheSmoothingRunsBehindTheRegressionReadingEachRowOnce) {
+    const int w = 9, h = 300, radius = 2, smooth = 3;  // three tiles of rows
+    const double ridge = 0.5;
+    const StackCase s = stackCase(w, h, -1.0, 0.1, 12);
+    struct Load {
+        int y0, y1;
+        bool full, halves;
+    };
+    std::vector<Load> loads;
+    const detail::LoadStackRows load = [&](int y0, int y1, bool full, bool halves,
+                                           detail::StackRows& rows) {
+        loads.push_back({y0, y1, full, halves});
+        const Rect rect{0, w, y0, y1};
+        rows = detail::StackRows{};
+        if (full) rows.full.push_back(s.full.crop(rect));
+        if (halves) rows.onA.push_back(s.onA.crop(rect)), rows.onB.push_back(s.onB.crop(rect));
+    };
+    const Image byRows = detail::stackComposite(s.composite, s.blendA, s.blendB, 1, load, s.halfA,
+                                                s.halfB, Image{}, radius, ridge, kFloor, smooth);
+    const Image held = stackOf(s, radius, ridge, smooth);
+    for (std::size_t i = 0; i < held.data().size(); ++i)
+        ASSERT_EQ(byRows.data()[i], held.data()[i]) << i;
+    int next = 0;
+    std::size_t firstFull = loads.size(), lastHalves = 0;
+    for (std::size_t i = 0; i < loads.size(); ++i) {
+        if (loads[i].halves) lastHalves = i;
+        if (!loads[i].full) continue;
+        firstFull = std::min(firstFull, i);
+        EXPECT_EQ(loads[i].y0, next);
+        next = loads[i].y1;
+    }
+    EXPECT_EQ(next, h);
+    EXPECT_LT(firstFull, lastHalves);
+}
+
 // The mean of an image over (2·radius + 1)² pixels, truncated at the border (brute force).
 Image boxBlurred(const Image& image, int radius) {
     const int w = image.width(), h = image.height();

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "glint/image/composite.h"
 #include "glint/image/error.h"
@@ -31,6 +32,26 @@ TEST(Paste, CopiesTheRegionAndLeavesTheRest) {
                 const bool inside = x >= 4 && x < 7 && y >= 3 && y < 5;
                 EXPECT_EQ(dst(x, y, c), inside ? src(x - 4, y - 3, c) : before(x, y, c));
             }
+}
+
+// A denoiser's output frame: the colour with the result pasted over it, every other layer the
+// input's own image, shared and not copied; the input's colour is left as it was.
+TEST(Paste, TheOutputFrameCopiesOnlyItsColour) {
+    FrameBuffers frame(5, 4);
+    frame.color().fill(1.0f);
+    frame.set(Layer::Albedo, Image(5, 4, 3, 0.5f));
+    frame.set(Layer::Depth, Image(5, 4, 1, 3.0f));
+    frame.metadata().spp = 7;
+    const FrameBuffers out = withColorPasted(frame, Image(2, 2, 3, 8.0f), 3, 1);
+    EXPECT_EQ(out.color()(3, 1, 0), 8.0f);
+    EXPECT_EQ(out.color()(4, 2, 2), 8.0f);
+    EXPECT_EQ(out.color()(2, 1, 0), 1.0f);
+    EXPECT_EQ(std::as_const(frame).color()(3, 1, 0), 1.0f);
+    EXPECT_NE(&out.color(), &std::as_const(frame).color());
+    EXPECT_EQ(&out.layer(Layer::Albedo), &std::as_const(frame).layer(Layer::Albedo));
+    EXPECT_EQ(&out.layer(Layer::Depth), &std::as_const(frame).layer(Layer::Depth));
+    EXPECT_EQ(out.metadata().spp, 7);
+    EXPECT_THROW(withColorPasted(frame, Image(2, 2, 3), 4, 3), Error);
 }
 
 TEST(Paste, RefusesWhatDoesNotFit) {

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include <cmath>
 #include <limits>
 
@@ -65,6 +67,35 @@ TEST(FrameBuffers, SetChecksShape) {
     fb.remove(Layer::Depth);
     EXPECT_FALSE(fb.has(Layer::Depth));
     EXPECT_THROW(fb.remove(Layer::Color), Error);
+}
+
+// A layer shared between frames (shareLayer, sharedCopy) is one image, not copies, until one of
+// them writes it: then that frame gets its own copy and the others keep their values. A plain
+// copy of a frame copies every layer.
+TEST(FrameBuffers, ASharedLayerIsCopiedWhenWrittenAndACopyCopiesEveryLayer) {
+    FrameBuffers fb(6, 5);
+    fb.color()(2, 3, 1) = 1.5f;
+    fb.set(Layer::Depth, Image(6, 5, 1, 4.0f));
+    const FrameBuffers& constFb = fb;
+    const FrameBuffers shared = fb.sharedCopy();
+    EXPECT_EQ(&shared.color(), &constFb.color());
+    EXPECT_EQ(&shared.layer(Layer::Depth), &constFb.layer(Layer::Depth));
+    FrameBuffers other(6, 5);
+    other.shareLayer(Layer::Albedo, fb, Layer::Color);
+    EXPECT_EQ(&std::as_const(other).layer(Layer::Albedo), &constFb.color());
+    EXPECT_THROW(other.shareLayer(Layer::Depth, fb, Layer::Color), Error);  // 3 channels, not 1
+    // Writing through one frame: its own copy; the others see what they had.
+    other.layer(Layer::Albedo)(2, 3, 1) = 9.0f;
+    EXPECT_EQ(constFb.color()(2, 3, 1), 1.5f);
+    EXPECT_EQ(shared.color()(2, 3, 1), 1.5f);
+    EXPECT_EQ(std::as_const(other).layer(Layer::Albedo)(2, 3, 1), 9.0f);
+    fb.color()(2, 3, 1) = 2.5f;  // shared with `shared` still: copied first
+    EXPECT_EQ(shared.color()(2, 3, 1), 1.5f);
+    EXPECT_NE(&shared.color(), &constFb.color());
+    // A copy holds layers of its own.
+    const FrameBuffers copy = shared;
+    EXPECT_NE(&copy.layer(Layer::Depth), &shared.layer(Layer::Depth));
+    EXPECT_EQ(copy.layer(Layer::Depth)(5, 4, 0), 4.0f);
 }
 
 TEST(Error, MessageNamesFileAndPlace) {

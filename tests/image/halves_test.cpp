@@ -120,6 +120,45 @@ TEST(HalfBuffers, SplitHalvesRecoversTheEvenSamplesStatistics) {
     EXPECT_EQ(checked, w * h * 4);
 }
 
+// The halves share the frame's layers that they do not recompute, rather than copying them
+// (issue 47: at 3840×2160 the copies held 1.4 GB): B's layers are the frame's half layers and
+// both halves' position the frame's, one image each; A's means, variances and counts are its
+// own. Writing a shared layer copies it first: the frame keeps its values.
+TEST(HalfBuffers, SplitHalvesSharesTheLayersItDoesNotRecompute) {
+    FrameBuffers f(4, 3);
+    for (Layer l :
+         {Layer::Variance, Layer::Albedo, Layer::SampleCount, Layer::Position, Layer::HalfColor,
+          Layer::HalfVariance, Layer::HalfAlbedo, Layer::HalfSampleCount})
+        f.ensure(l);
+    f.layer(Layer::SampleCount).fill(4.0f);
+    f.layer(Layer::HalfSampleCount).fill(2.0f);
+    f.layer(Layer::HalfColor).fill(0.25f);
+    auto [a, b] = splitHalves(f, "in.exr");
+    const FrameBuffers &frame = f, &halfA = a, &halfB = b;
+    for (Layer l : {Layer::Color, Layer::Variance, Layer::Albedo, Layer::SampleCount})
+        EXPECT_EQ(&halfB.layer(l), &frame.layer(*halfLayer(l))) << layerDisplayName(l);
+    EXPECT_EQ(&halfB.layer(Layer::Position), &frame.layer(Layer::Position));
+    EXPECT_EQ(&halfA.layer(Layer::Position), &frame.layer(Layer::Position));
+    for (Layer l : {Layer::Color, Layer::Variance, Layer::Albedo, Layer::SampleCount}) {
+        EXPECT_NE(&halfA.layer(l), &frame.layer(l)) << layerDisplayName(l);
+        EXPECT_NE(&halfA.layer(l), &frame.layer(*halfLayer(l))) << layerDisplayName(l);
+    }
+    b.layer(Layer::Color)(1, 2, 0) = 7.0f;
+    EXPECT_EQ(frame.layer(Layer::HalfColor)(1, 2, 0), 0.25f);
+    EXPECT_EQ(halfB.layer(Layer::Color)(1, 2, 0), 7.0f);
+    // checkHalves: splitHalves' checks without the split.
+    f.layer(Layer::HalfSampleCount)(3, 0, 0) = 5.0f;
+    EXPECT_THROW(checkHalves(f, "in.exr"), Error);
+    f.remove(Layer::HalfAlbedo);
+    try {
+        checkHalves(f, "in.exr");
+        FAIL() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::Format);
+        EXPECT_EQ(e.where(), "layer 'halfAlbedo'");
+    }
+}
+
 TEST(HalfBuffers, SplitHalvesNamesAMissingLayerAndBadCounts) {
     FrameBuffers f(4, 3);
     f.ensure(Layer::Variance);

@@ -522,30 +522,46 @@ void Pipeline::stackPass(const std::vector<int>& order, AutoResult& result) {
     // held when the spill is off, and made again if a write failed.
     const FrameBuffers* sources[3] = {&inputOf(Input), &inputOf(HalfA), &inputOf(HalfB)};
     const Image* bases[3] = {&result.composite, &m_blendA, &m_blendB};
+    // An image of the frame over the region: itself when the region is the frame (no copy).
+    const auto regionOf = [&](const Image& image, Image& crop) -> const Image& {
+        if (m_region == image.bounds()) return image;
+        crop = image.crop(m_region);
+        return crop;
+    };
+    // featureRegressors' arguments for `side`, then fn(base, albedo, normal).
+    const auto withFeatures = [&](int side, const auto& fn) {
+        Image albedoCrop, normalCrop;
+        const Image* albedo =
+            m_s.stackAlbedo ? &regionOf(sources[side]->layer(Layer::Albedo), albedoCrop) : nullptr;
+        const Image* normal =
+            m_s.stackNormal ? &regionOf(sources[side]->layer(Layer::Normal), normalCrop) : nullptr;
+        return fn(*bases[side], albedo, normal);
+    };
     const auto regressorsOf = [&](int side) {
-        const Image albedo =
-            m_s.stackAlbedo ? sources[side]->layer(Layer::Albedo).crop(m_region) : Image{};
-        const Image normal =
-            m_s.stackNormal ? sources[side]->layer(Layer::Normal).crop(m_region) : Image{};
-        return featureRegressors(*bases[side], m_s.stackAlbedo ? &albedo : nullptr,
-                                 m_s.stackNormal ? &normal : nullptr, m_s.stackFeatureWindow,
-                                 &m_work);
+        return withFeatures(side, [&](const Image& base, const Image* albedo, const Image* normal) {
+            return featureRegressors(base, albedo, normal, m_s.stackFeatureWindow, &m_work);
+        });
     };
     const auto featureKey = [&](std::size_t q, int side) {
         return keyOf(m_bank.size() + q, Side(side));
     };
+    const std::size_t featureCount = (m_s.stackAlbedo ? 1 : 0) + (m_s.stackNormal ? 3 : 0);
     std::vector<Image> features[3];
     bool spilledFeatures[3] = {false, false, false};
-    std::size_t featureCount = 0;
-    if (m_s.stackAlbedo || m_s.stackNormal) {
-        for (int side = 0; side < 3; ++side) {
-            features[side] = regressorsOf(side);
-            featureCount = features[side].size();
-            for (std::size_t q = 0; q < featureCount && m_spill.on(); ++q)
-                m_spill.write(featureKey(q, side), 0, features[side][q]);
-            spilledFeatures[side] = m_spill.on();
-            if (spilledFeatures[side]) features[side] = {};
-        }
+    for (int side = 0; side < 3 && featureCount > 0; ++side) {
+        // Strip by strip into the spill; held when the spill is off or a write failed.
+        if (m_spill.on())
+            withFeatures(side, [&](const Image& base, const Image* albedo, const Image* normal) {
+                featureRegressorStrips(
+                    base, albedo, normal, m_s.stackFeatureWindow, kStackTileRows,
+                    [&](int y0, std::vector<Image>& rows) {
+                        for (std::size_t q = 0; q < featureCount; ++q)
+                            m_spill.write(featureKey(q, side), y0, rows[q]);
+                    },
+                    &m_work);
+            });
+        spilledFeatures[side] = m_spill.on();
+        if (!spilledFeatures[side]) features[side] = regressorsOf(side);
     }
     // Rows [y0, y1) of feature regressor q on `side`: from the spill, or held.
     const auto featureRows = [&](std::size_t q, int side, int y0, int y1) {
@@ -576,15 +592,10 @@ void Pipeline::stackPass(const std::vector<int>& order, AutoResult& result) {
     // The regression, weighted by the display slope at the composite.
     const Image weightAtC =
         m_s.space == SureSpace::Linear ? Image{} : tangentWeights(result.composite, m_s.exposure);
-    // The halves' colour over the region: themselves when the region is the frame (no copy).
+    // The halves' colour over the region.
     Image cropA, cropB;
-    const auto regionOf = [&](const Image& image, Image& crop) -> const Image& {
-        if (m_region == image.bounds()) return image;
-        crop = image.crop(m_region);
-        return crop;
-    };
     result.composite = stackComposite(
-        result.composite, m_blendA, m_blendB, k + featureCount, load,
+        std::move(result.composite), m_blendA, m_blendB, k + featureCount, load,
         regionOf(m_halves->halfA().color(), cropA), regionOf(m_halves->halfB().color(), cropB),
         weightAtC, m_s.stackWindow, m_s.stackRidge, m_s.stackFloor, m_s.stackSmooth, &m_work);
     result.stacked = int(k);
@@ -615,9 +626,9 @@ AutoResult Pipeline::run() {
     // The temperature's unit (before the maps, so that the weights it needs can go first).
     const ErrorEstimator& estimator =
         m_halves ? static_cast<const ErrorEstimator&>(*m_halves) : *m_sure;
-    const Image noise = m_s.temperature > 0.0
-                            ? noiseLevel(estimator, m_region, m_weight, m_s.window, m_work)
-                            : Image{};
+    Image noise = m_s.temperature > 0.0
+                      ? noiseLevel(estimator, m_region, m_weight, m_s.window, m_work)
+                      : Image{};
     if (!m_s.tangent) m_weight = Image{};
     // Passes 2 and 3, again with the maps held if their spill failed on the way.
     std::vector<std::size_t> candidates;
@@ -638,6 +649,7 @@ AutoResult Pipeline::run() {
     } while (m_mapsInSpill && m_mapSpill.failed());
     m_median = Image{}, m_weight = Image{}, m_displayMedian = {};
     m_estimates.maps = {}, m_estimates.mapRows = {};
+    noise = Image{};
     for (std::size_t m = 0; m < n; ++m) m_mapSpill.drop(std::int64_t(m));
     dropSpilled([&](std::size_t m) { return !chosen.planes[m].empty(); });
 

@@ -72,7 +72,7 @@ void checkAutoInput(const FrameBuffers& frame, AutoEstimator estimator, const st
                     "has no halfColor layer: the halves estimator needs a render with half "
                     "buffers (glint-render --half-buffers)",
                     file, "layer 'halfColor'");
-    splitHalves(frame, file);  // every half layer present, counts consistent
+    checkHalves(frame, file);  // every half layer present, counts consistent
     detail::checkHalvesFinite(frame, file);
 }
 
@@ -91,7 +91,7 @@ ImageNoiseOptions imageNoiseOptions(const ParamValues& tuning) {
 FrameBuffers withImageNoiseVariance(const FrameBuffers& frame, const AutoOptions& options) {
     validate(options);
     checkAutoInput(frame, AutoEstimator::Image);
-    FrameBuffers out = frame;
+    FrameBuffers out = frame.sharedCopy();  // only the variance is new
     WorkContext work;
     out.set(Layer::Variance,
             detail::estimateImageNoise(

@@ -50,11 +50,19 @@ struct TileModel {
 /// their spill is on (`mapSpillOn`).
 TileModel autoTileModel(const FilterBank& bank, bool spillOn, bool mapSpillOn, int concurrency);
 
-/// The bytes the selection holds besides its tiles, whatever their height: the halves (or SURE's
-/// input and its perturbed copy), the error maps unless spilled, the median and the stages'
-/// frame-sized images, and with `model.banded` the bands.
+/// The bytes the selection holds besides its input frame and its tiles, whatever their height:
+/// half A's own layers (half B and the rest are the frame's, shared; or SURE's input and its
+/// perturbed copy), the error maps unless spilled, the most the stages' frame-sized images take
+/// at once (the blend's, or the stacking's with a tile of its own) and with `model.banded` the
+/// bands.
 std::uint64_t autoFixedMemory(const FilterBank& bank, const FrameBuffers& frame,
                               const AutoSettings& settings, const TileModel& model = {});
+
+/// The model's estimate of the selection's peak with `budget`: the input frame, the fixed part
+/// and a tile of autoTileRows' height (what the process holds besides its code and libraries).
+std::uint64_t autoMemoryEstimate(const FilterBank& bank, const FrameBuffers& frame,
+                                 const AutoSettings& settings, std::uint64_t budget,
+                                 const TileModel& model = {});
 
 /// The rows of a band: the most with every member's result (three per final candidate when the
 /// stacking blends the halves too) within kBandBytes, at least 1.

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -50,6 +51,14 @@ constexpr double kStackAlbedoFloor = 0.02;
 std::vector<Image> featureRegressors(const Image& base, const Image* albedo, const Image* normal,
                                      int radius, WorkContext* work = nullptr);
 
+/// Receives rows [y0, y0 + rows[0].height()) of every feature regressor (featureRegressorStrips).
+using RegressorStripSink = std::function<void(int y0, std::vector<Image>& rows)>;
+/// featureRegressors strip after strip of `rows` rows, in row order, each handed to `sink`:
+/// the same floats, holding 2·radius + 2 rows of box sums and one strip of regressors instead of
+/// the frame's (RunningBoxAverages). `work`, if given, counts 2 units per row.
+void featureRegressorStrips(const Image& base, const Image* albedo, const Image* normal, int radius,
+                            int rows, const RegressorStripSink& sink, WorkContext* work = nullptr);
+
 /// The stacking's regression (AutoOptions::stack; docs/auto.md, "Stacking"): per pixel,
 /// composite + Σ_i a_i (full_i − composite), clamped at 0, over at most kMaxStackRegressors
 /// members (the chosen members, then any feature regressors). The a_i minimise, over the
@@ -82,16 +91,24 @@ struct StackRows {
 using LoadStackRows = std::function<void(int y0, int y1, bool full, bool halves, StackRows& rows)>;
 
 /// stackComposite with the `count` regressors' results read by rows through `load` (the tiled
-/// pipeline's: from the spill, the bank or the filter again) instead of held whole: the same
-/// floats. The regression loads each tile of kStackTileRows rows with its context rows once,
-/// and the smoothing each tile's results on all the samples once, in row order.
-Image stackComposite(const Image& composite, const Image& blendA, const Image& blendB,
-                     std::size_t count, const LoadStackRows& load, const Image& halfA,
-                     const Image& halfB, const Image& weight, int radius, double ridge,
-                     double floor, int smooth, WorkContext* work = nullptr);
+/// pipeline's: from the spill, the bank or the filter again) instead of held whole, and the
+/// composite corrected in place: the same floats. The regression loads each tile of kStackTileRows
+/// rows with its context rows once; the smoothing runs behind it, loading the results on all the
+/// samples of the rows it reaches once, in row order, so that only the coefficients of rows not yet
+/// smoothed are held.
+Image stackComposite(Image composite, const Image& blendA, const Image& blendB, std::size_t count,
+                     const LoadStackRows& load, const Image& halfA, const Image& halfB,
+                     const Image& weight, int radius, double ridge, double floor, int smooth,
+                     WorkContext* work = nullptr);
 
 /// The rows of the regression's tiles (each with `radius` rows of context on either side), so
 /// that the sums of a 1024-wide frame with 10 regressors take about 75 MB, not ten times that.
 constexpr int kStackTileRows = 128;
+
+/// The bytes stackComposite holds besides its whole-frame images (the composite, its output
+/// and the weights) for a `width`-wide region and `count` regressors: a regression tile's box
+/// sums and regressors on the halves, the coefficients not yet smoothed, the smoothing's sums
+/// and its rows of results on all the samples.
+std::uint64_t stackTileBytes(int width, std::size_t count, int radius, int smooth);
 
 }  // namespace glint::denoise::detail

@@ -6,6 +6,7 @@
 #include "glint/image/memory.h"
 #include "options.h"
 #include "pipeline.h"
+#include "stacking.h"
 
 namespace glint::denoise {
 
@@ -24,9 +25,31 @@ std::uint64_t frameBytes(const FrameBuffers& frame) {
     return bytes;
 }
 
+// Bytes of the layers splitHalves makes for half A: the mean layers, their variances and the
+// counts (B and A's other layers are the frame's, shared).
+std::uint64_t halfABytes(const FrameBuffers& frame) {
+    std::uint64_t bytes = 0;
+    for (Layer mean : {Layer::Color, Layer::Albedo, Layer::Normal, Layer::Depth}) {
+        if (!frame.has(mean)) continue;
+        for (Layer l : {mean, *varianceLayer(mean)})
+            if (const Image* layer = frame.find(l))
+                bytes += std::uint64_t(layer->data().size()) * sizeof(float);
+    }
+    if (const Image* counts = frame.find(Layer::SampleCount))
+        bytes += std::uint64_t(counts->data().size()) * sizeof(float);
+    return bytes;
+}
+
+// What the members' inputs hold besides the frame: half A's own layers (prefiltered: both
+// halves' copies, about the input's layers), or SURE's input and its perturbed copy.
+std::uint64_t memberInputBytes(const FrameBuffers& frame, const AutoSettings& settings) {
+    if (!settings.halves) return 2 * frameBytes(frame);
+    return settings.prefilter ? frameBytes(frame) : halfABytes(frame);
+}
+
 double autoMemberMemoryMB(const FilterBank&, const FrameBuffers& frame,
                           const AutoSettings& settings, std::uint64_t budget) {
-    const std::uint64_t inputs = (settings.halves ? 1 : 2) * frameBytes(frame);
+    const std::uint64_t inputs = memberInputBytes(frame, settings);
     const double room = budget > inputs ? double(budget - inputs) : 0.0;
     // Whole MiB: the parameter is an integer.
     return std::clamp(std::floor(0.6 * room / 1048576.0), 256.0, 1024.0);
@@ -55,25 +78,54 @@ int autoBandRows(const FilterBank& bank, const AutoSettings& settings) {
 
 std::uint64_t autoFixedMemory(const FilterBank& bank, const FrameBuffers& frame,
                               const AutoSettings& settings, const TileModel& model) {
-    const std::uint64_t input = frameBytes(frame);
     const Rect& r = bank.region();
     const auto pixels = std::uint64_t(r.width()) * std::uint64_t(r.height());
     const std::uint64_t n = bank.size();
-    // The halves (together about the input's layers), or SURE's input and its perturbed copy.
-    const std::uint64_t inputs = settings.halves ? input : 2 * input;
+    const std::uint64_t inputs = memberInputBytes(frame, settings);
+    const std::uint64_t finalCandidates =
+        settings.shortlisted ? std::min<std::uint64_t>(n, std::uint64_t(settings.shortlist)) : n;
     // Per pixel, held maps: the error maps (one float per member) or, after them, the stacking's
     // images (the features' regressors on three sides, its coefficients, the final weight
     // planes), and the median, the display weights, the noise, the composite and the blends on
-    // the halves. Spilled maps: while the tiles run, the final candidates' weight planes and
-    // their feathered copies (4 bytes each) and those 96 bytes; the stacking runs after the
-    // tiles, by tiles of its own, whatever their height.
-    const std::uint64_t finalCandidates =
-        settings.shortlisted ? std::min<std::uint64_t>(n, std::uint64_t(settings.shortlist)) : n;
-    const std::uint64_t perPixel =
-        model.mapsSpilled ? 8 * finalCandidates + 96 : std::max<std::uint64_t>(4 * n, 320) + 64;
+    // the halves. Spilled maps: the most of the blend's (the final candidates' weight planes and
+    // their feathered copies, 4 bytes each, the composite, the blends on the halves and the
+    // choice: 40) and the stacking's (the weight planes, those 40 and its weights: 52). Either
+    // way, the stacking's tile (stackTileBytes).
+    std::uint64_t stackTile = 0;
+    if (settings.stack > 0) {
+        const std::size_t regressors = std::size_t(settings.stack) +
+                                       (settings.stackAlbedo ? 1 : 0) +
+                                       (settings.stackNormal ? 3 : 0);
+        stackTile =
+            stackTileBytes(r.width(), regressors, settings.stackWindow, settings.stackSmooth);
+    }
+    std::uint64_t held = 0;
+    if (model.mapsSpilled) {
+        const std::uint64_t blend = saturatingMul(pixels, 8 * finalCandidates + 40);
+        const std::uint64_t stack =
+            settings.stack > 0
+                ? saturatingAdd(saturatingMul(pixels, 4 * finalCandidates + 52), stackTile)
+                : 0;
+        held = std::max(blend, stack);
+    } else {
+        held = saturatingAdd(saturatingMul(pixels, std::max<std::uint64_t>(4 * n, 320) + 64),
+                             stackTile);
+    }
     // Banded: a band of results or, in the choice, a strip of its scores.
     const std::uint64_t bands = model.banded ? kBandBytes : 0;
-    return saturatingAdd(saturatingAdd(inputs, bands), saturatingMul(pixels, perPixel));
+    return saturatingAdd(saturatingAdd(inputs, bands), held);
+}
+
+// Per row of a tile: banded, the filters under way; else every member's result there on the
+// input at once (the median's pass), or, when the bank holds those, every candidate's window
+// scores (the choice's pass).
+std::uint64_t tileRowBytes(const FilterBank& bank, const TileModel& model) {
+    const std::uint64_t n = bank.size();
+    const std::uint64_t perPixel =
+        model.banded ? std::uint64_t(std::max(1, model.concurrency)) * kApplyBytesPerPixel
+        : bank.results().empty() ? 12 * n
+                                 : 4 * n;
+    return std::uint64_t(bank.region().width()) * (perPixel + 64);
 }
 
 int autoTileRows(const FilterBank& bank, const FrameBuffers& frame, const AutoSettings& settings,
@@ -81,15 +133,7 @@ int autoTileRows(const FilterBank& bank, const FrameBuffers& frame, const AutoSe
     const Rect& r = bank.region();
     const int height = r.height();
     const std::uint64_t fixed = autoFixedMemory(bank, frame, settings, model);
-    // Per row of a tile: banded, the filters under way; else every member's result there on the
-    // input at once (the median's pass), or, when the bank holds those, every candidate's window
-    // scores (the choice's pass).
-    const std::uint64_t n = bank.size();
-    const std::uint64_t perPixel =
-        model.banded ? std::uint64_t(std::max(1, model.concurrency)) * kApplyBytesPerPixel
-        : bank.results().empty() ? 12 * n
-                                 : 4 * n;
-    const std::uint64_t perRow = std::uint64_t(r.width()) * (perPixel + 64);
+    const std::uint64_t perRow = tileRowBytes(bank, model);
     if (saturatingAdd(fixed, saturatingMul(perRow, std::uint64_t(height))) <= budget) return height;
     const std::uint64_t room = budget > fixed ? budget - fixed : 0;
     const int tallest = int(
@@ -98,6 +142,15 @@ int autoTileRows(const FilterBank& bank, const FrameBuffers& frame, const AutoSe
     // Tiles of one height: as many as `rows` needs, the rows shared out evenly.
     const int tiles = (height + rows - 1) / rows;
     return (height + tiles - 1) / tiles;
+}
+
+std::uint64_t autoMemoryEstimate(const FilterBank& bank, const FrameBuffers& frame,
+                                 const AutoSettings& settings, std::uint64_t budget,
+                                 const TileModel& model) {
+    const int rows = autoTileRows(bank, frame, settings, budget, model);
+    return saturatingAdd(
+        saturatingAdd(frameBytes(frame), autoFixedMemory(bank, frame, settings, model)),
+        saturatingMul(tileRowBytes(bank, model), std::uint64_t(rows)));
 }
 
 }  // namespace detail

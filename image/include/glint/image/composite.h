@@ -2,6 +2,7 @@
 // per-pixel weight. The filter CLI, the painting session and the studio all use these.
 #pragma once
 
+#include "glint/image/frame_buffers.h"
 #include "glint/image/image.h"
 
 namespace glint {
@@ -9,6 +10,9 @@ namespace glint {
 /// Copies `src` into `dst` with its top-left pixel at (x0, y0). The channel counts must match
 /// and `src` must lie inside `dst`; throws glint::Error(InvalidArgument) otherwise.
 void paste(Image& dst, const Image& src, int x0, int y0);
+/// `frame` with `src` pasted over its colour at (x0, y0) (paste): a denoiser's output frame. Only
+/// the colour is copied; the other layers are shared with `frame` (FrameBuffers::sharedCopy).
+FrameBuffers withColorPasted(const FrameBuffers& frame, const Image& src, int x0, int y0);
 
 /// Per-pixel linear blend a·(1 − w) + b·w. `a` and `b` have the same shape, `weight` their size
 /// and one channel (or their channel count: one weight per channel). Weights are clamped to

@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -90,29 +91,48 @@ struct FrameMetadata {
     std::map<std::string, std::string> extra;
 };
 
-/// The layers of one frame, all of the same size, plus metadata.
+/// The layers of one frame, all of the same size, plus metadata. A copy copies every layer; a
+/// layer can also be shared with other frames without a copy (shareLayer, sharedCopy): it is
+/// copied when one of them writes it (any non-const access), so each frame still sees the
+/// values it had. Non-const references to a layer taken before it is shared must not be
+/// written through afterwards, and a frame with shared layers must not be accessed non-const
+/// from several threads at once.
 class FrameBuffers {
   public:
     FrameBuffers() = default;
     /// A frame of the given size holding only a zero colour layer.
     FrameBuffers(int width, int height);
+    FrameBuffers(const FrameBuffers& other);
+    FrameBuffers& operator=(const FrameBuffers& other);
+    FrameBuffers(FrameBuffers&&) noexcept = default;
+    FrameBuffers& operator=(FrameBuffers&&) noexcept = default;
 
     int width() const { return m_width; }
     int height() const { return m_height; }
 
-    bool has(Layer layer) const { return !m_layers[int(layer)].empty(); }
+    bool has(Layer layer) const {
+        const std::shared_ptr<Image>& held = m_layers[int(layer)];
+        return held && !held->empty();
+    }
     /// The layer; throws glint::Error(InvalidArgument) when absent.
     Image& layer(Layer layer);
     const Image& layer(Layer layer) const;
     /// The layer or nullptr when absent.
-    const Image* find(Layer layer) const { return has(layer) ? &m_layers[int(layer)] : nullptr; }
-    Image* find(Layer layer) { return has(layer) ? &m_layers[int(layer)] : nullptr; }
+    const Image* find(Layer layer) const {
+        return has(layer) ? m_layers[int(layer)].get() : nullptr;
+    }
+    Image* find(Layer layer) { return has(layer) ? &owned(layer) : nullptr; }
 
     Image& color() { return layer(Layer::Color); }
     const Image& color() const { return layer(Layer::Color); }
 
     /// Sets a layer; its size must match the frame and its channel count the layer's.
     void set(Layer layer, Image image);
+    /// Sets `layer` to `from`'s layer `fromLayer` (same size and channel count), shared, not
+    /// copied.
+    void shareLayer(Layer layer, const FrameBuffers& from, Layer fromLayer);
+    /// A frame with this one's metadata and every layer shared, none copied.
+    FrameBuffers sharedCopy() const;
     /// Removes a layer (Color cannot be removed).
     void remove(Layer layer);
     /// Adds a zero layer of the right shape if absent; returns it.
@@ -122,9 +142,12 @@ class FrameBuffers {
     const FrameMetadata& metadata() const { return m_metadata; }
 
   private:
+    // The layer, copied first when another frame shares it (copy-on-write); present.
+    Image& owned(Layer layer);
+
     int m_width = 0;
     int m_height = 0;
-    std::array<Image, kLayerCount> m_layers;
+    std::array<std::shared_ptr<Image>, kLayerCount> m_layers;
     FrameMetadata m_metadata;
 };
 
@@ -132,11 +155,14 @@ class FrameBuffers {
 /// frames of their own without half layers: B from the half layers, A from the whole minus B
 /// — per pixel and channel n_A = n − n_B, mean_A = (n·mean − n_B·mean_B)/n_A and, by Chan et
 /// al.'s pairwise formula, M2_A = M2 − M2_B − (mean_B − mean_A)²·n_A·n_B/n, so A's variance
-/// of the mean is that of its own samples (clamped at 0 against rounding). Layers without a
-/// half (position) are copied to both; metadata too, with spp ⌈spp/2⌉ and ⌊spp/2⌋. Throws
-/// Error(Format) naming `file` and the first missing half layer, Error(InvalidArgument) when
-/// a half holds more samples than the pixel.
+/// of the mean is that of its own samples (clamped at 0 against rounding). B's layers and the
+/// layers A does not recompute (position) are the frame's, shared (FrameBuffers::shareLayer),
+/// not copied; metadata is copied, with spp ⌈spp/2⌉ and ⌊spp/2⌋. Throws as checkHalves.
 std::pair<FrameBuffers, FrameBuffers> splitHalves(const FrameBuffers& frame,
                                                   const std::string& file = {});
+/// Whether splitHalves can split `frame`, without splitting it: throws Error(Format) naming
+/// `file` and the first missing half layer, Error(InvalidArgument) when a half holds more
+/// samples than the pixel.
+void checkHalves(const FrameBuffers& frame, const std::string& file = {});
 
 }  // namespace glint
