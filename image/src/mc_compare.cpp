@@ -16,7 +16,7 @@ namespace {
 /// Window sides (pixels); each is tested at a stride of a quarter of its side.
 constexpr int kWindowSides[] = {8, 16, 32};
 
-/// Summed-area table of per-pixel sums over channels (double, (w+1) x (h+1)).
+/// Summed-area tables of per-pixel sums over channels (double, (w+1) x (h+1)).
 struct Integral {
     int w = 0, h = 0;
     std::vector<double> z, z2, diff, ref;
@@ -45,7 +45,7 @@ McCompareResult mcCompare(const Image& mean, const Image& variance, const Image&
             "the false-alarm rate must be in (0, 1), got " + std::to_string(options.falseAlarmRate),
             {}, where);
 
-    // Per-pixel z-scores, summed over channels, and their summed-area tables.
+    // Per-pixel z-scores summed over channels, their squares, and their summed-area tables.
     const int w = mean.width(), h = mean.height(), channels = mean.channels();
     Integral t;
     t.w = w;
@@ -55,6 +55,10 @@ McCompareResult mcCompare(const Image& mean, const Image& variance, const Image&
     for (int y = 0; y < h; ++y) {
         double rz = 0, rz2 = 0, rdiff = 0, rref = 0;  // running sums along the row
         for (int x = 0; x < w; ++x) {
+            // A pixel's channels come from the same paths, so they are not independent: the
+            // self-normalised sum takes each pixel's z-scores summed over its channels as one
+            // term (pixels are independent), which keeps Efron's bound for correlated channels.
+            double pz = 0;
             for (int c = 0; c < channels; ++c) {
                 const double m = mean(x, y, c), r = reference(x, y, c);
                 const double vm = variance(x, y, c), vr = referenceVariance(x, y, c);
@@ -71,11 +75,12 @@ McCompareResult mcCompare(const Image& mean, const Image& variance, const Image&
                 const double v = vm + vr;
                 const double floor = 1e-12 * std::max(std::fabs(m), std::fabs(r)) + 1e-30;
                 const double z = d == 0.0 ? 0.0 : d / std::sqrt(std::max(v, floor * floor));
-                rz += z;
-                rz2 += z * z;
+                pz += z;
                 rdiff += d;
                 rref += r;
             }
+            rz += pz;
+            rz2 += pz * pz;
             const std::size_t i = std::size_t(y + 1) * (w + 1) + std::size_t(x + 1);
             const std::size_t above = std::size_t(y) * (w + 1) + std::size_t(x + 1);
             t.z[i] = t.z[above] + rz;
