@@ -23,7 +23,7 @@ endforeach()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/denoise/weights/oidn/
         DESTINATION ${GLINT_UNET_WEIGHTS_INSTALL_DIR}
         FILES_MATCHING PATTERN "*.tza" PATTERN "LICENSE.txt")
-foreach(tool glint-image glint-render glint-denoise)
+foreach(tool glint-image glint-render glint-denoise glint-final)
   if(TARGET ${tool})
     install(TARGETS ${tool} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
   endif()

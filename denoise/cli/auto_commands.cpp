@@ -245,7 +245,7 @@ void runAuto(const AutoArgs& a) {
             resolveEstimator(options.estimator, frame) != AutoEstimator::Halves)
             throw Error(ErrorKind::InvalidArgument,
                         "the exact display space needs the halves estimator (a render with "
-                        "--half-buffers)",
+                        "--set halfBuffers=true)",
                         "command line", "--space");
     } catch (const Error& e) {
         rethrowNaming(e, a.input);

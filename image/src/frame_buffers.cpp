@@ -199,7 +199,7 @@ void checkHalves(const FrameBuffers& frame, const std::string& file) {
             throw Error(ErrorKind::Format,
                         "has no " + std::string(layerDisplayName(*half)) +
                             " layer: the two halves need every half layer (render with "
-                            "glint-render --half-buffers)",
+                            "glint-render --set halfBuffers=true)",
                         file, "layer '" + std::string(layerDisplayName(*half)) + "'");
     }
     if (!frame.has(Layer::SampleCount))

@@ -2,7 +2,7 @@
 """Clusters against triangles on one asset (docs/lab/assets-tried.md, "Clusters and the buffer
 reader on real assets"; docs/renderer.md, "Acceleration structure").
 
-Renders ASSET with `--accel triangles` and `--accel clusters` at each seed (default 19 and 20) and
+Renders ASSET with `--set accel=triangles` and `--set accel=clusters` at each seed (default 19 and 20) and
 prints, per render, the image mean (the mean of R, G and B over the frame), its standard error
 (from the variance layer: the variance of each pixel's mean, pixels independent) and the render's
 rays/s; then, per seed, the relMSE of the clusters image against the triangles image of the same
@@ -95,7 +95,7 @@ def main():
             path = os.path.join(work, f"{stem}_{accel}_{seed}.exr")
             stats = run_json([f"{args.build}/bin/glint-render", args.asset, "--spp",
                               str(args.spp), "--seed", str(seed), "--threads",
-                              str(args.threads), "--accel", accel, "--out", path, "--json"] +
+                              str(args.threads), "--set", f"accel={accel}", "--out", path, "--json"] +
                              args.extra)
             mean, error = image_mean(path)
             out[accel, seed] = (path, mean, error)

@@ -32,7 +32,7 @@ scene = json.load(open(sys.argv[1]))
 scene["film"] = {"width": int(sys.argv[3]), "height": int(sys.argv[4])}
 json.dump(scene, open(sys.argv[2], "w"))
 PY
-        "$build/bin/glint-render" "$work/cornell-$size.json" --spp 4 --half-buffers \
+        "$build/bin/glint-render" "$work/cornell-$size.json" --spp 4 --set halfBuffers=true \
             --threads "$threads" --out "$input" > /dev/null
     fi
     against=()

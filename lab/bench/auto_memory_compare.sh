@@ -55,7 +55,7 @@ scene = json.load(open(sys.argv[1]))
 scene["film"] = {"width": int(sys.argv[3]), "height": int(sys.argv[4])}
 json.dump(scene, open(sys.argv[2], "w"))
 PY
-        "$build/bin/glint-render" "$work/cornell-$size.json" --spp 4 --half-buffers --threads 2 \
+        "$build/bin/glint-render" "$work/cornell-$size.json" --spp 4 --set halfBuffers=true --threads 2 \
             --out "$input" > /dev/null
     fi
     for r in $(seq 1 "$rounds"); do

@@ -1,4 +1,4 @@
-// bench_mlt: Metropolis (--integrator mlt) against the path tracer (docs/metropolis.md).
+// bench_mlt: Metropolis (integrator mlt) against the path tracer (docs/metropolis.md).
 //   bench_mlt reference SCENE.json --spp N --out REF.exr [--threads T] [--seed 1]
 //       path-traced reference: colour, variance and sample count only, Zip-compressed
 //   bench_mlt equal-time SCENE.json --reference REF.exr [--seconds 10,60] [--threads 2]

@@ -59,7 +59,7 @@ def blend_region(glint, asset):
     try:
         with os.fdopen(fd, "w") as f:
             json.dump(gltf, f)
-        subprocess.run([glint, marked, "--spp", "16", "--max-depth", "1", "--threads", "2",
+        subprocess.run([glint, marked, "--spp", "16", "--set", "maxDepth=1", "--threads", "2",
                         "--out", out], check=True, stdout=subprocess.DEVNULL,
                        stderr=subprocess.DEVNULL)
         return lum(rgb(out)) > 50.0

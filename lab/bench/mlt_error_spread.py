@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Does Metropolis report the error of its image's mean? (docs/metropolis.md, "Error of the
-image's mean"). Renders SCENE with --integrator mlt at render seeds FIRST..LAST and prints, for
+image's mean"). Renders SCENE with --set integrator=mlt at render seeds FIRST..LAST and prints, for
 b and for the image's mean luminance, the standard deviation of the relative value over the
 seeds against the root mean square of the reported relative error (glint:mltBRelStdErr,
 glint:mltMeanRelStdErr): 1 means the reported error is right.
@@ -32,7 +32,7 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         for seed in range(a.first, a.last + 1):
             out = os.path.join(tmp, f"s{seed}.exr")
-            subprocess.run([a.glint_render, a.scene, "--integrator", "mlt", "--spp", str(a.spp),
+            subprocess.run([a.glint_render, a.scene, "--set", "integrator=mlt", "--spp", str(a.spp),
                             "--seed", str(seed), "--threads", "2", "--out", out],
                            check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
             buf = oiio.ImageBuf(out)

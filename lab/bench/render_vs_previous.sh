@@ -41,7 +41,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 # One render: prints "samplesPerSecond rays".
 render() {
-    "$1" "$scene" --spp "$spp" --max-depth 8 --threads "$threads" --seed 1 --json \
+    "$1" "$scene" --spp "$spp" --set maxDepth=8 --threads "$threads" --seed 1 --json \
         --out "$work/$2.exr" |
         /usr/bin/python3 -c 'import json, sys; j = json.load(sys.stdin); print(j["samplesPerSecond"], j["rays"])'
 }

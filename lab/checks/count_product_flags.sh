@@ -2,7 +2,7 @@
 # Counts the flags of the product CLIs from their --help: each program's own options and each
 # subcommand's (--help itself not counted; a positional is not a flag). Prints one line per
 # program and subcommand and the total; with --max N, fails when the total is above N.
-#   lab/checks/count_product_flags.sh [--max 70] build/bin/glint-image build/bin/glint-render …
+#   lab/checks/count_product_flags.sh [--max 70] build/bin/glint-image build/bin/glint-render … build/bin/glint-final
 set -euo pipefail
 
 max=

@@ -14,7 +14,7 @@ for scene in $scenes; do
   for spp in 4 16 64; do
     for kind in plain halves; do
       flags=""
-      [ "$kind" = halves ] && flags="--half-buffers"
+      [ "$kind" = halves ] && flags="--set halfBuffers=true"
       "$bin/glint-render" "scenes/$scene/scene.json" --spp "$spp" --seed 1 $flags \
         --out "$work/$kind.exr" >/dev/null 2>&1
       "$bin/glint-denoise" bank "$work/$kind.exr" --out "$work/bank_$kind" --size 64 --seed 1 >/dev/null

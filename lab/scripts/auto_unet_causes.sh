@@ -16,7 +16,7 @@ echo "|---|---|---|---|---|---|---|---|---|"
 for cell in "${rest[@]}"; do
   IFS=: read -r scene spp seed <<<"$cell"
   ref="scenes/$scene/reference.exr"
-  "$bin/glint-render" "scenes/$scene/scene.json" --spp "$spp" --seed "$seed" --half-buffers \
+  "$bin/glint-render" "scenes/$scene/scene.json" --spp "$spp" --seed "$seed" --set halfBuffers=true \
     --out "$work/in.exr" >/dev/null 2>&1
   "$bin/glint-denoise" bank "$work/in.exr" --out "$work/bank" --size 64 --seed 1 >/dev/null
   "$bin/glint-lab" oracle "$work/in.exr" --reference "$ref" --bank "$work/bank" \

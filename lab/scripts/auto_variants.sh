@@ -16,7 +16,7 @@ for scene in $scenes; do
   for spp in 4 16 64; do
     cell="$work/$scene-$spp"
     mkdir -p "$cell"
-    "$bin/glint-render" "scenes/$scene/scene.json" --spp "$spp" --seed "${SEED:-1}" --half-buffers \
+    "$bin/glint-render" "scenes/$scene/scene.json" --spp "$spp" --seed "${SEED:-1}" --set halfBuffers=true \
       --out "$cell/in.exr" >/dev/null 2>&1
     "$bin/glint-denoise" bank "$cell/in.exr" --out "$cell/bank" --size 64 --seed 1 >/dev/null
     "$bin/glint-lab" oracle "$cell/in.exr" --reference "scenes/$scene/reference.exr" \

@@ -12,11 +12,11 @@ echo "| scene | spp | best single | per-pixel | expected error, radius 0 / 2 / 4
 echo "|---|---|---|---|---|"
 for scene in $scenes; do
   for spp in 4 16 64; do
-    "$bin/glint-render" "scenes/$scene/scene.json" --spp "$spp" --seed 1 --half-buffers \
+    "$bin/glint-render" "scenes/$scene/scene.json" --spp "$spp" --seed 1 --set halfBuffers=true \
       --out "$work/in.exr" >/dev/null 2>&1
     others=""
     for seed in 2 3 4 5 6 7 8; do
-      "$bin/glint-render" "scenes/$scene/scene.json" --spp "$spp" --seed "$seed" --half-buffers \
+      "$bin/glint-render" "scenes/$scene/scene.json" --spp "$spp" --seed "$seed" --set halfBuffers=true \
         --out "$work/r$seed.exr" >/dev/null 2>&1
       others="$others${others:+,}$work/r$seed.exr"
     done

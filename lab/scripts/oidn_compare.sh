@@ -129,7 +129,7 @@ for scene in $scenes; do
   for spp in $spps; do
     for seed in $seeds; do
       ref="scenes/$scene/reference.exr"
-      "$bin/glint-render" "scenes/$scene/scene.json" --spp "$spp" --seed "$seed" --half-buffers \
+      "$bin/glint-render" "scenes/$scene/scene.json" --spp "$spp" --seed "$seed" --set halfBuffers=true \
         --out "$work/in.exr" >/dev/null 2>&1
       run_oidn "$work/in.exr" "" albedo.R,albedo.G,albedo.B normal.X,normal.Y,normal.Z "$ref"
       row "$scene" "$spp" "$seed" "$ref" 1

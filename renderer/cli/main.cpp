@@ -42,8 +42,8 @@ struct Options {
     std::optional<int> threads;
     std::optional<std::string> shard;
     double timeLimit = 0.0;
-    bool json = false, position = false;
-    /// The named render settings given (--spp, --max-depth, --mlt-chains, …) as text, read
+    bool json = false;
+    /// The named render settings given (--spp, --seed) as text, read
     /// strictly by the settings codec ("-1" must not wrap to a seed of 2^64 - 1).
     glint::render::SettingValues settings;
     /// --set: any named render setting, "name=value" each (scene.json's render keys).
@@ -52,33 +52,14 @@ struct Options {
     std::string display;     ///< --display HOST:PORT: each pass to a running tev
 };
 
-/// The named settings with a flag of their own (--spp, --max-depth, …); the others are set by
+/// The named settings with a flag of their own (--spp, --seed); the others are set by
 /// --set name=value or the scene's render block.
-constexpr const char* kSettingFlags[] = {"spp",      "seed",        "integrator",
-                                         "maxDepth", "halfBuffers", "accel"};
+constexpr const char* kSettingFlags[] = {"spp", "seed"};
 
 bool hasOwnFlag(const std::string& name) {
     for (const char* n : kSettingFlags)
         if (name == n) return true;
     return false;
-}
-
-/// The named settings of --set's "name=value" items added to `settings`.
-void addSetSettings(const std::vector<std::string>& items, glint::render::SettingValues& settings) {
-    for (const std::string& item : items) {
-        const std::size_t eq = item.find('=');
-        const std::string name = item.substr(0, eq);
-        if (eq == std::string::npos || !glint::render::findSetting(name)) {
-            std::string names;
-            for (const glint::render::SettingSpec& spec : glint::render::settingSpecs())
-                names += (names.empty() ? "" : ", ") + std::string(spec.name);
-            throw glint::Error(
-                glint::ErrorKind::InvalidArgument,
-                "'" + item + "': expected name=value, the name a render setting (" + names + ")",
-                "command line", "--set");
-        }
-        settings[name] = item.substr(eq + 1);
-    }
 }
 
 /// The flag that sets the Settings field `field` (validate's place), else "options".
@@ -199,7 +180,8 @@ int run(const Options& opt) {
     if (!opt.settings.count("spp") && opt.timeLimit > 0.0) settings.spp = 0;
     // The named settings through the codec, each error naming its flag.
     glint::render::SettingValues given = opt.settings;
-    addSetSettings(opt.set, given);
+    for (auto& [name, text] : glint::render::parseSettingAssignments(opt.set, "--set"))
+        given[name] = text;
     for (const auto& [name, text] : given) {
         const glint::render::SettingSpec& spec = *glint::render::findSetting(name);
         glint::render::setSetting(settings, spec, text, "command line", flagOf(name));
@@ -215,7 +197,6 @@ int run(const Options& opt) {
     }
     if (opt.threads) settings.threads = *opt.threads;
     settings.timeLimit = opt.timeLimit;
-    settings.positionLayer = opt.position;
     if (opt.shard) {
         const auto [index, count] = glint::parseShardSpec(*opt.shard, "--shard");
         settings.shard = glint::render::Shard{index, count};
@@ -422,7 +403,6 @@ int main(int argc, char** argv) {
                    "i/N: render only shard i (0-based) of N of the per-pixel samples, for "
                    "glint-image merge (docs/distributed.md)");
     app.add_option("--reference", opt.reference, "reference EXR: print relMSE and SSIM per pass");
-    app.add_flag("--position", opt.position, "also write the world-space position layer");
     app.add_option("--memory-limit", opt.memoryLimit,
                    "refuse an asset whose load would peak above this before reading it, and a "
                    "render whose scene, BVH, textures and film need more before building "
@@ -446,9 +426,9 @@ int main(int argc, char** argv) {
     }
     // Every other render setting, name=value each, under its scene.json name.
     app.add_option("--set", opt.set,
-                   "a render setting name=value (repeatable), scene.json's render keys: adaptive, "
-                   "noiseThreshold, minSpp, adaptiveError (adaptive sampling), mltChains, … "
-                   "(Metropolis), mis, sampler, rrDepth, … (docs/scene-format.md)");
+                   "a render setting name=value (repeatable), scene.json's render keys: "
+                   "integrator, maxDepth, halfBuffers, accel, positionLayer, adaptive, "
+                   "noiseThreshold, minSpp, … (docs/scene-format.md)");
     app.add_option("--importance", opt.importance,
                    "adaptive sampling with these per-pixel weights (EXR: one channel, or the "
                    "luminance of RGB; the film's size) multiplying each pixel's estimated error");

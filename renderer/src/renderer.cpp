@@ -133,7 +133,7 @@ void Renderer::checkSceneMemory(std::uint64_t film, const SceneMemory& scene,
     if (scene.accel == Accel::Triangles) {
         const std::uint64_t clusters = budget.needs(
             film, estimateSceneMemory(m_scene, Accel::Clusters, settings.textureCacheMb));
-        msg += "; over clusters (--accel clusters) it would " +
+        msg += "; over clusters (--set accel=clusters) it would " +
                std::string(clusters <= budget.allowed ? "need " : "still need ") +
                formatBytes(clusters) + (clusters <= budget.allowed ? ", which fits" : "");
     }

@@ -42,9 +42,9 @@ std::int64_t integerOf(const std::string& text) {
     return std::stoll(text);
 }
 
-const std::array<NamedField, 23>& namedFields() {
+const std::array<NamedField, 24>& namedFields() {
     using K = SettingKind;
-    static const std::array<NamedField, 23> table{{
+    static const std::array<NamedField, 24> table{{
         {{"spp", K::Integer, 1, kMaxSpp, 0, 0, "", true, "samples per pixel"},
          [](const Settings& s) { return std::to_string(s.spp); },
          [](Settings& s, const std::string& t) { s.spp = int(integerOf(t)); }},
@@ -81,6 +81,10 @@ const std::array<NamedField, 23>& namedFields() {
           "layers (an unbiased error estimate for auto)"},
          [](const Settings& s) { return std::string(s.halfBuffers ? "true" : "false"); },
          [](Settings& s, const std::string& t) { s.halfBuffers = t == "true"; }},
+        {{"positionLayer", K::Boolean, 0, 0, 0, 0, "", false,
+          "also write the world-space position layer"},
+         [](const Settings& s) { return std::string(s.positionLayer ? "true" : "false"); },
+         [](Settings& s, const std::string& t) { s.positionLayer = t == "true"; }},
         {{"textureCacheMb", K::Integer, 1, kMaxTextureCacheMb, 0, 0, "", false,
           "megabytes of texture tiles held in memory"},
          [](const Settings& s) { return std::to_string(s.textureCacheMb); },
@@ -195,6 +199,26 @@ std::string settingFlag(const SettingSpec& spec) {
             flag += *c;
     }
     return flag;
+}
+
+SettingValues parseSettingAssignments(const std::vector<std::string>& items,
+                                      const std::string& where) {
+    SettingValues values;
+    for (const std::string& item : items) {
+        const std::size_t eq = item.find('=');
+        const std::string name = item.substr(0, eq);
+        if (eq == std::string::npos || !findSetting(name)) {
+            std::string names;
+            for (const SettingSpec& spec : settingSpecs())
+                names += (names.empty() ? "" : ", ") + std::string(spec.name);
+            throw Error(
+                ErrorKind::InvalidArgument,
+                "'" + item + "': expected name=value, the name a render setting (" + names + ")",
+                "command line", where);
+        }
+        values[name] = item.substr(eq + 1);
+    }
+    return values;
 }
 
 std::string settingText(const Settings& settings, const SettingSpec& spec) {

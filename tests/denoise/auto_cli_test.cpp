@@ -355,7 +355,7 @@ TEST_F(AutoCli, BadInputExitsTwoWithOneClearLineAndWritesNothing) {
          {"novariance.exr", "layer 'variance'", "variance.R", "SURE"}},
         {"auto " + path("nan.exr") + out, {"nan.exr", "pixel (7, 4), channel B", "NaN"}},
         {"auto " + path("noisy.exr") + out + " --estimator halves",
-         {"noisy.exr", "layer 'halfColor'", "--half-buffers"}},
+         {"noisy.exr", "layer 'halfColor'", "halfBuffers=true"}},
         {"auto " + path("noisy.exr") + out + " --estimator stein",
          {"--estimator", "auto, sure, halves or image"}},
         {"auto " + path("noisy.exr") + out + " --quality great",

@@ -79,6 +79,17 @@ double layerSum(const FrameBuffers& f, Layer layer, int c) {
     return sum;
 }
 
+/// The message of the glint::Error `f` throws, or "" when it throws none.
+template <class F>
+std::string errorOf(F&& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
 TEST_F(AdaptiveScene, TheConvergedMeanIsTheUniformRendersWithinTheNoise) {
     // The image mean of adaptive renders (the even half never steers, and every sample)
     // against a 1024-spp uniform render of another seed, per channel: |difference| below 4
@@ -150,6 +161,41 @@ TEST_F(AdaptiveScene, SampleCountFollowsTheImportanceMap) {
         }
 }
 
+TEST_F(AdaptiveScene, AMapTheCallbackReturnsSteersEveryPassAfterIt) {
+    // No map at first and a threshold no pixel reaches: every pixel takes the first adaptive
+    // pass. Before the second, the callback returns weight 0 in the left half: those pixels
+    // keep the count they had then, the right half goes on to spp. Empty answers keep the map.
+    Renderer renderer(cornell(24, 24));
+    Settings s = adaptiveSettings();
+    s.noiseThreshold = 1e-9;
+    Callbacks callbacks;
+    int calls = 0;
+    Image countAtRefresh;
+    callbacks.importance = [&](int, const FrameBuffers& frame) -> std::shared_ptr<const Image> {
+        if (++calls != 2) return nullptr;
+        countAtRefresh = frame.layer(Layer::SampleCount);
+        auto weights = std::make_shared<Image>(24, 24, 1, 1.0f);
+        for (int y = 0; y < 24; ++y)
+            for (int x = 0; x < 12; ++x) (*weights)(x, y, 0) = 0.0f;
+        return weights;
+    };
+    const FrameBuffers f = renderer.render(s, callbacks).frame;
+    EXPECT_GT(calls, 2);
+    const Image& count = f.layer(Layer::SampleCount);
+    for (int y = 0; y < 24; ++y)
+        for (int x = 0; x < 24; ++x) {
+            // The first adaptive pass doubled every pixel's count (8 + 8, passes double).
+            EXPECT_EQ(countAtRefresh(x, y, 0), 16.0f) << x << ", " << y;
+            EXPECT_EQ(count(x, y, 0), x < 12 ? 16.0f : 64.0f) << x << ", " << y;
+        }
+    // A bad map from the callback is refused as a bad Settings::importance is.
+    callbacks.importance = [](int, const FrameBuffers&) {
+        return std::make_shared<const Image>(24, 24, 1, 0.0f);
+    };
+    EXPECT_NE(errorOf([&] { renderer.render(s, callbacks); }).find("every weight is 0"),
+              std::string::npos);
+}
+
 TEST_F(AdaptiveScene, EveryPixelContinuesItsOwnSequenceSoAllPixelsOpenIsTheUniformRender) {
     // With every pixel taking every pass, the adaptive passes (sizes 16, cut at spp) add each
     // pixel's samples 8 … 63 in order, as the uniform passes do: the same bits.
@@ -186,17 +232,6 @@ TEST_F(AdaptiveScene, TheSameSeedGivesTheSameBitsForAnyThreadCount) {
     test::expectSameFrames(one, two);
     s.seed = 8;
     EXPECT_FALSE(test::sameLayer(one, renderer.render(s).frame, Layer::Color));
-}
-
-/// The message of the glint::Error `f` throws, or "" when it throws none.
-template <class F>
-std::string errorOf(F&& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
 }
 
 TEST_F(AdaptiveScene, BadSettingsAndMapsAreRefusedNamingTheProblem) {

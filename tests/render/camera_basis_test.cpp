@@ -112,7 +112,7 @@ TEST_F(CameraBasisCli, ADegenerateUpExitsTwoWithTheIntegratorAndAccelerationOfTh
     for (std::size_t i = 0; i < kDegenerateUps.size(); ++i) {
         const std::string scene = path("scene" + std::to_string(i) + ".json");
         std::ofstream(scene) << sceneWithUp(kDegenerateUps[i]);
-        for (const char* extra : {"", " --integrator mlt", " --accel clusters"}) {
+        for (const char* extra : {"", " --set integrator=mlt", " --set accel=clusters"}) {
             const auto r = run(scene + " --spp 1" + extra + " --out " + path("out.exr"));
             const std::string what = kDegenerateUps[i] + extra;
             EXPECT_EQ(r.exitCode, 2) << what << "\n" << r.err;

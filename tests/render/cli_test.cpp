@@ -72,8 +72,9 @@ TEST_F(RenderCli, JsonSummaryAndLayeredOutput) {
         EXPECT_TRUE(frame.has(l)) << channelName(l, 0);
     EXPECT_EQ(frame.layer(Layer::SampleCount)(5, 7, 0), 4.0f);
     EXPECT_FALSE(frame.has(Layer::HalfColor));
-    // --half-buffers: the half layers round-trip through the EXR.
-    const RunResult h = run(path("scene.json") + " --spp 4 --half-buffers --out " + path("h.exr"));
+    // halfBuffers=true: the half layers round-trip through the EXR.
+    const RunResult h =
+        run(path("scene.json") + " --spp 4 --set halfBuffers=true --out " + path("h.exr"));
     ASSERT_EQ(h.exitCode, 0) << h.err;
     const FrameBuffers halves = readExr(path("h.exr"));
     for (int l = 0; l < kLayerCount; ++l) {
@@ -116,14 +117,17 @@ TEST_F(RenderCli, BadInputExitsTwoNamingTheProblemAndWritesNothing) {
         {path("broken.json") + " --spp 4 --out " + out, "line 1"},
         {scene + " --spp -3 --out " + out, "--spp"},
         {scene + " --spp 4 --threads -1 --out " + out, "--threads"},
-        {scene + " --spp 4 --max-depth 0 --out " + out, "--max-depth"},
+        {scene + " --spp 4 --set maxDepth=0 --out " + out, "--set maxDepth"},
         {path("mis.json") + " --spp 4 --out " + out, "mis"},
-        {path("stratified.json") + " --spp 4 --half-buffers --out " + out, "--half-buffers"},
-        {scene + " --integrator mlt --set mltChains=many --out " + out, "--set mltChains"},
-        {scene + " --integrator mlt --set nosuch=1 --out " + out, "--set"},
-        {scene + " --integrator mlt --set mltChains --out " + out, "--set"},
-        {scene + " --integrator mlt --set mltChains=30 --set mltGroups=4 --out " + out, "--set"},
-        {scene + " --spp 4 --half-buffers --integrator mlt --out " + out, "--half-buffers"},
+        {path("stratified.json") + " --spp 4 --set halfBuffers=true --out " + out,
+         "--set halfBuffers"},
+        {scene + " --set integrator=mlt --set mltChains=many --out " + out, "--set mltChains"},
+        {scene + " --set integrator=mlt --set nosuch=1 --out " + out, "--set"},
+        {scene + " --set integrator=mlt --set mltChains --out " + out, "--set"},
+        {scene + " --set integrator=mlt --set mltChains=30 --set mltGroups=4 --out " + out,
+         "--set"},
+        {scene + " --spp 4 --set halfBuffers=true --set integrator=mlt --out " + out,
+         "--set halfBuffers"},
         {scene + " --spp 4 --reference " + path("small.exr") + " --out " + out, "small.exr"},
     };
     for (const Case& c : cases) {
@@ -139,7 +143,7 @@ TEST_F(RenderCli, BadInputExitsTwoNamingTheProblemAndWritesNothing) {
 TEST_F(RenderCli, MetropolisParametersAreSetByName) {
     const RunResult r =
         run(path("scene.json") +
-            " --spp 4 --integrator mlt --set mltChains=32 --set mltGroups=4 "
+            " --spp 4 --set integrator=mlt --set mltChains=32 --set mltGroups=4 "
             "--set mltBootstrap=2000 --set mltFeatureSpp=2 --set mltLarge=0.5 --json --out " +
             path("mlt.exr"));
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -212,7 +216,7 @@ TEST_F(RenderCli, BadAdaptiveInputExitsTwoWithOneLineAndWritesNothing) {
          "zero.exr: every weight is 0"},
         {scene + " --importance " + path("missing.exr") + " --out " + out, "missing.exr"},
         {scene + " --set adaptive=true --shard 0/2 --out " + out, "--shard"},
-        {scene + " --set adaptive=true --integrator mlt --out " + out, "path integrator only"},
+        {scene + " --set adaptive=true --set integrator=mlt --out " + out, "path integrator only"},
     };
     for (const Case& c : cases) {
         const RunResult r = run(c.args);

@@ -502,19 +502,19 @@ TEST_F(ClusterCli, AccelFlagRunsAndBadValuesExitTwo) {
         "shapes": [{"obj": "sphere.obj"}], "environment": {"color": [1, 1, 1]}})";
     const std::string out = path("x.exr");
     const glint::testing::RunResult ok =
-        run(path("scene.json") + " --spp 2 --accel clusters --json --out " + out);
+        run(path("scene.json") + " --spp 2 --set accel=clusters --json --out " + out);
     ASSERT_EQ(ok.exitCode, 0) << ok.err;
     EXPECT_NE(ok.out.find("\"accel\":\"clusters\""), std::string::npos) << ok.out;
     std::filesystem::remove(out);
     const glint::testing::RunResult bad =
-        run(path("scene.json") + " --spp 2 --accel fast --out " + out);
+        run(path("scene.json") + " --spp 2 --set accel=fast --out " + out);
     EXPECT_EQ(bad.exitCode, 2);
     // The stage lines before it, then the error on one line.
     std::string err = bad.err;
     while (!err.empty() && err.back() == '\n') err.pop_back();
     err = err.substr(err.rfind('\n') + 1);
-    EXPECT_EQ(err.rfind("glint-render: command line: --accel: ", 0), 0u) << err;
-    EXPECT_NE(err.find("--accel"), std::string::npos) << err;
+    EXPECT_EQ(err.rfind("glint-render: command line: --set accel: ", 0), 0u) << err;
+    EXPECT_NE(err.find("--set accel"), std::string::npos) << err;
     EXPECT_NE(err.find("auto, triangles or clusters"), std::string::npos) << err;
     EXPECT_FALSE(std::filesystem::exists(out));
     // The scene's "accel": 3 the same way, naming the file and the place.

@@ -322,7 +322,7 @@ TEST_F(HostileCli, OptionsHaveTheSceneFilesLimitsAndOutputsAreCheckedFirst) {
         std::string args, mention;
     };
     const Flag flags[] = {
-        {scene + " --max-depth 100000" + out, "--max-depth"},
+        {scene + " --set maxDepth=100000" + out, "--set maxDepth"},
         {path("rr.json") + out, "rrDepth"},
         {scene + " --spp 16777217" + out, "--spp"},
         {scene + " --time-limit inf" + out, "--time-limit"},

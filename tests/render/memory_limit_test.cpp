@@ -96,9 +96,9 @@ TEST(MemoryLimit, AutoTakesClustersWhenOnlyTheyFitAndTrianglesAreRefusedSayingSo
         const std::string m = e.message();
         EXPECT_NE(m.find("need " + formatBytes(withTriangles)), std::string::npos) << m;
         EXPECT_NE(m.find(formatBytes(s.memoryLimit) + " is allowed"), std::string::npos) << m;
-        EXPECT_NE(
-            m.find("--accel clusters) it would need " + formatBytes(withClusters) + ", which fits"),
-            std::string::npos)
+        EXPECT_NE(m.find("--set accel=clusters) it would need " + formatBytes(withClusters) +
+                         ", which fits"),
+                  std::string::npos)
             << m;
     }
     // Below what clusters need, auto is refused too, and clusters are not offered as the cure.
@@ -154,12 +154,12 @@ TEST_F(MemoryLimitCli, TheLimitCoversTheSceneAndAutoFallsBackToClusters) {
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find(R"("bvh":"clusters")"), std::string::npos) << r.out;
     EXPECT_NE(r.err.find("the BVH is built over clusters"), std::string::npos) << r.err;
-    r = run(args + path("triangles.exr") + " --accel triangles");
+    r = run(args + path("triangles.exr") + " --set accel=triangles");
     EXPECT_EQ(r.exitCode, 2) << r.err;
     EXPECT_EQ(r.err.find("glint-render: " + file.string() + ": /shapes: the scene"),
               r.err.rfind('\n', r.err.size() - 2) + 1)
         << r.err;
-    EXPECT_NE(r.err.find("(--accel clusters) it would need"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("(--set accel=clusters) it would need"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(path("triangles.exr")));
 }
 

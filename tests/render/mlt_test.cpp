@@ -1,4 +1,4 @@
-// Metropolis light transport (--integrator mlt): the primary-sample-space sampler's mutations
+// Metropolis light transport (integrator mlt): the primary-sample-space sampler's mutations
 // and stationary distribution, convergence to the path tracer on cornell, statistics, thread
 // determinism, and MLT beating the path tracer on Veach's door scene at equal samples.
 #include <gtest/gtest.h>

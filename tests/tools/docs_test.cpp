@@ -1,5 +1,5 @@
 // Checks of the docs against the tree (issue 47, "Docs as a reference"): the source layout in
-// docs/architecture.md names every folder of the five modules and no other; every relative link
+// docs/architecture.md names every folder of the six modules and no other; every relative link
 // of README.md, docs/*.md and docs/lab/*.md reaches a file (and, with #anchor, a heading of it);
 // every source path a reference page names exists; the newcomer's lists of where to add a filter, a
 // material kind and an asset format hold at most three files each, every one of which exists.
@@ -22,7 +22,8 @@ namespace fs = std::filesystem;
 const fs::path kRoot = GLINT_SOURCE_DIR;
 
 /// The modules whose folders the layout section lists.
-const std::vector<std::string> kModules = {"image", "renderer", "denoise", "gui", "lab", "python"};
+const std::vector<std::string> kModules = {"image", "renderer", "denoise", "pipeline",
+                                           "gui",   "lab",      "python"};
 
 std::string readText(const fs::path& file) {
     std::ifstream in(file, std::ios::binary);

@@ -437,6 +437,11 @@ void Pipeline::blendPass(std::vector<Image>& planes, AutoResult& result) {
     for (std::size_t m = 0; m < n; ++m)
         if (!planes[m].empty()) used.push_back(m);
     const bool stacking = m_s.stack > 0;
+    // The blends on the halves: the stacking corrects them; the error estimate compares each
+    // with the other half (B's only with both halves).
+    const std::size_t sides = stacking || (m_s.estimateError && m_s.bothHalves) ? 3
+                              : m_s.estimateError                               ? 2
+                                                                                : 1;
     // Each plane feathered, before any is renormalised (members in parallel).
     std::vector<Image> feathered(m_s.feather > 0 ? used.size() : 0);
     if (m_s.feather > 0)
@@ -448,8 +453,8 @@ void Pipeline::blendPass(std::vector<Image>& planes, AutoResult& result) {
             height);
     result.composite = Image(width, height, 3);
     result.choice = Image(width, height, 1);
-    if (stacking) m_blendA = Image(width, height, 3), m_blendB = Image(width, height, 3);
-    const std::size_t sides = stacking ? 3 : 1;
+    if (sides > 1) m_blendA = Image(width, height, 3);
+    if (sides > 2) m_blendB = Image(width, height, 3);
     for (const Strip& strip : m_strips) {
         // The used members' results on the input and, for the stacking, on each half: only
         // those of members with weight in the strip (feathered, which reaches further), since
@@ -487,19 +492,18 @@ void Pipeline::blendPass(std::vector<Image>& planes, AutoResult& result) {
             for (std::size_t j = 0; j < used.size(); ++j) {
                 if (!needed[j]) continue;
                 full[used[j]] = results[j];
-                if (!stacking) continue;
-                onA[used[j]] = results[used.size() + j];
-                onB[used[j]] = results[2 * used.size() + j];
+                if (sides > 1) onA[used[j]] = results[used.size() + j];
+                if (sides > 2) onB[used[j]] = results[2 * used.size() + j];
             }
             if (m_s.feather > 0)
                 featherRows(planes, used, feathered, full, band.y0, band.y1, m_s.featherGate,
                             m_s.exposure, m_work);
             blendRows(planes, used, full, band.y0, band.y1, result.composite, &result.choice,
                       m_work);
-            if (stacking) {
+            if (sides > 1)
                 blendRows(planes, used, onA, band.y0, band.y1, m_blendA, nullptr, m_work);
+            if (sides > 2)
                 blendRows(planes, used, onB, band.y0, band.y1, m_blendB, nullptr, m_work);
-            }
         }
     }
 }
@@ -673,6 +677,18 @@ AutoResult Pipeline::run() {
     for (char a : m_estimates.analytic) result.analytic.push_back(a != 0);
     result.estimator = m_s.estimator;
 
+    // The blend's error per pixel, from its blends on the halves, before the stacking.
+    if (m_s.estimateError) {
+        // The unbiased form in linear values, each weighted by the display's squared secant
+        // slope to the result: no bias from the display's curvature at a noisy half.
+        result.error =
+            secantCrossValidationMap(m_halves->halfA().color(), m_halves->halfB().color(), m_blendA,
+                                     m_blendB.empty() ? nullptr : &m_blendB, m_region,
+                                     result.composite, m_s.exposure, SecantForm::Unbiased);
+        for (float& v : result.error.data()) v /= 3.0f;
+        result.error = boxSmooth(result.error, m_s.window, &m_work);
+        for (float& v : result.error.data()) v = std::max(v, 0.0f);
+    }
     // Pass 5: the stacking.
     if (m_s.stack > 0) stackPass(order, result);
     for (int m : order) result.layers.push_back({m, std::move(planes[std::size_t(m)])});

@@ -70,7 +70,7 @@ void checkAutoInput(const FrameBuffers& frame, AutoEstimator estimator, const st
     if (!frame.has(Layer::HalfColor))
         throw Error(ErrorKind::Format,
                     "has no halfColor layer: the halves estimator needs a render with half "
-                    "buffers (glint-render --half-buffers)",
+                    "buffers (glint-render --set halfBuffers=true)",
                     file, "layer 'halfColor'");
     checkHalves(frame, file);  // every half layer present, counts consistent
     detail::checkHalvesFinite(frame, file);
@@ -126,7 +126,7 @@ AutoSettings resolveSettings(const FilterBank& bank, const FrameBuffers& frame,
     if (given("stack") && t["stack"] > 0.0 && !halves)
         throw Error(ErrorKind::InvalidArgument,
                     "stacking fits each half on the other: it needs the halves estimator (an "
-                    "input rendered with --half-buffers)",
+                    "input rendered with --set halfBuffers=true)",
                     {}, "--stack");
     if (given("stack") && t["stack"] > 0.0 && !symmetric)
         throw Error(ErrorKind::InvalidArgument, "stacking fits both halves: it cannot be one-sided",
@@ -187,6 +187,12 @@ AutoSettings resolveSettings(const FilterBank& bank, const FrameBuffers& frame,
     s.stackFeatureWindow = int(t["stackFeatureWindow"]);
     s.prefilter = options.prefilter;
     s.prefilterParams = options.prefilterParams;
+    s.estimateError = options.estimateError;
+    if (s.estimateError && !halves)
+        throw Error(ErrorKind::InvalidArgument,
+                    "the result's error is estimated on the halves: it needs the halves estimator "
+                    "(an input rendered with half buffers)",
+                    {}, "estimateError");
     return s;
 }
 

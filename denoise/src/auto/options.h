@@ -73,6 +73,7 @@ struct AutoSettings {
     int stackFeatureWindow = 0;
     bool prefilter = false;
     ParamValues prefilterParams;
+    bool estimateError = false;  ///< AutoOptions::estimateError
 };
 
 /// The image-only estimator's settings from a resolved tuning map (noiseWindow, noiseAlpha,

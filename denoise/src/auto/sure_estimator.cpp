@@ -58,7 +58,7 @@ void checkSureInput(const FrameBuffers& frame, const std::string& file) {
                     "the variance of " + under->second +
                         " pixels is below float's range and was written as 0 (radiance about "
                         "1e-19 or less), so SURE would see no noise there; render with brighter "
-                        "emission, or with --half-buffers for the halves estimator",
+                        "emission, or with --set halfBuffers=true for the halves estimator",
                     file, "attribute glint:" + std::string(kVarianceUnderflowKey));
     const Image& color = frame.color();
     const Image& variance = frame.layer(Layer::Variance);

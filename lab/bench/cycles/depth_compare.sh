@@ -21,13 +21,13 @@ relmse() { "$BUILD_DIR/bin/glint-image" diff "$1" --reference "$2" --metric relm
   python3 -c 'import json,sys; print("%.3g" % json.load(sys.stdin)["value"])'; }
 echo "depth cycles glint_stratified glint_sobol"
 for D in $DEPTHS; do
-  "$G" scenes/cornell/scene.json --spp 1024 --max-depth "$D" --seed 99 --threads 2 \
+  "$G" scenes/cornell/scene.json --spp 1024 --set maxDepth="$D" --seed 99 --threads 2 \
     --out "$OUT/ref.exr" >/dev/null 2>&1
   blender -b -P lab/bench/cycles/cornell_cycles.py -- --spp "$SPP" --threads 2 \
     --max-depth $((D - 1)) --out "$OUT/cycles.exr" >/dev/null 2>&1
   line="$D $(relmse "$OUT/cycles.exr" "$OUT/ref.exr")"
   for S in stratified sobol; do
-    "$G" "$(with_sampler scenes/cornell/scene.json $S)" --spp "$SPP" --max-depth "$D" --threads 2 \
+    "$G" "$(with_sampler scenes/cornell/scene.json $S)" --spp "$SPP" --set maxDepth="$D" --threads 2 \
       --out "$OUT/g.exr" >/dev/null 2>&1
     line="$line $(relmse "$OUT/g.exr" "$OUT/ref.exr")"
   done

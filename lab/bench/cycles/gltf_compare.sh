@@ -31,7 +31,7 @@ command -v blender >/dev/null || { echo "gltf_compare.sh: blender not found (mak
   { echo "gltf_compare.sh: python3-openimageio not found (make bench-deps)" >&2; exit 2; }
 [[ -x "$GLINT" ]] || { echo "gltf_compare.sh: $GLINT not built (make build)" >&2; exit 2; }
 
-"$GLINT" "$ASSET" --spp "$SPP" --threads 2 --max-depth 8 --out "$OUT/glint.exr" >/dev/null
+"$GLINT" "$ASSET" --spp "$SPP" --threads 2 --set maxDepth=8 --out "$OUT/glint.exr" >/dev/null
 read -r WIDTH HEIGHT < <("$PY" -c "
 import OpenImageIO as oiio, sys
 s = oiio.ImageInput.open(sys.argv[1]).spec(); print(s.width, s.height)" "$OUT/glint.exr")

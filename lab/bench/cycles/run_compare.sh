@@ -22,7 +22,7 @@ for ((i = 1; i <= REPEATS; ++i)); do
   blender -b -P lab/bench/cycles/cornell_cycles.py -- --spp "$SPP" --threads "$THREADS" \
     --max-depth 8 --out "$OUT/cycles.exr" 2>/dev/null | grep '^{"renderer": "cycles"' >> "$OUT/cycles.jsonl"
   if [[ -x "$GLINT" ]]; then
-    "$GLINT" scenes/cornell/scene.json --spp "$SPP" --max-depth 8 --threads "$THREADS" \
+    "$GLINT" scenes/cornell/scene.json --spp "$SPP" --set maxDepth=8 --threads "$THREADS" \
       --out "$OUT/glint.exr" --json 2>/dev/null | tail -n 1 >> "$OUT/glint.jsonl"
   fi
 done

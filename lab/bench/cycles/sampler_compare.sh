@@ -28,7 +28,7 @@ for ((i = 1; i <= REPEATS; ++i)); do
   err=$(relmse "$OUT/cycles.exr" scenes/cornell/reference.exr)
   python3 -c "import sys; r,e=float(sys.argv[1]),float(sys.argv[2]); print(f'cornell cycles pmj $SPP {r/1e6:.3f}M {e:.5f} {e/r*1e6:.5f}')" "$rate" "$err"
   for sampler in stratified sobol zsobol; do
-    rate=$("$GLINT" "$(with_sampler scenes/cornell/scene.json $sampler)" --spp "$SPP" --max-depth 8 --threads 2 \
+    rate=$("$GLINT" "$(with_sampler scenes/cornell/scene.json $sampler)" --spp "$SPP" --set maxDepth=8 --threads 2 \
       --seed "$i" --out "$OUT/glint.exr" --json 2>/dev/null | python3 -c 'import json,sys; print(json.load(sys.stdin)["samplesPerSecond"])')
     err=$(relmse "$OUT/glint.exr" scenes/cornell/reference.exr)
     python3 -c "import sys; r,e=float(sys.argv[1]),float(sys.argv[2]); print(f'cornell glint $sampler $SPP {r/1e6:.3f}M {e:.5f} {e/r*1e6:.5f}')" "$rate" "$err"

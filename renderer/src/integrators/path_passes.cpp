@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <tuple>
 
+#include "glint/render/importance_map.h"
 #include "sampling/rng.h"
 #include "sampling/sobol.h"
 #include "sampling/stratified_sampler.h"
@@ -45,13 +46,19 @@ PathPasses::PathPasses(const detail::SceneData& data, const PathIntegrator& inte
         m_active.assign(std::size_t(data.width) * std::size_t(data.height), 0);
         m_tileSamples.assign(m_tiles.size(), 0);
         m_maxSpp = settings.spp > 0 ? settings.spp : kMaxSpp;
+        m_importance = settings.importance;
     }
+}
+
+void PathPasses::setImportance(std::shared_ptr<const Image> weights) {
+    checkImportanceMap(*weights, m_data.width, m_data.height, "Callbacks::importance");
+    m_importance = std::move(weights);
 }
 
 std::uint64_t PathPasses::planAdaptivePass() {
     const int w = m_data.width, h = m_data.height;
     const Rect region = m_settings.region.value_or(Rect{0, w, 0, h});
-    const Image* weights = m_settings.importance.get();
+    const Image* weights = m_importance.get();
     // Cycles' noise threshold is compared with 5x its error (its "more intuitive values").
     const double threshold = 5.0 * m_settings.noiseThreshold;
     // Per pixel: 0 converged, 1 not converged (the error estimate, times the pixel's weight, is

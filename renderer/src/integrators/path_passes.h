@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -35,6 +36,7 @@ class PathPasses final : public PassWork {
     std::optional<Rect> itemRect(std::size_t item) const override { return m_tiles[item]; }
     void run(const PassInfo& pass, std::size_t item, const RenderLoop& loop) override;
     std::uint64_t planAdaptivePass() override;
+    void setImportance(std::shared_ptr<const Image> weights) override;
     std::uint64_t adaptiveItemSamples(std::size_t item) const override {
         return m_tileSamples[item];
     }
@@ -69,6 +71,7 @@ class PathPasses final : public PassWork {
     std::vector<std::uint8_t> m_active;
     std::vector<std::uint64_t> m_tileSamples;
     int m_maxSpp = 0;
+    std::shared_ptr<const Image> m_importance;  // Settings::importance, or the callback's
 };
 
 }  // namespace glint::render

@@ -120,6 +120,17 @@ LoopResult RenderLoop::run(PassWork& work, bool reportPasses) {
         // limit they are also cut to what the remaining time allows by the measured rate.
         int count = std::clamp(done, 1, 64);
         if (adaptive) {
+            // The caller may steer this pass with a new importance map made from the frame.
+            if (m_callbacks.importance) {
+                FrameBuffers frame = work.snapshot();
+                frame.metadata().spp = taken;
+                std::shared_ptr<const Image> weights;
+                {
+                    const std::lock_guard<std::mutex> lock(m_callbackMutex);
+                    weights = m_callbacks.importance(pass, frame);
+                }
+                if (weights) work.setImportance(std::move(weights));
+            }
             const std::uint64_t active = work.planAdaptivePass();
             if (active == 0) break;  // every pixel converged or at spp
             count = std::min(count, kAdaptiveStep);

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstddef>
+#include <memory>
 #include <mutex>
 #include <optional>
 
@@ -57,6 +58,9 @@ class PassWork {
     /// Adaptive sampling: chooses the pixels that take the next pass (those not converged),
     /// returning how many there are; 0 ends the render.
     virtual std::uint64_t planAdaptivePass() { return 0; }
+    /// Adaptive sampling: replaces the importance map (Callbacks::importance); throws
+    /// glint::Error(InvalidArgument) for a map that is not one.
+    virtual void setImportance(std::shared_ptr<const Image> /*weights*/) {}
     /// The pixel samples item `item` took in the last adaptive pass.
     virtual std::uint64_t adaptiveItemSamples(std::size_t /*item*/) const { return 0; }
     /// After each completed pass (before any snapshot of it is taken).

@@ -100,6 +100,10 @@ struct AutoOptions {
     /// memory available, availableMemory(), when less); a limit only lowers it. The result
     /// does not depend on it.
     std::uint64_t memoryLimit = 0;
+    /// Also estimate the result's error per pixel (AutoResult::error); needs the halves
+    /// estimator. Costs the final members' applications on the halves unless the stacking
+    /// makes them anyway.
+    bool estimateError = false;
 };
 
 /// The bytes the selection's tiles may take for AutoOptions::memoryLimit `limit`: 1.25 GiB,
@@ -147,6 +151,12 @@ struct AutoResult {
     /// The height of the tiles (strips of rows) the selection ran in: the region's height when
     /// it was one tile (AutoOptions::memoryLimit).
     int tileRows = 0;
+    /// With AutoOptions::estimateError (else empty): 1 channel, region-sized, the estimated mean
+    /// squared error per channel of the blend (before any stacking) on half the samples, in
+    /// display values (exposure, clamp, sRGB; each linear error weighted by the display's squared
+    /// secant slope to the result), by cross-validation on the halves (the blend on each half
+    /// against the other half), box-averaged over the choice's window, at least 0.
+    Image error;
 };
 
 /// Computes every member's error map — SURE (one extra application of each member to the

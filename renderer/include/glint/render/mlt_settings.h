@@ -1,4 +1,4 @@
-// glint::render::MltSettings — parameters of the Metropolis integrator (`--integrator mlt`).
+// glint::render::MltSettings — parameters of the Metropolis integrator (`--set integrator=mlt`).
 #pragma once
 
 #include <cstdint>

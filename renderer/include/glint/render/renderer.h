@@ -31,6 +31,12 @@ struct Callbacks {
     std::function<bool()> cancel;
     /// After each completed pass, with the frame accumulated so far (resolved only when set).
     std::function<void(int pass, const FrameBuffers& frame)> passDone;
+    /// Adaptive sampling (Settings::adaptive): before each adaptive pass, its index and the frame
+    /// so far (resolved only when set). A map returned replaces the importance map from that pass
+    /// on (checked as Settings::importance is: one channel, the film's size, finite weights ≥ 0,
+    /// not all 0); an empty pointer keeps the current one. The render stays deterministic when
+    /// the callback's answer is a function of the frame.
+    std::function<std::shared_ptr<const Image>(int pass, const FrameBuffers& frame)> importance;
 };
 
 /// What a Metropolis render did (Settings::integrator == Mlt), per mutation kind in the order

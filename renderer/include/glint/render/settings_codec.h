@@ -38,13 +38,19 @@ struct SettingSpec {
 std::span<const SettingSpec> settingSpecs();
 /// The setting called `name`, or nullptr.
 const SettingSpec* findSetting(std::string_view name);
-/// glint-render's flag for a setting: "--" and the name in kebab case ("maxDepth" →
+/// A setting's flag: "--" and the name in kebab case ("maxDepth" →
 /// "--max-depth", "mltFeatureSpp" → "--mlt-feature-spp").
 std::string settingFlag(const SettingSpec& spec);
 
 /// Named settings as text: integers in decimal, reals in the shortest form that reads back to the
 /// same double, "true" / "false", a choice's name.
 using SettingValues = std::map<std::string, std::string>;
+
+/// The named settings of command-line assignments "name=value" (glint-render's and glint-final's
+/// --set), the value as text (setSetting reads it). Throws glint::Error(InvalidArgument) at
+/// `where` ("--set") for an item without "=" or whose name is no setting, listing the names.
+SettingValues parseSettingAssignments(const std::vector<std::string>& items,
+                                      const std::string& where);
 
 /// The value of `spec` in `settings`, as text.
 std::string settingText(const Settings& settings, const SettingSpec& spec);

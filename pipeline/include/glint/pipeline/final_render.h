@@ -1,0 +1,90 @@
+// glint::pipeline — a final frame: render and denoise a scene to a time or error target
+// (docs/final-render.md). Adaptive passes steered by the automatic selection's per-pixel error of
+// the denoised image (the renderer's Callbacks::importance), auto on the frame as it grows, and
+// the denoised frame with the render's layers. The renderer and the denoiser never include each
+// other; this module holds both.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "glint/denoise/auto.h"
+#include "glint/image/frame_buffers.h"
+#include "glint/render/renderer.h"
+#include "glint/render/settings.h"
+
+namespace glint::pipeline {
+
+/// What steers the adaptive passes after the uniform start.
+enum class Steering {
+    /// The renderer's error times auto's relative error of the denoised image (steering.h),
+    /// refreshed as the frame grows, under the threshold schedule below.
+    Denoiser,
+    /// The renderer's error alone, under the same threshold schedule (weights all alike).
+    Variance,
+    /// The renderer's adaptive sampling at its fixed noise threshold (Cycles'): no refresh.
+    Fixed,
+};
+
+/// Parses "denoiser" / "variance" / "fixed"; throws glint::Error(InvalidArgument).
+Steering parseSteering(const std::string& name);
+/// "denoiser", "variance" or "fixed".
+const char* steeringName(Steering steering);
+
+/// The largest error target (estimated relMSE) and the longest time limit accepted.
+inline constexpr double kMaxTargetError = 1e6;
+
+/// How the final frame is made.
+struct FinalOptions {
+    /// The render's settings. Adaptive sampling is what the steering steers (off: uniform passes,
+    /// then auto once); half buffers are always on (auto's error estimate needs them); spp is the
+    /// most a pixel takes (0: only the targets end the render).
+    render::Settings settings;
+    /// Seconds for the whole: the render, auto's refreshes and the final auto; 0: none. The first
+    /// pass always completes (FinalResult::overTime says when it alone took longer).
+    double timeLimit = 0.0;
+    /// Stop once auto's estimated relMSE of the denoised image (estimatedRelMse) is at most this;
+    /// 0: none. Checked at each refresh.
+    double targetError = 0.0;
+    Steering steering = Steering::Denoiser;
+    /// Refresh (run auto) before the first adaptive pass and then whenever the mean samples per
+    /// pixel have grown by this factor since the last refresh (> 1).
+    double refreshGrowth = 2.0;
+    /// The automatic selection (the halves estimator; AutoOptions::estimateError is set here).
+    denoise::AutoOptions autoOptions;
+    denoise::AutoQuality quality = denoise::AutoQuality::Balanced;
+    /// Seconds the final auto is expected to take before any refresh measured it (the time
+    /// limit keeps room for it); 0: unknown.
+    double expectedAutoSeconds = 0.0;
+    /// One line per refresh and stage, for a log; may be empty.
+    std::function<void(const std::string& line)> log;
+};
+
+/// Throws glint::Error(InvalidArgument) naming the first bad option ("timeLimit",
+/// "targetError", "refreshGrowth", "spp") and what was expected: a time limit or error target
+/// not NaN, ≥ 0 and at most kMaxTimeLimit / kMaxTargetError; some end (a time limit, an error
+/// target or a spp); render::validate's for the settings.
+void validate(const FinalOptions& options);
+
+/// What a final render made.
+struct FinalResult {
+    /// The render's layers (half buffers included) with the colour replaced by the denoised
+    /// image (metadata denoiseFilter = auto).
+    FrameBuffers frame;
+    render::RenderStats render;    ///< the render's statistics (seconds: the render's)
+    double estimatedRelMse = 0.0;  ///< of the final denoised image (estimatedRelMse)
+    int refreshes = 0;             ///< auto's runs during the render
+    double autoSeconds = 0.0;      ///< every auto run, the final one included
+    double seconds = 0.0;          ///< all of it
+    bool targetReached = false;    ///< stopped at the error target
+    /// The time limit was shorter than the first pass: the frame is that one pass, denoised.
+    bool overTime = false;
+};
+
+/// Renders `renderer`'s scene with options.settings and denoises it (auto), steering the
+/// adaptive passes, until the time limit, the error target, spp or convergence ends the render.
+/// Deterministic for any thread count without a time limit. Throws as validate, the renderer
+/// and autoComposite do.
+FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options);
+
+}  // namespace glint::pipeline

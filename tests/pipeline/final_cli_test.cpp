@@ -1,0 +1,90 @@
+// glint-final as a user runs it: the built binary (next to this test binary) on a tiny Cornell
+// box. It writes the denoised EXR with the render's layers; a time limit shorter than one pass
+// says so and writes that pass; bad targets, thresholds, spp and maps of the settings exit 2 with
+// one line naming the flag and write nothing.
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "cli_fixture.h"
+#include "glint/image/io.h"
+
+namespace glint::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+using glint::testing::RunResult;
+
+class FinalCli : public glint::testing::CliFixture {
+  protected:
+    FinalCli() : CliFixture("glint-final") {}
+    void SetUp() override {
+        CliFixture::SetUp();
+        if (HasFatalFailure()) return;
+        const std::string obj = std::string(GLINT_RENDER_TEST_DATA) + "/cornell_box.obj";
+        std::ofstream(m_dir / "scene.json") << R"({
+          "camera": {"position": [278, 273, -800], "lookAt": [278, 273, 0], "fovY": 39.3},
+          "film": {"width": 24, "height": 24},
+          "shapes": [{"obj": ")" << obj << R"("}],
+          "render": {"spp": 4, "maxDepth": 4}
+        })";
+    }
+    // The scene with these arguments, writing out.exr.
+    RunResult final(const std::string& args) const {
+        return run(path("scene.json") + " --out " + path("out.exr") + " " + args);
+    }
+};
+
+TEST_F(FinalCli, WritesTheDenoisedColourWithTheRendersLayers) {
+    const RunResult r = final("--set spp=32 --set minSpp=8 --threads 2");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("estimated relMSE"), std::string::npos) << r.out;
+    const FrameBuffers f = readExr(path("out.exr"));
+    EXPECT_EQ(f.metadata().extra.at("denoiseFilter"), "auto");
+    for (Layer l : {Layer::Variance, Layer::HalfColor, Layer::SampleCount, Layer::Albedo})
+        EXPECT_TRUE(f.has(l)) << layerDisplayName(l);
+}
+
+TEST_F(FinalCli, ATimeLimitShorterThanOnePassSaysSoAndWritesThatPass) {
+    const RunResult r = final("--time-limit 1e-6 --threads 1");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("shorter than one pass"), std::string::npos) << r.err;
+    const FrameBuffers f = readExr(path("out.exr"));
+    for (float n : f.layer(Layer::SampleCount).data()) ASSERT_EQ(n, 1.0f);
+}
+
+TEST_F(FinalCli, BadInputExitsTwoWithOneLineNamingTheFlagAndWritesNothing) {
+    struct Case {
+        std::string args, expected;
+    };
+    const Case cases[] = {
+        {"--target-error 0", "--target-error: the error target must be > 0"},
+        {"--target-error -1", "--target-error: the error target must be > 0"},
+        {"--target-error nan", "--target-error"},
+        {"--target-error 2e6 --set spp=64", "--target-error: the error target must be"},
+        {"--time-limit 0", "--time-limit: the time limit must be > 0"},
+        {"--time-limit 2e7", "--time-limit: the time limit must be"},
+        {"--set noiseThreshold=0", "--set noiseThreshold"},
+        {"--set noiseThreshold=nan", "--set noiseThreshold"},
+        {"--set noiseThreshold=2e6", "--set noiseThreshold"},
+        {"--set spp=4 --set minSpp=8", "minSpp"},
+        {"--set nosuch=1", "--set: 'nosuch=1': expected name=value"},
+        {"--set spp=0 --target-error 0.01", "an error target needs a time limit or a spp"},
+    };
+    for (const Case& c : cases) {
+        const RunResult r = final(c.args);
+        EXPECT_EQ(r.exitCode, 2) << c.args << "\n" << r.err;
+        std::string err = r.err;
+        while (!err.empty() && err.back() == '\n') err.pop_back();
+        const std::string last =
+            err.substr(err.rfind('\n') == std::string::npos ? 0 : err.rfind('\n') + 1);
+        EXPECT_EQ(last.rfind("glint-final: ", 0), 0u) << c.args << ": " << last;
+        EXPECT_NE(last.find(c.expected), std::string::npos) << c.args << ": " << last;
+        EXPECT_FALSE(fs::exists(path("out.exr"))) << c.args;
+    }
+}
+
+}  // namespace
+}  // namespace glint::pipeline

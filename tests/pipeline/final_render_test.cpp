@@ -1,0 +1,183 @@
+// The final render's loop (glint/pipeline/final_render.h): it stops at the error target with the
+// frame auto last saw, the denoiser-steered loop gives the same bits on 1 and 2 threads, the
+// output holds the denoised colour and the render's layers, the steering maps follow auto's
+// error, and bad options are refused naming the option.
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "glint/image/error.h"
+#include "glint/pipeline/final_render.h"
+#include "glint/pipeline/steering.h"
+#include "glint/render/scene.h"
+#include "test_util.h"
+
+namespace glint::pipeline {
+namespace {
+
+/// The Cornell box, 24 × 24 (every pixel noisy), maxDepth 4.
+render::Scene cornell() {
+    const std::string obj = std::string(GLINT_RENDER_TEST_DATA) + "/cornell_box.obj";
+    return render::parseScene(R"({
+      "camera": {"position": [278, 273, -800], "lookAt": [278, 273, 0], "fovY": 39.3},
+      "film": {"width": 24, "height": 24},
+      "shapes": [{"obj": ")" + obj +
+                                  R"("}],
+      "render": {"spp": 8, "maxDepth": 4}
+    })",
+                              std::string(GLINT_RENDER_TEST_DATA) + "/scene.json");
+}
+
+/// Adaptive from 8 spp up to 128, a threshold no pixel reaches at first, auto's fast quality.
+FinalOptions smallOptions() {
+    FinalOptions o;
+    o.settings.spp = 128;
+    o.settings.seed = 5;
+    o.settings.maxDepth = 4;
+    o.settings.threads = 2;
+    o.settings.tileSize = 8;
+    o.settings.adaptive = true;
+    o.settings.minSpp = 8;
+    o.settings.noiseThreshold = 0.002;
+    o.quality = denoise::AutoQuality::Fast;
+    return o;
+}
+
+double meanSampleCount(const FrameBuffers& f) {
+    double sum = 0.0;
+    for (float n : f.layer(Layer::SampleCount).data()) sum += n;
+    return sum / double(f.width() * f.height());
+}
+
+TEST(FinalRender, StopsAtTheErrorTargetWithTheFrameOfThatRefresh) {
+    // Without a target the loop refreshes at 8, 16, 32 … spp a pixel; the estimate after the
+    // second refresh, as the target, stops the loop at that refresh: fewer samples, the target
+    // met, and the same denoised image as that refresh gave.
+    render::Renderer renderer(cornell());
+    std::vector<std::string> lines;
+    FinalOptions o = smallOptions();
+    o.log = [&](const std::string& line) { lines.push_back(line); };
+    const FinalResult full = renderFinal(renderer, o);
+    ASSERT_GE(full.refreshes, 2);
+    EXPECT_FALSE(full.targetReached);
+
+    // The second refresh's estimate, from its log line.
+    const std::string& second = lines[1];
+    const std::size_t at = second.find("relMSE ");
+    ASSERT_NE(at, std::string::npos) << second;
+    // Printed to 4 digits: a hair above it.
+    const double target = std::stod(second.substr(at + 7)) * 1.001;
+    o.targetError = target;
+    const FinalResult stopped = renderFinal(renderer, o);
+    EXPECT_TRUE(stopped.targetReached);
+    EXPECT_EQ(stopped.refreshes, 2);
+    EXPECT_LE(stopped.estimatedRelMse, target);
+    EXPECT_LT(meanSampleCount(stopped.frame), meanSampleCount(full.frame));
+    EXPECT_EQ(stopped.frame.metadata().extra.count("cancelled"), 0u);
+}
+
+TEST(FinalRender, TheDenoiserSteeredLoopGivesTheSameBitsOnOneAndTwoThreads) {
+    render::Renderer renderer(cornell());
+    FinalOptions o = smallOptions();
+    o.settings.threads = 1;
+    o.settings.tileSize = 16;
+    const FinalResult one = renderFinal(renderer, o);
+    EXPECT_GE(one.refreshes, 2);
+    o.settings.threads = 2;
+    o.settings.tileSize = 8;
+    const FinalResult two = renderFinal(renderer, o);
+    render::test::expectSameFrames(one.frame, two.frame);
+    // The steering changed where the samples went: not every pixel took the same count.
+    const auto counts = one.frame.layer(Layer::SampleCount).data();
+    EXPECT_LT(*std::min_element(counts.begin(), counts.end()),
+              *std::max_element(counts.begin(), counts.end()));
+}
+
+TEST(FinalRender, TheFrameIsTheDenoisedColourWithTheRendersLayers) {
+    render::Renderer renderer(cornell());
+    FinalOptions o = smallOptions();
+    o.settings.spp = 16;
+    const FinalResult r = renderFinal(renderer, o);
+    for (Layer l : {Layer::Variance, Layer::HalfColor, Layer::HalfVariance, Layer::SampleCount,
+                    Layer::Albedo, Layer::Normal, Layer::Depth})
+        EXPECT_TRUE(r.frame.has(l)) << layerDisplayName(l);
+    EXPECT_EQ(r.frame.metadata().extra.at("denoiseFilter"), "auto");
+    // The raw render of the same settings differs from the denoised colour, and its other
+    // layers are the output's.
+    render::Settings s = o.settings;
+    s.halfBuffers = true;
+    render::Callbacks none;
+    const FrameBuffers raw = renderer.render(s, none).frame;
+    EXPECT_FALSE(render::test::sameLayer(raw, r.frame, Layer::Color));
+    EXPECT_TRUE(render::test::sameLayer(raw, r.frame, Layer::HalfColor));
+    EXPECT_GT(r.estimatedRelMse, 0.0);
+}
+
+TEST(FinalRender, TheImportanceFollowsTheRelativeErrorWithinItsRange) {
+    Image relative(4, 1, 1);
+    relative(0, 0, 0) = 0.0f;    // right already: 1/8 of the scale
+    relative(1, 0, 0) = 1.0f;    // the mean: the scale
+    relative(2, 0, 0) = 3.0f;    // sqrt(3) times
+    relative(3, 0, 0) = 100.0f;  // clamped at 8 times
+    // Mean (0 + 1 + 3 + 100) / 4 = 26: normalise to it.
+    const Image w = importanceFromError(relative, 2.0);
+    const double mean = 26.0;
+    EXPECT_FLOAT_EQ(w(0, 0, 0), 2.0f / 8.0f);
+    EXPECT_FLOAT_EQ(w(1, 0, 0), float(2.0 * std::max(std::sqrt(1.0 / mean), 1.0 / 8.0)));
+    EXPECT_FLOAT_EQ(w(2, 0, 0), float(2.0 * std::sqrt(3.0 / mean)));
+    EXPECT_FLOAT_EQ(w(3, 0, 0), float(2.0 * std::sqrt(100.0 / mean)));
+    // The relative error divides by the display value's square plus 0.01: black is divided by
+    // 0.01, white by 1.01.
+    Image error(2, 1, 1, 0.01f), composite(2, 1, 3, 0.0f);
+    for (int c = 0; c < 3; ++c) composite(1, 0, c) = 1.0f;
+    const Image rel = relativeError(error, composite, 0.0f);
+    EXPECT_NEAR(rel(0, 0, 0), 1.0, 1e-6);
+    EXPECT_NEAR(rel(1, 0, 0), 0.01 / 1.01, 1e-6);
+    EXPECT_NEAR(estimatedRelMse(rel), 0.5 * (1.0 + 0.01 / 1.01), 1e-6);
+}
+
+/// The message and place of the glint::Error validate(o) throws ("" when none).
+std::string refusal(const FinalOptions& o) {
+    try {
+        validate(o);
+    } catch (const Error& e) {
+        return e.where() + ": " + e.message();
+    }
+    return "";
+}
+
+TEST(FinalRender, BadOptionsAreRefusedNamingTheOption) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (double t : {-1.0, nan, 2e7}) {
+        FinalOptions o = smallOptions();
+        o.timeLimit = t;
+        EXPECT_EQ(refusal(o).rfind("timeLimit: the time limit must be", 0), 0u) << refusal(o);
+    }
+    for (double e : {-1.0, nan, 2e6}) {
+        FinalOptions o = smallOptions();
+        o.targetError = e;
+        EXPECT_EQ(refusal(o).rfind("targetError: the error target must be", 0), 0u) << refusal(o);
+    }
+    FinalOptions o = smallOptions();
+    o.refreshGrowth = 1.0;
+    EXPECT_EQ(refusal(o).rfind("refreshGrowth:", 0), 0u) << refusal(o);
+    o = smallOptions();
+    o.settings.spp = 0;
+    o.targetError = 0.01;
+    EXPECT_EQ(refusal(o).rfind("spp: an error target needs a time limit or a spp", 0), 0u)
+        << refusal(o);
+    // The render's own checks: a max spp below the start, a threshold out of range.
+    o = smallOptions();
+    o.settings.spp = 4;
+    EXPECT_NE(refusal(o).find("minSpp"), std::string::npos) << refusal(o);
+    o = smallOptions();
+    o.settings.noiseThreshold = 0.0;
+    EXPECT_NE(refusal(o).find("noiseThreshold must be a number in (0, 1e6]"), std::string::npos)
+        << refusal(o);
+}
+
+}  // namespace
+}  // namespace glint::pipeline
