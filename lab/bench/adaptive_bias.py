@@ -101,7 +101,7 @@ def main():
         render(args, scene, tmp, 99, spp=args.ref_spp)
         os.replace(tmp, ref_path)
     ref = layers(ref_path)
-    adaptive = ["--half-buffers", "--set", "adaptive=true", "--set",
+    adaptive = ["--set", "halfBuffers=true", "--set", "adaptive=true", "--set",
                 f"noiseThreshold={args.threshold}", "--set", f"minSpp={args.min_spp}"]
     lum = np.array([0.2126, 0.7152, 0.0722])
     sums = {}  # estimator -> [sum, sum of squares, each seed's image-mean luminance]

@@ -109,8 +109,8 @@ exr_layer() {
 glint_side() {
   local scene=$1 budget=$2 threshold=$3 out=$4 t0 t1 t2
   t0=$(date +%s.%N)
-  "$BIN/glint-render" "$(glint_scene "$scene")" --threads 2 --max-depth 8 --seed "$SEED" \
-    --spp $REF_SPP --time-limit "$budget" --half-buffers --set adaptive=true \
+  "$BIN/glint-render" "$(glint_scene "$scene")" --threads 2 --set maxDepth=8 --seed "$SEED" \
+    --spp $REF_SPP --time-limit "$budget" --set halfBuffers=true --set adaptive=true \
     --set noiseThreshold="$threshold" --json --out "$WORK/glint.exr" >"$WORK/glint.json" 2>/dev/null
   t1=$(date +%s.%N)
   "$BIN/glint-denoise" auto "$WORK/glint.exr" --out "$out" >/dev/null 2>&1
@@ -146,7 +146,7 @@ for scene in $SCENES; do
     [ -f "$REFS/glint_cornell.exr" ] || cp scenes/cornell/reference.exr "$REFS/glint_cornell.exr"
   elif [ ! -f "$REFS/glint_$scene.exr" ]; then
     echo "race.sh: Glint's $scene reference, $REF_SPP spp" >&2
-    "$BIN/glint-render" "$(glint_scene "$scene")" --threads 2 --max-depth 8 --spp $REF_SPP \
+    "$BIN/glint-render" "$(glint_scene "$scene")" --threads 2 --set maxDepth=8 --spp $REF_SPP \
       --seed $REF_SEED --out "$REFS/glint_$scene.tmp.exr" >/dev/null 2>&1
     mv "$REFS/glint_$scene.tmp.exr" "$REFS/glint_$scene.exr"
   fi

@@ -408,7 +408,7 @@ TEST(AutoTiles, TheTileHeightFollowsTheMemoryBudget) {
     EXPECT_LE(autoMemoryBudget(0), detail::kDefaultAutoMemory);
 }
 
-// At 3840×2160, a render with half buffers (42 floats a pixel, as glint-render --half-buffers
+// At 3840×2160, a render with half buffers (42 floats a pixel, as glint-render --set halfBuffers=true
 // writes them), the default bank and the default budget: the model's estimate of the peak —
 // the frame, half A's own layers (half B is the frame's layers, shared), the most the blend or
 // the stacking holds, a band and a tile — is under 4 GB (issue 47; docs/lab/auto-memory.md has

@@ -27,7 +27,7 @@ enum class Layer : int {
     DepthVariance,   ///< depthVariance.Z
     Position,        ///< position.X/Y/Z: world space (optional)
     SampleCount,     ///< sampleCount.Y
-    // Half buffers (glint-render --half-buffers; optional): the same statistics over the
+    // Half buffers (glint-render --set halfBuffers=true; optional): the same statistics over the
     // pixel's odd-indexed samples only, half B of two independent halves.
     HalfColor,           ///< halfColor.R/G/B
     HalfVariance,        ///< halfVariance.R/G/B
