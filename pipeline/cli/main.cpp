@@ -66,6 +66,9 @@ int run(const Options& opt) {
                                   "command line", flagOf(name));
     if (opt.threads) options.settings.threads = *opt.threads;
     options.timeLimit = opt.timeLimit.value_or(0.0);
+    // The renderer is built for these settings (its memory check validates them): with the time
+    // limit, so that spp 0 (until time runs out) is valid.
+    options.settings.timeLimit = options.timeLimit;
     options.targetError = opt.targetError.value_or(0.0);
     options.log = [](const std::string& line) {
         std::fprintf(stderr, "glint-final: %s\n", line.c_str());

@@ -124,12 +124,10 @@ class StudioFirstSessionTest : public QObject {
         QVERIFY(row);
         auto* blue = row->findChild<QDoubleSpinBox*>(QStringLiteral("c2"));
         QVERIFY(blue);
-        // The row's three boxes as shown (rounded to their decimals), the blue one retyped.
-        std::array<double, 3> edited{};
-        for (int c = 0; c < 3; ++c)
-            edited[std::size_t(c)] =
-                row->findChild<QDoubleSpinBox*>(QStringLiteral("c%1").arg(c))->value();
-        edited[2] = edited[2] > 0.5 ? 0.125 : 0.875;
+        // The colour as it was (the untouched channels keep their full precision), the blue
+        // one retyped.
+        auto edited = w->document()->lookValue(wall, "albedo");
+        edited[2] = blue->value() > 0.5 ? 0.125 : 0.875;
         const FramePtr before = w->document()->finishedFrame();
         blue->selectAll();
         QTest::keyClicks(blue, QString::number(edited[2]));

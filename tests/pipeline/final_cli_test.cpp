@@ -71,7 +71,7 @@ TEST_F(FinalCli, BadInputExitsTwoWithOneLineNamingTheFlagAndWritesNothing) {
         {"--set noiseThreshold=2e6", "--set noiseThreshold"},
         {"--set spp=4 --set minSpp=8", "minSpp"},
         {"--set nosuch=1", "--set: 'nosuch=1': expected name=value"},
-        {"--set spp=0 --target-error 0.01", "an error target needs a time limit or a spp"},
+        {"--set spp=0 --target-error 0.01", "--set spp: expected an integer in [1, 16777216]"},
     };
     for (const Case& c : cases) {
         const RunResult r = final(c.args);
