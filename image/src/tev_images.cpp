@@ -64,7 +64,6 @@ Change ReceivedImages::apply(const Packet& packet, std::uint64_t memoryLimit) {
             throw Error(ErrorKind::InvalidArgument, "no image of this name was created",
                         imageLabel(p->name), "update");
         Image& image = it->second.pixels;
-        const Rect tile{p->x, p->x + p->width, p->y, p->y + p->height};
         if (p->x < 0 || p->y < 0 || p->width > image.width() - p->x ||
             p->height > image.height() - p->y)
             throw Error(ErrorKind::InvalidArgument,
@@ -73,6 +72,8 @@ Change ReceivedImages::apply(const Packet& packet, std::uint64_t memoryLimit) {
                             " lies outside the " + std::to_string(image.width()) + "x" +
                             std::to_string(image.height()) + " image",
                         imageLabel(p->name), "update");
+        // Only now, inside the image, can the tile's far corner not overflow.
+        const Rect tile{p->x, p->x + p->width, p->y, p->y + p->height};
         const std::vector<int> target = channelIndices(p->channels, it->second.channels, p->name);
         const std::size_t n = target.size();
         for (int y = tile.y0; y < tile.y1; ++y) {
