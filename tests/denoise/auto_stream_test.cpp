@@ -19,9 +19,9 @@
 #include <vector>
 
 #include "auto/options.h"
-#include "bank/bank_detail.h"
 #include "auto/pipeline.h"
 #include "auto/stacking.h"
+#include "bank/bank_detail.h"
 #include "glint/denoise/auto.h"
 #include "glint/denoise/auto_stream.h"
 #include "glint/denoise/bank.h"
@@ -408,11 +408,11 @@ TEST(AutoTiles, TheTileHeightFollowsTheMemoryBudget) {
     EXPECT_LE(autoMemoryBudget(0), detail::kDefaultAutoMemory);
 }
 
-// At 3840×2160, a render with half buffers (42 floats a pixel, as glint-render --set halfBuffers=true
-// writes them), the default bank and the default budget: the model's estimate of the peak —
-// the frame, half A's own layers (half B is the frame's layers, shared), the most the blend or
-// the stacking holds, a band and a tile — is under 4 GB (issue 47; docs/lab/auto-memory.md has
-// the measured peak), and counts at least the frame and half A's 21 floats a pixel.
+// At 3840×2160, a render with half buffers (42 floats a pixel, as glint-render --set
+// halfBuffers=true writes them), the default bank and the default budget: the model's estimate of
+// the peak — the frame, half A's own layers (half B is the frame's layers, shared), the most the
+// blend or the stacking holds, a band and a tile — is under 4 GB (issue 47; docs/lab/auto-memory.md
+// has the measured peak), and counts at least the frame and half A's 21 floats a pixel.
 TEST(AutoTiles, TheModelsEstimateForA4KRenderIsUnderFourGigabytes) {
     std::vector<Layer> layers;
     for (int l = 0; l < kLayerCount; ++l)
