@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "glint/image/error.h"
+#include "glint/image/internal/simd.h"
 #include "glint/image/io.h"
-#include "simd.h"
 
 namespace glint {
 namespace {
@@ -319,19 +319,19 @@ struct PixelTransform {
 
 // The convolutions accumulate blocks of kLanes outputs in registers over all taps, the taps in
 // order, so that each output's bits do not depend on the blocking.
-using detail::Vec8f;
+using detail::VecF;
 constexpr int kLanes = 64;
 
 /// acc[i] += the sum over taps t of weights[t] times the 8 floats at src(t) + 8 i.
 template <int N, typename Source>
 [[gnu::always_inline]] inline void accumulate(const float* weights, int taps, Source src,
-                                              Vec8f (&acc)[N]) {
+                                              VecF (&acc)[N]) {
     for (int t = 0; t < taps; ++t) {
         const float* p = src(t);
         const float wt = weights[t];
         for (int i = 0; i < N; ++i) {
-            Vec8f v;
-            detail::load8(v, p + 8 * i);
+            VecF v;
+            detail::loadVec(v, p + 8 * i);
             acc[i] += wt * v;
         }
     }
@@ -358,10 +358,10 @@ void convolveRow(const float* in, const std::vector<float>& kernel, int width, f
             for (int t = 0; t < taps; ++t) acc += weights[t] * in[x + t];
             out[x] = acc;
         } else {
-            Vec8f acc[N] = {};
+            VecF acc[N] = {};
             accumulate(
                 weights, taps, [&](int t) { return in + x + t; }, acc);
-            for (int i = 0; i < N; ++i) detail::store8(out + x + 8 * i, acc[i]);
+            for (int i = 0; i < N; ++i) detail::storeVec(out + x + 8 * i, acc[i]);
         }
     });
 }
@@ -377,7 +377,7 @@ struct ColumnTerm {
 GLINT_SIMD_CLONES
 void convolveColumns(const ColumnTerm* terms, int count, int width, int height, int y, float* out) {
     blocks(width, [&]<int N>(int x) {
-        Vec8f acc[N > 0 ? N : 1] = {};
+        VecF acc[N > 0 ? N : 1] = {};
         float scalar = 0.0f;
         for (int i = 0; i < count; ++i) {
             const float* weights = terms[i].kernel->data();
@@ -394,7 +394,7 @@ void convolveColumns(const ColumnTerm* terms, int count, int width, int height, 
         if constexpr (N == 0)
             out[x] = scalar;
         else
-            for (int i = 0; i < N; ++i) detail::store8(out + x + 8 * i, acc[i]);
+            for (int i = 0; i < N; ++i) detail::storeVec(out + x + 8 * i, acc[i]);
     });
 }
 

@@ -27,8 +27,8 @@
 #include <vector>
 
 #include "glint/image/error.h"
+#include "glint/image/internal/simd.h"
 #include "glint/image/io.h"
-#include "simd.h"
 
 namespace glint::detail {
 namespace {

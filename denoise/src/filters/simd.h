@@ -1,37 +1,25 @@
-// 8-wide SIMD helpers for the filter kernels (GCC vector extensions), private to denoise/.
+// 8-wide SIMD helpers for the filter kernels (GCC vector extensions), private to denoise/. The
+// vectors, their loads and stores and the GLINT_SIMD_CLONES / GLINT_SIMD_CLONES_V4 markers are
+// image/'s (glint/image/internal/simd.h); here the kernels' own:
 //
-//   VecF / VecI / loadVec / storeVec / expNegInPlace / exp2InPlace
-//                              8-wide GCC vector-extension helpers; expNegInPlace computes
-//                              exp(x) for x <= 0 to ~6e-6 relative error (exactly 0 below -87);
-//                              exp2InPlace computes 2^x for x <= 0 to 3.6e-6 relative error
-//                              (exactly 1 at 0, exactly 0 at or below -127) in fewer operations.
+//   expNegInPlace / exp2InPlace
+//                              expNegInPlace computes exp(x) for x <= 0 to ~6e-6 relative error
+//                              (exactly 0 below -87); exp2InPlace computes 2^x for x <= 0 to
+//                              3.6e-6 relative error (exactly 1 at 0, exactly 0 at or below -127)
+//                              in fewer operations.
 //   addWeightedSamples         the weight-and-accumulate tail of the bilateral kernels.
-//   GLINT_SIMD_CLONES          put on a hot kernel function: GCC builds an x86-64-v3 (AVX2+FMA)
-//                              clone and a baseline clone and picks one at load time.
-//   GLINT_SIMD_CLONES_V4       the same plus an x86-64-v4 (AVX-512) clone: still 8-wide vectors,
-//                              but 32 vector registers (no spills in kernels with many live sums).
-//                              Defining GLINT_SIMD_BASELINE_ONLY or GLINT_SIMD_V3_ONLY (test
-//                              builds) compiles only the baseline or only the AVX2 version.
 #pragma once
 
 #include <cstring>
 
+#include "glint/image/internal/simd.h"
+
 namespace glint::denoise::detail {
 
-// 8-wide float / int vectors (GCC vector extensions). Pass them by reference only, so that no
-// function's ABI depends on whether AVX is enabled.
-typedef float VecF __attribute__((vector_size(32)));
-typedef int VecI __attribute__((vector_size(32)));
-
-/// Unaligned load of 8 floats.
-[[gnu::always_inline]] inline void loadVec(VecF& v, const float* p) {
-    std::memcpy(&v, p, sizeof v);
-}
-
-/// Unaligned store of 8 floats.
-[[gnu::always_inline]] inline void storeVec(float* p, const VecF& v) {
-    std::memcpy(p, &v, sizeof v);
-}
+using glint::detail::loadVec;
+using glint::detail::storeVec;
+using glint::detail::VecF;
+using glint::detail::VecI;
 
 /// x <- exp(x) for x <= 0, lane-wise: 2^(x log2 e) = 2^n 2^f with n = round(x log2 e) found by
 /// the 1.5 * 2^23 magic-number trick and 2^f, f in [-1/2, 1/2], by a degree-5 Taylor polynomial
@@ -105,18 +93,3 @@ template <class V>
 }
 
 }  // namespace glint::denoise::detail
-
-#if defined(GLINT_SIMD_BASELINE_ONLY)  // test builds: only the baseline code paths
-#define GLINT_SIMD_CLONES
-#define GLINT_SIMD_CLONES_V4
-#elif defined(GLINT_SIMD_V3_ONLY)  // test builds: only the x86-64-v3 (AVX2) code paths
-#define GLINT_SIMD_CLONES __attribute__((target("arch=x86-64-v3")))
-#define GLINT_SIMD_CLONES_V4 __attribute__((target("arch=x86-64-v3")))
-#elif defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define GLINT_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#define GLINT_SIMD_CLONES_V4 \
-    __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-#else
-#define GLINT_SIMD_CLONES
-#define GLINT_SIMD_CLONES_V4
-#endif
