@@ -115,8 +115,8 @@ int main(int argc, char** argv) {
                    "stop once auto's estimated relMSE of the denoised image (display values) is "
                    "at most this, > 0 … 1e6");
     app.add_option("--set", opt.set,
-                   "a render setting name=value (repeatable), scene.json's render keys: spp (the "
-                   "most a pixel takes), seed, noiseThreshold, minSpp, … (docs/scene-format.md)");
+                   glint::render::settingAssignmentsHelp(
+                       "spp (the most a pixel takes), seed, noiseThreshold, minSpp"));
     app.add_option("--threads", opt.threads, "worker threads, 0 (all) … 1024");
     if (const auto code = glint::cli::parseCommandLine(app, argc, argv, "glint-final"))
         return *code;

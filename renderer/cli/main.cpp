@@ -426,9 +426,9 @@ int main(int argc, char** argv) {
     }
     // Every other render setting, name=value each, under its scene.json name.
     app.add_option("--set", opt.set,
-                   "a render setting name=value (repeatable), scene.json's render keys: "
-                   "integrator, maxDepth, halfBuffers, accel, positionLayer, adaptive, "
-                   "noiseThreshold, minSpp, … (docs/scene-format.md)");
+                   glint::render::settingAssignmentsHelp(
+                       "integrator, maxDepth, halfBuffers, accel, positionLayer, adaptive, "
+                       "noiseThreshold, minSpp"));
     app.add_option("--importance", opt.importance,
                    "adaptive sampling with these per-pixel weights (EXR: one channel, or the "
                    "luminance of RGB; the film's size) multiplying each pixel's estimated error");

@@ -221,6 +221,11 @@ SettingValues parseSettingAssignments(const std::vector<std::string>& items,
     return values;
 }
 
+std::string settingAssignmentsHelp(const std::string& keys) {
+    return "a render setting name=value (repeatable), scene.json's render keys: " + keys +
+           ", … (docs/scene-format.md)";
+}
+
 std::string settingText(const Settings& settings, const SettingSpec& spec) {
     return namedField(spec).get(settings);
 }

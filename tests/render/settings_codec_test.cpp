@@ -108,6 +108,13 @@ TEST(SettingsCodec, EachNameIsSpeltOnceAndMapsToItsFlag) {
     EXPECT_EQ(settingFlag(*findSetting("textureCacheMb")), "--texture-cache-mb");
 }
 
+TEST(SettingsCodec, TheSetHelpNamesItsKeysAndThePageListingThemAll) {
+    const std::string help = settingAssignmentsHelp("spp, seed");
+    EXPECT_EQ(help.find("a render setting name=value (repeatable)"), 0u) << help;
+    EXPECT_NE(help.find("render keys: spp, seed, …"), std::string::npos) << help;
+    EXPECT_NE(help.find("docs/scene-format.md"), std::string::npos) << help;
+}
+
 TEST(SettingsCodec, SettingsRoundTripThroughTheirText) {
     for (const Settings& s : {pathSettings(), mltSettings(), Settings{}}) {
         const SettingValues text = encodeSettings(s);

@@ -51,6 +51,10 @@ using SettingValues = std::map<std::string, std::string>;
 /// `where` ("--set") for an item without "=" or whose name is no setting, listing the names.
 SettingValues parseSettingAssignments(const std::vector<std::string>& items,
                                       const std::string& where);
+/// --help of a --set that parseSettingAssignments reads: "a render setting name=value
+/// (repeatable), scene.json's render keys: " then `keys` (the CLI's examples), ", … " and the page
+/// that lists them all.
+std::string settingAssignmentsHelp(const std::string& keys);
 
 /// The value of `spec` in `settings`, as text.
 std::string settingText(const Settings& settings, const SettingSpec& spec);
