@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include "cli_fixture.h"
 #include "glint/image/io.h"
+#include "scene_cli_fixture.h"
 
 namespace glint::pipeline {
 namespace {
@@ -17,20 +17,9 @@ namespace {
 namespace fs = std::filesystem;
 using glint::testing::RunResult;
 
-class FinalCli : public glint::testing::CliFixture {
+class FinalCli : public glint::testing::SceneCliFixture {
   protected:
-    FinalCli() : CliFixture("glint-final") {}
-    void SetUp() override {
-        CliFixture::SetUp();
-        if (HasFatalFailure()) return;
-        const std::string obj = std::string(GLINT_RENDER_TEST_DATA) + "/cornell_box.obj";
-        std::ofstream(m_dir / "scene.json") << R"({
-          "camera": {"position": [278, 273, -800], "lookAt": [278, 273, 0], "fovY": 39.3},
-          "film": {"width": 24, "height": 24},
-          "shapes": [{"obj": ")" << obj << R"("}],
-          "render": {"spp": 4, "maxDepth": 4}
-        })";
-    }
+    FinalCli() : SceneCliFixture("glint-final", {24, 24, 4}) {}
     // The scene with these arguments, writing out.exr.
     RunResult final(const std::string& args) const {
         return run(path("scene.json") + " --out " + path("out.exr") + " " + args);

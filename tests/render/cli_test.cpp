@@ -11,9 +11,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "cli_fixture.h"
 #include "glint/image/io.h"
 #include "glint/render/asset_formats.h"
+#include "scene_cli_fixture.h"
 #include "test_util.h"
 
 namespace glint::render {
@@ -30,20 +30,9 @@ std::string lastLine(const std::string& text) {
 
 using glint::testing::RunResult;
 
-class RenderCli : public glint::testing::CliFixture {
+class RenderCli : public glint::testing::SceneCliFixture {
   protected:
-    RenderCli() : CliFixture("glint-render") {}
-    void SetUp() override {
-        CliFixture::SetUp();
-        if (HasFatalFailure()) return;
-        const std::string obj = std::string(GLINT_RENDER_TEST_DATA) + "/cornell_box.obj";
-        std::ofstream(m_dir / "scene.json") << R"({
-          "camera": {"position": [278, 273, -800], "lookAt": [278, 273, 0], "fovY": 39.3},
-          "film": {"width": 24, "height": 24},
-          "shapes": [{"obj": ")" << obj << R"("}],
-          "render": {"spp": 4, "maxDepth": 8}
-        })";
-    }
+    RenderCli() : SceneCliFixture("glint-render", {24, 24, 8}) {}
 };
 
 TEST_F(RenderCli, TheHelpListsTheExtensionOfEveryAssetFormat) {

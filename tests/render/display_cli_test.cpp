@@ -7,9 +7,9 @@
 
 #include <gtest/gtest.h>
 
-#include "cli_fixture.h"
 #include "glint/image/io.h"
 #include "glint/image/tev_images.h"
+#include "scene_cli_fixture.h"
 #include "tev_test_server.h"
 
 namespace glint::render {
@@ -24,20 +24,9 @@ int countLines(const std::string& text, const std::string& with) {
     return n;
 }
 
-class DisplayCli : public glint::testing::CliFixture {
+class DisplayCli : public glint::testing::SceneCliFixture {
   protected:
-    DisplayCli() : CliFixture("glint-render") {}
-    void SetUp() override {
-        CliFixture::SetUp();
-        if (HasFatalFailure()) return;
-        const std::string obj = std::string(GLINT_RENDER_TEST_DATA) + "/cornell_box.obj";
-        std::ofstream(m_dir / "scene.json") << R"({
-          "camera": {"position": [278, 273, -800], "lookAt": [278, 273, 0], "fovY": 39.3},
-          "film": {"width": 150, "height": 20},
-          "shapes": [{"obj": ")" << obj << R"("}],
-          "render": {"spp": 4, "maxDepth": 4}
-        })";
-    }
+    DisplayCli() : SceneCliFixture("glint-render", {150, 20, 4}) {}
 };
 
 TEST_F(DisplayCli, TevReceivesTheImageCreatedWithItsLayersThenEachPassAsTiles) {
