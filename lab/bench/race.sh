@@ -157,6 +157,7 @@ cycles_side() {
 
 # Whether $1 more seconds fit in the PIECE; if not, says so (a later call goes on).
 fits() {
+  [ "$STOPPED" = 0 ] || return 1
   if [ "$PIECE" -gt 0 ] && [ $((SECONDS + $1)) -gt "$PIECE" ]; then
     echo "race.sh: stopping at $SECONDS s of PIECE=$PIECE: call again to go on" >&2
     STOPPED=1
@@ -174,9 +175,13 @@ ref_renders() {
 # The references: every missing render (one a seed, REF_SPP uniform samples), then their mean.
 if [ "$MODE" != collect ]; then
   for scene in $SCENES; do
+    # Seconds the scene's slowest reference render may take on the shared machine (1024 spp:
+    # about 170 s for Cycles' cornell, 30 for the fox).
+    if [ "$scene" = cornell ]; then ref_seconds=200; else ref_seconds=80; fi
+    ref_seconds=$((ref_seconds * REF_SPP / 1024))
     for seed in $REF_SEEDS; do
       raw=$REFS/raw/glint_${scene}_$seed.exr
-      if [ ! -f "$raw" ] && fits 200; then
+      if [ ! -f "$raw" ] && fits "$ref_seconds"; then
         echo "race.sh: Glint's $scene reference, $REF_SPP spp, seed $seed" >&2
         "$BIN/glint-render" "$(glint_scene "$scene")" --threads 2 --set maxDepth=8 --spp "$REF_SPP" \
           --seed "$seed" --out "$WORK/ref.exr" >/dev/null 2>&1
@@ -184,7 +189,7 @@ if [ "$MODE" != collect ]; then
         mv "$WORK/ref_rgb.exr" "$raw"
       fi
       raw=$REFS/raw/cycles_${scene}_$seed.exr
-      if [ ! -f "$raw" ] && fits 200; then
+      if [ ! -f "$raw" ] && fits "$ref_seconds"; then
         echo "race.sh: Cycles' $scene reference, $REF_SPP spp, seed $seed" >&2
         cycles_render "$scene" "$WORK/ref.exr" --spp "$REF_SPP" --seed "$seed" >/dev/null
         exr_layer "$WORK/ref.exr" ViewLayer.Combined. "$WORK/ref_rgb.exr"

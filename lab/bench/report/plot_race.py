@@ -170,15 +170,17 @@ def table(rows):
                 lo, hi = paired(glint, cycles, key)
                 line += f" {mean_of(glint, key) / mean_of(cycles, key):.2f} ({lo:.2f}–{hi:.2f}) |"
             print(line)
-    print("\nThe floor's check: relMSE − floor against all the reference's renders, and against "
-          "each half of them alone (twice the floor), means over the budgets and seeds.\n")
-    print("| scene | renderer | relMSE raw | floor (all) | − floor: all | first half | second half |")
+    largest = max(float(r["budget"]) for r in rows)
+    print(f"\nThe floor's check at {largest:g} s: relMSE raw, the floor, and relMSE − floor "
+          "against all the reference's renders and against each half of them alone (twice the "
+          "floor), means over the seeds.\n")
+    print("| scene | run | relMSE raw | floor (all) | − floor: all | first half | second half |")
     print("|---|---|---|---|---|---|---|")
     for scene in sorted({r["scene"] for r in rows}):
-        for renderer in (CYCLES, GLINT):
-            rs = [r for r in rows if r["scene"] == scene and r["renderer"] == renderer]
+        for (renderer, threshold), (_, _, name) in SERIES.items():
+            rs = g.get((scene, largest, renderer, threshold))
             if rs:
-                print(f"| {scene} | {renderer} | " + " | ".join(
+                print(f"| {scene} | {name} | " + " | ".join(
                     f"{mean_of(rs, k):.3g}" for k in ("relmse", "relmse_floor", "relmse_corrected",
                                                        "relmse_corrected_a", "relmse_corrected_b"))
                       + " |")
