@@ -131,6 +131,19 @@ def paired(glint, cycles, key):
     return (min(q), max(q)) if q else (float("nan"), float("nan"))
 
 
+def at_time(g, scene, threshold, seconds, key):
+    """Cycles + OIDN's mean `key` at `seconds` of wall-clock: log-log interpolation between its
+    budgets' mean (seconds, value) points; None outside them or where a value is not > 0."""
+    pts = sorted((mean_of(rs, "render_seconds"), mean_of(rs, key))
+                 for (sc, _, rn, th), rs in g.items()
+                 if sc == scene and rn == CYCLES and th == threshold)
+    for (t0, v0), (t1, v1) in zip(pts, pts[1:]):
+        if t0 <= seconds <= t1 and v0 > 0 and v1 > 0 and t1 > t0:
+            f = np.log(seconds / t0) / np.log(t1 / t0)
+            return float(np.exp(np.log(v0) + f * np.log(v1 / v0)))
+    return None
+
+
 def table(rows):
     g = groups(rows)
     seeds = len({r["seed"] for r in rows})
@@ -157,8 +170,9 @@ def table(rows):
         print(line + f" {np.mean(load):.1f} |")
     print("\nGlint / Cycles + OIDN: the ratio of the means over the seeds (the per-seed range in "
           "brackets).\n")
-    print("| scene | budget (s) | Cycles' threshold | relMSE raw | relMSE − floor | 1 − SSIM | FLIP |")
-    print("|---|---|---|---|---|---|---|")
+    print("| scene | budget (s) | Cycles' threshold | relMSE raw | relMSE − floor | 1 − SSIM | FLIP "
+          "| relMSE − floor at Glint's wall-clock |")
+    print("|---|---|---|---|---|---|---|---|")
     for scene, budget in cells:
         glint = g.get((scene, budget, GLINT, "final"))
         for threshold in ("0.01", "0.002"):
@@ -169,6 +183,10 @@ def table(rows):
             for key in ("relmse", "relmse_corrected", "ssim", "flip"):
                 lo, hi = paired(glint, cycles, key)
                 line += f" {mean_of(glint, key) / mean_of(cycles, key):.2f} ({lo:.2f}–{hi:.2f}) |"
+            seconds = mean_of(glint, "render_seconds")
+            there = at_time(g, scene, threshold, seconds, "relmse_corrected")
+            line += (f" {mean_of(glint, 'relmse_corrected') / there:.2f} (Cycles at {seconds:.0f} s) |"
+                     if there else " – |")
             print(line)
     largest = max(float(r["budget"]) for r in rows)
     print(f"\nThe floor's check at {largest:g} s: relMSE raw, the floor, and relMSE − floor "
