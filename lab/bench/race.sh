@@ -1,53 +1,70 @@
 #!/usr/bin/env bash
 # The equal-time race of issue 49 (docs/lab/race.md): Blender's Cycles with adaptive sampling (its
-# default noise threshold and a tighter one) then Open Image Denoise, against Glint with adaptive
-# sampling then `glint-denoise auto`, at the same wall-clock render budgets, on scenes/cornell and
-# on the bare glTF asset scenes/fox/Fox.glb. Each result is measured against its own renderer's
-# 4096-spp reference (the two renderers' pictures differ slightly): relMSE, SSIM and HDR-FLIP
-# (`glint-image diff`). Writes race.csv and PNGs of every denoised image into OUT.
+# default noise threshold and a tighter one) then Open Image Denoise, against Glint's glint-final
+# (adaptive sampling steered by auto, then auto, in one command), at the same wall-clock budgets,
+# on scenes/cornell and on the bare glTF asset scenes/fox/Fox.glb. Each result is measured against
+# its own renderer's reference (the two renderers' pictures differ slightly): relMSE raw and with
+# the reference's own noise subtracted (lab/bench/race_floor.py), SSIM and HDR-FLIP
+# (`glint-image diff`). Writes race.csv and PNGs of the denoised images into OUT.
 #
 #   lab/bench/race.sh [BUILD_DIR] [OUT]          # OUT: default docs/tradeoffs
-#   BUDGETS="2 8 32" SCENES="cornell fox" THRESHOLDS="0.01 0.002" SEED=1 lab/bench/race.sh build
+#   BUDGETS="2 8 32" SCENES="cornell fox" THRESHOLDS="0.01 0.002" SEEDS="1 2" lab/bench/race.sh build
 #   lab/bench/race.sh build --references         # only the references (cached, see below)
+#   lab/bench/race.sh build --collect            # only race.csv and the plots from the results so far
 #
-# Run it inside `slot` on the shared machine (2 cores, one run at a time): the budgets are
-# wall-clock. How time is counted: a budget is the render's wall-clock from starting the renderer's
-# process to its EXR written, so Cycles' includes Blender's start-up, the glTF import and the
-# scene building (race_cycles.py takes them off Cycles' time limit); Glint's includes loading and
-# the BVH. The denoisers' wall-clock is measured and written beside it (auto_seconds,
-# oidn_seconds) but not counted: the OIDN peer is a single-threaded WebAssembly port of OIDN, many
-# times slower than OIDN itself.
+# Run it inside `slot` on the shared machine (2 cores): the budgets are wall-clock. It runs in
+# pieces: every result is kept in RUN (default BUILD_DIR/race/run) and not run again, so calls
+# with a few SCENES, BUDGETS and SEEDS each (each under 10 minutes) add up to the race; the last
+# call (or --collect) writes race.csv and the plots from every result in RUN. Per scene, budget
+# and seed Glint runs once and Cycles once per threshold, Glint first for odd seeds and last for
+# even ones. The 1-minute load average when each render starts is in the CSV.
 #
-# References (REFS, default BUILD_DIR/race): 4096 spp, seed 99 (no race seed), rendered once and
-# cached; Glint's cornell reference is the committed scenes/cornell/reference.exr (4096 spp, seed
-# 7). Needs blender (make bench-deps), python3-openimageio and the OIDN peer installed in OIDN
-# (default /tmp/oidn; ../shared/peers/oidn/README.md). Exit 2 when one is missing.
+# How time is counted: a budget is the wall-clock from starting the renderer's process to its EXR
+# written. Glint's is glint-final's whole run: loading, the BVH, the render, auto's refreshes and
+# the final auto (`--time-limit BUDGET`). Cycles' includes Blender's start-up, the glTF import and
+# the scene building (race_cycles.py takes them off Cycles' time limit), but not OIDN: its
+# wall-clock is written beside it (denoise_seconds), the OIDN peer being a single-threaded
+# WebAssembly port many times slower than OIDN itself.
+#
+# References (REFS, default BUILD_DIR/race): per renderer and scene, the mean of one uniform render
+# of REF_SPP spp (default 1024) for each of REF_SEEDS (default 99 100 101 102: 4096 spp in all),
+# rendered once and cached in REFS/raw/; their spread estimates the reference's own noise, which
+# race_floor.py subtracts. Needs blender (make bench-deps), python3-openimageio and the OIDN peer
+# installed in OIDN (default /tmp/oidn; ../shared/peers/oidn/README.md). Exit 2 when one is missing.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 BUILD_DIR=${1:-build}
 OUT=${2:-docs/tradeoffs}
-ONLY_REFERENCES=0
-if [ "$OUT" = --references ]; then ONLY_REFERENCES=1; OUT=docs/tradeoffs; fi
+MODE=race
+case $OUT in
+  --references) MODE=references; OUT=docs/tradeoffs ;;
+  --collect) MODE=collect; OUT=docs/tradeoffs ;;
+esac
 BUDGETS=${BUDGETS:-2 8 32}
 SCENES=${SCENES:-cornell fox}
 THRESHOLDS=${THRESHOLDS:-0.01 0.002}
-SEED=${SEED:-1}
+SEEDS=${SEEDS:-1 2}
 OIDN=${OIDN:-/tmp/oidn}
 REFS=${REFS:-$BUILD_DIR/race}
+RUN=${RUN:-$REFS/run}
 BIN=$BUILD_DIR/bin
 PY=/usr/bin/python3
-REF_SPP=${REF_SPP:-4096}
-REF_SEED=99
+FLOOR=lab/bench/race_floor.py
+REF_SPP=${REF_SPP:-1024}
+REF_SEEDS=${REF_SEEDS:-99 100 101 102}
+MAX_SPP=4096 # Cycles' most samples a pixel in the race (its time limit ends it first)
+PIECE=${PIECE:-0} # seconds: start no render that may not end within them (0: no limit)
+SECONDS=0
 
 command -v blender >/dev/null || { echo "race.sh: blender not found (make bench-deps)" >&2; exit 2; }
 "$PY" -c "import OpenImageIO" 2>/dev/null ||
   { echo "race.sh: python3-openimageio not found (make bench-deps)" >&2; exit 2; }
 [ -f "$OIDN/oidn_peer.js" ] && [ -d "$OIDN/node_modules" ] ||
   { echo "race.sh: no OIDN peer installed in $OIDN (../shared/peers/oidn/README.md)" >&2; exit 2; }
-for b in glint-render glint-denoise glint-image; do
+for b in glint-render glint-final glint-image; do
   [ -x "$BIN/$b" ] || { echo "race.sh: $BIN/$b not built" >&2; exit 2; }
 done
-mkdir -p "$REFS" "$OUT"
+mkdir -p "$REFS/raw" "$RUN/rows" "$OUT"
 WORK=$(mktemp -d "${TMPDIR:-/tmp}/glint-race.XXXXXX")
 trap 'rm -rf "$WORK"' EXIT
 
@@ -103,27 +120,25 @@ exr_layer() {
   "$PY" "$OIDN/pfm_to_exr.py" "$WORK/layer.pfm" "$3" >/dev/null
 }
 
-# Glint's side: renders scene $1 within budget $2 seconds at threshold $3 and denoises into $4.
-# Prints "render_seconds denoise_seconds spp_mean". The one function to switch to loop49's
-# render-and-denoise command.
+# Glint's side: glint-final renders and denoises scene $1 within budget $2 seconds (all of it:
+# the render, auto's refreshes and the final auto) into $3. Prints "seconds auto_seconds
+# spp_mean" (auto's seconds are inside the budget).
 glint_side() {
-  local scene=$1 budget=$2 threshold=$3 out=$4 t0 t1 t2
+  local scene=$1 budget=$2 out=$3 t0 t1
   t0=$(date +%s.%N)
-  "$BIN/glint-render" "$(glint_scene "$scene")" --threads 2 --set maxDepth=8 --seed "$SEED" \
-    --spp $REF_SPP --time-limit "$budget" --set halfBuffers=true --set adaptive=true \
-    --set noiseThreshold="$threshold" --json --out "$WORK/glint.exr" >"$WORK/glint.json" 2>/dev/null
+  "$BIN/glint-final" "$(glint_scene "$scene")" --out "$out" --time-limit "$budget" --threads 2 \
+    --set maxDepth=8 --set seed="$SEED" >"$WORK/final.txt" 2>/dev/null
   t1=$(date +%s.%N)
-  "$BIN/glint-denoise" auto "$WORK/glint.exr" --out "$out" >/dev/null 2>&1
-  t2=$(date +%s.%N)
-  "$PY" -c 'import json,sys; a,b,c=map(float,sys.argv[1:4]); m=json.load(open(sys.argv[4]))
-print("%.3f %.3f %.1f" % (b - a, c - b, m["meanSpp"]))' "$t0" "$t1" "$t2" "$WORK/glint.json"
+  "$PY" -c 'import re,sys; a,b=map(float,sys.argv[1:3]); t=open(sys.argv[3]).read()
+m=re.search(r"([0-9.]+) spp a pixel.*\(auto ([0-9.]+) s\)", t, re.S)
+print("%.3f %s %s" % (b - a, m.group(2), m.group(1)))' "$t0" "$t1" "$WORK/final.txt"
 }
 
 # Cycles' side: renders scene $1 within budget $2 at threshold $3, OIDN (colour, albedo, normal,
 # HDR) into $4. Prints "render_seconds denoise_seconds".
 cycles_side() {
   local scene=$1 budget=$2 threshold=$3 out=$4 seconds t0 t1 L=ViewLayer.
-  seconds=$(cycles_render "$scene" "$WORK/cycles.exr" --seed "$SEED" --spp $REF_SPP \
+  seconds=$(cycles_render "$scene" "$WORK/cycles.exr" --seed "$SEED" --spp $MAX_SPP \
     --budget "$budget" --noise-threshold "$threshold" --passes)
   t0=$(date +%s.%N)
   "$PY" "$OIDN/exr_to_pfm.py" "$WORK/cycles.exr" "$WORK/color.pfm" \
@@ -140,53 +155,117 @@ cycles_side() {
     "$seconds" "$t0" "$t1"
 }
 
-# The references, once (a cached file is kept).
-for scene in $SCENES; do
-  if [ "$scene" = cornell ]; then
-    [ -f "$REFS/glint_cornell.exr" ] || cp scenes/cornell/reference.exr "$REFS/glint_cornell.exr"
-  elif [ ! -f "$REFS/glint_$scene.exr" ]; then
-    echo "race.sh: Glint's $scene reference, $REF_SPP spp" >&2
-    "$BIN/glint-render" "$(glint_scene "$scene")" --threads 2 --set maxDepth=8 --spp $REF_SPP \
-      --seed $REF_SEED --out "$REFS/glint_$scene.tmp.exr" >/dev/null 2>&1
-    mv "$REFS/glint_$scene.tmp.exr" "$REFS/glint_$scene.exr"
+# Whether $1 more seconds fit in the PIECE; if not, says so (a later call goes on).
+fits() {
+  [ "$STOPPED" = 0 ] || return 1
+  if [ "$PIECE" -gt 0 ] && [ $((SECONDS + $1)) -gt "$PIECE" ]; then
+    echo "race.sh: stopping at $SECONDS s of PIECE=$PIECE: call again to go on" >&2
+    STOPPED=1
+    return 1
   fi
-  if [ ! -f "$REFS/cycles_$scene.exr" ]; then
-    echo "race.sh: Cycles' $scene reference, $REF_SPP spp" >&2
-    cycles_render "$scene" "$WORK/ref.exr" --spp $REF_SPP --seed $REF_SEED >/dev/null
-    exr_layer "$WORK/ref.exr" ViewLayer.Combined. "$REFS/cycles_$scene.tmp.exr"
-    mv "$REFS/cycles_$scene.tmp.exr" "$REFS/cycles_$scene.exr"
-  fi
-done
-[ "$ONLY_REFERENCES" = 1 ] && exit 0
+}
+STOPPED=0
 
-# relMSE, SSIM and FLIP of $1 against $2: "relmse ssim flip".
-errors() {
-  "$BIN/glint-image" diff "$1" --reference "$2" --metric relmse --metric ssim --metric flip \
-    --json | "$PY" -c 'import json,sys
-r = {m["request"]: m["value"] for m in json.load(sys.stdin)["results"]}
-print("%.6g %.6g %.6g" % (r["relmse"], r["ssim"], r["flip"]))'
+# The references' renders of scene $1 by renderer $2, one a seed.
+ref_renders() {
+  local seed
+  for seed in $REF_SEEDS; do echo "$REFS/raw/$2_$1_$seed.exr"; done
 }
 
-CSV="$WORK/race.csv"
-echo "scene,renderer,threshold,budget,render_seconds,denoise_seconds,mean_spp,relmse,ssim,flip,noisy_relmse" >"$CSV"
-for scene in $SCENES; do
-  for budget in $BUDGETS; do
-    for threshold in $THRESHOLDS; do
-      read -r rs ds < <(cycles_side "$scene" "$budget" "$threshold" "$WORK/oidn.exr")
-      exr_layer "$WORK/cycles.exr" ViewLayer.Combined. "$WORK/cycles_rgb.exr"
-      read -r e s f < <(errors "$WORK/oidn.exr" "$REFS/cycles_$scene.exr")
-      read -r noisy _ < <(errors "$WORK/cycles_rgb.exr" "$REFS/cycles_$scene.exr")
-      echo "$scene,cycles+oidn,$threshold,$budget,$rs,$ds,,$e,$s,$f,$noisy" | tee -a "$CSV"
-      cp "$WORK/oidn.exr" "$WORK/img_${scene}_cycles_${threshold}_$budget.exr"
-
-      read -r rs ds spp < <(glint_side "$scene" "$budget" "$threshold" "$WORK/auto.exr")
-      read -r e s f < <(errors "$WORK/auto.exr" "$REFS/glint_$scene.exr")
-      read -r noisy _ < <(errors "$WORK/glint.exr" "$REFS/glint_$scene.exr")
-      echo "$scene,glint+auto,$threshold,$budget,$rs,$ds,$spp,$e,$s,$f,$noisy" | tee -a "$CSV"
-      cp "$WORK/auto.exr" "$WORK/img_${scene}_glint_${threshold}_$budget.exr"
+# The references: every missing render (one a seed, REF_SPP uniform samples), then their mean.
+if [ "$MODE" != collect ]; then
+  for scene in $SCENES; do
+    # Seconds the scene's slowest reference render may take on the shared machine (1024 spp:
+    # about 170 s for Cycles' cornell, 30 for the fox).
+    if [ "$scene" = cornell ]; then ref_seconds=200; else ref_seconds=80; fi
+    ref_seconds=$((ref_seconds * REF_SPP / 1024))
+    for seed in $REF_SEEDS; do
+      raw=$REFS/raw/glint_${scene}_$seed.exr
+      if [ ! -f "$raw" ] && fits "$ref_seconds"; then
+        echo "race.sh: Glint's $scene reference, $REF_SPP spp, seed $seed" >&2
+        "$BIN/glint-render" "$(glint_scene "$scene")" --threads 2 --set maxDepth=8 --spp "$REF_SPP" \
+          --seed "$seed" --out "$WORK/ref.exr" >/dev/null 2>&1
+        exr_layer "$WORK/ref.exr" "" "$WORK/ref_rgb.exr"
+        mv "$WORK/ref_rgb.exr" "$raw"
+      fi
+      raw=$REFS/raw/cycles_${scene}_$seed.exr
+      if [ ! -f "$raw" ] && fits "$ref_seconds"; then
+        echo "race.sh: Cycles' $scene reference, $REF_SPP spp, seed $seed" >&2
+        cycles_render "$scene" "$WORK/ref.exr" --spp "$REF_SPP" --seed "$seed" >/dev/null
+        exr_layer "$WORK/ref.exr" ViewLayer.Combined. "$WORK/ref_rgb.exr"
+        mv "$WORK/ref_rgb.exr" "$raw"
+      fi
+    done
+    for r in glint cycles; do
+      for raw in $(ref_renders "$scene" $r); do [ -f "$raw" ] || continue 2; done
+      # shellcheck disable=SC2046
+      "$PY" $FLOOR mean "$REFS/${r}_$scene.exr" $(ref_renders "$scene" $r)
     done
   done
-done
-cp "$CSV" "$OUT/race.csv"
-"$PY" lab/bench/report/plot_race.py "$OUT" --images "$WORK" --references "$REFS"
+fi
+[ "$STOPPED" = 1 ] && exit 3
+[ "$MODE" = references ] && exit 0
+
+# Errors of result $1 against renderer $2's reference of scene $3: "relmse floor corrected
+# corrected_a corrected_b ssim flip" (race_floor.py: relMSE raw, the reference's floor, relMSE
+# corrected against all the renders and against each half of them; then glint-image's SSIM, FLIP).
+errors() {
+  local floor
+  # shellcheck disable=SC2046
+  floor=$("$PY" $FLOOR relmse "$1" $(ref_renders "$3" "$2") --split)
+  "$BIN/glint-image" diff "$1" --reference "$REFS/$2_$3.exr" --metric ssim --metric flip \
+    --json | "$PY" -c 'import json,sys
+r = {m["request"]: m["value"] for m in json.load(sys.stdin)["results"]}
+print("%s %.6g %.6g" % (sys.argv[1], r["ssim"], r["flip"]))' "$floor"
+}
+load() { cut -d' ' -f1 /proc/loadavg; }
+
+# One result a row file in RUN/rows (kept: a later call skips it), its image in RUN.
+COLUMNS_CSV="scene,renderer,threshold,budget,seed,render_seconds,denoise_seconds,mean_spp,relmse,relmse_floor,relmse_corrected,relmse_corrected_a,relmse_corrected_b,ssim,flip,noisy_relmse,load"
+run_glint() {
+  local scene=$1 budget=$2 row=$RUN/rows/${1}_glint_final_$2_$SEED.csv l rs ds spp e fl c a b s f
+  [ -f "$row" ] && return 0
+  l=$(load)
+  read -r rs ds spp < <(glint_side "$scene" "$budget" "$WORK/final.exr")
+  read -r e fl c a b s f < <(errors "$WORK/final.exr" glint "$scene")
+  cp "$WORK/final.exr" "$RUN/img_${scene}_glint_final_${budget}_$SEED.exr"
+  echo "$scene,glint-final,final,$budget,$SEED,$rs,$ds,$spp,$e,$fl,$c,$a,$b,$s,$f,,$l" | tee "$row"
+}
+run_cycles() {
+  local scene=$1 budget=$2 threshold=$3 row=$RUN/rows/${1}_cycles_$3_$2_$SEED.csv l rs ds e fl c a b s f
+  local noisy
+  [ -f "$row" ] && return 0
+  l=$(load)
+  read -r rs ds < <(cycles_side "$scene" "$budget" "$threshold" "$WORK/oidn.exr")
+  exr_layer "$WORK/cycles.exr" ViewLayer.Combined. "$WORK/cycles_rgb.exr"
+  read -r e fl c a b s f < <(errors "$WORK/oidn.exr" cycles "$scene")
+  # shellcheck disable=SC2046
+  noisy=$("$PY" $FLOOR relmse "$WORK/cycles_rgb.exr" $(ref_renders "$scene" cycles) | cut -d' ' -f1)
+  cp "$WORK/oidn.exr" "$RUN/img_${scene}_cycles_${threshold}_${budget}_$SEED.exr"
+  echo "$scene,cycles+oidn,$threshold,$budget,$SEED,$rs,$ds,,$e,$fl,$c,$a,$b,$s,$f,$noisy,$l" |
+    tee "$row"
+}
+
+if [ "$MODE" = race ]; then
+  for scene in $SCENES; do
+    for budget in $BUDGETS; do
+      for SEED in $SEEDS; do
+        # One piece holds a seed's runs of a budget (Glint and each Cycles threshold) together.
+        if [ "$STOPPED" = 1 ] || ! fits $((3 * budget + 45)); then continue; fi
+        if [ $((SEED % 2)) = 1 ]; then run_glint "$scene" "$budget"; fi
+        for threshold in $THRESHOLDS; do run_cycles "$scene" "$budget" "$threshold"; done
+        if [ $((SEED % 2)) = 0 ]; then run_glint "$scene" "$budget"; fi
+      done
+    done
+  done
+fi
+
+[ "$STOPPED" = 1 ] && exit 3
+
+# race.csv from every result in RUN, and the plots.
+{
+  echo "$COLUMNS_CSV"
+  cat "$RUN"/rows/*.csv 2>/dev/null | sort -t, -k1,1 -k4,4n -k2,2 -k3,3r -k5,5n
+} >"$OUT/race.csv"
+"$PY" lab/bench/report/plot_race.py "$OUT" --images "$RUN" --references "$REFS"
 echo "race.sh: $OUT/race.csv, $OUT/race.png, $OUT/race_<scene>.png"

@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """The equal-time race's plot and pictures (docs/lab/race.md; lab/bench/race.sh writes race.csv):
-error against render time per scene (relMSE, 1 - SSIM and HDR-FLIP, each renderer against its
-own 4096-spp reference) into race.png, and, given the race's images, a sheet of the denoised
-results per scene into race_<scene>.png. Prints the table of docs/lab/race.md (markdown).
+error against render time per scene (relMSE with the references' floor subtracted, 1 - SSIM and
+HDR-FLIP, each renderer against its own reference; the mean over the seeds, each seed a dot) into
+race.png, and, given the race's images, a sheet of the denoised results per scene (the first seed)
+into race_<scene>.png. Prints the tables of docs/lab/race.md (markdown).
 
     /usr/bin/python3 lab/bench/report/plot_race.py docs/tradeoffs [--images DIR --references DIR]
 
@@ -20,41 +21,64 @@ import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
 DPI = 80
-STYLE = {"cycles+oidn": ("tab:blue", "Cycles + OIDN"), "glint+auto": ("tab:red", "Glint + auto")}
+GLINT = "glint-final"
+CYCLES = "cycles+oidn"
+# (renderer, threshold) -> colour, line, label
+SERIES = {(CYCLES, "0.01"): ("tab:blue", "-", "Cycles + OIDN, threshold 0.01"),
+          (CYCLES, "0.002"): ("tab:cyan", "--", "Cycles + OIDN, threshold 0.002"),
+          (GLINT, "final"): ("tab:red", "-", "Glint (glint-final)")}
+METRICS = [("relmse_corrected", "relMSE − reference floor"), ("ssim", "1 − SSIM"),
+           ("flip", "HDR-FLIP")]
 
 
 def parse_args():
     p = argparse.ArgumentParser(prog="plot_race.py")
     p.add_argument("out", help="the folder of race.csv; the PNGs go there too")
-    p.add_argument("--images", help="the race's EXRs (img_SCENE_RENDERER_THRESHOLD_BUDGET.exr)")
+    p.add_argument("--images", help="the race's EXRs (img_SCENE_RENDERER_THRESHOLD_BUDGET_SEED.exr)")
     p.add_argument("--references", help="the references (glint_SCENE.exr, cycles_SCENE.exr)")
     return p.parse_args()
 
 
+def value(row, key):
+    return 1.0 - float(row[key]) if key == "ssim" else float(row[key])
+
+
+def mean_of(rows, key):
+    return float(np.mean([value(r, key) for r in rows]))
+
+
+def groups(rows):
+    """{(scene, budget, renderer, threshold): [rows of every seed]}."""
+    out = {}
+    for r in rows:
+        out.setdefault((r["scene"], float(r["budget"]), r["renderer"], r["threshold"]), []).append(r)
+    return out
+
+
 def plot(rows, out):
     scenes = sorted({r["scene"] for r in rows})
-    metrics = [("relmse", "relMSE"), ("ssim", "1 − SSIM"), ("flip", "HDR-FLIP")]
+    g = groups(rows)
     fig, axes = plt.subplots(len(scenes), 3, figsize=(13, 3.6 * len(scenes)), squeeze=False)
     for i, scene in enumerate(scenes):
-        for j, (key, label) in enumerate(metrics):
+        for j, (key, label) in enumerate(METRICS):
             ax = axes[i][j]
-            for renderer, (colour, name) in STYLE.items():
-                for threshold, dash in zip(sorted({r["threshold"] for r in rows}, reverse=True),
-                                           ["-", "--", ":"]):
-                    pts = sorted((float(r["render_seconds"]), float(r[key]))
-                                 for r in rows if r["scene"] == scene
-                                 and r["renderer"] == renderer and r["threshold"] == threshold)
-                    if not pts:
-                        continue
-                    ys = [1.0 - y if key == "ssim" else y for _, y in pts]
-                    ax.loglog([x for x, _ in pts], ys, dash, color=colour, marker="o",
-                              label=f"{name}, threshold {threshold}")
+            for (renderer, threshold), (colour, dash, name) in SERIES.items():
+                cells = sorted((b, rs) for (sc, b, rn, th), rs in g.items()
+                               if sc == scene and rn == renderer and th == threshold)
+                if not cells:
+                    continue
+                xs = [mean_of(rs, "render_seconds") for _, rs in cells]
+                ys = [mean_of(rs, key) for _, rs in cells]
+                ax.loglog(xs, ys, dash, color=colour, marker="o", label=name)
+                for _, rs in cells:
+                    ax.loglog([float(r["render_seconds"]) for r in rs], [value(r, key) for r in rs],
+                              ".", color=colour, alpha=0.5)
             budgets = sorted({float(r["budget"]) for r in rows})
             ax.set_xticks(budgets, [f"{b:g}" for b in budgets])
             ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-            ax.set_xlabel("render wall-clock (s, 2 threads)")
+            ax.set_xlabel("wall-clock (s, 2 threads)")
             ax.set_ylabel(label)
-            ax.set_title(f"{scene}: {label} after denoising")
+            ax.set_title(f"{scene}: {label} after denoising", fontsize=10)
             ax.grid(True, which="both", alpha=0.3)
     axes[0][0].legend(fontsize=8)
     fig.tight_layout()
@@ -77,21 +101,22 @@ def srgb(x):
 
 
 def sheets(rows, out, images, references):
-    """Per scene: a row per renderer (default threshold), the budgets then the reference."""
+    """Per scene: Cycles + OIDN (threshold 0.01) and Glint, the budgets then the reference."""
+    seed = min({r["seed"] for r in rows}, key=int)
     for scene in sorted({r["scene"] for r in rows}):
-        threshold = max({r["threshold"] for r in rows}, key=float)
         budgets = sorted({r["budget"] for r in rows if r["scene"] == scene}, key=float)
         fig, axes = plt.subplots(2, len(budgets) + 1, figsize=(2.6 * (len(budgets) + 1), 5.2),
                                  squeeze=False)
-        for i, (renderer, ref) in enumerate((("cycles", "cycles"), ("glint", "glint"))):
-            name = STYLE[f"{renderer}+{'oidn' if renderer == 'cycles' else 'auto'}"][1]
+        for i, (stem, ref, name) in enumerate((("cycles_0.01", "cycles", "Cycles + OIDN 0.01"),
+                                               ("glint_final", "glint", "Glint"))):
             for j, budget in enumerate(budgets):
-                path = os.path.join(images, f"img_{scene}_{renderer}_{threshold}_{budget}.exr")
-                axes[i][j].imshow(srgb(read_rgb(path)), interpolation="nearest")
+                path = os.path.join(images, f"img_{scene}_{stem}_{budget}_{seed}.exr")
+                if os.path.exists(path):
+                    axes[i][j].imshow(srgb(read_rgb(path)), interpolation="nearest")
                 axes[i][j].set_title(f"{name}, {budget} s", fontsize=8)
             axes[i][-1].imshow(srgb(read_rgb(os.path.join(references, f"{ref}_{scene}.exr"))),
                                interpolation="nearest")
-            axes[i][-1].set_title(f"{name.split()[0]} 4096 spp", fontsize=8)
+            axes[i][-1].set_title(f"{name.split()[0]} reference", fontsize=8)
         for ax in axes.flat:
             ax.set_axis_off()
         fig.tight_layout()
@@ -99,23 +124,84 @@ def sheets(rows, out, images, references):
         plt.close(fig)
 
 
+def paired(glint, cycles, key):
+    """Glint / Cycles of `key` per seed (the runs of a seed were made together): (min, max)."""
+    by_seed = {r["seed"]: value(r, key) for r in cycles}
+    q = [value(r, key) / by_seed[r["seed"]] for r in glint if r["seed"] in by_seed]
+    return (min(q), max(q)) if q else (float("nan"), float("nan"))
+
+
+def at_time(g, scene, threshold, seconds, key):
+    """Cycles + OIDN's mean `key` at `seconds` of wall-clock: log-log interpolation between its
+    budgets' mean (seconds, value) points; None outside them or where a value is not > 0."""
+    pts = sorted((mean_of(rs, "render_seconds"), mean_of(rs, key))
+                 for (sc, _, rn, th), rs in g.items()
+                 if sc == scene and rn == CYCLES and th == threshold)
+    for (t0, v0), (t1, v1) in zip(pts, pts[1:]):
+        if t0 <= seconds <= t1 and v0 > 0 and v1 > 0 and t1 > t0:
+            f = np.log(seconds / t0) / np.log(t1 / t0)
+            return float(np.exp(np.log(v0) + f * np.log(v1 / v0)))
+    return None
+
+
 def table(rows):
-    print("| scene | budget (s) | threshold | Cycles + OIDN: render s, relMSE, SSIM, FLIP "
-          "| Glint + auto: render s (auto s), mean spp, relMSE, SSIM, FLIP | Glint / Cycles relMSE |")
+    g = groups(rows)
+    seeds = len({r["seed"] for r in rows})
+    print(f"Means over {seeds} seeds. relMSE: raw / with the reference's floor subtracted.\n")
+    print("| scene | budget (s) | Cycles + OIDN 0.01: s, relMSE, SSIM, FLIP "
+          "| Cycles + OIDN 0.002: s, relMSE, SSIM, FLIP "
+          "| Glint: s (auto s), spp, relMSE, SSIM, FLIP | load |")
     print("|---|---|---|---|---|---|")
-    key = lambda r: (r["scene"], float(r["budget"]), -float(r["threshold"]))
-    cells = {}
-    for r in rows:
-        cells.setdefault(key(r), {})[r["renderer"]] = r
-    for k in sorted(cells):
-        c, g = cells[k].get("cycles+oidn"), cells[k].get("glint+auto")
-        if not c or not g:
-            continue
-        print(f"| {k[0]} | {g['budget']} | {g['threshold']} | {float(c['render_seconds']):.1f}, "
-              f"{float(c['relmse']):.3g}, {float(c['ssim']):.4f}, {float(c['flip']):.4f} | "
-              f"{float(g['render_seconds']):.1f} ({float(g['denoise_seconds']):.0f}), "
-              f"{float(g['mean_spp']):.0f}, {float(g['relmse']):.3g}, {float(g['ssim']):.4f}, "
-              f"{float(g['flip']):.4f} | {float(g['relmse']) / float(c['relmse']):.2f} |")
+    cells = sorted({(sc, b) for (sc, b, _, _) in g})
+    for scene, budget in cells:
+        line = f"| {scene} | {budget:g} |"
+        load = []
+        for renderer, threshold in SERIES:
+            rs = g.get((scene, budget, renderer, threshold))
+            if not rs:
+                line += " – |"
+                continue
+            load += [float(r["load"]) for r in rs]
+            sec = f"{mean_of(rs, 'render_seconds'):.1f}"
+            if renderer == GLINT:
+                sec += f" ({mean_of(rs, 'denoise_seconds'):.1f}), {mean_of(rs, 'mean_spp'):.0f}"
+            line += (f" {sec}, {mean_of(rs, 'relmse'):.3g} / {mean_of(rs, 'relmse_corrected'):.3g},"
+                     f" {1 - mean_of(rs, 'ssim'):.4f}, {mean_of(rs, 'flip'):.4f} |")
+        print(line + f" {np.mean(load):.1f} |")
+    print("\nGlint / Cycles + OIDN: the ratio of the means over the seeds (the per-seed range in "
+          "brackets).\n")
+    print("| scene | budget (s) | Cycles' threshold | relMSE raw | relMSE − floor | 1 − SSIM | FLIP "
+          "| relMSE − floor at Glint's wall-clock |")
+    print("|---|---|---|---|---|---|---|---|")
+    for scene, budget in cells:
+        glint = g.get((scene, budget, GLINT, "final"))
+        for threshold in ("0.01", "0.002"):
+            cycles = g.get((scene, budget, CYCLES, threshold))
+            if not glint or not cycles:
+                continue
+            line = f"| {scene} | {budget:g} | {threshold} |"
+            for key in ("relmse", "relmse_corrected", "ssim", "flip"):
+                lo, hi = paired(glint, cycles, key)
+                line += f" {mean_of(glint, key) / mean_of(cycles, key):.2f} ({lo:.2f}–{hi:.2f}) |"
+            seconds = mean_of(glint, "render_seconds")
+            there = at_time(g, scene, threshold, seconds, "relmse_corrected")
+            line += (f" {mean_of(glint, 'relmse_corrected') / there:.2f} (Cycles at {seconds:.0f} s) |"
+                     if there else " – |")
+            print(line)
+    largest = max(float(r["budget"]) for r in rows)
+    print(f"\nThe floor's check at {largest:g} s: relMSE raw, the floor, and relMSE − floor "
+          "against all the reference's renders and against each half of them alone (twice the "
+          "floor), means over the seeds.\n")
+    print("| scene | run | relMSE raw | floor (all) | − floor: all | first half | second half |")
+    print("|---|---|---|---|---|---|---|")
+    for scene in sorted({r["scene"] for r in rows}):
+        for (renderer, threshold), (_, _, name) in SERIES.items():
+            rs = g.get((scene, largest, renderer, threshold))
+            if rs:
+                print(f"| {scene} | {name} | " + " | ".join(
+                    f"{mean_of(rs, k):.3g}" for k in ("relmse", "relmse_floor", "relmse_corrected",
+                                                       "relmse_corrected_a", "relmse_corrected_b"))
+                      + " |")
 
 
 def main():
