@@ -7,6 +7,8 @@
 # differ or the ratio falls below 1 - NOISE. A benchmark, not a unit test (not in `make test`).
 #   lab/bench/render_vs_previous.sh [BUILD_DIR] [REF]
 #   REPEATS=5 NOISE=0.05 THREADS=2 SPP=64 lab/bench/render_vs_previous.sh build
+# PREVIOUS=BIN compares with that glint-render instead (REF is then only its label): no git and
+# no build, for a run where the repository is not at hand (a sandbox, `slot`).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=$(cd "${1:-$root/build}" && pwd)
@@ -18,30 +20,42 @@ spp=${SPP:-64}
 scene=${SCENE:-$root/scenes/cornell/scene.json}
 new=$build/bin/glint-render
 [ -x "$new" ] || { echo "render_vs_previous: $new is not built" >&2; exit 2; }
-commit=$(git -C "$root" rev-parse --verify "$ref^{commit}") ||
-    { echo "render_vs_previous: no commit '$ref'" >&2; exit 2; }
+if [ -n "${PREVIOUS:-}" ]; then
+    old=$PREVIOUS
+    commit=$ref
+    [ -x "$old" ] || { echo "render_vs_previous: $old is not a program" >&2; exit 2; }
+else
+    commit=$(git -C "$root" rev-parse --verify "$ref^{commit}") ||
+        { echo "render_vs_previous: no commit '$ref'" >&2; exit 2; }
 
-# The previous release's glint-render, built once per commit with this build's type.
-prev=$build/previous-release
-if [ ! -e "$prev/src/.git" ]; then
-    git -C "$root" worktree add --detach --force "$prev/src" "$commit" > /dev/null
-elif [ "$(git -C "$prev/src" rev-parse HEAD)" != "$commit" ]; then
-    git -C "$prev/src" checkout --quiet --detach "$commit"
+    # The previous release's glint-render, built once per commit with this build's type.
+    prev=$build/previous-release
+    if [ ! -e "$prev/src/.git" ]; then
+        git -C "$root" worktree add --detach --force "$prev/src" "$commit" > /dev/null
+    elif [ "$(git -C "$prev/src" rev-parse HEAD)" != "$commit" ]; then
+        git -C "$prev/src" checkout --quiet --detach "$commit"
+    fi
+    type=$(sed -n 's/^CMAKE_BUILD_TYPE:[A-Z]*=//p' "$build/CMakeCache.txt" 2> /dev/null || true)
+    if [ ! -f "$prev/build/CMakeCache.txt" ]; then
+        cmake -S "$prev/src" -B "$prev/build" -G Ninja -DCMAKE_BUILD_TYPE="${type:-RelWithDebInfo}" \
+            > "$prev/configure.log"
+    fi
+    cmake --build "$prev/build" -j "${JOBS:-2}" --target glint-render > "$prev/build.log" ||
+        { tail -20 "$prev/build.log" >&2; exit 2; }
+    old=$prev/build/bin/glint-render
 fi
-type=$(sed -n 's/^CMAKE_BUILD_TYPE:[A-Z]*=//p' "$build/CMakeCache.txt" 2> /dev/null || true)
-if [ ! -f "$prev/build/CMakeCache.txt" ]; then
-    cmake -S "$prev/src" -B "$prev/build" -G Ninja -DCMAKE_BUILD_TYPE="${type:-RelWithDebInfo}" \
-        > "$prev/configure.log"
-fi
-cmake --build "$prev/build" -j "${JOBS:-2}" --target glint-render > "$prev/build.log" ||
-    { tail -20 "$prev/build.log" >&2; exit 2; }
-old=$prev/build/bin/glint-render
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 # One render: prints "samplesPerSecond rays".
+# The depth as each binary takes it: --set maxDepth=8, or --max-depth 8 before the flags were
+# folded into --set.
+depth() {
+    if "$1" --help | grep -q -- '--max-depth'; then echo --max-depth 8; else echo --set maxDepth=8; fi
+}
 render() {
-    "$1" "$scene" --spp "$spp" --set maxDepth=8 --threads "$threads" --seed 1 --json \
+    # shellcheck disable=SC2046
+    "$1" "$scene" --spp "$spp" $(depth "$1") --threads "$threads" --seed 1 --json \
         --out "$work/$2.exr" |
         /usr/bin/python3 -c 'import json, sys; j = json.load(sys.stdin); print(j["samplesPerSecond"], j["rays"])'
 }

@@ -19,7 +19,9 @@
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 #include "gltf_builder.h"
+#include "scene/gltf_import.h"
 #include "scene/load_memory.h"
+#include "scene/obj_scan.h"
 #include "test_util.h"
 
 namespace glint::render {

@@ -15,6 +15,7 @@
 #include "materials/bsdf.h"
 #include "materials/material_parameters.h"
 #include "sampling/rng.h"
+#include "source_text.h"
 
 namespace glint::render {
 namespace {
@@ -29,30 +30,6 @@ std::vector<MaterialType> allTypes() {
     for (std::size_t i = 0; i < std::size(kMaterialKinds); ++i)
         types.push_back(MaterialType(int(i)));
     return types;
-}
-
-/// The text of `file` with its comments (// to the end of the line, /* … */) blanked. (No
-/// std::regex: GCC 12's <regex> trips -Werror=maybe-uninitialized in the sanitizer build.)
-std::string codeOf(const fs::path& file) {
-    std::ifstream in(file);
-    std::stringstream text;
-    text << in.rdbuf();
-    std::string code = text.str();
-    for (std::size_t i = 0; i + 1 < code.size(); ++i) {
-        if (code[i] != '/') continue;
-        std::size_t end = std::string::npos;
-        if (code[i + 1] == '/')
-            end = code.find('\n', i);
-        else if (code[i + 1] == '*')
-            end = code.find("*/", i + 2) == std::string::npos ? std::string::npos
-                                                              : code.find("*/", i + 2) + 2;
-        else
-            continue;
-        if (end == std::string::npos) end = code.size();
-        for (std::size_t j = i; j < end; ++j) code[j] = ' ';
-        i = end - 1;
-    }
-    return code;
 }
 
 /// Whether `code` holds `name` as a whole identifier.
@@ -84,7 +61,7 @@ TEST(MaterialKinds, NoIntegratorSourceNamesAMaterialKind) {
     for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
         if (!entry.is_regular_file()) continue;
         ++files;
-        const std::string code = codeOf(entry.path());
+        const std::string code = test::codeOf(entry.path());
         for (const std::string& name : names) {
             EXPECT_FALSE(namesWord(code, name))
                 << entry.path().filename().string() << " names '" << name

@@ -10,20 +10,26 @@ namespace glint::render {
 
 namespace detail {
 
-// Each format's file defines its description. A new format adds its declaration here and its
-// line to the list below.
-const AssetFormat& objAssetFormat();   // obj_import.cpp
-const AssetFormat& gltfAssetFormat();  // gltf_import.cpp
+// The built-in formats, in the order messages and dialogs list them: one line each, X(name), for
+// the `const AssetFormat& <name>AssetFormat()` that the format's own file defines
+// (docs/architecture.md, "Adding an asset format").
+#define GLINT_ASSET_FORMATS(X) \
+    X(obj)                     \
+    X(gltf)
+
+#define GLINT_DECLARE_ASSET_FORMAT(name) const AssetFormat& name##AssetFormat();
+GLINT_ASSET_FORMATS(GLINT_DECLARE_ASSET_FORMAT)
+#undef GLINT_DECLARE_ASSET_FORMAT
 
 namespace {
 
 std::vector<const AssetFormat*>& registry() {
-    static std::vector<const AssetFormat*> formats{
-        &objAssetFormat(),
-        &gltfAssetFormat(),
-    };
+#define GLINT_LIST_ASSET_FORMAT(name) &name##AssetFormat(),
+    static std::vector<const AssetFormat*> formats{GLINT_ASSET_FORMATS(GLINT_LIST_ASSET_FORMAT)};
+#undef GLINT_LIST_ASSET_FORMAT
     return formats;
 }
+#undef GLINT_ASSET_FORMATS
 
 }  // namespace
 

@@ -26,14 +26,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr std::uint32_t kGlbMagic = 0x46546C67;   // "glTF"
 constexpr std::uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
-constexpr std::uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
-
-std::uint32_t le32(const unsigned char* p) {
-    return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 |
-           std::uint32_t(p[3]) << 24;
-}
 
 [[noreturn]] void failFile(const fs::path& file, const std::string& place, const std::string& what,
                            ErrorKind kind = ErrorKind::Format) {
@@ -124,7 +117,7 @@ GlbLayout glbLayout(const fs::path& file, std::uint64_t fileSize) {
                          " bytes goes past the end of the file (truncated)");
         if (chunk == 0 && type != kChunkJson)
             failFile(file, place, "the first chunk must be the JSON chunk");
-        if (chunk == 1 && type != kChunkBin)
+        if (chunk == 1 && type != kGlbChunkBin)
             failFile(file, place, "the second chunk must be the BIN chunk");
         if (chunk == 0) layout.jsonOffset = offset + 8, layout.jsonSize = size;
         if (chunk == 1) layout.binOffset = offset + 8, layout.binSize = size, layout.hasBin = true;

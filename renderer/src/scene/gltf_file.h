@@ -4,6 +4,7 @@
 // readers need them (gltf_buffers.h), so that a large asset's buffers are never held whole.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -17,6 +18,16 @@ class Model;
 namespace glint::render::detail {
 
 class GltfBuffers;
+
+/// A .glb's header magic and the type of its binary chunk (glTF 2.0, 4.4).
+inline constexpr std::uint32_t kGlbMagic = 0x46546C67;     // "glTF"
+inline constexpr std::uint32_t kGlbChunkBin = 0x004E4942;  // "BIN\0"
+
+/// The little-endian 32-bit number at `p` (a .glb's header and chunk fields).
+inline std::uint32_t le32(const unsigned char* p) {
+    return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 |
+           std::uint32_t(p[3]) << 24;
+}
 
 /// The glTF extensions Glint reads (docs/assets.md); any other in extensionsRequired is an
 /// error, in extensionsUsed a warning.

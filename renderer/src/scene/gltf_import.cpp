@@ -121,10 +121,11 @@ std::string decodeUri(const std::string& uri) {
     return out;
 }
 
-GltfImport::GltfImport(Loader& loader, const tinygltf::Model& model, const GltfBuffers& buffers,
-                       fs::path file, const GltfOverrides& overrides, std::string where)
+GltfImport::GltfImport(ImportContext& loader, const tinygltf::Model& model,
+                       const GltfBuffers& buffers, fs::path file, const GltfOverrides& overrides,
+                       std::string where)
     : m_loader(loader),
-      m_scene(loader.m_scene),
+      m_scene(loader.scene()),
       m_model(model),
       m_buffers(buffers),
       m_file(std::move(file)),
@@ -174,7 +175,7 @@ void GltfImport::importScene(const std::vector<Affine>& poses) {
             std::string names;
             for (const std::string& n : m_usedMaterialNames)
                 if (!n.empty()) names += (names.empty() ? "" : ", ") + n;
-            m_loader.m_reader.fail(m_overrides.byNamePlace + "/" + name,
+            m_loader.reader().fail(m_overrides.byNamePlace + "/" + name,
                                    m_file.filename().string() + " has no material '" + name +
                                        "' (it has: " + (names.empty() ? "none named" : names) +
                                        ")");
@@ -186,7 +187,7 @@ void GltfImport::importScene(const std::vector<Affine>& poses) {
         if (!editable.count(name)) {
             std::string names;
             for (const std::string& n : editable) names += (names.empty() ? "" : ", ") + n;
-            m_loader.m_reader.fail(m_overrides.editsPlace + "/" + name,
+            m_loader.reader().fail(m_overrides.editsPlace + "/" + name,
                                    m_file.filename().string() + " has no material '" + name +
                                        "' to edit (it has: " + names + ")");
         }
@@ -322,7 +323,7 @@ void GltfImport::placeMesh(int node, int glintMesh, const std::vector<Affine>& p
     }
     const std::string place = "nodes[" + std::to_string(node) + "]";
     if (anyEmissive && poses.size() > 1)
-        m_loader.m_reader.fail(m_where + "/motion",
+        m_loader.reader().fail(m_where + "/motion",
                                "a moving shape must not be emissive (area lights are static): " +
                                    place + " of " + m_file.filename().string() + " emits");
     if (anyEmissive && !(emissiveArea > 0.0))
@@ -434,27 +435,33 @@ void GltfImport::addLight(int node, const Affine& world) {
     m_scene.punctualLights.push_back(std::move(light));
 }
 
-void Loader::importGltf(const fs::path& path, const std::vector<Affine>& poses,
-                        const GltfOverrides& overrides, const std::string& where) {
+namespace {
+
+/// Adds the glTF asset's default scene (its node hierarchy) as meshes placed by instances, each
+/// glTF mesh one Glint mesh however many nodes use it; its materials (unless overridden),
+/// cameras (SceneData::assetCameras) and KHR_lights_punctual lights. `poses` is the shape's
+/// transform (or every time step of its motion); every vertex must stay within the coordinate
+/// range in each. Errors name the asset and the glTF place.
+void importGltf(ImportContext& loader, const fs::path& path, const std::vector<Affine>& poses,
+                const GltfOverrides& overrides, const std::string& where) {
     // The buffers' mappings end with this function: after the asset is converted.
     tinygltf::Model model;
     GltfBuffers buffers;
     readGltfFile(path, model, buffers);
-    m_scene.addInput(path);
-    for (const fs::path& file : buffers.files()) m_scene.addInput(file);
+    SceneData& scene = loader.scene();
+    scene.addInput(path);
+    for (const fs::path& file : buffers.files()) scene.addInput(file);
     // Buffer files tinygltf read itself (beyond those Glint keeps open).
     for (std::size_t i = 0; i < model.buffers.size(); ++i) {
         const std::string& uri = model.buffers[i].uri;
         if (!buffers.fromFile(i) && !uri.empty() && uri.rfind("data:", 0) != 0)
-            m_scene.addInput(path.parent_path() / uri);
+            scene.addInput(path.parent_path() / uri);
     }
-    GltfImport(*this, model, buffers, path, overrides, where).importScene(poses);
+    GltfImport(loader, model, buffers, path, overrides, where).importScene(poses);
 }
 
-namespace {
-
 /// A glTF shape of scene.json: its "edits" and "materials" as overrides, then the asset.
-void importGltfShape(Loader& loader, const AssetShape& shape) {
+void importGltfShape(ImportContext& loader, const AssetShape& shape) {
     const nlohmann::json& j = shape.object;
     const std::string& where = shape.where;
     GltfOverrides overrides;
@@ -478,7 +485,7 @@ void importGltfShape(Loader& loader, const AssetShape& shape) {
             overrides.byName[item.key()] =
                 loader.sceneMaterial(item.value(), where + "/materials/" + item.key());
     }
-    loader.importGltf(shape.file, shape.poses, overrides, where);
+    importGltf(loader, shape.file, shape.poses, overrides, where);
 }
 
 }  // namespace

@@ -81,10 +81,10 @@ int GltfImport::material(int index) {
         m.roughness = 1.0f;
         m.textureTimesFactor = true;
     }
-    m.gltfName = editName(index);
-    m.gltfShape = m_overrides.shape;
-    if (const auto it = m_overrides.edits.find(m.gltfName); it != m_overrides.edits.end())
-        m_loader.applyGltfEdits(m, it->second, m_overrides.editsPlace + "/" + it->first);
+    m.assetName = editName(index);
+    m.assetShape = m_overrides.shape;
+    if (const auto it = m_overrides.edits.find(m.assetName); it != m_overrides.edits.end())
+        m_loader.applyLookEdits(m, it->second, m_overrides.editsPlace + "/" + it->first);
     // Names stay unique: two assets may both have a "Material.001".
     if (m_loader.materialIndex(m.name) >= 0) {
         const std::string base = m.name + " (" + m_file.filename().string() + ")";

@@ -1,8 +1,7 @@
 // scene.json → SceneData. scene_loader.cpp reads the JSON (camera, film, render block,
 // materials, environment, shapes and their transforms), builds the scene around a bare asset and
-// reads textures and environment images; each asset format (asset_format.h) imports its files:
-// obj_import.cpp OBJ/MTL geometry through tinyobjloader, gltf_import.cpp and gltf_material.cpp
-// glTF 2.0 assets through tinygltf.
+// reads textures and environment images; each asset format (asset_format.h, one registration
+// line in asset_formats.cpp) imports its files through the loader's ImportContext.
 #pragma once
 
 #include <cstdint>
@@ -26,22 +25,10 @@ struct MaterialParameter;
 
 namespace glint::render::detail {
 
-/// What a scene.json shape asks of the glTF asset it places.
-struct GltfOverrides {
-    int material = -1;  ///< "material": replaces every material of the asset (scene index)
-    /// "materials": a glTF material name → the scene material that replaces it.
-    std::map<std::string, int> byName;
-    std::string byNamePlace;  ///< the JSON place of "materials" (for a name the asset lacks)
-    /// "edits": a glTF material name → its look edits (albedo, metallic, roughness, ior,
-    /// transmission, emission), as saveScene writes them; applied over the asset's values.
-    std::map<std::string, nlohmann::json> edits;
-    std::string editsPlace;  ///< the JSON place of "edits"
-    int shape = -1;          ///< index of the shape in /shapes (-1: a bare asset)
-};
-
 /// Loads one scene file into a SceneData; textures are opened once per path (files through the
-/// scene's TextureStore, embedded images decoded into memory).
-class Loader {
+/// scene's TextureStore, embedded images decoded into memory). Asset formats see it as their
+/// ImportContext only.
+class Loader final : private ImportContext {
   public:
     /// With `memoryLimit` > 0, each asset is refused before it is read when the scene so far
     /// and the asset's predicted load peak exceed it (load_memory.h).
@@ -55,44 +42,21 @@ class Loader {
     /// Records an equivalent scene.json as the scene's source.
     void loadAsset(const std::filesystem::path& file);
 
-    // What an asset format's import (asset_format.h) uses.
-
-    /// The scene being loaded.
-    SceneData& scene() { return m_scene; }
-    /// The reader of the scene file, whose fail() names the file and a JSON place.
-    const JsonReader& reader() const { return m_reader; }
-    /// The scene material a JSON string at `place` names; fails when /materials lacks it.
-    int sceneMaterial(const nlohmann::json& value, const std::string& place) const;
-    /// Places scene mesh `mesh` as one instance with the shape's poses and material (a moving
-    /// shape must not be emissive); a mesh without triangles is not placed.
-    void placeMesh(std::uint32_t mesh, const AssetShape& shape);
-    int materialIndex(const std::string& name) const {
+  private:
+    // ImportContext (asset_format.h), what an asset format's import uses.
+    SceneData& scene() override { return m_scene; }
+    const JsonReader& reader() const override { return m_reader; }
+    int sceneMaterial(const nlohmann::json& value, const std::string& place) const override;
+    int materialIndex(const std::string& name) const override {
         const auto it = m_materialIndex.find(name);
         return it == m_materialIndex.end() ? -1 : it->second;
     }
-    int addMaterial(Material material);
-    /// Loads (or finds) a texture from a file or embedded bytes; returns its index.
-    int loadTexture(const Texture& source, const std::string& where);
+    int addMaterial(Material material) override;
+    void applyLookEdits(Material& m, const nlohmann::json& edits,
+                        const std::string& where) const override;
+    int loadTexture(const Texture& source, const std::string& where) override;
+    void placeMesh(std::uint32_t mesh, const AssetShape& shape) override;
 
-    // The built-in formats' readers, which their AssetFormat's import calls.
-
-    /// obj_import.cpp: adds the OBJ file as one mesh in its object space and returns its index,
-    /// adding its MTL materials unless JSON overrides them by name. Every vertex must stay within
-    /// the coordinate range in each of `poses` (the shape's transform, or every time step of
-    /// its motion). With `overrideMaterial` >= 0 the caller's instance replaces every material
-    /// (the mesh's own are then 0).
-    std::uint32_t importObj(const std::filesystem::path& objPath, const std::vector<Affine>& poses,
-                            int overrideMaterial, const std::string& where);
-
-    /// gltf_import.cpp: adds the glTF asset's default scene (its node hierarchy) as meshes placed
-    /// by instances, each glTF mesh one Glint mesh however many nodes use it; its materials
-    /// (unless overridden), cameras (SceneData::assetCameras) and KHR_lights_punctual lights.
-    /// `poses` is the shape's transform (or every time step of its motion); every vertex must
-    /// stay within the coordinate range in each. Errors name the asset and the glTF place.
-    void importGltf(const std::filesystem::path& path, const std::vector<Affine>& poses,
-                    const GltfOverrides& overrides, const std::string& where);
-
-  private:
     void readCamera(const nlohmann::json& j, const std::string& where);
     void readFilm(const nlohmann::json& j, const std::string& where);
     void readRender(const nlohmann::json& j, const std::string& where);
@@ -103,9 +67,6 @@ class Loader {
                                 const TransformDesc& base);
     /// Reads the shape /shapes/shapeIndex at JSON place `where`.
     void readShape(const nlohmann::json& j, const std::string& where, int shapeIndex);
-    /// Applies a glTF material's saved look edits (a shape's "edits" entry at `where`) over
-    /// the values the asset gives, with the ranges the look panel and JSON materials use.
-    void applyGltfEdits(Material& m, const nlohmann::json& edits, const std::string& where);
     /// Reads parameter `p` of a material into `m` where the object `j` (at `where`) gives it.
     void readParameter(Material& m, const MaterialParameter& p, const nlohmann::json& j,
                        const std::string& where) const;
@@ -127,8 +88,6 @@ class Loader {
                         const std::string& where);
     /// An RGB radiance in [0, kMaxRadiance].
     Vec3 radiance(const nlohmann::json& value, const std::string& where) const;
-
-    friend class GltfImport;
 
     JsonReader m_reader;
     SceneData& m_scene;

@@ -15,11 +15,12 @@
 #include <tiny_obj_loader.h>
 
 #include "glint/image/error.h"
+#include "scene/asset_format.h"
 #include "scene/input_file.h"
 #include "scene/load_memory.h"
-#include "scene/loader.h"
 #include "scene/obj_scan.h"
 #include "scene/polygon_triangulation.h"
+#include "scene/scene_data.h"
 #include "scene/tangent_frames.h"
 
 namespace glint::render::detail {
@@ -233,15 +234,20 @@ class GroupedObjBuffer final : public std::streambuf {
     std::vector<char> m_block, m_rest;
 };
 
-}  // namespace
-
-std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affine>& poses,
-                                int overrideMaterial, const std::string& where) {
+/// Adds the OBJ file as one mesh in its object space and returns its index, adding its MTL
+/// materials unless JSON overrides them by name. Every vertex must stay within the coordinate
+/// range in each of `poses` (the shape's transform, or every time step of its motion). With
+/// `overrideMaterial` >= 0 the caller's instance replaces every material (the mesh's own are
+/// then 0).
+std::uint32_t importObj(ImportContext& loader, const fs::path& objPath,
+                        const std::vector<Affine>& poses, int overrideMaterial,
+                        const std::string& where) {
+    SceneData& scene = loader.scene();
     std::error_code ec;  // odd paths (too long...) are reported, not thrown as filesystem errors
     // Indices and numbers checked with their line first: tinyobjloader trusts them.
     ObjLines lines = scanObj(objPath);
-    m_scene.addInput(objPath);
-    for (const fs::path& mtl : lines.mtlFiles) m_scene.addInput(mtl);
+    scene.addInput(objPath);
+    for (const fs::path& mtl : lines.mtlFiles) scene.addInput(mtl);
 
     // Faces come whole: tinyobjloader's triangulation splits a concave face wrongly, and
     // differently where it sits; polygon_triangulation.cpp clips ears in the face's plane.
@@ -263,9 +269,8 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     }
     auto warn = [&](const std::string& text) {
         const std::string line = objPath.filename().string() + ": " + text;
-        if (std::find(m_scene.warnings.begin(), m_scene.warnings.end(), line) ==
-            m_scene.warnings.end())
-            m_scene.warnings.push_back(line);
+        if (std::find(scene.warnings.begin(), scene.warnings.end(), line) == scene.warnings.end())
+            scene.warnings.push_back(line);
     };
     for (const std::string& w : lines.warnings) warn(w);
     // A texture an MTL statement names: found as findNamedFile finds it, or refused with the
@@ -289,8 +294,9 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
         source.path = fs::absolute(file, ec);  // so that loadTexture does not prefix the scene's
         source.use = use;                      // folder again
         if (tex.clamp) source.wrapS = source.wrapT = TextureWrap::Clamp;
-        return TextureSlot{loadTexture(source, where + "/obj (" + key + " of " + material + ")"),
-                           uvTransformOf(tex)};
+        return TextureSlot{
+            loader.loadTexture(source, where + "/obj (" + key + " of " + material + ")"),
+            uvTransformOf(tex)};
     };
 
     // Map the OBJ's materials to scene materials (JSON overrides MTL by name).
@@ -299,7 +305,7 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     // MTL files warned of a bump map beside a normal map, and of one that is a normal map.
     std::vector<fs::path> bumpBesideNorm, bumpAsNormals;
     for (tinyobj::material_t mtl : materials) {
-        int index = materialIndex(mtl.name);
+        int index = loader.materialIndex(mtl.name);
         if (index < 0) {
             // Where the scan saw tinyobjloader part from the MTL specification: one value is
             // a grey (it sets red only), and paths are relative to the MTL file's folder.
@@ -334,7 +340,7 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
                 const TextureSlot slot =
                     mtlTexture(*info, info->bump, "bump", mtl.name, TextureUse::Data);
                 Vec3 mean;
-                if (holdsTangentNormals(m_scene.textures[std::size_t(slot.texture)], mean)) {
+                if (holdsTangentNormals(scene.textures[std::size_t(slot.texture)], mean)) {
                     // Blender's exporter writes a normal map as map_Bump (and its importer reads
                     // map_Bump as one): read as a normal map, -bm its strength.
                     m.normalMap = slot;
@@ -362,7 +368,7 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
                 // The base texture's alpha is the opacity Glint reads; another file is not.
                 const fs::path d = findNamedFile(info->file.parent_path(), info->mapD.name);
                 if (m.texture >= 0 && !d.empty() &&
-                    fs::equivalent(d, m_scene.textures[std::size_t(m.texture)].path, ec))
+                    fs::equivalent(d, scene.textures[std::size_t(m.texture)].path, ec))
                     m.alphaMode = AlphaMode::Blend;
                 else
                     warn(info->file.filename().string() + " line " +
@@ -372,7 +378,7 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
             if (m.alphaMode == AlphaMode::Blend && m.opacity == 0.0f)
                 warn("material '" + mtl.name +
                      "' is fully transparent (d 0, or Tr 1: some exporters mean opaque by it)");
-            index = addMaterial(std::move(m));
+            index = loader.addMaterial(std::move(m));
         }
         objMaterial.push_back(index);
     }
@@ -496,11 +502,11 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
                 mat = objMaterial[id];
             } else if (overrideMaterial < 0) {
                 if (defaultMaterial < 0) {
-                    defaultMaterial = materialIndex("default");
+                    defaultMaterial = loader.materialIndex("default");
                     if (defaultMaterial < 0) {
                         Material m;
                         m.name = "default";
-                        defaultMaterial = addMaterial(m);
+                        defaultMaterial = loader.addMaterial(m);
                     }
                 }
                 mat = defaultMaterial;
@@ -556,7 +562,7 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     const Affine& pose = poses.front();
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
         const int material = overrideMaterial >= 0 ? overrideMaterial : int(mesh.materialOf(t));
-        if (!m_scene.materials[std::size_t(material)].emissive()) continue;
+        if (!scene.materials[std::size_t(material)].emissive()) continue;
         anyEmissive = true;
         const std::uint32_t* idx = &mesh.indices[3 * t];
         emissiveArea +=
@@ -566,9 +572,11 @@ std::uint32_t Loader::importObj(const fs::path& objPath, const std::vector<Affin
     if (anyEmissive && !(emissiveArea > 0.0))
         throw Error(ErrorKind::Format, "emissive faces have zero total area (zero-area light)",
                     objPath.string(), where);
-    m_scene.meshes.push_back(std::move(mesh));
-    return std::uint32_t(m_scene.meshes.size() - 1);
+    scene.meshes.push_back(std::move(mesh));
+    return std::uint32_t(scene.meshes.size() - 1);
 }
+
+}  // namespace
 
 const AssetFormat& objAssetFormat() {
     static const AssetFormat format{
@@ -588,9 +596,9 @@ const AssetFormat& objAssetFormat() {
         // Predicted from a count of the statements before the reader reads the text.
         .predictLoad = predictObjLoad,
         .import =
-            [](Loader& loader, const AssetShape& shape) {
+            [](ImportContext& loader, const AssetShape& shape) {
                 loader.placeMesh(
-                    loader.importObj(shape.file, shape.poses, shape.material, shape.where), shape);
+                    importObj(loader, shape.file, shape.poses, shape.material, shape.where), shape);
             },
     };
     return format;

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "scene/load_memory.h"
+
 namespace glint::render::detail {
 
 /// The most corners an OBJ face may have: tinyobjloader counts a face's corners in a byte.
@@ -82,5 +84,10 @@ ObjLines scanObj(const std::filesystem::path& path);
 /// already there are kept) and a warning to `out.warnings` for each kind of statement Glint does
 /// not read. scanObj calls it for every `mtllib` file.
 void scanMtl(const std::filesystem::path& path, ObjLines& out);
+
+/// The OBJ format's predictLoad (obj_load_memory.cpp): predicts the load of the OBJ at `path` from
+/// one pass over its text (a block at a time) counting its v, vt, vn and f statements and its face
+/// corners: the check's copy of the text, tinyobjloader's arrays and the mesh they become.
+LoadPrediction predictObjLoad(const std::filesystem::path& path);
 
 }  // namespace glint::render::detail

@@ -114,10 +114,12 @@ struct Material {
     /// A texture's factor multiplies it (glTF) rather than being replaced by it (OBJ, JSON).
     bool textureTimesFactor = false;
     bool fromJson = false;  ///< defined in scene.json's /materials (else by an MTL file)
-    /// A glTF asset's material: its name in the asset and the index of the scene.json shape
-    /// that placed the asset (-1: none), where saveScene writes its look edits ("edits").
-    std::string gltfName;
-    int gltfShape = -1;
+    /// A material an asset brought and edits in place (a glTF material): its name in the
+    /// asset and the index of the scene.json shape that placed the asset (-1: none, or the
+    /// asset's materials are edited as JSON materials of the same name, as MTL ones are), where
+    /// saveScene writes its look edits ("edits"; ImportContext::applyLookEdits reads them).
+    std::string assetName;
+    int assetShape = -1;
     bool edited = false;  ///< changed through Scene::setLook since loading
 
     bool emissive() const { return !isBlack(emission); }

@@ -1,8 +1,8 @@
-// scene.json → SceneData (loader.h): camera, film, render block, materials (JSON overriding MTL
-// and glTF materials by name), environment, shapes (an asset of a registered format,
+// scene.json → SceneData (loader.h): camera, film, render block, materials (JSON overriding an
+// asset's materials by name), environment, shapes (an asset of a registered format,
 // asset_format.h) with scale-rotate-translate transforms and motion, the scene built around a
 // bare asset, and the texture table with the reading of textures and environment images. Each
-// format imports its own files (obj_import.cpp, gltf_import.cpp).
+// format imports its own files through the loader's ImportContext.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -84,7 +84,7 @@ void Loader::load(const json& root) {
             readShape(shapes[i], "/shapes/" + std::to_string(i), int(i));
     }
     if (root.contains("environment")) readEnvironment(root["environment"], "/environment");
-    // Without a camera block, the first camera a glTF asset brings.
+    // Without a camera block, the first camera an asset brings.
     if (!m_hasCamera && !m_scene.assetCameras.empty()) useAssetCamera(0);
     for (Material& m : m_scene.materials) m.deriveEmissionLook();
     m_scene.finishMeshes();
@@ -214,7 +214,7 @@ Material Loader::readMaterial(const std::string& name, const json& j, const std:
     return m;
 }
 
-void Loader::applyGltfEdits(Material& m, const json& j, const std::string& where) {
+void Loader::applyLookEdits(Material& m, const json& j, const std::string& where) const {
     // The look panel's parameters of the material's kind, over the asset's own factors.
     const MaterialKind& kind = materialKind(m.type);
     m_reader.requireObject(j, where, materialKeys(kind, true));

@@ -164,10 +164,10 @@ void saveScene(const Scene& scene, const fs::path& path) {
     // Edited materials: JSON ones get their editable keys updated, MTL ones a full definition.
     for (const Material& m : d.materials) {
         if (!m.edited) continue;
-        if (m.gltfShape >= 0 && !m.fromJson) {
-            // A glTF asset's material: its factors go to the placing shape's "edits"; the
-            // asset's textures stay as the asset has them.
-            ordered_json& j = root["shapes"][std::size_t(m.gltfShape)]["edits"][m.gltfName];
+        if (m.assetShape >= 0 && !m.fromJson) {
+            // An asset's material edited in place (a glTF material): its factors go to the
+            // placing shape's "edits"; the asset's textures stay as the asset has them.
+            ordered_json& j = root["shapes"][std::size_t(m.assetShape)]["edits"][m.assetName];
             for (const MaterialParameter& p : materialKind(m.type).parameters)
                 if (p.look) j[p.spec.name] = valueOf(m, p);
             j["emission"] = toJson(m.emission);
