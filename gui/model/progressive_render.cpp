@@ -1,0 +1,124 @@
+#include "model/progressive_render.h"
+
+#include <algorithm>
+#include <atomic>
+#include <optional>
+#include <thread>
+
+#include "glint/image/error.h"
+
+namespace glint::studio {
+
+ProgressiveRender::ProgressiveRender(QObject* parent) : QObject(parent) {}
+
+bool ProgressiveRender::applies(const render::Settings& settings) {
+    return settings.integrator == render::Integrator::Path &&
+           settings.sampler != render::SamplerKind::Stratified && !settings.region &&
+           !settings.shard && settings.spp > 0;
+}
+
+render::Settings ProgressiveRender::refining(const render::Settings& settings) {
+    render::Settings s = settings;
+    s.adaptive = true;
+    s.halfBuffers = true;
+    s.minSpp = settings.spp;
+    s.spp = std::max(settings.spp, std::min(kMaxSpp, settings.spp * kSppFactor));
+    s.timeLimit = 0.0;
+    s.importance.reset();
+    return s;
+}
+
+pipeline::RefreshOptions ProgressiveRender::refreshOptions() {
+    pipeline::RefreshOptions o;
+    // A refresh every time the mean spp grew by half: the map follows the frame closely.
+    o.growth = 1.5;
+    o.quality = denoise::AutoQuality::Fast;
+    o.bankSize = 2;
+    o.filters = {"cross-bilateral"};
+    o.focus = 0.1;
+    return o;
+}
+
+// The steering of one render: its Refresher, the refresh running on a worker and its result.
+struct ProgressiveRender::Steer {
+    std::optional<pipeline::Refresher> refresher;
+    std::function<bool()> stopping;
+    std::atomic<bool> stop{false};
+    std::mutex mutex;
+    std::optional<pipeline::Denoised> ready;  // the worker's refresh, not adopted yet
+    bool running = false;
+    std::thread worker;
+    std::shared_ptr<Shared> shared;
+
+    ~Steer() {
+        stop = true;
+        if (worker.joinable()) worker.join();
+    }
+    // The map of the refresher's latest refresh, recorded as handed.
+    std::shared_ptr<const Image> hand() {
+        std::shared_ptr<const Image> map = refresher->map();
+        std::lock_guard lock(shared->mutex);
+        shared->handed = {map, std::make_shared<const pipeline::Denoised>(*refresher->last()),
+                          refresher->refreshes()};
+        return map;
+    }
+    // Callbacks::importance, on the render's thread.
+    std::shared_ptr<const Image> importance(const FrameBuffers& frame) {
+        {
+            std::lock_guard lock(mutex);
+            if (ready) {
+                refresher->adopt(std::move(*ready));
+                ready.reset();
+                return hand();
+            }
+            if (running) return nullptr;
+        }
+        if (!refresher->due(frame)) return nullptr;
+        if (!refresher->last()) {
+            // The first adaptive pass waits for the first map: without one it would take every
+            // pixel (a pass as long as the whole start).
+            try {
+                refresher->adopt(refresher->denoise(frame));
+            } catch (const Error& e) {
+                if (e.kind() != ErrorKind::Cancelled) throw;
+                return nullptr;  // the render stops at its next poll
+            }
+            return hand();
+        }
+        // Later ones on a worker while the render goes on.
+        if (worker.joinable()) worker.join();
+        running = true;
+        worker = std::thread([this, copy = frame] {
+            std::optional<pipeline::Denoised> d;
+            try {
+                d = refresher->denoise(copy);
+            } catch (const Error&) {
+                // Cancelled, or a frame auto refuses: the map stays as it is.
+            }
+            std::lock_guard lock(mutex);
+            ready = std::move(d);
+            running = false;
+        });
+        return nullptr;
+    }
+};
+
+RenderJob::ImportanceFn ProgressiveRender::steer(std::function<bool()> stopping) {
+    auto steer = std::make_shared<Steer>();
+    steer->stopping = std::move(stopping);
+    steer->shared = m_shared;
+    pipeline::RefreshOptions options = refreshOptions();
+    Steer* s = steer.get();
+    options.autoOptions.progress = [s](double) {
+        return !s->stop.load() && !(s->stopping && s->stopping());
+    };
+    steer->refresher.emplace(std::move(options));
+    return [steer](int, const FrameBuffers& frame) { return steer->importance(frame); };
+}
+
+ProgressiveRender::Handed ProgressiveRender::lastHanded() const {
+    std::lock_guard lock(m_shared->mutex);
+    return m_shared->handed;
+}
+
+}  // namespace glint::studio
