@@ -245,6 +245,8 @@ void Document::onFinished(std::uint64_t id, FramePtr frame, const render::Render
     if (id != m_job.currentId()) return;
     if (stats.passes == 0 && stats.cancelled) return;  // stopped before anything was rendered
     mergeThen(id, frame, true, [this, stats](FramePtr merged) {
+        m_refineSpp = 0;  // a refining render ends here
+        m_refineReached = false;
         m_stats = stats;
         m_frame = merged;
         m_finished = merged;

@@ -74,32 +74,25 @@ struct ProgressiveRender::Steer {
             if (running) return nullptr;
         }
         if (!refresher->due(frame)) return nullptr;
-        if (!refresher->last()) {
-            // The first adaptive pass waits for the first map: without one it would take every
-            // pixel (a pass as long as the whole start).
-            try {
-                refresher->adopt(refresher->denoise(frame));
-            } catch (const Error& e) {
-                if (e.kind() != ErrorKind::Cancelled) throw;
-                return nullptr;  // the render stops at its next poll
-            }
-            return hand();
-        }
-        // Later ones on a worker while the render goes on.
+        // Auto on a worker while the render goes on. The first adaptive pass does not wait for
+        // its map: the frame's own relative variance steers until it comes (without a map the
+        // pass would take every pixel, as long as the whole start).
+        std::shared_ptr<const Image> first;
+        if (!refresher->last() && !worker.joinable()) first = refresher->provisional(frame);
         if (worker.joinable()) worker.join();
         running = true;
         worker = std::thread([this, copy = frame] {
             std::optional<pipeline::Denoised> d;
             try {
                 d = refresher->denoise(copy);
-            } catch (const Error&) {
-                // Cancelled, or a frame auto refuses: the map stays as it is.
+            } catch (const std::exception&) {
+                // Cancelled, a frame auto refuses, no memory: the map stays as it is.
             }
             std::lock_guard lock(mutex);
             ready = std::move(d);
             running = false;
         });
-        return nullptr;
+        return first;
     }
 };
 

@@ -5,9 +5,9 @@
 // render (a look or camera edit, Render) or Cancel. The frame at the bar's spp is the finished
 // render as without refining (the session, the first denoise, the journal); later passes are shown
 // denoised by the session's layers (model/progressive_denoise.h), which refreshes never touch.
-// Auto never runs on the UI thread: the first refresh on the render's thread before the first
-// adaptive pass, the later ones on a worker of their own while the render goes on (the map they
-// make steers the passes after them). No widgets here.
+// Auto never runs on the UI thread nor holds the render: each refresh runs on a worker of its own
+// while the render goes on, and its map steers the passes after it; until the first one, the
+// frame's own relative variance does (Refresher::provisional). No widgets here.
 #pragma once
 
 #include <QObject>

@@ -146,7 +146,7 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
             return;
         }
         // A render that keeps refining past its spp reports again when it ends.
-        m_rendered = m_document->rendering();
+        m_rendered = m_document->refining();
         const render::RenderStats& s = m_document->lastStats();
         // A cancelled render keeps the bar where it stopped.
         if (!s.cancelled) m_progress->setValue(1000);

@@ -12,6 +12,26 @@
 
 namespace glint::pipeline {
 
+namespace {
+
+/// relMSE's floor of the reference's square (glint::relMse).
+constexpr double kRelativeFloor = 0.01;
+
+/// Sets `weights` to 0 outside the worst `focus` of the pixels by `score` (focus 1: none).
+void keepWorst(Image& weights, const Image& score, double focus) {
+    if (focus >= 1.0) return;
+    std::vector<float> order(score.data().begin(), score.data().end());
+    const std::size_t keep =
+        std::max<std::size_t>(1, std::size_t(std::ceil(focus * double(order.size()))));
+    const auto cut = order.begin() + std::ptrdiff_t(order.size() - keep);
+    std::nth_element(order.begin(), cut, order.end());
+    const float floor = *cut;
+    for (std::size_t i = 0; i < weights.data().size(); ++i)
+        if (score.data()[i] < floor) weights.data()[i] = 0.0f;
+}
+
+}  // namespace
+
 double meanSpp(const FrameBuffers& frame) {
     double sum = 0.0;
     for (float n : frame.layer(Layer::SampleCount).data()) sum += double(n);
@@ -63,17 +83,25 @@ std::shared_ptr<const Image> Refresher::map() const {
     Image weights = m_options.varianceOnly
                         ? Image(relative.width(), relative.height(), 1, float(scale))
                         : importanceFromError(relative, scale);
-    if (m_options.focus < 1.0) {
-        // The worst `focus` of the pixels stay open: the others' weight is 0.
-        std::vector<float> order(relative.data().begin(), relative.data().end());
-        const std::size_t keep = std::max<std::size_t>(
-            1, std::size_t(std::ceil(m_options.focus * double(order.size()))));
-        const auto cut = order.begin() + std::ptrdiff_t(order.size() - keep);
-        std::nth_element(order.begin(), cut, order.end());
-        const float floor = *cut;
-        for (std::size_t i = 0; i < weights.data().size(); ++i)
-            if (relative.data()[i] < floor) weights.data()[i] = 0.0f;
-    }
+    keepWorst(weights, relative, m_options.focus);
+    return std::make_shared<const Image>(std::move(weights));
+}
+
+std::shared_ptr<const Image> Refresher::provisional(const FrameBuffers& frame) const {
+    const Image& colour = frame.color();
+    const Image& variance = frame.layer(Layer::Variance);
+    Image relative(frame.width(), frame.height(), 1);
+    for (int y = 0; y < frame.height(); ++y)
+        for (int x = 0; x < frame.width(); ++x) {
+            double sum = 0.0;
+            for (int c = 0; c < 3; ++c) {
+                const double v = double(colour(x, y, c));
+                sum += double(variance(x, y, c)) / (v * v + kRelativeFloor);
+            }
+            relative(x, y, 0) = std::isfinite(sum) ? float(sum / 3.0) : 0.0f;
+        }
+    Image weights(frame.width(), frame.height(), 1, 1.0f);
+    keepWorst(weights, relative, m_options.focus);
     return std::make_shared<const Image>(std::move(weights));
 }
 

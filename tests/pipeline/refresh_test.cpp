@@ -69,5 +69,23 @@ TEST(Refresh, TheFocusKeepsOnlyTheWorstPixelsOpen) {
     EXPECT_FLOAT_EQ(map(3, 0, 0), expected(3, 0, 0));
 }
 
+TEST(Refresh, TheProvisionalMapOpensTheNoisiestPixelsByTheirOwnVariance) {
+    RefreshOptions o;
+    o.focus = 0.5;
+    const Refresher r(o);
+    FrameBuffers f = frameAt(16.0f);
+    f.ensure(Layer::Color).fill(0.5f);
+    Image& variance = f.ensure(Layer::Variance);
+    // Relative variances 0.04, 0.4, 0.004, 4 (the colour's square plus 0.01 is 0.26).
+    const float v[] = {0.0104f, 0.104f, 0.00104f, 1.04f};
+    for (int x = 0; x < 4; ++x)
+        for (int c = 0; c < 3; ++c) variance(x, 0, c) = v[x];
+    const Image map = *r.provisional(f);
+    EXPECT_EQ(map(0, 0, 0), 0.0f);
+    EXPECT_EQ(map(1, 0, 0), 1.0f);
+    EXPECT_EQ(map(2, 0, 0), 0.0f);
+    EXPECT_EQ(map(3, 0, 0), 1.0f);
+}
+
 }  // namespace
 }  // namespace glint::pipeline

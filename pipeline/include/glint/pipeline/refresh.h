@@ -67,6 +67,11 @@ class Refresher {
     /// the schedule's scale √(spp now / spp at the first refresh) (varianceOnly: that scale
     /// everywhere), pixels outside the focus at 0. Needs a refresh.
     std::shared_ptr<const Image> map() const;
+    /// A map before any refresh, from the frame's own statistics: each pixel's variance of the
+    /// mean relative to its colour (variance / (colour² + 0.01), over the channels), the worst
+    /// `focus` of the pixels open at weight 1, the others 0 (with focus 1: 1 everywhere). For a
+    /// caller that does not wait for auto's first map (the studio's Keep Refining).
+    std::shared_ptr<const Image> provisional(const FrameBuffers& frame) const;
     /// Callbacks::importance's body: a refresh when due (auto run here), then its map; an empty
     /// pointer when nothing is due (the renderer keeps the map it has).
     std::shared_ptr<const Image> importance(const FrameBuffers& frame);
