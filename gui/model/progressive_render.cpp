@@ -30,8 +30,9 @@ render::Settings ProgressiveRender::refining(const render::Settings& settings) {
 
 pipeline::RefreshOptions ProgressiveRender::refreshOptions() {
     pipeline::RefreshOptions o;
-    // A refresh every time the mean spp grew by half: the map follows the frame closely.
-    o.growth = 1.5;
+    // A refresh every time the mean spp doubled, as glint-final's: auto leaves the cores to the
+    // render and the display in between.
+    o.growth = 2.0;
     o.quality = denoise::AutoQuality::Fast;
     o.bankSize = 2;
     o.filters = {"cross-bilateral"};

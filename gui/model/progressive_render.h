@@ -43,7 +43,7 @@ class ProgressiveRender : public QObject {
     /// needs them), every pixel first at the bar's spp, then at most kSppFactor times it.
     static render::Settings refining(const render::Settings& settings);
     /// The studio's refreshes: auto at quality fast on a small bank of cross-bilateral, the map
-    /// open on the worst tenth of the pixels (short passes), again once the mean spp grew by half.
+    /// open on the worst tenth of the pixels (short passes), again once the mean spp doubled.
     static pipeline::RefreshOptions refreshOptions();
     /// The steering of one refining render (RenderJob::start's importance); `stopping` (polled
     /// by auto) tells when the render was cancelled or superseded.
