@@ -21,10 +21,11 @@ QAction* make(QObject* owner, const QString& text, const QKeySequence& shortcut,
 }  // namespace
 
 QList<QAction*> StudioActions::all() const {
-    QList<QAction*> list{open,      openReference, saveSession, saveSessionAs, saveScene,
-                         exportExr, exportPng,     newSession,  recover,       quit,
-                         undo,      redo,          render,      cancelRender,  fit,
-                         oneToOne,  flip,          wipe,        exposureUp,    exposureDown};
+    QList<QAction*> list{open,        openReference, saveSession, saveSessionAs, saveScene,
+                         exportExr,   exportPng,     newSession,  recover,       quit,
+                         undo,        redo,          render,      cancelRender,  keepRefining,
+                         fit,         oneToOne,      flip,        wipe,          exposureUp,
+                         exposureDown};
     for (QAction* s : stages) list << s;
     list << lasso << wholeImage << brushSmaller << brushLarger << brush << wand << diffuse
          << showWeight << autoStart << same << back << help;
@@ -64,6 +65,11 @@ StudioActions createActions(QObject* o) {
                     QObject::tr("Render with the render bar's settings"));
     a.cancelRender = make(o, QObject::tr("&Cancel Render"), QKeySequence(Qt::Key_Escape),
                           QObject::tr("Stop the render, keeping what it has"));
+    a.keepRefining =
+        make(o, QObject::tr("&Keep Refining"), QKeySequence(),
+             QObject::tr("Go on rendering past the spp where the denoised image is worst, until "
+                         "an edit, Cancel or 64 times the spp"));
+    a.keepRefining->setCheckable(true);
     a.fit = make(o, QObject::tr("&Fit"), QKeySequence(Qt::Key_F),
                  QObject::tr("Fit the image to the window"));
     a.oneToOne = make(o, QObject::tr("&1:1"), QKeySequence(Qt::Key_0),

@@ -23,6 +23,7 @@ struct StudioActions {
     QAction* redo;
     QAction* render;
     QAction* cancelRender;
+    QAction* keepRefining;  ///< checkable: renders go on past their spp (docs/studio.md)
     QAction* fit;
     QAction* oneToOne;
     QAction* flip;

@@ -28,6 +28,7 @@
 #include "model/look_command.h"
 #include "model/openable_files.h"
 #include "model/progressive_denoise.h"
+#include "model/progressive_render.h"
 #include "views/compare_view.h"
 #include "views/elided_label.h"
 #include "views/features_view.h"
@@ -62,6 +63,8 @@ MainWindow::MainWindow(const StudioOptions& options, QWidget* parent)
         this);
     new ProgressiveDenoise(
         m_document, m_session, [this] { return !m_restoring; }, this);
+    m_progressive = new ProgressiveRender(this);
+    m_document->setProgressive(m_progressive);
     m_allowance = new ProgramAllowance(m_session, this);
     m_autosave = std::make_unique<Autosave>(
         options.autosaveBase.isEmpty() ? Autosave::defaultBase() : options.autosaveBase, m_session);
@@ -163,6 +166,7 @@ void MainWindow::buildMenus() {
     QMenu* render = menuBar()->addMenu(tr("&Render"));
     render->addAction(a.render);
     render->addAction(a.cancelRender);
+    render->addAction(a.keepRefining);
     QMenu* view = menuBar()->addMenu(tr("&View"));
     for (QAction* x : {a.fit, a.oneToOne, a.flip, a.exposureUp, a.exposureDown}) view->addAction(x);
     // Each panel (and the render bar) shown or hidden: a closed dock comes back from here.
@@ -251,6 +255,13 @@ void MainWindow::buildMenus() {
     });
     connect(a.render, &QAction::triggered, m_renderBar->renderButton(), &QPushButton::click);
     connect(a.cancelRender, &QAction::triggered, m_document, &Document::cancelRender);
+    connect(a.keepRefining, &QAction::toggled, this, [this](bool on) {
+        // On: the scene refines from a new render; off: a refinement under way stops there.
+        m_progressive->setEnabled(on);
+        if (on && m_document->kind() == Document::Kind::Scene && !m_document->rendering())
+            m_document->render();
+        if (!on && m_document->refining()) m_document->cancelRender();
+    });
     connect(a.fit, &QAction::triggered, m_viewer->canvas(), &ImageCanvas::fit);
     connect(a.oneToOne, &QAction::triggered, m_viewer->canvas(), &ImageCanvas::oneToOne);
     connect(a.flip, &QAction::triggered, m_viewer, &Viewer::toggleFlip);

@@ -37,6 +37,7 @@ class StageView;
 class ProgramAllowance;
 class TevListener;
 class TevSender;
+class ProgressiveRender;
 
 /// Options of a studio window (from the command line, or a test).
 struct StudioOptions {
@@ -80,6 +81,8 @@ class MainWindow : public QMainWindow {
     // The parts, for tests and the screenshot tour.
     Document* document() { return m_document; }
     SessionAdapter* session() { return m_session; }
+    /// Keep refining's steering (Render ▸ Keep Refining).
+    ProgressiveRender* progressive() { return m_progressive; }
     RegionOfInterest* region() { return m_region; }
     Viewer* viewer() { return m_viewer; }
     LookPanel* lookPanel() { return m_look; }
@@ -143,6 +146,7 @@ class MainWindow : public QMainWindow {
     void connectTev();
 
     StudioOptions m_options;
+    ProgressiveRender* m_progressive = nullptr;
     Document* m_document;
     SessionAdapter* m_session;
     RegionOfInterest* m_region;

@@ -11,6 +11,7 @@
 #include "glint/render/scene.h"
 #include "glint/render/settings_codec.h"
 #include "model/openable_files.h"
+#include "model/progressive_render.h"
 #include "model/session_state.h"
 
 namespace glint::studio {
@@ -176,6 +177,13 @@ void Document::render() {
     m_mergeBase.reset();
     render::Settings s = m_settings;
     s.region.reset();
+    if (m_progressive && m_progressive->enabled() && ProgressiveRender::applies(s)) {
+        const int spp = s.spp;
+        startRender(ProgressiveRender::refining(s),
+                    m_progressive->steer([job = &m_job] { return job->stopping(); }));
+        m_refineSpp = spp;
+        return;
+    }
     startRender(s);
 }
 
@@ -192,13 +200,15 @@ void Document::renderRegion(const std::optional<Rect>& region) {
     startRender(s);
 }
 
-void Document::startRender(const render::Settings& settings) {
+void Document::startRender(const render::Settings& settings, RenderJob::ImportanceFn importance) {
     // A merge of the previous render's frame is stale.
     m_tasks.cancel(QStringLiteral("merge"));
     m_merging = false;
+    m_refineSpp = 0;
+    m_refineReached = false;
     m_curve.clear();
     emit curveChanged();
-    m_job.start(settings);
+    m_job.start(settings, std::move(importance));
 }
 
 void Document::cancelRender() {
@@ -211,6 +221,19 @@ void Document::setPaused(bool paused) {
 
 void Document::onPass(std::uint64_t id, FramePtr frame, int spp, double seconds) {
     if (id != m_job.currentId()) return;
+    if (m_refineSpp > 0 && !m_refineReached && spp >= m_refineSpp) {
+        // A refining render at the bar's spp: the render as it would have finished; it goes on.
+        m_refineReached = true;
+        render::RenderStats stats;
+        stats.completedSpp = spp;
+        stats.seconds = seconds;
+        m_stats = stats;
+        m_frame = frame;
+        m_finished = frame;
+        emit frameChanged(true);
+        if (m_reference) addCurvePoint(frame, spp, seconds);
+        return;
+    }
     mergeThen(id, frame, false, [this, spp, seconds](FramePtr merged) {
         m_frame = merged;
         emit frameChanged(false);
@@ -222,6 +245,8 @@ void Document::onFinished(std::uint64_t id, FramePtr frame, const render::Render
     if (id != m_job.currentId()) return;
     if (stats.passes == 0 && stats.cancelled) return;  // stopped before anything was rendered
     mergeThen(id, frame, true, [this, stats](FramePtr merged) {
+        m_refineSpp = 0;  // a refining render ends here
+        m_refineReached = false;
         m_stats = stats;
         m_frame = merged;
         m_finished = merged;

@@ -24,6 +24,8 @@
 
 namespace glint::studio {
 
+class ProgressiveRender;
+
 /// Sets one property of `look` to `value`. Throws glint::Error(InvalidArgument) naming `file`
 /// for a property it lacks or a value out of the property's range (nothing changes then).
 void setLookValue(std::vector<render::LookItem>& look, const std::string& item,
@@ -90,6 +92,12 @@ class Document : public QObject {
     bool rendering() const { return m_job.busy() || m_merging; }
     /// True while the render running is of a region (its passes are merged into the frame).
     bool renderingRegion() const { return rendering() && m_mergeRegion.has_value(); }
+    /// Keep refining: with `progressive` enabled, a whole-frame render goes on past the bar's
+    /// spp, steered by it (model/progressive_render.h); null or disabled: renders stop at spp.
+    void setProgressive(ProgressiveRender* progressive) { m_progressive = progressive; }
+    /// True while the render refines past the bar's spp (its frame at that spp is the finished
+    /// frame already).
+    bool refining() const { return m_job.busy() && m_refineSpp > 0 && m_refineReached; }
 
     /// The look of the scene as last edited (materials, lights, environment).
     const std::vector<render::LookItem>& look() const { return m_look; }
@@ -155,7 +163,7 @@ class Document : public QObject {
     void failed(const QString& title, const QString& message);
 
   private:
-    void startRender(const render::Settings& settings);
+    void startRender(const render::Settings& settings, RenderJob::ImportanceFn importance = {});
     void onPass(std::uint64_t id, FramePtr frame, int spp, double seconds);
     void onFinished(std::uint64_t id, FramePtr frame, const render::RenderStats& stats);
     void sceneFileChanged();
@@ -194,6 +202,9 @@ class Document : public QObject {
     bool m_merging = false;             // the final frame of a region render is being merged
     std::vector<CurvePoint> m_curve;
     render::RenderStats m_stats;
+    ProgressiveRender* m_progressive = nullptr;
+    int m_refineSpp = 0;           // the bar's spp of the refining render running (0: none)
+    bool m_refineReached = false;  // and its frame at that spp is the finished frame
 };
 
 /// Copies every layer of `part` inside `region` into a copy of `base` (same size).

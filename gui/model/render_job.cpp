@@ -26,12 +26,12 @@ void RenderJob::setRenderer(std::shared_ptr<render::Renderer> renderer) {
     m_renderer = std::move(renderer);
 }
 
-std::uint64_t RenderJob::start(const render::Settings& settings) {
+std::uint64_t RenderJob::start(const render::Settings& settings, ImportanceFn importance) {
     std::uint64_t id = 0;
     {
         std::lock_guard lock(m_mutex);
         id = m_nextId++;
-        m_pending = Request{id, settings};
+        m_pending = Request{id, settings, std::move(importance)};
         m_cancel = true;  // the running render (if any) stops at its next poll
         m_paused = false;
     }
@@ -72,6 +72,11 @@ void RenderJob::setPaused(bool paused) {
         m_paused = paused;
     }
     m_wake.notify_all();
+}
+
+bool RenderJob::stopping() const {
+    std::lock_guard lock(m_mutex);
+    return m_cancel || m_quit;
 }
 
 bool RenderJob::paused() const {
@@ -165,6 +170,7 @@ void RenderJob::runOne(const Request& request, std::shared_ptr<render::Renderer>
         const int spp = frame.metadata().spp;
         deliver([this, id, copy, spp, s = seconds()] { emit passDone(id, copy, spp, s); });
     };
+    callbacks.importance = request.importance;
     try {
         render::RenderResult result = renderer->render(request.settings, callbacks);
         result.stats.seconds = seconds();  // the renderer's wall time counts pauses

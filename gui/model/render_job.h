@@ -32,8 +32,15 @@ class RenderJob : public QObject {
 
     /// The renderer used by the next render (shared: a reference render may use another).
     void setRenderer(std::shared_ptr<render::Renderer> renderer);
-    /// Cancels the running render (if any) and starts one with `settings`. Returns its id.
-    std::uint64_t start(const render::Settings& settings);
+    /// Steers an adaptive render (render::Callbacks::importance), on the render's thread.
+    using ImportanceFn =
+        std::function<std::shared_ptr<const Image>(int pass, const FrameBuffers& frame)>;
+    /// Cancels the running render (if any) and starts one with `settings` (and `importance`,
+    /// for an adaptive one: model/progressive_render.h). Returns its id.
+    std::uint64_t start(const render::Settings& settings, ImportanceFn importance = {});
+    /// True once the running render was asked to stop (cancelled, superseded, quitting): work
+    /// its callbacks run should stop too. Any thread.
+    bool stopping() const;
     /// Queues work on the scene (a look edit, a save) for the worker, which runs it between
     /// renders, never during one; `done` then runs on this object's thread with the error
     /// message (empty on success).
@@ -64,6 +71,7 @@ class RenderJob : public QObject {
     struct Request {
         std::uint64_t id = 0;
         render::Settings settings;
+        ImportanceFn importance;
     };
     void workerLoop();
     void runOne(const Request& request, std::shared_ptr<render::Renderer> renderer);

@@ -145,7 +145,8 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
             m_info->clear();
             return;
         }
-        m_rendered = false;
+        // A render that keeps refining past its spp reports again when it ends.
+        m_rendered = m_document->refining();
         const render::RenderStats& s = m_document->lastStats();
         // A cancelled render keeps the bar where it stopped.
         if (!s.cancelled) m_progress->setValue(1000);

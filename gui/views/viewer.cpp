@@ -387,14 +387,17 @@ void Viewer::updateLabel() {
         if (!frame)
             what = QString();
         else if (showingComposite() && keepsDenoised())
-            what = !(m_document->rendering() && m_document->frame() != m_document->finishedFrame())
-                       ? tr("Result (denoised, %1 spp)").arg(m_session->input()->metadata().spp)
-                   // A pass of the running render, denoised (ProgressiveDenoise), or still the
-                   // previous render until a pass is as good.
-                   : m_session->input() == m_document->finishedFrame()
-                       ? tr("Result (denoised, previous render; rendering…)")
-                       : tr("Result (denoised, %1 spp; rendering…)")
-                             .arg(m_session->input()->metadata().spp);
+            what =
+                m_document->refining() ? tr("Result (denoised, %1 spp; refining…)")
+                                             .arg(m_session->input()->metadata().spp)
+                : !(m_document->rendering() && m_document->frame() != m_document->finishedFrame())
+                    ? tr("Result (denoised, %1 spp)").arg(m_session->input()->metadata().spp)
+                // A pass of the running render, denoised (ProgressiveDenoise), or still the
+                // previous render until a pass is as good.
+                : m_session->input() == m_document->finishedFrame()
+                    ? tr("Result (denoised, previous render; rendering…)")
+                    : tr("Result (denoised, %1 spp; rendering…)")
+                          .arg(m_session->input()->metadata().spp);
         else
             what = tr("Result (render, %1 spp)").arg(frame->metadata().spp);
     } else if (m_channel == Channel::Reference) {

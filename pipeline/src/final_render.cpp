@@ -6,13 +6,10 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <optional>
 
-#include "glint/denoise/auto_stream.h"
-#include "glint/denoise/bank.h"
 #include "glint/image/composite.h"
 #include "glint/image/error.h"
-#include "glint/pipeline/steering.h"
+#include "glint/pipeline/refresh.h"
 
 namespace glint::pipeline {
 
@@ -23,21 +20,6 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
 }
-
-/// The mean of a frame's sampleCount layer.
-double meanSpp(const FrameBuffers& frame) {
-    double sum = 0.0;
-    for (float n : frame.layer(Layer::SampleCount).data()) sum += double(n);
-    return sum / double(std::size_t(frame.width()) * std::size_t(frame.height()));
-}
-
-/// Auto's result on one frame and what it says of the denoised image.
-struct Denoised {
-    denoise::AutoResult result;
-    Image relative;  ///< relativeError of the result
-    double relMse = 0.0;
-    double seconds = 0.0;
-};
 
 std::string formatted(const char* format, double a, double b, double c) {
     char buf[200];
@@ -103,47 +85,30 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     settings.timeLimit = options.timeLimit;
     const bool timed = options.timeLimit > 0.0;
 
-    // Auto as glint-denoise auto runs it at the quality, estimating the result's error too.
-    denoise::AutoOptions autoOptions = options.autoOptions;
-    autoOptions.estimateError = true;
-    if (autoOptions.tuning.empty())
-        autoOptions.tuning = denoise::autoQualityTuning(options.quality);
-    denoise::BankOptions bank;
-    bank.size = denoise::autoQualityBankSize(options.quality);
-    bank.prefilter = autoOptions.prefilter;
-    bank.prefilterParams = autoOptions.prefilterParams;
-    auto denoised = [&](const FrameBuffers& frame) {
-        const Clock::time_point t = Clock::now();
-        Denoised d;
-        d.result = denoise::autoCompositeStreamed(frame, bank, autoOptions).result;
-        d.relative = relativeError(d.result.error, d.result.composite, autoOptions.exposure);
-        d.relMse = estimatedRelMse(d.relative);
-        d.seconds = secondsSince(t);
-        return d;
-    };
+    RefreshOptions refreshOptions;
+    refreshOptions.growth = options.refreshGrowth;
+    refreshOptions.autoOptions = options.autoOptions;
+    refreshOptions.quality = options.quality;
+    refreshOptions.varianceOnly = options.steering == Steering::Variance;
+    Refresher refresher(refreshOptions);
 
     FinalResult out;
-    std::optional<Denoised> last;  // the latest refresh's result
-    double lastSpp = 0.0, startSpp = 0.0;
     double autoSeconds = options.expectedAutoSeconds;  // what the final auto is expected to take
     bool stop = false;                                 // the error target is reached
     int pass = 0;                                      // the pass under way (progress)
     // A refresh: auto on the frame so far, when it has grown enough; true when it ran.
     auto refresh = [&](const FrameBuffers& frame) {
-        const double spp = meanSpp(frame);
-        if (last && spp < options.refreshGrowth * lastSpp) return false;
+        if (!refresher.due(frame)) return false;
         // No time left to use what a refresh would say: keep the map.
-        if (timed && last && secondsSince(start) + 2.0 * autoSeconds >= options.timeLimit)
+        if (timed && refresher.last() &&
+            secondsSince(start) + 2.0 * autoSeconds >= options.timeLimit)
             return false;
-        last = denoised(frame);
-        autoSeconds = last->seconds;
-        out.autoSeconds += last->seconds;
-        ++out.refreshes;
-        if (out.refreshes == 1) startSpp = spp;
-        lastSpp = spp;
-        log(formatted("refresh: %.1f spp a pixel, estimated relMSE %.4g (auto %.2f s)", spp,
-                      last->relMse, last->seconds));
-        if (options.targetError > 0.0 && last->relMse <= options.targetError) stop = true;
+        refresher.adopt(refresher.denoise(frame));
+        const Denoised& last = *refresher.last();
+        autoSeconds = last.seconds;
+        log(formatted("refresh: %.1f spp a pixel, estimated relMSE %.4g (auto %.2f s)",
+                      last.meanSpp, last.relMse, last.seconds));
+        if (options.targetError > 0.0 && last.relMse <= options.targetError) stop = true;
         return true;
     };
 
@@ -159,13 +124,7 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     if (settings.adaptive && (steered || options.targetError > 0.0)) {
         callbacks.importance = [&](int, const FrameBuffers& frame) -> std::shared_ptr<const Image> {
             if (!refresh(frame) || stop || !steered) return nullptr;
-            // The threshold follows the renderer's error, which falls as 1/sqrt(spp): the
-            // schedule's scale keeps about as many pixels open as at the start.
-            const double scale = std::sqrt(lastSpp / startSpp);
-            if (options.steering == Steering::Variance)
-                return std::make_shared<const Image>(frame.width(), frame.height(), 1,
-                                                     float(scale));
-            return std::make_shared<const Image>(importanceFromError(last->relative, scale));
+            return refresher.map();
         };
     } else if (!settings.adaptive && options.targetError > 0.0) {
         // Uniform passes: the target checked after each pass.
@@ -180,14 +139,19 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     // At the target the frame is the refresh's (the render stopped before the next pass took a
     // sample); otherwise auto runs on the final frame.
     out.targetReached = stop;
-    if (!stop) {
-        last = denoised(out.frame);
-        out.autoSeconds += last->seconds;
-        log(formatted("final: %.1f spp a pixel, estimated relMSE %.4g (auto %.2f s)",
-                      meanSpp(out.frame), last->relMse, last->seconds));
+    out.refreshes = refresher.refreshes();
+    out.autoSeconds = refresher.autoSeconds();
+    Denoised last;
+    if (stop) {
+        last = *refresher.last();
+    } else {
+        last = refresher.denoise(out.frame);
+        out.autoSeconds += last.seconds;
+        log(formatted("final: %.1f spp a pixel, estimated relMSE %.4g (auto %.2f s)", last.meanSpp,
+                      last.relMse, last.seconds));
     }
-    out.estimatedRelMse = last->relMse;
-    paste(out.frame.color(), last->result.composite, 0, 0);
+    out.estimatedRelMse = last.relMse;
+    paste(out.frame.color(), last.result.composite, 0, 0);
     out.frame.metadata().extra["denoiseFilter"] = "auto";
     out.seconds = secondsSince(start);
     return out;

@@ -1,0 +1,118 @@
+#include "model/progressive_render.h"
+
+#include <algorithm>
+#include <atomic>
+#include <optional>
+#include <thread>
+
+#include "glint/image/error.h"
+
+namespace glint::studio {
+
+ProgressiveRender::ProgressiveRender(QObject* parent) : QObject(parent) {}
+
+bool ProgressiveRender::applies(const render::Settings& settings) {
+    return settings.integrator == render::Integrator::Path &&
+           settings.sampler != render::SamplerKind::Stratified && !settings.region &&
+           !settings.shard && settings.spp > 0;
+}
+
+render::Settings ProgressiveRender::refining(const render::Settings& settings) {
+    render::Settings s = settings;
+    s.adaptive = true;
+    s.halfBuffers = true;
+    s.minSpp = settings.spp;
+    s.spp = std::max(settings.spp, std::min(kMaxSpp, settings.spp * kSppFactor));
+    s.timeLimit = 0.0;
+    s.importance.reset();
+    return s;
+}
+
+pipeline::RefreshOptions ProgressiveRender::refreshOptions() {
+    pipeline::RefreshOptions o;
+    // A refresh every time the mean spp doubled, as glint-final's: auto leaves the cores to the
+    // render and the display in between.
+    o.growth = 2.0;
+    o.quality = denoise::AutoQuality::Fast;
+    o.bankSize = 2;
+    o.filters = {"cross-bilateral"};
+    o.focus = 0.1;
+    return o;
+}
+
+// The steering of one render: its Refresher, the refresh running on a worker and its result.
+struct ProgressiveRender::Steer {
+    std::optional<pipeline::Refresher> refresher;
+    std::function<bool()> stopping;
+    std::atomic<bool> stop{false};
+    std::mutex mutex;
+    std::optional<pipeline::Denoised> ready;  // the worker's refresh, not adopted yet
+    bool running = false;
+    std::thread worker;
+    std::shared_ptr<Shared> shared;
+
+    ~Steer() {
+        stop = true;
+        if (worker.joinable()) worker.join();
+    }
+    // The map of the refresher's latest refresh, recorded as handed.
+    std::shared_ptr<const Image> hand() {
+        std::shared_ptr<const Image> map = refresher->map();
+        std::lock_guard lock(shared->mutex);
+        shared->handed = {map, std::make_shared<const pipeline::Denoised>(*refresher->last()),
+                          refresher->refreshes()};
+        return map;
+    }
+    // Callbacks::importance, on the render's thread.
+    std::shared_ptr<const Image> importance(const FrameBuffers& frame) {
+        {
+            std::lock_guard lock(mutex);
+            if (ready) {
+                refresher->adopt(std::move(*ready));
+                ready.reset();
+                return hand();
+            }
+            if (running) return nullptr;
+        }
+        if (!refresher->due(frame)) return nullptr;
+        // Auto on a worker while the render goes on. The first adaptive pass does not wait for
+        // its map: the frame's own relative variance steers until it comes (without a map the
+        // pass would take every pixel, as long as the whole start).
+        std::shared_ptr<const Image> first;
+        if (!refresher->last() && !worker.joinable()) first = refresher->provisional(frame);
+        if (worker.joinable()) worker.join();
+        running = true;
+        worker = std::thread([this, copy = frame] {
+            std::optional<pipeline::Denoised> d;
+            try {
+                d = refresher->denoise(copy);
+            } catch (const std::exception&) {
+                // Cancelled, a frame auto refuses, no memory: the map stays as it is.
+            }
+            std::lock_guard lock(mutex);
+            ready = std::move(d);
+            running = false;
+        });
+        return first;
+    }
+};
+
+RenderJob::ImportanceFn ProgressiveRender::steer(std::function<bool()> stopping) {
+    auto steer = std::make_shared<Steer>();
+    steer->stopping = std::move(stopping);
+    steer->shared = m_shared;
+    pipeline::RefreshOptions options = refreshOptions();
+    Steer* s = steer.get();
+    options.autoOptions.progress = [s](double) {
+        return !s->stop.load() && !(s->stopping && s->stopping());
+    };
+    steer->refresher.emplace(std::move(options));
+    return [steer](int, const FrameBuffers& frame) { return steer->importance(frame); };
+}
+
+ProgressiveRender::Handed ProgressiveRender::lastHanded() const {
+    std::lock_guard lock(m_shared->mutex);
+    return m_shared->handed;
+}
+
+}  // namespace glint::studio

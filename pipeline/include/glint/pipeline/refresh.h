@@ -1,0 +1,94 @@
+// The steering loop's refresh, shared by glint-final (final_render.h) and the studio's progressive
+// render (docs/studio.md, "Keep refining"): auto on the frame so far with its per-pixel error of
+// the denoised image, run again whenever the mean samples per pixel have grown by a factor, and
+// the importance map the renderer's Callbacks::importance returns for the next adaptive passes.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "glint/denoise/auto.h"
+#include "glint/denoise/bank.h"
+#include "glint/image/frame_buffers.h"
+#include "glint/image/image.h"
+
+namespace glint::pipeline {
+
+/// What a refresh runs and how its map is made.
+struct RefreshOptions {
+    /// Run auto again once the mean samples per pixel have grown by this factor (> 1).
+    double growth = 2.0;
+    /// The automatic selection (AutoOptions::estimateError is set here); its tuning, when
+    /// empty, is the quality's.
+    denoise::AutoOptions autoOptions;
+    denoise::AutoQuality quality = denoise::AutoQuality::Balanced;
+    /// The bank's Latin-hypercube members (0: the quality's) and filters (empty: the default
+    /// bank's). The studio keeps its refreshes cheap with a few of one or two filters.
+    int bankSize = 0;
+    std::vector<std::string> filters;
+    /// The variance-only map: the schedule's scale everywhere (auto still runs, for the target).
+    bool varianceOnly = false;
+    /// The fraction of the pixels the map keeps open, the worst by auto's relative error (the
+    /// others weigh 0: they keep their samples until a later refresh names them); 1: all. Short
+    /// adaptive passes for a display that refreshes often.
+    double focus = 1.0;
+};
+
+/// Auto's result on one frame and what it says of the denoised image.
+struct Denoised {
+    denoise::AutoResult result;
+    Image relative;        ///< relativeError of the result (steering.h)
+    double relMse = 0.0;   ///< estimatedRelMse of `relative`
+    double seconds = 0.0;  ///< auto's wall time
+    double meanSpp = 0.0;  ///< of the frame it ran on
+};
+
+/// The mean of a frame's sampleCount layer.
+double meanSpp(const FrameBuffers& frame);
+
+/// The refreshes of one render: call importance() from Callbacks::importance (or, to run auto
+/// elsewhere, due(), denoise() and adopt()). Not thread-safe except denoise(), which is const.
+class Refresher {
+  public:
+    explicit Refresher(RefreshOptions options);
+
+    /// Whether `frame` has grown enough since the last refresh for another (always before the
+    /// first).
+    bool due(const FrameBuffers& frame) const;
+    /// Auto on `frame` with the options (estimateError on). Throws as autoCompositeStreamed
+    /// (Error(Cancelled) when autoOptions.progress says stop).
+    Denoised denoise(const FrameBuffers& frame) const;
+    /// Makes `denoised` the latest refresh (counted, its seconds added).
+    void adopt(Denoised denoised);
+    /// The importance map from the latest refresh: importanceFromError of its relative error at
+    /// the schedule's scale √(spp now / spp at the first refresh) (varianceOnly: that scale
+    /// everywhere), pixels outside the focus at 0. Needs a refresh.
+    std::shared_ptr<const Image> map() const;
+    /// A map before any refresh, from the frame's own statistics: each pixel's variance of the
+    /// mean relative to its colour (variance / (colour² + 0.01), over the channels), the worst
+    /// `focus` of the pixels open at weight 1, the others 0 (with focus 1: 1 everywhere). For a
+    /// caller that does not wait for auto's first map (the studio's Keep Refining).
+    std::shared_ptr<const Image> provisional(const FrameBuffers& frame) const;
+    /// Callbacks::importance's body: a refresh when due (auto run here), then its map; an empty
+    /// pointer when nothing is due (the renderer keeps the map it has).
+    std::shared_ptr<const Image> importance(const FrameBuffers& frame);
+
+    /// The latest refresh (empty before the first).
+    const std::optional<Denoised>& last() const { return m_last; }
+    int refreshes() const { return m_refreshes; }
+    double autoSeconds() const { return m_autoSeconds; }
+
+  private:
+    RefreshOptions m_options;
+    denoise::AutoOptions m_auto;
+    denoise::BankOptions m_bank;
+    std::optional<Denoised> m_last;
+    double m_startSpp = 0.0;
+    int m_refreshes = 0;
+    double m_autoSeconds = 0.0;
+};
+
+}  // namespace glint::pipeline

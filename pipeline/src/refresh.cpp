@@ -1,0 +1,114 @@
+// The steering loop's refresh (refresh.h): auto on the frame so far, its error made relative, and
+// the importance map of the next adaptive passes.
+#include "glint/pipeline/refresh.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "glint/denoise/auto_stream.h"
+#include "glint/image/error.h"
+#include "glint/pipeline/steering.h"
+
+namespace glint::pipeline {
+
+namespace {
+
+/// relMSE's floor of the reference's square (glint::relMse).
+constexpr double kRelativeFloor = 0.01;
+
+/// Sets `weights` to 0 outside the worst `focus` of the pixels by `score` (focus 1: none).
+void keepWorst(Image& weights, const Image& score, double focus) {
+    if (focus >= 1.0) return;
+    std::vector<float> order(score.data().begin(), score.data().end());
+    const std::size_t keep =
+        std::max<std::size_t>(1, std::size_t(std::ceil(focus * double(order.size()))));
+    const auto cut = order.begin() + std::ptrdiff_t(order.size() - keep);
+    std::nth_element(order.begin(), cut, order.end());
+    const float floor = *cut;
+    for (std::size_t i = 0; i < weights.data().size(); ++i)
+        if (score.data()[i] < floor) weights.data()[i] = 0.0f;
+}
+
+}  // namespace
+
+double meanSpp(const FrameBuffers& frame) {
+    double sum = 0.0;
+    for (float n : frame.layer(Layer::SampleCount).data()) sum += double(n);
+    return sum / double(std::size_t(frame.width()) * std::size_t(frame.height()));
+}
+
+Refresher::Refresher(RefreshOptions options) : m_options(std::move(options)) {
+    GLINT_CHECK(m_options.growth > 1.0 && m_options.focus > 0.0 && m_options.focus <= 1.0,
+                "a refresh growth above 1 and a focus in (0, 1]");
+    // Auto as glint-denoise auto runs it at the quality, estimating the result's error too.
+    m_auto = m_options.autoOptions;
+    m_auto.estimateError = true;
+    if (m_auto.tuning.empty()) m_auto.tuning = denoise::autoQualityTuning(m_options.quality);
+    m_bank.size = m_options.bankSize > 0 ? m_options.bankSize
+                                         : denoise::autoQualityBankSize(m_options.quality);
+    m_bank.filters = m_options.filters;
+    m_bank.prefilter = m_auto.prefilter;
+    m_bank.prefilterParams = m_auto.prefilterParams;
+}
+
+bool Refresher::due(const FrameBuffers& frame) const {
+    return !m_last || meanSpp(frame) >= m_options.growth * m_last->meanSpp;
+}
+
+Denoised Refresher::denoise(const FrameBuffers& frame) const {
+    const auto start = std::chrono::steady_clock::now();
+    Denoised d;
+    d.meanSpp = meanSpp(frame);
+    d.result = denoise::autoCompositeStreamed(frame, m_bank, m_auto).result;
+    d.relative = relativeError(d.result.error, d.result.composite, m_auto.exposure);
+    d.relMse = estimatedRelMse(d.relative);
+    d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return d;
+}
+
+void Refresher::adopt(Denoised denoised) {
+    if (m_refreshes == 0) m_startSpp = denoised.meanSpp;
+    ++m_refreshes;
+    m_autoSeconds += denoised.seconds;
+    m_last = std::move(denoised);
+}
+
+std::shared_ptr<const Image> Refresher::map() const {
+    GLINT_CHECK(m_last.has_value(), "an importance map after a refresh");
+    const Image& relative = m_last->relative;
+    // The threshold follows the renderer's error, which falls as 1/sqrt(spp): the schedule's
+    // scale keeps about as many pixels open as at the start.
+    const double scale = std::sqrt(m_last->meanSpp / m_startSpp);
+    Image weights = m_options.varianceOnly
+                        ? Image(relative.width(), relative.height(), 1, float(scale))
+                        : importanceFromError(relative, scale);
+    keepWorst(weights, relative, m_options.focus);
+    return std::make_shared<const Image>(std::move(weights));
+}
+
+std::shared_ptr<const Image> Refresher::provisional(const FrameBuffers& frame) const {
+    const Image& colour = frame.color();
+    const Image& variance = frame.layer(Layer::Variance);
+    Image relative(frame.width(), frame.height(), 1);
+    for (int y = 0; y < frame.height(); ++y)
+        for (int x = 0; x < frame.width(); ++x) {
+            double sum = 0.0;
+            for (int c = 0; c < 3; ++c) {
+                const double v = double(colour(x, y, c));
+                sum += double(variance(x, y, c)) / (v * v + kRelativeFloor);
+            }
+            relative(x, y, 0) = std::isfinite(sum) ? float(sum / 3.0) : 0.0f;
+        }
+    Image weights(frame.width(), frame.height(), 1, 1.0f);
+    keepWorst(weights, relative, m_options.focus);
+    return std::make_shared<const Image>(std::move(weights));
+}
+
+std::shared_ptr<const Image> Refresher::importance(const FrameBuffers& frame) {
+    if (!due(frame)) return nullptr;
+    adopt(denoise(frame));
+    return map();
+}
+
+}  // namespace glint::pipeline

@@ -1,0 +1,184 @@
+// Keep refining (model/progressive_render.h, docs/studio.md): the render goes on past the bar's
+// spp steered by auto's per-pixel error of the denoised image, the denoised image on screen
+// refreshed as it goes; Cancel and a look edit stop and restart it; the session's layers, weights
+// and undo history are untouched by its refreshes. (How often the screen refreshes and how long
+// the UI thread stalls are measured by lab/bench/bench_studio.cpp --progressive, never here.)
+#include <QApplication>
+#include <QSignalSpy>
+#include <QStandardPaths>
+#include <QTemporaryDir>
+#include <QTest>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "glint/denoise/session.h"
+#include "glint/pipeline/steering.h"
+#include "model/progressive_render.h"
+#include "studio_fixture.h"
+#include "views/look_panel.h"
+
+using namespace glint;
+using namespace glint::studio;
+using namespace glint::studio::testing;
+
+namespace {
+
+// The largest sample count of a frame.
+float maxSamples(const FrameBuffers& frame) {
+    const auto& n = frame.layer(Layer::SampleCount).data();
+    return *std::max_element(n.begin(), n.end());
+}
+
+// What of the session a refresh must not change: layers (filter, parameters' count, name),
+// their weights' bits, the undo history.
+struct SessionShape {
+    std::vector<std::string> filters;
+    std::vector<Image> weights;
+    int undoCount = 0, undoIndex = 0;
+
+    static SessionShape of(MainWindow& w) {
+        SessionShape s;
+        const denoise::Session& session = w.session()->session();
+        for (std::size_t i = 0; i < session.layerCount(); ++i) {
+            s.filters.push_back(session.layer(i).filter);
+            s.weights.push_back(session.layer(i).weights);
+        }
+        s.undoCount = w.session()->undoStack()->count();
+        s.undoIndex = w.session()->undoStack()->index();
+        return s;
+    }
+    bool operator==(const SessionShape& o) const {
+        if (filters != o.filters || undoCount != o.undoCount || undoIndex != o.undoIndex)
+            return false;
+        for (std::size_t i = 0; i < weights.size(); ++i)
+            if (!sameBits(weights[i], o.weights[i])) return false;
+        return true;
+    }
+};
+
+}  // namespace
+
+class StudioProgressiveTest : public QObject {
+    Q_OBJECT
+
+    QTemporaryDir m_dir;
+    QString m_scene;
+
+    // A window with the small Cornell box rendered and a Gaussian layer everywhere, then Keep
+    // Refining switched on (which renders again, refining).
+    std::unique_ptr<MainWindow> refining(const QString& name) {
+        auto w = openAndWait(m_scene, m_dir.filePath(name));
+        if (!w || !addGaussian(*w, true) || !waitIdle(*w)) return nullptr;
+        w->actions().keepRefining->setChecked(true);
+        if (!waitFor([&] { return w->document()->refining(); })) return nullptr;
+        return w;
+    }
+    // Cancels the refinement and waits for the window to settle (before it is destroyed).
+    static bool stop(MainWindow& w) {
+        w.document()->cancelRender();
+        return waitIdle(w);
+    }
+
+  private slots:
+    void initTestCase() {
+        QStandardPaths::setTestModeEnabled(true);
+        QVERIFY(m_dir.isValid());
+        m_scene = writeSmallCornell(m_dir);
+    }
+
+    void theDenoisedImageIsRefreshedMoreThanOnceAndTheMapComesFromAutosError() {
+        auto w = refining(QStringLiteral("refresh"));
+        QVERIFY(w);
+        const int barSpp = w->document()->settings().spp;
+        // Previews: the session filters passes past the bar's spp, each re-denoised.
+        std::vector<int> shown;
+        auto c = connect(w->session(), &SessionAdapter::inputChanged, [&] {
+            const int spp = w->session()->input()->metadata().spp;
+            if (spp > barSpp && (shown.empty() || spp > shown.back())) shown.push_back(spp);
+        });
+        QVERIFY(waitFor(
+            [&] { return shown.size() >= 2 && w->progressive()->lastHanded().refreshes >= 2; }));
+        disconnect(c);
+        QVERIFY(maxSamples(*w->session()->input()) > float(barSpp));
+
+        // The map handed to the renderer is auto's relative error of the denoised image made
+        // into weights: 0 outside the worst tenth, √(relative / mean) (within [1/8, 8]) times
+        // one scale inside.
+        const ProgressiveRender::Handed handed = w->progressive()->lastHanded();
+        QVERIFY(handed.map && handed.from);
+        const Image& relative = handed.from->relative;
+        QCOMPARE(handed.map->width(), w->document()->finishedFrame()->width());
+        const Image unscaled = pipeline::importanceFromError(relative, 1.0);
+        std::vector<float> sorted(relative.data().begin(), relative.data().end());
+        std::sort(sorted.begin(), sorted.end());
+        const std::size_t keep = std::size_t(std::ceil(0.1 * double(sorted.size())));
+        const float cut = sorted[sorted.size() - keep];
+        double scale = -1.0;
+        std::size_t open = 0;
+        for (std::size_t i = 0; i < relative.data().size(); ++i) {
+            const float m = handed.map->data()[i];
+            if (relative.data()[i] < cut) {
+                QCOMPARE(m, 0.0f);
+                continue;
+            }
+            ++open;
+            const double ratio = double(m) / double(unscaled.data()[i]);
+            if (scale < 0.0) scale = ratio;
+            QVERIFY(std::abs(ratio - scale) <= 1e-5 * scale);
+        }
+        QVERIFY(open >= keep && open < relative.data().size());
+        QVERIFY(scale >= 1.0);
+        QVERIFY(stop(*w));
+    }
+
+    void cancelStopsItAndALookEditRestartsIt() {
+        auto w = refining(QStringLiteral("cancel"));
+        QVERIFY(w);
+        // Cancel: the render stops, keeping what it has (at least the bar's spp).
+        w->actions().cancelRender->trigger();
+        QVERIFY(waitIdle(*w));
+        QVERIFY(!w->document()->refining());
+        QVERIFY(w->document()->lastStats().cancelled);
+        QVERIFY(w->document()->finishedFrame()->metadata().spp >= w->document()->settings().spp);
+
+        // A look edit renders the new look, refining again from the bar's spp.
+        const FramePtr before = w->document()->finishedFrame();
+        const std::string wall = firstAlbedoMaterial(*w->document());
+        QVERIFY(!wall.empty());
+        w->lookPanel()->edit(wall, "albedo", {0.2, 0.6, 0.3});
+        QVERIFY(waitFor([&] { return w->document()->refining(); }));
+        QVERIFY(w->document()->finishedFrame() != before);
+        QCOMPARE(w->document()->finishedFrame()->metadata().spp, w->document()->settings().spp);
+        // A second edit while it refines restarts it.
+        const FramePtr first = w->document()->finishedFrame();
+        w->lookPanel()->edit(wall, "albedo", {0.7, 0.2, 0.3});
+        QVERIFY(waitFor(
+            [&] { return w->document()->refining() && w->document()->finishedFrame() != first; }));
+        // Switching it off stops the refinement under way.
+        w->actions().keepRefining->setChecked(false);
+        QVERIFY(waitIdle(*w));
+        QVERIFY(!w->document()->refining());
+    }
+
+    void refreshesLeaveTheSessionAsItWas() {
+        auto w = refining(QStringLiteral("session"));
+        QVERIFY(w);
+        QVERIFY(waitFor([&] { return !w->session()->busy(); }));
+        const SessionShape before = SessionShape::of(*w);
+        const FramePtr first = w->session()->input();
+        const int refreshes = w->progressive()->lastHanded().refreshes;
+        QVERIFY(waitFor([&] {
+            return w->session()->input() != first &&
+                   w->progressive()->lastHanded().refreshes > refreshes && !w->session()->busy();
+        }));
+        QVERIFY(SessionShape::of(*w) == before);
+        QCOMPARE(w->session()->session().layerCount(), std::size_t(1));
+        QVERIFY(stop(*w));
+        QVERIFY(SessionShape::of(*w) == before);
+    }
+};
+
+QTEST_MAIN(StudioProgressiveTest)
+#include "studio_progressive_test.moc"
