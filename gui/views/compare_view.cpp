@@ -69,11 +69,13 @@ CompareView::CompareView(const StudioContext& context, QWidget* parent)
     m_progress->setRange(0, 1000);
     // The reference render's samples and time left (model/render_eta.h) on the bar.
     m_progress->setFormat(QString());
-    // The raw render beside the result, for the image and for the region: one metric a row.
-    m_table = new QTableWidget(4, 4, this);
-    m_table->setHorizontalHeaderLabels(
-        {tr("Raw\nimage"), tr("Result\nimage"), tr("Raw\nregion"), tr("Result\nregion")});
-    m_table->setVerticalHeaderLabels({tr("SSIM"), tr("relMSE"), tr("PSNR dB"), tr("FLIP")});
+    // The raw render beside the result: two columns, one metric a row, the image's four rows
+    // then the region's (four columns of seven-character figures do not fit a laptop's panel).
+    m_table = new QTableWidget(8, 2, this);
+    m_table->setHorizontalHeaderLabels({tr("Raw"), tr("Result")});
+    m_table->setVerticalHeaderLabels({tr("SSIM"), tr("relMSE"), tr("PSNR dB"), tr("FLIP"),
+                                      tr("Region SSIM"), tr("Region relMSE"), tr("Region PSNR"),
+                                      tr("Region FLIP")});
     m_table->setEditTriggers(QAbstractItemView::NoEditTriggers);
     m_table->horizontalHeader()->setSectionResizeMode(QHeaderView::Stretch);
     m_table->setVerticalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
@@ -298,20 +300,38 @@ void CompareView::measure() {
 }
 
 QString compactNumber(double v) {
-    // At most 7 characters, the width of "0.00184": "0.00059", then "5.9e-06".
-    QString text = QString::number(v, 'g', 3);
-    if (text.size() > 7) text = QString::number(v, 'g', 2);
-    if (text.size() > 7) text = QString::number(v, 'e', 1);
-    return text;
+    if (v == 0.0 || !std::isfinite(v)) return QString::number(v);
+    // Plain from 0.001 to 9999, to three significant digits (four and more above 1000).
+    const int exponent = int(std::floor(std::log10(std::abs(v))));
+    if (exponent >= -3 && exponent <= 3) return QString::number(v, 'f', std::max(0, 2 - exponent));
+    // Else the exponent form without its padding: "7.51e-4", "1.23e5".
+    QString text = QString::number(v, 'e', 2);
+    const qsizetype e = text.indexOf(QLatin1Char('e'));
+    QString power = text.mid(e + 1);
+    const bool negative = power.startsWith(QLatin1Char('-'));
+    power.remove(0, 1);  // the sign
+    while (power.size() > 1 && power.startsWith(QLatin1Char('0'))) power.remove(0, 1);
+    return text.left(e + 1) + (negative ? QStringLiteral("-") : QString()) + power;
 }
 
+namespace {
+
+// The table's row of a metric (0 SSIM, 1 relMSE, 2 PSNR, 3 FLIP) and its column (0 raw, 1 result)
+// for cellText's columns (raw, result, raw in the region, result in the region).
+int tableRow(int row, int column) {
+    return row + 4 * (column / 2);
+}
+
+}  // namespace
+
 QString CompareView::columnTitle(int column) const {
-    const QTableWidgetItem* item = m_table->horizontalHeaderItem(column);
-    return item ? item->text() : QString();
+    const QTableWidgetItem* item = m_table->horizontalHeaderItem(column % 2);
+    if (!item) return {};
+    return column < 2 ? tr("%1, image").arg(item->text()) : tr("%1, region").arg(item->text());
 }
 
 QString CompareView::cellText(int row, int column) const {
-    const QTableWidgetItem* item = m_table->item(row, column);
+    const QTableWidgetItem* item = m_table->item(tableRow(row, column), column % 2);
     return item ? item->text() : QString();
 }
 
@@ -351,8 +371,9 @@ void CompareView::show() {
         const bool have = m.haveReference && (col % 2 == 1 || m.haveRaw);
         const Metrics& x = *columns[col];
         const double values[] = {x.ssim, x.relMse, x.psnr, x.flip};
+        // SSIM lives near 1: four decimals tell results apart; the others to three digits.
         const QString texts[] = {QString::number(x.ssim, 'f', 4), compactNumber(x.relMse),
-                                 QString::number(x.psnr, 'f', 2), QString::number(x.flip, 'f', 4)};
+                                 compactNumber(x.psnr), compactNumber(x.flip)};
         for (int row = 0; row < 4; ++row) {
             auto* item = new QTableWidgetItem(!have || std::isnan(values[row]) ? QStringLiteral("–")
                                               : stale                          ? tr("stale")
@@ -364,7 +385,7 @@ void CompareView::show() {
                 item->setToolTip(tr("%1 against a reference of another scene, look or camera")
                                      .arg(values[row], 0, 'g', 4));
             }
-            m_table->setItem(row, col, item);
+            m_table->setItem(tableRow(row, col), col % 2, item);
         }
     }
     // Did denoising help? The result's relMSE against the raw render's.

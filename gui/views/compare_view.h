@@ -44,8 +44,9 @@ struct Measurement {
     bool haveRaw = false;
 };
 
-/// A relMSE as the metrics table shows it: three significant digits in at most 7 characters
-/// (fewer digits, then the exponent form, for small values), so no cell is elided.
+/// A figure of the metrics table (relMSE, PSNR, FLIP): three significant digits, plain from
+/// 0.001 to 9999 ("0.00184", "36.7", "1234"), else in the exponent form without padding
+/// ("7.51e-4", "1.23e5").
 QString compactNumber(double v);
 
 class CompareView : public StageView {
@@ -60,7 +61,8 @@ class CompareView : public StageView {
     /// "stale" instead of their values (kept in each cell's tooltip).
     bool metricsStale() const;
     /// The text of the metrics table's cell (row: SSIM, relMSE, PSNR, FLIP; column: raw, result,
-    /// raw in the region, result in the region) and of its column header.
+    /// raw in the region, result in the region: the table shows the region's figures in rows
+    /// under the image's) and its column's name ("Raw, image").
     QString cellText(int row, int column) const;
     QString columnTitle(int column) const;
     /// The line that answers "did denoising help?" (empty without a reference).

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "glint/denoise/filter.h"
@@ -295,6 +296,34 @@ TEST(UNetFilter, TiledOutputEqualsOnePass) {
     const Image whole = applyFilter(f, frame, {});
     const Image tiled = applyFilter(f, frame, {{"memoryMB", 64}});
     EXPECT_EQ(testing::maxAbsDiff(whole, tiled), 0.0);
+}
+
+// The studio runs unet on a new worker thread for each job, on the plans (oneDNN primitives)
+// that earlier, perhaps finished, threads built, and a plan may be dropped on another thread than
+// its builder's: with oneDNN's own scratchpad (the creating thread's) that read freed memory
+// (Studio.Screenshots' SIGSEGV, issue 48). Eight frame sizes no other test uses (more than the
+// network keeps plans for), each run on a new thread, against the bits of a run on this thread.
+TEST(UNetFilter, PlansBuiltOnOneThreadRunOnAnotherWithTheSameBits) {
+    const Filter& f = findFilter("unet");
+    const ParamValues p{{"features", 3.0}};
+    FilterOptions one;
+    one.threads = 1;
+    std::vector<FrameBuffers> frames;
+    std::vector<Image> expected;
+    for (int i = 0; i < 8; ++i) {
+        frames.push_back(testing::syntheticFrame(40 + 16 * i, 24 + 8 * i, 0.1f, 11));
+        expected.push_back(applyFilter(f, frames.back(), p, one));
+    }
+    for (int round = 0; round < 24; ++round) {
+        const std::size_t a = std::size_t(round * 5 % 8), b = std::size_t(round * 3 % 8);
+        Image gotA, gotB;
+        std::thread([&] {
+            gotA = applyFilter(f, frames[a], p, one);
+            gotB = applyFilter(f, frames[b], p, one);
+        }).join();
+        ASSERT_EQ(testing::maxAbsDiff(expected[a], gotA), 0.0) << "round " << round;
+        ASSERT_EQ(testing::maxAbsDiff(expected[b], gotB), 0.0) << "round " << round;
+    }
 }
 
 }  // namespace

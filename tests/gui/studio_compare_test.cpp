@@ -34,6 +34,7 @@
 #include "views/look_panel.h"
 #include "views/navigate_view.h"
 #include "views/tune_view.h"
+#include "widget_reach.h"
 
 using namespace glint;
 using namespace glint::studio;
@@ -221,12 +222,39 @@ class StudioCompareTest : public QObject {
         QVERIFY2(!nav->stateText().contains(QLatin1Char('=')), qPrintable(nav->stateText()));
     }
 
-    // A relMSE fits its cell (the screenshot tour showed "0...." for 0.000594).
-    void smallFiguresFitTheirCells() {
+    // A figure to three significant digits, small and large ones in the exponent form without
+    // its padding (the screenshot tour showed "0...." for 0.000594, then 0.00059 to two digits).
+    void figuresShowThreeSignificantDigits() {
         QCOMPARE(compactNumber(0.00184), QStringLiteral("0.00184"));
-        QCOMPARE(compactNumber(0.000594), QStringLiteral("0.00059"));
-        QCOMPARE(compactNumber(5.94e-6), QStringLiteral("5.9e-06"));
+        QCOMPARE(compactNumber(0.000594), QStringLiteral("5.94e-4"));
+        QCOMPARE(compactNumber(5.9449e-6), QStringLiteral("5.94e-6"));
         QCOMPARE(compactNumber(2.01644), QStringLiteral("2.02"));
+        QCOMPARE(compactNumber(36.6729), QStringLiteral("36.7"));
+        QCOMPARE(compactNumber(0.0412), QStringLiteral("0.0412"));
+        QCOMPARE(compactNumber(123456.0), QStringLiteral("1.23e5"));
+        QCOMPARE(compactNumber(0.0), QStringLiteral("0"));
+    }
+
+    // Every figure and header of the metrics table whole on a 1280x720 laptop screen (its four
+    // columns of 7-character figures showed "0...." there); the reach walk's table check.
+    void theMetricsTableShowsEveryFigureWholeOnALaptop() {
+        auto w = openScene();
+        QVERIFY(w);
+        QVERIFY(renderReference(*w));
+        QVERIFY(waitIdle(*w));
+        auto* table = w->compareView()->findChild<QTableWidget*>();
+        QVERIFY(table);
+        for (const QSize& size : {QSize(1280, 720), QSize(1366, 768), QSize(1920, 1080)}) {
+            w->resize(size);
+            for (int i = 0; i < 5; ++i) QTest::qWait(10);
+            QVERIFY2(table->isVisible(), "the compare panel shows its table");
+            const QStringList cut = tableTextCut(table);
+            QVERIFY2(cut.isEmpty(), qPrintable(cut.join(QLatin1Char('\n'))));
+        }
+        // Small figures in the exponent form, three digits.
+        QVERIFY(waitFor([&] { return w->compareView()->measurement().haveRaw; }));
+        const double relMse = w->compareView()->measurement().relMseImage;
+        QCOMPARE(w->compareView()->cellText(1, 1), compactNumber(relMse));
     }
 
     void theFilterMenuNamesFiltersAsTheLayersDo() {
@@ -375,10 +403,10 @@ class StudioCompareTest : public QObject {
         QVERIFY(w);
         QVERIFY(renderReference(*w));
         CompareView* c = w->compareView();
-        QCOMPARE(c->columnTitle(0), QStringLiteral("Raw\nimage"));
-        QCOMPARE(c->columnTitle(1), QStringLiteral("Result\nimage"));
-        QCOMPARE(c->columnTitle(2), QStringLiteral("Raw\nregion"));
-        QCOMPARE(c->columnTitle(3), QStringLiteral("Result\nregion"));
+        QCOMPARE(c->columnTitle(0), QStringLiteral("Raw, image"));
+        QCOMPARE(c->columnTitle(1), QStringLiteral("Result, image"));
+        QCOMPARE(c->columnTitle(2), QStringLiteral("Raw, region"));
+        QCOMPARE(c->columnTitle(3), QStringLiteral("Result, region"));
         // A layer over the whole image: the result differs from the raw render.
         QVERIFY(addGaussian(*w, true));
         QVERIFY(waitIdle(*w));
@@ -420,7 +448,7 @@ class StudioCompareTest : public QObject {
         const double expected = flip(*result, w->document()->reference()->color(), hdr).mean;
         QVERIFY2(expected > 0.0, "the reference has its own seed: another image");
         QVERIFY(waitFor([&] { return c->measurement().flipImage == expected; }));
-        QCOMPARE(c->cellText(3, 1), QString::number(expected, 'f', 4));
+        QCOMPARE(c->cellText(3, 1), compactNumber(expected));
         // The map in magma over the canvas, on and off with its box.
         auto* box = c->findChild<QCheckBox*>(QStringLiteral("flipMap"));
         QVERIFY(box);

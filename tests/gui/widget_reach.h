@@ -4,16 +4,20 @@
 // scrolled panel (scrolling brings it into view), unless that direction's scroll bar is off.
 // Its text must fit too: a label's text (a word-wrapped label's lines) is not cut, a button,
 // spin box (with its arrows) or combo box is not narrower than its text needs (an icon button
-// has no text to check). ElidedLabel is the one
+// has no text to check), and a table's cells and header sections are as wide and tall as their
+// text needs (the item delegate's and the header's own size hints). ElidedLabel is the one
 // label allowed to shorten its text: it ends it with "…" and shows the whole text in its tooltip
 // (the status bar's pixel readout, longer than any screen is wide).
 #pragma once
 
 #include <QAbstractButton>
+#include <QAbstractItemModel>
+#include <QAbstractItemView>
 #include <QAbstractScrollArea>
 #include <QAbstractSpinBox>
 #include <QCheckBox>
 #include <QComboBox>
+#include <QHeaderView>
 #include <QLabel>
 #include <QProgressBar>
 #include <QRadioButton>
@@ -25,6 +29,8 @@
 #include <QStyle>
 #include <QStyleOptionComboBox>
 #include <QStyleOptionSpinBox>
+#include <QStyleOptionViewItem>
+#include <QTableView>
 #include <QToolBar>
 #include <QWidget>
 
@@ -191,8 +197,101 @@ inline QString textCut(const QWidget* w) {
     return {};
 }
 
+/// A table's cell or header section for a failure message: "relMSE × Raw image '0.00184'".
+inline QString describeCell(const QTableView* table, int row, int column, const QString& text) {
+    const QAbstractItemModel* model = table->model();
+    const QString rowName = model->headerData(row, Qt::Vertical).toString();
+    const QString columnName = model->headerData(column, Qt::Horizontal)
+                                   .toString()
+                                   .replace(QLatin1Char('\n'), QLatin1Char(' '));
+    return QStringLiteral("%1 cell %2 × %3 '%4'")
+        .arg(QString::fromLatin1(table->metaObject()->className()),
+             rowName.isEmpty() ? QString::number(row) : rowName,
+             columnName.isEmpty() ? QString::number(column) : columnName, text);
+}
+
+/// Every cell and header section of `table` whose text is elided or cut, one line each: a cell
+/// narrower or lower than its item delegate's size hint (the text's width and the delegate's
+/// margins), a header section narrower than the header's size hint for it, a header lower than
+/// its tallest section's lines, a cell outside the viewport along a direction without a scroll
+/// bar.
+inline QStringList tableTextCut(const QTableView* table) {
+    QStringList problems;
+    const QAbstractItemModel* model = table->model();
+    if (!model) return problems;
+    const QRect viewport = table->viewport()->rect();
+    for (int row = 0; row < model->rowCount(table->rootIndex()); ++row) {
+        if (table->isRowHidden(row)) continue;
+        for (int column = 0; column < model->columnCount(table->rootIndex()); ++column) {
+            if (table->isColumnHidden(column)) continue;
+            const QModelIndex index = model->index(row, column, table->rootIndex());
+            const QString text = index.data(Qt::DisplayRole).toString();
+            if (text.isEmpty()) continue;
+            const QRect cell = table->visualRect(index);
+            QStyleOptionViewItem option;
+            option.initFrom(table);
+            option.font = table->font();
+            option.rect = cell;
+            option.textElideMode = table->textElideMode();
+            const QSize needed = table->itemDelegateForIndex(index)->sizeHint(option, index);
+            const QString where = describeCell(table, row, column, text);
+            if (needed.width() > cell.width() || needed.height() > cell.height())
+                problems << QStringLiteral("%1: needs %2×%3 px, has %4×%5")
+                                .arg(where)
+                                .arg(needed.width())
+                                .arg(needed.height())
+                                .arg(cell.width())
+                                .arg(cell.height());
+            const bool cutAcross = table->horizontalScrollBarPolicy() == Qt::ScrollBarAlwaysOff &&
+                                   (cell.left() < 0 || cell.right() > viewport.right());
+            const bool cutDown = table->verticalScrollBarPolicy() == Qt::ScrollBarAlwaysOff &&
+                                 (cell.top() < 0 || cell.bottom() > viewport.bottom());
+            if (cutAcross || cutDown)
+                problems << QStringLiteral("%1: outside the table's %2×%3 view")
+                                .arg(where)
+                                .arg(viewport.width())
+                                .arg(viewport.height());
+        }
+    }
+    for (const QHeaderView* header : {table->horizontalHeader(), table->verticalHeader()}) {
+        if (!header->isVisible()) continue;
+        const bool across = header->orientation() == Qt::Horizontal;
+        for (int section = 0; section < header->count(); ++section) {
+            if (header->isSectionHidden(section)) continue;
+            const QString text = model->headerData(section, header->orientation()).toString();
+            if (text.isEmpty()) continue;
+            // Along the header, its size hint for the section; across it, the header's own size
+            // hint (its tallest or widest section).
+            const int along = header->sectionSize(section);
+            const int neededAlong = header->sectionSizeHint(section);
+            const int acrossHas = across ? header->height() : header->width();
+            const int acrossNeeds =
+                across ? header->sizeHint().height() : header->sizeHint().width();
+            const QString where =
+                QStringLiteral("%1 header '%2'")
+                    .arg(across ? QStringLiteral("column") : QStringLiteral("row"),
+                         QString(text).replace(QLatin1Char('\n'), QLatin1Char(' ')));
+            // A stretched or fitted horizontal section's width, a vertical header's width.
+            if (across && neededAlong > along)
+                problems << QStringLiteral("%1: needs %2 px, has %3")
+                                .arg(where)
+                                .arg(neededAlong)
+                                .arg(along);
+            if (acrossNeeds > acrossHas)
+                problems << QStringLiteral("%1: the header needs %2 px %3, has %4")
+                                .arg(where)
+                                .arg(acrossNeeds)
+                                .arg(across ? QStringLiteral("of height")
+                                            : QStringLiteral("of width"))
+                                .arg(acrossHas);
+        }
+    }
+    return problems;
+}
+
 /// Every visible control of `window` that cannot be reached or whose text is cut, one line each;
-/// also a tool bar that hides part of itself behind its extension button.
+/// also a tool bar that hides part of itself behind its extension button, and every table cell
+/// or header section whose text is cut (tableTextCut).
 inline QStringList reachProblems(const QWidget* window) {
     QStringList problems;
     for (const QWidget* w : window->findChildren<QWidget*>()) {
@@ -201,6 +300,7 @@ inline QStringList reachProblems(const QWidget* window) {
             problems << QStringLiteral("a tool bar is too narrow for its contents");
             continue;
         }
+        if (auto* table = qobject_cast<const QTableView*>(w)) problems << tableTextCut(table);
         if (!isCheckedControl(w)) continue;
         for (const QString& why : {unreachable(w), textCut(w)})
             if (!why.isEmpty()) problems << describeWidget(w) + QStringLiteral(": ") + why;

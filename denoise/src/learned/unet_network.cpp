@@ -16,7 +16,11 @@
 //
 // Memory formats are chosen by oneDNN (format_tag::any; nhwc with brgconv on AVX-512);
 // primitives and reordered weights are built once per tile size (a Plan) and reused. Activations
-// have fixed offsets in one arena (packed by lifetime) that the caller's UNetWorkspace holds.
+// have fixed offsets in one arena (packed by lifetime) that the caller's UNetWorkspace holds, and
+// so does the primitives' scratchpad: a plan built on one thread runs on others (the studio starts
+// a thread per job), and oneDNN's own scratchpad belongs to the thread that created the primitive
+// (executing it on another reads that thread's scratchpad, or freed memory: oneDNN's scratchpad
+// guide, DNNL_ENABLE_CONCURRENT_EXEC off as Debian builds it).
 #include "learned/unet_network.h"
 
 #include <omp.h>
@@ -64,6 +68,13 @@ struct Graph {
 
 memory::desc anyDesc(int c, int h, int w) {
     return {{1, c, h, w}, memory::data_type::f32, memory::format_tag::any};
+}
+
+// Attributes of a primitive whose scratchpad the caller passes at execution (DNNL_ARG_SCRATCHPAD).
+dnnl::primitive_attr userScratchpad() {
+    dnnl::primitive_attr attr;
+    attr.set_scratchpad_mode(dnnl::scratchpad_mode::user);
+    return attr;
 }
 
 // Offsets of buffers in one arena such that buffers whose lifetimes [first, last] (in steps)
@@ -193,6 +204,7 @@ struct UNetNetwork::Plan {
         dnnl::primitive main;   // conv (of src1 with bias when split), pool or resampling
         dnnl::primitive first;  // split conv: conv of src0 without bias
         memory weights, bias, weightsFirst;
+        memory::desc mainScratch, firstScratch;  // their scratchpads (at scratchOffset)
     };
     Graph graph;
     std::vector<memory::desc> descs;
@@ -201,7 +213,10 @@ struct UNetNetwork::Plan {
     memory::desc inUser, outUser;
     // Reorders between the interleaved buffers and oneDNN's formats, only where they differ.
     std::optional<dnnl::reorder> inReorder, outReorder;
-    std::size_t arenaBytes = 0;
+    memory::desc inScratch, outScratch;
+    std::size_t arenaBytes = 0;  // of the activations
+    // The scratchpad every primitive uses in turn: after the activations in the workspace.
+    std::size_t scratchOffset = 0, scratchBytes = 0;
 };
 
 UNetNetwork::UNetNetwork(const TzaTensors& tensors, int inputChannels, const std::string& file)
@@ -315,7 +330,7 @@ std::shared_ptr<const UNetNetwork::Plan> UNetNetwork::plan(int h, int w) const {
             dnnl::post_ops po;
             if (split) po.append_sum(1.0f);
             po.append_eltwise(1.0f, dnnl::algorithm::eltwise_relu, 0.0f, 0.0f);
-            dnnl::primitive_attr attr;
+            dnnl::primitive_attr attr = userScratchpad();
             attr.set_post_ops(po);
             const dnnl::convolution_forward::desc cd(
                 dnnl::prop_kind::forward_inference, dnnl::algorithm::convolution_direct,
@@ -336,13 +351,14 @@ std::shared_ptr<const UNetNetwork::Plan> UNetNetwork::plan(int h, int w) const {
             st.bias = memory(bDesc, eng);
             std::copy(l.bias.begin(), l.bias.end(), static_cast<float*>(st.bias.get_data_handle()));
             st.main = dnnl::convolution_forward(pd);
+            st.mainScratch = pd.scratchpad_desc();
             if (split) {
                 const memory::desc wFirst({l.out, c0, 3, 3}, memory::data_type::f32,
                                           memory::format_tag::any);
                 const dnnl::convolution_forward::desc fd(
                     dnnl::prop_kind::forward_inference, dnnl::algorithm::convolution_direct,
                     srcDesc(op.src0, c0), wFirst, pd.dst_desc(), strides, pad, pad);
-                const dnnl::convolution_forward::primitive_desc fpd(fd, eng);
+                const dnnl::convolution_forward::primitive_desc fpd(fd, userScratchpad(), eng);
                 GLINT_CHECK(fpd.dst_desc() == pd.dst_desc(), "split convolution formats differ");
                 std::vector<float> wf(std::size_t(l.out) * c0 * 9);
                 for (int o = 0; o < l.out; ++o)
@@ -352,22 +368,25 @@ std::shared_ptr<const UNetNetwork::Plan> UNetNetwork::plan(int h, int w) const {
                                           memory::format_tag::oihw);
                 st.weightsFirst = reorderWeights(wf, wfUser, fpd.weights_desc());
                 st.first = dnnl::convolution_forward(fpd);
+                st.firstScratch = fpd.scratchpad_desc();
             }
         } else if (op.kind == OpKind::Pool) {
             const dnnl::pooling_forward::desc pdsc(
                 dnnl::prop_kind::forward_inference, dnnl::algorithm::pooling_max,
                 p->descs[std::size_t(op.src0)], anyDesc(dc, dh, dw), {2, 2}, {2, 2}, {0, 0},
                 {0, 0});
-            const dnnl::pooling_forward::primitive_desc pd(pdsc, eng);
+            const dnnl::pooling_forward::primitive_desc pd(pdsc, userScratchpad(), eng);
             p->descs[std::size_t(op.dst)] = pd.dst_desc();
             st.main = dnnl::pooling_forward(pd);
+            st.mainScratch = pd.scratchpad_desc();
         } else {
             const dnnl::resampling_forward::desc rd(
                 dnnl::prop_kind::forward_inference, dnnl::algorithm::resampling_nearest,
                 p->descs[std::size_t(op.src0)], anyDesc(dc, dh, dw));
-            const dnnl::resampling_forward::primitive_desc pd(rd, eng);
+            const dnnl::resampling_forward::primitive_desc pd(rd, userScratchpad(), eng);
             p->descs[std::size_t(op.dst)] = pd.dst_desc();
             st.main = dnnl::resampling_forward(pd);
+            st.mainScratch = pd.scratchpad_desc();
         }
         p->steps.push_back(std::move(st));
     }
@@ -375,12 +394,17 @@ std::shared_ptr<const UNetNetwork::Plan> UNetNetwork::plan(int h, int w) const {
     p->inUser =
         memory::desc({1, m_inputChannels, h, w}, memory::data_type::f32, memory::format_tag::nhwc);
     p->outUser = memory::desc({1, 3, h, w}, memory::data_type::f32, memory::format_tag::nhwc);
-    if (p->descs[0] != p->inUser)
-        p->inReorder =
-            dnnl::reorder(dnnl::reorder::primitive_desc(eng, p->inUser, eng, p->descs[0]));
-    if (p->descs.back() != p->outUser)
-        p->outReorder =
-            dnnl::reorder(dnnl::reorder::primitive_desc(eng, p->descs.back(), eng, p->outUser));
+    if (p->descs[0] != p->inUser) {
+        const dnnl::reorder::primitive_desc pd(eng, p->inUser, eng, p->descs[0], userScratchpad());
+        p->inReorder = dnnl::reorder(pd);
+        p->inScratch = pd.scratchpad_desc();
+    }
+    if (p->descs.back() != p->outUser) {
+        const dnnl::reorder::primitive_desc pd(eng, p->descs.back(), eng, p->outUser,
+                                               userScratchpad());
+        p->outReorder = dnnl::reorder(pd);
+        p->outScratch = pd.scratchpad_desc();
+    }
     // Lifetimes: a tensor lives from its producing step to its last use (the input from before
     // the first step, the output until the output reorder).
     const int n = int(g.tensors.size());
@@ -394,6 +418,14 @@ std::shared_ptr<const UNetNetwork::Plan> UNetNetwork::plan(int h, int w) const {
     std::vector<std::size_t> sizes(static_cast<std::size_t>(n));
     for (int t = 0; t < n; ++t) sizes[std::size_t(t)] = p->descs[std::size_t(t)].get_size();
     p->offsets = packArena(sizes, first, last, p->arenaBytes);
+    // One scratchpad, as large as the largest primitive's, after the activations (4 KiB-aligned,
+    // as packArena leaves the arena's size).
+    p->scratchOffset = p->arenaBytes;
+    for (const memory::desc& d : {p->inScratch, p->outScratch})
+        p->scratchBytes = std::max(p->scratchBytes, d.get_size());
+    for (const Plan::Step& st : p->steps)
+        p->scratchBytes =
+            std::max({p->scratchBytes, st.mainScratch.get_size(), st.firstScratch.get_size()});
     // Keep a few plans (tiles of a frame have at most four sizes).
     constexpr std::size_t kMaxPlans = 6;
     if (m_plans.size() >= kMaxPlans) m_plans.erase(m_plans.begin());
@@ -410,17 +442,20 @@ void UNetNetwork::run(int h, int w, const FillFn& fill, const ReadFn& read, int 
     omp_set_num_threads(std::max(1, threads));
     dnnl::stream s(eng);
 
-    // Every activation at its place in the arena.
-    std::byte* arena = workspace.reserve(p->arenaBytes);
+    // Every activation at its place in the arena, then the scratchpad.
+    std::byte* arena = workspace.reserve(p->scratchOffset + p->scratchBytes);
     std::vector<memory> mem(p->descs.size());
     for (std::size_t t = 0; t < mem.size(); ++t)
         mem[t] = memory(p->descs[t], eng, arena + p->offsets[t]);
+    auto scratch = [&](const memory::desc& d) { return memory(d, eng, arena + p->scratchOffset); };
     // The input, written in place when oneDNN reads it interleaved (no copy).
     if (p->inReorder) {
         const auto staged = std::make_unique_for_overwrite<float[]>(p->inUser.get_size() / 4);
         fill(staged.get());
         memory inUser(p->inUser, eng, staged.get());
-        p->inReorder->execute(s, inUser, mem[0]);
+        p->inReorder->execute(s, {{DNNL_ARG_FROM, inUser},
+                                  {DNNL_ARG_TO, mem[0]},
+                                  {DNNL_ARG_SCRATCHPAD, scratch(p->inScratch)}});
         s.wait();
     } else {
         fill(static_cast<float*>(mem[0].get_data_handle()));
@@ -434,13 +469,17 @@ void UNetNetwork::run(int h, int w, const FillFn& fill, const ReadFn& read, int 
             if (split)
                 st.first.execute(s, {{DNNL_ARG_SRC, mem[std::size_t(st.src0)]},
                                      {DNNL_ARG_WEIGHTS, st.weightsFirst},
-                                     {DNNL_ARG_DST, dst}});
+                                     {DNNL_ARG_DST, dst},
+                                     {DNNL_ARG_SCRATCHPAD, scratch(st.firstScratch)}});
             st.main.execute(s, {{DNNL_ARG_SRC, mem[std::size_t(split ? st.src1 : st.src0)]},
                                 {DNNL_ARG_WEIGHTS, st.weights},
                                 {DNNL_ARG_BIAS, st.bias},
-                                {DNNL_ARG_DST, dst}});
+                                {DNNL_ARG_DST, dst},
+                                {DNNL_ARG_SCRATCHPAD, scratch(st.mainScratch)}});
         } else {
-            st.main.execute(s, {{DNNL_ARG_SRC, mem[std::size_t(st.src0)]}, {DNNL_ARG_DST, dst}});
+            st.main.execute(s, {{DNNL_ARG_SRC, mem[std::size_t(st.src0)]},
+                                {DNNL_ARG_DST, dst},
+                                {DNNL_ARG_SCRATCHPAD, scratch(st.mainScratch)}});
         }
         s.wait();
         if (st.kind == OpKind::Conv && afterLayer) afterLayer(++convs, totalConvs);
@@ -449,7 +488,9 @@ void UNetNetwork::run(int h, int w, const FillFn& fill, const ReadFn& read, int 
     if (p->outReorder) {
         const auto staged = std::make_unique_for_overwrite<float[]>(p->outUser.get_size() / 4);
         memory outUser(p->outUser, eng, staged.get());
-        p->outReorder->execute(s, mem.back(), outUser);
+        p->outReorder->execute(s, {{DNNL_ARG_FROM, mem.back()},
+                                   {DNNL_ARG_TO, outUser},
+                                   {DNNL_ARG_SCRATCHPAD, scratch(p->outScratch)}});
         s.wait();
         read(staged.get());
     } else {
