@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "model/journal_codec.h"
+#include "model/tev_listener.h"
 
 namespace glint::studio {
 
@@ -54,14 +55,27 @@ QStringList Autosave::crashed(const QString& base) {
     return out;
 }
 
-void Autosave::recordOpen(const QString& path) {
+void Autosave::recordOpen(const Document& document) {
+    const QString path = document.path();
+    const bool received = TevListener::isReceived(path);
+    m_journalledReceived = received ? document.finishedFrame() : nullptr;
     JournalEntry entry;
     entry.op = {{QStringLiteral("op"), QStringLiteral("open")},
-                {QStringLiteral("path"), QFileInfo(path).absoluteFilePath()}};
+                {QStringLiteral("path"), received ? path : QFileInfo(path).absoluteFilePath()}};
+    entry.frame = m_journalledReceived;
     m_journal->append(entry);
 }
 
 void Autosave::watch(Document* document) {
+    connect(document, &Document::frameChanged, this, [this, document](bool final) {
+        // A tev client's update of a received image: its latest pixels (op "pixels").
+        const FramePtr frame = document->finishedFrame();
+        if (!final || !frame || !TevListener::isReceived(document->path()) ||
+            frame == m_journalledReceived)
+            return;
+        m_journalledReceived = frame;
+        m_journal->append({{{QStringLiteral("op"), QStringLiteral("pixels")}}, {}, frame});
+    });
     connect(document, &Document::settingsChanged, this, [this, document] {
         m_journal->append({journal_codec::encodeSettings(document->settings()), {}, nullptr});
     });

@@ -32,11 +32,13 @@ class Autosave : public QObject {
     /// Folders under `base` left by studios that did not exit cleanly, newest first.
     static QStringList crashed(const QString& base);
 
-    /// Records that `path` is open (the first entry of a restorable journal).
-    void recordOpen(const QString& path);
+    /// Records that `document`'s file is open (the first entry of a restorable journal); an
+    /// image received from a tev client, which no file holds, with its pixels.
+    void recordOpen(const Document& document);
     /// Journals `document`'s render settings whenever the user changes them (spp, seed,
-    /// integrator, MIS, half buffers), as look edits are, and its reference whenever it changes
-    /// (a rendered one with its pixels): a restore brings them back.
+    /// integrator, MIS, half buffers), as look edits are, its reference whenever it changes
+    /// (a rendered one with its pixels), and a received image's pixels whenever its client
+    /// updates them: a restore brings them back.
     void watch(Document* document);
     /// Waits for pending writes (tests and screenshots).
     void flush() { m_journal->flush(); }
@@ -61,6 +63,7 @@ class Autosave : public QObject {
 
   private:
     FramePtr m_journalledReference;  // the reference the journal holds last
+    FramePtr m_journalledReceived;   // the received image's pixels the journal holds last
     std::unique_ptr<Journal> m_journal;
     TaskRunner m_tasks;
     bool m_restoring = false;

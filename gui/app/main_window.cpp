@@ -310,7 +310,7 @@ void MainWindow::connectModel() {
     connect(m_document, &Document::opened, this, [this] {
         addRecentFile(m_document->path());
         rebuildRecent();
-        m_autosave->recordOpen(m_document->path());
+        m_autosave->recordOpen(*m_document);
         if (!m_restoring) m_region->clear();  // a restored session brings its own region
         updateTitle();
     });

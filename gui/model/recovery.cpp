@@ -35,9 +35,15 @@ class Replay {
         if (op == QStringLiteral("open")) {
             // A new file: its own look and settings (a session, when it comes, is journaled).
             m_out.path = entry.op.value(QStringLiteral("path")).toString();
+            m_received = entry.frame;  // an image received from a tev client: its pixels
             m_out.look.clear();
             m_settings.reset();
             m_reference.reset();
+        } else if (op == QStringLiteral("pixels")) {
+            // The received image's client updated it: the latest pixels.
+            if (!m_received)
+                throw Error(ErrorKind::Format, "the journal updates pixels of no image");
+            m_received = frame(entry);
         } else if (op == QStringLiteral("reference")) {
             m_reference = entry;  // decoded at the end, against the look then
         } else if (op == QStringLiteral("look")) {
@@ -68,6 +74,8 @@ class Replay {
     const std::optional<QJsonObject>& settingsEntry() const { return m_settings; }
     /// The last "reference" entry since the file was opened.
     const std::optional<JournalEntry>& referenceEntry() const { return m_reference; }
+    /// The pixels of the image open when it was received, not read from a file (null: a file).
+    const FramePtr& received() const { return m_received; }
 
   private:
     Recovered& m_out;
@@ -76,6 +84,7 @@ class Replay {
     std::vector<UndoStep> m_steps, m_redo;
     std::optional<QJsonObject> m_settings;
     std::optional<JournalEntry> m_reference;
+    FramePtr m_received;
 
     denoise::Session& session() {
         if (!m_out.session)
@@ -236,11 +245,18 @@ Recovered recover(const QString& folder, const denoise::ProgressFn& progress) {
     // applying the result cannot fail halfway.
     render::Settings base;
     if (!out.path.isEmpty()) {
-        if (!QFileInfo::exists(out.path))
+        if (const FramePtr& received = replay.received()) {
+            // A received image, as the listener made it the document.
+            out.file = std::make_shared<Document::Loaded>();
+            out.file->kind = Document::Kind::Exr;
+            out.file->frame = received;
+        } else if (!QFileInfo::exists(out.path)) {
             throw Error(ErrorKind::Io,
                         "the file the autosave edits no longer exists: " + out.path.toStdString(),
                         journal);
-        out.file = std::make_shared<Document::Loaded>(Document::load(out.path));
+        } else {
+            out.file = std::make_shared<Document::Loaded>(Document::load(out.path));
+        }
         base = out.file->settings;
         std::vector<render::LookItem> look = out.file->look;
         for (const LookValue& v : out.look) {

@@ -27,6 +27,10 @@ QString TevListener::documentPath(const QString& name) {
     return QStringLiteral("tev:") + name;
 }
 
+bool TevListener::isReceived(const QString& path) {
+    return path.startsWith(QStringLiteral("tev:"));
+}
+
 bool TevListener::listen(quint16 port, bool anyInterface) {
     const QHostAddress host = anyInterface ? QHostAddress::Any : QHostAddress::LocalHost;
     if (m_server->listen(host, port)) {

@@ -37,6 +37,9 @@ class TevListener : public QObject {
     quint16 port() const;
     /// The document path of a received image ("tev:NAME").
     static QString documentPath(const QString& name);
+    /// True when the document `path` is a received image (no file on disk: the autosave keeps
+    /// its pixels).
+    static bool isReceived(const QString& path);
 
   signals:
     /// One line for the log: a client connected or left, a packet dropped and why.

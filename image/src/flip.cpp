@@ -55,58 +55,87 @@ float luminance(const float* rgb) {
     return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2];
 }
 
-/// Cube root of a positive normal v to float precision without a library call or a branch (so
-/// the per-pixel loops vectorise): Kahan's exponent-thirds first guess, then two Halley steps.
-float cubeRoot(float v) {
-    std::uint32_t bits;
-    std::memcpy(&bits, &v, sizeof bits);
-    bits = bits / 3 + 709921077u;
-    float y;
-    std::memcpy(&y, &bits, sizeof y);
+// The per-pixel stage works on 8 pixels at a time (GCC vector extensions, glint/image/internal/simd.h):
+// comparisons give lane masks, `select` picks per lane, bit casts reinterpret. The helpers take
+// and return vectors by value but are always inlined, so no call's ABI depends on AVX: GCC's
+// note about that ABI (-Wpsabi, given once for the file at its end) does not apply to them.
+#pragma GCC diagnostic ignored "-Wpsabi"
+using detail::VecF;
+using detail::VecI;
+typedef std::uint32_t VecU __attribute__((vector_size(32)));
+
+[[gnu::always_inline]] inline VecF splat(float v) {
+    return VecF{} + v;
+}
+
+[[gnu::always_inline]] inline VecF select(VecI mask, VecF a, VecF b) {
+    return mask ? a : b;
+}
+
+[[gnu::always_inline]] inline VecF vmin(VecF a, VecF b) {
+    return select(a < b, a, b);
+}
+
+[[gnu::always_inline]] inline VecF vmax(VecF a, VecF b) {
+    return select(a > b, a, b);
+}
+
+[[gnu::always_inline]] inline VecF vabs(VecF a) {
+    return select(a < 0.0f, -a, a);
+}
+
+/// Lane-wise square root (one vsqrtps: flip.cpp is built with -fno-math-errno).
+[[gnu::always_inline]] inline VecF vsqrt(VecF v) {
+    VecF r;
+    for (int i = 0; i < 8; ++i) r[i] = std::sqrt(v[i]);
+    return r;
+}
+
+/// Cube root of positive normal values to float precision without a library call or a branch:
+/// Kahan's exponent-thirds first guess, then two Halley steps.
+[[gnu::always_inline]] inline VecF cubeRoot(VecF v) {
+    const VecU bits = (VecU)v / 3u + 709921077u;
+    VecF y = (VecF)bits;
     for (int i = 0; i < 2; ++i) {
-        const float y3 = y * y * y;
+        const VecF y3 = y * y * y;
         y *= (y3 + 2.0f * v) / (2.0f * y3 + v);
     }
     return y;
 }
 
-/// log2 of a positive normal x to about 1e-7 relative error, branch-free: the exponent plus the
-/// natural log of the mantissa in [sqrt(1/2), sqrt(2)) by Cephes' logf polynomial.
-float log2Approx(float x) {
-    std::int32_t bits;
-    std::memcpy(&bits, &x, sizeof bits);
-    int e = ((bits >> 23) & 0xff) - 127;
+/// log2 of positive normal values to about 1e-7 relative error, branch-free: the exponent plus
+/// the natural log of the mantissa in [sqrt(1/2), sqrt(2)) by Cephes' logf polynomial.
+[[gnu::always_inline]] inline VecF log2Approx(VecF x) {
+    VecI bits = (VecI)x;
+    VecI e = ((bits >> 23) & 0xff) - 127;
     bits = (bits & 0x007fffff) | 0x3f800000;
-    float m;
-    std::memcpy(&m, &bits, sizeof m);
-    const bool high = m > 1.41421356f;
-    m = high ? 0.5f * m : m;
-    e = high ? e + 1 : e;
-    const float f = m - 1.0f, z = f * f;
-    float p = 7.0376836292e-2f;
+    VecF m = (VecF)bits;
+    const VecI high = m > 1.41421356f;
+    m = select(high, 0.5f * m, m);
+    e -= high;  // a true mask is -1
+    const VecF f = m - 1.0f, z = f * f;
+    VecF p = splat(7.0376836292e-2f);
     for (const float c : {-1.1514610310e-1f, 1.1676998740e-1f, -1.2420140846e-1f, 1.4249322787e-1f,
                           -1.6668057665e-1f, 2.0000714765e-1f, -2.4999993993e-1f, 3.3333331174e-1f})
         p = p * f + c;
-    const float ln = f + (p * f * z - 0.5f * z);
-    return ln * 1.44269504089f + float(e);
+    const VecF ln = f + (p * f * z - 0.5f * z);
+    return ln * 1.44269504089f + __builtin_convertvector(e, VecF);
 }
 
 /// 2^x to about 2e-7 relative error, branch-free; 0 below -126, x at most 127: 2^n for the
 /// nearest integer n (by the 1.5 * 2^23 rounding trick) times Cephes' exp2f polynomial of the
 /// rest in [-1/2, 1/2].
-float exp2Approx(float x) {
+[[gnu::always_inline]] inline VecF exp2Approx(VecF x) {
     constexpr float kRound = 12582912.0f;
-    const float clamped = std::clamp(x, -126.0f, 127.0f);
-    const float n = (clamped + kRound) - kRound;
-    const float f = clamped - n;
-    float p = 1.535336188319500e-4f;
+    const VecF clamped = vmin(vmax(x, splat(-126.0f)), splat(127.0f));
+    const VecF n = (clamped + kRound) - kRound;
+    const VecF f = clamped - n;
+    VecF p = splat(1.535336188319500e-4f);
     for (const float c : {1.339887440266574e-3f, 9.618437357674640e-3f, 5.550332471162809e-2f,
                           2.402264791363012e-1f, 6.931472028550421e-1f, 1.0f})
         p = p * f + c;
-    const std::int32_t bits = (std::int32_t(n) + 127) << 23;
-    float scale;
-    std::memcpy(&scale, &bits, sizeof scale);
-    return x < -126.0f ? 0.0f : p * scale;
+    const VecF scale = (VecF)((__builtin_convertvector(n, VecI) + 127) << 23);
+    return select(x < -126.0f, VecF{}, p * scale);
 }
 
 /// The colour transforms of the pipeline, with the XYZ-to-RGB inverse computed once.
@@ -134,7 +163,8 @@ struct ColorSpace {
         }
     }
 
-    static void apply(const float (&m)[3][3], const float* in, float* out) {
+    template <typename T>
+    static void apply(const float (&m)[3][3], const T* in, T* out) {
         for (int r = 0; r < 3; ++r) out[r] = m[r][0] * in[0] + m[r][1] * in[1] + m[r][2] * in[2];
     }
 
@@ -149,30 +179,30 @@ struct ColorSpace {
     }
 
     /// Filtered YCxCz back to linear RGB, clamped to the unit cube (FLIP sec. 4.1.1), then to
-    /// the Hunt-adjusted L*a*b* space: a and b scaled by 0.01 L (FLIP sec. 4.1.2).
-    void ycxczToHuntLab(const float* ycxcz, float* lab) const {
-        const float y = (ycxcz[0] + 16.0f) / 116.0f;
-        const float xyz[3] = {(y + ycxcz[1] / 500.0f) * white[0], y * white[1],
+    /// the Hunt-adjusted L*a*b* space: a and b scaled by 0.01 L (FLIP sec. 4.1.2); 8 pixels.
+    void ycxczToHuntLab(const VecF (&ycxcz)[3], VecF (&lab)[3]) const {
+        const VecF y = (ycxcz[0] + 16.0f) / 116.0f;
+        const VecF xyz[3] = {(y + ycxcz[1] / 500.0f) * white[0], y * white[1],
                               (y - ycxcz[2] / 200.0f) * white[2]};
-        float rgb[3];
+        VecF rgb[3];
         apply(toRgb, xyz, rgb);
-        for (float& v : rgb) v = std::clamp(v, 0.0f, 1.0f);
+        for (VecF& v : rgb) v = vmin(vmax(v, VecF{}), splat(1.0f));
         rgbToHuntLab(rgb, lab);
     }
 
-    /// Linear RGB to Hunt-adjusted CIELab.
-    void rgbToHuntLab(const float* rgb, float* lab) const {
+    /// Linear RGB to Hunt-adjusted CIELab, 8 pixels.
+    void rgbToHuntLab(const VecF (&rgb)[3], VecF (&lab)[3]) const {
         constexpr float delta = 6.0f / 29.0f;
         constexpr float deltaCube = delta * delta * delta;
         constexpr float slope = 1.0f / (3.0f * delta * delta);
-        float xyz[3];
+        VecF xyz[3];
         apply(toXyz, rgb, xyz);
         for (int c = 0; c < 3; ++c) {
-            const float v = xyz[c] * invWhite[c];
-            const float root = cubeRoot(std::max(v, deltaCube));
-            xyz[c] = v > deltaCube ? root : slope * v + 4.0f / 29.0f;
+            const VecF v = xyz[c] * invWhite[c];
+            const VecF root = cubeRoot(vmax(v, splat(deltaCube)));
+            xyz[c] = select(v > deltaCube, root, slope * v + 4.0f / 29.0f);
         }
-        const float l = 116.0f * xyz[1] - 16.0f;
+        const VecF l = 116.0f * xyz[1] - 16.0f;
         lab[0] = l;
         lab[1] = 0.01f * l * 500.0f * (xyz[0] - xyz[1]);
         lab[2] = 0.01f * l * 200.0f * (xyz[1] - xyz[2]);
@@ -184,10 +214,10 @@ const ColorSpace& colorSpace() {
     return space;
 }
 
-/// HyAB distance (FLIP eq. 4): city-block in L, Euclidean in (a, b).
-float hyab(const float* a, const float* b) {
-    const float da = a[1] - b[1], db = a[2] - b[2];
-    return std::fabs(a[0] - b[0]) + std::sqrt(da * da + db * db);
+/// HyAB distance (FLIP eq. 4): city-block in L, Euclidean in (a, b); 8 pixels.
+[[gnu::always_inline]] inline VecF hyab(const VecF (&a)[3], const VecF (&b)[3]) {
+    const VecF da = a[1] - b[1], db = a[2] - b[2];
+    return vabs(a[0] - b[0]) + vsqrt(da * da + db * db);
 }
 
 /// The 1D kernels at a viewing condition. The 2D spatial filters are Gaussians (Y, Cx) or a sum
@@ -319,7 +349,6 @@ struct PixelTransform {
 
 // The convolutions accumulate blocks of kLanes outputs in registers over all taps, the taps in
 // order, so that each output's bits do not depend on the blocking.
-using detail::VecF;
 constexpr int kLanes = 64;
 
 /// acc[i] += the sum over taps t of weights[t] times the 8 floats at src(t) + 8 i.
@@ -453,63 +482,56 @@ void filterRow(const float* src, int w, const PixelTransform& transform, const K
 /// FLIP sec. 4.1.2: the largest HyAB distance of the unit cube (green to blue), to the power q_c.
 float maxColorError() {
     static const float cmax = [] {
-        const float green[3] = {0, 1, 0}, blue[3] = {0, 0, 1};
-        float g[3], b[3];
+        const VecF green[3] = {VecF{}, splat(1.0f), VecF{}},
+                    blue[3] = {VecF{}, VecF{}, splat(1.0f)};
+        VecF g[3], b[3];
         colorSpace().rgbToHuntLab(green, g);
         colorSpace().rgbToHuntLab(blue, b);
-        return std::pow(hyab(g, b), kQc);
+        return std::pow(hyab(g, b)[0], kQc);
     }();
     return cmax;
 }
 
-/// Step 2's per-pixel part for one row. `acc` holds 7 rows of `w` values per input (reference,
-/// then image): the filtered Y, Cx, Cz and the edge (dx, ddx) and point (dy, ddy) responses.
-/// Writes FLIP's error to `out` (the max with what it holds when `keepMax`); overwrites `acc`.
+/// Step 2's per-pixel part for one row. `acc` holds 7 rows of `stride` values (a multiple of 8,
+/// at least `w`) per input (reference, then image): the filtered Y, Cx, Cz and the edge (dx,
+/// ddx) and point (dy, ddy) responses. Writes FLIP's error to `out` (the max with what it holds
+/// when `keepMax`).
 GLINT_SIMD_CLONES
-void errorRow(float* acc, int w, bool keepMax, float* out) {
+void errorRow(const float* acc, int w, std::size_t stride, bool keepMax, float* out) {
     const ColorSpace& space = colorSpace();
     const float cmax = maxColorError();
     const float pccmax = kPc * cmax;
-    auto row = [&](int input, int q) { return acc + std::size_t(input * 7 + q) * w; };
-    // Hunt-adjusted L*a*b* into the first three rows, the edge and point magnitudes into the
-    // next two.
-    for (int input = 0; input < 2; ++input) {
-        float *c0 = row(input, 0), *c1 = row(input, 1), *c2 = row(input, 2);
-        float *dx = row(input, 3), *ddx = row(input, 4), *dy = row(input, 5), *ddy = row(input, 6);
-        for (int x = 0; x < w; ++x) {
-            const float ycxcz[3] = {c0[x], c1[x], c2[x]};
-            float lab[3];
-            space.ycxczToHuntLab(ycxcz, lab);
-            c0[x] = lab[0];
-            c1[x] = lab[1];
-            c2[x] = lab[2];
-            const float edge = std::sqrt(dx[x] * dx[x] + dy[x] * dy[x]);
-            const float point = std::sqrt(ddx[x] * ddx[x] + ddy[x] * ddy[x]);
-            dx[x] = edge;
-            ddx[x] = point;
+    for (int x = 0; x < w; x += 8) {
+        // Hunt-adjusted L*a*b*, edge and point magnitudes of both inputs.
+        VecF lab[2][3], edge[2], point[2];
+        for (int input = 0; input < 2; ++input) {
+            VecF q[7];
+            for (int i = 0; i < 7; ++i)
+                detail::loadVec(q[i], acc + std::size_t(input * 7 + i) * stride + x);
+            space.ycxczToHuntLab({q[0], q[1], q[2]}, lab[input]);
+            edge[input] = vsqrt(q[3] * q[3] + q[5] * q[5]);
+            point[input] = vsqrt(q[4] * q[4] + q[6] * q[6]);
         }
-    }
-    const float *l0 = row(0, 0), *a0 = row(0, 1), *b0 = row(0, 2), *e0 = row(0, 3), *p0 = row(0, 4);
-    const float *l1 = row(1, 0), *a1 = row(1, 1), *b1 = row(1, 2), *e1 = row(1, 3), *p1 = row(1, 4);
-    for (int x = 0; x < w; ++x) {
         // FLIP eq. 4-5: HyAB distance, compressed, redistributed to [0, 1].
-        const float da = a0[x] - a1[x], db = b0[x] - b1[x];
-        const float distance = std::fabs(l0[x] - l1[x]) + std::sqrt(da * da + db * db);
-        const float compressed = exp2Approx(kQc * log2Approx(std::max(distance, 1e-30f)));
-        const float c = distance > 0.0f ? compressed : 0.0f;
-        // Both branches computed, then chosen: a select the loop vectorises.
-        const float below = c * (kPt / pccmax);
-        const float above = kPt + (c - pccmax) / (cmax - pccmax) * (1.0f - kPt);
-        const float color = c < pccmax ? below : above;
+        const VecF distance = hyab(lab[0], lab[1]);
+        const VecF compressed = exp2Approx(kQc * log2Approx(vmax(distance, splat(1e-30f))));
+        const VecF c = select(distance > 0.0f, compressed, VecF{});
+        const VecF below = c * (kPt / pccmax);
+        const VecF above = kPt + (c - pccmax) / (cmax - pccmax) * (1.0f - kPt);
+        const VecF color = select(c < pccmax, below, above);
         // FLIP eq. 8-9: the larger of the edge and point differences, to the power q_f.
         static_assert(kQf == 0.5f, "the feature exponent is taken as a square root");
-        const float feature = std::sqrt(
-            std::max(std::fabs(e0[x] - e1[x]), std::fabs(p0[x] - p1[x])) / std::sqrt(2.0f));
+        const VecF feature =
+            vsqrt(vmax(vabs(edge[0] - edge[1]), vabs(point[0] - point[1])) / std::sqrt(2.0f));
         // FLIP eq. 10: color^(1 - feature), with 0^0 = 1 as pow has it.
-        const float exponent = 1.0f - feature;
-        const float powered = exp2Approx(exponent * log2Approx(std::max(color, 1e-30f)));
-        const float error = color > 0.0f ? powered : (exponent == 0.0f ? 1.0f : 0.0f);
-        out[x] = keepMax ? std::max(out[x], error) : error;
+        const VecF exponent = 1.0f - feature;
+        const VecF powered = exp2Approx(exponent * log2Approx(vmax(color, splat(1e-30f))));
+        const VecF error =
+            select(color > 0.0f, powered, select(exponent == 0.0f, splat(1.0f), VecF{}));
+        // Store all 8 lanes, or the ones left in the row.
+        const int lanes = std::min(8, w - x);
+        for (int i = 0; i < lanes; ++i)
+            out[x + i] = keepMax ? std::max(out[x + i], error[i]) : error[i];
     }
 }
 
@@ -535,8 +557,12 @@ void ldrFlip(const Image& image, const Image& reference, const PixelTransform& t
     // Step 2: vertical filtering, colour and feature differences, the FLIP error per pixel.
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 4), [&](const tbb::blocked_range<int>& rows) {
         // Per input: Y, Cx, Cz, dx, ddx, dy, ddy of one row; then L, a, b, edge, point.
-        std::vector<float> acc(std::size_t(2 * 7) * w);
-        auto row = [&](int input, int q) { return acc.data() + std::size_t(input * 7 + q) * w; };
+        // Rows padded to whole blocks of 8 (zeros past w) for the 8-wide per-pixel stage.
+        const std::size_t stride = (std::size_t(w) + 7) / 8 * 8;
+        std::vector<float> acc(2 * 7 * stride);
+        auto row = [&](int input, int q) {
+            return acc.data() + std::size_t(input * 7 + q) * stride;
+        };
         for (int y = rows.begin(); y != rows.end(); ++y) {
             for (int input = 0; input < 2; ++input) {
                 auto vertical = [&](std::initializer_list<ColumnTerm> terms, int q) {
@@ -551,7 +577,7 @@ void ldrFlip(const Image& image, const Image& reference, const PixelTransform& t
                 vertical({{planes(input, FeatureG), &k.dg}}, 5);
                 vertical({{planes(input, FeatureG), &k.ddg}}, 6);
             }
-            errorRow(acc.data(), w, keepMax, map.row(y));
+            errorRow(acc.data(), w, stride, keepMax, map.row(y));
         }
     });
 }

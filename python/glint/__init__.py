@@ -3,9 +3,19 @@ arrays, every filter, the bank, auto, sessions and the metrics.
 
     PYTHONPATH=build/python python3 -c "import glint"
 """
-from ._glint import *  # noqa: F401,F403
-from ._glint import FrameBuffers, Image
-from . import testing  # noqa: F401
+import os as _os
+
+# An installed package carries the unet's weights beside itself (cmake --install ... --component
+# python); the library reads them from GLINT_UNET_WEIGHTS_DIR unless the user named a folder.
+# In the build tree there is no such folder and the library falls back to the source tree's.
+_weights = _os.path.join(_os.path.dirname(_os.path.abspath(__file__)), "weights", "oidn")
+if _os.path.isdir(_weights):
+    _os.environ.setdefault("GLINT_UNET_WEIGHTS_DIR", _weights)
+del _weights
+
+from ._glint import *  # noqa: F401,F403,E402
+from ._glint import FrameBuffers, Image  # noqa: E402
+from . import testing  # noqa: F401,E402
 
 
 def _repr_png_(self):

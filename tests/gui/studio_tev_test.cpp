@@ -3,6 +3,8 @@
 // a stand-in tev (tests/common/tev_test_server.h). Ports are ephemeral (port 0).
 #include <QApplication>
 #include <QDebug>
+#include <QDir>
+#include <QFile>
 #include <QFileInfo>
 #include <QSignalSpy>
 #include <QStandardPaths>
@@ -10,6 +12,7 @@
 #include <QTemporaryDir>
 #include <QTest>
 
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -45,6 +48,12 @@ bool rowIs(const Document& d, int y, float value) {
         for (int c = 0; c < 3; ++c)
             if (f->color()(x, y, c) != value) return false;
     return true;
+}
+
+/// The red channel of the document's colour at (x, y) is `value`.
+bool shows(const Document& d, int x, int y, float value) {
+    const FramePtr f = d.finishedFrame();
+    return f && x < f->width() && y < f->height() && f->color()(x, y, 0) == value;
 }
 
 /// A raw connection to the studio: the test writes any bytes it likes.
@@ -152,6 +161,74 @@ class StudioTevTest : public QObject {
         RawClient again(port);
         QVERIFY(again.socket.state() == QAbstractSocket::ConnectedState);
         QVERIFY(w->lastError().isEmpty());
+    }
+
+    void aReceivedImageAndItsStrokeComeBackFromTheAutosave() {
+        const QString base = m_dir.filePath(QStringLiteral("autosave-received"));
+        const QString crashed = m_dir.filePath(QStringLiteral("received-crash"));
+        const QString name = QStringLiteral("pbrt (9)");
+        // Two updates (the second replaces the top half): the image as its client left it.
+        const int width = 24, height = 16;
+        std::vector<float> pixels(std::size_t(width) * height * 3);
+        for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = float(i % 97) / 97.0f;
+        std::vector<float> top(pixels.begin(), pixels.begin() + std::ptrdiff_t(width * 8 * 3));
+        for (float& v : top) v += 0.5f;
+        Image weights, composite;
+        {
+            auto w = listeningWindow(base);
+            tev::Connection client({"127.0.0.1", w->tevListener()->port()},
+                                   [](const std::string&) {});
+            QVERIFY(
+                client.send(tev::CreateImage{"pbrt (9)", true, width, height, {"R", "G", "B"}}));
+            QVERIFY(client.send(
+                tev::UpdateImage{"pbrt (9)", false, {"R", "G", "B"}, 0, 0, width, height, pixels}));
+            QVERIFY(waitFor(
+                [&] {
+                    return shows(*w->document(), width - 1, height - 1, pixels[pixels.size() - 3]);
+                },
+                60000));
+            QVERIFY(waitIdle(*w, 60000));
+            QVERIFY(client.send(
+                tev::UpdateImage{"pbrt (9)", false, {"R", "G", "B"}, 0, 0, width, 8, top}));
+            QVERIFY(waitFor([&] { return shows(*w->document(), 0, 0, top[0]); }, 60000));
+            QVERIFY(waitIdle(*w, 60000));
+            // The artist adds a layer and paints a stroke on it.
+            QVERIFY(addGaussian(*w, false));
+            QVERIFY(waitIdle(*w, 60000));
+            const std::size_t layer = w->session()->session().layerCount() - 1;
+            w->session()->beginStroke(layer, {6.0, 0.5}, denoise::BrushMode::Add);
+            for (double x = 4.0; x < 20.0; x += 2.0) w->session()->dab(x, 8.0);
+            w->session()->endStroke();
+            QVERIFY(waitIdle(*w, 60000));
+            weights = w->session()->session().layer(layer).weights;
+            composite = w->session()->session().composite();
+            QVERIFY(std::any_of(weights.data().begin(), weights.data().end(),
+                                [](float v) { return v > 0.0f; }));
+            // A crash here: the autosave as it is on disk, kept where the next studio looks.
+            w->autosave()->flush();
+            const QDir journal(
+                QDir(base).filePath(QString::number(QCoreApplication::applicationPid())));
+            QVERIFY(QDir().mkpath(crashed));
+            for (const QString& file : journal.entryList(QDir::Files))
+                QVERIFY(QFile::copy(journal.filePath(file), QDir(crashed).filePath(file)));
+        }
+        // A fresh studio reopens it: the same image, the same layer and stroke.
+        auto w = makeWindow(m_dir.filePath(QStringLiteral("autosave-reopened")));
+        w->restoreFrom(crashed);
+        QVERIFY(waitFor([&] { return !w->autosave()->restoring(); }, 120000));
+        QVERIFY2(w->lastError().isEmpty(), qPrintable(w->lastError()));
+        QVERIFY(waitIdle(*w, 60000));
+        QCOMPARE(w->document()->path(), TevListener::documentPath(name));
+        QCOMPARE(w->document()->kind(), Document::Kind::Exr);
+        const FramePtr frame = w->document()->finishedFrame();
+        QVERIFY(frame && frame->width() == width && frame->height() == height);
+        std::vector<float> want = pixels;
+        std::copy(top.begin(), top.end(), want.begin());
+        QVERIFY(std::equal(want.begin(), want.end(), frame->color().data().begin()));
+        const denoise::Session& got = w->session()->session();
+        QVERIFY(got.layerCount() >= 1);
+        QVERIFY(sameBits(got.layer(got.layerCount() - 1).weights, weights));
+        QVERIFY(sameBits(got.composite(), composite));
     }
 
     void theStudiosRenderPassesReachTevWhenAsked() {
