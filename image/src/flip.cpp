@@ -55,10 +55,11 @@ float luminance(const float* rgb) {
     return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2];
 }
 
-// The per-pixel stage works on 8 pixels at a time (GCC vector extensions, glint/image/internal/simd.h):
-// comparisons give lane masks, `select` picks per lane, bit casts reinterpret. The helpers take
-// and return vectors by value but are always inlined, so no call's ABI depends on AVX: GCC's
-// note about that ABI (-Wpsabi, given once for the file at its end) does not apply to them.
+// The per-pixel stage works on 8 pixels at a time (GCC vector extensions,
+// glint/image/internal/simd.h): comparisons give lane masks, `select` picks per lane, bit casts
+// reinterpret. The helpers take and return vectors by value but are always inlined, so no call's
+// ABI depends on AVX: GCC's note about that ABI (-Wpsabi, given once for the file at its end) does
+// not apply to them.
 #pragma GCC diagnostic ignored "-Wpsabi"
 using detail::VecF;
 using detail::VecI;
@@ -183,7 +184,7 @@ struct ColorSpace {
     void ycxczToHuntLab(const VecF (&ycxcz)[3], VecF (&lab)[3]) const {
         const VecF y = (ycxcz[0] + 16.0f) / 116.0f;
         const VecF xyz[3] = {(y + ycxcz[1] / 500.0f) * white[0], y * white[1],
-                              (y - ycxcz[2] / 200.0f) * white[2]};
+                             (y - ycxcz[2] / 200.0f) * white[2]};
         VecF rgb[3];
         apply(toRgb, xyz, rgb);
         for (VecF& v : rgb) v = vmin(vmax(v, VecF{}), splat(1.0f));
@@ -483,7 +484,7 @@ void filterRow(const float* src, int w, const PixelTransform& transform, const K
 float maxColorError() {
     static const float cmax = [] {
         const VecF green[3] = {VecF{}, splat(1.0f), VecF{}},
-                    blue[3] = {VecF{}, VecF{}, splat(1.0f)};
+                   blue[3] = {VecF{}, VecF{}, splat(1.0f)};
         VecF g[3], b[3];
         colorSpace().rgbToHuntLab(green, g);
         colorSpace().rgbToHuntLab(blue, b);
