@@ -157,13 +157,14 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
             lastSpp = spp;
             return true;
         }
-        // The first refresh runs at the final auto's quality and measures its time.
+        // The first refresh (of unknown cost: it steers at all) runs at the final auto's
+        // quality when that auto's time is not known yet, and so measures it.
         const bool first = !last;
-        const double expected = first ? budget.expectedFinal() : lastRefresh;
-        if (!budget.refreshFits(now(), expected)) return false;
-        last = denoised(frame, first ? options.quality : options.refreshQuality);
+        const bool measures = first && budget.expectedFinal() <= 0.0;
+        if (!budget.refreshFits(now(), first ? 0.0 : lastRefresh)) return false;
+        last = denoised(frame, measures ? options.quality : options.refreshQuality);
         lastRefresh = last->seconds;
-        budget.refreshed(last->seconds, first);
+        budget.refreshed(last->seconds, measures);
         out.autoSeconds += last->seconds;
         out.refreshSeconds += last->seconds;
         ++out.refreshes;

@@ -52,9 +52,10 @@ struct FinalOptions {
     double refreshGrowth = 2.0;
     /// The automatic selection (the halves estimator; AutoOptions::estimateError is set here).
     denoise::AutoOptions autoOptions;
-    /// The final auto's quality, and the first refresh's (which measures the final's time).
+    /// The final auto's quality, and the first refresh's when expectedAutoSeconds is 0 (that
+    /// refresh then measures the final auto's time).
     denoise::AutoQuality quality = denoise::AutoQuality::Balanced;
-    /// The quality of the refreshes after the first.
+    /// The quality of the other refreshes.
     denoise::AutoQuality refreshQuality = denoise::AutoQuality::Fast;
     /// With a time limit, the most of it the refreshes take together, in (0, 1] (TimeBudget).
     double refreshShare = 0.2;
