@@ -157,11 +157,12 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
             lastSpp = spp;
             return true;
         }
-        // The first refresh (of unknown cost: it steers at all) runs at the final auto's
-        // quality when that auto's time is not known yet, and so measures it.
+        // The first refresh runs at the final auto's quality when that auto's time is not known
+        // yet, and so measures it; when it is known, it is what a refresh is expected to take
+        // (auto's time depends on the film more than on the quality).
         const bool first = !last;
         const bool measures = first && budget.expectedFinal() <= 0.0;
-        if (!budget.refreshFits(now(), first ? 0.0 : lastRefresh)) return false;
+        if (!budget.refreshFits(now(), first ? budget.expectedFinal() : lastRefresh)) return false;
         last = denoised(frame, measures ? options.quality : options.refreshQuality);
         lastRefresh = last->seconds;
         budget.refreshed(last->seconds, measures);

@@ -157,6 +157,24 @@ TEST(FinalRender, UnderATimeLimitConvergenceHalvesTheThresholdAndTheBudgetIsUsed
     }
 }
 
+TEST(FinalRender, ARefreshExpectedToExceedItsShareOfTheTimeLimitIsNotRun) {
+    // With the final auto's time known, a refresh is expected to take as long: one of 0.5 s
+    // fits in 20 % of 8 s, one of 2 s does not (the render then steers by the threshold alone).
+    render::Renderer renderer(cornell());
+    FinalOptions o = smallOptions();
+    o.settings.spp = 4096;
+    o.timeLimit = 8.0;
+    o.refreshShare = 0.2;
+    o.expectedAutoSeconds = 0.5;
+    o.clock = fakeClock(0.01);
+    EXPECT_GE(renderFinal(renderer, o).refreshes, 1);
+    o.expectedAutoSeconds = 2.0;
+    o.clock = fakeClock(0.01);
+    const FinalResult r = renderFinal(renderer, o);
+    EXPECT_EQ(r.refreshes, 0);
+    EXPECT_LE(r.seconds, o.timeLimit + 0.05);
+}
+
 TEST(FinalRender, TheVarianceScheduleRunsNoAutoBeforeTheFinalOne) {
     // The variance-only map costs nothing to make: no refresh, one auto (the final one); the
     // denoiser-steered one refreshes, the first at the final quality and the others at the
