@@ -6,10 +6,13 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "glint/image/composite.h"
 #include "glint/image/error.h"
 #include "glint/pipeline/refresh.h"
+#include "glint/pipeline/steering.h"
+#include "glint/pipeline/time_budget.h"
 
 namespace glint::pipeline {
 
@@ -20,6 +23,9 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
 }
+
+/// The most the threshold is lowered at convergence (2^40: past it no pixel is left to open).
+constexpr double kMaxBoost = 1099511627776.0;
 
 std::string formatted(const char* format, double a, double b, double c) {
     char buf[200];
@@ -63,6 +69,9 @@ void validate(const FinalOptions& options) {
     if (!(options.refreshGrowth > 1.0 && options.refreshGrowth <= 1e6))
         bad("refreshGrowth", "the refresh growth must be a factor in (1, 1e6], got " +
                                  std::to_string(options.refreshGrowth));
+    if (!(options.refreshShare > 0.0 && options.refreshShare <= 1.0))
+        bad("refreshShare", "the refreshes' share of the time limit must be in (0, 1], got " +
+                                std::to_string(options.refreshShare));
     if (options.settings.spp <= 0 && options.timeLimit <= 0.0)
         bad("spp", options.targetError > 0.0
                        ? "an error target needs a time limit or a spp too (it may never be reached)"
@@ -76,84 +85,124 @@ void validate(const FinalOptions& options) {
 
 FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options) {
     validate(options);
-    const Clock::time_point start = Clock::now();
+    // The time since the start, on the options' clock or the steady clock.
+    const Clock::time_point steadyStart = Clock::now();
+    const double clockStart = options.clock ? options.clock() : 0.0;
+    auto now = [&] {
+        return options.clock ? options.clock() - clockStart : secondsSince(steadyStart);
+    };
     auto log = [&](const std::string& line) {
         if (options.log) options.log(line);
     };
     render::Settings settings = options.settings;
     settings.halfBuffers = true;
     settings.timeLimit = options.timeLimit;
-    const bool timed = options.timeLimit > 0.0;
+    TimeBudget budget(options.timeLimit, options.refreshShare, options.expectedAutoSeconds);
 
-    RefreshOptions refreshOptions;
-    refreshOptions.growth = options.refreshGrowth;
-    refreshOptions.autoOptions = options.autoOptions;
-    refreshOptions.quality = options.quality;
-    refreshOptions.varianceOnly = options.steering == Steering::Variance;
-    Refresher refresher(refreshOptions);
+    // Auto at a quality (refresh.h, as the studio's refreshes run it), timed on the options' clock.
+    auto denoised = [&](const FrameBuffers& frame, denoise::AutoQuality quality) {
+        const double t = now();
+        Denoised d = denoiseFrame(frame, autoRun(options.autoOptions, quality));
+        d.seconds = now() - t;
+        return d;
+    };
 
     FinalResult out;
-    double autoSeconds = options.expectedAutoSeconds;  // what the final auto is expected to take
-    bool stop = false;                                 // the error target is reached
-    int pass = 0;                                      // the pass under way (progress)
-    // A refresh: auto on the frame so far, when it has grown enough; true when it ran.
+    std::optional<Denoised> last;  // the latest refresh's result
+    double lastSpp = 0.0, startSpp = 0.0;
+    double lastRefresh = 0.0;  // seconds the latest refresh took
+    bool stop = false;         // the error target is reached
+    int pass = 0;              // the pass under way (progress)
+    const bool steered = options.steering != Steering::Fixed;
+    // Auto's error is needed to steer by it, or to check the target.
+    const bool autoSteers = options.steering == Steering::Denoiser || options.targetError > 0.0;
+    // The map's scale: the threshold schedule's √(spp / spp at the first refresh), times 2 for
+    // every halving of the threshold at convergence.
+    double boost = 1.0;
+    auto scaleNow = [&] { return boost * (startSpp > 0.0 ? std::sqrt(lastSpp / startSpp) : 1.0); };
+    // A refresh: auto on the frame so far, when it has grown enough and the budget has room;
+    // true when the schedule moved (a new map is due).
     auto refresh = [&](const FrameBuffers& frame) {
-        if (!refresher.due(frame)) return false;
-        // No time left to use what a refresh would say: keep the map.
-        if (timed && refresher.last() &&
-            secondsSince(start) + 2.0 * autoSeconds >= options.timeLimit)
-            return false;
-        refresher.adopt(refresher.denoise(frame));
-        const Denoised& last = *refresher.last();
-        autoSeconds = last.seconds;
-        log(formatted("refresh: %.1f spp a pixel, estimated relMSE %.4g (auto %.2f s)",
-                      last.meanSpp, last.relMse, last.seconds));
-        if (options.targetError > 0.0 && last.relMse <= options.targetError) stop = true;
+        const double spp = meanSpp(frame);
+        if (lastSpp > 0.0 && spp < options.refreshGrowth * lastSpp) return false;
+        if (!autoSteers) {
+            // The variance schedule needs no auto: its scale follows the spp alone.
+            if (startSpp == 0.0) startSpp = spp;
+            lastSpp = spp;
+            return true;
+        }
+        // The first refresh runs at the final auto's quality when that auto's time is not known
+        // yet, and so measures it; when it is known, it is what a refresh is expected to take
+        // (auto's time depends on the film more than on the quality).
+        const bool first = !last;
+        const bool measures = first && budget.expectedFinal() <= 0.0;
+        if (!budget.refreshFits(now(), first ? budget.expectedFinal() : lastRefresh)) return false;
+        last = denoised(frame, measures ? options.quality : options.refreshQuality);
+        lastRefresh = last->seconds;
+        budget.refreshed(last->seconds, measures);
+        out.autoSeconds += last->seconds;
+        out.refreshSeconds += last->seconds;
+        ++out.refreshes;
+        if (first) startSpp = spp;
+        lastSpp = spp;
+        log(formatted("refresh: %.1f spp a pixel, estimated relMSE %.4g (auto %.2f s)", spp,
+                      last->relMse, last->seconds));
+        if (options.targetError > 0.0 && last->relMse <= options.targetError) stop = true;
         return true;
+    };
+    // The map for the current schedule: the refresh's relative error (denoiser) or uniform.
+    auto makeMap = [&](const FrameBuffers& frame) -> std::shared_ptr<const Image> {
+        if (options.steering == Steering::Denoiser && last)
+            return std::make_shared<const Image>(importanceFromError(last->relative, scaleNow()));
+        if (!steered && boost == 1.0) return nullptr;
+        return std::make_shared<const Image>(frame.width(), frame.height(), 1,
+                                             float(steered ? scaleNow() : boost));
     };
 
     render::Callbacks callbacks;
     callbacks.progress = [&](int p, double) { pass = p; };
-    // Stop at the target, or when the time left is what the final auto takes (never in the first
+    // Stop at the target, or when the time left is the final auto's reserve (never in the first
     // pass: its frame must be whole).
-    callbacks.cancel = [&] {
-        return stop ||
-               (timed && pass >= 1 && secondsSince(start) + autoSeconds >= options.timeLimit);
-    };
-    const bool steered = options.steering != Steering::Fixed;
+    callbacks.cancel = [&] { return stop || (pass >= 1 && !budget.renderMayContinue(now())); };
     if (settings.adaptive && (steered || options.targetError > 0.0)) {
         callbacks.importance = [&](int, const FrameBuffers& frame) -> std::shared_ptr<const Image> {
             if (!refresh(frame) || stop || !steered) return nullptr;
-            return refresher.map();
+            // The threshold follows the renderer's error, which falls as 1/sqrt(spp): the
+            // schedule's scale keeps about as many pixels open as at the start.
+            return makeMap(frame);
         };
     } else if (!settings.adaptive && options.targetError > 0.0) {
         // Uniform passes: the target checked after each pass.
         callbacks.passDone = [&](int, const FrameBuffers& frame) { refresh(frame); };
     }
+    // Every pixel converged with time left: halve the threshold and go on (a threshold met
+    // early would leave the budget unused).
+    if (settings.adaptive && budget.timed())
+        callbacks.converged = [&](int, const FrameBuffers& frame) -> std::shared_ptr<const Image> {
+            if (stop || !budget.renderMayContinue(now()) || boost > kMaxBoost) return nullptr;
+            boost *= 2.0;
+            ++out.thresholdHalvings;
+            return makeMap(frame);
+        };
 
     render::RenderResult rendered = renderer.render(settings, callbacks);
     out.render = rendered.stats;
     out.frame = std::move(rendered.frame);
     out.frame.metadata().extra.erase("cancelled");
-    out.overTime = timed && rendered.stats.passes <= 1 && secondsSince(start) > options.timeLimit;
+    out.overTime = budget.timed() && rendered.stats.passes <= 1 && now() > options.timeLimit;
     // At the target the frame is the refresh's (the render stopped before the next pass took a
     // sample); otherwise auto runs on the final frame.
     out.targetReached = stop;
-    out.refreshes = refresher.refreshes();
-    out.autoSeconds = refresher.autoSeconds();
-    Denoised last;
-    if (stop) {
-        last = *refresher.last();
-    } else {
-        last = refresher.denoise(out.frame);
-        out.autoSeconds += last.seconds;
-        log(formatted("final: %.1f spp a pixel, estimated relMSE %.4g (auto %.2f s)", last.meanSpp,
-                      last.relMse, last.seconds));
+    if (!stop) {
+        last = denoised(out.frame, options.quality);
+        out.autoSeconds += last->seconds;
+        log(formatted("final: %.1f spp a pixel, estimated relMSE %.4g (auto %.2f s)",
+                      meanSpp(out.frame), last->relMse, last->seconds));
     }
-    out.estimatedRelMse = last.relMse;
-    paste(out.frame.color(), last.result.composite, 0, 0);
+    out.estimatedRelMse = last->relMse;
+    paste(out.frame.color(), last->result.composite, 0, 0);
     out.frame.metadata().extra["denoiseFilter"] = "auto";
-    out.seconds = secondsSince(start);
+    out.seconds = now();
     return out;
 }
 

@@ -38,18 +38,37 @@ double meanSpp(const FrameBuffers& frame) {
     return sum / double(std::size_t(frame.width()) * std::size_t(frame.height()));
 }
 
-Refresher::Refresher(RefreshOptions options) : m_options(std::move(options)) {
+AutoRun autoRun(const denoise::AutoOptions& options, denoise::AutoQuality quality, int bankSize,
+                const std::vector<std::string>& filters) {
+    AutoRun run;
+    run.autoOptions = options;
+    run.autoOptions.estimateError = true;
+    if (run.autoOptions.tuning.empty())
+        run.autoOptions.tuning = denoise::autoQualityTuning(quality);
+    run.bank.size = bankSize > 0 ? bankSize : denoise::autoQualityBankSize(quality);
+    run.bank.filters = filters;
+    run.bank.prefilter = run.autoOptions.prefilter;
+    run.bank.prefilterParams = run.autoOptions.prefilterParams;
+    return run;
+}
+
+Denoised denoiseFrame(const FrameBuffers& frame, const AutoRun& run) {
+    const auto start = std::chrono::steady_clock::now();
+    Denoised d;
+    d.meanSpp = meanSpp(frame);
+    d.result = denoise::autoCompositeStreamed(frame, run.bank, run.autoOptions).result;
+    d.relative = relativeError(d.result.error, d.result.composite, run.autoOptions.exposure);
+    d.relMse = estimatedRelMse(d.relative);
+    d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return d;
+}
+
+Refresher::Refresher(RefreshOptions options)
+    : m_options(std::move(options)),
+      m_run(autoRun(m_options.autoOptions, m_options.quality, m_options.bankSize,
+                    m_options.filters)) {
     GLINT_CHECK(m_options.growth > 1.0 && m_options.focus > 0.0 && m_options.focus <= 1.0,
                 "a refresh growth above 1 and a focus in (0, 1]");
-    // Auto as glint-denoise auto runs it at the quality, estimating the result's error too.
-    m_auto = m_options.autoOptions;
-    m_auto.estimateError = true;
-    if (m_auto.tuning.empty()) m_auto.tuning = denoise::autoQualityTuning(m_options.quality);
-    m_bank.size = m_options.bankSize > 0 ? m_options.bankSize
-                                         : denoise::autoQualityBankSize(m_options.quality);
-    m_bank.filters = m_options.filters;
-    m_bank.prefilter = m_auto.prefilter;
-    m_bank.prefilterParams = m_auto.prefilterParams;
 }
 
 bool Refresher::due(const FrameBuffers& frame) const {
@@ -57,14 +76,7 @@ bool Refresher::due(const FrameBuffers& frame) const {
 }
 
 Denoised Refresher::denoise(const FrameBuffers& frame) const {
-    const auto start = std::chrono::steady_clock::now();
-    Denoised d;
-    d.meanSpp = meanSpp(frame);
-    d.result = denoise::autoCompositeStreamed(frame, m_bank, m_auto).result;
-    d.relative = relativeError(d.result.error, d.result.composite, m_auto.exposure);
-    d.relMse = estimatedRelMse(d.relative);
-    d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return d;
+    return denoiseFrame(frame, m_run);
 }
 
 void Refresher::adopt(Denoised denoised) {

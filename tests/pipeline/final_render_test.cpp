@@ -2,8 +2,11 @@
 // frame auto last saw, the denoiser-steered loop gives the same bits on 1 and 2 threads, the
 // output holds the denoised colour and the render's layers, the steering maps follow auto's
 // error, and bad options are refused naming the option.
+#include <atomic>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -12,6 +15,7 @@
 #include "glint/image/error.h"
 #include "glint/pipeline/final_render.h"
 #include "glint/pipeline/steering.h"
+#include "glint/pipeline/time_budget.h"
 #include "glint/render/scene.h"
 #include "test_util.h"
 
@@ -114,6 +118,78 @@ TEST(FinalRender, TheFrameIsTheDenoisedColourWithTheRendersLayers) {
     EXPECT_FALSE(render::test::sameLayer(raw, r.frame, Layer::Color));
     EXPECT_TRUE(render::test::sameLayer(raw, r.frame, Layer::HalfColor));
     EXPECT_GT(r.estimatedRelMse, 0.0);
+}
+
+/// A fake clock: every read advances it by `tick` seconds (time counts the loop's polls: about
+/// one a tile), so that a time limit is a property of the schedule, not of the machine.
+std::function<double()> fakeClock(double tick) {
+    auto reads = std::make_shared<std::atomic<long>>(0);
+    return [reads, tick] { return tick * double(reads->fetch_add(1)); };
+}
+
+TEST(FinalRender, UnderATimeLimitConvergenceHalvesTheThresholdAndTheBudgetIsUsed) {
+    // A threshold every pixel meets early: with spp alone the render ends converged, far below
+    // spp. With a time limit (on the fake clock) every steering halves the threshold at
+    // convergence and goes on, and the render stops when the time left is the final auto's
+    // reserve: the whole, the final auto included, ends within the limit (plus the few reads
+    // of one step) after using all but the reserve.
+    render::Renderer renderer(cornell());
+    for (Steering steering : {Steering::Fixed, Steering::Variance, Steering::Denoiser}) {
+        FinalOptions o = smallOptions();
+        o.steering = steering;
+        o.settings.spp = 4096;
+        o.settings.noiseThreshold = 0.05;
+        const FinalResult converged = renderFinal(renderer, o);
+        EXPECT_EQ(converged.thresholdHalvings, 0);
+        EXPECT_LT(meanSampleCount(converged.frame), 4096.0 / 4.0) << steeringName(steering);
+
+        o.timeLimit = 8.0;
+        o.expectedAutoSeconds = 0.5;  // the reserve until a refresh measures the final auto
+        o.clock = fakeClock(0.01);
+        const FinalResult timed = renderFinal(renderer, o);
+        EXPECT_GT(timed.thresholdHalvings, 0) << steeringName(steering);
+        EXPECT_GT(meanSampleCount(timed.frame), 2.0 * meanSampleCount(converged.frame))
+            << steeringName(steering);
+        EXPECT_TRUE(timed.render.cancelled) << steeringName(steering);
+        EXPECT_LE(timed.seconds, o.timeLimit + 0.05) << steeringName(steering);
+        EXPECT_GE(timed.seconds, o.timeLimit - kFinalAutoMargin * 0.5 - 0.05)
+            << steeringName(steering);
+    }
+}
+
+TEST(FinalRender, ARefreshExpectedToExceedItsShareOfTheTimeLimitIsNotRun) {
+    // With the final auto's time known, a refresh is expected to take as long: one of 0.5 s
+    // fits in 20 % of 8 s, one of 2 s does not (the render then steers by the threshold alone).
+    render::Renderer renderer(cornell());
+    FinalOptions o = smallOptions();
+    o.settings.spp = 4096;
+    o.timeLimit = 8.0;
+    o.refreshShare = 0.2;
+    o.expectedAutoSeconds = 0.5;
+    o.clock = fakeClock(0.01);
+    EXPECT_GE(renderFinal(renderer, o).refreshes, 1);
+    o.expectedAutoSeconds = 2.0;
+    o.clock = fakeClock(0.01);
+    const FinalResult r = renderFinal(renderer, o);
+    EXPECT_EQ(r.refreshes, 0);
+    EXPECT_LE(r.seconds, o.timeLimit + 0.05);
+}
+
+TEST(FinalRender, TheVarianceScheduleRunsNoAutoBeforeTheFinalOne) {
+    // The variance-only map costs nothing to make: no refresh, one auto (the final one); the
+    // denoiser-steered one refreshes, the first at the final quality and the others at the
+    // refresh quality, and counts their time apart.
+    render::Renderer renderer(cornell());
+    FinalOptions o = smallOptions();
+    o.steering = Steering::Variance;
+    const FinalResult variance = renderFinal(renderer, o);
+    EXPECT_EQ(variance.refreshes, 0);
+    EXPECT_EQ(variance.refreshSeconds, 0.0);
+    o.steering = Steering::Denoiser;
+    const FinalResult denoiser = renderFinal(renderer, o);
+    EXPECT_GE(denoiser.refreshes, 2);
+    EXPECT_GT(denoiser.refreshSeconds, 0.0);
+    EXPECT_LT(denoiser.refreshSeconds, denoiser.autoSeconds);
 }
 
 TEST(FinalRender, TheImportanceFollowsTheRelativeErrorWithinItsRange) {

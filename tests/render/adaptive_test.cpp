@@ -196,6 +196,42 @@ TEST_F(AdaptiveScene, AMapTheCallbackReturnsSteersEveryPassAfterIt) {
               std::string::npos);
 }
 
+TEST_F(AdaptiveScene, TheConvergedCallbackLowersTheThresholdAndTheRenderGoesOn) {
+    // A threshold every pixel meets early ends the render well below spp. A converged callback
+    // that doubles the weights (halves the threshold) up to 4 times keeps sampling: more
+    // samples, and the render ends at the callback's empty answer. One that never opens a pixel
+    // (weights of the same scale) is asked kMaxConvergedRetries times, then the render ends.
+    Renderer renderer(cornell(24, 24));
+    Settings s = adaptiveSettings();
+    s.spp = 1024;
+    s.noiseThreshold = 0.05;
+    const FrameBuffers early = renderer.render(s).frame;
+    Callbacks callbacks;
+    int calls = 0;
+    float scale = 1.0f;
+    callbacks.converged = [&](int, const FrameBuffers&) -> std::shared_ptr<const Image> {
+        if (++calls > 4) return nullptr;
+        scale *= 2.0f;
+        return std::make_shared<const Image>(24, 24, 1, scale);
+    };
+    const FrameBuffers later = renderer.render(s, callbacks).frame;
+    EXPECT_EQ(calls, 5);
+    auto total = [](const FrameBuffers& f) {
+        double sum = 0.0;
+        for (float n : f.layer(Layer::SampleCount).data()) sum += n;
+        return sum;
+    };
+    EXPECT_GT(total(later), 2.0 * total(early));
+    EXPECT_LT(total(early), 1024.0 * 24 * 24 / 4);
+    calls = 0;
+    callbacks.converged = [&](int, const FrameBuffers&) {
+        ++calls;
+        return std::make_shared<const Image>(24, 24, 1, 1.0f);
+    };
+    test::expectSameFrames(early, renderer.render(s, callbacks).frame);
+    EXPECT_EQ(calls, kMaxConvergedRetries);
+}
+
 TEST_F(AdaptiveScene, EveryPixelContinuesItsOwnSequenceSoAllPixelsOpenIsTheUniformRender) {
     // With every pixel taking every pass, the adaptive passes (sizes 16, cut at spp) add each
     // pixel's samples 8 … 63 in order, as the uniform passes do: the same bits.

@@ -121,18 +121,25 @@ LoopResult RenderLoop::run(PassWork& work, bool reportPasses) {
         int count = std::clamp(done, 1, 64);
         if (adaptive) {
             // The caller may steer this pass with a new importance map made from the frame.
-            if (m_callbacks.importance) {
+            auto ask = [&](const auto& callback) {
                 FrameBuffers frame = work.snapshot();
                 frame.metadata().spp = taken;
-                std::shared_ptr<const Image> weights;
-                {
-                    const std::lock_guard<std::mutex> lock(m_callbackMutex);
-                    weights = m_callbacks.importance(pass, frame);
-                }
-                if (weights) work.setImportance(std::move(weights));
+                const std::lock_guard<std::mutex> lock(m_callbackMutex);
+                return std::shared_ptr<const Image>(callback(pass, frame));
+            };
+            if (m_callbacks.importance)
+                if (auto weights = ask(m_callbacks.importance))
+                    work.setImportance(std::move(weights));
+            std::uint64_t active = work.planAdaptivePass();
+            // Every pixel converged or at spp: the caller may lower the threshold by its map.
+            for (int retry = 0;
+                 active == 0 && m_callbacks.converged && retry < kMaxConvergedRetries; ++retry) {
+                auto weights = ask(m_callbacks.converged);
+                if (!weights) break;
+                work.setImportance(std::move(weights));
+                active = work.planAdaptivePass();
             }
-            const std::uint64_t active = work.planAdaptivePass();
-            if (active == 0) break;  // every pixel converged or at spp
+            if (active == 0) break;
             count = std::min(count, kAdaptiveStep);
             if (timed && secondsPerSample > 0.0)
                 count = int(std::clamp((m_budget - elapsed()) / (secondsPerSample * double(active)),

@@ -52,18 +52,27 @@ struct FinalOptions {
     double refreshGrowth = 2.0;
     /// The automatic selection (the halves estimator; AutoOptions::estimateError is set here).
     denoise::AutoOptions autoOptions;
+    /// The final auto's quality, and the first refresh's when expectedAutoSeconds is 0 (that
+    /// refresh then measures the final auto's time).
     denoise::AutoQuality quality = denoise::AutoQuality::Balanced;
+    /// The quality of the other refreshes.
+    denoise::AutoQuality refreshQuality = denoise::AutoQuality::Fast;
+    /// With a time limit, the most of it the refreshes take together, in (0, 1] (TimeBudget).
+    double refreshShare = 0.2;
     /// Seconds the final auto is expected to take before any refresh measured it (the time
     /// limit keeps room for it); 0: unknown.
     double expectedAutoSeconds = 0.0;
+    /// Seconds since any fixed time, for the time limit; empty: std::chrono::steady_clock.
+    /// (The renderer's own pass sizing reads the steady clock.) Tests pass a fake one.
+    std::function<double()> clock;
     /// One line per refresh and stage, for a log; may be empty.
     std::function<void(const std::string& line)> log;
 };
 
 /// Throws glint::Error(InvalidArgument) naming the first bad option ("timeLimit",
-/// "targetError", "refreshGrowth", "spp") and what was expected: a time limit or error target
-/// not NaN, ≥ 0 and at most kMaxTimeLimit / kMaxTargetError; some end (a time limit, an error
-/// target or a spp); render::validate's for the settings.
+/// "targetError", "refreshGrowth", "refreshShare", "spp") and what was expected: a time limit or
+/// error target not NaN, ≥ 0 and at most kMaxTimeLimit / kMaxTargetError; some end (a time limit,
+/// an error target or a spp); render::validate's for the settings.
 void validate(const FinalOptions& options);
 
 /// What a final render made.
@@ -75,16 +84,22 @@ struct FinalResult {
     double estimatedRelMse = 0.0;  ///< of the final denoised image (estimatedRelMse)
     int refreshes = 0;             ///< auto's runs during the render
     double autoSeconds = 0.0;      ///< every auto run, the final one included
-    double seconds = 0.0;          ///< all of it
-    bool targetReached = false;    ///< stopped at the error target
+    double refreshSeconds = 0.0;   ///< the refreshes' share of autoSeconds
+    /// Times every pixel had converged with time left and the threshold was halved (the render
+    /// went on; time limit only).
+    int thresholdHalvings = 0;
+    double seconds = 0.0;        ///< all of it
+    bool targetReached = false;  ///< stopped at the error target
     /// The time limit was shorter than the first pass: the frame is that one pass, denoised.
     bool overTime = false;
 };
 
 /// Renders `renderer`'s scene with options.settings and denoises it (auto), steering the
 /// adaptive passes, until the time limit, the error target, spp or convergence ends the render.
-/// Deterministic for any thread count without a time limit. Throws as validate, the renderer
-/// and autoComposite do.
+/// Under a time limit convergence does not end it: every pixel converged, the threshold is
+/// halved (the map's weights doubled) and the render goes on until the time left is the final
+/// auto's reserve (TimeBudget). Deterministic for any thread count without a time limit. Throws as
+/// validate, the renderer and autoComposite do.
 FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options);
 
 }  // namespace glint::pipeline

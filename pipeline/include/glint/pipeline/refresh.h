@@ -1,7 +1,9 @@
-// The steering loop's refresh, shared by glint-final (final_render.h) and the studio's progressive
-// render (docs/studio.md, "Keep refining"): auto on the frame so far with its per-pixel error of
-// the denoised image, run again whenever the mean samples per pixel have grown by a factor, and
-// the importance map the renderer's Callbacks::importance returns for the next adaptive passes.
+// The steering loop's refresh: auto on the frame so far with its per-pixel error of the denoised
+// image (autoRun, denoiseFrame: what glint-final's loop, final_render.h, runs too), and for the
+// studio's progressive render (docs/studio.md, "Keep refining") the Refresher, which runs it again
+// whenever the mean samples per pixel have grown by a factor and makes the importance map the
+// renderer's Callbacks::importance returns for the next adaptive passes. glint-final schedules its
+// refreshes itself, under its time budget (time_budget.h).
 #pragma once
 
 #include <functional>
@@ -49,6 +51,21 @@ struct Denoised {
 /// The mean of a frame's sampleCount layer.
 double meanSpp(const FrameBuffers& frame);
 
+/// The automatic selection a refresh (or glint-final's last auto) runs: auto as glint-denoise
+/// auto runs it at `quality`, its tuning the quality's when `options` names none, estimating the
+/// result's error too; the bank of `bankSize` members (0: the quality's) of `filters` (empty: the
+/// default bank's).
+struct AutoRun {
+    denoise::AutoOptions autoOptions;
+    denoise::BankOptions bank;
+};
+AutoRun autoRun(const denoise::AutoOptions& options, denoise::AutoQuality quality, int bankSize = 0,
+                const std::vector<std::string>& filters = {});
+
+/// Auto on `frame` as `run` says (its seconds on the steady clock). Throws as
+/// autoCompositeStreamed (Error(Cancelled) when the options' progress says stop).
+Denoised denoiseFrame(const FrameBuffers& frame, const AutoRun& run);
+
 /// The refreshes of one render: call importance() from Callbacks::importance (or, to run auto
 /// elsewhere, due(), denoise() and adopt()). Not thread-safe except denoise(), which is const.
 class Refresher {
@@ -83,8 +100,7 @@ class Refresher {
 
   private:
     RefreshOptions m_options;
-    denoise::AutoOptions m_auto;
-    denoise::BankOptions m_bank;
+    AutoRun m_run;
     std::optional<Denoised> m_last;
     double m_startSpp = 0.0;
     int m_refreshes = 0;

@@ -37,7 +37,16 @@ struct Callbacks {
     /// not all 0); an empty pointer keeps the current one. The render stays deterministic when
     /// the callback's answer is a function of the frame.
     std::function<std::shared_ptr<const Image>(int pass, const FrameBuffers& frame)> importance;
+    /// Adaptive sampling: when no pixel would take the next pass (each converged or at spp), the
+    /// frame so far. A map returned replaces the importance map and the pass is planned again
+    /// (larger weights lower the threshold: a time limit's caller keeps sampling); an empty
+    /// pointer ends the render, as does a run of kMaxConvergedRetries maps that open no pixel.
+    std::function<std::shared_ptr<const Image>(int pass, const FrameBuffers& frame)> converged;
 };
+
+/// The most maps in a row Callbacks::converged may return that open no pixel before the render
+/// ends (a caller that keeps scaling its map up cannot loop forever on pixels at spp).
+inline constexpr int kMaxConvergedRetries = 64;
 
 /// What a Metropolis render did (Settings::integrator == Mlt), per mutation kind in the order
 /// large step, small step, lens perturbation, light perturbation (mltMutationName()).
