@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <atomic>
 #include <cctype>
 #include <charconv>
 #include <cstdint>
@@ -12,9 +13,11 @@
 
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <initializer_list>
+#include <mutex>
 #include <new>
 #include <optional>
 #include <string>
@@ -124,15 +127,36 @@ inline void checkOutputIsNoInput(const std::string& output, const char* outputFl
 }
 
 namespace detail {
-// The temporary files of this process's outputs, as C strings a signal handler may use.
-inline std::vector<std::string>& signalTemporaries() {
-    static std::vector<std::string> paths;
-    return paths;
+// The temporary files and folders of this process's outputs, in the order given, as a list a
+// signal handler may walk at any moment: a node is whole before it is linked, nodes are never
+// freed, and the list's head needs no initialisation at run time (constinit). A function-local
+// static here would deadlock: a signal arriving while the first registration initialises it
+// re-entered its initialisation guard from the handler.
+struct SignalTemporary {
+    const char* path = nullptr;
+    std::atomic<SignalTemporary*> next{nullptr};
+};
+static_assert(std::atomic<SignalTemporary*>::is_always_lock_free);
+constinit inline SignalTemporary signalTemporaryHead{};  // no path: the list starts at next
+constinit inline SignalTemporary* signalTemporaryTail = &signalTemporaryHead;
+constinit inline std::mutex
+    signalTemporaryMutex{};  // for registering threads; never in the handler
+
+inline void addSignalTemporary(const std::string& path) {
+    char* copy = new char[path.size() + 1];
+    std::memcpy(copy, path.c_str(), path.size() + 1);
+    auto* node = new SignalTemporary;
+    node->path = copy;
+    const std::lock_guard<std::mutex> lock(signalTemporaryMutex);
+    signalTemporaryTail->next.store(node, std::memory_order_release);
+    signalTemporaryTail = node;
 }
+
 extern "C" inline void removeTemporariesAndDie(int sig) {
     // unlink a file, rmdir an (emptied) folder: both are async-signal-safe.
-    for (const std::string& p : signalTemporaries())
-        if (::unlink(p.c_str()) != 0) ::rmdir(p.c_str());
+    for (const SignalTemporary* n = signalTemporaryHead.next.load(std::memory_order_acquire); n;
+         n = n->next.load(std::memory_order_acquire))
+        if (::unlink(n->path) != 0) ::rmdir(n->path);
     std::signal(sig, SIG_DFL);
     std::raise(sig);
 }
@@ -163,14 +187,14 @@ inline void installSignalRule() {
 /// temporary file, and the old output stays intact. Call before the work starts.
 inline void removeTemporariesOnSignal(const std::vector<std::string>& outputs) {
     for (const std::string& o : outputs)
-        if (!o.empty()) detail::signalTemporaries().push_back(temporaryPathFor(o).string());
+        if (!o.empty()) detail::addSignalTemporary(temporaryPathFor(o).string());
     installSignalRule();
 }
 
 /// The same for temporary files known by their own names (Session::temporaries).
 inline void removeOnSignal(const std::vector<std::string>& temporaries) {
     for (const std::string& t : temporaries)
-        if (!t.empty()) detail::signalTemporaries().push_back(t);
+        if (!t.empty()) detail::addSignalTemporary(t);
     installSignalRule();
 }
 
