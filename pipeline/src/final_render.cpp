@@ -96,7 +96,10 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     };
     render::Settings settings = options.settings;
     settings.halfBuffers = true;
-    settings.timeLimit = options.timeLimit;
+    // On the options' clock the loop alone keeps the limit (its cancel below): the renderer's
+    // steady clock must not end the render first on a slow machine.
+    settings.timeLimit =
+        options.clock && options.timeLimit > 0.0 ? render::kMaxTimeLimit : options.timeLimit;
     TimeBudget budget(options.timeLimit, options.refreshShare, options.expectedAutoSeconds);
 
     // Auto at a quality (refresh.h, as the studio's refreshes run it), timed on the options' clock.

@@ -63,7 +63,8 @@ struct FinalOptions {
     /// limit keeps room for it); 0: unknown.
     double expectedAutoSeconds = 0.0;
     /// Seconds since any fixed time, for the time limit; empty: std::chrono::steady_clock.
-    /// (The renderer's own pass sizing reads the steady clock.) Tests pass a fake one.
+    /// (The renderer's own pass sizing reads the steady clock; with a clock here the limit is
+    /// kept by this clock alone.) Tests pass a fake one.
     std::function<double()> clock;
     /// One line per refresh and stage, for a log; may be empty.
     std::function<void(const std::string& line)> log;
