@@ -1,6 +1,7 @@
 // glint-studio [SCENE.json | IMAGE.exr | SESSION.glint-session.json]
 #include <QApplication>
 #include <QCommandLineParser>
+#include <QStringList>
 #include <QTimer>
 
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include "app/studio_settings.h"
 #include "glint/image/error.h"
 #include "glint/image/tev_client.h"
+#include "glint/render/asset_formats.h"
 
 int main(int argc, char** argv) {
     QApplication app(argc, argv);
@@ -25,10 +27,13 @@ int main(int argc, char** argv) {
         "on, compare with a reference (docs/studio.md)."));
     const QCommandLineOption help = parser.addHelpOption();
     const QCommandLineOption version = parser.addVersionOption();
+    QStringList formats;
+    for (const auto& format : glint::render::assetFormats())
+        formats << QString::fromStdString(format.name);
     parser.addPositionalArgument(
         QStringLiteral("file"),
-        QStringLiteral(
-            "a scene.json, a glTF or OBJ asset, a layered EXR or a .glint-session.json"));
+        QStringLiteral("a scene.json, an asset (%1), a layered EXR or a .glint-session.json")
+            .arg(formats.join(QStringLiteral(", "))));
     QCommandLineOption autosave(QStringLiteral("autosave-dir"),
                                 QStringLiteral("where edits are journalled (default: the user's "
                                                "application data folder)"),

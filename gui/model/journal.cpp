@@ -51,17 +51,25 @@ void Journal::append(const JournalEntry& entry) {
             [this](bool) { written(); }, [this](const QString&) { written(); });
     }
     if (!images.isEmpty()) op.insert(QStringLiteral("images"), images);
+    if (op.value(QStringLiteral("op")).toString() == QStringLiteral("open"))
+        m_previousPixels.clear();
     if (entry.frame) {
         const QString name = QStringLiteral("render-%1.exr").arg(m_next++, 6, 10, QLatin1Char('0'));
         op.insert(QStringLiteral("render"), name);
         FramePtr frame = entry.frame;
         const std::filesystem::path file = pathOf(m_folder, name);
-        // Only the latest render matters to the final state: an older "input" render goes.
-        const QString superseded =
-            op.value(QStringLiteral("op")).toString() == QStringLiteral("input") ? m_previousInput
-                                                                                 : QString();
-        m_previousInput =
-            op.value(QStringLiteral("op")).toString() == QStringLiteral("input") ? name : QString();
+        // Only the latest render matters to the final state: an older "input" render goes, and
+        // so does the older "pixels" of the image a tev client keeps updating (a new "open"
+        // starts another image, whose first pixels supersede nothing).
+        const QString kind = op.value(QStringLiteral("op")).toString();
+        QString superseded;
+        if (kind == QStringLiteral("input")) {
+            superseded = m_previousInput;
+            m_previousInput = name;
+        } else if (kind == QStringLiteral("pixels")) {
+            superseded = m_previousPixels;
+            m_previousPixels = name;
+        }
         const QString folder = m_folder;
         ++m_pendingWrites;
         m_writes.run<bool>(
@@ -117,14 +125,17 @@ std::vector<JournalEntry> Journal::read(const QString& folder, bool* complete) {
         return entries;
     }
     const QList<QByteArray> lines = file.readAll().split('\n');
-    // Of the "input" renders only the latest on disk is kept (an older one is removed once the
-    // next is written, so a crash during that write leaves the older).
-    int lastInput = -1;
+    // Of the "input" renders, and of the "pixels" ones, only the latest on disk is read (an
+    // older one is removed once the next is written, so a crash during that write leaves the
+    // older); the others' entries come without their render.
+    int lastInput = -1, lastPixels = -1;
     for (int i = 0; i < lines.size(); ++i) {
         const QJsonObject op = QJsonDocument::fromJson(lines[i]).object();
-        if (op.value(QStringLiteral("op")).toString() == QStringLiteral("input") &&
-            QFile::exists(QDir(folder).filePath(op.value(QStringLiteral("render")).toString())))
-            lastInput = i;
+        if (!QFile::exists(QDir(folder).filePath(op.value(QStringLiteral("render")).toString())))
+            continue;
+        const QString kind = op.value(QStringLiteral("op")).toString();
+        if (kind == QStringLiteral("input")) lastInput = i;
+        if (kind == QStringLiteral("pixels")) lastPixels = i;
     }
     for (int i = 0; i < lines.size(); ++i) {
         if (lines[i].trimmed().isEmpty()) continue;
@@ -140,9 +151,11 @@ std::vector<JournalEntry> Journal::read(const QString& folder, bool* complete) {
             for (const QJsonValue& name : entry.op.value(QStringLiteral("images")).toArray())
                 entry.images.push_back(readImage(pathOf(folder, name.toString()), false));
             const QString render = entry.op.value(QStringLiteral("render")).toString();
-            const bool input =
-                entry.op.value(QStringLiteral("op")).toString() == QStringLiteral("input");
-            if (!render.isEmpty() && (!input || i == lastInput))
+            const QString kind = entry.op.value(QStringLiteral("op")).toString();
+            const bool latestOnly =
+                kind == QStringLiteral("input") || kind == QStringLiteral("pixels");
+            const int latest = kind == QStringLiteral("input") ? lastInput : lastPixels;
+            if (!render.isEmpty() && (!latestOnly || i == latest))
                 entry.frame = std::make_shared<const FrameBuffers>(readExr(pathOf(folder, render)));
         } catch (const Error&) {
             if (complete) *complete = false;

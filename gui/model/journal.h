@@ -43,8 +43,9 @@ class Journal : public QObject {
   private:
     QString m_folder;
     TaskRunner m_writes;
-    int m_next = 0;           // numbers the side files
-    QString m_previousInput;  // the render of the last "input" entry (superseded by the next)
+    int m_next = 0;            // numbers the side files
+    QString m_previousInput;   // the render of the last "input" entry (superseded by the next)
+    QString m_previousPixels;  // the render of the last "pixels" entry since the last "open"
     int m_pendingWrites = 0;
     std::vector<std::function<void()>> m_afterWrites;
     void written();

@@ -41,9 +41,10 @@ class Replay {
             m_reference.reset();
         } else if (op == QStringLiteral("pixels")) {
             // The received image's client updated it: the latest pixels.
+            // An older update's render is removed once the next is written: none to apply.
             if (!m_received)
                 throw Error(ErrorKind::Format, "the journal updates pixels of no image");
-            m_received = frame(entry);
+            if (entry.frame) m_received = entry.frame;
         } else if (op == QStringLiteral("reference")) {
             m_reference = entry;  // decoded at the end, against the look then
         } else if (op == QStringLiteral("look")) {

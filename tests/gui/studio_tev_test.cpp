@@ -6,6 +6,8 @@
 #include <QDir>
 #include <QFile>
 #include <QFileInfo>
+#include <QJsonDocument>
+#include <QJsonObject>
 #include <QSignalSpy>
 #include <QStandardPaths>
 #include <QTcpSocket>
@@ -188,10 +190,21 @@ class StudioTevTest : public QObject {
                 },
                 60000));
             QVERIFY(waitIdle(*w, 60000));
-            QVERIFY(client.send(
-                tev::UpdateImage{"pbrt (9)", false, {"R", "G", "B"}, 0, 0, width, 8, top}));
-            QVERIFY(waitFor([&] { return shows(*w->document(), 0, 0, top[0]); }, 60000));
-            QVERIFY(waitIdle(*w, 60000));
+            // The top half in two updates of four rows each: two "pixels" entries.
+            for (int y0 = 0; y0 < 8; y0 += 4) {
+                const auto rows = top.begin() + std::ptrdiff_t(y0 * width * 3);
+                QVERIFY(
+                    client.send(tev::UpdateImage{"pbrt (9)",
+                                                 false,
+                                                 {"R", "G", "B"},
+                                                 0,
+                                                 y0,
+                                                 width,
+                                                 4,
+                                                 {rows, rows + std::ptrdiff_t(4 * width * 3)}}));
+                QVERIFY(waitFor([&] { return shows(*w->document(), 0, y0, *rows); }, 60000));
+                QVERIFY(waitIdle(*w, 60000));
+            }
             // The artist adds a layer and paints a stroke on it.
             QVERIFY(addGaussian(*w, false));
             QVERIFY(waitIdle(*w, 60000));
@@ -211,6 +224,18 @@ class StudioTevTest : public QObject {
             QVERIFY(QDir().mkpath(crashed));
             for (const QString& file : journal.entryList(QDir::Files))
                 QVERIFY(QFile::copy(journal.filePath(file), QDir(crashed).filePath(file)));
+            // Of the client's updates only the latest render is kept on disk.
+            QFile lines(journal.filePath(QStringLiteral("journal.jsonl")));
+            QVERIFY(lines.open(QIODevice::ReadOnly));
+            QStringList updates;
+            for (const QByteArray& line : lines.readAll().split('\n')) {
+                const QJsonObject op = QJsonDocument::fromJson(line).object();
+                if (op.value(QStringLiteral("op")).toString() == QStringLiteral("pixels"))
+                    updates << op.value(QStringLiteral("render")).toString();
+            }
+            QVERIFY2(updates.size() >= 2, qPrintable(updates.join(QLatin1Char(' '))));
+            for (int i = 0; i < updates.size(); ++i)
+                QCOMPARE(QFile::exists(journal.filePath(updates[i])), i == updates.size() - 1);
         }
         // A fresh studio reopens it: the same image, the same layer and stroke.
         auto w = makeWindow(m_dir.filePath(QStringLiteral("autosave-reopened")));

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "cli_fixture.h"
+#include "glint/render/asset_formats.h"
 
 namespace fs = std::filesystem;
 
@@ -245,3 +246,12 @@ TEST_F(ToolInputs, EveryToolExitsTwoOnAnUnknownOption) {
         EXPECT_EQ(own, 1) << r.err;
     }
 }
+
+#ifdef GLINT_STUDIO_BUILT
+TEST_F(ToolInputs, TheStudiosHelpNamesEveryRegisteredAssetFormat) {
+    const auto r = tool("glint-studio", "--help");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    for (const auto& format : glint::render::assetFormats())
+        EXPECT_NE(r.out.find(format.name), std::string::npos) << format.name << "\n" << r.out;
+}
+#endif
