@@ -2,11 +2,13 @@
 // settings and the reference, and restoring them when a session is opened (docs/studio.md,
 // "Session files").
 #include <QFileInfo>
+#include <QSignalBlocker>
 #include <QStatusBar>
 
 #include "app/main_window.h"
 #include "app/studio_settings.h"
 #include "glint/image/error.h"
+#include "model/progressive_render.h"
 #include "model/reference_info.h"
 #include "model/session_state.h"
 #include "views/viewer.h"
@@ -67,6 +69,8 @@ std::map<std::string, std::string> MainWindow::viewState() const {
     state["lasso"] = m_region->toString().toStdString();
     state["exposure"] = std::to_string(m_viewer->exposure());
     state["stage"] = std::to_string(stage());
+    // Render ▸ Keep Refining, a render option kept with the others.
+    state["keepRefining"] = std::to_string(int(m_actions.keepRefining->isChecked()));
     return state;
 }
 
@@ -79,6 +83,12 @@ void MainWindow::applyViewState(const std::map<std::string, std::string>& state)
     bool ok = false;
     const double exposure = get("exposure").toDouble(&ok);
     if (ok) m_viewer->setExposure(exposure);
+    if (const QString refining = get("keepRefining"); !refining.isEmpty()) {
+        // The toggle alone: the next render refines (restoring renders nothing).
+        const QSignalBlocker quiet(m_actions.keepRefining);
+        m_actions.keepRefining->setChecked(refining == QLatin1String("1"));
+        m_progressive->setEnabled(m_actions.keepRefining->isChecked());
+    }
     // The scene, opened without rendering, then given the saved look and settings before
     // anything renders: a look change renders and re-applies the layers.
     const QString scene = get("scene");

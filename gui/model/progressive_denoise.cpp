@@ -11,6 +11,14 @@ ProgressiveDenoise::ProgressiveDenoise(Document* document, SessionAdapter* sessi
     connect(m_document, &Document::frameChanged, this, [this](bool final) {
         if (!final) onPass();
     });
+    // The latest pass wins: one that arrived during a re-application is taken as soon as it ends
+    // (queued: after the session installed it), not left for the next pass.
+    connect(
+        m_session, &SessionAdapter::busyChanged, this,
+        [this](bool busy) {
+            if (!busy && m_document->rendering()) onPass();
+        },
+        Qt::QueuedConnection);
 }
 
 void ProgressiveDenoise::onPass() {

@@ -1,8 +1,8 @@
 // A long render under a painted session shows its passes denoised as they arrive, not only once
 // it has finished: a pass with at least as many samples per pixel as the render the session
 // holds (so never noisier than the denoised image on screen) becomes the session's input, its
-// layers re-applied in the background. One re-application at a time: passes that arrive while
-// one runs are skipped (the next pass, or the finished render, follows). Previews are not
+// layers re-applied in the background. One re-application at a time: of the passes that arrive
+// while one runs, the latest is taken when it ends (the others are skipped). Previews are not
 // journalled (the finished render is). No widgets here.
 #pragma once
 

@@ -7,7 +7,30 @@
 
 #include "glint/image/error.h"
 
+#ifdef __linux__
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+#endif
+
 namespace glint::studio {
+
+namespace {
+
+/// The nice value a refresh's worker adds to its own: the map can wait, the layers re-applied
+/// to the passes (the image on screen) and the render go first.
+constexpr int kRefreshNice = 5;
+
+/// Lowers the calling thread's priority by kRefreshNice (Linux: the nice value is a thread's).
+void lowerThisThreadsPriority() {
+#ifdef __linux__
+    const auto tid = id_t(::syscall(SYS_gettid));
+    const int nice = ::getpriority(PRIO_PROCESS, tid);
+    (void)::setpriority(PRIO_PROCESS, tid, std::min(19, nice + kRefreshNice));
+#endif
+}
+
+}  // namespace
 
 ProgressiveRender::ProgressiveRender(QObject* parent) : QObject(parent) {}
 
@@ -37,6 +60,9 @@ pipeline::RefreshOptions ProgressiveRender::refreshOptions() {
     o.bankSize = 2;
     o.filters = {"cross-bilateral"};
     o.focus = 0.1;
+    // Auto on one thread (at a lower priority, on its worker): the other core re-applies the
+    // layers and renders.
+    o.threads = 1;
     return o;
 }
 
@@ -82,12 +108,21 @@ struct ProgressiveRender::Steer {
         if (!refresher->last() && !worker.joinable()) first = refresher->provisional(frame);
         if (worker.joinable()) worker.join();
         running = true;
+        {
+            std::lock_guard lock(shared->mutex);
+            ++shared->activity.started;
+        }
         worker = std::thread([this, copy = frame] {
+            lowerThisThreadsPriority();
             std::optional<pipeline::Denoised> d;
             try {
                 d = refresher->denoise(copy);
             } catch (const std::exception&) {
                 // Cancelled, a frame auto refuses, no memory: the map stays as it is.
+            }
+            {
+                std::lock_guard lock(shared->mutex);
+                ++shared->activity.finished;
             }
             std::lock_guard lock(mutex);
             ready = std::move(d);
@@ -113,6 +148,11 @@ RenderJob::ImportanceFn ProgressiveRender::steer(std::function<bool()> stopping)
 ProgressiveRender::Handed ProgressiveRender::lastHanded() const {
     std::lock_guard lock(m_shared->mutex);
     return m_shared->handed;
+}
+
+ProgressiveRender::Activity ProgressiveRender::activity() const {
+    std::lock_guard lock(m_shared->mutex);
+    return m_shared->activity;
 }
 
 }  // namespace glint::studio

@@ -5,9 +5,10 @@
 // render (a look or camera edit, Render) or Cancel. The frame at the bar's spp is the finished
 // render as without refining (the session, the first denoise, the journal); later passes are shown
 // denoised by the session's layers (model/progressive_denoise.h), which refreshes never touch.
-// Auto never runs on the UI thread nor holds the render: each refresh runs on a worker of its own
-// while the render goes on, and its map steers the passes after it; until the first one, the
-// frame's own relative variance does (Refresher::provisional). No widgets here.
+// Auto never runs on the UI thread nor holds the render: each refresh runs on a worker of its own,
+// one thread at a lower priority (the layers' re-application of the passes on screen and the
+// render go first), while the render goes on, and its map steers the passes after it; until the
+// first one, the frame's own relative variance does (Refresher::provisional). No widgets here.
 #pragma once
 
 #include <QObject>
@@ -42,8 +43,9 @@ class ProgressiveRender : public QObject {
     /// The refining render of the bar's `settings`: adaptive with half buffers (auto's error
     /// needs them), every pixel first at the bar's spp, then at most kSppFactor times it.
     static render::Settings refining(const render::Settings& settings);
-    /// The studio's refreshes: auto at quality fast on a small bank of cross-bilateral, the map
-    /// open on the worst tenth of the pixels (short passes), again once the mean spp doubled.
+    /// The studio's refreshes: auto at quality fast on a small bank of cross-bilateral, on one
+    /// thread, the map open on the worst tenth of the pixels (short passes), again once the mean
+    /// spp doubled.
     static pipeline::RefreshOptions refreshOptions();
     /// The steering of one refining render (RenderJob::start's importance); `stopping` (polled
     /// by auto) tells when the render was cancelled or superseded.
@@ -56,6 +58,12 @@ class ProgressiveRender : public QObject {
         int refreshes = 0;  ///< of the render that took it
     };
     Handed lastHanded() const;
+    /// Auto's refreshes started and finished so far, over all renders (benchmarks, tests).
+    struct Activity {
+        int started = 0;
+        int finished = 0;
+    };
+    Activity activity() const;
 
   private:
     struct Steer;
@@ -63,6 +71,7 @@ class ProgressiveRender : public QObject {
     struct Shared {
         std::mutex mutex;
         Handed handed;
+        Activity activity;
     };
 
     bool m_enabled = false;

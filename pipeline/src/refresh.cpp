@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cmath>
 
+#include <tbb/task_arena.h>
+
 #include "glint/denoise/auto_stream.h"
 #include "glint/image/error.h"
 #include "glint/pipeline/steering.h"
@@ -67,8 +69,9 @@ Refresher::Refresher(RefreshOptions options)
     : m_options(std::move(options)),
       m_run(autoRun(m_options.autoOptions, m_options.quality, m_options.bankSize,
                     m_options.filters)) {
-    GLINT_CHECK(m_options.growth > 1.0 && m_options.focus > 0.0 && m_options.focus <= 1.0,
-                "a refresh growth above 1 and a focus in (0, 1]");
+    GLINT_CHECK(m_options.growth > 1.0 && m_options.focus > 0.0 && m_options.focus <= 1.0 &&
+                    m_options.threads >= 0,
+                "a refresh growth above 1, a focus in (0, 1] and threads at least 0");
 }
 
 bool Refresher::due(const FrameBuffers& frame) const {
@@ -76,7 +79,10 @@ bool Refresher::due(const FrameBuffers& frame) const {
 }
 
 Denoised Refresher::denoise(const FrameBuffers& frame) const {
-    return denoiseFrame(frame, m_run);
+    if (m_options.threads == 0) return denoiseFrame(frame, m_run);
+    // No thread outside the arena joins its work (one slot reserved for this one).
+    tbb::task_arena arena(m_options.threads, 1);
+    return arena.execute([&] { return denoiseFrame(frame, m_run); });
 }
 
 void Refresher::adopt(Denoised denoised) {

@@ -1,8 +1,10 @@
 // Keep refining (model/progressive_render.h, docs/studio.md): the render goes on past the bar's
 // spp steered by auto's per-pixel error of the denoised image, the denoised image on screen
 // refreshed as it goes; Cancel and a look edit stop and restart it; the session's layers, weights
-// and undo history are untouched by its refreshes. (How often the screen refreshes and how long
-// the UI thread stalls are measured by lab/bench/bench_studio.cpp --progressive, never here.)
+// and undo history are untouched by its refreshes; a pass that came during a re-application of
+// the layers is shown when it ends; the toggle is kept with the session. (How often the screen
+// refreshes and how long the UI thread stalls are measured by
+// lab/bench/bench_studio_progressive.cpp, never here.)
 #include <QApplication>
 #include <QSignalSpy>
 #include <QStandardPaths>
@@ -177,6 +179,70 @@ class StudioProgressiveTest : public QObject {
         QCOMPARE(w->session()->session().layerCount(), std::size_t(1));
         QVERIFY(stop(*w));
         QVERIFY(SessionShape::of(*w) == before);
+    }
+
+    void aPassThatArrivedDuringAReapplicationIsShownWhenItEnds() {
+        auto w = refining(QStringLiteral("latest"));
+        QVERIFY(w);
+        const int barSpp = w->document()->settings().spp;
+        // A pass past the bar's spp, then the render held: no pass arrives from here on.
+        QVERIFY(waitFor([&] {
+            return w->document()->frame() && w->document()->frame()->metadata().spp > barSpp;
+        }));
+        w->document()->setPaused(true);
+        QVERIFY(waitFor([&] { return !w->session()->busy(); }));
+        // The session re-applies its layers to an older render (the bar's); when that ends the
+        // latest pass, which came before, is shown without waiting for another.
+        w->session()->setInput(w->document()->finishedFrame(), false);
+        QVERIFY(w->session()->busy());
+        QVERIFY(waitFor(
+            [&] {
+                return !w->session()->busy() && w->session()->input() == w->document()->frame();
+            },
+            20000));
+        QVERIFY(w->session()->input()->metadata().spp > barSpp);
+        QVERIFY(w->document()->rendering());
+        w->document()->setPaused(false);
+        QVERIFY(stop(*w));
+    }
+
+    void theToggleIsSavedWithTheSessionAndComesBackWithoutRendering() {
+        auto w = openAndWait(m_scene, m_dir.filePath(QStringLiteral("persist")));
+        QVERIFY(w && waitIdle(*w));
+        auto save = [&](const QString& name) {
+            const QString path = m_dir.filePath(name);
+            return w->saveSession(path) && waitFor([&] { return !w->session()->busy(); })
+                       ? path
+                       : QString();
+        };
+        w->actions().keepRefining->setChecked(true);
+        QVERIFY(waitFor([&] { return w->document()->refining(); }));
+        QVERIFY(stop(*w));
+        const QString on = save(QStringLiteral("on.glint-session.json"));
+        QVERIFY(!on.isEmpty());
+        w->actions().keepRefining->setChecked(false);
+        QVERIFY(waitIdle(*w));
+        const QString off = save(QStringLiteral("off.glint-session.json"));
+        QVERIFY(!off.isEmpty());
+        w->close();
+        w.reset();
+
+        // A new window starts with it off; the first session turns it on, the second off again,
+        // neither rendering.
+        auto again = makeWindow(m_dir.filePath(QStringLiteral("persist-again")));
+        QVERIFY(!again->actions().keepRefining->isChecked());
+        for (const auto& [path, expected] : {std::pair{on, true}, std::pair{off, false}}) {
+            again->openFile(path);
+            QVERIFY(waitFor([&] {
+                return again->session()->hasSession() && !again->session()->busy() &&
+                       again->document()->kind() == Document::Kind::Scene &&
+                       !again->document()->loading() && again->document()->finishedFrame() &&
+                       again->actions().keepRefining->isChecked() == expected;
+            }));
+            QCOMPARE(again->progressive()->enabled(), expected);
+            QVERIFY(!again->document()->rendering());
+        }
+        QVERIFY(again->lastError().isEmpty());
     }
 };
 

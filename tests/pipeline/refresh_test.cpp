@@ -1,12 +1,17 @@
 // The steering loop's refresh (glint/pipeline/refresh.h), shared by glint-final and the studio's
 // Keep Refining: when a refresh is due, the map's schedule scale, and the focus that keeps only
-// the worst pixels open.
+// the worst pixels open; auto in an arena of the threads asked for, with the same bits.
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include "glint/pipeline/refresh.h"
 #include "glint/pipeline/steering.h"
+#include "glint/render/renderer.h"
+#include "glint/render/scene.h"
 
 namespace glint::pipeline {
 namespace {
@@ -85,6 +90,46 @@ TEST(Refresh, TheProvisionalMapOpensTheNoisiestPixelsByTheirOwnVariance) {
     EXPECT_EQ(map(1, 0, 0), 1.0f);
     EXPECT_EQ(map(2, 0, 0), 0.0f);
     EXPECT_EQ(map(3, 0, 0), 1.0f);
+}
+
+TEST(Refresh, AutoRunsOnTheThreadsAskedForWithTheSameBits) {
+    // A 16 × 16 Cornell box at 8 spp with half buffers (auto's error needs them).
+    const std::string obj = std::string(GLINT_RENDER_TEST_DATA) + "/cornell_box.obj";
+    render::Renderer renderer(render::parseScene(
+        R"({"camera": {"position": [278, 273, -800], "lookAt": [278, 273, 0], "fovY": 39.3},
+            "film": {"width": 16, "height": 16}, "shapes": [{"obj": ")" +
+            obj + R"("}], "render": {"spp": 8, "maxDepth": 4, "seed": 3, "halfBuffers": true}})",
+        std::string(GLINT_RENDER_TEST_DATA) + "/scene.json"));
+    const FrameBuffers frame = renderer.render(renderer.scene().settings()).frame;
+    // The widest arena auto's progress was reported from.
+    int widest = 0;
+    auto denoised = [&](int threads) {
+        RefreshOptions o;
+        o.quality = denoise::AutoQuality::Fast;
+        o.bankSize = 2;
+        o.filters = {"cross-bilateral"};
+        o.threads = threads;
+        o.autoOptions.progress = [&](double) {
+            widest = std::max(widest, tbb::this_task_arena::max_concurrency());
+            return true;
+        };
+        widest = 0;
+        return Refresher(o).denoise(frame);
+    };
+    const Denoised one = denoised(1);
+    EXPECT_EQ(widest, 1);
+    const Denoised all = denoised(0);
+    EXPECT_EQ(widest, tbb::this_task_arena::max_concurrency());
+    ASSERT_EQ(one.result.composite.data().size(), all.result.composite.data().size());
+    EXPECT_TRUE(std::equal(one.result.composite.data().begin(), one.result.composite.data().end(),
+                           all.result.composite.data().begin()));
+    EXPECT_EQ(one.relMse, all.relMse);
+}
+
+TEST(Refresh, RefusesNegativeThreads) {
+    RefreshOptions o;
+    o.threads = -1;
+    EXPECT_ANY_THROW(Refresher{o});
 }
 
 }  // namespace

@@ -37,6 +37,10 @@ struct RefreshOptions {
     /// others weigh 0: they keep their samples until a later refresh names them); 1: all. Short
     /// adaptive passes for a display that refreshes often.
     double focus = 1.0;
+    /// The threads auto may take: 0, those of the arena it is called in; n, an arena of its own
+    /// of n (the studio's refreshes take one, leaving the others to the render and the display).
+    /// The result's bits do not depend on it.
+    int threads = 0;
 };
 
 /// Auto's result on one frame and what it says of the denoised image.
@@ -75,8 +79,8 @@ class Refresher {
     /// Whether `frame` has grown enough since the last refresh for another (always before the
     /// first).
     bool due(const FrameBuffers& frame) const;
-    /// Auto on `frame` with the options (estimateError on). Throws as autoCompositeStreamed
-    /// (Error(Cancelled) when autoOptions.progress says stop).
+    /// Auto on `frame` with the options (estimateError on), on `threads` threads. Throws as
+    /// autoCompositeStreamed (Error(Cancelled) when autoOptions.progress says stop).
     Denoised denoise(const FrameBuffers& frame) const;
     /// Makes `denoised` the latest refresh (counted, its seconds added).
     void adopt(Denoised denoised);
