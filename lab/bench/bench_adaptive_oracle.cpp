@@ -133,9 +133,11 @@ int main(int argc, char** argv) {
                 allocationBound(uniform.errors),
                 allocationBound(relativeErrors(uniform.frame.color(), reference)));
     if (!mapOut.empty()) {
-        glint::Image map(w, h, 1);
+        // Grey, so that glint-image convert --false-color shows it.
+        glint::Image map(w, h, 3);
         for (std::size_t i = 0; i < uniform.errors.size(); ++i)
-            map.data()[i] = float(uniform.errors[i]);
+            for (int c = 0; c < 3; ++c)
+                map.data()[3 * i + std::size_t(c)] = float(uniform.errors[i]);
         glint::writeImage(map, mapOut);
     }
 

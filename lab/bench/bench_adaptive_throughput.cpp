@@ -137,7 +137,25 @@ int main(int argc, char** argv) {
                     p, (unsigned long long)r1.active, (unsigned long long)r1.samples,
                     (unsigned long long)r1.largestTile, r1.called - r0.last, r1.last - r1.called);
         }
+        // Least squares over the adaptive passes: pass seconds = fixed + perSample · samples;
+        // what the passes cost beyond their samples is passes × (fixed + gap).
+        double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+        for (std::size_t p = 1; p < passes.size(); ++p) {
+            const PassRecord& r1 = passes[p];
+            if (r1.called == 0.0 || r1.samples == 0) continue;
+            const double x = double(r1.samples), y = r1.last - r1.called;
+            sx += x, sy += y, sxx += x * x, sxy += x * y;
+        }
+        const double np = double(adaptivePasses);
+        const double perSample =
+            np > 1 ? (np * sxy - sx * sy) / std::max(np * sxx - sx * sx, 1e-300) : 0.0;
+        const double fixed = np > 0 ? (sy - perSample * sx) / np : 0.0;
         const double k = adaptivePasses > 0 ? 1.0 / adaptivePasses : 0.0;
+        if (adaptive)
+            std::printf(
+                "#fit: a pass costs %.2f ms + %.3f us a sample; passes beyond their "
+                "samples (fixed + gap): %.2f s of %.2f\n",
+                1e3 * fixed, 1e6 * perSample, np * (fixed + gap * k), st.seconds);
         std::printf("%s\t%d\t%.2f\t%llu\t%.1f\t%.0f\t%.2f\t%.0f\t%d\t%d\t%.0f\t%.4f\t%.4f\t%.3f\n",
                     adaptive ? "adaptive" : "uniform", threads, st.seconds,
                     (unsigned long long)st.samples, double(st.samples) / (double(w) * h),
