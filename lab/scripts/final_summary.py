@@ -2,19 +2,23 @@
 """bench_final's TSV rows (any number of files) -> a Markdown table: per scene, budget and seed,
 uniform + auto's relMSE and each adaptive way's change against it (mean spp in brackets), then
 the geometric mean of each way's ratio per scene and budget (docs/lab/adaptive-sampling.md).
+The adaptive ways are the columns in the order the rows first name them (bench_final's fixed,
+variance, denoiser; bench_adaptive_equal_time's fixed, variance, spread).
    python3 lab/scripts/final_summary.py run1.tsv run2.tsv ..."""
 import csv
 import math
 import sys
 from collections import defaultdict
 
-WAYS = ["fixed", "variance", "denoiser"]
+WAYS = []
 rows = defaultdict(dict)
 for path in sys.argv[1:]:
     with open(path) as f:
         for r in csv.DictReader((l for l in f if "\t" in l), delimiter="\t"):
             if r.get("relMSE"):
-                rows[(r["scene"], int(r["budget"]), int(r["seed"]))][r["way"]] = r
+                rows[(r["scene"], int(float(r["budget"])), int(r["seed"]))][r["way"]] = r
+                if r["way"] != "uniform" and r["way"] not in WAYS:
+                    WAYS.append(r["way"])
 
 print("| scene | budget | seed | uniform | " + " | ".join(WAYS) + " |")
 print("|---|---|---|---|" + "---|" * len(WAYS))

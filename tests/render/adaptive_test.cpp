@@ -9,6 +9,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -249,6 +250,35 @@ TEST_F(AdaptiveScene, EveryPixelContinuesItsOwnSequenceSoAllPixelsOpenIsTheUnifo
             EXPECT_TRUE(test::sameLayer(a, u, l))
                 << layerDisplayName(l) << ", " << samplerName(sampler);
     }
+}
+
+TEST_F(AdaptiveScene, APassOverFewOpenPixelsTakesLargerStepsSoItsFixedCostIsShared) {
+    // Four open pixels of 576 (the map's weight 0 elsewhere): a pass of 16 samples each would be
+    // 64 samples, its fixed cost (the plan, the tiles, the threads meeting) many times theirs.
+    // The passes double as uniform ones do, up to a step of 256 (the film's 2 spp need 288):
+    // 8 passes to spp instead of 64 (the callback asks once more, before the plan that ends the
+    // render), and the others keep the start.
+    Renderer renderer(cornell(24, 24));
+    Settings s = adaptiveSettings();
+    s.spp = 1024;
+    s.noiseThreshold = 1e-9;
+    auto weights = std::make_shared<Image>(24, 24, 1, 0.0f);
+    for (int y = 5; y < 7; ++y)
+        for (int x = 5; x < 7; ++x) (*weights)(x, y, 0) = 1.0f;
+    s.importance = weights;
+    std::vector<float> before;  // pixel (5, 5)'s count before each adaptive pass
+    Callbacks callbacks;
+    callbacks.importance = [&](int, const FrameBuffers& frame) {
+        before.push_back(frame.layer(Layer::SampleCount)(5, 5, 0));
+        return std::shared_ptr<const Image>();
+    };
+    const FrameBuffers f = renderer.render(s, callbacks).frame;
+    EXPECT_EQ(before, (std::vector<float>{8, 16, 32, 64, 128, 256, 512, 768, 1024}));
+    const Image& count = f.layer(Layer::SampleCount);
+    for (int y = 0; y < 24; ++y)
+        for (int x = 0; x < 24; ++x)
+            EXPECT_EQ(count(x, y, 0), (*weights)(x, y, 0) > 0.0f ? 1024.0f : 8.0f)
+                << x << ", " << y;
 }
 
 TEST_F(AdaptiveScene, TheSameSeedGivesTheSameBitsForAnyThreadCount) {

@@ -44,7 +44,9 @@ PathPasses::PathPasses(const detail::SceneData& data, const PathIntegrator& inte
     std::tie(m_log2Res, m_log2Spp) = zsobolLayout(data, settings);
     if (settings.adaptive) {
         m_active.assign(std::size_t(data.width) * std::size_t(data.height), 0);
+        m_tileActive.assign(m_tiles.size(), 0);
         m_tileSamples.assign(m_tiles.size(), 0);
+        m_regionPixels = std::uint64_t(region.width()) * std::uint64_t(region.height());
         m_maxSpp = settings.spp > 0 ? settings.spp : kMaxSpp;
         m_importance = settings.importance;
     }
@@ -89,10 +91,22 @@ std::uint64_t PathPasses::planAdaptivePass() {
             m_active[i] = take;
             active += take;
         }
+    for (std::size_t t = 0; t < m_tiles.size(); ++t) {
+        std::uint32_t open = 0;
+        const Rect& tile = m_tiles[t];
+        for (int y = tile.y0; y < tile.y1; ++y)
+            for (int x = tile.x0; x < tile.x1; ++x) open += m_active[std::size_t(y) * w + x];
+        m_tileActive[t] = open;
+    }
     return active;
 }
 
 void PathPasses::run(const PassInfo& pass, std::size_t item, const RenderLoop&) {
+    // A tile with no open pixel: nothing to set up.
+    if (pass.adaptive && m_tileActive[item] == 0) {
+        m_tileSamples[item] = 0;
+        return;
+    }
     const bool halves = m_settings.halfBuffers;
     const std::uint64_t seed = m_settings.seed;
     // With half buffers, sample s is sample s/2 of half s mod 2's own scramble.

@@ -37,6 +37,7 @@ class PathPasses final : public PassWork {
     void run(const PassInfo& pass, std::size_t item, const RenderLoop& loop) override;
     std::uint64_t planAdaptivePass() override;
     void setImportance(std::shared_ptr<const Image> weights) override;
+    std::uint64_t adaptivePixels() const override { return m_regionPixels; }
     std::uint64_t adaptiveItemSamples(std::size_t item) const override {
         return m_tileSamples[item];
     }
@@ -66,10 +67,13 @@ class PathPasses final : public PassWork {
     std::uint64_t m_halfSeed[2];
     int m_log2Res = 0, m_log2Spp = 0;
     std::atomic<std::uint64_t> m_rays{0};
-    // Adaptive sampling: the pixels of the next adaptive pass (1: takes it), the samples each
-    // tile took in the last one, and the most samples a pixel takes.
+    // Adaptive sampling: the pixels of the next adaptive pass (1: takes it) and how many each
+    // tile holds (a tile without any is skipped), the samples each tile took in the last one,
+    // the region's pixels and the most samples a pixel takes.
     std::vector<std::uint8_t> m_active;
+    std::vector<std::uint32_t> m_tileActive;
     std::vector<std::uint64_t> m_tileSamples;
+    std::uint64_t m_regionPixels = 0;
     int m_maxSpp = 0;
     std::shared_ptr<const Image> m_importance;  // Settings::importance, or the callback's
 };

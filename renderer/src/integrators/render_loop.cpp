@@ -36,6 +36,13 @@ void RenderLoop::setAdaptive(int startSpp) {
     m_adaptiveStart = m_spp > 0 ? std::min(startSpp, m_spp) : startSpp;
 }
 
+int RenderLoop::adaptiveStep(std::uint64_t active, std::uint64_t pixels) {
+    int step = kAdaptiveStep;
+    while (step < kMaxAdaptiveStep && active * std::uint64_t(step) < kAdaptivePassSpp * pixels)
+        step *= 2;
+    return step;
+}
+
 double RenderLoop::elapsed() const {
     return std::chrono::duration<double>(Clock::now() - m_start).count();
 }
@@ -140,7 +147,9 @@ LoopResult RenderLoop::run(PassWork& work, bool reportPasses) {
                 active = work.planAdaptivePass();
             }
             if (active == 0) break;
-            count = std::min(count, kAdaptiveStep);
+            // Passes double as the uniform ones do, up to the step the open pixels allow.
+            count = std::min(std::clamp(done, 1, kMaxAdaptiveStep),
+                             adaptiveStep(active, work.adaptivePixels()));
             if (timed && secondsPerSample > 0.0)
                 count = int(std::clamp((m_budget - elapsed()) / (secondsPerSample * double(active)),
                                        1.0, double(count)));

@@ -61,6 +61,9 @@ class PassWork {
     /// Adaptive sampling: replaces the importance map (Callbacks::importance); throws
     /// glint::Error(InvalidArgument) for a map that is not one.
     virtual void setImportance(std::shared_ptr<const Image> /*weights*/) {}
+    /// Adaptive sampling: the pixels an adaptive pass chooses from (the render region); 0 keeps
+    /// every adaptive pass at RenderLoop::kAdaptiveStep.
+    virtual std::uint64_t adaptivePixels() const { return 0; }
     /// The pixel samples item `item` took in the last adaptive pass.
     virtual std::uint64_t adaptiveItemSamples(std::size_t /*item*/) const { return 0; }
     /// After each completed pass (before any snapshot of it is taken).
@@ -99,11 +102,23 @@ class RenderLoop {
     void restrictSamples(int begin, int end);
 
     /// Adaptive sampling: uniform passes up to `startSpp` samples per pixel, then adaptive
-    /// passes of at most kAdaptiveStep samples (PassWork::planAdaptivePass); `spp` bounds
-    /// each pixel (0: only the time budget and convergence end the render).
+    /// passes (PassWork::planAdaptivePass) of adaptiveStep() samples at most; `spp` bounds each
+    /// pixel (0: only the time budget and convergence end the render).
     void setAdaptive(int startSpp);
-    /// The most samples an adaptive pass adds to a pixel (Cycles checks every 16).
+    /// The most samples an adaptive pass adds to a pixel while many are open (Cycles checks
+    /// every 16).
     static constexpr int kAdaptiveStep = 16;
+    /// The most an adaptive pass adds to a pixel when few are open.
+    static constexpr int kMaxAdaptiveStep = 256;
+    /// The samples of the film's pixels an adaptive pass carries at least, when its step allows:
+    /// a pass over few open pixels would otherwise cost more in its fixed part (planning, the
+    /// tiles' loop, the threads meeting at its end) than in its samples (docs/lab/
+    /// adaptive-sampling.md, "Why adaptive loses on dof").
+    static constexpr int kAdaptivePassSpp = 2;
+    /// An adaptive pass's step over `active` open pixels of `pixels`: kAdaptiveStep doubled
+    /// while the pass carries fewer than kAdaptivePassSpp × pixels samples, up to
+    /// kMaxAdaptiveStep (kAdaptiveStep when pixels is 0).
+    static int adaptiveStep(std::uint64_t active, std::uint64_t pixels);
 
     /// Polls Callbacks::cancel (serialised); true once the render should stop.
     bool stopRequested() const;

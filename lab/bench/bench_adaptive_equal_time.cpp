@@ -1,0 +1,120 @@
+// The renderer's samples spent four ways in the same render time, then the same auto
+// (docs/lab/adaptive-sampling.md, "Why adaptive loses on dof"): uniform passes; the fixed
+// threshold; the variance schedule (a uniform map of scale √(spp / spp at the adaptive start));
+// and the spread map (pipeline::importanceFromSpread at that scale, remade whenever the mean spp
+// has doubled). Every adaptive way halves its threshold at convergence, as glint-final does.
+// relMSE after auto (balanced) against scenes/<scene>/reference.exr; one TSV row per run.
+//   build/bin/bench_adaptive_equal_time [--scenes dof] [--seeds 21,22] [--seconds 12]
+//                                       [--threads 2] [--min-spp 16]
+//                                       [--ways uniform,fixed,variance,spread]
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "glint/image/io.h"
+#include "glint/image/metrics.h"
+#include "glint/pipeline/refresh.h"
+#include "glint/pipeline/steering.h"
+#include "glint/render/renderer.h"
+#include "glint/render/scene.h"
+
+namespace {
+
+std::vector<std::string> split(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream in(text);
+    for (std::string item; std::getline(in, item, ',');) out.push_back(item);
+    return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string scenes = "dof", seeds = "21,22", ways = "uniform,fixed,variance,spread";
+    double seconds = 12.0;
+    int threads = 2, minSpp = 16;
+    for (int i = 1; i + 1 < argc; i += 2) {
+        const std::string flag = argv[i], value = argv[i + 1];
+        if (flag == "--scenes")
+            scenes = value;
+        else if (flag == "--seeds")
+            seeds = value;
+        else if (flag == "--seconds")
+            seconds = std::stod(value);
+        else if (flag == "--threads")
+            threads = std::stoi(value);
+        else if (flag == "--min-spp")
+            minSpp = std::stoi(value);
+        else if (flag == "--ways")
+            ways = value;
+        else {
+            std::fprintf(stderr, "bench_adaptive_equal_time: unknown flag %s\n", flag.c_str());
+            return 2;
+        }
+    }
+    const glint::pipeline::AutoRun autoRun =
+        glint::pipeline::autoRun({}, glint::denoise::AutoQuality::Balanced);
+    std::printf(
+        "scene\tbudget\tseed\tway\trelMSE\traw\tmeanSpp\tpasses\thalvings\trenderSeconds\n");
+    for (const std::string& name : split(scenes)) {
+        const std::string dir = std::string(GLINT_SOURCE_DIR) + "/scenes/" + name;
+        const glint::Image reference = glint::readExr(dir + "/reference.exr").color();
+        glint::render::Renderer renderer(glint::render::loadScene(dir + "/scene.json"));
+        const int w = renderer.scene().width(), h = renderer.scene().height();
+        for (const std::string& seed : split(seeds))
+            for (const std::string& way : split(ways)) {
+                glint::render::Settings s = renderer.scene().settings();
+                s.spp = 0;
+                s.seed = std::stoull(seed);
+                s.threads = threads;
+                s.timeLimit = seconds;
+                s.halfBuffers = true;
+                s.adaptive = way != "uniform";
+                s.minSpp = minSpp;
+                // The schedule: the map's scale, remade at every doubling of the mean spp.
+                double boost = 1.0, startSpp = 0.0, lastSpp = 0.0;
+                int halvings = 0;
+                std::shared_ptr<const glint::Image> map;
+                auto makeMap = [&](const glint::FrameBuffers& frame) {
+                    const double scale = boost * std::sqrt(lastSpp / startSpp);
+                    if (way == "spread")
+                        map = std::make_shared<const glint::Image>(
+                            glint::pipeline::importanceFromSpread(frame, scale));
+                    else if (way == "variance" || boost > 1.0)
+                        map = std::make_shared<const glint::Image>(
+                            w, h, 1, float(way == "variance" ? scale : boost));
+                    return map;
+                };
+                glint::render::Callbacks cb;
+                if (way == "variance" || way == "spread")
+                    cb.importance = [&](int, const glint::FrameBuffers& frame)
+                        -> std::shared_ptr<const glint::Image> {
+                        const double spp = glint::pipeline::meanSpp(frame);
+                        if (startSpp == 0.0) startSpp = spp;
+                        if (lastSpp > 0.0 && spp < 2.0 * lastSpp) return nullptr;
+                        lastSpp = spp;
+                        return makeMap(frame);
+                    };
+                cb.converged = [&](int, const glint::FrameBuffers& frame) {
+                    if (startSpp == 0.0) startSpp = lastSpp = glint::pipeline::meanSpp(frame);
+                    boost *= 2.0;
+                    ++halvings;
+                    return makeMap(frame);
+                };
+                const glint::render::RenderResult r =
+                    renderer.render(s, s.adaptive ? cb : glint::render::Callbacks{});
+                const glint::pipeline::Denoised d = glint::pipeline::denoiseFrame(r.frame, autoRun);
+                std::printf("%s\t%g\t%s\t%s\t%.6g\t%.6g\t%.1f\t%d\t%d\t%.2f\n", name.c_str(),
+                            seconds, seed.c_str(), way.c_str(),
+                            glint::relMse(d.result.composite, reference).value,
+                            glint::relMse(r.frame.color(), reference).value,
+                            double(r.stats.samples) / (double(w) * h), r.stats.passes, halvings,
+                            r.stats.seconds);
+                std::fflush(stdout);
+            }
+    }
+    return 0;
+}

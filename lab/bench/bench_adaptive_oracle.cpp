@@ -1,0 +1,240 @@
+// What an ideal importance map could gain (docs/lab/adaptive-sampling.md, "Why adaptive loses on
+// dof"): where the error of the denoised image lives at uniform sampling, and an oracle that
+// spends the same samples by the true error against the reference.
+//  1. Uniform at --spp, auto (balanced): relMSE of the noisy and the denoised image; the share of
+//     the denoised image's relMSE in its worst 1 %, 10 %, 25 % of pixels; the analytic bound of
+//     any allocation of the same samples when a pixel's error falls as 1/n: the optimum puts
+//     n_i ∝ √e_i and gives (mean √e)² / mean e of uniform's error (Cauchy–Schwarz).
+//  2. The oracle: the true per-pixel error of another seed's uniform + auto (--map-seed; one
+//     realisation's own error would steer to its own noise), box-blurred 5×5, gives each pixel
+//     n_i ∝ √e_i samples (at least --pilot, at most 16× --spp, mean --spp); rendered with
+//     adaptive passes that open exactly the pixels below their n_i; auto; relMSE of the
+//     denoised image against uniform's at the same samples and at the oracle's rays (time);
+//     and the same allocation by the noisy frame's own relative spread (sqrtVariance).
+//   build/bin/bench_adaptive_oracle [--scene dof] [--seed 21] [--spp 256] [--pilot 64]
+//                                   [--map-seed 1021] [--threads 2] [--map-out error.exr]
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <memory>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "glint/image/io.h"
+#include "glint/pipeline/refresh.h"
+#include "glint/render/renderer.h"
+#include "glint/render/scene.h"
+
+namespace {
+
+/// Per pixel, relMSE's term (glint::relMse: (x − r)² / (r² + 0.01), mean over channels).
+std::vector<double> relativeErrors(const glint::Image& image, const glint::Image& reference) {
+    std::vector<double> e(std::size_t(image.pixelCount()), 0.0);
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x) {
+            double sum = 0.0;
+            for (int c = 0; c < 3; ++c) {
+                const double d = double(image(x, y, c)) - reference(x, y, c);
+                sum += d * d / (double(reference(x, y, c)) * reference(x, y, c) + 0.01);
+            }
+            e[std::size_t(y) * image.width() + x] = sum / 3.0;
+        }
+    return e;
+}
+
+double mean(const std::vector<double>& v) {
+    return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
+}
+
+/// The share of Σe in the largest `fraction` of the pixels.
+double topShare(std::vector<double> e, double fraction) {
+    std::sort(e.begin(), e.end(), std::greater<>());
+    const auto k = std::size_t(std::max(1.0, fraction * double(e.size())));
+    return std::accumulate(e.begin(), e.begin() + std::ptrdiff_t(k), 0.0) /
+           std::accumulate(e.begin(), e.end(), 0.0);
+}
+
+/// (mean √e)² / mean e: the error of the best allocation of the same samples over uniform's.
+double allocationBound(const std::vector<double>& e) {
+    double root = 0.0;
+    for (double v : e) root += std::sqrt(v);
+    root /= double(e.size());
+    return root * root / mean(e);
+}
+
+struct Run {
+    glint::FrameBuffers frame;
+    glint::render::RenderStats stats;
+    double rawRelMse = 0.0, relMse = 0.0;
+    std::vector<double> errors;  // of the denoised image, per pixel
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string scene = "dof", mapOut;
+    unsigned long long seed = 21, mapSeed = 1021;
+    int spp = 256, pilot = 64, threads = 2;
+    for (int i = 1; i + 1 < argc; i += 2) {
+        const std::string flag = argv[i], value = argv[i + 1];
+        if (flag == "--scene")
+            scene = value;
+        else if (flag == "--seed")
+            seed = std::stoull(value);
+        else if (flag == "--map-seed")
+            mapSeed = std::stoull(value);
+        else if (flag == "--spp")
+            spp = std::stoi(value);
+        else if (flag == "--pilot")
+            pilot = std::stoi(value);
+        else if (flag == "--threads")
+            threads = std::stoi(value);
+        else if (flag == "--map-out")
+            mapOut = value;
+        else {
+            std::fprintf(stderr, "bench_adaptive_oracle: unknown flag %s\n", flag.c_str());
+            return 2;
+        }
+    }
+    const std::string dir = std::string(GLINT_SOURCE_DIR) + "/scenes/" + scene;
+    const glint::Image reference = glint::readExr(dir + "/reference.exr").color();
+    glint::render::Renderer renderer(glint::render::loadScene(dir + "/scene.json"));
+    const int w = renderer.scene().width(), h = renderer.scene().height();
+    const glint::pipeline::AutoRun autoRun =
+        glint::pipeline::autoRun({}, glint::denoise::AutoQuality::Balanced);
+    auto settingsFor = [&](unsigned long long s) {
+        glint::render::Settings settings = renderer.scene().settings();
+        settings.seed = s;
+        settings.threads = threads;
+        settings.spp = spp;
+        settings.timeLimit = 0.0;
+        settings.halfBuffers = true;
+        return settings;
+    };
+    auto finish = [&](glint::render::RenderResult rendered) {
+        Run run;
+        run.frame = std::move(rendered.frame);
+        run.stats = rendered.stats;
+        run.rawRelMse = mean(relativeErrors(run.frame.color(), reference));
+        const glint::pipeline::Denoised d = glint::pipeline::denoiseFrame(run.frame, autoRun);
+        run.errors = relativeErrors(d.result.composite, reference);
+        run.relMse = mean(run.errors);
+        return run;
+    };
+
+    // 1. Uniform: where its error lives.
+    const Run uniform = finish(renderer.render(settingsFor(seed)));
+    std::printf("scene\tseed\tspp\traw\tdenoised\ttop1\ttop10\ttop25\tboundDenoised\tboundRaw\n");
+    std::printf("%s\t%llu\t%d\t%.4g\t%.4g\t%.3f\t%.3f\t%.3f\t%.3f\t%.3f\n", scene.c_str(), seed,
+                spp, uniform.rawRelMse, uniform.relMse, topShare(uniform.errors, 0.01),
+                topShare(uniform.errors, 0.10), topShare(uniform.errors, 0.25),
+                allocationBound(uniform.errors),
+                allocationBound(relativeErrors(uniform.frame.color(), reference)));
+    if (!mapOut.empty()) {
+        // Grey, so that glint-image convert --false-color shows it.
+        glint::Image map(w, h, 3);
+        for (std::size_t i = 0; i < uniform.errors.size(); ++i)
+            for (int c = 0; c < 3; ++c)
+                map.data()[3 * i + std::size_t(c)] = float(uniform.errors[i]);
+        glint::writeImage(map, mapOut);
+    }
+
+    // Samples per pixel ∝ `weight` (at least the pilot, at most 16× spp, mean spp: a few
+    // fixed-point steps), in whole passes of RenderLoop::kAdaptiveStep past the pilot.
+    auto targetsFrom = [&](const std::vector<double>& weight) {
+        std::vector<int> target(weight.size(), spp);
+        double scale = double(spp) / std::max(mean(weight), 1e-30);
+        for (int step = 0; step < 20; ++step) {
+            double sum = 0.0;
+            for (std::size_t i = 0; i < weight.size(); ++i) {
+                const double n = std::clamp(scale * weight[i], double(pilot), 16.0 * spp);
+                target[i] = pilot + 16 * int(std::lround((n - pilot) / 16.0));
+                sum += target[i];
+            }
+            scale *= double(spp) * double(weight.size()) / sum;
+        }
+        return target;
+    };
+    // Adaptive passes that open exactly the pixels below their target: before each, weight 1
+    // for those, 0 for the others; the render ends when none is left.
+    auto renderTargets = [&](const std::vector<int>& target) {
+        glint::render::Settings s = settingsFor(seed);
+        s.spp = *std::max_element(target.begin(), target.end());
+        s.adaptive = true;
+        s.minSpp = pilot;
+        s.noiseThreshold = 1e-9;
+        bool done = false;
+        glint::render::Callbacks callbacks;
+        callbacks.importance = [&](int, const glint::FrameBuffers& frame) {
+            const glint::Image& n = frame.layer(glint::Layer::SampleCount);
+            auto map = std::make_shared<glint::Image>(w, h, 1);
+            bool any = false;
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    const bool open = n(x, y, 0) < float(target[std::size_t(y) * w + x]);
+                    (*map)(x, y, 0) = open ? 1.0f : 0.0f;
+                    any |= open;
+                }
+            done = !any;
+            return any ? std::shared_ptr<const glint::Image>(map) : nullptr;
+        };
+        callbacks.cancel = [&] { return done; };
+        return renderer.render(s, callbacks);
+    };
+
+    // 2. The oracle's samples per pixel, from another realisation's true error, blurred.
+    const Run other = finish(renderer.render(settingsFor(mapSeed)));
+    std::vector<double> root(other.errors.size(), 0.0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double sum = 0.0;
+            int n = 0;
+            for (int dy = -2; dy <= 2; ++dy)
+                for (int dx = -2; dx <= 2; ++dx) {
+                    const int sx = x + dx, sy = y + dy;
+                    if (sx < 0 || sy < 0 || sx >= w || sy >= h) continue;
+                    sum += other.errors[std::size_t(sy) * w + sx];
+                    ++n;
+                }
+            root[std::size_t(y) * w + x] = std::sqrt(sum / n);
+        }
+    // The renderer's own information instead of the reference: n_i ∝ the relative standard
+    // deviation of a sample, √(v_i n_i) / √(μ_i² + 0.01) from the other seed's noisy frame (the
+    // allocation that minimises the noisy image's relMSE; a threshold on the error, Cycles',
+    // gives n_i ∝ its square).
+    std::vector<double> spread(root.size(), 0.0);
+    {
+        const glint::Image& mu = other.frame.color();
+        const glint::Image& var = other.frame.layer(glint::Layer::Variance);
+        const glint::Image& n = other.frame.layer(glint::Layer::SampleCount);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double sum = 0.0;
+                for (int c = 0; c < 3; ++c)
+                    sum += double(var(x, y, c)) * n(x, y, 0) /
+                           (double(mu(x, y, c)) * mu(x, y, c) + 0.01);
+                spread[std::size_t(y) * w + x] = std::sqrt(sum / 3.0);
+            }
+    }
+    const Run steered = finish(renderTargets(targetsFrom(root)));
+    const Run variance = finish(renderTargets(targetsFrom(spread)));
+    // Uniform at the oracle's rays (equal time, rays being the time: the rate per ray of
+    // adaptive and uniform passes agrees, bench_adaptive_throughput).
+    glint::render::Settings equalRays = settingsFor(seed);
+    equalRays.spp =
+        int(std::lround(double(spp) * double(steered.stats.rays) / double(uniform.stats.rays)));
+    const Run uniformRays = finish(renderer.render(equalRays));
+    auto meanSpp = [&](const Run& r) { return double(r.stats.samples) / (double(w) * h); };
+    std::printf("way\tmeanSpp\traysPerSample\trays\traw\tdenoised\tchange\n");
+    for (const auto& [name, r] : {std::pair<const char*, const Run*>{"uniform", &uniform},
+                                  {"oracle", &steered},
+                                  {"sqrtVariance", &variance},
+                                  {"uniformAtOracleRays", &uniformRays}})
+        std::printf("%s\t%.1f\t%.2f\t%llu\t%.4g\t%.4g\t%+.0f %%\n", name, meanSpp(*r),
+                    double(r->stats.rays) / double(r->stats.samples),
+                    (unsigned long long)r->stats.rays, r->rawRelMse, r->relMse,
+                    100.0 * (r->relMse / uniform.relMse - 1.0));
+    return 0;
+}
