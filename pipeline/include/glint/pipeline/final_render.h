@@ -63,7 +63,7 @@ struct FinalOptions {
     double refreshShare = 0.2;
     /// With a time limit, the most of it the final auto's plan is chosen to take, in (0, 1]:
     /// the render gets the rest.
-    double finalShare = 0.3;
+    double finalShare = 0.5;
     /// Seconds the final auto at `quality` is expected to take on this film: it calibrates auto's
     /// cost model (AutoCost) instead of a probe; 0: a probe on a crop of the first pass
     /// (kProbeSide) calibrates it.
