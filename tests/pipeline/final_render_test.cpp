@@ -217,8 +217,7 @@ TEST(FinalRender, ATimeLimitShorterThanTheFirstPassSaysSoAndDenoisesItWithTheChe
 
 TEST(FinalRender, TheVarianceScheduleRunsNoAutoBeforeTheFinalOne) {
     // The variance-only map costs nothing to make: no refresh, one auto (the final one); the
-    // denoiser-steered one refreshes, the first at the final quality and the others at the
-    // refresh quality, and counts their time apart.
+    // denoiser-steered one refreshes at the refresh quality and counts their time apart.
     render::Renderer renderer(cornell());
     FinalOptions o = smallOptions();
     o.steering = Steering::Variance;
