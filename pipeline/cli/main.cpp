@@ -1,5 +1,7 @@
 // glint-final: renders a scene and denoises it to a time or error target, adaptive sampling
 // steered by auto's estimated error of the denoised image (docs/final-render.md).
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -34,7 +36,7 @@ std::string flagOf(const std::string& field) {
     return "options";
 }
 
-int run(const Options& opt) {
+int run(const Options& opt, std::chrono::steady_clock::time_point started) {
     glint::cli::checkOutputPath(opt.out, {".exr"}, "--out");
     glint::cli::removeTemporariesOnSignal({opt.out});
     // A target given must be one: > 0 (0 is "none" only in the library).
@@ -81,27 +83,38 @@ int run(const Options& opt) {
     }
 
     glint::render::Renderer renderer(std::move(scene), options.settings);
+    // The time limit covers the whole run: loading the scene and building the renderer took
+    // part of it already, and the process's start and the EXR's writing take some (10 % of
+    // the limit, at most 0.3 s); the loop gets what is left (at least a moment: the first pass
+    // always completes).
+    if (opt.timeLimit) {
+        const double spent =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        options.timeLimit =
+            std::max(*opt.timeLimit - spent - std::min(0.1 * *opt.timeLimit, 0.3), 1e-9);
+    }
     const glint::pipeline::FinalResult result = glint::pipeline::renderFinal(renderer, options);
     if (result.overTime)
         std::fprintf(stderr,
                      "glint-final: warning: the time limit (%g s) is shorter than one pass and "
-                     "its denoising (%.3g s): writing that one pass, denoised\n",
-                     options.timeLimit, result.seconds);
+                     "its denoising (%.3g s): writing that one pass, denoised (%s)\n",
+                     *opt.timeLimit, result.seconds, result.finalPlan.c_str());
     glint::writeExr(result.frame, opt.out);
     const double pixels = double(result.frame.width()) * double(result.frame.height());
     std::printf(
         "final %s: %dx%d, %.1f spp a pixel (%d passes, %d refreshes), estimated relMSE %.4g%s in "
-        "%.2f s (auto %.2f s)\n  wrote %s\n",
+        "%.2f s (auto %.2f s)\n  final auto: %s\n  wrote %s\n",
         opt.scene.c_str(), result.frame.width(), result.frame.height(),
         double(result.render.samples) / pixels, result.render.passes, result.refreshes,
         result.estimatedRelMse, result.targetReached ? " (target reached)" : "", result.seconds,
-        result.autoSeconds, opt.out.c_str());
+        result.autoSeconds, result.finalPlan.c_str(), opt.out.c_str());
     return 0;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+    const auto started = std::chrono::steady_clock::now();
     CLI::App app{
         "glint-final: render a scene and denoise it to a time or error target (adaptive sampling "
         "steered by auto's estimated error of the denoised image)"};
@@ -120,5 +133,5 @@ int main(int argc, char** argv) {
     app.add_option("--threads", opt.threads, "worker threads, 0 (all) … 1024");
     if (const auto code = glint::cli::parseCommandLine(app, argc, argv, "glint-final"))
         return *code;
-    return glint::cli::runGuarded("glint-final", [&] { return run(opt); });
+    return glint::cli::runGuarded("glint-final", [&] { return run(opt, started); });
 }

@@ -2,6 +2,7 @@
 // frame as it grows (a refresh), the importance map from auto's error, the targets.
 #include "glint/pipeline/final_render.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -72,6 +73,9 @@ void validate(const FinalOptions& options) {
     if (!(options.refreshShare > 0.0 && options.refreshShare <= 1.0))
         bad("refreshShare", "the refreshes' share of the time limit must be in (0, 1], got " +
                                 std::to_string(options.refreshShare));
+    if (!(options.finalShare > 0.0 && options.finalShare <= 1.0))
+        bad("finalShare", "the final auto's share of the time limit must be in (0, 1], got " +
+                              std::to_string(options.finalShare));
     if (options.settings.spp <= 0 && options.timeLimit <= 0.0)
         bad("spp", options.targetError > 0.0
                        ? "an error target needs a time limit or a spp too (it may never be reached)"
@@ -100,17 +104,56 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     // steady clock must not end the render first on a slow machine.
     settings.timeLimit =
         options.clock && options.timeLimit > 0.0 ? render::kMaxTimeLimit : options.timeLimit;
-    TimeBudget budget(options.timeLimit, options.refreshShare, options.expectedAutoSeconds);
+    TimeBudget budget(options.timeLimit, options.refreshShare, 0.0);
 
-    // Auto at a quality (refresh.h, as the studio's refreshes run it), timed on the options' clock.
-    auto denoised = [&](const FrameBuffers& frame, denoise::AutoQuality quality) {
+    // Auto with a plan (refresh.h, as the studio's refreshes run it), timed on the options' clock.
+    auto denoised = [&](const FrameBuffers& frame, const AutoPlan& plan) {
         const double t = now();
-        Denoised d = denoiseFrame(frame, autoRun(options.autoOptions, quality));
+        Denoised d = denoiseFrame(
+            frame, autoRun(options.autoOptions, plan.quality, plan.bankSize, plan.filters));
         d.seconds = now() - t;
         return d;
     };
 
     FinalResult out;
+    // Auto's cost (time_budget.h): calibrated at the first frame (expectedAutoSeconds, or a probe
+    // on a crop) and by each refresh; the final auto's plan is the best that fits its share.
+    AutoCost cost;
+    const AutoPlan most{options.quality, 0, {}};
+    const AutoPlan refreshPlan{options.refreshQuality, 0, {}};
+    AutoPlan finalPlan = most;
+    double pixels = 0.0;
+    // The final auto's plan for the time left at `t` (within its share of the limit), and the
+    // render's reserve for it.
+    auto plan = [&](double t) {
+        const double left = std::min(options.finalShare * options.timeLimit, options.timeLimit - t);
+        finalPlan = choosePlan(cost, pixels, left, most);
+        budget.expectFinal(cost.seconds(finalPlan, pixels));
+    };
+    // The cost model's first calibration, on the first frame the render shows (time limit only).
+    auto calibrate = [&](const FrameBuffers& frame) {
+        if (!budget.timed() || cost.calibrated()) return;
+        pixels = double(frame.width()) * double(frame.height());
+        if (options.expectedAutoSeconds > 0.0) {
+            cost.calibrate(most, pixels, options.expectedAutoSeconds);
+        } else {
+            // The cheapest plan, which loads nothing a first run loads once (the unet's
+            // weights), on a crop: a few hundredths of the final auto's time.
+            const FrameBuffers probe = probeFrame(frame, kProbeSide);
+            const Denoised d = denoised(probe, cheapestPlan());
+            out.autoSeconds += d.seconds;
+            cost.calibrate(cheapestPlan(), double(probe.width()) * double(probe.height()),
+                           d.seconds);
+            log(formatted("probe: auto %.3f s on %.0f pixels: the final auto predicted at %.2f s",
+                          d.seconds, double(probe.width()) * double(probe.height()),
+                          cost.seconds(most, pixels)));
+        }
+        plan(now());
+        log("final auto planned: " + describe(finalPlan) +
+            formatted(", %.2f s predicted, %.2f s reserved of %.2f", budget.expectedFinal(),
+                      budget.reserve(), options.timeLimit));
+    };
+
     std::optional<Denoised> last;  // the latest refresh's result
     double lastSpp = 0.0, startSpp = 0.0;
     double lastRefresh = 0.0;  // seconds the latest refresh took
@@ -126,6 +169,7 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     // A refresh: auto on the frame so far, when it has grown enough and the budget has room;
     // true when the schedule moved (a new map is due).
     auto refresh = [&](const FrameBuffers& frame) {
+        calibrate(frame);
         const double spp = meanSpp(frame);
         if (lastSpp > 0.0 && spp < options.refreshGrowth * lastSpp) return false;
         if (!autoSteers) {
@@ -134,15 +178,14 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
             lastSpp = spp;
             return true;
         }
-        // The first refresh runs at the final auto's quality when that auto's time is not known
-        // yet, and so measures it; when it is known, it is what a refresh is expected to take
-        // (auto's time depends on the film more than on the quality).
+        // A refresh is expected to take what the cost model predicts (the latest's time
+        // without one).
+        const double expected = cost.calibrated() ? cost.seconds(refreshPlan, pixels) : lastRefresh;
+        if (!budget.refreshFits(now(), expected)) return false;
         const bool first = !last;
-        const bool measures = first && budget.expectedFinal() <= 0.0;
-        if (!budget.refreshFits(now(), first ? budget.expectedFinal() : lastRefresh)) return false;
-        last = denoised(frame, measures ? options.quality : options.refreshQuality);
+        last = denoised(frame, refreshPlan);
         lastRefresh = last->seconds;
-        budget.refreshed(last->seconds, measures);
+        budget.refreshed(last->seconds);
         out.autoSeconds += last->seconds;
         out.refreshSeconds += last->seconds;
         ++out.refreshes;
@@ -150,6 +193,11 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
         lastSpp = spp;
         log(formatted("refresh: %.1f spp a pixel, estimated relMSE %.4g (auto %.2f s)", spp,
                       last->relMse, last->seconds));
+        if (budget.timed()) {
+            // The whole frame's time calibrates the model better than the probe did.
+            cost.calibrate(refreshPlan, pixels, last->seconds);
+            plan(now());
+        }
         if (options.targetError > 0.0 && last->relMse <= options.targetError) stop = true;
         return true;
     };
@@ -174,14 +222,22 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
             // schedule's scale keeps about as many pixels open as at the start.
             return makeMap(frame);
         };
-    } else if (!settings.adaptive && options.targetError > 0.0) {
+    }
+    if (!settings.adaptive && options.targetError > 0.0) {
         // Uniform passes: the target checked after each pass.
         callbacks.passDone = [&](int, const FrameBuffers& frame) { refresh(frame); };
+    } else if (budget.timed()) {
+        // The cost calibrated once the frame has a sample in each half (the second pass), so
+        // that the reserve stops the uniform start too.
+        callbacks.passDone = [&](int, const FrameBuffers& frame) {
+            if (frame.metadata().spp >= 2) calibrate(frame);
+        };
     }
     // Every pixel converged with time left: halve the threshold and go on (a threshold met
     // early would leave the budget unused).
     if (settings.adaptive && budget.timed())
         callbacks.converged = [&](int, const FrameBuffers& frame) -> std::shared_ptr<const Image> {
+            calibrate(frame);
             if (stop || !budget.renderMayContinue(now()) || boost > kMaxBoost) return nullptr;
             boost *= 2.0;
             ++out.thresholdHalvings;
@@ -192,16 +248,26 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     out.render = rendered.stats;
     out.frame = std::move(rendered.frame);
     out.frame.metadata().extra.erase("cancelled");
-    out.overTime = budget.timed() && rendered.stats.passes <= 1 && now() > options.timeLimit;
     // At the target the frame is the refresh's (the render stopped before the next pass took a
     // sample); otherwise auto runs on the final frame.
     out.targetReached = stop;
     if (!stop) {
-        last = denoised(out.frame, options.quality);
+        if (budget.timed()) {
+            // The final auto's plan for the time left: the planned one when it still fits, a
+            // cheaper one when the render (its first pass, say) took longer.
+            calibrate(out.frame);
+            if (now() + cost.seconds(finalPlan, pixels) > options.timeLimit) plan(now());
+            out.overTime = rendered.stats.passes <= 1 &&
+                           now() + cost.seconds(cheapestPlan(), pixels) > options.timeLimit;
+        }
+        last = denoised(out.frame, finalPlan);
         out.autoSeconds += last->seconds;
-        log(formatted("final: %.1f spp a pixel, estimated relMSE %.4g (auto %.2f s)",
-                      meanSpp(out.frame), last->relMse, last->seconds));
+        log(formatted("final: %.1f spp a pixel, estimated relMSE %.4g (auto %.2f s, ",
+                      meanSpp(out.frame), last->relMse, last->seconds) +
+            describe(finalPlan) + ")");
     }
+    out.finalPlan = describe(finalPlan);
+    out.predictedFinalSeconds = cost.seconds(finalPlan, pixels);
     out.estimatedRelMse = last->relMse;
     paste(out.frame.color(), last->result.composite, 0, 0);
     out.frame.metadata().extra["denoiseFilter"] = "auto";

@@ -1,6 +1,33 @@
+// The time limit's schedule and auto's cost model (time_budget.h).
 #include "glint/pipeline/time_budget.h"
 
+#include <algorithm>
+
+#include "glint/denoise/registry.h"
+
 namespace glint::pipeline {
+
+namespace {
+
+/// The cost model's constants, in units of cheapestPlan()'s time on the same frame (the probe's
+/// plan): for the default bank a fixed part (the selection, the halves, the error estimate) and a
+/// part per member, each filter's defaults counted as members; for a bank of named filters each
+/// member at half of cheapestPlan (its two members). Fitted to bench_final_budget's times on
+/// cornell at 256² (docs/lab/race.md, "Keeping the time limit").
+constexpr double kFixedTwoSided = 9.94;  ///< balanced, best
+constexpr double kFixedOneSided = 1.23;  ///< fast
+constexpr double kMemberTwoSided = 0.122;
+constexpr double kMemberOneSided = 0.266;
+constexpr double kNamedMember = 0.5;
+/// A process's first run of the default bank loads what later runs reuse (the unet's weights):
+/// about 1.3 × cheapestPlan's time on 256² pixels, in pixels at weight 1.
+constexpr double kColdStartPixels = 1.3 * 65536.0;
+/// The filter of cheapestPlan.
+constexpr const char* kCheapestFilter = "cross-bilateral";
+/// The bank sizes tried below fast's own.
+constexpr int kSmallerBanks[] = {16, 8, 4, 2, 1};
+
+}  // namespace
 
 TimeBudget::TimeBudget(double limit, double refreshShare, double expectedFinal)
     : m_limit(limit), m_share(refreshShare), m_final(expectedFinal) {}
@@ -14,9 +41,75 @@ bool TimeBudget::refreshFits(double now, double seconds) const {
     return m_refreshes + seconds <= m_share * m_limit && now + seconds + reserve() < m_limit;
 }
 
-void TimeBudget::refreshed(double seconds, bool finalQuality) {
-    m_refreshes += seconds;
-    if (finalQuality) m_final = seconds;
+std::string describe(const AutoPlan& plan) {
+    std::string text = denoise::autoQualityName(plan.quality);
+    if (plan.bankSize > 0)
+        text += " with " + std::to_string(plan.bankSize) +
+                (plan.bankSize == 1 ? " member" : " members");
+    for (std::size_t i = 0; i < plan.filters.size(); ++i)
+        text += (i == 0 ? " of " : ", ") + plan.filters[i];
+    return text;
+}
+
+double planWeight(const AutoPlan& plan) {
+    const bool oneSided = plan.quality == denoise::AutoQuality::Fast;
+    const int members =
+        plan.bankSize > 0 ? plan.bankSize : denoise::autoQualityBankSize(plan.quality);
+    // Each filter's defaults come on top of the Latin-hypercube members.
+    if (!plan.filters.empty()) return kNamedMember * double(members + int(plan.filters.size()));
+    const int all = members + int(denoise::defaultBankFilters().size());
+    return oneSided ? kFixedOneSided + kMemberOneSided * double(all)
+                    : kFixedTwoSided + kMemberTwoSided * double(all);
+}
+
+void AutoCost::calibrate(const AutoPlan& plan, double pixels, double seconds) {
+    const double cold = coldStart(plan) ? m_rate * kColdStartPixels : 0.0;
+    if (pixels > 0.0 && seconds > cold) m_rate = (seconds - cold) / (pixels * planWeight(plan));
+    ran(plan);
+}
+
+void AutoCost::ran(const AutoPlan& plan) {
+    if (plan.filters.empty()) m_warm = true;
+}
+
+bool AutoCost::coldStart(const AutoPlan& plan) const {
+    return plan.filters.empty() && !m_warm;
+}
+
+double AutoCost::seconds(const AutoPlan& plan, double pixels) const {
+    return m_rate * (pixels * planWeight(plan) + (coldStart(plan) ? kColdStartPixels : 0.0));
+}
+
+AutoPlan cheapestPlan() {
+    return {denoise::AutoQuality::Fast, 1, {kCheapestFilter}};
+}
+
+AutoPlan choosePlan(const AutoCost& cost, double pixels, double seconds, const AutoPlan& most) {
+    if (!cost.calibrated()) return most;
+    auto fits = [&](const AutoPlan& plan) {
+        return kFinalAutoMargin * cost.seconds(plan, pixels) <= seconds;
+    };
+    // The qualities from `most` down to fast, then fast with smaller banks.
+    std::vector<AutoPlan> ladder{most};
+    for (denoise::AutoQuality q :
+         {denoise::AutoQuality::Best, denoise::AutoQuality::Balanced, denoise::AutoQuality::Fast})
+        if (int(q) < int(most.quality)) ladder.push_back({q, 0, most.filters});
+    for (int size : kSmallerBanks)
+        ladder.push_back({denoise::AutoQuality::Fast, size, most.filters});
+    for (const AutoPlan& plan : ladder)
+        if (fits(plan)) return plan;
+    return cheapestPlan();
+}
+
+FrameBuffers probeFrame(const FrameBuffers& frame, int side) {
+    const int w = std::min(side, frame.width()), h = std::min(side, frame.height());
+    const int x0 = (frame.width() - w) / 2, y0 = (frame.height() - h) / 2;
+    const Rect rect{x0, x0 + w, y0, y0 + h};
+    FrameBuffers probe(w, h);
+    probe.metadata() = frame.metadata();
+    for (int l = 0; l < kLayerCount; ++l)
+        if (const Image* layer = frame.find(Layer(l))) probe.set(Layer(l), layer->crop(rect));
+    return probe;
 }
 
 }  // namespace glint::pipeline

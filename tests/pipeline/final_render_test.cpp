@@ -175,10 +175,49 @@ TEST(FinalRender, ARefreshExpectedToExceedItsShareOfTheTimeLimitIsNotRun) {
     EXPECT_LE(r.seconds, o.timeLimit + 0.05);
 }
 
+TEST(FinalRender, ATimeLimitTooSmallForTheFinalAutoGetsACheaperPlanChosenBeforeTheRenderStops) {
+    // The final auto at its quality is expected to take 5 s; under a limit of 2 s (fake clock)
+    // the plan is chosen at the first frames from the time left (fast, fewer members, or one
+    // member of one filter), the render stops leaving its reserve, and the whole keeps the
+    // limit. Under 40 s the quality asked for fits and is kept. (The variance schedule runs no
+    // refresh, whose time on the fake clock would recalibrate the cost to almost nothing.)
+    render::Renderer renderer(cornell());
+    FinalOptions o = smallOptions();
+    o.steering = Steering::Variance;
+    o.quality = denoise::AutoQuality::Balanced;
+    o.settings.spp = 0;
+    o.expectedAutoSeconds = 5.0;
+    o.timeLimit = 2.0;
+    o.clock = fakeClock(0.01);
+    const FinalResult small = renderFinal(renderer, o);
+    EXPECT_NE(small.finalPlan, "balanced");
+    EXPECT_GT(small.predictedFinalSeconds, 0.0);
+    EXPECT_LE(kFinalAutoMargin * small.predictedFinalSeconds, o.finalShare * o.timeLimit);
+    EXPECT_LE(small.seconds, o.timeLimit + 0.05);
+    EXPECT_FALSE(small.overTime);
+    o.timeLimit = 40.0;
+    o.clock = fakeClock(0.01);
+    const FinalResult large = renderFinal(renderer, o);
+    EXPECT_EQ(large.finalPlan, "balanced");
+    EXPECT_LE(large.seconds, o.timeLimit + 0.05);
+}
+
+TEST(FinalRender, ATimeLimitShorterThanTheFirstPassSaysSoAndDenoisesItWithTheCheapestPlan) {
+    // Every clock read takes 1 s: the first pass alone overruns a limit of 0.5 s.
+    render::Renderer renderer(cornell());
+    FinalOptions o = smallOptions();
+    o.settings.spp = 0;
+    o.timeLimit = 0.5;
+    o.clock = fakeClock(1.0);
+    const FinalResult r = renderFinal(renderer, o);
+    EXPECT_TRUE(r.overTime);
+    EXPECT_EQ(r.finalPlan, describe(cheapestPlan()));
+    EXPECT_EQ(r.frame.metadata().extra.at("denoiseFilter"), "auto");
+}
+
 TEST(FinalRender, TheVarianceScheduleRunsNoAutoBeforeTheFinalOne) {
     // The variance-only map costs nothing to make: no refresh, one auto (the final one); the
-    // denoiser-steered one refreshes, the first at the final quality and the others at the
-    // refresh quality, and counts their time apart.
+    // denoiser-steered one refreshes at the refresh quality and counts their time apart.
     render::Renderer renderer(cornell());
     FinalOptions o = smallOptions();
     o.steering = Steering::Variance;

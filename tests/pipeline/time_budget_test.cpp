@@ -16,13 +16,13 @@ TEST(TimeBudget, TheRenderStopsWhenTheTimeLeftIsTheFinalAutosReserve) {
     EXPECT_DOUBLE_EQ(b.reserve(), kFinalAutoMargin * 2.0);
     EXPECT_TRUE(b.renderMayContinue(10.0 - b.reserve() - 0.01));
     EXPECT_FALSE(b.renderMayContinue(10.0 - b.reserve()));
-    // A refresh at the final quality measures the final auto: the reserve follows it; one at
-    // another quality does not move it.
-    b.refreshed(1.0, true);
+    // A new prediction of the final auto moves the reserve; a refresh does not.
+    b.expectFinal(1.0);
     EXPECT_DOUBLE_EQ(b.reserve(), kFinalAutoMargin * 1.0);
-    b.refreshed(0.2, false);
+    b.refreshed(0.2);
+    b.refreshed(0.3);
     EXPECT_DOUBLE_EQ(b.reserve(), kFinalAutoMargin * 1.0);
-    EXPECT_DOUBLE_EQ(b.refreshSeconds(), 1.2);
+    EXPECT_DOUBLE_EQ(b.refreshSeconds(), 0.5);
     // No time limit: nothing stops the render, every refresh fits.
     const TimeBudget none(0.0, 0.2, 5.0);
     EXPECT_TRUE(none.renderMayContinue(1e9));
@@ -32,9 +32,9 @@ TEST(TimeBudget, TheRenderStopsWhenTheTimeLeftIsTheFinalAutosReserve) {
 TEST(TimeBudget, RefreshesStayWithinTheirShareAndLeaveTheReserve) {
     TimeBudget b(10.0, 0.2, 0.5);  // 2 s of refreshes at most
     EXPECT_TRUE(b.refreshFits(0.0, 0.5));
-    b.refreshed(0.5, true);
-    b.refreshed(0.5, false);
-    b.refreshed(0.5, false);
+    b.refreshed(0.5);
+    b.refreshed(0.5);
+    b.refreshed(0.5);
     EXPECT_TRUE(b.refreshFits(1.0, 0.5));   // 2.0 of 2.0
     EXPECT_FALSE(b.refreshFits(1.0, 0.6));  // 2.1 of 2.0
     // Near the end a refresh that fits the share still must leave the final auto's reserve.
@@ -64,7 +64,8 @@ TEST(TimeBudget, ALoopOnAFakeClockUsesItsBudgetAndEndsWithinTheLimit) {
                         const double cost = first ? final : refresh;
                         if (!b.refreshFits(t, first ? b.expectedFinal() : refresh)) continue;
                         t += cost;
-                        b.refreshed(cost, first);
+                        b.refreshed(cost);
+                        if (first) b.expectFinal(cost);
                         first = false;
                     }
                     const double renderEnd = t;
@@ -78,6 +79,59 @@ TEST(TimeBudget, ALoopOnAFakeClockUsesItsBudgetAndEndsWithinTheLimit) {
                     EXPECT_LE(b.refreshSeconds() - final, std::max(share * limit - final, 0.0))
                         << what;
                 }
+}
+
+TEST(AutoCost, PredictsByPixelsAndPlanWeightWithTheColdStartOnce) {
+    // Calibrated by a probe of the cheapest plan on 64² pixels: the prediction grows with the
+    // pixels and the plan's weight; the first default bank pays a cold start, the next not.
+    AutoCost cost;
+    EXPECT_FALSE(cost.calibrated());
+    EXPECT_EQ(cost.seconds(AutoPlan{}, 1e6), 0.0);
+    cost.calibrate(cheapestPlan(), 64.0 * 64.0, 0.03);
+    ASSERT_TRUE(cost.calibrated());
+    const double pixels = 256.0 * 256.0;
+    EXPECT_NEAR(cost.seconds(cheapestPlan(), pixels), 0.03 * 16.0, 1e-12);
+    const AutoPlan balanced{denoise::AutoQuality::Balanced, 0, {}};
+    const AutoPlan fast{denoise::AutoQuality::Fast, 0, {}};
+    const AutoPlan fast8{denoise::AutoQuality::Fast, 8, {}};
+    EXPECT_GT(planWeight(balanced), planWeight(fast));
+    EXPECT_GT(planWeight(fast), planWeight(fast8));
+    EXPECT_GT(planWeight(fast8), planWeight(cheapestPlan()));
+    const double cold = cost.seconds(fast, pixels);
+    EXPECT_GT(cold, 0.03 * 16.0 * planWeight(fast));
+    // A refresh of fast on the whole frame recalibrates, its cold start taken out.
+    cost.calibrate(fast, pixels, cold * 2.0);
+    const double warm = cost.seconds(fast, pixels);
+    EXPECT_LT(warm, cold * 2.0);
+    EXPECT_NEAR(cost.seconds(balanced, pixels) / warm, planWeight(balanced) / planWeight(fast),
+                1e-9);
+}
+
+TEST(TimeBudget, TheFinalAutosPlanIsTheBestThatFitsDownToOneMemberOfOneFilter) {
+    AutoCost cost;
+    const double pixels = 256.0 * 256.0;
+    const AutoPlan balanced{denoise::AutoQuality::Balanced, 0, {}};
+    // Not calibrated: the most the caller allows.
+    EXPECT_EQ(describe(choosePlan(cost, pixels, 0.1, balanced)), "balanced");
+    cost.calibrate(cheapestPlan(), 64.0 * 64.0, 0.03);
+    auto planFor = [&](double seconds) {
+        return describe(choosePlan(cost, pixels, seconds, balanced));
+    };
+    const double unit = cost.seconds(cheapestPlan(), pixels);  // 0.48 s
+    EXPECT_EQ(planFor(1e3), "balanced");
+    // Just below balanced's time and margin: fast; then fewer members; then one member of one
+    // filter, also when nothing fits (the frame must be denoised).
+    const double balancedFits = kFinalAutoMargin * cost.seconds(balanced, pixels);
+    EXPECT_EQ(planFor(balancedFits), "balanced");
+    EXPECT_EQ(planFor(balancedFits * 0.99), "fast");
+    const AutoPlan fast8{denoise::AutoQuality::Fast, 8, {}};
+    EXPECT_EQ(planFor(kFinalAutoMargin * cost.seconds(fast8, pixels)), "fast with 8 members");
+    EXPECT_EQ(planFor(kFinalAutoMargin * unit), describe(cheapestPlan()));
+    EXPECT_EQ(planFor(0.0), describe(cheapestPlan()));
+    EXPECT_EQ(planFor(-5.0), describe(cheapestPlan()));
+    EXPECT_EQ(describe(cheapestPlan()), "fast with 1 member of cross-bilateral");
+    // A caller allowing only fast never gets balanced.
+    EXPECT_EQ(describe(choosePlan(cost, pixels, 1e3, {denoise::AutoQuality::Fast, 0, {}})), "fast");
 }
 
 }  // namespace

@@ -33,6 +33,8 @@ const char* steeringName(Steering steering);
 
 /// The largest error target (estimated relMSE) and the longest time limit accepted.
 inline constexpr double kMaxTargetError = 1e6;
+/// The side of the centred crop of the first pass on which auto's cost is probed (time limit).
+inline constexpr int kProbeSide = 64;
 
 /// How the final frame is made.
 struct FinalOptions {
@@ -52,15 +54,19 @@ struct FinalOptions {
     double refreshGrowth = 2.0;
     /// The automatic selection (the halves estimator; AutoOptions::estimateError is set here).
     denoise::AutoOptions autoOptions;
-    /// The final auto's quality, and the first refresh's when expectedAutoSeconds is 0 (that
-    /// refresh then measures the final auto's time).
+    /// The final auto's quality; under a time limit the most it runs at: a cheaper plan
+    /// (choosePlan: fast, then fewer members) when this one does not fit its share.
     denoise::AutoQuality quality = denoise::AutoQuality::Balanced;
-    /// The quality of the other refreshes.
+    /// The quality of the refreshes (and of the probe that calibrates auto's cost).
     denoise::AutoQuality refreshQuality = denoise::AutoQuality::Fast;
     /// With a time limit, the most of it the refreshes take together, in (0, 1] (TimeBudget).
     double refreshShare = 0.2;
-    /// Seconds the final auto is expected to take before any refresh measured it (the time
-    /// limit keeps room for it); 0: unknown.
+    /// With a time limit, the most of it the final auto's plan is chosen to take, in (0, 1]:
+    /// the render gets the rest.
+    double finalShare = 0.5;
+    /// Seconds the final auto at `quality` is expected to take on this film: it calibrates auto's
+    /// cost model (AutoCost) instead of a probe; 0: a probe on a crop of the first pass
+    /// (kProbeSide) calibrates it.
     double expectedAutoSeconds = 0.0;
     /// Seconds since any fixed time, for the time limit; empty: std::chrono::steady_clock.
     /// (The renderer's own pass sizing reads the steady clock; with a clock here the limit is
@@ -71,9 +77,9 @@ struct FinalOptions {
 };
 
 /// Throws glint::Error(InvalidArgument) naming the first bad option ("timeLimit",
-/// "targetError", "refreshGrowth", "refreshShare", "spp") and what was expected: a time limit or
-/// error target not NaN, ≥ 0 and at most kMaxTimeLimit / kMaxTargetError; some end (a time limit,
-/// an error target or a spp); render::validate's for the settings.
+/// "targetError", "refreshGrowth", "refreshShare", "finalShare", "spp") and what was expected: a
+/// time limit or error target not NaN, ≥ 0 and at most kMaxTimeLimit / kMaxTargetError; shares in
+/// (0, 1]; some end (a time limit, an error target or a spp); render::validate's for the settings.
 void validate(const FinalOptions& options);
 
 /// What a final render made.
@@ -86,12 +92,17 @@ struct FinalResult {
     int refreshes = 0;             ///< auto's runs during the render
     double autoSeconds = 0.0;      ///< every auto run, the final one included
     double refreshSeconds = 0.0;   ///< the refreshes' share of autoSeconds
+    /// The final auto's plan (describe(AutoPlan): "balanced", "fast with 8 members", …) and its
+    /// predicted seconds (0 without a time limit).
+    std::string finalPlan;
+    double predictedFinalSeconds = 0.0;
     /// Times every pixel had converged with time left and the threshold was halved (the render
     /// went on; time limit only).
     int thresholdHalvings = 0;
     double seconds = 0.0;        ///< all of it
     bool targetReached = false;  ///< stopped at the error target
-    /// The time limit was shorter than the first pass: the frame is that one pass, denoised.
+    /// The time limit was too short for the first pass and the cheapest auto: the frame is that
+    /// one pass, denoised by cheapestPlan().
     bool overTime = false;
 };
 

@@ -1,12 +1,21 @@
 // How a final render shares its time limit (docs/final-render.md, "Targets"): the render runs
-// while the time left exceeds the reserve for the final auto (a margin over its measured time),
-// and auto's refreshes during the render take at most a share of the limit. Times are seconds
-// since the render started, read from any clock (tests use a fake one).
+// while the time left exceeds the reserve for the final auto (a margin over its predicted time),
+// and auto's refreshes during the render take at most a share of the limit. Auto's time is
+// predicted by a cost model calibrated in the run (AutoCost: a probe on a crop of the first pass,
+// then each refresh), and the final auto's plan (its quality, or a smaller bank) is chosen so that
+// it fits its share (choosePlan). Times are seconds since the render started, read from any clock
+// (tests use a fake one).
 #pragma once
+
+#include <string>
+#include <vector>
+
+#include "glint/denoise/auto.h"
+#include "glint/image/frame_buffers.h"
 
 namespace glint::pipeline {
 
-/// The reserve for the final auto: this many times its measured (or expected) seconds.
+/// The reserve for the final auto: this many times its predicted seconds.
 inline constexpr double kFinalAutoMargin = 1.25;
 
 /// The schedule of one time-limited final render.
@@ -14,20 +23,22 @@ class TimeBudget {
   public:
     /// `limit` seconds in all (0: none, and everything fits); auto's refreshes take at most
     /// `refreshShare` of it; the final auto is expected to take `expectedFinal` seconds (0:
-    /// unknown until a refresh at its quality measures it).
+    /// unknown until the cost model predicts it: expectFinal).
     TimeBudget(double limit, double refreshShare, double expectedFinal);
 
     bool timed() const { return m_limit > 0.0; }
-    /// The seconds kept for the final auto: kFinalAutoMargin times its latest measure.
+    double limit() const { return m_limit; }
+    /// The seconds kept for the final auto: kFinalAutoMargin times its expected time.
     double reserve() const { return kFinalAutoMargin * m_final; }
     /// Whether the render may go on at `now`: more than the reserve is left.
     bool renderMayContinue(double now) const;
     /// Whether a refresh at `now` expected to take `seconds` fits: the refreshes stay within
     /// their share and the reserve is still left after it.
     bool refreshFits(double now, double seconds) const;
-    /// Records a refresh that took `seconds`; `finalQuality`: it ran at the final auto's
-    /// quality, so its time is the final auto's new estimate.
-    void refreshed(double seconds, bool finalQuality);
+    /// Records a refresh that took `seconds`.
+    void refreshed(double seconds) { m_refreshes += seconds; }
+    /// The final auto is now expected to take `seconds` (the cost model's prediction of its plan).
+    void expectFinal(double seconds) { m_final = seconds; }
     /// What the final auto is expected to take (0: unknown).
     double expectedFinal() const { return m_final; }
     /// The refreshes' seconds so far.
@@ -37,5 +48,54 @@ class TimeBudget {
     double m_limit, m_share, m_final;
     double m_refreshes = 0.0;
 };
+
+/// How auto runs: a quality, its bank's Latin-hypercube members (0: the quality's) and filters
+/// (empty: the default bank's). The cheaper plans of choosePlan are fast with fewer members.
+struct AutoPlan {
+    denoise::AutoQuality quality = denoise::AutoQuality::Balanced;
+    int bankSize = 0;
+    std::vector<std::string> filters;
+};
+
+/// "balanced", "fast with 8 members", "fast with 1 member of cross-bilateral", …
+std::string describe(const AutoPlan& plan);
+
+/// The plan's cost relative to balanced's on the same frame (balanced: 1). A linear model in the
+/// bank's members, the defaults of each filter on top, fitted to bench_final_budget's
+/// measurements (docs/lab/race.md, "Keeping the time limit").
+double planWeight(const AutoPlan& plan);
+
+/// Auto's cost model: seconds = rate × pixels × planWeight(plan), plus a cold start on the
+/// process's first run of the default bank (what it loads once); the rate calibrated by a timed
+/// run of any plan on any frame (a probe on a crop, a refresh on the whole).
+class AutoCost {
+  public:
+    /// Sets the rate from a run of `plan` on `pixels` pixels that took `seconds` (its cold
+    /// start taken out), and records the run.
+    void calibrate(const AutoPlan& plan, double pixels, double seconds);
+    /// Records a run of `plan` (a default bank's run warms the next).
+    void ran(const AutoPlan& plan);
+    bool calibrated() const { return m_rate > 0.0; }
+    /// The predicted seconds of `plan` on `pixels` pixels (0 before any calibration).
+    double seconds(const AutoPlan& plan, double pixels) const;
+
+  private:
+    bool coldStart(const AutoPlan& plan) const;
+    double m_rate = 0.0;  ///< seconds per pixel at weight 1
+    bool m_warm = false;  ///< a default bank has run
+};
+
+/// The cheapest plan: one fast member of one filter (with its defaults: two members).
+AutoPlan cheapestPlan();
+
+/// The plan the final auto runs with `seconds` for it on `pixels` pixels: the first of `most`
+/// (balanced, say), the cheaper qualities down to fast, then fast with 16, 8, 4, 2 and 1 members,
+/// then cheapestPlan(), whose predicted time × kFinalAutoMargin is at most `seconds`;
+/// cheapestPlan() when none is. `most` itself when the cost is not calibrated.
+AutoPlan choosePlan(const AutoCost& cost, double pixels, double seconds, const AutoPlan& most);
+
+/// The centred crop of `frame` of at most side × side pixels, every layer cropped (a probe of
+/// auto's cost).
+FrameBuffers probeFrame(const FrameBuffers& frame, int side);
 
 }  // namespace glint::pipeline
