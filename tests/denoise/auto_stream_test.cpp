@@ -408,37 +408,65 @@ TEST(AutoTiles, TheTileHeightFollowsTheMemoryBudget) {
     EXPECT_LE(autoMemoryBudget(0), detail::kDefaultAutoMemory);
 }
 
+// A render's layers (all but the position) on a w × h frame, the w × h ones two images shared
+// (130 MB at 4K, not 1.4 GB), with the settings and the bank's members of a small render.
+struct RenderLike {
+    FrameBuffers frame;
+    FilterBank bank;
+    detail::AutoSettings settings;
+};
+RenderLike renderLike(int w, int h) {
+    std::vector<Layer> layers;
+    for (int l = 0; l < kLayerCount; ++l)
+        if (Layer(l) != Layer::Position) layers.push_back(Layer(l));
+    FrameBuffers small(16, 16);
+    for (Layer l : layers) small.ensure(l);
+    small.layer(Layer::SampleCount).fill(4.0f);
+    small.layer(Layer::HalfSampleCount).fill(2.0f);
+    const FilterBank smallBank = detail::bankWithoutResults(small, BankOptions{});
+    RenderLike r{FrameBuffers(w, h), FilterBank(smallBank.members(), {}, Rect{0, w, 0, h}, w, h, 0),
+                 detail::resolveSettings(smallBank, small, {})};
+    r.frame.set(Layer::Depth, Image(w, h, 1));
+    for (Layer l : layers)
+        if (l != Layer::Color && l != Layer::Depth)
+            r.frame.shareLayer(l, r.frame,
+                               layerInfo(l).channels == 3 ? Layer::Color : Layer::Depth);
+    return r;
+}
+
 // At 3840×2160, a render with half buffers (42 floats a pixel, as glint-render --set
 // halfBuffers=true writes them), the default bank and the default budget: the model's estimate of
 // the peak — the frame, half A's own layers (half B is the frame's layers, shared), the most the
 // blend or the stacking holds, a band and a tile — is under 4 GB (issue 47; docs/lab/auto-memory.md
 // has the measured peak), and counts at least the frame and half A's 21 floats a pixel.
 TEST(AutoTiles, TheModelsEstimateForA4KRenderIsUnderFourGigabytes) {
-    std::vector<Layer> layers;
-    for (int l = 0; l < kLayerCount; ++l)
-        if (Layer(l) != Layer::Position) layers.push_back(Layer(l));
-    // A small render gives the settings and the bank's members.
-    FrameBuffers small(16, 16);
-    for (Layer l : layers) small.ensure(l);
-    small.layer(Layer::SampleCount).fill(4.0f);
-    small.layer(Layer::HalfSampleCount).fill(2.0f);
-    const FilterBank smallBank = detail::bankWithoutResults(small, BankOptions{});
-    const detail::AutoSettings s = detail::resolveSettings(smallBank, small, {});
-    ASSERT_TRUE(s.halves);
-    ASSERT_GT(s.stack, 0);
-    // The 4K frame's layers are two images, shared (130 MB, not 1.4 GB).
     const int w = 3840, h = 2160;
-    FrameBuffers big(w, h);
-    big.set(Layer::Depth, Image(w, h, 1));
-    for (Layer l : layers)
-        if (l != Layer::Color && l != Layer::Depth)
-            big.shareLayer(l, big, layerInfo(l).channels == 3 ? Layer::Color : Layer::Depth);
-    const FilterBank bank(smallBank.members(), {}, Rect{0, w, 0, h}, w, h, 0);
-    const detail::TileModel model = detail::autoTileModel(bank, true, true, 2);
+    const RenderLike r = renderLike(w, h);
+    ASSERT_TRUE(r.settings.halves);
+    ASSERT_GT(r.settings.stack, 0);
+    const detail::TileModel model = detail::autoTileModel(r.bank, true, true, 2);
     const std::uint64_t estimate =
-        detail::autoMemoryEstimate(bank, big, s, detail::kDefaultAutoMemory, model);
+        detail::autoMemoryEstimate(r.bank, r.frame, r.settings, detail::kDefaultAutoMemory, model);
     EXPECT_LE(estimate, std::uint64_t(4000000000));
     EXPECT_GE(estimate, std::uint64_t(w) * std::uint64_t(h) * (42 + 21) * sizeof(float));
+}
+
+// The learned member's own budget is what the default budget leaves beside half A: at 1920×1080
+// its default, 1024 MiB, as the in-memory path gave it (0.6 of the room, 668 MiB, cut its
+// U-Net into 6 tiles of 2.9 Mpx in all instead of 2 of 2.3 Mpx: CPU time;
+// docs/lab/auto-memory.md), and at 4K no more than the room.
+TEST(AutoTiles, TheLearnedMemberKeepsItsDefaultBudgetAt1080p) {
+    const RenderLike hd = renderLike(1920, 1080);
+    EXPECT_EQ(
+        detail::autoMemberMemoryMB(hd.bank, hd.frame, hd.settings, detail::kDefaultAutoMemory),
+        1024.0);
+    const RenderLike uhd = renderLike(3840, 2160);
+    // Half A's own layers: the colour, albedo, normal and depth, their variances, the counts.
+    const double room = double(detail::kDefaultAutoMemory) - 3840.0 * 2160.0 * 21.0 * 4.0;
+    const double mb =
+        detail::autoMemberMemoryMB(uhd.bank, uhd.frame, uhd.settings, detail::kDefaultAutoMemory);
+    EXPECT_LE(mb * 1048576.0, room);
+    EXPECT_GT(mb, 256.0);
 }
 
 // Banded (the spill on, no bank results): each member is applied into the spill and the median

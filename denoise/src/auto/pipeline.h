@@ -18,8 +18,8 @@ struct AutoSettings;
 /// AutoOptions::memoryLimit is 0: keeps 1920×1080 with a 64-member bank under 2 GB in all.
 constexpr std::uint64_t kDefaultAutoMemory = std::uint64_t(1280) << 20;
 /// The memory budget, in MiB, of a member that has one of its own (the learned member's
-/// memoryMB, whose tiling does not change its output): 0.6 of what `budget` leaves beside the
-/// halves (the wide members run before the error maps take their memory), within 256 … 1024.
+/// memoryMB, whose tiling does not change its output): what `budget` leaves beside the halves
+/// (the wide members run before the error maps take their memory), within 256 … 1024.
 double autoMemberMemoryMB(const FilterBank& bank, const FrameBuffers& frame,
                           const AutoSettings& settings, std::uint64_t budget);
 /// The lowest tile height: below it the filters' margins, read again at every tile, cost more

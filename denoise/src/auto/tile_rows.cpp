@@ -51,8 +51,11 @@ double autoMemberMemoryMB(const FilterBank&, const FrameBuffers& frame,
                           const AutoSettings& settings, std::uint64_t budget) {
     const std::uint64_t inputs = memberInputBytes(frame, settings);
     const double room = budget > inputs ? double(budget - inputs) : 0.0;
-    // Whole MiB: the parameter is an integer.
-    return std::clamp(std::floor(0.6 * room / 1048576.0), 256.0, 1024.0);
+    // All of it: a learned member's smaller tiles, each with its receptive field's overlap, cost
+    // CPU time (at 1920×1080, 0.6 of the room cut the U-Net into 6 tiles of 2.9 Mpx in all
+    // against 2 of 2.3 Mpx; docs/lab/auto-memory.md), and the peak is the stacking's, after the
+    // members. Whole MiB: the parameter is an integer.
+    return std::clamp(std::floor(room / 1048576.0), 256.0, 1024.0);
 }
 
 TileModel autoTileModel(const FilterBank& bank, bool spillOn, bool mapSpillOn, int concurrency) {
