@@ -21,6 +21,8 @@
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 
+#include "bench_options.h"
+
 namespace {
 
 std::vector<std::string> split(const std::string& text) {
@@ -36,25 +38,14 @@ int main(int argc, char** argv) {
     std::string scenes = "dof", seeds = "21,22", ways = "uniform,fixed,variance,spread";
     double seconds = 12.0;
     int threads = 2, minSpp = 16;
-    for (int i = 1; i + 1 < argc; i += 2) {
-        const std::string flag = argv[i], value = argv[i + 1];
-        if (flag == "--scenes")
-            scenes = value;
-        else if (flag == "--seeds")
-            seeds = value;
-        else if (flag == "--seconds")
-            seconds = std::stod(value);
-        else if (flag == "--threads")
-            threads = std::stoi(value);
-        else if (flag == "--min-spp")
-            minSpp = std::stoi(value);
-        else if (flag == "--ways")
-            ways = value;
-        else {
-            std::fprintf(stderr, "bench_adaptive_equal_time: unknown flag %s\n", flag.c_str());
-            return 2;
-        }
-    }
+    glint::bench::OptionTable options;
+    options.bind("--scenes", scenes);
+    options.bind("--seeds", seeds);
+    options.bind("--seconds", seconds);
+    options.bind("--threads", threads);
+    options.bind("--min-spp", minSpp);
+    options.bind("--ways", ways);
+    if (const int rc = options.parse("bench_adaptive_equal_time", argc, argv)) return rc;
     const glint::pipeline::AutoRun autoRun =
         glint::pipeline::autoRun({}, glint::denoise::AutoQuality::Balanced);
     std::printf(

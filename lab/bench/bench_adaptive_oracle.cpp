@@ -27,6 +27,8 @@
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 
+#include "bench_options.h"
+
 namespace {
 
 /// Per pixel, relMSE's term (glint::relMse: (x − r)² / (r² + 0.01), mean over channels).
@@ -77,27 +79,15 @@ int main(int argc, char** argv) {
     std::string scene = "dof", mapOut;
     unsigned long long seed = 21, mapSeed = 1021;
     int spp = 256, pilot = 64, threads = 2;
-    for (int i = 1; i + 1 < argc; i += 2) {
-        const std::string flag = argv[i], value = argv[i + 1];
-        if (flag == "--scene")
-            scene = value;
-        else if (flag == "--seed")
-            seed = std::stoull(value);
-        else if (flag == "--map-seed")
-            mapSeed = std::stoull(value);
-        else if (flag == "--spp")
-            spp = std::stoi(value);
-        else if (flag == "--pilot")
-            pilot = std::stoi(value);
-        else if (flag == "--threads")
-            threads = std::stoi(value);
-        else if (flag == "--map-out")
-            mapOut = value;
-        else {
-            std::fprintf(stderr, "bench_adaptive_oracle: unknown flag %s\n", flag.c_str());
-            return 2;
-        }
-    }
+    glint::bench::OptionTable options;
+    options.bind("--scene", scene);
+    options.bind("--seed", seed);
+    options.bind("--map-seed", mapSeed);
+    options.bind("--spp", spp);
+    options.bind("--pilot", pilot);
+    options.bind("--threads", threads);
+    options.bind("--map-out", mapOut);
+    if (const int rc = options.parse("bench_adaptive_oracle", argc, argv)) return rc;
     const std::string dir = std::string(GLINT_SOURCE_DIR) + "/scenes/" + scene;
     const glint::Image reference = glint::readExr(dir + "/reference.exr").color();
     glint::render::Renderer renderer(glint::render::loadScene(dir + "/scene.json"));

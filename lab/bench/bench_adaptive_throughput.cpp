@@ -15,6 +15,8 @@
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 
+#include "bench_options.h"
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -32,25 +34,14 @@ int main(int argc, char** argv) {
     unsigned long long seed = 21;
     double seconds = 8.0;
     int threads = 2, minSpp = 16, printPasses = 0;
-    for (int i = 1; i + 1 < argc; i += 2) {
-        const std::string flag = argv[i], value = argv[i + 1];
-        if (flag == "--scene")
-            scene = value;
-        else if (flag == "--seed")
-            seed = std::stoull(value);
-        else if (flag == "--seconds")
-            seconds = std::stod(value);
-        else if (flag == "--threads")
-            threads = std::stoi(value);
-        else if (flag == "--min-spp")
-            minSpp = std::stoi(value);
-        else if (flag == "--passes")
-            printPasses = std::stoi(value);
-        else {
-            std::fprintf(stderr, "bench_adaptive_throughput: unknown flag %s\n", flag.c_str());
-            return 2;
-        }
-    }
+    glint::bench::OptionTable options;
+    options.bind("--scene", scene);
+    options.bind("--seed", seed);
+    options.bind("--seconds", seconds);
+    options.bind("--threads", threads);
+    options.bind("--min-spp", minSpp);
+    options.bind("--passes", printPasses);
+    if (const int rc = options.parse("bench_adaptive_throughput", argc, argv)) return rc;
     const std::string dir = std::string(GLINT_SOURCE_DIR) + "/scenes/" + scene;
     glint::render::Renderer renderer(glint::render::loadScene(dir + "/scene.json"));
     std::printf(

@@ -19,6 +19,8 @@
 #include "glint/pipeline/final_render.h"
 #include "glint/render/scene.h"
 
+#include "bench_options.h"
+
 namespace {
 
 std::vector<std::string> split(const std::string& text) {
@@ -35,29 +37,16 @@ int main(int argc, char** argv) {
     std::string ways = "uniform,fixed,variance,denoiser", refreshQuality = "fast";
     int threads = 2, minSpp = 16;
     double refreshShare = 0.2;
-    for (int i = 1; i + 1 < argc; i += 2) {
-        const std::string flag = argv[i], value = argv[i + 1];
-        if (flag == "--scenes")
-            scenes = value;
-        else if (flag == "--seeds")
-            seeds = value;
-        else if (flag == "--seconds")
-            budgets = value;
-        else if (flag == "--threads")
-            threads = std::stoi(value);
-        else if (flag == "--min-spp")
-            minSpp = std::stoi(value);
-        else if (flag == "--ways")
-            ways = value;
-        else if (flag == "--refresh-share")
-            refreshShare = std::stod(value);
-        else if (flag == "--refresh-quality")
-            refreshQuality = value;
-        else {
-            std::fprintf(stderr, "bench_final: unknown flag %s\n", flag.c_str());
-            return 2;
-        }
-    }
+    glint::bench::OptionTable options;
+    options.bind("--scenes", scenes);
+    options.bind("--seeds", seeds);
+    options.bind("--seconds", budgets);
+    options.bind("--threads", threads);
+    options.bind("--min-spp", minSpp);
+    options.bind("--ways", ways);
+    options.bind("--refresh-share", refreshShare);
+    options.bind("--refresh-quality", refreshQuality);
+    if (const int rc = options.parse("bench_final", argc, argv)) return rc;
     using glint::pipeline::Steering;
     std::printf(
         "scene\tbudget\tseed\tway\trelMSE\testimated\tmeanSpp\tpasses\trefreshes\thalvings\t"

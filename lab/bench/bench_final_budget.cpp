@@ -17,6 +17,8 @@
 #include "glint/pipeline/refresh.h"
 #include "glint/pipeline/time_budget.h"
 
+#include "bench_options.h"
+
 namespace {
 
 std::vector<std::string> split(const std::string& text, char by) {
@@ -38,21 +40,12 @@ int main(int argc, char** argv) {
     const std::string path = argv[1];
     std::string plans = "fast,balanced,best,fast:8,fast:1,fast:1:cross-bilateral,fast:1:guided";
     int crop = 64, runs = 2, threads = 2;
-    for (int i = 2; i + 1 < argc; i += 2) {
-        const std::string flag = argv[i], value = argv[i + 1];
-        if (flag == "--plans")
-            plans = value;
-        else if (flag == "--crop")
-            crop = std::stoi(value);
-        else if (flag == "--runs")
-            runs = std::stoi(value);
-        else if (flag == "--threads")
-            threads = std::stoi(value);
-        else {
-            std::fprintf(stderr, "bench_final_budget: unknown flag %s\n", flag.c_str());
-            return 2;
-        }
-    }
+    glint::bench::OptionTable options;
+    options.bind("--plans", plans);
+    options.bind("--crop", crop);
+    options.bind("--runs", runs);
+    options.bind("--threads", threads);
+    if (const int rc = options.parse("bench_final_budget", argc, argv, 2)) return rc;
     tbb::global_control pool(tbb::global_control::max_allowed_parallelism, threads);
     const glint::FrameBuffers frame = glint::readExr(path);
     const glint::FrameBuffers probe = glint::pipeline::probeFrame(frame, crop);

@@ -9,6 +9,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace glint::bench {
 
@@ -77,5 +78,82 @@ inline int parseOptions(const char* program, int argc, char** argv,
     }
     return 0;
 }
+
+/// Options bound to variables by name: `OptionTable t; t.bind("--seed", seed); …;
+/// return t.parse("bench_x", argc, argv, first)` — each value read as its variable's type
+/// (text, integer, 64-bit integer, number), a bad one or an unknown name ending the run with
+/// one line (exit code 2, as parseOptions). `first` is argv's first option (after positionals).
+class OptionTable {
+  public:
+    void bind(std::string name, std::string& to) {
+        m_rows.push_back(
+            {std::move(name), [&to](const std::string&, const std::string& v) { to = v; }});
+    }
+    void bind(std::string name, int& to) {
+        m_rows.push_back({std::move(name), [&to](const std::string& n, const std::string& v) {
+                              to = intOption(n, v);
+                          }});
+    }
+    void bind(std::string name, unsigned long long& to) {
+        m_rows.push_back(
+            {std::move(name), [&to](const std::string& n, const std::string& v) {
+                 to = number<unsigned long long>(
+                     n, v, [](const std::string& t, std::size_t* u) { return std::stoull(t, u); });
+             }});
+    }
+    void bind(std::string name, double& to) {
+        m_rows.push_back({std::move(name), [&to](const std::string& n, const std::string& v) {
+                              to = number<double>(n, v, [](const std::string& t, std::size_t* u) {
+                                  return std::stod(t, u);
+                              });
+                          }});
+    }
+
+    /// Reads argv[first …] as "--name value" pairs; 0, or 2 after one line on stderr.
+    int parse(const char* program, int argc, char** argv, int first = 1) const {
+        if ((argc - first) % 2 != 0) {
+            std::fprintf(stderr, "%s: option %s needs a value\n", program, argv[argc - 1]);
+            return 2;
+        }
+        for (int i = first; i + 1 < argc; i += 2) {
+            const std::string name = argv[i];
+            const Row* row = nullptr;
+            for (const Row& r : m_rows)
+                if (r.name == name) row = &r;
+            if (!row) {
+                std::fprintf(stderr, "%s: unknown option %s\n", program, argv[i]);
+                return 2;
+            }
+            try {
+                row->set(name, argv[i + 1]);
+            } catch (const OptionError& e) {
+                std::fprintf(stderr, "%s: %s\n", program, e.what());
+                return 2;
+            }
+        }
+        return 0;
+    }
+
+  private:
+    template <typename T, typename Read>
+    static T number(const std::string& name, const std::string& text, Read read) {
+        std::size_t used = 0;
+        T value{};
+        try {
+            value = read(text, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (used == 0 || used != text.size())
+            throw OptionError(name + " needs a number, not '" + text + "'");
+        return value;
+    }
+
+    struct Row {
+        std::string name;
+        std::function<void(const std::string&, const std::string&)> set;
+    };
+    std::vector<Row> m_rows;
+};
 
 }  // namespace glint::bench
