@@ -1,7 +1,7 @@
 // The renderer's samples spent four ways in the same render time, then the same auto
 // (docs/lab/adaptive-sampling.md, "Why adaptive loses on dof"): uniform passes; the fixed
 // threshold; the variance schedule (a uniform map of scale √(spp / spp at the adaptive start));
-// and the spread map (pipeline::importanceFromSpread at that scale, remade whenever the mean spp
+// and the spread map (lab::importanceFromSpread at that scale, remade whenever the mean spp
 // has doubled). Every adaptive way halves its threshold at convergence, as glint-final does.
 // relMSE after auto (balanced) against scenes/<scene>/reference.exr; one TSV row per run.
 //   build/bin/bench_adaptive_equal_time [--scenes dof] [--seeds 21,22] [--seconds 12]
@@ -16,6 +16,7 @@
 
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"
+#include "glint/lab/spread_map.h"
 #include "glint/pipeline/refresh.h"
 #include "glint/pipeline/steering.h"
 #include "glint/render/renderer.h"
@@ -73,7 +74,7 @@ int main(int argc, char** argv) {
                     const double scale = boost * std::sqrt(lastSpp / startSpp);
                     if (way == "spread")
                         map = std::make_shared<const glint::Image>(
-                            glint::pipeline::importanceFromSpread(frame, scale));
+                            glint::lab::importanceFromSpread(frame, scale));
                     else if (way == "variance" || boost > 1.0)
                         map = std::make_shared<const glint::Image>(
                             w, h, 1, float(way == "variance" ? scale : boost));

@@ -1,14 +1,14 @@
-// The spread map (glint/pipeline/steering.h, importanceFromSpread): the weights that turn the
+// The spread map (glint/lab/spread_map.h, importanceFromSpread): the weights that turn the
 // renderer's threshold, which stops pixel i at n_i ∝ a_i², into the allocation that minimises the
 // noisy image's relMSE, n_i ∝ s_i.
 #include <cmath>
 
 #include <gtest/gtest.h>
 
-#include "glint/pipeline/steering.h"
+#include "glint/lab/spread_map.h"
 #include "glint/render/importance_map.h"
 
-namespace glint::pipeline {
+namespace glint::lab {
 namespace {
 
 /// A pixel's grey mean, a sample's variance and sample count.
@@ -79,4 +79,4 @@ TEST(SpreadMap, PixelsWithoutAnEstimateWeighTheScaleAndTheMapIsOneTheRendererTak
 }
 
 }  // namespace
-}  // namespace glint::pipeline
+}  // namespace glint::lab
