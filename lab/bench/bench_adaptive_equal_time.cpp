@@ -10,7 +10,6 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -23,17 +22,6 @@
 #include "glint/render/scene.h"
 
 #include "bench_options.h"
-
-namespace {
-
-std::vector<std::string> split(const std::string& text) {
-    std::vector<std::string> out;
-    std::stringstream in(text);
-    for (std::string item; std::getline(in, item, ',');) out.push_back(item);
-    return out;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
     std::string scenes = "dof", seeds = "21,22", ways = "uniform,fixed,variance,spread";
@@ -51,13 +39,13 @@ int main(int argc, char** argv) {
         glint::pipeline::autoRun({}, glint::denoise::AutoQuality::Balanced);
     std::printf(
         "scene\tbudget\tseed\tway\trelMSE\traw\tmeanSpp\tpasses\thalvings\trenderSeconds\n");
-    for (const std::string& name : split(scenes)) {
+    for (const std::string& name : glint::bench::splitList(scenes)) {
         const std::string dir = std::string(GLINT_SOURCE_DIR) + "/scenes/" + name;
         const glint::Image reference = glint::readExr(dir + "/reference.exr").color();
         glint::render::Renderer renderer(glint::render::loadScene(dir + "/scene.json"));
         const int w = renderer.scene().width(), h = renderer.scene().height();
-        for (const std::string& seed : split(seeds))
-            for (const std::string& way : split(ways)) {
+        for (const std::string& seed : glint::bench::splitList(seeds))
+            for (const std::string& way : glint::bench::splitList(ways)) {
                 glint::render::Settings s = renderer.scene().settings();
                 s.spp = 0;
                 s.seed = std::stoull(seed);

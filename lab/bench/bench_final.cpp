@@ -10,7 +10,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -20,17 +19,6 @@
 #include "glint/render/scene.h"
 
 #include "bench_options.h"
-
-namespace {
-
-std::vector<std::string> split(const std::string& text) {
-    std::vector<std::string> out;
-    std::stringstream in(text);
-    for (std::string item; std::getline(in, item, ',');) out.push_back(item);
-    return out;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
     std::string scenes = "glossy,dof,cornell", seeds = "21,22", budgets = "15,30";
@@ -51,7 +39,7 @@ int main(int argc, char** argv) {
     std::printf(
         "scene\tbudget\tseed\tway\trelMSE\testimated\tmeanSpp\tpasses\trefreshes\thalvings\t"
         "refreshSeconds\tautoSeconds\tseconds\n");
-    for (const std::string& name : split(scenes)) {
+    for (const std::string& name : glint::bench::splitList(scenes)) {
         const std::string dir = std::string(GLINT_SOURCE_DIR) + "/scenes/" + name;
         const glint::Image reference = glint::readExr(dir + "/reference.exr").color();
         glint::render::Renderer renderer(glint::render::loadScene(dir + "/scene.json"));
@@ -63,9 +51,9 @@ int main(int argc, char** argv) {
         calibration.settings.adaptive = false;
         calibration.settings.threads = threads;
         const double autoSeconds = glint::pipeline::renderFinal(renderer, calibration).autoSeconds;
-        for (const std::string& budget : split(budgets))
-            for (const std::string& seed : split(seeds))
-                for (const std::string& way : split(ways)) {
+        for (const std::string& budget : glint::bench::splitList(budgets))
+            for (const std::string& seed : glint::bench::splitList(seeds))
+                for (const std::string& way : glint::bench::splitList(ways)) {
                     glint::pipeline::FinalOptions o;
                     o.settings = renderer.scene().settings();
                     o.settings.spp = 0;

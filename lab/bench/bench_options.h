@@ -79,6 +79,16 @@ inline int parseOptions(const char* program, int argc, char** argv,
     return 0;
 }
 
+/// The items of a comma-separated option value ("glossy,dof" → {"glossy", "dof"}).
+inline std::vector<std::string> splitList(const std::string& text) {
+    std::vector<std::string> out;
+    std::size_t start = 0;
+    for (std::size_t comma; (comma = text.find(',', start)) != std::string::npos; start = comma + 1)
+        out.push_back(text.substr(start, comma - start));
+    if (start < text.size()) out.push_back(text.substr(start));
+    return out;
+}
+
 /// Options bound to variables by name: `OptionTable t; t.bind("--seed", seed); …;
 /// return t.parse("bench_x", argc, argv, first)` — each value read as its variable's type
 /// (text, integer, 64-bit integer, number), a bad one or an unknown name ending the run with
