@@ -11,8 +11,13 @@
 //     adaptive passes that open exactly the pixels below their n_i; auto; relMSE of the
 //     denoised image against uniform's at the same samples and at the oracle's rays (time);
 //     and the same allocation by the noisy frame's own relative spread (sqrtVariance).
+//  3. The cost-aware oracle: at equal time (Σ c_i n_i fixed, c_i a sample's rays at pixel i)
+//     the optimum of Σ e_i/n_i is n_i ∝ √(e_i / c_i); c_i measured per --cost-block² block by
+//     rendering each block alone (the map seed, --pilot spp) and read per pixel (oracleCost) and
+//     averaged per 16² tile, what the renderer's tiles could count (oracleTileCost).
 //   build/bin/bench_adaptive_oracle [--scene dof] [--seed 21] [--spp 256] [--pilot 64]
-//                                   [--map-seed 1021] [--threads 2] [--map-out error.exr]
+//                                   [--map-seed 1021] [--threads 2] [--cost-block 4]
+//                                   [--map-out error.exr]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +25,7 @@
 #include <memory>
 #include <numeric>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "glint/image/io.h"
@@ -78,7 +84,7 @@ struct Run {
 int main(int argc, char** argv) {
     std::string scene = "dof", mapOut;
     unsigned long long seed = 21, mapSeed = 1021;
-    int spp = 256, pilot = 64, threads = 2;
+    int spp = 256, pilot = 64, threads = 2, costBlock = 4;
     glint::bench::OptionTable options;
     options.bind("--scene", scene);
     options.bind("--seed", seed);
@@ -86,6 +92,7 @@ int main(int argc, char** argv) {
     options.bind("--spp", spp);
     options.bind("--pilot", pilot);
     options.bind("--threads", threads);
+    options.bind("--cost-block", costBlock);
     options.bind("--map-out", mapOut);
     if (const int rc = options.parse("bench_adaptive_oracle", argc, argv)) return rc;
     const std::string dir = std::string(GLINT_SOURCE_DIR) + "/scenes/" + scene;
@@ -208,23 +215,72 @@ int main(int argc, char** argv) {
                 spread[std::size_t(y) * w + x] = std::sqrt(sum / 3.0);
             }
     }
+    // A sample's cost per pixel: rays per sample of each block rendered alone (the map seed).
+    std::vector<double> cost(root.size(), 1.0);
+    for (int y0 = 0; y0 < h; y0 += costBlock)
+        for (int x0 = 0; x0 < w; x0 += costBlock) {
+            glint::render::Settings s = settingsFor(mapSeed);
+            s.spp = pilot;
+            s.region =
+                glint::Rect{x0, std::min(x0 + costBlock, w), y0, std::min(y0 + costBlock, h)};
+            const glint::render::RenderStats stats = renderer.render(s).stats;
+            const double c = double(stats.rays) / double(std::max<std::uint64_t>(stats.samples, 1));
+            for (int y = s.region->y0; y < s.region->y1; ++y)
+                for (int x = s.region->x0; x < s.region->x1; ++x) cost[std::size_t(y) * w + x] = c;
+        }
+    // The same cost averaged over the renderer's tiles (every pixel took the same samples).
+    std::vector<double> tileCost(cost.size(), 1.0);
+    const int tile = renderer.scene().settings().tileSize;
+    for (int y0 = 0; y0 < h; y0 += tile)
+        for (int x0 = 0; x0 < w; x0 += tile) {
+            const int x1 = std::min(x0 + tile, w), y1 = std::min(y0 + tile, h);
+            double sum = 0.0;
+            for (int y = y0; y < y1; ++y)
+                for (int x = x0; x < x1; ++x) sum += cost[std::size_t(y) * w + x];
+            const double c = sum / double((x1 - x0) * (y1 - y0));
+            for (int y = y0; y < y1; ++y)
+                for (int x = x0; x < x1; ++x) tileCost[std::size_t(y) * w + x] = c;
+        }
+    auto perCost = [&](const std::vector<double>& c) {
+        std::vector<double> weight(root.size());
+        for (std::size_t i = 0; i < root.size(); ++i) weight[i] = root[i] / std::sqrt(c[i]);
+        return weight;
+    };
+    double meanCost = mean(cost), minCost = cost[0], maxCost = cost[0];
+    for (double c : cost) minCost = std::min(minCost, c), maxCost = std::max(maxCost, c);
+    std::printf("cost\t%.2f mean rays/sample, %.2f to %.2f over %d^2 blocks\n", meanCost, minCost,
+                maxCost, costBlock);
+
     const Run steered = finish(renderTargets(targetsFrom(root)));
     const Run variance = finish(renderTargets(targetsFrom(spread)));
-    // Uniform at the oracle's rays (equal time, rays being the time: the rate per ray of
-    // adaptive and uniform passes agrees, bench_adaptive_throughput).
-    glint::render::Settings equalRays = settingsFor(seed);
-    equalRays.spp =
-        int(std::lround(double(spp) * double(steered.stats.rays) / double(uniform.stats.rays)));
-    const Run uniformRays = finish(renderer.render(equalRays));
+    const Run costAware = finish(renderTargets(targetsFrom(perCost(cost))));
+    const Run tileAware = finish(renderTargets(targetsFrom(perCost(tileCost))));
+    // Uniform at a way's rays (equal time, rays being the time: the rate per ray of adaptive and
+    // uniform passes agrees, bench_adaptive_throughput).
+    auto uniformAtRaysOf = [&](const Run& way) {
+        glint::render::Settings equalRays = settingsFor(seed);
+        equalRays.spp =
+            int(std::lround(double(spp) * double(way.stats.rays) / double(uniform.stats.rays)));
+        return finish(renderer.render(equalRays));
+    };
+    const Run uniformRays = uniformAtRaysOf(steered);
+    const Run uniformCostRays = uniformAtRaysOf(costAware);
+    const Run uniformTileRays = uniformAtRaysOf(tileAware);
     auto meanSpp = [&](const Run& r) { return double(r.stats.samples) / (double(w) * h); };
-    std::printf("way\tmeanSpp\traysPerSample\trays\traw\tdenoised\tchange\n");
-    for (const auto& [name, r] : {std::pair<const char*, const Run*>{"uniform", &uniform},
-                                  {"oracle", &steered},
-                                  {"sqrtVariance", &variance},
-                                  {"uniformAtOracleRays", &uniformRays}})
-        std::printf("%s\t%.1f\t%.2f\t%llu\t%.4g\t%.4g\t%+.0f %%\n", name, meanSpp(*r),
+    std::printf("way\tmeanSpp\traysPerSample\trays\traw\tdenoised\tchange\tvsEqualRays\n");
+    for (const auto& [name, r, same] :
+         {std::tuple<const char*, const Run*, const Run*>{"uniform", &uniform, &uniform},
+          {"oracle", &steered, &uniformRays},
+          {"sqrtVariance", &variance, &uniformRays},
+          {"oracleCost", &costAware, &uniformCostRays},
+          {"oracleTileCost", &tileAware, &uniformTileRays},
+          {"uniformAtOracleRays", &uniformRays, &uniformRays},
+          {"uniformAtOracleCostRays", &uniformCostRays, &uniformCostRays},
+          {"uniformAtOracleTileCostRays", &uniformTileRays, &uniformTileRays}})
+        std::printf("%s\t%.1f\t%.2f\t%llu\t%.4g\t%.4g\t%+.0f %%\t%+.0f %%\n", name, meanSpp(*r),
                     double(r->stats.rays) / double(r->stats.samples),
                     (unsigned long long)r->stats.rays, r->rawRelMse, r->relMse,
-                    100.0 * (r->relMse / uniform.relMse - 1.0));
+                    100.0 * (r->relMse / uniform.relMse - 1.0),
+                    100.0 * (r->relMse / same->relMse - 1.0));
     return 0;
 }
