@@ -7,7 +7,7 @@ if(TARGET glint_render)
   target_compile_definitions(bench_adaptive_throughput PRIVATE GLINT_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
   glint_warnings(bench_adaptive_throughput)
 endif()
-#   build/bin/bench_adaptive_oracle [--scene dof] [--seed 21] [--spp 256] [--pilot 64] [--map-seed 1021] [--cost-block 4]
+#   build/bin/bench_adaptive_oracle [--scene dof] [--seed 21] [--spp 256] [--pilot 64] [--map-seed 1021] [--cost-block 4] [--exponent 0.5] [--ways ...]
 if(TARGET glint_pipeline)
   add_executable(bench_adaptive_oracle ${CMAKE_CURRENT_LIST_DIR}/bench_adaptive_oracle.cpp)
   target_link_libraries(bench_adaptive_oracle PRIVATE glint_pipeline)

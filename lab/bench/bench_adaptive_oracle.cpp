@@ -13,11 +13,14 @@
 //     and the same allocation by the noisy frame's own relative spread (sqrtVariance).
 //  3. The cost-aware oracle: at equal time (Σ c_i n_i fixed, c_i a sample's rays at pixel i)
 //     the optimum of Σ e_i/n_i is n_i ∝ √(e_i / c_i); c_i measured per --cost-block² block by
-//     rendering each block alone (the map seed, --pilot spp) and read per pixel (oracleCost) and
-//     averaged per 16² tile, what the renderer's tiles could count (oracleTileCost).
+//     rendering each block alone (the map seed, --pilot spp) and read per pixel (oracleCost) or
+//     averaged per 16² tile, what the renderer's tiles could count (oracleTileCost). Where e_i
+//     falls as n^−β rather than 1/n the optimum is n_i ∝ (e_i / c_i)^(1/(1+β)): --exponent sets
+//     that power for the cost ways and for oraclePow (cost-blind).
+//  Each way is compared with uniform at its own rays.
 //   build/bin/bench_adaptive_oracle [--scene dof] [--seed 21] [--spp 256] [--pilot 64]
-//                                   [--map-seed 1021] [--threads 2] [--cost-block 4]
-//                                   [--map-out error.exr]
+//       [--map-seed 1021] [--threads 2] [--cost-block 4] [--exponent 0.5]
+//       [--ways oracle,sqrtVariance,oracleCost,oracleTileCost,oraclePow] [--map-out error.exr]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -85,6 +88,8 @@ int main(int argc, char** argv) {
     std::string scene = "dof", mapOut;
     unsigned long long seed = 21, mapSeed = 1021;
     int spp = 256, pilot = 64, threads = 2, costBlock = 4;
+    double exponent = 0.5;
+    std::string ways = "oracle,sqrtVariance,oracleCost,oracleTileCost";
     glint::bench::OptionTable options;
     options.bind("--scene", scene);
     options.bind("--seed", seed);
@@ -93,6 +98,8 @@ int main(int argc, char** argv) {
     options.bind("--pilot", pilot);
     options.bind("--threads", threads);
     options.bind("--cost-block", costBlock);
+    options.bind("--exponent", exponent);
+    options.bind("--ways", ways);
     options.bind("--map-out", mapOut);
     if (const int rc = options.parse("bench_adaptive_oracle", argc, argv)) return rc;
     const std::string dir = std::string(GLINT_SOURCE_DIR) + "/scenes/" + scene;
@@ -183,7 +190,7 @@ int main(int argc, char** argv) {
 
     // 2. The oracle's samples per pixel, from another realisation's true error, blurred.
     const Run other = finish(renderer.render(settingsFor(mapSeed)));
-    std::vector<double> root(other.errors.size(), 0.0);
+    std::vector<double> blurred(other.errors.size(), 0.0);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             double sum = 0.0;
@@ -195,13 +202,13 @@ int main(int argc, char** argv) {
                     sum += other.errors[std::size_t(sy) * w + sx];
                     ++n;
                 }
-            root[std::size_t(y) * w + x] = std::sqrt(sum / n);
+            blurred[std::size_t(y) * w + x] = sum / n;
         }
     // The renderer's own information instead of the reference: n_i ∝ the relative standard
     // deviation of a sample, √(v_i n_i) / √(μ_i² + 0.01) from the other seed's noisy frame (the
     // allocation that minimises the noisy image's relMSE; a threshold on the error, Cycles',
     // gives n_i ∝ its square).
-    std::vector<double> spread(root.size(), 0.0);
+    std::vector<double> spread(blurred.size(), 0.0);
     {
         const glint::Image& mu = other.frame.color();
         const glint::Image& var = other.frame.layer(glint::Layer::Variance);
@@ -216,71 +223,88 @@ int main(int argc, char** argv) {
             }
     }
     // A sample's cost per pixel: rays per sample of each block rendered alone (the map seed).
-    std::vector<double> cost(root.size(), 1.0);
-    for (int y0 = 0; y0 < h; y0 += costBlock)
-        for (int x0 = 0; x0 < w; x0 += costBlock) {
-            glint::render::Settings s = settingsFor(mapSeed);
-            s.spp = pilot;
-            s.region =
-                glint::Rect{x0, std::min(x0 + costBlock, w), y0, std::min(y0 + costBlock, h)};
-            const glint::render::RenderStats stats = renderer.render(s).stats;
-            const double c = double(stats.rays) / double(std::max<std::uint64_t>(stats.samples, 1));
-            for (int y = s.region->y0; y < s.region->y1; ++y)
-                for (int x = s.region->x0; x < s.region->x1; ++x) cost[std::size_t(y) * w + x] = c;
-        }
+    auto costMap = [&] {
+        std::vector<double> cost(blurred.size(), 1.0);
+        for (int y0 = 0; y0 < h; y0 += costBlock)
+            for (int x0 = 0; x0 < w; x0 += costBlock) {
+                glint::render::Settings s = settingsFor(mapSeed);
+                s.spp = pilot;
+                s.region =
+                    glint::Rect{x0, std::min(x0 + costBlock, w), y0, std::min(y0 + costBlock, h)};
+                const glint::render::RenderStats stats = renderer.render(s).stats;
+                const double c =
+                    double(stats.rays) / double(std::max<std::uint64_t>(stats.samples, 1));
+                for (int y = s.region->y0; y < s.region->y1; ++y)
+                    for (int x = s.region->x0; x < s.region->x1; ++x)
+                        cost[std::size_t(y) * w + x] = c;
+            }
+        double lo = cost[0], hi = cost[0];
+        for (double c : cost) lo = std::min(lo, c), hi = std::max(hi, c);
+        std::printf("cost\t%.2f mean rays/sample, %.2f to %.2f over %d^2 blocks\n", mean(cost), lo,
+                    hi, costBlock);
+        return cost;
+    };
     // The same cost averaged over the renderer's tiles (every pixel took the same samples).
-    std::vector<double> tileCost(cost.size(), 1.0);
-    const int tile = renderer.scene().settings().tileSize;
-    for (int y0 = 0; y0 < h; y0 += tile)
-        for (int x0 = 0; x0 < w; x0 += tile) {
-            const int x1 = std::min(x0 + tile, w), y1 = std::min(y0 + tile, h);
-            double sum = 0.0;
-            for (int y = y0; y < y1; ++y)
-                for (int x = x0; x < x1; ++x) sum += cost[std::size_t(y) * w + x];
-            const double c = sum / double((x1 - x0) * (y1 - y0));
-            for (int y = y0; y < y1; ++y)
-                for (int x = x0; x < x1; ++x) tileCost[std::size_t(y) * w + x] = c;
-        }
-    auto perCost = [&](const std::vector<double>& c) {
-        std::vector<double> weight(root.size());
-        for (std::size_t i = 0; i < root.size(); ++i) weight[i] = root[i] / std::sqrt(c[i]);
+    auto perTile = [&](const std::vector<double>& cost) {
+        std::vector<double> tileCost(cost.size(), 1.0);
+        const int tile = renderer.scene().settings().tileSize;
+        for (int y0 = 0; y0 < h; y0 += tile)
+            for (int x0 = 0; x0 < w; x0 += tile) {
+                const int x1 = std::min(x0 + tile, w), y1 = std::min(y0 + tile, h);
+                double sum = 0.0;
+                for (int y = y0; y < y1; ++y)
+                    for (int x = x0; x < x1; ++x) sum += cost[std::size_t(y) * w + x];
+                const double c = sum / double((x1 - x0) * (y1 - y0));
+                for (int y = y0; y < y1; ++y)
+                    for (int x = x0; x < x1; ++x) tileCost[std::size_t(y) * w + x] = c;
+            }
+        return tileCost;
+    };
+    std::vector<double> cost;
+    // n_i ∝ (e_i / c_i)^exponent (c_i = 1: cost-blind).
+    auto allocation = [&](const std::vector<double>* c, double power) {
+        std::vector<double> weight(blurred.size());
+        for (std::size_t i = 0; i < blurred.size(); ++i)
+            weight[i] = std::pow(blurred[i] / (c ? (*c)[i] : 1.0), power);
         return weight;
     };
-    double meanCost = mean(cost), minCost = cost[0], maxCost = cost[0];
-    for (double c : cost) minCost = std::min(minCost, c), maxCost = std::max(maxCost, c);
-    std::printf("cost\t%.2f mean rays/sample, %.2f to %.2f over %d^2 blocks\n", meanCost, minCost,
-                maxCost, costBlock);
 
-    const Run steered = finish(renderTargets(targetsFrom(root)));
-    const Run variance = finish(renderTargets(targetsFrom(spread)));
-    const Run costAware = finish(renderTargets(targetsFrom(perCost(cost))));
-    const Run tileAware = finish(renderTargets(targetsFrom(perCost(tileCost))));
-    // Uniform at a way's rays (equal time, rays being the time: the rate per ray of adaptive and
-    // uniform passes agrees, bench_adaptive_throughput).
-    auto uniformAtRaysOf = [&](const Run& way) {
+    // Each way, then uniform at its rays (equal time, rays being the time: the rate per ray of
+    // adaptive and uniform passes agrees, bench_adaptive_throughput).
+    auto meanSpp = [&](const Run& r) { return double(r.stats.samples) / (double(w) * h); };
+    std::printf(
+        "way\tmeanSpp\traysPerSample\trays\traw\tdenoised\tchange\tuniformAtRaysSpp\t"
+        "uniformAtRays\tvsEqualRays\n");
+    std::printf("uniform\t%.1f\t%.2f\t%llu\t%.4g\t%.4g\t+0 %%\t\t\t\n", meanSpp(uniform),
+                double(uniform.stats.rays) / double(uniform.stats.samples),
+                (unsigned long long)uniform.stats.rays, uniform.rawRelMse, uniform.relMse);
+    for (const std::string& way : glint::bench::splitList(ways)) {
+        std::vector<double> weight;
+        if (way == "oracle")
+            weight = allocation(nullptr, 0.5);
+        else if (way == "oraclePow")
+            weight = allocation(nullptr, exponent);
+        else if (way == "sqrtVariance")
+            weight = spread;
+        else if (way == "oracleCost" || way == "oracleTileCost") {
+            if (cost.empty()) cost = costMap();
+            const std::vector<double> c = way == "oracleCost" ? cost : perTile(cost);
+            weight = allocation(&c, exponent);
+        } else {
+            std::fprintf(stderr, "bench_adaptive_oracle: unknown way '%s'\n", way.c_str());
+            return 2;
+        }
+        const Run r = finish(renderTargets(targetsFrom(weight)));
         glint::render::Settings equalRays = settingsFor(seed);
         equalRays.spp =
-            int(std::lround(double(spp) * double(way.stats.rays) / double(uniform.stats.rays)));
-        return finish(renderer.render(equalRays));
-    };
-    const Run uniformRays = uniformAtRaysOf(steered);
-    const Run uniformCostRays = uniformAtRaysOf(costAware);
-    const Run uniformTileRays = uniformAtRaysOf(tileAware);
-    auto meanSpp = [&](const Run& r) { return double(r.stats.samples) / (double(w) * h); };
-    std::printf("way\tmeanSpp\traysPerSample\trays\traw\tdenoised\tchange\tvsEqualRays\n");
-    for (const auto& [name, r, same] :
-         {std::tuple<const char*, const Run*, const Run*>{"uniform", &uniform, &uniform},
-          {"oracle", &steered, &uniformRays},
-          {"sqrtVariance", &variance, &uniformRays},
-          {"oracleCost", &costAware, &uniformCostRays},
-          {"oracleTileCost", &tileAware, &uniformTileRays},
-          {"uniformAtOracleRays", &uniformRays, &uniformRays},
-          {"uniformAtOracleCostRays", &uniformCostRays, &uniformCostRays},
-          {"uniformAtOracleTileCostRays", &uniformTileRays, &uniformTileRays}})
-        std::printf("%s\t%.1f\t%.2f\t%llu\t%.4g\t%.4g\t%+.0f %%\t%+.0f %%\n", name, meanSpp(*r),
-                    double(r->stats.rays) / double(r->stats.samples),
-                    (unsigned long long)r->stats.rays, r->rawRelMse, r->relMse,
-                    100.0 * (r->relMse / uniform.relMse - 1.0),
-                    100.0 * (r->relMse / same->relMse - 1.0));
+            int(std::lround(double(spp) * double(r.stats.rays) / double(uniform.stats.rays)));
+        const Run u = finish(renderer.render(equalRays));
+        std::printf("%s\t%.1f\t%.2f\t%llu\t%.4g\t%.4g\t%+.0f %%\t%d\t%.4g\t%+.0f %%\n", way.c_str(),
+                    meanSpp(r), double(r.stats.rays) / double(r.stats.samples),
+                    (unsigned long long)r.stats.rays, r.rawRelMse, r.relMse,
+                    100.0 * (r.relMse / uniform.relMse - 1.0), equalRays.spp, u.relMse,
+                    100.0 * (r.relMse / u.relMse - 1.0));
+        std::fflush(stdout);
+    }
     return 0;
 }
