@@ -21,6 +21,7 @@
 //   build/bin/bench_adaptive_oracle [--scene dof] [--seed 21] [--spp 256] [--pilot 64]
 //       [--map-seed 1021] [--threads 2] [--cost-block 4] [--exponent 0.5]
 //       [--ways oracle,sqrtVariance,oracleCost,oracleTileCost,oraclePow] [--map-out error.exr]
+//       [--allocations-only 1]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -89,6 +90,7 @@ int main(int argc, char** argv) {
     unsigned long long seed = 21, mapSeed = 1021;
     int spp = 256, pilot = 64, threads = 2, costBlock = 4;
     double exponent = 0.5;
+    int allocationsOnly = 0;  // 1: print each way's allocation, render none of them
     std::string ways = "oracle,sqrtVariance,oracleCost,oracleTileCost";
     glint::bench::OptionTable options;
     options.bind("--scene", scene);
@@ -100,6 +102,7 @@ int main(int argc, char** argv) {
     options.bind("--cost-block", costBlock);
     options.bind("--exponent", exponent);
     options.bind("--ways", ways);
+    options.bind("--allocations-only", allocationsOnly);
     options.bind("--map-out", mapOut);
     if (const int rc = options.parse("bench_adaptive_oracle", argc, argv)) return rc;
     const std::string dir = std::string(GLINT_SOURCE_DIR) + "/scenes/" + scene;
@@ -240,8 +243,14 @@ int main(int argc, char** argv) {
             }
         double lo = cost[0], hi = cost[0];
         for (double c : cost) lo = std::min(lo, c), hi = std::max(hi, c);
-        std::printf("cost\t%.2f mean rays/sample, %.2f to %.2f over %d^2 blocks\n", mean(cost), lo,
-                    hi, costBlock);
+        // Where the error is: the cost of a pixel weighted by its (map's) error.
+        double weighted = 0.0, errorSum = 0.0;
+        for (std::size_t i = 0; i < cost.size(); ++i)
+            weighted += blurred[i] * cost[i], errorSum += blurred[i];
+        std::printf(
+            "cost\t%.2f mean rays/sample, %.2f to %.2f over %d^2 blocks, %.2f weighted by "
+            "the error\n",
+            mean(cost), lo, hi, costBlock, weighted / errorSum);
         return cost;
     };
     // The same cost averaged over the renderer's tiles (every pixel took the same samples).
@@ -294,7 +303,12 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "bench_adaptive_oracle: unknown way '%s'\n", way.c_str());
             return 2;
         }
-        const Run r = finish(renderTargets(targetsFrom(weight)));
+        const std::vector<int> target = targetsFrom(weight);
+        std::printf("%s\t%.1f %% of the pixels at the pilot\n", way.c_str(),
+                    100.0 * double(std::count(target.begin(), target.end(), pilot)) /
+                        double(target.size()));
+        if (allocationsOnly) continue;
+        const Run r = finish(renderTargets(target));
         glint::render::Settings equalRays = settingsFor(seed);
         equalRays.spp =
             int(std::lround(double(spp) * double(r.stats.rays) / double(uniform.stats.rays)));
