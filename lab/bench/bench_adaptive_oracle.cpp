@@ -105,6 +105,18 @@ int main(int argc, char** argv) {
     options.bind("--allocations-only", allocationsOnly);
     options.bind("--map-out", mapOut);
     if (const int rc = options.parse("bench_adaptive_oracle", argc, argv)) return rc;
+    auto bad = [](const std::string& what) {
+        std::fprintf(stderr, "bench_adaptive_oracle: %s\n", what.c_str());
+        return 2;
+    };
+    if (costBlock < 1) return bad("--cost-block needs a block edge >= 1");
+    if (!(exponent > 0.0 && exponent <= 4.0)) return bad("--exponent needs a power in (0, 4]");
+    const std::vector<std::string> known = {"oracle", "oraclePow", "sqrtVariance", "oracleCost",
+                                            "oracleTileCost"};
+    for (const std::string& way : glint::bench::splitList(ways))
+        if (std::find(known.begin(), known.end(), way) == known.end())
+            return bad("unknown way '" + way +
+                       "' (expected oracle, oraclePow, sqrtVariance, oracleCost, oracleTileCost)");
     const std::string dir = std::string(GLINT_SOURCE_DIR) + "/scenes/" + scene;
     const glint::Image reference = glint::readExr(dir + "/reference.exr").color();
     glint::render::Renderer renderer(glint::render::loadScene(dir + "/scene.json"));
@@ -295,13 +307,10 @@ int main(int argc, char** argv) {
             weight = allocation(nullptr, exponent);
         else if (way == "sqrtVariance")
             weight = spread;
-        else if (way == "oracleCost" || way == "oracleTileCost") {
+        else {  // oracleCost, oracleTileCost
             if (cost.empty()) cost = costMap();
             const std::vector<double> c = way == "oracleCost" ? cost : perTile(cost);
             weight = allocation(&c, exponent);
-        } else {
-            std::fprintf(stderr, "bench_adaptive_oracle: unknown way '%s'\n", way.c_str());
-            return 2;
         }
         const std::vector<int> target = targetsFrom(weight);
         std::printf("%s\t%.1f %% of the pixels at the pilot\n", way.c_str(),
