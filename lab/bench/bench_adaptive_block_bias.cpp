@@ -12,7 +12,7 @@
 //   build/bin/bench_adaptive_block_bias --scene DIR/scene.json (bench_studio_progressive
 //       --write-scene DIR) [--size 128] [--start 16] [--seeds 24] [--uniform-spp 64]
 //       [--checkpoints 20,24,32,48] [--steer provisional|provisional-half|
-//       provisional-blur|random|auto|uniform]
+//       provisional-blur|random|auto|threshold|uniform]
 //       [--threads 2] [--block 8]
 #include <algorithm>
 #include <cmath>
@@ -201,7 +201,8 @@ int main(int argc, char** argv) {
                 }
                 return refresher.importance(frame);
             }
-            if (!first) return nullptr;
+            // threshold: no map, the renderer's own threshold on half B decides alone.
+            if (!first || steer == "threshold") return nullptr;
             first = false;
             if (steer == "provisional") return refresher.provisional(frame);
             if (steer == "provisional-half") {
