@@ -31,6 +31,7 @@
 #include "glint/pipeline/refresh.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
+#include "model/progressive_render.h"
 
 #include "bench_options.h"
 
@@ -118,7 +119,7 @@ void report(const char* steer, const char* estimator, double checkpoint, const A
             film += a.pv[k] / S;
         }
     }
-    std::printf("%-17s %-6s %5.0f %6.2f %+8.3f%% %6.3f%% %+6.1f %10.3g %10.3g %7.3f %7.4f %7.3f\n",
+    std::printf("%-17s %-6s %5.1f %6.2f %+8.3f%% %6.3f%% %+6.1f %10.3g %10.3g %7.3f %7.4f %7.3f\n",
                 steer, estimator, checkpoint, a.spp / S, 100.0 * bias, 100.0 * se, bias / se,
                 biasRel / blocks, noiseRel / blocks, z2 / blocks, double(outliers) / blocks,
                 film > 0.0 ? spread / film : 0.0);
@@ -175,19 +176,9 @@ int main(int argc, char** argv) {
     std::vector<Accum> whole(checkpoints.size()), even(checkpoints.size()),
         held(checkpoints.size());
     for (int s = 0; s < seeds; ++s) {
-        render::Settings r = bar;
+        render::Settings r = studio::ProgressiveRender::refining(bar);
         r.seed = 1 + std::uint64_t(s);
-        r.adaptive = true;
-        r.halfBuffers = true;
-        r.minSpp = start;
-        r.spp = start * 64;
-        pipeline::RefreshOptions ro;
-        ro.growth = 2.0;
-        ro.quality = denoise::AutoQuality::Fast;
-        ro.bankSize = 2;
-        ro.filters = {"cross-bilateral"};
-        ro.focus = 0.1;
-        pipeline::Refresher refresher(ro);
+        pipeline::Refresher refresher(studio::ProgressiveRender::refreshOptions());
         bool first = true;
         std::size_t next = 0;
         // Half B at the map's making (provisional-half): the samples that decided.
