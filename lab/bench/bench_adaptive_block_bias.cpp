@@ -147,17 +147,32 @@ int main(int argc, char** argv) {
                      "multiple of --block\n");
         return 2;
     }
+    const std::vector<std::string> steers = {
+        "provisional", "provisional-half", "provisional-blur", "random",
+        "auto",        "threshold",        "uniform"};
+    if (std::find(steers.begin(), steers.end(), steer) == steers.end()) {
+        std::fprintf(stderr, "bench_adaptive_block_bias: unknown --steer %s\n", steer.c_str());
+        return 2;
+    }
+    // The checkpoints, and the studio's scene (bench_studio_progressive --write-scene) at
+    // --size²: a bad value or file ends the run with one line.
     std::vector<double> checkpoints;
-    for (const std::string& c : bench::splitList(checkpointList))
-        checkpoints.push_back(std::stod(c));
-    // The studio's scene (bench_studio_progressive --write-scene) at --size².
-    std::ifstream in(scenePath);
-    std::stringstream text;
-    text << in.rdbuf();
-    nlohmann::json json = nlohmann::json::parse(text.str());
-    json["film"]["width"] = size;
-    json["film"]["height"] = size;
-    render::Renderer renderer(render::parseScene(json.dump(), scenePath));
+    std::optional<render::Renderer> loaded;
+    try {
+        for (const std::string& c : bench::splitList(checkpointList))
+            checkpoints.push_back(std::stod(c));
+        std::ifstream in(scenePath);
+        std::stringstream text;
+        text << in.rdbuf();
+        nlohmann::json json = nlohmann::json::parse(text.str());
+        json["film"]["width"] = size;
+        json["film"]["height"] = size;
+        loaded.emplace(render::parseScene(json.dump(), scenePath));
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "bench_adaptive_block_bias: %s: %s\n", scenePath.c_str(), e.what());
+        return 2;
+    }
+    render::Renderer& renderer = *loaded;
     render::Settings bar = renderer.scene().settings();
     bar.threads = threads;
     bar.spp = start;
