@@ -1,0 +1,303 @@
+// The block-scale bias of the studio's Keep Refining (docs/lab/adaptive-bias.md, "The studio's
+// block-scale bias"): the raw colour of the studio's refining render (ProgressiveRender's
+// settings: adaptive with half buffers from the bar's spp, the map from Refresher::provisional at
+// the first adaptive pass, auto's maps after it with --steer auto) averaged over many seeds, on
+// --block² block means, against uniform renders of other seeds. Per steering and mean-spp
+// checkpoint: the whole frame's bias with its standard error, the bias's block relMSE with the
+// seeds' noise taken off (what bench_studio_progressive's relMSE sees once the noise is gone), one
+// image's block noise, the blocks' mean z² (1 without bias), and for the pixels refined the seeds'
+// spread over the film's variance of the mean (above 1 if a pass repeated samples). For each,
+// the whole image, the even half (samples no decision saw when the map came from half B) and, with
+// provisional-half, "held": every sample but half B's at the map's making (the ones that decided).
+//   build/bin/bench_adaptive_block_bias --scene DIR/scene.json (bench_studio_progressive
+//       --write-scene DIR) [--size 128] [--start 16] [--seeds 24] [--uniform-spp 64]
+//       [--checkpoints 20,24,32,48] [--steer provisional|provisional-half|
+//       provisional-blur|random|auto|threshold|uniform]
+//       [--threads 2] [--block 8]
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "glint/image/frame_buffers.h"
+#include "glint/pipeline/refresh.h"
+#include "glint/render/renderer.h"
+#include "glint/render/scene.h"
+#include "model/progressive_render.h"
+
+#include "bench_options.h"
+
+using namespace glint;
+
+namespace {
+
+/// Sums over seeds of one estimator's block means and whole-frame mean, and per pixel of its
+/// colour and its variance layer (for the spread against the film's own variance).
+struct Accum {
+    int seeds = 0;
+    double spp = 0.0, frame1 = 0.0, frame2 = 0.0;
+    std::vector<double> b1, b2, p1, p2, pv, n;
+
+    void add(const Image& colour, const Image& variance, const Image& count, int block) {
+        const int bw = colour.width() / block, bh = colour.height() / block;
+        const std::size_t pixels = std::size_t(colour.width()) * std::size_t(colour.height());
+        if (b1.empty()) {
+            b1.assign(std::size_t(bw) * bh * 3, 0.0), b2 = b1;
+            p1.assign(pixels * 3, 0.0), p2 = p1, pv = p1, n.assign(pixels, 0.0);
+        }
+        std::vector<double> means(b1.size(), 0.0);
+        double frame = 0.0;
+        for (int y = 0; y < bh * block; ++y)
+            for (int x = 0; x < bw * block; ++x)
+                for (int c = 0; c < 3; ++c) {
+                    const double v = colour(x, y, c);
+                    means[(std::size_t(y / block) * bw + x / block) * 3 + c] += v;
+                    frame += v;
+                }
+        for (std::size_t i = 0; i < means.size(); ++i) {
+            const double m = means[i] / double(block * block);
+            b1[i] += m, b2[i] += m * m;
+        }
+        frame /= double(bw * bh * block * block * 3);
+        frame1 += frame, frame2 += frame * frame;
+        double total = 0.0;
+        for (std::size_t i = 0; i < pixels; ++i) {
+            n[i] += count.data()[i];
+            total += count.data()[i];
+            for (int c = 0; c < 3; ++c) {
+                const double v = colour.data()[3 * i + c];
+                p1[3 * i + c] += v, p2[3 * i + c] += v * v;
+                pv[3 * i + c] += variance.data()[3 * i + c];
+            }
+        }
+        spp += total / double(pixels);
+        ++seeds;
+    }
+    double blockMean(std::size_t i) const { return b1[i] / seeds; }
+    /// The variance of one seed's block mean (the seeds' spread).
+    double blockVar(std::size_t i) const {
+        return std::max(0.0, (b2[i] - b1[i] * b1[i] / seeds) / (seeds - 1));
+    }
+};
+
+/// Prints `a` against the uniform control `u`.
+void report(const char* steer, const char* estimator, double checkpoint, const Accum& a,
+            const Accum& u, int start) {
+    const double S = a.seeds, fa = a.frame1 / S, fu = u.frame1 / u.seeds;
+    const double va = (a.frame2 - a.frame1 * a.frame1 / S) / (S - 1) / S;
+    const double vu = (u.frame2 - u.frame1 * u.frame1 / u.seeds) / (u.seeds - 1) / u.seeds;
+    const double bias = (fa - fu) / fu, se = std::sqrt(va + vu) / fu;
+    double biasRel = 0.0, noiseRel = 0.0, z2 = 0.0;
+    int outliers = 0;
+    for (std::size_t i = 0; i < a.b1.size(); ++i) {
+        const double r = u.blockMean(i), floor = r * r + 0.01;
+        const double d = a.blockMean(i) - r;
+        const double var = a.blockVar(i) / S + u.blockVar(i) / u.seeds;
+        biasRel += (d * d - var) / floor;
+        noiseRel += a.blockVar(i) / floor;
+        const double z = d / std::sqrt(std::max(var, 1e-30));
+        z2 += z * z;
+        outliers += std::abs(z) > 3.29;
+    }
+    const double blocks = double(a.b1.size());
+    // The seeds' spread of each refined pixel (more samples than the start in every seed's mean)
+    // over the film's variance of the mean there.
+    double spread = 0.0, film = 0.0;
+    for (std::size_t i = 0; i < a.n.size(); ++i) {
+        if (a.n[i] / S < start + 1.0) continue;
+        for (int c = 0; c < 3; ++c) {
+            const std::size_t k = 3 * i + c;
+            spread += (a.p2[k] - a.p1[k] * a.p1[k] / S) / (S - 1);
+            film += a.pv[k] / S;
+        }
+    }
+    std::printf("%-17s %-6s %5.1f %6.2f %+8.3f%% %6.3f%% %+6.1f %10.3g %10.3g %7.3f %7.4f %7.3f\n",
+                steer, estimator, checkpoint, a.spp / S, 100.0 * bias, 100.0 * se, bias / se,
+                biasRel / blocks, noiseRel / blocks, z2 / blocks, double(outliers) / blocks,
+                film > 0.0 ? spread / film : 0.0);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string scenePath, steer = "provisional", checkpointList = "20,24,32,48";
+    int size = 128, start = 16, seeds = 24, uniformSpp = 64, threads = 2, block = 8;
+    bench::OptionTable options;
+    options.bind("--scene", scenePath);
+    options.bind("--steer", steer);
+    options.bind("--checkpoints", checkpointList);
+    options.bind("--size", size);
+    options.bind("--start", start);
+    options.bind("--seeds", seeds);
+    options.bind("--uniform-spp", uniformSpp);
+    options.bind("--threads", threads);
+    options.bind("--block", block);
+    if (const int rc = options.parse("bench_adaptive_block_bias", argc, argv)) return rc;
+    if (scenePath.empty() || seeds < 2 || size % block != 0) {
+        std::fprintf(stderr,
+                     "bench_adaptive_block_bias: --scene, --seeds >= 2, --size a "
+                     "multiple of --block\n");
+        return 2;
+    }
+    const std::vector<std::string> steers = {
+        "provisional", "provisional-half", "provisional-blur", "random",
+        "auto",        "threshold",        "uniform"};
+    if (std::find(steers.begin(), steers.end(), steer) == steers.end()) {
+        std::fprintf(stderr, "bench_adaptive_block_bias: unknown --steer %s\n", steer.c_str());
+        return 2;
+    }
+    // The checkpoints, and the studio's scene (bench_studio_progressive --write-scene) at
+    // --size²: a bad value or file ends the run with one line.
+    std::vector<double> checkpoints;
+    std::optional<render::Renderer> loaded;
+    try {
+        for (const std::string& c : bench::splitList(checkpointList))
+            checkpoints.push_back(std::stod(c));
+        std::ifstream in(scenePath);
+        std::stringstream text;
+        text << in.rdbuf();
+        nlohmann::json json = nlohmann::json::parse(text.str());
+        json["film"]["width"] = size;
+        json["film"]["height"] = size;
+        loaded.emplace(render::parseScene(json.dump(), scenePath));
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "bench_adaptive_block_bias: %s: %s\n", scenePath.c_str(), e.what());
+        return 2;
+    }
+    render::Renderer& renderer = *loaded;
+    render::Settings bar = renderer.scene().settings();
+    bar.threads = threads;
+    bar.spp = start;
+
+    // The uniform control: other seeds, --uniform-spp.
+    Accum uniform;
+    for (int s = 0; s < seeds; ++s) {
+        render::Settings u = bar;
+        u.seed = 100000 + std::uint64_t(s);
+        u.spp = uniformSpp;
+        const FrameBuffers f = renderer.render(u).frame;
+        uniform.add(f.color(), f.layer(Layer::Variance), f.layer(Layer::SampleCount), block);
+    }
+
+    // The studio's refining render (ProgressiveRender::refining), steered as --steer says.
+    std::vector<Accum> whole(checkpoints.size()), even(checkpoints.size()),
+        held(checkpoints.size());
+    for (int s = 0; s < seeds; ++s) {
+        render::Settings r = studio::ProgressiveRender::refining(bar);
+        r.seed = 1 + std::uint64_t(s);
+        pipeline::Refresher refresher(studio::ProgressiveRender::refreshOptions());
+        bool first = true;
+        std::size_t next = 0;
+        // Half B at the map's making (provisional-half): the samples that decided.
+        std::optional<FrameBuffers> decided;
+        render::Callbacks cb;
+        cb.importance = [&](int, const FrameBuffers& frame) -> std::shared_ptr<const Image> {
+            if (steer == "auto") {
+                if (first) {
+                    first = false;
+                    return refresher.provisional(frame);
+                }
+                return refresher.importance(frame);
+            }
+            // threshold: no map, the renderer's own threshold on half B decides alone.
+            if (!first || steer == "threshold") return nullptr;
+            first = false;
+            if (steer == "provisional") return refresher.provisional(frame);
+            if (steer == "provisional-half") {
+                decided = splitHalves(frame).second;
+                return refresher.provisional(*decided);
+            }
+            if (steer == "provisional-blur") {
+                // The score of each pixel from its 5 × 5 neighbourhood's colour and variance: a
+                // pixel's own samples are 1/25 of what chooses it.
+                FrameBuffers blurred = frame;
+                for (Layer l : {Layer::Color, Layer::Variance}) {
+                    const Image& in = frame.layer(l);
+                    Image& out = blurred.layer(l);
+                    for (int y = 0; y < in.height(); ++y)
+                        for (int x = 0; x < in.width(); ++x)
+                            for (int c = 0; c < 3; ++c) {
+                                double sum = 0.0;
+                                int n = 0;
+                                for (int dy = -2; dy <= 2; ++dy)
+                                    for (int dx = -2; dx <= 2; ++dx) {
+                                        const int sx = x + dx, sy = y + dy;
+                                        if (sx < 0 || sy < 0 || sx >= in.width() ||
+                                            sy >= in.height())
+                                            continue;
+                                        sum += in(sx, sy, c), ++n;
+                                    }
+                                out(x, y, c) = float(sum / n);
+                            }
+                }
+                return refresher.provisional(blurred);
+            }
+            // random: the same share of pixels, chosen by a fixed draw that never sees a sample.
+            auto map = std::make_shared<Image>(frame.width(), frame.height(), 1);
+            std::mt19937 pick(12345);
+            for (float& v : map->data()) v = pick() % 10 == 0 ? 1.0f : 0.0f;
+            return map;
+        };
+        cb.passDone = [&](int, const FrameBuffers& frame) {
+            const double spp = pipeline::meanSpp(frame);
+            while (next < checkpoints.size() && spp >= checkpoints[next]) {
+                whole[next].add(frame.color(), frame.layer(Layer::Variance),
+                                frame.layer(Layer::SampleCount), block);
+                const FrameBuffers a = splitHalves(frame).first;
+                even[next].add(a.color(), a.layer(Layer::Variance), a.layer(Layer::SampleCount),
+                               block);
+                if (decided) {
+                    // Every sample but those that decided: (n·mean − n_B0·mean_B0) / (n − n_B0).
+                    Image colour = frame.color(), count = frame.layer(Layer::SampleCount);
+                    const Image& c0 = decided->color();
+                    const Image& n0 = decided->layer(Layer::SampleCount);
+                    for (std::size_t i = 0; i < count.data().size(); ++i) {
+                        const float n = count.data()[i], m = n - n0.data()[i];
+                        for (std::size_t c = 0; c < 3; ++c)
+                            colour.data()[3 * i + c] = (n * colour.data()[3 * i + c] -
+                                                        n0.data()[i] * c0.data()[3 * i + c]) /
+                                                       m;
+                        count.data()[i] = m;
+                    }
+                    held[next].add(colour, frame.layer(Layer::Variance), count, block);
+                }
+                ++next;
+            }
+        };
+        cb.cancel = [&] { return next >= checkpoints.size(); };
+        if (steer == "uniform") {
+            // The control's calibration: a uniform render of other seeds, read at the same
+            // checkpoints.
+            r.adaptive = false;
+            r.minSpp = 0;
+            r.spp = int(std::ceil(checkpoints.back()));
+        }
+        renderer.render(r, cb);
+        if (next < checkpoints.size()) {
+            std::fprintf(stderr, "seed %d converged at checkpoint %zu\n", s + 1, next);
+            checkpoints.resize(next);
+        }
+    }
+    std::printf(
+        "# %d^2 studio scene, start %d spp, %d seeds, uniform control %d spp, %dx%d "
+        "blocks\n",
+        size, start, seeds, uniformSpp, block, block);
+    std::printf("%-17s %-6s %5s %6s %9s %7s %6s %10s %10s %7s %7s %7s\n", "steer", "image", "at",
+                "spp", "bias", "se", "z", "biasRelMSE", "noiseRelMSE", "meanZ2", ">3.29", "spread");
+    report(steer.c_str(), "unif", 0, uniform, uniform, start);
+    for (std::size_t k = 0; k < checkpoints.size(); ++k) {
+        report(steer.c_str(), "whole", checkpoints[k], whole[k], uniform, start);
+        report(steer.c_str(), "even", checkpoints[k], even[k], uniform, start);
+        if (held[k].seeds > 1)
+            report(steer.c_str(), "held", checkpoints[k], held[k], uniform, start);
+    }
+    return 0;
+}
