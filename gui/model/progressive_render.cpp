@@ -47,6 +47,7 @@ pipeline::RefreshOptions ProgressiveRender::refreshOptions() {
 // The steering of one render: its Refresher, the refresh running on a worker and its result.
 struct ProgressiveRender::Steer {
     std::optional<pipeline::Refresher> refresher;
+    int provisionals = 0;  // provisional maps handed
     std::function<bool()> stopping;
     std::atomic<bool> stop{false};
     std::mutex mutex;
@@ -67,8 +68,17 @@ struct ProgressiveRender::Steer {
                           refresher->refreshes()};
         return map;
     }
+    // The map from the frame's own relative variance, until auto's first map: the first adaptive
+    // pass on kFirstPassShare of the pixels the later ones take (its image comes sooner: this
+    // pass runs beside the bar's render being denoised, journalled and auto's first refresh),
+    // the next on all of them; then none (the renderer keeps it).
+    std::shared_ptr<const Image> provisional(const FrameBuffers& frame) {
+        if (refresher->last() || provisionals >= 2) return nullptr;
+        return refresher->provisional(frame, provisionals++ == 0 ? kFirstPassShare : 1.0);
+    }
     // Callbacks::importance, on the render's thread.
     std::shared_ptr<const Image> importance(const FrameBuffers& frame) {
+        bool busy = false;
         {
             std::lock_guard lock(mutex);
             if (ready) {
@@ -76,14 +86,14 @@ struct ProgressiveRender::Steer {
                 ready.reset();
                 return hand();
             }
-            if (running) return nullptr;
+            busy = running;
         }
+        if (busy) return provisional(frame);
         if (!refresher->due(frame)) return nullptr;
-        // Auto on a worker while the render goes on. The first adaptive pass does not wait for
+        // Auto on a worker while the render goes on. The first adaptive passes do not wait for
         // its map: the frame's own relative variance steers until it comes (without a map the
         // pass would take every pixel, as long as the whole start).
-        std::shared_ptr<const Image> first;
-        if (!refresher->last() && !worker.joinable()) first = refresher->provisional(frame);
+        std::shared_ptr<const Image> first = provisional(frame);
         if (worker.joinable()) worker.join();
         running = true;
         {

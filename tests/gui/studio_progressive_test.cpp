@@ -206,6 +206,39 @@ class StudioProgressiveTest : public QObject {
         QVERIFY(stop(*w));
     }
 
+    void theFirstAdaptivePassTakesAQuarterOfThePixelsOfTheNext() {
+        // A 64 × 64 frame at 16 spp whose relative variance grows with x + 64 y (every value
+        // different): the provisional maps open the worst by it, before auto's first map.
+        constexpr int kSide = 64;
+        FrameBuffers frame(kSide, kSide);
+        frame.ensure(Layer::Color).fill(0.5f);
+        frame.ensure(Layer::SampleCount).fill(16.0f);
+        Image& variance = frame.ensure(Layer::Variance);
+        for (int y = 0; y < kSide; ++y)
+            for (int x = 0; x < kSide; ++x)
+                for (int c = 0; c < 3; ++c) variance(x, y, c) = 1e-4f * float(1 + x + kSide * y);
+        auto openPixels = [](const std::shared_ptr<const Image>& map) {
+            return map ? std::count_if(map->data().begin(), map->data().end(),
+                                       [](float v) { return v > 0.0f; })
+                       : std::ptrdiff_t(-1);
+        };
+        ProgressiveRender progressive;
+        {
+            // Auto's refresh, started by the first call, is told to stop at once: no map of
+            // its comes in between.
+            const RenderJob::ImportanceFn steer = progressive.steer([] { return true; });
+            const auto first = steer(1, frame);
+            const auto second = steer(2, frame);
+            const double focus = ProgressiveRender::refreshOptions().focus * kSide * kSide;
+            QCOMPARE(openPixels(first),
+                     std::ptrdiff_t(std::ceil(ProgressiveRender::kFirstPassShare * focus)));
+            QCOMPARE(openPixels(second), std::ptrdiff_t(std::ceil(focus)));
+            // The worst pixels (the last rows) are open in both.
+            QVERIFY((*first)(kSide - 1, kSide - 1, 0) > 0.0f);
+            QVERIFY((*second)(kSide - 1, kSide - 1, 0) > 0.0f);
+        }
+    }
+
     void theToggleIsSavedWithTheSessionAndComesBackWithoutRendering() {
         auto w = openAndWait(m_scene, m_dir.filePath(QStringLiteral("persist")));
         QVERIFY(w && waitIdle(*w));
