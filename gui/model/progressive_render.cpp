@@ -47,7 +47,7 @@ pipeline::RefreshOptions ProgressiveRender::refreshOptions() {
 // The steering of one render: its Refresher, the refresh running on a worker and its result.
 struct ProgressiveRender::Steer {
     std::optional<pipeline::Refresher> refresher;
-    int provisionals = 0;  // provisional maps handed
+    double share = kFirstPassShare;  // of the next provisional map (above 1: none)
     std::function<bool()> stopping;
     std::atomic<bool> stop{false};
     std::mutex mutex;
@@ -69,12 +69,15 @@ struct ProgressiveRender::Steer {
         return map;
     }
     // The map from the frame's own relative variance, until auto's first map: the first adaptive
-    // pass on kFirstPassShare of the pixels the later ones take (its image comes sooner: this
-    // pass runs beside the bar's render being denoised, journalled and auto's first refresh),
-    // the next on all of them; then none (the renderer keeps it).
+    // pass on kFirstPassShare of the pixels the later ones take, each next one on twice the
+    // share of the one before, up to all of them (passes double their samples a pixel: so the
+    // first ones, beside the bar's render being denoised and journalled and auto's first
+    // refresh, stay short); then none (the renderer keeps the last).
     std::shared_ptr<const Image> provisional(const FrameBuffers& frame) {
-        if (refresher->last() || provisionals >= 2) return nullptr;
-        return refresher->provisional(frame, provisionals++ == 0 ? kFirstPassShare : 1.0);
+        if (refresher->last() || share > 1.0) return nullptr;
+        auto map = refresher->provisional(frame, std::min(share, 1.0));
+        share *= 2.0;
+        return map;
     }
     // Callbacks::importance, on the render's thread.
     std::shared_ptr<const Image> importance(const FrameBuffers& frame) {

@@ -206,7 +206,7 @@ class StudioProgressiveTest : public QObject {
         QVERIFY(stop(*w));
     }
 
-    void theFirstAdaptivePassTakesAQuarterOfThePixelsOfTheNext() {
+    void theFirstAdaptivePassesTakeAQuarterThenHalfThenAllOfTheFocus() {
         // A 64 × 64 frame at 16 spp whose relative variance grows with x + 64 y (every value
         // different): the provisional maps open the worst by it, before auto's first map.
         constexpr int kSide = 64;
@@ -227,15 +227,17 @@ class StudioProgressiveTest : public QObject {
             // Auto's refresh, started by the first call, is told to stop at once: no map of
             // its comes in between.
             const RenderJob::ImportanceFn steer = progressive.steer([] { return true; });
-            const auto first = steer(1, frame);
-            const auto second = steer(2, frame);
             const double focus = ProgressiveRender::refreshOptions().focus * kSide * kSide;
-            QCOMPARE(openPixels(first),
-                     std::ptrdiff_t(std::ceil(ProgressiveRender::kFirstPassShare * focus)));
-            QCOMPARE(openPixels(second), std::ptrdiff_t(std::ceil(focus)));
-            // The worst pixels (the last rows) are open in both.
-            QVERIFY((*first)(kSide - 1, kSide - 1, 0) > 0.0f);
-            QVERIFY((*second)(kSide - 1, kSide - 1, 0) > 0.0f);
+            double share = ProgressiveRender::kFirstPassShare;
+            QCOMPARE(share, 0.25);
+            for (int pass = 1; pass <= 3; ++pass, share *= 2.0) {
+                const auto map = steer(pass, frame);
+                QCOMPARE(openPixels(map), std::ptrdiff_t(std::ceil(share * focus)));
+                // The worst pixel (the last) is open in each.
+                QVERIFY((*map)(kSide - 1, kSide - 1, 0) > 0.0f);
+            }
+            // Then the renderer keeps the last.
+            QVERIFY(!steer(4, frame));
         }
     }
 
