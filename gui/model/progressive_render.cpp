@@ -47,6 +47,7 @@ pipeline::RefreshOptions ProgressiveRender::refreshOptions() {
 // The steering of one render: its Refresher, the refresh running on a worker and its result.
 struct ProgressiveRender::Steer {
     std::optional<pipeline::Refresher> refresher;
+    double share = kFirstPassShare;  // of the next provisional map (above 1: none)
     std::function<bool()> stopping;
     std::atomic<bool> stop{false};
     std::mutex mutex;
@@ -67,8 +68,20 @@ struct ProgressiveRender::Steer {
                           refresher->refreshes()};
         return map;
     }
+    // The map from the frame's own relative variance, until auto's first map: the first adaptive
+    // pass on kFirstPassShare of the pixels the later ones take, each next one on twice the
+    // share of the one before, up to all of them (passes double their samples a pixel: so the
+    // first ones, beside the bar's render being denoised and journalled and auto's first
+    // refresh, stay short); then none (the renderer keeps the last).
+    std::shared_ptr<const Image> provisional(const FrameBuffers& frame) {
+        if (refresher->last() || share > 1.0) return nullptr;
+        auto map = refresher->provisional(frame, std::min(share, 1.0));
+        share *= 2.0;
+        return map;
+    }
     // Callbacks::importance, on the render's thread.
     std::shared_ptr<const Image> importance(const FrameBuffers& frame) {
+        bool busy = false;
         {
             std::lock_guard lock(mutex);
             if (ready) {
@@ -76,14 +89,14 @@ struct ProgressiveRender::Steer {
                 ready.reset();
                 return hand();
             }
-            if (running) return nullptr;
+            busy = running;
         }
+        if (busy) return provisional(frame);
         if (!refresher->due(frame)) return nullptr;
-        // Auto on a worker while the render goes on. The first adaptive pass does not wait for
+        // Auto on a worker while the render goes on. The first adaptive passes do not wait for
         // its map: the frame's own relative variance steers until it comes (without a map the
         // pass would take every pixel, as long as the whole start).
-        std::shared_ptr<const Image> first;
-        if (!refresher->last() && !worker.joinable()) first = refresher->provisional(frame);
+        std::shared_ptr<const Image> first = provisional(frame);
         if (worker.joinable()) worker.join();
         running = true;
         {

@@ -31,6 +31,10 @@ class ProgressiveRender : public QObject {
     static constexpr int kSppFactor = 64;
     /// and never more than this.
     static constexpr int kMaxSpp = 4096;
+    /// The first adaptive pass takes this share of the pixels the later ones take, the next
+    /// ones twice the share of the one before (until auto's first map: the worst by their own
+    /// relative variance), so that the first images come sooner.
+    static constexpr double kFirstPassShare = 0.25;
 
     explicit ProgressiveRender(QObject* parent = nullptr);
 

@@ -105,7 +105,8 @@ std::shared_ptr<const Image> Refresher::map() const {
     return std::make_shared<const Image>(std::move(weights));
 }
 
-std::shared_ptr<const Image> Refresher::provisional(const FrameBuffers& frame) const {
+std::shared_ptr<const Image> Refresher::provisional(const FrameBuffers& frame, double share) const {
+    GLINT_CHECK(share > 0.0 && share <= 1.0, "a provisional map's share in (0, 1]");
     const Image& colour = frame.color();
     const Image& variance = frame.layer(Layer::Variance);
     Image relative(frame.width(), frame.height(), 1);
@@ -119,7 +120,7 @@ std::shared_ptr<const Image> Refresher::provisional(const FrameBuffers& frame) c
             relative(x, y, 0) = std::isfinite(sum) ? float(sum / 3.0) : 0.0f;
         }
     Image weights(frame.width(), frame.height(), 1, 1.0f);
-    keepWorst(weights, relative, m_options.focus);
+    keepWorst(weights, relative, share * m_options.focus);
     return std::make_shared<const Image>(std::move(weights));
 }
 

@@ -206,6 +206,41 @@ class StudioProgressiveTest : public QObject {
         QVERIFY(stop(*w));
     }
 
+    void theFirstAdaptivePassesTakeAQuarterThenHalfThenAllOfTheFocus() {
+        // A 64 × 64 frame at 16 spp whose relative variance grows with x + 64 y (every value
+        // different): the provisional maps open the worst by it, before auto's first map.
+        constexpr int kSide = 64;
+        FrameBuffers frame(kSide, kSide);
+        frame.ensure(Layer::Color).fill(0.5f);
+        frame.ensure(Layer::SampleCount).fill(16.0f);
+        Image& variance = frame.ensure(Layer::Variance);
+        for (int y = 0; y < kSide; ++y)
+            for (int x = 0; x < kSide; ++x)
+                for (int c = 0; c < 3; ++c) variance(x, y, c) = 1e-4f * float(1 + x + kSide * y);
+        auto openPixels = [](const std::shared_ptr<const Image>& map) {
+            return map ? std::count_if(map->data().begin(), map->data().end(),
+                                       [](float v) { return v > 0.0f; })
+                       : std::ptrdiff_t(-1);
+        };
+        ProgressiveRender progressive;
+        {
+            // Auto's refresh, started by the first call, is told to stop at once: no map of
+            // its comes in between.
+            const RenderJob::ImportanceFn steer = progressive.steer([] { return true; });
+            const double focus = ProgressiveRender::refreshOptions().focus * kSide * kSide;
+            double share = ProgressiveRender::kFirstPassShare;
+            QCOMPARE(share, 0.25);
+            for (int pass = 1; pass <= 3; ++pass, share *= 2.0) {
+                const auto map = steer(pass, frame);
+                QCOMPARE(openPixels(map), std::ptrdiff_t(std::ceil(share * focus)));
+                // The worst pixel (the last) is open in each.
+                QVERIFY((*map)(kSide - 1, kSide - 1, 0) > 0.0f);
+            }
+            // Then the renderer keeps the last.
+            QVERIFY(!steer(4, frame));
+        }
+    }
+
     void theToggleIsSavedWithTheSessionAndComesBackWithoutRendering() {
         auto w = openAndWait(m_scene, m_dir.filePath(QStringLiteral("persist")));
         QVERIFY(w && waitIdle(*w));

@@ -92,6 +92,24 @@ TEST(Refresh, TheProvisionalMapOpensTheNoisiestPixelsByTheirOwnVariance) {
     EXPECT_EQ(map(3, 0, 0), 1.0f);
 }
 
+TEST(Refresh, AProvisionalMapsShareNarrowsItToTheWorstOfTheFocus) {
+    RefreshOptions o;
+    o.focus = 0.5;
+    const Refresher r(o);
+    FrameBuffers f = frameAt(16.0f);
+    f.ensure(Layer::Color).fill(0.5f);
+    Image& variance = f.ensure(Layer::Variance);
+    const float v[] = {0.0104f, 0.104f, 0.00104f, 1.04f};
+    for (int x = 0; x < 4; ++x)
+        for (int c = 0; c < 3; ++c) variance(x, 0, c) = v[x];
+    // Half of the focus (two of four): the worst one.
+    const Image map = *r.provisional(f, 0.5);
+    EXPECT_EQ(map(0, 0, 0), 0.0f);
+    EXPECT_EQ(map(1, 0, 0), 0.0f);
+    EXPECT_EQ(map(2, 0, 0), 0.0f);
+    EXPECT_EQ(map(3, 0, 0), 1.0f);
+}
+
 TEST(Refresh, AutoRunsOnTheThreadsAskedForWithTheSameBits) {
     // A 16 × 16 Cornell box at 8 spp with half buffers (auto's error needs them).
     const std::string obj = std::string(GLINT_RENDER_TEST_DATA) + "/cornell_box.obj";

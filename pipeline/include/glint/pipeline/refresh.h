@@ -91,8 +91,9 @@ class Refresher {
     /// A map before any refresh, from the frame's own statistics: each pixel's variance of the
     /// mean relative to its colour (variance / (colour² + 0.01), over the channels), the worst
     /// `focus` of the pixels open at weight 1, the others 0 (with focus 1: 1 everywhere). For a
-    /// caller that does not wait for auto's first map (the studio's Keep Refining).
-    std::shared_ptr<const Image> provisional(const FrameBuffers& frame) const;
+    /// caller that does not wait for auto's first map (the studio's Keep Refining). `share` in
+    /// (0, 1] narrows it to the worst share × focus (a short first adaptive pass).
+    std::shared_ptr<const Image> provisional(const FrameBuffers& frame, double share = 1.0) const;
     /// Callbacks::importance's body: a refresh when due (auto run here), then its map; an empty
     /// pointer when nothing is due (the renderer keeps the map it has).
     std::shared_ptr<const Image> importance(const FrameBuffers& frame);
