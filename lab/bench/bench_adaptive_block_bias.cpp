@@ -12,7 +12,7 @@
 //   build/bin/bench_adaptive_block_bias --scene DIR/scene.json (bench_studio_progressive
 //       --write-scene DIR) [--size 128] [--start 16] [--seeds 24] [--uniform-spp 64]
 //       [--checkpoints 20,24,32,48] [--steer provisional|provisional-half|
-//       provisional-blur|random|auto|threshold|uniform]
+//       random|auto|threshold|uniform]
 //       [--threads 2] [--block 8]
 #include <algorithm>
 #include <cmath>
@@ -147,9 +147,8 @@ int main(int argc, char** argv) {
                      "multiple of --block\n");
         return 2;
     }
-    const std::vector<std::string> steers = {
-        "provisional", "provisional-half", "provisional-blur", "random",
-        "auto",        "threshold",        "uniform"};
+    const std::vector<std::string> steers = {"provisional", "provisional-half", "random",
+                                             "auto",        "threshold",        "uniform"};
     if (std::find(steers.begin(), steers.end(), steer) == steers.end()) {
         std::fprintf(stderr, "bench_adaptive_block_bias: unknown --steer %s\n", steer.c_str());
         return 2;
@@ -214,31 +213,6 @@ int main(int argc, char** argv) {
             if (steer == "provisional-half") {
                 decided = splitHalves(frame).second;
                 return refresher.provisional(*decided);
-            }
-            if (steer == "provisional-blur") {
-                // The score of each pixel from its 5 × 5 neighbourhood's colour and variance: a
-                // pixel's own samples are 1/25 of what chooses it.
-                FrameBuffers blurred = frame;
-                for (Layer l : {Layer::Color, Layer::Variance}) {
-                    const Image& in = frame.layer(l);
-                    Image& out = blurred.layer(l);
-                    for (int y = 0; y < in.height(); ++y)
-                        for (int x = 0; x < in.width(); ++x)
-                            for (int c = 0; c < 3; ++c) {
-                                double sum = 0.0;
-                                int n = 0;
-                                for (int dy = -2; dy <= 2; ++dy)
-                                    for (int dx = -2; dx <= 2; ++dx) {
-                                        const int sx = x + dx, sy = y + dy;
-                                        if (sx < 0 || sy < 0 || sx >= in.width() ||
-                                            sy >= in.height())
-                                            continue;
-                                        sum += in(sx, sy, c), ++n;
-                                    }
-                                out(x, y, c) = float(sum / n);
-                            }
-                }
-                return refresher.provisional(blurred);
             }
             // random: the same share of pixels, chosen by a fixed draw that never sees a sample.
             auto map = std::make_shared<Image>(frame.width(), frame.height(), 1);

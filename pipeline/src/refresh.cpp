@@ -19,6 +19,9 @@ namespace {
 /// relMSE's floor of the reference's square (glint::relMse).
 constexpr double kRelativeFloor = 0.01;
 
+/// The radius of the neighbourhood a provisional map scores a pixel on.
+constexpr int kNeighbourhood = 2;
+
 /// Sets `weights` to 0 outside the worst `focus` of the pixels by `score` (focus 1: none).
 void keepWorst(Image& weights, const Image& score, double focus) {
     if (focus >= 1.0) return;
@@ -30,6 +33,33 @@ void keepWorst(Image& weights, const Image& score, double focus) {
     const float floor = *cut;
     for (std::size_t i = 0; i < weights.data().size(); ++i)
         if (score.data()[i] < floor) weights.data()[i] = 0.0f;
+}
+
+/// The means of `image`'s channels over the (2r + 1)² window around each pixel, clamped to the
+/// frame (a box, separable: rows then columns).
+Image neighbourhoodMean(const Image& image, int r) {
+    const int w = image.width(), h = image.height(), channels = image.channels();
+    Image rows(w, h, channels), out(w, h, channels);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < channels; ++c) {
+                double sum = 0.0;
+                for (int sx = std::max(0, x - r); sx <= std::min(w - 1, x + r); ++sx)
+                    sum += double(image(sx, y, c));
+                rows(x, y, c) = float(sum);
+            }
+    for (int y = 0; y < h; ++y) {
+        const int y0 = std::max(0, y - r), y1 = std::min(h - 1, y + r);
+        for (int x = 0; x < w; ++x) {
+            const int n = (std::min(w - 1, x + r) - std::max(0, x - r) + 1) * (y1 - y0 + 1);
+            for (int c = 0; c < channels; ++c) {
+                double sum = 0.0;
+                for (int sy = y0; sy <= y1; ++sy) sum += double(rows(x, sy, c));
+                out(x, y, c) = float(sum / double(n));
+            }
+        }
+    }
+    return out;
 }
 
 }  // namespace
@@ -107,8 +137,11 @@ std::shared_ptr<const Image> Refresher::map() const {
 
 std::shared_ptr<const Image> Refresher::provisional(const FrameBuffers& frame, double share) const {
     GLINT_CHECK(share > 0.0 && share <= 1.0, "a provisional map's share in (0, 1]");
-    const Image& colour = frame.color();
-    const Image& variance = frame.layer(Layer::Variance);
+    // Scored on 5 × 5 neighbourhoods: a pixel's own samples are a 25th of what opens it. Scored
+    // on its own samples alone, the pixels left closed are those whose few samples missed the
+    // rare bright paths, and they keep them: the frame ran 1 % dark (docs/lab/adaptive-bias.md).
+    const Image colour = neighbourhoodMean(frame.color(), kNeighbourhood);
+    const Image variance = neighbourhoodMean(frame.layer(Layer::Variance), kNeighbourhood);
     Image relative(frame.width(), frame.height(), 1);
     for (int y = 0; y < frame.height(); ++y)
         for (int x = 0; x < frame.width(); ++x) {

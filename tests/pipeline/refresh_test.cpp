@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
@@ -74,40 +75,63 @@ TEST(Refresh, TheFocusKeepsOnlyTheWorstPixelsOpen) {
     EXPECT_FLOAT_EQ(map(3, 0, 0), expected(3, 0, 0));
 }
 
-TEST(Refresh, TheProvisionalMapOpensTheNoisiestPixelsByTheirOwnVariance) {
+/// A 16 spp frame of grey (0.5) whose variance of the mean is `variance[x]` at column x.
+FrameBuffers provisionalFrame(const std::vector<float>& variance) {
+    FrameBuffers f(int(variance.size()), 1);
+    f.ensure(Layer::SampleCount).fill(16.0f);
+    f.ensure(Layer::Color).fill(0.5f);
+    Image& v = f.ensure(Layer::Variance);
+    for (int x = 0; x < f.width(); ++x)
+        for (int c = 0; c < 3; ++c) v(x, 0, c) = variance[std::size_t(x)];
+    return f;
+}
+
+/// Four regions of five columns whose relative variances (the colour's square plus 0.01 is 0.26)
+/// are 0.04, 0.4, 0.004, 4.
+std::vector<float> fourRegions() {
+    const float v[] = {0.0104f, 0.104f, 0.00104f, 1.04f};
+    std::vector<float> out;
+    for (float r : v) out.insert(out.end(), 5, r);
+    return out;
+}
+
+TEST(Refresh, TheProvisionalMapOpensTheNoisiestRegions) {
     RefreshOptions o;
     o.focus = 0.5;
     const Refresher r(o);
-    FrameBuffers f = frameAt(16.0f);
-    f.ensure(Layer::Color).fill(0.5f);
-    Image& variance = f.ensure(Layer::Variance);
-    // Relative variances 0.04, 0.4, 0.004, 4 (the colour's square plus 0.01 is 0.26).
-    const float v[] = {0.0104f, 0.104f, 0.00104f, 1.04f};
-    for (int x = 0; x < 4; ++x)
-        for (int c = 0; c < 3; ++c) variance(x, 0, c) = v[x];
-    const Image map = *r.provisional(f);
-    EXPECT_EQ(map(0, 0, 0), 0.0f);
-    EXPECT_EQ(map(1, 0, 0), 1.0f);
+    const Image map = *r.provisional(provisionalFrame(fourRegions()));
+    // The regions' centres: the two noisiest open, the two quietest closed.
     EXPECT_EQ(map(2, 0, 0), 0.0f);
-    EXPECT_EQ(map(3, 0, 0), 1.0f);
+    EXPECT_EQ(map(7, 0, 0), 1.0f);
+    EXPECT_EQ(map(12, 0, 0), 0.0f);
+    EXPECT_EQ(map(17, 0, 0), 1.0f);
 }
 
 TEST(Refresh, AProvisionalMapsShareNarrowsItToTheWorstOfTheFocus) {
     RefreshOptions o;
     o.focus = 0.5;
     const Refresher r(o);
-    FrameBuffers f = frameAt(16.0f);
-    f.ensure(Layer::Color).fill(0.5f);
-    Image& variance = f.ensure(Layer::Variance);
-    const float v[] = {0.0104f, 0.104f, 0.00104f, 1.04f};
-    for (int x = 0; x < 4; ++x)
-        for (int c = 0; c < 3; ++c) variance(x, 0, c) = v[x];
-    // Half of the focus (two of four): the worst one.
-    const Image map = *r.provisional(f, 0.5);
-    EXPECT_EQ(map(0, 0, 0), 0.0f);
-    EXPECT_EQ(map(1, 0, 0), 0.0f);
+    // Half of the focus (five of twenty): the noisiest region alone.
+    const Image map = *r.provisional(provisionalFrame(fourRegions()), 0.5);
+    for (int x = 0; x < 20; ++x) EXPECT_EQ(map(x, 0, 0), x >= 15 ? 1.0f : 0.0f) << "column " << x;
+}
+
+TEST(Refresh, TheProvisionalMapScoresAPixelByItsNeighbourhoodNotItsOwnSamplesAlone) {
+    // One pixel whose own samples look noisiest (relative variance 1) in a quiet region, and a
+    // region of moderate noise (0.4). Opened by its own samples alone, the spike is chosen and the
+    // quiet pixels that kept their few samples stay closed: the bias of adaptive sampling by a
+    // pixel's own samples (docs/lab/adaptive-bias.md). Scored on its 5 × 5 neighbourhood it is not.
+    std::vector<float> v(16, 0.00104f);
+    v[2] = 0.26f;
+    for (int x = 10; x < 16; ++x) v[std::size_t(x)] = 0.104f;
+    RefreshOptions o;
+    o.focus = 0.25;  // four of sixteen
+    const Refresher r(o);
+    const Image map = *r.provisional(provisionalFrame(v));
     EXPECT_EQ(map(2, 0, 0), 0.0f);
-    EXPECT_EQ(map(3, 0, 0), 1.0f);
+    EXPECT_EQ(map(0, 0, 0), 0.0f);
+    EXPECT_EQ(map(13, 0, 0), 1.0f);
+    EXPECT_EQ(map(14, 0, 0), 1.0f);
 }
 
 TEST(Refresh, AutoRunsOnTheThreadsAskedForWithTheSameBits) {
