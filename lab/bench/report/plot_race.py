@@ -92,7 +92,7 @@ def plot(rows, out):
             budgets = sorted({float(r["budget"]) for r in rows})
             ax.set_xticks(budgets, [f"{b:g}" for b in budgets])
             ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-            ax.set_xlabel("wall-clock (s, 2 threads; Cycles': + native OIDN's when counted)")
+            ax.set_xlabel("wall-clock s (Cycles, counted: + OIDN)")
             ax.set_ylabel(label)
             ax.set_title(f"{scene}: {label} after denoising", fontsize=10)
             ax.grid(True, which="both", alpha=0.3)
