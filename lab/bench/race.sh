@@ -16,8 +16,8 @@
 # pieces: every result is kept in RUN (default BUILD_DIR/race/run) and not run again, so calls
 # with a few SCENES, BUDGETS and SEEDS each (each under 10 minutes) add up to the race; the last
 # call (or --collect) writes race.csv and the plots from every result in RUN. Per scene, budget
-# and seed Glint runs once and Cycles once per threshold, Glint first for odd seeds and last for
-# even ones. The 1-minute load average when each render starts is in the CSV.
+# and seed Glint runs once and Cycles twice per threshold (OIDN's time counted, then not), Glint
+# first for odd seeds and last for even ones. The 1-minute load average when each render starts is in the CSV.
 #
 # How time is counted: a budget is the wall-clock from starting the renderer's process to its
 # denoised EXR written. Glint's is glint-final's whole run: loading, the BVH, the render, auto's
