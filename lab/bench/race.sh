@@ -16,15 +16,20 @@
 # pieces: every result is kept in RUN (default BUILD_DIR/race/run) and not run again, so calls
 # with a few SCENES, BUDGETS and SEEDS each (each under 10 minutes) add up to the race; the last
 # call (or --collect) writes race.csv and the plots from every result in RUN. Per scene, budget
-# and seed Glint runs once and Cycles once per threshold, Glint first for odd seeds and last for
-# even ones. The 1-minute load average when each render starts is in the CSV.
+# and seed Glint runs once and Cycles twice per threshold (OIDN's time counted, then not), Glint
+# first for odd seeds and last for even ones. The 1-minute load average when each render starts is in the CSV.
 #
-# How time is counted: a budget is the wall-clock from starting the renderer's process to its EXR
-# written. Glint's is glint-final's whole run: loading, the BVH, the render, auto's refreshes and
-# the final auto (`--time-limit BUDGET`). Cycles' includes Blender's start-up, the glTF import and
-# the scene building (race_cycles.py takes them off Cycles' time limit), but not OIDN: its
-# wall-clock is written beside it (denoise_seconds), the OIDN peer being a single-threaded
-# WebAssembly port many times slower than OIDN itself.
+# How time is counted: a budget is the wall-clock from starting the renderer's process to its
+# denoised EXR written. Glint's is glint-final's whole run: loading, the BVH, the render, auto's
+# refreshes and the final auto (`--time-limit BUDGET`). Cycles' includes Blender's start-up, the
+# glTF import and the scene building (race_cycles.py takes them off Cycles' time limit) and
+# OIDN's time, estimated natively: the OIDN peer that denoises Cycles' image is a single-threaded
+# WebAssembly port many times slower than OIDN itself (its seconds are written beside,
+# denoise_seconds), so just before each Cycles run the wall-clock of Glint's learned filter
+# `unet` (OIDN's network and the weights the peer picks, rt_hdr_alb_nrm, run natively on the
+# machine's 2 cores) as one process on a frame of the scene's size is measured (oidn_seconds:
+# reading, the weights, the network, writing) and Cycles' render gets the budget less it. Each
+# Cycles run is also made with the whole budget, OIDN not counted (oidn_counted 0), as before.
 #
 # References (REFS, default BUILD_DIR/race): per renderer and scene, the mean of one uniform render
 # of REF_SPP spp (default 1024) for each of REF_SEEDS (default 99 100 101 102: 4096 spp in all),
@@ -61,7 +66,7 @@ command -v blender >/dev/null || { echo "race.sh: blender not found (make bench-
   { echo "race.sh: python3-openimageio not found (make bench-deps)" >&2; exit 2; }
 [ -f "$OIDN/oidn_peer.js" ] && [ -d "$OIDN/node_modules" ] ||
   { echo "race.sh: no OIDN peer installed in $OIDN (../shared/peers/oidn/README.md)" >&2; exit 2; }
-for b in glint-render glint-final glint-image; do
+for b in glint-render glint-final glint-image glint-denoise; do
   [ -x "$BIN/$b" ] || { echo "race.sh: $BIN/$b not built" >&2; exit 2; }
 done
 mkdir -p "$REFS/raw" "$RUN/rows" "$OUT"
@@ -121,23 +126,54 @@ exr_layer() {
 }
 
 # Glint's side: glint-final renders and denoises scene $1 within budget $2 seconds (all of it:
-# the render, auto's refreshes and the final auto) into $3. Prints "seconds auto_seconds
-# spp_mean" (auto's seconds are inside the budget).
+# the render, auto's refreshes and the final auto) into $3, its log (the probe, the refreshes,
+# the final auto's plan and times) into $4. Prints "seconds auto_seconds spp_mean" (auto's
+# seconds are inside the budget).
 glint_side() {
-  local scene=$1 budget=$2 out=$3 t0 t1
+  local scene=$1 budget=$2 out=$3 log=$4 t0 t1
   t0=$(date +%s.%N)
   "$BIN/glint-final" "$(glint_scene "$scene")" --out "$out" --time-limit "$budget" --threads 2 \
-    --set maxDepth=8 --set seed="$SEED" >"$WORK/final.txt" 2>/dev/null
+    --set maxDepth=8 --set seed="$SEED" >"$WORK/final.txt" 2>"$log"
   t1=$(date +%s.%N)
   "$PY" -c 'import re,sys; a,b=map(float,sys.argv[1:3]); t=open(sys.argv[3]).read()
 m=re.search(r"([0-9.]+) spp a pixel.*\(auto ([0-9.]+) s\)", t, re.S)
 print("%.3f %s %s" % (b - a, m.group(2), m.group(1)))' "$t0" "$t1" "$WORK/final.txt"
 }
 
+# A frame of scene $1's size with albedo and normal (glint-render, 4 spp; cached in REFS) on
+# which native OIDN's time is measured.
+oidn_frame() {
+  local frame=$REFS/oidn_frame_$1.exr
+  if [ ! -f "$frame" ]; then
+    "$BIN/glint-render" "$(glint_scene "$1")" --threads 2 --set maxDepth=8 --spp 4 --seed 1 \
+      --out "$WORK/oidn_frame.exr" >/dev/null 2>&1
+    mv "$WORK/oidn_frame.exr" "$frame"
+  fi
+  echo "$frame"
+}
+
+# Native OIDN's seconds on scene $1's frame, estimated by Glint's learned filter `unet` (OIDN's
+# network and weights; with a colour, a noisy albedo and normal and no quality given it takes
+# rt_hdr_alb_nrm, the weights the peer takes for Cycles' passes) as one process, its start
+# included: the wall-clock of `glint-denoise apply --filter unet` on the machine's 2 cores.
+oidn_seconds() {
+  local frame t0 t1
+  frame=$(oidn_frame "$1")
+  t0=$(date +%s.%N)
+  "$BIN/glint-denoise" apply "$frame" --filter unet --out "$WORK/unet.exr" >/dev/null 2>&1
+  t1=$(date +%s.%N)
+  "$PY" -c 'import sys; print("%.3f" % (float(sys.argv[2]) - float(sys.argv[1])))' "$t0" "$t1"
+}
+
 # Cycles' side: renders scene $1 within budget $2 at threshold $3, OIDN (colour, albedo, normal,
-# HDR) into $4. Prints "render_seconds denoise_seconds".
+# HDR) into $4; with $5 = 1 native OIDN's seconds $6 come off the budget (counted). Prints
+# "render_seconds denoise_seconds".
 cycles_side() {
-  local scene=$1 budget=$2 threshold=$3 out=$4 seconds t0 t1 L=ViewLayer.
+  local scene=$1 budget=$2 threshold=$3 out=$4 counted=$5 oidn=$6 seconds t0 t1 L=ViewLayer.
+  if [ "$counted" = 1 ]; then
+    budget=$("$PY" -c 'import sys; print("%.3f" % (float(sys.argv[1]) - float(sys.argv[2])))' \
+      "$budget" "$oidn")
+  fi
   seconds=$(cycles_render "$scene" "$WORK/cycles.exr" --seed "$SEED" --spp $MAX_SPP \
     --budget "$budget" --noise-threshold "$threshold" --passes)
   t0=$(date +%s.%N)
@@ -221,28 +257,32 @@ print("%s %.6g %.6g" % (sys.argv[1], r["ssim"], r["flip"]))' "$floor"
 load() { cut -d' ' -f1 /proc/loadavg; }
 
 # One result a row file in RUN/rows (kept: a later call skips it), its image in RUN.
-COLUMNS_CSV="scene,renderer,threshold,budget,seed,render_seconds,denoise_seconds,mean_spp,relmse,relmse_floor,relmse_corrected,relmse_corrected_a,relmse_corrected_b,ssim,flip,noisy_relmse,load"
+COLUMNS_CSV="scene,renderer,threshold,budget,seed,render_seconds,denoise_seconds,mean_spp,relmse,relmse_floor,relmse_corrected,relmse_corrected_a,relmse_corrected_b,ssim,flip,noisy_relmse,load,oidn_seconds,oidn_counted"
 run_glint() {
   local scene=$1 budget=$2 row=$RUN/rows/${1}_glint_final_$2_$SEED.csv l rs ds spp e fl c a b s f
   [ -f "$row" ] && return 0
   l=$(load)
-  read -r rs ds spp < <(glint_side "$scene" "$budget" "$WORK/final.exr")
+  read -r rs ds spp < <(glint_side "$scene" "$budget" "$WORK/final.exr" \
+    "$RUN/log_${scene}_glint_final_${budget}_$SEED.txt")
   read -r e fl c a b s f < <(errors "$WORK/final.exr" glint "$scene")
   cp "$WORK/final.exr" "$RUN/img_${scene}_glint_final_${budget}_$SEED.exr"
-  echo "$scene,glint-final,final,$budget,$SEED,$rs,$ds,$spp,$e,$fl,$c,$a,$b,$s,$f,,$l" | tee "$row"
+  echo "$scene,glint-final,final,$budget,$SEED,$rs,$ds,$spp,$e,$fl,$c,$a,$b,$s,$f,,$l,," | tee "$row"
 }
+# Cycles + OIDN at threshold $3; $4 = 1: native OIDN's time counted in the budget, 0: not.
 run_cycles() {
-  local scene=$1 budget=$2 threshold=$3 row=$RUN/rows/${1}_cycles_$3_$2_$SEED.csv l rs ds e fl c a b s f
-  local noisy
+  local scene=$1 budget=$2 threshold=$3 counted=$4 l rs ds e fl c a b s f noisy oidn stem
+  stem=cycles_$3; [ "$counted" = 1 ] || stem=cycles_uncounted_$3
+  local row=$RUN/rows/${scene}_${stem}_${budget}_$SEED.csv
   [ -f "$row" ] && return 0
   l=$(load)
-  read -r rs ds < <(cycles_side "$scene" "$budget" "$threshold" "$WORK/oidn.exr")
+  oidn=$(oidn_seconds "$scene")
+  read -r rs ds < <(cycles_side "$scene" "$budget" "$threshold" "$WORK/oidn.exr" "$counted" "$oidn")
   exr_layer "$WORK/cycles.exr" ViewLayer.Combined. "$WORK/cycles_rgb.exr"
   read -r e fl c a b s f < <(errors "$WORK/oidn.exr" cycles "$scene")
   # shellcheck disable=SC2046
   noisy=$("$PY" $FLOOR relmse "$WORK/cycles_rgb.exr" $(ref_renders "$scene" cycles) | cut -d' ' -f1)
-  cp "$WORK/oidn.exr" "$RUN/img_${scene}_cycles_${threshold}_${budget}_$SEED.exr"
-  echo "$scene,cycles+oidn,$threshold,$budget,$SEED,$rs,$ds,,$e,$fl,$c,$a,$b,$s,$f,$noisy,$l" |
+  cp "$WORK/oidn.exr" "$RUN/img_${scene}_${stem}_${budget}_$SEED.exr"
+  echo "$scene,cycles+oidn,$threshold,$budget,$SEED,$rs,$ds,,$e,$fl,$c,$a,$b,$s,$f,$noisy,$l,$oidn,$counted" |
     tee "$row"
 }
 
@@ -250,10 +290,14 @@ if [ "$MODE" = race ]; then
   for scene in $SCENES; do
     for budget in $BUDGETS; do
       for SEED in $SEEDS; do
-        # One piece holds a seed's runs of a budget (Glint and each Cycles threshold) together.
-        if [ "$STOPPED" = 1 ] || ! fits $((3 * budget + 45)); then continue; fi
+        # One piece holds a seed's runs of a budget (Glint and each Cycles threshold, OIDN
+        # counted and not) together.
+        if [ "$STOPPED" = 1 ] || ! fits $((5 * budget + 90)); then continue; fi
         if [ $((SEED % 2)) = 1 ]; then run_glint "$scene" "$budget"; fi
-        for threshold in $THRESHOLDS; do run_cycles "$scene" "$budget" "$threshold"; done
+        for threshold in $THRESHOLDS; do
+          run_cycles "$scene" "$budget" "$threshold" 1
+          run_cycles "$scene" "$budget" "$threshold" 0
+        done
         if [ $((SEED % 2)) = 0 ]; then run_glint "$scene" "$budget"; fi
       done
     done

@@ -202,6 +202,38 @@ TEST(FinalRender, ATimeLimitTooSmallForTheFinalAutoGetsACheaperPlanChosenBeforeT
     EXPECT_LE(large.seconds, o.timeLimit + 0.05);
 }
 
+TEST(FinalRender, AProbeRunSlowedByTheMachinesLoadDoesNotChangeTheFinalAutosPlan) {
+    // The probe that calibrates auto's cost (no expectedAutoSeconds) runs kProbeRuns times and
+    // the fastest counts. On the fake clock each probe run takes one tick, and balanced fits 8 s;
+    // when the clock jumps 1 s inside the first run (a load spike: the first progress report of
+    // the first auto) the plan stays balanced, where one timed run would make every plan a
+    // hundred times slower and choose the cheapest. (The variance schedule runs no refresh,
+    // which would recalibrate the cost.)
+    render::Renderer renderer(cornell());
+    FinalOptions o = smallOptions();
+    o.steering = Steering::Variance;
+    o.quality = denoise::AutoQuality::Balanced;
+    o.settings.spp = 0;
+    o.timeLimit = 8.0;
+    auto planWith = [&](long spikeTicks) {
+        auto reads = std::make_shared<std::atomic<long>>(0);
+        auto jumped = std::make_shared<std::atomic<long>>(0);
+        o.clock = [reads, jumped] { return 0.01 * double(reads->fetch_add(1) + jumped->load()); };
+        o.autoOptions.progress = [jumped, spikeTicks](double) {
+            long none = 0;
+            jumped->compare_exchange_strong(none, spikeTicks);
+            return true;
+        };
+        const FinalResult r = renderFinal(renderer, o);
+        EXPECT_EQ(jumped->load(), spikeTicks);  // the spike came (in the first probe run)
+        EXPECT_LE(r.seconds, o.timeLimit + 0.05 + 0.01 * double(spikeTicks));
+        return r.finalPlan;
+    };
+    const std::string quiet = planWith(0);
+    EXPECT_EQ(quiet, "balanced");
+    EXPECT_EQ(planWith(100), quiet);
+}
+
 TEST(FinalRender, ATimeLimitShorterThanTheFirstPassSaysSoAndDenoisesItWithTheCheapestPlan) {
     // Every clock read takes 1 s: the first pass alone overruns a limit of 0.5 s.
     render::Renderer renderer(cornell());

@@ -35,6 +35,9 @@ const char* steeringName(Steering steering);
 inline constexpr double kMaxTargetError = 1e6;
 /// The side of the centred crop of the first pass on which auto's cost is probed (time limit).
 inline constexpr int kProbeSide = 64;
+/// The probe's runs: the fastest calibrates auto's cost (a run slowed by the machine's load
+/// would make every plan look slower; three of about 0.03 s take under 0.1 s).
+inline constexpr int kProbeRuns = 3;
 
 /// How the final frame is made.
 struct FinalOptions {
@@ -66,7 +69,7 @@ struct FinalOptions {
     double finalShare = 0.5;
     /// Seconds the final auto at `quality` is expected to take on this film: it calibrates auto's
     /// cost model (AutoCost) instead of a probe; 0: a probe on a crop of the first pass
-    /// (kProbeSide) calibrates it.
+    /// (kProbeSide, the fastest of kProbeRuns runs) calibrates it.
     double expectedAutoSeconds = 0.0;
     /// Seconds since any fixed time, for the time limit; empty: std::chrono::steady_clock.
     /// (The renderer's own pass sizing reads the steady clock; with a clock here the limit is
