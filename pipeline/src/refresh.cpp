@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <numeric>
+#include <vector>
 
 #include <tbb/task_arena.h>
 
@@ -22,17 +25,28 @@ constexpr double kRelativeFloor = 0.01;
 /// The radius of the neighbourhood a provisional map scores a pixel on.
 constexpr int kNeighbourhood = 2;
 
-/// Sets `weights` to 0 outside the worst `focus` of the pixels by `score` (focus 1: none).
+/// Sets `weights` to 0 outside the worst `focus` of the pixels by `score` (focus 1: none): exactly
+/// ⌈focus · pixels⌉ stay open, equal scores taken in pixel order (a neighbourhood's mean makes
+/// ties common), a NaN score the best.
 void keepWorst(Image& weights, const Image& score, double focus) {
     if (focus >= 1.0) return;
-    std::vector<float> order(score.data().begin(), score.data().end());
+    const auto s = score.data();
+    const std::size_t n = s.size();
     const std::size_t keep =
-        std::max<std::size_t>(1, std::size_t(std::ceil(focus * double(order.size()))));
-    const auto cut = order.begin() + std::ptrdiff_t(order.size() - keep);
-    std::nth_element(order.begin(), cut, order.end());
-    const float floor = *cut;
-    for (std::size_t i = 0; i < weights.data().size(); ++i)
-        if (score.data()[i] < floor) weights.data()[i] = 0.0f;
+        std::min(n, std::max<std::size_t>(1, std::size_t(std::ceil(focus * double(n)))));
+    auto key = [&](std::size_t i) {
+        return std::isnan(s[i]) ? -std::numeric_limits<float>::infinity() : s[i];
+    };
+    std::vector<std::size_t> order(n);
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    std::nth_element(order.begin(), order.begin() + std::ptrdiff_t(keep - 1), order.end(),
+                     [&](std::size_t a, std::size_t b) {
+                         return key(a) > key(b) || (key(a) == key(b) && a < b);
+                     });
+    std::vector<char> open(n, 0);
+    for (std::size_t i = 0; i < keep; ++i) open[order[i]] = 1;
+    for (std::size_t i = 0; i < n; ++i)
+        if (!open[i]) weights.data()[i] = 0.0f;
 }
 
 /// The means of `image`'s channels over the (2r + 1)² window around each pixel, clamped to the

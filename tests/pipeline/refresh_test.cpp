@@ -75,6 +75,20 @@ TEST(Refresh, TheFocusKeepsOnlyTheWorstPixelsOpen) {
     EXPECT_FLOAT_EQ(map(3, 0, 0), expected(3, 0, 0));
 }
 
+TEST(Refresh, TheFocusKeepsExactlyItsShareOpenWhenScoresTie) {
+    // Four pixels of one relative error: the focus's two stay open (the first two), not all
+    // four (a neighbourhood's mean makes equal scores common).
+    RefreshOptions o;
+    o.focus = 0.5;
+    Refresher r(o);
+    r.adopt(denoisedAt(16.0, Image(4, 1, 1, 0.25f)));
+    const Image map = *r.map();
+    EXPECT_GT(map(0, 0, 0), 0.0f);
+    EXPECT_GT(map(1, 0, 0), 0.0f);
+    EXPECT_EQ(map(2, 0, 0), 0.0f);
+    EXPECT_EQ(map(3, 0, 0), 0.0f);
+}
+
 /// A 16 spp frame of grey (0.5) whose variance of the mean is `variance[x]` at column x.
 FrameBuffers provisionalFrame(const std::vector<float>& variance) {
     FrameBuffers f(int(variance.size()), 1);
