@@ -72,6 +72,7 @@ int run(const Options& opt, std::chrono::steady_clock::time_point started) {
     // limit, so that spp 0 (until time runs out) is valid.
     options.settings.timeLimit = options.timeLimit;
     options.targetError = opt.targetError.value_or(0.0);
+    options.steering = glint::pipeline::defaultSteering(options.timeLimit, options.targetError);
     options.log = [](const std::string& line) {
         std::fprintf(stderr, "glint-final: %s\n", line.c_str());
     };
@@ -117,7 +118,8 @@ int main(int argc, char** argv) {
     const auto started = std::chrono::steady_clock::now();
     CLI::App app{
         "glint-final: render a scene and denoise it to a time or error target (adaptive sampling "
-        "steered by auto's estimated error of the denoised image)"};
+        "steered by the render's variance under a time limit alone, else by auto's estimated "
+        "error of the denoised image)"};
     Options opt;
     app.add_option("scene", opt.scene, "scene.json, or an asset glint-render reads")->required();
     app.add_option("--out", opt.out, "output EXR: the denoised colour and the render's layers")

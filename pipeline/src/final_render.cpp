@@ -36,6 +36,10 @@ std::string formatted(const char* format, double a, double b, double c) {
 
 }  // namespace
 
+Steering defaultSteering(double timeLimit, double targetError) {
+    return timeLimit > 0.0 && targetError <= 0.0 ? Steering::Variance : Steering::Denoiser;
+}
+
 Steering parseSteering(const std::string& name) {
     if (name == "denoiser") return Steering::Denoiser;
     if (name == "variance") return Steering::Variance;

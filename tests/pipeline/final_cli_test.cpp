@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "glint/image/io.h"
+#include "glint/pipeline/final_render.h"
 #include "scene_cli_fixture.h"
 
 namespace glint::pipeline {
@@ -42,6 +43,21 @@ TEST_F(FinalCli, ATimeLimitShorterThanOnePassSaysSoAndWritesThatPass) {
     EXPECT_NE(r.err.find("shorter than one pass"), std::string::npos) << r.err;
     const FrameBuffers f = readExr(path("out.exr"));
     for (float n : f.layer(Layer::SampleCount).data()) ASSERT_EQ(n, 1.0f);
+}
+
+TEST_F(FinalCli, UnderATimeLimitAloneTheRendersVarianceSteersAndAutoRunsOnlyAtTheEnd) {
+    // A time limit the spp bound ends well before: the variance schedule runs no refresh; with
+    // an error target (never reached here) auto runs at each refresh and its map steers.
+    const RunResult timed = final("--time-limit 30 --set spp=64 --set minSpp=8 --threads 1");
+    ASSERT_EQ(timed.exitCode, 0) << timed.err;
+    EXPECT_NE(timed.out.find(" 0 refreshes)"), std::string::npos) << timed.out;
+    const RunResult target =
+        final("--time-limit 30 --target-error 1e-12 --set spp=64 --set minSpp=8 --threads 1");
+    ASSERT_EQ(target.exitCode, 0) << target.err;
+    EXPECT_EQ(target.out.find(" 0 refreshes)"), std::string::npos) << target.out;
+    EXPECT_EQ(defaultSteering(30.0, 0.0), Steering::Variance);
+    EXPECT_EQ(defaultSteering(30.0, 1e-3), Steering::Denoiser);
+    EXPECT_EQ(defaultSteering(0.0, 0.0), Steering::Denoiser);
 }
 
 TEST_F(FinalCli, BadInputExitsTwoWithOneLineNamingTheFlagAndWritesNothing) {

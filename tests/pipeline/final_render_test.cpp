@@ -50,6 +50,16 @@ FinalOptions smallOptions() {
     return o;
 }
 
+/// smallOptions for a limit (no spp) with the balanced final auto, steered by the variance alone
+/// (it runs no refresh, whose time on a fake clock would recalibrate auto's cost).
+FinalOptions balancedUnderALimit() {
+    FinalOptions o = smallOptions();
+    o.steering = Steering::Variance;
+    o.quality = denoise::AutoQuality::Balanced;
+    o.settings.spp = 0;
+    return o;
+}
+
 double meanSampleCount(const FrameBuffers& f) {
     double sum = 0.0;
     for (float n : f.layer(Layer::SampleCount).data()) sum += n;
@@ -182,10 +192,7 @@ TEST(FinalRender, ATimeLimitTooSmallForTheFinalAutoGetsACheaperPlanChosenBeforeT
     // limit. Under 40 s the quality asked for fits and is kept. (The variance schedule runs no
     // refresh, whose time on the fake clock would recalibrate the cost to almost nothing.)
     render::Renderer renderer(cornell());
-    FinalOptions o = smallOptions();
-    o.steering = Steering::Variance;
-    o.quality = denoise::AutoQuality::Balanced;
-    o.settings.spp = 0;
+    FinalOptions o = balancedUnderALimit();
     o.expectedAutoSeconds = 5.0;
     o.timeLimit = 2.0;
     o.clock = fakeClock(0.01);
@@ -210,10 +217,7 @@ TEST(FinalRender, AProbeRunSlowedByTheMachinesLoadDoesNotChangeTheFinalAutosPlan
     // hundred times slower and choose the cheapest. (The variance schedule runs no refresh,
     // which would recalibrate the cost.)
     render::Renderer renderer(cornell());
-    FinalOptions o = smallOptions();
-    o.steering = Steering::Variance;
-    o.quality = denoise::AutoQuality::Balanced;
-    o.settings.spp = 0;
+    FinalOptions o = balancedUnderALimit();
     o.timeLimit = 8.0;
     auto planWith = [&](long spikeTicks) {
         auto reads = std::make_shared<std::atomic<long>>(0);

@@ -26,6 +26,12 @@ enum class Steering {
     Fixed,
 };
 
+/// The steering glint-final uses: the renderer's variance under a time limit without an error
+/// target (there a refresh's seconds are worth more as samples: at 15–60 s on 2 threads the
+/// denoiser-steered map lost to it on dof and cornell and never beat the fixed threshold,
+/// docs/lab/adaptive-sampling.md), auto's map otherwise (an error target runs auto at each
+/// refresh anyway; a spp bound alone loses no samples to it).
+Steering defaultSteering(double timeLimit, double targetError);
 /// Parses "denoiser" / "variance" / "fixed"; throws glint::Error(InvalidArgument).
 Steering parseSteering(const std::string& name);
 /// "denoiser", "variance" or "fixed".
