@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -146,6 +147,28 @@ TEST(Refresh, TheProvisionalMapScoresAPixelByItsNeighbourhoodNotItsOwnSamplesAlo
     EXPECT_EQ(map(0, 0, 0), 0.0f);
     EXPECT_EQ(map(13, 0, 0), 1.0f);
     EXPECT_EQ(map(14, 0, 0), 1.0f);
+}
+
+TEST(Refresh, TheProvisionalMapDecidesWithHalfBAloneWhenTheFrameHasIt) {
+    // The whole frame says the first region is the noisiest, half B the last: the map follows
+    // half B, so half A (the even samples) never decides and stays an unbiased estimate (docs/lab/
+    // adaptive-bias.md: the whole frame's bias then halves). A frame without halves: the whole.
+    std::vector<float> whole = fourRegions(), halfB = fourRegions();
+    for (int x = 0; x < 5; ++x) std::swap(whole[std::size_t(x)], whole[std::size_t(15 + x)]);
+    FrameBuffers f = provisionalFrame(whole);
+    f.ensure(Layer::HalfSampleCount).fill(8.0f);
+    f.ensure(Layer::HalfColor).fill(0.5f);
+    Image& v = f.ensure(Layer::HalfVariance);
+    for (int x = 0; x < f.width(); ++x)
+        for (int c = 0; c < 3; ++c) v(x, 0, c) = 2.0f * halfB[std::size_t(x)];
+    RefreshOptions o;
+    o.focus = 0.25;  // five of twenty: the noisiest region
+    const Refresher r(o);
+    const Image map = *r.provisional(f);
+    for (int x = 0; x < 20; ++x) EXPECT_EQ(map(x, 0, 0), x >= 15 ? 1.0f : 0.0f) << "column " << x;
+    const Image wholeMap = *r.provisional(provisionalFrame(whole));
+    for (int x = 0; x < 20; ++x)
+        EXPECT_EQ(wholeMap(x, 0, 0), x < 5 ? 1.0f : 0.0f) << "column " << x;
 }
 
 TEST(Refresh, AutoRunsOnTheThreadsAskedForWithTheSameBits) {

@@ -90,8 +90,9 @@ class Refresher {
     std::shared_ptr<const Image> map() const;
     /// A map before any refresh, from the frame's own statistics: each pixel's variance of the
     /// mean relative to its colour (variance / (colour² + 0.01), over the channels), both taken
-    /// as means over the pixel's 5 × 5 neighbourhood, the worst `focus` of the pixels open at
-    /// weight 1, the others 0 (with focus 1: 1 everywhere). For a
+    /// as means over the pixel's 5 × 5 neighbourhood and from half B alone when the frame has
+    /// half buffers (half A, which never decides, stays an unbiased estimate), the worst `focus`
+    /// of the pixels open at weight 1, the others 0 (with focus 1: 1 everywhere). For a
     /// caller that does not wait for auto's first map (the studio's Keep Refining). `share` in
     /// (0, 1] narrows it to the worst share × focus (a short first adaptive pass).
     std::shared_ptr<const Image> provisional(const FrameBuffers& frame, double share = 1.0) const;
