@@ -152,7 +152,7 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
                 fastest = run == 0 ? seconds : std::min(fastest, seconds);
             }
             const double probePixels = double(probe.width()) * double(probe.height());
-            cost.calibrate(cheapestPlan(), probePixels, fastest);
+            cost.probed(probePixels, fastest);
             log(
                 formatted("probe: auto %.3f s (the fastest of its runs) on %.0f pixels: the final "
                           "auto predicted at %.2f s",
@@ -270,10 +270,12 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
             out.overTime = rendered.stats.passes <= 1 &&
                            now() + cost.seconds(cheapestPlan(), pixels) > options.timeLimit;
         }
+        const double predicted = cost.seconds(finalPlan, pixels);
         last = denoised(out.frame, finalPlan);
         out.autoSeconds += last->seconds;
         log(formatted("final: %.1f spp a pixel, estimated relMSE %.4g (auto %.2f s, ",
                       meanSpp(out.frame), last->relMse, last->seconds) +
+            (budget.timed() ? formatted("predicted %.2f s, ", predicted, 0, 0) : "") +
             describe(finalPlan) + ")");
     }
     out.finalPlan = describe(finalPlan);

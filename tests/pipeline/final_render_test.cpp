@@ -211,14 +211,14 @@ TEST(FinalRender, ATimeLimitTooSmallForTheFinalAutoGetsACheaperPlanChosenBeforeT
 
 TEST(FinalRender, AProbeRunSlowedByTheMachinesLoadDoesNotChangeTheFinalAutosPlan) {
     // The probe that calibrates auto's cost (no expectedAutoSeconds) runs kProbeRuns times and
-    // the fastest counts. On the fake clock each probe run takes one tick, and balanced fits 8 s;
+    // the fastest counts. On the fake clock each probe run takes one tick, and balanced fits 20 s;
     // when the clock jumps 1 s inside the first run (a load spike: the first progress report of
     // the first auto) the plan stays balanced, where one timed run would make every plan a
     // hundred times slower and choose the cheapest. (The variance schedule runs no refresh,
     // which would recalibrate the cost.)
     render::Renderer renderer(cornell());
     FinalOptions o = balancedUnderALimit();
-    o.timeLimit = 8.0;
+    o.timeLimit = 20.0;
     auto planWith = [&](long spikeTicks) {
         auto reads = std::make_shared<std::atomic<long>>(0);
         auto jumped = std::make_shared<std::atomic<long>>(0);
