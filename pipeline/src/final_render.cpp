@@ -153,6 +153,17 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
             }
             const double probePixels = double(probe.width()) * double(probe.height());
             cost.probed(probePixels, fastest);
+            // Where it takes little of the limit the plan runs once on the whole frame too: what
+            // a crop's pixel costs against a frame's depends on the machine (its caches), and a
+            // run of a tenth of a second meets fewer of the load's moments than one of 0.01 s.
+            if (probePixels < pixels &&
+                cost.seconds(cheapestPlan(), pixels) <= kFrameProbeShare * options.timeLimit) {
+                const double seconds = denoised(frame, cheapestPlan()).seconds;
+                out.autoSeconds += seconds;
+                cost.calibrate(cheapestPlan(), pixels, seconds);
+                log(formatted("probe of the whole frame: auto %.3f s on %.0f pixels", seconds,
+                              pixels, 0.0));
+            }
             log(
                 formatted("probe: auto %.3f s (the fastest of its runs) on %.0f pixels: the final "
                           "auto predicted at %.2f s",
