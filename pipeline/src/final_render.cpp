@@ -152,7 +152,18 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
                 fastest = run == 0 ? seconds : std::min(fastest, seconds);
             }
             const double probePixels = double(probe.width()) * double(probe.height());
-            cost.calibrate(cheapestPlan(), probePixels, fastest);
+            cost.probed(probePixels, fastest);
+            // Where it takes little of the limit the plan runs once on the whole frame too: what
+            // a crop's pixel costs against a frame's depends on the machine (its caches), and a
+            // run of a tenth of a second meets fewer of the load's moments than one of 0.01 s.
+            if (probePixels < pixels &&
+                cost.seconds(cheapestPlan(), pixels) <= kFrameProbeShare * options.timeLimit) {
+                const double seconds = denoised(frame, cheapestPlan()).seconds;
+                out.autoSeconds += seconds;
+                cost.calibrate(cheapestPlan(), pixels, seconds);
+                log(formatted("probe of the whole frame: auto %.3f s on %.0f pixels", seconds,
+                              pixels, 0.0));
+            }
             log(
                 formatted("probe: auto %.3f s (the fastest of its runs) on %.0f pixels: the final "
                           "auto predicted at %.2f s",
@@ -270,10 +281,12 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
             out.overTime = rendered.stats.passes <= 1 &&
                            now() + cost.seconds(cheapestPlan(), pixels) > options.timeLimit;
         }
+        const double predicted = cost.seconds(finalPlan, pixels);
         last = denoised(out.frame, finalPlan);
         out.autoSeconds += last->seconds;
         log(formatted("final: %.1f spp a pixel, estimated relMSE %.4g (auto %.2f s, ",
                       meanSpp(out.frame), last->relMse, last->seconds) +
+            (budget.timed() ? formatted("predicted %.2f s, ", predicted, 0, 0) : "") +
             describe(finalPlan) + ")");
     }
     out.finalPlan = describe(finalPlan);

@@ -9,19 +9,21 @@ namespace glint::pipeline {
 
 namespace {
 
-/// The cost model's constants, in units of cheapestPlan()'s time on the same frame (the probe's
-/// plan): for the default bank a fixed part (the selection, the halves, the error estimate) and a
-/// part per member, each filter's defaults counted as members; for a bank of named filters each
-/// member at half of cheapestPlan (its two members). Fitted to bench_final_budget's times on
-/// cornell at 256² (docs/lab/race.md, "Keeping the time limit").
-constexpr double kFixedTwoSided = 9.94;  ///< balanced, best
-constexpr double kFixedOneSided = 1.23;  ///< fast
+/// The cost model's constants, in units of cheapestPlan()'s time on the same frame: for the
+/// default bank a fixed part (the selection, the halves, the error estimate) and a part per
+/// member, each filter's defaults counted as members; for a bank of named filters each member at
+/// half of cheapestPlan (its two members). Fitted to bench_final_budget's warm times on cornell,
+/// fox, dof and glossy at 256² and 540², 8 and 64 spp (docs/lab/race.md, "Keeping the time
+/// limit": fast with 1, 8 and 32 members 4.3, 6.1 and 12.3 × cheapestPlan, balanced 16.0).
+constexpr double kFixedTwoSided = 7.29;  ///< balanced, best
+constexpr double kFixedOneSided = 2.27;  ///< fast
 constexpr double kMemberTwoSided = 0.122;
-constexpr double kMemberOneSided = 0.266;
+constexpr double kMemberOneSided = 0.256;
 constexpr double kNamedMember = 0.5;
-/// A process's first run of the default bank loads what later runs reuse (the unet's weights):
-/// about 1.3 × cheapestPlan's time on 256² pixels, in pixels at weight 1.
-constexpr double kColdStartPixels = 1.3 * 65536.0;
+/// A process's first run of the default bank loads and prepares what later runs reuse (the
+/// unet's weights and its plans): 0.7–1.7 s whatever the frame's size, about 4.5 ×
+/// cheapestPlan's time on 256² pixels, in pixels at weight 1.
+constexpr double kColdStartPixels = 4.5 * 65536.0;
 /// The filter of cheapestPlan.
 constexpr const char* kCheapestFilter = "cross-bilateral";
 /// The bank sizes tried below fast's own.
@@ -66,6 +68,11 @@ void AutoCost::calibrate(const AutoPlan& plan, double pixels, double seconds) {
     const double cold = coldStart(plan) ? m_rate * kColdStartPixels : 0.0;
     if (pixels > 0.0 && seconds > cold) m_rate = (seconds - cold) / (pixels * planWeight(plan));
     ran(plan);
+}
+
+void AutoCost::probed(double pixels, double seconds) {
+    // The crop's time as the same pixels of a whole frame would take.
+    calibrate(cheapestPlan(), pixels, kFramePixelCost * seconds);
 }
 
 void AutoCost::ran(const AutoPlan& plan) {

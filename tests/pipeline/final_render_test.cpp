@@ -22,12 +22,13 @@
 namespace glint::pipeline {
 namespace {
 
-/// The Cornell box, 24 × 24 (every pixel noisy), maxDepth 4.
-render::Scene cornell() {
+/// The Cornell box, side × side (24: every pixel noisy), maxDepth 4.
+render::Scene cornell(int side = 24) {
     const std::string obj = std::string(GLINT_RENDER_TEST_DATA) + "/cornell_box.obj";
     return render::parseScene(R"({
       "camera": {"position": [278, 273, -800], "lookAt": [278, 273, 0], "fovY": 39.3},
-      "film": {"width": 24, "height": 24},
+      "film": {"width": )" + std::to_string(side) +
+                                  R"(, "height": )" + std::to_string(side) + R"(},
       "shapes": [{"obj": ")" + obj +
                                   R"("}],
       "render": {"spp": 8, "maxDepth": 4}
@@ -211,14 +212,14 @@ TEST(FinalRender, ATimeLimitTooSmallForTheFinalAutoGetsACheaperPlanChosenBeforeT
 
 TEST(FinalRender, AProbeRunSlowedByTheMachinesLoadDoesNotChangeTheFinalAutosPlan) {
     // The probe that calibrates auto's cost (no expectedAutoSeconds) runs kProbeRuns times and
-    // the fastest counts. On the fake clock each probe run takes one tick, and balanced fits 8 s;
+    // the fastest counts. On the fake clock each probe run takes one tick, and balanced fits 20 s;
     // when the clock jumps 1 s inside the first run (a load spike: the first progress report of
     // the first auto) the plan stays balanced, where one timed run would make every plan a
     // hundred times slower and choose the cheapest. (The variance schedule runs no refresh,
     // which would recalibrate the cost.)
     render::Renderer renderer(cornell());
     FinalOptions o = balancedUnderALimit();
-    o.timeLimit = 8.0;
+    o.timeLimit = 20.0;
     auto planWith = [&](long spikeTicks) {
         auto reads = std::make_shared<std::atomic<long>>(0);
         auto jumped = std::make_shared<std::atomic<long>>(0);
@@ -249,6 +250,39 @@ TEST(FinalRender, ATimeLimitShorterThanTheFirstPassSaysSoAndDenoisesItWithTheChe
     EXPECT_TRUE(r.overTime);
     EXPECT_EQ(r.finalPlan, describe(cheapestPlan()));
     EXPECT_EQ(r.frame.metadata().extra.at("denoiseFilter"), "auto");
+}
+
+TEST(FinalRender, WhereItFitsTheProbeRunsOnceMoreOnTheWholeFrameAndCalibratesTheCost) {
+    // A 72² frame, larger than the probe's crop. On the fake clock every auto run takes one tick:
+    // the crop's probe predicts the whole frame's run at kFramePixelCost × 72² / 64² ticks, within
+    // kFrameProbeShare of a 2-s limit, so it runs, and its tick calibrates the cost: the final
+    // auto's prediction is that of a frame whose cheapest plan takes one tick (the crop's alone
+    // would predict it 1.5 × longer). Under a limit of 0.02 s (a tick's 1.5 is more than its
+    // share; the first pass alone overruns it) the whole frame is not probed.
+    render::Renderer renderer(cornell(72));
+    FinalOptions o = balancedUnderALimit();
+    std::vector<std::string> lines;
+    o.log = [&](const std::string& line) { lines.push_back(line); };
+    auto probedWhole = [&] {
+        for (const std::string& line : lines)
+            if (line.find("probe of the whole frame") != std::string::npos) return true;
+        return false;
+    };
+    const double tick = 0.001;
+    o.timeLimit = 2.0;
+    o.clock = fakeClock(tick);
+    const FinalResult r = renderFinal(renderer, o);
+    EXPECT_TRUE(probedWhole());
+    ASSERT_EQ(r.finalPlan, "balanced");
+    AutoCost whole;
+    whole.calibrate(cheapestPlan(), 72.0 * 72.0, tick);
+    EXPECT_NEAR(r.predictedFinalSeconds,
+                whole.seconds({denoise::AutoQuality::Balanced, 0, {}}, 72.0 * 72.0), 1e-9);
+    lines.clear();
+    o.timeLimit = 0.02;
+    o.clock = fakeClock(tick);
+    renderFinal(renderer, o);
+    EXPECT_FALSE(probedWhole());
 }
 
 TEST(FinalRender, TheVarianceScheduleRunsNoAutoBeforeTheFinalOne) {

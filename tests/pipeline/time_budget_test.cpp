@@ -39,8 +39,9 @@ TEST(TimeBudget, RefreshesStayWithinTheirShareAndLeaveTheReserve) {
     EXPECT_FALSE(b.refreshFits(1.0, 0.6));  // 2.1 of 2.0
     // Near the end a refresh that fits the share still must leave the final auto's reserve.
     const TimeBudget late(10.0, 1.0, 1.0);
-    EXPECT_TRUE(late.refreshFits(8.0, 0.7));   // 8 + 0.7 + 1.25 < 10
-    EXPECT_FALSE(late.refreshFits(8.0, 0.8));  // 8 + 0.8 + 1.25 ≥ 10
+    EXPECT_TRUE(late.refreshFits(10.0 - kFinalAutoMargin - 0.05, 0.0));
+    EXPECT_TRUE(late.refreshFits(8.0, 1.95 - kFinalAutoMargin));   // 8 + … < 10 by 0.05
+    EXPECT_FALSE(late.refreshFits(8.0, 2.05 - kFinalAutoMargin));  // 8 + … ≥ 10
 }
 
 TEST(TimeBudget, ALoopOnAFakeClockUsesItsBudgetAndEndsWithinTheLimit) {
@@ -105,6 +106,69 @@ TEST(AutoCost, PredictsByPixelsAndPlanWeightWithTheColdStartOnce) {
     EXPECT_LT(warm, cold * 2.0);
     EXPECT_NEAR(cost.seconds(balanced, pixels) / warm, planWeight(balanced) / planWeight(fast),
                 1e-9);
+}
+
+TEST(AutoCost, AProbeOnACropPredictsMeasuredWholeFramesRightOnAverage) {
+    // bench_final_budget's measurements (docs/lab/race.md, "Keeping the time limit": seed 1,
+    // 2 threads, the model's tuning set): glint-final's probe (cheapestPlan() on the centred 64²
+    // crop, the fastest of 3 runs) and each plan on the whole frame, fast with 1 member first (the
+    // process's first default bank: with the cold start), the others warm. The crop's pixels cost
+    // less than the frame's and the cold start is about a second whatever the size: predicted from
+    // the probe, every time is within 1.55 × (either way: the probe is one moment of a shared
+    // machine) and on average within 5 %. (The model before issue 49's measurements predicted the
+    // cold fast with 1 member 1.4–3.1 × short, the warm plans up to 1.7 × short.)
+    struct Measured {
+        double pixels, probe, fast1Cold, fast8, fast, balanced, cheapest;
+    };
+    const Measured frames[] = {
+        {256.0 * 256.0, 0.01363, 1.9620, 1.4631, 2.9541, 4.0068, 0.2422},    // cornell, 64 spp
+        {256.0 * 256.0, 0.00952, 1.8027, 1.3445, 2.8469, 3.6993, 0.2315},    // cornell, 8 spp
+        {256.0 * 256.0, 0.01396, 1.9522, 1.3711, 2.8254, 3.7644, 0.2267},    // dof, 64 spp
+        {256.0 * 256.0, 0.01476, 1.7985, 1.4122, 2.9622, 3.5751, 0.2842},    // dof, 8 spp
+        {256.0 * 256.0, 0.01019, 1.8743, 1.3991, 2.7231, 3.8432, 0.2329},    // fox, 64 spp
+        {256.0 * 256.0, 0.00867, 2.0317, 1.3861, 2.7693, 3.7815, 0.2298},    // fox, 8 spp
+        {256.0 * 256.0, 0.01366, 2.1449, 1.4085, 2.6775, 3.6806, 0.2321},    // glossy, 64 spp
+        {256.0 * 256.0, 0.01165, 2.2173, 1.4212, 2.7870, 3.6612, 0.2238},    // glossy, 8 spp
+        {540.0 * 540.0, 0.01344, 6.0653, 6.4470, 14.4526, 18.5764, 1.2013},  // cornell, 8 spp
+        {540.0 * 540.0, 0.01345, 6.4390, 7.0321, 13.9110, 18.0025, 1.1498},  // dof, 8 spp
+        {540.0 * 540.0, 0.01573, 5.8635, 7.2092, 14.1041, 18.4716, 1.1679},  // fox, 8 spp
+        {540.0 * 540.0, 0.01360, 6.4533, 6.9418, 14.2338, 14.4837, 0.7666},  // glossy, 8 spp
+    };
+    const AutoPlan fast1{denoise::AutoQuality::Fast, 1, {}};
+    const AutoPlan fast8{denoise::AutoQuality::Fast, 8, {}};
+    const AutoPlan fast{denoise::AutoQuality::Fast, 0, {}};
+    const AutoPlan balanced{denoise::AutoQuality::Balanced, 0, {}};
+    double sum = 0.0;
+    int count = 0;
+    for (const Measured& m : frames) {
+        AutoCost cost;
+        cost.probed(64.0 * 64.0, m.probe);
+        auto check = [&](const AutoPlan& plan, double measured) {
+            const double ratio = measured / cost.seconds(plan, m.pixels);
+            EXPECT_GT(ratio, 1.0 / 1.55) << describe(plan) << " on " << m.pixels;
+            EXPECT_LT(ratio, 1.55) << describe(plan) << " on " << m.pixels;
+            sum += ratio;
+            ++count;
+        };
+        check(fast1, m.fast1Cold);
+        cost.ran(fast1);
+        check(fast8, m.fast8);
+        check(fast, m.fast);
+        check(balanced, m.balanced);
+        check(cheapestPlan(), m.cheapest);
+    }
+    EXPECT_NEAR(sum / count, 1.0, 0.05);
+}
+
+TEST(AutoCost, AProbeCountsAFramesPixelAtItsCostAgainstTheCrops) {
+    // A probe of cheapestPlan() on a crop predicts the same plan on a whole frame of the crop's
+    // size at kFramePixelCost times its time (a calibration by a whole frame's run does not).
+    AutoCost probed, whole;
+    probed.probed(64.0 * 64.0, 0.01);
+    whole.calibrate(cheapestPlan(), 64.0 * 64.0, 0.01);
+    EXPECT_NEAR(probed.seconds(cheapestPlan(), 64.0 * 64.0), kFramePixelCost * 0.01, 1e-12);
+    EXPECT_NEAR(whole.seconds(cheapestPlan(), 64.0 * 64.0), 0.01, 1e-12);
+    EXPECT_GT(kFramePixelCost, 1.0);
 }
 
 TEST(TimeBudget, TheFinalAutosPlanIsTheBestThatFitsDownToOneMemberOfOneFilter) {

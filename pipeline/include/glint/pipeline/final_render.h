@@ -45,6 +45,10 @@ inline constexpr int kProbeSide = 64;
 /// would make every plan look slower; three of about 0.03 s take under 0.1 s).
 inline constexpr int kProbeRuns = 3;
 
+/// The probe runs once more on the whole frame when its predicted time is at most this share of
+/// the time limit (256² at 2 threads: from about 8 s), and that run calibrates auto's cost.
+inline constexpr double kFrameProbeShare = 0.04;
+
 /// How the final frame is made.
 struct FinalOptions {
     /// The render's settings. Adaptive sampling is what the steering steers (off: uniform passes,
@@ -75,7 +79,7 @@ struct FinalOptions {
     double finalShare = 0.5;
     /// Seconds the final auto at `quality` is expected to take on this film: it calibrates auto's
     /// cost model (AutoCost) instead of a probe; 0: a probe on a crop of the first pass
-    /// (kProbeSide, the fastest of kProbeRuns runs) calibrates it.
+    /// (kProbeSide, the fastest of kProbeRuns runs; kFrameProbeShare) calibrates it.
     double expectedAutoSeconds = 0.0;
     /// Seconds since any fixed time, for the time limit; empty: std::chrono::steady_clock.
     /// (The renderer's own pass sizing reads the steady clock; with a clock here the limit is

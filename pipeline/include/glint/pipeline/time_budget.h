@@ -15,8 +15,13 @@
 
 namespace glint::pipeline {
 
-/// The reserve for the final auto: this many times its predicted seconds.
-inline constexpr double kFinalAutoMargin = 1.25;
+/// The reserve for the final auto: this many times its predicted seconds. The prediction is
+/// right on average; with its spread (a probe is one moment of a shared machine) 92 % of
+/// bench_final_budget's runs took at most 1.3 × it (docs/lab/race.md, "Keeping the time limit").
+inline constexpr double kFinalAutoMargin = 1.3;
+/// What a pixel of a whole frame costs auto against a pixel of a probe's crop (the crop stays in
+/// the caches): 1.21 on 4 scenes at 256² and 540² (bench_final_budget).
+inline constexpr double kFramePixelCost = 1.21;
 
 /// The schedule of one time-limited final render.
 class TimeBudget {
@@ -67,12 +72,15 @@ double planWeight(const AutoPlan& plan);
 
 /// Auto's cost model: seconds = rate × pixels × planWeight(plan), plus a cold start on the
 /// process's first run of the default bank (what it loads once); the rate calibrated by a timed
-/// run of any plan on any frame (a probe on a crop, a refresh on the whole).
+/// run of any plan on a whole frame (a refresh, an expected time) or by a probe on a crop.
 class AutoCost {
   public:
-    /// Sets the rate from a run of `plan` on `pixels` pixels that took `seconds` (its cold
-    /// start taken out), and records the run.
+    /// Sets the rate from a run of `plan` on a whole frame of `pixels` pixels that took
+    /// `seconds` (its cold start taken out), and records the run.
     void calibrate(const AutoPlan& plan, double pixels, double seconds);
+    /// Sets the rate from a probe: cheapestPlan() on a crop of `pixels` pixels took `seconds`
+    /// (a frame's pixel costs kFramePixelCost times a crop's).
+    void probed(double pixels, double seconds);
     /// Records a run of `plan` (a default bank's run warms the next).
     void ran(const AutoPlan& plan);
     bool calibrated() const { return m_rate > 0.0; }
