@@ -19,7 +19,7 @@ void usePassiveOpenMpWait(char** argv, const char* program) {
     // Set: the process run again sees it and goes on (no loop).
     if (setenv(kVariable, "PASSIVE", 1) != 0) return;
     execv(program, argv);
-    // Not replaced (no /proc, the file gone): go on as launched, children without the variable.
+    // Not replaced (no /proc mounted, say): go on as launched, children without the variable.
     unsetenv(kVariable);
 }
 

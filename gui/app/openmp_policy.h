@@ -1,10 +1,11 @@
-// OpenMP's wait policy for the studio (docs/lab/studio.md, "The passive OpenMP wait"): the
-// learned layer's network runs on oneDNN's OpenMP threads beside the render and auto's
-// refreshes, and with libgomp's default policy its threads spin at every layer's barrier while
-// their team-mates wait for a core, taking the cores from the render and from themselves. With
-// OMP_WAIT_POLICY=PASSIVE they sleep there instead. libgomp reads the variable once, when it is
-// loaded (before main, and glibc hands a pre-initialiser's setenv back), so the studio sets it
-// and runs itself again. No Qt here: it runs before QApplication.
+// OpenMP's wait policy for the studio (docs/lab/studio.md, "The studio runs with OpenMP's passive
+// wait"): the learned layer's network runs on oneDNN's OpenMP threads beside the render and
+// auto's refreshes, and with libgomp's default policy its threads spin at every layer's barrier
+// while their team-mates wait for a core, taking the cores from the render and from themselves.
+// With OMP_WAIT_POLICY=PASSIVE they sleep there instead. libgomp reads the variable once, when it
+// is loaded (before main; glibc restores the environment after the pre-initialisers, so a setenv
+// there is lost), so the studio sets it and runs itself again. No Qt here: it runs before
+// QApplication.
 #pragma once
 
 namespace glint::studio {
