@@ -8,12 +8,16 @@
 #include <exception>
 
 #include "app/main_window.h"
+#include "app/openmp_policy.h"
 #include "app/studio_settings.h"
 #include "glint/image/error.h"
 #include "glint/image/tev_client.h"
 #include "glint/render/asset_formats.h"
 
 int main(int argc, char** argv) {
+    // OpenMP's passive wait for the learned layer's network, unless the user chose a policy: the
+    // studio runs itself again with it set (docs/lab/studio.md).
+    glint::studio::usePassiveOpenMpWait(argv);
     QApplication app(argc, argv);
     QApplication::setOrganizationName(QStringLiteral("Glint"));
     QApplication::setApplicationName(QStringLiteral("Glint Studio"));

@@ -9,7 +9,10 @@
 // shown against a high-spp render of the same scene, on 8 × 8 block means less the reference's
 // own noise there (improving: falling); then the intervals'
 // median and max, the stall, the refreshes of the importance map and one JSON object. --write-scene
-// writes the scene (for glint-render to make the reference) and exits.
+// writes the scene (for glint-render to make the reference) and exits. Like the studio, it runs
+// itself again with OMP_WAIT_POLICY=PASSIVE unless the variable is set (app/openmp_policy.h):
+// OMP_WAIT_POLICY= (empty: libgomp's default spin-then-sleep, with its "Invalid value" warning)
+// measures the wait as it was before.
 //   QT_QPA_PLATFORM=offscreen build/bin/bench_studio_progressive [--seconds S] [--threads T]
 //       [--layer default|bilateral] [--reference REF.exr] [--write-scene DIR]
 #include <QApplication>
@@ -26,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "app/openmp_policy.h"
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"
 #include "model/progressive_render.h"
@@ -62,6 +66,8 @@ double percentile(std::vector<double> v, double p) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    // As the studio starts (gui/app/main.cpp): OpenMP's passive wait unless the caller set one.
+    usePassiveOpenMpWait(argv);
     QApplication app(argc, argv);
     QApplication::setOrganizationName(QStringLiteral("GlintBench"));
     QStandardPaths::setTestModeEnabled(true);
