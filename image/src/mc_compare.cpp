@@ -121,4 +121,30 @@ McCompareResult mcCompare(const Image& mean, const Image& variance, const Image&
     return result;
 }
 
+McCompareResult mcCompareByChannel(const Image& mean, const Image& variance, const Image& reference,
+                                   const Image& referenceVariance,
+                                   const McCompareOptions& options) {
+    // Channel c of an image, as a one-channel image.
+    auto plane = [](const Image& image, int c) {
+        Image out(image.width(), image.height(), 1);
+        for (int y = 0; y < image.height(); ++y)
+            for (int x = 0; x < image.width(); ++x) out(x, y, 0) = image(x, y, c);
+        return out;
+    };
+    // Shapes that differ: mcCompare says so, naming them.
+    for (const Image* im : {&variance, &reference, &referenceVariance})
+        if (!im->sameShape(mean))
+            return mcCompare(mean, variance, reference, referenceVariance, options);
+    const int channels = mean.channels();
+    const McCompareOptions each{options.falseAlarmRate / std::max(channels, 1)};
+    McCompareResult worst;
+    for (int c = 0; c < channels; ++c) {
+        const McCompareResult r = mcCompare(plane(mean, c), plane(variance, c), plane(reference, c),
+                                            plane(referenceVariance, c), each);
+        if (c == 0 || r.statistic / r.threshold > worst.statistic / worst.threshold) worst = r;
+    }
+    worst.passed = worst.statistic <= worst.threshold;
+    return worst;
+}
+
 }  // namespace glint

@@ -25,14 +25,15 @@ struct Estimate {
     Image mean, variance;
 };
 
-Image truth(double bias, Rect biased) {
+/// The test image, `bias` (relative) added in `biased` to channel `only` (-1: every channel).
+Image truth(double bias, Rect biased, int only = -1) {
     Image t(kSize, kSize, 3);
     for (int y = 0; y < kSize; ++y)
         for (int x = 0; x < kSize; ++x)
             for (int c = 0; c < 3; ++c) {
                 const double v = 0.35 + 0.3 * std::sin(0.1 * x + c) * std::cos(0.07 * y);
                 const bool in = x >= biased.x0 && x < biased.x1 && y >= biased.y0 && y < biased.y1;
-                t(x, y, c) = float(in ? v * (1.0 + bias) : v);
+                t(x, y, c) = float(in && (only < 0 || only == c) ? v * (1.0 + bias) : v);
             }
     return t;
 }
@@ -115,6 +116,37 @@ TEST(McCompare, CatchesATwoPercentBiasConfinedToASixteenPixelSquareAt64Spp) {
         EXPECT_FALSE(intersect(r.worstWindow, kBiasRegion).empty()) << "seed " << seed;
         EXPECT_GT(r.relativeBias, 0.005) << "seed " << seed;
     }
+}
+
+TEST(McCompare, ByChannelCatchesATintThatTheWholePixelsSumDilutes) {
+    // A 6 % change of the red channel alone in the 16 x 16 square, channels sharing their noise:
+    // compared by channel (1e-4 split over three), every seed fails; compared as whole pixels,
+    // where the change is a third of the pixel's term, most pass. Unbiased renders keep the
+    // stated rate by channel: at 5 %, 400 seeds give at most 20 + 3 sd = 33 alarms.
+    int wholePixelAlarms = 0, unbiasedAlarms = 0;
+    for (std::uint64_t seed = 0; seed < 20; ++seed) {
+        const Estimate reference = render(truth(0.0, {}), 4096, kSigma, 1000000 + seed, true);
+        const Estimate tinted = render(truth(0.06, kBiasRegion, 0), kSpp, kSigma, seed, true);
+        const McCompareResult r =
+            mcCompareByChannel(tinted.mean, tinted.variance, reference.mean, reference.variance);
+        EXPECT_FALSE(r.passed) << "seed " << seed << ": statistic " << r.statistic;
+        EXPECT_FALSE(intersect(r.worstWindow, kBiasRegion).empty()) << "seed " << seed;
+        wholePixelAlarms +=
+            !mcCompare(tinted.mean, tinted.variance, reference.mean, reference.variance).passed;
+    }
+    EXPECT_LT(wholePixelAlarms, 10) << wholePixelAlarms << " of 20";
+    McCompareOptions fivePercent;
+    fivePercent.falseAlarmRate = 0.05;
+    for (std::uint64_t seed = 0; seed < 400; ++seed) {
+        const Estimate reference = render(truth(0.0, {}), 4096, kSigma, 1000000 + seed, true);
+        const Estimate test = render(truth(0.0, {}), kSpp, kSigma, seed, true);
+        unbiasedAlarms += !mcCompareByChannel(test.mean, test.variance, reference.mean,
+                                              reference.variance, fivePercent)
+                               .passed;
+    }
+    EXPECT_LE(unbiasedAlarms, 33);
+    const Estimate e = render(truth(0.0, {}), 16, 0.1, 1);
+    EXPECT_THROW(mcCompareByChannel(e.mean, Image(3, 3, 3), e.mean, e.variance), Error);
 }
 
 TEST(McCompare, BadInputIsAnError) {

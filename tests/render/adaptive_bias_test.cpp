@@ -88,29 +88,12 @@ double totalSamples(const FrameBuffers& f) {
     return n;
 }
 
-/// Channel c of `image`, as a one-channel image.
-Image channel(const Image& image, int c) {
-    Image out(image.width(), image.height(), 1);
-    for (int y = 0; y < image.height(); ++y)
-        for (int x = 0; x < image.width(); ++x) out(x, y, 0) = image(x, y, c);
-    return out;
-}
-
 /// The Monte Carlo comparison of the colour of `a` and `b` with their variance layers, channel
-/// by channel at kAlpha / 3 each (the worst channel's result): mc's rate holds for independent
-/// values, and a pixel's R, G and B come from the same paths (compared together, their
-/// correlated z-scores would inflate the window statistic by up to sqrt(3)).
+/// by channel (mcCompareByChannel: a pixel's R, G and B come from the same paths).
 McCompareResult compareColour(const FrameBuffers& a, const FrameBuffers& b) {
-    McCompareResult worst;
-    for (int c = 0; c < 3; ++c) {
-        auto of = [c](const FrameBuffers& f, Layer l) { return channel(f.layer(l), c); };
-        const McCompareResult r =
-            mcCompare(of(a, Layer::Color), of(a, Layer::Variance), of(b, Layer::Color),
-                      of(b, Layer::Variance), McCompareOptions{kAlpha / 3});
-        if (c == 0 || r.statistic / r.threshold > worst.statistic / worst.threshold) worst = r;
-    }
-    worst.passed = worst.statistic <= worst.threshold;
-    return worst;
+    return mcCompareByChannel(a.layer(Layer::Color), a.layer(Layer::Variance),
+                              b.layer(Layer::Color), b.layer(Layer::Variance),
+                              McCompareOptions{kAlpha});
 }
 
 std::string describe(const McCompareResult& r) {

@@ -36,4 +36,12 @@ struct McCompareResult {
 McCompareResult mcCompare(const Image& mean, const Image& variance, const Image& reference,
                           const Image& referenceVariance, const McCompareOptions& options = {});
 
+/// mcCompare channel by channel, each at falseAlarmRate / channels, the worst channel's result
+/// (by statistic over threshold): sharper for a change confined to one channel (a tint), which
+/// mcCompare, summing a pixel's channels into one term, shares with the other channels' noise.
+/// The same errors as mcCompare.
+McCompareResult mcCompareByChannel(const Image& mean, const Image& variance, const Image& reference,
+                                   const Image& referenceVariance,
+                                   const McCompareOptions& options = {});
+
 }  // namespace glint
