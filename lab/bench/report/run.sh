@@ -49,7 +49,7 @@ echo "== 6. threads and peak memory"
 "$R" threads scenes/cornell --out "$OUT/threads.csv"
 
 echo "   (${SECONDS} s)"
-echo "== 7. the equal-time race against Cycles + OIDN (docs/lab/race.md; RACE=1 reruns it, ~40 min)"
+echo "== 7. the equal-time race against Cycles + OIDN (docs/lab/race.md; RACE=1 reruns it: ~20 min on a quiet machine, ~20 more for the references the first time)"
 if [ "${RACE:-0}" = 1 ]; then
   lab/bench/race.sh "$BUILD" "$OUT"
 elif [ -f "$OUT/race.csv" ]; then
