@@ -75,7 +75,7 @@ struct ProgressiveRender::Steer {
     // refresh, stay short); then none (the renderer keeps the last).
     std::shared_ptr<const Image> provisional(const FrameBuffers& frame) {
         if (refresher->last() || share > 1.0) return nullptr;
-        auto map = refresher->provisional(frame, std::min(share, 1.0));
+        auto map = refresher->provisional(frame, share);
         share *= 2.0;
         return map;
     }
