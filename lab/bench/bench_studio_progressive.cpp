@@ -23,13 +23,13 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstring>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "app/openmp_policy.h"
+#include "bench_options.h"
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"
 #include "model/progressive_render.h"
@@ -76,13 +76,37 @@ int main(int argc, char** argv) {
     std::string layer = "default";
     std::string referencePath;
     std::string writeScene;
-    for (int i = 1; i + 1 < argc; ++i) {
-        if (std::strcmp(argv[i], "--reference") == 0) referencePath = argv[i + 1];
-        if (std::strcmp(argv[i], "--write-scene") == 0) writeScene = argv[i + 1];
-        if (std::strcmp(argv[i], "--seconds") == 0) seconds = std::max(1.0, std::atof(argv[i + 1]));
-        if (std::strcmp(argv[i], "--threads") == 0) threads = std::max(1, std::atoi(argv[i + 1]));
-        if (std::strcmp(argv[i], "--layer") == 0) layer = argv[i + 1];
-    }
+    // A seconds value: a number, the whole of the text.
+    auto number = [](const std::string& name, const std::string& text) {
+        std::size_t used = 0;
+        double value = 0.0;
+        try {
+            value = std::stod(text, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (used == 0 || used != text.size())
+            throw glint::bench::OptionError(name + " needs a number, not '" + text + "'");
+        return value;
+    };
+    const int bad = glint::bench::parseOptions(
+        "bench_studio_progressive", argc, argv,
+        [&](const std::string& name, const std::string& value) {
+            if (name == "--reference")
+                referencePath = value;
+            else if (name == "--write-scene")
+                writeScene = value;
+            else if (name == "--seconds")
+                seconds = std::max(1.0, number(name, value));
+            else if (name == "--threads")
+                threads = std::max(1, glint::bench::intOption(name, value));
+            else if (name == "--layer")
+                layer = value;
+            else
+                return false;
+            return true;
+        });
+    if (bad != 0) return bad;
     QTemporaryDir tmp;
     const QString scene = writeCornell(tmp.filePath(QStringLiteral("scene")), 512, 512, 16);
     if (!writeScene.empty()) {
