@@ -16,7 +16,7 @@
 
 int main(int argc, char** argv) {
     // OpenMP's passive wait for the learned layer's network, unless the user chose a policy: the
-    // studio runs itself again with it set (docs/lab/studio.md).
+    // studio runs itself again with it set (docs/lab/keep-refining.md).
     glint::studio::usePassiveOpenMpWait(argv);
     QApplication app(argc, argv);
     QApplication::setOrganizationName(QStringLiteral("Glint"));

@@ -1,4 +1,4 @@
-// OpenMP's wait policy for the studio (docs/lab/studio.md, "The studio runs with OpenMP's passive
+// OpenMP's wait policy for the studio (docs/lab/keep-refining.md, "The studio runs with OpenMP's passive
 // wait"): the learned layer's network runs on oneDNN's OpenMP threads beside the render and
 // auto's refreshes, and with libgomp's default policy its threads spin at every layer's barrier
 // while their team-mates wait for a core, taking the cores from the render and from themselves.

@@ -38,7 +38,7 @@ pipeline::RefreshOptions ProgressiveRender::refreshOptions() {
     o.filters = {"cross-bilateral"};
     o.focus = 0.1;
     // Auto on every thread at the render's priority: on one thread at nice +5 (measured in
-    // docs/lab/studio.md) its map rarely came at all while the render ran, and under the
+    // docs/lab/keep-refining.md) its map rarely came at all while the render ran, and under the
     // sanitizer a refresh never came in two minutes.
     o.threads = 0;
     return o;

@@ -32,6 +32,20 @@ inline int intOption(const std::string& name, const std::string& text) {
     return value;
 }
 
+/// The number that is the whole of `text`, or OptionError naming `name`.
+inline double numberOption(const std::string& name, const std::string& text) {
+    std::size_t used = 0;
+    double value = 0.0;
+    try {
+        value = std::stod(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used == 0 || used != text.size())
+        throw OptionError(name + " needs a number, not '" + text + "'");
+    return value;
+}
+
 /// The options bench_bank and bench_auto share: the cornell render they time on (--size, --spp),
 /// the threads, the bank's --members, the --reps (at least 1) and --retain-freed.
 struct RenderBankOptions {

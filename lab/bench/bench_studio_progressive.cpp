@@ -76,19 +76,6 @@ int main(int argc, char** argv) {
     std::string layer = "default";
     std::string referencePath;
     std::string writeScene;
-    // A seconds value: a number, the whole of the text.
-    auto number = [](const std::string& name, const std::string& text) {
-        std::size_t used = 0;
-        double value = 0.0;
-        try {
-            value = std::stod(text, &used);
-        } catch (const std::exception&) {
-            used = 0;
-        }
-        if (used == 0 || used != text.size())
-            throw glint::bench::OptionError(name + " needs a number, not '" + text + "'");
-        return value;
-    };
     const int bad = glint::bench::parseOptions(
         "bench_studio_progressive", argc, argv,
         [&](const std::string& name, const std::string& value) {
@@ -97,7 +84,7 @@ int main(int argc, char** argv) {
             else if (name == "--write-scene")
                 writeScene = value;
             else if (name == "--seconds")
-                seconds = std::max(1.0, number(name, value));
+                seconds = std::max(1.0, glint::bench::numberOption(name, value));
             else if (name == "--threads")
                 threads = std::max(1, glint::bench::intOption(name, value));
             else if (name == "--layer")

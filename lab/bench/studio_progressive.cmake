@@ -1,4 +1,4 @@
-# Keep refining's refresh intervals and UI stall on a 512² scene (docs/lab/studio.md):
+# Keep refining's refresh intervals and UI stall on a 512² scene (docs/lab/keep-refining.md):
 #   QT_QPA_PLATFORM=offscreen build/bin/bench_studio_progressive [--seconds S] [--threads T]
 if(GLINT_BUILD_STUDIO)
   find_package(Qt6 6.4 REQUIRED COMPONENTS Test)

@@ -34,30 +34,14 @@ constexpr int kSeeds[] = {1, 2, 3, 4};
 /// Every pixel's samples before the adaptive passes (the bar's render).
 constexpr int kStart = 64;
 
-/// A diffuse ball on a floor under a white sky, 32 × 24 (tests/render/adaptive_bias_test.cpp's
-/// scene): noisy soft shadows and interreflection on the objects, a noiseless sky in the top rows.
+/// The ball scene of tests/render/adaptive_bias_test.cpp (render::test::writeBallScene).
 class KeepRefiningBias : public ::testing::Test {
   protected:
-    KeepRefiningBias() : m_dir("keep_refining_bias") {
-        m_dir.write("quad.obj", render::test::quadObj());
-        m_dir.write("sphere.obj", render::test::sphereObj(1.0f));
-    }
+    KeepRefiningBias() : m_dir("keep_refining_bias") {}
 
-    /// The scene with the ball's albedo (r, 0.3, 0.2).
+    /// The ball scene of render::test::writeBallScene, its albedo (r, 0.3, 0.2).
     render::Scene scene(double ballRed) const {
-        const auto path = m_dir.write("scene.json", R"({
-          "camera": {"position": [0, 1.2, 3], "lookAt": [0, 0.5, 0], "fovY": 40},
-          "film": {"width": 32, "height": 24},
-          "materials": {"floor": {"type": "diffuse", "albedo": [0.6, 0.6, 0.6]},
-                        "ball": {"type": "diffuse", "albedo": [)" +
-                                                        std::to_string(ballRed) + R"(, 0.3, 0.2]}},
-          "shapes": [{"obj": "quad.obj", "material": "floor", "transform": {"scale": 3}},
-                     {"obj": "sphere.obj", "material": "ball",
-                      "transform": {"translate": [0, 0.5, 0], "scale": 0.5}}],
-          "environment": {"color": [1, 1, 1]},
-          "render": {"spp": 8, "maxDepth": 3}
-        })");
-        return render::loadScene(path);
+        return render::loadScene(render::test::writeBallScene(m_dir, ballRed));
     }
 
     /// The studio's refining render (ProgressiveRender::refining: adaptive with half buffers,
@@ -115,19 +99,11 @@ class KeepRefiningBias : public ::testing::Test {
 };
 
 /// The Monte Carlo comparison of the colour of `a` and `b` with their variance layers, channel
-/// by channel (mcCompareByChannel: a pixel's R, G and B come from the same paths).
+/// by channel (mcCompareByChannel: sharper for a change of one channel, as the tests' red ball).
 McCompareResult compareColour(const FrameBuffers& a, const FrameBuffers& b) {
     return mcCompareByChannel(a.layer(Layer::Color), a.layer(Layer::Variance),
                               b.layer(Layer::Color), b.layer(Layer::Variance),
                               McCompareOptions{kAlpha});
-}
-
-std::string describe(const McCompareResult& r) {
-    return "statistic " + std::to_string(r.statistic) + " (threshold " +
-           std::to_string(r.threshold) + "), worst window x " + std::to_string(r.worstWindow.x0) +
-           ".." + std::to_string(r.worstWindow.x1) + ", y " + std::to_string(r.worstWindow.y0) +
-           ".." + std::to_string(r.worstWindow.y1) + " differs by " +
-           std::to_string(100.0 * r.relativeBias) + " %";
 }
 
 TEST_F(KeepRefiningBias, TheRefinedFramesMeanIsTheUniformRendersOfTheSameSamples) {
@@ -140,8 +116,8 @@ TEST_F(KeepRefiningBias, TheRefinedFramesMeanIsTheUniformRendersOfTheSameSamples
                   *std::max_element(counts.begin(), counts.end()));
         const FrameBuffers u = renderer.render(uniform(meanSpp(a), std::uint64_t(seed))).frame;
         const McCompareResult r = compareColour(a, u);
-        std::printf("seed %d: %s\n", seed, describe(r).c_str());
-        EXPECT_TRUE(r.passed) << "seed " << seed << ": " << describe(r);
+        std::printf("seed %d: %s\n", seed, render::test::describe(r).c_str());
+        EXPECT_TRUE(r.passed) << "seed " << seed << ": " << render::test::describe(r);
     }
 }
 
@@ -154,8 +130,8 @@ TEST_F(KeepRefiningBias, TheComparisonFindsAThreePercentChangeOfTheBallsRed) {
         const FrameBuffers a = keepRefining(renderer, std::uint64_t(seed));
         const FrameBuffers u = darker.render(uniform(meanSpp(a), std::uint64_t(seed))).frame;
         const McCompareResult r = compareColour(a, u);
-        std::printf("seed %d, ball 3 %% less red: %s\n", seed, describe(r).c_str());
-        EXPECT_FALSE(r.passed) << "seed " << seed << ": " << describe(r);
+        std::printf("seed %d, ball 3 %% less red: %s\n", seed, render::test::describe(r).c_str());
+        EXPECT_FALSE(r.passed) << "seed " << seed << ": " << render::test::describe(r);
     }
 }
 

@@ -28,31 +28,13 @@ namespace {
 constexpr double kAlpha = 1e-3;
 constexpr int kSeeds[] = {1, 2, 3, 4};
 
-/// A diffuse ball on a floor under a white sky, 32 × 24 (the mc windows of 8 and 16 pixels fit):
-/// noisy soft shadows and interreflection on the objects, a noiseless sky in the top rows.
+/// The ball scene of test::writeBallScene.
 class AdaptiveBias : public ::testing::Test {
   protected:
-    AdaptiveBias() : m_dir("adaptive_bias") {
-        m_dir.write("quad.obj", test::quadObj());
-        m_dir.write("sphere.obj", test::sphereObj(1.0f));
-    }
+    AdaptiveBias() : m_dir("adaptive_bias") {}
 
     /// The scene with the ball's albedo (r, 0.3, 0.2).
-    Scene scene(double ballRed) const {
-        const auto path = m_dir.write("scene.json", R"({
-          "camera": {"position": [0, 1.2, 3], "lookAt": [0, 0.5, 0], "fovY": 40},
-          "film": {"width": 32, "height": 24},
-          "materials": {"floor": {"type": "diffuse", "albedo": [0.6, 0.6, 0.6]},
-                        "ball": {"type": "diffuse", "albedo": [)" +
-                                                        std::to_string(ballRed) + R"(, 0.3, 0.2]}},
-          "shapes": [{"obj": "quad.obj", "material": "floor", "transform": {"scale": 3}},
-                     {"obj": "sphere.obj", "material": "ball",
-                      "transform": {"translate": [0, 0.5, 0], "scale": 0.5}}],
-          "environment": {"color": [1, 1, 1]},
-          "render": {"spp": 8, "maxDepth": 3}
-        })");
-        return loadScene(path);
-    }
+    Scene scene(double ballRed) const { return loadScene(test::writeBallScene(m_dir, ballRed)); }
 
     /// Adaptive sampling from 64 spp up to 512 at threshold 0.005 (about 190 spp a pixel on
     /// average), half buffers on.
@@ -89,20 +71,11 @@ double totalSamples(const FrameBuffers& f) {
 }
 
 /// The Monte Carlo comparison of the colour of `a` and `b` with their variance layers, channel
-/// by channel (mcCompareByChannel: a pixel's R, G and B come from the same paths).
+/// by channel (mcCompareByChannel: sharper for a change of one channel, as the tests' red ball).
 McCompareResult compareColour(const FrameBuffers& a, const FrameBuffers& b) {
     return mcCompareByChannel(a.layer(Layer::Color), a.layer(Layer::Variance),
                               b.layer(Layer::Color), b.layer(Layer::Variance),
                               McCompareOptions{kAlpha});
-}
-
-std::string describe(const McCompareResult& r) {
-    return "statistic " + std::to_string(r.statistic) + " (threshold " +
-           std::to_string(r.threshold) + ", " + std::to_string(r.windows) +
-           " windows), worst window x " + std::to_string(r.worstWindow.x0) + ".." +
-           std::to_string(r.worstWindow.x1) + ", y " + std::to_string(r.worstWindow.y0) + ".." +
-           std::to_string(r.worstWindow.y1) + " differs by " +
-           std::to_string(100.0 * r.relativeBias) + " %";
 }
 
 TEST_F(AdaptiveBias, EachPixelsMeanIsTheUniformRendersOfTheSameSamplesForBothChoices) {
@@ -120,13 +93,13 @@ TEST_F(AdaptiveBias, EachPixelsMeanIsTheUniformRendersOfTheSameSamplesForBothCho
                                      std::to_string(seed) + ", mean spp " +
                                      std::to_string(totalSamples(a) / pixels);
             const McCompareResult whole = compareColour(a, u);
-            std::printf("%s, every sample: %s\n", what.c_str(), describe(whole).c_str());
-            EXPECT_TRUE(whole.passed) << what << ": " << describe(whole);
+            std::printf("%s, every sample: %s\n", what.c_str(), test::describe(whole).c_str());
+            EXPECT_TRUE(whole.passed) << what << ": " << test::describe(whole);
             if (from == AdaptiveError::Half) {
                 // The even half (half A), which never steered: unbiased by construction.
                 const McCompareResult even = compareColour(splitHalves(a).first, u);
-                std::printf("%s, even half: %s\n", what.c_str(), describe(even).c_str());
-                EXPECT_TRUE(even.passed) << what << " (even half): " << describe(even);
+                std::printf("%s, even half: %s\n", what.c_str(), test::describe(even).c_str());
+                EXPECT_TRUE(even.passed) << what << " (even half): " << test::describe(even);
             }
         }
     }
@@ -142,8 +115,8 @@ TEST_F(AdaptiveBias, TheComparisonFindsAThreePercentChangeOfTheBallsRed) {
         const int pixels = a.width() * a.height();
         const FrameBuffers u = darker.render(uniform(totalSamples(a), pixels, seed)).frame;
         const McCompareResult r = compareColour(a, u);
-        std::printf("seed %d, ball 3 %% less red: %s\n", seed, describe(r).c_str());
-        EXPECT_FALSE(r.passed) << "seed " << seed << ": " << describe(r);
+        std::printf("seed %d, ball 3 %% less red: %s\n", seed, test::describe(r).c_str());
+        EXPECT_FALSE(r.passed) << "seed " << seed << ": " << test::describe(r);
     }
 }
 

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "glint/image/frame_buffers.h"
+#include "glint/image/mc_compare.h"
 #include "glint/render/settings.h"
 
 namespace glint::render::test {
@@ -103,6 +104,36 @@ inline std::string quadObj() {
     return "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\n"
            "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
            "f 1/1 4/4 3/3 2/2\n";
+}
+
+/// Writes the adaptive-bias tests' scene into `dir` and returns its scene.json: a diffuse ball of
+/// albedo (ballRed, 0.3, 0.2) on a floor under a white sky, 32 × 24 (the mc windows of 8 and 16
+/// pixels fit): noisy soft shadows and interreflection on the objects, a noiseless sky on top.
+inline std::filesystem::path writeBallScene(const TempDir& dir, double ballRed) {
+    dir.write("quad.obj", quadObj());
+    dir.write("sphere.obj", sphereObj(1.0f));
+    return dir.write("scene.json", R"({
+      "camera": {"position": [0, 1.2, 3], "lookAt": [0, 0.5, 0], "fovY": 40},
+      "film": {"width": 32, "height": 24},
+      "materials": {"floor": {"type": "diffuse", "albedo": [0.6, 0.6, 0.6]},
+                    "ball": {"type": "diffuse", "albedo": [)" +
+                                       std::to_string(ballRed) + R"(, 0.3, 0.2]}},
+      "shapes": [{"obj": "quad.obj", "material": "floor", "transform": {"scale": 3}},
+                 {"obj": "sphere.obj", "material": "ball",
+                  "transform": {"translate": [0, 0.5, 0], "scale": 0.5}}],
+      "environment": {"color": [1, 1, 1]},
+      "render": {"spp": 8, "maxDepth": 3}
+    })");
+}
+
+/// A Monte Carlo comparison's result in words, for a test's message.
+inline std::string describe(const McCompareResult& r) {
+    return "statistic " + std::to_string(r.statistic) + " (threshold " +
+           std::to_string(r.threshold) + ", " + std::to_string(r.windows) +
+           " windows), worst window x " + std::to_string(r.worstWindow.x0) + ".." +
+           std::to_string(r.worstWindow.x1) + ", y " + std::to_string(r.worstWindow.y0) + ".." +
+           std::to_string(r.worstWindow.y1) + " differs by " +
+           std::to_string(100.0 * r.relativeBias) + " %";
 }
 
 /// Regularised upper incomplete gamma Q(a, x) (series / continued fraction, Numerical Recipes
