@@ -12,6 +12,7 @@
 #include <tbb/task_arena.h>
 
 #include "glint/denoise/auto_stream.h"
+#include "glint/image/box_mean.h"
 #include "glint/image/error.h"
 #include "glint/pipeline/steering.h"
 
@@ -47,33 +48,6 @@ void keepWorst(Image& weights, const Image& score, double focus) {
     for (std::size_t i = 0; i < keep; ++i) open[order[i]] = 1;
     for (std::size_t i = 0; i < n; ++i)
         if (!open[i]) weights.data()[i] = 0.0f;
-}
-
-/// The means of `image`'s channels over the (2r + 1)² window around each pixel, clamped to the
-/// frame (a box, separable: rows then columns).
-Image neighbourhoodMean(const Image& image, int r) {
-    const int w = image.width(), h = image.height(), channels = image.channels();
-    Image rows(w, h, channels), out(w, h, channels);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            for (int c = 0; c < channels; ++c) {
-                double sum = 0.0;
-                for (int sx = std::max(0, x - r); sx <= std::min(w - 1, x + r); ++sx)
-                    sum += double(image(sx, y, c));
-                rows(x, y, c) = float(sum);
-            }
-    for (int y = 0; y < h; ++y) {
-        const int y0 = std::max(0, y - r), y1 = std::min(h - 1, y + r);
-        for (int x = 0; x < w; ++x) {
-            const int n = (std::min(w - 1, x + r) - std::max(0, x - r) + 1) * (y1 - y0 + 1);
-            for (int c = 0; c < channels; ++c) {
-                double sum = 0.0;
-                for (int sy = y0; sy <= y1; ++sy) sum += double(rows(x, sy, c));
-                out(x, y, c) = float(sum / double(n));
-            }
-        }
-    }
-    return out;
 }
 
 }  // namespace
@@ -159,9 +133,9 @@ std::shared_ptr<const Image> Refresher::provisional(const FrameBuffers& frame, d
     // half B's share (Keep Refining's frame −0.08 % at its end against −0.14 %, same page).
     const bool halves = frame.has(Layer::HalfColor) && frame.has(Layer::HalfVariance);
     const Image colour =
-        neighbourhoodMean(frame.layer(halves ? Layer::HalfColor : Layer::Color), kNeighbourhood);
-    const Image variance = neighbourhoodMean(
-        frame.layer(halves ? Layer::HalfVariance : Layer::Variance), kNeighbourhood);
+        boxMean(frame.layer(halves ? Layer::HalfColor : Layer::Color), kNeighbourhood);
+    const Image variance =
+        boxMean(frame.layer(halves ? Layer::HalfVariance : Layer::Variance), kNeighbourhood);
     Image relative(frame.width(), frame.height(), 1);
     for (int y = 0; y < frame.height(); ++y)
         for (int x = 0; x < frame.width(); ++x) {

@@ -2,7 +2,8 @@
 // OMP_WAIT_POLICY; a failed exec goes on as launched; and the built glint-studio, started
 // without the variable, runs with libgomp's passive wait (libgomp's own OMP_DISPLAY_ENV=verbose
 // report of each load: GOMP_SPINCOUNT 0 is passive, 300000 its default, 3e10 active), while a
-// user's value is what libgomp reads, in a process started once.
+// user's value is what libgomp reads, in a process started once; and the process run again
+// gives what it starts the user's environment back.
 #include <QProcess>
 #include <QRegularExpression>
 #include <QTest>
@@ -63,10 +64,28 @@ class OpenMpPolicyTest : public QObject {
         char* argv[] = {name, nullptr};
         usePassiveOpenMpWait(argv, "/nonexistent/glint-studio");
         QVERIFY(std::getenv("OMP_WAIT_POLICY") == nullptr);
+        QVERIFY(std::getenv("GLINT_STUDIO_SET_OMP_WAIT_POLICY") == nullptr);
         // A user's value: nothing is run, the value stays.
         setenv("OMP_WAIT_POLICY", "ACTIVE", 1);
         usePassiveOpenMpWait(argv, "/nonexistent/glint-studio");
         QCOMPARE(QString::fromUtf8(std::getenv("OMP_WAIT_POLICY")), QStringLiteral("ACTIVE"));
+        unsetenv("OMP_WAIT_POLICY");
+    }
+
+    void theProcessRunAgainGivesItsChildrenTheUsersEnvironment() {
+        // As the studio finds them after its exec: the variable and the marker are taken out,
+        // and nothing is run again (an exec of /bin/false would end this test with exit 1).
+        setenv("OMP_WAIT_POLICY", "PASSIVE", 1);
+        setenv("GLINT_STUDIO_SET_OMP_WAIT_POLICY", "1", 1);
+        char name[] = "openmp_policy_tests";
+        char* argv[] = {name, nullptr};
+        usePassiveOpenMpWait(argv, "/bin/false");
+        QVERIFY(std::getenv("OMP_WAIT_POLICY") == nullptr);
+        QVERIFY(std::getenv("GLINT_STUDIO_SET_OMP_WAIT_POLICY") == nullptr);
+        // The marker is set only with the studio's own value: a user's value has none and stays.
+        setenv("OMP_WAIT_POLICY", "PASSIVE", 1);
+        usePassiveOpenMpWait(argv, "/bin/false");
+        QCOMPARE(QString::fromUtf8(std::getenv("OMP_WAIT_POLICY")), QStringLiteral("PASSIVE"));
         unsetenv("OMP_WAIT_POLICY");
     }
 
