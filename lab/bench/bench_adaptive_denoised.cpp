@@ -26,6 +26,7 @@
 
 #include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
+#include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/pipeline/refresh.h"
 #include "glint/render/renderer.h"
@@ -52,7 +53,9 @@ Errors relativeErrors(const glint::Image& image, const glint::Image& reference) 
     return e;
 }
 
-double mean(const Errors& v) { return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size()); }
+double mean(const Errors& v) {
+    return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
+}
 
 /// Σ v over the pixels where `in` holds.
 double sumOver(const Errors& v, const std::vector<char>& in) {
@@ -97,8 +100,8 @@ std::string describe(const glint::denoise::BankMember& m) {
 struct Analysed {
     glint::FrameBuffers frame;
     glint::render::RenderStats stats;
-    Errors noisy;                           // per pixel, of the noisy image
-    Errors oracleChoice;                    // per pixel, of the reference-made choice
+    Errors noisy;                            // per pixel, of the noisy image
+    Errors oracleChoice;                     // per pixel, of the reference-made choice
     std::map<std::string, Errors> denoised;  // per variant, per pixel
     std::map<std::string, glint::denoise::AutoResult> results;
     glint::denoise::FilterBank bank;
@@ -140,6 +143,10 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "bench_adaptive_denoised: unknown variant '%s'\n", v.c_str());
             return 2;
         }
+    if (spp < 16 || pilot < 1 || pilot > spp) {
+        std::fprintf(stderr, "bench_adaptive_denoised: --spp needs >= 16 and --pilot 1 … spp\n");
+        return 2;
+    }
     if (high < 1) {
         std::fprintf(stderr, "bench_adaptive_denoised: --high needs a factor >= 1\n");
         return 2;
@@ -171,7 +178,20 @@ int main(int argc, char** argv) {
     }
     floor = varianceFloor;
     if (!reference2.empty()) {
-        const Errors twice = relativeErrors(glint::readExr(reference2).color(), reference);
+        glint::Image second;
+        try {
+            second = glint::readExr(reference2).color();
+        } catch (const glint::Error& e) {
+            std::fprintf(stderr, "bench_adaptive_denoised: --reference2: %s\n", e.what());
+            return 2;
+        }
+        if (second.width() != w || second.height() != h) {
+            std::fprintf(stderr,
+                         "bench_adaptive_denoised: %s: --reference2 is %dx%d, the scene %dx%d\n",
+                         reference2.c_str(), second.width(), second.height(), w, h);
+            return 2;
+        }
+        const Errors twice = relativeErrors(second, reference);
         for (std::size_t i = 0; i < pixels; ++i) floor[i] = 0.5 * twice[i];
     }
 
@@ -245,19 +265,23 @@ int main(int argc, char** argv) {
     // 1. Uniform at spp and at high × spp.
     const Analysed uniform = analyse(renderer.render(settingsFor(seed, spp)), wanted);
     const Analysed uniformHigh =
-        high > 1 ? analyse(renderer.render(settingsFor(seed, high * spp)), {"default"}) : Analysed{};
-    std::printf("# %s seed %llu map seed %llu, %d spp; reference floor %.3g (%.0f %% of "
-                "uniform's denoised; %s), by its variance layer %.3g\n",
-                scene.c_str(), seed, mapSeed, spp, mean(floor),
-                100.0 * mean(floor) / mean(uniform.denoised.at("default")),
-                reference2.empty() ? "its variance layer" : "measured by --reference2",
-                mean(varianceFloor));
+        high > 1 ? analyse(renderer.render(settingsFor(seed, high * spp)), {"default"})
+                 : Analysed{};
+    std::printf(
+        "# %s seed %llu map seed %llu, %d spp; reference floor %.3g (%.0f %% of "
+        "uniform's denoised; %s), by its variance layer %.3g\n",
+        scene.c_str(), seed, mapSeed, spp, mean(floor),
+        100.0 * mean(floor) / mean(uniform.denoised.at("default")),
+        reference2.empty() ? "its variance layer" : "measured by --reference2",
+        mean(varianceFloor));
     if (high > 1) {
-        std::printf("pixels\tshare\tnoisy %dx\tnoisy-floor %dx\tdenoised %dx\tdenoised-floor "
-                    "%dx\toracleChoice %dx\tfloor/denoised\n",
-                    high, high, high, high, high);
-        for (const auto& [name, in] : {std::pair{"worst10", &worst}, std::pair{"rest", &rest},
-                                      std::pair{"all", static_cast<std::vector<char>*>(nullptr)}}) {
+        std::printf(
+            "pixels\tshare\tnoisy %dx\tnoisy-floor %dx\tdenoised %dx\tdenoised-floor "
+            "%dx\toracleChoice %dx\tfloor/denoised\n",
+            high, high, high, high, high);
+        for (const auto& [name, in] :
+             {std::pair{"worst10", &worst}, std::pair{"rest", &rest},
+              std::pair{"all", static_cast<std::vector<char>*>(nullptr)}}) {
             std::vector<char> all(pixels, 1);
             const std::vector<char>& set = in ? *in : all;
             const double f = sumOver(floor, set);
@@ -266,8 +290,7 @@ int main(int argc, char** argv) {
             const double r = sumOver(uniform.noisy, set), rh = sumOver(uniformHigh.noisy, set);
             std::printf("%s\t%.3f\t%.2f\t%.2f\t%.2f\t%.2f\t%.2f\t%.3f\n", name,
                         d / sumOver(uniform.denoised.at("default"), all), r / rh,
-                        (r - f) / (rh - f), d / dh,
-                        (d - f) / (dh - f),
+                        (r - f) / (rh - f), d / dh, (d - f) / (dh - f),
                         sumOver(uniform.oracleChoice, set) / sumOver(uniformHigh.oracleChoice, set),
                         f / d);
         }
@@ -276,7 +299,8 @@ int main(int argc, char** argv) {
     // 2. The oracle's render: adaptive passes that open exactly the pixels below their target.
     glint::render::RenderResult oracleRender;
     {
-        glint::render::Settings s = settingsFor(seed, *std::max_element(target.begin(), target.end()));
+        glint::render::Settings s =
+            settingsFor(seed, *std::max_element(target.begin(), target.end()));
         s.adaptive = true;
         s.minSpp = pilot;
         s.noiseThreshold = 1e-9;
@@ -317,8 +341,9 @@ int main(int argc, char** argv) {
     for (const std::string& v : wanted) {
         std::printf("\n## variant %s: oracle / uniform at equal samples, per bin of n/spp\n",
                     v.c_str());
-        std::printf("bin\tpixels\tshareOfUniform\tmeanN/spp\tideal 1/n\tnoisy\tdenoised\t"
-                    "denoised-floor\toracleChoice\tfloor/uniform\ttopMembers(oracle)\n");
+        std::printf(
+            "bin\tpixels\tshareOfUniform\tmeanN/spp\tideal 1/n\tnoisy\tdenoised\t"
+            "denoised-floor\toracleChoice\tfloor/uniform\ttopMembers(oracle)\n");
         for (int b = 0; b < bins; ++b) {
             std::vector<char> in(pixels, 0);
             double nsum = 0.0, ideal = 0.0, eu = 0.0;
@@ -351,19 +376,19 @@ int main(int argc, char** argv) {
                 top += std::string(j ? "; " : "") + buf +
                        describe(oracle.bank.members()[std::size_t(carried[j].second)]);
             }
-            std::printf("[%.2g,%.2g)\t%d\t%.3f\t%.2f\t%.2f\t%.2f\t%.2f\t%.2f\t%.2f\t%.3f\t%s\n",
-                        edges[b], edges[b + 1], k, eu / sumOver(uniform.denoised.at(v),
-                                                                std::vector<char>(pixels, 1)),
-                        nsum / k, ideal / eu,
-                        sumOver(oracle.noisy, in) / sumOver(uniform.noisy, in), d / du,
-                        (d - f) / (du - f),
-                        sumOver(oracle.oracleChoice, in) / sumOver(uniform.oracleChoice, in),
-                        f / du, top.c_str());
+            std::printf(
+                "[%.2g,%.2g)\t%d\t%.3f\t%.2f\t%.2f\t%.2f\t%.2f\t%.2f\t%.2f\t%.3f\t%s\n", edges[b],
+                edges[b + 1], k, eu / sumOver(uniform.denoised.at(v), std::vector<char>(pixels, 1)),
+                nsum / k, ideal / eu, sumOver(oracle.noisy, in) / sumOver(uniform.noisy, in),
+                d / du, (d - f) / (du - f),
+                sumOver(oracle.oracleChoice, in) / sumOver(uniform.oracleChoice, in), f / du,
+                top.c_str());
         }
     }
-    std::printf("\nvariant\tuniform\toracle\tequalRays(%d spp)\tvsEqualSamples\tvsEqualRays\t"
-                "vsEqualRays-floor\toracleChoice vsEqualRays\n",
-                equalSpp);
+    std::printf(
+        "\nvariant\tuniform\toracle\tequalRays(%d spp)\tvsEqualSamples\tvsEqualRays\t"
+        "vsEqualRays-floor\toracleChoice vsEqualRays\n",
+        equalSpp);
     const double fl = mean(floor);
     for (const std::string& v : wanted) {
         const double u = mean(uniform.denoised.at(v)), o = mean(oracle.denoised.at(v)),
@@ -391,11 +416,12 @@ int main(int argc, char** argv) {
             trueSum += e[i] - floor[i];
         }
         const double n = double(pixels), total = mean(e) * n;
-        std::printf("if 1/n: this allocation %+.1f %% (%+.1f %% with the floor not falling); bound "
-                    "%+.1f %% (%+.1f %% of the error above the floor)\n",
-                    100.0 * (predicted / total - 1.0), 100.0 * (predictedTrue / total - 1.0),
-                    100.0 * (rootE * rootE / n / total - 1.0),
-                    100.0 * (rootTrue * rootTrue / n / trueSum - 1.0));
+        std::printf(
+            "if 1/n: this allocation %+.1f %% (%+.1f %% with the floor not falling); bound "
+            "%+.1f %% (%+.1f %% of the error above the floor)\n",
+            100.0 * (predicted / total - 1.0), 100.0 * (predictedTrue / total - 1.0),
+            100.0 * (rootE * rootE / n / total - 1.0),
+            100.0 * (rootTrue * rootTrue / n / trueSum - 1.0));
     }
     // The same prediction for other maps (nothing rendered): uniform's own error e, unblurred
     // (what the bound's allocation is, but with the pilot and the cap), and the map seed's at
@@ -417,7 +443,8 @@ int main(int argc, char** argv) {
             const auto own = predict(targetsFrom(e, least));
             std::printf("own\t0\t%d\t%+.1f %%\t%+.1f %%\n", least, own.first, own.second);
             for (int r : {0, 1, 2, 4}) {
-                const auto p = predict(targetsFrom(boxBlur(other.denoised.at("default"), w, h, r), least));
+                const auto p =
+                    predict(targetsFrom(boxBlur(other.denoised.at("default"), w, h, r), least));
                 std::printf("mapSeed\t%d\t%d\t%+.1f %%\t%+.1f %%\n", r, least, p.first, p.second);
             }
         }
