@@ -21,7 +21,7 @@ if(TARGET glint_pipeline AND TARGET glint_lab)
   target_compile_definitions(bench_adaptive_equal_time PRIVATE GLINT_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
   glint_warnings(bench_adaptive_equal_time)
 endif()
-#   build/bin/bench_adaptive_denoised [--scene dof] [--seed 21] [--map-seed 1021] [--spp 1024] [--pilot 64] [--high 4] [--variants default,feather0,stack0,...]
+#   build/bin/bench_adaptive_denoised [--scene dof] [--seed 21] [--map-seed 1021] [--spp 1024] [--pilot 64] [--high 4] [--variants default,feather0,stack0,...] [--reference FILE] [--reference2 FILE]
 if(TARGET glint_pipeline)
   add_executable(bench_adaptive_denoised ${CMAKE_CURRENT_LIST_DIR}/bench_adaptive_denoised.cpp)
   target_link_libraries(bench_adaptive_denoised PRIVATE glint_pipeline)

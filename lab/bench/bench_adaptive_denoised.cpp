@@ -2,9 +2,11 @@
 // (docs/lab/adaptive-sampling.md, "Why dof's denoised error does not fall where samples go").
 // On one scene at --spp mean, with the oracle allocation of bench_adaptive_oracle (another seed's
 // true error after auto, box-blurred 5×5, n_i ∝ √e_i, at least --pilot):
+// Errors are against --reference (the scene's reference.exr unless given).
 //  1. Uniform at --spp against uniform at 4× --spp (same seed): in the worst 10 % of the pixels
 //     by the map (and in the rest), how much the noisy, the denoised and the oracle-choice error
-//     fall, and the reference's own noise (its variance layer: a floor no sample removes).
+//     fall, and the reference's own noise (a floor no sample removes: by its variance layer, or
+//     measured against --reference2, the scene rendered again at another seed).
 //  2. The oracle allocation against uniform at the same samples, pixels binned by n_i / --spp:
 //     per bin, the ratio of the noisy, the denoised and the oracle-choice error, against 1/n's.
 //  3. The same for each auto variant (--variants, tuning overrides over balanced's): which
@@ -14,7 +16,7 @@
 // what a choice with the reference could take from the bank.
 //   build/bin/bench_adaptive_denoised [--scene dof] [--seed 21] [--map-seed 1021] [--spp 1024]
 //       [--pilot 64] [--threads 2] [--high 4] [--variants default,feather0,stack0]
-//       [--reference2 reference_seed8.exr]
+//       [--reference scenes/dof/reference.exr] [--reference2 reference_seed8.exr]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -110,7 +112,7 @@ struct Analysed {
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::string scene = "dof", reference2;
+    std::string scene = "dof", referencePath, reference2;
     unsigned long long seed = 21, mapSeed = 1021;
     int spp = 1024, pilot = 64, threads = 2, high = 4;
     std::string variants = "default,feather0,stack0,window4,hard,shortlist0,plain";
@@ -123,6 +125,7 @@ int main(int argc, char** argv) {
     options.bind("--threads", threads);
     options.bind("--high", high);
     options.bind("--variants", variants);
+    options.bind("--reference", referencePath);
     options.bind("--reference2", reference2);
     if (const int rc = options.parse("bench_adaptive_denoised", argc, argv)) return rc;
     // Tuning overrides over balanced's defaults, by name.
@@ -152,11 +155,29 @@ int main(int argc, char** argv) {
         return 2;
     }
     const std::string dir = std::string(GLINT_SOURCE_DIR) + "/scenes/" + scene;
-    const glint::FrameBuffers referenceFrame = glint::readExr(dir + "/reference.exr");
-    const glint::Image& reference = referenceFrame.color();
     glint::render::Renderer renderer(glint::render::loadScene(dir + "/scene.json"));
     const int w = renderer.scene().width(), h = renderer.scene().height();
     const std::size_t pixels = std::size_t(w) * h;
+    // A reference EXR of the film's size, or one line and false.
+    auto readReference = [&](const std::string& path, const char* flag, glint::FrameBuffers& out) {
+        try {
+            out = glint::readExr(path);
+        } catch (const glint::Error& e) {
+            std::fprintf(stderr, "bench_adaptive_denoised: %s: %s\n", flag, e.what());
+            return false;
+        }
+        if (out.width() != w || out.height() != h) {
+            std::fprintf(stderr, "bench_adaptive_denoised: %s: %s is %dx%d, the scene %dx%d\n",
+                         path.c_str(), flag, out.width(), out.height(), w, h);
+            return false;
+        }
+        return true;
+    };
+    glint::FrameBuffers referenceFrame;
+    if (!readReference(referencePath.empty() ? dir + "/reference.exr" : referencePath,
+                       "--reference", referenceFrame))
+        return 2;
+    const glint::Image& reference = referenceFrame.color();
     const glint::pipeline::AutoRun run =
         glint::pipeline::autoRun({}, glint::denoise::AutoQuality::Balanced);
 
@@ -178,19 +199,9 @@ int main(int argc, char** argv) {
     }
     floor = varianceFloor;
     if (!reference2.empty()) {
-        glint::Image second;
-        try {
-            second = glint::readExr(reference2).color();
-        } catch (const glint::Error& e) {
-            std::fprintf(stderr, "bench_adaptive_denoised: --reference2: %s\n", e.what());
-            return 2;
-        }
-        if (second.width() != w || second.height() != h) {
-            std::fprintf(stderr,
-                         "bench_adaptive_denoised: %s: --reference2 is %dx%d, the scene %dx%d\n",
-                         reference2.c_str(), second.width(), second.height(), w, h);
-            return 2;
-        }
+        glint::FrameBuffers read;
+        if (!readReference(reference2, "--reference2", read)) return 2;
+        const glint::Image& second = read.color();
         const Errors twice = relativeErrors(second, reference);
         for (std::size_t i = 0; i < pixels; ++i) floor[i] = 0.5 * twice[i];
     }
