@@ -84,6 +84,7 @@ int main(int argc, char** argv) {
     std::string plans = "balanced,fast,fast:8,fast:1,cheapest";
     std::string label = path;
     int crop = 64, side2 = 32, runs = 2, threads = 2, study = 0;
+    std::string warmup;
     glint::bench::OptionTable options;
     options.bind("--plans", plans);
     options.bind("--crop", crop);
@@ -92,13 +93,16 @@ int main(int argc, char** argv) {
     options.bind("--threads", threads);
     options.bind("--label", label);
     options.bind("--study", study);
+    options.bind("--warmup", warmup);
     if (const int rc = options.parse("bench_final_budget", argc, argv, 2)) return rc;
     tbb::global_control pool(tbb::global_control::max_allowed_parallelism, threads);
     const glint::FrameBuffers frame = glint::readExr(path);
     const glint::FrameBuffers probe =
         glint::pipeline::probeFrame(frame, glint::pipeline::kProbeSide);
     const glint::FrameBuffers probe2 = glint::pipeline::probeFrame(frame, side2);
-    const glint::FrameBuffers cropped = glint::pipeline::probeFrame(frame, crop);
+    // --crop 0: no plan on a crop (probeFrame of side 0 would be empty).
+    const glint::FrameBuffers cropped =
+        crop > 0 ? glint::pipeline::probeFrame(frame, crop) : glint::FrameBuffers();
     const double pixels = double(frame.width()) * double(frame.height());
     const double probePixels = double(probe.width()) * double(probe.height());
     if (study > 0) {
@@ -135,6 +139,13 @@ int main(int argc, char** argv) {
         "label\tw\th\tplan\trun\tcold\tweight\tseconds\tpredicted\tprobe\tprobe2\tcropSeconds\n");
     // One cost model for the process, as glint-final's: the first default bank pays the cold start.
     bool warm = false;
+    if (!warmup.empty()) {
+        const AutoPlan plan = parsePlan(warmup);
+        std::printf("%s\t%d\t%d\twarmup %s\t0\t1\t%.3f\t%.4f\t0\t0\t0\t0\n", label.c_str(),
+                    probe.width(), probe.height(), warmup.c_str(),
+                    glint::pipeline::planWeight(plan), timed(probe, plan));
+        warm = plan.filters.empty();
+    }
     for (int run = 0; run < runs; ++run) {
         const double p = probeSeconds(probe), p2 = probeSeconds(probe2);
         glint::pipeline::AutoCost cost;

@@ -185,11 +185,11 @@ TEST(TimeBudget, TheFinalAutosPlanIsTheBestThatFitsDownToOneMemberOfOneFilter) {
     EXPECT_EQ(planFor(1e3), "balanced");
     // Just below balanced's time and margin: fast; then fewer members; then one member of one
     // filter, also when nothing fits (the frame must be denoised).
-    const double balancedFits = kFinalAutoMargin * cost.seconds(balanced, pixels);
+    const double balancedFits = finalReserve(cost, balanced, pixels);
     EXPECT_EQ(planFor(balancedFits), "balanced");
     EXPECT_EQ(planFor(balancedFits * 0.99), "fast");
     const AutoPlan fast8{denoise::AutoQuality::Fast, 8, {}};
-    EXPECT_EQ(planFor(kFinalAutoMargin * cost.seconds(fast8, pixels)), "fast with 8 members");
+    EXPECT_EQ(planFor(finalReserve(cost, fast8, pixels)), "fast with 8 members");
     EXPECT_EQ(planFor(kFinalAutoMargin * unit), describe(cheapestPlan()));
     EXPECT_EQ(planFor(0.0), describe(cheapestPlan()));
     EXPECT_EQ(planFor(-5.0), describe(cheapestPlan()));
