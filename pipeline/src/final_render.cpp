@@ -151,6 +151,8 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
         finalPlan = choosePlan(cost, pixels, left, most);
         budget.expectFinal(cost.seconds(finalPlan, pixels), finalReserve(cost, finalPlan, pixels));
     };
+    bool frameProbed = false;  // the whole frame was probed (kFrameProbeShare)
+    bool lateProbed = false;   // … and again late (kLateProbeShare)
     // The cost model's first calibration, on the first frame the render shows (time limit only).
     auto calibrate = [&](const FrameBuffers& frame) {
         if (!budget.timed() || cost.calibrated()) return;
@@ -179,6 +181,7 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
                 const double seconds = denoised(frame, cheapestPlan()).seconds;
                 out.autoSeconds += seconds;
                 cost.probedFrame(pixels, seconds);
+                frameProbed = true;
                 log(formatted("probe of the whole frame: auto %.3f s on %.0f pixels", seconds,
                               pixels, 0.0));
             }
@@ -208,6 +211,27 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
                       budget.reserve(), options.timeLimit));
     };
 
+    // The calibration at a pass's end: the first (calibrate), then, where the whole frame was
+    // probed, once more when the render is about to stop (the time left within kLateProbeShare of
+    // the limit past the reserve): the load the final auto meets is the one of the last seconds,
+    // not of the first pass's moment.
+    auto measure = [&](const FrameBuffers& frame) {
+        calibrate(frame);
+        if (!frameProbed || lateProbed ||
+            now() + budget.reserve() + kLateProbeShare * options.timeLimit < options.timeLimit)
+            return;
+        lateProbed = true;
+        const double seconds = denoised(frame, cheapestPlan()).seconds;
+        out.autoSeconds += seconds;
+        cost.probedFrame(pixels, seconds);
+        plan(now());
+        log(formatted("late probe of the whole frame: auto %.3f s; the final auto: ", seconds, 0,
+                      0) +
+            describe(finalPlan) +
+            formatted(", %.2f s predicted, %.2f s reserved", budget.expectedFinal(),
+                      budget.reserve(), 0));
+    };
+
     std::optional<Denoised> last;  // the latest refresh's result
     double lastSpp = 0.0, startSpp = 0.0;
     double lastRefresh = 0.0;  // seconds the latest refresh took
@@ -223,7 +247,7 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     // A refresh: auto on the frame so far, when it has grown enough and the budget has room;
     // true when the schedule moved (a new map is due).
     auto refresh = [&](const FrameBuffers& frame) {
-        calibrate(frame);
+        measure(frame);
         const double spp = meanSpp(frame);
         if (lastSpp > 0.0 && spp < options.refreshGrowth * lastSpp) return false;
         if (!autoSteers) {
@@ -284,14 +308,14 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
         // The cost calibrated once the frame has a sample in each half (the second pass), so
         // that the reserve stops the uniform start too.
         callbacks.passDone = [&](int, const FrameBuffers& frame) {
-            if (frame.metadata().spp >= 2) calibrate(frame);
+            if (frame.metadata().spp >= 2) measure(frame);
         };
     }
     // Every pixel converged with time left: halve the threshold and go on (a threshold met
     // early would leave the budget unused).
     if (settings.adaptive && budget.timed())
         callbacks.converged = [&](int, const FrameBuffers& frame) -> std::shared_ptr<const Image> {
-            calibrate(frame);
+            measure(frame);
             if (stop || !budget.renderMayContinue(now()) || boost > kMaxBoost) return nullptr;
             boost *= 2.0;
             ++out.thresholdHalvings;

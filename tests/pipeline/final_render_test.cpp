@@ -329,9 +329,9 @@ TEST(FinalRender, AFinalAutoOnTheDefaultBankHasItsColdStartPaidByAWarmUpBeforeTh
 }
 
 TEST(FinalRender, AFinalAutoPastItsDeadlineIsStoppedAndTheCheapestPlanDenoisesTheFrame) {
-    // The final auto at balanced is expected to take 2 s (its reserve 2.46 s of a 20-s limit:
+    // The final auto at balanced is expected to take 2 s (its reserve 2.56 s of a 20-s limit:
     // kBackedMargin × 2 and the cheapest plan's 1.3 × 0.125); on the fake clock the machine then
-    // slows: its first progress report comes 2.4 s late and each later one 0.05 s. It is stopped
+    // slows: its first progress report comes 2.45 s late and each later one 0.05 s. It is stopped
     // where only the cheapest plan's reserve is left, the cheapest plan (not slowed) denoises the
     // frame, and the whole keeps the limit. (Without the deadline the final auto ran to its end,
     // past the limit.)
@@ -348,7 +348,7 @@ TEST(FinalRender, AFinalAutoPastItsDeadlineIsStoppedAndTheCheapestPlanDenoisesTh
     auto first = std::make_shared<bool>(true);
     o.autoOptions.progress = [slowed, reports, first](double fraction) {
         if (fraction == 0.0 && ++*reports > 1) *first = false;
-        if (*first) slowed->fetch_add(*reports == 1 && fraction == 0.0 ? 240 : 5);
+        if (*first) slowed->fetch_add(*reports == 1 && fraction == 0.0 ? 245 : 5);
         return true;
     };
     const FinalResult r = renderFinal(renderer, o);
@@ -366,6 +366,42 @@ TEST(FinalRender, AFinalAutoPastItsDeadlineIsStoppedAndTheCheapestPlanDenoisesTh
     EXPECT_EQ(quiet.finalPlan, "balanced");
     EXPECT_TRUE(quiet.finalStopped.empty());
     EXPECT_LE(quiet.seconds, o.timeLimit + 0.05);
+}
+
+TEST(FinalRender, TheWholeFrameIsProbedOnceMoreBeforeTheRenderStopsAndThatRunCalibratesTheCost) {
+    // As above (a 72² frame, a 2-s limit, every auto run a tick on the fake clock), but the
+    // machine slows late: the sixth auto run (after the crop's three, the whole frame's and the
+    // warm-up) takes three ticks. That run is the late probe, made when the time left is within
+    // kLateProbeShare of the limit past the reserve, and it calibrates the final auto's
+    // prediction: three times the first probe's.
+    render::Renderer renderer(cornell(72));
+    FinalOptions o = balancedUnderALimit();
+    std::vector<std::string> lines;
+    o.log = [&](const std::string& line) { lines.push_back(line); };
+    const double tick = 0.001;
+    o.timeLimit = 2.0;
+    auto reads = std::make_shared<std::atomic<long>>(0);
+    auto slowed = std::make_shared<std::atomic<long>>(0);
+    o.clock = [reads, slowed, tick] { return tick * double(reads->fetch_add(1) + slowed->load()); };
+    auto runs = std::make_shared<int>(0);
+    o.autoOptions.progress = [slowed, runs](double fraction) {
+        if (fraction == 0.0 && ++*runs == 6) slowed->fetch_add(2);
+        return true;
+    };
+    const FinalResult r = renderFinal(renderer, o);
+    int late = 0;
+    for (const std::string& line : lines)
+        late += line.rfind("late probe of the whole frame: auto 0.003 s", 0) == 0;
+    EXPECT_EQ(late, 1);
+    ASSERT_EQ(chosenPlan(r), "balanced");
+    AutoCost early, slow;
+    early.probedFrame(72.0 * 72.0, tick);
+    slow.probedFrame(72.0 * 72.0, 3.0 * tick);
+    for (AutoCost* c : {&early, &slow}) c->ran(warmupPlan());
+    const AutoPlan balanced{denoise::AutoQuality::Balanced, 0, {}};
+    EXPECT_NEAR(r.predictedFinalSeconds, slow.seconds(balanced, 72.0 * 72.0), 1e-9);
+    EXPECT_NEAR(r.predictedFinalSeconds, 3.0 * early.seconds(balanced, 72.0 * 72.0), 1e-9);
+    EXPECT_LE(r.seconds, o.timeLimit + 0.05);
 }
 
 TEST(FinalRender, TheVarianceScheduleRunsNoAutoBeforeTheFinalOne) {

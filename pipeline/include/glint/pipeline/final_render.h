@@ -45,6 +45,11 @@ inline constexpr int kProbeSide = 64;
 /// would make every plan look slower; three of about 0.03 s take under 0.1 s).
 inline constexpr int kProbeRuns = 3;
 
+/// Where the whole frame was probed, it is probed once more at the first pass's end whose time
+/// left is within this share of the limit past the final auto's reserve (the render about to
+/// stop), and that run calibrates auto's cost: the load changes within a run.
+inline constexpr double kLateProbeShare = 0.1;
+
 /// The final auto's clock reads for its deadline (renderFinal): at the first progress report past
 /// each 1/kDeadlineChecks of its work.
 inline constexpr int kDeadlineChecks = 32;

@@ -23,8 +23,9 @@ inline constexpr double kFinalAutoMargin = 1.3;
 /// The margin of any other plan: the final auto stops at a deadline that leaves cheapestPlan()
 /// its reserve, which then denoises the frame (renderFinal), so the margin covers the usual
 /// spread, not the tail: glint-final's balanced took at most 1.10 × its prediction in 17 of 18
-/// tuning runs at load 2–4 (1.5 × once: a load that came after the probe).
-inline constexpr double kBackedMargin = 1.15;
+/// tuning runs at load 2–4 (1.5 × once: a load that came after the probe; since then the whole
+/// frame is probed again late, kLateProbeShare).
+inline constexpr double kBackedMargin = 1.2;
 /// What a pixel of a whole frame costs auto against a pixel of a probe's crop (the crop stays in
 /// the caches): 1.21 on 4 scenes at 256² and 540² (bench_final_budget).
 inline constexpr double kFramePixelCost = 1.21;
