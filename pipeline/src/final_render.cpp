@@ -151,8 +151,8 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
         finalPlan = choosePlan(cost, pixels, left, most);
         budget.expectFinal(cost.seconds(finalPlan, pixels), finalReserve(cost, finalPlan, pixels));
     };
-    bool frameProbed = false;  // the whole frame was probed (kFrameProbeShare)
-    bool lateProbed = false;   // … and again late (kLateProbeShare)
+    double frameProbe = 0.0;  // seconds of the whole frame's probe (kFrameProbeShare; 0: none)
+    bool lateProbed = false;  // … and of its late run (kLateProbeShare)
     // The cost model's first calibration, on the first frame the render shows (time limit only).
     auto calibrate = [&](const FrameBuffers& frame) {
         if (!budget.timed() || cost.calibrated()) return;
@@ -181,7 +181,7 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
                 const double seconds = denoised(frame, cheapestPlan()).seconds;
                 out.autoSeconds += seconds;
                 cost.probedFrame(pixels, seconds);
-                frameProbed = true;
+                frameProbe = seconds;
                 log(formatted("probe of the whole frame: auto %.3f s on %.0f pixels", seconds,
                               pixels, 0.0));
             }
@@ -213,17 +213,18 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
 
     // The calibration at a pass's end: the first (calibrate), then, where the whole frame was
     // probed, once more when the render is about to stop (the time left within kLateProbeShare of
-    // the limit past the reserve): the load the final auto meets is the one of the last seconds,
-    // not of the first pass's moment.
+    // the limit past the reserve): a load that came since the first pass slows the final auto
+    // too. The slower of the two runs calibrates (a run is one moment of a load that comes and
+    // goes: the limit is kept before the time is used).
     auto measure = [&](const FrameBuffers& frame) {
         calibrate(frame);
-        if (!frameProbed || lateProbed ||
+        if (frameProbe <= 0.0 || lateProbed ||
             now() + budget.reserve() + kLateProbeShare * options.timeLimit < options.timeLimit)
             return;
         lateProbed = true;
         const double seconds = denoised(frame, cheapestPlan()).seconds;
         out.autoSeconds += seconds;
-        cost.probedFrame(pixels, seconds);
+        cost.probedFrame(pixels, std::max(seconds, frameProbe));
         plan(now());
         log(formatted("late probe of the whole frame: auto %.3f s; the final auto: ", seconds, 0,
                       0) +

@@ -373,7 +373,8 @@ TEST(FinalRender, TheWholeFrameIsProbedOnceMoreBeforeTheRenderStopsAndThatRunCal
     // machine slows late: the sixth auto run (after the crop's three, the whole frame's and the
     // warm-up) takes three ticks. That run is the late probe, made when the time left is within
     // kLateProbeShare of the limit past the reserve, and it calibrates the final auto's
-    // prediction: three times the first probe's.
+    // prediction: three times the first probe's. When the first probe of the whole frame was the
+    // slow one, the slower still counts.
     render::Renderer renderer(cornell(72));
     FinalOptions o = balancedUnderALimit();
     std::vector<std::string> lines;
@@ -384,8 +385,9 @@ TEST(FinalRender, TheWholeFrameIsProbedOnceMoreBeforeTheRenderStopsAndThatRunCal
     auto slowed = std::make_shared<std::atomic<long>>(0);
     o.clock = [reads, slowed, tick] { return tick * double(reads->fetch_add(1) + slowed->load()); };
     auto runs = std::make_shared<int>(0);
-    o.autoOptions.progress = [slowed, runs](double fraction) {
-        if (fraction == 0.0 && ++*runs == 6) slowed->fetch_add(2);
+    auto slowRun = std::make_shared<int>(6);
+    o.autoOptions.progress = [slowed, runs, slowRun](double fraction) {
+        if (fraction == 0.0 && ++*runs == *slowRun) slowed->fetch_add(2);
         return true;
     };
     const FinalResult r = renderFinal(renderer, o);
@@ -402,6 +404,19 @@ TEST(FinalRender, TheWholeFrameIsProbedOnceMoreBeforeTheRenderStopsAndThatRunCal
     EXPECT_NEAR(r.predictedFinalSeconds, slow.seconds(balanced, 72.0 * 72.0), 1e-9);
     EXPECT_NEAR(r.predictedFinalSeconds, 3.0 * early.seconds(balanced, 72.0 * 72.0), 1e-9);
     EXPECT_LE(r.seconds, o.timeLimit + 0.05);
+    // The first probe of the whole frame (the fourth run) slow, the late one not.
+    lines.clear();
+    reads->store(0);
+    slowed->store(0);
+    *runs = 0;
+    *slowRun = 4;
+    const FinalResult firstSlow = renderFinal(renderer, o);
+    late = 0;
+    for (const std::string& line : lines)
+        late += line.rfind("late probe of the whole frame: auto 0.001 s", 0) == 0;
+    EXPECT_EQ(late, 1);
+    ASSERT_EQ(chosenPlan(firstSlow), "balanced");
+    EXPECT_NEAR(firstSlow.predictedFinalSeconds, slow.seconds(balanced, 72.0 * 72.0), 1e-9);
 }
 
 TEST(FinalRender, TheVarianceScheduleRunsNoAutoBeforeTheFinalOne) {
