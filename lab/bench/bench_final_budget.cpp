@@ -4,10 +4,12 @@
 // kProbeRuns runs) calibrates an AutoCost, then each plan of auto (a quality, a bank size,
 // filters) is timed on the whole frame beside the model's prediction (the first default-bank run
 // of the process with its cold start, as glint-final's final auto). The probe is also timed on a
-// second crop side (--side2) and each plan on the crop (--crop), so that other models can be fitted
-// offline. One TSV row per plan and run; the probe's times repeat on every row of its run.
+// second crop side (--side2) and each plan on the crop (--crop; 0: none), so that other models can
+// be fitted offline. --warmup PLAN runs PLAN once on the probe's crop first, as glint-final's
+// warm-up (warmupPlan(): fast:1) pays the default bank's cold start: a row of its own, and the
+// plans after it warm. One TSV row per plan and run; the probe's times repeat on every row.
 //   build/bin/bench_final_budget FRAME.exr [--plans balanced,fast,fast:8,fast:1,cheapest]
-//       [--crop 64] [--side2 32] [--runs 2] [--threads 2] [--label NAME]
+//       [--crop 64] [--side2 32] [--runs 2] [--threads 2] [--label NAME] [--warmup fast:1]
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -72,6 +74,7 @@ int main(int argc, char** argv) {
             stderr,
             "usage: bench_final_budget FRAME.exr [--plans balanced,fast,fast:8,fast:1,"
             "cheapest] [--crop N] [--side2 N] [--runs N] [--threads T] [--label NAME]\n"
+            "  [--warmup PLAN]\n"
             "  rows: label, size, plan, run, cold (the process's first default-bank run),\n"
             "  weight, seconds (whole frame), predicted (glint-final's model from its "
             "probe),\n"
