@@ -4,10 +4,12 @@
 // kProbeRuns runs) calibrates an AutoCost, then each plan of auto (a quality, a bank size,
 // filters) is timed on the whole frame beside the model's prediction (the first default-bank run
 // of the process with its cold start, as glint-final's final auto). The probe is also timed on a
-// second crop side (--side2) and each plan on the crop (--crop), so that other models can be fitted
-// offline. One TSV row per plan and run; the probe's times repeat on every row of its run.
+// second crop side (--side2) and each plan on the crop (--crop; 0: none), so that other models can
+// be fitted offline. --warmup PLAN runs PLAN once on the probe's crop first, as glint-final's
+// warm-up (warmupPlan(): fast:1) pays the default bank's cold start: a row of its own, and the
+// plans after it warm. One TSV row per plan and run; the probe's times repeat on every row.
 //   build/bin/bench_final_budget FRAME.exr [--plans balanced,fast,fast:8,fast:1,cheapest]
-//       [--crop 64] [--side2 32] [--runs 2] [--threads 2] [--label NAME]
+//       [--crop 64] [--side2 32] [--runs 2] [--threads 2] [--label NAME] [--warmup fast:1]
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -72,6 +74,7 @@ int main(int argc, char** argv) {
             stderr,
             "usage: bench_final_budget FRAME.exr [--plans balanced,fast,fast:8,fast:1,"
             "cheapest] [--crop N] [--side2 N] [--runs N] [--threads T] [--label NAME]\n"
+            "  [--warmup PLAN]\n"
             "  rows: label, size, plan, run, cold (the process's first default-bank run),\n"
             "  weight, seconds (whole frame), predicted (glint-final's model from its "
             "probe),\n"
@@ -84,6 +87,7 @@ int main(int argc, char** argv) {
     std::string plans = "balanced,fast,fast:8,fast:1,cheapest";
     std::string label = path;
     int crop = 64, side2 = 32, runs = 2, threads = 2, study = 0;
+    std::string warmup;
     glint::bench::OptionTable options;
     options.bind("--plans", plans);
     options.bind("--crop", crop);
@@ -92,13 +96,16 @@ int main(int argc, char** argv) {
     options.bind("--threads", threads);
     options.bind("--label", label);
     options.bind("--study", study);
+    options.bind("--warmup", warmup);
     if (const int rc = options.parse("bench_final_budget", argc, argv, 2)) return rc;
     tbb::global_control pool(tbb::global_control::max_allowed_parallelism, threads);
     const glint::FrameBuffers frame = glint::readExr(path);
     const glint::FrameBuffers probe =
         glint::pipeline::probeFrame(frame, glint::pipeline::kProbeSide);
     const glint::FrameBuffers probe2 = glint::pipeline::probeFrame(frame, side2);
-    const glint::FrameBuffers cropped = glint::pipeline::probeFrame(frame, crop);
+    // --crop 0: no plan on a crop (probeFrame of side 0 would be empty).
+    const glint::FrameBuffers cropped =
+        crop > 0 ? glint::pipeline::probeFrame(frame, crop) : glint::FrameBuffers();
     const double pixels = double(frame.width()) * double(frame.height());
     const double probePixels = double(probe.width()) * double(probe.height());
     if (study > 0) {
@@ -135,6 +142,13 @@ int main(int argc, char** argv) {
         "label\tw\th\tplan\trun\tcold\tweight\tseconds\tpredicted\tprobe\tprobe2\tcropSeconds\n");
     // One cost model for the process, as glint-final's: the first default bank pays the cold start.
     bool warm = false;
+    if (!warmup.empty()) {
+        const AutoPlan plan = parsePlan(warmup);
+        std::printf("%s\t%d\t%d\twarmup %s\t0\t1\t%.3f\t%.4f\t0\t0\t0\t0\n", label.c_str(),
+                    probe.width(), probe.height(), warmup.c_str(),
+                    glint::pipeline::planWeight(plan), timed(probe, plan));
+        warm = plan.filters.empty();
+    }
     for (int run = 0; run < runs; ++run) {
         const double p = probeSeconds(probe), p2 = probeSeconds(probe2);
         glint::pipeline::AutoCost cost;

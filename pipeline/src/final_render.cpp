@@ -111,10 +111,27 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     TimeBudget budget(options.timeLimit, options.refreshShare, 0.0);
 
     // Auto with a plan (refresh.h, as the studio's refreshes run it), timed on the options' clock.
-    auto denoised = [&](const FrameBuffers& frame, const AutoPlan& plan) {
+    // With a deadline (> 0) it stops once the clock, read at kDeadlineChecks of its progress
+    // reports, has passed it (Error(Cancelled), and `*late` set).
+    auto denoised = [&](const FrameBuffers& frame, const AutoPlan& plan, double deadline = 0.0,
+                        bool* late = nullptr) {
         const double t = now();
-        Denoised d = denoiseFrame(
-            frame, autoRun(options.autoOptions, plan.quality, plan.bankSize, plan.filters));
+        AutoRun run = autoRun(options.autoOptions, plan.quality, plan.bankSize, plan.filters);
+        if (deadline > 0.0) {
+            // The reports are serialised (denoise/progress.h); the clock is read at the first
+            // report past each 1/kDeadlineChecks of the work.
+            auto next = std::make_shared<double>(0.0);
+            run.autoOptions.progress = [outer = run.autoOptions.progress, next, deadline, late,
+                                        &now](double fraction) {
+                if (outer && !outer(fraction)) return false;
+                if (fraction < *next) return true;
+                *next = fraction + 1.0 / double(kDeadlineChecks);
+                if (now() < deadline) return true;
+                if (late) *late = true;
+                return false;
+            };
+        }
+        Denoised d = denoiseFrame(frame, run);
         d.seconds = now() - t;
         return d;
     };
@@ -132,8 +149,10 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     auto plan = [&](double t) {
         const double left = std::min(options.finalShare * options.timeLimit, options.timeLimit - t);
         finalPlan = choosePlan(cost, pixels, left, most);
-        budget.expectFinal(cost.seconds(finalPlan, pixels));
+        budget.expectFinal(cost.seconds(finalPlan, pixels), finalReserve(cost, finalPlan, pixels));
     };
+    double frameProbe = 0.0;  // seconds of the whole frame's probe (kFrameProbeShare; 0: none)
+    bool lateProbed = false;  // … and of its late run (kLateProbeShare)
     // The cost model's first calibration, on the first frame the render shows (time limit only).
     auto calibrate = [&](const FrameBuffers& frame) {
         if (!budget.timed() || cost.calibrated()) return;
@@ -145,11 +164,12 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
             // weights), on a crop: a few hundredths of the final auto's time. The fastest of
             // its runs is the machine's speed; a slower one met some other load.
             const FrameBuffers probe = probeFrame(frame, kProbeSide);
-            double fastest = 0.0;
+            double fastest = 0.0, slowest = 0.0;
             for (int run = 0; run < kProbeRuns; ++run) {
                 const double seconds = denoised(probe, cheapestPlan()).seconds;
                 out.autoSeconds += seconds;
                 fastest = run == 0 ? seconds : std::min(fastest, seconds);
+                slowest = std::max(slowest, seconds);
             }
             const double probePixels = double(probe.width()) * double(probe.height());
             cost.probed(probePixels, fastest);
@@ -160,19 +180,57 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
                 cost.seconds(cheapestPlan(), pixels) <= kFrameProbeShare * options.timeLimit) {
                 const double seconds = denoised(frame, cheapestPlan()).seconds;
                 out.autoSeconds += seconds;
-                cost.calibrate(cheapestPlan(), pixels, seconds);
+                cost.probedFrame(pixels, seconds);
+                frameProbe = seconds;
                 log(formatted("probe of the whole frame: auto %.3f s on %.0f pixels", seconds,
                               pixels, 0.0));
             }
-            log(
-                formatted("probe: auto %.3f s (the fastest of its runs) on %.0f pixels: the final "
-                          "auto predicted at %.2f s",
-                          fastest, probePixels, cost.seconds(most, pixels)));
+            log(formatted("probe: auto %.3f s (the fastest of its runs; the slowest %.3f s) on "
+                          "%.0f pixels",
+                          fastest, slowest, probePixels) +
+                formatted(": the final auto predicted at %.2f s", cost.seconds(most, pixels), 0,
+                          0));
+            plan(now());
+            // A final auto on the default bank would pay the process's cold start (the unet's
+            // weights and plans: 0.1–1.1 s, longer under load) inside its reserve: the
+            // default bank's smallest plan on the crop pays it now, and the plan is chosen again
+            // warm, from the time then left.
+            if (finalPlan.filters.empty() && !cost.warm()) {
+                const double seconds = denoised(probe, warmupPlan()).seconds;
+                out.autoSeconds += seconds;
+                cost.ran(warmupPlan());
+                log(
+                    formatted("warm-up: auto %.3f s on %.0f pixels (the default bank's first "
+                              "run)",
+                              seconds, probePixels, 0.0));
+            }
         }
         plan(now());
         log("final auto planned: " + describe(finalPlan) +
             formatted(", %.2f s predicted, %.2f s reserved of %.2f", budget.expectedFinal(),
                       budget.reserve(), options.timeLimit));
+    };
+
+    // The calibration at a pass's end: the first (calibrate), then, where the whole frame was
+    // probed, once more when the render is about to stop (the time left within kLateProbeShare of
+    // the limit past the reserve): a load that came since the first pass slows the final auto
+    // too. The slower of the two runs calibrates (a run is one moment of a load that comes and
+    // goes: the limit is kept before the time is used).
+    auto measure = [&](const FrameBuffers& frame) {
+        calibrate(frame);
+        if (frameProbe <= 0.0 || lateProbed ||
+            now() + budget.reserve() + kLateProbeShare * options.timeLimit < options.timeLimit)
+            return;
+        lateProbed = true;
+        const double seconds = denoised(frame, cheapestPlan()).seconds;
+        out.autoSeconds += seconds;
+        cost.probedFrame(pixels, std::max(seconds, frameProbe));
+        plan(now());
+        log(formatted("late probe of the whole frame: auto %.3f s; the final auto: ", seconds, 0,
+                      0) +
+            describe(finalPlan) +
+            formatted(", %.2f s predicted, %.2f s reserved", budget.expectedFinal(),
+                      budget.reserve(), 0));
     };
 
     std::optional<Denoised> last;  // the latest refresh's result
@@ -190,7 +248,7 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     // A refresh: auto on the frame so far, when it has grown enough and the budget has room;
     // true when the schedule moved (a new map is due).
     auto refresh = [&](const FrameBuffers& frame) {
-        calibrate(frame);
+        measure(frame);
         const double spp = meanSpp(frame);
         if (lastSpp > 0.0 && spp < options.refreshGrowth * lastSpp) return false;
         if (!autoSteers) {
@@ -251,14 +309,14 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
         // The cost calibrated once the frame has a sample in each half (the second pass), so
         // that the reserve stops the uniform start too.
         callbacks.passDone = [&](int, const FrameBuffers& frame) {
-            if (frame.metadata().spp >= 2) calibrate(frame);
+            if (frame.metadata().spp >= 2) measure(frame);
         };
     }
     // Every pixel converged with time left: halve the threshold and go on (a threshold met
     // early would leave the budget unused).
     if (settings.adaptive && budget.timed())
         callbacks.converged = [&](int, const FrameBuffers& frame) -> std::shared_ptr<const Image> {
-            calibrate(frame);
+            measure(frame);
             if (stop || !budget.renderMayContinue(now()) || boost > kMaxBoost) return nullptr;
             boost *= 2.0;
             ++out.thresholdHalvings;
@@ -282,7 +340,29 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
                            now() + cost.seconds(cheapestPlan(), pixels) > options.timeLimit;
         }
         const double predicted = cost.seconds(finalPlan, pixels);
-        last = denoised(out.frame, finalPlan);
+        // Under a time limit the final auto stops where only the cheapest plan's reserve is left
+        // (the machine slowed after the prediction), and the cheapest plan denoises the frame.
+        const double deadline =
+            budget.timed() && describe(finalPlan) != describe(cheapestPlan())
+                ? options.timeLimit - kFinalAutoMargin * cost.seconds(cheapestPlan(), pixels)
+                : 0.0;
+        const double finalStart = now();
+        bool late = false;
+        try {
+            last = denoised(out.frame, finalPlan, deadline, &late);
+        } catch (const Error& e) {
+            if (e.kind() != ErrorKind::Cancelled || !late) throw;
+            const double stopped = now() - finalStart;
+            out.autoSeconds += stopped;
+            log(formatted("final auto stopped at its deadline, %.2f s (after %.2f s, predicted "
+                          "%.2f s): ",
+                          deadline, stopped, predicted) +
+                describe(finalPlan) + "; the cheapest plan instead");
+            out.finalStopped = describe(finalPlan);
+            out.predictedFinalSeconds = predicted;
+            finalPlan = cheapestPlan();
+            last = denoised(out.frame, finalPlan);
+        }
         out.autoSeconds += last->seconds;
         log(formatted("final: %.1f spp a pixel, estimated relMSE %.4g (auto %.2f s, ",
                       meanSpp(out.frame), last->relMse, last->seconds) +
@@ -290,7 +370,7 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
             describe(finalPlan) + ")");
     }
     out.finalPlan = describe(finalPlan);
-    out.predictedFinalSeconds = cost.seconds(finalPlan, pixels);
+    if (out.finalStopped.empty()) out.predictedFinalSeconds = cost.seconds(finalPlan, pixels);
     out.estimatedRelMse = last->relMse;
     paste(out.frame.color(), last->result.composite, 0, 0);
     out.frame.metadata().extra["denoiseFilter"] = "auto";

@@ -32,7 +32,10 @@ constexpr int kSmallerBanks[] = {16, 8, 4, 2, 1};
 }  // namespace
 
 TimeBudget::TimeBudget(double limit, double refreshShare, double expectedFinal)
-    : m_limit(limit), m_share(refreshShare), m_final(expectedFinal) {}
+    : m_limit(limit),
+      m_share(refreshShare),
+      m_final(expectedFinal),
+      m_reserve(kFinalAutoMargin * expectedFinal) {}
 
 bool TimeBudget::renderMayContinue(double now) const {
     return !timed() || now + reserve() < m_limit;
@@ -75,6 +78,10 @@ void AutoCost::probed(double pixels, double seconds) {
     calibrate(cheapestPlan(), pixels, kFramePixelCost * seconds);
 }
 
+void AutoCost::probedFrame(double pixels, double seconds) {
+    calibrate(cheapestPlan(), pixels, kFrameProbeCost * seconds);
+}
+
 void AutoCost::ran(const AutoPlan& plan) {
     if (plan.filters.empty()) m_warm = true;
 }
@@ -91,11 +98,19 @@ AutoPlan cheapestPlan() {
     return {denoise::AutoQuality::Fast, 1, {kCheapestFilter}};
 }
 
+AutoPlan warmupPlan() {
+    return {denoise::AutoQuality::Fast, 1, {}};
+}
+
+double finalReserve(const AutoCost& cost, const AutoPlan& plan, double pixels) {
+    const double fallback = kFinalAutoMargin * cost.seconds(cheapestPlan(), pixels);
+    if (describe(plan) == describe(cheapestPlan())) return fallback;
+    return kBackedMargin * cost.seconds(plan, pixels) + fallback;
+}
+
 AutoPlan choosePlan(const AutoCost& cost, double pixels, double seconds, const AutoPlan& most) {
     if (!cost.calibrated()) return most;
-    auto fits = [&](const AutoPlan& plan) {
-        return kFinalAutoMargin * cost.seconds(plan, pixels) <= seconds;
-    };
+    auto fits = [&](const AutoPlan& plan) { return finalReserve(cost, plan, pixels) <= seconds; };
     // The qualities from `most` down to fast, then fast with smaller banks.
     std::vector<AutoPlan> ladder{most};
     for (denoise::AutoQuality q :

@@ -138,6 +138,12 @@ std::function<double()> fakeClock(double tick) {
     return [reads, tick] { return tick * double(reads->fetch_add(1)); };
 }
 
+/// The final auto's plan as chosen: the one stopped at its deadline when it was (on a fake clock
+/// the deadline's own clock reads take time too).
+std::string chosenPlan(const FinalResult& r) {
+    return r.finalStopped.empty() ? r.finalPlan : r.finalStopped;
+}
+
 TEST(FinalRender, UnderATimeLimitConvergenceHalvesTheThresholdAndTheBudgetIsUsed) {
     // A threshold every pixel meets early: with spp alone the render ends converged, far below
     // spp. With a time limit (on the fake clock) every steering halves the threshold at
@@ -232,7 +238,7 @@ TEST(FinalRender, AProbeRunSlowedByTheMachinesLoadDoesNotChangeTheFinalAutosPlan
         const FinalResult r = renderFinal(renderer, o);
         EXPECT_EQ(jumped->load(), spikeTicks);  // the spike came (in the first probe run)
         EXPECT_LE(r.seconds, o.timeLimit + 0.05 + 0.01 * double(spikeTicks));
-        return r.finalPlan;
+        return chosenPlan(r);
     };
     const std::string quiet = planWith(0);
     EXPECT_EQ(quiet, "balanced");
@@ -257,8 +263,9 @@ TEST(FinalRender, WhereItFitsTheProbeRunsOnceMoreOnTheWholeFrameAndCalibratesThe
     // the crop's probe predicts the whole frame's run at kFramePixelCost × 72² / 64² ticks, within
     // kFrameProbeShare of a 2-s limit, so it runs, and its tick calibrates the cost: the final
     // auto's prediction is that of a frame whose cheapest plan takes one tick (the crop's alone
-    // would predict it 1.5 × longer). Under a limit of 0.02 s (a tick's 1.5 is more than its
-    // share; the first pass alone overruns it) the whole frame is not probed.
+    // would predict it 1.5 × longer), warm (the default bank's cold start paid by the warm-up).
+    // Under a limit of 0.02 s (a tick's 1.5 is more than its share; the first pass alone overruns
+    // it) the whole frame is not probed.
     render::Renderer renderer(cornell(72));
     FinalOptions o = balancedUnderALimit();
     std::vector<std::string> lines;
@@ -273,9 +280,10 @@ TEST(FinalRender, WhereItFitsTheProbeRunsOnceMoreOnTheWholeFrameAndCalibratesThe
     o.clock = fakeClock(tick);
     const FinalResult r = renderFinal(renderer, o);
     EXPECT_TRUE(probedWhole());
-    ASSERT_EQ(r.finalPlan, "balanced");
+    ASSERT_EQ(chosenPlan(r), "balanced");
     AutoCost whole;
-    whole.calibrate(cheapestPlan(), 72.0 * 72.0, tick);
+    whole.probedFrame(72.0 * 72.0, tick);
+    whole.ran(warmupPlan());
     EXPECT_NEAR(r.predictedFinalSeconds,
                 whole.seconds({denoise::AutoQuality::Balanced, 0, {}}, 72.0 * 72.0), 1e-9);
     lines.clear();
@@ -283,6 +291,132 @@ TEST(FinalRender, WhereItFitsTheProbeRunsOnceMoreOnTheWholeFrameAndCalibratesThe
     o.clock = fakeClock(tick);
     renderFinal(renderer, o);
     EXPECT_FALSE(probedWhole());
+}
+
+TEST(FinalRender, AFinalAutoOnTheDefaultBankHasItsColdStartPaidByAWarmUpBeforeTheRenderStops) {
+    // Probed (no expectedAutoSeconds) on the fake clock, where every auto run takes a tick or
+    // two: under 20 s balanced is planned, so the default bank's smallest plan runs once on the
+    // probe's crop first (the warm-up, its cold start measured there) and the final auto is
+    // predicted warm: exactly its weight times the probe's rate. Under a limit whose share only
+    // the cheapest plan fits (one member of one filter: no default bank) no warm-up runs.
+    render::Renderer renderer(cornell());
+    FinalOptions o = balancedUnderALimit();
+    std::vector<std::string> lines;
+    o.log = [&](const std::string& line) { lines.push_back(line); };
+    auto warmedUp = [&] {
+        for (const std::string& line : lines)
+            if (line.rfind("warm-up:", 0) == 0) return true;
+        return false;
+    };
+    o.timeLimit = 20.0;
+    o.clock = fakeClock(0.01);
+    const FinalResult r = renderFinal(renderer, o);
+    EXPECT_TRUE(warmedUp());
+    ASSERT_EQ(chosenPlan(r), "balanced");
+    AutoCost cold, warm;  // as the probe's run of one tick calibrated it (the crop: the frame)
+    for (AutoCost* c : {&cold, &warm}) c->probed(24.0 * 24.0, 0.01);
+    warm.ran(warmupPlan());
+    const AutoPlan balanced{denoise::AutoQuality::Balanced, 0, {}};
+    const double px = 24.0 * 24.0;
+    EXPECT_NEAR(r.predictedFinalSeconds, warm.seconds(balanced, px), 1e-6);
+    EXPECT_LT(r.predictedFinalSeconds, 0.5 * cold.seconds(balanced, px));
+    lines.clear();
+    o.timeLimit = 0.3;
+    o.clock = fakeClock(0.01);
+    const FinalResult small = renderFinal(renderer, o);
+    EXPECT_EQ(small.finalPlan, describe(cheapestPlan()));
+    EXPECT_FALSE(warmedUp());
+}
+
+TEST(FinalRender, AFinalAutoPastItsDeadlineIsStoppedAndTheCheapestPlanDenoisesTheFrame) {
+    // The final auto at balanced is expected to take 2 s (its reserve 2.56 s of a 20-s limit:
+    // kBackedMargin × 2 and the cheapest plan's 1.3 × 0.125); on the fake clock the machine then
+    // slows: its first progress report comes 2.45 s late and each later one 0.05 s. It is stopped
+    // where only the cheapest plan's reserve is left, the cheapest plan (not slowed) denoises the
+    // frame, and the whole keeps the limit. (Without the deadline the final auto ran to its end,
+    // past the limit.)
+    render::Renderer renderer(cornell());
+    FinalOptions o = balancedUnderALimit();
+    o.timeLimit = 20.0;
+    o.expectedAutoSeconds = 2.0;
+    auto reads = std::make_shared<std::atomic<long>>(0);
+    auto slowed = std::make_shared<std::atomic<long>>(0);
+    o.clock = [reads, slowed] { return 0.01 * double(reads->fetch_add(1) + slowed->load()); };
+    // The first auto run (the final one: no probe, no refresh) is slowed; each run reports 0
+    // first, then rising fractions.
+    auto reports = std::make_shared<int>(0);
+    auto first = std::make_shared<bool>(true);
+    o.autoOptions.progress = [slowed, reports, first](double fraction) {
+        if (fraction == 0.0 && ++*reports > 1) *first = false;
+        if (*first) slowed->fetch_add(*reports == 1 && fraction == 0.0 ? 245 : 5);
+        return true;
+    };
+    const FinalResult r = renderFinal(renderer, o);
+    EXPECT_EQ(r.finalStopped, "balanced");
+    EXPECT_EQ(r.finalPlan, describe(cheapestPlan()));
+    EXPECT_NEAR(r.predictedFinalSeconds, 2.0, 1e-9);
+    EXPECT_LE(r.seconds, o.timeLimit + 0.05);
+    EXPECT_GE(r.seconds, o.timeLimit - kFinalAutoMargin * 2.0);
+    EXPECT_EQ(r.frame.metadata().extra.at("denoiseFilter"), "auto");
+    EXPECT_GT(r.estimatedRelMse, 0.0);
+    // Not slowed, balanced runs to its end well within its reserve.
+    o.autoOptions.progress = {};
+    o.clock = fakeClock(0.01);
+    const FinalResult quiet = renderFinal(renderer, o);
+    EXPECT_EQ(quiet.finalPlan, "balanced");
+    EXPECT_TRUE(quiet.finalStopped.empty());
+    EXPECT_LE(quiet.seconds, o.timeLimit + 0.05);
+}
+
+TEST(FinalRender, TheWholeFrameIsProbedOnceMoreBeforeTheRenderStopsAndThatRunCalibratesTheCost) {
+    // As above (a 72² frame, a 2-s limit, every auto run a tick on the fake clock), but the
+    // machine slows late: the sixth auto run (after the crop's three, the whole frame's and the
+    // warm-up) takes three ticks. That run is the late probe, made when the time left is within
+    // kLateProbeShare of the limit past the reserve, and it calibrates the final auto's
+    // prediction: three times the first probe's. When the first probe of the whole frame was the
+    // slow one, the slower still counts.
+    render::Renderer renderer(cornell(72));
+    FinalOptions o = balancedUnderALimit();
+    std::vector<std::string> lines;
+    o.log = [&](const std::string& line) { lines.push_back(line); };
+    const double tick = 0.001;
+    o.timeLimit = 2.0;
+    auto reads = std::make_shared<std::atomic<long>>(0);
+    auto slowed = std::make_shared<std::atomic<long>>(0);
+    o.clock = [reads, slowed, tick] { return tick * double(reads->fetch_add(1) + slowed->load()); };
+    auto runs = std::make_shared<int>(0);
+    auto slowRun = std::make_shared<int>(6);
+    o.autoOptions.progress = [slowed, runs, slowRun](double fraction) {
+        if (fraction == 0.0 && ++*runs == *slowRun) slowed->fetch_add(2);
+        return true;
+    };
+    const FinalResult r = renderFinal(renderer, o);
+    int late = 0;
+    for (const std::string& line : lines)
+        late += line.rfind("late probe of the whole frame: auto 0.003 s", 0) == 0;
+    EXPECT_EQ(late, 1);
+    ASSERT_EQ(chosenPlan(r), "balanced");
+    AutoCost early, slow;
+    early.probedFrame(72.0 * 72.0, tick);
+    slow.probedFrame(72.0 * 72.0, 3.0 * tick);
+    for (AutoCost* c : {&early, &slow}) c->ran(warmupPlan());
+    const AutoPlan balanced{denoise::AutoQuality::Balanced, 0, {}};
+    EXPECT_NEAR(r.predictedFinalSeconds, slow.seconds(balanced, 72.0 * 72.0), 1e-9);
+    EXPECT_NEAR(r.predictedFinalSeconds, 3.0 * early.seconds(balanced, 72.0 * 72.0), 1e-9);
+    EXPECT_LE(r.seconds, o.timeLimit + 0.05);
+    // The first probe of the whole frame (the fourth run) slow, the late one not.
+    lines.clear();
+    reads->store(0);
+    slowed->store(0);
+    *runs = 0;
+    *slowRun = 4;
+    const FinalResult firstSlow = renderFinal(renderer, o);
+    late = 0;
+    for (const std::string& line : lines)
+        late += line.rfind("late probe of the whole frame: auto 0.001 s", 0) == 0;
+    EXPECT_EQ(late, 1);
+    ASSERT_EQ(chosenPlan(firstSlow), "balanced");
+    EXPECT_NEAR(firstSlow.predictedFinalSeconds, slow.seconds(balanced, 72.0 * 72.0), 1e-9);
 }
 
 TEST(FinalRender, TheVarianceScheduleRunsNoAutoBeforeTheFinalOne) {

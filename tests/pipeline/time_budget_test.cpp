@@ -171,6 +171,35 @@ TEST(AutoCost, AProbeCountsAFramesPixelAtItsCostAgainstTheCrops) {
     EXPECT_GT(kFramePixelCost, 1.0);
 }
 
+TEST(AutoCost, AWholeFrameProbeInTheRunCountsAtTheFinalAutosCostOfItsPixels) {
+    // glint-final's probe of the whole frame (the process's first frame-sized auto) took 1 /
+    // 0.87 of what the final auto's pixels cost at the same weight: it predicts the cheapest
+    // plan on the same frame at kFrameProbeCost × its time, a calibration by any other run at
+    // that run's time.
+    AutoCost probed, run;
+    probed.probedFrame(256.0 * 256.0, 0.1);
+    run.calibrate(cheapestPlan(), 256.0 * 256.0, 0.1);
+    EXPECT_NEAR(probed.seconds(cheapestPlan(), 256.0 * 256.0), kFrameProbeCost * 0.1, 1e-12);
+    EXPECT_NEAR(run.seconds(cheapestPlan(), 256.0 * 256.0), 0.1, 1e-12);
+    EXPECT_LT(kFrameProbeCost, 1.0);
+}
+
+TEST(TimeBudget, APlanBackedByTheDeadlineKeepsItsMarginAndTheCheapestPlansReserve) {
+    // The final auto's reserve: the cheapest plan (nothing behind it) kFinalAutoMargin × its
+    // prediction; any other plan kBackedMargin × its own plus that (the fallback at the
+    // deadline), less than kFinalAutoMargin × its own alone for a plan of balanced's weight.
+    AutoCost cost;
+    cost.calibrate(cheapestPlan(), 256.0 * 256.0, 0.1);
+    cost.ran(warmupPlan());
+    const double px = 256.0 * 256.0;
+    const AutoPlan balanced{denoise::AutoQuality::Balanced, 0, {}};
+    EXPECT_NEAR(finalReserve(cost, cheapestPlan(), px), kFinalAutoMargin * 0.1, 1e-12);
+    EXPECT_NEAR(finalReserve(cost, balanced, px),
+                kBackedMargin * cost.seconds(balanced, px) + kFinalAutoMargin * 0.1, 1e-12);
+    EXPECT_LT(finalReserve(cost, balanced, px), 1.3 * cost.seconds(balanced, px));
+    EXPECT_EQ(describe(warmupPlan()), "fast with 1 member");
+}
+
 TEST(TimeBudget, TheFinalAutosPlanIsTheBestThatFitsDownToOneMemberOfOneFilter) {
     AutoCost cost;
     const double pixels = 256.0 * 256.0;
@@ -185,11 +214,11 @@ TEST(TimeBudget, TheFinalAutosPlanIsTheBestThatFitsDownToOneMemberOfOneFilter) {
     EXPECT_EQ(planFor(1e3), "balanced");
     // Just below balanced's time and margin: fast; then fewer members; then one member of one
     // filter, also when nothing fits (the frame must be denoised).
-    const double balancedFits = kFinalAutoMargin * cost.seconds(balanced, pixels);
+    const double balancedFits = finalReserve(cost, balanced, pixels);
     EXPECT_EQ(planFor(balancedFits), "balanced");
     EXPECT_EQ(planFor(balancedFits * 0.99), "fast");
     const AutoPlan fast8{denoise::AutoQuality::Fast, 8, {}};
-    EXPECT_EQ(planFor(kFinalAutoMargin * cost.seconds(fast8, pixels)), "fast with 8 members");
+    EXPECT_EQ(planFor(finalReserve(cost, fast8, pixels)), "fast with 8 members");
     EXPECT_EQ(planFor(kFinalAutoMargin * unit), describe(cheapestPlan()));
     EXPECT_EQ(planFor(0.0), describe(cheapestPlan()));
     EXPECT_EQ(planFor(-5.0), describe(cheapestPlan()));

@@ -45,6 +45,15 @@ inline constexpr int kProbeSide = 64;
 /// would make every plan look slower; three of about 0.03 s take under 0.1 s).
 inline constexpr int kProbeRuns = 3;
 
+/// Where the whole frame was probed, it is probed once more at the first pass's end whose time
+/// left is within this share of the limit past the final auto's reserve (the render about to
+/// stop), and that run calibrates auto's cost: the load changes within a run.
+inline constexpr double kLateProbeShare = 0.1;
+
+/// The final auto's clock reads for its deadline (renderFinal): at the first progress report past
+/// each 1/kDeadlineChecks of its work.
+inline constexpr int kDeadlineChecks = 32;
+
 /// The probe runs once more on the whole frame when its predicted time is at most this share of
 /// the time limit (256² at 2 threads: from about 8 s), and that run calibrates auto's cost.
 inline constexpr double kFrameProbeShare = 0.04;
@@ -109,6 +118,10 @@ struct FinalResult {
     /// predicted seconds (0 without a time limit).
     std::string finalPlan;
     double predictedFinalSeconds = 0.0;
+    /// The plan of a final auto that passed its deadline (the limit less the cheapest plan's
+    /// reserve: the machine slowed after the prediction) and was stopped, cheapestPlan() then
+    /// denoising the frame (finalPlan); empty when none was.
+    std::string finalStopped;
     /// Times every pixel had converged with time left and the threshold was halved (the render
     /// went on; time limit only).
     int thresholdHalvings = 0;

@@ -15,13 +15,25 @@
 
 namespace glint::pipeline {
 
-/// The reserve for the final auto: this many times its predicted seconds. The prediction is
-/// right on average; with its spread (a probe is one moment of a shared machine) 92 % of
-/// bench_final_budget's runs took at most 1.3 × it (docs/lab/race.md, "Keeping the time limit").
-inline constexpr double kFinalAutoMargin = 1.3;
+/// The reserve for a final auto of cheapestPlan(), nothing cheaper behind it: this many times its
+/// predicted seconds. The prediction is right on average; with its spread (a probe is one moment
+/// of a shared machine) 92 % of bench_final_budget's runs took at most 1.3 × it, and glint-final's
+/// at 2 s up to 1.33 × (there the 10 % the CLI keeps is all start-up and writing); 1.5 × costs
+/// the render 0.03 s at 256² (docs/lab/race.md, "Keeping the time limit").
+inline constexpr double kFinalAutoMargin = 1.5;
+/// The margin of any other plan: the final auto stops at a deadline that leaves cheapestPlan()
+/// its reserve, which then denoises the frame (renderFinal), so the margin covers the usual
+/// spread, not the tail: glint-final's balanced took at most 1.10 × its prediction in 17 of 18
+/// tuning runs at load 2–4 (1.5 × once: a load that came after the probe; since then the whole
+/// frame is probed again late, kLateProbeShare).
+inline constexpr double kBackedMargin = 1.2;
 /// What a pixel of a whole frame costs auto against a pixel of a probe's crop (the crop stays in
 /// the caches): 1.21 on 4 scenes at 256² and 540² (bench_final_budget).
 inline constexpr double kFramePixelCost = 1.21;
+/// What the final auto's pixel costs against the whole-frame probe's in glint-final (the probe,
+/// the process's first auto on a frame-sized buffer, on the frame of the second pass, costs more
+/// than the same run later): 0.87, the median of 18 tuning runs (docs/lab/race.md).
+inline constexpr double kFrameProbeCost = 0.87;
 
 /// The schedule of one time-limited final render.
 class TimeBudget {
@@ -33,8 +45,9 @@ class TimeBudget {
 
     bool timed() const { return m_limit > 0.0; }
     double limit() const { return m_limit; }
-    /// The seconds kept for the final auto: kFinalAutoMargin times its expected time.
-    double reserve() const { return kFinalAutoMargin * m_final; }
+    /// The seconds kept for the final auto (finalReserve; kFinalAutoMargin times its expected
+    /// time unless expectFinal said otherwise).
+    double reserve() const { return m_reserve; }
     /// Whether the render may go on at `now`: more than the reserve is left.
     bool renderMayContinue(double now) const;
     /// Whether a refresh at `now` expected to take `seconds` fits: the refreshes stay within
@@ -42,15 +55,21 @@ class TimeBudget {
     bool refreshFits(double now, double seconds) const;
     /// Records a refresh that took `seconds`.
     void refreshed(double seconds) { m_refreshes += seconds; }
-    /// The final auto is now expected to take `seconds` (the cost model's prediction of its plan).
-    void expectFinal(double seconds) { m_final = seconds; }
+    /// The final auto is now expected to take `seconds` (the cost model's prediction of its plan)
+    /// and `reserve` seconds are kept for it (finalReserve).
+    void expectFinal(double seconds, double reserve) {
+        m_final = seconds;
+        m_reserve = reserve;
+    }
+    /// expectFinal with kFinalAutoMargin times `seconds` kept.
+    void expectFinal(double seconds) { expectFinal(seconds, kFinalAutoMargin * seconds); }
     /// What the final auto is expected to take (0: unknown).
     double expectedFinal() const { return m_final; }
     /// The refreshes' seconds so far.
     double refreshSeconds() const { return m_refreshes; }
 
   private:
-    double m_limit, m_share, m_final;
+    double m_limit, m_share, m_final, m_reserve;
     double m_refreshes = 0.0;
 };
 
@@ -81,9 +100,14 @@ class AutoCost {
     /// Sets the rate from a probe: cheapestPlan() on a crop of `pixels` pixels took `seconds`
     /// (a frame's pixel costs kFramePixelCost times a crop's).
     void probed(double pixels, double seconds);
+    /// Sets the rate from glint-final's probe of the whole frame: cheapestPlan() on its `pixels`
+    /// took `seconds` (the final auto's pixel costs kFrameProbeCost times the probe's).
+    void probedFrame(double pixels, double seconds);
     /// Records a run of `plan` (a default bank's run warms the next).
     void ran(const AutoPlan& plan);
     bool calibrated() const { return m_rate > 0.0; }
+    /// Whether a default bank has run (its cold start is paid: warmupPlan()).
+    bool warm() const { return m_warm; }
     /// The predicted seconds of `plan` on `pixels` pixels (0 before any calibration).
     double seconds(const AutoPlan& plan, double pixels) const;
 
@@ -96,10 +120,21 @@ class AutoCost {
 /// The cheapest plan: one fast member of one filter (with its defaults: two members).
 AutoPlan cheapestPlan();
 
+/// The default bank's smallest plan (fast with 1 member), which glint-final runs on the probe's
+/// crop when the final auto is planned on the default bank: it pays the process's cold start
+/// (0.1–1.1 s, longer under load) before the render stops, where it is measured, instead of
+/// inside the reserve, where only a guess of it could be kept.
+AutoPlan warmupPlan();
+
+/// The seconds kept for a final auto of `plan` on `pixels` pixels: kFinalAutoMargin times the
+/// prediction for cheapestPlan(); for any other plan kBackedMargin times its prediction plus
+/// cheapestPlan()'s reserve (the fallback at its deadline).
+double finalReserve(const AutoCost& cost, const AutoPlan& plan, double pixels);
+
 /// The plan the final auto runs with `seconds` for it on `pixels` pixels: the first of `most`
 /// (balanced, say), the cheaper qualities down to fast, then fast with 16, 8, 4, 2 and 1 members,
-/// then cheapestPlan(), whose predicted time × kFinalAutoMargin is at most `seconds`;
-/// cheapestPlan() when none is. `most` itself when the cost is not calibrated.
+/// then cheapestPlan(), whose finalReserve is at most `seconds`; cheapestPlan() when none is.
+/// `most` itself when the cost is not calibrated.
 AutoPlan choosePlan(const AutoCost& cost, double pixels, double seconds, const AutoPlan& most);
 
 /// The centred crop of `frame` of at most side × side pixels, every layer cropped (a probe of
