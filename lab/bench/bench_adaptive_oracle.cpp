@@ -17,10 +17,13 @@
 //     averaged per 16² tile, what the renderer's tiles could count (oracleTileCost). Where e_i
 //     falls as n^−β rather than 1/n the optimum is n_i ∝ (e_i / c_i)^(1/(1+β)): --exponent sets
 //     that power for the cost ways and for oraclePow (cost-blind).
+//  4. pilotSpread(Raw): sqrtVariance's allocation from the render's own first --pilot samples,
+//     box-averaged 5 × 5 (or not): what the renderer alone could steer by.
 //  Each way is compared with uniform at its own rays.
 //   build/bin/bench_adaptive_oracle [--scene dof] [--seed 21] [--spp 256] [--pilot 64]
 //       [--map-seed 1021] [--threads 2] [--cost-block 4] [--exponent 0.5]
-//       [--ways oracle,sqrtVariance,oracleCost,oracleTileCost,oraclePow] [--map-out error.exr]
+//       [--ways oracle,sqrtVariance,oracleCost,oracleTileCost,oraclePow,pilotSpread,pilotSpreadRaw]
+//       [--map-out error.exr]
 //       [--allocations-only 1]
 #include <algorithm>
 #include <cmath>
@@ -32,6 +35,7 @@
 #include <tuple>
 #include <vector>
 
+#include "glint/image/box_mean.h"
 #include "glint/image/io.h"
 #include "glint/pipeline/refresh.h"
 #include "glint/render/renderer.h"
@@ -111,12 +115,14 @@ int main(int argc, char** argv) {
     };
     if (costBlock < 1) return bad("--cost-block needs a block edge >= 1");
     if (!(exponent > 0.0 && exponent <= 4.0)) return bad("--exponent needs a power in (0, 4]");
-    const std::vector<std::string> known = {"oracle", "oraclePow", "sqrtVariance", "oracleCost",
-                                            "oracleTileCost"};
+    const std::vector<std::string> known = {"oracle",        "oraclePow",      "sqrtVariance",
+                                            "oracleCost",    "oracleTileCost", "pilotSpread",
+                                            "pilotSpreadRaw"};
     for (const std::string& way : glint::bench::splitList(ways))
         if (std::find(known.begin(), known.end(), way) == known.end())
             return bad("unknown way '" + way +
-                       "' (expected oracle, oraclePow, sqrtVariance, oracleCost, oracleTileCost)");
+                       "' (expected oracle, oraclePow, sqrtVariance, oracleCost, oracleTileCost, "
+                       "pilotSpread, pilotSpreadRaw)");
     const std::string dir = std::string(GLINT_SOURCE_DIR) + "/scenes/" + scene;
     const glint::Image reference = glint::readExr(dir + "/reference.exr").color();
     glint::render::Renderer renderer(glint::render::loadScene(dir + "/scene.json"));
@@ -237,6 +243,32 @@ int main(int argc, char** argv) {
                 spread[std::size_t(y) * w + x] = std::sqrt(sum / 3.0);
             }
     }
+    // The same allocation from this render's own start: the seed's first --pilot samples of every
+    // pixel (which the adaptive render then continues), their relative spread box-averaged over
+    // 5 × 5 (pilotSpread) or not (pilotSpreadRaw): what a renderer could steer by with nothing but
+    // its own uniform start.
+    auto pilotSpread = [&](int radius) {
+        glint::render::Settings s = settingsFor(seed);
+        s.spp = pilot;
+        const glint::FrameBuffers start = renderer.render(s).frame;
+        const glint::Image& mu = start.color();
+        const glint::Image& var = start.layer(glint::Layer::Variance);
+        const glint::Image& n = start.layer(glint::Layer::SampleCount);
+        glint::Image relative(w, h, 1);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double sum = 0.0;
+                for (int c = 0; c < 3; ++c)
+                    sum += double(var(x, y, c)) * n(x, y, 0) /
+                           (double(mu(x, y, c)) * mu(x, y, c) + 0.01);
+                relative(x, y, 0) = float(sum / 3.0);
+            }
+        const glint::Image smoothed = glint::boxMean(relative, radius);
+        std::vector<double> weight(blurred.size());
+        for (std::size_t i = 0; i < weight.size(); ++i)
+            weight[i] = std::sqrt(double(smoothed.data()[i]));
+        return weight;
+    };
     // A sample's cost per pixel: rays per sample of each block rendered alone (the map seed).
     auto costMap = [&] {
         std::vector<double> cost(blurred.size(), 1.0);
@@ -307,6 +339,8 @@ int main(int argc, char** argv) {
             weight = allocation(nullptr, exponent);
         else if (way == "sqrtVariance")
             weight = spread;
+        else if (way == "pilotSpread" || way == "pilotSpreadRaw")
+            weight = pilotSpread(way == "pilotSpread" ? 2 : 0);
         else {  // oracleCost, oracleTileCost
             if (cost.empty()) cost = costMap();
             const std::vector<double> c = way == "oracleCost" ? cost : perTile(cost);
