@@ -35,29 +35,14 @@
 #include "glint/render/scene.h"
 
 #include "bench_options.h"
+#include "oracle_allocation.h"
 
 namespace {
 
-using Errors = std::vector<double>;
-
-/// Per pixel, relMSE's term (glint::relMse: (x − r)² / (r² + 0.01), mean over channels).
-Errors relativeErrors(const glint::Image& image, const glint::Image& reference) {
-    Errors e(std::size_t(image.pixelCount()), 0.0);
-    for (int y = 0; y < image.height(); ++y)
-        for (int x = 0; x < image.width(); ++x) {
-            double sum = 0.0;
-            for (int c = 0; c < 3; ++c) {
-                const double d = double(image(x, y, c)) - reference(x, y, c);
-                sum += d * d / (double(reference(x, y, c)) * reference(x, y, c) + 0.01);
-            }
-            e[std::size_t(y) * image.width() + x] = sum / 3.0;
-        }
-    return e;
-}
-
-double mean(const Errors& v) {
-    return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
-}
+using glint::bench::boxBlur;
+using glint::bench::Errors;
+using glint::bench::mean;
+using glint::bench::relativeErrors;
 
 /// Σ v over the pixels where `in` holds.
 double sumOver(const Errors& v, const std::vector<char>& in) {
@@ -65,24 +50,6 @@ double sumOver(const Errors& v, const std::vector<char>& in) {
     for (std::size_t i = 0; i < v.size(); ++i)
         if (in[i]) s += v[i];
     return s;
-}
-
-Errors boxBlur(const Errors& e, int w, int h, int r) {
-    Errors out(e.size(), 0.0);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            double sum = 0.0;
-            int n = 0;
-            for (int dy = -r; dy <= r; ++dy)
-                for (int dx = -r; dx <= r; ++dx) {
-                    const int sx = x + dx, sy = y + dy;
-                    if (sx < 0 || sy < 0 || sx >= w || sy >= h) continue;
-                    sum += e[std::size_t(sy) * w + sx];
-                    ++n;
-                }
-            out[std::size_t(y) * w + x] = sum / n;
-        }
-    return out;
 }
 
 /// "bilateral(sigmaS=2,...)": a member in one short word list.
@@ -246,23 +213,11 @@ int main(int argc, char** argv) {
     // The map: another seed's true error after auto, blurred; the oracle's targets from it.
     const Analysed other = analyse(renderer.render(settingsFor(mapSeed, spp)), {"default"});
     const Errors map = boxBlur(other.denoised.at("default"), w, h, 2);
-    // Samples per pixel ∝ √e (at least `least`, at most 16× spp, mean spp: a few fixed-point
-    // steps), in whole passes of 16 past the least.
+    // Samples per pixel ∝ √e (at least `least`, at most 16× spp, mean spp).
     auto targetsFrom = [&](const Errors& e, int least) {
-        std::vector<int> t(pixels, spp);
         Errors weight(pixels);
         for (std::size_t i = 0; i < pixels; ++i) weight[i] = std::sqrt(std::max(0.0, e[i]));
-        double scale = double(spp) / std::max(mean(weight), 1e-30);
-        for (int step = 0; step < 20; ++step) {
-            double sum = 0.0;
-            for (std::size_t i = 0; i < pixels; ++i) {
-                const double n = std::clamp(scale * weight[i], double(least), 16.0 * spp);
-                t[i] = least + 16 * int(std::lround((n - least) / 16.0));
-                sum += t[i];
-            }
-            scale *= double(spp) * double(pixels) / sum;
-        }
-        return t;
+        return glint::bench::targetsFrom(weight, spp, least);
     };
     const std::vector<int> target = targetsFrom(map, pilot);
     std::vector<char> worst(pixels, 0), rest(pixels, 1);
@@ -308,31 +263,8 @@ int main(int argc, char** argv) {
     }
 
     // 2. The oracle's render: adaptive passes that open exactly the pixels below their target.
-    glint::render::RenderResult oracleRender;
-    {
-        glint::render::Settings s =
-            settingsFor(seed, *std::max_element(target.begin(), target.end()));
-        s.adaptive = true;
-        s.minSpp = pilot;
-        s.noiseThreshold = 1e-9;
-        bool done = false;
-        glint::render::Callbacks callbacks;
-        callbacks.importance = [&](int, const glint::FrameBuffers& frame) {
-            const glint::Image& n = frame.layer(glint::Layer::SampleCount);
-            auto m = std::make_shared<glint::Image>(w, h, 1);
-            bool any = false;
-            for (int y = 0; y < h; ++y)
-                for (int x = 0; x < w; ++x) {
-                    const bool open = n(x, y, 0) < float(target[std::size_t(y) * w + x]);
-                    (*m)(x, y, 0) = open ? 1.0f : 0.0f;
-                    any |= open;
-                }
-            done = !any;
-            return any ? std::shared_ptr<const glint::Image>(m) : nullptr;
-        };
-        callbacks.cancel = [&] { return done; };
-        oracleRender = renderer.render(s, callbacks);
-    }
+    glint::render::RenderResult oracleRender =
+        glint::bench::renderTargets(renderer, settingsFor(seed, spp), target, pilot);
     const Analysed oracle = analyse(std::move(oracleRender), wanted);
     const int equalSpp =
         int(std::lround(double(spp) * double(oracle.stats.rays) / double(uniform.stats.rays)));

@@ -42,27 +42,12 @@
 #include "glint/render/scene.h"
 
 #include "bench_options.h"
+#include "oracle_allocation.h"
 
 namespace {
 
-/// Per pixel, relMSE's term (glint::relMse: (x − r)² / (r² + 0.01), mean over channels).
-std::vector<double> relativeErrors(const glint::Image& image, const glint::Image& reference) {
-    std::vector<double> e(std::size_t(image.pixelCount()), 0.0);
-    for (int y = 0; y < image.height(); ++y)
-        for (int x = 0; x < image.width(); ++x) {
-            double sum = 0.0;
-            for (int c = 0; c < 3; ++c) {
-                const double d = double(image(x, y, c)) - reference(x, y, c);
-                sum += d * d / (double(reference(x, y, c)) * reference(x, y, c) + 0.01);
-            }
-            e[std::size_t(y) * image.width() + x] = sum / 3.0;
-        }
-    return e;
-}
-
-double mean(const std::vector<double>& v) {
-    return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
-}
+using glint::bench::mean;
+using glint::bench::relativeErrors;
 
 /// The share of Σe in the largest `fraction` of the pixels.
 double topShare(std::vector<double> e, double fraction) {
@@ -166,82 +151,41 @@ int main(int argc, char** argv) {
         glint::writeImage(map, mapOut);
     }
 
-    // Samples per pixel ∝ `weight` (at least the pilot, at most 16× spp, mean spp: a few
-    // fixed-point steps), in whole passes of RenderLoop::kAdaptiveStep past the pilot.
     auto targetsFrom = [&](const std::vector<double>& weight) {
-        std::vector<int> target(weight.size(), spp);
-        double scale = double(spp) / std::max(mean(weight), 1e-30);
-        for (int step = 0; step < 20; ++step) {
-            double sum = 0.0;
-            for (std::size_t i = 0; i < weight.size(); ++i) {
-                const double n = std::clamp(scale * weight[i], double(pilot), 16.0 * spp);
-                target[i] = pilot + 16 * int(std::lround((n - pilot) / 16.0));
-                sum += target[i];
-            }
-            scale *= double(spp) * double(weight.size()) / sum;
-        }
-        return target;
+        return glint::bench::targetsFrom(weight, spp, pilot);
     };
-    // Adaptive passes that open exactly the pixels below their target: before each, weight 1
-    // for those, 0 for the others; the render ends when none is left.
     auto renderTargets = [&](const std::vector<int>& target) {
-        glint::render::Settings s = settingsFor(seed);
-        s.spp = *std::max_element(target.begin(), target.end());
-        s.adaptive = true;
-        s.minSpp = pilot;
-        s.noiseThreshold = 1e-9;
-        bool done = false;
-        glint::render::Callbacks callbacks;
-        callbacks.importance = [&](int, const glint::FrameBuffers& frame) {
-            const glint::Image& n = frame.layer(glint::Layer::SampleCount);
-            auto map = std::make_shared<glint::Image>(w, h, 1);
-            bool any = false;
-            for (int y = 0; y < h; ++y)
-                for (int x = 0; x < w; ++x) {
-                    const bool open = n(x, y, 0) < float(target[std::size_t(y) * w + x]);
-                    (*map)(x, y, 0) = open ? 1.0f : 0.0f;
-                    any |= open;
-                }
-            done = !any;
-            return any ? std::shared_ptr<const glint::Image>(map) : nullptr;
-        };
-        callbacks.cancel = [&] { return done; };
-        return renderer.render(s, callbacks);
+        return glint::bench::renderTargets(renderer, settingsFor(seed), target, pilot);
     };
 
     // 2. The oracle's samples per pixel, from another realisation's true error, blurred.
     const Run other = finish(renderer.render(settingsFor(mapSeed)));
-    std::vector<double> blurred(other.errors.size(), 0.0);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            double sum = 0.0;
-            int n = 0;
-            for (int dy = -2; dy <= 2; ++dy)
-                for (int dx = -2; dx <= 2; ++dx) {
-                    const int sx = x + dx, sy = y + dy;
-                    if (sx < 0 || sy < 0 || sx >= w || sy >= h) continue;
-                    sum += other.errors[std::size_t(sy) * w + sx];
-                    ++n;
-                }
-            blurred[std::size_t(y) * w + x] = sum / n;
-        }
+    const std::vector<double> blurred = glint::bench::boxBlur(other.errors, w, h, 2);
     // The renderer's own information instead of the reference: n_i ∝ the relative standard
     // deviation of a sample, √(v_i n_i) / √(μ_i² + 0.01) from the other seed's noisy frame (the
     // allocation that minimises the noisy image's relMSE; a threshold on the error, Cycles',
     // gives n_i ∝ its square).
-    std::vector<double> spread(blurred.size(), 0.0);
-    {
-        const glint::Image& mu = other.frame.color();
-        const glint::Image& var = other.frame.layer(glint::Layer::Variance);
-        const glint::Image& n = other.frame.layer(glint::Layer::SampleCount);
+    // A frame's squared relative spread of a sample per pixel, v_i n_i / (μ_i² + 0.01), mean over
+    // the channels.
+    auto squaredSpread = [&](const glint::FrameBuffers& frame) {
+        const glint::Image& mu = frame.color();
+        const glint::Image& var = frame.layer(glint::Layer::Variance);
+        const glint::Image& n = frame.layer(glint::Layer::SampleCount);
+        glint::Image out(w, h, 1);
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 double sum = 0.0;
                 for (int c = 0; c < 3; ++c)
                     sum += double(var(x, y, c)) * n(x, y, 0) /
                            (double(mu(x, y, c)) * mu(x, y, c) + 0.01);
-                spread[std::size_t(y) * w + x] = std::sqrt(sum / 3.0);
+                out(x, y, 0) = float(sum / 3.0);
             }
+        return out;
+    };
+    std::vector<double> spread(blurred.size(), 0.0);
+    {
+        const glint::Image s2 = squaredSpread(other.frame);
+        for (std::size_t i = 0; i < spread.size(); ++i) spread[i] = std::sqrt(double(s2.data()[i]));
     }
     // The same allocation from this render's own start: the seed's first --pilot samples of every
     // pixel (which the adaptive render then continues), their relative spread box-averaged over
@@ -250,20 +194,8 @@ int main(int argc, char** argv) {
     auto pilotSpread = [&](int radius) {
         glint::render::Settings s = settingsFor(seed);
         s.spp = pilot;
-        const glint::FrameBuffers start = renderer.render(s).frame;
-        const glint::Image& mu = start.color();
-        const glint::Image& var = start.layer(glint::Layer::Variance);
-        const glint::Image& n = start.layer(glint::Layer::SampleCount);
-        glint::Image relative(w, h, 1);
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                double sum = 0.0;
-                for (int c = 0; c < 3; ++c)
-                    sum += double(var(x, y, c)) * n(x, y, 0) /
-                           (double(mu(x, y, c)) * mu(x, y, c) + 0.01);
-                relative(x, y, 0) = float(sum / 3.0);
-            }
-        const glint::Image smoothed = glint::boxMean(relative, radius);
+        const glint::Image smoothed =
+            glint::boxMean(squaredSpread(renderer.render(s).frame), radius);
         std::vector<double> weight(blurred.size());
         for (std::size_t i = 0; i < weight.size(); ++i)
             weight[i] = std::sqrt(double(smoothed.data()[i]));
