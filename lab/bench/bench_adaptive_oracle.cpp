@@ -18,11 +18,13 @@
 //     falls as n^−β rather than 1/n the optimum is n_i ∝ (e_i / c_i)^(1/(1+β)): --exponent sets
 //     that power for the cost ways and for oraclePow (cost-blind).
 //  4. pilotSpread(Raw): sqrtVariance's allocation from the render's own first --pilot samples,
-//     box-averaged 5 × 5 (or not): what the renderer alone could steer by.
+//     box-averaged 5 × 5 (or not): what the renderer alone could steer by. pilotAuto: the oracle's
+//     allocation by auto's own estimated error of the denoised start instead of the true error.
 //  Each way is compared with uniform at its own rays.
 //   build/bin/bench_adaptive_oracle [--scene dof] [--seed 21] [--spp 256] [--pilot 64]
 //       [--map-seed 1021] [--threads 2] [--cost-block 4] [--exponent 0.5]
-//       [--ways oracle,sqrtVariance,oracleCost,oracleTileCost,oraclePow,pilotSpread,pilotSpreadRaw]
+//       [--ways oracle,sqrtVariance,oracleCost,oracleTileCost,oraclePow,pilotSpread,pilotSpreadRaw,
+//        pilotAuto]
 //       [--map-out error.exr]
 //       [--allocations-only 1]
 #include <algorithm>
@@ -100,14 +102,14 @@ int main(int argc, char** argv) {
     };
     if (costBlock < 1) return bad("--cost-block needs a block edge >= 1");
     if (!(exponent > 0.0 && exponent <= 4.0)) return bad("--exponent needs a power in (0, 4]");
-    const std::vector<std::string> known = {"oracle",        "oraclePow",      "sqrtVariance",
-                                            "oracleCost",    "oracleTileCost", "pilotSpread",
-                                            "pilotSpreadRaw"};
+    const std::vector<std::string> known = {"oracle",         "oraclePow",      "sqrtVariance",
+                                            "oracleCost",     "oracleTileCost", "pilotSpread",
+                                            "pilotSpreadRaw", "pilotAuto"};
     for (const std::string& way : glint::bench::splitList(ways))
         if (std::find(known.begin(), known.end(), way) == known.end())
             return bad("unknown way '" + way +
                        "' (expected oracle, oraclePow, sqrtVariance, oracleCost, oracleTileCost, "
-                       "pilotSpread, pilotSpreadRaw)");
+                       "pilotSpread, pilotSpreadRaw, pilotAuto)");
     const std::string dir = std::string(GLINT_SOURCE_DIR) + "/scenes/" + scene;
     const glint::Image reference = glint::readExr(dir + "/reference.exr").color();
     glint::render::Renderer renderer(glint::render::loadScene(dir + "/scene.json"));
@@ -201,6 +203,20 @@ int main(int argc, char** argv) {
             weight[i] = std::sqrt(double(smoothed.data()[i]));
         return weight;
     };
+    // The oracle's allocation with auto's own estimate of its error instead of the true one: one
+    // auto (balanced) on the render's own first --pilot samples, n_i ∝ √(its estimated relative
+    // error) (pilotAuto; the auto's seconds are printed, not counted in the rays).
+    auto pilotAuto = [&] {
+        glint::render::Settings s = settingsFor(seed);
+        s.spp = pilot;
+        const glint::pipeline::Denoised d =
+            glint::pipeline::denoiseFrame(renderer.render(s).frame, autoRun);
+        std::printf("pilotAuto\tauto on the start took %.2f s\n", d.seconds);
+        std::vector<double> weight(blurred.size());
+        for (std::size_t i = 0; i < weight.size(); ++i)
+            weight[i] = std::sqrt(std::max(0.0, double(d.relative.data()[i])));
+        return weight;
+    };
     // A sample's cost per pixel: rays per sample of each block rendered alone (the map seed).
     auto costMap = [&] {
         std::vector<double> cost(blurred.size(), 1.0);
@@ -271,6 +287,8 @@ int main(int argc, char** argv) {
             weight = allocation(nullptr, exponent);
         else if (way == "sqrtVariance")
             weight = spread;
+        else if (way == "pilotAuto")
+            weight = pilotAuto();
         else if (way == "pilotSpread" || way == "pilotSpreadRaw")
             weight = pilotSpread(way == "pilotSpread" ? 2 : 0);
         else {  // oracleCost, oracleTileCost
