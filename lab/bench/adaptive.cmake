@@ -1,4 +1,4 @@
-# Where adaptive sampling's time goes and what an ideal map could gain (docs/lab/adaptive-sampling.md,
+# Where adaptive sampling's time goes and what an ideal map could gain (docs/lab/adaptive-dof.md,
 # "Why adaptive loses on dof"):
 #   build/bin/bench_adaptive_throughput [--scene dof] [--seed 21] [--seconds 8] [--threads 2]
 if(TARGET glint_render)

@@ -1,5 +1,5 @@
 // The renderer's samples spent four ways in the same render time, then the same auto
-// (docs/lab/adaptive-sampling.md, "Why adaptive loses on dof"): uniform passes; the fixed
+// (docs/lab/adaptive-dof.md, "Why adaptive loses on dof"): uniform passes; the fixed
 // threshold; the variance schedule (a uniform map of scale √(spp / spp at the adaptive start));
 // and the spread map (lab::importanceFromSpread at that scale, remade whenever the mean spp
 // has doubled). Every adaptive way halves its threshold at convergence, as glint-final does.

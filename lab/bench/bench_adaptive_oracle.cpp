@@ -1,4 +1,4 @@
-// What an ideal importance map could gain (docs/lab/adaptive-sampling.md, "Why adaptive loses on
+// What an ideal importance map could gain (docs/lab/adaptive-dof.md, "Why adaptive loses on
 // dof"): where the error of the denoised image lives at uniform sampling, and an oracle that
 // spends the same samples by the true error against the reference.
 //  1. Uniform at --spp, auto (balanced): relMSE of the noisy and the denoised image; the share of

@@ -1,4 +1,4 @@
-// Where adaptive sampling's time goes (docs/lab/adaptive-sampling.md, "Why adaptive loses on
+// Where adaptive sampling's time goes (docs/lab/adaptive-dof.md, "Why adaptive loses on
 // dof"): one scene rendered for the same wall-clock time uniformly and adaptively (the fixed
 // threshold, halved at convergence as glint-final does), with the samples, rays and rays per
 // sample of each, and per adaptive pass the pixels it took, its samples, its seconds, the gap

@@ -1,5 +1,5 @@
 // What the oracle benches share (bench_adaptive_oracle, bench_adaptive_denoised;
-// docs/lab/adaptive-sampling.md, parts 4–6): each pixel's term of relMSE, a box blur of such
+// docs/lab/adaptive-dof.md, parts 4–6): each pixel's term of relMSE, a box blur of such
 // terms, the samples per pixel an allocation gives, and the render that gives exactly those.
 #pragma once
 

@@ -113,7 +113,7 @@ class RenderLoop {
     /// The samples of the film's pixels an adaptive pass carries at least, when its step allows:
     /// a pass over few open pixels would otherwise cost more in its fixed part (planning, the
     /// tiles' loop, the threads meeting at its end) than in its samples (docs/lab/
-    /// adaptive-sampling.md, "Why adaptive loses on dof").
+    /// adaptive-dof.md, "Why adaptive loses on dof").
     static constexpr int kAdaptivePassSpp = 2;
     /// An adaptive pass's step over `active` open pixels of `pixels`: kAdaptiveStep doubled
     /// while the pass carries fewer than kAdaptivePassSpp × pixels samples, up to

@@ -1,4 +1,4 @@
-// The spread map: an experiment of issue 49 (docs/lab/adaptive-sampling.md, "Why adaptive loses
+// The spread map: an experiment of issue 49 (docs/lab/adaptive-dof.md, "Why adaptive loses
 // on dof") — importance weights for the renderer's adaptive passes from the noisy frame alone.
 // It did not hold on the reporting seeds, so glint-final does not use it; the lab's
 // bench_adaptive_equal_time does.
@@ -9,7 +9,7 @@
 
 namespace glint::lab {
 /// The importance weights that make the renderer's threshold spend samples as the noisy image's
-/// relMSE is best served (docs/lab/adaptive-sampling.md, "Why adaptive loses on dof"): a
+/// relMSE is best served (docs/lab/adaptive-dof.md, "Why adaptive loses on dof"): a
 /// threshold on the error stops pixel i at n_i ∝ a_i² (a_i its error estimate times √n, Cycles'
 /// form, from `frame`'s colour, variance and sampleCount), while the allocation that minimises
 /// Σ v_i / (n_i (μ_i² + 0.01)) is n_i ∝ s_i = √(v_i / (μ_i² + 0.01)) (v_i a sample's variance,
