@@ -1,5 +1,5 @@
 // Why the denoised error does not fall where an adaptive render spends its samples
-// (docs/lab/adaptive-dof.md, "Why dof's denoised error does not fall where samples go").
+// (docs/lab/adaptive-dof-denoiser.md, "Why dof's denoised error does not fall where samples go").
 // On one scene at --spp mean, with the oracle allocation of bench_adaptive_oracle (another seed's
 // true error after auto, box-blurred 5×5, n_i ∝ √e_i, at least --pilot):
 // Errors are against --reference (the scene's reference.exr unless given).

@@ -1,6 +1,6 @@
 // What the oracle benches share (bench_adaptive_oracle, bench_adaptive_denoised;
-// docs/lab/adaptive-dof.md, parts 4–6): each pixel's term of relMSE, a box blur of such
-// terms, the samples per pixel an allocation gives, and the render that gives exactly those.
+// docs/lab/adaptive-dof.md, adaptive-dof-denoiser.md): each pixel's term of relMSE, a box blur
+// of such terms, the samples per pixel an allocation gives, and the render that gives them.
 #pragma once
 
 #include <algorithm>
