@@ -200,7 +200,7 @@ int main(int argc, char** argv) {
             glint::boxMean(squaredSpread(renderer.render(s).frame), radius);
         std::vector<double> weight(blurred.size());
         for (std::size_t i = 0; i < weight.size(); ++i)
-            weight[i] = std::sqrt(double(smoothed.data()[i]));
+            weight[i] = std::pow(std::max(0.0, double(smoothed.data()[i])), exponent);
         return weight;
     };
     // The oracle's allocation with auto's own estimate of its error instead of the true one: one

@@ -34,6 +34,8 @@ int main(int argc, char** argv) {
     options.bind("--ways", ways);
     options.bind("--refresh-share", refreshShare);
     options.bind("--refresh-quality", refreshQuality);
+    std::string framesDir;
+    options.bind("--frames-dir", framesDir);
     if (const int rc = options.parse("bench_final", argc, argv)) return rc;
     using glint::pipeline::Steering;
     std::printf(
@@ -62,14 +64,20 @@ int main(int argc, char** argv) {
                     o.settings.adaptive = way != "uniform";
                     o.settings.minSpp = minSpp;
                     o.timeLimit = std::stod(budget);
-                    o.steering =
-                        way == "uniform" ? Steering::Fixed : glint::pipeline::parseSteering(way);
+                    o.steering = way == "uniform" ? Steering::Fixed
+                                 : way.rfind("spread", 0) == 0
+                                     ? Steering::Variance
+                                     : glint::pipeline::parseSteering(way);
+                    if (way.rfind("spread", 0) == 0) o.greedyShare = std::stod(way.substr(6));
                     o.expectedAutoSeconds = autoSeconds;
                     o.refreshShare = refreshShare;
                     o.refreshQuality = glint::denoise::parseAutoQuality(refreshQuality);
                     const glint::pipeline::FinalResult r =
                         glint::pipeline::renderFinal(renderer, o);
                     const double relMse = glint::relMse(r.frame.color(), reference).value;
+                    if (!framesDir.empty())
+                        glint::writeExr(r.frame,
+                                        framesDir + "/" + name + "_" + seed + "_" + way + ".exr");
                     const double pixels = double(r.frame.width()) * double(r.frame.height());
                     std::printf("%s\t%s\t%s\t%s\t%.6g\t%.4g\t%.1f\t%d\t%d\t%d\t%.2f\t%.2f\t%.2f\n",
                                 name.c_str(), budget.c_str(), seed.c_str(), way.c_str(), relMse,
