@@ -7,6 +7,7 @@
 //   build/bin/bench_final [--scenes glossy,dof,cornell] [--seeds 21,22] [--seconds 15,30]
 //                         [--threads 2] [--min-spp 16] [--ways uniform,fixed,variance,denoiser]
 //                         [--refresh-share 0.2] [--refresh-quality fast]
+//                         [--frames-dir DIR]   (each run's frame as DIR/<scene>_<seed>_<way>.exr)
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -64,11 +65,8 @@ int main(int argc, char** argv) {
                     o.settings.adaptive = way != "uniform";
                     o.settings.minSpp = minSpp;
                     o.timeLimit = std::stod(budget);
-                    o.steering = way == "uniform" ? Steering::Fixed
-                                 : way.rfind("spread", 0) == 0
-                                     ? Steering::Variance
-                                     : glint::pipeline::parseSteering(way);
-                    if (way.rfind("spread", 0) == 0) o.greedyShare = std::stod(way.substr(6));
+                    o.steering =
+                        way == "uniform" ? Steering::Fixed : glint::pipeline::parseSteering(way);
                     o.expectedAutoSeconds = autoSeconds;
                     o.refreshShare = refreshShare;
                     o.refreshQuality = glint::denoise::parseAutoQuality(refreshQuality);

@@ -12,7 +12,6 @@
 #include "glint/image/composite.h"
 #include "glint/image/error.h"
 #include "glint/pipeline/refresh.h"
-#include "glint/pipeline/spread_map.h"
 #include "glint/pipeline/steering.h"
 #include "glint/pipeline/time_budget.h"
 
@@ -286,8 +285,6 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
         if (options.steering == Steering::Denoiser && last)
             return std::make_shared<const Image>(importanceFromError(last->relative, scaleNow()));
         if (!steered && boost == 1.0) return nullptr;
-        if (options.steering == Steering::Variance && options.greedyShare > 0.0)
-            return spreadMap(frame, options.greedyShare, 1e30f);
         return std::make_shared<const Image>(frame.width(), frame.height(), 1,
                                              float(steered ? scaleNow() : boost));
     };
@@ -299,10 +296,6 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     callbacks.cancel = [&] { return stop || (pass >= 1 && !budget.renderMayContinue(now())); };
     if (settings.adaptive && (steered || options.targetError > 0.0)) {
         callbacks.importance = [&](int, const FrameBuffers& frame) -> std::shared_ptr<const Image> {
-            if (options.steering == Steering::Variance && options.greedyShare > 0.0) {
-                refresh(frame);
-                return makeMap(frame);
-            }
             if (!refresh(frame) || stop || !steered) return nullptr;
             // The threshold follows the renderer's error, which falls as 1/sqrt(spp): the
             // schedule's scale keeps about as many pixels open as at the start.

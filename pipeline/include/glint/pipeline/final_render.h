@@ -96,8 +96,6 @@ struct FinalOptions {
     std::function<double()> clock;
     /// One line per refresh and stage, for a log; may be empty.
     std::function<void(const std::string& line)> log;
-    /// LAB EXPERIMENT: the variance schedule by spreadMap with this share (0: the old schedule).
-    double greedyShare = 0.0;
 };
 
 /// Throws glint::Error(InvalidArgument) naming the first bad option ("timeLimit",
