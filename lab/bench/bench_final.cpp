@@ -65,11 +65,8 @@ int main(int argc, char** argv) {
                     o.settings.adaptive = way != "uniform";
                     o.settings.minSpp = minSpp;
                     o.timeLimit = std::stod(budget);
-                    const bool powered = way.rfind("variance", 0) == 0 && way.size() > 8;
-                    o.steering = way == "uniform" ? Steering::Fixed
-                                 : powered        ? Steering::Variance
-                                                  : glint::pipeline::parseSteering(way);
-                    if (powered) o.schedulePower = std::stod(way.substr(8));
+                    o.steering =
+                        way == "uniform" ? Steering::Fixed : glint::pipeline::parseSteering(way);
                     o.expectedAutoSeconds = autoSeconds;
                     o.refreshShare = refreshShare;
                     o.refreshQuality = glint::denoise::parseAutoQuality(refreshQuality);

@@ -244,9 +244,7 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     // The map's scale: the threshold schedule's √(spp / spp at the first refresh), times 2 for
     // every halving of the threshold at convergence.
     double boost = 1.0;
-    auto scaleNow = [&] {
-        return boost * (startSpp > 0.0 ? std::pow(lastSpp / startSpp, options.schedulePower) : 1.0);
-    };
+    auto scaleNow = [&] { return boost * (startSpp > 0.0 ? std::sqrt(lastSpp / startSpp) : 1.0); };
     // A refresh: auto on the frame so far, when it has grown enough and the budget has room;
     // true when the schedule moved (a new map is due).
     auto refresh = [&](const FrameBuffers& frame) {

@@ -96,8 +96,6 @@ struct FinalOptions {
     std::function<double()> clock;
     /// One line per refresh and stage, for a log; may be empty.
     std::function<void(const std::string& line)> log;
-    /// LAB EXPERIMENT: the schedule's scale (spp / spp at the first refresh)^this (0.5).
-    double schedulePower = 0.5;
 };
 
 /// Throws glint::Error(InvalidArgument) naming the first bad option ("timeLimit",
