@@ -18,8 +18,10 @@
 //     falls as n^−β rather than 1/n the optimum is n_i ∝ (e_i / c_i)^(1/(1+β)): --exponent sets
 //     that power for the cost ways and for oraclePow (cost-blind).
 //  4. pilotSpread(Raw): sqrtVariance's allocation from the render's own first --pilot samples,
-//     box-averaged 5 × 5 (or not): what the renderer alone could steer by. pilotAuto: the oracle's
-//     allocation by auto's own estimated error of the denoised start instead of the true error.
+//     box-averaged 5 × 5 (or not): what the renderer alone could steer by; n_i ∝ (squared
+//     spread)^--exponent (0.5: ∝ the spread; 1: ∝ its square, the threshold's rule). pilotAuto: the
+//     oracle's allocation by auto's own estimated error of the denoised start instead of the true
+//     error.
 //  Each way is compared with uniform at its own rays.
 //   build/bin/bench_adaptive_oracle [--scene dof] [--seed 21] [--spp 256] [--pilot 64]
 //       [--map-seed 1021] [--threads 2] [--cost-block 4] [--exponent 0.5]
@@ -200,7 +202,7 @@ int main(int argc, char** argv) {
             glint::boxMean(squaredSpread(renderer.render(s).frame), radius);
         std::vector<double> weight(blurred.size());
         for (std::size_t i = 0; i < weight.size(); ++i)
-            weight[i] = std::sqrt(double(smoothed.data()[i]));
+            weight[i] = std::pow(std::max(0.0, double(smoothed.data()[i])), exponent);
         return weight;
     };
     // The oracle's allocation with auto's own estimate of its error instead of the true one: one

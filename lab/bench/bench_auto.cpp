@@ -16,8 +16,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <functional>
 #include <iostream>
 #include <string>
@@ -25,11 +23,10 @@
 #include <nlohmann/json.hpp>
 
 #include "bench_options.h"
+#include "cornell_input.h"
 #include "glint/denoise/auto.h"
 #include "glint/denoise/bank.h"
 #include "glint/image/memory.h"
-#include "glint/render/renderer.h"
-#include "glint/render/scene.h"
 
 namespace {
 
@@ -44,7 +41,6 @@ double secondsOf(const std::function<void()>& fn) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    namespace fs = std::filesystem;
     glint::bench::RenderBankOptions o;
     o.reps = 3;
     int oneSided = 0, shortlist = 16, feather = -1, stack = -1, stackFeatures = 1;
@@ -91,17 +87,8 @@ int main(int argc, char** argv) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
 
     // The input: cornell at size², a low spp (the render is not timed).
-    const fs::path root = GLINT_SOURCE_DIR;
-    std::ifstream in(root / "scenes/cornell/scene.json");
-    nlohmann::json scene = nlohmann::json::parse(in);
-    scene["film"] = {{"width", size}, {"height", size}};
-    glint::render::Renderer renderer(
-        glint::render::parseScene(scene.dump(), root / "scenes/cornell/scene.json"));
-    glint::render::Settings s = renderer.scene().settings();
-    s.spp = spp;
-    s.threads = threads;
-    s.halfBuffers = estimator == "halves";
-    const glint::FrameBuffers frame = renderer.render(s).frame;
+    const glint::FrameBuffers frame =
+        glint::bench::cornellInput(size, spp, threads, estimator == "halves");
 
     glint::denoise::BankOptions options;
     options.size = members;

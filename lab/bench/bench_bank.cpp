@@ -12,7 +12,6 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -22,12 +21,11 @@
 #include <nlohmann/json.hpp>
 
 #include "bench_options.h"
+#include "cornell_input.h"
 #include "glint/denoise/bank.h"
 #include "glint/denoise/navigation.h"
 #include "glint/denoise/registry.h"
 #include "glint/image/memory.h"
-#include "glint/render/renderer.h"
-#include "glint/render/scene.h"
 
 namespace {
 
@@ -68,17 +66,7 @@ int main(int argc, char** argv) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
 
     // The input: cornell at size², a low spp (the render is not timed).
-    const fs::path root = GLINT_SOURCE_DIR;
-    std::ifstream in(root / "scenes/cornell/scene.json");
-    nlohmann::json scene = nlohmann::json::parse(in);
-    scene["film"] = {{"width", size}, {"height", size}};
-    glint::render::Renderer renderer(
-        glint::render::parseScene(scene.dump(), root / "scenes/cornell/scene.json"));
-    glint::render::Settings s = renderer.scene().settings();
-    s.spp = spp;
-    s.threads = threads;
-    s.halfBuffers = halves != 0;
-    const glint::FrameBuffers frame = renderer.render(s).frame;
+    const glint::FrameBuffers frame = glint::bench::cornellInput(size, spp, threads, halves != 0);
 
     nlohmann::json out = {{"size", size},          {"spp", spp},
                           {"threads", threads},    {"members", members},

@@ -7,6 +7,7 @@
 //   build/bin/bench_final [--scenes glossy,dof,cornell] [--seeds 21,22] [--seconds 15,30]
 //                         [--threads 2] [--min-spp 16] [--ways uniform,fixed,variance,denoiser]
 //                         [--refresh-share 0.2] [--refresh-quality fast]
+//                         [--frames-dir DIR]   (each run's frame as DIR/<scene>_<seed>_<way>.exr)
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -34,6 +35,8 @@ int main(int argc, char** argv) {
     options.bind("--ways", ways);
     options.bind("--refresh-share", refreshShare);
     options.bind("--refresh-quality", refreshQuality);
+    std::string framesDir;
+    options.bind("--frames-dir", framesDir);
     if (const int rc = options.parse("bench_final", argc, argv)) return rc;
     using glint::pipeline::Steering;
     std::printf(
@@ -70,6 +73,9 @@ int main(int argc, char** argv) {
                     const glint::pipeline::FinalResult r =
                         glint::pipeline::renderFinal(renderer, o);
                     const double relMse = glint::relMse(r.frame.color(), reference).value;
+                    if (!framesDir.empty())
+                        glint::writeExr(r.frame,
+                                        framesDir + "/" + name + "_" + seed + "_" + way + ".exr");
                     const double pixels = double(r.frame.width()) * double(r.frame.height());
                     std::printf("%s\t%s\t%s\t%s\t%.6g\t%.4g\t%.1f\t%d\t%d\t%d\t%.2f\t%.2f\t%.2f\n",
                                 name.c_str(), budget.c_str(), seed.c_str(), way.c_str(), relMse,
