@@ -70,10 +70,11 @@ FrameBuffers* CornellQuality::s_noisy = nullptr;
 FrameBuffers* CornellQuality::s_reference = nullptr;
 
 // The render is deterministic (seed 1), so these are fixed numbers; the margins say how far
-// they are from failing. Measured: noisy 0.63, every filter with its defaults 0.84 … 0.98 (see
-// docs/lab/denoise-quality.md). Over seeds 1-4 the SSIMs move by at most 0.006 (noisy 0.6305 …
-// 0.6325, bilateral-mc 0.8413 … 0.8472, cross-bilateral 0.9780 … 0.9795), far below the
-// margins: +0.1 over the noisy input, cross-bilateral over gaussian by 0.02 (measured 0.06).
+// they are from failing. Measured (2026-11-30, the Sobol sampler, today's reference): noisy
+// 0.708, every filter with its defaults 0.88 … 0.99, cross-bilateral over gaussian by 0.058.
+// (docs/lab/denoise-quality.md has the first figures, of the earlier independent sampler: noisy
+// 0.63, filters 0.84 … 0.98; over seeds 1-4 they moved by at most 0.006.) The margins: +0.1 over
+// the noisy input, cross-bilateral over gaussian by 0.02.
 TEST_F(CornellQuality, EveryFilterWithDefaultsRaisesSsim) {
     const double noisy = noisySsim();
     record("cornell_noisy", noisy);
