@@ -7,6 +7,8 @@
 // run.
 //   build/bin/bench_final [--scenes glossy,dof,cornell] [--seeds 21,22] [--seconds 15,30]
 //                         [--threads 2] [--min-spp 16] [--ways uniform,fixed,variance,denoiser]
+//                         (a steered way may name its samples cap, FinalOptions::sppCapRatio:
+//                         variance:16, variance:0 for none)
 //                         [--refresh-share 0.2] [--refresh-quality fast]
 //                         [--frames-dir DIR]   (each run's frame as DIR/<scene>_<seed>_<way>.exr)
 #include <cstdio>
@@ -67,8 +69,13 @@ int main(int argc, char** argv) {
                     o.settings.adaptive = way != "uniform";
                     o.settings.minSpp = minSpp;
                     o.timeLimit = std::stod(budget);
-                    o.steering =
-                        way == "uniform" ? Steering::Fixed : glint::pipeline::parseSteering(way);
+                    // A way may name the samples cap: variance:16, denoiser:0 (off).
+                    const std::size_t colon = way.find(':');
+                    const std::string steering = way.substr(0, colon);
+                    if (colon != std::string::npos)
+                        o.sppCapRatio = std::stod(way.substr(colon + 1));
+                    o.steering = steering == "uniform" ? Steering::Fixed
+                                                       : glint::pipeline::parseSteering(steering);
                     o.expectedAutoSeconds = autoSeconds;
                     o.refreshShare = refreshShare;
                     o.refreshQuality = glint::denoise::parseAutoQuality(refreshQuality);

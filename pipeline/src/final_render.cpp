@@ -74,6 +74,10 @@ void validate(const FinalOptions& options) {
     if (!(options.refreshGrowth > 1.0 && options.refreshGrowth <= 1e6))
         bad("refreshGrowth", "the refresh growth must be a factor in (1, 1e6], got " +
                                  std::to_string(options.refreshGrowth));
+    if (!(options.sppCapRatio == 0.0 || (options.sppCapRatio >= 1.0 && options.sppCapRatio <= 1e6)))
+        bad("sppCapRatio",
+            "the samples cap must be 0 (off) or a factor of the mean in [1, 1e6], got " +
+                std::to_string(options.sppCapRatio));
     if (!(options.refreshShare > 0.0 && options.refreshShare <= 1.0))
         bad("refreshShare", "the refreshes' share of the time limit must be in (0, 1], got " +
                                 std::to_string(options.refreshShare));
@@ -294,12 +298,26 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     // Stop at the target, or when the time left is the final auto's reserve (never in the first
     // pass: its frame must be whole).
     callbacks.cancel = [&] { return stop || (pass >= 1 && !budget.renderMayContinue(now())); };
+    // The schedule's latest map, and whether the one the renderer holds has pixels capped.
+    std::shared_ptr<const Image> scheduled;
+    bool cappedNow = false;
+    // The map handed to the renderer: the schedule's with the samples cap (steered ways only),
+    // or null when the renderer's map stands (nothing moved, no pixel capped before or now).
+    auto steer = [&](const FrameBuffers& frame, bool moved) -> std::shared_ptr<const Image> {
+        bool capped = false;
+        auto map = capSamples(scheduled, frame, steered ? options.sppCapRatio : 0.0, &capped);
+        if (!moved && !capped && !cappedNow) return nullptr;
+        cappedNow = capped;
+        return map;
+    };
     if (settings.adaptive && (steered || options.targetError > 0.0)) {
         callbacks.importance = [&](int, const FrameBuffers& frame) -> std::shared_ptr<const Image> {
-            if (!refresh(frame) || stop || !steered) return nullptr;
+            const bool moved = refresh(frame);
+            if (stop || !steered) return nullptr;
             // The threshold follows the renderer's error, which falls as 1/sqrt(spp): the
             // schedule's scale keeps about as many pixels open as at the start.
-            return makeMap(frame);
+            if (moved) scheduled = makeMap(frame);
+            return steer(frame, moved);
         };
     }
     if (!settings.adaptive && options.targetError > 0.0) {
@@ -320,7 +338,8 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
             if (stop || !budget.renderMayContinue(now()) || boost > kMaxBoost) return nullptr;
             boost *= 2.0;
             ++out.thresholdHalvings;
-            return makeMap(frame);
+            scheduled = makeMap(frame);
+            return steer(frame, true);
         };
 
     render::RenderResult rendered = renderer.render(settings, callbacks);

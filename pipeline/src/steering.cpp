@@ -52,4 +52,36 @@ Image importanceFromError(const Image& relative, double scale) {
     return weights;
 }
 
+std::shared_ptr<const Image> capSamples(std::shared_ptr<const Image> map, const FrameBuffers& frame,
+                                        double ratio, bool* capped) {
+    if (capped) *capped = false;
+    if (!(ratio > 0.0)) return map;
+    // The mean over the pixels rendered (outside a render region they have none).
+    const Image& count = frame.layer(Layer::SampleCount);
+    double sum = 0.0;
+    std::size_t rendered = 0;
+    for (float n : count.data())
+        if (n > 0.0f) {
+            sum += double(n);
+            ++rendered;
+        }
+    if (rendered == 0) return map;
+    const double cap = ratio * sum / double(rendered);
+    std::shared_ptr<Image> out;
+    for (int y = 0; y < count.height(); ++y)
+        for (int x = 0; x < count.width(); ++x) {
+            if (double(count(x, y, 0)) < cap) continue;
+            if (!out) {
+                out = map ? std::make_shared<Image>(*map)
+                          : std::make_shared<Image>(count.width(), count.height(), 1, 1.0f);
+                GLINT_CHECK(out->width() == count.width() && out->height() == count.height(),
+                            "an importance map of the frame's size");
+            }
+            for (int c = 0; c < out->channels(); ++c) (*out)(x, y, c) = 0.0f;
+        }
+    if (!out) return map;
+    if (capped) *capped = true;
+    return out;
+}
+
 }  // namespace glint::pipeline

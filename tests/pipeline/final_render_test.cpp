@@ -2,8 +2,10 @@
 // frame auto last saw, the denoiser-steered loop gives the same bits on 1 and 2 threads, the
 // output holds the denoised colour and the render's layers, the steering maps follow auto's
 // error, and bad options are refused naming the option.
+#include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -458,6 +460,74 @@ TEST(FinalRender, TheImportanceFollowsTheRelativeErrorWithinItsRange) {
     EXPECT_NEAR(estimatedRelMse(rel), 0.5 * (1.0 + 0.01 / 1.01), 1e-6);
 }
 
+std::vector<float> values(const Image& image) {
+    return {image.data().begin(), image.data().end()};
+}
+
+TEST(FinalRender, TheSamplesCapClosesThePixelsAtItsMultipleOfTheMean) {
+    // Four pixels of 1, 1, 1 and 13 samples: a mean of 4. At twice the mean (8) the fourth is
+    // closed (weight 0, the map's other weights kept); at four times (16) none is, and the map
+    // comes back as it was, as it does with the cap off.
+    FrameBuffers frame(4, 1);
+    Image& count = frame.ensure(Layer::SampleCount);
+    for (int x = 0; x < 4; ++x) count(x, 0, 0) = x == 3 ? 13.0f : 1.0f;
+    auto map = std::make_shared<const Image>(4, 1, 1, 3.0f);
+    bool capped = false;
+    const auto two = capSamples(map, frame, 2.0, &capped);
+    EXPECT_TRUE(capped);
+    ASSERT_NE(two, map);
+    EXPECT_EQ(values(*two), (std::vector<float>{3.0f, 3.0f, 3.0f, 0.0f}));
+    EXPECT_EQ(values(*map), (std::vector<float>{3.0f, 3.0f, 3.0f, 3.0f}));
+    EXPECT_EQ(capSamples(map, frame, 4.0, &capped), map);
+    EXPECT_FALSE(capped);
+    EXPECT_EQ(capSamples(map, frame, 0.0, &capped), map);
+    EXPECT_FALSE(capped);
+    // No map (the renderer's own weights, 1): the cap makes one.
+    const auto ones = capSamples(nullptr, frame, 2.0);
+    ASSERT_TRUE(ones);
+    EXPECT_EQ(values(*ones), (std::vector<float>{1.0f, 1.0f, 1.0f, 0.0f}));
+}
+
+TEST(FinalRender, UnderTheSamplesCapNoPixelPassesItsMultipleOfTheMeanByMoreThanAPass) {
+    // The variance schedule under a time limit (fake clock) gives the pixels of largest relative
+    // spread samples ∝ its square: on scenes/pool's white ball (a highlight beside a motion
+    // streak's end, a 24 × 24 region) a few pixels take many times the mean. With the cap at
+    // twice the mean, checked before every adaptive pass, a pixel ends at most one pass
+    // (RenderLoop's largest step, 256) past twice the final mean of the region's pixels.
+    render::Renderer renderer(
+        render::loadScene(std::string(GLINT_SOURCE_DIR) + "/scenes/pool/scene.json"));
+    FinalOptions o = balancedUnderALimit();
+    o.settings.maxDepth = 8;
+    o.settings.region = Rect{44, 68, 30, 54};
+    o.settings.noiseThreshold = 0.01;  // glint-final's start (the scene's default)
+    o.settings.minSpp = 16;
+    o.quality = denoise::AutoQuality::Fast;
+    o.timeLimit = 8.0;
+    o.expectedAutoSeconds = 0.5;
+    auto stats = [&](const FrameBuffers& f) {
+        double sum = 0.0, most = 0.0;
+        int n = 0;
+        for (int y = 30; y < 54; ++y)
+            for (int x = 44; x < 68; ++x) {
+                const double c = f.layer(Layer::SampleCount)(x, y, 0);
+                sum += c;
+                most = std::max(most, c);
+                ++n;
+            }
+        return std::pair{sum / n, most};
+    };
+    o.clock = fakeClock(0.01);
+    o.sppCapRatio = 0.0;
+    const auto [freeMean, freeMost] = stats(renderFinal(renderer, o).frame);
+    o.clock = fakeClock(0.01);
+    o.sppCapRatio = 2.0;
+    const auto [cappedMean, cappedMost] = stats(renderFinal(renderer, o).frame);
+    std::printf("[ cap ] off: mean %.1f most %.0f; 2x: mean %.1f most %.0f\n", freeMean, freeMost,
+                cappedMean, cappedMost);
+    EXPECT_GT(freeMost, 2.0 * freeMean + 256.0);
+    EXPECT_LE(cappedMost, 2.0 * cappedMean + 256.0);
+}
+
 /// The message and place of the glint::Error validate(o) throws ("" when none).
 std::string refusal(const FinalOptions& o) {
     try {
@@ -483,6 +553,13 @@ TEST(FinalRender, BadOptionsAreRefusedNamingTheOption) {
     FinalOptions o = smallOptions();
     o.refreshGrowth = 1.0;
     EXPECT_EQ(refusal(o).rfind("refreshGrowth:", 0), 0u) << refusal(o);
+    for (double r : {-1.0, 0.5, nan, 2e6}) {
+        o = smallOptions();
+        o.sppCapRatio = r;
+        EXPECT_EQ(refusal(o).rfind("sppCapRatio: the samples cap must be 0 (off) or a factor", 0),
+                  0u)
+            << refusal(o);
+    }
     o = smallOptions();
     o.settings.spp = 0;
     o.targetError = 0.01;

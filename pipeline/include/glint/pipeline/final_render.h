@@ -74,6 +74,10 @@ struct FinalOptions {
     /// Refresh (run auto) before the first adaptive pass and then whenever the mean samples per
     /// pixel have grown by this factor since the last refresh (> 1).
     double refreshGrowth = 2.0;
+    /// Steered adaptive passes (Steering::Variance, Steering::Denoiser) leave a pixel closed
+    /// while it has at least this many times the frame's mean samples per pixel (capSamples);
+    /// 0: no cap. The fixed threshold is Cycles' and is not capped.
+    double sppCapRatio = 16.0;
     /// The automatic selection (the halves estimator; AutoOptions::estimateError is set here).
     denoise::AutoOptions autoOptions;
     /// The final auto's quality; under a time limit the most it runs at: a cheaper plan
@@ -99,9 +103,10 @@ struct FinalOptions {
 };
 
 /// Throws glint::Error(InvalidArgument) naming the first bad option ("timeLimit",
-/// "targetError", "refreshGrowth", "refreshShare", "finalShare", "spp") and what was expected: a
-/// time limit or error target not NaN, ≥ 0 and at most kMaxTimeLimit / kMaxTargetError; shares in
-/// (0, 1]; some end (a time limit, an error target or a spp); render::validate's for the settings.
+/// "targetError", "refreshGrowth", "sppCapRatio", "refreshShare", "finalShare", "spp") and what
+/// was expected: a time limit or error target not NaN, ≥ 0 and at most kMaxTimeLimit /
+/// kMaxTargetError; a samples cap of 0 or in [1, 1e6]; shares in (0, 1]; some end (a time limit,
+/// an error target or a spp); render::validate's for the settings.
 void validate(const FinalOptions& options);
 
 /// What a final render made.
