@@ -235,7 +235,7 @@ TEST(ZSobol, RefusesATimeLimitAndTooManyBits) {
 }
 
 TEST(Sobol, TheCornellBoxIsUnbiased) {
-    // The image mean of a 16-spp Sobol (and ZSobol) render against the committed 4096-spp
+    // The image mean of a 16-spp Sobol (and ZSobol) render against the committed 65,536-spp
     // reference: within 4 standard errors (the per-pixel variances of both images; the sample
     // variance of a scrambled net overstates its error, so this bound is conservative).
     const std::filesystem::path dir = GLINT_SOURCE_DIR;

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The committed scene files stay small (scenes/README.md): no file under scenes/ is over 1 MiB
-# (the references are half float, zip-compressed; the largest, scenes/dof/reference.exr, is 0.5 MB).
+# (the references are half float, zip- or pxr24-compressed; the largest, scenes/cornell/reference.exr, is 0.7 MB).
 # Usage: scene_sizes.sh   (run from the repository root)
 set -euo pipefail
 limit=1048576
