@@ -2,7 +2,7 @@
 // (docs/lab/adaptive-dof-denoiser.md, "Why dof's denoised error does not fall where samples go").
 // On one scene at --spp mean, with the oracle allocation of bench_adaptive_oracle (another seed's
 // true error after auto, box-blurred 5×5, n_i ∝ √e_i, at least --pilot):
-// Errors are against --reference (the lab's reference of the scene unless given: lab_reference.h).
+// Errors are against --reference (scenes/<scene>/reference.exr unless given: scene_reference.h).
 //  1. Uniform at --spp against uniform at 4× --spp (same seed): in the worst 10 % of the pixels
 //     by the map (and in the rest), how much the noisy, the denoised and the oracle-choice error
 //     fall, and the reference's own noise (a floor no sample removes: by its variance layer, or
@@ -35,8 +35,8 @@
 #include "glint/render/scene.h"
 
 #include "bench_options.h"
-#include "lab_reference.h"
 #include "oracle_allocation.h"
+#include "scene_reference.h"
 
 namespace {
 
@@ -142,7 +142,7 @@ int main(int argc, char** argv) {
         return true;
     };
     glint::FrameBuffers referenceFrame;
-    if (!readReference(referencePath.empty() ? glint::bench::labReference(scene) : referencePath,
+    if (!readReference(referencePath.empty() ? glint::bench::sceneReference(scene) : referencePath,
                        "--reference", referenceFrame))
         return 2;
     const glint::Image& reference = referenceFrame.color();

@@ -3,7 +3,7 @@
 // threshold; the variance schedule (a uniform map of scale √(spp / spp at the adaptive start));
 // and the spread map (lab::importanceFromSpread at that scale, remade whenever the mean spp
 // has doubled). Every adaptive way halves its threshold at convergence, as glint-final does.
-// relMSE after auto (balanced) against the lab's reference of the scene (lab_reference.h); one TSV
+// relMSE after auto (balanced) against scenes/<scene>/reference.exr (scene_reference.h); one TSV
 // row per run.
 //   build/bin/bench_adaptive_equal_time [--scenes dof] [--seeds 21,22] [--seconds 12]
 //                                       [--threads 2] [--min-spp 16]
@@ -23,7 +23,7 @@
 #include "glint/render/scene.h"
 
 #include "bench_options.h"
-#include "lab_reference.h"
+#include "scene_reference.h"
 
 int main(int argc, char** argv) {
     std::string scenes = "dof", seeds = "21,22", ways = "uniform,fixed,variance,spread";
@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
         "scene\tbudget\tseed\tway\trelMSE\traw\tmeanSpp\tpasses\thalvings\trenderSeconds\n");
     for (const std::string& name : glint::bench::splitList(scenes)) {
         const std::string dir = std::string(GLINT_SOURCE_DIR) + "/scenes/" + name;
-        const glint::Image reference = glint::readExr(glint::bench::labReference(name)).color();
+        const glint::Image reference = glint::readExr(glint::bench::sceneReference(name)).color();
         glint::render::Renderer renderer(glint::render::loadScene(dir + "/scene.json"));
         const int w = renderer.scene().width(), h = renderer.scene().height();
         for (const std::string& seed : glint::bench::splitList(seeds))

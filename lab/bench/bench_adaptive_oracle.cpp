@@ -46,8 +46,8 @@
 #include "glint/render/scene.h"
 
 #include "bench_options.h"
-#include "lab_reference.h"
 #include "oracle_allocation.h"
+#include "scene_reference.h"
 
 namespace {
 
@@ -114,7 +114,7 @@ int main(int argc, char** argv) {
                        "' (expected oracle, oraclePow, sqrtVariance, oracleCost, oracleTileCost, "
                        "pilotSpread, pilotSpreadRaw, pilotAuto)");
     const std::string dir = std::string(GLINT_SOURCE_DIR) + "/scenes/" + scene;
-    const glint::Image reference = glint::readExr(glint::bench::labReference(scene)).color();
+    const glint::Image reference = glint::readExr(glint::bench::sceneReference(scene)).color();
     glint::render::Renderer renderer(glint::render::loadScene(dir + "/scene.json"));
     const int w = renderer.scene().width(), h = renderer.scene().height();
     const glint::pipeline::AutoRun autoRun =

@@ -3,7 +3,7 @@
 // any of four ways — uniform passes, the renderer's adaptive sampling at a fixed threshold
 // (halved at convergence while time is left), the threshold schedule with the renderer's error
 // alone (variance) and with auto's error of the denoised image (denoiser) — and the relMSE of
-// the denoised image against the lab's reference of the scene (lab_reference.h). One TSV row per
+// the denoised image against scenes/<scene>/reference.exr (scene_reference.h). One TSV row per
 // run.
 //   build/bin/bench_final [--scenes glossy,dof,cornell] [--seeds 21,22] [--seconds 15,30]
 //                         [--threads 2] [--min-spp 16] [--ways uniform,fixed,variance,denoiser]
@@ -23,7 +23,7 @@
 #include "glint/render/scene.h"
 
 #include "bench_options.h"
-#include "lab_reference.h"
+#include "scene_reference.h"
 
 int main(int argc, char** argv) {
     std::string scenes = "glossy,dof,cornell", seeds = "21,22", budgets = "15,30";
@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
         "refreshSeconds\tautoSeconds\tseconds\n");
     for (const std::string& name : glint::bench::splitList(scenes)) {
         const std::string dir = std::string(GLINT_SOURCE_DIR) + "/scenes/" + name;
-        const glint::Image reference = glint::readExr(glint::bench::labReference(name)).color();
+        const glint::Image reference = glint::readExr(glint::bench::sceneReference(name)).color();
         glint::render::Renderer renderer(glint::render::loadScene(dir + "/scene.json"));
         // What the final auto takes on this film (the time limit keeps room for it until a
         // refresh measures it): the final auto of a 16-spp uniform final render.

@@ -56,8 +56,8 @@ double halfRoundingVariance(double r) {
 
 // z = (x - r) / sqrt(var_r n_r / n_x + var_r): the expected variance of x's mean is taken from
 // the reference (var_r = s_r^2 / n_r is an estimate of the same per-sample variance from n_r =
-// 8,192 to 65,536 samples, scaled to n_x samples), not from x's own 16-sample estimate, which is biased
-// low exactly where rare bright paths were missed (x ≈ 0 with var_x ≈ 0 gives |z| in the
+// 8,192 to 65,536 samples, scaled to n_x samples), not from x's own 16-sample estimate, which is
+// biased low exactly where rare bright paths were missed (x ≈ 0 with var_x ≈ 0 gives |z| in the
 // hundreds). x's own variance buffer is checked separately through varianceRatio.
 Agreement compare(const FrameBuffers& x, const FrameBuffers& ref) {
     const Image& cx = x.color();

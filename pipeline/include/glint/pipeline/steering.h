@@ -28,8 +28,8 @@ Image importanceFromError(const Image& relative, double scale);
 
 /// `map` (the schedule's weights; null: 1 everywhere) with weight 0 at every pixel of `frame`
 /// that has at least `ratio` times the mean samples of the pixels rendered (a render region's),
-/// which the adaptive passes
-/// then leave closed; `map` itself when no pixel is there or ratio is 0 (off). The noise
+/// which the adaptive passes then leave closed; `map` itself when no pixel is there or ratio is
+/// 0 (off). The noise
 /// threshold's allocation gives a pixel samples ∝ the square of its relative spread, which puts
 /// most of a long render into a few pixels of rare bright paths (a highlight's, a motion
 /// streak's end); relMSE falls fastest with samples ∝ the spread itself. `capped`, when given,

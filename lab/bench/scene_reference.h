@@ -7,7 +7,7 @@
 
 namespace glint::bench {
 
-inline std::string labReference(const std::string& scene) {
+inline std::string sceneReference(const std::string& scene) {
     const std::filesystem::path root = GLINT_SOURCE_DIR;
     return (root / "scenes" / scene / "reference.exr").string();
 }
