@@ -23,12 +23,13 @@ std::vector<std::unique_ptr<Filter>> makeAll() {
     filters.push_back(makeNforFilter());
     filters.push_back(makeUNetFilter());
     filters.push_back(makeExternalFilter());
+    filters.push_back(makeIdentityFilter());
     return filters;
 }
 
 // Filters left out of the default bank: they join a bank only when named (--filters), so that
 // the default bank, and the quality tables measured on it, stay as they were.
-constexpr std::string_view kOptInFilters[] = {"nfor", "external"};
+constexpr std::string_view kOptInFilters[] = {"nfor", "external", "identity"};
 
 bool optIn(const Filter& f) {
     return std::find(std::begin(kOptInFilters), std::end(kOptInFilters), f.name()) !=

@@ -28,6 +28,7 @@ constexpr Naming kNamings[] = {
     {"nfor", "NFOR (regression)", "strength", ""},
     {"external", "External denoiser", "", ""},
     {"unet", "Learned (unet)", "quality", ""},
+    {"identity", "No filter (the render)", "", ""},
     {denoise::kAutoCorrection, "Auto's correction", "", ""},  // no filter: Auto Start's layer
 };
 

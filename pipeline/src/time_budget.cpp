@@ -9,10 +9,11 @@ namespace glint::pipeline {
 
 namespace {
 
-/// The cost model's constants, in units of cheapestPlan()'s time on the same frame: for the
+/// The cost model's constants, in units of the time of one fast member of cross-bilateral (its
+/// two members; cheapestPlan() before it held the identity too) on the same frame: for the
 /// default bank a fixed part (the selection, the halves, the error estimate) and a part per
-/// member, each filter's defaults counted as members; for a bank of named filters each member at
-/// half of cheapestPlan (its two members). Fitted to bench_final_budget's warm times on cornell,
+/// member, each filter's defaults counted as members; for a bank of named filters each smoothing
+/// member at half of that. Fitted to bench_final_budget's warm times on cornell,
 /// fox, dof and glossy at 256² and 540², 8 and 64 spp (docs/lab/race.md, "Keeping the time
 /// limit": fast with 1, 8 and 32 members 4.3, 6.1 and 12.3 × cheapestPlan, balanced 16.0).
 constexpr double kFixedTwoSided = 7.29;  ///< balanced, best
@@ -20,12 +21,20 @@ constexpr double kFixedOneSided = 2.27;  ///< fast
 constexpr double kMemberTwoSided = 0.122;
 constexpr double kMemberOneSided = 0.256;
 constexpr double kNamedMember = 0.5;
+/// A named filter that does not smooth (the identity, FilterTraits::smooths) is its default
+/// member only, and costs only its error map: cheapestPlan with it took 1.010, 1.032 and 1.020 ×
+/// the time without it on cornell, fox and glossy at 512 spp (docs/lab/race.md, "The render
+/// itself in the cheapest plan").
+constexpr double kPassMember = 0.03;
 /// A process's first run of the default bank loads and prepares what later runs reuse (the
 /// unet's weights and its plans): 0.7–1.7 s whatever the frame's size, about 4.5 ×
 /// cheapestPlan's time on 256² pixels, in pixels at weight 1.
 constexpr double kColdStartPixels = 4.5 * 65536.0;
-/// The filter of cheapestPlan.
+/// The filter of cheapestPlan, and the member beside it that keeps the render where the filter
+/// would only blur it (a converged frame: docs/lab/race.md, "The render itself in the cheapest
+/// plan").
 constexpr const char* kCheapestFilter = "cross-bilateral";
+constexpr const char* kRenderItself = "identity";
 /// The bank sizes tried below fast's own.
 constexpr int kSmallerBanks[] = {16, 8, 4, 2, 1};
 
@@ -60,8 +69,14 @@ double planWeight(const AutoPlan& plan) {
     const bool oneSided = plan.quality == denoise::AutoQuality::Fast;
     const int members =
         plan.bankSize > 0 ? plan.bankSize : denoise::autoQualityBankSize(plan.quality);
-    // Each filter's defaults come on top of the Latin-hypercube members.
-    if (!plan.filters.empty()) return kNamedMember * double(members + int(plan.filters.size()));
+    // Each filter's defaults come on top of the Latin-hypercube members, which go to the
+    // filters that smooth.
+    if (!plan.filters.empty()) {
+        double weight = kNamedMember * double(members);
+        for (const std::string& name : plan.filters)
+            weight += denoise::findFilter(name).traits().smooths ? kNamedMember : kPassMember;
+        return weight;
+    }
     const int all = members + int(denoise::defaultBankFilters().size());
     return oneSided ? kFixedOneSided + kMemberOneSided * double(all)
                     : kFixedTwoSided + kMemberTwoSided * double(all);
@@ -95,7 +110,7 @@ double AutoCost::seconds(const AutoPlan& plan, double pixels) const {
 }
 
 AutoPlan cheapestPlan() {
-    return {denoise::AutoQuality::Fast, 1, {kCheapestFilter}};
+    return {denoise::AutoQuality::Fast, 1, {kCheapestFilter, kRenderItself}};
 }
 
 AutoPlan warmupPlan() {

@@ -16,5 +16,6 @@ std::unique_ptr<Filter> makeNlMeansFilter();
 std::unique_ptr<Filter> makeNforFilter();
 std::unique_ptr<Filter> makeUNetFilter();  // src/learned/unet_filter.cpp
 std::unique_ptr<Filter> makeExternalFilter();
+std::unique_ptr<Filter> makeIdentityFilter();
 
 }  // namespace glint::denoise

@@ -100,6 +100,9 @@ struct FilterTraits {
     };
     Output output = Output::Average;
     Missing missing = Missing::Neighbours;
+    /// Whether the output is smoother than the input (every filter but the identity, whose
+    /// finite pixels come out as they went in: auto's candidate where no filter helps).
+    bool smooths = true;
 };
 
 /// A denoising filter. Implementations are stateless and thread-safe: apply() may run

@@ -117,7 +117,9 @@ class AutoCost {
     bool m_warm = false;  ///< a default bank has run
 };
 
-/// The cheapest plan: one fast member of one filter (with its defaults: two members).
+/// The cheapest plan: one fast member of one filter (with its defaults: two members), and the
+/// render itself (the identity filter), which auto keeps where the filter would only blur a
+/// converged frame: the fallback at a final auto's deadline is never much worse than the render.
 AutoPlan cheapestPlan();
 
 /// The default bank's smallest plan (fast with 1 member), which glint-final runs on the probe's
