@@ -4,7 +4,7 @@
 // (halved at convergence while time is left), the threshold schedule with the renderer's error
 // alone (variance) and with auto's error of the denoised image (denoiser) — and the relMSE of
 // the denoised image against scenes/<scene>/reference.exr (scene_reference.h). One TSV row per
-// run.
+// run, with the final auto's plan and, when one was stopped at its deadline, that plan.
 //   build/bin/bench_final [--scenes glossy,dof,cornell] [--seeds 21,22] [--seconds 15,30]
 //                         [--threads 2] [--min-spp 16] [--ways uniform,fixed,variance,denoiser]
 //                         (a steered way may name its samples cap, FinalOptions::sppCapRatio:
@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
     using glint::pipeline::Steering;
     std::printf(
         "scene\tbudget\tseed\tway\trelMSE\testimated\tmeanSpp\tpasses\trefreshes\thalvings\t"
-        "refreshSeconds\tautoSeconds\tseconds\n");
+        "refreshSeconds\tautoSeconds\tseconds\tplan\tstopped\n");
     for (const std::string& name : glint::bench::splitList(scenes)) {
         const std::string dir = std::string(GLINT_SOURCE_DIR) + "/scenes/" + name;
         const glint::Image reference = glint::readExr(glint::bench::sceneReference(name)).color();
@@ -86,11 +86,13 @@ int main(int argc, char** argv) {
                         glint::writeExr(r.frame,
                                         framesDir + "/" + name + "_" + seed + "_" + way + ".exr");
                     const double pixels = double(r.frame.width()) * double(r.frame.height());
-                    std::printf("%s\t%s\t%s\t%s\t%.6g\t%.4g\t%.1f\t%d\t%d\t%d\t%.2f\t%.2f\t%.2f\n",
-                                name.c_str(), budget.c_str(), seed.c_str(), way.c_str(), relMse,
-                                r.estimatedRelMse, double(r.render.samples) / pixels,
-                                r.render.passes, r.refreshes, r.thresholdHalvings, r.refreshSeconds,
-                                r.autoSeconds, r.seconds);
+                    std::printf(
+                        "%s\t%s\t%s\t%s\t%.6g\t%.4g\t%.1f\t%d\t%d\t%d\t%.2f\t%.2f\t%.2f\t%s\t%s\n",
+                        name.c_str(), budget.c_str(), seed.c_str(), way.c_str(), relMse,
+                        r.estimatedRelMse, double(r.render.samples) / pixels, r.render.passes,
+                        r.refreshes, r.thresholdHalvings, r.refreshSeconds, r.autoSeconds,
+                        r.seconds, r.finalPlan.c_str(),
+                        r.finalStopped.empty() ? "-" : r.finalStopped.c_str());
                     std::fflush(stdout);
                 }
     }
