@@ -73,5 +73,40 @@ TEST(AutoShortlist, AShortlistFiltersOnlyItsMembersOnBothHalvesAndChoosesAmongTh
     EXPECT_THROW(autoComposite(bank, f, bad), Error);
 }
 
+TEST(AutoShortlist, OneSidedTheFinalChoiceIsMadeAgainAmongTheMembersThatWinTheMostPixels) {
+    // Fast's form (the halves filtered on A only): the first choice over every member, then the
+    // final one among the shortlist's, on the same maps, so a member that wins a few pixels (one
+    // that smears a small light into its neighbours, docs/auto.md "Shortlist") is no candidate.
+    const Image clean = cleanImage(96, 64);
+    const FrameBuffers f = halvesFrame(clean, 0.08, Noise::Skewed, 13);
+    const FilterBank bank = gaussianBank(f, {0.3, 0.6, 1.0, 1.5, 2.5, 4.0});
+    AutoOptions every, two;
+    every.tuning["oneSided"] = 1;
+    every.tuning["shortlist"] = 0;
+    every.tuning["temperature"] = 0.0;  // a hard choice: the planes count the pixels won
+    every.tuning["feather"] = 0;
+    two.tuning = every.tuning;
+    two.tuning["shortlist"] = 2;
+    const AutoResult first = autoComposite(bank, f, every);
+    const AutoResult narrowed = autoComposite(bank, f, two);
+    ASSERT_GT(first.layers.size(), 2u);  // else the shortlist would change nothing
+    // The two members that won the most pixels in the first choice.
+    std::vector<std::pair<long, int>> wins;
+    for (const AutoLayer& layer : first.layers) {
+        long won = 0;
+        for (int y = 0; y < first.choice.height(); ++y)
+            for (int x = 0; x < first.choice.width(); ++x)
+                won += int(first.choice(x, y, 0)) == layer.member;
+        wins.emplace_back(-won, layer.member);
+    }
+    std::sort(wins.begin(), wins.end());
+    ASSERT_LE(narrowed.layers.size(), 2u);
+    for (const AutoLayer& layer : narrowed.layers)
+        EXPECT_TRUE(layer.member == wins[0].second || layer.member == wins[1].second)
+            << "member " << layer.member;
+    // The same maps: every member's estimate as in the first choice.
+    EXPECT_EQ(narrowed.estimatedMse, first.estimatedMse);
+}
+
 }  // namespace
 }  // namespace glint::denoise

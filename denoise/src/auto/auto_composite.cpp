@@ -642,7 +642,16 @@ AutoResult Pipeline::run() {
         estimatePass();
         candidates.resize(n);
         std::iota(candidates.begin(), candidates.end(), std::size_t(0));
-        chosen = choose(m_estimates, candidates, !m_s.shortlisted, m_s, noise, m_work, scoreRows());
+        chosen = choose(m_estimates, candidates, !m_s.shortlisted && !m_s.rechosen, m_s, noise,
+                        m_work, scoreRows());
+        // One-sided: the final choice again among the shortlist, on the same maps (a member
+        // that wins only a few pixels, such as one that smears a small light, is not a
+        // candidate).
+        if (m_s.rechosen) {
+            candidates = shortlistOf(chosen, std::size_t(m_s.shortlist));
+            chosen = Choice{};
+            chosen = choose(m_estimates, candidates, true, m_s, noise, m_work, scoreRows());
+        }
         // Pass 3: the shortlist on B; the final choice.
         if (m_s.shortlisted) {
             candidates = shortlistOf(chosen, std::size_t(m_s.shortlist));
@@ -699,13 +708,14 @@ AutoResult Pipeline::run() {
 // fraction wait at 0.999 until finish()).
 std::int64_t expectedWork(const AutoSettings& s, std::size_t n, std::int64_t h) {
     const auto members = std::int64_t(n);
-    const auto shortlist = std::int64_t(s.shortlisted ? s.shortlist : 0);
-    const std::int64_t finalCandidates = s.shortlisted ? shortlist : members;
+    const bool narrowed = s.shortlisted || s.rechosen;
+    const auto shortlist = std::int64_t(narrowed ? s.shortlist : 0);
+    const std::int64_t finalCandidates = narrowed ? shortlist : members;
     std::int64_t passes = 0;
     if (s.secant || s.tangent) passes += members * kFilterPasses + 1;
     passes += members * kFilterPasses * (s.halves && s.bothHalves ? 2 : 1);
     if (s.temperature > 0.0) passes += 3;
-    passes += (s.shortlisted ? members + 1 + shortlist * kFilterPasses : 0) +
+    passes += (narrowed ? members + 1 : 0) + (s.shortlisted ? shortlist * kFilterPasses : 0) +
               finalCandidates * (1 + s.finer) + 1;
     if (s.feather > 0) passes += finalCandidates + 2;
     passes += finalCandidates * kFilterPasses * (s.stack > 0 ? 3 : 1) + 1;

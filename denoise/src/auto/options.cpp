@@ -173,6 +173,7 @@ AutoSettings resolveSettings(const FilterBank& bank, const FrameBuffers& frame,
     const std::size_t n = bank.size();
     s.shortlist = int(t["shortlist"]);
     s.shortlisted = halves && symmetric && s.shortlist > 0 && std::size_t(s.shortlist) < n;
+    s.rechosen = halves && !symmetric && s.shortlist > 0 && std::size_t(s.shortlist) < n;
     s.bothHalves = symmetric && !s.shortlisted;
     s.exposure = options.exposure;
     s.featherGate = t["featherGate"];

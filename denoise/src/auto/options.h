@@ -53,6 +53,9 @@ struct AutoSettings {
     /// Halves, both sides, 0 < shortlist < the bank's size: every member on A first, both halves
     /// only for the shortlist.
     bool shortlisted = false;
+    /// Halves, one side, 0 < shortlist < the bank's size: the final choice is made again among
+    /// the shortlist's members, on the same maps.
+    bool rechosen = false;
     /// Every member is filtered on both halves (symmetric without a shortlist).
     bool bothHalves = false;
     int stack = 0;  ///< members in the stacking (0: off)

@@ -1,5 +1,6 @@
 // The artist's three qualities of auto (auto.h, AutoQuality): each a bank size and tuning
-// overrides. Balanced is the defaults. Fast filters the halves one-sided, which the lab measured
+// overrides. Balanced is the defaults. Fast filters the halves one-sided (with the shortlist made
+// on A alone: docs/lab/auto.md, "Fast's one-sided shortlist"), which the lab measured
 // at 1.59–1.73 × the bank's time against 1.85–1.96 × for the defaults, 2 of 12 cells below the
 // best single member (docs/lab/auto-notebook.md, step 7; auto-notebook-2.md, "Speed"), and builds
 // half the bank. Best builds twice the bank with the default tuning; no setting has yet been

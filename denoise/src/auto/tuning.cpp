@@ -33,8 +33,9 @@ std::vector<ParamSpec> makeSpecs() {
         integer("oneSided", "one-sided", 0, 1, 0,
                 "halves: filter half A only (half the time, noisier estimates; no stacking)"),
         integer("shortlist", "shortlist", 0, 4096, 16,
-                "halves, both sides: members filtered on B too after a one-sided first choice, "
-                "the final choice among them (0: all)"),
+                "halves: the members that win the most pixels in a first choice, the final "
+                "choice among them (both sides: filtered on B too; one side: on the same "
+                "maps) (0: all)"),
         integer("window", "window radius (px)", 0, 64, 8,
                 "radius of the box over which the error maps are averaged before the choice"),
         real("confidence", "confidence (standard errors)", 0.0, 1000.0, 1.0,
