@@ -593,7 +593,8 @@ void Pipeline::stackPass(const std::vector<int>& order, AutoResult& result) {
                 to.push_back(featureRows(q, int(sides[s]), y0, y1));
         }
     };
-    // The regression, weighted by the display slope at the composite.
+    // The regression, weighted by the display slope at the composite; a correction past the
+    // feather gate is not applied (StackGate).
     const Image weightAtC =
         m_s.space == SureSpace::Linear ? Image{} : tangentWeights(result.composite, m_s.exposure);
     // The halves' colour over the region.
@@ -601,7 +602,8 @@ void Pipeline::stackPass(const std::vector<int>& order, AutoResult& result) {
     result.composite = stackComposite(
         std::move(result.composite), m_blendA, m_blendB, k + featureCount, load,
         regionOf(m_halves->halfA().color(), cropA), regionOf(m_halves->halfB().color(), cropB),
-        weightAtC, m_s.stackWindow, m_s.stackRidge, m_s.stackFloor, m_s.stackSmooth, &m_work);
+        weightAtC, m_s.stackWindow, m_s.stackRidge, m_s.stackFloor, m_s.stackSmooth, &m_work,
+        StackGate{m_s.featherGate, m_s.exposure});
     result.stacked = int(k);
     result.stackFeatures = int(featureCount);
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "box_averages.h"
+#include "glint/image/display_curve.h"
 #include "glint/image/error.h"
 #include "stacking.h"
 
@@ -136,7 +137,7 @@ void featureRegressorStrips(const Image& base, const Image* albedo, const Image*
 Image stackComposite(const Image& composite, const Image& blendA, const Image& blendB,
                      const std::vector<StackMember>& members, const Image& halfA,
                      const Image& halfB, const Image& weight, int radius, double ridge,
-                     double floor, int smooth, WorkContext* work) {
+                     double floor, int smooth, WorkContext* work, const StackGate& gate) {
     for (const StackMember& m : members)
         GLINT_CHECK(m.full && m.onA && m.onB && m.full->sameShape(composite) &&
                     m.onA->sameShape(composite) && m.onB->sameShape(composite));
@@ -154,13 +155,13 @@ Image stackComposite(const Image& composite, const Image& blendA, const Image& b
         }
     };
     return stackComposite(Image(composite), blendA, blendB, members.size(), load, halfA, halfB,
-                          weight, radius, ridge, floor, smooth, work);
+                          weight, radius, ridge, floor, smooth, work, gate);
 }
 
 Image stackComposite(Image composite, const Image& blendA, const Image& blendB, std::size_t count,
                      const LoadStackRows& load, const Image& halfA, const Image& halfB,
                      const Image& weight, int radius, double ridge, double floor, int smooth,
-                     WorkContext* work) {
+                     WorkContext* work, const StackGate& gate) {
     const int w = composite.width(), h = composite.height();
     const std::size_t k = count;
     GLINT_CHECK(composite.channels() == 3 && blendA.sameShape(composite) &&
@@ -184,9 +185,11 @@ Image stackComposite(Image composite, const Image& blendA, const Image& blendB, 
             for (const Image& r : *list)
                 GLINT_CHECK(r.width() == w && r.height() == y1 - y0 && r.channels() == 3);
     };
-    // c + Σ a_i (f_i − c) at one pixel, clamped at 0; the composite where it is not finite.
+    // c + Σ a_i (f_i − c) at one pixel, clamped at 0; the composite where it is not finite, and
+    // past the gate the composite clamped at 0.
     const StackRows& fullOf = smooth > 0 ? fullRows : rows;
     const int& fullOfY0 = smooth > 0 ? fullY0 : rowsY0;
+    const DisplayCurve display(std::exp2(double(gate.exposure)));
     const auto correct = [&](int x, int y, const double* a) {
         float value[3];
         for (int c = 0; c < 3; ++c) {
@@ -196,6 +199,11 @@ Image stackComposite(Image composite, const Image& blendA, const Image& blendB, 
                 v += a[i] * (double(fullOf.full[i](x, y - fullOfY0, c)) - base);
             if (!std::isfinite(v)) return;
             value[c] = float(std::max(0.0, v));
+            if (gate.gate > 0.0 &&
+                std::fabs(display(double(value[c])) - display(base)) > gate.gate) {
+                for (int g = 0; g < 3; ++g) value[g] = std::max(0.0f, composite(x, y, g));
+                break;
+            }
         }
         for (int c = 0; c < 3; ++c) out(x, y, c) = value[c];
     };

@@ -59,6 +59,16 @@ using RegressorStripSink = std::function<void(int y0, std::vector<Image>& rows)>
 void featureRegressorStrips(const Image& base, const Image* albedo, const Image* normal, int radius,
                             int rows, const RegressorStripSink& sink, WorkContext* work = nullptr);
 
+/// The stacking's display gate: where the correction moves a pixel's display value (exposure,
+/// clamp, sRGB) by more than `gate` in a channel, the pixel keeps the composite, clamped at 0
+/// (auto passes the feather gate: a correction that large is a model fitted in another part of
+/// its windows, such as the coefficients of a small bright light smoothed into its dark
+/// neighbours; 0: no gate).
+struct StackGate {
+    double gate = 0.0;
+    float exposure = 0.0f;
+};
+
 /// The stacking's regression (AutoOptions::stack; docs/auto.md, "Stacking"): per pixel,
 /// composite + Σ_i a_i (full_i − composite), clamped at 0, over at most kMaxStackRegressors
 /// members (the chosen members, then any feature regressors). The a_i minimise, over the
@@ -73,13 +83,16 @@ void featureRegressorStrips(const Image& base, const Image* albedo, const Image*
 /// definite keeps the composite. With `smooth` > 0, the coefficients applied at a pixel are the
 /// box average over (2·smooth + 1)² pixels (truncated at the border) of those fitted around
 /// each pixel, a failed system counting as all 0: each window's model applied to every pixel it
-/// covers, averaged. A pixel whose corrected value is not finite keeps the composite.
+/// covers, averaged. A pixel whose corrected value is not finite keeps the composite; one whose
+/// corrected display value (StackGate) moves by more than the gate in a channel keeps it
+/// clamped at 0.
 /// Deterministic whatever the thread count. `work`, if given, runs the box averages (2 units
 /// per row of each tile with its context rows, and 2 per row for the smoothing).
 Image stackComposite(const Image& composite, const Image& blendA, const Image& blendB,
                      const std::vector<StackMember>& members, const Image& halfA,
                      const Image& halfB, const Image& weight, int radius, double ridge,
-                     double floor, int smooth, WorkContext* work = nullptr);
+                     double floor, int smooth, WorkContext* work = nullptr,
+                     const StackGate& gate = {});
 
 /// Rows [y0, y1) of the stacking's regressors (StackMember's three images, each of those rows
 /// only): `full` when asked for, `onA` and `onB` when the halves are.
@@ -99,7 +112,7 @@ using LoadStackRows = std::function<void(int y0, int y1, bool full, bool halves,
 Image stackComposite(Image composite, const Image& blendA, const Image& blendB, std::size_t count,
                      const LoadStackRows& load, const Image& halfA, const Image& halfB,
                      const Image& weight, int radius, double ridge, double floor, int smooth,
-                     WorkContext* work = nullptr);
+                     WorkContext* work = nullptr, const StackGate& gate = {});
 
 /// The rows of the regression's tiles (each with `radius` rows of context on either side), so
 /// that the sums of a 1024-wide frame with 10 regressors take about 75 MB, not ten times that.
