@@ -16,6 +16,7 @@
 #include <QTemporaryDir>
 #include <QTest>
 #include <QToolButton>
+#include <cmath>
 
 #include <set>
 
@@ -295,6 +296,45 @@ class StudioCompareTest : public QObject {
         w->setStage(1);
         w->setStage(2);
         QCOMPARE(w->tuneView()->filter(), std::string("guided"));
+    }
+
+    // "No filter (the render)" is a filter like any other: tuned, and painted over a blurring
+    // layer it brings the render back where its weight is 1.
+    void theRenderItselfPaintsTheRenderBack() {
+        auto w = openScene();
+        QVERIFY(w);
+        w->setStage(2);
+        w->tuneView()->setFilter("identity");
+        QCOMPARE(w->tuneView()->filter(), std::string("identity"));
+        QVERIFY(waitFor([&] { return w->tuneView()->previewReady(); }));
+        const FramePtr input = w->session()->input();
+        QVERIFY(input);
+        Image mask(input->width(), input->height(), 1);
+        for (int y = 0; y < input->height() / 2; ++y)
+            for (int x = 0; x < input->width(); ++x) mask(x, y, 0) = 1.0f;
+        QVERIFY(waitIdle(*w));
+        const std::size_t before = w->session()->session().layerCount();
+        w->session()->addLayer("gaussian", {{"sigma", 4.0}},
+                               Image(mask.width(), mask.height(), 1, 1.0f));
+        QVERIFY(waitFor([&] { return w->session()->session().layerCount() == before + 1; }));
+        QVERIFY(waitIdle(*w));
+        w->session()->addLayer("identity", {}, mask);
+        QVERIFY(waitFor([&] { return w->session()->session().layerCount() == before + 2; }));
+        QVERIFY(waitIdle(*w));
+        // The top half is the render, bit for bit; the bottom half the blur.
+        const Image& composite = w->session()->session().composite();
+        const Image& render = w->session()->session().input().color();
+        double moved = 0.0;
+        for (int y = 0; y < input->height(); ++y)
+            for (int x = 0; x < input->width(); ++x)
+                for (int c = 0; c < 3; ++c) {
+                    if (y < input->height() / 2)
+                        QCOMPARE(composite(x, y, c), render(x, y, c));
+                    else
+                        moved += std::fabs(composite(x, y, c) - render(x, y, c));
+                }
+        QVERIFY(moved > 0.0);
+        QCOMPARE(layerName("identity", {}), QStringLiteral("No filter (the render)"));
     }
 
     // --- Comparisons that do not mislead -----------------------------------------------------
