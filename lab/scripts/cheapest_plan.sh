@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # glint-final's cheapest plan (its fallback at the final auto's deadline) with and without the
-# render itself (the identity filter), against the render and the default bank (docs/lab/race.md,
-# "The render itself in the cheapest plan"). For each scene: a render with half buffers, either
+# render itself (the identity filter), against the render and the default bank
+# (docs/lab/cheapest-plan.md). For each scene: a render with half buffers, either
 # at a fixed spp or for a time, then auto on it four ways, each against scenes/S/reference.exr.
 # Prints one TSV row per render: scene, seed, mean spp, and the relMSE of the render, of fast with
 # one cross-bilateral member, of the same with the identity (today's cheapestPlan()), of fast with

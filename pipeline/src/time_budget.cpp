@@ -23,16 +23,14 @@ constexpr double kMemberOneSided = 0.256;
 constexpr double kNamedMember = 0.5;
 /// A named filter that does not smooth (the identity, FilterTraits::smooths) is its default
 /// member only, and costs only its error map: cheapestPlan with it took 1.010, 1.032 and 1.020 ×
-/// the time without it on cornell, fox and glossy at 512 spp (docs/lab/race.md, "The render
-/// itself in the cheapest plan").
+/// the time without it on cornell, fox and glossy at 512 spp (docs/lab/cheapest-plan.md).
 constexpr double kPassMember = 0.03;
 /// A process's first run of the default bank loads and prepares what later runs reuse (the
 /// unet's weights and its plans): 0.7–1.7 s whatever the frame's size, about 4.5 ×
 /// cheapestPlan's time on 256² pixels, in pixels at weight 1.
 constexpr double kColdStartPixels = 4.5 * 65536.0;
 /// The filter of cheapestPlan, and the member beside it that keeps the render where the filter
-/// would only blur it (a converged frame: docs/lab/race.md, "The render itself in the cheapest
-/// plan").
+/// would only blur it (a converged frame: docs/lab/cheapest-plan.md).
 constexpr const char* kCheapestFilter = "cross-bilateral";
 constexpr const char* kRenderItself = "identity";
 /// The bank sizes tried below fast's own.
