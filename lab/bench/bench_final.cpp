@@ -10,7 +10,8 @@
 //                         (a steered way may name its samples cap, FinalOptions::sppCapRatio:
 //                         variance:16, variance:0 for none)
 //                         [--refresh-share 0.2] [--refresh-quality fast]
-//                         [--frames-dir DIR]   (each run's frame as DIR/<scene>_<seed>_<way>.exr)
+//                         [--frames-dir DIR]   (each run's frame as DIR/<scene>_<seed>_<way>.exr,
+//                                               its render before auto as …_render.exr)
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -82,9 +83,15 @@ int main(int argc, char** argv) {
                     const glint::pipeline::FinalResult r =
                         glint::pipeline::renderFinal(renderer, o);
                     const double relMse = glint::relMse(r.frame.color(), reference).value;
-                    if (!framesDir.empty())
-                        glint::writeExr(r.frame,
-                                        framesDir + "/" + name + "_" + seed + "_" + way + ".exr");
+                    if (!framesDir.empty()) {
+                        const std::string stem = framesDir + "/" + name + "_" + seed + "_" + way;
+                        glint::writeExr(r.frame, stem + ".exr");
+                        // The same frame with the render's colour: auto's input.
+                        glint::FrameBuffers render = r.frame;
+                        render.color() = r.renderColor;
+                        render.metadata().extra.erase("denoiseFilter");
+                        glint::writeExr(render, stem + "_render.exr");
+                    }
                     const double pixels = double(r.frame.width()) * double(r.frame.height());
                     std::printf(
                         "%s\t%s\t%s\t%s\t%.6g\t%.4g\t%.1f\t%d\t%d\t%d\t%.2f\t%.2f\t%.2f\t%s\t%s\n",

@@ -391,6 +391,7 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     out.finalPlan = describe(finalPlan);
     if (out.finalStopped.empty()) out.predictedFinalSeconds = cost.seconds(finalPlan, pixels);
     out.estimatedRelMse = last->relMse;
+    out.renderColor = out.frame.color();
     paste(out.frame.color(), last->result.composite, 0, 0);
     out.frame.metadata().extra["denoiseFilter"] = "auto";
     out.seconds = now();

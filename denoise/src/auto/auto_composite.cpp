@@ -594,16 +594,20 @@ void Pipeline::stackPass(const std::vector<int>& order, AutoResult& result) {
         }
     };
     // The regression, weighted by the display slope at the composite; a correction past the
-    // feather gate is not applied (StackGate).
+    // feather gate or the noise gate is not applied (StackGate), the noise read from the frame's
+    // variance of the mean when it has one.
     const Image weightAtC =
         m_s.space == SureSpace::Linear ? Image{} : tangentWeights(result.composite, m_s.exposure);
+    Image cropVariance;
+    StackGate gate{m_s.featherGate, m_s.exposure, m_s.stackNoiseGate, nullptr};
+    if (const Image* variance = m_frame.find(Layer::Variance))
+        gate.variance = &regionOf(*variance, cropVariance);
     // The halves' colour over the region.
     Image cropA, cropB;
     result.composite = stackComposite(
         std::move(result.composite), m_blendA, m_blendB, k + featureCount, load,
         regionOf(m_halves->halfA().color(), cropA), regionOf(m_halves->halfB().color(), cropB),
-        weightAtC, m_s.stackWindow, m_s.stackRidge, m_s.stackFloor, m_s.stackSmooth, &m_work,
-        StackGate{m_s.featherGate, m_s.exposure});
+        weightAtC, m_s.stackWindow, m_s.stackRidge, m_s.stackFloor, m_s.stackSmooth, &m_work, gate);
     result.stacked = int(k);
     result.stackFeatures = int(featureCount);
 }

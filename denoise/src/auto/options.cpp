@@ -186,6 +186,7 @@ AutoSettings resolveSettings(const FilterBank& bank, const FrameBuffers& frame,
     s.stackFloor = t["stackFloor"];
     s.stackSmooth = int(t["stackSmooth"]);
     s.stackFeatureWindow = int(t["stackFeatureWindow"]);
+    s.stackNoiseGate = t["stackNoiseGate"];
     s.prefilter = options.prefilter;
     s.prefilterParams = options.prefilterParams;
     s.estimateError = options.estimateError;

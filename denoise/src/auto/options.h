@@ -74,6 +74,7 @@ struct AutoSettings {
     double stackFloor = 0.0;
     int stackSmooth = 0;
     int stackFeatureWindow = 0;
+    double stackNoiseGate = 0.0;
     bool prefilter = false;
     ParamValues prefilterParams;
     bool estimateError = false;  ///< AutoOptions::estimateError

@@ -167,7 +167,8 @@ Image stackComposite(Image composite, const Image& blendA, const Image& blendB, 
     GLINT_CHECK(composite.channels() == 3 && blendA.sameShape(composite) &&
                 blendB.sameShape(composite) && halfA.sameShape(composite) &&
                 halfB.sameShape(composite) && (weight.empty() || weight.sameShape(composite)) &&
-                radius >= 1 && floor >= 0.0 && smooth >= 0 && k > 0 && k <= kMaxStackRegressors);
+                (!gate.variance || gate.variance->sameShape(composite)) && radius >= 1 &&
+                floor >= 0.0 && smooth >= 0 && k > 0 && k <= kMaxStackRegressors);
     // Corrected in place: a pixel's value is read before it is written, and nothing else reads
     // the composite.
     Image& out = composite;
@@ -186,10 +187,21 @@ Image stackComposite(Image composite, const Image& blendA, const Image& blendB, 
                 GLINT_CHECK(r.width() == w && r.height() == y1 - y0 && r.channels() == 3);
     };
     // c + Σ a_i (f_i − c) at one pixel, clamped at 0; the composite where it is not finite, and
-    // past the gate the composite clamped at 0.
+    // past a gate the composite clamped at 0.
     const StackRows& fullOf = smooth > 0 ? fullRows : rows;
     const int& fullOfY0 = smooth > 0 ? fullY0 : rowsY0;
     const DisplayCurve display(std::exp2(double(gate.exposure)));
+    // Whether moving channel c of (x, y) from `base` to `value` passes the noise gate.
+    const auto withinNoise = [&](int x, int y, int c, double base, double value) {
+        if (!(gate.sigmas > 0.0)) return true;
+        const double a = halfA(x, y, c), b = halfB(x, y, c);
+        const double sigma = gate.variance
+                                 ? std::sqrt(std::max(0.0, double((*gate.variance)(x, y, c))))
+                                 : 0.5 * std::fabs(a - b);
+        const double moved = std::fabs(value - base);
+        // NaN-safe: a non-finite σ or mean lets the correction through.
+        return !(moved > gate.sigmas * sigma && moved > std::fabs(base - 0.5 * (a + b)));
+    };
     const auto correct = [&](int x, int y, const double* a) {
         float value[3];
         for (int c = 0; c < 3; ++c) {
@@ -199,8 +211,9 @@ Image stackComposite(Image composite, const Image& blendA, const Image& blendB, 
                 v += a[i] * (double(fullOf.full[i](x, y - fullOfY0, c)) - base);
             if (!std::isfinite(v)) return;
             value[c] = float(std::max(0.0, v));
-            if (gate.gate > 0.0 &&
-                std::fabs(display(double(value[c])) - display(base)) > gate.gate) {
+            if ((gate.gate > 0.0 &&
+                 std::fabs(display(double(value[c])) - display(base)) > gate.gate) ||
+                !withinNoise(x, y, c, base, double(value[c]))) {
                 for (int g = 0; g < 3; ++g) value[g] = std::max(0.0f, composite(x, y, g));
                 break;
             }

@@ -59,14 +59,22 @@ using RegressorStripSink = std::function<void(int y0, std::vector<Image>& rows)>
 void featureRegressorStrips(const Image& base, const Image* albedo, const Image* normal, int radius,
                             int rows, const RegressorStripSink& sink, WorkContext* work = nullptr);
 
-/// The stacking's display gate: where the correction moves a pixel's display value (exposure,
-/// clamp, sRGB) by more than `gate` in a channel, the pixel keeps the composite, clamped at 0
-/// (auto passes the feather gate: a correction that large is a model fitted in another part of
-/// its windows, such as the coefficients of a small bright light smoothed into its dark
-/// neighbours; 0: no gate).
+/// The stacking's gates: where the correction is not applied, the pixel keeps the composite,
+/// clamped at 0. A correction is a model fitted in another part of its windows where it moves
+///  - a pixel's display value (exposure, clamp, sRGB) by more than `gate` in a channel (auto
+///    passes the feather gate; 0: no display gate), or
+///  - a channel by more than `sigmas` standard errors of the render's own mean there and by more
+///    than the composite's distance from that mean (the halves' mean): a pixel where the
+///    composite agrees with the render has no error the stacking could have measured (0: no
+///    noise gate). The standard error is the square root of `variance` (the frame's variance of
+///    the mean, region-sized), or |A − B| / 2 from the halves when it is null.
+/// Both catch the coefficients of a small bright light smoothed into its dark neighbours: the
+/// display gate the bright ring, the noise gate the faint one of a frame of many samples.
 struct StackGate {
     double gate = 0.0;
     float exposure = 0.0f;
+    double sigmas = 0.0;
+    const Image* variance = nullptr;
 };
 
 /// The stacking's regression (AutoOptions::stack; docs/auto.md, "Stacking"): per pixel,
@@ -83,9 +91,8 @@ struct StackGate {
 /// definite keeps the composite. With `smooth` > 0, the coefficients applied at a pixel are the
 /// box average over (2·smooth + 1)² pixels (truncated at the border) of those fitted around
 /// each pixel, a failed system counting as all 0: each window's model applied to every pixel it
-/// covers, averaged. A pixel whose corrected value is not finite keeps the composite; one whose
-/// corrected display value (StackGate) moves by more than the gate in a channel keeps it
-/// clamped at 0.
+/// covers, averaged. A pixel whose corrected value is not finite keeps the composite; one that a
+/// gate (StackGate) stops keeps it clamped at 0.
 /// Deterministic whatever the thread count. `work`, if given, runs the box averages (2 units
 /// per row of each tile with its context rows, and 2 per row for the smoothing).
 Image stackComposite(const Image& composite, const Image& blendA, const Image& blendB,

@@ -93,14 +93,16 @@ std::uint64_t autoFixedMemory(const FilterBank& bank, const FrameBuffers& frame,
     // the halves. Spilled maps: the most of the blend's (the final candidates' weight planes and
     // their feathered copies, 4 bytes each, the composite, the blends on the halves and the
     // choice: 40) and the stacking's (the weight planes, those 40 and its weights: 52). Either
-    // way, the stacking's tile (stackTileBytes).
+    // way, with the stacking, its tile (stackTileBytes) and the frame's variance over the region
+    // (its noise gate: 12).
     std::uint64_t stackTile = 0;
     if (settings.stack > 0) {
         const std::size_t regressors = std::size_t(settings.stack) +
                                        (settings.stackAlbedo ? 1 : 0) +
                                        (settings.stackNormal ? 3 : 0);
-        stackTile =
-            stackTileBytes(r.width(), regressors, settings.stackWindow, settings.stackSmooth);
+        stackTile = saturatingAdd(
+            stackTileBytes(r.width(), regressors, settings.stackWindow, settings.stackSmooth),
+            saturatingMul(pixels, 12));
     }
     std::uint64_t held = 0;
     if (model.mapsSpilled) {

@@ -74,6 +74,10 @@ std::vector<ParamSpec> makeSpecs() {
                           "input has it)"),
         integer("stackFeatureWindow", "feature window (px)", 1, 64, 3,
                 "radius of the features' local average in the stacking"),
+        real("stackNoiseGate", "stacking noise gate (standard errors)", 0.0, 1000.0, 3.0,
+             "the stacking moves no pixel by more than this many standard errors of the "
+             "render's mean there, or by more than the composite's distance from that mean "
+             "where it is larger (0: off)"),
         ParamSpec("epsilon", "SURE perturbation", 1e-9, 1.0, 0.01, ParamScale::Log, false,
                   "SURE: the perturbation, relative to the pixel's sigma"),
         integer("numericDivergence", "numeric divergence", 0, 1, 0,

@@ -114,6 +114,8 @@ struct FinalResult {
     /// The render's layers (half buffers included) with the colour replaced by the denoised
     /// image (metadata denoiseFilter = auto).
     FrameBuffers frame;
+    /// The render's own colour, before auto (to denoise the same frame again otherwise).
+    Image renderColor;
     render::RenderStats render;    ///< the render's statistics (seconds: the render's)
     double estimatedRelMse = 0.0;  ///< of the final denoised image (estimatedRelMse)
     int refreshes = 0;             ///< auto's runs during the render
