@@ -2,6 +2,7 @@
 // tuning flag), its qualities, and the oracle's auto column: good and bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -194,6 +195,31 @@ TEST_F(AutoCli, AutoWithAndWithoutABankFolderAndTheOracleColumn) {
                                  " --bank " + path("bank") + " --expected " + path("gone.exr"));
     EXPECT_EQ(r.exitCode, 2) << r.err;
     EXPECT_NE(r.err.find("gone.exr"), std::string::npos) << r.err;
+}
+
+TEST_F(AutoCli, AnInputWhoseColourIsAlreadyDenoisedIsRefusedUnlessTheImageAloneEstimates) {
+    // auto's output keeps the render's half buffers and variance beside its denoised colour
+    // (denoiseFilter: auto): auto on it again would take the denoised colour for the render and
+    // estimate from statistics that describe another image. One line naming the file and the
+    // metadata, exit 2, nothing written; SURE's variance likewise; the image-only estimate runs.
+    RunResult r = runEither("auto " + path("halves.exr") + " --out " + path("once.exr") +
+                            " --size 4" + kClassicalFilters);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    ASSERT_EQ(readExr(path("once.exr")).metadata().extra.at("denoiseFilter"), "auto");
+    for (const std::string estimator : {"auto", "halves", "sure"}) {
+        r = runEither("auto " + path("once.exr") + " --out " + path("twice.exr") + " --size 4" +
+                      kClassicalFilters + " --estimator " + estimator);
+        EXPECT_EQ(r.exitCode, 2) << estimator << "\n" << r.err;
+        EXPECT_NE(r.err.find("once.exr"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("already denoised (denoiseFilter: auto)"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("--estimator image"), std::string::npos) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_FALSE(fs::exists(path("twice.exr")));
+    }
+    r = runEither("auto " + path("once.exr") + " --out " + path("twice.exr") + " --size 4" +
+                  kClassicalFilters + " --estimator image");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(fs::exists(path("twice.exr")));
 }
 
 TEST_F(AutoCli, OracleOfAnInputWithoutVarianceRunsAutoOnTheImageEstimate) {

@@ -57,12 +57,35 @@ AutoEstimator resolveEstimator(AutoEstimator estimator, const FrameBuffers& fram
     return frame.has(Layer::Variance) ? AutoEstimator::Sure : AutoEstimator::Image;
 }
 
+namespace {
+
+// The render's statistics describe the render's colour: a frame whose colour a filter or auto
+// has replaced (denoiseFilter set, as glint-denoise and glint-final write) keeps the render's
+// variance and halves, which no longer describe it.
+void checkColourIsTheRenders(const FrameBuffers& frame, AutoEstimator resolved,
+                             const std::string& file) {
+    const auto& extra = frame.metadata().extra;
+    const auto denoised = extra.find("denoiseFilter");
+    if (denoised == extra.end()) return;
+    throw Error(ErrorKind::InvalidArgument,
+                "its colour is already denoised (denoiseFilter: " + denoised->second +
+                    ") while its " +
+                    (resolved == AutoEstimator::Halves ? "half buffers are" : "variance is") +
+                    " the render's, which no longer describe it: denoise the render itself "
+                    "(glint-render's output), or estimate from the image alone (--estimator "
+                    "image)",
+                file, "metadata 'denoiseFilter'");
+}
+
+}  // namespace
+
 void checkAutoInput(const FrameBuffers& frame, AutoEstimator estimator, const std::string& file) {
     const AutoEstimator resolved = resolveEstimator(estimator, frame);
     if (resolved == AutoEstimator::Image) {
         detail::checkImageNoiseInput(frame, file);
         return;
     }
+    checkColourIsTheRenders(frame, resolved, file);
     if (resolved == AutoEstimator::Sure) {
         detail::checkSureInput(frame, file);
         return;
@@ -164,10 +187,12 @@ AutoSettings resolveSettings(const FilterBank& bank, const FrameBuffers& frame,
     s.finer = int(t["finer"]);
     s.feather = int(t["feather"]);
     // Validation as checkAutoInput's, without a second split (the halves' estimator checks them).
-    if (!halves || !frame.has(Layer::HalfColor))
+    if (!halves || !frame.has(Layer::HalfColor)) {
         checkAutoInput(frame, s.estimator);
-    else
+    } else {
+        checkColourIsTheRenders(frame, s.estimator, {});
         checkHalvesFinite(frame, {});
+    }
     s.secant = halves && s.space == SureSpace::Display;
     s.tangent = s.space == SureSpace::DisplayTangent || (!halves && s.space == SureSpace::Display);
     const std::size_t n = bank.size();
