@@ -131,6 +131,10 @@ TEST(FinalRender, TheFrameIsTheDenoisedColourWithTheRendersLayers) {
     EXPECT_FALSE(render::test::sameLayer(raw, r.frame, Layer::Color));
     EXPECT_TRUE(render::test::sameLayer(raw, r.frame, Layer::HalfColor));
     EXPECT_GT(r.estimatedRelMse, 0.0);
+    // The result keeps the render's own colour beside it, bit for bit.
+    ASSERT_TRUE(r.renderColor.sameShape(raw.color()));
+    EXPECT_TRUE(std::equal(r.renderColor.data().begin(), r.renderColor.data().end(),
+                           raw.color().data().begin()));
 }
 
 /// A fake clock: every read advances it by `tick` seconds (time counts the loop's polls: about
