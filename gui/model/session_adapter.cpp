@@ -493,16 +493,19 @@ namespace {
 // What Auto start says it did: the layers it made and how it estimated each member's error (the
 // studio asks for AutoEstimator::Auto, so the image-only estimate means neither half buffers nor
 // a variance layer; glint-denoise auto says the same).
-QString autoStartSummary(const denoise::AutoResult& result) {
+QString autoStartSummary(const denoise::AutoResult& result, bool denoised) {
     QString how;
     switch (result.estimator) {
         case denoise::AutoEstimator::Halves:
             how = QObject::tr("cross-validation on the render's halves");
             break;
         case denoise::AutoEstimator::Image:
-            how = QObject::tr(
-                "SURE with the image-only noise estimate (the render has neither half buffers "
-                "nor a variance layer)");
+            how = denoised ? QObject::tr(
+                                 "SURE with the image-only noise estimate (the image is already "
+                                 "denoised: its half buffers and variance are the render's)")
+                           : QObject::tr(
+                                 "SURE with the image-only noise estimate (the render has neither "
+                                 "half buffers nor a variance layer)");
             break;
         default:
             how = QObject::tr("SURE with the render's variance");
@@ -642,21 +645,25 @@ void SessionAdapter::autoStart(int bankSize) {
 void SessionAdapter::autoChoose(BankService::BankPtr bank, FramePtr in,
                                 const denoise::SessionOptions& options, std::uint64_t generation) {
     // 2. The per-pixel choice among the members, on a worker: glint-denoise auto's defaults,
-    // stacking included (its correction becomes a layer of its own).
+    // stacking included (its correction becomes a layer of its own). An image already denoised
+    // (glint-final's or glint-denoise's output) keeps the render's halves and variance, which do
+    // not describe its colour: there the image alone gives the noise.
+    const bool denoised = in->metadata().extra.count("denoiseFilter") > 0;
     m_tasks.run<std::shared_ptr<denoise::AutoResult>>(
         QStringLiteral("auto-start"),
-        [this, bank, in, options](const TaskRunner::CancelFlag& cancel) {
+        [this, bank, in, options, denoised](const TaskRunner::CancelFlag& cancel) {
             denoise::AutoOptions ao;
+            if (denoised) ao.estimator = denoise::AutoEstimator::Image;
             ao.prefilter = options.prefilter;
             ao.prefilterParams = options.prefilterParams;
             ao.progress = progressFor(tr("Auto start: estimating each member's error"), cancel);
             return std::make_shared<denoise::AutoResult>(denoise::autoComposite(*bank, *in, ao));
         },
-        [this, generation, bank](std::shared_ptr<denoise::AutoResult> result) {
+        [this, generation, bank, denoised](std::shared_ptr<denoise::AutoResult> result) {
             // 3. One result layer, one undo step: auto's correction over the composite now
             // (Session::addCorrection) with weight 1 everywhere is auto's result bit for bit,
             // whatever lies beneath; its per-pixel member choice is kept for the choice map.
-            whenUnlocked([this, generation, bank, result] {
+            whenUnlocked([this, generation, bank, result, denoised] {
                 if (!m_session || generation != m_generation) return;  // a new render came
                 std::size_t index = 0;
                 try {
@@ -687,7 +694,7 @@ void SessionAdapter::autoChoose(BankService::BankPtr bank, FramePtr in,
                 emit journal(entry);
                 pushEdit(tr("Auto start"), 2);
                 changedAll();
-                emit status(autoStartSummary(*result));
+                emit status(autoStartSummary(*result, denoised));
             });
         },
         [this](const QString& message) { emit failed(tr("Auto start failed"), message); });

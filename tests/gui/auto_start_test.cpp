@@ -8,6 +8,7 @@
 
 #include <cmath>
 
+#include "glint/image/io.h"
 #include "model_test.h"
 #include "studio_fixture.h"
 
@@ -56,6 +57,44 @@ class StudioAutoStartTest : public QObject {
         QVERIFY2(messages.filter(QStringLiteral("Auto start")).size() == 1,
                  qPrintable(messages.join(QStringLiteral(" | "))));
         QVERIFY2(messages.filter(QStringLiteral("image-only noise estimate")).size() == 1,
+                 qPrintable(messages.join(QStringLiteral(" | "))));
+    }
+
+    void autoStartOnAnAlreadyDenoisedImageEstimatesFromTheImageAlone() {
+        // glint-final's output: a denoised colour beside the render's variance and half buffers
+        // (metadata denoiseFilter). Auto refuses the halves and SURE there (its statistics are
+        // the render's); the studio's auto start takes the image-only estimate and says why.
+        const int w = 48, h = 40;
+        FrameBuffers f(w, h);
+        Image& variance = f.ensure(Layer::Variance);
+        Image& half = f.ensure(Layer::HalfColor);
+        f.ensure(Layer::HalfVariance);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int c = 0; c < 3; ++c) {
+                    const float v = 0.2f + 0.01f * float(x) + 0.1f * float((x * 7 + y * 13) % 5);
+                    f.color()(x, y, c) = v;
+                    half(x, y, c) = v + (((x + y + c) % 2) != 0 ? 0.05f : -0.05f);
+                    variance(x, y, c) = 0.001f;
+                }
+        for (float& n : f.ensure(Layer::SampleCount).data()) n = 16.0f;
+        for (float& n : f.ensure(Layer::HalfSampleCount).data()) n = 8.0f;
+        f.metadata().extra["denoiseFilter"] = "auto";
+        const QString exr = m_dir.filePath(QStringLiteral("final.exr"));
+        writeExr(f, exr.toStdString());
+        auto win = openAndWait(exr, m_dir.filePath(QStringLiteral("autosave-final")));
+        QVERIFY(win);
+        QStringList messages;
+        connect(win->statusBar(), &QStatusBar::messageChanged, this, [&](const QString& m) {
+            if (!m.isEmpty()) messages << m;
+        });
+        const denoise::Session& s = win->session()->session();
+        QCOMPARE(s.layerCount(), std::size_t(0));
+        win->actions().autoStart->trigger();
+        QVERIFY2(waitFor([&] { return s.layerCount() > 0 && !win->session()->busy(); }, 180000),
+                 qPrintable(win->lastError()));
+        QVERIFY2(win->lastError().isEmpty(), qPrintable(win->lastError()));
+        QVERIFY2(messages.filter(QStringLiteral("the image is already denoised")).size() == 1,
                  qPrintable(messages.join(QStringLiteral(" | "))));
     }
 };
