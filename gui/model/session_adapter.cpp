@@ -648,7 +648,7 @@ void SessionAdapter::autoChoose(BankService::BankPtr bank, FramePtr in,
     // stacking included (its correction becomes a layer of its own). An image already denoised
     // (glint-final's or glint-denoise's output) keeps the render's halves and variance, which do
     // not describe its colour: there the image alone gives the noise.
-    const bool denoised = in->metadata().extra.count("denoiseFilter") > 0;
+    const bool denoised = denoise::colourIsDenoised(*in);
     m_tasks.run<std::shared_ptr<denoise::AutoResult>>(
         QStringLiteral("auto-start"),
         [this, bank, in, options, denoised](const TaskRunner::CancelFlag& cancel) {

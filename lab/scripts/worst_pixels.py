@@ -9,21 +9,12 @@ its halo, envmap's fireflies).
 import sys
 
 import numpy as np
-import OpenImageIO as oiio
+
+from exr_rgb import read_rgb
 
 
 def colour(path):
-    image = oiio.ImageInput.open(path)
-    if image is None:
-        sys.exit(f"worst_pixels.py: {path}: cannot open: {oiio.geterror()}")
-    spec = image.spec()
-    names = list(spec.channelnames)
-    data = image.read_image(oiio.FLOAT).reshape(spec.height, spec.width, len(names))
-    image.close()
-    missing = [c for c in "RGB" if c not in names]
-    if missing:
-        sys.exit(f"worst_pixels.py: {path}: no channel {missing[0]}")
-    return data[:, :, [names.index(c) for c in "RGB"]]
+    return read_rgb(path, "worst_pixels.py")
 
 
 def main(argv):

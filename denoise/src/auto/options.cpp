@@ -57,19 +57,20 @@ AutoEstimator resolveEstimator(AutoEstimator estimator, const FrameBuffers& fram
     return frame.has(Layer::Variance) ? AutoEstimator::Sure : AutoEstimator::Image;
 }
 
+bool colourIsDenoised(const FrameBuffers& frame) {
+    return frame.metadata().extra.count("denoiseFilter") > 0;
+}
+
 namespace {
 
-// The render's statistics describe the render's colour: a frame whose colour a filter or auto
-// has replaced (denoiseFilter set, as glint-denoise and glint-final write) keeps the render's
-// variance and halves, which no longer describe it.
+// The render's statistics describe the render's colour, not one a filter or auto has replaced
+// (colourIsDenoised).
 void checkColourIsTheRenders(const FrameBuffers& frame, AutoEstimator resolved,
                              const std::string& file) {
-    const auto& extra = frame.metadata().extra;
-    const auto denoised = extra.find("denoiseFilter");
-    if (denoised == extra.end()) return;
+    if (!colourIsDenoised(frame)) return;
     throw Error(ErrorKind::InvalidArgument,
-                "its colour is already denoised (denoiseFilter: " + denoised->second +
-                    ") while its " +
+                "its colour is already denoised (denoiseFilter: " +
+                    frame.metadata().extra.at("denoiseFilter") + ") while its " +
                     (resolved == AutoEstimator::Halves ? "half buffers are" : "variance is") +
                     " the render's, which no longer describe it: denoise the render itself "
                     "(glint-render's output), or estimate from the image alone (--estimator "
