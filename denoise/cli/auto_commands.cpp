@@ -226,7 +226,8 @@ void runAuto(const AutoArgs& a) {
     options.prefilter = bankOptions.prefilter;
     options.prefilterParams = bankOptions.prefilterParams;
 
-    FrameBuffers frame = readExr(a.input);
+    std::optional<Image> shown;  // a denoised file's colour, kept outside a bank's region
+    FrameBuffers frame = readInput(a.input, &shown);
     // SURE needs the variance layer, the halves every half layer, both finite values: say so
     // before building anything.
     try {
@@ -308,9 +309,9 @@ void runAuto(const AutoArgs& a) {
     const json unavailable = reportUnavailableMembers(bank, a.bank.empty() ? a.input : a.bank);
 
     // The output: every input layer (shared, not copied), the colour replaced by the composite
-    // over the bank's region.
-    FrameBuffers out = withColorPasted(frame, result.composite, bank.region().x0, bank.region().y0);
-    out.metadata().extra["denoiseFilter"] = std::string("auto");
+    // over the bank's region (outside it, a denoised file's own), the render's kept as noisy.
+    FrameBuffers out = denoisedFrame(frame, result.composite, bank.region().x0, bank.region().y0,
+                                     "auto", shown ? &*shown : nullptr);
 
     int analytic = 0;
     for (bool b : result.analytic) analytic += b ? 1 : 0;

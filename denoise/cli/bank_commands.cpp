@@ -92,7 +92,7 @@ void runBank(const BankArgs& a) {
     validate(options);  // before reading anything or creating the folder
     glint::cli::checkOutputIsNoInput(a.out, "--out", {{a.input, "IN"}});
     checkBankFolder(a.out);
-    const FrameBuffers frame = readExr(a.input);
+    const FrameBuffers frame = readInput(a.input);
     if (!a.roi.empty()) options.region = parseRegion(a.roi, frame.width(), frame.height(), a.input);
     std::error_code ec;
     fs::create_directories(a.out, ec);

@@ -269,6 +269,15 @@ AutoOptions autoOptionsOfBank(const std::string& bankDir) {
     return options;
 }
 
+FrameBuffers readInput(const std::string& path, std::optional<Image>* shown) {
+    const FrameBuffers file = readExr(path);
+    if (const std::string note = renderOfNote(file, path); !note.empty()) {
+        std::fprintf(stderr, "glint-denoise: %s", note.c_str());
+        if (shown) *shown = file.color();
+    }
+    return renderOf(file);
+}
+
 FrameBuffers readReference(const std::string& path, int width, int height) {
     FrameBuffers reference = readExr(path);
     if (reference.width() != width || reference.height() != height)

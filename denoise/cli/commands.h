@@ -147,6 +147,11 @@ void writeChoiceMap(const Image& choice, std::size_t members, const std::string&
 /// features prefiltered as the bank's were (readBankOptions).
 AutoOptions autoOptionsOfBank(const std::string& bankDir);
 
+/// Reads the input EXR a command denoises: the render it holds (denoise::renderOf), saying so in
+/// one line on stderr when `path` is a denoised file that keeps its render (layer noisy); then
+/// `shown`, when given, receives the file's own colour (what a region's output keeps around it).
+FrameBuffers readInput(const std::string& path, std::optional<Image>* shown = nullptr);
+
 /// Reads a reference EXR of the given size (errors name the file).
 FrameBuffers readReference(const std::string& path, int width, int height);
 

@@ -10,6 +10,7 @@
 
 #include "cli_boundary.h"
 #include "commands.h"
+#include "glint/denoise/denoised_frame.h"
 #include "glint/denoise/filter.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
@@ -116,7 +117,8 @@ void runApply(const ApplyOptions& opt) {
         throw Error(ErrorKind::InvalidArgument, "unavailable: " + why, {},
                     "filter '" + std::string(filter.name()) + "'");
 
-    FrameBuffers frame = readExr(opt.input);
+    std::optional<Image> shown;  // a denoised file's colour, kept outside --roi
+    FrameBuffers frame = readInput(opt.input, &shown);
     const Rect bounds{0, frame.width(), 0, frame.height()};
     std::optional<Rect> roi;
     if (!opt.roi.empty()) roi = parseRegion(opt.roi, frame.width(), frame.height(), opt.input);
@@ -139,11 +141,11 @@ void runApply(const ApplyOptions& opt) {
     }
     const auto t2 = std::chrono::steady_clock::now();
 
-    // The output frame: every input layer, the colour replaced inside the region.
-    FrameBuffers out = frame;
+    // The output frame: every input layer, the colour replaced inside the region (outside it, the
+    // file's own), the render's kept as the noisy layer.
     const Rect region = roi.value_or(bounds);
-    paste(out.color(), filtered, region.x0, region.y0);
-    out.metadata().extra["denoiseFilter"] = std::string(filter.name());
+    const FrameBuffers out = denoisedFrame(frame, filtered, region.x0, region.y0, filter.name(),
+                                           shown ? &*shown : nullptr);
 
     json report{{"input", opt.input},
                 {"output", opt.output},

@@ -54,7 +54,7 @@ void runPaint(const PaintArgs& a) {
     const auto t0 = std::chrono::steady_clock::now();
     SessionOptions options;
     options.prefilter = a.prefilter;
-    Session session(readExr(a.input), options);
+    Session session(readInput(a.input), options);
     script.apply(session);
     session.save(a.save);
     if (!a.out.empty()) session.exportExr(a.out);
@@ -107,7 +107,7 @@ void runComposite(const CompositeArgs& a) {
     const auto t0 = std::chrono::steady_clock::now();
     Session session = Session::load(a.session);
     const json unavailable = reportUnavailableLayers(session, a.session);
-    FrameBuffers render = readExr(a.input);
+    FrameBuffers render = readInput(a.input);
     if (render.width() != session.width() || render.height() != session.height())
         throw Error(ErrorKind::InvalidArgument,
                     "the new render is " + std::to_string(render.width()) + "x" +

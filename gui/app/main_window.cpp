@@ -313,6 +313,7 @@ void MainWindow::connectModel() {
         m_autosave->recordOpen(*m_document);
         if (!m_restoring) m_region->clear();  // a restored session brings its own region
         updateTitle();
+        if (!m_document->openNote().isEmpty()) showStatus(m_document->openNote());
     });
     connect(m_document, &Document::frameChanged, this, [this](bool final) {
         // A finished render goes to the session: its layers are re-applied to it.

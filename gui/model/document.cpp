@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "glint/denoise/denoised_frame.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/image/metrics.h"
@@ -93,7 +94,19 @@ Document::Loaded Document::load(const QString& path) {
         out.settings.threads = 0;
         return out;
     }
-    FrameBuffers frame = readExr(file);
+    // A denoised EXR that keeps its render (glint-final's, glint-denoise's, an export; layer
+    // noisy) opens as that render: every filter and Auto Start work from the samples the
+    // variance and halves describe.
+    const FrameBuffers read = readExr(file);
+    if (denoise::keepsRender(read))
+        out.note = tr("Opened the render kept in %1 (its colour was denoised%2): filters and "
+                      "Auto Start work from the render")
+                       .arg(QFileInfo(path).fileName(),
+                            read.metadata().extra.count("denoiseFilter")
+                                ? tr(" by %1").arg(QString::fromStdString(
+                                      read.metadata().extra.at("denoiseFilter")))
+                                : QString());
+    FrameBuffers frame = denoise::renderOf(read);
     out.kind = Kind::Exr;
     out.settings.spp = frame.metadata().spp > 0 ? frame.metadata().spp : out.settings.spp;
     out.frame = std::make_shared<const FrameBuffers>(std::move(frame));
@@ -119,6 +132,7 @@ void Document::adopt(const QString& path, Loaded loaded, bool renderNow) {
     if (!m_watcher.files().isEmpty()) m_watcher.removePaths(m_watcher.files());
     m_kind = loaded.kind;
     m_path = path;
+    m_openNote = loaded.note;
     m_look = std::move(loaded.look);
     m_fileLook = m_look;
     m_camera = std::move(loaded.camera);

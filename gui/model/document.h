@@ -56,6 +56,9 @@ class Document : public QObject {
         render::Settings settings;
         std::shared_ptr<const FrameBuffers> frame;
         std::string camera;  // sceneCamera() of a scene; empty for an EXR
+        /// What the open did that the artist should know (the render kept in a denoised EXR
+        /// opened instead of its colour); empty otherwise.
+        QString note;
     };
     /// Loads `path` (a scene.json, glTF or OBJ asset, or layered EXR). Throws glint::Error.
     static Loaded load(const QString& path);
@@ -67,6 +70,8 @@ class Document : public QObject {
     void adopt(const QString& path, Loaded loaded, bool render = true);
     Kind kind() const { return m_kind; }
     QString path() const { return m_path; }
+    /// Loaded::note of the open file (for the status bar), empty for most files.
+    QString openNote() const { return m_openNote; }
     bool isOpen() const { return m_kind != Kind::None; }
     bool loading() const { return m_loading; }
 
@@ -185,6 +190,7 @@ class Document : public QObject {
 
     Kind m_kind = Kind::None;
     QString m_path;
+    QString m_openNote;
     bool m_loading = false;
     render::Settings m_settings;
     std::vector<render::LookItem> m_look;

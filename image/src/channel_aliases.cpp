@@ -44,6 +44,8 @@ std::vector<Candidate> cyclesCandidates(const std::string& prefix) {
         {Layer::Albedo, withSuffixes(prefix + "Denoising Albedo.", "RGB")},
         {Layer::Normal, withSuffixes(prefix + "Denoising Normal.", "XYZ")},
         {Layer::Depth, {prefix + "Denoising Depth.Z"}},
+        // With denoising on, Combined is the denoised colour and Noisy Image the render's.
+        {Layer::Noisy, withSuffixes(prefix + "Noisy Image.", "RGB")},
     };
 }
 
@@ -82,7 +84,7 @@ bool endsWith(std::string_view s, std::string_view p) {
 /// True for a channel only Glint's convention uses.
 bool isGlintOnly(const std::string& name) {
     for (std::string_view p : {"variance.", "albedoVariance.", "normal.", "normalVariance.",
-                               "depthVariance.", "position.", "sampleCount."})
+                               "depthVariance.", "position.", "sampleCount.", "noisy."})
         if (startsWith(name, p)) return true;
     return name == "depth.Z";
 }

@@ -20,6 +20,7 @@ constexpr std::array<LayerInfo, kLayerCount> kLayers{{
     {Layer::DepthVariance, "depthVariance", 1, {"Z", "", ""}},
     {Layer::Position, "position", 3, {"X", "Y", "Z"}},
     {Layer::SampleCount, "sampleCount", 1, {"Y", "", ""}},
+    {Layer::Noisy, "noisy", 3, {"R", "G", "B"}},
     {Layer::HalfColor, "halfColor", 3, {"R", "G", "B"}},
     {Layer::HalfVariance, "halfVariance", 3, {"R", "G", "B"}},
     {Layer::HalfAlbedo, "halfAlbedo", 3, {"R", "G", "B"}},
@@ -179,7 +180,9 @@ Image& FrameBuffers::ensure(Layer l) {
 }
 
 std::optional<Layer> halfLayer(Layer layer) {
-    if (layer == Layer::Position || isHalfLayer(layer)) return std::nullopt;
+    if (layer == Layer::Position || layer == Layer::Noisy || isHalfLayer(layer))
+        return std::nullopt;
+    // The half layers follow the mean layers' order, without position.
     const int offset = int(layer) < int(Layer::Position) ? int(layer) : int(layer) - 1;
     return Layer(int(Layer::HalfColor) + offset);
 }

@@ -18,6 +18,8 @@ glint::FrameBuffers makeFrame(int size) {
     glint::FrameBuffers frame(size, size);
     std::uint32_t state = 12345u;
     for (int l = 0; l < glint::kLayerCount; ++l) {
+        if (glint::Layer(l) == glint::Layer::Noisy)
+            continue;  // a render's layers: not a denoiser's
         glint::Image& im = frame.ensure(glint::Layer(l));
         for (float& v : im.data()) {
             state = state * 1664525u + 1013904223u;  // LCG; only the values' spread matters

@@ -11,7 +11,7 @@
 //                         variance:16, variance:0 for none)
 //                         [--refresh-share 0.2] [--refresh-quality fast]
 //                         [--frames-dir DIR]   (each run's frame as DIR/<scene>_<seed>_<way>.exr,
-//                                               its render before auto as …_render.exr)
+//                                               its render before auto kept as layer noisy)
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -85,12 +85,9 @@ int main(int argc, char** argv) {
                     const double relMse = glint::relMse(r.frame.color(), reference).value;
                     if (!framesDir.empty()) {
                         const std::string stem = framesDir + "/" + name + "_" + seed + "_" + way;
+                        // It keeps the render's colour (layer noisy): glint-lab auto on it
+                        // denoises the render again.
                         glint::writeExr(r.frame, stem + ".exr");
-                        // The same frame with the render's colour: auto's input.
-                        glint::FrameBuffers render = r.frame;
-                        render.color() = r.renderColor;
-                        render.metadata().extra.erase("denoiseFilter");
-                        glint::writeExr(render, stem + "_render.exr");
                     }
                     const double pixels = double(r.frame.width()) * double(r.frame.height());
                     std::printf(

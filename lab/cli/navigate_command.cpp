@@ -57,7 +57,7 @@ void runLocalArtist(const NavigateArgs& a, const TreeOptions& tree) {
         throw Error(ErrorKind::InvalidArgument,
                     "unknown start '" + start + "' (expected auto or best)", {}, "--start");
     validate(options);
-    const FrameBuffers frame = readExr(a.input);
+    const FrameBuffers frame = readInput(a.input);
     const FrameBuffers ref = readReference(a.reference, frame.width(), frame.height());
     const json leftOut = reportLeftOutFilters(readBankOptions(a.bank));
     const FilterBank bank = openBank(frame, a.bank);
@@ -156,7 +156,7 @@ void runNavigate(const NavigateArgs& a) {
           std::pair{!a.brushSoftness.empty(), "--brush-softness"},
           std::pair{a.keepAll, "--keep-all"}})
         if (given) throw Error(ErrorKind::InvalidArgument, "given without --local", {}, flag);
-    const FrameBuffers frame = readExr(a.input);
+    const FrameBuffers frame = readInput(a.input);
     const FrameBuffers ref = readReference(a.reference, frame.width(), frame.height());
     const json leftOut = reportLeftOutFilters(readBankOptions(a.bank));
     const FilterBank bank = openBank(frame, a.bank);

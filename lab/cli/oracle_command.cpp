@@ -64,7 +64,7 @@ void runOracle(const OracleArgs& a) {
         checkOutputIsNoBankFile(a.choiceMap, "--choice-map", a.bank);
         glint::cli::removeTemporariesOnSignal({a.choiceMap});
     }
-    const FrameBuffers frame = readExr(a.input);
+    const FrameBuffers frame = readInput(a.input);
     const FrameBuffers ref = readReference(a.reference, frame.width(), frame.height());
     const auto t0 = Clock::now();
     const json leftOut = reportLeftOutFilters(readBankOptions(a.bank));

@@ -122,7 +122,9 @@ int main(int argc, char** argv) {
         "error of the denoised image)"};
     Options opt;
     app.add_option("scene", opt.scene, "scene.json, or an asset glint-render reads")->required();
-    app.add_option("--out", opt.out, "output EXR: the denoised colour and the render's layers")
+    app.add_option(
+           "--out", opt.out,
+           "output EXR: the denoised colour, the render's layers and its colour (layer noisy)")
         ->required();
     app.add_option("--time-limit", opt.timeLimit,
                    "seconds for everything (render, auto's refreshes, the final auto), > 0 … 1e7");

@@ -9,7 +9,7 @@
 #include <memory>
 #include <optional>
 
-#include "glint/image/composite.h"
+#include "glint/denoise/denoised_frame.h"
 #include "glint/image/error.h"
 #include "glint/pipeline/refresh.h"
 #include "glint/pipeline/steering.h"
@@ -391,9 +391,7 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     out.finalPlan = describe(finalPlan);
     if (out.finalStopped.empty()) out.predictedFinalSeconds = cost.seconds(finalPlan, pixels);
     out.estimatedRelMse = last->relMse;
-    out.renderColor = out.frame.color();
-    paste(out.frame.color(), last->result.composite, 0, 0);
-    out.frame.metadata().extra["denoiseFilter"] = "auto";
+    out.frame = denoise::denoisedFrame(out.frame, last->result.composite, 0, 0, "auto");
     out.seconds = now();
     return out;
 }

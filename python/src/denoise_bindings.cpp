@@ -107,6 +107,10 @@ void bindDenoise(py::module_& m) {
             return list;
         },
         "Every registered filter: name, description, params (their descriptions), default_bank.");
+    m.def("render_of", &renderOf, py::arg("frame"),
+          "The render a frame holds: the frame itself, or for a denoised file that keeps its "
+          "render (glint-final's, glint-denoise's, a studio export; layer 'noisy') the frame with "
+          "that render as its colour, as the commands denoise it.");
     m.def(
         "filter_info", [](const std::string& name) { return filterDict(findFilter(name), false); },
         py::arg("name"));

@@ -247,10 +247,11 @@ RenderResult renderPath(const detail::SceneData& data, const EmbreeScene& embree
 std::uint64_t Renderer::estimateMemory(const Settings& settings) const {
     const detail::SceneData& data = detail::sceneData(m_scene);
     const std::uint64_t pixels = std::uint64_t(data.width) * std::uint64_t(data.height);
-    // A resolved frame: every layer but the optional position and half buffer, 4-byte floats.
+    // A resolved frame: every layer but the optional position and half buffer (and the noisy
+    // layer, a denoiser's), 4-byte floats.
     std::uint64_t frameChannels = 0;
     for (int l = 0; l < kLayerCount; ++l)
-        if ((Layer(l) != Layer::Position || settings.positionLayer) &&
+        if (Layer(l) != Layer::Noisy && (Layer(l) != Layer::Position || settings.positionLayer) &&
             (!isHalfLayer(Layer(l)) || settings.halfBuffers))
             frameChannels += std::uint64_t(layerInfo(Layer(l)).channels);
     const std::uint64_t frame = frameChannels * sizeof(float);

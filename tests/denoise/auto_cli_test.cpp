@@ -197,15 +197,69 @@ TEST_F(AutoCli, AutoWithAndWithoutABankFolderAndTheOracleColumn) {
     EXPECT_NE(r.err.find("gone.exr"), std::string::npos) << r.err;
 }
 
-TEST_F(AutoCli, AnInputWhoseColourIsAlreadyDenoisedIsRefusedUnlessTheImageAloneEstimates) {
-    // auto's output keeps the render's half buffers and variance beside its denoised colour
-    // (denoiseFilter: auto): auto on it again would take the denoised colour for the render and
-    // estimate from statistics that describe another image. One line naming the file and the
-    // metadata, exit 2, nothing written; SURE's variance likewise; the image-only estimate runs.
+TEST_F(AutoCli, AnOutputKeepsItsRenderAndIsDenoisedAgainFromIt) {
+    // auto's output keeps the render's colour as its noisy layer beside the denoised one
+    // (denoiseFilter: auto). auto on that output denoises the render it keeps, says so in one
+    // line, and gives the first output bit for bit (the same render, the same seed); apply's
+    // output keeps it likewise.
     RunResult r = runEither("auto " + path("halves.exr") + " --out " + path("once.exr") +
                             " --size 4" + kClassicalFilters);
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    ASSERT_EQ(readExr(path("once.exr")).metadata().extra.at("denoiseFilter"), "auto");
+    const FrameBuffers render = readExr(path("halves.exr"));
+    const FrameBuffers once = readExr(path("once.exr"));
+    ASSERT_EQ(once.metadata().extra.at("denoiseFilter"), "auto");
+    ASSERT_TRUE(once.has(Layer::Noisy));
+    EXPECT_TRUE(std::equal(once.layer(Layer::Noisy).data().begin(),
+                           once.layer(Layer::Noisy).data().end(), render.color().data().begin()));
+    EXPECT_FALSE(std::equal(once.color().data().begin(), once.color().data().end(),
+                            render.color().data().begin()));
+
+    r = runEither("auto " + path("once.exr") + " --out " + path("twice.exr") + " --size 4" +
+                  kClassicalFilters);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("once.exr keeps its render (layer noisy): denoising that"),
+              std::string::npos)
+        << r.err;
+    const FrameBuffers twice = readExr(path("twice.exr"));
+    EXPECT_TRUE(std::equal(twice.color().data().begin(), twice.color().data().end(),
+                           once.color().data().begin()));
+    EXPECT_TRUE(std::equal(twice.layer(Layer::Noisy).data().begin(),
+                           twice.layer(Layer::Noisy).data().end(), render.color().data().begin()));
+
+    r = run("apply " + path("once.exr") + " --filter gaussian" + " --out " + path("blurred.exr"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const FrameBuffers blurred = readExr(path("blurred.exr"));
+    EXPECT_EQ(blurred.metadata().extra.at("denoiseFilter"), "gaussian");
+    EXPECT_TRUE(std::equal(blurred.layer(Layer::Noisy).data().begin(),
+                           blurred.layer(Layer::Noisy).data().end(),
+                           render.color().data().begin()));
+    // In a region the render is filtered again; around it the file's own colour stays.
+    r = run("apply " + path("once.exr") + " --filter gaussian --roi 8,20,4,16 --out " +
+            path("region.exr"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const FrameBuffers region = readExr(path("region.exr"));
+    for (int y = 0; y < region.height(); ++y)
+        for (int x = 0; x < region.width(); ++x)
+            for (int c = 0; c < 3; ++c) {
+                const bool inside = x >= 8 && x < 20 && y >= 4 && y < 16;
+                ASSERT_EQ(region.color()(x, y, c),
+                          inside ? blurred.color()(x, y, c) : once.color()(x, y, c))
+                    << x << "," << y << "," << c;
+            }
+}
+
+TEST_F(AutoCli, AnInputWhoseColourIsDenoisedWithoutItsRenderIsRefusedUnlessTheImageAloneEstimates) {
+    // A denoised file that does not keep its render (no noisy layer: written before Glint kept
+    // it, or stripped) still has the render's half buffers and variance beside its denoised
+    // colour: auto would estimate from statistics that describe another image. One line naming
+    // the file and the metadata, exit 2, nothing written; SURE's variance likewise; the
+    // image-only estimate runs.
+    RunResult r = runEither("auto " + path("halves.exr") + " --out " + path("full.exr") +
+                            " --size 4" + kClassicalFilters);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    FrameBuffers stripped = readExr(path("full.exr"));
+    stripped.remove(Layer::Noisy);
+    writeExr(stripped, path("once.exr"));
     for (const std::string estimator : {"auto", "halves", "sure"}) {
         r = runEither("auto " + path("once.exr") + " --out " + path("twice.exr") + " --size 4" +
                       kClassicalFilters + " --estimator " + estimator);
@@ -220,6 +274,7 @@ TEST_F(AutoCli, AnInputWhoseColourIsAlreadyDenoisedIsRefusedUnlessTheImageAloneE
                   kClassicalFilters + " --estimator image");
     EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_TRUE(fs::exists(path("twice.exr")));
+    EXPECT_FALSE(readExr(path("twice.exr")).has(Layer::Noisy));  // no render left to keep
 }
 
 TEST_F(AutoCli, OracleOfAnInputWithoutVarianceRunsAutoOnTheImageEstimate) {

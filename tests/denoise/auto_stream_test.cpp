@@ -408,8 +408,9 @@ TEST(AutoTiles, TheTileHeightFollowsTheMemoryBudget) {
     EXPECT_LE(autoMemoryBudget(0), detail::kDefaultAutoMemory);
 }
 
-// A render's layers (all but the position) on a w × h frame, the w × h ones two images shared
-// (130 MB at 4K, not 1.4 GB), with the settings and the bank's members of a small render.
+// A render's layers (all but the position and a denoiser's noisy layer) on a w × h frame, the w × h
+// ones two images shared (130 MB at 4K, not 1.4 GB), with the settings and the bank's members of a
+// small render.
 struct RenderLike {
     FrameBuffers frame;
     FilterBank bank;
@@ -418,7 +419,7 @@ struct RenderLike {
 RenderLike renderLike(int w, int h) {
     std::vector<Layer> layers;
     for (int l = 0; l < kLayerCount; ++l)
-        if (Layer(l) != Layer::Position) layers.push_back(Layer(l));
+        if (Layer(l) != Layer::Position && Layer(l) != Layer::Noisy) layers.push_back(Layer(l));
     FrameBuffers small(16, 16);
     for (Layer l : layers) small.ensure(l);
     small.layer(Layer::SampleCount).fill(4.0f);

@@ -6,6 +6,7 @@
 #include <QTemporaryDir>
 #include <QTest>
 
+#include <algorithm>
 #include <cmath>
 
 #include "glint/image/io.h"
@@ -38,6 +39,26 @@ class StudioAutoStartTest : public QObject {
             180000);
         if (!w.lastError().isEmpty()) return w.lastError();
         return settled && s.layerCount() > 0 ? QString() : QStringLiteral("no result layer");
+    }
+
+    // A 48 × 40 render with its variance and half buffers (16 samples, 8 in half B).
+    static FrameBuffers renderWithHalves() {
+        const int w = 48, h = 40;
+        FrameBuffers f(w, h);
+        Image& variance = f.ensure(Layer::Variance);
+        Image& half = f.ensure(Layer::HalfColor);
+        f.ensure(Layer::HalfVariance);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int c = 0; c < 3; ++c) {
+                    const float v = 0.2f + 0.01f * float(x) + 0.1f * float((x * 7 + y * 13) % 5);
+                    f.color()(x, y, c) = v;
+                    half(x, y, c) = v + (((x + y + c) % 2) != 0 ? 0.05f : -0.05f);
+                    variance(x, y, c) = 0.001f;
+                }
+        for (float& n : f.ensure(Layer::SampleCount).data()) n = 16.0f;
+        for (float& n : f.ensure(Layer::HalfSampleCount).data()) n = 8.0f;
+        return f;
     }
 
   private slots:
@@ -77,21 +98,7 @@ class StudioAutoStartTest : public QObject {
         // glint-final's output: a denoised colour beside the render's variance and half buffers
         // (metadata denoiseFilter). Auto refuses the halves and SURE there (its statistics are
         // the render's); the studio's auto start takes the image-only estimate and says why.
-        const int w = 48, h = 40;
-        FrameBuffers f(w, h);
-        Image& variance = f.ensure(Layer::Variance);
-        Image& half = f.ensure(Layer::HalfColor);
-        f.ensure(Layer::HalfVariance);
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x)
-                for (int c = 0; c < 3; ++c) {
-                    const float v = 0.2f + 0.01f * float(x) + 0.1f * float((x * 7 + y * 13) % 5);
-                    f.color()(x, y, c) = v;
-                    half(x, y, c) = v + (((x + y + c) % 2) != 0 ? 0.05f : -0.05f);
-                    variance(x, y, c) = 0.001f;
-                }
-        for (float& n : f.ensure(Layer::SampleCount).data()) n = 16.0f;
-        for (float& n : f.ensure(Layer::HalfSampleCount).data()) n = 8.0f;
+        FrameBuffers f = renderWithHalves();
         f.metadata().extra["denoiseFilter"] = "auto";
         const QString exr = m_dir.filePath(QStringLiteral("final.exr"));
         writeExr(f, exr.toStdString());
@@ -101,6 +108,33 @@ class StudioAutoStartTest : public QObject {
         const QString failed = autoStart(*win, messages);
         QVERIFY2(failed.isEmpty(), qPrintable(failed));
         QVERIFY2(messages.filter(QStringLiteral("the image is already denoised")).size() == 1,
+                 qPrintable(messages.join(QStringLiteral(" | "))));
+    }
+
+    void aDenoisedImageThatKeepsItsRenderOpensAsTheRender() {
+        // glint-final's output keeps the render's colour as its noisy layer: the studio opens
+        // that render (the colour its variance and halves describe), says so on the status bar,
+        // and Auto Start runs with the halves as on the render itself.
+        FrameBuffers f = renderWithHalves();
+        const Image noisy = f.color();
+        f.set(Layer::Noisy, noisy);
+        f.color().fill(0.3f);  // the denoised colour: flat
+        f.metadata().extra["denoiseFilter"] = "auto";
+        const QString exr = m_dir.filePath(QStringLiteral("kept.exr"));
+        writeExr(f, exr.toStdString());
+        auto win = openAndWait(exr, m_dir.filePath(QStringLiteral("autosave-kept")));
+        QVERIFY(win);
+        const FramePtr input = win->session()->input();
+        QVERIFY(input);
+        QVERIFY(!input->has(Layer::Noisy));
+        QVERIFY(std::equal(input->color().data().begin(), input->color().data().end(),
+                           noisy.data().begin()));
+        QVERIFY2(win->lastStatus().contains(QStringLiteral("Opened the render kept in kept.exr")),
+                 qPrintable(win->lastStatus()));
+        QStringList messages;
+        const QString failed = autoStart(*win, messages);
+        QVERIFY2(failed.isEmpty(), qPrintable(failed));
+        QVERIFY2(messages.filter(QStringLiteral("already denoised")).isEmpty(),
                  qPrintable(messages.join(QStringLiteral(" | "))));
     }
 };

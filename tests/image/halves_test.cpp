@@ -34,6 +34,10 @@ TEST(HalfBuffers, LayerNamesAndPairs) {
         EXPECT_EQ(layerInfo(whole).channels, layerInfo(half).channels);
     }
     EXPECT_FALSE(halfLayer(Layer::Position));
+    // The noisy layer (a denoised file's render colour) has no half and is no half.
+    EXPECT_FALSE(halfLayer(Layer::Noisy));
+    EXPECT_FALSE(isHalfLayer(Layer::Noisy));
+    EXPECT_EQ(findLayer("noisy"), Layer::Noisy);
     EXPECT_EQ(varianceOf(Layer::HalfVariance), Layer::HalfColor);
     EXPECT_EQ(varianceLayer(Layer::HalfDepth), Layer::HalfDepthVariance);
 }

@@ -154,6 +154,7 @@ TEST_F(IoTest, WritesDesignChannelNamesAndAttributes) {
     FrameBuffers frame(3, 2);
     frame.ensure(Layer::Depth);
     frame.ensure(Layer::SampleCount);
+    frame.ensure(Layer::Noisy);
     frame.metadata().spp = 8;
     frame.metadata().extra["foo"] = "bar";
     writeExr(frame, path("names.exr"));
@@ -162,7 +163,8 @@ TEST_F(IoTest, WritesDesignChannelNamesAndAttributes) {
     const OIIO::ImageSpec& spec = in->spec();
     std::vector<std::string> names(spec.channelnames.begin(), spec.channelnames.end());
     std::sort(names.begin(), names.end());
-    EXPECT_EQ(names, (std::vector<std::string>{"B", "G", "R", "depth.Z", "sampleCount.Y"}));
+    EXPECT_EQ(names, (std::vector<std::string>{"B", "G", "R", "depth.Z", "noisy.B", "noisy.G",
+                                               "noisy.R", "sampleCount.Y"}));
     EXPECT_EQ(spec.format, OIIO::TypeFloat);
     EXPECT_EQ(spec.get_string_attribute("compression"), "none");
     EXPECT_EQ(spec.get_int_attribute("glint:spp"), 8);
@@ -170,7 +172,7 @@ TEST_F(IoTest, WritesDesignChannelNamesAndAttributes) {
     EXPECT_EQ(spec.get_string_attribute("glint:normalSpace"), "world");
     EXPECT_EQ(spec.get_string_attribute("glint:depth"), "cameraZ");
     EXPECT_EQ(spec.get_string_attribute("glint:foo"), "bar");
-    EXPECT_EQ(in->spec(0, 0).nchannels, 5);
+    EXPECT_EQ(in->spec(0, 0).nchannels, 8);
     EXPECT_FALSE(in->seek_subimage(1, 0));  // one part
     in->geterror();
 }
@@ -183,7 +185,8 @@ TEST_F(IoTest, ReadsCyclesNames) {
             prefix + "Denoising Albedo.R", prefix + "Denoising Albedo.G",
             prefix + "Denoising Albedo.B", prefix + "Denoising Normal.X",
             prefix + "Denoising Normal.Y", prefix + "Denoising Normal.Z",
-            prefix + "Denoising Depth.Z"};
+            prefix + "Denoising Depth.Z",  prefix + "Noisy Image.R",
+            prefix + "Noisy Image.G",      prefix + "Noisy Image.B"};
         writeRawExr(path("cycles.exr"), 4, 3, names, rawPixels(4, 3, int(names.size())),
                     [](OIIO::ImageSpec& s) { s.attribute("cycles.ViewLayer.samples", "128"); });
         const FrameBuffers f = readExr(path("cycles.exr"));
@@ -193,6 +196,8 @@ TEST_F(IoTest, ReadsCyclesNames) {
         expectChannels(f.layer(Layer::Albedo), {4, 5, 6});
         expectChannels(f.layer(Layer::Normal), {7, 8, 9});
         expectChannels(f.layer(Layer::Depth), {10});
+        // With denoising on, Combined is denoised and Noisy Image the render's colour.
+        expectChannels(f.layer(Layer::Noisy), {11, 12, 13});
         EXPECT_FALSE(f.has(Layer::Variance));
         EXPECT_FALSE(f.has(Layer::Position));
     }

@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include "glint/denoise/denoised_frame.h"
 #include "glint/image/error.h"
 #include "glint/pipeline/final_render.h"
 #include "glint/pipeline/steering.h"
@@ -131,10 +132,15 @@ TEST(FinalRender, TheFrameIsTheDenoisedColourWithTheRendersLayers) {
     EXPECT_FALSE(render::test::sameLayer(raw, r.frame, Layer::Color));
     EXPECT_TRUE(render::test::sameLayer(raw, r.frame, Layer::HalfColor));
     EXPECT_GT(r.estimatedRelMse, 0.0);
-    // The result keeps the render's own colour beside it, bit for bit.
-    ASSERT_TRUE(r.renderColor.sameShape(raw.color()));
-    EXPECT_TRUE(std::equal(r.renderColor.data().begin(), r.renderColor.data().end(),
-                           raw.color().data().begin()));
+    // The result keeps the render's own colour as its noisy layer, bit for bit, and renderOf
+    // gives the render back.
+    ASSERT_TRUE(r.frame.has(Layer::Noisy));
+    EXPECT_TRUE(std::equal(r.frame.layer(Layer::Noisy).data().begin(),
+                           r.frame.layer(Layer::Noisy).data().end(), raw.color().data().begin()));
+    const FrameBuffers back = denoise::renderOf(r.frame);
+    EXPECT_TRUE(render::test::sameLayer(raw, back, Layer::Color));
+    EXPECT_FALSE(back.has(Layer::Noisy));
+    EXPECT_EQ(back.metadata().extra.count("denoiseFilter"), 0u);
 }
 
 /// A fake clock: every read advances it by `tick` seconds (time counts the loop's polls: about

@@ -90,6 +90,25 @@ def test_auto_from_python_equals_glint_denoise_auto(tmp_path, tiny_frame):
     assert loaded.layers and np.array_equal(loaded.composite, np.asarray(result.composite))
 
 
+def test_a_denoised_output_keeps_its_render_and_render_of_gives_it_back(tmp_path, tiny_frame):
+    source = tmp_path / "in.exr"
+    tiny_frame.write_exr(source)
+    out = tmp_path / "auto.exr"
+    run_cli("glint-denoise", "auto", source, "--quality", "fast", "--out", out)
+    denoised = glint.read_exr(out)
+    assert "noisy" in denoised
+    assert np.array_equal(denoised["noisy"], tiny_frame["color"])
+    # Its colour is denoised and its halves are the render's: auto names the way back.
+    with pytest.raises(glint.Error, match="render_of"):
+        glint.auto(denoised, quality="fast")
+    render = glint.render_of(denoised)
+    assert "noisy" not in render
+    assert "denoiseFilter" not in render.metadata
+    assert np.array_equal(render["color"], tiny_frame["color"])
+    again = glint.auto(render, quality="fast")
+    assert np.array_equal(np.asarray(again.composite), denoised["color"])
+
+
 def test_auto_on_a_given_bank_uses_its_members(tiny_frame):
     bank = glint.build_bank(tiny_frame, size=4, filters=["gaussian"])
     result = glint.auto(tiny_frame, bank=bank)

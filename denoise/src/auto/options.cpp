@@ -57,10 +57,6 @@ AutoEstimator resolveEstimator(AutoEstimator estimator, const FrameBuffers& fram
     return frame.has(Layer::Variance) ? AutoEstimator::Sure : AutoEstimator::Image;
 }
 
-bool colourIsDenoised(const FrameBuffers& frame) {
-    return frame.metadata().extra.count("denoiseFilter") > 0;
-}
-
 namespace {
 
 // The render's statistics describe the render's colour, not one a filter or auto has replaced
@@ -68,14 +64,19 @@ namespace {
 void checkColourIsTheRenders(const FrameBuffers& frame, AutoEstimator resolved,
                              const std::string& file) {
     if (!colourIsDenoised(frame)) return;
-    throw Error(ErrorKind::InvalidArgument,
-                "its colour is already denoised (denoiseFilter: " +
-                    frame.metadata().extra.at("denoiseFilter") + ") while its " +
-                    (resolved == AutoEstimator::Halves ? "half buffers are" : "variance is") +
-                    " the render's, which no longer describe it: denoise the render itself "
-                    "(glint-render's output), or estimate from the image alone (--estimator "
-                    "image)",
-                file, "metadata 'denoiseFilter'");
+    const std::string mark = denoisedMark(frame);
+    throw Error(
+        ErrorKind::InvalidArgument,
+        "its colour is already denoised (" + mark + ") while its " +
+            (resolved == AutoEstimator::Halves ? "half buffers are" : "variance is") +
+            " the render's, which no longer describe it: " +
+            (keepsRender(frame)
+                 ? std::string("denoise the render it keeps (its noisy layer: renderOf, "
+                               "glint.render_of)")
+                 : std::string("denoise the render itself (glint-render's output), or "
+                               "estimate from the image alone (--estimator image)")),
+        file,
+        mark.rfind("layer", 0) == 0 ? mark : "metadata '" + mark.substr(0, mark.find(':')) + "'");
 }
 
 }  // namespace

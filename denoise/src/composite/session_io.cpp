@@ -14,6 +14,7 @@
 
 #include "composite/correction.h"
 #include "composite/session_impl.h"
+#include "glint/denoise/denoised_frame.h"
 #include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
 #include "glint/image/error.h"
@@ -400,8 +401,9 @@ std::vector<fs::path> Session::temporaries(const fs::path& path, std::size_t lay
 }
 
 void Session::exportExr(const fs::path& path) const {
-    FrameBuffers out = m_impl->input;
-    out.color() = m_impl->composite;
+    // The render's colour is kept as the noisy layer (denoisedFrame): the export can be denoised
+    // again from it.
+    FrameBuffers out = denoisedFrame(m_impl->input, m_impl->composite, 0, 0, "session");
     out.metadata().extra["denoiseSession"] = std::to_string(m_impl->layers.size()) + " layers";
     writeExr(out, path);
 }

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "glint/denoise/denoised_frame.h"
 #include "glint/denoise/filter.h"
 #include "glint/denoise/progress.h"
 #include "glint/image/frame_buffers.h"
@@ -40,10 +41,6 @@ const char* autoEstimatorName(AutoEstimator estimator);
 /// The estimator Auto stands for with `frame` (the others as given).
 AutoEstimator resolveEstimator(AutoEstimator estimator, const FrameBuffers& frame);
 
-/// Whether `frame`'s colour is already denoised (its metadata names a denoiseFilter, as
-/// glint-denoise's and glint-final's outputs do): its variance and half buffers are still the
-/// render's, so only the image-only estimator describes it (checkAutoInput refuses the others).
-bool colourIsDenoised(const FrameBuffers& frame);
 
 /// Throws glint::Error naming `file` and the place unless the auto composite can use `frame`
 /// with `estimator`: for SURE, the variance layer (variance.R/G/B, the variance of the mean) and

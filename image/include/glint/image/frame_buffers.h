@@ -27,6 +27,9 @@ enum class Layer : int {
     DepthVariance,   ///< depthVariance.Z
     Position,        ///< position.X/Y/Z: world space (optional)
     SampleCount,     ///< sampleCount.Y
+    /// noisy.R/G/B: the render's colour where a denoiser replaced Color (glint-final's and
+    /// glint-denoise's outputs, Cycles' "Noisy Image"); absent in a render (optional).
+    Noisy,
     // Half buffers (glint-render --set halfBuffers=true; optional): the same statistics over the
     // pixel's odd-indexed samples only, half B of two independent halves.
     HalfColor,           ///< halfColor.R/G/B
@@ -39,7 +42,7 @@ enum class Layer : int {
     HalfDepthVariance,   ///< halfDepthVariance.Z
     HalfSampleCount,     ///< halfSampleCount.Y
 };
-inline constexpr int kLayerCount = 19;
+inline constexpr int kLayerCount = 20;
 
 /// Static description of a layer: its EXR layer name and channel suffixes.
 struct LayerInfo {
@@ -64,7 +67,8 @@ std::optional<Layer> varianceOf(Layer layer);
 std::optional<Layer> varianceLayer(Layer layer);
 
 /// The half-buffer layer holding half B's statistics of `layer` (Color→HalfColor,
-/// Variance→HalfVariance … SampleCount→HalfSampleCount), or nullopt (position has none).
+/// Variance→HalfVariance … SampleCount→HalfSampleCount), or nullopt (position and noisy have
+/// none).
 std::optional<Layer> halfLayer(Layer layer);
 /// True for the half-buffer layers (HalfColor … HalfSampleCount).
 inline bool isHalfLayer(Layer layer) {

@@ -112,10 +112,9 @@ void validate(const FinalOptions& options);
 /// What a final render made.
 struct FinalResult {
     /// The render's layers (half buffers included) with the colour replaced by the denoised
-    /// image (metadata denoiseFilter = auto).
+    /// image and the render's own colour kept as the noisy layer (denoise::denoisedFrame;
+    /// metadata denoiseFilter = auto): denoise::renderOf gives the render back.
     FrameBuffers frame;
-    /// The render's own colour, before auto (to denoise the same frame again otherwise).
-    Image renderColor;
     render::RenderStats render;    ///< the render's statistics (seconds: the render's)
     double estimatedRelMse = 0.0;  ///< of the final denoised image (estimatedRelMse)
     int refreshes = 0;             ///< auto's runs during the render
