@@ -286,7 +286,9 @@ void bindDenoise(py::module_& m) {
                                })
         .def(
             "export_exr", [](const Session& s, const fs::path& path) { s.exportExr(path); },
-            py::arg("path"), "The input's layers with the colour replaced by the composite.");
+            py::arg("path"),
+            "The input's layers with the colour replaced by the composite, the input's colour "
+            "kept as layer 'noisy'.");
     m.def(
         "load_session",
         [](const fs::path& path, py::object progress) {

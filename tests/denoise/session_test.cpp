@@ -548,7 +548,7 @@ TEST_F(SessionTest, ExportsTheCompositeAndRefusesBadEdits) {
     // The render stays in the file (layer noisy) and the file says it is denoised.
     ASSERT_TRUE(out.has(Layer::Noisy));
     EXPECT_TRUE(sameBits(out.layer(Layer::Noisy), testing::syntheticFrame(24, 20).color()));
-    EXPECT_EQ(out.metadata().extra.at("denoiseSession"), "1 layers");
+    EXPECT_EQ(out.metadata().extra.at("denoiseSession"), "1 layer");
     EXPECT_TRUE(fs::exists(m_dir / "out.png"));
     EXPECT_THROW(s.addLayer("nope", {}), Error);
     EXPECT_THROW(s.addLayer("gaussian", {{"sigma", -1.0}}), Error);

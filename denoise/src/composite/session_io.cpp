@@ -404,7 +404,9 @@ void Session::exportExr(const fs::path& path) const {
     // The render's colour is kept as the noisy layer (denoisedFrame): the export can be denoised
     // again from it.
     FrameBuffers out = denoisedFrame(m_impl->input, m_impl->composite, 0, 0, "session");
-    out.metadata().extra["denoiseSession"] = std::to_string(m_impl->layers.size()) + " layers";
+    const std::size_t layers = m_impl->layers.size();
+    out.metadata().extra["denoiseSession"] =
+        std::to_string(layers) + (layers == 1 ? " layer" : " layers");
     writeExr(out, path);
 }
 

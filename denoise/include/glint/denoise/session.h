@@ -208,7 +208,8 @@ class Session {
     /// side file.
     static Session load(const std::filesystem::path& path, const ProgressFn& progress = {});
 
-    /// Writes the input's layers with the colour replaced by the composite (layered EXR).
+    /// Writes the input's layers with the colour replaced by the composite and the input's colour
+    /// kept as the noisy layer (layered EXR; denoisedFrame, metadata denoiseSession).
     void exportExr(const std::filesystem::path& path) const;
     /// Writes an 8-bit PNG of the composite.
     void exportPng(const std::filesystem::path& path, const DisplayOptions& display = {}) const;
