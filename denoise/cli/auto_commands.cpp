@@ -226,8 +226,8 @@ void runAuto(const AutoArgs& a) {
     options.prefilter = bankOptions.prefilter;
     options.prefilterParams = bankOptions.prefilterParams;
 
-    std::optional<Image> shown;  // a denoised file's colour, kept outside a bank's region
-    FrameBuffers frame = readInput(a.input, &shown);
+    InputFrame input = readInput(a.input);  // a denoised file's colour stays outside the region
+    FrameBuffers& frame = input.frame;
     // SURE needs the variance layer, the halves every half layer, both finite values: say so
     // before building anything.
     try {
@@ -249,6 +249,9 @@ void runAuto(const AutoArgs& a) {
                         "--set halfBuffers=true)",
                         "command line", "--space");
     } catch (const Error& e) {
+        // A colour error of a file that keeps its render is in that render, its layer noisy.
+        if (!input.note.empty() && e.message().find("the color") != std::string::npos)
+            throw Error(e.kind(), e.message(), a.input, "layer noisy, " + e.where());
         rethrowNaming(e, a.input);
     }
     if (!a.session.empty() && bankOptions.region &&
@@ -272,6 +275,7 @@ void runAuto(const AutoArgs& a) {
     // (autoCompositeStreamed; docs/auto-memory.md). A bank folder's stored results are read
     // instead when they fit in memory beside it; else its members (the same options) are
     // applied again: the same result.
+    sayInput(input);
     const bool readFolder = !a.bank.empty() && bankFolderFits(frame, bankOptions, memoryLimit);
     if (!a.bank.empty() && !readFolder)
         std::fprintf(stderr,
@@ -311,7 +315,7 @@ void runAuto(const AutoArgs& a) {
     // The output: every input layer (shared, not copied), the colour replaced by the composite
     // over the bank's region (outside it, a denoised file's own), the render's kept as noisy.
     FrameBuffers out = denoisedFrame(frame, result.composite, bank.region().x0, bank.region().y0,
-                                     "auto", shown ? &*shown : nullptr);
+                                     "auto", input.shown ? &*input.shown : nullptr);
 
     int analytic = 0;
     for (bool b : result.analytic) analytic += b ? 1 : 0;

@@ -92,13 +92,15 @@ void runBank(const BankArgs& a) {
     validate(options);  // before reading anything or creating the folder
     glint::cli::checkOutputIsNoInput(a.out, "--out", {{a.input, "IN"}});
     checkBankFolder(a.out);
-    const FrameBuffers frame = readInput(a.input);
+    const InputFrame input = readInput(a.input);
+    const FrameBuffers& frame = input.frame;
     if (!a.roi.empty()) options.region = parseRegion(a.roi, frame.width(), frame.height(), a.input);
     std::error_code ec;
     fs::create_directories(a.out, ec);
     if (ec)
         throw Error(ErrorKind::Io, "cannot create the bank folder (" + ec.message() + ")", a.out,
                     "--out");
+    sayInput(input);
     options.cacheDir = a.out;
     const bool tty = isatty(fileno(stderr)) != 0;
     if (tty && !a.json)

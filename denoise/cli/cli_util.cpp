@@ -269,13 +269,17 @@ AutoOptions autoOptionsOfBank(const std::string& bankDir) {
     return options;
 }
 
-FrameBuffers readInput(const std::string& path, std::optional<Image>* shown) {
-    const FrameBuffers file = readExr(path);
-    if (const std::string note = renderOfNote(file, path); !note.empty()) {
-        std::fprintf(stderr, "glint-denoise: %s", note.c_str());
-        if (shown) *shown = file.color();
-    }
-    return renderOf(file);
+InputFrame readInput(const std::string& path) {
+    FrameBuffers file = readExr(path);
+    InputFrame in;
+    in.note = renderOfNote(file, path);
+    if (!in.note.empty()) in.shown = file.color();
+    in.frame = renderOf(file);
+    return in;
+}
+
+void sayInput(const InputFrame& input) {
+    if (!input.note.empty()) std::fprintf(stderr, "glint-denoise: %s", input.note.c_str());
 }
 
 FrameBuffers readReference(const std::string& path, int width, int height) {

@@ -147,10 +147,18 @@ void writeChoiceMap(const Image& choice, std::size_t members, const std::string&
 /// features prefiltered as the bank's were (readBankOptions).
 AutoOptions autoOptionsOfBank(const std::string& bankDir);
 
-/// Reads the input EXR a command denoises: the render it holds (denoise::renderOf), saying so in
-/// one line on stderr when `path` is a denoised file that keeps its render (layer noisy); then
-/// `shown`, when given, receives the file's own colour (what a region's output keeps around it).
-FrameBuffers readInput(const std::string& path, std::optional<Image>* shown = nullptr);
+/// The input EXR a command denoises (readInput).
+struct InputFrame {
+    FrameBuffers frame;          ///< the render it holds (denoise::renderOf)
+    std::optional<Image> shown;  ///< a denoised file's own colour (kept around a region)
+    std::string note;            ///< "IN keeps its render (layer noisy): …", or empty
+};
+/// Reads the input EXR a command denoises: the render it holds, and for a denoised file that
+/// keeps its render (layer noisy) its own colour and the line that says so.
+InputFrame readInput(const std::string& path);
+/// Prints input.note on stderr (nothing when empty): when the command's checks have passed and
+/// its work starts, so that bad input still gets one line.
+void sayInput(const InputFrame& input);
 
 /// Reads a reference EXR of the given size (errors name the file).
 FrameBuffers readReference(const std::string& path, int width, int height);

@@ -117,8 +117,8 @@ void runApply(const ApplyOptions& opt) {
         throw Error(ErrorKind::InvalidArgument, "unavailable: " + why, {},
                     "filter '" + std::string(filter.name()) + "'");
 
-    std::optional<Image> shown;  // a denoised file's colour, kept outside --roi
-    FrameBuffers frame = readInput(opt.input, &shown);
+    InputFrame input = readInput(opt.input);  // a denoised file's colour stays outside --roi
+    FrameBuffers& frame = input.frame;
     const Rect bounds{0, frame.width(), 0, frame.height()};
     std::optional<Rect> roi;
     if (!opt.roi.empty()) roi = parseRegion(opt.roi, frame.width(), frame.height(), opt.input);
@@ -140,12 +140,13 @@ void runApply(const ApplyOptions& opt) {
         throw;
     }
     const auto t2 = std::chrono::steady_clock::now();
+    sayInput(input);  // after the filter's checks: bad input gets one line
 
     // The output frame: every input layer, the colour replaced inside the region (outside it, the
     // file's own), the render's kept as the noisy layer.
     const Rect region = roi.value_or(bounds);
     const FrameBuffers out = denoisedFrame(frame, filtered, region.x0, region.y0, filter.name(),
-                                           shown ? &*shown : nullptr);
+                                           input.shown ? &*input.shown : nullptr);
 
     json report{{"input", opt.input},
                 {"output", opt.output},

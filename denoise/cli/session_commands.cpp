@@ -54,7 +54,9 @@ void runPaint(const PaintArgs& a) {
     const auto t0 = std::chrono::steady_clock::now();
     SessionOptions options;
     options.prefilter = a.prefilter;
-    Session session(readInput(a.input), options);
+    const InputFrame input = readInput(a.input);
+    Session session(input.frame, options);
+    sayInput(input);
     script.apply(session);
     session.save(a.save);
     if (!a.out.empty()) session.exportExr(a.out);
@@ -107,7 +109,8 @@ void runComposite(const CompositeArgs& a) {
     const auto t0 = std::chrono::steady_clock::now();
     Session session = Session::load(a.session);
     const json unavailable = reportUnavailableLayers(session, a.session);
-    FrameBuffers render = readInput(a.input);
+    InputFrame input = readInput(a.input);
+    FrameBuffers& render = input.frame;
     if (render.width() != session.width() || render.height() != session.height())
         throw Error(ErrorKind::InvalidArgument,
                     "the new render is " + std::to_string(render.width()) + "x" +
@@ -118,6 +121,7 @@ void runComposite(const CompositeArgs& a) {
     std::optional<FrameBuffers> reference;
     if (!a.reference.empty())
         reference = readReference(a.reference, render.width(), render.height());
+    sayInput(input);
     session.reapply(std::move(render));
     json report{{"session", a.session},
                 {"input", a.input},

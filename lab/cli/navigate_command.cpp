@@ -57,11 +57,13 @@ void runLocalArtist(const NavigateArgs& a, const TreeOptions& tree) {
         throw Error(ErrorKind::InvalidArgument,
                     "unknown start '" + start + "' (expected auto or best)", {}, "--start");
     validate(options);
-    const FrameBuffers frame = readInput(a.input);
+    const InputFrame input = readInput(a.input);
+    const FrameBuffers& frame = input.frame;
     const FrameBuffers ref = readReference(a.reference, frame.width(), frame.height());
     const json leftOut = reportLeftOutFilters(readBankOptions(a.bank));
     const FilterBank bank = openBank(frame, a.bank);
     const json unavailable = reportUnavailableMembers(bank, a.bank);
+    sayInput(input);
     const Image refCrop = ref.color().crop(bank.region());
     // The starting composite: auto's (its defaults, no reference), or the best single member
     // chosen with the reference (the best any global filter of the bank does).
@@ -156,11 +158,13 @@ void runNavigate(const NavigateArgs& a) {
           std::pair{!a.brushSoftness.empty(), "--brush-softness"},
           std::pair{a.keepAll, "--keep-all"}})
         if (given) throw Error(ErrorKind::InvalidArgument, "given without --local", {}, flag);
-    const FrameBuffers frame = readInput(a.input);
+    const InputFrame input = readInput(a.input);
+    const FrameBuffers& frame = input.frame;
     const FrameBuffers ref = readReference(a.reference, frame.width(), frame.height());
     const json leftOut = reportLeftOutFilters(readBankOptions(a.bank));
     const FilterBank bank = openBank(frame, a.bank);
     const json unavailable = reportUnavailableMembers(bank, a.bank);
+    sayInput(input);
     Rect region = bank.region();
     if (!a.roi.empty()) {
         region = parseRegion(a.roi, frame.width(), frame.height(), a.input);

@@ -64,12 +64,14 @@ void runOracle(const OracleArgs& a) {
         checkOutputIsNoBankFile(a.choiceMap, "--choice-map", a.bank);
         glint::cli::removeTemporariesOnSignal({a.choiceMap});
     }
-    const FrameBuffers frame = readInput(a.input);
+    const InputFrame input = readInput(a.input);
+    const FrameBuffers& frame = input.frame;
     const FrameBuffers ref = readReference(a.reference, frame.width(), frame.height());
     const auto t0 = Clock::now();
     const json leftOut = reportLeftOutFilters(readBankOptions(a.bank));
     const FilterBank bank = openBank(frame, a.bank);
     const json unavailable = reportUnavailableMembers(bank, a.bank);
+    sayInput(input);
     OracleResult r;
     try {
         r = oracle(bank, frame.color(), ref.color());

@@ -233,6 +233,17 @@ TEST_F(AutoCli, AnOutputKeepsItsRenderAndIsDenoisedAgainFromIt) {
     EXPECT_TRUE(std::equal(blurred.layer(Layer::Noisy).data().begin(),
                            blurred.layer(Layer::Noisy).data().end(),
                            render.color().data().begin()));
+    // Bad values in the render it keeps: one line naming the layer noisy and the pixel.
+    FrameBuffers bad = once;
+    bad.layer(Layer::Noisy)(20, 10, 1) = std::nanf("");
+    writeExr(bad, path("bad.exr"));
+    r = runEither("auto " + path("bad.exr") + " --out " + path("never.exr") + " --size 4" +
+                  kClassicalFilters);
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    EXPECT_NE(r.err.find("bad.exr: layer noisy, pixel (20, 10)"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(path("never.exr")));
+
     // In a region the render is filtered again; around it the file's own colour stays.
     r = run("apply " + path("once.exr") + " --filter gaussian --roi 8,20,4,16 --out " +
             path("region.exr"));
