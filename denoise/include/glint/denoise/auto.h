@@ -41,7 +41,6 @@ const char* autoEstimatorName(AutoEstimator estimator);
 /// The estimator Auto stands for with `frame` (the others as given).
 AutoEstimator resolveEstimator(AutoEstimator estimator, const FrameBuffers& frame);
 
-
 /// Throws glint::Error naming `file` and the place unless the auto composite can use `frame`
 /// with `estimator`: for SURE, the variance layer (variance.R/G/B, the variance of the mean) and
 /// finite colour and finite, non-negative variance at every pixel (Format for a missing layer,
