@@ -29,16 +29,15 @@ bool keepsRender(const FrameBuffers& frame) {
 
 FrameBuffers denoisedFrame(const FrameBuffers& render, const Image& colour, int x0, int y0,
                            std::string_view filter, const Image* outside) {
-    FrameBuffers out = withColorPasted(render, colour, x0, y0);
-    if (outside) {
-        if (!outside->sameShape(render.color()))
-            throw Error(ErrorKind::InvalidArgument,
-                        "the colour around the region is not the frame's size", {},
-                        "denoisedFrame");
-        Image shown = *outside;
-        paste(shown, colour, x0, y0);
-        out.set(Layer::Color, std::move(shown));
-    }
+    // The colour around the region: the file's shown colour, else the render's; copied once.
+    const Image& around = outside ? *outside : render.color();
+    if (!around.sameShape(render.color()))
+        throw Error(ErrorKind::InvalidArgument,
+                    "the colour around the region is not the frame's size", {}, "denoisedFrame");
+    Image shown = around;
+    paste(shown, colour, x0, y0);
+    FrameBuffers out = render.sharedCopy();
+    out.set(Layer::Color, std::move(shown));
     // A render's colour becomes the noisy layer; a denoised input keeps the noisy layer it has (the
     // render), or has none left to keep.
     if (!colourIsDenoised(render)) out.shareLayer(Layer::Noisy, render, Layer::Color);
