@@ -249,9 +249,6 @@ void runAuto(const AutoArgs& a) {
                         "--set halfBuffers=true)",
                         "command line", "--space");
     } catch (const Error& e) {
-        // A colour error of a file that keeps its render is in that render, its layer noisy.
-        if (!input.note.empty() && e.message().find("the color") != std::string::npos)
-            throw Error(e.kind(), e.message(), a.input, "layer noisy, " + e.where());
         rethrowNaming(e, a.input);
     }
     if (!a.session.empty() && bankOptions.region &&

@@ -49,6 +49,7 @@ FrameBuffers renderOf(const FrameBuffers& frame) {
     FrameBuffers out = frame.sharedCopy();
     if (!keepsRender(frame)) return out;
     out.shareLayer(Layer::Color, frame, Layer::Noisy);
+    out.metadata().colorReadFrom = Layer::Noisy;  // errors about the colour name the noisy layer
     out.remove(Layer::Noisy);
     out.metadata().extra.erase(kFilterKey);
     out.metadata().extra.erase(kSessionKey);

@@ -55,6 +55,16 @@ std::string channelName(Layer layer, int c) {
     return std::string(info.name) + "." + std::string(info.suffixes[c]);
 }
 
+std::string layerInFile(const FrameBuffers& frame, Layer layer) {
+    if (layer == Layer::Color && frame.metadata().colorReadFrom == Layer::Noisy)
+        return "the noisy layer (the render the file keeps)";
+    return "the " + std::string(layerDisplayName(layer));
+}
+
+std::string channelInFile(const FrameBuffers& frame, Layer layer, int c) {
+    return channelName(layer == Layer::Color ? frame.metadata().colorReadFrom : layer, c);
+}
+
 std::optional<Layer> varianceOf(Layer layer) {
     switch (layer) {
         case Layer::Variance:
@@ -153,11 +163,13 @@ void checkShape(Layer l, const Image& image, int width, int height) {
 void FrameBuffers::set(Layer l, Image image) {
     checkShape(l, image, m_width, m_height);
     m_layers[int(l)] = std::make_shared<Image>(std::move(image));
+    if (l == Layer::Color) m_metadata.colorReadFrom = Layer::Color;
 }
 
 void FrameBuffers::shareLayer(Layer l, const FrameBuffers& from, Layer fromLayer) {
     checkShape(l, from.layer(fromLayer), m_width, m_height);
     m_layers[int(l)] = from.m_layers[int(fromLayer)];
+    if (l == Layer::Color) m_metadata.colorReadFrom = Layer::Color;
 }
 
 FrameBuffers FrameBuffers::sharedCopy() const {

@@ -41,6 +41,22 @@ TEST(DenoisedFrame, KeepsTheRendersColourAndRenderOfGivesTheRenderBack) {
     EXPECT_TRUE(same(renderOf(render).color(), render.color()));
 }
 
+TEST(DenoisedFrame, ErrorsAboutTheRendersColourNameTheNoisyLayer) {
+    const FrameBuffers render = testing::syntheticFrame(6, 4, 0.1f);
+    EXPECT_EQ(layerInFile(render, Layer::Color), "the color");
+    EXPECT_EQ(channelInFile(render, Layer::Color, 1), "G");
+    const FrameBuffers out = denoisedFrame(render, Image(6, 4, 3, 1.0f), 0, 0, "auto");
+    FrameBuffers back = renderOf(out);
+    EXPECT_EQ(layerInFile(back, Layer::Color), "the noisy layer (the render the file keeps)");
+    EXPECT_EQ(channelInFile(back, Layer::Color, 1), "noisy.G");
+    EXPECT_EQ(channelInFile(back, Layer::Variance, 1), "variance.G");  // read from itself
+    // Denoising it again gives a colour of its own; so does setting one.
+    EXPECT_EQ(channelInFile(denoisedFrame(back, Image(6, 4, 3), 0, 0, "auto"), Layer::Color, 0),
+              "R");
+    back.set(Layer::Color, Image(6, 4, 3));
+    EXPECT_EQ(layerInFile(back, Layer::Color), "the color");
+}
+
 TEST(DenoisedFrame, DenoisingADenoisedFrameKeepsTheOriginalRender) {
     const FrameBuffers render = testing::syntheticFrame(8, 8, 0.1f);
     const FrameBuffers once = denoisedFrame(render, Image(8, 8, 3, 1.0f), 0, 0, "auto");

@@ -70,11 +70,12 @@ void checkHalvesFinite(const FrameBuffers& frame, const std::string& file) {
             for (int x = 0; x < frame.width(); ++x)
                 for (int c = 0; c < 3; ++c)
                     if (!std::isfinite(image(x, y, c)))
-                        throw Error(ErrorKind::Numeric,
-                                    std::string(std::isnan(image(x, y, c)) ? "NaN" : "Inf") +
-                                        " in the " + std::string(layerDisplayName(layer)) +
-                                        "; the error estimate needs finite values",
-                                    file, pixelText(x, y) + ", channel " + channelName(layer, c));
+                        throw Error(
+                            ErrorKind::Numeric,
+                            std::string(std::isnan(image(x, y, c)) ? "NaN" : "Inf") + " in " +
+                                layerInFile(frame, layer) +
+                                "; the error estimate needs finite values",
+                            file, pixelText(x, y) + ", channel " + channelInFile(frame, layer, c));
     }
 }
 

@@ -74,12 +74,13 @@ void checkImageNoiseInput(const FrameBuffers& frame, const std::string& file) {
         for (int x = 0; x < frame.width(); ++x)
             for (int c = 0; c < 3; ++c)
                 if (const float v = color(x, y, c); !std::isfinite(v))
-                    throw Error(ErrorKind::Numeric,
-                                std::string(std::isnan(v) ? "NaN" : "Inf") +
-                                    " in the colour; the image-only noise estimator needs finite "
-                                    "values",
-                                file,
-                                pixelText(x, y) + ", channel " + channelName(Layer::Color, c));
+                    throw Error(
+                        ErrorKind::Numeric,
+                        std::string(std::isnan(v) ? "NaN" : "Inf") + " in " +
+                            layerInFile(frame, Layer::Color) +
+                            "; the image-only noise estimator needs finite values",
+                        file,
+                        pixelText(x, y) + ", channel " + channelInFile(frame, Layer::Color, c));
 }
 
 Image estimateImageNoise(const FrameBuffers& frame, const ImageNoiseOptions& o, WorkContext& work) {

@@ -78,11 +78,12 @@ void checkSureInput(const FrameBuffers& frame, const std::string& file) {
             for (int c = 0; c < 3; ++c) {
                 const float v = color(x, y, c);
                 if (!std::isfinite(v))
-                    throw Error(ErrorKind::Numeric,
-                                std::string(std::isnan(v) ? "NaN" : "Inf") +
-                                    " in the colour; SURE needs finite values",
-                                file,
-                                pixelText(x, y) + ", channel " + channelName(Layer::Color, c));
+                    throw Error(
+                        ErrorKind::Numeric,
+                        std::string(std::isnan(v) ? "NaN" : "Inf") + " in " +
+                            layerInFile(frame, Layer::Color) + "; SURE needs finite values",
+                        file,
+                        pixelText(x, y) + ", channel " + channelInFile(frame, Layer::Color, c));
                 const float s = variance(x, y, c);
                 if (!std::isfinite(s) || s < 0.0f)
                     throw Error(ErrorKind::Numeric,

@@ -91,6 +91,9 @@ struct FrameMetadata {
     std::string depthKind = "cameraZ";  ///< glint:depth
     std::int64_t nonFiniteSamples = 0;  ///< glint:nonFiniteSamples (discarded NaN/Inf samples)
     std::string source = "glint";       ///< which naming convention the file used when read
+    /// The file's layer the colour was read from: Noisy for the render a denoised file keeps
+    /// (denoise::renderOf), else Color. Not written; setting the colour resets it.
+    Layer colorReadFrom = Layer::Color;
     /// Any other string attributes to carry through (key without the "glint:" prefix).
     std::map<std::string, std::string> extra;
 };
@@ -154,6 +157,12 @@ class FrameBuffers {
     std::array<std::shared_ptr<Image>, kLayerCount> m_layers;
     FrameMetadata m_metadata;
 };
+
+/// How an error names `layer` of `frame` by the layer of its file: "the color", "the halfColor",
+/// or, for a colour read from the noisy layer, "the noisy layer (the render the file keeps)".
+std::string layerInFile(const FrameBuffers& frame, Layer layer);
+/// channelName of the file's layer that holds channel `c` of `layer` ("G", or "noisy.G").
+std::string channelInFile(const FrameBuffers& frame, Layer layer, int c);
 
 /// The two halves of a frame rendered with half buffers (docs/image.md, "Half buffers"), as
 /// frames of their own without half layers: B from the half layers, A from the whole minus B
