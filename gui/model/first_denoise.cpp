@@ -21,12 +21,10 @@ namespace glint::studio {
 
 namespace {
 
-// Whether `frame` has every layer `filter` reads at its defaults (cross-bilateral's guides too).
+// Whether `frame` has every layer the filter `name` needs at its defaults (its guides included).
 bool runsOn(const std::string& name, const FrameBuffers& frame) {
     const denoise::Filter& filter = denoise::findFilter(name);
-    std::vector<Layer> needed = filter.requiredLayers(denoise::resolveParams(filter, {}));
-    if (name == "cross-bilateral")
-        needed.insert(needed.end(), {Layer::Albedo, Layer::Normal, Layer::Depth});  // its guides
+    const std::vector<Layer> needed = filter.requiredLayers(denoise::resolveParams(filter, {}));
     return std::all_of(needed.begin(), needed.end(), [&](Layer l) { return frame.has(l); });
 }
 
