@@ -56,9 +56,9 @@ std::string channelName(Layer layer, int c) {
 }
 
 std::string layerInFile(const FrameBuffers& frame, Layer layer) {
-    if (layer == Layer::Color && frame.metadata().colorReadFrom == Layer::Noisy)
-        return "the noisy layer (the render the file keeps)";
-    return "the " + std::string(layerDisplayName(layer));
+    const Layer from = layer == Layer::Color ? frame.metadata().colorReadFrom : layer;
+    if (from == Layer::Noisy) return "the noisy layer (the render the file keeps)";
+    return "the " + std::string(layerDisplayName(from));
 }
 
 std::string channelInFile(const FrameBuffers& frame, Layer layer, int c) {
@@ -283,6 +283,7 @@ std::pair<FrameBuffers, FrameBuffers> splitHalves(const FrameBuffers& frame,
     a.set(Layer::SampleCount, std::move(countA));
     a.metadata() = frame.metadata();
     b.metadata() = frame.metadata();
+    b.metadata().colorReadFrom = Layer::HalfColor;  // errors about B's colour name halfColor
     a.metadata().spp = frame.metadata().spp - frame.metadata().spp / 2;
     b.metadata().spp = frame.metadata().spp / 2;
     a.metadata().extra.erase("halfBuffers");

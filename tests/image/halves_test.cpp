@@ -93,6 +93,10 @@ TEST(HalfBuffers, SplitHalvesRecoversTheEvenSamplesStatistics) {
     const auto [a, b] = splitHalves(f, "in.exr");
     EXPECT_EQ(a.metadata().spp, 5);
     EXPECT_EQ(b.metadata().spp, 4);
+    // An error about B's colour names the file's layer it came from.
+    EXPECT_EQ(channelInFile(b, Layer::Color, 1), "halfColor.G");
+    EXPECT_EQ(layerInFile(b, Layer::Color), "the halfColor");
+    EXPECT_EQ(channelInFile(a, Layer::Color, 1), "G");
     for (int l = 0; l < kLayerCount; ++l) {
         EXPECT_FALSE(isHalfLayer(Layer(l)) && (a.has(Layer(l)) || b.has(Layer(l))));
     }

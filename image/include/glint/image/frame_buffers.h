@@ -92,7 +92,8 @@ struct FrameMetadata {
     std::int64_t nonFiniteSamples = 0;  ///< glint:nonFiniteSamples (discarded NaN/Inf samples)
     std::string source = "glint";       ///< which naming convention the file used when read
     /// The file's layer the colour was read from: Noisy for the render a denoised file keeps
-    /// (denoise::renderOf), else Color. Not written; setting the colour resets it.
+    /// (denoise::renderOf), HalfColor for half B (splitHalves), else Color. Not written; setting
+    /// the colour resets it.
     Layer colorReadFrom = Layer::Color;
     /// Any other string attributes to carry through (key without the "glint:" prefix).
     std::map<std::string, std::string> extra;
@@ -158,8 +159,9 @@ class FrameBuffers {
     FrameMetadata m_metadata;
 };
 
-/// How an error names `layer` of `frame` by the layer of its file: "the color", "the halfColor",
-/// or, for a colour read from the noisy layer, "the noisy layer (the render the file keeps)".
+/// How an error names `layer` of `frame` by the layer of its file: "the color", "the halfColor"
+/// (also half B's colour, splitHalves), or, for a colour read from the noisy layer, "the noisy
+/// layer (the render the file keeps)".
 std::string layerInFile(const FrameBuffers& frame, Layer layer);
 /// channelName of the file's layer that holds channel `c` of `layer` ("G", or "noisy.G").
 std::string channelInFile(const FrameBuffers& frame, Layer layer, int c);
