@@ -55,14 +55,21 @@ std::string channelName(Layer layer, int c) {
     return std::string(info.name) + "." + std::string(info.suffixes[c]);
 }
 
+namespace {
+// The layer of the file `frame` was read from that holds its `layer`.
+Layer layerOfFile(const FrameBuffers& frame, Layer layer) {
+    return layer == Layer::Color ? frame.metadata().colorReadFrom : layer;
+}
+}  // namespace
+
 std::string layerInFile(const FrameBuffers& frame, Layer layer) {
-    const Layer from = layer == Layer::Color ? frame.metadata().colorReadFrom : layer;
+    const Layer from = layerOfFile(frame, layer);
     if (from == Layer::Noisy) return "the noisy layer (the render the file keeps)";
     return "the " + std::string(layerDisplayName(from));
 }
 
 std::string channelInFile(const FrameBuffers& frame, Layer layer, int c) {
-    return channelName(layer == Layer::Color ? frame.metadata().colorReadFrom : layer, c);
+    return channelName(layerOfFile(frame, layer), c);
 }
 
 std::optional<Layer> varianceOf(Layer layer) {
