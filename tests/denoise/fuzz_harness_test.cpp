@@ -30,6 +30,42 @@ std::string text(const std::vector<std::uint8_t>& bytes) {
     return {bytes.begin(), bytes.end()};
 }
 
+TEST(DenoiseFuzzSeeds, RendersAndDenoisedFilesReachAuto) {
+    // A render with halves and a file apply wrote (keeping that render as its noisy layer):
+    // each is read and denoised to a composite of its size, past every check.
+    int kept = 0;
+    for (const auto& seed : seeds("denoise_input")) {
+        runDenoiseInput(seed.data(), seed.size());
+        const FrameBuffers file = readExr(workspace() / "input.exr");
+        kept += file.has(Layer::Noisy) ? 1 : 0;
+        const FrameBuffers frame = denoise::renderOf(file);
+        ASSERT_TRUE(frame.has(Layer::HalfColor));
+        denoise::BankOptions bank;
+        bank.size = 4;
+        bank.filters = {"gaussian"};
+        const denoise::StreamedAuto result = denoise::autoCompositeStreamed(frame, bank);
+        EXPECT_EQ(result.result.composite.width(), frame.width());
+        EXPECT_EQ(result.result.estimator, denoise::AutoEstimator::Halves);
+    }
+    EXPECT_EQ(kept, 1);
+}
+
+TEST(DenoiseFuzzRegressions, DenoiseInput) {
+    // Inputs fuzz_denoise_input found (tests/data/fuzz-regressions/denoise_input/): each must
+    // now end in a clean error or finite output (the harness aborts otherwise).
+    const fs::path dir = fs::path(GLINT_SOURCE_DIR) / "tests/data/fuzz-regressions/denoise_input";
+    int files = 0;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+        std::ifstream in(entry.path(), std::ios::binary);
+        const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                              std::istreambuf_iterator<char>());
+        SCOPED_TRACE(entry.path().string());
+        runDenoiseInput(bytes.data(), bytes.size());
+        ++files;
+    }
+    EXPECT_GT(files, 0);
+}
+
 TEST(DenoiseFuzzSeeds, PaintScriptsApplyToTheSmallRender) {
     for (const auto& seed : seeds("paint_script")) {
         const denoise::PaintScript script = denoise::PaintScript::parse(text(seed), "seed.json");

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <tuple>
 
 #include "glint/denoise/bank.h"
 #include "glint/denoise/filter.h"
@@ -200,6 +201,28 @@ TEST(Nfor, NonFiniteInputStaysLocal) {
                 if (!near1 && !near2) {
                     ASSERT_EQ(a(x, y, c), b(x, y, c)) << x << "," << y;
                 }
+            }
+}
+
+// A feature or colour no render writes (an albedo of -5e37, a normal of 1e20, a green of 1.5e38:
+// found by fuzz_denoise_input) overflowed a window's float moments and wrote NaN; it now counts
+// as missing, exactly as an infinite one does: finite output, the same bits as with a NaN there.
+TEST(Nfor, AbsurdFeaturesAndColoursAreMissingLikeNonFiniteOnes) {
+    const Filter& nfor = findFilter("nfor");
+    const FrameBuffers clean = denoise::testing::syntheticFrame(40, 30, 0.05f);
+    FrameBuffers absurd = clean, missing = clean;
+    absurd.layer(Layer::Albedo)(20, 15, 1) = -5e37f;
+    absurd.layer(Layer::Normal)(8, 6, 2) = 1e20f;
+    absurd.color()(30, 20, 1) = 1.5e38f;
+    for (auto [x, y, l] : {std::tuple{20, 15, Layer::Albedo}, std::tuple{8, 6, Layer::Normal},
+                           std::tuple{30, 20, Layer::Color}})
+        missing.layer(l)(x, y, 0) = std::numeric_limits<float>::quiet_NaN();
+    const Image a = applyFilter(nfor, absurd, kSmall), b = applyFilter(nfor, missing, kSmall);
+    for (int y = 0; y < 30; ++y)
+        for (int x = 0; x < 40; ++x)
+            for (int c = 0; c < 3; ++c) {
+                ASSERT_TRUE(std::isfinite(a(x, y, c))) << x << "," << y;
+                ASSERT_EQ(a(x, y, c), b(x, y, c)) << x << "," << y;
             }
 }
 

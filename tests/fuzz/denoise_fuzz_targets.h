@@ -1,20 +1,28 @@
-// The fuzz harnesses of the files glint-denoise and the studio read besides renders (libFuzzer
-// targets fuzz_paint_script, fuzz_session, fuzz_bank_index, fuzz_shard_merge; docs/reliability.md):
-// paint scripts, session files, bank indexes, and sets of shards to merge. As in fuzz_targets.h,
+// The fuzz harnesses of what glint-denoise and the studio read (libFuzzer targets
+// fuzz_denoise_input, fuzz_paint_script, fuzz_session, fuzz_bank_index, fuzz_shard_merge;
+// docs/reliability.md): a render denoised, paint scripts, session files, bank indexes, and sets of
+// shards to merge. As in fuzz_targets.h,
 // a glint::Error that is not Internal is the expected answer to bad input; anything else aborts.
 // Plain C++ (no libFuzzer header), so that gcc builds compile them for the regression replays.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "fuzz_targets.h"
+#include "glint/denoise/auto.h"
+#include "glint/denoise/auto_stream.h"
 #include "glint/denoise/bank.h"
+#include "glint/denoise/denoised_frame.h"
 #include "glint/denoise/paint_script.h"
+#include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
 #include "glint/image/frame_buffers.h"
 #include "glint/image/shard.h"
@@ -45,6 +53,51 @@ inline const FrameBuffers& smallRender() {
         return f;
     }();
     return frame;
+}
+
+/// Aborts when `image` holds a value that is not finite: what a filter or auto accepted must
+/// give finite pixels (bad pixels are refused with an error, never passed on).
+inline void expectFinite(const char* target, const Image& image, const std::string& what) {
+    for (float v : image.data())
+        if (!std::isfinite(v)) {
+            std::fprintf(stderr, "%s: %s accepted the input and wrote %f\n", target, what.c_str(),
+                         double(v));
+            std::abort();
+        }
+}
+
+/// An EXR as glint-denoise reads it (a render, or the render a denoised file keeps), then, when
+/// it is at most 32 × 32, what `apply` and `auto` do with it: every filter that can run here with
+/// its defaults (the non-finite policy: what a filter accepts comes out finite,
+/// docs/denoise.md), and auto at the fast quality on a small bank (each estimator's input checks
+/// first, as the CLI runs them).
+inline void runDenoiseInput(const std::uint8_t* data, std::size_t size) {
+    expectCleanError("denoise_input", [&] {
+        writeFile(workspace() / "input.exr", data, size);
+        const std::string file = (workspace() / "input.exr").string();
+        const FrameBuffers frame = denoise::renderOf(readExr(file));
+        if (std::int64_t(frame.width()) * frame.height() > 32 * 32) return;
+        for (const denoise::Filter* filter : denoise::allFilters()) {
+            if (!filter->unavailable(denoise::resolveParams(*filter, {})).empty())
+                continue;  // external without its command
+            denoise::FilterOptions one;
+            one.threads = 1;
+            try {
+                expectFinite("denoise_input", denoise::applyFilter(*filter, frame, {}, one),
+                             std::string(filter->name()));
+            } catch (const Error& e) {
+                if (e.kind() == ErrorKind::Internal) throw;
+            }
+        }
+        denoise::AutoOptions options;
+        options.tuning = denoise::autoQualityTuning(denoise::AutoQuality::Fast);
+        denoise::checkAutoInput(frame, options.estimator, file);
+        denoise::BankOptions bank;
+        bank.size = 4;
+        bank.filters = {"gaussian", "bilateral", "cross-bilateral"};
+        const denoise::StreamedAuto result = denoise::autoCompositeStreamed(frame, bank, options);
+        expectFinite("denoise_input", result.result.composite, "auto");
+    });
 }
 
 /// A paint script, read and replayed on a session of smallRender().

@@ -24,7 +24,9 @@
 // auto, which try several k.
 // Missing (NaN/Inf) colour or feature pixels take no part in any weight or fit; their output is
 // the weighted average of the estimates of the windows around them (features missing: the
-// windows' intercepts). Windows whose normal equations are not positive definite fall back to
+// windows' intercepts). A feature beyond ±kMaxFeature (depth relative to its mean) or a colour
+// beyond ±kMaxColour counts as missing too: no render writes one, and a window's float moments
+// would overflow. Windows whose normal equations are not positive definite fall back to
 // their weighted mean.
 //
 // Parameters:
@@ -80,8 +82,9 @@ prefiltered features. The paper's per-pixel choice between bandwidths is left to
 auto, which try several k.
 Missing (NaN/Inf) colour or feature pixels take no part in any weight or fit; their output is
 the weighted average of the estimates of the windows around them (features missing: the
-windows' intercepts). Windows whose normal equations are not positive definite fall back to
-their weighted mean.
+windows' intercepts). A feature beyond ±1e4 (depth relative to its mean) or a colour beyond
+±1e30 counts as missing.
+Windows whose normal equations are not positive definite fall back to their weighted mean.
 
 Parameters:
   windowRadius  r, 1 … 10 (9×9 windows: 4); outputs depend on the 2r + f pixels around.
@@ -101,6 +104,13 @@ struct PackedFrame {
     std::vector<float> typicalVariance;  // per colour: NforPlanes::typicalVariance
     float* plane(std::size_t i) { return store[i].data(); }
 };
+
+// The largest feature (albedo, normal, depth / mean |depth|) and colour magnitudes the regression
+// takes; beyond them a pixel is missing. A window's float sums of feature × colour then stay below
+// 441 × 1e4 × 1e30, inside float. A render's albedo and normals are about 1; 1e30 is the colour
+// range every filter keeps finite (docs/denoise.md).
+constexpr float kMaxFeature = 1e4f;
+constexpr float kMaxColour = 1e30f;
 
 // Mean |depth| over the finite pixels of the whole frame (1 when none or 0): the depth feature
 // is scale-free and the same for every region of interest.
@@ -206,13 +216,15 @@ PackedFrame pack(const FrameBuffers& frame, const std::vector<const FrameBuffers
                     f[std::size_t(3 + c)] = normal(x, y, c);
                 }
                 f[6] = depth(x, y, 0) * invDepth;
-                const bool featuresOk = detail::isFinitePixel(f.data(), 7);
+                const bool featuresOk = std::all_of(
+                    f.begin(), f.end(), [](float v) { return std::fabs(v) <= kMaxFeature; });
                 bool valid = featuresOk;
                 for (std::size_t h = 0; h < nc; ++h) {
                     const Image& color = colours[h]->color();
                     const Image* var = colours[h]->find(Layer::Variance);
                     const float* c = color.row(y) + std::size_t(x) * 3;
-                    const bool ok = detail::isFinitePixel(c, 3);
+                    const bool ok =
+                        std::all_of(c, c + 3, [](float v) { return std::fabs(v) <= kMaxColour; });
                     valid = valid && ok;
                     for (int k = 0; k < 3; ++k) {
                         pk.store[6 * h + std::size_t(k)][i] = ok ? c[k] : 0.0f;
