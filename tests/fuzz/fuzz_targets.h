@@ -7,6 +7,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -71,13 +72,15 @@ inline void writeFile(const fs::path& path, const std::uint8_t* data, std::size_
     out.write(reinterpret_cast<const char*>(data), std::streamsize(size));
 }
 
-/// Renders a loaded scene at 1 spp when its film is tiny (so that a fuzzed scene exercises the
-/// BVH, lights and integrator, not just the reader).
+/// Renders a loaded scene at 1 spp (an adaptive one at its spp, at most 32) when its film is tiny
+/// (so that a fuzzed scene exercises the BVH, lights, integrator and adaptive passes, not just
+/// the reader).
 inline void renderIfSmall(render::Scene scene) {
     if (std::size_t(scene.width()) * std::size_t(scene.height()) > 256) return;
     render::Renderer renderer(std::move(scene));
     render::Settings s = renderer.scene().settings();
-    s.spp = 1;
+    // An adaptive scene keeps its budget (at most 32 a pixel), so that its passes run.
+    s.spp = s.adaptive ? std::clamp(s.spp, 1, 32) : 1;
     s.maxDepth = 4;
     s.threads = 1;
     s.timeLimit = 0.0;

@@ -3,6 +3,7 @@
 // glint::Error (or load), never a crash (docs/reliability.md).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -40,6 +41,23 @@ TEST(FuzzRegressions, Texture) {
 }
 TEST(FuzzRegressions, Exr) {
     replay("exr", runExr);
+}
+
+TEST(FuzzSeeds, TheAdaptiveSceneSeedRunsItsPasses) {
+    // The scene target's adaptive seed, loaded in the harness's workspace and rendered as the
+    // harness renders it, leaves pixels at different counts: the fuzzer starts inside the
+    // adaptive passes.
+    std::ifstream in(fs::path(GLINT_SOURCE_DIR) / "tests/fuzz/seeds/scene_json/adaptive.json");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    runSceneJson(reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
+    render::Renderer renderer(render::parseScene(text, workspace() / "fuzz.json"));
+    render::Settings s = renderer.scene().settings();
+    ASSERT_TRUE(s.adaptive);
+    s.threads = 1;
+    const Image& counts = renderer.render(s).frame.layer(Layer::SampleCount);
+    const auto [lo, hi] = std::minmax_element(counts.data().begin(), counts.data().end());
+    EXPECT_LT(*lo, *hi);
+    EXPECT_LE(*hi, float(s.spp));
 }
 
 TEST(FuzzSeeds, GltfSeedsLoadAndRender) {
