@@ -54,7 +54,8 @@ TEST(FuzzSeeds, TheAdaptiveSceneSeedRunsItsPasses) {
     render::Settings s = renderer.scene().settings();
     ASSERT_TRUE(s.adaptive);
     s.threads = 1;
-    const Image& counts = renderer.render(s).frame.layer(Layer::SampleCount);
+    const render::RenderResult result = renderer.render(s);
+    const Image& counts = result.frame.layer(Layer::SampleCount);
     const auto [lo, hi] = std::minmax_element(counts.data().begin(), counts.data().end());
     EXPECT_LT(*lo, *hi);
     EXPECT_LE(*hi, float(s.spp));
