@@ -1,8 +1,8 @@
 // The fuzz harnesses of what glint-denoise and the studio read (libFuzzer targets
 // fuzz_denoise_input, fuzz_paint_script, fuzz_session, fuzz_bank_index, fuzz_shard_merge;
-// docs/reliability.md): a render denoised, paint scripts, session files, bank indexes, and sets of
-// shards to merge. As in fuzz_targets.h,
-// a glint::Error that is not Internal is the expected answer to bad input; anything else aborts.
+// docs/reliability.md): a render denoised, paint scripts, session files, bank indexes, and sets
+// of shards to merge. As in fuzz_targets.h, a glint::Error that is not Internal is the expected
+// answer to bad input; anything else aborts.
 // Plain C++ (no libFuzzer header), so that gcc builds compile them for the regression replays.
 #pragma once
 
@@ -55,8 +55,8 @@ inline const FrameBuffers& smallRender() {
     return frame;
 }
 
-/// Aborts when `image` holds a value that is not finite: what a filter or auto accepted must
-/// give finite pixels (bad pixels are refused with an error, never passed on).
+/// Aborts when `image` holds a value that is not finite: what a filter or auto accepts must come
+/// out finite (a missing pixel is filled from its neighbours or refused, docs/denoise.md).
 inline void expectFinite(const char* target, const Image& image, const std::string& what) {
     for (float v : image.data())
         if (!std::isfinite(v)) {
@@ -69,8 +69,8 @@ inline void expectFinite(const char* target, const Image& image, const std::stri
 /// An EXR as glint-denoise reads it (a render, or the render a denoised file keeps), then, when
 /// it is at most 32 × 32, what `apply` and `auto` do with it: every filter that can run here with
 /// its defaults (the non-finite policy: what a filter accepts comes out finite,
-/// docs/denoise.md), and auto at the fast quality on a small bank (each estimator's input checks
-/// first, as the CLI runs them).
+/// docs/denoise.md), and auto at the fast and balanced qualities on a small bank, with its
+/// per-pixel error (the input checks first, as the CLI runs them).
 inline void runDenoiseInput(const std::uint8_t* data, std::size_t size) {
     expectCleanError("denoise_input", [&] {
         writeFile(workspace() / "input.exr", data, size);
@@ -89,14 +89,23 @@ inline void runDenoiseInput(const std::uint8_t* data, std::size_t size) {
                 if (e.kind() == ErrorKind::Internal) throw;
             }
         }
-        denoise::AutoOptions options;
-        options.tuning = denoise::autoQualityTuning(denoise::AutoQuality::Fast);
-        denoise::checkAutoInput(frame, options.estimator, file);
+        denoise::checkAutoInput(frame, denoise::AutoEstimator::Auto, file);
         denoise::BankOptions bank;
         bank.size = 4;
         bank.filters = {"gaussian", "bilateral", "cross-bilateral"};
-        const denoise::StreamedAuto result = denoise::autoCompositeStreamed(frame, bank, options);
-        expectFinite("denoise_input", result.result.composite, "auto");
+        for (denoise::AutoQuality quality :
+             {denoise::AutoQuality::Fast, denoise::AutoQuality::Balanced}) {
+            denoise::AutoOptions options;
+            options.tuning = denoise::autoQualityTuning(quality);
+            // The per-pixel error glint-final steers by (the halves estimator's alone).
+            options.estimateError = frame.has(Layer::HalfColor);
+            const denoise::StreamedAuto result =
+                denoise::autoCompositeStreamed(frame, bank, options);
+            const std::string what = std::string("auto ") + denoise::autoQualityName(quality);
+            expectFinite("denoise_input", result.result.composite, what);
+            if (options.estimateError)
+                expectFinite("denoise_input", result.result.error, what + " (its error)");
+        }
     });
 }
 

@@ -9,26 +9,11 @@
 #include <iterator>
 #include <vector>
 
+#include "fuzz_replay.h"
 #include "fuzz_targets.h"
 
 namespace glint::fuzz {
 namespace {
-
-void replay(const char* target, void (*run)(const std::uint8_t*, std::size_t)) {
-    const fs::path dir = fs::path(GLINT_SOURCE_DIR) / "tests/data/fuzz-regressions" / target;
-    ASSERT_TRUE(fs::is_directory(dir)) << dir;
-    int files = 0;
-    for (const auto& entry : fs::directory_iterator(dir)) {
-        if (!entry.is_regular_file() || entry.path().filename() == "README.md") continue;
-        std::ifstream in(entry.path(), std::ios::binary);
-        const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                              std::istreambuf_iterator<char>());
-        SCOPED_TRACE(entry.path().string());
-        run(bytes.data(), bytes.size());  // aborts the test binary on a bug
-        ++files;
-    }
-    EXPECT_GT(files, 0) << "no regression inputs in " << dir;
-}
 
 TEST(FuzzRegressions, SceneJson) {
     replay("scene_json", runSceneJson);

@@ -1,0 +1,36 @@
+// The replay of tests/data/fuzz-regressions/TARGET/ through a harness (fuzz_targets.h,
+// denoise_fuzz_targets.h), for the GoogleTest suites that keep the fuzzers' findings fixed
+// (FuzzRegressions.* in integration_tests, DenoiseFuzzRegressions.* in denoise_tests).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <vector>
+
+namespace glint::fuzz {
+
+/// Runs every file of tests/data/fuzz-regressions/`target`/ (README.md left out) through `run`,
+/// which aborts the test binary on a bug; fails when the folder holds none.
+inline void replay(const char* target, void (*run)(const std::uint8_t*, std::size_t)) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(GLINT_SOURCE_DIR) / "tests/data/fuzz-regressions" / target;
+    ASSERT_TRUE(fs::is_directory(dir)) << dir;
+    int files = 0;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+        if (!entry.is_regular_file() || entry.path().filename() == "README.md") continue;
+        std::ifstream in(entry.path(), std::ios::binary);
+        const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                              std::istreambuf_iterator<char>());
+        SCOPED_TRACE(entry.path().string());
+        run(bytes.data(), bytes.size());
+        ++files;
+    }
+    EXPECT_GT(files, 0) << "no regression inputs in " << dir;
+}
+
+}  // namespace glint::fuzz
