@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 #include <tuple>
@@ -135,6 +136,25 @@ TEST(HalvesEstimator, SecantWeighsEachOutputBetweenItAndTheCentre) {
     const double sa2 = (srgbOf(0.6) - srgbOf(1.2)) / (0.3 - 0.6);
     EXPECT_NEAR(detail::secantCrossValidationMap(a, b, fa, nullptr, r, m, 1.0f)(0, 0, 0),
                 3.0 * sa2 * sa2 * (0.2 * 0.2 - noise), 1e-4);
+}
+
+// A half of 1e32 where the output is about 0.3 (found by fuzz_denoise_input: auto's per-pixel
+// error was +inf): its squared error, 1e64, is past a float, so a map holds the largest float
+// there (finite: the blend and glint-final's steering take it), and the other pixel is unchanged.
+TEST(HalvesEstimator, AnErrorPastAFloatIsTheLargestFloatNotInfinity) {
+    Image a(2, 1, 3, 0.2f), b(2, 1, 3, 0.5f);
+    const Image f(2, 1, 3, 0.3f), m(2, 1, 3, 0.6f), plainB = b;
+    b(1, 0, 2) = 1e32f;
+    const Rect r{0, 2, 0, 1};
+    const float largest = std::numeric_limits<float>::max();
+    // One-sided (f on A against B): the term is about 1e64, positive.
+    EXPECT_EQ(detail::secantCrossValidationMap(a, b, f, nullptr, r, m)(1, 0, 0), largest);
+    EXPECT_EQ(detail::crossValidationMap(a, b, f, nullptr, r)(1, 0, 0), largest);
+    // Both sides: the two terms of ±1e64 cancel up to double's rounding; finite either way.
+    EXPECT_TRUE(std::isfinite(detail::secantCrossValidationMap(a, b, f, &f, r, m)(1, 0, 0)));
+    EXPECT_TRUE(std::isfinite(detail::crossValidationMap(a, b, f, &f, r)(1, 0, 0)));
+    EXPECT_EQ(detail::secantCrossValidationMap(a, b, f, nullptr, r, m)(0, 0, 0),
+              detail::secantCrossValidationMap(a, plainB, f, nullptr, r, m)(0, 0, 0));
 }
 
 // A highlight above the display's clamp (1.6, a disc of radius 20) on a mid background (0.3),
@@ -331,6 +351,23 @@ TEST(HalvesEstimator, NanInTheHalfColourOrAMissingHalfLayerIsRefused) {
         EXPECT_EQ(e.kind(), ErrorKind::Format);
         EXPECT_EQ(e.where(), "layer 'halfSampleCount'");
     }
+    // A colour near the float's largest (found by fuzz_denoise_input): half A, the colour's
+    // double less half B, would be +inf, and auto's error NaN. Refused, naming the value.
+    FrameBuffers h = halvesFrame(clean, 0.05, Noise::Gaussian, 3);
+    h.color()(7, 4, 0) = 2.1e38f;
+    try {
+        checkAutoInput(h, AutoEstimator::Halves, "in.exr");
+        FAIL() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::Numeric);
+        EXPECT_EQ(e.where(), "pixel (7, 4), channel R");
+        EXPECT_NE(std::string(e.message()).find("a value of 2.1e+38 in the color"),
+                  std::string::npos)
+            << e.message();
+        EXPECT_NE(std::string(e.message()).find("within ±1e30"), std::string::npos);
+    }
+    h.color()(7, 4, 0) = 1e30f;  // the bound itself is taken
+    EXPECT_NO_THROW(checkAutoInput(h, AutoEstimator::Halves, "in.exr"));
 }
 
 TEST(HalvesEstimator, TheSecantIsTheDefaultDisplaySpaceAndTheTangentCanBeAskedFor) {

@@ -7,6 +7,7 @@
 #include <tbb/task_arena.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "auto/choice.h"
@@ -208,6 +209,17 @@ FilterBank gaussianBank(const FrameBuffers& f, const std::vector<double>& sigmas
     }
     return FilterBank(std::move(members), std::move(results), Rect{0, f.width(), 0, f.height()},
                       f.width(), f.height(), hashFrame(f));
+}
+
+// A colour of 1e32 where the output is 0.3: (f - y)^2 = 1e64 is past a float, so the SURE map
+// holds the largest float there (as the halves' maps do), not +inf.
+TEST(Sure, AnErrorPastAFloatIsTheLargestFloatNotInfinity) {
+    Image noisy(2, 1, 3, 0.3f);
+    noisy(1, 0, 0) = 1e32f;
+    const Image variance(2, 1, 3, 0.01f), output(2, 1, 3, 0.3f), divergence(2, 1, 3, 0.1f);
+    const Image map = detail::sureMap(noisy, variance, output, divergence, Rect{0, 2, 0, 1});
+    EXPECT_EQ(map(1, 0, 0), std::numeric_limits<float>::max());
+    EXPECT_NEAR(map(0, 0, 0), 3.0 * (-0.01 + 2.0 * 0.01 * 0.1), 1e-7);
 }
 
 TEST(Sure, SelectionPicksTheMemberWithTheSmallestTrueErrorWhereUnambiguous) {

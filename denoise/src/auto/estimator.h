@@ -3,9 +3,11 @@
 // (auto_composite.cpp) keeps of every member.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,6 +19,14 @@ namespace glint::denoise::detail {
 
 /// "pixel (x, y)", the place an input error names.
 std::string pixelText(int x, int y);
+
+/// An error map's value, summed in double, stored as the nearest float: an error too large for a
+/// float (a value of 1e32 squares to 1e64) is the largest one, not an infinity the blend and
+/// glint-final's steering would have to refuse.
+inline float storedError(double s) {
+    constexpr double kMax = double(std::numeric_limits<float>::max());
+    return float(std::clamp(s, -kMax, kMax));
+}
 
 /// The mean of a 1-channel map summed over RGB, per channel: rows summed in order.
 double meanPerChannel(const Image& map);

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 
 #include "display_weights.h"
 #include "glint/denoise/bank.h"
@@ -39,7 +40,7 @@ Image crossValidationMap(const Image& halfA, const Image& halfB, const Image& ou
                 }
                 s += weight ? double((*weight)(x, y, c)) * term : term;
             }
-            map(x, y, 0) = float(s);
+            map(x, y, 0) = storedError(s);
         }
     });
     return map;
@@ -54,6 +55,9 @@ Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Ima
 }
 
 void checkHalvesFinite(const FrameBuffers& frame, const std::string& file) {
+    // Finite, and within the ±1e30 the filters are held to (docs/denoise.md): half A is the
+    // colour's double less half B, which a value near the float's largest would overflow.
+    constexpr float kLargest = 1e30f;
     for (Layer layer : {Layer::Color, Layer::HalfColor}) {
         const Image& image = frame.layer(layer);
         // Rows in parallel to find whether any value is bad; then, only if one is, the serial
@@ -63,19 +67,25 @@ void checkHalvesFinite(const FrameBuffers& frame, const std::string& file) {
         work.parallelFor(0, frame.height(), [&](int y) {
             const float* row = image.row(y);
             for (int i = 0; i < frame.width() * 3; ++i)
-                if (!std::isfinite(row[i])) bad.store(true);
+                if (!(std::fabs(row[i]) <= kLargest)) bad.store(true);
         });
         if (!bad.load()) continue;
         for (int y = 0; y < frame.height(); ++y)
             for (int x = 0; x < frame.width(); ++x)
-                for (int c = 0; c < 3; ++c)
-                    if (!std::isfinite(image(x, y, c)))
-                        throw Error(
-                            ErrorKind::Numeric,
-                            std::string(std::isnan(image(x, y, c)) ? "NaN" : "Inf") + " in " +
-                                layerInFile(frame, layer) +
-                                "; the error estimate needs finite values",
-                            file, pixelText(x, y) + ", channel " + channelInFile(frame, layer, c));
+                for (int c = 0; c < 3; ++c) {
+                    const float v = image(x, y, c);
+                    if (std::fabs(v) <= kLargest) continue;
+                    char value[64];
+                    std::snprintf(value, sizeof value, "a value of %g", double(v));
+                    const std::string what = std::isnan(v)   ? "NaN"
+                                             : std::isinf(v) ? "Inf"
+                                                             : std::string(value);
+                    throw Error(ErrorKind::Numeric,
+                                what + " in " + layerInFile(frame, layer) +
+                                    "; the error estimate needs finite values within ±1e30",
+                                file,
+                                pixelText(x, y) + ", channel " + channelInFile(frame, layer, c));
+                }
     }
 }
 
@@ -129,7 +139,7 @@ Image secantMap(const Image& halfA, const Image& halfB, const Image& outputA, co
                     unbiased += ua;
                 }
             }
-            out[x] = float(s);
+            out[x] = storedError(s);
             rowSum += unbiased;
         }
         rowSums[std::size_t(y)] = rowSum;

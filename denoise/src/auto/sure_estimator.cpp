@@ -168,7 +168,7 @@ Image sureMap(const Image& noisy, const Image& variance, const Image& output,
                 const double term = d * d - v + 2.0 * v * double(divergence(x, y, c));
                 s += weight ? double((*weight)(x, y, c)) * term : term;
             }
-            sure(x, y, 0) = float(s);
+            sure(x, y, 0) = storedError(s);
         }
     });
     return sure;
