@@ -55,9 +55,8 @@ Image secantCrossValidationMap(const Image& halfA, const Image& halfB, const Ima
 }
 
 void checkHalvesFinite(const FrameBuffers& frame, const std::string& file) {
-    // Finite, and within the ±1e30 the filters are held to (docs/denoise.md): half A is the
-    // colour's double less half B, which a value near the float's largest would overflow.
-    constexpr float kLargest = 1e30f;
+    // Finite, and within the ±kMaxRadiance the filters are held to (docs/denoise.md): half A is
+    // the colour's double less half B, which a value near the float's largest would overflow.
     for (Layer layer : {Layer::Color, Layer::HalfColor}) {
         const Image& image = frame.layer(layer);
         // Rows in parallel to find whether any value is bad; then, only if one is, the serial
@@ -67,14 +66,14 @@ void checkHalvesFinite(const FrameBuffers& frame, const std::string& file) {
         work.parallelFor(0, frame.height(), [&](int y) {
             const float* row = image.row(y);
             for (int i = 0; i < frame.width() * 3; ++i)
-                if (!(std::fabs(row[i]) <= kLargest)) bad.store(true);
+                if (!(std::fabs(row[i]) <= kMaxRadiance)) bad.store(true);
         });
         if (!bad.load()) continue;
         for (int y = 0; y < frame.height(); ++y)
             for (int x = 0; x < frame.width(); ++x)
                 for (int c = 0; c < 3; ++c) {
                     const float v = image(x, y, c);
-                    if (std::fabs(v) <= kLargest) continue;
+                    if (std::fabs(v) <= kMaxRadiance) continue;
                     char value[64];
                     std::snprintf(value, sizeof value, "a value of %g", double(v));
                     const std::string what = std::isnan(v)   ? "NaN"

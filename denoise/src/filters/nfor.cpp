@@ -25,7 +25,7 @@
 // Missing (NaN/Inf) colour or feature pixels take no part in any weight or fit; their output is
 // the weighted average of the estimates of the windows around them (features missing: the
 // windows' intercepts). A feature beyond ±kMaxFeature (depth relative to its mean) or a colour
-// beyond ±kMaxColour counts as missing too: no render writes one, and a window's float moments
+// beyond ±kMaxRadiance counts as missing too: no render writes one, and a window's float moments
 // would overflow. Windows whose normal equations are not positive definite fall back to
 // their weighted mean.
 //
@@ -107,10 +107,8 @@ struct PackedFrame {
 
 // The largest feature (albedo, normal, depth / mean |depth|) and colour magnitudes the regression
 // takes; beyond them a pixel is missing. A window's float sums of feature × colour then stay below
-// 441 × 1e4 × 1e30, inside float. A render's albedo and normals are about 1; 1e30 is the colour
-// range every filter keeps finite (docs/denoise.md).
+// 441 × 1e4 × kMaxRadiance (1e30), inside float. A render's albedo and normals are about 1.
 constexpr float kMaxFeature = 1e4f;
-constexpr float kMaxColour = 1e30f;
 
 // Mean |depth| over the finite pixels of the whole frame (1 when none or 0): the depth feature
 // is scale-free and the same for every region of interest.
@@ -224,7 +222,7 @@ PackedFrame pack(const FrameBuffers& frame, const std::vector<const FrameBuffers
                     const Image* var = colours[h]->find(Layer::Variance);
                     const float* c = color.row(y) + std::size_t(x) * 3;
                     const bool ok =
-                        std::all_of(c, c + 3, [](float v) { return std::fabs(v) <= kMaxColour; });
+                        std::all_of(c, c + 3, [](float v) { return std::fabs(v) <= kMaxRadiance; });
                     valid = valid && ok;
                     for (int k = 0; k < 3; ++k) {
                         pk.store[6 * h + std::size_t(k)][i] = ok ? c[k] : 0.0f;

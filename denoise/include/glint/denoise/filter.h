@@ -22,6 +22,11 @@ namespace glint::denoise {
 using glint::ParamScale;
 using glint::ParamSpec;
 
+/// The largest radiance magnitude every filter and auto are held to (docs/denoise.md, "Numerical
+/// range"): within ±kMaxRadiance the output is finite. Beyond it a filter may treat the pixel as
+/// missing (nfor) and auto's error estimate refuses the frame.
+inline constexpr float kMaxRadiance = 1e30f;
+
 /// Parameter values by name: numbers (real, integer, choice) in the map itself, lists of strings
 /// in `strings`. Missing names take their defaults (see resolveParams).
 struct ParamValues : std::map<std::string, double> {
