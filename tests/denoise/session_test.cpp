@@ -432,6 +432,27 @@ TEST_F(SessionTest, ReapplyKeepsTheHistoryWithOutputsOnTheNewRender) {
     EXPECT_TRUE(sameBits(s.composite(), compositeFromScratch(s)));
 }
 
+TEST_F(SessionTest, ARenamedLayerIsReappliedOnANewRender) {
+    // A rename in the history names no filter: the new render's outputs are the layer's own
+    // (found by fuzz_journal: the studio's look edit after a rename failed, "unknown filter ''").
+    Session s(testing::syntheticFrame(40, 32, 0.05f, 1));
+    const std::size_t g = s.addLayer("gaussian", {{"sigma", 2.0}});
+    s.renameLayer(g, "walls");
+    s.renameLayer(g, "floor");
+    s.undo();  // one rename in the undo history, one in the redo history
+    const std::vector<LayerSpec> specs = s.layerSpecs();
+    ASSERT_EQ(specs.size(), 1u);
+    EXPECT_EQ(specs[0].filter, "gaussian");
+    const FrameBuffers next = testing::syntheticFrame(40, 32, 0.05f, 2);
+    s.reapply(next);
+    EXPECT_EQ(s.layer(g).name, "walls");
+    EXPECT_TRUE(
+        sameBits(*s.layer(g).output, applyFilter(findFilter("gaussian"), next, {{"sigma", 2.0}})));
+    s.redo();
+    EXPECT_EQ(s.layer(g).name, "floor");
+    EXPECT_TRUE(sameBits(s.composite(), compositeFromScratch(s)));
+}
+
 TEST_F(SessionTest, ReapplyKeepsThePaintingOnANewRender) {
     Session s(testing::syntheticFrame(40, 32, 0.05f, 1));
     const std::size_t g = s.addLayer("gaussian", {{"sigma", 2.0}});

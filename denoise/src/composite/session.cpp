@@ -493,7 +493,7 @@ std::vector<LayerSpec> Session::layerSpecs() const {
         if (!l.correction) add(l);
     for (const auto* history : {&s.undo, &s.redo})
         for (const SessionEdit& e : *history)
-            if (e.kind != SessionEdit::Kind::Weights && !e.layer.correction) add(e.layer);
+            if (e.holdsLayer() && !e.layer.correction) add(e.layer);
     return specs;
 }
 
@@ -581,7 +581,7 @@ void Session::Impl::install(FrameBuffers newInput, std::optional<FrameBuffers> n
     for (SessionLayer& l : layers) refresh(l);
     for (auto* history : {&undo, &redo})
         for (SessionEdit& e : *history)
-            if (e.kind != SessionEdit::Kind::Weights) refresh(e.layer);
+            if (e.holdsLayer()) refresh(e.layer);
     ++version;
 }
 

@@ -26,6 +26,9 @@ struct SessionEdit {
     SessionLayer layer;                  // AddLayer / RemoveLayer: the layer itself
     std::vector<WeightsChange> changes;  // Weights
     std::string nameBefore, nameAfter;   // Rename
+
+    /// Whether `layer` is set: an added or removed layer (a rename or weights change holds none).
+    bool holdsLayer() const { return kind == Kind::AddLayer || kind == Kind::RemoveLayer; }
 };
 
 struct Session::Impl {
