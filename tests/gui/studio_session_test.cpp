@@ -454,6 +454,13 @@ class StudioSessionTest : public QObject {
         QCOMPARE(list->item(0)->text(), QStringLiteral("1. Non-local means, strong"));
         w->session()->undoStack()->redo();
         QCOMPARE(list->item(0)->text(), QStringLiteral("1. walls"));
+        // A look edit re-renders and re-applies the layers, the rename in their history.
+        const FramePtr before = w->document()->finishedFrame();
+        w->lookPanel()->edit(firstAlbedoMaterial(*w->document()), "albedo", {0.2, 0.3, 0.7});
+        QVERIFY(waitFor([&] { return w->session()->input() != before; }, 60000));
+        QVERIFY(waitIdle(*w));
+        QVERIFY2(w->lastError().isEmpty(), qPrintable(w->lastError()));
+        QCOMPARE(list->item(0)->text(), QStringLiteral("1. walls"));
         // A new session carrying the layers (feature prefiltering turned on) keeps the name.
         w->session()->setOptions({true, {}});
         QVERIFY(waitFor([&] {

@@ -1,0 +1,85 @@
+// The fuzz harness of the studio's autosave (libFuzzer target fuzz_journal, docs/reliability.md):
+// a journal's lines (journal.jsonl, the bytes given) replayed by recover() as "Restore your
+// work?" does, beside a fixed set of side files (tests/fuzz/journal_fixture/: two 16 × 12 renders
+// of a small Cornell box and a 12 × 12 one with halves, the weight maps and corrections a killed
+// studio left, and the scene they were rendered from). The fuzzer mutates the lines only: the EXR
+// reader has its own target (fuzz_exr). As in fuzz_targets.h, a glint::Error that is not Internal
+// is the expected answer to a journal that does not apply; anything else aborts, and so does a
+// restored session whose weights or composite are not finite.
+// Plain C++ beside QtCore (no libFuzzer header), so that gcc builds compile it for the seeds'
+// and the findings' replays (tests/gui/journal_fuzz_test.cpp).
+#pragma once
+
+#include <unistd.h>
+
+#include <QString>
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "fuzz_targets.h"
+#include "model/recovery.h"
+
+namespace glint::fuzz {
+
+/// The journal folder: the fixture copied into the workspace. The process's working directory
+/// becomes this folder, so that a journal's "open" of "scene.json" finds the fixture's scene (the
+/// studio writes absolute paths; a fuzzed one may be anything).
+inline const fs::path& journalFolder() {
+    static const fs::path dir = [] {
+        const fs::path d = workspace() / "journal";
+        fs::create_directories(d);
+        for (const auto& entry :
+             fs::directory_iterator(fs::path(GLINT_SOURCE_DIR) / "tests/fuzz/journal_fixture"))
+            fs::copy_file(entry.path(), d / entry.path().filename(),
+                          fs::copy_options::overwrite_existing);
+        if (::chdir(d.c_str()) != 0) std::abort();
+        return d;
+    }();
+    return dir;
+}
+
+/// Aborts when `image` holds a value that is not finite.
+inline void expectFiniteImage(const Image& image, const char* what) {
+    for (float v : image.data())
+        if (!std::isfinite(v)) {
+            std::fprintf(stderr, "journal: the restored %s holds %f\n", what, double(v));
+            std::abort();
+        }
+}
+
+/// `data` as the journal's lines, restored; returns the replay's result (null when the journal
+/// was refused with a clean error, whose text goes to `refusal` when given).
+inline std::shared_ptr<studio::Recovered> runJournal(const std::uint8_t* data, std::size_t size,
+                                                     std::string* refusal = nullptr) {
+    const fs::path& dir = journalFolder();
+    std::shared_ptr<studio::Recovered> out;
+    expectCleanError("journal", [&] {
+        writeFile(dir / "journal.jsonl", data, size);
+        try {
+            out = std::make_shared<studio::Recovered>(
+                studio::recover(QString::fromStdString(dir.string())));
+        } catch (const Error& e) {
+            if (refusal) *refusal = e.what();
+            throw;
+        }
+        if (!out->session) return;
+        for (std::size_t i = 0; i < out->session->layerCount(); ++i)
+            expectFiniteImage(out->session->layer(i).weights, "layer weights");
+        expectFiniteImage(out->session->composite(), "composite");
+    });
+    return out;
+}
+
+/// The libFuzzer entry's body (a void function, as the regression replay takes).
+inline void runJournalInput(const std::uint8_t* data, std::size_t size) {
+    (void)runJournal(data, size);
+}
+
+}  // namespace glint::fuzz
