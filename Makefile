@@ -82,9 +82,9 @@ FUZZ_SECONDS ?= 600
 fuzz: deps
 	@./.ci/install-deps clang libclang-rt-14-dev
 	@test -f build-fuzz/CMakeCache.txt || CC=clang CXX=clang++ cmake -S . -B build-fuzz -G "$(CMAKE_GENERATOR)" \
-	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGLINT_FUZZ=ON -DGLINT_BUILD_TESTS=OFF -DGLINT_BUILD_BENCHMARKS=OFF -DGLINT_BUILD_STUDIO=OFF
-	cmake --build build-fuzz -j $(JOBS) --target fuzz_scene_json fuzz_obj fuzz_texture fuzz_exr fuzz_gltf \
-	  fuzz_denoise_input fuzz_paint_script fuzz_session fuzz_bank_index fuzz_shard_merge
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGLINT_FUZZ=ON -DGLINT_BUILD_TESTS=OFF -DGLINT_BUILD_BENCHMARKS=OFF -DGLINT_BUILD_STUDIO=ON
+	cmake --build build-fuzz -j $(JOBS) --target fuzz_scene_json fuzz_obj fuzz_texture fuzz_exr fuzz_gltf fuzz_tev \
+	  fuzz_denoise_input fuzz_paint_script fuzz_session fuzz_bank_index fuzz_shard_merge fuzz_journal
 	./tests/fuzz/run.sh build-fuzz $(FUZZ_SECONDS)
 
 clean:

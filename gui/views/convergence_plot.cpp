@@ -4,7 +4,6 @@
 #include <QPainter>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 namespace glint::studio {
@@ -105,7 +104,7 @@ void ConvergencePlot::paintEvent(QPaintEvent*) {
         p.drawText(t.items[i].first, (yLabel ? Qt::AlignRight : Qt::AlignLeft) | Qt::AlignVCenter,
                    t.items[i].second);
     }
-    const auto [x0, x1, y0, y1] = std::array<double, 4>{range[0], range[1], range[2], range[3]};
+    const double x0 = range[0], x1 = range[1], y0 = range[2], y1 = range[3];
     auto map = [&](const QPointF& d) {
         return QPointF(area.left() + (d.x() - x0) / (x1 - x0) * area.width(),
                        area.bottom() - (d.y() - y0) / (y1 - y0) * area.height());

@@ -20,6 +20,8 @@
 
 #include "glint/image/error.h"
 #include "glint/image/io.h"
+#include "glint/image/tev_images.h"
+#include "glint/image/tev_protocol.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
 
@@ -149,6 +151,38 @@ inline void runExr(const std::uint8_t* data, std::size_t size) {
         writeFile(workspace() / "fuzz.exr", data, size);
         const FrameBuffers frame = readExr(workspace() / "fuzz.exr");
         (void)frame;
+    });
+}
+
+/// The most a fuzzed tev stream's images may hold (the studio passes 0, what is available: the
+/// limit itself is tested in tests/image/tev_test.cpp).
+inline constexpr std::uint64_t kTevMemory = std::uint64_t(256) << 20;
+
+/// A TCP stream of tev packets as the studio's `--tev-listen` takes it (TevListener): the first
+/// byte picks the size of the chunks the rest arrives in (1 … 1786 bytes); each whole packet is
+/// decoded and applied, one the images refuse is dropped and the stream goes on, a broken length
+/// field ends the stream; each image a packet changed becomes a frame, and a completed one is
+/// forgotten.
+inline void runTevStream(const std::uint8_t* data, std::size_t size) {
+    if (size == 0) return;
+    expectCleanError("tev", [&] {
+        const std::size_t chunk = 1 + std::size_t(data[0]) * 7;
+        tev::PacketStream stream;
+        tev::ReceivedImages images;
+        for (std::size_t at = 1; at < size; at += chunk) {
+            stream.append({data + at, std::min(chunk, size - at)});
+            while (const auto bytes = stream.next()) {
+                try {
+                    const tev::Change change = images.apply(tev::decode(*bytes), kTevMemory);
+                    if (change.kind == tev::Change::None || !images.has(change.name)) continue;
+                    const FrameBuffers frame = images.frame(change.name);
+                    (void)frame;
+                    if (images.complete(change.name)) images.forget(change.name);
+                } catch (const Error& e) {
+                    if (e.kind() == ErrorKind::Internal) throw;  // a bug: expectCleanError aborts
+                }
+            }
+        }
     });
 }
 

@@ -10,8 +10,6 @@
 // and the findings' replays (tests/gui/journal_fuzz_test.cpp).
 #pragma once
 
-#include <unistd.h>
-
 #include <QString>
 
 #include <cmath>
@@ -28,9 +26,7 @@
 
 namespace glint::fuzz {
 
-/// The journal folder: the fixture copied into the workspace. The process's working directory
-/// becomes this folder, so that a journal's "open" of "scene.json" finds the fixture's scene (the
-/// studio writes absolute paths; a fuzzed one may be anything).
+/// The journal folder: the fixture copied into the workspace.
 inline const fs::path& journalFolder() {
     static const fs::path dir = [] {
         const fs::path d = workspace() / "journal";
@@ -39,7 +35,6 @@ inline const fs::path& journalFolder() {
              fs::directory_iterator(fs::path(GLINT_SOURCE_DIR) / "tests/fuzz/journal_fixture"))
             fs::copy_file(entry.path(), d / entry.path().filename(),
                           fs::copy_options::overwrite_existing);
-        if (::chdir(d.c_str()) != 0) std::abort();
         return d;
     }();
     return dir;
@@ -62,13 +57,20 @@ inline std::shared_ptr<studio::Recovered> runJournal(const std::uint8_t* data, s
     std::shared_ptr<studio::Recovered> out;
     expectCleanError("journal", [&] {
         writeFile(dir / "journal.jsonl", data, size);
+        // The replay runs in the journal folder, so that an "open" of "scene.json" finds the
+        // fixture's scene (the studio writes absolute paths; a fuzzed one may be anything); the
+        // working directory is given back after it (libFuzzer reads its corpus by relative path).
+        const fs::path before = fs::current_path();
+        fs::current_path(dir);
         try {
             out = std::make_shared<studio::Recovered>(
                 studio::recover(QString::fromStdString(dir.string())));
         } catch (const Error& e) {
+            fs::current_path(before);
             if (refusal) *refusal = e.what();
             throw;
         }
+        fs::current_path(before);
         if (!out->session) return;
         for (std::size_t i = 0; i < out->session->layerCount(); ++i)
             expectFiniteImage(out->session->layer(i).weights, "layer weights");

@@ -8,7 +8,7 @@ build=${1:?build folder}
 seconds=${2:-600}
 shift 2 || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(scene_json obj texture exr gltf denoise_input paint_script session bank_index shard_merge)
+[ ${#targets[@]} -gt 0 ] || targets=(scene_json obj texture exr gltf tev denoise_input paint_script session bank_index shard_merge journal)
 mkdir -p "$build/fuzz-crashes"
 for t in "${targets[@]}"; do
   corpus="$build/fuzz-corpus/$t"

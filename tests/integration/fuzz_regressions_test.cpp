@@ -7,6 +7,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "fuzz_replay.h"
@@ -44,6 +47,42 @@ TEST(FuzzSeeds, TheAdaptiveSceneSeedRunsItsPasses) {
     const auto [lo, hi] = std::minmax_element(counts.data().begin(), counts.data().end());
     EXPECT_LT(*lo, *hi);
     EXPECT_LE(*hi, float(s.spp));
+}
+
+TEST(FuzzSeeds, TevStreamsArePacketsTheStudioAcceptsEveryOne) {
+    // The tev target's seeds (tests/fuzz/seeds/tev: Glint's own stream of a render with
+    // features, pbrt-v4's one channel a packet, every other packet type and Cycles' names):
+    // every packet decodes and applies, and the images end as their streams leave them. A seed
+    // the listener dropped would leave the fuzzer at the first check.
+    const fs::path dir = fs::path(GLINT_SOURCE_DIR) / "tests/fuzz/seeds/tev";
+    std::map<std::string, std::pair<int, bool>> images;  // name: (width, complete)
+    int files = 0;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+        std::ifstream in(entry.path(), std::ios::binary);
+        const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                              std::istreambuf_iterator<char>());
+        SCOPED_TRACE(entry.path().string());
+        ASSERT_GT(bytes.size(), 1u);
+        runTevStream(bytes.data(), bytes.size());
+        tev::PacketStream stream;
+        stream.append({bytes.data() + 1, bytes.size() - 1});
+        tev::ReceivedImages received;
+        int packets = 0;
+        while (const auto packet = stream.next()) {
+            ASSERT_NO_THROW(received.apply(tev::decode(*packet), kTevMemory));
+            ++packets;
+        }
+        EXPECT_EQ(stream.buffered(), 0u);
+        EXPECT_GE(packets, 4);
+        for (const char* name : {"glint", "pbrt", "grey", "cycles"})
+            if (received.has(name))
+                images[name] = {received.frame(name).width(), received.complete(name)};
+        ++files;
+    }
+    EXPECT_EQ(files, 3);
+    const std::map<std::string, std::pair<int, bool>> expected{
+        {"glint", {6, true}}, {"pbrt", {4, true}}, {"grey", {3, false}}, {"cycles", {2, false}}};
+    EXPECT_EQ(images, expected);
 }
 
 TEST(FuzzSeeds, GltfSeedsLoadAndRender) {
