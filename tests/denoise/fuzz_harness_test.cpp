@@ -4,8 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -19,10 +17,7 @@ namespace {
 std::vector<std::vector<std::uint8_t>> seeds(const char* target) {
     const fs::path dir = fs::path(GLINT_SOURCE_DIR) / "tests/fuzz/seeds" / target;
     std::vector<std::vector<std::uint8_t>> out;
-    for (const auto& entry : fs::directory_iterator(dir)) {
-        std::ifstream in(entry.path(), std::ios::binary);
-        out.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    }
+    for (const auto& entry : fs::directory_iterator(dir)) out.push_back(readBytes(entry.path()));
     EXPECT_FALSE(out.empty()) << "no seeds in " << dir;
     return out;
 }

@@ -14,6 +14,12 @@
 
 namespace glint::fuzz {
 
+/// The bytes of the file at `path`.
+inline std::vector<std::uint8_t> readBytes(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
 /// Runs every file of tests/data/fuzz-regressions/`target`/ (README.md left out) through `run`,
 /// which aborts the test binary on a bug; fails when the folder holds none.
 inline void replay(const char* target, void (*run)(const std::uint8_t*, std::size_t)) {
@@ -23,9 +29,7 @@ inline void replay(const char* target, void (*run)(const std::uint8_t*, std::siz
     int files = 0;
     for (const auto& entry : fs::directory_iterator(dir)) {
         if (!entry.is_regular_file() || entry.path().filename() == "README.md") continue;
-        std::ifstream in(entry.path(), std::ios::binary);
-        const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                              std::istreambuf_iterator<char>());
+        const std::vector<std::uint8_t> bytes = readBytes(entry.path());
         SCOPED_TRACE(entry.path().string());
         run(bytes.data(), bytes.size());
         ++files;

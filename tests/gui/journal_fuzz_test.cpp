@@ -4,11 +4,10 @@
 // on it; the fixture's side files are what the seeds name.
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
+#include "fuzz_replay.h"
 #include "journal_fuzz_target.h"
 
 namespace glint::fuzz {
@@ -24,9 +23,7 @@ std::vector<Seed> seeds() {
     const fs::path dir = fs::path(GLINT_SOURCE_DIR) / "tests/fuzz/seeds/journal";
     std::vector<Seed> out;
     for (const auto& entry : fs::directory_iterator(dir)) {
-        std::ifstream in(entry.path(), std::ios::binary);
-        Seed seed{entry.path().filename().string(),
-                  {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()}};
+        Seed seed{entry.path().filename().string(), readBytes(entry.path())};
         for (std::uint8_t c : seed.bytes) seed.lines += c == '\n' ? 1 : 0;
         out.push_back(std::move(seed));
     }

@@ -58,9 +58,7 @@ TEST(FuzzSeeds, TevStreamsArePacketsTheStudioAcceptsEveryOne) {
     std::map<std::string, std::pair<int, bool>> images;  // name: (width, complete)
     int files = 0;
     for (const auto& entry : fs::directory_iterator(dir)) {
-        std::ifstream in(entry.path(), std::ios::binary);
-        const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                              std::istreambuf_iterator<char>());
+        const std::vector<std::uint8_t> bytes = readBytes(entry.path());
         SCOPED_TRACE(entry.path().string());
         ASSERT_GT(bytes.size(), 1u);
         runTevStream(bytes.data(), bytes.size());
@@ -91,9 +89,7 @@ TEST(FuzzSeeds, GltfSeedsLoadAndRender) {
     const fs::path dir = fs::path(GLINT_SOURCE_DIR) / "tests/fuzz/seeds/gltf";
     int files = 0;
     for (const auto& entry : fs::directory_iterator(dir)) {
-        std::ifstream in(entry.path(), std::ios::binary);
-        const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                              std::istreambuf_iterator<char>());
+        const std::vector<std::uint8_t> bytes = readBytes(entry.path());
         SCOPED_TRACE(entry.path().string());
         runGltf(bytes.data(), bytes.size());
         EXPECT_NO_THROW(render::loadScene(entry.path()));
