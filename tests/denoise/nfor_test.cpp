@@ -214,8 +214,9 @@ TEST(Nfor, AbsurdFeaturesAndColoursAreMissingLikeNonFiniteOnes) {
     absurd.layer(Layer::Albedo)(20, 15, 1) = -5e37f;
     absurd.layer(Layer::Normal)(8, 6, 2) = 1e20f;
     absurd.color()(30, 20, 1) = 1.5e38f;
+    absurd.layer(Layer::Depth)(12, 25, 0) = 1e29f;  // nor does it change the others' depth scale
     for (auto [x, y, l] : {std::tuple{20, 15, Layer::Albedo}, std::tuple{8, 6, Layer::Normal},
-                           std::tuple{30, 20, Layer::Color}})
+                           std::tuple{30, 20, Layer::Color}, std::tuple{12, 25, Layer::Depth}})
         missing.layer(l)(x, y, 0) = std::numeric_limits<float>::quiet_NaN();
     const Image a = applyFilter(nfor, absurd, kSmall), b = applyFilter(nfor, missing, kSmall);
     for (int y = 0; y < 30; ++y)

@@ -109,14 +109,18 @@ struct PackedFrame {
 // takes; beyond them a pixel is missing. A window's float sums of feature × colour then stay below
 // 441 × 1e4 × kMaxRadiance (1e30), inside float. A render's albedo and normals are about 1.
 constexpr float kMaxFeature = 1e4f;
+// No render's depth exceeds about 3.5e9 (coordinates lie within ±1e9, docs/reliability.md): a
+// larger one is left out of the depth scale, so that one absurd pixel does not flatten the depth
+// feature of the whole frame (it is then missing, beyond kMaxFeature times the scale).
+constexpr float kMaxDepth = 1e10f;
 
-// Mean |depth| over the finite pixels of the whole frame (1 when none or 0): the depth feature
-// is scale-free and the same for every region of interest.
+// Mean |depth| over the pixels of the whole frame with a finite depth of at most kMaxDepth (1
+// when none or 0): the depth feature is scale-free and the same for every region of interest.
 double meanAbsDepth(const Image& depth) {
     double sum = 0.0;
     std::size_t n = 0;
     for (float v : depth.data())
-        if (std::isfinite(v)) {
+        if (std::fabs(v) <= kMaxDepth) {
             sum += std::fabs(double(v));
             ++n;
         }
