@@ -89,16 +89,17 @@ class RestoreTest : public QObject {
     }
 
     void randomEditsComeBackBitForBitFromTheJournal() {
-        // Three fixed seeds, 24 edits each, drawn from what the paint stage offers (layers of
+        // Eight fixed seeds, 32 edits each, drawn from what the paint stage offers (layers of
         // three filters added with or without a fill, strokes partly off the image, fills,
-        // weights, the wand, diffusion, renames, removals, undo, redo, look edits): the replay of
+        // weights, the wand, diffusion, renames, removals, undo, redo, look edits, Auto Start on
+        // a bank of 4): the replay of
         // the journal gives the live session's layers, names, weights and composite bit for bit.
         const std::string wall = [&] {
             auto w = openAndWait(m_scene, m_dir.filePath(QStringLiteral("random-probe")));
             return w ? firstAlbedoMaterial(*w->document()) : std::string();
         }();
         QVERIFY(!wall.empty());
-        for (unsigned seed : {11u, 12u, 13u}) {
+        for (unsigned seed = 11; seed <= 18; ++seed) {
             const QString base = m_dir.filePath(QStringLiteral("random-%1").arg(seed));
             auto w = openAndWait(m_scene, base + QStringLiteral("-live"));
             QVERIFY(w);
@@ -126,9 +127,9 @@ class RestoreTest : public QObject {
                 return below(2) ? denoise::BrushMode::Add : denoise::BrushMode::Subtract;
             };
             QStringList done;
-            for (int edit = 0; edit < 24; ++edit) {
+            for (int edit = 0; edit < 32; ++edit) {
                 const std::size_t layers = session.session().layerCount();
-                const std::size_t kind = layers == 0 ? 0 : below(11);
+                const std::size_t kind = layers == 0 ? 0 : below(12);
                 const std::size_t layer = layers == 0 ? 0 : below(layers);
                 switch (kind) {
                     case 0: {
@@ -167,6 +168,8 @@ class RestoreTest : public QObject {
                         done << QStringLiteral("wand %1").arg(layer);
                         break;
                     case 5:
+                        // Diffusion needs a painted pixel (the studio says so otherwise).
+                        if (sum(session.session().layer(layer).painted) == 0.0) continue;
                         session.diffuse({layer});
                         done << QStringLiteral("diffuse %1").arg(layer);
                         break;
@@ -185,6 +188,10 @@ class RestoreTest : public QObject {
                     case 9:
                         session.undoStack()->redo();
                         done << QStringLiteral("redo");
+                        break;
+                    case 10:
+                        QVERIFY(autoStart(*w));
+                        done << QStringLiteral("auto start");
                         break;
                     default: {
                         const FramePtr before = w->document()->finishedFrame();
