@@ -15,13 +15,12 @@
 #include <QTest>
 #include <QThread>
 
-#include <cmath>
 #include <csignal>
 #include <cstring>
-#include <random>
 #include <thread>
 
 #include "heavy_actions.h"
+#include "random_edits.h"
 #include "views/look_panel.h"
 
 using namespace glint;
@@ -89,11 +88,9 @@ class RestoreTest : public QObject {
     }
 
     void randomEditsComeBackBitForBitFromTheJournal() {
-        // Eight fixed seeds, 32 edits each, drawn from what the paint stage offers (layers of
-        // three filters added with or without a fill, strokes partly off the image, fills,
-        // weights, the wand, diffusion, renames, removals, undo, redo, look edits, Auto Start on
-        // a bank of 4): the replay of
-        // the journal gives the live session's layers, names, weights and composite bit for bit.
+        // Eight fixed seeds, 32 random edits each (random_edits.h: every kind the paint stage
+        // offers, look edits and Auto Start among them): the replay of the journal gives the
+        // live session's layers, names, weights, composite and history bit for bit.
         const std::string wall = [&] {
             auto w = openAndWait(m_scene, m_dir.filePath(QStringLiteral("random-probe")));
             return w ? firstAlbedoMaterial(*w->document()) : std::string();
@@ -103,127 +100,19 @@ class RestoreTest : public QObject {
             const QString base = m_dir.filePath(QStringLiteral("random-%1").arg(seed));
             auto w = openAndWait(m_scene, base + QStringLiteral("-live"));
             QVERIFY(w);
-            SessionAdapter& session = *w->session();
-            const int width = session.session().composite().width();
-            const int height = session.session().composite().height();
-            std::mt19937 rng(seed);
-            auto uniform = [&](double lo, double hi) {
-                return std::uniform_real_distribution<double>(lo, hi)(rng);
-            };
-            auto below = [&](std::size_t n) {
-                return std::uniform_int_distribution<std::size_t>(0, n - 1)(rng);
-            };
-            auto mask = [&](bool binary) {
-                Image m(width, height, 1);
-                const double cx = uniform(0, width), cy = uniform(0, height), r = uniform(3, 20);
-                for (int y = 0; y < height; ++y)
-                    for (int x = 0; x < width; ++x) {
-                        const bool in = std::hypot(x - cx, y - cy) < r;
-                        m(x, y, 0) = binary ? (in ? 1.0f : 0.0f) : float(uniform(0, 1));
-                    }
-                return m;
-            };
-            auto mode = [&] {
-                return below(2) ? denoise::BrushMode::Add : denoise::BrushMode::Subtract;
-            };
-            QStringList done;
-            for (int edit = 0; edit < 32; ++edit) {
-                const std::size_t layers = session.session().layerCount();
-                const std::size_t kind = layers == 0 ? 0 : below(12);
-                const std::size_t layer = layers == 0 ? 0 : below(layers);
-                switch (kind) {
-                    case 0: {
-                        const std::size_t f = below(3);
-                        const std::string filter = f == 0   ? "gaussian"
-                                                   : f == 1 ? "bilateral"
-                                                            : "guided";
-                        denoise::ParamValues params;
-                        if (f == 0) params["sigma"] = uniform(0.5, 4.0);
-                        session.addLayer(
-                            filter, params,
-                            below(2) ? std::optional<Image>(mask(true)) : std::nullopt);
-                        done << QStringLiteral("add %1").arg(QString::fromStdString(filter));
-                        break;
-                    }
-                    case 1: {
-                        session.beginStroke(layer, {uniform(2, 30), uniform(0, 1)}, mode());
-                        const std::size_t dabs = 1 + below(6);
-                        for (std::size_t d = 0; d < dabs; ++d)
-                            session.dab(uniform(-10, width + 10), uniform(-10, height + 10));
-                        session.endStroke();
-                        done << QStringLiteral("stroke %1").arg(layer);
-                        break;
-                    }
-                    case 2:
-                        session.fill(layer, mask(true), mode());
-                        done << QStringLiteral("fill %1").arg(layer);
-                        break;
-                    case 3:
-                        session.setWeights(layer, mask(false));
-                        done << QStringLiteral("weights %1").arg(layer);
-                        break;
-                    case 4:
-                        session.wand(layer, int(below(std::size_t(width))),
-                                     int(below(std::size_t(height))), {}, mode());
-                        done << QStringLiteral("wand %1").arg(layer);
-                        break;
-                    case 5:
-                        // Diffusion needs a painted pixel (the studio says so otherwise).
-                        if (sum(session.session().layer(layer).painted) == 0.0) continue;
-                        session.diffuse({layer});
-                        done << QStringLiteral("diffuse %1").arg(layer);
-                        break;
-                    case 6:
-                        session.renameLayer(layer, below(3) ? "layer " + std::to_string(edit) : "");
-                        done << QStringLiteral("rename %1").arg(layer);
-                        break;
-                    case 7:
-                        session.removeLayer(layer);
-                        done << QStringLiteral("remove %1").arg(layer);
-                        break;
-                    case 8:
-                        session.undoStack()->undo();
-                        done << QStringLiteral("undo");
-                        break;
-                    case 9:
-                        session.undoStack()->redo();
-                        done << QStringLiteral("redo");
-                        break;
-                    case 10:
-                        QVERIFY(autoStart(*w));
-                        done << QStringLiteral("auto start");
-                        break;
-                    default: {
-                        const FramePtr before = w->document()->finishedFrame();
-                        w->lookPanel()->edit(wall, "albedo",
-                                             {uniform(0, 1), uniform(0, 1), uniform(0, 1)});
-                        QVERIFY(waitFor([&] { return w->document()->finishedFrame() != before; },
-                                        60000));
-                        done << QStringLiteral("look");
-                        break;
-                    }
-                }
-                QVERIFY2(waitIdle(*w, 60000), qPrintable(done.join(QStringLiteral(", "))));
-                QVERIFY2(w->lastError().isEmpty(), qPrintable(w->lastError()));
-            }
-            const QString edits = done.join(QStringLiteral(", "));
+            const RandomEdits made = randomEdits(*w, seed, 32, wall);
+            const QString edits = made.text();
+            QVERIFY2(made.failure.isEmpty(), qPrintable(made.failure + ": " + edits));
             QVERIFY(copyAsCrashed(*w, base));
             const QStringList crashed = Autosave::crashed(base);
             QCOMPARE(crashed.size(), 1);
             const Recovered r = recover(crashed.first());
             QVERIFY2(r.complete && r.session, qPrintable(edits));
-            const denoise::Session& live = session.session();
-            QCOMPARE(r.session->layerCount(), live.layerCount());
-            for (std::size_t i = 0; i < live.layerCount(); ++i) {
-                const QString at =
-                    QStringLiteral("seed %1, layer %2: %3").arg(seed).arg(i).arg(edits);
-                QVERIFY2(r.session->layer(i).filter == live.layer(i).filter, qPrintable(at));
-                QVERIFY2(r.session->layer(i).params == live.layer(i).params, qPrintable(at));
-                QVERIFY2(r.session->layer(i).name == live.layer(i).name, qPrintable(at));
-                QVERIFY2(sameBits(r.session->layer(i).weights, live.layer(i).weights),
-                         qPrintable(at));
-            }
-            QVERIFY2(sameBits(r.session->composite(), live.composite()), qPrintable(edits));
+            const denoise::Session& live = w->session()->session();
+            const QString difference = sessionDifference(*r.session, live);
+            QVERIFY2(difference.isEmpty(),
+                     qPrintable(
+                         QStringLiteral("seed %1: %2 after %3").arg(seed).arg(difference, edits)));
             QCOMPARE(r.session->canUndo(), live.canUndo());
             QCOMPARE(r.session->canRedo(), live.canRedo());
             w->close();
