@@ -24,7 +24,9 @@ struct RandomEdits {
 /// gaussian (a random σ), bilateral or guided added with or without a fill, strokes of random
 /// brushes with dabs partly off the image, fills, weights, the magic wand, Poisson diffusion
 /// (of a layer with painted pixels), renames, removals, undo, redo, Auto Start on a bank of 4,
-/// and look edits of the material `wall`'s albedo (a new render, the layers re-applied).
+/// feature prefiltering turned on or off (a new session carrying the layers), a region rendered
+/// again with another seed, and look edits of the material `wall`'s albedo (a new render, the
+/// layers re-applied).
 inline RandomEdits randomEdits(MainWindow& w, unsigned seed, int count, const std::string& wall) {
     RandomEdits out;
     SessionAdapter& session = *w.session();
@@ -55,7 +57,7 @@ inline RandomEdits randomEdits(MainWindow& w, unsigned seed, int count, const st
     };
     for (int edit = 0; edit < count; ++edit) {
         const std::size_t layers = session.session().layerCount();
-        const std::size_t kind = layers == 0 ? 0 : below(12);
+        const std::size_t kind = layers == 0 ? 0 : below(14);
         const std::size_t layer = layers == 0 ? 0 : below(layers);
         switch (kind) {
             case 0: {
@@ -120,6 +122,37 @@ inline RandomEdits randomEdits(MainWindow& w, unsigned seed, int count, const st
                     return out;
                 }
                 break;
+            case 11: {
+                // Feature prefiltering turned on or off: a new session carrying the layers.
+                denoise::SessionOptions options = session.options();
+                options.prefilter = !options.prefilter;
+                session.setOptions(options);
+                out.done << QStringLiteral("prefilter %1").arg(options.prefilter ? "on" : "off");
+                if (!waitFor(
+                        [&] { return session.session().options().prefilter == options.prefilter; },
+                        60000)) {
+                    out.failure = QStringLiteral("the new session did not come");
+                    return out;
+                }
+                break;
+            }
+            case 12: {
+                // A region rendered again with another seed, merged into the frame.
+                const FramePtr before = w.document()->finishedFrame();
+                render::Settings settings = w.document()->settings();
+                settings.seed = 1000 + edit;
+                w.document()->setSettings(settings);
+                const int x0 = int(below(std::size_t(width / 2))),
+                          y0 = int(below(std::size_t(height / 2)));
+                w.document()->renderRegion(Rect{x0, x0 + 1 + int(below(std::size_t(width - x0))),
+                                                y0, y0 + 1 + int(below(std::size_t(height - y0)))});
+                out.done << QStringLiteral("region render");
+                if (!waitFor([&] { return w.document()->finishedFrame() != before; }, 60000)) {
+                    out.failure = QStringLiteral("the region render finished nothing");
+                    return out;
+                }
+                break;
+            }
             default: {
                 const FramePtr before = w.document()->finishedFrame();
                 w.lookPanel()->edit(wall, "albedo", {uniform(0, 1), uniform(0, 1), uniform(0, 1)});
