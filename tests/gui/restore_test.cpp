@@ -115,6 +115,21 @@ class RestoreTest : public QObject {
                          QStringLiteral("seed %1: %2 after %3").arg(seed).arg(difference, edits)));
             QCOMPARE(r.session->canUndo(), live.canUndo());
             QCOMPARE(r.session->canRedo(), live.canRedo());
+            // The whole restore, as "Restore your work? > Yes" does, into a new window: the
+            // same session and look (its undo history starts there: docs/studio.md).
+            auto again = makeWindow(base);
+            again->restoreFrom(crashed.first());
+            QVERIFY(waitFor([&] { return !again->autosave()->restoring(); }, 240000));
+            QVERIFY2(again->lastError().isEmpty(), qPrintable(again->lastError()));
+            QVERIFY(waitFor(
+                [&] { return again->session()->hasSession() && !again->session()->busy(); }));
+            const QString restored = sessionDifference(again->session()->session(), live);
+            QVERIFY2(
+                restored.isEmpty(),
+                qPrintable(QStringLiteral("seed %1: %2 after %3").arg(seed).arg(restored, edits)));
+            QCOMPARE(again->document()->lookValue(wall, "albedo"),
+                     w->document()->lookValue(wall, "albedo"));
+            again->close();
             w->close();
         }
     }
