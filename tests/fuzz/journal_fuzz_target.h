@@ -7,21 +7,18 @@
 // is the expected answer to a journal that does not apply; anything else aborts, and so does a
 // restored session whose weights or composite are not finite.
 // Plain C++ beside QtCore (no libFuzzer header), so that gcc builds compile it for the seeds'
-// and the findings' replays (tests/gui/journal_fuzz_test.cpp).
+// replay (tests/gui/journal_fuzz_test.cpp).
 #pragma once
 
 #include <QString>
 
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
 
-#include "fuzz_targets.h"
+#include "denoise_fuzz_targets.h"
 #include "model/recovery.h"
 
 namespace glint::fuzz {
@@ -38,15 +35,6 @@ inline const fs::path& journalFolder() {
         return d;
     }();
     return dir;
-}
-
-/// Aborts when `image` holds a value that is not finite.
-inline void expectFiniteImage(const Image& image, const char* what) {
-    for (float v : image.data())
-        if (!std::isfinite(v)) {
-            std::fprintf(stderr, "journal: the restored %s holds %f\n", what, double(v));
-            std::abort();
-        }
 }
 
 /// `data` as the journal's lines, restored; returns the replay's result (null when the journal
@@ -73,8 +61,8 @@ inline std::shared_ptr<studio::Recovered> runJournal(const std::uint8_t* data, s
         fs::current_path(before);
         if (!out->session) return;
         for (std::size_t i = 0; i < out->session->layerCount(); ++i)
-            expectFiniteImage(out->session->layer(i).weights, "layer weights");
-        expectFiniteImage(out->session->composite(), "composite");
+            expectFinite("journal", out->session->layer(i).weights, "the restored layer weights");
+        expectFinite("journal", out->session->composite(), "the restored composite");
     });
     return out;
 }
