@@ -25,8 +25,8 @@ struct RandomEdits {
 /// brushes with dabs partly off the image, fills, weights, the magic wand, Poisson diffusion
 /// (of a layer with painted pixels), renames, removals, undo, redo, Auto Start on a bank of 4,
 /// feature prefiltering turned on or off (a new session carrying the layers), a region rendered
-/// again with another seed, and look edits of the material `wall`'s albedo (a new render, the
-/// layers re-applied).
+/// again with another seed, a reference rendered at 8 spp or cleared, and look edits of the
+/// material `wall`'s albedo (a new render, the layers re-applied).
 inline RandomEdits randomEdits(MainWindow& w, unsigned seed, int count, const std::string& wall) {
     RandomEdits out;
     SessionAdapter& session = *w.session();
@@ -57,7 +57,7 @@ inline RandomEdits randomEdits(MainWindow& w, unsigned seed, int count, const st
     };
     for (int edit = 0; edit < count; ++edit) {
         const std::size_t layers = session.session().layerCount();
-        const std::size_t kind = layers == 0 ? 0 : below(14);
+        const std::size_t kind = layers == 0 ? 0 : below(15);
         const std::size_t layer = layers == 0 ? 0 : below(layers);
         switch (kind) {
             case 0: {
@@ -153,6 +153,28 @@ inline RandomEdits randomEdits(MainWindow& w, unsigned seed, int count, const st
                 }
                 break;
             }
+            case 13:
+                // A reference rendered at 8 spp, or the one there cleared.
+                if (w.document()->reference() && below(2)) {
+                    w.document()->clearReference();
+                    out.done << QStringLiteral("reference cleared");
+                    break;
+                }
+                {
+                    const FramePtr before = w.document()->reference();
+                    w.document()->renderReference(8);
+                    out.done << QStringLiteral("reference");
+                    if (!waitFor(
+                            [&] {
+                                return w.document()->reference() &&
+                                       w.document()->reference() != before;
+                            },
+                            60000)) {
+                        out.failure = QStringLiteral("the reference render finished nothing");
+                        return out;
+                    }
+                }
+                break;
             default: {
                 const FramePtr before = w.document()->finishedFrame();
                 w.lookPanel()->edit(wall, "albedo", {uniform(0, 1), uniform(0, 1), uniform(0, 1)});
@@ -174,6 +196,16 @@ inline RandomEdits randomEdits(MainWindow& w, unsigned seed, int count, const st
         }
     }
     return out;
+}
+
+/// How the reference `got` differs from `want` (both null: none): "" when it does not.
+inline QString referenceDifference(const FramePtr& got, const FramePtr& want) {
+    if (got && want)
+        return sameBits(got->color(), want->color()) ? QString()
+                                                     : QStringLiteral("another reference");
+    if (got) return QStringLiteral("a reference where none was");
+    if (want) return QStringLiteral("no reference where one was");
+    return {};
 }
 
 /// How `got` differs from `want` in what the artist made (the layers' filters, parameters, names,

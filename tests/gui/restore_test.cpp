@@ -96,6 +96,7 @@ class RestoreTest : public QObject {
             return w ? firstAlbedoMaterial(*w->document()) : std::string();
         }();
         QVERIFY(!wall.empty());
+        int withReference = 0;  // seeds that end with a reference: the comparison is not vacuous
         for (unsigned seed = 11; seed <= 18; ++seed) {
             const QString base = m_dir.filePath(QStringLiteral("random-%1").arg(seed));
             auto w = openAndWait(m_scene, base + QStringLiteral("-live"));
@@ -113,6 +114,9 @@ class RestoreTest : public QObject {
             QVERIFY2(difference.isEmpty(),
                      qPrintable(
                          QStringLiteral("seed %1: %2 after %3").arg(seed).arg(difference, edits)));
+            const QString reference = referenceDifference(r.referenceSet ? r.reference : nullptr,
+                                                          w->document()->reference());
+            QVERIFY2(reference.isEmpty(), qPrintable(reference + " after " + edits));
             QCOMPARE(r.session->canUndo(), live.canUndo());
             QCOMPARE(r.session->canRedo(), live.canRedo());
             // The whole restore, as "Restore your work? > Yes" does, into a new window: the
@@ -129,9 +133,14 @@ class RestoreTest : public QObject {
                 qPrintable(QStringLiteral("seed %1: %2 after %3").arg(seed).arg(restored, edits)));
             QCOMPARE(again->document()->lookValue(wall, "albedo"),
                      w->document()->lookValue(wall, "albedo"));
+            const QString againReference =
+                referenceDifference(again->document()->reference(), w->document()->reference());
+            QVERIFY2(againReference.isEmpty(), qPrintable(againReference + " after " + edits));
+            withReference += w->document()->reference() ? 1 : 0;
             again->close();
             w->close();
         }
+        QVERIFY(withReference > 0);
     }
 
     void aKilledStudioComesBackWholeAfterAutoStartALookEditAndAStroke() {

@@ -231,6 +231,10 @@ class StudioSessionTest : public QObject {
                     QStringLiteral("seed %1: %2 after %3").arg(seed).arg(difference, made.text())));
             QCOMPARE(again->document()->lookValue(wall, "albedo"),
                      w->document()->lookValue(wall, "albedo"));
+            QVERIFY(waitFor([&] { return !again->document()->loading(); }));
+            const QString reference =
+                referenceDifference(again->document()->reference(), w->document()->reference());
+            QVERIFY2(reference.isEmpty(), qPrintable(reference + " after " + made.text()));
         }
     }
 
