@@ -15,10 +15,8 @@ namespace glint::fuzz {
 namespace {
 
 std::vector<std::vector<std::uint8_t>> seeds(const char* target) {
-    const fs::path dir = fs::path(GLINT_SOURCE_DIR) / "tests/fuzz/seeds" / target;
     std::vector<std::vector<std::uint8_t>> out;
-    for (const auto& entry : fs::directory_iterator(dir)) out.push_back(readBytes(entry.path()));
-    EXPECT_FALSE(out.empty()) << "no seeds in " << dir;
+    for (const fs::path& file : seedFiles(target)) out.push_back(readBytes(file));
     return out;
 }
 

@@ -20,6 +20,16 @@ inline std::vector<std::uint8_t> readBytes(const std::filesystem::path& path) {
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+/// The files of tests/fuzz/seeds/`target`/ (a target's seeds); fails the test when there are none.
+inline std::vector<std::filesystem::path> seedFiles(const char* target) {
+    const std::filesystem::path dir =
+        std::filesystem::path(GLINT_SOURCE_DIR) / "tests/fuzz/seeds" / target;
+    std::vector<std::filesystem::path> out;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) out.push_back(entry.path());
+    EXPECT_FALSE(out.empty()) << "no seeds in " << dir;
+    return out;
+}
+
 /// Runs every file of tests/data/fuzz-regressions/`target`/ (README.md left out) through `run`,
 /// which aborts the test binary on a bug; fails when the folder holds none.
 inline void replay(const char* target, void (*run)(const std::uint8_t*, std::size_t)) {

@@ -20,14 +20,13 @@ struct Seed {
 };
 
 std::vector<Seed> seeds() {
-    const fs::path dir = fs::path(GLINT_SOURCE_DIR) / "tests/fuzz/seeds/journal";
     std::vector<Seed> out;
-    for (const auto& entry : fs::directory_iterator(dir)) {
-        Seed seed{entry.path().filename().string(), readBytes(entry.path())};
+    for (const fs::path& file : seedFiles("journal")) {
+        Seed seed{file.filename().string(), readBytes(file)};
         for (std::uint8_t c : seed.bytes) seed.lines += c == '\n' ? 1 : 0;
         out.push_back(std::move(seed));
     }
-    EXPECT_GE(out.size(), 4u) << "seeds in " << dir;
+    EXPECT_GE(out.size(), 4u) << "journal seeds";
     return out;
 }
 

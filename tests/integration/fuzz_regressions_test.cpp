@@ -54,12 +54,11 @@ TEST(FuzzSeeds, TevStreamsArePacketsTheStudioAcceptsEveryOne) {
     // features, pbrt-v4's one channel a packet, every other packet type and Cycles' names):
     // every packet decodes and applies, and the images end as their streams leave them. A seed
     // the listener dropped would leave the fuzzer at the first check.
-    const fs::path dir = fs::path(GLINT_SOURCE_DIR) / "tests/fuzz/seeds/tev";
     std::map<std::string, std::pair<int, bool>> images;  // name: (width, complete)
     int files = 0;
-    for (const auto& entry : fs::directory_iterator(dir)) {
-        const std::vector<std::uint8_t> bytes = readBytes(entry.path());
-        SCOPED_TRACE(entry.path().string());
+    for (const fs::path& file : seedFiles("tev")) {
+        const std::vector<std::uint8_t> bytes = readBytes(file);
+        SCOPED_TRACE(file.string());
         ASSERT_GT(bytes.size(), 1u);
         runTevStream(bytes.data(), bytes.size());
         tev::PacketStream stream;
@@ -86,13 +85,12 @@ TEST(FuzzSeeds, TevStreamsArePacketsTheStudioAcceptsEveryOne) {
 TEST(FuzzSeeds, GltfSeedsLoadAndRender) {
     // The glTF target's seeds (tests/fuzz/seeds/gltf) through its harness, and each must load:
     // a seed the reader refused would leave the fuzzer at the parser.
-    const fs::path dir = fs::path(GLINT_SOURCE_DIR) / "tests/fuzz/seeds/gltf";
     int files = 0;
-    for (const auto& entry : fs::directory_iterator(dir)) {
-        const std::vector<std::uint8_t> bytes = readBytes(entry.path());
-        SCOPED_TRACE(entry.path().string());
+    for (const fs::path& file : seedFiles("gltf")) {
+        const std::vector<std::uint8_t> bytes = readBytes(file);
+        SCOPED_TRACE(file.string());
         runGltf(bytes.data(), bytes.size());
-        EXPECT_NO_THROW(render::loadScene(entry.path()));
+        EXPECT_NO_THROW(render::loadScene(file));
         ++files;
     }
     EXPECT_GE(files, 2);
