@@ -25,7 +25,7 @@
 #include "app/wheel_guard.h"
 #include "glint/image/error.h"
 #include "model/first_denoise.h"
-#include "model/look_command.h"
+#include "model/journal_codec.h"
 #include "model/openable_files.h"
 #include "model/progressive_denoise.h"
 #include "model/progressive_render.h"
@@ -358,8 +358,11 @@ void MainWindow::connectModel() {
             &QAction::trigger);
     connect(m_stages, &QTabWidget::currentChanged, this, &MainWindow::stageChanged);
     connect(m_filterTabs, &QTabWidget::currentChanged, this, &MainWindow::stageChanged);
-    connect(m_region, &RegionOfInterest::changed, this,
-            [this] { m_viewer->canvas()->setRegion(QPolygonF(m_region->polygon())); });
+    connect(m_region, &RegionOfInterest::changed, this, [this] {
+        m_viewer->canvas()->setRegion(QPolygonF(m_region->polygon()));
+        // The region is the artist's: the autosave keeps it (not an undo step).
+        m_session->record({journal_codec::encodeRegion(m_region->coordinates()), {}, nullptr});
+    });
     connect(m_viewer, &Viewer::readoutChanged, m_readout, &ElidedLabel::setFullText);
     connect(m_session, &SessionAdapter::busyChanged, this, [this](bool busy) {
         m_busy->setText(busy ? tr("working…") : QString());
@@ -481,10 +484,8 @@ void MainWindow::applyRecovered(Recovered& r) {
     m_sessionPath.clear();
     if (r.file) m_document->adopt(r.path, std::move(*r.file), false);
     for (const LookValue& v : r.look) {
-        const std::array<double, 3> before = m_document->lookValue(v.item, v.property);
         m_document->setLook(v.item, v.property, v.value, false);
-        m_session->record(
-            {LookCommand::journalOp(v.item, v.property, before, v.value), {}, nullptr});
+        m_session->record({journal_codec::encodeSetLook(v.item, v.property, v.value), {}, nullptr});
     }
     if (r.settings) m_document->setSettings(*r.settings);
     if (r.referenceSet) {
@@ -498,6 +499,7 @@ void MainWindow::applyRecovered(Recovered& r) {
     else
         m_session->clear();
     if (m_session->input()) m_document->setFinishedFrame(m_session->input());
+    m_region->setCoordinates(r.lasso);  // journalled again by its signal
     m_restoring = false;
     updateTitle();
 }

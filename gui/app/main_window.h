@@ -137,6 +137,8 @@ class MainWindow : public QMainWindow {
     void applyViewState(const std::map<std::string, std::string>& state);
     /// The reference `state` describes, from the session's side frame or its file.
     void restoreReference(const std::map<std::string, std::string>& state);
+    /// Journals (setLook) each look value that differs from `before`.
+    void journalLookChanges(const std::vector<render::LookItem>& before);
     QString askPath(const QString& title, const QString& filter, bool save,
                     const QString& suffix = {});
     void exportResult(bool exr);

@@ -8,6 +8,7 @@
 #include "app/main_window.h"
 #include "app/studio_settings.h"
 #include "glint/image/error.h"
+#include "model/journal_codec.h"
 #include "model/progressive_render.h"
 #include "model/reference_info.h"
 #include "model/session_state.h"
@@ -97,7 +98,9 @@ void MainWindow::applyViewState(const std::map<std::string, std::string>& state)
         auto once = std::make_shared<QMetaObject::Connection>();
         *once = connect(m_document, &Document::opened, this, [this, once, state] {
             disconnect(*once);
+            const std::vector<render::LookItem> before = m_document->look();
             const std::string skipped = applyLook(state, *m_document);
+            journalLookChanges(before);
             try {
                 m_document->setSettings(readSettings(state, m_document->settings(),
                                                      m_sessionPath.toStdString(), "/view/"));
@@ -119,6 +122,20 @@ void MainWindow::applyViewState(const std::map<std::string, std::string>& state)
     }
     const int s = get("stage").toInt(&ok);
     if (ok) setStage(std::clamp(s, 0, 3));
+}
+
+void MainWindow::journalLookChanges(const std::vector<render::LookItem>& before) {
+    // The look a session file gave its scene, for the autosave (not an undo step). Setting a
+    // value changes no item or property, only values: the two lists align.
+    const std::vector<render::LookItem>& after = m_document->look();
+    for (std::size_t i = 0; i < after.size() && i < before.size(); ++i)
+        for (std::size_t j = 0; j < after[i].properties.size() && j < before[i].properties.size();
+             ++j) {
+            const render::LookProperty& p = after[i].properties[j];
+            if (p.value != before[i].properties[j].value)
+                m_session->record(
+                    {journal_codec::encodeSetLook(after[i].name, p.name, p.value), {}, nullptr});
+        }
 }
 
 void MainWindow::restoreReference(const std::map<std::string, std::string>& state) {

@@ -3,6 +3,8 @@
 #include <QJsonArray>
 #include <QString>
 
+#include <cmath>
+
 #include "glint/image/error.h"
 #include "model/session_state.h"
 
@@ -272,6 +274,33 @@ QJsonObject encodeReference(const std::optional<ReferenceInfo>& info) {
 std::optional<ReferenceInfo> decodeReference(const QJsonObject& json,
                                              const std::vector<render::LookItem>& look) {
     return readReferenceState(stringsOf(json), look);
+}
+
+QJsonObject encodeRegion(const std::vector<double>& lasso) {
+    QJsonArray points;
+    for (double v : lasso) points.append(v);
+    return {{QStringLiteral("op"), QStringLiteral("region")}, {QStringLiteral("lasso"), points}};
+}
+
+std::vector<double> decodeRegion(const QJsonObject& json) {
+    std::vector<double> lasso;
+    for (const QJsonValue& v : json.value(QStringLiteral("lasso")).toArray()) {
+        if (!v.isDouble() || !std::isfinite(v.toDouble()))
+            throw Error(ErrorKind::Format,
+                        "the region's lasso holds something other than a finite number");
+        lasso.push_back(v.toDouble());
+    }
+    if (lasso.size() % 2 != 0)
+        throw Error(ErrorKind::Format, "the region's lasso has an odd count of coordinates");
+    return lasso;
+}
+
+QJsonObject encodeSetLook(const std::string& item, const std::string& property,
+                          const std::array<double, 3>& value) {
+    return {{QStringLiteral("op"), QStringLiteral("setLook")},
+            {QStringLiteral("item"), QString::fromStdString(item)},
+            {QStringLiteral("property"), QString::fromStdString(property)},
+            {QStringLiteral("value"), QJsonArray{value[0], value[1], value[2]}}};
 }
 
 }  // namespace glint::studio::journal_codec

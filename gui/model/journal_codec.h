@@ -5,6 +5,7 @@
 
 #include <QJsonObject>
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -108,5 +109,17 @@ QJsonObject encodeReference(const std::optional<ReferenceInfo>& info);
 /// (readReferenceState).
 std::optional<ReferenceInfo> decodeReference(const QJsonObject& json,
                                              const std::vector<render::LookItem>& look);
+
+/// The region of interest as a journal line of its own ("op": "region", not an undo step): the
+/// lasso's points as x, y pairs in image pixels; none: the whole image.
+QJsonObject encodeRegion(const std::vector<double>& lasso);
+/// The lasso a "region" line holds (x, y pairs; empty: the whole image). Throws
+/// glint::Error(Format) unless it is an even number of finite numbers.
+std::vector<double> decodeRegion(const QJsonObject& json);
+
+/// One look property given a value without an undo step ("op": "setLook"): what opening a session
+/// file applies to its scene's look, and what a restore applies.
+QJsonObject encodeSetLook(const std::string& item, const std::string& property,
+                          const std::array<double, 3>& value);
 
 }  // namespace glint::studio::journal_codec

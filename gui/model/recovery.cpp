@@ -48,15 +48,12 @@ class Replay {
         } else if (op == QStringLiteral("reference")) {
             m_reference = entry;  // decoded at the end, against the look then
         } else if (op == QStringLiteral("look")) {
-            auto value = [&](const char* key) {
-                const QJsonArray a = entry.op.value(QLatin1String(key)).toArray();
-                return LookValue{
-                    entry.op.value(QStringLiteral("item")).toString().toStdString(),
-                    entry.op.value(QStringLiteral("property")).toString().toStdString(),
-                    {a.at(0).toDouble(), a.at(1).toDouble(), a.at(2).toDouble()}};
-            };
-            push({0, value("before"), value("after")});
+            push({0, lookValue(entry, "before"), lookValue(entry, "after")});
             setLook(*m_steps.back().after);
+        } else if (op == QStringLiteral("setLook")) {
+            setLook(lookValue(entry, "value"));  // a session file's look: no undo step
+        } else if (op == QStringLiteral("region")) {
+            m_out.lasso = journal_codec::decodeRegion(entry.op);
         } else if (op == QStringLiteral("settings")) {
             m_settings = entry.op;
         } else {
@@ -96,6 +93,14 @@ class Replay {
     void push(UndoStep step) {
         m_steps.push_back(std::move(step));
         m_redo.clear();
+    }
+    // The look value a "look" or "setLook" line holds under `key` (checked against the scene
+    // at the end).
+    static LookValue lookValue(const JournalEntry& entry, const char* key) {
+        const QJsonArray a = entry.op.value(QLatin1String(key)).toArray();
+        return LookValue{entry.op.value(QStringLiteral("item")).toString().toStdString(),
+                         entry.op.value(QStringLiteral("property")).toString().toStdString(),
+                         {a.at(0).toDouble(), a.at(1).toDouble(), a.at(2).toDouble()}};
     }
     void setLook(const LookValue& v) {
         for (LookValue& l : m_out.look)

@@ -26,10 +26,11 @@ struct LookValue {
 
 /// The state a journal restores to.
 struct Recovered {
-    QString path;                               ///< the file open at the crash ("": none)
-    std::shared_ptr<Document::Loaded> file;     ///< that file, loaded
-    std::vector<LookValue> look;                ///< look edits, in order (checked against the file)
-    std::optional<render::Settings> settings;   ///< the render settings chosen (checked)
+    QString path;                              ///< the file open at the crash ("": none)
+    std::shared_ptr<Document::Loaded> file;    ///< that file, loaded
+    std::vector<LookValue> look;               ///< look edits, in order (checked against the file)
+    std::optional<render::Settings> settings;  ///< the render settings chosen (checked)
+    std::vector<double> lasso;  ///< the region of interest: x, y pairs (empty: the whole image)
     std::shared_ptr<denoise::Session> session;  ///< null: no session
     FramePtr input, filterInput;                ///< shared copies of the session's render
     /// The journal's last "reference" entry, if any (after the last "open"): what the

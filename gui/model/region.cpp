@@ -65,10 +65,28 @@ Image RegionOfInterest::mask(int width, int height) const {
     return rasterizePolygon(m_polygon, width, height);
 }
 
+std::vector<double> RegionOfInterest::coordinates() const {
+    std::vector<double> xy;
+    for (const QPointF& p : m_polygon) {
+        xy.push_back(p.x());
+        xy.push_back(p.y());
+    }
+    return xy;
+}
+
+void RegionOfInterest::setCoordinates(const std::vector<double>& xy) {
+    QVector<QPointF> polygon;
+    if (xy.size() % 2 == 0)
+        for (std::size_t i = 0; i + 1 < xy.size(); i += 2)
+            polygon.push_back(QPointF(xy[i], xy[i + 1]));
+    setPolygon(polygon);
+}
+
 QString RegionOfInterest::toString() const {
+    // 17 significant digits: a double comes back bit for bit, and so does the region's mask.
     QStringList parts;
     for (const QPointF& p : m_polygon)
-        parts << QString::number(p.x(), 'g', 9) << QString::number(p.y(), 'g', 9);
+        parts << QString::number(p.x(), 'g', 17) << QString::number(p.y(), 'g', 17);
     return parts.join(QLatin1Char(' '));
 }
 

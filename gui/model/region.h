@@ -9,6 +9,7 @@
 #include <QVector>
 
 #include <optional>
+#include <vector>
 
 #include "glint/image/image.h"
 
@@ -31,6 +32,11 @@ class RegionOfInterest : public QObject {
     Rect bounds(int width, int height) const;
     /// 1 inside the polygon (pixel centres, even-odd rule), 0 outside; all 1 for the whole image.
     Image mask(int width, int height) const;
+
+    /// The lasso's points as x, y pairs (empty: the whole image), for the autosave journal, and
+    /// back (an odd count gives the whole image).
+    std::vector<double> coordinates() const;
+    void setCoordinates(const std::vector<double>& xy);
 
     /// "x y x y ..." for a session's view state, and back (malformed text gives the whole image).
     QString toString() const;

@@ -4,6 +4,7 @@
 // on it; the fixture's side files are what the seeds name.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -50,13 +51,14 @@ TEST(JournalFuzzSeeds, TheSeedsReachEveryKindOfEdit) {
     // that lacks one leaves the fuzzer to find its spelling.
     std::string all;
     for (const Seed& seed : seeds()) all.append(seed.bytes.begin(), seed.bytes.end());
-    for (const char* op : {"open", "pixels", "settings", "look", "reference", "start", "input",
-                           "addLayer", "addLayers", "removeLayer", "renameLayer", "weights", "fill",
-                           "stroke", "apply", "clear", "undo", "redo"})
+    for (const char* op :
+         {"open",     "pixels",    "settings",    "look",        "reference", "start",  "input",
+          "addLayer", "addLayers", "removeLayer", "renameLayer", "weights",   "fill",   "stroke",
+          "apply",    "clear",     "undo",        "redo",        "region",    "setLook"})
         EXPECT_NE(all.find("\"op\":\"" + std::string(op) + "\""), std::string::npos) << op;
 }
 
-TEST(JournalFuzzSeeds, TheEditsSeedRestoresItsLayersLookAndSettings) {
+TEST(JournalFuzzSeeds, TheEditsSeedRestoresItsLayersLookSettingsAndRegion) {
     for (const Seed& seed : seeds()) {
         if (seed.name != "edits.jsonl") continue;
         const auto r = runJournal(seed.bytes.data(), seed.bytes.size());
@@ -64,8 +66,12 @@ TEST(JournalFuzzSeeds, TheEditsSeedRestoresItsLayersLookAndSettings) {
         // gaussian, bilateral added; undo, undo, redo: the rename undone; the first removed.
         ASSERT_EQ(r->session->layerCount(), 1u);
         EXPECT_EQ(r->session->layer(0).filter, "bilateral");
-        ASSERT_EQ(r->look.size(), 1u);
+        // The look edit, then a session file's look (no undo step), and the lasso.
+        ASSERT_EQ(r->look.size(), 2u);
         EXPECT_EQ(r->look[0].item, "white");
+        EXPECT_EQ(r->look[1].item, "red");
+        EXPECT_EQ(r->look[1].value, (std::array<double, 3>{0.5, 0.1, 0.1}));
+        EXPECT_EQ(r->lasso, (std::vector<double>{2, 2, 10, 2, 6, 9}));
         ASSERT_TRUE(r->settings);
         EXPECT_EQ(r->settings->spp, 64);
         EXPECT_TRUE(r->referenceSet);

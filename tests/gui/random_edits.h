@@ -3,6 +3,11 @@
 // after a crash (restore_test.cpp) and from a saved session (studio_session_test.cpp).
 #pragma once
 
+#include <QDir>
+#include <QPointF>
+#include <QSignalSpy>
+#include <QVector>
+
 #include <cmath>
 #include <optional>
 #include <random>
@@ -26,8 +31,11 @@ struct RandomEdits {
 /// (of a layer with painted pixels), renames, removals, undo, redo, Auto Start on a bank of 4,
 /// feature prefiltering turned on or off (a new session carrying the layers), a region rendered
 /// again with another seed, a reference rendered at 8 spp or cleared, and look edits of the
-/// material `wall`'s albedo (a new render, the layers re-applied).
-inline RandomEdits randomEdits(MainWindow& w, unsigned seed, int count, const std::string& wall) {
+/// material `wall`'s albedo (a new render, the layers re-applied), the region of interest (a
+/// lasso partly off the image, or the whole image again), and the session saved into `folder` and
+/// opened again in the same window (its look, region, settings and reference from the file).
+inline RandomEdits randomEdits(MainWindow& w, unsigned seed, int count, const std::string& wall,
+                               const QString& folder) {
     RandomEdits out;
     SessionAdapter& session = *w.session();
     const int width = session.session().composite().width();
@@ -57,7 +65,7 @@ inline RandomEdits randomEdits(MainWindow& w, unsigned seed, int count, const st
     };
     for (int edit = 0; edit < count; ++edit) {
         const std::size_t layers = session.session().layerCount();
-        const std::size_t kind = layers == 0 ? 0 : below(15);
+        const std::size_t kind = layers == 0 ? 0 : below(17);
         const std::size_t layer = layers == 0 ? 0 : below(layers);
         switch (kind) {
             case 0: {
@@ -175,6 +183,39 @@ inline RandomEdits randomEdits(MainWindow& w, unsigned seed, int count, const st
                     }
                 }
                 break;
+            case 14: {
+                // A lasso of 3 to 6 points, partly off the image, or the whole image again.
+                if (below(4) == 0) {
+                    w.region()->clear();
+                    out.done << QStringLiteral("whole image");
+                    break;
+                }
+                QVector<QPointF> lasso;
+                for (std::size_t n = 3 + below(4); lasso.size() < qsizetype(n);)
+                    lasso.push_back(QPointF(uniform(-5, width + 5), uniform(-5, height + 5)));
+                w.region()->setPolygon(lasso);
+                out.done << QStringLiteral("lasso");
+                break;
+            }
+            case 15: {
+                // Saved, then opened again from the file in this window.
+                const QString path = QDir(folder).filePath(
+                    QStringLiteral("reopen-%1-%2.glint-session.json").arg(seed).arg(edit));
+                if (!w.saveSession(path) ||
+                    !waitFor([&] { return !session.busy() && !w.isModified(); }, 60000)) {
+                    out.failure = QStringLiteral("the session was not saved");
+                    return out;
+                }
+                QSignalSpy loaded(&session, &SessionAdapter::loaded);
+                w.openFile(path);
+                out.done << QStringLiteral("reopen");
+                if (!waitFor([&] { return loaded.count() == 1 && !w.document()->loading(); },
+                             60000)) {
+                    out.failure = QStringLiteral("the saved session did not open");
+                    return out;
+                }
+                break;
+            }
             default: {
                 const FramePtr before = w.document()->finishedFrame();
                 w.lookPanel()->edit(wall, "albedo", {uniform(0, 1), uniform(0, 1), uniform(0, 1)});

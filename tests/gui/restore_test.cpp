@@ -1,9 +1,10 @@
 // Restoring an autosave (docs/studio.md, "Autosave and restore"; issue "reliability round 3"):
 // a studio killed after layers from Auto Start, an undo, a look edit and a stroke comes back
-// whole and consistent, and so do random sequences of every kind of edit, bit for bit; the replay
-// runs off the UI thread and changes nothing until it is done; a broken autosave changes nothing,
-// says so once and is kept aside; "No" keeps the autosave aside and it is not offered again; a file
-// named on the command line opens at once.
+// whole and consistent, and so do random sequences of every kind of edit, bit for bit, and a
+// session opened from a file with its look and region; the replay runs off the UI thread and
+// changes nothing until it is done; a broken autosave changes nothing, says so once and is kept
+// aside; "No" keeps the autosave aside and it is not offered again; a file named on the command
+// line opens at once.
 #include <QApplication>
 #include <QDir>
 #include <QListWidget>
@@ -96,12 +97,14 @@ class RestoreTest : public QObject {
             return w ? firstAlbedoMaterial(*w->document()) : std::string();
         }();
         QVERIFY(!wall.empty());
-        int withReference = 0;  // seeds that end with a reference: the comparison is not vacuous
+        // Seeds that end with a reference, with a lasso, and that reopened a saved session: the
+        // comparisons are not vacuous.
+        int withReference = 0, withLasso = 0, reopened = 0;
         for (unsigned seed = 11; seed <= 18; ++seed) {
             const QString base = m_dir.filePath(QStringLiteral("random-%1").arg(seed));
             auto w = openAndWait(m_scene, base + QStringLiteral("-live"));
             QVERIFY(w);
-            const RandomEdits made = randomEdits(*w, seed, 32, wall);
+            const RandomEdits made = randomEdits(*w, seed, 32, wall, m_dir.path());
             const QString edits = made.text();
             QVERIFY2(made.failure.isEmpty(), qPrintable(made.failure + ": " + edits));
             QVERIFY(copyAsCrashed(*w, base));
@@ -117,6 +120,7 @@ class RestoreTest : public QObject {
             const QString reference = referenceDifference(r.referenceSet ? r.reference : nullptr,
                                                           w->document()->reference());
             QVERIFY2(reference.isEmpty(), qPrintable(reference + " after " + edits));
+            QCOMPARE(r.lasso, w->region()->coordinates());
             QCOMPARE(r.session->canUndo(), live.canUndo());
             QCOMPARE(r.session->canRedo(), live.canRedo());
             // The whole restore, as "Restore your work? > Yes" does, into a new window: the
@@ -133,14 +137,84 @@ class RestoreTest : public QObject {
                 qPrintable(QStringLiteral("seed %1: %2 after %3").arg(seed).arg(restored, edits)));
             QCOMPARE(again->document()->lookValue(wall, "albedo"),
                      w->document()->lookValue(wall, "albedo"));
+            QCOMPARE(again->region()->coordinates(), w->region()->coordinates());
             const QString againReference =
                 referenceDifference(again->document()->reference(), w->document()->reference());
             QVERIFY2(againReference.isEmpty(), qPrintable(againReference + " after " + edits));
             withReference += w->document()->reference() ? 1 : 0;
+            withLasso += w->region()->wholeImage() ? 0 : 1;
+            reopened += made.done.contains(QStringLiteral("reopen")) ? 1 : 0;
             again->close();
             w->close();
         }
         QVERIFY(withReference > 0);
+        QVERIFY(withLasso > 0);
+        QVERIFY(reopened > 0);
+        qInfo("of 8 seeds: %d end with a reference, %d with a lasso; %d reopened a session",
+              withReference, withLasso, reopened);
+    }
+
+    void aSessionOpenedFromAFileComesBackWithItsLookAndRegion() {
+        // A session saved with a look edit and a lasso, opened in a fresh studio, a stroke made,
+        // then the studio gone: the restore brings back the file's look and region with the
+        // stroke. (Before they were journalled: the scene file's own look and the whole image.)
+        const std::array<double, 3> edited{0.7, 0.2, 0.4};
+        const std::vector<double> lasso{3.25, 4.0, 40.5, 6.0, 20.0, 30.75};
+        const QString path = m_dir.filePath(QStringLiteral("looked.glint-session.json"));
+        std::string wall;
+        {
+            auto first = openAndWait(m_scene, m_dir.filePath(QStringLiteral("looked-first")));
+            QVERIFY(first);
+            wall = firstAlbedoMaterial(*first->document());
+            QVERIFY(first->document()->lookValue(wall, "albedo") != edited);
+            const FramePtr before = first->document()->finishedFrame();
+            first->lookPanel()->edit(wall, "albedo", edited);
+            QVERIFY(waitFor([&] { return first->document()->finishedFrame() != before; }));
+            QVERIFY(waitIdle(*first));
+            QVERIFY(addGaussian(*first, true));
+            QVERIFY(waitIdle(*first));
+            first->region()->setCoordinates(lasso);
+            QVERIFY(first->saveSession(path));
+            QVERIFY(waitFor([&] { return !first->session()->busy() && !first->isModified(); }));
+        }
+        const QString base = m_dir.filePath(QStringLiteral("looked"));
+        auto w = makeWindow(base + QStringLiteral("-live"));
+        w->openFile(path);
+        QVERIFY(waitFor([&] {
+            return w->session()->hasSession() && !w->session()->busy() &&
+                   w->document()->kind() == Document::Kind::Scene && !w->document()->loading() &&
+                   w->document()->lookValue(wall, "albedo") == edited;
+        }));
+        QCOMPARE(w->region()->coordinates(), lasso);
+        w->session()->beginStroke(0, {6.0, 0.5}, denoise::BrushMode::Subtract);
+        w->session()->dab(30.0, 20.0);
+        w->session()->endStroke();
+        QVERIFY(copyAsCrashed(*w, base));
+        const QStringList crashed = Autosave::crashed(base);
+        QCOMPARE(crashed.size(), 1);
+
+        auto again = makeWindow(base);
+        again->restoreFrom(crashed.first());
+        QVERIFY(waitFor([&] { return !again->autosave()->restoring(); }, 240000));
+        QVERIFY2(again->lastError().isEmpty(), qPrintable(again->lastError()));
+        QVERIFY(
+            waitFor([&] { return again->session()->hasSession() && !again->session()->busy(); }));
+        QCOMPARE(again->document()->lookValue(wall, "albedo"), edited);
+        QCOMPARE(again->region()->coordinates(), lasso);
+        const QString difference =
+            sessionDifference(again->session()->session(), w->session()->session());
+        QVERIFY2(difference.isEmpty(), qPrintable(difference));
+        // Restored a second time from the restored studio's own journal: the same again.
+        QVERIFY(copyAsCrashed(*again, base + QStringLiteral("-second")));
+        const QStringList second = Autosave::crashed(base + QStringLiteral("-second"));
+        QCOMPARE(second.size(), 1);
+        const Recovered r = recover(second.first());
+        QVERIFY(r.session);
+        QCOMPARE(r.lasso, lasso);
+        bool found = false;
+        for (const LookValue& v : r.look)
+            if (v.item == wall && v.property == "albedo") found = v.value == edited;
+        QVERIFY(found);
     }
 
     void aKilledStudioComesBackWholeAfterAutoStartALookEditAndAStroke() {

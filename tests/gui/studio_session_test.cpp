@@ -217,7 +217,7 @@ class StudioSessionTest : public QObject {
             auto w = openScene();
             QVERIFY(w);
             const std::string wall = firstAlbedoMaterial(*w->document());
-            const RandomEdits made = randomEdits(*w, seed, 24, wall);
+            const RandomEdits made = randomEdits(*w, seed, 24, wall, m_dir.path());
             QVERIFY2(made.failure.isEmpty(), qPrintable(made.failure + ": " + made.text()));
             const QString path = save(*w, QStringLiteral("random-%1.glint-session.json").arg(seed));
             QVERIFY(!path.isEmpty());
@@ -231,6 +231,7 @@ class StudioSessionTest : public QObject {
                     QStringLiteral("seed %1: %2 after %3").arg(seed).arg(difference, made.text())));
             QCOMPARE(again->document()->lookValue(wall, "albedo"),
                      w->document()->lookValue(wall, "albedo"));
+            QCOMPARE(again->region()->coordinates(), w->region()->coordinates());
             QVERIFY(waitFor([&] { return !again->document()->loading(); }));
             const QString reference =
                 referenceDifference(again->document()->reference(), w->document()->reference());
