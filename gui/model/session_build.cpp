@@ -47,8 +47,12 @@ Reapplied computeReapply(FramePtr frame, const denoise::Session::Snapshot& snaps
         outputs.push_back(
             denoise::applyFilter(denoise::findFilter(spec.filter), *out.filterInput, spec.params,
                                  {.region = std::nullopt, .progress = progress, .threads = 0}));
-    out.prepared = std::make_shared<denoise::Session::Reapplication>(
-        denoise::Session::prepareReapply(*frame, std::move(outputs), snapshot));
+    // The session keeps its own copy of the prefiltered features: copied, not prefiltered again.
+    out.prepared =
+        std::make_shared<denoise::Session::Reapplication>(denoise::Session::prepareReapply(
+            *frame, std::move(outputs), snapshot,
+            snapshot.options.prefilter ? std::optional<FrameBuffers>(*out.filterInput)
+                                       : std::nullopt));
     return out;
 }
 

@@ -8,6 +8,11 @@
 //   with realistic scribbles: two soft strokes of 1, an erased border band, scattered dabs of 0;
 // - EigenCG_Diagonal (and EigenCG_IncompleteCholesky with --ichol, about 80 s): Eigen 3.4's
 //   ConjugateGradient on the same equations and tolerance, for comparison.
+// - PrepareReapply_Prefiltered/0 and /1: what the studio's worker does with a new render under a
+//   session with feature prefiltering on (1 layer; its output given): Session::prepareReapply
+//   prefiltering the albedo, normal and depth itself (/0, what the studio did before
+//   2026-11-30: the features were then prefiltered twice, once for the filters) or keeping the
+//   filter input it is handed (/1, a copy of it: what the studio does now).
 // Counters: cgIterations (Glint: CG iterations; Eigen: cg.iterations()), relResidual.
 //
 //   build/bin/bench_session [--size=1024] [--ichol] [--benchmark_filter=...]
@@ -26,6 +31,7 @@
 #include <vector>
 
 #include "glint/denoise/paint.h"
+#include "glint/denoise/prefilter.h"
 #include "glint/denoise/session.h"
 
 namespace {
@@ -91,6 +97,45 @@ void BM_Dab64_ThreeLayers(benchmark::State& state) {
     if (s.canUndo()) s.undo();
 }
 BENCHMARK(BM_Dab64_ThreeLayers)->Unit(benchmark::kMicrosecond)->UseRealTime();
+
+void BM_PrepareReapply_Prefiltered(benchmark::State& state) {
+    // A render with noisy features and their variances, as prefiltering takes them.
+    FrameBuffers next = frame(g_size);
+    const std::pair<Layer, Layer> features[] = {{Layer::Albedo, Layer::AlbedoVariance},
+                                                {Layer::Normal, Layer::NormalVariance},
+                                                {Layer::Depth, Layer::DepthVariance}};
+    for (const auto& [l, v] : features) {
+        const int channels = l == Layer::Depth ? 1 : 3;
+        Image feature(g_size, g_size, channels), variance(g_size, g_size, channels);
+        for (int y = 0; y < g_size; ++y)
+            for (int x = 0; x < g_size; ++x)
+                for (int c = 0; c < channels; ++c) {
+                    const float noise = float((x * 13 + y * 7 + c * 3) % 11) / 11.0f;
+                    feature(x, y, c) = 0.4f + 0.2f * noise;
+                    variance(x, y, c) = 1e-3f * (0.5f + noise);
+                }
+        next.set(l, std::move(feature));
+        next.set(v, std::move(variance));
+    }
+    SessionOptions options;
+    options.prefilter = true;
+    Session s(next, options);
+    s.addLayer("gaussian", {}, next.color());
+    const Session::Snapshot snap = s.snapshot();
+    const FrameBuffers filterInput = prefilterFeatures(next, options.prefilterParams);
+    const bool given = state.range(0) == 1;
+    for (auto _ : state) {
+        Session::Reapplication r = Session::prepareReapply(
+            next, {next.color()}, snap,
+            given ? std::optional<FrameBuffers>(filterInput) : std::nullopt);
+        benchmark::DoNotOptimize(r.composite.data().data());
+    }
+}
+BENCHMARK(BM_PrepareReapply_Prefiltered)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_Stroke100Dabs(benchmark::State& state) {
     Session& s = session();

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "glint/denoise/prefilter.h"
 #include "glint/denoise/registry.h"
 #include "glint/denoise/session.h"
 #include "glint/image/composite.h"
@@ -530,6 +531,46 @@ TEST_F(SessionTest, APreparedReapplicationEqualsReapplyBitForBit) {
     prepared.undo();  // the median layer comes back on the new render
     direct.undo();
     EXPECT_EQ(differences(stateOf(prepared), stateOf(direct)), "");
+}
+
+TEST_F(SessionTest, APreparedReapplicationKeepsTheFilterInputItIsGiven) {
+    // The studio prefilters a new render's features once, for the filters, and hands them to
+    // prepareReapply: the session keeps them rather than prefiltering again.
+    SessionOptions options;
+    options.prefilter = true;
+    auto painted = [&] {
+        Session s(testing::syntheticFrame(40, 32, 0.05f, 1), options);
+        const std::size_t g = s.addLayer("gaussian", {{"sigma", 2.0}});
+        s.setWeights(g, Image(40, 32, 1, 0.5f));
+        return s;
+    };
+    const FrameBuffers next = testing::syntheticFrame(40, 32, 0.05f, 2);
+    const FrameBuffers prefiltered = prefilterFeatures(next, options.prefilterParams);
+    Session made = painted(), given = painted(), other = painted();
+    const Session::Snapshot snap = made.snapshot();
+    const std::vector<Image> outputs = Session::computeOutputs(next, snap.options, snap.specs);
+    made.reapply(Session::prepareReapply(next, outputs, snap));
+    given.reapply(Session::prepareReapply(next, outputs, snap, prefiltered));
+    EXPECT_EQ(differences(stateOf(given), stateOf(made)), "");
+    for (Layer l : {Layer::Albedo, Layer::Normal, Layer::Depth})
+        EXPECT_TRUE(sameBits(given.filterInput().layer(l), made.filterInput().layer(l)));
+    // A filter input that prefiltering would not make (one albedo pixel marked) is the one kept:
+    // prepareReapply did not make its own.
+    FrameBuffers marked = prefiltered;
+    marked.layer(Layer::Albedo)(3, 2, 0) += 0.125f;
+    other.reapply(Session::prepareReapply(next, outputs, other.snapshot(), marked));
+    EXPECT_TRUE(sameBits(other.filterInput().layer(Layer::Albedo), marked.layer(Layer::Albedo)));
+    // A filter input of another size is refused; without prefiltering one is not kept.
+    EXPECT_THROW(Session::prepareReapply(next, outputs, snap,
+                                         prefilterFeatures(testing::syntheticFrame(20, 16))),
+                 Error);
+    Session plain(testing::syntheticFrame(40, 32, 0.05f, 1));
+    plain.addLayer("gaussian", {{"sigma", 2.0}});
+    const Session::Snapshot plainSnap = plain.snapshot();
+    plain.reapply(Session::prepareReapply(
+        next, Session::computeOutputs(next, plainSnap.options, plainSnap.specs), plainSnap,
+        marked));
+    EXPECT_TRUE(sameBits(plain.filterInput().layer(Layer::Albedo), next.layer(Layer::Albedo)));
 }
 
 TEST_F(SessionTest, APreparedReapplicationFollowsEditsMadeMeanwhile) {

@@ -629,10 +629,21 @@ Session::Snapshot Session::snapshot() const {
 }
 
 Session::Reapplication Session::prepareReapply(FrameBuffers newInput, std::vector<Image> outputs,
-                                               const Snapshot& snapshot) {
+                                               const Snapshot& snapshot,
+                                               std::optional<FrameBuffers> filterInput) {
     checkOutputs(outputs, snapshot.specs.size(), newInput.width(), newInput.height());
+    if (filterInput &&
+        (filterInput->width() != newInput.width() || filterInput->height() != newInput.height()))
+        throw Error(ErrorKind::InvalidArgument,
+                    "the filter input given is " + std::to_string(filterInput->width()) + "x" +
+                        std::to_string(filterInput->height()) + ", the new render " +
+                        std::to_string(newInput.width()) + "x" + std::to_string(newInput.height()),
+                    {}, "session");
     Reapplication r;
-    r.filterInput = prefilteredFor(newInput, snapshot.options);
+    // The features prefiltered once: the caller's when it made them for the filters.
+    r.filterInput = !snapshot.options.prefilter ? std::nullopt
+                    : filterInput               ? std::move(filterInput)
+                                                : prefilteredFor(newInput, snapshot.options);
     r.specs = snapshot.specs;
     r.outputs = shareAll(outputs);
     r.version = snapshot.version;

@@ -166,9 +166,13 @@ class Session {
 
     /// Everything reapply does that grows with the image, from a snapshot and the outputs on
     /// `newInput` (computeOutputs: one per snapshot spec, frame-sized), touching no session:
-    /// safe on a worker thread. Throws glint::Error(InvalidArgument) for outputs that do not fit.
+    /// safe on a worker thread. `filterInput`: the filters' input the caller already made from
+    /// `newInput` when the snapshot's options prefilter (prefilterFeatures with their
+    /// parameters), kept instead of prefiltering again. Throws glint::Error(InvalidArgument) for
+    /// outputs or a filter input that do not fit.
     static Reapplication prepareReapply(FrameBuffers newInput, std::vector<Image> outputs,
-                                        const Snapshot& snapshot);
+                                        const Snapshot& snapshot,
+                                        std::optional<FrameBuffers> filterInput = std::nullopt);
     /// Installs a prepared re-application: moves and pointer swaps only when the session is still
     /// at the snapshot's version (otherwise the composite is rebuilt here). Ends an open stroke.
     /// Throws glint::Error(InvalidArgument) when its specs are no longer layerSpecs() or its size
