@@ -500,6 +500,9 @@ void MainWindow::applyRecovered(Recovered& r) {
         m_session->clear();
     if (m_session->input()) m_document->setFinishedFrame(m_session->input());
     m_region->setCoordinates(r.lasso);  // journalled again by its signal
+    // What came back is in no file: unsaved until saved, so closing asks first (a clean window
+    // would close without asking and drop the autosave, and the restored work with it).
+    m_session->undoStack()->resetClean();
     m_restoring = false;
     updateTitle();
 }

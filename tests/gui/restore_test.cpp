@@ -217,6 +217,30 @@ class RestoreTest : public QObject {
         QVERIFY(found);
     }
 
+    void aRestoredStudioIsUnsavedSoClosingItAsksFirst() {
+        // A layer and a stroke, no look or settings change: what comes back is in no file. A
+        // window that called itself saved would close without asking and drop the autosave with
+        // the work (it did: only look, settings and reference changes made a restore unsaved).
+        const QString folder = crashedAutosave(QStringLiteral("unsaved"));
+        QVERIFY(!folder.isEmpty());
+        auto w = makeWindow(m_dir.filePath(QStringLiteral("unsaved")));
+        w->restoreFrom(folder);
+        QVERIFY(waitFor([&] { return !w->autosave()->restoring(); }, 240000));
+        QVERIFY2(w->lastError().isEmpty(), qPrintable(w->lastError()));
+        QVERIFY(waitFor([&] { return w->session()->hasSession() && !w->session()->busy(); }));
+        QVERIFY(!w->document()->modified());  // the look, settings and reference are the file's
+        QVERIFY(w->isModified());
+        QVERIFY2(w->windowTitle().contains(QStringLiteral(" *")), qPrintable(w->windowTitle()));
+        // Saved, it is clean; a stroke then makes it unsaved again.
+        const QString path = m_dir.filePath(QStringLiteral("unsaved.glint-session.json"));
+        QVERIFY(w->saveSession(path));
+        QVERIFY(waitFor([&] { return !w->session()->busy() && !w->isModified(); }));
+        w->session()->beginStroke(0, {4.0, 0.5}, denoise::BrushMode::Subtract);
+        w->session()->dab(40.0, 30.0);
+        w->session()->endStroke();
+        QVERIFY(w->isModified());
+    }
+
     void aKilledStudioComesBackWholeAfterAutoStartALookEditAndAStroke() {
         const QString base = m_dir.filePath(QStringLiteral("killed"));
         QProcess child;
