@@ -467,8 +467,14 @@ void MainWindow::restoreFrom(const QString& folder) {
                           .arg(error, kept.isEmpty() ? folder : kept));
             return;
         }
-        applyRecovered(*recovered);
-        m_autosave->finishRestore(folder);
+        // This studio's journal becomes the restored one, continued: a second crash replays the
+        // same history, which the undo stack then gives back. Where it cannot be moved, the
+        // journal records the restored state afresh and the history starts there.
+        const bool adopted = m_autosave->journal()->adopt(folder, recovered->edits);
+        m_autosave->journal()->setPaused(adopted);
+        applyRecovered(*recovered, adopted);
+        m_autosave->journal()->setPaused(false);
+        if (!adopted) m_autosave->finishRestore(folder);
         const int n = recovered->edits;
         showStatus(recovered->complete ? tr("Restored %1 edits.").arg(n)
                                        : tr("Restored %1 edits (the edit being made at the crash "
@@ -477,9 +483,10 @@ void MainWindow::restoreFrom(const QString& folder) {
     });
 }
 
-void MainWindow::applyRecovered(Recovered& r) {
-    // Checked on the worker: nothing here can fail halfway. The journal of this studio records
-    // the restored state (file, look, settings, session), so a second crash is covered too.
+void MainWindow::applyRecovered(Recovered& r, bool withHistory) {
+    // Checked on the worker: nothing here can fail halfway. The journal of this studio holds the
+    // restored journal (`withHistory`), or records the restored state (file, look, settings,
+    // session) afresh: a second crash is covered either way.
     m_restoring = true;
     m_sessionPath.clear();
     if (r.file) m_document->adopt(r.path, std::move(*r.file), false);
@@ -498,6 +505,7 @@ void MainWindow::applyRecovered(Recovered& r) {
         m_session->install(std::move(*r.session), r.input, r.filterInput);
     else
         m_session->clear();
+    if (withHistory) m_session->restoreHistory(r.undo, r.redo, m_document);
     if (m_session->input()) m_document->setFinishedFrame(m_session->input());
     m_region->setCoordinates(r.lasso);  // journalled again by its signal
     // What came back is in no file: unsaved until saved, so closing asks first (a clean window

@@ -142,7 +142,8 @@ class MainWindow : public QMainWindow {
     QString askPath(const QString& title, const QString& filter, bool save,
                     const QString& suffix = {});
     void exportResult(bool exr);
-    void applyRecovered(Recovered& recovered);
+    /// Applies a restore; `withHistory`: its undo history too (the journal was adopted).
+    void applyRecovered(Recovered& recovered, bool withHistory);
     QString autosaveBase() const;
     /// The tev listener and sender of the options, their log lines in the status bar.
     void connectTev();

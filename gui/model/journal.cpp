@@ -5,8 +5,10 @@
 #include <QFile>
 #include <QJsonArray>
 #include <QJsonDocument>
+#include <QRegularExpression>
 #include <QThread>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "glint/image/error.h"
@@ -33,6 +35,7 @@ Journal::Journal(const QString& folder, QObject* parent) : QObject(parent), m_fo
 Journal::~Journal() = default;
 
 void Journal::append(const JournalEntry& entry) {
+    if (m_paused) return;
     QJsonObject op = entry.op;
     // Side files first get their names; they are written in the background.
     QJsonArray images;
@@ -114,6 +117,59 @@ void Journal::written() {
 void Journal::discard() {
     flush();
     QDir(m_folder).removeRecursively();
+}
+
+bool Journal::adopt(const QString& folder, int entries) {
+    flush();
+    QFile in(QDir(folder).filePath(kLines));
+    if (!in.open(QIODevice::ReadOnly)) return false;
+    const QList<QByteArray> lines = in.readAll().split('\n');
+    in.close();
+    // The entries read, and where their side files stand: the render an "input" or "pixels"
+    // entry supersedes next, and the next free number.
+    QByteArray kept;
+    QString previousInput, previousPixels;
+    int count = 0;
+    for (const QByteArray& line : lines) {
+        if (count == entries) break;
+        if (line.trimmed().isEmpty()) continue;
+        kept += line + '\n';
+        ++count;
+        const QJsonObject op = QJsonDocument::fromJson(line).object();
+        const QString kind = op.value(QStringLiteral("op")).toString();
+        const QString render = op.value(QStringLiteral("render")).toString();
+        const bool onDisk = !render.isEmpty() && QFile::exists(QDir(folder).filePath(render));
+        if (kind == QStringLiteral("open")) previousPixels.clear();
+        if (kind == QStringLiteral("input") && onDisk) previousInput = render;
+        if (kind == QStringLiteral("pixels") && onDisk) previousPixels = render;
+    }
+    if (count != entries) return false;
+    int next = 0;
+    static const QRegularExpression numbered(QStringLiteral("^(image|render)-(\\d+)\\.exr$"));
+    for (const QString& name : QDir(folder).entryList(QDir::Files)) {
+        const QRegularExpressionMatch m = numbered.match(name);
+        if (m.hasMatch()) next = std::max(next, m.captured(2).toInt() + 1);
+    }
+    // The lines kept, written to a temporary name and renamed over the journal.
+    const QString temporary = QDir(folder).filePath(kLines + QStringLiteral(".adopting"));
+    QFile out(temporary);
+    if (!out.open(QIODevice::WriteOnly | QIODevice::Truncate) || out.write(kept) != kept.size())
+        return false;
+    out.close();
+    std::error_code error;
+    std::filesystem::rename(pathOf(folder, kLines + QStringLiteral(".adopting")),
+                            pathOf(folder, kLines), error);
+    if (error) return false;
+    // This journal's own folder gives way (the restore replaces everything it recorded).
+    QDir(m_folder).removeRecursively();
+    if (!QDir().rename(folder, m_folder)) {
+        QDir().mkpath(m_folder);
+        return false;
+    }
+    m_next = next;
+    m_previousInput = previousInput;
+    m_previousPixels = previousPixels;
+    return true;
 }
 
 std::vector<JournalEntry> Journal::read(const QString& folder, bool* complete) {

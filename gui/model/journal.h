@@ -33,6 +33,14 @@ class Journal : public QObject {
     void afterWrites(std::function<void()> fn);
     /// Removes the folder (a clean exit: nothing to restore).
     void discard();
+    /// Makes the journal in `folder` — a crashed studio's, just restored from its first `entries`
+    /// entries (read) — this journal, continued from there: the folder moves into this one's
+    /// place, a line cut by the crash dropped, so that a later crash replays the restored
+    /// history too. False when it cannot (this journal then holds what it held).
+    bool adopt(const QString& folder, int entries);
+    /// While paused, appended entries are dropped (what the adopted journal already holds is
+    /// being applied).
+    void setPaused(bool paused) { m_paused = paused; }
 
     /// The entries of the journal in `folder`, up to the first one that cannot be read (a line
     /// cut short by the crash, a missing side file): `complete` tells whether all were read.
@@ -47,6 +55,7 @@ class Journal : public QObject {
     QString m_previousInput;   // the render of the last "input" entry (superseded by the next)
     QString m_previousPixels;  // the render of the last "pixels" entry since the last "open"
     int m_pendingWrites = 0;
+    bool m_paused = false;
     std::vector<std::function<void()>> m_afterWrites;
     void written();
 };

@@ -3,6 +3,7 @@
 #include <QJsonArray>
 
 #include "glint/image/error.h"
+#include "model/edit_text.h"
 
 namespace glint::studio {
 
@@ -16,8 +17,7 @@ LookCommand::LookCommand(Document* document, SessionAdapter* session, std::strin
       m_before(before),
       m_after(after),
       m_render(render) {
-    setText(QObject::tr("Change %1 %2")
-                .arg(QString::fromStdString(m_item), QString::fromStdString(m_property)));
+    setText(lookEditText(m_item, m_property));
 }
 
 void LookCommand::apply(const std::array<double, 3>& value, const char* op) {
@@ -42,11 +42,12 @@ QJsonObject LookCommand::journalOp(const std::string& item, const std::string& p
 }
 
 void LookCommand::undo() {
+    if (m_session->restoringHistory()) return;  // a restore's history: the look is as it was
     apply(m_before, "undo");
 }
 
 void LookCommand::redo() {
-    apply(m_after, m_first ? "look" : "redo");
+    if (!m_session->restoringHistory()) apply(m_after, m_first ? "look" : "redo");
     m_first = false;
 }
 

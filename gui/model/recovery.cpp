@@ -9,6 +9,7 @@
 
 #include "glint/denoise/registry.h"
 #include "glint/image/error.h"
+#include "model/edit_text.h"
 #include "model/journal.h"
 #include "model/journal_codec.h"
 #include "model/session_build.h"
@@ -16,13 +17,6 @@
 namespace glint::studio {
 
 namespace {
-
-// One step of the studio's undo stack as the journal built it: session edits (a LookCommand
-// counts none) or a look edit.
-struct UndoStep {
-    int edits = 0;
-    std::optional<LookValue> before, after;
-};
 
 // The replay's state: what the studio would hold after the entries so far.
 class Replay {
@@ -48,7 +42,8 @@ class Replay {
         } else if (op == QStringLiteral("reference")) {
             m_reference = entry;  // decoded at the end, against the look then
         } else if (op == QStringLiteral("look")) {
-            push({0, lookValue(entry, "before"), lookValue(entry, "after")});
+            const LookValue before = lookValue(entry, "before"), after = lookValue(entry, "after");
+            push({0, before, after, lookEditText(after.item, after.property)});
             setLook(*m_steps.back().after);
         } else if (op == QStringLiteral("setLook")) {
             setLook(lookValue(entry, "value"));  // a session file's look: no undo step
@@ -72,6 +67,11 @@ class Replay {
     const std::optional<QJsonObject>& settingsEntry() const { return m_settings; }
     /// The last "reference" entry since the file was opened.
     const std::optional<JournalEntry>& referenceEntry() const { return m_reference; }
+    /// The undo stack as the journal left it (Recovered::undo, redo).
+    void finishHistory() {
+        m_out.undo = m_steps;
+        m_out.redo = m_redo;
+    }
     /// The pixels of the image open when it was received, not read from a file (null: a file).
     const FramePtr& received() const { return m_received; }
 
@@ -79,7 +79,7 @@ class Replay {
     Recovered& m_out;
     const denoise::ProgressFn& m_progress;
     denoise::SessionOptions m_options;
-    std::vector<UndoStep> m_steps, m_redo;
+    std::vector<RestoredStep> m_steps, m_redo;
     std::optional<QJsonObject> m_settings;
     std::optional<JournalEntry> m_reference;
     FramePtr m_received;
@@ -90,7 +90,7 @@ class Replay {
         return *m_out.session;
     }
     // A new undo step (the redo history goes, as QUndoStack::push drops it).
-    void push(UndoStep step) {
+    void push(RestoredStep step) {
         m_steps.push_back(std::move(step));
         m_redo.clear();
     }
@@ -150,7 +150,7 @@ class Replay {
             const std::size_t index =
                 s.addLayer(add->filter, add->params, output(add->filter, add->params));
             if (add->fill) s.fill(index, image(entry, 0), denoise::BrushMode::Add);
-            push({add->fill ? 2 : 1, {}, {}});
+            push({add->fill ? 2 : 1, {}, {}, editText(op)});
         } else if (const auto* layers = std::get_if<jc::AddLayers>(&op)) {
             denoise::Session& s = session();
             std::vector<denoise::LayerSpec> specs = layers->layers;
@@ -164,29 +164,29 @@ class Replay {
                         : s.addLayer(spec.filter, spec.params, output(spec.filter, spec.params));
                 s.setWeights(index, weights);
             }
-            push({2 * int(layers->layers.size()), {}, {}});
+            push({2 * int(layers->layers.size()), {}, {}, editText(op)});
         } else if (const auto* remove = std::get_if<jc::RemoveLayer>(&op)) {
             session().removeLayer(remove->index);
-            push({1, {}, {}});
+            push({1, {}, {}, editText(op)});
         } else if (const auto* rename = std::get_if<jc::RenameLayer>(&op)) {
             session().renameLayer(rename->index, rename->name);
-            push({1, {}, {}});
+            push({1, {}, {}, editText(op)});
         } else if (const auto* weights = std::get_if<jc::Weights>(&op)) {
             session().setWeights(weights->index, image(entry, 0));
-            push({1, {}, {}});
+            push({1, {}, {}, editText(op)});
         } else if (const auto* fill = std::get_if<jc::Fill>(&op)) {
             session().fill(fill->index, image(entry, 0), fill->mode);
-            push({1, {}, {}});
+            push({1, {}, {}, editText(op)});
         } else if (const auto* stroke = std::get_if<jc::Stroke>(&op)) {
             denoise::Session& s = session();
             s.beginStroke(stroke->layer, stroke->brush, stroke->mode);
             for (std::size_t i = 0; i + 1 < stroke->dabs.size(); i += 2)
                 s.dab(stroke->dabs[i], stroke->dabs[i + 1]);
             s.endStroke();
-            push({1, {}, {}});
+            push({1, {}, {}, editText(op)});
         } else if (const auto* apply = std::get_if<jc::Apply>(&op)) {
             session().applyWeights(apply->layers, entry.images);
-            push({1, {}, {}});
+            push({1, {}, {}, editText(op)});
         } else if (std::holds_alternative<jc::Clear>(op)) {
             m_out.session.reset();
             m_out.input.reset();
@@ -202,9 +202,9 @@ class Replay {
 
     // Undo (or redo) one step of `from`, moved to `to`; nothing to undo does nothing, as on the
     // studio's stack.
-    void step(std::vector<UndoStep>& from, std::vector<UndoStep>& to, bool undo) {
+    void step(std::vector<RestoredStep>& from, std::vector<RestoredStep>& to, bool undo) {
         if (from.empty()) return;
-        UndoStep s = std::move(from.back());
+        RestoredStep s = std::move(from.back());
         from.pop_back();
         if (s.after) setLook(undo ? *s.before : *s.after);
         for (int i = 0; i < s.edits; ++i) {
@@ -247,6 +247,7 @@ Recovered recover(const QString& folder, const denoise::ProgressFn& progress) {
             settingsLine = i;
         ++out.edits;
     }
+    replay.finishHistory();
     // The file open at the crash, its look and settings as edited: each checked here, so that
     // applying the result cannot fail halfway.
     render::Settings base;

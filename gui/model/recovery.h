@@ -24,6 +24,14 @@ struct LookValue {
     std::array<double, 3> value{};
 };
 
+/// One step of the studio's undo stack as the journal built it: `edits` session edits (a look
+/// edit has none) or a look edit (`before` and `after`), named as the studio names it (editText).
+struct RestoredStep {
+    int edits = 0;
+    std::optional<LookValue> before, after;
+    QString text;
+};
+
 /// The state a journal restores to.
 struct Recovered {
     QString path;                              ///< the file open at the crash ("": none)
@@ -38,6 +46,9 @@ struct Recovered {
     bool referenceSet = false;
     std::optional<ReferenceInfo> referenceInfo;
     FramePtr reference;
+    /// The undo history since the session started, oldest first, and the steps undone (the next
+    /// redo last): the studio's undo stack at the crash.
+    std::vector<RestoredStep> undo, redo;
     int edits = 0;           ///< journal entries replayed
     bool complete = true;    ///< false: the journal ended in an unreadable entry (cut by the crash)
     std::thread::id worker;  ///< the thread that did the work (tests check it is not the UI's)

@@ -6,9 +6,11 @@
 #include "glint/denoise/bank.h"
 #include "glint/denoise/registry.h"
 #include "glint/image/error.h"
+#include "model/edit_text.h"
 #include "model/journal_codec.h"
-#include "model/layer_names.h"
+#include "model/look_command.h"
 #include "model/option_labels.h"
+#include "model/recovery.h"
 #include "model/session_build.h"
 
 namespace glint::studio {
@@ -226,9 +228,9 @@ void SessionAdapter::setOptions(const denoise::SessionOptions& options) {
     startSession(m_input, std::move(c.specs), std::move(c.weights), std::move(c.names));
 }
 
-void SessionAdapter::pushEdit(const QString& text, int steps) {
+void SessionAdapter::pushEdit(const journal_codec::Op& op, int steps) {
     ++m_revision;
-    m_undo.push(new SessionCommand(this, text, steps));
+    m_undo.push(new SessionCommand(this, editText(op), steps));
 }
 
 void SessionAdapter::doAddLayer(const std::string& filter, const denoise::ParamValues& params,
@@ -240,12 +242,12 @@ void SessionAdapter::doAddLayer(const std::string& filter, const denoise::ParamV
         changed = m_session->fill(index, *fillMask, denoise::BrushMode::Add);
         ++steps;
     }
+    const journal_codec::AddLayer added{filter, m_session->layer(index).params, bool(fillMask)};
     JournalEntry entry;
-    entry.op = journal_codec::encode(
-        journal_codec::AddLayer{filter, m_session->layer(index).params, bool(fillMask)});
+    entry.op = journal_codec::encode(added);
     if (fillMask) entry.images.push_back(*fillMask);
     emit journal(entry);
-    pushEdit(tr("Add %1").arg(layerName(filter, m_session->layer(index).params)), steps);
+    pushEdit(added, steps);
     emit layersChanged();
     if (!changed.empty()) emit compositeChanged(changed);
 }
@@ -317,24 +319,27 @@ void SessionAdapter::runAddLayer(
 void SessionAdapter::removeLayer(std::size_t index) {
     if (!m_session || m_locked) return;
     m_session->removeLayer(index);
-    emit journal({journal_codec::encode(journal_codec::RemoveLayer{index}), {}, nullptr});
-    pushEdit(tr("Remove layer %1").arg(index + 1));
+    const journal_codec::RemoveLayer removed{index};
+    emit journal({journal_codec::encode(removed), {}, nullptr});
+    pushEdit(removed);
     changedAll();
 }
 
 void SessionAdapter::setWeights(std::size_t index, const Image& weights) {
     if (!m_session || m_locked) return;
     m_session->setWeights(index, weights);
-    emit journal({journal_codec::encode(journal_codec::Weights{index}), {weights}, nullptr});
-    pushEdit(tr("Set the weights of layer %1").arg(index + 1));
+    const journal_codec::Weights set{index};
+    emit journal({journal_codec::encode(set), {weights}, nullptr});
+    pushEdit(set);
     changedAll();
 }
 
 void SessionAdapter::fill(std::size_t index, const Image& mask, denoise::BrushMode mode) {
     if (!m_session || m_locked) return;
     const Rect changed = m_session->fill(index, mask, mode);
-    emit journal({journal_codec::encode(journal_codec::Fill{index, mode}), {mask}, nullptr});
-    pushEdit(tr("Fill layer %1").arg(index + 1));
+    const journal_codec::Fill filled{index, mode};
+    emit journal({journal_codec::encode(filled), {mask}, nullptr});
+    pushEdit(filled);
     emit weightsChanged();
     if (!changed.empty()) emit compositeChanged(changed);
 }
@@ -370,7 +375,7 @@ void SessionAdapter::endStroke() {
     m_strokeBefore = Image();
     if (changed) {
         emit journal({journal_codec::encode(m_stroke), {}, nullptr});
-        pushEdit(tr("Stroke on layer %1").arg(layer + 1));
+        pushEdit(m_stroke);
         emit weightsChanged();
     }
     if (m_pendingInput) reapplyInBackground();
@@ -468,14 +473,33 @@ void SessionAdapter::clear() {
 SessionCommand::SessionCommand(SessionAdapter* adapter, const QString& text, int steps)
     : QUndoCommand(text), m_adapter(adapter), m_steps(steps) {}
 
+void SessionAdapter::restoreHistory(const std::vector<RestoredStep>& done,
+                                    const std::vector<RestoredStep>& undone, Document* document) {
+    // Every step pushed as done (a push's redo does nothing now), the undone ones with the next
+    // redo on top, then the stack's index set back over them: the commands do nothing meanwhile,
+    // as the session already holds every edit in its own history.
+    m_restoringHistory = true;
+    auto command = [&](const RestoredStep& step) -> QUndoCommand* {
+        if (step.after)
+            return new LookCommand(document, this, step.after->item, step.after->property,
+                                   step.before->value, step.after->value);
+        return new SessionCommand(this, step.text, step.edits);
+    };
+    for (const RestoredStep& step : done) m_undo.push(command(step));
+    for (auto it = undone.rbegin(); it != undone.rend(); ++it) m_undo.push(command(*it));
+    m_undo.setIndex(int(done.size()));
+    m_restoringHistory = false;
+}
+
 void SessionCommand::undo() {
+    if (m_adapter->m_restoringHistory) return;
     for (int i = 0; i < m_steps; ++i) m_adapter->m_session->undo();
     m_adapter->record({journal_codec::encode(journal_codec::Undo{}), {}, nullptr});
     m_adapter->changedAll();
 }
 
 void SessionCommand::redo() {
-    if (m_first) {
+    if (m_first || m_adapter->m_restoringHistory) {
         m_first = false;  // the session did it already
         return;
     }
@@ -573,10 +597,11 @@ void SessionAdapter::diffuse(const std::vector<std::size_t>& layers) {
                 if (m_session != session) return;
                 m_session->applyWeights(layers, *shared);
                 JournalEntry entry;
-                entry.op = journal_codec::encode(journal_codec::Apply{layers});
+                const journal_codec::Apply applied{layers};
+                entry.op = journal_codec::encode(applied);
                 entry.images = std::move(*shared);
                 emit journal(entry);
-                pushEdit(tr("Diffuse the weights"));
+                pushEdit(applied);
                 changedAll();
             });
             unlock();
@@ -692,7 +717,7 @@ void SessionAdapter::autoChoose(BankService::BankPtr bank, FramePtr in,
                     entry.images.push_back(std::move(image));
                 entry.op = journal_codec::encode(added);
                 emit journal(entry);
-                pushEdit(tr("Auto start"), 2);
+                pushEdit(added, 2);
                 changedAll();
                 emit status(autoStartSummary(*result, denoised));
             });
@@ -714,8 +739,9 @@ void SessionAdapter::renameLayer(std::size_t index, const std::string& name) {
         m_session->layer(index).name == name)
         return;
     m_session->renameLayer(index, name);
-    emit journal({journal_codec::encode(journal_codec::RenameLayer{index, name}), {}, nullptr});
-    pushEdit(tr("Rename layer %1").arg(index + 1));
+    const journal_codec::RenameLayer renamed{index, name};
+    emit journal({journal_codec::encode(renamed), {}, nullptr});
+    pushEdit(renamed);
     emit layersChanged();
 }
 

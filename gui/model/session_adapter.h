@@ -28,6 +28,9 @@
 
 namespace glint::studio {
 
+class Document;
+struct RestoredStep;
+
 /// One edit as the journal records it: the operation and, for fills and weight maps, images.
 struct JournalEntry {
     QJsonObject op;
@@ -135,6 +138,13 @@ class SessionAdapter : public QObject {
                  FramePtr filterInput = nullptr);
     /// Reports an edit made outside the session (a look edit, undo, redo) to the journal.
     void record(JournalEntry entry) { emit journal(entry); }
+    /// Gives back the undo history a restore replayed (recover: `done` oldest first, `undone`
+    /// with the next redo last) over the session just installed, which holds their edits; the
+    /// look steps become LookCommands on `document`. Nothing is applied or journalled.
+    void restoreHistory(const std::vector<RestoredStep>& done,
+                        const std::vector<RestoredStep>& undone, Document* document);
+    /// True while restoreHistory builds the stack: the commands do nothing then.
+    bool restoringHistory() const { return m_restoringHistory; }
     /// Drops the session (journaled: a restore does not carry it over to the next file).
     void clear();
 
@@ -168,7 +178,8 @@ class SessionAdapter : public QObject {
                       std::vector<Image> carryWeights, std::vector<std::string> carryNames = {});
     void reapplyInBackground();
     void installReapply(FramePtr frame, Reapplied& reapplied, bool journal);
-    void pushEdit(const QString& text, int steps = 1);
+    /// One undo step of `steps` session edits, named after `op` (editText).
+    void pushEdit(const journal_codec::Op& op, int steps = 1);
     // A layer's filter, parameters and output, computed on a worker.
     struct NewLayer {
         std::string filter;
@@ -207,6 +218,7 @@ class SessionAdapter : public QObject {
     std::uint64_t m_generation = 0;  // counts inputs: outputs computed on an older one are stale
     std::uint64_t m_revision = 0;
     bool m_locked = false;
+    bool m_restoringHistory = false;
     int m_readers = 0;          // workers reading the session (it is locked while > 0)
     std::uint64_t m_reads = 0;  // numbers their tasks
     // Magic-wand masks computed so far, filled in click order.

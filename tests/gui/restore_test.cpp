@@ -15,9 +15,11 @@
 #include <QTemporaryDir>
 #include <QTest>
 #include <QThread>
+#include <QUndoStack>
 
 #include <csignal>
 #include <cstring>
+#include <random>
 #include <thread>
 
 #include "heavy_actions.h"
@@ -60,6 +62,24 @@ std::size_t lastMember(const denoise::Session& s) {
     return i;
 }
 
+// How `got`'s undo stack differs from `want`'s (its steps' names, its place): "" when it does not.
+QString historyDifference(MainWindow& got, MainWindow& want) {
+    const QUndoStack& g = *got.session()->undoStack();
+    const QUndoStack& w = *want.session()->undoStack();
+    if (g.count() != w.count() || g.index() != w.index())
+        return QStringLiteral("%1 undo steps at %2, expected %3 at %4")
+            .arg(g.count())
+            .arg(g.index())
+            .arg(w.count())
+            .arg(w.index());
+    for (int i = 0; i < w.count(); ++i)
+        if (g.text(i) != w.text(i))
+            return QStringLiteral("step %1 named \"%2\", expected \"%3\"")
+                .arg(i)
+                .arg(g.text(i), w.text(i));
+    return {};
+}
+
 }  // namespace
 
 class RestoreTest : public QObject {
@@ -99,7 +119,7 @@ class RestoreTest : public QObject {
         QVERIFY(!wall.empty());
         // Seeds that end with a reference, with a lasso, and that reopened a saved session: the
         // comparisons are not vacuous.
-        int withReference = 0, withLasso = 0, reopened = 0;
+        int withReference = 0, withLasso = 0, reopened = 0, undoneSteps = 0;
         for (unsigned seed = 11; seed <= 18; ++seed) {
             const QString base = m_dir.filePath(QStringLiteral("random-%1").arg(seed));
             auto w = openAndWait(m_scene, base + QStringLiteral("-live"));
@@ -124,7 +144,7 @@ class RestoreTest : public QObject {
             QCOMPARE(r.session->canUndo(), live.canUndo());
             QCOMPARE(r.session->canRedo(), live.canRedo());
             // The whole restore, as "Restore your work? > Yes" does, into a new window: the
-            // same session and look (its undo history starts there: docs/studio.md).
+            // same session, look and undo history.
             auto again = makeWindow(base);
             again->restoreFrom(crashed.first());
             QVERIFY(waitFor([&] { return !again->autosave()->restoring(); }, 240000));
@@ -141,6 +161,49 @@ class RestoreTest : public QObject {
             const QString againReference =
                 referenceDifference(again->document()->reference(), w->document()->reference());
             QVERIFY2(againReference.isEmpty(), qPrintable(againReference + " after " + edits));
+            // The undo history comes back too: the same steps, named alike, at the same place;
+            // then the same undos and redos on both give the same work, and a second crash of
+            // the restored studio replays to it.
+            const QString history = historyDifference(*again, *w);
+            QVERIFY2(
+                history.isEmpty(),
+                qPrintable(QStringLiteral("seed %1: %2 after %3").arg(seed).arg(history, edits)));
+            undoneSteps += w->session()->undoStack()->index();
+            std::mt19937 rng(seed);
+            QStringList moves;
+            for (int k = 0; k < 6; ++k) {
+                const bool undo = std::uniform_int_distribution<int>(0, 2)(rng) > 0;
+                moves << (undo ? QStringLiteral("undo") : QStringLiteral("redo"));
+                for (MainWindow* x : {w.get(), again.get()}) {
+                    if (undo)
+                        x->session()->undoStack()->undo();
+                    else
+                        x->session()->undoStack()->redo();
+                    QVERIFY(waitIdle(*x, 60000));
+                }
+                const QString after =
+                    sessionDifference(again->session()->session(), w->session()->session());
+                QVERIFY2(after.isEmpty(),
+                         qPrintable(QStringLiteral("seed %1: %2 after %3, then %4")
+                                        .arg(seed)
+                                        .arg(after, edits, moves.join(QStringLiteral(", ")))));
+                QCOMPARE(again->document()->lookValue(wall, "albedo"),
+                         w->document()->lookValue(wall, "albedo"));
+                QCOMPARE(historyDifference(*again, *w), QString());
+            }
+            const QString second = base + QStringLiteral("-second");
+            QVERIFY(copyAsCrashed(*again, second));
+            const Recovered r2 = recover(Autosave::crashed(second).value(0));
+            QVERIFY(r2.session);
+            const QString secondDifference =
+                sessionDifference(*r2.session, again->session()->session());
+            QVERIFY2(
+                secondDifference.isEmpty(),
+                qPrintable(QStringLiteral("seed %1, second crash: %2 after %3, then %4")
+                               .arg(seed)
+                               .arg(secondDifference, edits, moves.join(QStringLiteral(", ")))));
+            QCOMPARE(int(r2.undo.size()), again->session()->undoStack()->index());
+            QCOMPARE(int(r2.undo.size() + r2.redo.size()), again->session()->undoStack()->count());
             withReference += w->document()->reference() ? 1 : 0;
             withLasso += w->region()->wholeImage() ? 0 : 1;
             reopened += made.done.contains(QStringLiteral("reopen")) ? 1 : 0;
@@ -150,8 +213,11 @@ class RestoreTest : public QObject {
         QVERIFY(withReference > 0);
         QVERIFY(withLasso > 0);
         QVERIFY(reopened > 0);
-        qInfo("of 8 seeds: %d end with a reference, %d with a lasso; %d reopened a session",
-              withReference, withLasso, reopened);
+        QVERIFY(undoneSteps > 0);
+        qInfo(
+            "of 8 seeds: %d end with a reference, %d with a lasso; %d reopened a session; "
+            "%d undo steps restored in all",
+            withReference, withLasso, reopened, undoneSteps);
     }
 
     void aSessionOpenedFromAFileComesBackWithItsLookAndRegion() {
@@ -215,6 +281,38 @@ class RestoreTest : public QObject {
         for (const LookValue& v : r.look)
             if (v.item == wall && v.property == "albedo") found = v.value == edited;
         QVERIFY(found);
+    }
+
+    void aJournalCutByTheCrashIsContinuedWithoutTheCutLine() {
+        // The restored studio carries the crashed journal on (its undo history then survives a
+        // second crash): the line the crash cut goes, and what is made next replays whole.
+        const QString folder = crashedAutosave(QStringLiteral("cut"));
+        QVERIFY(!folder.isEmpty());
+        QFile lines(QDir(folder).filePath(QStringLiteral("journal.jsonl")));
+        QVERIFY(lines.open(QIODevice::Append));
+        lines.write("{\"op\":\"stroke\",\"lay");
+        lines.close();
+        auto w = makeWindow(m_dir.filePath(QStringLiteral("cut")));
+        w->restoreFrom(folder);
+        QVERIFY(waitFor([&] { return !w->autosave()->restoring(); }, 240000));
+        QVERIFY2(w->lastError().isEmpty(), qPrintable(w->lastError()));
+        QVERIFY(waitFor([&] { return w->session()->hasSession() && !w->session()->busy(); }));
+        QVERIFY(w->lastStatus().contains(QStringLiteral("lost")));
+        QVERIFY(!QFileInfo::exists(folder));              // moved into this studio's autosave
+        QCOMPARE(w->session()->undoStack()->count(), 2);  // the layer (filled), the stroke
+        w->session()->undoStack()->undo();
+        w->session()->beginStroke(0, {5.0, 0.5}, denoise::BrushMode::Subtract);
+        w->session()->dab(44.0, 30.0);
+        w->session()->endStroke();
+        const QString second = m_dir.filePath(QStringLiteral("cut-second"));
+        QVERIFY(copyAsCrashed(*w, second));
+        const Recovered r = recover(Autosave::crashed(second).value(0));
+        QVERIFY(r.complete);
+        QVERIFY(r.session);
+        const QString difference = sessionDifference(*r.session, w->session()->session());
+        QVERIFY2(difference.isEmpty(), qPrintable(difference));
+        QCOMPARE(int(r.undo.size()), 2);
+        QVERIFY(r.redo.empty());
     }
 
     void aRestoredStudioIsUnsavedSoClosingItAsksFirst() {

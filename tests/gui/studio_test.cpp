@@ -429,10 +429,16 @@ class StudioTest : public QObject {
             QVERIFY(sameBits(got.layer(i).weights, want.layer(i).weights));
         }
         QVERIFY(sameBits(got.composite(), want.composite()));
-        // The restored state is where the undo history starts again (as after opening a
-        // session file): the stroke is painted, and nothing undoes it away.
+        // The undo history comes back with it: the layer added and the stroke; undoing the
+        // stroke leaves the layer unpainted, and redoing it paints it again bit for bit.
         QVERIFY(sum(got.layer(0).weights) > 0.0);
-        QCOMPARE(w.session()->undoStack()->count(), 0);
+        QCOMPARE(w.session()->undoStack()->count(), 2);
+        QCOMPARE(w.session()->undoStack()->index(), 2);
+        const Image painted = got.layer(0).weights;
+        w.session()->undoStack()->undo();
+        QCOMPARE(sum(w.session()->session().layer(0).weights), 0.0);
+        w.session()->undoStack()->redo();
+        QVERIFY(sameBits(w.session()->session().layer(0).weights, painted));
         // Restored folders go (once this studio's journal holds the restored state).
         QVERIFY(waitFor([&] { return Autosave::crashed(base).isEmpty(); }));
     }
