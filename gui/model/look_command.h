@@ -20,12 +20,12 @@ class LookCommand : public QUndoCommand {
                 std::array<double, 3> before, std::array<double, 3> after, bool render = true);
     void undo() override;
     void redo() override;
+
+  private:
     /// The journal's JSON of a look edit ("op": "look").
     static QJsonObject journalOp(const std::string& item, const std::string& property,
                                  const std::array<double, 3>& before,
                                  const std::array<double, 3>& after);
-
-  private:
     void apply(const std::array<double, 3>& value, const char* op);
 
     Document* m_document;
