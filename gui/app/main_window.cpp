@@ -258,6 +258,7 @@ void MainWindow::buildMenus() {
     connect(a.keepRefining, &QAction::toggled, this, [this](bool on) {
         // On: the scene refines from a new render; off: a refinement under way stops there.
         m_progressive->setEnabled(on);
+        journalView();
         if (on && m_document->kind() == Document::Kind::Scene && !m_document->rendering())
             m_document->render();
         if (!on && m_document->refining()) m_document->cancelRender();
@@ -363,6 +364,8 @@ void MainWindow::connectModel() {
         // The region is the artist's: the autosave keeps it (not an undo step).
         m_session->record({journal_codec::encodeRegion(m_region->coordinates()), {}, nullptr});
     });
+    // The exposure, as a session file keeps it (Keep Refining's toggle journals it too).
+    connect(m_viewer, &Viewer::exposureChanged, this, [this] { journalView(); });
     connect(m_viewer, &Viewer::readoutChanged, m_readout, &ElidedLabel::setFullText);
     connect(m_session, &SessionAdapter::busyChanged, this, [this](bool busy) {
         m_busy->setText(busy ? tr("working…") : QString());
@@ -508,6 +511,11 @@ void MainWindow::applyRecovered(Recovered& r, bool withHistory) {
     if (withHistory) m_session->restoreHistory(r.undo, r.redo, m_document);
     if (m_session->input()) m_document->setFinishedFrame(m_session->input());
     m_region->setCoordinates(r.lasso);  // journalled again by its signal
+    if (r.view) {
+        m_viewer->setExposure(r.view->exposure);
+        setKeepRefiningQuietly(r.view->keepRefining);
+        journalView();
+    }
     // What came back is in no file: unsaved until saved, so closing asks first (a clean window
     // would close without asking and drop the autosave, and the restored work with it).
     m_session->undoStack()->resetClean();

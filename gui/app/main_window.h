@@ -139,6 +139,10 @@ class MainWindow : public QMainWindow {
     void restoreReference(const std::map<std::string, std::string>& state);
     /// Journals (setLook) each look value that differs from `before`.
     void journalLookChanges(const std::vector<render::LookItem>& before);
+    /// The exposure and Keep Refining, for the autosave (not an undo step).
+    void journalView();
+    /// Keep Refining on or off without rendering (a session or a restore sets it).
+    void setKeepRefiningQuietly(bool on);
     QString askPath(const QString& title, const QString& filter, bool save,
                     const QString& suffix = {});
     void exportResult(bool exr);

@@ -84,12 +84,9 @@ void MainWindow::applyViewState(const std::map<std::string, std::string>& state)
     bool ok = false;
     const double exposure = get("exposure").toDouble(&ok);
     if (ok) m_viewer->setExposure(exposure);
-    if (const QString refining = get("keepRefining"); !refining.isEmpty()) {
-        // The toggle alone: the next render refines (restoring renders nothing).
-        const QSignalBlocker quiet(m_actions.keepRefining);
-        m_actions.keepRefining->setChecked(refining == QLatin1String("1"));
-        m_progressive->setEnabled(m_actions.keepRefining->isChecked());
-    }
+    if (const QString refining = get("keepRefining"); !refining.isEmpty())
+        setKeepRefiningQuietly(refining == QLatin1String("1"));
+    journalView();
     // The scene, opened without rendering, then given the saved look and settings before
     // anything renders: a look change renders and re-applies the layers.
     const QString scene = get("scene");
@@ -136,6 +133,19 @@ void MainWindow::journalLookChanges(const std::vector<render::LookItem>& before)
                 m_session->record(
                     {journal_codec::encodeSetLook(after[i].name, p.name, p.value), {}, nullptr});
         }
+}
+
+void MainWindow::setKeepRefiningQuietly(bool on) {
+    // The toggle alone: the next render refines (restoring renders nothing).
+    const QSignalBlocker quiet(m_actions.keepRefining);
+    m_actions.keepRefining->setChecked(on);
+    m_progressive->setEnabled(on);
+}
+
+void MainWindow::journalView() {
+    const journal_codec::View view{.exposure = m_viewer->exposure(),
+                                   .keepRefining = m_actions.keepRefining->isChecked()};
+    m_session->record({journal_codec::encodeView(view), {}, nullptr});
 }
 
 void MainWindow::restoreReference(const std::map<std::string, std::string>& state) {

@@ -295,6 +295,22 @@ std::vector<double> decodeRegion(const QJsonObject& json) {
     return lasso;
 }
 
+QJsonObject encodeView(const View& view) {
+    return {{QStringLiteral("op"), QStringLiteral("view")},
+            {QStringLiteral("exposure"), view.exposure},
+            {QStringLiteral("keepRefining"), view.keepRefining}};
+}
+
+View decodeView(const QJsonObject& json) {
+    const QJsonValue exposure = json.value(QStringLiteral("exposure"));
+    const QJsonValue refining = json.value(QStringLiteral("keepRefining"));
+    if (!exposure.isDouble() || !std::isfinite(exposure.toDouble()))
+        throw Error(ErrorKind::Format, "the view's exposure is not a finite number of stops");
+    if (!refining.isBool())
+        throw Error(ErrorKind::Format, "the view's keepRefining is not true or false");
+    return {exposure.toDouble(), refining.toBool()};
+}
+
 QJsonObject encodeSetLook(const std::string& item, const std::string& property,
                           const std::array<double, 3>& value) {
     return {{QStringLiteral("op"), QStringLiteral("setLook")},

@@ -117,6 +117,19 @@ QJsonObject encodeRegion(const std::vector<double>& lasso);
 /// glint::Error(Format) unless it is an even number of finite numbers.
 std::vector<double> decodeRegion(const QJsonObject& json);
 
+/// The view a session file keeps besides the region: the viewer's exposure (stops) and
+/// Render ▸ Keep Refining.
+struct View {
+    double exposure = 0.0;
+    bool keepRefining = false;
+    bool operator==(const View&) const = default;
+};
+/// The view as a journal line of its own ("op": "view", not an undo step).
+QJsonObject encodeView(const View& view);
+/// What a "view" line says. Throws glint::Error(Format) unless the exposure is a finite number
+/// and Keep Refining true or false.
+View decodeView(const QJsonObject& json);
+
 /// One look property given a value without an undo step ("op": "setLook"): what opening a session
 /// file applies to its scene's look, and what a restore applies.
 QJsonObject encodeSetLook(const std::string& item, const std::string& property,

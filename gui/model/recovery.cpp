@@ -49,6 +49,8 @@ class Replay {
             setLook(lookValue(entry, "value"));  // a session file's look: no undo step
         } else if (op == QStringLiteral("region")) {
             m_out.lasso = journal_codec::decodeRegion(entry.op);
+        } else if (op == QStringLiteral("view")) {
+            m_out.view = journal_codec::decodeView(entry.op);
         } else if (op == QStringLiteral("settings")) {
             m_settings = entry.op;
         } else {

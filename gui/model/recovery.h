@@ -15,6 +15,7 @@
 
 #include "glint/denoise/session.h"
 #include "model/document.h"
+#include "model/journal_codec.h"
 
 namespace glint::studio {
 
@@ -39,6 +40,7 @@ struct Recovered {
     std::vector<LookValue> look;               ///< look edits, in order (checked against the file)
     std::optional<render::Settings> settings;  ///< the render settings chosen (checked)
     std::vector<double> lasso;  ///< the region of interest: x, y pairs (empty: the whole image)
+    std::optional<journal_codec::View> view;    ///< the last "view" line's (none: never changed)
     std::shared_ptr<denoise::Session> session;  ///< null: no session
     FramePtr input, filterInput;                ///< shared copies of the session's render
     /// The journal's last "reference" entry, if any (after the last "open"): what the

@@ -196,6 +196,7 @@ Viewer::Viewer(Document* document, SessionAdapter* session, QWidget* parent)
     connect(m_channelBox, &QComboBox::currentIndexChanged, this,
             [this](int i) { setChannel(Channel(m_channelBox->itemData(i).toInt())); });
     connect(m_exposure, &QDoubleSpinBox::valueChanged, this, &Viewer::applyDisplay);
+    connect(m_exposure, &QDoubleSpinBox::valueChanged, this, &Viewer::exposureChanged);
     connect(m_offset, &QDoubleSpinBox::valueChanged, this, &Viewer::applyDisplay);
     connect(m_mode, &QComboBox::currentIndexChanged, this, &Viewer::applyDisplay);
     connect(m_autoRange, &QToolButton::toggled, this, &Viewer::applyDisplay);

@@ -71,6 +71,7 @@ class Viewer : public QWidget {
   signals:
     void readoutChanged(const QString& text);
     void channelChanged(glint::studio::Viewer::Channel channel);
+    void exposureChanged(double stops);
 
   private:
     void onCompositeChanged(const Rect& rect);

@@ -250,6 +250,28 @@ class JournalCodecTest : public QObject {
         QCOMPARE(fileBack->identity, file.identity);
         QVERIFY(!roundTrip(std::nullopt));  // cleared
     }
+
+    void theViewRoundTripsAndABadOneIsNamed() {
+        namespace jc = journal_codec;
+        const jc::View view{.exposure = -2.5, .keepRefining = true};
+        const QJsonObject json = jc::encodeView(view);
+        QCOMPARE(json.value(QStringLiteral("op")).toString(), QStringLiteral("view"));
+        const QJsonObject read = QJsonDocument::fromJson(QJsonDocument(json).toJson()).object();
+        QVERIFY(jc::decodeView(read) == view);
+        auto throwsNaming = [](const QByteArray& line, const char* what) {
+            try {
+                jc::decodeView(QJsonDocument::fromJson(line).object());
+            } catch (const Error& e) {
+                return QString::fromUtf8(e.what()).contains(QLatin1String(what));
+            }
+            return false;
+        };
+        QVERIFY(throwsNaming(R"({"op":"view","keepRefining":false})", "exposure"));
+        QVERIFY(throwsNaming(R"({"op":"view","exposure":"1","keepRefining":false})", "exposure"));
+        QVERIFY(throwsNaming(R"({"op":"view","exposure":1e999,"keepRefining":false})", "exposure"));
+        QVERIFY(throwsNaming(R"({"op":"view","exposure":1,"keepRefining":1})", "keepRefining"));
+        QVERIFY(throwsNaming(R"({"op":"view","exposure":1})", "keepRefining"));
+    }
 };
 
 }  // namespace glint::studio

@@ -54,11 +54,11 @@ TEST(JournalFuzzSeeds, TheSeedsReachEveryKindOfEdit) {
     for (const char* op :
          {"open",     "pixels",    "settings",    "look",        "reference", "start",  "input",
           "addLayer", "addLayers", "removeLayer", "renameLayer", "weights",   "fill",   "stroke",
-          "apply",    "clear",     "undo",        "redo",        "region",    "setLook"})
+          "apply",    "clear",     "undo",        "redo",        "region",    "setLook", "view"})
         EXPECT_NE(all.find("\"op\":\"" + std::string(op) + "\""), std::string::npos) << op;
 }
 
-TEST(JournalFuzzSeeds, TheEditsSeedRestoresItsLayersLookSettingsAndRegion) {
+TEST(JournalFuzzSeeds, TheEditsSeedRestoresItsLayersLookSettingsRegionAndView) {
     for (const Seed& seed : seeds()) {
         if (seed.name != "edits.jsonl") continue;
         const auto r = runJournal(seed.bytes.data(), seed.bytes.size());
@@ -72,6 +72,9 @@ TEST(JournalFuzzSeeds, TheEditsSeedRestoresItsLayersLookSettingsAndRegion) {
         EXPECT_EQ(r->look[1].item, "red");
         EXPECT_EQ(r->look[1].value, (std::array<double, 3>{0.5, 0.1, 0.1}));
         EXPECT_EQ(r->lasso, (std::vector<double>{2, 2, 10, 2, 6, 9}));
+        ASSERT_TRUE(r->view);  // the exposure and Keep Refining
+        EXPECT_EQ(r->view->exposure, 1.5);
+        EXPECT_TRUE(r->view->keepRefining);
         ASSERT_TRUE(r->settings);
         EXPECT_EQ(r->settings->spp, 64);
         EXPECT_TRUE(r->referenceSet);

@@ -1,10 +1,10 @@
 // Restoring an autosave (docs/studio.md, "Autosave and restore"; issue "reliability round 3"):
 // a studio killed after layers from Auto Start, an undo, a look edit and a stroke comes back
-// whole and consistent, and so do random sequences of every kind of edit, bit for bit, and a
-// session opened from a file with its look and region; the replay runs off the UI thread and
-// changes nothing until it is done; a broken autosave changes nothing, says so once and is kept
-// aside; "No" keeps the autosave aside and it is not offered again; a file named on the command
-// line opens at once.
+// whole and consistent, and so do random sequences of every kind of edit, bit for bit, a session
+// opened from a file with its look and region, and the exposure and Keep Refining; the replay
+// runs off the UI thread and changes nothing until it is done; a broken autosave changes
+// nothing, says so once and is kept aside; "No" keeps the autosave aside and it is not offered
+// again; a file named on the command line opens at once.
 #include <QApplication>
 #include <QDir>
 #include <QListWidget>
@@ -24,6 +24,7 @@
 
 #include "heavy_actions.h"
 #include "random_edits.h"
+#include "model/progressive_render.h"
 #include "views/look_panel.h"
 
 using namespace glint;
@@ -337,6 +338,43 @@ class RestoreTest : public QObject {
         w->session()->dab(40.0, 30.0);
         w->session()->endStroke();
         QVERIFY(w->isModified());
+    }
+
+    void theExposureAndKeepRefiningComeBackWithoutRendering() {
+        // What a session file keeps of the view besides the region, changed since no save: the
+        // exposure (set twice) and Keep Refining (on, its render cancelled). The restore brings
+        // both back and renders nothing (they came back as the scene file's defaults before).
+        const QString base = m_dir.filePath(QStringLiteral("view"));
+        auto w = openAndWait(m_scene, base + QStringLiteral("-live"));
+        QVERIFY(w && addGaussian(*w, true) && waitIdle(*w));
+        w->viewer()->setExposure(1.5);
+        w->actions().keepRefining->setChecked(true);
+        QVERIFY(waitFor([&] { return w->document()->refining(); }));
+        w->document()->cancelRender();
+        QVERIFY(waitIdle(*w));
+        w->viewer()->setExposure(-1.0);
+        QVERIFY(copyAsCrashed(*w, base));
+        const QStringList crashed = Autosave::crashed(base);
+        QCOMPARE(crashed.size(), 1);
+
+        auto again = makeWindow(base);
+        QVERIFY(!again->actions().keepRefining->isChecked());
+        QCOMPARE(again->viewer()->exposure(), 0.0);
+        again->restoreFrom(crashed.first());
+        QVERIFY(waitFor([&] { return !again->autosave()->restoring(); }, 240000));
+        QVERIFY2(again->lastError().isEmpty(), qPrintable(again->lastError()));
+        QVERIFY(
+            waitFor([&] { return again->session()->hasSession() && !again->session()->busy(); }));
+        QCOMPARE(again->viewer()->exposure(), -1.0);
+        QVERIFY(again->actions().keepRefining->isChecked());
+        QVERIFY(again->progressive()->enabled());
+        QVERIFY(!again->document()->rendering());
+        // The restored studio's own journal holds them for a second crash.
+        QVERIFY(copyAsCrashed(*again, base + QStringLiteral("-second")));
+        const Recovered r = recover(Autosave::crashed(base + QStringLiteral("-second")).value(0));
+        QVERIFY(r.view);
+        QCOMPARE(r.view->exposure, -1.0);
+        QVERIFY(r.view->keepRefining);
     }
 
     void aKilledStudioComesBackWholeAfterAutoStartALookEditAndAStroke() {
