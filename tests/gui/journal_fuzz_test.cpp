@@ -52,8 +52,8 @@ TEST(JournalFuzzSeeds, TheSeedsReachEveryKindOfEdit) {
     std::string all;
     for (const Seed& seed : seeds()) all.append(seed.bytes.begin(), seed.bytes.end());
     for (const char* op :
-         {"open",     "pixels",    "settings",    "look",        "reference", "start",  "input",
-          "addLayer", "addLayers", "removeLayer", "renameLayer", "weights",   "fill",   "stroke",
+         {"open",     "pixels",    "settings",    "look",        "reference", "start",   "input",
+          "addLayer", "addLayers", "removeLayer", "renameLayer", "weights",   "fill",    "stroke",
           "apply",    "clear",     "undo",        "redo",        "region",    "setLook", "view"})
         EXPECT_NE(all.find("\"op\":\"" + std::string(op) + "\""), std::string::npos) << op;
 }
