@@ -491,11 +491,14 @@ void MainWindow::applyRecovered(Recovered& r, bool withHistory) {
     // restored journal (`withHistory`), or records the restored state (file, look, settings,
     // session) afresh: a second crash is covered either way.
     m_restoring = true;
+    m_viewer->holdRedraws(true);
     m_sessionPath.clear();
     if (r.file) m_document->adopt(r.path, std::move(*r.file), false);
     for (const LookValue& v : r.look) {
         m_document->setLook(v.item, v.property, v.value, false);
-        m_session->record({journal_codec::encodeSetLook(v.item, v.property, v.value), {}, nullptr});
+        if (!withHistory)
+            m_session->record(
+                {journal_codec::encodeSetLook(v.item, v.property, v.value), {}, nullptr});
     }
     if (r.settings) m_document->setSettings(*r.settings);
     if (r.referenceSet) {
@@ -505,7 +508,7 @@ void MainWindow::applyRecovered(Recovered& r, bool withHistory) {
             m_document->clearReference();
     }
     if (r.session)
-        m_session->install(std::move(*r.session), r.input, r.filterInput);
+        m_session->install(std::move(*r.session), r.input, r.filterInput, !withHistory);
     else
         m_session->clear();
     if (withHistory) m_session->restoreHistory(r.undo, r.redo, m_document);
@@ -520,6 +523,7 @@ void MainWindow::applyRecovered(Recovered& r, bool withHistory) {
     // would close without asking and drop the autosave, and the restored work with it).
     m_session->undoStack()->resetClean();
     m_restoring = false;
+    m_viewer->holdRedraws(false);
     updateTitle();
 }
 

@@ -8,10 +8,14 @@
 
 namespace glint::studio {
 
-Image rasterizePolygon(const QVector<QPointF>& polygon, int width, int height) {
-    Image mask(width, height, 1, 0.0f);
+namespace {
+
+// Calls run(y, x0, x1) for each run of pixels [x0, x1) of row y whose centres `polygon` holds
+// (even-odd rule): one scanline pass per row over the polygon's edges.
+template <class Run>
+void insideRuns(const QVector<QPointF>& polygon, int width, int height, Run run) {
     const qsizetype n = polygon.size();
-    if (n < 3) return mask;
+    if (n < 3) return;
     std::vector<double> crossings;
     for (int y = 0; y < height; ++y) {
         // Where the polygon's edges cross the row of pixel centres.
@@ -28,9 +32,18 @@ Image rasterizePolygon(const QVector<QPointF>& polygon, int width, int height) {
         for (std::size_t k = 0; k + 1 < crossings.size(); k += 2) {
             const int x0 = std::max(0, int(std::ceil(crossings[k] - 0.5)));
             const int x1 = std::min(width, int(std::ceil(crossings[k + 1] - 0.5)));
-            for (int x = x0; x < x1; ++x) mask(x, y, 0) = 1.0f;
+            if (x0 < x1) run(y, x0, x1);
         }
     }
+}
+
+}  // namespace
+
+Image rasterizePolygon(const QVector<QPointF>& polygon, int width, int height) {
+    Image mask(width, height, 1, 0.0f);
+    insideRuns(polygon, width, height, [&](int y, int x0, int x1) {
+        for (int x = x0; x < x1; ++x) mask(x, y, 0) = 1.0f;
+    });
     return mask;
 }
 
@@ -63,6 +76,13 @@ Rect RegionOfInterest::bounds(int width, int height) const {
 Image RegionOfInterest::mask(int width, int height) const {
     if (m_polygon.isEmpty()) return Image(width, height, 1, 1.0f);
     return rasterizePolygon(m_polygon, width, height);
+}
+
+qint64 RegionOfInterest::pixelCount(int width, int height) const {
+    if (m_polygon.isEmpty()) return qint64(width) * height;
+    qint64 count = 0;
+    insideRuns(m_polygon, width, height, [&](int, int x0, int x1) { count += x1 - x0; });
+    return count;
 }
 
 std::vector<double> RegionOfInterest::coordinates() const {

@@ -32,6 +32,8 @@ class RegionOfInterest : public QObject {
     Rect bounds(int width, int height) const;
     /// 1 inside the polygon (pixel centres, even-odd rule), 0 outside; all 1 for the whole image.
     Image mask(int width, int height) const;
+    /// The pixels of the mask that are 1 (without making it).
+    qint64 pixelCount(int width, int height) const;
 
     /// The lasso's points as x, y pairs (empty: the whole image), for the autosave journal, and
     /// back (an odd count gives the whole image).

@@ -409,7 +409,8 @@ void SessionAdapter::load(const QString& path) {
         });
 }
 
-void SessionAdapter::install(denoise::Session session, FramePtr input, FramePtr filterInput) {
+void SessionAdapter::install(denoise::Session session, FramePtr input, FramePtr filterInput,
+                             bool journalled) {
     ++m_generation;
     m_undo.clear();
     m_options = session.options();
@@ -432,17 +433,19 @@ void SessionAdapter::install(denoise::Session session, FramePtr input, FramePtr 
                             .arg(QString::fromStdString(e.what())));
         }
     }
-    // The journal starts again from this session: its input and its layers with their weights
-    // (auto's correction with its images).
-    Carried c = carriedLayers(*m_session);
-    JournalEntry entry;
-    entry.images = std::move(c.weights);
-    for (Image& image : journal_codec::correctionImages(c.specs))
-        entry.images.push_back(std::move(image));
-    entry.op = journal_codec::encode(
-        journal_codec::Start{m_options, c.specs, std::move(c.names), m_session->bankDir.string()});
-    entry.frame = m_input;
-    emit journal(entry);
+    if (journalled) {
+        // The journal starts again from this session: its input and its layers with their
+        // weights (auto's correction with its images).
+        Carried c = carriedLayers(*m_session);
+        JournalEntry entry;
+        entry.images = std::move(c.weights);
+        for (Image& image : journal_codec::correctionImages(c.specs))
+            entry.images.push_back(std::move(image));
+        entry.op = journal_codec::encode(journal_codec::Start{
+            m_options, c.specs, std::move(c.names), m_session->bankDir.string()});
+        entry.frame = m_input;
+        emit journal(entry);
+    }
     emit sessionReset();
     emit inputChanged();
     changedAll();

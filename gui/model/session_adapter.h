@@ -133,9 +133,10 @@ class SessionAdapter : public QObject {
     /// Loads a session file in the background; `loaded` is emitted when it is in place.
     void load(const QString& path);
     /// Replaces everything by `session` (an empty undo history); `input` and `filterInput` are
-    /// shared copies of its render (made here when not given).
-    void install(denoise::Session session, FramePtr input = nullptr,
-                 FramePtr filterInput = nullptr);
+    /// shared copies of its render (made here when not given). Journalled (its layers' weights
+    /// copied for the journal) unless `journalled` is false: a journal that holds it already.
+    void install(denoise::Session session, FramePtr input = nullptr, FramePtr filterInput = nullptr,
+                 bool journalled = true);
     /// Reports an edit made outside the session (a look edit, undo, redo) to the journal.
     void record(JournalEntry entry) { emit journal(entry); }
     /// Gives back the undo history a restore replayed (recover: `done` oldest first, `undone`

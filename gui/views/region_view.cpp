@@ -70,11 +70,8 @@ void RegionView::updateLabel() {
         m_label->setText(tr("Region: the whole image (%1×%2).").arg(r.width()).arg(r.height()));
         return;
     }
-    const Image mask = m_context.region->mask(frame->width(), frame->height());
-    double inside = 0.0;
-    for (float v : mask.data()) inside += v;
     m_label->setText(tr("Region: %1 pixels inside a %2×%3 box at (%4, %5).")
-                         .arg(qint64(inside))
+                         .arg(m_context.region->pixelCount(frame->width(), frame->height()))
                          .arg(r.width())
                          .arg(r.height())
                          .arg(r.x0)

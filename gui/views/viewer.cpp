@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "glint/denoise/aids.h"
 #include "glint/image/metrics.h"
@@ -268,7 +269,16 @@ void Viewer::fitChannelBox() {
     m_channelBox->setMinimumWidth(std::min(needed, m_channelBox->sizeHint().width()));
 }
 
+void Viewer::holdRedraws(bool held) {
+    m_held = held;
+    if (!held && std::exchange(m_redrawWaits, false)) refresh();
+}
+
 void Viewer::refresh() {
+    if (m_held) {
+        m_redrawWaits = true;
+        return;
+    }
     FramePtr frame = m_document->frame();
     FramePtr reference = m_document->reference();
     const Image* result = resultImage();
@@ -326,6 +336,10 @@ void Viewer::refresh() {
 }
 
 void Viewer::onCompositeChanged(const Rect& rect) {
+    if (m_held) {
+        m_redrawWaits = true;
+        return;
+    }
     if (!showingComposite()) {
         if (m_channel != Channel::Result) return;
         refresh();

@@ -50,6 +50,9 @@ class Viewer : public QWidget {
     const Image* resultImage() const;
     /// Redraws from the model.
     void refresh();
+    /// While held, redraws wait; releasing redraws once if any waited (a restore changes the
+    /// file, the session and the render at once: one redraw, not three).
+    void holdRedraws(bool held);
     /// Shows the reference instead of the result while `on` (the A/B flip key).
     void setFlipped(bool on);
     void toggleFlip();
@@ -96,6 +99,7 @@ class Viewer : public QWidget {
     QSlider* m_wipe;
     QToolButton* m_autoRange;
     Channel m_channel = Channel::Result;
+    bool m_held = false, m_redrawWaits = false;
     Image m_shown;             // the linear image on the canvas when it is not the composite itself
     float m_statScale = 0.0f;  // what a statistics channel was divided by for display (0: none)
     QString m_readout;

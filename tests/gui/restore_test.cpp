@@ -23,9 +23,11 @@
 #include <thread>
 
 #include "heavy_actions.h"
-#include "random_edits.h"
 #include "model/progressive_render.h"
+#include "random_edits.h"
+#include "views/image_canvas.h"
 #include "views/look_panel.h"
+#include "views/viewer.h"
 
 using namespace glint;
 using namespace glint::studio;
@@ -366,6 +368,11 @@ class RestoreTest : public QObject {
         QVERIFY(
             waitFor([&] { return again->session()->hasSession() && !again->session()->busy(); }));
         QCOMPARE(again->viewer()->exposure(), -1.0);
+        // The canvas shows the restored result (drawn once, after everything came back).
+        const QImage shown = again->viewer()->canvas()->shownImage();
+        QVERIFY(!shown.isNull());
+        again->viewer()->refresh();
+        QVERIFY(again->viewer()->canvas()->shownImage() == shown);
         QVERIFY(again->actions().keepRefining->isChecked());
         QVERIFY(again->progressive()->enabled());
         QVERIFY(!again->document()->rendering());

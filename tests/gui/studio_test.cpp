@@ -15,6 +15,7 @@
 
 #include <csignal>
 #include <cstring>
+#include <random>
 
 #include "cli_auto.h"
 #include "glint/denoise/auto.h"
@@ -24,6 +25,7 @@
 #include "glint/render/scene.h"
 #include "heavy_actions.h"
 #include "model/document.h"
+#include "model/region.h"
 #include "model_test.h"
 #include "run_tests.h"
 #include "studio_fixture.h"
@@ -165,6 +167,21 @@ class StudioTest : public QObject {
         const Image mask = w->region()->mask(64, 48);
         QCOMPARE(mask(30, 20, 0), 1.0f);  // inside
         QCOMPARE(mask(2, 2, 0), 0.0f);    // outside
+        // The region stage's count of its pixels is the mask's, made without the mask: random
+        // lassos (self-crossing, partly off the image; seed fixed).
+        std::mt19937 random(7);
+        std::uniform_real_distribution<double> x(-20.0, 84.0), y(-20.0, 68.0);
+        for (int k = 0; k < 50; ++k) {
+            RegionOfInterest lasso;
+            QVector<QPointF> points;
+            for (int i = 3 + k % 6; i > 0; --i) points.push_back({x(random), y(random)});
+            lasso.setPolygon(points);
+            const Image inside = lasso.mask(64, 48);
+            double sum = 0.0;
+            for (float v : inside.data()) sum += v;
+            QCOMPARE(lasso.pixelCount(64, 48), qint64(sum));
+        }
+        QCOMPARE(RegionOfInterest().pixelCount(64, 48), qint64(64 * 48));
         // "Whole image" (W) undoes it.
         QTest::keyClick(w.get(), Qt::Key_W);
         QVERIFY(w->region()->wholeImage());
