@@ -491,6 +491,11 @@ void MainWindow::applyRecovered(Recovered& r, bool withHistory) {
     // restored journal (`withHistory`), or records the restored state (file, look, settings,
     // session) afresh: a second crash is covered either way.
     m_restoring = true;
+    // One redraw when everything is in (the file, the session and the render each ask for one).
+    struct Held {
+        Viewer* viewer;
+        ~Held() { viewer->holdRedraws(false); }
+    } held{m_viewer};
     m_viewer->holdRedraws(true);
     m_sessionPath.clear();
     if (r.file) m_document->adopt(r.path, std::move(*r.file), false);
@@ -523,7 +528,6 @@ void MainWindow::applyRecovered(Recovered& r, bool withHistory) {
     // would close without asking and drop the autosave, and the restored work with it).
     m_session->undoStack()->resetClean();
     m_restoring = false;
-    m_viewer->holdRedraws(false);
     updateTitle();
 }
 
