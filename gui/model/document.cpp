@@ -214,7 +214,7 @@ void Document::renderRegion(const std::optional<Rect>& region) {
     startRender(s);
 }
 
-void Document::startRender(const render::Settings& settings, RenderJob::ImportanceFn importance) {
+void Document::startRender(const render::Settings& settings, RenderJob::Steering steering) {
     // A merge of the previous render's frame is stale.
     m_tasks.cancel(QStringLiteral("merge"));
     m_merging = false;
@@ -222,7 +222,7 @@ void Document::startRender(const render::Settings& settings, RenderJob::Importan
     m_refineReached = false;
     m_curve.clear();
     emit curveChanged();
-    m_job.start(settings, std::move(importance));
+    m_job.start(settings, std::move(steering));
 }
 
 void Document::cancelRender() {

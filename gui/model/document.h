@@ -168,7 +168,7 @@ class Document : public QObject {
     void failed(const QString& title, const QString& message);
 
   private:
-    void startRender(const render::Settings& settings, RenderJob::ImportanceFn importance = {});
+    void startRender(const render::Settings& settings, RenderJob::Steering steering = {});
     void onPass(std::uint64_t id, FramePtr frame, int spp, double seconds);
     void onFinished(std::uint64_t id, FramePtr frame, const render::RenderStats& stats);
     void sceneFileChanged();

@@ -120,9 +120,42 @@ struct ProgressiveRender::Steer {
         });
         return first;
     }
+    // Callbacks::converged, on the render's thread: no pixel open under the latest map. The
+    // render has nothing else to do: it waits for the refresh under way and takes its map, or
+    // runs one more on the frame if it grew since the last (empty: it did not; the render ends).
+    std::shared_ptr<const Image> converged(const FrameBuffers& frame) {
+        if (worker.joinable()) worker.join();
+        {
+            std::lock_guard lock(mutex);
+            if (ready) {
+                refresher->adopt(std::move(*ready));
+                ready.reset();
+                return hand();
+            }
+        }
+        const auto& last = refresher->last();
+        if (stop.load() || (stopping && stopping()) ||
+            (last && pipeline::meanSpp(frame) <= last->meanSpp))
+            return nullptr;
+        {
+            std::lock_guard lock(shared->mutex);
+            ++shared->activity.started;
+        }
+        std::shared_ptr<const Image> map;
+        try {
+            map = refresher->converged(frame);
+        } catch (const std::exception&) {
+            // Cancelled, a frame auto refuses, no memory: the render ends with what it has.
+        }
+        {
+            std::lock_guard lock(shared->mutex);
+            ++shared->activity.finished;
+        }
+        return map ? hand() : nullptr;
+    }
 };
 
-RenderJob::ImportanceFn ProgressiveRender::steer(std::function<bool()> stopping) {
+RenderJob::Steering ProgressiveRender::steer(std::function<bool()> stopping) {
     auto steer = std::make_shared<Steer>();
     steer->stopping = std::move(stopping);
     steer->shared = m_shared;
@@ -132,7 +165,8 @@ RenderJob::ImportanceFn ProgressiveRender::steer(std::function<bool()> stopping)
         return !s->stop.load() && !(s->stopping && s->stopping());
     };
     steer->refresher.emplace(std::move(options));
-    return [steer](int, const FrameBuffers& frame) { return steer->importance(frame); };
+    return {[steer](int, const FrameBuffers& frame) { return steer->importance(frame); },
+            [steer](int, const FrameBuffers& frame) { return steer->converged(frame); }};
 }
 
 ProgressiveRender::Handed ProgressiveRender::lastHanded() const {

@@ -5,10 +5,12 @@
 // render (a look or camera edit, Render) or Cancel. The frame at the bar's spp is the finished
 // render as without refining (the session, the first denoise, the journal); later passes are shown
 // denoised by the session's layers (model/progressive_denoise.h), which refreshes never touch.
-// Auto never runs on the UI thread nor holds the render: each refresh runs on a worker of its own,
-// one thread at a lower priority (the layers' re-application of the passes on screen and the
-// render go first), while the render goes on, and its map steers the passes after it; until the
-// first one, the frame's own relative variance does (Refresher::provisional). No widgets here.
+// Auto never runs on the UI thread nor holds a render that has pixels to sample: each refresh runs
+// on a worker of its own while the render goes on, and its map steers the passes after it; until
+// the first one, the frame's own relative variance does (Refresher::provisional). When no pixel
+// is left open, the render waits for the refresh under way, or runs one more on the grown frame,
+// and goes on where its map says; it ends when a refresh of the frame as it is opens no pixel.
+// No widgets here.
 #pragma once
 
 #include <QObject>
@@ -51,9 +53,9 @@ class ProgressiveRender : public QObject {
     /// thread, the map open on the worst tenth of the pixels (short passes), again once the mean
     /// spp doubled.
     static pipeline::RefreshOptions refreshOptions();
-    /// The steering of one refining render (RenderJob::start's importance); `stopping` (polled
-    /// by auto) tells when the render was cancelled or superseded.
-    RenderJob::ImportanceFn steer(std::function<bool()> stopping);
+    /// The steering of one refining render (RenderJob::start's); `stopping` (polled by auto)
+    /// tells when the render was cancelled or superseded.
+    RenderJob::Steering steer(std::function<bool()> stopping);
 
     /// The latest map handed to the renderer and the refresh it came from (tests).
     struct Handed {

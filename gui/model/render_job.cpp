@@ -26,12 +26,12 @@ void RenderJob::setRenderer(std::shared_ptr<render::Renderer> renderer) {
     m_renderer = std::move(renderer);
 }
 
-std::uint64_t RenderJob::start(const render::Settings& settings, ImportanceFn importance) {
+std::uint64_t RenderJob::start(const render::Settings& settings, Steering steering) {
     std::uint64_t id = 0;
     {
         std::lock_guard lock(m_mutex);
         id = m_nextId++;
-        m_pending = Request{id, settings, std::move(importance)};
+        m_pending = Request{id, settings, std::move(steering)};
         m_cancel = true;  // the running render (if any) stops at its next poll
         m_paused = false;
     }
@@ -170,7 +170,8 @@ void RenderJob::runOne(const Request& request, std::shared_ptr<render::Renderer>
         const int spp = frame.metadata().spp;
         deliver([this, id, copy, spp, s = seconds()] { emit passDone(id, copy, spp, s); });
     };
-    callbacks.importance = request.importance;
+    callbacks.importance = request.steering.importance;
+    callbacks.converged = request.steering.converged;
     try {
         render::RenderResult result = renderer->render(request.settings, callbacks);
         result.stats.seconds = seconds();  // the renderer's wall time counts pauses

@@ -32,12 +32,16 @@ class RenderJob : public QObject {
 
     /// The renderer used by the next render (shared: a reference render may use another).
     void setRenderer(std::shared_ptr<render::Renderer> renderer);
-    /// Steers an adaptive render (render::Callbacks::importance), on the render's thread.
+    /// Steers an adaptive render, on the render's thread: render::Callbacks::importance (before
+    /// each adaptive pass) and converged (when no pixel would take the next one).
     using ImportanceFn =
         std::function<std::shared_ptr<const Image>(int pass, const FrameBuffers& frame)>;
-    /// Cancels the running render (if any) and starts one with `settings` (and `importance`,
-    /// for an adaptive one: model/progressive_render.h). Returns its id.
-    std::uint64_t start(const render::Settings& settings, ImportanceFn importance = {});
+    struct Steering {
+        ImportanceFn importance, converged;
+    };
+    /// Cancels the running render (if any) and starts one with `settings` (and `steering`, for
+    /// an adaptive one: model/progressive_render.h). Returns its id.
+    std::uint64_t start(const render::Settings& settings, Steering steering = {});
     /// True once the running render was asked to stop (cancelled, superseded, quitting): work
     /// its callbacks run should stop too. Any thread.
     bool stopping() const;
@@ -71,7 +75,7 @@ class RenderJob : public QObject {
     struct Request {
         std::uint64_t id = 0;
         render::Settings settings;
-        ImportanceFn importance;
+        Steering steering;
     };
     void workerLoop();
     void runOne(const Request& request, std::shared_ptr<render::Renderer> renderer);

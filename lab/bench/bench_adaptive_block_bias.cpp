@@ -269,6 +269,15 @@ int main(int argc, char** argv) {
             for (float& v : map->data()) v = pick() % 10 == 0 ? 1.0f : 0.0f;
             return map;
         };
+        // As the studio: with no pixel open, one more refresh of the grown frame (its map goes
+        // on where it says; none: the render ends).
+        if (steer == "auto")
+            cb.converged = [&](int, const FrameBuffers& frame) -> std::shared_ptr<const Image> {
+                auto map = refresher.converged(frame);
+                if (!map) return map;
+                if (refresher.refreshes() == 1) startSpp = refresher.last()->meanSpp;
+                return floored(map, std::sqrt(refresher.last()->meanSpp / startSpp));
+            };
         cb.passDone = [&](int, const FrameBuffers& frame) {
             const double spp = pipeline::meanSpp(frame);
             const double at =

@@ -157,4 +157,10 @@ std::shared_ptr<const Image> Refresher::importance(const FrameBuffers& frame) {
     return map();
 }
 
+std::shared_ptr<const Image> Refresher::converged(const FrameBuffers& frame) {
+    if (m_last && meanSpp(frame) <= m_last->meanSpp) return nullptr;
+    adopt(denoise(frame));
+    return map();
+}
+
 }  // namespace glint::pipeline

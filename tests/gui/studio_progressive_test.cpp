@@ -17,6 +17,8 @@
 
 #include "glint/denoise/session.h"
 #include "glint/pipeline/steering.h"
+#include "glint/render/renderer.h"
+#include "glint/render/scene.h"
 #include "model/progressive_render.h"
 #include "studio_fixture.h"
 #include "views/look_panel.h"
@@ -228,7 +230,7 @@ class StudioProgressiveTest : public QObject {
         {
             // Auto's refresh, started by the first call, is told to stop at once: no map of
             // its comes in between.
-            const RenderJob::ImportanceFn steer = progressive.steer([] { return true; });
+            const RenderJob::ImportanceFn steer = progressive.steer([] { return true; }).importance;
             const double focus = ProgressiveRender::refreshOptions().focus * kSide * kSide;
             double share = ProgressiveRender::kFirstPassShare;
             QCOMPARE(share, 0.25);
@@ -241,6 +243,28 @@ class StudioProgressiveTest : public QObject {
             // Then the renderer keeps the last.
             QVERIFY(!steer(4, frame));
         }
+    }
+
+    void withNoPixelOpenTheRenderWaitsForTheRefreshUnderWayAndGoesOnWithItsMap() {
+        // When the passes steered so far leave no pixel open, the render does not end while
+        // auto's refresh is under way (on a fast machine it ended before auto's first map ever
+        // came): it waits, takes the map and goes on; the frame unchanged since, it ends.
+        render::Renderer renderer(render::loadScene(m_scene.toStdString()));
+        render::Settings s = renderer.scene().settings();
+        s.spp = 16;
+        s.halfBuffers = true;
+        s.threads = 2;
+        const FrameBuffers frame = renderer.render(s).frame;
+        ProgressiveRender progressive;
+        const RenderJob::Steering steer = progressive.steer([] { return false; });
+        QVERIFY(steer.importance(1, frame));  // the provisional map; auto starts on a worker
+        const std::shared_ptr<const Image> map = steer.converged(2, frame);
+        QVERIFY(map);
+        QCOMPARE(progressive.lastHanded().refreshes, 1);
+        QVERIFY(progressive.lastHanded().map == map);
+        QVERIFY(!steer.converged(2, frame));
+        QCOMPARE(progressive.activity().started, 1);
+        QCOMPARE(progressive.activity().finished, 1);
     }
 
     void theToggleIsSavedWithTheSessionAndComesBackWithoutRendering() {

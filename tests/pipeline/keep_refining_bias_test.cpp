@@ -48,8 +48,8 @@ class KeepRefiningBias : public ::testing::Test {
     /// every pixel first at the bar's spp, then at most 64 times it) of a bar at kStart spp and
     /// threshold 0.005, steered as the studio steers it (ProgressiveRender::refreshOptions:
     /// growth 2, auto fast on two cross-bilateral members, the worst tenth open): the provisional
-    /// map at the first adaptive pass, auto's maps (run here, in line) from the next on, until no
-    /// pixel is open.
+    /// map at the first adaptive pass, auto's maps (run here, in line) from the next on, and with
+    /// no pixel open one more refresh of the grown frame, until one opens none.
     static FrameBuffers keepRefining(render::Renderer& renderer, std::uint64_t seed) {
         render::Settings s;
         s.seed = seed;
@@ -77,6 +77,7 @@ class KeepRefiningBias : public ::testing::Test {
             }
             return refresher.importance(frame);
         };
+        cb.converged = [&](int, const FrameBuffers& frame) { return refresher.converged(frame); };
         FrameBuffers f = renderer.render(s, cb).frame;
         std::printf("seed %llu: %d refreshes, mean spp %.1f\n", (unsigned long long)seed,
                     refresher.refreshes(), meanSpp(f));

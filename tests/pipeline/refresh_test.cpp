@@ -1,6 +1,7 @@
 // The steering loop's refresh (glint/pipeline/refresh.h), shared by glint-final and the studio's
 // Keep Refining: when a refresh is due, the map's schedule scale, and the focus that keeps only
-// the worst pixels open; auto in an arena of the threads asked for, with the same bits.
+// the worst pixels open; a refresh at convergence only of a grown frame; auto in an arena of the
+// threads asked for, with the same bits.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -171,23 +172,59 @@ TEST(Refresh, TheProvisionalMapDecidesWithHalfBAloneWhenTheFrameHasIt) {
         EXPECT_EQ(wholeMap(x, 0, 0), x < 5 ? 1.0f : 0.0f) << "column " << x;
 }
 
-TEST(Refresh, AutoRunsOnTheThreadsAskedForWithTheSameBits) {
-    // A 16 × 16 Cornell box at 8 spp with half buffers (auto's error needs them).
+/// A 16 × 16 Cornell box at `spp` with half buffers (auto's error needs them).
+FrameBuffers smallCornell(int spp) {
     const std::string obj = std::string(GLINT_RENDER_TEST_DATA) + "/cornell_box.obj";
     render::Renderer renderer(render::parseScene(
         R"({"camera": {"position": [278, 273, -800], "lookAt": [278, 273, 0], "fovY": 39.3},
             "film": {"width": 16, "height": 16}, "shapes": [{"obj": ")" +
-            obj + R"("}], "render": {"spp": 8, "maxDepth": 4, "seed": 3, "halfBuffers": true}})",
+            obj + R"("}], "render": {"spp": )" + std::to_string(spp) +
+            R"(, "maxDepth": 4, "seed": 3, "halfBuffers": true}})",
         std::string(GLINT_RENDER_TEST_DATA) + "/scene.json"));
-    const FrameBuffers frame = renderer.render(renderer.scene().settings()).frame;
+    return renderer.render(renderer.scene().settings()).frame;
+}
+
+/// The studio's refreshes (ProgressiveRender::refreshOptions) on `threads`.
+RefreshOptions studioRefreshes(int threads) {
+    RefreshOptions o;
+    o.quality = denoise::AutoQuality::Fast;
+    o.bankSize = 2;
+    o.filters = {"cross-bilateral"};
+    o.focus = 0.1;
+    o.threads = threads;
+    return o;
+}
+
+TEST(Refresh, AtConvergenceAGrownFrameIsRefreshedAndAnUnchangedOneEndsTheRender) {
+    // Callbacks::converged: no pixel open under the latest map. A refresh of a frame with more
+    // samples than the last refresh's may open others; of the same frame it would repeat itself.
+    Refresher r(studioRefreshes(0));
+    const FrameBuffers at8 = smallCornell(8), at16 = smallCornell(16);
+    const auto first = r.converged(at8);  // no refresh yet: one now
+    ASSERT_TRUE(first);
+    EXPECT_EQ(r.refreshes(), 1);
+    EXPECT_EQ(r.last()->meanSpp, 8.0);
+    EXPECT_FALSE(r.converged(at8));  // the frame as it was: the render ends
+    EXPECT_EQ(r.refreshes(), 1);
+    const auto second = r.converged(at16);
+    ASSERT_TRUE(second);
+    EXPECT_EQ(r.refreshes(), 2);
+    EXPECT_EQ(r.last()->meanSpp, 16.0);
+    EXPECT_FALSE(r.converged(at16));
+    // The map is the refresh's: its worst tenth open.
+    const auto open = std::count_if(second->data().begin(), second->data().end(),
+                                    [](float v) { return v > 0.0f; });
+    EXPECT_GE(open, 26);  // ⌈0.1 × 256⌉
+    EXPECT_LT(open, 256);
+}
+
+TEST(Refresh, AutoRunsOnTheThreadsAskedForWithTheSameBits) {
+    const FrameBuffers frame = smallCornell(8);
     // The widest arena auto's progress was reported from.
     int widest = 0;
     auto denoised = [&](int threads) {
-        RefreshOptions o;
-        o.quality = denoise::AutoQuality::Fast;
-        o.bankSize = 2;
-        o.filters = {"cross-bilateral"};
-        o.threads = threads;
+        RefreshOptions o = studioRefreshes(threads);
+        o.focus = 1.0;
         o.autoOptions.progress = [&](double) {
             widest = std::max(widest, tbb::this_task_arena::max_concurrency());
             return true;

@@ -70,8 +70,9 @@ AutoRun autoRun(const denoise::AutoOptions& options, denoise::AutoQuality qualit
 /// autoCompositeStreamed (Error(Cancelled) when the options' progress says stop).
 Denoised denoiseFrame(const FrameBuffers& frame, const AutoRun& run);
 
-/// The refreshes of one render: call importance() from Callbacks::importance (or, to run auto
-/// elsewhere, due(), denoise() and adopt()). Not thread-safe except denoise(), which is const.
+/// The refreshes of one render: call importance() from Callbacks::importance and converged()
+/// from Callbacks::converged (or, to run auto elsewhere, due(), denoise() and adopt()). Not
+/// thread-safe except denoise(), which is const.
 class Refresher {
   public:
     explicit Refresher(RefreshOptions options);
@@ -99,6 +100,10 @@ class Refresher {
     /// Callbacks::importance's body: a refresh when due (auto run here), then its map; an empty
     /// pointer when nothing is due (the renderer keeps the map it has).
     std::shared_ptr<const Image> importance(const FrameBuffers& frame);
+    /// Callbacks::converged's body (no pixel open under the latest map): a refresh now when the
+    /// frame has more samples than the latest refresh's (auto's next map may name other pixels),
+    /// then its map; an empty pointer when it has not (the render ends).
+    std::shared_ptr<const Image> converged(const FrameBuffers& frame);
 
     /// The latest refresh (empty before the first).
     const std::optional<Denoised>& last() const { return m_last; }
