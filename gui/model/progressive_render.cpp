@@ -133,10 +133,7 @@ struct ProgressiveRender::Steer {
                 return hand();
             }
         }
-        const auto& last = refresher->last();
-        if (stop.load() || (stopping && stopping()) ||
-            (last && pipeline::meanSpp(frame) <= last->meanSpp))
-            return nullptr;
+        if (stop.load() || (stopping && stopping()) || !refresher->grew(frame)) return nullptr;
         {
             std::lock_guard lock(shared->mutex);
             ++shared->activity.started;

@@ -241,6 +241,12 @@ int main(int argc, char** argv) {
             for (float& v : out->data()) v = std::max(v, float(floor * scale));
             return out;
         };
+        // A refresh's map (none: none), floored at the schedule's scale.
+        auto scheduled = [&](std::shared_ptr<const Image> map) -> std::shared_ptr<const Image> {
+            if (!map) return map;
+            if (refresher.refreshes() == 1) startSpp = refresher.last()->meanSpp;
+            return floored(map, std::sqrt(refresher.last()->meanSpp / startSpp));
+        };
         // Half B at the map's making (provisional-half): the samples that decided.
         std::optional<FrameBuffers> decided;
         render::Callbacks cb;
@@ -250,10 +256,7 @@ int main(int argc, char** argv) {
                     first = false;
                     return floored(refresher.provisional(frame), 1.0);
                 }
-                auto map = refresher.importance(frame);
-                if (!map) return map;
-                if (refresher.refreshes() == 1) startSpp = refresher.last()->meanSpp;
-                return floored(map, std::sqrt(refresher.last()->meanSpp / startSpp));
+                return scheduled(refresher.importance(frame));
             }
             // threshold: no map, the renderer's own threshold on half B decides alone.
             if (!first || steer == "threshold") return nullptr;
@@ -272,11 +275,8 @@ int main(int argc, char** argv) {
         // As the studio: with no pixel open, one more refresh of the grown frame (its map goes
         // on where it says; none: the render ends).
         if (steer == "auto")
-            cb.converged = [&](int, const FrameBuffers& frame) -> std::shared_ptr<const Image> {
-                auto map = refresher.converged(frame);
-                if (!map) return map;
-                if (refresher.refreshes() == 1) startSpp = refresher.last()->meanSpp;
-                return floored(map, std::sqrt(refresher.last()->meanSpp / startSpp));
+            cb.converged = [&](int, const FrameBuffers& frame) {
+                return scheduled(refresher.converged(frame));
             };
         cb.passDone = [&](int, const FrameBuffers& frame) {
             const double spp = pipeline::meanSpp(frame);

@@ -157,8 +157,12 @@ std::shared_ptr<const Image> Refresher::importance(const FrameBuffers& frame) {
     return map();
 }
 
+bool Refresher::grew(const FrameBuffers& frame) const {
+    return !m_last || meanSpp(frame) > m_last->meanSpp;
+}
+
 std::shared_ptr<const Image> Refresher::converged(const FrameBuffers& frame) {
-    if (m_last && meanSpp(frame) <= m_last->meanSpp) return nullptr;
+    if (!grew(frame)) return nullptr;
     adopt(denoise(frame));
     return map();
 }

@@ -200,10 +200,12 @@ TEST(Refresh, AtConvergenceAGrownFrameIsRefreshedAndAnUnchangedOneEndsTheRender)
     // samples than the last refresh's may open others; of the same frame it would repeat itself.
     Refresher r(studioRefreshes(0));
     const FrameBuffers at8 = smallCornell(8), at16 = smallCornell(16);
+    EXPECT_TRUE(r.grew(at8));
     const auto first = r.converged(at8);  // no refresh yet: one now
     ASSERT_TRUE(first);
     EXPECT_EQ(r.refreshes(), 1);
     EXPECT_EQ(r.last()->meanSpp, 8.0);
+    EXPECT_FALSE(r.grew(at8));
     EXPECT_FALSE(r.converged(at8));  // the frame as it was: the render ends
     EXPECT_EQ(r.refreshes(), 1);
     const auto second = r.converged(at16);

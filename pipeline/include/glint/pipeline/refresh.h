@@ -100,9 +100,11 @@ class Refresher {
     /// Callbacks::importance's body: a refresh when due (auto run here), then its map; an empty
     /// pointer when nothing is due (the renderer keeps the map it has).
     std::shared_ptr<const Image> importance(const FrameBuffers& frame);
+    /// Whether `frame` has more samples than the latest refresh's (always before the first).
+    bool grew(const FrameBuffers& frame) const;
     /// Callbacks::converged's body (no pixel open under the latest map): a refresh now when the
-    /// frame has more samples than the latest refresh's (auto's next map may name other pixels),
-    /// then its map; an empty pointer when it has not (the render ends).
+    /// frame grew (auto's next map may name other pixels), then its map; an empty pointer when
+    /// it did not (the render ends).
     std::shared_ptr<const Image> converged(const FrameBuffers& frame);
 
     /// The latest refresh (empty before the first).
