@@ -519,11 +519,7 @@ void MainWindow::applyRecovered(Recovered& r, bool withHistory) {
     if (withHistory) m_session->restoreHistory(r.undo, r.redo, m_document);
     if (m_session->input()) m_document->setFinishedFrame(m_session->input());
     m_region->setCoordinates(r.lasso);  // journalled again by its signal
-    if (r.view) {
-        m_viewer->setExposure(r.view->exposure);
-        setKeepRefiningQuietly(r.view->keepRefining);
-        journalView();
-    }
+    if (r.view) setView(r.view->exposure, r.view->keepRefining);
     // What came back is in no file: unsaved until saved, so closing asks first (a clean window
     // would close without asking and drop the autosave, and the restored work with it).
     m_session->undoStack()->resetClean();

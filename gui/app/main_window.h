@@ -8,6 +8,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 
 #include "app/actions.h"
 #include "app/autosave.h"
@@ -143,6 +144,9 @@ class MainWindow : public QMainWindow {
     void journalView();
     /// Keep Refining on or off without rendering (a session or a restore sets it).
     void setKeepRefiningQuietly(bool on);
+    /// What a session file or a restore sets of the view (each when given), without rendering,
+    /// journalled as one line.
+    void setView(std::optional<double> exposure, std::optional<bool> keepRefining);
     QString askPath(const QString& title, const QString& filter, bool save,
                     const QString& suffix = {});
     void exportResult(bool exr);

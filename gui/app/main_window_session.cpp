@@ -83,10 +83,9 @@ void MainWindow::applyViewState(const std::map<std::string, std::string>& state)
     m_region->fromString(get("lasso"));
     bool ok = false;
     const double exposure = get("exposure").toDouble(&ok);
-    if (ok) m_viewer->setExposure(exposure);
-    if (const QString refining = get("keepRefining"); !refining.isEmpty())
-        setKeepRefiningQuietly(refining == QLatin1String("1"));
-    journalView();
+    const QString refining = get("keepRefining");
+    setView(ok ? std::optional(exposure) : std::nullopt,
+            refining.isEmpty() ? std::nullopt : std::optional(refining == QLatin1String("1")));
     // The scene, opened without rendering, then given the saved look and settings before
     // anything renders: a look change renders and re-applies the layers.
     const QString scene = get("scene");
@@ -140,6 +139,15 @@ void MainWindow::setKeepRefiningQuietly(bool on) {
     const QSignalBlocker quiet(m_actions.keepRefining);
     m_actions.keepRefining->setChecked(on);
     m_progressive->setEnabled(on);
+}
+
+void MainWindow::setView(std::optional<double> exposure, std::optional<bool> keepRefining) {
+    // Keep Refining first, quietly; then the exposure, whose signal journals the view with both
+    // when it changes. One view line either way.
+    if (keepRefining) setKeepRefiningQuietly(*keepRefining);
+    const double before = m_viewer->exposure();
+    if (exposure) m_viewer->setExposure(*exposure);
+    if (m_viewer->exposure() == before) journalView();
 }
 
 void MainWindow::journalView() {

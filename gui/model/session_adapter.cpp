@@ -325,11 +325,13 @@ void SessionAdapter::removeLayer(std::size_t index) {
     changedAll();
 }
 
-void SessionAdapter::setWeights(std::size_t index, const Image& weights) {
+void SessionAdapter::setWeights(std::size_t index, Image weights) {
     if (!m_session || m_locked) return;
     m_session->setWeights(index, weights);
     const journal_codec::Weights set{index};
-    emit journal({journal_codec::encode(set), {weights}, nullptr});
+    JournalEntry entry{journal_codec::encode(set), {}, nullptr};
+    entry.images.push_back(std::move(weights));
+    emit journal(entry);
     pushEdit(set);
     changedAll();
 }

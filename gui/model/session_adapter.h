@@ -90,7 +90,8 @@ class SessionAdapter : public QObject {
     /// Names a layer (empty: named after its filter again): one undo step, saved with the
     /// session.
     void renameLayer(std::size_t index, const std::string& name);
-    void setWeights(std::size_t index, const Image& weights);
+    /// Sets a layer's weight map (one undo step); `weights` is moved into the journal.
+    void setWeights(std::size_t index, Image weights);
     void fill(std::size_t index, const Image& mask, denoise::BrushMode mode);
     /// The magic wand from pixel (x, y) of the filters' input (denoise::magicWand, on a worker),
     /// then fill() with its mask; clicks are filled in the order they came.

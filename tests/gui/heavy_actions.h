@@ -6,6 +6,7 @@
 #include <QCheckBox>
 #include <QDir>
 #include <QFile>
+#include <QPushButton>
 #include <QSpinBox>
 #include <QTest>
 
@@ -65,6 +66,21 @@ inline bool wandClick(MainWindow& w) {
         waitFor([&] { return w.session()->undoStack()->count() == steps + 1; }, 60000);
     canvas->setTool(ImageCanvas::Tool::Brush);
     return done;
+}
+
+/// The paint stage's "Everywhere" on layer 0 (weight 1 over the whole image): waits for its undo
+/// step and for the composite to be redrawn.
+inline bool everywhereClick(MainWindow& w) {
+    w.setStage(3);
+    w.paintView()->setCurrentLayer(0);
+    QPushButton* button = nullptr;
+    for (QPushButton* b : w.paintView()->findChildren<QPushButton*>())
+        if (b->text() == QObject::tr("Everywhere")) button = b;
+    if (!button) return false;
+    const int steps = w.session()->undoStack()->count();
+    QTest::mouseClick(button, Qt::LeftButton);
+    return waitFor([&] { return w.session()->undoStack()->count() == steps + 1; }, 60000) &&
+           waitIdle(w, 60000);
 }
 
 /// Turns the paint stage's change map on until it shows, then off.

@@ -6,6 +6,8 @@
 // refreshes and how long the UI thread stalls are measured by
 // lab/bench/bench_studio_progressive.cpp, never here.)
 #include <QApplication>
+#include <QDir>
+#include <QFile>
 #include <QSignalSpy>
 #include <QStandardPaths>
 #include <QTemporaryDir>
@@ -276,6 +278,7 @@ class StudioProgressiveTest : public QObject {
                        ? path
                        : QString();
         };
+        w->viewer()->setExposure(1.5);
         w->actions().keepRefining->setChecked(true);
         QVERIFY(waitFor([&] { return w->document()->refining(); }));
         QVERIFY(stop(*w));
@@ -301,9 +304,23 @@ class StudioProgressiveTest : public QObject {
                        again->actions().keepRefining->isChecked() == expected;
             }));
             QCOMPARE(again->progressive()->enabled(), expected);
+            QCOMPARE(again->viewer()->exposure(), 1.5);
             QVERIFY(!again->document()->rendering());
         }
         QVERIFY(again->lastError().isEmpty());
+        // Each session journals its view once, with both values as they came back (the first
+        // changes the exposure too: its signal must not journal the toggle as it was before).
+        again->autosave()->flush();
+        QFile journal(
+            QDir(again->autosave()->journal()->folder()).filePath(QStringLiteral("journal.jsonl")));
+        QVERIFY(journal.open(QIODevice::ReadOnly));
+        QStringList views;
+        for (const QByteArray& line : journal.readAll().split('\n'))
+            if (line.contains("\"op\":\"view\"")) views << QString::fromUtf8(line);
+        QCOMPARE(
+            views,
+            (QStringList{QStringLiteral(R"({"exposure":1.5,"keepRefining":true,"op":"view"})"),
+                         QStringLiteral(R"({"exposure":1.5,"keepRefining":false,"op":"view"})")}));
     }
 };
 
