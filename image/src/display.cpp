@@ -12,6 +12,7 @@
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "oiio_helpers.h"
+#include "shape_text.h"
 
 namespace glint {
 
@@ -75,7 +76,7 @@ Image toDisplay(const Image& linear, const DisplayOptions& options) {
     if (!(std::fabs(options.exposure) <= kMaxExposure))
         throw Error(ErrorKind::InvalidArgument,
                     "exposure must be a number of stops in [-64, 64], got " +
-                        std::to_string(options.exposure));
+                        detail::numberText(options.exposure));
     const int n = linear.channels();
     const bool falseColor = options.falseColorChannel >= 0;
     if (falseColor) {
@@ -85,9 +86,9 @@ Image toDisplay(const Image& linear, const DisplayOptions& options) {
                             " outside an image with " + std::to_string(n) + " channels");
         if (!(options.falseColorHi > options.falseColorLo))
             throw Error(ErrorKind::InvalidArgument, "false-colour range needs lo < hi, got lo " +
-                                                        std::to_string(options.falseColorLo) +
+                                                        detail::numberText(options.falseColorLo) +
                                                         ", hi " +
-                                                        std::to_string(options.falseColorHi));
+                                                        detail::numberText(options.falseColorHi));
         if (!std::isfinite(options.falseColorHi - options.falseColorLo))
             throw Error(ErrorKind::InvalidArgument,
                         "false-colour range hi - lo overflows float (at most 3.4e38)");

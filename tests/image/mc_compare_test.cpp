@@ -161,6 +161,14 @@ TEST(McCompare, BadInputIsAnError) {
     McCompareOptions alpha;
     alpha.falseAlarmRate = 1.0;
     EXPECT_THROW(mcCompare(e.mean, e.variance, e.mean, e.variance, alpha), Error);
+    // The rate given is written as given, not as six fixed decimals ("0.000000").
+    alpha.falseAlarmRate = -1e-7;
+    try {
+        mcCompare(e.mean, e.variance, e.mean, e.variance, alpha);
+        ADD_FAILURE() << "a negative rate was taken";
+    } catch (const Error& error) {
+        EXPECT_NE(std::string(error.what()).find("got -1e-07"), std::string::npos) << error.what();
+    }
 }
 
 TEST(Expectations, ParseBoundsAndTheMonteCarloComparison) {

@@ -66,11 +66,13 @@ TEST_F(FinalCli, BadInputExitsTwoWithOneLineNamingTheFlagAndWritesNothing) {
     };
     const Case cases[] = {
         {"--target-error 0", "--target-error: the error target must be > 0"},
-        {"--target-error -1", "--target-error: the error target must be > 0"},
+        {"--target-error -1", "--target-error: the error target must be > 0, got -1"},
         {"--target-error nan", "--target-error"},
         {"--target-error 2e6 --set spp=64", "--target-error: the error target must be"},
-        {"--time-limit 0", "--time-limit: the time limit must be > 0"},
-        {"--time-limit 2e7", "--time-limit: the time limit must be"},
+        {"--time-limit 0", "--time-limit: the time limit must be > 0, got 0"},
+        {"--time-limit 2e7",
+         "--time-limit: the time limit must be a number of seconds in [0, "
+         "1e7], got 2e+07"},
         {"--set noiseThreshold=0", "--set noiseThreshold"},
         {"--set noiseThreshold=nan", "--set noiseThreshold"},
         {"--set noiseThreshold=2e6", "--set noiseThreshold"},
