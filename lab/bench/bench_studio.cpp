@@ -231,8 +231,11 @@ int main(int argc, char** argv) {
     const Stall everywhereStall = stallOf([&] { return everywhereClick(*w); });
     w->region()->setPolygon({{256, 256}, {768, 256}, {768, 768}, {256, 768}});
     const Stall navigateStall = stallOf([&] { return navigateBuild(*w, 4); });
+    QElapsedTimer saving;
+    saving.start();
     const Stall saveStall = stallOf(
         [&] { return saveSession(*w, tmp.filePath(QStringLiteral("s/big.glint-session.json"))); });
+    const double saveMs = double(saving.nsecsElapsed()) * 1e-6;  // the session locked meanwhile
     copyAsCrashed(*w, tmp.filePath(QStringLiteral("crashed")));
     auto again = makeWindow(tmp.filePath(QStringLiteral("crashed")));
     const Stall restoreStall = stallOf([&] { return restore(*again); });
@@ -273,6 +276,7 @@ int main(int argc, char** argv) {
     std::printf("%-58s %8.0f ms / %.0f ms / %.0f ms / %.0f ms\n",
                 "  of which UI-thread CPU time: wand / navigate / save / restore", wandStall.busy,
                 navigateStall.busy, saveStall.busy, restoreStall.busy);
+    std::printf("%-58s %8.0f ms\n", "save session, 1024^2 -> written (painting waits)", saveMs);
     std::printf("%-58s %8.0f ms (of which UI-thread CPU time %.0f ms)\n",
                 "longest UI-thread stall, 1024^2: Everywhere", everywhereStall.gap,
                 everywhereStall.busy);
@@ -292,13 +296,13 @@ int main(int argc, char** argv) {
         "\"busyRestoreMs\": %.1f, \"stallRegionMs\": %.1f, \"stallChangeMapMs\": %.1f, "
         "\"stallVarianceMs\": %.1f, \"stallExportMs\": %.1f, \"busyRegionMs\": %.1f, "
         "\"busyChangeMapMs\": %.1f, \"busyVarianceMs\": %.1f, \"busyExportMs\": %.1f, "
-        "\"stallEverywhereMs\": %.1f, \"busyEverywhereMs\": %.1f}\n",
+        "\"stallEverywhereMs\": %.1f, \"busyEverywhereMs\": %.1f, \"saveMs\": %.1f}\n",
         firstImage, fullRender, median(lookTimes), maximum(lookTimes), median(dabTimes),
         maximum(dabTimes), openStall, lookStall, bigStall, dabStall, wandStall.gap,
         navigateStall.gap, saveStall.gap, restoreStall.gap, wandStall.busy, navigateStall.busy,
         saveStall.busy, restoreStall.busy, regionStall.gap, changeStall.gap, varianceStall.gap,
         exportStall.gap, regionStall.busy, changeStall.busy, varianceStall.busy, exportStall.busy,
-        everywhereStall.gap, everywhereStall.busy);
+        everywhereStall.gap, everywhereStall.busy, saveMs);
     w->close();
     return 0;
 }
