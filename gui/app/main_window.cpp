@@ -519,7 +519,7 @@ void MainWindow::applyRecovered(Recovered& r, bool withHistory) {
     if (withHistory) m_session->restoreHistory(r.undo, r.redo, m_document);
     if (m_session->input()) m_document->setFinishedFrame(m_session->input());
     m_region->setCoordinates(r.lasso);  // journalled again by its signal
-    if (r.view) setView(r.view->exposure, r.view->keepRefining);
+    if (r.view) setView(r.view->exposure, r.view->keepRefining, r.view->stage);
     // What came back is in no file: unsaved until saved, so closing asks first (a clean window
     // would close without asking and drop the autosave, and the restored work with it).
     m_session->undoStack()->resetClean();
@@ -646,9 +646,11 @@ void MainWindow::stageChanged() {
 }
 
 void MainWindow::setStage(int stage, bool navigate) {
+    const int before = this->stage();
     if (stage == 2) m_filterTabs->setCurrentIndex(navigate ? 1 : 0);
     m_stages->setCurrentIndex(stage);
     stageChanged();
+    if (this->stage() != before) journalView();  // a session file keeps the stage: so does a crash
 }
 
 int MainWindow::stage() const {

@@ -140,13 +140,14 @@ class MainWindow : public QMainWindow {
     void restoreReference(const std::map<std::string, std::string>& state);
     /// Journals (setLook) each look value that differs from `before`.
     void journalLookChanges(const std::vector<render::LookItem>& before);
-    /// The exposure and Keep Refining, for the autosave (not an undo step).
+    /// The exposure, Keep Refining and the stage, for the autosave (not an undo step).
     void journalView();
     /// Keep Refining on or off without rendering (a session or a restore sets it).
     void setKeepRefiningQuietly(bool on);
     /// What a session file or a restore sets of the view (each when given), without rendering,
     /// journalled as one line.
-    void setView(std::optional<double> exposure, std::optional<bool> keepRefining);
+    void setView(std::optional<double> exposure, std::optional<bool> keepRefining,
+                 std::optional<int> stage);
     QString askPath(const QString& title, const QString& filter, bool save,
                     const QString& suffix = {});
     void exportResult(bool exr);
@@ -185,6 +186,7 @@ class MainWindow : public QMainWindow {
     QString m_lastStatus;
     StageView* m_activeStage = nullptr;
     bool m_restoring = false;
+    bool m_viewJournalHeld = false;     // setView: one view line for all it sets
     std::function<void()> m_afterSave;  // what maybeSave() resumes once the save is written
     TevListener* m_tevListener = nullptr;
     TevSender* m_tevSender = nullptr;

@@ -81,11 +81,6 @@ void MainWindow::applyViewState(const std::map<std::string, std::string>& state)
         return it == state.end() ? QString() : QString::fromStdString(it->second);
     };
     m_region->fromString(get("lasso"));
-    bool ok = false;
-    const double exposure = get("exposure").toDouble(&ok);
-    const QString refining = get("keepRefining");
-    setView(ok ? std::optional(exposure) : std::nullopt,
-            refining.isEmpty() ? std::nullopt : std::optional(refining == QLatin1String("1")));
     // The scene, opened without rendering, then given the saved look and settings before
     // anything renders: a look change renders and re-applies the layers.
     const QString scene = get("scene");
@@ -116,8 +111,14 @@ void MainWindow::applyViewState(const std::map<std::string, std::string>& state)
     } else {
         restoreReference(state);
     }
-    const int s = get("stage").toInt(&ok);
-    if (ok) setStage(std::clamp(s, 0, 3));
+    bool ok = false;
+    const double exposure = get("exposure").toDouble(&ok);
+    const QString refining = get("keepRefining");
+    bool staged = false;
+    const int stage = get("stage").toInt(&staged);
+    setView(ok ? std::optional(exposure) : std::nullopt,
+            refining.isEmpty() ? std::nullopt : std::optional(refining == QLatin1String("1")),
+            staged ? std::optional(stage) : std::nullopt);
 }
 
 void MainWindow::journalLookChanges(const std::vector<render::LookItem>& before) {
@@ -141,18 +142,23 @@ void MainWindow::setKeepRefiningQuietly(bool on) {
     m_progressive->setEnabled(on);
 }
 
-void MainWindow::setView(std::optional<double> exposure, std::optional<bool> keepRefining) {
-    // Keep Refining first, quietly; then the exposure, whose signal journals the view with both
-    // when it changes. One view line either way.
+void MainWindow::setView(std::optional<double> exposure, std::optional<bool> keepRefining,
+                         std::optional<int> stage) {
+    // Each part would journal the view on its own (the exposure's signal, the stage): one line,
+    // once all are set.
+    m_viewJournalHeld = true;
     if (keepRefining) setKeepRefiningQuietly(*keepRefining);
-    const double before = m_viewer->exposure();
     if (exposure) m_viewer->setExposure(*exposure);
-    if (m_viewer->exposure() == before) journalView();
+    if (stage) setStage(std::clamp(*stage, 0, journal_codec::kStages - 1));
+    m_viewJournalHeld = false;
+    journalView();
 }
 
 void MainWindow::journalView() {
+    if (m_viewJournalHeld) return;
     const journal_codec::View view{.exposure = m_viewer->exposure(),
-                                   .keepRefining = m_actions.keepRefining->isChecked()};
+                                   .keepRefining = m_actions.keepRefining->isChecked(),
+                                   .stage = stage()};
     m_session->record({journal_codec::encodeView(view), {}, nullptr});
 }
 

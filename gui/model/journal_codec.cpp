@@ -296,9 +296,11 @@ std::vector<double> decodeRegion(const QJsonObject& json) {
 }
 
 QJsonObject encodeView(const View& view) {
-    return {{QStringLiteral("op"), QStringLiteral("view")},
-            {QStringLiteral("exposure"), view.exposure},
-            {QStringLiteral("keepRefining"), view.keepRefining}};
+    QJsonObject json{{QStringLiteral("op"), QStringLiteral("view")},
+                     {QStringLiteral("exposure"), view.exposure},
+                     {QStringLiteral("keepRefining"), view.keepRefining}};
+    if (view.stage) json.insert(QStringLiteral("stage"), *view.stage);
+    return json;
 }
 
 View decodeView(const QJsonObject& json) {
@@ -308,7 +310,15 @@ View decodeView(const QJsonObject& json) {
         throw Error(ErrorKind::Format, "the view's exposure is not a finite number of stops");
     if (!refining.isBool())
         throw Error(ErrorKind::Format, "the view's keepRefining is not true or false");
-    return {exposure.toDouble(), refining.toBool()};
+    View view{exposure.toDouble(), refining.toBool(), std::nullopt};
+    if (const QJsonValue stage = json.value(QStringLiteral("stage")); !stage.isUndefined()) {
+        const double s = stage.toDouble(-1.0);
+        if (!stage.isDouble() || !(s >= 0.0 && s < kStages) || s != std::floor(s))
+            throw Error(ErrorKind::Format, "the view's stage is not an integer in [0, " +
+                                               std::to_string(kStages) + ")");
+        view.stage = int(s);
+    }
+    return view;
 }
 
 QJsonObject encodeSetLook(const std::string& item, const std::string& property,

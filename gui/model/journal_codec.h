@@ -117,17 +117,20 @@ QJsonObject encodeRegion(const std::vector<double>& lasso);
 /// glint::Error(Format) unless it is an even number of finite numbers.
 std::vector<double> decodeRegion(const QJsonObject& json);
 
-/// The view a session file keeps besides the region: the viewer's exposure (stops) and
-/// Render ▸ Keep Refining.
+/// The view a session file keeps besides the region: the viewer's exposure (stops),
+/// Render ▸ Keep Refining and the stage (0 Features … 3 Paint).
 struct View {
     double exposure = 0.0;
     bool keepRefining = false;
+    std::optional<int> stage;  ///< none in journals written before the stage was kept
     bool operator==(const View&) const = default;
 };
+/// The stages a view can name: 0 … kStages - 1.
+inline constexpr int kStages = 4;
 /// The view as a journal line of its own ("op": "view", not an undo step).
 QJsonObject encodeView(const View& view);
-/// What a "view" line says. Throws glint::Error(Format) unless the exposure is a finite number
-/// and Keep Refining true or false.
+/// What a "view" line says. Throws glint::Error(Format) unless the exposure is a finite number,
+/// Keep Refining true or false, and the stage (when there is one) an integer in [0, kStages).
 View decodeView(const QJsonObject& json);
 
 /// One look property given a value without an undo step ("op": "setLook"): what opening a session

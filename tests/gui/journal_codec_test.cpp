@@ -253,11 +253,13 @@ class JournalCodecTest : public QObject {
 
     void theViewRoundTripsAndABadOneIsNamed() {
         namespace jc = journal_codec;
-        const jc::View view{.exposure = -2.5, .keepRefining = true};
-        const QJsonObject json = jc::encodeView(view);
-        QCOMPARE(json.value(QStringLiteral("op")).toString(), QStringLiteral("view"));
-        const QJsonObject read = QJsonDocument::fromJson(QJsonDocument(json).toJson()).object();
-        QVERIFY(jc::decodeView(read) == view);
+        for (const std::optional<int> stage : {std::optional<int>(3), std::optional<int>()}) {
+            const jc::View view{.exposure = -2.5, .keepRefining = true, .stage = stage};
+            const QJsonObject json = jc::encodeView(view);
+            QCOMPARE(json.value(QStringLiteral("op")).toString(), QStringLiteral("view"));
+            const QJsonObject read = QJsonDocument::fromJson(QJsonDocument(json).toJson()).object();
+            QVERIFY(jc::decodeView(read) == view);
+        }
         auto throwsNaming = [](const QByteArray& line, const char* what) {
             try {
                 jc::decodeView(QJsonDocument::fromJson(line).object());
@@ -271,6 +273,12 @@ class JournalCodecTest : public QObject {
         QVERIFY(throwsNaming(R"({"op":"view","exposure":1e999,"keepRefining":false})", "exposure"));
         QVERIFY(throwsNaming(R"({"op":"view","exposure":1,"keepRefining":1})", "keepRefining"));
         QVERIFY(throwsNaming(R"({"op":"view","exposure":1})", "keepRefining"));
+        // The stage, when there is one (journals before it had none): an integer of [0, 4).
+        for (const char* stage : {"4", "-1", "1.5", "\"2\"", "null", "1e9"})
+            QVERIFY2(throwsNaming(QByteArray(R"({"op":"view","exposure":1,"keepRefining":true,)") +
+                                      "\"stage\":" + stage + "}",
+                                  "stage"),
+                     stage);
     }
 };
 

@@ -72,9 +72,10 @@ TEST(JournalFuzzSeeds, TheEditsSeedRestoresItsLayersLookSettingsRegionAndView) {
         EXPECT_EQ(r->look[1].item, "red");
         EXPECT_EQ(r->look[1].value, (std::array<double, 3>{0.5, 0.1, 0.1}));
         EXPECT_EQ(r->lasso, (std::vector<double>{2, 2, 10, 2, 6, 9}));
-        ASSERT_TRUE(r->view);  // the exposure and Keep Refining
+        ASSERT_TRUE(r->view);  // the exposure, Keep Refining and the stage
         EXPECT_EQ(r->view->exposure, 1.5);
         EXPECT_TRUE(r->view->keepRefining);
+        EXPECT_EQ(r->view->stage, std::optional<int>(3));
         ASSERT_TRUE(r->settings);
         EXPECT_EQ(r->settings->spp, 64);
         EXPECT_TRUE(r->referenceSet);

@@ -342,10 +342,11 @@ class RestoreTest : public QObject {
         QVERIFY(w->isModified());
     }
 
-    void theExposureAndKeepRefiningComeBackWithoutRendering() {
+    void theExposureKeepRefiningAndStageComeBackWithoutRendering() {
         // What a session file keeps of the view besides the region, changed since no save: the
-        // exposure (set twice) and Keep Refining (on, its render cancelled). The restore brings
-        // both back and renders nothing (they came back as the scene file's defaults before).
+        // exposure (set twice), Keep Refining (on, its render cancelled) and the stage. The restore
+        // brings them back and renders nothing (they came back as the scene file's defaults
+        // before).
         const QString base = m_dir.filePath(QStringLiteral("view"));
         auto w = openAndWait(m_scene, base + QStringLiteral("-live"));
         QVERIFY(w && addGaussian(*w, true) && waitIdle(*w));
@@ -355,6 +356,7 @@ class RestoreTest : public QObject {
         w->document()->cancelRender();
         QVERIFY(waitIdle(*w));
         w->viewer()->setExposure(-1.0);
+        w->setStage(3);  // Paint, as a session file would keep it
         QVERIFY(copyAsCrashed(*w, base));
         const QStringList crashed = Autosave::crashed(base);
         QCOMPARE(crashed.size(), 1);
@@ -362,12 +364,15 @@ class RestoreTest : public QObject {
         auto again = makeWindow(base);
         QVERIFY(!again->actions().keepRefining->isChecked());
         QCOMPARE(again->viewer()->exposure(), 0.0);
+        const int stageBefore = again->stage();
+        QVERIFY(stageBefore != 3);
         again->restoreFrom(crashed.first());
         QVERIFY(waitFor([&] { return !again->autosave()->restoring(); }, 240000));
         QVERIFY2(again->lastError().isEmpty(), qPrintable(again->lastError()));
         QVERIFY(
             waitFor([&] { return again->session()->hasSession() && !again->session()->busy(); }));
         QCOMPARE(again->viewer()->exposure(), -1.0);
+        QCOMPARE(again->stage(), 3);
         // The canvas shows the restored result (drawn once, after everything came back).
         const QImage shown = again->viewer()->canvas()->shownImage();
         QVERIFY(!shown.isNull());
@@ -382,6 +387,7 @@ class RestoreTest : public QObject {
         QVERIFY(r.view);
         QCOMPARE(r.view->exposure, -1.0);
         QVERIFY(r.view->keepRefining);
+        QCOMPARE(r.view->stage, std::optional<int>(3));
     }
 
     void aKilledStudioComesBackWholeAfterAutoStartALookEditAndAStroke() {

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <vector>
 
 #include "glint/denoise/session.h"
@@ -279,12 +280,14 @@ class StudioProgressiveTest : public QObject {
                        : QString();
         };
         w->viewer()->setExposure(1.5);
+        w->setStage(3);
         w->actions().keepRefining->setChecked(true);
         QVERIFY(waitFor([&] { return w->document()->refining(); }));
         QVERIFY(stop(*w));
         const QString on = save(QStringLiteral("on.glint-session.json"));
         QVERIFY(!on.isEmpty());
         w->actions().keepRefining->setChecked(false);
+        w->setStage(1);
         QVERIFY(waitIdle(*w));
         const QString off = save(QStringLiteral("off.glint-session.json"));
         QVERIFY(!off.isEmpty());
@@ -295,7 +298,8 @@ class StudioProgressiveTest : public QObject {
         // neither rendering.
         auto again = makeWindow(m_dir.filePath(QStringLiteral("persist-again")));
         QVERIFY(!again->actions().keepRefining->isChecked());
-        for (const auto& [path, expected] : {std::pair{on, true}, std::pair{off, false}}) {
+        for (const auto& [path, expected, stage] :
+             {std::tuple{on, true, 3}, std::tuple{off, false, 1}}) {
             again->openFile(path);
             QVERIFY(waitFor([&] {
                 return again->session()->hasSession() && !again->session()->busy() &&
@@ -305,11 +309,12 @@ class StudioProgressiveTest : public QObject {
             }));
             QCOMPARE(again->progressive()->enabled(), expected);
             QCOMPARE(again->viewer()->exposure(), 1.5);
+            QCOMPARE(again->stage(), stage);
             QVERIFY(!again->document()->rendering());
         }
         QVERIFY(again->lastError().isEmpty());
-        // Each session journals its view once, with both values as they came back (the first
-        // changes the exposure too: its signal must not journal the toggle as it was before).
+        // Each session journals its view once, with every value as it came back (the exposure's
+        // signal and the stage would each journal one of their own, the toggle as it was before).
         again->autosave()->flush();
         QFile journal(
             QDir(again->autosave()->journal()->folder()).filePath(QStringLiteral("journal.jsonl")));
@@ -319,8 +324,9 @@ class StudioProgressiveTest : public QObject {
             if (line.contains("\"op\":\"view\"")) views << QString::fromUtf8(line);
         QCOMPARE(
             views,
-            (QStringList{QStringLiteral(R"({"exposure":1.5,"keepRefining":true,"op":"view"})"),
-                         QStringLiteral(R"({"exposure":1.5,"keepRefining":false,"op":"view"})")}));
+            (QStringList{
+                QStringLiteral(R"({"exposure":1.5,"keepRefining":true,"op":"view","stage":3})"),
+                QStringLiteral(R"({"exposure":1.5,"keepRefining":false,"op":"view","stage":1})")}));
     }
 };
 
