@@ -222,14 +222,14 @@ ParamValues resolveParams(const std::vector<ParamSpec>& specs, const ParamValues
             range << "[" << spec.min << ", " << spec.max << "]";
         if (std::isnan(value) || value < spec.min || value > spec.max)
             throw Error(ErrorKind::InvalidArgument,
-                        "parameter '" + spec.name + "' = " + std::to_string(value) +
+                        "parameter '" + spec.name + "' = " + formatParamValue(spec, value) +
                             (std::isnan(value) ? " is not a number in its range "
                                                : " is outside its range ") +
                             range.str() + "; valid parameters: " + describeParams(specs),
                         {}, where);
         if (spec.integer && value != std::floor(value))
             throw Error(ErrorKind::InvalidArgument,
-                        "parameter '" + spec.name + "' = " + std::to_string(value) +
+                        "parameter '" + spec.name + "' = " + formatParamValue(spec, value) +
                             " must be an integer in " + range.str(),
                         {}, where);
         resolved[spec.name] = value;

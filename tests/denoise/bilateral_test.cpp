@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "glint/denoise/filter.h"
 #include "glint/denoise/registry.h"
@@ -122,6 +123,20 @@ TEST(Bilateral, RadiusParameterSetsTheWindow) {
     EXPECT_EQ(f.margin(resolveParams(f, {{"radius", 15}})), 15);    // OpenCV d = 31
     EXPECT_EQ(f.margin(resolveParams(f, {{"sigmaS", 5.0}})), 15);   // ceil(3 sigmaS)
     EXPECT_EQ(f.margin(resolveParams(f, {{"sigmaS", 1e6}})), 100);  // capped
+    // A refused value is written as given (not std::to_string's "0.000000" for 1e-12).
+    auto refusal = [&](const ParamValues& given) {
+        try {
+            resolveParams(f, given);
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_NE(refusal({{"sigmaS", 1e-12}}).find("'sigmaS' = 1e-12 is outside"), std::string::npos)
+        << refusal({{"sigmaS", 1e-12}});
+    EXPECT_NE(refusal({{"radius", 2.5}}).find("'radius' = 2.5 must be an integer"),
+              std::string::npos)
+        << refusal({{"radius", 2.5}});
     // A larger window with the same sigmas changes the result only through the tail weights.
     const FrameBuffers frame = testing::syntheticFrame(24, 24, 0.1f);
     const Image r2 = applyFilter(f, frame, {{"sigmaS", 3.0}, {"radius", 2}});

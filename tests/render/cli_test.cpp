@@ -206,6 +206,8 @@ TEST_F(RenderCli, BadAdaptiveInputExitsTwoWithOneLineAndWritesNothing) {
         {scene + " --importance " + path("missing.exr") + " --out " + out, "missing.exr"},
         {scene + " --set adaptive=true --shard 0/2 --out " + out, "--shard"},
         {scene + " --set adaptive=true --set integrator=mlt --out " + out, "path integrator only"},
+        {scene + " --time-limit 1e9 --out " + out,
+         "timeLimit must be a number of seconds in [0, 1e7], got 1e+09"},
     };
     for (const Case& c : cases) {
         const RunResult r = run(c.args);
