@@ -12,7 +12,6 @@
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "oiio_helpers.h"
-#include "shape_text.h"
 
 namespace glint {
 
@@ -74,9 +73,9 @@ bool srgbEncodedFile(const std::string& declaredColorSpace, bool eightBit) {
 Image toDisplay(const Image& linear, const DisplayOptions& options) {
     if (linear.empty()) throw Error(ErrorKind::InvalidArgument, "cannot display an empty image");
     if (!(std::fabs(options.exposure) <= kMaxExposure))
-        throw Error(ErrorKind::InvalidArgument,
-                    "exposure must be a number of stops in [-64, 64], got " +
-                        detail::numberText(options.exposure));
+        throw Error(
+            ErrorKind::InvalidArgument,
+            "exposure must be a number of stops in [-64, 64], got " + numberText(options.exposure));
     const int n = linear.channels();
     const bool falseColor = options.falseColorChannel >= 0;
     if (falseColor) {
@@ -86,9 +85,8 @@ Image toDisplay(const Image& linear, const DisplayOptions& options) {
                             " outside an image with " + std::to_string(n) + " channels");
         if (!(options.falseColorHi > options.falseColorLo))
             throw Error(ErrorKind::InvalidArgument, "false-colour range needs lo < hi, got lo " +
-                                                        detail::numberText(options.falseColorLo) +
-                                                        ", hi " +
-                                                        detail::numberText(options.falseColorHi));
+                                                        numberText(options.falseColorLo) + ", hi " +
+                                                        numberText(options.falseColorHi));
         if (!std::isfinite(options.falseColorHi - options.falseColorLo))
             throw Error(ErrorKind::InvalidArgument,
                         "false-colour range hi - lo overflows float (at most 3.4e38)");

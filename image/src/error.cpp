@@ -1,5 +1,7 @@
 #include "glint/image/error.h"
 
+#include <cstdio>
+
 namespace glint {
 
 const char* errorKindName(ErrorKind kind) {
@@ -20,6 +22,12 @@ const char* errorKindName(ErrorKind kind) {
             return "internal";
     }
     return "unknown";
+}
+
+std::string numberText(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
 }
 
 std::string oneLine(const std::string& text) {

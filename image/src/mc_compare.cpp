@@ -40,10 +40,10 @@ McCompareResult mcCompare(const Image& mean, const Image& variance, const Image&
                         {}, where);
     if (mean.empty()) throw Error(ErrorKind::InvalidArgument, "the images are empty", {}, where);
     if (!(options.falseAlarmRate > 0.0 && options.falseAlarmRate < 1.0))
-        throw Error(ErrorKind::InvalidArgument,
-                    "the false-alarm rate must be in (0, 1), got " +
-                        detail::numberText(options.falseAlarmRate),
-                    {}, where);
+        throw Error(
+            ErrorKind::InvalidArgument,
+            "the false-alarm rate must be in (0, 1), got " + numberText(options.falseAlarmRate), {},
+            where);
 
     // Per-pixel z-scores summed over channels, their squares, and their summed-area tables.
     const int w = mean.width(), h = mean.height(), channels = mean.channels();

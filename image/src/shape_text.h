@@ -1,7 +1,6 @@
-// Private to glint_image: how an error message writes an image's shape and a number.
+// Private to glint_image: how an error message names an image's shape.
 #pragma once
 
-#include <cstdio>
 #include <string>
 
 #include "glint/image/image.h"
@@ -12,14 +11,6 @@ namespace glint::detail {
 inline std::string shapeText(const Image& im) {
     return std::to_string(im.width()) + "x" + std::to_string(im.height()) + "x" +
            std::to_string(im.channels());
-}
-
-/// A number as %g writes it ("1e-07", "2.5", "nan"): std::to_string's fixed six decimals would
-/// write 1e-07 as "0.000000".
-inline std::string numberText(double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", v);
-    return text;
 }
 
 }  // namespace glint::detail

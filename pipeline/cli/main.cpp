@@ -40,15 +40,10 @@ int run(const Options& opt, std::chrono::steady_clock::time_point started) {
     glint::cli::checkOutputPath(opt.out, {".exr"}, "--out");
     glint::cli::removeTemporariesOnSignal({opt.out});
     // A target given must be one: > 0 (0 is "none" only in the library).
-    auto number = [](double v) {
-        char text[32];
-        std::snprintf(text, sizeof text, "%g", v);
-        return std::string(text);
-    };
-    auto positive = [number](const std::optional<double>& v, const char* flag, const char* what) {
+    auto positive = [](const std::optional<double>& v, const char* flag, const char* what) {
         if (v && !(*v > 0.0))
             throw glint::Error(glint::ErrorKind::InvalidArgument,
-                               std::string(what) + " must be > 0, got " + number(*v),
+                               std::string(what) + " must be > 0, got " + glint::numberText(*v),
                                "command line", flag);
     };
     positive(opt.timeLimit, "--time-limit", "the time limit");

@@ -66,27 +66,24 @@ void validate(const FinalOptions& options) {
         throw Error(ErrorKind::InvalidArgument, what, {}, where);
     };
     if (!(options.timeLimit >= 0.0 && options.timeLimit <= render::kMaxTimeLimit))
-        bad("timeLimit", formatted("the time limit must be a number of seconds in [0, 1e7], got %g",
-                                   options.timeLimit, 0, 0));
+        bad("timeLimit", "the time limit must be a number of seconds in [0, 1e7], got " +
+                             numberText(options.timeLimit));
     if (!(options.targetError >= 0.0 && options.targetError <= kMaxTargetError))
-        bad("targetError",
-            formatted("the error target must be an estimated relMSE in (0, 1e6], got %g",
-                      options.targetError, 0, 0));
+        bad("targetError", "the error target must be an estimated relMSE in (0, 1e6], got " +
+                               numberText(options.targetError));
     if (!(options.refreshGrowth > 1.0 && options.refreshGrowth <= 1e6))
-        bad("refreshGrowth", formatted("the refresh growth must be a factor in (1, 1e6], got %g",
-                                       options.refreshGrowth, 0, 0));
+        bad("refreshGrowth", "the refresh growth must be a factor in (1, 1e6], got " +
+                                 numberText(options.refreshGrowth));
     if (!(options.sppCapRatio == 0.0 || (options.sppCapRatio >= 1.0 && options.sppCapRatio <= 1e6)))
         bad("sppCapRatio",
-            formatted("the samples cap must be 0 (off) or a factor of the mean in [1, 1e6], got %g",
-                      options.sppCapRatio, 0, 0));
+            "the samples cap must be 0 (off) or a factor of the mean in [1, 1e6], got " +
+                numberText(options.sppCapRatio));
     if (!(options.refreshShare > 0.0 && options.refreshShare <= 1.0))
-        bad("refreshShare",
-            formatted("the refreshes' share of the time limit must be in (0, 1], got %g",
-                      options.refreshShare, 0, 0));
+        bad("refreshShare", "the refreshes' share of the time limit must be in (0, 1], got " +
+                                numberText(options.refreshShare));
     if (!(options.finalShare > 0.0 && options.finalShare <= 1.0))
-        bad("finalShare",
-            formatted("the final auto's share of the time limit must be in (0, 1], got %g",
-                      options.finalShare, 0, 0));
+        bad("finalShare", "the final auto's share of the time limit must be in (0, 1], got " +
+                              numberText(options.finalShare));
     if (options.settings.spp <= 0 && options.timeLimit <= 0.0)
         bad("spp", options.targetError > 0.0
                        ? "an error target needs a time limit or a spp too (it may never be reached)"

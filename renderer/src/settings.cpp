@@ -170,11 +170,9 @@ void validate(const Settings& s) {
     range("threads", s.threads, 0, kMaxThreads);
     range("maxDepth", s.maxDepth, 1, kMaxDepth);
     range("rrDepth", s.rrDepth, 0, kMaxDepth);
-    if (!(s.timeLimit >= 0.0 && s.timeLimit <= kMaxTimeLimit)) {
-        std::ostringstream given;  // as %g writes it: 1e+09, not 1000000000.000000
-        given << s.timeLimit;
-        bad("timeLimit", "timeLimit must be a number of seconds in [0, 1e7], got " + given.str());
-    }
+    if (!(s.timeLimit >= 0.0 && s.timeLimit <= kMaxTimeLimit))
+        bad("timeLimit",
+            "timeLimit must be a number of seconds in [0, 1e7], got " + numberText(s.timeLimit));
     if (s.seed > kMaxSeed)
         bad("seed", "seed must be in [0, 2^63 - 1], got " + std::to_string(s.seed));
     range("tileSize", s.tileSize, 1, 4096);

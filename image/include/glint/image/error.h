@@ -24,6 +24,10 @@ const char* errorKindName(ErrorKind kind);
 /// ("\n", "\x1b"), so that a message is always one line of a log.
 std::string oneLine(const std::string& text);
 
+/// A number for a message as %g writes it ("1e-07", "2.5", "1e+09", "nan"), not as
+/// std::to_string's six fixed decimals, which write 1e-07 as "0.000000".
+std::string numberText(double v);
+
 /// A typed error with an optional file and place (line, channel, pixel...) it refers to.
 class Error : public std::runtime_error {
   public:
