@@ -140,6 +140,7 @@ void Document::adopt(const QString& path, Loaded loaded, bool renderNow) {
     m_reference.reset();
     m_referenceInfo.reset();
     m_curve.clear();
+    m_continuable.reset();
     if (m_kind == Kind::Scene) {
         m_frame.reset();
         m_finished.reset();
@@ -192,13 +193,20 @@ void Document::render() {
     render::Settings s = m_settings;
     s.region.reset();
     if (m_progressive && m_progressive->enabled() && ProgressiveRender::applies(s)) {
-        const int spp = s.spp;
-        startRender(ProgressiveRender::refining(s),
-                    m_progressive->steer([job = &m_job] { return job->stopping(); }));
-        m_refineSpp = spp;
+        render::Settings refining = ProgressiveRender::refining(s);
+        // The finished render of these settings goes on (Keep Refining turned on after it)
+        // rather than rendering the bar's spp again.
+        const bool goOn = m_finished && m_continuable &&
+                          ProgressiveRender::continues(*m_continuable, s, *m_finished);
+        if (goOn) refining.continueFrom = m_finished;
+        startRender(refining, m_progressive->steer([job = &m_job] { return job->stopping(); }));
+        m_refineSpp = s.spp;
+        m_refineReached = goOn;
+        m_renderBar = s;
         return;
     }
     startRender(s);
+    m_renderBar = s;
 }
 
 void Document::renderRegion(const std::optional<Rect>& region) {
@@ -212,6 +220,7 @@ void Document::renderRegion(const std::optional<Rect>& region) {
     render::Settings s = m_settings;
     s.region = region;
     startRender(s);
+    m_renderBar = s;
 }
 
 void Document::startRender(const render::Settings& settings, RenderJob::Steering steering) {
@@ -238,6 +247,7 @@ void Document::onPass(std::uint64_t id, FramePtr frame, int spp, double seconds)
     if (m_refineSpp > 0 && !m_refineReached && spp >= m_refineSpp) {
         // A refining render at the bar's spp: the render as it would have finished; it goes on.
         m_refineReached = true;
+        m_continuable = m_renderBar;
         render::RenderStats stats;
         stats.completedSpp = spp;
         stats.seconds = seconds;
@@ -259,6 +269,12 @@ void Document::onFinished(std::uint64_t id, FramePtr frame, const render::Render
     if (id != m_job.currentId()) return;
     if (stats.passes == 0 && stats.cancelled) return;  // stopped before anything was rendered
     mergeThen(id, frame, true, [this, stats](FramePtr merged) {
+        // Every pixel of a whole frame at the bar's spp at least: a refinement may go on from it.
+        const bool whole = !m_mergeRegion && !m_renderBar.region;
+        if (whole && (m_refineSpp > 0 ? m_refineReached : !stats.cancelled))
+            m_continuable = m_renderBar;
+        else
+            m_continuable.reset();
         m_refineSpp = 0;  // a refining render ends here
         m_refineReached = false;
         m_stats = stats;
@@ -294,6 +310,7 @@ void Document::mergeThen(std::uint64_t id, FramePtr frame, bool final,
 }
 
 void Document::setFinishedFrame(FramePtr frame) {
+    m_continuable.reset();
     m_frame = frame;
     m_finished = frame;
     emit frameChanged(true);
@@ -350,6 +367,7 @@ void setLookValue(std::vector<render::LookItem>& look, const std::string& item,
 void Document::setLook(const std::string& item, const std::string& property,
                        const std::array<double, 3>& value, bool renderNow) {
     setLookValue(m_look, item, property, value, m_path.toStdString());
+    m_continuable.reset();  // the finished frame is of the scene before the edit
     emit modifiedChanged();
     m_job.withScene(
         [item, property, value](render::Scene& scene) { scene.setLook(item, property, value); },
@@ -388,6 +406,7 @@ void Document::sceneFileChanged() {
             m_fileLook = m_look;
             m_camera = std::move(loaded.camera);
             m_job.setRenderer(loaded.renderer);
+            m_continuable.reset();  // the finished frame is of the file before the edit
             emit lookChanged();
             markSaved();  // the file on disk is the look now
             render();

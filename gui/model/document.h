@@ -211,6 +211,11 @@ class Document : public QObject {
     ProgressiveRender* m_progressive = nullptr;
     int m_refineSpp = 0;           // the bar's spp of the refining render running (0: none)
     bool m_refineReached = false;  // and its frame at that spp is the finished frame
+    render::Settings m_renderBar;  // the bar's settings of the render running
+    // The bar's settings of the whole-frame render the finished frame came from, while a refining
+    // render may go on from it (ProgressiveRender::continues): none after a scene edit, another
+    // frame adopted, a region merged, or a render stopped before the bar's spp.
+    std::optional<render::Settings> m_continuable;
 };
 
 /// Copies every layer of `part` inside `region` into a copy of `base` (same size).

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "glint/image/error.h"
+#include "glint/render/settings_codec.h"
 
 namespace glint::studio {
 
@@ -26,6 +27,18 @@ render::Settings ProgressiveRender::refining(const render::Settings& settings) {
     s.timeLimit = 0.0;
     s.importance.reset();
     return s;
+}
+
+bool ProgressiveRender::continues(const render::Settings& from, const render::Settings& settings,
+                                  const FrameBuffers& frame) {
+    if (!applies(settings) || render::encodeSettings(from) != render::encodeSettings(settings) ||
+        (settings.sampler != render::SamplerKind::Sobol &&
+         settings.sampler != render::SamplerKind::Independent) ||
+        !frame.has(Layer::HalfSampleCount) || frame.metadata().nonFiniteSamples != 0)
+        return false;
+    const auto counts = frame.layer(Layer::SampleCount).data();
+    return std::all_of(counts.begin(), counts.end(),
+                       [spp = float(settings.spp)](float n) { return n >= spp; });
 }
 
 pipeline::RefreshOptions ProgressiveRender::refreshOptions() {

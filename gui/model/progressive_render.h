@@ -49,6 +49,13 @@ class ProgressiveRender : public QObject {
     /// The refining render of the bar's `settings`: adaptive with half buffers (auto's error
     /// needs them), every pixel first at the bar's spp, then at most kSppFactor times it.
     static render::Settings refining(const render::Settings& settings);
+    /// Whether the refining render of the bar's `settings` can go on from `frame`, the finished
+    /// render of the bar's `from` (Settings::continueFrom), rather than render the bar's spp
+    /// again: the same settings (every named one), a sampler the renderer goes on with (sobol,
+    /// independent), half buffers in the frame (auto's error needs them), no sample discarded,
+    /// and every pixel at least at the bar's spp.
+    static bool continues(const render::Settings& from, const render::Settings& settings,
+                          const FrameBuffers& frame);
     /// The studio's refreshes: auto at quality fast on a small bank of cross-bilateral, on one
     /// thread, the map open on the worst tenth of the pixels (short passes), again once the mean
     /// spp doubled.

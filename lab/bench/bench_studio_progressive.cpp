@@ -12,9 +12,10 @@
 // writes the scene (for glint-render to make the reference) and exits. Like the studio, it runs
 // itself again with OMP_WAIT_POLICY=PASSIVE unless the variable is set (app/openmp_policy.h):
 // OMP_WAIT_POLICY= (empty: libgomp's default spin-then-sleep, with its "Invalid value" warning)
-// measures the wait as it was before.
+// measures the wait as it was before. --halves on renders the bar's 16 spp with half buffers, so
+// that the toggle goes on from that render (Settings::continueFrom) instead of rendering it again.
 //   QT_QPA_PLATFORM=offscreen build/bin/bench_studio_progressive [--seconds S] [--threads T]
-//       [--layer default|bilateral] [--reference REF.exr] [--write-scene DIR]
+//       [--layer default|bilateral] [--halves on|off] [--reference REF.exr] [--write-scene DIR]
 #include <QApplication>
 #include <QElapsedTimer>
 #include <QStandardPaths>
@@ -76,6 +77,7 @@ int main(int argc, char** argv) {
     std::string layer = "default";
     std::string referencePath;
     std::string writeScene;
+    bool halves = false;
     const int bad = glint::bench::parseOptions(
         "bench_studio_progressive", argc, argv,
         [&](const std::string& name, const std::string& value) {
@@ -89,6 +91,8 @@ int main(int argc, char** argv) {
                 threads = std::max(1, glint::bench::intOption(name, value));
             else if (name == "--layer")
                 layer = value;
+            else if (name == "--halves" && (value == "on" || value == "off"))
+                halves = value == "on";
             else
                 return false;
             return true;
@@ -128,8 +132,14 @@ int main(int argc, char** argv) {
     render::Settings settings = w->document()->settings();
     settings.threads = threads;
     settings.spp = 16;
+    settings.halfBuffers = halves;
     w->document()->setSettings(settings);
     waitIdle(*w);
+    // The render the toggle goes on from: the bar's, with half buffers.
+    if (halves) {
+        w->document()->render();
+        waitIdle(*w);
+    }
     if (!defaultLayer) {
         w->setStage(2);
         w->tuneView()->setFilter(layer);
@@ -220,6 +230,10 @@ int main(int argc, char** argv) {
     for (std::size_t i = 1; i < shownAt.size(); ++i)
         intervals.push_back(shownAt[i] - shownAt[i - 1]);
     const double first = shownAt.empty() ? 0.0 : shownAt.front();
+    // The first image better than the one on screen before the toggle (past the bar's 16 spp).
+    const auto past = std::find_if(shownSpp.begin(), shownSpp.end(), [](int n) { return n > 16; });
+    const double firstPast =
+        past == shownSpp.end() ? 0.0 : shownAt[std::size_t(past - shownSpp.begin())];
     // Each interval's parts: waiting for the pass (from the last image shown), waiting for the
     // session (busy with something else), the layers' re-application, the display; "auto" when
     // one of auto's refreshes ran during it.
@@ -240,12 +254,13 @@ int main(int argc, char** argv) {
     for (std::size_t i = 1; i < shown.size(); ++i)
         if (shown[i].relMse > shown[i - 1].relMse) falling = false;
     std::printf(
-        "Keep refining, 512^2 Cornell box, 16 spp + refinement, %d threads, layer %s, "
+        "Keep refining, 512^2 Cornell box, 16 spp%s + refinement, %d threads, layer %s, "
         "%.0f s, load %.2f\n",
-        threads, filter.c_str(), seconds, load0);
+        halves ? " with half buffers" : "", threads, filter.c_str(), seconds, load0);
     std::printf("%-52s %d (%d .. %d spp)\n", "denoised renders shown", int(shownAt.size()),
                 shownSpp.empty() ? 0 : shownSpp.front(), shownSpp.empty() ? 0 : shownSpp.back());
     std::printf("%-52s %.2f s\n", "Keep Refining on -> first refined image shown", first);
+    std::printf("%-52s %.2f s\n", "Keep Refining on -> first image past the bar's spp", firstPast);
     std::printf("%-52s %.2f s median, %.2f s max\n", "interval between denoised renders shown",
                 percentile(intervals, 0.5), percentile(intervals, 1.0));
     std::printf("%-52s %.0f ms (UI thread CPU %.0f ms)\n", "longest UI-thread stall", stall, busy);
@@ -258,13 +273,14 @@ int main(int argc, char** argv) {
                     shown.empty() ? 0.0 : shown.back().relMse, referenceNoise,
                     falling ? "falling at every image" : "NOT falling at every image");
     std::printf(
-        "{\"shown\": %d, \"firstS\": %.3f, \"intervalMedianS\": %.3f, \"intervalMaxS\": %.3f, "
+        "{\"shown\": %d, \"firstS\": %.3f, \"firstPastBarS\": %.3f, \"halves\": %s, "
+        "\"intervalMedianS\": %.3f, \"intervalMaxS\": %.3f, "
         "\"stallMs\": %.1f, \"busyMs\": %.1f, \"refreshes\": %d, \"autoS\": %.3f, \"lastSpp\": %d, "
         "\"load\": %.2f, "
         "\"layer\": \"%s\", \"relMseFalling\": %s}\n",
-        int(shownAt.size()), first, percentile(intervals, 0.5), percentile(intervals, 1.0), stall,
-        busy, refreshes, autoSeconds, lastSpp, load0, filter.c_str(),
-        reference ? (falling ? "true" : "false") : "null");
+        int(shownAt.size()), first, firstPast, halves ? "true" : "false",
+        percentile(intervals, 0.5), percentile(intervals, 1.0), stall, busy, refreshes, autoSeconds,
+        lastSpp, load0, filter.c_str(), reference ? (falling ? "true" : "false") : "null");
     w->close();
     return 0;
 }

@@ -20,6 +20,7 @@
 #include <tbb/task_arena.h>
 
 #include "embree/embree_scene.h"
+#include "film/continued_frame.h"
 #include "film/film.h"
 #include "glint/image/error.h"
 #include "glint/image/memory.h"
@@ -201,6 +202,14 @@ RenderResult renderPath(const detail::SceneData& data, const EmbreeScene& embree
     PathPasses work(data, integrator, camera, settings, film);
     RenderLoop loop(settings.spp, settings.timeLimit, callbacks, arena, begin, end);
     if (settings.adaptive) loop.setAdaptive(adaptiveStartSpp(settings));
+    if (settings.continueFrom) {
+        // The loop goes on where the frame's fullest pixel is.
+        const int spp =
+            checkContinuedFrame(*settings.continueFrom, settings, data.width, data.height,
+                                adaptiveStartSpp(settings), keepsHalf(settings));
+        film.continueFrom(*settings.continueFrom);
+        loop.continueAt(spp);
+    }
     // A shard takes its range of every pixel's samples; the passes stay those of the whole
     // render, so a stratified pass stratifies over the same block (docs/distributed.md).
     std::optional<ShardInfo> shard;

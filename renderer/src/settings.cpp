@@ -124,6 +124,15 @@ void validateAdaptive(const Settings& s) {
     if (s.importance && !s.adaptive)
         bad("importance",
             "an importance map steers adaptive sampling: it needs adaptive sampling on");
+    if (s.continueFrom && !s.adaptive)
+        bad("continueFrom",
+            "going on from a finished render adds adaptive passes: it needs adaptive sampling on");
+    if (s.continueFrom && s.region)
+        bad("continueFrom", "going on from a finished render takes the whole film, not a region");
+    if (s.continueFrom && s.sampler == SamplerKind::ZSobol)
+        bad("continueFrom",
+            "the zsobol sampler lays each pixel's samples out by the render's spp, so a render "
+            "cannot go on from another's (use the sobol sampler)");
     if (!(s.noiseThreshold > 0.0 && s.noiseThreshold <= kMaxNoiseThreshold)) {
         std::ostringstream got;
         got << s.noiseThreshold;
@@ -192,7 +201,7 @@ void validate(const Settings& s) {
         bad("sampler",
             "the zsobol sampler needs a fixed spp (no time limit): it lays each pixel's samples "
             "out as a block of 2^ceil(log2 spp) indices");
-    if (s.adaptive || s.importance) validateAdaptive(s);
+    if (s.adaptive || s.importance || s.continueFrom) validateAdaptive(s);
     if (s.shard) {
         // The time limit first: with it spp is open (0), and the spp bound would mislead.
         if (s.timeLimit > 0.0)

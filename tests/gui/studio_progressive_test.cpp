@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <tuple>
 #include <vector>
 
@@ -64,6 +65,14 @@ struct SessionShape {
         return true;
     }
 };
+
+// Whether every pixel of `frame` has at least the samples it has in `before`.
+bool atLeast(const FrameBuffers& frame, const FrameBuffers& before) {
+    const auto& n = frame.layer(Layer::SampleCount).data();
+    const auto& m = before.layer(Layer::SampleCount).data();
+    return n.size() == m.size() &&
+           std::equal(n.begin(), n.end(), m.begin(), std::greater_equal<>());
+}
 
 }  // namespace
 
@@ -268,6 +277,63 @@ class StudioProgressiveTest : public QObject {
         QVERIFY(!steer.converged(2, frame));
         QCOMPARE(progressive.activity().started, 1);
         QCOMPARE(progressive.activity().finished, 1);
+    }
+
+    void turnedOnAfterARenderWithHalvesItGoesOnFromItAndOffAndOnAgainFromWhereItStopped() {
+        auto w = openAndWait(m_scene, m_dir.filePath(QStringLiteral("goes-on")));
+        QVERIFY(w && waitIdle(*w));
+        Document& d = *w->document();
+        const int barSpp = d.settings().spp;
+        // The spp of each pass shown, and whether the finished frame was still `finished` when
+        // the first came.
+        std::vector<int> shown;
+        FramePtr finished, finishedAtFirst;
+        auto c = connect(&d, &Document::frameChanged, [&](bool final) {
+            if (final) return;
+            if (shown.empty()) finishedAtFirst = d.finishedFrame();
+            shown.push_back(d.frame()->metadata().spp);
+        });
+        auto turnOn = [&] {
+            shown.clear();
+            finished = d.finishedFrame();
+            w->actions().keepRefining->setChecked(true);
+            return waitFor([&] { return !shown.empty() || !d.rendering(); });
+        };
+        // Without half buffers (the scene's default) auto's error has nothing to go on from:
+        // the refinement renders again from its first pass, below the bar's spp.
+        QVERIFY(!d.finishedFrame()->has(Layer::HalfSampleCount));
+        QVERIFY(turnOn());
+        QVERIFY(!shown.empty() && shown.front() < barSpp);
+        w->actions().keepRefining->setChecked(false);
+        QVERIFY(waitIdle(*w));
+
+        // A render with them, then the toggle: the first pass shown is past the bar's spp, the
+        // finished frame stays the render's, and no pixel has fewer samples than it had.
+        render::Settings s = d.settings();
+        s.halfBuffers = true;
+        d.setSettings(s);
+        d.render();
+        QVERIFY(waitIdle(*w));
+        QVERIFY(d.finishedFrame()->has(Layer::HalfSampleCount));
+        QCOMPARE(d.finishedFrame()->metadata().spp, barSpp);
+        QVERIFY(turnOn());
+        QVERIFY(!shown.empty());
+        QVERIFY(*std::min_element(shown.begin(), shown.end()) > barSpp);
+        QVERIFY(finishedAtFirst == finished);
+        QVERIFY(atLeast(*d.frame(), *finished));
+
+        // Off, then on again: it goes on from where it stopped.
+        w->actions().keepRefining->setChecked(false);
+        QVERIFY(waitIdle(*w));
+        const FramePtr stopped = d.finishedFrame();
+        QVERIFY(stopped != finished && maxSamples(*stopped) > float(barSpp));
+        QVERIFY(turnOn());
+        for (int spp : shown) QVERIFY(spp > barSpp);
+        QVERIFY(waitFor([&] { return d.frame() != stopped; }));
+        QVERIFY(atLeast(*d.frame(), *stopped));
+        disconnect(c);
+        QVERIFY(stop(*w));
+        QVERIFY(w->lastError().isEmpty());
     }
 
     void theToggleIsSavedWithTheSessionAndComesBackWithoutRendering() {

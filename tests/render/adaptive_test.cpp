@@ -80,17 +80,6 @@ double layerSum(const FrameBuffers& f, Layer layer, int c) {
     return sum;
 }
 
-/// The message of the glint::Error `f` throws, or "" when it throws none.
-template <class F>
-std::string errorOf(F&& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
-}
-
 TEST_F(AdaptiveScene, TheConvergedMeanIsTheUniformRendersWithinTheNoise) {
     // The image mean of adaptive renders (the even half never steers, and every sample)
     // against a 1024-spp uniform render of another seed, per channel: |difference| below 4
@@ -193,7 +182,7 @@ TEST_F(AdaptiveScene, AMapTheCallbackReturnsSteersEveryPassAfterIt) {
     callbacks.importance = [](int, const FrameBuffers&) {
         return std::make_shared<const Image>(24, 24, 1, 0.0f);
     };
-    EXPECT_NE(errorOf([&] { renderer.render(s, callbacks); }).find("every weight is 0"),
+    EXPECT_NE(test::errorOf([&] { renderer.render(s, callbacks); }).find("every weight is 0"),
               std::string::npos);
 }
 
@@ -303,7 +292,7 @@ TEST_F(AdaptiveScene, TheSameSeedGivesTheSameBitsForAnyThreadCount) {
 TEST_F(AdaptiveScene, BadSettingsAndMapsAreRefusedNamingTheProblem) {
     Renderer renderer(loadScene(m_scene));
     auto refused = [&](const Settings& s, const std::string& expected) {
-        const std::string message = errorOf([&] { renderer.render(s); });
+        const std::string message = test::errorOf([&] { renderer.render(s); });
         EXPECT_NE(message.find(expected), std::string::npos)
             << "expected \"" << expected << "\" in \"" << message << "\"";
     };

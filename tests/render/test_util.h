@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include "glint/image/error.h"
 #include "glint/image/frame_buffers.h"
 #include "glint/image/mc_compare.h"
 #include "glint/render/settings.h"
@@ -34,6 +35,17 @@ inline void expectSameFrames(const FrameBuffers& a, const FrameBuffers& b) {
             EXPECT_TRUE(sameLayer(a, b, layer)) << layerInfo(layer).name;
         }
     }
+}
+
+/// The message of the glint::Error `f` throws, or "" when it throws none.
+template <class F>
+std::string errorOf(F&& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
 }
 
 /// A fresh directory under the system temp folder, removed on destruction.

@@ -83,6 +83,39 @@ void Film::add(int x, int y, const FilmSample& s, bool secondHalf) {
     if (secondHalf && !m_half.empty()) welford(m_half[index(x, y)], v);
 }
 
+void Film::continueFrom(const FrameBuffers& frame) {
+    // The inverse of resolve(): m2 = variance of the mean × n × (n − 1).
+    static constexpr Layer kMeans[4] = {Layer::Color, Layer::Albedo, Layer::Normal, Layer::Depth};
+    static constexpr Layer kVariances[4] = {Layer::Variance, Layer::AlbedoVariance,
+                                            Layer::NormalVariance, Layer::DepthVariance};
+    static constexpr int kFirst[4] = {0, 3, 6, 9};
+    auto take = [&](std::vector<Pixel>& pixels, bool half) {
+        auto layer = [&](Layer l) -> const Image& { return frame.layer(half ? *halfLayer(l) : l); };
+        const Image& count = layer(Layer::SampleCount);
+        const Image* position =
+            !half && frame.has(Layer::Position) ? &frame.layer(Layer::Position) : nullptr;
+        for (int y = 0; y < m_height; ++y)
+            for (int x = 0; x < m_width; ++x) {
+                Pixel& p = pixels[index(x, y)];
+                p = Pixel{};
+                p.n = std::uint32_t(count(x, y, 0));
+                const double scale = double(p.n) * (double(p.n) - 1.0);
+                for (int i = 0; i < 4; ++i) {
+                    const Image& mean = layer(kMeans[i]);
+                    const Image& variance = layer(kVariances[i]);
+                    for (int c = 0; c < mean.channels(); ++c) {
+                        p.mean[kFirst[i] + c] = double(mean(x, y, c));
+                        p.m2[kFirst[i] + c] = p.n > 1 ? double(variance(x, y, c)) * scale : 0.0;
+                    }
+                }
+                if (position)
+                    for (int c = 0; c < 3; ++c) p.mean[10 + c] = double((*position)(x, y, c));
+            }
+    };
+    take(m_pixels, false);
+    if (!m_half.empty()) take(m_half, true);
+}
+
 std::int64_t Film::nonFiniteSamples() const {
     std::int64_t total = 0;
     for (const Pixel& p : m_pixels) total += p.nonFinite;

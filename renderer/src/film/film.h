@@ -48,6 +48,12 @@ class Film {
     /// errors scaled to the whole's count (Half; needs half statistics). Infinite below two
     /// samples.
     double adaptiveError(int x, int y, AdaptiveError from) const;
+    /// Takes a resolved frame's statistics as the film's (Settings::continueFrom, checked by
+    /// checkContinuedFrame): per pixel its means, variances of the mean and sample counts, and
+    /// half B's when the film keeps them; the position's mean when the frame has one (its
+    /// spread is not in a frame: the position layer has no variance). The next sample of a pixel
+    /// is then its count (the frame discarded none).
+    void continueFrom(const FrameBuffers& frame);
     /// Total discarded (non-finite) samples.
     std::int64_t nonFiniteSamples() const;
     /// Means, variances of the mean (sample variance / n; 0 below two samples), sample counts,

@@ -36,6 +36,12 @@ void RenderLoop::setAdaptive(int startSpp) {
     m_adaptiveStart = m_spp > 0 ? std::min(startSpp, m_spp) : startSpp;
 }
 
+void RenderLoop::continueAt(int spp) {
+    GLINT_CHECK(m_adaptiveStart > 0 && spp >= m_adaptiveStart && (m_spp == 0 || spp <= m_spp),
+                "a render goes on from a film past its adaptive start, within its spp");
+    m_continueAt = spp;
+}
+
 int RenderLoop::adaptiveStep(std::uint64_t active, std::uint64_t pixels) {
     int step = kAdaptiveStep;
     while (step < kMaxAdaptiveStep && active * std::uint64_t(step) < kAdaptivePassSpp * pixels)
@@ -87,7 +93,7 @@ LoopResult RenderLoop::run(PassWork& work, bool reportPasses) {
     std::atomic<std::uint64_t> samples{0};
     // `done` walks the whole render's sample sequence; `taken` counts the samples of it this
     // loop renders (all of them unless restrictSamples() chose a shard).
-    int done = 0, taken = 0, pass = 0;
+    int done = m_continueAt, taken = m_continueAt, pass = 0;
     const int share = m_spp > 0 ? m_sampleEnd - m_sampleBegin : 0;
     // Progress after `units` samples per pixel, the preparatory pass's setupSpp() included.
     const double setupSpp = work.setupSpp();

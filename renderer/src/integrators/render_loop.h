@@ -105,6 +105,11 @@ class RenderLoop {
     /// passes (PassWork::planAdaptivePass) of adaptiveStep() samples at most; `spp` bounds each
     /// pixel (0: only the time budget and convergence end the render).
     void setAdaptive(int startSpp);
+    /// Adaptive sampling: the film already holds `spp` samples in its fullest pixel and at
+    /// least the adaptive start in every other (a finished render gone on from,
+    /// Settings::continueFrom): the loop begins with its adaptive passes, its count of samples
+    /// a pixel at `spp`. After setAdaptive.
+    void continueAt(int spp);
     /// The most samples an adaptive pass adds to a pixel while many are open (Cycles checks
     /// every 16).
     static constexpr int kAdaptiveStep = 16;
@@ -138,6 +143,7 @@ class RenderLoop {
     double m_begin, m_end;
     int m_sampleBegin = 0, m_sampleEnd = 0;  // the samples taken (a shard), or all of them
     int m_adaptiveStart = 0;                 // uniform passes up to this spp; 0: not adaptive
+    int m_continueAt = 0;                    // samples a pixel the film holds at the start
     mutable std::mutex m_callbackMutex;
     mutable std::atomic<bool> m_cancelled{false};
     std::chrono::steady_clock::time_point m_start;

@@ -11,6 +11,10 @@
 
 #include "glint/render/mlt_settings.h"
 
+namespace glint {
+class FrameBuffers;
+}
+
 namespace glint::render {
 
 /// Light-transport algorithm.
@@ -126,6 +130,16 @@ struct Settings {
     /// Per-pixel weights (one channel, the film's size, finite, ≥ 0, not all 0) that multiply
     /// the estimated error: 0 gives a pixel only the minSpp start. Needs adaptive. None: 1.
     std::shared_ptr<const Image> importance;
+    /// Adaptive sampling: a finished render to go on from instead of starting from nothing (the
+    /// studio's Keep Refining continues the render on screen). Its pixels' statistics (colour,
+    /// features, their variances and sample counts, and half B's) become the film's, and the
+    /// adaptive passes follow, each pixel continuing its own sample sequence. It must be a
+    /// path-traced render of this scene with the same seed, sampler (sobol or independent), MIS,
+    /// depths and half buffers, of the film's size, every pixel at least at the adaptive start
+    /// (minSpp) and at most at spp, no sample discarded, with half buffers when this render
+    /// steers by half B and the position layer when it writes one; render() refuses any other
+    /// with an error naming continueFrom. Not with a render region. None: from nothing.
+    std::shared_ptr<const FrameBuffers> continueFrom;
 };
 
 /// The samples every pixel takes before adaptive passes (Settings::minSpp, or its automatic
