@@ -267,7 +267,10 @@ void Document::onPass(std::uint64_t id, FramePtr frame, int spp, double seconds)
 
 void Document::onFinished(std::uint64_t id, FramePtr frame, const render::RenderStats& stats) {
     if (id != m_job.currentId()) return;
-    if (stats.passes == 0 && stats.cancelled) return;  // stopped before anything was rendered
+    // Stopped before anything was rendered; but a render that went on from the finished frame
+    // (Keep Refining turned on after it) holds that frame, and its end is a refinement's end.
+    const bool wentOn = m_refineSpp > 0 && m_refineReached;
+    if (stats.passes == 0 && stats.cancelled && !wentOn) return;
     mergeThen(id, frame, true, [this, stats](FramePtr merged) {
         // Every pixel of a whole frame at the bar's spp at least: a refinement may go on from it.
         const bool whole = !m_mergeRegion && !m_renderBar.region;
@@ -496,6 +499,7 @@ void Document::renderReference(int spp) {
     render::Settings s = m_settings;
     s.spp = spp;
     s.seed = referenceSeed(s.seed);  // independent of the render's samples
+    s.halfBuffers = false;           // compared against, never denoised: one sequence is less noisy
     s.region.reset();
     s.timeLimit = 0.0;
     render::validate(s);

@@ -58,7 +58,7 @@ void RenderJob::cancel() {
         std::lock_guard lock(m_mutex);
         m_cancel = true;
         m_paused = false;
-        m_pending.reset();
+        if (m_pending) m_pending->cancelled = true;
     }
     m_wake.notify_all();
 }
@@ -98,7 +98,7 @@ void RenderJob::workerLoop() {
             m_wake.wait(lock, [&] { return m_quit || m_pending.has_value() || !m_edits.empty(); });
             if (m_quit) return;
             request.swap(m_pending);
-            if (request) m_cancel = false;
+            if (request) m_cancel = request->cancelled;
             renderer = m_renderer;
             edits.swap(m_edits);
         }
@@ -128,8 +128,9 @@ void RenderJob::runOne(const Request& request, std::shared_ptr<render::Renderer>
         }
     };
     if (!renderer) {
-        deliver([this, id, finishedBusy] {
-            emit failed(id, tr("nothing to render: no scene is open"));
+        // A render cancelled before it began (its scene closed since) only ends.
+        deliver([this, id, finishedBusy, cancelled = request.cancelled] {
+            if (!cancelled) emit failed(id, tr("nothing to render: no scene is open"));
             finishedBusy();
         });
         return;

@@ -50,7 +50,8 @@ class RenderJob : public QObject {
     /// message (empty on success).
     void withScene(std::function<void(render::Scene&)> work,
                    std::function<void(const QString& error)> done = {});
-    /// Stops the running render at its next tile boundary (it still delivers what it has).
+    /// Stops the running render at its next tile boundary (it still delivers what it has); one
+    /// requested but not yet begun stops at its first (and so still ends: `finished`, not busy).
     void cancel();
     void setPaused(bool paused);
     bool paused() const;
@@ -76,6 +77,9 @@ class RenderJob : public QObject {
         std::uint64_t id = 0;
         render::Settings settings;
         Steering steering;
+        /// Cancelled before the worker took it: it still runs, stopping at its first poll, so
+        /// that its end is reported (busy clears, a render gone on from a frame hands it back).
+        bool cancelled = false;
     };
     void workerLoop();
     void runOne(const Request& request, std::shared_ptr<render::Renderer> renderer);
