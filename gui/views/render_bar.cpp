@@ -36,10 +36,12 @@ RenderBar::RenderBar(Document* document, ImageCanvas* canvas, QWidget* parent)
     m_mis->addItem(tr("No MIS"), int(render::MisHeuristic::None));
     m_mis->setToolTip(tr("How light sampling and BSDF sampling are combined"));
     m_halves = new QCheckBox(tr("Halves"), this);
+    m_halves->setChecked(true);
     m_halves->setToolTip(
-        tr("Render two independent halves of the samples (half buffers): Auto Start then "
-           "estimates each filter's error by cross-validation, which chooses much better. "
-           "The render is somewhat noisier at equal spp. Path tracing only"));
+        tr("Render two independent halves of the samples (half buffers, on by default): Auto "
+           "Start then estimates each filter's error by cross-validation, which chooses much "
+           "better, and Keep Refining goes on from the render. The undenoised render is "
+           "somewhat noisier at equal spp. Path tracing only"));
     m_render = new QPushButton(tr("Render"), this);
     m_render->setToolTip(tr("Render with these settings (Ctrl+R)"));
     m_pause = new QPushButton(tr("Pause"), this);
@@ -167,12 +169,12 @@ void RenderBar::syncFromDocument() {
     m_progress->setValue(0);
     m_info->clear();
     m_rendered = false;
-    // A scene's own seed, integrator and MIS; the spp stays what the user chose (low).
+    // A scene's own seed, integrator and MIS; the spp (low) and Halves (on: the studio's renders
+    // are denoised, docs/lab/studio-halves.md) stay what the user chose.
     const render::Settings& s = m_document->settings();
     m_seed->setValue(int(std::min<std::uint64_t>(s.seed, std::uint64_t(m_seed->maximum()))));
     m_integrator->setCurrentIndex(m_integrator->findData(int(s.integrator)));
     m_mis->setCurrentIndex(m_mis->findData(int(s.mis)));
-    m_halves->setChecked(s.halfBuffers);
     if (m_document->kind() == Document::Kind::Scene) applySettings();
     updateState();
 }

@@ -12,8 +12,9 @@
 // writes the scene (for glint-render to make the reference) and exits. Like the studio, it runs
 // itself again with OMP_WAIT_POLICY=PASSIVE unless the variable is set (app/openmp_policy.h):
 // OMP_WAIT_POLICY= (empty: libgomp's default spin-then-sleep, with its "Invalid value" warning)
-// measures the wait as it was before. --halves on renders the bar's 16 spp with half buffers, so
-// that the toggle goes on from that render (Settings::continueFrom) instead of rendering it again.
+// measures the wait as it was before. --halves on (the studio's default) renders the bar's 16 spp
+// with half buffers, so that the toggle goes on from that render (Settings::continueFrom); off
+// renders it without, and the toggle renders it again.
 //   QT_QPA_PLATFORM=offscreen build/bin/bench_studio_progressive [--seconds S] [--threads T]
 //       [--layer default|bilateral] [--halves on|off] [--reference REF.exr] [--write-scene DIR]
 #include <QApplication>
@@ -77,7 +78,7 @@ int main(int argc, char** argv) {
     std::string layer = "default";
     std::string referencePath;
     std::string writeScene;
-    bool halves = false;
+    bool halves = true;  // the render bar's default
     const int bad = glint::bench::parseOptions(
         "bench_studio_progressive", argc, argv,
         [&](const std::string& name, const std::string& value) {

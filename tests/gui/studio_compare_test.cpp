@@ -442,6 +442,10 @@ class StudioCompareTest : public QObject {
         auto w = openScene();
         QVERIFY(w);
         QVERIFY(renderReference(*w));
+        // The render has half buffers (the bar's default); the reference, one sequence of
+        // samples, has none: it is compared against, never denoised.
+        QVERIFY(w->document()->finishedFrame()->has(Layer::HalfColor));
+        QVERIFY(!w->document()->reference()->has(Layer::HalfColor));
         CompareView* c = w->compareView();
         QCOMPARE(c->columnTitle(0), QStringLiteral("Raw, image"));
         QCOMPARE(c->columnTitle(1), QStringLiteral("Result, image"));

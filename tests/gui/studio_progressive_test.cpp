@@ -6,6 +6,7 @@
 // refreshes and how long the UI thread stalls are measured by
 // lab/bench/bench_studio_progressive.cpp, never here.)
 #include <QApplication>
+#include <QCheckBox>
 #include <QDir>
 #include <QFile>
 #include <QSignalSpy>
@@ -26,6 +27,7 @@
 #include "model/progressive_render.h"
 #include "studio_fixture.h"
 #include "views/look_panel.h"
+#include "views/render_bar.h"
 
 using namespace glint;
 using namespace glint::studio;
@@ -178,6 +180,44 @@ class StudioProgressiveTest : public QObject {
         QVERIFY(!w->document()->refining());
     }
 
+    // Cancelled before its first pass, a refinement that went on from the finished render
+    // (Halves on, the default) ends as any cancelled render does: not refining, the cancel in its
+    // stats, the finished frame the render's, and it goes on from there when turned on again.
+    // (It was dropped as "nothing rendered": the document stayed refining and the cancel lost.)
+    void cancelledBeforeItsFirstPassAContinuedRefinementEndsAndGoesOnAgain() {
+        auto w = openAndWait(m_scene, m_dir.filePath(QStringLiteral("cancel-first")));
+        QVERIFY(w);
+        Document& d = *w->document();
+        const int barSpp = d.settings().spp;
+        QVERIFY(d.finishedFrame()->has(Layer::HalfSampleCount));
+        const FramePtr finished = d.finishedFrame();
+        // Paused at once, it is held at its first tile (the worker has the frame to check and
+        // the first map to make before it: microseconds here against milliseconds there).
+        w->actions().keepRefining->setChecked(true);
+        d.setPaused(true);
+        QVERIFY(waitFor([&] { return d.rendering(); }));
+        QVERIFY(d.refining());
+        w->actions().cancelRender->trigger();
+        d.setPaused(false);
+        QVERIFY(waitIdle(*w));
+        QVERIFY(!d.refining());
+        QVERIFY(d.lastStats().cancelled);
+        QVERIFY(d.finishedFrame()->metadata().spp >= barSpp);
+        if (d.lastStats().passes == 0)  // the case the fix is for: the render's own colour
+            QVERIFY(sameBits(d.finishedFrame()->color(), finished->color()));
+        // Off and on again: it goes on from the render, past the bar's spp.
+        int firstShown = 0;
+        auto c = connect(&d, &Document::frameChanged, [&](bool final) {
+            if (!final && firstShown == 0) firstShown = d.frame()->metadata().spp;
+        });
+        w->actions().keepRefining->setChecked(false);
+        w->actions().keepRefining->setChecked(true);
+        QVERIFY(waitFor([&] { return firstShown > 0; }));
+        QVERIFY(firstShown > barSpp);
+        disconnect(c);
+        QVERIFY(stop(*w));
+    }
+
     void refreshesLeaveTheSessionAsItWas() {
         // The session before Keep Refining is switched on, against the session after the
         // refinement's refreshes. (Taken once it refined, the refreshes could all be past on a
@@ -299,8 +339,12 @@ class StudioProgressiveTest : public QObject {
             w->actions().keepRefining->setChecked(true);
             return waitFor([&] { return !shown.empty() || !d.rendering(); });
         };
-        // Without half buffers (the scene's default) auto's error has nothing to go on from:
-        // the refinement renders again from its first pass, below the bar's spp.
+        // Without half buffers (Halves unticked) auto's error has nothing to go on from: the
+        // refinement renders again from its first pass, below the bar's spp.
+        w->renderBar()->halvesBox()->setChecked(false);
+        d.render();
+        QVERIFY(waitFor([&] { return d.rendering(); }));
+        QVERIFY(waitIdle(*w));
         QVERIFY(!d.finishedFrame()->has(Layer::HalfSampleCount));
         QVERIFY(turnOn());
         QVERIFY(!shown.empty() && shown.front() < barSpp);

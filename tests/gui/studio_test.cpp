@@ -312,12 +312,31 @@ class StudioTest : public QObject {
         QVERIFY(!mergeRegion(part, base, Rect{0, 4, 0, 3}).has(Layer::HalfColor));
     }
 
-    void theHalvesBoxRendersHalfBuffersThatAutoStartUses() {
+    void theHalvesBoxIsOnByDefaultAndRendersHalfBuffersThatAutoStartUses() {
         auto w = openScene();
         QVERIFY(w);
-        QVERIFY(!w->document()->finishedFrame()->has(Layer::HalfColor));
+        // On by default: the scene (whose render block has no halfBuffers) renders with them.
         QCheckBox* halves = w->renderBar()->halvesBox();
         QVERIFY(halves->isEnabled());
+        QVERIFY(halves->isChecked());
+        QVERIFY(w->document()->finishedFrame()->has(Layer::HalfColor));
+        // Unticked, a render has none, and the choice stays when a scene is opened again (as
+        // the spp does); ticked, they are back.
+        halves->setChecked(false);
+        w->renderBar()->renderButton()->click();
+        QVERIFY(waitFor([&] {
+            const FramePtr f = w->document()->finishedFrame();
+            return !w->document()->rendering() && f && !f->has(Layer::HalfColor);
+        }));
+        const FramePtr unticked = w->document()->finishedFrame();
+        w->openFile(m_scene);
+        QVERIFY(waitFor([&] {
+            const FramePtr f = w->document()->finishedFrame();
+            return !w->document()->loading() && !w->document()->rendering() && f && f != unticked;
+        }));
+        QVERIFY(!halves->isChecked());
+        QVERIFY(!w->document()->settings().halfBuffers);
+        QVERIFY(!w->document()->finishedFrame()->has(Layer::HalfColor));
         halves->setChecked(true);
         w->renderBar()->renderButton()->click();
         QVERIFY(waitFor([&] {
