@@ -364,8 +364,10 @@ void MainWindow::connectModel() {
         // The region is the artist's: the autosave keeps it (not an undo step).
         m_session->record({journal_codec::encodeRegion(m_region->coordinates()), {}, nullptr});
     });
-    // The exposure, as a session file keeps it (Keep Refining's toggle journals it too).
+    // The exposure and the channel, as a session file keeps them (Keep Refining's toggle
+    // journals the view too).
     connect(m_viewer, &Viewer::exposureChanged, this, [this] { journalView(); });
+    connect(m_viewer, &Viewer::channelChanged, this, [this] { journalView(); });
     connect(m_viewer, &Viewer::readoutChanged, m_readout, &ElidedLabel::setFullText);
     connect(m_session, &SessionAdapter::busyChanged, this, [this](bool busy) {
         m_busy->setText(busy ? tr("working…") : QString());
@@ -519,7 +521,10 @@ void MainWindow::applyRecovered(Recovered& r, bool withHistory) {
     if (withHistory) m_session->restoreHistory(r.undo, r.redo, m_document);
     if (m_session->input()) m_document->setFinishedFrame(m_session->input());
     m_region->setCoordinates(r.lasso);  // journalled again by its signal
-    if (r.view) setView(r.view->exposure, r.view->keepRefining, r.view->stage);
+    if (r.view)
+        setView(r.view->exposure, r.view->keepRefining, r.view->stage,
+                r.view->channel ? channelFromKey(QString::fromStdString(*r.view->channel))
+                                : std::nullopt);
     // What came back is in no file: unsaved until saved, so closing asks first (a clean window
     // would close without asking and drop the autosave, and the restored work with it).
     m_session->undoStack()->resetClean();

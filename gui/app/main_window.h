@@ -15,6 +15,7 @@
 #include "model/document.h"
 #include "model/region.h"
 #include "model/session_adapter.h"
+#include "views/viewer.h"
 
 class QTabWidget;
 class QLabel;
@@ -23,7 +24,6 @@ class QMenu;
 
 namespace glint::studio {
 
-class Viewer;
 class RenderBar;
 class LookPanel;
 class FeaturesView;
@@ -140,14 +140,15 @@ class MainWindow : public QMainWindow {
     void restoreReference(const std::map<std::string, std::string>& state);
     /// Journals (setLook) each look value that differs from `before`.
     void journalLookChanges(const std::vector<render::LookItem>& before);
-    /// The exposure, Keep Refining and the stage, for the autosave (not an undo step).
+    /// The exposure, Keep Refining, the stage and the channel, for the autosave (not an undo
+    /// step).
     void journalView();
     /// Keep Refining on or off without rendering (a session or a restore sets it).
     void setKeepRefiningQuietly(bool on);
     /// What a session file or a restore sets of the view (each when given), without rendering,
     /// journalled as one line.
     void setView(std::optional<double> exposure, std::optional<bool> keepRefining,
-                 std::optional<int> stage);
+                 std::optional<int> stage, std::optional<Viewer::Channel> channel);
     QString askPath(const QString& title, const QString& filter, bool save,
                     const QString& suffix = {});
     void exportResult(bool exr);

@@ -70,6 +70,7 @@ std::map<std::string, std::string> MainWindow::viewState() const {
     state["lasso"] = m_region->toString().toStdString();
     state["exposure"] = std::to_string(m_viewer->exposure());
     state["stage"] = std::to_string(stage());
+    state["channel"] = channelKey(m_viewer->channel()).toStdString();
     // Render ▸ Keep Refining, a render option kept with the others.
     state["keepRefining"] = std::to_string(int(m_actions.keepRefining->isChecked()));
     return state;
@@ -116,9 +117,18 @@ void MainWindow::applyViewState(const std::map<std::string, std::string>& state)
     const QString refining = get("keepRefining");
     bool staged = false;
     const int stage = get("stage").toInt(&staged);
+    // The channel by its key; a name no channel has is named (an older file has none: the
+    // viewer's stays).
+    const QString key = get("channel");
+    const std::optional<Viewer::Channel> channel = channelFromKey(key);
+    if (!key.isEmpty() && !channel)
+        showError(tr("The session's viewer channel was not restored"),
+                  tr("%1: \"channel\" is \"%2\", which is no channel of the viewer (expected "
+                     "%3 or another name the studio writes)")
+                      .arg(m_sessionPath, key, channelKey(Viewer::Channel::Result)));
     setView(ok ? std::optional(exposure) : std::nullopt,
             refining.isEmpty() ? std::nullopt : std::optional(refining == QLatin1String("1")),
-            staged ? std::optional(stage) : std::nullopt);
+            staged ? std::optional(stage) : std::nullopt, channel);
 }
 
 void MainWindow::journalLookChanges(const std::vector<render::LookItem>& before) {
@@ -143,13 +153,14 @@ void MainWindow::setKeepRefiningQuietly(bool on) {
 }
 
 void MainWindow::setView(std::optional<double> exposure, std::optional<bool> keepRefining,
-                         std::optional<int> stage) {
+                         std::optional<int> stage, std::optional<Viewer::Channel> channel) {
     // Each part would journal the view on its own (the exposure's signal, the stage): one line,
     // once all are set.
     m_viewJournalHeld = true;
     if (keepRefining) setKeepRefiningQuietly(*keepRefining);
     if (exposure) m_viewer->setExposure(*exposure);
     if (stage) setStage(std::clamp(*stage, 0, journal_codec::kStages - 1));
+    if (channel) m_viewer->setChannel(*channel);
     m_viewJournalHeld = false;
     journalView();
 }
@@ -158,7 +169,8 @@ void MainWindow::journalView() {
     if (m_viewJournalHeld) return;
     const journal_codec::View view{.exposure = m_viewer->exposure(),
                                    .keepRefining = m_actions.keepRefining->isChecked(),
-                                   .stage = stage()};
+                                   .stage = stage(),
+                                   .channel = channelKey(m_viewer->channel()).toStdString()};
     m_session->record({journal_codec::encodeView(view), {}, nullptr});
 }
 

@@ -300,6 +300,7 @@ QJsonObject encodeView(const View& view) {
                      {QStringLiteral("exposure"), view.exposure},
                      {QStringLiteral("keepRefining"), view.keepRefining}};
     if (view.stage) json.insert(QStringLiteral("stage"), *view.stage);
+    if (view.channel) json.insert(QStringLiteral("channel"), QString::fromStdString(*view.channel));
     return json;
 }
 
@@ -310,13 +311,18 @@ View decodeView(const QJsonObject& json) {
         throw Error(ErrorKind::Format, "the view's exposure is not a finite number of stops");
     if (!refining.isBool())
         throw Error(ErrorKind::Format, "the view's keepRefining is not true or false");
-    View view{exposure.toDouble(), refining.toBool(), std::nullopt};
+    View view{exposure.toDouble(), refining.toBool(), std::nullopt, std::nullopt};
     if (const QJsonValue stage = json.value(QStringLiteral("stage")); !stage.isUndefined()) {
         const double s = stage.toDouble(-1.0);
         if (!stage.isDouble() || !(s >= 0.0 && s < kStages) || s != std::floor(s))
             throw Error(ErrorKind::Format, "the view's stage is not an integer in [0, " +
                                                std::to_string(kStages) + ")");
         view.stage = int(s);
+    }
+    if (const QJsonValue channel = json.value(QStringLiteral("channel")); !channel.isUndefined()) {
+        if (!channel.isString())
+            throw Error(ErrorKind::Format, "the view's channel is not a channel's name");
+        view.channel = channel.toString().toStdString();
     }
     return view;
 }

@@ -118,11 +118,14 @@ QJsonObject encodeRegion(const std::vector<double>& lasso);
 std::vector<double> decodeRegion(const QJsonObject& json);
 
 /// The view a session file keeps besides the region: the viewer's exposure (stops),
-/// Render ▸ Keep Refining and the stage (0 Features … 3 Paint).
+/// Render ▸ Keep Refining, the stage (0 Features … 3 Paint) and the channel the viewer shows.
 struct View {
     double exposure = 0.0;
     bool keepRefining = false;
     std::optional<int> stage;  ///< none in journals written before the stage was kept
+    /// The viewer's channel by its key (views/viewer.h, channelKey); none in journals written
+    /// before the channel was kept. The viewer, not this codec, knows which names are channels.
+    std::optional<std::string> channel;
     bool operator==(const View&) const = default;
 };
 /// The stages a view can name: 0 … kStages - 1.
@@ -130,7 +133,8 @@ inline constexpr int kStages = 4;
 /// The view as a journal line of its own ("op": "view", not an undo step).
 QJsonObject encodeView(const View& view);
 /// What a "view" line says. Throws glint::Error(Format) unless the exposure is a finite number,
-/// Keep Refining true or false, and the stage (when there is one) an integer in [0, kStages).
+/// Keep Refining true or false, the stage (when there is one) an integer in [0, kStages) and the
+/// channel (when there is one) a string.
 View decodeView(const QJsonObject& json);
 
 /// One look property given a value without an undo step ("op": "setLook"): what opening a session

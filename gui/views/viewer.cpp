@@ -100,6 +100,46 @@ QString channelName(Viewer::Channel channel) {
     return {};
 }
 
+QString channelKey(Viewer::Channel channel) {
+    switch (channel) {
+        case Viewer::Channel::Result:
+            return QStringLiteral("result");
+        case Viewer::Channel::Render:
+            return QStringLiteral("render");
+        case Viewer::Channel::Albedo:
+            return QStringLiteral("albedo");
+        case Viewer::Channel::Normal:
+            return QStringLiteral("normal");
+        case Viewer::Channel::Depth:
+            return QStringLiteral("depth");
+        case Viewer::Channel::ColorVariance:
+            return QStringLiteral("colorVariance");
+        case Viewer::Channel::AlbedoVariance:
+            return QStringLiteral("albedoVariance");
+        case Viewer::Channel::NormalVariance:
+            return QStringLiteral("normalVariance");
+        case Viewer::Channel::DepthVariance:
+            return QStringLiteral("depthVariance");
+        case Viewer::Channel::SampleCount:
+            return QStringLiteral("sampleCount");
+        case Viewer::Channel::Reference:
+            return QStringLiteral("reference");
+        case Viewer::Channel::ErrorAbsolute:
+            return QStringLiteral("errorAbsolute");
+        case Viewer::Channel::ErrorSquared:
+            return QStringLiteral("errorSquared");
+        case Viewer::Channel::ErrorRelative:
+            return QStringLiteral("errorRelative");
+    }
+    return {};
+}
+
+std::optional<Viewer::Channel> channelFromKey(const QString& key) {
+    for (Viewer::Channel c : kChannels)
+        if (channelKey(c) == key) return c;
+    return std::nullopt;
+}
+
 bool isStatistic(Viewer::Channel channel) {
     return channel == Viewer::Channel::ColorVariance ||
            channel == Viewer::Channel::AlbedoVariance ||

@@ -110,5 +110,10 @@ class Viewer : public QWidget {
 bool isStatistic(Viewer::Channel channel);
 /// The name of a viewer channel, for menus.
 QString channelName(Viewer::Channel channel);
+/// A viewer channel's name in session files and the journal ("result", "albedo", "sampleCount",
+/// …): never translated, never changed once written.
+QString channelKey(Viewer::Channel channel);
+/// The channel a session file or journal line names; none for a name no channel has.
+std::optional<Viewer::Channel> channelFromKey(const QString& key);
 
 }  // namespace glint::studio

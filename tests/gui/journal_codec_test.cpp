@@ -254,7 +254,12 @@ class JournalCodecTest : public QObject {
     void theViewRoundTripsAndABadOneIsNamed() {
         namespace jc = journal_codec;
         for (const std::optional<int> stage : {std::optional<int>(3), std::optional<int>()}) {
-            const jc::View view{.exposure = -2.5, .keepRefining = true, .stage = stage};
+            // With the channel and without (journals written before it was kept).
+            const jc::View view{
+                .exposure = -2.5,
+                .keepRefining = true,
+                .stage = stage,
+                .channel = stage ? std::optional<std::string>("sampleCount") : std::nullopt};
             const QJsonObject json = jc::encodeView(view);
             QCOMPARE(json.value(QStringLiteral("op")).toString(), QStringLiteral("view"));
             const QJsonObject read = QJsonDocument::fromJson(QJsonDocument(json).toJson()).object();
@@ -279,6 +284,12 @@ class JournalCodecTest : public QObject {
                                       "\"stage\":" + stage + "}",
                                   "stage"),
                      stage);
+        // The channel, when there is one: a name (which names are channels is the viewer's).
+        for (const char* channel : {"1", "null", "[\"albedo\"]", "true"})
+            QVERIFY2(throwsNaming(QByteArray(R"({"op":"view","exposure":1,"keepRefining":true,)") +
+                                      "\"channel\":" + channel + "}",
+                                  "channel"),
+                     channel);
     }
 };
 

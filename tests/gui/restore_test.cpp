@@ -342,9 +342,10 @@ class RestoreTest : public QObject {
         QVERIFY(w->isModified());
     }
 
-    void theExposureKeepRefiningAndStageComeBackWithoutRendering() {
+    void theExposureKeepRefiningStageAndChannelComeBackWithoutRendering() {
         // What a session file keeps of the view besides the region, changed since no save: the
-        // exposure (set twice), Keep Refining (on, its render cancelled) and the stage. The restore
+        // exposure (set twice), Keep Refining (on, its render cancelled), the stage and the
+        // viewer's channel. The restore
         // brings them back and renders nothing (they came back as the scene file's defaults
         // before).
         const QString base = m_dir.filePath(QStringLiteral("view"));
@@ -357,6 +358,7 @@ class RestoreTest : public QObject {
         QVERIFY(waitIdle(*w));
         w->viewer()->setExposure(-1.0);
         w->setStage(3);  // Paint, as a session file would keep it
+        w->viewer()->setChannel(Viewer::Channel::Albedo);
         QVERIFY(copyAsCrashed(*w, base));
         const QStringList crashed = Autosave::crashed(base);
         QCOMPARE(crashed.size(), 1);
@@ -364,6 +366,7 @@ class RestoreTest : public QObject {
         auto again = makeWindow(base);
         QVERIFY(!again->actions().keepRefining->isChecked());
         QCOMPARE(again->viewer()->exposure(), 0.0);
+        QCOMPARE(again->viewer()->channel(), Viewer::Channel::Result);
         const int stageBefore = again->stage();
         QVERIFY(stageBefore != 3);
         again->restoreFrom(crashed.first());
@@ -373,6 +376,7 @@ class RestoreTest : public QObject {
             waitFor([&] { return again->session()->hasSession() && !again->session()->busy(); }));
         QCOMPARE(again->viewer()->exposure(), -1.0);
         QCOMPARE(again->stage(), 3);
+        QCOMPARE(again->viewer()->channel(), Viewer::Channel::Albedo);
         // The canvas shows the restored result (drawn once, after everything came back).
         const QImage shown = again->viewer()->canvas()->shownImage();
         QVERIFY(!shown.isNull());
@@ -388,6 +392,7 @@ class RestoreTest : public QObject {
         QCOMPARE(r.view->exposure, -1.0);
         QVERIFY(r.view->keepRefining);
         QCOMPARE(r.view->stage, std::optional<int>(3));
+        QCOMPARE(r.view->channel, std::optional<std::string>("albedo"));
     }
 
     void aKilledStudioComesBackWholeAfterAutoStartALookEditAndAStroke() {

@@ -435,8 +435,10 @@ class StudioProgressiveTest : public QObject {
         QCOMPARE(
             views,
             (QStringList{
-                QStringLiteral(R"({"exposure":1.5,"keepRefining":true,"op":"view","stage":3})"),
-                QStringLiteral(R"({"exposure":1.5,"keepRefining":false,"op":"view","stage":1})")}));
+                QStringLiteral(
+                    R"({"channel":"result","exposure":1.5,"keepRefining":true,"op":"view","stage":3})"),
+                QStringLiteral(
+                    R"({"channel":"result","exposure":1.5,"keepRefining":false,"op":"view","stage":1})")}));
     }
 };
 

@@ -30,6 +30,8 @@
 #include <QToolBar>
 #include <QUrl>
 
+#include <functional>
+
 #include "app/actions.h"
 #include "app/file_naming.h"
 #include "app/program_allowance.h"
@@ -87,6 +89,18 @@ class StudioSessionTest : public QObject {
         if (!w.saveSession(path)) return {};
         if (!waitFor([&] { return !w.session()->busy(); })) return {};
         return path;
+    }
+
+    // The session file at `path` with its view state replaced by `edit` of it (as an older studio
+    // or a hand edit wrote it); false when it cannot be read or written.
+    static bool editView(const QString& path, const std::function<QJsonObject(QJsonObject)>& edit) {
+        QFile file(path);
+        if (!file.open(QIODevice::ReadOnly)) return false;
+        QJsonObject doc = QJsonDocument::fromJson(file.readAll()).object();
+        file.close();
+        doc.insert(QStringLiteral("view"), edit(doc.value(QStringLiteral("view")).toObject()));
+        if (!file.open(QIODevice::WriteOnly | QIODevice::Truncate)) return false;
+        return file.write(QJsonDocument(doc).toJson()) > 0;
     }
 
     // A window with the session at `path` open, its scene reopened and restored.
@@ -302,23 +316,22 @@ class StudioSessionTest : public QObject {
         QVERIFY(!path.isEmpty());
         w->close();
         w.reset();
-        // The view state as the studio wrote it before sessions kept the look and the halves.
-        QFile file(path);
-        QVERIFY(file.open(QIODevice::ReadOnly));
-        QJsonObject doc = QJsonDocument::fromJson(file.readAll()).object();
-        file.close();
-        const QJsonObject view = doc.value(QStringLiteral("view")).toObject();
-        QJsonObject old;
-        for (const char* key :
-             {"scene", "spp", "seed", "integrator", "mis", "lasso", "exposure", "stage"}) {
-            QVERIFY2(view.contains(QLatin1String(key)), key);
-            old.insert(QLatin1String(key), view.value(QLatin1String(key)));
-        }
-        QVERIFY(view.size() > old.size());  // the new keys were there
-        doc.insert(QStringLiteral("view"), old);
-        QVERIFY(file.open(QIODevice::WriteOnly | QIODevice::Truncate));
-        file.write(QJsonDocument(doc).toJson());
-        file.close();
+        // The view state as the studio wrote it before sessions kept the look, the halves and
+        // the channel.
+        QStringList missing;
+        bool newKeys = false;
+        QVERIFY(editView(path, [&](const QJsonObject& view) {
+            QJsonObject old;
+            for (const char* key :
+                 {"scene", "spp", "seed", "integrator", "mis", "lasso", "exposure", "stage"}) {
+                if (!view.contains(QLatin1String(key))) missing << QLatin1String(key);
+                old.insert(QLatin1String(key), view.value(QLatin1String(key)));
+            }
+            newKeys = view.size() > old.size();
+            return old;
+        }));
+        QVERIFY2(missing.isEmpty(), qPrintable(missing.join(QLatin1Char(' '))));
+        QVERIFY(newKeys);  // the new keys were there
 
         auto again = reopen(path);
         QVERIFY(again);
@@ -326,7 +339,41 @@ class StudioSessionTest : public QObject {
         QVERIFY(again->document()->lookValue(firstAlbedoMaterial(*again->document()), "albedo") ==
                 original);
         QVERIFY(again->document()->settings().halfBuffers);  // missing: the render bar's (on)
+        QCOMPARE(again->viewer()->channel(), Viewer::Channel::Result);  // missing: the viewer's
         QVERIFY(!unsavedTitle(*again));
+    }
+
+    void theViewersChannelComesBackWithTheSessionAndANameNoChannelHasIsNamed() {
+        auto w = openScene();
+        QVERIFY(w);
+        w->viewer()->setChannel(Viewer::Channel::SampleCount);
+        const QString path = save(*w, QStringLiteral("channel.glint-session.json"));
+        QVERIFY(!path.isEmpty());
+        w->close();
+        w.reset();
+        auto again = reopen(path);
+        QVERIFY(again);
+        QVERIFY2(again->lastError().isEmpty(), qPrintable(again->lastError()));
+        QCOMPARE(again->viewer()->channel(), Viewer::Channel::SampleCount);
+        QVERIFY(!unsavedTitle(*again));
+        again->close();
+        again.reset();
+
+        // A name no channel has (a hand edit, a later studio's): said, naming the file and the
+        // name; the rest of the session opens and the viewer shows the result.
+        QString saved;
+        QVERIFY(editView(path, [&](QJsonObject view) {
+            saved = view.value(QStringLiteral("channel")).toString();
+            view.insert(QStringLiteral("channel"), QStringLiteral("Sample count"));
+            return view;
+        }));
+        QCOMPARE(saved, QStringLiteral("sampleCount"));
+        auto bad = reopen(path);
+        QVERIFY(bad);
+        QVERIFY2(bad->lastError().contains(QLatin1String("Sample count")) &&
+                     bad->lastError().contains(QLatin1String("channel.glint-session.json")),
+                 qPrintable(bad->lastError()));
+        QCOMPARE(bad->viewer()->channel(), Viewer::Channel::Result);
     }
 
     void lookAndRenderSettingsEditsAreUnsaved() {
