@@ -13,6 +13,7 @@
 
 #include "glint/image/error.h"
 #include "glint/image/memory.h"
+#include "sanitizer.h"
 
 namespace glint {
 namespace {
@@ -78,15 +79,6 @@ TEST(Memory, CheckRefusesWithWhatItNeedsAndWhatThereIs) {
     EXPECT_EQ(saturatingAdd(UINT64_MAX - 1, 5), UINT64_MAX);
     EXPECT_EQ(errorKindName(ErrorKind::OutOfMemory), std::string("out-of-memory"));
 }
-
-// AddressSanitizer: GCC defines __SANITIZE_ADDRESS__, Clang answers __has_feature.
-#if defined(__SANITIZE_ADDRESS__)
-#define GLINT_TEST_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define GLINT_TEST_ASAN 1
-#endif
-#endif
 
 TEST(Memory, RetainFreedMemoryKeepsAFrameSizedBufferInTheHeap) {
 #if defined(GLINT_TEST_ASAN)

@@ -89,7 +89,7 @@ void Film::continueFrom(const FrameBuffers& frame) {
     static constexpr Layer kVariances[4] = {Layer::Variance, Layer::AlbedoVariance,
                                             Layer::NormalVariance, Layer::DepthVariance};
     static constexpr int kFirst[4] = {0, 3, 6, 9};
-    auto take = [&](std::vector<Pixel>& pixels, bool half) {
+    auto take = [&](Pixels& pixels, bool half) {
         auto layer = [&](Layer l) -> const Image& { return frame.layer(half ? *halfLayer(l) : l); };
         const Image& count = layer(Layer::SampleCount);
         const Image* position =

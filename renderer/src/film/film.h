@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "glint/image/frame_buffers.h"
+#include "glint/image/large_pages.h"
 #include "glint/render/settings.h"
 #include "vecmath.h"
 
@@ -78,9 +79,10 @@ class Film {
     std::size_t index(int x, int y) const { return std::size_t(y) * std::size_t(m_width) + x; }
 
     int m_width, m_height;
-    std::vector<Pixel> m_pixels;
-    std::vector<Pixel> m_half;  ///< half B's statistics; empty without half buffers
-    bool m_writeHalves;         ///< resolve() writes the half-buffer layers
+    using Pixels = std::vector<Pixel, LargePageAllocator<Pixel>>;
+    Pixels m_pixels;
+    Pixels m_half;       ///< half B's statistics; empty without half buffers
+    bool m_writeHalves;  ///< resolve() writes the half-buffer layers
 };
 
 }  // namespace glint::render

@@ -5,6 +5,8 @@
 #include <span>
 #include <vector>
 
+#include "glint/image/large_pages.h"
+
 namespace glint {
 
 /// A rectangle of pixels, half-open: x in [x0, x1), y in [y0, y1).
@@ -72,7 +74,7 @@ class Image {
     int m_width = 0;
     int m_height = 0;
     int m_channels = 0;
-    std::vector<float> m_data;
+    std::vector<float, LargePageAllocator<float>> m_data;
 };
 
 }  // namespace glint
