@@ -13,6 +13,7 @@
 
 #include "glint/image/error.h"
 #include "glint/image/io.h"
+#include "glint/image/memory.h"
 #include "glint/pipeline/final_render.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
@@ -116,6 +117,9 @@ int run(const Options& opt, std::chrono::steady_clock::time_point started) {
 
 int main(int argc, char** argv) {
     const auto started = std::chrono::steady_clock::now();
+    // Auto's probes, refreshes and final run allocate and free frame-sized buffers by the
+    // hundred (glint/image/memory.h).
+    glint::retainFreedMemory();
     CLI::App app{
         "glint-final: render a scene and denoise it to a time or error target (adaptive sampling "
         "steered by the render's variance under a time limit alone, else by auto's estimated "
