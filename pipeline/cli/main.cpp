@@ -14,6 +14,7 @@
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "glint/image/memory.h"
+#include "glint/image/process_clock.h"
 #include "glint/pipeline/final_render.h"
 #include "glint/render/renderer.h"
 #include "glint/render/scene.h"
@@ -27,6 +28,12 @@ struct Options {
     std::optional<int> threads;
     std::vector<std::string> set;  ///< --set: render settings, name=value each
 };
+
+/// What the time limit keeps for writing the EXR and the exit, a fixed part and a part per
+/// pixel: measured 0.06–0.09 s at 256² and 0.27–0.39 s at 1024² (45 channels, 2 threads), and
+/// kept with a margin of about 1.5 (docs/lab/race.md, "The start and the writing counted").
+constexpr double kWriteSeconds = 0.1;
+constexpr double kWriteSecondsPerPixel = 0.35e-6;
 
 /// The flag that sets the option or Settings field `field` (validate's place).
 std::string flagOf(const std::string& field) {
@@ -84,16 +91,21 @@ int run(const Options& opt, std::chrono::steady_clock::time_point started) {
                            flagOf(e.where()));
     }
 
+    const double pixels = double(scene.width()) * double(scene.height());
     glint::render::Renderer renderer(std::move(scene), options.settings);
-    // The time limit covers the whole run: loading the scene and building the renderer took
-    // part of it already, and the process's start and the EXR's writing take some (10 % of
-    // the limit, at most 0.3 s); the loop gets what is left (at least a moment: the first pass
-    // always completes).
+    // The time limit covers the whole run: the process's start (counted from its exec), loading
+    // the scene and building the renderer took part of it already, and the EXR's writing and the
+    // exit take some (kWriteSeconds…); the loop gets what is left (at least a moment: the first
+    // pass always completes).
     if (opt.timeLimit) {
         const double spent =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-        options.timeLimit =
-            std::max(*opt.timeLimit - spent - std::min(0.1 * *opt.timeLimit, 0.3), 1e-9);
+        const double writing = kWriteSeconds + kWriteSecondsPerPixel * pixels;
+        options.timeLimit = std::max(*opt.timeLimit - spent - writing, 1e-9);
+        std::fprintf(stderr,
+                     "glint-final: time limit: %.2f s taken by the start and the scene, %.2f s "
+                     "kept for writing, %.2f s for the render and auto\n",
+                     spent, writing, options.timeLimit);
     }
     const glint::pipeline::FinalResult result = glint::pipeline::renderFinal(renderer, options);
     if (result.overTime)
@@ -102,7 +114,6 @@ int run(const Options& opt, std::chrono::steady_clock::time_point started) {
                      "its denoising (%.3g s): writing that one pass, denoised (%s)\n",
                      *opt.timeLimit, result.seconds, result.finalPlan.c_str());
     glint::writeExr(result.frame, opt.out);
-    const double pixels = double(result.frame.width()) * double(result.frame.height());
     std::printf(
         "final %s: %dx%d, %.1f spp a pixel (%d passes, %d refreshes), estimated relMSE %.4g%s in "
         "%.2f s (auto %.2f s)\n  final auto: %s\n  wrote %s\n",
@@ -116,7 +127,12 @@ int run(const Options& opt, std::chrono::steady_clock::time_point started) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    const auto started = std::chrono::steady_clock::now();
+    // The time limit counts from the process's exec: before main, loading the shared libraries
+    // (OpenImageIO's bring some 260) takes 0.4 s on a 2-core machine (docs/final-render.md).
+    const auto started =
+        std::chrono::steady_clock::now() -
+        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+            std::chrono::duration<double>(glint::processAgeSeconds().value_or(0.0)));
     // Auto's probes, refreshes and final run allocate and free frame-sized buffers by the
     // hundred (glint/image/memory.h).
     glint::retainFreedMemory();

@@ -2,6 +2,7 @@
 // box. It writes the denoised EXR with the render's layers; a time limit shorter than one pass
 // says so and writes that pass; bad targets, thresholds, spp and maps of the settings exit 2 with
 // one line naming the flag and write nothing.
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -43,6 +44,26 @@ TEST_F(FinalCli, ATimeLimitShorterThanOnePassSaysSoAndWritesThatPass) {
     EXPECT_NE(r.err.find("shorter than one pass"), std::string::npos) << r.err;
     const FrameBuffers f = readExr(path("out.exr"));
     for (float n : f.layer(Layer::SampleCount).data()) ASSERT_EQ(n, 1.0f);
+}
+
+TEST_F(FinalCli, ATimeLimitCountsTheProcesssStartAndKeepsTheWritingsShare) {
+    // The limit is shared out before the render: what the process's start (from its exec) and
+    // the scene took, what the writing keeps (0.1 s + 0.35 µs for each of the 576 pixels), and
+    // the rest for the render and auto; the three add up to the limit.
+    const RunResult r = final("--time-limit 30 --set spp=8 --threads 1");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    double taken = -1.0, writing = -1.0, loop = -1.0;
+    const std::size_t at = r.err.find("time limit: ");
+    ASSERT_NE(at, std::string::npos) << r.err;
+    ASSERT_EQ(std::sscanf(r.err.c_str() + at,
+                          "time limit: %lf s taken by the start and the scene, %lf s kept for "
+                          "writing, %lf s for the render and auto",
+                          &taken, &writing, &loop),
+              3)
+        << r.err;
+    EXPECT_GT(taken, 0.0);
+    EXPECT_DOUBLE_EQ(writing, 0.10);
+    EXPECT_NEAR(taken + writing + loop, 30.0, 0.015);
 }
 
 TEST_F(FinalCli, UnderATimeLimitAloneTheRendersVarianceSteersAndAutoRunsOnlyAtTheEnd) {
