@@ -31,7 +31,7 @@ struct Options {
 
 /// What the time limit keeps for writing the EXR and the exit, a fixed part and a part per
 /// pixel: measured 0.06–0.09 s at 256² and 0.27–0.39 s at 1024² (45 channels, 2 threads), and
-/// kept with a margin of about 1.5 (docs/lab/race.md, "The start and the writing counted").
+/// kept with a margin of about 1.5 (docs/research/start-and-writing.md).
 constexpr double kWriteSeconds = 0.1;
 constexpr double kWriteSecondsPerPixel = 0.35e-6;
 
@@ -128,7 +128,8 @@ int run(const Options& opt, std::chrono::steady_clock::time_point started) {
 
 int main(int argc, char** argv) {
     // The time limit counts from the process's exec: before main, loading the shared libraries
-    // (OpenImageIO's bring some 260) takes 0.4 s on a 2-core machine (docs/final-render.md).
+    // (OpenImageIO's bring some 260) takes 0.4 s on a 2-core machine
+    // (docs/research/start-and-writing.md).
     const auto started =
         std::chrono::steady_clock::now() -
         std::chrono::duration_cast<std::chrono::steady_clock::duration>(
