@@ -21,22 +21,30 @@ double since(Clock::time_point t) {
 
 TEST(ProcessClock, TheAgeCountsFromBeforeMainAndGrowsWithTheClock) {
 #if defined(__linux__)
+    // Each clock is read before and after the other, so that a preemption anywhere widens the
+    // bounds instead of breaking them.
+    const double constructedAgo = since(kConstructed);
+    const Clock::time_point beforeFirst = Clock::now();
     const std::optional<double> first = processAgeSeconds();
+    const Clock::time_point afterFirst = Clock::now();
     ASSERT_TRUE(first.has_value());
     // The start time comes in clock ticks (10 ms on most systems; 1 ms on some): the age is at
-    // least the time since the constructors ran, less one tick.
-    EXPECT_GE(*first, since(kConstructed) - 0.011);
+    // least the time since the constructors ran, less one tick…
+    EXPECT_GE(*first, constructedAgo - 0.011);
     // … and the start is before the constructors by the shared libraries' loading alone (well
     // under a minute, even under a sanitizer), not the system's boot or another process's start.
     EXPECT_LT(*first - since(kConstructed), 60.0);
-    const Clock::time_point mark = Clock::now();
     std::this_thread::sleep_for(std::chrono::milliseconds(30));
+    const Clock::time_point beforeSecond = Clock::now();
     const std::optional<double> second = processAgeSeconds();
-    const double slept = since(mark);
+    const Clock::time_point afterSecond = Clock::now();
     ASSERT_TRUE(second.has_value());
-    // The start time is fixed, so the age moves by what the clock moved (the boot clock against
-    // the steady one: they differ only over a suspend), whatever the machine's speed.
-    EXPECT_NEAR(*second - *first, slept, 0.005);
+    // The start time is fixed, so the age moves by what the clock moved between the two reads
+    // (the boot clock against the steady one: they differ only over a suspend; 1 ms for rounding),
+    // whatever the machine's speed.
+    const auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
+    EXPECT_GE(*second - *first, seconds(beforeSecond - afterFirst) - 0.001);
+    EXPECT_LE(*second - *first, seconds(afterSecond - beforeFirst) + 0.001);
 #else
     EXPECT_FALSE(processAgeSeconds().has_value());
 #endif

@@ -63,7 +63,7 @@ TEST_F(FinalCli, ATimeLimitCountsTheProcesssStartAndKeepsTheWritingsShare) {
         << r.err;
     EXPECT_GT(taken, 0.0);
     EXPECT_DOUBLE_EQ(writing, 0.10);
-    EXPECT_NEAR(taken + writing + loop, 30.0, 0.015);
+    EXPECT_NEAR(taken + writing + loop, 30.0, 0.02);  // three values rounded to 0.01
 }
 
 TEST_F(FinalCli, UnderATimeLimitAloneTheRendersVarianceSteersAndAutoRunsOnlyAtTheEnd) {
