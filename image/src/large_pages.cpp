@@ -36,20 +36,21 @@ constexpr bool usesHugePages(std::size_t bytes) {
 }  // namespace
 
 void* allocateLarge(std::size_t bytes, std::size_t alignment) {
-    if (!usesHugePages(bytes))
-        return ::operator new(bytes, std::align_val_t(std::max(alignment, sizeof(void*))));
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-    // Through malloc, so a freed block goes back to the heap for the next frame-sized buffer
-    // (glint::retainFreedMemory) instead of to the kernel. Starting on a 2 MiB boundary, every
-    // whole 2 MiB of the block can be one page; the last part under 2 MiB stays in small pages.
-    void* block = nullptr;
-    if (posix_memalign(&block, kLargePageBlock, bytes) != 0) throw std::bad_alloc();
-    // Advice only: where the kernel refuses (THP off, an old kernel), the block is ordinary memory.
-    (void)madvise(block, bytes, MADV_HUGEPAGE);
-    return block;
-#else
-    return nullptr;
+    if (usesHugePages(bytes)) {
+        // Through malloc, so a freed block goes back to the heap for the next frame-sized buffer
+        // (glint::retainFreedMemory) instead of to the kernel. Starting on a 2 MiB boundary,
+        // every whole 2 MiB of the block can be one page; the last part under 2 MiB stays in
+        // small pages.
+        void* block = nullptr;
+        if (posix_memalign(&block, kLargePageBlock, bytes) != 0) throw std::bad_alloc();
+        // Advice only: where the kernel refuses (THP off, an old kernel), the block is ordinary
+        // memory.
+        (void)madvise(block, bytes, MADV_HUGEPAGE);
+        return block;
+    }
 #endif
+    return ::operator new(bytes, std::align_val_t(std::max(alignment, sizeof(void*))));
 }
 
 void deallocateLarge(void* block, std::size_t bytes, std::size_t alignment) noexcept {
