@@ -10,6 +10,8 @@ if(GLINT_SANITIZE)
     target_link_options(${lib} INTERFACE -fsanitize=address,undefined)
   endforeach()
 endif()
+# The module of the image formats other than OpenEXR, where glint_image looks for it.
+install(TARGETS glint_image_formats LIBRARY DESTINATION ${GLINT_IMAGE_FORMATS_INSTALL_DIR})
 install(TARGETS glint_image glint_render glint_denoise
         EXPORT GlintTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}

@@ -1,9 +1,7 @@
 // Turning linear images into display values: exposure, clamp, sRGB, false colour, PNG export.
-#include <OpenImageIO/imageio.h>
-#include <OpenImageIO/strutil.h>
-
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -11,7 +9,8 @@
 #include "glint/image/display_curve.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
-#include "oiio_helpers.h"
+#include "image_files.h"
+#include "other_formats.h"
 
 namespace glint {
 
@@ -66,8 +65,11 @@ float srgbDecode(float encoded) {
 }
 
 bool srgbEncodedFile(const std::string& declaredColorSpace, bool eightBit) {
-    return OIIO::Strutil::iequals(declaredColorSpace, "sRGB") ||
-           (declaredColorSpace.empty() && eightBit);
+    const bool srgb =
+        declaredColorSpace.size() == 4 &&
+        std::equal(declaredColorSpace.begin(), declaredColorSpace.end(), "srgb",
+                   [](char a, char b) { return std::tolower((unsigned char)a) == b; });
+    return srgb || (declaredColorSpace.empty() && eightBit);
 }
 
 Image toDisplay(const Image& linear, const DisplayOptions& options) {
@@ -133,10 +135,9 @@ void writePng(const Image& linear, const std::filesystem::path& path,
     for (std::size_t i = 0; i < bytes.size(); ++i)
         bytes[i] = static_cast<unsigned char>(std::lround(std::clamp(src[i], 0.0f, 1.0f) * 255.0f));
 
-    OIIO::ImageSpec spec(display.width(), display.height(), 3, OIIO::TypeUInt8);
-    spec.attribute("oiio:ColorSpace", options.srgb ? "sRGB" : "Linear");
     writeAtomically(path, [&](const std::filesystem::path& tmp) {
-        detail::writeOiio(tmp, path, spec, OIIO::TypeUInt8, bytes.data());
+        detail::writeOtherFormat8(tmp, path, display.width(), display.height(), {"R", "G", "B"}, -1,
+                                  options.srgb ? "sRGB" : "Linear", bytes.data());
     });
 }
 

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "glint/image/error.h"
-#include "oiio_helpers.h"
+#include "image_files.h"
 
 namespace glint::detail {
 

@@ -1,8 +1,15 @@
-// Layered EXR and plain image I/O through OpenImageIO (docs/image.md, "The layered EXR").
+// Layered EXR and plain image I/O: EXRs through OpenEXR, other formats through the module of
+// other_formats.h (docs/image.md, "The layered EXR").
 #include <unistd.h>
 
-#include <OpenImageIO/imageio.h>
-#include <OpenImageIO/strutil.h>
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfCompression.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfThreading.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -14,12 +21,14 @@
 #include <optional>
 #include <string_view>
 #include <system_error>
+#include <thread>
 
 #include "channel_aliases.h"
 #include "exr_layout.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
-#include "oiio_helpers.h"
+#include "image_files.h"
+#include "other_formats.h"
 
 namespace glint {
 
@@ -74,20 +83,18 @@ std::optional<T> parseNumber(std::string_view text) {
 
 /// An integer attribute stored either as an EXR int or as a decimal string.
 template <typename T>
-std::optional<T> intAttribute(const OIIO::ImageSpec& spec, const std::string& name,
+std::optional<T> intAttribute(const detail::ExrLayout& layout, const std::string& name,
                               const std::string& file) {
-    const OIIO::ParamValue* p = spec.find_attribute(name);
-    if (!p) return std::nullopt;
-    if (p->type() == OIIO::TypeInt) return T(p->get_int());
-    if (p->type() == OIIO::TypeString) {
-        if (auto v = parseNumber<T>(p->get_string())) return v;
-    }
-    throw Error(ErrorKind::Format, "expected an integer, got '" + p->get_string() + "'", file,
+    const detail::ExrAttribute* a = layout.find(name);
+    if (!a) return std::nullopt;
+    if (a->integer) return T(*a->integer);
+    if (auto v = parseNumber<T>(a->text)) return v;
+    throw Error(ErrorKind::Format, "expected an integer, got '" + a->text + "'", file,
                 "attribute " + name);
 }
 
 /// FrameMetadata from glint:* attributes, with `plan` giving the defaults of foreign files.
-FrameMetadata readMetadata(const OIIO::ImageSpec& spec, const detail::ChannelPlan& plan,
+FrameMetadata readMetadata(const detail::ExrLayout& layout, const detail::ChannelPlan& plan,
                            const std::string& file) {
     FrameMetadata md;
     md.source = plan.source;
@@ -95,11 +102,11 @@ FrameMetadata readMetadata(const OIIO::ImageSpec& spec, const detail::ChannelPla
     md.depthKind = plan.depthKind;
     if (!plan.positionSpace.empty()) md.extra["positionSpace"] = plan.positionSpace;
 
-    for (const OIIO::ParamValue& p : spec.extra_attribs) {
-        const std::string name = p.name().string();
+    for (const detail::ExrAttribute& a : layout.attributes) {
+        const std::string& name = a.name;
         if (name.rfind(kPrefix, 0) != 0) continue;
         const std::string key = name.substr(kPrefix.size());
-        const std::string value = p.get_string(1 << 20);
+        const std::string& value = a.text;
         if (key == "integrator")
             md.integrator = value;
         else if (key == "scene")
@@ -113,70 +120,113 @@ FrameMetadata readMetadata(const OIIO::ImageSpec& spec, const detail::ChannelPla
         else if (!isKnownKey(key))
             md.extra[key] = value;
     }
-    md.spp = intAttribute<int>(spec, "glint:spp", file).value_or(0);
-    md.seed = intAttribute<std::uint64_t>(spec, "glint:seed", file).value_or(0);
+    md.spp = intAttribute<int>(layout, "glint:spp", file).value_or(0);
+    md.seed = intAttribute<std::uint64_t>(layout, "glint:seed", file).value_or(0);
     md.nonFiniteSamples =
-        intAttribute<std::int64_t>(spec, "glint:nonFiniteSamples", file).value_or(0);
+        intAttribute<std::int64_t>(layout, "glint:nonFiniteSamples", file).value_or(0);
 
     // Sample counts of other renderers: pbrt-v4 writes samplesPerPixel, Blender stamps
     // cycles.<view layer>.samples.
     if (md.spp == 0) {
-        if (auto spp = intAttribute<int>(spec, "samplesPerPixel", file)) md.spp = *spp;
+        if (auto spp = intAttribute<int>(layout, "samplesPerPixel", file)) md.spp = *spp;
     }
     if (md.spp == 0 && plan.source == "cycles") {
-        for (const OIIO::ParamValue& p : spec.extra_attribs) {
-            const std::string name = p.name().string();
+        for (const detail::ExrAttribute& a : layout.attributes) {
+            const std::string& name = a.name;
             if (name.rfind("cycles.", 0) == 0 && name.size() > 8 &&
                 name.substr(name.size() - 8) == ".samples")
-                md.spp = intAttribute<int>(spec, name, file).value_or(0);
+                md.spp = intAttribute<int>(layout, name, file).value_or(0);
         }
     }
     return md;
 }
 
-/// Selects OpenImageIO's OpenEXRCore-based reader, which reads many-channel files 2-3x faster
-/// than the classic one (docs/image.md). This is a process-wide OpenImageIO option; it is set
-/// once, on first use, and never changed afterwards.
-void useFastExrReader() {
-    static const bool set = OIIO::attribute("openexr:core", 1);
+/// The names OpenImageIO gives the channels of a plain image it writes (the names readImage's
+/// earlier files have): Y; Y, A; R, G, B; R, G, B, A; then channel4, channel5, …
+std::vector<std::string> plainChannelNames(int n) {
+    if (n == 1) return {"Y"};
+    if (n == 2) return {"Y", "A"};
+    std::vector<std::string> names;
+    for (int c = 0; c < n; ++c)
+        names.push_back(c < 4 ? std::string(1, "RGBA"[c]) : "channel" + std::to_string(c));
+    return names;
+}
+
+/// Writes one-part float EXR rows [0, height) of `names`, each channel c read from
+/// `channels[c]` (its first value, the stride between pixels and between rows in bytes).
+struct ChannelSource {
+    const float* first;
+    std::size_t xStride, yStride;
+};
+/// OpenEXR's own threads on (set once by the first EXR written): its line buffers are compressed
+/// on as many threads as the machine has.
+void useExrThreads() {
+    static const bool set = [] {
+        Imf::setGlobalThreadCount(int(std::max(1u, std::thread::hardware_concurrency())));
+        return true;
+    }();
     (void)set;
+}
+
+void writeFloatExr(const std::filesystem::path& tmp, const std::string& file, int width, int height,
+                   const std::vector<std::string>& names,
+                   const std::vector<ChannelSource>& channels, Imf::Header header) {
+    useExrThreads();
+    for (const std::string& name : names) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    Imf::FrameBuffer buffer;
+    for (std::size_t c = 0; c < names.size(); ++c)
+        buffer.insert(names[c],
+                      Imf::Slice::Make(Imf::FLOAT, channels[c].first, Imath::V2i(0, 0), width,
+                                       height, channels[c].xStride, channels[c].yStride));
+    try {
+        Imf::OutputFile out(tmp.c_str(), header);
+        out.setFrameBuffer(buffer);
+        out.writePixels(height);
+    } catch (const std::exception& e) {
+        throw Error(ErrorKind::Io, "cannot write the file (" + detail::firstLine(e.what()) + ")",
+                    file, "write");
+    }
 }
 
 }  // namespace
 
 FrameBuffers readExr(const std::filesystem::path& path) {
     const std::string file = path.string();
-    useFastExrReader();
-    auto in = detail::openImage(path);
-    const std::string format = in->format_name();
-    if (format != "openexr")
-        throw Error(ErrorKind::Format, "expected an OpenEXR file, got a " + format + " file", file,
-                    "open");
-    const detail::ExrLayout layout = detail::readExrLayout(*in, file);
-    const OIIO::ImageSpec& spec = layout.spec;
-    if (spec.width <= 0 || spec.height <= 0 || spec.depth != 1)
+    detail::ExrInput in(path);
+    const detail::ExrLayout& layout = in.layout();
+    if (layout.width <= 0 || layout.height <= 0)
         throw Error(ErrorKind::Format, "expected a 2D image with pixels", file, "header");
-    checkPlausibleSize(spec.width, spec.height, layout.channels(), path);
+    checkPlausibleSize(layout.width, layout.height, layout.channels(), path);
 
     bool hasGlintAttributes = false;
-    for (const OIIO::ParamValue& p : spec.extra_attribs)
-        hasGlintAttributes |= p.name().string().rfind(kPrefix, 0) == 0;
+    for (const detail::ExrAttribute& a : layout.attributes)
+        hasGlintAttributes |= a.name.rfind(kPrefix, 0) == 0;
     const detail::ChannelPlan plan =
         detail::planChannels(layout.channelNames, hasGlintAttributes, file);
-    FrameMetadata metadata = readMetadata(spec, plan, file);
+    FrameMetadata metadata = readMetadata(layout, plan, file);
 
-    // Destination layers, with where each of their channels lies in the file.
-    const int w = spec.width, h = spec.height, n = layout.channels();
+    // Every layer channel is read straight from its file channel into the layer (bit for bit);
+    // a file channel that feeds two layers (pbrt's P.Z: position and depth) is read into the
+    // first and copied into the other.
+    const int w = layout.width, h = layout.height;
     FrameBuffers frame(w, h);
-    struct Target {
-        float* data;
-        int channels;
-        const int* fileChannels;
-        float divisor;
-    };
-    std::vector<Target> targets;
+    std::vector<detail::ExrTarget> targets;
+    std::vector<std::pair<detail::ExrTarget, detail::ExrTarget>> copies;
+    std::vector<std::pair<Image*, float>> divided;
     for (const detail::LayerSource& src : plan.layers) {
-        float divisor = 1.0f;
+        Image& layer = frame.ensure(src.layer);
+        const std::size_t xStride = sizeof(float) * std::size_t(layer.channels());
+        for (int c = 0; c < layer.channels(); ++c) {
+            const detail::ExrTarget t{src.channels[std::size_t(c)], layer.data().data() + c,
+                                      xStride, xStride * std::size_t(w)};
+            const auto earlier = std::find_if(targets.begin(), targets.end(), [&](const auto& e) {
+                return e.channel == t.channel;
+            });
+            if (earlier == targets.end())
+                targets.push_back(t);
+            else
+                copies.emplace_back(*earlier, t);
+        }
         if (src.perSampleVariance) {
             // pbrt-v4's Variance is that of one sample; the variance of the mean is it / spp.
             if (metadata.spp <= 0)
@@ -184,33 +234,20 @@ FrameBuffers readExr(const std::filesystem::path& path) {
                             "Variance.R/G/B is per-sample (pbrt-v4) and must be divided by the "
                             "sample count, but the file has no samplesPerPixel attribute",
                             file, "attribute samplesPerPixel");
-            divisor = float(metadata.spp);
+            divided.emplace_back(&layer, float(metadata.spp));
         }
-        Image& layer = frame.ensure(src.layer);
-        targets.push_back({layer.data().data(), layer.channels(), src.channels.data(), divisor});
     }
-
-    // Read strips of all channels as float32 (bit-exact for float files) and scatter them into
-    // the layers, pixel by pixel so that every buffer is walked once in order.
-    const int stripRows = layout.stripRows();
-    std::vector<float> strip(std::size_t(std::min(stripRows, h)) * w * n);
-    for (int y0 = 0; y0 < h; y0 += stripRows) {
-        const int y1 = std::min(h, y0 + stripRows);
-        detail::readExrRows(*in, layout, y0, y1, strip.data(), file);
-        tbb::parallel_for(tbb::blocked_range<int>(y0, y1), [&](const tbb::blocked_range<int>& r) {
-            for (int y = r.begin(); y != r.end(); ++y) {
-                const float* src = strip.data() + std::size_t(y - y0) * w * n;
-                const std::size_t first = std::size_t(y) * w;
-                for (int x = 0; x < w; ++x, src += n)
-                    for (const Target& t : targets) {
-                        float* dst = t.data + (first + x) * t.channels;
-                        for (int c = 0; c < t.channels; ++c)
-                            dst[c] = src[t.fileChannels[c]] / t.divisor;
-                    }
-            }
+    in.read(targets);
+    for (const auto& [from, to] : copies)
+        tbb::parallel_for(0, h, [&](int y) {
+            for (int x = 0; x < w; ++x)
+                *reinterpret_cast<float*>(reinterpret_cast<char*>(to.first) + y * to.yStride +
+                                          x * to.xStride) =
+                    *reinterpret_cast<const float*>(reinterpret_cast<const char*>(from.first) +
+                                                    y * from.yStride + x * from.xStride);
         });
-    }
-    in->close();
+    for (const auto& [layer, divisor] : divided)
+        for (float& v : layer->data()) v /= divisor;
     frame.metadata() = std::move(metadata);
     return frame;
 }
@@ -227,76 +264,66 @@ void writeExr(const FrameBuffers& frame, const std::filesystem::path& path,
                         "metadata extra key '" + key + "' is empty or shadows a glint:* field",
                         file, "metadata");
 
-    // Channel list: every present layer in Layer order, with the names of docs/image.md.
-    std::vector<const Image*> layers;
+    // Channel list: every present layer in Layer order, with the names of docs/image.md, each
+    // channel read straight from its layer.
+    const int w = frame.width(), h = frame.height();
     std::vector<std::string> names;
+    std::vector<ChannelSource> sources;
     for (int l = 0; l < kLayerCount; ++l) {
         const Image* im = frame.find(Layer(l));
         if (!im) continue;
-        layers.push_back(im);
-        for (int c = 0; c < im->channels(); ++c) names.push_back(channelName(Layer(l), c));
+        const std::size_t xStride = sizeof(float) * std::size_t(im->channels());
+        for (int c = 0; c < im->channels(); ++c) {
+            names.push_back(channelName(Layer(l), c));
+            sources.push_back({im->row(0) + c, xStride, xStride * std::size_t(w)});
+        }
     }
-    const int w = frame.width(), h = frame.height(), n = int(names.size());
 
-    OIIO::ImageSpec spec(w, h, n, OIIO::TypeFloat);
-    spec.channelnames = names;
-    spec.alpha_channel = -1;
-    spec.z_channel = -1;
-    spec.attribute("compression", options.compression == ExrCompression::Zip ? "zip" : "none");
-    spec.attribute("glint:spp", md.spp);
-    spec.attribute("glint:seed", std::to_string(md.seed));
-    spec.attribute("glint:integrator", md.integrator);
-    spec.attribute("glint:varianceOf", md.varianceOf);
-    spec.attribute("glint:normalSpace", md.normalSpace);
-    spec.attribute("glint:depth", md.depthKind);
-    spec.attribute("glint:scene", md.scene);
-    spec.attribute("glint:nonFiniteSamples", std::to_string(md.nonFiniteSamples));
-    for (const auto& [key, value] : md.extra) spec.attribute(std::string(kPrefix) + key, value);
-
-    // Interleave the layers into the file's channel order, strip by strip, pixel by pixel.
-    constexpr int kStripRows = 32;
-    auto fill = [&](int y0, int y1, float* strip) {
-        tbb::parallel_for(tbb::blocked_range<int>(y0, y1), [&](const tbb::blocked_range<int>& r) {
-            for (int y = r.begin(); y != r.end(); ++y) {
-                float* dst = strip + std::size_t(y - y0) * w * n;
-                for (int x = 0; x < w; ++x)
-                    for (const Image* im : layers) {
-                        const float* src = im->row(y) + std::size_t(x) * im->channels();
-                        dst = std::copy_n(src, im->channels(), dst);
-                    }
-            }
-        });
+    Imf::Header header(w, h);
+    header.compression() =
+        options.compression == ExrCompression::Zip ? Imf::ZIP_COMPRESSION : Imf::NO_COMPRESSION;
+    const auto text = [&](const std::string& name, const std::string& value) {
+        header.insert(name, Imf::StringAttribute(value));
     };
+    header.insert("glint:spp", Imf::IntAttribute(md.spp));
+    text("glint:seed", std::to_string(md.seed));
+    text("glint:integrator", md.integrator);
+    text("glint:varianceOf", md.varianceOf);
+    text("glint:normalSpace", md.normalSpace);
+    text("glint:depth", md.depthKind);
+    text("glint:scene", md.scene);
+    text("glint:nonFiniteSamples", std::to_string(md.nonFiniteSamples));
+    for (const auto& [key, value] : md.extra) text(std::string(kPrefix) + key, value);
+
     writeAtomically(path, [&](const std::filesystem::path& tmp) {
-        detail::writeOiioStrips(tmp, path, spec, kStripRows, fill);
+        writeFloatExr(tmp, file, w, h, names, sources, header);
     });
 }
 
 Image readImage(const std::filesystem::path& path, bool linearize) {
     const std::string file = path.string();
-    useFastExrReader();
-    auto in = detail::openImage(path);
-    const OIIO::ImageSpec spec = in->spec();
-    if (spec.deep || spec.width <= 0 || spec.height <= 0 || spec.depth != 1 || spec.nchannels <= 0)
-        throw Error(ErrorKind::Format, "expected a flat 2D image with pixels", file, "header");
-    checkPlausibleSize(spec.width, spec.height, spec.nchannels, path);
-    Image image(spec.width, spec.height, spec.nchannels);
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeFloat, image.data().data()))
-        throw Error(ErrorKind::Format,
-                    "truncated or corrupt pixel data (" + detail::firstLine(in->geterror()) + ")",
-                    file, "pixels");
-    in->close();
-
-    const bool srgb = srgbEncodedFile(spec.get_string_attribute("oiio:ColorSpace"),
-                                      spec.format == OIIO::TypeDesc::UINT8);
-    if (linearize && srgb) {
-        // Decode every colour channel; alpha stays linear.
-        float* data = image.data().data();
-        for (std::size_t i = 0; i < image.pixelCount(); ++i)
-            for (int c = 0; c < spec.nchannels; ++c)
-                if (c != spec.alpha_channel)
-                    data[i * spec.nchannels + c] = srgbDecode(data[i * spec.nchannels + c]);
+    detail::checkRegularFile(path);
+    if (!detail::isExr(path)) {
+        checkImageFile(path);
+        return detail::readOtherFormat(file, {}, detail::lowerExtension(path), linearize,
+                                       [&](int width, int height, int channels) {
+                                           checkPlausibleSize(width, height, channels, path);
+                                       });
     }
+    // An EXR: its first part's channels, in the order image tools show them; linear values.
+    detail::ExrInput in(path);
+    const detail::ExrLayout& layout = in.layout();
+    const int n = layout.parts.front().channels;
+    if (layout.width <= 0 || layout.height <= 0)
+        throw Error(ErrorKind::Format, "expected a flat 2D image with pixels", file, "header");
+    checkPlausibleSize(layout.width, layout.height, n, path);
+    Image image(layout.width, layout.height, n);
+    std::vector<detail::ExrTarget> targets;
+    const std::size_t xStride = sizeof(float) * std::size_t(n);
+    for (int c = 0; c < n; ++c)
+        targets.push_back(
+            {c, image.data().data() + c, xStride, xStride * std::size_t(layout.width)});
+    in.read(targets);
     return image;
 }
 
@@ -305,30 +332,32 @@ void writeImage(const Image& image, const std::filesystem::path& path) {
     if (image.empty())
         throw Error(ErrorKind::InvalidArgument, "cannot write an empty image", file, "write");
     const int n = image.channels();
-    const bool exr = detail::lowerExtension(path) == ".exr";
-    OIIO::ImageSpec spec(image.width(), image.height(), n, exr ? OIIO::TypeFloat : OIIO::TypeUInt8);
-    if (n == 1) spec.channelnames = {"Y"};
-    if (n == 2) spec.channelnames = {"Y", "A"};
-    spec.alpha_channel = (n == 2 || n == 4) ? n - 1 : -1;
-
-    if (exr) {
+    const std::vector<std::string> names = plainChannelNames(n);
+    if (detail::lowerExtension(path) == ".exr") {
+        std::vector<ChannelSource> sources;
+        const std::size_t xStride = sizeof(float) * std::size_t(n);
+        for (int c = 0; c < n; ++c)
+            sources.push_back({image.data().data() + c, xStride, xStride * image.width()});
+        Imf::Header header(image.width(), image.height());
+        header.compression() = Imf::ZIP_COMPRESSION;
         writeAtomically(path, [&](const std::filesystem::path& tmp) {
-            detail::writeOiio(tmp, path, spec, OIIO::TypeFloat, image.data().data());
+            writeFloatExr(tmp, file, image.width(), image.height(), names, sources, header);
         });
         return;
     }
     // 8-bit: sRGB-encode colour channels so that readImage(path, true) returns linear values.
+    const int alpha = (n == 2 || n == 4) ? n - 1 : -1;
     std::vector<unsigned char> bytes(image.data().size());
     const float* src = image.data().data();
     for (std::size_t i = 0; i < bytes.size(); ++i) {
         float v = src[i];
-        if (int(i % n) != spec.alpha_channel) v = srgbEncode(v);
+        if (int(i % n) != alpha) v = srgbEncode(v);
         v = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
         bytes[i] = static_cast<unsigned char>(std::lround(v * 255.0f));
     }
-    spec.attribute("oiio:ColorSpace", "sRGB");
     writeAtomically(path, [&](const std::filesystem::path& tmp) {
-        detail::writeOiio(tmp, path, spec, OIIO::TypeUInt8, bytes.data());
+        detail::writeOtherFormat8(tmp, path, image.width(), image.height(), names, alpha, "sRGB",
+                                  bytes.data());
     });
 }
 

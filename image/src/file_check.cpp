@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "glint/image/error.h"
-#include "oiio_helpers.h"
+#include "image_files.h"
 
 namespace glint::detail {
 

@@ -18,7 +18,7 @@
 #include "exr_layout.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
-#include "oiio_helpers.h"
+#include "image_files.h"
 #include "shard_accumulator.h"
 
 namespace glint {
@@ -137,25 +137,20 @@ Piece pieceOf(const std::string& file, const FrameBuffers& frame) {
 /// The Piece of an EXR from its header alone (no pixels read): the same glint:* attributes and
 /// layers readExr gives (mergeShardFiles checks both agree once it reads the pixels).
 Piece readPieceHeader(const std::string& file) {
-    auto in = detail::openImage(file);
-    if (std::string(in->format_name()) != "openexr")
-        throw Error(ErrorKind::Format,
-                    "expected an OpenEXR file, got a " + std::string(in->format_name()) + " file",
-                    file, "open");
-    const detail::ExrLayout layout = detail::readExrLayout(*in, file);
-    const OIIO::ImageSpec& spec = layout.spec;
+    detail::ExrInput in(file);
+    const detail::ExrLayout& layout = in.layout();
     FrameMetadata md;
     bool glint = false;
-    for (const OIIO::ParamValue& p : spec.extra_attribs) {
-        const std::string name = p.name().string();
+    for (const detail::ExrAttribute& a : layout.attributes) {
+        const std::string& name = a.name;
         if (name.rfind("glint:", 0) != 0) continue;
         glint = true;
-        const std::string key = name.substr(6), value = p.get_string(1 << 20);
+        const std::string key = name.substr(6), value = a.text;
         if (key == "integrator") {
             md.integrator = value;
         } else if (key == "seed") {
-            const auto seed = p.type() == OIIO::TypeInt ? std::optional(std::uint64_t(p.get_int()))
-                                                        : parseWhole<std::uint64_t>(value);
+            const auto seed = a.integer ? std::optional(std::uint64_t(*a.integer))
+                                        : parseWhole<std::uint64_t>(value);
             if (!seed)
                 throw Error(ErrorKind::Format, "expected an integer, got '" + value + "'", file,
                             "attribute glint:seed");
@@ -171,7 +166,7 @@ Piece readPieceHeader(const std::string& file) {
     std::string layers;
     for (int l = 0; l < kLayerCount; ++l)
         if (present[l]) layers += std::string(layerDisplayName(Layer(l))) + " ";
-    return pieceOf(file, md, spec.width, spec.height, layers, present[int(Layer::SampleCount)]);
+    return pieceOf(file, md, layout.width, layout.height, layers, present[int(Layer::SampleCount)]);
 }
 
 /// Up to `limit` items of `items` joined by ", ", then "and K more".

@@ -23,6 +23,7 @@ c++ -O1 "$work/exr.cpp" -o "$work/only-openexr" -I/usr/include/OpenEXR -I/usr/in
     -lOpenEXR-3_1 -lImath-3_1 -lIex-3_1
 printf 'program\tlibraries\tseconds (each run)\n'
 for program in "$build"/bin/glint-final "$build"/bin/glint-render "$build"/bin/glint-image \
+    "$build"/bin/glint-denoise \
     "$work/only-openimageio" "$work/only-openexr"; do
     libraries=$(ldd "$program" | wc -l)
     times=()

@@ -54,11 +54,12 @@ class CliTest : public ::testing::Test {
     void TearDown() override { fs::remove_all(m_dir); }
     std::string path(const std::string& name) const { return (m_dir / name).string(); }
 
-    /// Runs glint-image with `args` (already shell-quoted where needed).
-    CliRun run(const std::string& args) const {
+    /// Runs glint-image with `args` (already shell-quoted where needed), with the environment
+    /// assignments `env` ("NAME=value …") when given.
+    CliRun run(const std::string& args, const std::string& env = "") const {
         const std::string out = path("stdout.txt"), err = path("stderr.txt");
-        const std::string cmd =
-            quote(GLINT_IMAGE_CLI) + " " + args + " >" + quote(out) + " 2>" + quote(err);
+        const std::string cmd = (env.empty() ? "" : env + " ") + quote(GLINT_IMAGE_CLI) + " " +
+                                args + " >" + quote(out) + " 2>" + quote(err);
         const int status = std::system(cmd.c_str());
         CliRun r;
         r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -233,6 +234,48 @@ TEST_F(CliTest, BadInputExitsTwoWithOneLine) {
     fs::remove(path("o.png"));
     EXPECT_FALSE(fs::exists(path("o.png")));
     EXPECT_FALSE(fs::exists(path("o.jpg")));
+}
+
+// EXRs are read and written through OpenEXR alone; OpenImageIO (some 260 libraries, 0.4 s to load)
+// comes in a module loaded by the first image of another format. The dynamic loader's own log
+// (LD_DEBUG=files) names every library the process opens.
+TEST_F(CliTest, ExrCommandsNeverLoadOpenImageIo) {
+    const std::string a = writeFrame("a.exr", 0.5f), b = writeFrame("b.exr", 0.25f);
+    auto loads = [](const CliRun& r, const std::string& library) {
+        return r.err.find(library) != std::string::npos;
+    };
+    for (const std::string& args :
+         {"info " + quote(a), "diff " + quote(a) + " --reference " + quote(b) + " --metric mse",
+          "convert " + quote(a) + " " + quote(path("c.exr"))}) {
+        const CliRun r = run(args, "LD_DEBUG=files");
+        EXPECT_NE(r.code, -1) << args;
+        EXPECT_TRUE(loads(r, "libOpenEXR")) << args << "\n" << r.err;  // the log is there
+        EXPECT_FALSE(loads(r, "libOpenImageIO")) << args;
+        EXPECT_FALSE(loads(r, "libglint_image_formats")) << args;
+    }
+    // A PNG loads the module, and the module OpenImageIO.
+    const CliRun png = run("convert " + quote(a) + " " + quote(path("a.png")), "LD_DEBUG=files");
+    EXPECT_EQ(png.code, 0);
+    EXPECT_TRUE(loads(png, "libglint_image_formats"));
+    EXPECT_TRUE(loads(png, "libOpenImageIO"));
+    const CliRun info = run("info " + quote(path("a.png")));
+    EXPECT_EQ(info.code, 0) << info.err;
+
+    // A module the user names that is not there is one clear error, not a silent fallback.
+    const std::string wrong = path("nowhere/libglint_image_formats.so");
+    const CliRun r =
+        run("info " + quote(path("a.png")), "GLINT_IMAGE_FORMATS_MODULE=" + quote(wrong));
+    EXPECT_NE(r.code, 0);
+    EXPECT_EQ(r.err.rfind("glint-image: " + path("a.png") +
+                              ": open: cannot read or write formats "
+                              "other than OpenEXR: GLINT_IMAGE_FORMATS_MODULE names " +
+                              wrong,
+                          0),
+              0u)
+        << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    // EXRs need no module.
+    EXPECT_EQ(run("info " + quote(a), "GLINT_IMAGE_FORMATS_MODULE=" + quote(wrong)).code, 0);
 }
 
 TEST_F(CliTest, ConvertWritesDisplayPng) {

@@ -1,5 +1,6 @@
 // Reading and writing images: layered OpenEXR (with other renderers' channel names), PNG, any
-// format OpenImageIO reads. Every writer writes a temporary file and renames it into place.
+// format OpenImageIO reads (loaded at the first such file: docs/image.md). Every writer writes a
+// temporary file and renames it into place.
 #pragma once
 
 #include <filesystem>
@@ -30,9 +31,9 @@ struct ExrWriteOptions {
 void writeExr(const FrameBuffers& frame, const std::filesystem::path& path,
               const ExrWriteOptions& options = {});
 
-/// Reads any image OpenImageIO can read as float (all channels). If `linearize` and the file
-/// declares sRGB colour (8-bit PNG/JPEG...) or is 8-bit and declares none (BMP, TGA), values are
-/// converted to linear.
+/// Reads an EXR's first part, or any image OpenImageIO can read, as float (all channels; an
+/// EXR's in the order image tools show them). If `linearize` and the file declares sRGB colour
+/// (8-bit PNG/JPEG...) or is 8-bit and declares none (BMP, TGA), values are converted to linear.
 Image readImage(const std::filesystem::path& path, bool linearize = true);
 /// Checks an image file's structure before a reader allocates for it or prints its own
 /// messages: PNG chunks, a JPEG's end marker, the sizes an OpenEXR header's attributes claim.
@@ -45,8 +46,9 @@ void checkImageFile(const std::filesystem::path& path);
 Image readImage(std::span<const unsigned char> bytes, const std::string& name,
                 bool linearize = true);
 
-/// Writes a plain float image: float EXR when the extension is .exr, else 8-bit through OIIO with
-/// colour channels sRGB-encoded and clamped (alpha, the 2nd of 2 or 4th of 4 channels, linear).
+/// Writes a plain float image: float EXR when the extension is .exr, else 8-bit through
+/// OpenImageIO with colour channels sRGB-encoded and clamped (alpha, the 2nd of 2 or 4th of 4
+/// channels, linear).
 void writeImage(const Image& image, const std::filesystem::path& path);
 
 /// The largest exposure, in stops either way, that display values and metrics accept: 2^64

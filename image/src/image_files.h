@@ -1,29 +1,17 @@
-// Private to image/: opening and writing files through OpenImageIO with glint::Error reporting.
+// Private to image/: what Glint checks of an image file before a library reads it — that it is a
+// regular file, its format's signature, the structure of PNG, JPEG and EXR files — and small
+// helpers of the image readers and writers.
 #pragma once
 
-#include <OpenImageIO/imageio.h>
-
 #include <filesystem>
-#include <functional>
 #include <span>
 #include <string>
 
 namespace glint::detail {
 
-/// Opens `path` for reading. Throws glint::Error(Io) when the file is missing or unreadable and
-/// (Format) when OpenImageIO does not recognise it as an image.
-OIIO::ImageInput::unique_ptr openImage(const std::filesystem::path& path);
-
-/// Writes `data` (laid out as `spec` says, of type `format`) to `tmp` in the format its extension
-/// names; errors name `shown`, the file the user asked for. Throws glint::Error(Io).
-void writeOiio(const std::filesystem::path& tmp, const std::filesystem::path& shown,
-               const OIIO::ImageSpec& spec, OIIO::TypeDesc format, const void* data);
-
-/// Writes a float image of `spec` to `tmp` in strips of `stripRows` rows: `fill(y0, y1, strip)`
-/// fills rows [y0, y1) of all channels, interleaved, into `strip`. Errors name `shown`.
-void writeOiioStrips(const std::filesystem::path& tmp, const std::filesystem::path& shown,
-                     const OIIO::ImageSpec& spec, int stripRows,
-                     const std::function<void(int y0, int y1, float* strip)>& fill);
+/// Throws glint::Error(Io) naming `path` when it does not exist, is a directory, or is not a
+/// regular file (a device or a pipe).
+void checkRegularFile(const std::filesystem::path& path);
 
 /// True when the file (or the bytes) starts with the PNG signature.
 bool isPng(const std::filesystem::path& path);
@@ -51,7 +39,7 @@ void checkExrHeaders(const std::filesystem::path& path);
 /// Lower-case extension with the dot (".exr"), or "".
 std::string lowerExtension(const std::filesystem::path& path);
 
-/// First line of an OpenImageIO error message (they can span lines).
+/// The first line of a library's error message (they can span lines).
 std::string firstLine(const std::string& message);
 
 }  // namespace glint::detail
