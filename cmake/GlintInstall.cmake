@@ -1,6 +1,6 @@
 # Installs Glint so that another project writes find_package(Glint CONFIG REQUIRED) and links
 # Glint::image, Glint::render, Glint::denoise (docs/embedding.md). The libraries are static; the
-# package config finds their private dependencies (TBB, OpenImageIO, Embree, tinyobjloader).
+# package config finds their private dependencies (TBB, OpenEXR, Embree, tinyobjloader).
 include(CMakePackageConfigHelpers)
 
 # Libraries built with sanitizers (make test-sanitize) need the sanitizer runtimes in whatever
@@ -10,8 +10,9 @@ if(GLINT_SANITIZE)
     target_link_options(${lib} INTERFACE -fsanitize=address,undefined)
   endforeach()
 endif()
-# The module of the image formats other than OpenEXR, where glint_image looks for it.
-install(TARGETS glint_image_formats LIBRARY DESTINATION ${GLINT_IMAGE_FORMATS_INSTALL_DIR})
+# Glint's modules (the image formats other than OpenEXR, the renderer's texture cache), where
+# glint_image looks for them (image/src/modules.cpp).
+install(TARGETS glint_image_formats glint_textures LIBRARY DESTINATION ${GLINT_MODULE_INSTALL_DIR})
 install(TARGETS glint_image glint_render glint_denoise
         EXPORT GlintTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}

@@ -1,8 +1,8 @@
 # Registers a GoogleTest binary with ctest (issue 47, "make test no slower"): one ctest per suite,
 # named "Suite.*@binary" and running --gtest_filter=Suite.* (cmake/GlintSuiteTests.cmake), or
 # with -DGLINT_CTEST_PER_TEST=ON one ctest per test (gtest_discover_tests). A process start costs
-# about 0.3 s of CPU here in a binary that links the renderer (its texture store), nearly all of it
-# the dynamic loader binding the ~260 libraries Debian's OpenImageIO pulls in, so per suite make
+# about 0.3 s of CPU here in a test binary that links OpenImageIO (to write its test images),
+# nearly all of it the dynamic loader binding the ~260 libraries it pulls in, so per suite make
 # test starts about 180 processes instead of about 800 (docs/lab/ctest-registration.md).
 #
 #   glint_discover_tests(target [PROPERTIES name value ...])

@@ -152,12 +152,6 @@ std::vector<std::string> plainChannelNames(int n) {
     return names;
 }
 
-/// Writes one-part float EXR rows [0, height) of `names`, each channel c read from
-/// `channels[c]` (its first value, the stride between pixels and between rows in bytes).
-struct ChannelSource {
-    const float* first;
-    std::size_t xStride, yStride;
-};
 /// OpenEXR's own threads on (set once by the first EXR written): its line buffers are compressed
 /// on as many threads as the machine has.
 void useExrThreads() {
@@ -168,6 +162,14 @@ void useExrThreads() {
     (void)set;
 }
 
+/// Where a channel's values are: its first value, the strides between pixels and rows in bytes.
+struct ChannelSource {
+    const float* first;
+    std::size_t xStride, yStride;
+};
+
+/// Writes one-part float EXR rows [0, height) of `names`, each channel c read from `channels[c]`,
+/// with the attributes of `header`.
 void writeFloatExr(const std::filesystem::path& tmp, const std::string& file, int width, int height,
                    const std::vector<std::string>& names,
                    const std::vector<ChannelSource>& channels, Imf::Header header) {

@@ -1,8 +1,10 @@
 // Private to image/: the image formats other than OpenEXR (PNG, JPEG, Radiance HDR, TIFF, …),
 // read and written by OpenImageIO in a module of their own (oiio_module.cpp, the shared object
-// libglint_image_formats.so), which the first such read or write loads. A command that reads and
-// writes only EXRs never loads OpenImageIO and the some 260 libraries it brings, which take
-// about 0.4 s to load on a 2-core machine (docs/research/start-and-writing.md).
+// libglint_image_formats.so, found as glint/image/internal/modules.h says; the environment
+// variable GLINT_IMAGE_FORMATS_MODULE names it), which the first such read or write loads. A
+// command that reads and writes only EXRs never loads OpenImageIO and the some 260 libraries it
+// brings, which take about 0.4 s to load on a 2-core machine
+// (docs/research/start-and-writing.md).
 #pragma once
 
 #include <filesystem>
@@ -52,12 +54,6 @@ struct OtherFormats {
 /// The module's entry point, an extern "C" function returning its OtherFormats; the version in
 /// the name changes with the structure.
 inline constexpr const char* kOtherFormatsEntry = "glint_other_formats_1";
-
-/// Where the module is looked for: only the file GLINT_IMAGE_FORMATS_MODULE names when it is set;
-/// else, in order, lib/glint/ beside the folder of the running program (an installed Glint, and
-/// the build tree, whose programs are in bin/), the build tree and the install prefix Glint was
-/// built for.
-std::vector<std::filesystem::path> otherFormatsCandidates();
 
 /// The module, loaded on the first call. Throws glint::Error(Io) naming what was tried when it
 /// cannot be found or loaded; `file` and `where` name what needed it.

@@ -87,6 +87,50 @@ TEST_F(RenderCli, ReferenceMetricsAndThreadIndependence) {
     test::expectSameFrames(readExr(path("t1.exr")), readExr(path("t2.exr")));
 }
 
+// OpenImageIO (some 260 libraries, 0.4 s to load) comes in the texture cache's module, which the
+// first texture file loads: a scene without one never opens it. The dynamic loader's own log
+// (LD_DEBUG=files) names every library the process opens.
+TEST_F(RenderCli, OnlyASceneWithATextureFileLoadsOpenImageIo) {
+    auto loads = [](const RunResult& r, const char* library) {
+        return r.err.find(library) != std::string::npos;
+    };
+    const RunResult plain =
+        run("LD_DEBUG=files", path("scene.json") + " --spp 1 --out " + path("plain.exr"));
+    ASSERT_EQ(plain.exitCode, 0) << lastLine(plain.err);
+    EXPECT_TRUE(loads(plain, "libembree3"));  // the log is there
+    EXPECT_FALSE(loads(plain, "libOpenImageIO"));
+    EXPECT_FALSE(loads(plain, "libglint_textures"));
+
+    // The same box with a PNG on its white walls.
+    writeImage(Image(4, 4, 3, 0.5f), path("wall.png"));
+    const std::string text = glint::testing::slurp(m_dir / "scene.json");
+    std::ofstream(path("textured.json"))
+        << text.substr(0, text.size() - 1)
+        << R"(, "materials": {"white": {"type": "diffuse", "texture": "wall.png"}}})";
+    const RunResult textured =
+        run("LD_DEBUG=files", path("textured.json") + " --spp 1 --out " + path("textured.exr"));
+    ASSERT_EQ(textured.exitCode, 0) << lastLine(textured.err);
+    EXPECT_TRUE(loads(textured, "libglint_textures"));
+    EXPECT_TRUE(loads(textured, "libOpenImageIO"));
+
+    // A texture module the user names that is not there: one error naming the scene.
+    const std::string wrong = path("nowhere/libglint_textures.so");
+    const RunResult r = run("GLINT_TEXTURES_MODULE=" + wrong,
+                            path("textured.json") + " --spp 1 --out " + path("no.exr"));
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    EXPECT_NE(lastLine(r.err).find(path("textured.json") + ": "), std::string::npos) << r.err;
+    EXPECT_NE(
+        lastLine(r.err).find("cannot read texture files: GLINT_TEXTURES_MODULE names " + wrong),
+        std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(path("no.exr")));
+    // A scene without texture files needs no module.
+    EXPECT_EQ(run("GLINT_TEXTURES_MODULE=" + wrong,
+                  path("scene.json") + " --spp 1 --out " + path("plain2.exr"))
+                  .exitCode,
+              0);
+}
+
 TEST_F(RenderCli, BadInputExitsTwoNamingTheProblemAndWritesNothing) {
     std::ofstream(path("broken.json")) << "{\"film\": {\"width\": 8,}\n";
     // The MIS heuristic and the sampler are the scene's (glint-render lost --mis and --sampler).

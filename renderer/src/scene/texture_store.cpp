@@ -5,11 +5,8 @@
 #include <cstring>
 #include <fstream>
 
-#include <OpenImageIO/imagecache.h>
-#include <OpenImageIO/imageio.h>
-#include <OpenImageIO/texture.h>
-
 #include "glint/image/error.h"
+#include "glint/image/internal/modules.h"
 #include "glint/image/io.h"
 #include "glint/image/random.h"
 #include "scene/half_float.h"
@@ -18,24 +15,6 @@
 namespace glint::render::detail {
 
 namespace {
-
-/// The first line of an OIIO message (its errors may span several).
-std::string firstLine(const std::string& message) {
-    const std::string line = message.substr(0, message.find('\n'));
-    return line.empty() ? std::string("unknown error") : line;
-}
-
-OIIO::TextureOpt::Wrap oiioWrap(TextureWrap wrap) {
-    switch (wrap) {
-        case TextureWrap::Clamp:
-            return OIIO::TextureOpt::WrapClamp;
-        case TextureWrap::Mirror:
-            return OIIO::TextureOpt::WrapMirror;
-        case TextureWrap::Repeat:
-            break;
-    }
-    return OIIO::TextureOpt::WrapPeriodic;
-}
 
 /// A filtered value as the renderer may use it: non-finite 0, the rest in [0, kMaxRadiance].
 float sane(float v) {
@@ -48,61 +27,28 @@ float saneDerivative(float d) {
     return std::isfinite(d) ? std::clamp(d, -16.0f, 16.0f) : 0.0f;
 }
 
-/// TextureSystems no store uses, for the next store to take. OIIO 2.4's TextureSystem::destroy
-/// deletes its object through a type of the wrong size (AddressSanitizer's
-/// new-delete-type-mismatch, inside libOpenImageIO), so a store gives its TextureSystem back
-/// here, emptied, instead of destroying it: a process holds as many as it ever had scenes with
-/// tiled textures alive at once. Held through a pointer that is never freed, so that they stay
-/// reachable (not leaks) to the end.
-struct TextureSystemPool {
-    std::mutex mutex;
-    std::vector<OIIO::TextureSystem*> idle;
-};
-TextureSystemPool& pool() {
-    static auto* const instance = new TextureSystemPool;
-    return *instance;
+/// A new tile cache from the module (texture_cache.h), loaded by the first call. Throws
+/// glint::Error(Io) naming `sceneFile` and `where` when the module cannot be had.
+std::unique_ptr<TextureCache> newTextureCache(const std::string& sceneFile,
+                                              const std::string& where) {
+    using Entry = TextureCache* (*)();
+    static const glint::detail::ModuleEntry module = glint::detail::loadModule(
+        "libglint_textures.so", "GLINT_TEXTURES_MODULE", kTextureCacheEntry);
+    if (!module.entry)
+        throw Error(ErrorKind::Io, "cannot read texture files: " + module.failure, sceneFile,
+                    where);
+    return std::unique_ptr<TextureCache>(reinterpret_cast<Entry>(module.entry)());
 }
 
 }  // namespace
 
-struct TextureStore::Impl {
-    OIIO::TextureSystem* ts = nullptr;
-};
+TextureStore::TextureStore(int cacheMb) : m_cacheMb(cacheMb) {}
 
-TextureStore::TextureStore(int cacheMb) : m_impl(std::make_unique<Impl>()) {
-    // A private TextureSystem with a private ImageCache (shared = false): no other scene's
-    // tiles in it. One an earlier store gave back (emptied) is taken first.
-    {
-        TextureSystemPool& idle = pool();
-        const std::lock_guard lock(idle.mutex);
-        if (!idle.idle.empty()) {
-            m_impl->ts = idle.idle.back();
-            idle.idle.pop_back();
-        }
-    }
-    if (!m_impl->ts) m_impl->ts = OIIO::TextureSystem::create(false);
-    OIIO::TextureSystem& ts = *m_impl->ts;
-    // Untiled files (PNG, JPEG, scanline EXR) are cached in 64² tiles and get MIP levels made
-    // on first need, so that they too are filtered by footprint.
-    ts.attribute("autotile", 64);
-    ts.attribute("automip", 1);
-    // Only the calling renderer reports errors; OIIO's own log lines would repeat them.
-    ts.attribute("max_errors_per_file", 1);
-    setCacheMb(cacheMb);
-}
-
-TextureStore::~TextureStore() {
-    if (!m_impl || !m_impl->ts) return;
-    // Its tiles and open files go now; the object goes back to the pool (see pool()).
-    m_impl->ts->invalidate_all(true);
-    TextureSystemPool& idle = pool();
-    const std::lock_guard lock(idle.mutex);
-    idle.idle.push_back(m_impl->ts);
-}
+TextureStore::~TextureStore() = default;
 
 void TextureStore::setCacheMb(int megabytes) {
     m_cacheMb = megabytes;
-    m_impl->ts->attribute("max_memory_MB", tileCacheMb());
+    if (m_cache) m_cache->setMaxMemoryMb(tileCacheMb());
 }
 
 float TextureStore::tileCacheMb() const {
@@ -117,32 +63,28 @@ void TextureStore::addResidentBytes(std::size_t bytes) {
 
 std::vector<std::pair<int, int>> TextureStore::levelSizes(int file) const {
     std::vector<std::pair<int, int>> sizes;
-    for (const LevelTiles& level : m_files[std::size_t(file)].levels)
+    for (const CachedLevel& level : m_files[std::size_t(file)].levels)
         sizes.emplace_back(level.width, level.height);
     return sizes;
 }
 
 namespace {
 
-/// Channel `c` of texel `i` of tile pixels of `format` as a float (OIIO's normalisation of
-/// integer formats: 0 … 1).
-float tileValue(const void* pixels, OIIO::TypeDesc format, std::size_t i) {
-    switch (format.basetype) {
-        case OIIO::TypeDesc::HALF:
-            return halfToFloat(static_cast<const std::uint16_t*>(pixels)[i]);
-        case OIIO::TypeDesc::FLOAT:
-            return static_cast<const float*>(pixels)[i];
-        case OIIO::TypeDesc::UINT8:
-            return float(static_cast<const std::uint8_t*>(pixels)[i]) * (1.0f / 255.0f);
-        case OIIO::TypeDesc::UINT16:
-            return float(static_cast<const std::uint16_t*>(pixels)[i]) * (1.0f / 65535.0f);
-        default: {
-            float v = 0.0f;
-            const char* bytes = static_cast<const char*>(pixels) + i * format.size();
-            OIIO::convert_pixel_values(format, bytes, OIIO::TypeDesc::FLOAT, &v, 1);
-            return v;
-        }
+/// Texel value `i` of a tile's pixels as a float (integer formats 0 … 1).
+float tileValue(const TextureCache& cache, const TilePin& pin, std::size_t i) {
+    switch (pin.format) {
+        case TexelFormat::Half:
+            return halfToFloat(static_cast<const std::uint16_t*>(pin.pixels)[i]);
+        case TexelFormat::Float:
+            return static_cast<const float*>(pin.pixels)[i];
+        case TexelFormat::UInt8:
+            return float(static_cast<const std::uint8_t*>(pin.pixels)[i]) * (1.0f / 255.0f);
+        case TexelFormat::UInt16:
+            return float(static_cast<const std::uint16_t*>(pin.pixels)[i]) * (1.0f / 65535.0f);
+        case TexelFormat::Other:
+            break;
     }
+    return cache.otherTexel(pin.pixels, pin.otherFormat, i);
 }
 
 }  // namespace
@@ -150,10 +92,9 @@ float tileValue(const void* pixels, OIIO::TypeDesc format, std::size_t i) {
 bool TextureStore::texelQuad(int file, int level, int x0, int x1, int y0, int y1, Vec4 out[4],
                              TilePin& pin) const {
     const File& f = m_files[std::size_t(file)];
-    const LevelTiles& tiles = f.levels[std::size_t(level)];
-    OIIO::ImageCache& cache = *m_impl->ts->imagecache();
-    if (!pin.thread) pin.thread = cache.get_perthread_info();
-    auto* handle = static_cast<OIIO::ImageCache::ImageHandle*>(f.imageHandle);
+    const CachedLevel& tiles = f.levels[std::size_t(level)];
+    TextureCache& cache = *m_cache;
+    if (!pin.thread) pin.thread = cache.perThread();
     const int channels = f.info.channels, n = std::min(channels, 4);
     const int xs[4] = {x0, x1, x0, x1}, ys[4] = {y0, y0, y1, y1};
     // Each texel's tile origin: two divisions for the quad, not eight (x1 is mostly x0 + 1, in
@@ -170,23 +111,22 @@ bool TextureStore::texelQuad(int file, int level, int x0, int x1, int y0, int y1
         const int tx = tiles.x + oxs[k], ty = tiles.y + oys[k];
         if (!pin.tile || tx != pin.x || ty != pin.y || level != pin.level || file != pin.file) {
             release(pin);
-            pin.tile = cache.get_tile(handle, static_cast<OIIO::ImageCache::Perthread*>(pin.thread),
-                                      0, level, x, y, 0);
-            if (!pin.tile) {
+            CachedTile held;
+            if (!cache.tile(f.imageHandle, pin.thread, level, x, y, held)) {
                 ok = false;
                 break;
             }
-            OIIO::TypeDesc format;
-            pin.pixels = cache.tile_pixels(static_cast<OIIO::ImageCache::Tile*>(pin.tile), format);
-            pin.format = int(format.basetype);
+            pin.tile = held.tile;
+            pin.pixels = held.pixels;
+            pin.format = held.format;
+            pin.otherFormat = held.otherFormat;
             pin.file = file, pin.level = level, pin.x = tx, pin.y = ty;
         }
         const std::size_t at =
             (std::size_t(y - ty) * std::size_t(tiles.tileWidth) + std::size_t(x - tx)) *
             std::size_t(channels);
-        const OIIO::TypeDesc format{OIIO::TypeDesc::BASETYPE(pin.format)};
         float v[4] = {0.0f, 0.0f, 0.0f, 1.0f};
-        for (int c = 0; c < n; ++c) v[c] = tileValue(pin.pixels, format, at + std::size_t(c));
+        for (int c = 0; c < n; ++c) v[c] = tileValue(cache, pin, at + std::size_t(c));
         // Grey, grey + alpha, RGB or RGBA → RGBA (alpha 1 where there is none).
         out[k] = n <= 2 ? Vec4{v[0], v[0], v[0], n == 2 ? v[1] : 1.0f}
                         : Vec4{v[0], v[1], v[2], n == 4 ? v[3] : 1.0f};
@@ -200,21 +140,18 @@ bool TextureStore::texelQuad(int file, int level, int x0, int x1, int y0, int y1
 
 void TextureStore::release(TilePin& pin) const {
     if (!pin.tile) return;
-    m_impl->ts->imagecache()->release_tile(static_cast<OIIO::ImageCache::Tile*>(pin.tile));
+    m_cache->release(pin.tile);
     pin.tile = nullptr;
 }
 
 bool TextureStore::readLevel(int file, int level, std::vector<float>& rgba) const {
     const File& f = m_files[std::size_t(file)];
-    OIIO::TextureSystem& ts = *m_impl->ts;
-    const LevelTiles& spec = f.levels[std::size_t(level)];
+    const CachedLevel& spec = f.levels[std::size_t(level)];
     const int n = std::min(f.info.channels, 4);
     const std::size_t texels = std::size_t(spec.width) * std::size_t(spec.height);
     std::vector<float> stored(texels * std::size_t(n));
-    OIIO::TextureOpt opt;
-    if (!ts.get_texels(static_cast<OIIO::TextureSystem::TextureHandle*>(f.handle),
-                       ts.get_perthread_info(), opt, level, spec.x, spec.x + spec.width, spec.y,
-                       spec.y + spec.height, 0, 1, 0, n, OIIO::TypeDesc::FLOAT, stored.data())) {
+    if (!m_cache->texels(f.handle, level, spec.x, spec.x + spec.width, spec.y, spec.y + spec.height,
+                         n, stored.data())) {
         recordFailure(file);
         return false;
     }
@@ -235,52 +172,26 @@ int TextureStore::open(const std::filesystem::path& file, const std::filesystem:
                        const std::string& where) {
     for (std::size_t i = 0; i < m_files.size(); ++i)
         if (m_files[i].path == file) return int(i);
-    OIIO::TextureSystem& ts = *m_impl->ts;
-    OIIO::TextureSystem::Perthread* thread = ts.get_perthread_info();
-    OIIO::TextureSystem::TextureHandle* handle =
-        ts.get_texture_handle(OIIO::ustring(file.string()), thread);
-    const OIIO::ImageSpec* spec = handle ? ts.imagespec(handle, thread) : nullptr;
-    if (!spec || !ts.good(handle)) {
-        const std::string reason = firstLine(ts.geterror());
-        throw Error(ErrorKind::Format, "texture '" + file.string() + "' cannot be read: " + reason,
-                    sceneFile.string(), where);
+    if (!m_cache) {
+        m_cache = newTextureCache(sceneFile.string(), where);
+        m_cache->setMaxMemoryMb(tileCacheMb());
     }
-    if (spec->width < 1 || spec->height < 1 || spec->nchannels < 1 || spec->depth != 1 ||
-        spec->deep)
-        throw Error(ErrorKind::Format,
-                    "texture '" + file.string() + "' is not a flat 2D image with pixels",
+    CachedFile cached;
+    if (const std::string problem = m_cache->open(file.string(), cached); !problem.empty())
+        throw Error(ErrorKind::Format, "texture '" + file.string() + "' " + problem,
                     sceneFile.string(), where);
     File f;
     f.path = file;
-    f.handle = handle;
-    f.info.width = spec->width;
-    f.info.height = spec->height;
-    f.info.channels = spec->nchannels;
-    // The file's own layout, from its header (the TextureSystem shows its cache's tiles and MIP
-    // levels for every file).
-    if (auto in = OIIO::ImageInput::open(file.string())) {
-        const OIIO::ImageSpec& header = in->spec();
-        f.info.tiled = header.tile_width > 0;
-        f.info.srgb = srgbEncodedFile(header.get_string_attribute("oiio:ColorSpace"),
-                                      header.format == OIIO::TypeDesc::UINT8);
-        f.info.mipmapped = in->seek_subimage(0, 1);
-    }
-    // Where each MIP level's texels lie in the cache's tiles, for texelQuad().
-    OIIO::ImageCache& cache = *ts.imagecache();
-    const OIIO::ustring name(file.string());
-    f.imageHandle = cache.get_image_handle(name);
-    while (const OIIO::ImageSpec* level = cache.imagespec(name, 0, int(f.levels.size()))) {
-        LevelTiles tiles;
-        tiles.x = level->x;
-        tiles.y = level->y;
-        tiles.width = level->width;
-        tiles.height = level->height;
-        tiles.tileWidth = level->tile_width > 0 ? level->tile_width : level->width;
-        tiles.tileHeight = level->tile_height > 0 ? level->tile_height : level->height;
-        f.levels.push_back(tiles);
-    }
-    (void)cache.geterror();  // asking one level past the last is not a failure
-    f.info.fingerprint = spec->get_string_attribute("oiio:SHA-1");
+    f.handle = cached.handle;
+    f.imageHandle = cached.imageHandle;
+    f.levels = std::move(cached.levels);
+    f.info.width = cached.width;
+    f.info.height = cached.height;
+    f.info.channels = cached.channels;
+    f.info.tiled = cached.tiled;
+    f.info.mipmapped = cached.mipmapped;
+    f.info.srgb = srgbEncodedFile(cached.colorSpace, cached.eightBit);
+    f.info.fingerprint = std::move(cached.fingerprint);
     m_files.push_back(std::move(f));
     return int(m_files.size()) - 1;
 }
@@ -312,24 +223,12 @@ std::uint64_t TextureStore::contentHash(int file) const {
 Vec4 TextureStore::lookup(int file, float s, float t, const TexFootprint& footprint,
                           TextureWrap wrapS, TextureWrap wrapT, bool decodeSrgb) const {
     const File& f = m_files[std::size_t(file)];
-    OIIO::TextureSystem& ts = *m_impl->ts;
-    OIIO::TextureOpt opt;
-    opt.swrap = oiioWrap(wrapS);
-    opt.twrap = oiioWrap(wrapT);
-    // Bilinear taps (not OIIO's default bicubic, which needs 16 texels a level): with a zero
-    // footprint this is the bilinear lookup of the finest level.
-    opt.interpmode = OIIO::TextureOpt::InterpBilinear;
-    opt.fill = 1.0f;  // alpha where the file has none
-    // OIIO's anisotropic filter with at most 8 samples along the footprint's long axis (its
-    // default 32 costs 1.5-2x more at grazing angles for little visible difference).
-    opt.anisotropic = 8;
     // Ask for what the file has (at most RGBA) and spread it out below.
     const int n = std::min(f.info.channels, 4);
     float v[4] = {0.0f, 0.0f, 0.0f, 1.0f};
-    const bool ok = ts.texture(static_cast<OIIO::TextureSystem::TextureHandle*>(f.handle),
-                               ts.get_perthread_info(), opt, s, t, saneDerivative(footprint.dx.x),
-                               saneDerivative(footprint.dx.y), saneDerivative(footprint.dy.x),
-                               saneDerivative(footprint.dy.y), n, v);
+    const bool ok = m_cache->filter(f.handle, s, t, saneDerivative(footprint.dx.x),
+                                    saneDerivative(footprint.dx.y), saneDerivative(footprint.dy.x),
+                                    saneDerivative(footprint.dy.y), wrapS, wrapT, n, v);
     if (!ok) {
         recordFailure(file);
         return {0.0f, 0.0f, 0.0f, 1.0f};
@@ -348,7 +247,7 @@ Vec4 usableTextureValue(Vec4 v, bool decodeSrgb) {
 }
 
 void TextureStore::recordFailure(int file) const {
-    const std::string reason = firstLine(m_impl->ts->geterror());
+    const std::string reason = m_cache->error();
     const std::lock_guard<std::mutex> lock(m_failureMutex);
     if (m_failed.exchange(true)) return;  // the first failure is the one reported
     m_failure = reason;
@@ -371,9 +270,7 @@ void TextureStore::throwIfFailed() const {
 }
 
 std::uint64_t TextureStore::cacheBytesUsed() const {
-    long long used = 0;
-    m_impl->ts->getattribute("stat:cache_memory_used", OIIO::TypeDesc::INT64, &used);
-    return std::uint64_t(std::max(0LL, used));
+    return m_cache ? m_cache->bytesUsed() : 0;
 }
 
 }  // namespace glint::render::detail

@@ -1,10 +1,11 @@
-// The texture files of one scene, read through OpenImageIO's TextureSystem: tiled and
-// MIP-mapped files (.tx, tiled EXR) as they are, tile by tile on demand; untiled ones (PNG, JPEG,
-// scanline EXR) with MIP levels made on first need. A cache of a set size holds the tiles in
-// use, so textures larger than it still render. The store gives a file's MIP levels whole and
-// texels of them from the tiles, which TextureLevels filters; OIIO's own filter (lookup()) is
-// the reference it is tested against. Each Scene owns its own store (not OIIO's shared
-// TextureSystem), so scenes do not share or evict each other's tiles.
+// The texture files of one scene, read through a tile cache (texture_cache.h: OpenImageIO's
+// TextureSystem, in a module the first texture file loads): tiled and MIP-mapped files (.tx,
+// tiled EXR) as they are, tile by tile on demand; untiled ones (PNG, JPEG, scanline EXR) with MIP
+// levels made on first need. A cache of a set size holds the tiles in use, so textures larger
+// than it still render. The store gives a file's MIP levels whole and texels of them from the
+// tiles, which TextureLevels filters; the cache's own filter (lookup()) is the reference it is
+// tested against. Each Scene owns its own store and cache, so scenes do not share or evict each
+// other's tiles.
 #pragma once
 
 #include <atomic>
@@ -16,12 +17,10 @@
 #include <utility>
 #include <vector>
 
+#include "scene/texture_cache.h"
 #include "vecmath.h"
 
 namespace glint::render::detail {
-
-/// How texture coordinates outside [0, 1] wrap (glTF sampler wrapS/wrapT).
-enum class TextureWrap { Repeat, Clamp, Mirror };
 
 /// A lookup's footprint: the change of the texture coordinates (s, t) for one step of the ray
 /// in x and in y (a pixel, scaled). Zero axes: no filtering beyond bilinear.
@@ -35,7 +34,7 @@ struct TextureFileInfo {
     bool tiled = false;       ///< stored in tiles (read tile by tile), else in scanlines
     bool mipmapped = false;   ///< has MIP levels of its own
     bool srgb = false;        ///< colour values stored sRGB-encoded (8-bit PNG, JPEG)
-    std::string fingerprint;  ///< OIIO's SHA-1 of the pixels (maketx writes it), or empty
+    std::string fingerprint;  ///< the SHA-1 of the pixels that maketx writes, or empty
 };
 
 /// A filtered texture value as the renderer uses it: non-finite values 0, the rest clamped to
@@ -46,14 +45,14 @@ Vec4 usableTextureValue(Vec4 v, bool decodeSrgb);
 /// The tile a lookup last read from the cache, held (pinned) between its texelQuad() calls so
 /// that taps falling in one tile fetch it once; TextureStore::release() it when the lookup ends.
 struct TilePin {
-    void* tile = nullptr;                     ///< OIIO::ImageCache::Tile, or null
-    void* thread = nullptr;                   ///< the ImageCache's OIIO::ImageCache::Perthread
+    void* tile = nullptr;                     ///< the cache's tile, or null
+    void* thread = nullptr;                   ///< the cache's state of the calling thread
     const void* pixels = nullptr;             ///< the tile's texels
-    int format = 0;                           ///< their OIIO::TypeDesc::BASETYPE
+    TexelFormat format = TexelFormat::Float;  ///< how they are stored
+    int otherFormat = 0;                      ///< the cache's code of TexelFormat::Other
     int file = -1, level = -1, x = 0, y = 0;  ///< the tile: file, MIP level, pixel origin
 };
-
-/// One scene's texture files and their tile cache (a TextureSystem of its own).
+/// One scene's texture files and their tile cache (a cache of its own).
 class TextureStore {
   public:
     /// The default tile cache size in MB (Settings::textureCacheMb).
@@ -70,8 +69,9 @@ class TextureStore {
     int cacheMb() const { return m_cacheMb; }
 
     /// Opens `file` (reading its header only) and returns its index for lookup(); the same file
-    /// twice gives the same index. Throws glint::Error(Format) with OIIO's reason when the file
-    /// is not an image OIIO reads; `sceneFile` and `where` name the place that asked for it.
+    /// twice gives the same index. Throws glint::Error(Format) with the cache's reason when the
+    /// file is not an image it reads, and glint::Error(Io) when the cache's module cannot be
+    /// loaded (the first file loads it); `sceneFile` and `where` name the place that asked.
     int open(const std::filesystem::path& file, const std::filesystem::path& sceneFile,
              const std::string& where);
     /// A hash of the file's content for sceneContentHash: of its fingerprint when it has one,
@@ -80,7 +80,7 @@ class TextureStore {
     const TextureFileInfo& info(int file) const { return m_files[std::size_t(file)].info; }
     const std::filesystem::path& path(int file) const { return m_files[std::size_t(file)].path; }
 
-    /// OIIO's own filter (the TextureSystem's anisotropic MIP filter), the reference Glint's
+    /// The cache's own filter (OpenImageIO's anisotropic MIP filter), the reference Glint's
     /// (TextureLevels) is tested against: the RGBA value of `file` at (s, t) (origin at the
     /// image's top-left, texel centres at half-integers / size, as OIIO has them) filtered over
     /// `footprint`, wrapped by `wrapS` /
@@ -114,30 +114,23 @@ class TextureStore {
 
     /// Forgets a recorded read failure (before a render).
     void clearFailure() const;
-    /// Throws glint::Error(Io) naming the file and OIIO's reason when a lookup since the last
+    /// Throws glint::Error(Io) naming the file and the cache's reason when a lookup since the last
     /// clearFailure() could not read its texture (a damaged or truncated tile).
     void throwIfFailed() const;
     /// Bytes of tiles the cache holds now.
     std::uint64_t cacheBytesUsed() const;
 
   private:
-    struct Impl;
-    /// Where a MIP level's texels lie in its tiles.
-    struct LevelTiles {
-        int x = 0, y = 0;                   ///< the level's pixel origin (data window)
-        int width = 0, height = 0;          ///< the level's size
-        int tileWidth = 1, tileHeight = 1;  ///< the cache's tile size for the level
-    };
     struct File {
         std::filesystem::path path;
         TextureFileInfo info;
-        void* handle = nullptr;       ///< OIIO::TextureSystem::TextureHandle
-        void* imageHandle = nullptr;  ///< OIIO::ImageCache::ImageHandle
-        std::vector<LevelTiles> levels;
+        void* handle = nullptr;       ///< the file in the cache's texture system
+        void* imageHandle = nullptr;  ///< the file in the cache's image cache
+        std::vector<CachedLevel> levels;
     };
     void recordFailure(int file) const;
 
-    std::unique_ptr<Impl> m_impl;
+    std::unique_ptr<TextureCache> m_cache;  ///< made by the first open()
     std::vector<File> m_files;
     int m_cacheMb = kDefaultCacheMb;
     std::size_t m_residentBytes = 0;
