@@ -56,7 +56,7 @@ ModuleError read(const std::string& file, std::span<const unsigned char> bytes,
     return {};
 }
 
-ModuleError write8(const std::string& tmp, const std::string& /*shown*/, int width, int height,
+ModuleError write8(const std::string& tmp, int width, int height,
                    const std::vector<std::string>& names, int alpha, const std::string& colorSpace,
                    const unsigned char* data) {
     OIIO::ImageSpec spec(width, height, int(names.size()), OIIO::TypeUInt8);
@@ -90,6 +90,6 @@ const OtherFormats kFormats{&read, &write8};
 }  // namespace glint::detail
 
 extern "C" __attribute__((visibility("default"))) const glint::detail::OtherFormats*
-glint_other_formats_1() {
+glint_other_formats_2() {
     return &glint::detail::kFormats;
 }

@@ -2,7 +2,6 @@
 #include "other_formats.h"
 
 #include <algorithm>
-#include <mutex>
 
 #include "glint/image/error.h"
 #include "glint/image/internal/modules.h"
@@ -10,34 +9,20 @@
 
 namespace glint::detail {
 
-namespace {
-
 namespace fs = std::filesystem;
 
-struct Loaded {
-    const OtherFormats* formats = nullptr;
-    std::string failure;  ///< why it could not be loaded (empty when it was)
-};
-
-Loaded load() {
-    const ModuleEntry module =
-        loadModule("libglint_image_formats.so", "GLINT_IMAGE_FORMATS_MODULE", kOtherFormatsEntry);
-    if (!module.entry) return {nullptr, module.failure};
-    using Entry = const OtherFormats* (*)();
-    return {reinterpret_cast<Entry>(module.entry)(), {}};
-}
-
-}  // namespace
-
 const OtherFormats& otherFormats(const std::string& file, const std::string& where) {
-    static std::once_flag once;
-    static Loaded loaded;
-    std::call_once(once, [] { loaded = load(); });
-    if (!loaded.formats)
+    // Loaded once (a static's initialisation is thread-safe); a failure is kept and reported to
+    // every caller.
+    static const ModuleEntry module =
+        loadModule("libglint_image_formats.so", "GLINT_IMAGE_FORMATS_MODULE", kOtherFormatsEntry);
+    static const OtherFormats* const formats =
+        module.entry ? reinterpret_cast<const OtherFormats* (*)()>(module.entry)() : nullptr;
+    if (!formats)
         throw Error(ErrorKind::Io,
-                    "cannot read or write formats other than OpenEXR: " + loaded.failure, file,
+                    "cannot read or write formats other than OpenEXR: " + module.failure, file,
                     where);
-    return *loaded.formats;
+    return *formats;
 }
 
 void writeOtherFormat8(const fs::path& tmp, const fs::path& shown, int width, int height,
@@ -46,7 +31,7 @@ void writeOtherFormat8(const fs::path& tmp, const fs::path& shown, int width, in
     const std::string file = shown.string();
     const ModuleError error =
         otherFormats(file, "write")
-            .write8(tmp.string(), file, width, height, names, alpha, colorSpace, data);
+            .write8(tmp.string(), width, height, names, alpha, colorSpace, data);
     if (error.kind >= 0) throw Error(ErrorKind(error.kind), error.message, file, error.where);
 }
 

@@ -37,7 +37,7 @@ struct ModuleError {
 /// Refuses a header's size before anything is allocated for it (throws glint::Error).
 using SizeCheck = std::function<void(int width, int height, int channels)>;
 
-/// The module's functions. Errors name `file` (or `shown`), the file the user gave.
+/// The module's functions. The caller names the file in their errors.
 struct OtherFormats {
     /// Reads the image in `file`, or in `bytes` when they are not empty (`extension`, ".png" or
     /// ".jpg", names their format), as float.
@@ -46,14 +46,14 @@ struct OtherFormats {
     /// Writes `data`, 8-bit samples of a width × height × channels image with the channel names
     /// `names`, alpha at `alpha` (-1: none), declared in `colorSpace`, to `tmp` in the format its
     /// extension names.
-    ModuleError (*write8)(const std::string& tmp, const std::string& shown, int width, int height,
+    ModuleError (*write8)(const std::string& tmp, int width, int height,
                           const std::vector<std::string>& names, int alpha,
                           const std::string& colorSpace, const unsigned char* data);
 };
 
 /// The module's entry point, an extern "C" function returning its OtherFormats; the version in
 /// the name changes with the structure.
-inline constexpr const char* kOtherFormatsEntry = "glint_other_formats_1";
+inline constexpr const char* kOtherFormatsEntry = "glint_other_formats_2";
 
 /// The module, loaded on the first call. Throws glint::Error(Io) naming what was tried when it
 /// cannot be found or loaded; `file` and `where` name what needed it.
