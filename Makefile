@@ -5,7 +5,7 @@ CMAKE_GENERATOR ?= Ninja
 
 # Debian bookworm packages Glint needs (see docs/architecture.md and third_party_notes/).
 DEB_PACKAGES := build-essential cmake ninja-build pkg-config \
-  libembree-dev libopenimageio-dev libopencv-core-dev openimageio-tools libopenexr-dev \
+  libembree-dev libopenimageio-dev libopencv-core-dev openimageio-tools libopenexr-dev libpng-dev libjpeg-dev \
   libtinyobjloader-dev libtinygltf-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev \
   nlohmann-json3-dev libcli11-dev libeigen3-dev libdnnl-dev ocl-icd-opencl-dev \
   qt6-base-dev libgl-dev xvfb xauth fonts-dejavu-core \

@@ -240,8 +240,9 @@ FrameBuffers readExr(const std::filesystem::path& path) {
         }
     }
     in.read(targets);
-    for (const auto& [from, to] : copies)
-        tbb::parallel_for(0, h, [&](int y) {
+    for (const auto& copy : copies)
+        // Named, not a structured binding: clang 14 (make fuzz) cannot capture one.
+        tbb::parallel_for(0, h, [&, &from = copy.first, &to = copy.second](int y) {
             for (int x = 0; x < w; ++x)
                 *reinterpret_cast<float*>(reinterpret_cast<char*>(to.first) + y * to.yStride +
                                           x * to.xStride) =

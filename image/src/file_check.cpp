@@ -1,7 +1,7 @@
-// Structural checks of PNG and JPEG files before their libraries see them: libpng prints its
-// own "libpng error:" line on stderr for a truncated or damaged file (OpenImageIO does not
-// silence it), and a truncated JPEG decodes to a partly grey image without any error. The
-// damage is found here and reported as one glint::Error.
+// Structural checks of PNG and JPEG files before their libraries see them: libpng's own
+// message for a truncated or damaged file names no byte (and OpenImageIO's module prints it on
+// stderr), and a truncated JPEG decodes to a partly grey image. The damage is found here and
+// reported as one glint::Error naming the byte.
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -38,22 +38,26 @@ std::uint32_t bigEndian(const unsigned char* p) {
 
 }  // namespace
 
-namespace {
-/// The whole file, or its first `limit` bytes.
-std::vector<unsigned char> readBytes(const std::filesystem::path& path,
-                                     std::size_t limit = std::size_t(-1)) {
+std::vector<unsigned char> fileHead(const std::filesystem::path& path, std::size_t limit) {
     std::ifstream in(path, std::ios::binary);
-    std::vector<unsigned char> bytes;
-    if (limit != std::size_t(-1)) {
-        bytes.resize(limit);
-        in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(limit));
-        bytes.resize(std::size_t(std::max<std::streamsize>(in.gcount(), 0)));
-        return bytes;
-    }
-    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    std::vector<unsigned char> bytes(limit);
+    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(limit));
+    bytes.resize(std::size_t(std::max<std::streamsize>(in.gcount(), 0)));
     return bytes;
 }
-}  // namespace
+
+std::vector<unsigned char> fileBytes(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    if (!in) throw Error(ErrorKind::Io, "cannot open file for reading", path.string(), "open");
+    const std::streamoff size = in.tellg();
+    std::vector<unsigned char> bytes(static_cast<std::size_t>(std::max<std::streamoff>(size, 0)));
+    in.seekg(0);
+    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()));
+    if (in.gcount() != std::streamsize(bytes.size()))
+        throw Error(ErrorKind::Io, "cannot read the whole file", path.string(),
+                    "byte " + std::to_string(in.gcount()));
+    return bytes;
+}
 
 bool isPng(std::span<const unsigned char> bytes) {
     static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
@@ -61,7 +65,7 @@ bool isPng(std::span<const unsigned char> bytes) {
 }
 
 bool isPng(const std::filesystem::path& path) {
-    return isPng(readBytes(path, 8));
+    return isPng(fileHead(path, 8));
 }
 
 void checkPngStructure(std::span<const unsigned char> bytes, const std::string& file) {
@@ -96,7 +100,7 @@ void checkPngStructure(std::span<const unsigned char> bytes, const std::string& 
 }
 
 void checkPngStructure(const std::filesystem::path& path) {
-    checkPngStructure(readBytes(path), path.string());
+    checkPngStructure(fileBytes(path), path.string());
 }
 
 bool isJpeg(std::span<const unsigned char> bytes) {
@@ -104,7 +108,7 @@ bool isJpeg(std::span<const unsigned char> bytes) {
 }
 
 bool isJpeg(const std::filesystem::path& path) {
-    return isJpeg(readBytes(path, 3));
+    return isJpeg(fileHead(path, 3));
 }
 
 void checkJpegStructure(std::span<const unsigned char> bytes, const std::string& file) {

@@ -4,6 +4,8 @@
 #include <cctype>
 #include <system_error>
 
+#include "direct_formats.h"
+#include "exr_layout.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 
@@ -46,6 +48,16 @@ void checkImageFile(const std::filesystem::path& path) {
     if (detail::isPng(path)) detail::checkPngStructure(path);
     if (detail::isJpeg(path)) detail::checkJpegStructure(path);
     if (detail::isExr(path)) detail::checkExrHeaders(path);
+}
+
+std::optional<bool> storedInTiles(const std::filesystem::path& path) {
+    detail::checkRegularFile(path);
+    if (detail::isExr(path)) {
+        checkImageFile(path);
+        return detail::ExrInput(path).layout().parts.front().tileWidth > 0;
+    }
+    if (detail::directFormatOf(detail::fileHead(path, 16))) return false;
+    return std::nullopt;
 }
 
 }  // namespace glint

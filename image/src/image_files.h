@@ -6,12 +6,18 @@
 #include <filesystem>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace glint::detail {
 
 /// Throws glint::Error(Io) naming `path` when it does not exist, is a directory, or is not a
 /// regular file (a device or a pipe).
 void checkRegularFile(const std::filesystem::path& path);
+
+/// The first `limit` bytes of the file (fewer when it is shorter or cannot be read).
+std::vector<unsigned char> fileHead(const std::filesystem::path& path, std::size_t limit);
+/// The whole file's bytes. Throws glint::Error(Io) naming `path` when it cannot be read.
+std::vector<unsigned char> fileBytes(const std::filesystem::path& path);
 
 /// True when the file (or the bytes) starts with the PNG signature.
 bool isPng(const std::filesystem::path& path);

@@ -26,11 +26,15 @@ ModuleError read(const std::string& file, std::span<const unsigned char> bytes,
                  const std::string& extension, const SizeCheck& check, DecodedImage& out) {
     std::unique_ptr<OIIO::Filesystem::IOMemReader> proxy;
     OIIO::ImageInput::unique_ptr in;
+    // Alpha as the file stores it: OpenImageIO would multiply the colour of a file of straight
+    // alpha by it (in its encoded values), where glTF, Blender and Glint's PNG reader keep it.
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
     if (bytes.empty()) {
-        in = OIIO::ImageInput::open(file);
+        in = OIIO::ImageInput::open(file, &config);
     } else {
         proxy = std::make_unique<OIIO::Filesystem::IOMemReader>(bytes.data(), bytes.size());
-        in = OIIO::ImageInput::open("embedded" + extension, nullptr, proxy.get());
+        in = OIIO::ImageInput::open("embedded" + extension, &config, proxy.get());
     }
     if (!in)
         // Consumes the global error so that OpenImageIO does not print it at exit.

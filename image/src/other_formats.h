@@ -1,9 +1,10 @@
-// Private to image/: the image formats other than OpenEXR (PNG, JPEG, Radiance HDR, TIFF, …),
-// read and written by OpenImageIO in a module of their own (oiio_module.cpp, the shared object
+// Private to image/: the image formats other than OpenEXR. PNG and JPEG go through libpng and
+// libjpeg-turbo (direct_formats.h); every other format (Radiance HDR, TIFF, BMP, TGA, …) and a
+// CMYK JPEG through OpenImageIO in a module of their own (oiio_module.cpp, the shared object
 // libglint_image_formats.so, found as glint/image/internal/modules.h says; the environment
 // variable GLINT_IMAGE_FORMATS_MODULE names it), which the first such read or write loads. A
-// command that reads and writes only EXRs never loads OpenImageIO and the some 260 libraries it
-// brings, which take about 0.4 s to load on a 2-core machine
+// command that reads and writes only EXRs, PNGs and JPEGs never loads OpenImageIO and the some
+// 260 libraries it brings, which take about 0.4 s to load on a 2-core machine
 // (docs/research/start-and-writing.md).
 #pragma once
 
@@ -59,14 +60,17 @@ inline constexpr const char* kOtherFormatsEntry = "glint_other_formats_2";
 /// cannot be found or loaded; `file` and `where` name what needed it.
 const OtherFormats& otherFormats(const std::string& file, const std::string& where);
 
-/// Writes 8-bit samples through the module (OtherFormats::write8); throws glint::Error(Io) naming
-/// `shown`.
+/// Writes 8-bit samples, in the format `tmp`'s extension names: a PNG of 1 to 4 channels (alpha
+/// the last of 2 or 4) through libpng, anything else through the module (OtherFormats::write8);
+/// throws glint::Error(Io) naming `shown`.
 void writeOtherFormat8(const std::filesystem::path& tmp, const std::filesystem::path& shown,
                        int width, int height, const std::vector<std::string>& names, int alpha,
                        const std::string& colorSpace, const unsigned char* data);
 
 /// Reads an image of another format than OpenEXR from `file` (or `bytes`, as in
-/// OtherFormats::read) and decodes sRGB colour channels to linear when `linearize`.
+/// OtherFormats::read): a PNG or JPEG, by its signature, through its library, anything else
+/// through the module; alpha straight, as stored. Decodes sRGB colour channels to linear when
+/// `linearize`.
 Image readOtherFormat(const std::string& file, std::span<const unsigned char> bytes,
                       const std::string& extension, bool linearize, const SizeCheck& check);
 

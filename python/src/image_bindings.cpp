@@ -190,7 +190,8 @@ void bindImage(py::module_& m) {
             return readImage(path, linearize);
         },
         py::arg("path"), py::arg("linearize") = true,
-        "Reads any image OpenImageIO reads as a float glint.Image (8-bit sRGB made linear).");
+        "Reads an EXR, PNG, JPEG or any image OpenImageIO reads as a float glint.Image (sRGB "
+        "made linear).");
     m.def(
         "write_png",
         [](py::handle image, const fs::path& path, float exposure) {

@@ -236,37 +236,40 @@ TEST_F(CliTest, BadInputExitsTwoWithOneLine) {
     EXPECT_FALSE(fs::exists(path("o.jpg")));
 }
 
-// EXRs are read and written through OpenEXR alone; OpenImageIO (some 260 libraries, 0.4 s to load)
-// comes in a module loaded by the first image of another format. The dynamic loader's own log
-// (LD_DEBUG=files) names every library the process opens.
-TEST_F(CliTest, ExrCommandsNeverLoadOpenImageIo) {
+// EXRs are read and written through OpenEXR, PNGs through libpng, JPEGs read through libjpeg;
+// OpenImageIO (some 260 libraries, 0.4 s to load) comes in a module loaded by the first image of
+// another format. The dynamic loader's own log (LD_DEBUG=files) names every library the process
+// opens.
+TEST_F(CliTest, ExrPngAndJpegCommandsNeverLoadOpenImageIo) {
     const std::string a = writeFrame("a.exr", 0.5f), b = writeFrame("b.exr", 0.25f);
     auto loads = [](const CliRun& r, const std::string& library) {
         return r.err.find(library) != std::string::npos;
     };
+    writeImage(Image(4, 3, 3, 0.5f), path("j.jpg"));  // through the module, in this process
     for (const std::string& args :
          {"info " + quote(a), "diff " + quote(a) + " --reference " + quote(b) + " --metric mse",
-          "convert " + quote(a) + " " + quote(path("c.exr"))}) {
+          "convert " + quote(a) + " " + quote(path("c.exr")),
+          "convert " + quote(a) + " " + quote(path("a.png")), "info " + quote(path("a.png")),
+          "info " + quote(path("j.jpg"))}) {
         const CliRun r = run(args, "LD_DEBUG=files");
         EXPECT_NE(r.code, -1) << args;
         EXPECT_TRUE(loads(r, "libOpenEXR")) << args << "\n" << r.err;  // the log is there
         EXPECT_FALSE(loads(r, "libOpenImageIO")) << args;
         EXPECT_FALSE(loads(r, "libglint_image_formats")) << args;
     }
-    // A PNG loads the module, and the module OpenImageIO.
-    const CliRun png = run("convert " + quote(a) + " " + quote(path("a.png")), "LD_DEBUG=files");
-    EXPECT_EQ(png.code, 0);
-    EXPECT_TRUE(loads(png, "libglint_image_formats"));
-    EXPECT_TRUE(loads(png, "libOpenImageIO"));
-    const CliRun info = run("info " + quote(path("a.png")));
-    EXPECT_EQ(info.code, 0) << info.err;
+    // A TIFF loads the module, and the module OpenImageIO.
+    writeImage(Image(4, 3, 3, 0.5f), path("a.tif"));
+    const CliRun tif = run("info " + quote(path("a.tif")), "LD_DEBUG=files");
+    EXPECT_EQ(tif.code, 0);
+    EXPECT_TRUE(loads(tif, "libglint_image_formats"));
+    EXPECT_TRUE(loads(tif, "libOpenImageIO"));
 
     // A module the user names that is not there is one clear error, not a silent fallback.
     const std::string wrong = path("nowhere/libglint_image_formats.so");
     const CliRun r =
-        run("info " + quote(path("a.png")), "GLINT_IMAGE_FORMATS_MODULE=" + quote(wrong));
+        run("info " + quote(path("a.tif")), "GLINT_IMAGE_FORMATS_MODULE=" + quote(wrong));
     EXPECT_NE(r.code, 0);
-    EXPECT_EQ(r.err.rfind("glint-image: " + path("a.png") +
+    EXPECT_EQ(r.err.rfind("glint-image: " + path("a.tif") +
                               ": open: cannot read or write formats "
                               "other than OpenEXR: GLINT_IMAGE_FORMATS_MODULE names " +
                               wrong,
@@ -274,8 +277,10 @@ TEST_F(CliTest, ExrCommandsNeverLoadOpenImageIo) {
               0u)
         << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-    // EXRs need no module.
+    // EXRs and PNGs need no module.
     EXPECT_EQ(run("info " + quote(a), "GLINT_IMAGE_FORMATS_MODULE=" + quote(wrong)).code, 0);
+    EXPECT_EQ(
+        run("info " + quote(path("a.png")), "GLINT_IMAGE_FORMATS_MODULE=" + quote(wrong)).code, 0);
 }
 
 TEST_F(CliTest, ConvertWritesDisplayPng) {

@@ -11,8 +11,9 @@ namespace {
 
 /// The keys every kind takes, for the table (the loader reads them itself).
 constexpr const char* kTextureHelp =
-    "PNG/JPEG/EXR/… read with OpenImageIO; **replaces** `albedo`. 8-bit images tagged sRGB (PNG, "
-    "JPEG) or untagged (BMP, TGA) are linearised; float images are used as they are; a negative "
+    "a PNG, JPEG, EXR or any image OpenImageIO reads; **replaces** `albedo`. sRGB images (JPEG; "
+    "PNG unless it declares gamma 1.0; 8-bit tagged sRGB or untagged: BMP, TGA) are linearised; "
+    "float images are used as they are; a negative "
     "or non-finite texel is an error naming the file and pixel. Lookups repeat (uv wrapped into "
     "[0,1) first).";
 constexpr const char* kEmissionHelp =

@@ -583,12 +583,16 @@ int Loader::loadTexture(const Texture& source, const std::string& where) {
     } else {
         requireRegularFile(source.path, "texture", "an image file", m_reader.file().string(),
                            where);
-        const int file = openTextureFile(source.path, linearize, where);
+        // A PNG, a JPEG or a scanline EXR is untiled by its header; of other formats only the
+        // store (OpenImageIO, in the module its first file loads) can tell.
+        const int file = storedInTiles(source.path) == false
+                             ? -1
+                             : openTextureFile(source.path, linearize, where);
         m_scene.addInput(source.path);
-        if (!m_scene.textureStore->info(file).tiled) {
-            // An untiled file (PNG, JPEG, scanline EXR) has no random access: it is read
-            // whole, decoded to linear and looked up in memory, exactly and fast, as an
-            // embedded image is (docs/assets.md, "Textures").
+        if (file < 0 || !m_scene.textureStore->info(file).tiled) {
+            // An untiled file has no random access: it is read whole, decoded to linear and
+            // looked up in memory, exactly and fast, as an embedded image is (docs/assets.md,
+            // "Textures").
             tex.image =
                 textureRgba(readImage(source.path, linearize), "texture", source.path, where);
         } else {

@@ -1,10 +1,11 @@
-// Reading and writing images: layered OpenEXR (with other renderers' channel names), PNG, any
-// format OpenImageIO reads (loaded at the first such file: docs/image.md). Every writer writes a
-// temporary file and renames it into place.
+// Reading and writing images: layered OpenEXR (with other renderers' channel names), PNG, JPEG,
+// any format OpenImageIO reads (loaded at the first such file: docs/image.md). Every writer writes
+// a temporary file and renames it into place.
 #pragma once
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -31,24 +32,31 @@ struct ExrWriteOptions {
 void writeExr(const FrameBuffers& frame, const std::filesystem::path& path,
               const ExrWriteOptions& options = {});
 
-/// Reads an EXR's first part, or any image OpenImageIO can read, as float (all channels; an
-/// EXR's in the order image tools show them). If `linearize` and the file declares sRGB colour
-/// (8-bit PNG/JPEG...) or is 8-bit and declares none (BMP, TGA), values are converted to linear.
+/// Reads an EXR's first part, a PNG, a JPEG, or any image OpenImageIO can read, as float (all
+/// channels; an EXR's in the order image tools show them; alpha straight, as stored). If
+/// `linearize` and the file's colour is sRGB-encoded (a JPEG; a PNG unless it declares gamma 1.0;
+/// another format declaring sRGB, or 8-bit and declaring nothing: BMP, TGA), values are converted
+/// to linear.
 Image readImage(const std::filesystem::path& path, bool linearize = true);
 /// Checks an image file's structure before a reader allocates for it or prints its own
 /// messages: PNG chunks, a JPEG's end marker, the sizes an OpenEXR header's attributes claim.
 /// Every reader of Glint calls it; a caller that opens files through OpenImageIO itself (the
 /// renderer's texture store) calls it first. Throws glint::Error(Format) naming the byte.
 void checkImageFile(const std::filesystem::path& path);
+/// Whether an image file stores its pixels in tiles that a reader can fetch one at a time (a
+/// tiled OpenEXR), from its header: false for PNG, JPEG and scanline OpenEXR files; empty for
+/// the other formats, which only OpenImageIO can tell (a TIFF or .tx file may be tiled). Throws
+/// glint::Error as readImage does for a file it cannot open.
+std::optional<bool> storedInTiles(const std::filesystem::path& path);
 
 /// readImage of an encoded PNG or JPEG held in memory (a glTF asset's embedded image); errors
 /// name `name`.
 Image readImage(std::span<const unsigned char> bytes, const std::string& name,
                 bool linearize = true);
 
-/// Writes a plain float image: float EXR when the extension is .exr, else 8-bit through
-/// OpenImageIO with colour channels sRGB-encoded and clamped (alpha, the 2nd of 2 or 4th of 4
-/// channels, linear).
+/// Writes a plain float image: float EXR when the extension is .exr, else 8-bit (PNG through
+/// libpng, other formats through OpenImageIO) with colour channels sRGB-encoded and clamped (alpha,
+/// the 2nd of 2 or 4th of 4 channels, linear).
 void writeImage(const Image& image, const std::filesystem::path& path);
 
 /// The largest exposure, in stops either way, that display values and metrics accept: 2^64
