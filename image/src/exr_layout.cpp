@@ -21,6 +21,7 @@
 #include <set>
 #include <sstream>
 
+#include "direct_formats.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
 #include "image_files.h"
@@ -170,10 +171,9 @@ ExrInput::ExrInput(const std::filesystem::path& path)
     : m_file(path.string()), m_files(std::make_unique<Files>()) {
     checkRegularFile(path);
     if (!isExr(path)) {
-        if (isPng(path) || isJpeg(path))
+        if (const DirectFormat* format = directFormatOf(path))
             throw Error(ErrorKind::Format,
-                        std::string("expected an OpenEXR file, got a ") +
-                            (isPng(path) ? "png" : "jpeg") + " file",
+                        std::string("expected an OpenEXR file, got a ") + format->name + " file",
                         m_file, "open");
         throw Error(ErrorKind::Format,
                     "not an image in OpenEXR's format (expected its magic number at byte 0)",

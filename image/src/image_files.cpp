@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <fstream>
 #include <system_error>
 
 #include "direct_formats.h"
@@ -37,17 +38,38 @@ void checkRegularFile(const std::filesystem::path& path) {
                     "open");
 }
 
+std::vector<unsigned char> fileHead(const std::filesystem::path& path, std::size_t limit) {
+    std::ifstream in(path, std::ios::binary);
+    std::vector<unsigned char> bytes(limit);
+    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(limit));
+    bytes.resize(std::size_t(std::max<std::streamsize>(in.gcount(), 0)));
+    return bytes;
+}
+
+std::vector<unsigned char> fileBytes(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    if (!in) throw Error(ErrorKind::Io, "cannot open file for reading", path.string(), "open");
+    const std::streamoff size = in.tellg();
+    std::vector<unsigned char> bytes(static_cast<std::size_t>(std::max<std::streamoff>(size, 0)));
+    in.seekg(0);
+    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()));
+    if (in.gcount() != std::streamsize(bytes.size()))
+        throw Error(ErrorKind::Io, "cannot read the whole file", path.string(),
+                    "byte " + std::to_string(in.gcount()));
+    return bytes;
+}
+
 }  // namespace glint::detail
 
 namespace glint {
 
 void checkImageFile(const std::filesystem::path& path) {
-    // libpng prints its own line for a damaged file: catch the damage first.
-    // A truncated JPEG decodes without an error: catch that too.
-    // OpenEXR allocates what a header attribute claims before it finds the file short.
-    if (detail::isPng(path)) detail::checkPngStructure(path);
-    if (detail::isJpeg(path)) detail::checkJpegStructure(path);
-    if (detail::isExr(path)) detail::checkExrHeaders(path);
+    // OpenEXR allocates what a header attribute claims before it finds the file short; the
+    // formats read directly check their own structure (direct_formats.h).
+    if (detail::isExr(path))
+        detail::checkExrHeaders(path);
+    else if (const detail::DirectFormat* format = detail::directFormatOf(path))
+        format->check(detail::fileBytes(path), path.string());
 }
 
 std::optional<bool> storedInTiles(const std::filesystem::path& path) {
@@ -56,7 +78,7 @@ std::optional<bool> storedInTiles(const std::filesystem::path& path) {
         checkImageFile(path);
         return detail::ExrInput(path).layout().parts.front().tileWidth > 0;
     }
-    if (detail::directFormatOf(detail::fileHead(path, 16))) return false;
+    if (detail::directFormatOf(path)) return false;
     return std::nullopt;
 }
 

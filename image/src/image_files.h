@@ -1,6 +1,6 @@
 // Private to image/: what Glint checks of an image file before a library reads it — that it is a
-// regular file, its format's signature, the structure of PNG, JPEG and EXR files — and small
-// helpers of the image readers and writers.
+// regular file, its format's signature, the structure of EXR files (that of PNG and JPEG files
+// is their readers', direct_formats.h) — and small helpers of the image readers and writers.
 #pragma once
 
 #include <filesystem>
@@ -18,23 +18,6 @@ void checkRegularFile(const std::filesystem::path& path);
 std::vector<unsigned char> fileHead(const std::filesystem::path& path, std::size_t limit);
 /// The whole file's bytes. Throws glint::Error(Io) naming `path` when it cannot be read.
 std::vector<unsigned char> fileBytes(const std::filesystem::path& path);
-
-/// True when the file (or the bytes) starts with the PNG signature.
-bool isPng(const std::filesystem::path& path);
-bool isPng(std::span<const unsigned char> bytes);
-/// Walks a PNG's chunks (lengths, CRCs, IHDR first, IDAT present, IEND reached) and throws
-/// glint::Error(Format) naming the byte of the first damage (png_check.cpp).
-void checkPngStructure(const std::filesystem::path& path);
-/// The same for an image held in memory; errors name `file`.
-void checkPngStructure(std::span<const unsigned char> bytes, const std::string& file);
-
-/// True when the file (or the bytes) starts with the JPEG start-of-image marker.
-bool isJpeg(const std::filesystem::path& path);
-bool isJpeg(std::span<const unsigned char> bytes);
-/// Throws glint::Error(Format) for a JPEG without its end-of-image marker (truncated).
-void checkJpegStructure(const std::filesystem::path& path);
-/// The same for an image held in memory; errors name `file`.
-void checkJpegStructure(std::span<const unsigned char> bytes, const std::string& file);
 
 /// True when the file starts with the OpenEXR magic number.
 bool isExr(const std::filesystem::path& path);

@@ -1,26 +1,21 @@
-// Images held in memory (a glTF asset's embedded PNG or JPEG), read through the module of the
-// other formats (other_formats.h) with the same structural checks and linearisation as files.
+// Images held in memory (a glTF asset's embedded PNG or JPEG), read as files of the same format
+// are (other_formats.h), with the same structural checks and linearisation.
+#include "direct_formats.h"
 #include "glint/image/error.h"
 #include "glint/image/io.h"
-#include "image_files.h"
 #include "other_formats.h"
 
 namespace glint {
 
 Image readImage(std::span<const unsigned char> bytes, const std::string& name, bool linearize) {
     // The format comes from the bytes (an embedded image has no extension to go by).
-    const char* extension = nullptr;
-    if (detail::isPng(bytes)) {
-        detail::checkPngStructure(bytes, name);
-        extension = ".png";
-    } else if (detail::isJpeg(bytes)) {
-        detail::checkJpegStructure(bytes, name);
-        extension = ".jpg";
-    } else {
-        throw Error(ErrorKind::Format, "embedded image is neither PNG nor JPEG", name, "byte 0");
-    }
+    const detail::DirectFormat* format = detail::directFormatOf(bytes);
+    if (!format)
+        throw Error(ErrorKind::Format,
+                    "embedded image is in none of the formats glTF allows (PNG, JPEG)", name,
+                    "byte 0");
     return detail::readOtherFormat(
-        name, bytes, extension, linearize, [&](int width, int height, int channels) {
+        name, bytes, format->extension, linearize, [&](int width, int height, int channels) {
             if (channels > 4)
                 throw Error(ErrorKind::Format, "expected a 2D image of 1 to 4 channels", name,
                             "header");

@@ -1,8 +1,10 @@
 // JPEG read through libjpeg-turbo, without the OpenImageIO module (direct_formats.h): grey as one
 // channel, YCbCr and RGB as RGB, sRGB-encoded; CMYK, YCCK and unknown colour models are left to
 // the module. A JPEG's data that ends early (libjpeg's warning, after which it pads the image with
-// grey) is an error. libjpeg reports errors by longjmp: the function that sets the jump holds
-// nothing that needs destroying.
+// grey) is an error, a scan cut short by a marker included, and so is a file without its
+// end-of-image marker (truncated), found before libjpeg sees it. libjpeg reports errors by longjmp:
+// the function that sets the jump holds nothing that needs destroying.
+#include <algorithm>
 #include <csetjmp>
 #include <cstdio>
 #include <memory>
@@ -19,6 +21,19 @@ namespace glint::detail {
 
 namespace {
 
+bool isJpeg(std::span<const unsigned char> bytes) {
+    return bytes.size() >= 3 && bytes[0] == 0xff && bytes[1] == 0xd8 && bytes[2] == 0xff;
+}
+
+void checkJpeg(std::span<const unsigned char> bytes, const std::string& file) {
+    // The end-of-image marker closes the file (a few trailing bytes are tolerated).
+    const std::size_t tail = std::min<std::size_t>(bytes.size(), 64);
+    for (std::size_t i = bytes.size() - tail; i + 1 < bytes.size(); ++i)
+        if (bytes[i] == 0xff && bytes[i + 1] == 0xd9) return;
+    throw Error(ErrorKind::Format, "truncated JPEG (no end-of-image marker)", file,
+                "byte " + std::to_string(bytes.size()));
+}
+
 /// libjpeg's error manager, where its callbacks jump to, and what they reported.
 struct JpegErrors {
     jpeg_error_mgr manager{};
@@ -34,10 +49,12 @@ struct JpegErrors {
     std::longjmp(errors->jump, 1);
 }
 
-// libjpeg would print its warnings on stderr. Data that ends early is kept as an error; the
-// others (extraneous bytes before a marker) leave a readable image.
+// libjpeg would print its warnings on stderr. Data that ends early — the file's end, or a marker
+// inside a scan — is kept as an error (libjpeg pads the rest with grey); the others (extraneous
+// bytes before a marker) leave a readable image.
 void onMessage(j_common_ptr jpeg, int level) {
-    if (level == -1 && jpeg->err->msg_code == JWRN_JPEG_EOF)
+    if (level == -1 &&
+        (jpeg->err->msg_code == JWRN_JPEG_EOF || jpeg->err->msg_code == JWRN_HIT_MARKER))
         reinterpret_cast<JpegErrors*>(jpeg->err)->endedEarly = true;
 }
 
@@ -105,7 +122,6 @@ bool readJpeg(std::span<const unsigned char> bytes, const std::string& file, con
 
 }  // namespace
 
-const DirectFormat kJpegFormat{
-    nullptr, [](std::span<const unsigned char> head) { return isJpeg(head); }, readJpeg, nullptr};
+const DirectFormat kJpegFormat{"jpeg", ".jpg", isJpeg, checkJpeg, readJpeg, nullptr};
 
 }  // namespace glint::detail

@@ -33,6 +33,10 @@ const DirectFormat* directFormatOf(std::span<const unsigned char> head) {
     return nullptr;
 }
 
+const DirectFormat* directFormatOf(const fs::path& path) {
+    return directFormatOf(fileHead(path, 16));
+}
+
 const OtherFormats& otherFormats(const std::string& file, const std::string& where) {
     // Loaded once (a static's initialisation is thread-safe); a failure is kept and reported to
     // every caller.
@@ -83,15 +87,15 @@ Image readOtherFormat(const std::string& file, std::span<const unsigned char> by
     DecodedImage decoded;
     Image image;
     bool read = false;
-    const std::vector<unsigned char> head =
-        bytes.empty() ? fileHead(file, 16) : std::vector<unsigned char>();
-    if (const DirectFormat* format = directFormatOf(bytes.empty() ? std::span(head) : bytes)) {
-        if (bytes.empty()) {
-            const std::vector<unsigned char> whole = fileBytes(file);
-            read = format->read(whole, file, check, decoded, image);
-        } else {
-            read = format->read(bytes, file, check, decoded, image);
-        }
+    // A file of a direct format is read once: its bytes are checked, then decoded. The module
+    // reads a variant the format declines from the file or the caller's bytes.
+    if (const DirectFormat* format =
+            bytes.empty() ? directFormatOf(fs::path(file)) : directFormatOf(bytes)) {
+        const std::vector<unsigned char> whole =
+            bytes.empty() ? fileBytes(file) : std::vector<unsigned char>();
+        const std::span<const unsigned char> data = bytes.empty() ? std::span(whole) : bytes;
+        format->check(data, file);
+        read = format->read(data, file, check, decoded, image);
     }
     if (!read) {
         decoded = {};

@@ -2,9 +2,13 @@
 // PNG is read as 8- or 16-bit grey, grey + alpha, RGB or RGBA (palettes and transparency chunks
 // expanded, interlacing undone); its colour is sRGB-encoded unless a gAMA chunk of 1.0 declares
 // it linear (what Blender and Cycles assume of a PNG, whatever gamma it declares). libpng reports
-// errors by longjmp: the functions that set its jump hold nothing that needs destroying.
+// errors by longjmp: the functions that set its jump hold nothing that needs destroying. Before
+// libpng sees a file its chunks are walked (lengths, CRCs, IHDR first, image data, IEND):
+// libpng's own message for a truncated or damaged file names no byte.
 #include <png.h>
 
+#include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
@@ -20,6 +24,62 @@
 namespace glint::detail {
 
 namespace {
+
+// CRC-32 (ISO 3309, the PNG chunk checksum), table-driven.
+std::uint32_t crc32(const unsigned char* data, std::size_t n, std::uint32_t crc = 0xffffffffu) {
+    static const std::array<std::uint32_t, 256> table = [] {
+        std::array<std::uint32_t, 256> t{};
+        for (std::uint32_t i = 0; i < 256; ++i) {
+            std::uint32_t c = i;
+            for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xedb88320u ^ (c >> 1) : c >> 1;
+            t[i] = c;
+        }
+        return t;
+    }();
+    for (std::size_t i = 0; i < n; ++i) crc = table[(crc ^ data[i]) & 0xffu] ^ (crc >> 8);
+    return crc;
+}
+
+std::uint32_t bigEndian(const unsigned char* p) {
+    return std::uint32_t(p[0]) << 24 | std::uint32_t(p[1]) << 16 | std::uint32_t(p[2]) << 8 |
+           std::uint32_t(p[3]);
+}
+
+bool isPng(std::span<const unsigned char> bytes) {
+    static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    return bytes.size() >= 8 && std::equal(bytes.begin(), bytes.begin() + 8, signature);
+}
+
+void checkPng(std::span<const unsigned char> bytes, const std::string& file) {
+    auto fail = [&](std::size_t at, const std::string& what) {
+        throw Error(ErrorKind::Format, "damaged PNG: " + what, file, "byte " + std::to_string(at));
+    };
+    std::size_t at = 8;
+    bool sawHeader = false, sawData = false;
+    while (true) {
+        if (at + 12 > bytes.size()) fail(at, "truncated (the file ends inside a chunk header)");
+        const std::uint32_t length = bigEndian(&bytes[at]);
+        const std::string type(reinterpret_cast<const char*>(&bytes[at + 4]), 4);
+        if (length > 0x7fffffffu || at + 12 + std::size_t(length) > bytes.size())
+            fail(at, "truncated (chunk '" + type + "' of " + std::to_string(length) +
+                         " bytes goes past the end of the file)");
+        const std::uint32_t stored = bigEndian(&bytes[at + 8 + length]);
+        if ((crc32(&bytes[at + 4], 4 + std::size_t(length)) ^ 0xffffffffu) != stored)
+            fail(at, "chunk '" + type + "' fails its CRC");
+        if (!sawHeader && type != "IHDR") fail(at, "the first chunk is not IHDR");
+        // libpng prints its own lines for a zero width or height (PNG 1.2, 11.2.2: both >= 1).
+        if (!sawHeader && length >= 8 &&
+            (bigEndian(&bytes[at + 8]) == 0 || bigEndian(&bytes[at + 12]) == 0))
+            fail(at, "IHDR says the image is " + std::to_string(bigEndian(&bytes[at + 8])) + "x" +
+                         std::to_string(bigEndian(&bytes[at + 12])) +
+                         " pixels; a PNG is at least 1x1");
+        sawHeader = true;
+        sawData = sawData || type == "IDAT";
+        at += 12 + std::size_t(length);
+        if (type == "IEND") break;
+    }
+    if (!sawData) fail(at, "no image data (IDAT)");
+}
 
 /// What libpng's callbacks read from and report to.
 struct PngState {
@@ -171,7 +231,6 @@ void writePng8(const std::filesystem::path& tmp, const std::string& shown, int w
 
 }  // namespace
 
-const DirectFormat kPngFormat{
-    ".png", [](std::span<const unsigned char> head) { return isPng(head); }, readPng, writePng8};
+const DirectFormat kPngFormat{"png", ".png", isPng, checkPng, readPng, writePng8};
 
 }  // namespace glint::detail

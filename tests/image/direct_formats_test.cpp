@@ -334,5 +334,40 @@ TEST_F(DirectFormats, DamagedDataNamesTheFileAndFormat) {
     }
 }
 
+TEST_F(DirectFormats, AJpegWhoseScanEndsEarlyIsAnError) {
+    // A JPEG cut inside its scan, its end-of-image marker put back: the structure holds, and
+    // libjpeg would pad the rest of the image with grey.
+    const fs::path good = writeJpeg(path("good.jpg"), 3);
+    std::ifstream in(good, std::ios::binary);
+    std::vector<unsigned char> bytes{std::istreambuf_iterator<char>(in), {}};
+    std::size_t scan = 2;  // after the start-of-image marker, segment by segment to the scan's
+    while (!(bytes[scan] == 0xff && bytes[scan + 1] == 0xda))
+        scan += 2 + (std::size_t(bytes[scan + 2]) << 8 | bytes[scan + 3]);
+    scan += 2 + (std::size_t(bytes[scan + 2]) << 8 | bytes[scan + 3]);
+    ASSERT_GT(bytes.size(), scan + 8);
+    bytes.resize(scan + (bytes.size() - 2 - scan) / 3);
+    if (bytes.back() == 0xff) bytes.pop_back();  // not half a marker
+    bytes.push_back(0xff);
+    bytes.push_back(0xd9);
+    std::ofstream(path("cut.jpg"), std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    for (int fromMemory : {0, 1}) {
+        try {
+            if (fromMemory)
+                readImage(bytes, "cut.jpg");
+            else
+                readImage(path("cut.jpg"));
+            ADD_FAILURE() << "cut.jpg was read";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), ErrorKind::Format);
+            EXPECT_EQ(e.file(), fromMemory ? "cut.jpg" : path("cut.jpg").string());
+            EXPECT_EQ(e.where(), "pixels") << e.what();
+            EXPECT_NE(std::string(e.what()).find("truncated JPEG (its data ends early)"),
+                      std::string::npos)
+                << e.what();
+        }
+    }
+}
+
 }  // namespace
 }  // namespace glint
