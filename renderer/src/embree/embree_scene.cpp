@@ -30,59 +30,32 @@ void throwDeviceError(RTCDevice device, const char* what) {
 /// multi-million-triangle asset it takes seconds and more memory than the mesh.
 constexpr std::size_t kHighQualityBuildLimit = 1u << 20;
 
-/// A triangle geometry whose index buffer is the mesh's own and whose `steps` vertex buffers
-/// are filled by `fill(step, buffer)` (Embree-allocated: Embree reads 16 bytes per float3, so
-/// its buffers are padded) — or, with one step and a mesh whose storage is padded, the mesh's
-/// own positions.
-template <class Fill>
-RTCGeometry newTriangleMesh(RTCDevice device, const detail::Mesh& mesh, int steps, Fill fill,
-                            bool shareVertices) {
+/// A mesh's positions as they are (object or world space), its index buffer the mesh's own.
+RTCGeometry newStaticMesh(RTCDevice device, const detail::Mesh& mesh) {
     RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    if (steps > 1) rtcSetGeometryTimeStepCount(geom, unsigned(steps));
     const std::size_t vertices = mesh.vertexCount(), triangles = mesh.triangleCount();
-    bool allocated = true;
-    if (shareVertices) {
+    // Embree reads 16 bytes for the last float3: share the mesh's storage only when its
+    // allocation reaches that far (SceneData::finish pads it), else copy into Embree's padded
+    // buffer.
+    if (mesh.positions.capacity() > mesh.positions.size()) {
         rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                    mesh.positions.data(), 0, sizeof(Vec3), vertices);
     } else {
-        for (int k = 0; k < steps; ++k) {
-            auto* buffer = static_cast<float*>(
-                rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, unsigned(k),
-                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float), vertices));
-            if (!buffer) {
-                allocated = false;
-                break;
-            }
-            fill(k, buffer);
+        auto* buffer = static_cast<float*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), vertices));
+        if (!buffer) {
+            rtcReleaseGeometry(geom);
+            throwDeviceError(device, "buffer allocation");
+        }
+        for (std::size_t v = 0; v < vertices; ++v) {
+            buffer[3 * v + 0] = mesh.positions[v].x;
+            buffer[3 * v + 1] = mesh.positions[v].y;
+            buffer[3 * v + 2] = mesh.positions[v].z;
         }
     }
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                mesh.indices.data(), 0, 3 * sizeof(std::uint32_t), triangles);
-    if (!allocated) {
-        rtcReleaseGeometry(geom);
-        throwDeviceError(device, "buffer allocation");
-    }
     return geom;
-}
-
-void store(float* buffer, std::size_t vertex, const Vec3& p) {
-    buffer[3 * vertex + 0] = p.x;
-    buffer[3 * vertex + 1] = p.y;
-    buffer[3 * vertex + 2] = p.z;
-}
-
-/// A mesh's positions as they are (object or world space).
-RTCGeometry newStaticMesh(RTCDevice device, const detail::Mesh& mesh) {
-    // Embree reads 16 bytes for the last float3: share the mesh's storage only when its
-    // allocation reaches that far (SceneData::finish pads it), else copy.
-    const bool padded = mesh.positions.capacity() > mesh.positions.size();
-    return newTriangleMesh(
-        device, mesh, 1,
-        [&](int, float* buffer) {
-            for (std::size_t i = 0; i < mesh.vertexCount(); ++i)
-                store(buffer, i, mesh.positions[i]);
-        },
-        padded);
 }
 
 void attach(RTCScene scene, RTCGeometry geom, unsigned id) {
@@ -112,16 +85,13 @@ void setBuildOptions(RTCScene scene, std::size_t triangles, bool clusters) {
 
 namespace {
 
-/// The triangles the BVHs hold: a static mesh once however many instances share it, a moving
-/// instance's mesh once per instance (each has its own geometry).
+/// The triangles the BVHs hold: a mesh once however many instances, still or moving, share it.
 std::size_t bvhTriangles(const detail::SceneData& data) {
     std::vector<bool> counted(data.meshes.size(), false);
     std::size_t triangles = 0;
     for (const detail::Instance& inst : data.instances) {
-        if (inst.motion < 0) {
-            if (counted[inst.mesh]) continue;
-            counted[inst.mesh] = true;
-        }
+        if (counted[inst.mesh]) continue;
+        counted[inst.mesh] = true;
         triangles += data.meshes[inst.mesh].triangleCount();
     }
     return triangles;
@@ -151,15 +121,7 @@ std::uint64_t EmbreeScene::estimateBytes(const detail::SceneData& data, bool clu
     for (const detail::Instance& inst : data.instances) {
         const detail::Mesh& mesh = data.meshes[inst.mesh];
         bytes = saturatingAdd(bytes, kGeometryBytes);
-        if (inst.motion >= 0) {
-            // Embree's triangles at every time step, and the posed vertices it is given.
-            const std::uint64_t steps = data.motions[std::size_t(inst.motion)].steps.size();
-            bytes = saturatingAdd(
-                bytes, saturatingMul(steps, mesh.triangleCount() * kHighQualityTriangleBytes +
-                                                mesh.vertexCount() * 16));
-            continue;
-        }
-        if (counted[inst.mesh]) continue;  // a shared mesh is built once
+        if (counted[inst.mesh]) continue;  // a shared mesh is built once, moving or not
         counted[inst.mesh] = true;
         const std::uint64_t perTriangle = clusters  ? kClusterTriangleBytes
                                           : compact ? kCompactTriangleBytes
@@ -176,10 +138,9 @@ std::size_t EmbreeScene::clusterOrderBytes() const {
 }
 
 /// Converts the scene: geometry i of the top-level scene is instance i — its mesh in world
-/// space, an Embree instance of the shared mesh's own scene (built once per mesh), or a
-/// motion-blur mesh whose time step k holds the mesh posed at normalised time k / (steps - 1).
-/// With clusters, a static mesh (in world space or shared) is a clustered geometry; motion-blur
-/// meshes keep Embree's triangles. Ends in rtcCommitScene.
+/// space, or an Embree instance of the mesh's own scene (built once per mesh), whose transform
+/// at time step k of a moving instance is its pose at normalised time k / (steps - 1). With
+/// clusters every mesh is a clustered geometry. Ends in rtcCommitScene.
 RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& data, Accel accel) {
     const bool clusters = buildsClusters(data, accel);
     // Held in m_scene at once so that the constructor releases it if the conversion throws.
@@ -217,29 +178,16 @@ RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& da
         const detail::Instance& inst = data.instances[i];
         const detail::Mesh& mesh = data.meshes[inst.mesh];
         if (mesh.triangleCount() == 0) continue;
-        if (inst.motion >= 0) {
-            const detail::InstanceMotion& motion = data.motions[std::size_t(inst.motion)];
-            const int steps = int(motion.steps.size());
-            RTCGeometry geom = newTriangleMesh(
-                device, mesh, steps,
-                [&](int k, float* buffer) {
-                    const detail::Affine& pose = motion.steps[std::size_t(k)];
-                    for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
-                        store(buffer, v, pose.point(mesh.positions[v]));
-                },
-                false);
-            if (instanceAlpha[i]) attachAlphaFilter(geom, alphaTest(std::uint32_t(i), false));
-            attach(scene, geom, unsigned(i));
-            m_timeSteps.push_back(steps);
-            continue;
-        }
-        if (inst.identity) {
+        if (inst.identity && inst.motion < 0) {
             RTCGeometry geom =
                 staticMesh(mesh, instanceAlpha[i] ? alphaTest(std::uint32_t(i), false) : nullptr);
             attach(scene, geom, unsigned(i));
             continue;
         }
-        // An instance of a mesh in object space: the mesh's scene is built once.
+        // An instance of a mesh in object space: the mesh's scene is built once. A moving
+        // instance places it by its pose at each time step, which Embree interpolates linearly
+        // between steps: the vertices then move exactly as posed vertices interpolated linearly
+        // would (SceneData::posedTriangle), and the mesh's BVH is built once, not once a step.
         int& child = meshScene[inst.mesh];
         if (child < 0) {
             RTCScene meshScene = rtcNewScene(device);
@@ -253,12 +201,23 @@ RTCScene EmbreeScene::convertScene(RTCDevice device, const detail::SceneData& da
         }
         RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
         rtcSetGeometryInstancedScene(geom, m_meshScenes[std::size_t(child)]);
-        float xfm[12];
-        for (int r = 0; r < 3; ++r) {
-            for (int c = 0; c < 3; ++c) xfm[4 * r + c] = inst.transform.m[r][c];
-            xfm[4 * r + 3] = inst.transform.t[r];
+        auto setPose = [&](unsigned step, const detail::Affine& pose) {
+            float xfm[12];
+            for (int r = 0; r < 3; ++r) {
+                for (int c = 0; c < 3; ++c) xfm[4 * r + c] = pose.m[r][c];
+                xfm[4 * r + 3] = pose.t[r];
+            }
+            rtcSetGeometryTransform(geom, step, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xfm);
+        };
+        if (inst.motion >= 0) {
+            const detail::InstanceMotion& motion = data.motions[std::size_t(inst.motion)];
+            const int steps = int(motion.steps.size());
+            rtcSetGeometryTimeStepCount(geom, unsigned(steps));
+            for (int k = 0; k < steps; ++k) setPose(unsigned(k), motion.steps[std::size_t(k)]);
+            m_timeSteps.push_back(steps);
+        } else {
+            setPose(0, inst.transform);
         }
-        rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xfm);
         attach(scene, geom, unsigned(i));
     }
     rtcCommitScene(scene);

@@ -93,9 +93,9 @@ class EmbreeScene {
     /// (docs/renderer.md, "Memory").
     static std::uint64_t estimateBytes(const detail::SceneData& scene, bool clusters);
 
-    /// Number of motion-blur geometries built (0 for a scene without moving shapes).
+    /// Number of moving instances built (0 for a scene without moving shapes).
     int motionGeometryCount() const { return int(m_timeSteps.size()); }
-    /// Embree time steps of motion geometry i (< motionGeometryCount()).
+    /// Embree time steps of moving instance i (< motionGeometryCount()).
     int timeStepCount(int i) const { return m_timeSteps[std::size_t(i)]; }
 
   private:
@@ -114,7 +114,7 @@ class EmbreeScene {
     RTCSceneTy* m_scene = nullptr;
     int m_packetWidth = 1;                  // 16, 8, 4 or 1 (no packet support)
     std::vector<RTCSceneTy*> m_meshScenes;  // the scene of each shared mesh
-    std::vector<int> m_timeSteps;           // of each motion-blur geometry, in instance order
+    std::vector<int> m_timeSteps;           // of each moving instance, in instance order
     std::vector<std::unique_ptr<AlphaTest>> m_alphaTests;      // the filters' data (alpha_filter.h)
     std::vector<std::unique_ptr<ClusterGeometry>> m_clusters;  // of each clustered mesh
 };

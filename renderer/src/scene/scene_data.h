@@ -320,8 +320,8 @@ struct Instance {
 };
 
 /// The motion of a moving instance: the pose at time step k (normalised time k / (steps - 1)) is
-/// steps[k]; between steps the vertices move linearly, exactly as Embree's motion-blur triangles
-/// do.
+/// steps[k]; between steps the vertices move linearly, exactly as they do under Embree's
+/// instance transform interpolated linearly between the step poses.
 struct InstanceMotion {
     std::vector<Affine> steps;  ///< at least 2
 };
