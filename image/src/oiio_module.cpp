@@ -66,6 +66,9 @@ ModuleError write8(const std::string& tmp, int width, int height,
     OIIO::ImageSpec spec(width, height, int(names.size()), OIIO::TypeUInt8);
     spec.channelnames = names;
     spec.alpha_channel = alpha;
+    // Glint's values are straight (its readers keep a file's alpha as stored): a format that
+    // can say so (TIFF's extra sample) is told, so that no reader multiplies them again.
+    if (alpha >= 0) spec.attribute("oiio:UnassociatedAlpha", 1);
     if (!colorSpace.empty()) spec.attribute("oiio:ColorSpace", colorSpace);
     auto out = OIIO::ImageOutput::create(tmp);
     if (!out)

@@ -215,6 +215,12 @@ TEST_F(DirectFormats, AlphaIsStraightAsStored) {
                 << name << ", value " << i;
         EXPECT_NEAR(back.data()[3], 128.0f / 255.0f, 1e-6f) << name;  // alpha stays linear
     }
+    // A TIFF Glint writes says its alpha is straight, so that other readers keep it so too.
+    writeImage(im, path("b.tif"));
+    auto in = OIIO::ImageInput::open(path("b.tif").string());
+    ASSERT_TRUE(in);
+    EXPECT_EQ(in->spec().get_int_attribute("tiff:UnassociatedAlpha"), 1);  // ExtraSamples
+    EXPECT_NEAR(readImage(path("b.tif")).data()[4], pixels[4], 0.5f / 255.0f);
 }
 
 TEST_F(DirectFormats, PngsWrittenAreReadByOpenImageIoAsWritten) {
