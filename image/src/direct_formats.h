@@ -29,11 +29,11 @@ struct DirectFormat {
     /// or damaged file, which the library would report without a place, print on stderr, or
     /// decode in part) and throws glint::Error(Format) naming `file` and the byte of the first
     /// damage.
-    void (*check)(std::span<const unsigned char> bytes, const std::string& file);
-    /// Decodes `bytes`, which `check` accepted: what it is into `out` (its colour space "sRGB"
-    /// or "Linear" as the file declares it; `out.pixels` stays empty), its samples as float into
-    /// `pixels`, alpha straight (as stored). False when the image is a variant it leaves to the
-    /// module. Throws glint::Error(Format) naming `file` for damaged data; `check` throws for a
+    void (*checkStructure)(std::span<const unsigned char> bytes, const std::string& file);
+    /// Decodes `bytes`, which `checkStructure` accepted: what it is into `out` (its colour space
+    /// "sRGB" or "Linear" as the file declares it; `out.pixels` stays empty), its samples as float
+    /// into `pixels`, alpha straight (as stored). False when the image is a variant it leaves to
+    /// the module. Throws glint::Error(Format) naming `file` for damaged data; `check` throws for a
     /// refused size before anything is allocated for it.
     bool (*read)(std::span<const unsigned char> bytes, const std::string& file,
                  const SizeCheck& check, DecodedImage& out, Image& pixels);

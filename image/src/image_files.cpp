@@ -69,7 +69,7 @@ void checkImageFile(const std::filesystem::path& path) {
     if (detail::isExr(path))
         detail::checkExrHeaders(path);
     else if (const detail::DirectFormat* format = detail::directFormatOf(path))
-        format->check(detail::fileBytes(path), path.string());
+        format->checkStructure(detail::fileBytes(path), path.string());
 }
 
 std::optional<bool> storedInTiles(const std::filesystem::path& path) {

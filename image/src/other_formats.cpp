@@ -94,7 +94,7 @@ Image readOtherFormat(const std::string& file, std::span<const unsigned char> by
         const std::vector<unsigned char> whole =
             bytes.empty() ? fileBytes(file) : std::vector<unsigned char>();
         const std::span<const unsigned char> data = bytes.empty() ? std::span(whole) : bytes;
-        format->check(data, file);
+        format->checkStructure(data, file);
         read = format->read(data, file, check, decoded, image);
     }
     if (!read) {
