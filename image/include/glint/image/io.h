@@ -40,8 +40,9 @@ void writeExr(const FrameBuffers& frame, const std::filesystem::path& path,
 Image readImage(const std::filesystem::path& path, bool linearize = true);
 /// Checks an image file's structure before a reader allocates for it or prints its own
 /// messages: PNG chunks, a JPEG's end marker, the sizes an OpenEXR header's attributes claim.
-/// Every reader of Glint calls it; a caller that opens files through OpenImageIO itself (the
-/// renderer's texture store) calls it first. Throws glint::Error(Format) naming the byte.
+/// readImage makes the same checks on what it reads (an EXR's headers; a PNG's or JPEG's bytes,
+/// read once); a caller that opens files through OpenImageIO itself (the renderer's texture
+/// store) calls this first. Throws glint::Error(Format) naming the byte.
 void checkImageFile(const std::filesystem::path& path);
 /// Whether an image file stores its pixels in tiles that a reader can fetch one at a time (a
 /// tiled OpenEXR), from its header: false for PNG, JPEG and scanline OpenEXR files; empty for
