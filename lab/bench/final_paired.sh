@@ -2,7 +2,8 @@
 # glint-final of two builds paired on the same scenes, budgets and seeds (docs/research/
 # freed-frames.md): which build runs first alternates with the seed's parity; each run's wall
 # clock from the shell's start to the EXR, the loop's own seconds, the mean spp, the final plan
-# and the relMSE after auto against scenes/S/reference.exr. One TSV row per run on stdout.
+# as first planned, the relMSE after auto against scenes/S/reference.exr and the plan that ran
+# (a late re-plan or the deadline's fallback may differ). One TSV row per run on stdout.
 #   lab/bench/final_paired.sh OLD_BUILD NEW_BUILD "BUDGETS" "SEEDS" "SCENES"
 #   slot lab/bench/final_paired.sh /work/prev/build build "8" "91 92" "cornell dof glossy pool"
 set -euo pipefail
@@ -11,7 +12,7 @@ root=$(cd "$(dirname "$0")/../.." && pwd)
 old=$1 new=$2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-printf 'budget\tscene\tseed\tbuild\twall\tloop\tspp\tplan\trelmse\n'
+printf 'budget\tscene\tseed\tbuild\twall\tloop\tspp\tplan\trelmse\tran\n'
 for budget in $3; do for seed in $4; do for scene in $5; do
     order=("$old" "$new")
     ((seed % 2 == 0)) && order=("$new" "$old")
@@ -25,9 +26,10 @@ for budget in $3; do for seed in $4; do for scene in $5; do
         loop=$(grep -oP 'estimated relMSE [0-9.e+-]+ in \K[0-9.]+' <<<"$log" || true)
         spp=$(grep -oP '[0-9]+x[0-9]+, \K[0-9.]+(?= spp a pixel)' <<<"$log" | head -1 || true)
         plan=$(grep -oP 'final auto planned: \K.*' <<<"$log" | tail -1 || true)
+        ran=$(grep -oP '^  final auto: \K.*' <<<"$log" | tail -1 || true)
         relmse=$("$new/bin/glint-image" diff "$work/$name.exr" \
             --reference "$root/scenes/$scene/reference.exr" --metric relmse | awk '/^relmse/ {print $2}')
-        printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$budget" "$scene" "$seed" "$name" "$wall" \
-            "$loop" "$spp" "$plan" "$relmse"
+        printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$budget" "$scene" "$seed" "$name" \
+            "$wall" "$loop" "$spp" "$plan" "$relmse" "$ran"
     done
 done; done; done

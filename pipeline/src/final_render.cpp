@@ -148,11 +148,13 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     const AutoPlan refreshPlan{options.refreshQuality, 0, {}};
     AutoPlan finalPlan = most;
     double pixels = 0.0;
-    // The final auto's plan for the time left at `t` (within its share of the limit), and the
-    // render's reserve for it.
+    // The final auto's plan for the time left at `t` (within its share of the limit; of the
+    // plans that fit, the one that leaves the least error with the render it leaves time for),
+    // and the render's reserve for it.
     auto plan = [&](double t) {
         const double left = std::min(options.finalShare * options.timeLimit, options.timeLimit - t);
-        finalPlan = choosePlan(cost, pixels, left, most);
+        const RenderTime render{std::max(0.0, t - out.autoSeconds), options.timeLimit - t};
+        finalPlan = choosePlan(cost, pixels, left, most, render);
         budget.expectFinal(cost.seconds(finalPlan, pixels), finalReserve(cost, finalPlan, pixels));
     };
     double frameProbe = 0.0;  // seconds of the whole frame's probe (kFrameProbeShare; 0: none)

@@ -2,6 +2,7 @@
 #include "glint/pipeline/time_budget.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "glint/denoise/registry.h"
 
@@ -35,6 +36,13 @@ constexpr const char* kCheapestFilter = "cross-bilateral";
 constexpr const char* kRenderItself = "identity";
 /// The bank sizes tried below fast's own.
 constexpr int kSmallerBanks[] = {16, 8, 4, 2, 1};
+/// planGain's measured gains (docs/lab/final-plan.md): fast with up to 4 members, and from there +
+/// kGainPerBankDoubling for every doubling of the bank (16 members 1.50, fast's 32 1.54:
+/// measured 1.49 and 1.54); balanced; best.
+constexpr double kGainSmallBank = 1.42;
+constexpr double kGainPerBankDoubling = 0.04;
+constexpr double kGainBalanced = 1.62;
+constexpr double kGainBest = 1.65;
 
 }  // namespace
 
@@ -121,7 +129,17 @@ double finalReserve(const AutoCost& cost, const AutoPlan& plan, double pixels) {
     return kBackedMargin * cost.seconds(plan, pixels) + fallback;
 }
 
-AutoPlan choosePlan(const AutoCost& cost, double pixels, double seconds, const AutoPlan& most) {
+double planGain(const AutoPlan& plan) {
+    if (describe(plan) == describe(cheapestPlan())) return 1.0;
+    if (plan.quality == denoise::AutoQuality::Best && plan.bankSize == 0) return kGainBest;
+    if (plan.quality == denoise::AutoQuality::Balanced && plan.bankSize == 0) return kGainBalanced;
+    const int members =
+        plan.bankSize > 0 ? plan.bankSize : denoise::autoQualityBankSize(plan.quality);
+    return kGainSmallBank + kGainPerBankDoubling * std::max(0.0, std::log2(double(members)) - 2.0);
+}
+
+AutoPlan choosePlan(const AutoCost& cost, double pixels, double seconds, const AutoPlan& most,
+                    const RenderTime& render) {
     if (!cost.calibrated()) return most;
     auto fits = [&](const AutoPlan& plan) { return finalReserve(cost, plan, pixels) <= seconds; };
     // The qualities from `most` down to fast, then fast with smaller banks.
@@ -131,9 +149,25 @@ AutoPlan choosePlan(const AutoCost& cost, double pixels, double seconds, const A
         if (int(q) < int(most.quality)) ladder.push_back({q, 0, most.filters});
     for (int size : kSmallerBanks)
         ladder.push_back({denoise::AutoQuality::Fast, size, most.filters});
+    if (render.ahead <= 0.0) {
+        for (const AutoPlan& plan : ladder)
+            if (fits(plan)) return plan;
+        return cheapestPlan();
+    }
+    // The error after the render: ∝ 1 / (the plan's gain × the render's seconds with it).
+    auto value = [&](const AutoPlan& plan) {
+        const double renders =
+            render.rendered + std::max(0.0, render.ahead - finalReserve(cost, plan, pixels));
+        return planGain(plan) * renders;
+    };
+    AutoPlan best = cheapestPlan();
+    double bestValue = value(best);
     for (const AutoPlan& plan : ladder)
-        if (fits(plan)) return plan;
-    return cheapestPlan();
+        if (fits(plan) && value(plan) > bestValue) {
+            best = plan;
+            bestValue = value(plan);
+        }
+    return best;
 }
 
 FrameBuffers probeFrame(const FrameBuffers& frame, int side) {

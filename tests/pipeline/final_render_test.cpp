@@ -208,8 +208,10 @@ TEST(FinalRender, ATimeLimitTooSmallForTheFinalAutoGetsACheaperPlanChosenBeforeT
     // The final auto at its quality is expected to take 5 s; under a limit of 2 s (fake clock)
     // the plan is chosen at the first frames from the time left (fast, fewer members, or one
     // member of one filter), the render stops leaving its reserve, and the whole keeps the
-    // limit. Under 40 s the quality asked for fits and is kept. (The variance schedule runs no
-    // refresh, whose time on the fake clock would recalibrate the cost to almost nothing.)
+    // limit. Under 40 s the quality asked for fits its share but would take the render an
+    // eighth of its time, more than it gains over a smaller bank (choosePlan): a cheaper plan
+    // still. Expected at 1 s it costs the render little and is kept. (The variance schedule runs
+    // no refresh, whose time on the fake clock would recalibrate the cost to almost nothing.)
     render::Renderer renderer(cornell());
     FinalOptions o = balancedUnderALimit();
     o.expectedAutoSeconds = 5.0;
@@ -223,6 +225,13 @@ TEST(FinalRender, ATimeLimitTooSmallForTheFinalAutoGetsACheaperPlanChosenBeforeT
     EXPECT_FALSE(small.overTime);
     o.timeLimit = 40.0;
     o.clock = fakeClock(0.01);
+    const FinalResult costly = renderFinal(renderer, o);
+    EXPECT_LT(kBackedMargin * 5.0, o.finalShare * o.timeLimit);  // balanced fits its share
+    EXPECT_NE(costly.finalPlan, "balanced");
+    EXPECT_NE(costly.finalPlan, describe(cheapestPlan()));
+    EXPECT_LE(costly.seconds, o.timeLimit + 0.05);
+    o.expectedAutoSeconds = 1.0;
+    o.clock = fakeClock(0.01);
     const FinalResult large = renderFinal(renderer, o);
     EXPECT_EQ(large.finalPlan, "balanced");
     EXPECT_LE(large.seconds, o.timeLimit + 0.05);
@@ -230,14 +239,15 @@ TEST(FinalRender, ATimeLimitTooSmallForTheFinalAutoGetsACheaperPlanChosenBeforeT
 
 TEST(FinalRender, AProbeRunSlowedByTheMachinesLoadDoesNotChangeTheFinalAutosPlan) {
     // The probe that calibrates auto's cost (no expectedAutoSeconds) runs kProbeRuns times and
-    // the fastest counts. On the fake clock each probe run takes one tick, and balanced fits 20 s;
+    // the fastest counts. On the fake clock each probe run takes one tick, and balanced is chosen
+    // at 30 s (its cold start guessed, kColdStartPixels: 6 s on this frame's probe);
     // when the clock jumps 1 s inside the first run (a load spike: the first progress report of
     // the first auto) the plan stays balanced, where one timed run would make every plan a
     // hundred times slower and choose the cheapest. (The variance schedule runs no refresh,
     // which would recalibrate the cost.)
     render::Renderer renderer(cornell());
     FinalOptions o = balancedUnderALimit();
-    o.timeLimit = 20.0;
+    o.timeLimit = 30.0;
     auto planWith = [&](long spikeTicks) {
         auto reads = std::make_shared<std::atomic<long>>(0);
         auto jumped = std::make_shared<std::atomic<long>>(0);

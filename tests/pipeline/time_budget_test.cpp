@@ -231,6 +231,58 @@ TEST(TimeBudget, TheFinalAutosPlanIsTheBestThatFitsDownToOneMemberOfOneFilter) {
     EXPECT_EQ(describe(choosePlan(cost, pixels, 1e3, {denoise::AutoQuality::Fast, 0, {}})), "fast");
 }
 
+TEST(TimeBudget, APlansGainGrowsWithItsBankAndTheCheapestPlanGainsNothing) {
+    // planGain: the cheapest plan's error ÷ the plan's on the same frame, as measured
+    // (docs/lab/cheapest-plan.md): never less for a larger bank or a better quality.
+    auto fast = [](int members) { return AutoPlan{denoise::AutoQuality::Fast, members, {}}; };
+    const AutoPlan balanced{denoise::AutoQuality::Balanced, 0, {}};
+    const AutoPlan best{denoise::AutoQuality::Best, 0, {}};
+    EXPECT_EQ(planGain(cheapestPlan()), 1.0);
+    EXPECT_GT(planGain(fast(1)), 1.3);
+    EXPECT_EQ(planGain(fast(1)), planGain(fast(4)));
+    EXPECT_LT(planGain(fast(4)), planGain(fast(16)));
+    EXPECT_LT(planGain(fast(16)), planGain(fast(0)));
+    EXPECT_NEAR(planGain(fast(0)), planGain(fast(32)), 1e-12);
+    EXPECT_LT(planGain(fast(0)), planGain(balanced));
+    EXPECT_LT(planGain(balanced), planGain(best));
+    EXPECT_LT(planGain(best), 2.0);
+}
+
+TEST(TimeBudget, WithTheRendersTimeAPlanIsChosenOnlyWhereItGainsMoreThanTheSamplesItCosts) {
+    // The cheapest plan takes 0.1 s on the frame (warm): balanced 1.6 s, fast with one member
+    // 0.43 s. With the render's time known, of the plans that fit, the one whose gain × the
+    // render's seconds is largest: balanced where its reserve is a small part of the render,
+    // fast with one member where balanced's would cost the render more than balanced gains over
+    // it, the cheapest plan where even that one's would (an error ∝ 1 / spp).
+    AutoCost cost;
+    const double px = 256.0 * 256.0;
+    cost.calibrate(cheapestPlan(), px, 0.1);
+    cost.ran(warmupPlan());
+    const AutoPlan balanced{denoise::AutoQuality::Balanced, 0, {}};
+    const double rendered = 0.3;
+    auto planFor = [&](double ahead) {
+        return describe(choosePlan(cost, px, 1e3, balanced, RenderTime{rendered, ahead}));
+    };
+    EXPECT_EQ(planFor(1000.0), "balanced");
+    EXPECT_EQ(planFor(4.0), "fast with 1 member");
+    EXPECT_EQ(planFor(1.2), describe(cheapestPlan()));
+    // At each, the plan chosen leaves the least error of the plans tried (the brute force).
+    for (double ahead : {1000.0, 30.0, 8.0, 4.0, 2.0, 1.2, 0.5}) {
+        const AutoPlan chosen = choosePlan(cost, px, 1e3, balanced, RenderTime{rendered, ahead});
+        auto value = [&](const AutoPlan& plan) {
+            return planGain(plan) *
+                   (rendered + std::max(0.0, ahead - finalReserve(cost, plan, px)));
+        };
+        for (int members : {0, 16, 8, 4, 2, 1})
+            EXPECT_GE(value(chosen), value({denoise::AutoQuality::Fast, members, {}})) << ahead;
+        EXPECT_GE(value(chosen), value(balanced)) << ahead;
+        EXPECT_GE(value(chosen), value(cheapestPlan())) << ahead;
+    }
+    // The share still bounds it: balanced does not fit 1 s, whatever the render.
+    EXPECT_NE(describe(choosePlan(cost, px, 1.0, balanced, RenderTime{rendered, 1000.0})),
+              "balanced");
+}
+
 TEST(TimeBudget, TheCheapestPlanHoldsTheRenderItselfAtAFewPercentOfItsCost) {
     // The fallback at a final auto's deadline keeps the render where its filter would blur a
     // converged frame (tests/denoise/identity_test.cpp has what that gives): one member that

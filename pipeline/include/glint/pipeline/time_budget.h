@@ -2,9 +2,9 @@
 // while the time left exceeds the reserve for the final auto (a margin over its predicted time),
 // and auto's refreshes during the render take at most a share of the limit. Auto's time is
 // predicted by a cost model calibrated in the run (AutoCost: a probe on a crop of the first pass,
-// then each refresh), and the final auto's plan (its quality, or a smaller bank) is chosen so that
-// it fits its share (choosePlan). Times are seconds since the render started, read from any clock
-// (tests use a fake one).
+// then each refresh), and the final auto's plan (its quality, or a smaller bank) is chosen among
+// those that fit its share by the error it leaves with the render's time (choosePlan). Times are
+// seconds since the render started, read from any clock (tests use a fake one).
 #pragma once
 
 #include <string>
@@ -133,11 +133,31 @@ AutoPlan warmupPlan();
 /// cheapestPlan()'s reserve (the fallback at its deadline).
 double finalReserve(const AutoCost& cost, const AutoPlan& plan, double pixels);
 
-/// The plan the final auto runs with `seconds` for it on `pixels` pixels: the first of `most`
-/// (balanced, say), the cheaper qualities down to fast, then fast with 16, 8, 4, 2 and 1 members,
-/// then cheapestPlan(), whose finalReserve is at most `seconds`; cheapestPlan() when none is.
-/// `most` itself when the cost is not calibrated.
-AutoPlan choosePlan(const AutoCost& cost, double pixels, double seconds, const AutoPlan& most);
+/// What a plan's final auto gains over cheapestPlan() on the same frame: the cheapest plan's
+/// relMSE ÷ the plan's (1 for cheapestPlan() itself). The geometric mean over six scenes at 32, 128
+/// and 512 spp (uniform frames, seed 511): fast with 1 to 4 members 1.42, 16 members 1.49, fast
+/// (32) 1.54, balanced 1.62, best balanced's × 1.02 (docs/lab/final-plan.md). A plan of named
+/// filters counts as its bank size.
+double planGain(const AutoPlan& plan);
+
+/// The render's side of the final auto's plan: `rendered` seconds of the render so far and
+/// `ahead` seconds from now to the time limit. A plan whose finalReserve is R leaves the render
+/// rendered + max(0, ahead − R) seconds in all.
+struct RenderTime {
+    double rendered = 0.0;
+    double ahead = 0.0;
+};
+
+/// The plan the final auto runs with `seconds` for it on `pixels` pixels. The plans tried: `most`
+/// (balanced, say), the cheaper qualities down to fast, fast with 16, 8, 4, 2 and 1 members, and
+/// cheapestPlan(); a plan fits when its finalReserve is at most `seconds`. Without `render`
+/// (ahead 0): the first that fits. With it: of those that fit, the one whose error after the
+/// render it leaves is least, planGain(plan) × the render's seconds with it — the error taken as
+/// falling as 1 / spp (the noise's rate), so a plan is chosen only where it gains more than the
+/// samples its time would have bought. cheapestPlan() when none fits; `most` itself when the
+/// cost is not calibrated.
+AutoPlan choosePlan(const AutoCost& cost, double pixels, double seconds, const AutoPlan& most,
+                    const RenderTime& render = {});
 
 /// The centred crop of `frame` of at most side × side pixels, every layer cropped (a probe of
 /// auto's cost).
