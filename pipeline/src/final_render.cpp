@@ -149,11 +149,14 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     AutoPlan finalPlan = most;
     double pixels = 0.0;
     // The final auto's plan for the time left at `t` (within its share of the limit; of the
-    // plans that fit, the one that leaves the least error with the render it leaves time for),
-    // and the render's reserve for it.
+    // plans that fit, while the render goes on the one that leaves the least error with the
+    // render it leaves time for, after it the best), and the render's reserve for it.
+    bool rendering = true;
     auto plan = [&](double t) {
         const double left = std::min(options.finalShare * options.timeLimit, options.timeLimit - t);
-        const RenderTime render{std::max(0.0, t - out.autoSeconds), options.timeLimit - t};
+        const RenderTime render =
+            rendering ? RenderTime{std::max(0.0, t - out.autoSeconds), options.timeLimit - t}
+                      : RenderTime{};
         finalPlan = choosePlan(cost, pixels, left, most, render);
         budget.expectFinal(cost.seconds(finalPlan, pixels), finalReserve(cost, finalPlan, pixels));
     };
@@ -353,10 +356,19 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     out.targetReached = stop;
     if (!stop) {
         if (budget.timed()) {
-            // The final auto's plan for the time left: the planned one when it still fits, a
-            // cheaper one when the render (its first pass, say) took longer.
+            // The final auto's plan for the time left, the render's time spent: the planned one
+            // when it still fits, a cheaper one when the render (its first pass, say) took
+            // longer, a better one when it ended early (at its spp) and that one fits.
+            rendering = false;
             calibrate(out.frame);
-            if (now() + cost.seconds(finalPlan, pixels) > options.timeLimit) plan(now());
+            const AutoPlan planned = finalPlan;
+            plan(now());
+            const bool fits = now() + cost.seconds(planned, pixels) <= options.timeLimit;
+            if (fits && planGain(finalPlan) <= planGain(planned)) {
+                finalPlan = planned;
+                budget.expectFinal(cost.seconds(planned, pixels),
+                                   finalReserve(cost, planned, pixels));
+            }
             out.overTime = rendered.stats.passes <= 1 &&
                            now() + cost.seconds(cheapestPlan(), pixels) > options.timeLimit;
         }

@@ -237,6 +237,27 @@ TEST(FinalRender, ATimeLimitTooSmallForTheFinalAutoGetsACheaperPlanChosenBeforeT
     EXPECT_LE(large.seconds, o.timeLimit + 0.05);
 }
 
+TEST(FinalRender, ARenderThatEndsAtItsSppEarlyGetsTheBestPlanThatFitsTheTimeLeft) {
+    // While the render goes on, balanced (expected 5 s of 40) costs more samples than it gains
+    // and a cheaper plan is planned (above). Bounded by its spp, the render ends long before the
+    // limit: its time is spent, so the final auto is the best plan that fits what is left.
+    render::Renderer renderer(cornell());
+    FinalOptions o = balancedUnderALimit();
+    o.expectedAutoSeconds = 5.0;
+    o.timeLimit = 40.0;
+    o.settings.spp = 16;
+    std::vector<std::string> planned;
+    o.log = [&](const std::string& line) {
+        if (line.rfind("final auto planned: ", 0) == 0) planned.push_back(line);
+    };
+    o.clock = fakeClock(0.01);
+    const FinalResult r = renderFinal(renderer, o);
+    ASSERT_EQ(planned.size(), 1u);
+    EXPECT_EQ(planned[0].find("final auto planned: balanced"), std::string::npos) << planned[0];
+    EXPECT_LT(r.seconds, o.timeLimit / 2.0);
+    EXPECT_EQ(r.finalPlan, "balanced");
+}
+
 TEST(FinalRender, AProbeRunSlowedByTheMachinesLoadDoesNotChangeTheFinalAutosPlan) {
     // The probe that calibrates auto's cost (no expectedAutoSeconds) runs kProbeRuns times and
     // the fastest counts. On the fake clock each probe run takes one tick, and balanced is chosen
