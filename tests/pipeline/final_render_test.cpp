@@ -208,8 +208,8 @@ TEST(FinalRender, ATimeLimitTooSmallForTheFinalAutoGetsACheaperPlanChosenBeforeT
     // The final auto at its quality is expected to take 5 s; under a limit of 2 s (fake clock)
     // the plan is chosen at the first frames from the time left (fast, fewer members, or one
     // member of one filter), the render stops leaving its reserve, and the whole keeps the
-    // limit. Under 40 s the quality asked for fits its share but would take the render an
-    // eighth of its time, more than it gains over a smaller bank (choosePlan): a cheaper plan
+    // limit. Under 40 s the quality asked for fits its share but would take an eighth of the
+    // limit from the render, more than it gains over a smaller bank (choosePlan): a cheaper plan
     // still. Expected at 1 s it costs the render little and is kept. (The variance schedule runs
     // no refresh, whose time on the fake clock would recalibrate the cost to almost nothing.)
     render::Renderer renderer(cornell());
@@ -261,11 +261,11 @@ TEST(FinalRender, ARenderThatEndsAtItsSppEarlyGetsTheBestPlanThatFitsTheTimeLeft
 TEST(FinalRender, AProbeRunSlowedByTheMachinesLoadDoesNotChangeTheFinalAutosPlan) {
     // The probe that calibrates auto's cost (no expectedAutoSeconds) runs kProbeRuns times and
     // the fastest counts. On the fake clock each probe run takes one tick, and balanced is chosen
-    // at 30 s (its cold start guessed, kColdStartPixels: 6 s on this frame's probe);
-    // when the clock jumps 1 s inside the first run (a load spike: the first progress report of
-    // the first auto) the plan stays balanced, where one timed run would make every plan a
-    // hundred times slower and choose the cheapest. (The variance schedule runs no refresh,
-    // which would recalibrate the cost.)
+    // at 30 s (not at 20 s: there its guessed cold start, kColdStartPixels, 6 s on this frame,
+    // would cost the render more than balanced gains); when the clock jumps 1 s inside the first
+    // run (a load spike: the first progress report of the first auto) the plan stays balanced,
+    // where one timed run would make every plan a hundred times slower and choose the cheapest.
+    // (The variance schedule runs no refresh, which would recalibrate the cost.)
     render::Renderer renderer(cornell());
     FinalOptions o = balancedUnderALimit();
     o.timeLimit = 30.0;

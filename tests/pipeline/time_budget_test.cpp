@@ -233,7 +233,7 @@ TEST(TimeBudget, TheFinalAutosPlanIsTheBestThatFitsDownToOneMemberOfOneFilter) {
 
 TEST(TimeBudget, APlansGainGrowsWithItsBankAndTheCheapestPlanGainsNothing) {
     // planGain: the cheapest plan's error ÷ the plan's on the same frame, as measured
-    // (docs/lab/cheapest-plan.md): never less for a larger bank or a better quality.
+    // (docs/lab/final-plan.md): never less for a larger bank or a better quality.
     auto fast = [](int members) { return AutoPlan{denoise::AutoQuality::Fast, members, {}}; };
     const AutoPlan balanced{denoise::AutoQuality::Balanced, 0, {}};
     const AutoPlan best{denoise::AutoQuality::Best, 0, {}};
