@@ -152,12 +152,14 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
     // plans that fit, while the render goes on the one that leaves the least error with the
     // render it leaves time for, after it the best), and the render's reserve for it.
     bool rendering = true;
+    auto finalSeconds = [&](double t) {
+        return std::min(options.finalShare * options.timeLimit, options.timeLimit - t);
+    };
     auto plan = [&](double t) {
-        const double left = std::min(options.finalShare * options.timeLimit, options.timeLimit - t);
         const RenderTime render =
             rendering ? RenderTime{std::max(0.0, t - out.autoSeconds), options.timeLimit - t}
                       : RenderTime{};
-        finalPlan = choosePlan(cost, pixels, left, most, render);
+        finalPlan = choosePlan(cost, pixels, finalSeconds(t), most, render);
         budget.expectFinal(cost.seconds(finalPlan, pixels), finalReserve(cost, finalPlan, pixels));
     };
     double frameProbe = 0.0;  // seconds of the whole frame's probe (kFrameProbeShare; 0: none)
@@ -361,14 +363,10 @@ FinalResult renderFinal(render::Renderer& renderer, const FinalOptions& options)
             // longer, a better one when it ended early (at its spp) and that one fits.
             rendering = false;
             calibrate(out.frame);
-            const AutoPlan planned = finalPlan;
-            plan(now());
-            const bool fits = now() + cost.seconds(planned, pixels) <= options.timeLimit;
-            if (fits && planGain(finalPlan) <= planGain(planned)) {
-                finalPlan = planned;
-                budget.expectFinal(cost.seconds(planned, pixels),
-                                   finalReserve(cost, planned, pixels));
-            }
+            const double t = now();
+            const bool fits = t + cost.seconds(finalPlan, pixels) <= options.timeLimit;
+            const AutoPlan best = choosePlan(cost, pixels, finalSeconds(t), most);
+            if (!fits || planGain(best) > planGain(finalPlan)) plan(t);
             out.overTime = rendered.stats.passes <= 1 &&
                            now() + cost.seconds(cheapestPlan(), pixels) > options.timeLimit;
         }
